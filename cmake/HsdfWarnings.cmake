@@ -1,0 +1,9 @@
+# Warnings are high on every first-party target; third-party code (ImGui backends) opts out.
+function(hsdf_set_warnings target)
+  target_compile_options(${target} PRIVATE
+    -Wall -Wextra -Wpedantic -Wshadow -Wnon-virtual-dtor -Wcast-align -Woverloaded-virtual
+    -Wconversion -Wno-sign-conversion -Wimplicit-fallthrough -Wnull-dereference -Wdouble-promotion)
+  if(HSDF_WARNINGS_AS_ERRORS)
+    target_compile_options(${target} PRIVATE -Werror)
+  endif()
+endfunction()

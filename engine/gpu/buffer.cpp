@@ -1,0 +1,82 @@
+#include "engine/gpu/buffer.h"
+
+#include <stdexcept>
+#include <utility>
+
+#include "engine/gpu/context.h"
+#include "engine/gpu/vk_check.h"
+
+namespace engine::gpu {
+
+Buffer::Buffer(const Context& context, VkDeviceSize size, VkBufferUsageFlags usage, MemoryUsage memory,
+               const std::string& name)
+    : context_(&context), size_(size) {
+  if (size == 0) throw std::invalid_argument("Buffer '" + name + "': size 0");
+  const bool wantsAddress = (usage & VK_BUFFER_USAGE_SHADER_DEVICE_ADDRESS_BIT) != 0;
+  VkBufferCreateInfo info{VK_STRUCTURE_TYPE_BUFFER_CREATE_INFO};
+  info.size = size;
+  info.usage = usage;
+  info.sharingMode = VK_SHARING_MODE_EXCLUSIVE;
+  VK_CHECK(vkCreateBuffer(context.device(), &info, nullptr, &buffer_));
+  context.setName(buffer_, VK_OBJECT_TYPE_BUFFER, name);
+
+  VkMemoryRequirements requirements{};
+  vkGetBufferMemoryRequirements(context.device(), buffer_, &requirements);
+  allocation_ = context.allocator().allocate(requirements, memory);
+  VK_CHECK(vkBindBufferMemory(context.device(), buffer_, allocation_.memory, allocation_.offset));
+
+  if (wantsAddress) {
+    VkBufferDeviceAddressInfo addressInfo{VK_STRUCTURE_TYPE_BUFFER_DEVICE_ADDRESS_INFO};
+    addressInfo.buffer = buffer_;
+    address_ = vkGetBufferDeviceAddress(context.device(), &addressInfo);
+  }
+}
+
+Buffer::~Buffer() { release(); }
+
+Buffer::Buffer(Buffer&& other) noexcept { *this = std::move(other); }
+
+Buffer& Buffer::operator=(Buffer&& other) noexcept {
+  if (this != &other) {
+    release();
+    context_ = std::exchange(other.context_, nullptr);
+    buffer_ = std::exchange(other.buffer_, VK_NULL_HANDLE);
+    allocation_ = std::exchange(other.allocation_, Allocation{});
+    size_ = std::exchange(other.size_, 0);
+    address_ = std::exchange(other.address_, 0);
+  }
+  return *this;
+}
+
+void Buffer::release() {
+  if (!buffer_) return;
+  vkDestroyBuffer(context_->device(), buffer_, nullptr);
+  context_->allocator().free(allocation_);
+  buffer_ = VK_NULL_HANDLE;
+}
+
+void Buffer::write(const void* data, VkDeviceSize bytes, VkDeviceSize offset) {
+  if (!allocation_.mapped) throw std::logic_error("Buffer::write on a buffer that is not host visible");
+  if (offset + bytes > size_) throw std::out_of_range("Buffer::write past the end of the buffer");
+  std::memcpy(static_cast<char*>(allocation_.mapped) + offset, data, bytes);
+}
+
+void uploadToBuffer(const Context& context, const Buffer& destination, const void* data, VkDeviceSize bytes,
+                    VkDeviceSize offset) {
+  if (bytes == 0) return;
+  Buffer staging(context, bytes, VK_BUFFER_USAGE_TRANSFER_SRC_BIT, MemoryUsage::Upload, "staging");
+  staging.write(data, bytes);
+  context.submitAndWait([&](VkCommandBuffer cmd) {
+    VkBufferCopy region{0, offset, bytes};
+    vkCmdCopyBuffer(cmd, staging.handle(), destination.handle(), 1, &region);
+  });
+}
+
+Buffer createBufferWithData(const Context& context, const void* data, VkDeviceSize bytes,
+                            VkBufferUsageFlags usage, const std::string& name) {
+  Buffer buffer(context, bytes, usage | VK_BUFFER_USAGE_TRANSFER_DST_BIT, MemoryUsage::GpuOnly, name);
+  uploadToBuffer(context, buffer, data, bytes);
+  return buffer;
+}
+
+}  // namespace engine::gpu

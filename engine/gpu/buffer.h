@@ -1,0 +1,58 @@
+#pragma once
+// RAII buffer with a device address. Upload/Readback buffers stay mapped.
+#include <cstdint>
+#include <cstring>
+#include <span>
+#include <string>
+
+#include <vulkan/vulkan.h>
+
+#include "engine/gpu/memory.h"
+
+namespace engine::gpu {
+
+class Context;
+
+class Buffer {
+ public:
+  Buffer() = default;
+  Buffer(const Context& context, VkDeviceSize size, VkBufferUsageFlags usage, MemoryUsage memory,
+         const std::string& name);
+  ~Buffer();
+  Buffer(Buffer&& other) noexcept;
+  Buffer& operator=(Buffer&& other) noexcept;
+  Buffer(const Buffer&) = delete;
+  Buffer& operator=(const Buffer&) = delete;
+
+  VkBuffer handle() const { return buffer_; }
+  VkDeviceSize size() const { return size_; }
+  VkDeviceAddress address() const { return address_; }  // 0 unless created with device-address usage
+  void* mapped() const { return allocation_.mapped; }
+  explicit operator bool() const { return buffer_ != VK_NULL_HANDLE; }
+
+  // Copies bytes into a mapped buffer at `offset`.
+  void write(const void* data, VkDeviceSize bytes, VkDeviceSize offset = 0);
+  template <class T>
+  void write(std::span<const T> items, VkDeviceSize offset = 0) {
+    write(items.data(), items.size_bytes(), offset);
+  }
+
+ private:
+  void release();
+
+  const Context* context_ = nullptr;
+  VkBuffer buffer_ = VK_NULL_HANDLE;
+  Allocation allocation_;
+  VkDeviceSize size_ = 0;
+  VkDeviceAddress address_ = 0;
+};
+
+// A device-local buffer filled through a staging buffer (one-off submit, waits).
+Buffer createBufferWithData(const Context& context, const void* data, VkDeviceSize bytes,
+                            VkBufferUsageFlags usage, const std::string& name);
+
+// Copies `bytes` from a CPU pointer into an existing device-local buffer at `offset` (waits).
+void uploadToBuffer(const Context& context, const Buffer& destination, const void* data, VkDeviceSize bytes,
+                    VkDeviceSize offset = 0);
+
+}  // namespace engine::gpu

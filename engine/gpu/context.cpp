@@ -1,0 +1,394 @@
+#include "engine/gpu/context.h"
+
+#include <algorithm>
+#include <cstdlib>
+#include <cstring>
+#include <string_view>
+
+#include "engine/core/log.h"
+#include "engine/gpu/vk_check.h"
+
+namespace engine::gpu {
+namespace {
+
+constexpr const char* kValidationLayer = "VK_LAYER_KHRONOS_validation";
+
+bool envFlag(const char* name) {
+  const char* value = std::getenv(name);
+  return value && std::string_view(value) != "0" && std::string_view(value) != "";
+}
+
+bool hasLayer(const char* name) {
+  std::uint32_t count = 0;
+  vkEnumerateInstanceLayerProperties(&count, nullptr);
+  std::vector<VkLayerProperties> layers(count);
+  vkEnumerateInstanceLayerProperties(&count, layers.data());
+  return std::any_of(layers.begin(), layers.end(),
+                     [&](const VkLayerProperties& l) { return std::strcmp(l.layerName, name) == 0; });
+}
+
+bool hasInstanceExtension(const char* name) {
+  std::uint32_t count = 0;
+  vkEnumerateInstanceExtensionProperties(nullptr, &count, nullptr);
+  std::vector<VkExtensionProperties> extensions(count);
+  vkEnumerateInstanceExtensionProperties(nullptr, &count, extensions.data());
+  return std::any_of(extensions.begin(), extensions.end(),
+                     [&](const VkExtensionProperties& e) { return std::strcmp(e.extensionName, name) == 0; });
+}
+
+bool hasDeviceExtension(VkPhysicalDevice device, const char* name) {
+  std::uint32_t count = 0;
+  vkEnumerateDeviceExtensionProperties(device, nullptr, &count, nullptr);
+  std::vector<VkExtensionProperties> extensions(count);
+  vkEnumerateDeviceExtensionProperties(device, nullptr, &count, extensions.data());
+  return std::any_of(extensions.begin(), extensions.end(),
+                     [&](const VkExtensionProperties& e) { return std::strcmp(e.extensionName, name) == 0; });
+}
+
+// The chain of feature structs the engine queries and enables.
+struct FeatureChain {
+  VkPhysicalDeviceFeatures2 core{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_FEATURES_2};
+  VkPhysicalDeviceVulkan11Features v11{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_1_FEATURES};
+  VkPhysicalDeviceVulkan12Features v12{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_2_FEATURES};
+  VkPhysicalDeviceVulkan13Features v13{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_3_FEATURES};
+  FeatureChain() {
+    core.pNext = &v11;
+    v11.pNext = &v12;
+    v12.pNext = &v13;
+  }
+  FeatureChain(const FeatureChain&) = delete;
+  FeatureChain& operator=(const FeatureChain&) = delete;
+};
+
+// Why a device cannot run the engine, or empty when it can.
+std::string missingRequirements(VkPhysicalDevice device) {
+  VkPhysicalDeviceProperties properties{};
+  vkGetPhysicalDeviceProperties(device, &properties);
+  if (properties.apiVersion < VK_API_VERSION_1_3) return "Vulkan 1.3 not supported";
+  FeatureChain features;
+  vkGetPhysicalDeviceFeatures2(device, &features.core);
+  if (!features.v13.dynamicRendering) return "no dynamicRendering";
+  if (!features.v13.synchronization2) return "no synchronization2";
+  if (!features.v12.bufferDeviceAddress) return "no bufferDeviceAddress";
+  if (!features.v12.timelineSemaphore) return "no timelineSemaphore";
+  if (!features.v12.scalarBlockLayout) return "no scalarBlockLayout";
+  if (!features.core.features.shaderInt64) return "no shaderInt64";
+  return {};
+}
+
+int deviceRank(VkPhysicalDeviceType type, DevicePreference preference) {
+  const bool software = type == VK_PHYSICAL_DEVICE_TYPE_CPU;
+  if (preference == DevicePreference::Software) return software ? 0 : -1;
+  if (preference == DevicePreference::Hardware && software) return -1;
+  switch (type) {
+    case VK_PHYSICAL_DEVICE_TYPE_DISCRETE_GPU: return 4;
+    case VK_PHYSICAL_DEVICE_TYPE_INTEGRATED_GPU: return 3;
+    case VK_PHYSICAL_DEVICE_TYPE_VIRTUAL_GPU: return 2;
+    case VK_PHYSICAL_DEVICE_TYPE_CPU: return 1;
+    default: return 0;
+  }
+}
+
+DevicePreference preferenceFromEnv(DevicePreference fallback) {
+  const char* value = std::getenv("HSDF_DEVICE");
+  if (!value) return fallback;
+  const std::string_view v(value);
+  if (v == "software" || v == "lavapipe" || v == "cpu") return DevicePreference::Software;
+  if (v == "hardware" || v == "gpu") return DevicePreference::Hardware;
+  return fallback;
+}
+
+}  // namespace
+
+bool ContextDesc::defaultValidation() {
+  if (const char* value = std::getenv("HSDF_VALIDATION")) return std::string_view(value) != "0";
+#ifdef NDEBUG
+  return false;
+#else
+  return true;
+#endif
+}
+
+Expected<std::unique_ptr<Context>> Context::create(const ContextDesc& desc) {
+  std::unique_ptr<Context> context(new Context());
+  ENGINE_TRY(context->createInstance(desc));
+  ENGINE_TRY(context->pickPhysicalDevice(desc));
+  ENGINE_TRY(context->createDevice(desc));
+  return context;
+}
+
+Context::~Context() {
+  if (device_) {
+    vkDeviceWaitIdle(device_);
+    allocator_.reset();
+    if (oneOffPool_) vkDestroyCommandPool(device_, oneOffPool_, nullptr);
+    vkDestroyDevice(device_, nullptr);
+  }
+  if (messenger_) {
+    auto destroy = reinterpret_cast<PFN_vkDestroyDebugUtilsMessengerEXT>(
+        vkGetInstanceProcAddr(instance_, "vkDestroyDebugUtilsMessengerEXT"));
+    if (destroy) destroy(instance_, messenger_, nullptr);
+  }
+  if (instance_) vkDestroyInstance(instance_, nullptr);
+}
+
+VKAPI_ATTR VkBool32 VKAPI_CALL Context::onDebugMessage(VkDebugUtilsMessageSeverityFlagBitsEXT severity,
+                                                       VkDebugUtilsMessageTypeFlagsEXT /*types*/,
+                                                       const VkDebugUtilsMessengerCallbackDataEXT* data,
+                                                       void* user) {
+  auto* self = static_cast<Context*>(user);
+  const char* text = data && data->pMessage ? data->pMessage : "(no message)";
+  if (severity >= VK_DEBUG_UTILS_MESSAGE_SEVERITY_WARNING_BIT_EXT) {
+    self->validationMessages_.fetch_add(1);
+    {
+      std::lock_guard lock(self->messagesMutex_);
+      if (self->messages_.size() < 64) self->messages_.emplace_back(text);
+    }
+    if (severity >= VK_DEBUG_UTILS_MESSAGE_SEVERITY_ERROR_BIT_EXT)
+      log::error("vulkan: {}", text);
+    else
+      log::warn("vulkan: {}", text);
+  } else {
+    log::debug("vulkan: {}", text);
+  }
+  return VK_FALSE;
+}
+
+std::vector<std::string> Context::validationMessages() const {
+  std::lock_guard lock(messagesMutex_);
+  return messages_;
+}
+
+Status Context::createInstance(const ContextDesc& desc) {
+  std::vector<const char*> layers;
+  std::vector<const char*> extensions;
+  for (const std::string& e : desc.instanceExtensions) extensions.push_back(e.c_str());
+
+  const bool validation = desc.validation;
+  if (validation && !hasLayer(kValidationLayer))
+    return makeError("validation requested but VK_LAYER_KHRONOS_validation is not installed "
+                     "(Debian package vulkan-validationlayers)");
+  if (validation) layers.push_back(kValidationLayer);
+  debugUtils_ = hasInstanceExtension(VK_EXT_DEBUG_UTILS_EXTENSION_NAME);
+  if (debugUtils_) extensions.push_back(VK_EXT_DEBUG_UTILS_EXTENSION_NAME);
+
+  VkApplicationInfo app{VK_STRUCTURE_TYPE_APPLICATION_INFO};
+  app.pApplicationName = desc.applicationName.c_str();
+  app.pEngineName = "hermite_sdf engine";
+  app.apiVersion = VK_API_VERSION_1_3;
+
+  VkDebugUtilsMessengerCreateInfoEXT messengerInfo{VK_STRUCTURE_TYPE_DEBUG_UTILS_MESSENGER_CREATE_INFO_EXT};
+  messengerInfo.messageSeverity = VK_DEBUG_UTILS_MESSAGE_SEVERITY_VERBOSE_BIT_EXT |
+                                  VK_DEBUG_UTILS_MESSAGE_SEVERITY_INFO_BIT_EXT |
+                                  VK_DEBUG_UTILS_MESSAGE_SEVERITY_WARNING_BIT_EXT |
+                                  VK_DEBUG_UTILS_MESSAGE_SEVERITY_ERROR_BIT_EXT;
+  messengerInfo.messageType = VK_DEBUG_UTILS_MESSAGE_TYPE_GENERAL_BIT_EXT |
+                              VK_DEBUG_UTILS_MESSAGE_TYPE_VALIDATION_BIT_EXT |
+                              VK_DEBUG_UTILS_MESSAGE_TYPE_PERFORMANCE_BIT_EXT;
+  messengerInfo.pfnUserCallback = &Context::onDebugMessage;
+  messengerInfo.pUserData = this;
+
+  const bool sync = validation && (desc.synchronizationValidation || envFlag("HSDF_SYNC_VALIDATION"));
+  VkValidationFeatureEnableEXT enables[] = {VK_VALIDATION_FEATURE_ENABLE_SYNCHRONIZATION_VALIDATION_EXT};
+  VkValidationFeaturesEXT validationFeatures{VK_STRUCTURE_TYPE_VALIDATION_FEATURES_EXT};
+  validationFeatures.enabledValidationFeatureCount = 1;
+  validationFeatures.pEnabledValidationFeatures = enables;
+
+  VkInstanceCreateInfo info{VK_STRUCTURE_TYPE_INSTANCE_CREATE_INFO};
+  info.pApplicationInfo = &app;
+  info.enabledLayerCount = static_cast<std::uint32_t>(layers.size());
+  info.ppEnabledLayerNames = layers.data();
+  info.enabledExtensionCount = static_cast<std::uint32_t>(extensions.size());
+  info.ppEnabledExtensionNames = extensions.data();
+  // Messages from instance creation itself go to the same callback.
+  const void* chain = nullptr;
+  if (debugUtils_) {
+    messengerInfo.pNext = chain;
+    chain = &messengerInfo;
+  }
+  if (sync) {
+    validationFeatures.pNext = chain;
+    chain = &validationFeatures;
+  }
+  info.pNext = chain;
+  VK_TRY(vkCreateInstance(&info, nullptr, &instance_));
+
+  if (debugUtils_) {
+    messengerInfo.pNext = nullptr;
+    auto create = reinterpret_cast<PFN_vkCreateDebugUtilsMessengerEXT>(
+        vkGetInstanceProcAddr(instance_, "vkCreateDebugUtilsMessengerEXT"));
+    if (create) VK_TRY(create(instance_, &messengerInfo, nullptr, &messenger_));
+    setObjectName_ = reinterpret_cast<PFN_vkSetDebugUtilsObjectNameEXT>(
+        vkGetInstanceProcAddr(instance_, "vkSetDebugUtilsObjectNameEXT"));
+  }
+  if (validation) log::debug("validation layers on{}", sync ? " (with synchronization validation)" : "");
+  return {};
+}
+
+Status Context::pickPhysicalDevice(const ContextDesc& desc) {
+  std::uint32_t count = 0;
+  VK_TRY(vkEnumeratePhysicalDevices(instance_, &count, nullptr));
+  std::vector<VkPhysicalDevice> devices(count);
+  VK_TRY(vkEnumeratePhysicalDevices(instance_, &count, devices.data()));
+  const DevicePreference preference = preferenceFromEnv(desc.device);
+
+  std::string rejected;
+  int bestRank = -1;
+  for (VkPhysicalDevice device : devices) {
+    VkPhysicalDeviceProperties properties{};
+    vkGetPhysicalDeviceProperties(device, &properties);
+    std::string why = missingRequirements(device);
+    if (desc.swapchain && why.empty() && !hasDeviceExtension(device, VK_KHR_SWAPCHAIN_EXTENSION_NAME))
+      why = "no VK_KHR_swapchain";
+    const int rank = deviceRank(properties.deviceType, preference);
+    if (!why.empty() || rank < 0) {
+      rejected += std::string("\n  ") + properties.deviceName + ": " + (why.empty() ? "not the preferred kind" : why);
+      continue;
+    }
+    if (rank > bestRank) {
+      bestRank = rank;
+      physicalDevice_ = device;
+    }
+  }
+  if (!physicalDevice_)
+    return makeError("no suitable Vulkan device (need Vulkan 1.3 with dynamic rendering, "
+                     "synchronization2, buffer device address; install mesa-vulkan-drivers for lavapipe)" +
+                     rejected);
+  return {};
+}
+
+Status Context::createDevice(const ContextDesc& desc) {
+  VkPhysicalDeviceProperties properties{};
+  vkGetPhysicalDeviceProperties(physicalDevice_, &properties);
+  FeatureChain supported;
+  vkGetPhysicalDeviceFeatures2(physicalDevice_, &supported.core);
+
+  caps_.deviceName = properties.deviceName;
+  caps_.isSoftwareRasterizer = properties.deviceType == VK_PHYSICAL_DEVICE_TYPE_CPU;
+  caps_.descriptorIndexing = supported.v12.descriptorIndexing && supported.v12.runtimeDescriptorArray &&
+                             supported.v12.shaderSampledImageArrayNonUniformIndexing &&
+                             supported.v12.descriptorBindingPartiallyBound &&
+                             supported.v12.descriptorBindingSampledImageUpdateAfterBind;
+  caps_.shaderFloat16 = supported.v12.shaderFloat16;
+  caps_.storageBuffer16BitAccess = supported.v11.storageBuffer16BitAccess;
+  caps_.multiDrawIndirect = supported.core.features.multiDrawIndirect;
+  caps_.drawIndirectCount = supported.v12.drawIndirectCount;
+  caps_.fillModeNonSolid = supported.core.features.fillModeNonSolid;
+  caps_.timestampPeriodNs = properties.limits.timestampPeriod;
+  caps_.maxPushConstantsSize = properties.limits.maxPushConstantsSize;
+
+  // Queue: the first family with graphics (graphics queues can also compute and transfer).
+  std::uint32_t familyCount = 0;
+  vkGetPhysicalDeviceQueueFamilyProperties(physicalDevice_, &familyCount, nullptr);
+  std::vector<VkQueueFamilyProperties> families(familyCount);
+  vkGetPhysicalDeviceQueueFamilyProperties(physicalDevice_, &familyCount, families.data());
+  bool found = false;
+  for (std::uint32_t i = 0; i < familyCount && !found; ++i) {
+    if (families[i].queueFlags & VK_QUEUE_GRAPHICS_BIT) {
+      queueFamily_ = i;
+      found = true;
+      caps_.timestamps = families[i].timestampValidBits > 0 && properties.limits.timestampComputeAndGraphics;
+    }
+  }
+  if (!found) return makeError(caps_.deviceName + ": no graphics queue");
+
+  FeatureChain enabled;
+  enabled.core.features.multiDrawIndirect = supported.core.features.multiDrawIndirect;
+  enabled.core.features.drawIndirectFirstInstance = supported.core.features.drawIndirectFirstInstance;
+  enabled.core.features.fillModeNonSolid = supported.core.features.fillModeNonSolid;
+  enabled.core.features.shaderInt64 = VK_TRUE;
+  enabled.core.features.depthClamp = supported.core.features.depthClamp;
+  enabled.core.features.samplerAnisotropy = supported.core.features.samplerAnisotropy;
+  enabled.core.features.fragmentStoresAndAtomics = supported.core.features.fragmentStoresAndAtomics;
+  enabled.v11.storageBuffer16BitAccess = supported.v11.storageBuffer16BitAccess;
+  enabled.v11.shaderDrawParameters = supported.v11.shaderDrawParameters;
+  enabled.v12.bufferDeviceAddress = VK_TRUE;
+  enabled.v12.timelineSemaphore = VK_TRUE;
+  enabled.v12.scalarBlockLayout = VK_TRUE;
+  enabled.v12.shaderFloat16 = supported.v12.shaderFloat16;
+  enabled.v12.drawIndirectCount = supported.v12.drawIndirectCount;
+  enabled.v12.hostQueryReset = supported.v12.hostQueryReset;
+  if (caps_.descriptorIndexing) {
+    enabled.v12.descriptorIndexing = VK_TRUE;
+    enabled.v12.runtimeDescriptorArray = VK_TRUE;
+    enabled.v12.shaderSampledImageArrayNonUniformIndexing = VK_TRUE;
+    enabled.v12.descriptorBindingPartiallyBound = VK_TRUE;
+    enabled.v12.descriptorBindingSampledImageUpdateAfterBind = VK_TRUE;
+  }
+  enabled.v13.dynamicRendering = VK_TRUE;
+  enabled.v13.synchronization2 = VK_TRUE;
+  enabled.v13.maintenance4 = supported.v13.maintenance4;
+
+  const float priority = 1.0f;
+  VkDeviceQueueCreateInfo queueInfo{VK_STRUCTURE_TYPE_DEVICE_QUEUE_CREATE_INFO};
+  queueInfo.queueFamilyIndex = queueFamily_;
+  queueInfo.queueCount = 1;
+  queueInfo.pQueuePriorities = &priority;
+
+  std::vector<const char*> extensions;
+  if (desc.swapchain) extensions.push_back(VK_KHR_SWAPCHAIN_EXTENSION_NAME);
+
+  VkDeviceCreateInfo info{VK_STRUCTURE_TYPE_DEVICE_CREATE_INFO};
+  info.pNext = &enabled.core;
+  info.queueCreateInfoCount = 1;
+  info.pQueueCreateInfos = &queueInfo;
+  info.enabledExtensionCount = static_cast<std::uint32_t>(extensions.size());
+  info.ppEnabledExtensionNames = extensions.data();
+  VK_TRY(vkCreateDevice(physicalDevice_, &info, nullptr, &device_));
+  vkGetDeviceQueue(device_, queueFamily_, 0, &queue_);
+
+  allocator_ = std::make_unique<Allocator>(physicalDevice_, device_);
+
+  VkCommandPoolCreateInfo poolInfo{VK_STRUCTURE_TYPE_COMMAND_POOL_CREATE_INFO};
+  poolInfo.flags = VK_COMMAND_POOL_CREATE_TRANSIENT_BIT;
+  poolInfo.queueFamilyIndex = queueFamily_;
+  VK_TRY(vkCreateCommandPool(device_, &poolInfo, nullptr, &oneOffPool_));
+  setName(oneOffPool_, VK_OBJECT_TYPE_COMMAND_POOL, "one-off command pool");
+  setName(queue_, VK_OBJECT_TYPE_QUEUE, "graphics queue");
+  log::info("Vulkan device: {}{}", caps_.deviceName, caps_.isSoftwareRasterizer ? " (software)" : "");
+  return {};
+}
+
+void Context::setName(VkObjectType type, std::uint64_t handle, const std::string& name) const {
+  if (!setObjectName_ || handle == 0) return;
+  VkDebugUtilsObjectNameInfoEXT info{VK_STRUCTURE_TYPE_DEBUG_UTILS_OBJECT_NAME_INFO_EXT};
+  info.objectType = type;
+  info.objectHandle = handle;
+  info.pObjectName = name.c_str();
+  VK_CHECK(setObjectName_(device_, &info));
+}
+
+VkCommandBuffer Context::beginOneOff() const {
+  oneOffMutex_.lock();  // unlocked in endOneOffAndWait: one-off submissions are serialized
+  VkCommandBufferAllocateInfo info{VK_STRUCTURE_TYPE_COMMAND_BUFFER_ALLOCATE_INFO};
+  info.commandPool = oneOffPool_;
+  info.level = VK_COMMAND_BUFFER_LEVEL_PRIMARY;
+  info.commandBufferCount = 1;
+  VkCommandBuffer cmd = VK_NULL_HANDLE;
+  VK_CHECK(vkAllocateCommandBuffers(device_, &info, &cmd));
+  VkCommandBufferBeginInfo begin{VK_STRUCTURE_TYPE_COMMAND_BUFFER_BEGIN_INFO};
+  begin.flags = VK_COMMAND_BUFFER_USAGE_ONE_TIME_SUBMIT_BIT;
+  VK_CHECK(vkBeginCommandBuffer(cmd, &begin));
+  return cmd;
+}
+
+void Context::endOneOffAndWait(VkCommandBuffer cmd) const {
+  std::unique_lock lock(oneOffMutex_, std::adopt_lock);
+  VK_CHECK(vkEndCommandBuffer(cmd));
+  VkFenceCreateInfo fenceInfo{VK_STRUCTURE_TYPE_FENCE_CREATE_INFO};
+  VkFence fence = VK_NULL_HANDLE;
+  VK_CHECK(vkCreateFence(device_, &fenceInfo, nullptr, &fence));
+  VkCommandBufferSubmitInfo cmdInfo{VK_STRUCTURE_TYPE_COMMAND_BUFFER_SUBMIT_INFO};
+  cmdInfo.commandBuffer = cmd;
+  VkSubmitInfo2 submit{VK_STRUCTURE_TYPE_SUBMIT_INFO_2};
+  submit.commandBufferInfoCount = 1;
+  submit.pCommandBufferInfos = &cmdInfo;
+  VK_CHECK(vkQueueSubmit2(queue_, 1, &submit, fence));
+  VK_CHECK(vkWaitForFences(device_, 1, &fence, VK_TRUE, UINT64_MAX));
+  vkDestroyFence(device_, fence, nullptr);
+  vkFreeCommandBuffers(device_, oneOffPool_, 1, &cmd);
+}
+
+void Context::waitIdle() const { VK_CHECK(vkDeviceWaitIdle(device_)); }
+
+}  // namespace engine::gpu

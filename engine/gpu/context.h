@@ -1,0 +1,121 @@
+#pragma once
+// The Vulkan context: instance, validation messenger, physical device choice (a real GPU when
+// present, else Mesa's lavapipe), logical device with Vulkan 1.3 core features, one graphics queue,
+// the memory allocator and a command pool for one-off uploads.
+#include <atomic>
+#include <cstdint>
+#include <memory>
+#include <mutex>
+#include <string>
+#include <vector>
+
+#include <vulkan/vulkan.h>
+
+#include "engine/core/expected.h"
+#include "engine/gpu/memory.h"
+
+namespace engine::gpu {
+
+enum class DevicePreference {
+  Auto,      // discrete GPU, then integrated, then anything (lavapipe last); env HSDF_DEVICE overrides
+  Hardware,  // fail when no hardware GPU exists
+  Software,  // Mesa lavapipe (CPU); what CI and the GPU tests use
+};
+
+struct ContextDesc {
+  std::string applicationName = "hermite_sdf";
+  DevicePreference device = DevicePreference::Auto;
+  // Validation layers. Default: on in debug builds, or when HSDF_VALIDATION=1.
+  bool validation = defaultValidation();
+  // Adds synchronization validation (slower); also switched on by HSDF_SYNC_VALIDATION=1.
+  bool synchronizationValidation = false;
+  // Extra instance extensions, e.g. those GLFW needs for a surface. Presence turns on the swapchain.
+  std::vector<std::string> instanceExtensions;
+  bool swapchain = false;
+
+  static bool defaultValidation();
+};
+
+// Optional capabilities, detected at device creation. Features the engine requires (Vulkan 1.3
+// dynamic rendering, synchronization2, buffer device address, timeline semaphores) are not listed:
+// a device without them is rejected.
+struct DeviceCapabilities {
+  bool descriptorIndexing = false;       // runtime arrays + non-uniform sampled-image indexing
+  bool shaderFloat16 = false;
+  bool storageBuffer16BitAccess = false;
+  bool multiDrawIndirect = false;
+  bool drawIndirectCount = false;
+  bool fillModeNonSolid = false;         // wireframe debug views
+  bool timestamps = false;
+  float timestampPeriodNs = 1.0f;
+  bool isSoftwareRasterizer = false;     // lavapipe & co: timings are CPU-bound
+  std::string deviceName;
+  std::uint32_t maxPushConstantsSize = 128;
+};
+
+class Context {
+ public:
+  static Expected<std::unique_ptr<Context>> create(const ContextDesc& desc);
+  ~Context();
+  Context(const Context&) = delete;
+  Context& operator=(const Context&) = delete;
+
+  VkInstance instance() const { return instance_; }
+  VkPhysicalDevice physicalDevice() const { return physicalDevice_; }
+  VkDevice device() const { return device_; }
+  VkQueue queue() const { return queue_; }
+  std::uint32_t queueFamily() const { return queueFamily_; }
+  const DeviceCapabilities& capabilities() const { return caps_; }
+  Allocator& allocator() const { return *allocator_; }
+
+  // Validation messages (warnings and errors) seen so far; tests assert this stays 0.
+  std::uint32_t validationMessageCount() const { return validationMessages_.load(); }
+  std::vector<std::string> validationMessages() const;
+
+  // Records commands with `record` into a one-off command buffer, submits and waits.
+  template <class F>
+  void submitAndWait(F&& record) const {
+    VkCommandBuffer cmd = beginOneOff();
+    record(cmd);
+    endOneOffAndWait(cmd);
+  }
+
+  // Gives a Vulkan object a name that validation messages and debuggers show.
+  void setName(VkObjectType type, std::uint64_t handle, const std::string& name) const;
+  template <class Handle>
+  void setName(Handle handle, VkObjectType type, const std::string& name) const {
+    setName(type, reinterpret_cast<std::uint64_t>(handle), name);
+  }
+
+  void waitIdle() const;
+
+ private:
+  Context() = default;
+  Status createInstance(const ContextDesc& desc);
+  Status pickPhysicalDevice(const ContextDesc& desc);
+  Status createDevice(const ContextDesc& desc);
+  VkCommandBuffer beginOneOff() const;
+  void endOneOffAndWait(VkCommandBuffer cmd) const;
+  static VKAPI_ATTR VkBool32 VKAPI_CALL onDebugMessage(VkDebugUtilsMessageSeverityFlagBitsEXT severity,
+                                                       VkDebugUtilsMessageTypeFlagsEXT types,
+                                                       const VkDebugUtilsMessengerCallbackDataEXT* data,
+                                                       void* user);
+
+  VkInstance instance_ = VK_NULL_HANDLE;
+  VkDebugUtilsMessengerEXT messenger_ = VK_NULL_HANDLE;
+  VkPhysicalDevice physicalDevice_ = VK_NULL_HANDLE;
+  VkDevice device_ = VK_NULL_HANDLE;
+  VkQueue queue_ = VK_NULL_HANDLE;
+  std::uint32_t queueFamily_ = 0;
+  VkCommandPool oneOffPool_ = VK_NULL_HANDLE;
+  DeviceCapabilities caps_;
+  bool debugUtils_ = false;
+  PFN_vkSetDebugUtilsObjectNameEXT setObjectName_ = nullptr;
+  std::unique_ptr<Allocator> allocator_;
+  std::atomic<std::uint32_t> validationMessages_{0};
+  mutable std::mutex messagesMutex_;
+  std::vector<std::string> messages_;
+  mutable std::mutex oneOffMutex_;
+};
+
+}  // namespace engine::gpu

@@ -1,0 +1,48 @@
+#pragma once
+// Named GPU timings per pass. One GpuTimer per frame in flight: begin(cmd, "depth prepass") ...
+// end(cmd) record timestamp pairs; after that frame's fence has signalled, results() returns the
+// milliseconds per name. Names, not query slot numbers, are the interface.
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include <vulkan/vulkan.h>
+
+namespace engine::gpu {
+
+class Context;
+
+struct GpuTiming {
+  std::string name;
+  double milliseconds = 0.0;
+};
+
+class GpuTimer {
+ public:
+  GpuTimer() = default;
+  GpuTimer(const Context& context, std::uint32_t maxScopes, const std::string& name);
+  ~GpuTimer();
+  GpuTimer(GpuTimer&& other) noexcept;
+  GpuTimer& operator=(GpuTimer&& other) noexcept;
+  GpuTimer(const GpuTimer&) = delete;
+  GpuTimer& operator=(const GpuTimer&) = delete;
+
+  // Starts a new frame of measurements (records a pool reset).
+  void reset(VkCommandBuffer cmd);
+  void begin(VkCommandBuffer cmd, const std::string& scope);
+  void end(VkCommandBuffer cmd);
+  // Reads the results of the last recorded frame; call only after its submission completed.
+  std::vector<GpuTiming> results() const;
+  bool enabled() const { return pool_ != VK_NULL_HANDLE; }
+
+ private:
+  void release();
+  const Context* context_ = nullptr;
+  VkQueryPool pool_ = VK_NULL_HANDLE;
+  std::uint32_t maxScopes_ = 0;
+  double periodMs_ = 0.0;
+  std::vector<std::string> names_;  // one per begun scope, in query order
+  std::vector<std::uint32_t> open_; // stack of open scope indices
+};
+
+}  // namespace engine::gpu

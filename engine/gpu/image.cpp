@@ -1,0 +1,176 @@
+#include "engine/gpu/image.h"
+
+#include <stdexcept>
+#include <utility>
+
+#include "engine/gpu/buffer.h"
+#include "engine/gpu/context.h"
+#include "engine/gpu/vk_check.h"
+
+namespace engine::gpu {
+
+bool isDepthFormat(VkFormat format) {
+  return format == VK_FORMAT_D32_SFLOAT || format == VK_FORMAT_D24_UNORM_S8_UINT ||
+         format == VK_FORMAT_D16_UNORM || format == VK_FORMAT_D32_SFLOAT_S8_UINT;
+}
+
+std::uint32_t bytesPerPixel(VkFormat format) {
+  switch (format) {
+    case VK_FORMAT_R8G8B8A8_UNORM:
+    case VK_FORMAT_R8G8B8A8_SRGB:
+    case VK_FORMAT_B8G8R8A8_UNORM:
+    case VK_FORMAT_B8G8R8A8_SRGB:
+    case VK_FORMAT_R32_SFLOAT:
+    case VK_FORMAT_D32_SFLOAT:
+    case VK_FORMAT_R32_UINT: return 4;
+    case VK_FORMAT_R16_SFLOAT: return 2;
+    case VK_FORMAT_R16G16B16A16_SFLOAT: return 8;
+    case VK_FORMAT_R32G32B32A32_SFLOAT: return 16;
+    default: throw std::invalid_argument("bytesPerPixel: unsupported format " + std::to_string(int(format)));
+  }
+}
+
+Image::Image(const Context& context, const ImageDesc& desc)
+    : context_(&context), format_(desc.format), extent_(desc.extent) {
+  aspect_ = isDepthFormat(desc.format) ? VK_IMAGE_ASPECT_DEPTH_BIT : VK_IMAGE_ASPECT_COLOR_BIT;
+  VkImageCreateInfo info{VK_STRUCTURE_TYPE_IMAGE_CREATE_INFO};
+  info.imageType = desc.type;
+  info.format = desc.format;
+  info.extent = desc.extent;
+  info.mipLevels = 1;
+  info.arrayLayers = 1;
+  info.samples = VK_SAMPLE_COUNT_1_BIT;
+  info.tiling = VK_IMAGE_TILING_OPTIMAL;
+  info.usage = desc.usage;
+  info.sharingMode = VK_SHARING_MODE_EXCLUSIVE;
+  info.initialLayout = VK_IMAGE_LAYOUT_UNDEFINED;
+  VK_CHECK(vkCreateImage(context.device(), &info, nullptr, &image_));
+  context.setName(image_, VK_OBJECT_TYPE_IMAGE, desc.name);
+
+  VkMemoryRequirements requirements{};
+  vkGetImageMemoryRequirements(context.device(), image_, &requirements);
+  allocation_ = context.allocator().allocate(requirements, MemoryUsage::GpuOnly);
+  VK_CHECK(vkBindImageMemory(context.device(), image_, allocation_.memory, allocation_.offset));
+
+  VkImageViewCreateInfo viewInfo{VK_STRUCTURE_TYPE_IMAGE_VIEW_CREATE_INFO};
+  viewInfo.image = image_;
+  viewInfo.viewType = desc.type == VK_IMAGE_TYPE_3D ? VK_IMAGE_VIEW_TYPE_3D : VK_IMAGE_VIEW_TYPE_2D;
+  viewInfo.format = desc.format;
+  viewInfo.subresourceRange = {aspect_, 0, 1, 0, 1};
+  VK_CHECK(vkCreateImageView(context.device(), &viewInfo, nullptr, &view_));
+  context.setName(view_, VK_OBJECT_TYPE_IMAGE_VIEW, desc.name + " view");
+}
+
+Image::~Image() { release(); }
+
+Image::Image(Image&& other) noexcept { *this = std::move(other); }
+
+Image& Image::operator=(Image&& other) noexcept {
+  if (this != &other) {
+    release();
+    context_ = std::exchange(other.context_, nullptr);
+    image_ = std::exchange(other.image_, VK_NULL_HANDLE);
+    view_ = std::exchange(other.view_, VK_NULL_HANDLE);
+    allocation_ = std::exchange(other.allocation_, Allocation{});
+    format_ = other.format_;
+    extent_ = other.extent_;
+    aspect_ = other.aspect_;
+  }
+  return *this;
+}
+
+void Image::release() {
+  if (!image_) return;
+  vkDestroyImageView(context_->device(), view_, nullptr);
+  vkDestroyImage(context_->device(), image_, nullptr);
+  context_->allocator().free(allocation_);
+  image_ = VK_NULL_HANDLE;
+  view_ = VK_NULL_HANDLE;
+}
+
+void imageBarrier(VkCommandBuffer cmd, VkImage image, VkImageAspectFlags aspect, VkImageLayout oldLayout,
+                  VkImageLayout newLayout, VkPipelineStageFlags2 srcStage, VkAccessFlags2 srcAccess,
+                  VkPipelineStageFlags2 dstStage, VkAccessFlags2 dstAccess) {
+  VkImageMemoryBarrier2 barrier{VK_STRUCTURE_TYPE_IMAGE_MEMORY_BARRIER_2};
+  barrier.srcStageMask = srcStage;
+  barrier.srcAccessMask = srcAccess;
+  barrier.dstStageMask = dstStage;
+  barrier.dstAccessMask = dstAccess;
+  barrier.oldLayout = oldLayout;
+  barrier.newLayout = newLayout;
+  barrier.srcQueueFamilyIndex = VK_QUEUE_FAMILY_IGNORED;
+  barrier.dstQueueFamilyIndex = VK_QUEUE_FAMILY_IGNORED;
+  barrier.image = image;
+  barrier.subresourceRange = {aspect, 0, VK_REMAINING_MIP_LEVELS, 0, VK_REMAINING_ARRAY_LAYERS};
+  VkDependencyInfo dependency{VK_STRUCTURE_TYPE_DEPENDENCY_INFO};
+  dependency.imageMemoryBarrierCount = 1;
+  dependency.pImageMemoryBarriers = &barrier;
+  vkCmdPipelineBarrier2(cmd, &dependency);
+}
+
+namespace {
+
+std::size_t imageBytes(const Image& image) {
+  const VkExtent3D e = image.extent();
+  return std::size_t(e.width) * e.height * e.depth * bytesPerPixel(image.format());
+}
+
+VkBufferImageCopy wholeImageCopy(const Image& image) {
+  VkBufferImageCopy region{};
+  region.imageSubresource = {image.aspect(), 0, 0, 1};
+  region.imageExtent = image.extent();
+  return region;
+}
+
+}  // namespace
+
+void uploadImage(const Context& context, const Image& image, const void* texels, std::size_t bytes) {
+  if (bytes != imageBytes(image)) throw std::invalid_argument("uploadImage: size does not match the image");
+  Buffer staging(context, bytes, VK_BUFFER_USAGE_TRANSFER_SRC_BIT, MemoryUsage::Upload, "image staging");
+  staging.write(texels, bytes);
+  context.submitAndWait([&](VkCommandBuffer cmd) {
+    imageBarrier(cmd, image.handle(), image.aspect(), VK_IMAGE_LAYOUT_UNDEFINED,
+                 VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, VK_PIPELINE_STAGE_2_NONE, VK_ACCESS_2_NONE,
+                 VK_PIPELINE_STAGE_2_COPY_BIT, VK_ACCESS_2_TRANSFER_WRITE_BIT);
+    const VkBufferImageCopy region = wholeImageCopy(image);
+    vkCmdCopyBufferToImage(cmd, staging.handle(), image.handle(), VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, 1,
+                           &region);
+    imageBarrier(cmd, image.handle(), image.aspect(), VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL,
+                 VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL, VK_PIPELINE_STAGE_2_COPY_BIT,
+                 VK_ACCESS_2_TRANSFER_WRITE_BIT, VK_PIPELINE_STAGE_2_ALL_GRAPHICS_BIT,
+                 VK_ACCESS_2_SHADER_SAMPLED_READ_BIT);
+  });
+}
+
+std::vector<std::uint8_t> readbackImage(const Context& context, const Image& image, VkImageLayout currentLayout) {
+  const std::size_t bytes = imageBytes(image);
+  Buffer staging(context, bytes, VK_BUFFER_USAGE_TRANSFER_DST_BIT, MemoryUsage::Readback, "readback");
+  context.submitAndWait([&](VkCommandBuffer cmd) {
+    imageBarrier(cmd, image.handle(), image.aspect(), currentLayout, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL,
+                 VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT, VK_ACCESS_2_MEMORY_WRITE_BIT,
+                 VK_PIPELINE_STAGE_2_COPY_BIT, VK_ACCESS_2_TRANSFER_READ_BIT);
+    const VkBufferImageCopy region = wholeImageCopy(image);
+    vkCmdCopyImageToBuffer(cmd, image.handle(), VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, staging.handle(), 1,
+                           &region);
+    imageBarrier(cmd, image.handle(), image.aspect(), VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, currentLayout,
+                 VK_PIPELINE_STAGE_2_COPY_BIT, VK_ACCESS_2_NONE, VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT,
+                 VK_ACCESS_2_MEMORY_READ_BIT | VK_ACCESS_2_MEMORY_WRITE_BIT);
+    VkBufferMemoryBarrier2 hostBarrier{VK_STRUCTURE_TYPE_BUFFER_MEMORY_BARRIER_2};
+    hostBarrier.srcStageMask = VK_PIPELINE_STAGE_2_COPY_BIT;
+    hostBarrier.srcAccessMask = VK_ACCESS_2_TRANSFER_WRITE_BIT;
+    hostBarrier.dstStageMask = VK_PIPELINE_STAGE_2_HOST_BIT;
+    hostBarrier.dstAccessMask = VK_ACCESS_2_HOST_READ_BIT;
+    hostBarrier.srcQueueFamilyIndex = VK_QUEUE_FAMILY_IGNORED;
+    hostBarrier.dstQueueFamilyIndex = VK_QUEUE_FAMILY_IGNORED;
+    hostBarrier.buffer = staging.handle();
+    hostBarrier.size = VK_WHOLE_SIZE;
+    VkDependencyInfo dependency{VK_STRUCTURE_TYPE_DEPENDENCY_INFO};
+    dependency.bufferMemoryBarrierCount = 1;
+    dependency.pBufferMemoryBarriers = &hostBarrier;
+    vkCmdPipelineBarrier2(cmd, &dependency);
+  });
+  const auto* begin = static_cast<const std::uint8_t*>(staging.mapped());
+  return std::vector<std::uint8_t>(begin, begin + bytes);
+}
+
+}  // namespace engine::gpu

@@ -1,0 +1,173 @@
+#include "engine/gpu/pipeline.h"
+
+#include <cstdlib>
+#include <utility>
+
+#include "engine/core/files.h"
+#include "engine/gpu/context.h"
+#include "engine/gpu/vk_check.h"
+
+#ifndef HSDF_SHADER_DIR
+#error "HSDF_SHADER_DIR must be defined by the build"
+#endif
+
+namespace engine::gpu {
+
+std::filesystem::path shaderDirectory() {
+  if (const char* dir = std::getenv("HSDF_SHADER_DIR")) return dir;
+  return HSDF_SHADER_DIR;
+}
+
+Expected<ShaderModule> ShaderModule::load(const Context& context, const std::string& name) {
+  const std::filesystem::path path = shaderDirectory() / (name + ".spv");
+  auto bytes = readBinaryFile(path, 64u << 20);
+  if (!bytes) return bytes.error().withContext("shader " + name);
+  if (bytes->empty() || bytes->size() % 4 != 0)
+    return makeError("shader " + path.string() + ": not SPIR-V (size " + std::to_string(bytes->size()) + ")");
+  VkShaderModuleCreateInfo info{VK_STRUCTURE_TYPE_SHADER_MODULE_CREATE_INFO};
+  info.codeSize = bytes->size();
+  info.pCode = reinterpret_cast<const std::uint32_t*>(bytes->data());
+  ShaderModule module;
+  module.context_ = &context;
+  VK_TRY(vkCreateShaderModule(context.device(), &info, nullptr, &module.module_));
+  context.setName(module.module_, VK_OBJECT_TYPE_SHADER_MODULE, name);
+  return module;
+}
+
+ShaderModule::~ShaderModule() {
+  if (module_) vkDestroyShaderModule(context_->device(), module_, nullptr);
+}
+
+ShaderModule::ShaderModule(ShaderModule&& other) noexcept { *this = std::move(other); }
+
+ShaderModule& ShaderModule::operator=(ShaderModule&& other) noexcept {
+  if (this != &other) {
+    if (module_) vkDestroyShaderModule(context_->device(), module_, nullptr);
+    context_ = std::exchange(other.context_, nullptr);
+    module_ = std::exchange(other.module_, VK_NULL_HANDLE);
+  }
+  return *this;
+}
+
+Expected<Pipeline> Pipeline::createGraphics(const Context& context, const GraphicsPipelineDesc& desc) {
+  Pipeline result;
+  result.context_ = &context;
+
+  VkPushConstantRange pushRange{VK_SHADER_STAGE_VERTEX_BIT | VK_SHADER_STAGE_FRAGMENT_BIT, 0,
+                                desc.pushConstantBytes};
+  VkPipelineLayoutCreateInfo layoutInfo{VK_STRUCTURE_TYPE_PIPELINE_LAYOUT_CREATE_INFO};
+  layoutInfo.setLayoutCount = static_cast<std::uint32_t>(desc.setLayouts.size());
+  layoutInfo.pSetLayouts = desc.setLayouts.data();
+  layoutInfo.pushConstantRangeCount = desc.pushConstantBytes ? 1 : 0;
+  layoutInfo.pPushConstantRanges = &pushRange;
+  VK_TRY(vkCreatePipelineLayout(context.device(), &layoutInfo, nullptr, &result.layout_));
+  context.setName(result.layout_, VK_OBJECT_TYPE_PIPELINE_LAYOUT, desc.name + " layout");
+
+  std::vector<VkPipelineShaderStageCreateInfo> stages;
+  VkPipelineShaderStageCreateInfo stage{VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO};
+  stage.pName = "main";
+  stage.stage = VK_SHADER_STAGE_VERTEX_BIT;
+  stage.module = desc.vertex;
+  stages.push_back(stage);
+  if (desc.fragment) {
+    stage.stage = VK_SHADER_STAGE_FRAGMENT_BIT;
+    stage.module = desc.fragment;
+    stages.push_back(stage);
+  }
+
+  VkPipelineVertexInputStateCreateInfo vertexInput{VK_STRUCTURE_TYPE_PIPELINE_VERTEX_INPUT_STATE_CREATE_INFO};
+  vertexInput.vertexBindingDescriptionCount = static_cast<std::uint32_t>(desc.vertexLayout.bindings.size());
+  vertexInput.pVertexBindingDescriptions = desc.vertexLayout.bindings.data();
+  vertexInput.vertexAttributeDescriptionCount = static_cast<std::uint32_t>(desc.vertexLayout.attributes.size());
+  vertexInput.pVertexAttributeDescriptions = desc.vertexLayout.attributes.data();
+
+  VkPipelineInputAssemblyStateCreateInfo inputAssembly{VK_STRUCTURE_TYPE_PIPELINE_INPUT_ASSEMBLY_STATE_CREATE_INFO};
+  inputAssembly.topology = desc.topology;
+
+  VkPipelineViewportStateCreateInfo viewport{VK_STRUCTURE_TYPE_PIPELINE_VIEWPORT_STATE_CREATE_INFO};
+  viewport.viewportCount = 1;
+  viewport.scissorCount = 1;
+
+  VkPipelineRasterizationStateCreateInfo raster{VK_STRUCTURE_TYPE_PIPELINE_RASTERIZATION_STATE_CREATE_INFO};
+  raster.polygonMode = desc.polygonMode;
+  raster.cullMode = desc.cullMode;
+  raster.frontFace = desc.frontFace;
+  raster.lineWidth = 1.0f;
+
+  VkPipelineMultisampleStateCreateInfo multisample{VK_STRUCTURE_TYPE_PIPELINE_MULTISAMPLE_STATE_CREATE_INFO};
+  multisample.rasterizationSamples = VK_SAMPLE_COUNT_1_BIT;
+
+  VkPipelineDepthStencilStateCreateInfo depth{VK_STRUCTURE_TYPE_PIPELINE_DEPTH_STENCIL_STATE_CREATE_INFO};
+  depth.depthTestEnable = desc.depthTest;
+  depth.depthWriteEnable = desc.depthWrite;
+  depth.depthCompareOp = desc.depthCompare;
+
+  std::vector<VkPipelineColorBlendAttachmentState> blends(desc.colorFormats.size());
+  for (auto& blend : blends) {
+    blend.colorWriteMask = VK_COLOR_COMPONENT_R_BIT | VK_COLOR_COMPONENT_G_BIT | VK_COLOR_COMPONENT_B_BIT |
+                           VK_COLOR_COMPONENT_A_BIT;
+    if (desc.alphaBlend) {
+      blend.blendEnable = VK_TRUE;
+      blend.srcColorBlendFactor = VK_BLEND_FACTOR_SRC_ALPHA;
+      blend.dstColorBlendFactor = VK_BLEND_FACTOR_ONE_MINUS_SRC_ALPHA;
+      blend.colorBlendOp = VK_BLEND_OP_ADD;
+      blend.srcAlphaBlendFactor = VK_BLEND_FACTOR_ONE;
+      blend.dstAlphaBlendFactor = VK_BLEND_FACTOR_ONE_MINUS_SRC_ALPHA;
+      blend.alphaBlendOp = VK_BLEND_OP_ADD;
+    }
+  }
+  VkPipelineColorBlendStateCreateInfo blend{VK_STRUCTURE_TYPE_PIPELINE_COLOR_BLEND_STATE_CREATE_INFO};
+  blend.attachmentCount = static_cast<std::uint32_t>(blends.size());
+  blend.pAttachments = blends.data();
+
+  const VkDynamicState dynamicStates[] = {VK_DYNAMIC_STATE_VIEWPORT, VK_DYNAMIC_STATE_SCISSOR};
+  VkPipelineDynamicStateCreateInfo dynamic{VK_STRUCTURE_TYPE_PIPELINE_DYNAMIC_STATE_CREATE_INFO};
+  dynamic.dynamicStateCount = 2;
+  dynamic.pDynamicStates = dynamicStates;
+
+  VkPipelineRenderingCreateInfo rendering{VK_STRUCTURE_TYPE_PIPELINE_RENDERING_CREATE_INFO};
+  rendering.colorAttachmentCount = static_cast<std::uint32_t>(desc.colorFormats.size());
+  rendering.pColorAttachmentFormats = desc.colorFormats.data();
+  rendering.depthAttachmentFormat = desc.depthFormat;
+
+  VkGraphicsPipelineCreateInfo info{VK_STRUCTURE_TYPE_GRAPHICS_PIPELINE_CREATE_INFO};
+  info.pNext = &rendering;
+  info.stageCount = static_cast<std::uint32_t>(stages.size());
+  info.pStages = stages.data();
+  info.pVertexInputState = &vertexInput;
+  info.pInputAssemblyState = &inputAssembly;
+  info.pViewportState = &viewport;
+  info.pRasterizationState = &raster;
+  info.pMultisampleState = &multisample;
+  info.pDepthStencilState = &depth;
+  info.pColorBlendState = &blend;
+  info.pDynamicState = &dynamic;
+  info.layout = result.layout_;
+  VK_TRY(vkCreateGraphicsPipelines(context.device(), VK_NULL_HANDLE, 1, &info, nullptr, &result.pipeline_));
+  context.setName(result.pipeline_, VK_OBJECT_TYPE_PIPELINE, desc.name);
+  return result;
+}
+
+Pipeline::~Pipeline() { release(); }
+
+Pipeline::Pipeline(Pipeline&& other) noexcept { *this = std::move(other); }
+
+Pipeline& Pipeline::operator=(Pipeline&& other) noexcept {
+  if (this != &other) {
+    release();
+    context_ = std::exchange(other.context_, nullptr);
+    pipeline_ = std::exchange(other.pipeline_, VK_NULL_HANDLE);
+    layout_ = std::exchange(other.layout_, VK_NULL_HANDLE);
+  }
+  return *this;
+}
+
+void Pipeline::release() {
+  if (!context_) return;
+  if (pipeline_) vkDestroyPipeline(context_->device(), pipeline_, nullptr);
+  if (layout_) vkDestroyPipelineLayout(context_->device(), layout_, nullptr);
+  pipeline_ = VK_NULL_HANDLE;
+  layout_ = VK_NULL_HANDLE;
+}
+
+}  // namespace engine::gpu

@@ -1,0 +1,81 @@
+#pragma once
+// Shader modules from build-time SPIR-V and graphics pipelines for dynamic rendering.
+#include <cstdint>
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include <vulkan/vulkan.h>
+
+#include "engine/core/expected.h"
+
+namespace engine::gpu {
+
+class Context;
+
+// Folder holding the compiled shaders: $HSDF_SHADER_DIR, else the build tree's shaders/ folder.
+std::filesystem::path shaderDirectory();
+
+class ShaderModule {
+ public:
+  ShaderModule() = default;
+  // Loads `<shaderDirectory()>/<name>.spv`, e.g. name = "mesh.vert".
+  static Expected<ShaderModule> load(const Context& context, const std::string& name);
+  ~ShaderModule();
+  ShaderModule(ShaderModule&& other) noexcept;
+  ShaderModule& operator=(ShaderModule&& other) noexcept;
+  ShaderModule(const ShaderModule&) = delete;
+  ShaderModule& operator=(const ShaderModule&) = delete;
+  VkShaderModule handle() const { return module_; }
+
+ private:
+  const Context* context_ = nullptr;
+  VkShaderModule module_ = VK_NULL_HANDLE;
+};
+
+struct VertexLayout {
+  std::vector<VkVertexInputBindingDescription> bindings;
+  std::vector<VkVertexInputAttributeDescription> attributes;
+};
+
+struct GraphicsPipelineDesc {
+  std::string name = "pipeline";
+  VkShaderModule vertex = VK_NULL_HANDLE;
+  VkShaderModule fragment = VK_NULL_HANDLE;  // may be null: depth-only pipeline
+  VertexLayout vertexLayout;
+  VkPrimitiveTopology topology = VK_PRIMITIVE_TOPOLOGY_TRIANGLE_LIST;
+  VkPolygonMode polygonMode = VK_POLYGON_MODE_FILL;
+  VkCullModeFlags cullMode = VK_CULL_MODE_BACK_BIT;
+  VkFrontFace frontFace = VK_FRONT_FACE_COUNTER_CLOCKWISE;
+  bool depthTest = true;
+  bool depthWrite = true;
+  VkCompareOp depthCompare = VK_COMPARE_OP_GREATER;  // reverse-Z
+  std::vector<VkFormat> colorFormats;
+  VkFormat depthFormat = VK_FORMAT_UNDEFINED;
+  bool alphaBlend = false;
+  std::uint32_t pushConstantBytes = 0;
+  std::vector<VkDescriptorSetLayout> setLayouts;
+};
+
+class Pipeline {
+ public:
+  Pipeline() = default;
+  static Expected<Pipeline> createGraphics(const Context& context, const GraphicsPipelineDesc& desc);
+  ~Pipeline();
+  Pipeline(Pipeline&& other) noexcept;
+  Pipeline& operator=(Pipeline&& other) noexcept;
+  Pipeline(const Pipeline&) = delete;
+  Pipeline& operator=(const Pipeline&) = delete;
+
+  VkPipeline handle() const { return pipeline_; }
+  VkPipelineLayout layout() const { return layout_; }
+  explicit operator bool() const { return pipeline_ != VK_NULL_HANDLE; }
+
+ private:
+  void release();
+  const Context* context_ = nullptr;
+  VkPipeline pipeline_ = VK_NULL_HANDLE;
+  VkPipelineLayout layout_ = VK_NULL_HANDLE;
+};
+
+}  // namespace engine::gpu

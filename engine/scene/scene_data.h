@@ -1,0 +1,67 @@
+#pragma once
+// CPU-side scene description produced by the glTF importer: plain data, no GPU handles, no ECS.
+// The renderer turns it into entities (engine/render/scene_instantiate.h); tools such as
+// hsdf_bake flatten it into world-space triangles.
+#include <cstdint>
+#include <filesystem>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include <glm/glm.hpp>
+
+#include "engine/core/expected.h"
+
+namespace engine::scene {
+
+struct MeshPrimitiveData {
+  std::vector<glm::vec3> positions;
+  std::vector<glm::vec3> normals;     // same count as positions (generated when the file has none)
+  std::vector<std::uint32_t> indices; // triangle list
+  int material = -1;                  // index into SceneData::materials, -1 for the default
+};
+
+struct MeshData {
+  std::string name;
+  std::vector<MeshPrimitiveData> primitives;
+};
+
+struct MaterialData {
+  std::string name;
+  glm::vec4 baseColor{0.8f, 0.8f, 0.8f, 1.0f};
+  float metallic = 0.0f;
+  float roughness = 0.5f;
+};
+
+struct CameraData {
+  std::string name;
+  float yfov = 0.8f;                 // radians
+  float znear = 0.05f;
+  std::optional<float> zfar;         // none: infinite projection
+  std::optional<float> aspectRatio;
+};
+
+struct NodeData {
+  std::string name;
+  int parent = -1;
+  glm::mat4 local{1.0f};
+  glm::mat4 world{1.0f};             // product of the parents' local matrices and this one
+  int mesh = -1;
+  int camera = -1;
+};
+
+struct SceneData {
+  std::vector<MeshData> meshes;
+  std::vector<MaterialData> materials;
+  std::vector<CameraData> cameras;
+  std::vector<NodeData> nodes;       // parents come before their children
+  std::vector<std::string> warnings; // what the importer skipped or ignored (also logged)
+};
+
+// World-space triangles of every mesh instance in a scene.
+struct TriangleSoup {
+  std::vector<glm::vec3> positions;
+  std::vector<std::uint32_t> indices;
+};
+
+}  // namespace engine::scene

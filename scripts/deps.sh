@@ -1,0 +1,37 @@
+#!/usr/bin/env bash
+# Installs the Debian 12 packages the project needs, skipping what `dpkg -s` already finds.
+# Sourced by scripts/run.sh and scripts/test.sh:  hsdf_install_deps build|test
+set -euo pipefail
+
+HSDF_BUILD_PACKAGES=(
+  cmake ninja-build g++ pkg-config
+  libvulkan-dev mesa-vulkan-drivers vulkan-validationlayers glslang-tools glslang-dev
+  libglfw3-dev libglm-dev libtinygltf-dev libimgui-dev libstb-dev
+  libcli11-dev nlohmann-json3-dev libfmt-dev
+  libgtest-dev libbenchmark-dev
+)
+HSDF_TEST_PACKAGES=(xvfb xauth)
+
+hsdf_install_deps() {
+  local wanted=("${HSDF_BUILD_PACKAGES[@]}")
+  [ "${1:-build}" = test ] && wanted+=("${HSDF_TEST_PACKAGES[@]}")
+  local missing=()
+  for p in "${wanted[@]}"; do
+    dpkg -s "$p" >/dev/null 2>&1 || missing+=("$p")
+  done
+  [ ${#missing[@]} -eq 0 ] && return 0
+  echo "Installing Debian packages: ${missing[*]}"
+  local sudo=""
+  [ "$(id -u)" -ne 0 ] && sudo="sudo"
+  $sudo apt-get update -qq
+  DEBIAN_FRONTEND=noninteractive $sudo apt-get install -y -qq --no-install-recommends "${missing[@]}"
+}
+
+# Vulkan's loader warns when XDG_RUNTIME_DIR is unset; give it a private folder.
+hsdf_runtime_env() {
+  if [ -z "${XDG_RUNTIME_DIR:-}" ] || [ ! -d "${XDG_RUNTIME_DIR}" ]; then
+    export XDG_RUNTIME_DIR
+    XDG_RUNTIME_DIR=$(mktemp -d /tmp/hsdf-xdg.XXXXXX)
+    chmod 700 "$XDG_RUNTIME_DIR"
+  fi
+}

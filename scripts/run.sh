@@ -1,0 +1,22 @@
+#!/usr/bin/env bash
+# Quick start: install what is missing, build a release build, run the scene runner.
+# With a display it opens a window; without one it renders headless and writes a screenshot.
+# Extra arguments go to the scene runner (see `build/release/samples/scene_runner/scene_runner --help`).
+set -euo pipefail
+root=$(cd "$(dirname "$0")/.." && pwd)
+cd "$root"
+source scripts/deps.sh
+hsdf_install_deps build
+hsdf_runtime_env
+
+cmake --preset release >/dev/null
+cmake --build --preset release --target scene_runner
+
+runner=build/release/samples/scene_runner/scene_runner
+if [ -n "${DISPLAY:-}" ] || [ -n "${WAYLAND_DISPLAY:-}" ]; then
+  exec "$runner" "$@"
+else
+  mkdir -p out
+  "$runner" --headless --screenshot out/scene_runner.png "$@"
+  echo "No display found: rendered headless. Screenshot: $root/out/scene_runner.png"
+fi

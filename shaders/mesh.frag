@@ -1,0 +1,26 @@
+#version 460
+#extension GL_GOOGLE_include_directive : require
+#include "shared/host_device.h"
+#include "shared/lighting.glsl"
+
+layout(push_constant, scalar) uniform Push { DrawPushConstants pc; };
+
+layout(location = 0) in vec3 inWorldPosition;
+layout(location = 1) in vec3 inWorldNormal;
+layout(location = 2) flat in uint inObject;
+
+layout(location = 0) out vec4 outColor;
+
+void main() {
+  FrameGlobals frame = FrameGlobalsRef(pc.frameGlobals).globals;
+  ObjectData object = ObjectsRef(pc.objects).objects[inObject];
+  vec3 color;
+  if (pc.debugView == DEBUG_VIEW_NORMALS) {
+    color = debugNormalColor(inWorldNormal);
+  } else if (pc.debugView == DEBUG_VIEW_DEPTH) {
+    color = vec3(gl_FragCoord.z);
+  } else {
+    color = shadeSurface(frame, object.color.rgb, object.material.x, inWorldPosition, inWorldNormal);
+  }
+  outColor = vec4(color, 1.0);
+}

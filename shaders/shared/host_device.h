@@ -1,0 +1,77 @@
+// GPU structs shared by C++ and GLSL: the one place where their layouts are declared.
+// Buffers are reached by buffer device address and use the scalar block layout, which matches
+// C++'s natural alignment of these members; the static_asserts pin every size.
+#ifndef HSDF_HOST_DEVICE_H
+#define HSDF_HOST_DEVICE_H
+
+#ifdef __cplusplus
+#include <cstdint>
+#include <glm/glm.hpp>
+namespace shader {
+using vec2 = glm::vec2;
+using vec3 = glm::vec3;
+using vec4 = glm::vec4;
+using uvec4 = glm::uvec4;
+using mat4 = glm::mat4;
+using uint = std::uint32_t;
+using uint64_t = std::uint64_t;
+#define HSDF_CHECK_SIZE(type, bytes) static_assert(sizeof(type) == (bytes), #type " layout changed")
+#else
+#extension GL_EXT_buffer_reference : require
+#extension GL_EXT_scalar_block_layout : require
+#extension GL_EXT_shader_explicit_arithmetic_types_int64 : require
+#define HSDF_CHECK_SIZE(type, bytes)
+#endif
+
+// Debug views (DrawPushConstants::debugView); the same numbers in the UI and on the command line.
+#define DEBUG_VIEW_NONE 0
+#define DEBUG_VIEW_NORMALS 1
+#define DEBUG_VIEW_DEPTH 2
+#define DEBUG_VIEW_CELLS 3
+#define DEBUG_VIEW_EVALS 4
+
+// Per frame: camera and light. One record per frame in flight.
+struct FrameGlobals {
+  mat4 view;
+  mat4 proj;              // reverse-Z infinite perspective (depth = znear / view distance)
+  mat4 viewProj;
+  mat4 invView;
+  mat4 invProj;
+  vec4 cameraPosition;    // xyz: eye in world space; w: znear
+  vec4 lightDirection;    // xyz: unit vector towards the light; w: intensity
+  vec4 lightColor;        // rgb; a: ambient intensity
+  vec4 viewport;          // width, height, 1/width, 1/height
+};
+HSDF_CHECK_SIZE(FrameGlobals, 5 * 64 + 4 * 16);
+
+// Per object, in the GPU scene buffer; drawn instances find theirs by index.
+struct ObjectData {
+  mat4 model;
+  mat4 invModel;          // normals use transpose(mat3(invModel))
+  vec4 color;             // base colour (linear), a: unused
+  vec4 material;          // x: roughness, y: metallic, zw: feature-specific
+  uint64_t payload;       // feature-specific data reached by device address (0: none)
+  uint feature;           // which RenderFeature owns the object (for debugging)
+  uint flags;
+};
+HSDF_CHECK_SIZE(ObjectData, 2 * 64 + 2 * 16 + 8 + 2 * 4);
+
+// Push constants of every scene draw: where this frame's globals and objects live.
+struct DrawPushConstants {
+  uint64_t frameGlobals;  // address of FrameGlobals
+  uint64_t objects;       // address of ObjectData[]
+  uint debugView;         // DEBUG_VIEW_*
+  uint flags;
+  uint pad0;
+  uint pad1;
+};
+HSDF_CHECK_SIZE(DrawPushConstants, 32);
+
+#ifdef __cplusplus
+}  // namespace shader
+#else
+layout(buffer_reference, scalar) readonly buffer FrameGlobalsRef { FrameGlobals globals; };
+layout(buffer_reference, scalar) readonly buffer ObjectsRef { ObjectData objects[]; };
+#endif
+
+#endif  // HSDF_HOST_DEVICE_H
