@@ -1,0 +1,17 @@
+#pragma once
+// Runs independent work items on worker threads while the calling thread reports progress and
+// watches for cancellation, so progress callbacks (UI, terminal) never run on a worker.
+#include <cstddef>
+#include <functional>
+
+#include "engine/core/expected.h"
+#include "hermite_sdf/field.h"
+
+namespace hsdf::detail {
+
+// Calls work(i) for every i in [0, count), items claimed in increasing order. Stops at the first
+// item error (returned), on cancellation ("cancelled"), or when the progress callback returns false.
+engine::Status runParallel(std::size_t count, const BakeOptions& options,
+                           const std::function<engine::Status(std::size_t)>& work);
+
+}  // namespace hsdf::detail
