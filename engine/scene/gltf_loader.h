@@ -1,0 +1,56 @@
+#pragma once
+// glTF 2.0 import (.gltf with external or data: buffers, and .glb) into plain CPU scene data.
+//
+// The importer treats every file as untrusted: each index, offset, stride, count and component type
+// is checked before a byte is read, the node hierarchy is checked for cycles and shared children,
+// and a malformed file yields an error naming the file and the problem, e.g.
+//   "bad.gltf: mesh 0 'Cube' primitive 0 POSITION: accessor 2: bufferView 7 out of range (file has 3)".
+// It never crashes, hangs or allocates in proportion to a count it has not checked against the data.
+//
+// What is imported (for the default scene, else scene 0, else every root node when there are no
+// scenes; nodes outside that scene are dropped):
+//  - meshes: TRIANGLES, TRIANGLE_STRIP and TRIANGLE_FAN primitives as triangle lists; POSITION is
+//    required, NORMAL is optional (smooth area-weighted normals are generated when absent), indices
+//    are optional (0..n-1 when absent) and may be of any glTF index type. Points and lines are
+//    skipped with a warning. Vertex attributes may be float or normalized/integer
+//    (KHR_mesh_quantization); sparse accessors and accessors without a bufferView are rejected.
+//  - materials: pbrMetallicRoughness baseColorFactor, metallicFactor, roughnessFactor.
+//  - cameras: perspective; orthographic cameras are skipped with a warning (nodes that use one get
+//    camera -1).
+//  - nodes: local matrix (from `matrix` or translation/rotation/scale) and world matrix.
+// Images are never read or decoded (textures are not imported). A file without meshes is valid and
+// gives a SceneData with empty meshes.
+#include <cstdint>
+#include <filesystem>
+#include <span>
+#include <string_view>
+
+#include "engine/core/expected.h"
+#include "engine/scene/scene_data.h"
+
+namespace engine::scene {
+
+struct GltfLoadOptions {
+  // Files (the .gltf/.glb and each external buffer) larger than this are refused before reading.
+  std::uint64_t maxFileBytes = std::uint64_t(1) << 30;
+};
+
+// Loads a .gltf or .glb file (told apart by content, not by extension). External buffer URIs are
+// resolved relative to the file's folder; a missing one is an error.
+Expected<SceneData> loadGltf(const std::filesystem::path& path, const GltfLoadOptions& options = {});
+
+// Loads glTF JSON or GLB bytes. `nameForErrors` prefixes every error and warning. External buffer
+// URIs are resolved relative to `baseDir`; with an empty `baseDir` external files are not allowed
+// (only data: URIs and the GLB BIN chunk), which is what a caller holding untrusted bytes wants.
+Expected<SceneData> loadGltfFromMemory(std::span<const std::uint8_t> bytes,
+                                       std::string_view nameForErrors,
+                                       const std::filesystem::path& baseDir,
+                                       const GltfLoadOptions& options = {});
+
+// World-space positions and triangle indices of every mesh instance (node with a mesh) in `scene`.
+// Instances whose world matrix mirrors (negative determinant) get their triangles re-wound so that
+// every triangle stays counter-clockwise seen from outside. Instances that would push the vertex
+// count past 2^32-1 are left out with an error in the log.
+TriangleSoup flattenTriangles(const SceneData& scene);
+
+}  // namespace engine::scene
