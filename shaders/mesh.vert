@@ -13,7 +13,9 @@ layout(location = 0) out vec3 outWorldPosition;
 layout(location = 1) out vec3 outWorldNormal;
 layout(location = 2) flat out uint outObject;
 
-invariant gl_Position;
+// No FMA contraction: both passes must compute bit-identical positions. (`invariant gl_Position`
+// would say it more directly, but glslang 12 emits a decoration that the validation layer rejects.)
+precise gl_Position;
 
 void main() {
   FrameGlobals frame = FrameGlobalsRef(pc.frameGlobals).globals;

@@ -1,0 +1,131 @@
+#include "engine/gpu/swapchain.h"
+
+#include <algorithm>
+
+#include "engine/gpu/context.h"
+#include "engine/gpu/vk_check.h"
+
+namespace engine::gpu {
+namespace {
+
+VkSurfaceFormatKHR chooseFormat(const std::vector<VkSurfaceFormatKHR>& formats) {
+  for (const auto& f : formats)
+    if ((f.format == VK_FORMAT_B8G8R8A8_SRGB || f.format == VK_FORMAT_R8G8B8A8_SRGB) &&
+        f.colorSpace == VK_COLOR_SPACE_SRGB_NONLINEAR_KHR)
+      return f;
+  return formats.front();
+}
+
+}  // namespace
+
+Expected<std::unique_ptr<Swapchain>> Swapchain::create(const Context& context, VkSurfaceKHR surface,
+                                                       VkExtent2D desiredExtent, bool vsync) {
+  VkBool32 supported = VK_FALSE;
+  VK_TRY(vkGetPhysicalDeviceSurfaceSupportKHR(context.physicalDevice(), context.queueFamily(), surface, &supported));
+  if (!supported) return makeError("the graphics queue cannot present to this window surface");
+  std::unique_ptr<Swapchain> swapchain(new Swapchain(context, surface, vsync));
+  ENGINE_TRY(swapchain->recreate(desiredExtent));
+  return swapchain;
+}
+
+Swapchain::~Swapchain() {
+  vkDeviceWaitIdle(context_.device());
+  destroySemaphores();
+  if (swapchain_) vkDestroySwapchainKHR(context_.device(), swapchain_, nullptr);
+}
+
+void Swapchain::destroySemaphores() {
+  for (VkSemaphore s : renderFinished_) vkDestroySemaphore(context_.device(), s, nullptr);
+  renderFinished_.clear();
+}
+
+Status Swapchain::recreate(VkExtent2D desiredExtent) {
+  VK_TRY(vkDeviceWaitIdle(context_.device()));
+  VkPhysicalDevice physical = context_.physicalDevice();
+  VkSurfaceCapabilitiesKHR caps{};
+  VK_TRY(vkGetPhysicalDeviceSurfaceCapabilitiesKHR(physical, surface_, &caps));
+  std::uint32_t count = 0;
+  VK_TRY(vkGetPhysicalDeviceSurfaceFormatsKHR(physical, surface_, &count, nullptr));
+  std::vector<VkSurfaceFormatKHR> formats(count);
+  VK_TRY(vkGetPhysicalDeviceSurfaceFormatsKHR(physical, surface_, &count, formats.data()));
+  if (formats.empty()) return makeError("the window surface offers no formats");
+  if (!(caps.supportedUsageFlags & VK_IMAGE_USAGE_TRANSFER_DST_BIT))
+    return makeError("the window surface does not accept transfers (TRANSFER_DST)");
+  const VkSurfaceFormatKHR format = chooseFormat(formats);
+
+  VkExtent2D extent = caps.currentExtent;
+  if (extent.width == ~0u) {
+    extent.width = std::clamp(desiredExtent.width, caps.minImageExtent.width, caps.maxImageExtent.width);
+    extent.height = std::clamp(desiredExtent.height, caps.minImageExtent.height, caps.maxImageExtent.height);
+  }
+  std::uint32_t imageCount = std::max(caps.minImageCount + 1, 2u);
+  if (caps.maxImageCount) imageCount = std::min(imageCount, caps.maxImageCount);
+
+  VkSwapchainKHR old = swapchain_;
+  VkSwapchainCreateInfoKHR info{VK_STRUCTURE_TYPE_SWAPCHAIN_CREATE_INFO_KHR};
+  info.surface = surface_;
+  info.minImageCount = imageCount;
+  info.imageFormat = format.format;
+  info.imageColorSpace = format.colorSpace;
+  info.imageExtent = extent;
+  info.imageArrayLayers = 1;
+  info.imageUsage = VK_IMAGE_USAGE_TRANSFER_DST_BIT | VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT;
+  info.imageSharingMode = VK_SHARING_MODE_EXCLUSIVE;
+  info.preTransform = caps.currentTransform;
+  info.compositeAlpha = VK_COMPOSITE_ALPHA_OPAQUE_BIT_KHR;
+  if (!(caps.supportedCompositeAlpha & VK_COMPOSITE_ALPHA_OPAQUE_BIT_KHR))
+    info.compositeAlpha = VK_COMPOSITE_ALPHA_INHERIT_BIT_KHR;
+  info.presentMode = vsync_ ? VK_PRESENT_MODE_FIFO_KHR : VK_PRESENT_MODE_IMMEDIATE_KHR;
+  if (!vsync_) {
+    std::uint32_t modeCount = 0;
+    vkGetPhysicalDeviceSurfacePresentModesKHR(physical, surface_, &modeCount, nullptr);
+    std::vector<VkPresentModeKHR> modes(modeCount);
+    vkGetPhysicalDeviceSurfacePresentModesKHR(physical, surface_, &modeCount, modes.data());
+    if (std::find(modes.begin(), modes.end(), info.presentMode) == modes.end())
+      info.presentMode = VK_PRESENT_MODE_FIFO_KHR;
+  }
+  info.clipped = VK_TRUE;
+  info.oldSwapchain = old;
+  VK_TRY(vkCreateSwapchainKHR(context_.device(), &info, nullptr, &swapchain_));
+  if (old) vkDestroySwapchainKHR(context_.device(), old, nullptr);
+  context_.setName(swapchain_, VK_OBJECT_TYPE_SWAPCHAIN_KHR, "swapchain");
+
+  format_ = format.format;
+  extent_ = extent;
+  VK_TRY(vkGetSwapchainImagesKHR(context_.device(), swapchain_, &count, nullptr));
+  images_.resize(count);
+  VK_TRY(vkGetSwapchainImagesKHR(context_.device(), swapchain_, &count, images_.data()));
+  destroySemaphores();
+  for (std::uint32_t i = 0; i < count; ++i) {
+    VkSemaphoreCreateInfo semaphoreInfo{VK_STRUCTURE_TYPE_SEMAPHORE_CREATE_INFO};
+    VkSemaphore semaphore = VK_NULL_HANDLE;
+    VK_TRY(vkCreateSemaphore(context_.device(), &semaphoreInfo, nullptr, &semaphore));
+    context_.setName(semaphore, VK_OBJECT_TYPE_SEMAPHORE, "render finished " + std::to_string(i));
+    context_.setName(images_[i], VK_OBJECT_TYPE_IMAGE, "swapchain image " + std::to_string(i));
+    renderFinished_.push_back(semaphore);
+  }
+  return {};
+}
+
+bool Swapchain::acquire(VkSemaphore imageAvailable, std::uint32_t& imageIndex) {
+  const VkResult result =
+      vkAcquireNextImageKHR(context_.device(), swapchain_, UINT64_MAX, imageAvailable, VK_NULL_HANDLE, &imageIndex);
+  if (result == VK_ERROR_OUT_OF_DATE_KHR) return false;
+  if (result != VK_SUBOPTIMAL_KHR) VK_CHECK(result);
+  return true;
+}
+
+bool Swapchain::present(std::uint32_t imageIndex) {
+  VkPresentInfoKHR info{VK_STRUCTURE_TYPE_PRESENT_INFO_KHR};
+  info.waitSemaphoreCount = 1;
+  info.pWaitSemaphores = &renderFinished_[imageIndex];
+  info.swapchainCount = 1;
+  info.pSwapchains = &swapchain_;
+  info.pImageIndices = &imageIndex;
+  const VkResult result = vkQueuePresentKHR(context_.queue(), &info);
+  if (result == VK_ERROR_OUT_OF_DATE_KHR || result == VK_SUBOPTIMAL_KHR) return false;
+  VK_CHECK(result);
+  return true;
+}
+
+}  // namespace engine::gpu

@@ -1,0 +1,73 @@
+#include "engine/platform/camera_controller.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include <GLFW/glfw3.h>
+
+#include "engine/core/math.h"
+
+namespace engine::platform {
+namespace {
+constexpr float kMaxPitch = 1.55f;
+}
+
+bool OrbitController::update(const InputState& input) {
+  bool moved = false;
+  if (!input.uiWantsMouse) {
+    if (input.leftButton && (input.cursorDelta.x != 0.0f || input.cursorDelta.y != 0.0f)) {
+      yaw -= input.cursorDelta.x * rotateSpeed;
+      pitch = std::clamp(pitch + input.cursorDelta.y * rotateSpeed, -kMaxPitch, kMaxPitch);
+      moved = true;
+    }
+    if (input.scrollDelta != 0.0f) {
+      radius *= std::exp(-input.scrollDelta * zoomSpeed);
+      moved = true;
+    }
+    if (input.rightButton && input.cursorDelta.y != 0.0f) {
+      radius *= std::exp(input.cursorDelta.y * 0.01f);
+      moved = true;
+    }
+    if (input.middleButton) {
+      const glm::vec3 forward = glm::normalize(target - eye());
+      const glm::vec3 right = glm::normalize(glm::cross(forward, glm::vec3(0, 1, 0)));
+      const glm::vec3 up = glm::cross(right, forward);
+      target += (-right * input.cursorDelta.x + up * input.cursorDelta.y) * radius * 0.002f;
+      moved = true;
+    }
+  }
+  radius = std::clamp(radius, 1e-3f, 1e5f);
+  return moved;
+}
+
+glm::vec3 OrbitController::eye() const { return math::orbitEye(target, radius, yaw, pitch); }
+
+glm::vec3 FlyController::forward() const {
+  return {std::cos(pitch) * -std::sin(yaw), std::sin(pitch), std::cos(pitch) * -std::cos(yaw)};
+}
+
+bool FlyController::update(const InputState& input, float dt) {
+  bool moved = false;
+  if (!input.uiWantsMouse && input.rightButton) {
+    yaw -= input.cursorDelta.x * lookSpeed;
+    pitch = std::clamp(pitch - input.cursorDelta.y * lookSpeed, -kMaxPitch, kMaxPitch);
+    moved = true;
+  }
+  if (input.uiWantsKeyboard) return moved;
+  const glm::vec3 f = forward();
+  const glm::vec3 r = glm::normalize(glm::cross(f, glm::vec3(0, 1, 0)));
+  glm::vec3 step(0.0f);
+  if (input.keys[GLFW_KEY_W]) step += f;
+  if (input.keys[GLFW_KEY_S]) step -= f;
+  if (input.keys[GLFW_KEY_D]) step += r;
+  if (input.keys[GLFW_KEY_A]) step -= r;
+  if (input.keys[GLFW_KEY_E]) step.y += 1.0f;
+  if (input.keys[GLFW_KEY_Q]) step.y -= 1.0f;
+  if (glm::dot(step, step) > 0.0f) {
+    position += glm::normalize(step) * speed * dt * (input.keys[GLFW_KEY_LEFT_SHIFT] ? 4.0f : 1.0f);
+    moved = true;
+  }
+  return moved;
+}
+
+}  // namespace engine::platform

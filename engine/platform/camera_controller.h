@@ -1,0 +1,34 @@
+#pragma once
+// Camera controllers driven by InputState: orbit (drag to rotate, right-drag/scroll to zoom,
+// middle-drag to pan) and fly (WASD + mouse look while the right button is held).
+#include <glm/glm.hpp>
+
+#include "engine/platform/window.h"
+
+namespace engine::platform {
+
+struct OrbitController {
+  glm::vec3 target{0.0f};
+  float radius = 3.0f;
+  float yaw = 0.6f;     // radians around +Y
+  float pitch = 0.35f;  // radians above the horizon
+  float rotateSpeed = 0.006f;
+  float zoomSpeed = 0.1f;
+
+  // Applies this frame's input; returns true when the camera moved.
+  bool update(const InputState& input);
+  glm::vec3 eye() const;
+};
+
+struct FlyController {
+  glm::vec3 position{0.0f, 0.0f, 3.0f};
+  float yaw = 0.0f;
+  float pitch = 0.0f;
+  float speed = 1.0f;  // world units per second
+  float lookSpeed = 0.004f;
+
+  bool update(const InputState& input, float dt);
+  glm::vec3 forward() const;
+};
+
+}  // namespace engine::platform

@@ -1,0 +1,62 @@
+#pragma once
+// A GLFW window with a Vulkan surface, and the input state the camera controllers read.
+#include <memory>
+#include <string>
+#include <vector>
+
+#include <glm/glm.hpp>
+#include <vulkan/vulkan.h>
+
+#include "engine/core/expected.h"
+
+struct GLFWwindow;
+
+namespace engine::platform {
+
+struct InputState {
+  glm::vec2 cursor{0.0f};
+  glm::vec2 cursorDelta{0.0f};
+  float scrollDelta = 0.0f;
+  bool leftButton = false;
+  bool rightButton = false;
+  bool middleButton = false;
+  bool keys[512] = {};        // GLFW key codes
+  bool uiWantsMouse = false;  // set by the UI layer: the camera ignores the mouse then
+  bool uiWantsKeyboard = false;
+};
+
+class Window {
+ public:
+  // Fails with a clear error when there is no display or GLFW cannot start.
+  static Expected<std::unique_ptr<Window>> create(const std::string& title, int width, int height);
+  ~Window();
+  Window(const Window&) = delete;
+  Window& operator=(const Window&) = delete;
+
+  // Instance extensions the surface needs (pass to gpu::ContextDesc::instanceExtensions).
+  static std::vector<std::string> requiredInstanceExtensions();
+  Status createSurface(VkInstance instance);
+  void destroySurface(VkInstance instance);
+  VkSurfaceKHR surface() const { return surface_; }
+
+  // Polls events and updates the input state (deltas are per call).
+  void pollEvents();
+  bool shouldClose() const;
+  VkExtent2D framebufferExtent() const;  // {0,0} while minimised
+  bool minimized() const;
+  void waitWhileMinimized();
+  GLFWwindow* handle() const { return window_; }
+  InputState& input() { return input_; }
+
+ private:
+  Window() = default;
+  static void onScroll(GLFWwindow* window, double dx, double dy);
+
+  GLFWwindow* window_ = nullptr;
+  VkSurfaceKHR surface_ = VK_NULL_HANDLE;
+  InputState input_;
+  float pendingScroll_ = 0.0f;
+  bool firstPoll_ = true;
+};
+
+}  // namespace engine::platform

@@ -1,0 +1,29 @@
+#include "engine/render/camera_view.h"
+
+#include "engine/core/math.h"
+
+namespace engine::render {
+
+CameraView CameraView::lookAt(const glm::vec3& eye, const glm::vec3& target, float fovY, float znear, float aspect) {
+  CameraView c;
+  glm::vec3 up(0.0f, 1.0f, 0.0f);
+  if (glm::length(glm::cross(glm::normalize(target - eye), up)) < 1e-4f) up = glm::vec3(0.0f, 0.0f, 1.0f);
+  c.view = math::lookAt(eye, target, up);
+  c.proj = math::perspectiveReverseZInfinite(fovY, aspect, znear);
+  c.position = eye;
+  c.znear = znear;
+  c.fovY = fovY;
+  return c;
+}
+
+CameraView CameraView::fromWorld(const glm::mat4& world, float fovY, float znear, float aspect) {
+  CameraView c;
+  c.view = glm::inverse(world);
+  c.proj = math::perspectiveReverseZInfinite(fovY, aspect, znear);
+  c.position = glm::vec3(world[3]);
+  c.znear = znear;
+  c.fovY = fovY;
+  return c;
+}
+
+}  // namespace engine::render

@@ -1,0 +1,20 @@
+#pragma once
+// What the renderer needs of a camera for one frame.
+#include <glm/glm.hpp>
+
+namespace engine::render {
+
+struct CameraView {
+  glm::mat4 view{1.0f};
+  glm::mat4 proj{1.0f};
+  glm::vec3 position{0.0f};
+  float znear = 0.05f;
+  float fovY = 0.8f;
+
+  // A camera at `eye` looking at `target`, Y up, for an image of the given aspect ratio.
+  static CameraView lookAt(const glm::vec3& eye, const glm::vec3& target, float fovY, float znear, float aspect);
+  // A camera placed by a world matrix (its local -Z is the viewing direction).
+  static CameraView fromWorld(const glm::mat4& world, float fovY, float znear, float aspect);
+};
+
+}  // namespace engine::render

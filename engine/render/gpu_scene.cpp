@@ -1,0 +1,36 @@
+#include "engine/render/gpu_scene.h"
+
+namespace engine::render {
+
+GpuScene::GpuScene(const gpu::Context& context, std::uint32_t framesInFlight)
+    : buffer_(context, framesInFlight, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, "gpu scene objects") {}
+
+std::uint32_t GpuScene::addObject(const shader::ObjectData& object) {
+  objects_.push_back(object);
+  return static_cast<std::uint32_t>(objects_.size() - 1);
+}
+
+void GpuScene::upload(std::uint32_t frame) {
+  // Always upload at least one record so the buffer (and its address) exists.
+  if (objects_.empty()) {
+    const shader::ObjectData empty{};
+    buffer_.upload(frame, &empty, sizeof(empty));
+    return;
+  }
+  buffer_.upload(frame, objects_);
+}
+
+shader::ObjectData GpuScene::makeObject(const glm::mat4& model, const glm::vec4& color, float roughness,
+                                        float metallic, std::uint32_t feature) {
+  shader::ObjectData object{};
+  object.model = model;
+  object.invModel = glm::inverse(model);
+  object.color = color;
+  object.material = glm::vec4(roughness, metallic, 0.0f, 0.0f);
+  object.payload = 0;
+  object.feature = feature;
+  object.flags = 0;
+  return object;
+}
+
+}  // namespace engine::render

@@ -1,0 +1,37 @@
+#pragma once
+// The GPU scene buffer: per-object data (transform, material, feature payload address) for every
+// drawn object, rebuilt on the CPU each frame by the render features and reached by the shaders
+// through a buffer device address in the push constants. A drawn instance finds its record with
+// gl_InstanceIndex (= firstInstance of its indirect command + instance).
+#include <cstdint>
+#include <vector>
+
+#include <glm/glm.hpp>
+
+#include "engine/render/per_frame_buffer.h"
+#include "shared/host_device.h"
+
+namespace engine::render {
+
+class GpuScene {
+ public:
+  GpuScene(const gpu::Context& context, std::uint32_t framesInFlight);
+
+  void beginFrame() { objects_.clear(); }
+  // Appends an object and returns its index.
+  std::uint32_t addObject(const shader::ObjectData& object);
+  std::uint32_t objectCount() const { return static_cast<std::uint32_t>(objects_.size()); }
+  // Uploads this frame's objects into the buffer of frame slot `frame`.
+  void upload(std::uint32_t frame);
+  VkDeviceAddress address(std::uint32_t frame) const { return buffer_.address(frame); }
+
+  // Fills model, inverse model and material fields from a world matrix and a colour.
+  static shader::ObjectData makeObject(const glm::mat4& model, const glm::vec4& color, float roughness,
+                                       float metallic, std::uint32_t feature);
+
+ private:
+  std::vector<shader::ObjectData> objects_;
+  PerFrameBuffer buffer_;
+};
+
+}  // namespace engine::render

@@ -1,0 +1,116 @@
+#include "engine/render/mesh_feature.h"
+
+#include <imgui.h>
+
+#include "engine/core/math.h"
+#include "engine/ecs/registry.h"
+#include "engine/gpu/context.h"
+#include "engine/render/gpu_scene.h"
+#include "engine/scene/transform.h"
+
+namespace engine::render {
+namespace {
+
+gpu::VertexLayout meshVertexLayout() {
+  gpu::VertexLayout layout;
+  layout.bindings.push_back({0, sizeof(MeshVertex), VK_VERTEX_INPUT_RATE_VERTEX});
+  layout.attributes.push_back({0, 0, VK_FORMAT_R32G32B32_SFLOAT, offsetof(MeshVertex, position)});
+  layout.attributes.push_back({1, 0, VK_FORMAT_R32G32B32_SFLOAT, offsetof(MeshVertex, normal)});
+  return layout;
+}
+
+// World-space bounds of a local box under an affine transform.
+void transformBounds(const glm::mat4& m, const glm::vec3& lo, const glm::vec3& hi, glm::vec3& outLo, glm::vec3& outHi) {
+  const glm::vec3 center = glm::vec3(m * glm::vec4(0.5f * (lo + hi), 1.0f));
+  const glm::vec3 half = 0.5f * (hi - lo);
+  const glm::mat3 a(m);
+  const glm::vec3 extent = glm::abs(a[0]) * half.x + glm::abs(a[1]) * half.y + glm::abs(a[2]) * half.z;
+  outLo = center - extent;
+  outHi = center + extent;
+}
+
+}  // namespace
+
+Status MeshFeature::initialize(const gpu::Context& context, const RendererFormats& formats, std::uint32_t framesInFlight) {
+  context_ = &context;
+  multiDraw_ = context.capabilities().multiDrawIndirect;
+  indirect_ = PerFrameBuffer(context, framesInFlight, VK_BUFFER_USAGE_INDIRECT_BUFFER_BIT, "mesh indirect draws");
+  ENGINE_TRY_ASSIGN(gpu::ShaderModule vert, gpu::ShaderModule::load(context, "mesh.vert"));
+  ENGINE_TRY_ASSIGN(gpu::ShaderModule frag, gpu::ShaderModule::load(context, "mesh.frag"));
+
+  gpu::GraphicsPipelineDesc desc;
+  desc.vertex = vert.handle();
+  desc.vertexLayout = meshVertexLayout();
+  desc.depthFormat = formats.depth;
+  desc.pushConstantBytes = sizeof(shader::DrawPushConstants);
+  desc.name = "mesh depth prepass";
+  desc.depthCompare = VK_COMPARE_OP_GREATER;
+  ENGINE_TRY_ASSIGN(depthPipeline_, gpu::Pipeline::createGraphics(context, desc));
+
+  desc.name = "mesh shading";
+  desc.fragment = frag.handle();
+  desc.colorFormats = {formats.color};
+  desc.depthWrite = false;
+  desc.depthCompare = VK_COMPARE_OP_EQUAL;  // depth is final after the prepass
+  ENGINE_TRY_ASSIGN(shadePipeline_, gpu::Pipeline::createGraphics(context, desc));
+  return {};
+}
+
+void MeshFeature::prepare(FrameContext& frame) {
+  pool_.sync();
+  commands_.clear();
+  culledCount_ = 0;
+  const math::Frustum frustum = math::extractFrustum(frame.camera.proj * frame.camera.view);
+  frame.registry.view<MeshRenderable, scene::WorldTransform>().each(
+      [&](ecs::Entity, const MeshRenderable& mesh, const scene::WorldTransform& world) {
+        if (!mesh.mesh.valid() || mesh.mesh.index >= pool_.meshCount()) return;
+        const MeshRange& range = pool_.range(mesh.mesh);
+        glm::vec3 lo, hi;
+        transformBounds(world.matrix, range.boundsMin, range.boundsMax, lo, hi);
+        if (!math::intersects(frustum, lo, hi)) {
+          ++culledCount_;
+          return;
+        }
+        const std::uint32_t object = frame.scene.addObject(
+            GpuScene::makeObject(world.matrix, mesh.color, mesh.roughness, mesh.metallic, kFeatureId));
+        commands_.push_back({range.indexCount, 1, range.firstIndex, range.vertexOffset, object});
+      });
+  drawCount_ = static_cast<std::uint32_t>(commands_.size());
+  if (!commands_.empty()) indirect_.upload(frame.frameSlot, commands_);
+}
+
+void MeshFeature::recordPass(PassContext& pass) {
+  if (commands_.empty() || pool_.empty()) return;
+  recordDraws(pass, pass.pass == Pass::DepthPrepass ? depthPipeline_ : shadePipeline_);
+}
+
+void MeshFeature::recordDraws(PassContext& pass, const gpu::Pipeline& pipeline) {
+  VkCommandBuffer cmd = pass.cmd;
+  vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, pipeline.handle());
+  shader::DrawPushConstants push{};
+  push.frameGlobals = pass.frameGlobals;
+  push.objects = pass.objects;
+  push.debugView = pass.frame.debugView;
+  vkCmdPushConstants(cmd, pipeline.layout(), VK_SHADER_STAGE_VERTEX_BIT | VK_SHADER_STAGE_FRAGMENT_BIT, 0,
+                     sizeof(push), &push);
+  const VkBuffer vertexBuffer = pool_.vertexBuffer().handle();
+  const VkDeviceSize offset = 0;
+  vkCmdBindVertexBuffers(cmd, 0, 1, &vertexBuffer, &offset);
+  vkCmdBindIndexBuffer(cmd, pool_.indexBuffer().handle(), 0, VK_INDEX_TYPE_UINT32);
+  const VkBuffer indirect = indirect_.buffer(pass.frame.frameSlot).handle();
+  const auto stride = static_cast<std::uint32_t>(sizeof(VkDrawIndexedIndirectCommand));
+  if (multiDraw_) {
+    vkCmdDrawIndexedIndirect(cmd, indirect, 0, drawCount_, stride);
+  } else {
+    for (std::uint32_t i = 0; i < drawCount_; ++i) vkCmdDrawIndexedIndirect(cmd, indirect, VkDeviceSize(i) * stride, 1, stride);
+  }
+}
+
+void MeshFeature::drawUi() {
+  if (ImGui::CollapsingHeader("Meshes")) {
+    ImGui::Text("meshes in pool: %u", pool_.meshCount());
+    ImGui::Text("drawn: %u, culled: %u", drawCount_, culledCount_);
+  }
+}
+
+}  // namespace engine::render

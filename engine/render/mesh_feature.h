@@ -1,0 +1,41 @@
+#pragma once
+// Draws every entity with MeshRenderable + WorldTransform: depth in the prepass, lit colour in the
+// shading pass (depth EQUAL). Objects outside the view frustum are culled on the CPU.
+#include <memory>
+#include <vector>
+
+#include "engine/gpu/pipeline.h"
+#include "engine/render/mesh_pool.h"
+#include "engine/render/per_frame_buffer.h"
+#include "engine/render/render_feature.h"
+
+namespace engine::render {
+
+class MeshFeature final : public RenderFeature {
+ public:
+  static constexpr std::uint32_t kFeatureId = 1;
+
+  explicit MeshFeature(MeshPool& pool) : pool_(pool) {}
+  std::string_view name() const override { return "meshes"; }
+  Status initialize(const gpu::Context& context, const RendererFormats& formats, std::uint32_t framesInFlight) override;
+  void prepare(FrameContext& frame) override;
+  void recordPass(PassContext& pass) override;
+  void drawUi() override;
+
+  std::uint32_t drawnLastFrame() const { return drawCount_; }
+
+ private:
+  void recordDraws(PassContext& pass, const gpu::Pipeline& pipeline);
+
+  MeshPool& pool_;
+  const gpu::Context* context_ = nullptr;
+  gpu::Pipeline depthPipeline_;
+  gpu::Pipeline shadePipeline_;
+  PerFrameBuffer indirect_;
+  std::vector<VkDrawIndexedIndirectCommand> commands_;
+  std::uint32_t drawCount_ = 0;
+  std::uint32_t culledCount_ = 0;
+  bool multiDraw_ = false;
+};
+
+}  // namespace engine::render

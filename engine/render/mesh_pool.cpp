@@ -1,0 +1,42 @@
+#include "engine/render/mesh_pool.h"
+
+#include <stdexcept>
+
+#include "engine/gpu/context.h"
+
+namespace engine::render {
+
+MeshHandle MeshPool::add(std::span<const glm::vec3> positions, std::span<const glm::vec3> normals,
+                         std::span<const std::uint32_t> indices) {
+  if (normals.size() != positions.size()) throw std::invalid_argument("MeshPool::add: one normal per position");
+  MeshRange range;
+  range.firstIndex = static_cast<std::uint32_t>(indices_.size());
+  range.indexCount = static_cast<std::uint32_t>(indices.size());
+  range.vertexOffset = static_cast<std::int32_t>(vertices_.size());
+  range.boundsMin = glm::vec3(std::numeric_limits<float>::max());
+  range.boundsMax = glm::vec3(std::numeric_limits<float>::lowest());
+  for (std::size_t i = 0; i < positions.size(); ++i) {
+    vertices_.push_back({positions[i], normals[i]});
+    range.boundsMin = glm::min(range.boundsMin, positions[i]);
+    range.boundsMax = glm::max(range.boundsMax, positions[i]);
+  }
+  for (std::uint32_t index : indices) {
+    if (index >= positions.size()) throw std::out_of_range("MeshPool::add: index out of range");
+    indices_.push_back(index);
+  }
+  ranges_.push_back(range);
+  dirty_ = true;
+  return MeshHandle{static_cast<std::uint32_t>(ranges_.size() - 1)};
+}
+
+void MeshPool::sync() {
+  if (!dirty_ || indices_.empty()) return;
+  context_.waitIdle();
+  vertexBuffer_ = gpu::createBufferWithData(context_, vertices_.data(), vertices_.size() * sizeof(MeshVertex),
+                                            VK_BUFFER_USAGE_VERTEX_BUFFER_BIT, "mesh pool vertices");
+  indexBuffer_ = gpu::createBufferWithData(context_, indices_.data(), indices_.size() * sizeof(std::uint32_t),
+                                           VK_BUFFER_USAGE_INDEX_BUFFER_BIT, "mesh pool indices");
+  dirty_ = false;
+}
+
+}  // namespace engine::render

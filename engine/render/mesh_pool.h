@@ -1,0 +1,55 @@
+#pragma once
+// All triangle meshes in two GPU buffers (vertices and indices), so every mesh draw of a pass is
+// one indirect multi-draw with no rebinding. Adding a mesh rebuilds the buffers (rare: at load).
+#include <cstdint>
+#include <span>
+#include <vector>
+
+#include <glm/glm.hpp>
+
+#include "engine/gpu/buffer.h"
+#include "engine/render/components.h"
+
+namespace engine::render {
+
+struct MeshVertex {
+  glm::vec3 position;
+  glm::vec3 normal;
+};
+static_assert(sizeof(MeshVertex) == 24);
+
+struct MeshRange {
+  std::uint32_t firstIndex = 0;
+  std::uint32_t indexCount = 0;
+  std::int32_t vertexOffset = 0;
+  glm::vec3 boundsMin{0.0f};
+  glm::vec3 boundsMax{0.0f};
+};
+
+class MeshPool {
+ public:
+  explicit MeshPool(const gpu::Context& context) : context_(context) {}
+
+  // Copies the mesh; it reaches the GPU at the next sync(). Indices must be < positions.size().
+  MeshHandle add(std::span<const glm::vec3> positions, std::span<const glm::vec3> normals,
+                 std::span<const std::uint32_t> indices);
+  const MeshRange& range(MeshHandle mesh) const { return ranges_[mesh.index]; }
+  std::uint32_t meshCount() const { return static_cast<std::uint32_t>(ranges_.size()); }
+
+  // Uploads pending meshes (waits for the GPU first: the old buffers may be in use).
+  void sync();
+  const gpu::Buffer& vertexBuffer() const { return vertexBuffer_; }
+  const gpu::Buffer& indexBuffer() const { return indexBuffer_; }
+  bool empty() const { return indices_.empty(); }
+
+ private:
+  const gpu::Context& context_;
+  std::vector<MeshVertex> vertices_;
+  std::vector<std::uint32_t> indices_;
+  std::vector<MeshRange> ranges_;
+  bool dirty_ = false;
+  gpu::Buffer vertexBuffer_;
+  gpu::Buffer indexBuffer_;
+};
+
+}  // namespace engine::render

@@ -1,0 +1,69 @@
+#pragma once
+// RenderFeature: how a module plugs into the frame. The renderer owns the frame and calls every
+// feature in a fixed order:
+//   prepare()          CPU: read components from the registry, add objects to the GPU scene,
+//                      upload per-frame data (the frame slot's previous submission is complete);
+//   recordPass(Depth)  inside the depth prepass (depth-only rendering, compare GREATER, reverse-Z);
+//   recordPass(Opaque) inside the shading pass (colour + depth, depth already final: test EQUAL);
+//   drawUi()           inside the ImGui frame: the feature's tuning panel.
+// A feature reads components, never globals. Features create their pipelines in initialize() with
+// the formats the renderer gives them.
+#include <cstdint>
+#include <string_view>
+
+#include <vulkan/vulkan.h>
+
+#include "engine/core/expected.h"
+#include "engine/render/camera_view.h"
+
+namespace engine::ecs {
+class Registry;
+}
+namespace engine::gpu {
+class Context;
+class GpuTimer;
+}
+
+namespace engine::render {
+
+class GpuScene;
+
+enum class Pass { DepthPrepass, Opaque };
+
+struct RendererFormats {
+  VkFormat color = VK_FORMAT_R8G8B8A8_SRGB;
+  VkFormat depth = VK_FORMAT_D32_SFLOAT;
+};
+
+struct FrameContext {
+  const ecs::Registry& registry;
+  const gpu::Context& gpu;
+  GpuScene& scene;
+  const CameraView& camera;
+  VkExtent2D extent;
+  std::uint32_t frameSlot;     // which frame-in-flight's resources to use
+  std::uint64_t frameNumber;
+  std::uint32_t debugView;     // DEBUG_VIEW_* (shared/host_device.h)
+};
+
+struct PassContext {
+  VkCommandBuffer cmd;
+  const FrameContext& frame;
+  Pass pass;
+  VkDeviceAddress frameGlobals;  // FrameGlobals of this frame
+  VkDeviceAddress objects;       // ObjectData[] of this frame
+  gpu::GpuTimer& timer;          // for sub-pass timings: timer.begin(cmd, "name") / end(cmd)
+};
+
+class RenderFeature {
+ public:
+  virtual ~RenderFeature() = default;
+  virtual std::string_view name() const = 0;
+  virtual Status initialize(const gpu::Context& context, const RendererFormats& formats,
+                            std::uint32_t framesInFlight) = 0;
+  virtual void prepare(FrameContext& frame) = 0;
+  virtual void recordPass(PassContext& pass) = 0;
+  virtual void drawUi() {}
+};
+
+}  // namespace engine::render

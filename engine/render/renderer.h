@@ -1,0 +1,117 @@
+#pragma once
+// The frame loop: frames in flight, the offscreen colour and depth targets, and the passes
+//   depth prepass -> opaque -> overlay (UI) -> present (blit to the swapchain) or read back.
+// Headless and windowed rendering run the same code; a window only adds the final blit.
+#include <cstdint>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include <glm/glm.hpp>
+
+#include "engine/gpu/buffer.h"
+#include "engine/gpu/gpu_timer.h"
+#include "engine/gpu/image.h"
+#include "engine/render/gpu_scene.h"
+#include "engine/render/per_frame_buffer.h"
+#include "engine/render/render_feature.h"
+
+namespace engine::gpu {
+class Swapchain;
+}
+
+namespace engine::render {
+
+// Something drawn over the finished frame in a render pass of its own (the ImGui layer).
+class OverlayPass {
+ public:
+  virtual ~OverlayPass() = default;
+  virtual void record(VkCommandBuffer cmd, const gpu::Image& color, std::uint32_t frameSlot) = 0;
+};
+
+struct RendererDesc {
+  RendererFormats formats;
+  std::uint32_t framesInFlight = 2;
+  glm::vec4 clearColor{0.05f, 0.06f, 0.08f, 1.0f};  // linear
+  glm::vec3 lightDirection{0.4f, 0.8f, 0.45f};        // towards the light
+  float lightIntensity = 1.0f;
+  float ambient = 0.25f;
+};
+
+struct FrameSettings {
+  std::uint32_t debugView = 0;          // DEBUG_VIEW_*
+  gpu::Swapchain* swapchain = nullptr;  // present to it when set
+  OverlayPass* overlay = nullptr;
+};
+
+class Renderer {
+ public:
+  Renderer(const gpu::Context& context, const RendererDesc& desc, VkExtent2D extent);
+  ~Renderer();
+  Renderer(const Renderer&) = delete;
+  Renderer& operator=(const Renderer&) = delete;
+
+  // Initializes the feature with the renderer's formats; the renderer owns it from then on.
+  Status addFeature(std::unique_ptr<RenderFeature> feature);
+  template <class F>
+  F* feature() const {
+    for (const auto& f : features_)
+      if (auto* typed = dynamic_cast<F*>(f.get())) return typed;
+    return nullptr;
+  }
+  const std::vector<std::unique_ptr<RenderFeature>>& features() const { return features_; }
+
+  // Recreates the targets (waits for the GPU).
+  void resize(VkExtent2D extent);
+  VkExtent2D extent() const { return extent_; }
+
+  // Records and submits one frame. Returns false when a swapchain was given and it is out of
+  // date (resize it and the renderer, then try again).
+  bool renderFrame(const ecs::Registry& registry, const CameraView& camera, const FrameSettings& settings = {});
+
+  // Waits for the GPU, then copies the last frame back: RGBA8 (sRGB-encoded) and depth values.
+  std::vector<std::uint8_t> readbackColor();
+  std::vector<float> readbackDepth();
+  // Named GPU timings of the most recent frame whose results are available.
+  const std::vector<gpu::GpuTiming>& lastTimings() const { return lastTimings_; }
+  // Waits for all frames and collects the timings of the last one.
+  void finish();
+
+  const gpu::Image& colorTarget() const { return color_; }
+  const gpu::Image& depthTarget() const { return depth_; }
+  std::uint64_t frameNumber() const { return frameNumber_; }
+  const RendererDesc& desc() const { return desc_; }
+  RendererDesc& mutableDesc() { return desc_; }
+
+ private:
+  struct FrameResources {
+    VkCommandPool pool = VK_NULL_HANDLE;
+    VkCommandBuffer cmd = VK_NULL_HANDLE;
+    VkFence fence = VK_NULL_HANDLE;
+    VkSemaphore imageAvailable = VK_NULL_HANDLE;
+    gpu::GpuTimer timer;
+    bool submitted = false;
+  };
+
+  void createTargets();
+  void writeFrameGlobals(std::uint32_t slot, const CameraView& camera);
+  void recordScenePasses(FrameResources& frame, FrameContext& context);
+  void recordDepthPrepass(PassContext& pass);
+  void recordOpaquePass(PassContext& pass);
+  void recordPresentBlit(VkCommandBuffer cmd, gpu::Swapchain& swapchain, std::uint32_t imageIndex);
+  void collectTimings(FrameResources& frame);
+
+  const gpu::Context& context_;
+  RendererDesc desc_;
+  VkExtent2D extent_;
+  gpu::Image color_;
+  gpu::Image depth_;
+  std::vector<FrameResources> frames_;
+  GpuScene scene_;
+  PerFrameBuffer frameGlobals_;
+  std::vector<std::unique_ptr<RenderFeature>> features_;
+  std::vector<gpu::GpuTiming> lastTimings_;
+  std::uint64_t frameNumber_ = 0;
+};
+
+}  // namespace engine::render

@@ -1,0 +1,186 @@
+#include "engine/ui/ui_layer.h"
+
+#include <imgui.h>
+#include <imgui_impl_glfw.h>
+#include <imgui_impl_vulkan.h>
+
+#include "engine/core/log.h"
+#include "engine/gpu/context.h"
+#include "engine/gpu/vk_check.h"
+#include "engine/platform/window.h"
+
+namespace engine::ui {
+namespace {
+
+void checkImGuiVk(VkResult result) {
+  if (result != VK_SUCCESS) VK_CHECK(result);
+}
+
+}  // namespace
+
+Expected<std::unique_ptr<UiLayer>> UiLayer::create(const gpu::Context& context, VkFormat colorFormat,
+                                                   std::uint32_t framesInFlight, platform::Window* window) {
+  std::unique_ptr<UiLayer> layer(new UiLayer(context));
+  ENGINE_TRY(layer->initialize(colorFormat, framesInFlight, window));
+  return layer;
+}
+
+Status UiLayer::initialize(VkFormat colorFormat, std::uint32_t framesInFlight, platform::Window* window) {
+  VkDevice device = context_.device();
+  VkAttachmentDescription attachment{};
+  attachment.format = colorFormat;
+  attachment.samples = VK_SAMPLE_COUNT_1_BIT;
+  attachment.loadOp = VK_ATTACHMENT_LOAD_OP_LOAD;  // draw over the finished frame
+  attachment.storeOp = VK_ATTACHMENT_STORE_OP_STORE;
+  attachment.stencilLoadOp = VK_ATTACHMENT_LOAD_OP_DONT_CARE;
+  attachment.stencilStoreOp = VK_ATTACHMENT_STORE_OP_DONT_CARE;
+  attachment.initialLayout = VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL;
+  attachment.finalLayout = VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL;
+  VkAttachmentReference reference{0, VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL};
+  VkSubpassDescription subpass{};
+  subpass.pipelineBindPoint = VK_PIPELINE_BIND_POINT_GRAPHICS;
+  subpass.colorAttachmentCount = 1;
+  subpass.pColorAttachments = &reference;
+  // The scene's colour writes must finish before the UI blends over them, and the UI's writes
+  // before whatever follows (the renderer's transition to TRANSFER_SRC waits on this stage).
+  VkSubpassDependency dependencies[2] = {};
+  dependencies[0].srcSubpass = VK_SUBPASS_EXTERNAL;
+  dependencies[0].dstSubpass = 0;
+  dependencies[0].srcStageMask = VK_PIPELINE_STAGE_COLOR_ATTACHMENT_OUTPUT_BIT;
+  dependencies[0].dstStageMask = VK_PIPELINE_STAGE_COLOR_ATTACHMENT_OUTPUT_BIT;
+  dependencies[0].srcAccessMask = VK_ACCESS_COLOR_ATTACHMENT_WRITE_BIT;
+  dependencies[0].dstAccessMask = VK_ACCESS_COLOR_ATTACHMENT_READ_BIT | VK_ACCESS_COLOR_ATTACHMENT_WRITE_BIT;
+  dependencies[1].srcSubpass = 0;
+  dependencies[1].dstSubpass = VK_SUBPASS_EXTERNAL;
+  dependencies[1].srcStageMask = VK_PIPELINE_STAGE_COLOR_ATTACHMENT_OUTPUT_BIT;
+  dependencies[1].dstStageMask = VK_PIPELINE_STAGE_COLOR_ATTACHMENT_OUTPUT_BIT;
+  dependencies[1].srcAccessMask = VK_ACCESS_COLOR_ATTACHMENT_WRITE_BIT;
+  dependencies[1].dstAccessMask = VK_ACCESS_COLOR_ATTACHMENT_READ_BIT | VK_ACCESS_COLOR_ATTACHMENT_WRITE_BIT;
+  VkRenderPassCreateInfo passInfo{VK_STRUCTURE_TYPE_RENDER_PASS_CREATE_INFO};
+  passInfo.attachmentCount = 1;
+  passInfo.pAttachments = &attachment;
+  passInfo.subpassCount = 1;
+  passInfo.pSubpasses = &subpass;
+  passInfo.dependencyCount = 2;
+  passInfo.pDependencies = dependencies;
+  VK_TRY(vkCreateRenderPass(device, &passInfo, nullptr, &renderPass_));
+  context_.setName(renderPass_, VK_OBJECT_TYPE_RENDER_PASS, "ui render pass");
+
+  VkDescriptorPoolSize poolSize{VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, 16};
+  VkDescriptorPoolCreateInfo poolInfo{VK_STRUCTURE_TYPE_DESCRIPTOR_POOL_CREATE_INFO};
+  poolInfo.flags = VK_DESCRIPTOR_POOL_CREATE_FREE_DESCRIPTOR_SET_BIT;
+  poolInfo.maxSets = 16;
+  poolInfo.poolSizeCount = 1;
+  poolInfo.pPoolSizes = &poolSize;
+  VK_TRY(vkCreateDescriptorPool(device, &poolInfo, nullptr, &descriptorPool_));
+  context_.setName(descriptorPool_, VK_OBJECT_TYPE_DESCRIPTOR_POOL, "ui descriptor pool");
+
+  IMGUI_CHECKVERSION();
+  ImGui::CreateContext();
+  ImGuiIO& io = ImGui::GetIO();
+  io.IniFilename = nullptr;  // no imgui.ini next to the binary
+  ImGui::StyleColorsDark();
+  if (window) {
+    if (!ImGui_ImplGlfw_InitForVulkan(window->handle(), true)) return makeError("ImGui GLFW backend failed to start");
+    glfwBackend_ = true;
+  }
+
+  ImGui_ImplVulkan_InitInfo info{};
+  info.Instance = context_.instance();
+  info.PhysicalDevice = context_.physicalDevice();
+  info.Device = device;
+  info.QueueFamily = context_.queueFamily();
+  info.Queue = context_.queue();
+  info.DescriptorPool = descriptorPool_;
+  info.MinImageCount = 2;
+  info.ImageCount = framesInFlight + 1;  // the backend rotates its vertex buffers per frame
+  info.MSAASamples = VK_SAMPLE_COUNT_1_BIT;
+  info.CheckVkResultFn = &checkImGuiVk;
+  if (!ImGui_ImplVulkan_Init(&info, renderPass_)) return makeError("ImGui Vulkan backend failed to start");
+  vulkanBackend_ = true;
+  context_.submitAndWait([](VkCommandBuffer cmd) { ImGui_ImplVulkan_CreateFontsTexture(cmd); });
+  ImGui_ImplVulkan_DestroyFontUploadObjects();
+  return {};
+}
+
+UiLayer::~UiLayer() {
+  vkDeviceWaitIdle(context_.device());
+  if (vulkanBackend_) ImGui_ImplVulkan_Shutdown();
+  if (glfwBackend_) ImGui_ImplGlfw_Shutdown();
+  if (ImGui::GetCurrentContext()) ImGui::DestroyContext();
+  for (auto& [view, framebuffer] : framebuffers_) vkDestroyFramebuffer(context_.device(), framebuffer, nullptr);
+  if (descriptorPool_) vkDestroyDescriptorPool(context_.device(), descriptorPool_, nullptr);
+  if (renderPass_) vkDestroyRenderPass(context_.device(), renderPass_, nullptr);
+}
+
+void UiLayer::addPanel(std::string name, std::function<void()> draw) {
+  panels_.push_back({std::move(name), std::move(draw)});
+}
+
+void UiLayer::addFeaturePanels(const render::Renderer& renderer) {
+  for (const auto& feature : renderer.features()) {
+    render::RenderFeature* f = feature.get();
+    addPanel(std::string(f->name()), [f] { f->drawUi(); });
+  }
+}
+
+void UiLayer::buildFrame(VkExtent2D extent, float deltaSeconds) {
+  ImGuiIO& io = ImGui::GetIO();
+  ImGui_ImplVulkan_NewFrame();
+  if (glfwBackend_) {
+    ImGui_ImplGlfw_NewFrame();
+  } else {
+    io.DisplaySize = ImVec2(float(extent.width), float(extent.height));
+    io.DeltaTime = deltaSeconds > 0.0f ? deltaSeconds : 1.0f / 60.0f;
+  }
+  ImGui::NewFrame();
+  ImGui::SetNextWindowPos(ImVec2(10, 10), ImGuiCond_FirstUseEver);
+  ImGui::SetNextWindowSize(ImVec2(360, 0), ImGuiCond_FirstUseEver);
+  if (ImGui::Begin("hermite_sdf")) {
+    for (Panel& panel : panels_) {
+      ImGui::PushID(panel.name.c_str());
+      panel.draw();
+      ImGui::PopID();
+    }
+  }
+  ImGui::End();
+  ImGui::Render();
+  frameBuilt_ = true;
+}
+
+bool UiLayer::wantsMouse() const { return ImGui::GetIO().WantCaptureMouse; }
+bool UiLayer::wantsKeyboard() const { return ImGui::GetIO().WantCaptureKeyboard; }
+
+VkFramebuffer UiLayer::framebufferFor(const gpu::Image& color) {
+  if (auto it = framebuffers_.find(color.view()); it != framebuffers_.end()) return it->second;
+  // The target was recreated (resize): the cached framebuffers point at destroyed views.
+  for (auto& [view, framebuffer] : framebuffers_) vkDestroyFramebuffer(context_.device(), framebuffer, nullptr);
+  framebuffers_.clear();
+  VkImageView view = color.view();
+  VkFramebufferCreateInfo info{VK_STRUCTURE_TYPE_FRAMEBUFFER_CREATE_INFO};
+  info.renderPass = renderPass_;
+  info.attachmentCount = 1;
+  info.pAttachments = &view;
+  info.width = color.extent().width;
+  info.height = color.extent().height;
+  info.layers = 1;
+  VkFramebuffer framebuffer = VK_NULL_HANDLE;
+  VK_CHECK(vkCreateFramebuffer(context_.device(), &info, nullptr, &framebuffer));
+  context_.setName(framebuffer, VK_OBJECT_TYPE_FRAMEBUFFER, "ui framebuffer");
+  framebuffers_.emplace(view, framebuffer);
+  return framebuffer;
+}
+
+void UiLayer::record(VkCommandBuffer cmd, const gpu::Image& color, std::uint32_t /*frameSlot*/) {
+  if (!frameBuilt_) return;
+  frameBuilt_ = false;
+  VkRenderPassBeginInfo begin{VK_STRUCTURE_TYPE_RENDER_PASS_BEGIN_INFO};
+  begin.renderPass = renderPass_;
+  begin.framebuffer = framebufferFor(color);
+  begin.renderArea = {{0, 0}, {color.extent().width, color.extent().height}};
+  vkCmdBeginRenderPass(cmd, &begin, VK_SUBPASS_CONTENTS_INLINE);
+  ImGui_ImplVulkan_RenderDrawData(ImGui::GetDrawData(), cmd);
+  vkCmdEndRenderPass(cmd);
+}
+
+}  // namespace engine::ui

@@ -1,0 +1,62 @@
+#pragma once
+// Dear ImGui inside the engine: the UI pass (a classic VkRenderPass, since Debian's ImGui 1.86
+// Vulkan backend has no dynamic-rendering path) and the panel registry that render features and
+// samples add their tuning panels to. Works with a window (GLFW input) and headless (no input,
+// for screenshots that show the panels).
+#include <functional>
+#include <memory>
+#include <string>
+#include <unordered_map>
+#include <vector>
+
+#include "engine/core/expected.h"
+#include "engine/render/renderer.h"
+
+namespace engine::platform {
+class Window;
+}
+
+namespace engine::ui {
+
+class UiLayer final : public render::OverlayPass {
+ public:
+  static Expected<std::unique_ptr<UiLayer>> create(const gpu::Context& context, VkFormat colorFormat,
+                                                   std::uint32_t framesInFlight, platform::Window* window);
+  ~UiLayer() override;
+  UiLayer(const UiLayer&) = delete;
+  UiLayer& operator=(const UiLayer&) = delete;
+
+  // Panels are drawn every frame in registration order, each inside the main "hermite_sdf" window.
+  void addPanel(std::string name, std::function<void()> draw);
+  // Adds every render feature's drawUi() as a panel.
+  void addFeaturePanels(const render::Renderer& renderer);
+
+  // Builds this frame's UI (call once per frame before Renderer::renderFrame).
+  void buildFrame(VkExtent2D extent, float deltaSeconds);
+  // True when ImGui wants the mouse/keyboard (camera controllers should ignore them).
+  bool wantsMouse() const;
+  bool wantsKeyboard() const;
+
+  void record(VkCommandBuffer cmd, const gpu::Image& color, std::uint32_t frameSlot) override;
+
+ private:
+  UiLayer(const gpu::Context& context) : context_(context) {}
+  Status initialize(VkFormat colorFormat, std::uint32_t framesInFlight, platform::Window* window);
+  VkFramebuffer framebufferFor(const gpu::Image& color);
+
+  struct Panel {
+    std::string name;
+    std::function<void()> draw;
+  };
+
+  const gpu::Context& context_;
+  VkRenderPass renderPass_ = VK_NULL_HANDLE;
+  VkDescriptorPool descriptorPool_ = VK_NULL_HANDLE;
+  std::unordered_map<VkImageView, VkFramebuffer> framebuffers_;
+  std::vector<Panel> panels_;
+  bool glfwBackend_ = false;
+  bool vulkanBackend_ = false;
+  bool frameBuilt_ = false;
+};
+
+}  // namespace engine::ui
