@@ -1,0 +1,157 @@
+// Headless rendering on lavapipe: real pixels read back and compared with values computed
+// independently of the GPU (the camera maths, analytic depths, a CPU ray cast of the triangles).
+#include <algorithm>
+#include <cmath>
+
+#include <gtest/gtest.h>
+
+#include "engine/core/math.h"
+#include "engine/render/components.h"
+#include "engine/scene/transform.h"
+#include "gpu_test_support.h"
+
+namespace gputest {
+namespace {
+
+using namespace engine;
+
+constexpr float kZNear = 0.1f;
+
+render::CameraView frontCamera(float distance, std::uint32_t w, std::uint32_t h) {
+  return render::CameraView::lookAt({0.0f, 0.0f, distance}, {0.0f, 0.0f, 0.0f}, 0.8f, kZNear, float(w) / float(h));
+}
+
+bool isRedDominant(glm::u8vec4 c) { return c.r > 2 * c.g && c.r > 2 * c.b; }
+bool isGreenDominant(glm::u8vec4 c) { return c.g > 2 * c.r && c.g > 2 * c.b; }
+
+// Why: the depth written must follow the reverse-Z convention the CPU side assumes
+// (depth = znear / view distance); a wrong projection, clear value or compare op shows here.
+TEST_F(GpuTest, KnownDepthAtKnownPixels) {
+  createRenderer(64, 48);
+  addQuad({0.0f, 0.0f, 0.0f}, 2.0f, {1.0f, 0.0f, 0.0f, 1.0f});
+  const Frame frame = render(frontCamera(5.0f, 64, 48));
+  const float expected = float(math::viewDistanceToDepth(5.0, kZNear));
+  EXPECT_NEAR(frame.depthAt(32, 24), expected, 1e-6f);
+  // The quad is perpendicular to the view axis: every covered pixel has the same view distance.
+  EXPECT_NEAR(frame.depthAt(26, 28), expected, 1e-6f);
+  EXPECT_EQ(frame.depthAt(0, 0), 0.0f) << "background keeps the clear depth (infinitely far)";
+}
+
+// Why: coverage must match the projection of the geometry computed on the CPU; a y flip, an
+// off-by-one viewport or a culled quad (wrong winding) changes which pixels are covered.
+TEST_F(GpuTest, CoverageMatchesCpuProjection) {
+  const std::uint32_t w = 96, h = 64;
+  createRenderer(w, h);
+  // Off-centre and above the axis so that a vertical flip would move it.
+  const glm::vec3 center(0.4f, 0.5f, 0.0f);
+  const float size = 1.2f;
+  addQuad(center, size, {0.2f, 0.6f, 1.0f, 1.0f});
+  const render::CameraView camera = frontCamera(4.0f, w, h);
+  const Frame frame = render(camera);
+
+  const glm::mat4 viewProj = camera.proj * camera.view;
+  auto toPixel = [&](glm::vec3 p) {
+    const glm::vec4 clip = viewProj * glm::vec4(p, 1.0f);
+    const glm::vec2 ndc = glm::vec2(clip) / clip.w;
+    return glm::vec2((ndc.x * 0.5f + 0.5f) * float(w), (ndc.y * 0.5f + 0.5f) * float(h));
+  };
+  const glm::vec2 lo = toPixel(center - glm::vec3(size / 2, -size / 2, 0.0f));  // top-left in the image
+  const glm::vec2 hi = toPixel(center + glm::vec3(size / 2, -size / 2, 0.0f));
+  ASSERT_LT(lo.y, hi.y) << "world-up must be image-up";
+  int checked = 0, wrong = 0;
+  for (std::uint32_t y = 0; y < h; ++y) {
+    for (std::uint32_t x = 0; x < w; ++x) {
+      const glm::vec2 p(float(x) + 0.5f, float(y) + 0.5f);
+      const float inside = std::min({p.x - lo.x, hi.x - p.x, p.y - lo.y, hi.y - p.y});
+      if (std::abs(inside) < 0.5f) continue;  // pixel centre too close to an edge to call
+      ++checked;
+      const bool covered = frame.depthAt(x, y) > 0.0f;
+      if (covered != (inside > 0.0f)) ++wrong;
+    }
+  }
+  EXPECT_GT(checked, int(w * h) / 2);
+  EXPECT_EQ(wrong, 0);
+}
+
+// Why: the shading pass tests depth EQUAL against the prepass; the nearer mesh must win in the
+// overlap whatever the draw order, and the farther one must still show where it is not covered.
+TEST_F(GpuTest, OverlappingMeshesOccludeThroughDepthPrepass) {
+  for (const bool nearFirst : {true, false}) {
+    SCOPED_TRACE(nearFirst ? "near mesh created first" : "far mesh created first");
+    registry_.clear();
+    createRenderer(80, 60);
+    const glm::vec4 red(1.0f, 0.0f, 0.0f, 1.0f), green(0.0f, 1.0f, 0.0f, 1.0f);
+    if (nearFirst) addQuad({0.4f, 0.0f, 1.0f}, 1.0f, green);
+    addQuad({-0.2f, 0.0f, 0.0f}, 1.6f, red);
+    if (!nearFirst) addQuad({0.4f, 0.0f, 1.0f}, 1.0f, green);
+    const render::CameraView camera = frontCamera(5.0f, 80, 60);
+    const Frame frame = render(camera);
+
+    // Pixels whose ray hits both quads show green; those hitting only the red one show red.
+    int overlap = 0, redOnly = 0;
+    for (std::uint32_t y = 0; y < 60; ++y) {
+      for (std::uint32_t x = 0; x < 80; ++x) {
+        const math::Ray ray = math::pixelRay(camera.view, camera.proj, {float(x) + 0.5f, float(y) + 0.5f}, {80, 60});
+        auto hits = [&](double z, glm::dvec2 c, double half) {
+          const double t = (z - ray.origin.z) / ray.direction.z;
+          const glm::dvec3 p = ray.origin + t * ray.direction;
+          return std::abs(p.x - c.x) < half - 0.02 && std::abs(p.y - c.y) < half - 0.02;
+        };
+        const bool hitsGreen = hits(1.0, {0.4, 0.0}, 0.5);
+        const bool hitsRed = hits(0.0, {-0.2, 0.0}, 0.8);
+        if (hitsGreen && hitsRed) {
+          ++overlap;
+          EXPECT_TRUE(isGreenDominant(frame.pixel(x, y))) << "pixel " << x << "," << y;
+          EXPECT_NEAR(frame.depthAt(x, y), math::viewDistanceToDepth(4.0, kZNear), 1e-6);
+        } else if (hitsRed && !hitsGreen) {
+          const double tGreen = (1.0 - ray.origin.z) / ray.direction.z;
+          const glm::dvec3 p = ray.origin + tGreen * ray.direction;
+          if (std::abs(p.x - 0.4) < 0.55 && std::abs(p.y) < 0.55) continue;  // near the green edge
+          ++redOnly;
+          EXPECT_TRUE(isRedDominant(frame.pixel(x, y))) << "pixel " << x << "," << y;
+        }
+      }
+    }
+    EXPECT_GT(overlap, 50);
+    EXPECT_GT(redOnly, 50);
+  }
+}
+
+// Why: objects outside the view must be culled without disturbing the others, and an empty frame
+// (nothing visible) must still be a valid frame.
+TEST_F(GpuTest, CulledAndEmptyFramesStayValid) {
+  createRenderer(32, 32);
+  addQuad({0.0f, 0.0f, 10.0f}, 1.0f, {1.0f, 1.0f, 1.0f, 1.0f});  // behind the camera
+  const Frame frame = render(frontCamera(5.0f, 32, 32), 3);
+  EXPECT_TRUE(std::all_of(frame.depth.begin(), frame.depth.end(), [](float d) { return d == 0.0f; }));
+  EXPECT_EQ(renderer_->feature<render::MeshFeature>()->drawnLastFrame(), 0u);
+}
+
+// Why: resizing recreates the targets while frames are in flight.
+TEST_F(GpuTest, ResizeKeepsRendering) {
+  createRenderer(32, 32);
+  addQuad({0.0f, 0.0f, 0.0f}, 2.0f, {1.0f, 0.0f, 0.0f, 1.0f});
+  render(frontCamera(5.0f, 32, 32), 2);
+  renderer_->resize({48, 40});
+  const Frame frame = render(frontCamera(5.0f, 48, 40), 2);
+  ASSERT_EQ(frame.width, 48u);
+  EXPECT_GT(frame.depthAt(24, 20), 0.0f);
+}
+
+class SyncValidatedGpuTest : public GpuTest {
+  bool useSynchronizationValidation() const override { return true; }
+};
+
+// Why: frames in flight share the colour and depth targets; synchronization validation checks the
+// barriers between passes, frames and read-backs.
+TEST_F(SyncValidatedGpuTest, SeveralFramesInFlightAreHazardFree) {
+  createRenderer(64, 64);
+  addQuad({0.0f, 0.0f, 0.0f}, 1.0f, {1.0f, 0.5f, 0.0f, 1.0f});
+  addQuad({0.3f, 0.2f, 0.5f}, 1.0f, {0.0f, 0.5f, 1.0f, 1.0f});
+  const Frame frame = render(frontCamera(4.0f, 64, 64), 5);
+  EXPECT_GT(frame.depthAt(32, 32), 0.0f);
+  render(frontCamera(3.0f, 64, 64), 2);  // read-back followed by more frames
+}
+
+}  // namespace
+}  // namespace gputest
