@@ -134,6 +134,10 @@ struct FalsePositiveReport {
 FalsePositiveReport countFalsePositives(const HermiteField& field, const CellClassification& classification,
                                         int samplesPerAxis = 17);
 
+// F at the samplesPerAxis^3 points u = (i,j,k)/(samplesPerAxis-1), index i + m (j + m k), evaluated
+// separably from the Hermite form (independently of the Bernstein conversion).
+std::vector<double> sampleCellDensely(const HermiteCellCorners<double>& corners, double h, int samplesPerAxis);
+
 // True if F sampled at samplesPerAxis^3 points of the cell shows a sign change or a zero.
 bool denseSamplingFindsSurface(const HermiteCellCorners<double>& corners, double h, int samplesPerAxis);
 

@@ -154,20 +154,58 @@ engine::Expected<CellClassification> classifyCells(const HermiteField& field, co
   return out;
 }
 
-bool denseSamplingFindsSurface(const HermiteCellCorners<double>& corners, double h, int samplesPerAxis) {
+std::vector<double> sampleCellDensely(const HermiteCellCorners<double>& corners, double h, int samplesPerAxis) {
   const int m = std::max(samplesPerAxis, 2);
-  bool anyNegative = false, anyPositive = false;
-  for (int k = 0; k < m; ++k)
-    for (int j = 0; j < m; ++j)
-      for (int i = 0; i < m; ++i) {
-        const Vec3<double> u(double(i) / (m - 1), double(j) / (m - 1), double(k) / (m - 1));
-        const double f = hermiteValue(corners, h, u);
-        if (f == 0.0) return true;
-        anyNegative |= f < 0.0;
-        anyPositive |= f > 0.0;
-        if (anyNegative && anyPositive) return true;
+  // Hermite form as a 4x4x4 tensor over the per-axis basis (H0, H1, h*G0, h*G1); twist entries are 0.
+  double coeff[4][4][4] = {};
+  for (int c = 0; c < 8; ++c) {
+    const int x = c & 1, y = (c >> 1) & 1, z = (c >> 2) & 1;
+    coeff[z][y][x] = corners[c].f;
+    coeff[z][y][2 + x] = h * corners[c].fx;
+    coeff[z][2 + y][x] = h * corners[c].fy;
+    coeff[2 + z][y][x] = h * corners[c].fz;
+  }
+  const auto count = static_cast<std::size_t>(m);
+  std::vector<std::array<double, 4>> basis(count);
+  for (std::size_t i = 0; i < count; ++i) {
+    const HermiteBasis1D<double> b = hermiteBasis(double(i) / double(m - 1));
+    basis[i] = {b.h0, b.h1, b.g0, b.g1};
+  }
+  // Contract x, then y, then z: O(m^3 * 4) work instead of O(m^3 * 64) per cell.
+  std::vector<std::array<std::array<double, 4>, 4>> alongX(count);  // [i][g][b]
+  for (std::size_t i = 0; i < count; ++i)
+    for (int g = 0; g < 4; ++g)
+      for (int b = 0; b < 4; ++b) {
+        double sum = 0.0;
+        for (int a = 0; a < 4; ++a) sum += basis[i][a] * coeff[g][b][a];
+        alongX[i][g][b] = sum;
       }
-  return false;
+  std::vector<std::array<double, 4>> alongY(count * count);  // [j * m + i][g]
+  for (std::size_t j = 0; j < count; ++j)
+    for (std::size_t i = 0; i < count; ++i)
+      for (int g = 0; g < 4; ++g) {
+        double sum = 0.0;
+        for (int b = 0; b < 4; ++b) sum += basis[j][b] * alongX[i][g][b];
+        alongY[j * count + i][g] = sum;
+      }
+  std::vector<double> values(count * count * count);
+  for (std::size_t k = 0; k < count; ++k)
+    for (std::size_t ji = 0; ji < count * count; ++ji) {
+      double sum = 0.0;
+      for (int g = 0; g < 4; ++g) sum += basis[k][g] * alongY[ji][g];
+      values[k * count * count + ji] = sum;
+    }
+  return values;
+}
+
+bool denseSamplingFindsSurface(const HermiteCellCorners<double>& corners, double h, int samplesPerAxis) {
+  bool anyNegative = false, anyPositive = false;
+  for (double f : sampleCellDensely(corners, h, samplesPerAxis)) {
+    if (f == 0.0) return true;
+    anyNegative |= f < 0.0;
+    anyPositive |= f > 0.0;
+  }
+  return anyNegative && anyPositive;
 }
 
 FalsePositiveReport countFalsePositives(const HermiteField& field, const CellClassification& classification,
