@@ -4,7 +4,8 @@
 //   prepare()          CPU: read components from the registry, add objects to the GPU scene,
 //                      upload per-frame data (the frame slot's previous submission is complete);
 //   recordPass(Depth)  inside the depth prepass (depth-only rendering, compare GREATER, reverse-Z);
-//   recordPass(Opaque) inside the shading pass (colour + depth, depth already final: test EQUAL);
+//   recordPass(Opaque) inside the shading pass (colour + read-only depth: depth is final, test
+//                      EQUAL or read it from the scene descriptor set);
 //   drawUi()           inside the ImGui frame: the feature's tuning panel.
 // A feature reads components, never globals. Features create their pipelines in initialize() with
 // the formats the renderer gives them.
@@ -33,9 +34,13 @@ enum class Pass { DepthPrepass, Opaque };
 struct RendererFormats {
   VkFormat color = VK_FORMAT_R8G8B8A8_SRGB;
   VkFormat depth = VK_FORMAT_D32_SFLOAT;
+  // Layout of the scene descriptor set (set 0 of pipelines that use it): binding 0 is the depth
+  // written by the prepass, sampled (nearest) in the shading pass. Filled in by the renderer.
+  VkDescriptorSetLayout sceneSetLayout = VK_NULL_HANDLE;
 };
 
 struct FrameContext {
+  VkCommandBuffer cmd;         // recording; work recorded in prepare() runs before the passes
   const ecs::Registry& registry;
   const gpu::Context& gpu;
   GpuScene& scene;
@@ -52,6 +57,9 @@ struct PassContext {
   Pass pass;
   VkDeviceAddress frameGlobals;  // FrameGlobals of this frame
   VkDeviceAddress objects;       // ObjectData[] of this frame
+  // Opaque pass only: the scene descriptor set (prepass depth, see RendererFormats). The depth
+  // attachment is read-only in the shading pass, so it can be sampled while it is tested against.
+  VkDescriptorSet sceneSet;
   gpu::GpuTimer& timer;          // for sub-pass timings: timer.begin(cmd, "name") / end(cmd)
 };
 

@@ -12,12 +12,15 @@ namespace {
 
 constexpr std::uint32_t kMaxTimerScopes = 32;
 
-VkRenderingAttachmentInfo depthAttachment(const gpu::Image& depth, VkAttachmentLoadOp load) {
+// The depth target lives in this layout from the end of the prepass on (shading pass, read-backs).
+constexpr VkImageLayout kFinalDepthLayout = VK_IMAGE_LAYOUT_DEPTH_READ_ONLY_OPTIMAL;
+
+VkRenderingAttachmentInfo depthAttachment(const gpu::Image& depth, VkAttachmentLoadOp load, VkImageLayout layout) {
   VkRenderingAttachmentInfo info{VK_STRUCTURE_TYPE_RENDERING_ATTACHMENT_INFO};
   info.imageView = depth.view();
-  info.imageLayout = VK_IMAGE_LAYOUT_DEPTH_ATTACHMENT_OPTIMAL;
+  info.imageLayout = layout;
   info.loadOp = load;
-  info.storeOp = VK_ATTACHMENT_STORE_OP_STORE;
+  info.storeOp = layout == kFinalDepthLayout ? VK_ATTACHMENT_STORE_OP_NONE : VK_ATTACHMENT_STORE_OP_STORE;
   info.clearValue.depthStencil = {0.0f, 0};  // reverse-Z: 0 is infinitely far
   return info;
 }
@@ -37,6 +40,7 @@ Renderer::Renderer(const gpu::Context& context, const RendererDesc& desc, VkExte
       extent_(extent),
       scene_(context, desc.framesInFlight),
       frameGlobals_(context, desc.framesInFlight, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, "frame globals") {
+  createSceneDescriptors();
   createTargets();
   frames_.resize(desc.framesInFlight);
   for (std::uint32_t i = 0; i < desc.framesInFlight; ++i) {
@@ -70,6 +74,54 @@ Renderer::~Renderer() {
     vkDestroyFence(context_.device(), frame.fence, nullptr);
     vkDestroyCommandPool(context_.device(), frame.pool, nullptr);
   }
+  vkDestroyDescriptorPool(context_.device(), descriptorPool_, nullptr);
+  vkDestroyDescriptorSetLayout(context_.device(), sceneSetLayout_, nullptr);
+  vkDestroySampler(context_.device(), depthSampler_, nullptr);
+}
+
+void Renderer::createSceneDescriptors() {
+  VkSamplerCreateInfo samplerInfo{VK_STRUCTURE_TYPE_SAMPLER_CREATE_INFO};
+  samplerInfo.magFilter = VK_FILTER_NEAREST;
+  samplerInfo.minFilter = VK_FILTER_NEAREST;
+  samplerInfo.addressModeU = VK_SAMPLER_ADDRESS_MODE_CLAMP_TO_EDGE;
+  samplerInfo.addressModeV = VK_SAMPLER_ADDRESS_MODE_CLAMP_TO_EDGE;
+  samplerInfo.addressModeW = VK_SAMPLER_ADDRESS_MODE_CLAMP_TO_EDGE;
+  VK_CHECK(vkCreateSampler(context_.device(), &samplerInfo, nullptr, &depthSampler_));
+  context_.setName(depthSampler_, VK_OBJECT_TYPE_SAMPLER, "scene depth sampler");
+
+  VkDescriptorSetLayoutBinding binding{0, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, 1, VK_SHADER_STAGE_FRAGMENT_BIT, nullptr};
+  VkDescriptorSetLayoutCreateInfo layoutInfo{VK_STRUCTURE_TYPE_DESCRIPTOR_SET_LAYOUT_CREATE_INFO};
+  layoutInfo.bindingCount = 1;
+  layoutInfo.pBindings = &binding;
+  VK_CHECK(vkCreateDescriptorSetLayout(context_.device(), &layoutInfo, nullptr, &sceneSetLayout_));
+  context_.setName(sceneSetLayout_, VK_OBJECT_TYPE_DESCRIPTOR_SET_LAYOUT, "scene set layout");
+  desc_.formats.sceneSetLayout = sceneSetLayout_;
+
+  VkDescriptorPoolSize size{VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, 1};
+  VkDescriptorPoolCreateInfo poolInfo{VK_STRUCTURE_TYPE_DESCRIPTOR_POOL_CREATE_INFO};
+  poolInfo.maxSets = 1;
+  poolInfo.poolSizeCount = 1;
+  poolInfo.pPoolSizes = &size;
+  VK_CHECK(vkCreateDescriptorPool(context_.device(), &poolInfo, nullptr, &descriptorPool_));
+  context_.setName(descriptorPool_, VK_OBJECT_TYPE_DESCRIPTOR_POOL, "scene descriptor pool");
+  VkDescriptorSetAllocateInfo allocInfo{VK_STRUCTURE_TYPE_DESCRIPTOR_SET_ALLOCATE_INFO};
+  allocInfo.descriptorPool = descriptorPool_;
+  allocInfo.descriptorSetCount = 1;
+  allocInfo.pSetLayouts = &sceneSetLayout_;
+  VK_CHECK(vkAllocateDescriptorSets(context_.device(), &allocInfo, &sceneSet_));
+  context_.setName(sceneSet_, VK_OBJECT_TYPE_DESCRIPTOR_SET, "scene set");
+}
+
+// Points the scene set at the current depth target (called with the GPU idle).
+void Renderer::updateSceneDescriptors() {
+  VkDescriptorImageInfo image{depthSampler_, depth_.view(), kFinalDepthLayout};
+  VkWriteDescriptorSet write{VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET};
+  write.dstSet = sceneSet_;
+  write.dstBinding = 0;
+  write.descriptorCount = 1;
+  write.descriptorType = VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER;
+  write.pImageInfo = &image;
+  vkUpdateDescriptorSets(context_.device(), 1, &write, 0, nullptr);
 }
 
 void Renderer::createTargets() {
@@ -93,9 +145,10 @@ void Renderer::createTargets() {
                       VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, VK_PIPELINE_STAGE_2_NONE, VK_ACCESS_2_NONE,
                       VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT, VK_ACCESS_2_NONE);
     gpu::imageBarrier(cmd, depth_.handle(), VK_IMAGE_ASPECT_DEPTH_BIT, VK_IMAGE_LAYOUT_UNDEFINED,
-                      VK_IMAGE_LAYOUT_DEPTH_ATTACHMENT_OPTIMAL, VK_PIPELINE_STAGE_2_NONE, VK_ACCESS_2_NONE,
+                      kFinalDepthLayout, VK_PIPELINE_STAGE_2_NONE, VK_ACCESS_2_NONE,
                       VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT, VK_ACCESS_2_NONE);
   });
+  updateSceneDescriptors();
 }
 
 Status Renderer::addFeature(std::unique_ptr<RenderFeature> feature) {
@@ -150,14 +203,13 @@ bool Renderer::renderFrame(const ecs::Registry& registry, const CameraView& came
   begin.flags = VK_COMMAND_BUFFER_USAGE_ONE_TIME_SUBMIT_BIT;
   VK_CHECK(vkBeginCommandBuffer(frame.cmd, &begin));
 
-  scene_.beginFrame();
-  writeFrameGlobals(slot, camera);
-  FrameContext context{registry, context_, scene_, camera, extent_, slot, frameNumber_, settings.debugView};
-  for (auto& feature : features_) feature->prepare(context);
-  scene_.upload(slot);
-
   frame.timer.reset(frame.cmd);
   frame.timer.begin(frame.cmd, "frame");
+  scene_.beginFrame();
+  writeFrameGlobals(slot, camera);
+  FrameContext context{frame.cmd, registry, context_, scene_, camera, extent_, slot, frameNumber_, settings.debugView};
+  for (auto& feature : features_) feature->prepare(context);
+  scene_.upload(slot);
   recordScenePasses(frame, context);
   if (settings.overlay) {
     frame.timer.begin(frame.cmd, "ui");
@@ -211,18 +263,20 @@ void Renderer::recordScenePasses(FrameResources& frame, FrameContext& context) {
                     VK_ACCESS_2_DEPTH_STENCIL_ATTACHMENT_READ_BIT | VK_ACCESS_2_DEPTH_STENCIL_ATTACHMENT_WRITE_BIT);
 
   PassContext pass{cmd, context, Pass::DepthPrepass, frameGlobals_.address(context.frameSlot),
-                   scene_.address(context.frameSlot), frame.timer};
+                   scene_.address(context.frameSlot), sceneSet_, frame.timer};
   frame.timer.begin(cmd, "depth prepass");
   recordDepthPrepass(pass);
   frame.timer.end(cmd);
 
-  // The shading pass tests against the prepass depth: make its writes visible.
+  // The shading pass tests against the prepass depth and may sample it: make the writes visible
+  // and switch to the read-only layout, which allows both at once.
   gpu::imageBarrier(cmd, depth_.handle(), VK_IMAGE_ASPECT_DEPTH_BIT, VK_IMAGE_LAYOUT_DEPTH_ATTACHMENT_OPTIMAL,
-                    VK_IMAGE_LAYOUT_DEPTH_ATTACHMENT_OPTIMAL,
+                    kFinalDepthLayout,
                     VK_PIPELINE_STAGE_2_EARLY_FRAGMENT_TESTS_BIT | VK_PIPELINE_STAGE_2_LATE_FRAGMENT_TESTS_BIT,
                     VK_ACCESS_2_DEPTH_STENCIL_ATTACHMENT_WRITE_BIT,
-                    VK_PIPELINE_STAGE_2_EARLY_FRAGMENT_TESTS_BIT | VK_PIPELINE_STAGE_2_LATE_FRAGMENT_TESTS_BIT,
-                    VK_ACCESS_2_DEPTH_STENCIL_ATTACHMENT_READ_BIT | VK_ACCESS_2_DEPTH_STENCIL_ATTACHMENT_WRITE_BIT);
+                    VK_PIPELINE_STAGE_2_EARLY_FRAGMENT_TESTS_BIT | VK_PIPELINE_STAGE_2_LATE_FRAGMENT_TESTS_BIT |
+                        VK_PIPELINE_STAGE_2_FRAGMENT_SHADER_BIT,
+                    VK_ACCESS_2_DEPTH_STENCIL_ATTACHMENT_READ_BIT | VK_ACCESS_2_SHADER_SAMPLED_READ_BIT);
   pass.pass = Pass::Opaque;
   frame.timer.begin(cmd, "opaque");
   recordOpaquePass(pass);
@@ -230,7 +284,8 @@ void Renderer::recordScenePasses(FrameResources& frame, FrameContext& context) {
 }
 
 void Renderer::recordDepthPrepass(PassContext& pass) {
-  VkRenderingAttachmentInfo depth = depthAttachment(depth_, VK_ATTACHMENT_LOAD_OP_CLEAR);
+  VkRenderingAttachmentInfo depth =
+      depthAttachment(depth_, VK_ATTACHMENT_LOAD_OP_CLEAR, VK_IMAGE_LAYOUT_DEPTH_ATTACHMENT_OPTIMAL);
   VkRenderingInfo info{VK_STRUCTURE_TYPE_RENDERING_INFO};
   info.renderArea = {{0, 0}, extent_};
   info.layerCount = 1;
@@ -248,7 +303,7 @@ void Renderer::recordOpaquePass(PassContext& pass) {
   color.loadOp = VK_ATTACHMENT_LOAD_OP_CLEAR;
   color.storeOp = VK_ATTACHMENT_STORE_OP_STORE;
   std::memcpy(color.clearValue.color.float32, &desc_.clearColor, sizeof(float) * 4);
-  VkRenderingAttachmentInfo depth = depthAttachment(depth_, VK_ATTACHMENT_LOAD_OP_LOAD);
+  VkRenderingAttachmentInfo depth = depthAttachment(depth_, VK_ATTACHMENT_LOAD_OP_LOAD, kFinalDepthLayout);
   VkRenderingInfo info{VK_STRUCTURE_TYPE_RENDERING_INFO};
   info.renderArea = {{0, 0}, extent_};
   info.layerCount = 1;
@@ -292,7 +347,7 @@ std::vector<std::uint8_t> Renderer::readbackColor() {
 
 std::vector<float> Renderer::readbackDepth() {
   finish();
-  const auto bytes = gpu::readbackImage(context_, depth_, VK_IMAGE_LAYOUT_DEPTH_ATTACHMENT_OPTIMAL);
+  const auto bytes = gpu::readbackImage(context_, depth_, kFinalDepthLayout);
   std::vector<float> depth(bytes.size() / sizeof(float));
   std::memcpy(depth.data(), bytes.data(), depth.size() * sizeof(float));
   return depth;

@@ -94,6 +94,8 @@ class Renderer {
   };
 
   void createTargets();
+  void createSceneDescriptors();
+  void updateSceneDescriptors();
   void writeFrameGlobals(std::uint32_t slot, const CameraView& camera);
   void recordScenePasses(FrameResources& frame, FrameContext& context);
   void recordDepthPrepass(PassContext& pass);
@@ -106,6 +108,10 @@ class Renderer {
   VkExtent2D extent_;
   gpu::Image color_;
   gpu::Image depth_;
+  VkSampler depthSampler_ = VK_NULL_HANDLE;
+  VkDescriptorSetLayout sceneSetLayout_ = VK_NULL_HANDLE;
+  VkDescriptorPool descriptorPool_ = VK_NULL_HANDLE;
+  VkDescriptorSet sceneSet_ = VK_NULL_HANDLE;
   std::vector<FrameResources> frames_;
   GpuScene scene_;
   PerFrameBuffer frameGlobals_;
