@@ -482,6 +482,13 @@ TEST(GltfLoaderMalformed, NotJson) {
   expectError(loadGltf(kDataDir / "not_json.gltf"), "not_json.gltf", {"not valid JSON"});
 }
 
+// Tricky because the file itself is missing: the error must come from reading, name the path, and
+// not be mistaken for an empty scene.
+TEST(GltfLoaderMalformed, MissingFile) {
+  const auto result = loadGltf(kDataDir / "no_such_scene.glb");
+  expectError(result, "no_such_scene.glb", {});
+}
+
 // Tricky because tinygltf looks for external files relative to the base directory *and* the
 // current directory; the error must name the missing file.
 TEST(GltfLoaderMalformed, MissingExternalBufferFile) {
