@@ -37,9 +37,12 @@ Status MeshFeature::initialize(const gpu::Context& context, const RendererFormat
   indirect_ = PerFrameBuffer(context, framesInFlight, VK_BUFFER_USAGE_INDIRECT_BUFFER_BIT, "mesh indirect draws");
   ENGINE_TRY_ASSIGN(gpu::ShaderModule vert, gpu::ShaderModule::load(context, "mesh.vert"));
   ENGINE_TRY_ASSIGN(gpu::ShaderModule frag, gpu::ShaderModule::load(context, "mesh.frag"));
+  ENGINE_TRY_ASSIGN(gpu::ShaderModule prepassFrag, gpu::ShaderModule::load(context, "mesh_prepass.frag"));
 
   gpu::GraphicsPipelineDesc desc;
   desc.vertex = vert.handle();
+  desc.fragment = prepassFrag.handle();
+  desc.colorFormats = {formats.visibility};
   desc.vertexLayout = meshVertexLayout();
   desc.depthFormat = formats.depth;
   desc.pushConstantBytes = sizeof(shader::DrawPushConstants);

@@ -3,7 +3,7 @@
 // feature in a fixed order:
 //   prepare()          CPU: read components from the registry, add objects to the GPU scene,
 //                      upload per-frame data (the frame slot's previous submission is complete);
-//   recordPass(Depth)  inside the depth prepass (depth-only rendering, compare GREATER, reverse-Z);
+//   recordPass(Depth)  inside the depth prepass (depth + visibility id, compare GREATER, reverse-Z);
 //   recordPass(Opaque) inside the shading pass (colour + read-only depth: depth is final, test
 //                      EQUAL or read it from the scene descriptor set);
 //   drawUi()           inside the ImGui frame: the feature's tuning panel.
@@ -34,8 +34,13 @@ enum class Pass { DepthPrepass, Opaque };
 struct RendererFormats {
   VkFormat color = VK_FORMAT_R8G8B8A8_SRGB;
   VkFormat depth = VK_FORMAT_D32_SFLOAT;
-  // Layout of the scene descriptor set (set 0 of pipelines that use it): binding 0 is the depth
-  // written by the prepass, sampled (nearest) in the shading pass. Filled in by the renderer.
+  // The depth prepass also writes a visibility id per pixel: 1 + the GPU scene index of the object
+  // that won the depth test (0: background). Every prepass pipeline has this one colour attachment.
+  VkFormat visibility = VK_FORMAT_R32_UINT;
+  // Layout of the scene descriptor set (set 0 of pipelines that use it), filled in by the renderer:
+  // binding 0: the prepass depth (sampler2D), binding 1: the visibility ids (usampler2D), both
+  // nearest-sampled in the shading pass. A feature that shades once per pixel reads them to know
+  // which of its fragments produced the visible surface.
   VkDescriptorSetLayout sceneSetLayout = VK_NULL_HANDLE;
 };
 

@@ -89,15 +89,17 @@ void Renderer::createSceneDescriptors() {
   VK_CHECK(vkCreateSampler(context_.device(), &samplerInfo, nullptr, &depthSampler_));
   context_.setName(depthSampler_, VK_OBJECT_TYPE_SAMPLER, "scene depth sampler");
 
-  VkDescriptorSetLayoutBinding binding{0, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, 1, VK_SHADER_STAGE_FRAGMENT_BIT, nullptr};
+  const VkDescriptorSetLayoutBinding bindings[2] = {
+      {0, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, 1, VK_SHADER_STAGE_FRAGMENT_BIT, nullptr},
+      {1, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, 1, VK_SHADER_STAGE_FRAGMENT_BIT, nullptr}};
   VkDescriptorSetLayoutCreateInfo layoutInfo{VK_STRUCTURE_TYPE_DESCRIPTOR_SET_LAYOUT_CREATE_INFO};
-  layoutInfo.bindingCount = 1;
-  layoutInfo.pBindings = &binding;
+  layoutInfo.bindingCount = 2;
+  layoutInfo.pBindings = bindings;
   VK_CHECK(vkCreateDescriptorSetLayout(context_.device(), &layoutInfo, nullptr, &sceneSetLayout_));
   context_.setName(sceneSetLayout_, VK_OBJECT_TYPE_DESCRIPTOR_SET_LAYOUT, "scene set layout");
   desc_.formats.sceneSetLayout = sceneSetLayout_;
 
-  VkDescriptorPoolSize size{VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, 1};
+  VkDescriptorPoolSize size{VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, 2};
   VkDescriptorPoolCreateInfo poolInfo{VK_STRUCTURE_TYPE_DESCRIPTOR_POOL_CREATE_INFO};
   poolInfo.maxSets = 1;
   poolInfo.poolSizeCount = 1;
@@ -114,14 +116,18 @@ void Renderer::createSceneDescriptors() {
 
 // Points the scene set at the current depth target (called with the GPU idle).
 void Renderer::updateSceneDescriptors() {
-  VkDescriptorImageInfo image{depthSampler_, depth_.view(), kFinalDepthLayout};
-  VkWriteDescriptorSet write{VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET};
-  write.dstSet = sceneSet_;
-  write.dstBinding = 0;
-  write.descriptorCount = 1;
-  write.descriptorType = VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER;
-  write.pImageInfo = &image;
-  vkUpdateDescriptorSets(context_.device(), 1, &write, 0, nullptr);
+  const VkDescriptorImageInfo images[2] = {{depthSampler_, depth_.view(), kFinalDepthLayout},
+                                           {depthSampler_, visibility_.view(), VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL}};
+  VkWriteDescriptorSet writes[2] = {};
+  for (std::uint32_t i = 0; i < 2; ++i) {
+    writes[i].sType = VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET;
+    writes[i].dstSet = sceneSet_;
+    writes[i].dstBinding = i;
+    writes[i].descriptorCount = 1;
+    writes[i].descriptorType = VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER;
+    writes[i].pImageInfo = &images[i];
+  }
+  vkUpdateDescriptorSets(context_.device(), 2, writes, 0, nullptr);
 }
 
 void Renderer::createTargets() {
@@ -139,6 +145,13 @@ void Renderer::createTargets() {
                     VK_IMAGE_USAGE_SAMPLED_BIT;
   depthDesc.name = "scene depth";
   depth_ = gpu::Image(context_, depthDesc);
+  gpu::ImageDesc visibilityDesc;
+  visibilityDesc.format = desc_.formats.visibility;
+  visibilityDesc.extent = colorDesc.extent;
+  visibilityDesc.usage = VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT |
+                         VK_IMAGE_USAGE_SAMPLED_BIT;
+  visibilityDesc.name = "scene visibility";
+  visibility_ = gpu::Image(context_, visibilityDesc);
   // Give the targets defined layouts so a read-back before the first frame is valid.
   context_.submitAndWait([&](VkCommandBuffer cmd) {
     gpu::imageBarrier(cmd, color_.handle(), VK_IMAGE_ASPECT_COLOR_BIT, VK_IMAGE_LAYOUT_UNDEFINED,
@@ -146,6 +159,9 @@ void Renderer::createTargets() {
                       VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT, VK_ACCESS_2_NONE);
     gpu::imageBarrier(cmd, depth_.handle(), VK_IMAGE_ASPECT_DEPTH_BIT, VK_IMAGE_LAYOUT_UNDEFINED,
                       kFinalDepthLayout, VK_PIPELINE_STAGE_2_NONE, VK_ACCESS_2_NONE,
+                      VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT, VK_ACCESS_2_NONE);
+    gpu::imageBarrier(cmd, visibility_.handle(), VK_IMAGE_ASPECT_COLOR_BIT, VK_IMAGE_LAYOUT_UNDEFINED,
+                      VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL, VK_PIPELINE_STAGE_2_NONE, VK_ACCESS_2_NONE,
                       VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT, VK_ACCESS_2_NONE);
   });
   updateSceneDescriptors();
@@ -261,6 +277,10 @@ void Renderer::recordScenePasses(FrameResources& frame, FrameContext& context) {
                     VK_ACCESS_2_MEMORY_WRITE_BIT,
                     VK_PIPELINE_STAGE_2_EARLY_FRAGMENT_TESTS_BIT | VK_PIPELINE_STAGE_2_LATE_FRAGMENT_TESTS_BIT,
                     VK_ACCESS_2_DEPTH_STENCIL_ATTACHMENT_READ_BIT | VK_ACCESS_2_DEPTH_STENCIL_ATTACHMENT_WRITE_BIT);
+  gpu::imageBarrier(cmd, visibility_.handle(), VK_IMAGE_ASPECT_COLOR_BIT, VK_IMAGE_LAYOUT_UNDEFINED,
+                    VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL, VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT,
+                    VK_ACCESS_2_MEMORY_WRITE_BIT, VK_PIPELINE_STAGE_2_COLOR_ATTACHMENT_OUTPUT_BIT,
+                    VK_ACCESS_2_COLOR_ATTACHMENT_WRITE_BIT);
 
   PassContext pass{cmd, context, Pass::DepthPrepass, frameGlobals_.address(context.frameSlot),
                    scene_.address(context.frameSlot), sceneSet_, frame.timer};
@@ -277,6 +297,10 @@ void Renderer::recordScenePasses(FrameResources& frame, FrameContext& context) {
                     VK_PIPELINE_STAGE_2_EARLY_FRAGMENT_TESTS_BIT | VK_PIPELINE_STAGE_2_LATE_FRAGMENT_TESTS_BIT |
                         VK_PIPELINE_STAGE_2_FRAGMENT_SHADER_BIT,
                     VK_ACCESS_2_DEPTH_STENCIL_ATTACHMENT_READ_BIT | VK_ACCESS_2_SHADER_SAMPLED_READ_BIT);
+  gpu::imageBarrier(cmd, visibility_.handle(), VK_IMAGE_ASPECT_COLOR_BIT, VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL,
+                    VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL, VK_PIPELINE_STAGE_2_COLOR_ATTACHMENT_OUTPUT_BIT,
+                    VK_ACCESS_2_COLOR_ATTACHMENT_WRITE_BIT, VK_PIPELINE_STAGE_2_FRAGMENT_SHADER_BIT,
+                    VK_ACCESS_2_SHADER_SAMPLED_READ_BIT);
   pass.pass = Pass::Opaque;
   frame.timer.begin(cmd, "opaque");
   recordOpaquePass(pass);
@@ -286,9 +310,17 @@ void Renderer::recordScenePasses(FrameResources& frame, FrameContext& context) {
 void Renderer::recordDepthPrepass(PassContext& pass) {
   VkRenderingAttachmentInfo depth =
       depthAttachment(depth_, VK_ATTACHMENT_LOAD_OP_CLEAR, VK_IMAGE_LAYOUT_DEPTH_ATTACHMENT_OPTIMAL);
+  VkRenderingAttachmentInfo visibility{VK_STRUCTURE_TYPE_RENDERING_ATTACHMENT_INFO};
+  visibility.imageView = visibility_.view();
+  visibility.imageLayout = VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL;
+  visibility.loadOp = VK_ATTACHMENT_LOAD_OP_CLEAR;
+  visibility.storeOp = VK_ATTACHMENT_STORE_OP_STORE;
+  visibility.clearValue.color.uint32[0] = 0;
   VkRenderingInfo info{VK_STRUCTURE_TYPE_RENDERING_INFO};
   info.renderArea = {{0, 0}, extent_};
   info.layerCount = 1;
+  info.colorAttachmentCount = 1;
+  info.pColorAttachments = &visibility;
   info.pDepthAttachment = &depth;
   vkCmdBeginRendering(pass.cmd, &info);
   setViewportAndScissor(pass.cmd, extent_);
@@ -343,6 +375,14 @@ void Renderer::finish() {
 std::vector<std::uint8_t> Renderer::readbackColor() {
   finish();
   return gpu::readbackImage(context_, color_, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL);
+}
+
+std::vector<std::uint32_t> Renderer::readbackVisibility() {
+  finish();
+  const auto bytes = gpu::readbackImage(context_, visibility_, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL);
+  std::vector<std::uint32_t> ids(bytes.size() / sizeof(std::uint32_t));
+  std::memcpy(ids.data(), bytes.data(), ids.size() * sizeof(std::uint32_t));
+  return ids;
 }
 
 std::vector<float> Renderer::readbackDepth() {

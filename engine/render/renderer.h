@@ -72,6 +72,7 @@ class Renderer {
   // Waits for the GPU, then copies the last frame back: RGBA8 (sRGB-encoded) and depth values.
   std::vector<std::uint8_t> readbackColor();
   std::vector<float> readbackDepth();
+  std::vector<std::uint32_t> readbackVisibility();  // 1 + GPU scene object index, 0 = background
   // Named GPU timings of the most recent frame whose results are available.
   const std::vector<gpu::GpuTiming>& lastTimings() const { return lastTimings_; }
   // Waits for all frames and collects the timings of the last one.
@@ -108,6 +109,7 @@ class Renderer {
   VkExtent2D extent_;
   gpu::Image color_;
   gpu::Image depth_;
+  gpu::Image visibility_;
   VkSampler depthSampler_ = VK_NULL_HANDLE;
   VkDescriptorSetLayout sceneSetLayout_ = VK_NULL_HANDLE;
   VkDescriptorPool descriptorPool_ = VK_NULL_HANDLE;

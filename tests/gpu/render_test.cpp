@@ -86,6 +86,8 @@ TEST_F(GpuTest, OverlappingMeshesOccludeThroughDepthPrepass) {
     if (!nearFirst) addQuad({0.4f, 0.0f, 1.0f}, 1.0f, green);
     const render::CameraView camera = frontCamera(5.0f, 80, 60);
     const Frame frame = render(camera);
+    const std::vector<std::uint32_t> visibility = renderer_->readbackVisibility();
+    std::uint32_t greenId = 0, redId = 0;
 
     // Pixels whose ray hits both quads show green; those hitting only the red one show red.
     int overlap = 0, redOnly = 0;
@@ -103,17 +105,28 @@ TEST_F(GpuTest, OverlappingMeshesOccludeThroughDepthPrepass) {
           ++overlap;
           EXPECT_TRUE(isGreenDominant(frame.pixel(x, y))) << "pixel " << x << "," << y;
           EXPECT_NEAR(frame.depthAt(x, y), math::viewDistanceToDepth(4.0, kZNear), 1e-6);
+          // The visibility id names one object, the same across the overlap.
+          const std::uint32_t id = visibility[y * 80 + x];
+          EXPECT_NE(id, 0u);
+          if (greenId == 0) greenId = id;
+          EXPECT_EQ(id, greenId);
         } else if (hitsRed && !hitsGreen) {
           const double tGreen = (1.0 - ray.origin.z) / ray.direction.z;
           const glm::dvec3 p = ray.origin + tGreen * ray.direction;
           if (std::abs(p.x - 0.4) < 0.55 && std::abs(p.y) < 0.55) continue;  // near the green edge
           ++redOnly;
           EXPECT_TRUE(isRedDominant(frame.pixel(x, y))) << "pixel " << x << "," << y;
+          const std::uint32_t id = visibility[y * 80 + x];
+          if (redId == 0) redId = id;
+          EXPECT_EQ(id, redId);
         }
       }
     }
     EXPECT_GT(overlap, 50);
     EXPECT_GT(redOnly, 50);
+    EXPECT_NE(redId, 0u);
+    EXPECT_NE(redId, greenId);
+    EXPECT_EQ(visibility[0], 0u) << "background pixels have no object";
   }
 }
 

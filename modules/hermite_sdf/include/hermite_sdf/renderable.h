@@ -1,0 +1,61 @@
+#pragma once
+// What a scene puts on an entity to draw an SDF object: an immutable, shareable SdfAsset (the
+// baked field and its sparse cells) and a HermiteSdfRenderable component that says how to draw it.
+// Every renderer of the module (Hermite cells, and the trilinear / dense Hermite sphere-tracing
+// baselines) reads the same component, so one entity can switch method at run time.
+#include <atomic>
+#include <cstdint>
+#include <memory>
+#include <string>
+
+#include <glm/glm.hpp>
+
+#include "engine/core/expected.h"
+#include "hermite_sdf/cells.h"
+#include "hermite_sdf/field.h"
+
+namespace hsdf {
+
+enum class RenderMethod : std::uint32_t {
+  Cells = 0,                 // the paper's method: sparse Hermite cells, subdivision search
+  TrilinearSphereTrace = 1,  // baseline: dense f in a 3D texture, hardware trilinear filtering
+  HermiteSphereTrace = 2,    // baseline: dense Hermite 3D texture, manual tricubic evaluation
+};
+const char* renderMethodName(RenderMethod method);
+
+enum class NormalMode : std::uint32_t {
+  Exact = 0,               // analytic gradient of the interpolant
+  CentralDifferences = 1,  // six extra field evaluations (the paper's default for trilinear)
+};
+
+// A baked SDF, shared by every entity that draws it. GPU renderers cache their uploads per asset
+// id; an asset never changes after creation (re-baking makes a new asset).
+struct SdfAsset {
+  std::string name;
+  std::uint64_t id = 0;       // unique per process
+  HermiteField field;         // dense samples (the sphere-tracing baselines need them)
+  CellClassification classification;
+  CellStream cells;           // kept cells, fp32
+  CellStreamHalf cellsHalf;   // the same records in fp16
+  Aabb surfaceBounds;         // bounds of the source surface (grid bounds are field.grid.bounds())
+};
+
+// Classifies the field's cells, extracts the kept ones (fp32 and fp16) and assigns a new id.
+engine::Expected<std::shared_ptr<const SdfAsset>> makeSdfAsset(std::string name, HermiteField field,
+                                                               const Aabb& surfaceBounds,
+                                                               const ClassifyOptions& options = {});
+
+// The component. The entity's engine::scene::WorldTransform places the asset's grid in the world
+// (rigid transforms with uniform scale keep distances meaningful; any affine map renders correctly).
+struct HermiteSdfRenderable {
+  std::shared_ptr<const SdfAsset> asset;
+  RenderMethod method = RenderMethod::Cells;
+  std::uint32_t subdivisions = 3;  // n: equidistant evaluations per cell segment (paper: 2 or 3)
+  std::uint32_t refineSteps = 1;   // regula-falsi steps after the linear interpolation
+  NormalMode normals = NormalMode::Exact;
+  bool halfPrecision = false;      // fp16 cell records / RGBA16F textures
+  glm::vec4 color{0.85f, 0.55f, 0.4f, 1.0f};  // linear base colour
+  float roughness = 0.45f;
+};
+
+}  // namespace hsdf

@@ -1,0 +1,45 @@
+// GPU structs of the hermite_sdf module, shared by C++ and GLSL (see shared/host_device.h for the
+// conventions). Included after shared/host_device.h.
+#ifndef HSDF_HERMITE_HOST_DEVICE_H
+#define HSDF_HERMITE_HOST_DEVICE_H
+
+#include "shared/host_device.h"
+
+#ifdef __cplusplus
+namespace shader {
+#endif
+
+// Render flags (HermiteDraw::flags).
+#define HERMITE_FLAG_NORMALS_CENTRAL 1u  // central differences instead of the exact gradient
+#define HERMITE_FLAG_NEAR_CELL 2u        // the cell may intersect the near plane: drawn by back faces
+
+// One per indirect draw command of a Hermite feature: which object, and how to search.
+struct HermiteDraw {
+  vec4 gridOriginSpacing;  // xyz: grid origin in object space; w: spacing h
+  uint object;             // index into ObjectData[]
+  uint subdivisions;       // n >= 1
+  uint refineSteps;
+  uint flags;              // HERMITE_FLAG_*
+  uint resolution;         // K samples per axis (sphere tracing: texture size)
+  uint firstCell;          // cells: index of the object's first record in the cell buffer
+  uint pad0;
+  uint pad1;
+};
+HSDF_CHECK_SIZE(HermiteDraw, 16 + 8 * 4);
+
+// Push constants of the Hermite pipelines: the engine's DrawPushConstants plus the draw table.
+struct HermitePushConstants {
+  DrawPushConstants draw;
+  uint64_t draws;          // address of HermiteDraw[] (indexed by drawBase + gl_DrawID)
+  uint64_t cells;          // address of the cell records (shading pass normal evaluation)
+  uint64_t counters;       // address of a uint per pixel (evaluation heat map), 0 when off
+  uint drawBase;
+  uint pad;
+};
+HSDF_CHECK_SIZE(HermitePushConstants, 32 + 3 * 8 + 8);
+
+#ifdef __cplusplus
+}  // namespace shader
+#endif
+
+#endif
