@@ -1,7 +1,8 @@
 #version 460
-// Depth prepass of meshes: depth comes from the rasterizer; the visibility attachment records
-// which object won the depth test (1 + its GPU scene index).
+// Depth prepass of meshes: depth comes from the rasterizer; the visibility buffer records which
+// object (1 + its GPU scene index) won the depth test.
 layout(location = 2) flat in uint inObject;
-layout(location = 0) out uint outVisibility;
+layout(location = 0) out uvec2 outVisibility;
 
-void main() { outVisibility = inObject + 1u; }
+// The part id stays 0: gl_PrimitiveID in fragment shaders would need the geometryShader feature.
+void main() { outVisibility = uvec2(inObject + 1u, 0u); }

@@ -24,7 +24,8 @@ std::uint32_t bytesPerPixel(VkFormat format) {
     case VK_FORMAT_D32_SFLOAT:
     case VK_FORMAT_R32_UINT: return 4;
     case VK_FORMAT_R16_SFLOAT: return 2;
-    case VK_FORMAT_R16G16B16A16_SFLOAT: return 8;
+    case VK_FORMAT_R16G16B16A16_SFLOAT:
+    case VK_FORMAT_R32G32_UINT: return 8;
     case VK_FORMAT_R32G32B32A32_SFLOAT: return 16;
     default: throw std::invalid_argument("bytesPerPixel: unsupported format " + std::to_string(int(format)));
   }

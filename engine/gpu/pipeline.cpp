@@ -120,10 +120,11 @@ Expected<Pipeline> Pipeline::createGraphics(const Context& context, const Graphi
   blend.attachmentCount = static_cast<std::uint32_t>(blends.size());
   blend.pAttachments = blends.data();
 
-  const VkDynamicState dynamicStates[] = {VK_DYNAMIC_STATE_VIEWPORT, VK_DYNAMIC_STATE_SCISSOR};
+  std::vector<VkDynamicState> dynamicStates = {VK_DYNAMIC_STATE_VIEWPORT, VK_DYNAMIC_STATE_SCISSOR};
+  dynamicStates.insert(dynamicStates.end(), desc.extraDynamicStates.begin(), desc.extraDynamicStates.end());
   VkPipelineDynamicStateCreateInfo dynamic{VK_STRUCTURE_TYPE_PIPELINE_DYNAMIC_STATE_CREATE_INFO};
-  dynamic.dynamicStateCount = 2;
-  dynamic.pDynamicStates = dynamicStates;
+  dynamic.dynamicStateCount = static_cast<std::uint32_t>(dynamicStates.size());
+  dynamic.pDynamicStates = dynamicStates.data();
 
   VkPipelineRenderingCreateInfo rendering{VK_STRUCTURE_TYPE_PIPELINE_RENDERING_CREATE_INFO};
   rendering.colorAttachmentCount = static_cast<std::uint32_t>(desc.colorFormats.size());

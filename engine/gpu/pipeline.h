@@ -55,6 +55,8 @@ struct GraphicsPipelineDesc {
   bool alphaBlend = false;
   std::uint32_t pushConstantBytes = 0;
   std::vector<VkDescriptorSetLayout> setLayouts;
+  // Besides viewport and scissor, which are always dynamic (e.g. VK_DYNAMIC_STATE_CULL_MODE).
+  std::vector<VkDynamicState> extraDynamicStates;
 };
 
 class Pipeline {

@@ -40,6 +40,17 @@ bool OrbitController::update(const InputState& input) {
   return moved;
 }
 
+OrbitController framingOrbit(const glm::vec3& lo, const glm::vec3& hi, float fovY, int viewIndex) {
+  OrbitController orbit;
+  orbit.target = 0.5f * (lo + hi);
+  const float radius = 0.5f * glm::length(hi - lo);
+  orbit.radius = std::max(radius / std::sin(0.5f * fovY), 1e-3f) * 1.05f;
+  const int index = ((viewIndex % 8) + 8) % 8;
+  orbit.yaw = 0.6f + float(index) * 0.78539816f;
+  orbit.pitch = (index % 2 == 0) ? 0.35f : 0.61f;
+  return orbit;
+}
+
 glm::vec3 OrbitController::eye() const { return math::orbitEye(target, radius, yaw, pitch); }
 
 glm::vec3 FlyController::forward() const {

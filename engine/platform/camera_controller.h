@@ -20,6 +20,11 @@ struct OrbitController {
   glm::vec3 eye() const;
 };
 
+// An orbit that frames the box [lo, hi] for a vertical field of view fovY. viewIndex 0..7 picks
+// one of 8 fixed views around it (yaw in 45 degree steps, pitch alternating 20 and 35 degrees);
+// the scene runner's --view and the perf capture use the same views.
+OrbitController framingOrbit(const glm::vec3& lo, const glm::vec3& hi, float fovY, int viewIndex = 0);
+
 struct FlyController {
   glm::vec3 position{0.0f, 0.0f, 3.0f};
   float yaw = 0.0f;

@@ -21,6 +21,8 @@ class GpuScene {
   // Appends an object and returns its index.
   std::uint32_t addObject(const shader::ObjectData& object);
   std::uint32_t objectCount() const { return static_cast<std::uint32_t>(objects_.size()); }
+  // An object added this frame, e.g. to set its payload address once the payload is uploaded.
+  shader::ObjectData& object(std::uint32_t index) { return objects_.at(index); }
   // Uploads this frame's objects into the buffer of frame slot `frame`.
   void upload(std::uint32_t frame);
   VkDeviceAddress address(std::uint32_t frame) const { return buffer_.address(frame); }

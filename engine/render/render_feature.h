@@ -15,6 +15,7 @@
 #include <vulkan/vulkan.h>
 
 #include "engine/core/expected.h"
+#include "engine/gpu/gpu_timer.h"
 #include "engine/render/camera_view.h"
 
 namespace engine::ecs {
@@ -22,7 +23,6 @@ class Registry;
 }
 namespace engine::gpu {
 class Context;
-class GpuTimer;
 }
 
 namespace engine::render {
@@ -34,11 +34,13 @@ enum class Pass { DepthPrepass, Opaque };
 struct RendererFormats {
   VkFormat color = VK_FORMAT_R8G8B8A8_SRGB;
   VkFormat depth = VK_FORMAT_D32_SFLOAT;
-  // The depth prepass also writes a visibility id per pixel: 1 + the GPU scene index of the object
-  // that won the depth test (0: background). Every prepass pipeline has this one colour attachment.
-  VkFormat visibility = VK_FORMAT_R32_UINT;
+  // The depth prepass also writes a visibility buffer: per pixel, x = 1 + the GPU scene index of
+  // the object that won the depth test (0: background) and y = which part of it (feature-specific:
+  // the triangle of a mesh, the cell record of a Hermite object). Every prepass pipeline has this
+  // one colour attachment and writes a uvec2.
+  VkFormat visibility = VK_FORMAT_R32G32_UINT;
   // Layout of the scene descriptor set (set 0 of pipelines that use it), filled in by the renderer:
-  // binding 0: the prepass depth (sampler2D), binding 1: the visibility ids (usampler2D), both
+  // binding 0: the prepass depth (sampler2D), binding 1: the visibility buffer (usampler2D), both
   // nearest-sampled in the shading pass. A feature that shades once per pixel reads them to know
   // which of its fragments produced the visible surface.
   VkDescriptorSetLayout sceneSetLayout = VK_NULL_HANDLE;

@@ -301,6 +301,16 @@ void Renderer::recordScenePasses(FrameResources& frame, FrameContext& context) {
                     VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL, VK_PIPELINE_STAGE_2_COLOR_ATTACHMENT_OUTPUT_BIT,
                     VK_ACCESS_2_COLOR_ATTACHMENT_WRITE_BIT, VK_PIPELINE_STAGE_2_FRAGMENT_SHADER_BIT,
                     VK_ACCESS_2_SHADER_SAMPLED_READ_BIT);
+  // Storage writes of prepass shaders (e.g. per-pixel counters) are visible to shading shaders.
+  VkMemoryBarrier2 storage{VK_STRUCTURE_TYPE_MEMORY_BARRIER_2};
+  storage.srcStageMask = VK_PIPELINE_STAGE_2_FRAGMENT_SHADER_BIT;
+  storage.srcAccessMask = VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT;
+  storage.dstStageMask = VK_PIPELINE_STAGE_2_FRAGMENT_SHADER_BIT;
+  storage.dstAccessMask = VK_ACCESS_2_SHADER_STORAGE_READ_BIT;
+  VkDependencyInfo dependency{VK_STRUCTURE_TYPE_DEPENDENCY_INFO};
+  dependency.memoryBarrierCount = 1;
+  dependency.pMemoryBarriers = &storage;
+  vkCmdPipelineBarrier2(cmd, &dependency);
   pass.pass = Pass::Opaque;
   frame.timer.begin(cmd, "opaque");
   recordOpaquePass(pass);
@@ -377,11 +387,11 @@ std::vector<std::uint8_t> Renderer::readbackColor() {
   return gpu::readbackImage(context_, color_, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL);
 }
 
-std::vector<std::uint32_t> Renderer::readbackVisibility() {
+std::vector<glm::uvec2> Renderer::readbackVisibility() {
   finish();
   const auto bytes = gpu::readbackImage(context_, visibility_, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL);
-  std::vector<std::uint32_t> ids(bytes.size() / sizeof(std::uint32_t));
-  std::memcpy(ids.data(), bytes.data(), ids.size() * sizeof(std::uint32_t));
+  std::vector<glm::uvec2> ids(bytes.size() / sizeof(glm::uvec2));
+  std::memcpy(ids.data(), bytes.data(), ids.size() * sizeof(glm::uvec2));
   return ids;
 }
 

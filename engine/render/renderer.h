@@ -72,7 +72,8 @@ class Renderer {
   // Waits for the GPU, then copies the last frame back: RGBA8 (sRGB-encoded) and depth values.
   std::vector<std::uint8_t> readbackColor();
   std::vector<float> readbackDepth();
-  std::vector<std::uint32_t> readbackVisibility();  // 1 + GPU scene object index, 0 = background
+  // Per pixel: x = 1 + GPU scene object index (0 = background), y = feature-specific part id.
+  std::vector<glm::uvec2> readbackVisibility();
   // Named GPU timings of the most recent frame whose results are available.
   const std::vector<gpu::GpuTiming>& lastTimings() const { return lastTimings_; }
   // Waits for all frames and collects the timings of the last one.

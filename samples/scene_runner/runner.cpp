@@ -18,6 +18,8 @@
 #include "engine/scene/gltf_loader.h"
 #include "engine/scene/transform.h"
 #include "engine/ui/ui_layer.h"
+#include "hermite_sdf/cell_feature.h"
+#include "sdf_scene.h"
 
 namespace runner {
 namespace {
@@ -61,6 +63,22 @@ struct SceneState {
   glm::vec3 boundsMax{1.0f};
 };
 
+// Replaces the scene's meshes by one SDF baked from them (or adds it beside them).
+Status addSdfObject(const Options& options, const scene::SceneData& data, const render::InstantiatedScene& instantiated,
+                    SceneState& state) {
+  if (instantiated.renderables.empty()) return makeError(options.scene.string() + ": no triangle meshes to bake into an SDF");
+  ENGINE_TRY_ASSIGN(std::shared_ptr<const hsdf::SdfAsset> asset, bakeSceneSdf(data, options.resolution, options.padding));
+  glm::vec3 offset(0.0f);
+  if (options.sideBySide) {
+    offset.x = 1.25f * (state.boundsMax.x - state.boundsMin.x);
+    state.boundsMax.x += offset.x;
+  } else {
+    for (ecs::Entity e : instantiated.renderables) state.registry.remove<render::MeshRenderable>(e);
+  }
+  addSdfEntity(state.registry, renderableFromOptions(options, std::move(asset)), offset);
+  return {};
+}
+
 Status loadScene(const Options& options, SceneState& state, render::MeshPool& pool) {
   ENGINE_TRY_ASSIGN(scene::SceneData data, scene::loadGltf(options.scene));
   const render::InstantiatedScene instantiated = render::instantiateScene(data, state.registry, pool);
@@ -70,18 +88,10 @@ Status loadScene(const Options& options, SceneState& state, render::MeshPool& po
     state.boundsMin = instantiated.boundsMin;
     state.boundsMax = instantiated.boundsMax;
   }
+  if (options.method != "mesh") ENGINE_TRY(addSdfObject(options, data, instantiated, state));
   if (options.groundPlane) addGroundPlane(state.registry, pool, state.boundsMin, state.boundsMax);
   scene::updateWorldTransforms(state.registry);
   return {};
-}
-
-// An orbit camera that frames the scene bounds.
-platform::OrbitController framingOrbit(const glm::vec3& lo, const glm::vec3& hi, float fovY) {
-  platform::OrbitController orbit;
-  orbit.target = 0.5f * (lo + hi);
-  const float radius = 0.5f * glm::length(hi - lo);
-  orbit.radius = std::max(radius / std::sin(0.5f * fovY), 1e-3f) * 1.05f;
-  return orbit;
 }
 
 void logTimings(const render::Renderer& renderer) {
@@ -119,7 +129,17 @@ Status createApp(const Options& options, App& app) {
   ENGINE_TRY_ASSIGN(app.context, gpu::Context::create(desc));
   app.pool = std::make_unique<render::MeshPool>(*app.context);
   ENGINE_TRY(loadScene(options, app.scene, *app.pool));
-  app.orbit = framingOrbit(app.scene.boundsMin, app.scene.boundsMax, app.fovY);
+  app.orbit = platform::framingOrbit(app.scene.boundsMin, app.scene.boundsMax, app.fovY, options.view.value_or(0));
+  if (options.camera) {
+    const auto& c = *options.camera;
+    const glm::vec3 eye(c[0], c[1], c[2]), target(c[3], c[4], c[5]);
+    app.orbit.target = target;
+    app.orbit.radius = glm::length(eye - target);
+    const glm::vec3 d = (eye - target) / app.orbit.radius;
+    app.orbit.pitch = std::asin(std::clamp(d.y, -1.0f, 1.0f));
+    app.orbit.yaw = std::atan2(d.x, d.z);
+  }
+  app.debugView = debugViewIndex(options.debugView);
   app.znear = std::max(1e-4f, 0.01f * glm::length(app.scene.boundsMax - app.scene.boundsMin));
 
   VkExtent2D extent{options.width, options.height};
@@ -131,14 +151,15 @@ Status createApp(const Options& options, App& app) {
   }
   app.renderer = std::make_unique<render::Renderer>(*app.context, render::RendererDesc{}, extent);
   ENGINE_TRY(app.renderer->addFeature(std::make_unique<render::MeshFeature>(*app.pool)));
+  ENGINE_TRY(app.renderer->addFeature(std::make_unique<hsdf::HermiteCellFeature>()));
   if (app.window || options.headlessUi) {
     ENGINE_TRY_ASSIGN(app.ui, ui::UiLayer::create(*app.context, app.renderer->desc().formats.color,
                                                   app.renderer->desc().framesInFlight, app.window.get()));
     app.ui->addPanel("view", [&app] {
       ImGui::Text("%s", app.context->capabilities().deviceName.c_str());
-      static const char* views[] = {"shaded", "normals", "depth"};
+      static const char* views[] = {"shaded", "normals", "depth", "cells", "evaluations"};
       int view = int(app.debugView);
-      if (ImGui::Combo("debug view", &view, views, 3)) app.debugView = std::uint32_t(view);
+      if (ImGui::Combo("debug view", &view, views, 5)) app.debugView = std::uint32_t(view);
       if (ImGui::CollapsingHeader("GPU timings", ImGuiTreeNodeFlags_DefaultOpen))
         for (const gpu::GpuTiming& t : app.renderer->lastTimings()) ImGui::Text("%-14s %8.3f ms", t.name.c_str(), t.milliseconds);
     });

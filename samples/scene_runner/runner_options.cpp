@@ -1,9 +1,13 @@
 #include "runner_options.h"
 
 #include <cstdlib>
+#include <algorithm>
+#include <cmath>
 #include <regex>
 
 #include <CLI/CLI.hpp>
+
+#include "shared/host_device.h"
 
 namespace runner {
 namespace {
@@ -23,6 +27,14 @@ bool parseSize(const std::string& text, std::uint32_t& width, std::uint32_t& hei
 }
 
 }  // namespace
+
+std::uint32_t debugViewIndex(const std::string& name) {
+  if (name == "normals") return DEBUG_VIEW_NORMALS;
+  if (name == "depth") return DEBUG_VIEW_DEPTH;
+  if (name == "cells") return DEBUG_VIEW_CELLS;
+  if (name == "evals") return DEBUG_VIEW_EVALS;
+  return DEBUG_VIEW_NONE;
+}
 
 std::filesystem::path defaultScenePath() {
   if (const char* dir = std::getenv("HSDF_ASSET_DIR")) return std::filesystem::path(dir) / "bunny.glb";
@@ -44,6 +56,23 @@ ParseResult parseOptions(int argc, const char* const* argv) {
   app.add_flag("--validation", options.validation, "enable the Vulkan validation layers");
   app.add_flag("--ui", options.headlessUi, "draw the ImGui panels into headless screenshots");
   app.add_flag("!--no-ground", options.groundPlane, "do not add the ground plane");
+  app.add_option("--method", options.method, "mesh, cells (Hermite cells), trilinear or hermite (sphere tracing)")
+      ->check(CLI::IsMember({"mesh", "cells", "trilinear", "hermite"}));
+  app.add_option("--resolution", options.resolution, "samples per axis K of the baked field (2..256)")
+      ->check(CLI::Range(2, 256));
+  app.add_option("--padding", options.padding, "cells of padding around the mesh (0..16)")->check(CLI::Range(0, 16));
+  app.add_option("--subdivisions", options.subdivisions, "equidistant evaluations per cell (1..64)")
+      ->check(CLI::Range(1u, 64u));
+  app.add_option("--refine", options.refine, "root refinement steps (0..16)")->check(CLI::Range(0u, 16u));
+  app.add_flag("--fp16", options.fp16, "half-precision cell records / textures");
+  app.add_option("--normals", options.normals, "exact or central (differences)")
+      ->check(CLI::IsMember({"exact", "central"}));
+  app.add_option("--debug-view", options.debugView, "none, normals, depth, cells or evals")
+      ->check(CLI::IsMember({"none", "normals", "depth", "cells", "evals"}));
+  app.add_flag("--side-by-side", options.sideBySide, "keep the mesh and place the SDF beside it");
+  app.add_option("--view", options.view, "one of 8 fixed orbit views (0..7)")->check(CLI::Range(0, 7));
+  std::vector<float> camera;
+  app.add_option("--camera", camera, "eye and target: ex,ey,ez,tx,ty,tz")->delimiter(',')->expected(6);
 
   ParseResult result;
   try {
@@ -64,6 +93,24 @@ ParseResult parseOptions(int argc, const char* const* argv) {
   }
   if (!options.screenshot.empty() && options.screenshot.extension() != ".png") {
     result.message = "scene_runner: --screenshot: '" + options.screenshot.string() + "' must end in .png";
+    result.exitCode = 2;
+    return result;
+  }
+  if (!camera.empty()) {
+    std::array<float, 6> values{};
+    std::copy(camera.begin(), camera.end(), values.begin());
+    const bool finite = std::all_of(values.begin(), values.end(), [](float v) { return std::isfinite(v); });
+    const bool distinct = values[0] != values[3] || values[1] != values[4] || values[2] != values[5];
+    if (!finite || !distinct) {
+      result.message = "scene_runner: --camera: eye and target must be finite and different";
+      result.exitCode = 2;
+      return result;
+    }
+    options.camera = values;
+  }
+  if (options.resolution - 1 - 2 * options.padding < 1) {
+    result.message = "scene_runner: --resolution " + std::to_string(options.resolution) + " leaves no cells inside --padding " +
+                     std::to_string(options.padding);
     result.exitCode = 2;
     return result;
   }

@@ -3,6 +3,7 @@
 // so that every option is validated (with a message naming it) before any window or device opens.
 #include <cstdint>
 #include <filesystem>
+#include <array>
 #include <optional>
 #include <string>
 #include <vector>
@@ -23,6 +24,20 @@ struct Options {
   bool showUi = true;                // windowed: always; headless: drawn into the screenshot with --ui
   bool headlessUi = false;
   bool groundPlane = true;
+
+  // How the scene's meshes are drawn: "mesh" (triangles), or baked into one SDF drawn by
+  // "cells" (the paper's method), "trilinear" or "hermite" (sphere-tracing baselines).
+  std::string method = "mesh";
+  int resolution = 64;               // K samples per axis of the baked field
+  int padding = 1;                   // cells of padding around the mesh bounds
+  std::uint32_t subdivisions = 3;
+  std::uint32_t refine = 1;
+  bool fp16 = false;
+  std::string normals = "exact";     // exact | central
+  std::string debugView = "none";    // none | normals | depth | cells | evals
+  bool sideBySide = false;           // keep the mesh and put the SDF copy beside it
+  std::optional<int> view;           // one of 8 fixed orbit views
+  std::optional<std::array<float, 6>> camera;  // eye xyz, target xyz
 };
 
 // Parses argv. Returns the options, or an Error whose message names the bad option; `--help`
@@ -35,5 +50,6 @@ struct ParseResult {
 ParseResult parseOptions(int argc, const char* const* argv);
 
 std::filesystem::path defaultScenePath();
+std::uint32_t debugViewIndex(const std::string& name);  // DEBUG_VIEW_* of a --debug-view name
 
 }  // namespace runner

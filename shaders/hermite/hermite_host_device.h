@@ -27,6 +27,19 @@ struct HermiteDraw {
 };
 HSDF_CHECK_SIZE(HermiteDraw, 16 + 8 * 4);
 
+// Per Hermite-cell object, reached through ObjectData::payload: what the shading pass needs to
+// find a visible cell's record from the visibility buffer (x: object, y: record index).
+struct HermiteObject {
+  vec4 gridOriginSpacing;  // xyz: grid origin in object space; w: spacing h
+  uint64_t records;        // address of the record buffer this object's cells are in
+  uint halfPrecision;      // 0: CellRecord (136 bytes), 1: CellRecordHalf (72 bytes)
+  uint flags;              // HERMITE_FLAG_*
+};
+HSDF_CHECK_SIZE(HermiteObject, 16 + 8 + 2 * 4);
+
+// Feature ids in ObjectData::feature (engine features use small numbers; see their headers).
+#define HERMITE_CELLS_FEATURE_ID 2u
+
 // Push constants of the Hermite pipelines: the engine's DrawPushConstants plus the draw table.
 struct HermitePushConstants {
   DrawPushConstants draw;

@@ -86,7 +86,7 @@ TEST_F(GpuTest, OverlappingMeshesOccludeThroughDepthPrepass) {
     if (!nearFirst) addQuad({0.4f, 0.0f, 1.0f}, 1.0f, green);
     const render::CameraView camera = frontCamera(5.0f, 80, 60);
     const Frame frame = render(camera);
-    const std::vector<std::uint32_t> visibility = renderer_->readbackVisibility();
+    const std::vector<glm::uvec2> visibility = renderer_->readbackVisibility();
     std::uint32_t greenId = 0, redId = 0;
 
     // Pixels whose ray hits both quads show green; those hitting only the red one show red.
@@ -106,7 +106,7 @@ TEST_F(GpuTest, OverlappingMeshesOccludeThroughDepthPrepass) {
           EXPECT_TRUE(isGreenDominant(frame.pixel(x, y))) << "pixel " << x << "," << y;
           EXPECT_NEAR(frame.depthAt(x, y), math::viewDistanceToDepth(4.0, kZNear), 1e-6);
           // The visibility id names one object, the same across the overlap.
-          const std::uint32_t id = visibility[y * 80 + x];
+          const std::uint32_t id = visibility[y * 80 + x].x;
           EXPECT_NE(id, 0u);
           if (greenId == 0) greenId = id;
           EXPECT_EQ(id, greenId);
@@ -116,7 +116,7 @@ TEST_F(GpuTest, OverlappingMeshesOccludeThroughDepthPrepass) {
           if (std::abs(p.x - 0.4) < 0.55 && std::abs(p.y) < 0.55) continue;  // near the green edge
           ++redOnly;
           EXPECT_TRUE(isRedDominant(frame.pixel(x, y))) << "pixel " << x << "," << y;
-          const std::uint32_t id = visibility[y * 80 + x];
+          const std::uint32_t id = visibility[y * 80 + x].x;
           if (redId == 0) redId = id;
           EXPECT_EQ(id, redId);
         }
@@ -126,7 +126,7 @@ TEST_F(GpuTest, OverlappingMeshesOccludeThroughDepthPrepass) {
     EXPECT_GT(redOnly, 50);
     EXPECT_NE(redId, 0u);
     EXPECT_NE(redId, greenId);
-    EXPECT_EQ(visibility[0], 0u) << "background pixels have no object";
+    EXPECT_EQ(visibility[0].x, 0u) << "background pixels have no object";
   }
 }
 

@@ -1,0 +1,57 @@
+#pragma once
+// Camera maths shared by the GPU renderer and the CPU reference ray caster, which must agree exactly.
+//
+// Conventions (fixed project-wide):
+//  - World space is right-handed; +Y is up. View space: the camera sits at the origin looking down -Z.
+//  - Vulkan clip space: NDC x runs left -> right and y runs top -> bottom; the projection flips y so
+//    that world-up appears up in the image. Pixel (0,0) is the top-left one, its centre at (0.5,0.5).
+//  - Reverse-Z infinite perspective: depth = znear / viewDistance, where viewDistance is measured along
+//    the view axis (-Z), not along the ray. Depth is 1 at the near plane and tends to 0 at infinity:
+//    clear depth to 0 and test with GREATER (or GREATER_OR_EQUAL).
+// Functions throw std::invalid_argument for parameters that cannot describe a camera (e.g. znear <= 0).
+#include <array>
+
+#include <glm/glm.hpp>
+
+namespace engine::math {
+
+// Reverse-Z infinite projection in Vulkan clip space (see above). fovy in (0, pi), aspect = width / height.
+glm::mat4 perspectiveReverseZInfinite(float fovyRadians, float aspect, float znear);
+
+// Right-handed view matrix. If `up` is parallel to the viewing direction another up is chosen
+// (world Z, or X if that is parallel too) instead of producing NaNs; eye == target throws.
+glm::mat4 lookAt(const glm::vec3& eye, const glm::vec3& target, const glm::vec3& up);
+
+// Eye position on a sphere around target. yaw 0 / pitch 0 puts the eye on +Z of the target (looking
+// down -Z); positive yaw turns the eye towards +X, positive pitch raises it towards +Y.
+glm::vec3 orbitEye(const glm::vec3& target, float radius, float yawRadians, float pitchRadians);
+
+struct Ray {
+  glm::dvec3 origin;
+  glm::dvec3 direction;  // unit length
+};
+
+// The ray from the camera eye through a point of the image, in world space: the same ray along which
+// Vulkan rasterizes the fragment whose framebuffer coordinate is pixelCenter (e.g. (x + 0.5, y + 0.5)).
+// Computed in double from the inverse of the given matrices.
+Ray pixelRay(const glm::mat4& view, const glm::mat4& proj, glm::vec2 pixelCenter, glm::ivec2 imageSize);
+
+// Reverse-Z depth <-> distance along the view axis. Depth 0 (or less) maps to +infinity and back.
+double depthToViewDistance(double depth, double znear);
+double viewDistanceToDepth(double viewDistance, double znear);
+
+// Side planes (and near plane) of a view frustum, each (normal, d) with normal pointing inwards:
+// a point p is inside a plane when dot(normal, p) + d >= 0. The far plane is at infinity and omitted.
+struct Frustum {
+  enum Plane { kLeft, kRight, kBottom, kTop, kNear, kPlaneCount };
+  std::array<glm::vec4, kPlaneCount> planes;
+};
+
+// Planes of viewProj = proj * view (reverse-Z: the near plane is clip z <= w). Normals are unit length.
+Frustum extractFrustum(const glm::mat4& viewProj);
+
+// False only if the box lies entirely outside one plane. Conservative: a box near a frustum corner
+// may be reported as intersecting although it is outside.
+bool intersects(const Frustum& frustum, const glm::vec3& aabbMin, const glm::vec3& aabbMax);
+
+}  // namespace engine::math

@@ -1,0 +1,86 @@
+#pragma once
+// The paper's renderer as an engine RenderFeature: every entity with a HermiteSdfRenderable
+// (method Cells) and a WorldTransform is drawn as its kept cells, each cell an instanced box whose
+// Hermite data (8 corners x (f, grad f) + cell coordinate) arrive as instance-rate vertex
+// attributes from one GPU cell buffer. One pipeline and one indirect multi-draw per pass cover all
+// objects; per-draw data (object index, grid, subdivisions) is read through buffer device address.
+//
+// Depth prepass: the fragment shader clips the pixel's ray to its cell (and the near plane), finds
+// the first root by n equidistant evaluations + linear interpolation + regula-falsi refinement and
+// writes gl_FragDepth with conservative depth (the hit is never nearer than the front face), plus
+// the visibility id. Cells the near plane may cut are drawn by their back faces with a
+// non-conservative variant, so a camera inside the object or inside a cell loses no surface.
+// Shading pass: each pixel is shaded once: a full-screen resolve reads the visibility buffer
+// (object, cell record) and the prepass depth, fetches that cell's record by buffer device
+// address and shades the hit with the exact normal of the interpolant.
+// Submission order: rows of cells are sorted front to back by the camera's octant so that early
+// depth testing rejects hidden cells (switchable, to measure the effect).
+#include <cstdint>
+#include <memory>
+#include <unordered_map>
+#include <vector>
+
+#include "engine/gpu/buffer.h"
+#include "engine/gpu/pipeline.h"
+#include "engine/render/per_frame_buffer.h"
+#include "engine/render/render_feature.h"
+#include "hermite_sdf/renderable.h"
+
+namespace hsdf {
+
+class HermiteCellFeature final : public engine::render::RenderFeature {
+ public:
+  static constexpr std::uint32_t kFeatureId = 2;
+
+  struct Settings {
+    bool frontToBack = true;  // sort rows of cells by the view octant
+    bool heatMapCounters = true;  // count evaluations per pixel when the debug view asks for it
+  };
+  struct Stats {
+    std::uint32_t objects = 0;
+    std::uint64_t cells = 0;        // instances drawn in the last frame
+    std::uint32_t draws = 0;        // indirect commands in the last frame
+    std::uint32_t nearCells = 0;    // cells drawn by their back faces
+    std::uint64_t gpuBytes = 0;     // cell buffers
+  };
+
+  HermiteCellFeature();
+  ~HermiteCellFeature() override;
+  std::string_view name() const override { return "hermite cells"; }
+  engine::Status initialize(const engine::gpu::Context& context, const engine::render::RendererFormats& formats,
+                            std::uint32_t framesInFlight) override;
+  void prepare(engine::render::FrameContext& frame) override;
+  void recordPass(engine::render::PassContext& pass) override;
+  void drawUi() override;
+
+  Settings& settings() { return settings_; }
+  const Stats& stats() const { return stats_; }
+
+ private:
+  struct AssetRows;
+  struct Batch;
+  void syncAssets(const engine::render::FrameContext& frame);
+  void buildDraws(engine::render::FrameContext& frame);
+  void ensureCounters(engine::render::FrameContext& frame);
+  void recordBatch(engine::render::PassContext& pass, int precision, bool near);
+  void recordResolve(engine::render::PassContext& pass);
+
+  const engine::gpu::Context* context_ = nullptr;
+  Settings settings_;
+  Stats stats_;
+  // [precision][variant]: precision 0 = fp32, 1 = fp16 records.
+  engine::gpu::Pipeline depthFront_[2];
+  engine::gpu::Pipeline depthNear_[2];
+  engine::gpu::Pipeline resolve_;
+  std::unique_ptr<struct CellBuffers> buffers_;
+  engine::render::PerFrameBuffer drawData_;
+  engine::render::PerFrameBuffer indirect_;
+  engine::render::PerFrameBuffer objects_;  // shader::HermiteObject per drawn object
+  engine::gpu::Buffer counters_;
+  VkExtent2D countersExtent_{0, 0};
+  bool countersActive_ = false;
+  bool multiDraw_ = false;
+  std::unique_ptr<Batch> batches_[2];  // per precision
+};
+
+}  // namespace hsdf

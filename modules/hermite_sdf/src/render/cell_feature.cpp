@@ -1,0 +1,359 @@
+#include "hermite_sdf/cell_feature.h"
+
+#include <algorithm>
+#include <cmath>
+#include <unordered_set>
+
+#include <imgui.h>
+
+#include "engine/core/log.h"
+#include "engine/ecs/registry.h"
+#include "engine/gpu/context.h"
+#include "engine/gpu/vk_check.h"
+#include "engine/render/gpu_scene.h"
+#include "engine/scene/transform.h"
+#include "hermite/hermite_host_device.h"
+#include "render/cell_rows.h"
+
+namespace hsdf {
+
+using engine::gpu::Buffer;
+using engine::gpu::Pipeline;
+
+// The GPU copy of every drawn asset's cell records: one fp32 and one fp16 buffer, each the
+// concatenation of the assets' streams, so one vertex-buffer binding serves all objects.
+struct CellBuffers {
+  struct Entry {
+    std::shared_ptr<const SdfAsset> asset;
+    std::uint32_t firstRecord = 0;  // same index in both buffers
+    CellRows rows;
+  };
+  std::unordered_map<std::uint64_t, Entry> entries;  // by asset id
+  Buffer records[2];
+  std::uint64_t bytes = 0;
+};
+
+// This frame's indirect commands for one record precision: the front-face list, then the
+// near-cell list, as ranges of the shared command and draw-data arrays.
+struct HermiteCellFeature::Batch {
+  std::uint32_t frontFirst = 0, frontCount = 0;
+  std::uint32_t nearFirst = 0, nearCount = 0;
+};
+
+namespace {
+
+constexpr std::uint32_t kRecordStride[2] = {sizeof(CellRecord), sizeof(CellRecordHalf)};
+
+engine::gpu::VertexLayout cellVertexLayout(int precision) {
+  engine::gpu::VertexLayout layout;
+  layout.bindings.push_back({0, kRecordStride[precision], VK_VERTEX_INPUT_RATE_INSTANCE});
+  const VkFormat cornerFormat = precision == 0 ? VK_FORMAT_R32G32B32A32_SFLOAT : VK_FORMAT_R16G16B16A16_SFLOAT;
+  const std::uint32_t cornerBytes = precision == 0 ? 16 : 8;
+  for (std::uint32_t i = 0; i < 8; ++i) layout.attributes.push_back({i, 0, cornerFormat, i * cornerBytes});
+  layout.attributes.push_back({8, 0, VK_FORMAT_R16G16B16A16_UINT, 8 * cornerBytes});
+  return layout;
+}
+
+// Radius around the eye (world units) that the near plane's rectangle can reach.
+float nearPlaneReach(const engine::render::CameraView& camera) {
+  const float tanX = 1.0f / std::abs(camera.proj[0][0]);
+  const float tanY = 1.0f / std::abs(camera.proj[1][1]);
+  return camera.znear * std::sqrt(1.0f + tanX * tanX + tanY * tanY) * 1.01f;
+}
+
+}  // namespace
+
+HermiteCellFeature::HermiteCellFeature() : buffers_(std::make_unique<CellBuffers>()) {
+  batches_[0] = std::make_unique<Batch>();
+  batches_[1] = std::make_unique<Batch>();
+}
+
+HermiteCellFeature::~HermiteCellFeature() = default;
+
+engine::Status HermiteCellFeature::initialize(const engine::gpu::Context& context,
+                                              const engine::render::RendererFormats& formats,
+                                              std::uint32_t framesInFlight) {
+  context_ = &context;
+  multiDraw_ = context.capabilities().multiDrawIndirect;
+  drawData_ = engine::render::PerFrameBuffer(context, framesInFlight, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT,
+                                             "hermite cell draws");
+  indirect_ = engine::render::PerFrameBuffer(context, framesInFlight, VK_BUFFER_USAGE_INDIRECT_BUFFER_BIT,
+                                             "hermite cell indirect");
+  objects_ = engine::render::PerFrameBuffer(context, framesInFlight, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT,
+                                            "hermite cell objects");
+  ENGINE_TRY_ASSIGN(auto vert, engine::gpu::ShaderModule::load(context, "cells.vert"));
+  ENGINE_TRY_ASSIGN(auto depthFrag, engine::gpu::ShaderModule::load(context, "cells_depth.frag"));
+  ENGINE_TRY_ASSIGN(auto nearFrag, engine::gpu::ShaderModule::load(context, "cells_depth_near.frag"));
+  ENGINE_TRY_ASSIGN(auto fullscreen, engine::gpu::ShaderModule::load(context, "fullscreen.vert"));
+  ENGINE_TRY_ASSIGN(auto resolveFrag, engine::gpu::ShaderModule::load(context, "cells_resolve.frag"));
+
+  for (int precision = 0; precision < 2; ++precision) {
+    const std::string suffix = precision == 0 ? " fp32" : " fp16";
+    engine::gpu::GraphicsPipelineDesc desc;
+    desc.vertex = vert.handle();
+    desc.vertexLayout = cellVertexLayout(precision);
+    desc.pushConstantBytes = sizeof(shader::HermitePushConstants);
+    desc.depthFormat = formats.depth;
+    desc.colorFormats = {formats.visibility};
+    desc.depthCompare = VK_COMPARE_OP_GREATER;
+
+    desc.name = "hermite cells depth" + suffix;
+    desc.fragment = depthFrag.handle();
+    desc.cullMode = VK_CULL_MODE_BACK_BIT;
+    ENGINE_TRY_ASSIGN(depthFront_[precision], Pipeline::createGraphics(context, desc));
+
+    desc.name = "hermite cells depth near" + suffix;
+    desc.fragment = nearFrag.handle();
+    desc.cullMode = VK_CULL_MODE_FRONT_BIT;
+    ENGINE_TRY_ASSIGN(depthNear_[precision], Pipeline::createGraphics(context, desc));
+  }
+  // Shading: one full-screen triangle; which pixels are ours comes from the visibility buffer.
+  engine::gpu::GraphicsPipelineDesc resolve;
+  resolve.name = "hermite cells resolve";
+  resolve.vertex = fullscreen.handle();
+  resolve.fragment = resolveFrag.handle();
+  resolve.cullMode = VK_CULL_MODE_NONE;
+  resolve.depthTest = false;
+  resolve.depthWrite = false;
+  resolve.depthFormat = formats.depth;
+  resolve.colorFormats = {formats.color};
+  resolve.pushConstantBytes = sizeof(shader::HermitePushConstants);
+  resolve.setLayouts = {formats.sceneSetLayout};
+  ENGINE_TRY_ASSIGN(resolve_, Pipeline::createGraphics(context, resolve));
+  return {};
+}
+
+void HermiteCellFeature::syncAssets(const engine::render::FrameContext& frame) {
+  std::vector<std::shared_ptr<const SdfAsset>> wanted;
+  std::unordered_set<std::uint64_t> seen;
+  bool missing = false;
+  frame.registry.view<HermiteSdfRenderable>().each([&](engine::ecs::Entity, const HermiteSdfRenderable& r) {
+    if (r.method != RenderMethod::Cells || !r.asset || r.asset->cells.records.empty()) return;
+    if (!seen.insert(r.asset->id).second) return;
+    wanted.push_back(r.asset);
+    missing |= !buffers_->entries.contains(r.asset->id);
+  });
+  if (!missing) return;
+
+  // Rebuild the concatenated buffers with the assets drawn now (assets no longer drawn are dropped).
+  context_->waitIdle();
+  CellBuffers rebuilt;
+  std::vector<CellRecord> full;
+  std::vector<CellRecordHalf> half;
+  for (const auto& asset : wanted) {
+    CellBuffers::Entry entry;
+    entry.asset = asset;
+    entry.firstRecord = static_cast<std::uint32_t>(full.size());
+    if (auto old = buffers_->entries.find(asset->id); old != buffers_->entries.end())
+      entry.rows = std::move(old->second.rows);
+    else
+      entry.rows = buildCellRows(asset->cells);
+    full.insert(full.end(), asset->cells.records.begin(), asset->cells.records.end());
+    half.insert(half.end(), asset->cellsHalf.records.begin(), asset->cellsHalf.records.end());
+    rebuilt.entries.emplace(asset->id, std::move(entry));
+  }
+  // Vertex attributes in the prepass; read by address in the resolve pass.
+  constexpr VkBufferUsageFlags usage = VK_BUFFER_USAGE_VERTEX_BUFFER_BIT | VK_BUFFER_USAGE_STORAGE_BUFFER_BIT |
+                                       VK_BUFFER_USAGE_SHADER_DEVICE_ADDRESS_BIT;
+  rebuilt.records[0] = engine::gpu::createBufferWithData(*context_, full.data(), full.size() * sizeof(CellRecord),
+                                                         usage, "hermite cells fp32");
+  rebuilt.records[1] = engine::gpu::createBufferWithData(*context_, half.data(),
+                                                         half.size() * sizeof(CellRecordHalf), usage,
+                                                         "hermite cells fp16");
+  rebuilt.bytes = full.size() * sizeof(CellRecord) + half.size() * sizeof(CellRecordHalf);
+  *buffers_ = std::move(rebuilt);
+  engine::log::debug("hermite cells: {} assets, {} records uploaded", buffers_->entries.size(), full.size());
+}
+
+void HermiteCellFeature::buildDraws(engine::render::FrameContext& frame) {
+  std::vector<VkDrawIndirectCommand> commands[2][2];  // [precision][front, near]
+  std::vector<shader::HermiteDraw> draws[2][2];
+  std::vector<shader::HermiteObject> hermiteObjects;
+  std::vector<std::uint32_t> objectIndices;
+  stats_ = Stats{};
+  stats_.gpuBytes = buffers_->bytes;
+  const float reach = nearPlaneReach(frame.camera);
+
+  frame.registry.view<HermiteSdfRenderable, engine::scene::WorldTransform>().each(
+      [&](engine::ecs::Entity, const HermiteSdfRenderable& r, const engine::scene::WorldTransform& world) {
+        if (r.method != RenderMethod::Cells || !r.asset) return;
+        auto found = buffers_->entries.find(r.asset->id);
+        if (found == buffers_->entries.end()) return;
+        const CellBuffers::Entry& entry = found->second;
+        const GridSpec& grid = r.asset->field.grid;
+        const int precision = r.halfPrecision ? 1 : 0;
+
+        shader::ObjectData object = engine::render::GpuScene::makeObject(world.matrix, r.color, r.roughness, 0.0f, kFeatureId);
+        const std::uint32_t objectIndex = frame.scene.addObject(object);
+        shader::HermiteDraw draw{};
+        draw.gridOriginSpacing = glm::vec4(glm::vec3(grid.origin), float(grid.spacing));
+        draw.object = objectIndex;
+        draw.subdivisions = std::clamp(r.subdivisions, 1u, 64u);
+        draw.refineSteps = std::min(r.refineSteps, 16u);
+        draw.flags = r.normals == NormalMode::CentralDifferences ? HERMITE_FLAG_NORMALS_CENTRAL : 0u;
+        draw.resolution = std::uint32_t(grid.resolution);
+        draw.firstCell = entry.firstRecord;
+        hermiteObjects.push_back({draw.gridOriginSpacing, buffers_->records[precision].address(),
+                                  std::uint32_t(precision), draw.flags});
+        objectIndices.push_back(objectIndex);
+
+        // The eye in grid units, and how far (in grid units) the near plane reaches around it.
+        const glm::vec3 eyeObject = glm::vec3(object.invModel * glm::vec4(frame.camera.position, 1.0f));
+        const glm::dvec3 eyeGrid = (glm::dvec3(eyeObject) - grid.origin) / grid.spacing;
+        const float minScale = std::min({glm::length(glm::vec3(world.matrix[0])), glm::length(glm::vec3(world.matrix[1])),
+                                         glm::length(glm::vec3(world.matrix[2]))});
+        const double reachGrid = double(reach) / (double(std::max(minScale, 1e-12f)) * grid.spacing);
+
+        for (const CellRows::Range& range : orderedRows(entry.rows, eyeGrid, settings_.frontToBack)) {
+          commands[precision][0].push_back({36, range.count, 0, entry.firstRecord + range.first});
+          draws[precision][0].push_back(draw);
+          stats_.cells += range.count;
+        }
+        shader::HermiteDraw nearDraw = draw;
+        nearDraw.flags |= HERMITE_FLAG_NEAR_CELL;
+        for (std::uint32_t record : cellsNearPoint(entry.rows, r.asset->cells, eyeGrid, reachGrid)) {
+          commands[precision][1].push_back({36, 1, 0, entry.firstRecord + record});
+          draws[precision][1].push_back(nearDraw);
+          stats_.nearCells++;
+        }
+        stats_.objects++;
+      });
+
+  // One upload: [fp32 front][fp32 near][fp16 front][fp16 near].
+  std::vector<VkDrawIndirectCommand> allCommands;
+  std::vector<shader::HermiteDraw> allDraws;
+  for (int precision = 0; precision < 2; ++precision) {
+    Batch& batch = *batches_[precision];
+    batch.frontFirst = static_cast<std::uint32_t>(allCommands.size());
+    batch.frontCount = static_cast<std::uint32_t>(commands[precision][0].size());
+    allCommands.insert(allCommands.end(), commands[precision][0].begin(), commands[precision][0].end());
+    allDraws.insert(allDraws.end(), draws[precision][0].begin(), draws[precision][0].end());
+    batch.nearFirst = static_cast<std::uint32_t>(allCommands.size());
+    batch.nearCount = static_cast<std::uint32_t>(commands[precision][1].size());
+    allCommands.insert(allCommands.end(), commands[precision][1].begin(), commands[precision][1].end());
+    allDraws.insert(allDraws.end(), draws[precision][1].begin(), draws[precision][1].end());
+  }
+  stats_.draws = static_cast<std::uint32_t>(allCommands.size());
+  if (!allCommands.empty()) {
+    indirect_.upload(frame.frameSlot, allCommands);
+    drawData_.upload(frame.frameSlot, allDraws);
+  }
+  if (!hermiteObjects.empty()) {
+    objects_.upload(frame.frameSlot, hermiteObjects);
+    const VkDeviceAddress base = objects_.address(frame.frameSlot);
+    for (std::size_t i = 0; i < objectIndices.size(); ++i)
+      frame.scene.object(objectIndices[i]).payload = base + i * sizeof(shader::HermiteObject);
+  }
+}
+
+void HermiteCellFeature::ensureCounters(engine::render::FrameContext& frame) {
+  countersActive_ = settings_.heatMapCounters && frame.debugView == DEBUG_VIEW_EVALS && stats_.draws > 0;
+  if (!countersActive_) return;
+  if (!counters_ || countersExtent_.width != frame.extent.width || countersExtent_.height != frame.extent.height) {
+    context_->waitIdle();
+    counters_ = Buffer(*context_, VkDeviceSize(frame.extent.width) * frame.extent.height * sizeof(std::uint32_t),
+                       VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT |
+                           VK_BUFFER_USAGE_SHADER_DEVICE_ADDRESS_BIT,
+                       engine::gpu::MemoryUsage::GpuOnly, "hermite evaluation counters");
+    countersExtent_ = frame.extent;
+  }
+  // Earlier frames read the counters in their shading pass; this frame rewrites them.
+  VkMemoryBarrier2 barriers[2] = {{VK_STRUCTURE_TYPE_MEMORY_BARRIER_2}, {VK_STRUCTURE_TYPE_MEMORY_BARRIER_2}};
+  barriers[0].srcStageMask = VK_PIPELINE_STAGE_2_FRAGMENT_SHADER_BIT;
+  barriers[0].srcAccessMask = VK_ACCESS_2_SHADER_STORAGE_READ_BIT;
+  barriers[0].dstStageMask = VK_PIPELINE_STAGE_2_CLEAR_BIT;
+  barriers[0].dstAccessMask = VK_ACCESS_2_TRANSFER_WRITE_BIT;
+  VkDependencyInfo before{VK_STRUCTURE_TYPE_DEPENDENCY_INFO};
+  before.memoryBarrierCount = 1;
+  before.pMemoryBarriers = &barriers[0];
+  vkCmdPipelineBarrier2(frame.cmd, &before);
+  vkCmdFillBuffer(frame.cmd, counters_.handle(), 0, VK_WHOLE_SIZE, 0);
+  barriers[1].srcStageMask = VK_PIPELINE_STAGE_2_CLEAR_BIT;
+  barriers[1].srcAccessMask = VK_ACCESS_2_TRANSFER_WRITE_BIT;
+  barriers[1].dstStageMask = VK_PIPELINE_STAGE_2_FRAGMENT_SHADER_BIT;
+  barriers[1].dstAccessMask = VK_ACCESS_2_SHADER_STORAGE_READ_BIT | VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT;
+  VkDependencyInfo after{VK_STRUCTURE_TYPE_DEPENDENCY_INFO};
+  after.memoryBarrierCount = 1;
+  after.pMemoryBarriers = &barriers[1];
+  vkCmdPipelineBarrier2(frame.cmd, &after);
+}
+
+void HermiteCellFeature::prepare(engine::render::FrameContext& frame) {
+  syncAssets(frame);
+  buildDraws(frame);
+  ensureCounters(frame);
+}
+
+void HermiteCellFeature::recordBatch(engine::render::PassContext& pass, int precision, bool near) {
+  const Batch& batch = *batches_[precision];
+  const std::uint32_t first = near ? batch.nearFirst : batch.frontFirst;
+  const std::uint32_t count = near ? batch.nearCount : batch.frontCount;
+  if (count == 0) return;
+  VkCommandBuffer cmd = pass.cmd;
+  const Pipeline& pipeline = near ? depthNear_[precision] : depthFront_[precision];
+  vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, pipeline.handle());
+  const VkBuffer vertexBuffer = buffers_->records[precision].handle();
+  const VkDeviceSize offset = 0;
+  vkCmdBindVertexBuffers(cmd, 0, 1, &vertexBuffer, &offset);
+
+  shader::HermitePushConstants push{};
+  push.draw.frameGlobals = pass.frameGlobals;
+  push.draw.objects = pass.objects;
+  push.draw.debugView = pass.frame.debugView;
+  push.draws = drawData_.address(pass.frame.frameSlot);
+  push.counters = countersActive_ ? counters_.address() : 0;
+  const VkBuffer indirect = indirect_.buffer(pass.frame.frameSlot).handle();
+  constexpr auto stride = static_cast<std::uint32_t>(sizeof(VkDrawIndirectCommand));
+  const VkShaderStageFlags stages = VK_SHADER_STAGE_VERTEX_BIT | VK_SHADER_STAGE_FRAGMENT_BIT;
+  if (multiDraw_) {
+    push.drawBase = first;
+    vkCmdPushConstants(cmd, pipeline.layout(), stages, 0, sizeof(push), &push);
+    vkCmdDrawIndirect(cmd, indirect, VkDeviceSize(first) * stride, count, stride);
+    return;
+  }
+  for (std::uint32_t i = 0; i < count; ++i) {  // gl_DrawID is 0 in each single draw
+    push.drawBase = first + i;
+    vkCmdPushConstants(cmd, pipeline.layout(), stages, 0, sizeof(push), &push);
+    vkCmdDrawIndirect(cmd, indirect, VkDeviceSize(first + i) * stride, 1, stride);
+  }
+}
+
+void HermiteCellFeature::recordResolve(engine::render::PassContext& pass) {
+  VkCommandBuffer cmd = pass.cmd;
+  vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, resolve_.handle());
+  vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, resolve_.layout(), 0, 1, &pass.sceneSet, 0, nullptr);
+  shader::HermitePushConstants push{};
+  push.draw.frameGlobals = pass.frameGlobals;
+  push.draw.objects = pass.objects;
+  push.draw.debugView = pass.frame.debugView;
+  push.counters = countersActive_ ? counters_.address() : 0;
+  vkCmdPushConstants(cmd, resolve_.layout(), VK_SHADER_STAGE_VERTEX_BIT | VK_SHADER_STAGE_FRAGMENT_BIT, 0,
+                     sizeof(push), &push);
+  vkCmdDraw(cmd, 3, 1, 0, 0);
+}
+
+void HermiteCellFeature::recordPass(engine::render::PassContext& pass) {
+  if (stats_.draws == 0) return;
+  if (pass.pass == engine::render::Pass::Opaque) {
+    pass.timer.begin(pass.cmd, "cells shading");
+    recordResolve(pass);
+    pass.timer.end(pass.cmd);
+    return;
+  }
+  pass.timer.begin(pass.cmd, "cells prepass");
+  for (int precision = 0; precision < 2; ++precision) {
+    recordBatch(pass, precision, false);
+    recordBatch(pass, precision, true);
+  }
+  pass.timer.end(pass.cmd);
+}
+
+void HermiteCellFeature::drawUi() {
+  if (!ImGui::CollapsingHeader("Hermite cells", ImGuiTreeNodeFlags_DefaultOpen)) return;
+  ImGui::Checkbox("front-to-back rows", &settings_.frontToBack);
+  ImGui::Text("objects %u, cells %llu, draws %u, near cells %u", stats_.objects,
+              static_cast<unsigned long long>(stats_.cells), stats_.draws, stats_.nearCells);
+  ImGui::Text("cell buffers: %.2f MiB", double(stats_.gpuBytes) / (1024.0 * 1024.0));
+}
+
+}  // namespace hsdf

@@ -1,0 +1,96 @@
+#include "render/cell_rows.h"
+
+#include <algorithm>
+#include <cmath>
+
+namespace hsdf {
+namespace {
+
+// Squared distance from a point to the unit box of cell c.
+double distanceToCellSquared(const glm::dvec3& p, const glm::dvec3& c) {
+  const glm::dvec3 d = glm::max(glm::max(c - p, p - (c + 1.0)), glm::dvec3(0.0));
+  return glm::dot(d, d);
+}
+
+}  // namespace
+
+CellRows buildCellRows(const CellStream& stream) {
+  CellRows result;
+  result.recordCount = static_cast<std::uint32_t>(stream.records.size());
+  result.recordOfCell.reserve(stream.records.size());
+  for (std::uint32_t i = 0; i < stream.records.size(); ++i) {
+    const CellRecord& r = stream.records[i];
+    result.recordOfCell.emplace(CellRows::cellKey(r.x, r.y, r.z), i);
+    if (result.rows.empty() || result.rows.back().y != r.y || result.rows.back().z != r.z) {
+      if (result.rows.empty() || result.rows.back().z != r.z)
+        result.zGroups.push_back(static_cast<std::uint32_t>(result.rows.size()));
+      result.rows.push_back({i, 0, r.y, r.z});
+    }
+    result.rows.back().count++;
+  }
+  result.zGroups.push_back(static_cast<std::uint32_t>(result.rows.size()));
+  return result;
+}
+
+std::vector<CellRows::Range> orderedRows(const CellRows& rows, const glm::dvec3& eyeGrid, bool frontToBack) {
+  std::vector<CellRows::Range> ranges;
+  if (rows.recordCount == 0) return ranges;
+  if (!frontToBack) {
+    ranges.push_back({0, rows.recordCount});
+    return ranges;
+  }
+  // Groups of equal z nearest to the eye first; within a group, rows of nearest y first.
+  const std::size_t groupCount = rows.zGroups.size() - 1;
+  std::vector<std::uint32_t> groups(groupCount);
+  for (std::uint32_t g = 0; g < groupCount; ++g) groups[g] = g;
+  auto zDistance = [&](std::uint32_t g) { return std::abs(double(rows.rows[rows.zGroups[g]].z) + 0.5 - eyeGrid.z); };
+  std::stable_sort(groups.begin(), groups.end(), [&](auto a, auto b) { return zDistance(a) < zDistance(b); });
+
+  std::vector<std::uint32_t> order;
+  for (std::uint32_t g : groups) {
+    order.clear();
+    for (std::uint32_t r = rows.zGroups[g]; r < rows.zGroups[g + 1]; ++r) order.push_back(r);
+    auto yDistance = [&](std::uint32_t r) { return std::abs(double(rows.rows[r].y) + 0.5 - eyeGrid.y); };
+    std::stable_sort(order.begin(), order.end(), [&](auto a, auto b) { return yDistance(a) < yDistance(b); });
+    for (std::uint32_t r : order) {
+      const CellRows::Row& row = rows.rows[r];
+      if (!ranges.empty() && ranges.back().first + ranges.back().count == row.first)
+        ranges.back().count += row.count;
+      else
+        ranges.push_back({row.first, row.count});
+    }
+  }
+  return ranges;
+}
+
+std::vector<std::uint32_t> cellsNearPoint(const CellRows& rows, const CellStream& stream, const glm::dvec3& point,
+                                          double radius) {
+  std::vector<std::uint32_t> result;
+  const int cellsPerAxis = stream.grid.cellsPerAxis();
+  if (cellsPerAxis <= 0 || !std::isfinite(radius) || radius < 0.0) return result;
+  const glm::dvec3 lo = glm::floor(point - radius), hi = glm::floor(point + radius);
+  const glm::ivec3 first = glm::clamp(glm::ivec3(glm::max(lo, glm::dvec3(-1.0))), 0, cellsPerAxis - 1);
+  const glm::ivec3 last = glm::clamp(glm::ivec3(glm::min(hi, glm::dvec3(cellsPerAxis))), 0, cellsPerAxis - 1);
+  if (glm::any(glm::lessThan(hi, glm::dvec3(0.0))) || glm::any(glm::greaterThan(lo, glm::dvec3(cellsPerAxis - 1))))
+    return result;
+  const double r2 = radius * radius;
+  const glm::dvec3 span = glm::dvec3(last - first) + 1.0;
+  if (span.x * span.y * span.z > double(stream.records.size())) {
+    // The neighbourhood holds more cells than the stream: scan the records instead.
+    for (std::uint32_t i = 0; i < stream.records.size(); ++i) {
+      const CellRecord& r = stream.records[i];
+      if (distanceToCellSquared(point, glm::dvec3(r.x, r.y, r.z)) <= r2) result.push_back(i);
+    }
+    return result;
+  }
+  for (int z = first.z; z <= last.z; ++z)
+    for (int y = first.y; y <= last.y; ++y)
+      for (int x = first.x; x <= last.x; ++x) {
+        if (distanceToCellSquared(point, glm::dvec3(x, y, z)) > r2) continue;
+        auto it = rows.recordOfCell.find(CellRows::cellKey(std::uint32_t(x), std::uint32_t(y), std::uint32_t(z)));
+        if (it != rows.recordOfCell.end()) result.push_back(it->second);
+      }
+  return result;
+}
+
+}  // namespace hsdf

@@ -1,0 +1,46 @@
+#pragma once
+// Draw order of a cell stream: records are stored x fastest, then y, then z, so every run of
+// records with the same (y, z) is a row that one instanced draw can cover. Sorting rows by their
+// distance to the eye gives a roughly front-to-back submission (exact across rows, x order fixed
+// within a row) without reordering the records on the GPU.
+#include <cstdint>
+#include <unordered_map>
+#include <vector>
+
+#include <glm/glm.hpp>
+
+#include "hermite_sdf/cells.h"
+
+namespace hsdf {
+
+struct CellRows {
+  struct Range {
+    std::uint32_t first = 0;  // record index within the stream
+    std::uint32_t count = 0;
+  };
+  struct Row {
+    std::uint32_t first = 0;
+    std::uint32_t count = 0;
+    std::uint16_t y = 0, z = 0;
+  };
+  std::vector<Row> rows;                  // stream order
+  std::vector<std::uint32_t> zGroups;     // index of the first row of each distinct z, then rows.size()
+  std::unordered_map<std::uint64_t, std::uint32_t> recordOfCell;  // cellKey(x, y, z) -> record
+  std::uint32_t recordCount = 0;
+
+  static std::uint64_t cellKey(std::uint32_t x, std::uint32_t y, std::uint32_t z) {
+    return std::uint64_t(x) | (std::uint64_t(y) << 16) | (std::uint64_t(z) << 32);
+  }
+};
+
+CellRows buildCellRows(const CellStream& stream);
+
+// Ranges of records to draw: all records at once, or rows nearest to `eyeGrid` (in grid units,
+// sample (i,j,k) at (i,j,k)) first; consecutive ranges are merged.
+std::vector<CellRows::Range> orderedRows(const CellRows& rows, const glm::dvec3& eyeGrid, bool frontToBack);
+
+// Records of the kept cells whose box comes within `radius` (grid units) of `point`.
+std::vector<std::uint32_t> cellsNearPoint(const CellRows& rows, const CellStream& stream, const glm::dvec3& point,
+                                          double radius);
+
+}  // namespace hsdf

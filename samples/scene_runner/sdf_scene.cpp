@@ -1,0 +1,66 @@
+#include "sdf_scene.h"
+
+#include <chrono>
+#include <cstdio>
+
+#include "engine/core/log.h"
+#include "engine/scene/gltf_loader.h"
+#include "engine/scene/transform.h"
+#include "hermite_sdf/field.h"
+#include "hermite_sdf/mesh_source.h"
+
+namespace runner {
+
+using namespace engine;
+
+Expected<std::shared_ptr<const hsdf::SdfAsset>> bakeSceneSdf(const scene::SceneData& data, int resolution, int padding) {
+  const scene::TriangleSoup soup = scene::flattenTriangles(data);
+  ENGINE_TRY_ASSIGN(std::unique_ptr<hsdf::MeshSource> source, hsdf::MeshSource::create(soup));
+  const hsdf::Aabb bounds = source->bounds();
+  ENGINE_TRY_ASSIGN(hsdf::GridSpec grid, hsdf::fitGrid(bounds, resolution, padding));
+
+  const auto start = std::chrono::steady_clock::now();
+  hsdf::BakeOptions options;
+  int lastPercent = -1;
+  options.progress = [&lastPercent](float fraction) {
+    const int percent = int(fraction * 100.0f);
+    if (percent / 10 != lastPercent / 10) {
+      std::fprintf(stderr, "\rbaking %3d%%", percent);
+      lastPercent = percent;
+    }
+    return true;
+  };
+  ENGINE_TRY_ASSIGN(hsdf::HermiteField field, hsdf::bakeHermiteField(*source, grid, options));
+  std::fprintf(stderr, "\r");
+  ENGINE_TRY_ASSIGN(std::shared_ptr<const hsdf::SdfAsset> asset,
+                    hsdf::makeSdfAsset("scene sdf", std::move(field), bounds));
+  const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  log::info("baked {}^3 Hermite field in {:.2f} s: {} kept cells ({} crossing, {} ambiguous), {} stored scalars",
+            resolution, seconds, asset->cells.records.size(), asset->classification.stats.crossing,
+            asset->classification.stats.ambiguous, asset->cells.stored_scalars());
+  return asset;
+}
+
+hsdf::HermiteSdfRenderable renderableFromOptions(const Options& options, std::shared_ptr<const hsdf::SdfAsset> asset) {
+  hsdf::HermiteSdfRenderable renderable;
+  renderable.asset = std::move(asset);
+  if (options.method == "trilinear") renderable.method = hsdf::RenderMethod::TrilinearSphereTrace;
+  if (options.method == "hermite") renderable.method = hsdf::RenderMethod::HermiteSphereTrace;
+  renderable.subdivisions = options.subdivisions;
+  renderable.refineSteps = options.refine;
+  renderable.normals = options.normals == "central" ? hsdf::NormalMode::CentralDifferences : hsdf::NormalMode::Exact;
+  renderable.halfPrecision = options.fp16;
+  return renderable;
+}
+
+ecs::Entity addSdfEntity(ecs::Registry& registry, const hsdf::HermiteSdfRenderable& renderable, const glm::vec3& offset) {
+  const ecs::Entity entity = registry.create();
+  scene::Transform transform;
+  transform.translation = offset;
+  registry.emplace<scene::Transform>(entity, transform);
+  registry.emplace<hsdf::HermiteSdfRenderable>(entity, renderable);
+  registry.emplace<scene::Name>(entity, scene::Name{renderable.asset ? renderable.asset->name : "sdf"});
+  return entity;
+}
+
+}  // namespace runner

@@ -1,0 +1,98 @@
+#version 460
+// Shading pass of the Hermite cells, once per pixel: a full-screen triangle reads the visibility
+// buffer; where a Hermite-cell object won the prepass, it fetches the winning cell's record,
+// rebuilds the hit from the prepass depth, and shades it with the exact normal of the interpolant.
+#extension GL_GOOGLE_include_directive : require
+#include "hermite/hermite_host_device.h"
+#include "hermite/hermite.glsl"
+#include "shared/lighting.glsl"
+
+layout(push_constant, scalar) uniform Push { HermitePushConstants pc; };
+layout(buffer_reference, scalar) readonly buffer HermiteObjectRef { HermiteObject value; };
+layout(buffer_reference, scalar) readonly buffer CountersRef { uint counts[]; };
+// CellRecord (cells.h): 8 x vec4 corners, then x | y << 16, z | class << 16.
+layout(buffer_reference, scalar) readonly buffer CellRecordRef { vec4 corners[8]; uint xy; uint zc; };
+// CellRecordHalf: 8 x 4 halves, then the same coordinate words.
+layout(buffer_reference, scalar) readonly buffer CellRecordHalfRef { uvec2 corners[8]; uint xy; uint zc; };
+
+layout(set = 0, binding = 0) uniform sampler2D sceneDepth;
+layout(set = 0, binding = 1) uniform usampler2D sceneVisibility;
+
+layout(location = 0) out vec4 outColor;
+
+vec3 cellColor(uvec3 cell) {
+  uint h = cell.x * 73856093u ^ cell.y * 19349663u ^ cell.z * 83492791u;
+  h = (h ^ (h >> 13)) * 0x5bd1e995u;
+  return vec3(float(h & 255u), float((h >> 8) & 255u), float((h >> 16) & 255u)) / 255.0 * 0.8 + 0.2;
+}
+
+vec3 heat(float x) {  // 0 -> blue, 0.5 -> green, 1 -> red
+  x = clamp(x, 0.0, 1.0);
+  return clamp(vec3(2.0 * x - 0.5, 1.0 - abs(2.0 * x - 1.0), 1.5 - 2.0 * x), 0.0, 1.0);
+}
+
+void loadCell(HermiteObject object, uint record, out vec4 corners[8], out uvec3 cell) {
+  uint xy, zc;
+  if (object.halfPrecision == 0u) {
+    CellRecordRef r = CellRecordRef(object.records + uint64_t(record) * 136ul);
+    corners = r.corners;
+    xy = r.xy;
+    zc = r.zc;
+  } else {
+    CellRecordHalfRef r = CellRecordHalfRef(object.records + uint64_t(record) * 72ul);
+    for (int i = 0; i < 8; ++i) corners[i] = vec4(unpackHalf2x16(r.corners[i].x), unpackHalf2x16(r.corners[i].y));
+    xy = r.xy;
+    zc = r.zc;
+  }
+  cell = uvec3(xy & 0xffffu, xy >> 16, zc & 0xffffu);
+}
+
+vec3 centralDifferenceGradient(vec4 corners[8], float h, vec3 u) {
+  const float e = 1e-3;
+  vec3 c = clamp(u, vec3(e), vec3(1.0 - e));
+  return vec3(hermiteValue(corners, h, c + vec3(e, 0, 0)) - hermiteValue(corners, h, c - vec3(e, 0, 0)),
+              hermiteValue(corners, h, c + vec3(0, e, 0)) - hermiteValue(corners, h, c - vec3(0, e, 0)),
+              hermiteValue(corners, h, c + vec3(0, 0, e)) - hermiteValue(corners, h, c - vec3(0, 0, e))) /
+         (2.0 * e * h);
+}
+
+void main() {
+  ivec2 pixel = ivec2(gl_FragCoord.xy);
+  uvec2 visible = texelFetch(sceneVisibility, pixel, 0).xy;
+  if (visible.x == 0u) discard;
+  ObjectData object = ObjectsRef(pc.draw.objects).objects[visible.x - 1u];
+  if (object.feature != HERMITE_CELLS_FEATURE_ID) discard;
+  HermiteObject hermite = HermiteObjectRef(object.payload).value;
+  vec4 corners[8];
+  uvec3 cell;
+  loadCell(hermite, visible.y, corners, cell);
+
+  // The hit, rebuilt from the prepass depth, in world, object and cell-local coordinates.
+  FrameGlobals frame = FrameGlobalsRef(pc.draw.frameGlobals).globals;
+  float depth = texelFetch(sceneDepth, pixel, 0).r;
+  vec2 ndc = (vec2(pixel) + 0.5) * frame.viewport.zw * 2.0 - 1.0;
+  vec4 view = frame.invProj * vec4(ndc, depth, 1.0);
+  vec3 worldPosition = (frame.invView * vec4(view.xyz / view.w, 1.0)).xyz;
+  vec3 objectPosition = (object.invModel * vec4(worldPosition, 1.0)).xyz;
+  float h = hermite.gridOriginSpacing.w;
+  vec3 u = clamp((objectPosition - hermite.gridOriginSpacing.xyz) / h - vec3(cell), 0.0, 1.0);
+
+  vec3 gradient = (hermite.flags & HERMITE_FLAG_NORMALS_CENTRAL) != 0u ? centralDifferenceGradient(corners, h, u)
+                                                                        : hermiteValueGradient(corners, h, u).yzw;
+  vec3 normal = normalize(transpose(mat3(object.invModel)) * gradient);
+
+  vec3 color;
+  if (pc.draw.debugView == DEBUG_VIEW_NORMALS) {
+    color = debugNormalColor(normal);
+  } else if (pc.draw.debugView == DEBUG_VIEW_DEPTH) {
+    color = vec3(depth);
+  } else if (pc.draw.debugView == DEBUG_VIEW_CELLS) {
+    color = cellColor(cell);
+  } else if (pc.draw.debugView == DEBUG_VIEW_EVALS && pc.counters != 0ul) {
+    uint count = CountersRef(pc.counters).counts[pixel.y * int(frame.viewport.x) + pixel.x];
+    color = heat(float(count) / 64.0);
+  } else {
+    color = shadeSurface(frame, object.color.rgb, object.material.x, worldPosition, normal);
+  }
+  outColor = vec4(color, 1.0);
+}
