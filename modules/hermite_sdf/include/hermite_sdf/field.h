@@ -102,19 +102,24 @@ engine::Expected<HermiteField> bakeHermiteField(const SdfSource& source, const G
 engine::Expected<TrilinearField> bakeTrilinearField(const SdfSource& source, const GridSpec& grid,
                                                     const BakeOptions& options = {});
 
-// Narrow-band bake for the sparse cell path. Exact samples wherever a cell may hold the surface;
-// elsewhere a sign-correct lower bound of |distance| and a zero gradient. Relies on the source
-// being 1-Lipschitz with |gradient| <= 1 (true for the SDFs here). Blocks of samples are tested
-// hierarchically (16^3 -> 8^3 -> 4^3) with one source query at the block centre c: if
-// |d(c)| - r > kNarrowBandMarginCells * h (r = distance from c to the block's farthest sample),
-// every sample p of the block gets f = sign(d) * (|d(c)| - |p - c|) (>= the margin, a valid bound)
-// and gradient 0. Why the margin makes classification identical to the dense field: any cell
-// touching a bound sample has all its corners within sqrt(3) h of it, so their true |f| exceeds
-// (margin - sqrt(3)) h > h/sqrt(3) >= (h/3) |grad|_1, which makes all 64 Bernstein coefficients of
-// that cell strictly one-signed in the dense field; in the narrow-band field its bound corners
-// have coefficients f (zero gradient) and its exact corners the same values as in the dense field.
-// Hence such cells are Empty in both, and every kept cell has only exact (bit-identical) corners.
-inline constexpr double kNarrowBandMarginCells = 3.0;
+// Narrow-band bake for the sparse cell path: exact samples wherever a cell may be kept, elsewhere
+// a sign-correct lower bound of |distance| (>= the band) with a zero gradient. Relies on the
+// source being 1-Lipschitz with |gradient| <= 1 (true for the SDFs here). Band b =
+// kNarrowBandExactCells * h.
+//   Pass 1: blocks of samples are tested hierarchically (16^3 -> 8^3 -> 4^3) with one band query
+//   (SdfSource::sampleBand) at the block centre c with band r + b (r = distance from c to the
+//   block's farthest sample): if the surface is farther, every sample p of the block gets
+//   f = sign(d) * (|d(c)| - |p - c|) (> b, a valid bound) and gradient 0. In 4^3 blocks that stay
+//   near, each sample gets sampleBand(p, b): exact ("near") or a bound >= b.
+//   Pass 2: every cell with a near corner or corners of both signs gets exact values
+//   (SdfSource::sample) at all its corners.
+// Why the classification then equals the dense field's, with bit-identical kept cells: a cell
+// that pass 2 skipped has all corners of one sign with true |f| > b > h/sqrt(3) >= (h/3)|grad|_1,
+// so all 64 of its dense Bernstein coefficients are strictly of that sign (Empty), and in the
+// narrow-band field its bound corners contribute coefficients f (zero gradient) of the same sign
+// (Empty too). Every other cell has only exact corners, sampled at grid.samplePosition(i,j,k) as
+// in the dense bake. b = 0.75 h leaves slack for |grad| up to 1.3.
+inline constexpr double kNarrowBandExactCells = 0.75;
 engine::Expected<HermiteField> bakeHermiteFieldNarrowBand(const SdfSource& source, const GridSpec& grid,
                                                           const BakeOptions& options = {});
 

@@ -53,19 +53,25 @@ engine::Status allocate(std::vector<T>& out, std::size_t count) {
   return {};
 }
 
-// Shared by the dense bakes: validates, checks the budget, allocates `storage`, then runs
-// writeSample(i,j,k) over z-slabs in parallel.
-template <class Storage, class WriteSample>
-engine::Status bakeDense(const GridSpec& grid, FieldKind kind, const BakeOptions& options, Storage& storage,
-                         WriteSample writeSample) {
+// Shared by the dense bakes: validates, checks the budget, allocates `storage`, then samples the
+// grid row by row (SdfSource::sampleRow, which coherent sources such as meshes speed up) over
+// z-slabs in parallel and hands each row to storeRow(j, k, samples). Row positions
+// start + i*step equal grid.samplePosition(i,j,k) bit for bit because rows start at i = 0.
+template <class Storage, class StoreRow>
+engine::Status bakeDense(const SdfSource& source, const GridSpec& grid, FieldKind kind, const BakeOptions& options,
+                         Storage& storage, StoreRow storeRow) {
   ENGINE_TRY(validateGrid(grid));
   ENGINE_TRY(checkBudget(grid, kind, options.memoryBudgetBytes));
   ENGINE_TRY(allocate(storage, grid.sampleCount()));
   const int n = grid.resolution;
+  const glm::dvec3 step(grid.spacing, 0.0, 0.0);
   return detail::runParallel(std::size_t(n), options, [&](std::size_t slab) -> engine::Status {
     const int k = int(slab);
-    for (int j = 0; j < n; ++j)
-      for (int i = 0; i < n; ++i) ENGINE_TRY(writeSample(i, j, k));
+    std::vector<SdfSample> row(static_cast<std::size_t>(n));
+    for (int j = 0; j < n; ++j) {
+      source.sampleRow(grid.samplePosition(0, j, k), step, row);
+      ENGINE_TRY(storeRow(j, k, row));
+    }
     return {};
   });
 }
@@ -120,11 +126,14 @@ engine::Expected<HermiteField> bakeHermiteField(const SdfSource& source, const G
                                                 const BakeOptions& options) {
   HermiteField field;
   field.grid = grid;
-  ENGINE_TRY(bakeDense(grid, FieldKind::Hermite, options, field.samples, [&](int i, int j, int k) -> engine::Status {
-    ENGINE_TRY_ASSIGN(field.samples[grid.sampleIndex(i, j, k)],
-                      toStoredSample(source.sample(grid.samplePosition(i, j, k)), grid, i, j, k));
-    return {};
-  }));
+  ENGINE_TRY(bakeDense(source, grid, FieldKind::Hermite, options, field.samples,
+                       [&](int j, int k, const std::vector<SdfSample>& row) -> engine::Status {
+                         for (int i = 0; i < grid.resolution; ++i) {
+                           ENGINE_TRY_ASSIGN(field.samples[grid.sampleIndex(i, j, k)],
+                                             toStoredSample(row[std::size_t(i)], grid, i, j, k));
+                         }
+                         return {};
+                       }));
   return field;
 }
 
@@ -132,11 +141,14 @@ engine::Expected<TrilinearField> bakeTrilinearField(const SdfSource& source, con
                                                     const BakeOptions& options) {
   TrilinearField field;
   field.grid = grid;
-  ENGINE_TRY(bakeDense(grid, FieldKind::Trilinear, options, field.values, [&](int i, int j, int k) -> engine::Status {
-    ENGINE_TRY_ASSIGN(const HermiteSample s, toStoredSample(source.sample(grid.samplePosition(i, j, k)), grid, i, j, k));
-    field.values[grid.sampleIndex(i, j, k)] = s.f;
-    return {};
-  }));
+  ENGINE_TRY(bakeDense(source, grid, FieldKind::Trilinear, options, field.values,
+                       [&](int j, int k, const std::vector<SdfSample>& row) -> engine::Status {
+                         for (int i = 0; i < grid.resolution; ++i) {
+                           ENGINE_TRY_ASSIGN(const HermiteSample s, toStoredSample(row[std::size_t(i)], grid, i, j, k));
+                           field.values[grid.sampleIndex(i, j, k)] = s.f;
+                         }
+                         return {};
+                       }));
   return field;
 }
 
@@ -145,32 +157,39 @@ engine::Expected<TrilinearField> bakeTrilinearField(const SdfSource& source, con
 namespace {
 
 constexpr int kTopBlockSamples = 16;  // samples per axis of a work item
-constexpr int kMinBlockSamples = 4;   // below this, blocks are sampled exactly
+constexpr int kMinBlockSamples = 4;   // blocks this small that stay near are sampled per point
+
+// Per-sample state of the narrow band: how the stored value was obtained.
+enum SampleOrigin : std::uint8_t { kBound = 0, kNear = 1, kCompleted = 2 };
 
 struct SampleBox {
   glm::ivec3 lo;  // inclusive
   glm::ivec3 hi;  // exclusive
 };
 
+// Pass 1: hierarchical block tests, then per-sample band queries near the surface.
 class NarrowBandBaker {
  public:
-  NarrowBandBaker(const SdfSource& source, HermiteField& field) : source_(source), field_(field) {}
+  NarrowBandBaker(const SdfSource& source, HermiteField& field, std::vector<std::uint8_t>& origin)
+      : source_(source), field_(field), origin_(origin), band_(kNarrowBandExactCells * field.grid.spacing) {}
 
   engine::Status processBlock(const SampleBox& box) const {
     const GridSpec& grid = field_.grid;
     const glm::dvec3 centre = grid.origin + grid.spacing * 0.5 * glm::dvec3(box.lo + box.hi - 1);
     const double radius = grid.spacing * 0.5 * glm::length(glm::dvec3(box.hi - 1 - box.lo));
-    const SdfSample probe = source_.sample(centre);
-    if (!std::isfinite(probe.value))
-      return engine::makeError(fmt::format("source returned a non-finite value {} at block centre ({}, {}, {})",
-                                           probe.value, centre.x, centre.y, centre.z));
-    if (std::abs(probe.value) - radius > kNarrowBandMarginCells * grid.spacing) {
-      fillBound(box, centre, probe.value);
+    // A band query: sources with costly exact distances (meshes) answer far points cheaply.
+    const SdfBandSample probe = source_.sampleBand(centre, radius + band_);
+    const double value = probe.sample.value;
+    if (!std::isfinite(value))
+      return engine::makeError(fmt::format("source returned a non-finite value {} at block centre ({}, {}, {})", value,
+                                           centre.x, centre.y, centre.z));
+    if (!probe.exact || std::abs(value) - radius > band_) {
+      fillBound(box, centre, value);
       return {};
     }
     const glm::ivec3 size = box.hi - box.lo;
     if (size.x <= kMinBlockSamples && size.y <= kMinBlockSamples && size.z <= kMinBlockSamples)
-      return sampleExactly(box);
+      return sampleLeaf(box, centre, value);
     return processChildren(box);
   }
 
@@ -194,31 +213,81 @@ class NarrowBandBaker {
     return {};
   }
 
-  void fillBound(const SampleBox& box, const glm::dvec3& centre, double distance) const {
+  // Sign of `distance` times the 1-Lipschitz bound |distance| - |p - centre| (> band here).
+  void storeBound(int i, int j, int k, const glm::dvec3& centre, double distance) const {
     const GridSpec& grid = field_.grid;
-    const double sign = distance < 0.0 ? -1.0 : 1.0;
-    for (int k = box.lo.z; k < box.hi.z; ++k)
-      for (int j = box.lo.y; j < box.hi.y; ++j)
-        for (int i = box.lo.x; i < box.hi.x; ++i) {
-          const double bound = std::abs(distance) - glm::length(grid.samplePosition(i, j, k) - centre);
-          field_.samples[grid.sampleIndex(i, j, k)] = {float(sign * bound), 0.0f, 0.0f, 0.0f};
-        }
+    const double bound = std::abs(distance) - glm::length(grid.samplePosition(i, j, k) - centre);
+    field_.samples[grid.sampleIndex(i, j, k)] = {float(distance < 0.0 ? -bound : bound), 0.0f, 0.0f, 0.0f};
   }
 
-  engine::Status sampleExactly(const SampleBox& box) const {
+  void fillBound(const SampleBox& box, const glm::dvec3& centre, double distance) const {
+    for (int k = box.lo.z; k < box.hi.z; ++k)
+      for (int j = box.lo.y; j < box.hi.y; ++j)
+        for (int i = box.lo.x; i < box.hi.x; ++i) storeBound(i, j, k, centre, distance);
+  }
+
+  // Leaf block near the surface; `distance` is the exact value at the block centre. Samples it
+  // already bounds by more than the band get that bound for free, the others a band query:
+  // exact (kNear) if the surface is within the band, else a sign and a bound >= band.
+  engine::Status sampleLeaf(const SampleBox& box, const glm::dvec3& centre, double distance) const {
     const GridSpec& grid = field_.grid;
     for (int k = box.lo.z; k < box.hi.z; ++k)
       for (int j = box.lo.y; j < box.hi.y; ++j)
         for (int i = box.lo.x; i < box.hi.x; ++i) {
-          ENGINE_TRY_ASSIGN(field_.samples[grid.sampleIndex(i, j, k)],
-                            toStoredSample(source_.sample(grid.samplePosition(i, j, k)), grid, i, j, k));
+          const glm::dvec3 p = grid.samplePosition(i, j, k);
+          if (std::abs(distance) - glm::length(p - centre) > band_) {
+            storeBound(i, j, k, centre, distance);
+            continue;
+          }
+          const SdfBandSample s = source_.sampleBand(p, band_);
+          SdfSample stored = s.sample;
+          if (!s.exact) stored.gradient = glm::dvec3(0.0);
+          ENGINE_TRY_ASSIGN(field_.samples[grid.sampleIndex(i, j, k)], toStoredSample(stored, grid, i, j, k));
+          origin_[grid.sampleIndex(i, j, k)] = s.exact ? kNear : kBound;
         }
     return {};
   }
 
   const SdfSource& source_;
   HermiteField& field_;
+  std::vector<std::uint8_t>& origin_;
+  double band_;
 };
+
+// Pass 2 for one z-slab of cells: a cell that may be kept (a near corner, or corners of both
+// signs) gets exact values at all its corners, from SdfSource::sample like the dense bake.
+engine::Status completeCellsOfSlab(const SdfSource& source, HermiteField& field, std::vector<std::uint8_t>& origin,
+                                   int cz) {
+  const GridSpec& grid = field.grid;
+  const int n = grid.cellsPerAxis();
+  for (int cy = 0; cy < n; ++cy)
+    for (int cx = 0; cx < n; ++cx) {
+      bool near = false, negative = false, positive = false;
+      for (int c = 0; c < 8; ++c) {
+        const std::size_t s = grid.sampleIndex(cx + (c & 1), cy + ((c >> 1) & 1), cz + ((c >> 2) & 1));
+        near |= origin[s] == kNear;
+        negative |= field.samples[s].f < 0.0f;
+        positive |= field.samples[s].f > 0.0f;
+      }
+      if (!near && !(negative && positive)) continue;
+      for (int c = 0; c < 8; ++c) {
+        const int i = cx + (c & 1), j = cy + ((c >> 1) & 1), k = cz + ((c >> 2) & 1);
+        const std::size_t s = grid.sampleIndex(i, j, k);
+        if (origin[s] != kBound) continue;
+        ENGINE_TRY_ASSIGN(field.samples[s], toStoredSample(source.sample(grid.samplePosition(i, j, k)), grid, i, j, k));
+        origin[s] = kCompleted;
+      }
+    }
+  return {};
+}
+
+// Options whose progress callback maps [0,1] onto [from, to] of the caller's range.
+BakeOptions withProgressRange(const BakeOptions& options, float from, float to) {
+  BakeOptions scaled = options;
+  if (options.progress)
+    scaled.progress = [progress = options.progress, from, to](float f) { return progress(from + (to - from) * f); };
+  return scaled;
+}
 
 }  // namespace
 
@@ -229,17 +298,29 @@ engine::Expected<HermiteField> bakeHermiteFieldNarrowBand(const SdfSource& sourc
   HermiteField field;
   field.grid = grid;
   ENGINE_TRY(allocate(field.samples, grid.sampleCount()));
-  const int blocksPerAxis = (grid.resolution + kTopBlockSamples - 1) / kTopBlockSamples;
-  const NarrowBandBaker baker(source, field);
-  ENGINE_TRY(detail::runParallel(std::size_t(blocksPerAxis) * std::size_t(blocksPerAxis) * std::size_t(blocksPerAxis),
-                                 options, [&](std::size_t item) -> engine::Status {
-                                   const int n = blocksPerAxis;
-                                   const glm::ivec3 block(int(item % std::size_t(n)), int(item / std::size_t(n) % std::size_t(n)),
-                                                          int(item / (std::size_t(n) * std::size_t(n))));
+  std::vector<std::uint8_t> origin;
+  ENGINE_TRY(allocate(origin, grid.sampleCount()));
+
+  const std::size_t blocksPerAxis = std::size_t((grid.resolution + kTopBlockSamples - 1) / kTopBlockSamples);
+  const NarrowBandBaker baker(source, field, origin);
+  ENGINE_TRY(detail::runParallel(blocksPerAxis * blocksPerAxis * blocksPerAxis, withProgressRange(options, 0.0f, 0.8f),
+                                 [&](std::size_t item) -> engine::Status {
+                                   const glm::ivec3 block(int(item % blocksPerAxis), int(item / blocksPerAxis % blocksPerAxis),
+                                                          int(item / (blocksPerAxis * blocksPerAxis)));
                                    const glm::ivec3 lo = block * kTopBlockSamples;
                                    const glm::ivec3 hi = glm::min(lo + kTopBlockSamples, glm::ivec3(grid.resolution));
                                    return baker.processBlock({lo, hi});
                                  }));
+  // Cell slab cz touches sample layers cz and cz+1: even slabs first, then odd ones, so that
+  // no two threads ever write the same sample.
+  const std::size_t slabs = std::size_t(grid.cellsPerAxis());
+  for (std::size_t parity = 0; parity < 2; ++parity) {
+    const float from = parity == 0 ? 0.8f : 0.9f;
+    ENGINE_TRY(detail::runParallel((slabs + 1 - parity) / 2, withProgressRange(options, from, from + 0.1f),
+                                   [&](std::size_t item) {
+                                     return completeCellsOfSlab(source, field, origin, int(2 * item + parity));
+                                   }));
+  }
   return field;
 }
 

@@ -260,7 +260,7 @@ TEST(NarrowBandBake, KeepsExactlyTheDenseCellsWithIdenticalSamples) {
         ASSERT_EQ(b.fx, 0.0f);
         ASSERT_EQ(std::signbit(b.f), std::signbit(d.f)) << name;
         ASSERT_LE(std::abs(b.f), std::abs(d.f) * (1.0f + 1e-6f)) << name;  // a lower bound of |distance|
-        ASSERT_GT(std::abs(b.f), 2.9f * float(grid.spacing));
+        ASSERT_GE(std::abs(b.f), float(kNarrowBandExactCells * grid.spacing));
       }
       if (k == 64) {
         EXPECT_GT(bounded, dense->samples.size() / 3) << name << ": the band should skip most samples";
