@@ -271,3 +271,28 @@ TEST(NarrowBandBake, KeepsExactlyTheDenseCellsWithIdenticalSamples) {
 
 }  // namespace
 }  // namespace hsdf
+
+namespace hsdf {
+namespace {
+
+// Tricky: K = 256 (16.7M samples, 256 MiB of Hermite samples) must bake within the default
+// budget; the narrow band keeps it fast, and samples at both ends of the index range must be right
+// (an int overflow in the sample index would scramble the upper slabs).
+TEST(NarrowBandBake, HandlesResolution256) {
+  const SphereSource sphere({0.0, 0.0, 0.0}, 1.0);
+  auto grid = fitGrid(sphere.bounds(), 256, 1);
+  ASSERT_TRUE(grid.ok());
+  auto field = bakeHermiteFieldNarrowBand(sphere, *grid, {});
+  ASSERT_TRUE(field.ok()) << field.error().message;
+  ASSERT_EQ(field->samples.size(), 256u * 256 * 256);
+  for (const glm::ivec3 s : {glm::ivec3(127, 127, 1), glm::ivec3(128, 127, 254), glm::ivec3(1, 128, 128),
+                             glm::ivec3(254, 128, 127)}) {
+    const SdfSample exact = sphere.sample(grid->samplePosition(s.x, s.y, s.z));
+    EXPECT_EQ(field->at(s.x, s.y, s.z).f, float(exact.value)) << "near-surface sample must be exact";
+  }
+  EXPECT_GT(field->at(0, 0, 0).f, 0.0f);
+  EXPECT_LT(field->at(128, 128, 128).f, 0.0f);
+}
+
+}  // namespace
+}  // namespace hsdf
