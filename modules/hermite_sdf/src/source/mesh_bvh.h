@@ -1,7 +1,7 @@
 #pragma once
-// Bounding volume hierarchy over a triangle mesh, shared by the two mesh queries: closest point
-// (unsigned distance) and the generalized winding number (sign). Built once, then read-only, so
-// queries from many threads need no locking.
+// Binary bounding volume hierarchy over a triangle mesh (binned SAH): answers the generalized
+// winding number (sign) and is the skeleton of the 4-wide closest-point tree (mesh_closest.h).
+// Built once, then read-only, so queries from many threads need no locking.
 #include <cstdint>
 #include <limits>
 #include <vector>
@@ -35,13 +35,6 @@ struct WindingNode {
   glm::dmat3 secondOrder{0.0};  // column k, row j: sum a * (c - centre)_k * n_j
 };
 
-struct ClosestHit {
-  double distanceSquared = std::numeric_limits<double>::infinity();
-  glm::dvec3 point{0.0};
-  std::uint32_t triangle = UINT32_MAX;  // BVH order; UINT32_MAX when nothing beat the bound
-  double prunedBoundSquared = std::numeric_limits<double>::infinity();  // see closest()
-};
-
 class TriangleBvh {
  public:
   // triangles: vertex positions, three per triangle, every triangle with non-zero area.
@@ -55,13 +48,8 @@ class TriangleBvh {
   const PreparedTriangle& triangle(std::uint32_t t) const { return triangles_[t]; }
   const glm::dvec3& unitNormal(std::uint32_t t) const { return normals_[t]; }
 
-  // Closest point of the mesh to p among those strictly closer than sqrt(boundSquared). When
-  // none is (hit.triangle == UINT32_MAX), hit.prunedBoundSquared is a lower bound on the squared
-  // distance from p to the mesh, itself >= boundSquared.
-  ClosestHit closest(const glm::dvec3& p, double boundSquared) const;
-
-  // Squared distance from p to triangle t (BVH order), for seeding closest() with a bound.
-  double distanceSquaredTo(const glm::dvec3& p, std::uint32_t t) const;
+  const std::vector<BvhNode>& nodes() const { return nodes_; }
+  const TriangleDisk& disk(std::uint32_t t) const { return disks_[t]; }
 
   // Generalized winding number at q: exact solid angles near q, the order-2 far-field expansion
   // for nodes farther than beta times their radius.

@@ -58,14 +58,6 @@ inline double solidAngle(const glm::dvec3& q, const glm::dvec3& a, const glm::dv
   return 2.0 * std::atan2(numerator, denominator);
 }
 
-// Squared distance from p to the box [lo, hi]; zero inside.
-inline double boxDistanceSquared(const glm::dvec3& p, const glm::dvec3& lo, const glm::dvec3& hi) {
-  const glm::dvec3 below = glm::max(lo - p, glm::dvec3(0.0));
-  const glm::dvec3 above = glm::max(p - hi, glm::dvec3(0.0));
-  const glm::dvec3 outside = below + above;
-  return glm::dot(outside, outside);
-}
-
 // A box with orthonormal axes: points centre + sum t_i axes[i], |t_i| <= halfExtent[i].
 struct OrientedBox {
   glm::dvec3 centre{0.0};
@@ -73,35 +65,13 @@ struct OrientedBox {
   glm::dvec3 halfExtent{0.0};
 };
 
-// Squared distance from p to the box; zero inside.
-inline double boxDistanceSquared(const glm::dvec3& p, const OrientedBox& box) {
-  const glm::dvec3 v = p - box.centre;
-  double sum = 0.0;
-  for (int i = 0; i < 3; ++i) {
-    const double outside = std::abs(glm::dot(v, box.axes[i])) - box.halfExtent[i];
-    if (outside > 0.0) sum += outside * outside;
-  }
-  return sum;
-}
-
-// The smallest disk holding a triangle, in the triangle's plane: a cheap and tight lower bound on
-// the distance to the triangle (exact in the normal direction, off by at most the disk's slack
-// sideways), which rejects most candidate triangles of a query before the exact closest point.
+// The smallest disk holding a triangle, in the triangle's plane: the distance to it is a cheap and
+// tight lower bound on the distance to the triangle (exact along the normal, off by at most the
+// disk's slack sideways), which rejects most candidate triangles before the exact closest point.
 struct TriangleDisk {
   glm::dvec3 centre{0.0};
   glm::dvec3 normal{0.0};
   double radius = 0.0;
 };
-
-// Squared distance from p to the disk, a lower bound on the squared distance to its triangle.
-inline double diskDistanceSquared(const glm::dvec3& p, const TriangleDisk& disk) {
-  const glm::dvec3 v = p - disk.centre;
-  const double along = glm::dot(v, disk.normal);
-  // From the in-plane vector itself, not sqrt(|v|^2 - along^2), which cancels catastrophically
-  // right above the disk and could overestimate the bound.
-  const double sideways = glm::length(v - along * disk.normal);
-  const double beyond = std::max(sideways - disk.radius, 0.0);
-  return along * along + beyond * beyond;
-}
 
 }  // namespace hsdf::mesh

@@ -5,6 +5,7 @@
 #include <limits>
 
 #include "source/mesh_bvh.h"
+#include "source/mesh_closest.h"
 #include "source/mesh_input.h"
 
 namespace hsdf {
@@ -57,7 +58,8 @@ QueryCache& threadCache(std::uint64_t owner) {
 }  // namespace
 
 struct MeshSource::Impl {
-  mesh::TriangleBvh bvh;
+  mesh::TriangleBvh bvh;         // winding numbers, normals
+  mesh::ClosestPointTree tree;   // distances
   std::vector<std::uint32_t> inputTriangle;  // input index of each kept triangle (input order of kept)
   MeshSourceStats stats;
   MeshSourceOptions options;
@@ -66,7 +68,7 @@ struct MeshSource::Impl {
   std::uint64_t id = nextSourceId.fetch_add(1);
 
   Impl(mesh::CleanTriangles clean, const MeshSourceOptions& opts)
-      : bvh(clean.corners), inputTriangle(std::move(clean.inputTriangle)), options(opts) {
+      : bvh(clean.corners), tree(bvh), inputTriangle(std::move(clean.inputTriangle)), options(opts) {
     bounds.min = glm::dvec3(kInfinity);
     bounds.max = glm::dvec3(-kInfinity);
     for (const glm::dvec3& c : clean.corners) {
@@ -107,16 +109,15 @@ struct MeshSource::Impl {
     if (!cache.hasPrevious) return seed;
     for (const Anchor* anchor : {&cache.previous, &cache.runStart}) {
       if (anchor->triangle == UINT32_MAX) continue;
-      const glm::dvec3 c = mesh::closestPointOnTriangle(p, bvh.triangle(anchor->triangle));
-      const double d2 = glm::dot(p - c, p - c);
-      if (d2 < seed.distanceSquared) seed = {d2, c, anchor->triangle, kInfinity};
+      const mesh::ClosestHit candidate = tree.distanceTo(p, anchor->triangle);
+      if (candidate.distanceSquared < seed.distanceSquared) seed = candidate;
     }
     return seed;
   }
 
   mesh::ClosestHit closest(const glm::dvec3& p, const QueryCache& cache) const {
     const mesh::ClosestHit seed = seedHit(p, cache);
-    const mesh::ClosestHit hit = bvh.closest(p, seed.distanceSquared);
+    const mesh::ClosestHit hit = tree.closest(p, seed.distanceSquared);
     return hit.triangle == UINT32_MAX ? seed : hit;
   }
 
@@ -148,7 +149,7 @@ struct MeshSource::Impl {
     mesh::ClosestHit seed = seedHit(p, cache);
     const double bandSquared = band * band;
     if (seed.distanceSquared > bandSquared) seed = {bandSquared, glm::dvec3(0.0), UINT32_MAX, kInfinity};
-    mesh::ClosestHit hit = bvh.closest(p, seed.distanceSquared);
+    mesh::ClosestHit hit = tree.closest(p, seed.distanceSquared);
     if (hit.triangle == UINT32_MAX && seed.triangle != UINT32_MAX) hit = seed;
     if (hit.triangle != UINT32_MAX) {
       const double w = winding(p, cache);
@@ -205,7 +206,7 @@ void MeshSource::sampleBandRow(const glm::dvec3& start, const glm::dvec3& step, 
 }
 
 MeshClosestPoint MeshSource::closestPoint(const glm::dvec3& p) const {
-  const mesh::ClosestHit hit = impl_->bvh.closest(p, kInfinity);
+  const mesh::ClosestHit hit = impl_->tree.closest(p, kInfinity);
   return {hit.point, std::sqrt(hit.distanceSquared), impl_->inputTriangle[impl_->bvh.inputIndex(hit.triangle)]};
 }
 

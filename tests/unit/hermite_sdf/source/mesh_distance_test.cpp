@@ -39,6 +39,35 @@ TEST(MeshDistance, MatchesBruteForceOnNonConvexMesh) {
   }
 }
 
+// Tricky: pruning bounds are computed in float relative to the mesh centre. A small mesh far from
+// the origin, queried from near and very far, must still get exact double distances (a pruning
+// margin too small for float rounding would skip the true closest triangle).
+TEST(MeshDistance, ExactForMeshFarFromOriginAndFarQueries) {
+  TestMesh mesh = testing::bumpySphere(2);
+  for (auto& p : mesh.positions) p = p * 0.01f + glm::vec3(3000.0f, -2000.0f, 500.0f);
+  const auto source = makeSource(mesh);
+  const glm::dvec3 centre(3000.0, -2000.0, 500.0);
+  for (const glm::dvec3& offset : randomPoints(200, 0.03, 21)) {
+    const glm::dvec3 p = centre + offset;
+    EXPECT_NEAR(std::abs(source->sample(p).value), testing::bruteForceDistance(mesh, p), 1e-9);
+  }
+  for (const glm::dvec3& direction : randomPoints(50, 1.0, 22)) {
+    const glm::dvec3 p = centre + 1e6 * direction;
+    const double expected = testing::bruteForceDistance(mesh, p);
+    EXPECT_NEAR(source->closestPoint(p).distance, expected, 1e-9 * expected);
+  }
+}
+
+// Tricky: a mesh smaller than one BVH leaf makes the root itself a leaf, a separate path in the
+// tree construction.
+TEST(MeshDistance, SingleTriangleMesh) {
+  const TestMesh triangle{{{0, 0, 0}, {1, 0, 0}, {0, 1, 0}}, {0, 1, 2}};
+  const auto source = makeSource(triangle);
+  EXPECT_NEAR(std::abs(source->sample({0.2, 0.2, 0.5}).value), 0.5, 1e-15);
+  EXPECT_NEAR(std::abs(source->sample({2.0, 0.0, 0.0}).value), 1.0, 1e-15);
+  EXPECT_NEAR(std::abs(source->sample({-1.0, -1.0, 1.0}).value), std::sqrt(3.0), 1e-15);
+}
+
 // Tricky: grid rows are the coherent case the seed bound is built for; each step changes the
 // closest triangle a little, and rows cross the surface, so stale seeds would show up here.
 TEST(MeshDistance, CoherentRowsMatchBruteForce) {
