@@ -41,7 +41,8 @@ double depthToViewDistance(double depth, double znear);
 double viewDistanceToDepth(double viewDistance, double znear);
 
 // Side planes (and near plane) of a view frustum, each (normal, d) with normal pointing inwards:
-// a point p is inside a plane when dot(normal, p) + d >= 0. The far plane is at infinity and omitted.
+// a point p is inside a plane when dot(normal, p) + d >= 0. kTop/kBottom bound the top/bottom rows of
+// the image. The far plane is at infinity and omitted.
 struct Frustum {
   enum Plane { kLeft, kRight, kBottom, kTop, kNear, kPlaneCount };
   std::array<glm::vec4, kPlaneCount> planes;

@@ -61,7 +61,7 @@ class Registry {
     Storage<C>& storage = assure<C>();
     if (C* existing = storage.tryGet(e)) {
       // Built first: the arguments may refer to the component being replaced.
-      C replacement = C(std::forward<A>(args)...);
+      C replacement = detail::makeValue<C>(std::forward<A>(args)...);
       *existing = std::move(replacement);
       return *existing;
     }

@@ -47,6 +47,18 @@ constexpr std::string_view typeName() {
   return signature.substr(start + 4, end - start - 4);
 }
 
+// Builds a T from args: with a constructor when T has a matching one, else as an aggregate (so
+// emplace<Position>(e, 1.0f, 2.0f) works for plain structs on compilers without C++20's
+// parenthesized aggregate initialization, e.g. Clang 14).
+template <class T, class... A>
+T makeValue(A&&... args) {
+  if constexpr (std::is_constructible_v<T, A&&...>) {
+    return T(std::forward<A>(args)...);
+  } else {
+    return T{std::forward<A>(args)...};
+  }
+}
+
 [[noreturn]] inline void throwContractViolation(const std::string& message) { throw std::logic_error(message); }
 
 }  // namespace detail
@@ -117,9 +129,15 @@ class PagedVector {
       pages_.emplace_back();
       pages_.back().reserve(kPageSize);  // never exceeded, so the page never reallocates
     }
-    T& element = pages_[size_ / kPageSize].emplace_back(std::forward<A>(args)...);
+    std::vector<T>& page = pages_[size_ / kPageSize];
+    T* element = nullptr;
+    if constexpr (std::is_constructible_v<T, A&&...>) {
+      element = &page.emplace_back(std::forward<A>(args)...);
+    } else {
+      element = &page.emplace_back(detail::makeValue<T>(std::forward<A>(args)...));
+    }
     ++size_;
-    return element;
+    return *element;
   }
   void popBack() {
     --size_;
