@@ -9,21 +9,28 @@
 //   sign stays right away from it. Open meshes (a single sheet, a cup) get the sign of their
 //   winding number too: inside is where the surface, closed by its minimal "membrane", wraps the
 //   point more than halfway.
+//   Fast path: for a mesh that is closed (every edge shared by exactly two oppositely oriented
+//   triangles, vertices welded by position) and does not intersect itself, the winding-number
+//   sign equals the sign given by the pseudonormal of the closest feature (Baerentzen & Aanaes
+//   2005), which costs nothing beyond the closest point; such meshes use it (SignMode::Auto).
+//   Meshes with defects, open meshes and self-intersecting ones (e.g. overlapping closed parts)
+//   use the winding number.
 // - Gradient: (p - closest) / |p - closest| times the sign; on the surface itself (distance below
 //   1e-12 of the mesh size) the unit normal of the closest triangle.
 // - Degenerate input: no triangles, an index count that is not a multiple of 3, indices out of
 //   range, NaN/inf coordinates are errors naming the problem. Zero-area triangles (repeated
-//   vertices, collinear corners) are dropped: they bound no area, so they change neither the
-//   distance of a closed mesh (their edges belong to neighbours) nor its winding number.
+//   vertices, collinear corners: height below 1e-12 of the longest edge) are dropped: they bound
+//   no area, so they change neither the distance of a closed mesh (their edges belong to
+//   neighbours) nor its winding number.
 //
-// Speed: the sign is constant inside the ball of radius |d| around a sample of a closed mesh (no
-// surface crosses it), so a query inside the ball of a recent query on the same thread reuses that
-// query's sign instead of evaluating the winding number, and every query starts its BVH search
-// bounded by the distance to the previous query's closest triangle. For meshes with boundary
-// edges the winding number varies continuously, so a sign is reused only from queries whose
-// winding number was decisive (at least 0.25 away from 0.5); set reuseSign = false for a sign
-// computed at every point. Results are the same whichever thread or order queries come in,
-// except that near such defects a reused sign may differ from a fresh one.
+// Speed: every query starts its BVH search bounded by the distance to the previous query's (on
+// the same thread, or in the same row) closest triangle. Where the winding number is needed, a
+// query inside the ball of radius |d| around a recent query reuses that query's sign: no surface
+// crosses the ball, so for a closed mesh the sign is the same. For meshes with boundary edges the
+// winding number varies continuously, so a sign is reused only from queries whose winding number
+// was decisive (at least 0.25 away from 0.5); set reuseSign = false for a sign computed at every
+// point. Results do not depend on the order or thread of queries, except that near the defects of
+// a defective mesh a reused sign may differ from a fresh one.
 #include <cstddef>
 #include <cstdint>
 #include <memory>
@@ -37,7 +44,13 @@
 
 namespace hsdf {
 
+enum class SignMode {
+  Auto,           // pseudonormals for closed, self-intersection-free meshes, else the winding number
+  WindingNumber,  // always the winding number
+};
+
 struct MeshSourceOptions {
+  SignMode signMode = SignMode::Auto;
   // Far-field expansion of a BVH node is used when the query is farther than beta times the
   // node's radius from its centre (Barill et al. use 2; larger is more accurate and slower).
   double windingBeta = 2.0;
@@ -51,6 +64,8 @@ struct MeshSourceStats {
   std::size_t triangles = 0;         // kept, in the BVH
   std::size_t boundaryEdges = 0;     // edges (after welding equal positions) without an opposite twin
   bool closed = false;               // every edge has exactly one oppositely oriented twin
+  bool selfIntersecting = false;     // two triangles without a common vertex touch (closed meshes only)
+  bool pseudoNormalSign = false;     // the sign comes from pseudonormals (else the winding number)
   std::size_t bvhNodes = 0;
 };
 

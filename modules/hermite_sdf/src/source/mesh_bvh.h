@@ -50,6 +50,9 @@ class TriangleBvh {
 
   const std::vector<BvhNode>& nodes() const { return nodes_; }
   const TriangleDisk& disk(std::uint32_t t) const { return disks_[t]; }
+  // Corner k of triangle t (BVH order); all corners, three per triangle, in corners().
+  const glm::dvec3& corner(std::uint32_t t, int k) const { return corners_[3 * std::size_t(t) + std::size_t(k)]; }
+  const std::vector<glm::dvec3>& corners() const { return corners_; }
 
   // Generalized winding number at q: exact solid angles near q, the order-2 far-field expansion
   // for nodes farther than beta times their radius.

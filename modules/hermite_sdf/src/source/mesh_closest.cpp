@@ -170,7 +170,9 @@ std::int32_t ClosestPointTree::addLeaf(const TriangleBvh& bvh, const BvhNode& bi
 
 ClosestHit ClosestPointTree::distanceTo(const glm::dvec3& p, std::uint32_t t) const {
   ClosestHit hit;
-  hit.point = closestPointOnTriangle(p, triangles_[t]);
+  const TrianglePoint closest = closestPointOnTriangle(p, triangles_[t]);
+  hit.point = closest.point;
+  hit.feature = closest.feature;
   hit.distanceSquared = glm::dot(p - hit.point, p - hit.point);
   hit.triangle = t;
   return hit;
@@ -195,11 +197,12 @@ void ClosestPointTree::visitLeaf(const Leaf& leaf, const glm::dvec3& p, const fl
     if (!(bound[order[k]] < search.threshold)) continue;  // an earlier lane tightened the threshold
 
     const std::uint32_t t = leaf.first + std::uint32_t(order[k]);
-    const glm::dvec3 c = closestPointOnTriangle(p, triangles_[t]);
-    const double d2 = glm::dot(p - c, p - c);
+    const TrianglePoint c = closestPointOnTriangle(p, triangles_[t]);
+    const double d2 = glm::dot(p - c.point, p - c.point);
     if (d2 < hit.distanceSquared) {
       hit.distanceSquared = d2;
-      hit.point = c;
+      hit.point = c.point;
+      hit.feature = c.feature;
       hit.triangle = t;
       search.threshold = pruneThreshold(d2, margin);
     } else {

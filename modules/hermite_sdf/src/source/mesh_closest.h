@@ -23,6 +23,7 @@ struct ClosestHit {
   double distanceSquared = std::numeric_limits<double>::infinity();
   glm::dvec3 point{0.0};
   std::uint32_t triangle = UINT32_MAX;  // BVH order; UINT32_MAX when nothing beat the bound
+  Feature feature = Feature::Face;      // where on the triangle the closest point lies
   double prunedBoundSquared = std::numeric_limits<double>::infinity();  // see closest()
 };
 

@@ -72,15 +72,18 @@ engine::Expected<CleanTriangles> cleanTriangles(const std::vector<glm::vec3>& po
   return clean;
 }
 
-EdgeTopology edgeTopology(const std::vector<glm::dvec3>& corners) {
+std::vector<std::uint32_t> weldVertices(const std::vector<glm::dvec3>& corners) {
   std::unordered_map<glm::dvec3, std::uint32_t, PositionHash> welded;
   std::vector<std::uint32_t> vertexOf(corners.size());
   for (std::size_t i = 0; i < corners.size(); ++i)
     vertexOf[i] = welded.emplace(corners[i], std::uint32_t(welded.size())).first->second;
+  return vertexOf;
+}
 
+EdgeTopology edgeTopology(const std::vector<std::uint32_t>& vertexOf) {
   auto key = [](std::uint32_t from, std::uint32_t to) { return (std::uint64_t(from) << 32) | to; };
   std::unordered_map<std::uint64_t, int> directedEdges;
-  for (std::size_t t = 0; t < corners.size() / 3; ++t) {
+  for (std::size_t t = 0; t < vertexOf.size() / 3; ++t) {
     for (std::size_t e = 0; e < 3; ++e)
       ++directedEdges[key(vertexOf[3 * t + e], vertexOf[3 * t + (e + 1) % 3])];
   }

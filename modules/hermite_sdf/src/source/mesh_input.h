@@ -21,13 +21,16 @@ struct CleanTriangles {
 engine::Expected<CleanTriangles> cleanTriangles(const std::vector<glm::vec3>& positions,
                                                 const std::vector<std::uint32_t>& indices);
 
+// Vertex ids of the corners (three per triangle) with equal positions welded: glTF files often
+// split vertices along normal or UV seams, which must not make a closed mesh look open.
+std::vector<std::uint32_t> weldVertices(const std::vector<glm::dvec3>& corners);
+
 struct EdgeTopology {
   std::size_t boundaryEdges = 0;  // directed edges without exactly one opposite twin
   bool closed = false;
 };
 
-// Edge pairing of the kept triangles, with vertices welded by exact position (glTF files often
-// split vertices along normal or UV seams, which must not make a closed mesh look open).
-EdgeTopology edgeTopology(const std::vector<glm::dvec3>& corners);
+// Edge pairing of triangles given by welded vertex ids (three per triangle).
+EdgeTopology edgeTopology(const std::vector<std::uint32_t>& vertexOf);
 
 }  // namespace hsdf::mesh

@@ -3,10 +3,12 @@
 #include <atomic>
 #include <cmath>
 #include <limits>
+#include <optional>
 
 #include "source/mesh_bvh.h"
 #include "source/mesh_closest.h"
 #include "source/mesh_input.h"
+#include "source/mesh_sign.h"
 
 namespace hsdf {
 namespace {
@@ -60,6 +62,7 @@ QueryCache& threadCache(std::uint64_t owner) {
 struct MeshSource::Impl {
   mesh::TriangleBvh bvh;         // winding numbers, normals
   mesh::ClosestPointTree tree;   // distances
+  std::unique_ptr<mesh::PseudoNormals> pseudoNormals;  // set when they give the sign
   std::vector<std::uint32_t> inputTriangle;  // input index of each kept triangle (input order of kept)
   MeshSourceStats stats;
   MeshSourceOptions options;
@@ -76,28 +79,39 @@ struct MeshSource::Impl {
       bounds.max = glm::max(bounds.max, c);
     }
     onSurfaceDistance = kOnSurfaceRelative * glm::length(bounds.size());
-    const mesh::EdgeTopology topology = mesh::edgeTopology(clean.corners);
+    const std::vector<std::uint32_t> vertexOf = mesh::weldVertices(bvh.corners());
+    const mesh::EdgeTopology topology = mesh::edgeTopology(vertexOf);
     stats.droppedZeroArea = clean.droppedZeroArea;
     stats.triangles = bvh.triangleCount();
     stats.inputTriangles = stats.triangles + stats.droppedZeroArea;
     stats.boundaryEdges = topology.boundaryEdges;
     stats.closed = topology.closed;
     stats.bvhNodes = bvh.nodeCount();
+    if (stats.closed) stats.selfIntersecting = mesh::hasSelfIntersections(bvh, vertexOf);
+    if (options.signMode == SignMode::Auto && stats.closed && !stats.selfIntersecting) {
+      pseudoNormals = std::make_unique<mesh::PseudoNormals>(bvh, vertexOf);
+      stats.pseudoNormalSign = true;
+    }
   }
 
   bool mayPassOn(const Anchor& anchor) const {
     return stats.closed || std::abs(anchor.winding - 0.5) >= kDecisiveWinding;
   }
 
+  // The winding number of an anchor whose surface-free ball holds p, if any.
+  std::optional<double> reusedWinding(const glm::dvec3& p, const QueryCache& cache) const {
+    if (!options.reuseSign || !cache.hasPrevious) return std::nullopt;
+    for (const Anchor* anchor : {&cache.previous, &cache.runStart}) {
+      const glm::dvec3 d = p - anchor->p;
+      const double r = anchor->radius * kBallShrink;
+      if (r > 0.0 && glm::dot(d, d) < r * r && mayPassOn(*anchor)) return anchor->winding;
+    }
+    return std::nullopt;
+  }
+
   // The winding number at p: inherited from an anchor whose surface-free ball holds p, else computed.
   double winding(const glm::dvec3& p, const QueryCache& cache) const {
-    if (options.reuseSign && cache.hasPrevious) {
-      for (const Anchor* anchor : {&cache.previous, &cache.runStart}) {
-        const glm::dvec3 d = p - anchor->p;
-        const double r = anchor->radius * kBallShrink;
-        if (r > 0.0 && glm::dot(d, d) < r * r && mayPassOn(*anchor)) return anchor->winding;
-      }
-    }
+    if (const std::optional<double> reused = reusedWinding(p, cache)) return *reused;
     return bvh.windingNumber(p, options.windingBeta);
   }
 
@@ -138,9 +152,16 @@ struct MeshSource::Impl {
     return s;
   }
 
+  // Winding number, or its stand-in (1 inside, 0 outside) from the pseudonormal of the closest
+  // feature when the mesh allows it.
+  double windingAt(const glm::dvec3& p, const mesh::ClosestHit& hit, const QueryCache& cache) const {
+    if (!pseudoNormals) return winding(p, cache);
+    return glm::dot(p - hit.point, pseudoNormals->normal(hit.triangle, hit.feature)) < 0.0 ? 1.0 : 0.0;
+  }
+
   SdfSample sample(const glm::dvec3& p, QueryCache& cache) const {
     const mesh::ClosestHit hit = closest(p, cache);
-    const double w = winding(p, cache);
+    const double w = windingAt(p, hit, cache);
     remember(cache, {p, std::sqrt(hit.distanceSquared), w, hit.triangle});
     return signedSample(p, hit, w);
   }
@@ -148,21 +169,34 @@ struct MeshSource::Impl {
   SdfBandSample sampleBand(const glm::dvec3& p, double band, QueryCache& cache) const {
     mesh::ClosestHit seed = seedHit(p, cache);
     const double bandSquared = band * band;
-    if (seed.distanceSquared > bandSquared) seed = {bandSquared, glm::dvec3(0.0), UINT32_MAX, kInfinity};
+    if (seed.distanceSquared > bandSquared) {
+      seed = mesh::ClosestHit{};
+      seed.distanceSquared = bandSquared;
+    }
     mesh::ClosestHit hit = tree.closest(p, seed.distanceSquared);
     if (hit.triangle == UINT32_MAX && seed.triangle != UINT32_MAX) hit = seed;
     if (hit.triangle != UINT32_MAX) {
-      const double w = winding(p, cache);
+      const double w = windingAt(p, hit, cache);
       remember(cache, {p, std::sqrt(hit.distanceSquared), w, hit.triangle});
       return {signedSample(p, hit, w), true};
     }
-    // Nothing within the band: the traversal's pruning bound is a safe distance bound.
-    const double lowerBound = std::sqrt(std::max(hit.prunedBoundSquared, bandSquared));
-    const double w = winding(p, cache);
-    const std::uint32_t keepTriangle = cache.hasPrevious ? cache.previous.triangle : UINT32_MAX;
-    remember(cache, {p, lowerBound, w, keepTriangle});
+    // Nothing within the band: the traversal's pruning bound is a safe distance bound. The sign
+    // comes from a recent query's ball if one holds p; otherwise, where pseudonormals are valid,
+    // the full closest-point query (cheaper than a winding number next to the surface) gives it
+    // together with the exact distance, the best bound there is.
+    Anchor anchor{p, std::sqrt(std::max(hit.prunedBoundSquared, bandSquared)), 0.0,
+                  cache.hasPrevious ? cache.previous.triangle : UINT32_MAX};
+    if (const std::optional<double> reused = reusedWinding(p, cache)) {
+      anchor.winding = *reused;
+    } else if (pseudoNormals) {
+      const mesh::ClosestHit full = closest(p, cache);
+      anchor = {p, std::sqrt(full.distanceSquared), windingAt(p, full, cache), full.triangle};
+    } else {
+      anchor.winding = bvh.windingNumber(p, options.windingBeta);
+    }
+    remember(cache, anchor);
     SdfBandSample out;
-    out.sample.value = (w >= 0.5 ? -1.0 : 1.0) * lowerBound;
+    out.sample.value = (anchor.winding >= 0.5 ? -1.0 : 1.0) * anchor.radius;
     out.exact = false;
     return out;
   }

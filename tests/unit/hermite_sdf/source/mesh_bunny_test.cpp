@@ -34,6 +34,8 @@ TEST(MeshBunny, ImportsClosedWithAllTriangles) {
   EXPECT_EQ(bunny.source->stats().triangles, 3674u);
   EXPECT_EQ(bunny.source->stats().droppedZeroArea, 0u);
   EXPECT_TRUE(bunny.source->stats().closed);
+  EXPECT_FALSE(bunny.source->stats().selfIntersecting);
+  EXPECT_TRUE(bunny.source->stats().pseudoNormalSign);
 }
 
 // Tricky: a scanned model has thin parts (ears), concavities and a medial axis everywhere; the

@@ -150,8 +150,10 @@ TEST(MeshSign, OpenBowlUsesWindingNumberSign) {
 // that cross it many times (bumpy surface).
 TEST(MeshSign, SignReuseGivesTheSameSignsAsFreshEvaluation) {
   const TestMesh mesh = testing::bumpySphere(3);
-  const auto reusing = makeSource(mesh);
-  MeshSourceOptions fresh;
+  MeshSourceOptions reuse;
+  reuse.signMode = SignMode::WindingNumber;
+  const auto reusing = makeSource(mesh, reuse);
+  MeshSourceOptions fresh = reuse;
   fresh.reuseSign = false;
   const auto computing = makeSource(mesh, fresh);
   std::vector<SdfSample> a(97), b(97);
@@ -163,6 +165,68 @@ TEST(MeshSign, SignReuseGivesTheSameSignsAsFreshEvaluation) {
     for (std::size_t i = 0; i < a.size(); ++i) mismatches += (a[i].value < 0) != (b[i].value < 0);
   }
   EXPECT_EQ(mismatches, 0);
+}
+
+// Tricky: the pseudonormal fast path must agree with the winding number everywhere on a closed
+// mesh, in particular where the closest point is an edge or a vertex (a face normal alone gets
+// those wrong at concave edges) and very close to the surface; rows through a bumpy surface hit
+// all three kinds of features.
+TEST(MeshSign, PseudoNormalSignMatchesWindingNumberOnClosedMeshes) {
+  for (const TestMesh& mesh : {testing::bumpySphere(3), testing::cube(3)}) {
+    const auto source = makeSource(mesh);
+    EXPECT_TRUE(source->stats().pseudoNormalSign);
+    EXPECT_FALSE(source->stats().selfIntersecting);
+    int checked = 0;
+    for (const glm::dvec3& p : randomPoints(3000, 1.4, 12)) {
+      const double w = source->windingNumberExact(p);
+      if (std::abs(w - 0.5) < 0.25) continue;  // on the surface to rounding: no sign to compare
+      ++checked;
+      EXPECT_EQ(source->sample(p).value < 0.0, w >= 0.5) << p.x << " " << p.y << " " << p.z;
+    }
+    EXPECT_GT(checked, 2900);
+    // Just outside and inside a cube corner and edge: the closest feature is a vertex / an edge.
+    if (mesh.triangleCount() == testing::cube(3).triangleCount()) {
+      EXPECT_GT(source->sample({1.01, 1.02, 1.03}).value, 0.0);
+      EXPECT_GT(source->sample({1.01, 1.02, 0.3}).value, 0.0);
+      EXPECT_LT(source->sample({0.99, 0.98, 0.97}).value, 0.0);
+    }
+  }
+}
+
+// Tricky: two overlapping closed parts (a common way to model, e.g. limbs) form a closed mesh
+// that intersects itself. At a point inside A but outside B whose closest surface is B's part
+// inside A, the closest feature's pseudonormal says "outside"; only the winding number (2 in the
+// overlap, 1 in A) gets it right, so the source must detect the intersection and not use it.
+TEST(MeshSign, SelfIntersectingClosedMeshUsesWindingNumber) {
+  TestMesh a = testing::icosphere(3, 1.0f);
+  const TestMesh b = testing::icosphere(3, 0.5f);
+  const std::uint32_t offset = std::uint32_t(a.positions.size());
+  for (const glm::vec3& p : b.positions) a.positions.push_back(p + glm::vec3(0.8f, 0.0f, 0.0f));
+  for (std::uint32_t i : b.indices) a.indices.push_back(i + offset);
+  const auto source = makeSource(a);
+  EXPECT_TRUE(source->stats().closed);
+  EXPECT_TRUE(source->stats().selfIntersecting);
+  EXPECT_FALSE(source->stats().pseudoNormalSign);
+  EXPECT_LT(source->sample({0.2, 0.0, 0.0}).value, 0.0);    // in A, outside B, nearest to B
+  EXPECT_LT(source->sample({0.8, 0.0, 0.0}).value, 0.0);    // in both
+  EXPECT_LT(source->sample({1.2, 0.0, 0.0}).value, 0.0);    // in B only
+  EXPECT_GT(source->sample({1.4, 0.0, 0.0}).value, 0.0);    // outside both
+  EXPECT_GT(source->sample({0.0, 1.2, 0.0}).value, 0.0);
+}
+
+// Tricky: disjoint closed parts (no shared vertex, no contact) are neither open nor
+// self-intersecting; they keep the fast path and each part signs its own inside.
+TEST(MeshSign, DisjointClosedPartsKeepPseudoNormals) {
+  TestMesh a = testing::cube(2, 0.5f);
+  const TestMesh b = testing::icosphere(2, 0.5f);
+  const std::uint32_t offset = std::uint32_t(a.positions.size());
+  for (const glm::vec3& p : b.positions) a.positions.push_back(p + glm::vec3(2.0f, 0.0f, 0.0f));
+  for (std::uint32_t i : b.indices) a.indices.push_back(i + offset);
+  const auto source = makeSource(a);
+  EXPECT_TRUE(source->stats().pseudoNormalSign);
+  EXPECT_LT(source->sample({0.1, 0.1, 0.1}).value, 0.0);
+  EXPECT_LT(source->sample({2.1, 0.1, 0.0}).value, 0.0);
+  EXPECT_GT(source->sample({1.0, 0.0, 0.0}).value, 0.0);
 }
 
 }  // namespace

@@ -72,8 +72,9 @@ inline TestMesh cube(int n, float h = 1.0f) {
       const std::uint32_t base = std::uint32_t(m.positions.size());
       for (int j = 0; j <= n; ++j)
         for (int i = 0; i <= n; ++i)
-          m.positions.push_back(h * (normal + (2.0f * float(i) / float(n) - 1.0f) * u +
-                                     (2.0f * float(j) / float(n) - 1.0f) * w));
+          // (2i - n) / n is exactly antisymmetric in i, so corners shared by two faces get
+          // bit-identical coordinates (and weld) whichever face computes them.
+          m.positions.push_back(h * (normal + (float(2 * i - n) / float(n)) * u + (float(2 * j - n) / float(n)) * w));
       auto at = [&](int i, int j) { return base + std::uint32_t(j * (n + 1) + i); };
       for (int j = 0; j < n; ++j)
         for (int i = 0; i < n; ++i)

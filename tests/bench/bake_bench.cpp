@@ -1,0 +1,45 @@
+// Baking the bunny: dense Hermite fields (what the sphere-tracing baselines need) and the narrow
+// band (what the cell path needs). Targets (2-core machine): dense K=128 under 2 s; narrow band
+// no slower than OpenVDB's meshToSignedDistanceField (openvdb_bench.cpp) on the same grid.
+#include <thread>
+
+#include <benchmark/benchmark.h>
+
+#include "bench_common.h"
+
+namespace hsdf::bench {
+namespace {
+
+void reportSamples(benchmark::State& state, const GridSpec& grid) {
+  const double samples = double(grid.sampleCount());
+  state.counters["samples"] = samples;
+  state.counters["samples_per_s"] = benchmark::Counter(samples, benchmark::Counter::kIsIterationInvariantRate);
+  state.counters["threads"] = double(std::thread::hardware_concurrency());
+}
+
+void BM_BakeDenseBunny(benchmark::State& state) {
+  const GridSpec grid = bunnyGrid(int(state.range(0)));
+  const MeshSource& source = bunnySource();
+  for (auto _ : state) {
+    auto field = bakeHermiteField(source, grid);
+    require(field.ok(), field.ok() ? "" : field.error().message);
+    benchmark::DoNotOptimize(field->samples.data());
+  }
+  reportSamples(state, grid);
+}
+BENCHMARK(BM_BakeDenseBunny)->Arg(32)->Arg(64)->Arg(128)->Unit(benchmark::kMillisecond)->UseRealTime();
+
+void BM_BakeNarrowBandBunny(benchmark::State& state) {
+  const GridSpec grid = bunnyGrid(int(state.range(0)));
+  const MeshSource& source = bunnySource();
+  for (auto _ : state) {
+    auto field = bakeHermiteFieldNarrowBand(source, grid);
+    require(field.ok(), field.ok() ? "" : field.error().message);
+    benchmark::DoNotOptimize(field->samples.data());
+  }
+  reportSamples(state, grid);
+}
+BENCHMARK(BM_BakeNarrowBandBunny)->Arg(64)->Arg(128)->Unit(benchmark::kMillisecond)->UseRealTime();
+
+}  // namespace
+}  // namespace hsdf::bench
