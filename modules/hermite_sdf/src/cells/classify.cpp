@@ -1,6 +1,7 @@
 #include <algorithm>
 #include <atomic>
 #include <cmath>
+#include <optional>
 #include <thread>
 #include <vector>
 
@@ -86,18 +87,51 @@ struct SlabCounts {
   std::uint64_t crossing = 0, ambiguous = 0, empty = 0, refinedEmpty = 0;
 };
 
+// The common cases of classifyCell (corner crossing, obviously empty) straight from the stored
+// samples, without building the corner array; nullopt where the Bernstein test must decide.
+// Same decisions as classifyCell: same formulas, same tolerance.
+std::optional<CellClass> quickClass(const HermiteSample* const* corners, double h) {
+  const double third = h / 3.0;
+  bool negative = false, positive = false;
+  double scale = 0.0, minMargin = HUGE_VAL;
+  for (int c = 0; c < 8; ++c) {
+    const HermiteSample& s = *corners[c];
+    if (s.f == 0.0f) return CellClass::Crossing;
+    negative |= s.f < 0.0f;
+    positive |= s.f > 0.0f;
+    const double slope = third * (std::abs(double(s.fx)) + std::abs(double(s.fy)) + std::abs(double(s.fz)));
+    const double f = std::abs(double(s.f));
+    scale = std::max(scale, f + slope);
+    minMargin = std::min(minMargin, f - slope);
+  }
+  if (negative && positive) return CellClass::Crossing;
+  if (minMargin > kZeroTolerance * scale) return CellClass::Empty;
+  return std::nullopt;
+}
+
 // Classifies the cells of z-slab cz into `classes`, returning its counts.
 SlabCounts classifySlab(const HermiteField& field, int cz, int refineDepth, std::vector<CellClass>& classes,
                         const CellClassification& layout) {
   SlabCounts counts;
-  const int n = field.grid.cellsPerAxis();
-  const double h = field.grid.spacing;
+  const GridSpec& grid = field.grid;
+  const int n = grid.cellsPerAxis();
+  const double h = grid.spacing;
+  const std::size_t k = std::size_t(grid.resolution);
+  const std::size_t offsets[8] = {0, 1, k, k + 1, k * k, k * k + 1, k * k + k, k * k + k + 1};
   for (int cy = 0; cy < n; ++cy)
     for (int cx = 0; cx < n; ++cx) {
-      const HermiteCellCorners<double> corners = field.cellCorners<double>(cx, cy, cz);
-      CellClass c = classifyCell(corners, h, refineDepth);
-      if (c == CellClass::Empty && refineDepth > 0 && classifyCell(corners, h, 0) == CellClass::Ambiguous)
-        ++counts.refinedEmpty;
+      const HermiteSample* base = &field.samples[grid.sampleIndex(cx, cy, cz)];
+      const HermiteSample* corners[8];
+      for (int c = 0; c < 8; ++c) corners[c] = base + offsets[c];
+      CellClass c;
+      if (const std::optional<CellClass> quick = quickClass(corners, h)) {
+        c = *quick;
+      } else {
+        const HermiteCellCorners<double> cell = field.cellCorners<double>(cx, cy, cz);
+        c = classifyCell(cell, h, refineDepth);
+        if (c == CellClass::Empty && refineDepth > 0 && classifyCell(cell, h, 0) == CellClass::Ambiguous)
+          ++counts.refinedEmpty;
+      }
       classes[layout.cellIndex(cx, cy, cz)] = c;
       counts.crossing += c == CellClass::Crossing;
       counts.ambiguous += c == CellClass::Ambiguous;
