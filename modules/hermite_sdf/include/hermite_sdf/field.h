@@ -110,7 +110,8 @@ engine::Expected<TrilinearField> bakeTrilinearField(const SdfSource& source, con
 //   (SdfSource::sampleBand) at the block centre c with band r + b (r = distance from c to the
 //   block's farthest sample): if the surface is farther, every sample p of the block gets
 //   f = sign(d) * (|d(c)| - |p - c|) (> b, a valid bound) and gradient 0. In 4^3 blocks that stay
-//   near, each sample gets sampleBand(p, b): exact ("near") or a bound >= b.
+//   near, each sample gets sampleBand(p, 1.8 h): exact (and "near" if |f| <= b) or a bound >= b;
+//   1.8 h > sqrt(3) h makes every corner of a crossed cell exact in this pass already.
 //   Pass 2: every cell with a near corner or corners of both signs gets exact values
 //   (SdfSource::sample) at all its corners.
 // Why the classification then equals the dense field's, with bit-identical kept cells: a cell

@@ -159,8 +159,19 @@ namespace {
 constexpr int kTopBlockSamples = 16;  // samples per axis of a work item
 constexpr int kMinBlockSamples = 4;   // blocks this small that stay near are sampled per point
 
-// Per-sample state of the narrow band: how the stored value was obtained.
-enum SampleOrigin : std::uint8_t { kBound = 0, kNear = 1, kCompleted = 2 };
+// Per-sample queries in near blocks ask for exact values up to this many cells from the surface:
+// every corner of a cell the surface crosses is within sqrt(3) h of it, so these come out exact
+// at once instead of a bound now and an exact query in pass 2.
+constexpr double kLeafQueryBandCells = 1.8;
+
+// Per-sample flags of the narrow band, so that pass 2 decides a cell from 8 bytes:
+// kNear: exact and within the band b (makes its cells candidates); kExact: the stored value is
+// exact (otherwise it is a bound >= b); kNegative / kPositive: the sign of the stored value.
+enum SampleFlags : std::uint8_t { kNear = 1, kExact = 2, kNegative = 4, kPositive = 8 };
+
+std::uint8_t signFlags(float f) {
+  return std::uint8_t((f < 0.0f ? kNegative : 0) | (f > 0.0f ? kPositive : 0));
+}
 
 struct SampleBox {
   glm::ivec3 lo;  // inclusive
@@ -170,8 +181,12 @@ struct SampleBox {
 // Pass 1: hierarchical block tests, then per-sample band queries near the surface.
 class NarrowBandBaker {
  public:
-  NarrowBandBaker(const SdfSource& source, HermiteField& field, std::vector<std::uint8_t>& origin)
-      : source_(source), field_(field), origin_(origin), band_(kNarrowBandExactCells * field.grid.spacing) {}
+  NarrowBandBaker(const SdfSource& source, HermiteField& field, std::vector<std::uint8_t>& flags)
+      : source_(source),
+        field_(field),
+        flags_(flags),
+        band_(kNarrowBandExactCells * field.grid.spacing),
+        queryBand_(std::max(kLeafQueryBandCells, kNarrowBandExactCells) * field.grid.spacing) {}
 
   engine::Status processBlock(const SampleBox& box) const {
     const GridSpec& grid = field_.grid;
@@ -217,18 +232,33 @@ class NarrowBandBaker {
   void storeBound(int i, int j, int k, const glm::dvec3& centre, double distance) const {
     const GridSpec& grid = field_.grid;
     const double bound = std::abs(distance) - glm::length(grid.samplePosition(i, j, k) - centre);
-    field_.samples[grid.sampleIndex(i, j, k)] = {float(distance < 0.0 ? -bound : bound), 0.0f, 0.0f, 0.0f};
+    const float f = float(distance < 0.0 ? -bound : bound);
+    field_.samples[grid.sampleIndex(i, j, k)] = {f, 0.0f, 0.0f, 0.0f};
+    flags_[grid.sampleIndex(i, j, k)] = signFlags(f);
   }
 
+  // storeBound over a whole block, with the per-row work hoisted (most samples are filled here).
   void fillBound(const SampleBox& box, const glm::dvec3& centre, double distance) const {
+    const GridSpec& grid = field_.grid;
+    const float sign = distance < 0.0 ? -1.0f : 1.0f;
+    const std::uint8_t flags = signFlags(sign);
     for (int k = box.lo.z; k < box.hi.z; ++k)
-      for (int j = box.lo.y; j < box.hi.y; ++j)
-        for (int i = box.lo.x; i < box.hi.x; ++i) storeBound(i, j, k, centre, distance);
+      for (int j = box.lo.y; j < box.hi.y; ++j) {
+        const glm::dvec3 rowStart = grid.samplePosition(box.lo.x, j, k) - centre;
+        const double across = rowStart.y * rowStart.y + rowStart.z * rowStart.z;
+        const std::size_t index = grid.sampleIndex(box.lo.x, j, k);
+        for (int i = 0; i < box.hi.x - box.lo.x; ++i) {
+          const double dx = grid.samplePosition(box.lo.x + i, j, k).x - centre.x;
+          const float bound = float(std::abs(distance) - std::sqrt(dx * dx + across));
+          field_.samples[index + std::size_t(i)] = {sign * bound, 0.0f, 0.0f, 0.0f};
+          flags_[index + std::size_t(i)] = flags;
+        }
+      }
   }
 
   // Leaf block near the surface; `distance` is the exact value at the block centre. Samples it
-  // already bounds by more than the band get that bound for free, the others a band query:
-  // exact (kNear) if the surface is within the band, else a sign and a bound >= band.
+  // already bounds by more than the band get that bound for free, the others a band query with
+  // the wider query band: exact if the surface is that close, else a sign and a bound >= band.
   engine::Status sampleLeaf(const SampleBox& box, const glm::dvec3& centre, double distance) const {
     const GridSpec& grid = field_.grid;
     for (int k = box.lo.z; k < box.hi.z; ++k)
@@ -239,45 +269,49 @@ class NarrowBandBaker {
             storeBound(i, j, k, centre, distance);
             continue;
           }
-          const SdfBandSample s = source_.sampleBand(p, band_);
+          const SdfBandSample s = source_.sampleBand(p, queryBand_);
           SdfSample stored = s.sample;
           if (!s.exact) stored.gradient = glm::dvec3(0.0);
           ENGINE_TRY_ASSIGN(field_.samples[grid.sampleIndex(i, j, k)], toStoredSample(stored, grid, i, j, k));
-          origin_[grid.sampleIndex(i, j, k)] = s.exact ? kNear : kBound;
+          const std::uint8_t exactness = !s.exact ? 0 : (std::abs(s.sample.value) <= band_ ? kNear | kExact : kExact);
+          flags_[grid.sampleIndex(i, j, k)] = std::uint8_t(exactness | signFlags(field_.samples[grid.sampleIndex(i, j, k)].f));
         }
     return {};
   }
 
   const SdfSource& source_;
   HermiteField& field_;
-  std::vector<std::uint8_t>& origin_;
-  double band_;
+  std::vector<std::uint8_t>& flags_;
+  double band_;       // b: exact samples within it make their cells candidates
+  double queryBand_;  // band of the per-sample queries (>= b)
 };
 
 // Pass 2 for one z-slab of cells: a cell that may be kept (a near corner, or corners of both
 // signs) gets exact values at all its corners, from SdfSource::sample like the dense bake.
-engine::Status completeCellsOfSlab(const SdfSource& source, HermiteField& field, std::vector<std::uint8_t>& origin,
+engine::Status completeCellsOfSlab(const SdfSource& source, HermiteField& field, std::vector<std::uint8_t>& flags,
                                    int cz) {
   const GridSpec& grid = field.grid;
   const int n = grid.cellsPerAxis();
-  for (int cy = 0; cy < n; ++cy)
+  const std::size_t k = std::size_t(grid.resolution);
+  const std::size_t offsets[8] = {0, 1, k, k + 1, k * k, k * k + 1, k * k + k, k * k + k + 1};
+  std::vector<std::uint8_t> column(k);  // flags OR-ed over the 4 samples of each x in this cell row
+  for (int cy = 0; cy < n; ++cy) {
+    const std::size_t row = grid.sampleIndex(0, cy, cz);
+    for (std::size_t x = 0; x < k; ++x)
+      column[x] = std::uint8_t(flags[row + x] | flags[row + k + x] | flags[row + k * k + x] | flags[row + k * k + k + x]);
     for (int cx = 0; cx < n; ++cx) {
-      bool near = false, negative = false, positive = false;
+      const std::uint8_t any = std::uint8_t(column[std::size_t(cx)] | column[std::size_t(cx) + 1]);
+      const bool bothSigns = (any & kNegative) && (any & kPositive);
+      if (!(any & kNear) && !bothSigns) continue;
       for (int c = 0; c < 8; ++c) {
-        const std::size_t s = grid.sampleIndex(cx + (c & 1), cy + ((c >> 1) & 1), cz + ((c >> 2) & 1));
-        near |= origin[s] == kNear;
-        negative |= field.samples[s].f < 0.0f;
-        positive |= field.samples[s].f > 0.0f;
-      }
-      if (!near && !(negative && positive)) continue;
-      for (int c = 0; c < 8; ++c) {
-        const int i = cx + (c & 1), j = cy + ((c >> 1) & 1), k = cz + ((c >> 2) & 1);
-        const std::size_t s = grid.sampleIndex(i, j, k);
-        if (origin[s] != kBound) continue;
-        ENGINE_TRY_ASSIGN(field.samples[s], toStoredSample(source.sample(grid.samplePosition(i, j, k)), grid, i, j, k));
-        origin[s] = kCompleted;
+        const std::size_t s = row + std::size_t(cx) + offsets[c];
+        if (flags[s] & kExact) continue;
+        const int i = cx + (c & 1), j = cy + ((c >> 1) & 1), l = cz + ((c >> 2) & 1);
+        ENGINE_TRY_ASSIGN(field.samples[s], toStoredSample(source.sample(grid.samplePosition(i, j, l)), grid, i, j, l));
+        flags[s] = std::uint8_t(flags[s] | kExact);  // its cell row's column entry stays valid: same signs
       }
     }
+  }
   return {};
 }
 
@@ -298,11 +332,11 @@ engine::Expected<HermiteField> bakeHermiteFieldNarrowBand(const SdfSource& sourc
   HermiteField field;
   field.grid = grid;
   ENGINE_TRY(allocate(field.samples, grid.sampleCount()));
-  std::vector<std::uint8_t> origin;
-  ENGINE_TRY(allocate(origin, grid.sampleCount()));
+  std::vector<std::uint8_t> flags;
+  ENGINE_TRY(allocate(flags, grid.sampleCount()));
 
   const std::size_t blocksPerAxis = std::size_t((grid.resolution + kTopBlockSamples - 1) / kTopBlockSamples);
-  const NarrowBandBaker baker(source, field, origin);
+  const NarrowBandBaker baker(source, field, flags);
   ENGINE_TRY(detail::runParallel(blocksPerAxis * blocksPerAxis * blocksPerAxis, withProgressRange(options, 0.0f, 0.8f),
                                  [&](std::size_t item) -> engine::Status {
                                    const glm::ivec3 block(int(item % blocksPerAxis), int(item / blocksPerAxis % blocksPerAxis),
@@ -318,7 +352,7 @@ engine::Expected<HermiteField> bakeHermiteFieldNarrowBand(const SdfSource& sourc
     const float from = parity == 0 ? 0.8f : 0.9f;
     ENGINE_TRY(detail::runParallel((slabs + 1 - parity) / 2, withProgressRange(options, from, from + 0.1f),
                                    [&](std::size_t item) {
-                                     return completeCellsOfSlab(source, field, origin, int(2 * item + parity));
+                                     return completeCellsOfSlab(source, field, flags, int(2 * item + parity));
                                    }));
   }
   return field;
