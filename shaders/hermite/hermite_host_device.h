@@ -51,6 +51,33 @@ struct HermitePushConstants {
 };
 HSDF_CHECK_SIZE(HermitePushConstants, 32 + 3 * 8 + 8);
 
+// ---- Sphere-tracing baselines (hsdf::SphereTraceFeature) ----------------------------------------
+#define SPHERE_TRACE_FEATURE_ID 3u
+
+// One per drawn object of the sphere-tracing feature, indexed by gl_InstanceIndex. The field is a
+// dense 3D texture of K^3 samples; "grid units" are object-space lengths divided by h, so sample
+// (i,j,k) lies at grid position (i,j,k) and the trilinear texture coordinate of grid position g is
+// (g + 0.5) / K.
+struct SphereTraceDraw {
+  vec4 gridOriginSpacing;  // xyz: grid origin in object space; w: spacing h
+  uint object;             // index into ObjectData[]
+  uint resolution;         // K samples per axis
+  uint flags;              // HERMITE_FLAG_NORMALS_CENTRAL
+  uint texture;            // slot in the bindless texture table (unused with per-object sets)
+  uint maxSteps;           // sphere-tracing step limit
+  float epsilon;           // stop when |f| < epsilon * h (epsilon in grid units)
+  float centralStep;       // central-difference offset, grid units
+  uint pad0;
+};
+HSDF_CHECK_SIZE(SphereTraceDraw, 16 + 8 * 4);
+
+// Push constants of the sphere-tracing pipelines.
+struct SphereTracePushConstants {
+  DrawPushConstants draw;
+  uint64_t draws;          // address of SphereTraceDraw[]
+};
+HSDF_CHECK_SIZE(SphereTracePushConstants, 32 + 8);
+
 #ifdef __cplusplus
 }  // namespace shader
 #endif

@@ -51,7 +51,7 @@ struct HermiteSdfRenderable {
   std::shared_ptr<const SdfAsset> asset;
   RenderMethod method = RenderMethod::Cells;
   std::uint32_t subdivisions = 3;  // n: equidistant evaluations per cell segment (paper: 2 or 3)
-  std::uint32_t refineSteps = 1;   // regula-falsi steps after the linear interpolation
+  std::uint32_t refineSteps = 1;   // safeguarded Newton steps after the linear interpolation
   NormalMode normals = NormalMode::Exact;
   bool halfPrecision = false;      // fp16 cell records / RGBA16F textures
   glm::vec4 color{0.85f, 0.55f, 0.4f, 1.0f};  // linear base colour

@@ -1,0 +1,47 @@
+// Shading pass of the sphere-tracing baselines, once per pixel: the object's box is rasterized
+// again; a fragment goes on only where this object won the prepass (visibility id), rebuilds the
+// hit from the prepass depth and shades it with the normal the object asks for.
+#include "hermite/sphere_trace_common.glsl"
+#include "shared/lighting.glsl"
+
+layout(set = 0, binding = 0) uniform sampler2D sceneDepth;
+layout(set = 0, binding = 1) uniform usampler2D sceneVisibility;
+
+layout(location = 0) flat in uint inDraw;
+layout(location = 0) out vec4 outColor;
+
+// The evaluation heat map of the Hermite-cell renderer: 0 -> blue, 0.5 -> green, 1 -> red.
+vec3 heat(float x) {
+  x = clamp(x, 0.0, 1.0);
+  return clamp(vec3(2.0 * x - 0.5, 1.0 - abs(2.0 * x - 1.0), 1.5 - 2.0 * x), 0.0, 1.0);
+}
+
+void main() {
+  SphereTraceDraw draw = SphereTraceDrawsRef(pc.draws).draws[inDraw];
+  ivec2 pixel = ivec2(gl_FragCoord.xy);
+  uvec2 visible = texelFetch(sceneVisibility, pixel, 0).xy;
+  if (visible.x != draw.object + 1u) discard;
+  FrameGlobals frame = FrameGlobalsRef(pc.draw.frameGlobals).globals;
+  ObjectData object = ObjectsRef(pc.draw.objects).objects[draw.object];
+
+  float depth = texelFetch(sceneDepth, pixel, 0).r;
+  vec2 ndc = gl_FragCoord.xy * frame.viewport.zw * 2.0 - 1.0;
+  vec4 view = frame.invProj * vec4(ndc, depth, 1.0);
+  vec3 worldPosition = (frame.invView * vec4(view.xyz / view.w, 1.0)).xyz;
+  vec3 g = ((object.invModel * vec4(worldPosition, 1.0)).xyz - draw.gridOriginSpacing.xyz) / draw.gridOriginSpacing.w;
+  vec3 gradient = (draw.flags & HERMITE_FLAG_NORMALS_CENTRAL) != 0u ? centralFieldGradient(draw, g)
+                                                                     : exactFieldGradient(draw, g);
+  vec3 normal = normalize(transpose(mat3(object.invModel)) * gradient);
+
+  vec3 color;
+  if (pc.draw.debugView == DEBUG_VIEW_NORMALS) {
+    color = debugNormalColor(normal);
+  } else if (pc.draw.debugView == DEBUG_VIEW_DEPTH) {
+    color = vec3(depth);
+  } else if (pc.draw.debugView == DEBUG_VIEW_EVALS) {
+    color = heat(float(visible.y) / 64.0);
+  } else {
+    color = shadeSurface(frame, object.color.rgb, object.material.x, worldPosition, normal);
+  }
+  outColor = vec4(color, 1.0);
+}

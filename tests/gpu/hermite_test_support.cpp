@@ -1,0 +1,138 @@
+#include "hermite_test_support.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+
+#include "engine/core/math.h"
+#include "engine/render/components.h"
+#include "engine/scene/gltf_loader.h"
+#include "engine/scene/transform.h"
+#include "hermite_sdf/analytic.h"
+#include "hermite_sdf/field.h"
+#include "hermite_sdf/mesh_source.h"
+
+namespace gputest {
+
+using namespace engine;
+
+std::shared_ptr<const hsdf::SdfAsset> bakeAsset(const std::string& shape, int resolution) {
+  std::unique_ptr<hsdf::SdfSource> source;
+  if (shape == "bunny") {
+    auto data = scene::loadGltf(std::filesystem::path(HSDF_ASSET_DIR) / "bunny.glb");
+    EXPECT_TRUE(data.ok()) << data.error().message;
+    if (!data) return nullptr;
+    auto mesh = hsdf::MeshSource::create(scene::flattenTriangles(*data));
+    EXPECT_TRUE(mesh.ok()) << mesh.error().message;
+    if (!mesh) return nullptr;
+    source = std::move(mesh.value());
+  } else {
+    auto analytic = hsdf::makeAnalyticSource(shape);
+    EXPECT_TRUE(analytic.ok()) << analytic.error().message;
+    if (!analytic) return nullptr;
+    source = std::move(analytic.value());
+  }
+  auto grid = hsdf::fitGrid(source->bounds(), resolution, 1);
+  EXPECT_TRUE(grid.ok()) << grid.error().message;
+  if (!grid) return nullptr;
+  auto field = hsdf::bakeHermiteField(*source, *grid);
+  EXPECT_TRUE(field.ok()) << field.error().message;
+  if (!field) return nullptr;
+  auto asset = hsdf::makeSdfAsset(shape, std::move(field.value()), source->bounds());
+  EXPECT_TRUE(asset.ok()) << asset.error().message;
+  return asset ? asset.value() : nullptr;
+}
+
+ecs::Entity addSdf(ecs::Registry& registry, std::shared_ptr<const hsdf::SdfAsset> asset, hsdf::RenderMethod method,
+                   const glm::mat4& transform, std::uint32_t subdivisions) {
+  const ecs::Entity entity = registry.create();
+  registry.emplace<scene::Transform>(entity);
+  registry.emplace<scene::WorldTransform>(entity, scene::WorldTransform{transform});
+  hsdf::HermiteSdfRenderable renderable;
+  renderable.asset = std::move(asset);
+  renderable.method = method;
+  renderable.subdivisions = subdivisions;
+  registry.emplace<hsdf::HermiteSdfRenderable>(entity, renderable);
+  return entity;
+}
+
+namespace {
+
+double percentile(std::vector<double> values, double p) {
+  if (values.empty()) return 0.0;
+  const std::size_t k = std::min(values.size() - 1, std::size_t(p * double(values.size())));
+  std::nth_element(values.begin(), values.begin() + std::ptrdiff_t(k), values.end());
+  return values[k];
+}
+
+bool neighbourhoodAllEqual(const hsdf::ReferenceImage& ref, int x, int y, bool value) {
+  for (int dy = -1; dy <= 1; ++dy)
+    for (int dx = -1; dx <= 1; ++dx) {
+      const int nx = x + dx, ny = y + dy;
+      if (nx < 0 || ny < 0 || nx >= ref.width || ny >= ref.height) return false;  // image edge counts as edge
+      if ((ref.hit[ref.pixel(nx, ny)] != 0) != value) return false;
+    }
+  return true;
+}
+
+bool allHitsWithin(const hsdf::ReferenceImage& ref, int x, int y, int radius) {
+  for (int dy = -radius; dy <= radius; ++dy)
+    for (int dx = -radius; dx <= radius; ++dx) {
+      const int nx = x + dx, ny = y + dy;
+      if (nx < 0 || ny < 0 || nx >= ref.width || ny >= ref.height || !ref.hit[ref.pixel(nx, ny)]) return false;
+    }
+  return true;
+}
+
+}  // namespace
+
+ImageComparison compareWithReference(const Frame& gpu, const std::vector<std::uint8_t>* normalRgba,
+                                     const hsdf::ReferenceImage& reference, const render::CameraView& camera,
+                                     double spacing) {
+  ImageComparison result;
+  std::vector<double> depthErrors, interiorDepthErrors, normalErrors;
+  for (int y = 0; y < reference.height; ++y) {
+    for (int x = 0; x < reference.width; ++x) {
+      const std::size_t i = reference.pixel(x, y);
+      const bool refHit = reference.hit[i] != 0;
+      const float depth = gpu.depthAt(std::uint32_t(x), std::uint32_t(y));
+      const bool gpuHit = depth > 0.0f;
+      result.referenceHits += refHit;
+      result.gpuHits += gpuHit;
+      if (refHit != gpuHit) {
+        ++result.disagreements;
+        if (refHit && neighbourhoodAllEqual(reference, x, y, true)) ++result.interiorHoles;
+        if (gpuHit && neighbourhoodAllEqual(reference, x, y, false)) ++result.interiorExtras;
+        continue;
+      }
+      if (!refHit) continue;
+      const double gpuDistance = math::depthToViewDistance(depth, camera.znear);
+      const double refDistance = math::depthToViewDistance(reference.depth[i], camera.znear);
+      depthErrors.push_back(std::abs(gpuDistance - refDistance) / spacing);
+      if (allHitsWithin(reference, x, y, 2)) interiorDepthErrors.push_back(depthErrors.back());
+      if (normalRgba) {
+        const std::uint8_t* c = &(*normalRgba)[i * 4];
+        // DEBUG_VIEW_NORMALS writes n * 0.5 + 0.5 into an sRGB target: decode sRGB first.
+        auto linear = [](std::uint8_t v) {
+          const double s = v / 255.0;
+          return s <= 0.04045 ? s / 12.92 : std::pow((s + 0.055) / 1.055, 2.4);
+        };
+        const glm::dvec3 n = glm::normalize(glm::dvec3(linear(c[0]), linear(c[1]), linear(c[2])) * 2.0 - 1.0);
+        const glm::dvec3 r = glm::dvec3(reference.normal[i]);
+        // The shading flips normals facing away from the eye; compare orientation-free.
+        const double cosine = std::min(1.0, std::abs(glm::dot(n, r)));
+        normalErrors.push_back(std::acos(cosine) * 180.0 / 3.14159265358979);
+      }
+    }
+  }
+  result.depthErrorP50 = percentile(depthErrors, 0.5);
+  result.depthErrorP90 = percentile(depthErrors, 0.9);
+  result.depthErrorP99 = percentile(depthErrors, 0.99);
+  result.interiorDepthErrorP99 = percentile(interiorDepthErrors, 0.99);
+  result.depthErrorMax = depthErrors.empty() ? 0.0 : *std::max_element(depthErrors.begin(), depthErrors.end());
+  result.normalErrorP99Degrees = percentile(normalErrors, 0.99);
+  return result;
+}
+
+}  // namespace gputest

@@ -1,0 +1,44 @@
+#pragma once
+// Helpers of the hermite_sdf GPU tests: SDF assets from analytic shapes and the bunny, SDF
+// entities, and the comparison of a GPU frame with the CPU reference ray caster.
+#include <memory>
+#include <string>
+
+#include "gpu_test_support.h"
+#include "hermite_sdf/reference.h"
+#include "hermite_sdf/renderable.h"
+
+namespace gputest {
+
+// Bakes an analytic shape ("sphere", "box", "torus", ...) or "bunny" (samples/assets/bunny.glb)
+// at K samples per axis with one cell of padding. Fails the test on error.
+std::shared_ptr<const hsdf::SdfAsset> bakeAsset(const std::string& shape, int resolution);
+
+engine::ecs::Entity addSdf(engine::ecs::Registry& registry, std::shared_ptr<const hsdf::SdfAsset> asset,
+                           hsdf::RenderMethod method, const glm::mat4& transform = glm::mat4(1.0f),
+                           std::uint32_t subdivisions = 3);
+
+struct ImageComparison {
+  int referenceHits = 0;
+  int gpuHits = 0;
+  int disagreements = 0;          // coverage differs
+  int interiorHoles = 0;          // reference hit, GPU miss, no reference miss among the 8 neighbours
+  int interiorExtras = 0;         // GPU hit, reference miss, no reference hit among the 8 neighbours
+  double depthErrorP50 = 0.0;     // |view distance difference| / h, percentiles over common hits
+  double depthErrorP90 = 0.0;
+  double depthErrorP99 = 0.0;
+  // Over interior hits only (no reference miss within 2 pixels): at a silhouette the ray grazes
+  // the surface and its depth is ill-conditioned (a tiny change of F moves the hit far).
+  double interiorDepthErrorP99 = 0.0;
+  double depthErrorMax = 0.0;
+  double normalErrorP99Degrees = 0.0;
+  double agreement(int pixels) const { return 1.0 - double(disagreements) / double(pixels); }
+};
+
+// Compares GPU depth (and normals decoded from a DEBUG_VIEW_NORMALS frame, if given) with the
+// reference image. `spacing` converts distance errors into cells.
+ImageComparison compareWithReference(const Frame& gpu, const std::vector<std::uint8_t>* normalRgba,
+                                     const hsdf::ReferenceImage& reference, const engine::render::CameraView& camera,
+                                     double spacing);
+
+}  // namespace gputest
