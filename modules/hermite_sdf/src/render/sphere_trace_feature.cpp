@@ -1,0 +1,331 @@
+#include "hermite_sdf/sphere_trace_feature.h"
+
+#include <algorithm>
+#include <cmath>
+#include <string>
+
+#include <imgui.h>
+
+#include "engine/core/log.h"
+#include "engine/core/math.h"
+#include "engine/ecs/registry.h"
+#include "engine/gpu/context.h"
+#include "engine/gpu/vk_check.h"
+#include "engine/render/gpu_scene.h"
+#include "engine/scene/transform.h"
+#include "hermite/hermite_host_device.h"
+#include "render/sphere_trace_textures.h"
+
+namespace hsdf {
+
+static_assert(SphereTraceFeature::kFeatureId == SPHERE_TRACE_FEATURE_ID);
+
+namespace {
+
+constexpr const char* kMethodNames[kTraceMethodCount] = {"trilinear", "hermite"};
+constexpr std::uint32_t kBoxVertices = 36;
+
+bool traceMethod(RenderMethod method, std::uint32_t& out) {
+  if (method == RenderMethod::TrilinearSphereTrace) out = std::uint32_t(TraceMethod::Trilinear);
+  else if (method == RenderMethod::HermiteSphereTrace) out = std::uint32_t(TraceMethod::Hermite);
+  else return false;
+  return true;
+}
+
+// World-space bounds of the object-space box [lo, hi] under an affine transform.
+void transformBounds(const glm::mat4& m, const glm::vec3& lo, const glm::vec3& hi, glm::vec3& outLo, glm::vec3& outHi) {
+  const glm::vec3 center = glm::vec3(m * glm::vec4(0.5f * (lo + hi), 1.0f));
+  const glm::vec3 half = 0.5f * (hi - lo);
+  const glm::mat3 a(m);
+  const glm::vec3 extent = glm::abs(a[0]) * half.x + glm::abs(a[1]) * half.y + glm::abs(a[2]) * half.z;
+  outLo = center - extent;
+  outHi = center + extent;
+}
+
+// Radius around the eye (world units) that the near plane's rectangle can reach, with 1% margin.
+float nearPlaneReach(const engine::render::CameraView& camera) {
+  const float tanX = 1.0f / std::abs(camera.proj[0][0]);
+  const float tanY = 1.0f / std::abs(camera.proj[1][1]);
+  return camera.znear * std::sqrt(1.0f + tanX * tanX + tanY * tanY) * 1.01f;
+}
+
+// Whether the near plane may cut the object's box (then its front faces can be clipped away and
+// it is drawn by its back faces). Conservative for any affine transform: a world distance is at
+// least sigma_min(model) times the object distance, and sigma_min >= 1 / |inverse|_Frobenius.
+bool nearPlaneMayCut(const engine::render::CameraView& camera, const glm::mat4& invModel, const glm::vec3& lo,
+                     const glm::vec3& hi) {
+  const glm::vec3 eye = glm::vec3(invModel * glm::vec4(camera.position, 1.0f));
+  const float objectDistance = glm::length(eye - glm::clamp(eye, lo, hi));
+  const glm::mat3 inverse(invModel);
+  const float frobenius = std::sqrt(glm::dot(inverse[0], inverse[0]) + glm::dot(inverse[1], inverse[1]) +
+                                    glm::dot(inverse[2], inverse[2]));
+  return objectDistance / frobenius <= nearPlaneReach(camera);
+}
+
+}  // namespace
+
+SphereTraceFeature::SphereTraceFeature() = default;
+
+SphereTraceFeature::SphereTraceFeature(Options options) : options_(options) {}
+
+SphereTraceFeature::~SphereTraceFeature() {
+  if (!context_) return;
+  textures_.clear();
+  bindings_.reset();
+  for (VkSampler sampler : samplers_) vkDestroySampler(context_->device(), sampler, nullptr);
+}
+
+engine::Status SphereTraceFeature::initialize(const engine::gpu::Context& context,
+                                              const engine::render::RendererFormats& formats,
+                                              std::uint32_t framesInFlight) {
+  context_ = &context;
+  framesInFlight_ = framesInFlight;
+  ENGINE_TRY(checkFieldFormats(context));
+  const bool bindless = options_.allowBindless && context.capabilities().descriptorIndexing;
+  ENGINE_TRY_ASSIGN(bindings_, FieldTextureBindings::create(context, bindless));
+  stats_.bindless = bindless;
+  createSamplers();
+  drawBuffer_ = engine::render::PerFrameBuffer(context, framesInFlight, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT,
+                                               "sphere trace draws");
+  return createPipelines(formats);
+}
+
+void SphereTraceFeature::createSamplers() {
+  for (std::uint32_t method = 0; method < kTraceMethodCount; ++method) {
+    // Trilinear fields are filtered by the hardware; Hermite fields are only texelFetch'ed.
+    const VkFilter filter = method == std::uint32_t(TraceMethod::Trilinear) ? VK_FILTER_LINEAR : VK_FILTER_NEAREST;
+    VkSamplerCreateInfo info{};
+    info.sType = VK_STRUCTURE_TYPE_SAMPLER_CREATE_INFO;
+    info.magFilter = filter;
+    info.minFilter = filter;
+    info.mipmapMode = VK_SAMPLER_MIPMAP_MODE_NEAREST;
+    info.addressModeU = VK_SAMPLER_ADDRESS_MODE_CLAMP_TO_EDGE;
+    info.addressModeV = VK_SAMPLER_ADDRESS_MODE_CLAMP_TO_EDGE;
+    info.addressModeW = VK_SAMPLER_ADDRESS_MODE_CLAMP_TO_EDGE;
+    info.maxLod = 0.0f;
+    VK_CHECK(vkCreateSampler(context_->device(), &info, nullptr, &samplers_[method]));
+    context_->setName(samplers_[method], VK_OBJECT_TYPE_SAMPLER,
+                      std::string("sphere trace ") + kMethodNames[method] + " sampler");
+  }
+}
+
+engine::Status SphereTraceFeature::createPipelines(const engine::render::RendererFormats& formats) {
+  const std::string suffix = bindings_->bindless() ? "_bindless.frag" : ".frag";
+  ENGINE_TRY_ASSIGN(auto vert, engine::gpu::ShaderModule::load(*context_, "sphere_trace.vert"));
+  for (std::uint32_t method = 0; method < kTraceMethodCount; ++method) {
+    const std::string prefix = std::string("sphere_trace_") + kMethodNames[method];
+    ENGINE_TRY_ASSIGN(auto depthFrag, engine::gpu::ShaderModule::load(*context_, prefix + "_depth" + suffix));
+    ENGINE_TRY_ASSIGN(auto nearFrag, engine::gpu::ShaderModule::load(*context_, prefix + "_depth_near" + suffix));
+    ENGINE_TRY_ASSIGN(auto shadeFrag, engine::gpu::ShaderModule::load(*context_, prefix + "_shade" + suffix));
+
+    engine::gpu::GraphicsPipelineDesc desc;
+    desc.vertex = vert.handle();
+    desc.pushConstantBytes = sizeof(shader::SphereTracePushConstants);
+    desc.setLayouts = {formats.sceneSetLayout, bindings_->layout()};
+    desc.depthFormat = formats.depth;
+    desc.colorFormats = {formats.visibility};
+    desc.depthCompare = VK_COMPARE_OP_GREATER;
+
+    desc.name = std::string("sphere trace ") + kMethodNames[method] + " depth";
+    desc.fragment = depthFrag.handle();
+    desc.cullMode = VK_CULL_MODE_BACK_BIT;
+    ENGINE_TRY_ASSIGN(depthFront_[method], engine::gpu::Pipeline::createGraphics(*context_, desc));
+
+    desc.name = std::string("sphere trace ") + kMethodNames[method] + " depth near";
+    desc.fragment = nearFrag.handle();
+    desc.cullMode = VK_CULL_MODE_FRONT_BIT;
+    ENGINE_TRY_ASSIGN(depthNear_[method], engine::gpu::Pipeline::createGraphics(*context_, desc));
+
+    // Shading: the prepass decided visibility; the box only selects candidate pixels. Its cull
+    // mode follows the object's prepass variant (dynamic state, core in Vulkan 1.3).
+    desc.name = std::string("sphere trace ") + kMethodNames[method] + " shading";
+    desc.fragment = shadeFrag.handle();
+    desc.colorFormats = {formats.color};
+    desc.depthTest = false;
+    desc.depthWrite = false;
+    desc.extraDynamicStates = {VK_DYNAMIC_STATE_CULL_MODE};
+    ENGINE_TRY_ASSIGN(shade_[method], engine::gpu::Pipeline::createGraphics(*context_, desc));
+  }
+  return {};
+}
+
+engine::Expected<SphereTraceFeature::FieldTexture> SphereTraceFeature::uploadTexture(const SdfAsset& asset,
+                                                                                     std::uint32_t method, bool half) {
+  const GridSpec& grid = asset.field.grid;
+  VkPhysicalDeviceProperties properties{};
+  vkGetPhysicalDeviceProperties(context_->physicalDevice(), &properties);
+  if (grid.resolution < 2 || std::uint32_t(grid.resolution) > properties.limits.maxImageDimension3D)
+    return engine::makeError("resolution " + std::to_string(grid.resolution) + " exceeds the device's 3D texture size " +
+                             std::to_string(properties.limits.maxImageDimension3D));
+  ENGINE_TRY_ASSIGN(FieldTexels texels, packFieldTexels(asset.field, TraceMethod(method), half));
+
+  FieldTexture texture;
+  engine::gpu::ImageDesc desc;
+  desc.type = VK_IMAGE_TYPE_3D;
+  desc.format = texels.format;
+  desc.extent = {std::uint32_t(grid.resolution), std::uint32_t(grid.resolution), std::uint32_t(grid.resolution)};
+  desc.usage = VK_IMAGE_USAGE_SAMPLED_BIT | VK_IMAGE_USAGE_TRANSFER_DST_BIT;
+  desc.name = asset.name + " " + kMethodNames[method] + (half ? " fp16" : " fp32") + " field";
+  texture.image = engine::gpu::Image(*context_, desc);
+  engine::gpu::uploadImage(*context_, texture.image, texels.bytes.data(), texels.bytes.size());
+  texture.bytes = texels.bytes.size();
+  ENGINE_TRY_ASSIGN(texture.slot, bindings_->add(texture.image.view(), samplers_[method]));
+  return texture;
+}
+
+const SphereTraceFeature::FieldTexture* SphereTraceFeature::acquireTexture(const SdfAsset& asset, std::uint32_t method,
+                                                                           bool half, std::uint64_t frame) {
+  const TextureKey key{asset.id, method, half};
+  auto found = textures_.find(key);
+  if (found == textures_.end()) {
+    if (failedTextures_.contains(key)) return nullptr;
+    auto uploaded = uploadTexture(asset, method, half);
+    if (!uploaded) {
+      engine::log::error("sphere tracing: '{}' is not drawn: {}", asset.name, uploaded.error().message);
+      failedTextures_.insert(key);
+      return nullptr;
+    }
+    found = textures_.emplace(key, std::move(uploaded.value())).first;
+  }
+  found->second.lastUsedFrame = frame;
+  return &found->second;
+}
+
+// A texture last drawn by frame L is free once frame L + framesInFlight is being prepared: that
+// frame's slot waited for L's fence, and later frames no longer reference the texture.
+void SphereTraceFeature::releaseUnusedTextures(std::uint64_t frame) {
+  for (auto it = textures_.begin(); it != textures_.end();) {
+    if (it->second.lastUsedFrame + framesInFlight_ <= frame) {
+      bindings_->remove(it->second.slot);
+      it = textures_.erase(it);
+    } else {
+      ++it;
+    }
+  }
+}
+
+void SphereTraceFeature::collectDraws(engine::render::FrameContext& frame) {
+  std::vector<shader::SphereTraceDraw> lists[kTraceMethodCount][2];  // [method][near]
+  const engine::math::Frustum frustum = engine::math::extractFrustum(frame.camera.proj * frame.camera.view);
+  frame.registry.view<HermiteSdfRenderable, engine::scene::WorldTransform>().each(
+      [&](engine::ecs::Entity, const HermiteSdfRenderable& r, const engine::scene::WorldTransform& world) {
+        std::uint32_t method = 0;
+        if (!r.asset || !traceMethod(r.method, method)) return;
+        const GridSpec& grid = r.asset->field.grid;
+        const glm::vec3 lo(grid.bounds().min), hi(grid.bounds().max);
+        glm::vec3 worldLo, worldHi;
+        transformBounds(world.matrix, lo, hi, worldLo, worldHi);
+        if (!engine::math::intersects(frustum, worldLo, worldHi)) {
+          ++stats_.culledObjects;
+          return;
+        }
+        const FieldTexture* texture = acquireTexture(*r.asset, method, r.halfPrecision, frame.frameNumber);
+        if (!texture) {
+          ++stats_.skippedObjects;
+          return;
+        }
+        const shader::ObjectData object =
+            engine::render::GpuScene::makeObject(world.matrix, r.color, r.roughness, 0.0f, kFeatureId);
+        shader::SphereTraceDraw draw{};
+        draw.gridOriginSpacing = glm::vec4(lo, float(grid.spacing));
+        draw.object = frame.scene.addObject(object);
+        draw.resolution = std::uint32_t(grid.resolution);
+        draw.flags = r.normals == NormalMode::CentralDifferences ? HERMITE_FLAG_NORMALS_CENTRAL : 0u;
+        draw.texture = texture->slot;
+        draw.maxSteps = std::max(settings_.maxSteps, 1u);
+        draw.epsilon = settings_.epsilon;
+        draw.centralStep = settings_.centralDifferenceStep;
+        const bool near = nearPlaneMayCut(frame.camera, object.invModel, lo, hi);
+        lists[method][near ? 1 : 0].push_back(draw);
+        (method == std::uint32_t(TraceMethod::Trilinear) ? stats_.trilinearObjects : stats_.hermiteObjects)++;
+        stats_.nearObjects += near ? 1u : 0u;
+      });
+
+  // One buffer: [trilinear front][trilinear near][hermite front][hermite near].
+  std::vector<shader::SphereTraceDraw> all;
+  for (std::uint32_t method = 0; method < kTraceMethodCount; ++method) {
+    front_[method] = {std::uint32_t(all.size()), std::uint32_t(lists[method][0].size())};
+    all.insert(all.end(), lists[method][0].begin(), lists[method][0].end());
+    near_[method] = {std::uint32_t(all.size()), std::uint32_t(lists[method][1].size())};
+    all.insert(all.end(), lists[method][1].begin(), lists[method][1].end());
+  }
+  drawSlots_.clear();
+  for (const shader::SphereTraceDraw& draw : all) drawSlots_.push_back(draw.texture);
+  if (!all.empty()) drawBuffer_.upload(frame.frameSlot, all);
+}
+
+void SphereTraceFeature::prepare(engine::render::FrameContext& frame) {
+  const bool bindless = stats_.bindless;
+  stats_ = Stats{};
+  stats_.bindless = bindless;
+  collectDraws(frame);
+  releaseUnusedTextures(frame.frameNumber);
+  stats_.textures = std::uint32_t(textures_.size());
+  for (const auto& [key, texture] : textures_) stats_.textureBytes += texture.bytes;
+}
+
+// Bindless: one instanced draw for the whole range (gl_InstanceIndex = the draw's index).
+// Per-texture sets: each object binds its set and draws its own instance.
+void SphereTraceFeature::recordDraws(VkCommandBuffer cmd, VkPipelineLayout layout, Range range) const {
+  if (range.count == 0) return;
+  if (bindings_->bindless()) {
+    bindings_->bind(cmd, layout, 0);
+    vkCmdDraw(cmd, kBoxVertices, range.count, 0, range.first);
+    return;
+  }
+  for (std::uint32_t i = range.first; i < range.first + range.count; ++i) {
+    bindings_->bind(cmd, layout, drawSlots_[i]);
+    vkCmdDraw(cmd, kBoxVertices, 1, 0, i);
+  }
+}
+
+void SphereTraceFeature::recordMethod(engine::render::PassContext& pass, std::uint32_t method) {
+  if (front_[method].count + near_[method].count == 0) return;
+  VkCommandBuffer cmd = pass.cmd;
+  const bool prepass = pass.pass == engine::render::Pass::DepthPrepass;
+  pass.timer.begin(cmd, std::string(kMethodNames[method]) + (prepass ? " prepass" : " shading"));
+  shader::SphereTracePushConstants push{};
+  push.draw.frameGlobals = pass.frameGlobals;
+  push.draw.objects = pass.objects;
+  push.draw.debugView = pass.frame.debugView;
+  push.draws = drawBuffer_.address(pass.frame.frameSlot);
+  const VkShaderStageFlags stages = VK_SHADER_STAGE_VERTEX_BIT | VK_SHADER_STAGE_FRAGMENT_BIT;
+  if (prepass) {
+    for (const bool near : {false, true}) {
+      const engine::gpu::Pipeline& pipeline = near ? depthNear_[method] : depthFront_[method];
+      vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, pipeline.handle());
+      vkCmdPushConstants(cmd, pipeline.layout(), stages, 0, sizeof(push), &push);
+      recordDraws(cmd, pipeline.layout(), near ? near_[method] : front_[method]);
+    }
+  } else {
+    const engine::gpu::Pipeline& pipeline = shade_[method];
+    vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, pipeline.handle());
+    vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, pipeline.layout(), 0, 1, &pass.sceneSet, 0, nullptr);
+    vkCmdPushConstants(cmd, pipeline.layout(), stages, 0, sizeof(push), &push);
+    vkCmdSetCullMode(cmd, VK_CULL_MODE_BACK_BIT);
+    recordDraws(cmd, pipeline.layout(), front_[method]);
+    vkCmdSetCullMode(cmd, VK_CULL_MODE_FRONT_BIT);
+    recordDraws(cmd, pipeline.layout(), near_[method]);
+  }
+  pass.timer.end(cmd);
+}
+
+void SphereTraceFeature::recordPass(engine::render::PassContext& pass) {
+  for (std::uint32_t method = 0; method < kTraceMethodCount; ++method) recordMethod(pass, method);
+}
+
+void SphereTraceFeature::drawUi() {
+  if (!ImGui::CollapsingHeader("Sphere tracing")) return;
+  float logEpsilon = std::log10(settings_.epsilon);
+  if (ImGui::SliderFloat("log10 epsilon (h)", &logEpsilon, -6.0f, -1.0f, "%.1f"))
+    settings_.epsilon = std::pow(10.0f, logEpsilon);
+  int maxSteps = int(settings_.maxSteps);
+  if (ImGui::SliderInt("max steps", &maxSteps, 1, 2048)) settings_.maxSteps = std::uint32_t(maxSteps);
+  ImGui::SliderFloat("central difference step (h)", &settings_.centralDifferenceStep, 0.01f, 1.0f, "%.2f");
+  ImGui::Text("objects: %u trilinear, %u hermite, %u near, %u culled, %u skipped", stats_.trilinearObjects,
+              stats_.hermiteObjects, stats_.nearObjects, stats_.culledObjects, stats_.skippedObjects);
+  ImGui::Text("textures: %u, %.2f MiB, %s", stats_.textures, double(stats_.textureBytes) / (1024.0 * 1024.0),
+              stats_.bindless ? "bindless" : "per-texture descriptor sets");
+}
+
+}  // namespace hsdf

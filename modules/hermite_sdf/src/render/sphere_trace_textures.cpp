@@ -1,0 +1,311 @@
+#include "render/sphere_trace_textures.h"
+
+#include <algorithm>
+#include <cstring>
+#include <string>
+
+#include "engine/gpu/context.h"
+#include "engine/gpu/vk_check.h"
+#include "hermite_sdf/cells.h"
+
+namespace hsdf {
+
+using engine::Expected;
+using engine::Status;
+
+VkFormat fieldTextureFormat(TraceMethod method, bool halfPrecision) {
+  if (method == TraceMethod::Trilinear) return halfPrecision ? VK_FORMAT_R16_SFLOAT : VK_FORMAT_R32_SFLOAT;
+  return halfPrecision ? VK_FORMAT_R16G16B16A16_SFLOAT : VK_FORMAT_R32G32B32A32_SFLOAT;
+}
+
+namespace {
+
+template <class T>
+void appendScalar(std::vector<std::uint8_t>& bytes, T value) {
+  std::uint8_t raw[sizeof(T)];
+  std::memcpy(raw, &value, sizeof(T));
+  bytes.insert(bytes.end(), raw, raw + sizeof(T));
+}
+
+void appendValue(std::vector<std::uint8_t>& bytes, float value, bool halfPrecision) {
+  if (halfPrecision)
+    appendScalar(bytes, floatToHalf(value));
+  else
+    appendScalar(bytes, value);
+}
+
+}  // namespace
+
+Expected<FieldTexels> packFieldTexels(const HermiteField& field, TraceMethod method, bool halfPrecision) {
+  ENGINE_TRY(validateGrid(field.grid));
+  if (field.samples.size() != field.grid.sampleCount())
+    return engine::makeError("field has " + std::to_string(field.samples.size()) + " samples, its grid needs " +
+                             std::to_string(field.grid.sampleCount()));
+  FieldTexels texels;
+  texels.format = fieldTextureFormat(method, halfPrecision);
+  const std::size_t scalars = method == TraceMethod::Trilinear ? 1 : 4;
+  texels.bytes.reserve(field.samples.size() * scalars * (halfPrecision ? 2 : 4));
+  for (const HermiteSample& s : field.samples) {
+    appendValue(texels.bytes, s.f, halfPrecision);
+    if (method == TraceMethod::Trilinear) continue;
+    appendValue(texels.bytes, s.fx, halfPrecision);
+    appendValue(texels.bytes, s.fy, halfPrecision);
+    appendValue(texels.bytes, s.fz, halfPrecision);
+  }
+  return texels;
+}
+
+Status checkFieldFormats(const engine::gpu::Context& context) {
+  for (const TraceMethod method : {TraceMethod::Trilinear, TraceMethod::Hermite}) {
+    for (const bool half : {false, true}) {
+      const VkFormat format = fieldTextureFormat(method, half);
+      VkFormatProperties properties{};
+      vkGetPhysicalDeviceFormatProperties(context.physicalDevice(), format, &properties);
+      VkFormatFeatureFlags needed = VK_FORMAT_FEATURE_SAMPLED_IMAGE_BIT | VK_FORMAT_FEATURE_TRANSFER_DST_BIT;
+      if (method == TraceMethod::Trilinear) needed |= VK_FORMAT_FEATURE_SAMPLED_IMAGE_FILTER_LINEAR_BIT;
+      if ((properties.optimalTilingFeatures & needed) != needed)
+        return engine::makeError("the device cannot sample" +
+                                 std::string(method == TraceMethod::Trilinear ? " (with linear filtering)" : "") +
+                                 " 3D textures of format " + std::to_string(int(format)));
+    }
+  }
+  return {};
+}
+
+namespace {
+
+VkWriteDescriptorSet imageWrite(VkDescriptorSet set, std::uint32_t element, const VkDescriptorImageInfo& image) {
+  VkWriteDescriptorSet write{};
+  write.sType = VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET;
+  write.dstSet = set;
+  write.dstBinding = 0;
+  write.dstArrayElement = element;
+  write.descriptorCount = 1;
+  write.descriptorType = VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER;
+  write.pImageInfo = &image;
+  return write;
+}
+
+// Slot numbers handed out and taken back; freed numbers are reused first.
+class SlotAllocator {
+ public:
+  std::uint32_t acquire() {
+    if (free_.empty()) return next_++;
+    const std::uint32_t slot = free_.back();
+    free_.pop_back();
+    return slot;
+  }
+  void release(std::uint32_t slot) { free_.push_back(slot); }
+  std::uint32_t highWater() const { return next_; }
+
+ private:
+  std::vector<std::uint32_t> free_;
+  std::uint32_t next_ = 0;
+};
+
+// Descriptor indexing: one set holding an array of combined image samplers; shaders index it with
+// SphereTraceDraw::texture, so all objects of a pass draw with one bind.
+class BindlessTable final : public FieldTextureBindings {
+ public:
+  explicit BindlessTable(const engine::gpu::Context& context) : context_(context) {}
+  ~BindlessTable() override {
+    vkDestroyDescriptorPool(context_.device(), pool_, nullptr);
+    vkDestroyDescriptorSetLayout(context_.device(), layout_, nullptr);
+  }
+
+  Status create() {
+    capacity_ = tableCapacity();
+    VkDescriptorSetLayoutBinding binding{0, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, capacity_,
+                                         VK_SHADER_STAGE_FRAGMENT_BIT, nullptr};
+    // Slots that no texture occupies stay unwritten: allowed because no draw indexes them.
+    const VkDescriptorBindingFlags flags = VK_DESCRIPTOR_BINDING_PARTIALLY_BOUND_BIT;
+    VkDescriptorSetLayoutBindingFlagsCreateInfo bindingFlags{};
+    bindingFlags.sType = VK_STRUCTURE_TYPE_DESCRIPTOR_SET_LAYOUT_BINDING_FLAGS_CREATE_INFO;
+    bindingFlags.bindingCount = 1;
+    bindingFlags.pBindingFlags = &flags;
+    VkDescriptorSetLayoutCreateInfo layoutInfo{};
+    layoutInfo.sType = VK_STRUCTURE_TYPE_DESCRIPTOR_SET_LAYOUT_CREATE_INFO;
+    layoutInfo.pNext = &bindingFlags;
+    layoutInfo.bindingCount = 1;
+    layoutInfo.pBindings = &binding;
+    VK_TRY(vkCreateDescriptorSetLayout(context_.device(), &layoutInfo, nullptr, &layout_));
+    context_.setName(layout_, VK_OBJECT_TYPE_DESCRIPTOR_SET_LAYOUT, "sphere trace bindless layout");
+
+    const VkDescriptorPoolSize size{VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, capacity_};
+    VkDescriptorPoolCreateInfo poolInfo{};
+    poolInfo.sType = VK_STRUCTURE_TYPE_DESCRIPTOR_POOL_CREATE_INFO;
+    poolInfo.maxSets = 1;
+    poolInfo.poolSizeCount = 1;
+    poolInfo.pPoolSizes = &size;
+    VK_TRY(vkCreateDescriptorPool(context_.device(), &poolInfo, nullptr, &pool_));
+    context_.setName(pool_, VK_OBJECT_TYPE_DESCRIPTOR_POOL, "sphere trace bindless pool");
+    VkDescriptorSetAllocateInfo allocInfo{};
+    allocInfo.sType = VK_STRUCTURE_TYPE_DESCRIPTOR_SET_ALLOCATE_INFO;
+    allocInfo.descriptorPool = pool_;
+    allocInfo.descriptorSetCount = 1;
+    allocInfo.pSetLayouts = &layout_;
+    VK_TRY(vkAllocateDescriptorSets(context_.device(), &allocInfo, &set_));
+    context_.setName(set_, VK_OBJECT_TYPE_DESCRIPTOR_SET, "sphere trace bindless textures");
+    return {};
+  }
+
+  bool bindless() const override { return true; }
+  VkDescriptorSetLayout layout() const override { return layout_; }
+
+  Expected<std::uint32_t> add(VkImageView view, VkSampler sampler) override {
+    const std::uint32_t slot = slots_.acquire();
+    if (slot >= capacity_) {
+      slots_.release(slot);
+      return engine::makeError("bindless field texture table is full (" + std::to_string(capacity_) + " textures)");
+    }
+    // Without update-after-bind, a set that pending frames have bound must not be written.
+    context_.waitIdle();
+    const VkDescriptorImageInfo image{sampler, view, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL};
+    const VkWriteDescriptorSet write = imageWrite(set_, slot, image);
+    vkUpdateDescriptorSets(context_.device(), 1, &write, 0, nullptr);
+    return slot;
+  }
+
+  void remove(std::uint32_t slot) override { slots_.release(slot); }
+
+  void bind(VkCommandBuffer cmd, VkPipelineLayout layout, std::uint32_t) const override {
+    vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, layout, 1, 1, &set_, 0, nullptr);
+  }
+
+ private:
+  // Combined image samplers count against the sampler and the sampled-image limits; the scene
+  // set (set 0) uses two of each in the fragment stage.
+  std::uint32_t tableCapacity() const {
+    VkPhysicalDeviceProperties properties{};
+    vkGetPhysicalDeviceProperties(context_.physicalDevice(), &properties);
+    const VkPhysicalDeviceLimits& l = properties.limits;
+    const std::uint32_t limit = std::min({l.maxPerStageDescriptorSampledImages, l.maxPerStageDescriptorSamplers,
+                                          l.maxDescriptorSetSampledImages, l.maxDescriptorSetSamplers,
+                                          l.maxPerStageResources});
+    return std::clamp(limit, 3u, 4098u) - 2u;
+  }
+
+  const engine::gpu::Context& context_;
+  VkDescriptorSetLayout layout_ = VK_NULL_HANDLE;
+  VkDescriptorPool pool_ = VK_NULL_HANDLE;
+  VkDescriptorSet set_ = VK_NULL_HANDLE;
+  std::uint32_t capacity_ = 0;
+  SlotAllocator slots_;
+};
+
+// No descriptor indexing: one set (one combined image sampler) per texture, bound before each
+// draw that uses it. Sets come from pools of kSetsPerPool and are freed individually.
+class PerTextureSets final : public FieldTextureBindings {
+ public:
+  explicit PerTextureSets(const engine::gpu::Context& context) : context_(context) {}
+  ~PerTextureSets() override {
+    for (VkDescriptorPool pool : pools_) vkDestroyDescriptorPool(context_.device(), pool, nullptr);
+    vkDestroyDescriptorSetLayout(context_.device(), layout_, nullptr);
+  }
+
+  Status create() {
+    VkDescriptorSetLayoutBinding binding{0, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, 1, VK_SHADER_STAGE_FRAGMENT_BIT,
+                                         nullptr};
+    VkDescriptorSetLayoutCreateInfo layoutInfo{};
+    layoutInfo.sType = VK_STRUCTURE_TYPE_DESCRIPTOR_SET_LAYOUT_CREATE_INFO;
+    layoutInfo.bindingCount = 1;
+    layoutInfo.pBindings = &binding;
+    VK_TRY(vkCreateDescriptorSetLayout(context_.device(), &layoutInfo, nullptr, &layout_));
+    context_.setName(layout_, VK_OBJECT_TYPE_DESCRIPTOR_SET_LAYOUT, "sphere trace texture layout");
+    return {};
+  }
+
+  bool bindless() const override { return false; }
+  VkDescriptorSetLayout layout() const override { return layout_; }
+
+  Expected<std::uint32_t> add(VkImageView view, VkSampler sampler) override {
+    ENGINE_TRY_ASSIGN(const Entry entry, allocateSet());
+    const VkDescriptorImageInfo image{sampler, view, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL};
+    const VkWriteDescriptorSet write = imageWrite(entry.set, 0, image);
+    vkUpdateDescriptorSets(context_.device(), 1, &write, 0, nullptr);
+    const std::uint32_t slot = slots_.acquire();
+    if (slot >= entries_.size()) entries_.resize(slot + 1);
+    entries_[slot] = entry;
+    return slot;
+  }
+
+  void remove(std::uint32_t slot) override {
+    Entry& entry = entries_.at(slot);
+    VK_CHECK(vkFreeDescriptorSets(context_.device(), entry.pool, 1, &entry.set));
+    entry = Entry{};
+    slots_.release(slot);
+  }
+
+  void bind(VkCommandBuffer cmd, VkPipelineLayout layout, std::uint32_t slot) const override {
+    vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, layout, 1, 1, &entries_.at(slot).set, 0, nullptr);
+  }
+
+ private:
+  static constexpr std::uint32_t kSetsPerPool = 64;
+  struct Entry {
+    VkDescriptorPool pool = VK_NULL_HANDLE;
+    VkDescriptorSet set = VK_NULL_HANDLE;
+  };
+
+  Expected<Entry> allocateSet() {
+    for (VkDescriptorPool pool : pools_)
+      if (VkDescriptorSet set = tryAllocate(pool)) return Entry{pool, set};
+    ENGINE_TRY_ASSIGN(VkDescriptorPool pool, createPool());
+    if (VkDescriptorSet set = tryAllocate(pool)) return Entry{pool, set};
+    return engine::makeError("cannot allocate a field texture descriptor set from a new pool");
+  }
+
+  // A full (or fragmented) pool answers with an error code: then the next pool is tried.
+  VkDescriptorSet tryAllocate(VkDescriptorPool pool) const {
+    VkDescriptorSetAllocateInfo allocInfo{};
+    allocInfo.sType = VK_STRUCTURE_TYPE_DESCRIPTOR_SET_ALLOCATE_INFO;
+    allocInfo.descriptorPool = pool;
+    allocInfo.descriptorSetCount = 1;
+    allocInfo.pSetLayouts = &layout_;
+    VkDescriptorSet set = VK_NULL_HANDLE;
+    if (vkAllocateDescriptorSets(context_.device(), &allocInfo, &set) != VK_SUCCESS) return VK_NULL_HANDLE;
+    context_.setName(set, VK_OBJECT_TYPE_DESCRIPTOR_SET, "sphere trace field texture");
+    return set;
+  }
+
+  Expected<VkDescriptorPool> createPool() {
+    const VkDescriptorPoolSize size{VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, kSetsPerPool};
+    VkDescriptorPoolCreateInfo poolInfo{};
+    poolInfo.sType = VK_STRUCTURE_TYPE_DESCRIPTOR_POOL_CREATE_INFO;
+    poolInfo.flags = VK_DESCRIPTOR_POOL_CREATE_FREE_DESCRIPTOR_SET_BIT;
+    poolInfo.maxSets = kSetsPerPool;
+    poolInfo.poolSizeCount = 1;
+    poolInfo.pPoolSizes = &size;
+    VkDescriptorPool pool = VK_NULL_HANDLE;
+    VK_TRY(vkCreateDescriptorPool(context_.device(), &poolInfo, nullptr, &pool));
+    context_.setName(pool, VK_OBJECT_TYPE_DESCRIPTOR_POOL,
+                     "sphere trace texture pool " + std::to_string(pools_.size()));
+    pools_.push_back(pool);
+    return pool;
+  }
+
+  const engine::gpu::Context& context_;
+  VkDescriptorSetLayout layout_ = VK_NULL_HANDLE;
+  std::vector<VkDescriptorPool> pools_;
+  std::vector<Entry> entries_;  // by slot
+  SlotAllocator slots_;
+};
+
+}  // namespace
+
+Expected<std::unique_ptr<FieldTextureBindings>> FieldTextureBindings::create(const engine::gpu::Context& context,
+                                                                            bool bindless) {
+  if (bindless && !context.capabilities().descriptorIndexing)
+    return engine::makeError("bindless field textures need descriptor indexing, which " +
+                             context.capabilities().deviceName + " lacks");
+  if (bindless) {
+    auto table = std::make_unique<BindlessTable>(context);
+    ENGINE_TRY(table->create());
+    return std::unique_ptr<FieldTextureBindings>(std::move(table));
+  }
+  auto sets = std::make_unique<PerTextureSets>(context);
+  ENGINE_TRY(sets->create());
+  return std::unique_ptr<FieldTextureBindings>(std::move(sets));
+}
+
+}  // namespace hsdf

@@ -1,0 +1,401 @@
+// The sphere-tracing baselines (trilinear and dense Hermite) on lavapipe, each against the CPU
+// reference ray caster of its own interpolant: coverage, holes, depth and normal errors from
+// outside the grid, from inside its bounds and from inside the surface; fp16 textures; normal
+// modes; occlusion with meshes; switching methods at run time; two methods in one frame; a field
+// that cannot become a texture.
+//
+// Depth tolerance. Tracing stops when |f| < eps * h (eps = 1e-4): the stop lies about
+// eps / (|grad F| cos(angle between ray and normal)) cells from the root along the ray. The
+// hardware trilinear filter may quantize its weights to subTexelPrecisionBits (8 on lavapipe),
+// which can move the filtered surface by up to ~2^-9 cells / cos from the exact trilinear surface
+// the reference casts against. Both are allowed per pixel (kToleranceCells); the few pixels where
+// a ray passes within eps of one part of the surface and the reference hits another part behind
+// it are silhouette effects of sphere tracing and are counted, not forbidden.
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+
+#include <gtest/gtest.h>
+
+#include "engine/core/log.h"
+#include "engine/core/math.h"
+#include "engine/render/components.h"
+#include "engine/scene/transform.h"
+#include "hermite_sdf/cells.h"
+#include "hermite_sdf/sphere_trace_feature.h"
+#include "hermite_test_support.h"
+#include "shared/host_device.h"
+
+namespace gputest {
+namespace {
+
+using namespace engine;
+using hsdf::RenderMethod;
+
+constexpr std::uint32_t kSize = 256;
+constexpr int kPixels = int(kSize * kSize);
+constexpr double kEpsilon = 1e-4;  // SphereTraceFeature::Settings default, in cells
+constexpr double kToleranceCells[2] = {4.0 * kEpsilon + 1.0 / 512.0, 4.0 * kEpsilon};  // trilinear, Hermite
+constexpr double kMaxToleranceViolations = 0.001;  // fraction of the pixels both hit
+
+int methodIndex(RenderMethod method) { return method == RenderMethod::TrilinearSphereTrace ? 0 : 1; }
+const char* methodName(RenderMethod method) { return methodIndex(method) == 0 ? "trilinear" : "hermite"; }
+
+hsdf::TrilinearField trilinearOf(const hsdf::HermiteField& field) {
+  hsdf::TrilinearField out;
+  out.grid = field.grid;
+  out.values.reserve(field.samples.size());
+  for (const hsdf::HermiteSample& s : field.samples) out.values.push_back(s.f);
+  return out;
+}
+
+// The field as the fp16 textures hold it.
+hsdf::HermiteField roundedToHalf(const hsdf::HermiteField& field) {
+  hsdf::HermiteField out = field;
+  auto round = [](float v) { return hsdf::halfToFloat(hsdf::floatToHalf(v)); };
+  for (hsdf::HermiteSample& s : out.samples) s = {round(s.f), round(s.fx), round(s.fy), round(s.fz)};
+  return out;
+}
+
+// The reference image of the interpolant `method` draws, for an object placed by `model` (rigid).
+// Hermite casts through the kept cells only: the same hits as all cells (reference.h), faster.
+hsdf::ReferenceImage referenceFor(RenderMethod method, const hsdf::HermiteField& field, const render::CameraView& camera,
+                                  const glm::mat4& model = glm::mat4(1.0f)) {
+  const glm::ivec2 size{int(kSize), int(kSize)};
+  const glm::mat4 objectView = camera.view * model;  // view depth is unchanged by a rigid model
+  auto reference = [&]() -> Expected<hsdf::ReferenceImage> {
+    if (method == RenderMethod::TrilinearSphereTrace)
+      return hsdf::renderReference(trilinearOf(field), objectView, camera.proj, size);
+    ENGINE_TRY_ASSIGN(const hsdf::CellClassification cells, hsdf::classifyCells(field));
+    return hsdf::renderReference(field, objectView, camera.proj, size, &cells);
+  }();
+  EXPECT_TRUE(reference.ok()) << reference.error().message;
+  return reference ? std::move(reference.value()) : hsdf::ReferenceImage{};
+}
+
+// An entity drawing `asset` with `method`, placed by `transform`.
+ecs::Entity addTracedSdf(ecs::Registry& registry, std::shared_ptr<const hsdf::SdfAsset> asset, RenderMethod method,
+                         const glm::mat4& transform = glm::mat4(1.0f)) {
+  const ecs::Entity entity = registry.create();
+  registry.emplace<scene::WorldTransform>(entity, scene::WorldTransform{transform});
+  hsdf::HermiteSdfRenderable renderable;
+  renderable.asset = std::move(asset);
+  renderable.method = method;
+  registry.emplace<hsdf::HermiteSdfRenderable>(entity, renderable);
+  return entity;
+}
+
+render::CameraView orbitCamera(const hsdf::SdfAsset& asset, int view) {
+  const glm::vec3 center(asset.surfaceBounds.center());
+  const float radius = 0.5f * float(glm::length(asset.surfaceBounds.size()));
+  const float yaw = 0.4f + float(view) * 1.57f;
+  const float pitch = (view % 2 == 0) ? 0.35f : -0.5f;
+  return render::CameraView::lookAt(math::orbitEye(center, 1.9f * radius, yaw, pitch), center, 0.9f, 0.01f * radius,
+                                    1.0f);
+}
+
+glm::dvec3 viewForward(const render::CameraView& camera) {
+  return {-camera.view[0][2], -camera.view[1][2], -camera.view[2][2]};
+}
+
+// Pixels both hit whose distance along the ray differs from the reference by more than the
+// tracing tolerance allows there (see the header comment).
+int toleranceViolations(const Frame& gpu, const hsdf::ReferenceImage& reference, const render::CameraView& camera,
+                        double spacing, double toleranceCells, int& commonHits) {
+  const glm::dvec3 forward = viewForward(camera);
+  int violations = 0;
+  commonHits = 0;
+  for (int y = 0; y < reference.height; ++y) {
+    for (int x = 0; x < reference.width; ++x) {
+      const std::size_t i = reference.pixel(x, y);
+      const double depth = gpu.depthAt(std::uint32_t(x), std::uint32_t(y));
+      if (!reference.hit[i] || depth <= 0.0) continue;
+      ++commonHits;
+      const math::Ray ray = math::pixelRay(camera.view, camera.proj, {float(x) + 0.5f, float(y) + 0.5f},
+                                           {reference.width, reference.height});
+      const double along = glm::dot(ray.direction, forward);
+      const double gpuDistance = math::depthToViewDistance(depth, camera.znear) / along;
+      const double refDistance = math::depthToViewDistance(reference.depth[i], camera.znear) / along;
+      const double cosine = std::max(std::abs(glm::dot(glm::dvec3(reference.normal[i]), ray.direction)), 0.02);
+      if (std::abs(gpuDistance - refDistance) > spacing * toleranceCells / cosine) ++violations;
+    }
+  }
+  return violations;
+}
+
+class SphereTraceTest : public GpuTest {
+ protected:
+  void createTraceRenderer(std::uint32_t width, std::uint32_t height) {
+    createRenderer(width, height);
+    const Status added = renderer_->addFeature(std::make_unique<hsdf::SphereTraceFeature>());
+    ASSERT_TRUE(added.ok()) << added.error().message;
+  }
+
+  const hsdf::SphereTraceFeature& feature() const { return *renderer_->feature<hsdf::SphereTraceFeature>(); }
+
+  Frame renderWith(const render::CameraView& camera, std::uint32_t debugView) {
+    render::FrameSettings settings;
+    settings.debugView = debugView;
+    renderer_->renderFrame(registry_, camera, settings);
+    Frame frame;
+    frame.width = renderer_->extent().width;
+    frame.height = renderer_->extent().height;
+    frame.rgba = renderer_->readbackColor();
+    frame.depth = renderer_->readbackDepth();
+    return frame;
+  }
+
+  // Renders the registry's scene (one SDF drawn with `method`), compares it with the reference
+  // of `field` (the interpolant the method must reproduce) and checks it.
+  void expectMatchesReference(RenderMethod method, const hsdf::HermiteField& field, const render::CameraView& camera,
+                              const std::string& label) {
+    SCOPED_TRACE(label);
+    const Frame shaded = renderWith(camera, DEBUG_VIEW_NONE);
+    const Frame normals = renderWith(camera, DEBUG_VIEW_NORMALS);
+    const hsdf::ReferenceImage reference = referenceFor(method, field, camera);
+    const ImageComparison c = compareWithReference(shaded, &normals.rgba, reference, camera, field.grid.spacing);
+    int commonHits = 0;
+    const int violations = toleranceViolations(shaded, reference, camera, field.grid.spacing,
+                                               kToleranceCells[methodIndex(method)], commonHits);
+    std::printf("[ %s ] hits ref %d gpu %d, disagree %d, holes %d, extras %d, depth err p99 %.2e max %.2e cells, "
+                "beyond tolerance %d, normal err p99 %.3f deg\n",
+                label.c_str(), c.referenceHits, c.gpuHits, c.disagreements, c.interiorHoles, c.interiorExtras,
+                c.depthErrorP99, c.depthErrorMax, violations, c.normalErrorP99Degrees);
+    EXPECT_GT(c.referenceHits, 500);
+    EXPECT_GE(c.agreement(kPixels), 0.999);
+    EXPECT_EQ(c.interiorHoles, 0);
+    EXPECT_EQ(c.interiorExtras, 0);
+    EXPECT_LE(violations, kMaxToleranceViolations * commonHits);
+    EXPECT_LT(c.depthErrorP99, 2e-3) << "99% of the pixels within eps / cos(84 deg) cells";
+    EXPECT_LT(c.normalErrorP99Degrees, 2.0);
+  }
+};
+
+// Why: each method must reproduce its own interpolant. The torus has a hole (rays through it
+// graze the inner ring: hundreds of steps) and only ~3 cells across its tube at K = 16, where
+// the trilinear and tricubic surfaces differ by more than the tolerance; a wrong texel-centre
+// mapping would shift the trilinear surface by half a cell.
+TEST_F(SphereTraceTest, EachMethodMatchesItsReferenceFromFourViews) {
+  createTraceRenderer(kSize, kSize);
+  const auto asset = bakeAsset("torus", 16);
+  ASSERT_NE(asset, nullptr);
+  for (const RenderMethod method : {RenderMethod::TrilinearSphereTrace, RenderMethod::HermiteSphereTrace}) {
+    registry_.clear();
+    addTracedSdf(registry_, asset, method);
+    for (int view = 0; view < 4; ++view)
+      expectMatchesReference(method, asset->field, orbitCamera(*asset, view),
+                             std::string(methodName(method)) + " view " + std::to_string(view));
+    EXPECT_EQ(feature().stats().nearObjects, 0u) << "from outside, the front faces are drawn";
+  }
+}
+
+// Why: with the eye inside the grid bounds the front faces lie behind it; only the back-face
+// variant (no conservative depth, ray clipped to the near plane) can draw the object. Inside the
+// tube the ray starts inside the surface and must find where it leaves (steps by -f).
+TEST_F(SphereTraceTest, CameraInsideTheBoundsAndInsideTheSurface) {
+  createTraceRenderer(kSize, kSize);
+  const auto asset = bakeAsset("torus", 16);
+  ASSERT_NE(asset, nullptr);
+  const glm::vec3 center(asset->surfaceBounds.center());
+  const float width = float(asset->surfaceBounds.size().x);
+  // In the hole, looking at the inner ring; then inside the tube (major radius 1), along it.
+  const render::CameraView hole = render::CameraView::lookAt(
+      center + glm::vec3(0.0f, 0.05f, 0.0f), center + glm::vec3(0.5f * width, 0.0f, 0.0f), 1.2f, 1e-3f, 1.0f);
+  const render::CameraView tube = render::CameraView::lookAt(
+      center + glm::vec3(1.0f, 0.0f, 0.0f), center + glm::vec3(1.0f, 0.0f, -1.0f), 1.2f, 1e-3f, 1.0f);
+  for (const RenderMethod method : {RenderMethod::TrilinearSphereTrace, RenderMethod::HermiteSphereTrace}) {
+    registry_.clear();
+    addTracedSdf(registry_, asset, method);
+    expectMatchesReference(method, asset->field, hole, std::string(methodName(method)) + " in the hole");
+    EXPECT_EQ(feature().stats().nearObjects, 1u);
+    expectMatchesReference(method, asset->field, tube, std::string(methodName(method)) + " in the tube");
+  }
+}
+
+// Why: fp16 textures round f and the gradient; the GPU must then match the reference of the
+// rounded field (not of the fp32 one), and the texture must really be half the size.
+TEST_F(SphereTraceTest, HalfPrecisionTexturesMatchTheRoundedField) {
+  createTraceRenderer(kSize, kSize);
+  const auto asset = bakeAsset("torus", 16);
+  ASSERT_NE(asset, nullptr);
+  const hsdf::HermiteField rounded = roundedToHalf(asset->field);
+  const std::uint64_t samples = asset->field.grid.sampleCount();
+  for (const RenderMethod method : {RenderMethod::TrilinearSphereTrace, RenderMethod::HermiteSphereTrace}) {
+    registry_.clear();
+    addTracedSdf(registry_, asset, method);
+    registry_.view<hsdf::HermiteSdfRenderable>().each(
+        [](ecs::Entity, hsdf::HermiteSdfRenderable& r) { r.halfPrecision = true; });
+    expectMatchesReference(method, rounded, orbitCamera(*asset, 1), std::string(methodName(method)) + " fp16");
+    EXPECT_EQ(feature().stats().textureBytes, samples * (methodIndex(method) == 0 ? 2u : 8u));
+  }
+}
+
+// Why: central differences are the paper's default for trilinear fields; they must change the
+// normals (the flag reaches the shader) yet stay close to the exact ones on a smooth shape.
+TEST_F(SphereTraceTest, CentralDifferenceNormalsDifferFromExactOnesButStayClose) {
+  createTraceRenderer(kSize, kSize);
+  const auto asset = bakeAsset("sphere", 12);
+  ASSERT_NE(asset, nullptr);
+  const ecs::Entity entity = addTracedSdf(registry_, asset, RenderMethod::TrilinearSphereTrace);
+  const render::CameraView camera = orbitCamera(*asset, 0);
+  const Frame exact = renderWith(camera, DEBUG_VIEW_NORMALS);
+  registry_.get<hsdf::HermiteSdfRenderable>(entity).normals = hsdf::NormalMode::CentralDifferences;
+  const Frame central = renderWith(camera, DEBUG_VIEW_NORMALS);
+  int covered = 0, changed = 0, far = 0;
+  for (std::size_t i = 0; i < exact.depth.size(); ++i) {
+    if (exact.depth[i] <= 0.0f) continue;
+    ++covered;
+    int largest = 0;
+    for (int c = 0; c < 3; ++c) largest = std::max(largest, std::abs(int(exact.rgba[i * 4 + c]) - int(central.rgba[i * 4 + c])));
+    changed += largest > 2;
+    far += largest > 40;  // about 10 degrees
+  }
+  std::printf("covered %d, normals changed in %d, changed by > ~10 deg in %d\n", covered, changed, far);
+  EXPECT_GT(covered, 5000);
+  EXPECT_GT(changed, covered / 4);
+  EXPECT_LT(far, covered / 100);
+}
+
+// Why: SDF depth comes from gl_FragDepth in the prepass, mesh depth from the rasterizer; the
+// shading pass must then colour each pixel by the surface that won (the SDF's shading discards
+// where the visibility buffer names the mesh, the mesh tests depth EQUAL).
+TEST_F(SphereTraceTest, MeshAndSdfOccludeEachOther) {
+  createTraceRenderer(kSize, kSize);
+  const auto asset = bakeAsset("sphere", 16);
+  ASSERT_NE(asset, nullptr);
+  const ecs::Entity sdf = addTracedSdf(registry_, asset, RenderMethod::HermiteSphereTrace);
+  registry_.get<hsdf::HermiteSdfRenderable>(sdf).color = {1.0f, 0.0f, 0.0f, 1.0f};
+  // A blue square cutting the sphere's cap off at z = 0.6, facing the camera: inside the circle
+  // of radius 0.8 the cap is in front of it, between that circle and the square's edge it hides
+  // the sphere.
+  constexpr double kQuadZ = 0.6, kHalfSide = 0.9;
+  addQuad(glm::vec3(0.0f, 0.0f, float(kQuadZ)), float(2.0 * kHalfSide), {0.0f, 0.0f, 1.0f, 1.0f});
+  scene::updateWorldTransforms(registry_);
+  const render::CameraView camera = render::CameraView::lookAt({0.3f, 0.4f, 4.0f}, glm::vec3(0.0f), 0.9f, 0.01f, 1.0f);
+  const Frame frame = renderWith(camera, DEBUG_VIEW_NONE);
+  const hsdf::ReferenceImage sphere = referenceFor(RenderMethod::HermiteSphereTrace, asset->field, camera);
+
+  int sphereWins = 0, quadWins = 0, wrong = 0;
+  const glm::dvec3 forward = viewForward(camera);
+  for (int y = 0; y < int(kSize); ++y) {
+    for (int x = 0; x < int(kSize); ++x) {
+      const math::Ray ray = math::pixelRay(camera.view, camera.proj, {float(x) + 0.5f, float(y) + 0.5f}, {int(kSize), int(kSize)});
+      const double tQuad = (kQuadZ - ray.origin.z) / ray.direction.z;
+      const glm::dvec3 p = ray.origin + tQuad * ray.direction;
+      const bool quadHit = std::abs(p.x) < kHalfSide && std::abs(p.y) < kHalfSide;
+      const double quadDepth = quadHit ? math::viewDistanceToDepth(tQuad * glm::dot(ray.direction, forward), camera.znear) : 0.0;
+      const double sphereDepth = sphere.depth[sphere.pixel(x, y)];
+      if (quadDepth == 0.0 && sphereDepth == 0.0) continue;
+      // Skip the crossing circle and the edges, where a pixel may go either way.
+      if (quadHit && sphereDepth > 0.0 && std::abs(quadDepth - sphereDepth) < 1e-3 * quadDepth) continue;
+      if (std::abs(std::abs(p.x) - kHalfSide) < 0.02 || std::abs(std::abs(p.y) - kHalfSide) < 0.02) continue;
+      const bool sphereInFront = sphereDepth > quadDepth;
+      const glm::u8vec4 c = frame.pixel(std::uint32_t(x), std::uint32_t(y));
+      const bool looksRed = c.r > c.b, looksBlue = c.b > c.r;
+      const double depth = frame.depthAt(std::uint32_t(x), std::uint32_t(y));
+      const double expected = std::max(quadDepth, sphereDepth);
+      const bool depthOk = std::abs(depth - expected) < 1e-3 * expected;
+      (sphereInFront ? sphereWins : quadWins)++;
+      if (!depthOk || (sphereInFront ? !looksRed : !looksBlue)) ++wrong;
+    }
+  }
+  std::printf("sphere in front %d, square in front %d, wrong %d\n", sphereWins, quadWins, wrong);
+  EXPECT_GT(sphereWins, 3000);
+  EXPECT_GT(quadWins, 3000);
+  EXPECT_LE(wrong, (sphereWins + quadWins) / 1000);
+}
+
+// Why: the component's method is read every frame; switching it must upload the other texture
+// and use the other pipeline (the coarse torus's trilinear and tricubic surfaces differ by far
+// more than the tolerance, so matching each reference proves which one was drawn), and switching
+// to Cells must hand the entity over (this renderer has no cell feature: nothing is drawn).
+TEST_F(SphereTraceTest, SwitchingTheMethodAtRunTime) {
+  createTraceRenderer(kSize, kSize);
+  const auto asset = bakeAsset("torus", 10);
+  ASSERT_NE(asset, nullptr);
+  const ecs::Entity entity = addTracedSdf(registry_, asset, RenderMethod::TrilinearSphereTrace);
+  const render::CameraView camera = orbitCamera(*asset, 0);
+  expectMatchesReference(RenderMethod::TrilinearSphereTrace, asset->field, camera, "before the switch");
+  const Frame trilinear = renderWith(camera, DEBUG_VIEW_NONE);
+
+  registry_.get<hsdf::HermiteSdfRenderable>(entity).method = RenderMethod::HermiteSphereTrace;
+  expectMatchesReference(RenderMethod::HermiteSphereTrace, asset->field, camera, "after the switch");
+  const Frame hermite = renderWith(camera, DEBUG_VIEW_NONE);
+  int moved = 0;
+  for (std::size_t i = 0; i < hermite.depth.size(); ++i)
+    moved += std::abs(hermite.depth[i] - trilinear.depth[i]) > 1e-3f * std::max(hermite.depth[i], trilinear.depth[i]);
+  EXPECT_GT(moved, 1000) << "the two interpolants must differ visibly at K = 10";
+
+  registry_.get<hsdf::HermiteSdfRenderable>(entity).method = RenderMethod::Cells;
+  const Frame cells = renderWith(camera, DEBUG_VIEW_NONE);
+  EXPECT_EQ(std::count(cells.depth.begin(), cells.depth.end(), 0.0f), std::ptrdiff_t(cells.depth.size()));
+  EXPECT_EQ(feature().stats().trilinearObjects + feature().stats().hermiteObjects, 0u);
+}
+
+// Why: one frame may mix methods (the paper's side-by-side comparison); each object must find its
+// own texture, pipeline and visibility id while sharing the frame's draw buffer.
+TEST_F(SphereTraceTest, TwoMethodsSideBySideInOneFrame) {
+  createTraceRenderer(kSize, kSize);
+  const auto asset = bakeAsset("sphere", 12);
+  ASSERT_NE(asset, nullptr);
+  const glm::mat4 left = glm::translate(glm::mat4(1.0f), glm::vec3(-1.2f, 0.0f, 0.0f));
+  const glm::mat4 right = glm::translate(glm::mat4(1.0f), glm::vec3(1.2f, 0.0f, 0.0f));
+  addTracedSdf(registry_, asset, RenderMethod::TrilinearSphereTrace, left);
+  addTracedSdf(registry_, asset, RenderMethod::HermiteSphereTrace, right);
+  const render::CameraView camera = render::CameraView::lookAt({0.0f, 0.5f, 5.0f}, glm::vec3(0.0f), 0.9f, 0.01f, 1.0f);
+  const Frame frame = renderWith(camera, DEBUG_VIEW_NONE);
+  const auto visibility = renderer_->readbackVisibility();
+  const hsdf::ReferenceImage trilinear = referenceFor(RenderMethod::TrilinearSphereTrace, asset->field, camera, left);
+  const hsdf::ReferenceImage hermite = referenceFor(RenderMethod::HermiteSphereTrace, asset->field, camera, right);
+  EXPECT_EQ(feature().stats().trilinearObjects, 1u);
+  EXPECT_EQ(feature().stats().hermiteObjects, 1u);
+
+  int hits[2] = {0, 0}, wrong = 0;
+  std::uint32_t ids[2] = {0, 0};
+  for (int i = 0; i < kPixels; ++i) {
+    const double expected = std::max(trilinear.depth[i], hermite.depth[i]);
+    const double depth = frame.depth[std::size_t(i)];
+    if ((expected > 0.0) != (depth > 0.0) || std::abs(depth - expected) > 1e-4 * expected) ++wrong;
+    if (expected <= 0.0) continue;
+    const int side = trilinear.depth[i] > hermite.depth[i] ? 0 : 1;
+    ++hits[side];
+    if (ids[side] == 0) ids[side] = visibility[std::size_t(i)].x;
+    if (visibility[std::size_t(i)].x != ids[side]) ++wrong;
+  }
+  EXPECT_GT(hits[0], 2000);
+  EXPECT_GT(hits[1], 2000);
+  EXPECT_NE(ids[0], ids[1]);
+  EXPECT_LE(wrong, kPixels / 1000);
+}
+
+// Why: an asset whose samples do not match its grid cannot become a texture; the object must be
+// skipped with an error message (once), while the rest of the scene still renders.
+TEST_F(SphereTraceTest, FieldThatCannotBecomeATextureIsSkipped) {
+  createTraceRenderer(64, 64);
+  const auto good = bakeAsset("sphere", 8);
+  ASSERT_NE(good, nullptr);
+  auto broken = std::make_shared<hsdf::SdfAsset>(*good);
+  broken->id = good->id + 1000000;  // a distinct asset for the texture cache
+  broken->name = "broken";
+  broken->field.samples.resize(10);
+  addTracedSdf(registry_, broken, RenderMethod::TrilinearSphereTrace);
+  addTracedSdf(registry_, good, RenderMethod::HermiteSphereTrace);
+  const render::CameraView camera = render::CameraView::lookAt({0.0f, 0.0f, 4.0f}, glm::vec3(0.0f), 0.9f, 0.01f, 1.0f);
+  std::vector<std::string> errors;
+  log::setSink([&errors](log::Level level, std::string_view message) {
+    if (level == log::Level::Error) errors.emplace_back(message);
+  });
+  for (int frame = 0; frame < 2; ++frame) {
+    const Frame image = renderWith(camera, DEBUG_VIEW_NONE);
+    EXPECT_EQ(feature().stats().skippedObjects, 1u);
+    EXPECT_EQ(feature().stats().hermiteObjects, 1u);
+    EXPECT_GT(std::count_if(image.depth.begin(), image.depth.end(), [](float d) { return d > 0.0f; }), 500);
+  }
+  log::setSink({});
+  ASSERT_EQ(errors.size(), 1u) << "reported once, not every frame";
+  EXPECT_NE(errors[0].find("'broken'"), std::string::npos) << errors[0];
+  EXPECT_NE(errors[0].find("10 samples"), std::string::npos) << errors[0];
+}
+
+}  // namespace
+}  // namespace gputest
