@@ -205,7 +205,8 @@ TEST_F(HermiteCellsTest, MeshPlaneCutsSdfWhereTheReferenceSays) {
       const math::Ray ray = math::pixelRay(camera.view, camera.proj, {float(x) + 0.5f, float(y) + 0.5f}, {int(kSize), int(kSize)});
       const double tPlane = (double(center.y) - ray.origin.y) / ray.direction.y;
       const glm::dvec3 p = ray.origin + tPlane * ray.direction;
-      const bool planeHit = tPlane > 0.0 && std::abs(p.x - center.x) < size / 2 && std::abs(p.z - center.z) < size / 2;
+      const double half = 0.5 * double(size);
+      const bool planeHit = tPlane > 0.0 && std::abs(p.x - double(center.x)) < half && std::abs(p.z - double(center.z)) < half;
       const double planeDistance = planeHit ? tPlane * glm::dot(ray.direction, forward) : 0.0;
       const std::size_t i = reference->pixel(x, y);
       const bool sdfHit = reference->hit[i] != 0;
