@@ -63,7 +63,7 @@ double trueBoundSquared(float boundF, double margin) {
 }
 
 // Lanes with bounds below the threshold; nearest first when `sorted` (worth it only while the
-// bound is still loose: visiting the nearest child first is what tightens it).
+// bound is still loose: testing the nearest candidate first is what tightens it).
 int lanesBelow(const float (&bound)[4], float threshold, bool sorted, int (&order)[4]) {
   int n = 0;
   for (int lane = 0; lane < 4; ++lane) {
@@ -178,6 +178,7 @@ ClosestHit ClosestPointTree::distanceTo(const glm::dvec3& p, std::uint32_t t) co
   return hit;
 }
 
+template <bool kTrackPruned>
 void ClosestPointTree::visitLeaf(const Leaf& leaf, const glm::dvec3& p, const float q[3], double margin,
                                  Search& search) const {
   ClosestHit& hit = search.hit;
@@ -195,7 +196,6 @@ void ClosestPointTree::visitLeaf(const Leaf& leaf, const glm::dvec3& p, const fl
   const int n = lanesBelow(bound, search.threshold, search.threshold == kInfinityF, order);
   for (int k = 0; k < n; ++k) {
     if (!(bound[order[k]] < search.threshold)) continue;  // an earlier lane tightened the threshold
-
     const std::uint32_t t = leaf.first + std::uint32_t(order[k]);
     const TrianglePoint c = closestPointOnTriangle(p, triangles_[t]);
     const double d2 = glm::dot(p - c.point, p - c.point);
@@ -205,16 +205,19 @@ void ClosestPointTree::visitLeaf(const Leaf& leaf, const glm::dvec3& p, const fl
       hit.feature = c.feature;
       hit.triangle = t;
       search.threshold = pruneThreshold(d2, margin);
-    } else {
+    } else if constexpr (kTrackPruned) {
       search.prunedExact = std::min(search.prunedExact, d2);
     }
   }
-  for (std::uint32_t lane = 0; lane < leaf.count; ++lane) {
-    if (!(bound[lane] < search.threshold)) search.prunedFloat = std::min(search.prunedFloat, bound[lane]);
+  if constexpr (kTrackPruned) {
+    for (std::uint32_t lane = 0; lane < leaf.count; ++lane) {
+      if (!(bound[lane] < search.threshold)) search.prunedFloat = std::min(search.prunedFloat, bound[lane]);
+    }
   }
 }
 
-ClosestHit ClosestPointTree::closest(const glm::dvec3& p, double boundSquared) const {
+template <bool kTrackPruned>
+ClosestHit ClosestPointTree::find(const glm::dvec3& p, double boundSquared) const {
   Search search;
   ClosestHit& hit = search.hit;
   hit.distanceSquared = boundSquared;
@@ -233,11 +236,11 @@ ClosestHit ClosestPointTree::closest(const glm::dvec3& p, double boundSquared) c
   while (top > 0) {
     const Entry entry = stack[--top];
     if (!(entry.bound < search.threshold)) {
-      search.prunedFloat = std::min(search.prunedFloat, entry.bound);
+      if constexpr (kTrackPruned) search.prunedFloat = std::min(search.prunedFloat, entry.bound);
       continue;
     }
     if (entry.child < 0) {
-      visitLeaf(leaves_[std::size_t(~entry.child)], p, q, margin, search);
+      visitLeaf<kTrackPruned>(leaves_[std::size_t(~entry.child)], p, q, margin, search);
       continue;
     }
     const Node& node = nodes_[std::size_t(entry.child)];
@@ -252,17 +255,36 @@ ClosestHit ClosestPointTree::closest(const glm::dvec3& p, double boundSquared) c
     }
     float bound[kLanes];
     std::memcpy(bound, &sum, sizeof bound);
-    int order[kLanes];
-    const int n = lanesBelow(bound, search.threshold, search.threshold == kInfinityF, order);
-    for (int lane = 0; lane < node.count; ++lane) {
-      if (!(bound[lane] < search.threshold)) search.prunedFloat = std::min(search.prunedFloat, bound[lane]);
+    if constexpr (kTrackPruned) {
+      for (int lane = 0; lane < node.count; ++lane) {
+        if (!(bound[lane] < search.threshold)) search.prunedFloat = std::min(search.prunedFloat, bound[lane]);
+      }
     }
-    // Farthest first onto the stack, so the nearest child is visited next.
-    for (int k = n; k-- > 0;) stack[top++] = {node.child[order[k]], bound[order[k]]};
+    if (search.threshold == kInfinityF) {
+      // No bound yet: nearest child on top of the stack, so the first leaves tighten it fastest.
+      int order[kLanes];
+      const int n = lanesBelow(bound, search.threshold, true, order);
+      for (int k = n; k-- > 0;) stack[top++] = {node.child[order[k]], bound[order[k]]};
+    } else {
+      // Bounded (the usual, seeded case): order hardly matters, so push without branches.
+      for (int lane = 0; lane < kLanes; ++lane) {
+        stack[top] = {node.child[lane], bound[lane]};
+        top += bound[lane] < search.threshold ? 1 : 0;
+      }
+    }
   }
   if (hit.triangle == UINT32_MAX) hit.distanceSquared = kInfinity;
-  hit.prunedBoundSquared = std::min(search.prunedExact, trueBoundSquared(search.prunedFloat, margin));
+  hit.prunedBoundSquared =
+      kTrackPruned ? std::min(search.prunedExact, trueBoundSquared(search.prunedFloat, margin)) : 0.0;
   return hit;
+}
+
+ClosestHit ClosestPointTree::closest(const glm::dvec3& p, double boundSquared) const {
+  return find<false>(p, boundSquared);
+}
+
+ClosestHit ClosestPointTree::closestOrBound(const glm::dvec3& p, double boundSquared) const {
+  return find<true>(p, boundSquared);
 }
 
 }  // namespace hsdf::mesh

@@ -31,10 +31,12 @@ class ClosestPointTree {
  public:
   explicit ClosestPointTree(const TriangleBvh& bvh);
 
-  // The closest point of the mesh to p among those strictly closer than sqrt(boundSquared). When
-  // there is none (hit.triangle == UINT32_MAX), hit.prunedBoundSquared is a lower bound on the
-  // squared distance from p to the mesh, itself >= boundSquared.
+  // The closest point of the mesh to p among those strictly closer than sqrt(boundSquared)
+  // (hit.triangle == UINT32_MAX when there is none).
   ClosestHit closest(const glm::dvec3& p, double boundSquared) const;
+  // The same, and when there is none, hit.prunedBoundSquared is a lower bound on the squared
+  // distance from p to the mesh, itself >= boundSquared (costs a little more bookkeeping).
+  ClosestHit closestOrBound(const glm::dvec3& p, double boundSquared) const;
 
   // Squared distance from p to triangle t (BVH order) and the closest point on it.
   ClosestHit distanceTo(const glm::dvec3& p, std::uint32_t t) const;
@@ -72,6 +74,9 @@ class ClosestPointTree {
   std::int32_t collapse(const TriangleBvh& bvh, std::uint32_t binaryNode);
   std::int32_t addLeaf(const TriangleBvh& bvh, const BvhNode& binaryLeaf);
   void setLane(Node& node, int lane, const OrientedBox* box) const;
+  template <bool kTrackPruned>
+  ClosestHit find(const glm::dvec3& p, double boundSquared) const;
+  template <bool kTrackPruned>
   void visitLeaf(const Leaf& leaf, const glm::dvec3& p, const float q[3], double margin, Search& search) const;
 
   glm::dvec3 origin_{0.0};  // float coordinates are relative to it (the mesh centre)

@@ -173,7 +173,7 @@ struct MeshSource::Impl {
       seed = mesh::ClosestHit{};
       seed.distanceSquared = bandSquared;
     }
-    mesh::ClosestHit hit = tree.closest(p, seed.distanceSquared);
+    mesh::ClosestHit hit = tree.closestOrBound(p, seed.distanceSquared);
     if (hit.triangle == UINT32_MAX && seed.triangle != UINT32_MAX) hit = seed;
     if (hit.triangle != UINT32_MAX) {
       const double w = windingAt(p, hit, cache);
