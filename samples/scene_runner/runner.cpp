@@ -19,6 +19,7 @@
 #include "engine/scene/transform.h"
 #include "engine/ui/ui_layer.h"
 #include "hermite_sdf/cell_feature.h"
+#include "hermite_sdf/sphere_trace_feature.h"
 #include "sdf_scene.h"
 
 namespace runner {
@@ -152,6 +153,7 @@ Status createApp(const Options& options, App& app) {
   app.renderer = std::make_unique<render::Renderer>(*app.context, render::RendererDesc{}, extent);
   ENGINE_TRY(app.renderer->addFeature(std::make_unique<render::MeshFeature>(*app.pool)));
   ENGINE_TRY(app.renderer->addFeature(std::make_unique<hsdf::HermiteCellFeature>()));
+  ENGINE_TRY(app.renderer->addFeature(std::make_unique<hsdf::SphereTraceFeature>()));
   if (app.window || options.headlessUi) {
     ENGINE_TRY_ASSIGN(app.ui, ui::UiLayer::create(*app.context, app.renderer->desc().formats.color,
                                                   app.renderer->desc().framesInFlight, app.window.get()));
