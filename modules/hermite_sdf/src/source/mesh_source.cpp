@@ -225,7 +225,9 @@ SdfSample MeshSource::sample(const glm::dvec3& p) const { return impl_->sample(p
 Aabb MeshSource::bounds() const { return impl_->bounds; }
 
 void MeshSource::sampleRow(const glm::dvec3& start, const glm::dvec3& step, std::span<SdfSample> out) const {
-  QueryCache cache = freshCache(impl_->id);
+  // The thread's cache, not a fresh one: a bake walks neighbouring rows on the same thread, so the
+  // previous row's start seeds this row's first query.
+  QueryCache& cache = threadCache(impl_->id);
   for (std::size_t i = 0; i < out.size(); ++i) out[i] = impl_->sample(start + double(i) * step, cache);
 }
 
@@ -235,7 +237,7 @@ SdfBandSample MeshSource::sampleBand(const glm::dvec3& p, double band) const {
 
 void MeshSource::sampleBandRow(const glm::dvec3& start, const glm::dvec3& step, double band,
                                std::span<SdfBandSample> out) const {
-  QueryCache cache = freshCache(impl_->id);
+  QueryCache& cache = threadCache(impl_->id);
   for (std::size_t i = 0; i < out.size(); ++i) out[i] = impl_->sampleBand(start + double(i) * step, band, cache);
 }
 
