@@ -70,6 +70,7 @@ ParseResult parseOptions(int argc, const char* const* argv) {
   app.add_option("--debug-view", options.debugView, "none, normals, depth, cells or evals")
       ->check(CLI::IsMember({"none", "normals", "depth", "cells", "evals"}));
   app.add_flag("--side-by-side", options.sideBySide, "keep the mesh and place the SDF beside it");
+  app.add_flag("!--no-front-to-back", options.frontToBack, "cells: submit in storage order, not front to back");
   app.add_option("--view", options.view, "one of 8 fixed orbit views (0..7)")->check(CLI::Range(0, 7));
   std::vector<float> camera;
   app.add_option("--camera", camera, "eye and target: ex,ey,ez,tx,ty,tz")->delimiter(',')->expected(6);

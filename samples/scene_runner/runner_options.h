@@ -36,6 +36,7 @@ struct Options {
   std::string normals = "exact";     // exact | central
   std::string debugView = "none";    // none | normals | depth | cells | evals
   bool sideBySide = false;           // keep the mesh and put the SDF copy beside it
+  bool frontToBack = true;           // cells: submit rows of cells front to back
   std::optional<int> view;           // one of 8 fixed orbit views
   std::optional<std::array<float, 6>> camera;  // eye xyz, target xyz
 };
