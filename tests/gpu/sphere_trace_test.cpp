@@ -368,9 +368,10 @@ TEST_F(SphereTraceTest, TwoMethodsSideBySideInOneFrame) {
   EXPECT_LE(wrong, kPixels / 1000);
 }
 
-// Why: an asset whose samples do not match its grid cannot become a texture; the object must be
-// skipped with an error message (once), while the rest of the scene still renders.
-TEST_F(SphereTraceTest, FieldThatCannotBecomeATextureIsSkipped) {
+// Why: an asset whose samples do not match its grid cannot become a texture, and a zero-scale
+// transform cannot take rays into the grid; those objects must be skipped (the broken asset with
+// one error message naming it, not one per frame) while the rest of the scene still renders.
+TEST_F(SphereTraceTest, BadObjectsAreSkippedAndTheRestRenders) {
   createTraceRenderer(64, 64);
   const auto good = bakeAsset("sphere", 8);
   ASSERT_NE(good, nullptr);
@@ -380,6 +381,7 @@ TEST_F(SphereTraceTest, FieldThatCannotBecomeATextureIsSkipped) {
   broken->field.samples.resize(10);
   addTracedSdf(registry_, broken, RenderMethod::TrilinearSphereTrace);
   addTracedSdf(registry_, good, RenderMethod::HermiteSphereTrace);
+  addTracedSdf(registry_, good, RenderMethod::TrilinearSphereTrace, glm::scale(glm::mat4(1.0f), glm::vec3(0.0f)));
   const render::CameraView camera = render::CameraView::lookAt({0.0f, 0.0f, 4.0f}, glm::vec3(0.0f), 0.9f, 0.01f, 1.0f);
   std::vector<std::string> errors;
   log::setSink([&errors](log::Level level, std::string_view message) {
@@ -387,8 +389,9 @@ TEST_F(SphereTraceTest, FieldThatCannotBecomeATextureIsSkipped) {
   });
   for (int frame = 0; frame < 2; ++frame) {
     const Frame image = renderWith(camera, DEBUG_VIEW_NONE);
-    EXPECT_EQ(feature().stats().skippedObjects, 1u);
+    EXPECT_EQ(feature().stats().skippedObjects, 2u);
     EXPECT_EQ(feature().stats().hermiteObjects, 1u);
+    EXPECT_EQ(feature().stats().trilinearObjects, 0u);
     EXPECT_GT(std::count_if(image.depth.begin(), image.depth.end(), [](float d) { return d > 0.0f; }), 500);
   }
   log::setSink({});

@@ -73,7 +73,8 @@ class SphereTraceFeature final : public engine::render::RenderFeature {
     std::uint32_t hermiteObjects = 0;
     std::uint32_t nearObjects = 0;    // drawn by their back faces
     std::uint32_t culledObjects = 0;  // outside the view frustum
-    std::uint32_t skippedObjects = 0; // field that cannot become a texture (logged once per asset)
+    std::uint32_t skippedObjects = 0; // singular transform, or a field that cannot become a
+                                      // texture (logged once per asset)
     std::uint32_t textures = 0;
     std::uint64_t textureBytes = 0;
     bool bindless = false;

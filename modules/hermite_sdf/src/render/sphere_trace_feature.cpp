@@ -32,6 +32,11 @@ bool traceMethod(RenderMethod method, std::uint32_t& out) {
   return true;
 }
 
+bool invertible(const glm::mat4& m) {
+  const float det = glm::determinant(glm::mat3(m));
+  return std::isfinite(det) && std::abs(det) > 1e-30f && std::isfinite(m[3][0] + m[3][1] + m[3][2]);
+}
+
 // World-space bounds of the object-space box [lo, hi] under an affine transform.
 void transformBounds(const glm::mat4& m, const glm::vec3& lo, const glm::vec3& hi, glm::vec3& outLo, glm::vec3& outHi) {
   const glm::vec3 center = glm::vec3(m * glm::vec4(0.5f * (lo + hi), 1.0f));
@@ -211,6 +216,10 @@ void SphereTraceFeature::collectDraws(engine::render::FrameContext& frame) {
       [&](engine::ecs::Entity, const HermiteSdfRenderable& r, const engine::scene::WorldTransform& world) {
         std::uint32_t method = 0;
         if (!r.asset || !traceMethod(r.method, method)) return;
+        if (!invertible(world.matrix)) {  // the rays could not be taken into the grid
+          ++stats_.skippedObjects;
+          return;
+        }
         const GridSpec& grid = r.asset->field.grid;
         const glm::vec3 lo(grid.bounds().min), hi(grid.bounds().max);
         glm::vec3 worldLo, worldHi;

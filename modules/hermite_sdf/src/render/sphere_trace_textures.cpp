@@ -166,7 +166,12 @@ class BindlessTable final : public FieldTextureBindings {
     return slot;
   }
 
-  void remove(std::uint32_t slot) override { slots_.release(slot); }
+  // The slot's descriptor stays in the table (allowed by PARTIALLY_BOUND: no draw indexes it);
+  // the caller destroys the image next, which pending frames that bound the table must not see.
+  void remove(std::uint32_t slot) override {
+    context_.waitIdle();
+    slots_.release(slot);
+  }
 
   void bind(VkCommandBuffer cmd, VkPipelineLayout layout, std::uint32_t) const override {
     vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, layout, 1, 1, &set_, 0, nullptr);
@@ -174,7 +179,8 @@ class BindlessTable final : public FieldTextureBindings {
 
  private:
   // Combined image samplers count against the sampler and the sampled-image limits; the scene
-  // set (set 0) uses two of each in the fragment stage.
+  // set (set 0) uses two of each in the fragment stage, and attachments count as resources: keep
+  // a margin of 8.
   std::uint32_t tableCapacity() const {
     VkPhysicalDeviceProperties properties{};
     vkGetPhysicalDeviceProperties(context_.physicalDevice(), &properties);
@@ -182,7 +188,7 @@ class BindlessTable final : public FieldTextureBindings {
     const std::uint32_t limit = std::min({l.maxPerStageDescriptorSampledImages, l.maxPerStageDescriptorSamplers,
                                           l.maxDescriptorSetSampledImages, l.maxDescriptorSetSamplers,
                                           l.maxPerStageResources});
-    return std::clamp(limit, 3u, 4098u) - 2u;
+    return std::clamp(limit, 9u, 4104u) - 8u;
   }
 
   const engine::gpu::Context& context_;
