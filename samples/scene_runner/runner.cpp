@@ -76,7 +76,9 @@ Status addSdfObject(const Options& options, const scene::SceneData& data, const 
   } else {
     for (ecs::Entity e : instantiated.renderables) state.registry.remove<render::MeshRenderable>(e);
   }
-  addSdfEntity(state.registry, renderableFromOptions(options, std::move(asset)), offset);
+  hsdf::HermiteSdfRenderable renderable = renderableFromOptions(options, std::move(asset));
+  if (!data.materials.empty()) renderable.color = data.materials.front().baseColor;  // look like the mesh
+  addSdfEntity(state.registry, renderable, offset);
   return {};
 }
 
@@ -153,6 +155,7 @@ Status createApp(const Options& options, App& app) {
   app.renderer = std::make_unique<render::Renderer>(*app.context, render::RendererDesc{}, extent);
   ENGINE_TRY(app.renderer->addFeature(std::make_unique<render::MeshFeature>(*app.pool)));
   ENGINE_TRY(app.renderer->addFeature(std::make_unique<hsdf::HermiteCellFeature>()));
+  app.renderer->feature<hsdf::HermiteCellFeature>()->settings().frontToBack = options.frontToBack;
   ENGINE_TRY(app.renderer->addFeature(std::make_unique<hsdf::SphereTraceFeature>()));
   if (app.window || options.headlessUi) {
     ENGINE_TRY_ASSIGN(app.ui, ui::UiLayer::create(*app.context, app.renderer->desc().formats.color,
