@@ -162,9 +162,9 @@ Status createApp(const Options& options, App& app) {
                                                   app.renderer->desc().framesInFlight, app.window.get()));
     app.ui->addPanel("view", [&app] {
       ImGui::Text("%s", app.context->capabilities().deviceName.c_str());
-      static const char* views[] = {"shaded", "normals", "depth", "cells", "evaluations"};
+      static const char* views[] = {"shaded", "normals", "depth", "cells", "evaluations", "cell boxes"};
       int view = int(app.debugView);
-      if (ImGui::Combo("debug view", &view, views, 5)) app.debugView = std::uint32_t(view);
+      if (ImGui::Combo("debug view", &view, views, 6)) app.debugView = std::uint32_t(view);
       if (ImGui::CollapsingHeader("GPU timings", ImGuiTreeNodeFlags_DefaultOpen))
         for (const gpu::GpuTiming& t : app.renderer->lastTimings()) ImGui::Text("%-14s %8.3f ms", t.name.c_str(), t.milliseconds);
     });

@@ -33,6 +33,7 @@ std::uint32_t debugViewIndex(const std::string& name) {
   if (name == "depth") return DEBUG_VIEW_DEPTH;
   if (name == "cells") return DEBUG_VIEW_CELLS;
   if (name == "evals") return DEBUG_VIEW_EVALS;
+  if (name == "wireframe") return DEBUG_VIEW_WIREFRAME;
   return DEBUG_VIEW_NONE;
 }
 
@@ -67,8 +68,8 @@ ParseResult parseOptions(int argc, const char* const* argv) {
   app.add_flag("--fp16", options.fp16, "half-precision cell records / textures");
   app.add_option("--normals", options.normals, "exact or central (differences)")
       ->check(CLI::IsMember({"exact", "central"}));
-  app.add_option("--debug-view", options.debugView, "none, normals, depth, cells or evals")
-      ->check(CLI::IsMember({"none", "normals", "depth", "cells", "evals"}));
+  app.add_option("--debug-view", options.debugView, "none, normals, depth, cells, evals or wireframe")
+      ->check(CLI::IsMember({"none", "normals", "depth", "cells", "evals", "wireframe"}));
   app.add_flag("--side-by-side", options.sideBySide, "keep the mesh and place the SDF beside it");
   app.add_flag("!--no-front-to-back", options.frontToBack, "cells: submit in storage order, not front to back");
   app.add_option("--view", options.view, "one of 8 fixed orbit views (0..7)")->check(CLI::Range(0, 7));

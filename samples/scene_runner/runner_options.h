@@ -34,7 +34,7 @@ struct Options {
   std::uint32_t refine = 1;
   bool fp16 = false;
   std::string normals = "exact";     // exact | central
-  std::string debugView = "none";    // none | normals | depth | cells | evals
+  std::string debugView = "none";    // none | normals | depth | cells | evals | wireframe
   bool sideBySide = false;           // keep the mesh and put the SDF copy beside it
   bool frontToBack = true;           // cells: submit rows of cells front to back
   std::optional<int> view;           // one of 8 fixed orbit views

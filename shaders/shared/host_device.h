@@ -29,6 +29,7 @@ using uint64_t = std::uint64_t;
 #define DEBUG_VIEW_DEPTH 2
 #define DEBUG_VIEW_CELLS 3
 #define DEBUG_VIEW_EVALS 4
+#define DEBUG_VIEW_WIREFRAME 5  // shaded, with the boxes of drawn cells outlined
 
 // Per frame: camera and light. One record per frame in flight.
 struct FrameGlobals {

@@ -3,6 +3,8 @@
 // inside the grid bounds and from inside a cell; occlusion with meshes; many instances.
 #include <cmath>
 #include <chrono>
+#include <cstring>
+#include <set>
 #include <cstdio>
 #include <cstdlib>
 #include <string>
@@ -272,6 +274,50 @@ TEST_F(HermiteCellsTest, SixtyFourInstancesInOneDrawMatchSeparateFrames) {
   }
   EXPECT_GT(covered, int(size * size) / 10);
   EXPECT_EQ(different, 0);
+}
+
+}  // namespace
+}  // namespace gputest
+
+namespace gputest {
+namespace {
+
+// Why: the debug views are how a user inspects the method; each must show what it claims:
+// cells in distinct colours, an evaluation heat map that varies, and the boxes' edges.
+TEST_F(HermiteCellsTest, DebugViewsShowCellsEvaluationsAndBoxes) {
+  constexpr std::uint32_t size = 128;
+  createCellRenderer(size, size);
+  const auto asset = bakeAsset("bunny", 16);
+  ASSERT_NE(asset, nullptr);
+  addSdf(registry_, asset, hsdf::RenderMethod::Cells);
+  const render::CameraView camera = orbitCamera(*asset, 0);
+  const Frame shaded = renderWith(camera, DEBUG_VIEW_NONE);
+  auto colours = [&](const Frame& frame) {
+    std::set<std::uint32_t> distinct;
+    int changed = 0;
+    for (std::size_t i = 0; i < frame.depth.size(); ++i) {
+      if (shaded.depth[i] == 0.0f) continue;
+      const std::uint8_t* c = &frame.rgba[i * 4];
+      distinct.insert(std::uint32_t(c[0]) << 16 | std::uint32_t(c[1]) << 8 | c[2]);
+      changed += std::memcmp(c, &shaded.rgba[i * 4], 3) != 0;
+    }
+    return std::pair<std::size_t, int>(distinct.size(), changed);
+  };
+  const auto [cellColours, cellChanged] = colours(renderWith(camera, DEBUG_VIEW_CELLS));
+  EXPECT_GT(cellColours, 50u) << "each visible cell gets its own colour";
+  EXPECT_GT(cellChanged, 1000);
+  const auto [heatColours, heatChanged] = colours(renderWith(camera, DEBUG_VIEW_EVALS));
+  EXPECT_GT(heatColours, 5u) << "the heat map varies with the work per pixel";
+  EXPECT_GT(heatChanged, 1000);
+
+  const Frame wire = renderWith(camera, DEBUG_VIEW_WIREFRAME);
+  int edgePixels = 0;
+  for (std::size_t i = 0; i < wire.depth.size(); ++i) {
+    const std::uint8_t* c = &wire.rgba[i * 4];
+    edgePixels += c[0] > 230 && c[1] > 200 && c[2] < 150 && std::memcmp(c, &shaded.rgba[i * 4], 3) != 0;
+  }
+  EXPECT_GT(edgePixels, 200) << "box edges drawn over the surface";
+  EXPECT_EQ(wire.depth, shaded.depth) << "debug views do not change depth";
 }
 
 }  // namespace

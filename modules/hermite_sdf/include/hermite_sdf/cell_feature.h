@@ -25,6 +25,7 @@
 #include "engine/render/per_frame_buffer.h"
 #include "engine/render/render_feature.h"
 #include "hermite_sdf/renderable.h"
+#include "hermite/hermite_host_device.h"
 
 namespace hsdf {
 
@@ -63,6 +64,9 @@ class HermiteCellFeature final : public engine::render::RenderFeature {
   void buildDraws(engine::render::FrameContext& frame);
   void ensureCounters(engine::render::FrameContext& frame);
   void recordBatch(engine::render::PassContext& pass, int precision, bool near);
+  void recordWireframe(engine::render::PassContext& pass, int precision);
+  void recordIndirect(VkCommandBuffer cmd, const engine::gpu::Pipeline& pipeline, shader::HermitePushConstants push,
+                      std::uint32_t frameSlot, std::uint32_t first, std::uint32_t count);
   void recordResolve(engine::render::PassContext& pass);
 
   const engine::gpu::Context* context_ = nullptr;
@@ -72,6 +76,7 @@ class HermiteCellFeature final : public engine::render::RenderFeature {
   engine::gpu::Pipeline depthFront_[2];
   engine::gpu::Pipeline depthNear_[2];
   engine::gpu::Pipeline resolve_;
+  engine::gpu::Pipeline wire_[2];  // DEBUG_VIEW_WIREFRAME: the boxes' edges
   std::unique_ptr<struct CellBuffers> buffers_;
   engine::render::PerFrameBuffer drawData_;
   engine::render::PerFrameBuffer indirect_;

@@ -85,6 +85,8 @@ engine::Status HermiteCellFeature::initialize(const engine::gpu::Context& contex
   ENGINE_TRY_ASSIGN(auto depthFrag, engine::gpu::ShaderModule::load(context, "cells_depth.frag"));
   ENGINE_TRY_ASSIGN(auto nearFrag, engine::gpu::ShaderModule::load(context, "cells_depth_near.frag"));
   ENGINE_TRY_ASSIGN(auto fullscreen, engine::gpu::ShaderModule::load(context, "fullscreen.vert"));
+  ENGINE_TRY_ASSIGN(auto wireVert, engine::gpu::ShaderModule::load(context, "cells_wire.vert"));
+  ENGINE_TRY_ASSIGN(auto wireFrag, engine::gpu::ShaderModule::load(context, "cells_wire.frag"));
   ENGINE_TRY_ASSIGN(auto resolveFrag, engine::gpu::ShaderModule::load(context, "cells_resolve.frag"));
 
   for (int precision = 0; precision < 2; ++precision) {
@@ -106,6 +108,19 @@ engine::Status HermiteCellFeature::initialize(const engine::gpu::Context& contex
     desc.fragment = nearFrag.handle();
     desc.cullMode = VK_CULL_MODE_FRONT_BIT;
     ENGINE_TRY_ASSIGN(depthNear_[precision], Pipeline::createGraphics(context, desc));
+
+    // Wireframe: edges over the shaded frame, hidden where the surface is in front of them.
+    engine::gpu::GraphicsPipelineDesc wire = desc;
+    wire.name = "hermite cells wireframe" + suffix;
+    wire.vertex = wireVert.handle();
+    wire.fragment = wireFrag.handle();
+    wire.topology = VK_PRIMITIVE_TOPOLOGY_LINE_LIST;
+    std::erase_if(wire.vertexLayout.attributes, [](const auto& a) { return a.location != 8; });  // coordinates only
+    wire.cullMode = VK_CULL_MODE_NONE;
+    wire.colorFormats = {formats.color};
+    wire.depthWrite = false;
+    wire.depthCompare = VK_COMPARE_OP_GREATER_OR_EQUAL;
+    ENGINE_TRY_ASSIGN(wire_[precision], Pipeline::createGraphics(context, wire));
   }
   // Shading: one full-screen triangle; which pixels are ours comes from the visibility buffer.
   engine::gpu::GraphicsPipelineDesc resolve;
@@ -302,7 +317,12 @@ void HermiteCellFeature::recordBatch(engine::render::PassContext& pass, int prec
   push.draw.debugView = pass.frame.debugView;
   push.draws = drawData_.address(pass.frame.frameSlot);
   push.counters = countersActive_ ? counters_.address() : 0;
-  const VkBuffer indirect = indirect_.buffer(pass.frame.frameSlot).handle();
+  recordIndirect(cmd, pipeline, push, pass.frame.frameSlot, first, count);
+}
+
+void HermiteCellFeature::recordIndirect(VkCommandBuffer cmd, const Pipeline& pipeline, shader::HermitePushConstants push,
+                                        std::uint32_t frameSlot, std::uint32_t first, std::uint32_t count) {
+  const VkBuffer indirect = indirect_.buffer(frameSlot).handle();
   constexpr auto stride = static_cast<std::uint32_t>(sizeof(VkDrawIndirectCommand));
   const VkShaderStageFlags stages = VK_SHADER_STAGE_VERTEX_BIT | VK_SHADER_STAGE_FRAGMENT_BIT;
   if (multiDraw_) {
@@ -316,6 +336,21 @@ void HermiteCellFeature::recordBatch(engine::render::PassContext& pass, int prec
     vkCmdPushConstants(cmd, pipeline.layout(), stages, 0, sizeof(push), &push);
     vkCmdDrawIndirect(cmd, indirect, VkDeviceSize(first + i) * stride, 1, stride);
   }
+}
+
+void HermiteCellFeature::recordWireframe(engine::render::PassContext& pass, int precision) {
+  const Batch& batch = *batches_[precision];
+  if (batch.frontCount == 0) return;
+  VkCommandBuffer cmd = pass.cmd;
+  vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, wire_[precision].handle());
+  const VkBuffer vertexBuffer = buffers_->records[precision].handle();
+  const VkDeviceSize offset = 0;
+  vkCmdBindVertexBuffers(cmd, 0, 1, &vertexBuffer, &offset);
+  shader::HermitePushConstants push{};
+  push.draw.frameGlobals = pass.frameGlobals;
+  push.draw.objects = pass.objects;
+  push.draws = drawData_.address(pass.frame.frameSlot);
+  recordIndirect(cmd, wire_[precision], push, pass.frame.frameSlot, batch.frontFirst, batch.frontCount);
 }
 
 void HermiteCellFeature::recordResolve(engine::render::PassContext& pass) {
@@ -337,6 +372,8 @@ void HermiteCellFeature::recordPass(engine::render::PassContext& pass) {
   if (pass.pass == engine::render::Pass::Opaque) {
     pass.timer.begin(pass.cmd, "cells shading");
     recordResolve(pass);
+    if (pass.frame.debugView == DEBUG_VIEW_WIREFRAME)
+      for (int precision = 0; precision < 2; ++precision) recordWireframe(pass, precision);
     pass.timer.end(pass.cmd);
     return;
   }

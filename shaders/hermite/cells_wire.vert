@@ -1,0 +1,28 @@
+#version 460
+// Box wireframe debug view of the Hermite cells: the 12 edges of each drawn cell as a line list.
+// It is drawn with the same indirect commands as the boxes (36 vertices per instance), so the
+// last 12 vertices are sent outside the clip volume.
+#extension GL_GOOGLE_include_directive : require
+#include "hermite/hermite_host_device.h"
+
+layout(push_constant, scalar) uniform Push { HermitePushConstants pc; };
+layout(buffer_reference, scalar) readonly buffer HermiteDrawsRef { HermiteDraw draws[]; };
+
+layout(location = 8) in uvec4 inCell;
+
+// Corner (x + 2y + 4z) of each endpoint: edges along x, then y, then z.
+const int kEdgeCorners[24] = int[24](0, 1, 2, 3, 4, 5, 6, 7, 0, 2, 1, 3, 4, 6, 5, 7, 0, 4, 1, 5, 2, 6, 3, 7);
+
+void main() {
+  if (gl_VertexIndex >= 24) {
+    gl_Position = vec4(2.0, 2.0, 2.0, 1.0);  // outside: clipped away
+    return;
+  }
+  HermiteDraw draw = HermiteDrawsRef(pc.draws).draws[pc.drawBase + gl_DrawID];
+  ObjectData object = ObjectsRef(pc.draw.objects).objects[draw.object];
+  FrameGlobals frame = FrameGlobalsRef(pc.draw.frameGlobals).globals;
+  int corner = kEdgeCorners[gl_VertexIndex];
+  vec3 local = vec3(corner & 1, (corner >> 1) & 1, corner >> 2);
+  vec3 objectPosition = draw.gridOriginSpacing.xyz + draw.gridOriginSpacing.w * (vec3(inCell.xyz) + local);
+  gl_Position = frame.viewProj * (object.model * vec4(objectPosition, 1.0));
+}
