@@ -35,3 +35,6 @@ hsdf_runtime_env() {
     chmod 700 "$XDG_RUNTIME_DIR"
   fi
 }
+
+# Optional, not installed by these scripts: libopenvdb-dev and libboost-iostreams-dev for the
+# OpenVDB comparison in the CPU benchmarks (-DHSDF_WITH_OPENVDB=ON, see docs/perf/cpu.md).
