@@ -48,7 +48,14 @@ void GpuTest::createRenderer(std::uint32_t width, std::uint32_t height) {
 
 Frame GpuTest::render(const render::CameraView& camera, std::uint32_t frames) {
   scene::updateWorldTransforms(registry_);
-  for (std::uint32_t i = 0; i < frames; ++i) renderer_->renderFrame(registry_, camera);
+  for (std::uint32_t i = 1; i < frames; ++i) renderer_->renderFrame(registry_, camera);
+  return renderWith(camera, 0);
+}
+
+Frame GpuTest::renderWith(const render::CameraView& camera, std::uint32_t debugView) {
+  render::FrameSettings settings;
+  settings.debugView = debugView;
+  renderer_->renderFrame(registry_, camera, settings);
   Frame frame;
   frame.width = renderer_->extent().width;
   frame.height = renderer_->extent().height;

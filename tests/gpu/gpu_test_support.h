@@ -35,8 +35,11 @@ class GpuTest : public ::testing::Test {
   void SetUp() override;
   void TearDown() override;  // fails the test on any validation message
 
-  // Renders `frames` frames of the registry's scene and reads the last one back.
+  // Resolves the transform hierarchy, renders `frames` frames and reads the last one back.
   Frame render(const engine::render::CameraView& camera, std::uint32_t frames = 1);
+  // Renders one frame with a debug view (DEBUG_VIEW_*) as the registry stands (WorldTransforms
+  // are used as they are) and reads it back.
+  Frame renderWith(const engine::render::CameraView& camera, std::uint32_t debugView);
   // An axis-aligned square of side `size` in the plane z = center.z, facing +Z.
   engine::ecs::Entity addQuad(const glm::vec3& center, float size, const glm::vec4& color);
 

@@ -52,18 +52,6 @@ class HermiteCellsTest : public GpuTest {
     ASSERT_TRUE(added.ok()) << added.error().message;
   }
 
-  Frame renderWith(const render::CameraView& camera, std::uint32_t debugView) {
-    render::FrameSettings settings;
-    settings.debugView = debugView;
-    renderer_->renderFrame(registry_, camera, settings);
-    Frame frame;
-    frame.width = renderer_->extent().width;
-    frame.height = renderer_->extent().height;
-    frame.rgba = renderer_->readbackColor();
-    frame.depth = renderer_->readbackDepth();
-    return frame;
-  }
-
   // Renders `asset` from `camera` and compares with the reference; returns the comparison.
   ImageComparison compareView(const hsdf::SdfAsset& asset, const render::CameraView& camera, const char* label) {
     const auto start = std::chrono::steady_clock::now();

@@ -133,18 +133,6 @@ class SphereTraceTest : public GpuTest {
 
   const hsdf::SphereTraceFeature& feature() const { return *renderer_->feature<hsdf::SphereTraceFeature>(); }
 
-  Frame renderWith(const render::CameraView& camera, std::uint32_t debugView) {
-    render::FrameSettings settings;
-    settings.debugView = debugView;
-    renderer_->renderFrame(registry_, camera, settings);
-    Frame frame;
-    frame.width = renderer_->extent().width;
-    frame.height = renderer_->extent().height;
-    frame.rgba = renderer_->readbackColor();
-    frame.depth = renderer_->readbackDepth();
-    return frame;
-  }
-
   // Renders the registry's scene (one SDF drawn with `method`), compares it with the reference
   // of `field` (the interpolant the method must reproduce) and checks it.
   void expectMatchesReference(RenderMethod method, const hsdf::HermiteField& field, const render::CameraView& camera,
