@@ -1,12 +1,15 @@
 // Fuzz target: arbitrary bytes through the glTF importer (GLB container checks, JSON sanitising,
-// tinygltf, accessor/node validation, triangle flattening). Any result is fine; a crash, hang,
-// sanitizer report or runaway allocation is a bug. No base directory is given, so the importer
-// never touches the file system.
+// tinygltf, accessor/node validation, triangle flattening). An error is a fine answer; a crash,
+// hang, sanitizer report or runaway allocation is a bug, and so is an accepted scene that breaks
+// the importer's promises (indices in range, one normal per position, finite positions, parents
+// before children). No base directory is given, so the importer never touches the file system.
+#include <cmath>
 #include <cstddef>
 #include <cstdint>
 #include <span>
 
 #include "engine/core/log.h"
+#include "fuzz_check.h"
 #include "engine/scene/gltf_loader.h"
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
@@ -17,6 +20,20 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   }();
   (void)quiet;
   const auto scene = engine::scene::loadGltfFromMemory(std::span<const std::uint8_t>(data, size), "fuzz-input", {});
-  if (scene.ok()) (void)engine::scene::flattenTriangles(*scene);
+  if (!scene.ok()) return 0;
+  for (const auto& mesh : scene->meshes) {
+    for (const auto& primitive : mesh.primitives) {
+      FUZZ_CHECK(primitive.normals.size() == primitive.positions.size());
+      FUZZ_CHECK(primitive.indices.size() % 3 == 0);
+      for (std::uint32_t index : primitive.indices) FUZZ_CHECK(index < primitive.positions.size());
+      for (const auto& p : primitive.positions) FUZZ_CHECK(std::isfinite(p.x) && std::isfinite(p.y) && std::isfinite(p.z));
+    }
+  }
+  for (std::size_t n = 0; n < scene->nodes.size(); ++n) {
+    FUZZ_CHECK(scene->nodes[n].parent < int(n));
+    FUZZ_CHECK(scene->nodes[n].mesh < int(scene->meshes.size()));
+  }
+  const engine::scene::TriangleSoup soup = engine::scene::flattenTriangles(*scene);
+  for (std::uint32_t index : soup.indices) FUZZ_CHECK(index < soup.positions.size());
   return 0;
 }
