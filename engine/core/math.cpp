@@ -124,4 +124,13 @@ bool intersects(const Frustum& frustum, const glm::vec3& aabbMin, const glm::vec
   return true;
 }
 
+void transformBounds(const glm::mat4& m, const glm::vec3& lo, const glm::vec3& hi, glm::vec3& outLo, glm::vec3& outHi) {
+  const glm::vec3 center = glm::vec3(m * glm::vec4(0.5f * (lo + hi), 1.0f));
+  const glm::vec3 half = 0.5f * (hi - lo);
+  const glm::mat3 a(m);
+  const glm::vec3 extent = glm::abs(a[0]) * half.x + glm::abs(a[1]) * half.y + glm::abs(a[2]) * half.z;
+  outLo = center - extent;
+  outHi = center + extent;
+}
+
 }  // namespace engine::math

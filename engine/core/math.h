@@ -51,6 +51,9 @@ struct Frustum {
 // Planes of viewProj = proj * view (reverse-Z: the near plane is clip z <= w). Normals are unit length.
 Frustum extractFrustum(const glm::mat4& viewProj);
 
+// World-space bounds of the box [lo, hi] under an affine transform (tight for the box's image).
+void transformBounds(const glm::mat4& m, const glm::vec3& lo, const glm::vec3& hi, glm::vec3& outLo, glm::vec3& outHi);
+
 // False only if the box lies entirely outside one plane. Conservative: a box near a frustum corner
 // may be reported as intersecting although it is outside.
 bool intersects(const Frustum& frustum, const glm::vec3& aabbMin, const glm::vec3& aabbMax);

@@ -1,5 +1,7 @@
 #include "engine/render/camera_view.h"
 
+#include <cmath>
+
 #include "engine/core/math.h"
 
 namespace engine::render {
@@ -14,6 +16,12 @@ CameraView CameraView::lookAt(const glm::vec3& eye, const glm::vec3& target, flo
   c.znear = znear;
   c.fovY = fovY;
   return c;
+}
+
+float CameraView::nearPlaneReach() const {
+  const float tanX = 1.0f / std::abs(proj[0][0]);
+  const float tanY = 1.0f / std::abs(proj[1][1]);
+  return znear * std::sqrt(1.0f + tanX * tanX + tanY * tanY) * 1.01f;
 }
 
 CameraView CameraView::fromWorld(const glm::mat4& world, float fovY, float znear, float aspect) {

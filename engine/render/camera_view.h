@@ -11,6 +11,10 @@ struct CameraView {
   float znear = 0.05f;
   float fovY = 0.8f;
 
+  // Radius around the eye (world units) that the near plane's rectangle reaches, with 1% margin:
+  // geometry closer than this may be cut by the near plane.
+  float nearPlaneReach() const;
+
   // A camera at `eye` looking at `target`, Y up, for an image of the given aspect ratio.
   static CameraView lookAt(const glm::vec3& eye, const glm::vec3& target, float fovY, float znear, float aspect);
   // A camera placed by a world matrix (its local -Z is the viewing direction).

@@ -19,16 +19,6 @@ gpu::VertexLayout meshVertexLayout() {
   return layout;
 }
 
-// World-space bounds of a local box under an affine transform.
-void transformBounds(const glm::mat4& m, const glm::vec3& lo, const glm::vec3& hi, glm::vec3& outLo, glm::vec3& outHi) {
-  const glm::vec3 center = glm::vec3(m * glm::vec4(0.5f * (lo + hi), 1.0f));
-  const glm::vec3 half = 0.5f * (hi - lo);
-  const glm::mat3 a(m);
-  const glm::vec3 extent = glm::abs(a[0]) * half.x + glm::abs(a[1]) * half.y + glm::abs(a[2]) * half.z;
-  outLo = center - extent;
-  outHi = center + extent;
-}
-
 }  // namespace
 
 Status MeshFeature::initialize(const gpu::Context& context, const RendererFormats& formats, std::uint32_t framesInFlight) {
@@ -69,7 +59,7 @@ void MeshFeature::prepare(FrameContext& frame) {
         if (!mesh.mesh.valid() || mesh.mesh.index >= pool_.meshCount()) return;
         const MeshRange& range = pool_.range(mesh.mesh);
         glm::vec3 lo, hi;
-        transformBounds(world.matrix, range.boundsMin, range.boundsMax, lo, hi);
+        math::transformBounds(world.matrix, range.boundsMin, range.boundsMax, lo, hi);
         if (!math::intersects(frustum, lo, hi)) {
           ++culledCount_;
           return;

@@ -5,6 +5,7 @@
 #extension GL_GOOGLE_include_directive : require
 #include "hermite/hermite_host_device.h"
 #include "hermite/hermite.glsl"
+#include "shared/debug_colors.glsl"
 #include "shared/lighting.glsl"
 
 layout(push_constant, scalar) uniform Push { HermitePushConstants pc; };
@@ -19,17 +20,6 @@ layout(set = 0, binding = 0) uniform sampler2D sceneDepth;
 layout(set = 0, binding = 1) uniform usampler2D sceneVisibility;
 
 layout(location = 0) out vec4 outColor;
-
-vec3 cellColor(uvec3 cell) {
-  uint h = cell.x * 73856093u ^ cell.y * 19349663u ^ cell.z * 83492791u;
-  h = (h ^ (h >> 13)) * 0x5bd1e995u;
-  return vec3(float(h & 255u), float((h >> 8) & 255u), float((h >> 16) & 255u)) / 255.0 * 0.8 + 0.2;
-}
-
-vec3 heat(float x) {  // 0 -> blue, 0.5 -> green, 1 -> red
-  x = clamp(x, 0.0, 1.0);
-  return clamp(vec3(2.0 * x - 0.5, 1.0 - abs(2.0 * x - 1.0), 1.5 - 2.0 * x), 0.0, 1.0);
-}
 
 void loadCell(HermiteObject object, uint record, out vec4 corners[8], out uvec3 cell) {
   uint xy, zc;
@@ -87,7 +77,7 @@ void main() {
   } else if (pc.draw.debugView == DEBUG_VIEW_DEPTH) {
     color = vec3(depth);
   } else if (pc.draw.debugView == DEBUG_VIEW_CELLS) {
-    color = cellColor(cell);
+    color = hashColor(cell);
   } else if (pc.draw.debugView == DEBUG_VIEW_EVALS && pc.counters != 0ul) {
     uint count = CountersRef(pc.counters).counts[pixel.y * int(frame.viewport.x) + pixel.x];
     color = heat(float(count) / 64.0);

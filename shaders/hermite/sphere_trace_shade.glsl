@@ -2,6 +2,7 @@
 // again; a fragment goes on only where this object won the prepass (visibility id), rebuilds the
 // hit from the prepass depth and shades it with the normal the object asks for.
 #include "hermite/sphere_trace_common.glsl"
+#include "shared/debug_colors.glsl"
 #include "shared/lighting.glsl"
 
 layout(set = 0, binding = 0) uniform sampler2D sceneDepth;
@@ -9,12 +10,6 @@ layout(set = 0, binding = 1) uniform usampler2D sceneVisibility;
 
 layout(location = 0) flat in uint inDraw;
 layout(location = 0) out vec4 outColor;
-
-// The evaluation heat map of the Hermite-cell renderer: 0 -> blue, 0.5 -> green, 1 -> red.
-vec3 heat(float x) {
-  x = clamp(x, 0.0, 1.0);
-  return clamp(vec3(2.0 * x - 0.5, 1.0 - abs(2.0 * x - 1.0), 1.5 - 2.0 * x), 0.0, 1.0);
-}
 
 void main() {
   SphereTraceDraw draw = SphereTraceDrawsRef(pc.draws).draws[inDraw];

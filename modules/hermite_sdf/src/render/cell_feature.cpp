@@ -54,13 +54,6 @@ engine::gpu::VertexLayout cellVertexLayout(int precision) {
   return layout;
 }
 
-// Radius around the eye (world units) that the near plane's rectangle can reach.
-float nearPlaneReach(const engine::render::CameraView& camera) {
-  const float tanX = 1.0f / std::abs(camera.proj[0][0]);
-  const float tanY = 1.0f / std::abs(camera.proj[1][1]);
-  return camera.znear * std::sqrt(1.0f + tanX * tanX + tanY * tanY) * 1.01f;
-}
-
 }  // namespace
 
 HermiteCellFeature::HermiteCellFeature() : buffers_(std::make_unique<CellBuffers>()) {
@@ -187,7 +180,7 @@ void HermiteCellFeature::buildDraws(engine::render::FrameContext& frame) {
   std::vector<std::uint32_t> objectIndices;
   stats_ = Stats{};
   stats_.gpuBytes = buffers_->bytes;
-  const float reach = nearPlaneReach(frame.camera);
+  const float reach = frame.camera.nearPlaneReach();
 
   frame.registry.view<HermiteSdfRenderable, engine::scene::WorldTransform>().each(
       [&](engine::ecs::Entity, const HermiteSdfRenderable& r, const engine::scene::WorldTransform& world) {

@@ -37,23 +37,6 @@ bool invertible(const glm::mat4& m) {
   return std::isfinite(det) && std::abs(det) > 1e-30f && std::isfinite(m[3][0] + m[3][1] + m[3][2]);
 }
 
-// World-space bounds of the object-space box [lo, hi] under an affine transform.
-void transformBounds(const glm::mat4& m, const glm::vec3& lo, const glm::vec3& hi, glm::vec3& outLo, glm::vec3& outHi) {
-  const glm::vec3 center = glm::vec3(m * glm::vec4(0.5f * (lo + hi), 1.0f));
-  const glm::vec3 half = 0.5f * (hi - lo);
-  const glm::mat3 a(m);
-  const glm::vec3 extent = glm::abs(a[0]) * half.x + glm::abs(a[1]) * half.y + glm::abs(a[2]) * half.z;
-  outLo = center - extent;
-  outHi = center + extent;
-}
-
-// Radius around the eye (world units) that the near plane's rectangle can reach, with 1% margin.
-float nearPlaneReach(const engine::render::CameraView& camera) {
-  const float tanX = 1.0f / std::abs(camera.proj[0][0]);
-  const float tanY = 1.0f / std::abs(camera.proj[1][1]);
-  return camera.znear * std::sqrt(1.0f + tanX * tanX + tanY * tanY) * 1.01f;
-}
-
 // Whether the near plane may cut the object's box (then its front faces can be clipped away and
 // it is drawn by its back faces). Conservative for any affine transform: a world distance is at
 // least sigma_min(model) times the object distance, and sigma_min >= 1 / |inverse|_Frobenius.
@@ -64,7 +47,7 @@ bool nearPlaneMayCut(const engine::render::CameraView& camera, const glm::mat4& 
   const glm::mat3 inverse(invModel);
   const float frobenius = std::sqrt(glm::dot(inverse[0], inverse[0]) + glm::dot(inverse[1], inverse[1]) +
                                     glm::dot(inverse[2], inverse[2]));
-  return objectDistance / frobenius <= nearPlaneReach(camera);
+  return objectDistance / frobenius <= camera.nearPlaneReach();
 }
 
 }  // namespace
@@ -223,7 +206,7 @@ void SphereTraceFeature::collectDraws(engine::render::FrameContext& frame) {
         const GridSpec& grid = r.asset->field.grid;
         const glm::vec3 lo(grid.bounds().min), hi(grid.bounds().max);
         glm::vec3 worldLo, worldHi;
-        transformBounds(world.matrix, lo, hi, worldLo, worldHi);
+        engine::math::transformBounds(world.matrix, lo, hi, worldLo, worldHi);
         if (!engine::math::intersects(frustum, worldLo, worldHi)) {
           ++stats_.culledObjects;
           return;
