@@ -82,7 +82,29 @@ Status addSdfObject(const Options& options, const scene::SceneData& data, const 
   return {};
 }
 
+// Draws a baked .hsdf file; without a glTF scene its grid bounds frame the camera.
+Status addSdfFile(const Options& options, bool hasScene, SceneState& state) {
+  ENGINE_TRY_ASSIGN(std::shared_ptr<const hsdf::SdfAsset> asset, loadSdfFile(options.sdfFile));
+  if (options.method != "cells" && asset->field.samples.empty())
+    return makeError(options.sdfFile.string() + ": holds only cells; --method " + options.method +
+                     " needs the dense field (bake without --cells)");
+  const hsdf::Aabb bounds = asset->cells.grid.bounds();
+  if (!hasScene) {
+    state.boundsMin = glm::vec3(bounds.min);
+    state.boundsMax = glm::vec3(bounds.max);
+  }
+  addSdfEntity(state.registry, renderableFromOptions(options, std::move(asset)), glm::vec3(0.0f));
+  return {};
+}
+
 Status loadScene(const Options& options, SceneState& state, render::MeshPool& pool) {
+  if (options.scene.empty()) {
+    ENGINE_TRY(addSdfFile(options, false, state));
+    if (options.groundPlane) addGroundPlane(state.registry, pool, state.boundsMin, state.boundsMax);
+    scene::updateWorldTransforms(state.registry);
+    return {};
+  }
+  if (!options.sdfFile.empty()) ENGINE_TRY(addSdfFile(options, true, state));
   ENGINE_TRY_ASSIGN(scene::SceneData data, scene::loadGltf(options.scene));
   const render::InstantiatedScene instantiated = render::instantiateScene(data, state.registry, pool);
   if (instantiated.renderables.empty())
@@ -91,7 +113,7 @@ Status loadScene(const Options& options, SceneState& state, render::MeshPool& po
     state.boundsMin = instantiated.boundsMin;
     state.boundsMax = instantiated.boundsMax;
   }
-  if (options.method != "mesh") ENGINE_TRY(addSdfObject(options, data, instantiated, state));
+  if (options.method != "mesh" && options.sdfFile.empty()) ENGINE_TRY(addSdfObject(options, data, instantiated, state));
   if (options.groundPlane) addGroundPlane(state.registry, pool, state.boundsMin, state.boundsMax);
   scene::updateWorldTransforms(state.registry);
   return {};

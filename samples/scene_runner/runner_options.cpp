@@ -47,6 +47,8 @@ ParseResult parseOptions(int argc, const char* const* argv) {
   std::string size;
   CLI::App app{"hermite_sdf scene runner: renders a glTF scene (default: the bundled bunny)", "scene_runner"};
   app.add_option("--scene", options.scene, "glTF/GLB scene to load")->check(CLI::ExistingFile);
+  app.add_option("--sdf", options.sdfFile, "draw a .hsdf file baked by hsdf_bake (replaces the default scene)")
+      ->check(CLI::ExistingFile);
   app.add_flag("--headless", options.headless, "render offscreen without a window");
   app.add_option("--size", size, "image size WxH (default 1280x720)");
   app.add_option("--frames", options.frames, "frames to render, then exit (0: until closed; headless default 1)")
@@ -117,7 +119,8 @@ ParseResult parseOptions(int argc, const char* const* argv) {
     return result;
   }
   if (options.headless && options.frames == 0) options.frames = 1;
-  if (options.scene.empty()) options.scene = defaultScenePath();
+  if (options.scene.empty() && options.sdfFile.empty()) options.scene = defaultScenePath();
+  if (!options.sdfFile.empty() && options.method == "mesh") options.method = "cells";
   result.options = options;
   return result;
 }

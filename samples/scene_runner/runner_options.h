@@ -13,7 +13,8 @@
 namespace runner {
 
 struct Options {
-  std::filesystem::path scene;       // empty: the bundled bunny
+  std::filesystem::path scene;       // empty: the bundled bunny (unless --sdf is given)
+  std::filesystem::path sdfFile;     // a baked .hsdf file (hsdf_bake) to draw as an SDF object
   bool headless = false;
   std::uint32_t width = 1280;
   std::uint32_t height = 720;

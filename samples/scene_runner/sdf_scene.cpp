@@ -7,6 +7,7 @@
 #include "engine/scene/gltf_loader.h"
 #include "engine/scene/transform.h"
 #include "hermite_sdf/field.h"
+#include "hermite_sdf/hsdf_file.h"
 #include "hermite_sdf/mesh_source.h"
 
 namespace runner {
@@ -39,6 +40,16 @@ Expected<std::shared_ptr<const hsdf::SdfAsset>> bakeSceneSdf(const scene::SceneD
             resolution, seconds, asset->cells.records.size(), asset->classification.stats.crossing,
             asset->classification.stats.ambiguous, asset->cells.stored_scalars());
   return asset;
+}
+
+Expected<std::shared_ptr<const hsdf::SdfAsset>> loadSdfFile(const std::filesystem::path& path) {
+  const auto contents = hsdf::loadHsdf(path);
+  if (!contents) return contents.error();
+  const std::string name = path.filename().string();
+  // Copies, not moves, out of the optionals: GCC 12 -O3 warns (falsely) about moved-from ones.
+  if (contents->dense) return hsdf::makeSdfAsset(name, *contents->dense, contents->grid.bounds());
+  if (contents->cells) return hsdf::makeSdfAssetFromCells(name, *contents->cells);
+  return makeError(path.string() + ": holds neither a dense field nor cells");
 }
 
 hsdf::HermiteSdfRenderable renderableFromOptions(const Options& options, std::shared_ptr<const hsdf::SdfAsset> asset) {

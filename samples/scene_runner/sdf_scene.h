@@ -15,6 +15,9 @@ namespace runner {
 engine::Expected<std::shared_ptr<const hsdf::SdfAsset>> bakeSceneSdf(const engine::scene::SceneData& data,
                                                                      int resolution, int padding);
 
+// Loads a .hsdf file: its dense field (re-classified) when present, else its cells.
+engine::Expected<std::shared_ptr<const hsdf::SdfAsset>> loadSdfFile(const std::filesystem::path& path);
+
 // The component the options ask for (method, subdivisions, refinement, normals, precision).
 hsdf::HermiteSdfRenderable renderableFromOptions(const Options& options, std::shared_ptr<const hsdf::SdfAsset> asset);
 

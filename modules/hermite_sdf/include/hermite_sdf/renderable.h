@@ -33,7 +33,7 @@ enum class NormalMode : std::uint32_t {
 struct SdfAsset {
   std::string name;
   std::uint64_t id = 0;       // unique per process
-  HermiteField field;         // dense samples (the sphere-tracing baselines need them)
+  HermiteField field;         // dense samples (the sphere-tracing baselines need them); may be empty
   CellClassification classification;
   CellStream cells;           // kept cells, fp32
   CellStreamHalf cellsHalf;   // the same records in fp16
@@ -44,6 +44,10 @@ struct SdfAsset {
 engine::Expected<std::shared_ptr<const SdfAsset>> makeSdfAsset(std::string name, HermiteField field,
                                                                const Aabb& surfaceBounds,
                                                                const ClassifyOptions& options = {});
+
+// An asset from a sparse cell stream alone (e.g. a cells-only .hsdf file): drawable by the cell
+// renderer only (the sphere-tracing baselines need the dense field). Errors: invalid grid.
+engine::Expected<std::shared_ptr<const SdfAsset>> makeSdfAssetFromCells(std::string name, CellStream cells);
 
 // The component. The entity's engine::scene::WorldTransform places the asset's grid in the world
 // (rigid transforms with uniform scale keep distances meaningful; any affine map renders correctly).

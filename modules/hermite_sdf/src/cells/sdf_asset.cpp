@@ -3,6 +3,14 @@
 #include "hermite_sdf/renderable.h"
 
 namespace hsdf {
+namespace {
+
+std::uint64_t nextAssetId() {
+  static std::atomic<std::uint64_t> next{1};
+  return next.fetch_add(1);
+}
+
+}  // namespace
 
 const char* renderMethodName(RenderMethod method) {
   switch (method) {
@@ -13,13 +21,27 @@ const char* renderMethodName(RenderMethod method) {
   return "?";
 }
 
+engine::Expected<std::shared_ptr<const SdfAsset>> makeSdfAssetFromCells(std::string name, CellStream cells) {
+  if (auto valid = validateGrid(cells.grid); !valid) return valid.error().withContext("asset '" + name + "'");
+  auto asset = std::make_shared<SdfAsset>();
+  asset->name = std::move(name);
+  asset->id = nextAssetId();
+  asset->surfaceBounds = cells.grid.bounds();
+  asset->classification.grid = cells.grid;
+  for (const CellRecord& r : cells.records)
+    (r.cellClass == std::uint16_t(CellClass::Ambiguous) ? asset->classification.stats.ambiguous
+                                                        : asset->classification.stats.crossing)++;
+  asset->cellsHalf = toHalf(cells);
+  asset->cells = std::move(cells);
+  return std::shared_ptr<const SdfAsset>(std::move(asset));
+}
+
 engine::Expected<std::shared_ptr<const SdfAsset>> makeSdfAsset(std::string name, HermiteField field,
                                                                const Aabb& surfaceBounds,
                                                                const ClassifyOptions& options) {
-  static std::atomic<std::uint64_t> nextId{1};
   auto asset = std::make_shared<SdfAsset>();
   asset->name = std::move(name);
-  asset->id = nextId.fetch_add(1);
+  asset->id = nextAssetId();
   asset->surfaceBounds = surfaceBounds;
   auto classification = classifyCells(field, options);
   if (!classification) return classification.error().withContext("asset '" + asset->name + "'");

@@ -188,7 +188,7 @@ void HermiteCellFeature::buildDraws(engine::render::FrameContext& frame) {
         auto found = buffers_->entries.find(r.asset->id);
         if (found == buffers_->entries.end()) return;
         const CellBuffers::Entry& entry = found->second;
-        const GridSpec& grid = r.asset->field.grid;
+        const GridSpec& grid = r.asset->cells.grid;  // cells-only assets have no dense field
         const int precision = r.halfPrecision ? 1 : 0;
 
         shader::ObjectData object = engine::render::GpuScene::makeObject(world.matrix, r.color, r.roughness, 0.0f, kFeatureId);
