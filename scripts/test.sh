@@ -12,3 +12,12 @@ jobs=$(nproc)
 cmake --preset release -DHSDF_WARNINGS_AS_ERRORS=ON >/dev/null
 cmake --build --preset release -j "$jobs"
 ctest --test-dir build/release --output-on-failure -j "$jobs" "$@"
+
+# The CPU tests again under AddressSanitizer + UndefinedBehaviorSanitizer (any report fails the
+# test). HSDF_SKIP_SANITIZERS=1 skips this stage (it roughly doubles the build time).
+if [ "${HSDF_SKIP_SANITIZERS:-0}" != 1 ]; then
+  cmake --preset asan >/dev/null
+  cmake --build --preset asan -j "$jobs"
+  UBSAN_OPTIONS=halt_on_error=1:print_stacktrace=1 \
+    ctest --test-dir build/asan --output-on-failure -j "$jobs" "$@"
+fi
