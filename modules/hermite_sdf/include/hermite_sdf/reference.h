@@ -80,11 +80,16 @@ struct ReferenceImage {
 
 struct RenderOptions {
   unsigned threads = 0;  // 0: all hardware threads
+  // Where the object stands: the field lies in object space, the camera in world space. Each
+  // pixel's world ray is taken into object space (in double) and cast there; depth and normals are
+  // reported in world space (normals by the inverse transpose). Any invertible affine matrix:
+  // mirroring, non-uniform scale and shear included.
+  glm::mat4 model{1.0f};
 };
 
 // Casts one ray per pixel centre with engine::math::pixelRay(view, proj, (x+0.5, y+0.5), size).
 // `cells` (optional) restricts the cast to kept cells. Errors: image size outside 1..16384,
-// invalid field or matrices (non-finite, singular).
+// invalid field or matrices (non-finite, singular view-projection, model not invertible affine).
 engine::Expected<ReferenceImage> renderReference(const HermiteField& field, const glm::mat4& view,
                                                  const glm::mat4& proj, glm::ivec2 imageSize,
                                                  const CellClassification* cells = nullptr,

@@ -31,15 +31,32 @@ engine::Status validateCamera(const glm::mat4& view, const glm::mat4& proj, glm:
   return {};
 }
 
-// Rays of every pixel centre; an error if the camera cannot produce valid rays.
-engine::Expected<std::vector<Ray>> cameraRays(const glm::mat4& view, const glm::mat4& proj, glm::ivec2 size) {
+engine::Status validateModel(const glm::mat4& model) {
+  if (!isFinite(model)) return engine::makeError("model matrix is not finite");
+  if (model[0][3] != 0.0f || model[1][3] != 0.0f || model[2][3] != 0.0f || model[3][3] != 1.0f)
+    return engine::makeError("model matrix is not affine (its last row is not 0 0 0 1)");
+  if (glm::determinant(glm::dmat3(model)) == 0.0) return engine::makeError("model matrix is singular");
+  return {};
+}
+
+// A world ray in object space: same points, direction renormalized (t becomes object units).
+Ray toObject(const Ray& world, const glm::dmat4& inverseModel) {
+  return {glm::dvec3(inverseModel * glm::dvec4(world.origin, 1.0)),
+          glm::normalize(glm::dvec3(inverseModel * glm::dvec4(world.direction, 0.0)))};
+}
+
+// Rays of every pixel centre in object space; an error if the camera cannot produce valid rays.
+engine::Expected<std::vector<Ray>> cameraRays(const glm::mat4& view, const glm::mat4& proj, glm::ivec2 size,
+                                              const glm::mat4& model) {
   ENGINE_TRY(validateCamera(view, proj, size));
+  ENGINE_TRY(validateModel(model));
+  const glm::dmat4 inverseModel = glm::inverse(glm::dmat4(model));
   std::vector<Ray> rays(std::size_t(size.x) * std::size_t(size.y));
   try {
     for (int y = 0; y < size.y; ++y)
       for (int x = 0; x < size.x; ++x)
-        rays[std::size_t(y) * std::size_t(size.x) + std::size_t(x)] =
-            engine::math::pixelRay(view, proj, glm::vec2(float(x) + 0.5f, float(y) + 0.5f), size);
+        rays[std::size_t(y) * std::size_t(size.x) + std::size_t(x)] = toObject(
+            engine::math::pixelRay(view, proj, glm::vec2(float(x) + 0.5f, float(y) + 0.5f), size), inverseModel);
   } catch (const std::invalid_argument& e) {
     return engine::makeError(fmt::format("camera cannot produce pixel rays: {}", e.what()));
   }
@@ -65,7 +82,8 @@ template <class Cast>
 ReferenceImage renderWith(const GridSpec& grid, const std::vector<Ray>& rays, const glm::mat4& view,
                           const glm::mat4& proj, glm::ivec2 size, const RenderOptions& options, const Cast& cast) {
   ReferenceImage image = emptyImage(size);
-  const glm::dmat4 viewProj = glm::dmat4(proj) * glm::dmat4(view);
+  const glm::dmat4 objectToClip = glm::dmat4(proj) * glm::dmat4(view) * glm::dmat4(options.model);
+  const glm::dmat3 normalMatrix = glm::transpose(glm::inverse(glm::dmat3(options.model)));
   const int n = grid.cellsPerAxis();
   std::atomic<int> nextRow{0};
   auto worker = [&] {
@@ -74,9 +92,10 @@ ReferenceImage renderWith(const GridSpec& grid, const std::vector<Ray>& rays, co
         const std::size_t p = image.pixel(x, y);
         const std::optional<RayHit> hit = cast(rays[p]);
         if (!hit) continue;
-        const glm::dvec4 clip = viewProj * glm::dvec4(hit->position, 1.0);
+        const glm::dvec4 clip = objectToClip * glm::dvec4(hit->position, 1.0);
         image.depth[p] = float(clip.z / clip.w);
-        image.normal[p] = glm::vec3(hit->normal);
+        const glm::dvec3 normal = normalMatrix * hit->normal;  // zero where the gradient vanishes
+        image.normal[p] = glm::vec3(normal == glm::dvec3(0.0) ? normal : glm::normalize(normal));
         image.hit[p] = 1;
         image.cellId[p] = hit->cell.x + n * (hit->cell.y + n * hit->cell.z);
       }
@@ -97,7 +116,7 @@ engine::Expected<ReferenceImage> renderReference(const HermiteField& field, cons
                                                  const CellClassification* cells, const RenderOptions& options) {
   ENGINE_TRY(detail::validateField(field));
   if (cells != nullptr) ENGINE_TRY(detail::validateClassification(field.grid, *cells));
-  ENGINE_TRY_ASSIGN(const std::vector<Ray> rays, cameraRays(view, proj, imageSize));
+  ENGINE_TRY_ASSIGN(const std::vector<Ray> rays, cameraRays(view, proj, imageSize, options.model));
   return renderWith(field.grid, rays, view, proj, imageSize, options, [&](const Ray& ray) {
     return detail::castHermiteUnchecked(field, ray, CastOptions{}, cells);
   });
@@ -107,7 +126,7 @@ engine::Expected<ReferenceImage> renderReference(const TrilinearField& field, co
                                                  const glm::mat4& proj, glm::ivec2 imageSize,
                                                  const RenderOptions& options) {
   ENGINE_TRY(detail::validateField(field));
-  ENGINE_TRY_ASSIGN(const std::vector<Ray> rays, cameraRays(view, proj, imageSize));
+  ENGINE_TRY_ASSIGN(const std::vector<Ray> rays, cameraRays(view, proj, imageSize, options.model));
   return renderWith(field.grid, rays, view, proj, imageSize, options,
                     [&](const Ray& ray) { return detail::castTrilinearUnchecked(field, ray, CastOptions{}); });
 }
