@@ -24,6 +24,13 @@ float CameraView::nearPlaneReach() const {
   return znear * std::sqrt(1.0f + tanX * tanX + tanY * tanY) * 1.01f;
 }
 
+float CameraView::nearPlaneReachInObject(const glm::mat4& invModel) const {
+  const glm::mat3 inverse(invModel);
+  const float frobenius = std::sqrt(glm::dot(inverse[0], inverse[0]) + glm::dot(inverse[1], inverse[1]) +
+                                    glm::dot(inverse[2], inverse[2]));
+  return nearPlaneReach() * frobenius;
+}
+
 CameraView CameraView::fromWorld(const glm::mat4& world, float fovY, float znear, float aspect) {
   CameraView c;
   c.view = glm::inverse(world);

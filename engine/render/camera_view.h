@@ -14,6 +14,11 @@ struct CameraView {
   // Radius around the eye (world units) that the near plane's rectangle reaches, with 1% margin:
   // geometry closer than this may be cut by the near plane.
   float nearPlaneReach() const;
+  // nearPlaneReach() in the units of an object whose inverse model matrix is `invModel`: an upper
+  // bound on the object-space distance from the eye to any point of the near plane's rectangle,
+  // for any invertible affine model (mirroring, non-uniform scale and shear included). A world
+  // length L spans at most L * |M^-1|_2 object units, and |M^-1|_2 <= |M^-1|_Frobenius.
+  float nearPlaneReachInObject(const glm::mat4& invModel) const;
 
   // A camera at `eye` looking at `target`, Y up, for an image of the given aspect ratio.
   static CameraView lookAt(const glm::vec3& eye, const glm::vec3& target, float fovY, float znear, float aspect);

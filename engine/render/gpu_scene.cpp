@@ -1,6 +1,26 @@
 #include "engine/render/gpu_scene.h"
 
+#include <cmath>
+
 namespace engine::render {
+
+namespace {
+bool finite(const glm::mat4& m) {
+  for (int c = 0; c < 4; ++c)
+    for (int r = 0; r < 4; ++r)
+      if (!std::isfinite(m[c][r])) return false;
+  return true;
+}
+}  // namespace
+
+bool drawableTransform(const glm::mat4& model) {
+  if (!finite(model)) return false;
+  if (model[0][3] != 0.0f || model[1][3] != 0.0f || model[2][3] != 0.0f || model[3][3] != 1.0f) return false;
+  // The shaders use the float inverse: it must exist and be finite.
+  return glm::determinant(glm::dmat3(model)) != 0.0 && finite(glm::inverse(model));
+}
+
+bool mirrors(const glm::mat4& model) { return glm::determinant(glm::dmat3(model)) < 0.0; }
 
 GpuScene::GpuScene(const gpu::Context& context, std::uint32_t framesInFlight)
     : buffer_(context, framesInFlight, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, "gpu scene objects") {}
@@ -29,7 +49,7 @@ shader::ObjectData GpuScene::makeObject(const glm::mat4& model, const glm::vec4&
   object.material = glm::vec4(roughness, metallic, 0.0f, 0.0f);
   object.payload = 0;
   object.feature = feature;
-  object.flags = 0;
+  object.flags = mirrors(model) ? OBJECT_FLAG_MIRRORED : 0u;
   return object;
 }
 

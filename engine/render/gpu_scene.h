@@ -13,6 +13,14 @@
 
 namespace engine::render {
 
+// Whether an object placed by `model` can be drawn: a finite affine matrix whose linear part can be
+// inverted. Features skip other objects (e.g. scaled to zero): their normals and rays would be NaN.
+bool drawableTransform(const glm::mat4& model);
+
+// Whether `model` mirrors (negative determinant): triangles that face the camera then wind
+// clockwise on screen instead of counter-clockwise.
+bool mirrors(const glm::mat4& model);
+
 class GpuScene {
  public:
   GpuScene(const gpu::Context& context, std::uint32_t framesInFlight);
@@ -27,7 +35,8 @@ class GpuScene {
   void upload(std::uint32_t frame);
   VkDeviceAddress address(std::uint32_t frame) const { return buffer_.address(frame); }
 
-  // Fills model, inverse model and material fields from a world matrix and a colour.
+  // Fills model, inverse model, OBJECT_FLAG_MIRRORED and material fields from a world matrix and a
+  // colour. The matrix must be drawable (see drawableTransform).
   static shader::ObjectData makeObject(const glm::mat4& model, const glm::vec4& color, float roughness,
                                        float metallic, std::uint32_t feature);
 

@@ -45,6 +45,9 @@ struct FrameGlobals {
 };
 HSDF_CHECK_SIZE(FrameGlobals, 5 * 64 + 4 * 16);
 
+// ObjectData::flags.
+#define OBJECT_FLAG_MIRRORED 1u  // the model matrix has a negative determinant: it reverses winding
+
 // Per object, in the GPU scene buffer; drawn instances find theirs by index.
 struct ObjectData {
   mat4 model;
@@ -53,7 +56,7 @@ struct ObjectData {
   vec4 material;          // x: roughness, y: metallic, zw: feature-specific
   uint64_t payload;       // feature-specific data reached by device address (0: none)
   uint feature;           // which RenderFeature owns the object (for debugging)
-  uint flags;
+  uint flags;             // OBJECT_FLAG_*
 };
 HSDF_CHECK_SIZE(ObjectData, 2 * 64 + 2 * 16 + 8 + 2 * 4);
 
