@@ -4,6 +4,7 @@
 // shader unchanged (flat), together with the ray set-up in cell-local coordinates.
 #extension GL_GOOGLE_include_directive : require
 #include "hermite/hermite_host_device.h"
+#include "hermite/box.glsl"
 
 layout(push_constant, scalar) uniform Push { HermitePushConstants pc; };
 layout(buffer_reference, scalar) readonly buffer HermiteDrawsRef { HermiteDraw draws[]; };
@@ -18,10 +19,6 @@ layout(location = 10) out vec3 outLocal;              // this vertex in cell-loc
 layout(location = 11) flat out vec3 outCameraLocal;   // the eye in cell-local coordinates
 layout(location = 12) flat out uint outRecord;        // index of the cell record in its buffer
 
-// Corner (x + 2y + 4z) of each vertex: 12 outward counter-clockwise triangles.
-const int kBoxCorners[36] = int[36](0, 6, 2, 0, 4, 6, 1, 3, 7, 1, 7, 5, 0, 5, 4, 0, 1, 5,
-                                    2, 6, 7, 2, 7, 3, 0, 3, 1, 0, 2, 3, 4, 5, 7, 4, 7, 6);
-
 precise gl_Position;
 
 void main() {
@@ -30,8 +27,7 @@ void main() {
   ObjectData object = ObjectsRef(pc.draw.objects).objects[draw.object];
   FrameGlobals frame = FrameGlobalsRef(pc.draw.frameGlobals).globals;
 
-  int corner = kBoxCorners[gl_VertexIndex];
-  vec3 local = vec3(corner & 1, (corner >> 1) & 1, corner >> 2);
+  vec3 local = boxCorner(gl_VertexIndex, (object.flags & OBJECT_FLAG_MIRRORED) != 0u);
   vec3 cell = vec3(inCell.xyz);
   float h = draw.gridOriginSpacing.w;
   vec3 objectPosition = draw.gridOriginSpacing.xyz + h * (cell + local);

@@ -4,6 +4,7 @@
 // fragment shaders trace in grid units (object space / h), where sample (i,j,k) lies at (i,j,k).
 #extension GL_GOOGLE_include_directive : require
 #include "hermite/hermite_host_device.h"
+#include "hermite/box.glsl"
 
 layout(push_constant, scalar) uniform Push { SphereTracePushConstants pc; };
 layout(buffer_reference, scalar) readonly buffer SphereTraceDrawsRef { SphereTraceDraw draws[]; };
@@ -11,10 +12,6 @@ layout(buffer_reference, scalar) readonly buffer SphereTraceDrawsRef { SphereTra
 layout(location = 0) flat out uint outDraw;
 layout(location = 1) out vec3 outGrid;          // this vertex in grid units
 layout(location = 2) flat out vec3 outEyeGrid;  // the eye in grid units
-
-// Corner (x + 2y + 4z) of each vertex: 12 outward counter-clockwise triangles.
-const int kBoxCorners[36] = int[36](0, 6, 2, 0, 4, 6, 1, 3, 7, 1, 7, 5, 0, 5, 4, 0, 1, 5,
-                                    2, 6, 7, 2, 7, 3, 0, 3, 1, 0, 2, 3, 4, 5, 7, 4, 7, 6);
 
 // The prepass and the shading pass rasterize the same box: keep their coverage identical.
 precise gl_Position;
@@ -24,8 +21,7 @@ void main() {
   ObjectData object = ObjectsRef(pc.draw.objects).objects[draw.object];
   FrameGlobals frame = FrameGlobalsRef(pc.draw.frameGlobals).globals;
 
-  int corner = kBoxCorners[gl_VertexIndex];
-  vec3 grid = vec3(corner & 1, (corner >> 1) & 1, corner >> 2) * float(draw.resolution - 1u);
+  vec3 grid = boxCorner(gl_VertexIndex, (object.flags & OBJECT_FLAG_MIRRORED) != 0u) * float(draw.resolution - 1u);
   float h = draw.gridOriginSpacing.w;
   vec3 eyeObject = (object.invModel * vec4(frame.cameraPosition.xyz, 1.0)).xyz;
 

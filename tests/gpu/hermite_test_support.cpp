@@ -5,6 +5,8 @@
 #include <cstdio>
 #include <cstdlib>
 
+#include <glm/gtc/matrix_transform.hpp>
+
 #include "engine/core/math.h"
 #include "engine/render/components.h"
 #include "engine/scene/gltf_loader.h"
@@ -87,11 +89,23 @@ bool allHitsWithin(const hsdf::ReferenceImage& ref, int x, int y, int radius) {
 
 }  // namespace
 
+glm::dvec3 decodeNormal(const std::vector<std::uint8_t>& normalRgba, std::size_t i) {
+  const std::uint8_t* c = &normalRgba[i * 4];
+  // DEBUG_VIEW_NORMALS writes n * 0.5 + 0.5 into an sRGB target: decode sRGB first.
+  auto linear = [](std::uint8_t v) {
+    const double s = v / 255.0;
+    return s <= 0.04045 ? s / 12.92 : std::pow((s + 0.055) / 1.055, 2.4);
+  };
+  return glm::normalize(glm::dvec3(linear(c[0]), linear(c[1]), linear(c[2])) * 2.0 - 1.0);
+}
+
 ImageComparison compareWithReference(const Frame& gpu, const std::vector<std::uint8_t>* normalRgba,
                                      const hsdf::ReferenceImage& reference, const render::CameraView& camera,
-                                     double spacing) {
+                                     double spacing, const glm::mat4& model) {
   ImageComparison result;
   std::vector<double> depthErrors, interiorDepthErrors, normalErrors;
+  const bool placed = model != glm::mat4(1.0f);
+  const glm::dmat3 inverseModel = glm::inverse(glm::dmat3(model));
   for (int y = 0; y < reference.height; ++y) {
     for (int x = 0; x < reference.width; ++x) {
       const std::size_t i = reference.pixel(x, y);
@@ -109,17 +123,18 @@ ImageComparison compareWithReference(const Frame& gpu, const std::vector<std::ui
       if (!refHit) continue;
       const double gpuDistance = math::depthToViewDistance(depth, camera.znear);
       const double refDistance = math::depthToViewDistance(reference.depth[i], camera.znear);
-      depthErrors.push_back(std::abs(gpuDistance - refDistance) / spacing);
+      double cellsPerWorldUnit = 1.0 / spacing;
+      if (placed) {
+        const math::Ray ray = math::pixelRay(camera.view, camera.proj, {float(x) + 0.5f, float(y) + 0.5f},
+                                             {reference.width, reference.height});
+        cellsPerWorldUnit *= glm::length(inverseModel * ray.direction);
+      }
+      depthErrors.push_back(std::abs(gpuDistance - refDistance) * cellsPerWorldUnit);
       if (allHitsWithin(reference, x, y, 2)) interiorDepthErrors.push_back(depthErrors.back());
       if (normalRgba) {
-        const std::uint8_t* c = &(*normalRgba)[i * 4];
-        // DEBUG_VIEW_NORMALS writes n * 0.5 + 0.5 into an sRGB target: decode sRGB first.
-        auto linear = [](std::uint8_t v) {
-          const double s = v / 255.0;
-          return s <= 0.04045 ? s / 12.92 : std::pow((s + 0.055) / 1.055, 2.4);
-        };
-        const glm::dvec3 n = glm::normalize(glm::dvec3(linear(c[0]), linear(c[1]), linear(c[2])) * 2.0 - 1.0);
+        const glm::dvec3 n = decodeNormal(*normalRgba, i);
         const glm::dvec3 r = glm::dvec3(reference.normal[i]);
+        result.normalFlips += glm::dot(n, r) < 0.0;
         // The shading flips normals facing away from the eye; compare orientation-free.
         const double cosine = std::min(1.0, std::abs(glm::dot(n, r)));
         normalErrors.push_back(std::acos(cosine) * 180.0 / 3.14159265358979);
@@ -133,6 +148,50 @@ ImageComparison compareWithReference(const Frame& gpu, const std::vector<std::ui
   result.depthErrorMax = depthErrors.empty() ? 0.0 : *std::max_element(depthErrors.begin(), depthErrors.end());
   result.normalErrorP99Degrees = percentile(normalErrors, 0.99);
   return result;
+}
+
+std::vector<NamedTransform> userTransforms(const glm::vec3& pivot) {
+  const glm::mat4 toOrigin = glm::translate(glm::mat4(1.0f), -pivot);
+  const glm::mat4 back = glm::translate(glm::mat4(1.0f), pivot);
+  const glm::mat4 turn = glm::rotate(glm::mat4(1.0f), 0.6f, glm::normalize(glm::vec3(0.3f, 1.0f, 0.2f)));
+  const glm::mat4 mirrorX = glm::scale(glm::mat4(1.0f), glm::vec3(-1.0f, 1.0f, 1.0f));
+  const glm::mat4 stretch = glm::scale(glm::mat4(1.0f), glm::vec3(1.0f, 2.5f, 0.4f));
+  const glm::mat4 mirrorStretch = glm::scale(glm::mat4(1.0f), glm::vec3(0.5f, -1.6f, 1.0f));
+  return {{"mirror x", back * turn * mirrorX * toOrigin},
+          {"rotation, scale (1, 2.5, 0.4)", back * turn * stretch * toOrigin},
+          {"mirroring scale after rotation (shear)", back * mirrorStretch * turn * toOrigin}};
+}
+
+WorldSphere worldSphere(const hsdf::SdfAsset& asset, const glm::mat4& model) {
+  glm::vec3 lo, hi;
+  math::transformBounds(model, glm::vec3(asset.surfaceBounds.min), glm::vec3(asset.surfaceBounds.max), lo, hi);
+  return {0.5f * (lo + hi), 0.5f * glm::length(hi - lo)};
+}
+
+render::CameraView orbitAround(const WorldSphere& sphere, int view) {
+  const float yaw = 0.4f + float(view) * 2.1f;
+  const float pitch = (view % 2 == 0) ? 0.3f : -0.45f;
+  const glm::vec3 eye = math::orbitEye(sphere.center, 1.9f * sphere.radius, yaw, pitch);
+  return render::CameraView::lookAt(eye, sphere.center, 0.9f, 0.01f * sphere.radius, 1.0f);
+}
+
+std::vector<CameraSetup> extremeCameras(const glm::vec3& center, float radius) {
+  constexpr float kDegree = 3.14159265f / 180.0f;
+  auto orbit = [&](glm::uvec2 size, float fovY, float distance) {
+    const glm::vec3 eye = math::orbitEye(center, distance * radius, 0.7f, 0.35f);
+    return render::CameraView::lookAt(eye, center, fovY, 0.01f * radius, float(size.x) / float(size.y));
+  };
+  // 300x7 keeps a horizontal field of view of 0.9 rad (a 0.9 rad vertical one would make it ~175
+  // degrees wide). A field of view of 10 degrees needs the camera ~11.5 radii away to frame the
+  // object; 150 degrees at 1.2 radii (the eye inside the grid's bounds) shows it in the middle,
+  // stretched towards the edges.
+  const float wideFovY = 2.0f * std::atan(std::tan(0.45f) * 7.0f / 300.0f);
+  return {{"1x1", {1, 1}, orbit({1, 1}, 0.9f, 2.0f)},
+          {"7x300", {7, 300}, orbit({7, 300}, 0.9f, 2.0f)},
+          {"300x7", {300, 7}, orbit({300, 7}, wideFovY, 2.0f)},
+          {"fov 10 deg", {128, 128}, orbit({128, 128}, 10.0f * kDegree, 12.0f)},
+          {"fov 150 deg", {128, 128}, orbit({128, 128}, 150.0f * kDegree, 1.2f)},
+          {"far away", {128, 128}, orbit({128, 128}, 0.9f, 60.0f)}};
 }
 
 }  // namespace gputest

@@ -3,6 +3,7 @@
 // entities, and the comparison of a GPU frame with the CPU reference ray caster.
 #include <memory>
 #include <string>
+#include <vector>
 
 #include "gpu_test_support.h"
 #include "hermite_sdf/reference.h"
@@ -32,13 +33,48 @@ struct ImageComparison {
   double interiorDepthErrorP99 = 0.0;
   double depthErrorMax = 0.0;
   double normalErrorP99Degrees = 0.0;
+  int normalFlips = 0;            // GPU normal facing against the reference normal (dot < 0)
   double agreement(int pixels) const { return 1.0 - double(disagreements) / double(pixels); }
 };
 
 // Compares GPU depth (and normals decoded from a DEBUG_VIEW_NORMALS frame, if given) with the
-// reference image. `spacing` converts distance errors into cells.
+// reference image of the object placed by `model`. Depth errors are view-distance differences in
+// cells: `spacing` is the grid spacing in object units, and a cell measures h / |M^-1 d| world
+// units along the pixel's unit ray d (just h for the identity).
 ImageComparison compareWithReference(const Frame& gpu, const std::vector<std::uint8_t>* normalRgba,
                                      const hsdf::ReferenceImage& reference, const engine::render::CameraView& camera,
-                                     double spacing);
+                                     double spacing, const glm::mat4& model = glm::mat4(1.0f));
+
+// The world normal a DEBUG_VIEW_NORMALS frame shows at pixel index i (n * 0.5 + 0.5, sRGB target).
+glm::dvec3 decodeNormal(const std::vector<std::uint8_t>& normalRgba, std::size_t i);
+
+// Object transforms an engine user (a glTF node, an editor gizmo) produces, each about `pivot`.
+struct NamedTransform {
+  std::string label;
+  glm::mat4 matrix;
+};
+// Mirror in x combined with a rotation; rotation with non-uniform scale (1, 2.5, 0.4); and a
+// mirroring non-uniform scale applied after a rotation (the object's axes end up sheared).
+std::vector<NamedTransform> userTransforms(const glm::vec3& pivot);
+
+// The sphere around the world bounds of `asset` placed by `model`, for framing it.
+struct WorldSphere {
+  glm::vec3 center;
+  float radius;
+};
+WorldSphere worldSphere(const hsdf::SdfAsset& asset, const glm::mat4& model);
+// A camera 1.9 radii from the sphere's centre looking at it; views 0, 1, 2 come from different
+// sides, above and below.
+engine::render::CameraView orbitAround(const WorldSphere& sphere, int view);
+
+// Camera set-ups at the edges of what a user may ask for, looking at a sphere (centre, radius):
+// viewports 1x1, 7x300 and 300x7; fields of view 10 and 150 degrees; a camera so far away that the
+// object covers a few pixels of a 128x128 image.
+struct CameraSetup {
+  std::string label;
+  glm::uvec2 size;
+  engine::render::CameraView camera;
+};
+std::vector<CameraSetup> extremeCameras(const glm::vec3& center, float radius);
 
 }  // namespace gputest

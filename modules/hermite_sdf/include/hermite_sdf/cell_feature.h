@@ -13,6 +13,8 @@
 // Shading pass: each pixel is shaded once: a full-screen resolve reads the visibility buffer
 // (object, cell record) and the prepass depth, fetches that cell's record by buffer device
 // address and shades the hit with the exact normal of the interpolant.
+// Transforms: any invertible affine world matrix (mirroring, non-uniform scale, shear); mirrored
+// objects keep their front faces through OBJECT_FLAG_MIRRORED (shaders/hermite/box.glsl).
 // Submission order: rows of cells are sorted front to back by the camera's octant so that early
 // depth testing rejects hidden cells (switchable, to measure the effect).
 #include <cstdint>
@@ -42,6 +44,7 @@ class HermiteCellFeature final : public engine::render::RenderFeature {
     std::uint64_t cells = 0;        // instances drawn in the last frame
     std::uint32_t draws = 0;        // indirect commands in the last frame
     std::uint32_t nearCells = 0;    // cells drawn by their back faces
+    std::uint32_t skippedObjects = 0;  // transform not invertible (e.g. scaled to zero): not drawn
     std::uint64_t gpuBytes = 0;     // cell buffers
   };
 

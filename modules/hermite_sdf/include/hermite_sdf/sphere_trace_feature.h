@@ -34,6 +34,12 @@
 // CentralDifferences (6 field evaluations centralDifferenceStep grid units apart). Debug views:
 // normals, depth, evals (heat map of field evaluations, 64 = red).
 //
+// Transforms: any invertible affine world matrix. Rays are traced in object space (grid units),
+// where f is a distance, so non-uniform scale and shear change neither the step nor epsilon (both
+// in object units); depth is written for the world-space hit. Mirrored objects keep their front
+// faces through OBJECT_FLAG_MIRRORED (shaders/hermite/box.glsl). Objects whose matrix cannot be
+// inverted are skipped (Stats::skippedObjects).
+//
 // Descriptors. Bindless where Context::capabilities().descriptorIndexing (one array of 3D
 // textures, indexed per draw, one bind and one instanced draw per pass and method), otherwise one
 // descriptor set per texture bound before each object's draw (lavapipe).

@@ -180,11 +180,14 @@ void HermiteCellFeature::buildDraws(engine::render::FrameContext& frame) {
   std::vector<std::uint32_t> objectIndices;
   stats_ = Stats{};
   stats_.gpuBytes = buffers_->bytes;
-  const float reach = frame.camera.nearPlaneReach();
 
   frame.registry.view<HermiteSdfRenderable, engine::scene::WorldTransform>().each(
       [&](engine::ecs::Entity, const HermiteSdfRenderable& r, const engine::scene::WorldTransform& world) {
         if (r.method != RenderMethod::Cells || !r.asset) return;
+        if (!engine::render::drawableTransform(world.matrix)) {  // the rays could not be taken into the grid
+          stats_.skippedObjects++;
+          return;
+        }
         auto found = buffers_->entries.find(r.asset->id);
         if (found == buffers_->entries.end()) return;
         const CellBuffers::Entry& entry = found->second;
@@ -208,9 +211,7 @@ void HermiteCellFeature::buildDraws(engine::render::FrameContext& frame) {
         // The eye in grid units, and how far (in grid units) the near plane reaches around it.
         const glm::vec3 eyeObject = glm::vec3(object.invModel * glm::vec4(frame.camera.position, 1.0f));
         const glm::dvec3 eyeGrid = (glm::dvec3(eyeObject) - grid.origin) / grid.spacing;
-        const float minScale = std::min({glm::length(glm::vec3(world.matrix[0])), glm::length(glm::vec3(world.matrix[1])),
-                                         glm::length(glm::vec3(world.matrix[2]))});
-        const double reachGrid = double(reach) / (double(std::max(minScale, 1e-12f)) * grid.spacing);
+        const double reachGrid = double(frame.camera.nearPlaneReachInObject(object.invModel)) / grid.spacing;
 
         for (const CellRows::Range& range : orderedRows(entry.rows, eyeGrid, settings_.frontToBack)) {
           commands[precision][0].push_back({36, range.count, 0, entry.firstRecord + range.first});
@@ -381,8 +382,8 @@ void HermiteCellFeature::recordPass(engine::render::PassContext& pass) {
 void HermiteCellFeature::drawUi() {
   if (!ImGui::CollapsingHeader("Hermite cells", ImGuiTreeNodeFlags_DefaultOpen)) return;
   ImGui::Checkbox("front-to-back rows", &settings_.frontToBack);
-  ImGui::Text("objects %u, cells %llu, draws %u, near cells %u", stats_.objects,
-              static_cast<unsigned long long>(stats_.cells), stats_.draws, stats_.nearCells);
+  ImGui::Text("objects %u, cells %llu, draws %u, near cells %u, skipped %u", stats_.objects,
+              static_cast<unsigned long long>(stats_.cells), stats_.draws, stats_.nearCells, stats_.skippedObjects);
   ImGui::Text("cell buffers: %.2f MiB", double(stats_.gpuBytes) / (1024.0 * 1024.0));
 }
 

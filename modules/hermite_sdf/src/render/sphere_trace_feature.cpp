@@ -32,22 +32,13 @@ bool traceMethod(RenderMethod method, std::uint32_t& out) {
   return true;
 }
 
-bool invertible(const glm::mat4& m) {
-  const float det = glm::determinant(glm::mat3(m));
-  return std::isfinite(det) && std::abs(det) > 1e-30f && std::isfinite(m[3][0] + m[3][1] + m[3][2]);
-}
-
 // Whether the near plane may cut the object's box (then its front faces can be clipped away and
-// it is drawn by its back faces). Conservative for any affine transform: a world distance is at
-// least sigma_min(model) times the object distance, and sigma_min >= 1 / |inverse|_Frobenius.
+// it is drawn by its back faces). Conservative for any affine transform (see nearPlaneReachInObject).
 bool nearPlaneMayCut(const engine::render::CameraView& camera, const glm::mat4& invModel, const glm::vec3& lo,
                      const glm::vec3& hi) {
   const glm::vec3 eye = glm::vec3(invModel * glm::vec4(camera.position, 1.0f));
   const float objectDistance = glm::length(eye - glm::clamp(eye, lo, hi));
-  const glm::mat3 inverse(invModel);
-  const float frobenius = std::sqrt(glm::dot(inverse[0], inverse[0]) + glm::dot(inverse[1], inverse[1]) +
-                                    glm::dot(inverse[2], inverse[2]));
-  return objectDistance / frobenius <= camera.nearPlaneReach();
+  return objectDistance <= camera.nearPlaneReachInObject(invModel);
 }
 
 }  // namespace
@@ -199,7 +190,7 @@ void SphereTraceFeature::collectDraws(engine::render::FrameContext& frame) {
       [&](engine::ecs::Entity, const HermiteSdfRenderable& r, const engine::scene::WorldTransform& world) {
         std::uint32_t method = 0;
         if (!r.asset || !traceMethod(r.method, method)) return;
-        if (!invertible(world.matrix)) {  // the rays could not be taken into the grid
+        if (!engine::render::drawableTransform(world.matrix)) {  // the rays could not be taken into the grid
           ++stats_.skippedObjects;
           return;
         }
