@@ -38,6 +38,7 @@ Status MeshFeature::initialize(const gpu::Context& context, const RendererFormat
   desc.pushConstantBytes = sizeof(shader::DrawPushConstants);
   desc.name = "mesh depth prepass";
   desc.depthCompare = VK_COMPARE_OP_GREATER;
+  desc.extraDynamicStates = {VK_DYNAMIC_STATE_FRONT_FACE};  // clockwise for mirrored objects
   ENGINE_TRY_ASSIGN(depthPipeline_, gpu::Pipeline::createGraphics(context, desc));
 
   desc.name = "mesh shading";
@@ -53,10 +54,11 @@ void MeshFeature::prepare(FrameContext& frame) {
   pool_.sync();
   commands_.clear();
   culledCount_ = 0;
+  std::vector<VkDrawIndexedIndirectCommand> mirrored;
   const math::Frustum frustum = math::extractFrustum(frame.camera.proj * frame.camera.view);
   frame.registry.view<MeshRenderable, scene::WorldTransform>().each(
       [&](ecs::Entity, const MeshRenderable& mesh, const scene::WorldTransform& world) {
-        if (!mesh.mesh.valid() || mesh.mesh.index >= pool_.meshCount()) return;
+        if (!mesh.mesh.valid() || mesh.mesh.index >= pool_.meshCount() || !drawableTransform(world.matrix)) return;
         const MeshRange& range = pool_.range(mesh.mesh);
         glm::vec3 lo, hi;
         math::transformBounds(world.matrix, range.boundsMin, range.boundsMax, lo, hi);
@@ -66,8 +68,11 @@ void MeshFeature::prepare(FrameContext& frame) {
         }
         const std::uint32_t object = frame.scene.addObject(
             GpuScene::makeObject(world.matrix, mesh.color, mesh.roughness, mesh.metallic, kFeatureId));
-        commands_.push_back({range.indexCount, 1, range.firstIndex, range.vertexOffset, object});
+        (mirrors(world.matrix) ? mirrored : commands_).push_back(
+            {range.indexCount, 1, range.firstIndex, range.vertexOffset, object});
       });
+  mirroredFirst_ = static_cast<std::uint32_t>(commands_.size());
+  commands_.insert(commands_.end(), mirrored.begin(), mirrored.end());
   drawCount_ = static_cast<std::uint32_t>(commands_.size());
   if (!commands_.empty()) indirect_.upload(frame.frameSlot, commands_);
 }
@@ -91,11 +96,20 @@ void MeshFeature::recordDraws(PassContext& pass, const gpu::Pipeline& pipeline) 
   vkCmdBindVertexBuffers(cmd, 0, 1, &vertexBuffer, &offset);
   vkCmdBindIndexBuffer(cmd, pool_.indexBuffer().handle(), 0, VK_INDEX_TYPE_UINT32);
   const VkBuffer indirect = indirect_.buffer(pass.frame.frameSlot).handle();
+  vkCmdSetFrontFace(cmd, VK_FRONT_FACE_COUNTER_CLOCKWISE);
+  recordBatch(cmd, indirect, 0, mirroredFirst_);
+  vkCmdSetFrontFace(cmd, VK_FRONT_FACE_CLOCKWISE);
+  recordBatch(cmd, indirect, mirroredFirst_, drawCount_ - mirroredFirst_);
+}
+
+void MeshFeature::recordBatch(VkCommandBuffer cmd, VkBuffer indirect, std::uint32_t first, std::uint32_t count) const {
+  if (count == 0) return;
   const auto stride = static_cast<std::uint32_t>(sizeof(VkDrawIndexedIndirectCommand));
   if (multiDraw_) {
-    vkCmdDrawIndexedIndirect(cmd, indirect, 0, drawCount_, stride);
+    vkCmdDrawIndexedIndirect(cmd, indirect, VkDeviceSize(first) * stride, count, stride);
   } else {
-    for (std::uint32_t i = 0; i < drawCount_; ++i) vkCmdDrawIndexedIndirect(cmd, indirect, VkDeviceSize(i) * stride, 1, stride);
+    for (std::uint32_t i = first; i < first + count; ++i)
+      vkCmdDrawIndexedIndirect(cmd, indirect, VkDeviceSize(i) * stride, 1, stride);
   }
 }
 

@@ -1,6 +1,10 @@
 #pragma once
 // Draws every entity with MeshRenderable + WorldTransform: depth in the prepass, lit colour in the
-// shading pass (depth EQUAL). Objects outside the view frustum are culled on the CPU.
+// shading pass (depth EQUAL). Objects outside the view frustum are culled on the CPU. Any invertible
+// affine world matrix: normals go through the inverse transpose, and objects whose matrix mirrors
+// (negative determinant, e.g. a glTF node scaled by -1) are drawn in a second batch that takes
+// clockwise triangles as front faces (dynamic state), so back-face culling keeps their outside.
+// Objects whose matrix cannot be inverted (scaled to zero) are skipped.
 #include <memory>
 #include <vector>
 
@@ -26,14 +30,16 @@ class MeshFeature final : public RenderFeature {
 
  private:
   void recordDraws(PassContext& pass, const gpu::Pipeline& pipeline);
+  void recordBatch(VkCommandBuffer cmd, VkBuffer indirect, std::uint32_t first, std::uint32_t count) const;
 
   MeshPool& pool_;
   const gpu::Context* context_ = nullptr;
   gpu::Pipeline depthPipeline_;
   gpu::Pipeline shadePipeline_;
   PerFrameBuffer indirect_;
-  std::vector<VkDrawIndexedIndirectCommand> commands_;
+  std::vector<VkDrawIndexedIndirectCommand> commands_;  // unmirrored objects, then mirrored ones
   std::uint32_t drawCount_ = 0;
+  std::uint32_t mirroredFirst_ = 0;  // index of the first mirrored object's command
   std::uint32_t culledCount_ = 0;
   bool multiDraw_ = false;
 };

@@ -1,9 +1,12 @@
 // The bundled bunny, imported from glTF and rendered headless, against a CPU ray cast of the same
 // triangles: the GPU image must cover the same pixels at the same depths.
+#include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <limits>
 #include <optional>
 
+#include <glm/gtc/matrix_transform.hpp>
 #include <gtest/gtest.h>
 
 #include "engine/core/math.h"
@@ -11,6 +14,7 @@
 #include "engine/scene/gltf_loader.h"
 #include "engine/scene/transform.h"
 #include "gpu_test_support.h"
+#include "shared/host_device.h"
 
 namespace gputest {
 namespace {
@@ -34,26 +38,108 @@ std::optional<double> intersectTriangle(const math::Ray& ray, const glm::dvec3& 
   return t > 0.0 ? std::optional<double>(t) : std::nullopt;
 }
 
-// Reverse-Z depth of the nearest triangle along each pixel's ray (0 where nothing is hit).
-std::vector<float> rayCastDepth(const scene::TriangleSoup& soup, const render::CameraView& camera, std::uint32_t w,
-                                std::uint32_t h) {
-  std::vector<float> depth(std::size_t(w) * h, 0.0f);
+// What a CPU ray cast of a triangle soup sees per pixel.
+struct RayCastImage {
+  std::vector<float> depth;         // reverse-Z depth of the nearest triangle; 0 where nothing is hit
+  std::vector<glm::dvec3> normal;   // its unit geometric normal by its winding (outward for soups
+                                    // from flattenTriangles, which undoes mirroring)
+};
+
+RayCastImage rayCast(const scene::TriangleSoup& soup, const render::CameraView& camera, std::uint32_t w, std::uint32_t h) {
+  RayCastImage image{std::vector<float>(std::size_t(w) * h, 0.0f), std::vector<glm::dvec3>(std::size_t(w) * h)};
   const glm::dvec3 forward = -glm::dvec3(glm::inverse(camera.view)[2]);
   for (std::uint32_t y = 0; y < h; ++y) {
     for (std::uint32_t x = 0; x < w; ++x) {
       const math::Ray ray = math::pixelRay(camera.view, camera.proj, {float(x) + 0.5f, float(y) + 0.5f},
                                            {int(w), int(h)});
       double best = std::numeric_limits<double>::infinity();
+      std::size_t bestTriangle = 0;
       for (std::size_t i = 0; i + 2 < soup.indices.size(); i += 3) {
         const auto t = intersectTriangle(ray, soup.positions[soup.indices[i]], soup.positions[soup.indices[i + 1]],
                                          soup.positions[soup.indices[i + 2]]);
-        if (t && *t < best) best = *t;
+        if (t && *t < best) {
+          best = *t;
+          bestTriangle = i;
+        }
       }
-      if (std::isfinite(best))
-        depth[std::size_t(y) * w + x] = float(math::viewDistanceToDepth(best * glm::dot(ray.direction, forward), camera.znear));
+      if (!std::isfinite(best)) continue;
+      const std::size_t p = std::size_t(y) * w + x;
+      image.depth[p] = float(math::viewDistanceToDepth(best * glm::dot(ray.direction, forward), camera.znear));
+      const glm::dvec3 a = soup.positions[soup.indices[bestTriangle]], b = soup.positions[soup.indices[bestTriangle + 1]],
+                       c = soup.positions[soup.indices[bestTriangle + 2]];
+      image.normal[p] = glm::normalize(glm::cross(b - a, c - a));
     }
   }
-  return depth;
+  return image;
+}
+
+// A camera 2.2 bounding radii from the centre of the soup's bounds, looking at it.
+render::CameraView orbitCamera(const scene::TriangleSoup& soup, float yaw) {
+  glm::vec3 lo(std::numeric_limits<float>::max()), hi(std::numeric_limits<float>::lowest());
+  for (const glm::vec3& p : soup.positions) {
+    lo = glm::min(lo, p);
+    hi = glm::max(hi, p);
+  }
+  const glm::vec3 center = 0.5f * (lo + hi);
+  const float radius = 0.5f * glm::length(hi - lo);
+  const glm::vec3 eye = math::orbitEye(center, 2.2f * radius, yaw, 0.3f);
+  return render::CameraView::lookAt(eye, center, 0.8f, 0.01f * radius, 1.0f);
+}
+
+// The GPU frame (and, if given, its DEBUG_VIEW_NORMALS rendering) against the ray cast.
+// A coverage disagreement is allowed only on the silhouette (some 8-neighbour differs in the
+// reference); same triangles and same rays give depths equal up to float rasterization, except on
+// the silhouette, where the surface grazes the ray and the rasterizer may pick the neighbouring
+// triangle of the one the cast hits. `minCovered`: enough pixels for the checks to mean something.
+void expectMatchesRayCast(const Frame& frame, const Frame* normals, const RayCastImage& reference, int minCovered) {
+  const std::uint32_t w = frame.width, h = frame.height;
+  int covered = 0, disagree = 0, interiorDisagree = 0, normalsChecked = 0, normalsFacingAway = 0;
+  double maxRelativeDepthError = 0.0, maxSilhouetteDepthError = 0.0;
+  std::vector<double> normalErrors;
+  for (std::uint32_t y = 1; y + 1 < h; ++y) {
+    for (std::uint32_t x = 1; x + 1 < w; ++x) {
+      const std::size_t p = std::size_t(y) * w + x;
+      const float ref = reference.depth[p];
+      const float gpu = frame.depthAt(x, y);
+      if (ref > 0.0f) ++covered;
+      bool silhouette = false;
+      for (int dy = -1; dy <= 1; ++dy)
+        for (int dx = -1; dx <= 1; ++dx) silhouette |= (reference.depth[(y + dy) * w + (x + dx)] > 0.0f) != (ref > 0.0f);
+      if ((ref > 0.0f) != (gpu > 0.0f)) {
+        ++disagree;
+        if (!silhouette) ++interiorDisagree;
+        continue;
+      }
+      if (ref <= 0.0f) continue;
+      const double relativeError = double(std::abs(gpu - ref) / ref);
+      (silhouette ? maxSilhouetteDepthError : maxRelativeDepthError) =
+          std::max(silhouette ? maxSilhouetteDepthError : maxRelativeDepthError, relativeError);
+      if (!normals || silhouette) continue;
+      // Interpolated vertex normals against the flat normal of the triangle hit: close, and on
+      // the same side (a mirrored mesh whose normals were not taken through the inverse transpose
+      // would point into the object).
+      const glm::dvec3 n = decodeNormal(normals->rgba, p);
+      ++normalsChecked;
+      normalsFacingAway += glm::dot(n, reference.normal[p]) <= 0.0;
+      normalErrors.push_back(std::acos(std::clamp(glm::dot(n, reference.normal[p]), -1.0, 1.0)) * 57.29578);
+    }
+  }
+  std::sort(normalErrors.begin(), normalErrors.end());
+  const double normalP90 = normalErrors.empty() ? 0.0 : normalErrors[normalErrors.size() * 9 / 10];
+  std::printf("covered %d, disagree %d (interior %d), max relative depth error %.2e (silhouette %.2e), "
+              "normals checked %d, facing away %d, error p90 %.1f deg\n",
+              covered, disagree, interiorDisagree, maxRelativeDepthError, maxSilhouetteDepthError, normalsChecked,
+              normalsFacingAway, normalP90);
+  EXPECT_GT(covered, minCovered);
+  EXPECT_LT(double(disagree) / covered, 0.02);
+  EXPECT_EQ(interiorDisagree, 0);
+  EXPECT_LT(maxRelativeDepthError, 2e-3);
+  EXPECT_LT(maxSilhouetteDepthError, 5e-2);
+  if (normals) {
+    EXPECT_GT(normalsChecked, covered / 2);
+    EXPECT_LE(normalsFacingAway, normalsChecked / 100);
+    EXPECT_LT(normalP90, 20.0) << "smooth normals of the bunny stay near its facets";
+  }
 }
 
 // Why: exercises the whole path file -> importer -> entities -> mesh pool -> indirect draws ->
@@ -67,41 +153,101 @@ TEST_F(GpuTest, BunnyMatchesCpuRayCastOfItsTriangles) {
 
   const std::uint32_t w = 96, h = 96;
   createRenderer(w, h);
-  const glm::vec3 center = 0.5f * (instantiated.boundsMin + instantiated.boundsMax);
-  const float radius = 0.5f * glm::length(instantiated.boundsMax - instantiated.boundsMin);
   for (const float yaw : {0.3f, 2.5f}) {
     SCOPED_TRACE("yaw " + std::to_string(yaw));
-    const glm::vec3 eye = math::orbitEye(center, 2.2f * radius, yaw, 0.3f);
-    const render::CameraView camera = render::CameraView::lookAt(eye, center, 0.8f, 0.01f * radius, 1.0f);
-    const Frame frame = render(camera);
-    const std::vector<float> reference = rayCastDepth(soup, camera, w, h);
-
-    int covered = 0, disagree = 0, interiorDisagree = 0;
-    double maxRelativeDepthError = 0.0;
-    for (std::uint32_t y = 1; y + 1 < h; ++y) {
-      for (std::uint32_t x = 1; x + 1 < w; ++x) {
-        const float ref = reference[y * w + x];
-        const float gpu = frame.depthAt(x, y);
-        if (ref > 0.0f) ++covered;
-        if ((ref > 0.0f) == (gpu > 0.0f)) {
-          if (ref > 0.0f) maxRelativeDepthError = std::max(maxRelativeDepthError, double(std::abs(gpu - ref) / ref));
-          continue;
-        }
-        ++disagree;
-        // A disagreement is allowed only on the silhouette: some 8-neighbour differs in the reference.
-        bool silhouette = false;
-        for (int dy = -1; dy <= 1; ++dy)
-          for (int dx = -1; dx <= 1; ++dx)
-            silhouette |= (reference[(y + dy) * w + (x + dx)] > 0.0f) != (ref > 0.0f);
-        if (!silhouette) ++interiorDisagree;
-      }
-    }
-    EXPECT_GT(covered, int(w * h) / 10);
-    EXPECT_LT(double(disagree) / covered, 0.02);
-    EXPECT_EQ(interiorDisagree, 0);
-    // Same triangles, same rays: depth differs only by float rasterization and interpolation.
-    EXPECT_LT(maxRelativeDepthError, 2e-3);
+    const render::CameraView camera = orbitCamera(soup, yaw);
+    expectMatchesRayCast(render(camera), nullptr, rayCast(soup, camera, w, h), int(w * h) / 10);
   }
+}
+
+// `data` with a new root node (local matrix `parent`) above its roots, whose local matrices are
+// premultiplied by `local`; world matrices recomputed (parents come before their children).
+scene::SceneData placeUnder(const scene::SceneData& data, const glm::mat4& parent, const glm::mat4& local) {
+  scene::SceneData placed = data;
+  scene::NodeData root;
+  root.name = "placement";
+  root.local = parent;
+  placed.nodes.insert(placed.nodes.begin(), root);
+  for (std::size_t n = 1; n < placed.nodes.size(); ++n) {
+    scene::NodeData& node = placed.nodes[n];
+    if (node.parent < 0) node.local = local * node.local;
+    node.parent = node.parent < 0 ? 0 : node.parent + 1;
+  }
+  for (scene::NodeData& node : placed.nodes)
+    node.world = node.parent < 0 ? node.local : placed.nodes[std::size_t(node.parent)].world * node.local;
+  return placed;
+}
+
+// Why: glTF allows negative scales (an editor's "mirror") and non-uniform ones, and a
+// non-uniformly scaled parent over a rotated child gives a sheared world matrix. A mirroring
+// matrix turns every triangle clockwise on screen: with a fixed front face the rasterizer culls the
+// outside and shows the inside of the far side (wrong depth everywhere). Normals must go through
+// the inverse transpose to stay perpendicular to stretched or sheared surfaces. The path runs from
+// scene data through instantiateScene (TRS decomposition of each node, including a negative
+// scale) and the transform hierarchy, against a CPU cast of the same triangles in world space.
+TEST_F(GpuTest, MirroredScaledAndShearedGltfNodesMatchCpuRayCast) {
+  auto data = scene::loadGltf(std::filesystem::path(HSDF_ASSET_DIR) / "bunny.glb");
+  ASSERT_TRUE(data.ok()) << data.error().message;
+  const scene::TriangleSoup original = scene::flattenTriangles(*data);
+  glm::vec3 lo(std::numeric_limits<float>::max()), hi(std::numeric_limits<float>::lowest());
+  for (const glm::vec3& p : original.positions) {
+    lo = glm::min(lo, p);
+    hi = glm::max(hi, p);
+  }
+  const std::uint32_t w = 96, h = 96;
+  createRenderer(w, h);
+  for (const NamedTransform& transform : userTransforms(0.5f * (lo + hi))) {
+    SCOPED_TRACE(transform.label);
+    registry_.clear();
+    const scene::SceneData placed = placeUnder(*data, transform.parent, transform.local);
+    render::instantiateScene(placed, registry_, *pool_);
+    const scene::TriangleSoup soup = scene::flattenTriangles(placed);
+    for (const float yaw : {0.3f, 2.5f}) {
+      SCOPED_TRACE("yaw " + std::to_string(yaw));
+      const render::CameraView camera = orbitCamera(soup, yaw);
+      const Frame frame = render(camera);
+      const Frame normals = renderWith(camera, DEBUG_VIEW_NORMALS);
+      // The flattened bunny (scale 0.4 along one axis) seen edge-on covers less of the image.
+      expectMatchesRayCast(frame, &normals, rayCast(soup, camera, w, h), int(w * h) / 20);
+    }
+  }
+}
+
+// Why: mirrored and unmirrored meshes in one frame are drawn in two batches of the same indirect
+// buffer with different front faces; each batch must draw its own objects (an offset error would
+// draw one object twice and drop the other, a missing state change would cull one of them wrong).
+TEST_F(GpuTest, MirroredAndUnmirroredMeshesInOneFrame) {
+  auto data = scene::loadGltf(std::filesystem::path(HSDF_ASSET_DIR) / "bunny.glb");
+  ASSERT_TRUE(data.ok()) << data.error().message;
+  const scene::TriangleSoup original = scene::flattenTriangles(*data);
+  glm::vec3 lo(std::numeric_limits<float>::max()), hi(std::numeric_limits<float>::lowest());
+  for (const glm::vec3& p : original.positions) {
+    lo = glm::min(lo, p);
+    hi = glm::max(hi, p);
+  }
+  const glm::vec3 offset(0.6f * (hi.x - lo.x), 0.0f, 0.0f);
+  // Left: the bunny as it is; right: mirrored in x (a negative-scale node, as a glTF file has it).
+  const scene::SceneData left = placeUnder(*data, glm::translate(glm::mat4(1.0f), -offset), glm::mat4(1.0f));
+  const scene::SceneData right = placeUnder(*data, glm::translate(glm::mat4(1.0f), offset),
+                                            userTransforms(0.5f * (lo + hi))[0].local);
+  scene::TriangleSoup soup = scene::flattenTriangles(left);
+  const scene::TriangleSoup mirrored = scene::flattenTriangles(right);
+  const auto base = static_cast<std::uint32_t>(soup.positions.size());
+  soup.positions.insert(soup.positions.end(), mirrored.positions.begin(), mirrored.positions.end());
+  for (const std::uint32_t i : mirrored.indices) soup.indices.push_back(base + i);
+  // Right first: the mirrored batch must not depend on creation order.
+  render::instantiateScene(right, registry_, *pool_);
+  render::instantiateScene(left, registry_, *pool_);
+
+  const std::uint32_t w = 128, h = 64;
+  createRenderer(w, h);
+  const glm::vec3 sceneLo = lo - offset, sceneHi = hi + offset;
+  const glm::vec3 center = 0.5f * (sceneLo + sceneHi);
+  const render::CameraView camera = render::CameraView::lookAt(
+      center + glm::vec3(0.2f, 0.3f, 1.0f) * glm::length(sceneHi - sceneLo), center, 0.6f, 0.01f, float(w) / float(h));
+  const Frame frame = render(camera);
+  const Frame normals = renderWith(camera, DEBUG_VIEW_NORMALS);
+  expectMatchesRayCast(frame, &normals, rayCast(soup, camera, w, h), int(w * h) / 10);
 }
 
 }  // namespace

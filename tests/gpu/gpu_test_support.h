@@ -2,6 +2,7 @@
 // Shared fixture of the GPU tests: a lavapipe context with validation layers on (a test fails on
 // any validation message), a renderer with the mesh feature, and helpers to build small scenes.
 #include <memory>
+#include <string>
 #include <vector>
 
 #include <gtest/gtest.h>
@@ -29,6 +30,21 @@ struct Frame {
   }
   float depthAt(std::uint32_t x, std::uint32_t y) const { return depth[std::size_t(y) * width + x]; }
 };
+
+// Object transforms an engine user (a glTF node, an editor gizmo) produces, each about `pivot`, as
+// a parent's and a child's local matrix (both translation * rotation * scale, as glTF nodes are).
+struct NamedTransform {
+  std::string label;
+  glm::mat4 parent;
+  glm::mat4 local;
+  glm::mat4 matrix() const { return parent * local; }
+};
+// Mirror in x combined with a rotation; rotation with non-uniform scale (1, 2.5, 0.4); and a
+// parent's mirroring non-uniform scale over a rotated child (the child's axes end up sheared).
+std::vector<NamedTransform> userTransforms(const glm::vec3& pivot);
+
+// The world normal a DEBUG_VIEW_NORMALS frame shows at pixel index i (n * 0.5 + 0.5, sRGB target).
+glm::dvec3 decodeNormal(const std::vector<std::uint8_t>& normalRgba, std::size_t i);
 
 class GpuTest : public ::testing::Test {
  protected:

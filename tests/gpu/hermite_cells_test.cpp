@@ -238,7 +238,8 @@ TEST_F(HermiteCellsTest, MeshPlaneCutsSdfWhereTheReferenceSays) {
 }
 
 // Why: all instances share one pipeline and one multi-draw; per-instance transforms (rotation,
-// uniform scale) come from the GPU scene. One frame with 64 must equal 64 frames with one each.
+// scale, every third one mirrored: its boxes' winding flips per object inside the same draw) come
+// from the GPU scene. One frame with 64 must equal 64 frames with one each.
 TEST_F(HermiteCellsTest, SixtyFourInstancesInOneDrawMatchSeparateFrames) {
   constexpr std::uint32_t size = 128;
   createCellRenderer(size, size);
@@ -251,7 +252,7 @@ TEST_F(HermiteCellsTest, SixtyFourInstancesInOneDrawMatchSeparateFrames) {
     const glm::vec3 offset(float(i % 8) - 3.5f, float(i / 8) - 3.5f, float((i * 5) % 7) * -0.3f);
     glm::mat4 m = glm::translate(glm::mat4(1.0f), offset * extent * 0.9f);
     m = glm::rotate(m, float(i) * 0.4f, glm::vec3(0, 1, 0));
-    m = glm::scale(m, glm::vec3(0.6f + 0.01f * float(i)));
+    m = glm::scale(m, glm::vec3(i % 3 == 0 ? -1.0f : 1.0f, 1.0f, 1.0f) * (0.6f + 0.01f * float(i)));
     transforms.push_back(glm::translate(m, -center));
   }
   const render::CameraView camera =
@@ -320,12 +321,6 @@ TEST_F(HermiteCellsTest, DebugViewsShowCellsEvaluationsAndBoxes) {
   EXPECT_EQ(wire.depth, shaded.depth) << "debug views do not change depth";
 }
 
-}  // namespace
-}  // namespace gputest
-
-namespace gputest {
-namespace {
-
 // Why: a mirroring model matrix reverses the winding of the cell boxes on screen, so a fixed
 // cull mode keeps the back faces, whose conservative depth search starts behind the surface
 // (the object vanishes); non-uniform scale and shear make the object-space ray, the world depth
@@ -338,11 +333,11 @@ TEST_F(HermiteCellsTest, MirroredScaledAndShearedObjectsMatchReference) {
   ASSERT_NE(asset, nullptr);
   for (const NamedTransform& transform : userTransforms(glm::vec3(asset->surfaceBounds.center()))) {
     registry_.clear();
-    addSdf(registry_, asset, hsdf::RenderMethod::Cells, transform.matrix);
+    addSdf(registry_, asset, hsdf::RenderMethod::Cells, transform.matrix());
     for (int view = 0; view < 2; ++view) {
       SCOPED_TRACE(transform.label + ", view " + std::to_string(view));
-      const ImageComparison c = compareView(*asset, orbitAround(worldSphere(*asset, transform.matrix), view),
-                                            transform.label.c_str(), transform.matrix);
+      const ImageComparison c = compareView(*asset, orbitAround(worldSphere(*asset, transform.matrix()), view),
+                                            transform.label.c_str(), transform.matrix());
       expectMatchesReference(c, int(size * size), 1000);
       EXPECT_LT(c.normalFlips, c.referenceHits / 100) << "normals of a mirrored object must still point out of it";
     }
@@ -358,7 +353,7 @@ TEST_F(HermiteCellsTest, CameraInsideACellOfANonUniformlyScaledObject) {
   const auto asset = bakeAsset("torus", 16);
   ASSERT_NE(asset, nullptr);
   const glm::vec3 center(asset->surfaceBounds.center());
-  const glm::mat4 model = userTransforms(center)[1].matrix;
+  const glm::mat4 model = userTransforms(center)[1].matrix();
   addSdf(registry_, asset, hsdf::RenderMethod::Cells, model);
   // In object space: from the torus hole towards the inner ring, a third of a cell before the
   // surface; placed in the world by the model.
@@ -382,7 +377,7 @@ TEST_F(HermiteCellsTest, CameraInsideACellOfANonUniformlyScaledObject) {
 TEST_F(HermiteCellsTest, ExtremeCamerasAndViewports) {
   const auto asset = bakeAsset("bunny", 16);
   ASSERT_NE(asset, nullptr);
-  const glm::mat4 model = userTransforms(glm::vec3(asset->surfaceBounds.center()))[2].matrix;  // mirror, shear
+  const glm::mat4 model = userTransforms(glm::vec3(asset->surfaceBounds.center()))[2].matrix();  // mirror, shear
   const WorldSphere sphere = worldSphere(*asset, model);
   for (const CameraSetup& setup : extremeCameras(sphere.center, sphere.radius)) {
     SCOPED_TRACE(setup.label);

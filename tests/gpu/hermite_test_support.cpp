@@ -5,8 +5,6 @@
 #include <cstdio>
 #include <cstdlib>
 
-#include <glm/gtc/matrix_transform.hpp>
-
 #include "engine/core/math.h"
 #include "engine/render/components.h"
 #include "engine/scene/gltf_loader.h"
@@ -89,16 +87,6 @@ bool allHitsWithin(const hsdf::ReferenceImage& ref, int x, int y, int radius) {
 
 }  // namespace
 
-glm::dvec3 decodeNormal(const std::vector<std::uint8_t>& normalRgba, std::size_t i) {
-  const std::uint8_t* c = &normalRgba[i * 4];
-  // DEBUG_VIEW_NORMALS writes n * 0.5 + 0.5 into an sRGB target: decode sRGB first.
-  auto linear = [](std::uint8_t v) {
-    const double s = v / 255.0;
-    return s <= 0.04045 ? s / 12.92 : std::pow((s + 0.055) / 1.055, 2.4);
-  };
-  return glm::normalize(glm::dvec3(linear(c[0]), linear(c[1]), linear(c[2])) * 2.0 - 1.0);
-}
-
 ImageComparison compareWithReference(const Frame& gpu, const std::vector<std::uint8_t>* normalRgba,
                                      const hsdf::ReferenceImage& reference, const render::CameraView& camera,
                                      double spacing, const glm::mat4& model) {
@@ -148,18 +136,6 @@ ImageComparison compareWithReference(const Frame& gpu, const std::vector<std::ui
   result.depthErrorMax = depthErrors.empty() ? 0.0 : *std::max_element(depthErrors.begin(), depthErrors.end());
   result.normalErrorP99Degrees = percentile(normalErrors, 0.99);
   return result;
-}
-
-std::vector<NamedTransform> userTransforms(const glm::vec3& pivot) {
-  const glm::mat4 toOrigin = glm::translate(glm::mat4(1.0f), -pivot);
-  const glm::mat4 back = glm::translate(glm::mat4(1.0f), pivot);
-  const glm::mat4 turn = glm::rotate(glm::mat4(1.0f), 0.6f, glm::normalize(glm::vec3(0.3f, 1.0f, 0.2f)));
-  const glm::mat4 mirrorX = glm::scale(glm::mat4(1.0f), glm::vec3(-1.0f, 1.0f, 1.0f));
-  const glm::mat4 stretch = glm::scale(glm::mat4(1.0f), glm::vec3(1.0f, 2.5f, 0.4f));
-  const glm::mat4 mirrorStretch = glm::scale(glm::mat4(1.0f), glm::vec3(0.5f, -1.6f, 1.0f));
-  return {{"mirror x", back * turn * mirrorX * toOrigin},
-          {"rotation, scale (1, 2.5, 0.4)", back * turn * stretch * toOrigin},
-          {"mirroring scale after rotation (shear)", back * mirrorStretch * turn * toOrigin}};
 }
 
 WorldSphere worldSphere(const hsdf::SdfAsset& asset, const glm::mat4& model) {

@@ -45,18 +45,6 @@ ImageComparison compareWithReference(const Frame& gpu, const std::vector<std::ui
                                      const hsdf::ReferenceImage& reference, const engine::render::CameraView& camera,
                                      double spacing, const glm::mat4& model = glm::mat4(1.0f));
 
-// The world normal a DEBUG_VIEW_NORMALS frame shows at pixel index i (n * 0.5 + 0.5, sRGB target).
-glm::dvec3 decodeNormal(const std::vector<std::uint8_t>& normalRgba, std::size_t i);
-
-// Object transforms an engine user (a glTF node, an editor gizmo) produces, each about `pivot`.
-struct NamedTransform {
-  std::string label;
-  glm::mat4 matrix;
-};
-// Mirror in x combined with a rotation; rotation with non-uniform scale (1, 2.5, 0.4); and a
-// mirroring non-uniform scale applied after a rotation (the object's axes end up sheared).
-std::vector<NamedTransform> userTransforms(const glm::vec3& pivot);
-
 // The sphere around the world bounds of `asset` placed by `model`, for framing it.
 struct WorldSphere {
   glm::vec3 center;

@@ -418,11 +418,11 @@ TEST_F(SphereTraceTest, MirroredScaledAndShearedObjectsMatchTheirReferences) {
   for (const NamedTransform& transform : userTransforms(glm::vec3(asset->surfaceBounds.center()))) {
     for (const RenderMethod method : {RenderMethod::TrilinearSphereTrace, RenderMethod::HermiteSphereTrace}) {
       registry_.clear();
-      addTracedSdf(registry_, asset, method, transform.matrix);
+      addTracedSdf(registry_, asset, method, transform.matrix());
       for (int view = 0; view < 2; ++view) {
         const ImageComparison c = expectMatchesReference(
-            method, asset->field, orbitAround(worldSphere(*asset, transform.matrix), view),
-            std::string(methodName(method)) + ", " + transform.label + ", view " + std::to_string(view), transform.matrix,
+            method, asset->field, orbitAround(worldSphere(*asset, transform.matrix()), view),
+            std::string(methodName(method)) + ", " + transform.label + ", view " + std::to_string(view), transform.matrix(),
             1000);
         EXPECT_LT(c.normalFlips, c.referenceHits / 100) << "normals of a mirrored object must still point out of it";
       }
@@ -438,7 +438,7 @@ TEST_F(SphereTraceTest, CameraInsideATransformedObject) {
   const auto asset = bakeAsset("torus", 16);
   ASSERT_NE(asset, nullptr);
   const glm::vec3 center(asset->surfaceBounds.center());
-  const glm::mat4 model = userTransforms(center)[2].matrix;  // mirroring, sheared
+  const glm::mat4 model = userTransforms(center)[2].matrix();  // mirroring, sheared
   // Inside the tube (major radius 1), looking along it.
   const glm::vec3 eye(model * glm::vec4(center + glm::vec3(1.0f, 0.0f, 0.0f), 1.0f));
   const glm::vec3 along(model * glm::vec4(center + glm::vec3(1.0f, 0.0f, -1.0f), 1.0f));
@@ -457,7 +457,7 @@ TEST_F(SphereTraceTest, CameraInsideATransformedObject) {
 TEST_F(SphereTraceTest, ExtremeCamerasAndViewports) {
   const auto asset = bakeAsset("bunny", 16);
   ASSERT_NE(asset, nullptr);
-  const glm::mat4 model = userTransforms(glm::vec3(asset->surfaceBounds.center()))[2].matrix;  // mirror, shear
+  const glm::mat4 model = userTransforms(glm::vec3(asset->surfaceBounds.center()))[2].matrix();  // mirror, shear
   const WorldSphere sphere = worldSphere(*asset, model);
   for (const CameraSetup& setup : extremeCameras(sphere.center, sphere.radius)) {
     createTraceRenderer(setup.size.x, setup.size.y);
