@@ -73,13 +73,18 @@ RayCastImage rayCast(const scene::TriangleSoup& soup, const render::CameraView& 
   return image;
 }
 
-// A camera 2.2 bounding radii from the centre of the soup's bounds, looking at it.
-render::CameraView orbitCamera(const scene::TriangleSoup& soup, float yaw) {
+std::pair<glm::vec3, glm::vec3> soupBounds(const scene::TriangleSoup& soup) {
   glm::vec3 lo(std::numeric_limits<float>::max()), hi(std::numeric_limits<float>::lowest());
   for (const glm::vec3& p : soup.positions) {
     lo = glm::min(lo, p);
     hi = glm::max(hi, p);
   }
+  return {lo, hi};
+}
+
+// A camera 2.2 bounding radii from the centre of the soup's bounds, looking at it.
+render::CameraView orbitCamera(const scene::TriangleSoup& soup, float yaw) {
+  const auto [lo, hi] = soupBounds(soup);
   const glm::vec3 center = 0.5f * (lo + hi);
   const float radius = 0.5f * glm::length(hi - lo);
   const glm::vec3 eye = math::orbitEye(center, 2.2f * radius, yaw, 0.3f);
@@ -91,20 +96,21 @@ render::CameraView orbitCamera(const scene::TriangleSoup& soup, float yaw) {
 // reference); same triangles and same rays give depths equal up to float rasterization, except on
 // the silhouette, where the surface grazes the ray and the rasterizer may pick the neighbouring
 // triangle of the one the cast hits. `minCovered`: enough pixels for the checks to mean something.
-void expectMatchesRayCast(const Frame& frame, const Frame* normals, const RayCastImage& reference, int minCovered) {
+void expectMatchesRayCast(const Frame& frame, const Frame* normals, const RayCastImage& reference, int minCovered = 0) {
   const std::uint32_t w = frame.width, h = frame.height;
   int covered = 0, disagree = 0, interiorDisagree = 0, normalsChecked = 0, normalsFacingAway = 0;
   double maxRelativeDepthError = 0.0, maxSilhouetteDepthError = 0.0;
   std::vector<double> normalErrors;
-  for (std::uint32_t y = 1; y + 1 < h; ++y) {
-    for (std::uint32_t x = 1; x + 1 < w; ++x) {
+  for (std::uint32_t y = 0; y < h; ++y) {
+    for (std::uint32_t x = 0; x < w; ++x) {
       const std::size_t p = std::size_t(y) * w + x;
       const float ref = reference.depth[p];
       const float gpu = frame.depthAt(x, y);
       if (ref > 0.0f) ++covered;
-      bool silhouette = false;
-      for (int dy = -1; dy <= 1; ++dy)
-        for (int dx = -1; dx <= 1; ++dx) silhouette |= (reference.depth[(y + dy) * w + (x + dx)] > 0.0f) != (ref > 0.0f);
+      bool silhouette = false;  // some 8-neighbour inside the image differs in the reference
+      for (std::uint32_t ny = y == 0 ? 0 : y - 1; ny <= std::min(y + 1, h - 1); ++ny)
+        for (std::uint32_t nx = x == 0 ? 0 : x - 1; nx <= std::min(x + 1, w - 1); ++nx)
+          silhouette |= (reference.depth[std::size_t(ny) * w + nx] > 0.0f) != (ref > 0.0f);
       if ((ref > 0.0f) != (gpu > 0.0f)) {
         ++disagree;
         if (!silhouette) ++interiorDisagree;
@@ -131,7 +137,7 @@ void expectMatchesRayCast(const Frame& frame, const Frame* normals, const RayCas
               covered, disagree, interiorDisagree, maxRelativeDepthError, maxSilhouetteDepthError, normalsChecked,
               normalsFacingAway, normalP90);
   EXPECT_GT(covered, minCovered);
-  EXPECT_LT(double(disagree) / covered, 0.02);
+  EXPECT_LE(disagree, covered / 50);
   EXPECT_EQ(interiorDisagree, 0);
   EXPECT_LT(maxRelativeDepthError, 2e-3);
   EXPECT_LT(maxSilhouetteDepthError, 5e-2);
@@ -188,12 +194,7 @@ scene::SceneData placeUnder(const scene::SceneData& data, const glm::mat4& paren
 TEST_F(GpuTest, MirroredScaledAndShearedGltfNodesMatchCpuRayCast) {
   auto data = scene::loadGltf(std::filesystem::path(HSDF_ASSET_DIR) / "bunny.glb");
   ASSERT_TRUE(data.ok()) << data.error().message;
-  const scene::TriangleSoup original = scene::flattenTriangles(*data);
-  glm::vec3 lo(std::numeric_limits<float>::max()), hi(std::numeric_limits<float>::lowest());
-  for (const glm::vec3& p : original.positions) {
-    lo = glm::min(lo, p);
-    hi = glm::max(hi, p);
-  }
+  const auto [lo, hi] = soupBounds(scene::flattenTriangles(*data));
   const std::uint32_t w = 96, h = 96;
   createRenderer(w, h);
   for (const NamedTransform& transform : userTransforms(0.5f * (lo + hi))) {
@@ -219,12 +220,7 @@ TEST_F(GpuTest, MirroredScaledAndShearedGltfNodesMatchCpuRayCast) {
 TEST_F(GpuTest, MirroredAndUnmirroredMeshesInOneFrame) {
   auto data = scene::loadGltf(std::filesystem::path(HSDF_ASSET_DIR) / "bunny.glb");
   ASSERT_TRUE(data.ok()) << data.error().message;
-  const scene::TriangleSoup original = scene::flattenTriangles(*data);
-  glm::vec3 lo(std::numeric_limits<float>::max()), hi(std::numeric_limits<float>::lowest());
-  for (const glm::vec3& p : original.positions) {
-    lo = glm::min(lo, p);
-    hi = glm::max(hi, p);
-  }
+  const auto [lo, hi] = soupBounds(scene::flattenTriangles(*data));
   const glm::vec3 offset(0.6f * (hi.x - lo.x), 0.0f, 0.0f);
   // Left: the bunny as it is; right: mirrored in x (a negative-scale node, as a glTF file has it).
   const scene::SceneData left = placeUnder(*data, glm::translate(glm::mat4(1.0f), -offset), glm::mat4(1.0f));
@@ -248,6 +244,26 @@ TEST_F(GpuTest, MirroredAndUnmirroredMeshesInOneFrame) {
   const Frame frame = render(camera);
   const Frame normals = renderWith(camera, DEBUG_VIEW_NORMALS);
   expectMatchesRayCast(frame, &normals, rayCast(soup, camera, w, h), int(w * h) / 10);
+}
+
+// Why: 1-pixel and 7-pixel wide viewports, 10 and 150 degree fields of view and a mesh a few
+// pixels wide, here mirrored and sheared, push the projection and the viewport maths to their
+// ends; each must render without a validation message and match the ray cast.
+TEST_F(GpuTest, ExtremeCamerasAndViewportsMatchCpuRayCast) {
+  auto data = scene::loadGltf(std::filesystem::path(HSDF_ASSET_DIR) / "bunny.glb");
+  ASSERT_TRUE(data.ok()) << data.error().message;
+  const scene::TriangleSoup original = scene::flattenTriangles(*data);
+  const auto [lo, hi] = soupBounds(original);
+  const NamedTransform transform = userTransforms(0.5f * (lo + hi))[2];  // mirroring, sheared
+  const scene::SceneData placed = placeUnder(*data, transform.parent, transform.local);
+  render::instantiateScene(placed, registry_, *pool_);
+  const scene::TriangleSoup soup = scene::flattenTriangles(placed);
+  const auto [placedLo, placedHi] = soupBounds(soup);
+  for (const CameraSetup& setup : extremeCameras(0.5f * (placedLo + placedHi), 0.5f * glm::length(placedHi - placedLo))) {
+    SCOPED_TRACE(setup.label);
+    createRenderer(setup.size.x, setup.size.y);
+    expectMatchesRayCast(render(setup.camera), nullptr, rayCast(soup, setup.camera, setup.size.x, setup.size.y));
+  }
 }
 
 }  // namespace

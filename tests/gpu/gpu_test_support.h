@@ -43,6 +43,16 @@ struct NamedTransform {
 // parent's mirroring non-uniform scale over a rotated child (the child's axes end up sheared).
 std::vector<NamedTransform> userTransforms(const glm::vec3& pivot);
 
+// Camera set-ups at the edges of what a user may ask for, looking at a sphere (centre, radius):
+// viewports 1x1, 7x300 and 300x7; fields of view 10 and 150 degrees; a camera so far away that the
+// object covers a few pixels of a 128x128 image.
+struct CameraSetup {
+  std::string label;
+  glm::uvec2 size;
+  engine::render::CameraView camera;
+};
+std::vector<CameraSetup> extremeCameras(const glm::vec3& center, float radius);
+
 // The world normal a DEBUG_VIEW_NORMALS frame shows at pixel index i (n * 0.5 + 0.5, sRGB target).
 glm::dvec3 decodeNormal(const std::vector<std::uint8_t>& normalRgba, std::size_t i);
 

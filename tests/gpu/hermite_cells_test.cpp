@@ -9,6 +9,7 @@
 #include <set>
 #include <cstdio>
 #include <cstdlib>
+#include <limits>
 #include <string>
 
 #include <gtest/gtest.h>
@@ -399,6 +400,29 @@ TEST_F(HermiteCellsTest, ExtremeCamerasAndViewports) {
       EXPECT_LT(c.depthErrorP99, 1e-2);
     }
   }
+}
+
+// Why: a node scaled to zero (a common way to hide an animated object) or a NaN from a broken
+// animation has no inverse: rays and normals would be NaN, and the near-cell search would run on a
+// NaN eye. Cells and meshes must skip such objects (counted) and still draw the rest.
+TEST_F(HermiteCellsTest, ObjectsWithoutAnInverseAreSkipped) {
+  createCellRenderer(64, 64);
+  const auto asset = bakeAsset("sphere", 8);
+  ASSERT_NE(asset, nullptr);
+  // Local transforms, resolved into world matrices by the hierarchy pass as in an application.
+  const ecs::Entity zero = addSdf(registry_, asset, hsdf::RenderMethod::Cells);
+  registry_.get<scene::Transform>(zero).scale = glm::vec3(0.0f);
+  const ecs::Entity broken = addSdf(registry_, asset, hsdf::RenderMethod::Cells);
+  registry_.get<scene::Transform>(broken).translation.x = std::numeric_limits<float>::quiet_NaN();
+  addSdf(registry_, asset, hsdf::RenderMethod::Cells);
+  const ecs::Entity hidden = addQuad(glm::vec3(0.0f), 1.0f, {0.0f, 0.0f, 1.0f, 1.0f});
+  registry_.get<scene::Transform>(hidden).scale = glm::vec3(0.0f);
+  const Frame frame = render(render::CameraView::lookAt({0.0f, 0.0f, 4.0f}, glm::vec3(0.0f), 0.9f, 0.01f, 1.0f));
+  const auto& stats = renderer_->feature<hsdf::HermiteCellFeature>()->stats();
+  EXPECT_EQ(stats.objects, 1u);
+  EXPECT_EQ(stats.skippedObjects, 2u);
+  EXPECT_EQ(renderer_->feature<render::MeshFeature>()->drawnLastFrame(), 0u);
+  EXPECT_GT(std::count_if(frame.depth.begin(), frame.depth.end(), [](float d) { return d > 0.0f; }), 500);
 }
 
 }  // namespace

@@ -151,23 +151,4 @@ render::CameraView orbitAround(const WorldSphere& sphere, int view) {
   return render::CameraView::lookAt(eye, sphere.center, 0.9f, 0.01f * sphere.radius, 1.0f);
 }
 
-std::vector<CameraSetup> extremeCameras(const glm::vec3& center, float radius) {
-  constexpr float kDegree = 3.14159265f / 180.0f;
-  auto orbit = [&](glm::uvec2 size, float fovY, float distance) {
-    const glm::vec3 eye = math::orbitEye(center, distance * radius, 0.7f, 0.35f);
-    return render::CameraView::lookAt(eye, center, fovY, 0.01f * radius, float(size.x) / float(size.y));
-  };
-  // 300x7 keeps a horizontal field of view of 0.9 rad (a 0.9 rad vertical one would make it ~175
-  // degrees wide). A field of view of 10 degrees needs the camera ~11.5 radii away to frame the
-  // object; 150 degrees at 1.2 radii (the eye inside the grid's bounds) shows it in the middle,
-  // stretched towards the edges.
-  const float wideFovY = 2.0f * std::atan(std::tan(0.45f) * 7.0f / 300.0f);
-  return {{"1x1", {1, 1}, orbit({1, 1}, 0.9f, 2.0f)},
-          {"7x300", {7, 300}, orbit({7, 300}, 0.9f, 2.0f)},
-          {"300x7", {300, 7}, orbit({300, 7}, wideFovY, 2.0f)},
-          {"fov 10 deg", {128, 128}, orbit({128, 128}, 10.0f * kDegree, 12.0f)},
-          {"fov 150 deg", {128, 128}, orbit({128, 128}, 150.0f * kDegree, 1.2f)},
-          {"far away", {128, 128}, orbit({128, 128}, 0.9f, 60.0f)}};
-}
-
 }  // namespace gputest

@@ -55,14 +55,4 @@ WorldSphere worldSphere(const hsdf::SdfAsset& asset, const glm::mat4& model);
 // sides, above and below.
 engine::render::CameraView orbitAround(const WorldSphere& sphere, int view);
 
-// Camera set-ups at the edges of what a user may ask for, looking at a sphere (centre, radius):
-// viewports 1x1, 7x300 and 300x7; fields of view 10 and 150 degrees; a camera so far away that the
-// object covers a few pixels of a 128x128 image.
-struct CameraSetup {
-  std::string label;
-  glm::uvec2 size;
-  engine::render::CameraView camera;
-};
-std::vector<CameraSetup> extremeCameras(const glm::vec3& center, float radius);
-
 }  // namespace gputest
