@@ -49,8 +49,10 @@ engine::Expected<std::shared_ptr<const SdfAsset>> makeSdfAsset(std::string name,
 // renderer only (the sphere-tracing baselines need the dense field). Errors: invalid grid.
 engine::Expected<std::shared_ptr<const SdfAsset>> makeSdfAssetFromCells(std::string name, CellStream cells);
 
-// The component. The entity's engine::scene::WorldTransform places the asset's grid in the world
-// (rigid transforms with uniform scale keep distances meaningful; any affine map renders correctly).
+// The component. The entity's engine::scene::WorldTransform places the asset's grid in the world:
+// any invertible affine matrix (rotation, non-uniform scale, mirroring, shear) renders correctly,
+// since every method works in object space, where the field is a distance (README, "Object
+// transforms"). Objects whose matrix cannot be inverted (e.g. scaled to zero) are not drawn.
 struct HermiteSdfRenderable {
   std::shared_ptr<const SdfAsset> asset;
   RenderMethod method = RenderMethod::Cells;
