@@ -21,7 +21,18 @@
 // |f| + (h/3)(|fx|+|fy|+|fz|) (Hermite) or |f| (trilinear): a few hundred ulps of the cell's
 // magnitudes, so it only catches contacts that rounding cannot resolve. It is 10x below the
 // classification's zero band (cells.h), which is why casting through only the kept cells gives
-// exactly the same hits as casting through all cells.
+// exactly the same hits as casting through all cells:
+//   - a cell the plain test drops has all 64 coefficients of one sign and beyond the zero band
+//     (>= 2^-149 * 1e-12 since some corner value is a nonzero float). Each coefficient of the
+//     restriction is a sum of products of them with non-negative weights (de Casteljau with t and
+//     1-t in [0,1], binomial ratios), so in floating point it keeps that sign without underflow,
+//     and the first step of the root search would drop the whole segment;
+//   - a cell only refinement drops has F beyond the zero band everywhere in it, far above the
+//     contact tolerance plus the rounding of the restriction: no sign change and no contact.
+// castRay is the straightforward path (every cell the ray crosses is searched); castRayKeptCells
+// and renderReference skip the dropped cells. renderReference classifies the field itself (plain
+// test, as classifyCells with refineDepth 0) when no classification is given: most cells a ray
+// crosses are dropped, and that is most of the work of the straightforward path.
 //
 // Hits are reported for t in [tMin, tMax] along origin + t * direction (direction need not be
 // unit length; t is in units of it). A ray starting inside the surface hits where it leaves.

@@ -1,6 +1,7 @@
 #include <algorithm>
 #include <atomic>
 #include <cmath>
+#include <optional>
 #include <stdexcept>
 #include <thread>
 
@@ -117,6 +118,13 @@ engine::Expected<ReferenceImage> renderReference(const HermiteField& field, cons
   ENGINE_TRY(detail::validateField(field));
   if (cells != nullptr) ENGINE_TRY(detail::validateClassification(field.grid, *cells));
   ENGINE_TRY_ASSIGN(const std::vector<Ray> rays, cameraRays(view, proj, imageSize, options.model));
+  // Without a classification, classify here: casting through the kept cells gives the same hits as
+  // casting through all of them (reference.h), and most cells a ray crosses are proven empty.
+  std::optional<CellClassification> own;
+  if (cells == nullptr) {
+    ENGINE_TRY_ASSIGN(own, classifyCells(field, ClassifyOptions{.refineDepth = 0, .threads = options.threads}));
+    cells = &*own;
+  }
   return renderWith(field.grid, rays, view, proj, imageSize, options, [&](const Ray& ray) {
     return detail::castHermiteUnchecked(field, ray, CastOptions{}, cells);
   });
