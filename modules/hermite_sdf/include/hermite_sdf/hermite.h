@@ -142,9 +142,13 @@ BernsteinCell<T> toBernstein(const HermiteCellCorners<T>& corners, T h) {
 }
 
 // One de Casteljau reduction of N+1 coefficients at t (the value of a degree-N Bernstein polynomial).
+// Unrolled (GCC leaves the triangular loop rolled, through memory: 4-5x slower at degree 9); the
+// reference caster's root search evaluates this ~50 times per hit.
 template <class T, std::size_t N>
 T bernsteinValue1D(std::array<T, N> p, T t) {
+#pragma GCC unroll 16
   for (std::size_t level = 1; level < N; ++level)
+#pragma GCC unroll 16
     for (std::size_t i = 0; i + level < N; ++i) p[i] = (T(1) - t) * p[i] + t * p[i + 1];
   return p[0];
 }
@@ -171,7 +175,9 @@ void subdivideBernstein1D(const std::array<T, N>& p, T t, std::array<T, N>& left
   std::array<T, N> work = p;
   left[0] = work[0];
   right[N - 1] = work[N - 1];
+#pragma GCC unroll 16
   for (std::size_t level = 1; level < N; ++level) {
+#pragma GCC unroll 16
     for (std::size_t i = 0; i + level < N; ++i) work[i] = (T(1) - t) * work[i] + t * work[i + 1];
     left[level] = work[0];
     right[N - 1 - level] = work[N - 1 - level];
@@ -254,44 +260,73 @@ constexpr double binomial(int n, int k) {
 // Then F(s) = sum_ijk T_ijk B_i(s) B_j(s) B_k(s) with T = coeffs transformed by M_x, M_y, M_z,
 // and B^N_i B^N_j B^N_k = C(N,i)C(N,j)C(N,k)/C(3N,i+j+k) B^{3N}_{i+j+k}. Every output
 // coefficient is a convex combination of the input ones, so strict signs carry over.
+// The reference caster calls this for every cell a ray searches, so it is written for speed:
+// the blossoms of all N+1 basis functions run side by side (one de Casteljau lane each, from the
+// unit vectors) and share their levels at u0; strides are compile-time constants. Every value
+// goes through the same floating-point operations in the same order as the plain formulation
+// (de Casteljau per basis function and j, sums over a from 0, outputs accumulated k, j, i), so
+// the results are bit for bit those of the plain loops.
 template <int N, class T>
 std::array<T, 3 * N + 1> restrictToSegment(const std::array<T, (N + 1) * (N + 1) * (N + 1)>& coeffs,
                                            const Vec3<T>& u0, const Vec3<T>& u1) {
   constexpr int n1 = N + 1;
-  // blossom[axis][a][j]
+  using Lanes = std::array<std::array<T, n1>, n1>;  // [i][a]: de Casteljau entry i of basis function a
+  // blossom[axis][j][a] = M_axis[a][j]
   T blossom[3][n1][n1];
-  for (int axis = 0; axis < 3; ++axis)
-    for (int a = 0; a < n1; ++a)
-      for (int j = 0; j < n1; ++j) {
-        std::array<T, n1> p{};
-        p[a] = T(1);
-        for (int level = 1; level <= N; ++level) {
-          const T t = level <= N - j ? u0[axis] : u1[axis];
-          for (int i = 0; i + level < n1; ++i) p[i] = (T(1) - t) * p[i] + t * p[i + 1];
-        }
-        blossom[axis][a][j] = p[0];
-      }
-  // Transform axis by axis: x, then y, then z (index a + n1*b + n1*n1*c throughout).
-  std::array<T, n1 * n1 * n1> work = coeffs;
   for (int axis = 0; axis < 3; ++axis) {
-    const int stride = axis == 0 ? 1 : (axis == 1 ? n1 : n1 * n1);
-    std::array<T, n1 * n1 * n1> next{};
-    for (int idx = 0; idx < n1 * n1 * n1; ++idx) {
-      const int j = (idx / stride) % n1;
-      const int base = idx - j * stride;
-      T sum = T(0);
-      for (int a = 0; a < n1; ++a) sum += work[base + a * stride] * blossom[axis][a][j];
-      next[idx] = sum;
+    const T t0 = u0[axis], t1 = u1[axis];
+    std::array<Lanes, n1> atU0{};  // after `level` levels at u0
+    for (int a = 0; a < n1; ++a) atU0[0][a][a] = T(1);
+    for (int level = 1; level <= N; ++level)
+      for (int i = 0; i + level < n1; ++i)
+        for (int a = 0; a < n1; ++a)
+          atU0[level][i][a] = (T(1) - t0) * atU0[level - 1][i][a] + t0 * atU0[level - 1][i + 1][a];
+    for (int j = 0; j < n1; ++j) {  // N-j levels at u0, then j at u1
+      Lanes p = atU0[N - j];
+      for (int level = N - j + 1; level <= N; ++level)
+        for (int i = 0; i + level < n1; ++i)
+          for (int a = 0; a < n1; ++a) p[i][a] = (T(1) - t1) * p[i][a] + t1 * p[i + 1][a];
+      for (int a = 0; a < n1; ++a) blossom[axis][j][a] = p[0][a];
     }
-    work = next;
   }
+  // Transform axis by axis (index a + n1*b + n1*n1*c throughout): x, then y, then z.
+  constexpr int n2 = n1 * n1;
+  T alongX[n2 * n1], alongY[n2 * n1], alongZ[n2 * n1];
+  for (int bc = 0; bc < n2; ++bc)
+    for (int j = 0; j < n1; ++j) {
+      T sum = T(0);
+      for (int a = 0; a < n1; ++a) sum += coeffs[std::size_t(a + n1 * bc)] * blossom[0][j][a];
+      alongX[j + n1 * bc] = sum;
+    }
+  for (int c = 0; c < n1; ++c)
+    for (int j = 0; j < n1; ++j)
+      for (int i = 0; i < n1; ++i) {
+        T sum = T(0);
+        for (int b = 0; b < n1; ++b) sum += alongX[i + n1 * b + n2 * c] * blossom[1][j][b];
+        alongY[i + n1 * j + n2 * c] = sum;
+      }
+  for (int k = 0; k < n1; ++k)
+    for (int ij = 0; ij < n2; ++ij) {
+      T sum = T(0);
+      for (int c = 0; c < n1; ++c) sum += alongY[ij + n2 * c] * blossom[2][k][c];
+      alongZ[ij + n2 * k] = sum;
+    }
+  struct Weights {
+    double w[n1][n1][n1];  // [k][j][i]
+  };
+  static constexpr Weights kWeights = [] {
+    Weights out{};
+    for (int k = 0; k < n1; ++k)
+      for (int j = 0; j < n1; ++j)
+        for (int i = 0; i < n1; ++i)
+          out.w[k][j][i] = binomial(N, i) * binomial(N, j) * binomial(N, k) / binomial(3 * N, i + j + k);
+    return out;
+  }();
   std::array<T, 3 * N + 1> out{};
   for (int k = 0; k < n1; ++k)
     for (int j = 0; j < n1; ++j)
-      for (int i = 0; i < n1; ++i) {
-        const double w = binomial(N, i) * binomial(N, j) * binomial(N, k) / binomial(3 * N, i + j + k);
-        out[i + j + k] += T(w) * work[i + n1 * j + n1 * n1 * k];
-      }
+      for (int i = 0; i < n1; ++i)
+        out[std::size_t(i + j + k)] += T(kWeights.w[k][j][i]) * alongZ[i + n1 * j + n2 * k];
   return out;
 }
 

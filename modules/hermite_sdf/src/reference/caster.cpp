@@ -37,9 +37,12 @@ double nextBoundary(const GridSpec& grid, const Ray& ray, const glm::ivec3& cell
   return (plane - ray.origin[a]) / ray.direction[a];
 }
 
-}  // namespace
-
-void walkCells(const GridSpec& grid, const Ray& ray, double tMin, double tMax, const SegmentVisitor& visit) {
+// 3D DDA over the grid's cells along the part of the ray inside the grid and inside [tMin, tMax].
+// Calls visit(cell, t0, t1) for each cell the ray crosses, in order, with the ray parameters where
+// it enters and leaves the cell (t0 < t1); visit returning true stops the walk. A template, not a
+// std::function: it runs once per cell crossed, millions of times per image.
+template <class Visit>
+void walkCells(const GridSpec& grid, const Ray& ray, double tMin, double tMax, const Visit& visit) {
   double tEnter = tMin, tExit = tMax;
   if (!clipToGrid(grid, ray, tEnter, tExit)) return;
   const int n = grid.cellsPerAxis();
@@ -63,6 +66,8 @@ void walkCells(const GridSpec& grid, const Ray& ray, double tMin, double tMax, c
     tCurrent = tEnd;
   }
 }
+
+}  // namespace
 
 glm::dvec3 cellLocal(const GridSpec& grid, const glm::ivec3& cell, const glm::dvec3& p) {
   return glm::clamp((p - grid.origin) / grid.spacing - glm::dvec3(cell), 0.0, 1.0);

@@ -1,18 +1,10 @@
 #pragma once
 // Pieces of the reference caster shared by the single-ray API and the image renderer.
-#include <functional>
 #include <optional>
 
 #include "hermite_sdf/reference.h"
 
 namespace hsdf::detail {
-
-// Called for each cell the ray crosses, in order, with the ray parameters where it enters and
-// leaves the cell (t0 < t1); returning true stops the walk.
-using SegmentVisitor = std::function<bool(const glm::ivec3& cell, double t0, double t1)>;
-
-// 3D DDA over the grid's cells along the part of the ray inside the grid and inside [tMin, tMax].
-void walkCells(const GridSpec& grid, const Ray& ray, double tMin, double tMax, const SegmentVisitor& visit);
 
 // Cell-local coordinates of p in `cell`, clamped to [0,1]^3 (rounding at cell faces).
 glm::dvec3 cellLocal(const GridSpec& grid, const glm::ivec3& cell, const glm::dvec3& p);
