@@ -47,21 +47,6 @@ double halfArea(const OrientedBox& box) {
   return e.x * e.y + e.y * e.z + e.z * e.x;
 }
 
-// Float bounds below this value may hide something closer than sqrt(bestSquared).
-float pruneThreshold(double bestSquared, double margin) {
-  if (!std::isfinite(bestSquared)) return kInfinityF;
-  const double reach = std::sqrt(bestSquared) + margin;
-  return float(reach * reach);
-}
-
-// Undoes the margin: a true lower bound on the squared distance from a float bound (an overflowed
-// bound, +inf, stands for "at least the largest float").
-double trueBoundSquared(float boundF, double margin) {
-  const double bound = std::min(double(boundF), double(std::numeric_limits<float>::max()));
-  const double reach = std::max(std::sqrt(bound) - margin, 0.0);
-  return reach * reach;
-}
-
 // Lanes with bounds below the threshold; nearest first when `sorted` (worth it only while the
 // bound is still loose: testing the nearest candidate first is what tightens it).
 int lanesBelow(const float (&bound)[4], float threshold, bool sorted, int (&order)[4]) {
@@ -94,6 +79,8 @@ ClosestPointTree::ClosestPointTree(const TriangleBvh& bvh) {
     for (const glm::dvec3& corner : {tri.a, tri.a + tri.ab, tri.a + tri.ac})
       radius_ = std::max(radius_, glm::length(corner - origin_));
   }
+  // A power of two, so that scaling by it is exact; radius_ > 0 since no triangle has zero area.
+  unit_ = std::ldexp(1.0, std::ilogb(radius_));
   nodes_.reserve(bvh.nodeCount() / 2 + 1);
   leaves_.reserve(bvh.nodeCount() / 2 + 1);
   if (root.isLeaf()) {
@@ -111,10 +98,10 @@ ClosestPointTree::ClosestPointTree(const TriangleBvh& bvh) {
 void ClosestPointTree::setLane(Node& node, int lane, const OrientedBox* box) const {
   const OrientedBox unit;
   const OrientedBox& b = box ? *box : unit;
-  const glm::dvec3 centre = box ? b.centre - origin_ : glm::dvec3(0.0);
+  const glm::dvec3 centre = box ? (b.centre - origin_) / unit_ : glm::dvec3(0.0);
   for (int c = 0; c < 3; ++c) {
     node.centre[c][lane] = float(centre[c]);
-    node.halfExtent[c][lane] = box ? float(b.halfExtent[c]) : kUnusedExtent;
+    node.halfExtent[c][lane] = box ? float(b.halfExtent[c] / unit_) : kUnusedExtent;
     for (int a = 0; a < 3; ++a) node.axis[a][c][lane] = float(b.axes[a][c]);
   }
   node.child[lane] = 0;
@@ -157,15 +144,31 @@ std::int32_t ClosestPointTree::addLeaf(const TriangleBvh& bvh, const BvhNode& bi
   for (std::uint32_t lane = 0; lane < std::uint32_t(kLanes); ++lane) {
     const bool used = lane < binaryLeaf.count;
     const TriangleDisk disk = used ? bvh.disk(binaryLeaf.rightOrFirst + lane) : TriangleDisk{};
-    const glm::dvec3 centre = used ? disk.centre - origin_ : glm::dvec3(0.0);
+    const glm::dvec3 centre = used ? (disk.centre - origin_) / unit_ : glm::dvec3(0.0);
     for (int c = 0; c < 3; ++c) {
       leaf.centre[c][lane] = float(centre[c]);
       leaf.normal[c][lane] = float(disk.normal[c]);
     }
-    leaf.radius[lane] = used ? float(disk.radius) : kUnusedExtent;
+    leaf.radius[lane] = used ? float(disk.radius / unit_) : kUnusedExtent;
   }
   leaves_.push_back(leaf);
   return ~std::int32_t(leaves_.size() - 1);
+}
+
+// Float bounds (in units of unit_, squared) below this value may hide something closer than
+// sqrt(bestSquared) (world units).
+float ClosestPointTree::pruneThreshold(double bestSquared, double margin) const {
+  if (!std::isfinite(bestSquared)) return kInfinityF;
+  const double reach = (std::sqrt(bestSquared) + margin) / unit_;
+  return float(reach * reach);
+}
+
+// Undoes the unit and the margin: a true lower bound on the squared world distance from a float
+// bound (an overflowed bound, +inf, stands for "at least the largest float").
+double ClosestPointTree::trueBoundSquared(float boundF, double margin) const {
+  const double bound = std::min(double(boundF), double(std::numeric_limits<float>::max()));
+  const double reach = std::max(std::sqrt(bound) * unit_ - margin, 0.0);
+  return reach * reach;
 }
 
 ClosestHit ClosestPointTree::distanceTo(const glm::dvec3& p, std::uint32_t t) const {
@@ -222,7 +225,8 @@ ClosestHit ClosestPointTree::find(const glm::dvec3& p, double boundSquared) cons
   ClosestHit& hit = search.hit;
   hit.distanceSquared = boundSquared;
   const glm::dvec3 local = p - origin_;
-  const float q[3] = {float(local.x), float(local.y), float(local.z)};
+  const glm::dvec3 scaled = local / unit_;
+  const float q[3] = {float(scaled.x), float(scaled.y), float(scaled.z)};
   const double margin = kRelativeMargin * (radius_ + glm::length(local));
   search.threshold = pruneThreshold(boundSquared, margin);
 
@@ -273,10 +277,21 @@ ClosestHit ClosestPointTree::find(const glm::dvec3& p, double boundSquared) cons
       }
     }
   }
+  // Every float bound overflowed (p is some 1e19 mesh radii away): nothing could be pruned safely.
+  if (hit.triangle == UINT32_MAX && std::isinf(boundSquared)) return closestByScan(p);
   if (hit.triangle == UINT32_MAX) hit.distanceSquared = kInfinity;
   hit.prunedBoundSquared =
       kTrackPruned ? std::min(search.prunedExact, trueBoundSquared(search.prunedFloat, margin)) : 0.0;
   return hit;
+}
+
+ClosestHit ClosestPointTree::closestByScan(const glm::dvec3& p) const {
+  ClosestHit best;
+  for (std::uint32_t t = 0; t < triangles_.size(); ++t) {
+    const ClosestHit hit = distanceTo(p, t);
+    if (best.triangle == UINT32_MAX || hit.distanceSquared < best.distanceSquared) best = hit;
+  }
+  return best;
 }
 
 ClosestHit ClosestPointTree::closest(const glm::dvec3& p, double boundSquared) const {

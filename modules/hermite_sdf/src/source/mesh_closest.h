@@ -5,9 +5,11 @@
 // them far from the surface, where a query must open every node whose bound is below the distance
 // (the surface "cap" around the closest point). The cost is then dominated by bound tests, which
 // here run on four children (or four triangles) at once from one contiguous block of floats the
-// compiler vectorises. Bounds are computed in float relative to the mesh centre and used only to
-// prune, with a margin that covers their rounding; the closest point itself is always computed in
-// double on the exact triangle, so results are exact to double rounding.
+// compiler vectorises. Bounds are computed in float relative to the mesh centre, in units of the
+// mesh radius (rounded to a power of two), and used only to prune, with a margin that covers their
+// rounding; the closest point itself is always computed in double on the exact triangle, so results
+// are exact to double rounding. The unit keeps squared float bounds in range at every mesh scale (a
+// mesh 1e30 across would overflow float squares in world units, one 1e-30 across underflow them).
 #include <cstdint>
 #include <limits>
 #include <vector>
@@ -32,7 +34,8 @@ class ClosestPointTree {
   explicit ClosestPointTree(const TriangleBvh& bvh);
 
   // The closest point of the mesh to p among those strictly closer than sqrt(boundSquared)
-  // (hit.triangle == UINT32_MAX when there is none).
+  // (hit.triangle == UINT32_MAX when there is none; never with an infinite bound, even for a p so
+  // far away that its float bounds overflow).
   ClosestHit closest(const glm::dvec3& p, double boundSquared) const;
   // The same, and when there is none, hit.prunedBoundSquared is a lower bound on the squared
   // distance from p to the mesh, itself >= boundSquared (costs a little more bookkeeping).
@@ -76,11 +79,15 @@ class ClosestPointTree {
   void setLane(Node& node, int lane, const OrientedBox* box) const;
   template <bool kTrackPruned>
   ClosestHit find(const glm::dvec3& p, double boundSquared) const;
+  ClosestHit closestByScan(const glm::dvec3& p) const;
+  float pruneThreshold(double bestSquared, double margin) const;
+  double trueBoundSquared(float boundF, double margin) const;
   template <bool kTrackPruned>
   void visitLeaf(const Leaf& leaf, const glm::dvec3& p, const float q[3], double margin, Search& search) const;
 
   glm::dvec3 origin_{0.0};  // float coordinates are relative to it (the mesh centre)
   double radius_ = 0.0;     // of the mesh around origin_, for the rounding margin
+  double unit_ = 1.0;       // float coordinates are in this unit: a power of two near radius_
   std::vector<Node> nodes_;
   std::vector<Leaf> leaves_;
   std::vector<PreparedTriangle> triangles_;  // BVH order

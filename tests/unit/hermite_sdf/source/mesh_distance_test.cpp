@@ -198,5 +198,47 @@ TEST(MeshDistance, BandQueryIsExactInsideAndSafeOutside) {
   }
 }
 
+// Tricky: pruning bounds are squared distances in float. In world units a mesh 1e30 across
+// overflows them (every bound +inf, nothing visited: no closest triangle at all) and one 1e-30
+// across underflows them (every bound 0, no pruning, wrong "safe" band bounds). Distances, signs
+// and band bounds must be those of the unit mesh scaled, at every scale a float mesh can have; the
+// factors are not powers of two, so the scaled meshes are not bit-exact copies.
+TEST(MeshDistance, ExactAtExtremeScales) {
+  const TestMesh unit = testing::bumpySphere(2);
+  const auto unitSource = makeSource(unit);
+  for (const double scale : {3e30, 3e-30, 1e37, 1e-37}) {
+    TestMesh mesh = unit;
+    for (auto& p : mesh.positions) p = glm::vec3(glm::dvec3(p) * scale);
+    const auto source = makeSource(mesh);
+    for (const glm::dvec3& q : randomPoints(100, 1.8, 31)) {
+      const glm::dvec3 p = q * scale;
+      const double expected = testing::bruteForceDistance(mesh, p);
+      const SdfSample s = source->sample(p);
+      EXPECT_NEAR(std::abs(s.value), expected, 1e-9 * scale) << "scale " << scale;
+      EXPECT_EQ(std::signbit(s.value), std::signbit(unitSource->sample(q).value)) << "scale " << scale;
+      const SdfBandSample band = source->sampleBand(p, 0.1 * scale);
+      EXPECT_LE(std::abs(band.sample.value), expected * (1.0 + 1e-9)) << "scale " << scale;
+      if (!band.exact) {
+        EXPECT_GE(std::abs(band.sample.value), 0.1 * scale * (1.0 - 1e-9));
+      }
+    }
+  }
+}
+
+// Tricky: a query so far away (1e25 mesh radii) that even the bounds in mesh units overflow float
+// must still find the closest triangle rather than report none (which indexed past the triangle
+// list when the sign was looked up). Only the distance is checked: at 1e25 radii double rounding
+// cannot tell which triangle is nearest, so the pseudonormal sign there is not meaningful.
+TEST(MeshDistance, AbsurdlyFarQueriesStillFindTheClosestTriangle) {
+  const TestMesh mesh = testing::bumpySphere(1);
+  const auto source = makeSource(mesh);
+  for (const glm::dvec3& direction : randomPoints(20, 1.0, 32)) {
+    const glm::dvec3 p = 1e25 * direction;
+    const double expected = testing::bruteForceDistance(mesh, p);
+    EXPECT_NEAR(std::abs(source->sample(p).value), expected, 1e-9 * expected);
+    EXPECT_NEAR(source->closestPoint(p).distance, expected, 1e-9 * expected);
+  }
+}
+
 }  // namespace
 }  // namespace hsdf
