@@ -1,6 +1,7 @@
 #include "hermite_sdf/field.h"
 
 #include <cmath>
+#include <cstdint>
 #include <new>
 
 #include <fmt/format.h>
@@ -95,7 +96,8 @@ engine::Expected<GridSpec> fitGrid(const Aabb& bounds, int resolution, int paddi
   if (resolution < 2 || resolution > kMaxResolution)
     return engine::makeError(fmt::format("resolution {} is outside the supported range 2..{}", resolution, kMaxResolution));
   if (paddingCells < 0) return engine::makeError(fmt::format("padding {} cells must not be negative", paddingCells));
-  const int spanCells = resolution - 1 - 2 * paddingCells;
+  // In 64 bits: 2 * paddingCells overflows int for paddings above 2^30.
+  const std::int64_t spanCells = std::int64_t(resolution) - 1 - 2 * std::int64_t(paddingCells);
   if (spanCells < 1)
     return engine::makeError(fmt::format(
         "resolution {} with {} padding cells per side leaves {} cells for the shape (need at least 1)", resolution,

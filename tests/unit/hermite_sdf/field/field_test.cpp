@@ -43,6 +43,9 @@ TEST(FitGrid, RejectsBadInputWithClearErrors) {
   };
   expectError(fitGrid(unit, 1, 0), "resolution 1");
   expectError(fitGrid(unit, 5, 2), "leaves 0 cells");
+  // 2 * P overflows int here; computed in int it wrapped to a positive span and "fitted" a grid.
+  expectError(fitGrid(unit, 16, 2000000000), "leaves -3999999985 cells");
+  expectError(fitGrid(unit, 16, std::numeric_limits<int>::max()), "padding cells per side leaves");
   expectError(fitGrid(unit, 8, -1), "padding -1");
   expectError(fitGrid({{0.0, 0.0, 0.0}, {std::nan(""), 1.0, 1.0}}, 8, 1), "not finite");
   expectError(fitGrid({{0.0, 0.0, 0.0}, {HUGE_VAL, 1.0, 1.0}}, 8, 1), "not finite");
