@@ -45,6 +45,11 @@ struct HsdfLoadOptions {
 // checksum, computed over everything before the trailer.
 std::uint64_t hsdfChecksum(std::span<const std::uint8_t> bytes);
 
+// Whether a field on `grid` can be stored with `type`: a valid grid, and for fp16 a spacing of at
+// least 2^-13 (finer grids would lose the precision of the values near the surface, see
+// docs/hsdf-format.md). serializeHsdf checks it; a baker can check it before the work.
+engine::Status checkStorable(const GridSpec& grid, HsdfScalarType type);
+
 // The file image of `contents`. Errors: invalid grid, no payload, a payload on another grid or of
 // the wrong size, cells out of range or out of order, non-finite values, values too large for fp16.
 engine::Expected<std::vector<std::uint8_t>> serializeHsdf(const HsdfContents& contents);

@@ -11,10 +11,14 @@
 namespace hsdf {
 namespace {
 
+// fp16 keeps 11 significant bits, but below 2^-14 only a fixed step of 2^-24. The values that
+// place the surface are those within a cell of it; they keep fp16's relative precision only when
+// the spacing is at least 2^-13. Finer grids would round them to a few steps, and the file's cells
+// would no longer be the cells of its own dense field (a mesh 1e-5 across does that).
+constexpr double kMinFp16Spacing = 1.0 / 8192.0;
+
 engine::Status checkContents(const HsdfContents& contents) {
-  ENGINE_TRY(validateGrid(contents.grid));
-  if (contents.scalarType != HsdfScalarType::Float32 && contents.scalarType != HsdfScalarType::Float16)
-    return engine::makeError(fmt::format("unknown scalar type {}", std::uint32_t(contents.scalarType)));
+  ENGINE_TRY(checkStorable(contents.grid, contents.scalarType));
   if (!contents.dense && !contents.cells)
     return engine::makeError("nothing to save: the contents hold neither a dense field nor a cell stream");
   if (contents.dense) {
@@ -103,6 +107,18 @@ engine::Status writeCells(io::ByteWriter& out, HsdfScalarType type, const CellSt
 }
 
 }  // namespace
+
+engine::Status checkStorable(const GridSpec& grid, HsdfScalarType type) {
+  ENGINE_TRY(validateGrid(grid));
+  if (type != HsdfScalarType::Float32 && type != HsdfScalarType::Float16)
+    return engine::makeError(fmt::format("unknown scalar type {}", std::uint32_t(type)));
+  if (type == HsdfScalarType::Float16 && grid.spacing < kMinFp16Spacing)
+    return engine::makeError(fmt::format("fp16 needs a grid spacing of at least 2^-13 ({:g}), this grid's is {:g}: "
+                                         "values near the surface would lose their precision (store fp32, or scale "
+                                         "the shape up)",
+                                         kMinFp16Spacing, grid.spacing));
+  return {};
+}
 
 std::uint64_t hsdfChecksum(std::span<const std::uint8_t> bytes) {
   std::uint64_t hash = 0xcbf29ce484222325ULL;

@@ -17,8 +17,9 @@ using Bytes = std::vector<std::uint8_t>;
 
 // A sphere baked at K = 8 with its cell stream: small, but with both cell classes and every
 // payload kind.
-HsdfContents sphereContents(HsdfScalarType type = HsdfScalarType::Float32, bool dense = true, bool cells = true) {
-  const SphereSource sphere({0.1, -0.05, 0.02}, 0.8);
+HsdfContents sphereContents(HsdfScalarType type = HsdfScalarType::Float32, bool dense = true, bool cells = true,
+                            double scale = 1.0) {
+  const SphereSource sphere(scale * glm::dvec3(0.1, -0.05, 0.02), scale * 0.8);
   const GridSpec grid = fitGrid(sphere.bounds(), 8, 1).value();
   HermiteField field = bakeHermiteField(sphere, grid).value();
   const CellClassification classes = classifyCells(field).value();
@@ -41,11 +42,12 @@ std::string loadError(const Bytes& bytes, const HsdfLoadOptions& options = {}) {
   return loaded.ok() ? std::string("(loaded)") : loaded.error().message;
 }
 
+// at(): a failed serialize() leaves the bytes empty; that must fail the test, not write past them.
 void put32(Bytes& b, std::size_t at, std::uint32_t v) {
-  for (int i = 0; i < 4; ++i) b[at + std::size_t(i)] = std::uint8_t(v >> (8 * i));
+  for (int i = 0; i < 4; ++i) b.at(at + std::size_t(i)) = std::uint8_t(v >> (8 * i));
 }
 void put64(Bytes& b, std::size_t at, std::uint64_t v) {
-  for (int i = 0; i < 8; ++i) b[at + std::size_t(i)] = std::uint8_t(v >> (8 * i));
+  for (int i = 0; i < 8; ++i) b.at(at + std::size_t(i)) = std::uint8_t(v >> (8 * i));
 }
 std::uint32_t get32(const Bytes& b, std::size_t at) {
   std::uint32_t v = 0;
@@ -309,6 +311,28 @@ TEST(HsdfFile, SerializeRefusesInvalidContents) {
   HsdfContents moved = sphereContents();
   moved.dense->grid.spacing *= 2.0;
   EXPECT_TRUE(contains(serializeHsdf(moved).error().message, "different grid"));
+}
+
+// Tricky: fp16 has a fixed absolute step (2^-24) below 2^-14, so on a fine grid the values within
+// a cell of the surface round to a few steps, yet every check of the file would still pass: only
+// re-deriving the cells from the stored dense field shows the damage. The spacing here is 1.3e-4
+// (just above the 2^-13 limit, accepted: the stored cells are those of the stored field) and 1.3e-5
+// (refused naming fp16 and the spacing; fp32 stores it fine).
+TEST(HsdfFile, Fp16RefusesGridsTooFineForItsPrecision) {
+  const HsdfContents coarse = sphereContents(HsdfScalarType::Float16, true, true, 4e-4);
+  ASSERT_GE(coarse.grid.spacing, 1.0 / 8192.0);
+  auto loaded = loadHsdfFromMemory(serialize(coarse));
+  ASSERT_TRUE(loaded.ok()) << loaded.error().message;
+  const CellStream rederived = extractCells(*loaded->dense, classifyCells(*loaded->dense).value()).value();
+  ASSERT_EQ(rederived.records.size(), loaded->cells->records.size());
+  for (std::size_t r = 0; r < rederived.records.size(); ++r)
+    EXPECT_EQ(rederived.records[r].cellClass, loaded->cells->records[r].cellClass) << "record " << r;
+
+  const HsdfContents fine = sphereContents(HsdfScalarType::Float16, true, true, 4e-5);
+  auto refused = serializeHsdf(fine);
+  ASSERT_FALSE(refused.ok());
+  EXPECT_TRUE(contains(refused.error().message, "fp16 needs a grid spacing of at least 2^-13")) << refused.error().message;
+  EXPECT_TRUE(serializeHsdf(sphereContents(HsdfScalarType::Float32, true, true, 4e-5)).ok());
 }
 
 // Tricky: the path travels into every error, and save/load go through real files.
