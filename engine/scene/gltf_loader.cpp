@@ -183,6 +183,13 @@ struct ExternalFileAccess {
   std::string problem;  // why the last lookup failed, for the error message
 };
 
+// After resolving "." and "..": a URI such as "../../secret.bin" must not climb out of the folder.
+// Lexically, so a symbolic link the user placed inside the folder is still followed.
+bool insideDirectory(const std::filesystem::path& file, const std::filesystem::path& directory) {
+  const std::filesystem::path relative = file.lexically_normal().lexically_relative(directory.lexically_normal());
+  return !relative.empty() && *relative.begin() != "..";
+}
+
 bool externalFileExists(const std::string& path, void* user) {
   auto& access = *static_cast<ExternalFileAccess*>(user);
   if (access.baseDir.empty()) {
@@ -191,6 +198,11 @@ bool externalFileExists(const std::string& path, void* user) {
   }
   // tinygltf also tries the current directory as a fallback; only the base directory counts.
   if (path.rfind(access.baseDir, 0) != 0) return false;
+  if (!insideDirectory(path, access.baseDir)) {
+    access.problem = fmt::format("external file '{}' lies outside the folder of the glTF file ('{}')", path,
+                                 access.baseDir);
+    return false;
+  }
   std::error_code ec;
   if (!std::filesystem::is_regular_file(path, ec)) {
     access.problem = fmt::format("external file '{}' not found", path);
@@ -581,6 +593,11 @@ Expected<MeshData> convertMesh(ImportContext& context, int meshIndex) {
     }
     if (!isTriangleMode(primitive.mode)) return makeError(fmt::format("{}: unknown mode {}", where, primitive.mode));
     ENGINE_TRY_ASSIGN(auto converted, convertTrianglePrimitive(context, primitive).withContext(where));
+    if (converted.indices.empty()) {  // a strip or fan of fewer than 3 vertices: nothing to draw
+      context.warnings.push_back(fmt::format("{}: mode {} with fewer than 3 vertices has no triangles, skipped", where,
+                                             primitive.mode));
+      continue;
+    }
     out.primitives.push_back(std::move(converted));
   }
   return out;
@@ -650,7 +667,7 @@ Expected<std::vector<int>> convertCameras(ImportContext& context, SceneData& sce
 // Nodes
 
 Expected<glm::mat4> localMatrix(const tinygltf::Node& node) {
-  if (!node.matrix.empty()) {
+  if (!node.matrix.empty()) {  // glTF allows matrix or TRS; with both, tinygltf keeps only the matrix
     if (node.matrix.size() != 16) return makeError(fmt::format("matrix has {} elements, expected 16", node.matrix.size()));
     glm::mat4 m(1.0f);
     for (std::size_t i = 0; i < 16; ++i) {  // glTF and GLM are both column-major
@@ -885,6 +902,20 @@ Expected<SceneData> loadGltf(const std::filesystem::path& path, const GltfLoadOp
   std::filesystem::path baseDir = path.parent_path();
   if (baseDir.empty()) baseDir = ".";
   return loadGltfFromMemory(bytes, name, baseDir, options);
+}
+
+Status checkFlattenable(const SceneData& scene, std::uint64_t maxVertices) {
+  std::uint64_t vertices = 0;
+  std::uint64_t instances = 0;
+  for (const auto& node : scene.nodes) {
+    if (node.mesh < 0 || std::size_t(node.mesh) >= scene.meshes.size()) continue;
+    ++instances;
+    for (const auto& primitive : scene.meshes[std::size_t(node.mesh)].primitives) vertices += primitive.positions.size();
+  }
+  if (vertices <= maxVertices) return {};
+  return makeError(fmt::format("its {} mesh instances flatten to {} vertices, over the limit of {} (meshes placed by "
+                               "many nodes)",
+                               instances, vertices, maxVertices));
 }
 
 TriangleSoup flattenTriangles(const SceneData& scene) {

@@ -11,13 +11,14 @@
 // scenes; nodes outside that scene are dropped):
 //  - meshes: TRIANGLES, TRIANGLE_STRIP and TRIANGLE_FAN primitives as triangle lists; POSITION is
 //    required, NORMAL is optional (smooth area-weighted normals are generated when absent), indices
-//    are optional (0..n-1 when absent) and may be of any glTF index type. Points and lines are
-//    skipped with a warning. Vertex attributes may be float or normalized/integer
+//    are optional (0..n-1 when absent) and may be of any glTF index type. Points and lines, and
+//    strips or fans of fewer than 3 vertices, are skipped with a warning. Vertex attributes may be float or normalized/integer
 //    (KHR_mesh_quantization); sparse accessors and accessors without a bufferView are rejected.
 //  - materials: pbrMetallicRoughness baseColorFactor, metallicFactor, roughnessFactor.
 //  - cameras: perspective; orthographic cameras are skipped with a warning (nodes that use one get
 //    camera -1).
-//  - nodes: local matrix (from `matrix` or translation/rotation/scale) and world matrix.
+//  - nodes: local matrix (from `matrix` or translation/rotation/scale; `matrix` wins when a node
+//    has both, which glTF forbids) and world matrix.
 // Images are never read or decoded (textures are not imported). A file without meshes is valid and
 // gives a SceneData with empty meshes.
 #include <cstdint>
@@ -36,7 +37,8 @@ struct GltfLoadOptions {
 };
 
 // Loads a .gltf or .glb file (told apart by content, not by extension). External buffer URIs are
-// resolved relative to the file's folder; a missing one is an error.
+// resolved relative to the file's folder; a missing one, or one that climbs out of the folder with
+// "..", is an error.
 Expected<SceneData> loadGltf(const std::filesystem::path& path, const GltfLoadOptions& options = {});
 
 // Loads glTF JSON or GLB bytes. `nameForErrors` prefixes every error and warning. External buffer
@@ -46,6 +48,12 @@ Expected<SceneData> loadGltfFromMemory(std::span<const std::uint8_t> bytes,
                                        std::string_view nameForErrors,
                                        const std::filesystem::path& baseDir,
                                        const GltfLoadOptions& options = {});
+
+// Flattening copies each mesh once per node that places it, so a small file can ask for any number
+// of vertices; callers holding untrusted scenes check this first. The default limit is far above
+// any mesh worth baking (2^26 vertices: 0.8 GB of positions before indices).
+inline constexpr std::uint64_t kMaxFlattenedVertices = std::uint64_t(1) << 26;
+Status checkFlattenable(const SceneData& scene, std::uint64_t maxVertices = kMaxFlattenedVertices);
 
 // World-space positions and triangle indices of every mesh instance (node with a mesh) in `scene`.
 // Instances whose world matrix mirrors (negative determinant) get their triangles re-wound so that

@@ -449,6 +449,90 @@ TEST(GltfLoaderFeatures, DefaultSceneThenSceneZeroThenAllRoots) {
   EXPECT_EQ(sceneOne->nodes[0].name, "second");
 }
 
+// Tricky because glTF makes aspectRatio and zfar optional (absent zfar means an infinite
+// projection) and tinygltf reports both as 0 when absent: neither may become a 0 aspect or a far
+// plane at 0.
+TEST(GltfLoaderFeatures, CameraWithoutAspectRatioOrZfar) {
+  GltfBuilder b;
+  b.doc()["cameras"] = {{{"type", "perspective"}, {"perspective", {{"yfov", 0.9}, {"znear", 0.25}}}}};
+  b.addNode({{"camera", 0}});
+  const auto scene = load(b);
+  ASSERT_TRUE(scene.ok()) << scene.error().message;
+  ASSERT_EQ(scene->cameras.size(), 1u);
+  EXPECT_FLOAT_EQ(scene->cameras[0].yfov, 0.9f);
+  EXPECT_FLOAT_EQ(scene->cameras[0].znear, 0.25f);
+  EXPECT_FALSE(scene->cameras[0].zfar.has_value());
+  EXPECT_FALSE(scene->cameras[0].aspectRatio.has_value());
+  EXPECT_EQ(scene->nodes[0].camera, 0);
+}
+
+// Tricky because a strip or fan of two vertices is valid glTF with no triangle in it: it must be
+// skipped with a warning, not kept as a primitive with no indices (which the renderer would draw
+// from an index buffer that may not exist), while its longer neighbour in the same mesh is kept.
+TEST(GltfLoaderFeatures, StripsAndFansOfFewerThanThreeVerticesAreSkipped) {
+  GltfBuilder b;
+  const int two = b.addPositions({{0, 0, 0}, {1, 0, 0}});
+  const int three = b.addPositions(kTriangle);
+  b.addMesh(two, -1, 5);  // TRIANGLE_STRIP
+  b.doc()["meshes"][0]["primitives"].push_back({{"attributes", {{"POSITION", two}}}, {"mode", 6}});  // FAN
+  b.doc()["meshes"][0]["primitives"].push_back({{"attributes", {{"POSITION", three}}}, {"mode", 5}});
+  b.addNode({{"mesh", 0}});
+  const auto scene = load(b);
+  ASSERT_TRUE(scene.ok()) << scene.error().message;
+  ASSERT_EQ(scene->meshes[0].primitives.size(), 1u);
+  EXPECT_EQ(scene->meshes[0].primitives[0].indices, (std::vector<std::uint32_t>{0, 1, 2}));
+  EXPECT_TRUE(anyWarningContains(*scene, "primitive 0: mode 5 with fewer than 3 vertices"));
+  EXPECT_TRUE(anyWarningContains(*scene, "primitive 1: mode 6 with fewer than 3 vertices"));
+}
+
+// Tricky because glTF forbids `matrix` together with translation/rotation/scale, yet files with
+// both exist; the result must be the matrix (not the TRS, not their product).
+TEST(GltfLoaderFeatures, MatrixWinsOverTrs) {
+  GltfBuilder b;
+  b.addNode({{"name", "both"},
+             {"matrix", {1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 5, 6, 7, 1}},
+             {"translation", {100, 100, 100}},
+             {"scale", {3, 3, 3}}});
+  const auto scene = load(b);
+  ASSERT_TRUE(scene.ok()) << scene.error().message;
+  glm::mat4 expected(1.0f);
+  expected[3] = glm::vec4(5, 6, 7, 1);
+  expectMatrixNear(scene->nodes[0].world, expected);
+}
+
+// Tricky because a buffer in a subfolder reached through ".." that stays inside the glTF's folder
+// is valid (and must load), while the same ".." climbing one level further must not be followed,
+// whether written plainly or percent-encoded (tinygltf decodes %2F to '/').
+TEST(GltfLoaderFeatures, BufferUrisStayInsideTheFilesFolder) {
+  const std::filesystem::path root = std::filesystem::temp_directory_path() / "gltf_loader_test_uris";
+  std::filesystem::remove_all(root);
+  std::filesystem::create_directories(root / "scene" / "nested");
+  std::vector<float> positions;
+  for (const auto& p : kTriangle) positions.insert(positions.end(), {p.x, p.y, p.z});
+  const std::vector<std::uint8_t> bin(reinterpret_cast<const std::uint8_t*>(positions.data()),
+                                      reinterpret_cast<const std::uint8_t*>(positions.data() + positions.size()));
+  ASSERT_TRUE(writeBinaryFile(root / "outside.bin", bin).ok());
+  ASSERT_TRUE(writeBinaryFile(root / "scene" / "inside.bin", bin).ok());
+  auto sceneWithUri = [&](const std::string& uri) {
+    const json doc = {{"asset", {{"version", "2.0"}}},
+                      {"buffers", {{{"byteLength", bin.size()}, {"uri", uri}}}},
+                      {"bufferViews", {{{"buffer", 0}, {"byteLength", bin.size()}}}},
+                      {"accessors", {{{"bufferView", 0}, {"componentType", kFloat}, {"count", 3}, {"type", "VEC3"}}}},
+                      {"meshes", {{{"primitives", {{{"attributes", {{"POSITION", 0}}}}}}}}},
+                      {"nodes", {{{"mesh", 0}}}}};
+    const std::filesystem::path path = root / "scene" / "scene.gltf";
+    EXPECT_TRUE(writeTextFile(path, doc.dump()).ok());
+    return loadGltf(path);
+  };
+  const auto inside = sceneWithUri("nested/../inside.bin");
+  ASSERT_TRUE(inside.ok()) << inside.error().message;
+  EXPECT_EQ(inside->meshes[0].primitives[0].positions.size(), 3u);
+  expectError(sceneWithUri("../outside.bin"), "scene.gltf", {"outside.bin", "lies outside the folder"});
+  expectError(sceneWithUri("nested/../../outside.bin"), "scene.gltf", {"lies outside the folder"});
+  expectError(sceneWithUri("..%2Foutside.bin"), "scene.gltf", {"lies outside the folder"});
+  std::filesystem::remove_all(root);
+}
+
 // Tricky because a mirroring transform (negative determinant) reverses the apparent winding; glTF
 // says to flip it back, so the flattened triangle must still face +Z after mirroring in X.
 TEST(GltfLoaderFeatures, FlattenKeepsWindingUnderMirroring) {
@@ -702,6 +786,41 @@ TEST(GltfLoaderMalformed, DanglingMeshCameraAndMaterialReferences) {
   GltfBuilder material = triangleScene();
   material.doc()["meshes"][0]["primitives"][0]["material"] = 2;
   expectError(load(material), "case.gltf", {"material 2 out of range (file has 0)"});
+}
+
+// Tricky because every index, offset and count in the file is valid: one 9999-vertex accessor
+// used by 2000 primitives is a 120 KB buffer that decodes to some 560 MB (positions, generated
+// indices and normals). The decode budget (64 MB + 16 bytes per input byte) must stop it after a
+// few hundred primitives, with an error, instead of allocating it all.
+TEST(GltfLoaderMalformed, OneAccessorReusedByManyPrimitivesHitsTheDecodeBudget) {
+  GltfBuilder b;
+  std::vector<glm::vec3> positions(9999);
+  for (std::size_t i = 0; i < positions.size(); ++i) positions[i] = {float(i % 100), float(i / 100), float(i % 7)};
+  const int accessor = b.addPositions(positions);
+  json primitives = json::array();
+  for (int p = 0; p < 2000; ++p) primitives.push_back({{"attributes", {{"POSITION", accessor}}}});
+  b.doc()["meshes"] = {{{"primitives", primitives}}};
+  expectError(load(b), "case.gltf", {"decoded geometry would exceed the limit"});
+}
+
+// Tricky because loading is cheap here (one 10000-vertex mesh) and the renderer draws instances
+// without copying them, so the file is fine until something flattens it: 7000 nodes placing the
+// mesh ask for 70 million world-space vertices (some 2.5 GB with indices), which must be refused
+// before flattening, naming the count and the limit; a few instances stay well within it.
+TEST(GltfLoaderMalformed, InstancingExplosionIsRefusedBeforeFlattening) {
+  GltfBuilder b;
+  std::vector<glm::vec3> positions(10000);
+  for (std::size_t i = 0; i < positions.size(); ++i) positions[i] = {float(i % 100), float(i / 100), 0.0f};
+  const int mesh = b.addMesh(b.addPositions(positions), -1, 5);  // one long strip
+  for (int n = 0; n < 7000; ++n) b.addNode({{"mesh", mesh}, {"translation", {0, 0, n}}});
+  const auto scene = load(b);
+  ASSERT_TRUE(scene.ok()) << scene.error().message;
+  const Status status = checkFlattenable(*scene);
+  ASSERT_FALSE(status.ok());
+  EXPECT_NE(status.error().message.find("7000 mesh instances flatten to 70000000 vertices, over the limit of 67108864"),
+            std::string::npos)
+      << status.error().message;
+  EXPECT_TRUE(checkFlattenable(*scene, 70000000).ok());
 }
 
 // Tricky because a camera's numbers can be well-formed JSON yet unusable (a field of view beyond
