@@ -25,6 +25,8 @@ struct LoadedSource {
 engine::Expected<LoadedSource> loadMesh(const std::filesystem::path& path) {
   auto scene = engine::scene::loadGltf(path);
   if (!scene) return scene.error();
+  if (auto flattenable = engine::scene::checkFlattenable(*scene); !flattenable)
+    return flattenable.error().withContext(path.string());
   const engine::scene::TriangleSoup soup = engine::scene::flattenTriangles(*scene);
   auto mesh = MeshSource::create(soup);
   if (!mesh) return mesh.error().withContext(path.string());
@@ -84,9 +86,30 @@ int fail(const std::string& message) {
   return 1;
 }
 
+// Checked before the bake, which may take minutes: writing must not fail afterwards for a reason
+// known now, and must never replace the input.
+engine::Status checkOutput(const BakeRequest& request) {
+  std::error_code ec;
+  if (std::filesystem::is_directory(request.output, ec))
+    return engine::makeError(fmt::format("-o {}: is a directory, not a file", request.output.string()));
+  if (std::filesystem::equivalent(request.input, request.output, ec))
+    return engine::makeError(fmt::format("-o {}: is the INPUT file; baking would overwrite it",
+                                         request.output.string()));
+  return {};
+}
+
+// A field without a surface gives a file that draws nothing: an error, with the likely cause.
+engine::Status checkHasSurface(const CellStats& stats) {
+  if (stats.kept() > 0) return {};
+  return engine::makeError(fmt::format("the field has no surface: none of its {} cells changes sign (the input "
+                                       "encloses no volume, e.g. a flat or open sheet)",
+                                       stats.cells));
+}
+
 }  // namespace
 
 int runBake(const BakeRequest& request) {
+  if (auto output = checkOutput(request); !output) return fail(output.error().message);
   auto loaded = loadSource(request.input);
   if (!loaded) return fail(loaded.error().message);
   std::printf("input: %s\n", loaded->description.c_str());
@@ -94,6 +117,9 @@ int runBake(const BakeRequest& request) {
   if (!grid) return fail(grid.error().withContext("fitting the grid").message);
   std::printf("grid: K=%d, spacing %.9g, origin (%.9g, %.9g, %.9g), padding %d\n", grid->resolution, grid->spacing,
               grid->origin.x, grid->origin.y, grid->origin.z, request.padding);
+  const HsdfScalarType scalarType = request.fp16 ? HsdfScalarType::Float16 : HsdfScalarType::Float32;
+  if (auto storable = checkStorable(*grid, scalarType); !storable)
+    return fail(storable.error().withContext(request.fp16 ? "--fp16" : "fp32").message);
 
   const auto bakeStart = std::chrono::steady_clock::now();
   auto field = bakeField(*loaded->source, *grid, request);
@@ -105,6 +131,7 @@ int runBake(const BakeRequest& request) {
   classifyOptions.threads = request.threads;
   auto classes = classifyCells(*field, classifyOptions);
   if (!classes) return fail(classes.error().withContext("classifying cells").message);
+  if (auto surface = checkHasSurface(classes->stats); !surface) return fail(surface.error().withContext(request.input).message);
   printStorage(*grid, classes->stats, request.fp16);
   if (request.falsePositives) {
     const FalsePositiveReport report = countFalsePositives(*field, *classes);
@@ -114,7 +141,7 @@ int runBake(const BakeRequest& request) {
 
   HsdfContents contents;
   contents.grid = *grid;
-  contents.scalarType = request.fp16 ? HsdfScalarType::Float16 : HsdfScalarType::Float32;
+  contents.scalarType = scalarType;
   if (request.payload != Payload::Dense) {
     auto cells = extractCells(*field, *classes);
     if (!cells) return fail(cells.error().withContext("extracting cells").message);

@@ -3,6 +3,7 @@
 #include <CLI/CLI.hpp>
 
 #include "bake_command.h"
+#include "hermite_sdf/field.h"
 
 int main(int argc, char** argv) {
   CLI::App app{"Bakes a glTF/GLB mesh or an analytic shape into a Hermite SDF file (.hsdf)"};
@@ -11,16 +12,21 @@ int main(int argc, char** argv) {
   bool denseOnly = false, cellsOnly = false, quiet = false;
   app.add_option("input", request.input, "glTF/GLB file, or an analytic shape: sphere, box, torus, capsule, blob");
   app.add_option("-o,--output", request.output, "output .hsdf file");
-  app.add_option("-r,--resolution", request.resolution, "K, samples per axis (2..4096)");
+  app.add_option("-r,--resolution", request.resolution, "K, samples per axis (2..4096)")
+      ->check(CLI::Range(2, hsdf::kMaxResolution));
   app.add_option("-p,--padding", request.padding, "cells of padding around the bounding box")->capture_default_str();
   app.add_flag("--fp16", request.fp16, "store scalars as IEEE binary16 (half the size)");
   auto* dense = app.add_flag("--dense", denseOnly, "store only the dense Hermite field");
   app.add_flag("--cells", cellsOnly, "store only the sparse cell stream (narrow-band bake)")->excludes(dense);
+  // Checked here too (the classifier refuses it after the bake, which may take minutes).
   app.add_option("--refine", request.refineDepth, "de Casteljau refinement depth for ambiguous cells (0..2)")
-      ->capture_default_str();
+      ->capture_default_str()
+      ->check(CLI::Range(0, 2));
   app.add_flag("--false-positives", request.falsePositives,
                "count kept cells that dense sampling (17^3 points) finds empty");
-  app.add_option("-j,--threads", request.threads, "worker threads (0: all)")->capture_default_str();
+  app.add_option("-j,--threads", request.threads, "worker threads (0: all, at most 256)")
+      ->capture_default_str()
+      ->check(CLI::Range(0u, 256u));
   app.add_flag("-q,--quiet", quiet, "no progress bar");
   app.add_option("--inspect", inspect, "validate and summarise an .hsdf file instead of baking");
   CLI11_PARSE(app, argc, argv);
