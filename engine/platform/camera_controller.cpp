@@ -21,11 +21,11 @@ bool OrbitController::update(const InputState& input) {
       moved = true;
     }
     if (input.scrollDelta != 0.0f) {
-      radius *= std::exp(-input.scrollDelta * zoomSpeed);
+      radius = std::clamp(radius * std::exp(-input.scrollDelta * zoomSpeed), minRadius, maxRadius);
       moved = true;
     }
     if (input.rightButton && input.cursorDelta.y != 0.0f) {
-      radius *= std::exp(input.cursorDelta.y * 0.01f);
+      radius = std::clamp(radius * std::exp(input.cursorDelta.y * 0.01f), minRadius, maxRadius);
       moved = true;
     }
     if (input.middleButton) {
@@ -36,15 +36,18 @@ bool OrbitController::update(const InputState& input) {
       moved = true;
     }
   }
-  radius = std::clamp(radius, 1e-3f, 1e5f);
   return moved;
 }
 
 OrbitController framingOrbit(const glm::vec3& lo, const glm::vec3& hi, float fovY, int viewIndex) {
   OrbitController orbit;
   orbit.target = 0.5f * (lo + hi);
-  const float radius = 0.5f * glm::length(hi - lo);
-  orbit.radius = std::max(radius / std::sin(0.5f * fovY), 1e-3f) * 1.05f;
+  // In double: the float length of a box 1e20 across overflows (its squared length does).
+  const double halfDiagonal = 0.5 * glm::length(glm::dvec3(hi) - glm::dvec3(lo));
+  const double radius = (halfDiagonal > 0.0 ? halfDiagonal : 0.5) / std::sin(0.5 * double(fovY)) * 1.05;
+  orbit.radius = float(radius);
+  orbit.minRadius = float(1e-3 * radius);
+  orbit.maxRadius = float(1e3 * radius);
   const int index = ((viewIndex % 8) + 8) % 8;
   orbit.yaw = 0.6f + float(index) * 0.78539816f;
   orbit.pitch = (index % 2 == 0) ? 0.35f : 0.61f;

@@ -14,6 +14,10 @@ struct OrbitController {
   float pitch = 0.35f;  // radians above the horizon
   float rotateSpeed = 0.006f;
   float zoomSpeed = 0.1f;
+  // Zooming stops at these radii (framingOrbit sets them relative to the scene, so that a scene in
+  // millimetres or one a micrometre across is not snapped to a fixed range).
+  float minRadius = 1e-3f;
+  float maxRadius = 1e5f;
 
   // Applies this frame's input; returns true when the camera moved.
   bool update(const InputState& input);
@@ -22,7 +26,9 @@ struct OrbitController {
 
 // An orbit that frames the box [lo, hi] for a vertical field of view fovY. viewIndex 0..7 picks
 // one of 8 fixed views around it (yaw in 45 degree steps, pitch alternating 20 and 35 degrees);
-// the scene runner's --view and the perf capture use the same views.
+// the scene runner's --view and the perf capture use the same views. The radius is proportional to
+// the box at any scale (a box without extent is framed as if it were 1 across); zooming is limited
+// to 1e-3..1e3 times it.
 OrbitController framingOrbit(const glm::vec3& lo, const glm::vec3& hi, float fovY, int viewIndex = 0);
 
 struct FlyController {

@@ -2,6 +2,7 @@
 
 #include <chrono>
 
+#include <fmt/format.h>
 #include <imgui.h>
 
 #include "engine/core/image_io.h"
@@ -64,11 +65,25 @@ struct SceneState {
   glm::vec3 boundsMax{1.0f};
 };
 
+// In double: the float length of a box 1e20 across overflows.
+double diagonal(const glm::vec3& lo, const glm::vec3& hi) { return glm::length(glm::dvec3(hi) - glm::dvec3(lo)); }
+double sceneDiagonal(const SceneState& scene) { return diagonal(scene.boundsMin, scene.boundsMax); }
+
+// The range is documented with kMinSceneSize in runner_options.h.
+Status checkDrawableSize(const std::filesystem::path& file, const glm::vec3& lo, const glm::vec3& hi) {
+  const double size = diagonal(lo, hi);
+  if (size >= kMinSceneSize && size <= kMaxSceneSize) return {};
+  return makeError(fmt::format("{}: the scene is {:g} across (bounding-box diagonal); the scene runner draws scenes "
+                               "{:g} to {:g} across (32-bit float camera and shaders)",
+                               file.string(), size, kMinSceneSize, kMaxSceneSize));
+}
+
 // Replaces the scene's meshes by one SDF baked from them (or adds it beside them).
 Status addSdfObject(const Options& options, const scene::SceneData& data, const render::InstantiatedScene& instantiated,
                     SceneState& state) {
   if (instantiated.renderables.empty()) return makeError(options.scene.string() + ": no triangle meshes to bake into an SDF");
-  ENGINE_TRY_ASSIGN(std::shared_ptr<const hsdf::SdfAsset> asset, bakeSceneSdf(data, options.resolution, options.padding));
+  ENGINE_TRY_ASSIGN(std::shared_ptr<const hsdf::SdfAsset> asset,
+                    bakeSceneSdf(data, options.resolution, options.padding).withContext(options.scene.string()));
   glm::vec3 offset(0.0f);
   if (options.sideBySide) {
     offset.x = 1.25f * (state.boundsMax.x - state.boundsMin.x);
@@ -89,6 +104,7 @@ Status addSdfFile(const Options& options, bool hasScene, SceneState& state) {
     return makeError(options.sdfFile.string() + ": holds only cells; --method " + options.method +
                      " needs the dense field (bake without --cells)");
   const hsdf::Aabb bounds = asset->cells.grid.bounds();
+  ENGINE_TRY(checkDrawableSize(options.sdfFile, glm::vec3(bounds.min), glm::vec3(bounds.max)));
   if (!hasScene) {
     state.boundsMin = glm::vec3(bounds.min);
     state.boundsMax = glm::vec3(bounds.max);
@@ -112,6 +128,7 @@ Status loadScene(const Options& options, SceneState& state, render::MeshPool& po
   else {
     state.boundsMin = instantiated.boundsMin;
     state.boundsMax = instantiated.boundsMax;
+    ENGINE_TRY(checkDrawableSize(options.scene, state.boundsMin, state.boundsMax));
   }
   if (options.method != "mesh" && options.sdfFile.empty()) ENGINE_TRY(addSdfObject(options, data, instantiated, state));
   if (options.groundPlane) addGroundPlane(state.registry, pool, state.boundsMin, state.boundsMax);
@@ -142,6 +159,18 @@ struct App {
   }
 };
 
+// --size is capped at 16384 by parseOptions; a device may allow less (Vulkan only promises 4096).
+// Checked before the renderer allocates its images, since the options are what is wrong.
+Status checkImageSize(const Options& options, const gpu::Context& context) {
+  VkPhysicalDeviceProperties properties;
+  vkGetPhysicalDeviceProperties(context.physicalDevice(), &properties);
+  const std::uint32_t limit = properties.limits.maxImageDimension2D;
+  if (options.width <= limit && options.height <= limit) return {};
+  return makeError(fmt::format("--size {}x{}: the device '{}' supports images up to {} pixels per side "
+                               "(maxImageDimension2D)",
+                               options.width, options.height, context.capabilities().deviceName, limit));
+}
+
 Status createApp(const Options& options, App& app) {
   gpu::ContextDesc desc;
   desc.device = devicePreference(options.device);
@@ -152,20 +181,25 @@ Status createApp(const Options& options, App& app) {
     desc.swapchain = true;
   }
   ENGINE_TRY_ASSIGN(app.context, gpu::Context::create(desc));
+  ENGINE_TRY(checkImageSize(options, *app.context));
   app.pool = std::make_unique<render::MeshPool>(*app.context);
   ENGINE_TRY(loadScene(options, app.scene, *app.pool));
   app.orbit = platform::framingOrbit(app.scene.boundsMin, app.scene.boundsMax, app.fovY, options.view.value_or(0));
   if (options.camera) {
+    // In double: parseOptions only promises that the distance fits a float, not its square.
     const auto& c = *options.camera;
-    const glm::vec3 eye(c[0], c[1], c[2]), target(c[3], c[4], c[5]);
-    app.orbit.target = target;
-    app.orbit.radius = glm::length(eye - target);
-    const glm::vec3 d = (eye - target) / app.orbit.radius;
-    app.orbit.pitch = std::asin(std::clamp(d.y, -1.0f, 1.0f));
-    app.orbit.yaw = std::atan2(d.x, d.z);
+    const glm::dvec3 eye(c[0], c[1], c[2]), target(c[3], c[4], c[5]);
+    const double distance = glm::length(eye - target);
+    const glm::dvec3 d = (eye - target) / distance;
+    app.orbit.target = glm::vec3(target);
+    app.orbit.radius = float(distance);
+    app.orbit.minRadius = std::min(app.orbit.minRadius, app.orbit.radius);
+    app.orbit.maxRadius = std::max(app.orbit.maxRadius, app.orbit.radius);
+    app.orbit.pitch = float(std::asin(std::clamp(d.y, -1.0, 1.0)));
+    app.orbit.yaw = float(std::atan2(d.x, d.z));
   }
   app.debugView = debugViewIndex(options.debugView);
-  app.znear = std::max(1e-4f, 0.01f * glm::length(app.scene.boundsMax - app.scene.boundsMin));
+  app.znear = float(0.01 * sceneDiagonal(app.scene));
 
   VkExtent2D extent{options.width, options.height};
   if (app.window) {

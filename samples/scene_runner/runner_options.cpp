@@ -6,6 +6,8 @@
 #include <regex>
 
 #include <CLI/CLI.hpp>
+#include <fmt/format.h>
+#include <glm/glm.hpp>
 
 #include "shared/host_device.h"
 
@@ -24,6 +26,33 @@ bool parseSize(const std::string& text, std::uint32_t& width, std::uint32_t& hei
   width = std::uint32_t(w);
   height = std::uint32_t(h);
   return true;
+}
+
+// Eye and target as given, or a message. Their distance is the orbit camera's radius, in float.
+std::optional<std::string> parseCamera(const std::vector<float>& camera, Options& options) {
+  if (camera.empty()) return std::nullopt;
+  std::array<float, 6> values{};
+  std::copy(camera.begin(), camera.end(), values.begin());
+  const bool finite = std::all_of(values.begin(), values.end(), [](float v) { return std::isfinite(v); });
+  const double distance = glm::length(glm::dvec3(values[0], values[1], values[2]) - glm::dvec3(values[3], values[4], values[5]));
+  if (!finite || !(distance >= kMinSceneSize && distance <= kMaxSceneSize))
+    return fmt::format("--camera: eye and target must be finite and {:g} to {:g} apart (they are {:g} apart)",
+                       kMinSceneSize, kMaxSceneSize, distance);
+  options.camera = values;
+  return std::nullopt;
+}
+
+// Options that contradict each other (rather than one being silently ignored).
+std::optional<std::string> checkCombinations(const Options& options, const CLI::App& app) {
+  const bool methodGiven = app.count("--method") > 0;
+  if (!options.sdfFile.empty() && methodGiven && options.method == "mesh")
+    return "--method mesh: a .hsdf file (--sdf) has no triangles; draw it with --method cells, trilinear or hermite";
+  if (options.sideBySide && (!options.sdfFile.empty() || options.method == "mesh"))
+    return "--side-by-side: needs a scene baked into an SDF (--method cells, trilinear or hermite, without --sdf)";
+  if (options.resolution - 1 - 2 * options.padding < 1)
+    return "--resolution " + std::to_string(options.resolution) + " leaves no cells inside --padding " +
+           std::to_string(options.padding);
+  return std::nullopt;
 }
 
 }  // namespace
@@ -89,32 +118,15 @@ ParseResult parseOptions(int argc, const char* const* argv) {
     result.exitCode = 2;
     return result;
   }
-  if (!size.empty() && !parseSize(size, options.width, options.height)) {
-    result.message = "scene_runner: --size: '" + size + "' is not WxH with 1 <= W,H <= " +
-                     std::to_string(kMaxDimension);
-    result.exitCode = 2;
-    return result;
-  }
-  if (!options.screenshot.empty() && options.screenshot.extension() != ".png") {
-    result.message = "scene_runner: --screenshot: '" + options.screenshot.string() + "' must end in .png";
-    result.exitCode = 2;
-    return result;
-  }
-  if (!camera.empty()) {
-    std::array<float, 6> values{};
-    std::copy(camera.begin(), camera.end(), values.begin());
-    const bool finite = std::all_of(values.begin(), values.end(), [](float v) { return std::isfinite(v); });
-    const bool distinct = values[0] != values[3] || values[1] != values[4] || values[2] != values[5];
-    if (!finite || !distinct) {
-      result.message = "scene_runner: --camera: eye and target must be finite and different";
-      result.exitCode = 2;
-      return result;
-    }
-    options.camera = values;
-  }
-  if (options.resolution - 1 - 2 * options.padding < 1) {
-    result.message = "scene_runner: --resolution " + std::to_string(options.resolution) + " leaves no cells inside --padding " +
-                     std::to_string(options.padding);
+  std::optional<std::string> problem;
+  if (!size.empty() && !parseSize(size, options.width, options.height))
+    problem = "--size: '" + size + "' is not WxH with 1 <= W,H <= " + std::to_string(kMaxDimension);
+  if (!problem && !options.screenshot.empty() && options.screenshot.extension() != ".png")
+    problem = "--screenshot: '" + options.screenshot.string() + "' must end in .png";
+  if (!problem) problem = parseCamera(camera, options);
+  if (!problem) problem = checkCombinations(options, app);
+  if (problem) {
+    result.message = "scene_runner: " + *problem;
     result.exitCode = 2;
     return result;
   }

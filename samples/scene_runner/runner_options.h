@@ -12,6 +12,13 @@
 
 namespace runner {
 
+// Sizes the camera and the shaders handle in 32-bit floats: scenes (bounding-box diagonal) and
+// --camera distances in this range. Outside about 1e-19..1e19 squared distances underflow or
+// overflow floats and frames come out empty; measured on lavapipe, cubes 1e-20..1e18 across draw
+// correctly with every method and 1e20 draws nothing, so the range keeps a margin of 1e3 or more.
+inline constexpr double kMinSceneSize = 1e-15;
+inline constexpr double kMaxSceneSize = 1e15;
+
 struct Options {
   std::filesystem::path scene;       // empty: the bundled bunny (unless --sdf is given)
   std::filesystem::path sdfFile;     // a baked .hsdf file (hsdf_bake) to draw as an SDF object

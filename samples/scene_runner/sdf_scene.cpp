@@ -3,6 +3,8 @@
 #include <chrono>
 #include <cstdio>
 
+#include <fmt/format.h>
+
 #include "engine/core/log.h"
 #include "engine/scene/gltf_loader.h"
 #include "engine/scene/transform.h"
@@ -15,6 +17,7 @@ namespace runner {
 using namespace engine;
 
 Expected<std::shared_ptr<const hsdf::SdfAsset>> bakeSceneSdf(const scene::SceneData& data, int resolution, int padding) {
+  ENGINE_TRY(scene::checkFlattenable(data));
   const scene::TriangleSoup soup = scene::flattenTriangles(data);
   ENGINE_TRY_ASSIGN(std::unique_ptr<hsdf::MeshSource> source, hsdf::MeshSource::create(soup));
   const hsdf::Aabb bounds = source->bounds();
@@ -35,6 +38,11 @@ Expected<std::shared_ptr<const hsdf::SdfAsset>> bakeSceneSdf(const scene::SceneD
   std::fprintf(stderr, "\r");
   ENGINE_TRY_ASSIGN(std::shared_ptr<const hsdf::SdfAsset> asset,
                     hsdf::makeSdfAsset("scene sdf", std::move(field), bounds));
+  // An empty frame with no explanation would be silent garbage: say why nothing can be drawn.
+  if (asset->cells.records.empty())
+    return makeError(fmt::format("the baked field has no surface: none of its {} cells changes sign (the meshes "
+                                 "enclose no volume, e.g. a flat or open sheet)",
+                                 asset->classification.stats.cells));
   const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   log::info("baked {}^3 Hermite field in {:.2f} s: {} kept cells ({} crossing, {} ambiguous), {} stored scalars",
             resolution, seconds, asset->cells.records.size(), asset->classification.stats.crossing,
