@@ -12,6 +12,10 @@
 #include "fuzz_check.h"
 #include "engine/scene/gltf_loader.h"
 
+namespace {
+constexpr std::uint64_t kMaxFlattenedVertices = std::uint64_t(1) << 20;  // 12 MB of positions
+}  // namespace
+
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   // Warnings about skipped primitives would flood the fuzzer's output.
   static const bool quiet = [] {
@@ -33,6 +37,9 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     FUZZ_CHECK(scene->nodes[n].parent < int(n));
     FUZZ_CHECK(scene->nodes[n].mesh < int(scene->meshes.size()));
   }
+  // Flattening copies a mesh per node that places it: without this limit a few kilobytes of nodes
+  // make it allocate gigabytes (which is what checkFlattenable is for).
+  if (!engine::scene::checkFlattenable(*scene, kMaxFlattenedVertices).ok()) return 0;
   const engine::scene::TriangleSoup soup = engine::scene::flattenTriangles(*scene);
   for (std::uint32_t index : soup.indices) FUZZ_CHECK(index < soup.positions.size());
   return 0;

@@ -47,7 +47,7 @@ std::uint64_t hsdfChecksum(std::span<const std::uint8_t> bytes);
 
 // Whether a field on `grid` can be stored with `type`: a valid grid, and for fp16 a spacing of at
 // least 2^-13 (finer grids would lose the precision of the values near the surface, see
-// docs/hsdf-format.md). serializeHsdf checks it; a baker can check it before the work.
+// docs/hsdf-format.md). The writer and the reader check it; a baker can check it before the work.
 engine::Status checkStorable(const GridSpec& grid, HsdfScalarType type);
 
 // The file image of `contents`. Errors: invalid grid, no payload, a payload on another grid or of

@@ -65,8 +65,7 @@ engine::Status checkHeaderFields(const Header& h) {
   if (h.flags == 0) return engine::makeError("no payload: neither the dense nor the cells flag is set");
   if (h.resolution < 2 || h.resolution > std::uint32_t(kMaxResolution))
     return engine::makeError(fmt::format("resolution {} outside 2..{}", h.resolution, kMaxResolution));
-  GridSpec grid{int(h.resolution), h.origin, h.spacing};
-  return validateGrid(grid);
+  return checkStorable(GridSpec{int(h.resolution), h.origin, h.spacing}, HsdfScalarType(h.scalarType));
 }
 
 // Counts against the resolution, the payload size against the counts and the file size, the

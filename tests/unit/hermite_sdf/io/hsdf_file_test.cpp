@@ -314,10 +314,12 @@ TEST(HsdfFile, SerializeRefusesInvalidContents) {
 }
 
 // Tricky: fp16 has a fixed absolute step (2^-24) below 2^-14, so on a fine grid the values within
-// a cell of the surface round to a few steps, yet every check of the file would still pass: only
+// a cell of the surface round to a few steps, yet every other check of the file would pass: only
 // re-deriving the cells from the stored dense field shows the damage. The spacing here is 1.3e-4
-// (just above the 2^-13 limit, accepted: the stored cells are those of the stored field) and 1.3e-5
-// (refused naming fp16 and the spacing; fp32 stores it fine).
+// (above the 2^-13 limit, accepted: the stored cells are those of the stored field) and 1.3e-5
+// (refused naming fp16 and the spacing; fp32 stores it fine). The reader refuses what the writer
+// refuses (an fp16 file whose spacing was edited below the limit), so that the format stays
+// canonical: every file that loads can be written back.
 TEST(HsdfFile, Fp16RefusesGridsTooFineForItsPrecision) {
   const HsdfContents coarse = sphereContents(HsdfScalarType::Float16, true, true, 4e-4);
   ASSERT_GE(coarse.grid.spacing, 1.0 / 8192.0);
@@ -333,6 +335,11 @@ TEST(HsdfFile, Fp16RefusesGridsTooFineForItsPrecision) {
   ASSERT_FALSE(refused.ok());
   EXPECT_TRUE(contains(refused.error().message, "fp16 needs a grid spacing of at least 2^-13")) << refused.error().message;
   EXPECT_TRUE(serializeHsdf(sphereContents(HsdfScalarType::Float32, true, true, 4e-5)).ok());
+
+  Bytes edited = serialize(coarse);
+  put64(edited, 32, std::bit_cast<std::uint64_t>(1e-5));
+  refreshChecksum(edited);
+  EXPECT_TRUE(contains(loadError(edited), "fp16 needs a grid spacing of at least 2^-13")) << loadError(edited);
 }
 
 // Tricky: the path travels into every error, and save/load go through real files.
