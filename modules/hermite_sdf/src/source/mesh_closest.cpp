@@ -81,6 +81,7 @@ ClosestPointTree::ClosestPointTree(const TriangleBvh& bvh) {
   }
   // A power of two, so that scaling by it is exact; radius_ > 0 since no triangle has zero area.
   unit_ = std::ldexp(1.0, std::ilogb(radius_));
+  inverseUnit_ = 1.0 / unit_;
   nodes_.reserve(bvh.nodeCount() / 2 + 1);
   leaves_.reserve(bvh.nodeCount() / 2 + 1);
   if (root.isLeaf()) {
@@ -159,7 +160,7 @@ std::int32_t ClosestPointTree::addLeaf(const TriangleBvh& bvh, const BvhNode& bi
 // sqrt(bestSquared) (world units).
 float ClosestPointTree::pruneThreshold(double bestSquared, double margin) const {
   if (!std::isfinite(bestSquared)) return kInfinityF;
-  const double reach = (std::sqrt(bestSquared) + margin) / unit_;
+  const double reach = (std::sqrt(bestSquared) + margin) * inverseUnit_;
   return float(reach * reach);
 }
 
@@ -225,7 +226,7 @@ ClosestHit ClosestPointTree::find(const glm::dvec3& p, double boundSquared) cons
   ClosestHit& hit = search.hit;
   hit.distanceSquared = boundSquared;
   const glm::dvec3 local = p - origin_;
-  const glm::dvec3 scaled = local / unit_;
+  const glm::dvec3 scaled = local * inverseUnit_;
   const float q[3] = {float(scaled.x), float(scaled.y), float(scaled.z)};
   const double margin = kRelativeMargin * (radius_ + glm::length(local));
   search.threshold = pruneThreshold(boundSquared, margin);

@@ -88,6 +88,7 @@ class ClosestPointTree {
   glm::dvec3 origin_{0.0};  // float coordinates are relative to it (the mesh centre)
   double radius_ = 0.0;     // of the mesh around origin_, for the rounding margin
   double unit_ = 1.0;       // float coordinates are in this unit: a power of two near radius_
+  double inverseUnit_ = 1.0;  // exact (a power of two): queries multiply instead of dividing
   std::vector<Node> nodes_;
   std::vector<Leaf> leaves_;
   std::vector<PreparedTriangle> triangles_;  // BVH order
