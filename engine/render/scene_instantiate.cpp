@@ -2,22 +2,11 @@
 
 #include <limits>
 
-#include <glm/gtx/matrix_decompose.hpp>
-
 #include "engine/render/components.h"
 #include "engine/scene/transform.h"
 
 namespace engine::render {
 namespace {
-
-// glTF node matrices are TRS by the specification, so decomposition is exact for valid files.
-scene::Transform decompose(const glm::mat4& m) {
-  scene::Transform t;
-  glm::vec3 skew;
-  glm::vec4 perspective;
-  if (!glm::decompose(m, t.scale, t.rotation, t.translation, skew, perspective)) return scene::Transform{};
-  return t;
-}
 
 void uploadMeshes(const scene::SceneData& data, MeshPool& pool,
                                                    std::vector<std::vector<MeshHandle>>& handles) {
@@ -39,7 +28,7 @@ InstantiatedScene instantiateScene(const scene::SceneData& data, ecs::Registry& 
     const scene::NodeData& node = data.nodes[n];
     const ecs::Entity entity = registry.create();
     result.nodes.push_back(entity);
-    registry.emplace<scene::Transform>(entity, decompose(node.local));
+    registry.emplace<scene::Transform>(entity, scene::fromMatrix(node.local));
     registry.emplace<scene::Name>(entity, scene::Name{node.name});
     if (node.parent >= 0 && std::size_t(node.parent) < n)
       registry.emplace<scene::Parent>(entity, scene::Parent{result.nodes[std::size_t(node.parent)]});

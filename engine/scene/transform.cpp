@@ -1,6 +1,7 @@
 #include "engine/scene/transform.h"
 
 #include <algorithm>
+#include <cmath>
 #include <cstdint>
 #include <string>
 #include <vector>
@@ -14,6 +15,30 @@ namespace engine::scene {
 glm::mat4 toMatrix(const Transform& transform) {
   return glm::translate(glm::mat4(1.0f), transform.translation) * glm::mat4_cast(transform.rotation) *
          glm::scale(glm::mat4(1.0f), transform.scale);
+}
+
+Transform fromMatrix(const glm::mat4& matrix) {
+  Transform transform;
+  transform.translation = glm::vec3(matrix[3]);
+  glm::mat3 axes(matrix);
+  for (int i = 0; i < 3; ++i) transform.scale[i] = glm::length(axes[i]);
+  if (glm::determinant(axes) < 0.0f) transform.scale.x = -transform.scale.x;
+  // Normalized columns; a zero column is rebuilt from the other two so the rotation stays proper.
+  bool degenerate = false;
+  for (int i = 0; i < 3; ++i) {
+    if (transform.scale[i] != 0.0f && std::isfinite(transform.scale[i])) axes[i] /= transform.scale[i];
+    else degenerate = true;
+  }
+  if (degenerate) {
+    const bool x = transform.scale.x != 0.0f, y = transform.scale.y != 0.0f, z = transform.scale.z != 0.0f;
+    if (x && y) axes[2] = glm::normalize(glm::cross(axes[0], axes[1]));
+    else if (y && z) axes[0] = glm::normalize(glm::cross(axes[1], axes[2]));
+    else if (x && z) axes[1] = glm::normalize(glm::cross(axes[2], axes[0]));
+    else axes = glm::mat3(1.0f);
+    if (!std::isfinite(glm::determinant(axes))) axes = glm::mat3(1.0f);
+  }
+  transform.rotation = glm::normalize(glm::quat_cast(axes));
+  return transform;
 }
 
 namespace {

@@ -34,6 +34,14 @@ struct Name {
 // translate(translation) * rotate(rotation) * scale(scale).
 glm::mat4 toMatrix(const Transform& transform);
 
+// The inverse of toMatrix for an affine TRS matrix (what glTF node matrices are by specification):
+// scales are the column lengths, a mirroring matrix (negative determinant) gets a negative x scale,
+// and the rotation is that of the normalized columns. Unlike glm::decompose it has no absolute
+// epsilon, so a node scaled by 1e-3 (millimetres to metres) keeps its scale. A column of length
+// zero keeps scale 0 (the object has no volume and is not drawn) with the rotation of the others;
+// a matrix with shear gets the nearest rotation the normalized columns give (not exact).
+Transform fromMatrix(const glm::mat4& matrix);
+
 // Entities that updateWorldTransforms treated as roots because their hierarchy is broken.
 struct HierarchyIssues {
   std::size_t danglingParents = 0;  // Parent names a dead entity or one without a Transform

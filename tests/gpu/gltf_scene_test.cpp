@@ -197,7 +197,14 @@ TEST_F(GpuTest, MirroredScaledAndShearedGltfNodesMatchCpuRayCast) {
   const auto [lo, hi] = soupBounds(scene::flattenTriangles(*data));
   const std::uint32_t w = 96, h = 96;
   createRenderer(w, h);
-  for (const NamedTransform& transform : userTransforms(0.5f * (lo + hi))) {
+  std::vector<NamedTransform> transforms = userTransforms(0.5f * (lo + hi));
+  // A millimetre-to-metre export: glm::decompose's absolute epsilon on the determinant used to turn
+  // this node into the identity, drawing a bunny 1000 times too large around the tiny camera.
+  const glm::vec3 pivot = 0.5f * (lo + hi);
+  transforms.push_back({"scale 1e-3", glm::mat4(1.0f),
+                        glm::translate(glm::mat4(1.0f), pivot) * glm::scale(glm::mat4(1.0f), glm::vec3(1e-3f)) *
+                            glm::translate(glm::mat4(1.0f), -pivot)});
+  for (const NamedTransform& transform : transforms) {
     SCOPED_TRACE(transform.label);
     registry_.clear();
     const scene::SceneData placed = placeUnder(*data, transform.parent, transform.local);

@@ -2,6 +2,8 @@
 // and broken hierarchies (dangling parents, cycles) that must neither hang nor crash.
 #include "engine/scene/transform.h"
 
+#include <algorithm>
+#include <cmath>
 #include <string>
 #include <vector>
 
@@ -63,6 +65,36 @@ TEST(Transform, ToMatrixScalesThenRotatesThenTranslates) {
 
 // Tricky: children and grandchildren are created before their parents, so a single pass in storage
 // order would read parents' world matrices before they are written.
+// fromMatrix must invert toMatrix for any TRS, including the cases glm::decompose refuses: its
+// absolute epsilon on the determinant turned a node scaled by 1e-3 (a millimetre export) into the
+// identity, and a mirror must come back as a negative scale with a proper rotation.
+TEST(Transform, FromMatrixInvertsToMatrixAtAnyScaleAndUnderMirroring) {
+  const glm::quat rotations[] = {glm::quat(1.0f, 0.0f, 0.0f, 0.0f),
+                                 glm::angleAxis(0.7f, glm::normalize(glm::vec3(1.0f, 2.0f, -0.5f))),
+                                 glm::angleAxis(3.0f, glm::normalize(glm::vec3(-0.3f, 0.1f, 0.9f)))};
+  const glm::vec3 scales[] = {glm::vec3(1.0f), glm::vec3(1e-3f), glm::vec3(1e-6f, 2e-6f, 5e-7f),
+                              glm::vec3(1.0f, 2.5f, 0.4f), glm::vec3(-1.0f, 1.0f, 1.0f), glm::vec3(-1e-3f, 3e-3f, 2e-3f),
+                              glm::vec3(1e4f)};
+  for (const glm::quat& rotation : rotations)
+    for (const glm::vec3& scale : scales) {
+      const Transform original{glm::vec3(0.5f, -2.0f, 3.0f), rotation, scale};
+      const glm::mat4 matrix = toMatrix(original);
+      const Transform back = fromMatrix(matrix);
+      const float size = std::max({std::abs(scale.x), std::abs(scale.y), std::abs(scale.z)});
+      expectMatrixNear(toMatrix(back), matrix, 1e-5f * size);
+      EXPECT_NEAR(glm::length(back.rotation), 1.0f, 1e-5f);
+      EXPECT_EQ(back.scale.x < 0.0f, glm::determinant(glm::mat3(matrix)) < 0.0f);
+    }
+}
+
+// A zero scale on one axis (an object flattened by an animation) keeps the other axes' rotation.
+TEST(Transform, FromMatrixKeepsAFlattenedAxis) {
+  const Transform original{glm::vec3(1.0f), glm::angleAxis(0.4f, glm::vec3(0.0f, 1.0f, 0.0f)), glm::vec3(2.0f, 0.0f, 3.0f)};
+  const Transform back = fromMatrix(toMatrix(original));
+  EXPECT_EQ(back.scale.y, 0.0f);
+  expectMatrixNear(toMatrix(back), toMatrix(original), 1e-5f);
+}
+
 TEST(Transform, ParentsAreResolvedFirstWhateverTheCreationOrder) {
   ecs::Registry registry;
   const Entity grandchild = registry.create();
