@@ -112,6 +112,11 @@ using CellStreamHalf = CellStreamOf<CellRecordHalf>;
 // Records of all kept cells. Errors: classification grid differs from the field's.
 engine::Expected<CellStream> extractCells(const HermiteField& field, const CellClassification& classification);
 CellStreamHalf toHalf(const CellStream& stream);
+// Whether fp16 records / textures hold a field on `grid` faithfully: a spacing of at least 2^-13
+// (finer grids put the values near the surface among fp16's subnormals) and a grid diagonal below
+// fp16's largest finite value (a distance across the grid must not overflow to infinity).
+inline constexpr double kMinFp16Spacing = 1.0 / 8192.0;
+bool halfPrecisionFits(const GridSpec& grid);
 CellStream toFloat(const CellStreamHalf& stream);
 
 // IEEE 754 binary16 conversion, round to nearest even; overflow gives +-inf, NaN stays NaN

@@ -59,7 +59,9 @@ struct HermiteSdfRenderable {
   std::uint32_t subdivisions = 3;  // n: equidistant evaluations per cell segment (paper: 2 or 3)
   std::uint32_t refineSteps = 1;   // safeguarded Newton steps after the linear interpolation
   NormalMode normals = NormalMode::Exact;
-  bool halfPrecision = false;      // fp16 cell records / RGBA16F textures
+  // fp16 cell records / R16F, RGBA16F textures; grids fp16 cannot hold faithfully
+  // (!halfPrecisionFits(grid), cells.h: tiny or huge objects) are drawn from the fp32 data instead.
+  bool halfPrecision = false;
   glm::vec4 color{0.85f, 0.55f, 0.4f, 1.0f};  // linear base colour
   float roughness = 0.45f;
 };

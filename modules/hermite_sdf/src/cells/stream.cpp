@@ -1,4 +1,6 @@
+#include <algorithm>
 #include <bit>
+#include <cmath>
 #include <cstring>
 
 #include <fmt/format.h>
@@ -78,6 +80,16 @@ engine::Expected<CellStream> extractCells(const HermiteField& field, const CellC
         stream.records.push_back(record);
       }
   return stream;
+}
+
+// fp16 keeps 11 significant bits, but below 2^-14 only a fixed step of 2^-24. The values that
+// place the surface are those within a cell of it; they keep fp16's relative precision only when
+// the spacing is at least 2^-13. Finer grids would round them to a few steps (a mesh 1e-5 across
+// would draw, and store in .hsdf files, cells that are no longer those of its own dense field).
+bool halfPrecisionFits(const GridSpec& grid) {
+  constexpr double kLargestHalf = 65504.0;
+  const double diagonal = grid.spacing * double(std::max(grid.resolution - 1, 0)) * std::sqrt(3.0);
+  return grid.spacing >= kMinFp16Spacing && diagonal <= kLargestHalf;
 }
 
 CellStreamHalf toHalf(const CellStream& stream) {

@@ -11,12 +11,6 @@
 namespace hsdf {
 namespace {
 
-// fp16 keeps 11 significant bits, but below 2^-14 only a fixed step of 2^-24. The values that
-// place the surface are those within a cell of it; they keep fp16's relative precision only when
-// the spacing is at least 2^-13. Finer grids would round them to a few steps, and the file's cells
-// would no longer be the cells of its own dense field (a mesh 1e-5 across does that).
-constexpr double kMinFp16Spacing = 1.0 / 8192.0;
-
 engine::Status checkContents(const HsdfContents& contents) {
   ENGINE_TRY(checkStorable(contents.grid, contents.scalarType));
   if (!contents.dense && !contents.cells)

@@ -192,7 +192,7 @@ void HermiteCellFeature::buildDraws(engine::render::FrameContext& frame) {
         if (found == buffers_->entries.end()) return;
         const CellBuffers::Entry& entry = found->second;
         const GridSpec& grid = r.asset->cells.grid;  // cells-only assets have no dense field
-        const int precision = r.halfPrecision ? 1 : 0;
+        const int precision = r.halfPrecision && halfPrecisionFits(grid) ? 1 : 0;  // else fp32, see renderable.h
 
         shader::ObjectData object = engine::render::GpuScene::makeObject(world.matrix, r.color, r.roughness, 0.0f, kFeatureId);
         const std::uint32_t objectIndex = frame.scene.addObject(object);

@@ -202,7 +202,7 @@ void SphereTraceFeature::collectDraws(engine::render::FrameContext& frame) {
           ++stats_.culledObjects;
           return;
         }
-        const FieldTexture* texture = acquireTexture(*r.asset, method, r.halfPrecision, frame.frameNumber);
+        const FieldTexture* texture = acquireTexture(*r.asset, method, r.halfPrecision && halfPrecisionFits(r.asset->field.grid), frame.frameNumber);
         if (!texture) {
           ++stats_.skippedObjects;
           return;
