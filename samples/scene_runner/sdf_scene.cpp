@@ -8,25 +8,22 @@
 #include "engine/core/log.h"
 #include "engine/scene/gltf_loader.h"
 #include "engine/scene/transform.h"
-#include "hermite_sdf/field.h"
+#include "hermite_sdf/bake_job.h"
 #include "hermite_sdf/hsdf_file.h"
-#include "hermite_sdf/mesh_source.h"
 
 namespace runner {
 
 using namespace engine;
 
 Expected<std::shared_ptr<const hsdf::SdfAsset>> bakeSceneSdf(const scene::SceneData& data, int resolution, int padding) {
-  ENGINE_TRY(scene::checkFlattenable(data));
-  const scene::TriangleSoup soup = scene::flattenTriangles(data);
-  ENGINE_TRY_ASSIGN(std::unique_ptr<hsdf::MeshSource> source, hsdf::MeshSource::create(soup));
-  const hsdf::Aabb bounds = source->bounds();
-  ENGINE_TRY_ASSIGN(hsdf::GridSpec grid, hsdf::fitGrid(bounds, resolution, padding));
-
+  ENGINE_TRY_ASSIGN(hsdf::BakeSource source, hsdf::BakeSource::fromScene("scene sdf", data));
+  hsdf::BakeSettings settings;
+  settings.resolution = resolution;
+  settings.padding = padding;
   const auto start = std::chrono::steady_clock::now();
-  hsdf::BakeOptions options;
   int lastPercent = -1;
-  options.progress = [&lastPercent](float fraction) {
+  hsdf::BakeControl control;
+  control.progress = [&lastPercent](float fraction) {
     const int percent = int(fraction * 100.0f);
     if (percent / 10 != lastPercent / 10) {
       std::fprintf(stderr, "\rbaking %3d%%", percent);
@@ -34,19 +31,13 @@ Expected<std::shared_ptr<const hsdf::SdfAsset>> bakeSceneSdf(const scene::SceneD
     }
     return true;
   };
-  ENGINE_TRY_ASSIGN(hsdf::HermiteField field, hsdf::bakeHermiteField(*source, grid, options));
+  auto asset = hsdf::bakeAsset(source, settings, control);
   std::fprintf(stderr, "\r");
-  ENGINE_TRY_ASSIGN(std::shared_ptr<const hsdf::SdfAsset> asset,
-                    hsdf::makeSdfAsset("scene sdf", std::move(field), bounds));
-  // An empty frame with no explanation would be silent garbage: say why nothing can be drawn.
-  if (asset->cells.records.empty())
-    return makeError(fmt::format("the baked field has no surface: none of its {} cells changes sign (the meshes "
-                                 "enclose no volume, e.g. a flat or open sheet)",
-                                 asset->classification.stats.cells));
+  if (!asset) return asset.error();
   const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  const hsdf::CellStats& stats = (*asset)->classification.stats;
   log::info("baked {}^3 Hermite field in {:.2f} s: {} kept cells ({} crossing, {} ambiguous), {} stored scalars",
-            resolution, seconds, asset->cells.records.size(), asset->classification.stats.crossing,
-            asset->classification.stats.ambiguous, asset->cells.stored_scalars());
+            resolution, seconds, stats.kept(), stats.crossing, stats.ambiguous, (*asset)->cells.stored_scalars());
   return asset;
 }
 
