@@ -115,7 +115,11 @@ render::CameraView Viewer::cameraView() const {
 
 void Viewer::setTuning(const TuningState& tuning) {
   tuning_ = tuning;
-  if (bakeSource_ && (tuning.resolution != bakedResolution_ || tuning.padding != bakedPadding_)) startRebake();
+  if (!bakeSource_) return;
+  // Compared with what is being baked, else with what is drawn.
+  const int resolution = bakeJob_ ? bakeJob_->settings().resolution : bakedResolution_;
+  const int padding = bakeJob_ ? bakeJob_->settings().padding : bakedPadding_;
+  if (tuning.resolution != resolution || tuning.padding != padding) startRebake();
 }
 
 void Viewer::startRebake() {
@@ -124,16 +128,17 @@ void Viewer::startRebake() {
   settings.padding = tuning_.padding;
   bakeJob_.reset();  // cancels a re-bake for settings that are already outdated
   bakeJob_ = std::make_unique<hsdf::BakeJob>(*bakeSource_, settings);
-  bakedResolution_ = tuning_.resolution;
-  bakedPadding_ = tuning_.padding;
 }
 
 // Swaps the re-bake's asset into the entity (waiting for it); a failed one leaves the old asset.
 Status Viewer::finishBake() {
   hsdf::BakeJob::Result result = bakeJob_->wait();
+  const hsdf::BakeSettings settings = bakeJob_->settings();
   bakeJob_.reset();
-  if (!result) return result.error().withContext(fmt::format("re-baking at resolution {}", bakedResolution_));
+  if (!result) return result.error().withContext(fmt::format("re-baking at resolution {}", settings.resolution));
   registry_.get<hsdf::HermiteSdfRenderable>(*bakedEntity_).asset = std::move(*result);
+  bakedResolution_ = settings.resolution;
+  bakedPadding_ = settings.padding;
   return {};
 }
 

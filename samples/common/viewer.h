@@ -154,7 +154,7 @@ class Viewer {
   std::uint64_t frames_ = 0;
   TuningState tuning_;
 
-  // The baked SDF entity and what it was baked from, for re-bakes.
+  // The baked SDF entity, what it was baked from and at which K and padding it is drawn.
   std::optional<hsdf::BakeSource> bakeSource_;
   std::optional<engine::ecs::Entity> bakedEntity_;
   int bakedResolution_ = 0;

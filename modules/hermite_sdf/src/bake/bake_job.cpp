@@ -1,5 +1,6 @@
 #include "hermite_sdf/bake_job.h"
 
+#include <exception>
 #include <filesystem>
 
 #include <fmt/format.h>
@@ -172,7 +173,14 @@ void BakeJob::run(BakeSource source) {
     progress_.store(f, std::memory_order_relaxed);
     return true;
   };
-  Result result = bakeAsset(source, settings_, control);
+  // An exception must not escape the thread (std::terminate): the large allocations are the likely
+  // source, and the caller gets them as an error like any other.
+  Result result = engine::makeError("bake job: not run");
+  try {
+    result = bakeAsset(source, settings_, control);
+  } catch (const std::exception& e) {
+    result = engine::makeError(std::string("bake job: ") + e.what());
+  }
   {
     std::lock_guard<std::mutex> lock(mutex_);
     result_ = std::move(result);

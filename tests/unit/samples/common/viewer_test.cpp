@@ -45,23 +45,28 @@ const hsdf::HermiteSdfRenderable& theSdf(Viewer& viewer) {
   return *found;
 }
 
-SceneDesc torusScene() {
+// A torus baked at K = `resolution`, drawn with Hermite cells, without the ground plane.
+std::unique_ptr<Viewer> viewTorus(int resolution) {
+  auto viewer = makeViewer();
+  if (!viewer) return nullptr;
   SceneDesc scene;
   scene.shape = "torus";
   scene.groundPlane = false;
-  return scene;
+  TuningState tuning;
+  tuning.method = Method::Cells;
+  tuning.resolution = resolution;
+  const engine::Status loaded = viewer->loadScene(scene, tuning);
+  EXPECT_TRUE(loaded.ok()) << loaded.error().message;
+  return loaded.ok() ? std::move(viewer) : nullptr;
 }
 
 // Tricky: a new K must go through the bake job and land in the same entity (new asset, new grid,
 // different kept cells) while the scene keeps drawing; tuning changes between frames must reach
 // the component; and none of it may provoke a validation message (close() counts them).
 TEST(Viewer, RebakesAndRetunesBetweenFrames) {
-  auto viewer = makeViewer();
+  auto viewer = viewTorus(16);
   ASSERT_NE(viewer, nullptr);
-  TuningState tuning;
-  tuning.method = Method::Cells;
-  tuning.resolution = 16;
-  ASSERT_TRUE(viewer->loadScene(torusScene(), tuning).ok());
+  TuningState tuning = viewer->tuning();
   ASSERT_TRUE(viewer->step().ok());
   EXPECT_GT(coverage(*viewer), 0.05);
   const std::uint64_t firstId = theSdf(*viewer).asset->id;
@@ -96,12 +101,9 @@ TEST(Viewer, RebakesAndRetunesBetweenFrames) {
 // Tricky: a re-bake that fails (K = 3 leaves no cell inside the padding) must report why and
 // leave the old asset drawing, not an entity without a field.
 TEST(Viewer, FailedRebakeKeepsTheOldAsset) {
-  auto viewer = makeViewer();
+  auto viewer = viewTorus(12);
   ASSERT_NE(viewer, nullptr);
-  TuningState tuning;
-  tuning.method = Method::Cells;
-  tuning.resolution = 12;
-  ASSERT_TRUE(viewer->loadScene(torusScene(), tuning).ok());
+  TuningState tuning = viewer->tuning();
   const std::uint64_t id = theSdf(*viewer).asset->id;
   tuning.resolution = 3;
   viewer->setTuning(tuning);
@@ -110,6 +112,9 @@ TEST(Viewer, FailedRebakeKeepsTheOldAsset) {
   EXPECT_NE(baked.error().message.find("re-baking at resolution 3: fitting the grid"), std::string::npos)
       << baked.error().message;
   EXPECT_EQ(theSdf(*viewer).asset->id, id);
+  tuning.resolution = 12;
+  viewer->setTuning(tuning);
+  EXPECT_EQ(viewer->bakeJob(), nullptr) << "K back to the one drawn: nothing to re-bake";
   ASSERT_TRUE(viewer->step().ok());
   EXPECT_GT(coverage(*viewer), 0.05);
   EXPECT_TRUE(viewer->close().ok());
@@ -118,12 +123,8 @@ TEST(Viewer, FailedRebakeKeepsTheOldAsset) {
 // Tricky: an explicit camera must put the eye exactly there (the orbit controller stores it as
 // yaw/pitch/radius), and an orbit view must replace it.
 TEST(Viewer, ExplicitCameraAndOrbitViews) {
-  auto viewer = makeViewer();
+  auto viewer = viewTorus(12);
   ASSERT_NE(viewer, nullptr);
-  TuningState tuning;
-  tuning.method = Method::Cells;
-  tuning.resolution = 12;
-  ASSERT_TRUE(viewer->loadScene(torusScene(), tuning).ok());
   viewer->setCamera(glm::dvec3(1.0, 2.0, 4.0), glm::dvec3(0.5, 0.0, 0.0));
   const glm::vec3 eye = viewer->cameraView().position;
   EXPECT_NEAR(eye.x, 1.0f, 1e-5f);

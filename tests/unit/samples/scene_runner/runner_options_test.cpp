@@ -172,19 +172,15 @@ TEST(RunnerOptions, Help) {
     EXPECT_TRUE(contains(result.message, option)) << option;
 }
 
-// Tricky: a file saved from one TuningState must load into an equal one through the command
-// line, and options given on the command line win over the file wherever they stand.
+// Tricky: command line -> TuningState -> file -> --settings must give the same state (every field
+// away from its default), and options given on the command line win over the file wherever they
+// stand.
 TEST(RunnerOptions, SettingsFileRoundTripAndOverride) {
-  samples::TuningState t;
-  t.method = Method::Hermite;
-  t.resolution = 48;
-  t.padding = 2;
-  t.subdivisions = 6;
-  t.refineSteps = 3;
-  t.normals = hsdf::NormalMode::CentralDifferences;
-  t.fp16 = true;
-  t.debugView = DebugView::Depth;
-  t.frontToBack = false;
+  const samples::TuningState t =
+      parseOk({"--method", "hermite", "--resolution", "48", "--padding", "2", "--subdivisions", "6", "--refine", "3",
+               "--normals", "central", "--fp16", "--debug-view", "depth", "--no-front-to-back"})
+          .tuning;
+  EXPECT_FALSE(t == samples::TuningState{});
   const auto file = tempFile("round_trip.json");
   ASSERT_TRUE(samples::saveTuning(file, t).ok());
   EXPECT_TRUE(parseOk({"--settings", file.string()}).tuning == t);
