@@ -12,6 +12,7 @@ namespace shader {
 // Render flags (HermiteDraw::flags).
 #define HERMITE_FLAG_NORMALS_CENTRAL 1u  // central differences instead of the exact gradient
 #define HERMITE_FLAG_NEAR_CELL 2u        // the cell may intersect the near plane: drawn by back faces
+#define HERMITE_FLAG_CERTIFIED 4u        // certified first-root search instead of n equidistant samples
 
 // One per indirect draw command of a Hermite feature: which object, and how to search.
 struct HermiteDraw {

@@ -202,6 +202,7 @@ void HermiteCellFeature::buildDraws(engine::render::FrameContext& frame) {
         draw.subdivisions = std::clamp(r.subdivisions, 1u, 64u);
         draw.refineSteps = std::min(r.refineSteps, 16u);
         draw.flags = r.normals == NormalMode::CentralDifferences ? HERMITE_FLAG_NORMALS_CENTRAL : 0u;
+        if (r.certified) draw.flags |= HERMITE_FLAG_CERTIFIED;
         draw.resolution = std::uint32_t(grid.resolution);
         draw.firstCell = entry.firstRecord;
         hermiteObjects.push_back({draw.gridOriginSpacing, buffers_->records[precision].address(),
