@@ -1,18 +1,21 @@
 #include "runner_options.h"
 
-#include <cstdlib>
 #include <algorithm>
 #include <cmath>
+#include <cstdlib>
+#include <map>
 #include <regex>
 
 #include <CLI/CLI.hpp>
 #include <fmt/format.h>
 #include <glm/glm.hpp>
 
-#include "shared/host_device.h"
+#include "viewer.h"
 
 namespace runner {
 namespace {
+
+using samples::TuningState;
 
 constexpr std::uint32_t kMaxDimension = 16384;
 
@@ -35,36 +38,85 @@ std::optional<std::string> parseCamera(const std::vector<float>& camera, Options
   std::copy(camera.begin(), camera.end(), values.begin());
   const bool finite = std::all_of(values.begin(), values.end(), [](float v) { return std::isfinite(v); });
   const double distance = glm::length(glm::dvec3(values[0], values[1], values[2]) - glm::dvec3(values[3], values[4], values[5]));
-  if (!finite || !(distance >= kMinSceneSize && distance <= kMaxSceneSize))
+  if (!finite || !(distance >= samples::kMinSceneSize && distance <= samples::kMaxSceneSize))
     return fmt::format("--camera: eye and target must be finite and {:g} to {:g} apart (they are {:g} apart)",
-                       kMinSceneSize, kMaxSceneSize, distance);
+                       samples::kMinSceneSize, samples::kMaxSceneSize, distance);
   options.camera = values;
   return std::nullopt;
 }
 
 // Options that contradict each other (rather than one being silently ignored).
-std::optional<std::string> checkCombinations(const Options& options, const CLI::App& app) {
-  const bool methodGiven = app.count("--method") > 0;
-  if (!options.sdfFile.empty() && methodGiven && options.method == "mesh")
+std::optional<std::string> checkCombinations(const Options& options, bool methodGiven) {
+  const samples::Method method = options.tuning.method;
+  if (!options.sdfFile.empty() && methodGiven && method == samples::Method::Mesh)
     return "--method mesh: a .hsdf file (--sdf) has no triangles; draw it with --method cells, trilinear or hermite";
-  if (options.sideBySide && (!options.sdfFile.empty() || options.method == "mesh"))
+  if (options.sideBySide && (!options.sdfFile.empty() || method == samples::Method::Mesh))
     return "--side-by-side: needs a scene baked into an SDF (--method cells, trilinear or hermite, without --sdf)";
-  if (options.resolution - 1 - 2 * options.padding < 1)
-    return "--resolution " + std::to_string(options.resolution) + " leaves no cells inside --padding " +
-           std::to_string(options.padding);
+  if (auto valid = samples::validateTuning(options.tuning); !valid) return valid.error().message;
   return std::nullopt;
 }
 
-}  // namespace
-
-std::uint32_t debugViewIndex(const std::string& name) {
-  if (name == "normals") return DEBUG_VIEW_NORMALS;
-  if (name == "depth") return DEBUG_VIEW_DEPTH;
-  if (name == "cells") return DEBUG_VIEW_CELLS;
-  if (name == "evals") return DEBUG_VIEW_EVALS;
-  if (name == "wireframe") return DEBUG_VIEW_WIREFRAME;
-  return DEBUG_VIEW_NONE;
+// A transform for an enum option: accepts exactly the names (not the numbers CLI11 would also take
+// for an enum) and hands CLI11 the value; the error lists the names.
+template <class T>
+CLI::Validator oneOf(std::initializer_list<T> values, const char* (*name)(T)) {
+  std::map<std::string, T> byName;
+  std::string list;
+  for (T v : values) {
+    byName.emplace(name(v), v);
+    list += (list.empty() ? "" : ", ") + std::string(name(v));
+  }
+  return CLI::Validator(
+      [byName, list](std::string& text) -> std::string {
+        const auto found = byName.find(text);
+        if (found == byName.end()) return "'" + text + "' is not one of " + list;
+        text = std::to_string(static_cast<std::underlying_type_t<T>>(found->second));
+        return {};
+      },
+      "{" + list + "}");
 }
+
+const char* deviceName(engine::gpu::DevicePreference device) {
+  switch (device) {
+    case engine::gpu::DevicePreference::Hardware: return "gpu";
+    case engine::gpu::DevicePreference::Software: return "lavapipe";
+    default: return "auto";
+  }
+}
+
+// Options that write the TuningState. Defined after --settings, whose callback runs first, so that
+// options given on the command line override the file.
+void addTuningOptions(CLI::App& app, TuningState& t) {
+  using samples::Method;
+  using samples::DebugView;
+  app.add_option("--method", t.method, "mesh, cells (Hermite cells), trilinear or hermite (sphere tracing)")
+      ->transform(oneOf({Method::Mesh, Method::Cells, Method::Trilinear, Method::Hermite}, samples::methodName));
+  app.add_option("--resolution", t.resolution, "samples per axis K of the baked field (2..256)")
+      ->check(CLI::Range(samples::kResolutionRange.min, samples::kResolutionRange.max));
+  app.add_option("--padding", t.padding, "cells of padding around the mesh (0..16)")
+      ->check(CLI::Range(samples::kPaddingRange.min, samples::kPaddingRange.max));
+  app.add_option("--subdivisions", t.subdivisions, "equidistant evaluations per cell (1..64)")
+      ->check(CLI::Range(samples::kSubdivisionsRange.min, samples::kSubdivisionsRange.max));
+  app.add_option("--refine", t.refineSteps, "root refinement steps (0..16)")
+      ->check(CLI::Range(samples::kRefineRange.min, samples::kRefineRange.max));
+  app.add_flag("--fp16", t.fp16, "half-precision cell records / textures");
+  app.add_option("--normals", t.normals, "exact or central (differences)")
+      ->transform(oneOf({hsdf::NormalMode::Exact, hsdf::NormalMode::CentralDifferences}, samples::normalModeName));
+  app.add_option("--debug-view", t.debugView, "none, normals, depth, cells, evals or wireframe")
+      ->transform(oneOf({DebugView::None, DebugView::Normals, DebugView::Depth, DebugView::Cells, DebugView::Evals,
+                         DebugView::Wireframe},
+                        samples::debugViewName));
+  app.add_flag("!--no-front-to-back", t.frontToBack, "cells: submit in storage order, not front to back");
+}
+
+ParseResult failure(const std::string& message) {
+  ParseResult result;
+  result.message = "scene_runner: " + message;
+  result.exitCode = 2;
+  return result;
+}
+
+}  // namespace
 
 std::filesystem::path defaultScenePath() {
   if (const char* dir = std::getenv("HSDF_ASSET_DIR")) return std::filesystem::path(dir) / "bunny.glb";
@@ -75,6 +127,16 @@ ParseResult parseOptions(int argc, const char* const* argv) {
   Options options;
   std::string size;
   CLI::App app{"hermite_sdf scene runner: renders a glTF scene (default: the bundled bunny)", "scene_runner"};
+  app.add_option_function<std::string>(
+         "--settings",
+         [&options](const std::string& file) {
+           auto loaded = samples::loadTuning(file, options.tuning);
+           if (!loaded) throw CLI::ValidationError("--settings", loaded.error().message);
+           options.tuning = *loaded;
+         },
+         "load method, resolution, ... from a JSON settings file (options given here override it)")
+      ->check(CLI::ExistingFile);
+  app.add_option("--save-settings", options.saveSettings, "write the resulting settings to this JSON file");
   app.add_option("--scene", options.scene, "glTF/GLB scene to load")->check(CLI::ExistingFile);
   app.add_option("--sdf", options.sdfFile, "draw a .hsdf file baked by hsdf_bake (replaces the default scene)")
       ->check(CLI::ExistingFile);
@@ -83,40 +145,26 @@ ParseResult parseOptions(int argc, const char* const* argv) {
   app.add_option("--frames", options.frames, "frames to render, then exit (0: until closed; headless default 1)")
       ->check(CLI::Range(0u, 1000000u));
   app.add_option("--screenshot", options.screenshot, "write the last frame to this PNG file");
+  using engine::gpu::DevicePreference;
   app.add_option("--device", options.device, "Vulkan device: auto, gpu or lavapipe")
-      ->check(CLI::IsMember({"auto", "gpu", "lavapipe"}));
+      ->transform(oneOf({DevicePreference::Auto, DevicePreference::Hardware, DevicePreference::Software}, deviceName));
   app.add_flag("--validation", options.validation, "enable the Vulkan validation layers");
   app.add_flag("--ui", options.headlessUi, "draw the ImGui panels into headless screenshots");
   app.add_flag("!--no-ground", options.groundPlane, "do not add the ground plane");
-  app.add_option("--method", options.method, "mesh, cells (Hermite cells), trilinear or hermite (sphere tracing)")
-      ->check(CLI::IsMember({"mesh", "cells", "trilinear", "hermite"}));
-  app.add_option("--resolution", options.resolution, "samples per axis K of the baked field (2..256)")
-      ->check(CLI::Range(2, 256));
-  app.add_option("--padding", options.padding, "cells of padding around the mesh (0..16)")->check(CLI::Range(0, 16));
-  app.add_option("--subdivisions", options.subdivisions, "equidistant evaluations per cell (1..64)")
-      ->check(CLI::Range(1u, 64u));
-  app.add_option("--refine", options.refine, "root refinement steps (0..16)")->check(CLI::Range(0u, 16u));
-  app.add_flag("--fp16", options.fp16, "half-precision cell records / textures");
-  app.add_option("--normals", options.normals, "exact or central (differences)")
-      ->check(CLI::IsMember({"exact", "central"}));
-  app.add_option("--debug-view", options.debugView, "none, normals, depth, cells, evals or wireframe")
-      ->check(CLI::IsMember({"none", "normals", "depth", "cells", "evals", "wireframe"}));
+  addTuningOptions(app, options.tuning);
   app.add_flag("--side-by-side", options.sideBySide, "keep the mesh and place the SDF beside it");
-  app.add_flag("!--no-front-to-back", options.frontToBack, "cells: submit in storage order, not front to back");
   app.add_option("--view", options.view, "one of 8 fixed orbit views (0..7)")->check(CLI::Range(0, 7));
   std::vector<float> camera;
   app.add_option("--camera", camera, "eye and target: ex,ey,ez,tx,ty,tz")->delimiter(',')->expected(6);
 
-  ParseResult result;
   try {
     app.parse(argc, argv);
   } catch (const CLI::CallForHelp&) {
-    result.message = app.help();
-    return result;
+    ParseResult help;
+    help.message = app.help();
+    return help;
   } catch (const CLI::ParseError& e) {
-    result.message = std::string("scene_runner: ") + e.what() + "\nRun with --help for the options.";
-    result.exitCode = 2;
-    return result;
+    return failure(std::string(e.what()) + "\nRun with --help for the options.");
   }
   std::optional<std::string> problem;
   if (!size.empty() && !parseSize(size, options.width, options.height))
@@ -124,15 +172,12 @@ ParseResult parseOptions(int argc, const char* const* argv) {
   if (!problem && !options.screenshot.empty() && options.screenshot.extension() != ".png")
     problem = "--screenshot: '" + options.screenshot.string() + "' must end in .png";
   if (!problem) problem = parseCamera(camera, options);
-  if (!problem) problem = checkCombinations(options, app);
-  if (problem) {
-    result.message = "scene_runner: " + *problem;
-    result.exitCode = 2;
-    return result;
-  }
+  if (!problem) problem = checkCombinations(options, app.count("--method") > 0);
+  if (problem) return failure(*problem);
   if (options.headless && options.frames == 0) options.frames = 1;
   if (options.scene.empty() && options.sdfFile.empty()) options.scene = defaultScenePath();
-  if (!options.sdfFile.empty() && options.method == "mesh") options.method = "cells";
+  if (!options.sdfFile.empty() && options.tuning.method == samples::Method::Mesh) options.tuning.method = samples::Method::Cells;
+  ParseResult result;
   result.options = options;
   return result;
 }

@@ -7,65 +7,27 @@
 #include <fmt/format.h>
 
 #include "engine/core/files.h"
-#include "engine/scene/gltf_loader.h"
-#include "hermite_sdf/analytic.h"
+#include "hermite_sdf/bake_job.h"
 #include "hermite_sdf/cells.h"
 #include "hermite_sdf/hsdf_file.h"
-#include "hermite_sdf/mesh_source.h"
 #include "progress_bar.h"
 
 namespace hsdf::tools {
 namespace {
 
-struct LoadedSource {
-  std::unique_ptr<SdfSource> source;
-  std::string description;
-};
-
-engine::Expected<LoadedSource> loadMesh(const std::filesystem::path& path) {
-  auto scene = engine::scene::loadGltf(path);
-  if (!scene) return scene.error();
-  if (auto flattenable = engine::scene::checkFlattenable(*scene); !flattenable)
-    return flattenable.error().withContext(path.string());
-  const engine::scene::TriangleSoup soup = engine::scene::flattenTriangles(*scene);
-  auto mesh = MeshSource::create(soup);
-  if (!mesh) return mesh.error().withContext(path.string());
-  const MeshSourceStats& s = (*mesh)->stats();
-  std::string description = fmt::format("{}: mesh, {} triangles", path.filename().string(), s.triangles);
-  if (s.droppedZeroArea > 0) description += fmt::format(" ({} zero-area dropped)", s.droppedZeroArea);
-  description += s.closed ? ", closed" : fmt::format(", open ({} boundary edges)", s.boundaryEdges);
-  description += s.pseudoNormalSign ? ", sign from pseudonormals" : ", sign from the winding number";
-  return LoadedSource{std::move(mesh.value()), std::move(description)};
-}
-
-// A path that exists is read as glTF/GLB (the loader names what is wrong with it); anything else
-// must be an analytic shape name.
-engine::Expected<LoadedSource> loadSource(const std::string& input) {
-  std::error_code ec;
-  if (std::filesystem::exists(input, ec)) return loadMesh(input);
-  auto shape = makeAnalyticSource(input);
-  if (!shape) {
-    std::string known;
-    for (const std::string& name : analyticShapeNames()) known += (known.empty() ? "" : ", ") + name;
-    return engine::makeError(fmt::format("INPUT '{}' is neither a file nor an analytic shape (known shapes: {})",
-                                         input, known));
-  }
-  return LoadedSource{std::move(shape.value()), fmt::format("{}: analytic shape", input)};
-}
-
 double secondsSince(std::chrono::steady_clock::time_point start) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 }
 
-engine::Expected<HermiteField> bakeField(const SdfSource& source, const GridSpec& grid, const BakeRequest& request) {
-  ProgressBar bar(request.payload == Payload::Cells ? "baking (narrow band)" : "baking (dense)", stderr);
-  BakeOptions options;
-  options.threads = request.threads;
-  if (request.progress) options.progress = [&bar](float f) { return bar.update(f); };
-  auto field = request.payload == Payload::Cells ? bakeHermiteFieldNarrowBand(source, grid, options)
-                                                 : bakeHermiteField(source, grid, options);
-  if (request.progress) bar.finish();
-  return field;
+BakeSettings bakeSettings(const BakeRequest& request) {
+  BakeSettings settings;
+  settings.resolution = request.resolution;
+  settings.padding = request.padding;
+  settings.band = request.payload == Payload::Cells ? BakeBand::NarrowBand : BakeBand::Dense;
+  settings.fp16 = request.fp16;
+  settings.refineDepth = request.refineDepth;
+  settings.threads = request.threads;
+  return settings;
 }
 
 void printStorage(const GridSpec& grid, const CellStats& stats, bool fp16) {
@@ -98,56 +60,42 @@ engine::Status checkOutput(const BakeRequest& request) {
   return {};
 }
 
-// A field without a surface gives a file that draws nothing: an error, with the likely cause.
-engine::Status checkHasSurface(const CellStats& stats) {
-  if (stats.kept() > 0) return {};
-  return engine::makeError(fmt::format("the field has no surface: none of its {} cells changes sign (the input "
-                                       "encloses no volume, e.g. a flat or open sheet)",
-                                       stats.cells));
-}
-
 }  // namespace
 
 int runBake(const BakeRequest& request) {
   if (auto output = checkOutput(request); !output) return fail(output.error().message);
-  auto loaded = loadSource(request.input);
-  if (!loaded) return fail(loaded.error().message);
-  std::printf("input: %s\n", loaded->description.c_str());
-  auto grid = fitGrid(loaded->source->bounds(), request.resolution, request.padding);
-  if (!grid) return fail(grid.error().withContext("fitting the grid").message);
+  auto source = BakeSource::fromPathOrShape(request.input);
+  if (!source) return fail(source.error().message);
+  auto prepared = prepareSource(*source);
+  if (!prepared) return fail(prepared.error().withContext(request.input).message);
+  std::printf("input: %s\n", prepared->description.c_str());
+  const BakeSettings settings = bakeSettings(request);
+  auto grid = planBake(*prepared, settings);
+  if (!grid) return fail(grid.error().message);
   std::printf("grid: K=%d, spacing %.9g, origin (%.9g, %.9g, %.9g), padding %d\n", grid->resolution, grid->spacing,
               grid->origin.x, grid->origin.y, grid->origin.z, request.padding);
-  const HsdfScalarType scalarType = request.fp16 ? HsdfScalarType::Float16 : HsdfScalarType::Float32;
-  if (auto storable = checkStorable(*grid, scalarType); !storable)
-    return fail(storable.error().withContext(request.fp16 ? "--fp16" : "fp32").message);
 
   const auto bakeStart = std::chrono::steady_clock::now();
-  auto field = bakeField(*loaded->source, *grid, request);
-  if (!field) return fail(field.error().withContext("baking").message);
-  std::printf("baked %zu samples in %.3f s\n", field->samples.size(), secondsSince(bakeStart));
-
-  ClassifyOptions classifyOptions;
-  classifyOptions.refineDepth = request.refineDepth;
-  classifyOptions.threads = request.threads;
-  auto classes = classifyCells(*field, classifyOptions);
-  if (!classes) return fail(classes.error().withContext("classifying cells").message);
-  if (auto surface = checkHasSurface(classes->stats); !surface) return fail(surface.error().withContext(request.input).message);
-  printStorage(*grid, classes->stats, request.fp16);
+  ProgressBar bar(settings.band == BakeBand::NarrowBand ? "baking (narrow band)" : "baking (dense)", stderr);
+  BakeControl control;
+  if (request.progress) control.progress = [&bar](float f) { return bar.update(f); };
+  auto asset = bakeAsset(*prepared, settings, control);
+  if (request.progress) bar.finish();
+  if (!asset) return fail(asset.error().withContext(request.input).message);
+  const SdfAsset& baked = **asset;
+  std::printf("baked and classified %zu samples in %.3f s\n", baked.field.samples.size(), secondsSince(bakeStart));
+  printStorage(baked.field.grid, baked.classification.stats, request.fp16);
   if (request.falsePositives) {
-    const FalsePositiveReport report = countFalsePositives(*field, *classes);
+    const FalsePositiveReport report = countFalsePositives(baked.field, baked.classification);
     std::printf("false positives: %llu of %llu kept cells (%.3f%%) are empty by 17^3 dense sampling\n",
                 (unsigned long long)report.falsePositives, (unsigned long long)report.keptCells, 100.0 * report.rate());
   }
 
   HsdfContents contents;
-  contents.grid = *grid;
-  contents.scalarType = scalarType;
-  if (request.payload != Payload::Dense) {
-    auto cells = extractCells(*field, *classes);
-    if (!cells) return fail(cells.error().withContext("extracting cells").message);
-    contents.cells = std::move(*cells);
-  }
-  if (request.payload != Payload::Cells) contents.dense = std::move(*field);
+  contents.grid = baked.field.grid;
+  contents.scalarType = request.fp16 ? HsdfScalarType::Float16 : HsdfScalarType::Float32;
+  if (request.payload != Payload::Dense) contents.cells = baked.cells;
+  if (request.payload != Payload::Cells) contents.dense = baked.field;
   auto bytes = serializeHsdf(contents);
   if (!bytes) return fail(bytes.error().message);
   if (auto written = engine::writeBinaryFile(request.output, *bytes); !written) return fail(written.error().message);

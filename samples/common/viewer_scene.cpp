@@ -1,0 +1,183 @@
+// Viewer::loadScene: glTF meshes, SDFs baked through the module bake job, .hsdf files, the ground.
+#include <chrono>
+#include <cstdio>
+
+#include <fmt/format.h>
+
+#include "engine/core/log.h"
+#include "engine/render/components.h"
+#include "engine/render/scene_instantiate.h"
+#include "engine/scene/gltf_loader.h"
+#include "engine/scene/transform.h"
+#include "hermite_sdf/hsdf_file.h"
+#include "viewer.h"
+
+namespace samples {
+
+using namespace engine;
+
+namespace {
+
+// In double: the float length of a box 1e20 across overflows.
+double diagonal(const glm::vec3& lo, const glm::vec3& hi) { return glm::length(glm::dvec3(hi) - glm::dvec3(lo)); }
+
+Status checkDrawableSize(const std::filesystem::path& file, const glm::vec3& lo, const glm::vec3& hi) {
+  const double size = diagonal(lo, hi);
+  if (size >= kMinSceneSize && size <= kMaxSceneSize) return {};
+  return makeError(fmt::format("{}: the scene is {:g} across (bounding-box diagonal); the scene runner draws scenes "
+                               "{:g} to {:g} across (32-bit float camera and shaders)",
+                               file.string(), size, kMinSceneSize, kMaxSceneSize));
+}
+
+// The bake job with a terminal progress line and a summary in the log.
+Expected<std::shared_ptr<const hsdf::SdfAsset>> bakeWithProgress(const hsdf::BakeSource& source,
+                                                                 const hsdf::BakeSettings& settings) {
+  const auto start = std::chrono::steady_clock::now();
+  int shown = -1;
+  hsdf::BakeControl control;
+  control.progress = [&shown](float fraction) {
+    const int percent = int(fraction * 100.0f);
+    if (percent / 10 != shown / 10) std::fprintf(stderr, "\rbaking %3d%%", percent);
+    shown = percent;
+    return true;
+  };
+  auto asset = hsdf::bakeAsset(source, settings, control);
+  std::fprintf(stderr, "\r");
+  if (!asset) return asset.error();
+  const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  const hsdf::CellStats& stats = (*asset)->classification.stats;
+  log::info("baked {}^3 Hermite field in {:.2f} s: {} kept cells ({} crossing, {} ambiguous), {} stored scalars",
+            settings.resolution, seconds, stats.kept(), stats.crossing, stats.ambiguous, (*asset)->cells.stored_scalars());
+  return asset;
+}
+
+// A .hsdf file: its dense field (re-classified) when present, else its cells.
+Expected<std::shared_ptr<const hsdf::SdfAsset>> loadSdfFile(const std::filesystem::path& path) {
+  const auto contents = hsdf::loadHsdf(path);
+  if (!contents) return contents.error();
+  const std::string name = path.filename().string();
+  // Copies, not moves, out of the optionals: GCC 12 -O3 warns (falsely) about moved-from ones.
+  if (contents->dense) return hsdf::makeSdfAsset(name, *contents->dense, contents->grid.bounds());
+  if (contents->cells) return hsdf::makeSdfAssetFromCells(name, *contents->cells);
+  return makeError(path.string() + ": holds neither a dense field nor cells");
+}
+
+}  // namespace
+
+Status Viewer::loadScene(const SceneDesc& scene, const TuningState& tuning) {
+  tuning_ = tuning;
+  const bool onlyFile = scene.gltf.empty() && scene.shape.empty();
+  if (!scene.sdfFile.empty()) ENGINE_TRY(addSdfFile(scene.sdfFile, onlyFile));
+  if (!scene.gltf.empty()) {
+    ENGINE_TRY(loadGltf(scene));
+  } else if (!scene.shape.empty()) {
+    ENGINE_TRY(addBakedSdf(hsdf::BakeSource::fromShape(scene.shape), scene, false, {}, nullptr).withContext(scene.shape));
+  }
+  if (scene.groundPlane) addGroundPlane();
+  scene::updateWorldTransforms(registry_);
+  znear_ = float(0.01 * diagonal(boundsMin_, boundsMax_));
+  setOrbitView(0);
+  return {};
+}
+
+Status Viewer::loadGltf(const SceneDesc& scene) {
+  ENGINE_TRY_ASSIGN(scene::SceneData data, scene::loadGltf(scene.gltf));
+  const render::InstantiatedScene instantiated = render::instantiateScene(data, registry_, *pool_);
+  if (instantiated.renderables.empty()) {
+    log::warn("{}: the scene has no triangle meshes", scene.gltf.string());
+  } else {
+    boundsMin_ = instantiated.boundsMin;
+    boundsMax_ = instantiated.boundsMax;
+    ENGINE_TRY(checkDrawableSize(scene.gltf, boundsMin_, boundsMax_));
+  }
+  if (!isSdfMethod(tuning_.method) || !scene.sdfFile.empty()) return {};
+  if (instantiated.renderables.empty()) return makeError(scene.gltf.string() + ": no triangle meshes to bake into an SDF");
+  ENGINE_TRY_ASSIGN(hsdf::BakeSource source, hsdf::BakeSource::fromScene("scene sdf", data).withContext(scene.gltf.string()));
+  // The SDF looks like the mesh it replaces.
+  const glm::vec4* color = data.materials.empty() ? nullptr : &data.materials.front().baseColor;
+  return addBakedSdf(std::move(source), scene, !scene.sideBySide, instantiated.renderables, color)
+      .withContext(scene.gltf.string());
+}
+
+// Bakes `source` at the tuning's K and padding and adds it; with sideBySide beside the scene,
+// otherwise in place of `meshes`.
+Status Viewer::addBakedSdf(hsdf::BakeSource source, const SceneDesc& scene, bool replaceMeshes,
+                           const std::vector<ecs::Entity>& meshes, const glm::vec4* color) {
+  hsdf::BakeSettings settings;
+  settings.resolution = tuning_.resolution;
+  settings.padding = tuning_.padding;
+  ENGINE_TRY_ASSIGN(std::shared_ptr<const hsdf::SdfAsset> asset, bakeWithProgress(source, settings));
+  glm::vec3 offset(0.0f);
+  if (meshes.empty()) {  // the baked shape is the scene
+    boundsMin_ = glm::vec3(asset->surfaceBounds.min);
+    boundsMax_ = glm::vec3(asset->surfaceBounds.max);
+  } else if (scene.sideBySide) {
+    offset.x = 1.25f * (boundsMax_.x - boundsMin_.x);
+    boundsMax_.x += offset.x;
+  }
+  if (replaceMeshes)
+    for (ecs::Entity e : meshes) registry_.remove<render::MeshRenderable>(e);
+  bakedEntity_ = addSdfEntity(std::move(asset), offset, color);
+  bakeSource_ = std::move(source);
+  bakedResolution_ = settings.resolution;
+  bakedPadding_ = settings.padding;
+  return {};
+}
+
+// Draws a baked .hsdf file; `frameIt`: its grid bounds are the scene's.
+Status Viewer::addSdfFile(const std::filesystem::path& file, bool frameIt) {
+  ENGINE_TRY_ASSIGN(std::shared_ptr<const hsdf::SdfAsset> asset, loadSdfFile(file));
+  if (tuning_.method != Method::Cells && asset->field.samples.empty())
+    return makeError(fmt::format("{}: holds only cells; --method {} needs the dense field (bake without --cells)",
+                                 file.string(), methodName(tuning_.method)));
+  const hsdf::Aabb bounds = asset->cells.grid.bounds();
+  ENGINE_TRY(checkDrawableSize(file, glm::vec3(bounds.min), glm::vec3(bounds.max)));
+  if (frameIt) {
+    boundsMin_ = glm::vec3(bounds.min);
+    boundsMax_ = glm::vec3(bounds.max);
+  }
+  addSdfEntity(std::move(asset), glm::vec3(0.0f), nullptr);
+  return {};
+}
+
+ecs::Entity Viewer::addSdfEntity(std::shared_ptr<const hsdf::SdfAsset> asset, const glm::vec3& offset,
+                                 const glm::vec4* color) {
+  hsdf::HermiteSdfRenderable renderable;
+  renderable.asset = std::move(asset);
+  if (color) renderable.color = *color;
+  applyTuning(tuning_, renderable);
+  const ecs::Entity entity = registry_.create();
+  scene::Transform transform;
+  transform.translation = offset;
+  registry_.emplace<scene::Transform>(entity, transform);
+  registry_.emplace<scene::Name>(entity, scene::Name{renderable.asset->name});
+  registry_.emplace<hsdf::HermiteSdfRenderable>(entity, std::move(renderable));
+  return entity;
+}
+
+// A thin box under the scene so that occlusion and the depth prepass have something to show.
+void Viewer::addGroundPlane() {
+  const glm::vec3 size = boundsMax_ - boundsMin_;
+  const float extent = 1.5f * std::max(size.x, size.z);
+  const glm::vec3 center(0.5f * (boundsMin_.x + boundsMax_.x), boundsMin_.y, 0.5f * (boundsMin_.z + boundsMax_.z));
+  const glm::vec3 corners[4] = {{-1, 0, -1}, {-1, 0, 1}, {1, 0, 1}, {1, 0, -1}};
+  std::vector<glm::vec3> positions, normals;
+  for (const glm::vec3& corner : corners) {
+    positions.push_back(corner);
+    normals.emplace_back(0.0f, 1.0f, 0.0f);
+  }
+  const std::vector<std::uint32_t> indices = {0, 1, 2, 0, 2, 3};
+  const ecs::Entity ground = registry_.create();
+  scene::Transform transform;
+  transform.translation = center;
+  transform.scale = glm::vec3(extent, 1.0f, extent);
+  registry_.emplace<scene::Transform>(ground, transform);
+  render::MeshRenderable renderable;
+  renderable.mesh = pool_->add(positions, normals, indices);
+  renderable.color = glm::vec4(0.35f, 0.37f, 0.4f, 1.0f);
+  renderable.roughness = 0.9f;
+  registry_.emplace<render::MeshRenderable>(ground, renderable);
+  registry_.emplace<scene::Name>(ground, scene::Name{"ground"});
+}
+
+}  // namespace samples

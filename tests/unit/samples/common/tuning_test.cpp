@@ -1,0 +1,124 @@
+// Typed tuning settings (samples/common/tuning.h): names, the one mapping onto the SDF component,
+// and settings files. Each case says what it would catch.
+#include <gtest/gtest.h>
+
+#include <filesystem>
+
+#include "engine/core/files.h"
+#include "tuning.h"
+
+namespace samples {
+namespace {
+
+std::filesystem::path tempFile(const std::string& name) {
+  return std::filesystem::temp_directory_path() / ("hsdf_tuning_test_" + name);
+}
+
+bool contains(const std::string& text, const std::string& part) { return text.find(part) != std::string::npos; }
+
+// Tricky: the name tables are the only place strings meet methods; a missing or duplicated entry
+// would make a method unparseable or print as another.
+TEST(Tuning, EveryNameParsesBackToItsValue) {
+  for (Method m : {Method::Mesh, Method::Cells, Method::Trilinear, Method::Hermite}) EXPECT_EQ(parseMethod(methodName(m)), m);
+  for (hsdf::NormalMode n : {hsdf::NormalMode::Exact, hsdf::NormalMode::CentralDifferences})
+    EXPECT_EQ(parseNormalMode(normalModeName(n)), n);
+  for (DebugView v : {DebugView::None, DebugView::Normals, DebugView::Depth, DebugView::Cells, DebugView::Evals,
+                      DebugView::Wireframe})
+    EXPECT_EQ(parseDebugView(debugViewName(v)), v);
+  EXPECT_FALSE(parseMethod("Cells").has_value()) << "names are case-sensitive, as on the command line";
+  EXPECT_FALSE(parseNormalMode("").has_value());
+}
+
+// Tricky: every tuned field must reach the component, and Method::Mesh must not clobber the
+// method the entity already has (the mesh method has no SDF counterpart).
+TEST(Tuning, ApplyTuningMapsEveryField) {
+  TuningState t;
+  t.method = Method::Hermite;
+  t.subdivisions = 7;
+  t.refineSteps = 4;
+  t.normals = hsdf::NormalMode::CentralDifferences;
+  t.fp16 = true;
+  hsdf::HermiteSdfRenderable r;
+  applyTuning(t, r);
+  EXPECT_EQ(r.method, hsdf::RenderMethod::HermiteSphereTrace);
+  EXPECT_EQ(r.subdivisions, 7u);
+  EXPECT_EQ(r.refineSteps, 4u);
+  EXPECT_EQ(r.normals, hsdf::NormalMode::CentralDifferences);
+  EXPECT_TRUE(r.halfPrecision);
+  t.method = Method::Trilinear;
+  applyTuning(t, r);
+  EXPECT_EQ(r.method, hsdf::RenderMethod::TrilinearSphereTrace);
+  t.method = Method::Mesh;
+  applyTuning(t, r);
+  EXPECT_EQ(r.method, hsdf::RenderMethod::TrilinearSphereTrace);
+  t.method = Method::Cells;
+  applyTuning(t, r);
+  EXPECT_EQ(r.method, hsdf::RenderMethod::Cells);
+}
+
+// Tricky: every field differs from its default, so a key that is saved but not loaded (or loaded
+// into the wrong field) breaks the equality.
+TEST(Tuning, SettingsFileRoundTrip) {
+  TuningState t;
+  t.method = Method::Trilinear;
+  t.resolution = 40;
+  t.padding = 3;
+  t.subdivisions = 9;
+  t.refineSteps = 0;
+  t.normals = hsdf::NormalMode::CentralDifferences;
+  t.fp16 = true;
+  t.debugView = DebugView::Wireframe;
+  t.frontToBack = false;
+  const auto file = tempFile("round_trip.json");
+  ASSERT_TRUE(saveTuning(file, t).ok());
+  const auto loaded = loadTuning(file);
+  ASSERT_TRUE(loaded.ok()) << loaded.error().message;
+  EXPECT_TRUE(*loaded == t);
+}
+
+// Tricky: keys left out keep the base's values (a file may set only the method).
+TEST(Tuning, MissingKeysKeepTheBase) {
+  const auto file = tempFile("partial.json");
+  ASSERT_TRUE(engine::writeTextFile(file, R"({"method": "cells"})").ok());
+  TuningState base;
+  base.resolution = 33;
+  const auto loaded = loadTuning(file, base);
+  ASSERT_TRUE(loaded.ok()) << loaded.error().message;
+  EXPECT_EQ(loaded->method, Method::Cells);
+  EXPECT_EQ(loaded->resolution, 33);
+}
+
+// Tricky: each bad value must be refused naming both the file and the key (or the rule broken),
+// never silently clamped or ignored.
+TEST(Tuning, BadSettingsFilesNameTheKeyAndFile) {
+  struct Case {
+    const char* text;
+    const char* expected;
+  };
+  const Case cases[] = {
+      {R"({"resolution": 1000})", "setting 'resolution': 1000 is outside 2..256"},
+      {R"({"resolution": 2.5})", "setting 'resolution': expected an integer, got 2.5"},
+      {R"({"method": "phong"})", "setting 'method': \"phong\" is not one of mesh, cells, trilinear, hermite"},
+      {R"({"normals": 1})", "setting 'normals': 1 is not one of exact, central"},
+      {R"({"fp16": "yes"})", "setting 'fp16': expected true or false"},
+      {R"({"colour": 1})", "setting 'colour': unknown setting"},
+      {R"({"subdivisions": 0})", "setting 'subdivisions': 0 is outside 1..64"},
+      {R"({"resolution": 3, "padding": 1})", "--resolution 3 leaves no cells inside --padding 1"},
+      {R"([1, 2])", "expected a JSON object of settings"},
+      {R"({"method": )", "not valid JSON"},
+  };
+  const auto file = tempFile("bad.json");
+  for (const Case& c : cases) {
+    ASSERT_TRUE(engine::writeTextFile(file, c.text).ok());
+    const auto loaded = loadTuning(file);
+    ASSERT_FALSE(loaded.ok()) << c.text;
+    EXPECT_TRUE(contains(loaded.error().message, file.string())) << loaded.error().message;
+    EXPECT_TRUE(contains(loaded.error().message, c.expected)) << loaded.error().message;
+  }
+  const auto missing = loadTuning(tempFile("does_not_exist.json"));
+  ASSERT_FALSE(missing.ok());
+  EXPECT_TRUE(contains(missing.error().message, "does_not_exist.json")) << missing.error().message;
+}
+
+}  // namespace
+}  // namespace samples

@@ -1,0 +1,143 @@
+// The Viewer (samples/common/viewer.h), headless on lavapipe with the validation layers on: what
+// the perf capture and the soak test rely on. Small images (64x48) keep it fast.
+#include <gtest/gtest.h>
+
+#include <cstdint>
+#include <vector>
+
+#include "viewer.h"
+
+namespace samples {
+namespace {
+
+std::unique_ptr<Viewer> makeViewer() {
+  ViewerDesc desc;
+  desc.width = 64;
+  desc.height = 48;
+  desc.headless = true;
+  desc.validation = true;
+  desc.device = engine::gpu::DevicePreference::Software;
+  auto viewer = Viewer::create(desc);
+  EXPECT_TRUE(viewer.ok()) << viewer.error().message;
+  return viewer.ok() ? std::move(*viewer) : nullptr;
+}
+
+// Share of pixels that differ from the top-left one (background: the object is framed in the
+// middle and the ground plane is off).
+double coverage(Viewer& viewer) {
+  viewer.renderer().finish();
+  const std::vector<std::uint8_t> rgba = viewer.renderer().readbackColor();
+  std::size_t covered = 0;
+  for (std::size_t i = 0; i < rgba.size(); i += 4)
+    for (std::size_t c = 0; c < 3; ++c)
+      if (rgba[i + c] != rgba[c]) {
+        ++covered;
+        break;
+      }
+  return double(covered) / double(rgba.size() / 4);
+}
+
+const hsdf::HermiteSdfRenderable& theSdf(Viewer& viewer) {
+  const hsdf::HermiteSdfRenderable* found = nullptr;
+  viewer.registry().view<hsdf::HermiteSdfRenderable>().each(
+      [&found](engine::ecs::Entity, const hsdf::HermiteSdfRenderable& r) { found = &r; });
+  EXPECT_NE(found, nullptr);
+  return *found;
+}
+
+// A torus baked at K = `resolution`, drawn with Hermite cells, without the ground plane.
+std::unique_ptr<Viewer> viewTorus(int resolution) {
+  auto viewer = makeViewer();
+  if (!viewer) return nullptr;
+  SceneDesc scene;
+  scene.shape = "torus";
+  scene.groundPlane = false;
+  TuningState tuning;
+  tuning.method = Method::Cells;
+  tuning.resolution = resolution;
+  const engine::Status loaded = viewer->loadScene(scene, tuning);
+  EXPECT_TRUE(loaded.ok()) << loaded.error().message;
+  return loaded.ok() ? std::move(viewer) : nullptr;
+}
+
+// Tricky: a new K must go through the bake job and land in the same entity (new asset, new grid,
+// different kept cells) while the scene keeps drawing; tuning changes between frames must reach
+// the component; and none of it may provoke a validation message (close() counts them).
+TEST(Viewer, RebakesAndRetunesBetweenFrames) {
+  auto viewer = viewTorus(16);
+  ASSERT_NE(viewer, nullptr);
+  TuningState tuning = viewer->tuning();
+  ASSERT_TRUE(viewer->step().ok());
+  EXPECT_GT(coverage(*viewer), 0.05);
+  const std::uint64_t firstId = theSdf(*viewer).asset->id;
+  const std::size_t firstCells = theSdf(*viewer).asset->cells.records.size();
+
+  tuning.resolution = 24;
+  viewer->setTuning(tuning);
+  ASSERT_NE(viewer->bakeJob(), nullptr);
+  ASSERT_TRUE(viewer->step().ok()) << "frames keep coming while the re-bake runs";
+  ASSERT_TRUE(viewer->waitForBake().ok());
+  EXPECT_EQ(viewer->bakeJob(), nullptr);
+  const hsdf::SdfAsset& rebaked = *theSdf(*viewer).asset;
+  EXPECT_NE(rebaked.id, firstId);
+  EXPECT_EQ(rebaked.field.grid.resolution, 24);
+  EXPECT_NE(rebaked.cells.records.size(), firstCells);
+
+  tuning.method = Method::Trilinear;
+  tuning.subdivisions = 5;
+  tuning.normals = hsdf::NormalMode::CentralDifferences;
+  viewer->setTuning(tuning);
+  EXPECT_EQ(viewer->bakeJob(), nullptr) << "same K and padding: no re-bake";
+  ASSERT_TRUE(viewer->step().ok());
+  EXPECT_EQ(theSdf(*viewer).method, hsdf::RenderMethod::TrilinearSphereTrace);
+  EXPECT_EQ(theSdf(*viewer).subdivisions, 5u);
+  EXPECT_EQ(theSdf(*viewer).normals, hsdf::NormalMode::CentralDifferences);
+  EXPECT_GT(coverage(*viewer), 0.05);
+  EXPECT_EQ(viewer->framesRendered(), 3u);
+  const engine::Status closed = viewer->close();
+  EXPECT_TRUE(closed.ok()) << closed.error().message;
+}
+
+// Tricky: a re-bake that fails (K = 3 leaves no cell inside the padding) must report why and
+// leave the old asset drawing, not an entity without a field.
+TEST(Viewer, FailedRebakeKeepsTheOldAsset) {
+  auto viewer = viewTorus(12);
+  ASSERT_NE(viewer, nullptr);
+  TuningState tuning = viewer->tuning();
+  const std::uint64_t id = theSdf(*viewer).asset->id;
+  tuning.resolution = 3;
+  viewer->setTuning(tuning);
+  const engine::Status baked = viewer->waitForBake();
+  ASSERT_FALSE(baked.ok());
+  EXPECT_NE(baked.error().message.find("re-baking at resolution 3: fitting the grid"), std::string::npos)
+      << baked.error().message;
+  EXPECT_EQ(theSdf(*viewer).asset->id, id);
+  tuning.resolution = 12;
+  viewer->setTuning(tuning);
+  EXPECT_EQ(viewer->bakeJob(), nullptr) << "K back to the one drawn: nothing to re-bake";
+  ASSERT_TRUE(viewer->step().ok());
+  EXPECT_GT(coverage(*viewer), 0.05);
+  EXPECT_TRUE(viewer->close().ok());
+}
+
+// Tricky: an explicit camera must put the eye exactly there (the orbit controller stores it as
+// yaw/pitch/radius), and an orbit view must replace it.
+TEST(Viewer, ExplicitCameraAndOrbitViews) {
+  auto viewer = viewTorus(12);
+  ASSERT_NE(viewer, nullptr);
+  viewer->setCamera(glm::dvec3(1.0, 2.0, 4.0), glm::dvec3(0.5, 0.0, 0.0));
+  const glm::vec3 eye = viewer->cameraView().position;
+  EXPECT_NEAR(eye.x, 1.0f, 1e-5f);
+  EXPECT_NEAR(eye.y, 2.0f, 1e-5f);
+  EXPECT_NEAR(eye.z, 4.0f, 1e-5f);
+  viewer->setOrbitView(2);
+  const glm::vec3 view2 = viewer->cameraView().position;
+  viewer->setOrbitView(5);
+  EXPECT_GT(glm::length(viewer->cameraView().position - view2), 0.1f);
+  ASSERT_TRUE(viewer->step().ok());
+  EXPECT_GT(coverage(*viewer), 0.05);
+  EXPECT_TRUE(viewer->close().ok());
+}
+
+}  // namespace
+}  // namespace samples

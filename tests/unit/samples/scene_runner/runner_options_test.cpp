@@ -1,0 +1,209 @@
+// The scene runner's command line (samples/scene_runner/runner_options.h): every option's good
+// value reaches Options, every bad one is refused naming the option, --help, and --settings
+// files merged under the command line. Each case says what it would catch.
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include "engine/core/files.h"
+#include "runner_options.h"
+
+namespace runner {
+namespace {
+
+using samples::DebugView;
+using samples::Method;
+
+const std::string kBunny = std::string(HSDF_ASSET_DIR) + "/bunny.glb";
+const std::string kHsdf = std::string(HSDF_TEST_DATA_DIR) + "/fuzz/hsdf_load_fuzz/sphere_k4_fp32.hsdf";
+
+ParseResult parse(std::vector<std::string> args) {
+  args.insert(args.begin(), "scene_runner");
+  std::vector<const char*> argv;
+  for (const std::string& a : args) argv.push_back(a.c_str());
+  return parseOptions(int(argv.size()), argv.data());
+}
+
+Options parseOk(const std::vector<std::string>& args) {
+  const ParseResult result = parse(args);
+  EXPECT_TRUE(result.options.has_value()) << result.message;
+  return result.options.value_or(Options{});
+}
+
+std::filesystem::path tempFile(const std::string& name) {
+  return std::filesystem::temp_directory_path() / ("hsdf_runner_options_test_" + name);
+}
+
+bool contains(const std::string& text, const std::string& part) { return text.find(part) != std::string::npos; }
+
+// Tricky: the defaults are what scripts/run.sh shows; the bunny must be filled in only when
+// neither --scene nor --sdf is given.
+TEST(RunnerOptions, Defaults) {
+  const Options o = parseOk({});
+  EXPECT_EQ(o.scene, defaultScenePath());
+  EXPECT_FALSE(o.headless);
+  EXPECT_EQ(o.frames, 0u);
+  EXPECT_EQ(o.width, 1280u);
+  EXPECT_EQ(o.height, 720u);
+  EXPECT_EQ(o.device, engine::gpu::DevicePreference::Auto);
+  EXPECT_TRUE(o.tuning == samples::TuningState{});
+  EXPECT_TRUE(o.groundPlane);
+  EXPECT_FALSE(o.view.has_value());
+  EXPECT_FALSE(o.camera.has_value());
+}
+
+// Tricky: every option, each set away from its default, so an option bound to the wrong field or
+// a name table entry mapped to the wrong value shows up.
+TEST(RunnerOptions, EveryOptionsGoodValue) {
+  const Options o = parseOk({"--scene", kBunny, "--headless", "--size", "96x64", "--frames", "5", "--screenshot",
+                             "out/x.png", "--device", "lavapipe", "--validation", "--ui", "--no-ground", "--method",
+                             "trilinear", "--resolution", "32", "--padding", "2", "--subdivisions", "5", "--refine", "0",
+                             "--fp16", "--normals", "central", "--debug-view", "evals", "--side-by-side",
+                             "--no-front-to-back", "--view", "3", "--camera", "1,2,3,4,5,6", "--save-settings", "s.json"});
+  EXPECT_EQ(o.scene, kBunny);
+  EXPECT_TRUE(o.headless);
+  EXPECT_EQ(o.width, 96u);
+  EXPECT_EQ(o.height, 64u);
+  EXPECT_EQ(o.frames, 5u);
+  EXPECT_EQ(o.screenshot, "out/x.png");
+  EXPECT_EQ(o.device, engine::gpu::DevicePreference::Software);
+  EXPECT_TRUE(o.validation);
+  EXPECT_TRUE(o.headlessUi);
+  EXPECT_FALSE(o.groundPlane);
+  EXPECT_EQ(o.tuning.method, Method::Trilinear);
+  EXPECT_EQ(o.tuning.resolution, 32);
+  EXPECT_EQ(o.tuning.padding, 2);
+  EXPECT_EQ(o.tuning.subdivisions, 5u);
+  EXPECT_EQ(o.tuning.refineSteps, 0u);
+  EXPECT_TRUE(o.tuning.fp16);
+  EXPECT_EQ(o.tuning.normals, hsdf::NormalMode::CentralDifferences);
+  EXPECT_EQ(o.tuning.debugView, DebugView::Evals);
+  EXPECT_TRUE(o.sideBySide);
+  EXPECT_FALSE(o.tuning.frontToBack);
+  EXPECT_EQ(o.view, 3);
+  ASSERT_TRUE(o.camera.has_value());
+  EXPECT_EQ((*o.camera)[0], 1.0f);
+  EXPECT_EQ((*o.camera)[5], 6.0f);
+  EXPECT_EQ(o.saveSettings, "s.json");
+
+  // Every remaining name of the typed options.
+  EXPECT_EQ(parseOk({"--method", "mesh"}).tuning.method, Method::Mesh);
+  EXPECT_EQ(parseOk({"--method", "cells"}).tuning.method, Method::Cells);
+  EXPECT_EQ(parseOk({"--method", "hermite"}).tuning.method, Method::Hermite);
+  EXPECT_EQ(parseOk({"--normals", "exact"}).tuning.normals, hsdf::NormalMode::Exact);
+  EXPECT_EQ(parseOk({"--device", "gpu"}).device, engine::gpu::DevicePreference::Hardware);
+  EXPECT_EQ(parseOk({"--device", "auto"}).device, engine::gpu::DevicePreference::Auto);
+  EXPECT_EQ(parseOk({"--debug-view", "none"}).tuning.debugView, DebugView::None);
+  EXPECT_EQ(parseOk({"--debug-view", "normals"}).tuning.debugView, DebugView::Normals);
+  EXPECT_EQ(parseOk({"--debug-view", "depth"}).tuning.debugView, DebugView::Depth);
+  EXPECT_EQ(parseOk({"--debug-view", "cells"}).tuning.debugView, DebugView::Cells);
+  EXPECT_EQ(parseOk({"--debug-view", "wireframe"}).tuning.debugView, DebugView::Wireframe);
+  // Range ends are inclusive.
+  EXPECT_EQ(parseOk({"--resolution", "256"}).tuning.resolution, 256);
+  EXPECT_EQ(parseOk({"--subdivisions", "64"}).tuning.subdivisions, 64u);
+  EXPECT_EQ(parseOk({"--size", "16384x1"}).width, 16384u);
+}
+
+// Tricky: derived defaults: headless draws one frame; a .hsdf file alone replaces the bunny and
+// is drawn with cells (it has no triangles).
+TEST(RunnerOptions, DerivedDefaults) {
+  EXPECT_EQ(parseOk({"--headless"}).frames, 1u);
+  EXPECT_EQ(parseOk({"--headless", "--frames", "3"}).frames, 3u);
+  const Options sdf = parseOk({"--sdf", kHsdf});
+  EXPECT_TRUE(sdf.scene.empty());
+  EXPECT_EQ(sdf.tuning.method, Method::Cells);
+  EXPECT_EQ(parseOk({"--sdf", kHsdf, "--method", "hermite"}).tuning.method, Method::Hermite);
+}
+
+// Tricky: each message must name the option the user has to fix; CLI11's own errors and the
+// runner's checks after parsing both count. Exit code 2 (usage), not 1 (run failure).
+TEST(RunnerOptions, BadValuesNameTheOption) {
+  struct Case {
+    std::vector<std::string> args;
+    const char* expected;
+  };
+  const std::vector<Case> cases = {
+      {{"--size", "0x100"}, "--size: '0x100' is not WxH"},
+      {{"--size", "100000x100000"}, "--size: '100000x100000' is not WxH with 1 <= W,H <= 16384"},
+      {{"--size", "wide"}, "--size: 'wide'"},
+      {{"--frames", "-1"}, "--frames"},
+      {{"--frames", "many"}, "--frames"},
+      {{"--screenshot", "a.jpg"}, "--screenshot: 'a.jpg' must end in .png"},
+      {{"--device", "vulkan"}, "--device: 'vulkan' is not one of auto, gpu, lavapipe"},
+      {{"--method", "phong"}, "--method: 'phong' is not one of mesh, cells, trilinear, hermite"},
+      // The enum's number would pass CLI11's own enum parsing: only names are accepted.
+      {{"--method", "1"}, "--method: '1' is not one of"},
+      {{"--resolution", "1"}, "--resolution"},
+      {{"--resolution", "257"}, "--resolution"},
+      {{"--padding", "17"}, "--padding"},
+      {{"--subdivisions", "0"}, "--subdivisions"},
+      {{"--refine", "17"}, "--refine"},
+      {{"--normals", "forward"}, "--normals: 'forward' is not one of exact, central"},
+      {{"--debug-view", "shaded"}, "--debug-view: 'shaded' is not one of none, normals, depth, cells, evals, wireframe"},
+      {{"--view", "8"}, "--view"},
+      {{"--camera", "1,2,3"}, "--camera"},
+      {{"--camera", "1,2,3,1,2,3"}, "--camera: eye and target must be finite and 1e-15 to 1e+15 apart (they are 0 apart)"},
+      {{"--camera", "0,0,0,0,0,1e-30"}, "(they are 1e-30 apart)"},
+      {{"--camera", "3e38,0,0,-3e38,0,0"}, "(they are 6e+38 apart)"},
+      {{"--scene", "no_such_scene.glb"}, "--scene"},
+      {{"--sdf", "no_such_file.hsdf"}, "--sdf"},
+      {{"--settings", "no_such_settings.json"}, "--settings"},
+      {{"--resolution", "3", "--padding", "1"}, "--resolution 3 leaves no cells inside --padding 1"},
+      {{"--side-by-side"}, "--side-by-side: needs a scene baked into an SDF"},
+      {{"--sdf", kHsdf, "--method", "mesh"}, "--method mesh: a .hsdf file (--sdf) has no triangles"},
+      {{"--no-such-option"}, "--no-such-option"},
+  };
+  for (const Case& c : cases) {
+    const ParseResult result = parse(c.args);
+    EXPECT_FALSE(result.options.has_value()) << c.args.front();
+    EXPECT_EQ(result.exitCode, 2) << c.args.front();
+    EXPECT_TRUE(contains(result.message, c.expected)) << "expected '" << c.expected << "' in: " << result.message;
+  }
+}
+
+// Tricky: --help is not an error (exit 0) and its text lists the options, new ones included.
+TEST(RunnerOptions, Help) {
+  const ParseResult result = parse({"--help"});
+  EXPECT_FALSE(result.options.has_value());
+  EXPECT_EQ(result.exitCode, 0);
+  for (const char* option : {"--method", "--resolution", "--settings", "--save-settings", "--camera", "--debug-view"})
+    EXPECT_TRUE(contains(result.message, option)) << option;
+}
+
+// Tricky: command line -> TuningState -> file -> --settings must give the same state (every field
+// away from its default), and options given on the command line win over the file wherever they
+// stand.
+TEST(RunnerOptions, SettingsFileRoundTripAndOverride) {
+  const samples::TuningState t =
+      parseOk({"--method", "hermite", "--resolution", "48", "--padding", "2", "--subdivisions", "6", "--refine", "3",
+               "--normals", "central", "--fp16", "--debug-view", "depth", "--no-front-to-back"})
+          .tuning;
+  EXPECT_FALSE(t == samples::TuningState{});
+  const auto file = tempFile("round_trip.json");
+  ASSERT_TRUE(samples::saveTuning(file, t).ok());
+  EXPECT_TRUE(parseOk({"--settings", file.string()}).tuning == t);
+
+  samples::TuningState overridden = t;
+  overridden.resolution = 20;
+  overridden.method = Method::Cells;
+  EXPECT_TRUE(parseOk({"--settings", file.string(), "--resolution", "20", "--method", "cells"}).tuning == overridden);
+  EXPECT_TRUE(parseOk({"--resolution", "20", "--method", "cells", "--settings", file.string()}).tuning == overridden);
+}
+
+// Tricky: a bad value inside the file is reported as the file's problem (key and file named),
+// through the same exit path as a bad option.
+TEST(RunnerOptions, BadSettingsFileIsRefused) {
+  const auto file = tempFile("bad.json");
+  ASSERT_TRUE(engine::writeTextFile(file, R"({"subdivisions": 100})").ok());
+  const ParseResult result = parse({"--settings", file.string()});
+  EXPECT_FALSE(result.options.has_value());
+  EXPECT_EQ(result.exitCode, 2);
+  EXPECT_TRUE(contains(result.message, "--settings")) << result.message;
+  EXPECT_TRUE(contains(result.message, file.string() + ": setting 'subdivisions': 100 is outside 1..64"))
+      << result.message;
+}
+
+}  // namespace
+}  // namespace runner
