@@ -55,6 +55,20 @@ std::string RowSpec::normalsName() const {
   return normals == NormalMode::Exact ? "exact" : "central";
 }
 
+samples::TuningState RowSpec::tuning() const {
+  samples::TuningState t;
+  t.method = isMesh()                                    ? samples::Method::Mesh
+             : render == RenderMethod::TrilinearSphereTrace ? samples::Method::Trilinear
+             : render == RenderMethod::HermiteSphereTrace   ? samples::Method::Hermite
+                                                            : samples::Method::Cells;
+  if (!isMesh()) t.resolution = resolution;
+  if (subdivisions > 0) t.subdivisions = subdivisions;  // the tracers ignore it
+  t.refineSteps = refine;
+  t.normals = normals;
+  t.fp16 = fp16;
+  return t;
+}
+
 std::vector<RowSpec> buildRows(const Options& options) {
   std::vector<RowSpec> rows;
   if (wanted(options, "mesh")) {

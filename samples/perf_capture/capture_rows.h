@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "hermite_sdf/renderable.h"
+#include "tuning.h"
 
 namespace capture {
 
@@ -26,6 +27,9 @@ struct RowSpec {
   bool paperColumn = false;
 
   bool isMesh() const { return method == "mesh"; }
+  // The row as the one settings struct every sample writes (samples/common/tuning.h): what the
+  // Viewer is given for this row (no debug view: timed frames are shaded as a user sees them).
+  samples::TuningState tuning() const;
   std::string normalsName() const;  // results.csv `normals`: exact, central (mesh: face)
 };
 

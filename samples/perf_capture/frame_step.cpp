@@ -10,17 +10,6 @@ namespace {
 
 using namespace engine;
 
-Expected<std::unique_ptr<render::Renderer>> makeRenderer(const gpu::Context& context, render::MeshPool& pool,
-                                                          VkExtent2D extent, VkFormat color) {
-  render::RendererDesc desc;
-  desc.formats.color = color;
-  auto renderer = std::make_unique<render::Renderer>(context, desc, extent);
-  ENGINE_TRY(renderer->addFeature(std::make_unique<render::MeshFeature>(pool)));
-  ENGINE_TRY(renderer->addFeature(std::make_unique<hsdf::HermiteCellFeature>()));
-  ENGINE_TRY(renderer->addFeature(std::make_unique<hsdf::SphereTraceFeature>()));
-  return renderer;
-}
-
 double timingOf(const std::vector<gpu::GpuTiming>& timings, const char* name) {
   for (const gpu::GpuTiming& t : timings)
     if (t.name == name) return t.milliseconds;
@@ -29,34 +18,38 @@ double timingOf(const std::vector<gpu::GpuTiming>& timings, const char* name) {
 
 }  // namespace
 
-Expected<std::unique_ptr<FrameStep>> FrameStep::create(const gpu::Context& context, render::MeshPool& pool,
-                                                       VkExtent2D extent) {
-  auto step = std::unique_ptr<FrameStep>(new FrameStep());
-  ENGINE_TRY_ASSIGN(step->timing_, makeRenderer(context, pool, extent, VK_FORMAT_R8G8B8A8_SRGB));
-  ENGINE_TRY_ASSIGN(step->measuring_, makeRenderer(context, pool, extent, VK_FORMAT_R32G32B32A32_SFLOAT));
-  return step;
+Expected<TimedFrame> timeFrame(samples::Viewer& viewer) {
+  ENGINE_TRY(viewer.step());
+  render::Renderer& renderer = viewer.renderer();
+  renderer.finish();
+  const auto& timings = renderer.lastTimings();
+  return TimedFrame{timingOf(timings, "frame"), timingOf(timings, "depth prepass"), timingOf(timings, "opaque"),
+                    renderer.lastPipelineStatistics()};
 }
 
-TimedFrame FrameStep::timeFrame(const ecs::Registry& registry, const render::CameraView& camera) {
-  timing_->renderFrame(registry, camera);
-  timing_->finish();
-  const auto& timings = timing_->lastTimings();
-  return {timingOf(timings, "frame"), timingOf(timings, "depth prepass"), timingOf(timings, "opaque"),
-          timing_->lastPipelineStatistics()};
+Expected<std::unique_ptr<Measurement>> Measurement::create(const gpu::Context& context, render::MeshPool& pool,
+                                                           VkExtent2D extent) {
+  auto measurement = std::unique_ptr<Measurement>(new Measurement());
+  render::RendererDesc desc;
+  desc.formats.color = VK_FORMAT_R32G32B32A32_SFLOAT;
+  measurement->renderer_ = std::make_unique<render::Renderer>(context, desc, extent);
+  render::Renderer& r = *measurement->renderer_;
+  ENGINE_TRY(r.addFeature(std::make_unique<render::MeshFeature>(pool)));
+  ENGINE_TRY(r.addFeature(std::make_unique<hsdf::HermiteCellFeature>()));
+  ENGINE_TRY(r.addFeature(std::make_unique<hsdf::SphereTraceFeature>()));
+  return measurement;
 }
 
-GpuReadback FrameStep::measureFrame(const ecs::Registry& registry, const render::CameraView& camera) {
+GpuReadback Measurement::measure(const ecs::Registry& registry, const render::CameraView& camera) {
   render::FrameSettings settings;
   settings.debugView = DEBUG_VIEW_NORMALS;
   settings.countWork = true;
-  measuring_->renderFrame(registry, camera, settings);
+  renderer_->renderFrame(registry, camera, settings);
   GpuReadback readback;
-  readback.depth = measuring_->readbackDepth();
-  readback.normalColor = measuring_->readbackColorFloat().value();  // a float target by construction
-  readback.work = measuring_->readbackWorkCounters();
+  readback.depth = renderer_->readbackDepth();
+  readback.normalColor = renderer_->readbackColorFloat().value();  // a float target by construction
+  readback.work = renderer_->readbackWorkCounters();
   return readback;
 }
-
-std::vector<std::uint8_t> FrameStep::screenshot() { return timing_->readbackColor(); }
 
 }  // namespace capture

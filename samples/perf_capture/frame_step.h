@@ -1,25 +1,25 @@
 #pragma once
-// The capture's frame step: one renderer that times frames as a user sees them (RGBA8 sRGB colour,
-// counters off) and one with a float colour target that measures (DEBUG_VIEW_NORMALS read back as
-// floats, depth, per-pixel work counters), both with every SDF feature and the mesh feature.
+// How the capture renders: every frame goes through the shared frame step, samples::Viewer (the
+// scene runner's): the Viewer loads the scene, bakes through the module bake job, applies each
+// row's TuningState and renders the timed frames (RGBA8 sRGB, as a user sees them).
 //
-// THE PLACE TO SWITCH TO THE SHARED FRAME STEP: this file drives engine::render::Renderer directly
-// because the shared Viewer / TuningState of samples/common (issue "tuning UI") had not landed when
-// the capture was written. When it has, FrameStep becomes a thin wrapper over the Viewer and the
-// rest of the capture stays as it is (it only calls timeFrame / measureFrame / screenshot).
-#include <cstdint>
+// Measuring needs what the Viewer does not offer (yet): a float colour target (normals of
+// DEBUG_VIEW_NORMALS without 8-bit quantization) and the renderer's per-pixel work counters. So a
+// Measurement renderer on the Viewer's device draws the Viewer's registry once more per view with
+// those on. When ViewerDesc gains a colour format and Viewer::step frame settings, this becomes a
+// second Viewer step and this class goes away.
 #include <memory>
 #include <vector>
 
 #include "engine/core/expected.h"
 #include "engine/ecs/registry.h"
 #include "engine/gpu/context.h"
-#include "engine/gpu/gpu_timer.h"
 #include "engine/gpu/pipeline_statistics.h"
 #include "engine/render/camera_view.h"
 #include "engine/render/mesh_pool.h"
 #include "engine/render/renderer.h"
 #include "metrics.h"
+#include "viewer.h"
 
 namespace capture {
 
@@ -30,20 +30,19 @@ struct TimedFrame {
   std::vector<engine::gpu::PipelineStatistics> statistics;  // per pass; empty without the feature
 };
 
-class FrameStep {
+// One Viewer step, waited for, so that each frame's timestamps are its own.
+engine::Expected<TimedFrame> timeFrame(samples::Viewer& viewer);
+
+class Measurement {
  public:
-  static engine::Expected<std::unique_ptr<FrameStep>> create(const engine::gpu::Context& context,
-                                                            engine::render::MeshPool& pool, VkExtent2D extent);
-  // Renders one frame and waits for it (so each frame's timestamps are its own).
-  TimedFrame timeFrame(const engine::ecs::Registry& registry, const engine::render::CameraView& camera);
-  // Renders the frame with the normals debug view and work counters and reads it back.
-  GpuReadback measureFrame(const engine::ecs::Registry& registry, const engine::render::CameraView& camera);
-  // The last timed frame, RGBA8 sRGB.
-  std::vector<std::uint8_t> screenshot();
+  // `pool` holds the meshes of the registries it will draw (the Viewer's SDF registry has none).
+  static engine::Expected<std::unique_ptr<Measurement>> create(const engine::gpu::Context& context,
+                                                               engine::render::MeshPool& pool, VkExtent2D extent);
+  // Renders the registry with the normals debug view and work counters and reads it back.
+  GpuReadback measure(const engine::ecs::Registry& registry, const engine::render::CameraView& camera);
 
  private:
-  std::unique_ptr<engine::render::Renderer> timing_;
-  std::unique_ptr<engine::render::Renderer> measuring_;
+  std::unique_ptr<engine::render::Renderer> renderer_;
 };
 
 }  // namespace capture
