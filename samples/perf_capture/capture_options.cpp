@@ -129,6 +129,10 @@ ParseResult parseOptions(int argc, const char* const* argv) {
   if (!problem && !options.shape.empty() &&
       std::find(options.methods.begin(), options.methods.end(), "mesh") != options.methods.end() && !methods.empty())
     problem = "--methods mesh: an analytic --shape has no triangle mesh to draw";
+  if (!problem && options.scene.extension() == ".hsdf")
+    problem = "--scene: '" + options.scene.string() +
+              "' is a baked .hsdf file; the capture re-bakes its source at every K and casts the ground truth from "
+              "it: give the glTF (or --shape) it was baked from";
   if (!problem && std::filesystem::exists(options.out) && !std::filesystem::is_directory(options.out))
     problem = "--out: '" + options.out.string() + "' exists and is not a directory";
   if (problem) {

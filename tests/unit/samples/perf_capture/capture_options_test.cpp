@@ -51,6 +51,8 @@ TEST(CaptureOptions, BadValuesAreRefusedNamingTheOption) {
       {{"--out", "x", "--shape", "teapot"}, "--shape"},
       {{"--out", "x", "--shape", "torus", "--methods", "mesh"}, "--methods mesh"},
       {{"--resolutions", "16"}, "--out"},  // required
+      // An existing file of the wrong kind: a baked field has no source to re-bake or cast against.
+      {{"--out", "x", "--scene", HSDF_TEST_DATA_DIR "/fuzz/hsdf_load_fuzz/sphere_k4_fp32.hsdf"}, "--scene: '"},
   };
   for (const Case& c : cases) {
     const ParseResult r = parse(c.args);
