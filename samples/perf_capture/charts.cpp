@@ -11,11 +11,11 @@
 namespace capture {
 namespace {
 
-// 3x5 glyphs, one row of 3 bits per entry, top row first: 0-9, '.', '-', 'e'.
-constexpr std::uint8_t kGlyphs[13][5] = {
+// 3x5 glyphs, one row of 3 bits per entry, top row first: 0-9, '.', '-', 'e', '+'.
+constexpr std::uint8_t kGlyphs[14][5] = {
     {7, 5, 5, 5, 7}, {2, 6, 2, 2, 7}, {7, 1, 7, 4, 7}, {7, 1, 7, 1, 7}, {5, 5, 7, 1, 1}, {7, 4, 7, 1, 7},
     {7, 4, 7, 5, 7}, {7, 1, 1, 1, 1}, {7, 5, 7, 5, 7}, {7, 5, 7, 1, 7}, {0, 0, 0, 0, 2}, {0, 0, 7, 0, 0},
-    {0, 7, 5, 6, 7}};
+    {0, 7, 5, 6, 7}, {0, 2, 7, 2, 0}};
 
 class Canvas {
  public:
@@ -46,6 +46,7 @@ class Canvas {
       if (ch == '.') g = 10;
       if (ch == '-') g = 11;
       if (ch == 'e') g = 12;
+      if (ch == '+') g = 13;
       for (int row = 0; g >= 0 && row < 5; ++row)
         for (int col = 0; col < 3; ++col)
           if (kGlyphs[g][row] & (4 >> col)) fill(x + col * 2, y + row * 2, x + col * 2 + 1, y + row * 2 + 1, c);
@@ -106,7 +107,7 @@ std::vector<double> ticks(const Axis& axis, bool base2) {
 }
 
 std::string tickLabel(double v) {
-  if (v != 0.0 && (std::abs(v) >= 1e5 || std::abs(v) < 1e-2)) return fmt::format("{:.0e}", v);
+  if (v != 0.0 && (std::abs(v) >= 1e5 || std::abs(v) < 1e-2)) return fmt::format("{:.1e}", v);
   return fmt::format("{:g}", std::round(v * 1000.0) / 1000.0);
 }
 
@@ -129,7 +130,7 @@ engine::Status writeChart(const std::filesystem::path& path, const Chart& chart,
     return glm::dvec2(left + ax.map(p.x) * (right - left), bottom - ay.map(p.y) * (bottom - top));
   };
   const glm::u8vec3 grid{225, 225, 225}, ink{40, 40, 40};
-  for (double v : ticks(ax, true)) {
+  for (double v : ticks(ax, !chart.decimalX)) {
     const double x = toPixel({v, ay.lo}).x;
     canvas.line({x, double(top)}, {x, double(bottom)}, grid, 1);
     canvas.text(int(x) - 8, bottom + 8, tickLabel(v), ink);

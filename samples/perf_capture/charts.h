@@ -20,7 +20,8 @@ struct ChartSeries {
 };
 
 struct Chart {
-  bool logX = true;  // base-2 ticks
+  bool logX = true;  // base-2 ticks (K), or 1-2-5 per decade with decimalX (bytes)
+  bool decimalX = false;
   bool logY = true;  // base-10 ticks (1, 2, 5 per decade)
   std::vector<ChartSeries> series;
 };

@@ -310,12 +310,11 @@ engine::Status writeMarkdown(const std::filesystem::path& folder, const RunInfo&
   ENGINE_TRY(chartSection(md, folder, "time_vs_k.png", "GPU ms per frame vs K (log-log)",
                           chartOf(rows, [](const RowResult& r) { return glm::dvec2(r.spec.resolution, r.gpuMsMedian); },
                                   false)));
+  Chart errorVsBytes = chartOf(
+      rows, [](const RowResult& r) { return glm::dvec2(double(r.storedBytes), r.quality.normalErrorMean); }, false);
+  errorVsBytes.decimalX = true;
   ENGINE_TRY(chartSection(md, folder, "normal_error_vs_bytes.png", "Mean normal error (deg) vs stored bytes (log-log)",
-                          chartOf(rows,
-                                  [](const RowResult& r) {
-                                    return glm::dvec2(double(r.storedBytes), r.quality.normalErrorMean);
-                                  },
-                                  false)));
+                          errorVsBytes));
   ENGINE_TRY(chartSection(md, folder, "work_vs_k.png", "Root-search evaluations per covered pixel vs K (log-log)",
                           chartOf(rows, [](const RowResult& r) { return glm::dvec2(r.spec.resolution, r.quality.evalsMean); },
                                   false)));
