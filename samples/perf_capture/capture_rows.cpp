@@ -13,35 +13,33 @@ namespace {
 using hsdf::NormalMode;
 using hsdf::RenderMethod;
 
-// One line per setting of an SDF method.
+// One line per setting of an SDF method: the CSV method, the label's setting and the row's
+// TuningState (everything but K). A new variant, e.g. another cell root-search mode once
+// TuningState has it, is one more line; so is a new method with its samples::Method.
 struct Variant {
   const char* method;
-  RenderMethod render;
-  std::uint32_t subdivisions;
-  std::uint32_t refine;
-  NormalMode normals;
-  bool fp16;
-  bool paperColumn;
+  const char* setting;
+  bool paperColumn;  // compared with the paper's columns (RowSpec::paperColumn)
+  samples::TuningState tuning;
 };
 
-constexpr Variant kVariants[] = {
-    {"trilinear", RenderMethod::TrilinearSphereTrace, 0, 0, NormalMode::CentralDifferences, false, true},
-    {"trilinear", RenderMethod::TrilinearSphereTrace, 0, 0, NormalMode::Exact, false, false},
-    {"hermite", RenderMethod::HermiteSphereTrace, 0, 0, NormalMode::Exact, false, true},
-    {"cells", RenderMethod::Cells, 2, 0, NormalMode::Exact, false, false},
-    {"cells", RenderMethod::Cells, 2, 1, NormalMode::Exact, false, false},
-    {"cells", RenderMethod::Cells, 3, 0, NormalMode::Exact, false, false},
-    {"cells", RenderMethod::Cells, 3, 1, NormalMode::Exact, false, true},
-    {"cells", RenderMethod::Cells, 3, 1, NormalMode::Exact, true, false},  // the fp16 target
+using samples::Method;
+const Variant kVariants[] = {
+    {"trilinear", "central", true, {.method = Method::Trilinear, .normals = NormalMode::CentralDifferences}},
+    {"trilinear", "exact", false, {.method = Method::Trilinear, .normals = NormalMode::Exact}},
+    {"hermite", "", true, {.method = Method::Hermite, .normals = NormalMode::Exact}},
+    {"cells", "n=2 r=0", false, {.method = Method::Cells, .subdivisions = 2, .refineSteps = 0}},
+    {"cells", "n=2 r=1", false, {.method = Method::Cells, .subdivisions = 2, .refineSteps = 1}},
+    {"cells", "n=3 r=0", false, {.method = Method::Cells, .subdivisions = 3, .refineSteps = 0}},
+    {"cells", "n=3 r=1", true, {.method = Method::Cells, .subdivisions = 3, .refineSteps = 1}},
+    // The fp16 target of issue 10 compares this one with the fp32 line above.
+    {"cells", "n=3 r=1 fp16", false, {.method = Method::Cells, .subdivisions = 3, .refineSteps = 1, .fp16 = true}},
 };
 
-std::string labelOf(const RowSpec& row) {
-  if (row.isMesh()) return "mesh";
-  std::string label = row.method;
-  if (row.method == "cells") label += fmt::format(" n={} r={}", row.subdivisions, row.refine);
-  if (row.method == "trilinear") label += row.normals == NormalMode::Exact ? " exact" : " central";
-  if (row.fp16) label += " fp16";
-  return label + fmt::format(" K={}", row.resolution);
+RenderMethod renderMethodOf(Method method) {
+  if (method == Method::Trilinear) return RenderMethod::TrilinearSphereTrace;
+  if (method == Method::Hermite) return RenderMethod::HermiteSphereTrace;
+  return RenderMethod::Cells;
 }
 
 bool wanted(const Options& options, const std::string& method) {
@@ -55,19 +53,7 @@ std::string RowSpec::normalsName() const {
   return normals == NormalMode::Exact ? "exact" : "central";
 }
 
-samples::TuningState RowSpec::tuning() const {
-  samples::TuningState t;
-  t.method = isMesh()                                    ? samples::Method::Mesh
-             : render == RenderMethod::TrilinearSphereTrace ? samples::Method::Trilinear
-             : render == RenderMethod::HermiteSphereTrace   ? samples::Method::Hermite
-                                                            : samples::Method::Cells;
-  if (!isMesh()) t.resolution = resolution;
-  if (subdivisions > 0) t.subdivisions = subdivisions;  // the tracers ignore it
-  t.refineSteps = refine;
-  t.normals = normals;
-  t.fp16 = fp16;
-  return t;
-}
+samples::TuningState RowSpec::tuning() const { return state; }
 
 std::vector<RowSpec> buildRows(const Options& options) {
   std::vector<RowSpec> rows;
@@ -75,6 +61,7 @@ std::vector<RowSpec> buildRows(const Options& options) {
     RowSpec mesh;
     mesh.method = "mesh";
     mesh.label = "mesh";
+    mesh.state.method = Method::Mesh;
     rows.push_back(mesh);
   }
   std::set<int> all(options.resolutions.begin(), options.resolutions.end());
@@ -85,17 +72,20 @@ std::vector<RowSpec> buildRows(const Options& options) {
     for (const Variant& v : kVariants) {
       if (!wanted(options, v.method)) continue;
       // Only trilinear runs at the extra 2K resolutions.
-      if (!asked.contains(k) && v.render != RenderMethod::TrilinearSphereTrace) continue;
+      if (!asked.contains(k) && v.tuning.method != Method::Trilinear) continue;
       RowSpec row;
       row.method = v.method;
+      row.label = std::string(v.method) + (*v.setting ? " " : "") + v.setting + fmt::format(" K={}", k);
+      row.state = v.tuning;
+      row.state.resolution = k;
       row.resolution = k;
-      row.render = v.render;
-      row.subdivisions = v.subdivisions;
-      row.refine = v.refine;
-      row.normals = v.normals;
-      row.fp16 = v.fp16;
+      row.render = renderMethodOf(v.tuning.method);
+      const bool cells = v.tuning.method == Method::Cells;  // the tracers have no n or r
+      row.subdivisions = cells ? v.tuning.subdivisions : 0;
+      row.refine = cells ? v.tuning.refineSteps : 0;
+      row.normals = v.tuning.normals;
+      row.fp16 = v.tuning.fp16;
       row.paperColumn = v.paperColumn;
-      row.label = labelOf(row);
       rows.push_back(row);
     }
   }

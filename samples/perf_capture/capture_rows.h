@@ -16,6 +16,8 @@ struct Options;
 struct RowSpec {
   std::string method;        // results.csv `method`: mesh, trilinear, hermite, cells
   std::string label;         // human-readable, unique per row: "cells n=3 r=1 fp16 K=32"
+  samples::TuningState state;  // what the Viewer draws the row with (K included)
+  // Read from `state` for the outputs (n and r are 0 for the tracers and the mesh):
   int resolution = 0;        // K (0 for the mesh)
   hsdf::RenderMethod render = hsdf::RenderMethod::Cells;
   std::uint32_t subdivisions = 0;
