@@ -76,8 +76,9 @@ HSDF_CHECK_SIZE(SphereTraceDraw, 16 + 8 * 4);
 struct SphereTracePushConstants {
   DrawPushConstants draw;
   uint64_t draws;          // address of SphereTraceDraw[]
+  uint64_t counters;       // address of a uint per pixel (renderer work counters), 0 when off
 };
-HSDF_CHECK_SIZE(SphereTracePushConstants, 32 + 8);
+HSDF_CHECK_SIZE(SphereTracePushConstants, 32 + 2 * 8);
 
 #ifdef __cplusplus
 }  // namespace shader
