@@ -2,6 +2,7 @@
 # run tests/consumer/project against that prefix only, as an outside project would.
 #   cmake -DBUILD=<this build tree> -DWORK=<scratch folder> -DSOURCE=<tests/consumer/project>
 #         -DGENERATOR=<generator> -DCXX=<C++ compiler> -DC=<C compiler> [-DLAUNCHER=ccache] -P run_consumer.cmake
+cmake_minimum_required(VERSION 3.25)
 foreach(var BUILD WORK SOURCE GENERATOR CXX C)
   if(NOT DEFINED ${var})
     message(FATAL_ERROR "run_consumer.cmake: -D${var}=... is required")
