@@ -13,9 +13,26 @@
 
 namespace engine::gpu {
 
+namespace {
+
+// Where an installed program's SPIR-V lies (cmake --install: bin/ and share/hermite_sdf/shaders/).
+std::filesystem::path installedShaderDirectory() {
+  std::error_code ec;
+  const std::filesystem::path exe = std::filesystem::read_symlink("/proc/self/exe", ec);
+  if (ec) return {};
+  return exe.parent_path().parent_path() / "share" / "hermite_sdf" / "shaders";
+}
+
+}  // namespace
+
 std::filesystem::path shaderDirectory() {
   if (const char* dir = std::getenv("HSDF_SHADER_DIR")) return dir;
-  return HSDF_SHADER_DIR;
+  // The build tree the program was compiled in, while it exists; else the installed copy.
+  std::error_code ec;
+  if (std::filesystem::is_directory(HSDF_SHADER_DIR, ec)) return HSDF_SHADER_DIR;
+  const std::filesystem::path installed = installedShaderDirectory();
+  if (!installed.empty() && std::filesystem::is_directory(installed, ec)) return installed;
+  return HSDF_SHADER_DIR;  // missing: ShaderModule::load names the file it could not read
 }
 
 Expected<ShaderModule> ShaderModule::load(const Context& context, const std::string& name) {

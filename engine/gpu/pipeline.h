@@ -13,7 +13,8 @@ namespace engine::gpu {
 
 class Context;
 
-// Folder holding the compiled shaders: $HSDF_SHADER_DIR, else the build tree's shaders/ folder.
+// Folder holding the compiled shaders: $HSDF_SHADER_DIR, else the build tree's shaders/ folder while
+// it exists, else <program>/../share/hermite_sdf/shaders (an installed program, cmake --install).
 std::filesystem::path shaderDirectory();
 
 class ShaderModule {

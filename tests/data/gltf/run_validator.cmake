@@ -1,12 +1,13 @@
 # ctest gltf_testdata_validator_live: runs the Khronos glTF validator (npm gltf-validator, installed
-# by `npm ci` in tools/gltf_testdata) over the valid test files again. Skipped (exit 77) when node or
-# the npm packages are absent, so that the suite never needs the network.
+# by `npm ci` in tools/gltf_testdata) over the valid test files again. Skipped (ctest matches the
+# "skipped:" line; cmake_language(EXIT) needs CMake 3.29, Debian 12 has 3.25) when node or the npm
+# packages are absent, so that the suite never needs the network.
 #   cmake -DDIR=tests/data/gltf -DTOOLS=tools/gltf_testdata -DWORK=<scratch> -P run_validator.cmake
 cmake_minimum_required(VERSION 3.25)
 find_program(NODE node)
 if(NOT NODE OR NOT EXISTS ${TOOLS}/node_modules/gltf-validator)
   message(STATUS "skipped: node or ${TOOLS}/node_modules/gltf-validator missing (cd ${TOOLS} && npm ci)")
-  cmake_language(EXIT 77)
+  return()
 endif()
 file(READ ${DIR}/validation.json report)
 string(JSON count LENGTH "${report}" files)
