@@ -117,6 +117,13 @@ void UiLayer::addPanel(std::string name, std::function<void()> draw) {
   panels_.push_back({std::move(name), std::move(draw)});
 }
 
+void UiLayer::setIniFile(const std::string& file) {
+  iniFile_ = file;
+  ImGuiIO& io = ImGui::GetIO();
+  io.IniFilename = iniFile_.empty() ? nullptr : iniFile_.c_str();
+  if (!iniFile_.empty()) ImGui::LoadIniSettingsFromDisk(iniFile_.c_str());
+}
+
 void UiLayer::addFeaturePanels(const render::Renderer& renderer) {
   for (const auto& feature : renderer.features()) {
     render::RenderFeature* f = feature.get();
@@ -135,7 +142,7 @@ void UiLayer::buildFrame(VkExtent2D extent, float deltaSeconds) {
   }
   ImGui::NewFrame();
   ImGui::SetNextWindowPos(ImVec2(10, 10), ImGuiCond_FirstUseEver);
-  ImGui::SetNextWindowSize(ImVec2(360, 0), ImGuiCond_FirstUseEver);
+  ImGui::SetNextWindowSize(ImVec2(420, 0), ImGuiCond_FirstUseEver);
   if (ImGui::Begin("hermite_sdf")) {
     for (Panel& panel : panels_) {
       ImGui::PushID(panel.name.c_str());

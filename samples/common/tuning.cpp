@@ -137,6 +137,16 @@ void applyTuning(const TuningState& tuning, hsdf::HermiteSdfRenderable& renderab
   renderable.halfPrecision = tuning.fp16;
 }
 
+engine::Status setTuningValue(TuningState& tuning, std::string_view key, std::string_view value) {
+  json parsed = json::parse(value, nullptr, /*allow_exceptions=*/false);
+  if (parsed.is_discarded() || !(parsed.is_number() || parsed.is_boolean())) parsed = std::string(value);
+  TuningState changed = tuning;
+  ENGINE_TRY(readKey(std::string(key), parsed, changed).withContext(fmt::format("setting '{}'", key)));
+  ENGINE_TRY(validateTuning(changed));
+  tuning = changed;
+  return {};
+}
+
 engine::Expected<TuningState> loadTuning(const std::filesystem::path& file, const TuningState& base) {
   ENGINE_TRY_ASSIGN(std::string text, engine::readTextFile(file));
   const json root = json::parse(text, nullptr, /*allow_exceptions=*/false);

@@ -120,5 +120,41 @@ TEST(Tuning, BadSettingsFilesNameTheKeyAndFile) {
   EXPECT_TRUE(contains(missing.error().message, "does_not_exist.json")) << missing.error().message;
 }
 
+// Tricky: script values arrive as text: "32" must become a number, "true" a bool and "cells" a
+// name, through the same checks as a settings file; a refused value must leave the state as it was
+// (the panel and the running scene keep the last good tuning).
+TEST(Tuning, SetTuningValueFromText) {
+  TuningState t;
+  ASSERT_TRUE(setTuningValue(t, "resolution", "32").ok());
+  ASSERT_TRUE(setTuningValue(t, "fp16", "true").ok());
+  ASSERT_TRUE(setTuningValue(t, "method", "trilinear").ok());
+  ASSERT_TRUE(setTuningValue(t, "normals", "central").ok());
+  EXPECT_EQ(t.resolution, 32);
+  EXPECT_TRUE(t.fp16);
+  EXPECT_EQ(t.method, Method::Trilinear);
+  EXPECT_EQ(t.normals, hsdf::NormalMode::CentralDifferences);
+
+  const TuningState before = t;
+  struct Case {
+    const char* key;
+    const char* value;
+    const char* expected;
+  };
+  const Case cases[] = {
+      {"resolution", "300", "setting 'resolution': 300 is outside 2..256"},
+      {"resolution", "big", "setting 'resolution': expected an integer, got \"big\""},
+      {"fp16", "1", "setting 'fp16': expected true or false, got 1"},
+      {"method", "true", "setting 'method': true is not one of"},
+      {"resolution", "3", "--resolution 3 leaves no cells inside --padding 1"},
+      {"colour", "red", "setting 'colour': unknown setting"},
+  };
+  for (const Case& c : cases) {
+    const engine::Status status = setTuningValue(t, c.key, c.value);
+    ASSERT_FALSE(status.ok()) << c.key << "=" << c.value;
+    EXPECT_TRUE(contains(status.error().message, c.expected)) << status.error().message;
+    EXPECT_TRUE(t == before) << c.key << "=" << c.value << " changed the state although it was refused";
+  }
+}
+
 }  // namespace
 }  // namespace samples

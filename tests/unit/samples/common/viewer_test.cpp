@@ -10,8 +10,9 @@
 namespace samples {
 namespace {
 
-std::unique_ptr<Viewer> makeViewer() {
+std::unique_ptr<Viewer> makeViewer(const hsdf::BakeBudget& budget = {}) {
   ViewerDesc desc;
+  desc.bakeBudget = budget;
   desc.width = 64;
   desc.height = 48;
   desc.headless = true;
@@ -134,6 +135,105 @@ TEST(Viewer, ExplicitCameraAndOrbitViews) {
   const glm::vec3 view2 = viewer->cameraView().position;
   viewer->setOrbitView(5);
   EXPECT_GT(glm::length(viewer->cameraView().position - view2), 0.1f);
+  ASSERT_TRUE(viewer->step().ok());
+  EXPECT_GT(coverage(*viewer), 0.05);
+  EXPECT_TRUE(viewer->close().ok());
+}
+
+std::size_t meshCount(Viewer& viewer) {
+  std::size_t count = 0;
+  viewer.registry().view<engine::render::MeshRenderable>().each(
+      [&count](engine::ecs::Entity, const engine::render::MeshRenderable&) { ++count; });
+  return count;
+}
+
+std::size_t sdfCount(Viewer& viewer) {
+  std::size_t count = 0;
+  viewer.registry().view<hsdf::HermiteSdfRenderable>().each(
+      [&count](engine::ecs::Entity, const hsdf::HermiteSdfRenderable&) { ++count; });
+  return count;
+}
+
+// Tricky: a glTF scene loaded as meshes has no SDF yet: picking an SDF method must bake it on the
+// worker thread while the meshes keep drawing, then show only the SDF; picking the mesh again must
+// bring the same mesh entities back and hide (not drop) the SDF, which returns without a re-bake.
+TEST(Viewer, SwitchesBetweenMeshAndSdfAtRunTime) {
+  auto viewer = makeViewer();
+  ASSERT_NE(viewer, nullptr);
+  SceneDesc scene;
+  scene.gltf = std::string(HSDF_ASSET_DIR) + "/bunny.glb";
+  scene.groundPlane = false;
+  TuningState tuning;
+  tuning.method = Method::Mesh;
+  tuning.resolution = 16;
+  ASSERT_TRUE(viewer->loadScene(scene, tuning).ok());
+  const std::size_t meshes = meshCount(*viewer);
+  ASSERT_GT(meshes, 0u);
+  EXPECT_EQ(viewer->sdfAsset(), nullptr);
+  EXPECT_TRUE(viewer->hasMeshes());
+
+  tuning.method = Method::Cells;
+  viewer->setTuning(tuning);
+  ASSERT_NE(viewer->bakeJob(), nullptr) << "the first SDF method bakes the scene";
+  ASSERT_TRUE(viewer->step().ok());
+  ASSERT_TRUE(viewer->waitForBake().ok());
+  ASSERT_TRUE(viewer->step().ok());
+  EXPECT_EQ(meshCount(*viewer), 0u);
+  EXPECT_EQ(sdfCount(*viewer), 1u);
+  ASSERT_NE(viewer->sdfAsset(), nullptr);
+  const std::uint64_t id = viewer->sdfAsset()->id;
+  EXPECT_GT(coverage(*viewer), 0.05);
+
+  tuning.method = Method::Mesh;
+  viewer->setTuning(tuning);
+  ASSERT_TRUE(viewer->step().ok());
+  EXPECT_EQ(meshCount(*viewer), meshes);
+  EXPECT_EQ(sdfCount(*viewer), 0u);
+  EXPECT_GT(coverage(*viewer), 0.05);
+
+  tuning.method = Method::Trilinear;
+  viewer->setTuning(tuning);
+  EXPECT_EQ(viewer->bakeJob(), nullptr) << "the hidden SDF is still at this K";
+  ASSERT_TRUE(viewer->step().ok());
+  EXPECT_EQ(theSdf(*viewer).asset->id, id);
+  EXPECT_EQ(theSdf(*viewer).method, hsdf::RenderMethod::TrilinearSphereTrace);
+  EXPECT_EQ(meshCount(*viewer), 0u);
+  EXPECT_TRUE(viewer->close().ok());
+}
+
+// Tricky: a K past the budget must be refused by the worker before it allocates, with the reason
+// kept for the panel, and the tuning must go back to the K on screen (else the panel would show a
+// K that is not drawn, and the next unrelated change would re-bake it again).
+TEST(Viewer, BakePastTheBudgetIsRefusedAndCancelKeepsTheOldK) {
+  hsdf::BakeBudget budget;
+  budget.maxBytes = 1u << 20;  // 1 MiB: K = 12 fits (28 KiB), K = 64 (4 MiB) does not
+  auto viewer = makeViewer(budget);
+  ASSERT_NE(viewer, nullptr);
+  // The bunny, not an analytic shape: its bake (BVH distance queries) takes long enough that the
+  // cancel below lands while it runs rather than racing a bake of a few microseconds.
+  SceneDesc scene;
+  scene.gltf = std::string(HSDF_ASSET_DIR) + "/bunny.glb";
+  scene.groundPlane = false;
+  TuningState tuning;
+  tuning.resolution = 12;
+  ASSERT_TRUE(viewer->loadScene(scene, tuning).ok());
+  tuning.resolution = 64;
+  viewer->setTuning(tuning);
+  const engine::Status refused = viewer->waitForBake();
+  ASSERT_FALSE(refused.ok());
+  EXPECT_TRUE(viewer->bakeError().find("over the bake budget") != std::string::npos) << viewer->bakeError();
+  EXPECT_EQ(viewer->tuning().resolution, 12);
+  EXPECT_EQ(viewer->sdfAsset()->cells.grid.resolution, 12);
+
+  tuning.resolution = 36;  // 0.8 MiB: within the budget
+  viewer->setTuning(tuning);
+  EXPECT_TRUE(viewer->bakeError().empty()) << "a new bake clears the old reason";
+  viewer->cancelBake();
+  const engine::Status cancelled = viewer->waitForBake();
+  ASSERT_FALSE(cancelled.ok());
+  EXPECT_TRUE(viewer->bakeError().find("cancelled") != std::string::npos) << viewer->bakeError();
+  EXPECT_EQ(viewer->tuning().resolution, 12);
+  EXPECT_EQ(viewer->sdfAsset()->cells.grid.resolution, 12);
   ASSERT_TRUE(viewer->step().ok());
   EXPECT_GT(coverage(*viewer), 0.05);
   EXPECT_TRUE(viewer->close().ok());
