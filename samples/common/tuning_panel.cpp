@@ -1,6 +1,7 @@
 #include "tuning_panel.h"
 
 #include <algorithm>
+#include <vector>
 
 #include <fmt/format.h>
 #include <imgui.h>
@@ -24,10 +25,14 @@ bool sliderU32(const char* label, std::uint32_t& value, IntRange range) {
   return true;
 }
 
-void plot(const char* label, const PlotHistory& history, float height) {
-  const float top = *std::max_element(history.values.begin(), history.values.end());
-  ImGui::PlotLines(label, history.values.data(), PlotHistory::kSamples, history.next, nullptr, 0.0f,
-                   std::max(top * 1.1f, 1e-3f), ImVec2(0, height));
+// A one-line scrolling plot of the samples seen so far (the last kSamples once full).
+void plot(const char* label, const PlotHistory& history) {
+  const int count = std::min(history.count, PlotHistory::kSamples);
+  const int offset = history.count < PlotHistory::kSamples ? 0 : history.next;
+  const float top = count > 0 ? *std::max_element(history.values.begin(), history.values.begin() + count) : 0.0f;
+  ImGui::SameLine(236.0f);
+  ImGui::PlotLines(label, history.values.data(), count, offset, nullptr, 0.0f, std::max(top * 1.1f, 1e-3f),
+                   ImVec2(160.0f, 16.0f));
 }
 
 }  // namespace
@@ -35,6 +40,7 @@ void plot(const char* label, const PlotHistory& history, float height) {
 void PlotHistory::push(float value) {
   values[std::size_t(next)] = value;
   next = (next + 1) % kSamples;
+  ++count;
 }
 
 void TuningPanel::draw() {
@@ -131,18 +137,18 @@ void TuningPanel::drawStatistics() {
   }
 }
 
+// Numbers for this frame, in the renderer's pass order, each with its plot over the last seconds.
 void TuningPanel::drawTimings() {
   const float frameMs = 1000.0f * viewer_.frameSeconds();
   frameHistory_.push(frameMs);
-  for (const engine::gpu::GpuTiming& t : viewer_.renderer().lastTimings())
-    gpuHistory_[t.name].push(float(t.milliseconds));
-  if (!ImGui::CollapsingHeader("Timings", ImGuiTreeNodeFlags_DefaultOpen)) return;
-  ImGui::Text("frame %.2f ms (%.0f fps)", double(frameMs), frameMs > 0.0f ? 1000.0 / double(frameMs) : 0.0);
-  plot("##frame", frameHistory_, 30.0f);
-  for (const auto& [name, history] : gpuHistory_) {
-    const float last = history.values[std::size_t((history.next + PlotHistory::kSamples - 1) % PlotHistory::kSamples)];
-    ImGui::Text("GPU %-16s %8.3f ms", name.c_str(), double(last));
-    plot(("##" + name).c_str(), history, 24.0f);
+  const std::vector<engine::gpu::GpuTiming>& timings = viewer_.renderer().lastTimings();
+  for (const engine::gpu::GpuTiming& t : timings) gpuHistory_[t.name].push(float(t.milliseconds));
+  if (!ImGui::CollapsingHeader("Frame and GPU times (plots: last 240 frames)", ImGuiTreeNodeFlags_DefaultOpen)) return;
+  ImGui::Text("wall frame     %9.2f ms", double(frameMs));
+  plot("##frame", frameHistory_);
+  for (const engine::gpu::GpuTiming& t : timings) {
+    ImGui::Text("%-14s %9.2f ms", t.name.c_str(), t.milliseconds);
+    plot(("##" + t.name).c_str(), gpuHistory_[t.name]);
   }
 }
 

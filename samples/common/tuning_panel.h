@@ -13,11 +13,12 @@ namespace samples {
 
 class Viewer;
 
-// The last `kSamples` values of one series, oldest first from `next`.
+// The last `kSamples` values of one series, oldest first from `next` once `count` reaches kSamples.
 struct PlotHistory {
-  static constexpr int kSamples = 240;  // about 4 s at 60 Hz
+  static constexpr int kSamples = 240;  // 4 s at 60 Hz
   std::array<float, kSamples> values{};
   int next = 0;
+  int count = 0;  // values pushed so far
   void push(float value);
 };
 
