@@ -18,8 +18,8 @@ using engine::Status;
 
 constexpr std::string_view kTuningKeys[] = {"method", "resolution", "padding", "subdivisions", "refine",
                                             "normals", "fp16",       "debug_view", "front_to_back"};
-constexpr std::string_view kValueActions[] = {"screenshot", "size", "panel", "vsync", "fullscreen", "view",
-                                              "save-settings", "load-settings"};
+constexpr std::string_view kValueActions[] = {"screenshot", "size",          "panel",        "vsync",  "fullscreen",
+                                              "view",       "save-settings", "load-settings", "camera"};
 constexpr std::string_view kBareActions[] = {"wait-bake", "cancel-bake"};
 
 template <std::size_t N>
@@ -60,7 +60,7 @@ Status checkCommand(const ScriptCommand& c, TuningState& scratch) {
   if (!contains(kValueActions, c.key))
     return engine::makeError(fmt::format("unknown key '{}' (settings: method, resolution, padding, subdivisions, "
                                          "refine, normals, fp16, debug_view, front_to_back; actions: screenshot, "
-                                         "size, panel, vsync, fullscreen, view, save-settings, load-settings, "
+                                         "size, panel, vsync, fullscreen, view, camera, save-settings, load-settings, "
                                          "wait-bake, cancel-bake)",
                                          c.key));
   std::uint32_t w = 0, h = 0;
@@ -73,6 +73,8 @@ Status checkCommand(const ScriptCommand& c, TuningState& scratch) {
     return engine::makeError(fmt::format("{} '{}' is not on or off", c.key, c.value));
   if (c.key == "view" && !(parseInt(c.value, view) && view >= 0 && view <= 7))
     return engine::makeError(fmt::format("view '{}' is not 0..7", c.value));
+  if (c.key == "camera" && c.value != "orbit" && c.value != "fly")
+    return engine::makeError(fmt::format("camera '{}' is not orbit or fly", c.value));
   return {};
 }
 
@@ -154,7 +156,10 @@ Status runCommand(const ScriptCommand& c, Viewer& viewer) {
   } else if (c.key == "fullscreen" && parseOnOff(c.value, flag)) {
     viewer.setFullscreen(flag);
   } else if (c.key == "view" && parseInt(c.value, view)) {
+    viewer.setCameraMode(CameraMode::Orbit);
     viewer.setOrbitView(view);
+  } else if (c.key == "camera") {
+    viewer.setCameraMode(c.value == "fly" ? CameraMode::Fly : CameraMode::Orbit);
   } else if (c.key == "save-settings") {
     ENGINE_TRY(saveTuning(c.value, viewer.tuning()));
   } else if (c.key == "load-settings") {

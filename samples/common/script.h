@@ -10,7 +10,8 @@
 //
 // Tuning keys: those of a settings file (tuning.h). Actions: screenshot=PATH (PNG + .json
 // settings sidecar), wait-bake, cancel-bake, size=WxH, panel=on|off, vsync=on|off,
-// fullscreen=on|off, view=0..7 (orbit view), save-settings=PATH, load-settings=PATH.
+// fullscreen=on|off, view=0..7 (orbit view), camera=orbit|fly (keeps the view), save-settings=PATH,
+// load-settings=PATH.
 // Commands of a frame run in order before that frame is drawn (frame 0: the first).
 #include <cstdint>
 #include <filesystem>

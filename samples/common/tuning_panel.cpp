@@ -172,8 +172,17 @@ void TuningPanel::drawFiles() {
 }
 
 void TuningPanel::drawWindow() {
-  ImGui::TextWrapped("Camera (orbit): left-drag rotates, right-drag or scroll zooms, middle-drag pans. "
-                     "F1: panel on/off, F11: full screen.");
+  int mode = int(viewer_.cameraMode());
+  ImGui::TextUnformatted("camera");
+  ImGui::SameLine();
+  bool changed = ImGui::RadioButton("orbit", &mode, int(CameraMode::Orbit));
+  ImGui::SameLine();
+  changed |= ImGui::RadioButton("fly", &mode, int(CameraMode::Fly));
+  if (changed) viewer_.setCameraMode(CameraMode(mode));
+  ImGui::TextWrapped(viewer_.cameraMode() == CameraMode::Orbit
+                         ? "Orbit: left-drag rotates, right-drag or scroll zooms, middle-drag pans."
+                         : "Fly: W/A/S/D moves, Q/E down/up, Shift faster, right-drag looks.");
+  ImGui::TextWrapped("F1: panel on/off, F2: orbit/fly, F11: full screen.");
   if (!viewer_.windowed()) return;
   bool vsync = viewer_.vsync();
   if (ImGui::Checkbox("V-sync", &vsync)) {

@@ -104,7 +104,24 @@ void Viewer::setCamera(const glm::dvec3& eye, const glm::dvec3& target) {
 render::CameraView Viewer::cameraView() const {
   const VkExtent2D extent = renderer_->extent();
   const float aspect = float(extent.width) / float(std::max(extent.height, 1u));
+  if (cameraMode_ == CameraMode::Fly)
+    return render::CameraView::lookAt(fly_.position, fly_.position + fly_.forward(), fovY_, znear_, aspect);
   return render::CameraView::lookAt(orbit_.eye(), orbit_.target, fovY_, znear_, aspect);
+}
+
+void Viewer::setCameraMode(CameraMode mode) {
+  if (mode == cameraMode_) return;
+  cameraMode_ = mode;
+  if (mode == CameraMode::Orbit) {  // orbit around the point the fly camera looked at
+    setCamera(glm::dvec3(fly_.position), glm::dvec3(fly_.position + fly_.forward() * orbit_.radius));
+    return;
+  }
+  const glm::vec3 eye = orbit_.eye();
+  const glm::vec3 d = glm::normalize(orbit_.target - eye);
+  fly_.position = eye;
+  fly_.pitch = std::asin(std::clamp(d.y, -1.0f, 1.0f));
+  fly_.yaw = std::atan2(-d.x, -d.z);  // FlyController::forward() inverted
+  fly_.speed = 0.5f * glm::length(boundsMax_ - boundsMin_);  // half the scene per second
 }
 
 void Viewer::setTuning(const TuningState& tuning) {
@@ -211,7 +228,7 @@ Status Viewer::recreateSwapchain() {
   return {};
 }
 
-Status Viewer::handleWindow(bool& drawable) {
+Status Viewer::handleWindow(float dt, bool& drawable) {
   window_->pollEvents();
   drawable = !window_->minimized();
   if (!drawable) {
@@ -222,18 +239,20 @@ Status Viewer::handleWindow(bool& drawable) {
   input.uiWantsMouse = ui_ && uiVisible_ && ui_->wantsMouse();
   input.uiWantsKeyboard = ui_ && uiVisible_ && ui_->wantsKeyboard();
   handleKeys(input);
-  orbit_.update(input);
+  if (cameraMode_ == CameraMode::Orbit) orbit_.update(input);
+  else fly_.update(input, std::min(dt, 0.1f));  // a stall does not throw the camera across the scene
   const VkExtent2D extent = window_->framebufferExtent();
   if (extent.width != swapchain_->extent().width || extent.height != swapchain_->extent().height)
     ENGINE_TRY(recreateSwapchain());
   return {};
 }
 
-// F1: panel on/off; F11: full screen. On the press, not while held.
+// F1: panel on/off; F2: orbit/fly camera; F11: full screen. On the press, not while held.
 void Viewer::handleKeys(const platform::InputState& input) {
   auto pressed = [&](int key) { return input.keys[key] && !keysDown_[key]; };
   if (!input.uiWantsKeyboard) {
     if (pressed(GLFW_KEY_F1)) uiVisible_ = !uiVisible_;
+    if (pressed(GLFW_KEY_F2)) setCameraMode(cameraMode_ == CameraMode::Orbit ? CameraMode::Fly : CameraMode::Orbit);
     if (pressed(GLFW_KEY_F11)) setFullscreen(!fullscreen());
   }
   std::copy(std::begin(input.keys), std::end(input.keys), std::begin(keysDown_));
@@ -268,12 +287,12 @@ void Viewer::resize(std::uint32_t width, std::uint32_t height) {
 Status Viewer::step() {
   float dt = 1.0f / 60.0f;  // headless frames are deterministic
   if (window_) {
-    bool drawable = true;
-    ENGINE_TRY(handleWindow(drawable));
-    if (!drawable) return {};
     const double now = nowSeconds();
     dt = float(now - lastFrameTime_);
     lastFrameTime_ = now;
+    bool drawable = true;
+    ENGINE_TRY(handleWindow(dt, drawable));
+    if (!drawable) return {};
   }
   frameSeconds_ = dt;
   if (bakeJob_ && bakeJob_->done())

@@ -92,6 +92,10 @@ struct SceneDesc {
 
 class TuningPanel;
 
+// Orbit: around the scene (drag rotates, right-drag/scroll zooms, middle-drag pans). Fly: WASD
+// (Q/E down/up, Shift faster) and right-drag to look.
+enum class CameraMode { Orbit, Fly };
+
 class Viewer {
  public:
   static engine::Expected<std::unique_ptr<Viewer>> create(const ViewerDesc& desc);
@@ -108,6 +112,9 @@ class Viewer {
   void setOrbitView(int index);
   void setCamera(const glm::dvec3& eye, const glm::dvec3& target);
   engine::render::CameraView cameraView() const;
+  // Switching keeps the eye and the view direction (F2 toggles).
+  void setCameraMode(CameraMode mode);
+  CameraMode cameraMode() const { return cameraMode_; }
 
   const TuningState& tuning() const { return tuning_; }
   // Applied at the next step(). A new resolution or padding re-bakes the baked SDF on a worker
@@ -173,7 +180,7 @@ class Viewer {
  private:
   Viewer() = default;
   engine::Status initialize(const ViewerDesc& desc);
-  engine::Status handleWindow(bool& drawable);
+  engine::Status handleWindow(float dt, bool& drawable);
   void handleKeys(const engine::platform::InputState& input);
   void updateVisibility();
   void finishStep();
@@ -201,6 +208,8 @@ class Viewer {
   glm::vec3 boundsMin_{-1.0f};
   glm::vec3 boundsMax_{1.0f};
   engine::platform::OrbitController orbit_;
+  engine::platform::FlyController fly_;
+  CameraMode cameraMode_ = CameraMode::Orbit;
   float fovY_ = 0.8f;
   float znear_ = 0.01f;
   double lastFrameTime_ = 0.0;  // seconds on the steady clock; windowed frames measure dt

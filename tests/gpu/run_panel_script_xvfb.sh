@@ -4,7 +4,8 @@
 # Checks what would break if a control stopped working: the object is drawn after every change,
 # a completed re-bake changes the stored scalars and a cancelled or over-budget one keeps the old
 # K, each method and debug view changes the image, the panel is drawn, the resize reaches the
-# swapchain, the settings sidecar and the settings round trip hold the tuning.
+# swapchain, the settings sidecar and the settings round trip hold the tuning, full screen follows
+# the screen and back, and the fly camera starts at the orbit camera's view.
 # Exit 77 (ctest: skipped) when Xvfb is not installed.
 set -u
 runner=$1 probe=$2 script=$3 work=$4
@@ -15,7 +16,7 @@ fi
 rm -rf "$work" && mkdir -p "$work" && cd "$work" || exit 1
 fail() { echo "FAIL: $*"; exit 1; }
 timeout 300 xvfb-run -a -s "-screen 0 640x480x24" "$runner" --validation --no-ground --size 128x96 --resolution 24 \
-  --bake-budget-mib 16 --ui-ini "" --script "$script" --frames 26 >log.txt 2>&1
+  --bake-budget-mib 16 --ui-ini "" --script "$script" --frames 34 >log.txt 2>&1
 rc=$?
 cat log.txt
 [ $rc -eq 0 ] || fail "scene_runner exited with $rc"
@@ -63,4 +64,10 @@ grep -q '"debug_view": "depth"' view_depth.json || fail "view_depth.json does no
 grep -q '"method": "cells"' reloaded.json || fail "load-settings did not restore the method"
 d=$(FIELD=differs field reloaded.png resized.png)
 [ "$d" = 0.0000 ] || fail "reloaded.png differs from resized.png ($d) although the settings are the same"
+# Full screen: the swapchain follows the screen and then the window again.
+[ "$(FIELD=size field fullscreen.png)" = 640x480 ] || fail "fullscreen.png is $(FIELD=size field fullscreen.png), not the 640x480 screen"
+[ "$(FIELD=size field windowed_again.png)" = 160x112 ] || fail "leaving full screen did not restore 160x112"
+# The fly camera takes over the orbit camera's view (a few edge pixels may round differently).
+d=$(FIELD=differs field fly.png windowed_again.png)
+at_least 0.01 "$d" || fail "fly.png differs from windowed_again.png in $d of the pixels: switching cameras moved the view"
 echo "panel script: all checks passed"

@@ -55,6 +55,7 @@ TEST(Script, BadLinesNameFileLineAndProblem) {
       {"frame 0: size=10x10\n", "s.txt:1: size '10x10' is not WxH with 16 <= W,H <= 4096"},
       {"frame 0: panel=maybe\n", "s.txt:1: panel 'maybe' is not on or off"},
       {"frame 0: view=8\n", "s.txt:1: view '8' is not 0..7"},
+      {"frame 0: camera=free\n", "s.txt:1: camera 'free' is not orbit or fly"},
   };
   for (const Case& c : cases) {
     const auto script = parseScript(c.text, "s.txt");

@@ -2,6 +2,7 @@
 // the perf capture and the soak test rely on. Small images (64x48) keep it fast.
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <cstdint>
 #include <vector>
 
@@ -137,6 +138,31 @@ TEST(Viewer, ExplicitCameraAndOrbitViews) {
   EXPECT_GT(glm::length(viewer->cameraView().position - view2), 0.1f);
   ASSERT_TRUE(viewer->step().ok());
   EXPECT_GT(coverage(*viewer), 0.05);
+  EXPECT_TRUE(viewer->close().ok());
+}
+
+bool sameView(const engine::render::CameraView& a, const engine::render::CameraView& b) {
+  for (int c = 0; c < 4; ++c)
+    for (int r = 0; r < 4; ++r)
+      if (std::abs(a.view[c][r] - b.view[c][r]) > 1e-4f) return false;
+  return true;
+}
+
+// Tricky: switching between the orbit and the fly camera must keep the eye and the view direction
+// (the fly controller stores yaw/pitch with its own sign conventions), both ways, else the image
+// jumps when a user presses F2.
+TEST(Viewer, CameraModesKeepTheView) {
+  auto viewer = viewTorus(12);
+  ASSERT_NE(viewer, nullptr);
+  viewer->setCamera(glm::dvec3(1.0, 2.0, 4.0), glm::dvec3(0.5, 0.0, 0.0));
+  const engine::render::CameraView orbit = viewer->cameraView();
+  viewer->setCameraMode(CameraMode::Fly);
+  EXPECT_EQ(viewer->cameraMode(), CameraMode::Fly);
+  EXPECT_TRUE(sameView(viewer->cameraView(), orbit)) << "orbit -> fly moved the camera";
+  ASSERT_TRUE(viewer->step().ok());
+  EXPECT_GT(coverage(*viewer), 0.05);
+  viewer->setCameraMode(CameraMode::Orbit);
+  EXPECT_TRUE(sameView(viewer->cameraView(), orbit)) << "fly -> orbit moved the camera";
   EXPECT_TRUE(viewer->close().ok());
 }
 
