@@ -30,9 +30,9 @@ void plot(const char* label, const PlotHistory& history) {
   const int count = std::min(history.count, PlotHistory::kSamples);
   const int offset = history.count < PlotHistory::kSamples ? 0 : history.next;
   const float top = count > 0 ? *std::max_element(history.values.begin(), history.values.begin() + count) : 0.0f;
-  ImGui::SameLine(236.0f);
+  ImGui::SameLine(262.0f);
   ImGui::PlotLines(label, history.values.data(), count, offset, nullptr, 0.0f, std::max(top * 1.1f, 1e-3f),
-                   ImVec2(160.0f, 16.0f));
+                   ImVec2(130.0f, 16.0f));
 }
 
 }  // namespace
@@ -116,10 +116,12 @@ void TuningPanel::drawStatistics() {
   ImGui::Text("K = %d: %llu cells", s.resolution, static_cast<unsigned long long>(s.cells.cells));
   ImGui::Text("%llu crossing, %llu ambiguous, %llu empty", static_cast<unsigned long long>(s.cells.crossing),
               static_cast<unsigned long long>(s.cells.ambiguous), static_cast<unsigned long long>(s.cells.empty));
-  if (ImGui::BeginTable("storage", 3, ImGuiTableFlags_Borders | ImGuiTableFlags_SizingStretchProp)) {
-    ImGui::TableSetupColumn("method");
-    ImGui::TableSetupColumn("stored scalars");
-    ImGui::TableSetupColumn("MiB fp32 / fp16");
+  // Fixed widths: measured ones are only known from the second frame (a one-frame headless
+  // screenshot would show squeezed columns).
+  if (ImGui::BeginTable("storage", 3, ImGuiTableFlags_Borders)) {
+    ImGui::TableSetupColumn("method", ImGuiTableColumnFlags_WidthFixed, 150.0f);
+    ImGui::TableSetupColumn("stored scalars", ImGuiTableColumnFlags_WidthFixed, 100.0f);
+    ImGui::TableSetupColumn("MiB fp32 / fp16", ImGuiTableColumnFlags_WidthFixed, 105.0f);
     ImGui::TableHeadersRow();
     auto row = [](const char* name, std::uint64_t scalars, std::uint64_t bytes32, std::uint64_t bytes16) {
       ImGui::TableNextRow();
@@ -144,10 +146,10 @@ void TuningPanel::drawTimings() {
   const std::vector<engine::gpu::GpuTiming>& timings = viewer_.renderer().lastTimings();
   for (const engine::gpu::GpuTiming& t : timings) gpuHistory_[t.name].push(float(t.milliseconds));
   if (!ImGui::CollapsingHeader("Frame and GPU times (plots: last 240 frames)", ImGuiTreeNodeFlags_DefaultOpen)) return;
-  ImGui::Text("wall frame     %9.2f ms", double(frameMs));
+  ImGui::Text("%-17s %9.2f ms", "frame (wall)", double(frameMs));
   plot("##frame", frameHistory_);
   for (const engine::gpu::GpuTiming& t : timings) {
-    ImGui::Text("%-14s %9.2f ms", t.name.c_str(), t.milliseconds);
+    ImGui::Text("GPU %-13s %9.2f ms", t.name.c_str(), t.milliseconds);
     plot(("##" + t.name).c_str(), gpuHistory_[t.name]);
   }
 }
