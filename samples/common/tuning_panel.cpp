@@ -91,6 +91,7 @@ void TuningPanel::drawResolution() {
   if (!viewer_.canRebake()) {
     if (const hsdf::SdfAsset* asset = viewer_.sdfAsset())
       ImGui::Text("K %d (fixed: drawn from a .hsdf file)", asset->cells.grid.resolution);
+    if (!viewer_.bakeError().empty()) ImGui::TextWrapped("cannot bake: %s", viewer_.bakeError().c_str());
     return;
   }
   TuningState t = viewer_.tuning();

@@ -4,6 +4,7 @@
 
 #include <cmath>
 #include <cstdint>
+#include <string>
 #include <vector>
 
 #include "viewer.h"
@@ -138,6 +139,31 @@ TEST(Viewer, ExplicitCameraAndOrbitViews) {
   EXPECT_GT(glm::length(viewer->cameraView().position - view2), 0.1f);
   ASSERT_TRUE(viewer->step().ok());
   EXPECT_GT(coverage(*viewer), 0.05);
+  EXPECT_TRUE(viewer->close().ok());
+}
+
+// Tricky: the panel's storage table must count what the methods store: every cell in exactly one
+// class, 32 scalars per kept cell record (8 corners x value + gradient), K^3 values for trilinear
+// and 4 K^3 for dense Hermite; fp16 records are smaller than fp32 ones. A re-bake must change them.
+TEST(Viewer, StatsCountEveryCellAndMethod) {
+  auto viewer = viewTorus(12);
+  ASSERT_NE(viewer, nullptr);
+  const SdfStats s = sdfStats(*viewer->sdfAsset());
+  EXPECT_EQ(s.resolution, 12);
+  EXPECT_EQ(s.cells.cells, 11u * 11u * 11u);
+  EXPECT_EQ(s.cells.crossing + s.cells.ambiguous + s.cells.empty, s.cells.cells);
+  EXPECT_EQ(s.cellScalars, 32u * viewer->sdfAsset()->cells.records.size());
+  EXPECT_GT(s.cellScalars, 0u);
+  EXPECT_LT(s.cellBytesHalf, s.cellBytes);
+  EXPECT_EQ(s.trilinearScalars, 12u * 12u * 12u);
+  EXPECT_EQ(s.hermiteScalars, 4u * 12u * 12u * 12u);
+  EXPECT_NE(describeSdfStats(s).find("stored scalars: cells " + std::to_string(s.cellScalars)), std::string::npos);
+  TuningState tuning = viewer->tuning();
+  tuning.resolution = 20;
+  viewer->setTuning(tuning);
+  ASSERT_TRUE(viewer->waitForBake().ok());
+  EXPECT_EQ(sdfStats(*viewer->sdfAsset()).trilinearScalars, 20u * 20u * 20u);
+  EXPECT_NE(sdfStats(*viewer->sdfAsset()).cellScalars, s.cellScalars);
   EXPECT_TRUE(viewer->close().ok());
 }
 
