@@ -179,7 +179,8 @@ TEST(RunnerOptions, Help) {
   const ParseResult result = parse({"--help"});
   EXPECT_FALSE(result.options.has_value());
   EXPECT_EQ(result.exitCode, 0);
-  for (const char* option : {"--method", "--resolution", "--settings", "--save-settings", "--camera", "--debug-view"})
+  for (const char* option : {"--method", "--resolution", "--settings", "--save-settings", "--camera", "--debug-view",
+                             "--script", "--bake-budget-mib", "--ui-ini"})
     EXPECT_TRUE(contains(result.message, option)) << option;
 }
 
