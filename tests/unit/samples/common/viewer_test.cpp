@@ -218,6 +218,18 @@ TEST(Viewer, SwitchesBetweenMeshAndSdfAtRunTime) {
   TuningState tuning;
   tuning.method = Method::Mesh;
   tuning.resolution = 16;
+  // Loaded as SDF first: the meshes are hidden from the start (another renderer may draw the
+  // registry before the first step, as the perf capture's measurement does).
+  {
+    auto sdfFirst = makeViewer();
+    ASSERT_NE(sdfFirst, nullptr);
+    TuningState cells = tuning;
+    cells.method = Method::Cells;
+    ASSERT_TRUE(sdfFirst->loadScene(scene, cells).ok());
+    EXPECT_EQ(meshCount(*sdfFirst), 0u);
+    EXPECT_EQ(sdfCount(*sdfFirst), 1u);
+    EXPECT_TRUE(sdfFirst->close().ok());
+  }
   ASSERT_TRUE(viewer->loadScene(scene, tuning).ok());
   const std::size_t meshes = meshCount(*viewer);
   ASSERT_GT(meshes, 0u);
