@@ -7,7 +7,7 @@ HSDF_BUILD_PACKAGES=(
   cmake ninja-build g++ pkg-config
   libvulkan-dev mesa-vulkan-drivers vulkan-validationlayers glslang-tools glslang-dev
   libglfw3-dev libglm-dev libtinygltf-dev libimgui-dev libstb-dev
-  libcli11-dev nlohmann-json3-dev libfmt-dev
+  libcli11-dev nlohmann-json3-dev libfmt-dev libdraco-dev libmeshoptimizer-dev
   libgtest-dev libbenchmark-dev
 )
 HSDF_TEST_PACKAGES=(xvfb xauth)

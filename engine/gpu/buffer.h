@@ -4,6 +4,7 @@
 #include <cstring>
 #include <span>
 #include <string>
+#include <vector>
 
 #include <vulkan/vulkan.h>
 
@@ -54,5 +55,9 @@ Buffer createBufferWithData(const Context& context, const void* data, VkDeviceSi
 // Copies `bytes` from a CPU pointer into an existing device-local buffer at `offset` (waits).
 void uploadToBuffer(const Context& context, const Buffer& destination, const void* data, VkDeviceSize bytes,
                     VkDeviceSize offset = 0);
+
+// Copies a device-local buffer (created with TRANSFER_SRC usage) back to the CPU (waits). Waits
+// for every earlier write to it on the queue (all stages).
+std::vector<std::uint8_t> readbackBuffer(const Context& context, const Buffer& source);
 
 }  // namespace engine::gpu

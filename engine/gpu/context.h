@@ -47,6 +47,7 @@ struct DeviceCapabilities {
   bool drawIndirectCount = false;
   bool fillModeNonSolid = false;         // wireframe debug views
   bool timestamps = false;
+  bool pipelineStatistics = false;       // pipeline-statistics queries (engine/gpu/pipeline_statistics.h)
   float timestampPeriodNs = 1.0f;
   bool isSoftwareRasterizer = false;     // lavapipe & co: timings are CPU-bound
   std::string deviceName;

@@ -56,6 +56,10 @@ struct FrameContext {
   std::uint32_t frameSlot;     // which frame-in-flight's resources to use
   std::uint64_t frameNumber;
   std::uint32_t debugView;     // DEBUG_VIEW_* (shared/host_device.h)
+  // Address of one uint per pixel (index y * width + x), zeroed before the prepass, to which
+  // features atomically add their per-pixel root-search work (FrameSettings::countWork); 0 when
+  // the frame does not count.
+  VkDeviceAddress workCounters = 0;
 };
 
 struct PassContext {

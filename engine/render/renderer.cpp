@@ -2,6 +2,8 @@
 
 #include <cstring>
 
+#include <glm/gtc/packing.hpp>
+
 #include "engine/core/log.h"
 #include "engine/gpu/context.h"
 #include "engine/gpu/swapchain.h"
@@ -11,6 +13,7 @@ namespace engine::render {
 namespace {
 
 constexpr std::uint32_t kMaxTimerScopes = 32;
+constexpr std::uint32_t kStatisticsScopes = 2;  // depth prepass, opaque
 
 // The depth target lives in this layout from the end of the prepass on (shading pass, read-backs).
 constexpr VkImageLayout kFinalDepthLayout = VK_IMAGE_LAYOUT_DEPTH_READ_ONLY_OPTIMAL;
@@ -63,6 +66,7 @@ Renderer::Renderer(const gpu::Context& context, const RendererDesc& desc, VkExte
     VK_CHECK(vkCreateSemaphore(context.device(), &semaphoreInfo, nullptr, &frame.imageAvailable));
     context.setName(frame.imageAvailable, VK_OBJECT_TYPE_SEMAPHORE, "image available" + suffix);
     frame.timer = gpu::GpuTimer(context, kMaxTimerScopes, "pass timings" + suffix);
+    frame.statistics = gpu::PipelineStatisticsQueries(context, kStatisticsScopes, "pass statistics" + suffix);
   }
 }
 
@@ -178,6 +182,7 @@ void Renderer::resize(VkExtent2D extent) {
   if (extent.width == extent_.width && extent.height == extent_.height) return;
   context_.waitIdle();
   extent_ = extent;
+  workCounted_ = false;  // the counts were of the old size
   createTargets();
 }
 
@@ -200,6 +205,37 @@ void Renderer::collectTimings(FrameResources& frame) {
   if (!frame.submitted) return;
   auto timings = frame.timer.results();
   if (!timings.empty()) lastTimings_ = std::move(timings);
+  auto statistics = frame.statistics.results();
+  if (!statistics.empty()) lastStatistics_ = std::move(statistics);
+}
+
+// Zeroes the per-pixel work counters for this frame (after every earlier frame's use of them).
+VkDeviceAddress Renderer::prepareWorkCounters(VkCommandBuffer cmd) {
+  const VkDeviceSize bytes = VkDeviceSize(extent_.width) * extent_.height * sizeof(std::uint32_t);
+  if (!workCounters_ || workCounters_.size() != bytes) {
+    context_.waitIdle();
+    workCounters_ = gpu::Buffer(context_, bytes,
+                                VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT |
+                                    VK_BUFFER_USAGE_TRANSFER_SRC_BIT | VK_BUFFER_USAGE_SHADER_DEVICE_ADDRESS_BIT,
+                                gpu::MemoryUsage::GpuOnly, "work counters");
+  }
+  VkMemoryBarrier2 barrier{VK_STRUCTURE_TYPE_MEMORY_BARRIER_2};
+  barrier.srcStageMask = VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT;
+  barrier.srcAccessMask = VK_ACCESS_2_MEMORY_READ_BIT | VK_ACCESS_2_MEMORY_WRITE_BIT;
+  barrier.dstStageMask = VK_PIPELINE_STAGE_2_CLEAR_BIT;
+  barrier.dstAccessMask = VK_ACCESS_2_TRANSFER_WRITE_BIT;
+  VkDependencyInfo dependency{VK_STRUCTURE_TYPE_DEPENDENCY_INFO};
+  dependency.memoryBarrierCount = 1;
+  dependency.pMemoryBarriers = &barrier;
+  vkCmdPipelineBarrier2(cmd, &dependency);
+  vkCmdFillBuffer(cmd, workCounters_.handle(), 0, VK_WHOLE_SIZE, 0);
+  barrier.srcStageMask = VK_PIPELINE_STAGE_2_CLEAR_BIT;
+  barrier.srcAccessMask = VK_ACCESS_2_TRANSFER_WRITE_BIT;
+  barrier.dstStageMask = VK_PIPELINE_STAGE_2_VERTEX_SHADER_BIT | VK_PIPELINE_STAGE_2_FRAGMENT_SHADER_BIT;
+  barrier.dstAccessMask = VK_ACCESS_2_SHADER_STORAGE_READ_BIT | VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT;
+  vkCmdPipelineBarrier2(cmd, &dependency);
+  workCounted_ = true;
+  return workCounters_.address();
 }
 
 bool Renderer::renderFrame(const ecs::Registry& registry, const CameraView& camera, const FrameSettings& settings) {
@@ -220,10 +256,13 @@ bool Renderer::renderFrame(const ecs::Registry& registry, const CameraView& came
   VK_CHECK(vkBeginCommandBuffer(frame.cmd, &begin));
 
   frame.timer.reset(frame.cmd);
+  frame.statistics.reset(frame.cmd);
   frame.timer.begin(frame.cmd, "frame");
   scene_.beginFrame();
   writeFrameGlobals(slot, camera);
-  FrameContext context{frame.cmd, registry, context_, scene_, camera, extent_, slot, frameNumber_, settings.debugView};
+  const VkDeviceAddress workCounters = settings.countWork ? prepareWorkCounters(frame.cmd) : 0;
+  FrameContext context{frame.cmd, registry, context_,    scene_,           camera,
+                       extent_,   slot,     frameNumber_, settings.debugView, workCounters};
   for (auto& feature : features_) feature->prepare(context);
   scene_.upload(slot);
   recordScenePasses(frame, context);
@@ -285,7 +324,9 @@ void Renderer::recordScenePasses(FrameResources& frame, FrameContext& context) {
   PassContext pass{cmd, context, Pass::DepthPrepass, frameGlobals_.address(context.frameSlot),
                    scene_.address(context.frameSlot), sceneSet_, frame.timer};
   frame.timer.begin(cmd, "depth prepass");
+  frame.statistics.begin(cmd, "depth prepass");
   recordDepthPrepass(pass);
+  frame.statistics.end(cmd);
   frame.timer.end(cmd);
 
   // The shading pass tests against the prepass depth and may sample it: make the writes visible
@@ -313,7 +354,9 @@ void Renderer::recordScenePasses(FrameResources& frame, FrameContext& context) {
   vkCmdPipelineBarrier2(cmd, &dependency);
   pass.pass = Pass::Opaque;
   frame.timer.begin(cmd, "opaque");
+  frame.statistics.begin(cmd, "opaque");
   recordOpaquePass(pass);
+  frame.statistics.end(cmd);
   frame.timer.end(cmd);
 }
 
@@ -385,6 +428,36 @@ void Renderer::finish() {
 std::vector<std::uint8_t> Renderer::readbackColor() {
   finish();
   return gpu::readbackImage(context_, color_, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL);
+}
+
+Expected<std::vector<glm::vec4>> Renderer::readbackColorFloat() {
+  const VkFormat format = desc_.formats.color;
+  if (format != VK_FORMAT_R32G32B32A32_SFLOAT && format != VK_FORMAT_R16G16B16A16_SFLOAT)
+    return makeError("readbackColorFloat: the colour target is not a float format (VkFormat " +
+                     std::to_string(int(format)) + "); create the renderer with R32G32B32A32_SFLOAT or "
+                     "R16G16B16A16_SFLOAT");
+  finish();
+  const auto bytes = gpu::readbackImage(context_, color_, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL);
+  std::vector<glm::vec4> pixels(std::size_t(extent_.width) * extent_.height);
+  if (format == VK_FORMAT_R32G32B32A32_SFLOAT) {
+    std::memcpy(pixels.data(), bytes.data(), pixels.size() * sizeof(glm::vec4));
+    return pixels;
+  }
+  for (std::size_t i = 0; i < pixels.size(); ++i) {
+    std::uint16_t half[4];
+    std::memcpy(half, bytes.data() + i * sizeof(half), sizeof(half));
+    for (int c = 0; c < 4; ++c) pixels[i][c] = glm::unpackHalf1x16(half[c]);
+  }
+  return pixels;
+}
+
+std::vector<std::uint32_t> Renderer::readbackWorkCounters() {
+  finish();
+  if (!workCounted_) return {};
+  const auto bytes = gpu::readbackBuffer(context_, workCounters_);
+  std::vector<std::uint32_t> counts(bytes.size() / sizeof(std::uint32_t));
+  std::memcpy(counts.data(), bytes.data(), counts.size() * sizeof(std::uint32_t));
+  return counts;
 }
 
 std::vector<glm::uvec2> Renderer::readbackVisibility() {

@@ -12,6 +12,7 @@
 #include "engine/gpu/buffer.h"
 #include "engine/gpu/gpu_timer.h"
 #include "engine/gpu/image.h"
+#include "engine/gpu/pipeline_statistics.h"
 #include "engine/render/gpu_scene.h"
 #include "engine/render/per_frame_buffer.h"
 #include "engine/render/render_feature.h"
@@ -40,6 +41,11 @@ struct RendererDesc {
 
 struct FrameSettings {
   std::uint32_t debugView = 0;          // DEBUG_VIEW_*
+  // Per-pixel work counters: the renderer clears one uint per pixel before the prepass and hands
+  // its address to the features (FrameContext::workCounters), which add their root-search work
+  // there (field evaluations of the cells and sphere tracers). Read with readbackWorkCounters().
+  // Off by default: the atomics cost time, so timed frames leave it off.
+  bool countWork = false;
   gpu::Swapchain* swapchain = nullptr;  // present to it when set
   OverlayPass* overlay = nullptr;
 };
@@ -71,11 +77,21 @@ class Renderer {
 
   // Waits for the GPU, then copies the last frame back: RGBA8 (sRGB-encoded) and depth values.
   std::vector<std::uint8_t> readbackColor();
+  // The colour target as floats, for a renderer made with a float colour format
+  // (RendererDesc::formats.color = R32G32B32A32_SFLOAT or R16G16B16A16_SFLOAT): e.g. the normals
+  // of DEBUG_VIEW_NORMALS (0.5 n + 0.5) without 8-bit quantization. Error for other formats.
+  Expected<std::vector<glm::vec4>> readbackColorFloat();
+  // The work counters of the last frame rendered with FrameSettings::countWork, one per pixel
+  // (row-major from the top); empty when no frame has counted yet.
+  std::vector<std::uint32_t> readbackWorkCounters();
   std::vector<float> readbackDepth();
   // Per pixel: x = 1 + GPU scene object index (0 = background), y = feature-specific part id.
   std::vector<glm::uvec2> readbackVisibility();
   // Named GPU timings of the most recent frame whose results are available.
   const std::vector<gpu::GpuTiming>& lastTimings() const { return lastTimings_; }
+  // Pipeline statistics of the most recent frame whose results are available, per pass:
+  // "depth prepass" and "opaque". Empty on devices without pipeline-statistics queries.
+  const std::vector<gpu::PipelineStatistics>& lastPipelineStatistics() const { return lastStatistics_; }
   // Waits for all frames and collects the timings of the last one.
   void finish();
 
@@ -92,6 +108,7 @@ class Renderer {
     VkFence fence = VK_NULL_HANDLE;
     VkSemaphore imageAvailable = VK_NULL_HANDLE;
     gpu::GpuTimer timer;
+    gpu::PipelineStatisticsQueries statistics;
     bool submitted = false;
   };
 
@@ -104,6 +121,7 @@ class Renderer {
   void recordOpaquePass(PassContext& pass);
   void recordPresentBlit(VkCommandBuffer cmd, gpu::Swapchain& swapchain, std::uint32_t imageIndex);
   void collectTimings(FrameResources& frame);
+  VkDeviceAddress prepareWorkCounters(VkCommandBuffer cmd);
 
   const gpu::Context& context_;
   RendererDesc desc_;
@@ -120,6 +138,9 @@ class Renderer {
   PerFrameBuffer frameGlobals_;
   std::vector<std::unique_ptr<RenderFeature>> features_;
   std::vector<gpu::GpuTiming> lastTimings_;
+  std::vector<gpu::PipelineStatistics> lastStatistics_;
+  gpu::Buffer workCounters_;  // one uint per pixel, created on the first counting frame
+  bool workCounted_ = false;
   std::uint64_t frameNumber_ = 0;
 };
 

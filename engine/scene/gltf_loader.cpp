@@ -1,4 +1,5 @@
-// glTF import: GLB container check -> JSON sanitising -> tinygltf parse -> validated conversion.
+// glTF import: GLB container check -> JSON sanitising and extension plan -> tinygltf parse ->
+// compressed bufferViews decoded -> validated conversion.
 //
 // tinygltf 2.7 parses the JSON and fetches buffers, but it trusts most indices and offsets, and a few
 // of its own reads are unchecked, so it only ever sees input that has passed the checks below:
@@ -9,6 +10,12 @@
 //  - images: it indexes buffer.data[bufferView.byteOffset] unchecked for images stored in buffer
 //    views, and reads external image files. Images are not needed, so they are removed from the JSON
 //    before tinygltf sees it, and a no-op image loader is installed as a second line of defence.
+//  - extensions: tinygltf 2.7 (Debian's build, without Draco) refuses a primitive whose index
+//    accessor has no bufferView (every Draco file) and copies the GLB BIN chunk into every buffer
+//    without a uri (meshopt's fallback buffers, which hold no data). So the sanitiser lifts
+//    `indices` out of the primitives and reads the KHR_draco_mesh_compression and
+//    EXT_meshopt_compression objects itself (an ExtensionPlan), and gives fallback buffers a
+//    4-byte data: URI; the conversion decodes them (gltf_compression.h).
 // Everything tinygltf leaves unchecked (accessor/bufferView/buffer ranges, node graph, counts,
 // finiteness) is checked in the conversion below before any byte is read.
 #include "engine/scene/gltf_loader.h"
@@ -18,6 +25,7 @@
 #include <cmath>
 #include <cstring>
 #include <limits>
+#include <map>
 #include <optional>
 #include <string>
 #include <system_error>
@@ -33,6 +41,7 @@
 
 #include "engine/core/files.h"
 #include "engine/core/log.h"
+#include "engine/scene/gltf_compression.h"
 
 namespace engine::scene {
 namespace {
@@ -53,13 +62,21 @@ constexpr int kMaxJsonDepth = 64;
 constexpr std::uint64_t kDecodeBudgetFloorBytes = std::uint64_t(64) << 20;
 constexpr std::uint64_t kDecodeBudgetPerInputByte = 16;
 
-// Required extensions that change nothing in what this importer reads.
-constexpr std::array<std::string_view, 4> kSupportedRequiredExtensions = {
-    "KHR_mesh_quantization",  // integer/normalized vertex attributes: decoded below
-    "KHR_texture_transform",  // textures are not imported
-    "KHR_texture_basisu",     // images are not imported
-    "EXT_texture_webp",       // images are not imported
+// Extensions that change how geometry is stored, all decoded here.
+constexpr std::array<std::string_view, 3> kGeometryExtensions = {
+    "KHR_mesh_quantization",       // integer/normalized vertex attributes
+    "KHR_draco_mesh_compression",  // Draco-compressed primitives
+    "EXT_meshopt_compression",     // meshopt-compressed bufferViews
 };
+// Extensions (by prefix) that only describe materials, textures, images, lights or metadata: the
+// importer reads none of those, so a file that uses or even requires them loads the same geometry.
+constexpr std::array<std::string_view, 7> kNonGeometryExtensionPrefixes = {
+    "KHR_materials_", "KHR_texture_", "EXT_texture_", "KHR_lights_punctual", "EXT_lights_image_based", "KHR_xmp",
+    "KHR_animation_pointer",
+};
+
+// The 4-byte stand-in for a meshopt fallback buffer (its bytes are never read).
+constexpr std::string_view kFallbackBufferUri = "data:application/octet-stream;base64,AAAAAA==";
 
 // ---------------------------------------------------------------------------------------------
 // GLB container
@@ -145,10 +162,199 @@ std::vector<std::uint8_t> buildGlb(std::string_view json, std::span<const std::u
 }
 
 // ---------------------------------------------------------------------------------------------
-// JSON sanitising
+// JSON sanitising and the extension plan
 
-// Parses the document with a nesting limit and re-serialises it without `images`.
-Expected<std::string> sanitizeJson(std::span<const std::uint8_t> text) {
+using Json = nlohmann::json;
+
+struct DracoExtension {
+  int bufferView = -1;
+  std::map<std::string, std::uint32_t> attributes;  // semantic -> Draco attribute unique id
+};
+
+struct MeshoptExtension {
+  int buffer = -1;
+  std::uint64_t byteOffset = 0;
+  std::uint64_t byteLength = 0;
+  MeshoptViewDesc desc;
+};
+
+// What the sanitiser read from the JSON for the conversion, indexed like tinygltf's arrays.
+struct ExtensionPlan {
+  std::vector<std::vector<int>> primitiveIndices;                       // [mesh][primitive]: accessor, -1 none
+  std::vector<std::vector<std::optional<DracoExtension>>> draco;        // [mesh][primitive]
+  std::vector<std::optional<MeshoptExtension>> meshopt;                 // [bufferView]
+  std::vector<bool> fallbackBuffer;                                     // [buffer]: meshopt fallback, no data
+};
+
+struct SanitizedJson {
+  std::string text;
+  ExtensionPlan plan;
+};
+
+bool isGeometryExtension(std::string_view name) {
+  return std::find(kGeometryExtensions.begin(), kGeometryExtensions.end(), name) != kGeometryExtensions.end();
+}
+
+bool isNonGeometryExtension(std::string_view name) {
+  return std::any_of(kNonGeometryExtensionPrefixes.begin(), kNonGeometryExtensionPrefixes.end(),
+                     [&](std::string_view prefix) { return name.substr(0, prefix.size()) == prefix; });
+}
+
+// A non-negative integer member; `fallback` when absent (nullopt: required).
+Expected<std::uint64_t> jsonUnsigned(const Json& object, const char* key, std::optional<std::uint64_t> fallback = {}) {
+  const auto it = object.find(key);
+  if (it == object.end()) {
+    if (fallback) return *fallback;
+    return makeError(fmt::format("{} is missing", key));
+  }
+  if (!it->is_number_unsigned()) return makeError(fmt::format("{} is a JSON {}, not a non-negative integer", key, it->type_name()));
+  return it->get<std::uint64_t>();
+}
+
+// An index into a top-level array (int, as tinygltf stores them).
+Expected<int> jsonIndex(const Json& object, const char* key) {
+  ENGINE_TRY_ASSIGN(const std::uint64_t value, jsonUnsigned(object, key));
+  if (value > std::uint64_t(std::numeric_limits<int>::max())) return makeError(fmt::format("{} {} is too large", key, value));
+  return int(value);
+}
+
+Expected<std::string> jsonString(const Json& object, const char* key, std::optional<std::string> fallback = {}) {
+  const auto it = object.find(key);
+  if (it == object.end()) {
+    if (fallback) return *fallback;
+    return makeError(fmt::format("{} is missing", key));
+  }
+  if (!it->is_string()) return makeError(fmt::format("{} is a JSON {}, not a string", key, it->type_name()));
+  return it->get<std::string>();
+}
+
+// object.extensions.<name> when present and an object.
+const Json* findExtension(const Json& object, std::string_view name) {
+  const auto extensions = object.find("extensions");
+  if (extensions == object.end() || !extensions->is_object()) return nullptr;
+  const auto it = extensions->find(std::string(name));
+  return it != extensions->end() && it->is_object() ? &*it : nullptr;
+}
+
+Expected<DracoExtension> readDracoExtension(const Json& extension) {
+  DracoExtension draco;
+  ENGINE_TRY_ASSIGN(draco.bufferView, jsonIndex(extension, "bufferView"));
+  const auto attributes = extension.find("attributes");
+  if (attributes == extension.end() || !attributes->is_object()) return makeError("attributes is missing or not an object");
+  for (const auto& [semantic, id] : attributes->items()) {
+    if (!id.is_number_unsigned() || id.get<std::uint64_t>() > std::numeric_limits<std::uint32_t>::max())
+      return makeError(fmt::format("attributes.{} is not a Draco attribute id (a JSON {})", semantic, id.type_name()));
+    draco.attributes[semantic] = id.get<std::uint32_t>();
+  }
+  return draco;
+}
+
+Expected<MeshoptExtension> readMeshoptExtension(const Json& extension) {
+  MeshoptExtension meshopt;
+  ENGINE_TRY_ASSIGN(meshopt.buffer, jsonIndex(extension, "buffer"));
+  ENGINE_TRY_ASSIGN(meshopt.byteOffset, jsonUnsigned(extension, "byteOffset", 0));
+  ENGINE_TRY_ASSIGN(meshopt.byteLength, jsonUnsigned(extension, "byteLength"));
+  ENGINE_TRY_ASSIGN(meshopt.desc.byteStride, jsonUnsigned(extension, "byteStride"));
+  ENGINE_TRY_ASSIGN(meshopt.desc.count, jsonUnsigned(extension, "count"));
+  ENGINE_TRY_ASSIGN(meshopt.desc.mode, jsonString(extension, "mode"));
+  ENGINE_TRY_ASSIGN(meshopt.desc.filter, jsonString(extension, "filter", "NONE"));
+  ENGINE_TRY(checkMeshoptView(meshopt.desc));
+  return meshopt;
+}
+
+// The elements of document[key] when it is an array (else none: tinygltf reports the problem).
+std::vector<Json*> arrayItems(Json& document, const char* key) {
+  std::vector<Json*> items;
+  const auto it = document.find(key);
+  if (it == document.end() || !it->is_array()) return items;
+  for (auto& item : *it) items.push_back(&item);
+  return items;
+}
+
+// Lifts `indices` out of every primitive (tinygltf refuses index accessors without a bufferView)
+// and reads the Draco extension objects.
+Status planPrimitives(Json& document, ExtensionPlan& plan) {
+  for (Json* mesh : arrayItems(document, "meshes")) {
+    auto& indices = plan.primitiveIndices.emplace_back();
+    auto& draco = plan.draco.emplace_back();
+    if (!mesh->is_object()) continue;
+    for (Json* primitive : arrayItems(*mesh, "primitives")) {
+      const std::string where = fmt::format("mesh {} primitive {}", plan.draco.size() - 1, indices.size());
+      indices.push_back(-1);
+      draco.emplace_back();
+      if (!primitive->is_object()) continue;
+      if (primitive->contains("indices")) {
+        ENGINE_TRY_ASSIGN(indices.back(), jsonIndex(*primitive, "indices").withContext(where));
+        primitive->erase("indices");
+      }
+      if (const Json* extension = findExtension(*primitive, "KHR_draco_mesh_compression")) {
+        ENGINE_TRY_ASSIGN(draco.back(), readDracoExtension(*extension).withContext(where + ": KHR_draco_mesh_compression"));
+      }
+    }
+  }
+  return {};
+}
+
+// Reads the meshopt bufferView objects and gives fallback buffers (no uri, no data) a stand-in
+// tinygltf can load; their bytes are never read (a bufferView that is not compressed may not use
+// them, checked in bufferViewBytes).
+Status planBuffers(Json& document, ExtensionPlan& plan) {
+  for (Json* view : arrayItems(document, "bufferViews")) {
+    auto& meshopt = plan.meshopt.emplace_back();
+    if (!view->is_object()) continue;
+    if (const Json* extension = findExtension(*view, "EXT_meshopt_compression")) {
+      ENGINE_TRY_ASSIGN(meshopt, readMeshoptExtension(*extension)
+                                     .withContext(fmt::format("bufferView {}: EXT_meshopt_compression", plan.meshopt.size() - 1)));
+    }
+  }
+  for (Json* buffer : arrayItems(document, "buffers")) {
+    const Json* extension = buffer->is_object() ? findExtension(*buffer, "EXT_meshopt_compression") : nullptr;
+    const auto flag = extension ? extension->find("fallback") : Json::const_iterator();
+    const bool fallback = extension && flag != extension->end() && flag->is_boolean() && flag->get<bool>() &&
+                          !buffer->contains("uri");
+    plan.fallbackBuffer.push_back(fallback);
+    if (fallback) *buffer = Json{{"byteLength", 4}, {"uri", kFallbackBufferUri}};
+  }
+  return {};
+}
+
+Expected<std::vector<std::string>> extensionNames(const Json& document, const char* key) {
+  std::vector<std::string> names;
+  const auto it = document.find(key);
+  if (it == document.end()) return names;
+  if (!it->is_array()) return makeError(fmt::format("{} is not an array", key));
+  for (const auto& name : *it) {
+    if (!name.is_string()) return makeError(fmt::format("{} holds a JSON {}, not an extension name", key, name.type_name()));
+    names.push_back(name.get<std::string>());
+  }
+  return names;
+}
+
+// Checked before anything else is read: a file that needs an extension this importer lacks would
+// otherwise fail later with a message about a symptom (an accessor without data, say).
+Status checkExtensions(const Json& document, std::vector<std::string>& warnings) {
+  ENGINE_TRY_ASSIGN(const auto required, extensionNames(document, "extensionsRequired"));
+  for (const auto& name : required) {
+    if (!isGeometryExtension(name) && !isNonGeometryExtension(name))
+      return makeError(fmt::format("requires extension {}, which this loader does not support (it decodes "
+                                   "KHR_draco_mesh_compression, EXT_meshopt_compression and KHR_mesh_quantization, "
+                                   "and ignores material, texture and light extensions)",
+                                   name));
+  }
+  ENGINE_TRY_ASSIGN(const auto used, extensionNames(document, "extensionsUsed"));
+  for (const auto& name : used) {
+    if (isGeometryExtension(name)) continue;
+    if (isNonGeometryExtension(name))
+      warnings.push_back(fmt::format("extension {} ignored: it does not affect geometry", name));
+    else
+      warnings.push_back(fmt::format("extension {} is not supported and was ignored (the file does not require it)", name));
+  }
+  return {};
+}
+
+// Parses the document with a nesting limit, checks its extensions, builds the extension plan and
+// re-serialises it without `images`.
+Expected<SanitizedJson> sanitizeJson(std::span<const std::uint8_t> text, std::vector<std::string>& warnings) {
   bool tooDeep = false;
   // Discarding every value deeper than the limit keeps the parsed document shallow; the parser
   // itself is iterative, so it walks the rest without recursing.
@@ -157,7 +363,7 @@ Expected<std::string> sanitizeJson(std::span<const std::uint8_t> text) {
     tooDeep = true;
     return false;
   };
-  nlohmann::json document;
+  Json document;
   try {
     document = nlohmann::json::parse(text.begin(), text.end(), limitDepth);
   } catch (const nlohmann::json::exception& e) {
@@ -165,12 +371,17 @@ Expected<std::string> sanitizeJson(std::span<const std::uint8_t> text) {
   }
   if (tooDeep) return makeError(fmt::format("JSON nested deeper than {} levels", kMaxJsonDepth));
   if (!document.is_object()) return makeError("the top-level JSON value is not an object");
+  ENGINE_TRY(checkExtensions(document, warnings));
+  SanitizedJson out;
+  ENGINE_TRY(planPrimitives(document, out.plan));
+  ENGINE_TRY(planBuffers(document, out.plan));
   document.erase("images");
   try {
-    return document.dump();
+    out.text = document.dump();
   } catch (const nlohmann::json::exception& e) {
     return makeError(fmt::format("cannot re-serialise JSON: {}", e.what()));
   }
+  return out;
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -281,8 +492,11 @@ Expected<tinygltf::Model> parseWithTinygltf(std::span<const std::uint8_t> docume
 
 struct ImportContext {
   const tinygltf::Model& model;
+  const ExtensionPlan& plan;
   std::vector<std::string>& warnings;
   std::uint64_t decodeBudgetBytes = 0;  // what decoded geometry may still take
+  int scene = -1;                       // GltfLoadOptions::scene
+  std::vector<std::vector<std::uint8_t>> meshoptViews;  // [bufferView]: decoded bytes (empty: not compressed)
 };
 
 Status chargeDecode(ImportContext& context, std::uint64_t bytes) {
@@ -333,23 +547,45 @@ const char* typeName(int type) {
   }
 }
 
-// A checked window onto an accessor's elements: element i starts at first + i * stride and its
-// `components` components of `componentType` all lie inside the buffer.
+// A checked window onto an accessor's elements: element i starts at element(i) and its
+// `components` components of `componentType` all lie inside the buffer, or inside `assembled`
+// when the elements were put together here (sparse accessors, accessors without a bufferView).
 struct AccessorSpan {
   const std::uint8_t* first = nullptr;
+  std::vector<std::uint8_t> assembled;  // when not empty, the elements (tightly packed)
   std::uint64_t count = 0;
   std::uint64_t stride = 0;
   int componentType = 0;
   int components = 0;
   bool normalized = false;
+  const std::uint8_t* element(std::size_t i) const { return (assembled.empty() ? first : assembled.data()) + i * stride; }
 };
 
-Expected<std::span<const std::uint8_t>> bufferViewBytes(const tinygltf::Model& model, int viewIndex) {
+// A buffer range of the file, checked to lie inside the buffer.
+Expected<std::span<const std::uint8_t>> bufferRange(const tinygltf::Model& model, int bufferIndex, std::uint64_t offset,
+                                                    std::uint64_t length) {
+  if (!inRange(bufferIndex, model.buffers)) return makeError(describeIndexRange("buffer", bufferIndex, model.buffers.size()));
+  const auto& data = model.buffers[std::size_t(bufferIndex)].data;
+  if (offset > data.size() || length > data.size() - offset)
+    return makeError(fmt::format("bytes [{}, {}+{}) lie beyond buffer {} ({} bytes)", offset, offset, length, bufferIndex,
+                                 data.size()));
+  return std::span<const std::uint8_t>(data.data() + offset, length);
+}
+
+// The bytes of a bufferView: decoded ones for a meshopt-compressed view, else its buffer range.
+Expected<std::span<const std::uint8_t>> bufferViewBytes(const ImportContext& context, int viewIndex) {
+  const auto& model = context.model;
   if (!inRange(viewIndex, model.bufferViews))
     return makeError(describeIndexRange("bufferView", viewIndex, model.bufferViews.size()));
+  if (std::size_t(viewIndex) < context.plan.meshopt.size() && context.plan.meshopt[std::size_t(viewIndex)])
+    return std::span<const std::uint8_t>(context.meshoptViews[std::size_t(viewIndex)]);
   const auto& view = model.bufferViews[std::size_t(viewIndex)];
   if (!inRange(view.buffer, model.buffers))
     return makeError(fmt::format("bufferView {}: {}", viewIndex, describeIndexRange("buffer", view.buffer, model.buffers.size())));
+  if (std::size_t(view.buffer) < context.plan.fallbackBuffer.size() && context.plan.fallbackBuffer[std::size_t(view.buffer)])
+    return makeError(fmt::format("bufferView {} is not meshopt-compressed but lies in buffer {}, a meshopt fallback "
+                                 "buffer without data",
+                                 viewIndex, view.buffer));
   const auto& data = model.buffers[std::size_t(view.buffer)].data;
   if (view.byteOffset > data.size() || view.byteLength > data.size() - view.byteOffset)
     return makeError(fmt::format("bufferView {}: bytes [{}, {}+{}) lie beyond buffer {} ({} bytes)", viewIndex,
@@ -358,13 +594,11 @@ Expected<std::span<const std::uint8_t>> bufferViewBytes(const tinygltf::Model& m
 }
 
 Status checkAccessorFormat(const tinygltf::Accessor& accessor, int expectedType) {
-  if (accessor.sparse.isSparse) return makeError("sparse accessors are not supported");
   if (accessor.type != expectedType)
     return makeError(fmt::format("type is {}, expected {}", typeName(accessor.type), typeName(expectedType)));
   if (componentBytes(accessor.componentType) == 0)
     return makeError(fmt::format("componentType {} is not a glTF 2.0 component type", accessor.componentType));
   if (accessor.count == 0) return makeError("count is 0 (glTF requires at least 1)");
-  if (accessor.bufferView < 0) return makeError("has no bufferView (all-zero accessors are not supported)");
   return {};
 }
 
@@ -381,27 +615,6 @@ Status checkAccessorFits(const tinygltf::Accessor& accessor, std::uint64_t eleme
     return makeError(fmt::format("count {} with stride {} runs past the end of bufferView {} ({} bytes from offset {})",
                                  accessor.count, stride, accessor.bufferView, viewBytes, offset));
   return {};
-}
-
-Expected<AccessorSpan> accessorSpan(const tinygltf::Model& model, int accessorIndex, int expectedType) {
-  if (!inRange(accessorIndex, model.accessors))
-    return makeError(describeIndexRange("accessor", accessorIndex, model.accessors.size()));
-  const auto& accessor = model.accessors[std::size_t(accessorIndex)];
-  auto checked = [&]() -> Expected<AccessorSpan> {
-    ENGINE_TRY(checkAccessorFormat(accessor, expectedType));
-    ENGINE_TRY_ASSIGN(const auto viewBytes, bufferViewBytes(model, accessor.bufferView));
-    const int components = tinygltf::GetNumComponentsInType(std::uint32_t(accessor.type));
-    const std::uint64_t elementBytes = componentBytes(accessor.componentType) * std::uint64_t(components);
-    const std::uint64_t declaredStride = model.bufferViews[std::size_t(accessor.bufferView)].byteStride;
-    if (declaredStride != 0 && declaredStride < elementBytes)
-      return makeError(fmt::format("bufferView {} byteStride {} is smaller than one element ({} bytes)",
-                                   accessor.bufferView, declaredStride, elementBytes));
-    const std::uint64_t stride = declaredStride != 0 ? declaredStride : elementBytes;
-    ENGINE_TRY(checkAccessorFits(accessor, elementBytes, stride, viewBytes.size()));
-    return AccessorSpan{viewBytes.data() + accessor.byteOffset, accessor.count, stride, accessor.componentType,
-                        components, accessor.normalized};
-  }();
-  return std::move(checked).withContext(fmt::format("accessor {}", accessorIndex));
 }
 
 template <class T>
@@ -438,14 +651,116 @@ float readComponent(const std::uint8_t* bytes, int componentType, bool normalize
   }
 }
 
+// An index (primitive indices, sparse indices) exactly: through float, 32-bit values above 2^24
+// would be rounded.
+std::uint32_t readIndexValue(const std::uint8_t* bytes, int componentType) {
+  switch (componentType) {
+    case TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE: return loadUnaligned<std::uint8_t>(bytes);
+    case TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT: return loadUnaligned<std::uint16_t>(bytes);
+    default: return loadUnaligned<std::uint32_t>(bytes);
+  }
+}
+
+// The elements an accessor's bufferView holds (checked to fit).
+Expected<AccessorSpan> viewElements(const ImportContext& context, const tinygltf::Accessor& accessor,
+                                    std::uint64_t elementBytes) {
+  ENGINE_TRY_ASSIGN(const auto viewBytes, bufferViewBytes(context, accessor.bufferView));
+  const std::uint64_t declaredStride = context.model.bufferViews[std::size_t(accessor.bufferView)].byteStride;
+  if (declaredStride != 0 && declaredStride < elementBytes)
+    return makeError(fmt::format("bufferView {} byteStride {} is smaller than one element ({} bytes)",
+                                 accessor.bufferView, declaredStride, elementBytes));
+  const std::uint64_t stride = declaredStride != 0 ? declaredStride : elementBytes;
+  ENGINE_TRY(checkAccessorFits(accessor, elementBytes, stride, viewBytes.size()));
+  AccessorSpan span;
+  span.first = viewBytes.data() + accessor.byteOffset;
+  span.stride = stride;
+  return span;
+}
+
+// `count` tightly packed items of `itemBytes` at `offset` in a bufferView (sparse indices, values).
+Expected<std::span<const std::uint8_t>> packedItems(const ImportContext& context, int viewIndex, int offset,
+                                                    std::uint64_t count, std::uint64_t itemBytes, const char* what) {
+  ENGINE_TRY_ASSIGN(const auto viewBytes, bufferViewBytes(context, viewIndex).withContext(what));
+  if (offset < 0) return makeError(fmt::format("{}: byteOffset {} is negative", what, offset));
+  const std::uint64_t start = std::uint64_t(offset);
+  if (start > viewBytes.size() || count > (viewBytes.size() - start) / itemBytes)
+    return makeError(fmt::format("{}: {} items of {} bytes from byteOffset {} run past the end of bufferView {} ({} bytes)",
+                                 what, count, itemBytes, offset, viewIndex, viewBytes.size()));
+  return viewBytes.subspan(std::size_t(start), std::size_t(count * itemBytes));
+}
+
+// Sparse substitution (glTF 2.0, 3.6.2.3): `count` strictly increasing element indices, each
+// below the accessor's count, and as many tightly packed replacement elements.
+Status applySparse(const ImportContext& context, const tinygltf::Accessor& accessor, std::uint64_t elementBytes,
+                   std::vector<std::uint8_t>& elements) {
+  const auto& sparse = accessor.sparse;
+  if (sparse.count < 1 || std::uint64_t(sparse.count) > std::uint64_t(accessor.count))
+    return makeError(fmt::format("sparse count {} is outside 1..{} (the accessor's count)", sparse.count, accessor.count));
+  const int indexType = sparse.indices.componentType;
+  if (indexType != TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE && indexType != TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT &&
+      indexType != TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT)
+    return makeError(fmt::format("sparse indices componentType {} is not an unsigned integer type", indexType));
+  const std::uint64_t count = std::uint64_t(sparse.count);
+  ENGINE_TRY_ASSIGN(const auto indices, packedItems(context, sparse.indices.bufferView, sparse.indices.byteOffset, count,
+                                                    componentBytes(indexType), "sparse indices"));
+  ENGINE_TRY_ASSIGN(const auto values, packedItems(context, sparse.values.bufferView, sparse.values.byteOffset, count,
+                                                   elementBytes, "sparse values"));
+  std::uint64_t previous = 0;
+  for (std::uint64_t k = 0; k < count; ++k) {
+    const std::uint64_t target = readIndexValue(indices.data() + k * componentBytes(indexType), indexType);
+    if (target >= std::uint64_t(accessor.count))
+      return makeError(fmt::format("sparse index {} (entry {}) is not below the accessor's count {}", target, k, accessor.count));
+    if (k > 0 && target <= previous)
+      return makeError(fmt::format("sparse indices must increase strictly, but entry {} is {} after {}", k, target, previous));
+    previous = target;
+    std::memcpy(elements.data() + target * elementBytes, values.data() + k * elementBytes, std::size_t(elementBytes));
+  }
+  return {};
+}
+
+// The accessor's elements as stored, or assembled (charged to the decode budget) when the
+// accessor is sparse or has no bufferView, which glTF defines as all zeros.
+Expected<AccessorSpan> accessorElements(ImportContext& context, const tinygltf::Accessor& accessor, int expectedType) {
+  ENGINE_TRY(checkAccessorFormat(accessor, expectedType));
+  const int components = tinygltf::GetNumComponentsInType(std::uint32_t(accessor.type));
+  const std::uint64_t elementBytes = componentBytes(accessor.componentType) * std::uint64_t(components);
+  AccessorSpan span;
+  if (accessor.bufferView >= 0 || accessor.bufferView < -1) {
+    ENGINE_TRY_ASSIGN(span, viewElements(context, accessor, elementBytes));
+  }
+  if (accessor.bufferView == -1 || accessor.sparse.isSparse) {
+    const std::uint64_t count = std::uint64_t(accessor.count);
+    ENGINE_TRY(chargeDecode(context, count * elementBytes));
+    std::vector<std::uint8_t> elements(std::size_t(count * elementBytes), 0);
+    if (span.first)
+      for (std::uint64_t i = 0; i < count; ++i)
+        std::memcpy(elements.data() + i * elementBytes, span.element(std::size_t(i)), std::size_t(elementBytes));
+    if (accessor.sparse.isSparse) ENGINE_TRY(applySparse(context, accessor, elementBytes, elements));
+    span.assembled = std::move(elements);
+    span.stride = elementBytes;
+  }
+  span.count = std::uint64_t(accessor.count);
+  span.componentType = accessor.componentType;
+  span.components = components;
+  span.normalized = accessor.normalized;
+  return span;
+}
+
+Expected<AccessorSpan> accessorSpan(ImportContext& context, int accessorIndex, int expectedType) {
+  if (!inRange(accessorIndex, context.model.accessors))
+    return makeError(describeIndexRange("accessor", accessorIndex, context.model.accessors.size()));
+  return accessorElements(context, context.model.accessors[std::size_t(accessorIndex)], expectedType)
+      .withContext(fmt::format("accessor {}", accessorIndex));
+}
+
 // VEC3 attribute (POSITION, NORMAL) as floats; every component must be finite.
 Expected<std::vector<glm::vec3>> readVec3(ImportContext& context, int accessorIndex) {
-  ENGINE_TRY_ASSIGN(const AccessorSpan span, accessorSpan(context.model, accessorIndex, TINYGLTF_TYPE_VEC3));
+  ENGINE_TRY_ASSIGN(const AccessorSpan span, accessorSpan(context, accessorIndex, TINYGLTF_TYPE_VEC3));
   ENGINE_TRY(chargeDecode(context, span.count * sizeof(glm::vec3)));
   const std::uint64_t componentSize = componentBytes(span.componentType);
   std::vector<glm::vec3> values(static_cast<std::size_t>(span.count));
   for (std::size_t i = 0; i < values.size(); ++i) {
-    const std::uint8_t* element = span.first + i * span.stride;
+    const std::uint8_t* element = span.element(i);
     for (int c = 0; c < 3; ++c) {
       const float component = readComponent(element + std::uint64_t(c) * componentSize, span.componentType, span.normalized);
       if (!std::isfinite(component))
@@ -458,7 +773,7 @@ Expected<std::vector<glm::vec3>> readVec3(ImportContext& context, int accessorIn
 }
 
 Expected<std::vector<std::uint32_t>> readIndices(ImportContext& context, int accessorIndex) {
-  ENGINE_TRY_ASSIGN(const AccessorSpan span, accessorSpan(context.model, accessorIndex, TINYGLTF_TYPE_SCALAR));
+  ENGINE_TRY_ASSIGN(const AccessorSpan span, accessorSpan(context, accessorIndex, TINYGLTF_TYPE_SCALAR));
   const bool indexType = span.componentType == TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE ||
                          span.componentType == TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT ||
                          span.componentType == TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT;
@@ -468,7 +783,7 @@ Expected<std::vector<std::uint32_t>> readIndices(ImportContext& context, int acc
   ENGINE_TRY(chargeDecode(context, span.count * sizeof(std::uint32_t)));
   std::vector<std::uint32_t> indices(static_cast<std::size_t>(span.count));
   for (std::size_t i = 0; i < indices.size(); ++i)
-    indices[i] = static_cast<std::uint32_t>(readComponent(span.first + i * span.stride, span.componentType, false));
+    indices[i] = readIndexValue(span.element(i), span.componentType);
   return indices;
 }
 
@@ -536,42 +851,118 @@ Status checkIndicesInRange(const std::vector<std::uint32_t>& indices, std::size_
   return {};
 }
 
-Expected<std::vector<std::uint32_t>> readPrimitiveTriangles(ImportContext& context, const tinygltf::Primitive& primitive,
+// Which primitive of which mesh, with what the sanitiser lifted out of it.
+struct PrimitiveRef {
+  const tinygltf::Primitive& primitive;
+  int indices = -1;                          // index accessor, -1 none
+  const DracoExtension* draco = nullptr;     // KHR_draco_mesh_compression, when compressed
+};
+
+Expected<std::vector<std::uint32_t>> readPrimitiveTriangles(ImportContext& context, const PrimitiveRef& ref,
                                                             std::size_t vertexCount) {
   std::vector<std::uint32_t> indices;
-  if (primitive.indices >= 0) {
-    ENGINE_TRY_ASSIGN(indices, readIndices(context, primitive.indices).withContext("indices"));
-  } else if (primitive.indices != -1) {
-    return makeError(describeIndexRange("indices accessor", primitive.indices, context.model.accessors.size()));
+  if (ref.indices >= 0) {
+    ENGINE_TRY_ASSIGN(indices, readIndices(context, ref.indices).withContext("indices"));
   } else {
     ENGINE_TRY_ASSIGN(indices, sequentialIndices(context, vertexCount));
   }
   ENGINE_TRY(checkIndicesInRange(indices, vertexCount));
-  return toTriangleList(primitive.mode, std::move(indices));
+  return toTriangleList(ref.primitive.mode, std::move(indices));
 }
 
-Expected<MeshPrimitiveData> convertTrianglePrimitive(ImportContext& context, const tinygltf::Primitive& primitive) {
+// The accessor a primitive names for `semantic` must exist; its count is what the decoded
+// attribute must have (KHR_draco_mesh_compression keeps count, type and bounds in the accessors).
+Expected<std::uint64_t> accessorCount(const ImportContext& context, int accessorIndex, const char* what) {
+  if (!inRange(accessorIndex, context.model.accessors))
+    return makeError(fmt::format("{}: {}", what, describeIndexRange("accessor", accessorIndex, context.model.accessors.size())));
+  return std::uint64_t(context.model.accessors[std::size_t(accessorIndex)].count);
+}
+
+// Positions, indices and (when compressed too) normals from the primitive's Draco stream, checked
+// against the counts its accessors declare.
+Expected<MeshPrimitiveData> decodeDracoGeometry(ImportContext& context, const PrimitiveRef& ref) {
+  const DracoExtension& draco = *ref.draco;
+  if (ref.primitive.mode != TINYGLTF_MODE_TRIANGLES)
+    return makeError(fmt::format("KHR_draco_mesh_compression on mode {} (only TRIANGLES is supported)", ref.primitive.mode));
+  const auto position = draco.attributes.find("POSITION");
+  if (position == draco.attributes.end()) return makeError("KHR_draco_mesh_compression has no POSITION attribute");
+  const auto normal = draco.attributes.find("NORMAL");
+  ENGINE_TRY_ASSIGN(const auto compressed, bufferViewBytes(context, draco.bufferView).withContext("KHR_draco_mesh_compression"));
+  ENGINE_TRY_ASSIGN(const DracoPrimitive decoded,
+                    decodeDracoPrimitive(compressed, position->second,
+                                         normal == draco.attributes.end() ? std::nullopt : std::optional(normal->second))
+                        .withContext("KHR_draco_mesh_compression"));
+  ENGINE_TRY(chargeDecode(context, (decoded.positions.size() + decoded.normals.size()) * sizeof(glm::vec3) +
+                                       decoded.indices.size() * sizeof(std::uint32_t)));
+  ENGINE_TRY_ASSIGN(const std::uint64_t vertexCount, accessorCount(context, findAttribute(ref.primitive, "POSITION"), "POSITION"));
+  if (decoded.positions.size() != vertexCount)
+    return makeError(fmt::format("the Draco stream has {} points but the POSITION accessor says {}", decoded.positions.size(),
+                                 vertexCount));
+  if (ref.indices >= 0) {
+    ENGINE_TRY_ASSIGN(const std::uint64_t indexCount, accessorCount(context, ref.indices, "indices"));
+    if (decoded.indices.size() != indexCount)
+      return makeError(fmt::format("the Draco stream has {} indices but the indices accessor says {}", decoded.indices.size(),
+                                   indexCount));
+  }
   MeshPrimitiveData out;
-  const int positionAccessor = findAttribute(primitive, "POSITION");
-  if (positionAccessor == -2) return makeError("has no POSITION attribute");
+  out.positions = decoded.positions;
+  out.normals = decoded.normals;
+  out.indices = decoded.indices;
+  return out;
+}
+
+Expected<MeshPrimitiveData> readUncompressedGeometry(ImportContext& context, const PrimitiveRef& ref) {
+  MeshPrimitiveData out;
+  const int positionAccessor = findAttribute(ref.primitive, "POSITION");
   ENGINE_TRY_ASSIGN(out.positions, readVec3(context, positionAccessor).withContext("POSITION"));
   if (out.positions.size() > std::numeric_limits<std::uint32_t>::max())
     return makeError(fmt::format("{} vertices do not fit 32-bit indices", out.positions.size()));
-  ENGINE_TRY_ASSIGN(out.indices, readPrimitiveTriangles(context, primitive, out.positions.size()));
+  ENGINE_TRY_ASSIGN(out.indices, readPrimitiveTriangles(context, ref, out.positions.size()));
+  return out;
+}
 
-  if (const int normalAccessor = findAttribute(primitive, "NORMAL"); normalAccessor != -2) {
-    ENGINE_TRY_ASSIGN(out.normals, readVec3(context, normalAccessor).withContext("NORMAL"));
-    if (out.normals.size() != out.positions.size())
-      return makeError(fmt::format("NORMAL has {} elements but POSITION has {}", out.normals.size(), out.positions.size()));
+// The NORMAL accessor, or smooth normals when the primitive has none.
+Expected<std::vector<glm::vec3>> readOrGenerateNormals(ImportContext& context, const tinygltf::Primitive& primitive,
+                                                       const MeshPrimitiveData& geometry) {
+  const int normalAccessor = findAttribute(primitive, "NORMAL");
+  if (normalAccessor == -2) {
+    ENGINE_TRY(chargeDecode(context, geometry.positions.size() * sizeof(glm::vec3)));
+    return smoothNormals(geometry.positions, geometry.indices);
+  }
+  ENGINE_TRY_ASSIGN(auto normals, readVec3(context, normalAccessor).withContext("NORMAL"));
+  if (normals.size() != geometry.positions.size())
+    return makeError(fmt::format("NORMAL has {} elements but POSITION has {}", normals.size(), geometry.positions.size()));
+  return normals;
+}
+
+Expected<MeshPrimitiveData> convertTrianglePrimitive(ImportContext& context, const PrimitiveRef& ref) {
+  const auto& primitive = ref.primitive;
+  if (findAttribute(primitive, "POSITION") == -2) return makeError("has no POSITION attribute");
+  MeshPrimitiveData out;
+  if (ref.draco) {
+    ENGINE_TRY_ASSIGN(out, decodeDracoGeometry(context, ref));
   } else {
-    ENGINE_TRY(chargeDecode(context, out.positions.size() * sizeof(glm::vec3)));
-    out.normals = smoothNormals(out.positions, out.indices);
+    ENGINE_TRY_ASSIGN(out, readUncompressedGeometry(context, ref));
+  }
+
+  if (out.normals.empty()) {  // not decoded from Draco with the positions
+    ENGINE_TRY_ASSIGN(out.normals, readOrGenerateNormals(context, primitive, out));
   }
 
   if (primitive.material != -1 && !inRange(primitive.material, context.model.materials))
     return makeError(describeIndexRange("material", primitive.material, context.model.materials.size()));
   out.material = primitive.material;
   return out;
+}
+
+// The sanitiser's plan has one entry per primitive tinygltf parsed; anything else is a bug here.
+Expected<PrimitiveRef> primitiveRef(const ImportContext& context, int meshIndex, std::size_t p) {
+  const auto& plan = context.plan;
+  const auto m = std::size_t(meshIndex);
+  if (m >= plan.primitiveIndices.size() || p >= plan.primitiveIndices[m].size())
+    return makeError("internal error: the primitive is missing from the extension plan");
+  const auto& draco = plan.draco[m][p];
+  return PrimitiveRef{context.model.meshes[m].primitives[p], plan.primitiveIndices[m][p], draco ? &*draco : nullptr};
 }
 
 bool isTriangleMode(int mode) {
@@ -592,7 +983,8 @@ Expected<MeshData> convertMesh(ImportContext& context, int meshIndex) {
       continue;
     }
     if (!isTriangleMode(primitive.mode)) return makeError(fmt::format("{}: unknown mode {}", where, primitive.mode));
-    ENGINE_TRY_ASSIGN(auto converted, convertTrianglePrimitive(context, primitive).withContext(where));
+    ENGINE_TRY_ASSIGN(const PrimitiveRef ref, primitiveRef(context, meshIndex, p).withContext(where));
+    ENGINE_TRY_ASSIGN(auto converted, convertTrianglePrimitive(context, ref).withContext(where));
     if (converted.indices.empty()) {  // a strip or fan of fewer than 3 vertices: nothing to draw
       context.warnings.push_back(fmt::format("{}: mode {} with fewer than 3 vertices has no triangles, skipped", where,
                                              primitive.mode));
@@ -727,17 +1119,36 @@ Status checkAcyclic(const tinygltf::Model& model, const std::vector<int>& parent
   return {};
 }
 
-Expected<std::vector<int>> sceneRoots(const tinygltf::Model& model, const std::vector<int>& parent) {
-  std::vector<int> roots;
-  if (model.scenes.empty()) {
-    if (model.defaultScene != -1) return makeError(fmt::format("default scene {} given but the file has no scenes", model.defaultScene));
-    for (std::size_t n = 0; n < parent.size(); ++n)
-      if (parent[n] == -1) roots.push_back(int(n));
-    return roots;
+// The scene to load: the one asked for, else the file's default, else scene 0. With several
+// scenes, a note says which one was loaded.
+Expected<int> chooseScene(const ImportContext& context) {
+  const auto& model = context.model;
+  if (context.scene >= 0) {
+    if (!inRange(context.scene, model.scenes))
+      return makeError(fmt::format("scene {} was requested but the file has {} scene(s)", context.scene, model.scenes.size()));
+    return context.scene;
   }
   const int sceneIndex = model.defaultScene == -1 ? 0 : model.defaultScene;
   if (!inRange(sceneIndex, model.scenes))
     return makeError(describeIndexRange("default scene", sceneIndex, model.scenes.size()));
+  return sceneIndex;
+}
+
+Expected<std::vector<int>> sceneRoots(ImportContext& context, const std::vector<int>& parent) {
+  const auto& model = context.model;
+  std::vector<int> roots;
+  if (model.scenes.empty()) {
+    if (model.defaultScene != -1) return makeError(fmt::format("default scene {} given but the file has no scenes", model.defaultScene));
+    if (context.scene >= 0) return makeError(fmt::format("scene {} was requested but the file has no scenes", context.scene));
+    for (std::size_t n = 0; n < parent.size(); ++n)
+      if (parent[n] == -1) roots.push_back(int(n));
+    return roots;
+  }
+  ENGINE_TRY_ASSIGN(const int sceneIndex, chooseScene(context));
+  if (model.scenes.size() > 1)
+    context.warnings.push_back(fmt::format("the file has {} scenes; loaded scene {} '{}' ({}), the others are ignored",
+                                           model.scenes.size(), sceneIndex, model.scenes[std::size_t(sceneIndex)].name,
+                                           context.scene >= 0 ? "as requested" : "the file's default"));
   std::vector<bool> listed(parent.size(), false);
   for (const int node : model.scenes[std::size_t(sceneIndex)].nodes) {
     if (!inRange(node, model.nodes))
@@ -768,10 +1179,11 @@ bool isFinite(const glm::mat4& m) {
 }
 
 // Scene nodes in depth-first pre-order (parents before children), with world matrices.
-Expected<std::vector<NodeData>> convertNodes(const tinygltf::Model& model, const std::vector<int>& cameraRemap) {
+Expected<std::vector<NodeData>> convertNodes(ImportContext& context, const std::vector<int>& cameraRemap) {
+  const auto& model = context.model;
   ENGINE_TRY_ASSIGN(const auto parent, nodeParents(model));
   ENGINE_TRY(checkAcyclic(model, parent));
-  ENGINE_TRY_ASSIGN(const auto roots, sceneRoots(model, parent));
+  ENGINE_TRY_ASSIGN(const auto roots, sceneRoots(context, parent));
 
   std::vector<NodeData> out;
   std::vector<std::pair<int, int>> pending;  // (file node, index of its parent in `out`)
@@ -822,18 +1234,31 @@ Status checkInstancesFinite(const SceneData& scene) {
 // ---------------------------------------------------------------------------------------------
 // Whole model
 
-Status checkRequiredExtensions(const tinygltf::Model& model) {
-  for (const auto& extension : model.extensionsRequired) {
-    const bool supported = std::find(kSupportedRequiredExtensions.begin(), kSupportedRequiredExtensions.end(),
-                                     extension) != kSupportedRequiredExtensions.end();
-    if (!supported) return makeError(fmt::format("requires extension {}, which is not supported", extension));
+// Every EXT_meshopt_compression bufferView, decoded once (and charged to the decode budget) before
+// the accessors read them. The decoded size must be the view's byteLength.
+Status decodeMeshoptViews(ImportContext& context) {
+  const auto& plan = context.plan;
+  context.meshoptViews.resize(plan.meshopt.size());
+  for (std::size_t v = 0; v < plan.meshopt.size(); ++v) {
+    if (!plan.meshopt[v]) continue;
+    const MeshoptExtension& meshopt = *plan.meshopt[v];
+    const auto where = fmt::format("bufferView {}: EXT_meshopt_compression", v);
+    if (v >= context.model.bufferViews.size()) return makeError(fmt::format("{}: internal error: view not parsed", where));
+    const std::uint64_t decodedBytes = meshopt.desc.count * meshopt.desc.byteStride;  // both checked small (<= 2^64 / 256)
+    if (meshopt.desc.count > (std::uint64_t(1) << 48) || decodedBytes != context.model.bufferViews[v].byteLength)
+      return makeError(fmt::format("{}: count {} x byteStride {} is not the view's byteLength {}", where, meshopt.desc.count,
+                                   meshopt.desc.byteStride, context.model.bufferViews[v].byteLength));
+    ENGINE_TRY(chargeDecode(context, decodedBytes).withContext(where));
+    ENGINE_TRY_ASSIGN(const auto compressed, bufferRange(context.model, meshopt.buffer, meshopt.byteOffset, meshopt.byteLength)
+                                                 .withContext(where));
+    ENGINE_TRY_ASSIGN(context.meshoptViews[v], decodeMeshoptView(compressed, meshopt.desc).withContext(where));
   }
   return {};
 }
 
 Expected<SceneData> convertModel(ImportContext& context) {
   const auto& model = context.model;
-  ENGINE_TRY(checkRequiredExtensions(model));
+  ENGINE_TRY(decodeMeshoptViews(context));
   SceneData scene;
   for (std::size_t m = 0; m < model.materials.size(); ++m) {
     ENGINE_TRY_ASSIGN(auto material, convertMaterial(model.materials[m]).withContext(fmt::format("material {}", m)));
@@ -844,7 +1269,7 @@ Expected<SceneData> convertModel(ImportContext& context) {
     ENGINE_TRY_ASSIGN(auto mesh, convertMesh(context, int(m)));
     scene.meshes.push_back(std::move(mesh));
   }
-  ENGINE_TRY_ASSIGN(scene.nodes, convertNodes(model, cameraRemap));
+  ENGINE_TRY_ASSIGN(scene.nodes, convertNodes(context, cameraRemap));
   ENGINE_TRY(checkInstancesFinite(scene));
   return scene;
 }
@@ -855,15 +1280,20 @@ std::uint64_t decodeBudget(std::uint64_t fileBytes, const tinygltf::Model& model
   return kDecodeBudgetFloorBytes + kDecodeBudgetPerInputByte * inputBytes;
 }
 
-// The document handed to tinygltf: sanitised JSON, or a GLB rebuilt around the sanitised JSON.
-Expected<std::vector<std::uint8_t>> sanitizedDocument(std::span<const std::uint8_t> bytes) {
+struct SanitizedDocument {
+  std::vector<std::uint8_t> bytes;  // sanitised JSON, or a GLB rebuilt around the sanitised JSON
+  ExtensionPlan plan;
+};
+
+// The document handed to tinygltf, and what the sanitiser read from it.
+Expected<SanitizedDocument> sanitizedDocument(std::span<const std::uint8_t> bytes, std::vector<std::string>& warnings) {
   if (!isGlb(bytes)) {
-    ENGINE_TRY_ASSIGN(const std::string json, sanitizeJson(bytes));
-    return std::vector<std::uint8_t>(json.begin(), json.end());
+    ENGINE_TRY_ASSIGN(SanitizedJson json, sanitizeJson(bytes, warnings));
+    return SanitizedDocument{std::vector<std::uint8_t>(json.text.begin(), json.text.end()), std::move(json.plan)};
   }
   ENGINE_TRY_ASSIGN(const GlbChunks chunks, parseGlbChunks(bytes));
-  ENGINE_TRY_ASSIGN(const std::string json, sanitizeJson(chunks.json).withContext("GLB JSON chunk"));
-  return buildGlb(json, chunks.bin);
+  ENGINE_TRY_ASSIGN(SanitizedJson json, sanitizeJson(chunks.json, warnings).withContext("GLB JSON chunk"));
+  return SanitizedDocument{buildGlb(json.text, chunks.bin), std::move(json.plan)};
 }
 
 Expected<SceneData> loadChecked(std::span<const std::uint8_t> bytes, const std::filesystem::path& baseDir,
@@ -871,10 +1301,10 @@ Expected<SceneData> loadChecked(std::span<const std::uint8_t> bytes, const std::
   if (bytes.size() > options.maxFileBytes)
     return makeError(fmt::format("{} bytes is over the {}-byte limit for glTF files", bytes.size(), options.maxFileBytes));
   if (bytes.empty()) return makeError("file is empty");
-  ENGINE_TRY_ASSIGN(const auto document, sanitizedDocument(bytes));
+  ENGINE_TRY_ASSIGN(const SanitizedDocument document, sanitizedDocument(bytes, warnings));
   ExternalFileAccess access{baseDir.empty() ? std::string() : baseDir.string(), options.maxFileBytes, {}};
-  ENGINE_TRY_ASSIGN(const tinygltf::Model model, parseWithTinygltf(document, isGlb(bytes), access, warnings));
-  ImportContext context{model, warnings, decodeBudget(bytes.size(), model)};
+  ENGINE_TRY_ASSIGN(const tinygltf::Model model, parseWithTinygltf(document.bytes, isGlb(bytes), access, warnings));
+  ImportContext context{model, document.plan, warnings, decodeBudget(bytes.size(), model), options.scene, {}};
   return convertModel(context);
 }
 

@@ -7,13 +7,22 @@
 //   "bad.gltf: mesh 0 'Cube' primitive 0 POSITION: accessor 2: bufferView 7 out of range (file has 3)".
 // It never crashes, hangs or allocates in proportion to a count it has not checked against the data.
 //
-// What is imported (for the default scene, else scene 0, else every root node when there are no
-// scenes; nodes outside that scene are dropped):
+// What is imported (for GltfLoadOptions::scene, else the default scene, else scene 0, else every
+// root node when there are no scenes; nodes outside that scene are dropped; a file with several
+// scenes gets a warning naming the one loaded):
 //  - meshes: TRIANGLES, TRIANGLE_STRIP and TRIANGLE_FAN primitives as triangle lists; POSITION is
 //    required, NORMAL is optional (smooth area-weighted normals are generated when absent), indices
 //    are optional (0..n-1 when absent) and may be of any glTF index type. Points and lines, and
-//    strips or fans of fewer than 3 vertices, are skipped with a warning. Vertex attributes may be float or normalized/integer
-//    (KHR_mesh_quantization); sparse accessors and accessors without a bufferView are rejected.
+//    strips or fans of fewer than 3 vertices, are skipped with a warning. Vertex attributes may be
+//    float or normalized/integer (KHR_mesh_quantization); accessors may be sparse, and an accessor
+//    without a bufferView is zeros (plus its sparse values), as glTF defines it.
+//  - compression: KHR_draco_mesh_compression primitives (libdraco) and EXT_meshopt_compression
+//    bufferViews (libmeshoptimizer, every mode and filter) are decoded; decoded counts must match
+//    the accessors, and decoded bytes count against the same budget as other decoded geometry.
+//  - extensions: a required extension other than those three and the ones that only concern
+//    materials, textures and lights (KHR_materials_*, KHR_texture_*, EXT_texture_*,
+//    KHR_lights_punctual, ...) is an error naming it; used extensions that are ignored get a
+//    warning each.
 //  - materials: pbrMetallicRoughness baseColorFactor, metallicFactor, roughnessFactor.
 //  - cameras: perspective; orthographic cameras are skipped with a warning (nodes that use one get
 //    camera -1).
@@ -34,6 +43,8 @@ namespace engine::scene {
 struct GltfLoadOptions {
   // Files (the .gltf/.glb and each external buffer) larger than this are refused before reading.
   std::uint64_t maxFileBytes = std::uint64_t(1) << 30;
+  // The scene to load; -1: the file's default scene, else scene 0. Out of range is an error.
+  int scene = -1;
 };
 
 // Loads a .gltf or .glb file (told apart by content, not by extension). External buffer URIs are

@@ -18,6 +18,24 @@ layout(location = 9) flat out uint outDraw;
 layout(location = 10) out vec3 outLocal;              // this vertex in cell-local coordinates
 layout(location = 11) flat out vec3 outCameraLocal;   // the eye in cell-local coordinates
 layout(location = 12) flat out uint outRecord;        // index of the cell record in its buffer
+layout(location = 13) flat out float outDilation;     // how far the proxy reaches beyond the cell, cells
+
+// The proxy is the cell's box dilated by `dilation` cells on every side, so that a ray which meets
+// the cell is rasterized by its proxy even where the cell's edge is a silhouette of the drawn cells
+// (the neighbour dropped as empty): the rasterizer snaps vertices to 1/256 pixel, and a pixel
+// centre that close to the edge could fall outside the box's triangles while its ray meets the box.
+// 0.02 pixel at the cell's centre is 5x the snapping; the fragment shader searches the ray over
+// the same dilated box (docs/root-finding.md).
+const float kDilationPixels = 0.02;
+const float kMinDilation = 1.0 / 4096.0;
+
+float proxyDilation(FrameGlobals frame, ObjectData object, vec3 cellCentre, float h) {
+  vec4 view = frame.view * (object.model * vec4(cellCentre, 1.0));
+  float worldPerPixel = 2.0 * max(-view.z, 0.0) / (frame.proj[1][1] * frame.viewport.y);
+  // The object's smallest axis scale: the most cells per world unit.
+  float scale = min(min(length(object.model[0].xyz), length(object.model[1].xyz)), length(object.model[2].xyz));
+  return max(kMinDilation, kDilationPixels * worldPerPixel / (h * scale));
+}
 
 precise gl_Position;
 
@@ -27,9 +45,10 @@ void main() {
   ObjectData object = ObjectsRef(pc.draw.objects).objects[draw.object];
   FrameGlobals frame = FrameGlobalsRef(pc.draw.frameGlobals).globals;
 
-  vec3 local = boxCorner(gl_VertexIndex, (object.flags & OBJECT_FLAG_MIRRORED) != 0u);
   vec3 cell = vec3(inCell.xyz);
   float h = draw.gridOriginSpacing.w;
+  float dilation = proxyDilation(frame, object, draw.gridOriginSpacing.xyz + h * (cell + 0.5), h);
+  vec3 local = boxCorner(gl_VertexIndex, (object.flags & OBJECT_FLAG_MIRRORED) != 0u) * (1.0 + 2.0 * dilation) - dilation;
   vec3 objectPosition = draw.gridOriginSpacing.xyz + h * (cell + local);
   vec3 cameraObject = (object.invModel * vec4(frame.cameraPosition.xyz, 1.0)).xyz;
 
@@ -38,6 +57,7 @@ void main() {
   outDraw = drawIndex;
   outRecord = uint(gl_InstanceIndex);  // firstInstance of the command = first record of the range
   outLocal = local;
+  outDilation = dilation;
   outCameraLocal = (cameraObject - draw.gridOriginSpacing.xyz) / h - cell;
   gl_Position = frame.viewProj * (object.model * vec4(objectPosition, 1.0));
 }

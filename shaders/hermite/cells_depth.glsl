@@ -3,7 +3,7 @@
 // may cut; no depth guarantee relative to the face).
 #extension GL_GOOGLE_include_directive : require
 #include "hermite/hermite_host_device.h"
-#include "hermite/hermite.glsl"
+#include "hermite/segment_roots.glsl"
 
 layout(push_constant, scalar) uniform Push { HermitePushConstants pc; };
 layout(buffer_reference, scalar) readonly buffer HermiteDrawsRef { HermiteDraw draws[]; };
@@ -15,6 +15,7 @@ layout(location = 9) flat in uint inDraw;
 layout(location = 10) in vec3 inLocal;
 layout(location = 11) flat in vec3 inCameraLocal;
 layout(location = 12) flat in uint inRecord;
+layout(location = 13) flat in float inDilation;  // the proxy: the cell's box grown by this, cells
 
 // The pixel's ray in cell-local coordinates, u(t) = origin + t * direction, parametrized so that
 // t = 1 at this fragment's point on the box. View distance is linear in t, so a point at t has
@@ -32,21 +33,37 @@ layout(location = 0) out uvec2 outVisibility;  // (1 + object, cell record)
 layout(depth_less) out float gl_FragDepth;
 #endif
 
+// Each cell searches the ray over its box dilated by inDilation cells on every side (the proxy that
+// was rasterized, cells.vert), never before the near plane. A root on (or within rounding of) a
+// face shared by two cells, as on the flat faces of a box fitted to the grid, is then a true sign
+// change inside the searched segment of both cells, whichever way float rounding of the two cells'
+// local coordinates falls; without it each cell could see the root just outside its own segment
+// and the ray passed through the face. The margin grows with the distance of the eye in cells,
+// where the local coordinates lose precision.
+float searchMargin(CellRay ray) {
+  vec3 magnitude = abs(ray.origin);
+  return max(inDilation, 8.0e-7 * max(max(magnitude.x, magnitude.y), magnitude.z));
+}
+
 void main() {
   HermiteDraw draw = HermiteDrawsRef(pc.draws).draws[inDraw];
   CellRay ray = cellRay();
-  vec2 box = intersectUnitBox(ray.origin, ray.direction);
+  float margin = searchMargin(ray);
+  vec2 box = intersectBox(ray.origin, ray.direction, vec3(-margin), vec3(1.0 + margin));
   float tNear = gl_FragCoord.z;  // the near plane (see cellRay)
   float t0 = max(box.x, tNear);
   float t1 = box.y;
-#ifdef HSDF_CONSERVATIVE_DEPTH
-  t0 = max(t0, 1.0 - 1e-6);  // this face point is the entry; rounding must not move it forward
-#endif
   uint evaluations = 0u;
   float t = -1.0;
-  if (t0 <= t1)
-    t = findFirstRoot(inCorners, draw.gridOriginSpacing.w, ray.origin, ray.direction, t0, t1, draw.subdivisions,
-                      draw.refineSteps, evaluations);
+  if (t0 < t1) {
+    float coefficients[SEGMENT_COEFFS];
+    restrictToSegment(inCorners, draw.gridOriginSpacing.w, ray.origin + t0 * ray.direction,
+                      ray.origin + t1 * ray.direction, coefficients);
+    ++evaluations;  // the restriction: the cost of a few tricubic evaluations, counted once
+    float s = segmentFirstRoot(coefficients, draw.subdivisions, draw.refineSteps,
+                               (draw.flags & HERMITE_FLAG_CERTIFIED) != 0u, evaluations);
+    if (s >= 0.0) t = mix(t0, t1, s);
+  }
   if (pc.counters != 0ul) {
     ivec2 pixel = ivec2(gl_FragCoord.xy);
     FrameGlobals frame = FrameGlobalsRef(pc.draw.frameGlobals).globals;
@@ -54,6 +71,8 @@ void main() {
   }
   if (t < 0.0) discard;
 #ifdef HSDF_CONSERVATIVE_DEPTH
+  // A root before this fragment's face (in the margin) is a neighbour's, found exactly by the
+  // neighbour: here it is drawn at the face, which keeps the depth conservative.
   t = max(t, 1.0);
 #endif
   gl_FragDepth = gl_FragCoord.z / t;

@@ -52,84 +52,15 @@ vec4 hermiteValueGradient(vec4 corners[8], float h, vec3 u) {
   return vec4(value, du / h);
 }
 
-// Places the root of a bracket [a, b] (fa and fb of different sign or zero): by linear
-// interpolation (the paper's method), or, when a third sample (c, fc) before the bracket is known,
-// by the root of the parabola through the three samples, which follows the curvature of F along
-// the ray at no extra cost (it falls back to the line when the parabola has no root in [a, b]).
-float placeRoot(float a, float fa, float b, float fb, bool hasThird, float c, float fc) {
-  float linear = (fa == fb) ? a : a + (b - a) * (fa / (fa - fb));
-  if (!hasThird) return linear;
-  // Newton's divided differences: q(t) = fa + s1 (t - a) + s2 (t - a)(t - b).
-  float s1 = (fb - fa) / (b - a);
-  float s2 = ((fa - fc) / (a - c) - s1) / (c - b);
-  float t = linear;
-  for (int i = 0; i < 3; ++i) {  // Newton on the parabola from the linear guess
-    float q = fa + (t - a) * (s1 + s2 * (t - b));
-    float dq = s1 + s2 * (2.0 * t - a - b);
-    if (dq == 0.0) break;
-    t -= q / dq;
-  }
-  return (t >= min(a, b) && t <= max(a, b)) ? t : linear;
-}
-
-// Refines a root placed in the bracket [a, b] with `refineSteps` safeguarded Newton steps on F
-// along the ray u(t) = origin + t * direction: each step evaluates F and its exact derivative,
-// shrinks the bracket, and takes the Newton step if it stays inside, else the secant of the new
-// bracket. `evaluations` counts evaluations of F (value and gradient together count as one).
-float refineRoot(vec4 corners[8], float h, vec3 origin, vec3 direction, float t, float a, float fa, float b, float fb,
-                 uint refineSteps, inout uint evaluations) {
-  for (uint i = 0u; i < refineSteps; ++i) {
-    vec4 fg = hermiteValueGradient(corners, h, origin + t * direction);
-    ++evaluations;
-    float ft = fg.x;
-    if (ft == 0.0) return t;
-    if ((fa < 0.0) != (ft < 0.0)) {
-      b = t;
-      fb = ft;
-    } else {
-      a = t;
-      fa = ft;
-    }
-    float slope = h * dot(fg.yzw, direction);  // dF/dt: the gradient is in world units
-    float newton = slope != 0.0 ? t - ft / slope : a - 1.0;
-    t = (newton > a && newton < b) ? newton : ((fa == fb) ? a : a + (b - a) * (fa / (fa - fb)));
-  }
-  return t;
-}
-
-// The paper's subdivision search: F at n+1 equidistant points of [t0, t1]; the first sign change
-// (or zero) brackets the root. Returns the root's t, or -1 when there is no sign change.
-float findFirstRoot(vec4 corners[8], float h, vec3 origin, vec3 direction, float t0, float t1, uint subdivisions,
-                    uint refineSteps, inout uint evaluations) {
-  float previousT = t0;
-  float previousF = hermiteValue(corners, h, origin + t0 * direction);
-  float olderT = t0, olderF = previousF;
-  ++evaluations;
-  if (previousF == 0.0) return t0;
-  float step = (t1 - t0) / float(subdivisions);
-  for (uint i = 1u; i <= subdivisions; ++i) {
-    float t = (i == subdivisions) ? t1 : t0 + step * float(i);
-    float f = hermiteValue(corners, h, origin + t * direction);
-    ++evaluations;
-    if (f == 0.0 || (previousF < 0.0) != (f < 0.0)) {
-      float guess = placeRoot(previousT, previousF, t, f, i >= 2u, olderT, olderF);
-      return refineRoot(corners, h, origin, direction, guess, previousT, previousF, t, f, refineSteps, evaluations);
-    }
-    olderT = previousT;
-    olderF = previousF;
-    previousT = t;
-    previousF = f;
-  }
-  return -1.0;
-}
-
-// Ray / unit box [0,1]^3 slab test: (tEnter, tExit); empty when tEnter > tExit.
-vec2 intersectUnitBox(vec3 origin, vec3 direction) {
+// Ray / box [lo, hi] slab test: (tEnter, tExit); empty when tEnter > tExit.
+vec2 intersectBox(vec3 origin, vec3 direction, vec3 lo, vec3 hi) {
   vec3 inverse = 1.0 / direction;  // +-inf for axis-parallel rays is handled by min/max
-  vec3 ta = (vec3(0.0) - origin) * inverse;
-  vec3 tb = (vec3(1.0) - origin) * inverse;
+  vec3 ta = (lo - origin) * inverse;
+  vec3 tb = (hi - origin) * inverse;
   vec3 tmin = min(ta, tb), tmax = max(ta, tb);
   return vec2(max(max(tmin.x, tmin.y), tmin.z), min(min(tmax.x, tmax.y), tmax.z));
 }
+
+vec2 intersectUnitBox(vec3 origin, vec3 direction) { return intersectBox(origin, direction, vec3(0.0), vec3(1.0)); }
 
 #endif

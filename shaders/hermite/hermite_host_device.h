@@ -12,6 +12,7 @@ namespace shader {
 // Render flags (HermiteDraw::flags).
 #define HERMITE_FLAG_NORMALS_CENTRAL 1u  // central differences instead of the exact gradient
 #define HERMITE_FLAG_NEAR_CELL 2u        // the cell may intersect the near plane: drawn by back faces
+#define HERMITE_FLAG_CERTIFIED 4u        // certified first-root search instead of n equidistant samples
 
 // One per indirect draw command of a Hermite feature: which object, and how to search.
 struct HermiteDraw {
@@ -75,8 +76,9 @@ HSDF_CHECK_SIZE(SphereTraceDraw, 16 + 8 * 4);
 struct SphereTracePushConstants {
   DrawPushConstants draw;
   uint64_t draws;          // address of SphereTraceDraw[]
+  uint64_t counters;       // address of a uint per pixel (renderer work counters), 0 when off
 };
-HSDF_CHECK_SIZE(SphereTracePushConstants, 32 + 8);
+HSDF_CHECK_SIZE(SphereTracePushConstants, 32 + 2 * 8);
 
 #ifdef __cplusplus
 }  // namespace shader

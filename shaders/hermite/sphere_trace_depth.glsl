@@ -4,6 +4,8 @@
 // variant, whose hits are never nearer than the rasterized face.
 #include "hermite/sphere_trace_common.glsl"
 
+layout(buffer_reference, scalar) buffer WorkCountersRef { uint counts[]; };
+
 layout(location = 0) flat in uint inDraw;
 layout(location = 1) in vec3 inGrid;
 layout(location = 2) flat in vec3 inEyeGrid;
@@ -26,6 +28,11 @@ void main() {
   float t0 = max(box.x, gl_FragCoord.z);
   uint evaluations = 0u;
   float t = t0 <= box.y ? sphereTrace(draw, origin, direction, t0, box.y, evaluations) : -1.0;
+  if (pc.counters != 0ul) {  // every ray's steps, hits and misses alike (the renderer's work counters)
+    ivec2 pixel = ivec2(gl_FragCoord.xy);
+    FrameGlobals frame = FrameGlobalsRef(pc.draw.frameGlobals).globals;
+    atomicAdd(WorkCountersRef(pc.counters).counts[pixel.y * int(frame.viewport.x) + pixel.x], evaluations);
+  }
   if (t < 0.0) discard;
 #ifdef SPHERE_TRACE_CONSERVATIVE_DEPTH
   t = max(t, 1.0);  // rounding of the box entry must not move the hit in front of the face

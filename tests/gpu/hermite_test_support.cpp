@@ -85,6 +85,15 @@ bool allHitsWithin(const hsdf::ReferenceImage& ref, int x, int y, int radius) {
   return true;
 }
 
+bool noHitsWithin(const hsdf::ReferenceImage& ref, int x, int y, int radius) {
+  for (int dy = -radius; dy <= radius; ++dy)
+    for (int dx = -radius; dx <= radius; ++dx) {
+      const int nx = x + dx, ny = y + dy;
+      if (nx >= 0 && ny >= 0 && nx < ref.width && ny < ref.height && ref.hit[ref.pixel(nx, ny)]) return false;
+    }
+  return true;
+}
+
 }  // namespace
 
 ImageComparison compareWithReference(const Frame& gpu, const std::vector<std::uint8_t>* normalRgba,
@@ -118,7 +127,9 @@ ImageComparison compareWithReference(const Frame& gpu, const std::vector<std::ui
         cellsPerWorldUnit *= glm::length(inverseModel * ray.direction);
       }
       depthErrors.push_back(std::abs(gpuDistance - refDistance) * cellsPerWorldUnit);
-      if (allHitsWithin(reference, x, y, 2)) interiorDepthErrors.push_back(depthErrors.back());
+      const bool interior = allHitsWithin(reference, x, y, 2);
+      if (interior && depthErrors.back() > kDepthOutlierCells) ++result.interiorDepthOutliers;
+      if (interior) interiorDepthErrors.push_back(depthErrors.back());
       if (normalRgba) {
         const glm::dvec3 n = decodeNormal(*normalRgba, i);
         const glm::dvec3 r = glm::dvec3(reference.normal[i]);
@@ -136,6 +147,38 @@ ImageComparison compareWithReference(const Frame& gpu, const std::vector<std::ui
   result.depthErrorMax = depthErrors.empty() ? 0.0 : *std::max_element(depthErrors.begin(), depthErrors.end());
   result.normalErrorP99Degrees = percentile(normalErrors, 0.99);
   return result;
+}
+
+int countIsolatedPixels(const Frame& frame, int tolerance, const std::function<bool(std::size_t)>& wrong) {
+  const auto close = [tolerance](const glm::u8vec4& a, const glm::u8vec4& b) {
+    for (int c = 0; c < 3; ++c)
+      if (std::abs(int(a[c]) - int(b[c])) > tolerance) return false;
+    return true;
+  };
+  int isolated = 0;
+  for (std::uint32_t y = 1; y + 1 < frame.height; ++y)
+    for (std::uint32_t x = 1; x + 1 < frame.width; ++x) {
+      const glm::u8vec4 first = frame.pixel(x - 1, y - 1);
+      bool agree = true;
+      for (int dy = -1; dy <= 1 && agree; ++dy)
+        for (int dx = -1; dx <= 1 && agree; ++dx)
+          if (dx != 0 || dy != 0) agree = close(first, frame.pixel(x + dx, y + dy));
+      isolated += agree && !close(first, frame.pixel(x, y)) && (!wrong || wrong(std::size_t(y) * frame.width + x));
+    }
+  return isolated;
+}
+
+std::vector<bool> wrongPixels(const Frame& normals, const hsdf::ReferenceImage& reference, double degrees) {
+  std::vector<bool> wrong(reference.hit.size(), false);
+  const double cosine = std::cos(degrees * 3.14159265358979 / 180.0);
+  for (std::size_t i = 0; i < wrong.size(); ++i) {
+    const int x = int(i % std::size_t(reference.width)), y = int(i / std::size_t(reference.width));
+    if (!allHitsWithin(reference, x, y, 2) && !noHitsWithin(reference, x, y, 2)) continue;  // near a silhouette
+    const bool gpuHit = normals.depth[i] > 0.0f;
+    if (gpuHit != (reference.hit[i] != 0)) wrong[i] = true;
+    else if (gpuHit) wrong[i] = std::abs(glm::dot(decodeNormal(normals.rgba, i), glm::dvec3(reference.normal[i]))) < cosine;
+  }
+  return wrong;
 }
 
 WorldSphere worldSphere(const hsdf::SdfAsset& asset, const glm::mat4& model) {

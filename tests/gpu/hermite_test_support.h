@@ -1,6 +1,7 @@
 #pragma once
 // Helpers of the hermite_sdf GPU tests: SDF assets from analytic shapes and the bunny, SDF
 // entities, and the comparison of a GPU frame with the CPU reference ray caster.
+#include <functional>
 #include <memory>
 #include <string>
 #include <vector>
@@ -33,9 +34,28 @@ struct ImageComparison {
   double interiorDepthErrorP99 = 0.0;
   double depthErrorMax = 0.0;
   double normalErrorP99Degrees = 0.0;
+  // Interior pixels (as for interiorDepthErrorP99) whose depth is off by more than
+  // kDepthOutlierCells: a ray that passed through the surface and hit something behind it (a
+  // percentile hides a few of those).
+  int interiorDepthOutliers = 0;
   int normalFlips = 0;            // GPU normal facing against the reference normal (dot < 0)
   double agreement(int pixels) const { return 1.0 - double(disagreements) / double(pixels); }
 };
+
+inline constexpr double kDepthOutlierCells = 0.05;
+
+// Pixels unlike all 8 neighbours while those agree with each other (every channel within
+// `tolerance` of the first neighbour): the specks a missed root leaves on a smooth surface (the ray
+// went through and hit a far face, or nothing). Image borders are not counted. With `wrong` (pixel
+// index -> bool), only isolated pixels it calls wrong count: a speck the reference also shows is a
+// feature of the interpolant, not a missed root.
+int countIsolatedPixels(const Frame& frame, int tolerance = 24, const std::function<bool(std::size_t)>& wrong = {});
+
+// Pixels of a DEBUG_VIEW_NORMALS frame that disagree with the reference away from its silhouettes
+// (the reference's 5x5 neighbourhood all hit or all missed): coverage differs, or the normal is
+// more than `degrees` off (orientation-free, as in compareWithReference). At a silhouette the ray
+// grazes the surface, where a float search and the double reference may rightly differ.
+std::vector<bool> wrongPixels(const Frame& normals, const hsdf::ReferenceImage& reference, double degrees = 10.0);
 
 // Compares GPU depth (and normals decoded from a DEBUG_VIEW_NORMALS frame, if given) with the
 // reference image of the object placed by `model`. Depth errors are view-distance differences in

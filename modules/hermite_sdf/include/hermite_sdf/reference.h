@@ -7,7 +7,10 @@
 // polynomial in the segment parameter s in [0,1] (degree 9 for the tricubic, 3 for the trilinear
 // interpolant), converted exactly to Bernstein form (restrictToSegment in hermite.h). Its first
 // root is found by subdivision, left half first:
-//   - an interval whose Bernstein coefficients are all > 0 or all < 0 has no root (convex hull);
+//   - an interval whose Bernstein coefficients are all above the contact tolerance, or all below
+//     its negative, has no root (convex hull); coefficients within it are not a proof, since a
+//     root on a face two cells share is a rounding error from the end of one segment and the start
+//     of the next and may round to the wrong side in both (docs/root-finding.md);
 //   - an interval whose value at its start is within the contact tolerance is a hit there;
 //   - an interval with end values of opposite sign and one sign variation in its coefficients has
 //     exactly one root (Descartes' rule for Bernstein form): it is found by bisection in double;

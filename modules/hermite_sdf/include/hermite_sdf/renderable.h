@@ -59,6 +59,11 @@ struct HermiteSdfRenderable {
   std::uint32_t subdivisions = 3;  // n: equidistant evaluations per cell segment (paper: 2 or 3)
   std::uint32_t refineSteps = 1;   // safeguarded Newton steps after the linear interpolation
   NormalMode normals = NormalMode::Exact;
+  // Cells: instead of the paper's n equidistant samples, a certified search (Bernstein subdivision
+  // of F restricted to the ray) that never misses the first root of the interpolant, at a cost
+  // measured in docs/root-finding.md. Without it a pair of roots between two samples is still found
+  // when the samples show no sign change; only a pair before a later sign change can be passed over.
+  bool certified = false;
   // fp16 cell records / R16F, RGBA16F textures; grids fp16 cannot hold faithfully
   // (!halfPrecisionFits(grid), cells.h: tiny or huge objects) are drawn from the fp32 data instead.
   bool halfPrecision = false;

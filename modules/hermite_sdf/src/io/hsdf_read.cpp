@@ -44,9 +44,22 @@ Header readHeader(const io::ByteReader& in) {
   return h;
 }
 
+// The version is checked right after the magic, before any size: a later version may have a
+// different header or layout, and its reader's user must learn "newer version", not "truncated".
+engine::Status checkVersion(std::uint32_t version) {
+  if (version > kHsdfVersion)
+    return engine::makeError(fmt::format("unsupported version {}: the file is newer than this reader, which reads "
+                                         "version {} (update hermite_sdf or re-bake the file)",
+                                         version, kHsdfVersion));
+  if (version != kHsdfVersion)
+    return engine::makeError(fmt::format("unsupported version {} (this reader reads version {})", version, kHsdfVersion));
+  return {};
+}
+
 engine::Status checkIdentity(std::span<const std::uint8_t> bytes) {
   if (bytes.size() < io::kMagic.size() || !std::equal(io::kMagic.begin(), io::kMagic.end(), bytes.begin()))
     return engine::makeError("not an .hsdf file (the first 8 bytes are not the HSDF magic)");
+  if (bytes.size() >= io::offset::kVersion + 4) ENGINE_TRY(checkVersion(io::ByteReader(bytes).u32(io::offset::kVersion)));
   if (bytes.size() < kHsdfHeaderBytes + kHsdfTrailerBytes)
     return engine::makeError(fmt::format("truncated: the file has {} bytes, fewer than the {} of header and checksum",
                                          bytes.size(), kHsdfHeaderBytes + kHsdfTrailerBytes));
@@ -54,8 +67,7 @@ engine::Status checkIdentity(std::span<const std::uint8_t> bytes) {
 }
 
 engine::Status checkHeaderFields(const Header& h) {
-  if (h.version != kHsdfVersion)
-    return engine::makeError(fmt::format("unsupported version {} (this reader reads version {})", h.version, kHsdfVersion));
+  ENGINE_TRY(checkVersion(h.version));
   if (h.headerBytes != kHsdfHeaderBytes)
     return engine::makeError(fmt::format("header size {} is not {}", h.headerBytes, kHsdfHeaderBytes));
   if (h.reserved0 != 0 || h.reserved1 != 0) return engine::makeError("reserved header fields are not zero");

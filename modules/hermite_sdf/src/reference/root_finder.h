@@ -70,7 +70,10 @@ std::optional<SegmentRoot> firstRootBernstein(const std::array<double, N>& coeff
   for (int visits = 0; top > 0 && visits < kMaxIntervalVisits; ++visits) {
     const Interval iv = stack[--top];
     const auto [lo, hi] = std::minmax_element(iv.c.begin(), iv.c.end());
-    if (*lo > 0.0 || *hi < 0.0) continue;  // convex hull: no root here
+    // Convex hull: no root here. Only beyond the contact tolerance: a root on a face two cells
+    // share is a rounding error from the end of one segment and the start of the next, and may
+    // round to the wrong side in both; within the tolerance it is a contact, found below.
+    if (*lo > tolerance || *hi < -tolerance) continue;
     const double first = iv.c[0], last = iv.c[N - 1];
     if (std::abs(first) <= tolerance) return SegmentRoot{iv.s0, first != 0.0};
     if (last != 0.0 && (first < 0.0) != (last < 0.0) && signVariations(iv.c) == 1)

@@ -54,6 +54,12 @@ engine::gpu::VertexLayout cellVertexLayout(int precision) {
   return layout;
 }
 
+// The renderer's work counters when the frame counts (the capture reads them back), else the
+// feature's own heat-map counters when the evals view is on, else none.
+VkDeviceAddress counterAddress(const engine::render::FrameContext& frame, bool active, const Buffer& own) {
+  return frame.workCounters ? frame.workCounters : active ? own.address() : 0;
+}
+
 }  // namespace
 
 HermiteCellFeature::HermiteCellFeature() : buffers_(std::make_unique<CellBuffers>()) {
@@ -202,6 +208,7 @@ void HermiteCellFeature::buildDraws(engine::render::FrameContext& frame) {
         draw.subdivisions = std::clamp(r.subdivisions, 1u, 64u);
         draw.refineSteps = std::min(r.refineSteps, 16u);
         draw.flags = r.normals == NormalMode::CentralDifferences ? HERMITE_FLAG_NORMALS_CENTRAL : 0u;
+        if (r.certified) draw.flags |= HERMITE_FLAG_CERTIFIED;
         draw.resolution = std::uint32_t(grid.resolution);
         draw.firstCell = entry.firstRecord;
         hermiteObjects.push_back({draw.gridOriginSpacing, buffers_->records[precision].address(),
@@ -310,7 +317,7 @@ void HermiteCellFeature::recordBatch(engine::render::PassContext& pass, int prec
   push.draw.objects = pass.objects;
   push.draw.debugView = pass.frame.debugView;
   push.draws = drawData_.address(pass.frame.frameSlot);
-  push.counters = countersActive_ ? counters_.address() : 0;
+  push.counters = counterAddress(pass.frame, countersActive_, counters_);
   recordIndirect(cmd, pipeline, push, pass.frame.frameSlot, first, count);
 }
 
@@ -355,7 +362,7 @@ void HermiteCellFeature::recordResolve(engine::render::PassContext& pass) {
   push.draw.frameGlobals = pass.frameGlobals;
   push.draw.objects = pass.objects;
   push.draw.debugView = pass.frame.debugView;
-  push.counters = countersActive_ ? counters_.address() : 0;
+  push.counters = counterAddress(pass.frame, countersActive_, counters_);
   vkCmdPushConstants(cmd, resolve_.layout(), VK_SHADER_STAGE_VERTEX_BIT | VK_SHADER_STAGE_FRAGMENT_BIT, 0,
                      sizeof(push), &push);
   vkCmdDraw(cmd, 3, 1, 0, 0);

@@ -272,6 +272,7 @@ void SphereTraceFeature::recordMethod(engine::render::PassContext& pass, std::ui
   push.draw.objects = pass.objects;
   push.draw.debugView = pass.frame.debugView;
   push.draws = drawBuffer_.address(pass.frame.frameSlot);
+  push.counters = pass.frame.workCounters;
   const VkShaderStageFlags stages = VK_SHADER_STAGE_VERTEX_BIT | VK_SHADER_STAGE_FRAGMENT_BIT;
   if (prepass) {
     for (const bool near : {false, true}) {

@@ -738,26 +738,137 @@ TEST(GltfLoaderMalformed, DeeplyNestedJson) {
   expectError(loadGltfFromMemory(bytes, "deep.gltf", {}), "deep.gltf", {"nested deeper than"});
 }
 
-// Tricky because required extensions change how the data must be read; ignoring e.g. Draco would
-// produce garbage geometry instead of an error.
-TEST(GltfLoaderMalformed, UnsupportedRequiredExtension) {
-  GltfBuilder b = triangleScene();
-  b.doc()["extensionsRequired"] = {"KHR_draco_mesh_compression"};
-  expectError(load(b), "case.gltf", {"KHR_draco_mesh_compression", "not supported"});
+// Tricky because required extensions change how the data must be read or placed (instancing
+// places a mesh many times): ignoring one would produce wrong geometry instead of an error. The
+// check must come first: with an unknown compression the accessors have no data, and an error about
+// that symptom would not tell the user what is missing.
+TEST(GltfLoaderExtensions, UnsupportedRequiredExtensionsAreRefusedByName) {
+  const auto instancing = loadGltf(kDataDir / "requires_gpu_instancing.gltf");
+  expectError(instancing, "requires_gpu_instancing.gltf", {"requires extension EXT_mesh_gpu_instancing", "does not support"});
+
+  GltfBuilder vendor = triangleScene();
+  vendor.doc()["extensionsRequired"] = {"KHR_mesh_quantization", "ACME_mesh_compression"};
+  vendor.doc()["accessors"][0].erase("bufferView");  // what an unknown compression leaves behind
+  expectError(load(vendor, "vendor.glb"), "vendor.glb", {"requires extension ACME_mesh_compression"});
+
+  GltfBuilder notNames = triangleScene();
+  notNames.doc()["extensionsRequired"] = {42};
+  expectError(load(notNames), "case.gltf", {"extensionsRequired holds a JSON number"});
 }
 
-// Tricky because sparse accessors and accessors without a bufferView are valid glTF that this
-// importer does not implement: it must say so rather than read zeros or garbage.
-TEST(GltfLoaderMalformed, SparseAndViewlessAccessorsAreRejectedClearly) {
-  GltfBuilder sparse = triangleScene();
-  sparse.doc()["accessors"][0]["sparse"] = {{"count", 1},
-                                            {"indices", {{"bufferView", 1}, {"componentType", kUnsignedInt}}},
-                                            {"values", {{"bufferView", 0}}}};
-  expectError(load(sparse), "case.gltf", {"sparse accessors are not supported"});
+// Tricky because a file may require an extension that only concerns materials or textures: the
+// geometry is complete without it, so it must load, with a note, rather than be refused.
+TEST(GltfLoaderExtensions, ExtensionsThatDoNotAffectGeometryAreIgnoredWithANote) {
+  GltfBuilder b = triangleScene();
+  b.doc()["extensionsUsed"] = {"KHR_texture_transform", "KHR_materials_emissive_strength", "ACME_metadata"};
+  b.doc()["extensionsRequired"] = {"KHR_texture_transform"};
+  const auto scene = load(b);
+  ASSERT_TRUE(scene.ok()) << scene.error().message;
+  EXPECT_EQ(scene->meshes.at(0).primitives.at(0).indices.size(), 3u);
+  EXPECT_TRUE(anyWarningContains(*scene, "extension KHR_texture_transform ignored: it does not affect geometry"));
+  EXPECT_TRUE(anyWarningContains(*scene, "extension KHR_materials_emissive_strength ignored"));
+  EXPECT_TRUE(anyWarningContains(*scene, "extension ACME_metadata is not supported and was ignored"));
+}
 
-  GltfBuilder viewless = triangleScene();
-  viewless.doc()["accessors"][0].erase("bufferView");
-  expectError(load(viewless), "case.gltf", {"has no bufferView"});
+// ------------------------------------------------------------------------------------------------
+// Sparse accessors and accessors without a bufferView (tests/data/gltf/tetra_sparse_scenes.gltf and
+// in-memory cases)
+
+// Tricky because each of the three meshes reaches the same tetrahedron a different way: plain, a
+// base view with two vertices swapped that the sparse part swaps back, and zeros (no bufferView)
+// with three vertices written by the sparse part. A sparse part applied at the wrong element, not
+// applied, or a base that is not zero would each give different positions. The file also has two
+// scenes (default 1) and an ignored material extension.
+TEST(GltfLoaderSparse, SparseOverAViewAndOverZerosGiveThePlainPositions) {
+  const auto scene = loadGltf(kDataDir / "tetra_sparse_scenes.gltf");
+  ASSERT_TRUE(scene.ok()) << scene.error().message;
+  ASSERT_EQ(scene->meshes.size(), 3u);
+  const auto& plain = scene->meshes[0].primitives.at(0);
+  ASSERT_EQ(plain.positions.size(), 4u);
+  expectNear(plain.positions[1], {1, 0, 0}, 0.0f);
+  expectNear(plain.positions[3], {0, 0, 1}, 0.0f);
+  for (int m = 1; m < 3; ++m) {
+    const auto& other = scene->meshes[std::size_t(m)].primitives.at(0);
+    ASSERT_EQ(other.positions.size(), 4u) << scene->meshes[std::size_t(m)].name;
+    for (std::size_t v = 0; v < 4; ++v) expectNear(other.positions[v], plain.positions[v], 0.0f);
+    EXPECT_EQ(other.indices, plain.indices);
+  }
+  EXPECT_TRUE(anyWarningContains(*scene, "extension KHR_materials_emissive_strength ignored"));
+}
+
+// Tricky because glTF defines an accessor without a bufferView as zeros: reading it must neither
+// fail nor touch memory, and the zeros must be exact.
+TEST(GltfLoaderSparse, AccessorWithoutBufferViewIsZeros) {
+  GltfBuilder b;
+  const int positions = b.addPositions(kTriangle);
+  b.doc()["accessors"][std::size_t(positions)].erase("bufferView");
+  b.addNode({{"mesh", b.addMesh(positions)}});
+  const auto scene = load(b);
+  ASSERT_TRUE(scene.ok()) << scene.error().message;
+  for (const auto& p : scene->meshes.at(0).primitives.at(0).positions) expectNear(p, {0, 0, 0}, 0.0f);
+}
+
+// Tricky because every number of a sparse part is a possible out-of-bounds write: indices at or
+// past the count, indices that repeat or go backwards (the spec requires strictly increasing),
+// counts of 0 or above the accessor's, values running past their view, and an index type that is
+// not an unsigned integer. Each must be an error naming the problem.
+TEST(GltfLoaderSparse, MalformedSparsePartsAreNamed) {
+  auto sparseCase = [](std::vector<std::uint32_t> targets, int count, int indexType = kUnsignedInt) {
+    GltfBuilder b = triangleScene();
+    const std::size_t indexOffset = b.addData(targets);
+    const int indexView = b.addView(indexOffset, targets.size() * 4);
+    const std::vector<float> values(targets.size() * 3, 0.5f);
+    const std::size_t valueOffset = b.addData(values);
+    const int valueView = b.addView(valueOffset, values.size() * 4);
+    b.doc()["accessors"][0]["sparse"] = {{"count", count},
+                                         {"indices", {{"bufferView", indexView}, {"componentType", indexType}}},
+                                         {"values", {{"bufferView", valueView}}}};
+    return b;
+  };
+  GltfBuilder good = sparseCase({0, 2}, 2);
+  const auto loaded = load(good);
+  ASSERT_TRUE(loaded.ok()) << loaded.error().message;
+  expectNear(loaded->meshes[0].primitives[0].positions[2], {0.5f, 0.5f, 0.5f}, 0.0f);
+  expectNear(loaded->meshes[0].primitives[0].positions[1], kTriangle[1], 0.0f);
+
+  GltfBuilder pastCount = sparseCase({0, 3}, 2);
+  expectError(load(pastCount), "case.gltf", {"accessor 0", "sparse index 3 (entry 1) is not below the accessor's count 3"});
+  GltfBuilder repeated = sparseCase({1, 1}, 2);
+  expectError(load(repeated), "case.gltf", {"sparse indices must increase strictly, but entry 1 is 1 after 1"});
+  GltfBuilder zero = sparseCase({1}, 0);
+  expectError(load(zero), "case.gltf", {"sparse count 0 is outside 1..3"});
+  GltfBuilder tooMany = sparseCase({0, 1, 2}, 4);
+  expectError(load(tooMany), "case.gltf", {"sparse count 4 is outside 1..3"});
+  GltfBuilder shortValues = sparseCase({0, 1}, 2);
+  shortValues.doc()["accessors"][0]["sparse"]["values"]["byteOffset"] = 8;
+  expectError(load(shortValues), "case.gltf", {"sparse values", "run past the end of bufferView"});
+  GltfBuilder floatIndices = sparseCase({0, 1}, 2, kFloat);
+  expectError(load(floatIndices), "case.gltf", {"sparse indices componentType 5126"});
+}
+
+// ------------------------------------------------------------------------------------------------
+// Multiple scenes
+
+// Tricky because the default scene is not scene 0 here: loading scene 0 by habit would give one
+// node instead of three. Asking for a scene picks it; a scene that does not exist is an error.
+TEST(GltfLoaderScenes, DefaultSceneOrTheRequestedOneWithANote) {
+  const auto byDefault = loadGltf(kDataDir / "tetra_sparse_scenes.gltf");
+  ASSERT_TRUE(byDefault.ok()) << byDefault.error().message;
+  EXPECT_EQ(byDefault->nodes.size(), 3u);
+  EXPECT_TRUE(anyWarningContains(*byDefault, "the file has 2 scenes; loaded scene 1 'all three' (the file's default)"));
+
+  GltfLoadOptions first;
+  first.scene = 0;
+  const auto chosen = loadGltf(kDataDir / "tetra_sparse_scenes.gltf", first);
+  ASSERT_TRUE(chosen.ok()) << chosen.error().message;
+  ASSERT_EQ(chosen->nodes.size(), 1u);
+  EXPECT_EQ(chosen->nodes[0].name, "plain (scene 0)");
+  EXPECT_TRUE(anyWarningContains(*chosen, "loaded scene 0 'plain only' (as requested)"));
+
+  GltfLoadOptions missing;
+  missing.scene = 2;
+  expectError(loadGltf(kDataDir / "tetra_sparse_scenes.gltf", missing), "tetra_sparse_scenes.gltf",
+              {"scene 2 was requested but the file has 2 scene(s)"});
 }
 
 // Tricky because a POSITION accessor of the wrong shape (SCALAR) or an unknown component type

@@ -221,6 +221,27 @@ TEST(HsdfFile, InconsistentCountsAreRefused) {
   EXPECT_TRUE(contains(loadError(flags), "is impossible")) << loadError(flags);
 }
 
+// Tricky: a file of a later format version may have a different header size, payload layout and
+// length, so every check after the magic would fail first and blame the wrong thing ("truncated",
+// "header size", "checksum"). The version must be read and refused before any of them.
+TEST(HsdfFile, NewerVersionIsRefusedAsNewerBeforeAnyOtherCheck) {
+  const Bytes b = serialize(sphereContents());
+  Bytes newer = b;
+  put32(newer, 8, kHsdfVersion + 1);
+  put32(newer, 12, 128);  // a longer header, as a later version might have
+  const std::string whole = loadError(newer);
+  EXPECT_TRUE(contains(whole, "unsupported version " + std::to_string(kHsdfVersion + 1) + ": the file is newer than this reader"))
+      << whole;
+  // Only the magic and the version: shorter than a version-1 header, still "newer", not "truncated".
+  const Bytes stub(newer.begin(), newer.begin() + 12);
+  EXPECT_TRUE(contains(loadError(stub), "newer than this reader")) << loadError(stub);
+  // Version 0 never existed: refused, but not called newer.
+  Bytes zero = b;
+  put32(zero, 8, 0);
+  EXPECT_FALSE(contains(loadError(zero), "newer")) << loadError(zero);
+  EXPECT_TRUE(contains(loadError(zero), "unsupported version 0")) << loadError(zero);
+}
+
 // Tricky: the header is checked field by field; each bad field is named.
 TEST(HsdfFile, BadHeaderFieldsAreNamed) {
   const Bytes b = serialize(sphereContents());

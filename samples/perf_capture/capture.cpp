@@ -1,0 +1,310 @@
+#include "capture.h"
+
+#include <algorithm>
+#include <cstdio>
+#include <ctime>
+#include <memory>
+#include <optional>
+
+#include <fmt/format.h>
+
+#include "capture_rows.h"
+#include "engine/gpu/context.h"
+#include "engine/render/mesh_pool.h"
+#include "engine/render/scene_instantiate.h"
+#include "engine/scene/gltf_loader.h"
+#include "engine/scene/transform.h"
+#include "frame_step.h"
+#include "ground_truth.h"
+#include "hermite_sdf/analytic.h"
+#include "hermite_sdf/cells.h"
+#include "metrics.h"
+#include "report.h"
+#include "viewer.h"
+
+namespace capture {
+namespace {
+
+using namespace engine;
+
+// What is captured: its ground truth and, for a glTF scene, the scene data the mesh rows measure.
+struct Subject {
+  std::string name;
+  std::unique_ptr<TruthSurface> truth;
+  std::optional<scene::SceneData> scene;
+  std::uint64_t meshScalars = 0, meshBytes = 0;
+};
+
+Status loadSubject(const Options& options, Subject& subject) {
+  if (!options.shape.empty()) {
+    subject.name = options.shape;
+    ENGINE_TRY_ASSIGN(auto source, hsdf::makeAnalyticSource(options.shape));
+    subject.truth = analyticSurface(std::move(source));
+    return {};
+  }
+  subject.name = options.scene.filename().string();
+  ENGINE_TRY_ASSIGN(scene::SceneData data, scene::loadGltf(options.scene));
+  ENGINE_TRY(scene::checkFlattenable(data).withContext(options.scene.string()));
+  const scene::TriangleSoup soup = scene::flattenTriangles(data);
+  if (soup.indices.empty()) return makeError(options.scene.string() + ": no triangle meshes to capture");
+  subject.truth = meshSurface(soup);
+  // As the mesh pool stores them: position + normal per vertex, 32-bit indices.
+  subject.meshScalars = 3 * soup.positions.size() + soup.indices.size();
+  subject.meshBytes = 24 * soup.positions.size() + 4 * soup.indices.size();
+  subject.scene = std::move(data);
+  return {};
+}
+
+void storage(const RowSpec& spec, const Subject& subject, const hsdf::SdfAsset* asset, RowResult& result) {
+  if (spec.isMesh()) {
+    result.storedScalars = subject.meshScalars;
+    result.storedBytes = subject.meshBytes;
+    return;
+  }
+  const std::uint64_t k = std::uint64_t(spec.resolution), dense = k * k * k;
+  if (spec.render == hsdf::RenderMethod::TrilinearSphereTrace) {
+    result.storedScalars = dense;
+    result.storedBytes = dense * (spec.fp16 ? 2 : 4);
+  } else if (spec.render == hsdf::RenderMethod::HermiteSphereTrace) {
+    result.storedScalars = 4 * dense;
+    result.storedBytes = 4 * dense * (spec.fp16 ? 2 : 4);
+  } else {
+    result.cells = asset->cells.records.size();
+    result.storedScalars = asset->cells.stored_scalars();
+    result.storedBytes = result.cells * (spec.fp16 ? sizeof(hsdf::CellRecordHalf) : sizeof(hsdf::CellRecord));
+  }
+}
+
+double median(std::vector<double> v) { return percentile(std::move(v), 0.5); }
+
+void addStatistics(const TimedFrame& frame, double views, RowResult& result) {
+  for (const gpu::PipelineStatistics& s : frame.statistics) {
+    const bool prepass = s.name == "depth prepass";
+    (prepass ? result.prepassFsInvocations : result.shadingFsInvocations) += double(s.fragmentShaderInvocations) / views;
+    result.fsInvocations += double(s.fragmentShaderInvocations) / views;
+    result.vsInvocations += double(s.vertexShaderInvocations) / views;
+    result.clippedPrimitives += double(s.clippingPrimitives) / views;
+  }
+}
+
+std::string fileName(const std::string& label) {
+  std::string name;
+  for (char c : label) name += (std::isalnum(static_cast<unsigned char>(c)) ? c : '_');
+  return name;
+}
+
+// The fixed views of the capture: the Viewer's orbit views, framed on the source's bounds (glTF:
+// its mesh vertices; shapes: the shape's bounds), never on the grid's padded bounds.
+std::vector<render::CameraView> orbitViews(samples::Viewer& viewer, std::uint32_t views) {
+  std::vector<render::CameraView> cameras;
+  for (std::uint32_t v = 0; v < views; ++v) {
+    viewer.setOrbitView(int(v));
+    cameras.push_back(viewer.cameraView());
+  }
+  return cameras;
+}
+
+bool sameCamera(const render::CameraView& a, const render::CameraView& b) {
+  return a.view == b.view && a.proj == b.proj && a.znear == b.znear;
+}
+
+// Everything one group of rows (drawn by one Viewer) shares.
+struct Group {
+  const Options& options;
+  VkExtent2D extent;
+  const Subject& subject;
+  samples::Viewer& viewer;
+  Measurement& measurement;
+  const ecs::Registry& measured;  // what Measurement draws: the Viewer's registry, or the meshes
+  const std::vector<render::CameraView>& cameras;
+  const std::vector<TruthImage>& truth;
+  double diagonal;
+};
+
+const hsdf::SdfAsset* drawnAsset(samples::Viewer& viewer) {
+  const hsdf::SdfAsset* asset = nullptr;
+  viewer.registry().view<hsdf::HermiteSdfRenderable>().each(
+      [&asset](ecs::Entity, const hsdf::HermiteSdfRenderable& r) { asset = r.asset.get(); });
+  return asset;
+}
+
+// One row over every view: warm-up, timed frames (Viewer steps), one measured frame.
+Status captureRow(const Group& g, const RowSpec& spec, std::size_t index, std::size_t total, RowResult& result) {
+  g.viewer.setTuning(spec.tuning());
+  ENGINE_TRY(g.viewer.waitForBake());  // a new K re-bakes through the module bake job
+  const hsdf::SdfAsset* asset = drawnAsset(g.viewer);
+  if (!spec.isMesh() && !asset) return makeError("no SDF in the scene");
+  storage(spec, g.subject, asset, result);
+  QualityAccumulator quality(g.diagonal);
+  std::vector<double> frameMs, prepassMs, shadingMs;
+  const double views = double(g.cameras.size());
+  for (std::size_t v = 0; v < g.cameras.size(); ++v) {
+    std::fprintf(stderr, "\r[%zu/%zu] %-26s view %zu/%zu   ", index + 1, total, spec.label.c_str(), v + 1,
+                 g.cameras.size());
+    g.viewer.setOrbitView(int(v));
+    for (std::uint32_t f = 0; f < g.options.warmup; ++f) ENGINE_TRY(timeFrame(g.viewer));
+    TimedFrame last;
+    for (std::uint32_t f = 0; f < g.options.frames; ++f) {
+      ENGINE_TRY_ASSIGN(last, timeFrame(g.viewer));
+      frameMs.push_back(last.frameMs);
+      prepassMs.push_back(last.prepassMs);
+      shadingMs.push_back(last.shadingMs);
+    }
+    addStatistics(last, views, result);
+    if (v == 0) {
+      result.image = "images/" + fileName(spec.label) + ".png";
+      ENGINE_TRY(g.viewer.writeScreenshot(g.options.out / result.image));
+    }
+    quality.add(g.truth[v], g.measurement.measure(g.measured, g.cameras[v]), g.cameras[v]);
+  }
+  result.gpuMsMedian = median(frameMs);
+  result.gpuMsP95 = percentile(frameMs, 0.95);
+  result.prepassMs = median(prepassMs);
+  result.shadingMs = median(shadingMs);
+  result.quality = quality.result();
+  if (result.quality.coveredPixels == 0) return makeError("drew nothing in any view");
+  result.ok = true;
+  return {};
+}
+
+std::string commandOutput(const std::string& command) {
+  std::string out;
+  if (FILE* pipe = popen(command.c_str(), "r")) {
+    char buffer[256];
+    while (std::fgets(buffer, sizeof(buffer), pipe)) out += buffer;
+    pclose(pipe);
+  }
+  while (!out.empty() && (out.back() == '\n' || out.back() == '\r')) out.pop_back();
+  return out;
+}
+
+RunInfo runInfo(const Options& options, const gpu::Context& context, const Subject& subject) {
+  RunInfo info;
+  VkPhysicalDeviceDriverProperties driver{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_DRIVER_PROPERTIES};
+  VkPhysicalDeviceProperties2 properties{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_PROPERTIES_2};
+  properties.pNext = &driver;
+  vkGetPhysicalDeviceProperties2(context.physicalDevice(), &properties);
+  info.device = context.capabilities().deviceName;
+  info.driver = std::string(driver.driverName) + " " + driver.driverInfo;
+  info.commandLine = options.commandLine;
+  const std::string commit = commandOutput("git -C '" HSDF_SOURCE_DIR "' describe --always --dirty 2>/dev/null");
+  info.commit = commit.empty() ? "unknown" : commit;
+  const std::time_t now = std::time(nullptr);
+  char date[64];
+  std::strftime(date, sizeof(date), "%Y-%m-%d %H:%M:%S UTC", std::gmtime(&now));
+  info.date = date;
+  info.scene = subject.name;
+  info.width = options.width;
+  info.height = options.height;
+  info.views = options.views;
+  info.frames = options.frames;
+  info.warmup = options.warmup;
+  info.pipelineStatistics = context.capabilities().pipelineStatistics;
+  info.softwareRasterizer = context.capabilities().isSoftwareRasterizer;
+  return info;
+}
+
+gpu::DevicePreference devicePreference(const std::string& name) {
+  if (name == "gpu") return gpu::DevicePreference::Hardware;
+  if (name == "lavapipe") return gpu::DevicePreference::Software;
+  return gpu::DevicePreference::Auto;
+}
+
+// The rows one Viewer draws: the mesh rows (Method::Mesh keeps the scene's triangles) or the SDF
+// rows (the scene baked at each row's K). One Viewer at a time: each owns a device.
+Status captureGroup(const Options& options, const Subject& subject, const std::vector<RowSpec>& rows,
+                    std::vector<render::CameraView>& cameras, std::vector<TruthImage>& truth,
+                    std::vector<RowResult>& results, std::size_t& index, std::size_t total,
+                    std::optional<RunInfo>& info) {
+  samples::ViewerDesc desc;
+  desc.title = "hermite_sdf perf capture";
+  desc.width = options.width;
+  desc.height = options.height;
+  desc.headless = true;
+  desc.device = devicePreference(options.device);
+  ENGINE_TRY_ASSIGN(std::unique_ptr<samples::Viewer> viewer, samples::Viewer::create(desc));
+  samples::SceneDesc scene;
+  scene.gltf = options.scene;
+  scene.shape = options.shape;
+  scene.groundPlane = false;
+  ENGINE_TRY(viewer->loadScene(scene, rows.front().tuning()));
+  if (!info) info = runInfo(options, viewer->context(), subject);
+  const glm::vec3 size = viewer->boundsMax() - viewer->boundsMin();
+  const double diagonal = glm::length(glm::dvec3(size));
+  const std::vector<render::CameraView> views = orbitViews(*viewer, options.views);
+  if (cameras.empty()) {
+    cameras = views;
+    for (std::size_t v = 0; v < cameras.size(); ++v) {
+      std::fprintf(stderr, "\rground truth view %zu/%zu   ", v + 1, cameras.size());
+      truth.push_back(castTruth(*subject.truth, cameras[v], int(options.width), int(options.height)));
+    }
+  }
+  for (std::size_t v = 0; v < views.size(); ++v)
+    if (!sameCamera(views[v], cameras[v]))
+      return makeError("the mesh and the SDF scenes are framed differently; the views would not be comparable");
+
+  // The meshes Measurement draws for the mesh rows live in a pool of its own on the same device.
+  auto pool = std::make_unique<render::MeshPool>(viewer->context());
+  ecs::Registry meshes;
+  if (rows.front().isMesh() && subject.scene) {
+    render::instantiateScene(*subject.scene, meshes, *pool);
+    scene::updateWorldTransforms(meshes);
+  }
+  {
+    const VkExtent2D extent{options.width, options.height};
+    ENGINE_TRY_ASSIGN(std::unique_ptr<Measurement> measurement, Measurement::create(viewer->context(), *pool, extent));
+    const Group group{options, extent, subject, *viewer, *measurement,
+                      rows.front().isMesh() ? meshes : viewer->registry(), cameras, truth, diagonal};
+    for (const RowSpec& spec : rows) {
+      RowResult& result = results.emplace_back();
+      result.spec = spec;
+      Status status;
+      try {
+        status = captureRow(group, spec, index++, total, result);
+      } catch (const std::exception& e) {
+        status = makeError(e.what());
+      }
+      if (!status.ok()) {
+        result.ok = false;
+        result.error = status.error().message;
+        std::fprintf(stderr, "\n%s: failed: %s\n", spec.label.c_str(), result.error.c_str());
+      }
+    }
+    viewer->context().waitIdle();
+  }
+  meshes.clear();
+  pool.reset();
+  return viewer->close();  // an error if the validation layers reported anything
+}
+
+}  // namespace
+
+Status run(const Options& options, int& failedRows) {
+  std::error_code ec;
+  std::filesystem::create_directories(options.out / "images", ec);
+  if (ec) return makeError("--out: cannot create '" + options.out.string() + "': " + ec.message());
+  Subject subject;
+  ENGINE_TRY(loadSubject(options, subject));
+  const std::vector<RowSpec> rows = buildRows(options);
+  std::vector<RowSpec> meshRows, sdfRows;
+  for (const RowSpec& row : rows) (row.isMesh() ? meshRows : sdfRows).push_back(row);
+  std::vector<render::CameraView> cameras;
+  std::vector<TruthImage> truth;
+  std::vector<RowResult> results;
+  std::size_t index = 0;
+  std::optional<RunInfo> info;
+  for (const std::vector<RowSpec>* group : {&meshRows, &sdfRows})
+    if (!group->empty())
+      ENGINE_TRY(captureGroup(options, subject, *group, cameras, truth, results, index, rows.size(), info));
+  std::fprintf(stderr, "\n");
+  if (!info) return makeError("--methods: no rows to capture");
+  ENGINE_TRY(writeCsv(options.out / "results.csv", *info, results));
+  ENGINE_TRY(writeJson(options.out / "results.json", *info, results));
+  ENGINE_TRY(writeMarkdown(options.out, *info, results));
+  failedRows = int(std::count_if(results.begin(), results.end(), [](const RowResult& r) { return !r.ok; }));
+  std::fprintf(stderr, "wrote %s (%zu rows, %d failed)\n", (options.out / "results.md").string().c_str(),
+               results.size(), failedRows);
+  return {};
+}
+
+}  // namespace capture

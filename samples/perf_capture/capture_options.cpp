@@ -1,0 +1,150 @@
+#include "capture_options.h"
+
+#include <algorithm>
+#include <cstdlib>
+#include <regex>
+
+#include <CLI/CLI.hpp>
+
+namespace capture {
+namespace {
+
+constexpr std::uint32_t kMaxDimension = 16384;
+const std::vector<std::string> kMethods{"mesh", "trilinear", "hermite", "cells"};
+const std::vector<std::string> kShapes{"torus", "sphere", "capsule", "box"};
+
+std::optional<std::string> parseSize(const std::string& text, Options& options) {
+  static const std::regex pattern(R"((\d{1,6})[xX](\d{1,6}))");
+  std::smatch match;
+  if (std::regex_match(text, match, pattern)) {
+    const unsigned long w = std::stoul(match[1]), h = std::stoul(match[2]);
+    if (w >= 1 && h >= 1 && w <= kMaxDimension && h <= kMaxDimension) {
+      options.width = std::uint32_t(w);
+      options.height = std::uint32_t(h);
+      return std::nullopt;
+    }
+  }
+  return "--size: '" + text + "' is not WxH with 1 <= W,H <= " + std::to_string(kMaxDimension);
+}
+
+// Comma-separated items, none empty.
+std::vector<std::string> splitList(const std::string& text) {
+  std::vector<std::string> items;
+  std::size_t start = 0;
+  while (true) {
+    const std::size_t comma = text.find(',', start);
+    items.push_back(text.substr(start, comma - start));
+    if (comma == std::string::npos) break;
+    start = comma + 1;
+  }
+  return items;
+}
+
+std::optional<std::string> parseResolutions(const std::string& text, Options& options) {
+  std::vector<int> values;
+  for (const std::string& item : splitList(text)) {
+    static const std::regex number(R"(\d{1,4})");
+    const int k = std::regex_match(item, number) ? std::stoi(item) : -1;
+    if (k < 4 || k > 256)
+      return "--resolutions: '" + item + "' is not a resolution K in 4..256 (e.g. --resolutions 16,32,64,128)";
+    if (std::find(values.begin(), values.end(), k) == values.end()) values.push_back(k);
+  }
+  std::sort(values.begin(), values.end());
+  options.resolutions = values;
+  return std::nullopt;
+}
+
+std::optional<std::string> parseMethods(const std::string& text, Options& options) {
+  std::vector<std::string> methods;
+  for (const std::string& item : splitList(text)) {
+    if (std::find(kMethods.begin(), kMethods.end(), item) == kMethods.end())
+      return "--methods: '" + item + "' is not one of mesh, trilinear, hermite, cells";
+    if (std::find(methods.begin(), methods.end(), item) == methods.end()) methods.push_back(item);
+  }
+  options.methods = methods;
+  return std::nullopt;
+}
+
+std::string joinArguments(int argc, const char* const* argv) {
+  std::string line;
+  for (int i = 0; i < argc; ++i) line += (i ? " " : "") + std::string(argv[i]);
+  return line;
+}
+
+}  // namespace
+
+std::filesystem::path defaultScenePath() {
+  if (const char* dir = std::getenv("HSDF_ASSET_DIR")) return std::filesystem::path(dir) / "bunny.glb";
+  return std::filesystem::path(HSDF_DEFAULT_ASSET_DIR) / "bunny.glb";
+}
+
+ParseResult parseOptions(int argc, const char* const* argv) {
+  Options options;
+  std::string size, resolutions, methods;
+  CLI::App app{"hermite_sdf perf capture: the paper's results table (methods x resolutions) with quality and "
+               "work metrics, written as CSV/JSON/Markdown/PNG",
+               "perf_capture"};
+  app.add_option("--out", options.out, "output folder (created)")->required();
+  auto* scene = app.add_option("--scene", options.scene, "glTF/GLB scene (default: the bundled bunny)")
+                    ->check(CLI::ExistingFile);
+  auto* shape = app.add_option("--shape", options.shape, "analytic shape instead of a scene: torus, sphere, capsule, box")
+                    ->check(CLI::IsMember(kShapes));
+  scene->excludes(shape);
+  app.add_option("--size", size, "image size WxH (default 1920x1080; --quick 320x180)");
+  app.add_option("--resolutions", resolutions, "field resolutions K (default 16,32,64,128; --quick 16,32)");
+  app.add_option("--methods", methods, "methods to capture (default mesh,trilinear,hermite,cells)");
+  app.add_option("--views", options.views, "orbit views 1..8 (default 8; --quick 2)")->check(CLI::Range(1u, 8u));
+  app.add_option("--frames", options.frames, "timed frames per view 1..1000 (default 5; --quick 2)")
+      ->check(CLI::Range(1u, 1000u));
+  app.add_option("--warmup", options.warmup, "untimed frames per view before the timed ones 0..1000 (default 2; --quick 1)")
+      ->check(CLI::Range(0u, 1000u));
+  app.add_flag("--quick", options.quick, "small CI preset: 320x180, K 16,32, 2 views, 2 frames, 1 warm-up");
+  app.add_option("--device", options.device, "Vulkan device: auto, gpu or lavapipe")
+      ->check(CLI::IsMember({"auto", "gpu", "lavapipe"}));
+
+  ParseResult result;
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::CallForHelp&) {
+    result.message = app.help();
+    return result;
+  } catch (const CLI::ParseError& e) {
+    result.message = std::string("perf_capture: ") + e.what() + "\nRun with --help for the options.";
+    result.exitCode = 2;
+    return result;
+  }
+  // The preset first, then whatever was given explicitly overrides it.
+  if (options.quick) {
+    options.width = 320;
+    options.height = 180;
+    options.resolutions = {16, 32};
+    if (app.count("--views") == 0) options.views = 2;
+    if (app.count("--frames") == 0) options.frames = 2;
+    if (app.count("--warmup") == 0) options.warmup = 1;
+  }
+  std::optional<std::string> problem;
+  if (!size.empty()) problem = parseSize(size, options);
+  if (!problem && !resolutions.empty()) problem = parseResolutions(resolutions, options);
+  if (!problem && !methods.empty()) problem = parseMethods(methods, options);
+  if (!problem && !options.shape.empty() &&
+      std::find(options.methods.begin(), options.methods.end(), "mesh") != options.methods.end() && !methods.empty())
+    problem = "--methods mesh: an analytic --shape has no triangle mesh to draw";
+  if (!problem && options.scene.extension() == ".hsdf")
+    problem = "--scene: '" + options.scene.string() +
+              "' is a baked .hsdf file; the capture re-bakes its source at every K and casts the ground truth from "
+              "it: give the glTF (or --shape) it was baked from";
+  if (!problem && std::filesystem::exists(options.out) && !std::filesystem::is_directory(options.out))
+    problem = "--out: '" + options.out.string() + "' exists and is not a directory";
+  if (problem) {
+    result.message = "perf_capture: " + *problem;
+    result.exitCode = 2;
+    return result;
+  }
+  if (options.scene.empty() && options.shape.empty()) options.scene = defaultScenePath();
+  if (!options.shape.empty()) std::erase(options.methods, std::string("mesh"));  // no triangles to draw
+  options.commandLine = joinArguments(argc, argv);
+  result.options = options;
+  return result;
+}
+
+}  // namespace capture

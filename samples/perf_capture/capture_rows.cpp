@@ -1,0 +1,95 @@
+#include "capture_rows.h"
+
+#include <algorithm>
+#include <set>
+
+#include <fmt/format.h>
+
+#include "capture_options.h"
+
+namespace capture {
+namespace {
+
+using hsdf::NormalMode;
+using hsdf::RenderMethod;
+
+// One line per setting of an SDF method: the CSV method, the label's setting and the row's
+// TuningState (everything but K). A new variant, e.g. another cell root-search mode once
+// TuningState has it, is one more line; so is a new method with its samples::Method.
+struct Variant {
+  const char* method;
+  const char* setting;
+  bool paperColumn;  // compared with the paper's columns (RowSpec::paperColumn)
+  samples::TuningState tuning;
+};
+
+using samples::Method;
+const Variant kVariants[] = {
+    {"trilinear", "central", true, {.method = Method::Trilinear, .normals = NormalMode::CentralDifferences}},
+    {"trilinear", "exact", false, {.method = Method::Trilinear, .normals = NormalMode::Exact}},
+    {"hermite", "", true, {.method = Method::Hermite, .normals = NormalMode::Exact}},
+    {"cells", "n=2 r=0", false, {.method = Method::Cells, .subdivisions = 2, .refineSteps = 0}},
+    {"cells", "n=2 r=1", false, {.method = Method::Cells, .subdivisions = 2, .refineSteps = 1}},
+    {"cells", "n=3 r=0", false, {.method = Method::Cells, .subdivisions = 3, .refineSteps = 0}},
+    {"cells", "n=3 r=1", true, {.method = Method::Cells, .subdivisions = 3, .refineSteps = 1}},
+    // The fp16 target of issue 10 compares this one with the fp32 line above.
+    {"cells", "n=3 r=1 fp16", false, {.method = Method::Cells, .subdivisions = 3, .refineSteps = 1, .fp16 = true}},
+};
+
+RenderMethod renderMethodOf(Method method) {
+  if (method == Method::Trilinear) return RenderMethod::TrilinearSphereTrace;
+  if (method == Method::Hermite) return RenderMethod::HermiteSphereTrace;
+  return RenderMethod::Cells;
+}
+
+bool wanted(const Options& options, const std::string& method) {
+  return std::find(options.methods.begin(), options.methods.end(), method) != options.methods.end();
+}
+
+}  // namespace
+
+std::string RowSpec::normalsName() const {
+  if (isMesh()) return "face";
+  return normals == NormalMode::Exact ? "exact" : "central";
+}
+
+samples::TuningState RowSpec::tuning() const { return state; }
+
+std::vector<RowSpec> buildRows(const Options& options) {
+  std::vector<RowSpec> rows;
+  if (wanted(options, "mesh")) {
+    RowSpec mesh;
+    mesh.method = "mesh";
+    mesh.label = "mesh";
+    mesh.state.method = Method::Mesh;
+    rows.push_back(mesh);
+  }
+  std::set<int> all(options.resolutions.begin(), options.resolutions.end());
+  for (int k : options.resolutions)
+    if (2 * k <= 256) all.insert(2 * k);
+  const std::set<int> asked(options.resolutions.begin(), options.resolutions.end());
+  for (int k : all) {
+    for (const Variant& v : kVariants) {
+      if (!wanted(options, v.method)) continue;
+      // Only trilinear runs at the extra 2K resolutions.
+      if (!asked.contains(k) && v.tuning.method != Method::Trilinear) continue;
+      RowSpec row;
+      row.method = v.method;
+      row.label = std::string(v.method) + (*v.setting ? " " : "") + v.setting + fmt::format(" K={}", k);
+      row.state = v.tuning;
+      row.state.resolution = k;
+      row.resolution = k;
+      row.render = renderMethodOf(v.tuning.method);
+      const bool cells = v.tuning.method == Method::Cells;  // the tracers have no n or r
+      row.subdivisions = cells ? v.tuning.subdivisions : 0;
+      row.refine = cells ? v.tuning.refineSteps : 0;
+      row.normals = v.tuning.normals;
+      row.fp16 = v.tuning.fp16;
+      row.paperColumn = v.paperColumn;
+      rows.push_back(row);
+    }
+  }
+  return rows;
+}
+
+}  // namespace capture

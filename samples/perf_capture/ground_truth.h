@@ -1,0 +1,50 @@
+#pragma once
+// Ground truth for the capture's quality metrics, on the CPU in double, from the same camera as
+// the GPU frame (engine::math::pixelRay through each pixel centre):
+//   analytic shapes: the exact surface (sphere tracing of the exact distance to 1e-9 of the
+//                    shape's bounding-box diagonal) and its exact normal (the analytic gradient);
+//   meshes:          the triangle mesh itself, with geometric (face) normals: the SDF of a
+//                    triangle mesh is faceted, so interpolated vertex normals are not what any SDF
+//                    converges to.
+// Rows of pixels are cast in parallel.
+#include <memory>
+#include <optional>
+#include <vector>
+
+#include <glm/glm.hpp>
+
+#include "engine/core/math.h"
+#include "engine/render/camera_view.h"
+#include "engine/scene/scene_data.h"
+#include "hermite_sdf/source.h"
+
+namespace capture {
+
+struct TruthImage {
+  int width = 0;
+  int height = 0;
+  std::vector<float> distance;     // along the pixel's unit ray from the eye; < 0 on a miss
+  std::vector<glm::vec3> normal;   // world-space unit normal, facing the ray; 0 on a miss
+  bool hit(std::size_t i) const { return distance[i] >= 0.0f; }
+};
+
+struct TruthHit {
+  double distance = 0.0;
+  glm::dvec3 normal{0.0};
+};
+
+// A surface the truth can be cast against.
+class TruthSurface {
+ public:
+  virtual ~TruthSurface() = default;
+  virtual std::optional<TruthHit> cast(const engine::math::Ray& ray) const = 0;
+};
+
+// The triangle mesh (world space), in a bounding volume hierarchy of its own (median splits).
+std::unique_ptr<TruthSurface> meshSurface(const engine::scene::TriangleSoup& soup);
+// An analytic source whose value is an exact signed distance (sphere, box, torus, capsule).
+std::unique_ptr<TruthSurface> analyticSurface(std::unique_ptr<hsdf::SdfSource> source);
+
+TruthImage castTruth(const TruthSurface& surface, const engine::render::CameraView& camera, int width, int height);
+
+}  // namespace capture

@@ -1,0 +1,70 @@
+#include "metrics.h"
+
+#include <algorithm>
+#include <cmath>
+#include <numeric>
+
+#include "engine/core/math.h"
+
+namespace capture {
+namespace {
+
+constexpr double kDegrees = 180.0 / 3.14159265358979323846;
+
+template <class T>
+double nearestRank(std::vector<T>& values, double p) {
+  if (values.empty()) return 0.0;
+  const auto k = std::min(values.size() - 1, std::size_t(p * double(values.size())));
+  std::nth_element(values.begin(), values.begin() + std::ptrdiff_t(k), values.end());
+  return double(values[k]);
+}
+
+}  // namespace
+
+double percentile(std::vector<double> values, double p) { return nearestRank(values, p); }
+
+void QualityAccumulator::add(const TruthImage& truth, const GpuReadback& gpu, const engine::render::CameraView& camera) {
+  ++views_;
+  const glm::dvec3 forward = glm::normalize(glm::dvec3(glm::inverse(camera.view) * glm::vec4(0, 0, -1, 0)));
+  for (int y = 0; y < truth.height; ++y) {
+    for (int x = 0; x < truth.width; ++x) {
+      const std::size_t i = std::size_t(y) * std::size_t(truth.width) + std::size_t(x);
+      const bool gpuHit = gpu.depth[i] > 0.0f;
+      if (gpuHit) {
+        ++covered_;
+        if (!gpu.work.empty()) evals_.push_back(gpu.work[i]);
+      }
+      if (gpuHit != truth.hit(i)) ++mismatches_;
+      if (!gpuHit || !truth.hit(i)) continue;
+      const engine::math::Ray ray =
+          engine::math::pixelRay(camera.view, camera.proj, {float(x) + 0.5f, float(y) + 0.5f}, {truth.width, truth.height});
+      const double viewDistance = engine::math::depthToViewDistance(gpu.depth[i], camera.znear);
+      const double distance = viewDistance / glm::dot(ray.direction, forward);
+      depthErrorSum_ += std::abs(distance - double(truth.distance[i])) / diagonal_;
+      const glm::dvec3 n = glm::dvec3(glm::vec3(gpu.normalColor[i])) * 2.0 - 1.0;
+      const double length = glm::length(n);
+      const double c = length > 0.0 ? glm::dot(n / length, glm::dvec3(truth.normal[i])) : -1.0;
+      angles_.push_back(float(std::acos(std::clamp(c, -1.0, 1.0)) * kDegrees));
+    }
+  }
+}
+
+RowQuality QualityAccumulator::result() const {
+  RowQuality q;
+  q.coverageMismatch = views_ ? double(mismatches_) / double(views_) : 0.0;
+  q.coveredPixels = covered_;
+  if (!angles_.empty()) {
+    q.normalErrorMean = std::accumulate(angles_.begin(), angles_.end(), 0.0) / double(angles_.size());
+    std::vector<float> angles = angles_;
+    q.normalErrorP95 = nearestRank(angles, 0.95);
+    q.depthErrorMean = depthErrorSum_ / double(angles_.size());
+  }
+  if (!evals_.empty()) {
+    q.evalsMean = std::accumulate(evals_.begin(), evals_.end(), 0.0) / double(evals_.size());
+    std::vector<std::uint32_t> evals = evals_;
+    q.evalsP95 = nearestRank(evals, 0.95);
+  }
+  return q;
+}
+
+}  // namespace capture

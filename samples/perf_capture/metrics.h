@@ -1,0 +1,55 @@
+#pragma once
+// Quality and work of one row, accumulated over its views from float read-backs:
+//   coverage mismatch: pixels where the GPU and the truth disagree on hit / miss (per view);
+//   normal error: angle between the GPU normal (DEBUG_VIEW_NORMALS in a float target) and the
+//                 truth normal, over pixels both hit, mean and 95th percentile in degrees;
+//   depth error: |distance along the ray (GPU depth) - truth distance| over pixels both hit,
+//                mean, relative to the bounding-box diagonal of the source;
+//   work: the renderer's per-pixel work counters (root-search evaluations) over covered pixels.
+#include <cstdint>
+#include <vector>
+
+#include <glm/glm.hpp>
+
+#include "engine/render/camera_view.h"
+#include "ground_truth.h"
+
+namespace capture {
+
+// What the capture reads back from the GPU for one view of one row.
+struct GpuReadback {
+  std::vector<float> depth;            // reverse-Z, 0 = background
+  std::vector<glm::vec4> normalColor;  // DEBUG_VIEW_NORMALS: 0.5 n + 0.5
+  std::vector<std::uint32_t> work;     // empty when nothing counted
+};
+
+struct RowQuality {
+  double coverageMismatch = 0.0;  // pixels per view
+  double normalErrorMean = 0.0;   // degrees
+  double normalErrorP95 = 0.0;
+  double depthErrorMean = 0.0;    // fraction of the diagonal
+  double evalsMean = 0.0;         // per covered pixel
+  double evalsP95 = 0.0;
+  std::uint64_t coveredPixels = 0;
+};
+
+class QualityAccumulator {
+ public:
+  explicit QualityAccumulator(double diagonal) : diagonal_(diagonal) {}
+  void add(const TruthImage& truth, const GpuReadback& gpu, const engine::render::CameraView& camera);
+  RowQuality result() const;
+
+ private:
+  double diagonal_;
+  std::uint32_t views_ = 0;
+  std::uint64_t mismatches_ = 0;
+  double depthErrorSum_ = 0.0;
+  std::vector<float> angles_;
+  std::vector<std::uint32_t> evals_;
+  std::uint64_t covered_ = 0;
+};
+
+// The value at fraction p (0..1) of the sorted values (nearest rank); 0 for none.
+double percentile(std::vector<double> values, double p);
+
+}  // namespace capture

@@ -1,0 +1,333 @@
+#include "report.h"
+
+#include <algorithm>
+#include <cmath>
+#include <functional>
+#include <map>
+#include <optional>
+
+#include <fmt/format.h>
+
+#include "charts.h"
+#include "engine/core/files.h"
+
+namespace capture {
+namespace {
+
+// The paper's table (bunny, AMD RX 5700, full HD): ms and approximate stored scalars.
+struct PaperRow {
+  int k;
+  double trilinearMs, hermiteMs, cellsMs;
+  const char *trilinearScalars, *hermiteScalars, *cellsScalars;
+};
+constexpr PaperRow kPaper[] = {{16, 0.72, 2.90, 1.48, "4k", "16k", "20k"},
+                               {32, 0.76, 2.80, 1.47, "32k", "130k", "80k"},
+                               {64, 0.90, 2.95, 1.69, "260k", "1M", "310k"},
+                               {128, 1.06, 2.96, 3.45, "2M", "8.4M", "1.3M"}};
+
+const PaperRow* paperRow(int k) {
+  for (const PaperRow& row : kPaper)
+    if (row.k == k) return &row;
+  return nullptr;
+}
+
+std::string csvEscape(const std::string& s) {
+  if (s.find_first_of(",\"\n") == std::string::npos) return s;
+  std::string out = "\"";
+  for (char c : s) out += c == '"' ? std::string("\"\"") : std::string(1, c);
+  return out + "\"";
+}
+
+std::string jsonEscape(const std::string& s) {
+  std::string out;
+  for (char c : s) {
+    if (c == '"' || c == '\\') out += '\\', out += c;
+    else if (c == '\n') out += "\\n";
+    else if (static_cast<unsigned char>(c) < 0x20) out += fmt::format("\\u{:04x}", int(c));
+    else out += c;
+  }
+  return out;
+}
+
+std::string scalars(std::uint64_t n) {
+  if (n >= 1000000) return fmt::format("{:.2g}M", double(n) / 1e6);
+  if (n >= 1000) return fmt::format("{:.3g}k", double(n) / 1e3);
+  return std::to_string(n);
+}
+
+// The row of this run compared in the paper's column `method` at K (paperColumn rows).
+const RowResult* paperColumnRow(const std::vector<RowResult>& rows, const std::string& method, int k) {
+  for (const RowResult& r : rows)
+    if (r.ok && r.spec.paperColumn && r.spec.method == method && r.spec.resolution == k) return &r;
+  return nullptr;
+}
+
+const RowResult* findRow(const std::vector<RowResult>& rows, const std::function<bool(const RowSpec&)>& match) {
+  for (const RowResult& r : rows)
+    if (r.ok && match(r.spec)) return &r;
+  return nullptr;
+}
+
+std::string ratio(const RowResult* a, const RowResult* b) {
+  if (!a || !b || b->gpuMsMedian <= 0.0) return "–";
+  return fmt::format("{:.2f}", a->gpuMsMedian / b->gpuMsMedian);
+}
+
+double perCovered(double count, const RowResult& r, std::uint32_t views) {
+  const double covered = double(r.quality.coveredPixels) / std::max(1u, views);
+  return covered > 0.0 ? count / covered : 0.0;
+}
+
+// Which part of the frame keeps `cells` above `factor` x `other`: the pass with the larger excess
+// over its share of the budget, and the device-independent work counts of both.
+std::string holdsBack(const RowResult& cells, const RowResult& other, double factor, const RunInfo& info) {
+  const double prepassExcess = cells.prepassMs - factor * other.prepassMs;
+  const double shadingExcess = cells.shadingMs - factor * other.shadingMs;
+  std::string s = fmt::format(
+      "needs {:.1f} ms less ({:.2f}x over); prepass {:.1f} ms vs budget {:.1f} ms, shading {:.1f} ms vs budget "
+      "{:.1f} ms: the **{}** holds it back",
+      cells.gpuMsMedian - factor * other.gpuMsMedian, cells.gpuMsMedian / (factor * other.gpuMsMedian),
+      cells.prepassMs, factor * other.prepassMs, cells.shadingMs, factor * other.shadingMs,
+      prepassExcess >= shadingExcess ? "prepass" : "shading pass");
+  if (info.pipelineStatistics)
+    s += fmt::format("; prepass fragments per covered pixel {:.2f} vs {:.2f}, vertex invocations {:.0f} vs {:.0f}",
+                     perCovered(cells.prepassFsInvocations, cells, info.views),
+                     perCovered(other.prepassFsInvocations, other, info.views), cells.vsInvocations, other.vsInvocations);
+  s += fmt::format(", evaluations per covered pixel {:.1f} vs {:.1f}", cells.quality.evalsMean, other.quality.evalsMean);
+  return s;
+}
+
+std::vector<int> resolutionsOf(const std::vector<RowResult>& rows) {
+  std::vector<int> ks;
+  for (const RowResult& r : rows)
+    if (!r.spec.isMesh() && std::find(ks.begin(), ks.end(), r.spec.resolution) == ks.end()) ks.push_back(r.spec.resolution);
+  std::sort(ks.begin(), ks.end());
+  return ks;
+}
+
+void paperTable(std::string& md, const std::vector<RowResult>& rows) {
+  md += "## The paper's table beside this run\n\n"
+        "GPU ms per frame (median over views and frames) and stored scalars. Trilinear = sphere tracing with "
+        "central-difference normals, Hermite = dense Hermite sphere tracing, cells = Hermite cells n=3, one "
+        "refinement, fp32. Paper: AMD RX 5700, 1920x1080.\n\n"
+        "| K | trilinear | Hermite ST | cells | cells / Hermite | cells / trilinear | paper trilinear | paper Hermite | "
+        "paper cells | paper cells / Hermite | paper cells / trilinear |\n"
+        "|---|---|---|---|---|---|---|---|---|---|---|\n";
+  for (int k : resolutionsOf(rows)) {
+    const RowResult* t = paperColumnRow(rows, "trilinear", k);
+    const RowResult* h = paperColumnRow(rows, "hermite", k);
+    const RowResult* c = paperColumnRow(rows, "cells", k);
+    if (!h && !c) continue;  // a 2K-only trilinear resolution
+    auto cell = [](const RowResult* r) {
+      return r ? fmt::format("{:.2f} ms ({})", r->gpuMsMedian, scalars(r->storedScalars)) : std::string("–");
+    };
+    md += fmt::format("| {} | {} | {} | {} | {} | {} |", k, cell(t), cell(h), cell(c), ratio(c, h), ratio(c, t));
+    if (const PaperRow* p = paperRow(k))
+      md += fmt::format(" {} ms ({}) | {} ms ({}) | {} ms ({}) | {:.2f} | {:.2f} |\n", p->trilinearMs, p->trilinearScalars,
+                        p->hermiteMs, p->hermiteScalars, p->cellsMs, p->cellsScalars, p->cellsMs / p->hermiteMs,
+                        p->cellsMs / p->trilinearMs);
+    else
+      md += " – | – | – | – | – |\n";
+  }
+  md += "\n";
+}
+
+void targets(std::string& md, const std::vector<RowResult>& rows, const RunInfo& info) {
+  md += "## Targets (issue 10; ratios within this run)\n\n";
+  auto mark = [](bool ok) { return ok ? "met" : "**missed**"; };
+  for (int k : resolutionsOf(rows)) {
+    const RowResult* c = paperColumnRow(rows, "cells", k);
+    const RowResult* h = paperColumnRow(rows, "hermite", k);
+    if (!c || !h) continue;
+    const double r = c->gpuMsMedian / h->gpuMsMedian;
+    md += fmt::format("- K={}: cells n=3 r=1 at most 0.5x dense Hermite ST: {:.2f}x, {}", k, r, mark(r <= 0.5));
+    md += r <= 0.5 ? "\n" : " — " + holdsBack(*c, *h, 0.5, info) + "\n";
+  }
+  for (int k : resolutionsOf(rows)) {
+    const RowResult* c = paperColumnRow(rows, "cells", k);
+    const RowResult* t = paperColumnRow(rows, "trilinear", k);
+    if (!c || !t) continue;
+    const double r = c->gpuMsMedian / t->gpuMsMedian;
+    md += fmt::format("- K={}: cells within 1.5x of trilinear (central) at the same K: {:.2f}x, {}", k, r, mark(r <= 1.5));
+    md += r <= 1.5 ? "\n" : " — " + holdsBack(*c, *t, 1.5, info) + "\n";
+    // Equal quality: the lowest trilinear resolution (either normal mode) whose mean normal error
+    // is at most the cells'.
+    const RowResult* equal = nullptr;
+    for (const RowResult& row : rows)
+      if (row.ok && row.spec.method == "trilinear" && row.quality.normalErrorMean <= c->quality.normalErrorMean &&
+          (!equal || row.gpuMsMedian < equal->gpuMsMedian))
+        equal = &row;
+    if (!equal) {
+      md += fmt::format("- K={}: cells ({:.3f} deg) no slower than trilinear at equal normal error: no trilinear row "
+                        "captured reaches that error\n",
+                        k, c->quality.normalErrorMean);
+      continue;
+    }
+    const double re = c->gpuMsMedian / equal->gpuMsMedian;
+    md += fmt::format("- K={}: cells ({:.3f} deg) no slower than the fastest trilinear row at equal or lower normal "
+                      "error ({}, {:.3f} deg): {:.2f}x, {}",
+                      k, c->quality.normalErrorMean, equal->spec.label, equal->quality.normalErrorMean, re, mark(re <= 1.0));
+    md += re <= 1.0 ? "\n" : " — " + holdsBack(*c, *equal, 1.0, info) + "\n";
+  }
+  for (int k : resolutionsOf(rows)) {
+    const RowResult* full = paperColumnRow(rows, "cells", k);
+    const RowResult* half = findRow(rows, [&](const RowSpec& s) {
+      return s.method == "cells" && s.fp16 && s.resolution == k && s.subdivisions == 3 && s.refine == 1;
+    });
+    if (!full || !half) continue;
+    const double bytes = double(half->storedBytes) / double(full->storedBytes);
+    const double worse = half->quality.normalErrorMean - full->quality.normalErrorMean;
+    md += fmt::format("- K={}: fp16 cells at most half the bytes of fp32 ({:.3f}x, {}) with a mean normal error at most "
+                      "0.1 deg worse ({:+.4f} deg, {})\n",
+                      k, bytes, mark(bytes <= 0.5), worse, mark(worse <= 0.1));
+  }
+  md += "\n";
+}
+
+void allRows(std::string& md, const std::vector<RowResult>& rows, const RunInfo& info) {
+  md += "## Every row\n\n"
+        "Times: median (p95) over views x timed frames; passes are medians. Work (device-independent): fragment "
+        "shader invocations per frame in the prepass and the shading pass, vertex shader invocations (pipeline "
+        "statistics), root-search evaluations per covered pixel (mean / p95). Quality against the ground truth: "
+        "coverage mismatch in pixels per view, normal error mean / p95 in degrees, depth error mean relative to the "
+        "bounding-box diagonal.\n\n"
+        "| row | GPU ms | prepass ms | shading ms | FS prepass | FS shading | VS | evals/px | scalars | bytes | cells | "
+        "coverage | normal err (deg) | depth err | image |\n"
+        "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n";
+  for (const RowResult& r : rows) {
+    if (!r.ok) {
+      md += fmt::format("| {} | failed: {} |\n", r.spec.label, r.error);
+      continue;
+    }
+    const std::string stats = info.pipelineStatistics
+                                  ? fmt::format("{:.0f} | {:.0f} | {:.0f}", r.prepassFsInvocations, r.shadingFsInvocations,
+                                                r.vsInvocations)
+                                  : std::string("– | – | –");
+    md += fmt::format("| {} | {:.2f} ({:.2f}) | {:.2f} | {:.2f} | {} | {:.1f} / {:.0f} | {} | {} | {} | {:.1f} | {:.3f} / "
+                      "{:.3f} | {:.2e} | [png]({}) |\n",
+                      r.spec.label, r.gpuMsMedian, r.gpuMsP95, r.prepassMs, r.shadingMs, stats, r.quality.evalsMean,
+                      r.quality.evalsP95, r.storedScalars, r.storedBytes, r.cells, r.quality.coverageMismatch,
+                      r.quality.normalErrorMean, r.quality.normalErrorP95, r.quality.depthErrorMean, r.image);
+  }
+  md += "\n";
+}
+
+// One series per setting (the row label without K), x and y picked from each row.
+Chart chartOf(const std::vector<RowResult>& rows, const std::function<glm::dvec2(const RowResult&)>& point,
+              bool includeMesh) {
+  Chart chart;
+  std::map<std::string, std::size_t> index;
+  for (const RowResult& r : rows) {
+    if (!r.ok || (r.spec.isMesh() && !includeMesh)) continue;
+    const std::string name = r.spec.label.substr(0, r.spec.label.rfind(" K="));
+    if (!index.contains(name)) {
+      index[name] = chart.series.size();
+      chart.series.push_back({name, seriesColor(chart.series.size()), {}});
+    }
+    chart.series[index[name]].points.push_back(point(r));
+  }
+  return chart;
+}
+
+engine::Status chartSection(std::string& md, const std::filesystem::path& folder, const std::string& file,
+                            const std::string& title, const Chart& chart) {
+  ENGINE_TRY(writeChart(folder / file, chart));
+  md += "### " + title + "\n\n![" + title + "](" + file + ")\n\nLegend, left to right:";
+  for (const ChartSeries& s : chart.series) md += fmt::format(" <span style=\"color:{0}\">■</span> {1} ({0});", colorHex(s.color), s.name);
+  md += "\n\n";
+  return {};
+}
+
+}  // namespace
+
+engine::Status writeCsv(const std::filesystem::path& path, const RunInfo& info, const std::vector<RowResult>& rows) {
+  std::string csv =
+      "method,K,subdivisions,refinement,normals,width,height,views,frames,gpu_ms_median,gpu_ms_p95,prepass_ms,"
+      "shading_ms,fs_invocations,evals_per_pixel_mean,evals_per_pixel_p95,stored_scalars,stored_bytes,cells,"
+      "coverage_mismatch,normal_err_mean_deg,normal_err_p95_deg,depth_err_mean,device\n";
+  for (const RowResult& r : rows) {
+    const RowSpec& s = r.spec;
+    csv += fmt::format("{},{},{},{},{},{},{},{},{},", s.method, s.resolution, s.subdivisions, s.refine, s.normalsName(),
+                       info.width, info.height, info.views, info.frames);
+    if (r.ok)
+      csv += fmt::format("{:.4f},{:.4f},{:.4f},{:.4f},{:.0f},{:.3f},{:.0f},{},{},{},{:.2f},{:.5f},{:.5f},{:.4e},",
+                         r.gpuMsMedian, r.gpuMsP95, r.prepassMs, r.shadingMs, r.fsInvocations, r.quality.evalsMean,
+                         r.quality.evalsP95, r.storedScalars, r.storedBytes, r.cells, r.quality.coverageMismatch,
+                         r.quality.normalErrorMean, r.quality.normalErrorP95, r.quality.depthErrorMean);
+    else
+      csv += ",,,,,,,,,,,,,,";  // a failed row: no numbers (the capture exits non-zero)
+    csv += csvEscape(info.device) + "\n";
+  }
+  return engine::writeTextFile(path, csv);
+}
+
+engine::Status writeJson(const std::filesystem::path& path, const RunInfo& info, const std::vector<RowResult>& rows) {
+  std::string json = "{\n";
+  json += fmt::format(
+      "  \"device\": \"{}\",\n  \"driver\": \"{}\",\n  \"command_line\": \"{}\",\n  \"commit\": \"{}\",\n  \"date\": "
+      "\"{}\",\n  \"scene\": \"{}\",\n  \"width\": {},\n  \"height\": {},\n  \"views\": {},\n  \"frames\": {},\n  "
+      "\"warmup\": {},\n  \"pipeline_statistics\": {},\n  \"software_rasterizer\": {},\n  \"rows\": [\n",
+      jsonEscape(info.device), jsonEscape(info.driver), jsonEscape(info.commandLine), jsonEscape(info.commit),
+      jsonEscape(info.date), jsonEscape(info.scene), info.width, info.height, info.views, info.frames, info.warmup,
+      info.pipelineStatistics, info.softwareRasterizer);
+  for (std::size_t i = 0; i < rows.size(); ++i) {
+    const RowResult& r = rows[i];
+    json += fmt::format(
+        "    {{\"label\": \"{}\", \"method\": \"{}\", \"K\": {}, \"subdivisions\": {}, \"refinement\": {}, "
+        "\"normals\": \"{}\", \"fp16\": {}, \"ok\": {}, \"error\": \"{}\", \"gpu_ms_median\": {}, \"gpu_ms_p95\": {}, "
+        "\"prepass_ms\": {}, \"shading_ms\": {}, \"fs_invocations\": {}, \"prepass_fs_invocations\": {}, "
+        "\"shading_fs_invocations\": {}, \"vs_invocations\": {}, \"clipped_primitives\": {}, \"evals_per_pixel_mean\": "
+        "{}, \"evals_per_pixel_p95\": {}, \"covered_pixels\": {}, \"stored_scalars\": {}, \"stored_bytes\": {}, "
+        "\"cells\": {}, \"coverage_mismatch\": {}, \"normal_err_mean_deg\": {}, \"normal_err_p95_deg\": {}, "
+        "\"depth_err_mean\": {}, \"image\": \"{}\"}}{}\n",
+        jsonEscape(r.spec.label), r.spec.method, r.spec.resolution, r.spec.subdivisions, r.spec.refine,
+        r.spec.normalsName(), r.spec.fp16, r.ok, jsonEscape(r.error), r.gpuMsMedian, r.gpuMsP95, r.prepassMs,
+        r.shadingMs, r.fsInvocations, r.prepassFsInvocations, r.shadingFsInvocations, r.vsInvocations,
+        r.clippedPrimitives, r.quality.evalsMean, r.quality.evalsP95, r.quality.coveredPixels, r.storedScalars,
+        r.storedBytes, r.cells, r.quality.coverageMismatch, r.quality.normalErrorMean, r.quality.normalErrorP95,
+        r.quality.depthErrorMean, jsonEscape(r.image), i + 1 < rows.size() ? "," : "");
+  }
+  json += "  ]\n}\n";
+  return engine::writeTextFile(path, json);
+}
+
+engine::Status writeMarkdown(const std::filesystem::path& folder, const RunInfo& info, const std::vector<RowResult>& rows) {
+  std::string md = "# Perf capture: " + info.scene + "\n\n";
+  md += fmt::format("- Command: `{}`\n- Device: {} ({})\n- Commit: {}\n- Date: {}\n- {}x{}, {} views, {} warm-up + {} "
+                    "timed frames per view\n\n",
+                    info.commandLine, info.device, info.driver, info.commit, info.date, info.width, info.height,
+                    info.views, info.warmup, info.frames);
+  if (info.softwareRasterizer)
+    md += "**This device is a software rasterizer (CPU).** Its timings only compare rows of this run with each other; "
+          "they say nothing about frame times on a GPU. ";
+  md += "The work counts (pipeline statistics: shader invocations; root-search evaluations per pixel) and the quality "
+        "and storage columns do not depend on the device: they are what carries over to a GPU when no GPU is at "
+        "hand.\n\n";
+  if (!info.pipelineStatistics) md += "This device has no pipeline-statistics queries: those columns are empty.\n\n";
+  paperTable(md, rows);
+  targets(md, rows, info);
+  md += "## Charts\n\n";
+  ENGINE_TRY(chartSection(md, folder, "time_vs_k.png", "GPU ms per frame vs K (log-log)",
+                          chartOf(rows, [](const RowResult& r) { return glm::dvec2(r.spec.resolution, r.gpuMsMedian); },
+                                  false)));
+  Chart errorVsBytes = chartOf(
+      rows, [](const RowResult& r) { return glm::dvec2(double(r.storedBytes), r.quality.normalErrorMean); }, false);
+  errorVsBytes.decimalX = true;
+  ENGINE_TRY(chartSection(md, folder, "normal_error_vs_bytes.png", "Mean normal error (deg) vs stored bytes (log-log)",
+                          errorVsBytes));
+  ENGINE_TRY(chartSection(md, folder, "work_vs_k.png", "Root-search evaluations per covered pixel vs K (log-log)",
+                          chartOf(rows, [](const RowResult& r) { return glm::dvec2(r.spec.resolution, r.quality.evalsMean); },
+                                  false)));
+  if (info.pipelineStatistics)
+    ENGINE_TRY(chartSection(
+        md, folder, "fragments_vs_k.png", "Prepass fragment-shader invocations per covered pixel vs K (log-log)",
+        chartOf(rows,
+                [&](const RowResult& r) {
+                  return glm::dvec2(r.spec.resolution, perCovered(r.prepassFsInvocations, r, info.views));
+                },
+                false)));
+  allRows(md, rows, info);
+  return engine::writeTextFile(folder / "results.md", md);
+}
+
+}  // namespace capture

@@ -1,0 +1,45 @@
+#pragma once
+// The capture's outputs: results.csv (one row per method x K x setting, the header of issue 10),
+// results.json (device, driver, command line, commit, date, and every row), results.md (the
+// paper's table beside this run's, ratios, targets checked, every row, work and quality), charts.
+#include <cstdint>
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include "capture_rows.h"
+#include "engine/core/expected.h"
+#include "metrics.h"
+
+namespace capture {
+
+struct Options;
+
+struct RowResult {
+  RowSpec spec;
+  bool ok = false;
+  std::string error;           // why the row failed
+  double gpuMsMedian = 0.0, gpuMsP95 = 0.0;
+  double prepassMs = 0.0, shadingMs = 0.0;  // medians
+  // Pipeline statistics per frame, mean over views (0 without the feature).
+  double fsInvocations = 0.0;  // both passes
+  double prepassFsInvocations = 0.0, shadingFsInvocations = 0.0;
+  double vsInvocations = 0.0, clippedPrimitives = 0.0;
+  RowQuality quality;
+  std::uint64_t storedScalars = 0, storedBytes = 0, cells = 0;
+  std::string image;           // first view's screenshot, relative to the output folder
+};
+
+struct RunInfo {
+  std::string device, driver, commandLine, commit, date, scene;
+  std::uint32_t width = 0, height = 0, views = 0, frames = 0, warmup = 0;
+  bool pipelineStatistics = false;
+  bool softwareRasterizer = false;
+};
+
+engine::Status writeCsv(const std::filesystem::path& path, const RunInfo& info, const std::vector<RowResult>& rows);
+engine::Status writeJson(const std::filesystem::path& path, const RunInfo& info, const std::vector<RowResult>& rows);
+// Writes the charts next to results.md and the Markdown that shows them.
+engine::Status writeMarkdown(const std::filesystem::path& folder, const RunInfo& info, const std::vector<RowResult>& rows);
+
+}  // namespace capture

@@ -1,0 +1,272 @@
+// glTF as users have it: the small bunny of tests/data/gltf/ compressed with Draco (gltf-pipeline),
+// meshopt and quantized (glTF-Transform) must load as the same mesh as its plain original, and broken
+// compressed streams must give errors naming the file and the problem.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <cstdio>
+#include <cstring>
+#include <limits>
+#include <string>
+#include <vector>
+
+#include <glm/glm.hpp>
+#include <nlohmann/json.hpp>
+
+#include "engine/core/files.h"
+#include "engine/scene/gltf_loader.h"
+
+namespace engine::scene {
+namespace {
+
+using nlohmann::json;
+
+const std::filesystem::path kDataDir = std::filesystem::path(HSDF_TEST_DATA_DIR) / "gltf";
+
+// World-space geometry of the file's single mesh instance (positions through the node matrix,
+// normals through its inverse transpose): the meshopt and quantized files store positions in
+// normalized integers and undo that with a node scale + translation.
+struct WorldMesh {
+  std::vector<glm::vec3> positions;
+  std::vector<glm::vec3> normals;
+  std::vector<std::uint32_t> indices;
+};
+
+WorldMesh loadWorldMesh(const std::string& file) {
+  WorldMesh out;
+  const auto scene = loadGltf(kDataDir / file);
+  EXPECT_TRUE(scene.ok()) << scene.error().message;
+  if (!scene.ok()) return out;
+  for (const auto& node : scene->nodes) {
+    if (node.mesh < 0) continue;
+    const auto& primitive = scene->meshes.at(std::size_t(node.mesh)).primitives.at(0);
+    const glm::mat3 normalMatrix = glm::transpose(glm::inverse(glm::mat3(node.world)));
+    for (const auto& p : primitive.positions) out.positions.push_back(glm::vec3(node.world * glm::vec4(p, 1.0f)));
+    for (const auto& n : primitive.normals) out.normals.push_back(glm::normalize(normalMatrix * n));
+    out.indices = primitive.indices;
+  }
+  return out;
+}
+
+// Per-axis tolerance: 2^-10 of the plain mesh's largest extent, above one quantization step of the
+// coarsest encoding here (Draco's 11-bit positions: extent / 2047) and far below what a decoding
+// mistake does (a wrong scale, offset, axis order or index moves vertices by a good part of the
+// extent).
+float positionTolerance(const WorldMesh& plain) {
+  glm::vec3 lo(std::numeric_limits<float>::max()), hi(-std::numeric_limits<float>::max());
+  for (const auto& p : plain.positions) {
+    lo = glm::min(lo, p);
+    hi = glm::max(hi, p);
+  }
+  const glm::vec3 extent = hi - lo;
+  return std::max({extent.x, extent.y, extent.z}) / 1024.0f;
+}
+
+std::size_t nearest(const std::vector<glm::vec3>& points, const glm::vec3& q) {
+  std::size_t best = 0;
+  for (std::size_t i = 1; i < points.size(); ++i)
+    if (glm::distance(points[i], q) < glm::distance(points[best], q)) best = i;
+  return best;
+}
+
+// Triangles as index triples rotated to start at their smallest index (winding kept), sorted.
+std::vector<std::array<std::uint32_t, 3>> canonicalTriangles(const std::vector<std::uint32_t>& indices,
+                                                             const std::vector<std::size_t>& remap) {
+  std::vector<std::array<std::uint32_t, 3>> triangles;
+  for (std::size_t t = 0; t + 2 < indices.size(); t += 3) {
+    std::array<std::uint32_t, 3> tri{std::uint32_t(remap[indices[t]]), std::uint32_t(remap[indices[t + 1]]),
+                                     std::uint32_t(remap[indices[t + 2]])};
+    std::rotate(tri.begin(), std::min_element(tri.begin(), tri.end()), tri.end());
+    triangles.push_back(tri);
+  }
+  std::sort(triangles.begin(), triangles.end());
+  return triangles;
+}
+
+class CompressedBunny : public ::testing::TestWithParam<const char*> {};
+
+// Tricky because the encoders reorder vertices and triangles (meshopt optimises for its codec), so
+// nothing can be compared index by index: each decoded vertex is matched to its nearest plain
+// vertex (the match must be one to one, within the quantization tolerance), and the triangles,
+// renamed through that match, must be exactly the plain triangles with the same winding. That
+// catches a wrong index decoding, a flipped winding, a lost or repeated triangle and any position
+// error above the quantization step; normals must agree within the normal encodings' error.
+TEST_P(CompressedBunny, LoadsAsThePlainMeshWithinQuantization) {
+  const WorldMesh plain = loadWorldMesh("bunny_small.glb");
+  const WorldMesh packed = loadWorldMesh(GetParam());
+  ASSERT_EQ(plain.positions.size(), 148u);
+  ASSERT_EQ(plain.indices.size(), 3u * 292u);
+  ASSERT_EQ(packed.positions.size(), plain.positions.size());
+  ASSERT_EQ(packed.indices.size(), plain.indices.size());
+  ASSERT_EQ(packed.normals.size(), packed.positions.size());
+
+  const float tolerance = positionTolerance(plain);
+  const float radius = tolerance * std::sqrt(3.0f);  // per-axis tolerance on all three axes
+  // The matching is only unambiguous if plain vertices are further apart than twice the radius.
+  float closestPair = std::numeric_limits<float>::max();
+  for (std::size_t i = 0; i < plain.positions.size(); ++i)
+    for (std::size_t j = i + 1; j < plain.positions.size(); ++j)
+      closestPair = std::min(closestPair, glm::distance(plain.positions[i], plain.positions[j]));
+  ASSERT_GT(closestPair, 2.0f * radius);
+
+  std::vector<std::size_t> remap(packed.positions.size());
+  std::vector<bool> used(plain.positions.size(), false);
+  float worstDistance = 0.0f, worstNormalDegrees = 0.0f;
+  for (std::size_t v = 0; v < packed.positions.size(); ++v) {
+    remap[v] = nearest(plain.positions, packed.positions[v]);
+    const float distance = glm::distance(plain.positions[remap[v]], packed.positions[v]);
+    worstDistance = std::max(worstDistance, distance);
+    EXPECT_LE(distance, radius) << "vertex " << v;
+    EXPECT_FALSE(used[remap[v]]) << "two decoded vertices match plain vertex " << remap[v];
+    used[remap[v]] = true;
+    const float cosine = std::clamp(glm::dot(plain.normals[remap[v]], packed.normals[v]), -1.0f, 1.0f);
+    worstNormalDegrees = std::max(worstNormalDegrees, glm::degrees(std::acos(cosine)));
+  }
+  std::vector<std::size_t> identity(plain.positions.size());
+  for (std::size_t i = 0; i < identity.size(); ++i) identity[i] = i;
+  EXPECT_EQ(canonicalTriangles(packed.indices, remap), canonicalTriangles(plain.indices, identity));
+  // 8-bit octahedral normals (Draco's default, meshopt's OCTAHEDRAL filter at stride 4) are within
+  // about 1 degree; 3 degrees leaves room, while a wrong filter or axis gives tens of degrees.
+  EXPECT_LT(worstNormalDegrees, 3.0f);
+  std::printf("%s: worst vertex distance %.3g (tolerance %.3g), worst normal %.2f degrees\n", GetParam(),
+              double(worstDistance), double(radius), double(worstNormalDegrees));
+}
+
+INSTANTIATE_TEST_SUITE_P(GltfLoader, CompressedBunny,
+                         ::testing::Values("bunny_small_draco.glb", "bunny_small_meshopt.glb", "bunny_small_quantized.glb"));
+
+// ------------------------------------------------------------------------------------------------
+// Broken compressed streams
+
+struct Glb {
+  json document;
+  std::vector<std::uint8_t> bin;
+};
+
+std::uint32_t u32(const std::vector<std::uint8_t>& bytes, std::size_t at) {
+  std::uint32_t v = 0;
+  std::memcpy(&v, bytes.data() + at, 4);
+  return v;
+}
+
+// The committed GLBs have a JSON chunk then a BIN chunk.
+Glb readGlb(const std::string& file) {
+  auto bytes = readBinaryFile(kDataDir / file);
+  EXPECT_TRUE(bytes.ok());
+  if (!bytes.ok()) return {};
+  const std::uint32_t jsonLength = u32(*bytes, 12);
+  Glb glb;
+  glb.document = json::parse(bytes->begin() + 20, bytes->begin() + 20 + jsonLength);
+  const std::size_t binAt = 20 + jsonLength;
+  const std::uint32_t binLength = u32(*bytes, binAt);
+  glb.bin.assign(bytes->begin() + std::ptrdiff_t(binAt + 8), bytes->begin() + std::ptrdiff_t(binAt + 8 + binLength));
+  return glb;
+}
+
+std::vector<std::uint8_t> writeGlb(const Glb& glb) {
+  std::string text = glb.document.dump();
+  while (text.size() % 4 != 0) text += ' ';
+  std::vector<std::uint8_t> out;
+  auto put = [&](std::uint32_t v) {
+    for (int i = 0; i < 4; ++i) out.push_back(std::uint8_t(v >> (8 * i)));
+  };
+  put(0x46546C67);
+  put(2);
+  put(std::uint32_t(12 + 8 + text.size() + 8 + glb.bin.size()));
+  put(std::uint32_t(text.size()));
+  put(0x4E4F534A);
+  out.insert(out.end(), text.begin(), text.end());
+  put(std::uint32_t(glb.bin.size()));
+  put(0x004E4942);
+  out.insert(out.end(), glb.bin.begin(), glb.bin.end());
+  return out;
+}
+
+std::string loadError(const Glb& glb, std::string_view name) {
+  const auto bytes = writeGlb(glb);
+  const auto scene = loadGltfFromMemory(bytes, name, {});
+  return scene.ok() ? "(loaded)" : scene.error().message;
+}
+
+void expectContains(const std::string& message, std::initializer_list<std::string_view> parts) {
+  for (const auto part : parts) EXPECT_NE(message.find(part), std::string::npos) << "missing '" << part << "' in: " << message;
+}
+
+// Tricky because the writer round trip itself must be lossless, or every case below would pass for
+// the wrong reason: the untouched file must load.
+TEST(GltfLoaderCompressedMalformed, UntouchedRoundTripLoads) {
+  EXPECT_EQ(loadError(readGlb("bunny_small_draco.glb"), "draco.glb"), "(loaded)");
+  EXPECT_EQ(loadError(readGlb("bunny_small_meshopt.glb"), "meshopt.glb"), "(loaded)");
+}
+
+// Tricky because Draco streams carry no checksum: a cut stream, an attribute id that is not in it,
+// or a stream whose point count contradicts the accessor must each be caught (by the decoder or by
+// the counts), never read as a smaller or different mesh.
+TEST(GltfLoaderCompressedMalformed, BrokenDracoPrimitivesAreNamed) {
+  const Glb original = readGlb("bunny_small_draco.glb");
+  auto draco = [](json& doc) -> json& {
+    return doc["meshes"][0]["primitives"][0]["extensions"]["KHR_draco_mesh_compression"];
+  };
+
+  Glb cut = original;
+  cut.document["bufferViews"][0]["byteLength"] = 64;
+  expectContains(loadError(cut, "cut.glb"), {"cut.glb", "mesh 0 'bunny' primitive 0", "KHR_draco_mesh_compression", "Draco"});
+
+  Glb badId = original;
+  draco(badId.document)["attributes"]["POSITION"] = 7;
+  expectContains(loadError(badId, "id.glb"), {"id.glb", "POSITION: the Draco stream has no attribute with id 7"});
+
+  Glb badCount = original;
+  const int positionAccessor = badCount.document["meshes"][0]["primitives"][0]["attributes"]["POSITION"];
+  badCount.document["accessors"][std::size_t(positionAccessor)]["count"] = 147;
+  expectContains(loadError(badCount, "count.glb"), {"the Draco stream has 148 points but the POSITION accessor says 147"});
+
+  Glb noView = original;
+  draco(noView.document)["bufferView"] = 9;
+  expectContains(loadError(noView, "view.glb"), {"bufferView 9 out of range (file has 1)"});
+
+  Glb negative = original;
+  draco(negative.document)["bufferView"] = -1;
+  expectContains(loadError(negative, "neg.glb"), {"bufferView is a JSON number, not a non-negative integer"});
+}
+
+// Tricky because the meshopt decoders are handed lengths and strides from the file: a cut stream, a
+// mode or filter that does not exist, a stride the codec cannot have, a count that disagrees with
+// the view, and a plain view placed in the data-less fallback buffer must all be errors.
+TEST(GltfLoaderCompressedMalformed, BrokenMeshoptViewsAreNamed) {
+  const Glb original = readGlb("bunny_small_meshopt.glb");
+  auto meshopt = [](json& doc, int view) -> json& { return doc["bufferViews"][std::size_t(view)]["extensions"]["EXT_meshopt_compression"]; };
+
+  Glb cut = original;
+  meshopt(cut.document, 0)["byteLength"] = 100;
+  expectContains(loadError(cut, "cut.glb"), {"cut.glb", "bufferView 0: EXT_meshopt_compression", "meshopt TRIANGLES stream of 100 bytes is malformed"});
+
+  Glb mode = original;
+  meshopt(mode.document, 0)["mode"] = "QUADS";
+  expectContains(loadError(mode, "mode.glb"), {"unknown mode 'QUADS'"});
+
+  Glb filter = original;
+  meshopt(filter.document, 1)["filter"] = "WAVELET";
+  expectContains(loadError(filter, "filter.glb"), {"unknown filter 'WAVELET'"});
+
+  Glb stride = original;
+  meshopt(stride.document, 2)["byteStride"] = 6;
+  expectContains(loadError(stride, "stride.glb"), {"ATTRIBUTES byteStride 6 is not a multiple of 4"});
+
+  Glb count = original;
+  meshopt(count.document, 2)["count"] = 147;
+  expectContains(loadError(count, "count.glb"), {"count 147 x byteStride 8 is not the view's byteLength 1184"});
+
+  Glb beyond = original;
+  meshopt(beyond.document, 2)["byteOffset"] = 4000;
+  expectContains(loadError(beyond, "beyond.glb"), {"lie beyond buffer 0"});
+
+  Glb plainInFallback = original;
+  plainInFallback.document["bufferViews"][2]["extensions"].erase("EXT_meshopt_compression");
+  expectContains(loadError(plainInFallback, "fallback.glb"), {"bufferView 2 is not meshopt-compressed but lies in buffer 1, a meshopt fallback buffer"});
+}
+
+}  // namespace
+}  // namespace engine::scene

@@ -1,0 +1,93 @@
+// The capture's command line and rows: presets, overrides, refusals that name the option, and the
+// rows each method x K x setting gives.
+#include <set>
+
+#include <gtest/gtest.h>
+
+#include "capture_options.h"
+#include "capture_rows.h"
+
+namespace capture {
+namespace {
+
+ParseResult parse(std::vector<const char*> args) {
+  args.insert(args.begin(), "perf_capture");
+  return parseOptions(int(args.size()), args.data());
+}
+
+TEST(CaptureOptions, DefaultsAreTheIssuesFullRun) {
+  const ParseResult r = parse({"--out", "x"});
+  ASSERT_TRUE(r.options) << r.message;
+  EXPECT_EQ(r.options->width, 1920u);
+  EXPECT_EQ(r.options->height, 1080u);
+  EXPECT_EQ(r.options->resolutions, (std::vector<int>{16, 32, 64, 128}));
+  EXPECT_EQ(r.options->views, 8u);
+  EXPECT_EQ(r.options->scene.filename(), "bunny.glb");
+}
+
+// Tricky: --quick is a preset, and options given beside it win, whatever their order.
+TEST(CaptureOptions, QuickIsAPresetThatExplicitOptionsOverride) {
+  const ParseResult r = parse({"--views", "3", "--out", "x", "--quick", "--size", "64x32"});
+  ASSERT_TRUE(r.options) << r.message;
+  EXPECT_EQ(r.options->views, 3u);
+  EXPECT_EQ(r.options->width, 64u);
+  EXPECT_EQ(r.options->height, 32u);
+  EXPECT_EQ(r.options->resolutions, (std::vector<int>{16, 32}));
+  EXPECT_EQ(r.options->frames, 2u);
+}
+
+TEST(CaptureOptions, BadValuesAreRefusedNamingTheOption) {
+  struct Case {
+    std::vector<const char*> args;
+    const char* message;
+  };
+  const Case cases[] = {
+      {{"--out", "x", "--resolutions", "16,,32"}, "--resolutions: '' is not a resolution"},
+      {{"--out", "x", "--resolutions", "512"}, "--resolutions: '512'"},
+      {{"--out", "x", "--methods", "cells,splats"}, "--methods: 'splats'"},
+      {{"--out", "x", "--size", "12x"}, "--size: '12x'"},
+      {{"--out", "x", "--views", "9"}, "--views"},
+      {{"--out", "x", "--frames", "0"}, "--frames"},
+      {{"--out", "x", "--shape", "teapot"}, "--shape"},
+      {{"--out", "x", "--shape", "torus", "--methods", "mesh"}, "--methods mesh"},
+      {{"--resolutions", "16"}, "--out"},  // required
+      // An existing file of the wrong kind: a baked field has no source to re-bake or cast against.
+      {{"--out", "x", "--scene", HSDF_TEST_DATA_DIR "/fuzz/hsdf_load_fuzz/sphere_k4_fp32.hsdf"}, "--scene: '"},
+  };
+  for (const Case& c : cases) {
+    const ParseResult r = parse(c.args);
+    EXPECT_FALSE(r.options) << c.message;
+    EXPECT_NE(r.exitCode, 0) << c.message;
+    EXPECT_NE(r.message.find(c.message), std::string::npos) << r.message;
+  }
+}
+
+// Tricky: trilinear also runs at 2K (capped at 256) and only trilinear does; every label is unique
+// (labels name the images); a shape has no mesh row.
+TEST(CaptureRows, MethodTimesKTimesSetting) {
+  const ParseResult r = parse({"--out", "x", "--resolutions", "32,128"});
+  ASSERT_TRUE(r.options);
+  const std::vector<RowSpec> rows = buildRows(*r.options);
+  std::set<std::string> labels;
+  int trilinear = 0, cells = 0;
+  for (const RowSpec& row : rows) {
+    EXPECT_TRUE(labels.insert(row.label).second) << row.label;
+    if (row.method == "trilinear") ++trilinear;
+    if (row.method == "cells") ++cells;
+    if (row.method != "trilinear" && !row.isMesh()) {
+      EXPECT_TRUE(row.resolution == 32 || row.resolution == 128) << row.label;
+    }
+  }
+  EXPECT_EQ(trilinear, 2 * 4);  // K = 32, 64, 128, 256, two normal modes each
+  EXPECT_EQ(cells, 2 * 5);      // n in {2, 3} x r in {0, 1}, and fp16
+  EXPECT_TRUE(labels.contains("mesh"));
+  EXPECT_TRUE(labels.contains("trilinear central K=256"));
+  EXPECT_FALSE(labels.contains("hermite K=256"));
+
+  const ParseResult shape = parse({"--out", "x", "--shape", "torus", "--resolutions", "16"});
+  ASSERT_TRUE(shape.options);
+  for (const RowSpec& row : buildRows(*shape.options)) EXPECT_FALSE(row.isMesh());
+}
+
+}  // namespace
+}  // namespace capture

@@ -1,0 +1,24 @@
+#!/usr/bin/env bash
+# Makes the glTF test files of tests/data/gltf/ that come from npm tools, then validates every valid
+# glTF file there with the Khronos validator and writes tests/data/gltf/validation.json.
+#   cd tools/gltf_testdata && npm ci && ./make_testdata.sh
+set -euo pipefail
+cd "$(dirname "$0")"
+src=../../samples/assets/bunny.glb
+out=../../tests/data/gltf
+bin=node_modules/.bin
+
+# A small closed bunny (292 triangles, 148 vertices): meshoptimizer's simplifier via glTF-Transform.
+$bin/gltf-transform simplify "$src" "$out/bunny_small.glb" --ratio 0.08 --error 0.02
+# The same mesh compressed / quantized as web-delivered files are.
+$bin/gltf-pipeline -i "$out/bunny_small.glb" -o "$out/bunny_small_draco.glb" -d
+$bin/gltf-transform meshopt "$out/bunny_small.glb" "$out/bunny_small_meshopt.glb"
+$bin/gltf-transform quantize "$out/bunny_small.glb" "$out/bunny_small_quantized.glb"
+# Sparse accessors, two scenes, an ignored extension; an unsupported required extension.
+node make_structural.mjs "$out"
+
+# Every valid file of the folder (the deliberately broken ones are listed in the README).
+valid=(hierarchy.gltf flat_square.gltf tilted_cube.gltf tilted_cube_2e-17.gltf tilted_cube_2e100.gltf
+       bunny_small.glb bunny_small_draco.glb bunny_small_meshopt.glb bunny_small_quantized.glb
+       tetra_sparse_scenes.gltf requires_gpu_instancing.gltf)
+node validate.mjs "$out/validation.json" "${valid[@]/#/$out/}"
