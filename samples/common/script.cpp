@@ -17,7 +17,7 @@ namespace {
 using engine::Status;
 
 constexpr std::string_view kTuningKeys[] = {"method", "resolution", "padding", "subdivisions", "refine",
-                                            "normals", "fp16",       "debug_view", "front_to_back"};
+                                            "normals", "fp16",       "debug_view", "front_to_back", "certified"};
 constexpr std::string_view kValueActions[] = {"screenshot", "size",          "panel",        "vsync",  "fullscreen",
                                               "view",       "save-settings", "load-settings", "camera"};
 constexpr std::string_view kBareActions[] = {"wait-bake", "cancel-bake"};
@@ -59,7 +59,7 @@ Status checkCommand(const ScriptCommand& c, TuningState& scratch) {
   }
   if (!contains(kValueActions, c.key))
     return engine::makeError(fmt::format("unknown key '{}' (settings: method, resolution, padding, subdivisions, "
-                                         "refine, normals, fp16, debug_view, front_to_back; actions: screenshot, "
+                                         "refine, normals, fp16, debug_view, front_to_back, certified; actions: screenshot, "
                                          "size, panel, vsync, fullscreen, view, camera, save-settings, load-settings, "
                                          "wait-bake, cancel-bake)",
                                          c.key));

@@ -53,6 +53,7 @@ struct TuningState {
   bool fp16 = false;
   DebugView debugView = DebugView::None;
   bool frontToBack = true;  // cells: submit rows of cells front to back
+  bool certified = false;   // cells: certified root search instead of n samples (renderable.h)
 
   bool operator==(const TuningState&) const = default;
 };
@@ -66,7 +67,7 @@ engine::Status validateTuning(const TuningState& tuning);
 void applyTuning(const TuningState& tuning, hsdf::HermiteSdfRenderable& renderable);
 
 // Settings files: JSON objects with the keys "method", "resolution", "padding", "subdivisions",
-// "refine", "normals", "fp16", "debug_view", "front_to_back", all optional. Loading starts from
+// "refine", "normals", "fp16", "debug_view", "front_to_back", "certified", all optional. Loading starts from
 // `base`; an unknown key, a value of the wrong type or out of range is refused naming the key
 // and the file.
 // One setting given as text, "key=value" style, with the keys and checks of a settings file (the

@@ -78,6 +78,10 @@ void TuningPanel::drawMethod() {
   changed |= ImGui::Checkbox("fp16", &t.fp16);
   ImGui::SameLine();
   changed |= ImGui::Checkbox("front to back", &t.frontToBack);
+  ImGui::SameLine();
+  changed |= ImGui::Checkbox("certified roots", &t.certified);
+  if (ImGui::IsItemHovered())
+    ImGui::SetTooltip("cells: Bernstein subdivision of the ray's cubic instead of n samples; never misses the first root");
   int view = int(t.debugView);
   if (ImGui::Combo("debug view", &view, kDebugViewLabels, IM_ARRAYSIZE(kDebugViewLabels))) {
     t.debugView = DebugView(view);

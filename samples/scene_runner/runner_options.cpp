@@ -107,6 +107,7 @@ void addTuningOptions(CLI::App& app, TuningState& t) {
                          DebugView::Wireframe},
                         samples::debugViewName));
   app.add_flag("!--no-front-to-back", t.frontToBack, "cells: submit in storage order, not front to back");
+  app.add_flag("--certified", t.certified, "cells: certified root search (never misses the first root) instead of n samples");
 }
 
 ParseResult failure(const std::string& message) {

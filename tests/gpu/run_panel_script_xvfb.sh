@@ -16,7 +16,7 @@ fi
 rm -rf "$work" && mkdir -p "$work" && cd "$work" || exit 1
 fail() { echo "FAIL: $*"; exit 1; }
 timeout 300 xvfb-run -a -s "-screen 0 640x480x24" "$runner" --validation --no-ground --size 128x96 --resolution 24 \
-  --bake-budget-mib 16 --ui-ini "" --script "$script" --frames 34 >log.txt 2>&1
+  --bake-budget-mib 16 --ui-ini "" --script "$script" --frames 38 >log.txt 2>&1
 rc=$?
 cat log.txt
 [ $rc -eq 0 ] || fail "scene_runner exited with $rc"
@@ -70,4 +70,9 @@ d=$(FIELD=differs field reloaded.png resized.png)
 # The fly camera takes over the orbit camera's view (a few edge pixels may round differently).
 d=$(FIELD=differs field fly.png windowed_again.png)
 at_least 0.01 "$d" || fail "fly.png differs from windowed_again.png in $d of the pixels: switching cameras moved the view"
+# Certified roots reach the cell shader: the evaluation counts change, the object stays.
+c=$(FIELD=coverage field certified.png)
+at_least "$c" 0.05 || fail "certified.png: the object covers only $c of the image"
+d=$(FIELD=differs field evals_certified.png evals_plain.png)
+at_least "$d" 0.005 || fail "evals_certified.png looks like evals_plain.png (differs $d): certified did not reach the shader"
 echo "panel script: all checks passed"

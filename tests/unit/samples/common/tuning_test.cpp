@@ -38,8 +38,10 @@ TEST(Tuning, ApplyTuningMapsEveryField) {
   t.refineSteps = 4;
   t.normals = hsdf::NormalMode::CentralDifferences;
   t.fp16 = true;
+  t.certified = true;
   hsdf::HermiteSdfRenderable r;
   applyTuning(t, r);
+  EXPECT_TRUE(r.certified);
   EXPECT_EQ(r.method, hsdf::RenderMethod::HermiteSphereTrace);
   EXPECT_EQ(r.subdivisions, 7u);
   EXPECT_EQ(r.refineSteps, 4u);
@@ -69,6 +71,7 @@ TEST(Tuning, SettingsFileRoundTrip) {
   t.fp16 = true;
   t.debugView = DebugView::Wireframe;
   t.frontToBack = false;
+  t.certified = true;
   const auto file = tempFile("round_trip.json");
   ASSERT_TRUE(saveTuning(file, t).ok());
   const auto loaded = loadTuning(file);
