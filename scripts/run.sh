@@ -17,6 +17,6 @@ if [ -n "${DISPLAY:-}" ] || [ -n "${WAYLAND_DISPLAY:-}" ]; then
   exec "$runner" "$@"
 else
   mkdir -p out
-  "$runner" --headless --screenshot out/scene_runner.png "$@"
+  "$runner" --headless --ui --screenshot out/scene_runner.png "$@"
   echo "No display found: rendered headless. Screenshot: $root/out/scene_runner.png"
 fi

@@ -96,4 +96,23 @@ void Window::waitWhileMinimized() {
   while (minimized() && !shouldClose()) glfwWaitEvents();
 }
 
+void Window::setSize(int width, int height) { glfwSetWindowSize(window_, width, height); }
+
+bool Window::fullscreen() const { return glfwGetWindowMonitor(window_) != nullptr; }
+
+void Window::setFullscreen(bool on) {
+  if (on == fullscreen()) return;
+  if (!on) {
+    const int* r = windowedRect_;
+    glfwSetWindowMonitor(window_, nullptr, r[0], r[1], r[2], r[3], GLFW_DONT_CARE);
+    return;
+  }
+  GLFWmonitor* monitor = glfwGetPrimaryMonitor();
+  const GLFWvidmode* mode = monitor ? glfwGetVideoMode(monitor) : nullptr;
+  if (!mode) return;  // no monitor to fill (the caller reads fullscreen() back)
+  glfwGetWindowPos(window_, &windowedRect_[0], &windowedRect_[1]);
+  glfwGetWindowSize(window_, &windowedRect_[2], &windowedRect_[3]);
+  glfwSetWindowMonitor(window_, monitor, 0, 0, mode->width, mode->height, mode->refreshRate);
+}
+
 }  // namespace engine::platform

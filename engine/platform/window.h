@@ -45,6 +45,13 @@ class Window {
   VkExtent2D framebufferExtent() const;  // {0,0} while minimised
   bool minimized() const;
   void waitWhileMinimized();
+  // Asks the window system for a new client size (applied asynchronously: framebufferExtent()
+  // reports it once the window system has resized the window).
+  void setSize(int width, int height);
+  // Full screen on the primary monitor at its current video mode, or back to the windowed
+  // position and size it had before.
+  void setFullscreen(bool fullscreen);
+  bool fullscreen() const;
   GLFWwindow* handle() const { return window_; }
   InputState& input() { return input_; }
 
@@ -57,6 +64,7 @@ class Window {
   InputState input_;
   float pendingScroll_ = 0.0f;
   bool firstPoll_ = true;
+  int windowedRect_[4] = {0, 0, 0, 0};  // x, y, width, height before going full screen
 };
 
 }  // namespace engine::platform

@@ -1,5 +1,7 @@
 #include "engine/ui/ui_layer.h"
 
+#include <algorithm>
+
 #include <imgui.h>
 #include <imgui_impl_glfw.h>
 #include <imgui_impl_vulkan.h>
@@ -117,6 +119,13 @@ void UiLayer::addPanel(std::string name, std::function<void()> draw) {
   panels_.push_back({std::move(name), std::move(draw)});
 }
 
+void UiLayer::setIniFile(const std::string& file) {
+  iniFile_ = file;
+  ImGuiIO& io = ImGui::GetIO();
+  io.IniFilename = iniFile_.empty() ? nullptr : iniFile_.c_str();
+  if (!iniFile_.empty()) ImGui::LoadIniSettingsFromDisk(iniFile_.c_str());
+}
+
 void UiLayer::addFeaturePanels(const render::Renderer& renderer) {
   for (const auto& feature : renderer.features()) {
     render::RenderFeature* f = feature.get();
@@ -135,7 +144,9 @@ void UiLayer::buildFrame(VkExtent2D extent, float deltaSeconds) {
   }
   ImGui::NewFrame();
   ImGui::SetNextWindowPos(ImVec2(10, 10), ImGuiCond_FirstUseEver);
-  ImGui::SetNextWindowSize(ImVec2(360, 0), ImGuiCond_FirstUseEver);
+  // A fixed size, not auto-fit: ImGui hides an auto-fitting window in its first frame, and a
+  // one-frame headless screenshot would show no panel.
+  ImGui::SetNextWindowSize(ImVec2(420.0f, std::max(120.0f, float(extent.height) - 20.0f)), ImGuiCond_FirstUseEver);
   if (ImGui::Begin("hermite_sdf")) {
     for (Panel& panel : panels_) {
       ImGui::PushID(panel.name.c_str());

@@ -28,6 +28,10 @@ class UiLayer final : public render::OverlayPass {
 
   // Panels are drawn every frame in registration order, each inside the main "hermite_sdf" window.
   void addPanel(std::string name, std::function<void()> draw);
+  // ImGui's window layout: loaded from `file` now (when it exists) and saved to it while the UI
+  // runs and at shutdown. Empty: not kept (the default).
+  void setIniFile(const std::string& file);
+
   // Adds every render feature's drawUi() as a panel.
   void addFeaturePanels(const render::Renderer& renderer);
 
@@ -54,6 +58,7 @@ class UiLayer final : public render::OverlayPass {
   VkDescriptorPool descriptorPool_ = VK_NULL_HANDLE;
   std::unordered_map<VkImageView, VkFramebuffer> framebuffers_;
   std::vector<Panel> panels_;
+  std::string iniFile_;  // ImGui keeps a pointer to it
   bool glfwBackend_ = false;
   bool vulkanBackend_ = false;
   bool frameBuilt_ = false;

@@ -102,8 +102,9 @@ engine::Status readKey(const std::string& key, const json& value, TuningState& t
   if (key == "fp16") return readBool(value, t.fp16);
   if (key == "debug_view") return readName(value, kDebugViews, t.debugView);
   if (key == "front_to_back") return readBool(value, t.frontToBack);
+  if (key == "certified") return readBool(value, t.certified);
   return engine::makeError("unknown setting (known: method, resolution, padding, subdivisions, refine, normals, fp16, "
-                           "debug_view, front_to_back)");
+                           "debug_view, front_to_back, certified)");
 }
 
 }  // namespace
@@ -135,6 +136,17 @@ void applyTuning(const TuningState& tuning, hsdf::HermiteSdfRenderable& renderab
   renderable.refineSteps = tuning.refineSteps;
   renderable.normals = tuning.normals;
   renderable.halfPrecision = tuning.fp16;
+  renderable.certified = tuning.certified;
+}
+
+engine::Status setTuningValue(TuningState& tuning, std::string_view key, std::string_view value) {
+  json parsed = json::parse(value, nullptr, /*allow_exceptions=*/false);
+  if (parsed.is_discarded() || !(parsed.is_number() || parsed.is_boolean())) parsed = std::string(value);
+  TuningState changed = tuning;
+  ENGINE_TRY(readKey(std::string(key), parsed, changed).withContext(fmt::format("setting '{}'", key)));
+  ENGINE_TRY(validateTuning(changed));
+  tuning = changed;
+  return {};
 }
 
 engine::Expected<TuningState> loadTuning(const std::filesystem::path& file, const TuningState& base) {
@@ -158,7 +170,8 @@ engine::Status saveTuning(const std::filesystem::path& file, const TuningState& 
                      {"normals", normalModeName(t.normals)},
                      {"fp16", t.fp16},
                      {"debug_view", debugViewName(t.debugView)},
-                     {"front_to_back", t.frontToBack}};
+                     {"front_to_back", t.frontToBack},
+                     {"certified", t.certified}};
   return engine::writeTextFile(file, root.dump(2) + "\n");
 }
 

@@ -37,9 +37,14 @@ inline constexpr IntRange kResolutionRange{2, 256};
 inline constexpr IntRange kPaddingRange{0, 16};
 inline constexpr IntRange kSubdivisionsRange{1, 64};
 inline constexpr IntRange kRefineRange{0, 16};
+// The panel's sliders: the useful part of each range (the paper uses n = 2 or 3; K past 256 is
+// refused by the bake anyway).
+inline constexpr IntRange kPanelResolutionRange{8, 256};
+inline constexpr IntRange kPanelSubdivisionsRange{1, 16};
+inline constexpr IntRange kPanelRefineRange{0, 4};
 
 struct TuningState {
-  Method method = Method::Mesh;
+  Method method = Method::Cells;  // the paper's method is what a user sees first
   int resolution = 64;  // K samples per axis of the baked field (changing it re-bakes)
   int padding = 1;      // cells of padding around the mesh bounds (changing it re-bakes)
   std::uint32_t subdivisions = 3;
@@ -48,6 +53,7 @@ struct TuningState {
   bool fp16 = false;
   DebugView debugView = DebugView::None;
   bool frontToBack = true;  // cells: submit rows of cells front to back
+  bool certified = false;   // cells: certified root search instead of n samples (renderable.h)
 
   bool operator==(const TuningState&) const = default;
 };
@@ -61,9 +67,14 @@ engine::Status validateTuning(const TuningState& tuning);
 void applyTuning(const TuningState& tuning, hsdf::HermiteSdfRenderable& renderable);
 
 // Settings files: JSON objects with the keys "method", "resolution", "padding", "subdivisions",
-// "refine", "normals", "fp16", "debug_view", "front_to_back", all optional. Loading starts from
+// "refine", "normals", "fp16", "debug_view", "front_to_back", "certified", all optional. Loading starts from
 // `base`; an unknown key, a value of the wrong type or out of range is refused naming the key
 // and the file.
+// One setting given as text, "key=value" style, with the keys and checks of a settings file (the
+// value is read as JSON when it parses as a number or true/false, else as a name): how a --script
+// line writes the TuningState. Errors name the key.
+engine::Status setTuningValue(TuningState& tuning, std::string_view key, std::string_view value);
+
 engine::Expected<TuningState> loadTuning(const std::filesystem::path& file, const TuningState& base = {});
 engine::Status saveTuning(const std::filesystem::path& file, const TuningState& tuning);
 

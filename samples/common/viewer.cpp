@@ -2,6 +2,8 @@
 
 #include <chrono>
 
+#include <GLFW/glfw3.h>
+
 #include <fmt/format.h>
 #include <imgui.h>
 
@@ -15,6 +17,7 @@
 #include "engine/ui/ui_layer.h"
 #include "hermite_sdf/cell_feature.h"
 #include "hermite_sdf/sphere_trace_feature.h"
+#include "tuning_panel.h"
 
 namespace samples {
 
@@ -57,6 +60,7 @@ Status Viewer::initialize(const ViewerDesc& desc) {
     contextDesc.instanceExtensions = platform::Window::requiredInstanceExtensions();
     contextDesc.swapchain = true;
   }
+  bakeBudget_ = desc.bakeBudget;
   ENGINE_TRY_ASSIGN(context_, gpu::Context::create(contextDesc));
   ENGINE_TRY(checkImageSize(desc, *context_));
   pool_ = std::make_unique<render::MeshPool>(*context_);
@@ -74,23 +78,13 @@ Status Viewer::initialize(const ViewerDesc& desc) {
   if (window_ || desc.headlessUi) {
     ENGINE_TRY_ASSIGN(ui_, ui::UiLayer::create(*context_, renderer_->desc().formats.color,
                                                renderer_->desc().framesInFlight, window_.get()));
-    addViewPanel();
+    if (!desc.uiIniFile.empty()) ui_->setIniFile(desc.uiIniFile.string());
+    panel_ = std::make_unique<TuningPanel>(*this);
+    ui_->addPanel("tuning", [this] { panel_->draw(); });
     ui_->addFeaturePanels(*renderer_);
   }
   lastFrameTime_ = nowSeconds();
   return {};
-}
-
-// The runner's one inline panel (the tuning panel of issue 11 replaces it).
-void Viewer::addViewPanel() {
-  ui_->addPanel("view", [this] {
-    ImGui::Text("%s", context_->capabilities().deviceName.c_str());
-    static const char* views[] = {"shaded", "normals", "depth", "cells", "evaluations", "cell boxes"};
-    int view = int(tuning_.debugView);
-    if (ImGui::Combo("debug view", &view, views, 6)) tuning_.debugView = DebugView(view);
-    if (ImGui::CollapsingHeader("GPU timings", ImGuiTreeNodeFlags_DefaultOpen))
-      for (const gpu::GpuTiming& t : renderer_->lastTimings()) ImGui::Text("%-14s %8.3f ms", t.name.c_str(), t.milliseconds);
-  });
 }
 
 void Viewer::setOrbitView(int index) { orbit_ = platform::framingOrbit(boundsMin_, boundsMax_, fovY_, index); }
@@ -110,12 +104,34 @@ void Viewer::setCamera(const glm::dvec3& eye, const glm::dvec3& target) {
 render::CameraView Viewer::cameraView() const {
   const VkExtent2D extent = renderer_->extent();
   const float aspect = float(extent.width) / float(std::max(extent.height, 1u));
+  if (cameraMode_ == CameraMode::Fly)
+    return render::CameraView::lookAt(fly_.position, fly_.position + fly_.forward(), fovY_, znear_, aspect);
   return render::CameraView::lookAt(orbit_.eye(), orbit_.target, fovY_, znear_, aspect);
+}
+
+void Viewer::setCameraMode(CameraMode mode) {
+  if (mode == cameraMode_) return;
+  cameraMode_ = mode;
+  if (mode == CameraMode::Orbit) {  // orbit around the point the fly camera looked at
+    setCamera(glm::dvec3(fly_.position), glm::dvec3(fly_.position + fly_.forward() * orbit_.radius));
+    return;
+  }
+  const glm::vec3 eye = orbit_.eye();
+  const glm::vec3 d = glm::normalize(orbit_.target - eye);
+  fly_.position = eye;
+  fly_.pitch = std::asin(std::clamp(d.y, -1.0f, 1.0f));
+  fly_.yaw = std::atan2(-d.x, -d.z);  // FlyController::forward() inverted
+  fly_.speed = 0.5f * glm::length(boundsMax_ - boundsMin_);  // half the scene per second
 }
 
 void Viewer::setTuning(const TuningState& tuning) {
   tuning_ = tuning;
-  if (!bakeSource_) return;
+  if (!bakeSource_ || (!bakedEntity_ && !isSdfMethod(tuning.method))) return;
+  // A scene loaded as meshes bakes its SDF when an SDF method is first picked.
+  if (!bakedEntity_) {
+    if (!bakeJob_) startRebake();
+    return;
+  }
   // Compared with what is being baked, else with what is drawn.
   const int resolution = bakeJob_ ? bakeJob_->settings().resolution : bakedResolution_;
   const int padding = bakeJob_ ? bakeJob_->settings().padding : bakedPadding_;
@@ -126,17 +142,38 @@ void Viewer::startRebake() {
   hsdf::BakeSettings settings;
   settings.resolution = tuning_.resolution;
   settings.padding = tuning_.padding;
+  settings.budget = bakeBudget_;
+  bakeError_.clear();
   bakeJob_.reset();  // cancels a re-bake for settings that are already outdated
   bakeJob_ = std::make_unique<hsdf::BakeJob>(*bakeSource_, settings);
 }
 
-// Swaps the re-bake's asset into the entity (waiting for it); a failed one leaves the old asset.
+void Viewer::cancelBake() {
+  if (bakeJob_) bakeJob_->cancel();
+}
+
+// Swaps the re-bake's asset into the entity (waiting for it). A failed one leaves the old asset
+// and puts the tuning back to the K drawn (or to the meshes, when there is no SDF yet), so that
+// the panel shows what is on screen; the reason stays in bakeError().
 Status Viewer::finishBake() {
   hsdf::BakeJob::Result result = bakeJob_->wait();
   const hsdf::BakeSettings settings = bakeJob_->settings();
   bakeJob_.reset();
-  if (!result) return result.error().withContext(fmt::format("re-baking at resolution {}", settings.resolution));
-  registry_.get<hsdf::HermiteSdfRenderable>(*bakedEntity_).asset = std::move(*result);
+  if (!result) {
+    const Error error = result.error().withContext(fmt::format("re-baking at resolution {}", settings.resolution));
+    bakeError_ = error.message;
+    if (bakedEntity_) {
+      tuning_.resolution = bakedResolution_;
+      tuning_.padding = bakedPadding_;
+    } else {
+      tuning_.method = Method::Mesh;
+    }
+    return error;
+  }
+  log::info("re-baked at resolution {}: {}", settings.resolution, describeSdfStats(sdfStats(**result)));
+  if (bakedEntity_ && hiddenSdf_) hiddenSdf_->asset = std::move(*result);
+  else if (bakedEntity_) registry_.get<hsdf::HermiteSdfRenderable>(*bakedEntity_).asset = std::move(*result);
+  else bakedEntity_ = addSdfEntity(std::move(*result), glm::vec3(0.0f), sdfColor_ ? &*sdfColor_ : nullptr);
   bakedResolution_ = settings.resolution;
   bakedPadding_ = settings.padding;
   return {};
@@ -144,7 +181,39 @@ Status Viewer::finishBake() {
 
 Status Viewer::waitForBake() { return bakeJob_ ? finishBake() : Status{}; }
 
+const hsdf::SdfAsset* Viewer::sdfAsset() const {
+  if (hiddenSdf_) return hiddenSdf_->asset.get();
+  if (!bakedEntity_) return nullptr;
+  return registry_.get<hsdf::HermiteSdfRenderable>(*bakedEntity_).asset.get();
+}
+
+// The method picks what is drawn: the SDF, or the scene's meshes (also while the first SDF of a
+// mesh scene bakes, and always beside it with --side-by-side).
+void Viewer::updateVisibility() {
+  const bool sdfShown = isSdfMethod(tuning_.method) && bakedEntity_;
+  const bool meshesShown = sideBySide_ || !sdfShown;
+  if (bakedEntity_ && sdfShown == hiddenSdf_.has_value()) {
+    if (sdfShown) {
+      registry_.emplace<hsdf::HermiteSdfRenderable>(*bakedEntity_, std::move(*hiddenSdf_));
+      hiddenSdf_.reset();
+    } else {
+      hiddenSdf_ = registry_.get<hsdf::HermiteSdfRenderable>(*bakedEntity_);
+      registry_.remove<hsdf::HermiteSdfRenderable>(*bakedEntity_);
+    }
+  }
+  if (meshesShown && !hiddenMeshes_.empty()) {
+    for (auto& [entity, mesh] : hiddenMeshes_) registry_.emplace<render::MeshRenderable>(entity, mesh);
+    hiddenMeshes_.clear();
+  } else if (!meshesShown && hiddenMeshes_.empty()) {
+    for (ecs::Entity entity : meshEntities_) {
+      hiddenMeshes_.emplace_back(entity, registry_.get<render::MeshRenderable>(entity));
+      registry_.remove<render::MeshRenderable>(entity);
+    }
+  }
+}
+
 void Viewer::applyTuningToScene() {
+  updateVisibility();
   registry_.view<hsdf::HermiteSdfRenderable>().each(
       [this](ecs::Entity, hsdf::HermiteSdfRenderable& renderable) { applyTuning(tuning_, renderable); });
   renderer_->feature<hsdf::HermiteCellFeature>()->settings().frontToBack = tuning_.frontToBack;
@@ -159,7 +228,7 @@ Status Viewer::recreateSwapchain() {
   return {};
 }
 
-Status Viewer::handleWindow(bool& drawable) {
+Status Viewer::handleWindow(float dt, bool& drawable) {
   window_->pollEvents();
   drawable = !window_->minimized();
   if (!drawable) {
@@ -167,37 +236,89 @@ Status Viewer::handleWindow(bool& drawable) {
     return {};
   }
   platform::InputState& input = window_->input();
-  input.uiWantsMouse = ui_ && ui_->wantsMouse();
-  input.uiWantsKeyboard = ui_ && ui_->wantsKeyboard();
-  orbit_.update(input);
+  input.uiWantsMouse = ui_ && uiVisible_ && ui_->wantsMouse();
+  input.uiWantsKeyboard = ui_ && uiVisible_ && ui_->wantsKeyboard();
+  handleKeys(input);
+  if (cameraMode_ == CameraMode::Orbit) orbit_.update(input);
+  else fly_.update(input, std::min(dt, 0.1f));  // a stall does not throw the camera across the scene
   const VkExtent2D extent = window_->framebufferExtent();
   if (extent.width != swapchain_->extent().width || extent.height != swapchain_->extent().height)
     ENGINE_TRY(recreateSwapchain());
   return {};
 }
 
+// F1: panel on/off; F2: orbit/fly camera; F11: full screen. On the press, not while held.
+void Viewer::handleKeys(const platform::InputState& input) {
+  auto pressed = [&](int key) { return input.keys[key] && !keysDown_[key]; };
+  if (!input.uiWantsKeyboard) {
+    if (pressed(GLFW_KEY_F1)) uiVisible_ = !uiVisible_;
+    if (pressed(GLFW_KEY_F2)) setCameraMode(cameraMode_ == CameraMode::Orbit ? CameraMode::Fly : CameraMode::Orbit);
+    if (pressed(GLFW_KEY_F11)) setFullscreen(!fullscreen());
+  }
+  std::copy(std::begin(input.keys), std::end(input.keys), std::begin(keysDown_));
+}
+
+Status Viewer::setVsync(bool vsync) {
+  if (!swapchain_ || vsync == vsync_) return {};
+  // The present mode is fixed at swapchain creation: make a new one.
+  context_->waitIdle();
+  swapchain_.reset();
+  ENGINE_TRY_ASSIGN(swapchain_, gpu::Swapchain::create(*context_, window_->surface(), window_->framebufferExtent(), vsync));
+  vsync_ = vsync;
+  renderer_->resize(swapchain_->extent());
+  return {};
+}
+
+void Viewer::setFullscreen(bool fullscreen) {
+  if (window_) window_->setFullscreen(fullscreen);
+}
+
+bool Viewer::fullscreen() const { return window_ && window_->fullscreen(); }
+
+void Viewer::resize(std::uint32_t width, std::uint32_t height) {
+  if (window_) {
+    window_->setSize(int(width), int(height));
+    return;
+  }
+  context_->waitIdle();
+  renderer_->resize({width, height});
+}
+
 Status Viewer::step() {
   float dt = 1.0f / 60.0f;  // headless frames are deterministic
   if (window_) {
-    bool drawable = true;
-    ENGINE_TRY(handleWindow(drawable));
-    if (!drawable) return {};
     const double now = nowSeconds();
     dt = float(now - lastFrameTime_);
     lastFrameTime_ = now;
+    bool drawable = true;
+    ENGINE_TRY(handleWindow(dt, drawable));
+    if (!drawable) return {};
   }
+  frameSeconds_ = dt;
   if (bakeJob_ && bakeJob_->done())
     if (Status baked = finishBake(); !baked) log::warn("{}", baked.error().message);
   applyTuningToScene();
   scene::updateWorldTransforms(registry_);
-  if (ui_) ui_->buildFrame(renderer_->extent(), dt);
+  const bool ui = ui_ && uiVisible_;
+  if (ui) ui_->buildFrame(renderer_->extent(), dt);
   render::FrameSettings settings;
   settings.debugView = std::uint32_t(tuning_.debugView);
   settings.swapchain = swapchain_.get();
-  settings.overlay = ui_.get();
+  settings.overlay = ui ? ui_.get() : nullptr;
   if (!renderer_->renderFrame(registry_, cameraView(), settings)) ENGINE_TRY(recreateSwapchain());
   ++frames_;
+  finishStep();
   return {};
+}
+
+// What the panel or a script asked for that needs the finished frame.
+void Viewer::finishStep() {
+  if (!pendingScreenshot_) return;
+  const std::filesystem::path path = std::move(*pendingScreenshot_);
+  pendingScreenshot_.reset();
+  const Status written = writeScreenshot(path);
+  statusLine_ = written ? "wrote " + path.string() : written.error().message;
+  if (!written) log::warn("{}", written.error().message);
 }
 
 Status Viewer::writeScreenshot(const std::filesystem::path& path) {
@@ -205,8 +326,32 @@ Status Viewer::writeScreenshot(const std::filesystem::path& path) {
   const std::vector<std::uint8_t> pixels = renderer_->readbackColor();
   const VkExtent2D extent = renderer_->extent();
   ENGINE_TRY(writePng(path, pixels, extent.width, extent.height, 4));
-  log::info("screenshot: {}", path.string());
+  std::filesystem::path sidecar = path;
+  sidecar.replace_extension(".json");
+  ENGINE_TRY(saveTuning(sidecar, tuning_));
+  const hsdf::SdfAsset* asset = sdfAsset();
+  log::info("screenshot: {} ({}x{}, {}{}{})", path.string(), extent.width, extent.height, methodName(tuning_.method),
+            asset ? "; " : "", asset ? describeSdfStats(sdfStats(*asset)) : "");
   return {};
+}
+
+SdfStats sdfStats(const hsdf::SdfAsset& asset) {
+  SdfStats stats;
+  const std::uint64_t k = std::uint64_t(asset.cells.grid.resolution);
+  stats.resolution = int(k);
+  stats.cells = asset.classification.stats;
+  stats.cellScalars = asset.cells.stored_scalars();
+  stats.cellBytes = asset.cells.stored_bytes();
+  stats.cellBytesHalf = asset.cellsHalf.stored_bytes();
+  stats.trilinearScalars = k * k * k;
+  stats.hermiteScalars = 4 * k * k * k;
+  return stats;
+}
+
+std::string describeSdfStats(const SdfStats& s) {
+  return fmt::format("K {}: cells {} crossing / {} ambiguous / {} empty; stored scalars: cells {}, trilinear {}, hermite {}",
+                     s.resolution, s.cells.crossing, s.cells.ambiguous, s.cells.empty, s.cellScalars, s.trilinearScalars,
+                     s.hermiteScalars);
 }
 
 Status Viewer::close() {

@@ -16,6 +16,7 @@
 #include <memory>
 #include <optional>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include <glm/glm.hpp>
@@ -24,6 +25,7 @@
 #include "engine/ecs/registry.h"
 #include "engine/gpu/context.h"
 #include "engine/platform/camera_controller.h"
+#include "engine/render/components.h"
 #include "engine/render/renderer.h"
 #include "hermite_sdf/bake_job.h"
 #include "tuning.h"
@@ -58,7 +60,23 @@ struct ViewerDesc {
   bool validation = false;  // also on with HSDF_VALIDATION=1 and in debug builds
   engine::gpu::DevicePreference device = engine::gpu::DevicePreference::Auto;
   bool headlessUi = false;  // draw the UI panels into headless frames (windowed: always)
+  std::filesystem::path uiIniFile;  // ImGui's window layout is loaded from / saved to it (empty: not kept)
+  hsdf::BakeBudget bakeBudget;      // bakes past it are refused (the reason is in bakeError())
 };
+
+// What the baked SDF costs per method and what its cells are, for the panel and the screenshot log.
+struct SdfStats {
+  int resolution = 0;  // K
+  hsdf::CellStats cells;
+  std::uint64_t cellScalars = 0;  // 32 per kept cell: f and its gradient at 8 corners
+  std::uint64_t cellBytes = 0;    // fp32 records, coordinates included
+  std::uint64_t cellBytesHalf = 0;
+  std::uint64_t trilinearScalars = 0;  // K^3 values of f
+  std::uint64_t hermiteScalars = 0;    // 4 K^3: f and its gradient at every sample
+};
+SdfStats sdfStats(const hsdf::SdfAsset& asset);
+// "cells 1234 crossing / 56 ambiguous / 9999 empty; stored scalars: cells N, trilinear N, hermite N"
+std::string describeSdfStats(const SdfStats& stats);
 
 // What to show. A glTF scene's meshes are drawn as triangles (Method::Mesh) or baked into one SDF
 // through the module bake job (any other method), which replaces them or, with sideBySide, stands
@@ -71,6 +89,12 @@ struct SceneDesc {
   bool sideBySide = false;
   bool groundPlane = true;
 };
+
+class TuningPanel;
+
+// Orbit: around the scene (drag rotates, right-drag/scroll zooms, middle-drag pans). Fly: WASD
+// (Q/E down/up, Shift faster) and right-drag to look.
+enum class CameraMode { Orbit, Fly };
 
 class Viewer {
  public:
@@ -88,6 +112,9 @@ class Viewer {
   void setOrbitView(int index);
   void setCamera(const glm::dvec3& eye, const glm::dvec3& target);
   engine::render::CameraView cameraView() const;
+  // Switching keeps the eye and the view direction (F2 toggles).
+  void setCameraMode(CameraMode mode);
+  CameraMode cameraMode() const { return cameraMode_; }
 
   const TuningState& tuning() const { return tuning_; }
   // Applied at the next step(). A new resolution or padding re-bakes the baked SDF on a worker
@@ -97,6 +124,16 @@ class Viewer {
   hsdf::BakeJob* bakeJob() { return bakeJob_.get(); }
   // Blocks until a running re-bake is done and in the scene; its error, if it failed.
   engine::Status waitForBake();
+  // Cancels the running re-bake (the old field keeps drawing; K goes back to the drawn one).
+  void cancelBake();
+  // Why the last bake failed or was refused (budget, cancelled), or empty.
+  const std::string& bakeError() const { return bakeError_; }
+  // The SDF in the scene (shown or hidden by the method), or null.
+  const hsdf::SdfAsset* sdfAsset() const;
+  // Whether a new K can be baked (a glTF scene or an analytic shape; not a .hsdf file).
+  bool canRebake() const { return bakeSource_.has_value(); }
+  // Whether Method::Mesh has triangles to show (a glTF scene).
+  bool hasMeshes() const { return !meshEntities_.empty(); }
 
   // Windowed: the user closed the window. Headless: never.
   bool shouldClose() const;
@@ -106,8 +143,29 @@ class Viewer {
   engine::Status step();
   std::uint64_t framesRendered() const { return frames_; }
 
-  // Waits for the GPU and writes the last frame as a PNG.
+  // Waits for the GPU and writes the last frame as a PNG, the TuningState beside it as a settings
+  // file (same name, .json: --settings loads it) and the SDF statistics to the log.
   engine::Status writeScreenshot(const std::filesystem::path& path);
+  // writeScreenshot after the next frame is drawn (the panel's button; the UI is in the image).
+  void requestScreenshot(std::filesystem::path path) { pendingScreenshot_ = std::move(path); }
+  // What the last requested screenshot or settings file operation said ("wrote x.png", an error).
+  const std::string& statusLine() const { return statusLine_; }
+  void setStatusLine(std::string line) { statusLine_ = std::move(line); }
+
+  // The UI panels on or off (F1); off leaves only the scene in windowed screenshots.
+  void setUiVisible(bool visible) { uiVisible_ = visible; }
+  bool uiVisible() const { return uiVisible_; }
+  // Window only (no-ops headless, where resize() sets the image size): V-sync (recreates the
+  // swapchain with FIFO or the fastest mode the surface has), full screen (F11).
+  engine::Status setVsync(bool vsync);
+  bool vsync() const { return vsync_; }
+  void setFullscreen(bool fullscreen);
+  bool fullscreen() const;
+  // Windowed: asks for a new window size; headless: resizes the render targets now.
+  void resize(std::uint32_t width, std::uint32_t height);
+  bool windowed() const { return window_ != nullptr; }
+  // Seconds the last windowed frame took (headless: 1/60).
+  float frameSeconds() const { return frameSeconds_; }
 
   engine::gpu::Context& context() { return *context_; }
   engine::render::Renderer& renderer() { return *renderer_; }
@@ -122,15 +180,16 @@ class Viewer {
  private:
   Viewer() = default;
   engine::Status initialize(const ViewerDesc& desc);
-  void addViewPanel();
-  engine::Status handleWindow(bool& drawable);
+  engine::Status handleWindow(float dt, bool& drawable);
+  void handleKeys(const engine::platform::InputState& input);
+  void updateVisibility();
+  void finishStep();
   engine::Status recreateSwapchain();
   void applyTuningToScene();
   void startRebake();
   engine::Status finishBake();
   // Scene loading (viewer_scene.cpp).
-  engine::Status addBakedSdf(hsdf::BakeSource source, const SceneDesc& scene, bool replaceMeshes,
-                             const std::vector<engine::ecs::Entity>& meshes, const glm::vec4* color);
+  engine::Status addBakedSdf(hsdf::BakeSource source, const SceneDesc& scene);
   engine::Status addSdfFile(const std::filesystem::path& file, bool frameIt);
   engine::Status loadGltf(const SceneDesc& scene);
   void addGroundPlane();
@@ -143,23 +202,42 @@ class Viewer {
   std::unique_ptr<engine::render::Renderer> renderer_;
   std::unique_ptr<engine::ui::UiLayer> ui_;
   std::unique_ptr<engine::gpu::Swapchain> swapchain_;
+  std::unique_ptr<TuningPanel> panel_;
   engine::ecs::Registry registry_;
 
   glm::vec3 boundsMin_{-1.0f};
   glm::vec3 boundsMax_{1.0f};
   engine::platform::OrbitController orbit_;
+  engine::platform::FlyController fly_;
+  CameraMode cameraMode_ = CameraMode::Orbit;
   float fovY_ = 0.8f;
   float znear_ = 0.01f;
   double lastFrameTime_ = 0.0;  // seconds on the steady clock; windowed frames measure dt
   std::uint64_t frames_ = 0;
   TuningState tuning_;
 
-  // The baked SDF entity, what it was baked from and at which K and padding it is drawn.
+  // The SDF entity (baked or from a .hsdf file), what it was baked from and at which K and
+  // padding it is drawn. A glTF scene keeps its mesh entities: the method shows one or the other
+  // (a hidden entity's renderable waits in hiddenMeshes_ / hiddenSdf_).
   std::optional<hsdf::BakeSource> bakeSource_;
   std::optional<engine::ecs::Entity> bakedEntity_;
+  std::optional<glm::vec4> sdfColor_;  // the SDF looks like the mesh it stands for
   int bakedResolution_ = 0;
   int bakedPadding_ = 0;
   std::unique_ptr<hsdf::BakeJob> bakeJob_;
+  hsdf::BakeBudget bakeBudget_;
+  std::string bakeError_;
+  bool sideBySide_ = false;
+  std::vector<engine::ecs::Entity> meshEntities_;
+  std::vector<std::pair<engine::ecs::Entity, engine::render::MeshRenderable>> hiddenMeshes_;
+  std::optional<hsdf::HermiteSdfRenderable> hiddenSdf_;
+
+  std::optional<std::filesystem::path> pendingScreenshot_;
+  std::string statusLine_;
+  bool uiVisible_ = true;
+  bool vsync_ = true;
+  float frameSeconds_ = 1.0f / 60.0f;
+  bool keysDown_[512] = {};  // last frame's keys, for presses (F1, F11)
   bool closed_ = false;
 };
 

@@ -71,9 +71,10 @@ Status Viewer::loadScene(const SceneDesc& scene, const TuningState& tuning) {
   if (!scene.gltf.empty()) {
     ENGINE_TRY(loadGltf(scene));
   } else if (!scene.shape.empty()) {
-    ENGINE_TRY(addBakedSdf(hsdf::BakeSource::fromShape(scene.shape), scene, false, {}, nullptr).withContext(scene.shape));
+    ENGINE_TRY(addBakedSdf(hsdf::BakeSource::fromShape(scene.shape), scene).withContext(scene.shape));
   }
   if (scene.groundPlane) addGroundPlane();
+  updateVisibility();  // the registry shows what the method draws from the start, not only after step()
   scene::updateWorldTransforms(registry_);
   znear_ = float(0.01 * diagonal(boundsMin_, boundsMax_));
   setOrbitView(0);
@@ -90,34 +91,43 @@ Status Viewer::loadGltf(const SceneDesc& scene) {
     boundsMax_ = instantiated.boundsMax;
     ENGINE_TRY(checkDrawableSize(scene.gltf, boundsMin_, boundsMax_));
   }
-  if (!isSdfMethod(tuning_.method) || !scene.sdfFile.empty()) return {};
-  if (instantiated.renderables.empty()) return makeError(scene.gltf.string() + ": no triangle meshes to bake into an SDF");
-  ENGINE_TRY_ASSIGN(hsdf::BakeSource source, hsdf::BakeSource::fromScene("scene sdf", data).withContext(scene.gltf.string()));
-  // The SDF looks like the mesh it replaces.
-  const glm::vec4* color = data.materials.empty() ? nullptr : &data.materials.front().baseColor;
-  return addBakedSdf(std::move(source), scene, !scene.sideBySide, instantiated.renderables, color)
-      .withContext(scene.gltf.string());
+  if (!scene.sdfFile.empty() || instantiated.renderables.empty()) {
+    if (isSdfMethod(tuning_.method) && scene.sdfFile.empty())
+      return makeError(scene.gltf.string() + ": no triangle meshes to bake into an SDF");
+    return {};
+  }
+  meshEntities_ = instantiated.renderables;
+  sideBySide_ = scene.sideBySide;
+  // The SDF looks like the mesh it stands for.
+  if (!data.materials.empty()) sdfColor_ = data.materials.front().baseColor;
+  auto source = hsdf::BakeSource::fromScene("scene sdf", data);
+  if (!isSdfMethod(tuning_.method)) {
+    // Baked when an SDF method is picked; a scene that cannot be baked says why then.
+    if (source) bakeSource_ = std::move(*source);
+    else bakeError_ = source.error().withContext(scene.gltf.string()).message;
+    return {};
+  }
+  if (!source) return source.error().withContext(scene.gltf.string());
+  return addBakedSdf(std::move(*source), scene).withContext(scene.gltf.string());
 }
 
-// Bakes `source` at the tuning's K and padding and adds it; with sideBySide beside the scene,
-// otherwise in place of `meshes`.
-Status Viewer::addBakedSdf(hsdf::BakeSource source, const SceneDesc& scene, bool replaceMeshes,
-                           const std::vector<ecs::Entity>& meshes, const glm::vec4* color) {
+// Bakes `source` at the tuning's K and padding and adds it: as the scene when there are no meshes,
+// beside them with sideBySide, else in their place (they stay, hidden, for Method::Mesh).
+Status Viewer::addBakedSdf(hsdf::BakeSource source, const SceneDesc& scene) {
   hsdf::BakeSettings settings;
   settings.resolution = tuning_.resolution;
   settings.padding = tuning_.padding;
+  settings.budget = bakeBudget_;
   ENGINE_TRY_ASSIGN(std::shared_ptr<const hsdf::SdfAsset> asset, bakeWithProgress(source, settings));
   glm::vec3 offset(0.0f);
-  if (meshes.empty()) {  // the baked shape is the scene
+  if (meshEntities_.empty()) {  // the baked shape is the scene
     boundsMin_ = glm::vec3(asset->surfaceBounds.min);
     boundsMax_ = glm::vec3(asset->surfaceBounds.max);
   } else if (scene.sideBySide) {
     offset.x = 1.25f * (boundsMax_.x - boundsMin_.x);
     boundsMax_.x += offset.x;
   }
-  if (replaceMeshes)
-    for (ecs::Entity e : meshes) registry_.remove<render::MeshRenderable>(e);
-  bakedEntity_ = addSdfEntity(std::move(asset), offset, color);
+  bakedEntity_ = addSdfEntity(std::move(asset), offset, sdfColor_ ? &*sdfColor_ : nullptr);
   bakeSource_ = std::move(source);
   bakedResolution_ = settings.resolution;
   bakedPadding_ = settings.padding;
@@ -136,7 +146,8 @@ Status Viewer::addSdfFile(const std::filesystem::path& file, bool frameIt) {
     boundsMin_ = glm::vec3(bounds.min);
     boundsMax_ = glm::vec3(bounds.max);
   }
-  addSdfEntity(std::move(asset), glm::vec3(0.0f), nullptr);
+  bakedResolution_ = int(asset->cells.grid.resolution);
+  bakedEntity_ = addSdfEntity(std::move(asset), glm::vec3(0.0f), nullptr);
   return {};
 }
 

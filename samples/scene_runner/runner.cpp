@@ -1,6 +1,7 @@
 #include "runner.h"
 
 #include "engine/core/log.h"
+#include "script.h"
 #include "viewer.h"
 
 namespace runner {
@@ -17,6 +18,8 @@ samples::ViewerDesc viewerDesc(const Options& options) {
   desc.validation = options.validation;
   desc.device = options.device;
   desc.headlessUi = options.headlessUi;
+  desc.uiIniFile = options.uiIni;
+  desc.bakeBudget.maxBytes = options.bakeBudgetMiB << 20;
   return desc;
 }
 
@@ -40,10 +43,19 @@ Status createApp(const Options& options, std::unique_ptr<samples::Viewer>& viewe
   return {};
 }
 
-// Windowed: until the window closes or --frames are drawn. Headless: --frames (default 1).
+// Windowed: until the window closes or --frames are drawn. Headless: --frames (default 1). A
+// --script's commands run before the frame they name.
 Status runFrames(const Options& options, samples::Viewer& viewer) {
-  while (!viewer.shouldClose() && (options.frames == 0 || viewer.framesRendered() < options.frames))
+  samples::Script script;
+  if (!options.script.empty()) {
+    ENGINE_TRY_ASSIGN(script, samples::loadScript(options.script).withContext("--script"));
+  }
+  auto next = script.frames.begin();
+  while (!viewer.shouldClose() && (options.frames == 0 || viewer.framesRendered() < options.frames)) {
+    for (; next != script.frames.end() && next->frame <= viewer.framesRendered(); ++next)
+      ENGINE_TRY(samples::runScriptFrame(script, *next, viewer));
     ENGINE_TRY(viewer.step());
+  }
   viewer.renderer().finish();
   for (const gpu::GpuTiming& t : viewer.renderer().lastTimings())
     log::info("GPU {:>14}: {:8.3f} ms", t.name, t.milliseconds);

@@ -107,6 +107,7 @@ void addTuningOptions(CLI::App& app, TuningState& t) {
                          DebugView::Wireframe},
                         samples::debugViewName));
   app.add_flag("!--no-front-to-back", t.frontToBack, "cells: submit in storage order, not front to back");
+  app.add_flag("--certified", t.certified, "cells: certified root search (never misses the first root) instead of n samples");
 }
 
 ParseResult failure(const std::string& message) {
@@ -153,6 +154,12 @@ ParseResult parseOptions(int argc, const char* const* argv) {
   app.add_flag("!--no-ground", options.groundPlane, "do not add the ground plane");
   addTuningOptions(app, options.tuning);
   app.add_flag("--side-by-side", options.sideBySide, "keep the mesh and place the SDF beside it");
+  app.add_option("--script", options.script,
+                 "apply 'frame N: key=value ...' lines (settings and actions, see the README) while running")
+      ->check(CLI::ExistingFile);
+  app.add_option("--bake-budget-mib", options.bakeBudgetMiB, "refuse bakes needing more memory (MiB, default 4096)")
+      ->check(CLI::Range(std::uint64_t(1), std::uint64_t(1) << 20));
+  app.add_option("--ui-ini", options.uiIni, "ImGui window layout file (windowed default: imgui.ini; '' : none)");
   app.add_option("--view", options.view, "one of 8 fixed orbit views (0..7)")->check(CLI::Range(0, 7));
   std::vector<float> camera;
   app.add_option("--camera", camera, "eye and target: ex,ey,ez,tx,ty,tz")->delimiter(',')->expected(6);
@@ -175,6 +182,7 @@ ParseResult parseOptions(int argc, const char* const* argv) {
   if (!problem) problem = checkCombinations(options, app.count("--method") > 0);
   if (problem) return failure(*problem);
   if (options.headless && options.frames == 0) options.frames = 1;
+  if (!options.headless && app.count("--ui-ini") == 0) options.uiIni = "imgui.ini";
   if (options.scene.empty() && options.sdfFile.empty()) options.scene = defaultScenePath();
   if (!options.sdfFile.empty() && options.tuning.method == samples::Method::Mesh) options.tuning.method = samples::Method::Cells;
   ParseResult result;

@@ -29,6 +29,9 @@ struct Options {
   std::optional<int> view;           // one of 8 fixed orbit views
   std::optional<std::array<float, 6>> camera;  // eye xyz, target xyz
   std::filesystem::path saveSettings;  // write the final tuning to this file (--save-settings)
+  std::filesystem::path script;        // "frame N: key=value ..." lines (samples/common/script.h)
+  std::uint64_t bakeBudgetMiB = 4096;  // bakes needing more memory are refused (--bake-budget-mib)
+  std::filesystem::path uiIni;         // ImGui window layout (windowed default: imgui.ini)
 
   // Method, K, padding, n, refinement, normals, fp16, debug view, front to back: defaults, then a
   // --settings file, then the options given on the command line.

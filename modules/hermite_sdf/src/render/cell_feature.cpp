@@ -388,7 +388,8 @@ void HermiteCellFeature::recordPass(engine::render::PassContext& pass) {
 
 void HermiteCellFeature::drawUi() {
   if (!ImGui::CollapsingHeader("Hermite cells", ImGuiTreeNodeFlags_DefaultOpen)) return;
-  ImGui::Checkbox("front-to-back rows", &settings_.frontToBack);
+  // Read-only: the application owns the setting (the scene runner's tuning panel writes it).
+  ImGui::Text("front-to-back rows: %s", settings_.frontToBack ? "on" : "off");
   ImGui::Text("objects %u, cells %llu, draws %u, near cells %u, skipped %u", stats_.objects,
               static_cast<unsigned long long>(stats_.cells), stats_.draws, stats_.nearCells, stats_.skippedObjects);
   ImGui::Text("cell buffers: %.2f MiB", double(stats_.gpuBytes) / (1024.0 * 1024.0));

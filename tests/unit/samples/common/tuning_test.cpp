@@ -38,8 +38,10 @@ TEST(Tuning, ApplyTuningMapsEveryField) {
   t.refineSteps = 4;
   t.normals = hsdf::NormalMode::CentralDifferences;
   t.fp16 = true;
+  t.certified = true;
   hsdf::HermiteSdfRenderable r;
   applyTuning(t, r);
+  EXPECT_TRUE(r.certified);
   EXPECT_EQ(r.method, hsdf::RenderMethod::HermiteSphereTrace);
   EXPECT_EQ(r.subdivisions, 7u);
   EXPECT_EQ(r.refineSteps, 4u);
@@ -69,6 +71,7 @@ TEST(Tuning, SettingsFileRoundTrip) {
   t.fp16 = true;
   t.debugView = DebugView::Wireframe;
   t.frontToBack = false;
+  t.certified = true;
   const auto file = tempFile("round_trip.json");
   ASSERT_TRUE(saveTuning(file, t).ok());
   const auto loaded = loadTuning(file);
@@ -118,6 +121,42 @@ TEST(Tuning, BadSettingsFilesNameTheKeyAndFile) {
   const auto missing = loadTuning(tempFile("does_not_exist.json"));
   ASSERT_FALSE(missing.ok());
   EXPECT_TRUE(contains(missing.error().message, "does_not_exist.json")) << missing.error().message;
+}
+
+// Tricky: script values arrive as text: "32" must become a number, "true" a bool and "cells" a
+// name, through the same checks as a settings file; a refused value must leave the state as it was
+// (the panel and the running scene keep the last good tuning).
+TEST(Tuning, SetTuningValueFromText) {
+  TuningState t;
+  ASSERT_TRUE(setTuningValue(t, "resolution", "32").ok());
+  ASSERT_TRUE(setTuningValue(t, "fp16", "true").ok());
+  ASSERT_TRUE(setTuningValue(t, "method", "trilinear").ok());
+  ASSERT_TRUE(setTuningValue(t, "normals", "central").ok());
+  EXPECT_EQ(t.resolution, 32);
+  EXPECT_TRUE(t.fp16);
+  EXPECT_EQ(t.method, Method::Trilinear);
+  EXPECT_EQ(t.normals, hsdf::NormalMode::CentralDifferences);
+
+  const TuningState before = t;
+  struct Case {
+    const char* key;
+    const char* value;
+    const char* expected;
+  };
+  const Case cases[] = {
+      {"resolution", "300", "setting 'resolution': 300 is outside 2..256"},
+      {"resolution", "big", "setting 'resolution': expected an integer, got \"big\""},
+      {"fp16", "1", "setting 'fp16': expected true or false, got 1"},
+      {"method", "true", "setting 'method': true is not one of"},
+      {"resolution", "3", "--resolution 3 leaves no cells inside --padding 1"},
+      {"colour", "red", "setting 'colour': unknown setting"},
+  };
+  for (const Case& c : cases) {
+    const engine::Status status = setTuningValue(t, c.key, c.value);
+    ASSERT_FALSE(status.ok()) << c.key << "=" << c.value;
+    EXPECT_TRUE(contains(status.error().message, c.expected)) << status.error().message;
+    EXPECT_TRUE(t == before) << c.key << "=" << c.value << " changed the state although it was refused";
+  }
 }
 
 }  // namespace

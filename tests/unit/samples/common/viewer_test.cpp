@@ -2,7 +2,9 @@
 // the perf capture and the soak test rely on. Small images (64x48) keep it fast.
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <cstdint>
+#include <string>
 #include <vector>
 
 #include "viewer.h"
@@ -10,8 +12,9 @@
 namespace samples {
 namespace {
 
-std::unique_ptr<Viewer> makeViewer() {
+std::unique_ptr<Viewer> makeViewer(const hsdf::BakeBudget& budget = {}) {
   ViewerDesc desc;
+  desc.bakeBudget = budget;
   desc.width = 64;
   desc.height = 48;
   desc.headless = true;
@@ -134,6 +137,167 @@ TEST(Viewer, ExplicitCameraAndOrbitViews) {
   const glm::vec3 view2 = viewer->cameraView().position;
   viewer->setOrbitView(5);
   EXPECT_GT(glm::length(viewer->cameraView().position - view2), 0.1f);
+  ASSERT_TRUE(viewer->step().ok());
+  EXPECT_GT(coverage(*viewer), 0.05);
+  EXPECT_TRUE(viewer->close().ok());
+}
+
+// Tricky: the panel's storage table must count what the methods store: every cell in exactly one
+// class, 32 scalars per kept cell record (8 corners x value + gradient), K^3 values for trilinear
+// and 4 K^3 for dense Hermite; fp16 records are smaller than fp32 ones. A re-bake must change them.
+TEST(Viewer, StatsCountEveryCellAndMethod) {
+  auto viewer = viewTorus(12);
+  ASSERT_NE(viewer, nullptr);
+  const SdfStats s = sdfStats(*viewer->sdfAsset());
+  EXPECT_EQ(s.resolution, 12);
+  EXPECT_EQ(s.cells.cells, 11u * 11u * 11u);
+  EXPECT_EQ(s.cells.crossing + s.cells.ambiguous + s.cells.empty, s.cells.cells);
+  EXPECT_EQ(s.cellScalars, 32u * viewer->sdfAsset()->cells.records.size());
+  EXPECT_GT(s.cellScalars, 0u);
+  EXPECT_LT(s.cellBytesHalf, s.cellBytes);
+  EXPECT_EQ(s.trilinearScalars, 12u * 12u * 12u);
+  EXPECT_EQ(s.hermiteScalars, 4u * 12u * 12u * 12u);
+  EXPECT_NE(describeSdfStats(s).find("stored scalars: cells " + std::to_string(s.cellScalars)), std::string::npos);
+  TuningState tuning = viewer->tuning();
+  tuning.resolution = 20;
+  viewer->setTuning(tuning);
+  ASSERT_TRUE(viewer->waitForBake().ok());
+  EXPECT_EQ(sdfStats(*viewer->sdfAsset()).trilinearScalars, 20u * 20u * 20u);
+  EXPECT_NE(sdfStats(*viewer->sdfAsset()).cellScalars, s.cellScalars);
+  EXPECT_TRUE(viewer->close().ok());
+}
+
+bool sameView(const engine::render::CameraView& a, const engine::render::CameraView& b) {
+  for (int c = 0; c < 4; ++c)
+    for (int r = 0; r < 4; ++r)
+      if (std::abs(a.view[c][r] - b.view[c][r]) > 1e-4f) return false;
+  return true;
+}
+
+// Tricky: switching between the orbit and the fly camera must keep the eye and the view direction
+// (the fly controller stores yaw/pitch with its own sign conventions), both ways, else the image
+// jumps when a user presses F2.
+TEST(Viewer, CameraModesKeepTheView) {
+  auto viewer = viewTorus(12);
+  ASSERT_NE(viewer, nullptr);
+  viewer->setCamera(glm::dvec3(1.0, 2.0, 4.0), glm::dvec3(0.5, 0.0, 0.0));
+  const engine::render::CameraView orbit = viewer->cameraView();
+  viewer->setCameraMode(CameraMode::Fly);
+  EXPECT_EQ(viewer->cameraMode(), CameraMode::Fly);
+  EXPECT_TRUE(sameView(viewer->cameraView(), orbit)) << "orbit -> fly moved the camera";
+  ASSERT_TRUE(viewer->step().ok());
+  EXPECT_GT(coverage(*viewer), 0.05);
+  viewer->setCameraMode(CameraMode::Orbit);
+  EXPECT_TRUE(sameView(viewer->cameraView(), orbit)) << "fly -> orbit moved the camera";
+  EXPECT_TRUE(viewer->close().ok());
+}
+
+std::size_t meshCount(Viewer& viewer) {
+  std::size_t count = 0;
+  viewer.registry().view<engine::render::MeshRenderable>().each(
+      [&count](engine::ecs::Entity, const engine::render::MeshRenderable&) { ++count; });
+  return count;
+}
+
+std::size_t sdfCount(Viewer& viewer) {
+  std::size_t count = 0;
+  viewer.registry().view<hsdf::HermiteSdfRenderable>().each(
+      [&count](engine::ecs::Entity, const hsdf::HermiteSdfRenderable&) { ++count; });
+  return count;
+}
+
+// Tricky: a glTF scene loaded as meshes has no SDF yet: picking an SDF method must bake it on the
+// worker thread while the meshes keep drawing, then show only the SDF; picking the mesh again must
+// bring the same mesh entities back and hide (not drop) the SDF, which returns without a re-bake.
+TEST(Viewer, SwitchesBetweenMeshAndSdfAtRunTime) {
+  auto viewer = makeViewer();
+  ASSERT_NE(viewer, nullptr);
+  SceneDesc scene;
+  scene.gltf = std::string(HSDF_ASSET_DIR) + "/bunny.glb";
+  scene.groundPlane = false;
+  TuningState tuning;
+  tuning.method = Method::Mesh;
+  tuning.resolution = 16;
+  // Loaded as SDF first: the meshes are hidden from the start (another renderer may draw the
+  // registry before the first step, as the perf capture's measurement does).
+  {
+    auto sdfFirst = makeViewer();
+    ASSERT_NE(sdfFirst, nullptr);
+    TuningState cells = tuning;
+    cells.method = Method::Cells;
+    ASSERT_TRUE(sdfFirst->loadScene(scene, cells).ok());
+    EXPECT_EQ(meshCount(*sdfFirst), 0u);
+    EXPECT_EQ(sdfCount(*sdfFirst), 1u);
+    EXPECT_TRUE(sdfFirst->close().ok());
+  }
+  ASSERT_TRUE(viewer->loadScene(scene, tuning).ok());
+  const std::size_t meshes = meshCount(*viewer);
+  ASSERT_GT(meshes, 0u);
+  EXPECT_EQ(viewer->sdfAsset(), nullptr);
+  EXPECT_TRUE(viewer->hasMeshes());
+
+  tuning.method = Method::Cells;
+  viewer->setTuning(tuning);
+  ASSERT_NE(viewer->bakeJob(), nullptr) << "the first SDF method bakes the scene";
+  ASSERT_TRUE(viewer->step().ok());
+  ASSERT_TRUE(viewer->waitForBake().ok());
+  ASSERT_TRUE(viewer->step().ok());
+  EXPECT_EQ(meshCount(*viewer), 0u);
+  EXPECT_EQ(sdfCount(*viewer), 1u);
+  ASSERT_NE(viewer->sdfAsset(), nullptr);
+  const std::uint64_t id = viewer->sdfAsset()->id;
+  EXPECT_GT(coverage(*viewer), 0.05);
+
+  tuning.method = Method::Mesh;
+  viewer->setTuning(tuning);
+  ASSERT_TRUE(viewer->step().ok());
+  EXPECT_EQ(meshCount(*viewer), meshes);
+  EXPECT_EQ(sdfCount(*viewer), 0u);
+  EXPECT_GT(coverage(*viewer), 0.05);
+
+  tuning.method = Method::Trilinear;
+  viewer->setTuning(tuning);
+  EXPECT_EQ(viewer->bakeJob(), nullptr) << "the hidden SDF is still at this K";
+  ASSERT_TRUE(viewer->step().ok());
+  EXPECT_EQ(theSdf(*viewer).asset->id, id);
+  EXPECT_EQ(theSdf(*viewer).method, hsdf::RenderMethod::TrilinearSphereTrace);
+  EXPECT_EQ(meshCount(*viewer), 0u);
+  EXPECT_TRUE(viewer->close().ok());
+}
+
+// Tricky: a K past the budget must be refused by the worker before it allocates, with the reason
+// kept for the panel, and the tuning must go back to the K on screen (else the panel would show a
+// K that is not drawn, and the next unrelated change would re-bake it again).
+TEST(Viewer, BakePastTheBudgetIsRefusedAndCancelKeepsTheOldK) {
+  hsdf::BakeBudget budget;
+  budget.maxBytes = 1u << 20;  // 1 MiB: K = 12 fits (28 KiB), K = 64 (4 MiB) does not
+  auto viewer = makeViewer(budget);
+  ASSERT_NE(viewer, nullptr);
+  // The bunny, not an analytic shape: its bake (BVH distance queries) takes long enough that the
+  // cancel below lands while it runs rather than racing a bake of a few microseconds.
+  SceneDesc scene;
+  scene.gltf = std::string(HSDF_ASSET_DIR) + "/bunny.glb";
+  scene.groundPlane = false;
+  TuningState tuning;
+  tuning.resolution = 12;
+  ASSERT_TRUE(viewer->loadScene(scene, tuning).ok());
+  tuning.resolution = 64;
+  viewer->setTuning(tuning);
+  const engine::Status refused = viewer->waitForBake();
+  ASSERT_FALSE(refused.ok());
+  EXPECT_TRUE(viewer->bakeError().find("over the bake budget") != std::string::npos) << viewer->bakeError();
+  EXPECT_EQ(viewer->tuning().resolution, 12);
+  EXPECT_EQ(viewer->sdfAsset()->cells.grid.resolution, 12);
+
+  tuning.resolution = 36;  // 0.8 MiB: within the budget
+  viewer->setTuning(tuning);
+  EXPECT_TRUE(viewer->bakeError().empty()) << "a new bake clears the old reason";
+  viewer->cancelBake();
+  const engine::Status cancelled = viewer->waitForBake();
+  ASSERT_FALSE(cancelled.ok());
+  EXPECT_TRUE(viewer->bakeError().find("cancelled") != std::string::npos) << viewer->bakeError();
+  EXPECT_EQ(viewer->tuning().resolution, 12);
+  EXPECT_EQ(viewer->sdfAsset()->cells.grid.resolution, 12);
   ASSERT_TRUE(viewer->step().ok());
   EXPECT_GT(coverage(*viewer), 0.05);
   EXPECT_TRUE(viewer->close().ok());

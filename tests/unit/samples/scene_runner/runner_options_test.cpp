@@ -49,6 +49,11 @@ TEST(RunnerOptions, Defaults) {
   EXPECT_EQ(o.height, 720u);
   EXPECT_EQ(o.device, engine::gpu::DevicePreference::Auto);
   EXPECT_TRUE(o.tuning == samples::TuningState{});
+  // What a new user sees first is the paper's method, not the triangle mesh.
+  EXPECT_EQ(o.tuning.method, Method::Cells);
+  EXPECT_TRUE(o.script.empty());
+  EXPECT_EQ(o.uiIni, "imgui.ini") << "a window keeps its panel layout";
+  EXPECT_TRUE(parseOk({"--headless"}).uiIni.empty()) << "headless runs write no ImGui layout";
   EXPECT_TRUE(o.groundPlane);
   EXPECT_FALSE(o.view.has_value());
   EXPECT_FALSE(o.camera.has_value());
@@ -61,7 +66,8 @@ TEST(RunnerOptions, EveryOptionsGoodValue) {
                              "out/x.png", "--device", "lavapipe", "--validation", "--ui", "--no-ground", "--method",
                              "trilinear", "--resolution", "32", "--padding", "2", "--subdivisions", "5", "--refine", "0",
                              "--fp16", "--normals", "central", "--debug-view", "evals", "--side-by-side",
-                             "--no-front-to-back", "--view", "3", "--camera", "1,2,3,4,5,6", "--save-settings", "s.json"});
+                             "--no-front-to-back", "--certified", "--view", "3", "--camera", "1,2,3,4,5,6", "--save-settings", "s.json",
+                             "--script", kBunny, "--bake-budget-mib", "64", "--ui-ini", "layout.ini"});
   EXPECT_EQ(o.scene, kBunny);
   EXPECT_TRUE(o.headless);
   EXPECT_EQ(o.width, 96u);
@@ -82,11 +88,15 @@ TEST(RunnerOptions, EveryOptionsGoodValue) {
   EXPECT_EQ(o.tuning.debugView, DebugView::Evals);
   EXPECT_TRUE(o.sideBySide);
   EXPECT_FALSE(o.tuning.frontToBack);
+  EXPECT_TRUE(o.tuning.certified);
   EXPECT_EQ(o.view, 3);
   ASSERT_TRUE(o.camera.has_value());
   EXPECT_EQ((*o.camera)[0], 1.0f);
   EXPECT_EQ((*o.camera)[5], 6.0f);
   EXPECT_EQ(o.saveSettings, "s.json");
+  EXPECT_EQ(o.script, kBunny);  // parsed when the run starts; here only its existence is checked
+  EXPECT_EQ(o.bakeBudgetMiB, 64u);
+  EXPECT_EQ(o.uiIni, "layout.ini");
 
   // Every remaining name of the typed options.
   EXPECT_EQ(parseOk({"--method", "mesh"}).tuning.method, Method::Mesh);
@@ -151,7 +161,9 @@ TEST(RunnerOptions, BadValuesNameTheOption) {
       {{"--sdf", "no_such_file.hsdf"}, "--sdf"},
       {{"--settings", "no_such_settings.json"}, "--settings"},
       {{"--resolution", "3", "--padding", "1"}, "--resolution 3 leaves no cells inside --padding 1"},
-      {{"--side-by-side"}, "--side-by-side: needs a scene baked into an SDF"},
+      {{"--method", "mesh", "--side-by-side"}, "--side-by-side: needs a scene baked into an SDF"},
+      {{"--script", "no_such_script.txt"}, "--script"},
+      {{"--bake-budget-mib", "0"}, "--bake-budget-mib"},
       {{"--sdf", kHsdf, "--method", "mesh"}, "--method mesh: a .hsdf file (--sdf) has no triangles"},
       {{"--no-such-option"}, "--no-such-option"},
   };
@@ -168,7 +180,8 @@ TEST(RunnerOptions, Help) {
   const ParseResult result = parse({"--help"});
   EXPECT_FALSE(result.options.has_value());
   EXPECT_EQ(result.exitCode, 0);
-  for (const char* option : {"--method", "--resolution", "--settings", "--save-settings", "--camera", "--debug-view"})
+  for (const char* option : {"--method", "--resolution", "--settings", "--save-settings", "--camera", "--debug-view",
+                             "--script", "--bake-budget-mib", "--ui-ini"})
     EXPECT_TRUE(contains(result.message, option)) << option;
 }
 
@@ -178,7 +191,7 @@ TEST(RunnerOptions, Help) {
 TEST(RunnerOptions, SettingsFileRoundTripAndOverride) {
   const samples::TuningState t =
       parseOk({"--method", "hermite", "--resolution", "48", "--padding", "2", "--subdivisions", "6", "--refine", "3",
-               "--normals", "central", "--fp16", "--debug-view", "depth", "--no-front-to-back"})
+               "--normals", "central", "--fp16", "--debug-view", "depth", "--no-front-to-back", "--certified"})
           .tuning;
   EXPECT_FALSE(t == samples::TuningState{});
   const auto file = tempFile("round_trip.json");

@@ -1,0 +1,182 @@
+#include "script.h"
+
+#include <algorithm>
+#include <charconv>
+#include <sstream>
+
+#include <fmt/format.h>
+
+#include "engine/core/files.h"
+#include "engine/core/log.h"
+#include "tuning.h"
+#include "viewer.h"
+
+namespace samples {
+namespace {
+
+using engine::Status;
+
+constexpr std::string_view kTuningKeys[] = {"method", "resolution", "padding", "subdivisions", "refine",
+                                            "normals", "fp16",       "debug_view", "front_to_back", "certified"};
+constexpr std::string_view kValueActions[] = {"screenshot", "size",          "panel",        "vsync",  "fullscreen",
+                                              "view",       "save-settings", "load-settings", "camera"};
+constexpr std::string_view kBareActions[] = {"wait-bake", "cancel-bake"};
+
+template <std::size_t N>
+bool contains(const std::string_view (&list)[N], std::string_view key) {
+  return std::find(std::begin(list), std::end(list), key) != std::end(list);
+}
+
+bool parseInt(std::string_view text, int& out) {
+  const auto [end, error] = std::from_chars(text.data(), text.data() + text.size(), out);
+  return error == std::errc() && end == text.data() + text.size();
+}
+
+// "WxH", each 16..4096 (a window the test machines can show).
+bool parseSize(std::string_view text, std::uint32_t& width, std::uint32_t& height) {
+  const std::size_t x = text.find('x');
+  int w = 0, h = 0;
+  if (x == std::string_view::npos || !parseInt(text.substr(0, x), w) || !parseInt(text.substr(x + 1), h)) return false;
+  if (w < 16 || h < 16 || w > 4096 || h > 4096) return false;
+  width = std::uint32_t(w);
+  height = std::uint32_t(h);
+  return true;
+}
+
+bool parseOnOff(std::string_view text, bool& out) {
+  if (text != "on" && text != "off") return false;
+  out = text == "on";
+  return true;
+}
+
+// Checks one command's key and value (tuning values against `scratch`, the tuning the script has
+// built so far, so that ranges are checked when the file is read, not halfway through a run).
+Status checkCommand(const ScriptCommand& c, TuningState& scratch) {
+  if (contains(kTuningKeys, c.key)) return setTuningValue(scratch, c.key, c.value);
+  if (contains(kBareActions, c.key)) {
+    if (!c.value.empty()) return engine::makeError(fmt::format("'{}' takes no value", c.key));
+    return {};
+  }
+  if (!contains(kValueActions, c.key))
+    return engine::makeError(fmt::format("unknown key '{}' (settings: method, resolution, padding, subdivisions, "
+                                         "refine, normals, fp16, debug_view, front_to_back, certified; actions: screenshot, "
+                                         "size, panel, vsync, fullscreen, view, camera, save-settings, load-settings, "
+                                         "wait-bake, cancel-bake)",
+                                         c.key));
+  std::uint32_t w = 0, h = 0;
+  bool flag = false;
+  int view = 0;
+  if (c.value.empty()) return engine::makeError(fmt::format("'{}' needs a value ({}=...)", c.key, c.key));
+  if (c.key == "size" && !parseSize(c.value, w, h))
+    return engine::makeError(fmt::format("size '{}' is not WxH with 16 <= W,H <= 4096", c.value));
+  if ((c.key == "panel" || c.key == "vsync" || c.key == "fullscreen") && !parseOnOff(c.value, flag))
+    return engine::makeError(fmt::format("{} '{}' is not on or off", c.key, c.value));
+  if (c.key == "view" && !(parseInt(c.value, view) && view >= 0 && view <= 7))
+    return engine::makeError(fmt::format("view '{}' is not 0..7", c.value));
+  if (c.key == "camera" && c.value != "orbit" && c.value != "fly")
+    return engine::makeError(fmt::format("camera '{}' is not orbit or fly", c.value));
+  return {};
+}
+
+// "frame N: commands" -> the frame number and the commands' text.
+Status parseFrameLine(const std::string& line, std::uint64_t& frame, std::string& rest) {
+  const std::size_t colon = line.find(':');
+  if (line.rfind("frame ", 0) != 0 || colon == std::string::npos)
+    return engine::makeError("expected 'frame N: key=value ...'");
+  const std::string number = line.substr(6, colon - 6);
+  int n = -1;
+  if (!parseInt(number, n) || n < 0) return engine::makeError(fmt::format("'{}' is not a frame number", number));
+  frame = std::uint64_t(n);
+  rest = line.substr(colon + 1);
+  return {};
+}
+
+}  // namespace
+
+engine::Expected<Script> parseScript(std::string_view text, const std::string& name) {
+  Script script;
+  script.name = name;
+  TuningState scratch;
+  std::istringstream lines{std::string(text)};
+  std::string line;
+  for (int number = 1; std::getline(lines, line); ++number) {
+    const std::string where = fmt::format("{}:{}", name, number);
+    line = line.substr(0, line.find('#'));
+    if (line.find_first_not_of(" \t\r") == std::string::npos) continue;
+    line = line.substr(line.find_first_not_of(" \t"));
+    ScriptFrame frame;
+    std::string rest;
+    ENGINE_TRY(parseFrameLine(line, frame.frame, rest).withContext(where));
+    if (!script.frames.empty() && frame.frame < script.frames.back().frame)
+      return engine::makeError(
+          fmt::format("{}: frame {} comes after frame {} (frames must not decrease)", where, frame.frame,
+                      script.frames.back().frame));
+    std::istringstream words(rest);
+    for (std::string word; words >> word;) {
+      const std::size_t eq = word.find('=');
+      ScriptCommand command{word.substr(0, eq), eq == std::string::npos ? "" : word.substr(eq + 1), number};
+      ENGINE_TRY(checkCommand(command, scratch).withContext(where));
+      frame.commands.push_back(std::move(command));
+    }
+    if (frame.commands.empty()) return engine::makeError(where + ": no commands after 'frame N:'");
+    script.frames.push_back(std::move(frame));
+  }
+  return script;
+}
+
+engine::Expected<Script> loadScript(const std::filesystem::path& file) {
+  ENGINE_TRY_ASSIGN(std::string text, engine::readTextFile(file));
+  return parseScript(text, file.string());
+}
+
+namespace {
+
+Status runCommand(const ScriptCommand& c, Viewer& viewer) {
+  if (contains(kTuningKeys, c.key)) {
+    TuningState tuning = viewer.tuning();
+    ENGINE_TRY(setTuningValue(tuning, c.key, c.value));
+    viewer.setTuning(tuning);
+    return {};
+  }
+  bool flag = false;
+  std::uint32_t w = 0, h = 0;
+  int view = 0;
+  if (c.key == "wait-bake") {
+    if (Status baked = viewer.waitForBake(); !baked) engine::log::warn("{}", baked.error().message);
+  } else if (c.key == "cancel-bake") {
+    viewer.cancelBake();
+  } else if (c.key == "screenshot") {
+    viewer.requestScreenshot(c.value);
+  } else if (c.key == "size" && parseSize(c.value, w, h)) {
+    viewer.resize(w, h);
+  } else if (c.key == "panel" && parseOnOff(c.value, flag)) {
+    viewer.setUiVisible(flag);
+  } else if (c.key == "vsync" && parseOnOff(c.value, flag)) {
+    ENGINE_TRY(viewer.setVsync(flag));
+  } else if (c.key == "fullscreen" && parseOnOff(c.value, flag)) {
+    viewer.setFullscreen(flag);
+  } else if (c.key == "view" && parseInt(c.value, view)) {
+    viewer.setCameraMode(CameraMode::Orbit);
+    viewer.setOrbitView(view);
+  } else if (c.key == "camera") {
+    viewer.setCameraMode(c.value == "fly" ? CameraMode::Fly : CameraMode::Orbit);
+  } else if (c.key == "save-settings") {
+    ENGINE_TRY(saveTuning(c.value, viewer.tuning()));
+  } else if (c.key == "load-settings") {
+    ENGINE_TRY_ASSIGN(TuningState loaded, loadTuning(c.value, viewer.tuning()));
+    viewer.setTuning(loaded);
+  }
+  return {};
+}
+
+}  // namespace
+
+Status runScriptFrame(const Script& script, const ScriptFrame& frame, Viewer& viewer) {
+  for (const ScriptCommand& c : frame.commands) {
+    engine::log::info("script frame {}: {}{}{}", frame.frame, c.key, c.value.empty() ? "" : "=", c.value);
+    ENGINE_TRY(runCommand(c, viewer).withContext(fmt::format("{}:{}", script.name, c.line)));
+  }
+  return {};
+}
+
+}  // namespace samples

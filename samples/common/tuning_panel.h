@@ -1,0 +1,47 @@
+#pragma once
+// The tuning panel of the scene runner (ImGui, in the engine's panel registry): method, n,
+// refinement, normals, fp16, front to back and the debug view are written into a TuningState that
+// Viewer::setTuning applies at the next frame (the same path --settings and --script take); K
+// re-bakes on the worker thread with a progress bar and a cancel button. Also: cell and storage
+// statistics, GPU time per pass with a scrolling plot, screenshot and settings buttons, the camera
+// help line, V-sync and full screen.
+#include <array>
+#include <map>
+#include <string>
+
+namespace samples {
+
+class Viewer;
+
+// The last `kSamples` values of one series, oldest first from `next` once `count` reaches kSamples.
+struct PlotHistory {
+  static constexpr int kSamples = 240;  // 4 s at 60 Hz
+  std::array<float, kSamples> values{};
+  int next = 0;
+  int count = 0;  // values pushed so far
+  void push(float value);
+};
+
+class TuningPanel {
+ public:
+  explicit TuningPanel(Viewer& viewer) : viewer_(viewer) {}
+  // Inside the ImGui frame (a UiLayer panel).
+  void draw();
+
+ private:
+  void drawMethod();
+  void drawResolution();
+  void drawStatistics();
+  void drawTimings();
+  void drawFiles();
+  void drawWindow();
+
+  Viewer& viewer_;
+  std::map<std::string, PlotHistory> gpuHistory_;  // per pass name
+  PlotHistory frameHistory_;
+  int resolution_ = 0;  // the K slider while it is dragged (re-bakes on release)
+  std::array<char, 256> screenshotPath_{"hsdf_screenshot.png"};
+  std::array<char, 256> settingsPath_{"hsdf_settings.json"};
+};
+
+}  // namespace samples

@@ -1,0 +1,71 @@
+// Viewer test scripts (samples/common/script.h): what --script reads. The running side is covered
+// by tests/gpu/run_panel_script_xvfb.sh; here the parser: a good script in order, and every bad
+// line refused naming the file, the line and the problem before any frame is drawn.
+#include <gtest/gtest.h>
+
+#include "script.h"
+
+namespace samples {
+namespace {
+
+bool contains(const std::string& text, const std::string& part) { return text.find(part) != std::string::npos; }
+
+// Tricky: comments (whole-line and trailing), blank lines, several commands per line, bare actions
+// and two lines for the same frame must all survive, in order, with their line numbers.
+TEST(Script, ParsesFramesAndCommandsInOrder) {
+  const auto script = parseScript(
+      "# header\n"
+      "\n"
+      "frame 0: panel=off method=trilinear  # trailing comment\n"
+      "frame 3: resolution=32 wait-bake screenshot=out/a.png\n"
+      "frame 3: cancel-bake size=200x100 view=7\n",
+      "test.txt");
+  ASSERT_TRUE(script.ok()) << script.error().message;
+  ASSERT_EQ(script->frames.size(), 3u);
+  EXPECT_EQ(script->frames[0].frame, 0u);
+  ASSERT_EQ(script->frames[0].commands.size(), 2u);
+  EXPECT_EQ(script->frames[0].commands[1].key, "method");
+  EXPECT_EQ(script->frames[0].commands[1].value, "trilinear");
+  EXPECT_EQ(script->frames[0].commands[1].line, 3);
+  EXPECT_EQ(script->frames[1].commands[1].key, "wait-bake");
+  EXPECT_EQ(script->frames[1].commands[1].value, "");
+  EXPECT_EQ(script->frames[1].commands[2].value, "out/a.png");
+  EXPECT_EQ(script->frames[2].frame, 3u);
+  EXPECT_EQ(script->lastFrame(), 3u);
+}
+
+// Tricky: each mistake must be caught when the file is read (a typo found at frame 500 of a soak
+// run wastes the run), naming file:line; tuning values go through the settings-file checks,
+// including the resolution/padding rule with the padding the script set earlier.
+TEST(Script, BadLinesNameFileLineAndProblem) {
+  struct Case {
+    const char* text;
+    const char* expected;
+  };
+  const Case cases[] = {
+      {"frame 1 method=cells\n", "s.txt:1: expected 'frame N: key=value ...'"},
+      {"frame x: method=cells\n", "s.txt:1: 'x' is not a frame number"},
+      {"frame 2: fp16=true\nframe 1: fp16=false\n", "s.txt:2: frame 1 comes after frame 2"},
+      {"frame 0:\n", "s.txt:1: no commands"},
+      {"frame 0: colour=red\n", "s.txt:1: unknown key 'colour'"},
+      {"frame 0: subdivisions=0\n", "s.txt:1: setting 'subdivisions': 0 is outside 1..64"},
+      {"frame 0: padding=4\nframe 1: resolution=8\n", "s.txt:2: --resolution 8 leaves no cells inside --padding 4"},
+      {"frame 0: wait-bake=now\n", "s.txt:1: 'wait-bake' takes no value"},
+      {"frame 0: screenshot\n", "s.txt:1: 'screenshot' needs a value"},
+      {"frame 0: size=10x10\n", "s.txt:1: size '10x10' is not WxH with 16 <= W,H <= 4096"},
+      {"frame 0: panel=maybe\n", "s.txt:1: panel 'maybe' is not on or off"},
+      {"frame 0: view=8\n", "s.txt:1: view '8' is not 0..7"},
+      {"frame 0: camera=free\n", "s.txt:1: camera 'free' is not orbit or fly"},
+  };
+  for (const Case& c : cases) {
+    const auto script = parseScript(c.text, "s.txt");
+    ASSERT_FALSE(script.ok()) << c.text;
+    EXPECT_TRUE(contains(script.error().message, c.expected)) << script.error().message;
+  }
+  const auto missing = loadScript("no_such_script.txt");
+  ASSERT_FALSE(missing.ok());
+  EXPECT_TRUE(contains(missing.error().message, "no_such_script.txt")) << missing.error().message;
+}
+
+}  // namespace
+}  // namespace samples
