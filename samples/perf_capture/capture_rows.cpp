@@ -34,6 +34,8 @@ const Variant kVariants[] = {
     {"cells", "n=3 r=1", true, {.method = Method::Cells, .subdivisions = 3, .refineSteps = 1}},
     // The fp16 target of issue 10 compares this one with the fp32 line above.
     {"cells", "n=3 r=1 fp16", false, {.method = Method::Cells, .subdivisions = 3, .refineSteps = 1, .fp16 = true}},
+    // The certified root search (docs/root-finding.md): its cost against the paper's fixed n above.
+    {"cells", "certified", false, {.method = Method::Cells, .subdivisions = 3, .refineSteps = 1, .certified = true}},
 };
 
 RenderMethod renderMethodOf(Method method) {

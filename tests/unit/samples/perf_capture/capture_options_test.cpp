@@ -79,7 +79,8 @@ TEST(CaptureRows, MethodTimesKTimesSetting) {
     }
   }
   EXPECT_EQ(trilinear, 2 * 4);  // K = 32, 64, 128, 256, two normal modes each
-  EXPECT_EQ(cells, 2 * 5);      // n in {2, 3} x r in {0, 1}, and fp16
+  EXPECT_EQ(cells, 2 * 6);      // n in {2, 3} x r in {0, 1}, fp16, and the certified search
+  EXPECT_TRUE(labels.contains("cells certified K=32"));
   EXPECT_TRUE(labels.contains("mesh"));
   EXPECT_TRUE(labels.contains("trilinear central K=256"));
   EXPECT_FALSE(labels.contains("hermite K=256"));
