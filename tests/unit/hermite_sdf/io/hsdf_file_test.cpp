@@ -233,8 +233,8 @@ TEST(HsdfFile, NewerVersionIsRefusedAsNewerBeforeAnyOtherCheck) {
   EXPECT_TRUE(contains(whole, "unsupported version " + std::to_string(kHsdfVersion + 1) + ": the file is newer than this reader"))
       << whole;
   // Only the magic and the version: shorter than a version-1 header, still "newer", not "truncated".
-  const Bytes stub(newer.begin(), newer.begin() + 12);
-  EXPECT_TRUE(contains(loadError(stub), "newer than this reader")) << loadError(stub);
+  const Bytes headerOnly(newer.begin(), newer.begin() + 12);
+  EXPECT_TRUE(contains(loadError(headerOnly), "newer than this reader")) << loadError(headerOnly);
   // Version 0 never existed: refused, but not called newer.
   Bytes zero = b;
   put32(zero, 8, 0);
