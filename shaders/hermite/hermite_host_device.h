@@ -13,6 +13,7 @@ namespace shader {
 #define HERMITE_FLAG_NORMALS_CENTRAL 1u  // central differences instead of the exact gradient
 #define HERMITE_FLAG_NEAR_CELL 2u        // the cell may intersect the near plane: drawn by back faces
 #define HERMITE_FLAG_CERTIFIED 4u        // certified first-root search instead of n equidistant samples
+#define HERMITE_FLAG_HALF_RECORDS 8u     // cell runs: the records are CellRecordHalfGpu (else CellRecordGpu)
 
 // One per indirect draw command of a Hermite feature: which object, and how to search.
 struct HermiteDraw {
@@ -23,10 +24,35 @@ struct HermiteDraw {
   uint flags;              // HERMITE_FLAG_*
   uint resolution;         // K samples per axis (sphere tracing: texture size)
   uint firstCell;          // cells: index of the object's first record in the cell buffer
-  uint pad0;
-  uint pad1;
+  uint64_t records;        // cell runs: address of the record buffer the runs index (0 for cells)
 };
-HSDF_CHECK_SIZE(HermiteDraw, 16 + 8 * 4);
+HSDF_CHECK_SIZE(HermiteDraw, 16 + 6 * 4 + 8);
+
+// A kept cell's record as the GPU reads it by address (the resolve pass, the cell runs), the same
+// bytes as hsdf::CellRecord / CellRecordHalf (cells.h asserts it): 8 corners (f, fx, fy, fz), corner
+// x + 2y + 4z, then the cell coordinate and class as 16-bit pairs (x | y << 16, z | class << 16).
+struct CellRecordGpu {
+  vec4 corners[8];
+  uint xy;
+  uint zc;
+};
+HSDF_CHECK_SIZE(CellRecordGpu, 8 * 16 + 8);
+
+struct CellRecordHalfGpu {
+  uvec2 corners[8];  // binary16 pairs: (f, fx), (fy, fz)
+  uint xy;
+  uint zc;
+};
+HSDF_CHECK_SIZE(CellRecordHalfGpu, 8 * 8 + 8);
+
+// Cell runs (RenderMethod::CellRuns): kept cells that follow each other along x in one row, drawn
+// as one box; the vertex stream holds one per run (instance rate).
+struct CellRunGpu {
+  uint xy;           // x of the first cell | y << 16
+  uint zLength;      // z | number of cells << 16
+  uint firstRecord;  // index of the first cell's record (the others follow it)
+};
+HSDF_CHECK_SIZE(CellRunGpu, 12);
 
 // Per Hermite-cell object, reached through ObjectData::payload: what the shading pass needs to
 // find a visible cell's record from the visibility buffer (x: object, y: record index).

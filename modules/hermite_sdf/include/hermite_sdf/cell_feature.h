@@ -17,6 +17,9 @@
 // objects keep their front faces through OBJECT_FLAG_MIRRORED (shaders/hermite/box.glsl).
 // Submission order: rows of cells are sorted front to back by the camera's octant so that early
 // depth testing rejects hidden cells (switchable, to measure the effect).
+// RenderMethod::CellRuns objects are drawn by the same feature from the same record buffers: one
+// box per run of kept cells along x (runs.vert), walked cell by cell in the fragment shader with
+// the same search (runs_depth.glsl), records read by address; the shading pass is shared.
 #include <cstdint>
 #include <memory>
 #include <unordered_map>
@@ -38,12 +41,16 @@ class HermiteCellFeature final : public engine::render::RenderFeature {
   struct Settings {
     bool frontToBack = true;  // sort rows of cells by the view octant
     bool heatMapCounters = true;  // count evaluations per pixel when the debug view asks for it
+    // RenderMethod::CellRuns: the most cells one run's box covers. Longer runs mean fewer, larger
+    // boxes and longer walks per fragment.
+    std::uint32_t maxRunLength = 8;
   };
   struct Stats {
     std::uint32_t objects = 0;
     std::uint64_t cells = 0;        // instances drawn in the last frame
     std::uint32_t draws = 0;        // indirect commands in the last frame
-    std::uint32_t nearCells = 0;    // cells drawn by their back faces
+    std::uint32_t nearCells = 0;    // cells (or runs) drawn by their back faces
+    std::uint64_t runs = 0;         // run boxes of RenderMethod::CellRuns objects (their cells are in `cells`)
     std::uint32_t skippedObjects = 0;  // transform not invertible (e.g. scaled to zero): not drawn
     std::uint64_t gpuBytes = 0;     // cell buffers
   };
@@ -80,6 +87,8 @@ class HermiteCellFeature final : public engine::render::RenderFeature {
   engine::gpu::Pipeline depthNear_[2];
   engine::gpu::Pipeline resolve_;
   engine::gpu::Pipeline wire_[2];  // DEBUG_VIEW_WIREFRAME: the boxes' edges
+  engine::gpu::Pipeline runsFront_;  // RenderMethod::CellRuns, both precisions
+  engine::gpu::Pipeline runsNear_;
   std::unique_ptr<struct CellBuffers> buffers_;
   engine::render::PerFrameBuffer drawData_;
   engine::render::PerFrameBuffer indirect_;
@@ -89,7 +98,9 @@ class HermiteCellFeature final : public engine::render::RenderFeature {
   bool countersActive_ = false;
   glm::vec4 screenRect_{1.0f, 1.0f, -1.0f, -1.0f};  // NDC bounds of this frame's cell objects (resolve)
   bool multiDraw_ = false;
-  std::unique_ptr<Batch> batches_[2];  // per precision
+  static constexpr int kRunBatch = 2;  // batches: fp32 cells, fp16 cells, runs
+  static constexpr int kBatches = 3;
+  std::unique_ptr<Batch> batches_[kBatches];
 };
 
 }  // namespace hsdf

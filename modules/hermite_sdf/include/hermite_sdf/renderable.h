@@ -20,6 +20,10 @@ enum class RenderMethod : std::uint32_t {
   Cells = 0,                 // the paper's method: sparse Hermite cells, subdivision search
   TrilinearSphereTrace = 1,  // baseline: dense f in a 3D texture, hardware trilinear filtering
   HermiteSphereTrace = 2,    // baseline: dense Hermite 3D texture, manual tricubic evaluation
+  // The cells, drawn as runs of kept cells along x (one box per run, at most
+  // HermiteCellFeature::Settings::maxRunLength cells) walked cell by cell in the fragment shader,
+  // records read by buffer device address: fewer, larger proxies than one box per cell (issue 13).
+  CellRuns = 3,
 };
 const char* renderMethodName(RenderMethod method);
 

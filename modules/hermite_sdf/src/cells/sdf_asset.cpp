@@ -17,6 +17,7 @@ const char* renderMethodName(RenderMethod method) {
     case RenderMethod::Cells: return "cells";
     case RenderMethod::TrilinearSphereTrace: return "trilinear";
     case RenderMethod::HermiteSphereTrace: return "hermite";
+    case RenderMethod::CellRuns: return "cells-runs";
   }
   return "?";
 }

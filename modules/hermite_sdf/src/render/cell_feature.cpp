@@ -28,9 +28,13 @@ struct CellBuffers {
     std::shared_ptr<const SdfAsset> asset;
     std::uint32_t firstRecord = 0;  // same index in both buffers
     CellRows rows;
+    std::vector<shader::CellRunGpu> runs;  // firstRecord relative to the asset's stream
+    std::uint32_t firstRun = 0;            // index of runs[0] in the run buffer
   };
   std::unordered_map<std::uint64_t, Entry> entries;  // by asset id
   Buffer records[2];
+  Buffer runs;  // every asset's runs, firstRecord global (RenderMethod::CellRuns)
+  std::uint32_t runLength = 0;  // the maximum run length the runs were built with
   std::uint64_t bytes = 0;
 };
 
@@ -40,6 +44,9 @@ struct HermiteCellFeature::Batch {
   std::uint32_t frontFirst = 0, frontCount = 0;
   std::uint32_t nearFirst = 0, nearCount = 0;
 };
+
+static_assert(sizeof(CellRecord) == sizeof(shader::CellRecordGpu), "CellRecord and CellRecordGpu must match");
+static_assert(sizeof(CellRecordHalf) == sizeof(shader::CellRecordHalfGpu), "CellRecordHalf and CellRecordHalfGpu must match");
 
 namespace {
 
@@ -54,6 +61,16 @@ engine::gpu::VertexLayout cellVertexLayout(int precision) {
   layout.attributes.push_back({8, 0, VK_FORMAT_R16G16B16A16_UINT, 8 * cornerBytes});
   return layout;
 }
+
+engine::gpu::VertexLayout runVertexLayout() {
+  engine::gpu::VertexLayout layout;
+  layout.bindings.push_back({0, sizeof(shader::CellRunGpu), VK_VERTEX_INPUT_RATE_INSTANCE});
+  layout.attributes.push_back({0, 0, VK_FORMAT_R32G32_UINT, offsetof(shader::CellRunGpu, xy)});
+  layout.attributes.push_back({1, 0, VK_FORMAT_R32_UINT, offsetof(shader::CellRunGpu, firstRecord)});
+  return layout;
+}
+
+bool drawnAsCells(RenderMethod method) { return method == RenderMethod::Cells || method == RenderMethod::CellRuns; }
 
 // The renderer's work counters when the frame counts (the capture reads them back), else the
 // feature's own heat-map counters when the evals view is on, else none.
@@ -87,8 +104,7 @@ glm::vec4 unite(const glm::vec4& a, const glm::vec4& b) {
 }  // namespace
 
 HermiteCellFeature::HermiteCellFeature() : buffers_(std::make_unique<CellBuffers>()) {
-  batches_[0] = std::make_unique<Batch>();
-  batches_[1] = std::make_unique<Batch>();
+  for (auto& batch : batches_) batch = std::make_unique<Batch>();
 }
 
 HermiteCellFeature::~HermiteCellFeature() = default;
@@ -111,6 +127,9 @@ engine::Status HermiteCellFeature::initialize(const engine::gpu::Context& contex
   ENGINE_TRY_ASSIGN(auto wireVert, engine::gpu::ShaderModule::load(context, "cells_wire.vert"));
   ENGINE_TRY_ASSIGN(auto wireFrag, engine::gpu::ShaderModule::load(context, "cells_wire.frag"));
   ENGINE_TRY_ASSIGN(auto resolveFrag, engine::gpu::ShaderModule::load(context, "cells_resolve.frag"));
+  ENGINE_TRY_ASSIGN(auto runsVert, engine::gpu::ShaderModule::load(context, "runs.vert"));
+  ENGINE_TRY_ASSIGN(auto runsFrag, engine::gpu::ShaderModule::load(context, "runs_depth.frag"));
+  ENGINE_TRY_ASSIGN(auto runsNearFrag, engine::gpu::ShaderModule::load(context, "runs_depth_near.frag"));
 
   for (int precision = 0; precision < 2; ++precision) {
     const std::string suffix = precision == 0 ? " fp32" : " fp16";
@@ -145,6 +164,24 @@ engine::Status HermiteCellFeature::initialize(const engine::gpu::Context& contex
     wire.depthCompare = VK_COMPARE_OP_GREATER_OR_EQUAL;
     ENGINE_TRY_ASSIGN(wire_[precision], Pipeline::createGraphics(context, wire));
   }
+  // Cell runs: records by address, one pipeline pair for both precisions (HERMITE_FLAG_HALF_RECORDS).
+  {
+    engine::gpu::GraphicsPipelineDesc desc;
+    desc.vertex = runsVert.handle();
+    desc.vertexLayout = runVertexLayout();
+    desc.pushConstantBytes = sizeof(shader::HermitePushConstants);
+    desc.depthFormat = formats.depth;
+    desc.colorFormats = {formats.visibility};
+    desc.depthCompare = VK_COMPARE_OP_GREATER;
+    desc.name = "hermite cell runs depth";
+    desc.fragment = runsFrag.handle();
+    desc.cullMode = VK_CULL_MODE_BACK_BIT;
+    ENGINE_TRY_ASSIGN(runsFront_, Pipeline::createGraphics(context, desc));
+    desc.name = "hermite cell runs depth near";
+    desc.fragment = runsNearFrag.handle();
+    desc.cullMode = VK_CULL_MODE_FRONT_BIT;
+    ENGINE_TRY_ASSIGN(runsNear_, Pipeline::createGraphics(context, desc));
+  }
   // Shading: a rectangle over the cell objects' screen bounds; which of its pixels are ours comes
   // from the visibility buffer.
   engine::gpu::GraphicsPipelineDesc resolve;
@@ -167,18 +204,19 @@ void HermiteCellFeature::syncAssets(const engine::render::FrameContext& frame) {
   std::unordered_set<std::uint64_t> seen;
   bool missing = false;
   frame.registry.view<HermiteSdfRenderable>().each([&](engine::ecs::Entity, const HermiteSdfRenderable& r) {
-    if (r.method != RenderMethod::Cells || !r.asset || r.asset->cells.records.empty()) return;
+    if (!drawnAsCells(r.method) || !r.asset || r.asset->cells.records.empty()) return;
     if (!seen.insert(r.asset->id).second) return;
     wanted.push_back(r.asset);
     missing |= !buffers_->entries.contains(r.asset->id);
   });
-  if (!missing) return;
+  if (!missing && buffers_->runLength == settings_.maxRunLength) return;
 
   // Rebuild the concatenated buffers with the assets drawn now (assets no longer drawn are dropped).
   context_->waitIdle();
   CellBuffers rebuilt;
   std::vector<CellRecord> full;
   std::vector<CellRecordHalf> half;
+  std::vector<shader::CellRunGpu> runs;
   for (const auto& asset : wanted) {
     CellBuffers::Entry entry;
     entry.asset = asset;
@@ -187,6 +225,12 @@ void HermiteCellFeature::syncAssets(const engine::render::FrameContext& frame) {
       entry.rows = std::move(old->second.rows);
     else
       entry.rows = buildCellRows(asset->cells);
+    entry.runs = buildCellRuns(asset->cells, settings_.maxRunLength);
+    entry.firstRun = static_cast<std::uint32_t>(runs.size());
+    for (shader::CellRunGpu run : entry.runs) {
+      run.firstRecord += entry.firstRecord;
+      runs.push_back(run);
+    }
     full.insert(full.end(), asset->cells.records.begin(), asset->cells.records.end());
     half.insert(half.end(), asset->cellsHalf.records.begin(), asset->cellsHalf.records.end());
     rebuilt.entries.emplace(asset->id, std::move(entry));
@@ -199,14 +243,18 @@ void HermiteCellFeature::syncAssets(const engine::render::FrameContext& frame) {
   rebuilt.records[1] = engine::gpu::createBufferWithData(*context_, half.data(),
                                                          half.size() * sizeof(CellRecordHalf), usage,
                                                          "hermite cells fp16");
-  rebuilt.bytes = full.size() * sizeof(CellRecord) + half.size() * sizeof(CellRecordHalf);
+  rebuilt.runs = engine::gpu::createBufferWithData(*context_, runs.data(), runs.size() * sizeof(shader::CellRunGpu),
+                                                   VK_BUFFER_USAGE_VERTEX_BUFFER_BIT, "hermite cell runs");
+  rebuilt.runLength = settings_.maxRunLength;
+  rebuilt.bytes = full.size() * sizeof(CellRecord) + half.size() * sizeof(CellRecordHalf) +
+                  runs.size() * sizeof(shader::CellRunGpu);
   *buffers_ = std::move(rebuilt);
   engine::log::debug("hermite cells: {} assets, {} records uploaded", buffers_->entries.size(), full.size());
 }
 
 void HermiteCellFeature::buildDraws(engine::render::FrameContext& frame) {
-  std::vector<VkDrawIndirectCommand> commands[2][2];  // [precision][front, near]
-  std::vector<shader::HermiteDraw> draws[2][2];
+  std::vector<VkDrawIndirectCommand> commands[3][2];  // [fp32 cells, fp16 cells, runs][front, near]
+  std::vector<shader::HermiteDraw> draws[3][2];
   std::vector<shader::HermiteObject> hermiteObjects;
   std::vector<std::uint32_t> objectIndices;
   stats_ = Stats{};
@@ -216,7 +264,7 @@ void HermiteCellFeature::buildDraws(engine::render::FrameContext& frame) {
 
   frame.registry.view<HermiteSdfRenderable, engine::scene::WorldTransform>().each(
       [&](engine::ecs::Entity, const HermiteSdfRenderable& r, const engine::scene::WorldTransform& world) {
-        if (r.method != RenderMethod::Cells || !r.asset) return;
+        if (!drawnAsCells(r.method) || !r.asset) return;
         if (!engine::render::drawableTransform(world.matrix)) {  // the rays could not be taken into the grid
           stats_.skippedObjects++;
           return;
@@ -247,6 +295,28 @@ void HermiteCellFeature::buildDraws(engine::render::FrameContext& frame) {
         const glm::dvec3 eyeGrid = (glm::dvec3(eyeObject) - grid.origin) / grid.spacing;
         const double reachGrid = double(frame.camera.nearPlaneReachInObject(object.invModel)) / grid.spacing;
 
+        if (r.method == RenderMethod::CellRuns) {
+          // Runs read their records by address: the draw says which buffer and which precision.
+          draw.records = buffers_->records[precision].address();
+          if (precision == 1) draw.flags |= HERMITE_FLAG_HALF_RECORDS;
+          const std::vector<CellRows::Range> rowOrder = orderedRows(entry.rows, eyeGrid, settings_.frontToBack);
+          for (const CellRows::Range& range : runRanges(entry.runs, rowOrder)) {
+            commands[2][0].push_back({36, range.count, 0, entry.firstRun + range.first});
+            draws[2][0].push_back(draw);
+          }
+          shader::HermiteDraw nearDraw = draw;
+          nearDraw.flags |= HERMITE_FLAG_NEAR_CELL;
+          for (std::uint32_t run : runsNearPoint(entry.runs, eyeGrid, reachGrid)) {
+            commands[2][1].push_back({36, 1, 0, entry.firstRun + run});
+            draws[2][1].push_back(nearDraw);
+            stats_.nearCells++;
+          }
+          stats_.cells += r.asset->cells.records.size();
+          stats_.runs += entry.runs.size();
+          screenRect_ = unite(screenRect_, screenBounds(viewProj, world.matrix, grid.bounds(), frame.extent));
+          stats_.objects++;
+          return;
+        }
         for (const CellRows::Range& range : orderedRows(entry.rows, eyeGrid, settings_.frontToBack)) {
           commands[precision][0].push_back({36, range.count, 0, entry.firstRecord + range.first});
           draws[precision][0].push_back(draw);
@@ -263,10 +333,10 @@ void HermiteCellFeature::buildDraws(engine::render::FrameContext& frame) {
         stats_.objects++;
       });
 
-  // One upload: [fp32 front][fp32 near][fp16 front][fp16 near].
+  // One upload: [fp32 front][fp32 near][fp16 front][fp16 near][runs front][runs near].
   std::vector<VkDrawIndirectCommand> allCommands;
   std::vector<shader::HermiteDraw> allDraws;
-  for (int precision = 0; precision < 2; ++precision) {
+  for (int precision = 0; precision < 3; ++precision) {
     Batch& batch = *batches_[precision];
     batch.frontFirst = static_cast<std::uint32_t>(allCommands.size());
     batch.frontCount = static_cast<std::uint32_t>(commands[precision][0].size());
@@ -334,9 +404,10 @@ void HermiteCellFeature::recordBatch(engine::render::PassContext& pass, int prec
   const std::uint32_t count = near ? batch.nearCount : batch.frontCount;
   if (count == 0) return;
   VkCommandBuffer cmd = pass.cmd;
-  const Pipeline& pipeline = near ? depthNear_[precision] : depthFront_[precision];
+  const bool runs = precision == kRunBatch;
+  const Pipeline& pipeline = runs ? (near ? runsNear_ : runsFront_) : near ? depthNear_[precision] : depthFront_[precision];
   vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, pipeline.handle());
-  const VkBuffer vertexBuffer = buffers_->records[precision].handle();
+  const VkBuffer vertexBuffer = runs ? buffers_->runs.handle() : buffers_->records[precision].handle();
   const VkDeviceSize offset = 0;
   vkCmdBindVertexBuffers(cmd, 0, 1, &vertexBuffer, &offset);
 
@@ -409,7 +480,7 @@ void HermiteCellFeature::recordPass(engine::render::PassContext& pass) {
     return;
   }
   pass.timer.begin(pass.cmd, "cells prepass");
-  for (int precision = 0; precision < 2; ++precision) {
+  for (int precision = 0; precision < kBatches; ++precision) {
     recordBatch(pass, precision, false);
     recordBatch(pass, precision, true);
   }

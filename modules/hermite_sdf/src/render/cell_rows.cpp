@@ -93,4 +93,58 @@ std::vector<std::uint32_t> cellsNearPoint(const CellRows& rows, const CellStream
   return result;
 }
 
+std::vector<shader::CellRunGpu> buildCellRuns(const CellStream& stream, std::uint32_t maxLength) {
+  std::vector<shader::CellRunGpu> runs;
+  maxLength = std::clamp(maxLength, 1u, 0xffffu);
+  std::uint32_t length = 0;
+  for (std::uint32_t i = 0; i < stream.records.size(); ++i) {
+    const CellRecord& r = stream.records[i];
+    const bool extends = length > 0 && length < maxLength && stream.records[i - 1].y == r.y &&
+                         stream.records[i - 1].z == r.z && stream.records[i - 1].x + 1u == r.x;
+    if (extends) {
+      ++length;
+    } else {
+      if (length > 0) runs.back().zLength = (runs.back().zLength & 0xffffu) | (length << 16);
+      runs.push_back({std::uint32_t(r.x) | (std::uint32_t(r.y) << 16), std::uint32_t(r.z), i});
+      length = 1;
+    }
+  }
+  if (length > 0) runs.back().zLength = (runs.back().zLength & 0xffffu) | (length << 16);
+  return runs;
+}
+
+std::vector<CellRows::Range> runRanges(const std::vector<shader::CellRunGpu>& runs,
+                                       const std::vector<CellRows::Range>& recordRanges) {
+  std::vector<CellRows::Range> result;
+  auto runAt = [&](std::uint32_t record) {  // the first run whose first record is >= record
+    auto it = std::lower_bound(runs.begin(), runs.end(), record,
+                               [](const shader::CellRunGpu& run, std::uint32_t r) { return run.firstRecord < r; });
+    return static_cast<std::uint32_t>(it - runs.begin());
+  };
+  for (const CellRows::Range& range : recordRanges) {
+    const std::uint32_t first = runAt(range.first), end = runAt(range.first + range.count);
+    if (end <= first) continue;
+    if (!result.empty() && result.back().first + result.back().count == first)
+      result.back().count += end - first;
+    else
+      result.push_back({first, end - first});
+  }
+  return result;
+}
+
+std::vector<std::uint32_t> runsNearPoint(const std::vector<shader::CellRunGpu>& runs, const glm::dvec3& point,
+                                         double radius) {
+  std::vector<std::uint32_t> result;
+  if (!std::isfinite(radius) || radius < 0.0) return result;
+  const double r2 = radius * radius;
+  for (std::uint32_t i = 0; i < runs.size(); ++i) {
+    const shader::CellRunGpu& run = runs[i];
+    const glm::dvec3 lo(run.xy & 0xffffu, run.xy >> 16, run.zLength & 0xffffu);
+    const glm::dvec3 hi = lo + glm::dvec3(double(run.zLength >> 16), 1.0, 1.0);
+    const glm::dvec3 d = glm::max(glm::max(lo - point, point - hi), glm::dvec3(0.0));
+    if (glm::dot(d, d) <= r2) result.push_back(i);
+  }
+  return result;
+}
+
 }  // namespace hsdf

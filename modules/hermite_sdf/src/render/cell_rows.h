@@ -10,6 +10,7 @@
 #include <glm/glm.hpp>
 
 #include "hermite_sdf/cells.h"
+#include "hermite/hermite_host_device.h"
 
 namespace hsdf {
 
@@ -42,5 +43,19 @@ std::vector<CellRows::Range> orderedRows(const CellRows& rows, const glm::dvec3&
 // Records of the kept cells whose box comes within `radius` (grid units) of `point`.
 std::vector<std::uint32_t> cellsNearPoint(const CellRows& rows, const CellStream& stream, const glm::dvec3& point,
                                           double radius);
+
+// Runs of kept cells (RenderMethod::CellRuns): cells at consecutive x in one row, at most
+// `maxLength` per run, in stream order (a run never crosses a row, so the records of whole rows
+// are the records of consecutive runs). firstRecord is the stream index of the run's first cell.
+std::vector<shader::CellRunGpu> buildCellRuns(const CellStream& stream, std::uint32_t maxLength);
+
+// The runs that hold the records of `recordRanges` (each made of whole rows, as orderedRows
+// gives them), in the same order; consecutive ranges are merged.
+std::vector<CellRows::Range> runRanges(const std::vector<shader::CellRunGpu>& runs,
+                                       const std::vector<CellRows::Range>& recordRanges);
+
+// Indices of the runs whose box comes within `radius` (grid units) of `point`.
+std::vector<std::uint32_t> runsNearPoint(const std::vector<shader::CellRunGpu>& runs, const glm::dvec3& point,
+                                         double radius);
 
 }  // namespace hsdf

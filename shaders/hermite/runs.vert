@@ -1,0 +1,52 @@
+#version 460
+// Hermite cell runs (RenderMethod::CellRuns): one instance per run of kept cells that follow each
+// other along x in one row, drawn as one box (36 vertices from gl_VertexIndex) of `length` cells.
+// The fragment shader walks the ray through the run's cells and reads each cell's record by
+// buffer device address, so the vertex stream carries 12 bytes per run instead of 136 per cell and
+// the faces between cells of a run produce no fragments (issue 13; docs/perf/).
+#extension GL_GOOGLE_include_directive : require
+#include "hermite/hermite_host_device.h"
+#include "hermite/box.glsl"
+#include "hermite/proxy_dilation.glsl"
+
+layout(push_constant, scalar) uniform Push { HermitePushConstants pc; };
+layout(buffer_reference, scalar) readonly buffer HermiteDrawsRef { HermiteDraw draws[]; };
+
+layout(location = 0) in uvec2 inRun;        // x | y << 16, z | length << 16
+layout(location = 1) in uint inFirstRecord;
+
+layout(location = 0) flat out uvec4 outRun;          // x, y, z, length
+layout(location = 1) flat out uint outFirstRecord;
+layout(location = 2) flat out uint outDraw;
+layout(location = 3) out vec3 outLocal;              // this vertex in run-local coordinates (cells)
+layout(location = 4) flat out vec3 outCameraLocal;   // the eye in run-local coordinates
+layout(location = 5) flat out float outDilation;     // how far the proxy reaches beyond the run, cells
+
+precise gl_Position;
+
+void main() {
+  uint drawIndex = pc.drawBase + gl_DrawID;
+  HermiteDraw draw = HermiteDrawsRef(pc.draws).draws[drawIndex];
+  ObjectData object = ObjectsRef(pc.draw.objects).objects[draw.object];
+  FrameGlobals frame = FrameGlobalsRef(pc.draw.frameGlobals).globals;
+
+  uvec4 run = uvec4(inRun.x & 0xffffu, inRun.x >> 16, inRun.y & 0xffffu, inRun.y >> 16);
+  vec3 start = vec3(run.xyz);
+  vec3 size = vec3(float(run.w), 1.0, 1.0);
+  float h = draw.gridOriginSpacing.w;
+  // The larger of the dilations at the run's two end cells: the end nearer the eye needs more.
+  vec3 firstCentre = draw.gridOriginSpacing.xyz + h * (start + 0.5);
+  vec3 lastCentre = firstCentre + vec3(h * (size.x - 1.0), 0.0, 0.0);
+  float dilation = max(proxyDilation(frame, object, firstCentre, h), proxyDilation(frame, object, lastCentre, h));
+  vec3 local = boxCorner(gl_VertexIndex, (object.flags & OBJECT_FLAG_MIRRORED) != 0u) * (size + 2.0 * dilation) - dilation;
+  vec3 objectPosition = draw.gridOriginSpacing.xyz + h * (start + local);
+  vec3 cameraObject = (object.invModel * vec4(frame.cameraPosition.xyz, 1.0)).xyz;
+
+  outRun = run;
+  outFirstRecord = inFirstRecord;
+  outDraw = drawIndex;
+  outLocal = local;
+  outDilation = dilation;
+  outCameraLocal = (cameraObject - draw.gridOriginSpacing.xyz) / h - start;
+  gl_Position = frame.viewProj * (object.model * vec4(objectPosition, 1.0));
+}

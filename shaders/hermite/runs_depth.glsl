@@ -1,0 +1,93 @@
+// Depth prepass of the Hermite cell runs (RenderMethod::CellRuns). Included by runs_depth.frag
+// (front faces, conservative depth) and runs_depth_near.frag (back faces of runs the near plane may
+// cut). The same search as the cells (cells_depth.glsl), cell by cell along the ray inside the run:
+// each cell is searched over its own box dilated as in the cells (docs/root-finding.md), from the
+// cell the ray enters first, and the walk stops at the first root.
+#extension GL_GOOGLE_include_directive : require
+#include "hermite/hermite_host_device.h"
+#include "hermite/segment_roots.glsl"
+
+layout(push_constant, scalar) uniform Push { HermitePushConstants pc; };
+layout(buffer_reference, scalar) readonly buffer HermiteDrawsRef { HermiteDraw draws[]; };
+layout(buffer_reference, scalar) buffer CountersRef { uint counts[]; };
+layout(buffer_reference, scalar) readonly buffer CellRecordsRef { CellRecordGpu records[]; };
+layout(buffer_reference, scalar) readonly buffer CellRecordsHalfRef { CellRecordHalfGpu records[]; };
+
+layout(location = 0) flat in uvec4 inRun;  // x, y, z, length
+layout(location = 1) flat in uint inFirstRecord;
+layout(location = 2) flat in uint inDraw;
+layout(location = 3) in vec3 inLocal;
+layout(location = 4) flat in vec3 inCameraLocal;
+layout(location = 5) flat in float inDilation;
+
+layout(location = 0) out uvec2 outVisibility;  // (1 + object, cell record)
+#ifdef HSDF_CONSERVATIVE_DEPTH
+layout(depth_less) out float gl_FragDepth;  // reverse-Z: the hit is never nearer than the front face
+#endif
+
+void loadCorners(HermiteDraw draw, uint record, out vec4 corners[8]) {
+  if ((draw.flags & HERMITE_FLAG_HALF_RECORDS) == 0u) {
+    corners = CellRecordsRef(draw.records).records[record].corners;
+  } else {
+    uvec2 packed[8] = CellRecordsHalfRef(draw.records).records[record].corners;
+    for (int i = 0; i < 8; ++i) corners[i] = vec4(unpackHalf2x16(packed[i].x), unpackHalf2x16(packed[i].y));
+  }
+}
+
+void main() {
+  HermiteDraw draw = HermiteDrawsRef(pc.draws).draws[inDraw];
+  // The ray in run-local coordinates (cells; cell i of the run spans x in [i, i + 1]), t = 1 at this
+  // fragment's point on the proxy, so a point at t has reverse-Z depth gl_FragCoord.z / t and the
+  // near plane lies at t = gl_FragCoord.z (as in cells_depth.glsl).
+  vec3 origin = inCameraLocal;
+  vec3 direction = inLocal - inCameraLocal;
+  vec3 magnitude = abs(origin);
+  float margin = max(inDilation, 8.0e-7 * max(max(magnitude.x, magnitude.y), magnitude.z));
+  float length = float(inRun.w);
+  vec2 box = intersectBox(origin, direction, vec3(-margin), vec3(length + margin, 1.0 + margin, 1.0 + margin));
+  float tNear = gl_FragCoord.z;
+  float t0 = max(box.x, tNear);
+  float t1 = box.y;
+  uint evaluations = 0u;
+  float t = -1.0;
+  uint hitRecord = 0u;
+  if (t0 < t1) {
+    // The run's cells in the order the ray meets them.
+    int stepX = direction.x < 0.0 ? -1 : 1;
+    int last = int(inRun.w) - 1;
+    int first = clamp(int(floor(origin.x + t0 * direction.x)), 0, last);
+    int end = clamp(int(floor(origin.x + t1 * direction.x)), 0, last);
+    int count = abs(end - first) + 1;
+    for (int k = 0; k < count; ++k) {
+      int cell = first + stepX * k;
+      vec3 cellOrigin = origin - vec3(float(cell), 0.0, 0.0);
+      vec2 segment = intersectBox(cellOrigin, direction, vec3(-margin), vec3(1.0 + margin));
+      float c0 = max(segment.x, t0), c1 = min(segment.y, t1);
+      if (!(c0 < c1)) continue;
+      vec4 corners[8];
+      loadCorners(draw, inFirstRecord + uint(cell), corners);
+      float coefficients[SEGMENT_COEFFS];
+      restrictToSegment(corners, draw.gridOriginSpacing.w, cellOrigin + c0 * direction, cellOrigin + c1 * direction,
+                        coefficients);
+      ++evaluations;
+      float s = segmentFirstRoot(coefficients, draw.subdivisions, draw.refineSteps,
+                                 (draw.flags & HERMITE_FLAG_CERTIFIED) != 0u, evaluations);
+      if (s >= 0.0) {
+        t = mix(c0, c1, s);
+        hitRecord = inFirstRecord + uint(cell);
+        break;
+      }
+    }
+  }
+  if (pc.counters != 0ul) {
+    ivec2 pixel = ivec2(gl_FragCoord.xy);
+    FrameGlobals frame = FrameGlobalsRef(pc.draw.frameGlobals).globals;
+    atomicAdd(CountersRef(pc.counters).counts[pixel.y * int(frame.viewport.x) + pixel.x], evaluations);
+  }
+  if (t < 0.0) discard;
+#ifdef HSDF_CONSERVATIVE_DEPTH
+  t = max(t, 1.0);  // a root in the margin before the run's face is drawn at the face (cells_depth.glsl)
+#endif
+  gl_FragDepth = gl_FragCoord.z / t;
+  outVisibility = uvec2(draw.object + 1u, hitRecord);
+}
