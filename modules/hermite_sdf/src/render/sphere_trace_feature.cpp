@@ -66,7 +66,17 @@ engine::Status SphereTraceFeature::initialize(const engine::gpu::Context& contex
   createSamplers();
   drawBuffer_ = engine::render::PerFrameBuffer(context, framesInFlight, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT,
                                                "sphere trace draws");
-  return createPipelines(formats);
+  formats_ = formats;
+  ENGINE_TRY_ASSIGN(pipelines_, createPipelines());
+  return {};
+}
+
+// Built aside and swapped in only when all six were created: a failure keeps the old ones.
+engine::Status SphereTraceFeature::reloadShaders() {
+  ENGINE_TRY_ASSIGN(Pipelines fresh, createPipelines());
+  context_->waitIdle();  // frames in flight may still use the old pipelines
+  pipelines_ = std::move(fresh);
+  return {};
 }
 
 void SphereTraceFeature::createSamplers() {
@@ -88,7 +98,9 @@ void SphereTraceFeature::createSamplers() {
   }
 }
 
-engine::Status SphereTraceFeature::createPipelines(const engine::render::RendererFormats& formats) {
+engine::Expected<SphereTraceFeature::Pipelines> SphereTraceFeature::createPipelines() const {
+  const engine::render::RendererFormats& formats = formats_;
+  Pipelines pipelines;
   const std::string suffix = bindings_->bindless() ? "_bindless.frag" : ".frag";
   ENGINE_TRY_ASSIGN(auto vert, engine::gpu::ShaderModule::load(*context_, "sphere_trace.vert"));
   for (std::uint32_t method = 0; method < kTraceMethodCount; ++method) {
@@ -108,12 +120,12 @@ engine::Status SphereTraceFeature::createPipelines(const engine::render::Rendere
     desc.name = std::string("sphere trace ") + kMethodNames[method] + " depth";
     desc.fragment = depthFrag.handle();
     desc.cullMode = VK_CULL_MODE_BACK_BIT;
-    ENGINE_TRY_ASSIGN(depthFront_[method], engine::gpu::Pipeline::createGraphics(*context_, desc));
+    ENGINE_TRY_ASSIGN(pipelines.depthFront[method], engine::gpu::Pipeline::createGraphics(*context_, desc));
 
     desc.name = std::string("sphere trace ") + kMethodNames[method] + " depth near";
     desc.fragment = nearFrag.handle();
     desc.cullMode = VK_CULL_MODE_FRONT_BIT;
-    ENGINE_TRY_ASSIGN(depthNear_[method], engine::gpu::Pipeline::createGraphics(*context_, desc));
+    ENGINE_TRY_ASSIGN(pipelines.depthNear[method], engine::gpu::Pipeline::createGraphics(*context_, desc));
 
     // Shading: the prepass decided visibility; the box only selects candidate pixels. Its cull
     // mode follows the object's prepass variant (dynamic state, core in Vulkan 1.3).
@@ -123,9 +135,9 @@ engine::Status SphereTraceFeature::createPipelines(const engine::render::Rendere
     desc.depthTest = false;
     desc.depthWrite = false;
     desc.extraDynamicStates = {VK_DYNAMIC_STATE_CULL_MODE};
-    ENGINE_TRY_ASSIGN(shade_[method], engine::gpu::Pipeline::createGraphics(*context_, desc));
+    ENGINE_TRY_ASSIGN(pipelines.shade[method], engine::gpu::Pipeline::createGraphics(*context_, desc));
   }
-  return {};
+  return pipelines;
 }
 
 engine::Expected<SphereTraceFeature::FieldTexture> SphereTraceFeature::uploadTexture(const SdfAsset& asset,
@@ -276,13 +288,13 @@ void SphereTraceFeature::recordMethod(engine::render::PassContext& pass, std::ui
   const VkShaderStageFlags stages = VK_SHADER_STAGE_VERTEX_BIT | VK_SHADER_STAGE_FRAGMENT_BIT;
   if (prepass) {
     for (const bool near : {false, true}) {
-      const engine::gpu::Pipeline& pipeline = near ? depthNear_[method] : depthFront_[method];
+      const engine::gpu::Pipeline& pipeline = near ? pipelines_.depthNear[method] : pipelines_.depthFront[method];
       vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, pipeline.handle());
       vkCmdPushConstants(cmd, pipeline.layout(), stages, 0, sizeof(push), &push);
       recordDraws(cmd, pipeline.layout(), near ? near_[method] : front_[method]);
     }
   } else {
-    const engine::gpu::Pipeline& pipeline = shade_[method];
+    const engine::gpu::Pipeline& pipeline = pipelines_.shade[method];
     vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, pipeline.handle());
     vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, pipeline.layout(), 0, 1, &pass.sceneSet, 0, nullptr);
     vkCmdPushConstants(cmd, pipeline.layout(), stages, 0, sizeof(push), &push);
