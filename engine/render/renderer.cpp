@@ -153,8 +153,9 @@ void Renderer::createTargets() {
   gpu::ImageDesc colorDesc;
   colorDesc.format = desc_.formats.color;
   colorDesc.extent = {extent_.width, extent_.height, 1};
+  // Transfer destination: an overlay may copy an image over the frame (e.g. a CPU-made heat map).
   colorDesc.usage = VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT |
-                    VK_IMAGE_USAGE_SAMPLED_BIT;
+                    VK_IMAGE_USAGE_TRANSFER_DST_BIT | VK_IMAGE_USAGE_SAMPLED_BIT;
   colorDesc.name = "scene colour";
   color_ = gpu::Image(context_, colorDesc);
   gpu::ImageDesc depthDesc;

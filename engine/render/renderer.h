@@ -24,7 +24,8 @@ class Swapchain;
 
 namespace engine::render {
 
-// Something drawn over the finished frame in a render pass of its own (the ImGui layer).
+// Something drawn over the finished frame in a render pass of its own (the ImGui layer). The
+// colour target arrives in COLOR_ATTACHMENT_OPTIMAL and must be left in it.
 class OverlayPass {
  public:
   virtual ~OverlayPass() = default;
