@@ -244,7 +244,7 @@ void TuningPanel::drawDifferenceLegend() {
   const std::optional<NormalDifference>& d = viewer_.difference();
   if (!d) return;
   float range = viewer_.differenceRange();
-  if (ImGui::SliderFloat("heat map range (deg)", &range, 0.5f, 90.0f, "%.1f", ImGuiSliderFlags_Logarithmic))
+  if (ImGui::SliderFloat("red at (deg)", &range, 0.5f, 90.0f, "%.1f", ImGuiSliderFlags_Logarithmic))
     viewer_.setDifferenceRange(range);
   // A colour bar with ticks at 0, 1/2 and the full range; white: covered by one method only.
   const ImVec2 origin = ImGui::GetCursorScreenPos();
@@ -263,9 +263,9 @@ void TuningPanel::drawDifferenceLegend() {
   ImGui::Text("%.1f", double(range) * 0.5);
   ImGui::SameLine(width - 50.0f);
   ImGui::Text("%.1f deg", double(range));
-  ImGui::Text("normal angle: mean %.2f deg, max %.1f deg over %llu pixels", d->meanDegrees, d->maxDegrees,
-              static_cast<unsigned long long>(d->coveredBoth));
-  ImGui::Text("coverage differs (white): %llu of %llu pixels (%.2f%%)", static_cast<unsigned long long>(d->coverageDiffers),
+  ImGui::TextWrapped("normal angle: mean %.2f deg, max %.1f deg over %llu pixels", d->meanDegrees, d->maxDegrees,
+                     static_cast<unsigned long long>(d->coveredBoth));
+  ImGui::TextWrapped("coverage differs (white): %llu of %llu pixels (%.2f%%)", static_cast<unsigned long long>(d->coverageDiffers),
               static_cast<unsigned long long>(d->coveredEither), 100.0 * d->coverageDiffersShare());
 }
 
