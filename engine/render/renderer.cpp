@@ -290,6 +290,7 @@ bool Renderer::renderFrame(const ecs::Registry& registry, const CameraView& came
   const VkDeviceAddress workCounters = settings.countWork ? prepareWorkCounters(frame.cmd) : 0;
   FrameContext context{frame.cmd, registry, context_,    scene_,           camera,
                        extent_,   slot,     frameNumber_, settings.debugView, workCounters};
+  context.framesInFlight = desc_.framesInFlight;
   if (settings.regions.empty()) {
     recordRegion(frame, context, ViewRegion{{{0, 0}, extent_}, {}}, 0);
   } else {

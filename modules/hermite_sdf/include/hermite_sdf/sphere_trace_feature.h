@@ -124,7 +124,7 @@ class SphereTraceFeature final : public engine::render::RenderFeature {
   void createSamplers();
   const FieldTexture* acquireTexture(const SdfAsset& asset, std::uint32_t method, bool half, std::uint64_t frame);
   engine::Expected<FieldTexture> uploadTexture(const SdfAsset& asset, std::uint32_t method, bool half);
-  void releaseUnusedTextures(std::uint64_t frame);
+  void releaseUnusedTextures(std::uint64_t frame, std::uint32_t framesInFlight);
   void collectDraws(engine::render::FrameContext& frame);
   void recordDraws(VkCommandBuffer cmd, VkPipelineLayout layout, Range range) const;
   void recordMethod(engine::render::PassContext& pass, std::uint32_t method);
@@ -133,7 +133,6 @@ class SphereTraceFeature final : public engine::render::RenderFeature {
   Settings settings_;
   Stats stats_;
   const engine::gpu::Context* context_ = nullptr;
-  std::uint32_t framesInFlight_ = 1;
   std::unique_ptr<FieldTextureBindings> bindings_;
   VkSampler samplers_[2] = {VK_NULL_HANDLE, VK_NULL_HANDLE};  // by method: linear, nearest
   engine::render::RendererFormats formats_;

@@ -58,7 +58,6 @@ engine::Status SphereTraceFeature::initialize(const engine::gpu::Context& contex
                                               const engine::render::RendererFormats& formats,
                                               std::uint32_t framesInFlight) {
   context_ = &context;
-  framesInFlight_ = framesInFlight;
   ENGINE_TRY(checkFieldFormats(context));
   const bool bindless = options_.allowBindless && context.capabilities().descriptorIndexing;
   ENGINE_TRY_ASSIGN(bindings_, FieldTextureBindings::create(context, bindless));
@@ -184,9 +183,9 @@ const SphereTraceFeature::FieldTexture* SphereTraceFeature::acquireTexture(const
 
 // A texture last drawn by frame L is free once frame L + framesInFlight is being prepared: that
 // frame's slot waited for L's fence, and later frames no longer reference the texture.
-void SphereTraceFeature::releaseUnusedTextures(std::uint64_t frame) {
+void SphereTraceFeature::releaseUnusedTextures(std::uint64_t frame, std::uint32_t framesInFlight) {
   for (auto it = textures_.begin(); it != textures_.end();) {
-    if (it->second.lastUsedFrame + framesInFlight_ <= frame) {
+    if (it->second.lastUsedFrame + framesInFlight <= frame) {
       bindings_->remove(it->second.slot);
       it = textures_.erase(it);
     } else {
@@ -254,7 +253,7 @@ void SphereTraceFeature::prepare(engine::render::FrameContext& frame) {
   stats_ = Stats{};
   stats_.bindless = bindless;
   collectDraws(frame);
-  releaseUnusedTextures(frame.frameNumber);
+  releaseUnusedTextures(frame.frameNumber, frame.framesInFlight);
   stats_.textures = std::uint32_t(textures_.size());
   for (const auto& [key, texture] : textures_) stats_.textureBytes += texture.bytes;
 }
