@@ -145,6 +145,14 @@ void TuningPanel::drawStatistics() {
     row("Hermite cells", s.cellScalars, s.cellBytes, s.cellBytesHalf);
     row("trilinear (K^3)", s.trilinearScalars, 4 * s.trilinearScalars, 2 * s.trilinearScalars);
     row("dense Hermite (4K^3)", s.hermiteScalars, 4 * s.hermiteScalars, 2 * s.hermiteScalars);
+    // The compared side's own field (e.g. trilinear at 2K), when it has one.
+    const TuningState& t = viewer_.tuning();
+    const auto k = std::uint64_t(viewer_.compareResolutionDrawn());
+    if (comparing(t) && t.compareMethod != Method::Cells && k != std::uint64_t(s.resolution)) {
+      const std::uint64_t scalars = (t.compareMethod == Method::Hermite ? 4 : 1) * k * k * k;
+      const std::string label = fmt::format("compared, K {}", k);
+      row(label.c_str(), scalars, 4 * scalars, 2 * scalars);
+    }
     ImGui::EndTable();
   }
 }
@@ -229,9 +237,11 @@ void TuningPanel::drawDivider() {
     else draw->AddLine(ImVec2(0.0f, at), ImVec2(display.x, at), color, 2.0f);
     const std::string left = fmt::format("{} K {}", methodName(t.method), t.resolution);
     const std::string right = fmt::format("{} K {}", methodName(t.compareMethod), viewer_.compareResolutionDrawn());
-    const ImVec2 rightAt = vertical ? ImVec2(at + 8.0f, display.y - 20.0f) : ImVec2(8.0f, at + 6.0f);
-    draw->AddText(vertical ? ImVec2(at - 8.0f - ImGui::CalcTextSize(left.c_str()).x, display.y - 20.0f)
-                           : ImVec2(8.0f, at - 22.0f),
+    // Labels at the bottom beside a vertical divider, at the right end of a horizontal one (the
+    // panel is on the left).
+    const float leftWidth = ImGui::CalcTextSize(left.c_str()).x, rightWidth = ImGui::CalcTextSize(right.c_str()).x;
+    const ImVec2 rightAt = vertical ? ImVec2(at + 8.0f, display.y - 20.0f) : ImVec2(display.x - rightWidth - 8.0f, at + 6.0f);
+    draw->AddText(vertical ? ImVec2(at - 8.0f - leftWidth, display.y - 20.0f) : ImVec2(display.x - leftWidth - 8.0f, at - 22.0f),
                   IM_COL32_WHITE, left.c_str());
     draw->AddText(rightAt, IM_COL32_WHITE, right.c_str());
   }
