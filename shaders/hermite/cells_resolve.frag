@@ -1,5 +1,5 @@
 #version 460
-// Shading pass of the Hermite cells, once per pixel: a full-screen triangle reads the visibility
+// Shading pass of the Hermite cells, once per pixel: a rectangle over the objects (cells_resolve.vert) reads the visibility
 // buffer; where a Hermite-cell object won the prepass, it fetches the winning cell's record,
 // rebuilds the hit from the prepass depth, and shades it with the exact normal of the interpolant.
 #extension GL_GOOGLE_include_directive : require

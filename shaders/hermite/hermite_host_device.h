@@ -49,8 +49,11 @@ struct HermitePushConstants {
   uint64_t counters;       // address of a uint per pixel (evaluation heat map), 0 when off
   uint drawBase;
   uint pad;
+  // Shading pass: the rectangle (NDC x0, y0, x1, y1) that covers every drawn cell object on screen;
+  // the resolve shades only its pixels (cells_resolve.vert).
+  vec4 screenRect;
 };
-HSDF_CHECK_SIZE(HermitePushConstants, 32 + 3 * 8 + 8);
+HSDF_CHECK_SIZE(HermitePushConstants, 32 + 3 * 8 + 8 + 16);
 
 // ---- Sphere-tracing baselines (hsdf::SphereTraceFeature) ----------------------------------------
 #define SPHERE_TRACE_FEATURE_ID 3u

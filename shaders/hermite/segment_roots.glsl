@@ -5,17 +5,14 @@
 // Hermite basis functions at the two ends of the segment; then
 //   - all 10 coefficients of one strict sign prove that the segment holds no root (convex hull):
 //     the fragment is rejected without sampling (most box fragments that miss the surface);
-//   - the paper's search samples the polynomial at n+1 equidistant points (de Casteljau, far cheaper
-//     than a tricubic evaluation), brackets the first sign change, places the root by linear (or
-//     parabolic) interpolation and refines it with safeguarded Newton steps on the polynomial;
-//   - a pair of roots between two samples (a thin feature, a grazing ray) shows no sign change:
-//     once the samples bracket a root at s, the coefficients of F on [0, s] prove by Descartes'
-//     rule that it is the only root there, or the certified search below finds the first; with no
-//     bracket at all, the certified search decides whenever the coefficients do not exclude a
-//     root. So the paper's search never passes through a surface; only its placement of the root
-//     (interpolation and `refine` Newton steps) is approximate (docs/root-finding.md);
-//   - the certified mode (HERMITE_FLAG_CERTIFIED) skips the samples and always runs the certified
-//     search: the first root of the restricted polynomial, placed to 2^-18 of its interval.
+//   - one walk over sub-intervals does the paper's search and its certification together
+//     (segmentFirstRoot below): the paper's n equal intervals, left to right, each decided by its
+//     own coefficients (no root / exactly one root / halve), so a pair of roots between two
+//     samples (a thin feature, a grazing ray) is never passed over; a unique root is placed at the
+//     zero of the control polygon and refined by `refine` safeguarded Newton steps, so only the
+//     root's placement is approximate (docs/root-finding.md);
+//   - the certified mode (HERMITE_FLAG_CERTIFIED) walks from the whole segment and places the
+//     first root to 2^-18 of its interval.
 // The math is derived in modules/hermite_sdf/include/hermite_sdf/hermite.h (restrictToSegment: the
 // same polynomial, built there from the 64 tensor Bernstein coefficients) and the rules for roots
 // on shared cell faces are in docs/root-finding.md.
@@ -138,137 +135,123 @@ int signVariations(float c[SEGMENT_COEFFS]) {
   return variations;
 }
 
-// Places the root of a bracket [a, b] (fa and fb of different sign or zero): by linear
-// interpolation (the paper's method), or, when a third sample (c, fc) before the bracket is known,
-// by the root of the parabola through the three samples, which follows the curvature of F along
-// the ray at no extra cost (it falls back to the line when the parabola has no root in [a, b]).
-float placeRoot(float a, float fa, float b, float fb, bool hasThird, float c, float fc) {
-  float linear = (fa == fb) ? a : a + (b - a) * (fa / (fa - fb));
-  if (!hasThird) return linear;
-  // Newton's divided differences: q(t) = fa + s1 (t - a) + s2 (t - a)(t - b).
-  float s1 = (fb - fa) / (b - a);
-  float s2 = ((fa - fc) / (a - c) - s1) / (c - b);
-  float t = linear;
-  for (int i = 0; i < 3; ++i) {  // Newton on the parabola from the linear guess
-    float q = fa + (t - a) * (s1 + s2 * (t - b));
-    float dq = s1 + s2 * (2.0 * t - a - b);
-    if (dq == 0.0) break;
-    t -= q / dq;
-  }
-  return (t >= min(a, b) && t <= max(a, b)) ? t : linear;
-}
-
-// `steps` safeguarded Newton steps on the polynomial from the guess s inside the bracket [a, b]
-// (fa, fb of different sign or zero): each step shrinks the bracket and takes the Newton step if it
-// stays inside, else the secant of the new bracket. Counts one evaluation per step.
-float refineInBracket(float c[SEGMENT_COEFFS], float s, float a, float fa, float b, float fb, uint steps,
-                      inout uint evaluations) {
-  for (uint i = 0u; i < steps; ++i) {
-    vec2 fd = bernsteinValueDerivative(c, s);
-    ++evaluations;
-    if (fd.x == 0.0) return s;
-    if ((fa < 0.0) != (fd.x < 0.0)) {
-      b = s;
-      fb = fd.x;
-    } else {
-      a = s;
-      fa = fd.x;
-    }
-    float newton = fd.y != 0.0 ? s - fd.x / fd.y : a - 1.0;
-    s = (newton > a && newton < b) ? newton : ((fa == fb) ? a : a + (b - a) * (fa / (fa - fb)));
-  }
-  return s;
-}
-
-// The root of a polynomial with exactly one root in [0,1] (end values of opposite sign, one sign
-// variation): Newton steps kept inside a shrinking bracket, bisecting whenever a step leaves it or
-// does not halve it, until the bracket is below kRootWidth of the interval. Certified search only:
-// its interval may be the whole segment, where the paper's one refinement step is not enough.
+// The root of a polynomial with exactly one root in [0,1] (end values of opposite sign, or a zero
+// end, and one sign variation): the zero of its control polygon (below), then up to
+// `steps` safeguarded Newton steps that keep the root bracketed. A Newton step that leaves the
+// bracket is replaced by the secant of the new bracket (regula falsi), and in certified mode also
+// one that does not halve it, by bisection, which guarantees convergence; certified mode stops
+// once the bracket is narrower than kRootWidth. The paper's refinement is steps = r; the certified
+// mode asks for 32. Counts one evaluation per step.
 const float kRootWidth = 1.0 / 262144.0;
 
-float solveUniqueRoot(float c[SEGMENT_COEFFS], inout uint evaluations) {
-  float a = 0.0, b = 1.0;
-  bool startNegative = c[0] < 0.0;
-  float s = placeRoot(0.0, c[0], 1.0, c[SEGMENT_DEGREE], false, 0.0, 0.0);
-  for (int i = 0; i < 32 && b - a > kRootWidth; ++i) {
-    vec2 fd = bernsteinValueDerivative(c, s);
-    ++evaluations;
-    if (fd.x == 0.0) return s;
-    float width = b - a;
-    if ((fd.x < 0.0) == startNegative) a = s; else b = s;
-    float newton = fd.y != 0.0 ? s - fd.x / fd.y : -1.0;
-    s = (newton > a && newton < b && b - a < 0.5 * width) ? newton : 0.5 * (a + b);
+// Where the control polygon of a polynomial with one sign variation crosses zero: the linear
+// interpolation between the two coefficients of different sign. It is the paper's linear
+// interpolation between the interval's ends when F is linear along the interval, and follows the
+// curvature of F where it is not (the polygon converges to the curve quadratically as the interval
+// shrinks), so one Newton step lands closer than from the chord.
+float controlPolygonRoot(float c[SEGMENT_COEFFS]) {
+  float s = 0.5;
+  bool found = false;
+  for (int i = 0; i < SEGMENT_DEGREE; ++i) {
+    bool crosses = !found && (c[i] == 0.0 || (c[i] < 0.0) != (c[i + 1] < 0.0));
+    float local = c[i] == c[i + 1] ? 0.0 : c[i] / (c[i] - c[i + 1]);
+    s = crosses ? (float(i) + local) / float(SEGMENT_DEGREE) : s;
+    found = found || crosses;
   }
   return s;
 }
 
-// Certified first root of the polynomial on [0,1]: a depth-first walk over dyadic sub-intervals,
-// left to right, without a stack. An interval whose coefficients are all of one strict sign holds no
-// root (convex hull) and is skipped; one whose end values differ in sign with a single sign
-// variation holds exactly one root (Descartes), which is solved; anything else is halved. An
-// interval narrower than kCertifiedMinWidth that cannot be excluded is a contact (F touches zero
-// within rounding) and reported at its middle; so is running out of the step budget, which keeps
-// the search bounded on adversarial data. Returns -1 when [0,1] holds no root.
-const float kCertifiedMinWidth = 1.0 / 65536.0;
-const int kCertifiedMaxSteps = 96;
-
-float certifiedFirstRoot(float b[SEGMENT_COEFFS], inout uint evaluations) {
-  float a = 0.0, w = 1.0;
-  for (int step = 0; step < kCertifiedMaxSteps; ++step) {
-    float c[SEGMENT_COEFFS];
-    bernsteinSubSegment(b, a, a + w, c);
+float solveInBracket(float c[SEGMENT_COEFFS], uint steps, bool certified, inout uint evaluations) {
+  float fa = c[0], fb = c[SEGMENT_DEGREE];
+  if (fa == 0.0) return 0.0;
+  if (fb == 0.0) return 1.0;
+  float a = 0.0, b = 1.0;
+  float s = controlPolygonRoot(c);
+  float width = certified ? kRootWidth : 0.0;
+  for (uint i = 0u; i < steps && b - a > width; ++i) {
+    vec2 fd = bernsteinValueDerivative(c, s);
     ++evaluations;
-    if (strictSign(c) != 0) {
-      a += w;  // next interval in depth-first order: climb while this one was a right child
-      while (w < 1.0 && mod(a, 2.0 * w) == 0.0) w *= 2.0;
-      if (a >= 1.0) return -1.0;
-      continue;
+    if (fd.x == 0.0) return s;
+    float previousWidth = b - a;
+    if ((fd.x < 0.0) == (fa < 0.0)) {
+      a = s;
+      fa = fd.x;
+    } else {
+      b = s;
+      fb = fd.x;
     }
-    if (c[0] == 0.0) return a;
-    bool endsDiffer = c[SEGMENT_DEGREE] == 0.0 || (c[0] < 0.0) != (c[SEGMENT_DEGREE] < 0.0);
-    if (endsDiffer && signVariations(c) <= 1) return a + w * solveUniqueRoot(c, evaluations);
-    if (w <= kCertifiedMinWidth) return a + 0.5 * w;
-    w *= 0.5;  // descend into the left half
+    float newton = fd.y != 0.0 ? s - fd.x / fd.y : -1.0;
+    bool inside = newton > a && newton < b;
+    bool halving = b - a < 0.5 * previousWidth;
+    float secant = a + (b - a) * (fa / (fa - fb));
+    s = inside && (halving || !certified) ? newton : (certified ? 0.5 * (a + b) : secant);
   }
-  return a;
+  return s;
 }
 
-// The first root on [0,1] of the restricted polynomial b: the fast rejection, then the paper's
-// equidistant search with `subdivisions` intervals (or the certified search). -1: no root.
+// The first root on [0,1] of the restricted polynomial b, or -1 when there is none. One walk does
+// the paper's search and its certification together: [0,1] is cut into `subdivisions` equal
+// intervals (the paper's n equidistant samples are their ends), visited left to right. An
+// interval's coefficients (two de Casteljau splits of b) decide it:
+//   - all of one strict sign: no root (convex hull), go to the next interval;
+//   - end values of different sign (or a zero end) and one sign variation: exactly one root
+//     (Descartes), the first; placed by linear interpolation of the ends and `refineSteps`
+//     safeguarded Newton steps (certified: solved to kRootWidth of the interval);
+//   - otherwise (a pair of roots between two samples, a grazing ray, three roots in a bracket):
+//     halved, left half first, down to kMinWidth of the segment, where a contact (F touching zero
+//     within rounding) is reported at the interval's middle; running out of kMaxSteps (adversarial
+//     data) reports the current interval the same way, so the search is bounded.
+// Where the samples show a simple sign change this is exactly the paper's search; elsewhere it
+// never passes through a surface (docs/root-finding.md). The walk keeps no stack: the interval is
+// (index, level) with width top / 2^level, and finishing a right child climbs to the parent. It is
+// one loop with one body on purpose: on SIMD hardware, and on lavapipe, where every branch of the
+// shader is executed for a whole block of fragments, each separate rare path costs every fragment
+// (docs/perf/cells-breakdown-lavapipe.md).
+const float kMinWidth = 1.0 / 65536.0;
+const int kMaxSteps = 96;
+
 float segmentFirstRoot(float b[SEGMENT_COEFFS], uint subdivisions, uint refineSteps, bool certified,
                        inout uint evaluations) {
-  if (strictSign(b) != 0) return -1.0;
-  if (certified) return certifiedFirstRoot(b, evaluations);
-  float previousS = 0.0, previousF = b[0];
-  float olderS = 0.0, olderF = b[0];
-  if (previousF == 0.0) return 0.0;
-  float step = 1.0 / float(subdivisions);
-  for (uint i = 1u; i <= subdivisions; ++i) {
-    float s = (i == subdivisions) ? 1.0 : step * float(i);
-    float f = (i == subdivisions) ? b[SEGMENT_DEGREE] : bernsteinValue(b, s);
+  if (strictSign(b) != 0) return -1.0;  // the whole segment at once: most fragments stop here
+  uint topCount = certified ? 1u : max(subdivisions, 1u);
+  float top = 1.0 / float(topCount);
+  uint index = 0u;
+  int level = 0;
+  float w = top, a = 0.0;
+  float c[SEGMENT_COEFFS];
+  int outcome = 0;  // 0: no root, 1: a unique root in [a, a + w], 2: a contact at a + w / 2
+  for (int step = 0; step < kMaxSteps; ++step) {
+    a = float(index) * w;
+    bernsteinSubSegment(b, a, min(a + w, 1.0), c);
     ++evaluations;
-    if (f == 0.0 || (previousF < 0.0) != (f < 0.0)) {
-      // The samples before s agree in sign, but a pair of roots may hide between two of them (a
-      // thin feature in front of the surface), or the bracket may hold three roots. One split
-      // gives F on [0, s]: a single sign variation of its coefficients proves that the bracket's
-      // root is the only one there (Descartes), and the paper's interpolation places it;
-      // otherwise the certified search finds the first.
-      float head[SEGMENT_COEFFS];
-      bernsteinSubSegment(b, 0.0, s, head);
-      ++evaluations;
-      float first = signVariations(head) > 1 ? certifiedFirstRoot(head, evaluations) : -1.0;
-      if (first >= 0.0) return s * first;
-      float guess = placeRoot(previousS, previousF, s, f, i >= 2u, olderS, olderF);
-      return refineInBracket(b, guess, previousS, previousF, s, f, refineSteps, evaluations);
+    bool excluded = strictSign(c) != 0;
+    bool endsDiffer = c[0] == 0.0 || c[SEGMENT_DEGREE] == 0.0 || (c[0] < 0.0) != (c[SEGMENT_DEGREE] < 0.0);
+    if (!excluded && endsDiffer && signVariations(c) <= 1) {
+      outcome = 1;
+      break;
     }
-    olderS = previousS;
-    olderF = previousF;
-    previousS = s;
-    previousF = f;
+    if (!excluded) {
+      if (w <= kMinWidth || step == kMaxSteps - 1) {
+        outcome = 2;
+        break;
+      }
+      index *= 2u;  // descend into the left half
+      w *= 0.5;
+      ++level;
+      continue;
+    }
+    // The next interval; a finished right child climbs to its parent's successor (as many levels
+    // as the new index has trailing zero bits, without a loop).
+    ++index;
+    int climb = min(findLSB(index), level);
+    index >>= uint(climb);
+    level -= climb;
+    w = top * exp2(-float(level));
+    if (level == 0 && index >= topCount) break;
   }
-  // No sign change among the samples, but the coefficients do not rule a root out: a pair of roots
-  // (or a touching contact) may lie between two samples.
-  return certifiedFirstRoot(b, evaluations);
+  // The placement sits outside the walk so that its loop is not part of every walk step.
+  if (outcome == 1) return a + w * solveInBracket(c, certified ? 32u : refineSteps, certified, evaluations);
+  return outcome == 2 ? a + 0.5 * w : -1.0;
 }
 
 #endif

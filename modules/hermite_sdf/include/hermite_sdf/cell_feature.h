@@ -10,7 +10,7 @@
 // writes gl_FragDepth with conservative depth (the hit is never nearer than the front face), plus
 // the visibility id. Cells the near plane may cut are drawn by their back faces with a
 // non-conservative variant, so a camera inside the object or inside a cell loses no surface.
-// Shading pass: each pixel is shaded once: a full-screen resolve reads the visibility buffer
+// Shading pass: each pixel is shaded once: a resolve over the objects' screen bounds reads the visibility buffer
 // (object, cell record) and the prepass depth, fetches that cell's record by buffer device
 // address and shades the hit with the exact normal of the interpolant.
 // Transforms: any invertible affine world matrix (mirroring, non-uniform scale, shear); mirrored
@@ -87,6 +87,7 @@ class HermiteCellFeature final : public engine::render::RenderFeature {
   engine::gpu::Buffer counters_;
   VkExtent2D countersExtent_{0, 0};
   bool countersActive_ = false;
+  glm::vec4 screenRect_{1.0f, 1.0f, -1.0f, -1.0f};  // NDC bounds of this frame's cell objects (resolve)
   bool multiDraw_ = false;
   std::unique_ptr<Batch> batches_[2];  // per precision
 };

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <unordered_set>
 
 #include <imgui.h>
@@ -60,6 +61,29 @@ VkDeviceAddress counterAddress(const engine::render::FrameContext& frame, bool a
   return frame.workCounters ? frame.workCounters : active ? own.address() : 0;
 }
 
+// The NDC rectangle (x0, y0, x1, y1) that holds the object's grid box on screen, grown by two
+// pixels for the proxies' dilation and rasterization; the whole screen when a corner lies at or
+// behind the eye plane, where the projection of the box is unbounded.
+glm::vec4 screenBounds(const glm::mat4& viewProj, const glm::mat4& model, const Aabb& box, VkExtent2D extent) {
+  const glm::vec4 whole(-1.0f, -1.0f, 1.0f, 1.0f);
+  glm::vec2 lo(std::numeric_limits<float>::max()), hi(-std::numeric_limits<float>::max());
+  for (int corner = 0; corner < 8; ++corner) {
+    const glm::dvec3 p((corner & 1) ? box.max.x : box.min.x, (corner & 2) ? box.max.y : box.min.y,
+                       (corner & 4) ? box.max.z : box.min.z);
+    const glm::vec4 clip = viewProj * (model * glm::vec4(glm::vec3(p), 1.0f));
+    if (!(clip.w > 1e-6f)) return whole;
+    const glm::vec2 ndc = glm::vec2(clip) / clip.w;
+    lo = glm::min(lo, ndc);
+    hi = glm::max(hi, ndc);
+  }
+  const glm::vec2 margin(4.0f / float(std::max(extent.width, 1u)), 4.0f / float(std::max(extent.height, 1u)));
+  return glm::clamp(glm::vec4(lo - margin, hi + margin), -1.0f, 1.0f);
+}
+
+glm::vec4 unite(const glm::vec4& a, const glm::vec4& b) {
+  return {std::min(a.x, b.x), std::min(a.y, b.y), std::max(a.z, b.z), std::max(a.w, b.w)};
+}
+
 }  // namespace
 
 HermiteCellFeature::HermiteCellFeature() : buffers_(std::make_unique<CellBuffers>()) {
@@ -83,7 +107,7 @@ engine::Status HermiteCellFeature::initialize(const engine::gpu::Context& contex
   ENGINE_TRY_ASSIGN(auto vert, engine::gpu::ShaderModule::load(context, "cells.vert"));
   ENGINE_TRY_ASSIGN(auto depthFrag, engine::gpu::ShaderModule::load(context, "cells_depth.frag"));
   ENGINE_TRY_ASSIGN(auto nearFrag, engine::gpu::ShaderModule::load(context, "cells_depth_near.frag"));
-  ENGINE_TRY_ASSIGN(auto fullscreen, engine::gpu::ShaderModule::load(context, "fullscreen.vert"));
+  ENGINE_TRY_ASSIGN(auto resolveVert, engine::gpu::ShaderModule::load(context, "cells_resolve.vert"));
   ENGINE_TRY_ASSIGN(auto wireVert, engine::gpu::ShaderModule::load(context, "cells_wire.vert"));
   ENGINE_TRY_ASSIGN(auto wireFrag, engine::gpu::ShaderModule::load(context, "cells_wire.frag"));
   ENGINE_TRY_ASSIGN(auto resolveFrag, engine::gpu::ShaderModule::load(context, "cells_resolve.frag"));
@@ -121,10 +145,11 @@ engine::Status HermiteCellFeature::initialize(const engine::gpu::Context& contex
     wire.depthCompare = VK_COMPARE_OP_GREATER_OR_EQUAL;
     ENGINE_TRY_ASSIGN(wire_[precision], Pipeline::createGraphics(context, wire));
   }
-  // Shading: one full-screen triangle; which pixels are ours comes from the visibility buffer.
+  // Shading: a rectangle over the cell objects' screen bounds; which of its pixels are ours comes
+  // from the visibility buffer.
   engine::gpu::GraphicsPipelineDesc resolve;
   resolve.name = "hermite cells resolve";
-  resolve.vertex = fullscreen.handle();
+  resolve.vertex = resolveVert.handle();
   resolve.fragment = resolveFrag.handle();
   resolve.cullMode = VK_CULL_MODE_NONE;
   resolve.depthTest = false;
@@ -186,6 +211,8 @@ void HermiteCellFeature::buildDraws(engine::render::FrameContext& frame) {
   std::vector<std::uint32_t> objectIndices;
   stats_ = Stats{};
   stats_.gpuBytes = buffers_->bytes;
+  screenRect_ = glm::vec4(1.0f, 1.0f, -1.0f, -1.0f);  // empty until an object is drawn
+  const glm::mat4 viewProj = frame.camera.proj * frame.camera.view;
 
   frame.registry.view<HermiteSdfRenderable, engine::scene::WorldTransform>().each(
       [&](engine::ecs::Entity, const HermiteSdfRenderable& r, const engine::scene::WorldTransform& world) {
@@ -232,6 +259,7 @@ void HermiteCellFeature::buildDraws(engine::render::FrameContext& frame) {
           draws[precision][1].push_back(nearDraw);
           stats_.nearCells++;
         }
+        screenRect_ = unite(screenRect_, screenBounds(viewProj, world.matrix, grid.bounds(), frame.extent));
         stats_.objects++;
       });
 
@@ -355,6 +383,7 @@ void HermiteCellFeature::recordWireframe(engine::render::PassContext& pass, int 
 }
 
 void HermiteCellFeature::recordResolve(engine::render::PassContext& pass) {
+  if (!(screenRect_.x < screenRect_.z && screenRect_.y < screenRect_.w)) return;  // no object on screen
   VkCommandBuffer cmd = pass.cmd;
   vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, resolve_.handle());
   vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, resolve_.layout(), 0, 1, &pass.sceneSet, 0, nullptr);
@@ -363,9 +392,10 @@ void HermiteCellFeature::recordResolve(engine::render::PassContext& pass) {
   push.draw.objects = pass.objects;
   push.draw.debugView = pass.frame.debugView;
   push.counters = counterAddress(pass.frame, countersActive_, counters_);
+  push.screenRect = screenRect_;
   vkCmdPushConstants(cmd, resolve_.layout(), VK_SHADER_STAGE_VERTEX_BIT | VK_SHADER_STAGE_FRAGMENT_BIT, 0,
                      sizeof(push), &push);
-  vkCmdDraw(cmd, 3, 1, 0, 0);
+  vkCmdDraw(cmd, 6, 1, 0, 0);
 }
 
 void HermiteCellFeature::recordPass(engine::render::PassContext& pass) {
