@@ -18,7 +18,7 @@ using engine::Status;
 
 constexpr std::string_view kValueActions[] = {"screenshot", "size",          "panel",        "vsync",  "fullscreen",
                                               "view",       "save-settings", "load-settings", "camera"};
-constexpr std::string_view kBareActions[] = {"wait-bake", "cancel-bake", "reload-shaders"};
+constexpr std::string_view kBareActions[] = {"wait-bake", "cancel-bake", "reload-shaders", "rebuild-shaders"};
 
 template <std::size_t N>
 bool contains(const std::string_view (&list)[N], std::string_view key) {
@@ -58,7 +58,7 @@ Status checkCommand(const ScriptCommand& c, TuningState& scratch) {
   if (!contains(kValueActions, c.key))
     return engine::makeError(fmt::format("unknown key '{}' (settings: {}; actions: screenshot, size, panel, vsync, "
                                          "fullscreen, view, camera, save-settings, load-settings, wait-bake, "
-                                         "cancel-bake, reload-shaders)",
+                                         "cancel-bake, reload-shaders, rebuild-shaders)",
                                          c.key, tuningKeyList()));
   std::uint32_t w = 0, h = 0;
   bool flag = false;
@@ -143,7 +143,10 @@ Status runCommand(const ScriptCommand& c, Viewer& viewer) {
   } else if (c.key == "cancel-bake") {
     viewer.cancelBake();
   } else if (c.key == "reload-shaders") {
-    viewer.reloadShaders();  // the result is logged and in the status line; a failure is not an error here
+    viewer.reloadShaders();  // the result is logged and in the report; a failure is not an error here
+  } else if (c.key == "rebuild-shaders") {
+    viewer.rebuildAndReloadShaders();
+    engine::log::info("rebuild-shaders: {}", viewer.shaderReloadReport());
   } else if (c.key == "screenshot") {
     viewer.requestScreenshot(c.value);
   } else if (c.key == "size" && parseSize(c.value, w, h)) {

@@ -280,9 +280,9 @@ void TuningPanel::drawDifferenceLegend() {
 }
 
 void TuningPanel::drawShaders() {
-  if (ImGui::Button("Reload shaders (F5)")) viewer_.reloadShaders();
+  if (ImGui::Button("Reload shaders (F5)")) viewer_.rebuildAndReloadShaders();
   if (ImGui::IsItemHovered())
-    ImGui::SetTooltip("pipelines from the SPIR-V in %s (rebuild it first: cmake --build --preset release --target shaders)",
+    ImGui::SetTooltip("runs the build's shader target (glslang), then rebuilds every pipeline from the SPIR-V in %s",
                       engine::gpu::shaderDirectory().string().c_str());
   if (!viewer_.shaderReloadReport().empty()) ImGui::TextWrapped("%s", viewer_.shaderReloadReport().c_str());
 }

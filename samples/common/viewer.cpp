@@ -18,6 +18,7 @@
 #include "engine/ui/ui_layer.h"
 #include "hermite_sdf/cell_feature.h"
 #include "hermite_sdf/sphere_trace_feature.h"
+#include "shader_build.h"
 #include "tuning_panel.h"
 
 namespace samples {
@@ -348,6 +349,17 @@ Status Viewer::renderDifference(const std::shared_ptr<const hsdf::SdfAsset>& mai
   return {};
 }
 
+void Viewer::rebuildAndReloadShaders() {
+  const Expected<std::string> built = rebuildShaders(thisProgramsShaderBuild());
+  if (!built) {
+    shaderReloadReport_ = built.error().message + "\n(nothing reloaded: the old pipelines keep drawing)";
+    log::warn("{}", shaderReloadReport_);
+    return;
+  }
+  reloadShaders();
+  shaderReloadReport_ = *built + "\n" + shaderReloadReport_;
+}
+
 std::vector<render::Renderer::ShaderReload> Viewer::reloadShaders() {
   std::vector<render::Renderer::ShaderReload> results = renderer_->reloadShaders();
   std::string report;
@@ -393,7 +405,7 @@ void Viewer::handleKeys(const platform::InputState& input) {
     if (pressed(GLFW_KEY_F1)) uiVisible_ = !uiVisible_;
     if (pressed(GLFW_KEY_F2)) setCameraMode(cameraMode_ == CameraMode::Orbit ? CameraMode::Fly : CameraMode::Orbit);
     if (pressed(GLFW_KEY_F11)) setFullscreen(!fullscreen());
-    if (pressed(GLFW_KEY_F5)) reloadShaders();
+    if (pressed(GLFW_KEY_F5)) rebuildAndReloadShaders();
   }
   std::copy(std::begin(input.keys), std::end(input.keys), std::begin(keysDown_));
 }

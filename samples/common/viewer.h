@@ -147,6 +147,10 @@ class Viewer {
   // shaders", F5, the script's reload-shaders). A feature that fails keeps drawing with its old
   // pipelines; the report (shaderReloadReport()) and the log say which and why.
   std::vector<engine::render::Renderer::ShaderReload> reloadShaders();
+  // The panel's button and F5: the build tree's shader target first (shader_build.h), then
+  // reloadShaders(). A failed build reloads nothing: the old pipelines stay and the report holds
+  // the compiler's output.
+  void rebuildAndReloadShaders();
   const std::string& shaderReloadReport() const { return shaderReloadReport_; }
   // The SDF in the scene (shown or hidden by the method), or null.
   const hsdf::SdfAsset* sdfAsset() const;
