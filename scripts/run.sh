@@ -13,6 +13,8 @@ cmake --preset release >/dev/null
 cmake --build --preset release --target scene_runner
 
 runner=build/release/samples/scene_runner/scene_runner
+# No arguments: the paper's comparison, Hermite cells beside trilinear sphere tracing at 2K.
+[ $# -gt 0 ] || set -- --split vertical
 if [ -n "${DISPLAY:-}" ] || [ -n "${WAYLAND_DISPLAY:-}" ]; then
   exec "$runner" "$@"
 else

@@ -23,31 +23,47 @@ gpu::VertexLayout meshVertexLayout() {
 
 Status MeshFeature::initialize(const gpu::Context& context, const RendererFormats& formats, std::uint32_t framesInFlight) {
   context_ = &context;
+  formats_ = formats;
   multiDraw_ = context.capabilities().multiDrawIndirect;
   indirect_ = PerFrameBuffer(context, framesInFlight, VK_BUFFER_USAGE_INDIRECT_BUFFER_BIT, "mesh indirect draws");
+  ENGINE_TRY_ASSIGN(pipelines_, createPipelines());
+  return {};
+}
+
+// Built aside and swapped in only when all of them were created: a failure keeps the old ones.
+Status MeshFeature::reloadShaders() {
+  ENGINE_TRY_ASSIGN(Pipelines fresh, createPipelines());
+  context_->waitIdle();  // frames in flight may still use the old pipelines
+  pipelines_ = std::move(fresh);
+  return {};
+}
+
+Expected<MeshFeature::Pipelines> MeshFeature::createPipelines() const {
+  const gpu::Context& context = *context_;
   ENGINE_TRY_ASSIGN(gpu::ShaderModule vert, gpu::ShaderModule::load(context, "mesh.vert"));
   ENGINE_TRY_ASSIGN(gpu::ShaderModule frag, gpu::ShaderModule::load(context, "mesh.frag"));
   ENGINE_TRY_ASSIGN(gpu::ShaderModule prepassFrag, gpu::ShaderModule::load(context, "mesh_prepass.frag"));
 
+  Pipelines pipelines;
   gpu::GraphicsPipelineDesc desc;
   desc.vertex = vert.handle();
   desc.fragment = prepassFrag.handle();
-  desc.colorFormats = {formats.visibility};
+  desc.colorFormats = {formats_.visibility};
   desc.vertexLayout = meshVertexLayout();
-  desc.depthFormat = formats.depth;
+  desc.depthFormat = formats_.depth;
   desc.pushConstantBytes = sizeof(shader::DrawPushConstants);
   desc.name = "mesh depth prepass";
   desc.depthCompare = VK_COMPARE_OP_GREATER;
   desc.extraDynamicStates = {VK_DYNAMIC_STATE_FRONT_FACE};  // clockwise for mirrored objects
-  ENGINE_TRY_ASSIGN(depthPipeline_, gpu::Pipeline::createGraphics(context, desc));
+  ENGINE_TRY_ASSIGN(pipelines.depth, gpu::Pipeline::createGraphics(context, desc));
 
   desc.name = "mesh shading";
   desc.fragment = frag.handle();
-  desc.colorFormats = {formats.color};
+  desc.colorFormats = {formats_.color};
   desc.depthWrite = false;
   desc.depthCompare = VK_COMPARE_OP_EQUAL;  // depth is final after the prepass
-  ENGINE_TRY_ASSIGN(shadePipeline_, gpu::Pipeline::createGraphics(context, desc));
-  return {};
+  ENGINE_TRY_ASSIGN(pipelines.shade, gpu::Pipeline::createGraphics(context, desc));
+  return pipelines;
 }
 
 void MeshFeature::prepare(FrameContext& frame) {
@@ -79,7 +95,7 @@ void MeshFeature::prepare(FrameContext& frame) {
 
 void MeshFeature::recordPass(PassContext& pass) {
   if (commands_.empty() || pool_.empty()) return;
-  recordDraws(pass, pass.pass == Pass::DepthPrepass ? depthPipeline_ : shadePipeline_);
+  recordDraws(pass, pass.pass == Pass::DepthPrepass ? pipelines_.depth : pipelines_.shade);
 }
 
 void MeshFeature::recordDraws(PassContext& pass, const gpu::Pipeline& pipeline) {

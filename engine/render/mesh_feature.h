@@ -25,17 +25,23 @@ class MeshFeature final : public RenderFeature {
   void prepare(FrameContext& frame) override;
   void recordPass(PassContext& pass) override;
   void drawUi() override;
+  Status reloadShaders() override;
 
   std::uint32_t drawnLastFrame() const { return drawCount_; }
 
  private:
+  struct Pipelines {
+    gpu::Pipeline depth;
+    gpu::Pipeline shade;
+  };
+  Expected<Pipelines> createPipelines() const;
   void recordDraws(PassContext& pass, const gpu::Pipeline& pipeline);
   void recordBatch(VkCommandBuffer cmd, VkBuffer indirect, std::uint32_t first, std::uint32_t count) const;
 
   MeshPool& pool_;
   const gpu::Context* context_ = nullptr;
-  gpu::Pipeline depthPipeline_;
-  gpu::Pipeline shadePipeline_;
+  RendererFormats formats_;
+  Pipelines pipelines_;
   PerFrameBuffer indirect_;
   std::vector<VkDrawIndexedIndirectCommand> commands_;  // unmirrored objects, then mirrored ones
   std::uint32_t drawCount_ = 0;

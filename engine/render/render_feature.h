@@ -8,8 +8,13 @@
 //                      EQUAL or read it from the scene descriptor set);
 //   drawUi()           inside the ImGui frame: the feature's tuning panel.
 // A feature reads components, never globals. Features create their pipelines in initialize() with
-// the formats the renderer gives them.
+// the formats the renderer gives them, and again in reloadShaders() from fresh SPIR-V.
+// View regions (FrameSettings::regions): a frame with several regions calls prepare() and both
+// passes once per region, in that order (prepare, depth, opaque; next region), each region with
+// its own frame slot, so per-frame data written in prepare() stays valid until its passes ran.
+// The framesInFlight given to initialize() counts these slots (frames in flight x regions).
 #include <cstdint>
+#include <string>
 #include <string_view>
 
 #include <vulkan/vulkan.h>
@@ -53,13 +58,18 @@ struct FrameContext {
   GpuScene& scene;
   const CameraView& camera;
   VkExtent2D extent;
-  std::uint32_t frameSlot;     // which frame-in-flight's resources to use
+  std::uint32_t frameSlot;     // which frame slot's resources to use (frame in flight x view region)
   std::uint64_t frameNumber;
   std::uint32_t debugView;     // DEBUG_VIEW_* (shared/host_device.h)
   // Address of one uint per pixel (index y * width + x), zeroed before the prepass, to which
   // features atomically add their per-pixel root-search work (FrameSettings::countWork); 0 when
   // the frame does not count.
   VkDeviceAddress workCounters = 0;
+  // The view region drawn now (the whole frame without regions); passes are scissored to it.
+  VkRect2D viewRegion{{0, 0}, {0, 0}};
+  // Frames in flight (not frame slots): a resource last used by frame L is free once frame
+  // L + framesInFlight is being prepared (that frame's slot waited for L's fence).
+  std::uint32_t framesInFlight = 1;
 };
 
 struct PassContext {
@@ -83,6 +93,10 @@ class RenderFeature {
   virtual void prepare(FrameContext& frame) = 0;
   virtual void recordPass(PassContext& pass) = 0;
   virtual void drawUi() {}
+  // Recreates the pipelines from the SPIR-V on disk now (e.g. after the shaders were rebuilt).
+  // On failure the old pipelines stay and the error says why (the file, the loader's or Vulkan's
+  // message). Called between frames; waits for the GPU before replacing pipelines.
+  virtual Status reloadShaders() { return makeError("shader reload is not supported by " + std::string(name())); }
 };
 
 }  // namespace engine::render

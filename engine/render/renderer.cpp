@@ -1,5 +1,6 @@
 #include "engine/render/renderer.h"
 
+#include <algorithm>
 #include <cstring>
 
 #include <glm/gtc/packing.hpp>
@@ -12,8 +13,8 @@
 namespace engine::render {
 namespace {
 
-constexpr std::uint32_t kMaxTimerScopes = 32;
-constexpr std::uint32_t kStatisticsScopes = 2;  // depth prepass, opaque
+constexpr std::uint32_t kMaxTimerScopes = 64;  // passes and feature scopes, per view region
+constexpr std::uint32_t kStatisticsScopes = 2;  // depth prepass, opaque (of the first view region)
 
 // The depth target lives in this layout from the end of the prepass on (shading pass, read-backs).
 constexpr VkImageLayout kFinalDepthLayout = VK_IMAGE_LAYOUT_DEPTH_READ_ONLY_OPTIMAL;
@@ -28,11 +29,24 @@ VkRenderingAttachmentInfo depthAttachment(const gpu::Image& depth, VkAttachmentL
   return info;
 }
 
-void setViewportAndScissor(VkCommandBuffer cmd, VkExtent2D extent) {
+// The viewport is always the whole frame (one projection for every region); the scissor is the region.
+void setViewportAndScissor(VkCommandBuffer cmd, VkExtent2D extent, VkRect2D scissor) {
   const VkViewport viewport{0.0f, 0.0f, float(extent.width), float(extent.height), 0.0f, 1.0f};
-  const VkRect2D scissor{{0, 0}, extent};
   vkCmdSetViewport(cmd, 0, 1, &viewport);
   vkCmdSetScissor(cmd, 0, 1, &scissor);
+}
+
+// `rect` clipped to the frame (empty when it lies outside).
+VkRect2D clipToFrame(VkRect2D rect, VkExtent2D extent) {
+  const std::int64_t x0 = std::clamp<std::int64_t>(rect.offset.x, 0, extent.width);
+  const std::int64_t y0 = std::clamp<std::int64_t>(rect.offset.y, 0, extent.height);
+  const std::int64_t x1 = std::clamp<std::int64_t>(std::int64_t(rect.offset.x) + rect.extent.width, x0, extent.width);
+  const std::int64_t y1 = std::clamp<std::int64_t>(std::int64_t(rect.offset.y) + rect.extent.height, y0, extent.height);
+  return {{std::int32_t(x0), std::int32_t(y0)}, {std::uint32_t(x1 - x0), std::uint32_t(y1 - y0)}};
+}
+
+std::string regionSuffix(std::uint32_t region) {
+  return region == 0 ? std::string() : " [view " + std::to_string(region + 1) + "]";
 }
 
 }  // namespace
@@ -41,8 +55,9 @@ Renderer::Renderer(const gpu::Context& context, const RendererDesc& desc, VkExte
     : context_(context),
       desc_(desc),
       extent_(extent),
-      scene_(context, desc.framesInFlight),
+      scene_(context, desc.framesInFlight * std::max(desc.maxViewRegions, 1u)),
       frameGlobals_(context, desc.framesInFlight, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, "frame globals") {
+  desc_.maxViewRegions = std::max(desc_.maxViewRegions, 1u);
   createSceneDescriptors();
   createTargets();
   frames_.resize(desc.framesInFlight);
@@ -138,8 +153,9 @@ void Renderer::createTargets() {
   gpu::ImageDesc colorDesc;
   colorDesc.format = desc_.formats.color;
   colorDesc.extent = {extent_.width, extent_.height, 1};
+  // Transfer destination: an overlay may copy an image over the frame (e.g. a CPU-made heat map).
   colorDesc.usage = VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT |
-                    VK_IMAGE_USAGE_SAMPLED_BIT;
+                    VK_IMAGE_USAGE_TRANSFER_DST_BIT | VK_IMAGE_USAGE_SAMPLED_BIT;
   colorDesc.name = "scene colour";
   color_ = gpu::Image(context_, colorDesc);
   gpu::ImageDesc depthDesc;
@@ -172,9 +188,21 @@ void Renderer::createTargets() {
 }
 
 Status Renderer::addFeature(std::unique_ptr<RenderFeature> feature) {
-  ENGINE_TRY(feature->initialize(context_, desc_.formats, desc_.framesInFlight).withContext(std::string(feature->name())));
+  const std::uint32_t slots = desc_.framesInFlight * desc_.maxViewRegions;
+  ENGINE_TRY(feature->initialize(context_, desc_.formats, slots).withContext(std::string(feature->name())));
   features_.push_back(std::move(feature));
   return {};
+}
+
+std::vector<Renderer::ShaderReload> Renderer::reloadShaders() {
+  context_.waitIdle();  // no frame in flight uses the pipelines being replaced
+  std::vector<ShaderReload> results;
+  for (auto& feature : features_) {
+    Status status = feature->reloadShaders();
+    if (!status) log::warn("reloading the shaders of {}: {}", feature->name(), status.error().message);
+    results.push_back({std::string(feature->name()), std::move(status)});
+  }
+  return results;
 }
 
 void Renderer::resize(VkExtent2D extent) {
@@ -258,14 +286,22 @@ bool Renderer::renderFrame(const ecs::Registry& registry, const CameraView& came
   frame.timer.reset(frame.cmd);
   frame.statistics.reset(frame.cmd);
   frame.timer.begin(frame.cmd, "frame");
-  scene_.beginFrame();
   writeFrameGlobals(slot, camera);
   const VkDeviceAddress workCounters = settings.countWork ? prepareWorkCounters(frame.cmd) : 0;
   FrameContext context{frame.cmd, registry, context_,    scene_,           camera,
                        extent_,   slot,     frameNumber_, settings.debugView, workCounters};
-  for (auto& feature : features_) feature->prepare(context);
-  scene_.upload(slot);
-  recordScenePasses(frame, context);
+  context.framesInFlight = desc_.framesInFlight;
+  if (settings.regions.empty()) {
+    recordRegion(frame, context, ViewRegion{{{0, 0}, extent_}, {}}, 0);
+  } else {
+    if (settings.regions.size() > desc_.maxViewRegions && !reportedTooManyRegions_) {
+      log::error("renderFrame: {} view regions, the renderer draws at most {} (RendererDesc::maxViewRegions)",
+                 settings.regions.size(), desc_.maxViewRegions);
+      reportedTooManyRegions_ = true;
+    }
+    const std::size_t count = std::min<std::size_t>(settings.regions.size(), desc_.maxViewRegions);
+    for (std::size_t i = 0; i < count; ++i) recordRegion(frame, context, settings.regions[i], std::uint32_t(i));
+  }
   if (settings.overlay) {
     frame.timer.begin(frame.cmd, "ui");
     settings.overlay->record(frame.cmd, color_, slot);
@@ -304,29 +340,52 @@ bool Renderer::renderFrame(const ecs::Registry& registry, const CameraView& came
   return true;
 }
 
-void Renderer::recordScenePasses(FrameResources& frame, FrameContext& context) {
+// One view region: its overrides, the features' prepare with the region's frame slot, its passes.
+void Renderer::recordRegion(FrameResources& frame, FrameContext& context, const ViewRegion& region,
+                            std::uint32_t index) {
+  const VkRect2D rect = clipToFrame(region.rect, extent_);
+  // The first region's passes clear the whole frame (pixels outside every region are background).
+  if ((rect.extent.width == 0 || rect.extent.height == 0) && index > 0) return;
+  if (region.apply) region.apply();
+  FrameContext regionContext = context;
+  regionContext.frameSlot = context.frameSlot * desc_.maxViewRegions + index;
+  regionContext.viewRegion = rect;
+  scene_.beginFrame();
+  for (auto& feature : features_) feature->prepare(regionContext);
+  scene_.upload(regionContext.frameSlot);
+  recordScenePasses(frame, regionContext, rect, index);
+}
+
+void Renderer::recordScenePasses(FrameResources& frame, FrameContext& context, VkRect2D rect, std::uint32_t region) {
   VkCommandBuffer cmd = frame.cmd;
+  const bool first = region == 0;
   // Earlier frames (and read-backs) may still use the targets: wait for everything before them.
-  gpu::imageBarrier(cmd, color_.handle(), VK_IMAGE_ASPECT_COLOR_BIT, VK_IMAGE_LAYOUT_UNDEFINED,
+  // Later regions keep what the earlier ones drew (their old layouts, not UNDEFINED).
+  gpu::imageBarrier(cmd, color_.handle(), VK_IMAGE_ASPECT_COLOR_BIT,
+                    first ? VK_IMAGE_LAYOUT_UNDEFINED : VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL,
                     VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL, VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT,
                     VK_ACCESS_2_MEMORY_WRITE_BIT, VK_PIPELINE_STAGE_2_COLOR_ATTACHMENT_OUTPUT_BIT,
                     VK_ACCESS_2_COLOR_ATTACHMENT_WRITE_BIT | VK_ACCESS_2_COLOR_ATTACHMENT_READ_BIT);
-  gpu::imageBarrier(cmd, depth_.handle(), VK_IMAGE_ASPECT_DEPTH_BIT, VK_IMAGE_LAYOUT_UNDEFINED,
+  gpu::imageBarrier(cmd, depth_.handle(), VK_IMAGE_ASPECT_DEPTH_BIT, first ? VK_IMAGE_LAYOUT_UNDEFINED : kFinalDepthLayout,
                     VK_IMAGE_LAYOUT_DEPTH_ATTACHMENT_OPTIMAL, VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT,
-                    VK_ACCESS_2_MEMORY_WRITE_BIT,
+                    VK_ACCESS_2_MEMORY_WRITE_BIT | VK_ACCESS_2_MEMORY_READ_BIT,
                     VK_PIPELINE_STAGE_2_EARLY_FRAGMENT_TESTS_BIT | VK_PIPELINE_STAGE_2_LATE_FRAGMENT_TESTS_BIT,
                     VK_ACCESS_2_DEPTH_STENCIL_ATTACHMENT_READ_BIT | VK_ACCESS_2_DEPTH_STENCIL_ATTACHMENT_WRITE_BIT);
-  gpu::imageBarrier(cmd, visibility_.handle(), VK_IMAGE_ASPECT_COLOR_BIT, VK_IMAGE_LAYOUT_UNDEFINED,
+  gpu::imageBarrier(cmd, visibility_.handle(), VK_IMAGE_ASPECT_COLOR_BIT,
+                    first ? VK_IMAGE_LAYOUT_UNDEFINED : VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL,
                     VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL, VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT,
-                    VK_ACCESS_2_MEMORY_WRITE_BIT, VK_PIPELINE_STAGE_2_COLOR_ATTACHMENT_OUTPUT_BIT,
-                    VK_ACCESS_2_COLOR_ATTACHMENT_WRITE_BIT);
+                    VK_ACCESS_2_MEMORY_WRITE_BIT | VK_ACCESS_2_MEMORY_READ_BIT,
+                    VK_PIPELINE_STAGE_2_COLOR_ATTACHMENT_OUTPUT_BIT, VK_ACCESS_2_COLOR_ATTACHMENT_WRITE_BIT);
 
-  PassContext pass{cmd, context, Pass::DepthPrepass, frameGlobals_.address(context.frameSlot),
+  // The frame globals (camera) are the frame's; the objects are the region's.
+  const std::uint32_t frameInFlight = context.frameSlot / desc_.maxViewRegions;
+  PassContext pass{cmd, context, Pass::DepthPrepass, frameGlobals_.address(frameInFlight),
                    scene_.address(context.frameSlot), sceneSet_, frame.timer};
-  frame.timer.begin(cmd, "depth prepass");
-  frame.statistics.begin(cmd, "depth prepass");
-  recordDepthPrepass(pass);
-  frame.statistics.end(cmd);
+  const std::string suffix = regionSuffix(region);
+  frame.timer.begin(cmd, "depth prepass" + suffix);
+  if (first) frame.statistics.begin(cmd, "depth prepass");
+  recordDepthPrepass(pass, rect, first);
+  if (first) frame.statistics.end(cmd);
   frame.timer.end(cmd);
 
   // The shading pass tests against the prepass depth and may sample it: make the writes visible
@@ -353,14 +412,15 @@ void Renderer::recordScenePasses(FrameResources& frame, FrameContext& context) {
   dependency.pMemoryBarriers = &storage;
   vkCmdPipelineBarrier2(cmd, &dependency);
   pass.pass = Pass::Opaque;
-  frame.timer.begin(cmd, "opaque");
-  frame.statistics.begin(cmd, "opaque");
-  recordOpaquePass(pass);
-  frame.statistics.end(cmd);
+  frame.timer.begin(cmd, "opaque" + suffix);
+  if (first) frame.statistics.begin(cmd, "opaque");
+  recordOpaquePass(pass, rect, first);
+  if (first) frame.statistics.end(cmd);
   frame.timer.end(cmd);
 }
 
-void Renderer::recordDepthPrepass(PassContext& pass) {
+// `first`: the first region's pass clears the whole frame; a later one clears only its rectangle.
+void Renderer::recordDepthPrepass(PassContext& pass, VkRect2D rect, bool first) {
   VkRenderingAttachmentInfo depth =
       depthAttachment(depth_, VK_ATTACHMENT_LOAD_OP_CLEAR, VK_IMAGE_LAYOUT_DEPTH_ATTACHMENT_OPTIMAL);
   VkRenderingAttachmentInfo visibility{VK_STRUCTURE_TYPE_RENDERING_ATTACHMENT_INFO};
@@ -370,18 +430,18 @@ void Renderer::recordDepthPrepass(PassContext& pass) {
   visibility.storeOp = VK_ATTACHMENT_STORE_OP_STORE;
   visibility.clearValue.color.uint32[0] = 0;
   VkRenderingInfo info{VK_STRUCTURE_TYPE_RENDERING_INFO};
-  info.renderArea = {{0, 0}, extent_};
+  info.renderArea = first ? VkRect2D{{0, 0}, extent_} : rect;
   info.layerCount = 1;
   info.colorAttachmentCount = 1;
   info.pColorAttachments = &visibility;
   info.pDepthAttachment = &depth;
   vkCmdBeginRendering(pass.cmd, &info);
-  setViewportAndScissor(pass.cmd, extent_);
+  setViewportAndScissor(pass.cmd, extent_, rect);
   for (auto& feature : features_) feature->recordPass(pass);
   vkCmdEndRendering(pass.cmd);
 }
 
-void Renderer::recordOpaquePass(PassContext& pass) {
+void Renderer::recordOpaquePass(PassContext& pass, VkRect2D rect, bool first) {
   VkRenderingAttachmentInfo color{VK_STRUCTURE_TYPE_RENDERING_ATTACHMENT_INFO};
   color.imageView = color_.view();
   color.imageLayout = VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL;
@@ -390,13 +450,13 @@ void Renderer::recordOpaquePass(PassContext& pass) {
   std::memcpy(color.clearValue.color.float32, &desc_.clearColor, sizeof(float) * 4);
   VkRenderingAttachmentInfo depth = depthAttachment(depth_, VK_ATTACHMENT_LOAD_OP_LOAD, kFinalDepthLayout);
   VkRenderingInfo info{VK_STRUCTURE_TYPE_RENDERING_INFO};
-  info.renderArea = {{0, 0}, extent_};
+  info.renderArea = first ? VkRect2D{{0, 0}, extent_} : rect;
   info.layerCount = 1;
   info.colorAttachmentCount = 1;
   info.pColorAttachments = &color;
   info.pDepthAttachment = &depth;
   vkCmdBeginRendering(pass.cmd, &info);
-  setViewportAndScissor(pass.cmd, extent_);
+  setViewportAndScissor(pass.cmd, extent_, rect);
   for (auto& feature : features_) feature->recordPass(pass);
   vkCmdEndRendering(pass.cmd);
 }

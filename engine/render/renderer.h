@@ -3,6 +3,7 @@
 //   depth prepass -> opaque -> overlay (UI) -> present (blit to the swapchain) or read back.
 // Headless and windowed rendering run the same code; a window only adds the final blit.
 #include <cstdint>
+#include <functional>
 #include <memory>
 #include <string>
 #include <vector>
@@ -23,7 +24,8 @@ class Swapchain;
 
 namespace engine::render {
 
-// Something drawn over the finished frame in a render pass of its own (the ImGui layer).
+// Something drawn over the finished frame in a render pass of its own (the ImGui layer). The
+// colour target arrives in COLOR_ATTACHMENT_OPTIMAL and must be left in it.
 class OverlayPass {
  public:
   virtual ~OverlayPass() = default;
@@ -37,6 +39,22 @@ struct RendererDesc {
   glm::vec3 lightDirection{0.4f, 0.8f, 0.45f};        // towards the light
   float lightIntensity = 1.0f;
   float ambient = 0.25f;
+  // View regions one frame may have (FrameSettings::regions). Features see framesInFlight *
+  // maxViewRegions frame slots: each region of each frame in flight has its own per-frame data.
+  std::uint32_t maxViewRegions = 4;
+};
+
+// A rectangle of the frame drawn with its own version of the scene, same camera: the split-screen
+// comparison draws the same entity with a different method (or asset, or normals) in each region.
+// Before the features prepare a region, `apply` runs: it changes the components of the registry
+// given to renderFrame (e.g. which method a HermiteSdfRenderable asks for); each region is then
+// drawn by the full pass list with its scissor (the viewport stays full-size, so the projection
+// and every pixel's ray are those of the whole frame). A region costs its pixels plus each
+// feature's per-frame CPU work (prepare) once more. Pixels outside every region show the clear
+// colour and background; later regions draw over earlier ones where they overlap.
+struct ViewRegion {
+  VkRect2D rect{};                 // pixels, clipped to the frame; empty regions are skipped
+  std::function<void()> apply;     // may be empty: the registry as it is
 };
 
 struct FrameSettings {
@@ -46,6 +64,9 @@ struct FrameSettings {
   // there (field evaluations of the cells and sphere tracers). Read with readbackWorkCounters().
   // Off by default: the atomics cost time, so timed frames leave it off.
   bool countWork = false;
+  // Empty: one region, the whole frame. At most RendererDesc::maxViewRegions (further ones are
+  // not drawn; an error is logged).
+  std::vector<ViewRegion> regions;
   gpu::Swapchain* swapchain = nullptr;  // present to it when set
   OverlayPass* overlay = nullptr;
 };
@@ -66,6 +87,15 @@ class Renderer {
     return nullptr;
   }
   const std::vector<std::unique_ptr<RenderFeature>>& features() const { return features_; }
+
+  // Recreates every feature's pipelines from the SPIR-V on disk (gpu::shaderDirectory()), after
+  // waiting for the GPU. A feature that fails keeps its old pipelines and reports why; the frame
+  // keeps drawing. One result per feature, in the order they were added.
+  struct ShaderReload {
+    std::string feature;
+    Status status;
+  };
+  std::vector<ShaderReload> reloadShaders();
 
   // Recreates the targets (waits for the GPU).
   void resize(VkExtent2D extent);
@@ -116,9 +146,10 @@ class Renderer {
   void createSceneDescriptors();
   void updateSceneDescriptors();
   void writeFrameGlobals(std::uint32_t slot, const CameraView& camera);
-  void recordScenePasses(FrameResources& frame, FrameContext& context);
-  void recordDepthPrepass(PassContext& pass);
-  void recordOpaquePass(PassContext& pass);
+  void recordRegion(FrameResources& frame, FrameContext& context, const ViewRegion& region, std::uint32_t index);
+  void recordScenePasses(FrameResources& frame, FrameContext& context, VkRect2D rect, std::uint32_t region);
+  void recordDepthPrepass(PassContext& pass, VkRect2D rect, bool first);
+  void recordOpaquePass(PassContext& pass, VkRect2D rect, bool first);
   void recordPresentBlit(VkCommandBuffer cmd, gpu::Swapchain& swapchain, std::uint32_t imageIndex);
   void collectTimings(FrameResources& frame);
   VkDeviceAddress prepareWorkCounters(VkCommandBuffer cmd);
@@ -141,6 +172,7 @@ class Renderer {
   std::vector<gpu::PipelineStatistics> lastStatistics_;
   gpu::Buffer workCounters_;  // one uint per pixel, created on the first counting frame
   bool workCounted_ = false;
+  bool reportedTooManyRegions_ = false;
   std::uint64_t frameNumber_ = 0;
 };
 

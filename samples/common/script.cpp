@@ -16,11 +16,9 @@ namespace {
 
 using engine::Status;
 
-constexpr std::string_view kTuningKeys[] = {"method", "resolution", "padding", "subdivisions", "refine",
-                                            "normals", "fp16",       "debug_view", "front_to_back", "certified"};
 constexpr std::string_view kValueActions[] = {"screenshot", "size",          "panel",        "vsync",  "fullscreen",
                                               "view",       "save-settings", "load-settings", "camera"};
-constexpr std::string_view kBareActions[] = {"wait-bake", "cancel-bake"};
+constexpr std::string_view kBareActions[] = {"wait-bake", "cancel-bake", "reload-shaders", "rebuild-shaders"};
 
 template <std::size_t N>
 bool contains(const std::string_view (&list)[N], std::string_view key) {
@@ -58,11 +56,10 @@ Status checkCommand(const ScriptCommand& c, TuningState& scratch) {
     return {};
   }
   if (!contains(kValueActions, c.key))
-    return engine::makeError(fmt::format("unknown key '{}' (settings: method, resolution, padding, subdivisions, "
-                                         "refine, normals, fp16, debug_view, front_to_back, certified; actions: screenshot, "
-                                         "size, panel, vsync, fullscreen, view, camera, save-settings, load-settings, "
-                                         "wait-bake, cancel-bake)",
-                                         c.key));
+    return engine::makeError(fmt::format("unknown key '{}' (settings: {}; actions: screenshot, size, panel, vsync, "
+                                         "fullscreen, view, camera, save-settings, load-settings, wait-bake, "
+                                         "cancel-bake, reload-shaders, rebuild-shaders)",
+                                         c.key, tuningKeyList()));
   std::uint32_t w = 0, h = 0;
   bool flag = false;
   int view = 0;
@@ -145,6 +142,11 @@ Status runCommand(const ScriptCommand& c, Viewer& viewer) {
     if (Status baked = viewer.waitForBake(); !baked) engine::log::warn("{}", baked.error().message);
   } else if (c.key == "cancel-bake") {
     viewer.cancelBake();
+  } else if (c.key == "reload-shaders") {
+    viewer.reloadShaders();  // the result is logged and in the report; a failure is not an error here
+  } else if (c.key == "rebuild-shaders") {
+    viewer.rebuildAndReloadShaders();
+    engine::log::info("rebuild-shaders: {}", viewer.shaderReloadReport());
   } else if (c.key == "screenshot") {
     viewer.requestScreenshot(c.value);
   } else if (c.key == "size" && parseSize(c.value, w, h)) {

@@ -9,7 +9,9 @@
 //   frame 5: resolution=48 cancel-bake
 //
 // Tuning keys: those of a settings file (tuning.h). Actions: screenshot=PATH (PNG + .json
-// settings sidecar), wait-bake, cancel-bake, size=WxH, panel=on|off, vsync=on|off,
+// settings sidecar), wait-bake (also the compared side's bake), cancel-bake, reload-shaders (the
+// pipelines from the SPIR-V on disk, the result logged), rebuild-shaders (the panel's button and
+// F5: the build's shader target first, then the reload), size=WxH, panel=on|off, vsync=on|off,
 // fullscreen=on|off, view=0..7 (orbit view), camera=orbit|fly (keeps the view), save-settings=PATH,
 // load-settings=PATH.
 // Commands of a frame run in order before that frame is drawn (frame 0: the first).

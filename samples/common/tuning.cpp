@@ -27,6 +27,9 @@ constexpr NameTable<DebugView, 6> kDebugViews{{{DebugView::None, "none"},
                                                {DebugView::Cells, "cells"},
                                                {DebugView::Evals, "evals"},
                                                {DebugView::Wireframe, "wireframe"}}};
+constexpr NameTable<SplitMode, 3> kSplitModes{
+    {{SplitMode::Off, "off"}, {SplitMode::Vertical, "vertical"}, {SplitMode::Horizontal, "horizontal"}}};
+constexpr float kSplitMin = 0.05f, kSplitMax = 0.95f;  // both sides stay visible
 static_assert(std::uint32_t(DebugView::Normals) == DEBUG_VIEW_NORMALS && std::uint32_t(DebugView::Depth) == DEBUG_VIEW_DEPTH &&
               std::uint32_t(DebugView::Cells) == DEBUG_VIEW_CELLS && std::uint32_t(DebugView::Evals) == DEBUG_VIEW_EVALS &&
               std::uint32_t(DebugView::Wireframe) == DEBUG_VIEW_WIREFRAME && std::uint32_t(DebugView::None) == DEBUG_VIEW_NONE);
@@ -69,6 +72,14 @@ engine::Status readInt(const json& value, IntRange range, int& out) {
   return {};
 }
 
+engine::Status readFloat(const json& value, float lo, float hi, float& out) {
+  if (!value.is_number()) return engine::makeError(fmt::format("expected a number, got {}", value.dump()));
+  const double v = value.get<double>();
+  if (!(v >= double(lo) && v <= double(hi))) return engine::makeError(fmt::format("{} is outside {}..{}", v, lo, hi));
+  out = float(v);
+  return {};
+}
+
 engine::Status readBool(const json& value, bool& out) {
   if (!value.is_boolean()) return engine::makeError(fmt::format("expected true or false, got {}", value.dump()));
   out = value.get<bool>();
@@ -103,13 +114,50 @@ engine::Status readKey(const std::string& key, const json& value, TuningState& t
   if (key == "debug_view") return readName(value, kDebugViews, t.debugView);
   if (key == "front_to_back") return readBool(value, t.frontToBack);
   if (key == "certified") return readBool(value, t.certified);
-  return engine::makeError("unknown setting (known: method, resolution, padding, subdivisions, refine, normals, fp16, "
-                           "debug_view, front_to_back, certified)");
+  if (key == "split") return readName(value, kSplitModes, t.split);
+  if (key == "split_position") return readFloat(value, kSplitMin, kSplitMax, t.splitPosition);
+  if (key == "compare_method") {
+    ENGINE_TRY(readName(value, kMethods, t.compareMethod));
+    if (!isSdfMethod(t.compareMethod)) return engine::makeError("the compared method must be an SDF method (cells, trilinear, hermite)");
+    return {};
+  }
+  if (key == "compare_resolution") {
+    if (value.is_number_integer() && value.get<long long>() == 0) {
+      t.compareResolution = 0;
+      return {};
+    }
+    return readInt(value, kResolutionRange, t.compareResolution);
+  }
+  if (key == "compare_normals") return readName(value, kNormalModes, t.compareNormals);
+  if (key == "difference") return readBool(value, t.difference);
+  return engine::makeError("unknown setting (known: " + tuningKeyList() + ")");
 }
 
 }  // namespace
 
 const char* methodName(Method method) { return nameOf(kMethods, method); }
+const char* splitModeName(SplitMode mode) { return nameOf(kSplitModes, mode); }
+std::optional<SplitMode> parseSplitMode(std::string_view name) { return valueOf(kSplitModes, name); }
+
+std::string tuningKeyList() {
+  std::string list;
+  for (std::string_view key : kTuningKeys) list += (list.empty() ? "" : ", ") + std::string(key);
+  return list;
+}
+
+int effectiveCompareResolution(const TuningState& t) {
+  return t.compareResolution > 0 ? t.compareResolution : std::min(2 * t.resolution, kResolutionRange.max);
+}
+
+bool comparing(const TuningState& t) { return t.split != SplitMode::Off || t.difference; }
+
+TuningState compareTuning(const TuningState& t) {
+  TuningState compared = t;
+  compared.method = t.compareMethod;
+  compared.resolution = t.compareMethod == Method::Cells ? t.resolution : effectiveCompareResolution(t);
+  compared.normals = t.compareNormals;
+  return compared;
+}
 std::optional<Method> parseMethod(std::string_view name) { return valueOf(kMethods, name); }
 bool isSdfMethod(Method method) { return method != Method::Mesh; }
 const char* normalModeName(hsdf::NormalMode mode) { return nameOf(kNormalModes, mode); }
@@ -122,6 +170,15 @@ engine::Status validateTuning(const TuningState& t) {
   ENGINE_TRY(checkRange("--padding", t.padding, kPaddingRange));
   ENGINE_TRY(checkRange("--subdivisions", t.subdivisions, kSubdivisionsRange));
   ENGINE_TRY(checkRange("--refine", t.refineSteps, kRefineRange));
+  if (t.compareResolution != 0) ENGINE_TRY(checkRange("--compare-resolution", t.compareResolution, kResolutionRange));
+  if (!isSdfMethod(t.compareMethod))
+    return engine::makeError("--compare-method mesh: the compared method must be cells, trilinear or hermite");
+  if (!(t.splitPosition >= kSplitMin && t.splitPosition <= kSplitMax))
+    return engine::makeError(fmt::format("--split-position {} is outside {}..{}", t.splitPosition, kSplitMin, kSplitMax));
+  const int compareK = effectiveCompareResolution(t);
+  if (compareK - 1 - 2 * t.padding < 1)
+    return engine::makeError(
+        fmt::format("--compare-resolution {} leaves no cells inside --padding {}", compareK, t.padding));
   if (t.resolution - 1 - 2 * t.padding < 1)
     return engine::makeError(
         fmt::format("--resolution {} leaves no cells inside --padding {}", t.resolution, t.padding));
@@ -171,7 +228,13 @@ engine::Status saveTuning(const std::filesystem::path& file, const TuningState& 
                      {"fp16", t.fp16},
                      {"debug_view", debugViewName(t.debugView)},
                      {"front_to_back", t.frontToBack},
-                     {"certified", t.certified}};
+                     {"certified", t.certified},
+                     {"split", splitModeName(t.split)},
+                     {"split_position", t.splitPosition},
+                     {"compare_method", methodName(t.compareMethod)},
+                     {"compare_resolution", t.compareResolution},
+                     {"compare_normals", normalModeName(t.compareNormals)},
+                     {"difference", t.difference}};
   return engine::writeTextFile(file, root.dump(2) + "\n");
 }
 

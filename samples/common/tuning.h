@@ -28,6 +28,12 @@ enum class DebugView : std::uint32_t { None = 0, Normals = 1, Depth = 2, Cells =
 const char* debugViewName(DebugView view);  // "none", "normals", "depth", "cells", "evals", "wireframe"
 std::optional<DebugView> parseDebugView(std::string_view name);
 
+// Split-screen comparison: off, or a divider that is vertical (compared method on the right) or
+// horizontal (compared method at the bottom).
+enum class SplitMode { Off, Vertical, Horizontal };
+const char* splitModeName(SplitMode mode);  // "off", "vertical", "horizontal"
+std::optional<SplitMode> parseSplitMode(std::string_view name);
+
 // Accepted ranges, shared by every writer of a TuningState.
 struct IntRange {
   int min;
@@ -54,20 +60,47 @@ struct TuningState {
   DebugView debugView = DebugView::None;
   bool frontToBack = true;  // cells: submit rows of cells front to back
   bool certified = false;   // cells: certified root search instead of n samples (renderable.h)
+  // Split-screen comparison (same camera, same frame): the tuning above on one side, the compared
+  // method on the other, drawn from its own bake at compareResolution with compareNormals (n,
+  // refinement and fp16 are shared). A compared method of cells draws the main asset (K above).
+  SplitMode split = SplitMode::Off;
+  float splitPosition = 0.5f;  // the divider, as a fraction of the width (vertical) or height
+  Method compareMethod = Method::Trilinear;
+  int compareResolution = 0;   // 0: twice K, at most 256 (the paper's rule of thumb for trilinear)
+  hsdf::NormalMode compareNormals = hsdf::NormalMode::CentralDifferences;  // the paper's for trilinear
+  // Difference view: per pixel, the angle between the two methods' normals as a heat map with a
+  // legend, and the share of pixels that one method covers and the other does not.
+  bool difference = false;
 
   bool operator==(const TuningState&) const = default;
 };
 
+// The keys of a settings file and of --script settings, in the order saveTuning writes them.
+inline constexpr std::string_view kTuningKeys[] = {
+    "method",        "resolution", "padding", "subdivisions",   "refine",          "normals",
+    "fp16",          "debug_view", "front_to_back", "certified", "split",          "split_position",
+    "compare_method", "compare_resolution", "compare_normals", "difference"};
+std::string tuningKeyList();  // "method, resolution, ..."
+
 // Ranges, and a resolution that leaves cells inside the padding. The message names the setting
 // by its command-line option (--resolution).
 engine::Status validateTuning(const TuningState& tuning);
+
+// The K the compared side is drawn with: compareResolution, or 2K capped at the range's top.
+int effectiveCompareResolution(const TuningState& tuning);
+// Whether the frame compares two methods (split screen or difference view).
+bool comparing(const TuningState& tuning);
+// The tuning of the compared side: the main tuning with the compared method, K and normals.
+TuningState compareTuning(const TuningState& tuning);
 
 // The one place tuning reaches the SDF component (method, n, refinement, normals, precision).
 // Method::Mesh leaves the method as it is (the entity then is not drawn by the caller's choice).
 void applyTuning(const TuningState& tuning, hsdf::HermiteSdfRenderable& renderable);
 
 // Settings files: JSON objects with the keys "method", "resolution", "padding", "subdivisions",
-// "refine", "normals", "fp16", "debug_view", "front_to_back", "certified", all optional. Loading starts from
+// "refine", "normals", "fp16", "debug_view", "front_to_back", "certified", "split",
+// "split_position" (0.05..0.95), "compare_method", "compare_resolution" (0: 2K, else 2..256),
+// "compare_normals", "difference", all optional. Loading starts from
 // `base`; an unknown key, a value of the wrong type or out of range is refused naming the key
 // and the file.
 // One setting given as text, "key=value" style, with the keys and checks of a settings file (the

@@ -6,6 +6,7 @@
 #include <fmt/format.h>
 #include <imgui.h>
 
+#include "engine/gpu/pipeline.h"
 #include "viewer.h"
 
 namespace samples {
@@ -46,6 +47,10 @@ void PlotHistory::push(float value) {
 void TuningPanel::draw() {
   drawMethod();
   drawResolution();
+  drawComparison();
+  drawDivider();
+  drawDifferenceLegend();
+  drawShaders();
   drawStatistics();
   drawTimings();
   drawFiles();
@@ -140,8 +145,146 @@ void TuningPanel::drawStatistics() {
     row("Hermite cells", s.cellScalars, s.cellBytes, s.cellBytesHalf);
     row("trilinear (K^3)", s.trilinearScalars, 4 * s.trilinearScalars, 2 * s.trilinearScalars);
     row("dense Hermite (4K^3)", s.hermiteScalars, 4 * s.hermiteScalars, 2 * s.hermiteScalars);
+    // The compared side's own field (e.g. trilinear at 2K), when it has one.
+    const TuningState& t = viewer_.tuning();
+    const auto k = std::uint64_t(viewer_.compareResolutionDrawn());
+    if (comparing(t) && t.compareMethod != Method::Cells && k != std::uint64_t(s.resolution)) {
+      const std::uint64_t scalars = (t.compareMethod == Method::Hermite ? 4 : 1) * k * k * k;
+      const std::string label = fmt::format("compared, K {}", k);
+      row(label.c_str(), scalars, 4 * scalars, 2 * scalars);
+    }
     ImGui::EndTable();
   }
+}
+
+// Split screen / difference view: what is compared with what; writes the TuningState.
+void TuningPanel::drawComparison() {
+  if (!ImGui::CollapsingHeader("Compare (split screen, difference view)", ImGuiTreeNodeFlags_DefaultOpen)) return;
+  TuningState t = viewer_.tuning();
+  bool changed = false;
+  int split = int(t.split);
+  ImGui::TextUnformatted("split");
+  for (int mode = 0; mode < 3; ++mode) {
+    ImGui::SameLine();
+    changed |= ImGui::RadioButton(splitModeName(SplitMode(mode)), &split, mode);
+  }
+  t.split = SplitMode(split);
+  if (t.split != SplitMode::Off) changed |= ImGui::SliderFloat("divider", &t.splitPosition, 0.05f, 0.95f, "%.2f");
+  int compared = int(t.compareMethod) - 1;  // the SDF methods: cells, trilinear, hermite
+  if (ImGui::Combo("compared method", &compared, kMethodLabels + 1, 3)) {
+    t.compareMethod = Method(compared + 1);
+    changed = true;
+  }
+  if (t.compareMethod != Method::Cells && viewer_.canRebake()) {
+    // 0 = the rule of thumb (2K); re-bakes on release, like K.
+    if (!ImGui::IsAnyItemActive()) compareResolution_ = t.compareResolution;
+    ImGui::SliderInt("compared K (0: 2K)", &compareResolution_, 0, kPanelResolutionRange.max);
+    if (ImGui::IsItemDeactivatedAfterEdit() && compareResolution_ != t.compareResolution) {
+      t.compareResolution = compareResolution_ == 0 ? 0 : std::max(compareResolution_, kPanelResolutionRange.min);
+      changed = true;
+    }
+  }
+  bool exact = t.compareNormals == hsdf::NormalMode::Exact;
+  if (ImGui::Checkbox("compared side: exact normals (off: central diff.)", &exact)) {
+    t.compareNormals = exact ? hsdf::NormalMode::Exact : hsdf::NormalMode::CentralDifferences;
+    changed = true;
+  }
+  changed |= ImGui::Checkbox("difference view (normal angle)", &t.difference);
+  if (comparing(t))
+    ImGui::Text("%s, K %d  |  %s, K %d", methodName(t.method), t.resolution, methodName(t.compareMethod),
+                viewer_.compareResolutionDrawn());
+  if (hsdf::BakeJob* job = viewer_.compareBakeJob()) {
+    const std::string label =
+        fmt::format("compared side K = {}: {:.0f}%", job->settings().resolution, 100.0f * job->progress());
+    ImGui::ProgressBar(job->progress(), ImVec2(-80.0f, 0.0f), label.c_str());
+    ImGui::SameLine();
+    if (ImGui::Button("cancel##compare")) viewer_.cancelBake();
+  }
+  if (!viewer_.compareBakeError().empty()) ImGui::TextWrapped("%s", viewer_.compareBakeError().c_str());
+  if (t.difference && !isSdfMethod(t.method)) ImGui::TextWrapped("the difference view compares two SDF methods");
+  if (changed && validateTuning(t)) viewer_.setTuning(t);
+}
+
+// A handle over the divider, dragged in the frame (an ImGui window, so the camera does not take
+// the drag), and each side's method written at the top of its half.
+void TuningPanel::drawDivider() {
+  TuningState t = viewer_.tuning();
+  if (t.split == SplitMode::Off || t.difference) return;
+  const ImVec2 display = ImGui::GetIO().DisplaySize;
+  const bool vertical = t.split == SplitMode::Vertical;
+  const float at = t.splitPosition * (vertical ? display.x : display.y);
+  constexpr float kGrip = 10.0f;
+  ImGui::SetNextWindowPos(vertical ? ImVec2(at - kGrip * 0.5f, 0.0f) : ImVec2(0.0f, at - kGrip * 0.5f));
+  ImGui::SetNextWindowSize(vertical ? ImVec2(kGrip, display.y) : ImVec2(display.x, kGrip));
+  ImGui::PushStyleVar(ImGuiStyleVar_WindowPadding, ImVec2(0.0f, 0.0f));
+  ImGui::PushStyleVar(ImGuiStyleVar_WindowMinSize, ImVec2(1.0f, 1.0f));
+  const ImGuiWindowFlags flags = ImGuiWindowFlags_NoDecoration | ImGuiWindowFlags_NoBackground |
+                                 ImGuiWindowFlags_NoMove | ImGuiWindowFlags_NoSavedSettings |
+                                 ImGuiWindowFlags_NoFocusOnAppearing | ImGuiWindowFlags_NoBringToFrontOnFocus;
+  if (ImGui::Begin("##split divider", nullptr, flags)) {
+    ImGui::InvisibleButton("##grip", ImGui::GetWindowSize());
+    const bool active = ImGui::IsItemActive();
+    if (ImGui::IsItemHovered() || active)
+      ImGui::SetMouseCursor(vertical ? ImGuiMouseCursor_ResizeEW : ImGuiMouseCursor_ResizeNS);
+    if (active) {
+      const ImVec2 mouse = ImGui::GetIO().MousePos;
+      t.splitPosition = std::clamp(vertical ? mouse.x / display.x : mouse.y / display.y, 0.05f, 0.95f);
+      viewer_.setTuning(t);
+    }
+    ImDrawList* draw = ImGui::GetForegroundDrawList();
+    const ImU32 color = active ? IM_COL32(255, 220, 80, 255) : IM_COL32(255, 255, 255, 200);
+    if (vertical) draw->AddLine(ImVec2(at, 0.0f), ImVec2(at, display.y), color, 2.0f);
+    else draw->AddLine(ImVec2(0.0f, at), ImVec2(display.x, at), color, 2.0f);
+    const std::string left = fmt::format("{} K {}", methodName(t.method), t.resolution);
+    const std::string right = fmt::format("{} K {}", methodName(t.compareMethod), viewer_.compareResolutionDrawn());
+    // Labels at the bottom beside a vertical divider, at the right end of a horizontal one (the
+    // panel is on the left).
+    const float leftWidth = ImGui::CalcTextSize(left.c_str()).x, rightWidth = ImGui::CalcTextSize(right.c_str()).x;
+    const ImVec2 rightAt = vertical ? ImVec2(at + 8.0f, display.y - 20.0f) : ImVec2(display.x - rightWidth - 8.0f, at + 6.0f);
+    draw->AddText(vertical ? ImVec2(at - 8.0f - leftWidth, display.y - 20.0f) : ImVec2(display.x - leftWidth - 8.0f, at - 22.0f),
+                  IM_COL32_WHITE, left.c_str());
+    draw->AddText(rightAt, IM_COL32_WHITE, right.c_str());
+  }
+  ImGui::End();
+  ImGui::PopStyleVar(2);
+}
+
+// The heat map's legend (degrees) and the last difference frame's numbers.
+void TuningPanel::drawDifferenceLegend() {
+  const std::optional<NormalDifference>& d = viewer_.difference();
+  if (!d) return;
+  float range = viewer_.differenceRange();
+  if (ImGui::SliderFloat("red at (deg)", &range, 0.5f, 90.0f, "%.1f", ImGuiSliderFlags_Logarithmic))
+    viewer_.setDifferenceRange(range);
+  // A colour bar with ticks at 0, 1/2 and the full range; white: covered by one method only.
+  const ImVec2 origin = ImGui::GetCursorScreenPos();
+  const float width = std::max(ImGui::GetContentRegionAvail().x - 10.0f, 50.0f), height = 14.0f;
+  ImDrawList* draw = ImGui::GetWindowDrawList();
+  constexpr int kSteps = 32;
+  for (int i = 0; i < kSteps; ++i) {
+    const glm::vec3 c = heatColor(range * (float(i) + 0.5f) / float(kSteps), range);
+    draw->AddRectFilled(ImVec2(origin.x + width * float(i) / kSteps, origin.y),
+                        ImVec2(origin.x + width * float(i + 1) / kSteps, origin.y + height),
+                        ImGui::ColorConvertFloat4ToU32(ImVec4(c.r, c.g, c.b, 1.0f)));
+  }
+  ImGui::Dummy(ImVec2(width, height));
+  ImGui::Text("0 deg");
+  ImGui::SameLine(width * 0.5f - 10.0f);
+  ImGui::Text("%.1f", double(range) * 0.5);
+  ImGui::SameLine(width - 50.0f);
+  ImGui::Text("%.1f deg", double(range));
+  ImGui::TextWrapped("normal angle: mean %.2f deg, max %.1f deg over %llu pixels", d->meanDegrees, d->maxDegrees,
+                     static_cast<unsigned long long>(d->coveredBoth));
+  ImGui::TextWrapped("coverage differs (white): %llu of %llu pixels (%.2f%%)", static_cast<unsigned long long>(d->coverageDiffers),
+              static_cast<unsigned long long>(d->coveredEither), 100.0 * d->coverageDiffersShare());
+}
+
+void TuningPanel::drawShaders() {
+  if (ImGui::Button("Reload shaders (F5)")) viewer_.rebuildAndReloadShaders();
+  if (ImGui::IsItemHovered())
+    ImGui::SetTooltip("runs the build's shader target (glslang), then rebuilds every pipeline from the SPIR-V in %s",
+                      engine::gpu::shaderDirectory().string().c_str());
+  if (!viewer_.shaderReloadReport().empty()) ImGui::TextWrapped("%s", viewer_.shaderReloadReport().c_str());
 }
 
 // Numbers for this frame, in the renderer's pass order, each with its plot over the last seconds.

@@ -4,7 +4,9 @@
 // Viewer::setTuning applies at the next frame (the same path --settings and --script take); K
 // re-bakes on the worker thread with a progress bar and a cancel button. Also: cell and storage
 // statistics, GPU time per pass with a scrolling plot, screenshot and settings buttons, the camera
-// help line, V-sync and full screen.
+// help line, V-sync and full screen. The comparison: split screen with a divider dragged in the
+// frame, the compared method's K and normals, the difference view's legend and numbers; and the
+// "Reload shaders" button with each feature's result.
 #include <array>
 #include <map>
 #include <string>
@@ -31,6 +33,10 @@ class TuningPanel {
  private:
   void drawMethod();
   void drawResolution();
+  void drawComparison();
+  void drawDifferenceLegend();
+  void drawDivider();
+  void drawShaders();
   void drawStatistics();
   void drawTimings();
   void drawFiles();
@@ -40,6 +46,7 @@ class TuningPanel {
   std::map<std::string, PlotHistory> gpuHistory_;  // per pass name
   PlotHistory frameHistory_;
   int resolution_ = 0;  // the K slider while it is dragged (re-bakes on release)
+  int compareResolution_ = 0;  // the same for the compared side
   std::array<char, 256> screenshotPath_{"hsdf_screenshot.png"};
   std::array<char, 256> settingsPath_{"hsdf_settings.json"};
 };

@@ -9,6 +9,7 @@
 
 #include "engine/core/image_io.h"
 #include "engine/core/log.h"
+#include "engine/gpu/pipeline.h"
 #include "engine/gpu/swapchain.h"
 #include "engine/platform/window.h"
 #include "engine/render/components.h"
@@ -17,6 +18,7 @@
 #include "engine/ui/ui_layer.h"
 #include "hermite_sdf/cell_feature.h"
 #include "hermite_sdf/sphere_trace_feature.h"
+#include "shader_build.h"
 #include "tuning_panel.h"
 
 namespace samples {
@@ -83,6 +85,7 @@ Status Viewer::initialize(const ViewerDesc& desc) {
     ui_->addPanel("tuning", [this] { panel_->draw(); });
     ui_->addFeaturePanels(*renderer_);
   }
+  differenceOverlay_ = std::make_unique<ImageOverlay>(*context_, renderer_->desc().framesInFlight);
   lastFrameTime_ = nowSeconds();
   return {};
 }
@@ -126,8 +129,9 @@ void Viewer::setCameraMode(CameraMode mode) {
 
 void Viewer::setTuning(const TuningState& tuning) {
   tuning_ = tuning;
-  if (!bakeSource_ || (!bakedEntity_ && !isSdfMethod(tuning.method))) return;
-  // A scene loaded as meshes bakes its SDF when an SDF method is first picked.
+  updateCompareBake();
+  if (!bakeSource_ || (!bakedEntity_ && !isSdfMethod(tuning.method) && !comparing(tuning))) return;
+  // A scene loaded as meshes bakes its SDF when an SDF method (or a comparison) is first picked.
   if (!bakedEntity_) {
     if (!bakeJob_) startRebake();
     return;
@@ -136,6 +140,53 @@ void Viewer::setTuning(const TuningState& tuning) {
   const int resolution = bakeJob_ ? bakeJob_->settings().resolution : bakedResolution_;
   const int padding = bakeJob_ ? bakeJob_->settings().padding : bakedPadding_;
   if (tuning.resolution != resolution || tuning.padding != padding) startRebake();
+}
+
+// Starts the compared side's bake when it should draw another K (or padding) than it has. The
+// main asset at the same K and padding is the same field: it is shared, not baked twice.
+void Viewer::updateCompareBake() {
+  if (!comparing(tuning_) || tuning_.compareMethod == Method::Cells || !bakeSource_) return;
+  const int k = effectiveCompareResolution(tuning_);
+  const int padding = tuning_.padding;
+  const bool have = compareAsset_ && compareResolution_ == k && comparePadding_ == padding;
+  const bool baking = compareJob_ && compareJob_->settings().resolution == k && compareJob_->settings().padding == padding;
+  if (baking || (have && !compareJob_)) return;
+  compareJob_.reset();  // cancels a bake for a K no longer asked for
+  if (have || compareFailed_ == std::pair{k, padding}) return;
+  if (const hsdf::HermiteSdfRenderable* r = sdfRenderable(); r && k == bakedResolution_ && padding == bakedPadding_) {
+    compareAsset_ = r->asset;
+    compareResolution_ = k;
+    comparePadding_ = padding;
+    return;
+  }
+  hsdf::BakeSettings settings;
+  settings.resolution = k;
+  settings.padding = padding;
+  settings.budget = bakeBudget_;
+  compareBakeError_.clear();
+  compareJob_ = std::make_unique<hsdf::BakeJob>(*bakeSource_, settings);
+}
+
+// A failed compared bake is not retried for the same K (the reason is in compareBakeError()).
+void Viewer::finishCompareBake() {
+  hsdf::BakeJob::Result result = compareJob_->wait();
+  const hsdf::BakeSettings settings = compareJob_->settings();
+  compareJob_.reset();
+  if (!result) {
+    compareBakeError_ = result.error().withContext(fmt::format("baking the compared side at resolution {}", settings.resolution)).message;
+    compareFailed_ = {settings.resolution, settings.padding};
+    log::warn("{}", compareBakeError_);
+    return;
+  }
+  log::info("compared side baked at resolution {}: {}", settings.resolution, describeSdfStats(sdfStats(**result)));
+  compareAsset_ = std::move(*result);
+  compareResolution_ = settings.resolution;
+  comparePadding_ = settings.padding;
+}
+
+int Viewer::compareResolutionDrawn() const {
+  if (tuning_.compareMethod == Method::Cells || !compareAsset_) return bakedEntity_ ? bakedResolution_ : 0;
+  return compareResolution_;
 }
 
 void Viewer::startRebake() {
@@ -150,6 +201,7 @@ void Viewer::startRebake() {
 
 void Viewer::cancelBake() {
   if (bakeJob_) bakeJob_->cancel();
+  if (compareJob_) compareJob_->cancel();
 }
 
 // Swaps the re-bake's asset into the entity (waiting for it). A failed one leaves the old asset
@@ -179,7 +231,18 @@ Status Viewer::finishBake() {
   return {};
 }
 
-Status Viewer::waitForBake() { return bakeJob_ ? finishBake() : Status{}; }
+Status Viewer::waitForBake() {
+  const Status main = bakeJob_ ? finishBake() : Status{};
+  if (compareJob_) finishCompareBake();
+  updateCompareBake();  // e.g. the compared side can share the new main asset
+  return main;
+}
+
+hsdf::HermiteSdfRenderable* Viewer::sdfRenderable() {
+  if (hiddenSdf_) return &*hiddenSdf_;
+  if (!bakedEntity_) return nullptr;
+  return &registry_.get<hsdf::HermiteSdfRenderable>(*bakedEntity_);
+}
 
 const hsdf::SdfAsset* Viewer::sdfAsset() const {
   if (hiddenSdf_) return hiddenSdf_->asset.get();
@@ -189,9 +252,9 @@ const hsdf::SdfAsset* Viewer::sdfAsset() const {
 
 // The method picks what is drawn: the SDF, or the scene's meshes (also while the first SDF of a
 // mesh scene bakes, and always beside it with --side-by-side).
-void Viewer::updateVisibility() {
-  const bool sdfShown = isSdfMethod(tuning_.method) && bakedEntity_;
-  const bool meshesShown = sideBySide_ || !sdfShown;
+void Viewer::updateVisibility(Method method, bool meshes) {
+  const bool sdfShown = isSdfMethod(method) && bakedEntity_;
+  const bool meshesShown = meshes && (sideBySide_ || !sdfShown);
   if (bakedEntity_ && sdfShown == hiddenSdf_.has_value()) {
     if (sdfShown) {
       registry_.emplace<hsdf::HermiteSdfRenderable>(*bakedEntity_, std::move(*hiddenSdf_));
@@ -213,10 +276,98 @@ void Viewer::updateVisibility() {
 }
 
 void Viewer::applyTuningToScene() {
-  updateVisibility();
+  updateVisibility(tuning_.method);
   registry_.view<hsdf::HermiteSdfRenderable>().each(
       [this](ecs::Entity, hsdf::HermiteSdfRenderable& renderable) { applyTuning(tuning_, renderable); });
   renderer_->feature<hsdf::HermiteCellFeature>()->settings().frontToBack = tuning_.frontToBack;
+}
+
+// The scene as `tuning` draws it, the SDF entity showing `asset`: a view region's override.
+void Viewer::showState(const TuningState& tuning, const std::shared_ptr<const hsdf::SdfAsset>& asset) {
+  if (hsdf::HermiteSdfRenderable* r = sdfRenderable(); r && asset) r->asset = asset;
+  updateVisibility(tuning.method);
+  registry_.view<hsdf::HermiteSdfRenderable>().each(
+      [&tuning](ecs::Entity, hsdf::HermiteSdfRenderable& renderable) { applyTuning(tuning, renderable); });
+}
+
+// The compared side's asset: its own bake, or the main one (a compared method of cells, a .hsdf
+// file, or while the first compared bake runs).
+std::shared_ptr<const hsdf::SdfAsset> Viewer::comparedAsset(const std::shared_ptr<const hsdf::SdfAsset>& main) const {
+  if (tuning_.compareMethod == Method::Cells || !compareAsset_) return main;
+  return compareAsset_;
+}
+
+// Two regions split at the divider: the main tuning left (top), the compared one right (bottom).
+std::vector<render::ViewRegion> Viewer::splitRegions(const std::shared_ptr<const hsdf::SdfAsset>& main) {
+  const VkExtent2D e = renderer_->extent();
+  const bool vertical = tuning_.split == SplitMode::Vertical;
+  const auto divider = std::uint32_t(std::lround(double(tuning_.splitPosition) * (vertical ? e.width : e.height)));
+  VkRect2D first{{0, 0}, e}, second{{0, 0}, e};
+  if (vertical) {
+    first.extent.width = divider;
+    second.offset.x = std::int32_t(divider);
+    second.extent.width = e.width - divider;
+  } else {
+    first.extent.height = divider;
+    second.offset.y = std::int32_t(divider);
+    second.extent.height = e.height - divider;
+  }
+  const TuningState compared = compareTuning(tuning_);
+  const std::shared_ptr<const hsdf::SdfAsset> other = comparedAsset(main);
+  return {{first, [this, main] { showState(tuning_, main); }},
+          {second, [this, compared, other] { showState(compared, other); }}};
+}
+
+// One frame of the normals view with `tuning` and `asset`, read back.
+NormalsFrame Viewer::renderNormals(const TuningState& tuning, const std::shared_ptr<const hsdf::SdfAsset>& asset) {
+  showState(tuning, asset);
+  render::FrameSettings settings;
+  settings.debugView = std::uint32_t(DebugView::Normals);
+  renderer_->renderFrame(registry_, cameraView(), settings);
+  NormalsFrame frame;
+  frame.rgba = renderer_->readbackColor();
+  frame.visibility = renderer_->readbackVisibility();
+  return frame;
+}
+
+// The two methods' normals frames (the SDF alone: meshes and the ground would count as covered by
+// both), compared on the CPU; the heat map goes to the overlay of the frame drawn next. Needs an
+// SDF method on the main side (then the scene's meshes are already hidden, see updateVisibility).
+Status Viewer::renderDifference(const std::shared_ptr<const hsdf::SdfAsset>& main) {
+  std::vector<std::pair<ecs::Entity, render::MeshRenderable>> meshes;
+  registry_.view<render::MeshRenderable>().each(
+      [&meshes](ecs::Entity entity, const render::MeshRenderable& mesh) { meshes.emplace_back(entity, mesh); });
+  for (const auto& entry : meshes) registry_.remove<render::MeshRenderable>(entry.first);
+  const NormalsFrame a = renderNormals(tuning_, main);
+  const NormalsFrame b = renderNormals(compareTuning(tuning_), comparedAsset(main));
+  for (const auto& [entity, mesh] : meshes) registry_.emplace<render::MeshRenderable>(entity, mesh);
+  showState(tuning_, main);
+  const VkExtent2D extent = renderer_->extent();
+  ENGINE_TRY_ASSIGN(NormalDifference d, compareNormals(a, b, extent.width, extent.height));
+  differenceOverlay_->setImage(heatMapImage(d, differenceRange_), extent.width, extent.height);
+  difference_ = std::move(d);
+  return {};
+}
+
+void Viewer::rebuildAndReloadShaders() {
+  const Expected<std::string> built = rebuildShaders(thisProgramsShaderBuild());
+  if (!built) {
+    shaderReloadReport_ = built.error().message + "\n(nothing reloaded: the old pipelines keep drawing)";
+    log::warn("{}", shaderReloadReport_);
+    return;
+  }
+  reloadShaders();
+  shaderReloadReport_ = *built + "\n" + shaderReloadReport_;
+}
+
+std::vector<render::Renderer::ShaderReload> Viewer::reloadShaders() {
+  std::vector<render::Renderer::ShaderReload> results = renderer_->reloadShaders();
+  std::string report;
+  for (const auto& r : results)
+    report += fmt::format("{}{}: {}", report.empty() ? "" : "\n", r.feature, r.status ? "reloaded" : r.status.error().message);
+  shaderReloadReport_ = report;
+  log::info("shaders reloaded from {}:\n{}", gpu::shaderDirectory().string(), report);
+  return results;
 }
 
 bool Viewer::shouldClose() const { return window_ && window_->shouldClose(); }
@@ -254,6 +405,7 @@ void Viewer::handleKeys(const platform::InputState& input) {
     if (pressed(GLFW_KEY_F1)) uiVisible_ = !uiVisible_;
     if (pressed(GLFW_KEY_F2)) setCameraMode(cameraMode_ == CameraMode::Orbit ? CameraMode::Fly : CameraMode::Orbit);
     if (pressed(GLFW_KEY_F11)) setFullscreen(!fullscreen());
+    if (pressed(GLFW_KEY_F5)) rebuildAndReloadShaders();
   }
   std::copy(std::begin(input.keys), std::end(input.keys), std::begin(keysDown_));
 }
@@ -295,17 +447,33 @@ Status Viewer::step() {
     if (!drawable) return {};
   }
   frameSeconds_ = dt;
-  if (bakeJob_ && bakeJob_->done())
+  if (bakeJob_ && bakeJob_->done()) {
     if (Status baked = finishBake(); !baked) log::warn("{}", baked.error().message);
+    updateCompareBake();
+  }
+  if (compareJob_ && compareJob_->done()) finishCompareBake();
   applyTuningToScene();
   scene::updateWorldTransforms(registry_);
   const bool ui = ui_ && uiVisible_;
-  if (ui) ui_->buildFrame(renderer_->extent(), dt);
   render::FrameSettings settings;
   settings.debugView = std::uint32_t(tuning_.debugView);
   settings.swapchain = swapchain_.get();
   settings.overlay = ui ? ui_.get() : nullptr;
-  if (!renderer_->renderFrame(registry_, cameraView(), settings)) ENGINE_TRY(recreateSwapchain());
+  // The comparison: the main asset is put back after the frame (regions swap it in and out).
+  hsdf::HermiteSdfRenderable* sdf = sdfRenderable();
+  const std::shared_ptr<const hsdf::SdfAsset> main = sdf ? sdf->asset : nullptr;
+  difference_.reset();
+  if (tuning_.difference && main && isSdfMethod(tuning_.method)) {
+    ENGINE_TRY(renderDifference(main));
+    differenceOverlay_->setNext(settings.overlay);
+    settings.overlay = differenceOverlay_.get();
+  } else if (tuning_.split != SplitMode::Off && main) {
+    settings.regions = splitRegions(main);
+  }
+  if (ui) ui_->buildFrame(renderer_->extent(), dt);
+  const bool presented = renderer_->renderFrame(registry_, cameraView(), settings);
+  if (!settings.regions.empty()) showState(tuning_, main);
+  if (!presented) ENGINE_TRY(recreateSwapchain());
   ++frames_;
   finishStep();
   return {};
@@ -332,6 +500,16 @@ Status Viewer::writeScreenshot(const std::filesystem::path& path) {
   const hsdf::SdfAsset* asset = sdfAsset();
   log::info("screenshot: {} ({}x{}, {}{}{})", path.string(), extent.width, extent.height, methodName(tuning_.method),
             asset ? "; " : "", asset ? describeSdfStats(sdfStats(*asset)) : "");
+  if (tuning_.split != SplitMode::Off)
+    log::info("screenshot: {}: split {} at {:.2f}: {} K {} | {} K {} ({} normals)", path.string(), splitModeName(tuning_.split),
+              tuning_.splitPosition, methodName(tuning_.method), bakedResolution_, methodName(tuning_.compareMethod),
+              compareResolutionDrawn(), normalModeName(tuning_.compareNormals));
+  if (difference_)
+    log::info("screenshot: {}: difference {} vs {}: mean {:.3f} deg, max {:.3f} deg over {} pixels; coverage differs in "
+              "{} of {} covered pixels ({:.4f})",
+              path.string(), methodName(tuning_.method), methodName(tuning_.compareMethod), difference_->meanDegrees,
+              difference_->maxDegrees, difference_->coveredBoth, difference_->coverageDiffers, difference_->coveredEither,
+              difference_->coverageDiffersShare());
   return {};
 }
 
@@ -358,7 +536,9 @@ Status Viewer::close() {
   if (closed_ || !context_) return {};
   closed_ = true;
   bakeJob_.reset();
+  compareJob_.reset();
   context_->waitIdle();
+  differenceOverlay_.reset();
   ui_.reset();
   renderer_.reset();
   swapchain_.reset();

@@ -27,6 +27,7 @@
 #include "engine/platform/camera_controller.h"
 #include "engine/render/components.h"
 #include "engine/render/renderer.h"
+#include "difference_view.h"
 #include "hermite_sdf/bake_job.h"
 #include "tuning.h"
 
@@ -128,6 +129,29 @@ class Viewer {
   void cancelBake();
   // Why the last bake failed or was refused (budget, cancelled), or empty.
   const std::string& bakeError() const { return bakeError_; }
+
+  // Split screen and difference view (TuningState::split, difference): the compared side is drawn
+  // from its own bake at effectiveCompareResolution (on the worker thread too; until it is ready,
+  // the main asset stands in). waitForBake() and cancelBake() cover this bake as well.
+  hsdf::BakeJob* compareBakeJob() { return compareJob_.get(); }
+  const std::string& compareBakeError() const { return compareBakeError_; }
+  // The K the compared side is drawn with now (0: no SDF).
+  int compareResolutionDrawn() const;
+  // The numbers of the last difference-view frame (empty when the view is off).
+  const std::optional<NormalDifference>& difference() const { return difference_; }
+  // Degrees shown red in the heat map.
+  float differenceRange() const { return differenceRange_; }
+  void setDifferenceRange(float degrees) { differenceRange_ = std::max(degrees, 0.1f); }
+
+  // Recreates every render feature's pipelines from the SPIR-V on disk (the panel's "Reload
+  // shaders", F5, the script's reload-shaders). A feature that fails keeps drawing with its old
+  // pipelines; the report (shaderReloadReport()) and the log say which and why.
+  std::vector<engine::render::Renderer::ShaderReload> reloadShaders();
+  // The panel's button and F5: the build tree's shader target first (shader_build.h), then
+  // reloadShaders(). A failed build reloads nothing: the old pipelines stay and the report holds
+  // the compiler's output.
+  void rebuildAndReloadShaders();
+  const std::string& shaderReloadReport() const { return shaderReloadReport_; }
   // The SDF in the scene (shown or hidden by the method), or null.
   const hsdf::SdfAsset* sdfAsset() const;
   // Whether a new K can be baked (a glTF scene or an analytic shape; not a .hsdf file).
@@ -182,8 +206,16 @@ class Viewer {
   engine::Status initialize(const ViewerDesc& desc);
   engine::Status handleWindow(float dt, bool& drawable);
   void handleKeys(const engine::platform::InputState& input);
-  void updateVisibility();
+  void updateVisibility(Method method, bool meshes = true);
   void finishStep();
+  hsdf::HermiteSdfRenderable* sdfRenderable();
+  void showState(const TuningState& tuning, const std::shared_ptr<const hsdf::SdfAsset>& asset);
+  std::shared_ptr<const hsdf::SdfAsset> comparedAsset(const std::shared_ptr<const hsdf::SdfAsset>& main) const;
+  std::vector<engine::render::ViewRegion> splitRegions(const std::shared_ptr<const hsdf::SdfAsset>& main);
+  engine::Status renderDifference(const std::shared_ptr<const hsdf::SdfAsset>& main);
+  NormalsFrame renderNormals(const TuningState& tuning, const std::shared_ptr<const hsdf::SdfAsset>& asset);
+  void updateCompareBake();
+  void finishCompareBake();
   engine::Status recreateSwapchain();
   void applyTuningToScene();
   void startRebake();
@@ -231,6 +263,18 @@ class Viewer {
   std::vector<engine::ecs::Entity> meshEntities_;
   std::vector<std::pair<engine::ecs::Entity, engine::render::MeshRenderable>> hiddenMeshes_;
   std::optional<hsdf::HermiteSdfRenderable> hiddenSdf_;
+
+  // The compared side of the split screen / difference view.
+  std::shared_ptr<const hsdf::SdfAsset> compareAsset_;
+  int compareResolution_ = 0;  // K of compareAsset_
+  int comparePadding_ = 0;
+  std::unique_ptr<hsdf::BakeJob> compareJob_;
+  std::string compareBakeError_;
+  std::pair<int, int> compareFailed_{-1, -1};  // K and padding of the last failed compared bake
+  std::optional<NormalDifference> difference_;
+  float differenceRange_ = 10.0f;
+  std::unique_ptr<ImageOverlay> differenceOverlay_;
+  std::string shaderReloadReport_;
 
   std::optional<std::filesystem::path> pendingScreenshot_;
   std::string statusLine_;

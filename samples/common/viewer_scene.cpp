@@ -74,10 +74,11 @@ Status Viewer::loadScene(const SceneDesc& scene, const TuningState& tuning) {
     ENGINE_TRY(addBakedSdf(hsdf::BakeSource::fromShape(scene.shape), scene).withContext(scene.shape));
   }
   if (scene.groundPlane) addGroundPlane();
-  updateVisibility();  // the registry shows what the method draws from the start, not only after step()
+  updateVisibility(tuning_.method);  // the registry shows what the method draws from the start, not only after step()
   scene::updateWorldTransforms(registry_);
   znear_ = float(0.01 * diagonal(boundsMin_, boundsMax_));
   setOrbitView(0);
+  setTuning(tuning_);  // a comparison asked for from the start bakes its side (worker thread)
   return {};
 }
 

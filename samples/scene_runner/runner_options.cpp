@@ -108,6 +108,18 @@ void addTuningOptions(CLI::App& app, TuningState& t) {
                         samples::debugViewName));
   app.add_flag("!--no-front-to-back", t.frontToBack, "cells: submit in storage order, not front to back");
   app.add_flag("--certified", t.certified, "cells: certified root search (never misses the first root) instead of n samples");
+  app.add_option("--split", t.split, "split-screen comparison: off, vertical or horizontal (divider)")
+      ->transform(oneOf({samples::SplitMode::Off, samples::SplitMode::Vertical, samples::SplitMode::Horizontal},
+                        samples::splitModeName));
+  app.add_option("--split-position", t.splitPosition, "the divider as a fraction of the width/height (0.05..0.95)")
+      ->check(CLI::Range(0.05f, 0.95f));
+  app.add_option("--compare-method", t.compareMethod, "the compared side: trilinear (default), hermite or cells")
+      ->transform(oneOf({Method::Cells, Method::Trilinear, Method::Hermite}, samples::methodName));
+  app.add_option("--compare-resolution", t.compareResolution, "K of the compared side (2..256; default 0: 2K, at most 256)")
+      ->check(CLI::Range(0, samples::kResolutionRange.max));
+  app.add_option("--compare-normals", t.compareNormals, "normals of the compared side: exact or central (default)")
+      ->transform(oneOf({hsdf::NormalMode::Exact, hsdf::NormalMode::CentralDifferences}, samples::normalModeName));
+  app.add_flag("--difference", t.difference, "difference view: normal angle between the two methods as a heat map");
 }
 
 ParseResult failure(const std::string& message) {

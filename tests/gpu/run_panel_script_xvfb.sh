@@ -5,7 +5,9 @@
 # a completed re-bake changes the stored scalars and a cancelled or over-budget one keeps the old
 # K, each method and debug view changes the image, the panel is drawn, the resize reaches the
 # swapchain, the settings sidecar and the settings round trip hold the tuning, full screen follows
-# the screen and back, and the fly camera starts at the orbit camera's view.
+# the screen and back, the fly camera starts at the orbit camera's view, the split screen shows the
+# compared method on its side in both orientations, the difference view reports a non-zero angle,
+# and a shader reload rebuilds the pipelines without changing the image.
 # Exit 77 (ctest: skipped) when Xvfb is not installed.
 set -u
 runner=$1 probe=$2 script=$3 work=$4
@@ -16,7 +18,7 @@ fi
 rm -rf "$work" && mkdir -p "$work" && cd "$work" || exit 1
 fail() { echo "FAIL: $*"; exit 1; }
 timeout 300 xvfb-run -a -s "-screen 0 640x480x24" "$runner" --validation --no-ground --size 128x96 --resolution 24 \
-  --bake-budget-mib 16 --ui-ini "" --script "$script" --frames 38 >log.txt 2>&1
+  --bake-budget-mib 16 --ui-ini "" --script "$script" --frames 42 >log.txt 2>&1
 rc=$?
 cat log.txt
 [ $rc -eq 0 ] || fail "scene_runner exited with $rc"
@@ -75,4 +77,23 @@ c=$(FIELD=coverage field certified.png)
 at_least "$c" 0.05 || fail "certified.png: the object covers only $c of the image"
 d=$(FIELD=differs field evals_certified.png evals_plain.png)
 at_least "$d" 0.005 || fail "evals_certified.png looks like evals_plain.png (differs $d): certified did not reach the shader"
+# Split screen: one side is the trilinear frame (differs from the cells one), both orientations
+# draw, and the log names what was compared.
+for png in split_vertical split_horizontal difference; do
+  c=$(FIELD=coverage field $png.png)
+  at_least "$c" 0.05 || fail "$png.png: the object covers only $c of the image"
+  d=$(FIELD=differs field $png.png cells_ref.png)
+  at_least "$d" 0.005 || fail "$png.png looks like cells_ref.png (differs $d): the comparison did not reach the frame"
+done
+d=$(FIELD=differs field split_horizontal.png split_vertical.png)
+at_least "$d" 0.005 || fail "split_horizontal.png looks like split_vertical.png (differs $d)"
+grep -q "split_vertical.png: split vertical at 0.50: cells K 40 | trilinear K 48" log.txt || fail "the vertical split did not compare cells K 40 with trilinear K 48"
+grep -q "split_horizontal.png: split horizontal at 0.30" log.txt || fail "the horizontal split was not drawn at 0.30"
+mean=$(sed -n 's/.*difference.png: difference cells vs trilinear: mean \([0-9.]*\) deg.*/\1/p' log.txt)
+[ -n "$mean" ] || fail "the difference view reported no numbers"
+at_least "$mean" 0.1 || fail "the difference view reports a mean angle of $mean degrees between cells and trilinear"
+# Reload: every feature that can reload did, and the image is the same.
+grep -q "meshes: reloaded" log.txt && grep -q "sphere tracing: reloaded" log.txt || fail "the shader reload was not reported"
+d=$(FIELD=differs field after_reload.png cells_ref.png)
+[ "$d" = 0.0000 ] || fail "after_reload.png differs from cells_ref.png ($d): reloading the same shaders changed the image"
 echo "panel script: all checks passed"

@@ -95,6 +95,8 @@ class SphereTraceFeature final : public engine::render::RenderFeature {
   void prepare(engine::render::FrameContext& frame) override;
   void recordPass(engine::render::PassContext& pass) override;
   void drawUi() override;
+  // Rebuilds the six pipelines from the SPIR-V on disk; a failure keeps the old ones.
+  engine::Status reloadShaders() override;
 
   Settings& settings() { return settings_; }
   const Stats& stats() const { return stats_; }
@@ -112,11 +114,17 @@ class SphereTraceFeature final : public engine::render::RenderFeature {
     std::uint32_t count = 0;
   };
 
-  engine::Status createPipelines(const engine::render::RendererFormats& formats);
+  // [method]: front faces with conservative depth, back faces (near plane), shading.
+  struct Pipelines {
+    engine::gpu::Pipeline depthFront[2];
+    engine::gpu::Pipeline depthNear[2];
+    engine::gpu::Pipeline shade[2];
+  };
+  engine::Expected<Pipelines> createPipelines() const;
   void createSamplers();
   const FieldTexture* acquireTexture(const SdfAsset& asset, std::uint32_t method, bool half, std::uint64_t frame);
   engine::Expected<FieldTexture> uploadTexture(const SdfAsset& asset, std::uint32_t method, bool half);
-  void releaseUnusedTextures(std::uint64_t frame);
+  void releaseUnusedTextures(std::uint64_t frame, std::uint32_t framesInFlight);
   void collectDraws(engine::render::FrameContext& frame);
   void recordDraws(VkCommandBuffer cmd, VkPipelineLayout layout, Range range) const;
   void recordMethod(engine::render::PassContext& pass, std::uint32_t method);
@@ -125,13 +133,10 @@ class SphereTraceFeature final : public engine::render::RenderFeature {
   Settings settings_;
   Stats stats_;
   const engine::gpu::Context* context_ = nullptr;
-  std::uint32_t framesInFlight_ = 1;
   std::unique_ptr<FieldTextureBindings> bindings_;
   VkSampler samplers_[2] = {VK_NULL_HANDLE, VK_NULL_HANDLE};  // by method: linear, nearest
-  // [method]: front faces with conservative depth, back faces (near plane), shading.
-  engine::gpu::Pipeline depthFront_[2];
-  engine::gpu::Pipeline depthNear_[2];
-  engine::gpu::Pipeline shade_[2];
+  engine::render::RendererFormats formats_;
+  Pipelines pipelines_;
   std::map<TextureKey, FieldTexture> textures_;
   std::set<TextureKey> failedTextures_;  // reported once, not retried
   engine::render::PerFrameBuffer drawBuffer_;

@@ -58,7 +58,6 @@ engine::Status SphereTraceFeature::initialize(const engine::gpu::Context& contex
                                               const engine::render::RendererFormats& formats,
                                               std::uint32_t framesInFlight) {
   context_ = &context;
-  framesInFlight_ = framesInFlight;
   ENGINE_TRY(checkFieldFormats(context));
   const bool bindless = options_.allowBindless && context.capabilities().descriptorIndexing;
   ENGINE_TRY_ASSIGN(bindings_, FieldTextureBindings::create(context, bindless));
@@ -66,7 +65,17 @@ engine::Status SphereTraceFeature::initialize(const engine::gpu::Context& contex
   createSamplers();
   drawBuffer_ = engine::render::PerFrameBuffer(context, framesInFlight, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT,
                                                "sphere trace draws");
-  return createPipelines(formats);
+  formats_ = formats;
+  ENGINE_TRY_ASSIGN(pipelines_, createPipelines());
+  return {};
+}
+
+// Built aside and swapped in only when all six were created: a failure keeps the old ones.
+engine::Status SphereTraceFeature::reloadShaders() {
+  ENGINE_TRY_ASSIGN(Pipelines fresh, createPipelines());
+  context_->waitIdle();  // frames in flight may still use the old pipelines
+  pipelines_ = std::move(fresh);
+  return {};
 }
 
 void SphereTraceFeature::createSamplers() {
@@ -88,7 +97,9 @@ void SphereTraceFeature::createSamplers() {
   }
 }
 
-engine::Status SphereTraceFeature::createPipelines(const engine::render::RendererFormats& formats) {
+engine::Expected<SphereTraceFeature::Pipelines> SphereTraceFeature::createPipelines() const {
+  const engine::render::RendererFormats& formats = formats_;
+  Pipelines pipelines;
   const std::string suffix = bindings_->bindless() ? "_bindless.frag" : ".frag";
   ENGINE_TRY_ASSIGN(auto vert, engine::gpu::ShaderModule::load(*context_, "sphere_trace.vert"));
   for (std::uint32_t method = 0; method < kTraceMethodCount; ++method) {
@@ -108,12 +119,12 @@ engine::Status SphereTraceFeature::createPipelines(const engine::render::Rendere
     desc.name = std::string("sphere trace ") + kMethodNames[method] + " depth";
     desc.fragment = depthFrag.handle();
     desc.cullMode = VK_CULL_MODE_BACK_BIT;
-    ENGINE_TRY_ASSIGN(depthFront_[method], engine::gpu::Pipeline::createGraphics(*context_, desc));
+    ENGINE_TRY_ASSIGN(pipelines.depthFront[method], engine::gpu::Pipeline::createGraphics(*context_, desc));
 
     desc.name = std::string("sphere trace ") + kMethodNames[method] + " depth near";
     desc.fragment = nearFrag.handle();
     desc.cullMode = VK_CULL_MODE_FRONT_BIT;
-    ENGINE_TRY_ASSIGN(depthNear_[method], engine::gpu::Pipeline::createGraphics(*context_, desc));
+    ENGINE_TRY_ASSIGN(pipelines.depthNear[method], engine::gpu::Pipeline::createGraphics(*context_, desc));
 
     // Shading: the prepass decided visibility; the box only selects candidate pixels. Its cull
     // mode follows the object's prepass variant (dynamic state, core in Vulkan 1.3).
@@ -123,9 +134,9 @@ engine::Status SphereTraceFeature::createPipelines(const engine::render::Rendere
     desc.depthTest = false;
     desc.depthWrite = false;
     desc.extraDynamicStates = {VK_DYNAMIC_STATE_CULL_MODE};
-    ENGINE_TRY_ASSIGN(shade_[method], engine::gpu::Pipeline::createGraphics(*context_, desc));
+    ENGINE_TRY_ASSIGN(pipelines.shade[method], engine::gpu::Pipeline::createGraphics(*context_, desc));
   }
-  return {};
+  return pipelines;
 }
 
 engine::Expected<SphereTraceFeature::FieldTexture> SphereTraceFeature::uploadTexture(const SdfAsset& asset,
@@ -172,9 +183,9 @@ const SphereTraceFeature::FieldTexture* SphereTraceFeature::acquireTexture(const
 
 // A texture last drawn by frame L is free once frame L + framesInFlight is being prepared: that
 // frame's slot waited for L's fence, and later frames no longer reference the texture.
-void SphereTraceFeature::releaseUnusedTextures(std::uint64_t frame) {
+void SphereTraceFeature::releaseUnusedTextures(std::uint64_t frame, std::uint32_t framesInFlight) {
   for (auto it = textures_.begin(); it != textures_.end();) {
-    if (it->second.lastUsedFrame + framesInFlight_ <= frame) {
+    if (it->second.lastUsedFrame + framesInFlight <= frame) {
       bindings_->remove(it->second.slot);
       it = textures_.erase(it);
     } else {
@@ -242,7 +253,7 @@ void SphereTraceFeature::prepare(engine::render::FrameContext& frame) {
   stats_ = Stats{};
   stats_.bindless = bindless;
   collectDraws(frame);
-  releaseUnusedTextures(frame.frameNumber);
+  releaseUnusedTextures(frame.frameNumber, frame.framesInFlight);
   stats_.textures = std::uint32_t(textures_.size());
   for (const auto& [key, texture] : textures_) stats_.textureBytes += texture.bytes;
 }
@@ -276,13 +287,13 @@ void SphereTraceFeature::recordMethod(engine::render::PassContext& pass, std::ui
   const VkShaderStageFlags stages = VK_SHADER_STAGE_VERTEX_BIT | VK_SHADER_STAGE_FRAGMENT_BIT;
   if (prepass) {
     for (const bool near : {false, true}) {
-      const engine::gpu::Pipeline& pipeline = near ? depthNear_[method] : depthFront_[method];
+      const engine::gpu::Pipeline& pipeline = near ? pipelines_.depthNear[method] : pipelines_.depthFront[method];
       vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, pipeline.handle());
       vkCmdPushConstants(cmd, pipeline.layout(), stages, 0, sizeof(push), &push);
       recordDraws(cmd, pipeline.layout(), near ? near_[method] : front_[method]);
     }
   } else {
-    const engine::gpu::Pipeline& pipeline = shade_[method];
+    const engine::gpu::Pipeline& pipeline = pipelines_.shade[method];
     vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, pipeline.handle());
     vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, pipeline.layout(), 0, 1, &pass.sceneSet, 0, nullptr);
     vkCmdPushConstants(cmd, pipeline.layout(), stages, 0, sizeof(push), &push);

@@ -56,6 +56,8 @@ TEST(Script, BadLinesNameFileLineAndProblem) {
       {"frame 0: panel=maybe\n", "s.txt:1: panel 'maybe' is not on or off"},
       {"frame 0: view=8\n", "s.txt:1: view '8' is not 0..7"},
       {"frame 0: camera=free\n", "s.txt:1: camera 'free' is not orbit or fly"},
+      {"frame 0: reload-shaders=all\n", "s.txt:1: 'reload-shaders' takes no value"},
+      {"frame 0: split=both\n", "s.txt:1: setting 'split': \"both\" is not one of off, vertical, horizontal"},
   };
   for (const Case& c : cases) {
     const auto script = parseScript(c.text, "s.txt");

@@ -25,6 +25,7 @@ TEST(Tuning, EveryNameParsesBackToItsValue) {
   for (DebugView v : {DebugView::None, DebugView::Normals, DebugView::Depth, DebugView::Cells, DebugView::Evals,
                       DebugView::Wireframe})
     EXPECT_EQ(parseDebugView(debugViewName(v)), v);
+  for (SplitMode m : {SplitMode::Off, SplitMode::Vertical, SplitMode::Horizontal}) EXPECT_EQ(parseSplitMode(splitModeName(m)), m);
   EXPECT_FALSE(parseMethod("Cells").has_value()) << "names are case-sensitive, as on the command line";
   EXPECT_FALSE(parseNormalMode("").has_value());
 }
@@ -72,6 +73,12 @@ TEST(Tuning, SettingsFileRoundTrip) {
   t.debugView = DebugView::Wireframe;
   t.frontToBack = false;
   t.certified = true;
+  t.split = SplitMode::Horizontal;
+  t.splitPosition = 0.3f;  // exact in binary and in the JSON text
+  t.compareMethod = Method::Hermite;
+  t.compareResolution = 48;
+  t.compareNormals = hsdf::NormalMode::Exact;
+  t.difference = true;
   const auto file = tempFile("round_trip.json");
   ASSERT_TRUE(saveTuning(file, t).ok());
   const auto loaded = loadTuning(file);
@@ -109,6 +116,13 @@ TEST(Tuning, BadSettingsFilesNameTheKeyAndFile) {
       {R"({"resolution": 3, "padding": 1})", "--resolution 3 leaves no cells inside --padding 1"},
       {R"([1, 2])", "expected a JSON object of settings"},
       {R"({"method": )", "not valid JSON"},
+      {R"({"split": "diagonal"})", "setting 'split': \"diagonal\" is not one of off, vertical, horizontal"},
+      {R"({"split_position": 1.0})", "setting 'split_position': 1 is outside 0.05..0.95"},
+      {R"({"split_position": "middle"})", "setting 'split_position': expected a number"},
+      {R"({"compare_method": "mesh"})", "setting 'compare_method': the compared method must be an SDF method"},
+      {R"({"compare_resolution": 1})", "setting 'compare_resolution': 1 is outside 2..256"},
+      {R"({"compare_resolution": 3, "padding": 1})", "--compare-resolution 3 leaves no cells inside --padding 1"},
+      {R"({"difference": 1})", "setting 'difference': expected true or false"},
   };
   const auto file = tempFile("bad.json");
   for (const Case& c : cases) {
@@ -123,6 +137,33 @@ TEST(Tuning, BadSettingsFilesNameTheKeyAndFile) {
   EXPECT_TRUE(contains(missing.error().message, "does_not_exist.json")) << missing.error().message;
 }
 
+// Tricky: the compared side's K follows the main K (2K) unless set, is capped at the top of the
+// range (K 200 would ask for 400), and a compared method of cells draws the main asset (its K);
+// n, refinement and fp16 stay shared with the main side.
+TEST(Tuning, CompareTuningFollowsTheRuleOfThumb) {
+  TuningState t;
+  t.resolution = 40;
+  t.subdivisions = 5;
+  EXPECT_FALSE(comparing(t));
+  t.split = SplitMode::Vertical;
+  EXPECT_TRUE(comparing(t));
+  EXPECT_EQ(effectiveCompareResolution(t), 80);
+  t.resolution = 200;
+  EXPECT_EQ(effectiveCompareResolution(t), 256);
+  t.compareResolution = 24;
+  EXPECT_EQ(effectiveCompareResolution(t), 24);
+  const TuningState c = compareTuning(t);
+  EXPECT_EQ(c.method, Method::Trilinear);
+  EXPECT_EQ(c.resolution, 24);
+  EXPECT_EQ(c.normals, hsdf::NormalMode::CentralDifferences);
+  EXPECT_EQ(c.subdivisions, 5u);
+  t.compareMethod = Method::Cells;
+  EXPECT_EQ(compareTuning(t).resolution, 200);
+  t.split = SplitMode::Off;
+  t.difference = true;
+  EXPECT_TRUE(comparing(t));
+}
+
 // Tricky: script values arrive as text: "32" must become a number, "true" a bool and "cells" a
 // name, through the same checks as a settings file; a refused value must leave the state as it was
 // (the panel and the running scene keep the last good tuning).
@@ -132,6 +173,12 @@ TEST(Tuning, SetTuningValueFromText) {
   ASSERT_TRUE(setTuningValue(t, "fp16", "true").ok());
   ASSERT_TRUE(setTuningValue(t, "method", "trilinear").ok());
   ASSERT_TRUE(setTuningValue(t, "normals", "central").ok());
+  ASSERT_TRUE(setTuningValue(t, "split", "vertical").ok());
+  ASSERT_TRUE(setTuningValue(t, "split_position", "0.25").ok());
+  ASSERT_TRUE(setTuningValue(t, "compare_resolution", "0").ok());
+  EXPECT_EQ(t.split, SplitMode::Vertical);
+  EXPECT_EQ(t.splitPosition, 0.25f);
+  EXPECT_EQ(t.compareResolution, 0);
   EXPECT_EQ(t.resolution, 32);
   EXPECT_TRUE(t.fp16);
   EXPECT_EQ(t.method, Method::Trilinear);

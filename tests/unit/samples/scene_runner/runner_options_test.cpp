@@ -67,7 +67,9 @@ TEST(RunnerOptions, EveryOptionsGoodValue) {
                              "trilinear", "--resolution", "32", "--padding", "2", "--subdivisions", "5", "--refine", "0",
                              "--fp16", "--normals", "central", "--debug-view", "evals", "--side-by-side",
                              "--no-front-to-back", "--certified", "--view", "3", "--camera", "1,2,3,4,5,6", "--save-settings", "s.json",
-                             "--script", kBunny, "--bake-budget-mib", "64", "--ui-ini", "layout.ini"});
+                             "--script", kBunny, "--bake-budget-mib", "64", "--ui-ini", "layout.ini", "--split",
+                             "horizontal", "--split-position", "0.25", "--compare-method", "hermite",
+                             "--compare-resolution", "48", "--compare-normals", "exact", "--difference"});
   EXPECT_EQ(o.scene, kBunny);
   EXPECT_TRUE(o.headless);
   EXPECT_EQ(o.width, 96u);
@@ -97,6 +99,15 @@ TEST(RunnerOptions, EveryOptionsGoodValue) {
   EXPECT_EQ(o.script, kBunny);  // parsed when the run starts; here only its existence is checked
   EXPECT_EQ(o.bakeBudgetMiB, 64u);
   EXPECT_EQ(o.uiIni, "layout.ini");
+  EXPECT_EQ(o.tuning.split, samples::SplitMode::Horizontal);
+  EXPECT_EQ(o.tuning.splitPosition, 0.25f);
+  EXPECT_EQ(o.tuning.compareMethod, Method::Hermite);
+  EXPECT_EQ(o.tuning.compareResolution, 48);
+  EXPECT_EQ(o.tuning.compareNormals, hsdf::NormalMode::Exact);
+  EXPECT_TRUE(o.tuning.difference);
+  EXPECT_EQ(parseOk({"--split", "vertical"}).tuning.split, samples::SplitMode::Vertical);
+  EXPECT_EQ(parseOk({"--split", "off"}).tuning.split, samples::SplitMode::Off);
+  EXPECT_EQ(parseOk({"--compare-method", "cells"}).tuning.compareMethod, Method::Cells);
 
   // Every remaining name of the typed options.
   EXPECT_EQ(parseOk({"--method", "mesh"}).tuning.method, Method::Mesh);
@@ -166,6 +177,12 @@ TEST(RunnerOptions, BadValuesNameTheOption) {
       {{"--bake-budget-mib", "0"}, "--bake-budget-mib"},
       {{"--sdf", kHsdf, "--method", "mesh"}, "--method mesh: a .hsdf file (--sdf) has no triangles"},
       {{"--no-such-option"}, "--no-such-option"},
+      {{"--split", "diagonal"}, "--split: 'diagonal' is not one of off, vertical, horizontal"},
+      {{"--split-position", "0.99"}, "--split-position"},
+      {{"--compare-method", "mesh"}, "--compare-method: 'mesh' is not one of cells, trilinear, hermite"},
+      {{"--compare-resolution", "300"}, "--compare-resolution"},
+      {{"--compare-resolution", "3", "--padding", "1"}, "--compare-resolution 3 leaves no cells inside --padding 1"},
+      {{"--compare-normals", "forward"}, "--compare-normals: 'forward' is not one of exact, central"},
   };
   for (const Case& c : cases) {
     const ParseResult result = parse(c.args);

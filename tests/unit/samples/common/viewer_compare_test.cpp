@@ -1,0 +1,242 @@
+// The Viewer's split-screen comparison, difference view and shader reload (samples/common/viewer.h,
+// difference_view.h), headless on lavapipe with the validation layers on, at 128x96: real pixels
+// read back from the frame, compared with frames drawn by one method alone.
+#include <gtest/gtest.h>
+
+#include <cstdint>
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include "engine/gpu/pipeline.h"
+#include "engine/render/mesh_feature.h"
+#include "hermite_sdf/sphere_trace_feature.h"
+#include "viewer.h"
+
+namespace samples {
+namespace {
+
+constexpr std::uint32_t kWidth = 128, kHeight = 96;
+
+std::unique_ptr<Viewer> viewTorus(const TuningState& tuning) {
+  ViewerDesc desc;
+  desc.width = kWidth;
+  desc.height = kHeight;
+  desc.headless = true;
+  desc.validation = true;
+  desc.device = engine::gpu::DevicePreference::Software;
+  auto viewer = Viewer::create(desc);
+  EXPECT_TRUE(viewer.ok()) << viewer.error().message;
+  if (!viewer.ok()) return nullptr;
+  SceneDesc scene;
+  scene.shape = "torus";
+  scene.groundPlane = false;
+  const engine::Status loaded = (*viewer)->loadScene(scene, tuning);
+  EXPECT_TRUE(loaded.ok()) << loaded.error().message;
+  return loaded.ok() ? std::move(*viewer) : nullptr;
+}
+
+// One frame with `tuning` (re-bakes finished first), read back as RGBA8.
+std::vector<std::uint8_t> frameWith(Viewer& viewer, const TuningState& tuning) {
+  viewer.setTuning(tuning);
+  EXPECT_TRUE(viewer.waitForBake().ok());
+  EXPECT_TRUE(viewer.step().ok());
+  return viewer.renderer().readbackColor();
+}
+
+struct Rect {
+  std::uint32_t x0, y0, x1, y1;
+};
+
+// Pixels of `rect` whose colour differs between a and b by more than `tolerance` in a channel.
+std::size_t differingPixels(const std::vector<std::uint8_t>& a, const std::vector<std::uint8_t>& b, Rect rect,
+                            int tolerance = 0) {
+  std::size_t count = 0;
+  for (std::uint32_t y = rect.y0; y < rect.y1; ++y)
+    for (std::uint32_t x = rect.x0; x < rect.x1; ++x)
+      for (std::size_t c = 0; c < 3; ++c) {
+        const std::size_t i = (std::size_t(y) * kWidth + x) * 4 + c;
+        if (std::abs(int(a[i]) - int(b[i])) > tolerance) {
+          ++count;
+          break;
+        }
+      }
+  return count;
+}
+
+TuningState cellsK16() {
+  TuningState tuning;
+  tuning.method = Method::Cells;
+  tuning.resolution = 16;
+  return tuning;
+}
+
+// Tricky: each side of the split must be exactly the frame its method draws alone, with one
+// camera: the regions share the projection (full viewport, scissored), and the compared side is a
+// separate bake (2K = 32, central normals) swapped into the same entity only for its region. A
+// renderer that let a region's per-frame data overwrite the other's (one frame slot for both), or
+// shifted the projection to the rectangle, would break one half. The methods differ enough in each
+// half that the comparison can fail.
+TEST(ViewerCompare, SplitShowsEachMethodInItsRegion) {
+  const TuningState main = cellsK16();
+  auto viewer = viewTorus(main);
+  ASSERT_NE(viewer, nullptr);
+  TuningState trilinear = main;
+  trilinear.method = Method::Trilinear;
+  trilinear.resolution = 32;  // 2K, the compared side's default
+  trilinear.normals = hsdf::NormalMode::CentralDifferences;
+  const std::vector<std::uint8_t> onlyTrilinear = frameWith(*viewer, trilinear);
+  const std::vector<std::uint8_t> onlyCells = frameWith(*viewer, main);
+
+  for (const SplitMode mode : {SplitMode::Vertical, SplitMode::Horizontal}) {
+    SCOPED_TRACE(splitModeName(mode));
+    TuningState split = main;
+    split.split = mode;
+    split.splitPosition = 0.4f;  // not the middle: the divider position reaches the rectangles
+    const std::vector<std::uint8_t> both = frameWith(*viewer, split);
+    EXPECT_EQ(viewer->compareResolutionDrawn(), 32);
+    const bool vertical = mode == SplitMode::Vertical;
+    const std::uint32_t at = vertical ? 51 : 38;  // round(0.4 * 128), round(0.4 * 96)
+    const Rect first = vertical ? Rect{0, 0, at, kHeight} : Rect{0, 0, kWidth, at};
+    const Rect second = vertical ? Rect{at, 0, kWidth, kHeight} : Rect{0, at, kWidth, kHeight};
+    EXPECT_GT(differingPixels(onlyCells, onlyTrilinear, first), 20u) << "the methods must differ for the test to mean anything";
+    EXPECT_GT(differingPixels(onlyCells, onlyTrilinear, second), 20u);
+    EXPECT_EQ(differingPixels(both, onlyCells, first), 0u) << "the first region is the cells frame";
+    EXPECT_EQ(differingPixels(both, onlyTrilinear, second), 0u) << "the second region is the trilinear frame";
+  }
+  // After a split frame the entity holds the main asset and method again.
+  const std::vector<std::uint8_t> after = frameWith(*viewer, main);
+  EXPECT_EQ(differingPixels(after, onlyCells, {0, 0, kWidth, kHeight}), 0u);
+  const engine::Status closed = viewer->close();
+  EXPECT_TRUE(closed.ok()) << closed.error().message;
+}
+
+// Tricky: the difference view compares two frames drawn and read back within one step; the same
+// method on both sides must give exactly 0 degrees and no coverage difference (so any asset or
+// state leaking between the two frames shows up), and the heat map must be what reaches the
+// frame (the overlay copies it before the UI).
+TEST(ViewerCompare, DifferenceOfIdenticalMethodsIsZero) {
+  TuningState tuning = cellsK16();
+  tuning.method = Method::Trilinear;
+  tuning.normals = hsdf::NormalMode::Exact;
+  tuning.compareMethod = Method::Trilinear;
+  tuning.compareResolution = 16;
+  tuning.compareNormals = hsdf::NormalMode::Exact;
+  tuning.difference = true;
+  auto viewer = viewTorus(tuning);
+  ASSERT_NE(viewer, nullptr);
+  ASSERT_TRUE(viewer->waitForBake().ok());
+  ASSERT_TRUE(viewer->step().ok());
+  ASSERT_TRUE(viewer->difference().has_value());
+  const NormalDifference& d = *viewer->difference();
+  EXPECT_GT(d.coveredBoth, 500u) << "the torus covers a good part of the image";
+  EXPECT_EQ(d.coverageDiffers, 0u);
+  EXPECT_EQ(d.maxDegrees, 0.0);
+  EXPECT_EQ(viewer->renderer().readbackColor(), heatMapImage(d, viewer->differenceRange()));
+  EXPECT_TRUE(viewer->close().ok());
+}
+
+// Tricky: trilinear sphere tracing at K = 16 and the Hermite cells at K = 16 see different
+// surfaces (the paper's point): the angles must be large on average, some pixels covered by one
+// only, while turning the difference view off gives the shaded frame back.
+TEST(ViewerCompare, DifferenceOfTrilinearAndCellsIsLarge) {
+  TuningState tuning = cellsK16();
+  tuning.compareResolution = 16;
+  tuning.difference = true;
+  auto viewer = viewTorus(tuning);
+  ASSERT_NE(viewer, nullptr);
+  ASSERT_TRUE(viewer->waitForBake().ok());
+  ASSERT_TRUE(viewer->step().ok());
+  ASSERT_TRUE(viewer->difference().has_value());
+  const NormalDifference d = *viewer->difference();
+  EXPECT_GT(d.coveredBoth, 500u);
+  EXPECT_GT(d.meanDegrees, 1.0) << "trilinear K 16 normals are visibly off";
+  EXPECT_GT(d.maxDegrees, 10.0);
+  EXPECT_GT(d.coverageDiffers, 0u) << "the silhouettes differ";
+  EXPECT_LT(d.coverageDiffersShare(), 0.2) << "but the same object is drawn";
+  const std::vector<std::uint8_t> heat = viewer->renderer().readbackColor();
+  tuning.difference = false;
+  const std::vector<std::uint8_t> shaded = frameWith(*viewer, tuning);
+  EXPECT_FALSE(viewer->difference().has_value());
+  EXPECT_GT(differingPixels(heat, shaded, {0, 0, kWidth, kHeight}), 500u);
+  EXPECT_TRUE(viewer->close().ok());
+}
+
+// A copy of the shader folder in which `replace` maps file names to the file copied in their place
+// ("" : a file of garbage).
+std::filesystem::path shaderCopy(const std::string& name, const std::vector<std::pair<std::string, std::string>>& replace) {
+  const std::filesystem::path from = engine::gpu::shaderDirectory();
+  const std::filesystem::path to = std::filesystem::path(::testing::TempDir()) / name;
+  std::filesystem::remove_all(to);
+  std::filesystem::copy(from, to);
+  for (const auto& [file, source] : replace) {
+    if (!std::filesystem::exists(to / file)) continue;  // e.g. the bindless variant
+    std::filesystem::remove(to / file);
+    if (source.empty()) {
+      std::FILE* out = std::fopen((to / file).c_str(), "wb");
+      std::fputs("this is not SPIR-V: 48 bytes of a broken build..", out);  // a multiple of 4: the header check
+      std::fclose(out);
+    } else {
+      std::filesystem::copy_file(to / source, to / file);
+    }
+  }
+  return to;
+}
+
+// Tricky: a reload must take the SPIR-V on disk now, not the modules made at start-up: the
+// trilinear shading shader replaced by the Hermite one changes the colours (the prepass, not
+// replaced, keeps the coverage). A broken file must fail with the file named, keep the old
+// pipelines drawing the same frame, and cause no validation message; going back to the build's
+// shaders restores the original frame.
+TEST(ViewerCompare, ReloadShadersTakesFreshSpirvAndKeepsOldPipelinesOnFailure) {
+  TuningState tuning = cellsK16();
+  tuning.method = Method::Trilinear;
+  auto viewer = viewTorus(tuning);
+  ASSERT_NE(viewer, nullptr);
+  const std::vector<std::uint8_t> original = frameWith(*viewer, tuning);
+  const std::string dir = engine::gpu::shaderDirectory().string();
+  auto* mesh = viewer->renderer().feature<engine::render::MeshFeature>();
+  auto* trace = viewer->renderer().feature<hsdf::SphereTraceFeature>();
+  ASSERT_NE(mesh, nullptr);
+  ASSERT_NE(trace, nullptr);
+
+  const auto swapped = shaderCopy("hsdf_swapped_shaders", {{"sphere_trace_trilinear_shade.frag.spv", "sphere_trace_hermite_shade.frag.spv"},
+                                                           {"sphere_trace_trilinear_shade_bindless.frag.spv", "sphere_trace_hermite_shade_bindless.frag.spv"}});
+  ASSERT_EQ(setenv("HSDF_SHADER_DIR", swapped.c_str(), 1), 0);
+  ASSERT_TRUE(trace->reloadShaders().ok());
+  ASSERT_TRUE(viewer->step().ok());
+  const std::vector<std::uint8_t> reloaded = viewer->renderer().readbackColor();
+  EXPECT_GT(differingPixels(reloaded, original, {0, 0, kWidth, kHeight}), 100u) << "the new shading shader draws";
+
+  const auto broken = shaderCopy("hsdf_broken_shaders", {{"mesh.frag.spv", ""}, {"sphere_trace_trilinear_shade.frag.spv", ""},
+                                                         {"sphere_trace_trilinear_shade_bindless.frag.spv", ""}});
+  ASSERT_EQ(setenv("HSDF_SHADER_DIR", broken.c_str(), 1), 0);
+  const std::vector<engine::render::Renderer::ShaderReload> results = viewer->reloadShaders();
+  ASSERT_EQ(results.size(), 3u);
+  for (const auto& r : results) {
+    SCOPED_TRACE(r.feature);
+    if (r.feature == "hermite cells") continue;  // its files are intact (or it cannot reload yet)
+    ASSERT_FALSE(r.status.ok());
+    EXPECT_NE(r.status.error().message.find("not SPIR-V"), std::string::npos) << r.status.error().message;
+    EXPECT_NE(r.status.error().message.find(r.feature == "meshes" ? "mesh.frag.spv" : "sphere_trace_trilinear_shade"),
+              std::string::npos)
+        << r.status.error().message;
+  }
+  EXPECT_NE(viewer->shaderReloadReport().find("not SPIR-V"), std::string::npos) << viewer->shaderReloadReport();
+  ASSERT_TRUE(viewer->step().ok());
+  EXPECT_EQ(viewer->renderer().readbackColor(), reloaded) << "the old (swapped) pipelines keep drawing";
+
+  ASSERT_EQ(setenv("HSDF_SHADER_DIR", dir.c_str(), 1), 0);
+  EXPECT_TRUE(mesh->reloadShaders().ok());
+  EXPECT_TRUE(trace->reloadShaders().ok());
+  ASSERT_TRUE(viewer->step().ok());
+  EXPECT_EQ(viewer->renderer().readbackColor(), original);
+  unsetenv("HSDF_SHADER_DIR");
+  const engine::Status closed = viewer->close();
+  EXPECT_TRUE(closed.ok()) << closed.error().message;
+}
+
+}  // namespace
+}  // namespace samples
