@@ -16,7 +16,7 @@ double mebibytes(std::uint64_t bytes) { return double(bytes) / (1024.0 * 1024.0)
 
 // Method names in the order of the Method enum.
 constexpr const char* kMethodLabels[] = {"mesh (triangles)", "Hermite cells (the paper)", "trilinear sphere tracing",
-                                         "dense Hermite sphere tracing"};
+                                         "dense Hermite sphere tracing", "Hermite cells, runs along x"};
 constexpr const char* kDebugViewLabels[] = {"shaded", "normals", "depth", "cells", "evaluations", "cell boxes"};
 
 bool sliderU32(const char* label, std::uint32_t& value, IntRange range) {
@@ -64,7 +64,7 @@ void TuningPanel::drawMethod() {
   int method = int(t.method);
   const bool sdf = viewer_.sdfAsset() || viewer_.canRebake();
   if (ImGui::BeginCombo("method", kMethodLabels[method])) {
-    for (int m = 0; m < 4; ++m) {
+    for (int m = 0; m < int(std::size(kMethodLabels)); ++m) {
       const bool available = m == int(Method::Mesh) ? viewer_.hasMeshes() : sdf;
       if (available && ImGui::Selectable(kMethodLabels[m], m == method)) {
         t.method = Method(m);
@@ -148,7 +148,7 @@ void TuningPanel::drawStatistics() {
     // The compared side's own field (e.g. trilinear at 2K), when it has one.
     const TuningState& t = viewer_.tuning();
     const auto k = std::uint64_t(viewer_.compareResolutionDrawn());
-    if (comparing(t) && t.compareMethod != Method::Cells && k != std::uint64_t(s.resolution)) {
+    if (comparing(t) && !drawsCells(t.compareMethod) && k != std::uint64_t(s.resolution)) {
       const std::uint64_t scalars = (t.compareMethod == Method::Hermite ? 4 : 1) * k * k * k;
       const std::string label = fmt::format("compared, K {}", k);
       row(label.c_str(), scalars, 4 * scalars, 2 * scalars);
@@ -175,7 +175,7 @@ void TuningPanel::drawComparison() {
     t.compareMethod = Method(compared + 1);
     changed = true;
   }
-  if (t.compareMethod != Method::Cells && viewer_.canRebake()) {
+  if (!drawsCells(t.compareMethod) && viewer_.canRebake()) {
     // 0 = the rule of thumb (2K); re-bakes on release, like K.
     if (!ImGui::IsAnyItemActive()) compareResolution_ = t.compareResolution;
     ImGui::SliderInt("compared K (0: 2K)", &compareResolution_, 0, kPanelResolutionRange.max);

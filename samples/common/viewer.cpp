@@ -145,7 +145,7 @@ void Viewer::setTuning(const TuningState& tuning) {
 // Starts the compared side's bake when it should draw another K (or padding) than it has. The
 // main asset at the same K and padding is the same field: it is shared, not baked twice.
 void Viewer::updateCompareBake() {
-  if (!comparing(tuning_) || tuning_.compareMethod == Method::Cells || !bakeSource_) return;
+  if (!comparing(tuning_) || drawsCells(tuning_.compareMethod) || !bakeSource_) return;
   const int k = effectiveCompareResolution(tuning_);
   const int padding = tuning_.padding;
   const bool have = compareAsset_ && compareResolution_ == k && comparePadding_ == padding;
@@ -185,7 +185,7 @@ void Viewer::finishCompareBake() {
 }
 
 int Viewer::compareResolutionDrawn() const {
-  if (tuning_.compareMethod == Method::Cells || !compareAsset_) return bakedEntity_ ? bakedResolution_ : 0;
+  if (drawsCells(tuning_.compareMethod) || !compareAsset_) return bakedEntity_ ? bakedResolution_ : 0;
   return compareResolution_;
 }
 
@@ -293,7 +293,7 @@ void Viewer::showState(const TuningState& tuning, const std::shared_ptr<const hs
 // The compared side's asset: its own bake, or the main one (a compared method of cells, a .hsdf
 // file, or while the first compared bake runs).
 std::shared_ptr<const hsdf::SdfAsset> Viewer::comparedAsset(const std::shared_ptr<const hsdf::SdfAsset>& main) const {
-  if (tuning_.compareMethod == Method::Cells || !compareAsset_) return main;
+  if (drawsCells(tuning_.compareMethod) || !compareAsset_) return main;
   return compareAsset_;
 }
 

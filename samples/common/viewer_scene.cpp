@@ -138,7 +138,7 @@ Status Viewer::addBakedSdf(hsdf::BakeSource source, const SceneDesc& scene) {
 // Draws a baked .hsdf file; `frameIt`: its grid bounds are the scene's.
 Status Viewer::addSdfFile(const std::filesystem::path& file, bool frameIt) {
   ENGINE_TRY_ASSIGN(std::shared_ptr<const hsdf::SdfAsset> asset, loadSdfFile(file));
-  if (tuning_.method != Method::Cells && asset->field.samples.empty())
+  if (!drawsCells(tuning_.method) && asset->field.samples.empty())
     return makeError(fmt::format("{}: holds only cells; --method {} needs the dense field (bake without --cells)",
                                  file.string(), methodName(tuning_.method)));
   const hsdf::Aabb bounds = asset->cells.grid.bounds();

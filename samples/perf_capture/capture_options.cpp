@@ -10,7 +10,7 @@ namespace capture {
 namespace {
 
 constexpr std::uint32_t kMaxDimension = 16384;
-const std::vector<std::string> kMethods{"mesh", "trilinear", "hermite", "cells"};
+const std::vector<std::string> kMethods{"mesh", "trilinear", "hermite", "cells", "cells-runs"};
 const std::vector<std::string> kShapes{"torus", "sphere", "capsule", "box"};
 
 std::optional<std::string> parseSize(const std::string& text, Options& options) {
@@ -58,7 +58,7 @@ std::optional<std::string> parseMethods(const std::string& text, Options& option
   std::vector<std::string> methods;
   for (const std::string& item : splitList(text)) {
     if (std::find(kMethods.begin(), kMethods.end(), item) == kMethods.end())
-      return "--methods: '" + item + "' is not one of mesh, trilinear, hermite, cells";
+      return "--methods: '" + item + "' is not one of mesh, trilinear, hermite, cells, cells-runs";
     if (std::find(methods.begin(), methods.end(), item) == methods.end()) methods.push_back(item);
   }
   options.methods = methods;

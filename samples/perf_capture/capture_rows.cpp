@@ -36,11 +36,15 @@ const Variant kVariants[] = {
     {"cells", "n=3 r=1 fp16", false, {.method = Method::Cells, .subdivisions = 3, .refineSteps = 1, .fp16 = true}},
     // The certified root search (docs/root-finding.md): its cost against the paper's fixed n above.
     {"cells", "certified", false, {.method = Method::Cells, .subdivisions = 3, .refineSteps = 1, .certified = true}},
+    // Issue 13's variant: the same cells and search, one box per run of cells along x.
+    {"cells-runs", "n=3 r=1", false, {.method = Method::CellRuns, .subdivisions = 3, .refineSteps = 1}},
+    {"cells-runs", "n=3 r=1 fp16", false, {.method = Method::CellRuns, .subdivisions = 3, .refineSteps = 1, .fp16 = true}},
 };
 
 RenderMethod renderMethodOf(Method method) {
   if (method == Method::Trilinear) return RenderMethod::TrilinearSphereTrace;
   if (method == Method::Hermite) return RenderMethod::HermiteSphereTrace;
+  if (method == Method::CellRuns) return RenderMethod::CellRuns;
   return RenderMethod::Cells;
 }
 
@@ -82,7 +86,7 @@ std::vector<RowSpec> buildRows(const Options& options) {
       row.state.resolution = k;
       row.resolution = k;
       row.render = renderMethodOf(v.tuning.method);
-      const bool cells = v.tuning.method == Method::Cells;  // the tracers have no n or r
+      const bool cells = samples::drawsCells(v.tuning.method);  // the tracers have no n or r
       row.subdivisions = cells ? v.tuning.subdivisions : 0;
       row.refine = cells ? v.tuning.refineSteps : 0;
       row.normals = v.tuning.normals;

@@ -183,6 +183,66 @@ TEST_F(HermiteCellsTest, CameraInsideBoundsAndInsideACell) {
   EXPECT_GT(renderer_->feature<hsdf::HermiteCellFeature>()->stats().nearCells, 0u);
 }
 
+// Cell runs (RenderMethod::CellRuns) draw the same cells as one box per run along x and walk them
+// in the fragment shader. Why these cases: the torus's rows hold long runs whose inner faces the
+// rays cross (the walk must continue into the next cell and stop at the first root); the box's
+// flat faces lie on the faces shared by cells of one run (the walk's per-cell dilated segments
+// must keep that root); fp16 records are read by address with the half layout; the bunny at K = 64
+// has runs cut at the maximum length inside long rows.
+TEST_F(HermiteCellsTest, CellRunsMatchReferenceForTorusBoxAndBunny) {
+  createCellRenderer(kSize, kSize);
+  struct Case {
+    const char* shape;
+    int k;
+    std::uint32_t subdivisions;
+    bool half;
+  };
+  for (const Case& test : {Case{"torus", 16, 3, false}, Case{"box", 16, 5, false}, Case{"torus", 16, 3, true},
+                           Case{"bunny", 64, 3, false}}) {
+    registry_ = ecs::Registry();
+    const auto asset = bakeAsset(test.shape, test.k);
+    ASSERT_NE(asset, nullptr);
+    const ecs::Entity entity = addSdf(registry_, asset, hsdf::RenderMethod::CellRuns, glm::mat4(1.0f), test.subdivisions);
+    registry_.get<hsdf::HermiteSdfRenderable>(entity).halfPrecision = test.half;
+    for (int view = 0; view < 6; view += 2) {
+      const std::string label = std::string(test.shape) + " runs" + (test.half ? " fp16" : "");
+      SCOPED_TRACE(label + " view " + std::to_string(view));
+      const ImageComparison c = compareView(*asset, orbitCamera(*asset, view), label.c_str());
+      if (test.half) {  // fp16 corners: the coverage and the surface, not the last digits of depth
+        EXPECT_GE(c.agreement(kSize * kSize), 0.999);
+        EXPECT_EQ(c.interiorHoles, 0);
+        EXPECT_EQ(c.interiorExtras, 0);
+      } else {
+        expectMatchesReference(c);
+      }
+    }
+    const hsdf::HermiteCellFeature::Stats& stats = renderer_->feature<hsdf::HermiteCellFeature>()->stats();
+    EXPECT_GT(stats.runs, 0u);
+    EXPECT_LT(stats.runs, stats.cells) << "some kept cells must share a run";
+  }
+}
+
+// Why: inside a cell the near plane cuts the run's front faces away; the runs' back-face path
+// (the near list) must find the surface in front of the eye, as the cells' does.
+TEST_F(HermiteCellsTest, CellRunsFromInsideACell) {
+  createCellRenderer(kSize, kSize);
+  const auto asset = bakeAsset("torus", 16);
+  ASSERT_NE(asset, nullptr);
+  addSdf(registry_, asset, hsdf::RenderMethod::CellRuns);
+  const hsdf::Aabb bounds = asset->surfaceBounds;
+  const glm::vec3 center(bounds.center());
+  const glm::vec3 hole = center + glm::vec3(0.0f, 0.05f * float(bounds.size().y), 0.0f);
+  const glm::vec3 ring = center + glm::vec3(float(bounds.size().x) * 0.5f, 0.0f, 0.0f);
+  const float h = float(asset->field.grid.spacing);
+  auto hit = hsdf::castRay(asset->field, {glm::dvec3(hole), glm::normalize(glm::dvec3(ring - hole))});
+  ASSERT_TRUE(hit.ok() && hit->has_value());
+  const glm::vec3 surface((*hit)->position);
+  const glm::vec3 eye = surface - 0.5f * h * glm::normalize(ring - hole);
+  const render::CameraView close = render::CameraView::lookAt(eye, surface + glm::vec3(0.0f, 0.3f * h, 0.0f), 1.2f, 0.25f * h, 1.0f);
+  expectMatchesReference(compareView(*asset, close, "runs inside a cell"));
+  EXPECT_GT(renderer_->feature<hsdf::HermiteCellFeature>()->stats().nearCells, 0u);
+}
+
 // Why: SDF depth written through gl_FragDepth and mesh depth from the rasterizer meet in one
 // depth buffer; the plane must cut the bunny exactly where the two surfaces cross.
 TEST_F(HermiteCellsTest, MeshPlaneCutsSdfWhereTheReferenceSays) {
