@@ -63,6 +63,7 @@ class HermiteCellFeature final : public engine::render::RenderFeature {
   void prepare(engine::render::FrameContext& frame) override;
   void recordPass(engine::render::PassContext& pass) override;
   void drawUi() override;
+  engine::Status reloadShaders() override;
 
   Settings& settings() { return settings_; }
   const Stats& stats() const { return stats_; }
@@ -82,13 +83,19 @@ class HermiteCellFeature final : public engine::render::RenderFeature {
   const engine::gpu::Context* context_ = nullptr;
   Settings settings_;
   Stats stats_;
-  // [precision][variant]: precision 0 = fp32, 1 = fp16 records.
-  engine::gpu::Pipeline depthFront_[2];
-  engine::gpu::Pipeline depthNear_[2];
-  engine::gpu::Pipeline resolve_;
-  engine::gpu::Pipeline wire_[2];  // DEBUG_VIEW_WIREFRAME: the boxes' edges
-  engine::gpu::Pipeline runsFront_;  // RenderMethod::CellRuns, both precisions
-  engine::gpu::Pipeline runsNear_;
+  struct Pipelines {
+    // [precision]: 0 = fp32, 1 = fp16 records.
+    engine::gpu::Pipeline depthFront[2];
+    engine::gpu::Pipeline depthNear[2];
+    engine::gpu::Pipeline wire[2];  // DEBUG_VIEW_WIREFRAME: the boxes' edges
+    engine::gpu::Pipeline runsFront;  // RenderMethod::CellRuns, both precisions
+    engine::gpu::Pipeline runsNear;
+    engine::gpu::Pipeline resolve;
+  };
+  engine::Expected<Pipelines> createPipelines() const;
+
+  engine::render::RendererFormats formats_;
+  Pipelines pipelines_;
   std::unique_ptr<struct CellBuffers> buffers_;
   engine::render::PerFrameBuffer drawData_;
   engine::render::PerFrameBuffer indirect_;

@@ -120,6 +120,23 @@ engine::Status HermiteCellFeature::initialize(const engine::gpu::Context& contex
                                              "hermite cell indirect");
   objects_ = engine::render::PerFrameBuffer(context, framesInFlight, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT,
                                             "hermite cell objects");
+  formats_ = formats;
+  ENGINE_TRY_ASSIGN(pipelines_, createPipelines());
+  return {};
+}
+
+// Built aside and swapped in only when every one was created: a failure keeps the old ones.
+engine::Status HermiteCellFeature::reloadShaders() {
+  ENGINE_TRY_ASSIGN(Pipelines fresh, createPipelines());
+  context_->waitIdle();  // frames in flight may still use the old pipelines
+  pipelines_ = std::move(fresh);
+  return {};
+}
+
+engine::Expected<HermiteCellFeature::Pipelines> HermiteCellFeature::createPipelines() const {
+  const engine::gpu::Context& context = *context_;
+  const engine::render::RendererFormats& formats = formats_;
+  Pipelines p;
   ENGINE_TRY_ASSIGN(auto vert, engine::gpu::ShaderModule::load(context, "cells.vert"));
   ENGINE_TRY_ASSIGN(auto depthFrag, engine::gpu::ShaderModule::load(context, "cells_depth.frag"));
   ENGINE_TRY_ASSIGN(auto nearFrag, engine::gpu::ShaderModule::load(context, "cells_depth_near.frag"));
@@ -144,12 +161,12 @@ engine::Status HermiteCellFeature::initialize(const engine::gpu::Context& contex
     desc.name = "hermite cells depth" + suffix;
     desc.fragment = depthFrag.handle();
     desc.cullMode = VK_CULL_MODE_BACK_BIT;
-    ENGINE_TRY_ASSIGN(depthFront_[precision], Pipeline::createGraphics(context, desc));
+    ENGINE_TRY_ASSIGN(p.depthFront[precision], Pipeline::createGraphics(context, desc));
 
     desc.name = "hermite cells depth near" + suffix;
     desc.fragment = nearFrag.handle();
     desc.cullMode = VK_CULL_MODE_FRONT_BIT;
-    ENGINE_TRY_ASSIGN(depthNear_[precision], Pipeline::createGraphics(context, desc));
+    ENGINE_TRY_ASSIGN(p.depthNear[precision], Pipeline::createGraphics(context, desc));
 
     // Wireframe: edges over the shaded frame, hidden where the surface is in front of them.
     engine::gpu::GraphicsPipelineDesc wire = desc;
@@ -162,7 +179,7 @@ engine::Status HermiteCellFeature::initialize(const engine::gpu::Context& contex
     wire.colorFormats = {formats.color};
     wire.depthWrite = false;
     wire.depthCompare = VK_COMPARE_OP_GREATER_OR_EQUAL;
-    ENGINE_TRY_ASSIGN(wire_[precision], Pipeline::createGraphics(context, wire));
+    ENGINE_TRY_ASSIGN(p.wire[precision], Pipeline::createGraphics(context, wire));
   }
   // Cell runs: records by address, one pipeline pair for both precisions (HERMITE_FLAG_HALF_RECORDS).
   {
@@ -176,11 +193,11 @@ engine::Status HermiteCellFeature::initialize(const engine::gpu::Context& contex
     desc.name = "hermite cell runs depth";
     desc.fragment = runsFrag.handle();
     desc.cullMode = VK_CULL_MODE_BACK_BIT;
-    ENGINE_TRY_ASSIGN(runsFront_, Pipeline::createGraphics(context, desc));
+    ENGINE_TRY_ASSIGN(p.runsFront, Pipeline::createGraphics(context, desc));
     desc.name = "hermite cell runs depth near";
     desc.fragment = runsNearFrag.handle();
     desc.cullMode = VK_CULL_MODE_FRONT_BIT;
-    ENGINE_TRY_ASSIGN(runsNear_, Pipeline::createGraphics(context, desc));
+    ENGINE_TRY_ASSIGN(p.runsNear, Pipeline::createGraphics(context, desc));
   }
   // Shading: a rectangle over the cell objects' screen bounds; which of its pixels are ours comes
   // from the visibility buffer.
@@ -195,9 +212,10 @@ engine::Status HermiteCellFeature::initialize(const engine::gpu::Context& contex
   resolve.colorFormats = {formats.color};
   resolve.pushConstantBytes = sizeof(shader::HermitePushConstants);
   resolve.setLayouts = {formats.sceneSetLayout};
-  ENGINE_TRY_ASSIGN(resolve_, Pipeline::createGraphics(context, resolve));
-  return {};
+  ENGINE_TRY_ASSIGN(p.resolve, Pipeline::createGraphics(context, resolve));
+  return p;
 }
+
 
 void HermiteCellFeature::syncAssets(const engine::render::FrameContext& frame) {
   std::vector<std::shared_ptr<const SdfAsset>> wanted;
@@ -209,7 +227,8 @@ void HermiteCellFeature::syncAssets(const engine::render::FrameContext& frame) {
     wanted.push_back(r.asset);
     missing |= !buffers_->entries.contains(r.asset->id);
   });
-  if (!missing && buffers_->runLength == settings_.maxRunLength) return;
+  const bool runsStale = !wanted.empty() && buffers_->runLength != settings_.maxRunLength;  // the setting changed
+  if (!missing && !runsStale) return;
 
   // Rebuild the concatenated buffers with the assets drawn now (assets no longer drawn are dropped).
   context_->waitIdle();
@@ -405,7 +424,7 @@ void HermiteCellFeature::recordBatch(engine::render::PassContext& pass, int prec
   if (count == 0) return;
   VkCommandBuffer cmd = pass.cmd;
   const bool runs = precision == kRunBatch;
-  const Pipeline& pipeline = runs ? (near ? runsNear_ : runsFront_) : near ? depthNear_[precision] : depthFront_[precision];
+  const Pipeline& pipeline = runs ? (near ? pipelines_.runsNear : pipelines_.runsFront) : near ? pipelines_.depthNear[precision] : pipelines_.depthFront[precision];
   vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, pipeline.handle());
   const VkBuffer vertexBuffer = runs ? buffers_->runs.handle() : buffers_->records[precision].handle();
   const VkDeviceSize offset = 0;
@@ -442,7 +461,7 @@ void HermiteCellFeature::recordWireframe(engine::render::PassContext& pass, int 
   const Batch& batch = *batches_[precision];
   if (batch.frontCount == 0) return;
   VkCommandBuffer cmd = pass.cmd;
-  vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, wire_[precision].handle());
+  vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, pipelines_.wire[precision].handle());
   const VkBuffer vertexBuffer = buffers_->records[precision].handle();
   const VkDeviceSize offset = 0;
   vkCmdBindVertexBuffers(cmd, 0, 1, &vertexBuffer, &offset);
@@ -450,21 +469,21 @@ void HermiteCellFeature::recordWireframe(engine::render::PassContext& pass, int 
   push.draw.frameGlobals = pass.frameGlobals;
   push.draw.objects = pass.objects;
   push.draws = drawData_.address(pass.frame.frameSlot);
-  recordIndirect(cmd, wire_[precision], push, pass.frame.frameSlot, batch.frontFirst, batch.frontCount);
+  recordIndirect(cmd, pipelines_.wire[precision], push, pass.frame.frameSlot, batch.frontFirst, batch.frontCount);
 }
 
 void HermiteCellFeature::recordResolve(engine::render::PassContext& pass) {
   if (!(screenRect_.x < screenRect_.z && screenRect_.y < screenRect_.w)) return;  // no object on screen
   VkCommandBuffer cmd = pass.cmd;
-  vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, resolve_.handle());
-  vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, resolve_.layout(), 0, 1, &pass.sceneSet, 0, nullptr);
+  vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, pipelines_.resolve.handle());
+  vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, pipelines_.resolve.layout(), 0, 1, &pass.sceneSet, 0, nullptr);
   shader::HermitePushConstants push{};
   push.draw.frameGlobals = pass.frameGlobals;
   push.draw.objects = pass.objects;
   push.draw.debugView = pass.frame.debugView;
   push.counters = counterAddress(pass.frame, countersActive_, counters_);
   push.screenRect = screenRect_;
-  vkCmdPushConstants(cmd, resolve_.layout(), VK_SHADER_STAGE_VERTEX_BIT | VK_SHADER_STAGE_FRAGMENT_BIT, 0,
+  vkCmdPushConstants(cmd, pipelines_.resolve.layout(), VK_SHADER_STAGE_VERTEX_BIT | VK_SHADER_STAGE_FRAGMENT_BIT, 0,
                      sizeof(push), &push);
   vkCmdDraw(cmd, 6, 1, 0, 0);
 }

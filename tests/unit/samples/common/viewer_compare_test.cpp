@@ -12,6 +12,7 @@
 
 #include "engine/gpu/pipeline.h"
 #include "engine/render/mesh_feature.h"
+#include "hermite_sdf/cell_feature.h"
 #include "hermite_sdf/sphere_trace_feature.h"
 #include "viewer.h"
 
@@ -211,18 +212,19 @@ TEST(ViewerCompare, ReloadShadersTakesFreshSpirvAndKeepsOldPipelinesOnFailure) {
   EXPECT_GT(differingPixels(reloaded, original, {0, 0, kWidth, kHeight}), 100u) << "the new shading shader draws";
 
   const auto broken = shaderCopy("hsdf_broken_shaders", {{"mesh.frag.spv", ""}, {"sphere_trace_trilinear_shade.frag.spv", ""},
-                                                         {"sphere_trace_trilinear_shade_bindless.frag.spv", ""}});
+                                                         {"sphere_trace_trilinear_shade_bindless.frag.spv", ""},
+                                                         {"cells_resolve.frag.spv", ""}});
   ASSERT_EQ(setenv("HSDF_SHADER_DIR", broken.c_str(), 1), 0);
   const std::vector<engine::render::Renderer::ShaderReload> results = viewer->reloadShaders();
   ASSERT_EQ(results.size(), 3u);
   for (const auto& r : results) {
     SCOPED_TRACE(r.feature);
-    if (r.feature == "hermite cells") continue;  // its files are intact (or it cannot reload yet)
     ASSERT_FALSE(r.status.ok());
     EXPECT_NE(r.status.error().message.find("not SPIR-V"), std::string::npos) << r.status.error().message;
-    EXPECT_NE(r.status.error().message.find(r.feature == "meshes" ? "mesh.frag.spv" : "sphere_trace_trilinear_shade"),
-              std::string::npos)
-        << r.status.error().message;
+    const char* file = r.feature == "meshes"          ? "mesh.frag.spv"
+                       : r.feature == "hermite cells" ? "cells_resolve.frag.spv"
+                                                      : "sphere_trace_trilinear_shade";
+    EXPECT_NE(r.status.error().message.find(file), std::string::npos) << r.status.error().message;
   }
   EXPECT_NE(viewer->shaderReloadReport().find("not SPIR-V"), std::string::npos) << viewer->shaderReloadReport();
   ASSERT_TRUE(viewer->step().ok());
@@ -231,6 +233,9 @@ TEST(ViewerCompare, ReloadShadersTakesFreshSpirvAndKeepsOldPipelinesOnFailure) {
   ASSERT_EQ(setenv("HSDF_SHADER_DIR", dir.c_str(), 1), 0);
   EXPECT_TRUE(mesh->reloadShaders().ok());
   EXPECT_TRUE(trace->reloadShaders().ok());
+  auto* cells = viewer->renderer().feature<hsdf::HermiteCellFeature>();
+  ASSERT_NE(cells, nullptr);
+  EXPECT_TRUE(cells->reloadShaders().ok()) << "the cells reload from the build's shaders";
   ASSERT_TRUE(viewer->step().ok());
   EXPECT_EQ(viewer->renderer().readbackColor(), original);
   unsetenv("HSDF_SHADER_DIR");
