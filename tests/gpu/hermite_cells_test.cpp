@@ -243,6 +243,47 @@ TEST_F(HermiteCellsTest, CellRunsFromInsideACell) {
   EXPECT_GT(renderer_->feature<hsdf::HermiteCellFeature>()->stats().nearCells, 0u);
 }
 
+// Why: view regions call the feature's prepare once per region, and here each region draws the
+// entity with another cell asset (K = 16 on the left, K = 24 on the right, as the split screen
+// can). The second region's asset is new to the feature, whose rebuilt record buffers must not
+// free the ones the first region's recorded draws read, nor drop the first asset (which would
+// rebuild every frame). Each half must equal the frame drawn with its asset alone, over several
+// frames, with no validation message.
+TEST_F(HermiteCellsTest, TwoCellAssetsInTwoViewRegionsOfOneFrame) {
+  createCellRenderer(kSize, kSize);
+  const auto coarse = bakeAsset("torus", 16);
+  const auto fine = bakeAsset("torus", 24);
+  ASSERT_NE(coarse, nullptr);
+  ASSERT_NE(fine, nullptr);
+  const ecs::Entity entity = addSdf(registry_, coarse, hsdf::RenderMethod::Cells);
+  const render::CameraView camera = orbitCamera(*coarse, 1);
+  scene::updateWorldTransforms(registry_);
+  auto single = [&](const std::shared_ptr<const hsdf::SdfAsset>& asset) {
+    registry_.get<hsdf::HermiteSdfRenderable>(entity).asset = asset;
+    return renderWith(camera, DEBUG_VIEW_NORMALS);
+  };
+  const Frame left = single(coarse), right = single(fine);
+  const std::uint32_t half = kSize / 2;
+  for (int frame = 0; frame < 3; ++frame) {
+    SCOPED_TRACE("frame " + std::to_string(frame));
+    render::FrameSettings settings;
+    settings.debugView = DEBUG_VIEW_NORMALS;
+    settings.regions.push_back({{{0, 0}, {half, kSize}}, [&] { registry_.get<hsdf::HermiteSdfRenderable>(entity).asset = coarse; }});
+    settings.regions.push_back({{{int(half), 0}, {kSize - half, kSize}}, [&] { registry_.get<hsdf::HermiteSdfRenderable>(entity).asset = fine; }});
+    renderer_->renderFrame(registry_, camera, settings);
+    const std::vector<std::uint8_t> both = renderer_->readbackColor();
+    int wrong = 0;
+    for (std::uint32_t y = 0; y < kSize; ++y)
+      for (std::uint32_t x = 0; x < kSize; ++x) {
+        const std::size_t i = (std::size_t(y) * kSize + x) * 4;
+        const Frame& expected = x < half ? left : right;
+        if (!std::equal(both.begin() + long(i), both.begin() + long(i) + 4, expected.rgba.begin() + long(i))) ++wrong;
+      }
+    EXPECT_EQ(wrong, 0);
+  }
+  EXPECT_NE(left.rgba, right.rgba) << "the two assets must draw differently for the test to mean something";
+}
+
 // Why: SDF depth written through gl_FragDepth and mesh depth from the rasterizer meet in one
 // depth buffer; the plane must cut the bunny exactly where the two surfaces cross.
 TEST_F(HermiteCellsTest, MeshPlaneCutsSdfWhereTheReferenceSays) {

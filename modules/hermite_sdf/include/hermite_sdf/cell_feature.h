@@ -23,6 +23,7 @@
 #include <cstdint>
 #include <memory>
 #include <unordered_map>
+#include <utility>
 #include <vector>
 
 #include "engine/gpu/buffer.h"
@@ -97,6 +98,9 @@ class HermiteCellFeature final : public engine::render::RenderFeature {
   engine::render::RendererFormats formats_;
   Pipelines pipelines_;
   std::unique_ptr<struct CellBuffers> buffers_;
+  // Buffers replaced during a frame, with that frame's number: commands recorded before the
+  // replacement (an earlier view region of the frame) still read them.
+  std::vector<std::pair<std::uint64_t, std::unique_ptr<struct CellBuffers>>> retired_;
   engine::render::PerFrameBuffer drawData_;
   engine::render::PerFrameBuffer indirect_;
   engine::render::PerFrameBuffer objects_;  // shader::HermiteObject per drawn object

@@ -30,6 +30,7 @@ struct CellBuffers {
     CellRows rows;
     std::vector<shader::CellRunGpu> runs;  // firstRecord relative to the asset's stream
     std::uint32_t firstRun = 0;            // index of runs[0] in the run buffer
+    std::uint64_t lastFrame = 0;           // the last frame that drew the asset
   };
   std::unordered_map<std::uint64_t, Entry> entries;  // by asset id
   Buffer records[2];
@@ -225,13 +226,25 @@ void HermiteCellFeature::syncAssets(const engine::render::FrameContext& frame) {
     if (!drawnAsCells(r.method) || !r.asset || r.asset->cells.records.empty()) return;
     if (!seen.insert(r.asset->id).second) return;
     wanted.push_back(r.asset);
-    missing |= !buffers_->entries.contains(r.asset->id);
+    auto entry = buffers_->entries.find(r.asset->id);
+    if (entry == buffers_->entries.end())
+      missing = true;
+    else
+      entry->second.lastFrame = frame.frameNumber;
   });
   const bool runsStale = !wanted.empty() && buffers_->runLength != settings_.maxRunLength;  // the setting changed
   if (!missing && !runsStale) return;
 
+  // View regions call prepare() once per region: an asset an earlier region of this frame drew
+  // stays (its draws are recorded already and the next frame draws it again).
+  for (const auto& [id, entry] : buffers_->entries)
+    if (entry.lastFrame == frame.frameNumber && seen.insert(id).second) wanted.push_back(entry.asset);
+
   // Rebuild the concatenated buffers with the assets drawn now (assets no longer drawn are dropped).
+  // The old buffers may be referenced by commands recorded earlier in this frame: they are retired,
+  // and freed once the GPU is idle at a later rebuild or when the frame is surely complete.
   context_->waitIdle();
+  std::erase_if(retired_, [&](const auto& old) { return old.first < frame.frameNumber; });
   CellBuffers rebuilt;
   std::vector<CellRecord> full;
   std::vector<CellRecordHalf> half;
@@ -267,7 +280,9 @@ void HermiteCellFeature::syncAssets(const engine::render::FrameContext& frame) {
   rebuilt.runLength = settings_.maxRunLength;
   rebuilt.bytes = full.size() * sizeof(CellRecord) + half.size() * sizeof(CellRecordHalf) +
                   runs.size() * sizeof(shader::CellRunGpu);
-  *buffers_ = std::move(rebuilt);
+  for (auto& [id, entry] : rebuilt.entries) entry.lastFrame = frame.frameNumber;
+  retired_.emplace_back(frame.frameNumber, std::move(buffers_));
+  buffers_ = std::make_unique<CellBuffers>(std::move(rebuilt));
   engine::log::debug("hermite cells: {} assets, {} records uploaded", buffers_->entries.size(), full.size());
 }
 
@@ -412,6 +427,8 @@ void HermiteCellFeature::ensureCounters(engine::render::FrameContext& frame) {
 }
 
 void HermiteCellFeature::prepare(engine::render::FrameContext& frame) {
+  // Retired buffers of a frame that has surely completed (its slot has been waited for since).
+  std::erase_if(retired_, [&](const auto& old) { return old.first + frame.framesInFlight < frame.frameNumber; });
   syncAssets(frame);
   buildDraws(frame);
   ensureCounters(frame);
