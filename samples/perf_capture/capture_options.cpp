@@ -5,6 +5,10 @@
 #include <regex>
 
 #include <CLI/CLI.hpp>
+#include <fmt/format.h>
+#include <fmt/ranges.h>
+
+#include "capture_rows.h"
 
 namespace capture {
 namespace {
@@ -65,6 +69,18 @@ std::optional<std::string> parseMethods(const std::string& text, Options& option
   return std::nullopt;
 }
 
+std::optional<std::string> parseSettings(const std::string& text, Options& options) {
+  const std::vector<std::string> known = cellSettingNames();
+  std::vector<std::string> settings;
+  for (const std::string& item : splitList(text)) {
+    if (std::find(known.begin(), known.end(), item) == known.end())
+      return "--settings: '" + item + "' is not a setting of the cell methods (" + fmt::format("{}", fmt::join(known, ", ")) + ")";
+    if (std::find(settings.begin(), settings.end(), item) == settings.end()) settings.push_back(item);
+  }
+  options.cellSettings = settings;
+  return std::nullopt;
+}
+
 std::string joinArguments(int argc, const char* const* argv) {
   std::string line;
   for (int i = 0; i < argc; ++i) line += (i ? " " : "") + std::string(argv[i]);
@@ -92,7 +108,11 @@ ParseResult parseOptions(int argc, const char* const* argv) {
   scene->excludes(shape);
   app.add_option("--size", size, "image size WxH (default 1920x1080; --quick 320x180)");
   app.add_option("--resolutions", resolutions, "field resolutions K (default 16,32,64,128; --quick 16,32)");
-  app.add_option("--methods", methods, "methods to capture (default mesh,trilinear,hermite,cells)");
+  app.add_option("--methods", methods, "methods to capture (default mesh,trilinear,hermite,cells,cells-runs)");
+  std::string settings;
+  app.add_option("--settings", settings,
+                 "only these settings of the cell methods, e.g. \"n=3 r=1,certified\" (default: every one; the "
+                 "settings are those of the rows' labels)");
   app.add_option("--views", options.views, "orbit views 1..8 (default 8; --quick 2)")->check(CLI::Range(1u, 8u));
   app.add_option("--frames", options.frames, "timed frames per view 1..1000 (default 5; --quick 2)")
       ->check(CLI::Range(1u, 1000u));
@@ -126,6 +146,7 @@ ParseResult parseOptions(int argc, const char* const* argv) {
   if (!size.empty()) problem = parseSize(size, options);
   if (!problem && !resolutions.empty()) problem = parseResolutions(resolutions, options);
   if (!problem && !methods.empty()) problem = parseMethods(methods, options);
+  if (!problem && !settings.empty()) problem = parseSettings(settings, options);
   if (!problem && !options.shape.empty() &&
       std::find(options.methods.begin(), options.methods.end(), "mesh") != options.methods.end() && !methods.empty())
     problem = "--methods mesh: an analytic --shape has no triangle mesh to draw";

@@ -52,6 +52,12 @@ bool wanted(const Options& options, const std::string& method) {
   return std::find(options.methods.begin(), options.methods.end(), method) != options.methods.end();
 }
 
+// --settings: the tracers' rows (no cell setting) always; cell rows only when their setting is listed.
+bool wantedSetting(const Options& options, const Variant& v) {
+  if (options.cellSettings.empty() || !samples::drawsCells(v.tuning.method)) return true;
+  return std::find(options.cellSettings.begin(), options.cellSettings.end(), v.setting) != options.cellSettings.end();
+}
+
 }  // namespace
 
 std::string RowSpec::normalsName() const {
@@ -60,6 +66,14 @@ std::string RowSpec::normalsName() const {
 }
 
 samples::TuningState RowSpec::tuning() const { return state; }
+
+std::vector<std::string> cellSettingNames() {
+  std::vector<std::string> names;
+  for (const Variant& v : kVariants)
+    if (samples::drawsCells(v.tuning.method) && std::find(names.begin(), names.end(), v.setting) == names.end())
+      names.push_back(v.setting);
+  return names;
+}
 
 std::vector<RowSpec> buildRows(const Options& options) {
   std::vector<RowSpec> rows;
@@ -76,7 +90,7 @@ std::vector<RowSpec> buildRows(const Options& options) {
   const std::set<int> asked(options.resolutions.begin(), options.resolutions.end());
   for (int k : all) {
     for (const Variant& v : kVariants) {
-      if (!wanted(options, v.method)) continue;
+      if (!wanted(options, v.method) || !wantedSetting(options, v)) continue;
       // Only trilinear runs at the extra 2K resolutions.
       if (!asked.contains(k) && v.tuning.method != Method::Trilinear) continue;
       RowSpec row;

@@ -40,4 +40,7 @@ struct RowSpec {
 // trilinear at 2K.
 std::vector<RowSpec> buildRows(const Options& options);
 
+// The settings labels of the cell methods' rows ("n=3 r=1", "certified", ...), for --settings.
+std::vector<std::string> cellSettingNames();
+
 }  // namespace capture

@@ -45,6 +45,7 @@ TEST(CaptureOptions, BadValuesAreRefusedNamingTheOption) {
       {{"--out", "x", "--resolutions", "16,,32"}, "--resolutions: '' is not a resolution"},
       {{"--out", "x", "--resolutions", "512"}, "--resolutions: '512'"},
       {{"--out", "x", "--methods", "cells,splats"}, "--methods: 'splats'"},
+      {{"--out", "x", "--settings", "n=3 r=1,n=9"}, "--settings: 'n=9'"},
       {{"--out", "x", "--size", "12x"}, "--size: '12x'"},
       {{"--out", "x", "--views", "9"}, "--views"},
       {{"--out", "x", "--frames", "0"}, "--frames"},
@@ -81,9 +82,19 @@ TEST(CaptureRows, MethodTimesKTimesSetting) {
   EXPECT_EQ(trilinear, 2 * 4);  // K = 32, 64, 128, 256, two normal modes each
   EXPECT_EQ(cells, 2 * 6);      // n in {2, 3} x r in {0, 1}, fp16, and the certified search
   EXPECT_TRUE(labels.contains("cells certified K=32"));
+  EXPECT_TRUE(labels.contains("cells-runs n=3 r=1 K=32"));
   EXPECT_TRUE(labels.contains("mesh"));
   EXPECT_TRUE(labels.contains("trilinear central K=256"));
   EXPECT_FALSE(labels.contains("hermite K=256"));
+
+  // --settings keeps the listed cell settings (of both cell methods) and every tracer row.
+  const ParseResult some = parse({"--out", "x", "--resolutions", "32", "--settings", "n=3 r=1,certified"});
+  ASSERT_TRUE(some.options) << some.message;
+  std::set<std::string> kept;
+  for (const RowSpec& row : buildRows(*some.options)) kept.insert(row.label);
+  EXPECT_EQ(kept, (std::set<std::string>{"mesh", "trilinear central K=32", "trilinear exact K=32", "hermite K=32",
+                                         "cells n=3 r=1 K=32", "cells certified K=32", "cells-runs n=3 r=1 K=32",
+                                         "trilinear central K=64", "trilinear exact K=64"}));
 
   const ParseResult shape = parse({"--out", "x", "--shape", "torus", "--resolutions", "16"});
   ASSERT_TRUE(shape.options);
