@@ -11,10 +11,8 @@
 layout(push_constant, scalar) uniform Push { HermitePushConstants pc; };
 layout(buffer_reference, scalar) readonly buffer HermiteObjectRef { HermiteObject value; };
 layout(buffer_reference, scalar) readonly buffer CountersRef { uint counts[]; };
-// CellRecord (cells.h): 8 x vec4 corners, then x | y << 16, z | class << 16.
-layout(buffer_reference, scalar) readonly buffer CellRecordRef { vec4 corners[8]; uint xy; uint zc; };
-// CellRecordHalf: 8 x 4 halves, then the same coordinate words.
-layout(buffer_reference, scalar) readonly buffer CellRecordHalfRef { uvec2 corners[8]; uint xy; uint zc; };
+layout(buffer_reference, scalar) readonly buffer CellRecordsRef { CellRecordGpu records[]; };
+layout(buffer_reference, scalar) readonly buffer CellRecordsHalfRef { CellRecordHalfGpu records[]; };
 
 layout(set = 0, binding = 0) uniform sampler2D sceneDepth;
 layout(set = 0, binding = 1) uniform usampler2D sceneVisibility;
@@ -24,12 +22,12 @@ layout(location = 0) out vec4 outColor;
 void loadCell(HermiteObject object, uint record, out vec4 corners[8], out uvec3 cell) {
   uint xy, zc;
   if (object.halfPrecision == 0u) {
-    CellRecordRef r = CellRecordRef(object.records + uint64_t(record) * 136ul);
+    CellRecordGpu r = CellRecordsRef(object.records).records[record];
     corners = r.corners;
     xy = r.xy;
     zc = r.zc;
   } else {
-    CellRecordHalfRef r = CellRecordHalfRef(object.records + uint64_t(record) * 72ul);
+    CellRecordHalfGpu r = CellRecordsHalfRef(object.records).records[record];
     for (int i = 0; i < 8; ++i) corners[i] = vec4(unpackHalf2x16(r.corners[i].x), unpackHalf2x16(r.corners[i].y));
     xy = r.xy;
     zc = r.zc;

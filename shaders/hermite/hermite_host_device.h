@@ -59,7 +59,7 @@ HSDF_CHECK_SIZE(CellRunGpu, 12);
 struct HermiteObject {
   vec4 gridOriginSpacing;  // xyz: grid origin in object space; w: spacing h
   uint64_t records;        // address of the record buffer this object's cells are in
-  uint halfPrecision;      // 0: CellRecord (136 bytes), 1: CellRecordHalf (72 bytes)
+  uint halfPrecision;      // 0: CellRecordGpu records, 1: CellRecordHalfGpu records
   uint flags;              // HERMITE_FLAG_*
 };
 HSDF_CHECK_SIZE(HermiteObject, 16 + 8 + 2 * 4);
