@@ -10,6 +10,7 @@
 #include "engine/core/image_io.h"
 #include "engine/core/log.h"
 #include "engine/gpu/swapchain.h"
+#include "engine/gpu/vk_check.h"
 #include "engine/platform/window.h"
 #include "engine/render/components.h"
 #include "engine/render/mesh_feature.h"
@@ -305,10 +306,34 @@ Status Viewer::step() {
   settings.debugView = std::uint32_t(tuning_.debugView);
   settings.swapchain = swapchain_.get();
   settings.overlay = ui ? ui_.get() : nullptr;
-  if (!renderer_->renderFrame(registry_, cameraView(), settings)) ENGINE_TRY(recreateSwapchain());
+  ENGINE_TRY_ASSIGN(const bool presented, renderFrame(settings));
+  if (!presented) ENGINE_TRY(recreateSwapchain());
   ++frames_;
   finishStep();
   return {};
+}
+
+// A lost device or GPU memory running out (the allocator's budget included) ends the scene: an
+// error (the caller exits cleanly, close() still tears down) instead of an exception through the
+// program. Other driver failures still throw. The renderer cannot resume a frame that failed
+// half-way (its fence is reset but nothing was submitted), so later steps return the same error
+// instead of waiting forever.
+Expected<bool> Viewer::renderFrame(const render::FrameSettings& settings) {
+  if (!frameFailure_.empty()) return makeError("an earlier frame failed: " + frameFailure_);
+  try {
+    return renderer_->renderFrame(registry_, cameraView(), settings);
+  } catch (const gpu::VulkanError& e) {
+    if (e.result() == VK_ERROR_DEVICE_LOST) {
+      deviceLost_ = true;
+      frameFailure_ = fmt::format("frame {}: the Vulkan device was lost ({}); the scene cannot continue",
+                                  frames_ + 1, e.what());
+    } else if (e.result() == VK_ERROR_OUT_OF_DEVICE_MEMORY) {
+      frameFailure_ = fmt::format("frame {}: out of GPU memory ({})", frames_ + 1, e.what());
+    } else {
+      throw;
+    }
+    return makeError(frameFailure_);
+  }
 }
 
 // What the panel or a script asked for that needs the finished frame.
@@ -358,7 +383,12 @@ Status Viewer::close() {
   if (closed_ || !context_) return {};
   closed_ = true;
   bakeJob_.reset();
-  context_->waitIdle();
+  try {
+    context_->waitIdle();
+  } catch (const gpu::VulkanError& e) {  // a lost device has nothing left to wait for
+    if (e.result() != VK_ERROR_DEVICE_LOST) throw;
+    deviceLost_ = true;
+  }
   ui_.reset();
   renderer_.reset();
   swapchain_.reset();
@@ -369,6 +399,7 @@ Status Viewer::close() {
   context_.reset();
   window_.reset();
   if (messages > 0) return makeError(std::to_string(messages) + " Vulkan validation message(s); see the log above");
+  if (deviceLost_) return makeError("the Vulkan device was lost (VK_ERROR_DEVICE_LOST); closed without it");
   return {};
 }
 

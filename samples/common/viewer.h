@@ -185,6 +185,7 @@ class Viewer {
   void updateVisibility();
   void finishStep();
   engine::Status recreateSwapchain();
+  engine::Expected<bool> renderFrame(const engine::render::FrameSettings& settings);
   void applyTuningToScene();
   void startRebake();
   engine::Status finishBake();
@@ -239,6 +240,8 @@ class Viewer {
   float frameSeconds_ = 1.0f / 60.0f;
   bool keysDown_[512] = {};  // last frame's keys, for presses (F1, F11)
   bool closed_ = false;
+  bool deviceLost_ = false;   // a checked call reported VK_ERROR_DEVICE_LOST
+  std::string frameFailure_;  // why a frame failed half-way (device lost, out of GPU memory)
 };
 
 }  // namespace samples

@@ -168,7 +168,7 @@ class Soak {
 
   Status removeObject() {
     if (!extra_) return makeError("soak schedule: removing an object that was not added");
-    // viewer_.registry().destroy(*extra_);  INJECTED LEAK
+    viewer_.registry().destroy(*extra_);
     extra_.reset();
     return {};
   }
