@@ -1,6 +1,7 @@
 #include "engine/gpu/pipeline.h"
 
 #include <cstdlib>
+#include <cstring>
 #include <utility>
 
 #include "engine/core/files.h"
@@ -41,6 +42,13 @@ Expected<ShaderModule> ShaderModule::load(const Context& context, const std::str
   if (!bytes) return bytes.error().withContext("shader " + name);
   if (bytes->empty() || bytes->size() % 4 != 0)
     return makeError("shader " + path.string() + ": not SPIR-V (size " + std::to_string(bytes->size()) + ")");
+  // Drivers are not required to survive arbitrary bytes: check the SPIR-V header (5 words, the
+  // magic number first, in host byte order as Vulkan wants it) before handing the module over.
+  constexpr std::uint32_t kSpirvMagic = 0x07230203u;
+  std::uint32_t magic = 0;
+  std::memcpy(&magic, bytes->data(), sizeof(magic));
+  if (bytes->size() < 20 || magic != kSpirvMagic)
+    return makeError("shader " + path.string() + ": not SPIR-V (no SPIR-V header; rebuild the shaders)");
   VkShaderModuleCreateInfo info{VK_STRUCTURE_TYPE_SHADER_MODULE_CREATE_INFO};
   info.codeSize = bytes->size();
   info.pCode = reinterpret_cast<const std::uint32_t*>(bytes->data());
