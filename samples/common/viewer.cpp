@@ -46,7 +46,12 @@ double nowSeconds() {
 
 Expected<std::unique_ptr<Viewer>> Viewer::create(const ViewerDesc& desc) {
   std::unique_ptr<Viewer> viewer(new Viewer());
-  ENGINE_TRY(viewer->initialize(desc));
+  try {  // a GPU memory budget too small for the render targets is an error, like a bad option
+    ENGINE_TRY(viewer->initialize(desc));
+  } catch (const gpu::VulkanError& e) {
+    if (e.result() != VK_ERROR_OUT_OF_DEVICE_MEMORY) throw;
+    return makeError(fmt::format("creating the renderer: out of GPU memory ({})", e.what()));
+  }
   return viewer;
 }
 
@@ -63,6 +68,7 @@ Status Viewer::initialize(const ViewerDesc& desc) {
   }
   bakeBudget_ = desc.bakeBudget;
   ENGINE_TRY_ASSIGN(context_, gpu::Context::create(contextDesc));
+  context_->allocator().setBudget(desc.gpuMemoryBudget);
   ENGINE_TRY(checkImageSize(desc, *context_));
   pool_ = std::make_unique<render::MeshPool>(*context_);
 

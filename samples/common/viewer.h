@@ -24,6 +24,7 @@
 #include "engine/core/expected.h"
 #include "engine/ecs/registry.h"
 #include "engine/gpu/context.h"
+#include "engine/gpu/memory.h"
 #include "engine/platform/camera_controller.h"
 #include "engine/render/components.h"
 #include "engine/render/renderer.h"
@@ -62,6 +63,9 @@ struct ViewerDesc {
   bool headlessUi = false;  // draw the UI panels into headless frames (windowed: always)
   std::filesystem::path uiIniFile;  // ImGui's window layout is loaded from / saved to it (empty: not kept)
   hsdf::BakeBudget bakeBudget;      // bakes past it are refused (the reason is in bakeError())
+  // Device memory the renderer may hold (engine::gpu::Allocator::setBudget); a frame that needs
+  // more fails with an error naming the resource and the budget (step()).
+  std::uint64_t gpuMemoryBudget = engine::gpu::Allocator::kUnlimited;
 };
 
 // What the baked SDF costs per method and what its cells are, for the panel and the screenshot log.

@@ -1,4 +1,7 @@
 #include <atomic>
+#include <cstdint>
+
+#include <fmt/format.h>
 
 #include "hermite_sdf/renderable.h"
 
@@ -45,6 +48,9 @@ engine::Expected<std::shared_ptr<const SdfAsset>> makeSdfAsset(std::string name,
   asset->surfaceBounds = surfaceBounds;
   auto classification = classifyCells(field, options);
   if (!classification) return classification.error().withContext("asset '" + asset->name + "'");
+  if (const std::uint64_t kept = classification->stats.kept(); kept > options.maxKeptCells)
+    return engine::makeError(fmt::format("asset '{}': {} kept cells, over the budget's max kept cells {}", asset->name, kept,
+                                         options.maxKeptCells));
   auto cells = extractCells(field, *classification);
   if (!cells) return cells.error().withContext("asset '" + asset->name + "'");
   asset->classification = std::move(classification.value());
