@@ -22,6 +22,7 @@
 // Exit code 0 when every check holds and the validation layers stayed silent, 1 otherwise.
 //
 //   viewer_soak [--frames N] [--period P] [--size WxH] [--rss-tolerance-mb M] [--csv FILE]
+//               [--validation on|off]   (default on; off: to tell the layers' own growth from ours)
 #include <unistd.h>
 
 #include <algorithm>
@@ -57,6 +58,7 @@ struct Options {
   std::uint32_t height = 120;
   double rssToleranceMb = 8.0;
   std::filesystem::path csv;
+  bool validation = true;
   std::filesystem::path gltf = HSDF_TEST_DATA_DIR "/gltf/bunny_small.glb";
 };
 
@@ -91,8 +93,11 @@ Expected<Options> parseOptions(int argc, char** argv) {
       options.rssToleranceMb = double(mb);
     } else if (option == "--csv") {
       options.csv = std::string(value);
+    } else if (option == "--validation") {
+      if (value != "on" && value != "off") return makeError(fmt::format("--validation: on or off, got '{}'", value));
+      options.validation = value == "on";
     } else {
-      return makeError(fmt::format("unknown option '{}' (--frames, --period, --size, --rss-tolerance-mb, --csv)",
+      return makeError(fmt::format("unknown option '{}' (--frames, --period, --size, --rss-tolerance-mb, --csv, --validation)",
                                    option));
     }
   }
@@ -272,7 +277,7 @@ Expected<bool> runSoak(const Options& options) {
   desc.width = options.width;
   desc.height = options.height;
   desc.headless = true;
-  desc.validation = true;
+  desc.validation = options.validation;
   desc.device = engine::gpu::DevicePreference::Software;
   ENGINE_TRY_ASSIGN(std::unique_ptr<samples::Viewer> viewer, samples::Viewer::create(desc));
   samples::SceneDesc scene;
