@@ -21,3 +21,10 @@ if [ "${HSDF_SKIP_SANITIZERS:-0}" != 1 ]; then
   UBSAN_OPTIONS=halt_on_error=1:print_stacktrace=1 \
     ctest --test-dir build/asan --output-on-failure -j "$jobs" "$@"
 fi
+
+# Each libFuzzer target briefly (30 s each, scripts/fuzz.sh), when clang is present: the corpus
+# replays above run every build; this stage lets the fuzzers look a little further on every run.
+# HSDF_SKIP_FUZZ=1 skips it; HSDF_FUZZ_SECONDS changes the time per target.
+if [ "${HSDF_SKIP_FUZZ:-0}" != 1 ]; then
+  scripts/fuzz.sh "${HSDF_FUZZ_SECONDS:-30}"
+fi

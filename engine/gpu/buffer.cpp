@@ -22,8 +22,13 @@ Buffer::Buffer(const Context& context, VkDeviceSize size, VkBufferUsageFlags usa
 
   VkMemoryRequirements requirements{};
   vkGetBufferMemoryRequirements(context.device(), buffer_, &requirements);
-  allocation_ = context.allocator().allocate(requirements, memory);
-  VK_CHECK(vkBindBufferMemory(context.device(), buffer_, allocation_.memory, allocation_.offset));
+  try {  // a constructor that throws runs no destructor: give the buffer back here
+    allocation_ = context.allocator().allocate(requirements, memory, name);
+    VK_CHECK(vkBindBufferMemory(context.device(), buffer_, allocation_.memory, allocation_.offset));
+  } catch (...) {
+    release();
+    throw;
+  }
 
   if (wantsAddress) {
     VkBufferDeviceAddressInfo addressInfo{VK_STRUCTURE_TYPE_BUFFER_DEVICE_ADDRESS_INFO};

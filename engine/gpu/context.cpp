@@ -376,19 +376,28 @@ VkCommandBuffer Context::beginOneOff() const {
 
 void Context::endOneOffAndWait(VkCommandBuffer cmd) const {
   std::unique_lock lock(oneOffMutex_, std::adopt_lock);
-  VK_CHECK(vkEndCommandBuffer(cmd));
-  VkFenceCreateInfo fenceInfo{VK_STRUCTURE_TYPE_FENCE_CREATE_INFO};
   VkFence fence = VK_NULL_HANDLE;
-  VK_CHECK(vkCreateFence(device_, &fenceInfo, nullptr, &fence));
-  VkCommandBufferSubmitInfo cmdInfo{VK_STRUCTURE_TYPE_COMMAND_BUFFER_SUBMIT_INFO};
-  cmdInfo.commandBuffer = cmd;
-  VkSubmitInfo2 submit{VK_STRUCTURE_TYPE_SUBMIT_INFO_2};
-  submit.commandBufferInfoCount = 1;
-  submit.pCommandBufferInfos = &cmdInfo;
-  VK_CHECK(vkQueueSubmit2(queue_, 1, &submit, fence));
-  VK_CHECK(vkWaitForFences(device_, 1, &fence, VK_TRUE, UINT64_MAX));
-  vkDestroyFence(device_, fence, nullptr);
-  vkFreeCommandBuffers(device_, oneOffPool_, 1, &cmd);
+  const auto release = [&] {
+    if (fence) vkDestroyFence(device_, fence, nullptr);
+    vkFreeCommandBuffers(device_, oneOffPool_, 1, &cmd);
+  };
+  try {  // a failed call (a lost device, no memory for the fence) must not leak the fence or the commands
+    VK_CHECK(vkEndCommandBuffer(cmd));
+    VkFenceCreateInfo fenceInfo{VK_STRUCTURE_TYPE_FENCE_CREATE_INFO};
+    VK_CHECK(vkCreateFence(device_, &fenceInfo, nullptr, &fence));
+    VkCommandBufferSubmitInfo cmdInfo{VK_STRUCTURE_TYPE_COMMAND_BUFFER_SUBMIT_INFO};
+    cmdInfo.commandBuffer = cmd;
+    VkSubmitInfo2 submit{VK_STRUCTURE_TYPE_SUBMIT_INFO_2};
+    submit.commandBufferInfoCount = 1;
+    submit.pCommandBufferInfos = &cmdInfo;
+    VK_CHECK(vkQueueSubmit2(queue_, 1, &submit, fence));
+    VK_CHECK(vkWaitForFences(device_, 1, &fence, VK_TRUE, UINT64_MAX));
+  } catch (...) {
+    vkQueueWaitIdle(queue_);  // what was submitted may still run; a lost device returns at once
+    release();
+    throw;
+  }
+  release();
 }
 
 void Context::waitIdle() const { VK_CHECK(vkDeviceWaitIdle(device_)); }

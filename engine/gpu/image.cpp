@@ -50,8 +50,13 @@ Image::Image(const Context& context, const ImageDesc& desc)
 
   VkMemoryRequirements requirements{};
   vkGetImageMemoryRequirements(context.device(), image_, &requirements);
-  allocation_ = context.allocator().allocate(requirements, MemoryUsage::GpuOnly);
-  VK_CHECK(vkBindImageMemory(context.device(), image_, allocation_.memory, allocation_.offset));
+  try {  // a constructor that throws runs no destructor: give the image back here
+    allocation_ = context.allocator().allocate(requirements, MemoryUsage::GpuOnly, desc.name);
+    VK_CHECK(vkBindImageMemory(context.device(), image_, allocation_.memory, allocation_.offset));
+  } catch (...) {
+    release();
+    throw;
+  }
 
   VkImageViewCreateInfo viewInfo{VK_STRUCTURE_TYPE_IMAGE_VIEW_CREATE_INFO};
   viewInfo.image = image_;

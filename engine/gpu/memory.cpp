@@ -1,6 +1,9 @@
 #include "engine/gpu/memory.h"
 
 #include <algorithm>
+#include <string>
+
+#include <fmt/format.h>
 
 #include "engine/gpu/vk_check.h"
 
@@ -109,11 +112,25 @@ void Allocator::releaseRange(Block& block, Range range) {
   }
 }
 
-Allocation Allocator::allocate(const VkMemoryRequirements& requirements, MemoryUsage usage) {
+void Allocator::setBudget(VkDeviceSize bytes) {
+  std::lock_guard lock(mutex_);
+  budget_ = bytes;
+}
+
+VkDeviceSize Allocator::budget() const {
+  std::lock_guard lock(mutex_);
+  return budget_;
+}
+
+Allocation Allocator::allocate(const VkMemoryRequirements& requirements, MemoryUsage usage, std::string_view what) {
   std::lock_guard lock(mutex_);
   const std::uint32_t memoryType = findMemoryType(requirements.memoryTypeBits, usage);
   const VkDeviceSize alignment = std::max(requirements.alignment, granularity_);
   const VkDeviceSize size = alignUp(requirements.size, granularity_);
+  if (size > budget_ || stats_.usedBytes > budget_ - size)
+    throw VulkanError(VK_ERROR_OUT_OF_DEVICE_MEMORY,
+                      fmt::format("GPU memory budget: '{}' needs {} B, {} B are in use, the budget is {} B", what,
+                                  size, stats_.usedBytes, budget_));
   Allocation result;
   result.memoryType = memoryType;
   result.size = size;

@@ -4,8 +4,10 @@
 // one vkAllocateMemory. Requests larger than a block get a dedicated allocation. Host-visible
 // blocks stay persistently mapped.
 #include <cstdint>
+#include <limits>
 #include <memory>
 #include <mutex>
+#include <string_view>
 #include <vector>
 
 #include <vulkan/vulkan.h>
@@ -42,10 +44,20 @@ class Allocator {
   Allocator(const Allocator&) = delete;
   Allocator& operator=(const Allocator&) = delete;
 
-  // Throws VulkanError when the device is out of memory or no memory type fits.
-  Allocation allocate(const VkMemoryRequirements& requirements, MemoryUsage usage);
+  // Throws VulkanError when the device is out of memory, the request would pass the budget
+  // (VK_ERROR_OUT_OF_DEVICE_MEMORY, the message names `what`, its size and the budget) or no
+  // memory type fits. `what` names the resource (the buffer's or image's debug name).
+  Allocation allocate(const VkMemoryRequirements& requirements, MemoryUsage usage,
+                      std::string_view what = "unnamed allocation");
   void free(const Allocation& allocation);
   AllocatorStats stats() const;
+
+  // A cap on the bytes handed out (AllocatorStats::usedBytes), checked before any Vulkan memory is
+  // allocated: a limit for an editor that shares the GPU, and the fault-injection hook tests lower
+  // until allocations fail. Lowering it below what is in use frees nothing; later requests fail.
+  static constexpr VkDeviceSize kUnlimited = std::numeric_limits<VkDeviceSize>::max();
+  void setBudget(VkDeviceSize bytes);
+  VkDeviceSize budget() const;
 
  private:
   struct Range {
@@ -69,6 +81,7 @@ class Allocator {
   VkPhysicalDeviceMemoryProperties memoryProperties_{};
   VkDeviceSize blockSize_;
   VkDeviceSize granularity_;
+  VkDeviceSize budget_ = kUnlimited;
   mutable std::mutex mutex_;
   std::vector<Block> blocks_;
   AllocatorStats stats_;

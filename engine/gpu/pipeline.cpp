@@ -48,7 +48,7 @@ Expected<ShaderModule> ShaderModule::load(const Context& context, const std::str
   std::uint32_t magic = 0;
   std::memcpy(&magic, bytes->data(), sizeof(magic));
   if (bytes->size() < 20 || magic != kSpirvMagic)
-    return makeError("shader " + path.string() + ": not SPIR-V (no SPIR-V header: magic number 0x07230203 missing)");
+    return makeError("shader " + path.string() + ": not SPIR-V (no SPIR-V header: magic number 0x07230203 missing; rebuild the shaders)");
   VkShaderModuleCreateInfo info{VK_STRUCTURE_TYPE_SHADER_MODULE_CREATE_INFO};
   info.codeSize = bytes->size();
   info.pCode = reinterpret_cast<const std::uint32_t*>(bytes->data());

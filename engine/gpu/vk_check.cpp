@@ -1,6 +1,9 @@
 #include "engine/gpu/vk_check.h"
 
+#include <mutex>
+#include <optional>
 #include <string_view>
+#include <utility>
 
 namespace engine::gpu {
 
@@ -38,6 +41,65 @@ std::string describeFailedCall(VkResult result, const char* call, const char* fi
   if (auto slash = path.find("engine/"); slash != std::string_view::npos) path.remove_prefix(slash);
   return std::string(call) + " failed with " + resultName(result) + " (" + std::to_string(int(result)) +
          ") at " + std::string(path) + ":" + std::to_string(line);
+}
+
+namespace {
+
+struct FaultState {
+  std::mutex mutex;
+  std::optional<InjectedFault> pending;
+  bool deviceLost = false;
+};
+
+FaultState& faultState() {
+  static FaultState state;
+  return state;
+}
+
+// "vkQueueSubmit2(queue_, 1, &submit, fence)" names vkQueueSubmit2, not vkQueueSubmit.
+bool callsFunction(std::string_view callText, std::string_view function) {
+  return callText.size() > function.size() && callText.substr(0, function.size()) == function &&
+         callText[function.size()] == '(';
+}
+
+}  // namespace
+
+void injectFault(InjectedFault fault) {
+  FaultState& state = faultState();
+  std::lock_guard lock(state.mutex);
+  state.pending = std::move(fault);
+  state.deviceLost = false;
+  detail::faultArmed.store(true, std::memory_order_relaxed);
+}
+
+void clearInjectedFaults() {
+  FaultState& state = faultState();
+  std::lock_guard lock(state.mutex);
+  state.pending.reset();
+  state.deviceLost = false;
+  detail::faultArmed.store(false, std::memory_order_relaxed);
+}
+
+bool injectedDeviceLost() {
+  FaultState& state = faultState();
+  std::lock_guard lock(state.mutex);
+  return state.deviceLost;
+}
+
+VkResult detail::applyInjectedFault(const char* callText, VkResult real) {
+  FaultState& state = faultState();
+  std::lock_guard lock(state.mutex);
+  if (state.deviceLost) return VK_ERROR_DEVICE_LOST;
+  if (!state.pending || !callsFunction(callText, state.pending->call)) return real;
+  if (state.pending->skip > 0) {
+    --state.pending->skip;
+    return real;
+  }
+  const VkResult injected = state.pending->result;
+  state.pending.reset();
+  state.deviceLost = injected == VK_ERROR_DEVICE_LOST;
+  if (!state.deviceLost) faultArmed.store(false, std::memory_order_relaxed);
+  return injected;
 }
 
 }  // namespace engine::gpu

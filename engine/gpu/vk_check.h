@@ -3,6 +3,8 @@
 // engine::gpu::VulkanError: an unexpected VkResult from the driver is not something a frame can
 // recover from, and the sample's main() reports it. Functions that can fail on user input return
 // engine::Expected instead (VK_TRY converts a failed call into an Error there).
+#include <atomic>
+#include <cstdint>
 #include <stdexcept>
 #include <string>
 
@@ -24,11 +26,35 @@ class VulkanError : public std::runtime_error {
 const char* resultName(VkResult result);
 std::string describeFailedCall(VkResult result, const char* call, const char* file, int line);
 
+// Fault injection at the wrapper boundary, for tests: the driver cannot be made to fail on demand
+// (lavapipe has no VK_EXT_device_fault and never loses its device), so VK_CHECK / VK_TRY can be
+// told to report `result` for a call the driver completed. The call itself still runs: fences
+// still signal, so a test that survives the fault can tear down without hanging.
+struct InjectedFault {
+  std::string call;            // the Vulkan function, e.g. "vkQueueSubmit2" (exact name)
+  VkResult result = VK_ERROR_DEVICE_LOST;
+  std::uint32_t skip = 0;      // matching calls to let through first
+  // VK_ERROR_DEVICE_LOST stays: from the fault on, every checked call reports it, as a lost device
+  // does. Any other result is reported once.
+};
+void injectFault(InjectedFault fault);
+void clearInjectedFaults();
+// Whether an injected VK_ERROR_DEVICE_LOST has fired (and not been cleared).
+bool injectedDeviceLost();
+
+namespace detail {
+inline std::atomic<bool> faultArmed{false};  // one relaxed load per checked call when unarmed
+VkResult applyInjectedFault(const char* callText, VkResult real);
+inline VkResult checkedResult(const char* callText, VkResult real) {
+  return faultArmed.load(std::memory_order_relaxed) ? applyInjectedFault(callText, real) : real;
+}
+}  // namespace detail
+
 }  // namespace engine::gpu
 
 #define VK_CHECK(call)                                                                        \
   do {                                                                                        \
-    const VkResult vk_check_result_ = (call);                                                 \
+    const VkResult vk_check_result_ = ::engine::gpu::detail::checkedResult(#call, (call));   \
     if (vk_check_result_ != VK_SUCCESS)                                                       \
       throw ::engine::gpu::VulkanError(                                                       \
           vk_check_result_,                                                                   \
@@ -37,7 +63,7 @@ std::string describeFailedCall(VkResult result, const char* call, const char* fi
 
 #define VK_TRY(call)                                                                          \
   do {                                                                                        \
-    const VkResult vk_try_result_ = (call);                                                   \
+    const VkResult vk_try_result_ = ::engine::gpu::detail::checkedResult(#call, (call));     \
     if (vk_try_result_ != VK_SUCCESS)                                                         \
       return ::engine::makeError(                                                             \
           ::engine::gpu::describeFailedCall(vk_try_result_, #call, __FILE__, __LINE__));      \

@@ -11,6 +11,7 @@
 #include "engine/core/log.h"
 #include "engine/gpu/pipeline.h"
 #include "engine/gpu/swapchain.h"
+#include "engine/gpu/vk_check.h"
 #include "engine/platform/window.h"
 #include "engine/render/components.h"
 #include "engine/render/mesh_feature.h"
@@ -47,7 +48,12 @@ double nowSeconds() {
 
 Expected<std::unique_ptr<Viewer>> Viewer::create(const ViewerDesc& desc) {
   std::unique_ptr<Viewer> viewer(new Viewer());
-  ENGINE_TRY(viewer->initialize(desc));
+  try {  // a GPU memory budget too small for the render targets is an error, like a bad option
+    ENGINE_TRY(viewer->initialize(desc));
+  } catch (const gpu::VulkanError& e) {
+    if (e.result() != VK_ERROR_OUT_OF_DEVICE_MEMORY) throw;
+    return makeError(fmt::format("creating the renderer: out of GPU memory ({})", e.what()));
+  }
   return viewer;
 }
 
@@ -64,6 +70,7 @@ Status Viewer::initialize(const ViewerDesc& desc) {
   }
   bakeBudget_ = desc.bakeBudget;
   ENGINE_TRY_ASSIGN(context_, gpu::Context::create(contextDesc));
+  context_->allocator().setBudget(desc.gpuMemoryBudget);
   ENGINE_TRY(checkImageSize(desc, *context_));
   pool_ = std::make_unique<render::MeshPool>(*context_);
 
@@ -471,12 +478,35 @@ Status Viewer::step() {
     settings.regions = splitRegions(main);
   }
   if (ui) ui_->buildFrame(renderer_->extent(), dt);
-  const bool presented = renderer_->renderFrame(registry_, cameraView(), settings);
+  ENGINE_TRY_ASSIGN(const bool presented, renderFrame(settings));
   if (!settings.regions.empty()) showState(tuning_, main);
   if (!presented) ENGINE_TRY(recreateSwapchain());
   ++frames_;
   finishStep();
   return {};
+}
+
+// A lost device or GPU memory running out (the allocator's budget included) ends the scene: an
+// error (the caller exits cleanly, close() still tears down) instead of an exception through the
+// program. Other driver failures still throw. The renderer cannot resume a frame that failed
+// half-way (its fence is reset but nothing was submitted), so later steps return the same error
+// instead of waiting forever.
+Expected<bool> Viewer::renderFrame(const render::FrameSettings& settings) {
+  if (!frameFailure_.empty()) return makeError("an earlier frame failed: " + frameFailure_);
+  try {
+    return renderer_->renderFrame(registry_, cameraView(), settings);
+  } catch (const gpu::VulkanError& e) {
+    if (e.result() == VK_ERROR_DEVICE_LOST) {
+      deviceLost_ = true;
+      frameFailure_ = fmt::format("frame {}: the Vulkan device was lost ({}); the scene cannot continue",
+                                  frames_ + 1, e.what());
+    } else if (e.result() == VK_ERROR_OUT_OF_DEVICE_MEMORY) {
+      frameFailure_ = fmt::format("frame {}: out of GPU memory ({})", frames_ + 1, e.what());
+    } else {
+      throw;
+    }
+    return makeError(frameFailure_);
+  }
 }
 
 // What the panel or a script asked for that needs the finished frame.
@@ -537,7 +567,12 @@ Status Viewer::close() {
   closed_ = true;
   bakeJob_.reset();
   compareJob_.reset();
-  context_->waitIdle();
+  try {
+    context_->waitIdle();
+  } catch (const gpu::VulkanError& e) {  // a lost device has nothing left to wait for
+    if (e.result() != VK_ERROR_DEVICE_LOST) throw;
+    deviceLost_ = true;
+  }
   differenceOverlay_.reset();
   ui_.reset();
   renderer_.reset();
@@ -549,6 +584,7 @@ Status Viewer::close() {
   context_.reset();
   window_.reset();
   if (messages > 0) return makeError(std::to_string(messages) + " Vulkan validation message(s); see the log above");
+  if (deviceLost_) return makeError("the Vulkan device was lost (VK_ERROR_DEVICE_LOST); closed without it");
   return {};
 }
 

@@ -24,6 +24,7 @@
 #include "engine/core/expected.h"
 #include "engine/ecs/registry.h"
 #include "engine/gpu/context.h"
+#include "engine/gpu/memory.h"
 #include "engine/platform/camera_controller.h"
 #include "engine/render/components.h"
 #include "engine/render/renderer.h"
@@ -63,6 +64,9 @@ struct ViewerDesc {
   bool headlessUi = false;  // draw the UI panels into headless frames (windowed: always)
   std::filesystem::path uiIniFile;  // ImGui's window layout is loaded from / saved to it (empty: not kept)
   hsdf::BakeBudget bakeBudget;      // bakes past it are refused (the reason is in bakeError())
+  // Device memory the renderer may hold (engine::gpu::Allocator::setBudget); a frame that needs
+  // more fails with an error naming the resource and the budget (step()).
+  std::uint64_t gpuMemoryBudget = engine::gpu::Allocator::kUnlimited;
 };
 
 // What the baked SDF costs per method and what its cells are, for the panel and the screenshot log.
@@ -217,6 +221,7 @@ class Viewer {
   void updateCompareBake();
   void finishCompareBake();
   engine::Status recreateSwapchain();
+  engine::Expected<bool> renderFrame(const engine::render::FrameSettings& settings);
   void applyTuningToScene();
   void startRebake();
   engine::Status finishBake();
@@ -283,6 +288,8 @@ class Viewer {
   float frameSeconds_ = 1.0f / 60.0f;
   bool keysDown_[512] = {};  // last frame's keys, for presses (F1, F11)
   bool closed_ = false;
+  bool deviceLost_ = false;   // a checked call reported VK_ERROR_DEVICE_LOST
+  std::string frameFailure_;  // why a frame failed half-way (device lost, out of GPU memory)
 };
 
 }  // namespace samples

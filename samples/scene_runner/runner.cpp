@@ -20,6 +20,7 @@ samples::ViewerDesc viewerDesc(const Options& options) {
   desc.headlessUi = options.headlessUi;
   desc.uiIniFile = options.uiIni;
   desc.bakeBudget.maxBytes = options.bakeBudgetMiB << 20;
+  if (options.gpuBudgetMiB > 0) desc.gpuMemoryBudget = options.gpuBudgetMiB << 20;
   return desc;
 }
 

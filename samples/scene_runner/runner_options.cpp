@@ -171,6 +171,10 @@ ParseResult parseOptions(int argc, const char* const* argv) {
       ->check(CLI::ExistingFile);
   app.add_option("--bake-budget-mib", options.bakeBudgetMiB, "refuse bakes needing more memory (MiB, default 4096)")
       ->check(CLI::Range(std::uint64_t(1), std::uint64_t(1) << 20));
+  app.add_option("--gpu-budget-mib", options.gpuBudgetMiB,
+                 "cap the GPU memory the renderer may allocate (MiB, default 0: no cap); past it the frame fails "
+                 "with an error naming the resource")
+      ->check(CLI::Range(std::uint64_t(0), std::uint64_t(1) << 30));
   app.add_option("--ui-ini", options.uiIni, "ImGui window layout file (windowed default: imgui.ini; '' : none)");
   app.add_option("--view", options.view, "one of 8 fixed orbit views (0..7)")->check(CLI::Range(0, 7));
   std::vector<float> camera;

@@ -31,6 +31,7 @@ struct Options {
   std::filesystem::path saveSettings;  // write the final tuning to this file (--save-settings)
   std::filesystem::path script;        // "frame N: key=value ..." lines (samples/common/script.h)
   std::uint64_t bakeBudgetMiB = 4096;  // bakes needing more memory are refused (--bake-budget-mib)
+  std::uint64_t gpuBudgetMiB = 0;      // device memory cap, 0: none (--gpu-budget-mib)
   std::filesystem::path uiIni;         // ImGui window layout (windowed default: imgui.ini)
 
   // Method, K, padding, n, refinement, normals, fp16, debug view, front to back: defaults, then a

@@ -45,11 +45,13 @@ struct PreparedSource {
 engine::Expected<PreparedSource> prepareSource(const BakeSource& source);
 
 // Limits checked after the grid is fitted and BEFORE anything is allocated; a refusal names the
-// limit ("bake budget: max resolution 128").
+// limit ("bake budget: max resolution 128"). The kept cells are only known once the cells are
+// classified: that limit is checked then, before their records are extracted.
 struct BakeBudget {
   int maxResolution = kMaxResolution;
   std::uint64_t maxSamples = std::uint64_t(1) << 28;  // K^3 (256 M: K = 645)
   std::uint64_t maxBytes = std::uint64_t(4) << 30;    // see estimateBakeBytes
+  std::uint64_t maxKeptCells = std::uint64_t(1) << 24;  // 16.8 M cells: 3.2 GB of fp32 + fp16 records
 };
 
 enum class BakeBand {

@@ -46,6 +46,9 @@ CellClass classifyCell(const HermiteCellCorners<double>& corners, double h, int 
 struct ClassifyOptions {
   int refineDepth = 0;  // 0..2: de Casteljau refinement depth for ambiguous cells
   unsigned threads = 0; // 0: all hardware threads
+  // makeSdfAsset refuses more kept cells than this after classifying, before it extracts their
+  // records (fp32 + fp16: 192 B a cell, then as much again on the GPU).
+  std::uint64_t maxKeptCells = std::uint64_t(-1);
 };
 
 struct CellStats {

@@ -144,6 +144,7 @@ engine::Expected<std::shared_ptr<const SdfAsset>> bakeAsset(const PreparedSource
   ClassifyOptions classify;
   classify.refineDepth = settings.refineDepth;
   classify.threads = settings.threads;
+  classify.maxKeptCells = settings.budget.maxKeptCells;
   ENGINE_TRY_ASSIGN(std::shared_ptr<const SdfAsset> asset,
                     makeSdfAsset(source.name, std::move(field), source.source->bounds(), classify));
   ENGINE_TRY(checkHasSurface(asset->classification.stats));

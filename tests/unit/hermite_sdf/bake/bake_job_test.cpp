@@ -107,6 +107,30 @@ TEST(BakeJob, BudgetRefusesBeforeAllocatingAndNamesTheLimit) {
   EXPECT_FALSE(reported) << "a refused bake reported progress, so it started working";
 }
 
+// Tricky: the kept cells are known only after classification, so this limit cannot be checked on
+// the grid alone; it must still refuse before the records are extracted, name the count and the
+// limit, and let exactly the limit through (off by one would refuse a field that fits).
+TEST(BakeJob, KeptCellBudgetRefusesNamingTheCountAndTheLimit) {
+  const BakeSource torus = BakeSource::fromShape("torus");
+  BakeSettings settings;
+  settings.resolution = 16;
+  auto full = bakeAsset(torus, settings);
+  ASSERT_TRUE(full.ok()) << full.error().message;
+  const std::uint64_t kept = (*full)->classification.stats.kept();
+  ASSERT_GT(kept, 100u);
+
+  settings.budget.maxKeptCells = kept - 1;
+  auto refused = bakeAsset(torus, settings);
+  ASSERT_FALSE(refused.ok());
+  EXPECT_TRUE(contains(refused.error().message, std::to_string(kept) + " kept cells, over the budget's max kept cells " +
+                                                    std::to_string(kept - 1)))
+      << refused.error().message;
+  settings.budget.maxKeptCells = kept;
+  auto fits = bakeAsset(torus, settings);
+  ASSERT_TRUE(fits.ok()) << fits.error().message;
+  EXPECT_EQ((*fits)->cells.records.size(), kept);
+}
+
 // Tricky: the worker thread must run the very same pipeline (settings, band, refinement), not a
 // variant of it: the fields must be bitwise equal and the kept cells identical.
 TEST(BakeJob, WorkerThreadResultEqualsSynchronousResult) {

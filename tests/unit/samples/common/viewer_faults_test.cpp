@@ -1,0 +1,158 @@
+// Faults the Viewer (samples/common/viewer.h) must survive as clear errors and a clean close, on
+// lavapipe with the validation layers on: a lost device, GPU memory past the allocator's budget,
+// missing or broken shader files. Small images (64x48) keep it fast.
+#include <gtest/gtest.h>
+
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <string>
+
+#include "engine/gpu/memory.h"
+#include "engine/gpu/pipeline.h"
+#include "engine/gpu/vk_check.h"
+#include "viewer.h"
+
+namespace samples {
+namespace {
+
+struct FaultGuard {  // a failing test must not leave a fault armed for the next one
+  ~FaultGuard() { engine::gpu::clearInjectedFaults(); }
+};
+
+engine::Expected<std::unique_ptr<Viewer>> createViewer() {
+  ViewerDesc desc;
+  desc.width = 64;
+  desc.height = 48;
+  desc.headless = true;
+  desc.validation = true;
+  desc.device = engine::gpu::DevicePreference::Software;
+  return Viewer::create(desc);
+}
+
+std::unique_ptr<Viewer> viewTorus() {
+  auto viewer = createViewer();
+  EXPECT_TRUE(viewer.ok()) << viewer.error().message;
+  if (!viewer.ok()) return nullptr;
+  SceneDesc scene;
+  scene.shape = "torus";
+  scene.groundPlane = false;
+  TuningState tuning;
+  tuning.resolution = 16;
+  const engine::Status loaded = (*viewer)->loadScene(scene, tuning);
+  EXPECT_TRUE(loaded.ok()) << loaded.error().message;
+  return loaded.ok() ? std::move(*viewer) : nullptr;
+}
+
+bool contains(const std::string& text, const std::string& part) { return text.find(part) != std::string::npos; }
+
+// Tricky: the lost device comes from the frame's own vkQueueSubmit2 (inside the renderer, which
+// knows nothing of it); step() must turn it into an error naming the call, later steps must not
+// wait on a fence that will never signal, and close() must tear down without throwing from a
+// destructor (its vkDeviceWaitIdle reports the loss too) and say the device was lost.
+TEST(ViewerFaults, DeviceLostIsAnErrorAndACleanClose) {
+  FaultGuard guard;
+  auto viewer = viewTorus();
+  ASSERT_NE(viewer, nullptr);
+  ASSERT_TRUE(viewer->step().ok());
+  engine::gpu::injectFault({"vkQueueSubmit2", VK_ERROR_DEVICE_LOST, 0});
+  const engine::Status lost = viewer->step();
+  ASSERT_FALSE(lost.ok());
+  EXPECT_TRUE(contains(lost.error().message, "frame 2: the Vulkan device was lost")) << lost.error().message;
+  EXPECT_TRUE(contains(lost.error().message, "vkQueueSubmit2")) << lost.error().message;
+  const engine::Status again = viewer->step();
+  ASSERT_FALSE(again.ok());
+  EXPECT_TRUE(contains(again.error().message, "an earlier frame failed")) << again.error().message;
+  const engine::Status closed = viewer->close();
+  ASSERT_FALSE(closed.ok());
+  EXPECT_TRUE(contains(closed.error().message, "device was lost")) << closed.error().message;
+  EXPECT_FALSE(contains(closed.error().message, "validation")) << closed.error().message;
+}
+
+// Tricky: the budget is lowered while the scene runs, to exactly what is in use: the frames keep
+// coming until a re-bake at a larger K needs new GPU memory for its cells; that frame must fail
+// with the allocator's message (the resource, its size, the budget), not crash, and close() must
+// find nothing for the validation layers to complain about.
+TEST(ViewerFaults, GpuBudgetLoweredWhileRunningFailsTheUploadByName) {
+  auto viewer = viewTorus();
+  ASSERT_NE(viewer, nullptr);
+  for (int frame = 0; frame < 3; ++frame)  // every frame-in-flight slot has made its buffers
+    ASSERT_TRUE(viewer->step().ok());
+  engine::gpu::Allocator& allocator = viewer->context().allocator();
+  allocator.setBudget(allocator.stats().usedBytes);
+  const engine::Status fits = viewer->step();
+  ASSERT_TRUE(fits.ok()) << "nothing new to allocate: the frame fits; " << fits.error().message;
+  TuningState tuning = viewer->tuning();
+  tuning.resolution = 32;
+  viewer->setTuning(tuning);
+  ASSERT_TRUE(viewer->waitForBake().ok()) << "the bake is on the CPU: the GPU budget does not stop it";
+  const engine::Status failed = viewer->step();
+  ASSERT_FALSE(failed.ok());
+  EXPECT_TRUE(contains(failed.error().message, "out of GPU memory (GPU memory budget: '")) << failed.error().message;
+  EXPECT_TRUE(contains(failed.error().message, "the budget is " + std::to_string(allocator.budget()) + " B"))
+      << failed.error().message;
+  const engine::Status closed = viewer->close();
+  EXPECT_TRUE(closed.ok()) << closed.error().message;
+}
+
+// A copy of the built shaders, one of them broken by `breakIt`, as HSDF_SHADER_DIR for one test.
+class BrokenShaderDir {
+ public:
+  explicit BrokenShaderDir(const std::string& testName) {
+    real_ = engine::gpu::shaderDirectory();
+    dir_ = std::filesystem::path(testing::TempDir()) / ("hsdf_shaders_" + testName);
+    std::filesystem::remove_all(dir_);
+    std::filesystem::copy(real_, dir_, std::filesystem::copy_options::recursive);
+    setenv("HSDF_SHADER_DIR", dir_.c_str(), 1);
+  }
+  ~BrokenShaderDir() {
+    unsetenv("HSDF_SHADER_DIR");
+    std::filesystem::remove_all(dir_);
+  }
+  std::filesystem::path file(const std::string& name) const { return dir_ / name; }
+
+ private:
+  std::filesystem::path real_;
+  std::filesystem::path dir_;
+};
+
+void writeBytes(const std::filesystem::path& path, const std::string& bytes) {
+  std::ofstream out(path, std::ios::binary | std::ios::trunc);
+  out << bytes;
+}
+
+// Tricky: each breakage reaches a different check: a missing file and a directory in its place
+// fail the file read, a 6-byte file the size check, 64 bytes of text the SPIR-V header check
+// (without it the bytes would go to the driver, which need not survive them). Every error must name
+// the file; creating the viewer must fail, not crash or leave a half-made device behind.
+TEST(ViewerFaults, MissingOrBrokenShaderFileIsNamed) {
+  const std::string shader = "mesh.vert.spv";  // the mesh feature's: loaded by every viewer
+  struct Case {
+    const char* name;
+    void (*breakIt)(const std::filesystem::path&);
+    const char* expected;
+  };
+  const Case cases[] = {
+      {"missing", [](const std::filesystem::path& p) { std::filesystem::remove(p); }, "not a readable file"},
+      {"directory",
+       [](const std::filesystem::path& p) {
+         std::filesystem::remove(p);
+         std::filesystem::create_directory(p);
+       },
+       "not a readable file"},
+      {"truncated", [](const std::filesystem::path& p) { writeBytes(p, std::string("\x03\x02\x23\x07\x00\x00", 6)); }, "size 6"},
+      {"text", [](const std::filesystem::path& p) { writeBytes(p, std::string(64, 'x')); }, "no SPIR-V header"},
+  };
+  for (const Case& c : cases) {
+    SCOPED_TRACE(c.name);
+    BrokenShaderDir dir(c.name);
+    c.breakIt(dir.file(shader));
+    const auto viewer = createViewer();
+    ASSERT_FALSE(viewer.ok()) << "a viewer was created with a " << c.name << " " << shader;
+    EXPECT_TRUE(contains(viewer.error().message, dir.file(shader).string())) << viewer.error().message;
+    EXPECT_TRUE(contains(viewer.error().message, c.expected)) << viewer.error().message;
+  }
+}
+
+}  // namespace
+}  // namespace samples
