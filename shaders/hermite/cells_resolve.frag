@@ -67,7 +67,14 @@ void main() {
 
   vec3 gradient = (hermite.flags & HERMITE_FLAG_NORMALS_CENTRAL) != 0u ? centralDifferenceGradient(corners, h, u)
                                                                         : hermiteValueGradient(corners, h, u).yzw;
-  vec3 normal = normalize(transpose(mat3(object.invModel)) * gradient);
+  // Scaled by its largest component first: the squared length of a huge gradient (fields with
+  // values near 1e30) would overflow float inside normalize() and give (1,1,1)/sqrt(3).
+  float largest = max(max(abs(gradient.x), abs(gradient.y)), abs(gradient.z));
+  if (largest > 0.0) gradient /= largest;
+  vec3 normal = transpose(mat3(object.invModel)) * gradient;
+  largest = max(max(abs(normal.x), abs(normal.y)), abs(normal.z));
+  if (largest > 0.0) normal /= largest;
+  normal = normalize(normal);
 
   vec3 color;
   if (pc.draw.debugView == DEBUG_VIEW_NORMALS) {
