@@ -4,6 +4,7 @@
 #extension GL_GOOGLE_include_directive : require
 #include "hermite/hermite_host_device.h"
 #include "hermite/segment_roots.glsl"
+#include "hermite/proxy_dilation.glsl"
 
 layout(push_constant, scalar) uniform Push { HermitePushConstants pc; };
 layout(buffer_reference, scalar) readonly buffer HermiteDrawsRef { HermiteDraw draws[]; };
@@ -39,16 +40,11 @@ layout(depth_less) out float gl_FragDepth;
 // change inside the searched segment of both cells, whichever way float rounding of the two cells'
 // local coordinates falls; without it each cell could see the root just outside its own segment
 // and the ray passed through the face. The margin grows with the distance of the eye in cells,
-// where the local coordinates lose precision.
-float searchMargin(CellRay ray) {
-  vec3 magnitude = abs(ray.origin);
-  return max(inDilation, 8.0e-7 * max(max(magnitude.x, magnitude.y), magnitude.z));
-}
-
+// where the local coordinates lose precision (searchMargin, proxy_dilation.glsl).
 void main() {
   HermiteDraw draw = HermiteDrawsRef(pc.draws).draws[inDraw];
   CellRay ray = cellRay();
-  float margin = searchMargin(ray);
+  float margin = searchMargin(ray.origin, inDilation);
   vec2 box = intersectBox(ray.origin, ray.direction, vec3(-margin), vec3(1.0 + margin));
   float tNear = gl_FragCoord.z;  // the near plane (see cellRay)
   float t0 = max(box.x, tNear);

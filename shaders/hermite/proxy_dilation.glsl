@@ -1,5 +1,5 @@
-// How far a proxy box (a cell or a run of cells) is grown beyond the cells it covers. Shared by
-// cells.vert and runs.vert.
+// How far a proxy box (a cell or a run of cells) is grown beyond the cells it covers (cells.vert,
+// runs.vert), and how far the fragment shaders search beyond it (cells_depth.glsl, runs_depth.glsl).
 #ifndef HSDF_PROXY_DILATION_GLSL
 #define HSDF_PROXY_DILATION_GLSL
 
@@ -18,6 +18,13 @@ float proxyDilation(FrameGlobals frame, ObjectData object, vec3 cellCentre, floa
   // The object's smallest axis scale: the most cells per world unit.
   float scale = min(min(length(object.model[0].xyz), length(object.model[1].xyz)), length(object.model[2].xyz));
   return max(kMinDilation, kDilationPixels * worldPerPixel / (h * scale));
+}
+
+// How far beyond its cell a fragment searches the ray (cell-local units): the proxy's dilation,
+// widened when the eye is so far away, in cells, that local coordinates lose precision.
+float searchMargin(vec3 eyeLocal, float dilation) {
+  vec3 magnitude = abs(eyeLocal);
+  return max(dilation, 8.0e-7 * max(max(magnitude.x, magnitude.y), magnitude.z));
 }
 
 #endif

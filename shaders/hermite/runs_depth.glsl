@@ -6,6 +6,7 @@
 #extension GL_GOOGLE_include_directive : require
 #include "hermite/hermite_host_device.h"
 #include "hermite/segment_roots.glsl"
+#include "hermite/proxy_dilation.glsl"
 
 layout(push_constant, scalar) uniform Push { HermitePushConstants pc; };
 layout(buffer_reference, scalar) readonly buffer HermiteDrawsRef { HermiteDraw draws[]; };
@@ -41,8 +42,7 @@ void main() {
   // near plane lies at t = gl_FragCoord.z (as in cells_depth.glsl).
   vec3 origin = inCameraLocal;
   vec3 direction = inLocal - inCameraLocal;
-  vec3 magnitude = abs(origin);
-  float margin = max(inDilation, 8.0e-7 * max(max(magnitude.x, magnitude.y), magnitude.z));
+  float margin = searchMargin(origin, inDilation);
   float length = float(inRun.w);
   vec2 box = intersectBox(origin, direction, vec3(-margin), vec3(length + margin, 1.0 + margin, 1.0 + margin));
   float tNear = gl_FragCoord.z;

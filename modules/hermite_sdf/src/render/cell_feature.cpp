@@ -329,6 +329,8 @@ void HermiteCellFeature::buildDraws(engine::render::FrameContext& frame) {
         const glm::dvec3 eyeGrid = (glm::dvec3(eyeObject) - grid.origin) / grid.spacing;
         const double reachGrid = double(frame.camera.nearPlaneReachInObject(object.invModel)) / grid.spacing;
 
+        screenRect_ = unite(screenRect_, screenBounds(viewProj, world.matrix, grid.bounds(), frame.extent));
+        stats_.objects++;
         if (r.method == RenderMethod::CellRuns) {
           // Runs read their records by address: the draw says which buffer and which precision.
           draw.records = buffers_->records[precision].address();
@@ -347,8 +349,6 @@ void HermiteCellFeature::buildDraws(engine::render::FrameContext& frame) {
           }
           stats_.cells += r.asset->cells.records.size();
           stats_.runs += entry.runs.size();
-          screenRect_ = unite(screenRect_, screenBounds(viewProj, world.matrix, grid.bounds(), frame.extent));
-          stats_.objects++;
           return;
         }
         for (const CellRows::Range& range : orderedRows(entry.rows, eyeGrid, settings_.frontToBack)) {
@@ -363,8 +363,6 @@ void HermiteCellFeature::buildDraws(engine::render::FrameContext& frame) {
           draws[precision][1].push_back(nearDraw);
           stats_.nearCells++;
         }
-        screenRect_ = unite(screenRect_, screenBounds(viewProj, world.matrix, grid.bounds(), frame.extent));
-        stats_.objects++;
       });
 
   // One upload: [fp32 front][fp32 near][fp16 front][fp16 near][runs front][runs near].
