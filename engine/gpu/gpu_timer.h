@@ -8,6 +8,8 @@
 
 #include <vulkan/vulkan.h>
 
+#include "engine/gpu/query_pool.h"
+
 namespace engine::gpu {
 
 class Context;
@@ -21,11 +23,6 @@ class GpuTimer {
  public:
   GpuTimer() = default;
   GpuTimer(const Context& context, std::uint32_t maxScopes, const std::string& name);
-  ~GpuTimer();
-  GpuTimer(GpuTimer&& other) noexcept;
-  GpuTimer& operator=(GpuTimer&& other) noexcept;
-  GpuTimer(const GpuTimer&) = delete;
-  GpuTimer& operator=(const GpuTimer&) = delete;
 
   // Starts a new frame of measurements (records a pool reset).
   void reset(VkCommandBuffer cmd);
@@ -33,12 +30,10 @@ class GpuTimer {
   void end(VkCommandBuffer cmd);
   // Reads the results of the last recorded frame; call only after its submission completed.
   std::vector<GpuTiming> results() const;
-  bool enabled() const { return pool_ != VK_NULL_HANDLE; }
+  bool enabled() const { return bool(pool_); }
 
  private:
-  void release();
-  const Context* context_ = nullptr;
-  VkQueryPool pool_ = VK_NULL_HANDLE;
+  QueryPool pool_;                  // two timestamps per scope
   std::uint32_t maxScopes_ = 0;
   double periodMs_ = 0.0;
   std::vector<std::string> names_;  // one per begun scope, in query order

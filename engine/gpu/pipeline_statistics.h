@@ -12,6 +12,8 @@
 
 #include <vulkan/vulkan.h>
 
+#include "engine/gpu/query_pool.h"
+
 namespace engine::gpu {
 
 class Context;
@@ -30,11 +32,6 @@ class PipelineStatisticsQueries {
  public:
   PipelineStatisticsQueries() = default;
   PipelineStatisticsQueries(const Context& context, std::uint32_t maxScopes, const std::string& name);
-  ~PipelineStatisticsQueries();
-  PipelineStatisticsQueries(PipelineStatisticsQueries&& other) noexcept;
-  PipelineStatisticsQueries& operator=(PipelineStatisticsQueries&& other) noexcept;
-  PipelineStatisticsQueries(const PipelineStatisticsQueries&) = delete;
-  PipelineStatisticsQueries& operator=(const PipelineStatisticsQueries&) = delete;
 
   // Starts a new frame of measurements (records a pool reset; outside a render pass).
   void reset(VkCommandBuffer cmd);
@@ -44,12 +41,10 @@ class PipelineStatisticsQueries {
   // The counts of the last recorded frame; call only after its submission completed. Scopes whose
   // results are not available are left out.
   std::vector<PipelineStatistics> results() const;
-  bool enabled() const { return pool_ != VK_NULL_HANDLE; }
+  bool enabled() const { return bool(pool_); }
 
  private:
-  void release();
-  const Context* context_ = nullptr;
-  VkQueryPool pool_ = VK_NULL_HANDLE;
+  QueryPool pool_;  // one query per scope
   std::uint32_t maxScopes_ = 0;
   std::vector<std::string> names_;
   bool open_ = false;
