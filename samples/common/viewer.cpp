@@ -379,19 +379,36 @@ std::vector<render::Renderer::ShaderReload> Viewer::reloadShaders() {
 
 bool Viewer::shouldClose() const { return window_ && window_->shouldClose(); }
 
+// A minimised window (or a 0x0 framebuffer) gets no swapchain: the old one waits, marked stale,
+// and the first drawable step recreates it (an out-of-date swapchain may report the old size).
 Status Viewer::recreateSwapchain() {
-  window_->waitWhileMinimized();
+  swapchainStale_ = true;
+  if (window_->minimized()) return {};
   ENGINE_TRY(swapchain_->recreate(window_->framebufferExtent()));
+  swapchainStale_ = false;
+  ++swapchainRecreations_;
+  log::debug("swapchain recreated: {}x{}", swapchain_->extent().width, swapchain_->extent().height);
   renderer_->resize(swapchain_->extent());
   return {};
 }
 
+// While minimised the step sleeps for events (at most kMinimizedWaitSeconds) and draws nothing,
+// so that the caller's loop (scripts, finished bakes, closing) goes on without spinning.
 Status Viewer::handleWindow(float dt, bool& drawable) {
+  constexpr double kMinimizedWaitSeconds = 0.05;
   window_->pollEvents();
   drawable = !window_->minimized();
   if (!drawable) {
-    window_->waitWhileMinimized();
+    if (skippedSteps_++ == 0) {
+      const VkExtent2D e = window_->framebufferExtent();
+      log::info("window minimised (framebuffer {}x{}): drawing nothing until it is restored", e.width, e.height);
+    }
+    window_->waitEvents(kMinimizedWaitSeconds);
     return {};
+  }
+  if (skippedSteps_ > 0) {
+    log::info("window restored after {} step(s) without a frame", skippedSteps_);
+    skippedSteps_ = 0;
   }
   platform::InputState& input = window_->input();
   input.uiWantsMouse = ui_ && uiVisible_ && ui_->wantsMouse();
@@ -400,7 +417,7 @@ Status Viewer::handleWindow(float dt, bool& drawable) {
   if (cameraMode_ == CameraMode::Orbit) orbit_.update(input);
   else fly_.update(input, std::min(dt, 0.1f));  // a stall does not throw the camera across the scene
   const VkExtent2D extent = window_->framebufferExtent();
-  if (extent.width != swapchain_->extent().width || extent.height != swapchain_->extent().height)
+  if (swapchainStale_ || extent.width != swapchain_->extent().width || extent.height != swapchain_->extent().height)
     ENGINE_TRY(recreateSwapchain());
   return {};
 }
@@ -425,6 +442,19 @@ Status Viewer::setVsync(bool vsync) {
   ENGINE_TRY_ASSIGN(swapchain_, gpu::Swapchain::create(*context_, window_->surface(), window_->framebufferExtent(), vsync));
   vsync_ = vsync;
   renderer_->resize(swapchain_->extent());
+  return {};
+}
+
+Status Viewer::setMinimized(bool minimized) {
+  constexpr double kWindowSystemSeconds = 2.0;
+  if (!window_) return makeError("minimise/restore: no window (headless)");
+  if (minimized) window_->iconify();
+  else window_->restore();
+  const double deadline = nowSeconds() + kWindowSystemSeconds;
+  while (window_->minimized() != minimized && nowSeconds() < deadline) window_->waitEvents(0.01);
+  if (window_->minimized() != minimized)
+    return makeError(fmt::format("the window system did not {} the window within {} s (X11 needs a window manager for this)",
+                                 minimized ? "minimise" : "restore", kWindowSystemSeconds));
   return {};
 }
 
@@ -480,7 +510,10 @@ Status Viewer::step() {
   if (ui) ui_->buildFrame(renderer_->extent(), dt);
   ENGINE_TRY_ASSIGN(const bool presented, renderFrame(settings));
   if (!settings.regions.empty()) showState(tuning_, main);
-  if (!presented) ENGINE_TRY(recreateSwapchain());
+  if (!presented) {
+    log::debug("swapchain out of date or suboptimal: recreating it");
+    ENGINE_TRY(recreateSwapchain());
+  }
   ++frames_;
   finishStep();
   return {};
