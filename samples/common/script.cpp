@@ -3,12 +3,14 @@
 #include <algorithm>
 #include <charconv>
 #include <cstdlib>
+#include <optional>
 #include <sstream>
 
 #include <fmt/format.h>
 
 #include "engine/core/files.h"
 #include "engine/core/log.h"
+#include "engine/gpu/vk_check.h"
 #include "tuning.h"
 #include "viewer.h"
 
@@ -18,7 +20,8 @@ namespace {
 using engine::Status;
 
 constexpr std::string_view kValueActions[] = {"screenshot", "size",          "panel",         "vsync",  "fullscreen",
-                                              "view",       "save-settings", "load-settings", "camera", "shader-dir"};
+                                              "view",       "save-settings", "load-settings", "camera", "shader-dir",
+                                              "present-fault"};
 constexpr std::string_view kBareActions[] = {"wait-bake", "cancel-bake", "reload-shaders", "rebuild-shaders", "minimize",
                                              "restore"};
 
@@ -43,6 +46,13 @@ bool parseSize(std::string_view text, std::uint32_t& width, std::uint32_t& heigh
   return true;
 }
 
+// present-fault=out-of-date|suboptimal: what the next present reports.
+std::optional<VkResult> presentFault(std::string_view text) {
+  if (text == "out-of-date") return VK_ERROR_OUT_OF_DATE_KHR;
+  if (text == "suboptimal") return VK_SUBOPTIMAL_KHR;
+  return std::nullopt;
+}
+
 bool parseOnOff(std::string_view text, bool& out) {
   if (text != "on" && text != "off") return false;
   out = text == "on";
@@ -59,7 +69,7 @@ Status checkCommand(const ScriptCommand& c, TuningState& scratch) {
   }
   if (!contains(kValueActions, c.key))
     return engine::makeError(fmt::format("unknown key '{}' (settings: {}; actions: screenshot, size, panel, vsync, "
-                                         "fullscreen, view, camera, save-settings, load-settings, shader-dir, "
+                                         "fullscreen, view, camera, save-settings, load-settings, shader-dir, present-fault, "
                                          "wait-bake, cancel-bake, reload-shaders, rebuild-shaders, minimize, restore)",
                                          c.key, tuningKeyList()));
   std::uint32_t w = 0, h = 0;
@@ -72,6 +82,8 @@ Status checkCommand(const ScriptCommand& c, TuningState& scratch) {
     return engine::makeError(fmt::format("{} '{}' is not on or off", c.key, c.value));
   if (c.key == "view" && !(parseInt(c.value, view) && view >= 0 && view <= 7))
     return engine::makeError(fmt::format("view '{}' is not 0..7", c.value));
+  if (c.key == "present-fault" && !presentFault(c.value))
+    return engine::makeError(fmt::format("present-fault '{}' is not out-of-date or suboptimal", c.value));
   if (c.key == "camera" && c.value != "orbit" && c.value != "fly")
     return engine::makeError(fmt::format("camera '{}' is not orbit or fly", c.value));
   return {};
@@ -160,6 +172,9 @@ Status runCommand(const ScriptCommand& c, Viewer& viewer) {
     engine::log::info("reload-shaders: panel report: {}", viewer.shaderReloadReport());
   } else if (c.key == "shader-dir") {
     ENGINE_TRY(useShaderDirectory(c.value));
+  } else if (c.key == "present-fault") {
+    // The engine's fault injection (vk_check.h): the driver presents, the swapchain hears the result.
+    engine::gpu::injectFault({"vkQueuePresentKHR", *presentFault(c.value)});
   } else if (c.key == "minimize" || c.key == "restore") {
     ENGINE_TRY(viewer.setMinimized(c.key == "minimize"));
   } else if (c.key == "rebuild-shaders") {

@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # Window faults (issue 12) driven by window_faults_script.txt in a real GLFW window under Xvfb,
 # validation on (a message fails the run): minimise and restore, a resize storm down to 1x1, the
-# split screen in a 1-pixel-wide window, a resize while minimised. X11 iconifies a window through
+# split screen in a 1-pixel-wide window, a resize while minimised, presents that report out of date
+# and suboptimal. X11 iconifies a window through
 # the window manager, so openbox runs in the Xvfb display (scripts/deps.sh installs it for tests).
 # Checks what would break if the loop mishandled a fault: the run ends cleanly, the minimised steps
 # draw nothing and are reported, every frame after a fault has the window's size and shows the
@@ -30,7 +31,7 @@ kill $wm
 exit $rc
 SESSION
 HSDF_LOG=debug timeout 300 xvfb-run -a -s "-screen 0 640x480x24" bash session.sh "$runner" --validation --no-ground \
-  --size 128x96 --resolution 24 --ui-ini "" --script "$script" --frames 30 >log.txt 2>&1
+  --size 128x96 --resolution 24 --ui-ini "" --script "$script" --frames 34 >log.txt 2>&1
 rc=$?
 cat log.txt
 [ $rc -eq 0 ] || fail "scene_runner exited with $rc"
@@ -68,5 +69,10 @@ size_is after_split 144x100; drawn after_split
 same after_split after_storm
 # Resized while minimised: the first frame after restoring has the new size.
 size_is restored_resized 112x80; drawn restored_resized
+# Out of date and suboptimal presents: each one recreated the swapchain, the frame is unchanged.
+n=$(grep -c "swapchain out of date or suboptimal: recreating it" log.txt)
+[ "$n" = 2 ] || fail "$n presents were out of date or suboptimal, not the 2 injected"
+size_is after_present_faults 112x80
+same after_present_faults restored_resized
 grep -q "window: .* frames drawn" log.txt || fail "the run's window summary is missing"
 echo "window faults: all checks passed"
