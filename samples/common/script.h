@@ -12,7 +12,8 @@
 // settings sidecar), wait-bake (also the compared side's bake), cancel-bake, reload-shaders (the
 // pipelines from the SPIR-V on disk, the result logged), rebuild-shaders (the panel's button and
 // F5: the build's shader target first, then the reload), shader-dir=PATH (SPIR-V from PATH from
-// now on, as HSDF_SHADER_DIR=PATH: a reload from a broken copy), size=WxH (1..4096),
+// now on, as HSDF_SHADER_DIR=PATH: a reload from a broken copy), size=WxH (1..4096; the window
+// system applies it asynchronously), wait-size (waits until the window has the last size asked for),
 // minimize, restore (the window manager iconifies / restores the window; the action waits until it
 // has), present-fault=out-of-date|suboptimal (the next present reports that: vk_check.h's fault
 // injection), panel=on|off, vsync=on|off, fullscreen=on|off, view=0..7 (orbit view), camera=orbit|fly

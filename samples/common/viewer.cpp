@@ -467,10 +467,26 @@ bool Viewer::fullscreen() const { return window_ && window_->fullscreen(); }
 void Viewer::resize(std::uint32_t width, std::uint32_t height) {
   if (window_) {
     window_->setSize(int(width), int(height));
+    requestedSize_ = {width, height};
     return;
   }
   context_->waitIdle();
   renderer_->resize({width, height});
+}
+
+Status Viewer::waitForWindowSize() {
+  constexpr double kWindowSystemSeconds = 2.0;
+  if (!window_ || requestedSize_.width == 0) return {};
+  const double deadline = nowSeconds() + kWindowSystemSeconds;
+  auto reached = [this] {
+    const VkExtent2D e = window_->framebufferExtent();
+    return e.width == requestedSize_.width && e.height == requestedSize_.height;
+  };
+  while (!reached() && nowSeconds() < deadline) window_->waitEvents(0.01);
+  if (!reached())
+    return makeError(fmt::format("the window system did not resize the window to {}x{} within {} s", requestedSize_.width,
+                                 requestedSize_.height, kWindowSystemSeconds));
+  return {};
 }
 
 Status Viewer::step() {

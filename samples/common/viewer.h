@@ -196,8 +196,12 @@ class Viewer {
   engine::Status setMinimized(bool minimized);
   // Swapchains created after the first (resize, out of date, suboptimal, restore).
   std::uint64_t swapchainRecreations() const { return swapchainRecreations_; }
-  // Windowed: asks for a new window size; headless: resizes the render targets now.
+  // Windowed: asks for a new window size (applied asynchronously by the window system; several
+  // requests in a row may arrive as one); headless: resizes the render targets now.
   void resize(std::uint32_t width, std::uint32_t height);
+  // Windowed: waits (at most 2 s) until the window has the size last asked for; an error if the
+  // window system did not apply it. Headless: nothing to wait for.
+  engine::Status waitForWindowSize();
   bool windowed() const { return window_ != nullptr; }
   // Seconds the last windowed frame took (headless: 1/60).
   float frameSeconds() const { return frameSeconds_; }
@@ -294,6 +298,7 @@ class Viewer {
   bool vsync_ = true;
   float frameSeconds_ = 1.0f / 60.0f;
   bool keysDown_[512] = {};  // last frame's keys, for presses (F1, F11)
+  VkExtent2D requestedSize_{0, 0};  // the last resize() of the window
   bool swapchainStale_ = false;  // out of date or resized while it could not be recreated (minimised)
   std::uint64_t swapchainRecreations_ = 0;
   std::uint64_t skippedSteps_ = 0;  // steps of the current minimised spell

@@ -31,7 +31,7 @@ kill $wm
 exit $rc
 SESSION
 HSDF_LOG=debug timeout 300 xvfb-run -a -s "-screen 0 640x480x24" bash session.sh "$runner" --validation --no-ground \
-  --size 128x96 --resolution 24 --ui-ini "" --script "$script" --frames 34 >log.txt 2>&1
+  --size 128x96 --resolution 24 --ui-ini "" --script "$script" --frames 33 >log.txt 2>&1
 rc=$?
 cat log.txt
 [ $rc -eq 0 ] || fail "scene_runner exited with $rc"
@@ -56,12 +56,14 @@ grep -q "window restored after 4 step(s) without a frame" log.txt || fail "the m
 size_is before 128x96; size_is restored 128x96
 drawn before; drawn restored
 same restored before
-# The storm: the 1x1 and one-pixel-wide/-tall sizes reached the swapchain, the last size holds.
-for s in 1x1 1x64 64x1; do
-  grep -q "swapchain recreated: $s\$" log.txt || fail "the $s window size never reached the swapchain"
-done
-n=$(grep -c "swapchain recreated: " log.txt)
-at_least "$n" 10 || fail "only $n swapchain recreations in a storm of 14 sizes"
+# The smallest windows are drawn at their size (a screenshot has the renderer's extent, the swapchain's).
+size_is tiny_1x1 1x1; size_is tiny_1x64 1x64; size_is tiny_64x1 64x1
+# The storm: sizes reached the swapchain (the window manager may merge a few requests), the last
+# size holds and the object is drawn.
+n=$(awk '/script frame 10: size/ {on = 1} /script frame 26:/ {on = 0} on && /swapchain recreated: /' log.txt | wc -l)
+at_least "$n" 5 || fail "only $n swapchain recreations in a storm of 14 sizes"
+storm_outdated=$(awk '/script frame 10: size/ {on = 1} /script frame 26:/ {on = 0} on && /out of date or suboptimal/' log.txt | wc -l)
+echo "storm: $n swapchain recreations, $storm_outdated presents out of date or suboptimal"
 size_is after_storm 144x100; drawn after_storm
 # One side of the split is empty in a 1-pixel-wide window; afterwards the frame is the one before.
 size_is split_1px 1x40
@@ -70,8 +72,8 @@ same after_split after_storm
 # Resized while minimised: the first frame after restoring has the new size.
 size_is restored_resized 112x80; drawn restored_resized
 # Out of date and suboptimal presents: each one recreated the swapchain, the frame is unchanged.
-n=$(grep -c "swapchain out of date or suboptimal: recreating it" log.txt)
-[ "$n" = 2 ] || fail "$n presents were out of date or suboptimal, not the 2 injected"
+n=$(awk '/script frame 35: present-fault/ {on = 1} on && /out of date or suboptimal: recreating/' log.txt | wc -l)
+[ "$n" = 2 ] || fail "$n presents were out of date or suboptimal after the 2 injected faults, not 2"
 size_is after_present_faults 112x80
 same after_present_faults restored_resized
 grep -q "window: .* frames drawn" log.txt || fail "the run's window summary is missing"
