@@ -436,13 +436,10 @@ void Viewer::handleKeys(const platform::InputState& input) {
 
 Status Viewer::setVsync(bool vsync) {
   if (!swapchain_ || vsync == vsync_) return {};
-  // The present mode is fixed at swapchain creation: make a new one.
-  context_->waitIdle();
-  swapchain_.reset();
-  ENGINE_TRY_ASSIGN(swapchain_, gpu::Swapchain::create(*context_, window_->surface(), window_->framebufferExtent(), vsync));
+  // The present mode is fixed at swapchain creation: a new swapchain (later, when minimised).
+  swapchain_->setVsync(vsync);
   vsync_ = vsync;
-  renderer_->resize(swapchain_->extent());
-  return {};
+  return recreateSwapchain();
 }
 
 Status Viewer::setMinimized(bool minimized) {
