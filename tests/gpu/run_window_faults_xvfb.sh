@@ -31,7 +31,7 @@ kill $wm
 exit $rc
 SESSION
 HSDF_LOG=debug timeout 300 xvfb-run -a -s "-screen 0 640x480x24" bash session.sh "$runner" --validation --no-ground \
-  --size 128x96 --resolution 24 --ui-ini "" --script "$script" --frames 33 >log.txt 2>&1
+  --size 128x96 --resolution 24 --ui-ini "" --script "$script" --frames 35 >log.txt 2>&1
 rc=$?
 cat log.txt
 [ $rc -eq 0 ] || fail "scene_runner exited with $rc"
@@ -76,5 +76,11 @@ n=$(awk '/script frame 35: present-fault/ {on = 1} on && /out of date or subopti
 [ "$n" = 2 ] || fail "$n presents were out of date or suboptimal after the 2 injected faults, not 2"
 size_is after_present_faults 112x80
 same after_present_faults restored_resized
+# The V-sync switch while minimised at the same size: the swapchain was recreated after restoring.
+n=$(awk '/script frame 41: restore/ {on = 1} on && /swapchain recreated: 112x80/' log.txt | wc -l)
+[ "$n" -ge 1 ] || fail "switching V-sync while minimised never recreated the swapchain after restoring"
+grep -q "window restored after 2 step(s) without a frame" log.txt || fail "the third minimised spell was not 2 steps"
+size_is vsync_restored 112x80
+same vsync_restored after_present_faults
 grep -q "window: .* frames drawn" log.txt || fail "the run's window summary is missing"
 echo "window faults: all checks passed"
