@@ -44,6 +44,17 @@ double nowSeconds() {
   return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count();
 }
 
+// How long a script waits for the window system to apply a request (minimise, restore, resize).
+constexpr double kWindowSystemSeconds = 2.0;
+
+// Handles window events until `done()` or kWindowSystemSeconds have passed; whether it is done.
+template <class Done>
+bool waitForWindowSystem(platform::Window& window, Done done) {
+  const double deadline = nowSeconds() + kWindowSystemSeconds;
+  while (!done() && nowSeconds() < deadline) window.waitEvents(0.01);
+  return done();
+}
+
 }  // namespace
 
 Expected<std::unique_ptr<Viewer>> Viewer::create(const ViewerDesc& desc) {
@@ -443,13 +454,10 @@ Status Viewer::setVsync(bool vsync) {
 }
 
 Status Viewer::setMinimized(bool minimized) {
-  constexpr double kWindowSystemSeconds = 2.0;
   if (!window_) return makeError("minimise/restore: no window (headless)");
   if (minimized) window_->iconify();
   else window_->restore();
-  const double deadline = nowSeconds() + kWindowSystemSeconds;
-  while (window_->minimized() != minimized && nowSeconds() < deadline) window_->waitEvents(0.01);
-  if (window_->minimized() != minimized)
+  if (!waitForWindowSystem(*window_, [&] { return window_->minimized() == minimized; }))
     return makeError(fmt::format("the window system did not {} the window within {} s (X11 needs a window manager for this)",
                                  minimized ? "minimise" : "restore", kWindowSystemSeconds));
   return {};
@@ -472,15 +480,12 @@ void Viewer::resize(std::uint32_t width, std::uint32_t height) {
 }
 
 Status Viewer::waitForWindowSize() {
-  constexpr double kWindowSystemSeconds = 2.0;
   if (!window_ || requestedSize_.width == 0) return {};
-  const double deadline = nowSeconds() + kWindowSystemSeconds;
   auto reached = [this] {
     const VkExtent2D e = window_->framebufferExtent();
     return e.width == requestedSize_.width && e.height == requestedSize_.height;
   };
-  while (!reached() && nowSeconds() < deadline) window_->waitEvents(0.01);
-  if (!reached())
+  if (!waitForWindowSystem(*window_, reached))
     return makeError(fmt::format("the window system did not resize the window to {}x{} within {} s", requestedSize_.width,
                                  requestedSize_.height, kWindowSystemSeconds));
   return {};
