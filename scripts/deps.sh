@@ -10,7 +10,9 @@ HSDF_BUILD_PACKAGES=(
   libcli11-dev nlohmann-json3-dev libfmt-dev libdraco-dev libmeshoptimizer-dev
   libgtest-dev libbenchmark-dev
 )
-HSDF_TEST_PACKAGES=(xvfb xauth)
+# openbox: X11 minimises (iconifies) a window through a window manager; the window-faults test
+# runs one in Xvfb. x11-utils: xprop, to see that it has started.
+HSDF_TEST_PACKAGES=(xvfb xauth openbox x11-utils)
 
 hsdf_install_deps() {
   local wanted=("${HSDF_BUILD_PACKAGES[@]}")

@@ -1,11 +1,11 @@
 #include "engine/gpu/pipeline.h"
 
 #include <cstdlib>
-#include <cstring>
 #include <utility>
 
 #include "engine/core/files.h"
 #include "engine/gpu/context.h"
+#include "engine/gpu/spirv_check.h"
 #include "engine/gpu/vk_check.h"
 
 #ifndef HSDF_SHADER_DIR
@@ -40,15 +40,10 @@ Expected<ShaderModule> ShaderModule::load(const Context& context, const std::str
   const std::filesystem::path path = shaderDirectory() / (name + ".spv");
   auto bytes = readBinaryFile(path, 64u << 20);
   if (!bytes) return bytes.error().withContext("shader " + name);
-  if (bytes->empty() || bytes->size() % 4 != 0)
-    return makeError("shader " + path.string() + ": not SPIR-V (size " + std::to_string(bytes->size()) + ")");
   // Checked here, not left to the driver: invalid SPIR-V is undefined behaviour in
-  // vkCreateShaderModule (a reload of a broken file must fail cleanly, old pipelines kept).
-  constexpr std::uint32_t kSpirvMagic = 0x07230203u;
-  std::uint32_t magic = 0;
-  std::memcpy(&magic, bytes->data(), sizeof(magic));
-  if (bytes->size() < 20 || magic != kSpirvMagic)
-    return makeError("shader " + path.string() + ": not SPIR-V (no SPIR-V header: magic number 0x07230203 missing; rebuild the shaders)");
+  // vkCreateShaderModule (a reload of a broken or half-written file must fail cleanly, old
+  // pipelines kept).
+  if (Status valid = checkSpirv(*bytes); !valid) return makeError("shader " + path.string() + ": " + valid.error().message);
   VkShaderModuleCreateInfo info{VK_STRUCTURE_TYPE_SHADER_MODULE_CREATE_INFO};
   info.codeSize = bytes->size();
   info.pCode = reinterpret_cast<const std::uint32_t*>(bytes->data());

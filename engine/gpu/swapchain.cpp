@@ -58,6 +58,10 @@ Status Swapchain::recreate(VkExtent2D desiredExtent) {
     extent.width = std::clamp(desiredExtent.width, caps.minImageExtent.width, caps.maxImageExtent.width);
     extent.height = std::clamp(desiredExtent.height, caps.minImageExtent.height, caps.maxImageExtent.height);
   }
+  // A minimised window (Windows) reports 0x0: such a swapchain is invalid; the caller waits.
+  if (extent.width == 0 || extent.height == 0)
+    return makeError("cannot make a swapchain of " + std::to_string(extent.width) + "x" + std::to_string(extent.height) +
+                     ": the window has no area (minimised)");
   std::uint32_t imageCount = std::max(caps.minImageCount + 1, 2u);
   if (caps.maxImageCount) imageCount = std::min(imageCount, caps.maxImageCount);
 
@@ -122,7 +126,10 @@ bool Swapchain::present(std::uint32_t imageIndex) {
   info.swapchainCount = 1;
   info.pSwapchains = &swapchain_;
   info.pImageIndices = &imageIndex;
-  const VkResult result = vkQueuePresentKHR(context_.queue(), &info);
+  // Through vk_check.h's fault injection: a test can have a present that the driver completed
+  // report out of date or suboptimal (an X server that resizes synchronously never does).
+  const VkResult result =
+      detail::checkedResult("vkQueuePresentKHR(context_.queue(), &info)", vkQueuePresentKHR(context_.queue(), &info));
   if (result == VK_ERROR_OUT_OF_DATE_KHR || result == VK_SUBOPTIMAL_KHR) return false;
   VK_CHECK(result);
   return true;

@@ -21,8 +21,11 @@ class Swapchain {
   Swapchain(const Swapchain&) = delete;
   Swapchain& operator=(const Swapchain&) = delete;
 
-  // Rebuilds the images for a new window size (waits for the GPU).
+  // Rebuilds the images for a new window size (waits for the GPU). An error for a window of no
+  // area (0x0 while minimised): the old swapchain stays.
   Status recreate(VkExtent2D desiredExtent);
+  // V-sync (FIFO) or the fastest present mode the surface has, from the next recreate() on.
+  void setVsync(bool vsync) { vsync_ = vsync; }
   // Acquires the next image, signalling `imageAvailable`. False when the swapchain is out of date.
   bool acquire(VkSemaphore imageAvailable, std::uint32_t& imageIndex);
   // Presents after renderFinished(imageIndex) is signalled. False when out of date or suboptimal.

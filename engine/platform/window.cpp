@@ -92,9 +92,11 @@ bool Window::minimized() const {
   return e.width == 0 || e.height == 0 || glfwGetWindowAttrib(window_, GLFW_ICONIFIED);
 }
 
-void Window::waitWhileMinimized() {
-  while (minimized() && !shouldClose()) glfwWaitEvents();
-}
+void Window::waitEvents(double seconds) { glfwWaitEventsTimeout(seconds); }
+
+void Window::iconify() { glfwIconifyWindow(window_); }
+
+void Window::restore() { glfwRestoreWindow(window_); }
 
 void Window::setSize(int width, int height) { glfwSetWindowSize(window_, width, height); }
 

@@ -42,9 +42,17 @@ class Window {
   // Polls events and updates the input state (deltas are per call).
   void pollEvents();
   bool shouldClose() const;
-  VkExtent2D framebufferExtent() const;  // {0,0} while minimised
+  VkExtent2D framebufferExtent() const;  // {0,0} while minimised (Windows; X11 keeps the size)
+  // Iconified, or a framebuffer of 0 width or height: nothing can be drawn (a swapchain of 0x0 is
+  // invalid).
   bool minimized() const;
-  void waitWhileMinimized();
+  // Waits for window events, at most `seconds` (a minimised window's frame loop sleeps here
+  // instead of spinning, and still runs scripted commands and finished bakes).
+  void waitEvents(double seconds);
+  // Asks the window system to minimise (iconify) or restore the window; like setSize, applied
+  // asynchronously (X11: by the window manager; without one nothing happens).
+  void iconify();
+  void restore();
   // Asks the window system for a new client size (applied asynchronously: framebufferExtent()
   // reports it once the window system has resized the window).
   void setSize(int width, int height);

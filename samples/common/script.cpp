@@ -2,12 +2,15 @@
 
 #include <algorithm>
 #include <charconv>
+#include <cstdlib>
+#include <optional>
 #include <sstream>
 
 #include <fmt/format.h>
 
 #include "engine/core/files.h"
 #include "engine/core/log.h"
+#include "engine/gpu/vk_check.h"
 #include "tuning.h"
 #include "viewer.h"
 
@@ -16,9 +19,11 @@ namespace {
 
 using engine::Status;
 
-constexpr std::string_view kValueActions[] = {"screenshot", "size",          "panel",        "vsync",  "fullscreen",
-                                              "view",       "save-settings", "load-settings", "camera"};
-constexpr std::string_view kBareActions[] = {"wait-bake", "cancel-bake", "reload-shaders", "rebuild-shaders"};
+constexpr std::string_view kValueActions[] = {"screenshot", "size",          "panel",         "vsync",  "fullscreen",
+                                              "view",       "save-settings", "load-settings", "camera", "shader-dir",
+                                              "present-fault"};
+constexpr std::string_view kBareActions[] = {"wait-bake", "cancel-bake", "reload-shaders", "rebuild-shaders", "minimize",
+                                             "restore", "wait-size"};
 
 template <std::size_t N>
 bool contains(const std::string_view (&list)[N], std::string_view key) {
@@ -30,15 +35,22 @@ bool parseInt(std::string_view text, int& out) {
   return error == std::errc() && end == text.data() + text.size();
 }
 
-// "WxH", each 16..4096 (a window the test machines can show).
+// "WxH", each 1..4096 (1x1: the smallest framebuffer a window has; 0x0 comes from minimising).
 bool parseSize(std::string_view text, std::uint32_t& width, std::uint32_t& height) {
   const std::size_t x = text.find('x');
   int w = 0, h = 0;
   if (x == std::string_view::npos || !parseInt(text.substr(0, x), w) || !parseInt(text.substr(x + 1), h)) return false;
-  if (w < 16 || h < 16 || w > 4096 || h > 4096) return false;
+  if (w < 1 || h < 1 || w > 4096 || h > 4096) return false;
   width = std::uint32_t(w);
   height = std::uint32_t(h);
   return true;
+}
+
+// present-fault=out-of-date|suboptimal: what the next present reports.
+std::optional<VkResult> presentFault(std::string_view text) {
+  if (text == "out-of-date") return VK_ERROR_OUT_OF_DATE_KHR;
+  if (text == "suboptimal") return VK_SUBOPTIMAL_KHR;
+  return std::nullopt;
 }
 
 bool parseOnOff(std::string_view text, bool& out) {
@@ -57,19 +69,21 @@ Status checkCommand(const ScriptCommand& c, TuningState& scratch) {
   }
   if (!contains(kValueActions, c.key))
     return engine::makeError(fmt::format("unknown key '{}' (settings: {}; actions: screenshot, size, panel, vsync, "
-                                         "fullscreen, view, camera, save-settings, load-settings, wait-bake, "
-                                         "cancel-bake, reload-shaders, rebuild-shaders)",
+                                         "fullscreen, view, camera, save-settings, load-settings, shader-dir, present-fault, "
+                                         "wait-bake, cancel-bake, reload-shaders, rebuild-shaders, minimize, restore, wait-size)",
                                          c.key, tuningKeyList()));
   std::uint32_t w = 0, h = 0;
   bool flag = false;
   int view = 0;
   if (c.value.empty()) return engine::makeError(fmt::format("'{}' needs a value ({}=...)", c.key, c.key));
   if (c.key == "size" && !parseSize(c.value, w, h))
-    return engine::makeError(fmt::format("size '{}' is not WxH with 16 <= W,H <= 4096", c.value));
+    return engine::makeError(fmt::format("size '{}' is not WxH with 1 <= W,H <= 4096", c.value));
   if ((c.key == "panel" || c.key == "vsync" || c.key == "fullscreen") && !parseOnOff(c.value, flag))
     return engine::makeError(fmt::format("{} '{}' is not on or off", c.key, c.value));
   if (c.key == "view" && !(parseInt(c.value, view) && view >= 0 && view <= 7))
     return engine::makeError(fmt::format("view '{}' is not 0..7", c.value));
+  if (c.key == "present-fault" && !presentFault(c.value))
+    return engine::makeError(fmt::format("present-fault '{}' is not out-of-date or suboptimal", c.value));
   if (c.key == "camera" && c.value != "orbit" && c.value != "fly")
     return engine::makeError(fmt::format("camera '{}' is not orbit or fly", c.value));
   return {};
@@ -128,6 +142,17 @@ engine::Expected<Script> loadScript(const std::filesystem::path& file) {
 
 namespace {
 
+// shader-dir=PATH: the engine loads SPIR-V from PATH from now on, as if the program had been
+// started with HSDF_SHADER_DIR=PATH (engine/gpu/pipeline.h); a test points a reload at a copy of
+// the build's shaders that it broke, without touching the build or the sources.
+Status useShaderDirectory(const std::string& path) {
+  std::error_code ec;
+  if (!std::filesystem::is_directory(path, ec)) return engine::makeError(fmt::format("shader-dir '{}' is not a directory", path));
+  if (setenv("HSDF_SHADER_DIR", path.c_str(), 1) != 0) return engine::makeError("shader-dir: cannot set HSDF_SHADER_DIR");
+  engine::log::info("shader-dir: SPIR-V is loaded from {} from now on", path);
+  return {};
+}
+
 Status runCommand(const ScriptCommand& c, Viewer& viewer) {
   if (contains(kTuningKeys, c.key)) {
     TuningState tuning = viewer.tuning();
@@ -144,6 +169,16 @@ Status runCommand(const ScriptCommand& c, Viewer& viewer) {
     viewer.cancelBake();
   } else if (c.key == "reload-shaders") {
     viewer.reloadShaders();  // the result is logged and in the report; a failure is not an error here
+    engine::log::info("reload-shaders: panel report: {}", viewer.shaderReloadReport());
+  } else if (c.key == "shader-dir") {
+    ENGINE_TRY(useShaderDirectory(c.value));
+  } else if (c.key == "present-fault") {
+    // The engine's fault injection (vk_check.h): the driver presents, the swapchain hears the result.
+    engine::gpu::injectFault({"vkQueuePresentKHR", *presentFault(c.value)});
+  } else if (c.key == "wait-size") {
+    ENGINE_TRY(viewer.waitForWindowSize());
+  } else if (c.key == "minimize" || c.key == "restore") {
+    ENGINE_TRY(viewer.setMinimized(c.key == "minimize"));
   } else if (c.key == "rebuild-shaders") {
     viewer.rebuildAndReloadShaders();
     engine::log::info("rebuild-shaders: {}", viewer.shaderReloadReport());

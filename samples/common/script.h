@@ -11,10 +11,16 @@
 // Tuning keys: those of a settings file (tuning.h). Actions: screenshot=PATH (PNG + .json
 // settings sidecar), wait-bake (also the compared side's bake), cancel-bake, reload-shaders (the
 // pipelines from the SPIR-V on disk, the result logged), rebuild-shaders (the panel's button and
-// F5: the build's shader target first, then the reload), size=WxH, panel=on|off, vsync=on|off,
-// fullscreen=on|off, view=0..7 (orbit view), camera=orbit|fly (keeps the view), save-settings=PATH,
-// load-settings=PATH.
-// Commands of a frame run in order before that frame is drawn (frame 0: the first).
+// F5: the build's shader target first, then the reload), shader-dir=PATH (SPIR-V from PATH from
+// now on, as HSDF_SHADER_DIR=PATH: a reload from a broken copy), size=WxH (1..4096; the window
+// system applies it asynchronously), wait-size (waits until the window has the last size asked for),
+// minimize, restore (the window manager iconifies / restores the window; the action waits until it
+// has), present-fault=out-of-date|suboptimal (the next present reports that: vk_check.h's fault
+// injection), panel=on|off, vsync=on|off, fullscreen=on|off, view=0..7 (orbit view), camera=orbit|fly
+// (keeps the view), save-settings=PATH, load-settings=PATH.
+// Commands of a frame run in order before that frame is drawn (frame 0: the first). "frame N" counts
+// steps of the frame loop: a minimised window's steps draw nothing but count, so a script can
+// restore the window it minimised.
 #include <cstdint>
 #include <filesystem>
 #include <string>

@@ -44,6 +44,17 @@ double nowSeconds() {
   return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count();
 }
 
+// How long a script waits for the window system to apply a request (minimise, restore, resize).
+constexpr double kWindowSystemSeconds = 2.0;
+
+// Handles window events until `done()` or kWindowSystemSeconds have passed; whether it is done.
+template <class Done>
+bool waitForWindowSystem(platform::Window& window, Done done) {
+  const double deadline = nowSeconds() + kWindowSystemSeconds;
+  while (!done() && nowSeconds() < deadline) window.waitEvents(0.01);
+  return done();
+}
+
 }  // namespace
 
 Expected<std::unique_ptr<Viewer>> Viewer::create(const ViewerDesc& desc) {
@@ -379,19 +390,36 @@ std::vector<render::Renderer::ShaderReload> Viewer::reloadShaders() {
 
 bool Viewer::shouldClose() const { return window_ && window_->shouldClose(); }
 
+// A minimised window (or a 0x0 framebuffer) gets no swapchain: the old one waits, marked stale,
+// and the first drawable step recreates it (an out-of-date swapchain may report the old size).
 Status Viewer::recreateSwapchain() {
-  window_->waitWhileMinimized();
+  swapchainStale_ = true;
+  if (window_->minimized()) return {};
   ENGINE_TRY(swapchain_->recreate(window_->framebufferExtent()));
+  swapchainStale_ = false;
+  ++swapchainRecreations_;
+  log::debug("swapchain recreated: {}x{}", swapchain_->extent().width, swapchain_->extent().height);
   renderer_->resize(swapchain_->extent());
   return {};
 }
 
+// While minimised the step sleeps for events (at most kMinimizedWaitSeconds) and draws nothing,
+// so that the caller's loop (scripts, finished bakes, closing) goes on without spinning.
 Status Viewer::handleWindow(float dt, bool& drawable) {
+  constexpr double kMinimizedWaitSeconds = 0.05;
   window_->pollEvents();
   drawable = !window_->minimized();
   if (!drawable) {
-    window_->waitWhileMinimized();
+    if (skippedSteps_++ == 0) {
+      const VkExtent2D e = window_->framebufferExtent();
+      log::info("window minimised (framebuffer {}x{}): drawing nothing until it is restored", e.width, e.height);
+    }
+    window_->waitEvents(kMinimizedWaitSeconds);
     return {};
+  }
+  if (skippedSteps_ > 0) {
+    log::info("window restored after {} step(s) without a frame", skippedSteps_);
+    skippedSteps_ = 0;
   }
   platform::InputState& input = window_->input();
   input.uiWantsMouse = ui_ && uiVisible_ && ui_->wantsMouse();
@@ -400,7 +428,7 @@ Status Viewer::handleWindow(float dt, bool& drawable) {
   if (cameraMode_ == CameraMode::Orbit) orbit_.update(input);
   else fly_.update(input, std::min(dt, 0.1f));  // a stall does not throw the camera across the scene
   const VkExtent2D extent = window_->framebufferExtent();
-  if (extent.width != swapchain_->extent().width || extent.height != swapchain_->extent().height)
+  if (swapchainStale_ || extent.width != swapchain_->extent().width || extent.height != swapchain_->extent().height)
     ENGINE_TRY(recreateSwapchain());
   return {};
 }
@@ -419,12 +447,19 @@ void Viewer::handleKeys(const platform::InputState& input) {
 
 Status Viewer::setVsync(bool vsync) {
   if (!swapchain_ || vsync == vsync_) return {};
-  // The present mode is fixed at swapchain creation: make a new one.
-  context_->waitIdle();
-  swapchain_.reset();
-  ENGINE_TRY_ASSIGN(swapchain_, gpu::Swapchain::create(*context_, window_->surface(), window_->framebufferExtent(), vsync));
+  // The present mode is fixed at swapchain creation: a new swapchain (later, when minimised).
+  swapchain_->setVsync(vsync);
   vsync_ = vsync;
-  renderer_->resize(swapchain_->extent());
+  return recreateSwapchain();
+}
+
+Status Viewer::setMinimized(bool minimized) {
+  if (!window_) return makeError("minimise/restore: no window (headless)");
+  if (minimized) window_->iconify();
+  else window_->restore();
+  if (!waitForWindowSystem(*window_, [&] { return window_->minimized() == minimized; }))
+    return makeError(fmt::format("the window system did not {} the window within {} s (X11 needs a window manager for this)",
+                                 minimized ? "minimise" : "restore", kWindowSystemSeconds));
   return {};
 }
 
@@ -437,10 +472,23 @@ bool Viewer::fullscreen() const { return window_ && window_->fullscreen(); }
 void Viewer::resize(std::uint32_t width, std::uint32_t height) {
   if (window_) {
     window_->setSize(int(width), int(height));
+    requestedSize_ = {width, height};
     return;
   }
   context_->waitIdle();
   renderer_->resize({width, height});
+}
+
+Status Viewer::waitForWindowSize() {
+  if (!window_ || requestedSize_.width == 0) return {};
+  auto reached = [this] {
+    const VkExtent2D e = window_->framebufferExtent();
+    return e.width == requestedSize_.width && e.height == requestedSize_.height;
+  };
+  if (!waitForWindowSystem(*window_, reached))
+    return makeError(fmt::format("the window system did not resize the window to {}x{} within {} s", requestedSize_.width,
+                                 requestedSize_.height, kWindowSystemSeconds));
+  return {};
 }
 
 Status Viewer::step() {
@@ -480,7 +528,10 @@ Status Viewer::step() {
   if (ui) ui_->buildFrame(renderer_->extent(), dt);
   ENGINE_TRY_ASSIGN(const bool presented, renderFrame(settings));
   if (!settings.regions.empty()) showState(tuning_, main);
-  if (!presented) ENGINE_TRY(recreateSwapchain());
+  if (!presented) {
+    log::debug("swapchain out of date or suboptimal: recreating it");
+    ENGINE_TRY(recreateSwapchain());
+  }
   ++frames_;
   finishStep();
   return {};

@@ -165,7 +165,8 @@ class Viewer {
 
   // Windowed: the user closed the window. Headless: never.
   bool shouldClose() const;
-  // One frame: (windowed: input, camera, resize; a minimised window waits and draws nothing) a
+  // One frame: (windowed: input, camera, resize; a minimised window waits for events at most 50 ms
+  // and draws nothing, framesRendered() stays) a
   // finished re-bake, tuning -> SDF components, world transforms, UI frame, render (recreating an
   // out-of-date swapchain).
   engine::Status step();
@@ -189,8 +190,18 @@ class Viewer {
   bool vsync() const { return vsync_; }
   void setFullscreen(bool fullscreen);
   bool fullscreen() const;
-  // Windowed: asks for a new window size; headless: resizes the render targets now.
+  // Minimises (iconifies) or restores the window and waits (at most 2 s) until the window system
+  // has done it; an error when it did not (X11 without a window manager) or headless. While
+  // minimised, step() draws nothing and returns after a short wait for events.
+  engine::Status setMinimized(bool minimized);
+  // Swapchains created after the first (resize, out of date, suboptimal, restore).
+  std::uint64_t swapchainRecreations() const { return swapchainRecreations_; }
+  // Windowed: asks for a new window size (applied asynchronously by the window system; several
+  // requests in a row may arrive as one); headless: resizes the render targets now.
   void resize(std::uint32_t width, std::uint32_t height);
+  // Windowed: waits (at most 2 s) until the window has the size last asked for; an error if the
+  // window system did not apply it. Headless: nothing to wait for.
+  engine::Status waitForWindowSize();
   bool windowed() const { return window_ != nullptr; }
   // Seconds the last windowed frame took (headless: 1/60).
   float frameSeconds() const { return frameSeconds_; }
@@ -287,6 +298,10 @@ class Viewer {
   bool vsync_ = true;
   float frameSeconds_ = 1.0f / 60.0f;
   bool keysDown_[512] = {};  // last frame's keys, for presses (F1, F11)
+  VkExtent2D requestedSize_{0, 0};  // the last resize() of the window
+  bool swapchainStale_ = false;  // out of date or resized while it could not be recreated (minimised)
+  std::uint64_t swapchainRecreations_ = 0;
+  std::uint64_t skippedSteps_ = 0;  // steps of the current minimised spell
   bool closed_ = false;
   bool deviceLost_ = false;   // a checked call reported VK_ERROR_DEVICE_LOST
   std::string frameFailure_;  // why a frame failed half-way (device lost, out of GPU memory)

@@ -54,13 +54,18 @@ Status runFrames(const Options& options, samples::Viewer& viewer) {
   if (!options.script.empty()) {
     ENGINE_TRY_ASSIGN(script, samples::loadScript(options.script).withContext("--script"));
   }
+  // Script frames count steps: a minimised window's steps draw nothing (framesRendered() stays) but
+  // the script goes on, so it can restore the window.
   auto next = script.frames.begin();
-  while (!viewer.shouldClose() && (options.frames == 0 || viewer.framesRendered() < options.frames)) {
-    for (; next != script.frames.end() && next->frame <= viewer.framesRendered(); ++next)
+  for (std::uint64_t step = 0; !viewer.shouldClose() && (options.frames == 0 || viewer.framesRendered() < options.frames);
+       ++step) {
+    for (; next != script.frames.end() && next->frame <= step; ++next)
       ENGINE_TRY(samples::runScriptFrame(script, *next, viewer));
     ENGINE_TRY(viewer.step());
   }
   viewer.renderer().finish();
+  if (viewer.windowed())
+    log::info("window: {} frames drawn, swapchain recreated {} time(s)", viewer.framesRendered(), viewer.swapchainRecreations());
   for (const gpu::GpuTiming& t : viewer.renderer().lastTimings())
     log::info("GPU {:>14}: {:8.3f} ms", t.name, t.milliseconds);
   if (!options.screenshot.empty()) ENGINE_TRY(viewer.writeScreenshot(options.screenshot));

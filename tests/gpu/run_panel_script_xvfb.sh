@@ -7,18 +7,26 @@
 # swapchain, the settings sidecar and the settings round trip hold the tuning, full screen follows
 # the screen and back, the fly camera starts at the orbit camera's view, the split screen shows the
 # compared method on its side in both orientations, the difference view reports a non-zero angle,
-# and a shader reload rebuilds the pipelines without changing the image.
+# a shader reload rebuilds the pipelines without changing the image, a reload from a broken SPIR-V
+# file keeps the old pipelines (same image) and names the file, and the compared side's normals mode
+# changes only its side.
 # Exit 77 (ctest: skipped) when Xvfb is not installed.
 set -u
-runner=$1 probe=$2 script=$3 work=$4
+runner=$1 probe=$2 script=$3 work=$4 shaders=$5
 if ! command -v xvfb-run >/dev/null 2>&1; then
   echo "SKIPPED: xvfb-run not found (Debian package xvfb); the panel script was not run"
   exit 77
 fi
 rm -rf "$work" && mkdir -p "$work" && cd "$work" || exit 1
 fail() { echo "FAIL: $*"; exit 1; }
+# Two copies of the build's SPIR-V for the reloads (shader-dir=): spv/ as built, spv_broken/ with
+# cells_resolve.frag.spv cut to its first half (whole words: only the loader's instruction walk
+# sees it, the size and header checks pass).
+cp -r "$shaders" spv && cp -r "$shaders" spv_broken || fail "cannot copy the shaders from $shaders"
+spv_words=$(( $(stat -c %s spv/cells_resolve.frag.spv) / 8 ))
+head -c $(( spv_words * 4 )) spv/cells_resolve.frag.spv >spv_broken/cells_resolve.frag.spv
 timeout 300 xvfb-run -a -s "-screen 0 640x480x24" "$runner" --validation --no-ground --size 128x96 --resolution 24 \
-  --bake-budget-mib 16 --ui-ini "" --script "$script" --frames 42 >log.txt 2>&1
+  --bake-budget-mib 16 --ui-ini "" --script "$script" --frames 45 >log.txt 2>&1
 rc=$?
 cat log.txt
 [ $rc -eq 0 ] || fail "scene_runner exited with $rc"
@@ -96,4 +104,26 @@ at_least "$mean" 0.1 || fail "the difference view reports a mean angle of $mean 
 grep -q "meshes: reloaded" log.txt && grep -q "sphere tracing: reloaded" log.txt || fail "the shader reload was not reported"
 d=$(FIELD=differs field after_reload.png cells_ref.png)
 [ "$d" = 0.0000 ] || fail "after_reload.png differs from cells_ref.png ($d): reloading the same shaders changed the image"
+# The broken reload: the cells feature refused the cut file (the loader's message names it, in the
+# log and in the panel's report), the other features reloaded, and the frame is the one before.
+grep -q "hermite cells: shader spv_broken/cells_resolve.frag.spv: not SPIR-V (truncated" log.txt ||
+  fail "the broken cells_resolve.frag.spv was not refused with the file named"
+grep -A3 "reload-shaders: panel report" log.txt | grep -q "spv_broken/cells_resolve.frag.spv: not SPIR-V (truncated" ||
+  fail "the panel's reload report does not hold the loader's message"
+d=$(FIELD=differs field broken_reload.png after_reload.png)
+[ "$d" = 0.0000 ] || fail "broken_reload.png differs from after_reload.png ($d): the failed reload changed the image"
+# The good reload after it: every feature reloaded (the last cells line says so), same image.
+last_cells=$(grep "^hermite cells: " log.txt | tail -1)
+[ "$last_cells" = "hermite cells: reloaded" ] || fail "the reload after the broken one did not reload the cells: $last_cells"
+d=$(FIELD=differs field good_reload.png cells_ref.png)
+[ "$d" = 0.0000 ] || fail "good_reload.png differs from cells_ref.png ($d)"
+# The compared side's normals: the log names exact for it, the cells half (left of the divider at
+# 80 of 160) is unchanged and the trilinear half changed.
+grep -q "split_vertical.png: split vertical at 0.50: .*(central normals)" log.txt || fail "the first split did not use central normals"
+grep -q "split_exact_normals.png: split vertical at 0.50: cells K 40 | trilinear K 48 (exact normals)" log.txt ||
+  fail "compare_normals=exact did not reach the compared side"
+d=$(FIELD=differs field --crop 0,0,80,112 split_exact_normals.png split_vertical.png)
+[ "$d" = 0.0000 ] || fail "the cells side changed ($d) when only the compared side's normals did"
+d=$(FIELD=differs field --crop 80,0,80,112 split_exact_normals.png split_vertical.png)
+at_least "$d" 0.005 || fail "the trilinear side looks the same with exact normals (differs $d)"
 echo "panel script: all checks passed"
