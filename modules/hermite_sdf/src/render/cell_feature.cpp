@@ -207,7 +207,12 @@ engine::Expected<HermiteCellFeature::Pipelines> HermiteCellFeature::createPipeli
   resolve.vertex = resolveVert.handle();
   resolve.fragment = resolveFrag.handle();
   resolve.cullMode = VK_CULL_MODE_NONE;
-  resolve.depthTest = false;
+  // The rectangle lies on the far plane (reverse-Z: depth 0), so LESS passes only where the prepass
+  // drew something. Background pixels fail this test before the shader runs: on lavapipe a 4x4
+  // block whose pixels all fail an early test skips the shader, while a discard inside it does
+  // not (docs/perf/cells-breakdown-lavapipe.md); GPUs reject such quads early too.
+  resolve.depthTest = true;
+  resolve.depthCompare = VK_COMPARE_OP_LESS;
   resolve.depthWrite = false;
   resolve.depthFormat = formats.depth;
   resolve.colorFormats = {formats.color};
