@@ -189,10 +189,16 @@ Status Context::createInstance(const ContextDesc& desc) {
   messengerInfo.pUserData = this;
 
   const bool sync = validation && (desc.synchronizationValidation || envFlag("HSDF_SYNC_VALIDATION"));
-  VkValidationFeatureEnableEXT enables[] = {VK_VALIDATION_FEATURE_ENABLE_SYNCHRONIZATION_VALIDATION_EXT};
+  // GPU-assisted validation (the layer instruments every shader: out-of-bounds descriptor indices
+  // and buffer-device-address accesses are reported) only from the environment: the CI's
+  // validation stage sets it (scripts/test.sh); it slows shaders down several times.
+  const bool gpuAssisted = validation && envFlag("HSDF_GPU_ASSISTED_VALIDATION");
+  std::vector<VkValidationFeatureEnableEXT> enables;
+  if (sync) enables.push_back(VK_VALIDATION_FEATURE_ENABLE_SYNCHRONIZATION_VALIDATION_EXT);
+  if (gpuAssisted) enables.push_back(VK_VALIDATION_FEATURE_ENABLE_GPU_ASSISTED_EXT);
   VkValidationFeaturesEXT validationFeatures{VK_STRUCTURE_TYPE_VALIDATION_FEATURES_EXT};
-  validationFeatures.enabledValidationFeatureCount = 1;
-  validationFeatures.pEnabledValidationFeatures = enables;
+  validationFeatures.enabledValidationFeatureCount = static_cast<std::uint32_t>(enables.size());
+  validationFeatures.pEnabledValidationFeatures = enables.data();
 
   VkInstanceCreateInfo info{VK_STRUCTURE_TYPE_INSTANCE_CREATE_INFO};
   info.pApplicationInfo = &app;
@@ -206,7 +212,7 @@ Status Context::createInstance(const ContextDesc& desc) {
     messengerInfo.pNext = chain;
     chain = &messengerInfo;
   }
-  if (sync) {
+  if (!enables.empty()) {
     validationFeatures.pNext = chain;
     chain = &validationFeatures;
   }
@@ -221,7 +227,11 @@ Status Context::createInstance(const ContextDesc& desc) {
     setObjectName_ = reinterpret_cast<PFN_vkSetDebugUtilsObjectNameEXT>(
         vkGetInstanceProcAddr(instance_, "vkSetDebugUtilsObjectNameEXT"));
   }
-  if (validation) log::debug("validation layers on{}", sync ? " (with synchronization validation)" : "");
+  if (sync || gpuAssisted)  // in the log of every test the CI's validation stage runs
+    log::info("validation layers on{}{}", sync ? ", synchronization validation" : "",
+              gpuAssisted ? ", GPU-assisted validation" : "");
+  else if (validation)
+    log::debug("validation layers on");
   return {};
 }
 

@@ -16,6 +16,7 @@
 #include <cstdint>
 #include <string>
 #include <string_view>
+#include <vector>
 
 #include <vulkan/vulkan.h>
 
@@ -70,6 +71,11 @@ struct FrameContext {
   // Frames in flight (not frame slots): a resource last used by frame L is free once frame
   // L + framesInFlight is being prepared (that frame's slot waited for L's fence).
   std::uint32_t framesInFlight = 1;
+  // Where a feature says it could not draw an object (e.g. its new asset's GPU buffers did not fit
+  // the memory budget): it drops the object, draws the rest and reports it here once; the
+  // renderer hands the reports to its caller (Renderer::takeDroppedObjects).
+  std::vector<std::string>* droppedObjects = nullptr;
+  void reportDropped(std::string message) const;
 };
 
 struct PassContext {

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cstring>
+#include <utility>
 
 #include <glm/gtc/packing.hpp>
 
@@ -50,6 +51,11 @@ std::string regionSuffix(std::uint32_t region) {
 }
 
 }  // namespace
+
+void FrameContext::reportDropped(std::string message) const {
+  log::error("{}", message);
+  if (droppedObjects) droppedObjects->push_back(std::move(message));
+}
 
 Renderer::Renderer(const gpu::Context& context, const RendererDesc& desc, VkExtent2D extent)
     : context_(context),
@@ -230,7 +236,7 @@ void Renderer::writeFrameGlobals(std::uint32_t slot, const CameraView& camera) {
 }
 
 void Renderer::collectTimings(FrameResources& frame) {
-  if (!frame.submitted) return;
+  if (!frame.submitted || !frame.timed) return;
   auto timings = frame.timer.results();
   if (!timings.empty()) lastTimings_ = std::move(timings);
   auto statistics = frame.statistics.results();
@@ -266,6 +272,10 @@ VkDeviceAddress Renderer::prepareWorkCounters(VkCommandBuffer cmd) {
   return workCounters_.address();
 }
 
+// The frame's fence is reset only right before its submit: a frame that fails while it is recorded
+// (a feature's upload runs out of GPU memory, a driver call fails) leaves the fence signalled and
+// nothing of it submitted, so the next frame on this slot neither waits forever nor sees half a
+// frame. The error still reaches the caller; the renderer stays usable.
 bool Renderer::renderFrame(const ecs::Registry& registry, const CameraView& camera, const FrameSettings& settings) {
   const auto slot = static_cast<std::uint32_t>(frameNumber_ % desc_.framesInFlight);
   FrameResources& frame = frames_[slot];
@@ -277,7 +287,21 @@ bool Renderer::renderFrame(const ecs::Registry& registry, const CameraView& came
   std::uint32_t imageIndex = 0;
   if (settings.swapchain && !settings.swapchain->acquire(frame.imageAvailable, imageIndex)) return false;
 
-  VK_CHECK(vkResetFences(context_.device(), 1, &frame.fence));
+  try {
+    recordFrame(frame, slot, registry, camera, settings, imageIndex);
+  } catch (...) {
+    abandonFrame(frame, settings.swapchain, imageIndex);
+    throw;
+  }
+  submitFrame(frame, settings.swapchain, imageIndex);
+  frame.timed = true;
+  ++frameNumber_;
+  if (settings.swapchain) return settings.swapchain->present(imageIndex);
+  return true;
+}
+
+void Renderer::recordFrame(FrameResources& frame, std::uint32_t slot, const ecs::Registry& registry,
+                           const CameraView& camera, const FrameSettings& settings, std::uint32_t imageIndex) {
   VK_CHECK(vkResetCommandPool(context_.device(), frame.pool, 0));
   VkCommandBufferBeginInfo begin{VK_STRUCTURE_TYPE_COMMAND_BUFFER_BEGIN_INFO};
   begin.flags = VK_COMMAND_BUFFER_USAGE_ONE_TIME_SUBMIT_BIT;
@@ -291,6 +315,7 @@ bool Renderer::renderFrame(const ecs::Registry& registry, const CameraView& came
   FrameContext context{frame.cmd, registry, context_,    scene_,           camera,
                        extent_,   slot,     frameNumber_, settings.debugView, workCounters};
   context.framesInFlight = desc_.framesInFlight;
+  context.droppedObjects = &droppedObjects_;
   if (settings.regions.empty()) {
     recordRegion(frame, context, ViewRegion{{{0, 0}, extent_}, {}}, 0);
   } else {
@@ -315,7 +340,9 @@ bool Renderer::renderFrame(const ecs::Registry& registry, const CameraView& came
   if (settings.swapchain) recordPresentBlit(frame.cmd, *settings.swapchain, imageIndex);
   frame.timer.end(frame.cmd);
   VK_CHECK(vkEndCommandBuffer(frame.cmd));
+}
 
+void Renderer::submitFrame(FrameResources& frame, gpu::Swapchain* swapchain, std::uint32_t imageIndex) {
   VkCommandBufferSubmitInfo cmdInfo{VK_STRUCTURE_TYPE_COMMAND_BUFFER_SUBMIT_INFO};
   cmdInfo.commandBuffer = frame.cmd;
   VkSemaphoreSubmitInfo waitInfo{VK_STRUCTURE_TYPE_SEMAPHORE_SUBMIT_INFO};
@@ -323,22 +350,41 @@ bool Renderer::renderFrame(const ecs::Registry& registry, const CameraView& came
   VkSubmitInfo2 submit{VK_STRUCTURE_TYPE_SUBMIT_INFO_2};
   submit.commandBufferInfoCount = 1;
   submit.pCommandBufferInfos = &cmdInfo;
-  if (settings.swapchain) {
+  if (swapchain) {
     waitInfo.semaphore = frame.imageAvailable;
     waitInfo.stageMask = VK_PIPELINE_STAGE_2_ALL_TRANSFER_BIT;
-    signalInfo.semaphore = settings.swapchain->renderFinished(imageIndex);
+    signalInfo.semaphore = swapchain->renderFinished(imageIndex);
     signalInfo.stageMask = VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT;
     submit.waitSemaphoreInfoCount = 1;
     submit.pWaitSemaphoreInfos = &waitInfo;
     submit.signalSemaphoreInfoCount = 1;
     submit.pSignalSemaphoreInfos = &signalInfo;
   }
+  VK_CHECK(vkResetFences(context_.device(), 1, &frame.fence));
   VK_CHECK(vkQueueSubmit2(context_.queue(), 1, &submit, frame.fence));
   frame.submitted = true;
-  ++frameNumber_;
-  if (settings.swapchain) return settings.swapchain->present(imageIndex);
-  return true;
 }
+
+// A frame whose recording threw: its commands are dropped (the next frame resets the pool) and its
+// fence was never reset. The slot's earlier submission was waited for and its timings collected,
+// so the slot counts as free. With a window, the acquired image still has to be presented (and its
+// semaphore waited on) or the swapchain runs out of images: it shows the last finished frame again
+// (the colour target holds it, in TRANSFER_SRC, since the failed commands never ran).
+void Renderer::abandonFrame(FrameResources& frame, gpu::Swapchain* swapchain, std::uint32_t imageIndex) {
+  frame.submitted = false;
+  if (!swapchain) return;
+  VK_CHECK(vkResetCommandPool(context_.device(), frame.pool, 0));
+  VkCommandBufferBeginInfo begin{VK_STRUCTURE_TYPE_COMMAND_BUFFER_BEGIN_INFO};
+  begin.flags = VK_COMMAND_BUFFER_USAGE_ONE_TIME_SUBMIT_BIT;
+  VK_CHECK(vkBeginCommandBuffer(frame.cmd, &begin));
+  recordPresentBlit(frame.cmd, *swapchain, imageIndex);
+  VK_CHECK(vkEndCommandBuffer(frame.cmd));
+  submitFrame(frame, swapchain, imageIndex);
+  frame.timed = false;  // no timer queries in this submission
+  (void)swapchain->present(imageIndex);  // out of date: the next acquire says so
+}
+
+std::vector<std::string> Renderer::takeDroppedObjects() { return std::exchange(droppedObjects_, {}); }
 
 // One view region: its overrides, the features' prepare with the region's frame slot, its passes.
 void Renderer::recordRegion(FrameResources& frame, FrameContext& context, const ViewRegion& region,

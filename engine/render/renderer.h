@@ -102,7 +102,10 @@ class Renderer {
   VkExtent2D extent() const { return extent_; }
 
   // Records and submits one frame. Returns false when a swapchain was given and it is out of
-  // date (resize it and the renderer, then try again).
+  // date (resize it and the renderer, then try again). An exception while the frame is recorded
+  // (e.g. gpu::VulkanError out of device memory from a feature's upload) reaches the caller with
+  // nothing of the frame submitted; the next call renders normally (with a window, the failed
+  // frame shows the last finished one again).
   bool renderFrame(const ecs::Registry& registry, const CameraView& camera, const FrameSettings& settings = {});
 
   // Waits for the GPU, then copies the last frame back: RGBA8 (sRGB-encoded) and depth values.
@@ -122,6 +125,10 @@ class Renderer {
   // Pipeline statistics of the most recent frame whose results are available, per pass:
   // "depth prepass" and "opaque". Empty on devices without pipeline-statistics queries.
   const std::vector<gpu::PipelineStatistics>& lastPipelineStatistics() const { return lastStatistics_; }
+  // Objects the features dropped since the last call, each with why (FrameContext::reportDropped):
+  // e.g. a new asset whose GPU buffers did not fit the allocator's budget. The frames that
+  // dropped them drew the rest of the scene.
+  std::vector<std::string> takeDroppedObjects();
   // Waits for all frames and collects the timings of the last one.
   void finish();
 
@@ -139,13 +146,18 @@ class Renderer {
     VkSemaphore imageAvailable = VK_NULL_HANDLE;
     gpu::GpuTimer timer;
     gpu::PipelineStatisticsQueries statistics;
-    bool submitted = false;
+    bool submitted = false;  // its fence will signal (or has)
+    bool timed = false;      // the submission wrote the timer and statistics queries
   };
 
   void createTargets();
   void createSceneDescriptors();
   void updateSceneDescriptors();
   void writeFrameGlobals(std::uint32_t slot, const CameraView& camera);
+  void recordFrame(FrameResources& frame, std::uint32_t slot, const ecs::Registry& registry, const CameraView& camera,
+                   const FrameSettings& settings, std::uint32_t imageIndex);
+  void submitFrame(FrameResources& frame, gpu::Swapchain* swapchain, std::uint32_t imageIndex);
+  void abandonFrame(FrameResources& frame, gpu::Swapchain* swapchain, std::uint32_t imageIndex);
   void recordRegion(FrameResources& frame, FrameContext& context, const ViewRegion& region, std::uint32_t index);
   void recordScenePasses(FrameResources& frame, FrameContext& context, VkRect2D rect, std::uint32_t region);
   void recordDepthPrepass(PassContext& pass, VkRect2D rect, bool first);
@@ -172,6 +184,7 @@ class Renderer {
   std::vector<gpu::PipelineStatistics> lastStatistics_;
   gpu::Buffer workCounters_;  // one uint per pixel, created on the first counting frame
   bool workCounted_ = false;
+  std::vector<std::string> droppedObjects_;  // FrameContext::reportDropped, until takeDroppedObjects()
   bool reportedTooManyRegions_ = false;
   std::uint64_t frameNumber_ = 0;
 };

@@ -5,6 +5,7 @@
 #include <GLFW/glfw3.h>
 
 #include <fmt/format.h>
+#include <fmt/ranges.h>
 #include <imgui.h>
 
 #include "engine/core/image_io.h"
@@ -534,14 +535,13 @@ Status Viewer::step() {
   }
   ++frames_;
   finishStep();
-  return {};
+  return droppedObjectsError(frames_);
 }
 
-// A lost device or GPU memory running out (the allocator's budget included) ends the scene: an
-// error (the caller exits cleanly, close() still tears down) instead of an exception through the
-// program. Other driver failures still throw. The renderer cannot resume a frame that failed
-// half-way (its fence is reset but nothing was submitted), so later steps return the same error
-// instead of waiting forever.
+// A lost device ends the scene: an error (the caller exits cleanly, close() still tears down)
+// instead of an exception through the program, and later steps return the same error. GPU memory
+// running out (the allocator's budget included) while a frame is recorded fails that frame only:
+// the renderer submits nothing of it and the next step draws again. Other driver failures throw.
 Expected<bool> Viewer::renderFrame(const render::FrameSettings& settings) {
   if (!frameFailure_.empty()) return makeError("an earlier frame failed: " + frameFailure_);
   try {
@@ -551,13 +551,19 @@ Expected<bool> Viewer::renderFrame(const render::FrameSettings& settings) {
       deviceLost_ = true;
       frameFailure_ = fmt::format("frame {}: the Vulkan device was lost ({}); the scene cannot continue",
                                   frames_ + 1, e.what());
-    } else if (e.result() == VK_ERROR_OUT_OF_DEVICE_MEMORY) {
-      frameFailure_ = fmt::format("frame {}: out of GPU memory ({})", frames_ + 1, e.what());
-    } else {
-      throw;
+      return makeError(frameFailure_);
     }
-    return makeError(frameFailure_);
+    if (e.result() == VK_ERROR_OUT_OF_DEVICE_MEMORY)
+      return makeError(fmt::format("frame {}: out of GPU memory ({}); the frame was skipped", frames_ + 1, e.what()));
+    throw;
   }
+}
+
+// Objects the features could not draw in the frame just rendered (the rest of it was drawn).
+Status Viewer::droppedObjectsError(std::uint64_t frame) {
+  const std::vector<std::string> dropped = renderer_->takeDroppedObjects();
+  if (dropped.empty()) return {};
+  return makeError(fmt::format("frame {}: {}", frame, fmt::join(dropped, "; ")));
 }
 
 // What the panel or a script asked for that needs the finished frame.

@@ -168,7 +168,10 @@ class Viewer {
   // One frame: (windowed: input, camera, resize; a minimised window waits for events at most 50 ms
   // and draws nothing, framesRendered() stays) a
   // finished re-bake, tuning -> SDF components, world transforms, UI frame, render (recreating an
-  // out-of-date swapchain).
+  // out-of-date swapchain). Errors: a lost device (every later step fails too); GPU memory running
+  // out while the frame was recorded (that frame is skipped; the next step draws again); an object
+  // a feature dropped because its new GPU buffers did not fit (the frame drew the rest of the
+  // scene; the object stays undrawn, later steps succeed).
   engine::Status step();
   std::uint64_t framesRendered() const { return frames_; }
 
@@ -233,6 +236,7 @@ class Viewer {
   void finishCompareBake();
   engine::Status recreateSwapchain();
   engine::Expected<bool> renderFrame(const engine::render::FrameSettings& settings);
+  engine::Status droppedObjectsError(std::uint64_t frame);
   void applyTuningToScene();
   void startRebake();
   engine::Status finishBake();
@@ -304,7 +308,7 @@ class Viewer {
   std::uint64_t skippedSteps_ = 0;  // steps of the current minimised spell
   bool closed_ = false;
   bool deviceLost_ = false;   // a checked call reported VK_ERROR_DEVICE_LOST
-  std::string frameFailure_;  // why a frame failed half-way (device lost, out of GPU memory)
+  std::string frameFailure_;  // why the scene cannot continue (device lost)
 };
 
 }  // namespace samples

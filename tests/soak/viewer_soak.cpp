@@ -1,7 +1,8 @@
 // Soak test: the shared frame step (samples::Viewer) for many frames, headless and small, while the
 // scene changes underneath it the way an editor session would: re-bakes at another K on the bake
 // job's worker thread, method switches (cells, trilinear, hermite, mesh), n and normal mode
-// changes, an extra baked object added and removed. Host RSS (/proc/self/statm) and the GPU
+// changes, an extra baked object added and removed, the split view (two view regions, the compared
+// side drawn from its own bake at 2K) switched on with the extra object and off at the mesh. Host RSS (/proc/self/statm) and the GPU
 // allocator's totals are sampled every 100 frames.
 //
 // Why the check compares samples one cycle apart: the schedule of changes repeats every
@@ -139,7 +140,10 @@ class Soak {
       case Change::Rebake16: tuning.resolution = 16; break;
       case Change::Trilinear: tuning.method = samples::Method::Trilinear; break;
       case Change::Hermite: tuning.method = samples::Method::Hermite; break;
-      case Change::Mesh: tuning.method = samples::Method::Mesh; break;
+      case Change::Mesh:  // and the split view off
+        tuning.method = samples::Method::Mesh;
+        tuning.split = samples::SplitMode::Off;
+        break;
       case Change::MoreSubdivisions: tuning.subdivisions = 4; break;
       case Change::CentralNormals: tuning.normals = hsdf::NormalMode::CentralDifferences; break;
       case Change::BackToCells:
@@ -147,7 +151,11 @@ class Soak {
         tuning.subdivisions = 3;
         tuning.normals = hsdf::NormalMode::Exact;
         break;
-      case Change::AddObject: return addObject();
+      case Change::AddObject:  // and the split view on: two view regions, the compared side from its own bake at 2K
+        tuning.split = samples::SplitMode::Vertical;
+        tuning.compareMethod = samples::Method::Trilinear;
+        viewer_.setTuning(tuning);
+        return addObject();
       case Change::RemoveObject: return removeObject();
     }
     viewer_.setTuning(tuning);

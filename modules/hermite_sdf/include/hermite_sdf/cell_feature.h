@@ -22,7 +22,9 @@
 // the same search (runs_depth.glsl), records read by address; the shading pass is shared.
 #include <cstdint>
 #include <memory>
+#include <string>
 #include <unordered_map>
+#include <unordered_set>
 #include <utility>
 #include <vector>
 
@@ -73,6 +75,8 @@ class HermiteCellFeature final : public engine::render::RenderFeature {
   struct AssetRows;
   struct Batch;
   void syncAssets(const engine::render::FrameContext& frame);
+  void refuseNewAssets(const engine::render::FrameContext& frame,
+                       const std::vector<std::shared_ptr<const SdfAsset>>& wanted, const std::string& why);
   void buildDraws(engine::render::FrameContext& frame);
   void ensureCounters(engine::render::FrameContext& frame);
   void recordBatch(engine::render::PassContext& pass, int precision, bool near);
@@ -101,6 +105,10 @@ class HermiteCellFeature final : public engine::render::RenderFeature {
   // Buffers replaced during a frame, with that frame's number: commands recorded before the
   // replacement (an earlier view region of the frame) still read them.
   std::vector<std::pair<std::uint64_t, std::unique_ptr<struct CellBuffers>>> retired_;
+  // Assets whose upload ran out of GPU memory (reported once, not retried: a re-bake or reload
+  // makes a new asset, which is tried), and a run length refused the same way (0: none).
+  std::unordered_set<std::uint64_t> refused_;
+  std::uint32_t refusedRunLength_ = 0;
   engine::render::PerFrameBuffer drawData_;
   engine::render::PerFrameBuffer indirect_;
   engine::render::PerFrameBuffer objects_;  // shader::HermiteObject per drawn object

@@ -122,7 +122,8 @@ class SphereTraceFeature final : public engine::render::RenderFeature {
   };
   engine::Expected<Pipelines> createPipelines() const;
   void createSamplers();
-  const FieldTexture* acquireTexture(const SdfAsset& asset, std::uint32_t method, bool half, std::uint64_t frame);
+  const FieldTexture* acquireTexture(const SdfAsset& asset, std::uint32_t method, bool half,
+                                     const engine::render::FrameContext& frame);
   engine::Expected<FieldTexture> uploadTexture(const SdfAsset& asset, std::uint32_t method, bool half);
   void releaseUnusedTextures(std::uint64_t frame, std::uint32_t framesInFlight);
   void collectDraws(engine::render::FrameContext& frame);

@@ -229,6 +229,7 @@ void HermiteCellFeature::syncAssets(const engine::render::FrameContext& frame) {
   bool missing = false;
   frame.registry.view<HermiteSdfRenderable>().each([&](engine::ecs::Entity, const HermiteSdfRenderable& r) {
     if (!drawnAsCells(r.method) || !r.asset || r.asset->cells.records.empty()) return;
+    if (refused_.contains(r.asset->id)) return;
     if (!seen.insert(r.asset->id).second) return;
     wanted.push_back(r.asset);
     auto entry = buffers_->entries.find(r.asset->id);
@@ -237,7 +238,8 @@ void HermiteCellFeature::syncAssets(const engine::render::FrameContext& frame) {
     else
       entry->second.lastFrame = frame.frameNumber;
   });
-  const bool runsStale = !wanted.empty() && buffers_->runLength != settings_.maxRunLength;  // the setting changed
+  const bool runsStale = !wanted.empty() && buffers_->runLength != settings_.maxRunLength &&
+                         settings_.maxRunLength != refusedRunLength_;  // the setting changed
   if (!missing && !runsStale) return;
 
   // View regions call prepare() once per region: an asset an earlier region of this frame drew
@@ -258,10 +260,7 @@ void HermiteCellFeature::syncAssets(const engine::render::FrameContext& frame) {
     CellBuffers::Entry entry;
     entry.asset = asset;
     entry.firstRecord = static_cast<std::uint32_t>(full.size());
-    if (auto old = buffers_->entries.find(asset->id); old != buffers_->entries.end())
-      entry.rows = std::move(old->second.rows);
-    else
-      entry.rows = buildCellRows(asset->cells);
+    if (!buffers_->entries.contains(asset->id)) entry.rows = buildCellRows(asset->cells);  // else moved below
     entry.runs = buildCellRuns(asset->cells, settings_.maxRunLength);
     entry.firstRun = static_cast<std::uint32_t>(runs.size());
     for (shader::CellRunGpu run : entry.runs) {
@@ -275,13 +274,22 @@ void HermiteCellFeature::syncAssets(const engine::render::FrameContext& frame) {
   // Vertex attributes in the prepass; read by address in the resolve pass.
   constexpr VkBufferUsageFlags usage = VK_BUFFER_USAGE_VERTEX_BUFFER_BIT | VK_BUFFER_USAGE_STORAGE_BUFFER_BIT |
                                        VK_BUFFER_USAGE_SHADER_DEVICE_ADDRESS_BIT;
-  rebuilt.records[0] = engine::gpu::createBufferWithData(*context_, full.data(), full.size() * sizeof(CellRecord),
-                                                         usage, "hermite cells fp32");
-  rebuilt.records[1] = engine::gpu::createBufferWithData(*context_, half.data(),
-                                                         half.size() * sizeof(CellRecordHalf), usage,
-                                                         "hermite cells fp16");
-  rebuilt.runs = engine::gpu::createBufferWithData(*context_, runs.data(), runs.size() * sizeof(shader::CellRunGpu),
-                                                   VK_BUFFER_USAGE_VERTEX_BUFFER_BIT, "hermite cell runs");
+  try {
+    rebuilt.records[0] = engine::gpu::createBufferWithData(*context_, full.data(), full.size() * sizeof(CellRecord),
+                                                           usage, "hermite cells fp32");
+    rebuilt.records[1] = engine::gpu::createBufferWithData(*context_, half.data(),
+                                                           half.size() * sizeof(CellRecordHalf), usage,
+                                                           "hermite cells fp16");
+    rebuilt.runs = engine::gpu::createBufferWithData(*context_, runs.data(), runs.size() * sizeof(shader::CellRunGpu),
+                                                     VK_BUFFER_USAGE_VERTEX_BUFFER_BIT, "hermite cell runs");
+  } catch (const engine::gpu::VulkanError& e) {
+    if (e.result() != VK_ERROR_OUT_OF_DEVICE_MEMORY) throw;
+    refuseNewAssets(frame, wanted, e.what());  // the old buffers stay: what was drawn is drawn
+    return;
+  }
+  // Only now: a failed allocation above must leave the old entries whole.
+  for (auto& [id, entry] : rebuilt.entries)
+    if (auto old = buffers_->entries.find(id); old != buffers_->entries.end()) entry.rows = std::move(old->second.rows);
   rebuilt.runLength = settings_.maxRunLength;
   rebuilt.bytes = full.size() * sizeof(CellRecord) + half.size() * sizeof(CellRecordHalf) +
                   runs.size() * sizeof(shader::CellRunGpu);
@@ -289,6 +297,27 @@ void HermiteCellFeature::syncAssets(const engine::render::FrameContext& frame) {
   retired_.emplace_back(frame.frameNumber, std::move(buffers_));
   buffers_ = std::make_unique<CellBuffers>(std::move(rebuilt));
   engine::log::debug("hermite cells: {} assets, {} records uploaded", buffers_->entries.size(), full.size());
+}
+
+// The rebuilt buffers did not fit in GPU memory. The assets this rebuild was for (new ones, or a
+// new run length) are refused for good, each reported once, so later frames neither retry nor
+// report them again; the assets already uploaded keep drawing from the old buffers.
+void HermiteCellFeature::refuseNewAssets(const engine::render::FrameContext& frame,
+                                         const std::vector<std::shared_ptr<const SdfAsset>>& wanted,
+                                         const std::string& why) {
+  bool refusedAny = false;
+  for (const auto& asset : wanted) {
+    if (buffers_->entries.contains(asset->id)) continue;
+    refused_.insert(asset->id);
+    refusedAny = true;
+    frame.reportDropped(fmt::format("hermite cells: '{}' ({} cells) is not drawn: out of GPU memory ({})", asset->name,
+                                    asset->cells.records.size(), why));
+  }
+  if (refusedAny) return;
+  refusedRunLength_ = settings_.maxRunLength;
+  frame.reportDropped(fmt::format("hermite cells: cell runs of length {} are not built: out of GPU memory ({}); the "
+                                  "runs of length {} stay",
+                                  settings_.maxRunLength, why, buffers_->runLength));
 }
 
 void HermiteCellFeature::buildDraws(engine::render::FrameContext& frame) {

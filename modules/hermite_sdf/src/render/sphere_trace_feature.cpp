@@ -156,28 +156,34 @@ engine::Expected<SphereTraceFeature::FieldTexture> SphereTraceFeature::uploadTex
   desc.extent = {std::uint32_t(grid.resolution), std::uint32_t(grid.resolution), std::uint32_t(grid.resolution)};
   desc.usage = VK_IMAGE_USAGE_SAMPLED_BIT | VK_IMAGE_USAGE_TRANSFER_DST_BIT;
   desc.name = asset.name + " " + kMethodNames[method] + (half ? " fp16" : " fp32") + " field";
-  texture.image = engine::gpu::Image(*context_, desc);
-  engine::gpu::uploadImage(*context_, texture.image, texels.bytes.data(), texels.bytes.size());
+  try {  // the allocator throws when the budget or the device is out of memory: this object only is dropped
+    texture.image = engine::gpu::Image(*context_, desc);
+    engine::gpu::uploadImage(*context_, texture.image, texels.bytes.data(), texels.bytes.size());
+  } catch (const engine::gpu::VulkanError& e) {
+    if (e.result() != VK_ERROR_OUT_OF_DEVICE_MEMORY) throw;
+    return engine::makeError(std::string("out of GPU memory (") + e.what() + ")");
+  }
   texture.bytes = texels.bytes.size();
   ENGINE_TRY_ASSIGN(texture.slot, bindings_->add(texture.image.view(), samplers_[method]));
   return texture;
 }
 
 const SphereTraceFeature::FieldTexture* SphereTraceFeature::acquireTexture(const SdfAsset& asset, std::uint32_t method,
-                                                                           bool half, std::uint64_t frame) {
+                                                                           bool half,
+                                                                           const engine::render::FrameContext& frame) {
   const TextureKey key{asset.id, method, half};
   auto found = textures_.find(key);
   if (found == textures_.end()) {
     if (failedTextures_.contains(key)) return nullptr;
     auto uploaded = uploadTexture(asset, method, half);
     if (!uploaded) {
-      engine::log::error("sphere tracing: '{}' is not drawn: {}", asset.name, uploaded.error().message);
+      frame.reportDropped(fmt::format("sphere tracing: '{}' is not drawn: {}", asset.name, uploaded.error().message));
       failedTextures_.insert(key);
       return nullptr;
     }
     found = textures_.emplace(key, std::move(uploaded.value())).first;
   }
-  found->second.lastUsedFrame = frame;
+  found->second.lastUsedFrame = frame.frameNumber;
   return &found->second;
 }
 
@@ -213,7 +219,7 @@ void SphereTraceFeature::collectDraws(engine::render::FrameContext& frame) {
           ++stats_.culledObjects;
           return;
         }
-        const FieldTexture* texture = acquireTexture(*r.asset, method, r.halfPrecision && halfPrecisionFits(r.asset->field.grid), frame.frameNumber);
+        const FieldTexture* texture = acquireTexture(*r.asset, method, r.halfPrecision && halfPrecisionFits(r.asset->field.grid), frame);
         if (!texture) {
           ++stats_.skippedObjects;
           return;
