@@ -242,9 +242,13 @@ Status Viewer::finishBake() {
     return error;
   }
   log::info("re-baked at resolution {}: {}", settings.resolution, describeSdfStats(sdfStats(**result)));
-  if (bakedEntity_ && hiddenSdf_) hiddenSdf_->asset = std::move(*result);
-  else if (bakedEntity_) registry_.get<hsdf::HermiteSdfRenderable>(*bakedEntity_).asset = std::move(*result);
-  else bakedEntity_ = addSdfEntity(std::move(*result), glm::vec3(0.0f), sdfColor_ ? &*sdfColor_ : nullptr);
+  if (bakedEntity_) {
+    hsdf::HermiteSdfRenderable& sdf = hiddenSdf_ ? *hiddenSdf_ : registry_.get<hsdf::HermiteSdfRenderable>(*bakedEntity_);
+    replaced_ = {sdf.asset, bakedResolution_, bakedPadding_};
+    sdf.asset = std::move(*result);
+  } else {
+    bakedEntity_ = addSdfEntity(std::move(*result), glm::vec3(0.0f), sdfColor_ ? &*sdfColor_ : nullptr);
+  }
   bakedResolution_ = settings.resolution;
   bakedPadding_ = settings.padding;
   return {};
@@ -535,7 +539,32 @@ Status Viewer::step() {
   }
   ++frames_;
   finishStep();
-  return droppedObjectsError(frames_);
+  const std::optional<std::string> restored = restoreRefusedBake();
+  Status dropped = droppedObjectsError(frames_);
+  if (restored && !dropped.ok()) return makeError(dropped.error().message + "; " + *restored);
+  return dropped;
+}
+
+// A re-baked field the GPU could not take (a feature refused its upload: out of GPU memory) is
+// swapped back for the field it replaced, which the features still hold: from the next frame on the
+// scene draws the old K again and the tuning says so (the frame that found out drew the object
+// without it). Checked on the first frame after the swap; the replaced field is released then.
+std::optional<std::string> Viewer::restoreRefusedBake() {
+  const ReplacedField replaced = std::exchange(replaced_, {});
+  hsdf::HermiteSdfRenderable* sdf = sdfRenderable();
+  if (!replaced.asset || !sdf || !sdf->asset) return std::nullopt;
+  const std::uint64_t id = sdf->asset->id;
+  if (!renderer_->feature<hsdf::HermiteCellFeature>()->refused(id) &&
+      !renderer_->feature<hsdf::SphereTraceFeature>()->refused(id))
+    return std::nullopt;
+  bakeError_ = fmt::format("re-baking at resolution {}: the new field does not fit in GPU memory; resolution {} stays "
+                           "drawn",
+                           bakedResolution_, replaced.resolution);
+  log::warn("{}", bakeError_);
+  sdf->asset = replaced.asset;
+  bakedResolution_ = tuning_.resolution = replaced.resolution;
+  bakedPadding_ = tuning_.padding = replaced.padding;
+  return bakeError_;
 }
 
 // A lost device ends the scene: an error (the caller exits cleanly, close() still tears down)

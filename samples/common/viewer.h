@@ -240,6 +240,7 @@ class Viewer {
   void applyTuningToScene();
   void startRebake();
   engine::Status finishBake();
+  std::optional<std::string> restoreRefusedBake();
   // Scene loading (viewer_scene.cpp).
   engine::Status addBakedSdf(hsdf::BakeSource source, const SceneDesc& scene);
   engine::Status addSdfFile(const std::filesystem::path& file, bool frameIt);
@@ -277,6 +278,14 @@ class Viewer {
   int bakedResolution_ = 0;
   int bakedPadding_ = 0;
   std::unique_ptr<hsdf::BakeJob> bakeJob_;
+  // The field a finished re-bake replaced, kept until the first frame after the swap has shown
+  // whether the GPU took the new one (restoreRefusedBake).
+  struct ReplacedField {
+    std::shared_ptr<const hsdf::SdfAsset> asset;
+    int resolution = 0;
+    int padding = 0;
+  };
+  ReplacedField replaced_;
   hsdf::BakeBudget bakeBudget_;
   std::string bakeError_;
   bool sideBySide_ = false;

@@ -70,6 +70,9 @@ class HermiteCellFeature final : public engine::render::RenderFeature {
 
   Settings& settings() { return settings_; }
   const Stats& stats() const { return stats_; }
+  // Whether the cells of `assetId` were refused (their upload did not fit in GPU memory): the
+  // asset is not drawn, and not retried. Lets the caller draw the field the asset replaced instead.
+  bool refused(std::uint64_t assetId) const { return refused_.contains(assetId); }
 
  private:
   struct AssetRows;

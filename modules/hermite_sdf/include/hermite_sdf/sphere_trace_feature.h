@@ -100,6 +100,9 @@ class SphereTraceFeature final : public engine::render::RenderFeature {
 
   Settings& settings() { return settings_; }
   const Stats& stats() const { return stats_; }
+  // Whether the field texture of `assetId` could not be uploaded (out of GPU memory): the asset is
+  // not drawn, and not retried. Lets the caller draw the field the asset replaced instead.
+  bool refused(std::uint64_t assetId) const;
 
  private:
   struct FieldTexture {

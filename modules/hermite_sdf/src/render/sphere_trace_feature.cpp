@@ -168,6 +168,11 @@ engine::Expected<SphereTraceFeature::FieldTexture> SphereTraceFeature::uploadTex
   return texture;
 }
 
+bool SphereTraceFeature::refused(std::uint64_t assetId) const {
+  return std::any_of(failedTextures_.begin(), failedTextures_.end(),
+                     [&](const TextureKey& key) { return std::get<0>(key) == assetId; });
+}
+
 const SphereTraceFeature::FieldTexture* SphereTraceFeature::acquireTexture(const SdfAsset& asset, std::uint32_t method,
                                                                            bool half,
                                                                            const engine::render::FrameContext& frame) {

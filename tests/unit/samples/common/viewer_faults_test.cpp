@@ -128,6 +128,48 @@ TEST(ViewerFaults, GpuBudgetLoweredWhileRunningFailsTheUploadByName) {
   EXPECT_TRUE(closed.ok()) << closed.error().message;
 }
 
+// Tricky: the re-baked field is swapped into the entity before any frame tries to upload it, so
+// the Viewer only learns from the frame that the GPU refused it; by then the old field is no
+// longer in the scene. The Viewer must put the old field back (the cell feature still holds its
+// records), say so, and set the tuning back to the K on screen, so that the next frames draw the
+// old torus pixel for pixel and the panel does not claim K 32. The control re-bakes K 32 with the
+// budget lifted: that image differs, so "the old field" is seen in the pixels, not assumed.
+TEST(ViewerFaults, RebakePastTheGpuBudgetKeepsDrawingTheOldField) {
+  auto viewer = viewTorus();
+  ASSERT_NE(viewer, nullptr);
+  for (int frame = 0; frame < 3; ++frame) ASSERT_TRUE(viewer->step().ok());
+  const std::vector<std::uint8_t> k16 = viewer->renderer().readbackColor();
+  engine::gpu::Allocator& allocator = viewer->context().allocator();
+  const VkDeviceSize readbackBytes = 64 * 48 * 4;
+  allocator.setBudget(allocator.stats().usedBytes + 2 * readbackBytes);
+  TuningState tuning = viewer->tuning();
+  tuning.resolution = 32;
+  viewer->setTuning(tuning);
+  ASSERT_TRUE(viewer->waitForBake().ok());
+
+  const engine::Status refused = viewer->step();
+  ASSERT_FALSE(refused.ok()) << "the K 32 cells must not fit the budget";
+  EXPECT_TRUE(contains(refused.error().message, "is not drawn: out of GPU memory")) << refused.error().message;
+  EXPECT_TRUE(contains(refused.error().message, "re-baking at resolution 32: the new field does not fit in GPU "
+                                                "memory; resolution 16 stays drawn"))
+      << refused.error().message;
+  EXPECT_EQ(viewer->tuning().resolution, 16) << "the tuning names the K on screen";
+  for (int frame = 0; frame < 3; ++frame) {
+    const engine::Status next = viewer->step();
+    ASSERT_TRUE(next.ok()) << "step " << frame + 1 << " after the refusal: " << next.error().message;
+  }
+  EXPECT_EQ(differingPixels(viewer->renderer().readbackColor(), k16), 0u) << "the K 16 field is drawn again";
+
+  allocator.setBudget(engine::gpu::Allocator::kUnlimited);
+  viewer->setTuning(tuning);
+  ASSERT_TRUE(viewer->waitForBake().ok());
+  ASSERT_TRUE(viewer->step().ok());
+  EXPECT_EQ(viewer->tuning().resolution, 32);
+  EXPECT_GT(differingPixels(viewer->renderer().readbackColor(), k16), 0u) << "control: K 32 looks different";
+  const engine::Status closed = viewer->close();
+  EXPECT_TRUE(closed.ok()) << closed.error().message;
+}
+
 // Tricky: the new object's cell records are uploaded by the cell feature inside the frame (in
 // prepare(), with the frame's command buffer recording), into buffers that also hold the torus's
 // records again, so the allocation that fails would have replaced the buffers the torus draws
