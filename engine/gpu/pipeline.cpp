@@ -124,8 +124,9 @@ Expected<Pipeline> Pipeline::createGraphics(const Context& context, const Graphi
 
   std::vector<VkPipelineColorBlendAttachmentState> blends(desc.colorFormats.size());
   for (auto& blend : blends) {
-    blend.colorWriteMask = VK_COLOR_COMPONENT_R_BIT | VK_COLOR_COMPONENT_G_BIT | VK_COLOR_COMPONENT_B_BIT |
-                           VK_COLOR_COMPONENT_A_BIT;
+    blend.colorWriteMask = desc.colorWrite ? VK_COLOR_COMPONENT_R_BIT | VK_COLOR_COMPONENT_G_BIT |
+                                                 VK_COLOR_COMPONENT_B_BIT | VK_COLOR_COMPONENT_A_BIT
+                                           : 0;
     if (desc.alphaBlend) {
       blend.blendEnable = VK_TRUE;
       blend.srcColorBlendFactor = VK_BLEND_FACTOR_SRC_ALPHA;

@@ -54,6 +54,7 @@ struct GraphicsPipelineDesc {
   std::vector<VkFormat> colorFormats;
   VkFormat depthFormat = VK_FORMAT_UNDEFINED;
   bool alphaBlend = false;
+  bool colorWrite = true;  // false: the colour attachments are kept as they are (e.g. a depth-only fix-up)
   std::uint32_t pushConstantBytes = 0;
   std::vector<VkDescriptorSetLayout> setLayouts;
   // Besides viewport and scissor, which are always dynamic (e.g. VK_DYNAMIC_STATE_CULL_MODE).

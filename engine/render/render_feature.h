@@ -3,6 +3,10 @@
 // feature in a fixed order:
 //   prepare()          CPU: read components from the registry, add objects to the GPU scene,
 //                      upload per-frame data (the frame slot's previous submission is complete);
+//   recordEarlyDepth() only when usesEarlyDepth() said so after prepare(): a rendering instance of
+//                      its own that opens the depth prepass (same attachments, cleared), then
+//   recordEarlyDepthResolve() first in the rest of the prepass (storage writes of the early draws
+//                      are visible to it): the early stage's depth fixed up before anything else draws;
 //   recordPass(Depth)  inside the depth prepass (depth + visibility id, compare GREATER, reverse-Z);
 //   recordPass(Opaque) inside the shading pass (colour + read-only depth: depth is final, test
 //                      EQUAL or read it from the scene descriptor set);
@@ -98,6 +102,14 @@ class RenderFeature {
                             std::uint32_t framesInFlight) = 0;
   virtual void prepare(FrameContext& frame) = 0;
   virtual void recordPass(PassContext& pass) = 0;
+  // The early depth stage, for proxies that are cheaper to test at the depth of their own faces
+  // than at the depth of what they draw (HermiteCellFeature: hidden cell boxes then fail an early
+  // depth test instead of running the root search). The early draws may leave depths that are not
+  // the surface's in the depth buffer; recordEarlyDepthResolve() must replace them with the true
+  // ones before any other feature's prepass draw tests against them. pass.pass is DepthPrepass.
+  virtual bool usesEarlyDepth() const { return false; }
+  virtual void recordEarlyDepth(PassContext& /*pass*/) {}
+  virtual void recordEarlyDepthResolve(PassContext& /*pass*/) {}
   virtual void drawUi() {}
   // Recreates the pipelines from the SPIR-V on disk now (e.g. after the shaders were rebuilt).
   // On failure the old pipelines stay and the error says why (the file, the loader's or Vulkan's

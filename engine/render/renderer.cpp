@@ -466,13 +466,31 @@ void Renderer::recordScenePasses(FrameResources& frame, FrameContext& context, V
 }
 
 // `first`: the first region's pass clears the whole frame; a later one clears only its rectangle.
+// With an early depth stage (RenderFeature::usesEarlyDepth) the prepass is two rendering instances:
+// the early draws, then (their depth, visibility and storage writes made visible) the fix-up and
+// every feature's ordinary prepass draws.
 void Renderer::recordDepthPrepass(PassContext& pass, VkRect2D rect, bool first) {
-  VkRenderingAttachmentInfo depth =
-      depthAttachment(depth_, VK_ATTACHMENT_LOAD_OP_CLEAR, VK_IMAGE_LAYOUT_DEPTH_ATTACHMENT_OPTIMAL);
+  const bool early = std::any_of(features_.begin(), features_.end(), [](const auto& f) { return f->usesEarlyDepth(); });
+  beginPrepassRendering(pass.cmd, rect, first, VK_ATTACHMENT_LOAD_OP_CLEAR);
+  if (early) {
+    for (auto& feature : features_)
+      if (feature->usesEarlyDepth()) feature->recordEarlyDepth(pass);
+    vkCmdEndRendering(pass.cmd);
+    barrierBetweenPrepassStages(pass.cmd);
+    beginPrepassRendering(pass.cmd, rect, first, VK_ATTACHMENT_LOAD_OP_LOAD);
+    for (auto& feature : features_)
+      if (feature->usesEarlyDepth()) feature->recordEarlyDepthResolve(pass);
+  }
+  for (auto& feature : features_) feature->recordPass(pass);
+  vkCmdEndRendering(pass.cmd);
+}
+
+void Renderer::beginPrepassRendering(VkCommandBuffer cmd, VkRect2D rect, bool first, VkAttachmentLoadOp load) {
+  VkRenderingAttachmentInfo depth = depthAttachment(depth_, load, VK_IMAGE_LAYOUT_DEPTH_ATTACHMENT_OPTIMAL);
   VkRenderingAttachmentInfo visibility{VK_STRUCTURE_TYPE_RENDERING_ATTACHMENT_INFO};
   visibility.imageView = visibility_.view();
   visibility.imageLayout = VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL;
-  visibility.loadOp = VK_ATTACHMENT_LOAD_OP_CLEAR;
+  visibility.loadOp = load;
   visibility.storeOp = VK_ATTACHMENT_STORE_OP_STORE;
   visibility.clearValue.color.uint32[0] = 0;
   VkRenderingInfo info{VK_STRUCTURE_TYPE_RENDERING_INFO};
@@ -481,10 +499,32 @@ void Renderer::recordDepthPrepass(PassContext& pass, VkRect2D rect, bool first) 
   info.colorAttachmentCount = 1;
   info.pColorAttachments = &visibility;
   info.pDepthAttachment = &depth;
-  vkCmdBeginRendering(pass.cmd, &info);
-  setViewportAndScissor(pass.cmd, extent_, rect);
-  for (auto& feature : features_) feature->recordPass(pass);
-  vkCmdEndRendering(pass.cmd);
+  vkCmdBeginRendering(cmd, &info);
+  setViewportAndScissor(cmd, extent_, rect);
+}
+
+// Between the early depth stage and the rest of the prepass: the attachments are written by one
+// rendering instance and loaded by the next, and the fix-up reads what the early fragment shaders
+// wrote to storage.
+void Renderer::barrierBetweenPrepassStages(VkCommandBuffer cmd) {
+  VkMemoryBarrier2 barriers[3] = {{VK_STRUCTURE_TYPE_MEMORY_BARRIER_2}, {VK_STRUCTURE_TYPE_MEMORY_BARRIER_2},
+                                  {VK_STRUCTURE_TYPE_MEMORY_BARRIER_2}};
+  barriers[0].srcStageMask = VK_PIPELINE_STAGE_2_EARLY_FRAGMENT_TESTS_BIT | VK_PIPELINE_STAGE_2_LATE_FRAGMENT_TESTS_BIT;
+  barriers[0].srcAccessMask = VK_ACCESS_2_DEPTH_STENCIL_ATTACHMENT_WRITE_BIT;
+  barriers[0].dstStageMask = VK_PIPELINE_STAGE_2_EARLY_FRAGMENT_TESTS_BIT | VK_PIPELINE_STAGE_2_LATE_FRAGMENT_TESTS_BIT;
+  barriers[0].dstAccessMask = VK_ACCESS_2_DEPTH_STENCIL_ATTACHMENT_READ_BIT | VK_ACCESS_2_DEPTH_STENCIL_ATTACHMENT_WRITE_BIT;
+  barriers[1].srcStageMask = VK_PIPELINE_STAGE_2_COLOR_ATTACHMENT_OUTPUT_BIT;
+  barriers[1].srcAccessMask = VK_ACCESS_2_COLOR_ATTACHMENT_WRITE_BIT;
+  barriers[1].dstStageMask = VK_PIPELINE_STAGE_2_COLOR_ATTACHMENT_OUTPUT_BIT;
+  barriers[1].dstAccessMask = VK_ACCESS_2_COLOR_ATTACHMENT_READ_BIT | VK_ACCESS_2_COLOR_ATTACHMENT_WRITE_BIT;
+  barriers[2].srcStageMask = VK_PIPELINE_STAGE_2_FRAGMENT_SHADER_BIT;
+  barriers[2].srcAccessMask = VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT;
+  barriers[2].dstStageMask = VK_PIPELINE_STAGE_2_FRAGMENT_SHADER_BIT;
+  barriers[2].dstAccessMask = VK_ACCESS_2_SHADER_STORAGE_READ_BIT | VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT;
+  VkDependencyInfo dependency{VK_STRUCTURE_TYPE_DEPENDENCY_INFO};
+  dependency.memoryBarrierCount = 3;
+  dependency.pMemoryBarriers = barriers;
+  vkCmdPipelineBarrier2(cmd, &dependency);
 }
 
 void Renderer::recordOpaquePass(PassContext& pass, VkRect2D rect, bool first) {

@@ -161,6 +161,8 @@ class Renderer {
   void recordRegion(FrameResources& frame, FrameContext& context, const ViewRegion& region, std::uint32_t index);
   void recordScenePasses(FrameResources& frame, FrameContext& context, VkRect2D rect, std::uint32_t region);
   void recordDepthPrepass(PassContext& pass, VkRect2D rect, bool first);
+  void beginPrepassRendering(VkCommandBuffer cmd, VkRect2D rect, bool first, VkAttachmentLoadOp load);
+  static void barrierBetweenPrepassStages(VkCommandBuffer cmd);
   void recordOpaquePass(PassContext& pass, VkRect2D rect, bool first);
   void recordPresentBlit(VkCommandBuffer cmd, gpu::Swapchain& swapchain, std::uint32_t imageIndex);
   void collectTimings(FrameResources& frame);

@@ -114,6 +114,7 @@ engine::Status readKey(const std::string& key, const json& value, TuningState& t
   if (key == "fp16") return readBool(value, t.fp16);
   if (key == "debug_view") return readName(value, kDebugViews, t.debugView);
   if (key == "front_to_back") return readBool(value, t.frontToBack);
+  if (key == "early_depth") return readBool(value, t.earlyDepth);
   if (key == "certified") return readBool(value, t.certified);
   if (key == "split") return readName(value, kSplitModes, t.split);
   if (key == "split_position") return readFloat(value, kSplitMin, kSplitMax, t.splitPosition);
@@ -231,6 +232,7 @@ engine::Status saveTuning(const std::filesystem::path& file, const TuningState& 
                      {"fp16", t.fp16},
                      {"debug_view", debugViewName(t.debugView)},
                      {"front_to_back", t.frontToBack},
+                     {"early_depth", t.earlyDepth},
                      {"certified", t.certified},
                      {"split", splitModeName(t.split)},
                      {"split_position", t.splitPosition},

@@ -62,6 +62,7 @@ struct TuningState {
   bool fp16 = false;
   DebugView debugView = DebugView::None;
   bool frontToBack = true;  // cells: submit rows of cells front to back
+  bool earlyDepth = true;   // cells: test boxes at their faces' depth, hidden ones skip the search
   bool certified = false;   // cells: certified root search instead of n samples (renderable.h)
   // Split-screen comparison (same camera, same frame): the tuning above on one side, the compared
   // method on the other, drawn from its own bake at compareResolution with compareNormals (n,
@@ -81,7 +82,7 @@ struct TuningState {
 // The keys of a settings file and of --script settings, in the order saveTuning writes them.
 inline constexpr std::string_view kTuningKeys[] = {
     "method",        "resolution", "padding", "subdivisions",   "refine",          "normals",
-    "fp16",          "debug_view", "front_to_back", "certified", "split",          "split_position",
+    "fp16",          "debug_view", "front_to_back", "early_depth", "certified", "split", "split_position",
     "compare_method", "compare_resolution", "compare_normals", "difference"};
 std::string tuningKeyList();  // "method, resolution, ..."
 
@@ -101,7 +102,7 @@ TuningState compareTuning(const TuningState& tuning);
 void applyTuning(const TuningState& tuning, hsdf::HermiteSdfRenderable& renderable);
 
 // Settings files: JSON objects with the keys "method", "resolution", "padding", "subdivisions",
-// "refine", "normals", "fp16", "debug_view", "front_to_back", "certified", "split",
+// "refine", "normals", "fp16", "debug_view", "front_to_back", "early_depth", "certified", "split",
 // "split_position" (0.05..0.95), "compare_method", "compare_resolution" (0: 2K, else 2..256),
 // "compare_normals", "difference", all optional. Loading starts from
 // `base`; an unknown key, a value of the wrong type or out of range is refused naming the key

@@ -84,6 +84,10 @@ void TuningPanel::drawMethod() {
   ImGui::SameLine();
   changed |= ImGui::Checkbox("front to back", &t.frontToBack);
   ImGui::SameLine();
+  changed |= ImGui::Checkbox("early depth", &t.earlyDepth);
+  if (ImGui::IsItemHovered())
+    ImGui::SetTooltip("cells: boxes tested at their faces' depth, so boxes behind a found hit skip the search");
+  ImGui::SameLine();
   changed |= ImGui::Checkbox("certified roots", &t.certified);
   if (ImGui::IsItemHovered())
     ImGui::SetTooltip("cells: Bernstein subdivision of the ray's cubic instead of n samples; never misses the first root");

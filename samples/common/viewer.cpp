@@ -302,7 +302,9 @@ void Viewer::applyTuningToScene() {
   updateVisibility(tuning_.method);
   registry_.view<hsdf::HermiteSdfRenderable>().each(
       [this](ecs::Entity, hsdf::HermiteSdfRenderable& renderable) { applyTuning(tuning_, renderable); });
-  renderer_->feature<hsdf::HermiteCellFeature>()->settings().frontToBack = tuning_.frontToBack;
+  hsdf::HermiteCellFeature::Settings& cells = renderer_->feature<hsdf::HermiteCellFeature>()->settings();
+  cells.frontToBack = tuning_.frontToBack;
+  cells.earlyDepth = tuning_.earlyDepth;
 }
 
 // The scene as `tuning` draws it, the SDF entity showing `asset`: a view region's override.

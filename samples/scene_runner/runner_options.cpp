@@ -107,6 +107,7 @@ void addTuningOptions(CLI::App& app, TuningState& t) {
                          DebugView::Wireframe},
                         samples::debugViewName));
   app.add_flag("!--no-front-to-back", t.frontToBack, "cells: submit in storage order, not front to back");
+  app.add_flag("!--no-early-depth", t.earlyDepth, "cells: test the boxes at the hits' depth, not their faces' (every box runs its search)");
   app.add_flag("--certified", t.certified, "cells: certified root search (never misses the first root) instead of n samples");
   app.add_option("--split", t.split, "split-screen comparison: off, vertical or horizontal (divider)")
       ->transform(oneOf({samples::SplitMode::Off, samples::SplitMode::Vertical, samples::SplitMode::Horizontal},

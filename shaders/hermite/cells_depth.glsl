@@ -29,10 +29,11 @@ struct CellRay {
 CellRay cellRay() { return CellRay(inCameraLocal, inLocal - inCameraLocal); }
 
 layout(location = 0) out uvec2 outVisibility;  // (1 + object, cell record)
-#ifdef HSDF_CONSERVATIVE_DEPTH
+#if defined(HSDF_CONSERVATIVE_DEPTH) && !defined(HSDF_EARLY_DEPTH)
 // Reverse-Z: the hit is never nearer than the front face, so its depth is never greater.
 layout(depth_less) out float gl_FragDepth;
 #endif
+#include "hermite/hit_depth.glsl"
 
 // Each cell searches the ray over its box dilated by inDilation cells on every side (the proxy that
 // was rasterized, cells.vert), never before the near plane. A root on (or within rounding of) a
@@ -71,6 +72,6 @@ void main() {
   // neighbour: here it is drawn at the face, which keeps the depth conservative.
   t = max(t, 1.0);
 #endif
-  gl_FragDepth = gl_FragCoord.z / t;
+  writeHitDepth(gl_FragCoord.z / t);
   outVisibility = uvec2(draw.object + 1u, inRecord);
 }

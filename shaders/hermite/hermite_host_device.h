@@ -71,7 +71,7 @@ HSDF_CHECK_SIZE(HermiteObject, 16 + 8 + 2 * 4);
 struct HermitePushConstants {
   DrawPushConstants draw;
   uint64_t draws;          // address of HermiteDraw[] (indexed by drawBase + gl_DrawID)
-  uint64_t cells;          // address of the cell records (shading pass normal evaluation)
+  uint64_t hitDepths;      // address of a uint per pixel: the cells' nearest hit depth (hit_depth.glsl), 0 when unused
   uint64_t counters;       // address of a uint per pixel (evaluation heat map), 0 when off
   uint drawBase;
   uint pad;

@@ -22,9 +22,10 @@ layout(location = 4) flat in vec3 inCameraLocal;
 layout(location = 5) flat in float inDilation;
 
 layout(location = 0) out uvec2 outVisibility;  // (1 + object, cell record)
-#ifdef HSDF_CONSERVATIVE_DEPTH
+#if defined(HSDF_CONSERVATIVE_DEPTH) && !defined(HSDF_EARLY_DEPTH)
 layout(depth_less) out float gl_FragDepth;  // reverse-Z: the hit is never nearer than the front face
 #endif
+#include "hermite/hit_depth.glsl"
 
 void loadCorners(HermiteDraw draw, uint record, out vec4 corners[8]) {
   if ((draw.flags & HERMITE_FLAG_HALF_RECORDS) == 0u) {
@@ -88,6 +89,6 @@ void main() {
 #ifdef HSDF_CONSERVATIVE_DEPTH
   t = max(t, 1.0);  // a root in the margin before the run's face is drawn at the face (cells_depth.glsl)
 #endif
-  gl_FragDepth = gl_FragCoord.z / t;
+  writeHitDepth(gl_FragCoord.z / t);
   outVisibility = uvec2(draw.object + 1u, hitRecord);
 }

@@ -183,6 +183,104 @@ TEST_F(HermiteCellsTest, CameraInsideBoundsAndInsideACell) {
   EXPECT_GT(renderer_->feature<hsdf::HermiteCellFeature>()->stats().nearCells, 0u);
 }
 
+// Early depth (the default) tests each box at its own face's depth and writes the hits' depths in
+// a fix-up pass; with it off every box writes its hit's depth. Both must draw the same surface.
+// Why these cases: orbit views of the bunny (front-to-back rows, silhouettes where boxes are grazed
+// and find no root), cell runs (one box per run, the same stage), a mesh plane through the bunny
+// (meshes draw after the fix-up and must be tested against the hits, not the faces), and a camera
+// inside a cell of the torus (near-plane cells drawn by their back faces, writing depth in both
+// modes, beside front boxes tested at their faces).
+// Why not bit for bit: a root on a face shared by two cells is found by both (each searches its
+// box dilated by a margin), at depths that differ in the last bits. Writing depth keeps the nearer
+// of the two; early depth keeps the one of the box drawn first, whose face hides the other. So a
+// few pixels may name the neighbouring cell, at a depth equal to 1e-5 relative.
+// The point of the stage is work: boxes behind a hit skip their search, so the root-search
+// evaluations summed over the frame's pixels (the work counters) must drop.
+TEST_F(HermiteCellsTest, EarlyDepthDrawsTheSameSurfaceWithFewerEvaluations) {
+  createCellRenderer(kSize, kSize);
+  auto* feature = renderer_->feature<hsdf::HermiteCellFeature>();
+  const auto bunny = bakeAsset("bunny", 32);
+  const auto torus = bakeAsset("torus", 16);
+  ASSERT_NE(bunny, nullptr);
+  ASSERT_NE(torus, nullptr);
+
+  struct Buffers {
+    std::vector<float> depth;
+    std::vector<glm::uvec2> visibility;
+    std::uint64_t evaluations = 0;
+  };
+  const auto draw = [&](const render::CameraView& camera, bool early) {
+    feature->settings().earlyDepth = early;
+    render::FrameSettings settings;
+    settings.countWork = true;
+    renderer_->renderFrame(registry_, camera, settings);
+    Buffers b;
+    b.depth = renderer_->readbackDepth();
+    b.visibility = renderer_->readbackVisibility();
+    for (std::uint32_t count : renderer_->readbackWorkCounters()) b.evaluations += count;
+    EXPECT_EQ(feature->stats().earlyDepth, early);
+    return b;
+  };
+  const auto neighbours = [](const hsdf::SdfAsset& asset, std::uint32_t a, std::uint32_t b) {
+    const auto& records = asset.cells.records;
+    if (a >= records.size() || b >= records.size()) return false;
+    return std::abs(int(records[a].x) - int(records[b].x)) <= 1 && std::abs(int(records[a].y) - int(records[b].y)) <= 1 &&
+           std::abs(int(records[a].z) - int(records[b].z)) <= 1;
+  };
+  const auto expectSame = [&](const hsdf::SdfAsset& asset, const render::CameraView& camera, const char* label,
+                              bool fewer) {
+    const Buffers late = draw(camera, false);
+    const Buffers early = draw(camera, true);
+    int covered = 0, differs = 0, farApart = 0;
+    double worst = 0.0;
+    for (std::size_t i = 0; i < late.depth.size(); ++i) {
+      covered += late.depth[i] > 0.0f;
+      if (late.depth[i] == early.depth[i] && late.visibility[i] == early.visibility[i]) continue;
+      ++differs;
+      worst = std::max(worst, double(std::abs(late.depth[i] - early.depth[i]) / std::max(late.depth[i], 1e-30f)));
+      const bool sameObject = late.visibility[i].x == early.visibility[i].x;
+      // Cell records are global to the feature's buffer: one asset per frame here, so index = record.
+      if (!sameObject || !neighbours(asset, late.visibility[i].y, early.visibility[i].y)) ++farApart;
+    }
+    std::printf("[ %s ] covered %d, differ %d (depth rel. %.1e at most), not neighbours %d, evaluations %llu -> %llu\n",
+                label, covered, differs, worst, farApart, static_cast<unsigned long long>(late.evaluations),
+                static_cast<unsigned long long>(early.evaluations));
+    EXPECT_GT(covered, 500) << label;
+    EXPECT_LE(differs, covered / 500) << label;
+    EXPECT_LT(worst, 1e-5) << label;
+    EXPECT_EQ(farApart, 0) << label;
+    if (fewer) {
+      EXPECT_LT(double(early.evaluations), 0.8 * double(late.evaluations)) << label;
+    }
+  };
+
+  const ecs::Entity object = addSdf(registry_, bunny, hsdf::RenderMethod::Cells);
+  for (int view = 0; view < 6; view += 2) expectSame(*bunny, orbitCamera(*bunny, view), "bunny", true);
+  registry_.get<hsdf::HermiteSdfRenderable>(object).method = hsdf::RenderMethod::CellRuns;
+  expectSame(*bunny, orbitCamera(*bunny, 1), "bunny runs", true);
+  registry_.get<hsdf::HermiteSdfRenderable>(object).method = hsdf::RenderMethod::Cells;
+
+  const glm::vec3 center(bunny->surfaceBounds.center());
+  const ecs::Entity plane = addQuad(center, 3.0f * float(glm::length(bunny->surfaceBounds.size())), {0.3f, 0.3f, 0.9f, 1.0f});
+  registry_.get<scene::Transform>(plane).rotation = glm::angleAxis(-1.5707963f, glm::vec3(1, 0, 0));
+  scene::updateWorldTransforms(registry_);
+  expectSame(*bunny, orbitCamera(*bunny, 0, 2.2f), "bunny and a mesh plane", false);
+
+  registry_.clear();
+  addSdf(registry_, torus, hsdf::RenderMethod::Cells);
+  const hsdf::Aabb bounds = torus->surfaceBounds;
+  const glm::vec3 hole = glm::vec3(bounds.center()) + glm::vec3(0.0f, 0.05f * float(bounds.size().y), 0.0f);
+  const glm::vec3 ring = glm::vec3(bounds.center()) + glm::vec3(float(bounds.size().x) * 0.5f, 0.0f, 0.0f);
+  const float h = float(torus->field.grid.spacing);
+  auto hit = hsdf::castRay(torus->field, {glm::dvec3(hole), glm::normalize(glm::dvec3(ring - hole))});
+  ASSERT_TRUE(hit.ok() && hit->has_value());
+  const glm::vec3 surface((*hit)->position);
+  const glm::vec3 eye = surface - 0.5f * h * glm::normalize(ring - hole);
+  expectSame(*torus, render::CameraView::lookAt(eye, surface + glm::vec3(0.0f, 0.3f * h, 0.0f), 1.2f, 0.25f * h, 1.0f),
+             "inside a cell", false);
+  EXPECT_GT(feature->stats().nearCells, 0u);
+}
+
 // Cell runs (RenderMethod::CellRuns) draw the same cells as one box per run along x and walk them
 // in the fragment shader. Why these cases: the torus's rows hold long runs whose inner faces the
 // rays cross (the walk must continue into the next cell and stop at the first root); the box's
@@ -362,12 +460,17 @@ TEST_F(HermiteCellsTest, SixtyFourInstancesInOneDrawMatchSeparateFrames) {
   for (const glm::mat4& m : transforms) addSdf(registry_, asset, hsdf::RenderMethod::Cells, m);
   const Frame all = renderWith(camera, DEBUG_VIEW_NONE);
   EXPECT_EQ(renderer_->feature<hsdf::HermiteCellFeature>()->stats().objects, 64u);
+  // The instances overlap on screen: drawn by depth (early depth would let one object's nearer box
+  // face hide another object's nearer hit), while each one alone is drawn by its faces below, so
+  // the equality also checks the two prepasses against each other.
+  EXPECT_FALSE(renderer_->feature<hsdf::HermiteCellFeature>()->stats().earlyDepth);
 
   std::vector<float> expected(std::size_t(size) * size, 0.0f);
   for (const glm::mat4& m : transforms) {
     registry_.clear();
     addSdf(registry_, asset, hsdf::RenderMethod::Cells, m);
     const Frame one = renderWith(camera, DEBUG_VIEW_NONE);
+    EXPECT_TRUE(renderer_->feature<hsdf::HermiteCellFeature>()->stats().earlyDepth);
     for (std::size_t i = 0; i < expected.size(); ++i) expected[i] = std::max(expected[i], one.depth[i]);
   }
   int covered = 0, different = 0;

@@ -17,6 +17,14 @@
 // objects keep their front faces through OBJECT_FLAG_MIRRORED (shaders/hermite/box.glsl).
 // Submission order: rows of cells are sorted front to back by the camera's octant so that early
 // depth testing rejects hidden cells (switchable, to measure the effect).
+// Early depth (Settings::earlyDepth, on by default): the boxes are drawn in the renderer's early
+// depth stage at the depth of their own faces, so a box behind an already found hit fails an early
+// depth test and never runs its search (the GPU and lavapipe both skip such fragments; a shader
+// that writes depth is tested only after it ran). The hits' true depths go to a per-pixel buffer
+// that a fix-up pass writes into the depth buffer before any other prepass draw
+// (shaders/hermite/hit_depth.glsl). Within one object the nearest face with a hit belongs to the
+// box with the nearest hit; between objects it need not, so a frame whose cell objects overlap on
+// screen draws them by depth as before.
 // RenderMethod::CellRuns objects are drawn by the same feature from the same record buffers: one
 // box per run of kept cells along x (runs.vert), walked cell by cell in the fragment shader with
 // the same search (runs_depth.glsl), records read by address; the shading pass is shared.
@@ -43,6 +51,7 @@ class HermiteCellFeature final : public engine::render::RenderFeature {
 
   struct Settings {
     bool frontToBack = true;  // sort rows of cells by the view octant
+    bool earlyDepth = true;   // test the boxes at their faces' depth in the early depth stage
     bool heatMapCounters = true;  // count evaluations per pixel when the debug view asks for it
     // RenderMethod::CellRuns: the most cells one run's box covers. Longer runs mean fewer, larger
     // boxes and longer walks per fragment.
@@ -56,6 +65,7 @@ class HermiteCellFeature final : public engine::render::RenderFeature {
     std::uint64_t runs = 0;         // run boxes of RenderMethod::CellRuns objects (their cells are in `cells`)
     std::uint32_t skippedObjects = 0;  // transform not invertible (e.g. scaled to zero): not drawn
     std::uint64_t gpuBytes = 0;     // cell buffers
+    bool earlyDepth = false;        // the last frame drew the boxes in the early depth stage
   };
 
   HermiteCellFeature();
@@ -65,6 +75,9 @@ class HermiteCellFeature final : public engine::render::RenderFeature {
                             std::uint32_t framesInFlight) override;
   void prepare(engine::render::FrameContext& frame) override;
   void recordPass(engine::render::PassContext& pass) override;
+  bool usesEarlyDepth() const override { return earlyDepth_; }
+  void recordEarlyDepth(engine::render::PassContext& pass) override;
+  void recordEarlyDepthResolve(engine::render::PassContext& pass) override;
   void drawUi() override;
   engine::Status reloadShaders() override;
 
@@ -82,11 +95,14 @@ class HermiteCellFeature final : public engine::render::RenderFeature {
                        const std::vector<std::shared_ptr<const SdfAsset>>& wanted, const std::string& why);
   void buildDraws(engine::render::FrameContext& frame);
   void ensureCounters(engine::render::FrameContext& frame);
+  void ensureHitDepths(engine::render::FrameContext& frame);
+  void recordPrepassDraws(engine::render::PassContext& pass);
   void recordBatch(engine::render::PassContext& pass, int precision, bool near);
   void recordWireframe(engine::render::PassContext& pass, int precision);
   void recordIndirect(VkCommandBuffer cmd, const engine::gpu::Pipeline& pipeline, shader::HermitePushConstants push,
                       std::uint32_t frameSlot, std::uint32_t first, std::uint32_t count);
   void recordResolve(engine::render::PassContext& pass);
+  void recordRectangle(engine::render::PassContext& pass, const engine::gpu::Pipeline& pipeline);
 
   const engine::gpu::Context* context_ = nullptr;
   Settings settings_;
@@ -94,11 +110,14 @@ class HermiteCellFeature final : public engine::render::RenderFeature {
   struct Pipelines {
     // [precision]: 0 = fp32, 1 = fp16 records.
     engine::gpu::Pipeline depthFront[2];
+    engine::gpu::Pipeline depthEarly[2];  // front faces at their own depth (Settings::earlyDepth)
     engine::gpu::Pipeline depthNear[2];
     engine::gpu::Pipeline wire[2];  // DEBUG_VIEW_WIREFRAME: the boxes' edges
     engine::gpu::Pipeline runsFront;  // RenderMethod::CellRuns, both precisions
+    engine::gpu::Pipeline runsEarly;
     engine::gpu::Pipeline runsNear;
     engine::gpu::Pipeline resolve;
+    engine::gpu::Pipeline depthFixup;  // the hits' true depth after the early stage
   };
   engine::Expected<Pipelines> createPipelines() const;
 
@@ -118,6 +137,9 @@ class HermiteCellFeature final : public engine::render::RenderFeature {
   engine::gpu::Buffer counters_;
   VkExtent2D countersExtent_{0, 0};
   bool countersActive_ = false;
+  engine::gpu::Buffer hitDepths_;  // a uint per pixel: the nearest hit's depth bits (early depth)
+  VkExtent2D hitDepthsExtent_{0, 0};
+  bool earlyDepth_ = false;  // this frame's boxes are drawn in the early depth stage
   glm::vec4 screenRect_{1.0f, 1.0f, -1.0f, -1.0f};  // NDC bounds of this frame's cell objects (resolve)
   bool multiDraw_ = false;
   static constexpr int kRunBatch = 2;  // batches: fp32 cells, fp16 cells, runs

@@ -141,6 +141,8 @@ engine::Expected<HermiteCellFeature::Pipelines> HermiteCellFeature::createPipeli
   ENGINE_TRY_ASSIGN(auto vert, engine::gpu::ShaderModule::load(context, "cells.vert"));
   ENGINE_TRY_ASSIGN(auto depthFrag, engine::gpu::ShaderModule::load(context, "cells_depth.frag"));
   ENGINE_TRY_ASSIGN(auto nearFrag, engine::gpu::ShaderModule::load(context, "cells_depth_near.frag"));
+  ENGINE_TRY_ASSIGN(auto earlyFrag, engine::gpu::ShaderModule::load(context, "cells_depth_early.frag"));
+  ENGINE_TRY_ASSIGN(auto fixupFrag, engine::gpu::ShaderModule::load(context, "cells_depth_fixup.frag"));
   ENGINE_TRY_ASSIGN(auto resolveVert, engine::gpu::ShaderModule::load(context, "cells_resolve.vert"));
   ENGINE_TRY_ASSIGN(auto wireVert, engine::gpu::ShaderModule::load(context, "cells_wire.vert"));
   ENGINE_TRY_ASSIGN(auto wireFrag, engine::gpu::ShaderModule::load(context, "cells_wire.frag"));
@@ -148,6 +150,7 @@ engine::Expected<HermiteCellFeature::Pipelines> HermiteCellFeature::createPipeli
   ENGINE_TRY_ASSIGN(auto runsVert, engine::gpu::ShaderModule::load(context, "runs.vert"));
   ENGINE_TRY_ASSIGN(auto runsFrag, engine::gpu::ShaderModule::load(context, "runs_depth.frag"));
   ENGINE_TRY_ASSIGN(auto runsNearFrag, engine::gpu::ShaderModule::load(context, "runs_depth_near.frag"));
+  ENGINE_TRY_ASSIGN(auto runsEarlyFrag, engine::gpu::ShaderModule::load(context, "runs_depth_early.frag"));
 
   for (int precision = 0; precision < 2; ++precision) {
     const std::string suffix = precision == 0 ? " fp32" : " fp16";
@@ -163,6 +166,9 @@ engine::Expected<HermiteCellFeature::Pipelines> HermiteCellFeature::createPipeli
     desc.fragment = depthFrag.handle();
     desc.cullMode = VK_CULL_MODE_BACK_BIT;
     ENGINE_TRY_ASSIGN(p.depthFront[precision], Pipeline::createGraphics(context, desc));
+    desc.name = "hermite cells depth early" + suffix;
+    desc.fragment = earlyFrag.handle();
+    ENGINE_TRY_ASSIGN(p.depthEarly[precision], Pipeline::createGraphics(context, desc));
 
     desc.name = "hermite cells depth near" + suffix;
     desc.fragment = nearFrag.handle();
@@ -195,6 +201,9 @@ engine::Expected<HermiteCellFeature::Pipelines> HermiteCellFeature::createPipeli
     desc.fragment = runsFrag.handle();
     desc.cullMode = VK_CULL_MODE_BACK_BIT;
     ENGINE_TRY_ASSIGN(p.runsFront, Pipeline::createGraphics(context, desc));
+    desc.name = "hermite cell runs depth early";
+    desc.fragment = runsEarlyFrag.handle();
+    ENGINE_TRY_ASSIGN(p.runsEarly, Pipeline::createGraphics(context, desc));
     desc.name = "hermite cell runs depth near";
     desc.fragment = runsNearFrag.handle();
     desc.cullMode = VK_CULL_MODE_FRONT_BIT;
@@ -219,6 +228,19 @@ engine::Expected<HermiteCellFeature::Pipelines> HermiteCellFeature::createPipeli
   resolve.pushConstantBytes = sizeof(shader::HermitePushConstants);
   resolve.setLayouts = {formats.sceneSetLayout};
   ENGINE_TRY_ASSIGN(p.resolve, Pipeline::createGraphics(context, resolve));
+  // Early depth fix-up: the same rectangle, in the prepass, writing only depth (always: the faces it
+  // replaces lie in front of the hits, and nothing else has been drawn yet).
+  engine::gpu::GraphicsPipelineDesc fixup;
+  fixup.name = "hermite cells depth fix-up";
+  fixup.vertex = resolveVert.handle();
+  fixup.fragment = fixupFrag.handle();
+  fixup.cullMode = VK_CULL_MODE_NONE;
+  fixup.depthCompare = VK_COMPARE_OP_ALWAYS;
+  fixup.depthFormat = formats.depth;
+  fixup.colorFormats = {formats.visibility};
+  fixup.colorWrite = false;
+  fixup.pushConstantBytes = sizeof(shader::HermitePushConstants);
+  ENGINE_TRY_ASSIGN(p.depthFixup, Pipeline::createGraphics(context, fixup));
   return p;
 }
 
@@ -328,6 +350,8 @@ void HermiteCellFeature::buildDraws(engine::render::FrameContext& frame) {
   stats_ = Stats{};
   stats_.gpuBytes = buffers_->bytes;
   screenRect_ = glm::vec4(1.0f, 1.0f, -1.0f, -1.0f);  // empty until an object is drawn
+  std::vector<glm::vec4> objectRects;
+  bool objectsOverlap = false;  // two cell objects share screen pixels: no early depth (see the header)
   const glm::mat4 viewProj = frame.camera.proj * frame.camera.view;
 
   frame.registry.view<HermiteSdfRenderable, engine::scene::WorldTransform>().each(
@@ -363,7 +387,11 @@ void HermiteCellFeature::buildDraws(engine::render::FrameContext& frame) {
         const glm::dvec3 eyeGrid = (glm::dvec3(eyeObject) - grid.origin) / grid.spacing;
         const double reachGrid = double(frame.camera.nearPlaneReachInObject(object.invModel)) / grid.spacing;
 
-        screenRect_ = unite(screenRect_, screenBounds(viewProj, world.matrix, grid.bounds(), frame.extent));
+        const glm::vec4 rect = screenBounds(viewProj, world.matrix, grid.bounds(), frame.extent);
+        for (const glm::vec4& other : objectRects)
+          objectsOverlap |= rect.x < other.z && other.x < rect.z && rect.y < other.w && other.y < rect.w;
+        objectRects.push_back(rect);
+        screenRect_ = unite(screenRect_, rect);
         stats_.objects++;
         if (r.method == RenderMethod::CellRuns) {
           // Runs read their records by address: the draw says which buffer and which precision.
@@ -414,6 +442,7 @@ void HermiteCellFeature::buildDraws(engine::render::FrameContext& frame) {
     allDraws.insert(allDraws.end(), draws[precision][1].begin(), draws[precision][1].end());
   }
   stats_.draws = static_cast<std::uint32_t>(allCommands.size());
+  earlyDepth_ = settings_.earlyDepth && stats_.draws > 0 && !objectsOverlap;
   if (!allCommands.empty()) {
     indirect_.upload(frame.frameSlot, allCommands);
     drawData_.upload(frame.frameSlot, allDraws);
@@ -464,6 +493,54 @@ void HermiteCellFeature::prepare(engine::render::FrameContext& frame) {
   syncAssets(frame);
   buildDraws(frame);
   ensureCounters(frame);
+  ensureHitDepths(frame);
+  stats_.earlyDepth = earlyDepth_;
+}
+
+// The per-pixel hit depths of the early depth stage, zero between frames (the fix-up clears what
+// it read). A buffer that cannot be allocated turns early depth off, the frame still draws.
+void HermiteCellFeature::ensureHitDepths(engine::render::FrameContext& frame) {
+  if (!earlyDepth_) return;
+  VkCommandBuffer cmd = frame.cmd;
+  if (!hitDepths_ || hitDepthsExtent_.width != frame.extent.width || hitDepthsExtent_.height != frame.extent.height) {
+    context_->waitIdle();
+    hitDepths_ = Buffer();
+    hitDepthsExtent_ = {0, 0};
+    try {
+      hitDepths_ = Buffer(*context_, VkDeviceSize(frame.extent.width) * frame.extent.height * sizeof(std::uint32_t),
+                          VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT |
+                              VK_BUFFER_USAGE_SHADER_DEVICE_ADDRESS_BIT,
+                          engine::gpu::MemoryUsage::GpuOnly, "hermite cell hit depths");
+    } catch (const engine::gpu::VulkanError& e) {
+      if (e.result() != VK_ERROR_OUT_OF_DEVICE_MEMORY) throw;
+      engine::log::warn("hermite cells: no early depth this frame: {}", e.what());
+      earlyDepth_ = false;
+      return;
+    }
+    hitDepthsExtent_ = frame.extent;
+    vkCmdFillBuffer(cmd, hitDepths_.handle(), 0, VK_WHOLE_SIZE, 0);
+    VkMemoryBarrier2 filled{VK_STRUCTURE_TYPE_MEMORY_BARRIER_2};
+    filled.srcStageMask = VK_PIPELINE_STAGE_2_CLEAR_BIT;
+    filled.srcAccessMask = VK_ACCESS_2_TRANSFER_WRITE_BIT;
+    filled.dstStageMask = VK_PIPELINE_STAGE_2_FRAGMENT_SHADER_BIT;
+    filled.dstAccessMask = VK_ACCESS_2_SHADER_STORAGE_READ_BIT | VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT;
+    VkDependencyInfo dependency{VK_STRUCTURE_TYPE_DEPENDENCY_INFO};
+    dependency.memoryBarrierCount = 1;
+    dependency.pMemoryBarriers = &filled;
+    vkCmdPipelineBarrier2(cmd, &dependency);
+    return;
+  }
+  // The previous frame's (or view region's) fix-up cleared the pixels it read; this frame's early
+  // fragments write them again.
+  VkMemoryBarrier2 reuse{VK_STRUCTURE_TYPE_MEMORY_BARRIER_2};
+  reuse.srcStageMask = VK_PIPELINE_STAGE_2_FRAGMENT_SHADER_BIT;
+  reuse.srcAccessMask = VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT;
+  reuse.dstStageMask = VK_PIPELINE_STAGE_2_FRAGMENT_SHADER_BIT;
+  reuse.dstAccessMask = VK_ACCESS_2_SHADER_STORAGE_READ_BIT | VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT;
+  VkDependencyInfo dependency{VK_STRUCTURE_TYPE_DEPENDENCY_INFO};
+  dependency.memoryBarrierCount = 1;
+  dependency.pMemoryBarriers = &reuse;
+  vkCmdPipelineBarrier2(cmd, &dependency);
 }
 
 void HermiteCellFeature::recordBatch(engine::render::PassContext& pass, int precision, bool near) {
@@ -473,7 +550,9 @@ void HermiteCellFeature::recordBatch(engine::render::PassContext& pass, int prec
   if (count == 0) return;
   VkCommandBuffer cmd = pass.cmd;
   const bool runs = precision == kRunBatch;
-  const Pipeline& pipeline = runs ? (near ? pipelines_.runsNear : pipelines_.runsFront) : near ? pipelines_.depthNear[precision] : pipelines_.depthFront[precision];
+  const Pipeline& front = runs ? (earlyDepth_ ? pipelines_.runsEarly : pipelines_.runsFront)
+                                : (earlyDepth_ ? pipelines_.depthEarly[precision] : pipelines_.depthFront[precision]);
+  const Pipeline& pipeline = !near ? front : runs ? pipelines_.runsNear : pipelines_.depthNear[precision];
   vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, pipeline.handle());
   const VkBuffer vertexBuffer = runs ? buffers_->runs.handle() : buffers_->records[precision].handle();
   const VkDeviceSize offset = 0;
@@ -485,6 +564,7 @@ void HermiteCellFeature::recordBatch(engine::render::PassContext& pass, int prec
   push.draw.debugView = pass.frame.debugView;
   push.draws = drawData_.address(pass.frame.frameSlot);
   push.counters = counterAddress(pass.frame, countersActive_, counters_);
+  push.hitDepths = earlyDepth_ ? hitDepths_.address() : 0;
   recordIndirect(cmd, pipeline, push, pass.frame.frameSlot, first, count);
 }
 
@@ -522,17 +602,25 @@ void HermiteCellFeature::recordWireframe(engine::render::PassContext& pass, int 
 }
 
 void HermiteCellFeature::recordResolve(engine::render::PassContext& pass) {
+  recordRectangle(pass, pipelines_.resolve);
+}
+
+// The rectangle over the cell objects' screen bounds (cells_resolve.vert) with `pipeline`: the
+// shading resolve (which reads the scene set) or the early depth fix-up.
+void HermiteCellFeature::recordRectangle(engine::render::PassContext& pass, const Pipeline& pipeline) {
   if (!(screenRect_.x < screenRect_.z && screenRect_.y < screenRect_.w)) return;  // no object on screen
   VkCommandBuffer cmd = pass.cmd;
-  vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, pipelines_.resolve.handle());
-  vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, pipelines_.resolve.layout(), 0, 1, &pass.sceneSet, 0, nullptr);
+  vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, pipeline.handle());
+  if (pass.pass == engine::render::Pass::Opaque)
+    vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, pipeline.layout(), 0, 1, &pass.sceneSet, 0, nullptr);
   shader::HermitePushConstants push{};
   push.draw.frameGlobals = pass.frameGlobals;
   push.draw.objects = pass.objects;
   push.draw.debugView = pass.frame.debugView;
   push.counters = counterAddress(pass.frame, countersActive_, counters_);
+  push.hitDepths = earlyDepth_ ? hitDepths_.address() : 0;
   push.screenRect = screenRect_;
-  vkCmdPushConstants(cmd, pipelines_.resolve.layout(), VK_SHADER_STAGE_VERTEX_BIT | VK_SHADER_STAGE_FRAGMENT_BIT, 0,
+  vkCmdPushConstants(cmd, pipeline.layout(), VK_SHADER_STAGE_VERTEX_BIT | VK_SHADER_STAGE_FRAGMENT_BIT, 0,
                      sizeof(push), &push);
   vkCmdDraw(cmd, 6, 1, 0, 0);
 }
@@ -547,6 +635,21 @@ void HermiteCellFeature::recordPass(engine::render::PassContext& pass) {
     pass.timer.end(pass.cmd);
     return;
   }
+  if (!earlyDepth_) recordPrepassDraws(pass);  // else drawn in the early depth stage
+}
+
+void HermiteCellFeature::recordEarlyDepth(engine::render::PassContext& pass) {
+  if (stats_.draws > 0) recordPrepassDraws(pass);
+}
+
+void HermiteCellFeature::recordEarlyDepthResolve(engine::render::PassContext& pass) {
+  if (stats_.draws == 0) return;
+  pass.timer.begin(pass.cmd, "cells depth fix-up");
+  recordRectangle(pass, pipelines_.depthFixup);
+  pass.timer.end(pass.cmd);
+}
+
+void HermiteCellFeature::recordPrepassDraws(engine::render::PassContext& pass) {
   pass.timer.begin(pass.cmd, "cells prepass");
   for (int precision = 0; precision < kBatches; ++precision) {
     recordBatch(pass, precision, false);
@@ -558,7 +661,8 @@ void HermiteCellFeature::recordPass(engine::render::PassContext& pass) {
 void HermiteCellFeature::drawUi() {
   if (!ImGui::CollapsingHeader("Hermite cells", ImGuiTreeNodeFlags_DefaultOpen)) return;
   // Read-only: the application owns the setting (the scene runner's tuning panel writes it).
-  ImGui::Text("front-to-back rows: %s", settings_.frontToBack ? "on" : "off");
+  ImGui::Text("front-to-back rows: %s, early depth: %s", settings_.frontToBack ? "on" : "off",
+              stats_.earlyDepth ? "on" : settings_.earlyDepth ? "off (objects overlap on screen)" : "off");
   ImGui::Text("objects %u, cells %llu, draws %u, near cells %u, skipped %u", stats_.objects,
               static_cast<unsigned long long>(stats_.cells), stats_.draws, stats_.nearCells, stats_.skippedObjects);
   ImGui::Text("cell buffers: %.2f MiB", double(stats_.gpuBytes) / (1024.0 * 1024.0));

@@ -72,6 +72,7 @@ TEST(Tuning, SettingsFileRoundTrip) {
   t.fp16 = true;
   t.debugView = DebugView::Wireframe;
   t.frontToBack = false;
+  t.earlyDepth = false;
   t.certified = true;
   t.split = SplitMode::Horizontal;
   t.splitPosition = 0.3f;  // exact in binary and in the JSON text

@@ -66,7 +66,7 @@ TEST(RunnerOptions, EveryOptionsGoodValue) {
                              "out/x.png", "--device", "lavapipe", "--validation", "--ui", "--no-ground", "--method",
                              "trilinear", "--resolution", "32", "--padding", "2", "--subdivisions", "5", "--refine", "0",
                              "--fp16", "--normals", "central", "--debug-view", "evals", "--side-by-side",
-                             "--no-front-to-back", "--certified", "--view", "3", "--camera", "1,2,3,4,5,6", "--save-settings", "s.json",
+                             "--no-front-to-back", "--no-early-depth", "--certified", "--view", "3", "--camera", "1,2,3,4,5,6", "--save-settings", "s.json",
                              "--script", kBunny, "--bake-budget-mib", "64", "--ui-ini", "layout.ini", "--split",
                              "horizontal", "--split-position", "0.25", "--compare-method", "hermite",
                              "--compare-resolution", "48", "--compare-normals", "exact", "--difference"});
@@ -90,6 +90,7 @@ TEST(RunnerOptions, EveryOptionsGoodValue) {
   EXPECT_EQ(o.tuning.debugView, DebugView::Evals);
   EXPECT_TRUE(o.sideBySide);
   EXPECT_FALSE(o.tuning.frontToBack);
+  EXPECT_FALSE(o.tuning.earlyDepth);
   EXPECT_TRUE(o.tuning.certified);
   EXPECT_EQ(o.view, 3);
   ASSERT_TRUE(o.camera.has_value());
@@ -208,7 +209,7 @@ TEST(RunnerOptions, Help) {
 TEST(RunnerOptions, SettingsFileRoundTripAndOverride) {
   const samples::TuningState t =
       parseOk({"--method", "hermite", "--resolution", "48", "--padding", "2", "--subdivisions", "6", "--refine", "3",
-               "--normals", "central", "--fp16", "--debug-view", "depth", "--no-front-to-back", "--certified"})
+               "--normals", "central", "--fp16", "--debug-view", "depth", "--no-front-to-back", "--no-early-depth", "--certified"})
           .tuning;
   EXPECT_FALSE(t == samples::TuningState{});
   const auto file = tempFile("round_trip.json");
