@@ -1,5 +1,6 @@
 #version 460
-// Hermite cells: one instance per kept cell, drawn as its box (36 vertices from gl_VertexIndex).
+// Hermite cells: one instance per kept cell, drawn as its box: its front faces (18 vertices from
+// gl_VertexIndex, box.glsl frontFaceCorner), or all 36 for near-plane cells drawn by back faces.
 // The cell's Hermite data arrive as instance-rate attributes and are handed to the fragment
 // shader unchanged (flat), together with the ray set-up in cell-local coordinates.
 #extension GL_GOOGLE_include_directive : require
@@ -32,9 +33,14 @@ void main() {
   vec3 cell = vec3(inCell.xyz);
   float h = draw.gridOriginSpacing.w;
   float dilation = proxyDilation(frame, object, draw.gridOriginSpacing.xyz + h * (cell + 0.5), h);
-  vec3 local = boxCorner(gl_VertexIndex, (object.flags & OBJECT_FLAG_MIRRORED) != 0u) * (1.0 + 2.0 * dilation) - dilation;
-  vec3 objectPosition = draw.gridOriginSpacing.xyz + h * (cell + local);
   vec3 cameraObject = (object.invModel * vec4(frame.cameraPosition.xyz, 1.0)).xyz;
+  vec3 cameraLocal = (cameraObject - draw.gridOriginSpacing.xyz) / h - cell;
+  bool mirrored = (object.flags & OBJECT_FLAG_MIRRORED) != 0u;
+  vec3 corner = (draw.flags & HERMITE_FLAG_NEAR_CELL) != 0u
+                    ? boxCorner(gl_VertexIndex, mirrored)
+                    : frontFaceCorner(gl_VertexIndex, cameraLocal, vec3(-dilation), vec3(1.0 + dilation), mirrored);
+  vec3 local = max(corner, 0.0) * (1.0 + 2.0 * dilation) - dilation;
+  vec3 objectPosition = draw.gridOriginSpacing.xyz + h * (cell + local);
 
   outCorners = inCorners;
   outCell = inCell;
@@ -42,6 +48,7 @@ void main() {
   outRecord = uint(gl_InstanceIndex);  // firstInstance of the command = first record of the range
   outLocal = local;
   outDilation = dilation;
-  outCameraLocal = (cameraObject - draw.gridOriginSpacing.xyz) / h - cell;
+  outCameraLocal = cameraLocal;
   gl_Position = frame.viewProj * (object.model * vec4(objectPosition, 1.0));
+  if (corner.x < 0.0) gl_Position = vec4(0.0, 0.0, 0.0, 1.0);  // no front face on this axis: nothing drawn
 }

@@ -1,7 +1,6 @@
 #version 460
 // Box wireframe debug view of the Hermite cells: the 12 edges of each drawn cell as a line list.
-// It is drawn with the same indirect commands as the boxes (36 vertices per instance), so the
-// last 12 vertices are sent outside the clip volume.
+// Its indirect commands are the boxes' with 24 vertices per instance (cell_feature.cpp).
 #extension GL_GOOGLE_include_directive : require
 #include "hermite/hermite_host_device.h"
 

@@ -1,6 +1,7 @@
 #version 460
 // Hermite cell runs (RenderMethod::CellRuns): one instance per run of kept cells that follow each
-// other along x in one row, drawn as one box (36 vertices from gl_VertexIndex) of `length` cells.
+// other along x in one row, drawn as one box of `length` cells: its front faces (18 vertices,
+// box.glsl frontFaceCorner), or all 36 for runs the near plane may cut (drawn by back faces).
 // The fragment shader walks the ray through the run's cells and reads each cell's record by
 // buffer device address, so the vertex stream carries 12 bytes per run instead of 136 per cell and
 // the faces between cells of a run produce no fragments (issue 13; docs/perf/).
@@ -38,15 +39,21 @@ void main() {
   vec3 firstCentre = draw.gridOriginSpacing.xyz + h * (start + 0.5);
   vec3 lastCentre = firstCentre + vec3(h * (size.x - 1.0), 0.0, 0.0);
   float dilation = max(proxyDilation(frame, object, firstCentre, h), proxyDilation(frame, object, lastCentre, h));
-  vec3 local = boxCorner(gl_VertexIndex, (object.flags & OBJECT_FLAG_MIRRORED) != 0u) * (size + 2.0 * dilation) - dilation;
-  vec3 objectPosition = draw.gridOriginSpacing.xyz + h * (start + local);
   vec3 cameraObject = (object.invModel * vec4(frame.cameraPosition.xyz, 1.0)).xyz;
+  vec3 cameraLocal = (cameraObject - draw.gridOriginSpacing.xyz) / h - start;
+  bool mirrored = (object.flags & OBJECT_FLAG_MIRRORED) != 0u;
+  vec3 corner = (draw.flags & HERMITE_FLAG_NEAR_CELL) != 0u
+                    ? boxCorner(gl_VertexIndex, mirrored)
+                    : frontFaceCorner(gl_VertexIndex, cameraLocal, vec3(-dilation), size + dilation, mirrored);
+  vec3 local = max(corner, 0.0) * (size + 2.0 * dilation) - dilation;
+  vec3 objectPosition = draw.gridOriginSpacing.xyz + h * (start + local);
 
   outRun = run;
   outFirstRecord = inFirstRecord;
   outDraw = drawIndex;
   outLocal = local;
   outDilation = dilation;
-  outCameraLocal = (cameraObject - draw.gridOriginSpacing.xyz) / h - start;
+  outCameraLocal = cameraLocal;
   gl_Position = frame.viewProj * (object.model * vec4(objectPosition, 1.0));
+  if (corner.x < 0.0) gl_Position = vec4(0.0, 0.0, 0.0, 1.0);  // no front face on this axis: nothing drawn
 }

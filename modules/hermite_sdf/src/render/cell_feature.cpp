@@ -44,6 +44,7 @@ struct CellBuffers {
 struct HermiteCellFeature::Batch {
   std::uint32_t frontFirst = 0, frontCount = 0;
   std::uint32_t nearFirst = 0, nearCount = 0;
+  std::uint32_t wireFirst = 0;  // DEBUG_VIEW_WIREFRAME: the front list again with kWireVertices
 };
 
 static_assert(sizeof(CellRecord) == sizeof(shader::CellRecordGpu), "CellRecord and CellRecordGpu must match");
@@ -52,6 +53,11 @@ static_assert(sizeof(CellRecordHalf) == sizeof(shader::CellRecordHalfGpu), "Cell
 namespace {
 
 constexpr std::uint32_t kRecordStride[2] = {sizeof(CellRecord), sizeof(CellRecordHalf)};
+// Vertices per instance: a box's front faces (cells.vert, runs.vert: box.glsl frontFaceCorner), all
+// its faces (near-plane cells, drawn by back faces), its 12 edges (the wireframe view).
+constexpr std::uint32_t kFrontFaceVertices = 18;
+constexpr std::uint32_t kBoxVertices = 36;
+constexpr std::uint32_t kWireVertices = 24;
 
 engine::gpu::VertexLayout cellVertexLayout(int precision) {
   engine::gpu::VertexLayout layout;
@@ -399,13 +405,13 @@ void HermiteCellFeature::buildDraws(engine::render::FrameContext& frame) {
           if (precision == 1) draw.flags |= HERMITE_FLAG_HALF_RECORDS;
           const std::vector<CellRows::Range> rowOrder = orderedRows(entry.rows, eyeGrid, settings_.frontToBack);
           for (const CellRows::Range& range : runRanges(entry.runs, rowOrder)) {
-            commands[2][0].push_back({36, range.count, 0, entry.firstRun + range.first});
+            commands[2][0].push_back({kFrontFaceVertices, range.count, 0, entry.firstRun + range.first});
             draws[2][0].push_back(draw);
           }
           shader::HermiteDraw nearDraw = draw;
           nearDraw.flags |= HERMITE_FLAG_NEAR_CELL;
           for (std::uint32_t run : runsNearPoint(entry.runs, eyeGrid, reachGrid)) {
-            commands[2][1].push_back({36, 1, 0, entry.firstRun + run});
+            commands[2][1].push_back({kBoxVertices, 1, 0, entry.firstRun + run});
             draws[2][1].push_back(nearDraw);
             stats_.nearCells++;
           }
@@ -414,14 +420,14 @@ void HermiteCellFeature::buildDraws(engine::render::FrameContext& frame) {
           return;
         }
         for (const CellRows::Range& range : orderedRows(entry.rows, eyeGrid, settings_.frontToBack)) {
-          commands[precision][0].push_back({36, range.count, 0, entry.firstRecord + range.first});
+          commands[precision][0].push_back({kFrontFaceVertices, range.count, 0, entry.firstRecord + range.first});
           draws[precision][0].push_back(draw);
           stats_.cells += range.count;
         }
         shader::HermiteDraw nearDraw = draw;
         nearDraw.flags |= HERMITE_FLAG_NEAR_CELL;
         for (std::uint32_t record : cellsNearPoint(entry.rows, r.asset->cells, eyeGrid, reachGrid)) {
-          commands[precision][1].push_back({36, 1, 0, entry.firstRecord + record});
+          commands[precision][1].push_back({kBoxVertices, 1, 0, entry.firstRecord + record});
           draws[precision][1].push_back(nearDraw);
           stats_.nearCells++;
         }
@@ -442,6 +448,18 @@ void HermiteCellFeature::buildDraws(engine::render::FrameContext& frame) {
     allDraws.insert(allDraws.end(), draws[precision][1].begin(), draws[precision][1].end());
   }
   stats_.draws = static_cast<std::uint32_t>(allCommands.size());
+  if (frame.debugView == DEBUG_VIEW_WIREFRAME) {
+    for (int precision = 0; precision < 2; ++precision) {
+      Batch& batch = *batches_[precision];
+      batch.wireFirst = static_cast<std::uint32_t>(allCommands.size());
+      for (std::uint32_t i = 0; i < batch.frontCount; ++i) {
+        VkDrawIndirectCommand wire = allCommands[batch.frontFirst + i];
+        wire.vertexCount = kWireVertices;
+        allCommands.push_back(wire);
+        allDraws.push_back(allDraws[batch.frontFirst + i]);
+      }
+    }
+  }
   earlyDepth_ = settings_.earlyDepth && stats_.draws > 0 && !objectsOverlap;
   if (!allCommands.empty()) {
     indirect_.upload(frame.frameSlot, allCommands);
@@ -598,7 +616,7 @@ void HermiteCellFeature::recordWireframe(engine::render::PassContext& pass, int 
   push.draw.frameGlobals = pass.frameGlobals;
   push.draw.objects = pass.objects;
   push.draws = drawData_.address(pass.frame.frameSlot);
-  recordIndirect(cmd, pipelines_.wire[precision], push, pass.frame.frameSlot, batch.frontFirst, batch.frontCount);
+  recordIndirect(cmd, pipelines_.wire[precision], push, pass.frame.frameSlot, batch.wireFirst, batch.frontCount);
 }
 
 void HermiteCellFeature::recordResolve(engine::render::PassContext& pass) {
