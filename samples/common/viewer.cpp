@@ -548,9 +548,9 @@ Status Viewer::step() {
 }
 
 // A re-baked field the GPU could not take (a feature refused its upload: out of GPU memory) is
-// swapped back for the field it replaced, which the features still hold: from the next frame on the
-// scene draws the old K again and the tuning says so (the frame that found out drew the object
-// without it). Checked on the first frame after the swap; the replaced field is released then.
+// swapped back for the field it replaced, which the features still hold (and drew already in the
+// frame that found out, in place of the refused one): the component and the tuning name the K on
+// screen again. Checked on the first frame after the swap; the replaced field is released then.
 std::optional<std::string> Viewer::restoreRefusedBake() {
   const ReplacedField replaced = std::exchange(replaced_, {});
   hsdf::HermiteSdfRenderable* sdf = sdfRenderable();

@@ -7,9 +7,11 @@
 //
 // Depth prepass: the fragment shader clips the pixel's ray to its cell (and the near plane), finds
 // the first root by n equidistant evaluations + linear interpolation + regula-falsi refinement and
-// writes gl_FragDepth with conservative depth (the hit is never nearer than the front face), plus
-// the visibility id. Cells the near plane may cut are drawn by their back faces with a
-// non-conservative variant, so a camera inside the object or inside a cell loses no surface.
+// hands on the hit's depth (early depth, below; else gl_FragDepth with conservative depth: the hit
+// is never nearer than the front face), plus the visibility id. Boxes are drawn by their front
+// faces (18 vertices chosen by the eye's side per axis); cells the near plane may cut are drawn
+// by their back faces with a non-conservative variant, so a camera inside the object or inside a
+// cell loses no surface.
 // Shading pass: each pixel is shaded once: a resolve over the objects' screen bounds reads the visibility buffer
 // (object, cell record) and the prepass depth, fetches that cell's record by buffer device
 // address and shades the hit with the exact normal of the interpolant.
@@ -36,6 +38,7 @@
 #include <utility>
 #include <vector>
 
+#include "engine/ecs/entity.h"
 #include "engine/gpu/buffer.h"
 #include "engine/gpu/pipeline.h"
 #include "engine/render/per_frame_buffer.h"
@@ -84,7 +87,9 @@ class HermiteCellFeature final : public engine::render::RenderFeature {
   Settings& settings() { return settings_; }
   const Stats& stats() const { return stats_; }
   // Whether the cells of `assetId` were refused (their upload did not fit in GPU memory): the
-  // asset is not drawn, and not retried. Lets the caller draw the field the asset replaced instead.
+  // asset is not drawn, and not retried. An entity whose asset was refused keeps drawing the asset
+  // it drew before, if any (a re-bake past the budget: no frame without the object); the caller
+  // can put that asset back into the component (the Viewer does, so the tuning names it).
   bool refused(std::uint64_t assetId) const { return refused_.contains(assetId); }
 
  private:
@@ -130,6 +135,7 @@ class HermiteCellFeature final : public engine::render::RenderFeature {
   // Assets whose upload ran out of GPU memory (reported once, not retried: a re-bake or reload
   // makes a new asset, which is tried), and a run length refused the same way (0: none).
   std::unordered_set<std::uint64_t> refused_;
+  std::unordered_map<engine::ecs::Entity, std::uint64_t> drawnAssets_;  // the asset each entity drew last frame
   std::uint32_t refusedRunLength_ = 0;
   engine::render::PerFrameBuffer drawData_;
   engine::render::PerFrameBuffer indirect_;

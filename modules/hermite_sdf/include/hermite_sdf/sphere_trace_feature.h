@@ -50,8 +50,10 @@
 #include <memory>
 #include <set>
 #include <tuple>
+#include <unordered_map>
 #include <vector>
 
+#include "engine/ecs/entity.h"
 #include "engine/gpu/image.h"
 #include "engine/gpu/pipeline.h"
 #include "engine/render/per_frame_buffer.h"
@@ -143,6 +145,8 @@ class SphereTraceFeature final : public engine::render::RenderFeature {
   Pipelines pipelines_;
   std::map<TextureKey, FieldTexture> textures_;
   std::set<TextureKey> failedTextures_;  // reported once, not retried
+  // The asset each entity drew last frame: drawn instead of a refused asset that replaced it.
+  std::unordered_map<engine::ecs::Entity, std::shared_ptr<const SdfAsset>> drawnAssets_;
   engine::render::PerFrameBuffer drawBuffer_;
   std::vector<std::uint32_t> drawSlots_;  // texture slot per draw of this frame
   Range front_[2], near_[2];              // per method, ranges of this frame's draws

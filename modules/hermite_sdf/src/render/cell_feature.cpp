@@ -255,9 +255,18 @@ void HermiteCellFeature::syncAssets(const engine::render::FrameContext& frame) {
   std::vector<std::shared_ptr<const SdfAsset>> wanted;
   std::unordered_set<std::uint64_t> seen;
   bool missing = false;
-  frame.registry.view<HermiteSdfRenderable>().each([&](engine::ecs::Entity, const HermiteSdfRenderable& r) {
+  frame.registry.view<HermiteSdfRenderable>().each([&](engine::ecs::Entity entity, const HermiteSdfRenderable& r) {
     if (!drawnAsCells(r.method) || !r.asset || r.asset->cells.records.empty()) return;
-    if (refused_.contains(r.asset->id)) return;
+    if (refused_.contains(r.asset->id)) {
+      // The entity still draws the asset the refused one replaced (buildDraws): keep it uploaded.
+      if (auto previous = drawnAssets_.find(entity); previous != drawnAssets_.end())
+        if (auto kept = buffers_->entries.find(previous->second);
+            kept != buffers_->entries.end() && seen.insert(kept->first).second) {
+          wanted.push_back(kept->second.asset);
+          kept->second.lastFrame = frame.frameNumber;
+        }
+      return;
+    }
     if (!seen.insert(r.asset->id).second) return;
     wanted.push_back(r.asset);
     auto entry = buffers_->entries.find(r.asset->id);
@@ -358,19 +367,27 @@ void HermiteCellFeature::buildDraws(engine::render::FrameContext& frame) {
   screenRect_ = glm::vec4(1.0f, 1.0f, -1.0f, -1.0f);  // empty until an object is drawn
   std::vector<glm::vec4> objectRects;
   bool objectsOverlap = false;  // two cell objects share screen pixels: no early depth (see the header)
+  std::unordered_map<engine::ecs::Entity, std::uint64_t> drawnThisFrame;
   const glm::mat4 viewProj = frame.camera.proj * frame.camera.view;
 
   frame.registry.view<HermiteSdfRenderable, engine::scene::WorldTransform>().each(
-      [&](engine::ecs::Entity, const HermiteSdfRenderable& r, const engine::scene::WorldTransform& world) {
+      [&](engine::ecs::Entity entity, const HermiteSdfRenderable& r, const engine::scene::WorldTransform& world) {
         if (!drawnAsCells(r.method) || !r.asset) return;
         if (!engine::render::drawableTransform(world.matrix)) {  // the rays could not be taken into the grid
           stats_.skippedObjects++;
           return;
         }
         auto found = buffers_->entries.find(r.asset->id);
+        // A refused asset (its upload did not fit in GPU memory) that replaced the entity's field:
+        // the field it replaced is still uploaded and is drawn instead, from this very frame on.
+        if (found == buffers_->entries.end() && refused_.contains(r.asset->id))
+          if (auto previous = drawnAssets_.find(entity); previous != drawnAssets_.end())
+            found = buffers_->entries.find(previous->second);
         if (found == buffers_->entries.end()) return;
+        drawnThisFrame[entity] = found->first;
         const CellBuffers::Entry& entry = found->second;
-        const GridSpec& grid = r.asset->cells.grid;  // cells-only assets have no dense field
+        const SdfAsset& asset = *entry.asset;
+        const GridSpec& grid = asset.cells.grid;  // cells-only assets have no dense field
         const int precision = r.halfPrecision && halfPrecisionFits(grid) ? 1 : 0;  // else fp32, see renderable.h
 
         shader::ObjectData object = engine::render::GpuScene::makeObject(world.matrix, r.color, r.roughness, 0.0f, kFeatureId);
@@ -415,7 +432,7 @@ void HermiteCellFeature::buildDraws(engine::render::FrameContext& frame) {
             draws[2][1].push_back(nearDraw);
             stats_.nearCells++;
           }
-          stats_.cells += r.asset->cells.records.size();
+          stats_.cells += asset.cells.records.size();
           stats_.runs += entry.runs.size();
           return;
         }
@@ -426,7 +443,7 @@ void HermiteCellFeature::buildDraws(engine::render::FrameContext& frame) {
         }
         shader::HermiteDraw nearDraw = draw;
         nearDraw.flags |= HERMITE_FLAG_NEAR_CELL;
-        for (std::uint32_t record : cellsNearPoint(entry.rows, r.asset->cells, eyeGrid, reachGrid)) {
+        for (std::uint32_t record : cellsNearPoint(entry.rows, asset.cells, eyeGrid, reachGrid)) {
           commands[precision][1].push_back({kBoxVertices, 1, 0, entry.firstRecord + record});
           draws[precision][1].push_back(nearDraw);
           stats_.nearCells++;
@@ -448,6 +465,7 @@ void HermiteCellFeature::buildDraws(engine::render::FrameContext& frame) {
     allDraws.insert(allDraws.end(), draws[precision][1].begin(), draws[precision][1].end());
   }
   stats_.draws = static_cast<std::uint32_t>(allCommands.size());
+  drawnAssets_ = std::move(drawnThisFrame);
   if (frame.debugView == DEBUG_VIEW_WIREFRAME) {
     for (int precision = 0; precision < 2; ++precision) {
       Batch& batch = *batches_[precision];

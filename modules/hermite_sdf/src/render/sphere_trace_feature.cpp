@@ -208,27 +208,40 @@ void SphereTraceFeature::releaseUnusedTextures(std::uint64_t frame, std::uint32_
 void SphereTraceFeature::collectDraws(engine::render::FrameContext& frame) {
   std::vector<shader::SphereTraceDraw> lists[kTraceMethodCount][2];  // [method][near]
   const engine::math::Frustum frustum = engine::math::extractFrustum(frame.camera.proj * frame.camera.view);
+  std::unordered_map<engine::ecs::Entity, std::shared_ptr<const SdfAsset>> drawnThisFrame;
   frame.registry.view<HermiteSdfRenderable, engine::scene::WorldTransform>().each(
-      [&](engine::ecs::Entity, const HermiteSdfRenderable& r, const engine::scene::WorldTransform& world) {
+      [&](engine::ecs::Entity entity, const HermiteSdfRenderable& r, const engine::scene::WorldTransform& world) {
         std::uint32_t method = 0;
         if (!r.asset || !traceMethod(r.method, method)) return;
         if (!engine::render::drawableTransform(world.matrix)) {  // the rays could not be taken into the grid
           ++stats_.skippedObjects;
           return;
         }
-        const GridSpec& grid = r.asset->field.grid;
-        const glm::vec3 lo(grid.bounds().min), hi(grid.bounds().max);
         glm::vec3 worldLo, worldHi;
-        engine::math::transformBounds(world.matrix, lo, hi, worldLo, worldHi);
+        engine::math::transformBounds(world.matrix, glm::vec3(r.asset->field.grid.bounds().min),
+                                      glm::vec3(r.asset->field.grid.bounds().max), worldLo, worldHi);
         if (!engine::math::intersects(frustum, worldLo, worldHi)) {
           ++stats_.culledObjects;
+          if (auto previous = drawnAssets_.find(entity); previous != drawnAssets_.end())
+            drawnThisFrame[entity] = previous->second;  // what it would draw when back in view
           return;
         }
-        const FieldTexture* texture = acquireTexture(*r.asset, method, r.halfPrecision && halfPrecisionFits(r.asset->field.grid), frame);
+        std::shared_ptr<const SdfAsset> asset = r.asset;
+        const FieldTexture* texture = acquireTexture(*asset, method, r.halfPrecision && halfPrecisionFits(asset->field.grid), frame);
+        // A refused asset (its texture did not fit in GPU memory) that replaced the entity's field:
+        // the field it replaced, still uploaded, is drawn instead, from the frame that found out on.
+        if (!texture && refused(asset->id))
+          if (auto previous = drawnAssets_.find(entity); previous != drawnAssets_.end()) {
+            asset = previous->second;
+            texture = acquireTexture(*asset, method, r.halfPrecision && halfPrecisionFits(asset->field.grid), frame);
+          }
         if (!texture) {
           ++stats_.skippedObjects;
           return;
         }
+        drawnThisFrame[entity] = asset;
+        const GridSpec& grid = asset->field.grid;
+        const glm::vec3 lo(grid.bounds().min), hi(grid.bounds().max);
         const shader::ObjectData object =
             engine::render::GpuScene::makeObject(world.matrix, r.color, r.roughness, 0.0f, kFeatureId);
         shader::SphereTraceDraw draw{};
@@ -246,6 +259,7 @@ void SphereTraceFeature::collectDraws(engine::render::FrameContext& frame) {
         stats_.nearObjects += near ? 1u : 0u;
       });
 
+  drawnAssets_ = std::move(drawnThisFrame);
   // One buffer: [trilinear front][trilinear near][hermite front][hermite near].
   std::vector<shader::SphereTraceDraw> all;
   for (std::uint32_t method = 0; method < kTraceMethodCount; ++method) {
