@@ -1,0 +1,38 @@
+#!/usr/bin/env bash
+# A frame that fails while it is recorded (failed_frame_script.txt: the script's fail-frame, GPU
+# memory running out at the frame's vkEndCommandBuffer) in a real GLFW window under Xvfb,
+# validation on. Checks what would break if the windowed loop mishandled it: the failed step is
+# logged and the window goes on (the run reaches its --frames instead of ending at the failure or
+# hanging on the failed frame's fence), the next frame on the failed frame's slot draws the image of
+# the frame before, a later change of view reaches the image, no validation message (the acquired
+# image of the failed frame is presented, its semaphore waited on), and the exit status still
+# reports the failed step (exit 1 naming it), so a scripted run cannot pass over it.
+# Exit 77 (ctest: skipped) when Xvfb is not installed.
+set -u
+runner=$1 probe=$2 script=$3 work=$4
+if ! command -v xvfb-run >/dev/null 2>&1; then
+  echo "SKIPPED: xvfb-run not found (Debian package xvfb); the failed frame was not run"
+  exit 77
+fi
+source "$(cd "$(dirname "$0")" && pwd)/xvfb_checks.sh" || exit 1
+rm -rf "$work" && mkdir -p "$work" && cd "$work" || exit 1
+timeout 120 xvfb-run -a -s "-screen 0 640x480x24" "$runner" --validation --no-ground --size 128x96 --resolution 24 \
+  --ui-ini "" --script "$script" --frames 8 >log.txt 2>&1
+rc=$?
+cat log.txt
+[ $rc -ne 124 ] || fail "scene_runner did not finish within 120 s (a step after the failed frame waited forever?)"
+[ $rc -eq 1 ] || fail "scene_runner exited with $rc, not 1 (the failed step must show in the exit status)"
+# The failed step: the renderer's error, logged while the window went on, and in the exit status.
+grep -q "frame 4: out of GPU memory (vkEndCommandBuffer(frame.cmd) failed.*the frame was skipped (the window goes on)" log.txt ||
+  fail "the failed frame 4 was not logged as skipped with the window going on"
+grep -q "scene_runner: error: 1 step(s) failed and the window went on; the first: frame 4: out of GPU memory" log.txt ||
+  fail "the exit status does not name the one failed step"
+grep -q "validation message" log.txt && fail "the run had Vulkan validation messages"
+# The run went on to its 8 frames (9 steps, one failed).
+grep -q "window: 8 frames drawn, 1 step(s) failed" log.txt || fail "the window did not draw its 8 frames past the failed step"
+# The frame after the failure is the frame before it; a later view change reaches the image.
+drawn before; drawn next; drawn turned
+same next before "the frame after the failed one differs from the frame before it at the same view"
+d=$(FIELD=differs field turned.png before.png)
+at_least "$d" 0.005 || fail "turned.png looks like before.png (differs $d): the frames after the failure do not draw"
+echo "failed frame: all checks passed"
