@@ -21,5 +21,5 @@ drawn() {
 # A.png and B.png are equal pixel for pixel; WHY (optional) says what a difference would mean.
 same() {
   local d; d=$(FIELD=differs field $1.png $2.png)
-  [ "$d" = 0.0000 ] || fail "$1.png differs from $2.png in $d of the pixels: ${3:-although the settings and size are the same}"
+  [ "$d" = 0.0000 ] || fail "$1.png differs from $2.png in $d of the pixels: ${3:-they should be equal (same settings and size)}"
 }
