@@ -16,7 +16,7 @@ if ! command -v xvfb-run >/dev/null 2>&1; then
 fi
 source "$(cd "$(dirname "$0")" && pwd)/xvfb_checks.sh" || exit 1
 rm -rf "$work" && mkdir -p "$work" && cd "$work" || exit 1
-timeout 120 xvfb-run -a -s "-screen 0 640x480x24" "$runner" --validation --no-ground --size 128x96 --resolution 24 \
+in_xvfb 120 "$runner" --validation --no-ground --size 128x96 --resolution 24 \
   --ui-ini "" --script "$script" --frames 8 >log.txt 2>&1
 rc=$?
 cat log.txt

@@ -25,7 +25,7 @@ rm -rf "$work" && mkdir -p "$work" && cd "$work" || exit 1
 cp -r "$shaders" spv && cp -r "$shaders" spv_broken || fail "cannot copy the shaders from $shaders"
 spv_words=$(( $(stat -c %s spv/cells_resolve.frag.spv) / 8 ))
 head -c $(( spv_words * 4 )) spv/cells_resolve.frag.spv >spv_broken/cells_resolve.frag.spv
-timeout 300 xvfb-run -a -s "-screen 0 640x480x24" "$runner" --validation --no-ground --size 128x96 --resolution 24 \
+in_xvfb 300 "$runner" --validation --no-ground --size 128x96 --resolution 24 \
   --bake-budget-mib 16 --ui-ini "" --script "$script" --frames 45 >log.txt 2>&1
 rc=$?
 cat log.txt

@@ -30,7 +30,7 @@ rc=$?
 kill $wm
 exit $rc
 SESSION
-HSDF_LOG=debug timeout 300 xvfb-run -a -s "-screen 0 640x480x24" bash session.sh "$runner" --validation --no-ground \
+HSDF_LOG=debug in_xvfb 300 bash session.sh "$runner" --validation --no-ground \
   --size 128x96 --resolution 24 --ui-ini "" --script "$script" --frames 35 >log.txt 2>&1
 rc=$?
 cat log.txt

@@ -1,8 +1,22 @@
-# Checks of the scene runner's screenshots and log, shared by the Xvfb ctests (run_*_xvfb.sh):
-# sourced after the test has set $probe (the png_probe binary) and entered its work directory.
+# Shared by the Xvfb ctests (run_*_xvfb.sh): running the scene runner in Xvfb and checking its
+# screenshots and log. Sourced; the checks of images need $probe (the png_probe binary) and run in
+# the test's work directory.
 # Each check ends the test with "FAIL: ..." naming the file and what was wrong.
 
 fail() { echo "FAIL: $*"; exit 1; }
+# in_xvfb SECONDS COMMAND...: runs COMMAND in a fresh 640x480 Xvfb display, killed after SECONDS;
+# the status is COMMAND's (124 on the time limit). The X authority file is one of ours: with its
+# own temporary directory, xvfb-run sometimes fails to remove it when the server exits (1 run in
+# 25 of scene_runner_failed_frame_xvfb here) and exits with 5 instead of the command's status.
+in_xvfb() {
+  local limit=$1 auth rc
+  shift
+  auth=$(mktemp "${TMPDIR:-/tmp}/hsdf_xauth.XXXXXX") || fail "cannot make an X authority file"
+  timeout "$limit" xvfb-run -a -f "$auth" -s "-screen 0 640x480x24" "$@"
+  rc=$?
+  rm -f "$auth" "$auth"-?  # and xauth's lock files, if any were left
+  return $rc
+}
 # png_probe's report of one image (or, with two, their difference); a probe that fails fails the test.
 probe() { "$probe" "$@" || fail "png_probe $*"; }
 # One field of png_probe's report ("size", "coverage", "differs"), the key in $FIELD:
