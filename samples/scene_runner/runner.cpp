@@ -57,7 +57,10 @@ constexpr int kMaxFailedStepsInARow = 10;
 // one, an object that did not fit stays undrawn), unless the device is lost or the steps keep
 // failing; the run still ends with the first error, so a scripted run cannot pass over it.
 Status stepFailed(samples::Viewer& viewer, Status failed, int& failedInARow, Status& firstFailure) {
-  if (!viewer.windowed() || viewer.deviceLost() || ++failedInARow >= kMaxFailedStepsInARow) return failed;
+  if (!viewer.windowed() || viewer.deviceLost()) return failed;
+  if (++failedInARow >= kMaxFailedStepsInARow)
+    return makeError(fmt::format("{} ({} steps in a row failed: the window gives up)", failed.error().message,
+                                 failedInARow));
   log::error("{} (the window goes on)", failed.error().message);
   if (firstFailure) firstFailure = failed;
   return {};
