@@ -23,7 +23,7 @@ constexpr std::string_view kValueActions[] = {"screenshot", "size",          "pa
                                               "view",       "save-settings", "load-settings", "camera", "shader-dir",
                                               "present-fault"};
 constexpr std::string_view kBareActions[] = {"wait-bake", "cancel-bake", "reload-shaders", "rebuild-shaders", "minimize",
-                                             "restore", "wait-size"};
+                                             "restore",   "wait-size",   "fail-frame"};
 
 template <std::size_t N>
 bool contains(const std::string_view (&list)[N], std::string_view key) {
@@ -70,7 +70,8 @@ Status checkCommand(const ScriptCommand& c, TuningState& scratch) {
   if (!contains(kValueActions, c.key))
     return engine::makeError(fmt::format("unknown key '{}' (settings: {}; actions: screenshot, size, panel, vsync, "
                                          "fullscreen, view, camera, save-settings, load-settings, shader-dir, present-fault, "
-                                         "wait-bake, cancel-bake, reload-shaders, rebuild-shaders, minimize, restore, wait-size)",
+                                         "wait-bake, cancel-bake, reload-shaders, rebuild-shaders, minimize, restore, wait-size, "
+                                         "fail-frame)",
                                          c.key, tuningKeyList()));
   std::uint32_t w = 0, h = 0;
   bool flag = false;
@@ -175,6 +176,11 @@ Status runCommand(const ScriptCommand& c, Viewer& viewer) {
   } else if (c.key == "present-fault") {
     // The engine's fault injection (vk_check.h): the driver presents, the swapchain hears the result.
     engine::gpu::injectFault({"vkQueuePresentKHR", *presentFault(c.value)});
+  } else if (c.key == "fail-frame") {
+    // After every feature recorded (none can catch it): the renderer drops the frame's commands
+    // and, with a window, presents the last finished frame again. The next checked
+    // vkEndCommandBuffer is the frame's on a frame that uploads nothing (no new field).
+    engine::gpu::injectFault({"vkEndCommandBuffer", VK_ERROR_OUT_OF_DEVICE_MEMORY});
   } else if (c.key == "wait-size") {
     ENGINE_TRY(viewer.waitForWindowSize());
   } else if (c.key == "minimize" || c.key == "restore") {

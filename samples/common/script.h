@@ -16,7 +16,8 @@
 // system applies it asynchronously), wait-size (waits until the window has the last size asked for),
 // minimize, restore (the window manager iconifies / restores the window; the action waits until it
 // has), present-fault=out-of-date|suboptimal (the next present reports that: vk_check.h's fault
-// injection), panel=on|off, vsync=on|off, fullscreen=on|off, view=0..7 (orbit view), camera=orbit|fly
+// injection), fail-frame (the next frame fails while it is recorded: GPU memory runs out at its
+// vkEndCommandBuffer, the same injection; the renderer skips that frame), panel=on|off, vsync=on|off, fullscreen=on|off, view=0..7 (orbit view), camera=orbit|fly
 // (keeps the view), save-settings=PATH, load-settings=PATH.
 // Commands of a frame run in order before that frame is drawn (frame 0: the first). "frame N" counts
 // steps of the frame loop: a minimised window's steps draw nothing but count, so a script can

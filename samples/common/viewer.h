@@ -174,6 +174,8 @@ class Viewer {
   // scene; the object stays undrawn, later steps succeed).
   engine::Status step();
   std::uint64_t framesRendered() const { return frames_; }
+  // Whether a step found the device lost: every later step fails with that error.
+  bool deviceLost() const { return deviceLost_; }
 
   // Waits for the GPU and writes the last frame as a PNG, the TuningState beside it as a settings
   // file (same name, .json: --settings loads it) and the SDF statistics to the log.

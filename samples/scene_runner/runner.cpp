@@ -1,5 +1,7 @@
 #include "runner.h"
 
+#include <fmt/format.h>
+
 #include "engine/core/log.h"
 #include "script.h"
 #include "viewer.h"
@@ -47,6 +49,23 @@ Status createApp(const Options& options, std::unique_ptr<samples::Viewer>& viewe
   return {};
 }
 
+// Failed steps in a row after which a windowed run gives up (a fault that repeats every frame).
+constexpr int kMaxFailedStepsInARow = 10;
+
+// A step's error. Headless (a batch job writing images): it ends the run. Windowed (a scene left
+// open for hours): it is logged and the window goes on (a skipped frame shows the last finished
+// one, an object that did not fit stays undrawn), unless the device is lost or the steps keep
+// failing; the run still ends with the first error, so a scripted run cannot pass over it.
+Status stepFailed(samples::Viewer& viewer, Status failed, int& failedInARow, Status& firstFailure) {
+  if (!viewer.windowed() || viewer.deviceLost()) return failed;
+  if (++failedInARow >= kMaxFailedStepsInARow)
+    return makeError(fmt::format("{} ({} steps in a row failed: the window gives up)", failed.error().message,
+                                 failedInARow));
+  log::error("{} (the window goes on)", failed.error().message);
+  if (firstFailure) firstFailure = failed;
+  return {};
+}
+
 // Windowed: until the window closes or --frames are drawn. Headless: --frames (default 1). A
 // --script's commands run before the frame they name.
 Status runFrames(const Options& options, samples::Viewer& viewer) {
@@ -57,18 +76,30 @@ Status runFrames(const Options& options, samples::Viewer& viewer) {
   // Script frames count steps: a minimised window's steps draw nothing (framesRendered() stays) but
   // the script goes on, so it can restore the window.
   auto next = script.frames.begin();
+  Status firstFailure;
+  int failedInARow = 0;
+  std::uint64_t failedSteps = 0;
   for (std::uint64_t step = 0; !viewer.shouldClose() && (options.frames == 0 || viewer.framesRendered() < options.frames);
        ++step) {
     for (; next != script.frames.end() && next->frame <= step; ++next)
       ENGINE_TRY(samples::runScriptFrame(script, *next, viewer));
-    ENGINE_TRY(viewer.step());
+    if (Status stepped = viewer.step(); stepped) {
+      failedInARow = 0;
+    } else {
+      ++failedSteps;
+      ENGINE_TRY(stepFailed(viewer, std::move(stepped), failedInARow, firstFailure));
+    }
   }
   viewer.renderer().finish();
   if (viewer.windowed())
-    log::info("window: {} frames drawn, swapchain recreated {} time(s)", viewer.framesRendered(), viewer.swapchainRecreations());
+    log::info("window: {} frames drawn, {} step(s) failed, swapchain recreated {} time(s)", viewer.framesRendered(),
+              failedSteps, viewer.swapchainRecreations());
   for (const gpu::GpuTiming& t : viewer.renderer().lastTimings())
     log::info("GPU {:>14}: {:8.3f} ms", t.name, t.milliseconds);
   if (!options.screenshot.empty()) ENGINE_TRY(viewer.writeScreenshot(options.screenshot));
+  if (!firstFailure)
+    return makeError(fmt::format("{} step(s) failed and the window went on; the first: {}", failedSteps,
+                                 firstFailure.error().message));
   return {};
 }
 
@@ -80,9 +111,12 @@ Status run(const Options& options) {
   std::unique_ptr<samples::Viewer> viewer;
   Status status = createApp(options, viewer);
   if (status) status = runFrames(options, *viewer);
-  // Validation messages during teardown count too; the first error wins.
+  // Validation messages during teardown count too; both errors are told (a run the window went on
+  // through still ends with an error, which must not hide validation messages).
   const Status closed = viewer ? viewer->close() : Status{};
-  return status ? closed : status;
+  if (status) return closed;
+  if (closed) return status;
+  return makeError(status.error().message + "; closing: " + closed.error().message);
 }
 
 }  // namespace runner

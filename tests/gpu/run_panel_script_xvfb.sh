@@ -17,30 +17,24 @@ if ! command -v xvfb-run >/dev/null 2>&1; then
   echo "SKIPPED: xvfb-run not found (Debian package xvfb); the panel script was not run"
   exit 77
 fi
+source "$(cd "$(dirname "$0")" && pwd)/xvfb_checks.sh" || exit 1
 rm -rf "$work" && mkdir -p "$work" && cd "$work" || exit 1
-fail() { echo "FAIL: $*"; exit 1; }
 # Two copies of the build's SPIR-V for the reloads (shader-dir=): spv/ as built, spv_broken/ with
 # cells_resolve.frag.spv cut to its first half (whole words: only the loader's instruction walk
 # sees it, the size and header checks pass).
 cp -r "$shaders" spv && cp -r "$shaders" spv_broken || fail "cannot copy the shaders from $shaders"
 spv_words=$(( $(stat -c %s spv/cells_resolve.frag.spv) / 8 ))
 head -c $(( spv_words * 4 )) spv/cells_resolve.frag.spv >spv_broken/cells_resolve.frag.spv
-timeout 300 xvfb-run -a -s "-screen 0 640x480x24" "$runner" --validation --no-ground --size 128x96 --resolution 24 \
+in_xvfb 300 "$runner" --validation --no-ground --size 128x96 --resolution 24 \
   --bake-budget-mib 16 --ui-ini "" --script "$script" --frames 45 >log.txt 2>&1
 rc=$?
 cat log.txt
 [ $rc -eq 0 ] || fail "scene_runner exited with $rc"
 
-probe() { "$probe" "$@" || fail "png_probe $*"; }
-field() { probe "$@" | awk -v key="$FIELD" '{for (i = 1; i < NF; ++i) if ($i == key) print $(i + 1)}'; }
-at_least() { awk -v a="$1" -v b="$2" 'BEGIN { exit !(a >= b) }'; }
-
 # The object is drawn (the ground is off, the panel hidden: the rest is background).
 for png in cells_k24 cells_k40 cancelled trilinear hermite mesh cells_n1 view_normals view_depth view_cells \
            view_evals view_wireframe resized reloaded; do
-  [ -s $png.png ] || fail "$png.png was not written"
-  c=$(FIELD=coverage field $png.png)
-  at_least "$c" 0.05 || fail "$png.png: the object covers only $c of the image"
+  drawn $png
 done
 
 # Each change reaches the image: compared with the cells at the same K (40). Dense Hermite sphere
@@ -68,28 +62,25 @@ grep -q '"method": "trilinear"' trilinear.json || fail "trilinear.json does not 
 grep -q '"debug_view": "depth"' view_depth.json || fail "view_depth.json does not hold the debug view"
 
 # Resize: the swapchain and the render targets follow the window.
-[ "$(FIELD=size field cells_k40.png)" = 128x96 ] || fail "cells_k40.png is not 128x96"
-[ "$(FIELD=size field resized.png)" = 160x112 ] || fail "resized.png is $(FIELD=size field resized.png), not 160x112"
+size_is cells_k40 128x96
+size_is resized 160x112
 # load-settings brings back the saved tuning (method cells, not the trilinear set just before).
 grep -q '"method": "cells"' reloaded.json || fail "load-settings did not restore the method"
-d=$(FIELD=differs field reloaded.png resized.png)
-[ "$d" = 0.0000 ] || fail "reloaded.png differs from resized.png ($d) although the settings are the same"
+same reloaded resized
 # Full screen: the swapchain follows the screen and then the window again.
-[ "$(FIELD=size field fullscreen.png)" = 640x480 ] || fail "fullscreen.png is $(FIELD=size field fullscreen.png), not the 640x480 screen"
-[ "$(FIELD=size field windowed_again.png)" = 160x112 ] || fail "leaving full screen did not restore 160x112"
+size_is fullscreen 640x480
+size_is windowed_again 160x112
 # The fly camera takes over the orbit camera's view (a few edge pixels may round differently).
 d=$(FIELD=differs field fly.png windowed_again.png)
 at_least 0.01 "$d" || fail "fly.png differs from windowed_again.png in $d of the pixels: switching cameras moved the view"
 # Certified roots reach the cell shader: the evaluation counts change, the object stays.
-c=$(FIELD=coverage field certified.png)
-at_least "$c" 0.05 || fail "certified.png: the object covers only $c of the image"
+drawn certified
 d=$(FIELD=differs field evals_certified.png evals_plain.png)
 at_least "$d" 0.005 || fail "evals_certified.png looks like evals_plain.png (differs $d): certified did not reach the shader"
 # Split screen: one side is the trilinear frame (differs from the cells one), both orientations
 # draw, and the log names what was compared.
 for png in split_vertical split_horizontal difference; do
-  c=$(FIELD=coverage field $png.png)
-  at_least "$c" 0.05 || fail "$png.png: the object covers only $c of the image"
+  drawn $png
   d=$(FIELD=differs field $png.png cells_ref.png)
   at_least "$d" 0.005 || fail "$png.png looks like cells_ref.png (differs $d): the comparison did not reach the frame"
 done
@@ -102,21 +93,18 @@ mean=$(sed -n 's/.*difference.png: difference cells vs trilinear: mean \([0-9.]*
 at_least "$mean" 0.1 || fail "the difference view reports a mean angle of $mean degrees between cells and trilinear"
 # Reload: every feature that can reload did, and the image is the same.
 grep -q "meshes: reloaded" log.txt && grep -q "sphere tracing: reloaded" log.txt || fail "the shader reload was not reported"
-d=$(FIELD=differs field after_reload.png cells_ref.png)
-[ "$d" = 0.0000 ] || fail "after_reload.png differs from cells_ref.png ($d): reloading the same shaders changed the image"
+same after_reload cells_ref "reloading the same shaders changed the image"
 # The broken reload: the cells feature refused the cut file (the loader's message names it, in the
 # log and in the panel's report), the other features reloaded, and the frame is the one before.
 grep -q "hermite cells: shader spv_broken/cells_resolve.frag.spv: not SPIR-V (truncated" log.txt ||
   fail "the broken cells_resolve.frag.spv was not refused with the file named"
 grep -A3 "reload-shaders: panel report" log.txt | grep -q "spv_broken/cells_resolve.frag.spv: not SPIR-V (truncated" ||
   fail "the panel's reload report does not hold the loader's message"
-d=$(FIELD=differs field broken_reload.png after_reload.png)
-[ "$d" = 0.0000 ] || fail "broken_reload.png differs from after_reload.png ($d): the failed reload changed the image"
+same broken_reload after_reload "the failed reload changed the image"
 # The good reload after it: every feature reloaded (the last cells line says so), same image.
 last_cells=$(grep "^hermite cells: " log.txt | tail -1)
 [ "$last_cells" = "hermite cells: reloaded" ] || fail "the reload after the broken one did not reload the cells: $last_cells"
-d=$(FIELD=differs field good_reload.png cells_ref.png)
-[ "$d" = 0.0000 ] || fail "good_reload.png differs from cells_ref.png ($d)"
+same good_reload cells_ref
 # The compared side's normals: the log names exact for it, the cells half (left of the divider at
 # 80 of 160) is unchanged and the trilinear half changed.
 grep -q "split_vertical.png: split vertical at 0.50: .*(central normals)" log.txt || fail "the first split did not use central normals"

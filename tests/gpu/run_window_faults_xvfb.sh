@@ -16,8 +16,8 @@ for tool in xvfb-run openbox xprop; do
     exit 77
   fi
 done
+source "$(cd "$(dirname "$0")" && pwd)/xvfb_checks.sh" || exit 1
 rm -rf "$work" && mkdir -p "$work" && cd "$work" || exit 1
-fail() { echo "FAIL: $*"; exit 1; }
 
 # In the display: openbox first, the runner once openbox has claimed the screen (the root window's
 # _NET_SUPPORTING_WM_CHECK), then openbox is stopped.
@@ -30,24 +30,11 @@ rc=$?
 kill $wm
 exit $rc
 SESSION
-HSDF_LOG=debug timeout 300 xvfb-run -a -s "-screen 0 640x480x24" bash session.sh "$runner" --validation --no-ground \
+HSDF_LOG=debug in_xvfb 300 bash session.sh "$runner" --validation --no-ground \
   --size 128x96 --resolution 24 --ui-ini "" --script "$script" --frames 35 >log.txt 2>&1
 rc=$?
 cat log.txt
 [ $rc -eq 0 ] || fail "scene_runner exited with $rc"
-
-probe() { "$probe" "$@" || fail "png_probe $*"; }
-field() { probe "$@" | awk -v key="$FIELD" '{for (i = 1; i < NF; ++i) if ($i == key) print $(i + 1)}'; }
-at_least() { awk -v a="$1" -v b="$2" 'BEGIN { exit !(a >= b) }'; }
-size_is() { [ "$(FIELD=size field $1.png)" = "$2" ] || fail "$1.png is $(FIELD=size field $1.png), not $2"; }
-drawn() {
-  local c; c=$(FIELD=coverage field $1.png)
-  at_least "$c" 0.05 || fail "$1.png: the object covers only $c of the image"
-}
-same() {
-  local d; d=$(FIELD=differs field $1.png $2.png)
-  [ "$d" = 0.0000 ] || fail "$1.png differs from $2.png in $d of the pixels although the settings and size are the same"
-}
 
 # Minimise: the four steps while minimised drew nothing (a 0x0 or stale swapchain would have
 # failed validation or crashed), and the frame after restoring is the frame before.

@@ -8,6 +8,7 @@ if ! command -v xvfb-run >/dev/null 2>&1; then
   echo "SKIPPED: xvfb-run not found (Debian package xvfb); the windowed path was not tested"
   exit 77
 fi
+source "$(cd "$(dirname "$0")" && pwd)/xvfb_checks.sh" || exit 1
 rm -f "$out"
-timeout 120 xvfb-run -a -s "-screen 0 640x480x24" "$runner" --validation --size 320x240 --frames 4 --screenshot "$out" || exit 1
-test -s "$out" || { echo "no screenshot written"; exit 1; }
+in_xvfb 120 "$runner" --validation --size 320x240 --frames 4 --screenshot "$out" || fail "scene_runner exited with $?"
+test -s "$out" || fail "no screenshot written"

@@ -58,6 +58,7 @@ TEST(Script, BadLinesNameFileLineAndProblem) {
       {"frame 0: camera=free\n", "s.txt:1: camera 'free' is not orbit or fly"},
       {"frame 0: reload-shaders=all\n", "s.txt:1: 'reload-shaders' takes no value"},
       {"frame 0: minimize=3\n", "s.txt:1: 'minimize' takes no value"},
+      {"frame 0: fail-frame=oom\n", "s.txt:1: 'fail-frame' takes no value"},
       {"frame 0: shader-dir\n", "s.txt:1: 'shader-dir' needs a value"},
       {"frame 0: present-fault=lost\n", "s.txt:1: present-fault 'lost' is not out-of-date or suboptimal"},
       {"frame 0: size=4097x1\n", "s.txt:1: size '4097x1' is not WxH"},
