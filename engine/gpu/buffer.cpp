@@ -84,27 +84,28 @@ Buffer createBufferWithData(const Context& context, const void* data, VkDeviceSi
   return buffer;
 }
 
+void memoryBarrier(VkCommandBuffer cmd, VkPipelineStageFlags2 srcStage, VkAccessFlags2 srcAccess,
+                   VkPipelineStageFlags2 dstStage, VkAccessFlags2 dstAccess) {
+  VkMemoryBarrier2 barrier{VK_STRUCTURE_TYPE_MEMORY_BARRIER_2};
+  barrier.srcStageMask = srcStage;
+  barrier.srcAccessMask = srcAccess;
+  barrier.dstStageMask = dstStage;
+  barrier.dstAccessMask = dstAccess;
+  VkDependencyInfo dependency{VK_STRUCTURE_TYPE_DEPENDENCY_INFO};
+  dependency.memoryBarrierCount = 1;
+  dependency.pMemoryBarriers = &barrier;
+  vkCmdPipelineBarrier2(cmd, &dependency);
+}
+
 std::vector<std::uint8_t> readbackBuffer(const Context& context, const Buffer& source) {
   Buffer staging(context, source.size(), VK_BUFFER_USAGE_TRANSFER_DST_BIT, MemoryUsage::Readback, "buffer readback");
   context.submitAndWait([&](VkCommandBuffer cmd) {
-    VkMemoryBarrier2 before{VK_STRUCTURE_TYPE_MEMORY_BARRIER_2};
-    before.srcStageMask = VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT;
-    before.srcAccessMask = VK_ACCESS_2_MEMORY_WRITE_BIT;
-    before.dstStageMask = VK_PIPELINE_STAGE_2_COPY_BIT;
-    before.dstAccessMask = VK_ACCESS_2_TRANSFER_READ_BIT;
-    VkDependencyInfo dependency{VK_STRUCTURE_TYPE_DEPENDENCY_INFO};
-    dependency.memoryBarrierCount = 1;
-    dependency.pMemoryBarriers = &before;
-    vkCmdPipelineBarrier2(cmd, &dependency);
+    memoryBarrier(cmd, VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT, VK_ACCESS_2_MEMORY_WRITE_BIT, VK_PIPELINE_STAGE_2_COPY_BIT,
+                  VK_ACCESS_2_TRANSFER_READ_BIT);
     const VkBufferCopy region{0, 0, source.size()};
     vkCmdCopyBuffer(cmd, source.handle(), staging.handle(), 1, &region);
-    VkMemoryBarrier2 host{VK_STRUCTURE_TYPE_MEMORY_BARRIER_2};
-    host.srcStageMask = VK_PIPELINE_STAGE_2_COPY_BIT;
-    host.srcAccessMask = VK_ACCESS_2_TRANSFER_WRITE_BIT;
-    host.dstStageMask = VK_PIPELINE_STAGE_2_HOST_BIT;
-    host.dstAccessMask = VK_ACCESS_2_HOST_READ_BIT;
-    dependency.pMemoryBarriers = &host;
-    vkCmdPipelineBarrier2(cmd, &dependency);
+    memoryBarrier(cmd, VK_PIPELINE_STAGE_2_COPY_BIT, VK_ACCESS_2_TRANSFER_WRITE_BIT, VK_PIPELINE_STAGE_2_HOST_BIT,
+                  VK_ACCESS_2_HOST_READ_BIT);
   });
   const auto* begin = static_cast<const std::uint8_t*>(staging.mapped());
   return std::vector<std::uint8_t>(begin, begin + source.size());

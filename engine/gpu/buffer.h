@@ -48,6 +48,11 @@ class Buffer {
   VkDeviceAddress address_ = 0;
 };
 
+// One synchronization2 global memory barrier: writes of srcStage/srcAccess made available and
+// visible to dstStage/dstAccess (buffers by handle or by device address alike).
+void memoryBarrier(VkCommandBuffer cmd, VkPipelineStageFlags2 srcStage, VkAccessFlags2 srcAccess,
+                   VkPipelineStageFlags2 dstStage, VkAccessFlags2 dstAccess);
+
 // A device-local buffer filled through a staging buffer (one-off submit, waits).
 Buffer createBufferWithData(const Context& context, const void* data, VkDeviceSize bytes,
                             VkBufferUsageFlags usage, const std::string& name);

@@ -77,6 +77,8 @@ engine::gpu::VertexLayout runVertexLayout() {
   return layout;
 }
 
+constexpr VkAccessFlags2 kStorageReadWrite = VK_ACCESS_2_SHADER_STORAGE_READ_BIT | VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT;
+
 bool drawnAsCells(RenderMethod method) { return method == RenderMethod::Cells || method == RenderMethod::CellRuns; }
 
 // The renderer's work counters when the frame counts (the capture reads them back), else the
@@ -503,24 +505,11 @@ void HermiteCellFeature::ensureCounters(engine::render::FrameContext& frame) {
     countersExtent_ = frame.extent;
   }
   // Earlier frames read the counters in their shading pass; this frame rewrites them.
-  VkMemoryBarrier2 barriers[2] = {{VK_STRUCTURE_TYPE_MEMORY_BARRIER_2}, {VK_STRUCTURE_TYPE_MEMORY_BARRIER_2}};
-  barriers[0].srcStageMask = VK_PIPELINE_STAGE_2_FRAGMENT_SHADER_BIT;
-  barriers[0].srcAccessMask = VK_ACCESS_2_SHADER_STORAGE_READ_BIT;
-  barriers[0].dstStageMask = VK_PIPELINE_STAGE_2_CLEAR_BIT;
-  barriers[0].dstAccessMask = VK_ACCESS_2_TRANSFER_WRITE_BIT;
-  VkDependencyInfo before{VK_STRUCTURE_TYPE_DEPENDENCY_INFO};
-  before.memoryBarrierCount = 1;
-  before.pMemoryBarriers = &barriers[0];
-  vkCmdPipelineBarrier2(frame.cmd, &before);
+  engine::gpu::memoryBarrier(frame.cmd, VK_PIPELINE_STAGE_2_FRAGMENT_SHADER_BIT, VK_ACCESS_2_SHADER_STORAGE_READ_BIT,
+                             VK_PIPELINE_STAGE_2_CLEAR_BIT, VK_ACCESS_2_TRANSFER_WRITE_BIT);
   vkCmdFillBuffer(frame.cmd, counters_.handle(), 0, VK_WHOLE_SIZE, 0);
-  barriers[1].srcStageMask = VK_PIPELINE_STAGE_2_CLEAR_BIT;
-  barriers[1].srcAccessMask = VK_ACCESS_2_TRANSFER_WRITE_BIT;
-  barriers[1].dstStageMask = VK_PIPELINE_STAGE_2_FRAGMENT_SHADER_BIT;
-  barriers[1].dstAccessMask = VK_ACCESS_2_SHADER_STORAGE_READ_BIT | VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT;
-  VkDependencyInfo after{VK_STRUCTURE_TYPE_DEPENDENCY_INFO};
-  after.memoryBarrierCount = 1;
-  after.pMemoryBarriers = &barriers[1];
-  vkCmdPipelineBarrier2(frame.cmd, &after);
+  engine::gpu::memoryBarrier(frame.cmd, VK_PIPELINE_STAGE_2_CLEAR_BIT, VK_ACCESS_2_TRANSFER_WRITE_BIT,
+                             VK_PIPELINE_STAGE_2_FRAGMENT_SHADER_BIT, kStorageReadWrite);
 }
 
 void HermiteCellFeature::prepare(engine::render::FrameContext& frame) {
@@ -555,28 +544,14 @@ void HermiteCellFeature::ensureHitDepths(engine::render::FrameContext& frame) {
     }
     hitDepthsExtent_ = frame.extent;
     vkCmdFillBuffer(cmd, hitDepths_.handle(), 0, VK_WHOLE_SIZE, 0);
-    VkMemoryBarrier2 filled{VK_STRUCTURE_TYPE_MEMORY_BARRIER_2};
-    filled.srcStageMask = VK_PIPELINE_STAGE_2_CLEAR_BIT;
-    filled.srcAccessMask = VK_ACCESS_2_TRANSFER_WRITE_BIT;
-    filled.dstStageMask = VK_PIPELINE_STAGE_2_FRAGMENT_SHADER_BIT;
-    filled.dstAccessMask = VK_ACCESS_2_SHADER_STORAGE_READ_BIT | VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT;
-    VkDependencyInfo dependency{VK_STRUCTURE_TYPE_DEPENDENCY_INFO};
-    dependency.memoryBarrierCount = 1;
-    dependency.pMemoryBarriers = &filled;
-    vkCmdPipelineBarrier2(cmd, &dependency);
+    engine::gpu::memoryBarrier(cmd, VK_PIPELINE_STAGE_2_CLEAR_BIT, VK_ACCESS_2_TRANSFER_WRITE_BIT,
+                               VK_PIPELINE_STAGE_2_FRAGMENT_SHADER_BIT, kStorageReadWrite);
     return;
   }
   // The previous frame's (or view region's) fix-up cleared the pixels it read; this frame's early
   // fragments write them again.
-  VkMemoryBarrier2 reuse{VK_STRUCTURE_TYPE_MEMORY_BARRIER_2};
-  reuse.srcStageMask = VK_PIPELINE_STAGE_2_FRAGMENT_SHADER_BIT;
-  reuse.srcAccessMask = VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT;
-  reuse.dstStageMask = VK_PIPELINE_STAGE_2_FRAGMENT_SHADER_BIT;
-  reuse.dstAccessMask = VK_ACCESS_2_SHADER_STORAGE_READ_BIT | VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT;
-  VkDependencyInfo dependency{VK_STRUCTURE_TYPE_DEPENDENCY_INFO};
-  dependency.memoryBarrierCount = 1;
-  dependency.pMemoryBarriers = &reuse;
-  vkCmdPipelineBarrier2(cmd, &dependency);
+  engine::gpu::memoryBarrier(cmd, VK_PIPELINE_STAGE_2_FRAGMENT_SHADER_BIT, VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT,
+                             VK_PIPELINE_STAGE_2_FRAGMENT_SHADER_BIT, kStorageReadWrite);
 }
 
 void HermiteCellFeature::recordBatch(engine::render::PassContext& pass, int precision, bool near) {
