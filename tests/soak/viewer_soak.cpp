@@ -305,8 +305,12 @@ Expected<bool> runSoak(const Options& options) {
     }
     ENGINE_TRY(viewer->step().withContext(fmt::format("frame {}", frame)));
     if (frame % kSampleEvery == 0) {
-      // A re-bake still running would make the sample depend on timing: finish it first.
-      if (viewer->bakeJob()) ENGINE_TRY(viewer->waitForBake());
+      // A bake still running (the main field's or the compared side's) would make the sample depend
+      // on timing: the frame would still draw the older asset. Finish it and draw one frame with it.
+      if (viewer->bakeJob() || viewer->compareBakeJob()) {
+        ENGINE_TRY(viewer->waitForBake());
+        ENGINE_TRY(viewer->step().withContext(fmt::format("frame {} (after the pending bakes)", frame)));
+      }
       if (!viewer->bakeError().empty()) return makeError("re-bake failed: " + viewer->bakeError());
       samples.push_back(soak.sample(frame));
       std::printf("%s\n", describe(samples.back()).c_str());
