@@ -243,9 +243,10 @@ void Renderer::collectTimings(FrameResources& frame) {
   if (!statistics.empty()) lastStatistics_ = std::move(statistics);
 }
 
-// Zeroes the per-pixel work counters for this frame (after every earlier frame's use of them).
+// Zeroes the per-pixel work counters and the totals after them for this frame (after every
+// earlier frame's use of them).
 VkDeviceAddress Renderer::prepareWorkCounters(VkCommandBuffer cmd) {
-  const VkDeviceSize bytes = VkDeviceSize(extent_.width) * extent_.height * sizeof(std::uint32_t);
+  const VkDeviceSize bytes = workTotalsOffset() + sizeof(shader::WorkTotals);
   if (!workCounters_ || workCounters_.size() != bytes) {
     context_.waitIdle();
     workCounters_ = gpu::Buffer(context_, bytes,
@@ -306,6 +307,7 @@ void Renderer::recordFrame(FrameResources& frame, std::uint32_t slot, const ecs:
   FrameContext context{frame.cmd, registry, context_,    scene_,           camera,
                        extent_,   slot,     frameNumber_, settings.debugView, workCounters};
   context.framesInFlight = desc_.framesInFlight;
+  if (workCounters) context.workTotals = workCounters + workTotalsOffset();
   context.droppedObjects = &droppedObjects_;
   if (settings.regions.empty()) {
     recordRegion(frame, context, ViewRegion{{{0, 0}, extent_}, {}}, 0);
@@ -572,13 +574,26 @@ Expected<std::vector<glm::vec4>> Renderer::readbackColorFloat() {
   return pixels;
 }
 
+VkDeviceSize Renderer::workTotalsOffset() const {
+  return VkDeviceSize(extent_.width) * extent_.height * sizeof(std::uint32_t);
+}
+
 std::vector<std::uint32_t> Renderer::readbackWorkCounters() {
   finish();
   if (!workCounted_) return {};
   const auto bytes = gpu::readbackBuffer(context_, workCounters_);
-  std::vector<std::uint32_t> counts(bytes.size() / sizeof(std::uint32_t));
+  std::vector<std::uint32_t> counts(workTotalsOffset() / sizeof(std::uint32_t));
   std::memcpy(counts.data(), bytes.data(), counts.size() * sizeof(std::uint32_t));
   return counts;
+}
+
+shader::WorkTotals Renderer::readbackWorkTotals() {
+  finish();
+  shader::WorkTotals totals{};
+  if (!workCounted_) return totals;
+  const auto bytes = gpu::readbackBuffer(context_, workCounters_);
+  std::memcpy(&totals, bytes.data() + workTotalsOffset(), sizeof(totals));
+  return totals;
 }
 
 std::vector<glm::uvec2> Renderer::readbackVisibility() {

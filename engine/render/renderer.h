@@ -61,8 +61,10 @@ struct FrameSettings {
   std::uint32_t debugView = 0;          // DEBUG_VIEW_*
   // Per-pixel work counters: the renderer clears one uint per pixel before the prepass and hands
   // its address to the features (FrameContext::workCounters), which add their root-search work
-  // there (field evaluations of the cells and sphere tracers). Read with readbackWorkCounters().
-  // Off by default: the atomics cost time, so timed frames leave it off.
+  // there (field evaluations of the cells and sphere tracers), and frame-wide totals
+  // (FrameContext::workTotals: e.g. rays out of steps). Read with readbackWorkCounters() and
+  // readbackWorkTotals(). Off by default: features count in pipeline variants of their own (a
+  // shader with buffer writes loses early depth rejection on GPUs), so timed frames leave it off.
   bool countWork = false;
   // Empty: one region, the whole frame. At most RendererDesc::maxViewRegions (further ones are
   // not drawn; an error is logged).
@@ -117,6 +119,8 @@ class Renderer {
   // The work counters of the last frame rendered with FrameSettings::countWork, one per pixel
   // (row-major from the top); empty when no frame has counted yet.
   std::vector<std::uint32_t> readbackWorkCounters();
+  // The frame-wide totals of that frame (shader::WorkTotals); all zero when no frame has counted.
+  shader::WorkTotals readbackWorkTotals();
   std::vector<float> readbackDepth();
   // Per pixel: x = 1 + GPU scene object index (0 = background), y = feature-specific part id.
   std::vector<glm::uvec2> readbackVisibility();
@@ -167,6 +171,7 @@ class Renderer {
   void recordPresentBlit(VkCommandBuffer cmd, gpu::Swapchain& swapchain, std::uint32_t imageIndex);
   void collectTimings(FrameResources& frame);
   VkDeviceAddress prepareWorkCounters(VkCommandBuffer cmd);
+  VkDeviceSize workTotalsOffset() const;  // bytes of the per-pixel counters, where the totals start
 
   const gpu::Context& context_;
   RendererDesc desc_;
@@ -184,7 +189,8 @@ class Renderer {
   std::vector<std::unique_ptr<RenderFeature>> features_;
   std::vector<gpu::GpuTiming> lastTimings_;
   std::vector<gpu::PipelineStatistics> lastStatistics_;
-  gpu::Buffer workCounters_;  // one uint per pixel, created on the first counting frame
+  // One uint per pixel, then shader::WorkTotals; created on the first counting frame.
+  gpu::Buffer workCounters_;
   bool workCounted_ = false;
   std::vector<std::string> droppedObjects_;  // FrameContext::reportDropped, until takeDroppedObjects()
   bool reportedTooManyRegions_ = false;

@@ -547,6 +547,22 @@ Status Viewer::step() {
   return dropped;
 }
 
+Expected<Viewer::FrameWork> Viewer::countWork() {
+  render::FrameSettings settings;
+  settings.debugView = std::uint32_t(tuning_.debugView);
+  settings.countWork = true;
+  hsdf::HermiteSdfRenderable* sdf = sdfRenderable();
+  const std::shared_ptr<const hsdf::SdfAsset> main = sdf ? sdf->asset : nullptr;
+  if (tuning_.split != SplitMode::Off && main && !tuning_.difference) settings.regions = splitRegions(main);
+  const Expected<bool> rendered = renderFrame(settings);
+  if (!settings.regions.empty()) showState(tuning_, main);
+  if (!rendered) return rendered.error();
+  FrameWork work;
+  for (const std::uint32_t count : renderer_->readbackWorkCounters()) work.evaluations += count;
+  work.raysOutOfSteps = renderer_->readbackWorkTotals().raysOutOfSteps;
+  return work;
+}
+
 // A re-baked field the GPU could not take (a feature refused its upload: out of GPU memory) is
 // swapped back for the field it replaced, which the features still hold (and drew already in the
 // frame that found out, in place of the refused one): the component and the tuning name the K on

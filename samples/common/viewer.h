@@ -177,6 +177,16 @@ class Viewer {
   // Whether a step found the device lost: every later step fails with that error.
   bool deviceLost() const { return deviceLost_; }
 
+  // The root-search work of the scene as it stands: one more frame (not presented, no panel, its
+  // image the same as the last one's) drawn with the renderer's work counters (counting pipeline
+  // variants). Sums over the frame: field evaluations, and sphere-tracing rays that ran out of
+  // steps (drawn as misses; 0 unless something is wrong).
+  struct FrameWork {
+    std::uint64_t evaluations = 0;
+    std::uint32_t raysOutOfSteps = 0;
+  };
+  engine::Expected<FrameWork> countWork();
+
   // Waits for the GPU and writes the last frame as a PNG, the TuningState beside it as a settings
   // file (same name, .json: --settings loads it) and the SDF statistics to the log.
   engine::Status writeScreenshot(const std::filesystem::path& path);

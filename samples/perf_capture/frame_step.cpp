@@ -49,6 +49,7 @@ GpuReadback Measurement::measure(const ecs::Registry& registry, const render::Ca
   readback.depth = renderer_->readbackDepth();
   readback.normalColor = renderer_->readbackColorFloat().value();  // a float target by construction
   readback.work = renderer_->readbackWorkCounters();
+  readback.raysOutOfSteps = renderer_->readbackWorkTotals().raysOutOfSteps;
   return readback;
 }
 

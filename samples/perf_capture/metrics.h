@@ -5,7 +5,8 @@
 //                 truth normal, over pixels both hit, mean and 95th percentile in degrees;
 //   depth error: |distance along the ray (GPU depth) - truth distance| over pixels both hit,
 //                mean, relative to the bounding-box diagonal of the source;
-//   work: the renderer's per-pixel work counters (root-search evaluations) over covered pixels.
+//   work: the renderer's per-pixel work counters (root-search evaluations) over covered pixels,
+//         and the rays that ran out of steps (sphere tracing; drawn as misses), per view.
 #include <cstdint>
 #include <vector>
 
@@ -21,6 +22,7 @@ struct GpuReadback {
   std::vector<float> depth;            // reverse-Z, 0 = background
   std::vector<glm::vec4> normalColor;  // DEBUG_VIEW_NORMALS: 0.5 n + 0.5
   std::vector<std::uint32_t> work;     // empty when nothing counted
+  std::uint32_t raysOutOfSteps = 0;    // WorkTotals::raysOutOfSteps of the frame
 };
 
 struct RowQuality {
@@ -30,6 +32,7 @@ struct RowQuality {
   double depthErrorMean = 0.0;    // fraction of the diagonal
   double evalsMean = 0.0;         // per covered pixel
   double evalsP95 = 0.0;
+  double raysOutOfSteps = 0.0;    // per view
   std::uint64_t coveredPixels = 0;
 };
 
@@ -43,6 +46,7 @@ class QualityAccumulator {
   double diagonal_;
   std::uint32_t views_ = 0;
   std::uint64_t mismatches_ = 0;
+  std::uint64_t raysOutOfSteps_ = 0;
   double depthErrorSum_ = 0.0;
   std::vector<float> angles_;
   std::vector<std::uint32_t> evals_;

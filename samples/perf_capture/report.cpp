@@ -203,10 +203,11 @@ void allRows(std::string& md, const std::vector<RowResult>& rows, const RunInfo&
         "shader invocations per frame in the prepass and the shading pass, vertex shader invocations (pipeline "
         "statistics), root-search evaluations per covered pixel (mean / p95). Quality against the ground truth: "
         "coverage mismatch in pixels per view, normal error mean / p95 in degrees, depth error mean relative to the "
-        "bounding-box diagonal.\n\n"
+        "bounding-box diagonal. Out of steps: sphere-tracing rays per view that reached the step limit (drawn as "
+        "misses; should be 0).\n\n"
         "| row | GPU ms | prepass ms | shading ms | FS prepass | FS shading | VS | evals/px | scalars | bytes | cells | "
-        "coverage | normal err (deg) | depth err | image |\n"
-        "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n";
+        "coverage | normal err (deg) | depth err | out of steps | image |\n"
+        "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n";
   for (const RowResult& r : rows) {
     if (!r.ok) {
       md += fmt::format("| {} | failed: {} |\n", r.spec.label, r.error);
@@ -217,10 +218,11 @@ void allRows(std::string& md, const std::vector<RowResult>& rows, const RunInfo&
                                                 r.vsInvocations)
                                   : std::string("– | – | –");
     md += fmt::format("| {} | {:.2f} ({:.2f}) | {:.2f} | {:.2f} | {} | {:.1f} / {:.0f} | {} | {} | {} | {:.1f} | {:.3f} / "
-                      "{:.3f} | {:.2e} | [png]({}) |\n",
+                      "{:.3f} | {:.2e} | {:.1f} | [png]({}) |\n",
                       r.spec.label, r.gpuMsMedian, r.gpuMsP95, r.prepassMs, r.shadingMs, stats, r.quality.evalsMean,
                       r.quality.evalsP95, r.storedScalars, r.storedBytes, r.cells, r.quality.coverageMismatch,
-                      r.quality.normalErrorMean, r.quality.normalErrorP95, r.quality.depthErrorMean, r.image);
+                      r.quality.normalErrorMean, r.quality.normalErrorP95, r.quality.depthErrorMean,
+                      r.quality.raysOutOfSteps, r.image);
   }
   md += "\n";
 }
@@ -257,18 +259,19 @@ engine::Status writeCsv(const std::filesystem::path& path, const RunInfo& info, 
   std::string csv =
       "method,K,subdivisions,refinement,normals,width,height,views,frames,gpu_ms_median,gpu_ms_p95,prepass_ms,"
       "shading_ms,fs_invocations,evals_per_pixel_mean,evals_per_pixel_p95,stored_scalars,stored_bytes,cells,"
-      "coverage_mismatch,normal_err_mean_deg,normal_err_p95_deg,depth_err_mean,device\n";
+      "coverage_mismatch,normal_err_mean_deg,normal_err_p95_deg,depth_err_mean,rays_out_of_steps,device\n";
   for (const RowResult& r : rows) {
     const RowSpec& s = r.spec;
     csv += fmt::format("{},{},{},{},{},{},{},{},{},", s.method, s.resolution, s.subdivisions, s.refine, s.normalsName(),
                        info.width, info.height, info.views, info.frames);
     if (r.ok)
-      csv += fmt::format("{:.4f},{:.4f},{:.4f},{:.4f},{:.0f},{:.3f},{:.0f},{},{},{},{:.2f},{:.5f},{:.5f},{:.4e},",
+      csv += fmt::format("{:.4f},{:.4f},{:.4f},{:.4f},{:.0f},{:.3f},{:.0f},{},{},{},{:.2f},{:.5f},{:.5f},{:.4e},{:.1f},",
                          r.gpuMsMedian, r.gpuMsP95, r.prepassMs, r.shadingMs, r.fsInvocations, r.quality.evalsMean,
                          r.quality.evalsP95, r.storedScalars, r.storedBytes, r.cells, r.quality.coverageMismatch,
-                         r.quality.normalErrorMean, r.quality.normalErrorP95, r.quality.depthErrorMean);
+                         r.quality.normalErrorMean, r.quality.normalErrorP95, r.quality.depthErrorMean,
+                         r.quality.raysOutOfSteps);
     else
-      csv += ",,,,,,,,,,,,,,";  // a failed row: no numbers (the capture exits non-zero)
+      csv += ",,,,,,,,,,,,,,,";  // a failed row: no numbers (the capture exits non-zero)
     csv += csvEscape(info.device) + "\n";
   }
   return engine::writeTextFile(path, csv);
@@ -292,13 +295,13 @@ engine::Status writeJson(const std::filesystem::path& path, const RunInfo& info,
         "\"shading_fs_invocations\": {}, \"vs_invocations\": {}, \"clipped_primitives\": {}, \"evals_per_pixel_mean\": "
         "{}, \"evals_per_pixel_p95\": {}, \"covered_pixels\": {}, \"stored_scalars\": {}, \"stored_bytes\": {}, "
         "\"cells\": {}, \"coverage_mismatch\": {}, \"normal_err_mean_deg\": {}, \"normal_err_p95_deg\": {}, "
-        "\"depth_err_mean\": {}, \"image\": \"{}\"}}{}\n",
+        "\"depth_err_mean\": {}, \"rays_out_of_steps\": {}, \"image\": \"{}\"}}{}\n",
         jsonEscape(r.spec.label), r.spec.method, r.spec.resolution, r.spec.subdivisions, r.spec.refine,
         r.spec.normalsName(), r.spec.fp16, r.ok, jsonEscape(r.error), r.gpuMsMedian, r.gpuMsP95, r.prepassMs,
         r.shadingMs, r.fsInvocations, r.prepassFsInvocations, r.shadingFsInvocations, r.vsInvocations,
         r.clippedPrimitives, r.quality.evalsMean, r.quality.evalsP95, r.quality.coveredPixels, r.storedScalars,
         r.storedBytes, r.cells, r.quality.coverageMismatch, r.quality.normalErrorMean, r.quality.normalErrorP95,
-        r.quality.depthErrorMean, jsonEscape(r.image), i + 1 < rows.size() ? "," : "");
+        r.quality.depthErrorMean, r.quality.raysOutOfSteps, jsonEscape(r.image), i + 1 < rows.size() ? "," : "");
   }
   json += "  ]\n}\n";
   return engine::writeTextFile(path, json);

@@ -66,6 +66,19 @@ Status stepFailed(samples::Viewer& viewer, Status failed, int& failedInARow, Sta
   return {};
 }
 
+// What the last frame's root search cost, and whether any ray gave up: a tracer that runs out of
+// steps draws a miss, which would otherwise go unseen (issue 19: noise on an NVIDIA GPU).
+void logWork(samples::Viewer& viewer) {
+  const Expected<samples::Viewer::FrameWork> work = viewer.countWork();
+  if (!work) {
+    log::warn("work: not counted: {}", work.error().message);
+    return;
+  }
+  log::info("work: {} field evaluations, {} rays ran out of steps", work->evaluations, work->raysOutOfSteps);
+  if (work->raysOutOfSteps > 0)
+    log::warn("{} sphere-tracing rays reached the step limit and were drawn as misses", work->raysOutOfSteps);
+}
+
 // Windowed: until the window closes or --frames are drawn. Headless: --frames (default 1). A
 // --script's commands run before the frame they name.
 Status runFrames(const Options& options, samples::Viewer& viewer) {
@@ -97,6 +110,7 @@ Status runFrames(const Options& options, samples::Viewer& viewer) {
   for (const gpu::GpuTiming& t : viewer.renderer().lastTimings())
     log::info("GPU {:>14}: {:8.3f} ms", t.name, t.milliseconds);
   if (!options.screenshot.empty()) ENGINE_TRY(viewer.writeScreenshot(options.screenshot));
+  logWork(viewer);
   if (!firstFailure)
     return makeError(fmt::format("{} step(s) failed and the window went on; the first: {}", failedSteps,
                                  firstFailure.error().message));

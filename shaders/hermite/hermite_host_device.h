@@ -106,8 +106,9 @@ struct SphereTracePushConstants {
   DrawPushConstants draw;
   uint64_t draws;          // address of SphereTraceDraw[]
   uint64_t counters;       // address of a uint per pixel (renderer work counters), 0 when off
+  uint64_t workTotals;     // address of the frame's WorkTotals, 0 when off
 };
-HSDF_CHECK_SIZE(SphereTracePushConstants, 32 + 2 * 8);
+HSDF_CHECK_SIZE(SphereTracePushConstants, 32 + 3 * 8);
 
 #ifdef __cplusplus
 }  // namespace shader

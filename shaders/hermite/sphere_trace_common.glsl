@@ -60,6 +60,9 @@ float evaluateField(SphereTraceDraw draw, inout FieldCursor cursor, vec3 g) {
   return hermiteValue(cursor.corners, draw.gridOriginSpacing.w, g - vec3(cell));
 }
 
+// The tracer already evaluates the exact interpolant (in float, from texelFetch'ed corners).
+float exactFieldValue(SphereTraceDraw draw, inout FieldCursor cursor, vec3 g) { return evaluateField(draw, cursor, g); }
+
 // Exact gradient of the interpolant, object units.
 vec3 exactFieldGradient(SphereTraceDraw draw, vec3 g) {
   ivec3 cell = fieldCell(draw, g);
@@ -68,15 +71,38 @@ vec3 exactFieldGradient(SphereTraceDraw draw, vec3 g) {
   return hermiteValueGradient(corners, draw.gridOriginSpacing.w, g - vec3(cell)).yzw;
 }
 #else
+// The 8 texels of the last cell evaluated exactly (exactFieldValue); the filtered steps need none.
 struct FieldCursor {
-  int unused;
+  ivec3 cell;
+  float f[8];
 };
 
-FieldCursor newFieldCursor() { return FieldCursor(0); }
+FieldCursor newFieldCursor() {
+  FieldCursor cursor;
+  cursor.cell = ivec3(-1);  // fieldCell() never returns it: the first exact evaluation fetches
+  for (int c = 0; c < 8; ++c) cursor.f[c] = 0.0;
+  return cursor;
+}
 
-// Texel centres: sample i sits at texture coordinate (i + 0.5) / K.
+// Texel centres: sample i sits at texture coordinate (i + 0.5) / K. The hardware filter is fast
+// but may quantize its weights (8 fractional bits on many GPUs): near the surface its f need not
+// fall below epsilon, so it only guides the steps; hits are placed with exactFieldValue.
 float evaluateField(SphereTraceDraw draw, inout FieldCursor cursor, vec3 g) {
   return texture(FIELD_TEXTURE(draw), (g + 0.5) / float(draw.resolution)).r;
+}
+
+// The trilinear interpolant itself: its cell's 8 texels fetched and interpolated in float.
+float exactFieldValue(SphereTraceDraw draw, inout FieldCursor cursor, vec3 g) {
+  ivec3 cell = fieldCell(draw, g);
+  if (cell != cursor.cell) {
+    cursor.cell = cell;
+    for (int c = 0; c < 8; ++c) cursor.f[c] = fieldSample(draw, cell + ivec3(c & 1, (c >> 1) & 1, c >> 2)).r;
+  }
+  vec3 u = g - vec3(cell);
+  vec4 x = mix(vec4(cursor.f[0], cursor.f[2], cursor.f[4], cursor.f[6]),
+               vec4(cursor.f[1], cursor.f[3], cursor.f[5], cursor.f[7]), u.x);  // ordered by (y, z)
+  vec2 y = mix(x.xz, x.yw, u.y);
+  return mix(y.x, y.y, u.z);
 }
 
 // Exact gradient of the trilinear interpolant (not of the filtered texture, whose weights the
@@ -112,24 +138,149 @@ vec3 centralFieldGradient(SphereTraceDraw draw, vec3 g) {
          (2.0 * e * draw.gridOriginSpacing.w);
 }
 
-// Sphere tracing of origin + t * direction (grid units) over [t0, t1]: step by the interpolated
-// distance until |f| < epsilon * h. A ray that starts inside the surface steps by -f and finds
-// where it leaves; an overshoot (f changes sign) steps back. Returns the hit's t, or -1 on a miss
-// (left the box, or the step limit ran out). `evaluations` counts field evaluations.
-float sphereTrace(SphereTraceDraw draw, vec3 origin, vec3 direction, float t0, float t1, out uint evaluations) {
-  float h = draw.gridOriginSpacing.w;
-  float tPerGridUnit = 1.0 / length(direction);
-  FieldCursor cursor = newFieldCursor();
-  float t = t0;
-  float d = evaluateField(draw, cursor, origin + t * direction) / h;  // grid units
-  float side = d < 0.0 ? -1.0 : 1.0;
-  evaluations = 1u;
-  while (abs(d) >= draw.epsilon) {
-    if (evaluations >= draw.maxSteps) return -1.0;
-    t += side * d * tPerGridUnit;
-    if (t > t1) return -1.0;
-    d = evaluateField(draw, cursor, origin + t * direction) / h;
+// A ray of the tracer in grid units, and what tracing it cost.
+struct TraceRay {
+  vec3 origin;
+  vec3 direction;
+  float tPerGridUnit;  // 1 / |direction|
+};
+
+float exactAt(SphereTraceDraw draw, inout FieldCursor cursor, TraceRay ray, float t) {
+  return exactFieldValue(draw, cursor, ray.origin + t * ray.direction) / draw.gridOriginSpacing.w;
+}
+
+// The root of the exact interpolant between ta and tb, where its values fa and fb (grid units)
+// have opposite signs: Illinois (regula falsi that halves a stale end) until |f| < epsilon.
+const uint kBracketSteps = 12u;
+float rootInBracket(SphereTraceDraw draw, inout FieldCursor cursor, TraceRay ray, float ta, float fa, float tb,
+                    float fb, inout uint evaluations) {
+  int kept = 0;  // which end the last step kept: -1 a, 1 b
+  for (uint i = 0u; i < kBracketSteps; ++i) {
+    float t = (ta * fb - tb * fa) / (fb - fa);
+    float f = exactAt(draw, cursor, ray, t);
     ++evaluations;
+    if (abs(f) < draw.epsilon) return t;
+    if ((f < 0.0) == (fb < 0.0)) {
+      tb = t;
+      fb = f;
+      if (kept == -1) fa *= 0.5;
+      kept = -1;
+    } else {
+      ta = t;
+      fa = f;
+      if (kept == 1) fb *= 0.5;
+      kept = 1;
+    }
   }
-  return t;
+  return (ta * fb - tb * fa) / (fb - fa);
+}
+
+// Where placing a hit on the exact interpolant ended: at t, whose exact value is f (grid units);
+// converged when that is a hit.
+struct Settled {
+  float t;
+  float f;
+  bool converged;
+};
+
+// Places a hit the tracer found near t on the exact interpolant: a few sphere-tracing steps on
+// exact values from t (either way along the ray: forward while outside, back once inside), the
+// first sign change between two of them bracketing the root. `side` is the sign of f where the
+// ray started (-1: it started inside). Not converged: the exact field has no root near t (a
+// coarse filter put the filtered surface where the exact one is not), and the ray goes on from
+// the returned t. Hermite: the tracer's values are exact, nothing to do.
+const uint kSettleSteps = 8u;
+Settled settleOnExact(SphereTraceDraw draw, inout FieldCursor cursor, TraceRay ray, float t, float d, float side,
+                      inout uint evaluations) {
+#ifdef SPHERE_TRACE_HERMITE
+  return Settled(t, d, true);
+#else
+  float f = exactAt(draw, cursor, ray, t);
+  ++evaluations;
+  for (uint i = 0u; i < kSettleSteps && abs(f) >= draw.epsilon; ++i) {
+    float tNext = t + side * f * ray.tPerGridUnit;
+    float fNext = exactAt(draw, cursor, ray, tNext);
+    ++evaluations;
+    if (fNext * f < 0.0) return Settled(rootInBracket(draw, cursor, ray, t, f, tNext, fNext, evaluations), 0.0, true);
+    t = tNext;
+    f = fNext;
+  }
+  return Settled(t, f, abs(f) < draw.epsilon);
+#endif
+}
+
+// A sign change of the traced values between ta and tb: the hit, placed on the exact interpolant.
+// Trilinear: the filtered values may disagree in sign with the exact ones near the surface. When
+// the exact values at both ends lie beyond the surface, the exact surface is before ta (settled
+// from there); when both lie on the ray's side, the filter invented the crossing: not converged,
+// the ray goes on from tb with its exact distance.
+Settled hitInBracket(SphereTraceDraw draw, inout FieldCursor cursor, TraceRay ray, float ta, float fa, float tb,
+                     float fb, float side, inout uint evaluations) {
+#ifndef SPHERE_TRACE_HERMITE
+  fa = exactAt(draw, cursor, ray, ta);
+  fb = exactAt(draw, cursor, ray, tb);
+  evaluations += 2u;
+  if (abs(fa) < draw.epsilon) return Settled(ta, fa, true);
+  if (abs(fb) < draw.epsilon) return Settled(tb, fb, true);
+  if (fa * fb > 0.0) {
+    if (fa * side > 0.0) return Settled(tb, fb, false);
+    Settled back = settleOnExact(draw, cursor, ray, ta, fa, side, evaluations);
+    back.converged = true;  // the best place for a surface the ray has passed
+    return back;
+  }
+#endif
+  return Settled(rootInBracket(draw, cursor, ray, ta, fa, tb, fb, evaluations), 0.0, true);
+}
+
+struct TraceResult {
+  float t;           // the hit's t, or -1 on a miss
+  uint evaluations;  // field evaluations (filtered and exact)
+  bool outOfSteps;   // the step limit ran out before a hit or the box's end: a miss, counted
+};
+
+// Sphere tracing of origin + t * direction (grid units) over [t0, t1]: step by the interpolated
+// distance f. The hit is the first of: |f| < epsilon * h (the paper's test, where it can be
+// reached), or a sign change of f between two steps (an overshoot: hardware-filtered values may
+// never fall below epsilon, and a field that is not an exact distance can step through the
+// surface); either is placed on the exact interpolant. A ray that starts inside the surface steps
+// by -f and finds where it leaves. Leaving the box, or running out of steps (maxSteps), misses;
+// the latter is reported so that it is counted, never silently dropped.
+TraceResult sphereTrace(SphereTraceDraw draw, vec3 origin, vec3 direction, float t0, float t1) {
+  float h = draw.gridOriginSpacing.w;
+  TraceRay ray = TraceRay(origin, direction, 1.0 / length(direction));
+  FieldCursor cursor = newFieldCursor();
+  TraceResult result = TraceResult(-1.0, 1u, false);
+  float t = t0;
+  float d = evaluateField(draw, cursor, origin + t * direction) / h;  // grid units, what the next step trusts
+  float side = d < 0.0 ? -1.0 : 1.0;
+  for (;;) {
+    if (abs(d) < draw.epsilon) {
+      Settled settled = settleOnExact(draw, cursor, ray, t, d, side, result.evaluations);
+      if (settled.converged || settled.f * side <= 0.0) {
+        result.t = settled.t;
+        return result;
+      }
+      t = settled.t;
+      d = settled.f;
+    }
+    if (result.evaluations >= draw.maxSteps) {
+      result.outOfSteps = true;
+      return result;
+    }
+    float tNext = t + side * d * ray.tPerGridUnit;
+    if (tNext > t1) return result;
+    float dNext = evaluateField(draw, cursor, origin + tNext * direction) / h;
+    ++result.evaluations;
+    if (dNext * side < 0.0) {
+      Settled settled = hitInBracket(draw, cursor, ray, t, d, tNext, dNext, side, result.evaluations);
+      if (settled.converged) {
+        result.t = settled.t;
+        return result;
+      }
+      dNext = settled.f;
+    }
+    t = tNext;
+    d = dNext;
+  }
+  return result;  // not reached
 }

@@ -2,9 +2,18 @@
 // near plane) and write the hit's depth and the visibility id. Included by the
 // sphere_trace_*_depth*.frag variants; SPHERE_TRACE_CONSERVATIVE_DEPTH marks the front-face
 // variant, whose hits are never nearer than the rasterized face.
+//
+// The variants that draw frames have no discard and no buffer write: on GPUs either one costs the
+// early and hierarchical depth rejection of every fragment of the pipeline (measured on an H100,
+// docs/gpu-vs-lavapipe.md). A miss writes depth 0, the far plane under reverse-Z, which fails the
+// GREATER test like nothing drawn. HSDF_COUNT_WORK (the *_counted.frag variants, chosen only for
+// frames that count work) adds the per-pixel evaluation counts and the rays out of steps.
 #include "hermite/sphere_trace_common.glsl"
 
+#ifdef HSDF_COUNT_WORK
 layout(buffer_reference, scalar) buffer WorkCountersRef { uint counts[]; };
+layout(buffer_reference, scalar) buffer WorkTotalsRef { WorkTotals totals; };
+#endif
 
 layout(location = 0) flat in uint inDraw;
 layout(location = 1) in vec3 inGrid;
@@ -12,7 +21,8 @@ layout(location = 2) flat in vec3 inEyeGrid;
 
 layout(location = 0) out uvec2 outVisibility;  // (1 + object, field evaluations)
 #ifdef SPHERE_TRACE_CONSERVATIVE_DEPTH
-// Reverse-Z: the hit is never nearer than the front face, so its depth is never greater.
+// Reverse-Z: the hit is never nearer than the front face, so its depth is never greater (a miss
+// writes 0, which is less too).
 layout(depth_less) out float gl_FragDepth;
 #endif
 
@@ -26,17 +36,19 @@ void main() {
   float cells = float(draw.resolution - 1u);
   vec2 box = intersectUnitBox(origin / cells, direction / cells);
   float t0 = max(box.x, gl_FragCoord.z);
-  uint evaluations = 0u;
-  float t = t0 <= box.y ? sphereTrace(draw, origin, direction, t0, box.y, evaluations) : -1.0;
-  if (pc.counters != 0ul) {  // every ray's steps, hits and misses alike (the renderer's work counters)
-    ivec2 pixel = ivec2(gl_FragCoord.xy);
-    FrameGlobals frame = FrameGlobalsRef(pc.draw.frameGlobals).globals;
-    atomicAdd(WorkCountersRef(pc.counters).counts[pixel.y * int(frame.viewport.x) + pixel.x], evaluations);
-  }
-  if (t < 0.0) discard;
-#ifdef SPHERE_TRACE_CONSERVATIVE_DEPTH
-  t = max(t, 1.0);  // rounding of the box entry must not move the hit in front of the face
+  TraceResult trace = TraceResult(-1.0, 0u, false);
+  if (t0 <= box.y) trace = sphereTrace(draw, origin, direction, t0, box.y);
+#ifdef HSDF_COUNT_WORK
+  // Every ray's steps, hits and misses alike (the renderer's work counters).
+  ivec2 pixel = ivec2(gl_FragCoord.xy);
+  FrameGlobals frame = FrameGlobalsRef(pc.draw.frameGlobals).globals;
+  atomicAdd(WorkCountersRef(pc.counters).counts[pixel.y * int(frame.viewport.x) + pixel.x], trace.evaluations);
+  if (trace.outOfSteps) atomicAdd(WorkTotalsRef(pc.workTotals).totals.raysOutOfSteps, 1u);
 #endif
-  gl_FragDepth = gl_FragCoord.z / t;
-  outVisibility = uvec2(draw.object + 1u, evaluations);
+  float t = trace.t;
+#ifdef SPHERE_TRACE_CONSERVATIVE_DEPTH
+  if (t >= 0.0) t = max(t, 1.0);  // rounding of the box entry must not move the hit in front of the face
+#endif
+  gl_FragDepth = t < 0.0 ? 0.0 : gl_FragCoord.z / t;
+  outVisibility = uvec2(draw.object + 1u, trace.evaluations);
 }

@@ -72,6 +72,17 @@ struct DrawPushConstants {
 };
 HSDF_CHECK_SIZE(DrawPushConstants, 32);
 
+// Frame-wide work totals of a counting frame (FrameSettings::countWork), in the work-counter buffer
+// right after its one uint per pixel: what a feature gave up on, counted so that it is never
+// silently dropped.
+struct WorkTotals {
+  uint raysOutOfSteps;  // sphere-tracing rays that reached the step limit (drawn as misses)
+  uint pad0;
+  uint pad1;
+  uint pad2;
+};
+HSDF_CHECK_SIZE(WorkTotals, 16);
+
 #ifdef __cplusplus
 }  // namespace shader
 #else

@@ -194,6 +194,78 @@ TEST_F(SphereTraceTest, EachMethodMatchesItsReferenceFromFourViews) {
   }
 }
 
+// Rays of a counting frame that ran out of steps (WorkTotals::raysOutOfSteps).
+std::uint32_t raysOutOfSteps(render::Renderer& renderer, const ecs::Registry& registry,
+                             const render::CameraView& camera) {
+  render::FrameSettings settings;
+  settings.countWork = true;
+  renderer.renderFrame(registry, camera, settings);
+  return renderer.readbackWorkTotals().raysOutOfSteps;
+}
+
+// The field's values replaced by +-h: samples that jump across zero with no small value in
+// between (the interpolant's gradient reaches 2 near the surface, so f overestimates the distance
+// there by up to 2x).
+std::shared_ptr<const hsdf::SdfAsset> withBinaryValues(const hsdf::SdfAsset& asset) {
+  auto binary = std::make_shared<hsdf::SdfAsset>(asset);
+  binary->id = asset.id + 2000000;  // a distinct asset for the texture cache
+  binary->name = asset.name + " (binary)";
+  const float h = float(asset.field.grid.spacing);
+  for (hsdf::HermiteSample& s : binary->field.samples) s.f = s.f < 0.0f ? -h : h;
+  return binary;
+}
+
+// Why: hardware trilinear filters quantize their weights (8 fractional bits on an NVIDIA H100),
+// so near the surface the filtered f need not fall below epsilon; a tracer that only stopped there
+// overshot, stepped back and oscillated until its step limit, and the GPU drew noise (issue 19)
+// while lavapipe, which filters in full float, drew the right image. A field whose samples jump
+// across zero (+-h) makes lavapipe see it: f overestimates the distance by up to 2x near the
+// surface, and an epsilon-only tracer bounces around the root until its step limit. Each tracer
+// must stop (a sign change between two steps is a hit), place the hit on its exact interpolant
+// (the reference's surface, within the usual tolerance), and no ray may run out of steps.
+// (A NEAREST-filtered texture is too coarse a stand-in: a step that trusts one texel's value can
+// overshoot by most of a cell and pass through the surface, which no GPU's filter does.)
+TEST_F(SphereTraceTest, FieldsWhoseValuesJumpAcrossZeroStillStopOnTheExactInterpolant) {
+  createTraceRenderer(kSize, kSize);
+  const auto sphere = bakeAsset("sphere", 16);
+  ASSERT_NE(sphere, nullptr);
+  const auto binary = withBinaryValues(*sphere);
+  for (const RenderMethod method : {RenderMethod::TrilinearSphereTrace, RenderMethod::HermiteSphereTrace}) {
+    registry_.clear();
+    addTracedSdf(registry_, binary, method);
+    for (int view = 0; view < 4; ++view) {
+      const render::CameraView camera = orbitCamera(*binary, view);
+      expectMatchesReference(method, binary->field, camera,
+                             std::string(methodName(method)) + ", samples of +-h, view " + std::to_string(view));
+      EXPECT_EQ(raysOutOfSteps(*renderer_, registry_, camera), 0u) << "view " << view;
+    }
+  }
+}
+
+// Why: the counting variants report rays that reach the step limit instead of dropping them
+// silently. One step per ray can never reach the surface from outside: every covered ray of the
+// object's box must then be counted, and with the default limit none.
+TEST_F(SphereTraceTest, RaysThatRunOutOfStepsAreCounted) {
+  createTraceRenderer(64, 64);
+  const auto asset = bakeAsset("sphere", 8);
+  ASSERT_NE(asset, nullptr);
+  const render::CameraView camera = render::CameraView::lookAt({0.0f, 0.0f, 4.0f}, glm::vec3(0.0f), 0.9f, 0.01f, 1.0f);
+  for (const RenderMethod method : {RenderMethod::TrilinearSphereTrace, RenderMethod::HermiteSphereTrace}) {
+    SCOPED_TRACE(methodName(method));
+    registry_.clear();
+    addTracedSdf(registry_, asset, method);
+    auto& settings = renderer_->feature<hsdf::SphereTraceFeature>()->settings();
+    settings.maxSteps = 1;
+    const std::uint32_t starved = raysOutOfSteps(*renderer_, registry_, camera);
+    const Frame image = renderWith(camera, DEBUG_VIEW_NONE);
+    EXPECT_GT(starved, 500u) << "the rays that enter the sphere's box";
+    EXPECT_EQ(std::count_if(image.depth.begin(), image.depth.end(), [](float d) { return d > 0.0f; }), 0)
+        << "a ray out of steps is drawn as a miss";
+    settings.maxSteps = hsdf::SphereTraceFeature::Settings{}.maxSteps;
+    EXPECT_EQ(raysOutOfSteps(*renderer_, registry_, camera), 0u);
+  }
+}
+
 // Why: with the eye inside the grid bounds the front faces lie behind it; only the back-face
 // variant (no conservative depth, ray clipped to the near plane) can draw the object. Inside the
 // tube the ray starts inside the surface and must find where it leaves (steps by -f).

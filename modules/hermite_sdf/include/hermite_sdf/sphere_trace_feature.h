@@ -12,10 +12,15 @@
 // entity has drawn them for framesInFlight frames.
 //
 // Tracing. The proxy is the grid's bounding box; the ray starts at the box entry, or at the near
-// plane when that is farther, and steps by the interpolated distance f until |f| < epsilon * h:
-// EPSILON IS IN UNITS OF THE GRID SPACING h (default 1e-4, the paper's eps), so the tolerance
-// scales with the field and not with the scene. A ray leaving the box, or running out of steps
-// (maxSteps, default 1024), misses. Rays that graze one part of the surface before hitting
+// plane when that is farther, and steps by the interpolated distance f until |f| < epsilon * h,
+// or until f changes sign between two steps (an overshoot): either is a hit, placed on the exact
+// interpolant (trilinear: the cell's 8 texels interpolated in float, not the filtered texture;
+// regula falsi inside a sign change). EPSILON IS IN UNITS OF THE GRID SPACING h (default 1e-4,
+// the paper's eps), so the tolerance scales with the field and not with the scene. Hardware
+// filters quantize the trilinear weights (8 fractional bits on an H100): there the filtered f may
+// never fall below epsilon near the surface, and a tracer that only tested epsilon oscillated
+// until its step limit (noise on that GPU). A ray leaving the box, or running out of steps
+// (maxSteps, default 1024), misses; the latter is counted in frames that count work. Rays that graze one part of the surface before hitting
 // another take hundreds of steps (up to ~830 on the K = 16 torus of the tests); 512 left a hole
 // pixel per view there. A ray that starts inside the surface finds where it leaves. A ray that
 // passes within epsilon * h of the surface counts as a hit there (silhouettes grow by that much).
@@ -26,7 +31,10 @@
 //
 // Passes. Depth prepass: the box's front faces, gl_FragDepth with conservative depth (the hit is
 // never nearer than the face; early depth testing keeps working) and the visibility id
-// (1 + object index, evaluations). Objects whose box the near plane may cut (the eye inside or
+// (1 + object index, evaluations). Its shaders have no discard (a miss writes the far plane) and
+// no buffer write, which would cost early depth rejection on GPUs; frames that count work
+// (FrameContext::workCounters) use variants with the counters (*_counted.frag): evaluations per
+// pixel and rays out of steps (WorkTotals::raysOutOfSteps). Objects whose box the near plane may cut (the eye inside or
 // close to the box) are drawn by their back faces with a variant without the depth guarantee.
 // Shading pass: the same faces again; a fragment is shaded only where the visibility buffer names
 // its object (one shading per pixel), at the hit rebuilt from the prepass depth, with the normal
@@ -97,7 +105,7 @@ class SphereTraceFeature final : public engine::render::RenderFeature {
   void prepare(engine::render::FrameContext& frame) override;
   void recordPass(engine::render::PassContext& pass) override;
   void drawUi() override;
-  // Rebuilds the six pipelines from the SPIR-V on disk; a failure keeps the old ones.
+  // Rebuilds the ten pipelines from the SPIR-V on disk; a failure keeps the old ones.
   engine::Status reloadShaders() override;
 
   Settings& settings() { return settings_; }
@@ -119,10 +127,11 @@ class SphereTraceFeature final : public engine::render::RenderFeature {
     std::uint32_t count = 0;
   };
 
-  // [method]: front faces with conservative depth, back faces (near plane), shading.
+  // [method]: front faces with conservative depth, back faces (near plane), each without and
+  // with the work counters ([counted]: frames that count work), and shading.
   struct Pipelines {
-    engine::gpu::Pipeline depthFront[2];
-    engine::gpu::Pipeline depthNear[2];
+    engine::gpu::Pipeline depthFront[2][2];
+    engine::gpu::Pipeline depthNear[2][2];
     engine::gpu::Pipeline shade[2];
   };
   engine::Expected<Pipelines> createPipelines() const;

@@ -70,7 +70,7 @@ engine::Status SphereTraceFeature::initialize(const engine::gpu::Context& contex
   return {};
 }
 
-// Built aside and swapped in only when all six were created: a failure keeps the old ones.
+// Built aside and swapped in only when all ten were created: a failure keeps the old ones.
 engine::Status SphereTraceFeature::reloadShaders() {
   ENGINE_TRY_ASSIGN(Pipelines fresh, createPipelines());
   context_->waitIdle();  // frames in flight may still use the old pipelines
@@ -100,13 +100,11 @@ void SphereTraceFeature::createSamplers() {
 engine::Expected<SphereTraceFeature::Pipelines> SphereTraceFeature::createPipelines() const {
   const engine::render::RendererFormats& formats = formats_;
   Pipelines pipelines;
-  const std::string suffix = bindings_->bindless() ? "_bindless.frag" : ".frag";
+  const std::string bindless = bindings_->bindless() ? "_bindless" : "";
   ENGINE_TRY_ASSIGN(auto vert, engine::gpu::ShaderModule::load(*context_, "sphere_trace.vert"));
   for (std::uint32_t method = 0; method < kTraceMethodCount; ++method) {
     const std::string prefix = std::string("sphere_trace_") + kMethodNames[method];
-    ENGINE_TRY_ASSIGN(auto depthFrag, engine::gpu::ShaderModule::load(*context_, prefix + "_depth" + suffix));
-    ENGINE_TRY_ASSIGN(auto nearFrag, engine::gpu::ShaderModule::load(*context_, prefix + "_depth_near" + suffix));
-    ENGINE_TRY_ASSIGN(auto shadeFrag, engine::gpu::ShaderModule::load(*context_, prefix + "_shade" + suffix));
+    ENGINE_TRY_ASSIGN(auto shadeFrag, engine::gpu::ShaderModule::load(*context_, prefix + "_shade" + bindless + ".frag"));
 
     engine::gpu::GraphicsPipelineDesc desc;
     desc.vertex = vert.handle();
@@ -116,15 +114,22 @@ engine::Expected<SphereTraceFeature::Pipelines> SphereTraceFeature::createPipeli
     desc.colorFormats = {formats.visibility};
     desc.depthCompare = VK_COMPARE_OP_GREATER;
 
-    desc.name = std::string("sphere trace ") + kMethodNames[method] + " depth";
-    desc.fragment = depthFrag.handle();
-    desc.cullMode = VK_CULL_MODE_BACK_BIT;
-    ENGINE_TRY_ASSIGN(pipelines.depthFront[method], engine::gpu::Pipeline::createGraphics(*context_, desc));
+    for (const bool counted : {false, true}) {
+      const std::string variant = counted ? "_counted" : "";
+      ENGINE_TRY_ASSIGN(auto depthFrag,
+                        engine::gpu::ShaderModule::load(*context_, prefix + "_depth" + bindless + variant + ".frag"));
+      ENGINE_TRY_ASSIGN(auto nearFrag,
+                        engine::gpu::ShaderModule::load(*context_, prefix + "_depth_near" + bindless + variant + ".frag"));
+      desc.name = std::string("sphere trace ") + kMethodNames[method] + " depth" + variant;
+      desc.fragment = depthFrag.handle();
+      desc.cullMode = VK_CULL_MODE_BACK_BIT;
+      ENGINE_TRY_ASSIGN(pipelines.depthFront[method][counted], engine::gpu::Pipeline::createGraphics(*context_, desc));
 
-    desc.name = std::string("sphere trace ") + kMethodNames[method] + " depth near";
-    desc.fragment = nearFrag.handle();
-    desc.cullMode = VK_CULL_MODE_FRONT_BIT;
-    ENGINE_TRY_ASSIGN(pipelines.depthNear[method], engine::gpu::Pipeline::createGraphics(*context_, desc));
+      desc.name = std::string("sphere trace ") + kMethodNames[method] + " depth near" + variant;
+      desc.fragment = nearFrag.handle();
+      desc.cullMode = VK_CULL_MODE_FRONT_BIT;
+      ENGINE_TRY_ASSIGN(pipelines.depthNear[method][counted], engine::gpu::Pipeline::createGraphics(*context_, desc));
+    }
 
     // Shading: the prepass decided visibility; the box only selects candidate pixels. Its cull
     // mode follows the object's prepass variant (dynamic state, core in Vulkan 1.3).
@@ -309,10 +314,13 @@ void SphereTraceFeature::recordMethod(engine::render::PassContext& pass, std::ui
   push.draw.debugView = pass.frame.debugView;
   push.draws = drawBuffer_.address(pass.frame.frameSlot);
   push.counters = pass.frame.workCounters;
+  push.workTotals = pass.frame.workTotals;
+  const bool counted = pass.frame.workCounters != 0;
   const VkShaderStageFlags stages = VK_SHADER_STAGE_VERTEX_BIT | VK_SHADER_STAGE_FRAGMENT_BIT;
   if (prepass) {
     for (const bool near : {false, true}) {
-      const engine::gpu::Pipeline& pipeline = near ? pipelines_.depthNear[method] : pipelines_.depthFront[method];
+      const engine::gpu::Pipeline& pipeline =
+          near ? pipelines_.depthNear[method][counted] : pipelines_.depthFront[method][counted];
       vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, pipeline.handle());
       vkCmdPushConstants(cmd, pipeline.layout(), stages, 0, sizeof(push), &push);
       recordDraws(cmd, pipeline.layout(), near ? near_[method] : front_[method]);
