@@ -88,7 +88,8 @@ FieldCursor newFieldCursor() {
 // but may quantize its weights (8 fractional bits on many GPUs): near the surface its f need not
 // fall below epsilon, so it only guides the steps; hits are placed with exactFieldValue.
 float evaluateField(SphereTraceDraw draw, inout FieldCursor cursor, vec3 g) {
-  return texture(FIELD_TEXTURE(draw), (g + 0.5) / float(draw.resolution)).r;
+  // textureLod: inside the tracing loop implicit derivatives are undefined (non-uniform control flow).
+  return textureLod(FIELD_TEXTURE(draw), (g + 0.5) / float(draw.resolution), 0.0).r;
 }
 
 // The trilinear interpolant itself: its cell's 8 texels fetched and interpolated in float.
@@ -232,6 +233,12 @@ Settled hitInBracket(SphereTraceDraw draw, inout FieldCursor cursor, TraceRay ra
   return Settled(rootInBracket(draw, cursor, ray, ta, fa, tb, fb, evaluations), 0.0, true);
 }
 
+// The shortest step, grid units. A ray that passes the surface at a distance just above epsilon
+// would creep along it in steps of that distance (one bunny ray at K = 32 took more than 1024
+// steps). A longer step that lands inside the surface is a sign change, found and placed exactly
+// (hitInBracket); only a sliver thinner than this along the ray can be stepped over.
+const float kMinStep = 1.0 / 64.0;
+
 struct TraceResult {
   float t;           // the hit's t, or -1 on a miss
   uint evaluations;  // field evaluations (filtered and exact)
@@ -267,7 +274,7 @@ TraceResult sphereTrace(SphereTraceDraw draw, vec3 origin, vec3 direction, float
       result.outOfSteps = true;
       return result;
     }
-    float tNext = t + side * d * ray.tPerGridUnit;
+    float tNext = t + max(side * d, kMinStep) * ray.tPerGridUnit;
     if (tNext > t1) return result;
     float dNext = evaluateField(draw, cursor, origin + tNext * direction) / h;
     ++result.evaluations;
