@@ -43,7 +43,9 @@ int main() {
 
   engine::gpu::ContextDesc desc;
   desc.applicationName = "hermite_sdf consumer";
-  desc.device = engine::gpu::DevicePreference::Software;
+  // Auto: the device HSDF_DEVICE names, which the ctest's launcher (hsdf_test_device_run) sets
+  // from HSDF_TEST_DEVICE (lavapipe unless set); an outside project cannot link the test support.
+  desc.device = engine::gpu::DevicePreference::Auto;
   desc.validation = true;
   auto context = engine::gpu::Context::create(desc);
   if (!context) return fail("vulkan", context.error().message);
