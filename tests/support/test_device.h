@@ -5,7 +5,9 @@
 // (scene_runner, perf_capture, the Xvfb scripts, the cmake -P scripts, the consumer project) go
 // through hsdf_test_device_run, which maps the same variable onto the programs' HSDF_DEVICE with
 // this code. An unknown value is an error naming the variable and the value, never a silent
-// fallback: a typo must not quietly run the "GPU" suite on lavapipe.
+// fallback: a typo must not quietly run the "GPU" suite on lavapipe. `auto` is the engine's own
+// choice (DevicePreference::Auto: discrete GPU first, lavapipe last; the launcher exports
+// HSDF_DEVICE=auto, and an in-process context honours an HSDF_DEVICE the caller set).
 #include <string>
 #include <string_view>
 

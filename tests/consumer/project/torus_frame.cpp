@@ -1,6 +1,7 @@
 // The smallest use of the installed hermite_sdf package: bake an analytic torus through the
-// module's bake job, draw one headless frame with the Hermite cell feature on lavapipe (validation
-// layers on) and check the frame against the module's CPU reference ray caster.
+// module's bake job, draw one headless frame with the Hermite cell feature on the test device
+// (HSDF_DEVICE from the ctest's launcher, lavapipe unless HSDF_TEST_DEVICE says otherwise;
+// validation layers on) and check the frame against the module's CPU reference ray caster.
 // Exit code 0 only when the torus covers the pixels the reference says it covers and the
 // validation layers said nothing.
 #include <cstdio>
