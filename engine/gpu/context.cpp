@@ -89,13 +89,19 @@ int deviceRank(VkPhysicalDeviceType type, DevicePreference preference) {
   }
 }
 
-DevicePreference preferenceFromEnv(DevicePreference fallback) {
+// HSDF_DEVICE decides only what the caller left to Auto (a program's default `--device auto`; the
+// test launcher sets it from HSDF_TEST_DEVICE): an explicit choice in the code or on the command
+// line wins over the environment. An unknown value is an error, not a silent fallback: a typo must
+// not quietly run on another device.
+Expected<DevicePreference> preferenceFromEnv(DevicePreference requested) {
+  if (requested != DevicePreference::Auto) return requested;
   const char* value = std::getenv("HSDF_DEVICE");
-  if (!value) return fallback;
+  if (!value || !*value) return requested;
   const std::string_view v(value);
   if (v == "software" || v == "lavapipe" || v == "cpu") return DevicePreference::Software;
   if (v == "hardware" || v == "gpu") return DevicePreference::Hardware;
-  return fallback;
+  if (v == "auto") return DevicePreference::Auto;
+  return makeError("HSDF_DEVICE='" + std::string(v) + "' is not one of gpu, lavapipe, auto");
 }
 
 }  // namespace
@@ -240,7 +246,7 @@ Status Context::pickPhysicalDevice(const ContextDesc& desc) {
   VK_TRY(vkEnumeratePhysicalDevices(instance_, &count, nullptr));
   std::vector<VkPhysicalDevice> devices(count);
   VK_TRY(vkEnumeratePhysicalDevices(instance_, &count, devices.data()));
-  const DevicePreference preference = preferenceFromEnv(desc.device);
+  ENGINE_TRY_ASSIGN(const DevicePreference preference, preferenceFromEnv(desc.device));
 
   std::string rejected;
   int bestRank = -1;

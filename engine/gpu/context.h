@@ -17,9 +17,9 @@
 namespace engine::gpu {
 
 enum class DevicePreference {
-  Auto,      // discrete GPU, then integrated, then anything (lavapipe last); env HSDF_DEVICE overrides
-  Hardware,  // fail when no hardware GPU exists
-  Software,  // Mesa lavapipe (CPU); what CI and the GPU tests use
+  Auto,      // env HSDF_DEVICE=gpu|lavapipe|auto if set, else discrete GPU, integrated, anything (lavapipe last)
+  Hardware,  // fail when no hardware GPU exists (HSDF_DEVICE is not consulted)
+  Software,  // Mesa lavapipe (CPU); what CI uses (HSDF_DEVICE is not consulted)
 };
 
 struct ContextDesc {

@@ -13,6 +13,7 @@
 #include "engine/render/scene_instantiate.h"
 #include "engine/scene/gltf_loader.h"
 #include "engine/scene/transform.h"
+#include "device_tolerances.h"
 #include "gpu_test_support.h"
 #include "shared/host_device.h"
 
@@ -136,11 +137,12 @@ void expectMatchesRayCast(const Frame& frame, const Frame* normals, const RayCas
               "normals checked %d, facing away %d, error p90 %.1f deg\n",
               covered, disagree, interiorDisagree, maxRelativeDepthError, maxSilhouetteDepthError, normalsChecked,
               normalsFacingAway, normalP90);
+  const DeviceTolerances tolerance;  // the mesh tolerances are the same on every device
   EXPECT_GT(covered, minCovered);
-  EXPECT_LE(disagree, covered / 50);
+  EXPECT_LE(disagree, tolerance.meshSilhouetteCoverageShare * covered);
   EXPECT_EQ(interiorDisagree, 0);
-  EXPECT_LT(maxRelativeDepthError, 2e-3);
-  EXPECT_LT(maxSilhouetteDepthError, 5e-2);
+  EXPECT_LT(maxRelativeDepthError, tolerance.meshInteriorRelativeDepth);
+  EXPECT_LT(maxSilhouetteDepthError, tolerance.meshSilhouetteRelativeDepth);
   if (normals) {
     EXPECT_GT(normalsChecked, covered / 2);
     EXPECT_LE(normalsFacingAway, normalsChecked / 100);

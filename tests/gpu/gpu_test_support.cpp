@@ -7,6 +7,7 @@
 #include "engine/core/math.h"
 #include "engine/render/components.h"
 #include "engine/scene/transform.h"
+#include "test_device.h"
 
 namespace gputest {
 
@@ -15,12 +16,18 @@ using namespace engine;
 std::unique_ptr<gpu::Context> createTestContext(bool synchronizationValidation) {
   gpu::ContextDesc desc;
   desc.applicationName = "hermite_sdf gpu tests";
-  desc.device = gpu::DevicePreference::Software;
+  const auto device = hsdftest::testDevicePreference();
+  if (!device) {
+    ADD_FAILURE() << "cannot create the GPU test context: " << device.error().message;
+    return nullptr;
+  }
+  desc.device = *device;
   desc.validation = true;
   desc.synchronizationValidation = synchronizationValidation;
   auto context = gpu::Context::create(desc);
   if (!context) {
-    ADD_FAILURE() << "cannot create the lavapipe test context: " << context.error().message;
+    ADD_FAILURE() << "cannot create the GPU test context on " << hsdftest::describeTestDevice() << ": "
+                  << context.error().message;
     return nullptr;
   }
   return std::move(context.value());

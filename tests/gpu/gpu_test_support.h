@@ -1,6 +1,6 @@
 #pragma once
-// Shared fixture of the GPU tests: a lavapipe context with validation layers on (a test fails on
-// any validation message), a renderer with the mesh feature, and helpers to build small scenes.
+// Shared fixture of the GPU tests: a context on the device HSDF_TEST_DEVICE names (lavapipe unless
+// set; tests/support/test_device.h) with validation layers on (a test fails on any validation message), a renderer with the mesh feature, and helpers to build small scenes.
 #include <memory>
 #include <string>
 #include <vector>
@@ -16,7 +16,8 @@
 
 namespace gputest {
 
-// Creates the lavapipe context every GPU test uses; validation is always on.
+// Creates the context every GPU test uses, on the device HSDF_TEST_DEVICE names (lavapipe when
+// unset); validation is always on. An unknown HSDF_TEST_DEVICE fails the test naming the value.
 std::unique_ptr<engine::gpu::Context> createTestContext(bool synchronizationValidation = false);
 
 struct Frame {

@@ -1,5 +1,5 @@
-// Headless rendering on lavapipe: real pixels read back and compared with values computed
-// independently of the GPU (the camera maths, analytic depths, a CPU ray cast of the triangles).
+// Headless rendering on the test device (HSDF_TEST_DEVICE, lavapipe unless set): real pixels read
+// back and compared with values computed independently of the GPU (the camera maths, analytic depths, a CPU ray cast of the triangles).
 #include <algorithm>
 #include <cmath>
 
@@ -8,6 +8,7 @@
 #include "engine/core/math.h"
 #include "engine/render/components.h"
 #include "engine/scene/transform.h"
+#include "device_tolerances.h"
 #include "gpu_test_support.h"
 
 namespace gputest {
@@ -31,9 +32,10 @@ TEST_F(GpuTest, KnownDepthAtKnownPixels) {
   addQuad({0.0f, 0.0f, 0.0f}, 2.0f, {1.0f, 0.0f, 0.0f, 1.0f});
   const Frame frame = render(frontCamera(5.0f, 64, 48));
   const float expected = float(math::viewDistanceToDepth(5.0, kZNear));
-  EXPECT_NEAR(frame.depthAt(32, 24), expected, 1e-6f);
+  const float tolerance = float(DeviceTolerances{}.meshDepthAbsolute);
+  EXPECT_NEAR(frame.depthAt(32, 24), expected, tolerance);
   // The quad is perpendicular to the view axis: every covered pixel has the same view distance.
-  EXPECT_NEAR(frame.depthAt(26, 28), expected, 1e-6f);
+  EXPECT_NEAR(frame.depthAt(26, 28), expected, tolerance);
   EXPECT_EQ(frame.depthAt(0, 0), 0.0f) << "background keeps the clear depth (infinitely far)";
 }
 
@@ -104,7 +106,7 @@ TEST_F(GpuTest, OverlappingMeshesOccludeThroughDepthPrepass) {
         if (hitsGreen && hitsRed) {
           ++overlap;
           EXPECT_TRUE(isGreenDominant(frame.pixel(x, y))) << "pixel " << x << "," << y;
-          EXPECT_NEAR(frame.depthAt(x, y), math::viewDistanceToDepth(4.0, kZNear), 1e-6);
+          EXPECT_NEAR(frame.depthAt(x, y), math::viewDistanceToDepth(4.0, kZNear), DeviceTolerances{}.meshDepthAbsolute);
           // The visibility id names one object, the same across the overlap.
           const std::uint32_t id = visibility[y * 80 + x].x;
           EXPECT_NE(id, 0u);

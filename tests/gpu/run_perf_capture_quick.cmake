@@ -1,5 +1,9 @@
-# perf_capture --quick end to end (issue 10): runs the CI preset on lavapipe and checks its outputs.
+# perf_capture --quick end to end (issue 10): runs the CI preset on the test device and checks its
+# outputs.
 #   cmake -DCAPTURE=<perf_capture> -DOUT=<folder> -P run_perf_capture_quick.cmake
+# The device: ctest runs this through hsdf_test_device_run, which sets HSDF_DEVICE from
+# HSDF_TEST_DEVICE (lavapipe unless set); the capture stays at its default --device auto, which
+# follows HSDF_DEVICE, and the check at the end proves the capture ran on that device.
 # What would break: a missing output; a header that is not issue 10's; a number that is not finite
 # or not sane (negative times, angles outside 0..180, more mismatching pixels than the image has);
 # relations that hold on any device: at equal K, Hermite cells n=3 r=1 have a lower mean normal
@@ -9,7 +13,7 @@
 # step limit drew noise on an NVIDIA GPU: issue 19).
 cmake_policy(SET CMP0054 NEW)
 file(REMOVE_RECURSE "${OUT}")
-execute_process(COMMAND "${CAPTURE}" --quick --device lavapipe --out "${OUT}" RESULT_VARIABLE rc ERROR_VARIABLE err)
+execute_process(COMMAND "${CAPTURE}" --quick --out "${OUT}" RESULT_VARIABLE rc ERROR_VARIABLE err)
 if(NOT rc EQUAL 0)
   message(FATAL_ERROR "perf_capture --quick failed (${rc}):\n${err}")
 endif()
@@ -102,4 +106,11 @@ foreach(key device driver command_line commit date)
     message(FATAL_ERROR "results.json has no ${key}")
   endif()
 endforeach()
-message(STATUS "perf_capture --quick: ${rowCount} rows checked")
+# The device the capture names is the one the test asked for (lavapipe reports itself as llvmpipe).
+string(REGEX MATCH "\"device\": \"[^\"]+\"" deviceEntry "${json}")
+if("$ENV{HSDF_DEVICE}" STREQUAL "lavapipe" AND NOT deviceEntry MATCHES "llvmpipe")
+  message(FATAL_ERROR "HSDF_DEVICE=lavapipe but the capture ran on ${deviceEntry}")
+elseif("$ENV{HSDF_DEVICE}" STREQUAL "gpu" AND deviceEntry MATCHES "llvmpipe")
+  message(FATAL_ERROR "HSDF_DEVICE=gpu but the capture ran on ${deviceEntry}")
+endif()
+message(STATUS "perf_capture --quick: ${rowCount} rows checked on ${deviceEntry} (HSDF_DEVICE=$ENV{HSDF_DEVICE})")

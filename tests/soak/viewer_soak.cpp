@@ -20,6 +20,7 @@
 //     each cycle bakes a K = 16 and a K = 24 field and a K = 12 sphere (16 B a sample: 64 KiB +
 //     216 KiB + 27 KiB): a leak of one field per cycle passes 8 MiB only after about 27 cycles, but
 //     a leaked asset also keeps its GPU copy, which the exact GPU check catches at once.
+// Runs on the device HSDF_TEST_DEVICE names (gpu|lavapipe|auto; unset: lavapipe).
 // Exit code 0 when every check holds and the validation layers stayed silent, 1 otherwise.
 //
 //   viewer_soak [--frames N] [--period P] [--size WxH] [--rss-tolerance-mb M] [--csv FILE]
@@ -44,6 +45,7 @@
 #include "engine/gpu/memory.h"
 #include "engine/scene/transform.h"
 #include "hermite_sdf/bake_job.h"
+#include "test_device.h"
 #include "viewer.h"
 
 namespace {
@@ -286,7 +288,8 @@ Expected<bool> runSoak(const Options& options) {
   desc.height = options.height;
   desc.headless = true;
   desc.validation = options.validation;
-  desc.device = engine::gpu::DevicePreference::Software;
+  // The test device: HSDF_TEST_DEVICE=gpu|lavapipe|auto, lavapipe unless set (tests/support).
+  ENGINE_TRY_ASSIGN(desc.device, hsdftest::testDevicePreference());
   ENGINE_TRY_ASSIGN(std::unique_ptr<samples::Viewer> viewer, samples::Viewer::create(desc));
   samples::SceneDesc scene;
   scene.gltf = options.gltf;

@@ -1,6 +1,7 @@
 // The smallest use of the installed hermite_sdf package: bake an analytic torus through the
-// module's bake job, draw one headless frame with the Hermite cell feature on lavapipe (validation
-// layers on) and check the frame against the module's CPU reference ray caster.
+// module's bake job, draw one headless frame with the Hermite cell feature on the test device
+// (HSDF_DEVICE from the ctest's launcher, lavapipe unless HSDF_TEST_DEVICE says otherwise;
+// validation layers on) and check the frame against the module's CPU reference ray caster.
 // Exit code 0 only when the torus covers the pixels the reference says it covers and the
 // validation layers said nothing.
 #include <cstdio>
@@ -43,7 +44,9 @@ int main() {
 
   engine::gpu::ContextDesc desc;
   desc.applicationName = "hermite_sdf consumer";
-  desc.device = engine::gpu::DevicePreference::Software;
+  // Auto: the device HSDF_DEVICE names, which the ctest's launcher (hsdf_test_device_run) sets
+  // from HSDF_TEST_DEVICE (lavapipe unless set); an outside project cannot link the test support.
+  desc.device = engine::gpu::DevicePreference::Auto;
   desc.validation = true;
   auto context = engine::gpu::Context::create(desc);
   if (!context) return fail("vulkan", context.error().message);

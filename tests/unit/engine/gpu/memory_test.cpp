@@ -19,7 +19,7 @@ namespace {
 // destructor: a leak would show as a validation message at device destruction and as a changed
 // allocation count), and raising the budget must let the same request through.
 TEST(AllocatorBudget, BufferPastTheBudgetFailsNamedAndLeavesNothing) {
-  auto context = test::makeSoftwareContext();
+  auto context = test::makeTestContext();
   ASSERT_NE(context, nullptr);
   Allocator& allocator = context->allocator();
   EXPECT_EQ(allocator.budget(), Allocator::kUnlimited);
@@ -53,7 +53,7 @@ TEST(AllocatorBudget, BufferPastTheBudgetFailsNamedAndLeavesNothing) {
 // budget of 0 refuses even the smallest request, and the arithmetic must not overflow when the
 // budget is below what is in use.
 TEST(AllocatorBudget, ImagePastTheBudgetFailsNamedAndLeavesNothing) {
-  auto context = test::makeSoftwareContext();
+  auto context = test::makeTestContext();
   ASSERT_NE(context, nullptr);
   Allocator& allocator = context->allocator();
   Buffer inUse(*context, 4096, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, MemoryUsage::GpuOnly, "in use");

@@ -25,7 +25,7 @@ void submitEmpty(Context& context) {
 // its lock, fence and command buffer (the submission after clearing would deadlock otherwise).
 TEST(FaultInjection, DeviceLostAtSubmitIsNamedAndStaysLost) {
   FaultGuard guard;
-  auto context = test::makeSoftwareContext();
+  auto context = test::makeTestContext();
   ASSERT_NE(context, nullptr);
   submitEmpty(*context);  // the path works without a fault
   injectFault({"vkQueueSubmit2", VK_ERROR_DEVICE_LOST, 0});
@@ -58,7 +58,7 @@ TEST(FaultInjection, DeviceLostAtSubmitIsNamedAndStaysLost) {
 // memory for one fence).
 TEST(FaultInjection, OtherResultsFireOnceAfterSkippedCalls) {
   FaultGuard guard;
-  auto context = test::makeSoftwareContext();
+  auto context = test::makeTestContext();
   ASSERT_NE(context, nullptr);
   injectFault({"vkCreateFence", VK_ERROR_OUT_OF_HOST_MEMORY, 1});
   submitEmpty(*context);  // skipped

@@ -1,6 +1,7 @@
 // The Viewer's split-screen comparison, difference view and shader reload (samples/common/viewer.h,
-// difference_view.h), headless on lavapipe with the validation layers on, at 128x96: real pixels
-// read back from the frame, compared with frames drawn by one method alone.
+// difference_view.h), headless on the test device (HSDF_TEST_DEVICE, lavapipe unless set) with the
+// validation layers on, at 128x96: real pixels read back from the frame, compared with frames
+// drawn by one method alone.
 #include <gtest/gtest.h>
 
 #include <cstdint>
@@ -14,6 +15,7 @@
 #include "engine/render/mesh_feature.h"
 #include "hermite_sdf/cell_feature.h"
 #include "hermite_sdf/sphere_trace_feature.h"
+#include "test_device.h"
 #include "viewer.h"
 
 namespace samples {
@@ -27,7 +29,10 @@ std::unique_ptr<Viewer> viewTorus(const TuningState& tuning) {
   desc.height = kHeight;
   desc.headless = true;
   desc.validation = true;
-  desc.device = engine::gpu::DevicePreference::Software;
+  const auto device = hsdftest::testDevicePreference();
+  EXPECT_TRUE(device.ok()) << device.error().message;
+  if (!device) return nullptr;
+  desc.device = *device;
   auto viewer = Viewer::create(desc);
   EXPECT_TRUE(viewer.ok()) << viewer.error().message;
   if (!viewer.ok()) return nullptr;

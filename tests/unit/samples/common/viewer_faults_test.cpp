@@ -1,6 +1,7 @@
 // Faults the Viewer (samples/common/viewer.h) must survive as clear errors and a clean close, on
-// lavapipe with the validation layers on: a lost device, GPU memory past the allocator's budget,
-// missing or broken shader files. Small images (64x48) keep it fast.
+// the test device (HSDF_TEST_DEVICE, lavapipe unless set) with the validation layers on: a lost
+// device, GPU memory past the allocator's budget, missing or broken shader files. Small images
+// (64x48) keep it fast.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -14,6 +15,7 @@
 #include "hermite_sdf/bake_job.h"
 #include "engine/gpu/pipeline.h"
 #include "engine/gpu/vk_check.h"
+#include "test_device.h"
 #include "viewer.h"
 
 namespace samples {
@@ -29,7 +31,9 @@ engine::Expected<std::unique_ptr<Viewer>> createViewer() {
   desc.height = 48;
   desc.headless = true;
   desc.validation = true;
-  desc.device = engine::gpu::DevicePreference::Software;
+  const auto device = hsdftest::testDevicePreference();
+  if (!device) return device.error();
+  desc.device = *device;
   return Viewer::create(desc);
 }
 

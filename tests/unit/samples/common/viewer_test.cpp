@@ -1,5 +1,6 @@
-// The Viewer (samples/common/viewer.h), headless on lavapipe with the validation layers on: what
-// the perf capture and the soak test rely on. Small images (64x48) keep it fast.
+// The Viewer (samples/common/viewer.h), headless on the test device (HSDF_TEST_DEVICE, lavapipe
+// unless set) with the validation layers on: what the perf capture and the soak test rely on.
+// Small images (64x48) keep it fast.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -7,6 +8,7 @@
 #include <string>
 #include <vector>
 
+#include "test_device.h"
 #include "viewer.h"
 
 namespace samples {
@@ -19,7 +21,10 @@ std::unique_ptr<Viewer> makeViewer(const hsdf::BakeBudget& budget = {}) {
   desc.height = 48;
   desc.headless = true;
   desc.validation = true;
-  desc.device = engine::gpu::DevicePreference::Software;
+  const auto device = hsdftest::testDevicePreference();
+  EXPECT_TRUE(device.ok()) << device.error().message;
+  if (!device) return nullptr;
+  desc.device = *device;
   auto viewer = Viewer::create(desc);
   EXPECT_TRUE(viewer.ok()) << viewer.error().message;
   return viewer.ok() ? std::move(*viewer) : nullptr;

@@ -1,0 +1,35 @@
+#pragma once
+// Which Vulkan device the tests run on: HSDF_TEST_DEVICE=gpu|lavapipe|auto, unset or empty meaning
+// lavapipe (what CI has). The one mapping every GPU test uses: the in-process test contexts
+// (gtest fixtures, the soak) call testDevicePreference(), and the ctests that run programs
+// (scene_runner, perf_capture, the Xvfb scripts, the cmake -P scripts, the consumer project) go
+// through hsdf_test_device_run, which maps the same variable onto the programs' HSDF_DEVICE with
+// this code. An unknown value is an error naming the variable and the value, never a silent
+// fallback: a typo must not quietly run the "GPU" suite on lavapipe. `auto` is the engine's own
+// choice (DevicePreference::Auto: discrete GPU first, lavapipe last; the launcher exports
+// HSDF_DEVICE=auto, and an in-process context honours an HSDF_DEVICE the caller set).
+#include <string>
+#include <string_view>
+
+#include "engine/core/expected.h"
+#include "engine/gpu/context.h"
+
+namespace hsdftest {
+
+inline constexpr const char* kTestDeviceVariable = "HSDF_TEST_DEVICE";
+
+// Maps one value of HSDF_TEST_DEVICE; nullptr or "" (unset) is lavapipe.
+engine::Expected<engine::gpu::DevicePreference> parseTestDevice(const char* value);
+
+// parseTestDevice(getenv("HSDF_TEST_DEVICE")).
+engine::Expected<engine::gpu::DevicePreference> testDevicePreference();
+
+// The value of the engine's HSDF_DEVICE that picks the same device for a program left at its
+// default `--device auto`: "gpu", "lavapipe" or "auto".
+std::string_view engineDeviceName(engine::gpu::DevicePreference preference);
+
+// "lavapipe (HSDF_TEST_DEVICE unset)", "gpu (HSDF_TEST_DEVICE=gpu)": for messages that say where a
+// failing test ran and how that was chosen.
+std::string describeTestDevice();
+
+}  // namespace hsdftest

@@ -1,0 +1,104 @@
+// How the engine picks its device from DevicePreference and HSDF_DEVICE (engine/gpu/context.cpp):
+// HSDF_DEVICE decides only for Auto (the programs' default `--device auto`, which the test launcher
+// steers through it), an explicit preference wins over it, and an unknown value is refused. Each
+// case holds on any machine: where a choice depends on whether a hardware GPU exists, both
+// outcomes are checked for what they must say.
+#include <gtest/gtest.h>
+
+#include <cstdlib>
+#include <optional>
+#include <string>
+
+#include "engine/gpu/context.h"
+#include "test_device.h"
+
+namespace engine::gpu {
+namespace {
+
+// Sets HSDF_DEVICE for one test and puts the caller's value back (ctest may run this binary under
+// the launcher, which sets it).
+class ScopedHsdfDevice {
+ public:
+  explicit ScopedHsdfDevice(const char* value) {
+    if (const char* old = std::getenv("HSDF_DEVICE")) saved_ = old;
+    setenv("HSDF_DEVICE", value, 1);
+  }
+  ~ScopedHsdfDevice() {
+    if (saved_) setenv("HSDF_DEVICE", saved_->c_str(), 1);
+    else unsetenv("HSDF_DEVICE");
+  }
+  ScopedHsdfDevice(const ScopedHsdfDevice&) = delete;
+  ScopedHsdfDevice& operator=(const ScopedHsdfDevice&) = delete;
+
+ private:
+  std::optional<std::string> saved_;
+};
+
+Expected<std::unique_ptr<Context>> create(DevicePreference preference) {
+  ContextDesc desc;
+  desc.device = preference;
+  desc.validation = true;
+  return Context::create(desc);
+}
+
+// The test device as an explicit preference; auto names none.
+std::optional<DevicePreference> explicitTestDevice() {
+  const auto device = hsdftest::testDevicePreference();
+  EXPECT_TRUE(device.ok()) << device.error().message;
+  if (!device || *device == DevicePreference::Auto) return std::nullopt;
+  return *device;
+}
+
+TEST(DeviceChoice, UnknownHsdfDeviceIsRefusedForAuto) {
+  // It used to be ignored silently: a typo ran on whatever device came first.
+  ScopedHsdfDevice env("vulkan");
+  const auto context = create(DevicePreference::Auto);
+  ASSERT_FALSE(context.ok());
+  EXPECT_NE(context.error().message.find("HSDF_DEVICE='vulkan' is not one of gpu, lavapipe, auto"), std::string::npos)
+      << context.error().message;
+}
+
+TEST(DeviceChoice, ExplicitPreferenceWinsOverHsdfDevice) {
+  const auto device = explicitTestDevice();
+  if (!device) GTEST_SKIP() << "HSDF_TEST_DEVICE=auto names no explicit device to check";
+  const bool software = *device == DevicePreference::Software;
+  {
+    ScopedHsdfDevice env("vulkan");  // not even read: an unknown value must not matter
+    const auto context = create(*device);
+    ASSERT_TRUE(context.ok()) << context.error().message;
+    EXPECT_EQ((*context)->validationMessageCount(), 0u);
+  }
+  // The other kind in the environment: the code's explicit choice still decides.
+  ScopedHsdfDevice env(software ? "gpu" : "lavapipe");
+  const auto context = create(*device);
+  ASSERT_TRUE(context.ok()) << context.error().message;
+  EXPECT_EQ((*context)->capabilities().isSoftwareRasterizer, software) << (*context)->capabilities().deviceName;
+  EXPECT_EQ((*context)->validationMessageCount(), 0u);
+}
+
+TEST(DeviceChoice, AutoFollowsHsdfDevice) {
+  {
+    // HSDF_DEVICE=gpu under Auto: a hardware device, or (no GPU here) the error that lavapipe is
+    // not the preferred kind. Without HSDF_DEVICE, Auto would take lavapipe on a machine without one.
+    ScopedHsdfDevice env("gpu");
+    const auto context = create(DevicePreference::Auto);
+    if (context.ok()) {
+      EXPECT_FALSE((*context)->capabilities().isSoftwareRasterizer) << (*context)->capabilities().deviceName;
+      EXPECT_EQ((*context)->validationMessageCount(), 0u);
+    } else {
+      EXPECT_NE(context.error().message.find("not the preferred kind"), std::string::npos) << context.error().message;
+    }
+  }
+  // What the test launcher exports for the test device picks the same kind of device under Auto.
+  const auto device = explicitTestDevice();
+  if (!device) GTEST_SKIP() << "HSDF_TEST_DEVICE=auto names no explicit device to check";
+  ScopedHsdfDevice env(std::string(hsdftest::engineDeviceName(*device)).c_str());
+  const auto context = create(DevicePreference::Auto);
+  ASSERT_TRUE(context.ok()) << context.error().message;
+  EXPECT_EQ((*context)->capabilities().isSoftwareRasterizer, *device == DevicePreference::Software)
+      << (*context)->capabilities().deviceName;
+  EXPECT_EQ((*context)->validationMessageCount(), 0u);
+}
+
+}  // namespace
+}  // namespace engine::gpu
