@@ -2,15 +2,15 @@
 // reference ray caster of its own interpolant: coverage, holes, depth and normal errors from
 // outside the grid, from inside its bounds and from inside the surface; fp16 textures; normal
 // modes; occlusion with meshes; switching methods at run time; two methods in one frame; a field
-// that cannot become a texture.
+// that cannot become a texture; fields whose values jump across zero; rays out of steps.
 //
-// Depth tolerance. Tracing stops when |f| < eps * h (eps = 1e-4): the stop lies about
-// eps / (|grad F| cos(angle between ray and normal)) cells from the root along the ray. The
-// hardware trilinear filter may quantize its weights to subTexelPrecisionBits (8 on lavapipe),
-// which can move the filtered surface by up to ~2^-9 cells / cos from the exact trilinear surface
-// the reference casts against. Both are allowed per pixel (kToleranceCells); the few pixels where
-// a ray passes within eps of one part of the surface and the reference hits another part behind
-// it are silhouette effects of sphere tracing and are counted, not forbidden.
+// Depth tolerance. Tracing stops when |f| < eps * h (eps = 1e-4), on the exact interpolant (the
+// trilinear tracer places its hits with the cell's 8 texels in float, not with the filtered
+// texture, whose weights the hardware quantizes): the stop lies about
+// eps / (|grad F| cos(angle between ray and normal)) cells from the root along the ray, on every
+// device (DeviceTolerances::traceStopCells, device_tolerances.h). The few pixels where a ray passes
+// within eps of one part of the surface and the reference hits another part behind it are
+// silhouette effects of sphere tracing and are counted, not forbidden.
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -21,6 +21,7 @@
 #include "engine/core/math.h"
 #include "engine/render/components.h"
 #include "engine/scene/transform.h"
+#include "device_tolerances.h"
 #include "hermite_sdf/cells.h"
 #include "hermite_sdf/sphere_trace_feature.h"
 #include "hermite_test_support.h"
@@ -34,8 +35,6 @@ using hsdf::RenderMethod;
 
 constexpr std::uint32_t kSize = 256;
 constexpr int kPixels = int(kSize * kSize);
-constexpr double kEpsilon = 1e-4;  // SphereTraceFeature::Settings default, in cells
-constexpr double kToleranceCells[2] = {4.0 * kEpsilon + 1.0 / 512.0, 4.0 * kEpsilon};  // trilinear, Hermite
 constexpr double kMaxToleranceViolations = 0.001;  // fraction of the pixels both hit
 
 int methodIndex(RenderMethod method) { return method == RenderMethod::TrilinearSphereTrace ? 0 : 1; }
@@ -159,7 +158,7 @@ class SphereTraceTest : public GpuTest {
         compareWithReference(shaded, &normals.rgba, reference, camera, field.grid.spacing, model);
     int commonHits = 0;
     const int violations = toleranceViolations(shaded, reference, camera, field.grid.spacing,
-                                               kToleranceCells[methodIndex(method)], commonHits, model);
+                                               tolerancesFor(*context_).traceStopCells, commonHits, model);
     std::printf("[ %s ] hits ref %d gpu %d, disagree %d, holes %d, extras %d, depth err p99 %.2e (interior %.2e) "
                 "max %.2e cells, beyond tolerance %d, normal err p99 %.3f deg, flipped %d\n",
                 label.c_str(), c.referenceHits, c.gpuHits, c.disagreements, c.interiorHoles, c.interiorExtras,
@@ -544,7 +543,7 @@ TEST_F(SphereTraceTest, ExtremeCamerasAndViewports) {
           compareWithReference(frame, nullptr, reference, setup.camera, asset->field.grid.spacing, model);
       int commonHits = 0;
       const int violations = toleranceViolations(frame, reference, setup.camera, asset->field.grid.spacing,
-                                                 kToleranceCells[methodIndex(method)], commonHits, model);
+                                                 tolerancesFor(*context_).traceStopCells, commonHits, model);
       std::printf("[ %s, %s ] hits ref %d gpu %d, disagree %d, holes %d, extras %d, beyond tolerance %d\n",
                   methodName(method), setup.label.c_str(), c.referenceHits, c.gpuHits, c.disagreements,
                   c.interiorHoles, c.interiorExtras, violations);
