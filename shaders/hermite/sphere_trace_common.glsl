@@ -60,8 +60,11 @@ float evaluateField(SphereTraceDraw draw, inout FieldCursor cursor, vec3 g) {
   return hermiteValue(cursor.corners, draw.gridOriginSpacing.w, g - vec3(cell));
 }
 
-// The tracer already evaluates the exact interpolant (in float, from texelFetch'ed corners).
-float exactFieldValue(SphereTraceDraw draw, inout FieldCursor cursor, vec3 g) { return evaluateField(draw, cursor, g); }
+// The tracer already evaluates the exact interpolant (in float, from texelFetch'ed corners): the
+// placement of a hit goes on with the tracer's cursor.
+#define ExactCache FieldCursor
+ExactCache newExactCache(FieldCursor cursor) { return cursor; }
+float exactFieldValue(SphereTraceDraw draw, inout ExactCache cache, vec3 g) { return evaluateField(draw, cache, g); }
 
 // Exact gradient of the interpolant, object units.
 vec3 exactFieldGradient(SphereTraceDraw draw, vec3 g) {
@@ -71,18 +74,12 @@ vec3 exactFieldGradient(SphereTraceDraw draw, vec3 g) {
   return hermiteValueGradient(corners, draw.gridOriginSpacing.w, g - vec3(cell)).yzw;
 }
 #else
-// The 8 texels of the last cell evaluated exactly (exactFieldValue); the filtered steps need none.
+// The filtered steps need no state.
 struct FieldCursor {
-  ivec3 cell;
-  float f[8];
+  int unused;
 };
 
-FieldCursor newFieldCursor() {
-  FieldCursor cursor;
-  cursor.cell = ivec3(-1);  // fieldCell() never returns it: the first exact evaluation fetches
-  for (int c = 0; c < 8; ++c) cursor.f[c] = 0.0;
-  return cursor;
-}
+FieldCursor newFieldCursor() { return FieldCursor(0); }
 
 // Texel centres: sample i sits at texture coordinate (i + 0.5) / K. The hardware filter is fast
 // but may quantize its weights (8 fractional bits on many GPUs): near the surface its f need not
@@ -92,16 +89,29 @@ float evaluateField(SphereTraceDraw draw, inout FieldCursor cursor, vec3 g) {
   return textureLod(FIELD_TEXTURE(draw), (g + 0.5) / float(draw.resolution), 0.0).r;
 }
 
+// The texels of the cell last evaluated exactly, kept while a hit is placed (a few evaluations,
+// mostly in one cell). Only the placement carries it: carried through the stepping loop, it made
+// lavapipe's prepass several times slower.
+struct ExactCache {
+  ivec3 cell;
+  vec4 lo;  // x = 0 corners, ordered by (y, z)
+  vec4 hi;  // x = 1 corners
+};
+
+ExactCache newExactCache(FieldCursor cursor) { return ExactCache(ivec3(-1), vec4(0.0), vec4(0.0)); }
+
 // The trilinear interpolant itself: its cell's 8 texels fetched and interpolated in float.
-float exactFieldValue(SphereTraceDraw draw, inout FieldCursor cursor, vec3 g) {
+float exactFieldValue(SphereTraceDraw draw, inout ExactCache cache, vec3 g) {
   ivec3 cell = fieldCell(draw, g);
-  if (cell != cursor.cell) {
-    cursor.cell = cell;
-    for (int c = 0; c < 8; ++c) cursor.f[c] = fieldSample(draw, cell + ivec3(c & 1, (c >> 1) & 1, c >> 2)).r;
+  if (cell != cache.cell) {
+    cache.cell = cell;
+    cache.lo = vec4(fieldSample(draw, cell).r, fieldSample(draw, cell + ivec3(0, 1, 0)).r,
+                    fieldSample(draw, cell + ivec3(0, 0, 1)).r, fieldSample(draw, cell + ivec3(0, 1, 1)).r);
+    cache.hi = vec4(fieldSample(draw, cell + ivec3(1, 0, 0)).r, fieldSample(draw, cell + ivec3(1, 1, 0)).r,
+                    fieldSample(draw, cell + ivec3(1, 0, 1)).r, fieldSample(draw, cell + ivec3(1, 1, 1)).r);
   }
   vec3 u = g - vec3(cell);
-  vec4 x = mix(vec4(cursor.f[0], cursor.f[2], cursor.f[4], cursor.f[6]),
-               vec4(cursor.f[1], cursor.f[3], cursor.f[5], cursor.f[7]), u.x);  // ordered by (y, z)
+  vec4 x = mix(cache.lo, cache.hi, u.x);  // ordered by (y, z)
   vec2 y = mix(x.xz, x.yw, u.y);
   return mix(y.x, y.y, u.z);
 }
@@ -146,19 +156,19 @@ struct TraceRay {
   float tPerGridUnit;  // 1 / |direction|
 };
 
-float exactAt(SphereTraceDraw draw, inout FieldCursor cursor, TraceRay ray, float t) {
-  return exactFieldValue(draw, cursor, ray.origin + t * ray.direction) / draw.gridOriginSpacing.w;
+float exactAt(SphereTraceDraw draw, inout ExactCache cache, TraceRay ray, float t) {
+  return exactFieldValue(draw, cache, ray.origin + t * ray.direction) / draw.gridOriginSpacing.w;
 }
 
 // The root of the exact interpolant between ta and tb, where its values fa and fb (grid units)
 // have opposite signs: Illinois (regula falsi that halves a stale end) until |f| < epsilon.
 const uint kBracketSteps = 12u;
-float rootInBracket(SphereTraceDraw draw, inout FieldCursor cursor, TraceRay ray, float ta, float fa, float tb,
+float rootInBracket(SphereTraceDraw draw, inout ExactCache cache, TraceRay ray, float ta, float fa, float tb,
                     float fb, inout uint evaluations) {
   int kept = 0;  // which end the last step kept: -1 a, 1 b
   for (uint i = 0u; i < kBracketSteps; ++i) {
     float t = (ta * fb - tb * fa) / (fb - fa);
-    float f = exactAt(draw, cursor, ray, t);
+    float f = exactAt(draw, cache, ray, t);
     ++evaluations;
     if (abs(f) < draw.epsilon) return t;
     if ((f < 0.0) == (fb < 0.0)) {
@@ -191,18 +201,18 @@ struct Settled {
 // coarse filter put the filtered surface where the exact one is not), and the ray goes on from
 // the returned t. Hermite: the tracer's values are exact, nothing to do.
 const uint kSettleSteps = 8u;
-Settled settleOnExact(SphereTraceDraw draw, inout FieldCursor cursor, TraceRay ray, float t, float d, float side,
+Settled settleOnExact(SphereTraceDraw draw, inout ExactCache cache, TraceRay ray, float t, float d, float side,
                       inout uint evaluations) {
 #ifdef SPHERE_TRACE_HERMITE
   return Settled(t, d, true);
 #else
-  float f = exactAt(draw, cursor, ray, t);
+  float f = exactAt(draw, cache, ray, t);
   ++evaluations;
   for (uint i = 0u; i < kSettleSteps && abs(f) >= draw.epsilon; ++i) {
     float tNext = t + side * f * ray.tPerGridUnit;
-    float fNext = exactAt(draw, cursor, ray, tNext);
+    float fNext = exactAt(draw, cache, ray, tNext);
     ++evaluations;
-    if (fNext * f < 0.0) return Settled(rootInBracket(draw, cursor, ray, t, f, tNext, fNext, evaluations), 0.0, true);
+    if (fNext * f < 0.0) return Settled(rootInBracket(draw, cache, ray, t, f, tNext, fNext, evaluations), 0.0, true);
     t = tNext;
     f = fNext;
   }
@@ -215,22 +225,22 @@ Settled settleOnExact(SphereTraceDraw draw, inout FieldCursor cursor, TraceRay r
 // the exact values at both ends lie beyond the surface, the exact surface is before ta (settled
 // from there); when both lie on the ray's side, the filter invented the crossing: not converged,
 // the ray goes on from tb with its exact distance.
-Settled hitInBracket(SphereTraceDraw draw, inout FieldCursor cursor, TraceRay ray, float ta, float fa, float tb,
+Settled hitInBracket(SphereTraceDraw draw, inout ExactCache cache, TraceRay ray, float ta, float fa, float tb,
                      float fb, float side, inout uint evaluations) {
 #ifndef SPHERE_TRACE_HERMITE
-  fa = exactAt(draw, cursor, ray, ta);
-  fb = exactAt(draw, cursor, ray, tb);
+  fa = exactAt(draw, cache, ray, ta);
+  fb = exactAt(draw, cache, ray, tb);
   evaluations += 2u;
   if (abs(fa) < draw.epsilon) return Settled(ta, fa, true);
   if (abs(fb) < draw.epsilon) return Settled(tb, fb, true);
   if (fa * fb > 0.0) {
     if (fa * side > 0.0) return Settled(tb, fb, false);
-    Settled back = settleOnExact(draw, cursor, ray, ta, fa, side, evaluations);
+    Settled back = settleOnExact(draw, cache, ray, ta, fa, side, evaluations);
     back.converged = true;  // the best place for a surface the ray has passed
     return back;
   }
 #endif
-  return Settled(rootInBracket(draw, cursor, ray, ta, fa, tb, fb, evaluations), 0.0, true);
+  return Settled(rootInBracket(draw, cache, ray, ta, fa, tb, fb, evaluations), 0.0, true);
 }
 
 // The shortest step, grid units. A ray that passes the surface at a distance just above epsilon
@@ -245,6 +255,10 @@ struct TraceResult {
   bool outOfSteps;   // the step limit ran out before a hit or the box's end: a miss, counted
 };
 
+// How many times a ray may go on after a crossing that the exact interpolant did not confirm (a
+// coarse filter's, hitInBracket / settleOnExact) before it gives up as out of steps.
+const uint kMaxUnconfirmed = 4u;
+
 // Sphere tracing of origin + t * direction (grid units) over [t0, t1]: step by the interpolated
 // distance f. The hit is the first of: |f| < epsilon * h (the paper's test, where it can be
 // reached), or a sign change of f between two steps (an overshoot: hardware-filtered values may
@@ -252,6 +266,9 @@ struct TraceResult {
 // surface); either is placed on the exact interpolant. A ray that starts inside the surface steps
 // by -f and finds where it leaves. Leaving the box, or running out of steps (maxSteps), misses;
 // the latter is reported so that it is counted, never silently dropped.
+// The steps and the placement are separate loops: the placement's evaluations run once per ray,
+// after the stepping loop, not inside it where every lane of a SIMD group or warp would wait for
+// each other lane's placement in turn (10x the prepass on lavapipe).
 TraceResult sphereTrace(SphereTraceDraw draw, vec3 origin, vec3 direction, float t0, float t1) {
   float h = draw.gridOriginSpacing.w;
   TraceRay ray = TraceRay(origin, direction, 1.0 / length(direction));
@@ -260,34 +277,34 @@ TraceResult sphereTrace(SphereTraceDraw draw, vec3 origin, vec3 direction, float
   float t = t0;
   float d = evaluateField(draw, cursor, origin + t * direction) / h;  // grid units, what the next step trusts
   float side = d < 0.0 ? -1.0 : 1.0;
-  for (;;) {
-    if (abs(d) < draw.epsilon) {
-      Settled settled = settleOnExact(draw, cursor, ray, t, d, side, result.evaluations);
-      if (settled.converged || settled.f * side <= 0.0) {
-        result.t = settled.t;
+  for (uint attempt = 0u; attempt < kMaxUnconfirmed; ++attempt) {
+    float tNext = t;
+    float dNext = d;
+    while (abs(d) >= draw.epsilon) {
+      if (result.evaluations >= draw.maxSteps) {
+        result.outOfSteps = true;
         return result;
       }
-      t = settled.t;
-      d = settled.f;
+      tNext = t + max(side * d, kMinStep) * ray.tPerGridUnit;
+      if (tNext > t1) return result;
+      dNext = evaluateField(draw, cursor, origin + tNext * direction) / h;
+      ++result.evaluations;
+      if (dNext * side < 0.0) break;
+      t = tNext;
+      d = dNext;
     }
-    if (result.evaluations >= draw.maxSteps) {
-      result.outOfSteps = true;
+    bool crossed = dNext * side < 0.0;
+    ExactCache cache = newExactCache(cursor);
+    Settled settled = crossed ? hitInBracket(draw, cache, ray, t, d, tNext, dNext, side, result.evaluations)
+                              : settleOnExact(draw, cache, ray, t, d, side, result.evaluations);
+    if (settled.converged || (!crossed && settled.f * side <= 0.0)) {
+      result.t = settled.t;
       return result;
     }
-    float tNext = t + max(side * d, kMinStep) * ray.tPerGridUnit;
-    if (tNext > t1) return result;
-    float dNext = evaluateField(draw, cursor, origin + tNext * direction) / h;
-    ++result.evaluations;
-    if (dNext * side < 0.0) {
-      Settled settled = hitInBracket(draw, cursor, ray, t, d, tNext, dNext, side, result.evaluations);
-      if (settled.converged) {
-        result.t = settled.t;
-        return result;
-      }
-      dNext = settled.f;
-    }
-    t = tNext;
-    d = dNext;
+    // The exact interpolant has no root here: go on with its distance.
+    t = crossed ? tNext : settled.t;
+    d = settled.f;
   }
-  return result;  // not reached
+  result.outOfSteps = true;
+  return result;
 }
