@@ -153,7 +153,7 @@ void expectMatchesRayCast(const Frame& frame, const Frame* normals, const RayCas
 // Why: exercises the whole path file -> importer -> entities -> mesh pool -> indirect draws ->
 // depth prepass; a wrong node transform, index offset or winding shows as a coverage difference.
 TEST_F(GpuTest, BunnyMatchesCpuRayCastOfItsTriangles) {
-  auto data = scene::loadGltf(std::filesystem::path(HSDF_ASSET_DIR) / "bunny.glb");
+  auto data = scene::loadGltf(sampleAsset("bunny.glb"));
   ASSERT_TRUE(data.ok()) << data.error().message;
   const render::InstantiatedScene instantiated = render::instantiateScene(*data, registry_, *pool_);
   ASSERT_FALSE(instantiated.renderables.empty());
@@ -194,7 +194,7 @@ scene::SceneData placeUnder(const scene::SceneData& data, const glm::mat4& paren
 // scene data through instantiateScene (TRS decomposition of each node, including a negative
 // scale) and the transform hierarchy, against a CPU cast of the same triangles in world space.
 TEST_F(GpuTest, MirroredScaledAndShearedGltfNodesMatchCpuRayCast) {
-  auto data = scene::loadGltf(std::filesystem::path(HSDF_ASSET_DIR) / "bunny.glb");
+  auto data = scene::loadGltf(sampleAsset("bunny.glb"));
   ASSERT_TRUE(data.ok()) << data.error().message;
   const auto [lo, hi] = soupBounds(scene::flattenTriangles(*data));
   const std::uint32_t w = 96, h = 96;
@@ -227,7 +227,7 @@ TEST_F(GpuTest, MirroredScaledAndShearedGltfNodesMatchCpuRayCast) {
 // buffer with different front faces; each batch must draw its own objects (an offset error would
 // draw one object twice and drop the other, a missing state change would cull one of them wrong).
 TEST_F(GpuTest, MirroredAndUnmirroredMeshesInOneFrame) {
-  auto data = scene::loadGltf(std::filesystem::path(HSDF_ASSET_DIR) / "bunny.glb");
+  auto data = scene::loadGltf(sampleAsset("bunny.glb"));
   ASSERT_TRUE(data.ok()) << data.error().message;
   const auto [lo, hi] = soupBounds(scene::flattenTriangles(*data));
   const glm::vec3 offset(0.6f * (hi.x - lo.x), 0.0f, 0.0f);
@@ -259,7 +259,7 @@ TEST_F(GpuTest, MirroredAndUnmirroredMeshesInOneFrame) {
 // pixels wide, here mirrored and sheared, push the projection and the viewport maths to their
 // ends; each must render without a validation message and match the ray cast.
 TEST_F(GpuTest, ExtremeCamerasAndViewportsMatchCpuRayCast) {
-  auto data = scene::loadGltf(std::filesystem::path(HSDF_ASSET_DIR) / "bunny.glb");
+  auto data = scene::loadGltf(sampleAsset("bunny.glb"));
   ASSERT_TRUE(data.ok()) << data.error().message;
   const scene::TriangleSoup original = scene::flattenTriangles(*data);
   const auto [lo, hi] = soupBounds(original);

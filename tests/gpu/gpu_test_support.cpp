@@ -1,6 +1,7 @@
 #include "gpu_test_support.h"
 
 #include <cmath>
+#include <cstdlib>
 
 #include <glm/gtc/matrix_transform.hpp>
 
@@ -31,6 +32,11 @@ std::unique_ptr<gpu::Context> createTestContext(bool synchronizationValidation) 
     return nullptr;
   }
   return std::move(context.value());
+}
+
+std::filesystem::path sampleAsset(const std::string& name) {
+  if (const char* dir = std::getenv("HSDF_ASSET_DIR"); dir && *dir) return std::filesystem::path(dir) / name;
+  return std::filesystem::path(HSDF_ASSET_DIR) / name;
 }
 
 std::vector<NamedTransform> userTransforms(const glm::vec3& pivot) {

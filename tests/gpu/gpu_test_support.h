@@ -1,6 +1,7 @@
 #pragma once
 // Shared fixture of the GPU tests: a context on the device HSDF_TEST_DEVICE names (lavapipe unless
 // set; tests/support/test_device.h) with validation layers on (a test fails on any validation message), a renderer with the mesh feature, and helpers to build small scenes.
+#include <filesystem>
 #include <memory>
 #include <string>
 #include <vector>
@@ -15,6 +16,10 @@
 #include "engine/render/renderer.h"
 
 namespace gputest {
+
+// A file of samples/assets: under $HSDF_ASSET_DIR when set (a packed test folder on another
+// machine, scripts/pack_gpu_tests.sh), else in this source tree.
+std::filesystem::path sampleAsset(const std::string& name);
 
 // Creates the context every GPU test uses, on the device HSDF_TEST_DEVICE names (lavapipe when
 // unset); validation is always on. An unknown HSDF_TEST_DEVICE fails the test naming the value.

@@ -3,7 +3,6 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
-#include <cstdlib>
 
 #include "engine/core/math.h"
 #include "engine/render/components.h"
@@ -20,7 +19,7 @@ using namespace engine;
 std::shared_ptr<const hsdf::SdfAsset> bakeAsset(const std::string& shape, int resolution) {
   std::unique_ptr<hsdf::SdfSource> source;
   if (shape == "bunny") {
-    auto data = scene::loadGltf(std::filesystem::path(HSDF_ASSET_DIR) / "bunny.glb");
+    auto data = scene::loadGltf(sampleAsset("bunny.glb"));
     EXPECT_TRUE(data.ok()) << data.error().message;
     if (!data) return nullptr;
     auto mesh = hsdf::MeshSource::create(scene::flattenTriangles(*data));
