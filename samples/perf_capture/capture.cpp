@@ -17,6 +17,7 @@
 #include "frame_step.h"
 #include "ground_truth.h"
 #include "hermite_sdf/analytic.h"
+#include "hermite_sdf/cell_feature.h"
 #include "hermite_sdf/cells.h"
 #include "metrics.h"
 #include "report.h"
@@ -83,6 +84,7 @@ void addStatistics(const TimedFrame& frame, double views, RowResult& result) {
     (prepass ? result.prepassFsInvocations : result.shadingFsInvocations) += double(s.fragmentShaderInvocations) / views;
     result.fsInvocations += double(s.fragmentShaderInvocations) / views;
     result.vsInvocations += double(s.vertexShaderInvocations) / views;
+    if (prepass) result.prepassVsInvocations += double(s.vertexShaderInvocations) / views;
     result.clippedPrimitives += double(s.clippingPrimitives) / views;
   }
 }
@@ -151,6 +153,8 @@ Status captureRow(const Group& g, const RowSpec& spec, std::size_t index, std::s
       shadingMs.push_back(last.shadingMs);
     }
     addStatistics(last, views, result);
+    const hsdf::HermiteCellFeature::Stats& cells = g.viewer.renderer().feature<hsdf::HermiteCellFeature>()->stats();
+    result.boxes += double(cells.runs > 0 ? cells.runs : cells.cells) / views;
     if (v == 0) {
       result.image = "images/" + fileName(spec.label) + ".png";
       ENGINE_TRY(g.viewer.writeScreenshot(g.options.out / result.image));

@@ -197,6 +197,24 @@ void targets(std::string& md, const std::vector<RowResult>& rows, const RunInfo&
   md += "\n";
 }
 
+// Issue 20's device-independent counts for the cell variants: on lavapipe the pipeline statistics
+// count fragments before the depth test, so only boxes that are never drawn lower the first one.
+void countTargets(std::string& md, const std::vector<RowResult>& rows, const RunInfo& info) {
+  if (!info.pipelineStatistics) return;
+  md += "## Count targets (issue 20; pipeline statistics, any device)\n\n"
+        "| row | prepass FS / covered px (target <= 3) | boxes / view | prepass VS / box (target <= 8) |\n"
+        "|---|---|---|---|\n";
+  for (const char* method : kCellMethods)
+    for (int k : resolutionsOf(rows)) {
+      const RowResult* c = cellTargetRow(rows, method, k);
+      if (!c || c->boxes <= 0.0) continue;
+      md += fmt::format("| {} | {:.2f} | {:.0f} | {:.2f} |\n", c->spec.label,
+                        perCovered(c->prepassFsInvocations, *c, info.views), c->boxes,
+                        c->prepassVsInvocations / c->boxes);
+    }
+  md += "\n";
+}
+
 void allRows(std::string& md, const std::vector<RowResult>& rows, const RunInfo& info) {
   md += "## Every row\n\n"
         "Times: median (p95) over views x timed frames; passes are medians. Work (device-independent): fragment "
@@ -292,14 +310,15 @@ engine::Status writeJson(const std::filesystem::path& path, const RunInfo& info,
         "    {{\"label\": \"{}\", \"method\": \"{}\", \"K\": {}, \"subdivisions\": {}, \"refinement\": {}, "
         "\"normals\": \"{}\", \"fp16\": {}, \"ok\": {}, \"error\": \"{}\", \"gpu_ms_median\": {}, \"gpu_ms_p95\": {}, "
         "\"prepass_ms\": {}, \"shading_ms\": {}, \"fs_invocations\": {}, \"prepass_fs_invocations\": {}, "
-        "\"shading_fs_invocations\": {}, \"vs_invocations\": {}, \"clipped_primitives\": {}, \"evals_per_pixel_mean\": "
+        "\"shading_fs_invocations\": {}, \"vs_invocations\": {}, \"prepass_vs_invocations\": {}, \"boxes\": {}, "
+        "\"clipped_primitives\": {}, \"evals_per_pixel_mean\": "
         "{}, \"evals_per_pixel_p95\": {}, \"covered_pixels\": {}, \"stored_scalars\": {}, \"stored_bytes\": {}, "
         "\"cells\": {}, \"coverage_mismatch\": {}, \"normal_err_mean_deg\": {}, \"normal_err_p95_deg\": {}, "
         "\"depth_err_mean\": {}, \"rays_out_of_steps\": {}, \"image\": \"{}\"}}{}\n",
         jsonEscape(r.spec.label), r.spec.method, r.spec.resolution, r.spec.subdivisions, r.spec.refine,
         r.spec.normalsName(), r.spec.fp16, r.ok, jsonEscape(r.error), r.gpuMsMedian, r.gpuMsP95, r.prepassMs,
         r.shadingMs, r.fsInvocations, r.prepassFsInvocations, r.shadingFsInvocations, r.vsInvocations,
-        r.clippedPrimitives, r.quality.evalsMean, r.quality.evalsP95, r.quality.coveredPixels, r.storedScalars,
+        r.prepassVsInvocations, r.boxes, r.clippedPrimitives, r.quality.evalsMean, r.quality.evalsP95, r.quality.coveredPixels, r.storedScalars,
         r.storedBytes, r.cells, r.quality.coverageMismatch, r.quality.normalErrorMean, r.quality.normalErrorP95,
         r.quality.depthErrorMean, r.quality.raysOutOfSteps, jsonEscape(r.image), i + 1 < rows.size() ? "," : "");
   }
@@ -322,6 +341,7 @@ engine::Status writeMarkdown(const std::filesystem::path& folder, const RunInfo&
   if (!info.pipelineStatistics) md += "This device has no pipeline-statistics queries: those columns are empty.\n\n";
   paperTable(md, rows);
   targets(md, rows, info);
+  countTargets(md, rows, info);
   md += "## Charts\n\n";
   ENGINE_TRY(chartSection(md, folder, "time_vs_k.png", "GPU ms per frame vs K (log-log)",
                           chartOf(rows, [](const RowResult& r) { return glm::dvec2(r.spec.resolution, r.gpuMsMedian); },

@@ -25,6 +25,10 @@ struct RowResult {
   double fsInvocations = 0.0;  // both passes
   double prepassFsInvocations = 0.0, shadingFsInvocations = 0.0;
   double vsInvocations = 0.0, clippedPrimitives = 0.0;
+  double prepassVsInvocations = 0.0;
+  // Proxy boxes the cells drew per frame (instances: cells, or runs for cells-runs), mean over
+  // views; 0 for the other methods.
+  double boxes = 0.0;
   RowQuality quality;
   std::uint64_t storedScalars = 0, storedBytes = 0, cells = 0;
   std::string image;           // first view's screenshot, relative to the output folder
