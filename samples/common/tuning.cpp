@@ -30,6 +30,8 @@ constexpr NameTable<DebugView, 6> kDebugViews{{{DebugView::None, "none"},
                                                {DebugView::Wireframe, "wireframe"}}};
 constexpr NameTable<SplitMode, 3> kSplitModes{
     {{SplitMode::Off, "off"}, {SplitMode::Vertical, "vertical"}, {SplitMode::Horizontal, "horizontal"}}};
+constexpr NameTable<EarlyDepth, 3> kEarlyDepths{
+    {{EarlyDepth::Auto, "auto"}, {EarlyDepth::On, "on"}, {EarlyDepth::Off, "off"}}};
 constexpr float kSplitMin = 0.05f, kSplitMax = 0.95f;  // both sides stay visible
 static_assert(std::uint32_t(DebugView::Normals) == DEBUG_VIEW_NORMALS && std::uint32_t(DebugView::Depth) == DEBUG_VIEW_DEPTH &&
               std::uint32_t(DebugView::Cells) == DEBUG_VIEW_CELLS && std::uint32_t(DebugView::Evals) == DEBUG_VIEW_EVALS &&
@@ -87,6 +89,19 @@ engine::Status readBool(const json& value, bool& out) {
   return {};
 }
 
+// true (on), false (off) or "auto" (the device decides: on for software rasterizers).
+engine::Status readEarlyDepth(const json& value, EarlyDepth& out) {
+  if (value.is_boolean()) {
+    out = value.get<bool>() ? EarlyDepth::On : EarlyDepth::Off;
+    return {};
+  }
+  if (value.is_string() && value.get<std::string>() == "auto") {
+    out = EarlyDepth::Auto;
+    return {};
+  }
+  return engine::makeError(fmt::format("expected true, false or \"auto\", got {}", value.dump()));
+}
+
 template <class T, std::size_t N>
 engine::Status readName(const json& value, const NameTable<T, N>& table, T& out) {
   const std::optional<T> parsed = value.is_string() ? valueOf(table, value.get<std::string>()) : std::nullopt;
@@ -114,7 +129,7 @@ engine::Status readKey(const std::string& key, const json& value, TuningState& t
   if (key == "fp16") return readBool(value, t.fp16);
   if (key == "debug_view") return readName(value, kDebugViews, t.debugView);
   if (key == "front_to_back") return readBool(value, t.frontToBack);
-  if (key == "early_depth") return readBool(value, t.earlyDepth);
+  if (key == "early_depth") return readEarlyDepth(value, t.earlyDepth);
   if (key == "certified") return readBool(value, t.certified);
   if (key == "split") return readName(value, kSplitModes, t.split);
   if (key == "split_position") return readFloat(value, kSplitMin, kSplitMax, t.splitPosition);
@@ -138,6 +153,8 @@ engine::Status readKey(const std::string& key, const json& value, TuningState& t
 }  // namespace
 
 const char* methodName(Method method) { return nameOf(kMethods, method); }
+const char* earlyDepthName(EarlyDepth mode) { return nameOf(kEarlyDepths, mode); }
+std::optional<EarlyDepth> parseEarlyDepth(std::string_view name) { return valueOf(kEarlyDepths, name); }
 const char* splitModeName(SplitMode mode) { return nameOf(kSplitModes, mode); }
 std::optional<SplitMode> parseSplitMode(std::string_view name) { return valueOf(kSplitModes, name); }
 
@@ -223,6 +240,7 @@ engine::Expected<TuningState> loadTuning(const std::filesystem::path& file, cons
 }
 
 engine::Status saveTuning(const std::filesystem::path& file, const TuningState& t) {
+  const json earlyDepth = t.earlyDepth == EarlyDepth::Auto ? json("auto") : json(t.earlyDepth == EarlyDepth::On);
   const json root = {{"method", methodName(t.method)},
                      {"resolution", t.resolution},
                      {"padding", t.padding},
@@ -232,7 +250,7 @@ engine::Status saveTuning(const std::filesystem::path& file, const TuningState& 
                      {"fp16", t.fp16},
                      {"debug_view", debugViewName(t.debugView)},
                      {"front_to_back", t.frontToBack},
-                     {"early_depth", t.earlyDepth},
+                     {"early_depth", earlyDepth},
                      {"certified", t.certified},
                      {"split", splitModeName(t.split)},
                      {"split_position", t.splitPosition},

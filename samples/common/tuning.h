@@ -31,6 +31,13 @@ enum class DebugView : std::uint32_t { None = 0, Normals = 1, Depth = 2, Cells =
 const char* debugViewName(DebugView view);  // "none", "normals", "depth", "cells", "evals", "wireframe"
 std::optional<DebugView> parseDebugView(std::string_view name);
 
+// The cells' early depth stage (hsdf::HermiteCellFeature::EarlyDepth): auto (on for software
+// rasterizers such as lavapipe, off on GPUs, where it costs more than it saves), on, off. A settings
+// file writes it as true, false or "auto".
+enum class EarlyDepth { Auto, On, Off };
+const char* earlyDepthName(EarlyDepth mode);  // "auto", "on", "off"
+std::optional<EarlyDepth> parseEarlyDepth(std::string_view name);
+
 // Split-screen comparison: off, or a divider that is vertical (compared method on the right) or
 // horizontal (compared method at the bottom).
 enum class SplitMode { Off, Vertical, Horizontal };
@@ -62,7 +69,7 @@ struct TuningState {
   bool fp16 = false;
   DebugView debugView = DebugView::None;
   bool frontToBack = true;  // cells: submit rows of cells front to back
-  bool earlyDepth = true;   // cells: test boxes at their faces' depth, hidden ones skip the search
+  EarlyDepth earlyDepth = EarlyDepth::Auto;  // cells: test boxes at their faces' depth, hidden ones skip the search
   bool certified = false;   // cells: certified root search instead of n samples (renderable.h)
   // Split-screen comparison (same camera, same frame): the tuning above on one side, the compared
   // method on the other, drawn from its own bake at compareResolution with compareNormals (n,
@@ -102,7 +109,8 @@ TuningState compareTuning(const TuningState& tuning);
 void applyTuning(const TuningState& tuning, hsdf::HermiteSdfRenderable& renderable);
 
 // Settings files: JSON objects with the keys "method", "resolution", "padding", "subdivisions",
-// "refine", "normals", "fp16", "debug_view", "front_to_back", "early_depth", "certified", "split",
+// "refine", "normals", "fp16", "debug_view", "front_to_back", "early_depth" (true, false or "auto"),
+// "certified", "split",
 // "split_position" (0.05..0.95), "compare_method", "compare_resolution" (0: 2K, else 2..256),
 // "compare_normals", "difference", all optional. Loading starts from
 // `base`; an unknown key, a value of the wrong type or out of range is refused naming the key

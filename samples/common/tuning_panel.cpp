@@ -84,9 +84,16 @@ void TuningPanel::drawMethod() {
   ImGui::SameLine();
   changed |= ImGui::Checkbox("front to back", &t.frontToBack);
   ImGui::SameLine();
-  changed |= ImGui::Checkbox("early depth", &t.earlyDepth);
+  static_assert(int(EarlyDepth::Auto) == 0 && int(EarlyDepth::On) == 1 && int(EarlyDepth::Off) == 2);
+  int early = int(t.earlyDepth);
+  ImGui::SetNextItemWidth(ImGui::GetFontSize() * 4.0f);
+  if (ImGui::Combo("early depth", &early, "auto\0on\0off\0")) {  // the order of samples::EarlyDepth
+    t.earlyDepth = EarlyDepth(early);
+    changed = true;
+  }
   if (ImGui::IsItemHovered())
-    ImGui::SetTooltip("cells: boxes tested at their faces' depth, so boxes behind a found hit skip the search");
+    ImGui::SetTooltip("cells: boxes tested at their faces' depth, so boxes behind a found hit skip the search;\n"
+                      "auto: on for software rasterizers (lavapipe), off on GPUs, where it costs more than it saves");
   ImGui::SameLine();
   changed |= ImGui::Checkbox("certified roots", &t.certified);
   if (ImGui::IsItemHovered())

@@ -304,7 +304,10 @@ void Viewer::applyTuningToScene() {
       [this](ecs::Entity, hsdf::HermiteSdfRenderable& renderable) { applyTuning(tuning_, renderable); });
   hsdf::HermiteCellFeature::Settings& cells = renderer_->feature<hsdf::HermiteCellFeature>()->settings();
   cells.frontToBack = tuning_.frontToBack;
-  cells.earlyDepth = tuning_.earlyDepth;
+  using CellEarlyDepth = hsdf::HermiteCellFeature::EarlyDepth;
+  cells.earlyDepth = tuning_.earlyDepth == EarlyDepth::On    ? CellEarlyDepth::On
+                     : tuning_.earlyDepth == EarlyDepth::Off ? CellEarlyDepth::Off
+                                                             : CellEarlyDepth::Auto;
 }
 
 // The scene as `tuning` draws it, the SDF entity showing `asset`: a view region's override.

@@ -107,7 +107,15 @@ void addTuningOptions(CLI::App& app, TuningState& t) {
                          DebugView::Wireframe},
                         samples::debugViewName));
   app.add_flag("!--no-front-to-back", t.frontToBack, "cells: submit in storage order, not front to back");
-  app.add_flag("!--no-early-depth", t.earlyDepth, "cells: test the boxes at the hits' depth, not their faces' (every box runs its search)");
+  auto* early = app.add_option("--early-depth", t.earlyDepth,
+                                "cells: the early depth stage, boxes tested at their faces' depth: auto (default: on "
+                                "for software rasterizers, off on GPUs), on or off")
+                    ->transform(oneOf({samples::EarlyDepth::Auto, samples::EarlyDepth::On, samples::EarlyDepth::Off},
+                                      samples::earlyDepthName));
+  app.add_flag_callback(
+         "--no-early-depth", [&t] { t.earlyDepth = samples::EarlyDepth::Off; },
+         "cells: --early-depth off (every box runs its search)")
+      ->excludes(early);
   app.add_flag("--certified", t.certified, "cells: certified root search (never misses the first root) instead of n samples");
   app.add_option("--split", t.split, "split-screen comparison: off, vertical or horizontal (divider)")
       ->transform(oneOf({samples::SplitMode::Off, samples::SplitMode::Vertical, samples::SplitMode::Horizontal},

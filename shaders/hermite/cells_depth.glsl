@@ -1,6 +1,7 @@
 // Depth prepass of the Hermite cells: the paper's intersection. Included by cells_depth.frag
 // (front faces, conservative depth) and cells_depth_near.frag (back faces of cells the near plane
-// may cut; no depth guarantee relative to the face).
+// may cut; no depth guarantee relative to the face), and by their variants that count work
+// (*_counted.frag) or belong to the early depth stage (*_early.frag): hit_depth.glsl.
 #extension GL_GOOGLE_include_directive : require
 #include "hermite/hermite_host_device.h"
 #include "hermite/segment_roots.glsl"
@@ -8,7 +9,6 @@
 
 layout(push_constant, scalar) uniform Push { HermitePushConstants pc; };
 layout(buffer_reference, scalar) readonly buffer HermiteDrawsRef { HermiteDraw draws[]; };
-layout(buffer_reference, scalar) buffer CountersRef { uint counts[]; };
 
 layout(location = 0) flat in vec4 inCorners[8];
 layout(location = 8) flat in uvec4 inCell;
@@ -61,17 +61,16 @@ void main() {
                                (draw.flags & HERMITE_FLAG_CERTIFIED) != 0u, evaluations);
     if (s >= 0.0) t = mix(t0, t1, s);
   }
-  if (pc.counters != 0ul) {
-    ivec2 pixel = ivec2(gl_FragCoord.xy);
-    FrameGlobals frame = FrameGlobalsRef(pc.draw.frameGlobals).globals;
-    atomicAdd(CountersRef(pc.counters).counts[pixel.y * int(frame.viewport.x) + pixel.x], evaluations);
-  }
-  if (t < 0.0) discard;
+  countWork(evaluations);
+  if (t < 0.0) {
+    writeMiss();  // no discard: see hit_depth.glsl
+  } else {
 #ifdef HSDF_CONSERVATIVE_DEPTH
-  // A root before this fragment's face (in the margin) is a neighbour's, found exactly by the
-  // neighbour: here it is drawn at the face, which keeps the depth conservative.
-  t = max(t, 1.0);
+    // A root before this fragment's face (in the margin) is a neighbour's, found exactly by the
+    // neighbour: here it is drawn at the face, which keeps the depth conservative.
+    t = max(t, 1.0);
 #endif
-  writeHitDepth(gl_FragCoord.z / t);
-  outVisibility = uvec2(draw.object + 1u, inRecord);
+    writeHitDepth(gl_FragCoord.z / t);
+  }
+  outVisibility = uvec2(draw.object + 1u, inRecord);  // kept only where the depth test passes
 }

@@ -1,6 +1,6 @@
 // Depth prepass of the Hermite cell runs (RenderMethod::CellRuns). Included by runs_depth.frag
 // (front faces, conservative depth) and runs_depth_near.frag (back faces of runs the near plane may
-// cut). The same search as the cells (cells_depth.glsl), cell by cell along the ray inside the run:
+// cut), and by their counting and early depth variants (hit_depth.glsl). The same search as the cells (cells_depth.glsl), cell by cell along the ray inside the run:
 // each cell is searched over its own box dilated as in the cells (docs/root-finding.md), from the
 // cell the ray enters first, and the walk stops at the first root.
 #extension GL_GOOGLE_include_directive : require
@@ -10,7 +10,6 @@
 
 layout(push_constant, scalar) uniform Push { HermitePushConstants pc; };
 layout(buffer_reference, scalar) readonly buffer HermiteDrawsRef { HermiteDraw draws[]; };
-layout(buffer_reference, scalar) buffer CountersRef { uint counts[]; };
 layout(buffer_reference, scalar) readonly buffer CellRecordsRef { CellRecordGpu records[]; };
 layout(buffer_reference, scalar) readonly buffer CellRecordsHalfRef { CellRecordHalfGpu records[]; };
 
@@ -80,15 +79,14 @@ void main() {
       }
     }
   }
-  if (pc.counters != 0ul) {
-    ivec2 pixel = ivec2(gl_FragCoord.xy);
-    FrameGlobals frame = FrameGlobalsRef(pc.draw.frameGlobals).globals;
-    atomicAdd(CountersRef(pc.counters).counts[pixel.y * int(frame.viewport.x) + pixel.x], evaluations);
-  }
-  if (t < 0.0) discard;
+  countWork(evaluations);
+  if (t < 0.0) {
+    writeMiss();  // no discard: see hit_depth.glsl
+  } else {
 #ifdef HSDF_CONSERVATIVE_DEPTH
-  t = max(t, 1.0);  // a root in the margin before the run's face is drawn at the face (cells_depth.glsl)
+    t = max(t, 1.0);  // a root in the margin before the run's face is drawn at the face (cells_depth.glsl)
 #endif
-  writeHitDepth(gl_FragCoord.z / t);
-  outVisibility = uvec2(draw.object + 1u, hitRecord);
+    writeHitDepth(gl_FragCoord.z / t);
+  }
+  outVisibility = uvec2(draw.object + 1u, hitRecord);  // kept only where the depth test passes
 }

@@ -210,7 +210,7 @@ TEST_F(HermiteCellsTest, EarlyDepthDrawsTheSameSurfaceWithFewerEvaluations) {
     std::uint64_t evaluations = 0;
   };
   const auto draw = [&](const render::CameraView& camera, bool early) {
-    feature->settings().earlyDepth = early;
+    feature->settings().earlyDepth = early ? hsdf::HermiteCellFeature::EarlyDepth::On : hsdf::HermiteCellFeature::EarlyDepth::Off;
     render::FrameSettings settings;
     settings.countWork = true;
     renderer_->renderFrame(registry_, camera, settings);
@@ -279,6 +279,120 @@ TEST_F(HermiteCellsTest, EarlyDepthDrawsTheSameSurfaceWithFewerEvaluations) {
   expectSame(*torus, render::CameraView::lookAt(eye, surface + glm::vec3(0.0f, 0.3f * h, 0.0f), 1.2f, 0.25f * h, 1.0f),
              "inside a cell", false);
   EXPECT_GT(feature->stats().nearCells, 0u);
+}
+
+// The production prepass holds no buffer write and no discard (a miss writes the far plane's depth,
+// which the GREATER test rejects; hit_depth.glsl); counting frames use the *_counted variants.
+// Both must draw bit for bit the same depth and visibility, for the front faces (conservative
+// depth), the near-plane cells (drawn by their back faces; the inside-a-cell camera) and the runs,
+// in fp32 and fp16, and the variant must be chosen by whether the frame counts (the renderer's
+// work counters or the evaluation heat map), and never in the early depth stage, whose own
+// variants count.
+TEST_F(HermiteCellsTest, CountedVariantDrawsTheProductionImage) {
+  createCellRenderer(kSize, kSize);
+  auto* feature = renderer_->feature<hsdf::HermiteCellFeature>();
+  feature->settings().earlyDepth = hsdf::HermiteCellFeature::EarlyDepth::Off;
+  const auto torus = bakeAsset("torus", 16);
+  ASSERT_NE(torus, nullptr);
+  const ecs::Entity object = addSdf(registry_, torus, hsdf::RenderMethod::Cells);
+  const hsdf::Aabb bounds = torus->surfaceBounds;
+  const float h = float(torus->field.grid.spacing);
+  // Half a cell in front of the ring, seen from the hole: the near plane cuts cells, which are drawn
+  // by their back faces (as in EarlyDepthDrawsTheSameSurfaceWithFewerEvaluations).
+  const glm::vec3 hole = glm::vec3(bounds.center()) + glm::vec3(0.0f, 0.05f * float(bounds.size().y), 0.0f);
+  const glm::vec3 ring = glm::vec3(bounds.center()) + glm::vec3(float(bounds.size().x) * 0.5f, 0.0f, 0.0f);
+  auto hit = hsdf::castRay(torus->field, {glm::dvec3(hole), glm::normalize(glm::dvec3(ring - hole))});
+  ASSERT_TRUE(hit.ok() && hit->has_value());
+  const glm::vec3 surface((*hit)->position);
+  const glm::vec3 eye = surface - 0.5f * h * glm::normalize(ring - hole);
+  const render::CameraView inside =
+      render::CameraView::lookAt(eye, surface + glm::vec3(0.0f, 0.3f * h, 0.0f), 1.2f, 0.25f * h, 1.0f);
+
+  struct Buffers {
+    std::vector<float> depth;
+    std::vector<glm::uvec2> visibility;
+    std::uint64_t evaluations = 0;
+  };
+  const auto draw = [&](const render::CameraView& camera, bool count) {
+    render::FrameSettings settings;
+    settings.countWork = count;
+    renderer_->renderFrame(registry_, camera, settings);
+    Buffers b;
+    b.depth = renderer_->readbackDepth();
+    b.visibility = renderer_->readbackVisibility();
+    if (count)
+      for (std::uint32_t n : renderer_->readbackWorkCounters()) b.evaluations += n;
+    EXPECT_EQ(feature->stats().countedVariant, count);
+    EXPECT_FALSE(feature->stats().earlyDepth);
+    return b;
+  };
+  struct Case {
+    const char* label;
+    hsdf::RenderMethod method;
+    bool half;
+    render::CameraView camera;
+  };
+  const Case cases[] = {{"cells", hsdf::RenderMethod::Cells, false, orbitCamera(*torus, 1)},
+                        {"cells fp16", hsdf::RenderMethod::Cells, true, orbitCamera(*torus, 2)},
+                        {"cells inside", hsdf::RenderMethod::Cells, false, inside},
+                        {"runs", hsdf::RenderMethod::CellRuns, false, orbitCamera(*torus, 1)},
+                        {"runs inside", hsdf::RenderMethod::CellRuns, false, inside}};
+  for (const Case& c : cases) {
+    auto& renderable = registry_.get<hsdf::HermiteSdfRenderable>(object);
+    renderable.method = c.method;
+    renderable.halfPrecision = c.half;
+    const Buffers plain = draw(c.camera, false);
+    const Buffers counted = draw(c.camera, true);
+    const bool near = feature->stats().nearCells > 0;
+    int covered = 0, differ = 0;
+    for (std::size_t i = 0; i < plain.depth.size(); ++i) {
+      covered += plain.depth[i] > 0.0f;
+      differ += plain.depth[i] != counted.depth[i] || plain.visibility[i] != counted.visibility[i];
+    }
+    std::printf("[ %s ] covered %d, differ %d, near cells %s, evaluations %llu\n", c.label, covered, differ,
+                near ? "yes" : "no", static_cast<unsigned long long>(counted.evaluations));
+    EXPECT_GT(covered, 500) << c.label;
+    EXPECT_EQ(differ, 0) << c.label;
+    EXPECT_GT(counted.evaluations, std::uint64_t(covered)) << c.label << ": every covered pixel searched at least once";
+    if (std::string(c.label).ends_with("inside")) {
+      EXPECT_TRUE(near) << c.label << ": the near-plane variant was not drawn";
+    }
+  }
+
+  // The heat map counts with the feature's own counters: the counted variant too.
+  registry_.get<hsdf::HermiteSdfRenderable>(object).method = hsdf::RenderMethod::Cells;
+  (void)renderWith(orbitCamera(*torus, 1), DEBUG_VIEW_EVALS);
+  EXPECT_TRUE(feature->stats().countedVariant);
+  (void)renderWith(orbitCamera(*torus, 1), DEBUG_VIEW_NORMALS);
+  EXPECT_FALSE(feature->stats().countedVariant);
+  // The early depth stage counts in its own variants.
+  feature->settings().earlyDepth = hsdf::HermiteCellFeature::EarlyDepth::On;
+  render::FrameSettings counting;
+  counting.countWork = true;
+  renderer_->renderFrame(registry_, orbitCamera(*torus, 1), counting);
+  EXPECT_TRUE(feature->stats().earlyDepth);
+  EXPECT_FALSE(feature->stats().countedVariant);
+  std::uint64_t earlyEvaluations = 0;
+  for (std::uint32_t n : renderer_->readbackWorkCounters()) earlyEvaluations += n;
+  EXPECT_GT(earlyEvaluations, 0u);
+}
+
+// Auto: the early depth stage is for software rasterizers (in-order shading), not for GPUs, where
+// its atomicMax costs early depth rejection (../shared/gpu/h100-b505968/README.md §3b).
+TEST_F(HermiteCellsTest, EarlyDepthAutoFollowsTheDevice) {
+  using EarlyDepth = hsdf::HermiteCellFeature::EarlyDepth;
+  EXPECT_TRUE(hsdf::HermiteCellFeature::earlyDepthWanted(EarlyDepth::Auto, true));
+  EXPECT_FALSE(hsdf::HermiteCellFeature::earlyDepthWanted(EarlyDepth::Auto, false));
+  EXPECT_TRUE(hsdf::HermiteCellFeature::earlyDepthWanted(EarlyDepth::On, false));
+  EXPECT_FALSE(hsdf::HermiteCellFeature::earlyDepthWanted(EarlyDepth::Off, true));
+  createCellRenderer(64, 64);
+  auto* feature = renderer_->feature<hsdf::HermiteCellFeature>();
+  EXPECT_EQ(feature->settings().earlyDepth, EarlyDepth::Auto);
+  const auto torus = bakeAsset("torus", 16);
+  ASSERT_NE(torus, nullptr);
+  addSdf(registry_, torus, hsdf::RenderMethod::Cells);
+  (void)renderWith(orbitCamera(*torus, 0), DEBUG_VIEW_NONE);
+  EXPECT_EQ(feature->stats().earlyDepth, context_->capabilities().isSoftwareRasterizer);
 }
 
 // Cell runs (RenderMethod::CellRuns) draw the same cells as one box per run along x and walk them

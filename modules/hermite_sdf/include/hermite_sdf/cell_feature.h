@@ -19,14 +19,20 @@
 // objects keep their front faces through OBJECT_FLAG_MIRRORED (shaders/hermite/box.glsl).
 // Submission order: rows of cells are sorted front to back by the camera's octant so that early
 // depth testing rejects hidden cells (switchable, to measure the effect).
-// Early depth (Settings::earlyDepth, on by default): the boxes are drawn in the renderer's early
-// depth stage at the depth of their own faces, so a box behind an already found hit fails an early
-// depth test and never runs its search (the GPU and lavapipe both skip such fragments; a shader
-// that writes depth is tested only after it ran). The hits' true depths go to a per-pixel buffer
-// that a fix-up pass writes into the depth buffer before any other prepass draw
-// (shaders/hermite/hit_depth.glsl). Within one object the nearest face with a hit belongs to the
-// box with the nearest hit; between objects it need not, so a frame whose cell objects overlap on
-// screen draws them by depth as before.
+// Prepass variants (shaders/hermite/hit_depth.glsl): the production pipelines' fragment shaders
+// hold no `discard` and no buffer write (a miss writes the far plane's depth), since on a GPU a
+// shader that merely contains either loses early depth rejection (on an H100 that halved the
+// prepass); frames that count work (the renderer's work counters, the evaluation heat map) use the
+// *_counted variants, and the early depth stage its own *_early variants.
+// Early depth (Settings::earlyDepth; Auto: on for software rasterizers only): the boxes are drawn
+// in the renderer's early depth stage at the depth of their own faces, so a box behind an already
+// found hit fails an early depth test and never runs its search. That pays on lavapipe, which
+// shades 4x4 blocks in submission order (40-60 % of the prepass), and not on an H100, where
+// fragments run in parallel and out of order and the stage's atomicMax costs early rejection
+// (../shared/gpu/h100-b505968/README.md §3b). The hits' true depths go to a per-pixel buffer
+// that a fix-up pass writes into the depth buffer before any other prepass draw. Within one object
+// the nearest face with a hit belongs to the box with the nearest hit; between objects it need
+// not, so a frame whose cell objects overlap on screen draws them by depth as before.
 // RenderMethod::CellRuns objects are drawn by the same feature from the same record buffers: one
 // box per run of kept cells along x (runs.vert), walked cell by cell in the fragment shader with
 // the same search (runs_depth.glsl), records read by address; the shading pass is shared.
@@ -52,9 +58,16 @@ class HermiteCellFeature final : public engine::render::RenderFeature {
  public:
   static constexpr std::uint32_t kFeatureId = 2;
 
+  // Whether the boxes are tested at their faces' depth in the early depth stage (see above).
+  enum class EarlyDepth : std::uint8_t { Auto, On, Off };
+  // Auto: on exactly for software rasterizers (context.capabilities().isSoftwareRasterizer).
+  static bool earlyDepthWanted(EarlyDepth mode, bool softwareRasterizer) {
+    return mode == EarlyDepth::On || (mode == EarlyDepth::Auto && softwareRasterizer);
+  }
+
   struct Settings {
     bool frontToBack = true;  // sort rows of cells by the view octant
-    bool earlyDepth = true;   // test the boxes at their faces' depth in the early depth stage
+    EarlyDepth earlyDepth = EarlyDepth::Auto;
     bool heatMapCounters = true;  // count evaluations per pixel when the debug view asks for it
     // RenderMethod::CellRuns: the most cells one run's box covers. Longer runs mean fewer, larger
     // boxes and longer walks per fragment.
@@ -69,6 +82,7 @@ class HermiteCellFeature final : public engine::render::RenderFeature {
     std::uint32_t skippedObjects = 0;  // transform not invertible (e.g. scaled to zero): not drawn
     std::uint64_t gpuBytes = 0;     // cell buffers
     bool earlyDepth = false;        // the last frame drew the boxes in the early depth stage
+    bool countedVariant = false;    // the last frame's prepass used the *_counted pipelines
   };
 
   HermiteCellFeature();
@@ -112,18 +126,24 @@ class HermiteCellFeature final : public engine::render::RenderFeature {
   const engine::gpu::Context* context_ = nullptr;
   Settings settings_;
   Stats stats_;
+  // The prepass's fragment-shader variants (shaders/hermite/hit_depth.glsl).
+  enum Variant : int {
+    kProduction = 0,  // cells_depth{,_near}.frag: no discard, no buffer write
+    kCounted = 1,     // *_counted.frag: + the evaluation counters, in frames that count work
+    kEarly = 2,       // cells_depth_early.frag (front faces at their own depth), *_near_early.frag
+    kVariants = 3,
+  };
   struct Pipelines {
-    // [precision]: 0 = fp32, 1 = fp16 records.
-    engine::gpu::Pipeline depthFront[2];
-    engine::gpu::Pipeline depthEarly[2];  // front faces at their own depth (Settings::earlyDepth)
-    engine::gpu::Pipeline depthNear[2];
+    // [variant][precision]: precision 0 = fp32, 1 = fp16 records.
+    engine::gpu::Pipeline depthFront[kVariants][2];
+    engine::gpu::Pipeline depthNear[kVariants][2];
     engine::gpu::Pipeline wire[2];  // DEBUG_VIEW_WIREFRAME: the boxes' edges
-    engine::gpu::Pipeline runsFront;  // RenderMethod::CellRuns, both precisions
-    engine::gpu::Pipeline runsEarly;
-    engine::gpu::Pipeline runsNear;
+    engine::gpu::Pipeline runsFront[kVariants];  // RenderMethod::CellRuns, both precisions
+    engine::gpu::Pipeline runsNear[kVariants];
     engine::gpu::Pipeline resolve;
     engine::gpu::Pipeline depthFixup;  // the hits' true depth after the early stage
   };
+  Variant prepassVariant(const engine::render::FrameContext& frame) const;
   engine::Expected<Pipelines> createPipelines() const;
 
   engine::render::RendererFormats formats_;

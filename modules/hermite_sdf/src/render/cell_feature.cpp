@@ -146,58 +146,48 @@ engine::Expected<HermiteCellFeature::Pipelines> HermiteCellFeature::createPipeli
   const engine::gpu::Context& context = *context_;
   const engine::render::RendererFormats& formats = formats_;
   Pipelines p;
+  // Fragment shaders per prepass variant (Variant; shaders/hermite/hit_depth.glsl): front faces, near cells.
+  static constexpr const char* kCellsFront[kVariants] = {"cells_depth.frag", "cells_depth_counted.frag",
+                                                         "cells_depth_early.frag"};
+  static constexpr const char* kCellsNear[kVariants] = {"cells_depth_near.frag", "cells_depth_near_counted.frag",
+                                                        "cells_depth_near_early.frag"};
+  static constexpr const char* kRunsFront[kVariants] = {"runs_depth.frag", "runs_depth_counted.frag",
+                                                        "runs_depth_early.frag"};
+  static constexpr const char* kRunsNear[kVariants] = {"runs_depth_near.frag", "runs_depth_near_counted.frag",
+                                                       "runs_depth_near_early.frag"};
+  static constexpr const char* kVariantNames[kVariants] = {"", " counted", " early"};
   ENGINE_TRY_ASSIGN(auto vert, engine::gpu::ShaderModule::load(context, "cells.vert"));
-  ENGINE_TRY_ASSIGN(auto depthFrag, engine::gpu::ShaderModule::load(context, "cells_depth.frag"));
-  ENGINE_TRY_ASSIGN(auto nearFrag, engine::gpu::ShaderModule::load(context, "cells_depth_near.frag"));
-  ENGINE_TRY_ASSIGN(auto earlyFrag, engine::gpu::ShaderModule::load(context, "cells_depth_early.frag"));
-  ENGINE_TRY_ASSIGN(auto fixupFrag, engine::gpu::ShaderModule::load(context, "cells_depth_fixup.frag"));
+  ENGINE_TRY_ASSIGN(auto fixupFrag, engine::gpu::ShaderModule::load(context, "cells_depth_early_fixup.frag"));
   ENGINE_TRY_ASSIGN(auto resolveVert, engine::gpu::ShaderModule::load(context, "cells_resolve.vert"));
   ENGINE_TRY_ASSIGN(auto wireVert, engine::gpu::ShaderModule::load(context, "cells_wire.vert"));
   ENGINE_TRY_ASSIGN(auto wireFrag, engine::gpu::ShaderModule::load(context, "cells_wire.frag"));
   ENGINE_TRY_ASSIGN(auto resolveFrag, engine::gpu::ShaderModule::load(context, "cells_resolve.frag"));
   ENGINE_TRY_ASSIGN(auto runsVert, engine::gpu::ShaderModule::load(context, "runs.vert"));
-  ENGINE_TRY_ASSIGN(auto runsFrag, engine::gpu::ShaderModule::load(context, "runs_depth.frag"));
-  ENGINE_TRY_ASSIGN(auto runsNearFrag, engine::gpu::ShaderModule::load(context, "runs_depth_near.frag"));
-  ENGINE_TRY_ASSIGN(auto runsEarlyFrag, engine::gpu::ShaderModule::load(context, "runs_depth_early.frag"));
 
-  for (int precision = 0; precision < 2; ++precision) {
-    const std::string suffix = precision == 0 ? " fp32" : " fp16";
-    engine::gpu::GraphicsPipelineDesc desc;
-    desc.vertex = vert.handle();
-    desc.vertexLayout = cellVertexLayout(precision);
-    desc.pushConstantBytes = sizeof(shader::HermitePushConstants);
-    desc.depthFormat = formats.depth;
-    desc.colorFormats = {formats.visibility};
-    desc.depthCompare = VK_COMPARE_OP_GREATER;
-
-    desc.name = "hermite cells depth" + suffix;
-    desc.fragment = depthFrag.handle();
-    desc.cullMode = VK_CULL_MODE_BACK_BIT;
-    ENGINE_TRY_ASSIGN(p.depthFront[precision], Pipeline::createGraphics(context, desc));
-    desc.name = "hermite cells depth early" + suffix;
-    desc.fragment = earlyFrag.handle();
-    ENGINE_TRY_ASSIGN(p.depthEarly[precision], Pipeline::createGraphics(context, desc));
-
-    desc.name = "hermite cells depth near" + suffix;
-    desc.fragment = nearFrag.handle();
-    desc.cullMode = VK_CULL_MODE_FRONT_BIT;
-    ENGINE_TRY_ASSIGN(p.depthNear[precision], Pipeline::createGraphics(context, desc));
-
-    // Wireframe: edges over the shaded frame, hidden where the surface is in front of them.
-    engine::gpu::GraphicsPipelineDesc wire = desc;
-    wire.name = "hermite cells wireframe" + suffix;
-    wire.vertex = wireVert.handle();
-    wire.fragment = wireFrag.handle();
-    wire.topology = VK_PRIMITIVE_TOPOLOGY_LINE_LIST;
-    std::erase_if(wire.vertexLayout.attributes, [](const auto& a) { return a.location != 8; });  // coordinates only
-    wire.cullMode = VK_CULL_MODE_NONE;
-    wire.colorFormats = {formats.color};
-    wire.depthWrite = false;
-    wire.depthCompare = VK_COMPARE_OP_GREATER_OR_EQUAL;
-    ENGINE_TRY_ASSIGN(p.wire[precision], Pipeline::createGraphics(context, wire));
-  }
-  // Cell runs: records by address, one pipeline pair for both precisions (HERMITE_FLAG_HALF_RECORDS).
-  {
+  for (int variant = 0; variant < kVariants; ++variant) {
+    ENGINE_TRY_ASSIGN(auto frontFrag, engine::gpu::ShaderModule::load(context, kCellsFront[variant]));
+    ENGINE_TRY_ASSIGN(auto nearFrag, engine::gpu::ShaderModule::load(context, kCellsNear[variant]));
+    for (int precision = 0; precision < 2; ++precision) {
+      const std::string suffix = std::string(kVariantNames[variant]) + (precision == 0 ? " fp32" : " fp16");
+      engine::gpu::GraphicsPipelineDesc desc;
+      desc.vertex = vert.handle();
+      desc.vertexLayout = cellVertexLayout(precision);
+      desc.pushConstantBytes = sizeof(shader::HermitePushConstants);
+      desc.depthFormat = formats.depth;
+      desc.colorFormats = {formats.visibility};
+      desc.depthCompare = VK_COMPARE_OP_GREATER;  // a miss writes depth 0, which this rejects (hit_depth.glsl)
+      desc.name = "hermite cells depth" + suffix;
+      desc.fragment = frontFrag.handle();
+      desc.cullMode = VK_CULL_MODE_BACK_BIT;
+      ENGINE_TRY_ASSIGN(p.depthFront[variant][precision], Pipeline::createGraphics(context, desc));
+      desc.name = "hermite cells depth near" + suffix;
+      desc.fragment = nearFrag.handle();
+      desc.cullMode = VK_CULL_MODE_FRONT_BIT;
+      ENGINE_TRY_ASSIGN(p.depthNear[variant][precision], Pipeline::createGraphics(context, desc));
+    }
+    // Cell runs: records by address, one pipeline pair for both precisions (HERMITE_FLAG_HALF_RECORDS).
+    ENGINE_TRY_ASSIGN(auto runsFrontFrag, engine::gpu::ShaderModule::load(context, kRunsFront[variant]));
+    ENGINE_TRY_ASSIGN(auto runsNearFrag, engine::gpu::ShaderModule::load(context, kRunsNear[variant]));
     engine::gpu::GraphicsPipelineDesc desc;
     desc.vertex = runsVert.handle();
     desc.vertexLayout = runVertexLayout();
@@ -205,17 +195,32 @@ engine::Expected<HermiteCellFeature::Pipelines> HermiteCellFeature::createPipeli
     desc.depthFormat = formats.depth;
     desc.colorFormats = {formats.visibility};
     desc.depthCompare = VK_COMPARE_OP_GREATER;
-    desc.name = "hermite cell runs depth";
-    desc.fragment = runsFrag.handle();
+    desc.name = std::string("hermite cell runs depth") + kVariantNames[variant];
+    desc.fragment = runsFrontFrag.handle();
     desc.cullMode = VK_CULL_MODE_BACK_BIT;
-    ENGINE_TRY_ASSIGN(p.runsFront, Pipeline::createGraphics(context, desc));
-    desc.name = "hermite cell runs depth early";
-    desc.fragment = runsEarlyFrag.handle();
-    ENGINE_TRY_ASSIGN(p.runsEarly, Pipeline::createGraphics(context, desc));
-    desc.name = "hermite cell runs depth near";
+    ENGINE_TRY_ASSIGN(p.runsFront[variant], Pipeline::createGraphics(context, desc));
+    desc.name = std::string("hermite cell runs depth near") + kVariantNames[variant];
     desc.fragment = runsNearFrag.handle();
     desc.cullMode = VK_CULL_MODE_FRONT_BIT;
-    ENGINE_TRY_ASSIGN(p.runsNear, Pipeline::createGraphics(context, desc));
+    ENGINE_TRY_ASSIGN(p.runsNear[variant], Pipeline::createGraphics(context, desc));
+  }
+
+  // Wireframe: edges over the shaded frame, hidden where the surface is in front of them.
+  for (int precision = 0; precision < 2; ++precision) {
+    engine::gpu::GraphicsPipelineDesc wire;
+    wire.name = std::string("hermite cells wireframe") + (precision == 0 ? " fp32" : " fp16");
+    wire.vertex = wireVert.handle();
+    wire.fragment = wireFrag.handle();
+    wire.vertexLayout = cellVertexLayout(precision);
+    std::erase_if(wire.vertexLayout.attributes, [](const auto& a) { return a.location != 8; });  // coordinates only
+    wire.pushConstantBytes = sizeof(shader::HermitePushConstants);
+    wire.topology = VK_PRIMITIVE_TOPOLOGY_LINE_LIST;
+    wire.cullMode = VK_CULL_MODE_NONE;
+    wire.depthFormat = formats.depth;
+    wire.colorFormats = {formats.color};
+    wire.depthWrite = false;
+    wire.depthCompare = VK_COMPARE_OP_GREATER_OR_EQUAL;
+    ENGINE_TRY_ASSIGN(p.wire[precision], Pipeline::createGraphics(context, wire));
   }
   // Shading: a rectangle over the cell objects' screen bounds; which of its pixels are ours comes
   // from the visibility buffer.
@@ -480,7 +485,8 @@ void HermiteCellFeature::buildDraws(engine::render::FrameContext& frame) {
       }
     }
   }
-  earlyDepth_ = settings_.earlyDepth && stats_.draws > 0 && !objectsOverlap;
+  earlyDepth_ = earlyDepthWanted(settings_.earlyDepth, context_->capabilities().isSoftwareRasterizer) &&
+                stats_.draws > 0 && !objectsOverlap;
   if (!allCommands.empty()) {
     indirect_.upload(frame.frameSlot, allCommands);
     drawData_.upload(frame.frameSlot, allDraws);
@@ -520,6 +526,7 @@ void HermiteCellFeature::prepare(engine::render::FrameContext& frame) {
   ensureCounters(frame);
   ensureHitDepths(frame);
   stats_.earlyDepth = earlyDepth_;
+  stats_.countedVariant = stats_.draws > 0 && prepassVariant(frame) == kCounted;
 }
 
 // The per-pixel hit depths of the early depth stage, zero between frames (the fix-up clears what
@@ -554,6 +561,14 @@ void HermiteCellFeature::ensureHitDepths(engine::render::FrameContext& frame) {
                              VK_PIPELINE_STAGE_2_FRAGMENT_SHADER_BIT, kStorageReadWrite);
 }
 
+// The production pipelines unless the frame counts work or draws the early depth stage (whose
+// variants count when pc.counters is set: they hold buffer writes anyway). The counted variants
+// then draw the same image as the production ones, and count what they counted before.
+HermiteCellFeature::Variant HermiteCellFeature::prepassVariant(const engine::render::FrameContext& frame) const {
+  if (earlyDepth_) return kEarly;
+  return counterAddress(frame, countersActive_, counters_) != 0 ? kCounted : kProduction;
+}
+
 void HermiteCellFeature::recordBatch(engine::render::PassContext& pass, int precision, bool near) {
   const Batch& batch = *batches_[precision];
   const std::uint32_t first = near ? batch.nearFirst : batch.frontFirst;
@@ -561,9 +576,10 @@ void HermiteCellFeature::recordBatch(engine::render::PassContext& pass, int prec
   if (count == 0) return;
   VkCommandBuffer cmd = pass.cmd;
   const bool runs = precision == kRunBatch;
-  const Pipeline& front = runs ? (earlyDepth_ ? pipelines_.runsEarly : pipelines_.runsFront)
-                                : (earlyDepth_ ? pipelines_.depthEarly[precision] : pipelines_.depthFront[precision]);
-  const Pipeline& pipeline = !near ? front : runs ? pipelines_.runsNear : pipelines_.depthNear[precision];
+  const Variant variant = prepassVariant(pass.frame);
+  const Pipeline& pipeline = runs ? (near ? pipelines_.runsNear[variant] : pipelines_.runsFront[variant])
+                                  : (near ? pipelines_.depthNear[variant][precision]
+                                          : pipelines_.depthFront[variant][precision]);
   vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, pipeline.handle());
   const VkBuffer vertexBuffer = runs ? buffers_->runs.handle() : buffers_->records[precision].handle();
   const VkDeviceSize offset = 0;
@@ -672,8 +688,10 @@ void HermiteCellFeature::recordPrepassDraws(engine::render::PassContext& pass) {
 void HermiteCellFeature::drawUi() {
   if (!ImGui::CollapsingHeader("Hermite cells", ImGuiTreeNodeFlags_DefaultOpen)) return;
   // Read-only: the application owns the setting (the scene runner's tuning panel writes it).
-  ImGui::Text("front-to-back rows: %s, early depth: %s", settings_.frontToBack ? "on" : "off",
-              stats_.earlyDepth ? "on" : settings_.earlyDepth ? "off (objects overlap on screen)" : "off");
+  const bool wanted = earlyDepthWanted(settings_.earlyDepth, context_->capabilities().isSoftwareRasterizer);
+  const char* mode = settings_.earlyDepth == EarlyDepth::Auto ? " (auto)" : "";
+  ImGui::Text("front-to-back rows: %s, early depth: %s%s", settings_.frontToBack ? "on" : "off",
+              stats_.earlyDepth ? "on" : wanted ? "off (objects overlap on screen)" : "off", mode);
   ImGui::Text("objects %u, cells %llu, draws %u, near cells %u, skipped %u", stats_.objects,
               static_cast<unsigned long long>(stats_.cells), stats_.draws, stats_.nearCells, stats_.skippedObjects);
   ImGui::Text("cell buffers: %.2f MiB", double(stats_.gpuBytes) / (1024.0 * 1024.0));

@@ -26,6 +26,7 @@ TEST(Tuning, EveryNameParsesBackToItsValue) {
                       DebugView::Wireframe})
     EXPECT_EQ(parseDebugView(debugViewName(v)), v);
   for (SplitMode m : {SplitMode::Off, SplitMode::Vertical, SplitMode::Horizontal}) EXPECT_EQ(parseSplitMode(splitModeName(m)), m);
+  for (EarlyDepth m : {EarlyDepth::Auto, EarlyDepth::On, EarlyDepth::Off}) EXPECT_EQ(parseEarlyDepth(earlyDepthName(m)), m);
   EXPECT_FALSE(parseMethod("Cells").has_value()) << "names are case-sensitive, as on the command line";
   EXPECT_FALSE(parseNormalMode("").has_value());
 }
@@ -72,7 +73,7 @@ TEST(Tuning, SettingsFileRoundTrip) {
   t.fp16 = true;
   t.debugView = DebugView::Wireframe;
   t.frontToBack = false;
-  t.earlyDepth = false;
+  t.earlyDepth = EarlyDepth::Off;
   t.certified = true;
   t.split = SplitMode::Horizontal;
   t.splitPosition = 0.3f;  // exact in binary and in the JSON text
@@ -85,6 +86,34 @@ TEST(Tuning, SettingsFileRoundTrip) {
   const auto loaded = loadTuning(file);
   ASSERT_TRUE(loaded.ok()) << loaded.error().message;
   EXPECT_TRUE(*loaded == t);
+}
+
+// Tricky: early_depth has three values in two JSON types (true / false / "auto"); each must come
+// back as itself, and "auto" must be the default a file without the key keeps.
+TEST(Tuning, EarlyDepthRoundTripsItsThreeValues) {
+  EXPECT_EQ(TuningState{}.earlyDepth, EarlyDepth::Auto);
+  const auto file = tempFile("early_depth.json");
+  for (EarlyDepth mode : {EarlyDepth::Auto, EarlyDepth::On, EarlyDepth::Off}) {
+    TuningState t;
+    t.earlyDepth = mode;
+    ASSERT_TRUE(saveTuning(file, t).ok());
+    const auto text = engine::readTextFile(file);
+    ASSERT_TRUE(text.ok());
+    const char* expected = mode == EarlyDepth::Auto ? R"("early_depth": "auto")"
+                           : mode == EarlyDepth::On ? R"("early_depth": true)"
+                                                    : R"("early_depth": false)";
+    EXPECT_NE(text->find(expected), std::string::npos) << *text;
+    TuningState base;
+    base.earlyDepth = mode == EarlyDepth::Off ? EarlyDepth::On : EarlyDepth::Off;  // not what the file says
+    const auto loaded = loadTuning(file, base);
+    ASSERT_TRUE(loaded.ok()) << loaded.error().message;
+    EXPECT_EQ(loaded->earlyDepth, mode) << earlyDepthName(mode);
+  }
+  TuningState t;
+  ASSERT_TRUE(setTuningValue(t, "early_depth", "false").ok());  // a --script line
+  EXPECT_EQ(t.earlyDepth, EarlyDepth::Off);
+  ASSERT_TRUE(setTuningValue(t, "early_depth", "auto").ok());
+  EXPECT_EQ(t.earlyDepth, EarlyDepth::Auto);
 }
 
 // Tricky: keys left out keep the base's values (a file may set only the method).
@@ -124,6 +153,7 @@ TEST(Tuning, BadSettingsFilesNameTheKeyAndFile) {
       {R"({"compare_resolution": 1})", "setting 'compare_resolution': 1 is outside 2..256"},
       {R"({"compare_resolution": 3, "padding": 1})", "--compare-resolution 3 leaves no cells inside --padding 1"},
       {R"({"difference": 1})", "setting 'difference': expected true or false"},
+      {R"({"early_depth": "on"})", "setting 'early_depth': expected true, false or \"auto\", got \"on\""},
   };
   const auto file = tempFile("bad.json");
   for (const Case& c : cases) {

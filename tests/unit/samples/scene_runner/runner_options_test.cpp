@@ -90,7 +90,7 @@ TEST(RunnerOptions, EveryOptionsGoodValue) {
   EXPECT_EQ(o.tuning.debugView, DebugView::Evals);
   EXPECT_TRUE(o.sideBySide);
   EXPECT_FALSE(o.tuning.frontToBack);
-  EXPECT_FALSE(o.tuning.earlyDepth);
+  EXPECT_EQ(o.tuning.earlyDepth, samples::EarlyDepth::Off);
   EXPECT_TRUE(o.tuning.certified);
   EXPECT_EQ(o.view, 3);
   ASSERT_TRUE(o.camera.has_value());
@@ -184,6 +184,8 @@ TEST(RunnerOptions, BadValuesNameTheOption) {
       {{"--compare-resolution", "300"}, "--compare-resolution"},
       {{"--compare-resolution", "3", "--padding", "1"}, "--compare-resolution 3 leaves no cells inside --padding 1"},
       {{"--compare-normals", "forward"}, "--compare-normals: 'forward' is not one of exact, central"},
+      {{"--early-depth", "yes"}, "--early-depth: 'yes' is not one of auto, on, off"},
+      {{"--early-depth", "on", "--no-early-depth"}, "excludes"},
   };
   for (const Case& c : cases) {
     const ParseResult result = parse(c.args);
@@ -191,6 +193,16 @@ TEST(RunnerOptions, BadValuesNameTheOption) {
     EXPECT_EQ(result.exitCode, 2) << c.args.front();
     EXPECT_TRUE(contains(result.message, c.expected)) << "expected '" << c.expected << "' in: " << result.message;
   }
+}
+
+// Tricky: the early depth stage has three values; --no-early-depth (older scripts) must stay --early-depth
+// off, and the default must be auto (the device decides), not on.
+TEST(RunnerOptions, EarlyDepthModes) {
+  EXPECT_EQ(parseOk({}).tuning.earlyDepth, samples::EarlyDepth::Auto);
+  EXPECT_EQ(parseOk({"--no-early-depth"}).tuning.earlyDepth, samples::EarlyDepth::Off);
+  EXPECT_EQ(parseOk({"--early-depth", "off"}).tuning.earlyDepth, samples::EarlyDepth::Off);
+  EXPECT_EQ(parseOk({"--early-depth", "on"}).tuning.earlyDepth, samples::EarlyDepth::On);
+  EXPECT_EQ(parseOk({"--early-depth", "auto"}).tuning.earlyDepth, samples::EarlyDepth::Auto);
 }
 
 // Tricky: --help is not an error (exit 0) and its text lists the options, new ones included.

@@ -1,8 +1,9 @@
 #version 460
-// After the cells' early depth stage (hit_depth.glsl): the depth buffer holds the faces of the
-// boxes that found the nearest hits; this pass, drawn over the cell objects' screen rectangle
-// (cells_resolve.vert) before any other prepass draw, replaces them with the hits' true depth and
-// clears the per-pixel buffer for the next frame. Visibility is left as the early stage wrote it.
+// After the cells' early depth stage (hit_depth.glsl; chosen on software rasterizers only): the
+// depth buffer holds the faces of the boxes that found the nearest hits; this pass, drawn over the
+// cell objects' screen rectangle (cells_resolve.vert) before any other prepass draw, replaces them
+// with the hits' true depth and clears the per-pixel buffer for the next frame. Visibility is left
+// as the early stage wrote it.
 #extension GL_GOOGLE_include_directive : require
 #include "hermite/hermite_host_device.h"
 
