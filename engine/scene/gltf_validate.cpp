@@ -10,6 +10,7 @@
 #include <optional>
 #include <string>
 #include <string_view>
+#include <utility>
 #include <vector>
 
 #include <fmt/format.h>
@@ -185,21 +186,27 @@ Status optionalNumberInRange(const Json& object, const char* key, const std::str
   return {};
 }
 
-// A list of ids (node.children, scene.nodes): at least one, unique, each in range.
+// A list of ids (node.children, scene.nodes): at least one, unique, each in range. Duplicates are
+// found by sorting the list, not with a table as long as the array it points into: a file of many
+// nodes with a child each would otherwise cost nodes^2.
 Status optionalIndexList(const Json& object, const char* key, const std::string& path, std::size_t available,
                          std::string_view arrayName) {
   ENGINE_TRY_ASSIGN(const Json* array, optionalArray(object, key, path, 1));
   if (!array) return {};
   const std::string arrayPath = member(path, key);
-  std::vector<bool> seen(available, false);
+  std::vector<std::pair<std::int64_t, std::size_t>> sorted;  // (id, position in the list)
+  sorted.reserve(array->size());
   for (std::size_t i = 0; i < array->size(); ++i) {
     const std::string itemPath = element(arrayPath, i);
     ENGINE_TRY_ASSIGN(const std::int64_t value, integerValue((*array)[i], itemPath));
     ENGINE_TRY(checkIndex(value, available, arrayName, itemPath));
-    if (seen[std::size_t(value)])
-      return makeError(fmt::format("{}: {} is listed twice (schema: uniqueItems)", itemPath, value));
-    seen[std::size_t(value)] = true;
+    sorted.emplace_back(value, i);
   }
+  std::sort(sorted.begin(), sorted.end());
+  for (std::size_t k = 1; k < sorted.size(); ++k)
+    if (sorted[k].first == sorted[k - 1].first)
+      return makeError(fmt::format("{}: {} is listed twice (schema: uniqueItems)", element(arrayPath, sorted[k].second),
+                                   sorted[k].first));
   return {};
 }
 
