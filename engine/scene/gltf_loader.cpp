@@ -16,8 +16,10 @@
 //    `indices` out of the primitives and reads the KHR_draco_mesh_compression and
 //    EXT_meshopt_compression objects itself (an ExtensionPlan), and gives fallback buffers a
 //    4-byte data: URI; the conversion decodes them (gltf_compression.h).
-// Everything tinygltf leaves unchecked (accessor/bufferView/buffer ranges, node graph, counts,
-// finiteness) is checked in the conversion below before any byte is read.
+// The JSON is checked against the glTF 2.0 schema's ranges first (gltf_validate.h: tinygltf drops
+// or wraps some out-of-range numbers silently). Everything else tinygltf leaves unchecked (ranges
+// against the buffers' real bytes, node graph, finiteness) is checked in the conversion below
+// before any byte is read.
 #include "engine/scene/gltf_loader.h"
 
 #include <algorithm>
@@ -42,6 +44,7 @@
 #include "engine/core/files.h"
 #include "engine/core/log.h"
 #include "engine/scene/gltf_compression.h"
+#include "engine/scene/gltf_validate.h"
 
 namespace engine::scene {
 namespace {
@@ -372,6 +375,8 @@ Expected<SanitizedJson> sanitizeJson(std::span<const std::uint8_t> text, std::ve
   if (tooDeep) return makeError(fmt::format("JSON nested deeper than {} levels", kMaxJsonDepth));
   if (!document.is_object()) return makeError("the top-level JSON value is not an object");
   ENGINE_TRY(checkExtensions(document, warnings));
+  // Before the plan and tinygltf read any number: both would take some broken values silently.
+  ENGINE_TRY(checkGltfSchema(document));
   SanitizedJson out;
   ENGINE_TRY(planPrimitives(document, out.plan));
   ENGINE_TRY(planBuffers(document, out.plan));

@@ -1,10 +1,12 @@
 #pragma once
 // glTF 2.0 import (.gltf with external or data: buffers, and .glb) into plain CPU scene data.
 //
-// The importer treats every file as untrusted: each index, offset, stride, count and component type
-// is checked before a byte is read, the node hierarchy is checked for cycles and shared children,
-// and a malformed file yields an error naming the file and the problem, e.g.
-//   "bad.gltf: mesh 0 'Cube' primitive 0 POSITION: accessor 2: bufferView 7 out of range (file has 3)".
+// The importer treats every file as untrusted: every numeric field it reads is first checked against
+// the glTF 2.0 schema's ranges (gltf_validate.h), then each index, offset, stride and count is
+// checked against the data before a byte is read, and the node hierarchy for cycles and shared
+// children. A malformed file yields an error naming the file and the problem, e.g.
+//   "bad.gltf: accessors[2].byteOffset: -4 is negative (schema: minimum 0)"
+//   "bad.gltf: mesh 0 'Cube' primitive 0: POSITION: accessor 2: count 9 with stride 12 runs past the end of bufferView 0 ..."
 // It never crashes, hangs or allocates in proportion to a count it has not checked against the data.
 //
 // What is imported (for GltfLoadOptions::scene, else the default scene, else scene 0, else every
