@@ -62,13 +62,6 @@ hsdf::HermiteSample sphereSample(const glm::dvec3& p, const glm::dvec3& center, 
   return {float(length - radius), float(g.x), float(g.y), float(g.z)};
 }
 
-hsdf::TrilinearField trilinearOf(const hsdf::HermiteField& field) {
-  hsdf::TrilinearField out;
-  out.grid = field.grid;
-  for (const hsdf::HermiteSample& s : field.samples) out.values.push_back(s.f);
-  return out;
-}
-
 struct Case {
   std::string label;
   hsdf::HermiteField field;

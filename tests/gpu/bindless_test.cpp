@@ -40,35 +40,6 @@ const char* methodName(RenderMethod method) {
   return method == RenderMethod::TrilinearSphereTrace ? "trilinear" : "hermite";
 }
 
-ecs::Entity addTracedSdf(ecs::Registry& registry, std::shared_ptr<const hsdf::SdfAsset> asset, RenderMethod method,
-                         const glm::mat4& transform = glm::mat4(1.0f), bool half = false) {
-  const ecs::Entity entity = registry.create();
-  registry.emplace<scene::WorldTransform>(entity, scene::WorldTransform{transform});
-  hsdf::HermiteSdfRenderable renderable;
-  renderable.asset = std::move(asset);
-  renderable.method = method;
-  renderable.halfPrecision = half;
-  registry.emplace<hsdf::HermiteSdfRenderable>(entity, renderable);
-  return entity;
-}
-
-// The reference image of the interpolant `method` draws (trilinear: the f samples alone).
-hsdf::ReferenceImage referenceFor(RenderMethod method, const hsdf::HermiteField& field,
-                                  const render::CameraView& camera) {
-  auto reference = [&]() -> Expected<hsdf::ReferenceImage> {
-    if (method == RenderMethod::TrilinearSphereTrace) {
-      hsdf::TrilinearField trilinear;
-      trilinear.grid = field.grid;
-      for (const hsdf::HermiteSample& s : field.samples) trilinear.values.push_back(s.f);
-      return hsdf::renderReference(trilinear, camera.view, camera.proj, {int(kSize), int(kSize)});
-    }
-    ENGINE_TRY_ASSIGN(const hsdf::CellClassification cells, hsdf::classifyCells(field));
-    return hsdf::renderReference(field, camera.view, camera.proj, {int(kSize), int(kSize)}, &cells);
-  }();
-  EXPECT_TRUE(reference.ok()) << reference.error().message;
-  return reference ? std::move(reference.value()) : hsdf::ReferenceImage{};
-}
-
 render::CameraView orbitCamera(const glm::vec3& center, float radius, int view) {
   const float yaw = 0.4f + float(view) * 1.57f;
   const float pitch = (view % 2 == 0) ? 0.35f : -0.5f;
@@ -249,7 +220,7 @@ TEST_F(BindlessTest, EachMethodMatchesItsReference) {
       const Frame shaded = draw(*renderer_, camera, DEBUG_VIEW_NONE);
       const Frame normals = draw(*renderer_, camera, DEBUG_VIEW_NORMALS);
       ASSERT_TRUE(stats(*renderer_).bindless);
-      const hsdf::ReferenceImage reference = referenceFor(method, asset->field, camera);
+      const hsdf::ReferenceImage reference = referenceFor(method, asset->field, camera, {int(kSize), int(kSize)});
       const ImageComparison c =
           compareWithReference(shaded, &normals.rgba, reference, camera, asset->field.grid.spacing);
       std::printf("[ %s ] hits ref %d gpu %d, disagree %d, holes %d, extras %d, interior depth p99 %.2e cells, "

@@ -9,6 +9,7 @@
 #include "engine/scene/gltf_loader.h"
 #include "engine/scene/transform.h"
 #include "hermite_sdf/analytic.h"
+#include "hermite_sdf/cells.h"
 #include "hermite_sdf/field.h"
 #include "hermite_sdf/mesh_source.h"
 
@@ -41,6 +42,40 @@ std::shared_ptr<const hsdf::SdfAsset> bakeAsset(const std::string& shape, int re
   auto asset = hsdf::makeSdfAsset(shape, std::move(field.value()), source->bounds());
   EXPECT_TRUE(asset.ok()) << asset.error().message;
   return asset ? asset.value() : nullptr;
+}
+
+hsdf::TrilinearField trilinearOf(const hsdf::HermiteField& field) {
+  hsdf::TrilinearField out;
+  out.grid = field.grid;
+  out.values.reserve(field.samples.size());
+  for (const hsdf::HermiteSample& s : field.samples) out.values.push_back(s.f);
+  return out;
+}
+
+hsdf::ReferenceImage referenceFor(hsdf::RenderMethod method, const hsdf::HermiteField& field,
+                                  const render::CameraView& camera, glm::ivec2 size, const glm::mat4& model) {
+  hsdf::RenderOptions options;
+  options.model = model;
+  auto reference = [&]() -> Expected<hsdf::ReferenceImage> {
+    if (method == hsdf::RenderMethod::TrilinearSphereTrace)
+      return hsdf::renderReference(trilinearOf(field), camera.view, camera.proj, size, options);
+    ENGINE_TRY_ASSIGN(const hsdf::CellClassification cells, hsdf::classifyCells(field));
+    return hsdf::renderReference(field, camera.view, camera.proj, size, &cells, options);
+  }();
+  EXPECT_TRUE(reference.ok()) << reference.error().message;
+  return reference ? std::move(reference.value()) : hsdf::ReferenceImage{};
+}
+
+ecs::Entity addTracedSdf(ecs::Registry& registry, std::shared_ptr<const hsdf::SdfAsset> asset,
+                         hsdf::RenderMethod method, const glm::mat4& transform, bool half) {
+  const ecs::Entity entity = registry.create();
+  registry.emplace<scene::WorldTransform>(entity, scene::WorldTransform{transform});
+  hsdf::HermiteSdfRenderable renderable;
+  renderable.asset = std::move(asset);
+  renderable.method = method;
+  renderable.halfPrecision = half;
+  registry.emplace<hsdf::HermiteSdfRenderable>(entity, renderable);
+  return entity;
 }
 
 ecs::Entity addSdf(ecs::Registry& registry, std::shared_ptr<const hsdf::SdfAsset> asset, hsdf::RenderMethod method,

@@ -16,6 +16,22 @@ namespace gputest {
 // at K samples per axis with one cell of padding. Fails the test on error.
 std::shared_ptr<const hsdf::SdfAsset> bakeAsset(const std::string& shape, int resolution);
 
+// The f samples alone: the field the trilinear tracer draws.
+hsdf::TrilinearField trilinearOf(const hsdf::HermiteField& field);
+
+// The CPU reference image (of `size` pixels) of the interpolant a sphere-tracing `method` draws,
+// for an object placed by `model`. Hermite casts through the kept cells only: the same hits as
+// all cells (reference.h), faster. Fails the test on error.
+hsdf::ReferenceImage referenceFor(hsdf::RenderMethod method, const hsdf::HermiteField& field,
+                                  const engine::render::CameraView& camera, glm::ivec2 size,
+                                  const glm::mat4& model = glm::mat4(1.0f));
+
+// An entity drawing `asset` with a sphere-tracing `method` (no Transform: `transform` is its
+// WorldTransform), from fp16 textures when `half`.
+engine::ecs::Entity addTracedSdf(engine::ecs::Registry& registry, std::shared_ptr<const hsdf::SdfAsset> asset,
+                                 hsdf::RenderMethod method, const glm::mat4& transform = glm::mat4(1.0f),
+                                 bool half = false);
+
 engine::ecs::Entity addSdf(engine::ecs::Registry& registry, std::shared_ptr<const hsdf::SdfAsset> asset,
                            hsdf::RenderMethod method, const glm::mat4& transform = glm::mat4(1.0f),
                            std::uint32_t subdivisions = 3);

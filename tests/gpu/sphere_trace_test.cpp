@@ -40,49 +40,12 @@ constexpr double kMaxToleranceViolations = 0.001;  // fraction of the pixels bot
 int methodIndex(RenderMethod method) { return method == RenderMethod::TrilinearSphereTrace ? 0 : 1; }
 const char* methodName(RenderMethod method) { return methodIndex(method) == 0 ? "trilinear" : "hermite"; }
 
-hsdf::TrilinearField trilinearOf(const hsdf::HermiteField& field) {
-  hsdf::TrilinearField out;
-  out.grid = field.grid;
-  out.values.reserve(field.samples.size());
-  for (const hsdf::HermiteSample& s : field.samples) out.values.push_back(s.f);
-  return out;
-}
-
 // The field as the fp16 textures hold it.
 hsdf::HermiteField roundedToHalf(const hsdf::HermiteField& field) {
   hsdf::HermiteField out = field;
   auto round = [](float v) { return hsdf::halfToFloat(hsdf::floatToHalf(v)); };
   for (hsdf::HermiteSample& s : out.samples) s = {round(s.f), round(s.fx), round(s.fy), round(s.fz)};
   return out;
-}
-
-// The reference image (of `size` pixels) of the interpolant `method` draws, for an object placed
-// by `model`. Hermite casts through the kept cells only: the same hits as all cells (reference.h),
-// faster.
-hsdf::ReferenceImage referenceFor(RenderMethod method, const hsdf::HermiteField& field, const render::CameraView& camera,
-                                  const glm::mat4& model = glm::mat4(1.0f), glm::ivec2 size = {int(kSize), int(kSize)}) {
-  hsdf::RenderOptions options;
-  options.model = model;
-  auto reference = [&]() -> Expected<hsdf::ReferenceImage> {
-    if (method == RenderMethod::TrilinearSphereTrace)
-      return hsdf::renderReference(trilinearOf(field), camera.view, camera.proj, size, options);
-    ENGINE_TRY_ASSIGN(const hsdf::CellClassification cells, hsdf::classifyCells(field));
-    return hsdf::renderReference(field, camera.view, camera.proj, size, &cells, options);
-  }();
-  EXPECT_TRUE(reference.ok()) << reference.error().message;
-  return reference ? std::move(reference.value()) : hsdf::ReferenceImage{};
-}
-
-// An entity drawing `asset` with `method`, placed by `transform`.
-ecs::Entity addTracedSdf(ecs::Registry& registry, std::shared_ptr<const hsdf::SdfAsset> asset, RenderMethod method,
-                         const glm::mat4& transform = glm::mat4(1.0f)) {
-  const ecs::Entity entity = registry.create();
-  registry.emplace<scene::WorldTransform>(entity, scene::WorldTransform{transform});
-  hsdf::HermiteSdfRenderable renderable;
-  renderable.asset = std::move(asset);
-  renderable.method = method;
-  registry.emplace<hsdf::HermiteSdfRenderable>(entity, renderable);
-  return entity;
 }
 
 render::CameraView orbitCamera(const hsdf::SdfAsset& asset, int view) {
@@ -153,7 +116,7 @@ class SphereTraceTest : public GpuTest {
     const Frame normals = renderWith(camera, DEBUG_VIEW_NORMALS);
     const int pixels = int(shaded.width * shaded.height);
     const hsdf::ReferenceImage reference =
-        referenceFor(method, field, camera, model, {int(shaded.width), int(shaded.height)});
+        referenceFor(method, field, camera, {int(shaded.width), int(shaded.height)}, model);
     const ImageComparison c =
         compareWithReference(shaded, &normals.rgba, reference, camera, field.grid.spacing, model);
     int commonHits = 0;
@@ -349,7 +312,7 @@ TEST_F(SphereTraceTest, MeshAndSdfOccludeEachOther) {
   scene::updateWorldTransforms(registry_);
   const render::CameraView camera = render::CameraView::lookAt({0.3f, 0.4f, 4.0f}, glm::vec3(0.0f), 0.9f, 0.01f, 1.0f);
   const Frame frame = renderWith(camera, DEBUG_VIEW_NONE);
-  const hsdf::ReferenceImage sphere = referenceFor(RenderMethod::HermiteSphereTrace, asset->field, camera);
+  const hsdf::ReferenceImage sphere = referenceFor(RenderMethod::HermiteSphereTrace, asset->field, camera, {int(kSize), int(kSize)});
 
   int sphereWins = 0, quadWins = 0, wrong = 0;
   const glm::dvec3 forward = viewForward(camera);
@@ -421,8 +384,8 @@ TEST_F(SphereTraceTest, TwoMethodsSideBySideInOneFrame) {
   const render::CameraView camera = render::CameraView::lookAt({0.0f, 0.5f, 5.0f}, glm::vec3(0.0f), 0.9f, 0.01f, 1.0f);
   const Frame frame = renderWith(camera, DEBUG_VIEW_NONE);
   const auto visibility = renderer_->readbackVisibility();
-  const hsdf::ReferenceImage trilinear = referenceFor(RenderMethod::TrilinearSphereTrace, asset->field, camera, left);
-  const hsdf::ReferenceImage hermite = referenceFor(RenderMethod::HermiteSphereTrace, asset->field, camera, right);
+  const hsdf::ReferenceImage trilinear = referenceFor(RenderMethod::TrilinearSphereTrace, asset->field, camera, {int(kSize), int(kSize)}, left);
+  const hsdf::ReferenceImage hermite = referenceFor(RenderMethod::HermiteSphereTrace, asset->field, camera, {int(kSize), int(kSize)}, right);
   EXPECT_EQ(feature().stats().trilinearObjects, 1u);
   EXPECT_EQ(feature().stats().hermiteObjects, 1u);
 
@@ -538,7 +501,7 @@ TEST_F(SphereTraceTest, ExtremeCamerasAndViewports) {
       addTracedSdf(registry_, asset, method, model);
       const Frame frame = renderWith(setup.camera, DEBUG_VIEW_NONE);
       const hsdf::ReferenceImage reference =
-          referenceFor(method, asset->field, setup.camera, model, {int(setup.size.x), int(setup.size.y)});
+          referenceFor(method, asset->field, setup.camera, {int(setup.size.x), int(setup.size.y)}, model);
       const ImageComparison c =
           compareWithReference(frame, nullptr, reference, setup.camera, asset->field.grid.spacing, model);
       int commonHits = 0;
