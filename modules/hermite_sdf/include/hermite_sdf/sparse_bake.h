@@ -38,9 +38,10 @@ inline constexpr double kSparsePruneMarginCells = 0.75;
 // q, in cells: a leaf sample farther than q is only a sign; q - sqrt(3) >= 0.75 (see above).
 inline constexpr double kSparseLeafQueryCells = 2.5;
 
-// Peak bytes a sparse bake holds per kept cell: the fp32 record in its slab's list and again in
-// the assembled stream (both exist while the stream is assembled), then the asset's fp16 copy.
-inline constexpr std::uint64_t kSparseBakeBytesPerKeptCell = 2 * sizeof(CellRecord) + sizeof(CellRecordHalf);
+// Peak bytes a sparse bake holds per kept cell: while the stream is assembled, the fp32 record in
+// its slab's chunks, its 8-byte order key and its copy in the stream. (The asset then holds the
+// stream and its fp16 copy, 208 bytes a cell, after the slabs are freed.)
+inline constexpr std::uint64_t kSparseBakeBytesPerKeptCell = 2 * sizeof(CellRecord) + 8;
 
 struct SparseBakeOptions {
   int refineDepth = 0;  // as ClassifyOptions::refineDepth (0..2)

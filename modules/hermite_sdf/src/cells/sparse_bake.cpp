@@ -4,8 +4,10 @@
 #include <array>
 #include <atomic>
 #include <cmath>
+#include <cstddef>
+#include <cstring>
 #include <memory>
-#include <tuple>
+#include <type_traits>
 #include <vector>
 
 #include <fmt/format.h>
@@ -25,9 +27,48 @@ struct CellBox {
   glm::ivec3 hi;  // last cell, exclusive (its samples run lo..hi inclusive)
 };
 
-// What the slab of one work item found: its kept records (sorted at the end) and its counts.
+// Records in fixed-size chunks: appending never moves or copies what is stored (a growing vector
+// would copy every record about twice and hold up to twice its size), and the slack is one chunk.
+// The chunks are raw bytes, written once by push(): first touches of fresh memory (page faults, and
+// zeroing a value-initialised array) are most of the cost of storing a record.
+class RecordChunks {
+ public:
+  static constexpr std::size_t kChunk = 4096;  // records (544 KiB)
+
+  void push(const CellRecord& record) {
+    if (size_ % kChunk == 0) chunks_.push_back(std::unique_ptr<std::byte[]>(new std::byte[kChunk * sizeof(CellRecord)]));
+    std::memcpy(&chunks_.back()[(size_ % kChunk) * sizeof(CellRecord)], &record, sizeof(CellRecord));
+    ++size_;
+  }
+  CellRecord operator[](std::size_t i) const {
+    CellRecord record;
+    std::memcpy(&record, &chunks_[i / kChunk][(i % kChunk) * sizeof(CellRecord)], sizeof(CellRecord));
+    return record;
+  }
+  std::size_t size() const { return size_; }
+  void clear() {
+    chunks_.clear();
+    size_ = 0;
+  }
+
+ private:
+  static_assert(std::is_trivially_copyable_v<CellRecord>);
+  std::vector<std::unique_ptr<std::byte[]>> chunks_;
+  std::size_t size_ = 0;
+};
+
+// Where a kept record goes: its cell's index within the slab (z, then y, then x, as the stream
+// orders cells) and its position in the slab's chunks. Sorting these 8-byte keys orders the slab
+// without moving any 136-byte record. 32 bits suffice: a slab has at most 16 * 4095^2 < 2^32 cells.
+struct RecordOrder {
+  std::uint32_t cellInSlab = 0;
+  std::uint32_t record = 0;
+};
+
+// What the slab of one work item found: its kept records, their order, and its counts.
 struct SlabResult {
-  std::vector<CellRecord> records;
+  RecordChunks records;
+  std::vector<RecordOrder> order;  // sorted by cellInSlab once the slab is done
   std::uint64_t crossing = 0, ambiguous = 0, refinedEmpty = 0;
   std::uint64_t sampleQueries = 0, brickProbes = 0;
 };
@@ -101,7 +142,7 @@ class SlabBaker {
         ENGINE_TRY(descend({lo, glm::min(lo + kTopBrickCells, glm::ivec3(n))}, out));
         ENGINE_TRY(budget_.add(out.records.size() - before));
       }
-    sortByCellIndex(out.records);
+    sortByCellIndex(out.order);
     return {};
   }
 
@@ -198,15 +239,15 @@ class SlabBaker {
     record.y = std::uint16_t(cell.y);
     record.z = std::uint16_t(cell.z);
     record.cellClass = std::uint16_t(d.cellClass);
-    out.records.push_back(record);
+    const std::uint32_t layer = std::uint32_t(cell.z % kTopBrickCells), n = std::uint32_t(grid_.cellsPerAxis());
+    out.order.push_back({(layer * n + std::uint32_t(cell.y)) * n + std::uint32_t(cell.x), std::uint32_t(out.records.size())});
+    out.records.push(record);
   }
 
   // Cell index order (x fastest, then y, then z), as extractCells writes the dense bake's records.
-  static void sortByCellIndex(std::vector<CellRecord>& records) {
-    std::sort(records.begin(), records.end(), [](const CellRecord& a, const CellRecord& b) {
-      return std::tie(a.z, a.y, a.x) < std::tie(b.z, b.y, b.x);
-    });
-    records.shrink_to_fit();
+  static void sortByCellIndex(std::vector<RecordOrder>& order) {
+    std::sort(order.begin(), order.end(),
+              [](const RecordOrder& a, const RecordOrder& b) { return a.cellInSlab < b.cellInSlab; });
   }
 
   const SdfSource& source_;
@@ -225,17 +266,18 @@ engine::Status checkOptions(const GridSpec& grid, const SparseBakeOptions& optio
   return {};
 }
 
-// Slabs in z order, each already sorted, concatenated: the stream in cell index order. Each slab's
-// list is freed once copied.
+// Slabs in z order, each in its sorted order, concatenated: the stream in cell index order. Each
+// slab's records are freed once copied.
 SparseBakeResult assemble(const GridSpec& grid, std::vector<SlabResult>& slabs) {
   SparseBakeResult result;
   result.cells.grid = grid;
   std::size_t total = 0;
   for (const SlabResult& slab : slabs) total += slab.records.size();
-  result.cells.records.reserve(total);
+  result.cells.records.reserve(total);  // not resize(): zeroing the stream first would touch it twice
   for (SlabResult& slab : slabs) {
-    result.cells.records.insert(result.cells.records.end(), slab.records.begin(), slab.records.end());
-    std::vector<CellRecord>().swap(slab.records);
+    for (const RecordOrder& o : slab.order) result.cells.records.push_back(slab.records[o.record]);
+    slab.records.clear();
+    std::vector<RecordOrder>().swap(slab.order);
     result.stats.crossing += slab.crossing;
     result.stats.ambiguous += slab.ambiguous;
     result.stats.refinedEmpty += slab.refinedEmpty;
