@@ -96,11 +96,12 @@ int runBake(const BakeRequest& request) {
                 (unsigned long long)report.falsePositives, (unsigned long long)report.keptCells, 100.0 * report.rate());
   }
 
-  HsdfContents contents;
+  // By reference: a copy of the cells would be the largest allocation of a K = 2048 bake.
+  HsdfContentsView contents;
   contents.grid = baked.field.grid;
   contents.scalarType = request.fp16 ? HsdfScalarType::Float16 : HsdfScalarType::Float32;
-  if (request.payload != Payload::Dense) contents.cells = baked.cells;
-  if (request.payload != Payload::Cells) contents.dense = baked.field;
+  if (request.payload != Payload::Dense) contents.cells = &baked.cells;
+  if (request.payload != Payload::Cells) contents.dense = &baked.field;
   auto bytes = serializeHsdf(contents);
   if (!bytes) return fail(bytes.error().message);
   if (auto written = engine::writeBinaryFile(request.output, *bytes); !written) return fail(written.error().message);
