@@ -23,6 +23,10 @@
 // change: a cell whose corners all lie 0.75 h or more from the surface cannot be Ambiguous. All
 // other cells get exact samples, from the same query sampleBand makes exact (source.h: equal to
 // sample(), which the dense bake's sampleRow equals), converted to float the same way.
+// Open meshes: their sign comes from the winding number, which can flip across a hole without a
+// zero of the distance; there the signed distance is not 1-Lipschitz, and cells that the dense
+// bake keeps only for such a flip (no surface in them) may be pruned, as bakeHermiteFieldNarrowBand
+// prunes them. Closed meshes and the analytic shapes are exact.
 #include <cstdint>
 
 #include "engine/core/expected.h"
