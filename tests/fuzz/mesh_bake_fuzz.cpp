@@ -35,7 +35,8 @@ std::uint32_t readWord(const std::uint8_t* p) {
 
 void checkAsset(const hsdf::SdfAsset& asset, int resolution) {
   FUZZ_CHECK(asset.field.grid.resolution == resolution);
-  FUZZ_CHECK(asset.field.samples.size() == asset.field.grid.sampleCount());
+  // The sparse bake keeps no dense field (BakeBand::Sparse), the others a complete one.
+  FUZZ_CHECK(asset.field.samples.empty() || asset.field.samples.size() == asset.field.grid.sampleCount());
   for (const hsdf::HermiteSample& s : asset.field.samples)
     FUZZ_CHECK(std::isfinite(s.f) && std::isfinite(s.fx) && std::isfinite(s.fy) && std::isfinite(s.fz));
   FUZZ_CHECK(asset.classification.stats.kept() > 0);
@@ -53,6 +54,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   settings.resolution = 4 + data[0] % 9;
   settings.padding = data[1] % 3;
   settings.band = (data[2] & 1) ? hsdf::BakeBand::NarrowBand : hsdf::BakeBand::Dense;
+  if (data[2] & 16) settings.band = hsdf::BakeBand::Sparse;
   settings.refineDepth = (data[2] >> 1 & 3) % 3;
   settings.threads = 1;  // deterministic, and the fuzzer runs its own processes
   const bool wideIndices = (data[2] & 8) != 0;

@@ -23,7 +23,8 @@ BakeSettings bakeSettings(const BakeRequest& request) {
   BakeSettings settings;
   settings.resolution = request.resolution;
   settings.padding = request.padding;
-  settings.band = request.payload == Payload::Cells ? BakeBand::NarrowBand : BakeBand::Dense;
+  // Cells only: the sparse bake (no dense field, cost ~ kept cells); otherwise every sample exact.
+  settings.band = request.payload == Payload::Cells ? BakeBand::Sparse : BakeBand::Dense;
   settings.fp16 = request.fp16;
   settings.refineDepth = request.refineDepth;
   settings.threads = request.threads;
@@ -76,26 +77,31 @@ int runBake(const BakeRequest& request) {
               grid->origin.x, grid->origin.y, grid->origin.z, request.padding);
 
   const auto bakeStart = std::chrono::steady_clock::now();
-  ProgressBar bar(settings.band == BakeBand::NarrowBand ? "baking (narrow band)" : "baking (dense)", stderr);
+  ProgressBar bar(settings.band == BakeBand::Sparse ? "baking (sparse cells)" : "baking (dense)", stderr);
   BakeControl control;
   if (request.progress) control.progress = [&bar](float f) { return bar.update(f); };
   auto asset = bakeAsset(*prepared, settings, control);
   if (request.progress) bar.finish();
   if (!asset) return fail(asset.error().withContext(request.input).message);
   const SdfAsset& baked = **asset;
-  std::printf("baked and classified %zu samples in %.3f s\n", baked.field.samples.size(), secondsSince(bakeStart));
+  if (settings.band == BakeBand::Sparse)
+    std::printf("baked and classified %llu kept cells (sparse, no dense field) in %.3f s\n",
+                (unsigned long long)baked.cells.records.size(), secondsSince(bakeStart));
+  else
+    std::printf("baked and classified %zu samples in %.3f s\n", baked.field.samples.size(), secondsSince(bakeStart));
   printStorage(baked.field.grid, baked.classification.stats, request.fp16);
   if (request.falsePositives) {
-    const FalsePositiveReport report = countFalsePositives(baked.field, baked.classification);
+    const FalsePositiveReport report = countFalsePositives(baked.cells);
     std::printf("false positives: %llu of %llu kept cells (%.3f%%) are empty by 17^3 dense sampling\n",
                 (unsigned long long)report.falsePositives, (unsigned long long)report.keptCells, 100.0 * report.rate());
   }
 
-  HsdfContents contents;
+  // By reference: a copy of the cells would be the largest allocation of a K = 2048 bake.
+  HsdfContentsView contents;
   contents.grid = baked.field.grid;
   contents.scalarType = request.fp16 ? HsdfScalarType::Float16 : HsdfScalarType::Float32;
-  if (request.payload != Payload::Dense) contents.cells = baked.cells;
-  if (request.payload != Payload::Cells) contents.dense = baked.field;
+  if (request.payload != Payload::Dense) contents.cells = &baked.cells;
+  if (request.payload != Payload::Cells) contents.dense = &baked.field;
   auto bytes = serializeHsdf(contents);
   if (!bytes) return fail(bytes.error().message);
   if (auto written = engine::writeBinaryFile(request.output, *bytes); !written) return fail(written.error().message);

@@ -17,7 +17,7 @@ int main(int argc, char** argv) {
   app.add_option("-p,--padding", request.padding, "cells of padding around the bounding box")->capture_default_str();
   app.add_flag("--fp16", request.fp16, "store scalars as IEEE binary16 (half the size)");
   auto* dense = app.add_flag("--dense", denseOnly, "store only the dense Hermite field");
-  app.add_flag("--cells", cellsOnly, "store only the sparse cell stream (narrow-band bake)")->excludes(dense);
+  app.add_flag("--cells", cellsOnly, "store only the sparse cell stream (sparse bake: no dense field, cost grows with the kept cells)")->excludes(dense);
   // Checked here too (the classifier refuses it after the bake, which may take minutes).
   app.add_option("--refine", request.refineDepth, "de Casteljau refinement depth for ambiguous cells (0..2)")
       ->capture_default_str()

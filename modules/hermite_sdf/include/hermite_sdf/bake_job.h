@@ -57,6 +57,11 @@ struct BakeBudget {
 enum class BakeBand {
   Dense,       // every sample exact: the sphere-tracing baselines need it
   NarrowBand,  // exact near the surface only: enough for the cells (bakeHermiteFieldNarrowBand)
+  // The cells alone, never a K^3 array (bakeCellsSparse): time and memory grow with the kept cells.
+  // The asset has no dense field, so only the cell renderers draw it; the budget is the kept cells
+  // (maxKeptCells, and maxBytes at kSparseBakeBytesPerKeptCell a cell), checked while baking,
+  // instead of maxSamples and the K^3 estimate.
+  Sparse,
 };
 
 struct BakeSettings {
@@ -79,7 +84,8 @@ struct BakeControl {
 };
 
 // Bytes the job allocates for a grid besides the kept cells: the field (16 B a sample), the narrow
-// band's per-sample flags, one class byte per cell.
+// band's per-sample flags, one class byte per cell. 0 for the sparse bake: it allocates nothing per
+// sample or cell of the grid, only per kept cell (checked while it bakes).
 std::uint64_t estimateBakeBytes(const GridSpec& grid, BakeBand band);
 
 // The grid a bake of `source` uses, after the budget and fp16 checks. Allocates nothing.

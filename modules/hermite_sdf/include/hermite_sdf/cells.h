@@ -43,6 +43,17 @@ double zeroToleranceFor(const HermiteCellCorners<double>& corners, double h);
 // Class of one cell: fast path first, then the Bernstein test (with optional refinement).
 CellClass classifyCell(const HermiteCellCorners<double>& corners, double h, int refineDepth = 0);
 
+// The 8 stored samples of a cell (corner index x + 2y + 4z), wherever they are kept: a dense
+// field or a sparse bake's local samples.
+using StoredCellCorners = std::array<const HermiteSample*, 8>;
+struct StoredCellDecision {
+  CellClass cellClass = CellClass::Empty;
+  bool refinedEmpty = false;  // Empty only thanks to refinement (CellStats::refinedEmpty)
+};
+// The class classifyCells gives a cell with these corners (the one decision both the dense and the
+// sparse bake use, so that they cannot disagree): fast paths from the floats, then classifyCell.
+StoredCellDecision classifyStoredCell(const StoredCellCorners& corners, double h, int refineDepth);
+
 struct ClassifyOptions {
   int refineDepth = 0;  // 0..2: de Casteljau refinement depth for ambiguous cells
   unsigned threads = 0; // 0: all hardware threads
@@ -141,6 +152,9 @@ struct FalsePositiveReport {
 // Samples F at samplesPerAxis^3 points (corners included) of every kept cell.
 FalsePositiveReport countFalsePositives(const HermiteField& field, const CellClassification& classification,
                                         int samplesPerAxis = 17);
+
+// The same count from the kept cells' records alone (a sparse bake has no dense field).
+FalsePositiveReport countFalsePositives(const CellStream& cells, int samplesPerAxis = 17);
 
 // F at the samplesPerAxis^3 points u = (i,j,k)/(samplesPerAxis-1), index i + m (j + m k), evaluated
 // separably from the Hermite form (independently of the Bernstein conversion).

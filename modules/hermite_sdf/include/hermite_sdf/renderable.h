@@ -53,6 +53,13 @@ engine::Expected<std::shared_ptr<const SdfAsset>> makeSdfAsset(std::string name,
 // renderer only (the sphere-tracing baselines need the dense field). Errors: invalid grid.
 engine::Expected<std::shared_ptr<const SdfAsset>> makeSdfAssetFromCells(std::string name, CellStream cells);
 
+// An asset from a sparse bake (sparse_bake.h): the cells, their counts and refinement depth as
+// classifyCells reports them, the source's bounds. No dense field (field.samples is empty,
+// field.grid is the grid): drawable by the cell renderers only.
+engine::Expected<std::shared_ptr<const SdfAsset>> makeSdfAssetFromSparseBake(std::string name, CellStream cells,
+                                                                             const CellStats& stats, int refineDepth,
+                                                                             const Aabb& surfaceBounds);
+
 // The component. The entity's engine::scene::WorldTransform places the asset's grid in the world:
 // any invertible affine matrix (rotation, non-uniform scale, mirroring, shear) renders correctly,
 // since every method works in object space, where the field is a distance (README, "Object

@@ -10,6 +10,7 @@
 #include "hermite_sdf/cells.h"
 #include "hermite_sdf/hsdf_file.h"
 #include "hermite_sdf/mesh_source.h"
+#include "hermite_sdf/sparse_bake.h"
 
 namespace hsdf {
 namespace {
@@ -39,6 +40,8 @@ engine::Status checkBudget(const GridSpec& grid, const BakeSettings& settings) {
   if (grid.resolution > budget.maxResolution)
     return engine::makeError(fmt::format("resolution {} is over the bake budget's max resolution {}", grid.resolution,
                                          budget.maxResolution));
+  // The sparse bake's cost is its kept cells, budgeted while it bakes (bakeCellsSparse).
+  if (settings.band == BakeBand::Sparse) return {};
   const std::uint64_t samples = grid.sampleCount();
   if (samples > budget.maxSamples)
     return engine::makeError(fmt::format("resolution {} needs {} samples, over the bake budget's max samples {}",
@@ -119,6 +122,7 @@ engine::Expected<PreparedSource> prepareSource(const BakeSource& source) {
 }
 
 std::uint64_t estimateBakeBytes(const GridSpec& grid, BakeBand band) {
+  if (band == BakeBand::Sparse) return 0;
   const std::uint64_t samples = grid.sampleCount();
   const std::uint64_t cells = grid.resolution > 1 ? std::uint64_t(grid.cellsPerAxis()) * std::uint64_t(grid.cellsPerAxis()) *
                                                         std::uint64_t(grid.cellsPerAxis())
@@ -135,9 +139,35 @@ engine::Expected<GridSpec> planBake(const PreparedSource& source, const BakeSett
   return grid;
 }
 
+namespace {
+
+// The cells path without a dense field: bakeCellsSparse straight into an asset.
+engine::Expected<std::shared_ptr<const SdfAsset>> bakeSparseAsset(const PreparedSource& source, const GridSpec& grid,
+                                                                  const BakeSettings& settings,
+                                                                  const BakeControl& control) {
+  SparseBakeOptions options;
+  options.refineDepth = settings.refineDepth;
+  options.maxKeptCells = settings.budget.maxKeptCells;
+  options.maxBytes = settings.budget.maxBytes;
+  options.threads = settings.threads;
+  options.cancel = control.cancel;
+  if (control.progress) options.progress = [&control](float f) { return control.progress(f * kBakeShare); };
+  ENGINE_TRY_ASSIGN(SparseBakeResult baked, bakeCellsSparse(*source.source, grid, options).withContext("baking"));
+  return makeSdfAssetFromSparseBake(source.name, std::move(baked.cells), baked.stats, settings.refineDepth,
+                                    source.source->bounds());
+}
+
+}  // namespace
+
 engine::Expected<std::shared_ptr<const SdfAsset>> bakeAsset(const PreparedSource& source, const BakeSettings& settings,
                                                             const BakeControl& control) {
   ENGINE_TRY_ASSIGN(GridSpec grid, planBake(source, settings));
+  if (settings.band == BakeBand::Sparse) {
+    ENGINE_TRY_ASSIGN(std::shared_ptr<const SdfAsset> asset, bakeSparseAsset(source, grid, settings, control));
+    ENGINE_TRY(checkHasSurface(asset->classification.stats));
+    if (control.progress && !control.progress(1.0f)) return engine::makeError("baking: cancelled");
+    return asset;
+  }
   ENGINE_TRY_ASSIGN(HermiteField field,
                     bakeField(*source.source, grid, settings, control).withContext("baking"));
   if (cancelled(control)) return engine::makeError("baking: cancelled");

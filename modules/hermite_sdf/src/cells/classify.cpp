@@ -90,7 +90,7 @@ struct SlabCounts {
 // The common cases of classifyCell (corner crossing, obviously empty) straight from the stored
 // samples, without building the corner array; nullopt where the Bernstein test must decide.
 // Same decisions as classifyCell: same formulas, same tolerance.
-std::optional<CellClass> quickClass(const HermiteSample* const* corners, double h) {
+std::optional<CellClass> quickClass(const StoredCellCorners& corners, double h) {
   const double third = h / 3.0;
   bool negative = false, positive = false;
   double scale = 0.0, minMargin = HUGE_VAL;
@@ -115,27 +115,19 @@ SlabCounts classifySlab(const HermiteField& field, int cz, int refineDepth, std:
   SlabCounts counts;
   const GridSpec& grid = field.grid;
   const int n = grid.cellsPerAxis();
-  const double h = grid.spacing;
   const std::size_t k = std::size_t(grid.resolution);
   const std::size_t offsets[8] = {0, 1, k, k + 1, k * k, k * k + 1, k * k + k, k * k + k + 1};
   for (int cy = 0; cy < n; ++cy)
     for (int cx = 0; cx < n; ++cx) {
       const HermiteSample* base = &field.samples[grid.sampleIndex(cx, cy, cz)];
-      const HermiteSample* corners[8];
-      for (int c = 0; c < 8; ++c) corners[c] = base + offsets[c];
-      CellClass c;
-      if (const std::optional<CellClass> quick = quickClass(corners, h)) {
-        c = *quick;
-      } else {
-        const HermiteCellCorners<double> cell = field.cellCorners<double>(cx, cy, cz);
-        c = classifyCell(cell, h, refineDepth);
-        if (c == CellClass::Empty && refineDepth > 0 && classifyCell(cell, h, 0) == CellClass::Ambiguous)
-          ++counts.refinedEmpty;
-      }
-      classes[layout.cellIndex(cx, cy, cz)] = c;
-      counts.crossing += c == CellClass::Crossing;
-      counts.ambiguous += c == CellClass::Ambiguous;
-      counts.empty += c == CellClass::Empty;
+      StoredCellCorners corners;
+      for (int c = 0; c < 8; ++c) corners[std::size_t(c)] = base + offsets[c];
+      const StoredCellDecision d = classifyStoredCell(corners, grid.spacing, refineDepth);
+      classes[layout.cellIndex(cx, cy, cz)] = d.cellClass;
+      counts.crossing += d.cellClass == CellClass::Crossing;
+      counts.ambiguous += d.cellClass == CellClass::Ambiguous;
+      counts.empty += d.cellClass == CellClass::Empty;
+      counts.refinedEmpty += d.refinedEmpty;
     }
   return counts;
 }
@@ -149,6 +141,16 @@ engine::Status checkField(const HermiteField& field) {
 }
 
 }  // namespace
+
+StoredCellDecision classifyStoredCell(const StoredCellCorners& corners, double h, int refineDepth) {
+  if (const std::optional<CellClass> quick = quickClass(corners, h)) return {*quick, false};
+  HermiteCellCorners<double> cell{};
+  for (std::size_t c = 0; c < 8; ++c) cell[c] = {corners[c]->f, corners[c]->fx, corners[c]->fy, corners[c]->fz};
+  StoredCellDecision d;
+  d.cellClass = classifyCell(cell, h, refineDepth);
+  d.refinedEmpty = d.cellClass == CellClass::Empty && refineDepth > 0 && classifyCell(cell, h, 0) == CellClass::Ambiguous;
+  return d;
+}
 
 engine::Expected<CellClassification> classifyCells(const HermiteField& field, const ClassifyOptions& options) {
   ENGINE_TRY(checkField(field));
@@ -257,6 +259,19 @@ FalsePositiveReport countFalsePositives(const HermiteField& field, const CellCla
         if (!denseSamplingFindsSurface(field.cellCorners<double>(cx, cy, cz), field.grid.spacing, samplesPerAxis))
           ++report.falsePositives;
       }
+  return report;
+}
+
+FalsePositiveReport countFalsePositives(const CellStream& cells, int samplesPerAxis) {
+  FalsePositiveReport report;
+  for (const CellRecord& r : cells.records) {
+    ++report.keptCells;
+    if (r.cellClass != std::uint16_t(CellClass::Ambiguous)) continue;  // crossing cells certainly hold surface
+    ++report.ambiguousCells;
+    HermiteCellCorners<double> corners{};
+    for (std::size_t c = 0; c < 8; ++c) corners[c] = {r.corners[c].f, r.corners[c].fx, r.corners[c].fy, r.corners[c].fz};
+    if (!denseSamplingFindsSurface(corners, cells.grid.spacing, samplesPerAxis)) ++report.falsePositives;
+  }
   return report;
 }
 

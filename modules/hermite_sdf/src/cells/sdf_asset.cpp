@@ -75,6 +75,27 @@ engine::Expected<std::shared_ptr<const SdfAsset>> makeSdfAssetFromCells(std::str
   return std::shared_ptr<const SdfAsset>(std::move(asset));
 }
 
+engine::Expected<std::shared_ptr<const SdfAsset>> makeSdfAssetFromSparseBake(std::string name, CellStream cells,
+                                                                             const CellStats& stats, int refineDepth,
+                                                                             const Aabb& surfaceBounds) {
+  if (auto valid = validateGrid(cells.grid); !valid) return valid.error().withContext("asset '" + name + "'");
+  if (auto finite = checkFiniteRecords(cells); !finite) return finite.error().withContext("asset '" + name + "'");
+  if (cells.records.size() != stats.kept())
+    return engine::makeError(fmt::format("asset '{}': {} cell records but the counts say {} kept cells", name,
+                                         cells.records.size(), stats.kept()));
+  auto asset = std::make_shared<SdfAsset>();
+  asset->name = std::move(name);
+  asset->id = nextAssetId();
+  asset->surfaceBounds = surfaceBounds;
+  asset->field.grid = cells.grid;
+  asset->classification.grid = cells.grid;
+  asset->classification.stats = stats;
+  asset->classification.refineDepth = refineDepth;
+  asset->cellsHalf = toHalf(cells);
+  asset->cells = std::move(cells);
+  return std::shared_ptr<const SdfAsset>(std::move(asset));
+}
+
 engine::Expected<std::shared_ptr<const SdfAsset>> makeSdfAsset(std::string name, HermiteField field,
                                                                const Aabb& surfaceBounds,
                                                                const ClassifyOptions& options) {

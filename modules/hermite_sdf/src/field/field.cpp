@@ -7,6 +7,7 @@
 #include <fmt/format.h>
 
 #include "field/parallel.h"
+#include "field/stored_sample.h"
 
 namespace hsdf {
 namespace {
@@ -22,15 +23,7 @@ std::string describeSample(const GridSpec& grid, int i, int j, int k) {
   return fmt::format("sample ({}, {}, {}) at position ({}, {}, {})", i, j, k, p.x, p.y, p.z);
 }
 
-// Converts a source sample to the stored float form; fails if anything is not finite in float.
-engine::Expected<HermiteSample> toStoredSample(const SdfSample& s, const GridSpec& grid, int i, int j, int k) {
-  const HermiteSample out{float(s.value), float(s.gradient.x), float(s.gradient.y), float(s.gradient.z)};
-  if (!std::isfinite(out.f) || !std::isfinite(out.fx) || !std::isfinite(out.fy) || !std::isfinite(out.fz))
-    return engine::makeError(fmt::format("source returned a non-finite value or gradient ({}, [{}, {}, {}]) at {}",
-                                         s.value, s.gradient.x, s.gradient.y, s.gradient.z,
-                                         describeSample(grid, i, j, k)));
-  return out;
-}
+using detail::toStoredSample;
 
 engine::Status checkBudget(const GridSpec& grid, FieldKind kind, std::uint64_t budget) {
   const std::uint64_t bytes = estimateFieldBytes(grid, kind);
@@ -78,6 +71,19 @@ engine::Status bakeDense(const SdfSource& source, const GridSpec& grid, FieldKin
 }
 
 }  // namespace
+
+namespace detail {
+
+engine::Expected<HermiteSample> toStoredSample(const SdfSample& s, const GridSpec& grid, int i, int j, int k) {
+  const HermiteSample out{float(s.value), float(s.gradient.x), float(s.gradient.y), float(s.gradient.z)};
+  if (!std::isfinite(out.f) || !std::isfinite(out.fx) || !std::isfinite(out.fy) || !std::isfinite(out.fz))
+    return engine::makeError(fmt::format("source returned a non-finite value or gradient ({}, [{}, {}, {}]) at {}",
+                                         s.value, s.gradient.x, s.gradient.y, s.gradient.z,
+                                         describeSample(grid, i, j, k)));
+  return out;
+}
+
+}  // namespace detail
 
 engine::Status validateGrid(const GridSpec& grid) {
   if (grid.resolution < 2 || grid.resolution > kMaxResolution)

@@ -11,7 +11,7 @@
 namespace hsdf {
 namespace {
 
-engine::Status checkContents(const HsdfContents& contents) {
+engine::Status checkContents(const HsdfContentsView& contents) {
   ENGINE_TRY(checkStorable(contents.grid, contents.scalarType));
   if (!contents.dense && !contents.cells)
     return engine::makeError("nothing to save: the contents hold neither a dense field nor a cell stream");
@@ -50,13 +50,13 @@ bool writeSample(io::ByteWriter& out, HsdfScalarType type, const HermiteSample& 
   return writeScalar(out, type, s.fz) && ok;
 }
 
-std::uint64_t payloadBytes(const HsdfContents& contents) {
+std::uint64_t payloadBytes(const HsdfContentsView& contents) {
   const std::uint64_t dense = contents.dense ? contents.dense->samples.size() : 0;
   const std::uint64_t cells = contents.cells ? contents.cells->records.size() : 0;
   return dense * io::denseSampleBytes(contents.scalarType) + cells * io::cellRecordBytes(contents.scalarType);
 }
 
-void writeHeader(io::ByteWriter& out, const HsdfContents& contents) {
+void writeHeader(io::ByteWriter& out, const HsdfContentsView& contents) {
   out.raw(io::kMagic);
   out.u32(kHsdfVersion);
   out.u32(std::uint32_t(kHsdfHeaderBytes));
@@ -124,6 +124,11 @@ std::uint64_t hsdfChecksum(std::span<const std::uint8_t> bytes) {
 }
 
 engine::Expected<std::vector<std::uint8_t>> serializeHsdf(const HsdfContents& contents) {
+  return serializeHsdf(HsdfContentsView{contents.grid, contents.scalarType, contents.dense ? &*contents.dense : nullptr,
+                                        contents.cells ? &*contents.cells : nullptr});
+}
+
+engine::Expected<std::vector<std::uint8_t>> serializeHsdf(const HsdfContentsView& contents) {
   if (auto status = checkContents(contents); !status) return status.error().withContext("cannot save .hsdf");
   io::ByteWriter out(kHsdfHeaderBytes + std::size_t(payloadBytes(contents)) + kHsdfTrailerBytes);
   writeHeader(out, contents);

@@ -131,6 +131,23 @@ TEST(HsdfFile, RoundTripSinglePayloads) {
   EXPECT_TRUE(!cellsOnly->dense && cellsOnly->cells);
 }
 
+// The by-reference contents (what hsdf_bake saves an asset with) must write the very bytes the
+// owning contents write, for every payload combination and scalar type, and be checked alike.
+TEST(HsdfFile, ViewSerializesTheSameBytes) {
+  for (HsdfScalarType type : {HsdfScalarType::Float32, HsdfScalarType::Float16})
+    for (int payloads : {1, 2, 3}) {
+      const HsdfContents owned = sphereContents(type, payloads & 1, payloads & 2);
+      const HsdfContentsView view{owned.grid, owned.scalarType, owned.dense ? &*owned.dense : nullptr,
+                                  owned.cells ? &*owned.cells : nullptr};
+      auto bytes = serializeHsdf(view);
+      ASSERT_TRUE(bytes.ok()) << bytes.error().message;
+      EXPECT_EQ(*bytes, serialize(owned)) << "type " << int(type) << " payloads " << payloads;
+    }
+  HsdfContentsView empty;
+  empty.grid = sphereContents().grid;
+  EXPECT_FALSE(serializeHsdf(empty).ok()) << "a view without payload must be refused like the contents";
+}
+
 // Tricky: outside tools rely on docs/hsdf-format.md; this pins the documented offsets, encodings
 // and checksum (test vectors of FNV-1a 64) so the code cannot drift from the document.
 TEST(HsdfFile, ByteLayoutMatchesTheSpecification) {
