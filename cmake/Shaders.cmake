@@ -23,4 +23,17 @@ function(hsdf_compile_shaders target)
     list(APPEND spirv_files ${spv})
   endforeach()
   add_custom_target(${target} ALL DEPENDS ${spirv_files})
+  # SPIR-V whose source is gone (a renamed or deleted shader) would otherwise stay in the folder,
+  # where the loader and the prepass SPIR-V check would still find it. The source glob is
+  # CONFIGURE_DEPENDS, so a rename re-runs this at the next build.
+  file(GLOB outputs ${HSDF_SHADER_OUTPUT_DIR}/*.spv)
+  foreach(output IN LISTS outputs)
+    if(NOT output IN_LIST spirv_files)
+      get_filename_component(stale ${output} NAME)
+      message(STATUS "Removing stale SPIR-V ${stale} (its source is gone)")
+      file(REMOVE ${output})
+      string(REGEX REPLACE "\\.spv$" ".d" depfile ${output})
+      file(REMOVE ${depfile})
+    endif()
+  endforeach()
 endfunction()
