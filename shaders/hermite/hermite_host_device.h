@@ -54,6 +54,27 @@ struct CellRunGpu {
 };
 HSDF_CHECK_SIZE(CellRunGpu, 12);
 
+// Cell bricks (issue 20, step 3): the grid's cells in blocks of CELL_BRICK_SIZE^3; each block with
+// at least one kept cell is one proxy box, walked cell by cell along the ray in the fragment shader
+// (records read by address). The kept cells of a brick are listed, in the order of their mask bits,
+// in a buffer of record indices starting at firstIndex: the record index of kept cell bit b is
+// indices[firstIndex + bitCount(mask below b)].
+#define CELL_BRICK_SIZE 4u
+struct CellBrickGpu {
+  uint xyz;         // the brick's coordinate in bricks: x | y << 10 | z << 20
+  uint firstIndex;  // first entry of this brick's kept cells in the record-index buffer
+  uint maskLo;      // kept cells, bit (x + 4y + 16z) of the brick's 64 cells: bits 0..31
+  uint maskHi;      //   bits 32..63
+};
+HSDF_CHECK_SIZE(CellBrickGpu, 16);
+
+// A brick's normal cone, for culling bricks that cannot hold a first hit (brick_cull.comp): every
+// gradient of the interpolant on the brick's kept cells lies within the cone.
+struct CellBrickCone {
+  vec4 axisCutoff;  // xyz: unit axis (object space); w: cosine bound, see normal_cone.glsl
+};
+HSDF_CHECK_SIZE(CellBrickCone, 16);
+
 // Per Hermite-cell object, reached through ObjectData::payload: what the shading pass needs to
 // find a visible cell's record from the visibility buffer (x: object, y: record index).
 struct HermiteObject {
