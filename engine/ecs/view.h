@@ -115,9 +115,6 @@ class View {
     }
   }
 
-  // Entities recorded when the view was made (some may have left the view since).
-  std::size_t snapshotSize() const { return snapshot_.size(); }
-
  private:
   template <class T>
   static constexpr std::size_t indexOf() {

@@ -28,7 +28,6 @@ class GpuScene {
   void beginFrame() { objects_.clear(); }
   // Appends an object and returns its index.
   std::uint32_t addObject(const shader::ObjectData& object);
-  std::uint32_t objectCount() const { return static_cast<std::uint32_t>(objects_.size()); }
   // An object added this frame, e.g. to set its payload address once the payload is uploaded.
   shader::ObjectData& object(std::uint32_t index) { return objects_.at(index); }
   // Uploads this frame's objects into the buffer of frame slot `frame`.

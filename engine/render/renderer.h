@@ -136,11 +136,8 @@ class Renderer {
   // Waits for all frames and collects the timings of the last one.
   void finish();
 
-  const gpu::Image& colorTarget() const { return color_; }
-  const gpu::Image& depthTarget() const { return depth_; }
   std::uint64_t frameNumber() const { return frameNumber_; }
   const RendererDesc& desc() const { return desc_; }
-  RendererDesc& mutableDesc() { return desc_; }
 
  private:
   struct FrameResources {

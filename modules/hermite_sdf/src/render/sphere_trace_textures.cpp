@@ -96,7 +96,6 @@ class SlotAllocator {
     return slot;
   }
   void release(std::uint32_t slot) { free_.push_back(slot); }
-  std::uint32_t highWater() const { return next_; }
 
  private:
   std::vector<std::uint32_t> free_;
