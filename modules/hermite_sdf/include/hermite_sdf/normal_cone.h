@@ -1,0 +1,91 @@
+#pragma once
+// Normal cones of Hermite cells and bricks, and the brick culling tests (issue 20): the C++ side of
+// shaders/hermite/normal_cone.glsl, whose tests repeat the float maths of brickConeCulls and
+// boxOutsideFrustum below operation for operation (brick_cull.comp keeps exactly the bricks these
+// keep; tests/gpu/brick_cull_test.cpp checks it).
+//
+// The cone. The gradient of a cell's tricubic interpolant, with each component degree-elevated to
+// the tensor-product cubic Bernstein basis, is sum_abc V_abc B_a(ux) B_b(uy) B_c(uz): a convex
+// combination of 64 control vectors V_abc (hermite.h's Bernstein coefficients b give
+// V = 3 (elevated forward differences of b) / h). A cone (a convex set) that holds every V holds
+// every gradient in the cell. CellBrickCone::axisCutoff = (axis, w) with
+//   w = sin(theta) = cos(90 deg - theta), theta the cone's half-angle: every gradient direction n
+//   satisfies angle(n, axis) <= theta. w >= 1 is a cone that never culls (kNeverCullCutoff): the
+//   control vectors are not all within an open half-space (theta >= 90 deg) or one is (nearly) zero.
+//
+// The cull test. A ray that starts where F > 0 has its first root at an entering crossing
+// (grad F . ray direction <= 0). If grad F . (p - eye) > 0 for every gradient of the brick's cells
+// and every point p of the brick, no ray from the eye has its first root in the brick. With the
+// brick bounded by a sphere (centre c, radius r; D = |c - eye|, V = c - eye) the rays to it lie
+// within beta = asin(r / D) of V; the condition holds if angle(axis, V) + beta + theta < 90 deg,
+// implied by (zeux/niagara's test) axis . V > w D + r, since sin(theta) + sin(beta) >= sin(theta +
+// beta) (and > 1, so the test fails, when theta + beta > 90 deg). Exact in object space for any
+// affine model matrix: the ray and p - eye transform alike, and grad F . d is the ray's dF/dt.
+// Valid only where rays start outside the solid: see SdfAsset::raysStartOutside (renderable.h) and
+// brickConeCullAllowed.
+#include <cstdint>
+#include <span>
+#include <vector>
+
+#include <glm/glm.hpp>
+
+#include "hermite/hermite_host_device.h"
+#include "hermite_sdf/cells.h"
+
+namespace hsdf {
+
+inline constexpr float kNeverCullCutoff = 2.0f;
+// Added to theta (radians): the GPU evaluates the interpolant in float (its gradient differs from
+// the double control vectors by a few ulp) and the records are rounded; 1e-3 rad is far above both.
+inline constexpr double kConeAngleMargin = 1e-3;
+
+// The cone of every gradient of one kept cell (grid spacing h), object space.
+shader::CellBrickCone cellGradientCone(const CellRecord& record, double h);
+
+// The cone of every gradient of several cells (the union of their control vectors, so at least as
+// tight as merging their cell cones). No cells: a cone that never culls.
+shader::CellBrickCone brickGradientCone(const CellStream& cells, std::span<const std::uint32_t> recordIndices);
+
+// One cone per brick: brick i's cells are the popcount(mask) record indices from
+// indices[bricks[i].firstIndex] (hermite_host_device.h, CellBrickGpu).
+std::vector<shader::CellBrickCone> brickGradientCones(const CellStream& cells,
+                                                      std::span<const shader::CellBrickGpu> bricks,
+                                                      std::span<const std::uint32_t> indices);
+
+// Whether the interpolant of these kept cells is positive on the whole grid boundary. The boundary
+// is a connected union of cell faces, and f is continuous on it. Each empty cell (any cell missing
+// from the stream, as the renderers treat them) is strictly of one sign, so the boundary faces of
+// empty cells that share an edge have one sign; a kept cell touching the boundary must have all 16
+// Bernstein coefficients of each of its boundary faces > 0. If some kept cell touches the boundary,
+// that makes every face positive; if none does, the sign is read from the record with the lowest
+// index (the first kept cell of its x row: the empty cell before it shares its corner 0).
+bool boundaryIsPositive(const CellStream& cells);
+
+// The brick's box in object space: cells [4 xyz, 4 xyz + 4) of the grid (origin, spacing h).
+struct BrickBox {
+  glm::vec3 lo{0.0f};
+  glm::vec3 hi{0.0f};
+};
+BrickBox brickBox(std::uint32_t packedXyz, const glm::vec3& gridOrigin, float h);
+
+// True if no ray from `eye` can have its first root in the sphere (centre, radius), gradients in
+// `cone` (all object space). The twin of normal_cone.glsl's coneCullsSphere.
+bool coneCullsSphere(const shader::CellBrickCone& cone, const glm::vec3& centre, float radius, const glm::vec3& eye);
+
+// True if the box lies wholly outside one plane of the reverse-Z frustum (-w <= x, y <= w, z <= w;
+// no far plane), objectToClip = viewProj * model. The twin of normal_cone.glsl's boxOutsideFrustum.
+bool boxOutsideFrustum(const glm::mat4& objectToClip, const BrickBox& box);
+
+// What the culling pass does with a brick: frustum test first, then (coneTest) the cone test on the
+// box's bounding sphere. The twin of normal_cone.glsl's brickSurvives.
+enum class BrickVerdict { Kept, FrustumCulled, ConeCulled };
+BrickVerdict brickVerdict(const glm::mat4& objectToClip, const BrickBox& box, const shader::CellBrickCone& cone,
+                          const glm::vec3& eye, bool coneTest);
+
+// Whether the cone test may run for an object: its asset's rays start outside (positive boundary)
+// and the near plane, reaching nearPlaneReachObject object units around the eye, stays out of the
+// grid box.
+bool brickConeCullAllowed(bool boundaryPositive, const glm::dvec3& eyeObject, double nearPlaneReachObject,
+                          const GridSpec& grid);
+
+}  // namespace hsdf
