@@ -16,14 +16,19 @@ void brickBox(uint packedXyz, vec3 gridOrigin, float h, out vec3 lo, out vec3 hi
   hi = l + vec3(side);
 }
 
-// True if no ray from `eye` can have its first root in the sphere (centre, radius): every gradient
-// n of the cone and every point p of the sphere have n . (p - eye) > 0 (niagara's cone test).
-bool coneCullsSphere(vec4 axisCutoff, vec3 centre, float radius, vec3 eye) {
-  precise vec3 toCentre = centre - eye;
-  precise float distance = length(toCentre);
-  precise float along = dot(axisCutoff.xyz, toCentre);
-  precise float bound = axisCutoff.w * distance + radius;
-  return along > bound;
+// True if no ray from `eye` can have its first root in the box [lo, hi]: every gradient n of the
+// cone and every point p of the box have n . (p - eye) > 0. That holds when the box lies in the
+// open cone {v : axis . v > w |v|} around the eye (directions within 90 deg - theta of the axis);
+// that cone is convex, so the box lies in it when its 8 corners do.
+bool coneCullsBox(vec4 axisCutoff, vec3 lo, vec3 hi, vec3 eye) {
+  for (int corner = 0; corner < 8; ++corner) {
+    vec3 p = vec3((corner & 1) != 0 ? hi.x : lo.x, (corner & 2) != 0 ? hi.y : lo.y, (corner & 4) != 0 ? hi.z : lo.z);
+    precise vec3 toCorner = p - eye;
+    precise float along = dot(axisCutoff.xyz, toCorner);
+    precise float bound = axisCutoff.w * length(toCorner);
+    if (!(along > bound)) return false;
+  }
+  return true;
 }
 
 // True if the box lies wholly outside one plane of the reverse-Z frustum (-w <= x, y <= w, z <= w;
@@ -43,15 +48,12 @@ bool boxOutsideFrustum(mat4 objectToClip, vec3 lo, vec3 hi) {
 }
 
 // Whether a brick stays: inside the frustum and, when the object allows the cone test, not facing
-// away from the eye (the box's bounding sphere against the cone).
+// away from the eye.
 bool brickSurvives(mat4 objectToClip, vec3 lo, vec3 hi, vec4 axisCutoff, vec3 eye, bool coneTest,
                    out bool frustumCulled) {
   frustumCulled = boxOutsideFrustum(objectToClip, lo, hi);
   if (frustumCulled) return false;
-  if (!coneTest) return true;
-  precise vec3 centre = (lo + hi) * 0.5;
-  precise float radius = length(hi - lo) * 0.5;
-  return !coneCullsSphere(axisCutoff, centre, radius, eye);
+  return !coneTest || !coneCullsBox(axisCutoff, lo, hi, eye);
 }
 
 #endif

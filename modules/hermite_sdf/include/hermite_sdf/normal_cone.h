@@ -14,13 +14,15 @@
 //   control vectors are not all within an open half-space (theta >= 90 deg) or one is (nearly) zero.
 //
 // The cull test. A ray that starts where F > 0 has its first root at an entering crossing
-// (grad F . ray direction <= 0). If grad F . (p - eye) > 0 for every gradient of the brick's cells
-// and every point p of the brick, no ray from the eye has its first root in the brick. With the
-// brick bounded by a sphere (centre c, radius r; D = |c - eye|, V = c - eye) the rays to it lie
-// within beta = asin(r / D) of V; the condition holds if angle(axis, V) + beta + theta < 90 deg,
-// implied by (zeux/niagara's test) axis . V > w D + r, since sin(theta) + sin(beta) >= sin(theta +
-// beta) (and > 1, so the test fails, when theta + beta > 90 deg). Exact in object space for any
-// affine model matrix: the ray and p - eye transform alike, and grad F . d is the ray's dF/dt.
+// (grad F . ray direction <= 0): F cannot fall to 0 while rising. If grad F . (p - eye) > 0 for
+// every gradient of the brick's cells and every point p of the brick, no ray from the eye has its
+// first root in the brick. The gradients lie within theta of the axis, so this holds when every
+// p - eye lies within 90 deg - theta of the axis: axis . (p - eye) > w |p - eye|. That set of p is
+// a convex cone, so the box lies in it when its 8 corners do (exact for the box, tighter than
+// niagara's bounding-sphere test). Exact in object space for any affine model matrix: the ray and
+// p - eye transform alike, and grad F . d is the ray's dF/dt. The proxies' dilation and the search
+// margin beyond a cell (proxy_dilation.glsl) are not covered: a root found there lies outside the
+// cell, in the polynomial's extension, not in the interpolant the argument is about.
 // Valid only where rays start outside the solid: see SdfAsset::raysStartOutside (renderable.h) and
 // brickConeCullAllowed.
 #include <cstdint>
@@ -68,16 +70,16 @@ struct BrickBox {
 };
 BrickBox brickBox(std::uint32_t packedXyz, const glm::vec3& gridOrigin, float h);
 
-// True if no ray from `eye` can have its first root in the sphere (centre, radius), gradients in
-// `cone` (all object space). The twin of normal_cone.glsl's coneCullsSphere.
-bool coneCullsSphere(const shader::CellBrickCone& cone, const glm::vec3& centre, float radius, const glm::vec3& eye);
+// True if no ray from `eye` can have its first root in the box, gradients in `cone` (all object
+// space). The twin of normal_cone.glsl's coneCullsBox.
+bool coneCullsBox(const shader::CellBrickCone& cone, const BrickBox& box, const glm::vec3& eye);
 
 // True if the box lies wholly outside one plane of the reverse-Z frustum (-w <= x, y <= w, z <= w;
 // no far plane), objectToClip = viewProj * model. The twin of normal_cone.glsl's boxOutsideFrustum.
 bool boxOutsideFrustum(const glm::mat4& objectToClip, const BrickBox& box);
 
-// What the culling pass does with a brick: frustum test first, then (coneTest) the cone test on the
-// box's bounding sphere. The twin of normal_cone.glsl's brickSurvives.
+// What the culling pass does with a brick: frustum test first, then (coneTest) the cone test.
+// The twin of normal_cone.glsl's brickSurvives.
 enum class BrickVerdict { Kept, FrustumCulled, ConeCulled };
 BrickVerdict brickVerdict(const glm::mat4& objectToClip, const BrickBox& box, const shader::CellBrickCone& cone,
                           const glm::vec3& eye, bool coneTest);

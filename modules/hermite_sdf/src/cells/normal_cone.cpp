@@ -50,22 +50,44 @@ void appendControlVectors(const CellRecord& record, double h, std::vector<glm::d
         out.push_back({elevated(b, 0, a, bb, c), elevated(b, 1, bb, a, c), elevated(b, 2, c, a, bb)});
 }
 
-// The cone around the normalized mean direction that holds every vector; never culls when a vector
+// An axis near that of the narrowest cone holding the directions: the centre of their (approximate)
+// smallest enclosing ball, by Badoiu-Clarkson steps towards the farthest direction from the mean
+// direction on. Any axis gives a valid cone (its cutoff is measured from the vectors after); this
+// one only makes it narrower than the mean direction's.
+glm::dvec3 narrowestAxis(const std::vector<glm::dvec3>& units, const glm::dvec3& mean) {
+  constexpr int kSteps = 48;
+  glm::dvec3 centre = mean;
+  for (int step = 1; step <= kSteps; ++step) {
+    glm::dvec3 farthest = centre;
+    double farthestDistance = -1.0;
+    for (const glm::dvec3& unit : units) {
+      const double distance = glm::length(unit - centre);
+      if (distance > farthestDistance) farthestDistance = distance, farthest = unit;
+    }
+    centre += (farthest - centre) / double(step + 1);
+  }
+  return glm::length(centre) > 0.0 ? glm::normalize(centre) : mean;
+}
+
+// The cone around narrowestAxis that holds every vector; never culls when a vector
 // is (nearly) zero or the cone is not narrower than a half-space.
 shader::CellBrickCone coneOf(const std::vector<glm::dvec3>& vectors) {
   double longest = 0.0;
   for (const glm::dvec3& v : vectors) longest = std::max(longest, glm::length(v));
   if (!(longest > 0.0) || !std::isfinite(longest)) return neverCull();
+  std::vector<glm::dvec3> units;
+  units.reserve(vectors.size());
   glm::dvec3 sum(0.0);
   for (const glm::dvec3& v : vectors) {
     const double length = glm::length(v);
     if (length <= kZeroVectorRatio * longest) return neverCull();
-    sum += v / length;
+    units.push_back(v / length);
+    sum += units.back();
   }
   if (glm::length(sum) <= 1e-9 * double(vectors.size())) return neverCull();
-  const glm::dvec3 axis = glm::normalize(sum);
+  const glm::dvec3 axis = narrowestAxis(units, glm::normalize(sum));
   double minCos = 1.0;
-  for (const glm::dvec3& v : vectors) minCos = std::min(minCos, glm::dot(axis, glm::normalize(v)));
+  for (const glm::dvec3& u : units) minCos = std::min(minCos, glm::dot(axis, u));
   const double theta = std::acos(std::clamp(minCos, -1.0, 1.0)) + kConeAngleMargin;
   if (theta >= kHalfPi) return neverCull();
   return {glm::vec4(glm::vec3(axis), float(std::sin(theta)))};
@@ -150,19 +172,25 @@ BrickBox brickBox(std::uint32_t packedXyz, const glm::vec3& gridOrigin, float h)
   return box;
 }
 
-bool coneCullsSphere(const shader::CellBrickCone& cone, const glm::vec3& centre, float radius, const glm::vec3& eye) {
-  const glm::vec3 toCentre = centre - eye;
-  const float distance = glm::length(toCentre);
-  return glm::dot(glm::vec3(cone.axisCutoff), toCentre) > cone.axisCutoff.w * distance + radius;
+glm::vec3 boxCorner(const BrickBox& box, int corner) {
+  return {(corner & 1) ? box.hi.x : box.lo.x, (corner & 2) ? box.hi.y : box.lo.y, (corner & 4) ? box.hi.z : box.lo.z};
+}
+
+bool coneCullsBox(const shader::CellBrickCone& cone, const BrickBox& box, const glm::vec3& eye) {
+  for (int corner = 0; corner < 8; ++corner) {
+    const glm::vec3 toCorner = boxCorner(box, corner) - eye;
+    const float along = glm::dot(glm::vec3(cone.axisCutoff), toCorner);
+    const float bound = cone.axisCutoff.w * glm::length(toCorner);
+    if (!(along > bound)) return false;
+  }
+  return true;
 }
 
 bool boxOutsideFrustum(const glm::mat4& objectToClip, const BrickBox& box) {
   // Per plane (w+x, w-x, w+y, w-y, w-z): is some corner inside?
   bool inside[5] = {false, false, false, false, false};
   for (int corner = 0; corner < 8; ++corner) {
-    const glm::vec3 p((corner & 1) ? box.hi.x : box.lo.x, (corner & 2) ? box.hi.y : box.lo.y,
-                      (corner & 4) ? box.hi.z : box.lo.z);
-    const glm::vec4 clip = objectToClip * glm::vec4(p, 1.0f);
+    const glm::vec4 clip = objectToClip * glm::vec4(boxCorner(box, corner), 1.0f);
     inside[0] = inside[0] || clip.w + clip.x >= 0.0f;
     inside[1] = inside[1] || clip.w - clip.x >= 0.0f;
     inside[2] = inside[2] || clip.w + clip.y >= 0.0f;
@@ -175,10 +203,7 @@ bool boxOutsideFrustum(const glm::mat4& objectToClip, const BrickBox& box) {
 BrickVerdict brickVerdict(const glm::mat4& objectToClip, const BrickBox& box, const shader::CellBrickCone& cone,
                           const glm::vec3& eye, bool coneTest) {
   if (boxOutsideFrustum(objectToClip, box)) return BrickVerdict::FrustumCulled;
-  if (!coneTest) return BrickVerdict::Kept;
-  const glm::vec3 centre = (box.lo + box.hi) * 0.5f;
-  const float radius = glm::length(box.hi - box.lo) * 0.5f;
-  return coneCullsSphere(cone, centre, radius, eye) ? BrickVerdict::ConeCulled : BrickVerdict::Kept;
+  return coneTest && coneCullsBox(cone, box, eye) ? BrickVerdict::ConeCulled : BrickVerdict::Kept;
 }
 
 bool brickConeCullAllowed(bool boundaryPositive, const glm::dvec3& eyeObject, double nearPlaneReachObject,

@@ -207,8 +207,15 @@ TEST(BrickCull, ConeTestNeverCullsABrickThatCanFaceTheEye) {
   EXPECT_GT(culled, trials / 20);
   // The cone that never culls, even for a tiny brick straight ahead along its axis.
   const shader::CellBrickCone never{glm::vec4(0.0f, 0.0f, 1.0f, kNeverCullCutoff)};
-  EXPECT_FALSE(coneCullsSphere(never, {0.0f, 0.0f, 10.0f}, 1e-6f, glm::vec3(0.0f)));
-  EXPECT_TRUE(coneCullsSphere({glm::vec4(0.0f, 0.0f, 1.0f, 0.0f)}, {0.0f, 0.0f, 10.0f}, 1.0f, glm::vec3(0.0f)));
+  const BrickBox ahead{{-1e-6f, -1e-6f, 10.0f}, {1e-6f, 1e-6f, 10.000001f}};
+  EXPECT_FALSE(coneCullsBox(never, ahead, glm::vec3(0.0f)));
+  EXPECT_TRUE(coneCullsBox({glm::vec4(0.0f, 0.0f, 1.0f, 0.0f)}, ahead, glm::vec3(0.0f)));
+  // The box test is exact for the box: a cone of 44 degrees culls a thin box seen within 45.5
+  // degrees of its axis (its bounding sphere would hold the eye).
+  const float t = std::tan(0.0175f * 45.5f) * 10.0f;
+  const BrickBox wide{{-t, -0.01f, 10.0f}, {t, 0.01f, 10.0f}};
+  const shader::CellBrickCone cone44{glm::vec4(0.0f, 0.0f, 1.0f, std::sin(0.0175f * 44.0f))};
+  EXPECT_TRUE(coneCullsBox(cone44, wide, glm::vec3(0.0f)));
 }
 
 bool insideFrustum(const glm::mat4& objectToClip, const glm::vec3& p) {
