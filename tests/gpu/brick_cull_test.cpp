@@ -55,7 +55,7 @@ bool sameBrick(const shader::CellBrickGpu& a, const shader::CellBrickGpu& b) {
 class BrickCullTest : public ::testing::Test {
  protected:
   void SetUp() override {
-    context_ = gputest::createTestContext();
+    context_ = gputest::createTestContext(/*synchronizationValidation=*/true);  // checks record()'s barriers
     ASSERT_TRUE(context_);
   }
   void TearDown() override {
