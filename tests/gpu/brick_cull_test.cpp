@@ -92,7 +92,9 @@ TEST_F(BrickCullTest, GpuKeepsExactlyTheBricksOfTheCppTwin) {
   std::uint32_t maxBricks = 0;
   for (ObjectInput& o : objects) {
     o.bricks = testbricks::buildCellBricks(o.asset->cells);
-    o.cones = brickGradientCones(o.asset->cells, o.bricks.bricks, o.bricks.indices);
+    auto cones = brickGradientCones(o.asset->cells, o.bricks.bricks, o.bricks.indices);
+    ASSERT_TRUE(cones.ok()) << cones.error().message;
+    o.cones = std::move(cones.value());
     firstBrick.push_back(std::uint32_t(allBricks.size()));
     allBricks.insert(allBricks.end(), o.bricks.bricks.begin(), o.bricks.bricks.end());
     allCones.insert(allCones.end(), o.cones.begin(), o.cones.end());
@@ -209,7 +211,9 @@ TEST(BunnyBrickCull, ShareOfBricksRemovedOnTheCaptureViews) {
     const SdfAsset& a = *asset.value();
     ASSERT_TRUE(a.boundaryPositive) << k;
     const testbricks::CellBricks bricks = testbricks::buildCellBricks(a.cells);
-    const auto cones = brickGradientCones(a.cells, bricks.bricks, bricks.indices);
+    auto conesOr = brickGradientCones(a.cells, bricks.bricks, bricks.indices);
+    ASSERT_TRUE(conesOr.ok()) << conesOr.error().message;
+    const std::vector<shader::CellBrickCone>& cones = conesOr.value();
     const glm::vec3 lo(a.surfaceBounds.min), hi(a.surfaceBounds.max);
     const float znear = float(0.01 * glm::length(a.surfaceBounds.max - a.surfaceBounds.min));
     double kept = 0, frustum = 0, cone = 0;

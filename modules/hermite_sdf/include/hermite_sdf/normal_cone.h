@@ -31,6 +31,7 @@
 
 #include <glm/glm.hpp>
 
+#include "engine/core/expected.h"
 #include "hermite/hermite_host_device.h"
 #include "hermite_sdf/cells.h"
 
@@ -49,10 +50,11 @@ shader::CellBrickCone cellGradientCone(const CellRecord& record, double h);
 shader::CellBrickCone brickGradientCone(const CellStream& cells, std::span<const std::uint32_t> recordIndices);
 
 // One cone per brick: brick i's cells are the popcount(mask) record indices from
-// indices[bricks[i].firstIndex] (hermite_host_device.h, CellBrickGpu).
-std::vector<shader::CellBrickCone> brickGradientCones(const CellStream& cells,
-                                                      std::span<const shader::CellBrickGpu> bricks,
-                                                      std::span<const std::uint32_t> indices);
+// indices[bricks[i].firstIndex] (hermite_host_device.h, CellBrickGpu). Errors: a brick whose cells
+// run past the index list, an index past the stream's records (both named).
+engine::Expected<std::vector<shader::CellBrickCone>> brickGradientCones(const CellStream& cells,
+                                                                        std::span<const shader::CellBrickGpu> bricks,
+                                                                        std::span<const std::uint32_t> indices);
 
 // Whether the interpolant of these kept cells is positive on the whole grid boundary. The boundary
 // is a connected union of cell faces, and f is continuous on it. Each empty cell (any cell missing

@@ -6,6 +6,8 @@
 #include <tuple>
 #include <vector>
 
+#include <fmt/format.h>
+
 namespace hsdf {
 namespace {
 
@@ -136,14 +138,23 @@ shader::CellBrickCone brickGradientCone(const CellStream& cells, std::span<const
   return coneOf(vectors);
 }
 
-std::vector<shader::CellBrickCone> brickGradientCones(const CellStream& cells,
-                                                      std::span<const shader::CellBrickGpu> bricks,
-                                                      std::span<const std::uint32_t> indices) {
+engine::Expected<std::vector<shader::CellBrickCone>> brickGradientCones(const CellStream& cells,
+                                                                        std::span<const shader::CellBrickGpu> bricks,
+                                                                        std::span<const std::uint32_t> indices) {
   std::vector<shader::CellBrickCone> cones;
   cones.reserve(bricks.size());
-  for (const shader::CellBrickGpu& brick : bricks) {
+  for (std::size_t b = 0; b < bricks.size(); ++b) {
+    const shader::CellBrickGpu& brick = bricks[b];
     const std::size_t count = std::size_t(std::popcount(brick.maskLo) + std::popcount(brick.maskHi));
-    cones.push_back(brickGradientCone(cells, indices.subspan(brick.firstIndex, count)));
+    if (std::size_t(brick.firstIndex) + count > indices.size())
+      return engine::makeError(fmt::format("brick {}: cells {}..{} of a list of {} record indices", b,
+                                           brick.firstIndex, std::size_t(brick.firstIndex) + count, indices.size()));
+    const std::span<const std::uint32_t> mine = indices.subspan(brick.firstIndex, count);
+    for (std::uint32_t index : mine)
+      if (index >= cells.records.size())
+        return engine::makeError(fmt::format("brick {}: record index {} of a stream of {} records", b, index,
+                                             cells.records.size()));
+    cones.push_back(brickGradientCone(cells, mine));
   }
   return cones;
 }

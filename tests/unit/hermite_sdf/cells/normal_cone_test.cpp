@@ -147,7 +147,9 @@ void expectConesHoldBakedGradients(const SdfAsset& asset) {
     EXPECT_LE(widestSampledAngle(record, h, axisOf(cone), rng, 5), halfAngle(cone));
   }
   const testbricks::CellBricks bricks = testbricks::buildCellBricks(asset.cells);
-  const auto cones = brickGradientCones(asset.cells, bricks.bricks, bricks.indices);
+  const auto conesOr = brickGradientCones(asset.cells, bricks.bricks, bricks.indices);
+  ASSERT_TRUE(conesOr.ok()) << conesOr.error().message;
+  const std::vector<shader::CellBrickCone>& cones = conesOr.value();
   ASSERT_EQ(cones.size(), bricks.bricks.size());
   std::size_t culling = 0;
   for (std::size_t b = 0; b < cones.size(); ++b) {
@@ -166,6 +168,21 @@ void expectConesHoldBakedGradients(const SdfAsset& asset) {
 TEST(NormalCone, BakedSphereAndTorusCellsAndBricks) {
   expectConesHoldBakedGradients(*bakedAsset(SphereSource({0.1, -0.05, 0.0}, 1.0), 40, 1.4));
   expectConesHoldBakedGradients(*bakedAsset(TorusSource({0.0, 0.0, 0.0}, 0.9, 0.35), 40, 1.4));
+}
+
+// Bricks that point past the index list or at records that do not exist are refused by name.
+TEST(NormalCone, BadBricksAreRefusedByName) {
+  const auto asset = bakedAsset(SphereSource({0.0, 0.0, 0.0}, 1.0), 16, 1.4);
+  testbricks::CellBricks bricks = testbricks::buildCellBricks(asset->cells);
+  bricks.bricks.back().firstIndex = std::uint32_t(bricks.indices.size());
+  auto past = brickGradientCones(asset->cells, bricks.bricks, bricks.indices);
+  ASSERT_FALSE(past.ok());
+  EXPECT_NE(past.error().message.find("of a list of"), std::string::npos) << past.error().message;
+  bricks = testbricks::buildCellBricks(asset->cells);
+  bricks.indices.front() = std::uint32_t(asset->cells.records.size());
+  auto missing = brickGradientCones(asset->cells, bricks.bricks, bricks.indices);
+  ASSERT_FALSE(missing.ok());
+  EXPECT_NE(missing.error().message.find("brick 0: record index"), std::string::npos) << missing.error().message;
 }
 
 // ---- The cull test --------------------------------------------------------------------------------
