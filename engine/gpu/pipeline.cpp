@@ -69,19 +69,40 @@ ShaderModule& ShaderModule::operator=(ShaderModule&& other) noexcept {
   return *this;
 }
 
+Status Pipeline::createLayout(const std::string& name, VkShaderStageFlags pushStages, std::uint32_t pushConstantBytes,
+                              const std::vector<VkDescriptorSetLayout>& setLayouts) {
+  VkPushConstantRange pushRange{pushStages, 0, pushConstantBytes};
+  VkPipelineLayoutCreateInfo layoutInfo{VK_STRUCTURE_TYPE_PIPELINE_LAYOUT_CREATE_INFO};
+  layoutInfo.setLayoutCount = static_cast<std::uint32_t>(setLayouts.size());
+  layoutInfo.pSetLayouts = setLayouts.data();
+  layoutInfo.pushConstantRangeCount = pushConstantBytes ? 1 : 0;
+  layoutInfo.pPushConstantRanges = &pushRange;
+  VK_TRY(vkCreatePipelineLayout(context_->device(), &layoutInfo, nullptr, &layout_));
+  context_->setName(layout_, VK_OBJECT_TYPE_PIPELINE_LAYOUT, name + " layout");
+  return {};
+}
+
+Expected<Pipeline> Pipeline::createCompute(const Context& context, const std::string& name, VkShaderModule shader,
+                                           std::uint32_t pushConstantBytes) {
+  Pipeline result;
+  result.context_ = &context;
+  ENGINE_TRY(result.createLayout(name, VK_SHADER_STAGE_COMPUTE_BIT, pushConstantBytes, {}));
+  VkComputePipelineCreateInfo info{VK_STRUCTURE_TYPE_COMPUTE_PIPELINE_CREATE_INFO};
+  info.stage = {VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO};
+  info.stage.stage = VK_SHADER_STAGE_COMPUTE_BIT;
+  info.stage.module = shader;
+  info.stage.pName = "main";
+  info.layout = result.layout_;
+  VK_TRY(vkCreateComputePipelines(context.device(), VK_NULL_HANDLE, 1, &info, nullptr, &result.pipeline_));
+  context.setName(result.pipeline_, VK_OBJECT_TYPE_PIPELINE, name);
+  return result;
+}
+
 Expected<Pipeline> Pipeline::createGraphics(const Context& context, const GraphicsPipelineDesc& desc) {
   Pipeline result;
   result.context_ = &context;
-
-  VkPushConstantRange pushRange{VK_SHADER_STAGE_VERTEX_BIT | VK_SHADER_STAGE_FRAGMENT_BIT, 0,
-                                desc.pushConstantBytes};
-  VkPipelineLayoutCreateInfo layoutInfo{VK_STRUCTURE_TYPE_PIPELINE_LAYOUT_CREATE_INFO};
-  layoutInfo.setLayoutCount = static_cast<std::uint32_t>(desc.setLayouts.size());
-  layoutInfo.pSetLayouts = desc.setLayouts.data();
-  layoutInfo.pushConstantRangeCount = desc.pushConstantBytes ? 1 : 0;
-  layoutInfo.pPushConstantRanges = &pushRange;
-  VK_TRY(vkCreatePipelineLayout(context.device(), &layoutInfo, nullptr, &result.layout_));
-  context.setName(result.layout_, VK_OBJECT_TYPE_PIPELINE_LAYOUT, desc.name + " layout");
+  ENGINE_TRY(result.createLayout(desc.name, VK_SHADER_STAGE_VERTEX_BIT | VK_SHADER_STAGE_FRAGMENT_BIT,
+                                 desc.pushConstantBytes, desc.setLayouts));
 
   std::vector<VkPipelineShaderStageCreateInfo> stages;
   VkPipelineShaderStageCreateInfo stage{VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO};

@@ -65,6 +65,9 @@ class Pipeline {
  public:
   Pipeline() = default;
   static Expected<Pipeline> createGraphics(const Context& context, const GraphicsPipelineDesc& desc);
+  // A compute pipeline without descriptor sets (buffers by device address, push constants only).
+  static Expected<Pipeline> createCompute(const Context& context, const std::string& name, VkShaderModule shader,
+                                          std::uint32_t pushConstantBytes);
   ~Pipeline();
   Pipeline(Pipeline&& other) noexcept;
   Pipeline& operator=(Pipeline&& other) noexcept;
@@ -77,6 +80,8 @@ class Pipeline {
 
  private:
   void release();
+  Status createLayout(const std::string& name, VkShaderStageFlags pushStages, std::uint32_t pushConstantBytes,
+                      const std::vector<VkDescriptorSetLayout>& setLayouts);
   const Context* context_ = nullptr;
   VkPipeline pipeline_ = VK_NULL_HANDLE;
   VkPipelineLayout layout_ = VK_NULL_HANDLE;

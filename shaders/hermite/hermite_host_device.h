@@ -75,6 +75,43 @@ struct CellBrickCone {
 };
 HSDF_CHECK_SIZE(CellBrickCone, 16);
 
+// Per drawn object of the brick culling pass (brick_cull.comp, hsdf::BrickCuller). The matrix and
+// the eye come from the CPU, in float, so that the C++ twin (normal_cone.h) tests with the very
+// same numbers the GPU does.
+struct BrickCullObject {
+  mat4 objectToClip;       // viewProj * model
+  vec4 gridOriginSpacing;  // xyz: grid origin in object space; w: spacing h
+  vec4 eyeConeTest;        // xyz: the eye in object space; w: 1 cone test allowed (normal_cone.h,
+                           //   brickConeCullAllowed), 0 frustum test only
+  uint firstBrick;         // the object's first brick (and cone) in the input arrays
+  uint brickCount;
+  uint outputFirst;        // first entry of its range in the output bricks (= its command's firstInstance)
+  uint drawCommand;        // index of its VkDrawIndirectCommand; instanceCount counts the kept bricks
+};
+HSDF_CHECK_SIZE(BrickCullObject, 64 + 2 * 16 + 4 * 4);
+
+// Totals of one culling pass, for stats (written by atomics; the CPU zeroes them).
+struct BrickCullTotals {
+  uint tested;
+  uint kept;
+  uint frustumCulled;
+  uint coneCulled;  // inside the frustum, removed by the normal cone
+};
+HSDF_CHECK_SIZE(BrickCullTotals, 16);
+
+// Push constants of brick_cull.comp: every array by device address.
+struct BrickCullPushConstants {
+  uint64_t objects;     // BrickCullObject[objectCount]
+  uint64_t bricks;      // CellBrickGpu[]: every object's bricks (input)
+  uint64_t cones;       // CellBrickCone[], one per input brick
+  uint64_t keptBricks;  // CellBrickGpu[]: the kept bricks, in each object's output range
+  uint64_t commands;    // VkDrawIndirectCommand[] (4 uints each)
+  uint64_t totals;      // BrickCullTotals
+  uint objectCount;
+  uint pad;
+};
+HSDF_CHECK_SIZE(BrickCullPushConstants, 6 * 8 + 2 * 4);
+
 // Per Hermite-cell object, reached through ObjectData::payload: what the shading pass needs to
 // find a visible cell's record from the visibility buffer (x: object, y: record index).
 struct HermiteObject {

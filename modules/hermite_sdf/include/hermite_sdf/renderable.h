@@ -42,6 +42,11 @@ struct SdfAsset {
   CellStream cells;           // kept cells, fp32
   CellStreamHalf cellsHalf;   // the same records in fp16
   Aabb surfaceBounds;         // bounds of the source surface (grid bounds are field.grid.bounds())
+  // The interpolant is positive on the whole grid boundary (normal_cone.h, boundaryIsPositive), so
+  // a ray from outside the grid box starts outside the solid and brick normal-cone culling is
+  // valid for it. Computed from the kept cells by every make*Asset (dense and sparse bakes, loaded
+  // files); false (never cone-cull) when unknown.
+  bool boundaryPositive = false;
 };
 
 // Classifies the field's cells, extracts the kept ones (fp32 and fp16) and assigns a new id.

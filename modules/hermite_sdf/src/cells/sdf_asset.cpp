@@ -4,6 +4,7 @@
 
 #include <fmt/format.h>
 
+#include "hermite_sdf/normal_cone.h"
 #include "hermite_sdf/renderable.h"
 
 namespace hsdf {
@@ -71,6 +72,7 @@ engine::Expected<std::shared_ptr<const SdfAsset>> makeSdfAssetFromCells(std::str
     (r.cellClass == std::uint16_t(CellClass::Ambiguous) ? asset->classification.stats.ambiguous
                                                         : asset->classification.stats.crossing)++;
   asset->cellsHalf = toHalf(cells);
+  asset->boundaryPositive = boundaryIsPositive(cells);
   asset->cells = std::move(cells);
   return std::shared_ptr<const SdfAsset>(std::move(asset));
 }
@@ -92,6 +94,7 @@ engine::Expected<std::shared_ptr<const SdfAsset>> makeSdfAssetFromSparseBake(std
   asset->classification.stats = stats;
   asset->classification.refineDepth = refineDepth;
   asset->cellsHalf = toHalf(cells);
+  asset->boundaryPositive = boundaryIsPositive(cells);
   asset->cells = std::move(cells);
   return std::shared_ptr<const SdfAsset>(std::move(asset));
 }
@@ -114,6 +117,7 @@ engine::Expected<std::shared_ptr<const SdfAsset>> makeSdfAsset(std::string name,
   asset->classification = std::move(classification.value());
   asset->cells = std::move(cells.value());
   asset->cellsHalf = toHalf(asset->cells);
+  asset->boundaryPositive = boundaryIsPositive(asset->cells);
   asset->field = std::move(field);
   return std::shared_ptr<const SdfAsset>(std::move(asset));
 }

@@ -1,0 +1,58 @@
+#include "render/brick_culler.h"
+
+#include "engine/gpu/buffer.h"
+#include "hermite_sdf/normal_cone.h"
+
+namespace hsdf {
+namespace {
+
+constexpr std::uint32_t kWorkgroupSize = 64;  // brick_cull.comp local_size_x
+
+}  // namespace
+
+engine::Expected<BrickCuller> BrickCuller::create(const engine::gpu::Context& context) {
+  ENGINE_TRY_ASSIGN(auto module, engine::gpu::ShaderModule::load(context, "brick_cull.comp"));
+  BrickCuller culler;
+  ENGINE_TRY_ASSIGN(culler.pipeline_, engine::gpu::Pipeline::createCompute(context, "brick cull", module.handle(),
+                                                                           sizeof(shader::BrickCullPushConstants)));
+  return culler;
+}
+
+void BrickCuller::record(VkCommandBuffer cmd, const Buffers& buffers, std::uint32_t objectCount,
+                         std::uint32_t maxBricks) const {
+  if (objectCount == 0 || maxBricks == 0) return;
+  // Write after read: the previous frame's draws may still read the output stream and commands.
+  engine::gpu::memoryBarrier(cmd, VK_PIPELINE_STAGE_2_DRAW_INDIRECT_BIT | VK_PIPELINE_STAGE_2_VERTEX_ATTRIBUTE_INPUT_BIT,
+                             0, VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT, 0);
+  const shader::BrickCullPushConstants push{buffers.objects, buffers.bricks,   buffers.cones, buffers.keptBricks,
+                                            buffers.commands, buffers.totals, objectCount,  0};
+  vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, pipeline_.handle());
+  vkCmdPushConstants(cmd, pipeline_.layout(), VK_SHADER_STAGE_COMPUTE_BIT, 0, sizeof(push), &push);
+  vkCmdDispatch(cmd, (maxBricks + kWorkgroupSize - 1) / kWorkgroupSize, objectCount, 1);
+  engine::gpu::memoryBarrier(
+      cmd, VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT, VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT,
+      VK_PIPELINE_STAGE_2_DRAW_INDIRECT_BIT | VK_PIPELINE_STAGE_2_VERTEX_ATTRIBUTE_INPUT_BIT |
+          VK_PIPELINE_STAGE_2_ALL_GRAPHICS_BIT | VK_PIPELINE_STAGE_2_COPY_BIT | VK_PIPELINE_STAGE_2_HOST_BIT,
+      VK_ACCESS_2_INDIRECT_COMMAND_READ_BIT | VK_ACCESS_2_VERTEX_ATTRIBUTE_READ_BIT | VK_ACCESS_2_SHADER_STORAGE_READ_BIT |
+          VK_ACCESS_2_TRANSFER_READ_BIT | VK_ACCESS_2_HOST_READ_BIT);
+}
+
+shader::BrickCullObject BrickCuller::cullObject(const engine::render::CameraView& camera, const glm::mat4& model,
+                                                const GridSpec& grid, bool boundaryPositive,
+                                                const ObjectBricks& bricks) {
+  const glm::mat4 invModel = glm::inverse(model);
+  const glm::vec3 eye = glm::vec3(invModel * glm::vec4(camera.position, 1.0f));
+  const bool coneTest =
+      brickConeCullAllowed(boundaryPositive, glm::dvec3(eye), double(camera.nearPlaneReachInObject(invModel)), grid);
+  shader::BrickCullObject object{};
+  object.objectToClip = camera.proj * camera.view * model;
+  object.gridOriginSpacing = glm::vec4(glm::vec3(grid.origin), float(grid.spacing));
+  object.eyeConeTest = glm::vec4(eye, coneTest ? 1.0f : 0.0f);
+  object.firstBrick = bricks.firstBrick;
+  object.brickCount = bricks.brickCount;
+  object.outputFirst = bricks.outputFirst;
+  object.drawCommand = bricks.drawCommand;
+  return object;
+}
+
+}  // namespace hsdf

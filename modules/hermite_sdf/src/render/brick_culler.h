@@ -1,0 +1,65 @@
+#pragma once
+// GPU-driven culling of cell bricks (issue 20): brick_cull.comp tests every brick of every drawn
+// object against the frustum and, where the object allows it, its normal cone (normal_cone.h), and
+// writes the kept bricks and the instance counts of the objects' indirect draws.
+//
+// How the cell feature uses it, per frame (buffers by device address, host-visible where the CPU
+// writes them, one set per frame in flight):
+//  - bricks (CellBrickGpu[]) and cones (CellBrickCone[], brickGradientCones) per asset, uploaded once;
+//  - objects: one BrickCullObject per drawn object (cullObject below);
+//  - commands: one VkDrawIndirectCommand per object written by the CPU with instanceCount 0 and
+//    firstInstance = the object's outputFirst (buffer usage INDIRECT | STORAGE | device address);
+//  - keptBricks: room for every object's bricks (usage VERTEX | STORAGE | device address): the
+//    instance-rate stream the brick draws read;
+//  - totals: a BrickCullTotals the CPU zeroes, read back after the frame's fence for stats.
+// record() in prepare(): its barriers make the kept bricks and counts visible to the indirect draws
+// and the vertex input of every later pass of the same queue.
+#include <cstdint>
+
+#include <glm/glm.hpp>
+#include <vulkan/vulkan.h>
+
+#include "engine/core/expected.h"
+#include "engine/gpu/pipeline.h"
+#include "engine/render/camera_view.h"
+#include "hermite/hermite_host_device.h"
+#include "hermite_sdf/field.h"
+
+namespace hsdf {
+
+class BrickCuller {
+ public:
+  struct Buffers {
+    VkDeviceAddress objects = 0;     // BrickCullObject[objectCount]
+    VkDeviceAddress bricks = 0;      // CellBrickGpu[]
+    VkDeviceAddress cones = 0;       // CellBrickCone[], parallel to bricks
+    VkDeviceAddress keptBricks = 0;  // CellBrickGpu[], output
+    VkDeviceAddress commands = 0;    // VkDrawIndirectCommand[]
+    VkDeviceAddress totals = 0;      // BrickCullTotals
+  };
+
+  static engine::Expected<BrickCuller> create(const engine::gpu::Context& context);
+
+  // Records the dispatch (64 bricks a workgroup, one workgroup row per object; maxBricks: the most
+  // bricks of any object) between two barriers: the previous frame's indirect and vertex reads
+  // before the writes, the writes before this frame's indirect, vertex-attribute, shader and host
+  // reads. Nothing is recorded for no objects or no bricks.
+  void record(VkCommandBuffer cmd, const Buffers& buffers, std::uint32_t objectCount, std::uint32_t maxBricks) const;
+
+  // One object's cull parameters: model and camera give the object-to-clip matrix and the eye in
+  // object space; the cone test is allowed when boundaryPositive (SdfAsset) and the camera's near
+  // plane stays out of the grid box (brickConeCullAllowed).
+  struct ObjectBricks {
+    std::uint32_t firstBrick = 0;
+    std::uint32_t brickCount = 0;
+    std::uint32_t outputFirst = 0;
+    std::uint32_t drawCommand = 0;
+  };
+  static shader::BrickCullObject cullObject(const engine::render::CameraView& camera, const glm::mat4& model,
+                                            const GridSpec& grid, bool boundaryPositive, const ObjectBricks& bricks);
+
+ private:
+  engine::gpu::Pipeline pipeline_;
+};
+
+}  // namespace hsdf

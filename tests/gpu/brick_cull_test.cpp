@@ -1,0 +1,240 @@
+// The brick culling pass (render/brick_culler.h, brick_cull.comp) on the test device, validation on:
+// for a baked sphere and an inside-out sphere (negative on its grid boundary: cone culling must be
+// off), under several cameras (outside the frustum, near plane in the grid, eye in the grid, far,
+// sheared model), the GPU keeps exactly the bricks its C++ twin (normal_cone.h) keeps, writes them
+// into each object's output range and counts them in each object's indirect draw command.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cstdio>
+#include <cstring>
+#include <glm/gtc/matrix_transform.hpp>
+
+#include "cell_bricks.h"
+#include "engine/platform/camera_controller.h"
+#include "engine/gpu/buffer.h"
+#include "gpu_test_support.h"
+#include "hermite_sdf/analytic.h"
+#include "hermite_sdf/bake_job.h"
+#include "hermite_sdf/normal_cone.h"
+#include "hermite_sdf/renderable.h"
+#include "render/brick_culler.h"
+
+namespace hsdf {
+namespace {
+
+using engine::gpu::Buffer;
+using engine::gpu::MemoryUsage;
+
+std::shared_ptr<const SdfAsset> sphereAsset(bool insideOut) {
+  const SphereSource sphere({0.05, 0.0, -0.03}, 1.0);
+  GridSpec grid;
+  grid.resolution = 48;
+  grid.spacing = 2.8 / 47.0;
+  grid.origin = glm::dvec3(-1.4);
+  auto field = bakeHermiteField(sphere, grid);
+  EXPECT_TRUE(field.ok());
+  if (insideOut)
+    for (HermiteSample& s : field->samples) s = {-s.f, -s.fx, -s.fy, -s.fz};
+  auto asset = makeSdfAsset(insideOut ? "inside-out sphere" : "sphere", std::move(field.value()), sphere.bounds());
+  EXPECT_TRUE(asset.ok());
+  return asset.value();
+}
+
+struct ObjectInput {
+  std::shared_ptr<const SdfAsset> asset;
+  testbricks::CellBricks bricks;
+  std::vector<shader::CellBrickCone> cones;
+  glm::mat4 model{1.0f};
+};
+
+bool sameBrick(const shader::CellBrickGpu& a, const shader::CellBrickGpu& b) {
+  return a.xyz == b.xyz && a.firstIndex == b.firstIndex && a.maskLo == b.maskLo && a.maskHi == b.maskHi;
+}
+
+class BrickCullTest : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    context_ = gputest::createTestContext(/*synchronizationValidation=*/true);  // checks record()'s barriers
+    ASSERT_TRUE(context_);
+  }
+  void TearDown() override {
+    if (!context_) return;
+    const auto messages = context_->validationMessages();
+    EXPECT_EQ(context_->validationMessageCount(), 0u) << (messages.empty() ? "" : messages.front());
+  }
+  Buffer hostBuffer(std::size_t bytes, VkBufferUsageFlags usage, const char* name) {
+    return Buffer(*context_, std::max<std::size_t>(bytes, 16), usage | VK_BUFFER_USAGE_SHADER_DEVICE_ADDRESS_BIT,
+                  MemoryUsage::Upload, name);
+  }
+  std::unique_ptr<engine::gpu::Context> context_;
+};
+
+// Per camera: cull on the GPU, then compare each object's output range, draw command and the
+// totals with the C++ twin. Returns the twin's verdict counts over both objects, per object.
+struct TwinCounts {
+  std::uint32_t kept = 0, frustum = 0, cone = 0;
+};
+
+TEST_F(BrickCullTest, GpuKeepsExactlyTheBricksOfTheCppTwin) {
+  auto culler = BrickCuller::create(*context_);
+  ASSERT_TRUE(culler.ok()) << culler.error().message;
+  std::vector<ObjectInput> objects(2);
+  objects[0].asset = sphereAsset(false);
+  objects[1].asset = sphereAsset(true);
+  ASSERT_TRUE(objects[0].asset->boundaryPositive);
+  ASSERT_FALSE(objects[1].asset->boundaryPositive);
+  objects[1].model = glm::translate(glm::mat4(1.0f), glm::vec3(3.5f, 0.0f, 0.0f));
+  objects[1].model[1][0] = 0.25f;  // shear
+  std::vector<shader::CellBrickGpu> allBricks;
+  std::vector<shader::CellBrickCone> allCones;
+  std::vector<std::uint32_t> firstBrick;
+  std::uint32_t maxBricks = 0;
+  for (ObjectInput& o : objects) {
+    o.bricks = testbricks::buildCellBricks(o.asset->cells);
+    auto cones = brickGradientCones(o.asset->cells, o.bricks.bricks, o.bricks.indices);
+    ASSERT_TRUE(cones.ok()) << cones.error().message;
+    o.cones = std::move(cones.value());
+    firstBrick.push_back(std::uint32_t(allBricks.size()));
+    allBricks.insert(allBricks.end(), o.bricks.bricks.begin(), o.bricks.bricks.end());
+    allCones.insert(allCones.end(), o.cones.begin(), o.cones.end());
+    maxBricks = std::max(maxBricks, std::uint32_t(o.bricks.bricks.size()));
+  }
+  const auto storage = VK_BUFFER_USAGE_STORAGE_BUFFER_BIT;
+  Buffer bricks = hostBuffer(allBricks.size() * sizeof(shader::CellBrickGpu), storage, "bricks");
+  Buffer cones = hostBuffer(allCones.size() * sizeof(shader::CellBrickCone), storage, "cones");
+  bricks.write(std::span<const shader::CellBrickGpu>(allBricks));
+  cones.write(std::span<const shader::CellBrickCone>(allCones));
+  Buffer kept = hostBuffer(allBricks.size() * sizeof(shader::CellBrickGpu), storage | VK_BUFFER_USAGE_VERTEX_BUFFER_BIT,
+                           "kept bricks");
+  Buffer commands = hostBuffer(objects.size() * sizeof(VkDrawIndirectCommand),
+                               storage | VK_BUFFER_USAGE_INDIRECT_BUFFER_BIT, "commands");
+  Buffer cullObjects = hostBuffer(objects.size() * sizeof(shader::BrickCullObject), storage, "cull objects");
+  Buffer totals = hostBuffer(sizeof(shader::BrickCullTotals), storage, "totals");
+
+  const glm::vec3 centre(0.05f, 0.0f, -0.03f);
+  struct Shot {
+    const char* label;
+    glm::vec3 eye, target;
+    float znear;
+  };
+  const Shot shots[] = {
+      {"both objects in view", {1.8f, 1.2f, 6.0f}, {1.7f, 0.0f, 0.0f}, 0.05f},
+      {"sphere half out of the frustum", {0.0f, 0.3f, 4.0f}, {1.6f, 0.3f, 0.0f}, 0.05f},
+      {"looking away", {0.0f, 0.0f, 5.0f}, {0.0f, 0.0f, 9.0f}, 0.05f},
+      {"near plane reaching into the grid", {0.0f, 0.0f, 1.45f}, centre, 0.1f},
+      {"eye inside the grid", {0.2f, 0.3f, 1.2f}, centre, 0.01f},
+      {"far away", {-40.0f, 25.0f, 60.0f}, centre, 0.5f},
+      {"close, oblique", {-1.9f, -1.1f, 1.7f}, {0.4f, 0.2f, 0.0f}, 0.02f},
+  };
+  std::vector<TwinCounts> overall(objects.size());
+  for (const Shot& shot : shots) {
+    SCOPED_TRACE(shot.label);
+    const auto camera = engine::render::CameraView::lookAt(shot.eye, shot.target, 0.9f, shot.znear, 1.5f);
+    std::vector<shader::BrickCullObject> cull;
+    std::vector<VkDrawIndirectCommand> draws;
+    for (std::uint32_t i = 0; i < objects.size(); ++i) {
+      const BrickCuller::ObjectBricks ob{firstBrick[i], std::uint32_t(objects[i].bricks.bricks.size()), firstBrick[i], i};
+      cull.push_back(BrickCuller::cullObject(camera, objects[i].model, objects[i].asset->cells.grid,
+                                             objects[i].asset->boundaryPositive, ob));
+      draws.push_back({18, 0, 0, firstBrick[i]});
+    }
+    EXPECT_EQ(cull[1].eyeConeTest.w, 0.0f);  // negative boundary: never cone-culled
+    cullObjects.write(std::span<const shader::BrickCullObject>(cull));
+    commands.write(std::span<const VkDrawIndirectCommand>(draws));
+    const shader::BrickCullTotals zero{};
+    totals.write(&zero, sizeof(zero));
+    const BrickCuller::Buffers addresses{cullObjects.address(), bricks.address(),   cones.address(),
+                                         kept.address(),        commands.address(), totals.address()};
+    context_->submitAndWait(
+        [&](VkCommandBuffer cmd) { culler->record(cmd, addresses, std::uint32_t(objects.size()), maxBricks); });
+
+    std::vector<VkDrawIndirectCommand> gpuDraws(objects.size());
+    std::memcpy(gpuDraws.data(), commands.mapped(), gpuDraws.size() * sizeof(VkDrawIndirectCommand));
+    const auto* keptBricks = static_cast<const shader::CellBrickGpu*>(kept.mapped());
+    shader::BrickCullTotals gpuTotals;
+    std::memcpy(&gpuTotals, totals.mapped(), sizeof(gpuTotals));
+    TwinCounts sum;
+    for (std::uint32_t i = 0; i < objects.size(); ++i) {
+      const ObjectInput& o = objects[i];
+      const shader::BrickCullObject& co = cull[i];
+      std::vector<shader::CellBrickGpu> expected;
+      for (std::size_t b = 0; b < o.bricks.bricks.size(); ++b) {
+        const BrickBox box = brickBox(o.bricks.bricks[b].xyz, glm::vec3(co.gridOriginSpacing), co.gridOriginSpacing.w);
+        const BrickVerdict v = brickVerdict(co.objectToClip, box, o.cones[b], glm::vec3(co.eyeConeTest),
+                                            co.eyeConeTest.w != 0.0f);
+        if (v == BrickVerdict::Kept) expected.push_back(o.bricks.bricks[b]);
+        (v == BrickVerdict::Kept ? overall[i].kept : v == BrickVerdict::FrustumCulled ? overall[i].frustum : overall[i].cone)++;
+        (v == BrickVerdict::Kept ? sum.kept : v == BrickVerdict::FrustumCulled ? sum.frustum : sum.cone)++;
+      }
+      EXPECT_EQ(gpuDraws[i].vertexCount, 18u);
+      EXPECT_EQ(gpuDraws[i].firstInstance, firstBrick[i]);
+      ASSERT_EQ(gpuDraws[i].instanceCount, expected.size()) << "object " << i;
+      std::vector<shader::CellBrickGpu> got(keptBricks + firstBrick[i], keptBricks + firstBrick[i] + expected.size());
+      const auto byXyz = [](const shader::CellBrickGpu& a, const shader::CellBrickGpu& b) { return a.xyz < b.xyz; };
+      std::sort(got.begin(), got.end(), byXyz);
+      std::sort(expected.begin(), expected.end(), byXyz);
+      for (std::size_t k = 0; k < expected.size(); ++k) ASSERT_TRUE(sameBrick(got[k], expected[k])) << "object " << i;
+    }
+    EXPECT_EQ(gpuTotals.tested, std::uint32_t(allBricks.size()));
+    EXPECT_EQ(gpuTotals.kept, sum.kept);
+    EXPECT_EQ(gpuTotals.frustumCulled, sum.frustum);
+    EXPECT_EQ(gpuTotals.coneCulled, sum.cone);
+  }
+  // Every branch was exercised: the sphere lost bricks to both tests and kept some; the inside-out
+  // sphere lost none to its cone.
+  EXPECT_GT(overall[0].cone, 0u);
+  EXPECT_GT(overall[0].frustum, 0u);
+  EXPECT_GT(overall[0].kept, 0u);
+  EXPECT_EQ(overall[1].cone, 0u);
+  EXPECT_GT(overall[1].kept, 0u);
+}
+
+// The measurement of docs/perf/cells-breakdown-lavapipe.md ("Brick culling"), on the C++ twin (no
+// device): the bunny baked by the module's bake job (padding 1) at K = 16..128, 4x4x4 bricks, the
+// perf capture's 8 orbit views (Viewer: framingOrbit on the source's bounds, fovY 0.8, znear 1 % of
+// the bounds' diagonal, 1920x1080). Prints the share of bricks the frustum and the cone remove. It
+// asserts what holds for any correct culling: the bunny's boundary is positive, the cone test is
+// allowed from every orbit view and removes bricks at every K.
+TEST(BunnyBrickCull, ShareOfBricksRemovedOnTheCaptureViews) {
+  auto source = BakeSource::fromPathOrShape(gputest::sampleAsset("bunny.glb").string());
+  ASSERT_TRUE(source.ok()) << source.error().message;
+  auto prepared = prepareSource(*source);
+  ASSERT_TRUE(prepared.ok()) << prepared.error().message;
+  std::printf("K    cells   bricks  cells/brick  kept%%  frustum%%  cone%%  (mean of 8 views)\n");
+  for (const int k : {16, 32, 64, 128}) {
+    BakeSettings settings;
+    settings.resolution = k;
+    settings.band = BakeBand::Sparse;
+    auto asset = bakeAsset(*prepared, settings);
+    ASSERT_TRUE(asset.ok()) << asset.error().message;
+    const SdfAsset& a = *asset.value();
+    ASSERT_TRUE(a.boundaryPositive) << k;
+    const testbricks::CellBricks bricks = testbricks::buildCellBricks(a.cells);
+    auto conesOr = brickGradientCones(a.cells, bricks.bricks, bricks.indices);
+    ASSERT_TRUE(conesOr.ok()) << conesOr.error().message;
+    const std::vector<shader::CellBrickCone>& cones = conesOr.value();
+    const glm::vec3 lo(a.surfaceBounds.min), hi(a.surfaceBounds.max);
+    const float znear = float(0.01 * glm::length(a.surfaceBounds.max - a.surfaceBounds.min));
+    double kept = 0, frustum = 0, cone = 0;
+    for (int view = 0; view < 8; ++view) {
+      const engine::platform::OrbitController orbit = engine::platform::framingOrbit(lo, hi, 0.8f, view);
+      const auto camera = engine::render::CameraView::lookAt(orbit.eye(), orbit.target, 0.8f, znear, 1920.0f / 1080.0f);
+      const shader::BrickCullObject o = BrickCuller::cullObject(camera, glm::mat4(1.0f), a.cells.grid, true, {});
+      ASSERT_EQ(o.eyeConeTest.w, 1.0f) << "K " << k << " view " << view;
+      for (std::size_t b = 0; b < bricks.bricks.size(); ++b) {
+        const BrickBox box = brickBox(bricks.bricks[b].xyz, glm::vec3(o.gridOriginSpacing), o.gridOriginSpacing.w);
+        const BrickVerdict v = brickVerdict(o.objectToClip, box, cones[b], glm::vec3(o.eyeConeTest), true);
+        (v == BrickVerdict::Kept ? kept : v == BrickVerdict::FrustumCulled ? frustum : cone) += 1.0;
+      }
+    }
+    EXPECT_GT(cone, 0.0) << "K " << k;
+    const double total = 8.0 * double(bricks.bricks.size());
+    std::printf("%-4d %-7zu %-7zu %-12.2f %-6.1f %-9.1f %-6.1f\n", k, a.cells.records.size(), bricks.bricks.size(),
+                double(a.cells.records.size()) / double(bricks.bricks.size()), 100.0 * kept / total,
+                100.0 * frustum / total, 100.0 * cone / total);
+  }
+}
+
+}  // namespace
+}  // namespace hsdf
