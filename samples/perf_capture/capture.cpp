@@ -305,11 +305,14 @@ std::vector<std::vector<RowSpec>> groupRows(const Options& options, const std::v
     if (!sdfRows.empty()) groups.push_back(sdfRows);
     return groups;
   }
-  for (const int k : options.resolutions) {
+  std::vector<int> ks;  // in row order; trilinear rows add 2K to the --resolutions
+  for (const RowSpec& row : sdfRows)
+    if (std::find(ks.begin(), ks.end(), row.resolution) == ks.end()) ks.push_back(row.resolution);
+  for (const int k : ks) {
     std::vector<RowSpec> atK;
     for (const RowSpec& row : sdfRows)
       if (row.resolution == k) atK.push_back(row);
-    if (!atK.empty()) groups.push_back(std::move(atK));
+    groups.push_back(std::move(atK));
   }
   return groups;
 }
