@@ -1183,6 +1183,26 @@ bool isFinite(const glm::mat4& m) {
   return true;
 }
 
+// tinygltf's parsed `extras` back as JSON, so that scene_data.h stays free of tinygltf. Depth is
+// bounded by kMaxJsonDepth, which the document passed before tinygltf parsed it.
+Json toJson(const tinygltf::Value& value) {
+  if (value.IsBool()) return value.Get<bool>();
+  if (value.IsInt()) return value.Get<int>();
+  if (value.IsNumber()) return value.GetNumberAsDouble();
+  if (value.IsString()) return value.Get<std::string>();
+  if (value.IsArray()) {
+    Json array = Json::array();
+    for (std::size_t i = 0; i < value.ArrayLen(); ++i) array.push_back(toJson(value.Get(int(i))));
+    return array;
+  }
+  if (value.IsObject()) {
+    Json object = Json::object();
+    for (const std::string& key : value.Keys()) object[key] = toJson(value.Get(key));
+    return object;
+  }
+  return nullptr;  // null, or binary (never in JSON extras)
+}
+
 // Scene nodes in depth-first pre-order (parents before children), with world matrices.
 Expected<std::vector<NodeData>> convertNodes(ImportContext& context, const std::vector<int>& cameraRemap) {
   const auto& model = context.model;
@@ -1206,6 +1226,7 @@ Expected<std::vector<NodeData>> convertNodes(ImportContext& context, const std::
     data.world = outParent == -1 ? data.local : out[std::size_t(outParent)].world * data.local;
     if (!isFinite(data.world)) return makeError(fmt::format("{}: world matrix is not finite", where));
     data.mesh = node.mesh;
+    if (node.extras.Type() != tinygltf::NULL_TYPE) data.extras = toJson(node.extras).dump();
     data.camera = node.camera == -1 ? -1 : cameraRemap[std::size_t(node.camera)];
     out.push_back(std::move(data));
     const int self = int(out.size() - 1);

@@ -48,6 +48,7 @@ struct NodeData {
   glm::mat4 world{1.0f};             // product of the parents' local matrices and this one
   int mesh = -1;
   int camera = -1;
+  std::string extras;                // the node's `extras` as JSON text; empty when it has none
 };
 
 struct SceneData {

@@ -1,5 +1,6 @@
 #include "tuning.h"
 
+#include <algorithm>
 #include <array>
 #include <utility>
 
@@ -110,6 +111,38 @@ engine::Status readName(const json& value, const NameTable<T, N>& table, T& out)
   return {};
 }
 
+engine::Status readNodeDraw(const json& value, hsdf::NodeDraw& out) {
+  const auto parsed = value.is_string() ? hsdf::parseNodeDraw(value.get<std::string>()) : std::nullopt;
+  if (!parsed) return engine::makeError(fmt::format("{} is not one of sdf, triangles", value.dump()));
+  out = *parsed;
+  return {};
+}
+
+// An array of names, or (a --script line, a command-line option) one string of names separated by
+// commas. An empty name is refused: it would match only unnamed nodes.
+engine::Status readNames(const json& value, std::vector<std::string>& out) {
+  std::vector<std::string> names;
+  if (value.is_string()) {
+    const std::string text = value.get<std::string>();
+    for (std::size_t start = 0, end = 0; end != std::string::npos; start = end + 1) {
+      end = text.find(',', start);
+      names.push_back(text.substr(start, end == std::string::npos ? end : end - start));
+    }
+    if (text.empty()) names.clear();
+  } else if (value.is_array()) {
+    for (const json& name : value) {
+      if (!name.is_string()) return engine::makeError(fmt::format("expected node names, got {}", name.dump()));
+      names.push_back(name.get<std::string>());
+    }
+  } else {
+    return engine::makeError(fmt::format("expected an array of node names, got {}", value.dump()));
+  }
+  if (std::find(names.begin(), names.end(), std::string()) != names.end())
+    return engine::makeError("an empty node name");
+  out = std::move(names);
+  return {};
+}
+
 engine::Status readKey(const std::string& key, const json& value, TuningState& t) {
   int n = 0;
   if (key == "method") return readName(value, kMethods, t.method);
@@ -147,6 +180,8 @@ engine::Status readKey(const std::string& key, const json& value, TuningState& t
   }
   if (key == "compare_normals") return readName(value, kNormalModes, t.compareNormals);
   if (key == "difference") return readBool(value, t.difference);
+  if (key == "node_draw") return readNodeDraw(value, t.nodeDraw);
+  if (key == "triangle_nodes") return readNames(value, t.triangleNodes);
   return engine::makeError("unknown setting (known: " + tuningKeyList() + ")");
 }
 
@@ -202,6 +237,8 @@ engine::Status validateTuning(const TuningState& t) {
   if (t.resolution - 1 - 2 * t.padding < 1)
     return engine::makeError(
         fmt::format("--resolution {} leaves no cells inside --padding {}", t.resolution, t.padding));
+  if (std::find(t.triangleNodes.begin(), t.triangleNodes.end(), std::string()) != t.triangleNodes.end())
+    return engine::makeError("--triangle-nodes: an empty node name");
   return {};
 }
 
@@ -257,7 +294,9 @@ engine::Status saveTuning(const std::filesystem::path& file, const TuningState& 
                      {"compare_method", methodName(t.compareMethod)},
                      {"compare_resolution", t.compareResolution},
                      {"compare_normals", normalModeName(t.compareNormals)},
-                     {"difference", t.difference}};
+                     {"difference", t.difference},
+                     {"node_draw", hsdf::nodeDrawName(t.nodeDraw)},
+                     {"triangle_nodes", t.triangleNodes}};
   return engine::writeTextFile(file, root.dump(2) + "\n");
 }
 

@@ -7,9 +7,11 @@
 #include <optional>
 #include <string>
 #include <string_view>
+#include <vector>
 
 #include "engine/core/expected.h"
 #include "hermite_sdf/renderable.h"
+#include "hermite_sdf/scene_objects.h"
 
 namespace samples {
 
@@ -82,6 +84,11 @@ struct TuningState {
   // Difference view: per pixel, the angle between the two methods' normals as a heat map with a
   // legend, and the share of pixels that one method covers and the other does not.
   bool difference = false;
+  // A glTF scene loaded as separate objects (SceneDesc::objects; read when it loads): how nodes
+  // without an extras choice draw, and nodes drawn as triangles whatever their extras say
+  // (hermite_sdf/scene_objects.h).
+  hsdf::NodeDraw nodeDraw = hsdf::NodeDraw::Sdf;
+  std::vector<std::string> triangleNodes;
 
   bool operator==(const TuningState&) const = default;
 };
@@ -90,7 +97,8 @@ struct TuningState {
 inline constexpr std::string_view kTuningKeys[] = {
     "method",        "resolution", "padding", "subdivisions",   "refine",          "normals",
     "fp16",          "debug_view", "front_to_back", "early_depth", "certified", "split", "split_position",
-    "compare_method", "compare_resolution", "compare_normals", "difference"};
+    "compare_method", "compare_resolution", "compare_normals", "difference",
+    "node_draw", "triangle_nodes"};
 std::string tuningKeyList();  // "method, resolution, ..."
 
 // Ranges, and a resolution that leaves cells inside the padding. The message names the setting
@@ -112,7 +120,8 @@ void applyTuning(const TuningState& tuning, hsdf::HermiteSdfRenderable& renderab
 // "refine", "normals", "fp16", "debug_view", "front_to_back", "early_depth" (true, false or "auto"),
 // "certified", "split",
 // "split_position" (0.05..0.95), "compare_method", "compare_resolution" (0: 2K, else 2..256),
-// "compare_normals", "difference", all optional. Loading starts from
+// "compare_normals", "difference", "node_draw" ("sdf" or "triangles"), "triangle_nodes" (an array of
+// node names; as text, names separated by commas), all optional. Loading starts from
 // `base`; an unknown key, a value of the wrong type or out of range is refused naming the key
 // and the file.
 // One setting given as text, "key=value" style, with the keys and checks of a settings file (the

@@ -276,8 +276,9 @@ const hsdf::SdfAsset* Viewer::sdfAsset() const {
 // The method picks what is drawn: the SDF, or the scene's meshes (also while the first SDF of a
 // mesh scene bakes, and always beside it with --side-by-side).
 void Viewer::updateVisibility(Method method, bool meshes) {
-  const bool sdfShown = isSdfMethod(method) && bakedEntity_;
+  const bool sdfShown = isSdfMethod(method) && (bakedEntity_ || !objectEntities_.empty());
   const bool meshesShown = meshes && (sideBySide_ || !sdfShown);
+  updateObjectVisibility(sdfShown);
   if (bakedEntity_ && sdfShown == hiddenSdf_.has_value()) {
     if (sdfShown) {
       registry_.emplace<hsdf::HermiteSdfRenderable>(*bakedEntity_, std::move(*hiddenSdf_));

@@ -15,6 +15,7 @@
 #include <filesystem>
 #include <memory>
 #include <optional>
+#include <span>
 #include <string>
 #include <utility>
 #include <vector>
@@ -43,6 +44,9 @@ class MeshPool;
 }
 namespace engine::ui {
 class UiLayer;
+}
+namespace engine::scene {
+struct SceneData;
 }
 
 namespace samples {
@@ -93,6 +97,11 @@ struct SceneDesc {
   std::filesystem::path sdfFile;
   bool sideBySide = false;
   bool groundPlane = true;
+  // A glTF scene as separate objects: each mesh baked once into its own asset (at the tuning's K
+  // and padding), drawn at every node that places it, except nodes drawn as triangles
+  // (TuningState::nodeDraw, triangleNodes, the nodes' extras: hermite_sdf/scene_objects.h). The
+  // assets are baked when the scene loads and kept: a new K does not re-bake them.
+  bool objects = false;
 };
 
 class TuningPanel;
@@ -162,6 +171,10 @@ class Viewer {
   bool canRebake() const { return bakeSource_.has_value(); }
   // Whether Method::Mesh has triangles to show (a glTF scene).
   bool hasMeshes() const { return !meshEntities_.empty(); }
+  // SceneDesc::objects: the entities drawing a mesh's shared asset (one per SDF node), and the
+  // bakes that made those assets (one per mesh they use).
+  const std::vector<engine::ecs::Entity>& sdfObjects() const { return objectEntities_; }
+  int objectBakes() const { return objectBakes_; }
 
   // Windowed: the user closed the window. Headless: never.
   bool shouldClose() const;
@@ -223,6 +236,8 @@ class Viewer {
 
   engine::gpu::Context& context() { return *context_; }
   engine::render::Renderer& renderer() { return *renderer_; }
+  // The meshes of the registry's MeshRenderables (a renderer drawing the registry needs them).
+  engine::render::MeshPool& meshPool() { return *pool_; }
   engine::ecs::Registry& registry() { return registry_; }
   glm::vec3 boundsMin() const { return boundsMin_; }
   glm::vec3 boundsMax() const { return boundsMax_; }
@@ -258,6 +273,11 @@ class Viewer {
   engine::Status addSdfFile(const std::filesystem::path& file, bool frameIt);
   engine::Status loadGltf(const SceneDesc& scene);
   void addGroundPlane();
+  // SceneDesc::objects (viewer_objects.cpp): `nodes` are the scene's node entities, `parts` the
+  // entities of their mesh primitives.
+  engine::Status addSceneObjects(const engine::scene::SceneData& data, std::span<const engine::ecs::Entity> nodes,
+                                 std::span<const engine::ecs::Entity> parts);
+  void updateObjectVisibility(bool sdfShown);
   engine::ecs::Entity addSdfEntity(std::shared_ptr<const hsdf::SdfAsset> asset, const glm::vec3& offset,
                                    const glm::vec4* color);
 
@@ -304,6 +324,10 @@ class Viewer {
   std::vector<engine::ecs::Entity> meshEntities_;
   std::vector<std::pair<engine::ecs::Entity, engine::render::MeshRenderable>> hiddenMeshes_;
   std::optional<hsdf::HermiteSdfRenderable> hiddenSdf_;
+  // SceneDesc::objects: the SDF nodes' entities, their renderables while a mesh method hides them.
+  std::vector<engine::ecs::Entity> objectEntities_;
+  std::vector<std::pair<engine::ecs::Entity, hsdf::HermiteSdfRenderable>> hiddenObjects_;
+  int objectBakes_ = 0;
 
   // The compared side of the split screen / difference view.
   std::shared_ptr<const hsdf::SdfAsset> compareAsset_;

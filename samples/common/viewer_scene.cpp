@@ -97,6 +97,8 @@ Status Viewer::loadGltf(const SceneDesc& scene) {
       return makeError(scene.gltf.string() + ": no triangle meshes to bake into an SDF");
     return {};
   }
+  if (scene.objects)
+    return addSceneObjects(data, instantiated.nodes, instantiated.renderables).withContext(scene.gltf.string());
   meshEntities_ = instantiated.renderables;
   sideBySide_ = scene.sideBySide;
   // The SDF looks like the mesh it stands for.

@@ -56,13 +56,16 @@ Status loadSubject(const Options& options, Subject& subject) {
   return {};
 }
 
-void storage(const RowSpec& spec, const Subject& subject, const hsdf::SdfAsset* asset, RowResult& result) {
+// With SceneDesc::objects the scene holds one asset per mesh: storage is their sum (each stored once
+// however many nodes draw it).
+void storage(const RowSpec& spec, const Subject& subject, const std::vector<const hsdf::SdfAsset*>& assets,
+             RowResult& result) {
   if (spec.isMesh()) {
     result.storedScalars = subject.meshScalars;
     result.storedBytes = subject.meshBytes;
     return;
   }
-  const std::uint64_t k = std::uint64_t(spec.resolution), dense = k * k * k;
+  const std::uint64_t k = std::uint64_t(spec.resolution), dense = k * k * k * assets.size();
   if (spec.render == hsdf::RenderMethod::TrilinearSphereTrace) {
     result.storedScalars = dense;
     result.storedBytes = dense * (spec.fp16 ? 2 : 4);
@@ -70,8 +73,10 @@ void storage(const RowSpec& spec, const Subject& subject, const hsdf::SdfAsset* 
     result.storedScalars = 4 * dense;
     result.storedBytes = 4 * dense * (spec.fp16 ? 2 : 4);
   } else {
-    result.cells = asset->cells.records.size();
-    result.storedScalars = asset->cells.stored_scalars();
+    for (const hsdf::SdfAsset* asset : assets) {
+      result.cells += asset->cells.records.size();
+      result.storedScalars += asset->cells.stored_scalars();
+    }
     result.storedBytes = result.cells * (spec.fp16 ? sizeof(hsdf::CellRecordHalf) : sizeof(hsdf::CellRecord));
   }
 }
@@ -123,20 +128,22 @@ struct Group {
   double diagonal;
 };
 
-const hsdf::SdfAsset* drawnAsset(samples::Viewer& viewer) {
-  const hsdf::SdfAsset* asset = nullptr;
-  viewer.registry().view<hsdf::HermiteSdfRenderable>().each(
-      [&asset](ecs::Entity, const hsdf::HermiteSdfRenderable& r) { asset = r.asset.get(); });
-  return asset;
+// The distinct assets the scene draws (one; with SceneDesc::objects, one per mesh).
+std::vector<const hsdf::SdfAsset*> drawnAssets(samples::Viewer& viewer) {
+  std::vector<const hsdf::SdfAsset*> assets;
+  viewer.registry().view<hsdf::HermiteSdfRenderable>().each([&assets](ecs::Entity, const hsdf::HermiteSdfRenderable& r) {
+    if (std::find(assets.begin(), assets.end(), r.asset.get()) == assets.end()) assets.push_back(r.asset.get());
+  });
+  return assets;
 }
 
 // One row over every view: warm-up, timed frames (Viewer steps), one measured frame.
 Status captureRow(const Group& g, const RowSpec& spec, std::size_t index, std::size_t total, RowResult& result) {
   g.viewer.setTuning(spec.tuning());
   ENGINE_TRY(g.viewer.waitForBake());  // a new K re-bakes through the module bake job
-  const hsdf::SdfAsset* asset = drawnAsset(g.viewer);
-  if (!spec.isMesh() && !asset) return makeError("no SDF in the scene");
-  storage(spec, g.subject, asset, result);
+  const std::vector<const hsdf::SdfAsset*> assets = drawnAssets(g.viewer);
+  if (!spec.isMesh() && assets.empty()) return makeError("no SDF in the scene");
+  storage(spec, g.subject, assets, result);
   QualityAccumulator quality(g.diagonal);
   std::vector<double> frameMs, prepassMs, shadingMs;
   const double views = double(g.cameras.size());
@@ -155,6 +162,9 @@ Status captureRow(const Group& g, const RowSpec& spec, std::size_t index, std::s
     addStatistics(last, views, result);
     const hsdf::HermiteCellFeature::Stats& cells = g.viewer.renderer().feature<hsdf::HermiteCellFeature>()->stats();
     result.boxes += double(cells.runs > 0 ? cells.runs : cells.cells) / views;
+    if (g.options.objects && v == 0 && samples::drawsCells(spec.state.method))
+      std::fprintf(stderr, "\n%s: %zu assets, %u cell objects in %u indirect commands\n", spec.label.c_str(),
+                   assets.size(), cells.objects, cells.draws);
     if (v == 0) {
       result.image = "images/" + fileName(spec.label) + ".png";
       ENGINE_TRY(g.viewer.writeScreenshot(g.options.out / result.image));
@@ -231,6 +241,7 @@ Status captureGroup(const Options& options, const Subject& subject, const std::v
   scene.gltf = options.scene;
   scene.shape = options.shape;
   scene.groundPlane = false;
+  scene.objects = options.objects;
   ENGINE_TRY(viewer->loadScene(scene, rows.front().tuning()));
   if (!info) info = runInfo(options, viewer->context(), subject);
   const glm::vec3 size = viewer->boundsMax() - viewer->boundsMin();
@@ -256,7 +267,10 @@ Status captureGroup(const Options& options, const Subject& subject, const std::v
   }
   {
     const VkExtent2D extent{options.width, options.height};
-    ENGINE_TRY_ASSIGN(std::unique_ptr<Measurement> measurement, Measurement::create(viewer->context(), *pool, extent));
+    // Scene objects: the SDF rows' registry also holds the triangle nodes, in the Viewer's pool.
+    render::MeshPool& measuredPool = options.objects && !rows.front().isMesh() ? viewer->meshPool() : *pool;
+    ENGINE_TRY_ASSIGN(std::unique_ptr<Measurement> measurement,
+                      Measurement::create(viewer->context(), measuredPool, extent));
     const Group group{options, extent, subject, *viewer, *measurement,
                       rows.front().isMesh() ? meshes : viewer->registry(), cameras, truth, diagonal};
     for (const RowSpec& spec : rows) {
@@ -281,6 +295,28 @@ Status captureGroup(const Options& options, const Subject& subject, const std::v
   return viewer->close();  // an error if the validation layers reported anything
 }
 
+// The rows each Viewer draws: the mesh rows, then the SDF rows; with --objects one Viewer per K,
+// since scene objects are baked when the scene loads (a new K does not re-bake them).
+std::vector<std::vector<RowSpec>> groupRows(const Options& options, const std::vector<RowSpec>& meshRows,
+                                            const std::vector<RowSpec>& sdfRows) {
+  std::vector<std::vector<RowSpec>> groups;
+  if (!meshRows.empty()) groups.push_back(meshRows);
+  if (!options.objects) {
+    if (!sdfRows.empty()) groups.push_back(sdfRows);
+    return groups;
+  }
+  std::vector<int> ks;  // in row order; trilinear rows add 2K to the --resolutions
+  for (const RowSpec& row : sdfRows)
+    if (std::find(ks.begin(), ks.end(), row.resolution) == ks.end()) ks.push_back(row.resolution);
+  for (const int k : ks) {
+    std::vector<RowSpec> atK;
+    for (const RowSpec& row : sdfRows)
+      if (row.resolution == k) atK.push_back(row);
+    groups.push_back(std::move(atK));
+  }
+  return groups;
+}
+
 }  // namespace
 
 Status run(const Options& options, int& failedRows) {
@@ -297,9 +333,8 @@ Status run(const Options& options, int& failedRows) {
   std::vector<RowResult> results;
   std::size_t index = 0;
   std::optional<RunInfo> info;
-  for (const std::vector<RowSpec>* group : {&meshRows, &sdfRows})
-    if (!group->empty())
-      ENGINE_TRY(captureGroup(options, subject, *group, cameras, truth, results, index, rows.size(), info));
+  for (const std::vector<RowSpec>& group : groupRows(options, meshRows, sdfRows))
+    ENGINE_TRY(captureGroup(options, subject, group, cameras, truth, results, index, rows.size(), info));
   std::fprintf(stderr, "\n");
   if (!info) return makeError("--methods: no rows to capture");
   ENGINE_TRY(writeCsv(options.out / "results.csv", *info, results));

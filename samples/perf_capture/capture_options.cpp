@@ -106,6 +106,10 @@ ParseResult parseOptions(int argc, const char* const* argv) {
   auto* shape = app.add_option("--shape", options.shape, "analytic shape instead of a scene: torus, sphere, capsule, box")
                     ->check(CLI::IsMember(kShapes));
   scene->excludes(shape);
+  app.add_flag("--objects", options.objects,
+               "each mesh of --scene its own SDF object (one bake per mesh, drawn at every node that places it; "
+               "nodes marked as triangles in extras stay meshes)")
+      ->excludes(shape);
   app.add_option("--size", size, "image size WxH (default 1920x1080; --quick 320x180)");
   app.add_option("--resolutions", resolutions, "field resolutions K (default 16,32,64,128; --quick 16,32)");
   app.add_option("--methods", methods, "methods to capture (default mesh,trilinear,hermite,cells,cells-runs)");

@@ -1,6 +1,6 @@
 #pragma once
 // Command line of the perf capture (issue 10):
-//   perf_capture --out DIR [--scene FILE | --shape NAME] [--size WxH] [--resolutions 16,32,64,128]
+//   perf_capture --out DIR [--scene FILE [--objects] | --shape NAME] [--size WxH] [--resolutions 16,32,64,128]
 //                [--methods mesh,trilinear,hermite,cells,cells-runs] [--settings "n=3 r=1,..."] [--views N]
 //                [--frames N] [--warmup N] [--quick]
 // Every value is checked before a device opens; a bad one is refused naming its option.
@@ -16,6 +16,9 @@ struct Options {
   std::filesystem::path out;
   std::filesystem::path scene;   // glTF/GLB; empty with a shape
   std::string shape;             // analytic shape (torus, sphere, capsule, box); empty with a scene
+  // The scene's meshes as separate SDF objects, one bake per mesh drawn by every node that places
+  // it (samples::SceneDesc::objects): the scene row set. Each K loads the scene anew.
+  bool objects = false;
   std::uint32_t width = 1920;
   std::uint32_t height = 1080;
   std::vector<int> resolutions{16, 32, 64, 128};

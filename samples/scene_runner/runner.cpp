@@ -31,6 +31,7 @@ samples::SceneDesc sceneDesc(const Options& options) {
   scene.gltf = options.scene;
   scene.sdfFile = options.sdfFile;
   scene.sideBySide = options.sideBySide;
+  scene.objects = options.objects;
   scene.groundPlane = options.groundPlane;
   return scene;
 }

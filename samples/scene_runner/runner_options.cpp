@@ -52,6 +52,8 @@ std::optional<std::string> checkCombinations(const Options& options, bool method
     return "--method mesh: a .hsdf file (--sdf) has no triangles; draw it with --method cells, trilinear or hermite";
   if (options.sideBySide && (!options.sdfFile.empty() || method == samples::Method::Mesh))
     return "--side-by-side: needs a scene baked into an SDF (--method cells, trilinear or hermite, without --sdf)";
+  if (options.objects && (!options.sdfFile.empty() || options.sideBySide))
+    return "--objects: draws a glTF scene's meshes as separate objects; it takes neither --sdf nor --side-by-side";
   if (auto valid = samples::validateTuning(options.tuning); !valid) return valid.error().message;
   return std::nullopt;
 }
@@ -129,6 +131,10 @@ void addTuningOptions(CLI::App& app, TuningState& t) {
   app.add_option("--compare-normals", t.compareNormals, "normals of the compared side: exact or central (default)")
       ->transform(oneOf({hsdf::NormalMode::Exact, hsdf::NormalMode::CentralDifferences}, samples::normalModeName));
   app.add_flag("--difference", t.difference, "difference view: normal angle between the two methods as a heat map");
+  app.add_option("--node-draw", t.nodeDraw, "--objects: how nodes without an extras choice draw: sdf (default) or triangles")
+      ->transform(oneOf({hsdf::NodeDraw::Sdf, hsdf::NodeDraw::Triangles}, hsdf::nodeDrawName));
+  app.add_option("--triangle-nodes", t.triangleNodes, "--objects: names of nodes drawn as triangles (comma-separated)")
+      ->delimiter(',');
 }
 
 ParseResult failure(const std::string& message) {
@@ -175,6 +181,9 @@ ParseResult parseOptions(int argc, const char* const* argv) {
   app.add_flag("!--no-ground", options.groundPlane, "do not add the ground plane");
   addTuningOptions(app, options.tuning);
   app.add_flag("--side-by-side", options.sideBySide, "keep the mesh and place the SDF beside it");
+  app.add_flag("--objects", options.objects,
+               "each glTF mesh baked once into its own SDF, drawn at every node that places it (per node: "
+               "extras hermite_sdf.draw, --node-draw, --triangle-nodes)");
   app.add_option("--script", options.script,
                  "apply 'frame N: key=value ...' lines (settings and actions, see the README) while running")
       ->check(CLI::ExistingFile);
@@ -205,6 +214,8 @@ ParseResult parseOptions(int argc, const char* const* argv) {
     problem = "--screenshot: '" + options.screenshot.string() + "' must end in .png";
   if (!problem) problem = parseCamera(camera, options);
   if (!problem) problem = checkCombinations(options, app.count("--method") > 0);
+  if (!problem && !options.objects && app.count("--node-draw") + app.count("--triangle-nodes") > 0)
+    problem = "--node-draw and --triangle-nodes choose per node of a scene loaded with --objects; add --objects";
   if (problem) return failure(*problem);
   if (options.headless && options.frames == 0) options.frames = 1;
   if (!options.headless && app.count("--ui-ini") == 0) options.uiIni = "imgui.ini";

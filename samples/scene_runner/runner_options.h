@@ -26,6 +26,7 @@ struct Options {
   bool headlessUi = false;           // draw the UI panels into headless screenshots
   bool groundPlane = true;
   bool sideBySide = false;           // keep the mesh and put the SDF copy beside it
+  bool objects = false;              // each glTF mesh its own SDF object, drawn per node (--objects)
   std::optional<int> view;           // one of 8 fixed orbit views
   std::optional<std::array<float, 6>> camera;  // eye xyz, target xyz
   std::filesystem::path saveSettings;  // write the final tuning to this file (--save-settings)

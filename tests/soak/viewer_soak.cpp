@@ -25,6 +25,7 @@
 //
 //   viewer_soak [--frames N] [--period P] [--size WxH] [--rss-tolerance-mb M] [--csv FILE]
 //               [--validation on|off]   (default on; off: to tell the layers' own growth from ours)
+//               [--scene FILE.glb] [--objects on|off]  (default off; on: each mesh its own SDF object)
 #include <unistd.h>
 
 #include <algorithm>
@@ -63,6 +64,9 @@ struct Options {
   std::filesystem::path csv;
   bool validation = true;
   std::filesystem::path gltf = HSDF_TEST_DATA_DIR "/gltf/bunny_small.glb";
+  // --objects on: the scene's meshes as separate SDF objects (SceneDesc::objects, baked once when
+  // the scene loads: the schedule's re-bakes then change nothing); off: baked whole, side by side.
+  bool objects = false;
 };
 
 Expected<std::uint64_t> parseCount(std::string_view option, std::string_view text) {
@@ -99,8 +103,15 @@ Expected<Options> parseOptions(int argc, char** argv) {
     } else if (option == "--validation") {
       if (value != "on" && value != "off") return makeError(fmt::format("--validation: on or off, got '{}'", value));
       options.validation = value == "on";
+    } else if (option == "--scene") {
+      options.gltf = std::string(value);
+      if (!std::filesystem::is_regular_file(options.gltf)) return makeError(fmt::format("--scene: no file '{}'", value));
+    } else if (option == "--objects") {
+      if (value != "on" && value != "off") return makeError(fmt::format("--objects: on or off, got '{}'", value));
+      options.objects = value == "on";
     } else {
-      return makeError(fmt::format("unknown option '{}' (--frames, --period, --size, --rss-tolerance-mb, --csv, --validation)",
+      return makeError(fmt::format("unknown option '{}' (--frames, --period, --size, --rss-tolerance-mb, --csv, "
+                                   "--validation, --scene, --objects)",
                                    option));
     }
   }
@@ -293,7 +304,8 @@ Expected<bool> runSoak(const Options& options) {
   ENGINE_TRY_ASSIGN(std::unique_ptr<samples::Viewer> viewer, samples::Viewer::create(desc));
   samples::SceneDesc scene;
   scene.gltf = options.gltf;
-  scene.sideBySide = true;  // the meshes and their SDF side by side: every method has something to draw
+  scene.objects = options.objects;
+  scene.sideBySide = !options.objects;  // the meshes and their SDF side by side: every method has something to draw
   samples::TuningState tuning;
   tuning.resolution = 16;
   ENGINE_TRY(viewer->loadScene(scene, tuning));

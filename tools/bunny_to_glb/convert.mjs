@@ -10,10 +10,8 @@
 import { createHash } from 'node:crypto';
 import { writeFileSync } from 'node:fs';
 import bunny from 'bunny';
+import { float32Bounds, glbBytes } from '../glb_common/glb.mjs';
 
-const GLB_MAGIC = 0x46546c67; // "glTF"
-const CHUNK_JSON = 0x4e4f534a; // "JSON"
-const CHUNK_BIN = 0x004e4942; // "BIN\0"
 const FLOAT = 5126;
 const UNSIGNED_INT = 5125;
 const ARRAY_BUFFER = 34962;
@@ -69,32 +67,6 @@ function smoothNormals(positions, cells) {
   });
 }
 
-function float32Bounds(vectors) {
-  const min = [Infinity, Infinity, Infinity];
-  const max = [-Infinity, -Infinity, -Infinity];
-  for (const v of vectors) {
-    for (let i = 0; i < 3; i++) {
-      const f = Math.fround(v[i]); // glTF requires min/max to equal the stored float32 values
-      min[i] = Math.min(min[i], f);
-      max[i] = Math.max(max[i], f);
-    }
-  }
-  return { min, max };
-}
-
-function padTo4(buffer, fill) {
-  const padded = Buffer.alloc(Math.ceil(buffer.length / 4) * 4, fill);
-  buffer.copy(padded);
-  return padded;
-}
-
-function chunk(type, payload) {
-  const header = Buffer.alloc(8);
-  header.writeUInt32LE(payload.length, 0);
-  header.writeUInt32LE(type, 4);
-  return Buffer.concat([header, payload]);
-}
-
 function buildGlb(positions, normals, cells) {
   const vertexBytes = positions.length * 12;
   const bin = Buffer.alloc(2 * vertexBytes + cells.length * 12);
@@ -128,13 +100,7 @@ function buildGlb(positions, normals, cells) {
     ],
   };
 
-  const jsonChunk = chunk(CHUNK_JSON, padTo4(Buffer.from(JSON.stringify(gltf), 'utf8'), 0x20));
-  const binChunk = chunk(CHUNK_BIN, padTo4(bin, 0));
-  const header = Buffer.alloc(12);
-  header.writeUInt32LE(GLB_MAGIC, 0);
-  header.writeUInt32LE(2, 4);
-  header.writeUInt32LE(12 + jsonChunk.length + binChunk.length, 8);
-  return Buffer.concat([header, jsonChunk, binChunk]);
+  return glbBytes(gltf, bin);
 }
 
 function main() {

@@ -311,6 +311,20 @@ TEST(GltfLoaderHierarchy, MeshMaterialAndFlattenedInstances) {
 // ------------------------------------------------------------------------------------------------
 // Features, built in memory
 
+// Tricky because tinygltf parses extras into its own value type: the node's extras must come back as
+// the same JSON (nested objects, strings, numbers, booleans), and a node without extras as none.
+TEST(GltfLoaderFeatures, NodeExtrasKeptAsJson) {
+  GltfBuilder b = triangleScene();
+  const json extras = {{"hermite_sdf", {{"draw", "triangles"}}}, {"count", 3}, {"flag", true}, {"list", {1.5, "x"}}};
+  b.doc()["nodes"][0]["extras"] = extras;
+  b.addNode({{"mesh", 0}});
+  const auto scene = load(b);
+  ASSERT_TRUE(scene.ok()) << scene.error().message;
+  ASSERT_EQ(scene->nodes.size(), 2u);
+  EXPECT_EQ(json::parse(scene->nodes[0].extras), extras);
+  EXPECT_TRUE(scene->nodes[1].extras.empty());
+}
+
 // Tricky because a file without meshes (or nodes) is valid glTF and must not be mistaken for an
 // error: the result is simply empty.
 TEST(GltfLoaderFeatures, SceneWithoutMeshesIsEmptyNotAnError) {

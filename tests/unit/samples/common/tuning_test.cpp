@@ -81,6 +81,8 @@ TEST(Tuning, SettingsFileRoundTrip) {
   t.compareResolution = 48;
   t.compareNormals = hsdf::NormalMode::Exact;
   t.difference = true;
+  t.nodeDraw = hsdf::NodeDraw::Triangles;
+  t.triangleNodes = {"rock_0_3", "box 2"};
   const auto file = tempFile("round_trip.json");
   ASSERT_TRUE(saveTuning(file, t).ok());
   const auto loaded = loadTuning(file);
@@ -154,6 +156,10 @@ TEST(Tuning, BadSettingsFilesNameTheKeyAndFile) {
       {R"({"compare_resolution": 3, "padding": 1})", "--compare-resolution 3 leaves no cells inside --padding 1"},
       {R"({"difference": 1})", "setting 'difference': expected true or false"},
       {R"({"early_depth": "on"})", "setting 'early_depth': expected true, false or \"auto\", got \"on\""},
+      {R"({"node_draw": "mesh"})", "setting 'node_draw': \"mesh\" is not one of sdf, triangles"},
+      {R"({"triangle_nodes": [1]})", "setting 'triangle_nodes': expected node names, got 1"},
+      {R"({"triangle_nodes": ["a", ""]})", "setting 'triangle_nodes': an empty node name"},
+      {R"({"triangle_nodes": true})", "setting 'triangle_nodes': expected an array of node names"},
   };
   const auto file = tempFile("bad.json");
   for (const Case& c : cases) {
@@ -207,6 +213,10 @@ TEST(Tuning, SetTuningValueFromText) {
   ASSERT_TRUE(setTuningValue(t, "split", "vertical").ok());
   ASSERT_TRUE(setTuningValue(t, "split_position", "0.25").ok());
   ASSERT_TRUE(setTuningValue(t, "compare_resolution", "0").ok());
+  ASSERT_TRUE(setTuningValue(t, "node_draw", "triangles").ok());
+  ASSERT_TRUE(setTuningValue(t, "triangle_nodes", "bunny_0_1,torus_2_2").ok());
+  EXPECT_EQ(t.nodeDraw, hsdf::NodeDraw::Triangles);
+  EXPECT_EQ(t.triangleNodes, (std::vector<std::string>{"bunny_0_1", "torus_2_2"}));
   EXPECT_EQ(t.split, SplitMode::Vertical);
   EXPECT_EQ(t.splitPosition, 0.25f);
   EXPECT_EQ(t.compareResolution, 0);
@@ -228,6 +238,8 @@ TEST(Tuning, SetTuningValueFromText) {
       {"method", "true", "setting 'method': true is not one of"},
       {"resolution", "3", "--resolution 3 leaves no cells inside --padding 1"},
       {"colour", "red", "setting 'colour': unknown setting"},
+      {"node_draw", "cells", "setting 'node_draw': \"cells\" is not one of sdf, triangles"},
+      {"triangle_nodes", "a,,b", "setting 'triangle_nodes': an empty node name"},
   };
   for (const Case& c : cases) {
     const engine::Status status = setTuningValue(t, c.key, c.value);

@@ -23,6 +23,10 @@ TEST(CaptureOptions, DefaultsAreTheIssuesFullRun) {
   EXPECT_EQ(r.options->resolutions, (std::vector<int>{16, 32, 64, 128}));
   EXPECT_EQ(r.options->views, 8u);
   EXPECT_EQ(r.options->scene.filename(), "bunny.glb");
+  EXPECT_FALSE(r.options->objects);
+  const ParseResult objects = parse({"--out", "x", "--scene", HSDF_ASSET_DIR "/grid_scene.glb", "--objects"});
+  ASSERT_TRUE(objects.options) << objects.message;
+  EXPECT_TRUE(objects.options->objects);
 }
 
 // Tricky: --quick is a preset, and options given beside it win, whatever their order.
@@ -51,6 +55,7 @@ TEST(CaptureOptions, BadValuesAreRefusedNamingTheOption) {
       {{"--out", "x", "--frames", "0"}, "--frames"},
       {{"--out", "x", "--shape", "teapot"}, "--shape"},
       {{"--out", "x", "--shape", "torus", "--methods", "mesh"}, "--methods mesh"},
+      {{"--out", "x", "--shape", "torus", "--objects"}, "--objects"},
       {{"--resolutions", "16"}, "--out"},  // required
       // An existing file of the wrong kind: a baked field has no source to re-bake or cast against.
       {{"--out", "x", "--scene", HSDF_TEST_DATA_DIR "/fuzz/hsdf_load_fuzz/sphere_k4_fp32.hsdf"}, "--scene: '"},

@@ -248,5 +248,26 @@ TEST(RunnerOptions, BadSettingsFileIsRefused) {
       << result.message;
 }
 
+// Tricky: the per-node choice reaches the TuningState (the settings struct the panel and scripts
+// write too), and choosing per node without --objects, or an unknown draw name, is refused.
+TEST(RunnerOptions, SceneObjectsPerNodeChoice) {
+  const Options o = parseOk({"--objects", "--node-draw", "triangles", "--triangle-nodes", "box_0_2,rock_1_1"});
+  EXPECT_TRUE(o.objects);
+  EXPECT_EQ(o.tuning.nodeDraw, hsdf::NodeDraw::Triangles);
+  EXPECT_EQ(o.tuning.triangleNodes, (std::vector<std::string>{"box_0_2", "rock_1_1"}));
+  EXPECT_FALSE(parseOk({}).objects);
+  EXPECT_EQ(parseOk({}).tuning.nodeDraw, hsdf::NodeDraw::Sdf);
+
+  const ParseResult without = parse({"--triangle-nodes", "box_0_2"});
+  EXPECT_EQ(without.exitCode, 2);
+  EXPECT_TRUE(contains(without.message, "add --objects")) << without.message;
+  const ParseResult badName = parse({"--objects", "--node-draw", "mesh"});
+  EXPECT_EQ(badName.exitCode, 2);
+  EXPECT_TRUE(contains(badName.message, "'mesh' is not one of sdf, triangles")) << badName.message;
+  const ParseResult withSdf = parse({"--objects", "--sdf", kHsdf});
+  EXPECT_EQ(withSdf.exitCode, 2);
+  EXPECT_TRUE(contains(withSdf.message, "--objects")) << withSdf.message;
+}
+
 }  // namespace
 }  // namespace runner

@@ -1,0 +1,117 @@
+// The Viewer with SceneDesc::objects (samples/common/viewer_objects.cpp), headless on the test
+// device with validation on: the sample grid scene loads as per-mesh SDF assets drawn by every
+// node in one cell draw, triangle nodes stay meshes, and the command line's list wins over extras.
+#include <gtest/gtest.h>
+
+#include <set>
+#include <string>
+
+#include "engine/render/components.h"
+#include "engine/scene/transform.h"
+#include "hermite_sdf/cell_feature.h"
+#include "test_device.h"
+#include "viewer.h"
+
+namespace samples {
+namespace {
+
+const std::filesystem::path kGridScene = std::filesystem::path(HSDF_ASSET_DIR) / "grid_scene.glb";
+
+std::unique_ptr<Viewer> makeViewer() {
+  ViewerDesc desc;
+  desc.width = 96;
+  desc.height = 64;
+  desc.headless = true;
+  desc.validation = true;
+  const auto device = hsdftest::testDevicePreference();
+  EXPECT_TRUE(device.ok()) << device.error().message;
+  if (!device) return nullptr;
+  desc.device = *device;
+  auto viewer = Viewer::create(desc);
+  EXPECT_TRUE(viewer.ok()) << viewer.error().message;
+  return viewer.ok() ? std::move(*viewer) : nullptr;
+}
+
+std::set<std::string> namesWith(Viewer& viewer, bool sdf) {
+  std::set<std::string> names;
+  auto& registry = viewer.registry();
+  if (sdf) {
+    registry.view<hsdf::HermiteSdfRenderable, engine::scene::Name>().each(
+        [&](engine::ecs::Entity, const hsdf::HermiteSdfRenderable&, const engine::scene::Name& name) {
+          names.insert(name.value);
+        });
+    return names;
+  }
+  // A mesh primitive's entity hangs under its node's entity, which carries the name.
+  registry.view<engine::render::MeshRenderable, engine::scene::Parent>().each(
+      [&](engine::ecs::Entity, const engine::render::MeshRenderable&, const engine::scene::Parent& parent) {
+        if (const auto* name = registry.tryGet<engine::scene::Name>(parent.entity)) names.insert(name->value);
+      });
+  return names;
+}
+
+// Tricky: 108 nodes of 4 meshes must cost 4 bakes and 4 distinct assets, the 9 nodes marked
+// triangles in extras (and one more from the list) must keep their triangles and no SDF, the other
+// SDF nodes must hide theirs, and all SDF instances go through the cells' batches in one frame.
+TEST(ViewerObjects, GridSceneSharesOneAssetPerMeshAndKeepsTriangleNodes) {
+  auto viewer = makeViewer();
+  ASSERT_NE(viewer, nullptr);
+  SceneDesc scene;
+  scene.gltf = kGridScene;
+  scene.objects = true;
+  scene.groundPlane = false;
+  TuningState tuning;
+  tuning.resolution = 24;
+  tuning.triangleNodes = {"bunny_4_0"};
+  const engine::Status loaded = viewer->loadScene(scene, tuning);
+  ASSERT_TRUE(loaded.ok()) << loaded.error().message;
+  EXPECT_EQ(viewer->objectBakes(), 4);
+  EXPECT_EQ(viewer->sdfObjects().size(), 98u);  // 108 - 9 marked in extras - 1 listed
+  std::set<std::uint64_t> ids;
+  viewer->registry().view<hsdf::HermiteSdfRenderable>().each(
+      [&ids](engine::ecs::Entity, const hsdf::HermiteSdfRenderable& r) { ids.insert(r.asset->id); });
+  EXPECT_EQ(ids.size(), 4u);
+
+  const std::set<std::string> sdfNames = namesWith(*viewer, true);
+  const std::set<std::string> meshNames = namesWith(*viewer, false);
+  EXPECT_EQ(meshNames.size(), 10u);
+  EXPECT_TRUE(meshNames.contains("bunny_4_0")) << "the list wins over the default";
+  EXPECT_TRUE(meshNames.contains("rock_0_3")) << "extras: triangles";
+  for (const std::string& name : meshNames) EXPECT_FALSE(sdfNames.contains(name)) << name << " drawn twice";
+
+  ASSERT_TRUE(viewer->step().ok());
+  const auto& stats = viewer->renderer().feature<hsdf::HermiteCellFeature>()->stats();
+  EXPECT_EQ(stats.objects, 98u);
+
+  // Method::Mesh shows every node's triangles and no SDF; back to cells shows them again.
+  tuning = viewer->tuning();
+  tuning.method = Method::Mesh;
+  viewer->setTuning(tuning);
+  ASSERT_TRUE(viewer->step().ok());
+  EXPECT_TRUE(namesWith(*viewer, true).empty());
+  EXPECT_EQ(namesWith(*viewer, false).size(), 108u);
+  tuning.method = Method::Cells;
+  viewer->setTuning(tuning);
+  ASSERT_TRUE(viewer->step().ok());
+  EXPECT_EQ(namesWith(*viewer, true).size(), 98u);
+  EXPECT_EQ(namesWith(*viewer, false).size(), 10u);
+  EXPECT_TRUE(viewer->close().ok());
+}
+
+TEST(ViewerObjects, UnknownTriangleNodeIsRefusedNamingTheFileAndNode) {
+  auto viewer = makeViewer();
+  ASSERT_NE(viewer, nullptr);
+  SceneDesc scene;
+  scene.gltf = kGridScene;
+  scene.objects = true;
+  TuningState tuning;
+  tuning.resolution = 16;
+  tuning.triangleNodes = {"no_such_node"};
+  const engine::Status loaded = viewer->loadScene(scene, tuning);
+  ASSERT_FALSE(loaded.ok());
+  EXPECT_NE(loaded.error().message.find("grid_scene.glb"), std::string::npos) << loaded.error().message;
+  EXPECT_NE(loaded.error().message.find("no node named 'no_such_node'"), std::string::npos) << loaded.error().message;
+}
+
+}  // namespace
+}  // namespace samples
