@@ -329,13 +329,15 @@ void Viewer::updateLevelsOfDetail() {
   hsdf::HermiteSdfRenderable* renderable = sdfRenderable();
   if (!renderable) return;
   hsdf::HermiteSdfLod* lod = registry_.tryGet<hsdf::HermiteSdfLod>(*bakedEntity_);
+  const bool holdsLevel =
+      lod && std::find(lod->levels.begin(), lod->levels.end(), renderable->asset) != lod->levels.end();
   if (!tuning_.lod || !bakeSource_) {
-    if (lod && !lod->levels.empty()) renderable->asset = lod->levels.front();
+    // A level goes back to level 0; a new bake in the renderable stays.
+    if (holdsLevel) renderable->asset = lod->levels.front();
     if (lod) registry_.remove<hsdf::HermiteSdfLod>(*bakedEntity_);
     return;
   }
-  const bool current = lod && std::find(lod->levels.begin(), lod->levels.end(), renderable->asset) != lod->levels.end();
-  if (!current) {
+  if (!holdsLevel) {
     if (Status baked = bakeLevels(renderable->asset); !baked) {
       bakeError_ = baked.error().message;
       log::warn("{} (levels of detail turned off)", bakeError_);

@@ -335,6 +335,23 @@ TEST(Viewer, LevelsOfDetailFollowTheCameraInTheFrameStep) {
   viewer->setTuning(tuning);
   ASSERT_TRUE(viewer->step().ok());
   EXPECT_EQ(theSdf(*viewer).asset, finest) << "levels off: the asset baked at K again";
+  // Levels on, a far frame, then levels off together with a new K: the new bake must stay drawn
+  // (not level 0 of the old levels), and levels on again must build the new K's levels.
+  tuning.lod = true;
+  viewer->setTuning(tuning);
+  ASSERT_TRUE(viewer->step().ok());
+  EXPECT_LT(theSdf(*viewer).asset->cells.grid.resolution, 64);
+  tuning.lod = false;
+  tuning.resolution = 48;
+  viewer->setTuning(tuning);
+  ASSERT_TRUE(viewer->waitForBake().ok());
+  ASSERT_TRUE(viewer->step().ok());
+  EXPECT_EQ(theSdf(*viewer).asset->cells.grid.resolution, 48);
+  tuning.lod = true;
+  viewer->setTuning(tuning);
+  viewer->setCamera(glm::dvec3(target + 1000.0f * (eye - target)), glm::dvec3(target));
+  ASSERT_TRUE(viewer->step().ok());
+  EXPECT_EQ(theSdf(*viewer).asset->cells.grid.resolution, 48 / 2) << "the coarsest level of K = 48 (floor 16)";
   EXPECT_TRUE(viewer->close().ok());
 }
 
