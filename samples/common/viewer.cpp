@@ -179,8 +179,13 @@ void Viewer::updateCompareBake() {
   if (baking || (have && !compareJob_)) return;
   compareJob_.reset();  // cancels a bake for a K no longer asked for
   if (have || compareFailed_ == std::pair{k, padding}) return;
-  if (const hsdf::HermiteSdfRenderable* r = sdfRenderable(); r && k == bakedResolution_ && padding == bakedPadding_) {
-    compareAsset_ = r->asset;
+  // Shared: the asset baked at K (level 0 when levels of detail draw another), if it has the dense
+  // field the compared tracer needs (a sparse cell bake has none).
+  const hsdf::HermiteSdfRenderable* r = sdfRenderable();
+  const hsdf::HermiteSdfLod* lod = bakedEntity_ ? registry_.tryGet<hsdf::HermiteSdfLod>(*bakedEntity_) : nullptr;
+  const auto baked = lod && !lod->levels.empty() ? lod->levels.front() : r ? r->asset : nullptr;
+  if (baked && !baked->field.samples.empty() && k == bakedResolution_ && padding == bakedPadding_) {
+    compareAsset_ = baked;
     compareResolution_ = k;
     comparePadding_ = padding;
     return;
