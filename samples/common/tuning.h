@@ -94,7 +94,8 @@ struct TuningState {
   SplitMode split = SplitMode::Off;
   float splitPosition = 0.5f;  // the divider, as a fraction of the width (vertical) or height
   Method compareMethod = Method::Trilinear;
-  int compareResolution = 0;   // 0: twice K, at most kDefaultCompareResolutionMax (the paper's rule of thumb for trilinear)
+  // 0: twice K, at most kDefaultCompareResolutionMax (the paper's rule of thumb for trilinear).
+  int compareResolution = 0;
   hsdf::NormalMode compareNormals = hsdf::NormalMode::CentralDifferences;  // the paper's for trilinear
   // Difference view: per pixel, the angle between the two methods' normals as a heat map with a
   // legend, and the share of pixels that one method covers and the other does not.
@@ -121,8 +122,8 @@ IntRange resolutionRange(Method method);
 // cells: sparse_bake.h; open meshes excepted, as with the narrow band).
 hsdf::BakeBand bakeBandFor(Method method, int resolution);
 
-// Ranges (the resolution's by method, naming the limit), and a resolution that leaves cells inside the padding. The message names the setting
-// by its command-line option (--resolution).
+// Ranges (the resolution's by method, naming the limit), and a resolution that leaves cells inside
+// the padding. The message names the setting by its command-line option (--resolution).
 engine::Status validateTuning(const TuningState& tuning);
 
 // The K the compared side is drawn with: compareResolution, or 2K capped at the range's top.
@@ -139,7 +140,7 @@ void applyTuning(const TuningState& tuning, hsdf::HermiteSdfRenderable& renderab
 // Settings files: JSON objects with the keys "method", "resolution", "padding", "subdivisions",
 // "refine", "normals", "fp16", "debug_view", "front_to_back", "early_depth" (true, false or "auto"),
 // "certified", "split",
-// "split_position" (0.05..0.95), "compare_method", "compare_resolution" (0: 2K, else 2..256),
+// "split_position" (0.05..0.95), "compare_method", "compare_resolution" (0: 2K, else 2..2048, checked by method),
 // "compare_normals", "difference", "lod", "lod_pixels_per_cell" (0.25..64), all optional. Loading starts from
 // `base`; an unknown key, a value of the wrong type or out of range is refused naming the key
 // and the file.
