@@ -115,10 +115,12 @@ TEST_F(LodGpuTest, LevelStaysWithinTheHysteresisBand) {
     return registry_.get<hsdf::HermiteSdfRenderable>(e).asset->cells.grid.resolution;
   };
   EXPECT_EQ(drawnAt(-5.0f), 64);
-  // Walk away until the level changes, then step back by less than the band: it must hold.
-  float z = -5.0f;
+  // Walk away until the level changes, then step back by less than the band: it must hold
+  // (without the hysteresis, K = 32 is drawn from 2 px, 1.7 units nearer: 0.5 back would switch).
+  // The walk starts where K = 64 is still drawn (K = 32's cells 2.27 px) to keep the frames few.
+  float z = -11.0f;
   while (drawnAt(z) == 64 && z > -200.0f) z -= 0.25f;
-  ASSERT_LT(z, -5.0f);
+  ASSERT_LT(z, -11.0f);
   const int coarser = drawnAt(z);
   EXPECT_EQ(coarser, 32);
   EXPECT_EQ(drawnAt(z + 0.5f), 32) << "switched back within the hysteresis band";
