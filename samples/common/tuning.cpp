@@ -182,6 +182,9 @@ engine::Status readKey(const std::string& key, const json& value, TuningState& t
   if (key == "difference") return readBool(value, t.difference);
   if (key == "node_draw") return readNodeDraw(value, t.nodeDraw);
   if (key == "triangle_nodes") return readNames(value, t.triangleNodes);
+  if (key == "lod") return readBool(value, t.lod);
+  if (key == "lod_pixels_per_cell")
+    return readFloat(value, kLodPixelsPerCellRange.min, kLodPixelsPerCellRange.max, t.lodPixelsPerCell);
   return engine::makeError("unknown setting (known: " + tuningKeyList() + ")");
 }
 
@@ -200,7 +203,7 @@ std::string tuningKeyList() {
 }
 
 int effectiveCompareResolution(const TuningState& t) {
-  return t.compareResolution > 0 ? t.compareResolution : std::min(2 * t.resolution, kResolutionRange.max);
+  return t.compareResolution > 0 ? t.compareResolution : std::min(2 * t.resolution, kDefaultCompareResolutionMax);
 }
 
 bool comparing(const TuningState& t) { return t.split != SplitMode::Off || t.difference; }
@@ -220,12 +223,37 @@ std::optional<hsdf::NormalMode> parseNormalMode(std::string_view name) { return 
 const char* debugViewName(DebugView view) { return nameOf(kDebugViews, view); }
 std::optional<DebugView> parseDebugView(std::string_view name) { return valueOf(kDebugViews, name); }
 
+IntRange resolutionRange(Method method) { return drawsCells(method) || method == Method::Mesh ? kCellResolutionRange : kDenseResolutionRange; }
+
+hsdf::BakeBand bakeBandFor(Method method, int resolution) {
+  return drawsCells(method) && resolution > kDenseBakeMaxResolution ? hsdf::BakeBand::Sparse : hsdf::BakeBand::Dense;
+}
+
+namespace {
+
+// The K range of the method, the limit named with why it is there.
+engine::Status checkResolution(Method method, int resolution) {
+  const IntRange range = resolutionRange(method);
+  if (resolution >= range.min && resolution <= range.max) return {};
+  const char* why = drawsCells(method) || method == Method::Mesh
+                        ? "the cells' limit (sparse bake; the bake budget may refuse less)"
+                        : "the dense tracers' limit (K^3 texels: the Hermite texture is 2 GiB at K = 512)";
+  return engine::makeError(fmt::format("--resolution {} is outside {}..{} for --method {}: {}", resolution, range.min,
+                                       range.max, methodName(method), why));
+}
+
+}  // namespace
+
 engine::Status validateTuning(const TuningState& t) {
-  ENGINE_TRY(checkRange("--resolution", t.resolution, kResolutionRange));
+  ENGINE_TRY(checkResolution(t.method, t.resolution));
   ENGINE_TRY(checkRange("--padding", t.padding, kPaddingRange));
   ENGINE_TRY(checkRange("--subdivisions", t.subdivisions, kSubdivisionsRange));
   ENGINE_TRY(checkRange("--refine", t.refineSteps, kRefineRange));
-  if (t.compareResolution != 0) ENGINE_TRY(checkRange("--compare-resolution", t.compareResolution, kResolutionRange));
+  if (t.compareResolution != 0)
+    ENGINE_TRY(checkRange("--compare-resolution", t.compareResolution, resolutionRange(t.compareMethod)));
+  if (!(t.lodPixelsPerCell >= kLodPixelsPerCellRange.min && t.lodPixelsPerCell <= kLodPixelsPerCellRange.max))
+    return engine::makeError(fmt::format("--lod-pixels-per-cell {} is outside {}..{}", t.lodPixelsPerCell,
+                                         kLodPixelsPerCellRange.min, kLodPixelsPerCellRange.max));
   if (!isSdfMethod(t.compareMethod))
     return engine::makeError("--compare-method mesh: the compared method must be cells, trilinear or hermite");
   if (!(t.splitPosition >= kSplitMin && t.splitPosition <= kSplitMax))
@@ -296,7 +324,9 @@ engine::Status saveTuning(const std::filesystem::path& file, const TuningState& 
                      {"compare_normals", normalModeName(t.compareNormals)},
                      {"difference", t.difference},
                      {"node_draw", hsdf::nodeDrawName(t.nodeDraw)},
-                     {"triangle_nodes", t.triangleNodes}};
+                     {"triangle_nodes", t.triangleNodes},
+                     {"lod", t.lod},
+                     {"lod_pixels_per_cell", t.lodPixelsPerCell}};
   return engine::writeTextFile(file, root.dump(2) + "\n");
 }
 

@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "engine/core/expected.h"
+#include "hermite_sdf/bake_job.h"
 #include "hermite_sdf/renderable.h"
 #include "hermite_sdf/scene_objects.h"
 
@@ -51,13 +52,29 @@ struct IntRange {
   int min;
   int max;
 };
-inline constexpr IntRange kResolutionRange{2, 256};
+// K, by method (resolutionRange): the cell renderers up to 2048, past the dense bake's reach with
+// the sparse bake (bakeBandFor; the bake budget may still refuse a large K, naming its limit); the
+// dense tracers up to 512, where their textures hold K^3 texels (the Hermite one 16 B a texel: 2 GiB)
+// and the dense bake K^3 samples. kResolutionRange is the widest of them (what a file may hold).
+inline constexpr IntRange kResolutionRange{2, 2048};
+inline constexpr IntRange kCellResolutionRange{2, 2048};
+inline constexpr IntRange kDenseResolutionRange{2, 512};
+// Past this K the cell renderers bake sparse (no dense field, so a switch to a dense tracer re-bakes).
+inline constexpr int kDenseBakeMaxResolution = 256;
+// The compared side's default K (2K) stops here: a dense bake past it takes minutes.
+inline constexpr int kDefaultCompareResolutionMax = 256;
 inline constexpr IntRange kPaddingRange{0, 16};
 inline constexpr IntRange kSubdivisionsRange{1, 64};
 inline constexpr IntRange kRefineRange{0, 16};
 // The panel's sliders: the useful part of each range (the paper uses n = 2 or 3; K past 256 is
-// refused by the bake anyway).
-inline constexpr IntRange kPanelResolutionRange{8, 256};
+// beyond the method's range is refused).
+inline constexpr IntRange kPanelResolutionRange{8, 2048};
+// Levels of detail: the target size of a drawn cell in pixels (hsdf::HermiteSdfLod::pixelsPerCell).
+struct FloatRange {
+  float min;
+  float max;
+};
+inline constexpr FloatRange kLodPixelsPerCellRange{0.25f, 64.0f};
 inline constexpr IntRange kPanelSubdivisionsRange{1, 16};
 inline constexpr IntRange kPanelRefineRange{0, 4};
 
@@ -79,7 +96,8 @@ struct TuningState {
   SplitMode split = SplitMode::Off;
   float splitPosition = 0.5f;  // the divider, as a fraction of the width (vertical) or height
   Method compareMethod = Method::Trilinear;
-  int compareResolution = 0;   // 0: twice K, at most 256 (the paper's rule of thumb for trilinear)
+  // 0: twice K, at most kDefaultCompareResolutionMax (the paper's rule of thumb for trilinear).
+  int compareResolution = 0;
   hsdf::NormalMode compareNormals = hsdf::NormalMode::CentralDifferences;  // the paper's for trilinear
   // Difference view: per pixel, the angle between the two methods' normals as a heat map with a
   // legend, and the share of pixels that one method covers and the other does not.
@@ -89,6 +107,10 @@ struct TuningState {
   // (hermite_sdf/scene_objects.h).
   hsdf::NodeDraw nodeDraw = hsdf::NodeDraw::Sdf;
   std::vector<std::string> triangleNodes;
+  // Levels of detail (hsdf::HermiteSdfLod): the baked object also at K/2, K/4, ... (down to K = 16),
+  // each frame drawing the coarsest level whose cells cover at most lodPixelsPerCell pixels.
+  bool lod = false;
+  float lodPixelsPerCell = 2.0f;
 
   bool operator==(const TuningState&) const = default;
 };
@@ -98,11 +120,18 @@ inline constexpr std::string_view kTuningKeys[] = {
     "method",        "resolution", "padding", "subdivisions",   "refine",          "normals",
     "fp16",          "debug_view", "front_to_back", "early_depth", "certified", "split", "split_position",
     "compare_method", "compare_resolution", "compare_normals", "difference",
-    "node_draw", "triangle_nodes"};
+    "node_draw", "triangle_nodes", "lod", "lod_pixels_per_cell"};
 std::string tuningKeyList();  // "method, resolution, ..."
 
-// Ranges, and a resolution that leaves cells inside the padding. The message names the setting
-// by its command-line option (--resolution).
+// The K range of a method (Mesh: the cells', as the SDF is baked when an SDF method is picked).
+IntRange resolutionRange(Method method);
+// How the bake for `method` at K runs: Dense while every method can draw the result (K up to
+// kDenseBakeMaxResolution, or a dense tracer), Sparse for the cell renderers past it (the same
+// cells: sparse_bake.h; open meshes excepted, as with the narrow band).
+hsdf::BakeBand bakeBandFor(Method method, int resolution);
+
+// Ranges (the resolution's by method, naming the limit), and a resolution that leaves cells inside
+// the padding. The message names the setting by its command-line option (--resolution).
 engine::Status validateTuning(const TuningState& tuning);
 
 // The K the compared side is drawn with: compareResolution, or 2K capped at the range's top.
@@ -119,9 +148,9 @@ void applyTuning(const TuningState& tuning, hsdf::HermiteSdfRenderable& renderab
 // Settings files: JSON objects with the keys "method", "resolution", "padding", "subdivisions",
 // "refine", "normals", "fp16", "debug_view", "front_to_back", "early_depth" (true, false or "auto"),
 // "certified", "split",
-// "split_position" (0.05..0.95), "compare_method", "compare_resolution" (0: 2K, else 2..256),
+// "split_position" (0.05..0.95), "compare_method", "compare_resolution" (0: 2K, else 2..2048, checked by method),
 // "compare_normals", "difference", "node_draw" ("sdf" or "triangles"), "triangle_nodes" (an array of
-// node names; as text, names separated by commas), all optional. Loading starts from
+// node names; as text, names separated by commas), "lod", "lod_pixels_per_cell" (0.25..64), all optional. Loading starts from
 // `base`; an unknown key, a value of the wrong type or out of range is refused naming the key
 // and the file.
 // One setting given as text, "key=value" style, with the keys and checks of a settings file (the

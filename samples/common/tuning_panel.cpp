@@ -68,6 +68,8 @@ void TuningPanel::drawMethod() {
       const bool available = m == int(Method::Mesh) ? viewer_.hasMeshes() : sdf;
       if (available && ImGui::Selectable(kMethodLabels[m], m == method)) {
         t.method = Method(m);
+        // A dense tracer stops at a lower K than the cells: the switch bakes at its limit.
+        t.resolution = std::min(t.resolution, resolutionRange(t.method).max);
         changed = true;
       }
     }
@@ -116,11 +118,17 @@ void TuningPanel::drawResolution() {
   }
   TuningState t = viewer_.tuning();
   if (!ImGui::IsAnyItemActive()) resolution_ = t.resolution;
-  ImGui::SliderInt("K (resolution)", &resolution_, kPanelResolutionRange.min, kPanelResolutionRange.max);
+  // The method's range (cells 2048, dense tracers 512), logarithmic: 8..2048 on one slider.
+  const int top = std::min(kPanelResolutionRange.max, resolutionRange(t.method).max);
+  ImGui::SliderInt("K (resolution)", &resolution_, kPanelResolutionRange.min, top, "%d", ImGuiSliderFlags_Logarithmic);
+  if (ImGui::IsItemHovered())
+    ImGui::SetTooltip("K up to %d for %s; cells past %d bake sparse (the bake budget may refuse, naming its limit)", top,
+                      methodName(t.method), kDenseBakeMaxResolution);
   if (ImGui::IsItemDeactivatedAfterEdit() && resolution_ != t.resolution) {
     t.resolution = resolution_;
     viewer_.setTuning(t);
   }
+  drawLod(viewer_.tuning());
   if (hsdf::BakeJob* job = viewer_.bakeJob()) {
     const std::string label = fmt::format("baking K = {}: {:.0f}%", job->settings().resolution, 100.0f * job->progress());
     ImGui::ProgressBar(job->progress(), ImVec2(-80.0f, 0.0f), label.c_str());
@@ -128,6 +136,20 @@ void TuningPanel::drawResolution() {
     if (ImGui::Button("cancel")) viewer_.cancelBake();
   }
   if (!viewer_.bakeError().empty()) ImGui::TextWrapped("bake refused/failed: %s", viewer_.bakeError().c_str());
+}
+
+// Levels of detail: on/off and the target cell size (TuningState::lod, lodPixelsPerCell).
+void TuningPanel::drawLod(const TuningState& tuning) {
+  TuningState t = tuning;
+  bool changed = ImGui::Checkbox("levels of detail", &t.lod);
+  if (ImGui::IsItemHovered()) ImGui::SetTooltip("bake K/2, K/4, ... (down to 16) too; draw the coarsest whose cells fit the target");
+  if (t.lod) {
+    ImGui::SameLine();
+    ImGui::SetNextItemWidth(ImGui::GetFontSize() * 8.0f);
+    changed |= ImGui::SliderFloat("px per cell", &t.lodPixelsPerCell, kLodPixelsPerCellRange.min,
+                                  kLodPixelsPerCellRange.max, "%.2f", ImGuiSliderFlags_Logarithmic);
+  }
+  if (changed) viewer_.setTuning(t);
 }
 
 void TuningPanel::drawStatistics() {
@@ -189,7 +211,7 @@ void TuningPanel::drawComparison() {
   if (!drawsCells(t.compareMethod) && viewer_.canRebake()) {
     // 0 = the rule of thumb (2K); re-bakes on release, like K.
     if (!ImGui::IsAnyItemActive()) compareResolution_ = t.compareResolution;
-    ImGui::SliderInt("compared K (0: 2K)", &compareResolution_, 0, kPanelResolutionRange.max);
+    ImGui::SliderInt("compared K (0: 2K)", &compareResolution_, 0, resolutionRange(t.compareMethod).max);
     if (ImGui::IsItemDeactivatedAfterEdit() && compareResolution_ != t.compareResolution) {
       t.compareResolution = compareResolution_ == 0 ? 0 : std::max(compareResolution_, kPanelResolutionRange.min);
       changed = true;

@@ -14,6 +14,7 @@
 namespace samples {
 
 class Viewer;
+struct TuningState;
 
 // The last `kSamples` values of one series, oldest first from `next` once `count` reaches kSamples.
 struct PlotHistory {
@@ -33,6 +34,7 @@ class TuningPanel {
  private:
   void drawMethod();
   void drawResolution();
+  void drawLod(const TuningState& tuning);
   void drawComparison();
   void drawDifferenceLegend();
   void drawDivider();

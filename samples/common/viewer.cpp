@@ -1,5 +1,6 @@
 #include "viewer.h"
 
+#include <algorithm>
 #include <chrono>
 
 #include <GLFW/glfw3.h>
@@ -19,6 +20,7 @@
 #include "engine/scene/transform.h"
 #include "engine/ui/ui_layer.h"
 #include "hermite_sdf/cell_feature.h"
+#include "hermite_sdf/lod.h"
 #include "hermite_sdf/sphere_trace_feature.h"
 #include "shader_build.h"
 #include "tuning_panel.h"
@@ -158,7 +160,12 @@ void Viewer::setTuning(const TuningState& tuning) {
   // Compared with what is being baked, else with what is drawn.
   const int resolution = bakeJob_ ? bakeJob_->settings().resolution : bakedResolution_;
   const int padding = bakeJob_ ? bakeJob_->settings().padding : bakedPadding_;
-  if (tuning.resolution != resolution || tuning.padding != padding) startRebake();
+  // A sparse bake (the cells past K = 256) has no dense field: a dense tracer needs a re-bake.
+  const hsdf::SdfAsset* drawn = sdfAsset();
+  const bool sparse = bakeJob_ ? bakeJob_->settings().band == hsdf::BakeBand::Sparse
+                               : drawn && drawn->field.samples.empty();
+  const bool needsDense = isSdfMethod(tuning.method) && !drawsCells(tuning.method);
+  if (tuning.resolution != resolution || tuning.padding != padding || (sparse && needsDense)) startRebake();
 }
 
 // Starts the compared side's bake when it should draw another K (or padding) than it has. The
@@ -172,8 +179,13 @@ void Viewer::updateCompareBake() {
   if (baking || (have && !compareJob_)) return;
   compareJob_.reset();  // cancels a bake for a K no longer asked for
   if (have || compareFailed_ == std::pair{k, padding}) return;
-  if (const hsdf::HermiteSdfRenderable* r = sdfRenderable(); r && k == bakedResolution_ && padding == bakedPadding_) {
-    compareAsset_ = r->asset;
+  // Shared: the asset baked at K (level 0 when levels of detail draw another), if it has the dense
+  // field the compared tracer needs (a sparse cell bake has none).
+  const hsdf::HermiteSdfRenderable* r = sdfRenderable();
+  const hsdf::HermiteSdfLod* lod = bakedEntity_ ? registry_.tryGet<hsdf::HermiteSdfLod>(*bakedEntity_) : nullptr;
+  const auto baked = lod && !lod->levels.empty() ? lod->levels.front() : r ? r->asset : nullptr;
+  if (baked && !baked->field.samples.empty() && k == bakedResolution_ && padding == bakedPadding_) {
+    compareAsset_ = baked;
     compareResolution_ = k;
     comparePadding_ = padding;
     return;
@@ -212,6 +224,7 @@ void Viewer::startRebake() {
   hsdf::BakeSettings settings;
   settings.resolution = tuning_.resolution;
   settings.padding = tuning_.padding;
+  settings.band = bakeBandFor(tuning_.method, tuning_.resolution);
   settings.budget = bakeBudget_;
   bakeError_.clear();
   bakeJob_.reset();  // cancels a re-bake for settings that are already outdated
@@ -244,7 +257,9 @@ Status Viewer::finishBake() {
   log::info("re-baked at resolution {}: {}", settings.resolution, describeSdfStats(sdfStats(**result)));
   if (bakedEntity_) {
     hsdf::HermiteSdfRenderable& sdf = hiddenSdf_ ? *hiddenSdf_ : registry_.get<hsdf::HermiteSdfRenderable>(*bakedEntity_);
-    replaced_ = {sdf.asset, bakedResolution_, bakedPadding_};
+    // With levels of detail the renderable holds the level drawn; the bake replaced level 0.
+    const hsdf::HermiteSdfLod* lod = registry_.tryGet<hsdf::HermiteSdfLod>(*bakedEntity_);
+    replaced_ = {lod && !lod->levels.empty() ? lod->levels.front() : sdf.asset, bakedResolution_, bakedPadding_};
     sdf.asset = std::move(*result);
   } else {
     bakedEntity_ = addSdfEntity(std::move(*result), glm::vec3(0.0f), sdfColor_ ? &*sdfColor_ : nullptr);
@@ -309,6 +324,50 @@ void Viewer::applyTuningToScene() {
   cells.earlyDepth = tuning_.earlyDepth == EarlyDepth::On    ? CellEarlyDepth::On
                      : tuning_.earlyDepth == EarlyDepth::Off ? CellEarlyDepth::Off
                                                              : CellEarlyDepth::Auto;
+}
+
+// Levels of detail (TuningState::lod): the baked entity carries an hsdf::HermiteSdfLod whose level 0
+// is the asset baked at K. A renderable holding none of the levels has a new bake (re-bake, refused
+// bake put back): its coarser levels are baked then, from the same source, with its band (here, on
+// the frame's thread). Off: the entity draws level 0 again. Then the module's system picks the
+// level per frame, from the camera of this frame.
+void Viewer::updateLevelsOfDetail() {
+  hsdf::HermiteSdfRenderable* renderable = sdfRenderable();
+  if (!renderable) return;
+  hsdf::HermiteSdfLod* lod = registry_.tryGet<hsdf::HermiteSdfLod>(*bakedEntity_);
+  const bool holdsLevel =
+      lod && std::find(lod->levels.begin(), lod->levels.end(), renderable->asset) != lod->levels.end();
+  if (!tuning_.lod || !bakeSource_) {
+    // A level goes back to level 0; a new bake in the renderable stays.
+    if (holdsLevel) renderable->asset = lod->levels.front();
+    if (lod) registry_.remove<hsdf::HermiteSdfLod>(*bakedEntity_);
+    return;
+  }
+  if (!holdsLevel) {
+    if (Status baked = bakeLevels(renderable->asset); !baked) {
+      bakeError_ = baked.error().message;
+      log::warn("{} (levels of detail turned off)", bakeError_);
+      tuning_.lod = false;
+      return;
+    }
+  }
+  registry_.get<hsdf::HermiteSdfLod>(*bakedEntity_).pixelsPerCell = tuning_.lodPixelsPerCell;
+  hsdf::selectSdfLevels(registry_, cameraView(), renderer_->extent().height);
+}
+
+// The entity's levels with `finest` (baked at bakedResolution_) as level 0.
+Status Viewer::bakeLevels(std::shared_ptr<const hsdf::SdfAsset> finest) {
+  hsdf::BakeSettings settings;
+  settings.resolution = bakedResolution_;
+  settings.padding = bakedPadding_;
+  settings.band = finest->field.samples.empty() ? hsdf::BakeBand::Sparse : hsdf::BakeBand::Dense;
+  settings.budget = bakeBudget_;
+  ENGINE_TRY_ASSIGN(auto levels, hsdf::bakeLodLevels(*bakeSource_, settings, hsdf::kDefaultLodMinResolution, finest));
+  log::info("levels of detail: {} levels from K = {}", levels.size(), bakedResolution_);
+  hsdf::HermiteSdfLod lod;
+  lod.levels = std::move(levels);
+  registry_.emplaceOrReplace<hsdf::HermiteSdfLod>(*bakedEntity_, std::move(lod));
+  return {};
 }
 
 // The scene as `tuning` draws it, the SDF entity showing `asset`: a view region's override.
@@ -520,6 +579,7 @@ Status Viewer::step() {
   if (compareJob_ && compareJob_->done()) finishCompareBake();
   applyTuningToScene();
   scene::updateWorldTransforms(registry_);
+  updateLevelsOfDetail();
   const bool ui = ui_ && uiVisible_;
   render::FrameSettings settings;
   settings.debugView = std::uint32_t(tuning_.debugView);

@@ -265,6 +265,8 @@ class Viewer {
   engine::Expected<bool> renderFrame(const engine::render::FrameSettings& settings);
   engine::Status droppedObjectsError(std::uint64_t frame);
   void applyTuningToScene();
+  void updateLevelsOfDetail();
+  engine::Status bakeLevels(std::shared_ptr<const hsdf::SdfAsset> finest);
   void startRebake();
   engine::Status finishBake();
   std::optional<std::string> restoreRefusedBake();

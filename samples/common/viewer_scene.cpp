@@ -120,6 +120,7 @@ Status Viewer::addBakedSdf(hsdf::BakeSource source, const SceneDesc& scene) {
   hsdf::BakeSettings settings;
   settings.resolution = tuning_.resolution;
   settings.padding = tuning_.padding;
+  settings.band = bakeBandFor(tuning_.method, tuning_.resolution);
   settings.budget = bakeBudget_;
   ENGINE_TRY_ASSIGN(std::shared_ptr<const hsdf::SdfAsset> asset, bakeWithProgress(source, settings));
   glm::vec3 offset(0.0f);

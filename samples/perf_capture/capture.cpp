@@ -100,12 +100,20 @@ std::string fileName(const std::string& label) {
   return name;
 }
 
+// Orbit view v, `distance` times farther from the framing's target (the scene bounds' centre).
+void showView(samples::Viewer& viewer, int v, float distance) {
+  viewer.setOrbitView(v);
+  if (distance == 1.0f) return;
+  const glm::dvec3 target = 0.5 * (glm::dvec3(viewer.boundsMin()) + glm::dvec3(viewer.boundsMax()));
+  viewer.setCamera(target + double(distance) * (glm::dvec3(viewer.cameraView().position) - target), target);
+}
+
 // The fixed views of the capture: the Viewer's orbit views, framed on the source's bounds (glTF:
 // its mesh vertices; shapes: the shape's bounds), never on the grid's padded bounds.
-std::vector<render::CameraView> orbitViews(samples::Viewer& viewer, std::uint32_t views) {
+std::vector<render::CameraView> orbitViews(samples::Viewer& viewer, std::uint32_t views, float distance) {
   std::vector<render::CameraView> cameras;
   for (std::uint32_t v = 0; v < views; ++v) {
-    viewer.setOrbitView(int(v));
+    showView(viewer, int(v), distance);
     cameras.push_back(viewer.cameraView());
   }
   return cameras;
@@ -150,7 +158,7 @@ Status captureRow(const Group& g, const RowSpec& spec, std::size_t index, std::s
   for (std::size_t v = 0; v < g.cameras.size(); ++v) {
     std::fprintf(stderr, "\r[%zu/%zu] %-26s view %zu/%zu   ", index + 1, total, spec.label.c_str(), v + 1,
                  g.cameras.size());
-    g.viewer.setOrbitView(int(v));
+    showView(g.viewer, int(v), g.options.distance);
     for (std::uint32_t f = 0; f < g.options.warmup; ++f) ENGINE_TRY(timeFrame(g.viewer));
     TimedFrame last;
     for (std::uint32_t f = 0; f < g.options.frames; ++f) {
@@ -246,7 +254,7 @@ Status captureGroup(const Options& options, const Subject& subject, const std::v
   if (!info) info = runInfo(options, viewer->context(), subject);
   const glm::vec3 size = viewer->boundsMax() - viewer->boundsMin();
   const double diagonal = glm::length(glm::dvec3(size));
-  const std::vector<render::CameraView> views = orbitViews(*viewer, options.views);
+  const std::vector<render::CameraView> views = orbitViews(*viewer, options.views, options.distance);
   if (cameras.empty()) {
     cameras = views;
     for (std::size_t v = 0; v < cameras.size(); ++v) {

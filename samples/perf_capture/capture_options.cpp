@@ -49,8 +49,9 @@ std::optional<std::string> parseResolutions(const std::string& text, Options& op
   for (const std::string& item : splitList(text)) {
     static const std::regex number(R"(\d{1,4})");
     const int k = std::regex_match(item, number) ? std::stoi(item) : -1;
-    if (k < 4 || k > 256)
-      return "--resolutions: '" + item + "' is not a resolution K in 4..256 (e.g. --resolutions 16,32,64,128)";
+    // The cells' range (tuning.h); the dense tracers' rows stop at their own (capture_rows.cpp).
+    if (k < 4 || k > samples::kCellResolutionRange.max)
+      return "--resolutions: '" + item + "' is not a resolution K in 4..2048 (e.g. --resolutions 16,32,64,128)";
     if (std::find(values.begin(), values.end(), k) == values.end()) values.push_back(k);
   }
   std::sort(values.begin(), values.end());
@@ -123,6 +124,9 @@ ParseResult parseOptions(int argc, const char* const* argv) {
   app.add_option("--warmup", options.warmup, "untimed frames per view before the timed ones 0..1000 (default 2; --quick 1)")
       ->check(CLI::Range(0u, 1000u));
   app.add_flag("--quick", options.quick, "small CI preset: 320x180, K 16,32, 2 views, 2 frames, 1 warm-up");
+  app.add_flag("--lod", options.lod, "each cell row also with levels of detail on (rows labelled 'lod')");
+  app.add_option("--distance", options.distance, "orbit views this many times farther than the framing (1..64, default 1)")
+      ->check(CLI::Range(1.0f, 64.0f));
   app.add_option("--device", options.device, "Vulkan device: auto, gpu or lavapipe")
       ->check(CLI::IsMember({"auto", "gpu", "lavapipe"}));
 

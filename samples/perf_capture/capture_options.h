@@ -2,7 +2,7 @@
 // Command line of the perf capture (issue 10):
 //   perf_capture --out DIR [--scene FILE [--objects] | --shape NAME] [--size WxH] [--resolutions 16,32,64,128]
 //                [--methods mesh,trilinear,hermite,cells,cells-runs] [--settings "n=3 r=1,..."] [--views N]
-//                [--frames N] [--warmup N] [--quick]
+//                [--frames N] [--warmup N] [--quick] [--lod] [--distance F]
 // Every value is checked before a device opens; a bad one is refused naming its option.
 #include <cstdint>
 #include <filesystem>
@@ -29,6 +29,11 @@ struct Options {
   std::uint32_t frames = 5;      // timed frames per view
   std::uint32_t warmup = 2;      // untimed frames per view before them
   bool quick = false;
+  // Levels of detail (issue 22): each cell row also with TuningState::lod on (label "... lod K=..."),
+  // and the orbit views `distance` times farther than the framing (1..64): the same object near
+  // (1) and far (e.g. 8) in two runs, its prepass work per row in results.json.
+  bool lod = false;
+  float distance = 1.0f;
   std::string device = "auto";   // auto | gpu | lavapipe
   std::string commandLine;       // as given, for results.json
 };

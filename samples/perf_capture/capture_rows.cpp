@@ -58,6 +58,25 @@ bool wantedSetting(const Options& options, const Variant& v) {
   return std::find(options.cellSettings.begin(), options.cellSettings.end(), v.setting) != options.cellSettings.end();
 }
 
+// The row of variant v at K, with levels of detail on or off.
+RowSpec makeRow(const Variant& v, int k, bool lod) {
+  RowSpec row;
+  row.method = v.method;
+  row.label = std::string(v.method) + (*v.setting ? " " : "") + v.setting + (lod ? " lod" : "") + fmt::format(" K={}", k);
+  row.state = v.tuning;
+  row.state.resolution = k;
+  row.state.lod = lod;
+  row.resolution = k;
+  row.render = renderMethodOf(v.tuning.method);
+  const bool cells = samples::drawsCells(v.tuning.method);  // the tracers have no n or r
+  row.subdivisions = cells ? v.tuning.subdivisions : 0;
+  row.refine = cells ? v.tuning.refineSteps : 0;
+  row.normals = v.tuning.normals;
+  row.fp16 = v.tuning.fp16;
+  row.paperColumn = v.paperColumn && !lod;
+  return row;
+}
+
 }  // namespace
 
 std::string RowSpec::normalsName() const {
@@ -91,22 +110,13 @@ std::vector<RowSpec> buildRows(const Options& options) {
   for (int k : all) {
     for (const Variant& v : kVariants) {
       if (!wanted(options, v.method) || !wantedSetting(options, v)) continue;
-      // Only trilinear runs at the extra 2K resolutions.
+      // Only trilinear runs at the extra 2K resolutions; the dense tracers stop at their K range.
       if (!asked.contains(k) && v.tuning.method != Method::Trilinear) continue;
-      RowSpec row;
-      row.method = v.method;
-      row.label = std::string(v.method) + (*v.setting ? " " : "") + v.setting + fmt::format(" K={}", k);
-      row.state = v.tuning;
-      row.state.resolution = k;
-      row.resolution = k;
-      row.render = renderMethodOf(v.tuning.method);
-      const bool cells = samples::drawsCells(v.tuning.method);  // the tracers have no n or r
-      row.subdivisions = cells ? v.tuning.subdivisions : 0;
-      row.refine = cells ? v.tuning.refineSteps : 0;
-      row.normals = v.tuning.normals;
-      row.fp16 = v.tuning.fp16;
-      row.paperColumn = v.paperColumn;
-      rows.push_back(row);
+      if (k > samples::resolutionRange(v.tuning.method).max) continue;
+      for (bool lod : {false, true}) {
+        if (lod && (!options.lod || !samples::drawsCells(v.tuning.method))) continue;
+        rows.push_back(makeRow(v, k, lod));
+      }
     }
   }
   return rows;

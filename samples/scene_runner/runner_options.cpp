@@ -93,7 +93,8 @@ void addTuningOptions(CLI::App& app, TuningState& t) {
   using samples::DebugView;
   app.add_option("--method", t.method, "mesh, cells (Hermite cells), trilinear or hermite (sphere tracing)")
       ->transform(oneOf({Method::Mesh, Method::Cells, Method::Trilinear, Method::Hermite, Method::CellRuns}, samples::methodName));
-  app.add_option("--resolution", t.resolution, "samples per axis K of the baked field (2..256)")
+  app.add_option("--resolution", t.resolution,
+                 "samples per axis K of the baked field (cells 2..2048, sparse bake past 256; trilinear, hermite 2..512)")
       ->check(CLI::Range(samples::kResolutionRange.min, samples::kResolutionRange.max));
   app.add_option("--padding", t.padding, "cells of padding around the mesh (0..16)")
       ->check(CLI::Range(samples::kPaddingRange.min, samples::kPaddingRange.max));
@@ -126,7 +127,7 @@ void addTuningOptions(CLI::App& app, TuningState& t) {
       ->check(CLI::Range(0.05f, 0.95f));
   app.add_option("--compare-method", t.compareMethod, "the compared side: trilinear (default), hermite or cells")
       ->transform(oneOf({Method::Cells, Method::Trilinear, Method::Hermite, Method::CellRuns}, samples::methodName));
-  app.add_option("--compare-resolution", t.compareResolution, "K of the compared side (2..256; default 0: 2K, at most 256)")
+  app.add_option("--compare-resolution", t.compareResolution, "K of the compared side (2..512; default 0: 2K, at most 256)")
       ->check(CLI::Range(0, samples::kResolutionRange.max));
   app.add_option("--compare-normals", t.compareNormals, "normals of the compared side: exact or central (default)")
       ->transform(oneOf({hsdf::NormalMode::Exact, hsdf::NormalMode::CentralDifferences}, samples::normalModeName));
@@ -135,6 +136,9 @@ void addTuningOptions(CLI::App& app, TuningState& t) {
       ->transform(oneOf({hsdf::NodeDraw::Sdf, hsdf::NodeDraw::Triangles}, hsdf::nodeDrawName));
   app.add_option("--triangle-nodes", t.triangleNodes, "--objects: names of nodes drawn as triangles (comma-separated)")
       ->delimiter(',');
+  app.add_flag("--lod", t.lod, "levels of detail: bake K/2, K/4, ... too and draw each frame the level that fits the screen");
+  app.add_option("--lod-pixels-per-cell", t.lodPixelsPerCell, "levels of detail: target cell size in pixels (0.25..64, default 2)")
+      ->check(CLI::Range(samples::kLodPixelsPerCellRange.min, samples::kLodPixelsPerCellRange.max));
 }
 
 ParseResult failure(const std::string& message) {

@@ -26,7 +26,7 @@ cp -r "$shaders" spv && cp -r "$shaders" spv_broken || fail "cannot copy the sha
 spv_words=$(( $(stat -c %s spv/cells_resolve.frag.spv) / 8 ))
 head -c $(( spv_words * 4 )) spv/cells_resolve.frag.spv >spv_broken/cells_resolve.frag.spv
 in_xvfb 300 "$runner" --validation --no-ground --size 128x96 --resolution 24 \
-  --bake-budget-mib 16 --ui-ini "" --script "$script" --frames 45 >log.txt 2>&1
+  --bake-budget-mib 16 --ui-ini "" --script "$script" --frames 46 >log.txt 2>&1
 rc=$?
 cat log.txt
 [ $rc -eq 0 ] || fail "scene_runner exited with $rc"
@@ -114,4 +114,8 @@ d=$(FIELD=differs field --crop 0,0,80,112 split_exact_normals.png split_vertical
 [ "$d" = 0.0000 ] || fail "the cells side changed ($d) when only the compared side's normals did"
 d=$(FIELD=differs field --crop 80,0,80,112 split_exact_normals.png split_vertical.png)
 at_least "$d" 0.005 || fail "the trilinear side looks the same with exact normals (differs $d)"
+# Levels of detail: the levels were baked from the scene's source, and the object is still drawn.
+grep -q "levels of detail: 2 levels from K = 40" log.txt || fail "lod=true did not bake the levels of K 40"
+grep -q "screenshot: lod.png (160x112, cells; K 20:" log.txt || fail "lod.png was not drawn from the K 20 level"
+drawn lod
 echo "panel script: all checks passed"

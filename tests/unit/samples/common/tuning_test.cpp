@@ -83,6 +83,8 @@ TEST(Tuning, SettingsFileRoundTrip) {
   t.difference = true;
   t.nodeDraw = hsdf::NodeDraw::Triangles;
   t.triangleNodes = {"rock_0_3", "box 2"};
+  t.lod = true;
+  t.lodPixelsPerCell = 3.5f;  // exact in binary and in the JSON text
   const auto file = tempFile("round_trip.json");
   ASSERT_TRUE(saveTuning(file, t).ok());
   const auto loaded = loadTuning(file);
@@ -138,7 +140,14 @@ TEST(Tuning, BadSettingsFilesNameTheKeyAndFile) {
     const char* expected;
   };
   const Case cases[] = {
-      {R"({"resolution": 1000})", "setting 'resolution': 1000 is outside 2..256"},
+      {R"({"resolution": 5000})", "setting 'resolution': 5000 is outside 2..2048"},
+      // The K range follows the method: the dense tracers stop at 512, the limit named.
+      {R"({"method": "trilinear", "resolution": 1024})", "--resolution 1024 is outside 2..512 for --method trilinear"},
+      {R"({"method": "hermite", "compare_method": "trilinear", "compare_resolution": 600})",
+       "--compare-resolution 600 is outside 2..512"},
+      {R"({"lod": 1})", "setting 'lod': expected true or false"},
+      {R"({"lod_pixels_per_cell": 100})", "setting 'lod_pixels_per_cell': 100 is outside 0.25..64"},
+      {R"({"lod_pixels_per_cell": 0.1})", "setting 'lod_pixels_per_cell': 0.1 is outside 0.25..64"},
       {R"({"resolution": 2.5})", "setting 'resolution': expected an integer, got 2.5"},
       {R"({"method": "phong"})", "setting 'method': \"phong\" is not one of mesh, cells, trilinear, hermite"},
       {R"({"normals": 1})", "setting 'normals': 1 is not one of exact, central"},
@@ -152,7 +161,7 @@ TEST(Tuning, BadSettingsFilesNameTheKeyAndFile) {
       {R"({"split_position": 1.0})", "setting 'split_position': 1 is outside 0.05..0.95"},
       {R"({"split_position": "middle"})", "setting 'split_position': expected a number"},
       {R"({"compare_method": "mesh"})", "setting 'compare_method': the compared method must be an SDF method"},
-      {R"({"compare_resolution": 1})", "setting 'compare_resolution': 1 is outside 2..256"},
+      {R"({"compare_resolution": 1})", "setting 'compare_resolution': 1 is outside 2..2048"},
       {R"({"compare_resolution": 3, "padding": 1})", "--compare-resolution 3 leaves no cells inside --padding 1"},
       {R"({"difference": 1})", "setting 'difference': expected true or false"},
       {R"({"early_depth": "on"})", "setting 'early_depth': expected true, false or \"auto\", got \"on\""},
@@ -232,7 +241,7 @@ TEST(Tuning, SetTuningValueFromText) {
     const char* expected;
   };
   const Case cases[] = {
-      {"resolution", "300", "setting 'resolution': 300 is outside 2..256"},
+      {"resolution", "600", "--resolution 600 is outside 2..512 for --method trilinear"},
       {"resolution", "big", "setting 'resolution': expected an integer, got \"big\""},
       {"fp16", "1", "setting 'fp16': expected true or false, got 1"},
       {"method", "true", "setting 'method': true is not one of"},

@@ -308,5 +308,75 @@ TEST(Viewer, BakePastTheBudgetIsRefusedAndCancelKeepsTheOldK) {
   EXPECT_TRUE(viewer->close().ok());
 }
 
+// Tricky: the level is chosen inside the one frame step, from that frame's camera: near (K's cells
+// about 1 px on the 48-pixel image, target 1) draws K, 6 times farther draws a coarser level
+// of the same source, and turning levels off draws K again; the levels are baked once per asset
+// (the far frame reuses the near frame's levels: same level-0 asset, no re-bake).
+TEST(Viewer, LevelsOfDetailFollowTheCameraInTheFrameStep) {
+  auto viewer = viewTorus(64);
+  ASSERT_NE(viewer, nullptr);
+  TuningState tuning = viewer->tuning();
+  tuning.lod = true;
+  tuning.lodPixelsPerCell = 1.0f;
+  viewer->setTuning(tuning);
+  viewer->setOrbitView(0);
+  ASSERT_TRUE(viewer->step().ok());
+  const auto finest = theSdf(*viewer).asset;
+  EXPECT_EQ(finest->cells.grid.resolution, 64);
+  const glm::vec3 target = 0.5f * (viewer->boundsMin() + viewer->boundsMax());
+  const glm::vec3 eye = viewer->cameraView().position;
+  viewer->setCamera(glm::dvec3(target + 6.0f * (eye - target)), glm::dvec3(target));
+  ASSERT_TRUE(viewer->step().ok());
+  const int far = theSdf(*viewer).asset->cells.grid.resolution;
+  EXPECT_LT(far, 64);
+  EXPECT_EQ(far % 16, 0) << "a level is K / 2^i";
+  EXPECT_GT(coverage(*viewer), 0.0) << "the far torus is still drawn";
+  tuning.lod = false;
+  viewer->setTuning(tuning);
+  ASSERT_TRUE(viewer->step().ok());
+  EXPECT_EQ(theSdf(*viewer).asset, finest) << "levels off: the asset baked at K again";
+  // Levels on, a far frame, then levels off together with a new K: the new bake must stay drawn
+  // (not level 0 of the old levels), and levels on again must build the new K's levels.
+  tuning.lod = true;
+  viewer->setTuning(tuning);
+  ASSERT_TRUE(viewer->step().ok());
+  EXPECT_LT(theSdf(*viewer).asset->cells.grid.resolution, 64);
+  tuning.lod = false;
+  tuning.resolution = 48;
+  viewer->setTuning(tuning);
+  ASSERT_TRUE(viewer->waitForBake().ok());
+  ASSERT_TRUE(viewer->step().ok());
+  EXPECT_EQ(theSdf(*viewer).asset->cells.grid.resolution, 48);
+  tuning.lod = true;
+  viewer->setTuning(tuning);
+  viewer->setCamera(glm::dvec3(target + 1000.0f * (eye - target)), glm::dvec3(target));
+  ASSERT_TRUE(viewer->step().ok());
+  EXPECT_EQ(theSdf(*viewer).asset->cells.grid.resolution, 48 / 2) << "the coarsest level of K = 48 (floor 16)";
+  EXPECT_TRUE(viewer->close().ok());
+}
+
+// Tricky: past K = 256 the cells bake sparse (no dense field); switching to a dense tracer at a K
+// it allows must re-bake with the field, not hand the tracer an asset without one.
+TEST(Viewer, SparseCellBakeRebakesDenseForTheTracers) {
+  auto viewer = viewTorus(16);
+  ASSERT_NE(viewer, nullptr);
+  TuningState tuning = viewer->tuning();
+  tuning.resolution = 260;
+  viewer->setTuning(tuning);
+  ASSERT_TRUE(viewer->waitForBake().ok());
+  EXPECT_EQ(theSdf(*viewer).asset->cells.grid.resolution, 260);
+  EXPECT_TRUE(theSdf(*viewer).asset->field.samples.empty()) << "the cells past 256 bake sparse";
+  ASSERT_TRUE(viewer->step().ok());
+  tuning.method = Method::Trilinear;
+  viewer->setTuning(tuning);
+  ASSERT_NE(viewer->bakeJob(), nullptr) << "a tracer needs the dense field";
+  ASSERT_TRUE(viewer->waitForBake().ok());
+  EXPECT_EQ(theSdf(*viewer).asset->field.grid.resolution, 260);
+  EXPECT_FALSE(theSdf(*viewer).asset->field.samples.empty());
+  ASSERT_TRUE(viewer->step().ok());
+  EXPECT_GT(coverage(*viewer), 0.05);
+  EXPECT_TRUE(viewer->close().ok());
+}
+
 }  // namespace
 }  // namespace samples

@@ -47,7 +47,8 @@ TEST(CaptureOptions, BadValuesAreRefusedNamingTheOption) {
   };
   const Case cases[] = {
       {{"--out", "x", "--resolutions", "16,,32"}, "--resolutions: '' is not a resolution"},
-      {{"--out", "x", "--resolutions", "512"}, "--resolutions: '512'"},
+      {{"--out", "x", "--resolutions", "4096"}, "--resolutions: '4096' is not a resolution K in 4..2048"},
+      {{"--out", "x", "--distance", "0.5"}, "--distance"},
       {{"--out", "x", "--methods", "cells,splats"}, "--methods: 'splats'"},
       {{"--out", "x", "--settings", "n=3 r=1,n=9"}, "--settings: 'n=9'"},
       {{"--out", "x", "--size", "12x"}, "--size: '12x'"},
@@ -104,6 +105,31 @@ TEST(CaptureRows, MethodTimesKTimesSetting) {
   const ParseResult shape = parse({"--out", "x", "--shape", "torus", "--resolutions", "16"});
   ASSERT_TRUE(shape.options);
   for (const RowSpec& row : buildRows(*shape.options)) EXPECT_FALSE(row.isMesh());
+}
+
+// Tricky: --lod adds a lod twin of each cell row only (the tracers have no levels), with
+// TuningState::lod on and a label of its own; K past 512 keeps the cell rows and drops the dense
+// tracers' (their range, tuning.h), instead of failing those rows at bake time. --distance is kept.
+TEST(CaptureRows, LodRowsAndLargeK) {
+  const ParseResult r = parse({"--out", "x", "--resolutions", "256,1024", "--settings", "n=3 r=1", "--lod", "--distance", "8"});
+  ASSERT_TRUE(r.options) << r.message;
+  EXPECT_EQ(r.options->distance, 8.0f);
+  std::set<std::string> labels;
+  for (const RowSpec& row : buildRows(*r.options)) {
+    labels.insert(row.label);
+    EXPECT_EQ(row.state.lod, row.label.find(" lod ") != std::string::npos) << row.label;
+  }
+  EXPECT_TRUE(labels.contains("cells n=3 r=1 lod K=256"));
+  EXPECT_TRUE(labels.contains("cells n=3 r=1 lod K=1024"));
+  EXPECT_TRUE(labels.contains("cells-runs n=3 r=1 lod K=1024"));
+  EXPECT_TRUE(labels.contains("hermite K=256"));
+  EXPECT_FALSE(labels.contains("hermite K=1024"));
+  EXPECT_FALSE(labels.contains("trilinear central K=1024"));
+  for (const std::string& label : labels)
+    EXPECT_FALSE(label.starts_with("trilinear") && label.find("lod") != std::string::npos) << label;
+  const ParseResult off = parse({"--out", "x", "--resolutions", "32"});
+  ASSERT_TRUE(off.options);
+  for (const RowSpec& row : buildRows(*off.options)) EXPECT_FALSE(row.state.lod) << row.label;
 }
 
 }  // namespace

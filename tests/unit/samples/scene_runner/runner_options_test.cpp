@@ -123,7 +123,11 @@ TEST(RunnerOptions, EveryOptionsGoodValue) {
   EXPECT_EQ(parseOk({"--debug-view", "cells"}).tuning.debugView, DebugView::Cells);
   EXPECT_EQ(parseOk({"--debug-view", "wireframe"}).tuning.debugView, DebugView::Wireframe);
   // Range ends are inclusive.
-  EXPECT_EQ(parseOk({"--resolution", "256"}).tuning.resolution, 256);
+  EXPECT_EQ(parseOk({"--resolution", "2048"}).tuning.resolution, 2048);  // cells: the sparse bake's range
+  EXPECT_EQ(parseOk({"--method", "trilinear", "--resolution", "512"}).tuning.resolution, 512);
+  EXPECT_TRUE(parseOk({"--lod"}).tuning.lod);
+  EXPECT_FALSE(parseOk({}).tuning.lod);
+  EXPECT_EQ(parseOk({"--lod-pixels-per-cell", "64"}).tuning.lodPixelsPerCell, 64.0f);
   EXPECT_EQ(parseOk({"--subdivisions", "64"}).tuning.subdivisions, 64u);
   EXPECT_EQ(parseOk({"--size", "16384x1"}).width, 16384u);
 }
@@ -158,7 +162,9 @@ TEST(RunnerOptions, BadValuesNameTheOption) {
       // The enum's number would pass CLI11's own enum parsing: only names are accepted.
       {{"--method", "1"}, "--method: '1' is not one of"},
       {{"--resolution", "1"}, "--resolution"},
-      {{"--resolution", "257"}, "--resolution"},
+      {{"--resolution", "2049"}, "--resolution"},
+      {{"--method", "hermite", "--resolution", "1024"}, "--resolution 1024 is outside 2..512 for --method hermite"},
+      {{"--lod-pixels-per-cell", "0.1"}, "--lod-pixels-per-cell"},
       {{"--padding", "17"}, "--padding"},
       {{"--subdivisions", "0"}, "--subdivisions"},
       {{"--refine", "17"}, "--refine"},
@@ -181,7 +187,7 @@ TEST(RunnerOptions, BadValuesNameTheOption) {
       {{"--split", "diagonal"}, "--split: 'diagonal' is not one of off, vertical, horizontal"},
       {{"--split-position", "0.99"}, "--split-position"},
       {{"--compare-method", "mesh"}, "--compare-method: 'mesh' is not one of cells, trilinear, hermite"},
-      {{"--compare-resolution", "300"}, "--compare-resolution"},
+      {{"--compare-resolution", "600"}, "--compare-resolution 600 is outside 2..512"},
       {{"--compare-resolution", "3", "--padding", "1"}, "--compare-resolution 3 leaves no cells inside --padding 1"},
       {{"--compare-normals", "forward"}, "--compare-normals: 'forward' is not one of exact, central"},
       {{"--early-depth", "yes"}, "--early-depth: 'yes' is not one of auto, on, off"},
