@@ -154,7 +154,7 @@ Status captureRow(const Group& g, const RowSpec& spec, std::size_t index, std::s
     }
     addStatistics(last, views, result);
     const hsdf::HermiteCellFeature::Stats& cells = g.viewer.renderer().feature<hsdf::HermiteCellFeature>()->stats();
-    result.boxes += double(cells.runs > 0 ? cells.runs : cells.cells) / views;
+    result.boxes += double(cells.bricks > 0 ? cells.bricks : cells.runs > 0 ? cells.runs : cells.cells) / views;
     if (v == 0) {
       result.image = "images/" + fileName(spec.label) + ".png";
       ENGINE_TRY(g.viewer.writeScreenshot(g.options.out / result.image));
