@@ -156,8 +156,8 @@ class HermiteCellFeature final : public engine::render::RenderFeature {
   engine::Status createBrickPipelines(Pipelines& p) const;
   const engine::gpu::Pipeline& brickPipeline(Variant variant, bool near) const;
   void addBrickDraws(const std::vector<shader::CellBrickGpu>& bricks, std::uint32_t firstBrick,
-                     const shader::HermiteDraw& draw, const glm::dvec3& eyeGrid, double reachGrid, std::vector<VkDrawIndirectCommand> commands[2],
-                     std::vector<shader::HermiteDraw> draws[2]);
+                     const shader::HermiteDraw& draw, const glm::dvec3& eyeGrid, double reachGrid,
+                     std::vector<VkDrawIndirectCommand> commands[2], std::vector<shader::HermiteDraw> draws[2]);
 
   engine::render::RendererFormats formats_;
   Pipelines pipelines_;
