@@ -65,53 +65,88 @@ struct BrickHit {
   uint record;
 };
 
-// The kept cells near walk cell `cell` over [tEnter, tExit]: the cell itself and, per axis, the
-// neighbour across a face the ray comes within `margin` of. Each is searched once (`done`).
-void searchNear(HermiteDraw draw, CellBrickGpu brick, ivec3 cell, ivec3 lo, ivec3 hi, vec3 origin, vec3 direction,
-                float margin, vec2 walk, vec2 ray, inout uvec2 done, inout BrickHit hit, inout uint evaluations) {
-  vec3 a = origin + walk.x * direction - vec3(cell), b = origin + walk.y * direction - vec3(cell);
-  ivec3 from = ivec3(lessThan(min(a, b), vec3(margin))) * -1;
-  ivec3 to = ivec3(greaterThan(max(a, b), vec3(1.0 - margin)));
-  for (int dz = from.z; dz <= to.z; ++dz)
-    for (int dy = from.y; dy <= to.y; ++dy)
-      for (int dx = from.x; dx <= to.x; ++dx) {
-        ivec3 n = cell + ivec3(dx, dy, dz);
-        if (any(lessThan(n, lo)) || any(greaterThan(n, hi))) continue;
-        uint bit = uint(n.x + 4 * n.y + 16 * n.z);
-        uvec2 flag = bit < 32u ? uvec2(1u << bit, 0u) : uvec2(0u, 1u << (bit - 32u));
-        if (!keptBit(brick, bit) || any(notEqual(done & flag, uvec2(0u)))) continue;
-        done |= flag;
-        uint record = brickCellRecord(brick, bit);
-        float t = searchCell(draw, record, origin - vec3(n), direction, margin, ray.x, ray.y, evaluations);
-        if (t >= 0.0 && (hit.t < 0.0 || t < hit.t)) hit = BrickHit(t, record);
-      }
+// The walk's state: the DDA cell, its stretch of the ray [tEnter, tExit], and which of the up to
+// 27 cells around it (the cell itself and the neighbours across faces the ray comes within the
+// margin of) is considered next.
+struct BrickWalk {
+  ivec3 cell;
+  vec3 tMax, tDelta;
+  ivec3 stepDir;
+  float tEnter, tExit;
+  ivec3 from, to;  // the neighbour offsets near [tEnter, tExit]
+  int next;        // 0..26: the next offset (dx, dy, dz) = next % 3, next / 3 % 3, next / 9, minus 1
+  bool stop;       // a root was found in this step: finish the step, then stop
+};
+
+void enterCell(inout BrickWalk w, vec3 origin, vec3 direction, float margin, float t1) {
+  int axis = w.tMax.x < w.tMax.y ? (w.tMax.x < w.tMax.z ? 0 : 2) : (w.tMax.y < w.tMax.z ? 1 : 2);
+  w.tExit = min(max(w.tMax[axis], w.tEnter), t1);
+  vec3 a = origin + w.tEnter * direction - vec3(w.cell), b = origin + w.tExit * direction - vec3(w.cell);
+  w.from = -ivec3(lessThan(min(a, b), vec3(margin)));
+  w.to = ivec3(greaterThan(max(a, b), vec3(1.0 - margin)));
+  w.next = 0;
 }
 
-// 3D DDA from the cell at t0 to t1 over the kept cells' box [lo, hi] (cells, inclusive).
+// Moves the DDA to the next cell; false when the walk leaves the box or the ray's stretch.
+bool stepCell(inout BrickWalk w, ivec3 lo, ivec3 hi, vec3 origin, vec3 direction, float margin, float t1) {
+  if (w.stop || w.tExit >= t1) return false;
+  int axis = w.tMax.x < w.tMax.y ? (w.tMax.x < w.tMax.z ? 0 : 2) : (w.tMax.y < w.tMax.z ? 1 : 2);
+  w.cell[axis] += w.stepDir[axis];
+  if (w.cell[axis] < lo[axis] || w.cell[axis] > hi[axis]) return false;
+  w.tEnter = w.tExit;
+  w.tMax[axis] += w.tDelta[axis];
+  enterCell(w, origin, direction, margin, t1);
+  return true;
+}
+
+// The next kept cell to search, not searched before (`done`), cheap tests only: the fragment
+// shader runs the expensive search at one place, once per loop iteration, so lanes of one SIMD
+// group that walk different cells share the iterations instead of adding them up.
+bool nextCandidate(inout BrickWalk w, CellBrickGpu brick, ivec3 lo, ivec3 hi, vec3 origin, vec3 direction,
+                   float margin, vec2 ray, inout uvec2 done, out ivec3 n) {
+  for (int guard = 0; guard < 27 * 3 * int(CELL_BRICK_SIZE); ++guard) {  // a walk meets at most 10 cells
+    if (w.next == 27 && !stepCell(w, lo, hi, origin, direction, margin, ray.y)) return false;
+    ivec3 d = ivec3(w.next % 3, (w.next / 3) % 3, w.next / 9) - 1;
+    ++w.next;
+    if (any(lessThan(d, w.from)) || any(greaterThan(d, w.to))) continue;
+    n = w.cell + d;
+    if (any(lessThan(n, lo)) || any(greaterThan(n, hi))) continue;
+    uint bit = uint(n.x + 4 * n.y + 16 * n.z);
+    uvec2 flag = bit < 32u ? uvec2(1u << bit, 0u) : uvec2(0u, 1u << (bit - 32u));
+    if (!keptBit(brick, bit) || any(notEqual(done & flag, uvec2(0u)))) continue;
+    done |= flag;
+    // The cell's dilated box must meet the ray (searchCell's own test, done here while it is cheap).
+    vec2 segment = intersectBox(origin - vec3(n), direction, vec3(-margin), vec3(1.0 + margin));
+    if (max(segment.x, ray.x) < min(segment.y, ray.y)) return true;
+  }
+  return false;
+}
+
+// 3D DDA from the cell at t0 to t1 over the kept cells' box [lo, hi] (cells, inclusive); in each
+// step the cell and the kept neighbours the ray comes within the margin of are searched, and the
+// nearest root of the first step with one is the hit.
 BrickHit walkBrick(HermiteDraw draw, CellBrickGpu brick, ivec3 lo, ivec3 hi, vec3 origin, vec3 direction,
                    float margin, float t0, float t1, inout uint evaluations) {
-  BrickHit hit = BrickHit(-1.0, 0u);
-  ivec3 cell = clamp(ivec3(floor(origin + t0 * direction)), lo, hi);
-  ivec3 stepDir = ivec3(greaterThanEqual(direction, vec3(0.0))) * 2 - 1;
-  vec3 tMax, tDelta;
+  BrickWalk w;
+  w.cell = clamp(ivec3(floor(origin + t0 * direction)), lo, hi);
+  w.stepDir = ivec3(greaterThanEqual(direction, vec3(0.0))) * 2 - 1;
   for (int axis = 0; axis < 3; ++axis) {
     bool moves = direction[axis] != 0.0;
-    float boundary = float(cell[axis] + (stepDir[axis] > 0 ? 1 : 0));
-    tMax[axis] = moves ? (boundary - origin[axis]) / direction[axis] : 3.0e38;
-    tDelta[axis] = moves ? abs(1.0 / direction[axis]) : 3.0e38;
+    float boundary = float(w.cell[axis] + (w.stepDir[axis] > 0 ? 1 : 0));
+    w.tMax[axis] = moves ? (boundary - origin[axis]) / direction[axis] : 3.0e38;
+    w.tDelta[axis] = moves ? abs(1.0 / direction[axis]) : 3.0e38;
   }
+  w.tEnter = t0;
+  w.stop = false;
+  enterCell(w, origin, direction, margin, t1);
+  BrickHit hit = BrickHit(-1.0, 0u);
   uvec2 done = uvec2(0u);
-  float tEnter = t0;
-  for (int k = 0; k < 3 * int(CELL_BRICK_SIZE); ++k) {  // a walk meets at most 3 * 4 - 2 cells
-    int axis = tMax.x < tMax.y ? (tMax.x < tMax.z ? 0 : 2) : (tMax.y < tMax.z ? 1 : 2);
-    float tExit = min(max(tMax[axis], tEnter), t1);
-    searchNear(draw, brick, cell, lo, hi, origin, direction, margin, vec2(tEnter, tExit), vec2(t0, t1), done, hit,
-               evaluations);
-    if (hit.t >= 0.0 || tExit >= t1) break;
-    cell[axis] += stepDir[axis];
-    if (cell[axis] < lo[axis] || cell[axis] > hi[axis]) break;
-    tEnter = tExit;
-    tMax[axis] += tDelta[axis];
+  ivec3 n;
+  while (nextCandidate(w, brick, lo, hi, origin, direction, margin, vec2(t0, t1), done, n)) {
+    uint record = brickCellRecord(brick, uint(n.x + 4 * n.y + 16 * n.z));
+    float t = searchCell(draw, record, origin - vec3(n), direction, margin, t0, t1, evaluations);
+    if (t >= 0.0 && (hit.t < 0.0 || t < hit.t)) hit = BrickHit(t, record);
+    w.stop = hit.t >= 0.0;
   }
   return hit;
 }
