@@ -1,8 +1,7 @@
 // Depth prepass of the Hermite cell bricks (RenderMethod::CellBricks). Included by
 // bricks_depth.frag (front faces, conservative depth) and bricks_depth_near.frag (back faces of
-// bricks the near plane may cut), and by their counting and early depth variants (hit_depth.glsl):
-// the bricks of one object are disjoint boxes of one grid, as the cells are, so the box entered
-// first along a ray holds the first hit and the early stage's face test keeps the right one.
+// bricks the near plane may cut), and by their counting variants (hit_depth.glsl); bricks have no
+// early depth variant: a frame that draws bricks keeps the early depth stage off.
 // The ray walks the brick's cells in the order it meets them (3D DDA over the kept cells' box),
 // searching each kept cell exactly as the cells do (cell_search.glsl: its own box dilated by the
 // search margin, docs/root-finding.md), and stops at the first root. A ray that passes within the
@@ -26,7 +25,7 @@ layout(location = 1) flat in uint inDraw;
 layout(location = 2) flat in float inDilation;  // the proxy: the kept cells' box grown by this, cells
 
 layout(location = 0) out uvec2 outVisibility;  // (1 + object, cell record)
-#if defined(HSDF_CONSERVATIVE_DEPTH) && !defined(HSDF_EARLY_DEPTH)
+#if defined(HSDF_CONSERVATIVE_DEPTH)
 layout(depth_less) out float gl_FragDepth;  // reverse-Z: the hit is never nearer than the front face
 #endif
 #include "hermite/hit_depth.glsl"

@@ -39,6 +39,7 @@
 // RenderMethod::CellBricks objects likewise: one box per brick of 4x4x4 cells holding a kept cell
 // (bricks.vert: 8 vertices, 12 bytes of varyings), whose kept cells the fragment shader walks along
 // the ray (bricks_depth.glsl); one indirect command per object (firstInstance = its first brick).
+// Bricks have no early depth variant: a frame that draws bricks keeps the early depth stage off.
 #include <cstdint>
 #include <memory>
 #include <string>
@@ -136,6 +137,7 @@ class HermiteCellFeature final : public engine::render::RenderFeature {
     kCounted = 1,     // *_counted.frag: + the evaluation counters, in frames that count work
     kEarly = 2,       // cells_depth_early.frag (front faces at their own depth), *_near_early.frag
     kVariants = 3,
+    kBrickVariants = 2,  // cell bricks: production and counted only
   };
   struct Pipelines {
     // [variant][precision]: precision 0 = fp32, 1 = fp16 records.
@@ -144,14 +146,15 @@ class HermiteCellFeature final : public engine::render::RenderFeature {
     engine::gpu::Pipeline wire[2];  // DEBUG_VIEW_WIREFRAME: the boxes' edges
     engine::gpu::Pipeline runsFront[kVariants];  // RenderMethod::CellRuns, both precisions
     engine::gpu::Pipeline runsNear[kVariants];
-    engine::gpu::Pipeline bricksFront[kVariants];  // RenderMethod::CellBricks, both precisions
-    engine::gpu::Pipeline bricksNear[kVariants];
+    engine::gpu::Pipeline bricksFront[kBrickVariants];  // RenderMethod::CellBricks, both precisions
+    engine::gpu::Pipeline bricksNear[kBrickVariants];
     engine::gpu::Pipeline resolve;
     engine::gpu::Pipeline depthFixup;  // the hits' true depth after the early stage
   };
   Variant prepassVariant(const engine::render::FrameContext& frame) const;
   engine::Expected<Pipelines> createPipelines() const;
   engine::Status createBrickPipelines(Pipelines& p) const;
+  const engine::gpu::Pipeline& brickPipeline(Variant variant, bool near) const;
   void addBrickDraws(const std::vector<shader::CellBrickGpu>& bricks, std::uint32_t firstBrick,
                      const shader::HermiteDraw& draw, const glm::dvec3& eyeGrid, double reachGrid,
                      std::vector<VkDrawIndirectCommand> commands[2], std::vector<shader::HermiteDraw> draws[2]);

@@ -289,15 +289,14 @@ engine::Expected<HermiteCellFeature::Pipelines> HermiteCellFeature::createPipeli
 }
 
 
-// Cell bricks: the three prepass variants, as the runs. Both precisions share one pipeline pair.
+// Cell bricks: production and counted variants, no early depth one (a frame that draws bricks
+// keeps the early depth stage off: buildDraws). Both precisions share one pipeline pair.
 engine::Status HermiteCellFeature::createBrickPipelines(Pipelines& p) const {
-  static constexpr const char* kFront[kVariants] = {"bricks_depth.frag", "bricks_depth_counted.frag",
-                                                    "bricks_depth_early.frag"};
-  static constexpr const char* kNear[kVariants] = {"bricks_depth_near.frag", "bricks_depth_near_counted.frag",
-                                                   "bricks_depth_near_early.frag"};
-  static constexpr const char* kNames[kVariants] = {"", " counted", " early"};
+  static constexpr const char* kFront[kBrickVariants] = {"bricks_depth.frag", "bricks_depth_counted.frag"};
+  static constexpr const char* kNear[kBrickVariants] = {"bricks_depth_near.frag", "bricks_depth_near_counted.frag"};
+  static constexpr const char* kNames[kBrickVariants] = {"", " counted"};
   ENGINE_TRY_ASSIGN(auto vert, engine::gpu::ShaderModule::load(*context_, "bricks.vert"));
-  for (int variant = 0; variant < kVariants; ++variant) {
+  for (int variant = 0; variant < kBrickVariants; ++variant) {
     ENGINE_TRY_ASSIGN(auto front, engine::gpu::ShaderModule::load(*context_, kFront[variant]));
     ENGINE_TRY_ASSIGN(auto near, engine::gpu::ShaderModule::load(*context_, kNear[variant]));
     engine::gpu::GraphicsPipelineDesc desc;
@@ -455,6 +454,7 @@ void HermiteCellFeature::buildDraws(engine::render::FrameContext& frame) {
   screenRect_ = glm::vec4(1.0f, 1.0f, -1.0f, -1.0f);  // empty until an object is drawn
   std::vector<glm::vec4> objectRects;
   bool objectsOverlap = false;  // two cell objects share screen pixels: no early depth (see the header)
+  bool drawsBricks = false;     // bricks have no early depth variant: none this frame
   std::unordered_map<engine::ecs::Entity, std::uint64_t> drawnThisFrame;
   const glm::mat4 viewProj = frame.camera.proj * frame.camera.view;
 
@@ -510,6 +510,7 @@ void HermiteCellFeature::buildDraws(engine::render::FrameContext& frame) {
           if (precision == 1) draw.flags |= HERMITE_FLAG_HALF_RECORDS;
         }
         if (r.method == RenderMethod::CellBricks) {
+          drawsBricks = true;
           stats_.cells += asset.cells.records.size();
           addBrickDraws(entry.bricks.bricks, entry.firstBrick, draw, eyeGrid, reachGrid, commands[kBrickBatch],
                         draws[kBrickBatch]);
@@ -575,7 +576,7 @@ void HermiteCellFeature::buildDraws(engine::render::FrameContext& frame) {
     }
   }
   earlyDepth_ = earlyDepthWanted(settings_.earlyDepth, context_->capabilities().isSoftwareRasterizer) &&
-                stats_.draws > 0 && !objectsOverlap;
+                stats_.draws > 0 && !objectsOverlap && !drawsBricks;
   if (!allCommands.empty()) {
     indirect_.upload(frame.frameSlot, allCommands);
     drawData_.upload(frame.frameSlot, allDraws);
@@ -687,7 +688,7 @@ void HermiteCellFeature::recordBatch(engine::render::PassContext& pass, int prec
   const bool runs = precision == kRunBatch;
   const bool bricks = precision == kBrickBatch;
   const Variant variant = prepassVariant(pass.frame);
-  const Pipeline& pipeline = bricks ? (near ? pipelines_.bricksNear[variant] : pipelines_.bricksFront[variant])
+  const Pipeline& pipeline = bricks ? brickPipeline(variant, near)
                              : runs ? (near ? pipelines_.runsNear[variant] : pipelines_.runsFront[variant])
                                     : (near ? pipelines_.depthNear[variant][precision]
                                             : pipelines_.depthFront[variant][precision]);
@@ -710,6 +711,12 @@ void HermiteCellFeature::recordBatch(engine::render::PassContext& pass, int prec
     push.brickCells = buffers_->brickCells.address();
   }
   recordIndirect(cmd, pipeline, push, pass.frame.frameSlot, first, count);
+}
+
+// Bricks have no early depth variant; a frame with bricks never draws the early stage (buildDraws).
+const Pipeline& HermiteCellFeature::brickPipeline(Variant variant, bool near) const {
+  const int v = variant == kCounted ? kCounted : kProduction;
+  return near ? pipelines_.bricksNear[v] : pipelines_.bricksFront[v];
 }
 
 void HermiteCellFeature::recordIndirect(VkCommandBuffer cmd, const Pipeline& pipeline, shader::HermitePushConstants push,
