@@ -16,11 +16,12 @@ namespace {
 template <class T, std::size_t N>
 using NameTable = std::array<std::pair<T, const char*>, N>;
 
-constexpr NameTable<Method, 5> kMethods{{{Method::Mesh, "mesh"},
+constexpr NameTable<Method, 6> kMethods{{{Method::Mesh, "mesh"},
                                          {Method::Cells, "cells"},
                                          {Method::Trilinear, "trilinear"},
                                          {Method::Hermite, "hermite"},
-                                         {Method::CellRuns, "cells-runs"}}};
+                                         {Method::CellRuns, "cells-runs"},
+                                         {Method::CellBricks, "cell-bricks"}}};
 constexpr NameTable<hsdf::NormalMode, 2> kNormalModes{
     {{hsdf::NormalMode::Exact, "exact"}, {hsdf::NormalMode::CentralDifferences, "central"}}};
 constexpr NameTable<DebugView, 6> kDebugViews{{{DebugView::None, "none"},
@@ -168,7 +169,7 @@ engine::Status readKey(const std::string& key, const json& value, TuningState& t
   if (key == "split_position") return readFloat(value, kSplitMin, kSplitMax, t.splitPosition);
   if (key == "compare_method") {
     ENGINE_TRY(readName(value, kMethods, t.compareMethod));
-    if (!isSdfMethod(t.compareMethod)) return engine::makeError("the compared method must be an SDF method (cells, cells-runs, trilinear, hermite)");
+    if (!isSdfMethod(t.compareMethod)) return engine::makeError("the compared method must be an SDF method (cells, cells-runs, cell-bricks, trilinear, hermite)");
     return {};
   }
   if (key == "compare_resolution") {
@@ -217,7 +218,9 @@ TuningState compareTuning(const TuningState& t) {
 }
 std::optional<Method> parseMethod(std::string_view name) { return valueOf(kMethods, name); }
 bool isSdfMethod(Method method) { return method != Method::Mesh; }
-bool drawsCells(Method method) { return method == Method::Cells || method == Method::CellRuns; }
+bool drawsCells(Method method) {
+  return method == Method::Cells || method == Method::CellRuns || method == Method::CellBricks;
+}
 const char* normalModeName(hsdf::NormalMode mode) { return nameOf(kNormalModes, mode); }
 std::optional<hsdf::NormalMode> parseNormalMode(std::string_view name) { return valueOf(kNormalModes, name); }
 const char* debugViewName(DebugView view) { return nameOf(kDebugViews, view); }
@@ -275,6 +278,7 @@ void applyTuning(const TuningState& tuning, hsdf::HermiteSdfRenderable& renderab
   if (tuning.method == Method::Trilinear) renderable.method = hsdf::RenderMethod::TrilinearSphereTrace;
   if (tuning.method == Method::Hermite) renderable.method = hsdf::RenderMethod::HermiteSphereTrace;
   if (tuning.method == Method::CellRuns) renderable.method = hsdf::RenderMethod::CellRuns;
+  if (tuning.method == Method::CellBricks) renderable.method = hsdf::RenderMethod::CellBricks;
   renderable.subdivisions = tuning.subdivisions;
   renderable.refineSteps = tuning.refineSteps;
   renderable.normals = tuning.normals;

@@ -19,11 +19,12 @@ namespace samples {
 // How the scene's meshes are drawn: as triangles, or baked into one SDF drawn by the paper's
 // Hermite cells or one of the sphere-tracing baselines.
 // CellRuns: the cells drawn as runs along x (hsdf::RenderMethod::CellRuns, issue 13).
-enum class Method { Mesh, Cells, Trilinear, Hermite, CellRuns };
-const char* methodName(Method method);  // "mesh", "cells", "trilinear", "hermite", "cells-runs"
+// CellBricks: the cells drawn as bricks of 4x4x4 cells (hsdf::RenderMethod::CellBricks, issue 20).
+enum class Method { Mesh, Cells, Trilinear, Hermite, CellRuns, CellBricks };
+const char* methodName(Method method);  // "mesh", "cells", "trilinear", "hermite", "cells-runs", "cell-bricks"
 std::optional<Method> parseMethod(std::string_view name);
 bool isSdfMethod(Method method);
-// The cell renderers (cells, cells-runs): they draw the baked asset's kept cells.
+// The cell renderers (cells, cells-runs, cell-bricks): they draw the baked asset's kept cells.
 bool drawsCells(Method method);
 
 const char* normalModeName(hsdf::NormalMode mode);  // "exact", "central"

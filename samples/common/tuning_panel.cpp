@@ -16,7 +16,8 @@ double mebibytes(std::uint64_t bytes) { return double(bytes) / (1024.0 * 1024.0)
 
 // Method names in the order of the Method enum.
 constexpr const char* kMethodLabels[] = {"mesh (triangles)", "Hermite cells (the paper)", "trilinear sphere tracing",
-                                         "dense Hermite sphere tracing", "Hermite cells, runs along x"};
+                                         "dense Hermite sphere tracing", "Hermite cells, runs along x",
+                                         "Hermite cells, 4x4x4 bricks"};
 constexpr const char* kDebugViewLabels[] = {"shaded", "normals", "depth", "cells", "evaluations", "cell boxes"};
 
 bool sliderU32(const char* label, std::uint32_t& value, IntRange range) {

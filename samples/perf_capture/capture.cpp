@@ -169,7 +169,7 @@ Status captureRow(const Group& g, const RowSpec& spec, std::size_t index, std::s
     }
     addStatistics(last, views, result);
     const hsdf::HermiteCellFeature::Stats& cells = g.viewer.renderer().feature<hsdf::HermiteCellFeature>()->stats();
-    result.boxes += double(cells.runs > 0 ? cells.runs : cells.cells) / views;
+    result.boxes += double(cells.bricks > 0 ? cells.bricks : cells.runs > 0 ? cells.runs : cells.cells) / views;
     if (g.options.objects && v == 0 && samples::drawsCells(spec.state.method))
       std::fprintf(stderr, "\n%s: %zu assets, %u cell objects in %u indirect commands\n", spec.label.c_str(),
                    assets.size(), cells.objects, cells.draws);

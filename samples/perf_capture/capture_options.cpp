@@ -14,7 +14,7 @@ namespace capture {
 namespace {
 
 constexpr std::uint32_t kMaxDimension = 16384;
-const std::vector<std::string> kMethods{"mesh", "trilinear", "hermite", "cells", "cells-runs"};
+const std::vector<std::string> kMethods{"mesh", "trilinear", "hermite", "cells", "cells-runs", "cell-bricks"};
 const std::vector<std::string> kShapes{"torus", "sphere", "capsule", "box"};
 
 std::optional<std::string> parseSize(const std::string& text, Options& options) {
@@ -63,7 +63,7 @@ std::optional<std::string> parseMethods(const std::string& text, Options& option
   std::vector<std::string> methods;
   for (const std::string& item : splitList(text)) {
     if (std::find(kMethods.begin(), kMethods.end(), item) == kMethods.end())
-      return "--methods: '" + item + "' is not one of mesh, trilinear, hermite, cells, cells-runs";
+      return "--methods: '" + item + "' is not one of mesh, trilinear, hermite, cells, cells-runs, cell-bricks";
     if (std::find(methods.begin(), methods.end(), item) == methods.end()) methods.push_back(item);
   }
   options.methods = methods;
@@ -113,7 +113,7 @@ ParseResult parseOptions(int argc, const char* const* argv) {
       ->excludes(shape);
   app.add_option("--size", size, "image size WxH (default 1920x1080; --quick 320x180)");
   app.add_option("--resolutions", resolutions, "field resolutions K (default 16,32,64,128; --quick 16,32)");
-  app.add_option("--methods", methods, "methods to capture (default mesh,trilinear,hermite,cells,cells-runs)");
+  app.add_option("--methods", methods, "methods to capture (default mesh,trilinear,hermite,cells,cells-runs,cell-bricks)");
   std::string settings;
   app.add_option("--settings", settings,
                  "only these settings of the cell methods, e.g. \"n=3 r=1,certified\" (default: every one; the "

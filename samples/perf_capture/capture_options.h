@@ -1,7 +1,7 @@
 #pragma once
 // Command line of the perf capture (issue 10):
 //   perf_capture --out DIR [--scene FILE [--objects] | --shape NAME] [--size WxH] [--resolutions 16,32,64,128]
-//                [--methods mesh,trilinear,hermite,cells,cells-runs] [--settings "n=3 r=1,..."] [--views N]
+//                [--methods mesh,trilinear,hermite,cells,cells-runs,cell-bricks] [--settings "n=3 r=1,..."] [--views N]
 //                [--frames N] [--warmup N] [--quick] [--lod] [--distance F]
 // Every value is checked before a device opens; a bad one is refused naming its option.
 #include <cstdint>
@@ -22,7 +22,7 @@ struct Options {
   std::uint32_t width = 1920;
   std::uint32_t height = 1080;
   std::vector<int> resolutions{16, 32, 64, 128};
-  std::vector<std::string> methods{"mesh", "trilinear", "hermite", "cells", "cells-runs"};
+  std::vector<std::string> methods{"mesh", "trilinear", "hermite", "cells", "cells-runs", "cell-bricks"};
   // Settings of the cell methods to capture (capture_rows.cpp labels, e.g. "n=3 r=1"); empty: all.
   std::vector<std::string> cellSettings;
   std::uint32_t views = 8;

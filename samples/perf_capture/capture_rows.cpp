@@ -39,12 +39,16 @@ const Variant kVariants[] = {
     // Issue 13's variant: the same cells and search, one box per run of cells along x.
     {"cells-runs", "n=3 r=1", false, {.method = Method::CellRuns, .subdivisions = 3, .refineSteps = 1}},
     {"cells-runs", "n=3 r=1 fp16", false, {.method = Method::CellRuns, .subdivisions = 3, .refineSteps = 1, .fp16 = true}},
+    // Issue 20's variant: the same cells and search, one box per brick of 4x4x4 cells.
+    {"cell-bricks", "n=3 r=1", false, {.method = Method::CellBricks, .subdivisions = 3, .refineSteps = 1}},
+    {"cell-bricks", "n=3 r=1 fp16", false, {.method = Method::CellBricks, .subdivisions = 3, .refineSteps = 1, .fp16 = true}},
 };
 
 RenderMethod renderMethodOf(Method method) {
   if (method == Method::Trilinear) return RenderMethod::TrilinearSphereTrace;
   if (method == Method::Hermite) return RenderMethod::HermiteSphereTrace;
   if (method == Method::CellRuns) return RenderMethod::CellRuns;
+  if (method == Method::CellBricks) return RenderMethod::CellBricks;
   return RenderMethod::Cells;
 }
 

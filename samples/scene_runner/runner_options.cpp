@@ -91,8 +91,11 @@ const char* deviceName(engine::gpu::DevicePreference device) {
 void addTuningOptions(CLI::App& app, TuningState& t) {
   using samples::Method;
   using samples::DebugView;
-  app.add_option("--method", t.method, "mesh, cells (Hermite cells), trilinear or hermite (sphere tracing)")
-      ->transform(oneOf({Method::Mesh, Method::Cells, Method::Trilinear, Method::Hermite, Method::CellRuns}, samples::methodName));
+  app.add_option("--method", t.method,
+                 "mesh, cells (Hermite cells; cells-runs, cell-bricks: fewer proxies), trilinear or hermite (sphere tracing)")
+      ->transform(oneOf({Method::Mesh, Method::Cells, Method::Trilinear, Method::Hermite, Method::CellRuns,
+                         Method::CellBricks},
+                        samples::methodName));
   app.add_option("--resolution", t.resolution,
                  "samples per axis K of the baked field (cells 2..2048, sparse bake past 256; trilinear, hermite 2..512)")
       ->check(CLI::Range(samples::kResolutionRange.min, samples::kResolutionRange.max));
@@ -126,7 +129,8 @@ void addTuningOptions(CLI::App& app, TuningState& t) {
   app.add_option("--split-position", t.splitPosition, "the divider as a fraction of the width/height (0.05..0.95)")
       ->check(CLI::Range(0.05f, 0.95f));
   app.add_option("--compare-method", t.compareMethod, "the compared side: trilinear (default), hermite or cells")
-      ->transform(oneOf({Method::Cells, Method::Trilinear, Method::Hermite, Method::CellRuns}, samples::methodName));
+      ->transform(oneOf({Method::Cells, Method::Trilinear, Method::Hermite, Method::CellRuns, Method::CellBricks},
+                        samples::methodName));
   app.add_option("--compare-resolution", t.compareResolution, "K of the compared side (2..512; default 0: 2K, at most 256)")
       ->check(CLI::Range(0, samples::kResolutionRange.max));
   app.add_option("--compare-normals", t.compareNormals, "normals of the compared side: exact or central (default)")

@@ -31,4 +31,42 @@ vec3 frontFaceCorner(int vertexIndex, vec3 eye, vec3 lo, vec3 hi, bool mirrored)
   return boxCorner(6 * face + vertexIndex % 6, mirrored);
 }
 
+// Fewer vertices per box (issue 20 step 2: the vertex shader runs once per vertex of a
+// non-indexed draw). Used by the cell bricks (bricks.vert); the experiment that applied it to the
+// cells and runs is docs/perf/experiments/box-traffic-0b307bb.patch. Corners are numbered
+// x + 2y + 4z as in kBoxCorners.
+vec3 cornerPosition(int corner) { return vec3(corner & 1, (corner >> 1) & 1, corner >> 2); }
+
+// Corner c mirrored through the plane y = z, which maps the box onto itself and reverses the
+// winding of every face (a reflection), without changing which corners a face has.
+int swapCornerYZ(int corner) { return (corner & 1) | ((corner & 2) << 1) | ((corner & 4) >> 1); }
+
+// The three faces of the box that meet at corner 0 (-x, -y, -z), outward counter-clockwise, as one
+// triangle fan around corner 0: 6 triangles from 8 vertices (18 in a list).
+const int kFrontFan[8] = int[8](0, 1, 5, 4, 6, 2, 3, 1);
+
+// The front faces of the box as a triangle fan (8 vertices, `vertexIndex` 0..7). Per axis the fan
+// takes the face on the eye's side of the box's `centre` (same coordinates as `eye`): moving the
+// fan's hub to that corner is a reflection on each axis where it is 1 (corner ^ near), and an odd
+// number of reflections, or a mirroring model matrix (OBJECT_FLAG_MIRRORED), reverses the winding:
+// then one more reflection (swapCornerYZ) restores it. A face whose two planes hold the eye between
+// them is a back face whichever of the two is taken, and the pipeline's back-face culling drops it.
+vec3 frontFanCorner(int vertexIndex, vec3 eye, vec3 centre, bool mirrored) {
+  ivec3 side = ivec3(greaterThan(eye, centre));
+  int near = side.x | (side.y << 1) | (side.z << 2);
+  bool flip = (((side.x + side.y + side.z) & 1) != 0) != mirrored;
+  int corner = kFrontFan[vertexIndex];
+  return cornerPosition((flip ? swapCornerYZ(corner) : corner) ^ near);
+}
+
+// All six faces as one triangle strip of 14 vertices, outward counter-clockwise in Vulkan's strip
+// order (triangle i is i, i+1, i+2, odd ones i, i+2, i+1), for boxes drawn by their back faces
+// (near-plane boxes): 14 vertex-shader invocations instead of 36.
+const int kBoxStrip[14] = int[14](0, 1, 4, 5, 7, 1, 3, 0, 2, 4, 6, 7, 2, 3);
+
+vec3 boxStripCorner(int vertexIndex, bool mirrored) {
+  int corner = kBoxStrip[vertexIndex];
+  return cornerPosition(mirrored ? swapCornerYZ(corner) : corner);
+}
+
 #endif

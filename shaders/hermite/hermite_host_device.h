@@ -13,7 +13,7 @@ namespace shader {
 #define HERMITE_FLAG_NORMALS_CENTRAL 1u  // central differences instead of the exact gradient
 #define HERMITE_FLAG_NEAR_CELL 2u        // the cell may intersect the near plane: drawn by back faces
 #define HERMITE_FLAG_CERTIFIED 4u        // certified first-root search instead of n equidistant samples
-#define HERMITE_FLAG_HALF_RECORDS 8u     // cell runs: the records are CellRecordHalfGpu (else CellRecordGpu)
+#define HERMITE_FLAG_HALF_RECORDS 8u     // cell runs, bricks: the records are CellRecordHalfGpu (else CellRecordGpu)
 
 // One per indirect draw command of a Hermite feature: which object, and how to search.
 struct HermiteDraw {
@@ -24,7 +24,7 @@ struct HermiteDraw {
   uint flags;              // HERMITE_FLAG_*
   uint resolution;         // K samples per axis (sphere tracing: texture size)
   uint firstCell;          // cells: index of the object's first record in the cell buffer
-  uint64_t records;        // cell runs: address of the record buffer the runs index (0 for cells)
+  uint64_t records;        // cell runs, bricks: address of the record buffer they index (0 for cells)
 };
 HSDF_CHECK_SIZE(HermiteDraw, 16 + 6 * 4 + 8);
 
@@ -131,13 +131,17 @@ struct HermitePushConstants {
   uint64_t draws;          // address of HermiteDraw[] (indexed by drawBase + gl_DrawID)
   uint64_t hitDepths;      // address of a uint per pixel: the cells' nearest hit depth (hit_depth.glsl), 0 when unused
   uint64_t counters;       // address of a uint per pixel (evaluation heat map), 0 when off
+  // Cell bricks: the CellBrickGpu[] the draws' instances index (the bound vertex buffer; the
+  // fragment shader reads its brick there), and the uint record indices of the bricks' kept cells.
+  uint64_t bricks;
+  uint64_t brickCells;
   uint drawBase;
   uint pad;
   // Shading pass: the rectangle (NDC x0, y0, x1, y1) that covers every drawn cell object on screen;
   // the resolve shades only its pixels (cells_resolve.vert).
   vec4 screenRect;
 };
-HSDF_CHECK_SIZE(HermitePushConstants, 32 + 3 * 8 + 8 + 16);
+HSDF_CHECK_SIZE(HermitePushConstants, 32 + 5 * 8 + 8 + 16);
 
 // ---- Sphere-tracing baselines (hsdf::SphereTraceFeature) ----------------------------------------
 #define SPHERE_TRACE_FEATURE_ID 3u

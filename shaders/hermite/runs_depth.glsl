@@ -5,13 +5,11 @@
 // cell the ray enters first, and the walk stops at the first root.
 #extension GL_GOOGLE_include_directive : require
 #include "hermite/hermite_host_device.h"
-#include "hermite/segment_roots.glsl"
 #include "hermite/proxy_dilation.glsl"
 
 layout(push_constant, scalar) uniform Push { HermitePushConstants pc; };
 layout(buffer_reference, scalar) readonly buffer HermiteDrawsRef { HermiteDraw draws[]; };
-layout(buffer_reference, scalar) readonly buffer CellRecordsRef { CellRecordGpu records[]; };
-layout(buffer_reference, scalar) readonly buffer CellRecordsHalfRef { CellRecordHalfGpu records[]; };
+#include "hermite/cell_search.glsl"
 
 layout(location = 0) flat in uvec4 inRun;  // x, y, z, length
 layout(location = 1) flat in uint inFirstRecord;
@@ -25,15 +23,6 @@ layout(location = 0) out uvec2 outVisibility;  // (1 + object, cell record)
 layout(depth_less) out float gl_FragDepth;  // reverse-Z: the hit is never nearer than the front face
 #endif
 #include "hermite/hit_depth.glsl"
-
-void loadCorners(HermiteDraw draw, uint record, out vec4 corners[8]) {
-  if ((draw.flags & HERMITE_FLAG_HALF_RECORDS) == 0u) {
-    corners = CellRecordsRef(draw.records).records[record].corners;
-  } else {
-    uvec2 packed[8] = CellRecordsHalfRef(draw.records).records[record].corners;
-    for (int i = 0; i < 8; ++i) corners[i] = vec4(unpackHalf2x16(packed[i].x), unpackHalf2x16(packed[i].y));
-  }
-}
 
 void main() {
   HermiteDraw draw = HermiteDrawsRef(pc.draws).draws[inDraw];
@@ -61,19 +50,8 @@ void main() {
     for (int k = 0; k < count; ++k) {
       int cell = first + stepX * k;
       vec3 cellOrigin = origin - vec3(float(cell), 0.0, 0.0);
-      vec2 segment = intersectBox(cellOrigin, direction, vec3(-margin), vec3(1.0 + margin));
-      float c0 = max(segment.x, t0), c1 = min(segment.y, t1);
-      if (!(c0 < c1)) continue;
-      vec4 corners[8];
-      loadCorners(draw, inFirstRecord + uint(cell), corners);
-      float coefficients[SEGMENT_COEFFS];
-      restrictToSegment(corners, draw.gridOriginSpacing.w, cellOrigin + c0 * direction, cellOrigin + c1 * direction,
-                        coefficients);
-      ++evaluations;
-      float s = segmentFirstRoot(coefficients, draw.subdivisions, draw.refineSteps,
-                                 (draw.flags & HERMITE_FLAG_CERTIFIED) != 0u, evaluations);
-      if (s >= 0.0) {
-        t = mix(c0, c1, s);
+      t = searchCell(draw, inFirstRecord + uint(cell), cellOrigin, direction, margin, t0, t1, evaluations);
+      if (t >= 0.0) {
         hitRecord = inFirstRecord + uint(cell);
         break;
       }

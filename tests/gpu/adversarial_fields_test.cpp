@@ -36,9 +36,11 @@ using hsdf::RenderMethod;
 
 constexpr std::uint32_t kSize = 63;
 constexpr int kResolution = 8;
-constexpr RenderMethod kMethods[] = {RenderMethod::Cells, RenderMethod::CellRuns, RenderMethod::TrilinearSphereTrace,
-                                     RenderMethod::HermiteSphereTrace};
-bool cellMethod(RenderMethod method) { return method == RenderMethod::Cells || method == RenderMethod::CellRuns; }
+constexpr RenderMethod kMethods[] = {RenderMethod::Cells, RenderMethod::CellRuns, RenderMethod::CellBricks,
+                                     RenderMethod::TrilinearSphereTrace, RenderMethod::HermiteSphereTrace};
+bool cellMethod(RenderMethod method) {
+  return method == RenderMethod::Cells || method == RenderMethod::CellRuns || method == RenderMethod::CellBricks;
+}
 
 // A field with sample (i, j, k) = sample(position).
 hsdf::HermiteField makeField(const std::function<hsdf::HermiteSample(const glm::dvec3&)>& sample) {

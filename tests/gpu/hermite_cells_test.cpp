@@ -336,7 +336,10 @@ TEST_F(HermiteCellsTest, CountedVariantDrawsTheProductionImage) {
                         {"cells fp16", hsdf::RenderMethod::Cells, true, orbitCamera(*torus, 2)},
                         {"cells inside", hsdf::RenderMethod::Cells, false, inside},
                         {"runs", hsdf::RenderMethod::CellRuns, false, orbitCamera(*torus, 1)},
-                        {"runs inside", hsdf::RenderMethod::CellRuns, false, inside}};
+                        {"runs inside", hsdf::RenderMethod::CellRuns, false, inside},
+                        {"bricks", hsdf::RenderMethod::CellBricks, false, orbitCamera(*torus, 1)},
+                        {"bricks fp16", hsdf::RenderMethod::CellBricks, true, orbitCamera(*torus, 2)},
+                        {"bricks inside", hsdf::RenderMethod::CellBricks, false, inside}};
   for (const Case& c : cases) {
     auto& renderable = registry_.get<hsdf::HermiteSdfRenderable>(object);
     renderable.method = c.method;
@@ -375,6 +378,13 @@ TEST_F(HermiteCellsTest, CountedVariantDrawsTheProductionImage) {
   std::uint64_t earlyEvaluations = 0;
   for (std::uint32_t n : renderer_->readbackWorkCounters()) earlyEvaluations += n;
   EXPECT_GT(earlyEvaluations, 0u);
+  // Bricks have no early depth variant: a frame that draws them keeps the stage off, and counts
+  // with the bricks' counted variant.
+  registry_.get<hsdf::HermiteSdfRenderable>(object).method = hsdf::RenderMethod::CellBricks;
+  renderer_->renderFrame(registry_, orbitCamera(*torus, 1), counting);
+  EXPECT_FALSE(feature->stats().earlyDepth);
+  EXPECT_TRUE(feature->stats().countedVariant);
+  EXPECT_GT(feature->stats().bricks, 0u);
 }
 
 // Auto: the early depth stage is for software rasterizers (in-order shading), not for GPUs, where
@@ -396,13 +406,16 @@ TEST_F(HermiteCellsTest, EarlyDepthAutoFollowsTheDevice) {
 }
 
 // Cell runs (RenderMethod::CellRuns) draw the same cells as one box per run along x and walk them
-// in the fragment shader. Why these cases: the torus's rows hold long runs whose inner faces the
+// in the fragment shader; cell bricks (RenderMethod::CellBricks) as one box per 4x4x4 brick, walked
+// in 3D along the ray. Why these cases: the torus's rows hold long runs whose inner faces the
 // rays cross (the walk must continue into the next cell and stop at the first root); the box's
 // flat faces lie on the faces shared by cells of one run (the walk's per-cell dilated segments
 // must keep that root); fp16 records are read by address with the half layout; the bunny at K = 64
-// has runs cut at the maximum length inside long rows.
-TEST_F(HermiteCellsTest, CellRunsMatchReferenceForTorusBoxAndBunny) {
+// has runs cut at the maximum length inside long rows. For the bricks, the rays cross brick faces and
+// the faces between cells of one brick along every axis, and the box's flat faces lie on both.
+TEST_F(HermiteCellsTest, CellRunsAndBricksMatchReferenceForTorusBoxAndBunny) {
   createCellRenderer(kSize, kSize);
+  for (const hsdf::RenderMethod method : {hsdf::RenderMethod::CellRuns, hsdf::RenderMethod::CellBricks}) {
   struct Case {
     const char* shape;
     int k;
@@ -414,10 +427,10 @@ TEST_F(HermiteCellsTest, CellRunsMatchReferenceForTorusBoxAndBunny) {
     registry_ = ecs::Registry();
     const auto asset = bakeAsset(test.shape, test.k);
     ASSERT_NE(asset, nullptr);
-    const ecs::Entity entity = addSdf(registry_, asset, hsdf::RenderMethod::CellRuns, glm::mat4(1.0f), test.subdivisions);
+    const ecs::Entity entity = addSdf(registry_, asset, method, glm::mat4(1.0f), test.subdivisions);
     registry_.get<hsdf::HermiteSdfRenderable>(entity).halfPrecision = test.half;
     for (int view = 0; view < 6; view += 2) {
-      const std::string label = std::string(test.shape) + " runs" + (test.half ? " fp16" : "");
+      const std::string label = std::string(test.shape) + " " + hsdf::renderMethodName(method) + (test.half ? " fp16" : "");
       SCOPED_TRACE(label + " view " + std::to_string(view));
       const ImageComparison c = compareView(*asset, orbitCamera(*asset, view), label.c_str());
       if (test.half) {  // fp16 corners: the coverage and the surface, not the last digits of depth
@@ -429,18 +442,23 @@ TEST_F(HermiteCellsTest, CellRunsMatchReferenceForTorusBoxAndBunny) {
       }
     }
     const hsdf::HermiteCellFeature::Stats& stats = renderer_->feature<hsdf::HermiteCellFeature>()->stats();
-    EXPECT_GT(stats.runs, 0u);
-    EXPECT_LT(stats.runs, stats.cells) << "some kept cells must share a run";
+    const std::uint64_t boxes = method == hsdf::RenderMethod::CellRuns ? stats.runs : stats.bricks;
+    EXPECT_GT(boxes, 0u);
+    EXPECT_LT(boxes, stats.cells) << "some kept cells must share a box";
+    if (method == hsdf::RenderMethod::CellBricks) {
+      EXPECT_EQ(stats.draws, 1u + stats.nearCells) << "one indirect command per object, plus near-plane bricks";
+    }
+  }
   }
 }
 
-// Why: inside a cell the near plane cuts the run's front faces away; the runs' back-face path
+// Why: inside a cell the near plane cuts the run's (brick's) front faces away; the back-face path
 // (the near list) must find the surface in front of the eye, as the cells' does.
-TEST_F(HermiteCellsTest, CellRunsFromInsideACell) {
+TEST_F(HermiteCellsTest, CellRunsAndBricksFromInsideACell) {
   createCellRenderer(kSize, kSize);
   const auto asset = bakeAsset("torus", 16);
   ASSERT_NE(asset, nullptr);
-  addSdf(registry_, asset, hsdf::RenderMethod::CellRuns);
+  const ecs::Entity entity = addSdf(registry_, asset, hsdf::RenderMethod::CellRuns);
   const hsdf::Aabb bounds = asset->surfaceBounds;
   const glm::vec3 center(bounds.center());
   const glm::vec3 hole = center + glm::vec3(0.0f, 0.05f * float(bounds.size().y), 0.0f);
@@ -452,6 +470,9 @@ TEST_F(HermiteCellsTest, CellRunsFromInsideACell) {
   const glm::vec3 eye = surface - 0.5f * h * glm::normalize(ring - hole);
   const render::CameraView close = render::CameraView::lookAt(eye, surface + glm::vec3(0.0f, 0.3f * h, 0.0f), 1.2f, 0.25f * h, 1.0f);
   expectMatchesReference(compareView(*asset, close, "runs inside a cell"));
+  EXPECT_GT(renderer_->feature<hsdf::HermiteCellFeature>()->stats().nearCells, 0u);
+  registry_.get<hsdf::HermiteSdfRenderable>(entity).method = hsdf::RenderMethod::CellBricks;
+  expectMatchesReference(compareView(*asset, close, "bricks inside a cell"));
   EXPECT_GT(renderer_->feature<hsdf::HermiteCellFeature>()->stats().nearCells, 0u);
 }
 

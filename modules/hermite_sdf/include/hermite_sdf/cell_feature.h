@@ -36,6 +36,10 @@
 // RenderMethod::CellRuns objects are drawn by the same feature from the same record buffers: one
 // box per run of kept cells along x (runs.vert), walked cell by cell in the fragment shader with
 // the same search (runs_depth.glsl), records read by address; the shading pass is shared.
+// RenderMethod::CellBricks objects likewise: one box per brick of 4x4x4 cells holding a kept cell
+// (bricks.vert: 8 vertices, 12 bytes of varyings), whose kept cells the fragment shader walks along
+// the ray (bricks_depth.glsl); one indirect command per object (firstInstance = its first brick).
+// Bricks have no early depth variant: a frame that draws bricks keeps the early depth stage off.
 #include <cstdint>
 #include <memory>
 #include <string>
@@ -79,6 +83,7 @@ class HermiteCellFeature final : public engine::render::RenderFeature {
     std::uint32_t draws = 0;        // indirect commands in the last frame
     std::uint32_t nearCells = 0;    // cells (or runs) drawn by their back faces
     std::uint64_t runs = 0;         // run boxes of RenderMethod::CellRuns objects (their cells are in `cells`)
+    std::uint64_t bricks = 0;       // brick boxes of RenderMethod::CellBricks objects (their cells are in `cells`)
     std::uint32_t skippedObjects = 0;  // transform not invertible (e.g. scaled to zero): not drawn
     std::uint64_t gpuBytes = 0;     // cell buffers
     bool earlyDepth = false;        // the last frame drew the boxes in the early depth stage
@@ -132,6 +137,7 @@ class HermiteCellFeature final : public engine::render::RenderFeature {
     kCounted = 1,     // *_counted.frag: + the evaluation counters, in frames that count work
     kEarly = 2,       // cells_depth_early.frag (front faces at their own depth), *_near_early.frag
     kVariants = 3,
+    kBrickVariants = 2,  // cell bricks: production and counted only
   };
   struct Pipelines {
     // [variant][precision]: precision 0 = fp32, 1 = fp16 records.
@@ -140,11 +146,18 @@ class HermiteCellFeature final : public engine::render::RenderFeature {
     engine::gpu::Pipeline wire[2];  // DEBUG_VIEW_WIREFRAME: the boxes' edges
     engine::gpu::Pipeline runsFront[kVariants];  // RenderMethod::CellRuns, both precisions
     engine::gpu::Pipeline runsNear[kVariants];
+    engine::gpu::Pipeline bricksFront[kBrickVariants];  // RenderMethod::CellBricks, both precisions
+    engine::gpu::Pipeline bricksNear[kBrickVariants];
     engine::gpu::Pipeline resolve;
     engine::gpu::Pipeline depthFixup;  // the hits' true depth after the early stage
   };
   Variant prepassVariant(const engine::render::FrameContext& frame) const;
   engine::Expected<Pipelines> createPipelines() const;
+  engine::Status createBrickPipelines(Pipelines& p) const;
+  const engine::gpu::Pipeline& brickPipeline(Variant variant, bool near) const;
+  void addBrickDraws(const std::vector<shader::CellBrickGpu>& bricks, std::uint32_t firstBrick,
+                     const shader::HermiteDraw& draw, const glm::dvec3& eyeGrid, double reachGrid,
+                     std::vector<VkDrawIndirectCommand> commands[2], std::vector<shader::HermiteDraw> draws[2]);
 
   engine::render::RendererFormats formats_;
   Pipelines pipelines_;
@@ -168,8 +181,9 @@ class HermiteCellFeature final : public engine::render::RenderFeature {
   bool earlyDepth_ = false;  // this frame's boxes are drawn in the early depth stage
   glm::vec4 screenRect_{1.0f, 1.0f, -1.0f, -1.0f};  // NDC bounds of this frame's cell objects (resolve)
   bool multiDraw_ = false;
-  static constexpr int kRunBatch = 2;  // batches: fp32 cells, fp16 cells, runs
-  static constexpr int kBatches = 3;
+  static constexpr int kRunBatch = 2;  // batches: fp32 cells, fp16 cells, runs, bricks
+  static constexpr int kBrickBatch = 3;
+  static constexpr int kBatches = 4;
   std::unique_ptr<Batch> batches_[kBatches];
 };
 

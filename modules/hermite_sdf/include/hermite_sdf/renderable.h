@@ -24,6 +24,9 @@ enum class RenderMethod : std::uint32_t {
   // HermiteCellFeature::Settings::maxRunLength cells) walked cell by cell in the fragment shader,
   // records read by buffer device address: fewer, larger proxies than one box per cell (issue 13).
   CellRuns = 3,
+  // The cells, drawn as bricks of CELL_BRICK_SIZE^3 cells (one box per brick holding a kept cell)
+  // walked along the ray in the fragment shader: fewer proxies still (issue 20, step 3).
+  CellBricks = 4,
 };
 const char* renderMethodName(RenderMethod method);
 

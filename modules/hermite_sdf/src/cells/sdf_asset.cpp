@@ -56,6 +56,7 @@ const char* renderMethodName(RenderMethod method) {
     case RenderMethod::TrilinearSphereTrace: return "trilinear";
     case RenderMethod::HermiteSphereTrace: return "hermite";
     case RenderMethod::CellRuns: return "cells-runs";
+    case RenderMethod::CellBricks: return "cell-bricks";
   }
   return "?";
 }

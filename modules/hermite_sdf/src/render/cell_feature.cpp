@@ -14,6 +14,7 @@
 #include "engine/render/gpu_scene.h"
 #include "engine/scene/transform.h"
 #include "hermite/hermite_host_device.h"
+#include "render/cell_bricks.h"
 #include "render/cell_rows.h"
 
 namespace hsdf {
@@ -30,11 +31,15 @@ struct CellBuffers {
     CellRows rows;
     std::vector<shader::CellRunGpu> runs;  // firstRecord relative to the asset's stream
     std::uint32_t firstRun = 0;            // index of runs[0] in the run buffer
+    CellBricks bricks;                     // RenderMethod::CellBricks, indices relative to the asset's stream
+    std::uint32_t firstBrick = 0;          // index of bricks.bricks[0] in the brick buffer
     std::uint64_t lastFrame = 0;           // the last frame that drew the asset
   };
   std::unordered_map<std::uint64_t, Entry> entries;  // by asset id
   Buffer records[2];
   Buffer runs;  // every asset's runs, firstRecord global (RenderMethod::CellRuns)
+  Buffer bricks;      // every asset's CellBrickGpu, firstIndex global (RenderMethod::CellBricks)
+  Buffer brickCells;  // the bricks' kept cells: global record indices, brick by brick
   std::uint32_t runLength = 0;  // the maximum run length the runs were built with
   std::uint64_t bytes = 0;
 };
@@ -58,6 +63,10 @@ constexpr std::uint32_t kRecordStride[2] = {sizeof(CellRecord), sizeof(CellRecor
 constexpr std::uint32_t kFrontFaceVertices = 18;
 constexpr std::uint32_t kBoxVertices = 36;
 constexpr std::uint32_t kWireVertices = 24;
+// Cell bricks (bricks.vert, box.glsl): the front faces as one triangle fan, all faces (near-plane
+// bricks) as one triangle strip: 8 and 14 vertex-shader invocations per box (issue 20, step 2).
+constexpr std::uint32_t kBrickFanVertices = 8;
+constexpr std::uint32_t kBrickStripVertices = 14;
 
 engine::gpu::VertexLayout cellVertexLayout(int precision) {
   engine::gpu::VertexLayout layout;
@@ -77,9 +86,19 @@ engine::gpu::VertexLayout runVertexLayout() {
   return layout;
 }
 
+// One CellBrickGpu per instance, read whole (bricks.vert).
+engine::gpu::VertexLayout brickVertexLayout() {
+  engine::gpu::VertexLayout layout;
+  layout.bindings.push_back({0, sizeof(shader::CellBrickGpu), VK_VERTEX_INPUT_RATE_INSTANCE});
+  layout.attributes.push_back({0, 0, VK_FORMAT_R32G32B32A32_UINT, 0});
+  return layout;
+}
+
 constexpr VkAccessFlags2 kStorageReadWrite = VK_ACCESS_2_SHADER_STORAGE_READ_BIT | VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT;
 
-bool drawnAsCells(RenderMethod method) { return method == RenderMethod::Cells || method == RenderMethod::CellRuns; }
+bool drawnAsCells(RenderMethod method) {
+  return method == RenderMethod::Cells || method == RenderMethod::CellRuns || method == RenderMethod::CellBricks;
+}
 
 // The renderer's work counters when the frame counts (the capture reads them back), else the
 // feature's own heat-map counters when the evals view is on, else none.
@@ -104,6 +123,17 @@ glm::vec4 screenBounds(const glm::mat4& viewProj, const glm::mat4& model, const 
   }
   const glm::vec2 margin(4.0f / float(std::max(extent.width, 1u)), 4.0f / float(std::max(extent.height, 1u)));
   return glm::clamp(glm::vec4(lo - margin, hi + margin), -1.0f, 1.0f);
+}
+
+// The asset's bricks: those built for it before (they depend on the asset only), else built now. A
+// grid too large for brick coordinates is reported and gets no bricks (its CellBricks objects
+// draw nothing).
+CellBricks bricksOf(const SdfAsset& asset, const std::unordered_map<std::uint64_t, CellBuffers::Entry>& built) {
+  if (auto old = built.find(asset.id); old != built.end()) return old->second.bricks;
+  auto bricks = buildCellBricks(asset.cells);
+  if (bricks) return std::move(*bricks);
+  engine::log::warn("hermite cells: '{}' cannot be drawn as cell bricks: {}", asset.name, bricks.error().message);
+  return {};
 }
 
 glm::vec4 unite(const glm::vec4& a, const glm::vec4& b) {
@@ -204,6 +234,7 @@ engine::Expected<HermiteCellFeature::Pipelines> HermiteCellFeature::createPipeli
     desc.cullMode = VK_CULL_MODE_FRONT_BIT;
     ENGINE_TRY_ASSIGN(p.runsNear[variant], Pipeline::createGraphics(context, desc));
   }
+  ENGINE_TRY(createBrickPipelines(p));
 
   // Wireframe: edges over the shaded frame, hidden where the surface is in front of them.
   for (int precision = 0; precision < 2; ++precision) {
@@ -258,6 +289,37 @@ engine::Expected<HermiteCellFeature::Pipelines> HermiteCellFeature::createPipeli
 }
 
 
+// Cell bricks: production and counted variants, no early depth one (a frame that draws bricks
+// keeps the early depth stage off: buildDraws). Both precisions share one pipeline pair.
+engine::Status HermiteCellFeature::createBrickPipelines(Pipelines& p) const {
+  static constexpr const char* kFront[kBrickVariants] = {"bricks_depth.frag", "bricks_depth_counted.frag"};
+  static constexpr const char* kNear[kBrickVariants] = {"bricks_depth_near.frag", "bricks_depth_near_counted.frag"};
+  static constexpr const char* kNames[kBrickVariants] = {"", " counted"};
+  ENGINE_TRY_ASSIGN(auto vert, engine::gpu::ShaderModule::load(*context_, "bricks.vert"));
+  for (int variant = 0; variant < kBrickVariants; ++variant) {
+    ENGINE_TRY_ASSIGN(auto front, engine::gpu::ShaderModule::load(*context_, kFront[variant]));
+    ENGINE_TRY_ASSIGN(auto near, engine::gpu::ShaderModule::load(*context_, kNear[variant]));
+    engine::gpu::GraphicsPipelineDesc desc;
+    desc.vertex = vert.handle();
+    desc.vertexLayout = brickVertexLayout();
+    desc.pushConstantBytes = sizeof(shader::HermitePushConstants);
+    desc.depthFormat = formats_.depth;
+    desc.colorFormats = {formats_.visibility};
+    desc.depthCompare = VK_COMPARE_OP_GREATER;
+    desc.name = std::string("hermite cell bricks depth") + kNames[variant];
+    desc.fragment = front.handle();
+    desc.cullMode = VK_CULL_MODE_BACK_BIT;
+    desc.topology = VK_PRIMITIVE_TOPOLOGY_TRIANGLE_FAN;
+    ENGINE_TRY_ASSIGN(p.bricksFront[variant], Pipeline::createGraphics(*context_, desc));
+    desc.name = std::string("hermite cell bricks depth near") + kNames[variant];
+    desc.fragment = near.handle();
+    desc.cullMode = VK_CULL_MODE_FRONT_BIT;
+    desc.topology = VK_PRIMITIVE_TOPOLOGY_TRIANGLE_STRIP;
+    ENGINE_TRY_ASSIGN(p.bricksNear[variant], Pipeline::createGraphics(*context_, desc));
+  }
+  return {};
+}
+
 void HermiteCellFeature::syncAssets(const engine::render::FrameContext& frame) {
   std::vector<std::shared_ptr<const SdfAsset>> wanted;
   std::unordered_set<std::uint64_t> seen;
@@ -300,6 +362,8 @@ void HermiteCellFeature::syncAssets(const engine::render::FrameContext& frame) {
   std::vector<CellRecord> full;
   std::vector<CellRecordHalf> half;
   std::vector<shader::CellRunGpu> runs;
+  std::vector<shader::CellBrickGpu> bricks;
+  std::vector<std::uint32_t> brickCells;
   for (const auto& asset : wanted) {
     CellBuffers::Entry entry;
     entry.asset = asset;
@@ -311,6 +375,13 @@ void HermiteCellFeature::syncAssets(const engine::render::FrameContext& frame) {
       run.firstRecord += entry.firstRecord;
       runs.push_back(run);
     }
+    entry.bricks = bricksOf(*asset, buffers_->entries);
+    entry.firstBrick = static_cast<std::uint32_t>(bricks.size());
+    for (shader::CellBrickGpu brick : entry.bricks.bricks) {
+      brick.firstIndex += static_cast<std::uint32_t>(brickCells.size());
+      bricks.push_back(brick);
+    }
+    for (std::uint32_t record : entry.bricks.cellRecords) brickCells.push_back(entry.firstRecord + record);
     full.insert(full.end(), asset->cells.records.begin(), asset->cells.records.end());
     half.insert(half.end(), asset->cellsHalf.records.begin(), asset->cellsHalf.records.end());
     rebuilt.entries.emplace(asset->id, std::move(entry));
@@ -326,6 +397,14 @@ void HermiteCellFeature::syncAssets(const engine::render::FrameContext& frame) {
                                                            "hermite cells fp16");
     rebuilt.runs = engine::gpu::createBufferWithData(*context_, runs.data(), runs.size() * sizeof(shader::CellRunGpu),
                                                      VK_BUFFER_USAGE_VERTEX_BUFFER_BIT, "hermite cell runs");
+    // Never empty (a zero-sized buffer is invalid): a padding entry no draw reaches.
+    if (bricks.empty()) bricks.push_back({});
+    if (brickCells.empty()) brickCells.push_back(0);
+    rebuilt.bricks = engine::gpu::createBufferWithData(*context_, bricks.data(), bricks.size() * sizeof(shader::CellBrickGpu),
+                                                       usage, "hermite cell bricks");
+    rebuilt.brickCells = engine::gpu::createBufferWithData(
+        *context_, brickCells.data(), brickCells.size() * sizeof(std::uint32_t),
+        VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_SHADER_DEVICE_ADDRESS_BIT, "hermite cell brick cells");
   } catch (const engine::gpu::VulkanError& e) {
     if (e.result() != VK_ERROR_OUT_OF_DEVICE_MEMORY) throw;
     refuseNewAssets(frame, wanted, e.what());  // the old buffers stay: what was drawn is drawn
@@ -336,7 +415,8 @@ void HermiteCellFeature::syncAssets(const engine::render::FrameContext& frame) {
     if (auto old = buffers_->entries.find(id); old != buffers_->entries.end()) entry.rows = std::move(old->second.rows);
   rebuilt.runLength = settings_.maxRunLength;
   rebuilt.bytes = full.size() * sizeof(CellRecord) + half.size() * sizeof(CellRecordHalf) +
-                  runs.size() * sizeof(shader::CellRunGpu);
+                  runs.size() * sizeof(shader::CellRunGpu) + bricks.size() * sizeof(shader::CellBrickGpu) +
+                  brickCells.size() * sizeof(std::uint32_t);
   for (auto& [id, entry] : rebuilt.entries) entry.lastFrame = frame.frameNumber;
   retired_.emplace_back(frame.frameNumber, std::move(buffers_));
   buffers_ = std::make_unique<CellBuffers>(std::move(rebuilt));
@@ -365,8 +445,8 @@ void HermiteCellFeature::refuseNewAssets(const engine::render::FrameContext& fra
 }
 
 void HermiteCellFeature::buildDraws(engine::render::FrameContext& frame) {
-  std::vector<VkDrawIndirectCommand> commands[3][2];  // [fp32 cells, fp16 cells, runs][front, near]
-  std::vector<shader::HermiteDraw> draws[3][2];
+  std::vector<VkDrawIndirectCommand> commands[kBatches][2];  // [fp32 cells, fp16 cells, runs, bricks][front, near]
+  std::vector<shader::HermiteDraw> draws[kBatches][2];
   std::vector<shader::HermiteObject> hermiteObjects;
   std::vector<std::uint32_t> objectIndices;
   stats_ = Stats{};
@@ -374,6 +454,7 @@ void HermiteCellFeature::buildDraws(engine::render::FrameContext& frame) {
   screenRect_ = glm::vec4(1.0f, 1.0f, -1.0f, -1.0f);  // empty until an object is drawn
   std::vector<glm::vec4> objectRects;
   bool objectsOverlap = false;  // two cell objects share screen pixels: no early depth (see the header)
+  bool drawsBricks = false;     // bricks have no early depth variant: none this frame
   std::unordered_map<engine::ecs::Entity, std::uint64_t> drawnThisFrame;
   const glm::mat4 viewProj = frame.camera.proj * frame.camera.view;
 
@@ -423,10 +504,19 @@ void HermiteCellFeature::buildDraws(engine::render::FrameContext& frame) {
         objectRects.push_back(rect);
         screenRect_ = unite(screenRect_, rect);
         stats_.objects++;
-        if (r.method == RenderMethod::CellRuns) {
-          // Runs read their records by address: the draw says which buffer and which precision.
+        if (r.method != RenderMethod::Cells) {
+          // Runs and bricks read their records by address: the draw says which buffer and which precision.
           draw.records = buffers_->records[precision].address();
           if (precision == 1) draw.flags |= HERMITE_FLAG_HALF_RECORDS;
+        }
+        if (r.method == RenderMethod::CellBricks) {
+          drawsBricks = true;
+          stats_.cells += asset.cells.records.size();
+          addBrickDraws(entry.bricks.bricks, entry.firstBrick, draw, eyeGrid, reachGrid, commands[kBrickBatch],
+                        draws[kBrickBatch]);
+          return;
+        }
+        if (r.method == RenderMethod::CellRuns) {
           const std::vector<CellRows::Range> rowOrder = orderedRows(entry.rows, eyeGrid, settings_.frontToBack);
           for (const CellRows::Range& range : runRanges(entry.runs, rowOrder)) {
             commands[2][0].push_back({kFrontFaceVertices, range.count, 0, entry.firstRun + range.first});
@@ -457,10 +547,10 @@ void HermiteCellFeature::buildDraws(engine::render::FrameContext& frame) {
         }
       });
 
-  // One upload: [fp32 front][fp32 near][fp16 front][fp16 near][runs front][runs near].
+  // One upload: [fp32 front][fp32 near][fp16 front][fp16 near][runs front][runs near][bricks front][bricks near].
   std::vector<VkDrawIndirectCommand> allCommands;
   std::vector<shader::HermiteDraw> allDraws;
-  for (int precision = 0; precision < 3; ++precision) {
+  for (int precision = 0; precision < kBatches; ++precision) {
     Batch& batch = *batches_[precision];
     batch.frontFirst = static_cast<std::uint32_t>(allCommands.size());
     batch.frontCount = static_cast<std::uint32_t>(commands[precision][0].size());
@@ -486,7 +576,7 @@ void HermiteCellFeature::buildDraws(engine::render::FrameContext& frame) {
     }
   }
   earlyDepth_ = earlyDepthWanted(settings_.earlyDepth, context_->capabilities().isSoftwareRasterizer) &&
-                stats_.draws > 0 && !objectsOverlap;
+                stats_.draws > 0 && !objectsOverlap && !drawsBricks;
   if (!allCommands.empty()) {
     indirect_.upload(frame.frameSlot, allCommands);
     drawData_.upload(frame.frameSlot, allDraws);
@@ -497,6 +587,26 @@ void HermiteCellFeature::buildDraws(engine::render::FrameContext& frame) {
     for (std::size_t i = 0; i < objectIndices.size(); ++i)
       frame.scene.object(objectIndices[i]).payload = base + i * sizeof(shader::HermiteObject);
   }
+}
+
+// A CellBricks object: one command for all its bricks (firstInstance = its first brick; the brick
+// culling pass will write instanceCount), and the bricks the near plane may cut by back faces.
+void HermiteCellFeature::addBrickDraws(const std::vector<shader::CellBrickGpu>& bricks, std::uint32_t firstBrick,
+                                       const shader::HermiteDraw& draw, const glm::dvec3& eyeGrid, double reachGrid,
+                                       std::vector<VkDrawIndirectCommand> commands[2],
+                                       std::vector<shader::HermiteDraw> draws[2]) {
+  const auto count = static_cast<std::uint32_t>(bricks.size());
+  if (count == 0) return;  // reported when the bricks could not be built
+  commands[0].push_back({kBrickFanVertices, count, 0, firstBrick});
+  draws[0].push_back(draw);
+  shader::HermiteDraw nearDraw = draw;
+  nearDraw.flags |= HERMITE_FLAG_NEAR_CELL;
+  for (std::uint32_t brick : bricksNearPoint(bricks, eyeGrid, reachGrid)) {
+    commands[1].push_back({kBrickStripVertices, 1, 0, firstBrick + brick});
+    draws[1].push_back(nearDraw);
+    stats_.nearCells++;
+  }
+  stats_.bricks += count;
 }
 
 void HermiteCellFeature::ensureCounters(engine::render::FrameContext& frame) {
@@ -576,12 +686,16 @@ void HermiteCellFeature::recordBatch(engine::render::PassContext& pass, int prec
   if (count == 0) return;
   VkCommandBuffer cmd = pass.cmd;
   const bool runs = precision == kRunBatch;
+  const bool bricks = precision == kBrickBatch;
   const Variant variant = prepassVariant(pass.frame);
-  const Pipeline& pipeline = runs ? (near ? pipelines_.runsNear[variant] : pipelines_.runsFront[variant])
-                                  : (near ? pipelines_.depthNear[variant][precision]
-                                          : pipelines_.depthFront[variant][precision]);
+  const Pipeline& pipeline = bricks ? brickPipeline(variant, near)
+                             : runs ? (near ? pipelines_.runsNear[variant] : pipelines_.runsFront[variant])
+                                    : (near ? pipelines_.depthNear[variant][precision]
+                                            : pipelines_.depthFront[variant][precision]);
   vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, pipeline.handle());
-  const VkBuffer vertexBuffer = runs ? buffers_->runs.handle() : buffers_->records[precision].handle();
+  const VkBuffer vertexBuffer = bricks ? buffers_->bricks.handle()
+                                : runs ? buffers_->runs.handle()
+                                       : buffers_->records[precision].handle();
   const VkDeviceSize offset = 0;
   vkCmdBindVertexBuffers(cmd, 0, 1, &vertexBuffer, &offset);
 
@@ -592,7 +706,17 @@ void HermiteCellFeature::recordBatch(engine::render::PassContext& pass, int prec
   push.draws = drawData_.address(pass.frame.frameSlot);
   push.counters = counterAddress(pass.frame, countersActive_, counters_);
   push.hitDepths = earlyDepth_ ? hitDepths_.address() : 0;
+  if (bricks) {
+    push.bricks = buffers_->bricks.address();
+    push.brickCells = buffers_->brickCells.address();
+  }
   recordIndirect(cmd, pipeline, push, pass.frame.frameSlot, first, count);
+}
+
+// Bricks have no early depth variant; a frame with bricks never draws the early stage (buildDraws).
+const Pipeline& HermiteCellFeature::brickPipeline(Variant variant, bool near) const {
+  const int v = variant == kCounted ? kCounted : kProduction;
+  return near ? pipelines_.bricksNear[v] : pipelines_.bricksFront[v];
 }
 
 void HermiteCellFeature::recordIndirect(VkCommandBuffer cmd, const Pipeline& pipeline, shader::HermitePushConstants push,

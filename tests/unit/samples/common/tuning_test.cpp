@@ -19,7 +19,9 @@ bool contains(const std::string& text, const std::string& part) { return text.fi
 // Tricky: the name tables are the only place strings meet methods; a missing or duplicated entry
 // would make a method unparseable or print as another.
 TEST(Tuning, EveryNameParsesBackToItsValue) {
-  for (Method m : {Method::Mesh, Method::Cells, Method::Trilinear, Method::Hermite}) EXPECT_EQ(parseMethod(methodName(m)), m);
+  for (Method m : {Method::Mesh, Method::Cells, Method::Trilinear, Method::Hermite, Method::CellRuns, Method::CellBricks})
+    EXPECT_EQ(parseMethod(methodName(m)), m);
+  EXPECT_EQ(parseMethod("cell-bricks"), Method::CellBricks);
   for (hsdf::NormalMode n : {hsdf::NormalMode::Exact, hsdf::NormalMode::CentralDifferences})
     EXPECT_EQ(parseNormalMode(normalModeName(n)), n);
   for (DebugView v : {DebugView::None, DebugView::Normals, DebugView::Depth, DebugView::Cells, DebugView::Evals,

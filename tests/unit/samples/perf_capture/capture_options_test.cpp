@@ -89,6 +89,7 @@ TEST(CaptureRows, MethodTimesKTimesSetting) {
   EXPECT_EQ(cells, 2 * 6);      // n in {2, 3} x r in {0, 1}, fp16, and the certified search
   EXPECT_TRUE(labels.contains("cells certified K=32"));
   EXPECT_TRUE(labels.contains("cells-runs n=3 r=1 K=32"));
+  EXPECT_TRUE(labels.contains("cell-bricks n=3 r=1 fp16 K=32"));
   EXPECT_TRUE(labels.contains("mesh"));
   EXPECT_TRUE(labels.contains("trilinear central K=256"));
   EXPECT_FALSE(labels.contains("hermite K=256"));
@@ -100,7 +101,7 @@ TEST(CaptureRows, MethodTimesKTimesSetting) {
   for (const RowSpec& row : buildRows(*some.options)) kept.insert(row.label);
   EXPECT_EQ(kept, (std::set<std::string>{"mesh", "trilinear central K=32", "trilinear exact K=32", "hermite K=32",
                                          "cells n=3 r=1 K=32", "cells certified K=32", "cells-runs n=3 r=1 K=32",
-                                         "trilinear central K=64", "trilinear exact K=64"}));
+                                         "cell-bricks n=3 r=1 K=32", "trilinear central K=64", "trilinear exact K=64"}));
 
   const ParseResult shape = parse({"--out", "x", "--shape", "torus", "--resolutions", "16"});
   ASSERT_TRUE(shape.options);

@@ -1,0 +1,177 @@
+// Depth prepass of the Hermite cell bricks (RenderMethod::CellBricks). Included by
+// bricks_depth.frag (front faces, conservative depth) and bricks_depth_near.frag (back faces of
+// bricks the near plane may cut), and by their counting variants (hit_depth.glsl); bricks have no
+// early depth variant: a frame that draws bricks keeps the early depth stage off.
+// The ray walks the brick's cells in the order it meets them (3D DDA over the kept cells' box),
+// searching each kept cell exactly as the cells do (cell_search.glsl: its own box dilated by the
+// search margin, docs/root-finding.md), and stops at the first root. A ray that passes within the
+// margin of a kept cell it does not enter (near an edge or corner of the walk) searches that cell
+// too, in the step where it comes that close, so every kept cell whose dilated box the ray meets is
+// searched, as the cells' own proxies would be.
+#extension GL_GOOGLE_include_directive : require
+#include "hermite/hermite_host_device.h"
+#include "hermite/proxy_dilation.glsl"
+#include "hermite/brick.glsl"
+
+layout(push_constant, scalar) uniform Push { HermitePushConstants pc; };
+layout(buffer_reference, scalar) readonly buffer HermiteDrawsRef { HermiteDraw draws[]; };
+layout(buffer_reference, scalar) readonly buffer CellBricksRef { CellBrickGpu bricks[]; };
+layout(buffer_reference, scalar) readonly buffer BrickCellsRef { uint records[]; };
+#include "hermite/cell_search.glsl"
+
+// 12 bytes from the vertex shader (bricks.vert): the brick is read by address, the ray rebuilt here.
+layout(location = 0) flat in uint inBrick;
+layout(location = 1) flat in uint inDraw;
+layout(location = 2) flat in float inDilation;  // the proxy: the kept cells' box grown by this, cells
+
+layout(location = 0) out uvec2 outVisibility;  // (1 + object, cell record)
+#if defined(HSDF_CONSERVATIVE_DEPTH)
+layout(depth_less) out float gl_FragDepth;  // reverse-Z: the hit is never nearer than the front face
+#endif
+#include "hermite/hit_depth.glsl"
+
+// The pixel's ray in brick-local coordinates (cells; `start` is the brick's first cell in grid
+// units), u(t) = origin + t * direction with t = 1 at this fragment's point on the rasterized face:
+// the pixel centre unprojected at its own depth gl_FragCoord.z (the viewport is the whole frame).
+// View distance is linear in t, so a point at t has reverse-Z depth gl_FragCoord.z / t and the
+// near plane lies at t = gl_FragCoord.z (as in cells_depth.glsl). The direction is the view-space
+// offset eye -> face rotated into the grid, never a difference of two far points.
+void pixelRay(HermiteDraw draw, vec3 start, out vec3 origin, out vec3 direction) {
+  FrameGlobals frame = FrameGlobalsRef(pc.draw.frameGlobals).globals;
+  mat4 invModel = ObjectsRef(pc.draw.objects).objects[draw.object].invModel;
+  vec2 ndc = gl_FragCoord.xy * frame.viewport.zw * 2.0 - 1.0;
+  vec4 face = frame.invProj * vec4(ndc, gl_FragCoord.z, 1.0);  // view space, eye at 0
+  vec3 toFace = mat3(frame.invView) * (face.xyz / face.w);
+  float h = draw.gridOriginSpacing.w;
+  vec3 eyeObject = (invModel * vec4(frame.cameraPosition.xyz, 1.0)).xyz;
+  origin = (eyeObject - draw.gridOriginSpacing.xyz) / h - start;
+  direction = mat3(invModel) * toFace / h;
+}
+
+bool keptBit(CellBrickGpu brick, uint bit) {
+  return ((bit < 32u ? brick.maskLo >> bit : brick.maskHi >> (bit - 32u)) & 1u) != 0u;
+}
+
+// The record of kept cell `bit`: its rank among the brick's kept cells indexes the brick's list.
+uint brickCellRecord(CellBrickGpu brick, uint bit) {
+  uint rank = bit < 32u ? bitCount(brick.maskLo & ((1u << bit) - 1u))
+                        : bitCount(brick.maskLo) + bitCount(brick.maskHi & ((1u << (bit - 32u)) - 1u));
+  return BrickCellsRef(pc.brickCells).records[brick.firstIndex + rank];
+}
+
+struct BrickHit {
+  float t;  // -1: none yet
+  uint record;
+};
+
+// The walk's state: the DDA cell, its stretch of the ray [tEnter, tExit], and which of the up to
+// 27 cells around it (the cell itself and the neighbours across faces the ray comes within the
+// margin of) is considered next.
+struct BrickWalk {
+  ivec3 cell;
+  vec3 tMax, tDelta;
+  ivec3 stepDir;
+  float tEnter, tExit;
+  ivec3 from, to;  // the neighbour offsets near [tEnter, tExit]
+  int next;        // 0..26: the next offset (dx, dy, dz) = next % 3, next / 3 % 3, next / 9, minus 1
+  bool stop;       // a root was found in this step: finish the step, then stop
+};
+
+void enterCell(inout BrickWalk w, vec3 origin, vec3 direction, float margin, float t1) {
+  int axis = w.tMax.x < w.tMax.y ? (w.tMax.x < w.tMax.z ? 0 : 2) : (w.tMax.y < w.tMax.z ? 1 : 2);
+  w.tExit = min(max(w.tMax[axis], w.tEnter), t1);
+  vec3 a = origin + w.tEnter * direction - vec3(w.cell), b = origin + w.tExit * direction - vec3(w.cell);
+  w.from = -ivec3(lessThan(min(a, b), vec3(margin)));
+  w.to = ivec3(greaterThan(max(a, b), vec3(1.0 - margin)));
+  w.next = 0;
+}
+
+// Moves the DDA to the next cell; false when the walk leaves the box or the ray's stretch.
+bool stepCell(inout BrickWalk w, ivec3 lo, ivec3 hi, vec3 origin, vec3 direction, float margin, float t1) {
+  if (w.stop || w.tExit >= t1) return false;
+  int axis = w.tMax.x < w.tMax.y ? (w.tMax.x < w.tMax.z ? 0 : 2) : (w.tMax.y < w.tMax.z ? 1 : 2);
+  w.cell[axis] += w.stepDir[axis];
+  if (w.cell[axis] < lo[axis] || w.cell[axis] > hi[axis]) return false;
+  w.tEnter = w.tExit;
+  w.tMax[axis] += w.tDelta[axis];
+  enterCell(w, origin, direction, margin, t1);
+  return true;
+}
+
+// The next kept cell to search, not searched before (`done`), cheap tests only: the fragment
+// shader runs the expensive search at one place, once per loop iteration, so lanes of one SIMD
+// group that walk different cells share the iterations instead of adding them up.
+bool nextCandidate(inout BrickWalk w, CellBrickGpu brick, ivec3 lo, ivec3 hi, vec3 origin, vec3 direction,
+                   float margin, vec2 ray, inout uvec2 done, out ivec3 n) {
+  for (int guard = 0; guard < 27 * 3 * int(CELL_BRICK_SIZE); ++guard) {  // a walk meets at most 10 cells
+    if (w.next == 27 && !stepCell(w, lo, hi, origin, direction, margin, ray.y)) return false;
+    ivec3 d = ivec3(w.next % 3, (w.next / 3) % 3, w.next / 9) - 1;
+    ++w.next;
+    if (any(lessThan(d, w.from)) || any(greaterThan(d, w.to))) continue;
+    n = w.cell + d;
+    if (any(lessThan(n, lo)) || any(greaterThan(n, hi))) continue;
+    uint bit = uint(n.x + 4 * n.y + 16 * n.z);
+    uvec2 flag = bit < 32u ? uvec2(1u << bit, 0u) : uvec2(0u, 1u << (bit - 32u));
+    if (!keptBit(brick, bit) || any(notEqual(done & flag, uvec2(0u)))) continue;
+    done |= flag;
+    // The cell's dilated box must meet the ray (searchCell's own test, done here while it is cheap).
+    vec2 segment = intersectBox(origin - vec3(n), direction, vec3(-margin), vec3(1.0 + margin));
+    if (max(segment.x, ray.x) < min(segment.y, ray.y)) return true;
+  }
+  return false;
+}
+
+// 3D DDA from the cell at t0 to t1 over the kept cells' box [lo, hi] (cells, inclusive); in each
+// step the cell and the kept neighbours the ray comes within the margin of are searched, and the
+// nearest root of the first step with one is the hit.
+BrickHit walkBrick(HermiteDraw draw, CellBrickGpu brick, ivec3 lo, ivec3 hi, vec3 origin, vec3 direction,
+                   float margin, float t0, float t1, inout uint evaluations) {
+  BrickWalk w;
+  w.cell = clamp(ivec3(floor(origin + t0 * direction)), lo, hi);
+  w.stepDir = ivec3(greaterThanEqual(direction, vec3(0.0))) * 2 - 1;
+  for (int axis = 0; axis < 3; ++axis) {
+    bool moves = direction[axis] != 0.0;
+    float boundary = float(w.cell[axis] + (w.stepDir[axis] > 0 ? 1 : 0));
+    w.tMax[axis] = moves ? (boundary - origin[axis]) / direction[axis] : 3.0e38;
+    w.tDelta[axis] = moves ? abs(1.0 / direction[axis]) : 3.0e38;
+  }
+  w.tEnter = t0;
+  w.stop = false;
+  enterCell(w, origin, direction, margin, t1);
+  BrickHit hit = BrickHit(-1.0, 0u);
+  uvec2 done = uvec2(0u);
+  ivec3 n;
+  while (nextCandidate(w, brick, lo, hi, origin, direction, margin, vec2(t0, t1), done, n)) {
+    uint record = brickCellRecord(brick, uint(n.x + 4 * n.y + 16 * n.z));
+    float t = searchCell(draw, record, origin - vec3(n), direction, margin, t0, t1, evaluations);
+    if (t >= 0.0 && (hit.t < 0.0 || t < hit.t)) hit = BrickHit(t, record);
+    w.stop = hit.t >= 0.0;
+  }
+  return hit;
+}
+
+void main() {
+  HermiteDraw draw = HermiteDrawsRef(pc.draws).draws[inDraw];
+  CellBrickGpu brick = CellBricksRef(pc.bricks).bricks[inBrick];
+  uvec3 lo, hi;
+  brickCellBounds(brick, lo, hi);
+  vec3 origin, direction;
+  pixelRay(draw, vec3(brickCoordinate(brick) * CELL_BRICK_SIZE), origin, direction);
+  float margin = searchMargin(origin, inDilation);
+  vec2 box = intersectBox(origin, direction, vec3(lo) - margin, vec3(hi + 1u) + margin);
+  float t0 = max(box.x, gl_FragCoord.z);  // never before the near plane (see pixelRay)
+  float t1 = box.y;
+  uint evaluations = 0u;
+  BrickHit hit = BrickHit(-1.0, 0u);
+  if (t0 < t1) hit = walkBrick(draw, brick, ivec3(lo), ivec3(hi), origin, direction, margin, t0, t1, evaluations);
+  countWork(evaluations);
+  if (hit.t < 0.0) {
+    writeMiss();  // no discard: see hit_depth.glsl
+  } else {
+#ifdef HSDF_CONSERVATIVE_DEPTH
+    hit.t = max(hit.t, 1.0);  // a root in the margin before the brick's face is drawn at the face (cells_depth.glsl)
+#endif
+    writeHitDepth(gl_FragCoord.z / hit.t);
+  }
+  outVisibility = uvec2(draw.object + 1u, hit.record);  // kept only where the depth test passes
+}
