@@ -10,7 +10,7 @@
 #include <cstring>
 #include <glm/gtc/matrix_transform.hpp>
 
-#include "cell_bricks.h"
+#include "cells/cell_bricks.h"
 #include "engine/platform/camera_controller.h"
 #include "engine/gpu/buffer.h"
 #include "gpu_test_support.h"
@@ -43,7 +43,7 @@ std::shared_ptr<const SdfAsset> sphereAsset(bool insideOut) {
 
 struct ObjectInput {
   std::shared_ptr<const SdfAsset> asset;
-  testbricks::CellBricks bricks;
+  CellBricks bricks;
   std::vector<shader::CellBrickCone> cones;
   glm::mat4 model{1.0f};
 };
@@ -91,8 +91,8 @@ TEST_F(BrickCullTest, GpuKeepsExactlyTheBricksOfTheCppTwin) {
   std::vector<std::uint32_t> firstBrick;
   std::uint32_t maxBricks = 0;
   for (ObjectInput& o : objects) {
-    o.bricks = testbricks::buildCellBricks(o.asset->cells);
-    auto cones = brickGradientCones(o.asset->cells, o.bricks.bricks, o.bricks.indices);
+    o.bricks = buildCellBricks(o.asset->cells).value();
+    auto cones = brickGradientCones(o.asset->cells, o.bricks.bricks, o.bricks.cellRecords);
     ASSERT_TRUE(cones.ok()) << cones.error().message;
     o.cones = std::move(cones.value());
     firstBrick.push_back(std::uint32_t(allBricks.size()));
@@ -210,8 +210,8 @@ TEST(BunnyBrickCull, ShareOfBricksRemovedOnTheCaptureViews) {
     ASSERT_TRUE(asset.ok()) << asset.error().message;
     const SdfAsset& a = *asset.value();
     ASSERT_TRUE(a.boundaryPositive) << k;
-    const testbricks::CellBricks bricks = testbricks::buildCellBricks(a.cells);
-    auto conesOr = brickGradientCones(a.cells, bricks.bricks, bricks.indices);
+    const CellBricks bricks = buildCellBricks(a.cells).value();
+    auto conesOr = brickGradientCones(a.cells, bricks.bricks, bricks.cellRecords);
     ASSERT_TRUE(conesOr.ok()) << conesOr.error().message;
     const std::vector<shader::CellBrickCone>& cones = conesOr.value();
     const glm::vec3 lo(a.surfaceBounds.min), hi(a.surfaceBounds.max);

@@ -16,6 +16,7 @@
 
 #include "engine/core/image_io.h"
 #include "engine/core/math.h"
+#include "engine/gpu/pipeline_statistics.h"
 #include "engine/render/components.h"
 #include "engine/scene/transform.h"
 #include "hermite_sdf/cell_feature.h"
@@ -450,6 +451,48 @@ TEST_F(HermiteCellsTest, CellRunsAndBricksMatchReferenceForTorusBoxAndBunny) {
     }
   }
   }
+}
+
+// Why: the brick culling pass (brick_cull.comp) decides on the GPU which bricks are drawn, from
+// normal cones and the frustum; a brick it wrongly removes is a hole, and one it keeps needlessly
+// is only cost. So: the image (depth and colour) is identical with culling on and off, on a
+// concave object seen from several sides, the pass reports that it removed bricks, and the
+// prepass rasterizes fewer fragments (pipeline statistics: what lavapipe counts before the depth
+// test falls only when boxes are not drawn).
+TEST_F(HermiteCellsTest, BrickCullingKeepsTheImageAndDrawsFewerBricks) {
+  createCellRenderer(kSize, kSize);
+  auto* feature = renderer_->feature<hsdf::HermiteCellFeature>();
+  const auto asset = bakeAsset("bunny", 64);
+  ASSERT_NE(asset, nullptr);
+  ASSERT_TRUE(asset->boundaryPositive);
+  addSdf(registry_, asset, hsdf::RenderMethod::CellBricks);
+  auto fragments = [&] {
+    const auto* s = gpu::findStatistics(renderer_->lastPipelineStatistics(), "depth prepass");
+    return s ? s->fragmentShaderInvocations : 0;
+  };
+  std::uint64_t tested = 0, kept = 0;
+  for (int view = 0; view < 6; ++view) {
+    SCOPED_TRACE("view " + std::to_string(view));
+    const render::CameraView camera = orbitCamera(*asset, view);
+    feature->settings().cullBricks = false;
+    const Frame all = renderWith(camera, DEBUG_VIEW_NONE);
+    const std::uint64_t allFragments = fragments();
+    EXPECT_EQ(feature->cullTotals().tested, 0u) << "no culling pass when it is off";
+    feature->settings().cullBricks = true;
+    const Frame culled = renderWith(camera, DEBUG_VIEW_NONE);
+    const shader::BrickCullTotals totals = feature->cullTotals();
+    EXPECT_EQ(totals.tested, feature->stats().bricks);
+    EXPECT_EQ(totals.kept + totals.frustumCulled + totals.coneCulled, totals.tested);
+    tested += totals.tested;
+    kept += totals.kept;
+    ASSERT_GT(std::count_if(culled.depth.begin(), culled.depth.end(), [](float d) { return d > 0.0f; }), 500);
+    EXPECT_TRUE(all.depth == culled.depth) << "culling changed the depth";
+    EXPECT_TRUE(all.rgba == culled.rgba) << "culling changed the colour";
+    if (allFragments > 0) {
+      EXPECT_LE(fragments(), allFragments);
+    }
+  }
+  EXPECT_LT(kept, tested) << "the cones removed no brick of the bunny in six views";
 }
 
 // Why: inside a cell the near plane cuts the run's (brick's) front faces away; the back-face path

@@ -76,6 +76,10 @@ class HermiteCellFeature final : public engine::render::RenderFeature {
     // RenderMethod::CellRuns: the most cells one run's box covers. Longer runs mean fewer, larger
     // boxes and longer walks per fragment.
     std::uint32_t maxRunLength = 8;
+    // RenderMethod::CellBricks: a compute pass before the prepass keeps only the bricks inside the
+    // frustum that may hold a first hit (normal cones, hermite_sdf/normal_cone.h); off draws every
+    // brick (to measure what it removes).
+    bool cullBricks = true;
   };
   struct Stats {
     std::uint32_t objects = 0;
@@ -105,6 +109,10 @@ class HermiteCellFeature final : public engine::render::RenderFeature {
 
   Settings& settings() { return settings_; }
   const Stats& stats() const { return stats_; }
+  // The last brick culling pass's counts (bricks tested, kept, culled by frustum and by cone);
+  // valid once the frame that recorded it has completed (e.g. after Renderer::finish), zero when
+  // that frame culled no bricks.
+  shader::BrickCullTotals cullTotals() const;
   // Whether the cells of `assetId` were refused (their upload did not fit in GPU memory): the
   // asset is not drawn, and not retried. An entity whose asset was refused keeps drawing the asset
   // it drew before, if any (a re-bake past the budget: no frame without the object); the caller
@@ -118,6 +126,7 @@ class HermiteCellFeature final : public engine::render::RenderFeature {
   void refuseNewAssets(const engine::render::FrameContext& frame,
                        const std::vector<std::shared_ptr<const SdfAsset>>& wanted, const std::string& why);
   void buildDraws(engine::render::FrameContext& frame);
+  void recordBrickCulling(engine::render::FrameContext& frame);
   void ensureCounters(engine::render::FrameContext& frame);
   void ensureHitDepths(engine::render::FrameContext& frame);
   void recordPrepassDraws(engine::render::PassContext& pass);
@@ -181,6 +190,16 @@ class HermiteCellFeature final : public engine::render::RenderFeature {
   bool earlyDepth_ = false;  // this frame's boxes are drawn in the early depth stage
   glm::vec4 screenRect_{1.0f, 1.0f, -1.0f, -1.0f};  // NDC bounds of this frame's cell objects (resolve)
   bool multiDraw_ = false;
+  // Brick culling (Settings::cullBricks): this frame's objects, the kept-brick stream's size and the
+  // most bricks of one object; per frame slot the objects, totals and kept-brick stream.
+  std::unique_ptr<class BrickCuller> culler_;
+  std::vector<shader::BrickCullObject> cullObjectList_;
+  std::uint32_t cullOutputBricks_ = 0;
+  std::uint32_t cullMaxBricks_ = 0;
+  std::uint32_t lastCullSlot_ = 0;
+  engine::render::PerFrameBuffer cullObjects_;
+  engine::render::PerFrameBuffer cullTotals_;
+  std::vector<engine::gpu::Buffer> keptBricks_;
   static constexpr int kRunBatch = 2;  // batches: fp32 cells, fp16 cells, runs, bricks
   static constexpr int kBrickBatch = 3;
   static constexpr int kBatches = 4;

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 #include <limits>
 #include <unordered_set>
 
@@ -14,8 +15,10 @@
 #include "engine/render/gpu_scene.h"
 #include "engine/scene/transform.h"
 #include "hermite/hermite_host_device.h"
-#include "render/cell_bricks.h"
+#include "cells/cell_bricks.h"
+#include "render/brick_culler.h"
 #include "render/cell_rows.h"
+#include "hermite_sdf/normal_cone.h"
 
 namespace hsdf {
 
@@ -32,6 +35,7 @@ struct CellBuffers {
     std::vector<shader::CellRunGpu> runs;  // firstRecord relative to the asset's stream
     std::uint32_t firstRun = 0;            // index of runs[0] in the run buffer
     CellBricks bricks;                     // RenderMethod::CellBricks, indices relative to the asset's stream
+    std::vector<shader::CellBrickCone> cones;  // one per brick (normal_cone.h), for the brick culling pass
     std::uint32_t firstBrick = 0;          // index of bricks.bricks[0] in the brick buffer
     std::uint64_t lastFrame = 0;           // the last frame that drew the asset
   };
@@ -40,6 +44,7 @@ struct CellBuffers {
   Buffer runs;  // every asset's runs, firstRecord global (RenderMethod::CellRuns)
   Buffer bricks;      // every asset's CellBrickGpu, firstIndex global (RenderMethod::CellBricks)
   Buffer brickCells;  // the bricks' kept cells: global record indices, brick by brick
+  Buffer brickCones;  // CellBrickCone per entry of `bricks`
   std::uint32_t runLength = 0;  // the maximum run length the runs were built with
   std::uint64_t bytes = 0;
 };
@@ -136,6 +141,18 @@ CellBricks bricksOf(const SdfAsset& asset, const std::unordered_map<std::uint64_
   return {};
 }
 
+// The normal cones of the asset's bricks (brick culling), cached like the bricks. Cones that cannot
+// be built (they only fail for bricks inconsistent with the stream) are replaced by cones that
+// never cull, so the culling pass keeps every brick and the object still draws.
+std::vector<shader::CellBrickCone> conesOf(const SdfAsset& asset, const CellBricks& bricks,
+                                           const std::unordered_map<std::uint64_t, CellBuffers::Entry>& built) {
+  if (auto old = built.find(asset.id); old != built.end()) return old->second.cones;
+  auto cones = brickGradientCones(asset.cells, bricks.bricks, bricks.cellRecords);
+  if (cones) return std::move(*cones);
+  engine::log::warn("hermite cells: '{}': no brick normal cones: {}", asset.name, cones.error().message);
+  return std::vector<shader::CellBrickCone>(bricks.bricks.size(), shader::CellBrickCone{glm::vec4(1.0f, 0.0f, 0.0f, 2.0f)});
+}
+
 glm::vec4 unite(const glm::vec4& a, const glm::vec4& b) {
   return {std::min(a.x, b.x), std::min(a.y, b.y), std::max(a.z, b.z), std::max(a.w, b.w)};
 }
@@ -155,8 +172,17 @@ engine::Status HermiteCellFeature::initialize(const engine::gpu::Context& contex
   multiDraw_ = context.capabilities().multiDrawIndirect;
   drawData_ = engine::render::PerFrameBuffer(context, framesInFlight, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT,
                                              "hermite cell draws");
-  indirect_ = engine::render::PerFrameBuffer(context, framesInFlight, VK_BUFFER_USAGE_INDIRECT_BUFFER_BIT,
+  // Storage too: the brick culling pass writes the instance counts of the bricks' commands.
+  indirect_ = engine::render::PerFrameBuffer(context, framesInFlight,
+                                             VK_BUFFER_USAGE_INDIRECT_BUFFER_BIT | VK_BUFFER_USAGE_STORAGE_BUFFER_BIT,
                                              "hermite cell indirect");
+  cullObjects_ = engine::render::PerFrameBuffer(context, framesInFlight, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT,
+                                                "hermite brick cull objects");
+  cullTotals_ = engine::render::PerFrameBuffer(context, framesInFlight, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT,
+                                               "hermite brick cull totals");
+  keptBricks_.resize(framesInFlight);
+  ENGINE_TRY_ASSIGN(auto culler, BrickCuller::create(context));
+  culler_ = std::make_unique<BrickCuller>(std::move(culler));
   objects_ = engine::render::PerFrameBuffer(context, framesInFlight, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT,
                                             "hermite cell objects");
   formats_ = formats;
@@ -364,6 +390,7 @@ void HermiteCellFeature::syncAssets(const engine::render::FrameContext& frame) {
   std::vector<shader::CellRunGpu> runs;
   std::vector<shader::CellBrickGpu> bricks;
   std::vector<std::uint32_t> brickCells;
+  std::vector<shader::CellBrickCone> cones;
   for (const auto& asset : wanted) {
     CellBuffers::Entry entry;
     entry.asset = asset;
@@ -376,6 +403,8 @@ void HermiteCellFeature::syncAssets(const engine::render::FrameContext& frame) {
       runs.push_back(run);
     }
     entry.bricks = bricksOf(*asset, buffers_->entries);
+    entry.cones = conesOf(*asset, entry.bricks, buffers_->entries);
+    cones.insert(cones.end(), entry.cones.begin(), entry.cones.end());
     entry.firstBrick = static_cast<std::uint32_t>(bricks.size());
     for (shader::CellBrickGpu brick : entry.bricks.bricks) {
       brick.firstIndex += static_cast<std::uint32_t>(brickCells.size());
@@ -400,11 +429,15 @@ void HermiteCellFeature::syncAssets(const engine::render::FrameContext& frame) {
     // Never empty (a zero-sized buffer is invalid): a padding entry no draw reaches.
     if (bricks.empty()) bricks.push_back({});
     if (brickCells.empty()) brickCells.push_back(0);
+    if (cones.empty()) cones.push_back({});
     rebuilt.bricks = engine::gpu::createBufferWithData(*context_, bricks.data(), bricks.size() * sizeof(shader::CellBrickGpu),
                                                        usage, "hermite cell bricks");
     rebuilt.brickCells = engine::gpu::createBufferWithData(
         *context_, brickCells.data(), brickCells.size() * sizeof(std::uint32_t),
         VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_SHADER_DEVICE_ADDRESS_BIT, "hermite cell brick cells");
+    rebuilt.brickCones = engine::gpu::createBufferWithData(
+        *context_, cones.data(), cones.size() * sizeof(shader::CellBrickCone),
+        VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_SHADER_DEVICE_ADDRESS_BIT, "hermite cell brick cones");
   } catch (const engine::gpu::VulkanError& e) {
     if (e.result() != VK_ERROR_OUT_OF_DEVICE_MEMORY) throw;
     refuseNewAssets(frame, wanted, e.what());  // the old buffers stay: what was drawn is drawn
@@ -416,7 +449,7 @@ void HermiteCellFeature::syncAssets(const engine::render::FrameContext& frame) {
   rebuilt.runLength = settings_.maxRunLength;
   rebuilt.bytes = full.size() * sizeof(CellRecord) + half.size() * sizeof(CellRecordHalf) +
                   runs.size() * sizeof(shader::CellRunGpu) + bricks.size() * sizeof(shader::CellBrickGpu) +
-                  brickCells.size() * sizeof(std::uint32_t);
+                  brickCells.size() * sizeof(std::uint32_t) + cones.size() * sizeof(shader::CellBrickCone);
   for (auto& [id, entry] : rebuilt.entries) entry.lastFrame = frame.frameNumber;
   retired_.emplace_back(frame.frameNumber, std::move(buffers_));
   buffers_ = std::make_unique<CellBuffers>(std::move(rebuilt));
@@ -450,6 +483,9 @@ void HermiteCellFeature::buildDraws(engine::render::FrameContext& frame) {
   std::vector<shader::HermiteObject> hermiteObjects;
   std::vector<std::uint32_t> objectIndices;
   stats_ = Stats{};
+  cullObjectList_.clear();
+  cullOutputBricks_ = 0;
+  cullMaxBricks_ = 0;
   stats_.gpuBytes = buffers_->bytes;
   screenRect_ = glm::vec4(1.0f, 1.0f, -1.0f, -1.0f);  // empty until an object is drawn
   std::vector<glm::vec4> objectRects;
@@ -514,6 +550,19 @@ void HermiteCellFeature::buildDraws(engine::render::FrameContext& frame) {
           stats_.cells += asset.cells.records.size();
           addBrickDraws(entry.bricks.bricks, entry.firstBrick, draw, eyeGrid, reachGrid, commands[kBrickBatch],
                         draws[kBrickBatch]);
+          if (settings_.cullBricks && !entry.bricks.bricks.empty()) {
+            // The command just added starts empty and the culling pass counts its kept bricks, which
+            // it writes from the object's range of the kept-brick stream on.
+            VkDrawIndirectCommand& command = commands[kBrickBatch][0].back();
+            BrickCuller::ObjectBricks range{entry.firstBrick, command.instanceCount, cullOutputBricks_,
+                                            std::uint32_t(commands[kBrickBatch][0].size() - 1)};
+            cullObjectList_.push_back(
+                BrickCuller::cullObject(frame.camera, world.matrix, grid, asset.boundaryPositive, range));
+            cullOutputBricks_ += command.instanceCount;
+            cullMaxBricks_ = std::max(cullMaxBricks_, command.instanceCount);
+            command.instanceCount = 0;
+            command.firstInstance = range.outputFirst;
+          }
           return;
         }
         if (r.method == RenderMethod::CellRuns) {
@@ -562,6 +611,7 @@ void HermiteCellFeature::buildDraws(engine::render::FrameContext& frame) {
     allDraws.insert(allDraws.end(), draws[precision][1].begin(), draws[precision][1].end());
   }
   stats_.draws = static_cast<std::uint32_t>(allCommands.size());
+  for (shader::BrickCullObject& object : cullObjectList_) object.drawCommand += batches_[kBrickBatch]->frontFirst;
   drawnAssets_ = std::move(drawnThisFrame);
   if (frame.debugView == DEBUG_VIEW_WIREFRAME) {
     for (int precision = 0; precision < 2; ++precision) {
@@ -633,10 +683,41 @@ void HermiteCellFeature::prepare(engine::render::FrameContext& frame) {
   std::erase_if(retired_, [&](const auto& old) { return old.first + frame.framesInFlight < frame.frameNumber; });
   syncAssets(frame);
   buildDraws(frame);
+  recordBrickCulling(frame);
   ensureCounters(frame);
   ensureHitDepths(frame);
   stats_.earlyDepth = earlyDepth_;
   stats_.countedVariant = stats_.draws > 0 && prepassVariant(frame) == kCounted;
+}
+
+// The brick culling pass of this frame slot (brick_culler.h): every culled object's bricks tested
+// against the frustum and its normal cones, the kept ones written to the slot's kept-brick stream,
+// which the bricks' front-face draws then read instead of the asset buffer. The totals of the
+// slot's previous pass are complete now (its submission was waited for): they become the stats.
+void HermiteCellFeature::recordBrickCulling(engine::render::FrameContext& frame) {
+  lastCullSlot_ = frame.frameSlot;
+  if (cullObjectList_.empty()) return;
+  cullObjects_.upload(frame.frameSlot, cullObjectList_);
+  cullTotals_.upload(frame.frameSlot, std::vector<shader::BrickCullTotals>(1));
+  Buffer& kept = keptBricks_[frame.frameSlot];
+  const VkDeviceSize bytes = VkDeviceSize(cullOutputBricks_) * sizeof(shader::CellBrickGpu);
+  if (!kept || kept.size() < bytes) {
+    kept = Buffer(*context_, bytes,
+                  VK_BUFFER_USAGE_VERTEX_BUFFER_BIT | VK_BUFFER_USAGE_STORAGE_BUFFER_BIT |
+                      VK_BUFFER_USAGE_SHADER_DEVICE_ADDRESS_BIT,
+                  engine::gpu::MemoryUsage::GpuOnly, "hermite kept bricks");
+  }
+  culler_->record(frame.cmd,
+                 {cullObjects_.address(frame.frameSlot), buffers_->bricks.address(), buffers_->brickCones.address(),
+                  kept.address(), indirect_.address(frame.frameSlot), cullTotals_.address(frame.frameSlot)},
+                 std::uint32_t(cullObjectList_.size()), cullMaxBricks_);
+}
+
+shader::BrickCullTotals HermiteCellFeature::cullTotals() const {
+  shader::BrickCullTotals totals{};
+  const Buffer& buffer = cullTotals_.buffer(lastCullSlot_);
+  if (!cullObjectList_.empty() && buffer && buffer.mapped()) std::memcpy(&totals, buffer.mapped(), sizeof(totals));
+  return totals;
 }
 
 // The per-pixel hit depths of the early depth stage, zero between frames (the fix-up clears what
@@ -706,7 +787,14 @@ void HermiteCellFeature::recordBatch(engine::render::PassContext& pass, int prec
   push.draws = drawData_.address(pass.frame.frameSlot);
   push.counters = counterAddress(pass.frame, countersActive_, counters_);
   push.hitDepths = earlyDepth_ ? hitDepths_.address() : 0;
-  if (bricks) {
+  if (bricks && !near && !cullObjectList_.empty()) {
+    // The front faces draw the culling pass's kept bricks (the near list: every near brick).
+    const Buffer& kept = keptBricks_[pass.frame.frameSlot];
+    const VkBuffer keptBuffer = kept.handle();
+    vkCmdBindVertexBuffers(cmd, 0, 1, &keptBuffer, &offset);
+    push.bricks = kept.address();
+    push.brickCells = buffers_->brickCells.address();
+  } else if (bricks) {
     push.bricks = buffers_->bricks.address();
     push.brickCells = buffers_->brickCells.address();
   }

@@ -10,7 +10,7 @@
 #include <cmath>
 #include <random>
 
-#include "cell_bricks.h"
+#include "cells/cell_bricks.h"
 #include "engine/core/math.h"
 #include "hermite_sdf/analytic.h"
 #include "hermite_sdf/normal_cone.h"
@@ -146,8 +146,8 @@ void expectConesHoldBakedGradients(const SdfAsset& asset) {
     if (neverCulls(cone)) continue;
     EXPECT_LE(widestSampledAngle(record, h, axisOf(cone), rng, 5), halfAngle(cone));
   }
-  const testbricks::CellBricks bricks = testbricks::buildCellBricks(asset.cells);
-  const auto conesOr = brickGradientCones(asset.cells, bricks.bricks, bricks.indices);
+  const CellBricks bricks = buildCellBricks(asset.cells).value();
+  const auto conesOr = brickGradientCones(asset.cells, bricks.bricks, bricks.cellRecords);
   ASSERT_TRUE(conesOr.ok()) << conesOr.error().message;
   const std::vector<shader::CellBrickCone>& cones = conesOr.value();
   ASSERT_EQ(cones.size(), bricks.bricks.size());
@@ -158,7 +158,7 @@ void expectConesHoldBakedGradients(const SdfAsset& asset) {
     const shader::CellBrickGpu& brick = bricks.bricks[b];
     const int count = std::popcount(brick.maskLo) + std::popcount(brick.maskHi);
     for (int i = 0; i < count; ++i) {
-      const CellRecord& record = asset.cells.records[bricks.indices[brick.firstIndex + std::uint32_t(i)]];
+      const CellRecord& record = asset.cells.records[bricks.cellRecords[brick.firstIndex + std::uint32_t(i)]];
       EXPECT_LE(widestSampledAngle(record, h, axisOf(cones[b]), rng, 5), halfAngle(cones[b])) << "brick " << b;
     }
   }
@@ -173,14 +173,14 @@ TEST(NormalCone, BakedSphereAndTorusCellsAndBricks) {
 // Bricks that point past the index list or at records that do not exist are refused by name.
 TEST(NormalCone, BadBricksAreRefusedByName) {
   const auto asset = bakedAsset(SphereSource({0.0, 0.0, 0.0}, 1.0), 16, 1.4);
-  testbricks::CellBricks bricks = testbricks::buildCellBricks(asset->cells);
-  bricks.bricks.back().firstIndex = std::uint32_t(bricks.indices.size());
-  auto past = brickGradientCones(asset->cells, bricks.bricks, bricks.indices);
+  CellBricks bricks = buildCellBricks(asset->cells).value();
+  bricks.bricks.back().firstIndex = std::uint32_t(bricks.cellRecords.size());
+  auto past = brickGradientCones(asset->cells, bricks.bricks, bricks.cellRecords);
   ASSERT_FALSE(past.ok());
   EXPECT_NE(past.error().message.find("of a list of"), std::string::npos) << past.error().message;
-  bricks = testbricks::buildCellBricks(asset->cells);
-  bricks.indices.front() = std::uint32_t(asset->cells.records.size());
-  auto missing = brickGradientCones(asset->cells, bricks.bricks, bricks.indices);
+  bricks = buildCellBricks(asset->cells).value();
+  bricks.cellRecords.front() = std::uint32_t(asset->cells.records.size());
+  auto missing = brickGradientCones(asset->cells, bricks.bricks, bricks.cellRecords);
   ASSERT_FALSE(missing.ok());
   EXPECT_NE(missing.error().message.find("brick 0: record index"), std::string::npos) << missing.error().message;
 }

@@ -1,4 +1,4 @@
-#include "render/cell_bricks.h"
+#include "cells/cell_bricks.h"
 
 #include <algorithm>
 #include <bit>

@@ -10,7 +10,7 @@
 #include <set>
 #include <tuple>
 
-#include "render/cell_bricks.h"
+#include "cells/cell_bricks.h"
 
 namespace hsdf {
 namespace {
