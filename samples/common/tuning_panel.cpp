@@ -101,6 +101,10 @@ void TuningPanel::drawMethod() {
   changed |= ImGui::Checkbox("certified roots", &t.certified);
   if (ImGui::IsItemHovered())
     ImGui::SetTooltip("cells: Bernstein subdivision of the ray's cubic instead of n samples; never misses the first root");
+  ImGui::SameLine();
+  changed |= ImGui::Checkbox("cull bricks", &t.cullBricks);
+  if (ImGui::IsItemHovered())
+    ImGui::SetTooltip("cell bricks: a compute pass keeps only the bricks in the frustum whose normal cone may face the eye");
   int view = int(t.debugView);
   if (ImGui::Combo("debug view", &view, kDebugViewLabels, IM_ARRAYSIZE(kDebugViewLabels))) {
     t.debugView = DebugView(view);

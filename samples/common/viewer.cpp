@@ -320,6 +320,7 @@ void Viewer::applyTuningToScene() {
       [this](ecs::Entity, hsdf::HermiteSdfRenderable& renderable) { applyTuning(tuning_, renderable); });
   hsdf::HermiteCellFeature::Settings& cells = renderer_->feature<hsdf::HermiteCellFeature>()->settings();
   cells.frontToBack = tuning_.frontToBack;
+  cells.cullBricks = tuning_.cullBricks;
   using CellEarlyDepth = hsdf::HermiteCellFeature::EarlyDepth;
   cells.earlyDepth = tuning_.earlyDepth == EarlyDepth::On    ? CellEarlyDepth::On
                      : tuning_.earlyDepth == EarlyDepth::Off ? CellEarlyDepth::Off

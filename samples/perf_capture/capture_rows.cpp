@@ -42,6 +42,9 @@ const Variant kVariants[] = {
     // Issue 20's variant: the same cells and search, one box per brick of 4x4x4 cells.
     {"cell-bricks", "n=3 r=1", false, {.method = Method::CellBricks, .subdivisions = 3, .refineSteps = 1}},
     {"cell-bricks", "n=3 r=1 fp16", false, {.method = Method::CellBricks, .subdivisions = 3, .refineSteps = 1, .fp16 = true}},
+    // What the brick culling pass removes: the same bricks, every one drawn.
+    {"cell-bricks", "n=3 r=1 no-cull", false,
+     {.method = Method::CellBricks, .subdivisions = 3, .refineSteps = 1, .cullBricks = false}},
 };
 
 RenderMethod renderMethodOf(Method method) {

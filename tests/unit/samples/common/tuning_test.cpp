@@ -77,6 +77,7 @@ TEST(Tuning, SettingsFileRoundTrip) {
   t.frontToBack = false;
   t.earlyDepth = EarlyDepth::Off;
   t.certified = true;
+  t.cullBricks = false;
   t.split = SplitMode::Horizontal;
   t.splitPosition = 0.3f;  // exact in binary and in the JSON text
   t.compareMethod = Method::Hermite;

@@ -90,6 +90,7 @@ TEST(CaptureRows, MethodTimesKTimesSetting) {
   EXPECT_TRUE(labels.contains("cells certified K=32"));
   EXPECT_TRUE(labels.contains("cells-runs n=3 r=1 K=32"));
   EXPECT_TRUE(labels.contains("cell-bricks n=3 r=1 fp16 K=32"));
+  EXPECT_TRUE(labels.contains("cell-bricks n=3 r=1 no-cull K=32"));
   EXPECT_TRUE(labels.contains("mesh"));
   EXPECT_TRUE(labels.contains("trilinear central K=256"));
   EXPECT_FALSE(labels.contains("hermite K=256"));
