@@ -101,6 +101,8 @@ struct CellRecord {
   std::uint16_t cellClass = 0;  // CellClass (Crossing / Ambiguous), for debug views
 };
 static_assert(sizeof(CellRecord) == 8 * 16 + 8, "CellRecord must stay tightly packed (136 bytes)");
+// The record's corners in double precision, as the CPU's interpolant and Bernstein code take them.
+HermiteCellCorners<double> cellCorners(const CellRecord& record);
 
 struct CellRecordHalf {
   std::array<std::uint16_t, 32> corners{};  // IEEE binary16, corner-major: f, fx, fy, fz

@@ -268,9 +268,7 @@ FalsePositiveReport countFalsePositives(const CellStream& cells, int samplesPerA
     ++report.keptCells;
     if (r.cellClass != std::uint16_t(CellClass::Ambiguous)) continue;  // crossing cells certainly hold surface
     ++report.ambiguousCells;
-    HermiteCellCorners<double> corners{};
-    for (std::size_t c = 0; c < 8; ++c) corners[c] = {r.corners[c].f, r.corners[c].fx, r.corners[c].fy, r.corners[c].fz};
-    if (!denseSamplingFindsSurface(corners, cells.grid.spacing, samplesPerAxis)) ++report.falsePositives;
+    if (!denseSamplingFindsSurface(cellCorners(r), cells.grid.spacing, samplesPerAxis)) ++report.falsePositives;
   }
   return report;
 }

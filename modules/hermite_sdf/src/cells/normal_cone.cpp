@@ -18,15 +18,6 @@ constexpr double kZeroVectorRatio = 1e-9;
 
 shader::CellBrickCone neverCull() { return {glm::vec4(0.0f, 0.0f, 1.0f, kNeverCullCutoff)}; }
 
-HermiteCellCorners<double> cornersOf(const CellRecord& record) {
-  HermiteCellCorners<double> corners;
-  for (int c = 0; c < 8; ++c) {
-    const HermiteSample& s = record.corners[std::size_t(c)];
-    corners[std::size_t(c)] = {double(s.f), double(s.fx), double(s.fy), double(s.fz)};
-  }
-  return corners;
-}
-
 // Forward difference of b along `axis` at (a, b, c) with that axis's index i in 0..2; 0 outside,
 // which is what the degree elevation's end terms need.
 double difference(const BernsteinCell<double>& b, int axis, int i, int j, int k) {
@@ -45,7 +36,7 @@ double elevated(const BernsteinCell<double>& b, int axis, int i, int j, int k) {
 
 // Appends the 64 control vectors of a cell's gradient (index a + 4b + 16c of the cubic basis).
 void appendControlVectors(const CellRecord& record, double h, std::vector<glm::dvec3>& out) {
-  const BernsteinCell<double> b = toBernstein(cornersOf(record), h);
+  const BernsteinCell<double> b = toBernstein(cellCorners(record), h);
   for (int c = 0; c < 4; ++c)
     for (int bb = 0; bb < 4; ++bb)
       for (int a = 0; a < 4; ++a)
@@ -105,7 +96,7 @@ bool touchesBoundary(const CellRecord& r, int cellsPerAxis) {
 // The interpolant on a face of the cell is the bicubic whose Bernstein coefficients are the 16 of
 // the cell's with that axis's index 0 (low face) or 3 (high face): all > 0 make it positive there.
 bool boundaryFacesPositive(const CellRecord& r, const GridSpec& grid) {
-  const BernsteinCell<double> b = toBernstein(cornersOf(r), grid.spacing);
+  const BernsteinCell<double> b = toBernstein(cellCorners(r), grid.spacing);
   const int coords[3] = {r.x, r.y, r.z};
   for (int axis = 0; axis < 3; ++axis) {
     for (int side : {0, 3}) {

@@ -132,4 +132,13 @@ CellStream toFloat(const CellStreamHalf& stream) {
   return out;
 }
 
+HermiteCellCorners<double> cellCorners(const CellRecord& record) {
+  HermiteCellCorners<double> corners;
+  for (std::size_t c = 0; c < 8; ++c) {
+    const HermiteSample& s = record.corners[c];
+    corners[c] = {double(s.f), double(s.fx), double(s.fy), double(s.fz)};
+  }
+  return corners;
+}
+
 }  // namespace hsdf

@@ -20,21 +20,12 @@
 namespace hsdf {
 namespace {
 
-HermiteCellCorners<double> cornersOf(const CellRecord& record) {
-  HermiteCellCorners<double> corners;
-  for (int c = 0; c < 8; ++c) {
-    const HermiteSample& s = record.corners[std::size_t(c)];
-    corners[std::size_t(c)] = {double(s.f), double(s.fx), double(s.fy), double(s.fz)};
-  }
-  return corners;
-}
-
 bool neverCulls(const shader::CellBrickCone& cone) { return cone.axisCutoff.w >= 1.0f; }
 
 // Largest angle (radians) between the cone's axis and a gradient of the cell sampled at m^3 grid
 // points and 200 random points; -1 if a sampled gradient is zero.
 double widestSampledAngle(const CellRecord& record, double h, const glm::dvec3& axis, std::mt19937& rng, int m = 9) {
-  const HermiteCellCorners<double> corners = cornersOf(record);
+  const HermiteCellCorners<double> corners = cellCorners(record);
   std::uniform_real_distribution<double> unit(0.0, 1.0);
   double widest = 0.0;
   auto visit = [&](const glm::dvec3& u) {

@@ -15,8 +15,7 @@
 #include "engine/render/mesh_feature.h"
 #include "hermite_sdf/cell_feature.h"
 #include "hermite_sdf/sphere_trace_feature.h"
-#include "test_device.h"
-#include "viewer.h"
+#include "test_viewer.h"
 
 namespace samples {
 namespace {
@@ -24,16 +23,7 @@ namespace {
 constexpr std::uint32_t kWidth = 128, kHeight = 96;
 
 std::unique_ptr<Viewer> viewTorus(const TuningState& tuning) {
-  ViewerDesc desc;
-  desc.width = kWidth;
-  desc.height = kHeight;
-  desc.headless = true;
-  desc.validation = true;
-  const auto device = hsdftest::testDevicePreference();
-  EXPECT_TRUE(device.ok()) << device.error().message;
-  if (!device) return nullptr;
-  desc.device = *device;
-  auto viewer = Viewer::create(desc);
+  auto viewer = createTestViewer(kWidth, kHeight);
   EXPECT_TRUE(viewer.ok()) << viewer.error().message;
   if (!viewer.ok()) return nullptr;
   SceneDesc scene;

@@ -15,8 +15,7 @@
 #include "hermite_sdf/bake_job.h"
 #include "engine/gpu/pipeline.h"
 #include "engine/gpu/vk_check.h"
-#include "test_device.h"
-#include "viewer.h"
+#include "test_viewer.h"
 
 namespace samples {
 namespace {
@@ -25,17 +24,7 @@ struct FaultGuard {  // a failing test must not leave a fault armed for the next
   ~FaultGuard() { engine::gpu::clearInjectedFaults(); }
 };
 
-engine::Expected<std::unique_ptr<Viewer>> createViewer() {
-  ViewerDesc desc;
-  desc.width = 64;
-  desc.height = 48;
-  desc.headless = true;
-  desc.validation = true;
-  const auto device = hsdftest::testDevicePreference();
-  if (!device) return device.error();
-  desc.device = *device;
-  return Viewer::create(desc);
-}
+engine::Expected<std::unique_ptr<Viewer>> createViewer() { return createTestViewer(64, 48); }
 
 std::unique_ptr<Viewer> viewTorus() {
   auto viewer = createViewer();

@@ -9,28 +9,14 @@
 #include "engine/render/components.h"
 #include "engine/scene/transform.h"
 #include "hermite_sdf/cell_feature.h"
-#include "test_device.h"
-#include "viewer.h"
+#include "test_viewer.h"
 
 namespace samples {
 namespace {
 
 const std::filesystem::path kGridScene = std::filesystem::path(HSDF_ASSET_DIR) / "grid_scene.glb";
 
-std::unique_ptr<Viewer> makeViewer() {
-  ViewerDesc desc;
-  desc.width = 96;
-  desc.height = 64;
-  desc.headless = true;
-  desc.validation = true;
-  const auto device = hsdftest::testDevicePreference();
-  EXPECT_TRUE(device.ok()) << device.error().message;
-  if (!device) return nullptr;
-  desc.device = *device;
-  auto viewer = Viewer::create(desc);
-  EXPECT_TRUE(viewer.ok()) << viewer.error().message;
-  return viewer.ok() ? std::move(*viewer) : nullptr;
-}
+std::unique_ptr<Viewer> makeViewer() { return makeTestViewer(96, 64); }
 
 std::set<std::string> namesWith(Viewer& viewer, bool sdf) {
   std::set<std::string> names;

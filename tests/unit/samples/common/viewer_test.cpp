@@ -8,27 +8,12 @@
 #include <string>
 #include <vector>
 
-#include "test_device.h"
-#include "viewer.h"
+#include "test_viewer.h"
 
 namespace samples {
 namespace {
 
-std::unique_ptr<Viewer> makeViewer(const hsdf::BakeBudget& budget = {}) {
-  ViewerDesc desc;
-  desc.bakeBudget = budget;
-  desc.width = 64;
-  desc.height = 48;
-  desc.headless = true;
-  desc.validation = true;
-  const auto device = hsdftest::testDevicePreference();
-  EXPECT_TRUE(device.ok()) << device.error().message;
-  if (!device) return nullptr;
-  desc.device = *device;
-  auto viewer = Viewer::create(desc);
-  EXPECT_TRUE(viewer.ok()) << viewer.error().message;
-  return viewer.ok() ? std::move(*viewer) : nullptr;
-}
+std::unique_ptr<Viewer> makeViewer(const hsdf::BakeBudget& budget = {}) { return makeTestViewer(64, 48, budget); }
 
 // Share of pixels that differ from the top-left one (background: the object is framed in the
 // middle and the ground plane is off).
