@@ -36,6 +36,9 @@ struct CellBuffers {
     std::uint32_t firstRun = 0;            // index of runs[0] in the run buffer
     CellBricks bricks;                     // RenderMethod::CellBricks, indices relative to the asset's stream
     std::vector<shader::CellBrickCone> cones;  // one per brick (normal_cone.h), for the brick culling pass
+    // Whether bricks and cones were built: only for assets drawn as bricks, since the cones cost a
+    // few microseconds per cell (seconds at K >= 1024) that cells and runs would pay for nothing.
+    bool bricksBuilt = false;
     std::uint32_t firstBrick = 0;          // index of bricks.bricks[0] in the brick buffer
     std::uint64_t lastFrame = 0;           // the last frame that drew the asset
   };
@@ -134,7 +137,7 @@ glm::vec4 screenBounds(const glm::mat4& viewProj, const glm::mat4& model, const 
 // grid too large for brick coordinates is reported and gets no bricks (its CellBricks objects
 // draw nothing).
 CellBricks bricksOf(const SdfAsset& asset, const std::unordered_map<std::uint64_t, CellBuffers::Entry>& built) {
-  if (auto old = built.find(asset.id); old != built.end()) return old->second.bricks;
+  if (auto old = built.find(asset.id); old != built.end() && old->second.bricksBuilt) return old->second.bricks;
   auto bricks = buildCellBricks(asset.cells);
   if (bricks) return std::move(*bricks);
   engine::log::warn("hermite cells: '{}' cannot be drawn as cell bricks: {}", asset.name, bricks.error().message);
@@ -146,7 +149,7 @@ CellBricks bricksOf(const SdfAsset& asset, const std::unordered_map<std::uint64_
 // never cull, so the culling pass keeps every brick and the object still draws.
 std::vector<shader::CellBrickCone> conesOf(const SdfAsset& asset, const CellBricks& bricks,
                                            const std::unordered_map<std::uint64_t, CellBuffers::Entry>& built) {
-  if (auto old = built.find(asset.id); old != built.end()) return old->second.cones;
+  if (auto old = built.find(asset.id); old != built.end() && old->second.bricksBuilt) return old->second.cones;
   auto cones = brickGradientCones(asset.cells, bricks.bricks, bricks.cellRecords);
   if (cones) return std::move(*cones);
   engine::log::warn("hermite cells: '{}': no brick normal cones: {}", asset.name, cones.error().message);
@@ -349,19 +352,24 @@ engine::Status HermiteCellFeature::createBrickPipelines(Pipelines& p) const {
 void HermiteCellFeature::syncAssets(const engine::render::FrameContext& frame) {
   std::vector<std::shared_ptr<const SdfAsset>> wanted;
   std::unordered_set<std::uint64_t> seen;
+  std::unordered_set<std::uint64_t> asBricks;  // assets some entity draws as cell bricks
   bool missing = false;
   frame.registry.view<HermiteSdfRenderable>().each([&](engine::ecs::Entity entity, const HermiteSdfRenderable& r) {
     if (!drawnAsCells(r.method) || !r.asset || r.asset->cells.records.empty()) return;
+    const bool bricks = r.method == RenderMethod::CellBricks;
     if (refused_.contains(r.asset->id)) {
       // The entity still draws the asset the refused one replaced (buildDraws): keep it uploaded.
       if (auto previous = drawnAssets_.find(entity); previous != drawnAssets_.end())
-        if (auto kept = buffers_->entries.find(previous->second);
-            kept != buffers_->entries.end() && seen.insert(kept->first).second) {
-          wanted.push_back(kept->second.asset);
-          kept->second.lastFrame = frame.frameNumber;
+        if (auto kept = buffers_->entries.find(previous->second); kept != buffers_->entries.end()) {
+          if (bricks) asBricks.insert(kept->first);
+          if (seen.insert(kept->first).second) {
+            wanted.push_back(kept->second.asset);
+            kept->second.lastFrame = frame.frameNumber;
+          }
         }
       return;
     }
+    if (bricks) asBricks.insert(r.asset->id);
     if (!seen.insert(r.asset->id).second) return;
     wanted.push_back(r.asset);
     auto entry = buffers_->entries.find(r.asset->id);
@@ -370,6 +378,9 @@ void HermiteCellFeature::syncAssets(const engine::render::FrameContext& frame) {
     else
       entry->second.lastFrame = frame.frameNumber;
   });
+  for (std::uint64_t id : asBricks)  // an uploaded asset now drawn as bricks: build its bricks
+    if (auto entry = buffers_->entries.find(id); entry != buffers_->entries.end() && !entry->second.bricksBuilt)
+      missing = true;
   const bool runsStale = !wanted.empty() && buffers_->runLength != settings_.maxRunLength &&
                          settings_.maxRunLength != refusedRunLength_;  // the setting changed
   if (!missing && !runsStale) return;
@@ -402,8 +413,12 @@ void HermiteCellFeature::syncAssets(const engine::render::FrameContext& frame) {
       run.firstRecord += entry.firstRecord;
       runs.push_back(run);
     }
-    entry.bricks = bricksOf(*asset, buffers_->entries);
-    entry.cones = conesOf(*asset, entry.bricks, buffers_->entries);
+    const auto old = buffers_->entries.find(asset->id);
+    entry.bricksBuilt = asBricks.contains(asset->id) || (old != buffers_->entries.end() && old->second.bricksBuilt);
+    if (entry.bricksBuilt) {
+      entry.bricks = bricksOf(*asset, buffers_->entries);
+      entry.cones = conesOf(*asset, entry.bricks, buffers_->entries);
+    }
     cones.insert(cones.end(), entry.cones.begin(), entry.cones.end());
     entry.firstBrick = static_cast<std::uint32_t>(bricks.size());
     for (shader::CellBrickGpu brick : entry.bricks.bricks) {
