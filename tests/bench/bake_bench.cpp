@@ -59,7 +59,7 @@ void BM_BakeSparseBunny(benchmark::State& state) {
   state.counters["source_queries"] = double(queries);
   state.counters["threads"] = double(std::thread::hardware_concurrency());
 }
-BENCHMARK(BM_BakeSparseBunny)->Arg(64)->Arg(128)->Arg(256)->Arg(512)->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK(BM_BakeSparseBunny)->Arg(64)->Arg(128)->Arg(256)->Arg(512)->Arg(1024)->Arg(2048)->Unit(benchmark::kMillisecond)->UseRealTime();
 
 }  // namespace
 }  // namespace hsdf::bench

@@ -38,7 +38,7 @@ void BM_OpenVdbNarrowBandBunny(benchmark::State& state) {
   }
   state.counters["active_voxels"] = double(voxels);
 }
-BENCHMARK(BM_OpenVdbNarrowBandBunny)->Arg(64)->Arg(128)->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK(BM_OpenVdbNarrowBandBunny)->Arg(64)->Arg(128)->Arg(256)->Arg(512)->Arg(1024)->Arg(2048)->Unit(benchmark::kMillisecond)->UseRealTime();
 
 }  // namespace
 }  // namespace hsdf::bench
