@@ -12,6 +12,7 @@
 #include "hermite/hermite_host_device.h"
 #include "hermite/proxy_dilation.glsl"
 #include "hermite/brick.glsl"
+#include "hermite/pixel_ray.glsl"
 
 layout(push_constant, scalar) uniform Push { HermitePushConstants pc; };
 layout(buffer_reference, scalar) readonly buffer HermiteDrawsRef { HermiteDraw draws[]; };
@@ -31,21 +32,15 @@ layout(depth_less) out float gl_FragDepth;  // reverse-Z: the hit is never neare
 #include "hermite/hit_depth.glsl"
 
 // The pixel's ray in brick-local coordinates (cells; `start` is the brick's first cell in grid
-// units), u(t) = origin + t * direction with t = 1 at this fragment's point on the rasterized face:
-// the pixel centre unprojected at its own depth gl_FragCoord.z (the viewport is the whole frame).
-// View distance is linear in t, so a point at t has reverse-Z depth gl_FragCoord.z / t and the
-// near plane lies at t = gl_FragCoord.z (as in cells_depth.glsl). The direction is the view-space
-// offset eye -> face rotated into the grid, never a difference of two far points.
+// units), u(t) = origin + t * direction with t = 1 at this fragment's point on the rasterized face
+// (pixel_ray.glsl).
 void pixelRay(HermiteDraw draw, vec3 start, out vec3 origin, out vec3 direction) {
   FrameGlobals frame = FrameGlobalsRef(pc.draw.frameGlobals).globals;
   mat4 invModel = ObjectsRef(pc.draw.objects).objects[draw.object].invModel;
-  vec2 ndc = gl_FragCoord.xy * frame.viewport.zw * 2.0 - 1.0;
-  vec4 face = frame.invProj * vec4(ndc, gl_FragCoord.z, 1.0);  // view space, eye at 0
-  vec3 toFace = mat3(frame.invView) * (face.xyz / face.w);
   float h = draw.gridOriginSpacing.w;
   vec3 eyeObject = (invModel * vec4(frame.cameraPosition.xyz, 1.0)).xyz;
   origin = (eyeObject - draw.gridOriginSpacing.xyz) / h - start;
-  direction = mat3(invModel) * toFace / h;
+  direction = pixelRayDirection(frame, invModel, h);
 }
 
 bool keptBit(CellBrickGpu brick, uint bit) {

@@ -2,7 +2,8 @@
 // Hermite cells: one instance per kept cell, drawn as its box: its front faces (18 vertices from
 // gl_VertexIndex, box.glsl frontFaceCorner), or all 36 for near-plane cells drawn by back faces.
 // The cell's Hermite data arrive as instance-rate attributes and are handed to the fragment
-// shader unchanged (flat), together with the ray set-up in cell-local coordinates.
+// shader unchanged (flat), together with the eye in cell-local coordinates (the fragment shader
+// rebuilds the ray's direction from gl_FragCoord, pixel_ray.glsl).
 #extension GL_GOOGLE_include_directive : require
 #include "hermite/hermite_host_device.h"
 #include "hermite/box.glsl"
@@ -17,7 +18,6 @@ layout(location = 8) in uvec4 inCell;  // x, y, z, class
 layout(location = 0) flat out vec4 outCorners[8];
 layout(location = 8) flat out uvec4 outCell;
 layout(location = 9) flat out uint outDraw;
-layout(location = 10) out vec3 outLocal;              // this vertex in cell-local coordinates
 layout(location = 11) flat out vec3 outCameraLocal;   // the eye in cell-local coordinates
 layout(location = 12) flat out uint outRecord;        // index of the cell record in its buffer
 layout(location = 13) flat out float outDilation;     // how far the proxy reaches beyond the cell, cells
@@ -46,7 +46,6 @@ void main() {
   outCell = inCell;
   outDraw = drawIndex;
   outRecord = uint(gl_InstanceIndex);  // firstInstance of the command = first record of the range
-  outLocal = local;
   outDilation = dilation;
   outCameraLocal = cameraLocal;
   gl_Position = frame.viewProj * (object.model * vec4(objectPosition, 1.0));

@@ -6,6 +6,7 @@
 #include "hermite/hermite_host_device.h"
 #include "hermite/segment_roots.glsl"
 #include "hermite/proxy_dilation.glsl"
+#include "hermite/pixel_ray.glsl"
 
 layout(push_constant, scalar) uniform Push { HermitePushConstants pc; };
 layout(buffer_reference, scalar) readonly buffer HermiteDrawsRef { HermiteDraw draws[]; };
@@ -13,20 +14,24 @@ layout(buffer_reference, scalar) readonly buffer HermiteDrawsRef { HermiteDraw d
 layout(location = 0) flat in vec4 inCorners[8];
 layout(location = 8) flat in uvec4 inCell;
 layout(location = 9) flat in uint inDraw;
-layout(location = 10) in vec3 inLocal;
 layout(location = 11) flat in vec3 inCameraLocal;
 layout(location = 12) flat in uint inRecord;
 layout(location = 13) flat in float inDilation;  // the proxy: the cell's box grown by this, cells
 
 // The pixel's ray in cell-local coordinates, u(t) = origin + t * direction, parametrized so that
-// t = 1 at this fragment's point on the box. View distance is linear in t, so a point at t has
-// reverse-Z depth gl_FragCoord.z / t, and the near plane lies at t = gl_FragCoord.z.
+// t = 1 at this fragment's point on the box: the eye from the vertex shader (flat, exact), the
+// direction rebuilt from gl_FragCoord (pixel_ray.glsl). View distance is linear in t, so a point at
+// t has reverse-Z depth gl_FragCoord.z / t, and the near plane lies at t = gl_FragCoord.z.
 struct CellRay {
   vec3 origin;
   vec3 direction;
 };
 
-CellRay cellRay() { return CellRay(inCameraLocal, inLocal - inCameraLocal); }
+CellRay cellRay(HermiteDraw draw) {
+  FrameGlobals frame = FrameGlobalsRef(pc.draw.frameGlobals).globals;
+  mat4 invModel = ObjectsRef(pc.draw.objects).objects[draw.object].invModel;
+  return CellRay(inCameraLocal, pixelRayDirection(frame, invModel, draw.gridOriginSpacing.w));
+}
 
 layout(location = 0) out uvec2 outVisibility;  // (1 + object, cell record)
 #if defined(HSDF_CONSERVATIVE_DEPTH) && !defined(HSDF_EARLY_DEPTH)
@@ -44,7 +49,7 @@ layout(depth_less) out float gl_FragDepth;
 // where the local coordinates lose precision (searchMargin, proxy_dilation.glsl).
 void main() {
   HermiteDraw draw = HermiteDrawsRef(pc.draws).draws[inDraw];
-  CellRay ray = cellRay();
+  CellRay ray = cellRay(draw);
   float margin = searchMargin(ray.origin, inDilation);
   vec2 box = intersectBox(ray.origin, ray.direction, vec3(-margin), vec3(1.0 + margin));
   float tNear = gl_FragCoord.z;  // the near plane (see cellRay)

@@ -159,7 +159,9 @@ struct SphereTraceDraw {
   uint maxSteps;           // sphere-tracing step limit
   float epsilon;           // stop when |f| < epsilon * h (epsilon in grid units)
   float centralStep;       // central-difference offset, grid units
-  uint pad0;
+  uint filterBits;         // trilinear: 0 = the hardware filter; b > 0 = filtered in the shader with
+                           // weights rounded to b fractional bits, as GPU filter units do (tests
+                           // reproduce a GPU's quantized filter on lavapipe, which filters in float)
 };
 HSDF_CHECK_SIZE(SphereTraceDraw, 16 + 8 * 4);
 

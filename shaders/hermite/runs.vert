@@ -19,7 +19,6 @@ layout(location = 1) in uint inFirstRecord;
 layout(location = 0) flat out uvec4 outRun;          // x, y, z, length
 layout(location = 1) flat out uint outFirstRecord;
 layout(location = 2) flat out uint outDraw;
-layout(location = 3) out vec3 outLocal;              // this vertex in run-local coordinates (cells)
 layout(location = 4) flat out vec3 outCameraLocal;   // the eye in run-local coordinates
 layout(location = 5) flat out float outDilation;     // how far the proxy reaches beyond the run, cells
 
@@ -51,7 +50,6 @@ void main() {
   outRun = run;
   outFirstRecord = inFirstRecord;
   outDraw = drawIndex;
-  outLocal = local;
   outDilation = dilation;
   outCameraLocal = cameraLocal;
   gl_Position = frame.viewProj * (object.model * vec4(objectPosition, 1.0));

@@ -6,6 +6,7 @@
 #extension GL_GOOGLE_include_directive : require
 #include "hermite/hermite_host_device.h"
 #include "hermite/proxy_dilation.glsl"
+#include "hermite/pixel_ray.glsl"
 
 layout(push_constant, scalar) uniform Push { HermitePushConstants pc; };
 layout(buffer_reference, scalar) readonly buffer HermiteDrawsRef { HermiteDraw draws[]; };
@@ -14,7 +15,6 @@ layout(buffer_reference, scalar) readonly buffer HermiteDrawsRef { HermiteDraw d
 layout(location = 0) flat in uvec4 inRun;  // x, y, z, length
 layout(location = 1) flat in uint inFirstRecord;
 layout(location = 2) flat in uint inDraw;
-layout(location = 3) in vec3 inLocal;
 layout(location = 4) flat in vec3 inCameraLocal;
 layout(location = 5) flat in float inDilation;
 
@@ -28,9 +28,11 @@ void main() {
   HermiteDraw draw = HermiteDrawsRef(pc.draws).draws[inDraw];
   // The ray in run-local coordinates (cells; cell i of the run spans x in [i, i + 1]), t = 1 at this
   // fragment's point on the proxy, so a point at t has reverse-Z depth gl_FragCoord.z / t and the
-  // near plane lies at t = gl_FragCoord.z (as in cells_depth.glsl).
+  // near plane lies at t = gl_FragCoord.z (pixel_ray.glsl).
+  FrameGlobals frame = FrameGlobalsRef(pc.draw.frameGlobals).globals;
+  mat4 invModel = ObjectsRef(pc.draw.objects).objects[draw.object].invModel;
   vec3 origin = inCameraLocal;
-  vec3 direction = inLocal - inCameraLocal;
+  vec3 direction = pixelRayDirection(frame, invModel, draw.gridOriginSpacing.w);
   float margin = searchMargin(origin, inDilation);
   float length = float(inRun.w);
   vec2 box = intersectBox(origin, direction, vec3(-margin), vec3(length + margin, 1.0 + margin, 1.0 + margin));

@@ -10,8 +10,7 @@ layout(push_constant, scalar) uniform Push { SphereTracePushConstants pc; };
 layout(buffer_reference, scalar) readonly buffer SphereTraceDrawsRef { SphereTraceDraw draws[]; };
 
 layout(location = 0) flat out uint outDraw;
-layout(location = 1) out vec3 outGrid;          // this vertex in grid units
-layout(location = 2) flat out vec3 outEyeGrid;  // the eye in grid units
+layout(location = 2) flat out vec3 outEyeGrid;  // the eye in grid units (the ray's direction: pixel_ray.glsl)
 
 // The prepass and the shading pass rasterize the same box: keep their coverage identical.
 precise gl_Position;
@@ -26,7 +25,6 @@ void main() {
   vec3 eyeObject = (object.invModel * vec4(frame.cameraPosition.xyz, 1.0)).xyz;
 
   outDraw = uint(gl_InstanceIndex);
-  outGrid = grid;
   outEyeGrid = (eyeObject - draw.gridOriginSpacing.xyz) / h;
   gl_Position = frame.viewProj * (object.model * vec4(draw.gridOriginSpacing.xyz + h * grid, 1.0));
 }

@@ -84,9 +84,54 @@ FieldCursor newFieldCursor() { return FieldCursor(0); }
 // Texel centres: sample i sits at texture coordinate (i + 0.5) / K. The hardware filter is fast
 // but may quantize its weights (8 fractional bits on many GPUs): near the surface its f need not
 // fall below epsilon, so it only guides the steps; hits are placed with exactFieldValue.
-float evaluateField(SphereTraceDraw draw, inout FieldCursor cursor, vec3 g) {
+// What a GPU filter unit that rounds its weights to draw.filterBits fractional bits returns at g
+// (clamp-to-edge): the 8 texels around g, mixed in float with the rounded fractions. Only tests and
+// experiments set filterBits, to see a quantizing GPU's images on a device that filters in float.
+float quantizedFilter(SphereTraceDraw draw, vec3 g) {
+  float scale = float(1u << draw.filterBits);
+  vec3 base = floor(g);
+  vec3 w = floor((g - base) * scale + 0.5) / scale;
+  ivec3 cell = ivec3(base);
+  ivec3 last = ivec3(int(draw.resolution) - 1);
+  float f[8];
+  for (int c = 0; c < 8; ++c) f[c] = fieldSample(draw, clamp(cell + ivec3(c & 1, (c >> 1) & 1, c >> 2), ivec3(0), last)).r;
+  vec4 x = mix(vec4(f[0], f[2], f[4], f[6]), vec4(f[1], f[3], f[5], f[7]), w.x);  // ordered by (y, z)
+  vec2 y = mix(x.xz, x.yw, w.y);
+  return mix(y.x, y.y, w.z);
+}
+
+float filteredField(SphereTraceDraw draw, vec3 g) {
+  if (draw.filterBits != 0u) return quantizedFilter(draw, g);
   // textureLod: inside the tracing loop implicit derivatives are undefined (non-uniform control flow).
   return textureLod(FIELD_TEXTURE(draw), (g + 0.5) / float(draw.resolution), 0.0).r;
+}
+
+// The trilinear interpolant itself at g: its cell's 8 texels fetched and mixed in float.
+float exactTrilinear(SphereTraceDraw draw, vec3 g) {
+  ivec3 cell = fieldCell(draw, g);
+  float f[8];
+  for (int c = 0; c < 8; ++c) f[c] = fieldSample(draw, cell + ivec3(c & 1, (c >> 1) & 1, c >> 2)).r;
+  vec3 u = g - vec3(cell);
+  vec4 x = mix(vec4(f[0], f[2], f[4], f[6]), vec4(f[1], f[3], f[5], f[7]), u.x);  // ordered by (y, z)
+  vec2 y = mix(x.xz, x.yw, u.y);
+  return mix(y.x, y.y, u.z);
+}
+
+// Below this |f| (grid units) a step trusts the exact interpolant, not the filter. A filter unit
+// with b-bit weights is off by at most 2^-(b+1) of the largest difference of two neighbouring
+// texels (about 1 cell for a distance field, 2 for samples of +-h): 1/32 cell at the 4 bits Vulkan
+// allows, far less at NVIDIA's 8. Above the threshold the filtered sign is therefore the exact
+// one and the step is a sphere-tracing step on a value within 1/32 cell of the exact one; below
+// it every decision (epsilon, sign change, step length) is taken on the exact interpolant, as
+// the dense Hermite tracer does. Quantized GPUs otherwise left rays creeping or oscillating at
+// the surface until their step limit (H200: ~40 rays out of steps per 1080p view; the emulated
+// 8-bit filter here: holes and out-of-steps rays in the sphere-tracing tests).
+const float kExactBelowCells = 0.125;
+
+float evaluateField(SphereTraceDraw draw, inout FieldCursor cursor, vec3 g) {
+  float filtered = filteredField(draw, g);
+  if (abs(filtered) >= kExactBelowCells * draw.gridOriginSpacing.w) return filtered;
+  return exactTrilinear(draw, g);
 }
 
 // The texels of the cell last evaluated exactly, kept while a hit is placed (a few evaluations,

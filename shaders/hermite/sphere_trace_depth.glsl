@@ -9,6 +9,7 @@
 // GREATER test like nothing drawn. HSDF_COUNT_WORK (the *_counted.frag variants, chosen only for
 // frames that count work) adds the per-pixel evaluation counts and the rays out of steps.
 #include "hermite/sphere_trace_common.glsl"
+#include "hermite/pixel_ray.glsl"
 
 #ifdef HSDF_COUNT_WORK
 layout(buffer_reference, scalar) buffer WorkCountersRef { uint counts[]; };
@@ -16,7 +17,6 @@ layout(buffer_reference, scalar) buffer WorkTotalsRef { WorkTotals totals; };
 #endif
 
 layout(location = 0) flat in uint inDraw;
-layout(location = 1) in vec3 inGrid;
 layout(location = 2) flat in vec3 inEyeGrid;
 
 layout(location = 0) out uvec2 outVisibility;  // (1 + object, field evaluations)
@@ -28,11 +28,13 @@ layout(depth_less) out float gl_FragDepth;
 
 void main() {
   SphereTraceDraw draw = SphereTraceDrawsRef(pc.draws).draws[inDraw];
-  // The ray u(t) = eye + t * (fragment - eye) in grid units has t = 1 at this fragment's point on
-  // the box. View distance is linear in t, so the point at t has depth gl_FragCoord.z / t and the
-  // near plane (depth 1) lies at t = gl_FragCoord.z.
+  // The ray u(t) = eye + t * direction in grid units has t = 1 at this fragment's point on the box
+  // (pixel_ray.glsl). View distance is linear in t, so the point at t has depth gl_FragCoord.z / t
+  // and the near plane (depth 1) lies at t = gl_FragCoord.z.
+  FrameGlobals frame = FrameGlobalsRef(pc.draw.frameGlobals).globals;
+  mat4 invModel = ObjectsRef(pc.draw.objects).objects[draw.object].invModel;
   vec3 origin = inEyeGrid;
-  vec3 direction = inGrid - inEyeGrid;
+  vec3 direction = pixelRayDirection(frame, invModel, draw.gridOriginSpacing.w);
   float cells = float(draw.resolution - 1u);
   vec2 box = intersectUnitBox(origin / cells, direction / cells);
   float t0 = max(box.x, gl_FragCoord.z);
@@ -41,7 +43,6 @@ void main() {
 #ifdef HSDF_COUNT_WORK
   // Every ray's steps, hits and misses alike (the renderer's work counters).
   ivec2 pixel = ivec2(gl_FragCoord.xy);
-  FrameGlobals frame = FrameGlobalsRef(pc.draw.frameGlobals).globals;
   atomicAdd(WorkCountersRef(pc.counters).counts[pixel.y * int(frame.viewport.x) + pixel.x], trace.evaluations);
   if (trace.outOfSteps) atomicAdd(WorkTotalsRef(pc.workTotals).totals.raysOutOfSteps, 1u);
 #endif

@@ -83,6 +83,10 @@ class SphereTraceFeature final : public engine::render::RenderFeature {
     float epsilon = 1e-4f;              // stop when |f| < epsilon * h (grid spacings)
     std::uint32_t maxSteps = 1024;      // field evaluations per ray (see the header comment)
     float centralDifferenceStep = 0.5f; // grid spacings
+    // Trilinear tracer only: 0 filters with the device's sampler; b in 1..16 emulates a filter unit
+    // that rounds its weights to b fractional bits (NVIDIA: 8), in the shader, so that a device
+    // which filters in full float (lavapipe) shows what such GPUs draw. For tests and experiments.
+    std::uint32_t emulatedFilterBits = 0;
   };
   struct Stats {
     std::uint32_t trilinearObjects = 0;

@@ -258,6 +258,7 @@ void SphereTraceFeature::collectDraws(engine::render::FrameContext& frame) {
         draw.maxSteps = std::max(settings_.maxSteps, 1u);
         draw.epsilon = settings_.epsilon;
         draw.centralStep = settings_.centralDifferenceStep;
+        draw.filterBits = std::min(settings_.emulatedFilterBits, 16u);
         const bool near = nearPlaneMayCut(frame.camera, object.invModel, lo, hi);
         lists[method][near ? 1 : 0].push_back(draw);
         (method == std::uint32_t(TraceMethod::Trilinear) ? stats_.trilinearObjects : stats_.hermiteObjects)++;
