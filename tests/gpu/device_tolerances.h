@@ -63,6 +63,11 @@ struct DeviceTolerances {
   // last bits of a depth: at most this share of pixels, and this relative depth difference.
   double samePathCoverage = 5e-4;
   double samePathDepthRelative = 1e-5;
+  // Whether the fragments of one pixel are shaded one primitive after the other, each seeing the
+  // depth (and buffer writes) of those before it: lavapipe shades in primitive order; a GPU shades
+  // overlapping fragments in parallel (an H200 did the same root-search work with and without the
+  // cells' early depth stage). Work-saving claims that rest on that order hold only where it is true.
+  bool fragmentsShadeInPrimitiveOrder = true;
 
   // The depth tolerance of a sphere tracer against its reference, in cells along the ray (divide
   // by cos(angle between ray and normal) per pixel): trilinear adds the filter's quantization.
@@ -81,6 +86,7 @@ inline DeviceTolerances tolerancesFor(const engine::gpu::Context& context) {
   const std::uint32_t bits = properties.limits.subTexelPrecisionBits;
   const double quantization = bits >= 8 ? 1.0 / 512.0 : 1.0 / double(2u << bits);
   t.trilinearFilterCells = context.capabilities().isSoftwareRasterizer ? 1.0 / 512.0 : quantization;
+  t.fragmentsShadeInPrimitiveOrder = context.capabilities().isSoftwareRasterizer;
   return t;
 }
 
