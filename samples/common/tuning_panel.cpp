@@ -105,6 +105,11 @@ void TuningPanel::drawMethod() {
   changed |= ImGui::Checkbox("cull bricks", &t.cullBricks);
   if (ImGui::IsItemHovered())
     ImGui::SetTooltip("cell bricks: a compute pass keeps only the bricks in the frustum whose normal cone may face the eye");
+  ImGui::SameLine();
+  changed |= ImGui::Checkbox("thin boxes", &t.thinBoxes);
+  if (ImGui::IsItemHovered())
+    ImGui::SetTooltip("cells: 8 vertices and 12 bytes of varyings per box, the cell's data read by address in the\n"
+                      "fragment shader, instead of 18 vertices each carrying the cell's Hermite data");
   int view = int(t.debugView);
   if (ImGui::Combo("debug view", &view, kDebugViewLabels, IM_ARRAYSIZE(kDebugViewLabels))) {
     t.debugView = DebugView(view);

@@ -321,6 +321,7 @@ void Viewer::applyTuningToScene() {
   hsdf::HermiteCellFeature::Settings& cells = renderer_->feature<hsdf::HermiteCellFeature>()->settings();
   cells.frontToBack = tuning_.frontToBack;
   cells.cullBricks = tuning_.cullBricks;
+  cells.thinBoxes = tuning_.thinBoxes;
   using CellEarlyDepth = hsdf::HermiteCellFeature::EarlyDepth;
   cells.earlyDepth = tuning_.earlyDepth == EarlyDepth::On    ? CellEarlyDepth::On
                      : tuning_.earlyDepth == EarlyDepth::Off ? CellEarlyDepth::Off

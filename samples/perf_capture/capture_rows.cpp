@@ -34,6 +34,8 @@ const Variant kVariants[] = {
     {"cells", "n=3 r=1", true, {.method = Method::Cells, .subdivisions = 3, .refineSteps = 1}},
     // The fp16 target of issue 10 compares this one with the fp32 line above.
     {"cells", "n=3 r=1 fp16", false, {.method = Method::Cells, .subdivisions = 3, .refineSteps = 1, .fp16 = true}},
+    // Issue 20 step 2: the same cells and search, 8 vertices and 12 bytes of varyings per box.
+    {"cells", "n=3 r=1 thin", false, {.method = Method::Cells, .subdivisions = 3, .refineSteps = 1, .thinBoxes = true}},
     // The certified root search (docs/root-finding.md): its cost against the paper's fixed n above.
     {"cells", "certified", false, {.method = Method::Cells, .subdivisions = 3, .refineSteps = 1, .certified = true}},
     // Issue 13's variant: the same cells and search, one box per run of cells along x.

@@ -205,14 +205,14 @@ void countTargets(std::string& md, const std::vector<RowResult>& rows, const Run
   md += "## Count targets (issue 20; pipeline statistics, any device)\n\n"
         "| row | prepass FS / covered px (target <= 3) | boxes / view | prepass VS / box (target <= 8) |\n"
         "|---|---|---|---|\n";
+  // Every setting of every cell method (thin boxes, no-cull, fp16, ...), not only the target rows.
   for (const char* method : kCellMethods)
-    for (int k : resolutionsOf(rows)) {
-      const RowResult* c = cellTargetRow(rows, method, k);
-      if (!c || c->boxes <= 0.0) continue;
-      md += fmt::format("| {} | {:.2f} | {:.0f} | {:.2f} |\n", c->spec.label,
-                        perCovered(c->prepassFsInvocations, *c, info.views), c->boxes,
-                        c->prepassVsInvocations / c->boxes);
-    }
+    for (int k : resolutionsOf(rows))
+      for (const RowResult& c : rows) {
+        if (!c.ok || c.spec.method != method || c.spec.resolution != k || c.boxes <= 0.0) continue;
+        md += fmt::format("| {} | {:.2f} | {:.0f} | {:.2f} |\n", c.spec.label,
+                          perCovered(c.prepassFsInvocations, c, info.views), c.boxes, c.prepassVsInvocations / c.boxes);
+      }
   md += "\n";
 }
 

@@ -458,6 +458,89 @@ TEST_F(HermiteCellsTest, CellRunsAndBricksMatchReferenceForTorusBoxAndBunny) {
   }
 }
 
+// Settings::thinBoxes draws the same cells with 8 vertices and 12 bytes of varyings per box
+// (cells_thin.vert), the fragment shader reading each cell's 32 scalars by address. It must draw
+// the cells' surface: against the reference, and against the paper's boxes (the same search over
+// the same dilated box along the same ray: equal coverage but for a few edge pixels, where the fan
+// and the list split the faces into triangles differently, and equal depth to float rounding).
+// Why these cases: the torus from orbit views (every octant picks other front faces for the fan),
+// fp16 records (the half layout read by address, not converted by the vertex fetch), the box's flat
+// faces on cell faces (roots on faces two boxes share), a mirrored model matrix (the fan's winding
+// flips), and an eye inside a cell (near-plane cells as a 14-vertex strip of back faces).
+TEST_F(HermiteCellsTest, ThinBoxesDrawThePapersBoxesSurface) {
+  createCellRenderer(kSize, kSize);
+  hsdf::HermiteCellFeature& feature = *renderer_->feature<hsdf::HermiteCellFeature>();
+  const auto torus = bakeAsset("torus", 16);
+  const auto box = bakeAsset("box", 16);
+  ASSERT_NE(torus, nullptr);
+  ASSERT_NE(box, nullptr);
+  const auto expectSameAsPapers = [&](const hsdf::SdfAsset& asset, const render::CameraView& camera, bool half,
+                                      const glm::mat4& model, const std::string& label) {
+    SCOPED_TRACE(label);
+    feature.settings().thinBoxes = false;
+    const Frame paper = renderWith(camera, DEBUG_VIEW_NONE);
+    feature.settings().thinBoxes = true;
+    const ImageComparison c = compareView(asset, camera, label.c_str(), model);
+    const Frame thin = renderWith(camera, DEBUG_VIEW_NONE);
+    if (half) {
+      EXPECT_GE(c.agreement(kSize * kSize), 0.999);
+      EXPECT_EQ(c.interiorHoles, 0);
+      EXPECT_EQ(c.interiorExtras, 0);
+    } else {
+      expectMatchesReference(c);
+    }
+    int covered = 0, coverageDiffers = 0;
+    double worst = 0.0;
+    for (std::size_t i = 0; i < paper.depth.size(); ++i) {
+      const bool a = paper.depth[i] > 0.0f, b = thin.depth[i] > 0.0f;
+      covered += a;
+      coverageDiffers += a != b;
+      if (a && b) worst = std::max(worst, double(std::abs(paper.depth[i] - thin.depth[i]) / paper.depth[i]));
+    }
+    std::printf("[ %s ] thin vs paper's boxes: covered %d, coverage differs %d, depth rel. %.1e at most\n",
+                label.c_str(), covered, coverageDiffers, worst);
+    EXPECT_GT(covered, 500);
+    EXPECT_LE(coverageDiffers, covered / 1000);
+    EXPECT_LT(worst, 1e-5);
+  };
+  const ecs::Entity entity = addSdf(registry_, torus, hsdf::RenderMethod::Cells);
+  for (int view = 0; view < 6; ++view)
+    expectSameAsPapers(*torus, orbitCamera(*torus, view), false, glm::mat4(1.0f), "torus view " + std::to_string(view));
+  registry_.get<hsdf::HermiteSdfRenderable>(entity).halfPrecision = true;
+  expectSameAsPapers(*torus, orbitCamera(*torus, 1), true, glm::mat4(1.0f), "torus fp16");
+  registry_.get<hsdf::HermiteSdfRenderable>(entity).halfPrecision = false;
+
+  // Mirrored: the torus scaled by -1 along x about its centre.
+  const glm::vec3 centre(torus->surfaceBounds.center());
+  const glm::mat4 mirror = glm::translate(glm::mat4(1.0f), centre) * glm::scale(glm::mat4(1.0f), {-1.0f, 1.0f, 1.0f}) *
+                           glm::translate(glm::mat4(1.0f), -centre);
+  registry_ = ecs::Registry();
+  addSdf(registry_, torus, hsdf::RenderMethod::Cells, mirror);
+  expectSameAsPapers(*torus, orbitCamera(*torus, 2), false, mirror, "torus mirrored");
+
+  registry_ = ecs::Registry();
+  addSdf(registry_, box, hsdf::RenderMethod::Cells, glm::mat4(1.0f), 5);
+  for (int view = 0; view < 6; view += 2)
+    expectSameAsPapers(*box, orbitCamera(*box, view), false, glm::mat4(1.0f), "box view " + std::to_string(view));
+
+  // Half a cell from the torus's inner ring with a near plane of a quarter cell (as in
+  // CameraInsideBoundsAndInsideACell): the eye's own cell is cut by the near plane.
+  registry_ = ecs::Registry();
+  addSdf(registry_, torus, hsdf::RenderMethod::Cells);
+  const hsdf::Aabb bounds = torus->surfaceBounds;
+  const glm::vec3 hole = centre + glm::vec3(0.0f, 0.05f * float(bounds.size().y), 0.0f);
+  const glm::vec3 ring = centre + glm::vec3(float(bounds.size().x) * 0.5f, 0.0f, 0.0f);
+  const float h = float(torus->field.grid.spacing);
+  auto hit = hsdf::castRay(torus->field, {glm::dvec3(hole), glm::normalize(glm::dvec3(ring - hole))});
+  ASSERT_TRUE(hit.ok() && hit->has_value());
+  const glm::vec3 surface((*hit)->position);
+  const glm::vec3 eye = surface - 0.5f * h * glm::normalize(ring - hole);
+  expectSameAsPapers(*torus, render::CameraView::lookAt(eye, surface + glm::vec3(0.0f, 0.3f * h, 0.0f), 1.2f, 0.25f * h, 1.0f),
+                     false, glm::mat4(1.0f), "inside a cell");
+  EXPECT_GT(feature.stats().nearCells, 0u);
+  EXPECT_FALSE(feature.stats().earlyDepth) << "thin boxes have no early depth variant";
+}
+
 // Why: the brick culling pass (brick_cull.comp) decides on the GPU which bricks are drawn, from
 // normal cones and the frustum; a brick it wrongly removes is a hole, and one it keeps needlessly
 // is only cost. So: the image (depth and colour) is identical with culling on and off, on a

@@ -40,6 +40,8 @@
 // (bricks.vert: 8 vertices, 12 bytes of varyings), whose kept cells the fragment shader walks along
 // the ray (bricks_depth.glsl); one indirect command per object (firstInstance = its first brick).
 // Bricks have no early depth variant: a frame that draws bricks keeps the early depth stage off.
+// Settings::thinBoxes draws RenderMethod::Cells with 8 vertices and 12 bytes of varyings per box
+// (cells_thin.vert), the records read by address; no early depth variant either.
 #include <cstdint>
 #include <memory>
 #include <string>
@@ -80,6 +82,12 @@ class HermiteCellFeature final : public engine::render::RenderFeature {
     // frustum that may hold a first hit (normal cones, hermite_sdf/normal_cone.h); off draws every
     // brick (to measure what it removes).
     bool cullBricks = true;
+    // RenderMethod::Cells: each cell's box as 8 vertices (one triangle fan of its front faces; 14
+    // in a strip for near-plane cells) handing on 12 bytes (cells_thin.vert), the fragment shader
+    // reading the cell's record by address (cells_thin_depth.glsl), instead of the paper's 18
+    // vertices each handed the cell's Hermite data as varyings. Same search, same image. Thin
+    // boxes have no early depth variant: a frame that draws them keeps the stage off.
+    bool thinBoxes = false;
   };
   struct Stats {
     std::uint32_t objects = 0;
@@ -157,12 +165,15 @@ class HermiteCellFeature final : public engine::render::RenderFeature {
     engine::gpu::Pipeline runsNear[kVariants];
     engine::gpu::Pipeline bricksFront[kBrickVariants];  // RenderMethod::CellBricks, both precisions
     engine::gpu::Pipeline bricksNear[kBrickVariants];
+    engine::gpu::Pipeline thinFront[kBrickVariants][2];  // Settings::thinBoxes, per precision (the cell attribute)
+    engine::gpu::Pipeline thinNear[kBrickVariants][2];
     engine::gpu::Pipeline resolve;
     engine::gpu::Pipeline depthFixup;  // the hits' true depth after the early stage
   };
   Variant prepassVariant(const engine::render::FrameContext& frame) const;
   engine::Expected<Pipelines> createPipelines() const;
   engine::Status createBrickPipelines(Pipelines& p) const;
+  engine::Status createThinCellPipelines(Pipelines& p) const;
   const engine::gpu::Pipeline& brickPipeline(Variant variant, bool near) const;
   void addBrickDraws(const std::vector<shader::CellBrickGpu>& bricks, std::uint32_t firstBrick,
                      const shader::HermiteDraw& draw, const glm::dvec3& eyeGrid, double reachGrid,

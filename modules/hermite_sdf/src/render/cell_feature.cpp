@@ -264,6 +264,7 @@ engine::Expected<HermiteCellFeature::Pipelines> HermiteCellFeature::createPipeli
     ENGINE_TRY_ASSIGN(p.runsNear[variant], Pipeline::createGraphics(context, desc));
   }
   ENGINE_TRY(createBrickPipelines(p));
+  ENGINE_TRY(createThinCellPipelines(p));
 
   // Wireframe: edges over the shaded frame, hidden where the surface is in front of them.
   for (int precision = 0; precision < 2; ++precision) {
@@ -345,6 +346,42 @@ engine::Status HermiteCellFeature::createBrickPipelines(Pipelines& p) const {
     desc.cullMode = VK_CULL_MODE_FRONT_BIT;
     desc.topology = VK_PRIMITIVE_TOPOLOGY_TRIANGLE_STRIP;
     ENGINE_TRY_ASSIGN(p.bricksNear[variant], Pipeline::createGraphics(*context_, desc));
+  }
+  return {};
+}
+
+// Thin cell boxes: production and counted variants (no early depth one: buildDraws keeps the stage
+// off), per precision for the cell attribute's offset in the record; the corners are read by address.
+engine::Status HermiteCellFeature::createThinCellPipelines(Pipelines& p) const {
+  static constexpr const char* kFront[kBrickVariants] = {"cells_thin_depth.frag", "cells_thin_depth_counted.frag"};
+  static constexpr const char* kNear[kBrickVariants] = {"cells_thin_depth_near.frag",
+                                                        "cells_thin_depth_near_counted.frag"};
+  static constexpr const char* kNames[kBrickVariants] = {"", " counted"};
+  ENGINE_TRY_ASSIGN(auto vert, engine::gpu::ShaderModule::load(*context_, "cells_thin.vert"));
+  for (int variant = 0; variant < kBrickVariants; ++variant) {
+    ENGINE_TRY_ASSIGN(auto front, engine::gpu::ShaderModule::load(*context_, kFront[variant]));
+    ENGINE_TRY_ASSIGN(auto near, engine::gpu::ShaderModule::load(*context_, kNear[variant]));
+    for (int precision = 0; precision < 2; ++precision) {
+      const std::string suffix = std::string(kNames[variant]) + (precision == 0 ? " fp32" : " fp16");
+      engine::gpu::GraphicsPipelineDesc desc;
+      desc.vertex = vert.handle();
+      desc.vertexLayout = cellVertexLayout(precision);
+      std::erase_if(desc.vertexLayout.attributes, [](const auto& a) { return a.location != 8; });  // the cell only
+      desc.pushConstantBytes = sizeof(shader::HermitePushConstants);
+      desc.depthFormat = formats_.depth;
+      desc.colorFormats = {formats_.visibility};
+      desc.depthCompare = VK_COMPARE_OP_GREATER;
+      desc.name = "hermite thin cells depth" + suffix;
+      desc.fragment = front.handle();
+      desc.cullMode = VK_CULL_MODE_BACK_BIT;
+      desc.topology = VK_PRIMITIVE_TOPOLOGY_TRIANGLE_FAN;
+      ENGINE_TRY_ASSIGN(p.thinFront[variant][precision], Pipeline::createGraphics(*context_, desc));
+      desc.name = "hermite thin cells depth near" + suffix;
+      desc.fragment = near.handle();
+      desc.cullMode = VK_CULL_MODE_FRONT_BIT;
+      desc.topology = VK_PRIMITIVE_TOPOLOGY_TRIANGLE_STRIP;
+      ENGINE_TRY_ASSIGN(p.thinNear[variant][precision], Pipeline::createGraphics(*context_, desc));
+    }
   }
   return {};
 }
@@ -555,7 +592,7 @@ void HermiteCellFeature::buildDraws(engine::render::FrameContext& frame) {
         objectRects.push_back(rect);
         screenRect_ = unite(screenRect_, rect);
         stats_.objects++;
-        if (r.method != RenderMethod::Cells) {
+        if (r.method != RenderMethod::Cells || settings_.thinBoxes) {
           // Runs and bricks read their records by address: the draw says which buffer and which precision.
           draw.records = buffers_->records[precision].address();
           if (precision == 1) draw.flags |= HERMITE_FLAG_HALF_RECORDS;
@@ -597,15 +634,17 @@ void HermiteCellFeature::buildDraws(engine::render::FrameContext& frame) {
           stats_.runs += entry.runs.size();
           return;
         }
+        const std::uint32_t frontVertices = settings_.thinBoxes ? kBrickFanVertices : kFrontFaceVertices;
+        const std::uint32_t nearVertices = settings_.thinBoxes ? kBrickStripVertices : kBoxVertices;
         for (const CellRows::Range& range : orderedRows(entry.rows, eyeGrid, settings_.frontToBack)) {
-          commands[precision][0].push_back({kFrontFaceVertices, range.count, 0, entry.firstRecord + range.first});
+          commands[precision][0].push_back({frontVertices, range.count, 0, entry.firstRecord + range.first});
           draws[precision][0].push_back(draw);
           stats_.cells += range.count;
         }
         shader::HermiteDraw nearDraw = draw;
         nearDraw.flags |= HERMITE_FLAG_NEAR_CELL;
         for (std::uint32_t record : cellsNearPoint(entry.rows, asset.cells, eyeGrid, reachGrid)) {
-          commands[precision][1].push_back({kBoxVertices, 1, 0, entry.firstRecord + record});
+          commands[precision][1].push_back({nearVertices, 1, 0, entry.firstRecord + record});
           draws[precision][1].push_back(nearDraw);
           stats_.nearCells++;
         }
@@ -641,7 +680,7 @@ void HermiteCellFeature::buildDraws(engine::render::FrameContext& frame) {
     }
   }
   earlyDepth_ = earlyDepthWanted(settings_.earlyDepth, context_->capabilities().isSoftwareRasterizer) &&
-                stats_.draws > 0 && !objectsOverlap && !drawsBricks;
+                stats_.draws > 0 && !objectsOverlap && !drawsBricks && !settings_.thinBoxes;
   if (!allCommands.empty()) {
     indirect_.upload(frame.frameSlot, allCommands);
     drawData_.upload(frame.frameSlot, allDraws);
@@ -784,8 +823,11 @@ void HermiteCellFeature::recordBatch(engine::render::PassContext& pass, int prec
   const bool runs = precision == kRunBatch;
   const bool bricks = precision == kBrickBatch;
   const Variant variant = prepassVariant(pass.frame);
+  const int twoVariants = variant == kCounted ? kCounted : kProduction;  // bricks and thin cells have no early one
   const Pipeline& pipeline = bricks ? brickPipeline(variant, near)
                              : runs ? (near ? pipelines_.runsNear[variant] : pipelines_.runsFront[variant])
+                             : settings_.thinBoxes ? (near ? pipelines_.thinNear[twoVariants][precision]
+                                                           : pipelines_.thinFront[twoVariants][precision])
                                     : (near ? pipelines_.depthNear[variant][precision]
                                             : pipelines_.depthFront[variant][precision]);
   vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, pipeline.handle());

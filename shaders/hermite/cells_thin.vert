@@ -1,0 +1,47 @@
+#version 460
+// Hermite cells, thin boxes (HermiteCellFeature::Settings::thinBoxes; issue 20 step 2): one
+// instance per kept cell as in cells.vert, but only the cell's coordinate arrives as an attribute
+// and the box costs 8 vertex-shader invocations (its front faces as one triangle fan, box.glsl
+// frontFanCorner), or 14 for cells the near plane may cut (all six faces as one strip, drawn by
+// their back faces). The vertex shader hands on 12 bytes; the fragment shader reads the cell's 32
+// scalars by buffer address and rebuilds the pixel's ray (cells_thin_depth.glsl). cells.vert, the
+// paper's variant, hands every one of its 18 vertices the 8 corners (128 bytes) and more.
+#extension GL_GOOGLE_include_directive : require
+#include "hermite/hermite_host_device.h"
+#include "hermite/box.glsl"
+#include "hermite/proxy_dilation.glsl"
+
+layout(push_constant, scalar) uniform Push { HermitePushConstants pc; };
+layout(buffer_reference, scalar) readonly buffer HermiteDrawsRef { HermiteDraw draws[]; };
+
+layout(location = 8) in uvec4 inCell;  // x, y, z, class (the record's last 8 bytes)
+
+// Every varying is flat: 3 x 4 bytes per vertex (issue 20's target: at most 16).
+layout(location = 0) flat out uint outRecord;     // index of the cell record in its buffer
+layout(location = 1) flat out uint outDraw;       // index of the HermiteDraw
+layout(location = 2) flat out float outDilation;  // how far the proxy reaches beyond the cell, cells
+
+precise gl_Position;
+
+void main() {
+  uint drawIndex = pc.drawBase + gl_DrawID;
+  HermiteDraw draw = HermiteDrawsRef(pc.draws).draws[drawIndex];
+  ObjectData object = ObjectsRef(pc.draw.objects).objects[draw.object];
+  FrameGlobals frame = FrameGlobalsRef(pc.draw.frameGlobals).globals;
+
+  vec3 cell = vec3(inCell.xyz);
+  float h = draw.gridOriginSpacing.w;
+  float dilation = proxyDilation(frame, object, draw.gridOriginSpacing.xyz + h * (cell + 0.5), h);
+  vec3 cameraObject = (object.invModel * vec4(frame.cameraPosition.xyz, 1.0)).xyz;
+  vec3 cameraLocal = (cameraObject - draw.gridOriginSpacing.xyz) / h - cell;
+  bool mirrored = (object.flags & OBJECT_FLAG_MIRRORED) != 0u;
+  vec3 corner = (draw.flags & HERMITE_FLAG_NEAR_CELL) != 0u ? boxStripCorner(gl_VertexIndex, mirrored)
+                                                             : frontFanCorner(gl_VertexIndex, cameraLocal, vec3(0.5), mirrored);
+  vec3 local = corner * (1.0 + 2.0 * dilation) - dilation;
+  vec3 objectPosition = draw.gridOriginSpacing.xyz + h * (cell + local);
+
+  outRecord = uint(gl_InstanceIndex);  // firstInstance of the command = first record of the range
+  outDraw = drawIndex;
+  outDilation = dilation;
+  gl_Position = frame.viewProj * (object.model * vec4(objectPosition, 1.0));
+}

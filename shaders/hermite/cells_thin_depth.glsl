@@ -1,0 +1,60 @@
+// Depth prepass of the thin cell boxes (cells_thin.vert): the search of cells_depth.glsl over the
+// cell's box dilated by the search margin (cell_search.glsl; docs/root-finding.md), with the
+// cell's record read by buffer address instead of handed on as varyings, and the ray rebuilt from
+// gl_FragCoord (pixel_ray.glsl). Included by cells_thin_depth{,_near}{,_counted}.frag; no early
+// depth variant (a frame that draws thin cells keeps the early depth stage off).
+#extension GL_GOOGLE_include_directive : require
+#include "hermite/hermite_host_device.h"
+#include "hermite/proxy_dilation.glsl"
+#include "hermite/pixel_ray.glsl"
+
+layout(push_constant, scalar) uniform Push { HermitePushConstants pc; };
+layout(buffer_reference, scalar) readonly buffer HermiteDrawsRef { HermiteDraw draws[]; };
+#include "hermite/cell_search.glsl"
+
+layout(location = 0) flat in uint inRecord;
+layout(location = 1) flat in uint inDraw;
+layout(location = 2) flat in float inDilation;  // the proxy: the cell's box grown by this, cells
+
+layout(location = 0) out uvec2 outVisibility;  // (1 + object, cell record)
+#if defined(HSDF_CONSERVATIVE_DEPTH)
+layout(depth_less) out float gl_FragDepth;  // reverse-Z: the hit is never nearer than the front face
+#endif
+#include "hermite/hit_depth.glsl"
+
+// The cell's grid coordinate, from its record (the record's xy / zc words, as cells_resolve.frag).
+vec3 recordCell(HermiteDraw draw, uint record) {
+  uint xy, zc;
+  if ((draw.flags & HERMITE_FLAG_HALF_RECORDS) == 0u) {
+    xy = CellRecordsRef(draw.records).records[record].xy;
+    zc = CellRecordsRef(draw.records).records[record].zc;
+  } else {
+    xy = CellRecordsHalfRef(draw.records).records[record].xy;
+    zc = CellRecordsHalfRef(draw.records).records[record].zc;
+  }
+  return vec3(uvec3(xy & 0xffffu, xy >> 16, zc & 0xffffu));
+}
+
+void main() {
+  HermiteDraw draw = HermiteDrawsRef(pc.draws).draws[inDraw];
+  FrameGlobals frame = FrameGlobalsRef(pc.draw.frameGlobals).globals;
+  mat4 invModel = ObjectsRef(pc.draw.objects).objects[draw.object].invModel;
+  float h = draw.gridOriginSpacing.w;
+  vec3 eyeObject = (invModel * vec4(frame.cameraPosition.xyz, 1.0)).xyz;
+  vec3 origin = (eyeObject - draw.gridOriginSpacing.xyz) / h - recordCell(draw, inRecord);
+  vec3 direction = pixelRayDirection(frame, invModel, h);
+  float margin = searchMargin(origin, inDilation);
+  uint evaluations = 0u;
+  // From the near plane (t = gl_FragCoord.z, pixel_ray.glsl) on; searchCell clips to the dilated box.
+  float t = searchCell(draw, inRecord, origin, direction, margin, gl_FragCoord.z, 3.0e38, evaluations);
+  countWork(evaluations);
+  if (t < 0.0) {
+    writeMiss();  // no discard: see hit_depth.glsl
+  } else {
+#ifdef HSDF_CONSERVATIVE_DEPTH
+    t = max(t, 1.0);  // a root in the margin before the face is drawn at the face (cells_depth.glsl)
+#endif
+    writeHitDepth(gl_FragCoord.z / t);
+  }
+  outVisibility = uvec2(draw.object + 1u, inRecord);  // kept only where the depth test passes
+}
