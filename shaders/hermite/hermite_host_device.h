@@ -162,8 +162,13 @@ struct SphereTraceDraw {
   uint filterBits;         // trilinear: 0 = the hardware filter; b > 0 = filtered in the shader with
                            // weights rounded to b fractional bits, as GPU filter units do (tests
                            // reproduce a GPU's quantized filter on lavapipe, which filters in float)
+  float exactBelow;        // trilinear: |f| (grid units) below which a step evaluates the exact
+                           // interpolant instead of the filter (SphereTraceFeature::exactBelowCells)
+  uint pad0;
+  uint pad1;
+  uint pad2;
 };
-HSDF_CHECK_SIZE(SphereTraceDraw, 16 + 8 * 4);
+HSDF_CHECK_SIZE(SphereTraceDraw, 16 + 12 * 4);
 
 // Push constants of the sphere-tracing pipelines.
 struct SphereTracePushConstants {

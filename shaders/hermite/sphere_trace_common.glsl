@@ -117,20 +117,16 @@ float exactTrilinear(SphereTraceDraw draw, vec3 g) {
   return mix(y.x, y.y, u.z);
 }
 
-// Below this |f| (grid units) a step trusts the exact interpolant, not the filter. A filter unit
-// with b-bit weights is off by at most 2^-(b+1) of the largest difference of two neighbouring
-// texels (about 1 cell for a distance field, 2 for samples of +-h): 1/32 cell at the 4 bits Vulkan
-// allows, far less at NVIDIA's 8. Above the threshold the filtered sign is therefore the exact
-// one and the step is a sphere-tracing step on a value within 1/32 cell of the exact one; below
-// it every decision (epsilon, sign change, step length) is taken on the exact interpolant, as
-// the dense Hermite tracer does. Quantized GPUs otherwise left rays creeping or oscillating at
-// the surface until their step limit (H200: ~40 rays out of steps per 1080p view; the emulated
-// 8-bit filter here: holes and out-of-steps rays in the sphere-tracing tests).
-const float kExactBelowCells = 0.125;
-
+// Below draw.exactBelow (grid units, from the filter's weight precision: SphereTraceFeature::
+// exactBelowCells) a step trusts the exact interpolant, not the filter. Above it the filtered sign
+// is the exact one and the step is a sphere-tracing step on a value off by a small fraction of
+// itself; below it every decision (epsilon, sign change, step length) is taken on the exact
+// interpolant, as the dense Hermite tracer does. Quantized GPUs otherwise left rays creeping or
+// oscillating at the surface until their step limit (H200: ~40 rays out of steps per 1080p view;
+// the emulated 8-bit filter here: holes and out-of-steps rays in the sphere-tracing tests).
 float evaluateField(SphereTraceDraw draw, inout FieldCursor cursor, vec3 g) {
   float filtered = filteredField(draw, g);
-  if (abs(filtered) >= kExactBelowCells * draw.gridOriginSpacing.w) return filtered;
+  if (abs(filtered) >= draw.exactBelow * draw.gridOriginSpacing.w) return filtered;
   return exactTrilinear(draw, g);
 }
 

@@ -489,19 +489,27 @@ TEST_F(HermiteCellsTest, ThinBoxesDrawThePapersBoxesSurface) {
     } else {
       expectMatchesReference(c);
     }
-    int covered = 0, coverageDiffers = 0;
+    // The two rasterize the same faces as different triangles, so each pixel's search starts from
+    // a slightly different face point: depths agree to float rounding, except on the few pixels
+    // whose root lies on a face two cells share (found by either cell, at depths that differ in the
+    // refinement's last step; up to 1.2e-4 relative on an H200's box views).
+    int covered = 0, coverageDiffers = 0, depthDiffers = 0;
     double worst = 0.0;
     for (std::size_t i = 0; i < paper.depth.size(); ++i) {
       const bool a = paper.depth[i] > 0.0f, b = thin.depth[i] > 0.0f;
       covered += a;
       coverageDiffers += a != b;
-      if (a && b) worst = std::max(worst, double(std::abs(paper.depth[i] - thin.depth[i]) / paper.depth[i]));
+      if (!a || !b) continue;
+      const double relative = double(std::abs(paper.depth[i] - thin.depth[i]) / paper.depth[i]);
+      worst = std::max(worst, relative);
+      depthDiffers += relative > 1e-5;
     }
-    std::printf("[ %s ] thin vs paper's boxes: covered %d, coverage differs %d, depth rel. %.1e at most\n",
-                label.c_str(), covered, coverageDiffers, worst);
+    std::printf("[ %s ] thin vs paper's boxes: covered %d, coverage differs %d, depth rel. > 1e-5 at %d, %.1e at most\n",
+                label.c_str(), covered, coverageDiffers, depthDiffers, worst);
     EXPECT_GT(covered, 500);
     EXPECT_LE(coverageDiffers, covered / 1000);
-    EXPECT_LT(worst, 1e-5);
+    EXPECT_LE(depthDiffers, covered / 1000);
+    EXPECT_LT(worst, 1e-3);
   };
   const ecs::Entity entity = addSdf(registry_, torus, hsdf::RenderMethod::Cells);
   for (int view = 0; view < 6; ++view)
@@ -688,10 +696,14 @@ TEST_F(HermiteCellsTest, MeshPlaneCutsSdfWhereTheReferenceSays) {
       if (planeHit && sdfHit && std::abs(planeDistance - sdfDistance) < 0.01 * asset->field.grid.spacing) continue;
       const bool planeInFront = planeHit && (!sdfHit || planeDistance < sdfDistance);
       const double planeDepth = planeHit ? math::viewDistanceToDepth(planeDistance, camera.znear) : 0.0;
-      // The plane's depth comes straight from the rasterizer: the pixel shows the plane iff the
-      // depth matches it.
+      // The plane's depth comes straight from the rasterizer: the pixel shows the plane iff its
+      // depth is nearer to the plane's than to the SDF's (or the background's). Not "equal to the
+      // plane's within 1e-5": a GPU snaps the quad's vertices to its sub-pixel grid, which moves the
+      // depth of a plane seen this obliquely by more than that (an H200 failed a third of the
+      // pixels so, with every surface where it belonged).
       const double got = frame.depthAt(std::uint32_t(x), std::uint32_t(y));
-      const bool gpuShowsPlane = planeHit && std::abs(got - planeDepth) <= 1e-5 * planeDepth;
+      const double sdfDepth = sdfHit ? double(reference->depth[i]) : 0.0;
+      const bool gpuShowsPlane = planeHit && std::abs(got - planeDepth) < std::abs(got - sdfDepth);
       ++checked;
       planeWins += planeInFront;
       sdfWins += !planeInFront;
@@ -736,7 +748,9 @@ TEST_F(HermiteCellsTest, SixtyFourInstancesInOneDrawMatchSeparateFrames) {
     registry_.clear();
     addSdf(registry_, asset, hsdf::RenderMethod::Cells, m);
     const Frame one = renderWith(camera, DEBUG_VIEW_NONE);
-    EXPECT_TRUE(renderer_->feature<hsdf::HermiteCellFeature>()->stats().earlyDepth);
+    // Early depth is on (EarlyDepth::Auto) where fragments are shaded in order (lavapipe).
+    EXPECT_EQ(renderer_->feature<hsdf::HermiteCellFeature>()->stats().earlyDepth,
+              context_->capabilities().isSoftwareRasterizer);
     for (std::size_t i = 0; i < expected.size(); ++i) expected[i] = std::max(expected[i], one.depth[i]);
   }
   int covered = 0, different = 0;

@@ -88,6 +88,13 @@ class SphereTraceFeature final : public engine::render::RenderFeature {
     // which filters in full float (lavapipe) shows what such GPUs draw. For tests and experiments.
     std::uint32_t emulatedFilterBits = 0;
   };
+  // The trilinear tracer's switch from filtered to exact values (grid units), for a filter whose
+  // weights have `bits` fractional bits: such a filter is off by at most 2^-(bits+1) of the largest
+  // difference of two neighbouring texels (about 1 cell for a distance field, 2 for samples that
+  // jump across zero); 4x that margin: 2^-(bits-2), 1/64 cell for NVIDIA's and lavapipe's 8 bits,
+  // 1/4 for the 4 bits Vulkan allows. Bits past 8 count as 8 (a finer filter needs no less).
+  static float exactBelowCells(std::uint32_t bits);
+
   struct Stats {
     std::uint32_t trilinearObjects = 0;
     std::uint32_t hermiteObjects = 0;
@@ -119,6 +126,7 @@ class SphereTraceFeature final : public engine::render::RenderFeature {
   bool refused(std::uint64_t assetId) const;
 
  private:
+  std::uint32_t deviceFilterBits_ = 8;  // VkPhysicalDeviceLimits::subTexelPrecisionBits
   struct FieldTexture {
     engine::gpu::Image image;
     std::uint32_t slot = 0;

@@ -54,11 +54,19 @@ SphereTraceFeature::~SphereTraceFeature() {
   for (VkSampler sampler : samplers_) vkDestroySampler(context_->device(), sampler, nullptr);
 }
 
+float SphereTraceFeature::exactBelowCells(std::uint32_t bits) {
+  const int b = int(std::clamp(bits, 1u, 8u));
+  return std::ldexp(1.0f, 2 - b);
+}
+
 engine::Status SphereTraceFeature::initialize(const engine::gpu::Context& context,
                                               const engine::render::RendererFormats& formats,
                                               std::uint32_t framesInFlight) {
   context_ = &context;
   ENGINE_TRY(checkFieldFormats(context));
+  VkPhysicalDeviceProperties properties{};
+  vkGetPhysicalDeviceProperties(context.physicalDevice(), &properties);
+  deviceFilterBits_ = properties.limits.subTexelPrecisionBits;
   const bool bindless = options_.allowBindless && context.capabilities().descriptorIndexing;
   ENGINE_TRY_ASSIGN(bindings_, FieldTextureBindings::create(context, bindless));
   stats_.bindless = bindless;
@@ -259,6 +267,7 @@ void SphereTraceFeature::collectDraws(engine::render::FrameContext& frame) {
         draw.epsilon = settings_.epsilon;
         draw.centralStep = settings_.centralDifferenceStep;
         draw.filterBits = std::min(settings_.emulatedFilterBits, 16u);
+        draw.exactBelow = exactBelowCells(draw.filterBits != 0 ? draw.filterBits : deviceFilterBits_);
         const bool near = nearPlaneMayCut(frame.camera, object.invModel, lo, hi);
         lists[method][near ? 1 : 0].push_back(draw);
         (method == std::uint32_t(TraceMethod::Trilinear) ? stats_.trilinearObjects : stats_.hermiteObjects)++;
