@@ -17,24 +17,9 @@ vec3 boxCorner(int vertexIndex, bool mirrored) {
   return vec3(corner & 1, (corner >> 1) & 1, corner >> 2);
 }
 
-// The faces of the box [lo, hi] (local coordinates) that face an eye at `eye` (same coordinates):
-// at most one per axis, the one on the eye's side, and none for an axis whose two face planes the
-// eye lies between (both face away from it). Front faces are all a box shows, so 18 vertices
-// instead of 36: vertex `vertexIndex` (0..17) belongs to axis vertexIndex / 6. Returns its corner as
-// a 0/1 position, or -1 in every component for a vertex of an axis without a front face (the
-// caller collapses those triangles). The test is per instance, the same in every vertex.
-vec3 frontFaceCorner(int vertexIndex, vec3 eye, vec3 lo, vec3 hi, bool mirrored) {
-  int axis = vertexIndex / 6;
-  float e = eye[axis];
-  if (e >= lo[axis] && e <= hi[axis]) return vec3(-1.0);
-  int face = 2 * axis + (e > hi[axis] ? 1 : 0);  // kBoxCorners lists -x, +x, -y, +y, -z, +z
-  return boxCorner(6 * face + vertexIndex % 6, mirrored);
-}
-
 // Fewer vertices per box (issue 20 step 2: the vertex shader runs once per vertex of a
-// non-indexed draw). Used by the cell bricks (bricks.vert); the experiment that applied it to the
-// cells and runs is docs/perf/experiments/box-traffic-0b307bb.patch. Corners are numbered
-// x + 2y + 4z as in kBoxCorners.
+// non-indexed draw): every cell proxy (cells.vert, cells_thin.vert, runs.vert, bricks.vert) is a
+// fan of its front faces or a strip of all six. Corners are numbered x + 2y + 4z as in kBoxCorners.
 vec3 cornerPosition(int corner) { return vec3(corner & 1, (corner >> 1) & 1, corner >> 2); }
 
 // Corner c mirrored through the plane y = z, which maps the box onto itself and reverses the

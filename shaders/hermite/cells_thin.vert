@@ -5,7 +5,7 @@
 // frontFanCorner), or 14 for cells the near plane may cut (all six faces as one strip, drawn by
 // their back faces). The vertex shader hands on 12 bytes; the fragment shader reads the cell's 32
 // scalars by buffer address and rebuilds the pixel's ray (cells_thin_depth.glsl). cells.vert, the
-// paper's variant, hands every one of its 18 vertices the 8 corners (128 bytes) and more.
+// paper's variant, hands each of its 8 vertices the 8 corners (128 bytes) and more.
 #extension GL_GOOGLE_include_directive : require
 #include "hermite/hermite_host_device.h"
 #include "hermite/box.glsl"

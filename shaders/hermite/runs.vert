@@ -1,7 +1,8 @@
 #version 460
 // Hermite cell runs (RenderMethod::CellRuns): one instance per run of kept cells that follow each
-// other along x in one row, drawn as one box of `length` cells: its front faces (18 vertices,
-// box.glsl frontFaceCorner), or all 36 for runs the near plane may cut (drawn by back faces).
+// other along x in one row, drawn as one box of `length` cells: its front faces as one triangle fan
+// (8 vertices, box.glsl frontFanCorner), or all six faces as one strip (14) for runs the near plane
+// may cut (drawn by back faces).
 // The fragment shader walks the ray through the run's cells and reads each cell's record by
 // buffer device address, so the vertex stream carries 12 bytes per run instead of 136 per cell and
 // the faces between cells of a run produce no fragments (issue 13; docs/perf/).
@@ -41,10 +42,9 @@ void main() {
   vec3 cameraObject = (object.invModel * vec4(frame.cameraPosition.xyz, 1.0)).xyz;
   vec3 cameraLocal = (cameraObject - draw.gridOriginSpacing.xyz) / h - start;
   bool mirrored = (object.flags & OBJECT_FLAG_MIRRORED) != 0u;
-  vec3 corner = (draw.flags & HERMITE_FLAG_NEAR_CELL) != 0u
-                    ? boxCorner(gl_VertexIndex, mirrored)
-                    : frontFaceCorner(gl_VertexIndex, cameraLocal, vec3(-dilation), size + dilation, mirrored);
-  vec3 local = max(corner, 0.0) * (size + 2.0 * dilation) - dilation;
+  vec3 corner = (draw.flags & HERMITE_FLAG_NEAR_CELL) != 0u ? boxStripCorner(gl_VertexIndex, mirrored)
+                                                             : frontFanCorner(gl_VertexIndex, cameraLocal, 0.5 * size, mirrored);
+  vec3 local = corner * (size + 2.0 * dilation) - dilation;
   vec3 objectPosition = draw.gridOriginSpacing.xyz + h * (start + local);
 
   outRun = run;
@@ -53,5 +53,4 @@ void main() {
   outDilation = dilation;
   outCameraLocal = cameraLocal;
   gl_Position = frame.viewProj * (object.model * vec4(objectPosition, 1.0));
-  if (corner.x < 0.0) gl_Position = vec4(0.0, 0.0, 0.0, 1.0);  // no front face on this axis: nothing drawn
 }

@@ -9,7 +9,7 @@
 // the first root by n equidistant evaluations + linear interpolation + regula-falsi refinement and
 // hands on the hit's depth (early depth, below; else gl_FragDepth with conservative depth: the hit
 // is never nearer than the front face), plus the visibility id. Boxes are drawn by their front
-// faces (18 vertices chosen by the eye's side per axis); cells the near plane may cut are drawn
+// faces (one triangle fan of 8 vertices around the corner nearest the eye); cells the near plane may cut are drawn
 // by their back faces with a non-conservative variant, so a camera inside the object or inside a
 // cell loses no surface.
 // Shading pass: each pixel is shaded once: a resolve over the objects' screen bounds reads the visibility buffer

@@ -66,15 +66,12 @@ static_assert(sizeof(CellRecordHalf) == sizeof(shader::CellRecordHalfGpu), "Cell
 namespace {
 
 constexpr std::uint32_t kRecordStride[2] = {sizeof(CellRecord), sizeof(CellRecordHalf)};
-// Vertices per instance: a box's front faces (cells.vert, runs.vert: box.glsl frontFaceCorner), all
-// its faces (near-plane cells, drawn by back faces), its 12 edges (the wireframe view).
-constexpr std::uint32_t kFrontFaceVertices = 18;
-constexpr std::uint32_t kBoxVertices = 36;
+// Vertices per instance of every box (cells, thin cells, runs, bricks; box.glsl): the front faces as
+// one triangle fan, all six faces (near-plane boxes, drawn by back faces) as one triangle strip: 8
+// and 14 vertex-shader invocations per box (issue 20, step 2); the wireframe: the 12 edges.
+constexpr std::uint32_t kFanVertices = 8;
+constexpr std::uint32_t kStripVertices = 14;
 constexpr std::uint32_t kWireVertices = 24;
-// Cell bricks (bricks.vert, box.glsl): the front faces as one triangle fan, all faces (near-plane
-// bricks) as one triangle strip: 8 and 14 vertex-shader invocations per box (issue 20, step 2).
-constexpr std::uint32_t kBrickFanVertices = 8;
-constexpr std::uint32_t kBrickStripVertices = 14;
 
 engine::gpu::VertexLayout cellVertexLayout(int precision) {
   engine::gpu::VertexLayout layout;
@@ -238,10 +235,12 @@ engine::Expected<HermiteCellFeature::Pipelines> HermiteCellFeature::createPipeli
       desc.name = "hermite cells depth" + suffix;
       desc.fragment = frontFrag.handle();
       desc.cullMode = VK_CULL_MODE_BACK_BIT;
+      desc.topology = VK_PRIMITIVE_TOPOLOGY_TRIANGLE_FAN;
       ENGINE_TRY_ASSIGN(p.depthFront[variant][precision], Pipeline::createGraphics(context, desc));
       desc.name = "hermite cells depth near" + suffix;
       desc.fragment = nearFrag.handle();
       desc.cullMode = VK_CULL_MODE_FRONT_BIT;
+      desc.topology = VK_PRIMITIVE_TOPOLOGY_TRIANGLE_STRIP;
       ENGINE_TRY_ASSIGN(p.depthNear[variant][precision], Pipeline::createGraphics(context, desc));
     }
     // Cell runs: records by address, one pipeline pair for both precisions (HERMITE_FLAG_HALF_RECORDS).
@@ -257,10 +256,12 @@ engine::Expected<HermiteCellFeature::Pipelines> HermiteCellFeature::createPipeli
     desc.name = std::string("hermite cell runs depth") + kVariantNames[variant];
     desc.fragment = runsFrontFrag.handle();
     desc.cullMode = VK_CULL_MODE_BACK_BIT;
+    desc.topology = VK_PRIMITIVE_TOPOLOGY_TRIANGLE_FAN;
     ENGINE_TRY_ASSIGN(p.runsFront[variant], Pipeline::createGraphics(context, desc));
     desc.name = std::string("hermite cell runs depth near") + kVariantNames[variant];
     desc.fragment = runsNearFrag.handle();
     desc.cullMode = VK_CULL_MODE_FRONT_BIT;
+    desc.topology = VK_PRIMITIVE_TOPOLOGY_TRIANGLE_STRIP;
     ENGINE_TRY_ASSIGN(p.runsNear[variant], Pipeline::createGraphics(context, desc));
   }
   ENGINE_TRY(createBrickPipelines(p));
@@ -620,13 +621,13 @@ void HermiteCellFeature::buildDraws(engine::render::FrameContext& frame) {
         if (r.method == RenderMethod::CellRuns) {
           const std::vector<CellRows::Range> rowOrder = orderedRows(entry.rows, eyeGrid, settings_.frontToBack);
           for (const CellRows::Range& range : runRanges(entry.runs, rowOrder)) {
-            commands[2][0].push_back({kFrontFaceVertices, range.count, 0, entry.firstRun + range.first});
+            commands[2][0].push_back({kFanVertices, range.count, 0, entry.firstRun + range.first});
             draws[2][0].push_back(draw);
           }
           shader::HermiteDraw nearDraw = draw;
           nearDraw.flags |= HERMITE_FLAG_NEAR_CELL;
           for (std::uint32_t run : runsNearPoint(entry.runs, eyeGrid, reachGrid)) {
-            commands[2][1].push_back({kBoxVertices, 1, 0, entry.firstRun + run});
+            commands[2][1].push_back({kStripVertices, 1, 0, entry.firstRun + run});
             draws[2][1].push_back(nearDraw);
             stats_.nearCells++;
           }
@@ -634,17 +635,15 @@ void HermiteCellFeature::buildDraws(engine::render::FrameContext& frame) {
           stats_.runs += entry.runs.size();
           return;
         }
-        const std::uint32_t frontVertices = settings_.thinBoxes ? kBrickFanVertices : kFrontFaceVertices;
-        const std::uint32_t nearVertices = settings_.thinBoxes ? kBrickStripVertices : kBoxVertices;
         for (const CellRows::Range& range : orderedRows(entry.rows, eyeGrid, settings_.frontToBack)) {
-          commands[precision][0].push_back({frontVertices, range.count, 0, entry.firstRecord + range.first});
+          commands[precision][0].push_back({kFanVertices, range.count, 0, entry.firstRecord + range.first});
           draws[precision][0].push_back(draw);
           stats_.cells += range.count;
         }
         shader::HermiteDraw nearDraw = draw;
         nearDraw.flags |= HERMITE_FLAG_NEAR_CELL;
         for (std::uint32_t record : cellsNearPoint(entry.rows, asset.cells, eyeGrid, reachGrid)) {
-          commands[precision][1].push_back({nearVertices, 1, 0, entry.firstRecord + record});
+          commands[precision][1].push_back({kStripVertices, 1, 0, entry.firstRecord + record});
           draws[precision][1].push_back(nearDraw);
           stats_.nearCells++;
         }
@@ -701,12 +700,12 @@ void HermiteCellFeature::addBrickDraws(const std::vector<shader::CellBrickGpu>& 
                                        std::vector<shader::HermiteDraw> draws[2]) {
   const auto count = static_cast<std::uint32_t>(bricks.size());
   if (count == 0) return;  // reported when the bricks could not be built
-  commands[0].push_back({kBrickFanVertices, count, 0, firstBrick});
+  commands[0].push_back({kFanVertices, count, 0, firstBrick});
   draws[0].push_back(draw);
   shader::HermiteDraw nearDraw = draw;
   nearDraw.flags |= HERMITE_FLAG_NEAR_CELL;
   for (std::uint32_t brick : bricksNearPoint(bricks, eyeGrid, reachGrid)) {
-    commands[1].push_back({kBrickStripVertices, 1, 0, firstBrick + brick});
+    commands[1].push_back({kStripVertices, 1, 0, firstBrick + brick});
     draws[1].push_back(nearDraw);
     stats_.nearCells++;
   }
