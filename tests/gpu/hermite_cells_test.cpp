@@ -566,7 +566,8 @@ TEST_F(HermiteCellsTest, BrickCullingKeepsTheImageAndDrawsFewerBricks) {
     const auto* s = gpu::findStatistics(renderer_->lastPipelineStatistics(), "depth prepass");
     return s ? s->fragmentShaderInvocations : 0;
   };
-  std::uint64_t tested = 0, kept = 0;
+  std::uint64_t tested = 0, kept = 0, allSum = 0, culledSum = 0;
+  const bool inOrder = tolerancesFor(*context_).fragmentsShadeInPrimitiveOrder;
   for (int view = 0; view < 6; ++view) {
     SCOPED_TRACE("view " + std::to_string(view));
     const render::CameraView camera = orbitCamera(*asset, view);
@@ -584,11 +585,19 @@ TEST_F(HermiteCellsTest, BrickCullingKeepsTheImageAndDrawsFewerBricks) {
     ASSERT_GT(std::count_if(culled.depth.begin(), culled.depth.end(), [](float d) { return d > 0.0f; }), 500);
     EXPECT_TRUE(all.depth == culled.depth) << "culling changed the depth";
     EXPECT_TRUE(all.rgba == culled.rgba) << "culling changed the colour";
-    if (allFragments > 0) {
+    allSum += allFragments;
+    culledSum += fragments();
+    // In primitive order (lavapipe) every view's count can only fall. A GPU counts the fragments
+    // its early depth test let through, which depends on the order its parallel fragments happen to
+    // write depth: one H200 view of six had 0.6 % more with culling; the six views together fall.
+    if (allFragments > 0 && inOrder) {
       EXPECT_LE(fragments(), allFragments);
     }
   }
   EXPECT_LT(kept, tested) << "the cones removed no brick of the bunny in six views";
+  if (allSum > 0) {
+    EXPECT_LT(culledSum, allSum) << "culling drew no fewer prepass fragments over six views";
+  }
 }
 
 // Why: inside a cell the near plane cuts the run's (brick's) front faces away; the back-face path
