@@ -166,7 +166,7 @@ engine::Status readKey(const std::string& key, const json& value, TuningState& t
   if (key == "early_depth") return readEarlyDepth(value, t.earlyDepth);
   if (key == "certified") return readBool(value, t.certified);
   if (key == "cull_bricks") return readBool(value, t.cullBricks);
-  if (key == "thin_boxes") return readBool(value, t.thinBoxes);
+  if (key == "thin_boxes") return readEarlyDepth(value, t.thinBoxes);  // the same true / false / "auto" switch
   if (key == "split") return readName(value, kSplitModes, t.split);
   if (key == "split_position") return readFloat(value, kSplitMin, kSplitMax, t.splitPosition);
   if (key == "compare_method") {
@@ -324,7 +324,7 @@ engine::Status saveTuning(const std::filesystem::path& file, const TuningState& 
                      {"early_depth", earlyDepth},
                      {"certified", t.certified},
                      {"cull_bricks", t.cullBricks},
-                     {"thin_boxes", t.thinBoxes},
+                     {"thin_boxes", t.thinBoxes == ThinBoxes::Auto ? json("auto") : json(t.thinBoxes == ThinBoxes::On)},
                      {"split", splitModeName(t.split)},
                      {"split_position", t.splitPosition},
                      {"compare_method", methodName(t.compareMethod)},

@@ -41,6 +41,9 @@ std::optional<DebugView> parseDebugView(std::string_view name);
 enum class EarlyDepth { Auto, On, Off };
 const char* earlyDepthName(EarlyDepth mode);  // "auto", "on", "off"
 std::optional<EarlyDepth> parseEarlyDepth(std::string_view name);
+// The cells' thin boxes (hsdf::HermiteCellFeature::ThinBoxes), the same three-way switch: auto (on
+// GPUs when the cells are small on screen), on, off; written as true, false or "auto".
+using ThinBoxes = EarlyDepth;
 
 // Split-screen comparison: off, or a divider that is vertical (compared method on the right) or
 // horizontal (compared method at the bottom).
@@ -92,7 +95,7 @@ struct TuningState {
   EarlyDepth earlyDepth = EarlyDepth::Auto;  // cells: test boxes at their faces' depth, hidden ones skip the search
   bool certified = false;   // cells: certified root search instead of n samples (renderable.h)
   bool cullBricks = true;   // cell bricks: the GPU culling pass (frustum, normal cones) before the prepass
-  bool thinBoxes = false;   // cells: 8 vertices and 12 bytes of varyings per box, records read by address
+  ThinBoxes thinBoxes = ThinBoxes::Auto;  // cells: 12 bytes of varyings per box, records read by address
   // Split-screen comparison (same camera, same frame): the tuning above on one side, the compared
   // method on the other, drawn from its own bake at compareResolution with compareNormals (n,
   // refinement and fp16 are shared). A compared method of cells draws the main asset (K above).

@@ -106,10 +106,15 @@ void TuningPanel::drawMethod() {
   if (ImGui::IsItemHovered())
     ImGui::SetTooltip("cell bricks: a compute pass keeps only the bricks in the frustum whose normal cone may face the eye");
   ImGui::SameLine();
-  changed |= ImGui::Checkbox("thin boxes", &t.thinBoxes);
+  int thin = int(t.thinBoxes);
+  ImGui::SetNextItemWidth(ImGui::GetFontSize() * 4.0f);
+  if (ImGui::Combo("thin boxes", &thin, "auto\0on\0off\0")) {  // the order of samples::ThinBoxes
+    t.thinBoxes = ThinBoxes(thin);
+    changed = true;
+  }
   if (ImGui::IsItemHovered())
-    ImGui::SetTooltip("cells: 8 vertices and 12 bytes of varyings per box, the cell's data read by address in the\n"
-                      "fragment shader, instead of 18 vertices each carrying the cell's Hermite data");
+    ImGui::SetTooltip("cells: 12 bytes of varyings per box, the cell's data read by address in the fragment shader,\n"
+                      "instead of each box vertex carrying the cell's Hermite data; auto: on GPUs when cells are small on screen");
   int view = int(t.debugView);
   if (ImGui::Combo("debug view", &view, kDebugViewLabels, IM_ARRAYSIZE(kDebugViewLabels))) {
     t.debugView = DebugView(view);

@@ -321,7 +321,10 @@ void Viewer::applyTuningToScene() {
   hsdf::HermiteCellFeature::Settings& cells = renderer_->feature<hsdf::HermiteCellFeature>()->settings();
   cells.frontToBack = tuning_.frontToBack;
   cells.cullBricks = tuning_.cullBricks;
-  cells.thinBoxes = tuning_.thinBoxes;
+  using CellThinBoxes = hsdf::HermiteCellFeature::ThinBoxes;
+  cells.thinBoxes = tuning_.thinBoxes == ThinBoxes::On    ? CellThinBoxes::On
+                    : tuning_.thinBoxes == ThinBoxes::Off ? CellThinBoxes::Off
+                                                          : CellThinBoxes::Auto;
   using CellEarlyDepth = hsdf::HermiteCellFeature::EarlyDepth;
   cells.earlyDepth = tuning_.earlyDepth == EarlyDepth::On    ? CellEarlyDepth::On
                      : tuning_.earlyDepth == EarlyDepth::Off ? CellEarlyDepth::Off

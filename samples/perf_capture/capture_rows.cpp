@@ -34,8 +34,13 @@ const Variant kVariants[] = {
     {"cells", "n=3 r=1", true, {.method = Method::Cells, .subdivisions = 3, .refineSteps = 1}},
     // The fp16 target of issue 10 compares this one with the fp32 line above.
     {"cells", "n=3 r=1 fp16", false, {.method = Method::Cells, .subdivisions = 3, .refineSteps = 1, .fp16 = true}},
-    // Issue 20 step 2: the same cells and search, 8 vertices and 12 bytes of varyings per box.
-    {"cells", "n=3 r=1 thin", false, {.method = Method::Cells, .subdivisions = 3, .refineSteps = 1, .thinBoxes = true}},
+    // Issue 20 step 2: the same cells and search with 12 bytes of varyings per box (records read by
+    // address), and with the Hermite data as varyings (the paper's); the row above lets the device
+    // and the cells' size on screen choose (HermiteCellFeature::ThinBoxes::Auto).
+    {"cells", "n=3 r=1 thin", false,
+     {.method = Method::Cells, .subdivisions = 3, .refineSteps = 1, .thinBoxes = samples::ThinBoxes::On}},
+    {"cells", "n=3 r=1 attributes", false,
+     {.method = Method::Cells, .subdivisions = 3, .refineSteps = 1, .thinBoxes = samples::ThinBoxes::Off}},
     // The certified root search (docs/root-finding.md): its cost against the paper's fixed n above.
     {"cells", "certified", false, {.method = Method::Cells, .subdivisions = 3, .refineSteps = 1, .certified = true}},
     // Issue 13's variant: the same cells and search, one box per run of cells along x.

@@ -125,7 +125,10 @@ void addTuningOptions(CLI::App& app, TuningState& t) {
   app.add_flag("--certified", t.certified, "cells: certified root search (never misses the first root) instead of n samples");
   app.add_option("--cull-bricks", t.cullBricks, "cell bricks: GPU culling by frustum and normal cones (true, default, or false)");
   app.add_option("--thin-boxes", t.thinBoxes,
-                 "cells: 8 vertices and 12 bytes of varyings per box, records read by address (true or false, default)");
+                 "cells: 12 bytes of varyings per box, records read by address: auto (default: on GPUs when cells "
+                 "cover at most 8 pixels), on or off")
+      ->transform(oneOf({samples::ThinBoxes::Auto, samples::ThinBoxes::On, samples::ThinBoxes::Off},
+                        samples::earlyDepthName));
   app.add_option("--split", t.split, "split-screen comparison: off, vertical or horizontal (divider)")
       ->transform(oneOf({samples::SplitMode::Off, samples::SplitMode::Vertical, samples::SplitMode::Horizontal},
                         samples::splitModeName));

@@ -477,9 +477,9 @@ TEST_F(HermiteCellsTest, ThinBoxesDrawThePapersBoxesSurface) {
   const auto expectSameAsPapers = [&](const hsdf::SdfAsset& asset, const render::CameraView& camera, bool half,
                                       const glm::mat4& model, const std::string& label) {
     SCOPED_TRACE(label);
-    feature.settings().thinBoxes = false;
+    feature.settings().thinBoxes = hsdf::HermiteCellFeature::ThinBoxes::Off;
     const Frame paper = renderWith(camera, DEBUG_VIEW_NONE);
-    feature.settings().thinBoxes = true;
+    feature.settings().thinBoxes = hsdf::HermiteCellFeature::ThinBoxes::On;
     const ImageComparison c = compareView(asset, camera, label.c_str(), model);
     const Frame thin = renderWith(camera, DEBUG_VIEW_NONE);
     if (half) {
@@ -547,6 +547,25 @@ TEST_F(HermiteCellsTest, ThinBoxesDrawThePapersBoxesSurface) {
                      false, glm::mat4(1.0f), "inside a cell");
   EXPECT_GT(feature.stats().nearCells, 0u);
   EXPECT_FALSE(feature.stats().earlyDepth) << "thin boxes have no early depth variant";
+
+  // Auto: thin boxes on hardware rasterizers when the cells are small on screen, never on a
+  // software rasterizer (which would lose its early depth stage). The torus at K = 16 from the
+  // orbit distance (cells of ~14 pixels here) and 12x farther (~1 pixel); the cell size the
+  // feature reports against the pinhole projection of one cell at the grid centre's distance.
+  using hsdf::HermiteCellFeature;
+  feature.settings().thinBoxes = HermiteCellFeature::ThinBoxes::Auto;
+  const bool hardware = !context_->capabilities().isSoftwareRasterizer;
+  for (const float distanceScale : {1.9f, 23.0f}) {
+    SCOPED_TRACE("orbit distance x" + std::to_string(distanceScale));
+    const render::CameraView camera = orbitCamera(*torus, 1, distanceScale);
+    (void)renderWith(camera, DEBUG_VIEW_NONE);
+    const double distance = glm::length(glm::dvec3(camera.position) - torus->cells.grid.bounds().center());
+    const double expected = torus->cells.grid.spacing / distance * kSize / (2.0 * std::tan(0.5 * double(camera.fovY)));
+    EXPECT_NEAR(feature.stats().largestCellPixels, expected, 1e-3 * expected);
+    const bool small = feature.stats().largestCellPixels <= HermiteCellFeature::kThinBoxesMaxCellPixels;
+    EXPECT_EQ(small, distanceScale > 2.0f) << "the two distances must fall on both sides of the threshold";
+    EXPECT_EQ(feature.stats().thinBoxes, hardware && small);
+  }
 }
 
 // Why: the brick culling pass (brick_cull.comp) decides on the GPU which bricks are drawn, from

@@ -71,6 +71,20 @@ class HermiteCellFeature final : public engine::render::RenderFeature {
     return mode == EarlyDepth::On || (mode == EarlyDepth::Auto && softwareRasterizer);
   }
 
+  // Whether RenderMethod::Cells objects are drawn as thin boxes (Settings::thinBoxes). Measured on
+  // an H200 (docs/perf/nvidia-h200/): thin boxes cost 10 % more than the paper's where a cell
+  // covers ~20 pixels (the bunny at K = 32, 1080p), the same at ~10, 18 % less at ~5 and 42 % less
+  // at ~2.5: per box the varyings cost, per fragment the loads by address. Auto: on for hardware
+  // rasterizers when the frame's largest cell (kThinBoxesMaxCellPixels, cellPixelsOnScreen) is
+  // small; off for software rasterizers, which lose their early depth stage with them (lavapipe:
+  // 3-7x the prepass).
+  enum class ThinBoxes : std::uint8_t { Auto, On, Off };
+  static constexpr float kThinBoxesMaxCellPixels = 8.0f;
+  static bool thinBoxesWanted(ThinBoxes mode, bool softwareRasterizer, float largestCellPixels) {
+    return mode == ThinBoxes::On ||
+           (mode == ThinBoxes::Auto && !softwareRasterizer && largestCellPixels <= kThinBoxesMaxCellPixels);
+  }
+
   struct Settings {
     bool frontToBack = true;  // sort rows of cells by the view octant
     EarlyDepth earlyDepth = EarlyDepth::Auto;
@@ -82,12 +96,11 @@ class HermiteCellFeature final : public engine::render::RenderFeature {
     // frustum that may hold a first hit (normal cones, hermite_sdf/normal_cone.h); off draws every
     // brick (to measure what it removes).
     bool cullBricks = true;
-    // RenderMethod::Cells: each cell's box as 8 vertices (one triangle fan of its front faces; 14
-    // in a strip for near-plane cells) handing on 12 bytes (cells_thin.vert), the fragment shader
-    // reading the cell's record by address (cells_thin_depth.glsl), instead of the paper's 18
-    // vertices each handed the cell's Hermite data as varyings. Same search, same image. Thin
-    // boxes have no early depth variant: a frame that draws them keeps the stage off.
-    bool thinBoxes = false;
+    // RenderMethod::Cells: each box's vertices hand on 12 bytes (cells_thin.vert), the fragment
+    // shader reading the cell's record by address (cells_thin_depth.glsl), instead of the paper's
+    // Hermite data as varyings. Same search, same image. Thin boxes have no early depth variant:
+    // a frame that draws them keeps the stage off. See ThinBoxes for Auto.
+    ThinBoxes thinBoxes = ThinBoxes::Auto;
   };
   struct Stats {
     std::uint32_t objects = 0;
@@ -100,6 +113,8 @@ class HermiteCellFeature final : public engine::render::RenderFeature {
     std::uint64_t gpuBytes = 0;     // cell buffers
     bool earlyDepth = false;        // the last frame drew the boxes in the early depth stage
     bool countedVariant = false;    // the last frame's prepass used the *_counted pipelines
+    bool thinBoxes = false;         // the last frame drew its RenderMethod::Cells objects as thin boxes
+    float largestCellPixels = 0.0f; // of those objects: the largest cell's size on screen, pixels
   };
 
   HermiteCellFeature();
@@ -128,6 +143,8 @@ class HermiteCellFeature final : public engine::render::RenderFeature {
   bool refused(std::uint64_t assetId) const { return refused_.contains(assetId); }
 
  private:
+  static float cellPixelsOnScreen(const GridSpec& grid, const glm::mat4& world, const engine::render::CameraView& camera,
+                                 std::uint32_t viewportHeight);
   struct AssetRows;
   struct Batch;
   void syncAssets(const engine::render::FrameContext& frame);
@@ -199,6 +216,7 @@ class HermiteCellFeature final : public engine::render::RenderFeature {
   engine::gpu::Buffer hitDepths_;  // a uint per pixel: the nearest hit's depth bits (early depth)
   VkExtent2D hitDepthsExtent_{0, 0};
   bool earlyDepth_ = false;  // this frame's boxes are drawn in the early depth stage
+  bool thinBoxes_ = false;   // this frame draws its RenderMethod::Cells objects as thin boxes
   glm::vec4 screenRect_{1.0f, 1.0f, -1.0f, -1.0f};  // NDC bounds of this frame's cell objects (resolve)
   bool multiDraw_ = false;
   // Brick culling (Settings::cullBricks): this frame's objects, the kept-brick stream's size and the

@@ -18,6 +18,7 @@
 #include "cells/cell_bricks.h"
 #include "render/brick_culler.h"
 #include "render/cell_rows.h"
+#include "hermite_sdf/lod.h"
 #include "hermite_sdf/normal_cone.h"
 
 namespace hsdf {
@@ -544,6 +545,7 @@ void HermiteCellFeature::buildDraws(engine::render::FrameContext& frame) {
   std::vector<glm::vec4> objectRects;
   bool objectsOverlap = false;  // two cell objects share screen pixels: no early depth (see the header)
   bool drawsBricks = false;     // bricks have no early depth variant: none this frame
+  float largestCellPixels = 0.0f;  // of the RenderMethod::Cells objects (ThinBoxes::Auto)
   std::unordered_map<engine::ecs::Entity, std::uint64_t> drawnThisFrame;
   const glm::mat4 viewProj = frame.camera.proj * frame.camera.view;
 
@@ -593,8 +595,9 @@ void HermiteCellFeature::buildDraws(engine::render::FrameContext& frame) {
         objectRects.push_back(rect);
         screenRect_ = unite(screenRect_, rect);
         stats_.objects++;
-        if (r.method != RenderMethod::Cells || settings_.thinBoxes) {
-          // Runs and bricks read their records by address: the draw says which buffer and which precision.
+        {
+          // Runs, bricks and thin cells read their records by address: the draw says which buffer and
+          // which precision (the paper's cells ignore it: their records are vertex attributes).
           draw.records = buffers_->records[precision].address();
           if (precision == 1) draw.flags |= HERMITE_FLAG_HALF_RECORDS;
         }
@@ -635,6 +638,7 @@ void HermiteCellFeature::buildDraws(engine::render::FrameContext& frame) {
           stats_.runs += entry.runs.size();
           return;
         }
+        largestCellPixels = std::max(largestCellPixels, cellPixelsOnScreen(grid, world.matrix, frame.camera, frame.extent.height));
         for (const CellRows::Range& range : orderedRows(entry.rows, eyeGrid, settings_.frontToBack)) {
           commands[precision][0].push_back({kFanVertices, range.count, 0, entry.firstRecord + range.first});
           draws[precision][0].push_back(draw);
@@ -678,8 +682,11 @@ void HermiteCellFeature::buildDraws(engine::render::FrameContext& frame) {
       }
     }
   }
+  thinBoxes_ = thinBoxesWanted(settings_.thinBoxes, context_->capabilities().isSoftwareRasterizer, largestCellPixels);
+  stats_.thinBoxes = thinBoxes_;
+  stats_.largestCellPixels = largestCellPixels;
   earlyDepth_ = earlyDepthWanted(settings_.earlyDepth, context_->capabilities().isSoftwareRasterizer) &&
-                stats_.draws > 0 && !objectsOverlap && !drawsBricks && !settings_.thinBoxes;
+                stats_.draws > 0 && !objectsOverlap && !drawsBricks && !thinBoxes_;
   if (!allCommands.empty()) {
     indirect_.upload(frame.frameSlot, allCommands);
     drawData_.upload(frame.frameSlot, allDraws);
@@ -690,6 +697,17 @@ void HermiteCellFeature::buildDraws(engine::render::FrameContext& frame) {
     for (std::size_t i = 0; i < objectIndices.size(); ++i)
       frame.scene.object(objectIndices[i]).payload = base + i * sizeof(shader::HermiteObject);
   }
+}
+
+// The size on screen, in pixels, of one cell of `grid` placed by `world`, seen from the camera at
+// the distance of the grid box's centre (ThinBoxes::Auto: a typical cell of the object, not its
+// nearest one as the levels of detail take).
+float HermiteCellFeature::cellPixelsOnScreen(const GridSpec& grid, const glm::mat4& world,
+                                             const engine::render::CameraView& camera, std::uint32_t viewportHeight) {
+  const float scale = std::max({glm::length(glm::vec3(world[0])), glm::length(glm::vec3(world[1])),
+                                glm::length(glm::vec3(world[2]))});
+  const glm::vec3 centre = glm::vec3(world * glm::vec4(glm::vec3(grid.bounds().center()), 1.0f));
+  return projectedPixels(scale * float(grid.spacing), glm::length(camera.position - centre), camera.fovY, viewportHeight);
 }
 
 // A CellBricks object: one command for all its bricks (firstInstance = its first brick; the brick
@@ -825,7 +843,7 @@ void HermiteCellFeature::recordBatch(engine::render::PassContext& pass, int prec
   const int twoVariants = variant == kCounted ? kCounted : kProduction;  // bricks and thin cells have no early one
   const Pipeline& pipeline = bricks ? brickPipeline(variant, near)
                              : runs ? (near ? pipelines_.runsNear[variant] : pipelines_.runsFront[variant])
-                             : settings_.thinBoxes ? (near ? pipelines_.thinNear[twoVariants][precision]
+                             : thinBoxes_ ? (near ? pipelines_.thinNear[twoVariants][precision]
                                                            : pipelines_.thinFront[twoVariants][precision])
                                     : (near ? pipelines_.depthNear[variant][precision]
                                             : pipelines_.depthFront[variant][precision]);

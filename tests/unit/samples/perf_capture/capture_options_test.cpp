@@ -86,7 +86,7 @@ TEST(CaptureRows, MethodTimesKTimesSetting) {
     }
   }
   EXPECT_EQ(trilinear, 2 * 4);  // K = 32, 64, 128, 256, two normal modes each
-  EXPECT_EQ(cells, 2 * 7);      // n in {2, 3} x r in {0, 1}, fp16, thin boxes and the certified search
+  EXPECT_EQ(cells, 2 * 8);      // n in {2, 3} x r in {0, 1}, fp16, thin and attribute boxes, the certified search
   EXPECT_TRUE(labels.contains("cells certified K=32"));
   EXPECT_TRUE(labels.contains("cells n=3 r=1 thin K=32"));
   EXPECT_TRUE(labels.contains("cells-runs n=3 r=1 K=32"));
