@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cstdio>
+#include <cstdlib>
 #include <ctime>
 #include <memory>
 #include <optional>
@@ -213,7 +214,11 @@ RunInfo runInfo(const Options& options, const gpu::Context& context, const Subje
   info.device = context.capabilities().deviceName;
   info.driver = std::string(driver.driverName) + " " + driver.driverInfo;
   info.commandLine = options.commandLine;
-  const std::string commit = commandOutput("git -C '" HSDF_SOURCE_DIR "' describe --always --dirty 2>/dev/null");
+  // HSDF_COMMIT names the build's commit where the source folder's git does not (a packed build run
+  // on another machine: there the folder may hold another checkout, or none).
+  const char* stated = std::getenv("HSDF_COMMIT");
+  const std::string commit = stated && *stated ? std::string(stated)
+                                               : commandOutput("git -C '" HSDF_SOURCE_DIR "' describe --always --dirty 2>/dev/null");
   info.commit = commit.empty() ? "unknown" : commit;
   const std::time_t now = std::time(nullptr);
   char date[64];
