@@ -28,6 +28,18 @@ bool sliderU32(const char* label, std::uint32_t& value, IntRange range) {
 }
 
 // A one-line scrolling plot of the samples seen so far (the last kSamples once full).
+// A narrow auto / on / off combo (samples::EarlyDepth, and ThinBoxes, the same switch) with its
+// tooltip; true when the user changed it.
+bool autoSwitchCombo(const char* label, EarlyDepth& value, const char* tooltip) {
+  static_assert(int(EarlyDepth::Auto) == 0 && int(EarlyDepth::On) == 1 && int(EarlyDepth::Off) == 2);
+  int index = int(value);
+  ImGui::SetNextItemWidth(ImGui::GetFontSize() * 4.0f);
+  const bool changed = ImGui::Combo(label, &index, "auto\0on\0off\0");  // the enum's order
+  if (changed) value = EarlyDepth(index);
+  if (ImGui::IsItemHovered()) ImGui::SetTooltip("%s", tooltip);
+  return changed;
+}
+
 void plot(const char* label, const PlotHistory& history) {
   const int count = std::min(history.count, PlotHistory::kSamples);
   const int offset = history.count < PlotHistory::kSamples ? 0 : history.next;
@@ -87,16 +99,9 @@ void TuningPanel::drawMethod() {
   ImGui::SameLine();
   changed |= ImGui::Checkbox("front to back", &t.frontToBack);
   ImGui::SameLine();
-  static_assert(int(EarlyDepth::Auto) == 0 && int(EarlyDepth::On) == 1 && int(EarlyDepth::Off) == 2);
-  int early = int(t.earlyDepth);
-  ImGui::SetNextItemWidth(ImGui::GetFontSize() * 4.0f);
-  if (ImGui::Combo("early depth", &early, "auto\0on\0off\0")) {  // the order of samples::EarlyDepth
-    t.earlyDepth = EarlyDepth(early);
-    changed = true;
-  }
-  if (ImGui::IsItemHovered())
-    ImGui::SetTooltip("cells: boxes tested at their faces' depth, so boxes behind a found hit skip the search;\n"
-                      "auto: on for software rasterizers (lavapipe), off on GPUs, where it costs more than it saves");
+  changed |= autoSwitchCombo("early depth", t.earlyDepth,
+                             "cells: boxes tested at their faces' depth, so boxes behind a found hit skip the search;\n"
+                             "auto: on for software rasterizers (lavapipe), off on GPUs, where it costs more than it saves");
   ImGui::SameLine();
   changed |= ImGui::Checkbox("certified roots", &t.certified);
   if (ImGui::IsItemHovered())
@@ -106,15 +111,9 @@ void TuningPanel::drawMethod() {
   if (ImGui::IsItemHovered())
     ImGui::SetTooltip("cell bricks: a compute pass keeps only the bricks in the frustum whose normal cone may face the eye");
   ImGui::SameLine();
-  int thin = int(t.thinBoxes);
-  ImGui::SetNextItemWidth(ImGui::GetFontSize() * 4.0f);
-  if (ImGui::Combo("thin boxes", &thin, "auto\0on\0off\0")) {  // the order of samples::ThinBoxes
-    t.thinBoxes = ThinBoxes(thin);
-    changed = true;
-  }
-  if (ImGui::IsItemHovered())
-    ImGui::SetTooltip("cells: 12 bytes of varyings per box, the cell's data read by address in the fragment shader,\n"
-                      "instead of each box vertex carrying the cell's Hermite data; auto: on GPUs when cells are small on screen");
+  changed |= autoSwitchCombo("thin boxes", t.thinBoxes,
+                             "cells: 12 bytes of varyings per box, the cell's data read by address in the fragment shader,\n"
+                             "instead of each box vertex carrying the cell's Hermite data; auto: on GPUs when cells are small on screen");
   int view = int(t.debugView);
   if (ImGui::Combo("debug view", &view, kDebugViewLabels, IM_ARRAYSIZE(kDebugViewLabels))) {
     t.debugView = DebugView(view);

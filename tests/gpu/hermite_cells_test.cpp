@@ -10,6 +10,7 @@
 #include <cstdio>
 #include <cstdlib>
 #include <limits>
+#include <optional>
 #include <string>
 
 #include <gtest/gtest.h>
@@ -97,6 +98,29 @@ render::CameraView orbitCamera(const hsdf::SdfAsset& asset, int view, float dist
   return render::CameraView::lookAt(eye, center, 0.9f, 0.01f * radius, 1.0f);
 }
 
+// The torus's hole (inside the grid bounds, outside the surface) and a point of its inner ring.
+glm::vec3 torusHole(const hsdf::SdfAsset& torus) {
+  const hsdf::Aabb bounds = torus.surfaceBounds;
+  return glm::vec3(bounds.center()) + glm::vec3(0.0f, 0.05f * float(bounds.size().y), 0.0f);
+}
+glm::vec3 torusRing(const hsdf::SdfAsset& torus) {
+  const hsdf::Aabb bounds = torus.surfaceBounds;
+  return glm::vec3(bounds.center()) + glm::vec3(float(bounds.size().x) * 0.5f, 0.0f, 0.0f);
+}
+
+// Half a cell in front of the torus's inner ring, seen from the hole, with a near plane of a
+// quarter cell: the eye's own cell holds surface in front of it and the near plane cuts cells,
+// which only the back-face (near) path can draw. Empty if the ray from the hole meets no ring.
+std::optional<render::CameraView> insideACellCamera(const hsdf::SdfAsset& torus) {
+  const glm::vec3 hole = torusHole(torus), ring = torusRing(torus);
+  const float h = float(torus.field.grid.spacing);
+  auto hit = hsdf::castRay(torus.field, {glm::dvec3(hole), glm::normalize(glm::dvec3(ring - hole))});
+  if (!hit.ok() || !hit->has_value()) return std::nullopt;
+  const glm::vec3 surface((*hit)->position);
+  const glm::vec3 eye = surface - 0.5f * h * glm::normalize(ring - hole);
+  return render::CameraView::lookAt(eye, surface + glm::vec3(0.0f, 0.3f * h, 0.0f), 1.2f, 0.25f * h, 1.0f);
+}
+
 // `minHits`: enough surface in view for the statistics to mean something.
 void expectMatchesReference(const ImageComparison& c, int pixels = int(kSize * kSize), int minHits = 500) {
   EXPECT_GT(c.referenceHits, minHits);
@@ -165,22 +189,14 @@ TEST_F(HermiteCellsTest, CameraInsideBoundsAndInsideACell) {
   const auto asset = bakeAsset("torus", 16);
   ASSERT_NE(asset, nullptr);
   addSdf(registry_, asset, hsdf::RenderMethod::Cells);
-  const hsdf::Aabb bounds = asset->surfaceBounds;
-  const glm::vec3 center(bounds.center());
   // In the torus hole (inside the grid bounds, outside the surface), looking at the inner ring.
-  const glm::vec3 hole = center + glm::vec3(0.0f, 0.05f * float(bounds.size().y), 0.0f);
-  const glm::vec3 ring = center + glm::vec3(float(bounds.size().x) * 0.5f, 0.0f, 0.0f);
-  expectMatchesReference(compareView(*asset, render::CameraView::lookAt(hole, ring, 1.2f, 1e-3f, 1.0f), "inside bounds"));
+  expectMatchesReference(compareView(
+      *asset, render::CameraView::lookAt(torusHole(*asset), torusRing(*asset), 1.2f, 1e-3f, 1.0f), "inside bounds"));
 
-  // Half a cell from the surface, with a near plane of a quarter cell: the eye's own cell holds
-  // surface in front of it.
-  const float h = float(asset->field.grid.spacing);
-  auto hit = hsdf::castRay(asset->field, {glm::dvec3(hole), glm::normalize(glm::dvec3(ring - hole))});
-  ASSERT_TRUE(hit.ok() && hit->has_value());
-  const glm::vec3 surface((*hit)->position);
-  const glm::vec3 eye = surface - 0.5f * h * glm::normalize(ring - hole);
-  const render::CameraView close = render::CameraView::lookAt(eye, surface + glm::vec3(0.0f, 0.3f * h, 0.0f), 1.2f, 0.25f * h, 1.0f);
-  const ImageComparison c = compareView(*asset, close, "inside a cell");
+  // Half a cell from the surface, with a near plane of a quarter cell.
+  const std::optional<render::CameraView> close = insideACellCamera(*asset);
+  ASSERT_TRUE(close);
+  const ImageComparison c = compareView(*asset, *close, "inside a cell");
   expectMatchesReference(c);
   EXPECT_GT(renderer_->feature<hsdf::HermiteCellFeature>()->stats().nearCells, 0u);
 }
@@ -277,16 +293,9 @@ TEST_F(HermiteCellsTest, EarlyDepthDrawsTheSameSurfaceWithFewerEvaluations) {
 
   registry_.clear();
   addSdf(registry_, torus, hsdf::RenderMethod::Cells);
-  const hsdf::Aabb bounds = torus->surfaceBounds;
-  const glm::vec3 hole = glm::vec3(bounds.center()) + glm::vec3(0.0f, 0.05f * float(bounds.size().y), 0.0f);
-  const glm::vec3 ring = glm::vec3(bounds.center()) + glm::vec3(float(bounds.size().x) * 0.5f, 0.0f, 0.0f);
-  const float h = float(torus->field.grid.spacing);
-  auto hit = hsdf::castRay(torus->field, {glm::dvec3(hole), glm::normalize(glm::dvec3(ring - hole))});
-  ASSERT_TRUE(hit.ok() && hit->has_value());
-  const glm::vec3 surface((*hit)->position);
-  const glm::vec3 eye = surface - 0.5f * h * glm::normalize(ring - hole);
-  expectSame(*torus, render::CameraView::lookAt(eye, surface + glm::vec3(0.0f, 0.3f * h, 0.0f), 1.2f, 0.25f * h, 1.0f),
-             "inside a cell", false);
+  const std::optional<render::CameraView> inside = insideACellCamera(*torus);
+  ASSERT_TRUE(inside);
+  expectSame(*torus, *inside, "inside a cell", false);
   EXPECT_GT(feature->stats().nearCells, 0u);
 }
 
@@ -304,18 +313,11 @@ TEST_F(HermiteCellsTest, CountedVariantDrawsTheProductionImage) {
   const auto torus = bakeAsset("torus", 16);
   ASSERT_NE(torus, nullptr);
   const ecs::Entity object = addSdf(registry_, torus, hsdf::RenderMethod::Cells);
-  const hsdf::Aabb bounds = torus->surfaceBounds;
-  const float h = float(torus->field.grid.spacing);
   // Half a cell in front of the ring, seen from the hole: the near plane cuts cells, which are drawn
   // by their back faces (as in EarlyDepthDrawsTheSameSurfaceWithFewerEvaluations).
-  const glm::vec3 hole = glm::vec3(bounds.center()) + glm::vec3(0.0f, 0.05f * float(bounds.size().y), 0.0f);
-  const glm::vec3 ring = glm::vec3(bounds.center()) + glm::vec3(float(bounds.size().x) * 0.5f, 0.0f, 0.0f);
-  auto hit = hsdf::castRay(torus->field, {glm::dvec3(hole), glm::normalize(glm::dvec3(ring - hole))});
-  ASSERT_TRUE(hit.ok() && hit->has_value());
-  const glm::vec3 surface((*hit)->position);
-  const glm::vec3 eye = surface - 0.5f * h * glm::normalize(ring - hole);
-  const render::CameraView inside =
-      render::CameraView::lookAt(eye, surface + glm::vec3(0.0f, 0.3f * h, 0.0f), 1.2f, 0.25f * h, 1.0f);
+  const std::optional<render::CameraView> insideCamera = insideACellCamera(*torus);
+  ASSERT_TRUE(insideCamera);
+  const render::CameraView inside = *insideCamera;
 
   struct Buffers {
     std::vector<float> depth;
@@ -538,16 +540,9 @@ TEST_F(HermiteCellsTest, ThinBoxesDrawThePapersBoxesSurface) {
   // CameraInsideBoundsAndInsideACell): the eye's own cell is cut by the near plane.
   registry_ = ecs::Registry();
   addSdf(registry_, torus, hsdf::RenderMethod::Cells);
-  const hsdf::Aabb bounds = torus->surfaceBounds;
-  const glm::vec3 hole = centre + glm::vec3(0.0f, 0.05f * float(bounds.size().y), 0.0f);
-  const glm::vec3 ring = centre + glm::vec3(float(bounds.size().x) * 0.5f, 0.0f, 0.0f);
-  const float h = float(torus->field.grid.spacing);
-  auto hit = hsdf::castRay(torus->field, {glm::dvec3(hole), glm::normalize(glm::dvec3(ring - hole))});
-  ASSERT_TRUE(hit.ok() && hit->has_value());
-  const glm::vec3 surface((*hit)->position);
-  const glm::vec3 eye = surface - 0.5f * h * glm::normalize(ring - hole);
-  expectSameAsPapers(*torus, render::CameraView::lookAt(eye, surface + glm::vec3(0.0f, 0.3f * h, 0.0f), 1.2f, 0.25f * h, 1.0f),
-                     false, glm::mat4(1.0f), "inside a cell");
+  const std::optional<render::CameraView> inside = insideACellCamera(*torus);
+  ASSERT_TRUE(inside);
+  expectSameAsPapers(*torus, *inside, false, glm::mat4(1.0f), "inside a cell");
   EXPECT_GT(feature.stats().nearCells, 0u);
   EXPECT_FALSE(feature.stats().earlyDepth) << "thin boxes have no early depth variant";
 
@@ -629,16 +624,9 @@ TEST_F(HermiteCellsTest, CellRunsAndBricksFromInsideACell) {
   const auto asset = bakeAsset("torus", 16);
   ASSERT_NE(asset, nullptr);
   const ecs::Entity entity = addSdf(registry_, asset, hsdf::RenderMethod::CellRuns);
-  const hsdf::Aabb bounds = asset->surfaceBounds;
-  const glm::vec3 center(bounds.center());
-  const glm::vec3 hole = center + glm::vec3(0.0f, 0.05f * float(bounds.size().y), 0.0f);
-  const glm::vec3 ring = center + glm::vec3(float(bounds.size().x) * 0.5f, 0.0f, 0.0f);
-  const float h = float(asset->field.grid.spacing);
-  auto hit = hsdf::castRay(asset->field, {glm::dvec3(hole), glm::normalize(glm::dvec3(ring - hole))});
-  ASSERT_TRUE(hit.ok() && hit->has_value());
-  const glm::vec3 surface((*hit)->position);
-  const glm::vec3 eye = surface - 0.5f * h * glm::normalize(ring - hole);
-  const render::CameraView close = render::CameraView::lookAt(eye, surface + glm::vec3(0.0f, 0.3f * h, 0.0f), 1.2f, 0.25f * h, 1.0f);
+  const std::optional<render::CameraView> inside = insideACellCamera(*asset);
+  ASSERT_TRUE(inside);
+  const render::CameraView close = *inside;
   expectMatchesReference(compareView(*asset, close, "runs inside a cell"));
   EXPECT_GT(renderer_->feature<hsdf::HermiteCellFeature>()->stats().nearCells, 0u);
   registry_.get<hsdf::HermiteSdfRenderable>(entity).method = hsdf::RenderMethod::CellBricks;
