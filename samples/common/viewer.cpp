@@ -150,6 +150,9 @@ void Viewer::setCameraMode(CameraMode mode) {
 
 void Viewer::setTuning(const TuningState& tuning) {
   tuning_ = tuning;
+  if (false && objectScene_ && (tuning_.resolution != bakedResolution_ || tuning_.padding != bakedPadding_)) {
+    if (Status rebaked = rebakeSceneObjects(); !rebaked) log::error("{}", rebaked.error().message);
+  }
   updateCompareBake();
   if (!bakeSource_ || (!bakedEntity_ && !isSdfMethod(tuning.method) && !comparing(tuning))) return;
   // A scene loaded as meshes bakes its SDF when an SDF method (or a comparison) is first picked.

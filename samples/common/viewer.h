@@ -277,8 +277,11 @@ class Viewer {
   void addGroundPlane();
   // SceneDesc::objects (viewer_objects.cpp): `nodes` are the scene's node entities, `parts` the
   // entities of their mesh primitives.
-  engine::Status addSceneObjects(const engine::scene::SceneData& data, std::span<const engine::ecs::Entity> nodes,
-                                 std::span<const engine::ecs::Entity> parts);
+  engine::Status addSceneObjects(std::shared_ptr<const engine::scene::SceneData> data,
+                                 std::span<const engine::ecs::Entity> nodes, std::span<const engine::ecs::Entity> parts);
+  // A K or padding change in objects mode: every mesh baked again and every SDF node drawing its
+  // mesh's new asset (viewer_objects.cpp).
+  engine::Status rebakeSceneObjects();
   void updateObjectVisibility(bool sdfShown);
   engine::ecs::Entity addSdfEntity(std::shared_ptr<const hsdf::SdfAsset> asset, const glm::vec3& offset,
                                    const glm::vec4* color);
@@ -330,6 +333,10 @@ class Viewer {
   std::vector<engine::ecs::Entity> objectEntities_;
   std::vector<std::pair<engine::ecs::Entity, hsdf::HermiteSdfRenderable>> hiddenObjects_;
   int objectBakes_ = 0;
+  // What a re-bake at another K needs: the scene, its node entities, the options of the load.
+  std::shared_ptr<const engine::scene::SceneData> objectScene_;
+  std::vector<engine::ecs::Entity> objectNodes_;
+  hsdf::SceneObjectOptions objectOptions_;
 
   // The compared side of the split screen / difference view.
   std::shared_ptr<const hsdf::SdfAsset> compareAsset_;

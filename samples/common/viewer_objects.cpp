@@ -4,6 +4,8 @@
 #include <chrono>
 #include <cstddef>
 
+#include <fmt/format.h>
+
 #include "engine/core/log.h"
 #include "engine/scene/transform.h"
 #include "hermite_sdf/scene_objects.h"
@@ -13,8 +15,9 @@ namespace samples {
 
 using namespace engine;
 
-Status Viewer::addSceneObjects(const scene::SceneData& data, std::span<const ecs::Entity> nodes,
+Status Viewer::addSceneObjects(std::shared_ptr<const scene::SceneData> scene, std::span<const ecs::Entity> nodes,
                                std::span<const ecs::Entity> parts) {
+  const scene::SceneData& data = *scene;
   hsdf::SceneObjectOptions options;
   options.defaultDraw = tuning_.nodeDraw;
   options.triangleNodes = tuning_.triangleNodes;
@@ -25,6 +28,9 @@ Status Viewer::addSceneObjects(const scene::SceneData& data, std::span<const ecs
   const auto start = std::chrono::steady_clock::now();
   ENGINE_TRY_ASSIGN(const hsdf::SceneObjects objects, hsdf::bakeSceneObjects(data, options, settings));
   objectEntities_ = hsdf::addSdfInstances(data, objects, nodes, registry_);
+  objectScene_ = std::move(scene);
+  objectNodes_.assign(nodes.begin(), nodes.end());
+  objectOptions_ = options;
   objectBakes_ = objects.bakes;
   bakedResolution_ = settings.resolution;
   bakedPadding_ = settings.padding;
@@ -41,6 +47,38 @@ Status Viewer::addSceneObjects(const scene::SceneData& data, std::span<const ecs
   log::info("{} meshes baked at K = {} in {:.2f} s into {} SDF assets, drawn by {} nodes; {} mesh nodes drawn as "
             "triangles",
             objects.bakes, settings.resolution, seconds, objects.bakes, objectEntities_.size(), triangleNodes);
+  return {};
+}
+
+// On this thread, as at load (the meshes of a scene bake in parallel inside bakeSceneObjects). A
+// failed bake keeps the assets drawn and puts their K back into the tuning.
+Status Viewer::rebakeSceneObjects() {
+  hsdf::BakeSettings settings;
+  settings.resolution = tuning_.resolution;
+  settings.padding = tuning_.padding;
+  settings.budget = bakeBudget_;
+  const auto start = std::chrono::steady_clock::now();
+  auto baked = hsdf::bakeSceneObjects(*objectScene_, objectOptions_, settings);
+  if (!baked) {
+    tuning_.resolution = bakedResolution_;
+    tuning_.padding = bakedPadding_;
+    return baked.error().withContext(fmt::format("re-baking the scene's objects at resolution {}", settings.resolution));
+  }
+  const hsdf::SceneObjects& objects = *baked;
+  for (std::size_t n = 0; n < objectScene_->nodes.size() && n < objectNodes_.size(); ++n) {
+    const int mesh = objectScene_->nodes[n].mesh;
+    if (mesh < 0 || objects.draws[n] != hsdf::NodeDraw::Sdf || !objects.meshAssets[std::size_t(mesh)]) continue;
+    const ecs::Entity entity = objectNodes_[n];
+    const auto& asset = objects.meshAssets[std::size_t(mesh)];
+    if (auto* renderable = registry_.tryGet<hsdf::HermiteSdfRenderable>(entity)) renderable->asset = asset;
+    for (auto& [hidden, renderable] : hiddenObjects_)  // a mesh method hides them: they draw it when shown
+      if (hidden == entity) renderable.asset = asset;
+  }
+  objectBakes_ += objects.bakes;
+  bakedResolution_ = settings.resolution;
+  bakedPadding_ = settings.padding;
+  log::info("{} meshes baked again at K = {} in {:.2f} s", objects.bakes, settings.resolution,
+            std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
   return {};
 }
 

@@ -98,7 +98,9 @@ Status Viewer::loadGltf(const SceneDesc& scene) {
     return {};
   }
   if (scene.objects)
-    return addSceneObjects(data, instantiated.nodes, instantiated.renderables).withContext(scene.gltf.string());
+    return addSceneObjects(std::make_shared<const scene::SceneData>(std::move(data)), instantiated.nodes,
+                           instantiated.renderables)
+        .withContext(scene.gltf.string());
   meshEntities_ = instantiated.renderables;
   sideBySide_ = scene.sideBySide;
   // The SDF looks like the mesh it stands for.

@@ -84,6 +84,54 @@ TEST(ViewerObjects, GridSceneSharesOneAssetPerMeshAndKeepsTriangleNodes) {
   EXPECT_TRUE(viewer->close().ok());
 }
 
+// The K the SDF nodes draw: every renderable's asset's, or -1 when they differ (or none).
+int drawnResolution(Viewer& viewer) {
+  std::set<std::uint32_t> ks;
+  viewer.registry().view<hsdf::HermiteSdfRenderable>().each(
+      [&ks](engine::ecs::Entity, const hsdf::HermiteSdfRenderable& r) { ks.insert(r.asset->cells.grid.resolution); });
+  return ks.size() == 1 ? int(*ks.begin()) : -1;
+}
+
+// Why: a K picked in the panel (or a script) must reach every object of the scene, each mesh baked
+// again once, including while a mesh method hides the objects; before, objects mode kept drawing the
+// K of the load while the panel showed the new one.
+TEST(ViewerObjects, ANewResolutionRebakesEveryMeshOnce) {
+  auto viewer = makeViewer();
+  ASSERT_NE(viewer, nullptr);
+  SceneDesc scene;
+  scene.gltf = kGridScene;
+  scene.objects = true;
+  scene.groundPlane = false;
+  TuningState tuning;
+  tuning.resolution = 16;
+  ASSERT_TRUE(viewer->loadScene(scene, tuning).ok());
+  ASSERT_EQ(drawnResolution(*viewer), 16);
+  const int loadBakes = viewer->objectBakes();
+
+  tuning = viewer->tuning();
+  tuning.resolution = 20;
+  viewer->setTuning(tuning);
+  ASSERT_TRUE(viewer->step().ok());
+  EXPECT_EQ(drawnResolution(*viewer), 20);
+  EXPECT_EQ(viewer->objectBakes(), 2 * loadBakes) << "each mesh once more";
+  std::set<std::uint64_t> ids;
+  viewer->registry().view<hsdf::HermiteSdfRenderable>().each(
+      [&ids](engine::ecs::Entity, const hsdf::HermiteSdfRenderable& r) { ids.insert(r.asset->id); });
+  EXPECT_EQ(int(ids.size()), loadBakes) << "still one asset per mesh";
+
+  // Hidden behind the mesh method, a new K reaches the objects when they show again.
+  tuning.method = Method::Mesh;
+  viewer->setTuning(tuning);
+  tuning.resolution = 24;
+  viewer->setTuning(tuning);
+  tuning.method = Method::Cells;
+  viewer->setTuning(tuning);
+  ASSERT_TRUE(viewer->step().ok());
+  EXPECT_EQ(drawnResolution(*viewer), 24);
+  EXPECT_EQ(viewer->tuning().resolution, 24);
+  EXPECT_TRUE(viewer->close().ok());
+}
+
 TEST(ViewerObjects, UnknownTriangleNodeIsRefusedNamingTheFileAndNode) {
   auto viewer = makeViewer();
   ASSERT_NE(viewer, nullptr);
