@@ -150,7 +150,7 @@ void Viewer::setCameraMode(CameraMode mode) {
 
 void Viewer::setTuning(const TuningState& tuning) {
   tuning_ = tuning;
-  if (false && objectScene_ && (tuning_.resolution != bakedResolution_ || tuning_.padding != bakedPadding_)) {
+  if (objectScene_ && (tuning_.resolution != bakedResolution_ || tuning_.padding != bakedPadding_)) {
     if (Status rebaked = rebakeSceneObjects(); !rebaked) log::error("{}", rebaked.error().message);
   }
   updateCompareBake();
