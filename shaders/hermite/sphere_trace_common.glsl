@@ -81,25 +81,37 @@ struct FieldCursor {
 
 FieldCursor newFieldCursor() { return FieldCursor(0); }
 
-// Texel centres: sample i sits at texture coordinate (i + 0.5) / K. The hardware filter is fast
-// but may quantize its weights (8 fractional bits on many GPUs): near the surface its f need not
-// fall below epsilon, so it only guides the steps; hits are placed with exactFieldValue.
+// The 8 texels of `cell` (clamped to the grid: the filter's clamp-to-edge), as two vec4s: lo the
+// x = 0 corners, hi the x = 1 corners, each ordered by (y, z).
+void cellTexels(SphereTraceDraw draw, ivec3 cell, out vec4 lo, out vec4 hi) {
+  ivec3 last = ivec3(int(draw.resolution) - 1);
+  float f[8];
+  for (int c = 0; c < 8; ++c) f[c] = fieldSample(draw, clamp(cell + ivec3(c & 1, (c >> 1) & 1, c >> 2), ivec3(0), last)).r;
+  lo = vec4(f[0], f[2], f[4], f[6]);
+  hi = vec4(f[1], f[3], f[5], f[7]);
+}
+
+// Trilinear interpolation of a cell's texels (cellTexels) at fractions w, in float.
+float mixTexels(vec4 lo, vec4 hi, vec3 w) {
+  vec4 x = mix(lo, hi, w.x);  // ordered by (y, z)
+  vec2 y = mix(x.xz, x.yw, w.y);
+  return mix(y.x, y.y, w.z);
+}
+
 // What a GPU filter unit that rounds its weights to draw.filterBits fractional bits returns at g
 // (clamp-to-edge): the 8 texels around g, mixed in float with the rounded fractions. Only tests and
 // experiments set filterBits, to see a quantizing GPU's images on a device that filters in float.
 float quantizedFilter(SphereTraceDraw draw, vec3 g) {
   float scale = float(1u << draw.filterBits);
   vec3 base = floor(g);
-  vec3 w = floor((g - base) * scale + 0.5) / scale;
-  ivec3 cell = ivec3(base);
-  ivec3 last = ivec3(int(draw.resolution) - 1);
-  float f[8];
-  for (int c = 0; c < 8; ++c) f[c] = fieldSample(draw, clamp(cell + ivec3(c & 1, (c >> 1) & 1, c >> 2), ivec3(0), last)).r;
-  vec4 x = mix(vec4(f[0], f[2], f[4], f[6]), vec4(f[1], f[3], f[5], f[7]), w.x);  // ordered by (y, z)
-  vec2 y = mix(x.xz, x.yw, w.y);
-  return mix(y.x, y.y, w.z);
+  vec4 lo, hi;
+  cellTexels(draw, ivec3(base), lo, hi);
+  return mixTexels(lo, hi, floor((g - base) * scale + 0.5) / scale);
 }
 
+// Texel centres: sample i sits at texture coordinate (i + 0.5) / K. The hardware filter is fast
+// but may quantize its weights (8 fractional bits on many GPUs), so it only guides the steps far
+// from the surface (evaluateField); hits are placed with exactFieldValue.
 float filteredField(SphereTraceDraw draw, vec3 g) {
   if (draw.filterBits != 0u) return quantizedFilter(draw, g);
   // textureLod: inside the tracing loop implicit derivatives are undefined (non-uniform control flow).
@@ -109,12 +121,9 @@ float filteredField(SphereTraceDraw draw, vec3 g) {
 // The trilinear interpolant itself at g: its cell's 8 texels fetched and mixed in float.
 float exactTrilinear(SphereTraceDraw draw, vec3 g) {
   ivec3 cell = fieldCell(draw, g);
-  float f[8];
-  for (int c = 0; c < 8; ++c) f[c] = fieldSample(draw, cell + ivec3(c & 1, (c >> 1) & 1, c >> 2)).r;
-  vec3 u = g - vec3(cell);
-  vec4 x = mix(vec4(f[0], f[2], f[4], f[6]), vec4(f[1], f[3], f[5], f[7]), u.x);  // ordered by (y, z)
-  vec2 y = mix(x.xz, x.yw, u.y);
-  return mix(y.x, y.y, u.z);
+  vec4 lo, hi;
+  cellTexels(draw, cell, lo, hi);
+  return mixTexels(lo, hi, g - vec3(cell));
 }
 
 // Below draw.exactBelow (grid units, from the filter's weight precision: SphereTraceFeature::
@@ -146,15 +155,9 @@ float exactFieldValue(SphereTraceDraw draw, inout ExactCache cache, vec3 g) {
   ivec3 cell = fieldCell(draw, g);
   if (cell != cache.cell) {
     cache.cell = cell;
-    cache.lo = vec4(fieldSample(draw, cell).r, fieldSample(draw, cell + ivec3(0, 1, 0)).r,
-                    fieldSample(draw, cell + ivec3(0, 0, 1)).r, fieldSample(draw, cell + ivec3(0, 1, 1)).r);
-    cache.hi = vec4(fieldSample(draw, cell + ivec3(1, 0, 0)).r, fieldSample(draw, cell + ivec3(1, 1, 0)).r,
-                    fieldSample(draw, cell + ivec3(1, 0, 1)).r, fieldSample(draw, cell + ivec3(1, 1, 1)).r);
+    cellTexels(draw, cell, cache.lo, cache.hi);
   }
-  vec3 u = g - vec3(cell);
-  vec4 x = mix(cache.lo, cache.hi, u.x);  // ordered by (y, z)
-  vec2 y = mix(x.xz, x.yw, u.y);
-  return mix(y.x, y.y, u.z);
+  return mixTexels(cache.lo, cache.hi, g - vec3(cell));
 }
 
 // Exact gradient of the trilinear interpolant (not of the filtered texture, whose weights the
@@ -163,11 +166,11 @@ float exactFieldValue(SphereTraceDraw draw, inout ExactCache cache, vec3 g) {
 vec3 exactFieldGradient(SphereTraceDraw draw, vec3 g) {
   ivec3 cell = fieldCell(draw, g);
   vec3 u = g - vec3(cell);
-  float f[8];
-  for (int c = 0; c < 8; ++c) f[c] = fieldSample(draw, cell + ivec3(c & 1, (c >> 1) & 1, c >> 2)).r;
-  vec4 dx = vec4(f[1] - f[0], f[3] - f[2], f[5] - f[4], f[7] - f[6]);  // ordered by (y, z)
-  vec4 dy = vec4(f[2] - f[0], f[3] - f[1], f[6] - f[4], f[7] - f[5]);  // ordered by (x, z)
-  vec4 dz = vec4(f[4] - f[0], f[5] - f[1], f[6] - f[2], f[7] - f[3]);  // ordered by (x, y)
+  vec4 lo, hi;  // corner c = x + 2y + 4z: lo = (f0, f2, f4, f6), hi = (f1, f3, f5, f7)
+  cellTexels(draw, cell, lo, hi);
+  vec4 dx = hi - lo;                                                        // ordered by (y, z)
+  vec4 dy = vec4(lo.y - lo.x, hi.y - hi.x, lo.w - lo.z, hi.w - hi.z);      // ordered by (x, z)
+  vec4 dz = vec4(lo.z - lo.x, hi.z - hi.x, lo.w - lo.y, hi.w - hi.y);      // ordered by (x, y)
   vec3 du = vec3(mix(mix(dx.x, dx.y, u.y), mix(dx.z, dx.w, u.y), u.z),
                  mix(mix(dy.x, dy.y, u.x), mix(dy.z, dy.w, u.x), u.z),
                  mix(mix(dz.x, dz.y, u.x), mix(dz.z, dz.w, u.x), u.y));

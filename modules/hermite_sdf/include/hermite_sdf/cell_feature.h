@@ -191,7 +191,9 @@ class HermiteCellFeature final : public engine::render::RenderFeature {
   engine::Expected<Pipelines> createPipelines() const;
   engine::Status createBrickPipelines(Pipelines& p) const;
   engine::Status createThinCellPipelines(Pipelines& p) const;
-  const engine::gpu::Pipeline& brickPipeline(Variant variant, bool near) const;
+  // Bricks and thin cells have only the production and counted variants (buildDraws keeps the early
+  // depth stage off in frames that draw them): the variant of those two that `variant` stands for.
+  static Variant withoutEarlyStage(Variant variant);
   void addBrickDraws(const std::vector<shader::CellBrickGpu>& bricks, std::uint32_t firstBrick,
                      const shader::HermiteDraw& draw, const glm::dvec3& eyeGrid, double reachGrid,
                      std::vector<VkDrawIndirectCommand> commands[2], std::vector<shader::HermiteDraw> draws[2]);

@@ -39,6 +39,11 @@ struct HermiteSdfLod {
 // tall with vertical field of view fovY (radians). A distance <= 0 (the eye inside) gives +inf.
 float projectedPixels(float worldLength, float distance, float fovY, std::uint32_t viewportHeight);
 
+// The largest factor by which `world` stretches an object-space length along an axis (column
+// norms): a cell is never drawn larger than this predicts, so a choice made from it errs on the
+// finer side.
+float largestAxisScale(const glm::mat4& world);
+
 // The level to draw, given each level's projected cell size in pixels (finest first, growing) and
 // the level drawn now: the coarsest level within target, with the hysteresis above around `current`.
 // No level within target: the finest. Empty input: 0.

@@ -595,12 +595,10 @@ void HermiteCellFeature::buildDraws(engine::render::FrameContext& frame) {
         objectRects.push_back(rect);
         screenRect_ = unite(screenRect_, rect);
         stats_.objects++;
-        {
-          // Runs, bricks and thin cells read their records by address: the draw says which buffer and
-          // which precision (the paper's cells ignore it: their records are vertex attributes).
-          draw.records = buffers_->records[precision].address();
-          if (precision == 1) draw.flags |= HERMITE_FLAG_HALF_RECORDS;
-        }
+        // Runs, bricks and thin cells read their records by address: the draw says which buffer and
+        // which precision (the paper's cells ignore it: their records are vertex attributes).
+        draw.records = buffers_->records[precision].address();
+        if (precision == 1) draw.flags |= HERMITE_FLAG_HALF_RECORDS;
         if (r.method == RenderMethod::CellBricks) {
           drawsBricks = true;
           stats_.cells += asset.cells.records.size();
@@ -704,8 +702,7 @@ void HermiteCellFeature::buildDraws(engine::render::FrameContext& frame) {
 // nearest one as the levels of detail take).
 float HermiteCellFeature::cellPixelsOnScreen(const GridSpec& grid, const glm::mat4& world,
                                              const engine::render::CameraView& camera, std::uint32_t viewportHeight) {
-  const float scale = std::max({glm::length(glm::vec3(world[0])), glm::length(glm::vec3(world[1])),
-                                glm::length(glm::vec3(world[2]))});
+  const float scale = largestAxisScale(world);
   const glm::vec3 centre = glm::vec3(world * glm::vec4(glm::vec3(grid.bounds().center()), 1.0f));
   return projectedPixels(scale * float(grid.spacing), glm::length(camera.position - centre), camera.fovY, viewportHeight);
 }
@@ -840,11 +837,11 @@ void HermiteCellFeature::recordBatch(engine::render::PassContext& pass, int prec
   const bool runs = precision == kRunBatch;
   const bool bricks = precision == kBrickBatch;
   const Variant variant = prepassVariant(pass.frame);
-  const int twoVariants = variant == kCounted ? kCounted : kProduction;  // bricks and thin cells have no early one
-  const Pipeline& pipeline = bricks ? brickPipeline(variant, near)
+  const int noEarly = withoutEarlyStage(variant);
+  const Pipeline& pipeline = bricks ? (near ? pipelines_.bricksNear[noEarly] : pipelines_.bricksFront[noEarly])
                              : runs ? (near ? pipelines_.runsNear[variant] : pipelines_.runsFront[variant])
-                             : thinBoxes_ ? (near ? pipelines_.thinNear[twoVariants][precision]
-                                                           : pipelines_.thinFront[twoVariants][precision])
+                             : thinBoxes_ ? (near ? pipelines_.thinNear[noEarly][precision]
+                                                  : pipelines_.thinFront[noEarly][precision])
                                     : (near ? pipelines_.depthNear[variant][precision]
                                             : pipelines_.depthFront[variant][precision]);
   vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, pipeline.handle());
@@ -875,10 +872,8 @@ void HermiteCellFeature::recordBatch(engine::render::PassContext& pass, int prec
   recordIndirect(cmd, pipeline, push, pass.frame.frameSlot, first, count);
 }
 
-// Bricks have no early depth variant; a frame with bricks never draws the early stage (buildDraws).
-const Pipeline& HermiteCellFeature::brickPipeline(Variant variant, bool near) const {
-  const int v = variant == kCounted ? kCounted : kProduction;
-  return near ? pipelines_.bricksNear[v] : pipelines_.bricksFront[v];
+HermiteCellFeature::Variant HermiteCellFeature::withoutEarlyStage(Variant variant) {
+  return variant == kCounted ? kCounted : kProduction;
 }
 
 void HermiteCellFeature::recordIndirect(VkCommandBuffer cmd, const Pipeline& pipeline, shader::HermitePushConstants push,

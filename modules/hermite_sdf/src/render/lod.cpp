@@ -27,13 +27,11 @@ std::uint32_t coarsestWithin(const std::vector<float>& cellPixels, float limit) 
   return level;
 }
 
-// The largest factor by which `world` stretches an object-space length along an axis (column
-// norms): a cell is never drawn larger than this predicts, so the choice errs on the finer side.
+}  // namespace
+
 float largestAxisScale(const glm::mat4& world) {
   return std::max({glm::length(glm::vec3(world[0])), glm::length(glm::vec3(world[1])), glm::length(glm::vec3(world[2]))});
 }
-
-}  // namespace
 
 std::uint32_t chooseLodLevel(const std::vector<float>& cellPixels, float pixelsPerCell, std::uint32_t current) {
   if (cellPixels.empty()) return 0;
