@@ -1,6 +1,8 @@
 #include "engine/scene/gltf_compression.h"
 
+#include <algorithm>
 #include <cmath>
+#include <iterator>
 #include <limits>
 #include <memory>
 
@@ -64,6 +66,75 @@ Expected<std::vector<std::uint8_t>> decodeMeshoptView(std::span<const std::uint8
 
 namespace {
 
+// Bounds-checked little-endian reads over the start of a Draco stream (libdraco's DecoderBuffer
+// reads the same way: fixed fields as raw little-endian, counts as LEB128 varints from 2.0 on).
+class DracoHeaderReader {
+ public:
+  explicit DracoHeaderReader(std::span<const std::uint8_t> bytes) : bytes_(bytes) {}
+
+  std::uint64_t remaining() const { return bytes_.size() - at_; }
+  bool skip(std::uint64_t n) {
+    if (n > remaining()) return false;
+    at_ += std::size_t(n);
+    return true;
+  }
+  bool fixed(std::uint32_t& value, int byteCount) {
+    if (std::uint64_t(byteCount) > remaining()) return false;
+    value = 0;
+    for (int i = 0; i < byteCount; ++i) value |= std::uint32_t(bytes_[at_++]) << (8 * i);
+    return true;
+  }
+  bool varint(std::uint32_t& value) {  // at most 5 bytes for 32 bits, as libdraco's DecodeVarint
+    value = 0;
+    for (int i = 0; i < 5; ++i) {
+      std::uint32_t byte = 0;
+      if (!fixed(byte, 1)) return false;
+      if (i == 4 && byte > 0x0f) return false;
+      value |= (byte & 0x7f) << (7 * i);
+      if ((byte & 0x80) == 0) return true;
+    }
+    return false;
+  }
+  // A count: a varint from bitstream 2.0 on, a raw uint32 before.
+  bool count(std::uint32_t& value, bool varintCounts) { return varintCounts ? varint(value) : fixed(value, 4); }
+
+ private:
+  std::span<const std::uint8_t> bytes_;
+  std::size_t at_ = 0;
+};
+
+// One metadata tree (entries, then named sub-trees), walked without recursion: the nesting depth is
+// the file's to choose.
+bool skipDracoMetadataTree(DracoHeaderReader& in) {
+  std::uint64_t pendingNamedTrees = 0;
+  bool root = true;
+  do {
+    std::uint32_t length = 0;
+    if (!root && !(in.fixed(length, 1) && in.skip(length))) return false;
+    root = false;
+    std::uint32_t entries = 0;
+    if (!in.varint(entries)) return false;
+    for (std::uint32_t e = 0; e < entries; ++e) {  // each entry takes >= 3 bytes: ends with the stream
+      std::uint32_t dataSize = 0;
+      if (!(in.fixed(length, 1) && in.skip(length) && in.varint(dataSize) && dataSize > 0 && in.skip(dataSize))) return false;
+    }
+    std::uint32_t subTrees = 0;
+    if (!in.varint(subTrees) || subTrees > in.remaining()) return false;
+    pendingNamedTrees += subTrees;
+  } while (pendingNamedTrees-- > 0);
+  return true;
+}
+
+bool skipDracoMetadata(DracoHeaderReader& in) {
+  std::uint32_t attributeTrees = 0;
+  if (!in.varint(attributeTrees) || attributeTrees > in.remaining()) return false;
+  for (std::uint32_t a = 0; a < attributeTrees; ++a) {
+    std::uint32_t attributeId = 0;
+    if (!(in.varint(attributeId) && skipDracoMetadataTree(in))) return false;
+  }
+  return skipDracoMetadataTree(in);  // the file's own
+}
+
 Expected<std::vector<glm::vec3>> readDracoVec3(const draco::Mesh& mesh, std::uint32_t uniqueId, const char* semantic) {
   const draco::PointAttribute* attribute = mesh.GetAttributeByUniqueId(uniqueId);
   if (attribute == nullptr) return makeError(fmt::format("{}: the Draco stream has no attribute with id {}", semantic, uniqueId));
@@ -85,6 +156,38 @@ Expected<std::vector<glm::vec3>> readDracoVec3(const draco::Mesh& mesh, std::uin
 }
 
 }  // namespace
+
+Expected<DracoCounts> readDracoCounts(std::span<const std::uint8_t> compressed) {
+  constexpr std::uint8_t kMagic[] = {'D', 'R', 'A', 'C', 'O'};
+  constexpr std::uint32_t kTriangularMesh = 1, kSequential = 0, kEdgebreaker = 1, kMetadataFlag = 0x8000;
+  if (compressed.size() < 11 || !std::equal(std::begin(kMagic), std::end(kMagic), compressed.begin()))
+    return makeError(fmt::format("not a Draco stream (no 'DRACO' header in {} bytes)", compressed.size()));
+  DracoHeaderReader in(compressed.subspan(5));
+  std::uint32_t major = 0, minor = 0, encoderType = 0, method = 0, flags = 0;
+  if (!(in.fixed(major, 1) && in.fixed(minor, 1) && in.fixed(encoderType, 1) && in.fixed(method, 1) && in.fixed(flags, 2)))
+    return makeError("the Draco stream is cut in its header");
+  if (major < 1 || major > 2 || (major == 2 && minor > 2))
+    return makeError(fmt::format("Draco bitstream version {}.{} (1.x and 2.0-2.2 are decoded)", major, minor));
+  if (encoderType != kTriangularMesh) return makeError("the Draco stream holds a point cloud, not a triangle mesh");
+  const auto version = major * 256 + minor;
+  if (version >= 0x103 && (flags & kMetadataFlag) != 0 && !skipDracoMetadata(in))
+    return makeError("the Draco stream's metadata is cut or malformed");
+  const bool varintCounts = version >= 0x200;
+  const auto cut = [&] { return makeError(fmt::format("the Draco stream of {} bytes is cut in its connectivity header", compressed.size())); };
+  std::uint32_t faces = 0, vertices = 0;
+  if (method == kSequential) {
+    const bool varintHeader = version >= 0x202;
+    if (!(varintHeader ? in.varint(faces) && in.varint(vertices) : in.fixed(faces, 4) && in.fixed(vertices, 4))) return cut();
+  } else if (method == kEdgebreaker) {
+    std::uint32_t traversal = 0, newVertices = 0;
+    if (!in.fixed(traversal, 1)) return cut();
+    if (version < 0x202 && !in.count(newVertices, varintCounts)) return cut();
+    if (!(in.count(vertices, varintCounts) && in.count(faces, varintCounts))) return cut();
+  } else {
+    return makeError(fmt::format("unknown Draco encoding method {} (0 sequential, 1 edgebreaker)", method));
+  }
+  return DracoCounts{faces, vertices};
+}
 
 Expected<DracoPrimitive> decodeDracoPrimitive(std::span<const std::uint8_t> compressed, std::uint32_t positionId,
                                               std::optional<std::uint32_t> normalId) {

@@ -38,6 +38,20 @@ struct DracoPrimitive {
   std::vector<std::uint32_t> indices;  // triangle list
 };
 
+// What a Draco triangle-mesh stream declares in its header, read before the decoder runs: the
+// decoder sizes its tables from these counts before it reads the data that would contradict them,
+// so a stream of a few bytes could otherwise ask for gigabytes.
+struct DracoCounts {
+  std::uint64_t faces = 0;
+  std::uint64_t vertices = 0;  // edgebreaker: encoded position vertices; sequential: points
+  // The least the decoded geometry can take: 3 indices per face, a position (and a normal) per vertex.
+  std::uint64_t decodedBytes(bool withNormals) const { return faces * 12 + vertices * (withNormals ? 24 : 12); }
+};
+
+// Reads the header (skipping its metadata) and the connectivity counts of a Draco triangle mesh,
+// bitstream versions 1.x and 2.0-2.2 (what libdraco decodes); a cut or unknown header is an error.
+Expected<DracoCounts> readDracoCounts(std::span<const std::uint8_t> compressed);
+
 // Decodes a Draco triangle mesh and reads the attributes with the given unique ids (the values of
 // the extension's `attributes` object). Every value must be finite and the point count must fit
 // 32-bit indices.

@@ -883,6 +883,19 @@ Expected<std::uint64_t> accessorCount(const ImportContext& context, int accessor
   return std::uint64_t(context.model.accessors[std::size_t(accessorIndex)].count);
 }
 
+// libdraco sizes its tables from the stream's declared counts before reading the data that would
+// contradict them (a 1 KB stream declaring 10^9 faces allocates gigabytes): the least those counts
+// decode to must fit what the file may still decode (the charge itself follows the decoding).
+Status checkDracoCounts(const ImportContext& context, std::span<const std::uint8_t> compressed, bool withNormals) {
+  ENGINE_TRY_ASSIGN(const DracoCounts declared, readDracoCounts(compressed));
+  const std::uint64_t bytes = declared.decodedBytes(withNormals);
+  if (bytes > context.decodeBudgetBytes)
+    return makeError(fmt::format("the Draco stream declares {} faces and {} vertices ({} bytes decoded), over the limit for "
+                                 "this file ({} bytes left)",
+                                 declared.faces, declared.vertices, bytes, context.decodeBudgetBytes));
+  return {};
+}
+
 // Positions, indices and (when compressed too) normals from the primitive's Draco stream, checked
 // against the counts its accessors declare.
 Expected<MeshPrimitiveData> decodeDracoGeometry(ImportContext& context, const PrimitiveRef& ref) {
@@ -893,6 +906,7 @@ Expected<MeshPrimitiveData> decodeDracoGeometry(ImportContext& context, const Pr
   if (position == draco.attributes.end()) return makeError("KHR_draco_mesh_compression has no POSITION attribute");
   const auto normal = draco.attributes.find("NORMAL");
   ENGINE_TRY_ASSIGN(const auto compressed, bufferViewBytes(context, draco.bufferView).withContext("KHR_draco_mesh_compression"));
+  ENGINE_TRY(checkDracoCounts(context, compressed, normal != draco.attributes.end()).withContext("KHR_draco_mesh_compression"));
   ENGINE_TRY_ASSIGN(const DracoPrimitive decoded,
                     decodeDracoPrimitive(compressed, position->second,
                                          normal == draco.attributes.end() ? std::nullopt : std::optional(normal->second))

@@ -16,6 +16,7 @@
 #include <nlohmann/json.hpp>
 
 #include "engine/core/files.h"
+#include "engine/scene/gltf_compression.h"
 #include "engine/scene/gltf_loader.h"
 
 namespace engine::scene {
@@ -230,6 +231,114 @@ TEST(GltfLoaderCompressedMalformed, BrokenDracoPrimitivesAreNamed) {
   Glb negative = original;
   draco(negative.document)["bufferView"] = -1;
   expectContains(loadError(negative, "neg.glb"), {"bufferView is a JSON number, not a non-negative integer"});
+}
+
+// The committed Draco stream is bitstream 2.2, edgebreaker, no metadata (gltf-pipeline's default):
+// an 11-byte header ("DRACO", version, encoder type, method, flags), the traversal type, then the
+// varint counts of encoded vertices and faces. The tests below edit it by that layout, written down
+// here from the Draco bitstream specification rather than taken from the reader under test.
+constexpr std::size_t kDracoFlagsAt = 9, kDracoCountsAt = 12;
+
+std::vector<std::uint8_t> dracoStream(const Glb& glb) {
+  const std::size_t length = glb.document["bufferViews"][0]["byteLength"];
+  return {glb.bin.begin(), glb.bin.begin() + std::ptrdiff_t(length)};
+}
+
+// Puts `stream` back as the file's only bufferView (the Draco one) and its only buffer.
+Glb withDracoStream(Glb glb, std::vector<std::uint8_t> stream) {
+  glb.document["bufferViews"][0]["byteLength"] = stream.size();
+  while (stream.size() % 4 != 0) stream.push_back(0);
+  glb.document["buffers"][0]["byteLength"] = stream.size();
+  glb.bin = std::move(stream);
+  return glb;
+}
+
+std::vector<std::uint8_t> varint(std::uint32_t value) {
+  std::vector<std::uint8_t> out;
+  do {
+    out.push_back(std::uint8_t((value & 0x7f) | (value >= 0x80 ? 0x80 : 0)));
+    value >>= 7;
+  } while (value != 0);
+  return out;
+}
+
+std::size_t varintLength(const std::vector<std::uint8_t>& bytes, std::size_t at) {
+  std::size_t n = 1;
+  while (bytes[at + n - 1] & 0x80) ++n;
+  return n;
+}
+
+std::size_t replaceVarint(std::vector<std::uint8_t>& bytes, std::size_t at, std::uint32_t value) {
+  const auto encoded = varint(value);
+  bytes.erase(bytes.begin() + std::ptrdiff_t(at), bytes.begin() + std::ptrdiff_t(at + varintLength(bytes, at)));
+  bytes.insert(bytes.begin() + std::ptrdiff_t(at), encoded.begin(), encoded.end());
+  return at + encoded.size();
+}
+
+// The committed stream with its vertex and face counts, and its symbol count (one per face but the
+// first, which libdraco checks against the faces), replaced.
+std::vector<std::uint8_t> withDeclaredCounts(std::vector<std::uint8_t> stream, std::uint32_t vertices, std::uint32_t faces) {
+  const std::size_t facesAt = replaceVarint(stream, kDracoCountsAt, vertices);
+  const std::size_t attributeDataAt = replaceVarint(stream, facesAt, faces);
+  replaceVarint(stream, attributeDataAt + 1, faces - 1);
+  return stream;
+}
+
+// Tricky because libdraco trusts the face count in the stream's header: it sizes its corner table
+// from it before reading one symbol, so a 1 KB stream declaring 2^30 faces made it allocate ~12 GB
+// (found by scripts/fuzz.sh in CI). The loader must read the counts first and refuse the file by
+// name; the same stream with its true count must still load.
+TEST(GltfLoaderCompressedMalformed, DracoStreamDeclaringAHugeMeshIsRefusedBeforeDecoding) {
+  const Glb original = readGlb("bunny_small_draco.glb");
+  const auto stream = dracoStream(original);
+  const std::uint32_t faces = original.document["accessors"][0]["count"].get<std::uint32_t>() / 3;
+  const std::uint32_t vertices = original.document["accessors"][1]["count"];
+  EXPECT_EQ(loadError(withDracoStream(original, withDeclaredCounts(stream, vertices, faces)), "same.glb"), "(loaded)");
+  // 2^16 vertices: enough edges for 2^30 faces, which libdraco checks before it allocates.
+  expectContains(loadError(withDracoStream(original, withDeclaredCounts(stream, 1u << 16, 1u << 30)), "huge.glb"),
+                 {"huge.glb", "mesh 0 'bunny' primitive 0", "KHR_draco_mesh_compression",
+                  "the Draco stream declares 1073741824 faces and 65536 vertices", "over the limit for this file"});
+}
+
+// Tricky because the counts sit after the header's optional metadata (a tree of named entries and
+// named sub-trees of any depth): skipping it wrongly would read the counts from the wrong bytes. A
+// stream given metadata must report the counts its accessors declare and still decode in libdraco
+// (which reads the metadata itself), and a cut header or metadata must be an error.
+TEST(GltfDracoCounts, CountsAreReadPastTheHeadersMetadata) {
+  const Glb original = readGlb("bunny_small_draco.glb");
+  const auto stream = dracoStream(original);
+  const std::uint64_t faces = original.document["accessors"][0]["count"].get<std::uint64_t>() / 3;
+  const std::uint64_t vertices = original.document["accessors"][1]["count"].get<std::uint64_t>();
+  const auto plain = readDracoCounts(stream);
+  ASSERT_TRUE(plain.ok()) << plain.error().message;
+  EXPECT_EQ(plain->faces, faces);
+  EXPECT_EQ(plain->vertices, vertices);
+
+  // One attribute tree (id 0: entry "q" = 2 bytes, one sub-tree "s" with one entry and none below),
+  // then the file's tree (no entries, two empty sub-trees).
+  const std::vector<std::uint8_t> metadata = {1, 0,                          // 1 attribute tree, for id 0
+                                              1, 1, 'q', 2, 7, 7,            //   entry q: 2 bytes
+                                              1,                             //   1 sub-tree
+                                              1, 's', 1, 1, 'r', 1, 9, 0,    //     "s": entry r: 1 byte; no sub-trees
+                                              0, 2,                          // file: no entries, 2 sub-trees
+                                              1, 'a', 0, 0, 1, 'b', 0, 0};   //   "a", "b": empty
+  auto withMetadata = stream;
+  withMetadata[kDracoFlagsAt + 1] |= 0x80;  // flags are little-endian; 0x8000 = metadata present
+  withMetadata.insert(withMetadata.begin() + 11, metadata.begin(), metadata.end());
+  const auto counted = readDracoCounts(withMetadata);
+  ASSERT_TRUE(counted.ok()) << counted.error().message;
+  EXPECT_EQ(counted->faces, faces);
+  EXPECT_EQ(counted->vertices, vertices);
+  EXPECT_EQ(loadError(withDracoStream(original, withMetadata), "metadata.glb"), "(loaded)");
+
+  for (std::size_t length : {4ul, 11ul, 13ul, 11ul + metadata.size() - 1}) {
+    const std::vector<std::uint8_t> cut(withMetadata.begin(), withMetadata.begin() + std::ptrdiff_t(length));
+    EXPECT_FALSE(readDracoCounts(cut).ok()) << "cut at " << length;
+  }
+  auto newer = stream;
+  newer[6] = 3;  // bitstream 2.3: not one libdraco 1.5 decodes
+  ASSERT_FALSE(readDracoCounts(newer).ok());
+  EXPECT_NE(readDracoCounts(newer).error().message.find("version 2.3"), std::string::npos);
 }
 
 // Tricky because the meshopt decoders are handed lengths and strides from the file: a cut stream, a
