@@ -34,6 +34,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <memory>
+#include <optional>
 #include <vector>
 
 #include <glm/glm.hpp>
@@ -92,6 +93,7 @@ class MeshSource final : public SdfSource {
   Aabb bounds() const override;
   void sampleRow(const glm::dvec3& start, const glm::dvec3& step, std::span<SdfSample> out) const override;
   SdfBandSample sampleBand(const glm::dvec3& p, double band) const override;
+  std::optional<SdfSample> sampleNear(const glm::dvec3& p, double band) const override;
   void sampleBandRow(const glm::dvec3& start, const glm::dvec3& step, double band,
                      std::span<SdfBandSample> out) const override;
 

@@ -1,6 +1,7 @@
 #pragma once
 // SdfSource: anything that can be sampled into a field — analytic shapes, triangle meshes.
 // Sources are evaluated from many threads at once while baking, so every query must be thread-safe.
+#include <optional>
 #include <span>
 
 #include <glm/glm.hpp>
@@ -49,6 +50,13 @@ class SdfSource {
   virtual SdfBandSample sampleBand(const glm::dvec3& p, double band) const {
     (void)band;
     return {sample(p), true};
+  }
+
+  // The exact sample where the surface is within `band` of p (as sampleBand's), else nothing: for
+  // callers that skip far points without their sign, which meshes then do not compute.
+  virtual std::optional<SdfSample> sampleNear(const glm::dvec3& p, double band) const {
+    const SdfBandSample s = sampleBand(p, band);
+    return s.exact ? std::optional(s.sample) : std::nullopt;
   }
 
   // Row version of sampleBand(), with the same coherence benefit as sampleRow().

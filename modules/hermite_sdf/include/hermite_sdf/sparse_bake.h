@@ -3,7 +3,7 @@
 // field or class array, so that time and memory grow with the kept cells (about K^2).
 //
 // Coarse-to-fine descent over bricks of cells (16^3 -> 8^3 -> 4^3). For a brick with centre c and
-// half-diagonal R (centre to its farthest sample), one band query d = SdfSource::sampleBand(c, R + m)
+// half-diagonal R (centre to its farthest sample), one band query d = SdfSource::sampleNear(c, R + m)
 // decides: if the surface is farther than R + m, no cell of the brick is kept and none of its
 // samples is ever computed. In a 4^3 leaf that stays, each sample needed by a cell is queried with
 // the band q (kSparseLeafQueryCells) and cached per 16^3 brick; cells whose 8 corners are exact are

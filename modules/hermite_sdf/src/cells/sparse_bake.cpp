@@ -198,16 +198,17 @@ class SlabBaker {
   engine::Status descend(const CellBox& box, SlabResult& out) {
     const glm::dvec3 centre = grid_.origin + grid_.spacing * 0.5 * glm::dvec3(box.lo + box.hi);
     const double radius = grid_.spacing * 0.5 * glm::length(glm::dvec3(box.hi - box.lo));
-    const SdfBandSample probe = source_.sampleBand(centre, radius + margin_);
+    const std::optional<SdfSample> probe = source_.sampleNear(centre, radius + margin_);
     ++out.brickProbes;
-    if (!std::isfinite(probe.sample.value))
+    // None: the source itself proved the surface farther than radius + margin.
+    if (!probe) return {};
+    if (!std::isfinite(probe->value))
       return engine::makeError(fmt::format("source returned a non-finite value {} at brick centre ({}, {}, {})",
-                                           probe.sample.value, centre.x, centre.y, centre.z));
-    // Not exact: the source itself proved the surface farther than radius + margin.
-    if (!probe.exact || std::abs(probe.sample.value) - radius >= margin_) return {};
+                                           probe->value, centre.x, centre.y, centre.z));
+    if (std::abs(probe->value) - radius >= margin_) return {};
     const glm::ivec3 size = box.hi - box.lo;
     if (size.x <= kLeafBrickCells && size.y <= kLeafBrickCells && size.z <= kLeafBrickCells)
-      return examineLeaf(box, centre, probe.sample.value, out);
+      return examineLeaf(box, centre, probe->value, out);
     return descendChildren(box, out);
   }
 
@@ -259,14 +260,14 @@ class SlabBaker {
       if (std::abs(distance) - glm::length(p - centre) >= leafBand_) {
         state = BrickSampleCache::State::Far;
       } else {
-        const SdfBandSample q = source_.sampleBand(p, leafBand_);
+        const std::optional<SdfSample> q = source_.sampleNear(p, leafBand_);
         ++out.sampleQueries;
-        if (q.exact) {
-          ENGINE_TRY_ASSIGN(cache_.sample(i), detail::toStoredSample(q.sample, grid_, s.x, s.y, s.z));
+        if (q) {
+          ENGINE_TRY_ASSIGN(cache_.sample(i), detail::toStoredSample(*q, grid_, s.x, s.y, s.z));
         }
         // An exact value beyond q proves as much as a bound would (and analytic sources, whose
         // band queries are always exact, would otherwise fetch every corner of far cells).
-        const bool far = !q.exact || std::abs(q.sample.value) >= leafBand_;
+        const bool far = !q || std::abs(q->value) >= leafBand_;
         state = far ? BrickSampleCache::State::Far : BrickSampleCache::State::Exact;
       }
     }

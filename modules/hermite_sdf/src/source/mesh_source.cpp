@@ -166,7 +166,9 @@ struct MeshSource::Impl {
     return signedSample(p, hit, w);
   }
 
-  SdfBandSample sampleBand(const glm::dvec3& p, double band, QueryCache& cache) const {
+  // The closest triangle when it lies within `band` of p; otherwise no triangle and, in
+  // prunedBoundSquared, the traversal's bound.
+  mesh::ClosestHit closestWithin(const glm::dvec3& p, double band, const QueryCache& cache) const {
     mesh::ClosestHit seed = seedHit(p, cache);
     const double bandSquared = band * band;
     if (seed.distanceSquared > bandSquared) {
@@ -175,11 +177,26 @@ struct MeshSource::Impl {
     }
     mesh::ClosestHit hit = tree.closestOrBound(p, seed.distanceSquared);
     if (hit.triangle == UINT32_MAX && seed.triangle != UINT32_MAX) hit = seed;
-    if (hit.triangle != UINT32_MAX) {
-      const double w = windingAt(p, hit, cache);
-      remember(cache, {p, std::sqrt(hit.distanceSquared), w, hit.triangle});
-      return {signedSample(p, hit, w), true};
-    }
+    return hit;
+  }
+
+  SdfSample exactSample(const glm::dvec3& p, const mesh::ClosestHit& hit, QueryCache& cache) const {
+    const double w = windingAt(p, hit, cache);
+    remember(cache, {p, std::sqrt(hit.distanceSquared), w, hit.triangle});
+    return signedSample(p, hit, w);
+  }
+
+  // A far point is not remembered: its anchor would need the sign, the query this skips.
+  std::optional<SdfSample> sampleNear(const glm::dvec3& p, double band, QueryCache& cache) const {
+    const mesh::ClosestHit hit = closestWithin(p, band, cache);
+    if (hit.triangle == UINT32_MAX) return std::nullopt;
+    return exactSample(p, hit, cache);
+  }
+
+  SdfBandSample sampleBand(const glm::dvec3& p, double band, QueryCache& cache) const {
+    const mesh::ClosestHit hit = closestWithin(p, band, cache);
+    if (hit.triangle != UINT32_MAX) return {exactSample(p, hit, cache), true};
+    const double bandSquared = band * band;
     // Nothing within the band: the traversal's pruning bound is a safe distance bound. The sign
     // comes from a recent query's ball if one holds p; otherwise, where pseudonormals are valid,
     // the full closest-point query (cheaper than a winding number next to the surface) gives it
@@ -233,6 +250,10 @@ void MeshSource::sampleRow(const glm::dvec3& start, const glm::dvec3& step, std:
 
 SdfBandSample MeshSource::sampleBand(const glm::dvec3& p, double band) const {
   return impl_->sampleBand(p, band, threadCache(impl_->id));
+}
+
+std::optional<SdfSample> MeshSource::sampleNear(const glm::dvec3& p, double band) const {
+  return impl_->sampleNear(p, band, threadCache(impl_->id));
 }
 
 void MeshSource::sampleBandRow(const glm::dvec3& start, const glm::dvec3& step, double band,
