@@ -9,8 +9,9 @@
 //   frame 5: resolution=48 cancel-bake
 //
 // Tuning keys: those of a settings file (tuning.h). Actions: screenshot=PATH (PNG + .json
-// settings sidecar), wait-bake (also the compared side's bake), cancel-bake, reload-shaders (the
-// pipelines from the SPIR-V on disk, the result logged), rebuild-shaders (the panel's button and
+// settings sidecar), wait-bake (also the compared side's bake and the levels of detail),
+// cancel-bake, reload-shaders (the pipelines from the SPIR-V on disk, the result logged),
+// rebuild-shaders (the panel's button and
 // F5: the build's shader target first, then the reload), shader-dir=PATH (SPIR-V from PATH from
 // now on, as HSDF_SHADER_DIR=PATH: a reload from a broken copy), size=WxH (1..4096; the window
 // system applies it asynchronously), wait-size (waits until the window has the last size asked for),

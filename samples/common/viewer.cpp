@@ -237,6 +237,7 @@ void Viewer::startRebake() {
 void Viewer::cancelBake() {
   if (bakeJob_) bakeJob_->cancel();
   if (compareJob_) compareJob_->cancel();
+  if (levelJob_) levelJob_->cancel();
 }
 
 // Swaps the re-bake's asset into the entity (waiting for it). A failed one leaves the old asset
@@ -276,6 +277,7 @@ Status Viewer::waitForBake() {
   const Status main = bakeJob_ ? finishBake() : Status{};
   if (compareJob_) finishCompareBake();
   updateCompareBake();  // e.g. the compared side can share the new main asset
+  updateLevelsOfDetail(true);
   return main;
 }
 
@@ -336,45 +338,67 @@ void Viewer::applyTuningToScene() {
 
 // Levels of detail (TuningState::lod): the baked entity carries an hsdf::HermiteSdfLod whose level 0
 // is the asset baked at K. A renderable holding none of the levels has a new bake (re-bake, refused
-// bake put back): its coarser levels are baked then, from the same source, with its band (here, on
-// the frame's thread). Off: the entity draws level 0 again. Then the module's system picks the
-// level per frame, from the camera of this frame.
-void Viewer::updateLevelsOfDetail() {
+// bake put back): its coarser levels are baked then, from the same source, with its band, one
+// hsdf::BakeJob per level on a worker thread (finer first), so that the frame never waits for them;
+// the module's system picks among the levels ready so far, from the camera of this frame. Off: the
+// entity draws level 0 again. `wait` (waitForBake) finishes every level and leaves the choice to
+// the next frame.
+void Viewer::updateLevelsOfDetail(bool wait) {
   hsdf::HermiteSdfRenderable* renderable = sdfRenderable();
   if (!renderable) return;
   hsdf::HermiteSdfLod* lod = registry_.tryGet<hsdf::HermiteSdfLod>(*bakedEntity_);
   const bool holdsLevel =
       lod && std::find(lod->levels.begin(), lod->levels.end(), renderable->asset) != lod->levels.end();
   if (!tuning_.lod || !bakeSource_) {
+    levelJob_.reset();
     // A level goes back to level 0; a new bake in the renderable stays.
     if (holdsLevel) renderable->asset = lod->levels.front();
     if (lod) registry_.remove<hsdf::HermiteSdfLod>(*bakedEntity_);
     return;
   }
-  if (!holdsLevel) {
-    if (Status baked = bakeLevels(renderable->asset); !baked) {
-      bakeError_ = baked.error().message;
-      log::warn("{} (levels of detail turned off)", bakeError_);
-      tuning_.lod = false;
-      return;
-    }
+  if (!holdsLevel) startLevelBakes(renderable->asset);
+  if (Status baked = finishLevelBakes(wait); !baked) {
+    bakeError_ = baked.error().message;
+    log::warn("{} (levels of detail turned off)", bakeError_);
+    tuning_.lod = false;
+    return;
   }
   registry_.get<hsdf::HermiteSdfLod>(*bakedEntity_).pixelsPerCell = tuning_.lodPixelsPerCell;
-  hsdf::selectSdfLevels(registry_, cameraView(), renderer_->extent().height);
+  if (!wait) hsdf::selectSdfLevels(registry_, cameraView(), renderer_->extent().height);
 }
 
-// The entity's levels with `finest` (baked at bakedResolution_) as level 0.
-Status Viewer::bakeLevels(std::shared_ptr<const hsdf::SdfAsset> finest) {
+// New levels with `finest` (baked at bakedResolution_) as level 0, the coarser ones to come.
+void Viewer::startLevelBakes(std::shared_ptr<const hsdf::SdfAsset> finest) {
+  levelJob_.reset();  // a level of the old level 0 is outdated
   hsdf::BakeSettings settings;
   settings.resolution = bakedResolution_;
   settings.padding = bakedPadding_;
   settings.band = finest->field.samples.empty() ? hsdf::BakeBand::Sparse : hsdf::BakeBand::Dense;
   settings.budget = bakeBudget_;
-  ENGINE_TRY_ASSIGN(auto levels, hsdf::bakeLodLevels(*bakeSource_, settings, hsdf::kDefaultLodMinResolution, finest));
-  log::info("levels of detail: {} levels from K = {}", levels.size(), bakedResolution_);
   hsdf::HermiteSdfLod lod;
-  lod.levels = std::move(levels);
+  lod.levels = {std::move(finest)};
   registry_.emplaceOrReplace<hsdf::HermiteSdfLod>(*bakedEntity_, std::move(lod));
+  startNextLevelBake(settings);
+}
+
+void Viewer::startNextLevelBake(const hsdf::BakeSettings& previous) {
+  if (const std::optional<hsdf::BakeSettings> next = hsdf::coarserLodLevel(previous))
+    levelJob_ = std::make_unique<hsdf::BakeJob>(*bakeSource_, *next);
+  else
+    log::info("levels of detail: {} levels from K = {}", registry_.get<hsdf::HermiteSdfLod>(*bakedEntity_).levels.size(),
+              bakedResolution_);
+}
+
+// Adds the levels whose bakes are done (all of them when `wait`), starting the next one each time.
+Status Viewer::finishLevelBakes(bool wait) {
+  while (levelJob_ && (wait || levelJob_->done())) {
+    hsdf::BakeJob::Result result = levelJob_->wait();
+    const hsdf::BakeSettings settings = levelJob_->settings();
+    levelJob_.reset();
+    if (!result) return result.error().withContext(fmt::format("levels of detail: level K = {}", settings.resolution));
+    registry_.get<hsdf::HermiteSdfLod>(*bakedEntity_).levels.push_back(std::move(*result));
+    startNextLevelBake(settings);
+  }
   return {};
 }
 
@@ -587,7 +611,7 @@ Status Viewer::step() {
   if (compareJob_ && compareJob_->done()) finishCompareBake();
   applyTuningToScene();
   scene::updateWorldTransforms(registry_);
-  updateLevelsOfDetail();
+  updateLevelsOfDetail(false);
   const bool ui = ui_ && uiVisible_;
   render::FrameSettings settings;
   settings.debugView = std::uint32_t(tuning_.debugView);
@@ -743,6 +767,7 @@ Status Viewer::close() {
   closed_ = true;
   bakeJob_.reset();
   compareJob_.reset();
+  levelJob_.reset();
   try {
     context_->waitIdle();
   } catch (const gpu::VulkanError& e) {  // a lost device has nothing left to wait for

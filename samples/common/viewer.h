@@ -136,7 +136,8 @@ class Viewer {
   void setTuning(const TuningState& tuning);
   // The running re-bake (progress(), cancel()), or null.
   hsdf::BakeJob* bakeJob() { return bakeJob_.get(); }
-  // Blocks until a running re-bake is done and in the scene; its error, if it failed.
+  // Blocks until a running re-bake is done and in the scene, and with TuningState::lod until its
+  // levels of detail are (they bake on worker threads too); the re-bake's error, if it failed.
   engine::Status waitForBake();
   // Cancels the running re-bake (the old field keeps drawing; K goes back to the drawn one).
   void cancelBake();
@@ -265,8 +266,10 @@ class Viewer {
   engine::Expected<bool> renderFrame(const engine::render::FrameSettings& settings);
   engine::Status droppedObjectsError(std::uint64_t frame);
   void applyTuningToScene();
-  void updateLevelsOfDetail();
-  engine::Status bakeLevels(std::shared_ptr<const hsdf::SdfAsset> finest);
+  void updateLevelsOfDetail(bool wait);
+  void startLevelBakes(std::shared_ptr<const hsdf::SdfAsset> finest);
+  void startNextLevelBake(const hsdf::BakeSettings& previous);
+  engine::Status finishLevelBakes(bool wait);
   void startRebake();
   engine::Status finishBake();
   std::optional<std::string> restoreRefusedBake();
@@ -315,6 +318,7 @@ class Viewer {
   int bakedResolution_ = 0;
   int bakedPadding_ = 0;
   std::unique_ptr<hsdf::BakeJob> bakeJob_;
+  std::unique_ptr<hsdf::BakeJob> levelJob_;  // the next coarser level of detail (TuningState::lod)
   // The field a finished re-bake replaced, kept until the first frame after the swap has shown
   // whether the GPU took the new one (restoreRefusedBake).
   struct ReplacedField {

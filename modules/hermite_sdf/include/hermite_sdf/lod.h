@@ -10,6 +10,7 @@
 // writes the chosen level's asset into the renderable (the renderers see an ordinary asset).
 #include <cstdint>
 #include <memory>
+#include <optional>
 #include <vector>
 
 #include "engine/core/expected.h"
@@ -60,6 +61,11 @@ std::vector<float> levelCellPixels(const HermiteSdfLod& lod, const glm::mat4& wo
 // the level and writes its asset into the renderable. Entities with no levels are left alone.
 void selectSdfLevels(engine::ecs::Registry& registry, const engine::render::CameraView& camera,
                      std::uint32_t viewportHeight);
+
+// The settings of the level after `level` (K halved, the rest kept), or nothing when `level` is
+// the coarsest bakeLodLevels makes (the next K below minResolution, or no cell inside the padding):
+// for callers that bake the levels one job at a time.
+std::optional<BakeSettings> coarserLodLevel(const BakeSettings& level, int minResolution = kDefaultLodMinResolution);
 
 // The levels of one object: K = finest.resolution, then K/2, K/4, ... down to minResolution (no
 // level below it, and none without a cell inside the padding), each baked by bakeAsset from

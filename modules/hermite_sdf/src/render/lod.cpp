@@ -70,6 +70,22 @@ void selectSdfLevels(engine::ecs::Registry& registry, const engine::render::Came
       });
 }
 
+namespace {
+
+// A level needs K >= minResolution and at least one cell inside the padding (fitGrid).
+bool isLodLevel(const BakeSettings& level, int minResolution) {
+  return level.resolution >= minResolution && level.resolution - 1 - 2 * level.padding >= 1;
+}
+
+}  // namespace
+
+std::optional<BakeSettings> coarserLodLevel(const BakeSettings& level, int minResolution) {
+  BakeSettings coarser = level;
+  coarser.resolution /= 2;
+  if (!isLodLevel(coarser, minResolution)) return std::nullopt;
+  return coarser;
+}
+
 engine::Expected<std::vector<std::shared_ptr<const SdfAsset>>> bakeLodLevels(const BakeSource& source,
                                                                              const BakeSettings& finest, int minResolution,
                                                                              std::shared_ptr<const SdfAsset> finestAsset) {
@@ -82,9 +98,7 @@ engine::Expected<std::vector<std::shared_ptr<const SdfAsset>>> bakeLodLevels(con
     levels.push_back(std::move(finestAsset));
     settings.resolution /= 2;
   }
-  // A level needs K >= minResolution and at least one cell inside the padding (fitGrid).
-  for (; settings.resolution >= minResolution && settings.resolution - 1 - 2 * settings.padding >= 1;
-       settings.resolution /= 2) {
+  for (; isLodLevel(settings, minResolution); settings.resolution /= 2) {
     auto level = bakeAsset(prepared, settings);
     if (!level) return level.error().withContext(fmt::format("levels of detail: level K = {}", settings.resolution));
     levels.push_back(std::move(*level));

@@ -3,9 +3,11 @@
 // Small images (64x48) keep it fast.
 #include <gtest/gtest.h>
 
+#include <chrono>
 #include <cmath>
 #include <cstdint>
 #include <string>
+#include <thread>
 #include <vector>
 
 #include "test_viewer.h"
@@ -296,7 +298,8 @@ TEST(Viewer, BakePastTheBudgetIsRefusedAndCancelKeepsTheOldK) {
 // Tricky: the level is chosen inside the one frame step, from that frame's camera: near (K's cells
 // about 1 px on the 48-pixel image, target 1) draws K, 6 times farther draws a coarser level
 // of the same source, and turning levels off draws K again; the levels are baked once per asset
-// (the far frame reuses the near frame's levels: same level-0 asset, no re-bake).
+// (the far frame reuses the near frame's levels: same level-0 asset, no re-bake), on worker
+// threads that waitForBake waits for.
 TEST(Viewer, LevelsOfDetailFollowTheCameraInTheFrameStep) {
   auto viewer = viewTorus(64);
   ASSERT_NE(viewer, nullptr);
@@ -306,6 +309,7 @@ TEST(Viewer, LevelsOfDetailFollowTheCameraInTheFrameStep) {
   viewer->setTuning(tuning);
   viewer->setOrbitView(0);
   ASSERT_TRUE(viewer->step().ok());
+  ASSERT_TRUE(viewer->waitForBake().ok());
   const auto finest = theSdf(*viewer).asset;
   EXPECT_EQ(finest->cells.grid.resolution, 64);
   const glm::vec3 target = 0.5f * (viewer->boundsMin() + viewer->boundsMax());
@@ -324,6 +328,7 @@ TEST(Viewer, LevelsOfDetailFollowTheCameraInTheFrameStep) {
   // (not level 0 of the old levels), and levels on again must build the new K's levels.
   tuning.lod = true;
   viewer->setTuning(tuning);
+  ASSERT_TRUE(viewer->waitForBake().ok());
   ASSERT_TRUE(viewer->step().ok());
   EXPECT_LT(theSdf(*viewer).asset->cells.grid.resolution, 64);
   tuning.lod = false;
@@ -335,8 +340,39 @@ TEST(Viewer, LevelsOfDetailFollowTheCameraInTheFrameStep) {
   tuning.lod = true;
   viewer->setTuning(tuning);
   viewer->setCamera(glm::dvec3(target + 1000.0f * (eye - target)), glm::dvec3(target));
+  ASSERT_TRUE(viewer->waitForBake().ok());
   ASSERT_TRUE(viewer->step().ok());
   EXPECT_EQ(theSdf(*viewer).asset->cells.grid.resolution, 48 / 2) << "the coarsest level of K = 48 (floor 16)";
+  EXPECT_TRUE(viewer->close().ok());
+}
+
+// Tricky because the frame must not wait for the levels (seconds at K = 1024): the step that turns
+// them on, far from the object, starts their bakes and still draws level 0 (a K = 32 bake takes
+// far longer than the few microseconds between its start and the frame's look at it); the levels
+// arrive in later steps without a call that waits, finer first, and the far object then draws a
+// coarser one.
+TEST(Viewer, LevelsOfDetailBakeOffTheFrameThread) {
+  auto viewer = viewTorus(64);
+  ASSERT_NE(viewer, nullptr);
+  viewer->setOrbitView(0);
+  const glm::vec3 target = 0.5f * (viewer->boundsMin() + viewer->boundsMax());
+  const glm::vec3 eye = viewer->cameraView().position;
+  viewer->setCamera(glm::dvec3(target + 1000.0f * (eye - target)), glm::dvec3(target));
+  TuningState tuning = viewer->tuning();
+  tuning.lod = true;
+  tuning.lodPixelsPerCell = 1.0f;
+  viewer->setTuning(tuning);
+  ASSERT_TRUE(viewer->step().ok());
+  EXPECT_EQ(theSdf(*viewer).asset->cells.grid.resolution, 64) << "the step did not wait: level 0 until a level is ready";
+  int drawn = 64;
+  for (int frame = 0; frame < 2000 && drawn != 16; ++frame) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(5));
+    ASSERT_TRUE(viewer->step().ok());
+    const int now = theSdf(*viewer).asset->cells.grid.resolution;
+    EXPECT_LE(now, drawn) << "finer levels arrive first";
+    drawn = now;
+  }
+  EXPECT_EQ(drawn, 16) << "the coarsest level of K = 64 (floor 16) arrived without waitForBake";
   EXPECT_TRUE(viewer->close().ok());
 }
 
