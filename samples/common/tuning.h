@@ -10,9 +10,9 @@
 #include <vector>
 
 #include "engine/core/expected.h"
-#include "hermite_sdf/bake_job.h"
-#include "hermite_sdf/renderable.h"
-#include "hermite_sdf/scene_objects.h"
+#include "hermite_sdf/core/bake_job.h"
+#include "hermite_sdf/render/renderable.h"
+#include "hermite_sdf/render/scene_objects.h"
 
 namespace samples {
 
@@ -110,7 +110,7 @@ struct TuningState {
   bool difference = false;
   // A glTF scene loaded as separate objects (SceneDesc::objects; read when it loads): how nodes
   // without an extras choice draw, and nodes drawn as triangles whatever their extras say
-  // (hermite_sdf/scene_objects.h).
+  // (hermite_sdf/render/scene_objects.h).
   hsdf::NodeDraw nodeDraw = hsdf::NodeDraw::Sdf;
   std::vector<std::string> triangleNodes;
   // Levels of detail (hsdf::HermiteSdfLod): the baked object also at K/2, K/4, ... (down to K = 16),

@@ -19,9 +19,9 @@
 #include "engine/render/mesh_feature.h"
 #include "engine/scene/transform.h"
 #include "engine/ui/ui_layer.h"
-#include "hermite_sdf/cell_feature.h"
-#include "hermite_sdf/lod.h"
-#include "hermite_sdf/sphere_trace_feature.h"
+#include "hermite_sdf/render/cell_feature.h"
+#include "hermite_sdf/render/lod.h"
+#include "hermite_sdf/render/sphere_trace_feature.h"
 #include "shader_build.h"
 #include "tuning_panel.h"
 

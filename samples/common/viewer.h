@@ -30,7 +30,7 @@
 #include "engine/render/components.h"
 #include "engine/render/renderer.h"
 #include "difference_view.h"
-#include "hermite_sdf/bake_job.h"
+#include "hermite_sdf/core/bake_job.h"
 #include "tuning.h"
 
 namespace engine::gpu {
@@ -99,7 +99,7 @@ struct SceneDesc {
   bool groundPlane = true;
   // A glTF scene as separate objects: each mesh baked once into its own asset (at the tuning's K
   // and padding), drawn at every node that places it, except nodes drawn as triangles
-  // (TuningState::nodeDraw, triangleNodes, the nodes' extras: hermite_sdf/scene_objects.h). The
+  // (TuningState::nodeDraw, triangleNodes, the nodes' extras: hermite_sdf/render/scene_objects.h). The
   // assets are baked when the scene loads and kept: a new K does not re-bake them.
   bool objects = false;
 };

@@ -8,7 +8,7 @@
 
 #include "engine/core/log.h"
 #include "engine/scene/transform.h"
-#include "hermite_sdf/scene_objects.h"
+#include "hermite_sdf/render/scene_objects.h"
 #include "viewer.h"
 
 namespace samples {

@@ -9,7 +9,7 @@
 #include "engine/render/scene_instantiate.h"
 #include "engine/scene/gltf_loader.h"
 #include "engine/scene/transform.h"
-#include "hermite_sdf/hsdf_file.h"
+#include "hermite_sdf/core/hsdf_file.h"
 #include "viewer.h"
 
 namespace samples {

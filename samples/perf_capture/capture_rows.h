@@ -6,7 +6,7 @@
 #include <string>
 #include <vector>
 
-#include "hermite_sdf/renderable.h"
+#include "hermite_sdf/render/renderable.h"
 #include "tuning.h"
 
 namespace capture {

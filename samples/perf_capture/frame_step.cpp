@@ -1,8 +1,8 @@
 #include "frame_step.h"
 
 #include "engine/render/mesh_feature.h"
-#include "hermite_sdf/cell_feature.h"
-#include "hermite_sdf/sphere_trace_feature.h"
+#include "hermite_sdf/render/cell_feature.h"
+#include "hermite_sdf/render/sphere_trace_feature.h"
 #include "shared/host_device.h"
 
 namespace capture {

@@ -16,7 +16,7 @@
 #include "engine/core/math.h"
 #include "engine/render/camera_view.h"
 #include "engine/scene/scene_data.h"
-#include "hermite_sdf/source.h"
+#include "hermite_sdf/core/source.h"
 
 namespace capture {
 

@@ -1,5 +1,5 @@
 // Tricubic Ferguson–Hermite interpolation in GLSL: the same formulation as
-// modules/hermite_sdf/include/hermite_sdf/hermite.h (read that header for the derivation).
+// modules/hermite_sdf/include/hermite_sdf/core/hermite.h (read that header for the derivation).
 // A cell is 8 corners (index x + 2y + 4z), each vec4(f, fx, fy, fz) with the gradient in world
 // units; u in [0,1]^3 is the cell-local position and h the grid spacing.
 #ifndef HSDF_HERMITE_GLSL

@@ -1,4 +1,4 @@
-// Brick culling tests (issue 20), the twins of hermite_sdf/normal_cone.h (read it for the proofs):
+// Brick culling tests (issue 20), the twins of hermite_sdf/core/normal_cone.h (read it for the proofs):
 // the same float operations in the same order, marked precise so that no contraction into fused
 // multiply-adds makes the GPU keep a different set of bricks than the C++ twin.
 //

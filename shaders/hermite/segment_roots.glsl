@@ -13,7 +13,7 @@
 //     root's placement is approximate (docs/root-finding.md);
 //   - the certified mode (HERMITE_FLAG_CERTIFIED) walks from the whole segment and places the
 //     first root to 2^-18 of its interval.
-// The math is derived in modules/hermite_sdf/include/hermite_sdf/hermite.h (restrictToSegment: the
+// The math is derived in modules/hermite_sdf/include/hermite_sdf/core/hermite.h (restrictToSegment: the
 // same polynomial, built there from the 64 tensor Bernstein coefficients) and the rules for roots
 // on shared cell faces are in docs/root-finding.md.
 #ifndef HSDF_SEGMENT_ROOTS_GLSL

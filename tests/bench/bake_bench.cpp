@@ -6,7 +6,7 @@
 #include <benchmark/benchmark.h>
 
 #include "bench_common.h"
-#include "hermite_sdf/sparse_bake.h"
+#include "hermite_sdf/core/sparse_bake.h"
 
 namespace hsdf::bench {
 namespace {

@@ -3,8 +3,8 @@
 #include <string>
 
 #include "engine/scene/scene_data.h"
-#include "hermite_sdf/field.h"
-#include "hermite_sdf/mesh_source.h"
+#include "hermite_sdf/core/field.h"
+#include "hermite_sdf/core/mesh_source.h"
 
 namespace hsdf::bench {
 

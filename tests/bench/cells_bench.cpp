@@ -2,7 +2,7 @@
 #include <benchmark/benchmark.h>
 
 #include "bench_common.h"
-#include "hermite_sdf/cells.h"
+#include "hermite_sdf/core/cells.h"
 
 namespace hsdf::bench {
 namespace {

@@ -5,7 +5,7 @@
 
 #include <benchmark/benchmark.h>
 
-#include "hermite_sdf/hermite.h"
+#include "hermite_sdf/core/hermite.h"
 
 namespace hsdf::bench {
 namespace {

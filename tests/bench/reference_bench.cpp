@@ -10,9 +10,9 @@
 #include "bench_common.h"
 #include "engine/core/math.h"
 #include "engine/platform/camera_controller.h"
-#include "hermite_sdf/analytic.h"
-#include "hermite_sdf/cells.h"
-#include "hermite_sdf/reference.h"
+#include "hermite_sdf/core/analytic.h"
+#include "hermite_sdf/core/cells.h"
+#include "hermite_sdf/core/reference.h"
 
 namespace hsdf::bench {
 namespace {

@@ -9,7 +9,7 @@
 #include <vector>
 
 #include "fuzz_check.h"
-#include "hermite_sdf/hsdf_file.h"
+#include "hermite_sdf/core/hsdf_file.h"
 
 namespace {
 

@@ -17,7 +17,7 @@
 #include <string>
 
 #include "fuzz_check.h"
-#include "hermite_sdf/bake_job.h"
+#include "hermite_sdf/core/bake_job.h"
 
 namespace {
 

@@ -22,9 +22,9 @@
 #include "engine/core/math.h"
 #include "engine/render/renderer.h"
 #include "engine/scene/transform.h"
-#include "hermite_sdf/cells.h"
-#include "hermite_sdf/reference.h"
-#include "hermite_sdf/sphere_trace_feature.h"
+#include "hermite_sdf/core/cells.h"
+#include "hermite_sdf/core/reference.h"
+#include "hermite_sdf/render/sphere_trace_feature.h"
 #include "hermite_test_support.h"
 #include "shared/host_device.h"
 

@@ -14,10 +14,10 @@
 #include "engine/platform/camera_controller.h"
 #include "engine/gpu/buffer.h"
 #include "gpu_test_support.h"
-#include "hermite_sdf/analytic.h"
-#include "hermite_sdf/bake_job.h"
-#include "hermite_sdf/normal_cone.h"
-#include "hermite_sdf/renderable.h"
+#include "hermite_sdf/core/analytic.h"
+#include "hermite_sdf/core/bake_job.h"
+#include "hermite_sdf/core/normal_cone.h"
+#include "hermite_sdf/render/renderable.h"
 #include "render/brick_culler.h"
 
 namespace hsdf {

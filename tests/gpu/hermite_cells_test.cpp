@@ -20,7 +20,7 @@
 #include "engine/gpu/pipeline_statistics.h"
 #include "engine/render/components.h"
 #include "engine/scene/transform.h"
-#include "hermite_sdf/cell_feature.h"
+#include "hermite_sdf/render/cell_feature.h"
 #include "device_tolerances.h"
 #include "hermite_test_support.h"
 #include "shared/host_device.h"

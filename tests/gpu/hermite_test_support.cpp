@@ -8,10 +8,10 @@
 #include "engine/render/components.h"
 #include "engine/scene/gltf_loader.h"
 #include "engine/scene/transform.h"
-#include "hermite_sdf/analytic.h"
-#include "hermite_sdf/cells.h"
-#include "hermite_sdf/field.h"
-#include "hermite_sdf/mesh_source.h"
+#include "hermite_sdf/core/analytic.h"
+#include "hermite_sdf/core/cells.h"
+#include "hermite_sdf/core/field.h"
+#include "hermite_sdf/core/mesh_source.h"
 
 namespace gputest {
 

@@ -7,8 +7,8 @@
 #include <vector>
 
 #include "gpu_test_support.h"
-#include "hermite_sdf/reference.h"
-#include "hermite_sdf/renderable.h"
+#include "hermite_sdf/core/reference.h"
+#include "hermite_sdf/render/renderable.h"
 
 namespace gputest {
 

@@ -1,4 +1,4 @@
-// Levels of detail (hermite_sdf/lod.h) on the device: a far object draws a coarser level, the
+// Levels of detail (hermite_sdf/render/lod.h) on the device: a far object draws a coarser level, the
 // frame shows the same objects as without levels (coverage within a level's difference), and the
 // cells' prepass does less work. Lavapipe, validation layers on.
 #include <algorithm>
@@ -7,8 +7,8 @@
 
 #include "engine/gpu/pipeline_statistics.h"
 #include "engine/scene/transform.h"
-#include "hermite_sdf/cell_feature.h"
-#include "hermite_sdf/lod.h"
+#include "hermite_sdf/render/cell_feature.h"
+#include "hermite_sdf/render/lod.h"
 #include "hermite_test_support.h"
 
 namespace gputest {

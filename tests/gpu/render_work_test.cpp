@@ -8,8 +8,8 @@
 
 #include "engine/gpu/pipeline_statistics.h"
 #include "engine/scene/transform.h"
-#include "hermite_sdf/cell_feature.h"
-#include "hermite_sdf/sphere_trace_feature.h"
+#include "hermite_sdf/render/cell_feature.h"
+#include "hermite_sdf/render/sphere_trace_feature.h"
 #include "hermite_test_support.h"
 #include "shared/host_device.h"
 

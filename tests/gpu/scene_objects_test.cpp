@@ -1,4 +1,4 @@
-// glTF scenes as separate SDF objects (hermite_sdf/scene_objects.h) drawn by the cell renderer:
+// glTF scenes as separate SDF objects (hermite_sdf/render/scene_objects.h) drawn by the cell renderer:
 // two meshes baked once each, six nodes drawing them as instances with their own transforms, against
 // the CPU reference ray caster of every instance composed by depth; each asset uploaded once.
 #include <algorithm>
@@ -10,8 +10,8 @@
 
 #include "engine/scene/gltf_loader.h"
 #include "engine/scene/transform.h"
-#include "hermite_sdf/cell_feature.h"
-#include "hermite_sdf/scene_objects.h"
+#include "hermite_sdf/render/cell_feature.h"
+#include "hermite_sdf/render/scene_objects.h"
 #include "hermite_test_support.h"
 #include "shared/host_device.h"
 

@@ -22,8 +22,8 @@
 #include "engine/render/components.h"
 #include "engine/scene/transform.h"
 #include "device_tolerances.h"
-#include "hermite_sdf/cells.h"
-#include "hermite_sdf/sphere_trace_feature.h"
+#include "hermite_sdf/core/cells.h"
+#include "hermite_sdf/render/sphere_trace_feature.h"
 #include "hermite_test_support.h"
 #include "shared/host_device.h"
 

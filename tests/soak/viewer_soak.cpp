@@ -45,7 +45,7 @@
 #include "engine/core/expected.h"
 #include "engine/gpu/memory.h"
 #include "engine/scene/transform.h"
-#include "hermite_sdf/bake_job.h"
+#include "hermite_sdf/core/bake_job.h"
 #include "test_device.h"
 #include "viewer.h"
 

@@ -2,7 +2,7 @@
 // peanut with a narrow waist) sampled on a coarse K x K grid of values and gradients, then
 // reconstructed with bilinear interpolation of the values and with bicubic (Ferguson, zero twist)
 // Hermite interpolation of values and gradients -- the 2D case of the module's tricubic cells,
-// through the same basis functions (hermite_sdf/hermite.h). One PNG, left to right: the exact
+// through the same basis functions (hermite_sdf/core/hermite.h). One PNG, left to right: the exact
 // curve, bilinear, Hermite; the exact curve is drawn in red over both reconstructions, grid
 // samples as dots. It also prints how far each reconstructed curve is from the exact one.
 #include <algorithm>
@@ -16,7 +16,7 @@
 #include <glm/glm.hpp>
 
 #include "engine/core/image_io.h"
-#include "hermite_sdf/hermite.h"
+#include "hermite_sdf/core/hermite.h"
 
 namespace {
 

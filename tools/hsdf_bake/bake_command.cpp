@@ -7,9 +7,9 @@
 #include <fmt/format.h>
 
 #include "engine/core/files.h"
-#include "hermite_sdf/bake_job.h"
-#include "hermite_sdf/cells.h"
-#include "hermite_sdf/hsdf_file.h"
+#include "hermite_sdf/core/bake_job.h"
+#include "hermite_sdf/core/cells.h"
+#include "hermite_sdf/core/hsdf_file.h"
 #include "progress_bar.h"
 
 namespace hsdf::tools {

@@ -3,7 +3,7 @@
 #include <CLI/CLI.hpp>
 
 #include "bake_command.h"
-#include "hermite_sdf/field.h"
+#include "hermite_sdf/core/field.h"
 
 int main(int argc, char** argv) {
   CLI::App app{"Bakes a glTF/GLB mesh or an analytic shape into a Hermite SDF file (.hsdf)"};

@@ -13,9 +13,9 @@
 #include "engine/render/camera_view.h"
 #include "engine/render/renderer.h"
 #include "engine/scene/transform.h"
-#include "hermite_sdf/bake_job.h"
-#include "hermite_sdf/cell_feature.h"
-#include "hermite_sdf/reference.h"
+#include "hermite_sdf/core/bake_job.h"
+#include "hermite_sdf/render/cell_feature.h"
+#include "hermite_sdf/core/reference.h"
 
 namespace {
 

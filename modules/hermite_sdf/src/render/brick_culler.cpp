@@ -1,7 +1,7 @@
 #include "render/brick_culler.h"
 
 #include "engine/gpu/buffer.h"
-#include "hermite_sdf/normal_cone.h"
+#include "hermite_sdf/core/normal_cone.h"
 
 namespace hsdf {
 namespace {

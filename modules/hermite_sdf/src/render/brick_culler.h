@@ -23,7 +23,7 @@
 #include "engine/gpu/pipeline.h"
 #include "engine/render/camera_view.h"
 #include "hermite/hermite_host_device.h"
-#include "hermite_sdf/field.h"
+#include "hermite_sdf/core/field.h"
 
 namespace hsdf {
 

@@ -1,4 +1,4 @@
-#include "hermite_sdf/cell_feature.h"
+#include "hermite_sdf/render/cell_feature.h"
 
 #include <algorithm>
 #include <cmath>
@@ -18,8 +18,8 @@
 #include "cells/cell_bricks.h"
 #include "render/brick_culler.h"
 #include "render/cell_rows.h"
-#include "hermite_sdf/lod.h"
-#include "hermite_sdf/normal_cone.h"
+#include "hermite_sdf/render/lod.h"
+#include "hermite_sdf/core/normal_cone.h"
 
 namespace hsdf {
 

@@ -9,7 +9,7 @@
 
 #include <glm/glm.hpp>
 
-#include "hermite_sdf/cells.h"
+#include "hermite_sdf/core/cells.h"
 #include "hermite/hermite_host_device.h"
 
 namespace hsdf {

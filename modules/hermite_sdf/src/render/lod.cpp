@@ -1,4 +1,4 @@
-#include "hermite_sdf/lod.h"
+#include "hermite_sdf/render/lod.h"
 
 #include <algorithm>
 #include <cmath>

@@ -1,4 +1,4 @@
-#include "hermite_sdf/sphere_trace_feature.h"
+#include "hermite_sdf/render/sphere_trace_feature.h"
 
 #include <algorithm>
 #include <cmath>

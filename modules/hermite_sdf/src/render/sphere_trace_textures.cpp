@@ -6,7 +6,7 @@
 
 #include "engine/gpu/context.h"
 #include "engine/gpu/vk_check.h"
-#include "hermite_sdf/cells.h"
+#include "hermite_sdf/core/cells.h"
 
 namespace hsdf {
 

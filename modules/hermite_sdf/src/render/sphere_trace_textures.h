@@ -10,7 +10,7 @@
 #include <vulkan/vulkan.h>
 
 #include "engine/core/expected.h"
-#include "hermite_sdf/field.h"
+#include "hermite_sdf/core/field.h"
 
 namespace engine::gpu {
 class Context;

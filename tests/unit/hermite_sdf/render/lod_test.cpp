@@ -1,4 +1,4 @@
-// Levels of detail (hermite_sdf/lod.h): the level chosen from the projected size, its hysteresis,
+// Levels of detail (hermite_sdf/render/lod.h): the level chosen from the projected size, its hysteresis,
 // objects near and far in one registry, the camera turned away, and levels equal to direct bakes.
 #include <gtest/gtest.h>
 
@@ -8,7 +8,7 @@
 #include <glm/gtc/matrix_transform.hpp>
 
 #include "engine/scene/transform.h"
-#include "hermite_sdf/lod.h"
+#include "hermite_sdf/render/lod.h"
 
 namespace hsdf {
 namespace {

@@ -13,8 +13,8 @@
 
 #include "engine/gpu/pipeline.h"
 #include "engine/render/mesh_feature.h"
-#include "hermite_sdf/cell_feature.h"
-#include "hermite_sdf/sphere_trace_feature.h"
+#include "hermite_sdf/render/cell_feature.h"
+#include "hermite_sdf/render/sphere_trace_feature.h"
 #include "test_viewer.h"
 
 namespace samples {

@@ -12,7 +12,7 @@
 
 #include "engine/gpu/memory.h"
 #include "engine/scene/transform.h"
-#include "hermite_sdf/bake_job.h"
+#include "hermite_sdf/core/bake_job.h"
 #include "engine/gpu/pipeline.h"
 #include "engine/gpu/vk_check.h"
 #include "test_viewer.h"

@@ -8,7 +8,7 @@
 
 #include "engine/render/components.h"
 #include "engine/scene/transform.h"
-#include "hermite_sdf/cell_feature.h"
+#include "hermite_sdf/render/cell_feature.h"
 #include "test_viewer.h"
 
 namespace samples {

@@ -7,7 +7,7 @@
 #include <gtest/gtest.h>
 
 #include "engine/core/math.h"
-#include "hermite_sdf/analytic.h"
+#include "hermite_sdf/core/analytic.h"
 
 namespace capture {
 namespace {

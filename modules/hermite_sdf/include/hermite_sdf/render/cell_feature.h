@@ -1,0 +1,240 @@
+#pragma once
+// The paper's renderer as an engine RenderFeature: every entity with a HermiteSdfRenderable
+// (method Cells) and a WorldTransform is drawn as its kept cells, each cell an instanced box whose
+// Hermite data (8 corners x (f, grad f) + cell coordinate) arrive as instance-rate vertex
+// attributes from one GPU cell buffer. One pipeline and one indirect multi-draw per pass cover all
+// objects; per-draw data (object index, grid, subdivisions) is read through buffer device address.
+//
+// Depth prepass: the fragment shader clips the pixel's ray to its cell (and the near plane), finds
+// the first root by n equidistant evaluations + linear interpolation + regula-falsi refinement and
+// hands on the hit's depth (early depth, below; else gl_FragDepth with conservative depth: the hit
+// is never nearer than the front face), plus the visibility id. Boxes are drawn by their front
+// faces (one triangle fan of 8 vertices around the corner nearest the eye); cells the near plane may cut are drawn
+// by their back faces with a non-conservative variant, so a camera inside the object or inside a
+// cell loses no surface.
+// Shading pass: each pixel is shaded once: a resolve over the objects' screen bounds reads the visibility buffer
+// (object, cell record) and the prepass depth, fetches that cell's record by buffer device
+// address and shades the hit with the exact normal of the interpolant.
+// Transforms: any invertible affine world matrix (mirroring, non-uniform scale, shear); mirrored
+// objects keep their front faces through OBJECT_FLAG_MIRRORED (shaders/hermite/box.glsl).
+// Submission order: rows of cells are sorted front to back by the camera's octant so that early
+// depth testing rejects hidden cells (switchable, to measure the effect).
+// Prepass variants (shaders/hermite/hit_depth.glsl): the production pipelines' fragment shaders
+// hold no `discard` and no buffer write (a miss writes the far plane's depth), since on a GPU a
+// shader that merely contains either loses early depth rejection (on an H100 that halved the
+// prepass); frames that count work (the renderer's work counters, the evaluation heat map) use the
+// *_counted variants, and the early depth stage its own *_early variants.
+// Early depth (Settings::earlyDepth; Auto: on for software rasterizers only): the boxes are drawn
+// in the renderer's early depth stage at the depth of their own faces, so a box behind an already
+// found hit fails an early depth test and never runs its search. That pays on lavapipe, which
+// shades 4x4 blocks in submission order (40-60 % of the prepass), and not on an H100, where
+// fragments run in parallel and out of order and the stage's atomicMax costs early rejection
+// (../shared/gpu/h100-b505968/README.md §3b). The hits' true depths go to a per-pixel buffer
+// that a fix-up pass writes into the depth buffer before any other prepass draw. Within one object
+// the nearest face with a hit belongs to the box with the nearest hit; between objects it need
+// not, so a frame whose cell objects overlap on screen draws them by depth as before.
+// RenderMethod::CellRuns objects are drawn by the same feature from the same record buffers: one
+// box per run of kept cells along x (runs.vert), walked cell by cell in the fragment shader with
+// the same search (runs_depth.glsl), records read by address; the shading pass is shared.
+// RenderMethod::CellBricks objects likewise: one box per brick of 4x4x4 cells holding a kept cell
+// (bricks.vert: 8 vertices, 12 bytes of varyings), whose kept cells the fragment shader walks along
+// the ray (bricks_depth.glsl); one indirect command per object (firstInstance = its first brick).
+// Bricks have no early depth variant: a frame that draws bricks keeps the early depth stage off.
+// Settings::thinBoxes draws RenderMethod::Cells with 8 vertices and 12 bytes of varyings per box
+// (cells_thin.vert), the records read by address; no early depth variant either.
+#include <cstdint>
+#include <memory>
+#include <string>
+#include <unordered_map>
+#include <unordered_set>
+#include <utility>
+#include <vector>
+
+#include "engine/ecs/entity.h"
+#include "engine/gpu/buffer.h"
+#include "engine/gpu/pipeline.h"
+#include "engine/render/per_frame_buffer.h"
+#include "engine/render/render_feature.h"
+#include "hermite_sdf/render/renderable.h"
+#include "hermite/hermite_host_device.h"
+
+namespace hsdf {
+
+class HermiteCellFeature final : public engine::render::RenderFeature {
+ public:
+  static constexpr std::uint32_t kFeatureId = 2;
+
+  // Whether the boxes are tested at their faces' depth in the early depth stage (see above).
+  enum class EarlyDepth : std::uint8_t { Auto, On, Off };
+  // Auto: on exactly for software rasterizers (context.capabilities().isSoftwareRasterizer).
+  static bool earlyDepthWanted(EarlyDepth mode, bool softwareRasterizer) {
+    return mode == EarlyDepth::On || (mode == EarlyDepth::Auto && softwareRasterizer);
+  }
+
+  // Whether RenderMethod::Cells objects are drawn as thin boxes (Settings::thinBoxes). Measured on
+  // an H200 (docs/perf/nvidia-h200/): thin boxes cost 10 % more than the paper's where a cell
+  // covers ~20 pixels (the bunny at K = 32, 1080p), the same at ~10, 18 % less at ~5 and 42 % less
+  // at ~2.5: per box the varyings cost, per fragment the loads by address. Auto: on for hardware
+  // rasterizers when the frame's largest cell (kThinBoxesMaxCellPixels, cellPixelsOnScreen) is
+  // small; off for software rasterizers, which lose their early depth stage with them (lavapipe:
+  // 3-7x the prepass).
+  enum class ThinBoxes : std::uint8_t { Auto, On, Off };
+  static constexpr float kThinBoxesMaxCellPixels = 8.0f;
+  static bool thinBoxesWanted(ThinBoxes mode, bool softwareRasterizer, float largestCellPixels) {
+    return mode == ThinBoxes::On ||
+           (mode == ThinBoxes::Auto && !softwareRasterizer && largestCellPixels <= kThinBoxesMaxCellPixels);
+  }
+
+  struct Settings {
+    bool frontToBack = true;  // sort rows of cells by the view octant
+    EarlyDepth earlyDepth = EarlyDepth::Auto;
+    bool heatMapCounters = true;  // count evaluations per pixel when the debug view asks for it
+    // RenderMethod::CellRuns: the most cells one run's box covers. Longer runs mean fewer, larger
+    // boxes and longer walks per fragment.
+    std::uint32_t maxRunLength = 8;
+    // RenderMethod::CellBricks: a compute pass before the prepass keeps only the bricks inside the
+    // frustum that may hold a first hit (normal cones, hermite_sdf/core/normal_cone.h); off draws every
+    // brick (to measure what it removes).
+    bool cullBricks = true;
+    // RenderMethod::Cells: each box's vertices hand on 12 bytes (cells_thin.vert), the fragment
+    // shader reading the cell's record by address (cells_thin_depth.glsl), instead of the paper's
+    // Hermite data as varyings. Same search, same image. Thin boxes have no early depth variant:
+    // a frame that draws them keeps the stage off. See ThinBoxes for Auto.
+    ThinBoxes thinBoxes = ThinBoxes::Auto;
+  };
+  struct Stats {
+    std::uint32_t objects = 0;
+    std::uint64_t cells = 0;        // instances drawn in the last frame
+    std::uint32_t draws = 0;        // indirect commands in the last frame
+    std::uint32_t nearCells = 0;    // cells (or runs) drawn by their back faces
+    std::uint64_t runs = 0;         // run boxes of RenderMethod::CellRuns objects (their cells are in `cells`)
+    std::uint64_t bricks = 0;       // brick boxes of RenderMethod::CellBricks objects (their cells are in `cells`)
+    std::uint32_t skippedObjects = 0;  // transform not invertible (e.g. scaled to zero): not drawn
+    std::uint64_t gpuBytes = 0;     // cell buffers
+    bool earlyDepth = false;        // the last frame drew the boxes in the early depth stage
+    bool countedVariant = false;    // the last frame's prepass used the *_counted pipelines
+    bool thinBoxes = false;         // the last frame drew its RenderMethod::Cells objects as thin boxes
+    float largestCellPixels = 0.0f; // of those objects: the largest cell's size on screen, pixels
+  };
+
+  HermiteCellFeature();
+  ~HermiteCellFeature() override;
+  std::string_view name() const override { return "hermite cells"; }
+  engine::Status initialize(const engine::gpu::Context& context, const engine::render::RendererFormats& formats,
+                            std::uint32_t framesInFlight) override;
+  void prepare(engine::render::FrameContext& frame) override;
+  void recordPass(engine::render::PassContext& pass) override;
+  bool usesEarlyDepth() const override { return earlyDepth_; }
+  void recordEarlyDepth(engine::render::PassContext& pass) override;
+  void recordEarlyDepthResolve(engine::render::PassContext& pass) override;
+  void drawUi() override;
+  engine::Status reloadShaders() override;
+
+  Settings& settings() { return settings_; }
+  const Stats& stats() const { return stats_; }
+  // The last brick culling pass's counts (bricks tested, kept, culled by frustum and by cone);
+  // valid once the frame that recorded it has completed (e.g. after Renderer::finish), zero when
+  // that frame culled no bricks.
+  shader::BrickCullTotals cullTotals() const;
+  // Whether the cells of `assetId` were refused (their upload did not fit in GPU memory): the
+  // asset is not drawn, and not retried. An entity whose asset was refused keeps drawing the asset
+  // it drew before, if any (a re-bake past the budget: no frame without the object); the caller
+  // can put that asset back into the component (the Viewer does, so the tuning names it).
+  bool refused(std::uint64_t assetId) const { return refused_.contains(assetId); }
+
+ private:
+  static float cellPixelsOnScreen(const GridSpec& grid, const glm::mat4& world, const engine::render::CameraView& camera,
+                                 std::uint32_t viewportHeight);
+  struct AssetRows;
+  struct Batch;
+  void syncAssets(const engine::render::FrameContext& frame);
+  void refuseNewAssets(const engine::render::FrameContext& frame,
+                       const std::vector<std::shared_ptr<const SdfAsset>>& wanted, const std::string& why);
+  void buildDraws(engine::render::FrameContext& frame);
+  void recordBrickCulling(engine::render::FrameContext& frame);
+  void ensureCounters(engine::render::FrameContext& frame);
+  void ensureHitDepths(engine::render::FrameContext& frame);
+  void recordPrepassDraws(engine::render::PassContext& pass);
+  void recordBatch(engine::render::PassContext& pass, int precision, bool near);
+  void recordWireframe(engine::render::PassContext& pass, int precision);
+  void recordIndirect(VkCommandBuffer cmd, const engine::gpu::Pipeline& pipeline, shader::HermitePushConstants push,
+                      std::uint32_t frameSlot, std::uint32_t first, std::uint32_t count);
+  void recordResolve(engine::render::PassContext& pass);
+  void recordRectangle(engine::render::PassContext& pass, const engine::gpu::Pipeline& pipeline);
+
+  const engine::gpu::Context* context_ = nullptr;
+  Settings settings_;
+  Stats stats_;
+  // The prepass's fragment-shader variants (shaders/hermite/hit_depth.glsl).
+  enum Variant : int {
+    kProduction = 0,  // cells_depth{,_near}.frag: no discard, no buffer write
+    kCounted = 1,     // *_counted.frag: + the evaluation counters, in frames that count work
+    kEarly = 2,       // cells_depth_early.frag (front faces at their own depth), *_near_early.frag
+    kVariants = 3,
+    kBrickVariants = 2,  // cell bricks: production and counted only
+  };
+  struct Pipelines {
+    // [variant][precision]: precision 0 = fp32, 1 = fp16 records.
+    engine::gpu::Pipeline depthFront[kVariants][2];
+    engine::gpu::Pipeline depthNear[kVariants][2];
+    engine::gpu::Pipeline wire[2];  // DEBUG_VIEW_WIREFRAME: the boxes' edges
+    engine::gpu::Pipeline runsFront[kVariants];  // RenderMethod::CellRuns, both precisions
+    engine::gpu::Pipeline runsNear[kVariants];
+    engine::gpu::Pipeline bricksFront[kBrickVariants];  // RenderMethod::CellBricks, both precisions
+    engine::gpu::Pipeline bricksNear[kBrickVariants];
+    engine::gpu::Pipeline thinFront[kBrickVariants][2];  // Settings::thinBoxes, per precision (the cell attribute)
+    engine::gpu::Pipeline thinNear[kBrickVariants][2];
+    engine::gpu::Pipeline resolve;
+    engine::gpu::Pipeline depthFixup;  // the hits' true depth after the early stage
+  };
+  Variant prepassVariant(const engine::render::FrameContext& frame) const;
+  engine::Expected<Pipelines> createPipelines() const;
+  engine::Status createBrickPipelines(Pipelines& p) const;
+  engine::Status createThinCellPipelines(Pipelines& p) const;
+  // Bricks and thin cells have only the production and counted variants (buildDraws keeps the early
+  // depth stage off in frames that draw them): the variant of those two that `variant` stands for.
+  static Variant withoutEarlyStage(Variant variant);
+  void addBrickDraws(const std::vector<shader::CellBrickGpu>& bricks, std::uint32_t firstBrick,
+                     const shader::HermiteDraw& draw, const glm::dvec3& eyeGrid, double reachGrid,
+                     std::vector<VkDrawIndirectCommand> commands[2], std::vector<shader::HermiteDraw> draws[2]);
+
+  engine::render::RendererFormats formats_;
+  Pipelines pipelines_;
+  std::unique_ptr<struct CellBuffers> buffers_;
+  // Buffers replaced during a frame, with that frame's number: commands recorded before the
+  // replacement (an earlier view region of the frame) still read them.
+  std::vector<std::pair<std::uint64_t, std::unique_ptr<struct CellBuffers>>> retired_;
+  // Assets whose upload ran out of GPU memory (reported once, not retried: a re-bake or reload
+  // makes a new asset, which is tried), and a run length refused the same way (0: none).
+  std::unordered_set<std::uint64_t> refused_;
+  std::unordered_map<engine::ecs::Entity, std::uint64_t> drawnAssets_;  // the asset each entity drew last frame
+  std::uint32_t refusedRunLength_ = 0;
+  engine::render::PerFrameBuffer drawData_;
+  engine::render::PerFrameBuffer indirect_;
+  engine::render::PerFrameBuffer objects_;  // shader::HermiteObject per drawn object
+  engine::gpu::Buffer counters_;
+  VkExtent2D countersExtent_{0, 0};
+  bool countersActive_ = false;
+  engine::gpu::Buffer hitDepths_;  // a uint per pixel: the nearest hit's depth bits (early depth)
+  VkExtent2D hitDepthsExtent_{0, 0};
+  bool earlyDepth_ = false;  // this frame's boxes are drawn in the early depth stage
+  bool thinBoxes_ = false;   // this frame draws its RenderMethod::Cells objects as thin boxes
+  glm::vec4 screenRect_{1.0f, 1.0f, -1.0f, -1.0f};  // NDC bounds of this frame's cell objects (resolve)
+  bool multiDraw_ = false;
+  // Brick culling (Settings::cullBricks): this frame's objects, the kept-brick stream's size and the
+  // most bricks of one object; per frame slot the objects, totals and kept-brick stream.
+  std::unique_ptr<class BrickCuller> culler_;
+  std::vector<shader::BrickCullObject> cullObjectList_;
+  std::uint32_t cullOutputBricks_ = 0;
+  std::uint32_t cullMaxBricks_ = 0;
+  std::uint32_t lastCullSlot_ = 0;
+  engine::render::PerFrameBuffer cullObjects_;
+  engine::render::PerFrameBuffer cullTotals_;
+  std::vector<engine::gpu::Buffer> keptBricks_;
+  static constexpr int kRunBatch = 2;  // batches: fp32 cells, fp16 cells, runs, bricks
+  static constexpr int kBrickBatch = 3;
+  static constexpr int kBatches = 4;
+  std::unique_ptr<Batch> batches_[kBatches];
+};
+
+}  // namespace hsdf

@@ -1,0 +1,57 @@
+#pragma once
+// What a scene puts on an entity to draw an SDF object: an immutable, shareable SdfAsset (the
+// baked field and its sparse cells, hermite_sdf/core/sdf_asset.h) and a HermiteSdfRenderable
+// component that says how to draw it. Every renderer of the module (Hermite cells, and the
+// trilinear / dense Hermite sphere-tracing baselines) reads the same component, so one entity can
+// switch method at run time.
+#include <cstdint>
+#include <memory>
+
+#include <glm/glm.hpp>
+
+#include "hermite_sdf/core/sdf_asset.h"
+
+namespace hsdf {
+
+enum class RenderMethod : std::uint32_t {
+  Cells = 0,                 // the paper's method: sparse Hermite cells, subdivision search
+  TrilinearSphereTrace = 1,  // baseline: dense f in a 3D texture, hardware trilinear filtering
+  HermiteSphereTrace = 2,    // baseline: dense Hermite 3D texture, manual tricubic evaluation
+  // The cells, drawn as runs of kept cells along x (one box per run, at most
+  // HermiteCellFeature::Settings::maxRunLength cells) walked cell by cell in the fragment shader,
+  // records read by buffer device address: fewer, larger proxies than one box per cell (issue 13).
+  CellRuns = 3,
+  // The cells, drawn as bricks of CELL_BRICK_SIZE^3 cells (one box per brick holding a kept cell)
+  // walked along the ray in the fragment shader: fewer proxies still (issue 20, step 3).
+  CellBricks = 4,
+};
+const char* renderMethodName(RenderMethod method);
+
+enum class NormalMode : std::uint32_t {
+  Exact = 0,               // analytic gradient of the interpolant
+  CentralDifferences = 1,  // six extra field evaluations (the paper's default for trilinear)
+};
+
+// The component. The entity's engine::scene::WorldTransform places the asset's grid in the world:
+// any invertible affine matrix (rotation, non-uniform scale, mirroring, shear) renders correctly,
+// since every method works in object space, where the field is a distance (README, "Object
+// transforms"). Objects whose matrix cannot be inverted (e.g. scaled to zero) are not drawn.
+struct HermiteSdfRenderable {
+  std::shared_ptr<const SdfAsset> asset;
+  RenderMethod method = RenderMethod::Cells;
+  std::uint32_t subdivisions = 3;  // n: equidistant evaluations per cell segment (paper: 2 or 3)
+  std::uint32_t refineSteps = 1;   // safeguarded Newton steps after the linear interpolation
+  NormalMode normals = NormalMode::Exact;
+  // Cells: instead of the paper's n equidistant samples, a certified search (Bernstein subdivision
+  // of F restricted to the ray) that never misses the first root of the interpolant, at a cost
+  // measured in docs/root-finding.md. Without it a pair of roots between two samples is still found
+  // when the samples show no sign change; only a pair before a later sign change can be passed over.
+  bool certified = false;
+  // fp16 cell records / R16F, RGBA16F textures; grids fp16 cannot hold faithfully
+  // (!halfPrecisionFits(grid), cells.h: tiny or huge objects) are drawn from the fp32 data instead.
+  bool halfPrecision = false;
+  glm::vec4 color{0.85f, 0.55f, 0.4f, 1.0f};  // linear base colour
+  float roughness = 0.45f;
+};
+
+}  // namespace hsdf

@@ -1,0 +1,67 @@
+#pragma once
+// glTF scenes as separate SDF objects (issue 22): each mesh is baked once, in its own (mesh-local)
+// space, into its own SdfAsset, and every node that places the mesh draws that shared asset as an
+// instance with the node's world transform. Nodes may instead keep their triangles.
+//
+// Per-node choice, strongest first:
+//   1. SceneObjectOptions::triangleNodes (the command line / settings file): these node names draw
+//      triangles; a name no node has is refused by name.
+//   2. the node's glTF extras:  "extras": {"hermite_sdf": {"draw": "sdf" | "triangles"}}
+//      Other extras are left alone; under "hermite_sdf" an unknown key, a value of the wrong JSON
+//      type or an unknown draw name is refused naming the node and the key.
+//   3. SceneObjectOptions::defaultDraw.
+#include <cstdint>
+#include <memory>
+#include <optional>
+#include <span>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "engine/core/expected.h"
+#include "engine/ecs/registry.h"
+#include "engine/scene/scene_data.h"
+#include "hermite_sdf/core/bake_job.h"
+#include "hermite_sdf/render/renderable.h"
+
+namespace hsdf {
+
+enum class NodeDraw { Sdf, Triangles };
+const char* nodeDrawName(NodeDraw draw);  // "sdf", "triangles"
+std::optional<NodeDraw> parseNodeDraw(std::string_view name);
+
+struct SceneObjectOptions {
+  NodeDraw defaultDraw = NodeDraw::Sdf;
+  std::vector<std::string> triangleNodes;
+};
+
+// The node's own choice from its extras (nullopt: it has none); errors name the key and value.
+engine::Expected<std::optional<NodeDraw>> nodeDrawFromExtras(const engine::scene::NodeData& node);
+
+// The choice of every node of `scene` (nodes without a mesh get theirs too; nothing draws them).
+engine::Expected<std::vector<NodeDraw>> chooseNodeDraws(const engine::scene::SceneData& scene,
+                                                        const SceneObjectOptions& options);
+
+// One mesh of the scene in its own space, as a bake source named after the mesh.
+engine::Expected<BakeSource> meshBakeSource(const engine::scene::SceneData& scene, int mesh);
+
+struct SceneObjects {
+  std::vector<NodeDraw> draws;                             // [node]
+  std::vector<std::shared_ptr<const SdfAsset>> meshAssets;  // [mesh]: null when no SDF node uses it
+  int bakes = 0;                                           // bakeAsset calls: one per mesh used as SDF
+};
+
+// Chooses the nodes' draws and bakes, through bakeAsset, each mesh an SDF node uses, once.
+// `control` covers every bake (progress goes 0..1 per mesh). Errors name the mesh.
+engine::Expected<SceneObjects> bakeSceneObjects(const engine::scene::SceneData& scene,
+                                                const SceneObjectOptions& options, const BakeSettings& settings,
+                                                const BakeControl& control = {});
+
+// Puts a HermiteSdfRenderable (the mesh's shared asset, coloured like the mesh's first material)
+// on the entity of every SDF node with a mesh; `nodeEntities[i]` is SceneData::nodes[i]'s entity
+// and carries its transform. Returns those entities.
+std::vector<engine::ecs::Entity> addSdfInstances(const engine::scene::SceneData& scene, const SceneObjects& objects,
+                                                 std::span<const engine::ecs::Entity> nodeEntities,
+                                                 engine::ecs::Registry& registry);
+
+}  // namespace hsdf

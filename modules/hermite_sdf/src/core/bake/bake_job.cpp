@@ -1,0 +1,237 @@
+#include "hermite_sdf/core/bake_job.h"
+
+#include <exception>
+#include <filesystem>
+
+#include <fmt/format.h>
+
+#include "engine/scene/gltf_loader.h"
+#include "hermite_sdf/core/analytic.h"
+#include "hermite_sdf/core/cells.h"
+#include "hermite_sdf/core/hsdf_file.h"
+#include "hermite_sdf/core/mesh_source.h"
+#include "hermite_sdf/core/sparse_bake.h"
+
+namespace hsdf {
+namespace {
+
+// Share of the progress bar the field bake takes; classification takes the rest.
+constexpr float kBakeShare = 0.9f;
+
+std::string describeMesh(const std::string& name, const MeshSourceStats& s) {
+  std::string description = fmt::format("{}: mesh, {} triangles", name, s.triangles);
+  if (s.droppedZeroArea > 0) description += fmt::format(" ({} zero-area dropped)", s.droppedZeroArea);
+  description += s.closed ? ", closed" : fmt::format(", open ({} boundary edges)", s.boundaryEdges);
+  description += s.pseudoNormalSign ? ", sign from pseudonormals" : ", sign from the winding number";
+  return description;
+}
+
+std::string knownShapes() {
+  std::string known;
+  for (const std::string& name : analyticShapeNames()) known += (known.empty() ? "" : ", ") + name;
+  return known;
+}
+
+bool cancelled(const BakeControl& control) { return control.cancel && control.cancel->isCancelled(); }
+
+// The budget is checked on numbers alone, so a refusal costs nothing and names the limit.
+engine::Status checkBudget(const GridSpec& grid, const BakeSettings& settings) {
+  const BakeBudget& budget = settings.budget;
+  if (grid.resolution > budget.maxResolution)
+    return engine::makeError(fmt::format("resolution {} is over the bake budget's max resolution {}", grid.resolution,
+                                         budget.maxResolution));
+  // The sparse bake's cost is its kept cells, budgeted while it bakes (bakeCellsSparse).
+  if (settings.band == BakeBand::Sparse) return {};
+  const std::uint64_t samples = grid.sampleCount();
+  if (samples > budget.maxSamples)
+    return engine::makeError(fmt::format("resolution {} needs {} samples, over the bake budget's max samples {}",
+                                         grid.resolution, samples, budget.maxSamples));
+  const std::uint64_t bytes = estimateBakeBytes(grid, settings.band);
+  if (bytes > budget.maxBytes)
+    return engine::makeError(fmt::format("resolution {} needs {} bytes ({:.1f} MiB), over the bake budget's max bytes "
+                                         "{} ({:.1f} MiB)",
+                                         grid.resolution, bytes, double(bytes) / 1048576.0, budget.maxBytes,
+                                         double(budget.maxBytes) / 1048576.0));
+  return {};
+}
+
+engine::Expected<HermiteField> bakeField(const SdfSource& source, const GridSpec& grid, const BakeSettings& settings,
+                                         const BakeControl& control) {
+  BakeOptions options;
+  options.memoryBudgetBytes = settings.budget.maxBytes;
+  options.threads = settings.threads;
+  options.cancel = control.cancel;
+  if (control.progress) options.progress = [&control](float f) { return control.progress(f * kBakeShare); };
+  return settings.band == BakeBand::NarrowBand ? bakeHermiteFieldNarrowBand(source, grid, options)
+                                               : bakeHermiteField(source, grid, options);
+}
+
+// A field without a surface draws nothing: an error with the likely cause, not an empty result.
+engine::Status checkHasSurface(const CellStats& stats) {
+  if (stats.kept() > 0) return {};
+  return engine::makeError(fmt::format("the baked field has no surface: none of its {} cells changes sign (the input "
+                                       "encloses no volume, e.g. a flat or open sheet)",
+                                       stats.cells));
+}
+
+}  // namespace
+
+BakeSource BakeSource::fromTriangles(std::string name, engine::scene::TriangleSoup triangles) {
+  BakeSource source;
+  source.name = std::move(name);
+  source.triangles = std::make_shared<const engine::scene::TriangleSoup>(std::move(triangles));
+  return source;
+}
+
+BakeSource BakeSource::fromShape(std::string shapeName) {
+  BakeSource source;
+  source.name = shapeName;
+  source.shape = std::move(shapeName);
+  return source;
+}
+
+engine::Expected<BakeSource> BakeSource::fromScene(std::string name, const engine::scene::SceneData& scene) {
+  ENGINE_TRY(engine::scene::checkFlattenable(scene));
+  return fromTriangles(std::move(name), engine::scene::flattenTriangles(scene));
+}
+
+engine::Expected<BakeSource> BakeSource::fromPathOrShape(const std::string& input) {
+  std::error_code ec;
+  if (std::filesystem::exists(input, ec)) {
+    ENGINE_TRY_ASSIGN(engine::scene::SceneData scene, engine::scene::loadGltf(input));
+    return fromScene(std::filesystem::path(input).filename().string(), scene).withContext(input);
+  }
+  for (const std::string& name : analyticShapeNames())
+    if (name == input) return fromShape(input);
+  return engine::makeError(
+      fmt::format("INPUT '{}' is neither a file nor an analytic shape (known shapes: {})", input, knownShapes()));
+}
+
+engine::Expected<PreparedSource> prepareSource(const BakeSource& source) {
+  PreparedSource prepared;
+  prepared.name = source.name;
+  if (source.triangles) {
+    ENGINE_TRY_ASSIGN(std::unique_ptr<MeshSource> mesh, MeshSource::create(*source.triangles));
+    prepared.description = describeMesh(source.name, mesh->stats());
+    prepared.source = std::move(mesh);
+    return prepared;
+  }
+  ENGINE_TRY_ASSIGN(prepared.source, makeAnalyticSource(source.shape));
+  prepared.description = fmt::format("{}: analytic shape", source.shape);
+  return prepared;
+}
+
+std::uint64_t estimateBakeBytes(const GridSpec& grid, BakeBand band) {
+  if (band == BakeBand::Sparse) return 0;
+  const std::uint64_t samples = grid.sampleCount();
+  const std::uint64_t cells = grid.resolution > 1 ? std::uint64_t(grid.cellsPerAxis()) * std::uint64_t(grid.cellsPerAxis()) *
+                                                        std::uint64_t(grid.cellsPerAxis())
+                                                  : 0;
+  const std::uint64_t flags = band == BakeBand::NarrowBand ? samples : 0;
+  return estimateFieldBytes(grid, FieldKind::Hermite) + flags + cells * sizeof(CellClass);
+}
+
+engine::Expected<GridSpec> planBake(const PreparedSource& source, const BakeSettings& settings) {
+  ENGINE_TRY_ASSIGN(GridSpec grid, fitGrid(source.source->bounds(), settings.resolution, settings.padding)
+                                       .withContext("fitting the grid"));
+  ENGINE_TRY(checkBudget(grid, settings));
+  if (settings.fp16) ENGINE_TRY(checkStorable(grid, HsdfScalarType::Float16).withContext("fp16"));
+  return grid;
+}
+
+namespace {
+
+// The cells path without a dense field: bakeCellsSparse straight into an asset.
+engine::Expected<std::shared_ptr<const SdfAsset>> bakeSparseAsset(const PreparedSource& source, const GridSpec& grid,
+                                                                  const BakeSettings& settings,
+                                                                  const BakeControl& control) {
+  SparseBakeOptions options;
+  options.refineDepth = settings.refineDepth;
+  options.maxKeptCells = settings.budget.maxKeptCells;
+  options.maxBytes = settings.budget.maxBytes;
+  options.threads = settings.threads;
+  options.cancel = control.cancel;
+  if (control.progress) options.progress = [&control](float f) { return control.progress(f * kBakeShare); };
+  ENGINE_TRY_ASSIGN(SparseBakeResult baked, bakeCellsSparse(*source.source, grid, options).withContext("baking"));
+  return makeSdfAssetFromSparseBake(source.name, std::move(baked.cells), baked.stats, settings.refineDepth,
+                                    source.source->bounds());
+}
+
+}  // namespace
+
+engine::Expected<std::shared_ptr<const SdfAsset>> bakeAsset(const PreparedSource& source, const BakeSettings& settings,
+                                                            const BakeControl& control) {
+  ENGINE_TRY_ASSIGN(GridSpec grid, planBake(source, settings));
+  if (settings.band == BakeBand::Sparse) {
+    ENGINE_TRY_ASSIGN(std::shared_ptr<const SdfAsset> asset, bakeSparseAsset(source, grid, settings, control));
+    ENGINE_TRY(checkHasSurface(asset->classification.stats));
+    if (control.progress && !control.progress(1.0f)) return engine::makeError("baking: cancelled");
+    return asset;
+  }
+  ENGINE_TRY_ASSIGN(HermiteField field,
+                    bakeField(*source.source, grid, settings, control).withContext("baking"));
+  if (cancelled(control)) return engine::makeError("baking: cancelled");
+  ClassifyOptions classify;
+  classify.refineDepth = settings.refineDepth;
+  classify.threads = settings.threads;
+  classify.maxKeptCells = settings.budget.maxKeptCells;
+  ENGINE_TRY_ASSIGN(std::shared_ptr<const SdfAsset> asset,
+                    makeSdfAsset(source.name, std::move(field), source.source->bounds(), classify));
+  ENGINE_TRY(checkHasSurface(asset->classification.stats));
+  if (control.progress && !control.progress(1.0f)) return engine::makeError("baking: cancelled");
+  return asset;
+}
+
+engine::Expected<std::shared_ptr<const SdfAsset>> bakeAsset(const BakeSource& source, const BakeSettings& settings,
+                                                            const BakeControl& control) {
+  ENGINE_TRY_ASSIGN(PreparedSource prepared, prepareSource(source));
+  return bakeAsset(prepared, settings, control);
+}
+
+BakeJob::BakeJob(BakeSource source, BakeSettings settings) : settings_(std::move(settings)) {
+  thread_ = std::thread([this, source = std::move(source)]() mutable { run(std::move(source)); });
+}
+
+BakeJob::~BakeJob() {
+  cancel();
+  if (thread_.joinable()) thread_.join();
+}
+
+void BakeJob::run(BakeSource source) {
+  BakeControl control;
+  control.cancel = &cancel_;
+  control.progress = [this](float f) {
+    progress_.store(f, std::memory_order_relaxed);
+    return true;
+  };
+  // An exception must not escape the thread (std::terminate): the large allocations are the likely
+  // source, and the caller gets them as an error like any other.
+  Result result = engine::makeError("bake job: not run");
+  try {
+    result = bakeAsset(source, settings_, control);
+  } catch (const std::exception& e) {
+    result = engine::makeError(std::string("bake job: ") + e.what());
+  }
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    result_ = std::move(result);
+  }
+  done_.store(true, std::memory_order_release);
+}
+
+std::optional<BakeJob::Result> BakeJob::take() {
+  if (!done()) return std::nullopt;
+  std::lock_guard<std::mutex> lock(mutex_);
+  std::optional<Result> result = std::move(result_);
+  result_.reset();
+  return result;
+}
+
+BakeJob::Result BakeJob::wait() {
+  if (thread_.joinable()) thread_.join();
+  std::optional<Result> result = take();
+  if (!result) return engine::makeError("bake job: the result was already taken");
+  return std::move(*result);
+}
+
+}  // namespace hsdf

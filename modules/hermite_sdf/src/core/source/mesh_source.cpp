@@ -1,0 +1,278 @@
+#include "hermite_sdf/core/mesh_source.h"
+
+#include <atomic>
+#include <cmath>
+#include <limits>
+#include <optional>
+
+#include "source/mesh_bvh.h"
+#include "source/mesh_closest.h"
+#include "source/mesh_input.h"
+#include "source/mesh_sign.h"
+
+namespace hsdf {
+namespace {
+
+constexpr double kInfinity = std::numeric_limits<double>::infinity();
+// Below this fraction of the mesh size a point counts as on the surface: (p - closest) has no
+// reliable direction there, so the gradient is the face normal.
+constexpr double kOnSurfaceRelative = 1e-12;
+// A reused sign must come from a ball that strictly contains the point; this margin keeps rounding
+// in the distance from letting a point on the ball's boundary (possibly on the surface) through.
+constexpr double kBallShrink = 1.0 - 1e-9;
+// For meshes with boundary edges: only winding numbers this far from 0.5 are passed on.
+constexpr double kDecisiveWinding = 0.25;
+// A query farther than this many times the previous step from the previous query starts a new
+// run (a new grid row); its result becomes the anchor the next run starts from.
+constexpr double kJumpFactor = 4.0;
+
+std::atomic<std::uint64_t> nextSourceId{1};
+
+// A recent query whose ball of radius `radius` around `p` holds no surface.
+struct Anchor {
+  glm::dvec3 p{0.0};
+  double radius = -1.0;
+  double winding = 0.0;
+  std::uint32_t triangle = UINT32_MAX;  // closest triangle (BVH order) of the query, if known
+};
+
+// Coherence state of one sequence of queries: the previous query and the start of the current run.
+struct QueryCache {
+  std::uint64_t owner = 0;
+  bool hasPrevious = false;
+  Anchor previous;
+  Anchor runStart;
+  double previousStep = 0.0;
+};
+
+QueryCache freshCache(std::uint64_t owner) {
+  QueryCache cache;
+  cache.owner = owner;
+  return cache;
+}
+
+QueryCache& threadCache(std::uint64_t owner) {
+  thread_local QueryCache cache;
+  if (cache.owner != owner) cache = freshCache(owner);
+  return cache;
+}
+
+}  // namespace
+
+struct MeshSource::Impl {
+  mesh::TriangleBvh bvh;         // winding numbers, normals
+  mesh::ClosestPointTree tree;   // distances
+  std::unique_ptr<mesh::PseudoNormals> pseudoNormals;  // set when they give the sign
+  std::vector<std::uint32_t> inputTriangle;  // input index of each kept triangle (input order of kept)
+  MeshSourceStats stats;
+  MeshSourceOptions options;
+  Aabb bounds;
+  double onSurfaceDistance = 0.0;
+  std::uint64_t id = nextSourceId.fetch_add(1);
+
+  Impl(mesh::CleanTriangles clean, const MeshSourceOptions& opts)
+      : bvh(clean.corners), tree(bvh), inputTriangle(std::move(clean.inputTriangle)), options(opts) {
+    bounds.min = glm::dvec3(kInfinity);
+    bounds.max = glm::dvec3(-kInfinity);
+    for (const glm::dvec3& c : clean.corners) {
+      bounds.min = glm::min(bounds.min, c);
+      bounds.max = glm::max(bounds.max, c);
+    }
+    onSurfaceDistance = kOnSurfaceRelative * glm::length(bounds.size());
+    const std::vector<std::uint32_t> vertexOf = mesh::weldVertices(bvh.corners());
+    const mesh::EdgeTopology topology = mesh::edgeTopology(vertexOf);
+    stats.droppedZeroArea = clean.droppedZeroArea;
+    stats.triangles = bvh.triangleCount();
+    stats.inputTriangles = stats.triangles + stats.droppedZeroArea;
+    stats.boundaryEdges = topology.boundaryEdges;
+    stats.closed = topology.closed;
+    stats.bvhNodes = bvh.nodeCount();
+    if (stats.closed) stats.selfIntersecting = mesh::hasSelfIntersections(bvh, vertexOf);
+    if (options.signMode == SignMode::Auto && stats.closed && !stats.selfIntersecting) {
+      pseudoNormals = std::make_unique<mesh::PseudoNormals>(bvh, vertexOf);
+      stats.pseudoNormalSign = true;
+    }
+  }
+
+  bool mayPassOn(const Anchor& anchor) const {
+    return stats.closed || std::abs(anchor.winding - 0.5) >= kDecisiveWinding;
+  }
+
+  // The winding number of an anchor whose surface-free ball holds p, if any.
+  std::optional<double> reusedWinding(const glm::dvec3& p, const QueryCache& cache) const {
+    if (!options.reuseSign || !cache.hasPrevious) return std::nullopt;
+    for (const Anchor* anchor : {&cache.previous, &cache.runStart}) {
+      const glm::dvec3 d = p - anchor->p;
+      const double r = anchor->radius * kBallShrink;
+      if (r > 0.0 && glm::dot(d, d) < r * r && mayPassOn(*anchor)) return anchor->winding;
+    }
+    return std::nullopt;
+  }
+
+  // The winding number at p: inherited from an anchor whose surface-free ball holds p, else computed.
+  double winding(const glm::dvec3& p, const QueryCache& cache) const {
+    if (const std::optional<double> reused = reusedWinding(p, cache)) return *reused;
+    return bvh.windingNumber(p, options.windingBeta);
+  }
+
+  // Squared distance bound from the closest triangles of the anchors (the nearer anchor's first):
+  // the closest triangle rarely changes between neighbouring grid samples, so this bound is
+  // usually the answer and prunes nearly the whole BVH.
+  mesh::ClosestHit seedHit(const glm::dvec3& p, const QueryCache& cache) const {
+    mesh::ClosestHit seed;
+    if (!cache.hasPrevious) return seed;
+    for (const Anchor* anchor : {&cache.previous, &cache.runStart}) {
+      if (anchor->triangle == UINT32_MAX) continue;
+      const mesh::ClosestHit candidate = tree.distanceTo(p, anchor->triangle);
+      if (candidate.distanceSquared < seed.distanceSquared) seed = candidate;
+    }
+    return seed;
+  }
+
+  mesh::ClosestHit closest(const glm::dvec3& p, const QueryCache& cache) const {
+    const mesh::ClosestHit seed = seedHit(p, cache);
+    const mesh::ClosestHit hit = tree.closest(p, seed.distanceSquared);
+    return hit.triangle == UINT32_MAX ? seed : hit;
+  }
+
+  void remember(QueryCache& cache, const Anchor& anchor) const {
+    const double step = cache.hasPrevious ? glm::length(anchor.p - cache.previous.p) : kInfinity;
+    if (!cache.hasPrevious || step > kJumpFactor * cache.previousStep) cache.runStart = anchor;
+    cache.previous = anchor;
+    cache.previousStep = step;
+    cache.hasPrevious = true;
+  }
+
+  SdfSample signedSample(const glm::dvec3& p, const mesh::ClosestHit& hit, double winding) const {
+    const double distance = std::sqrt(hit.distanceSquared);
+    const double sign = winding >= 0.5 ? -1.0 : 1.0;
+    SdfSample s;
+    s.value = sign * distance;
+    s.gradient = distance > onSurfaceDistance ? (p - hit.point) * (sign / distance) : bvh.unitNormal(hit.triangle);
+    return s;
+  }
+
+  // Winding number, or its stand-in (1 inside, 0 outside) from the pseudonormal of the closest
+  // feature when the mesh allows it.
+  double windingAt(const glm::dvec3& p, const mesh::ClosestHit& hit, const QueryCache& cache) const {
+    if (!pseudoNormals) return winding(p, cache);
+    return glm::dot(p - hit.point, pseudoNormals->normal(hit.triangle, hit.feature)) < 0.0 ? 1.0 : 0.0;
+  }
+
+  SdfSample sample(const glm::dvec3& p, QueryCache& cache) const {
+    const mesh::ClosestHit hit = closest(p, cache);
+    const double w = windingAt(p, hit, cache);
+    remember(cache, {p, std::sqrt(hit.distanceSquared), w, hit.triangle});
+    return signedSample(p, hit, w);
+  }
+
+  // The closest triangle when it lies within `band` of p; otherwise no triangle and, in
+  // prunedBoundSquared, the traversal's bound.
+  mesh::ClosestHit closestWithin(const glm::dvec3& p, double band, const QueryCache& cache) const {
+    mesh::ClosestHit seed = seedHit(p, cache);
+    const double bandSquared = band * band;
+    if (seed.distanceSquared > bandSquared) {
+      seed = mesh::ClosestHit{};
+      seed.distanceSquared = bandSquared;
+    }
+    mesh::ClosestHit hit = tree.closestOrBound(p, seed.distanceSquared);
+    if (hit.triangle == UINT32_MAX && seed.triangle != UINT32_MAX) hit = seed;
+    return hit;
+  }
+
+  SdfSample exactSample(const glm::dvec3& p, const mesh::ClosestHit& hit, QueryCache& cache) const {
+    const double w = windingAt(p, hit, cache);
+    remember(cache, {p, std::sqrt(hit.distanceSquared), w, hit.triangle});
+    return signedSample(p, hit, w);
+  }
+
+  // A far point is not remembered: its anchor would need the sign, the query this skips.
+  std::optional<SdfSample> sampleNear(const glm::dvec3& p, double band, QueryCache& cache) const {
+    const mesh::ClosestHit hit = closestWithin(p, band, cache);
+    if (hit.triangle == UINT32_MAX) return std::nullopt;
+    return exactSample(p, hit, cache);
+  }
+
+  SdfBandSample sampleBand(const glm::dvec3& p, double band, QueryCache& cache) const {
+    const mesh::ClosestHit hit = closestWithin(p, band, cache);
+    if (hit.triangle != UINT32_MAX) return {exactSample(p, hit, cache), true};
+    const double bandSquared = band * band;
+    // Nothing within the band: the traversal's pruning bound is a safe distance bound. The sign
+    // comes from a recent query's ball if one holds p; otherwise, where pseudonormals are valid,
+    // the full closest-point query (cheaper than a winding number next to the surface) gives it
+    // together with the exact distance, the best bound there is.
+    Anchor anchor{p, std::sqrt(std::max(hit.prunedBoundSquared, bandSquared)), 0.0,
+                  cache.hasPrevious ? cache.previous.triangle : UINT32_MAX};
+    if (const std::optional<double> reused = reusedWinding(p, cache)) {
+      anchor.winding = *reused;
+    } else if (pseudoNormals) {
+      const mesh::ClosestHit full = closest(p, cache);
+      anchor = {p, std::sqrt(full.distanceSquared), windingAt(p, full, cache), full.triangle};
+    } else {
+      anchor.winding = bvh.windingNumber(p, options.windingBeta);
+    }
+    remember(cache, anchor);
+    SdfBandSample out;
+    out.sample.value = (anchor.winding >= 0.5 ? -1.0 : 1.0) * anchor.radius;
+    out.exact = false;
+    return out;
+  }
+};
+
+engine::Expected<std::unique_ptr<MeshSource>> MeshSource::create(std::vector<glm::vec3> positions,
+                                                                  std::vector<std::uint32_t> indices,
+                                                                  const MeshSourceOptions& options) {
+  if (!(options.windingBeta > 0.0) || !std::isfinite(options.windingBeta))
+    return engine::makeError("mesh source: windingBeta must be a positive finite number");
+  auto clean = mesh::cleanTriangles(positions, indices);
+  if (!clean) return clean.error().withContext("mesh source");
+  return std::unique_ptr<MeshSource>(new MeshSource(std::make_unique<Impl>(std::move(*clean), options)));
+}
+
+engine::Expected<std::unique_ptr<MeshSource>> MeshSource::create(const engine::scene::TriangleSoup& soup,
+                                                                  const MeshSourceOptions& options) {
+  return create(soup.positions, soup.indices, options);
+}
+
+MeshSource::MeshSource(std::unique_ptr<Impl> impl) : impl_(std::move(impl)) {}
+MeshSource::~MeshSource() = default;
+
+SdfSample MeshSource::sample(const glm::dvec3& p) const { return impl_->sample(p, threadCache(impl_->id)); }
+
+Aabb MeshSource::bounds() const { return impl_->bounds; }
+
+void MeshSource::sampleRow(const glm::dvec3& start, const glm::dvec3& step, std::span<SdfSample> out) const {
+  // The thread's cache, not a fresh one: a bake walks neighbouring rows on the same thread, so the
+  // previous row's start seeds this row's first query.
+  QueryCache& cache = threadCache(impl_->id);
+  for (std::size_t i = 0; i < out.size(); ++i) out[i] = impl_->sample(start + double(i) * step, cache);
+}
+
+SdfBandSample MeshSource::sampleBand(const glm::dvec3& p, double band) const {
+  return impl_->sampleBand(p, band, threadCache(impl_->id));
+}
+
+std::optional<SdfSample> MeshSource::sampleNear(const glm::dvec3& p, double band) const {
+  return impl_->sampleNear(p, band, threadCache(impl_->id));
+}
+
+void MeshSource::sampleBandRow(const glm::dvec3& start, const glm::dvec3& step, double band,
+                               std::span<SdfBandSample> out) const {
+  QueryCache& cache = threadCache(impl_->id);
+  for (std::size_t i = 0; i < out.size(); ++i) out[i] = impl_->sampleBand(start + double(i) * step, band, cache);
+}
+
+MeshClosestPoint MeshSource::closestPoint(const glm::dvec3& p) const {
+  const mesh::ClosestHit hit = impl_->tree.closest(p, kInfinity);
+  return {hit.point, std::sqrt(hit.distanceSquared), impl_->inputTriangle[impl_->bvh.inputIndex(hit.triangle)]};
+}
+
+double MeshSource::windingNumber(const glm::dvec3& p) const {
+  return impl_->bvh.windingNumber(p, impl_->options.windingBeta);
+}
+
+double MeshSource::windingNumberExact(const glm::dvec3& p) const { return impl_->bvh.windingNumberExact(p); }
+
+const MeshSourceStats& MeshSource::stats() const { return impl_->stats; }
+
+}  // namespace hsdf

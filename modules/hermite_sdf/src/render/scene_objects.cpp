@@ -1,0 +1,121 @@
+#include "hermite_sdf/render/scene_objects.h"
+
+#include <algorithm>
+
+#include <fmt/format.h>
+#include <nlohmann/json.hpp>
+
+#include "engine/scene/gltf_loader.h"
+
+namespace hsdf {
+namespace {
+
+using Json = nlohmann::json;
+constexpr const char* kExtrasKey = "hermite_sdf";
+
+std::string nodeLabel(const engine::scene::NodeData& node) { return fmt::format("node '{}'", node.name); }
+
+// extras.hermite_sdf.draw, checked: the only key of the object, a string, a known name.
+engine::Expected<std::optional<NodeDraw>> readDrawKey(const Json& settings) {
+  if (!settings.is_object())
+    return engine::makeError(fmt::format("extras.{} is a JSON {}, not an object", kExtrasKey, settings.type_name()));
+  for (const auto& [key, value] : settings.items())
+    if (key != "draw") return engine::makeError(fmt::format("extras.{}.{}: unknown key (known: draw)", kExtrasKey, key));
+  const auto draw = settings.find("draw");
+  if (draw == settings.end()) return std::optional<NodeDraw>{};
+  if (!draw->is_string())
+    return engine::makeError(fmt::format("extras.{}.draw is a JSON {}, not a string", kExtrasKey, draw->type_name()));
+  const std::string name = draw->get<std::string>();
+  if (const auto parsed = parseNodeDraw(name)) return std::optional<NodeDraw>{*parsed};
+  return engine::makeError(fmt::format("extras.{}.draw: '{}' is not one of sdf, triangles", kExtrasKey, name));
+}
+
+engine::Status checkNamesExist(const engine::scene::SceneData& scene, const std::vector<std::string>& names) {
+  for (const std::string& name : names) {
+    const auto has = [&name](const engine::scene::NodeData& node) { return node.name == name; };
+    if (std::none_of(scene.nodes.begin(), scene.nodes.end(), has))
+      return engine::makeError(fmt::format("triangle nodes: the scene has no node named '{}'", name));
+  }
+  return {};
+}
+
+}  // namespace
+
+const char* nodeDrawName(NodeDraw draw) { return draw == NodeDraw::Sdf ? "sdf" : "triangles"; }
+
+std::optional<NodeDraw> parseNodeDraw(std::string_view name) {
+  if (name == "sdf") return NodeDraw::Sdf;
+  if (name == "triangles") return NodeDraw::Triangles;
+  return std::nullopt;
+}
+
+engine::Expected<std::optional<NodeDraw>> nodeDrawFromExtras(const engine::scene::NodeData& node) {
+  if (node.extras.empty()) return std::optional<NodeDraw>{};
+  // The loader wrote the text from parsed JSON, so it parses; other tools' extras may be anything.
+  const Json extras = Json::parse(node.extras, nullptr, false);
+  if (!extras.is_object() || !extras.contains(kExtrasKey)) return std::optional<NodeDraw>{};
+  return readDrawKey(extras.at(kExtrasKey)).withContext(nodeLabel(node));
+}
+
+engine::Expected<std::vector<NodeDraw>> chooseNodeDraws(const engine::scene::SceneData& scene,
+                                                        const SceneObjectOptions& options) {
+  ENGINE_TRY(checkNamesExist(scene, options.triangleNodes));
+  std::vector<NodeDraw> draws;
+  draws.reserve(scene.nodes.size());
+  for (const engine::scene::NodeData& node : scene.nodes) {
+    ENGINE_TRY_ASSIGN(const std::optional<NodeDraw> own, nodeDrawFromExtras(node));
+    const auto& listed = options.triangleNodes;
+    const bool forced = std::find(listed.begin(), listed.end(), node.name) != listed.end();
+    draws.push_back(forced ? NodeDraw::Triangles : own.value_or(options.defaultDraw));
+  }
+  return draws;
+}
+
+// A scene of the one mesh at the identity: flattening it gives the mesh in its own space.
+engine::Expected<BakeSource> meshBakeSource(const engine::scene::SceneData& scene, int mesh) {
+  if (mesh < 0 || std::size_t(mesh) >= scene.meshes.size())
+    return engine::makeError(fmt::format("mesh {} is out of range (the scene has {})", mesh, scene.meshes.size()));
+  engine::scene::SceneData single;
+  single.meshes.push_back(scene.meshes[std::size_t(mesh)]);
+  single.nodes.emplace_back().mesh = 0;
+  const std::string& name = scene.meshes[std::size_t(mesh)].name;
+  return BakeSource::fromScene(name.empty() ? fmt::format("mesh {}", mesh) : name, single);
+}
+
+engine::Expected<SceneObjects> bakeSceneObjects(const engine::scene::SceneData& scene,
+                                                const SceneObjectOptions& options, const BakeSettings& settings,
+                                                const BakeControl& control) {
+  SceneObjects objects;
+  ENGINE_TRY_ASSIGN(objects.draws, chooseNodeDraws(scene, options));
+  objects.meshAssets.resize(scene.meshes.size());
+  for (std::size_t n = 0; n < scene.nodes.size(); ++n) {
+    const int mesh = scene.nodes[n].mesh;
+    if (mesh < 0 || objects.draws[n] != NodeDraw::Sdf || objects.meshAssets[std::size_t(mesh)]) continue;
+    ENGINE_TRY_ASSIGN(BakeSource source, meshBakeSource(scene, mesh));
+    const std::string where = fmt::format("mesh {} '{}'", mesh, scene.meshes[std::size_t(mesh)].name);
+    ENGINE_TRY_ASSIGN(objects.meshAssets[std::size_t(mesh)], bakeAsset(source, settings, control).withContext(where));
+    ++objects.bakes;
+  }
+  return objects;
+}
+
+std::vector<engine::ecs::Entity> addSdfInstances(const engine::scene::SceneData& scene, const SceneObjects& objects,
+                                                 std::span<const engine::ecs::Entity> nodeEntities,
+                                                 engine::ecs::Registry& registry) {
+  std::vector<engine::ecs::Entity> added;
+  for (std::size_t n = 0; n < scene.nodes.size() && n < nodeEntities.size(); ++n) {
+    const int mesh = scene.nodes[n].mesh;
+    if (mesh < 0 || objects.draws[n] != NodeDraw::Sdf || !objects.meshAssets[std::size_t(mesh)]) continue;
+    HermiteSdfRenderable renderable;
+    renderable.asset = objects.meshAssets[std::size_t(mesh)];
+    const auto& primitives = scene.meshes[std::size_t(mesh)].primitives;
+    const int material = primitives.empty() ? -1 : primitives.front().material;
+    if (material >= 0 && std::size_t(material) < scene.materials.size())
+      renderable.color = scene.materials[std::size_t(material)].baseColor;
+    registry.emplace<HermiteSdfRenderable>(nodeEntities[n], std::move(renderable));
+    added.push_back(nodeEntities[n]);
+  }
+  return added;
+}
+
+}  // namespace hsdf

@@ -1,0 +1,221 @@
+// The module bake job (hermite_sdf/core/bake_job.h): the one pipeline hsdf_bake, the scene runner and
+// the UI re-bake share. Each case says what it would catch.
+#include <gtest/gtest.h>
+
+#include <atomic>
+#include <cstring>
+#include <vector>
+
+#include "hermite_sdf/core/bake_job.h"
+
+namespace hsdf {
+namespace {
+
+BakeSource bunnySource() {
+  auto source = BakeSource::fromPathOrShape(std::string(HSDF_ASSET_DIR) + "/bunny.glb");
+  EXPECT_TRUE(source.ok()) << source.error().message;
+  return source.ok() ? *source : BakeSource::fromShape("sphere");
+}
+
+bool contains(const std::string& text, const std::string& part) { return text.find(part) != std::string::npos; }
+
+// Tricky: the token is only polled between rows of work and the callback every 20 ms, so a bake
+// that ignored them would still "succeed"; the bunny at K = 96 takes seconds, far longer than the
+// first poll, so a result other than "cancelled" means cancellation did not stop the work.
+TEST(BakeJob, ProgressCallbackReturningFalseCancelsTheBake) {
+  BakeSettings settings;
+  settings.resolution = 96;
+  settings.threads = 1;
+  int calls = 0;
+  BakeControl control;
+  control.progress = [&calls](float) { return ++calls > 1 ? true : false; };
+  const auto result = bakeAsset(bunnySource(), settings, control);
+  ASSERT_FALSE(result.ok());
+  EXPECT_TRUE(contains(result.error().message, "cancelled")) << result.error().message;
+  EXPECT_EQ(calls, 1) << "progress kept being reported after the bake was cancelled";
+}
+
+// Tricky: the token must be honoured before any sample is computed (a UI cancels a job that has
+// not started yet); the progress callback must not see a single fraction.
+TEST(BakeJob, CancelledTokenStopsBeforeAnyWork) {
+  engine::CancelToken token;
+  token.cancel();
+  bool reported = false;
+  BakeControl control;
+  control.cancel = &token;
+  control.progress = [&reported](float) { return reported = true; };
+  BakeSettings settings;
+  settings.resolution = 32;
+  const auto result = bakeAsset(BakeSource::fromShape("torus"), settings, control);
+  ASSERT_FALSE(result.ok());
+  EXPECT_TRUE(contains(result.error().message, "cancelled")) << result.error().message;
+  EXPECT_FALSE(reported);
+}
+
+// Tricky: cancel() races the worker; the bunny at K = 128 cannot finish between the constructor
+// and the next statement, so "cancelled" proves the flag reaches the running bake, and wait()
+// returning at all proves the thread stops.
+TEST(BakeJob, WorkerThreadJobCancels) {
+  BakeSettings settings;
+  settings.resolution = 128;
+  BakeJob job(bunnySource(), settings);
+  job.cancel();
+  const BakeJob::Result result = job.wait();
+  ASSERT_FALSE(result.ok());
+  EXPECT_TRUE(contains(result.error().message, "cancelled")) << result.error().message;
+  EXPECT_TRUE(job.done());
+}
+
+// Tricky: each limit is checked on numbers alone. K = 4096 is 6.9e10 samples (1.1 TB): had the job
+// allocated first, it would fail with an allocation error (or be killed), not name the limit.
+TEST(BakeJob, BudgetRefusesBeforeAllocatingAndNamesTheLimit) {
+  const BakeSource torus = BakeSource::fromShape("torus");
+  bool reported = false;
+  BakeControl control;
+  control.progress = [&reported](float) { return reported = true; };
+
+  BakeSettings huge;
+  huge.resolution = kMaxResolution;
+  auto result = bakeAsset(torus, huge, control);
+  ASSERT_FALSE(result.ok());
+  EXPECT_TRUE(contains(result.error().message, "over the bake budget's max samples 268435456")) << result.error().message;
+
+  BakeSettings overK;
+  overK.resolution = 65;
+  overK.budget.maxResolution = 64;
+  result = bakeAsset(torus, overK, control);
+  ASSERT_FALSE(result.ok());
+  EXPECT_TRUE(contains(result.error().message, "resolution 65 is over the bake budget's max resolution 64"))
+      << result.error().message;
+
+  // One byte under what K = 32 needs: the estimate must cover the field and the cell classes.
+  BakeSettings overBytes;
+  overBytes.resolution = 32;
+  auto prepared = prepareSource(torus);
+  ASSERT_TRUE(prepared.ok());
+  auto grid = planBake(*prepared, overBytes);
+  ASSERT_TRUE(grid.ok());
+  const std::uint64_t needed = estimateBakeBytes(*grid, BakeBand::Dense);
+  EXPECT_EQ(needed, 32ull * 32 * 32 * sizeof(HermiteSample) + 31ull * 31 * 31);
+  overBytes.budget.maxBytes = needed - 1;
+  result = bakeAsset(torus, overBytes, control);
+  ASSERT_FALSE(result.ok());
+  EXPECT_TRUE(contains(result.error().message, "over the bake budget's max bytes " + std::to_string(needed - 1)))
+      << result.error().message;
+  overBytes.budget.maxBytes = needed;
+  EXPECT_TRUE(bakeAsset(torus, overBytes).ok()) << "the exact budget must be enough";
+  EXPECT_FALSE(reported) << "a refused bake reported progress, so it started working";
+}
+
+// Tricky: the kept cells are known only after classification, so this limit cannot be checked on
+// the grid alone; it must still refuse before the records are extracted, name the count and the
+// limit, and let exactly the limit through (off by one would refuse a field that fits).
+TEST(BakeJob, KeptCellBudgetRefusesNamingTheCountAndTheLimit) {
+  const BakeSource torus = BakeSource::fromShape("torus");
+  BakeSettings settings;
+  settings.resolution = 16;
+  auto full = bakeAsset(torus, settings);
+  ASSERT_TRUE(full.ok()) << full.error().message;
+  const std::uint64_t kept = (*full)->classification.stats.kept();
+  ASSERT_GT(kept, 100u);
+
+  settings.budget.maxKeptCells = kept - 1;
+  auto refused = bakeAsset(torus, settings);
+  ASSERT_FALSE(refused.ok());
+  EXPECT_TRUE(contains(refused.error().message, std::to_string(kept) + " kept cells, over the budget's max kept cells " +
+                                                    std::to_string(kept - 1)))
+      << refused.error().message;
+  settings.budget.maxKeptCells = kept;
+  auto fits = bakeAsset(torus, settings);
+  ASSERT_TRUE(fits.ok()) << fits.error().message;
+  EXPECT_EQ((*fits)->cells.records.size(), kept);
+}
+
+// Tricky: the worker thread must run the very same pipeline (settings, band, refinement), not a
+// variant of it: the fields must be bitwise equal and the kept cells identical.
+TEST(BakeJob, WorkerThreadResultEqualsSynchronousResult) {
+  BakeSettings settings;
+  settings.resolution = 24;
+  settings.padding = 2;
+  settings.band = BakeBand::NarrowBand;
+  settings.refineDepth = 1;
+  const BakeSource blob = BakeSource::fromShape("blob");
+  const auto sync = bakeAsset(blob, settings);
+  ASSERT_TRUE(sync.ok()) << sync.error().message;
+  BakeJob job(blob, settings);
+  const BakeJob::Result threaded = job.wait();
+  ASSERT_TRUE(threaded.ok()) << threaded.error().message;
+  EXPECT_FLOAT_EQ(job.progress(), 1.0f);
+  const SdfAsset& a = **sync;
+  const SdfAsset& b = **threaded;
+  EXPECT_NE(a.id, b.id);
+  EXPECT_EQ(a.field.grid.resolution, 24);
+  ASSERT_EQ(a.field.samples.size(), b.field.samples.size());
+  EXPECT_EQ(0, std::memcmp(a.field.samples.data(), b.field.samples.data(), a.field.samples.size() * sizeof(HermiteSample)));
+  ASSERT_EQ(a.cells.records.size(), b.cells.records.size());
+  ASSERT_GT(a.cells.records.size(), 0u);
+  EXPECT_EQ(0, std::memcmp(a.cells.records.data(), b.cells.records.data(), a.cells.records.size() * sizeof(CellRecord)));
+  EXPECT_EQ(a.classification.refineDepth, 1);
+  EXPECT_FALSE(job.take().has_value()) << "the result can be taken once";
+}
+
+// Tricky: progress is reported over the whole job (bake, then classification): it must never go
+// backwards when the phases hand over, and must end at exactly 1.
+TEST(BakeJob, ProgressIsMonotoneAndEndsAtOne) {
+  std::vector<float> fractions;
+  BakeControl control;
+  control.progress = [&fractions](float f) {
+    fractions.push_back(f);
+    return true;
+  };
+  BakeSettings settings;
+  settings.resolution = 48;
+  ASSERT_TRUE(bakeAsset(bunnySource(), settings, control).ok());
+  ASSERT_FALSE(fractions.empty());
+  for (std::size_t i = 1; i < fractions.size(); ++i) EXPECT_LE(fractions[i - 1], fractions[i]);
+  EXPECT_EQ(fractions.back(), 1.0f);
+}
+
+// Tricky: a flat square bakes into a field positive everywhere; the bake itself succeeds and only
+// the classification shows there is nothing to draw.
+TEST(BakeJob, FieldWithoutSurfaceIsAnError) {
+  engine::scene::TriangleSoup square;
+  square.positions = {{0, 0, 0}, {1, 0, 0}, {1, 0, 1}, {0, 0, 1}};
+  square.indices = {0, 1, 2, 0, 2, 3};
+  BakeSettings settings;
+  settings.resolution = 8;
+  const auto result = bakeAsset(BakeSource::fromTriangles("square", square), settings);
+  ASSERT_FALSE(result.ok());
+  EXPECT_TRUE(contains(result.error().message, "the baked field has no surface: none of its 343 cells changes sign"))
+      << result.error().message;
+}
+
+// Tricky: fp16 storage of a grid finer than 2^-13 is refused before the bake (it would lose the
+// values near the surface), while the same grid in fp32 bakes.
+TEST(BakeJob, Fp16StorageRefusesTooFineGrids) {
+  engine::scene::TriangleSoup tiny;
+  const float s = 1e-4f;
+  tiny.positions = {{0, 0, 0}, {s, 0, 0}, {0, s, 0}, {0, 0, s}};
+  tiny.indices = {0, 2, 1, 0, 1, 3, 0, 3, 2, 1, 2, 3};
+  BakeSettings settings;
+  settings.resolution = 16;
+  settings.fp16 = true;
+  const BakeSource source = BakeSource::fromTriangles("tiny", tiny);
+  const auto refused = bakeAsset(source, settings);
+  ASSERT_FALSE(refused.ok());
+  EXPECT_TRUE(contains(refused.error().message, "fp16: fp16 needs a grid spacing of at least 2^-13"))
+      << refused.error().message;
+  settings.fp16 = false;
+  const auto baked = bakeAsset(source, settings);
+  EXPECT_TRUE(baked.ok()) << baked.error().message;
+}
+
+TEST(BakeJob, UnknownInputListsTheShapes) {
+  const auto source = BakeSource::fromPathOrShape("no_such_shape");
+  ASSERT_FALSE(source.ok());
+  EXPECT_TRUE(contains(source.error().message, "'no_such_shape' is neither a file nor an analytic shape"));
+  EXPECT_TRUE(contains(source.error().message, "torus"));
+}
+
+}  // namespace
+}  // namespace hsdf

@@ -1,0 +1,233 @@
+// Inside/outside of MeshSource: generalized winding number, its fast evaluation, and robustness
+// to cracks, flipped triangles and open meshes.
+#include <random>
+
+#include <gtest/gtest.h>
+
+#include "hermite_sdf/core/mesh_source.h"
+#include "mesh_test_meshes.h"
+
+namespace hsdf {
+namespace {
+
+using testing::TestMesh;
+
+std::unique_ptr<MeshSource> makeSource(const TestMesh& m, MeshSourceOptions options = {}) {
+  auto source = MeshSource::create(m.positions, m.indices, options);
+  EXPECT_TRUE(source.ok()) << (source.ok() ? "" : source.error().message);
+  return std::move(source.value());
+}
+
+std::vector<glm::dvec3> randomPoints(std::size_t count, double extent, unsigned seed) {
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<double> u(-extent, extent);
+  std::vector<glm::dvec3> points(count);
+  for (auto& p : points) p = {u(rng), u(rng), u(rng)};
+  return points;
+}
+
+// Tricky: points just inside a face or beyond an edge/corner of a cube — the sign must come from
+// containment, not from the direction to the closest feature (which is ambiguous at edges).
+TEST(MeshSign, CubeInsideNegativeOutsidePositive) {
+  const auto source = makeSource(testing::cube(2));
+  EXPECT_TRUE(source->stats().closed);
+  for (const glm::dvec3& p : randomPoints(500, 1.6, 1)) {
+    const double box = std::max({std::abs(p.x), std::abs(p.y), std::abs(p.z)});
+    if (std::abs(box - 1.0) < 1e-3) continue;
+    EXPECT_EQ(source->sample(p).value < 0.0, box < 1.0) << p.x << " " << p.y << " " << p.z;
+  }
+  EXPECT_LT(source->sample({0.999, 0.999, 0.0}).value, 0.0);
+  EXPECT_GT(source->sample({1.001, 1.001, 1.001}).value, 0.0);
+}
+
+// Tricky: a sphere mesh is only a polyhedral approximation; points between the facets and the
+// true sphere must follow the facets. Points well inside/outside the sphere are unambiguous.
+TEST(MeshSign, SphereInsideNegativeOutsidePositive) {
+  const auto source = makeSource(testing::icosphere(3));
+  for (const glm::dvec3& p : randomPoints(500, 1.5, 2)) {
+    const double r = glm::length(p);
+    if (std::abs(r - 1.0) < 0.01) continue;
+    EXPECT_EQ(source->sample(p).value < 0.0, r < 1.0) << r;
+  }
+}
+
+// Tricky: the far-field expansion is an approximation whose error accumulates with one sign
+// inside a closed surface (every patch is seen from its concave side). It must stay far below the
+// 0.5 threshold at the default beta, and shrink as beta grows (an expansion with a wrong term
+// would not converge); near the surface the traversal mixes exact and expanded nodes.
+TEST(MeshSign, FastWindingNumberMatchesExactSum) {
+  const TestMesh mesh = testing::bumpySphere(3);
+  const auto points = randomPoints(1000, 2.0, 9);
+  auto errors = [&](double beta) {
+    MeshSourceOptions options;
+    options.windingBeta = beta;
+    const auto source = makeSource(mesh, options);
+    double worst = 0.0, sum = 0.0;
+    for (const glm::dvec3& p : points) {
+      const double e = std::abs(source->windingNumber(p) - source->windingNumberExact(p));
+      worst = std::max(worst, e);
+      sum += e;
+    }
+    return std::pair(worst, sum / double(points.size()));
+  };
+  const auto [worstDefault, meanDefault] = errors(MeshSourceOptions{}.windingBeta);
+  EXPECT_LT(worstDefault, 0.1);
+  EXPECT_LT(meanDefault, 0.01);
+  const auto [worstFine, meanFine] = errors(4.0);
+  EXPECT_LT(worstFine, 0.5 * worstDefault);
+  EXPECT_LT(meanFine, 6e-4);
+  const auto source = makeSource(mesh);
+  EXPECT_NEAR(source->windingNumberExact({0.0, 0.0, 0.0}), 1.0, 1e-9);
+  EXPECT_NEAR(source->windingNumberExact({3.0, 0.0, 0.0}), 0.0, 1e-9);
+}
+
+// Tricky: a missing triangle makes the mesh open and the winding number fractional near the hole;
+// a sign from the closest triangle's normal would also be wrong only there. Away from the hole
+// (and from the surface) the sign must still be exact, and the reused-sign path must agree.
+TEST(MeshSign, CrackedSphereSignsCorrectlyAwayFromTheCrack) {
+  const TestMesh full = testing::icosphere(3);
+  const std::size_t removed = 17;
+  const glm::dvec3 hole = testing::centroid(full, removed);
+  const TestMesh cracked = testing::withoutTriangle(full, removed);
+  const auto source = makeSource(cracked);
+  EXPECT_FALSE(source->stats().closed);
+  EXPECT_EQ(source->stats().boundaryEdges, 3u);
+  int checked = 0;
+  for (const glm::dvec3& p : randomPoints(1500, 1.5, 4)) {
+    const double r = glm::length(p);
+    if (std::abs(r - 1.0) < 0.05 || glm::length(p - hole) < 0.3) continue;
+    ++checked;
+    EXPECT_EQ(source->sample(p).value < 0.0, r < 1.0) << r;
+  }
+  EXPECT_GT(checked, 1000);
+  // Points right under the hole see it wide open, yet the rest of the sphere still wraps them.
+  EXPECT_LT(source->sample(0.8 * hole).value, 0.0);
+  EXPECT_GT(source->sample(1.2 * hole).value, 0.0);
+}
+
+// Tricky: a flipped triangle contributes minus its solid angle, so the winding number near it is
+// off by up to 1; the sign away from it, and the distance everywhere, must not care.
+TEST(MeshSign, FlippedTriangleSignsCorrectlyAwayFromIt) {
+  const TestMesh full = testing::icosphere(3);
+  const std::size_t flipped = 40;
+  const glm::dvec3 defect = testing::centroid(full, flipped);
+  const auto source = makeSource(testing::withFlippedTriangle(full, flipped));
+  EXPECT_FALSE(source->stats().closed);
+  const auto reference = makeSource(full);
+  for (const glm::dvec3& p : randomPoints(1500, 1.5, 6)) {
+    EXPECT_NEAR(std::abs(source->sample(p).value), std::abs(reference->sample(p).value), 1e-12);
+    const double r = glm::length(p);
+    if (std::abs(r - 1.0) < 0.05 || glm::length(p - defect) < 0.3) continue;
+    EXPECT_EQ(source->sample(p).value < 0.0, r < 1.0) << r;
+  }
+}
+
+// Tricky: an open mesh (a bowl: the lower half of a sphere) has no inside in the strict sense; the
+// documented behaviour is the winding-number sign: points in the bowl below its rim are inside,
+// points above the rim plane or far away are outside, and distances stay exact.
+TEST(MeshSign, OpenBowlUsesWindingNumberSign) {
+  const TestMesh sphere = testing::icosphere(3);
+  TestMesh bowl{sphere.positions, {}};
+  for (std::size_t t = 0; t < sphere.triangleCount(); ++t) {
+    if (testing::centroid(sphere, t).z < 0.0)
+      for (int k = 0; k < 3; ++k) bowl.indices.push_back(sphere.indices[3 * t + std::size_t(k)]);
+  }
+  const auto source = makeSource(bowl);
+  EXPECT_FALSE(source->stats().closed);
+  EXPECT_GT(source->stats().boundaryEdges, 10u);
+  EXPECT_LT(source->sample({0.0, 0.0, -0.5}).value, 0.0);
+  EXPECT_LT(source->sample({0.3, -0.2, -0.7}).value, 0.0);
+  EXPECT_GT(source->sample({0.0, 0.0, 0.5}).value, 0.0);
+  EXPECT_GT(source->sample({0.0, 0.0, -1.5}).value, 0.0);
+  EXPECT_GT(source->sample({3.0, 1.0, 0.0}).value, 0.0);
+  // Above the rim the nearest surface is the rim itself: distance to the circle of radius ~1.
+  EXPECT_NEAR(std::abs(source->sample({0.0, 0.0, 0.5}).value), testing::bruteForceDistance(bowl, {0.0, 0.0, 0.5}),
+              1e-12);
+}
+
+// Tricky: reusing a neighbour's sign inside its surface-free ball is an optimisation that must
+// not change any answer for a closed mesh, including samples right next to the surface and rows
+// that cross it many times (bumpy surface).
+TEST(MeshSign, SignReuseGivesTheSameSignsAsFreshEvaluation) {
+  const TestMesh mesh = testing::bumpySphere(3);
+  MeshSourceOptions reuse;
+  reuse.signMode = SignMode::WindingNumber;
+  const auto reusing = makeSource(mesh, reuse);
+  MeshSourceOptions fresh = reuse;
+  fresh.reuseSign = false;
+  const auto computing = makeSource(mesh, fresh);
+  std::vector<SdfSample> a(97), b(97);
+  int mismatches = 0;
+  for (int j = 0; j < 40; ++j) {
+    const glm::dvec3 start(-1.5, -1.5 + 0.075 * j, 0.1 * (j % 7) - 0.3), step(1.0 / 32, 0.0, 0.0);
+    reusing->sampleRow(start, step, a);
+    computing->sampleRow(start, step, b);
+    for (std::size_t i = 0; i < a.size(); ++i) mismatches += (a[i].value < 0) != (b[i].value < 0);
+  }
+  EXPECT_EQ(mismatches, 0);
+}
+
+// Tricky: the pseudonormal fast path must agree with the winding number everywhere on a closed
+// mesh, in particular where the closest point is an edge or a vertex (a face normal alone gets
+// those wrong at concave edges) and very close to the surface; rows through a bumpy surface hit
+// all three kinds of features.
+TEST(MeshSign, PseudoNormalSignMatchesWindingNumberOnClosedMeshes) {
+  for (const TestMesh& mesh : {testing::bumpySphere(3), testing::cube(3)}) {
+    const auto source = makeSource(mesh);
+    EXPECT_TRUE(source->stats().pseudoNormalSign);
+    EXPECT_FALSE(source->stats().selfIntersecting);
+    int checked = 0;
+    for (const glm::dvec3& p : randomPoints(3000, 1.4, 12)) {
+      const double w = source->windingNumberExact(p);
+      if (std::abs(w - 0.5) < 0.25) continue;  // on the surface to rounding: no sign to compare
+      ++checked;
+      EXPECT_EQ(source->sample(p).value < 0.0, w >= 0.5) << p.x << " " << p.y << " " << p.z;
+    }
+    EXPECT_GT(checked, 2900);
+    // Just outside and inside a cube corner and edge: the closest feature is a vertex / an edge.
+    if (mesh.triangleCount() == testing::cube(3).triangleCount()) {
+      EXPECT_GT(source->sample({1.01, 1.02, 1.03}).value, 0.0);
+      EXPECT_GT(source->sample({1.01, 1.02, 0.3}).value, 0.0);
+      EXPECT_LT(source->sample({0.99, 0.98, 0.97}).value, 0.0);
+    }
+  }
+}
+
+// Tricky: two overlapping closed parts (a common way to model, e.g. limbs) form a closed mesh
+// that intersects itself. At a point inside A but outside B whose closest surface is B's part
+// inside A, the closest feature's pseudonormal says "outside"; only the winding number (2 in the
+// overlap, 1 in A) gets it right, so the source must detect the intersection and not use it.
+TEST(MeshSign, SelfIntersectingClosedMeshUsesWindingNumber) {
+  TestMesh a = testing::icosphere(3, 1.0f);
+  const TestMesh b = testing::icosphere(3, 0.5f);
+  const std::uint32_t offset = std::uint32_t(a.positions.size());
+  for (const glm::vec3& p : b.positions) a.positions.push_back(p + glm::vec3(0.8f, 0.0f, 0.0f));
+  for (std::uint32_t i : b.indices) a.indices.push_back(i + offset);
+  const auto source = makeSource(a);
+  EXPECT_TRUE(source->stats().closed);
+  EXPECT_TRUE(source->stats().selfIntersecting);
+  EXPECT_FALSE(source->stats().pseudoNormalSign);
+  EXPECT_LT(source->sample({0.2, 0.0, 0.0}).value, 0.0);    // in A, outside B, nearest to B
+  EXPECT_LT(source->sample({0.8, 0.0, 0.0}).value, 0.0);    // in both
+  EXPECT_LT(source->sample({1.2, 0.0, 0.0}).value, 0.0);    // in B only
+  EXPECT_GT(source->sample({1.4, 0.0, 0.0}).value, 0.0);    // outside both
+  EXPECT_GT(source->sample({0.0, 1.2, 0.0}).value, 0.0);
+}
+
+// Tricky: disjoint closed parts (no shared vertex, no contact) are neither open nor
+// self-intersecting; they keep the fast path and each part signs its own inside.
+TEST(MeshSign, DisjointClosedPartsKeepPseudoNormals) {
+  TestMesh a = testing::cube(2, 0.5f);
+  const TestMesh b = testing::icosphere(2, 0.5f);
+  const std::uint32_t offset = std::uint32_t(a.positions.size());
+  for (const glm::vec3& p : b.positions) a.positions.push_back(p + glm::vec3(2.0f, 0.0f, 0.0f));
+  for (std::uint32_t i : b.indices) a.indices.push_back(i + offset);
+  const auto source = makeSource(a);
+  EXPECT_TRUE(source->stats().pseudoNormalSign);
+  EXPECT_LT(source->sample({0.1, 0.1, 0.1}).value, 0.0);
+  EXPECT_LT(source->sample({2.1, 0.1, 0.0}).value, 0.0);
+  EXPECT_GT(source->sample({1.0, 0.0, 0.0}).value, 0.0);
+}
+
+}  // namespace
+}  // namespace hsdf

@@ -1,0 +1,175 @@
+// glTF scenes as separate SDF objects (hermite_sdf/render/scene_objects.h): one bake per mesh shared by
+// every node that places it, the per-node choice of SDF or triangles (extras, options), bad extras
+// refused by name, and the committed sample scene.
+#include "hermite_sdf/render/scene_objects.h"
+
+#include <gtest/gtest.h>
+
+#include <set>
+#include <string>
+
+#include <glm/gtc/matrix_transform.hpp>
+
+#include "engine/scene/gltf_loader.h"
+#include "engine/scene/transform.h"
+
+namespace hsdf {
+namespace {
+
+using engine::scene::MeshData;
+using engine::scene::NodeData;
+using engine::scene::SceneData;
+
+// A closed axis-aligned box from lo to hi, wound counter-clockwise seen from outside.
+MeshData boxMesh(std::string name, glm::vec3 lo, glm::vec3 hi) {
+  engine::scene::MeshPrimitiveData p;
+  for (int corner = 0; corner < 8; ++corner)
+    p.positions.emplace_back((corner & 1) ? hi.x : lo.x, (corner & 2) ? hi.y : lo.y, (corner & 4) ? hi.z : lo.z);
+  p.normals.assign(8, glm::vec3(0.0f, 1.0f, 0.0f));  // not read by the bake
+  p.indices = {0, 2, 1, 1, 2, 3, 4, 5, 6, 5, 7, 6, 0, 1, 4, 1, 5, 4, 2, 6, 3, 3, 6, 7, 0, 4, 2, 2, 4, 6, 1, 3, 5, 3, 7, 5};
+  return {std::move(name), {std::move(p)}};
+}
+
+NodeData node(std::string name, int mesh, glm::vec3 translation, std::string extras = {}) {
+  NodeData n;
+  n.name = std::move(name);
+  n.mesh = mesh;
+  n.local = n.world = glm::translate(glm::mat4(1.0f), translation);
+  n.extras = std::move(extras);
+  return n;
+}
+
+// Two meshes, six nodes: "cube" placed four times, "slab" twice, far from the origin.
+SceneData twoMeshScene() {
+  SceneData scene;
+  scene.meshes.push_back(boxMesh("cube", glm::vec3(-1.0f), glm::vec3(1.0f)));
+  scene.meshes.push_back(boxMesh("slab", glm::vec3(-2.0f, -0.5f, -1.0f), glm::vec3(2.0f, 0.5f, 1.0f)));
+  for (int i = 0; i < 4; ++i) scene.nodes.push_back(node("cube" + std::to_string(i), 0, glm::vec3(10.0f * float(i), 0, 0)));
+  for (int i = 0; i < 2; ++i) scene.nodes.push_back(node("slab" + std::to_string(i), 1, glm::vec3(0, 0, 10.0f + 10.0f * float(i))));
+  return scene;
+}
+
+BakeSettings smallBake() {
+  BakeSettings settings;
+  settings.resolution = 12;
+  return settings;
+}
+
+std::string errorOf(const SceneData& scene, const SceneObjectOptions& options = {}) {
+  const auto draws = chooseNodeDraws(scene, options);
+  return draws ? std::string("(accepted)") : draws.error().message;
+}
+
+// Tricky: sharing must hold per mesh, not per scene: six nodes, two bakes, two distinct assets,
+// and every node's component points at its own mesh's asset.
+TEST(SceneObjects, EachMeshBakedOnceAndSharedByItsNodes) {
+  const SceneData scene = twoMeshScene();
+  const auto objects = bakeSceneObjects(scene, {}, smallBake());
+  ASSERT_TRUE(objects) << objects.error().message;
+  EXPECT_EQ(objects->bakes, 2);
+  ASSERT_EQ(objects->meshAssets.size(), 2u);
+  ASSERT_TRUE(objects->meshAssets[0] && objects->meshAssets[1]);
+  EXPECT_NE(objects->meshAssets[0]->id, objects->meshAssets[1]->id);
+  EXPECT_EQ(objects->meshAssets[0]->name, "cube");
+
+  engine::ecs::Registry registry;
+  std::vector<engine::ecs::Entity> entities;
+  for (std::size_t i = 0; i < scene.nodes.size(); ++i) entities.push_back(registry.create());
+  const auto added = addSdfInstances(scene, *objects, entities, registry);
+  ASSERT_EQ(added.size(), 6u);
+  std::set<std::uint64_t> ids;
+  for (std::size_t n = 0; n < scene.nodes.size(); ++n) {
+    const auto& renderable = registry.get<HermiteSdfRenderable>(entities[n]);
+    EXPECT_EQ(renderable.asset.get(), objects->meshAssets[std::size_t(scene.nodes[n].mesh)].get()) << n;
+    ids.insert(renderable.asset->id);
+  }
+  EXPECT_EQ(ids.size(), 2u);
+}
+
+// Tricky: the asset is the mesh in its own space; the node's placement (10 units away) must not be
+// baked in, or every instance would be drawn twice offset.
+TEST(SceneObjects, AssetsAreBakedInTheMeshsOwnSpace) {
+  const SceneData scene = twoMeshScene();
+  const auto objects = bakeSceneObjects(scene, {}, smallBake());
+  ASSERT_TRUE(objects) << objects.error().message;
+  const Aabb& slab = objects->meshAssets[1]->surfaceBounds;
+  EXPECT_NEAR(slab.min.x, -2.0, 1e-5);
+  EXPECT_NEAR(slab.max.y, 0.5, 1e-5);
+  EXPECT_NEAR(slab.max.z, 1.0, 1e-5);
+}
+
+// Tricky: a mesh placed only by triangle nodes is not baked at all; the options' list beats the
+// node's own "sdf"; the default applies only to nodes without a choice.
+TEST(SceneObjects, PerNodeChoiceFromExtrasOptionsAndDefault) {
+  SceneData scene = twoMeshScene();
+  scene.nodes[0].extras = R"({"hermite_sdf": {"draw": "triangles"}, "author": "x"})";
+  scene.nodes[1].extras = R"({"hermite_sdf": {"draw": "sdf"}})";
+  scene.nodes[2].extras = R"({"author": "not ours"})";
+  for (int n : {4, 5}) scene.nodes[std::size_t(n)].extras = R"({"hermite_sdf": {"draw": "triangles"}})";
+
+  SceneObjectOptions options;
+  const auto draws = chooseNodeDraws(scene, options);
+  ASSERT_TRUE(draws) << draws.error().message;
+  EXPECT_EQ((*draws)[0], NodeDraw::Triangles);
+  EXPECT_EQ((*draws)[1], NodeDraw::Sdf);
+  EXPECT_EQ((*draws)[2], NodeDraw::Sdf);
+  const auto objects = bakeSceneObjects(scene, options, smallBake());
+  ASSERT_TRUE(objects) << objects.error().message;
+  EXPECT_EQ(objects->bakes, 1);
+  EXPECT_FALSE(objects->meshAssets[1]) << "the slab is drawn only as triangles";
+
+  options.defaultDraw = NodeDraw::Triangles;
+  options.triangleNodes = {"cube1"};
+  const auto forced = chooseNodeDraws(scene, options);
+  ASSERT_TRUE(forced) << forced.error().message;
+  EXPECT_EQ((*forced)[1], NodeDraw::Triangles) << "the list beats the node's own sdf";
+  EXPECT_EQ((*forced)[2], NodeDraw::Triangles) << "no hermite_sdf key: the default";
+  EXPECT_EQ((*forced)[3], NodeDraw::Triangles);
+}
+
+TEST(SceneObjects, BadExtrasAreRefusedNamingNodeAndKey) {
+  SceneData scene = twoMeshScene();
+  scene.nodes[3].extras = R"({"hermite_sdf": {"draw": "mesh"}})";
+  std::string message = errorOf(scene);
+  EXPECT_NE(message.find("node 'cube3'"), std::string::npos) << message;
+  EXPECT_NE(message.find("extras.hermite_sdf.draw: 'mesh' is not one of sdf, triangles"), std::string::npos) << message;
+
+  scene.nodes[3].extras = R"({"hermite_sdf": {"draw": 1}})";
+  message = errorOf(scene);
+  EXPECT_NE(message.find("extras.hermite_sdf.draw is a JSON number, not a string"), std::string::npos) << message;
+
+  scene.nodes[3].extras = R"({"hermite_sdf": {"draw": "sdf", "colour": "red"}})";
+  message = errorOf(scene);
+  EXPECT_NE(message.find("extras.hermite_sdf.colour: unknown key"), std::string::npos) << message;
+
+  scene.nodes[3].extras = R"({"hermite_sdf": "triangles"})";
+  message = errorOf(scene);
+  EXPECT_NE(message.find("extras.hermite_sdf is a JSON string, not an object"), std::string::npos) << message;
+  EXPECT_FALSE(bakeSceneObjects(scene, {}, smallBake())) << "a bad value refuses the scene before any bake";
+}
+
+TEST(SceneObjects, UnknownTriangleNodeNameIsRefusedByName) {
+  SceneObjectOptions options;
+  options.triangleNodes = {"cube0", "kube9"};
+  const std::string message = errorOf(twoMeshScene(), options);
+  EXPECT_NE(message.find("no node named 'kube9'"), std::string::npos) << message;
+}
+
+// The committed sample scene: several meshes, 100+ instances, some marked as triangles in extras.
+TEST(SceneObjects, SampleGridSceneChoices) {
+  const auto scene = engine::scene::loadGltf(std::filesystem::path(HSDF_ASSET_DIR) / "grid_scene.glb");
+  ASSERT_TRUE(scene) << scene.error().message;
+  EXPECT_EQ(scene->meshes.size(), 4u);
+  const auto draws = chooseNodeDraws(*scene, {});
+  ASSERT_TRUE(draws) << draws.error().message;
+  int sdf = 0, triangles = 0;
+  for (std::size_t n = 0; n < scene->nodes.size(); ++n) {
+    if (scene->nodes[n].mesh < 0) continue;
+    ((*draws)[n] == NodeDraw::Sdf ? sdf : triangles) += 1;
+  }
+  EXPECT_EQ(sdf + triangles, 108);
+  EXPECT_EQ(triangles, 9);
+}
+
+}  // namespace
+}  // namespace hsdf
