@@ -5,7 +5,7 @@
 #include <functional>
 
 #include "engine/core/expected.h"
-#include "hermite_sdf/field.h"
+#include "hermite_sdf/core/field.h"
 
 namespace hsdf::detail {
 
