@@ -65,6 +65,11 @@ engine::Status checkRange(const char* option, long long value, IntRange range) {
   return engine::makeError(fmt::format("{} {} is outside {}..{}", option, value, range.min, range.max));
 }
 
+engine::Status checkFloatRange(const char* option, float value, FloatRange range) {
+  if (value >= range.min && value <= range.max) return {};  // false for NaN
+  return engine::makeError(fmt::format("{} {} is outside {}..{}", option, value, range.min, range.max));
+}
+
 // One key of a settings file: reads it into `out` or says what is wrong with the value.
 using json = nlohmann::json;
 
@@ -188,6 +193,19 @@ engine::Status readKey(const std::string& key, const json& value, TuningState& t
   if (key == "lod") return readBool(value, t.lod);
   if (key == "lod_pixels_per_cell")
     return readFloat(value, kLodPixelsPerCellRange.min, kLodPixelsPerCellRange.max, t.lodPixelsPerCell);
+  if (key == "trace_epsilon") return readFloat(value, kTraceEpsilonRange.min, kTraceEpsilonRange.max, t.traceEpsilon);
+  if (key == "trace_max_steps") {
+    ENGINE_TRY(readInt(value, kTraceMaxStepsRange, n));
+    t.traceMaxSteps = std::uint32_t(n);
+    return {};
+  }
+  if (key == "central_difference_step")
+    return readFloat(value, kCentralDifferenceStepRange.min, kCentralDifferenceStepRange.max, t.centralDifferenceStep);
+  if (key == "max_run_length") {
+    ENGINE_TRY(readInt(value, kMaxRunLengthRange, n));
+    t.maxRunLength = std::uint32_t(n);
+    return {};
+  }
   return engine::makeError("unknown setting (known: " + tuningKeyList() + ")");
 }
 
@@ -256,9 +274,11 @@ engine::Status validateTuning(const TuningState& t) {
   ENGINE_TRY(checkRange("--refine", t.refineSteps, kRefineRange));
   if (t.compareResolution != 0)
     ENGINE_TRY(checkRange("--compare-resolution", t.compareResolution, resolutionRange(t.compareMethod)));
-  if (!(t.lodPixelsPerCell >= kLodPixelsPerCellRange.min && t.lodPixelsPerCell <= kLodPixelsPerCellRange.max))
-    return engine::makeError(fmt::format("--lod-pixels-per-cell {} is outside {}..{}", t.lodPixelsPerCell,
-                                         kLodPixelsPerCellRange.min, kLodPixelsPerCellRange.max));
+  ENGINE_TRY(checkFloatRange("--lod-pixels-per-cell", t.lodPixelsPerCell, kLodPixelsPerCellRange));
+  ENGINE_TRY(checkFloatRange("--trace-epsilon", t.traceEpsilon, kTraceEpsilonRange));
+  ENGINE_TRY(checkRange("--trace-max-steps", t.traceMaxSteps, kTraceMaxStepsRange));
+  ENGINE_TRY(checkFloatRange("--central-difference-step", t.centralDifferenceStep, kCentralDifferenceStepRange));
+  ENGINE_TRY(checkRange("--max-run-length", t.maxRunLength, kMaxRunLengthRange));
   if (!isSdfMethod(t.compareMethod))
     return engine::makeError("--compare-method mesh: the compared method must be cells, trilinear or hermite");
   if (!(t.splitPosition >= kSplitMin && t.splitPosition <= kSplitMax))
@@ -334,7 +354,11 @@ engine::Status saveTuning(const std::filesystem::path& file, const TuningState& 
                      {"node_draw", hsdf::nodeDrawName(t.nodeDraw)},
                      {"triangle_nodes", t.triangleNodes},
                      {"lod", t.lod},
-                     {"lod_pixels_per_cell", t.lodPixelsPerCell}};
+                     {"lod_pixels_per_cell", t.lodPixelsPerCell},
+                     {"trace_epsilon", t.traceEpsilon},
+                     {"trace_max_steps", t.traceMaxSteps},
+                     {"central_difference_step", t.centralDifferenceStep},
+                     {"max_run_length", t.maxRunLength}};
   return engine::writeTextFile(file, root.dump(2) + "\n");
 }
 

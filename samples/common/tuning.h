@@ -11,8 +11,10 @@
 
 #include "engine/core/expected.h"
 #include "hermite_sdf/core/bake_job.h"
+#include "hermite_sdf/render/cell_feature.h"
 #include "hermite_sdf/render/renderable.h"
 #include "hermite_sdf/render/scene_objects.h"
+#include "hermite_sdf/render/sphere_trace_feature.h"
 
 namespace samples {
 
@@ -79,6 +81,10 @@ struct FloatRange {
   float max;
 };
 inline constexpr FloatRange kLodPixelsPerCellRange{0.25f, 64.0f};
+inline constexpr FloatRange kTraceEpsilonRange{1e-6f, 0.1f};
+inline constexpr IntRange kTraceMaxStepsRange{1, 4096};
+inline constexpr FloatRange kCentralDifferenceStepRange{0.01f, 1.0f};
+inline constexpr IntRange kMaxRunLengthRange{1, 64};
 inline constexpr IntRange kPanelSubdivisionsRange{1, 16};
 inline constexpr IntRange kPanelRefineRange{0, 4};
 
@@ -117,6 +123,14 @@ struct TuningState {
   // each frame drawing the coarsest level whose cells cover at most lodPixelsPerCell pixels.
   bool lod = false;
   float lodPixelsPerCell = 2.0f;
+  // The sphere tracers (trilinear, dense Hermite): stop when |f| < traceEpsilon grid spacings, give
+  // up after traceMaxSteps evaluations (counted as out of steps), central differences (NormalMode::
+  // CentralDifferences) centralDifferenceStep spacings apart. Defaults: the feature's.
+  float traceEpsilon = hsdf::SphereTraceFeature::Settings{}.epsilon;
+  std::uint32_t traceMaxSteps = hsdf::SphereTraceFeature::Settings{}.maxSteps;
+  float centralDifferenceStep = hsdf::SphereTraceFeature::Settings{}.centralDifferenceStep;
+  // Cell runs: the most cells one run's box covers (HermiteCellFeature::Settings::maxRunLength).
+  std::uint32_t maxRunLength = hsdf::HermiteCellFeature::Settings{}.maxRunLength;
 
   bool operator==(const TuningState&) const = default;
 };
@@ -126,7 +140,8 @@ inline constexpr std::string_view kTuningKeys[] = {
     "method",        "resolution", "padding", "subdivisions",   "refine",          "normals",
     "fp16",          "debug_view", "front_to_back", "early_depth", "certified", "cull_bricks", "thin_boxes", "split", "split_position",
     "compare_method", "compare_resolution", "compare_normals", "difference",
-    "node_draw", "triangle_nodes", "lod", "lod_pixels_per_cell"};
+    "node_draw", "triangle_nodes", "lod", "lod_pixels_per_cell", "trace_epsilon", "trace_max_steps",
+    "central_difference_step", "max_run_length"};
 std::string tuningKeyList();  // "method, resolution, ..."
 
 // The K range of a method (Mesh: the cells', as the SDF is baked when an SDF method is picked).

@@ -1,6 +1,7 @@
 #include "tuning_panel.h"
 
 #include <algorithm>
+#include <cmath>
 #include <vector>
 
 #include <fmt/format.h>
@@ -143,6 +144,7 @@ void TuningPanel::drawResolution() {
     viewer_.setTuning(t);
   }
   drawLod(viewer_.tuning());
+  drawSearchLimits(viewer_.tuning());
   if (hsdf::BakeJob* job = viewer_.bakeJob()) {
     const std::string label = fmt::format("baking K = {}: {:.0f}%", job->settings().resolution, 100.0f * job->progress());
     ImGui::ProgressBar(job->progress(), ImVec2(-80.0f, 0.0f), label.c_str());
@@ -162,6 +164,38 @@ void TuningPanel::drawLod(const TuningState& tuning) {
     ImGui::SetNextItemWidth(ImGui::GetFontSize() * 8.0f);
     changed |= ImGui::SliderFloat("px per cell", &t.lodPixelsPerCell, kLodPixelsPerCellRange.min,
                                   kLodPixelsPerCellRange.max, "%.2f", ImGuiSliderFlags_Logarithmic);
+  }
+  if (changed) viewer_.setTuning(t);
+}
+
+// The sphere tracers' stopping rule and normals step, the runs' length (TuningState::traceEpsilon,
+// traceMaxSteps, centralDifferenceStep, maxRunLength), shown for the methods they change.
+void TuningPanel::drawSearchLimits(const TuningState& tuning) {
+  TuningState t = tuning;
+  bool changed = false;
+  const auto tracing = [](Method m) { return m == Method::Trilinear || m == Method::Hermite; };
+  const bool tracer = tracing(t.method) || (comparing(t) && tracing(t.compareMethod));
+  if (tracer) {
+    float logEpsilon = std::log10(t.traceEpsilon);
+    if (ImGui::SliderFloat("log10 epsilon (h)", &logEpsilon, std::log10(kTraceEpsilonRange.min),
+                           std::log10(kTraceEpsilonRange.max), "%.1f")) {
+      t.traceEpsilon = std::clamp(std::pow(10.0f, logEpsilon), kTraceEpsilonRange.min, kTraceEpsilonRange.max);
+      changed = true;
+    }
+    int steps = int(t.traceMaxSteps);
+    if (ImGui::SliderInt("max steps", &steps, kTraceMaxStepsRange.min, kTraceMaxStepsRange.max)) {
+      t.traceMaxSteps = std::uint32_t(steps);
+      changed = true;
+    }
+    changed |= ImGui::SliderFloat("central difference step (h)", &t.centralDifferenceStep, kCentralDifferenceStepRange.min,
+                                  kCentralDifferenceStepRange.max, "%.2f");
+  }
+  if (t.method == Method::CellRuns) {
+    int length = int(t.maxRunLength);
+    if (ImGui::SliderInt("max run length", &length, kMaxRunLengthRange.min, kMaxRunLengthRange.max)) {
+      t.maxRunLength = std::uint32_t(length);
+      changed = true;
+    }
   }
   if (changed) viewer_.setTuning(t);
 }

@@ -35,6 +35,7 @@ class TuningPanel {
   void drawMethod();
   void drawResolution();
   void drawLod(const TuningState& tuning);
+  void drawSearchLimits(const TuningState& tuning);
   void drawComparison();
   void drawDifferenceLegend();
   void drawDivider();

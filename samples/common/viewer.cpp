@@ -325,6 +325,7 @@ void Viewer::applyTuningToScene() {
       [this](ecs::Entity, hsdf::HermiteSdfRenderable& renderable) { applyTuning(tuning_, renderable); });
   hsdf::HermiteCellFeature::Settings& cells = renderer_->feature<hsdf::HermiteCellFeature>()->settings();
   cells.frontToBack = tuning_.frontToBack;
+  cells.maxRunLength = tuning_.maxRunLength;
   cells.cullBricks = tuning_.cullBricks;
   using CellThinBoxes = hsdf::HermiteCellFeature::ThinBoxes;
   cells.thinBoxes = tuning_.thinBoxes == ThinBoxes::On    ? CellThinBoxes::On
@@ -334,6 +335,10 @@ void Viewer::applyTuningToScene() {
   cells.earlyDepth = tuning_.earlyDepth == EarlyDepth::On    ? CellEarlyDepth::On
                      : tuning_.earlyDepth == EarlyDepth::Off ? CellEarlyDepth::Off
                                                              : CellEarlyDepth::Auto;
+  hsdf::SphereTraceFeature::Settings& tracers = renderer_->feature<hsdf::SphereTraceFeature>()->settings();
+  tracers.epsilon = tuning_.traceEpsilon;
+  tracers.maxSteps = tuning_.traceMaxSteps;
+  tracers.centralDifferenceStep = tuning_.centralDifferenceStep;
 }
 
 // Levels of detail (TuningState::lod): the baked entity carries an hsdf::HermiteSdfLod whose level 0

@@ -149,6 +149,15 @@ void addTuningOptions(CLI::App& app, TuningState& t) {
   app.add_flag("--lod", t.lod, "levels of detail: bake K/2, K/4, ... too and draw each frame the level that fits the screen");
   app.add_option("--lod-pixels-per-cell", t.lodPixelsPerCell, "levels of detail: target cell size in pixels (0.25..64, default 2)")
       ->check(CLI::Range(samples::kLodPixelsPerCellRange.min, samples::kLodPixelsPerCellRange.max));
+  app.add_option("--trace-epsilon", t.traceEpsilon, "sphere tracers: stop when |f| < this many grid spacings (1e-6..0.1, default 1e-4)")
+      ->check(CLI::Range(samples::kTraceEpsilonRange.min, samples::kTraceEpsilonRange.max));
+  app.add_option("--trace-max-steps", t.traceMaxSteps, "sphere tracers: field evaluations per ray before giving up (1..4096, default 1024)")
+      ->check(CLI::Range(samples::kTraceMaxStepsRange.min, samples::kTraceMaxStepsRange.max));
+  app.add_option("--central-difference-step", t.centralDifferenceStep,
+                 "central-difference normals: step in grid spacings (0.01..1, default 0.5)")
+      ->check(CLI::Range(samples::kCentralDifferenceStepRange.min, samples::kCentralDifferenceStepRange.max));
+  app.add_option("--max-run-length", t.maxRunLength, "cells-runs: the most cells one run's box covers (1..64, default 8)")
+      ->check(CLI::Range(samples::kMaxRunLengthRange.min, samples::kMaxRunLengthRange.max));
 }
 
 ParseResult failure(const std::string& message) {

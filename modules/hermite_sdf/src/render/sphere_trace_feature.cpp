@@ -354,12 +354,9 @@ void SphereTraceFeature::recordPass(engine::render::PassContext& pass) {
 
 void SphereTraceFeature::drawUi() {
   if (!ImGui::CollapsingHeader("Sphere tracing")) return;
-  float logEpsilon = std::log10(settings_.epsilon);
-  if (ImGui::SliderFloat("log10 epsilon (h)", &logEpsilon, -6.0f, -1.0f, "%.1f"))
-    settings_.epsilon = std::pow(10.0f, logEpsilon);
-  int maxSteps = int(settings_.maxSteps);
-  if (ImGui::SliderInt("max steps", &maxSteps, 1, 2048)) settings_.maxSteps = std::uint32_t(maxSteps);
-  ImGui::SliderFloat("central difference step (h)", &settings_.centralDifferenceStep, 0.01f, 1.0f, "%.2f");
+  // Read-only: the application owns the settings (the scene runner's tuning panel writes them).
+  ImGui::Text("epsilon %.1e h, max steps %u, central difference step %.2f h", double(settings_.epsilon),
+              settings_.maxSteps, double(settings_.centralDifferenceStep));
   ImGui::Text("objects: %u trilinear, %u hermite, %u near, %u culled, %u skipped", stats_.trilinearObjects,
               stats_.hermiteObjects, stats_.nearObjects, stats_.culledObjects, stats_.skippedObjects);
   ImGui::Text("textures: %u, %.2f MiB, %s", stats_.textures, double(stats_.textureBytes) / (1024.0 * 1024.0),

@@ -89,6 +89,10 @@ TEST(Tuning, SettingsFileRoundTrip) {
   t.triangleNodes = {"rock_0_3", "box 2"};
   t.lod = true;
   t.lodPixelsPerCell = 3.5f;  // exact in binary and in the JSON text
+  t.traceEpsilon = 0.001953125f;  // 2^-9: exact in binary and in the JSON text
+  t.traceMaxSteps = 77;
+  t.centralDifferenceStep = 0.25f;
+  t.maxRunLength = 5;
   const auto file = tempFile("round_trip.json");
   ASSERT_TRUE(saveTuning(file, t).ok());
   const auto loaded = loadTuning(file);

@@ -351,6 +351,29 @@ TEST(Viewer, LevelsOfDetailFollowTheCameraInTheFrameStep) {
 // far longer than the few microseconds between its start and the frame's look at it); the levels
 // arrive in later steps without a call that waits, finer first, and the far object then draws a
 // coarser one.
+// Tricky because these values used to live only in the features' own panels: TuningState (the one
+// settings struct of the command line, the panel and the scripts) must reach the features in the
+// frame step, or the command line's and the scripts' values would be ignored.
+TEST(Viewer, SearchLimitsOfTheTuningReachTheFeatures) {
+  auto viewer = viewTorus(32);
+  ASSERT_NE(viewer, nullptr);
+  TuningState tuning = viewer->tuning();
+  tuning.method = Method::Hermite;
+  tuning.traceEpsilon = 0.001953125f;
+  tuning.traceMaxSteps = 1;
+  tuning.centralDifferenceStep = 0.25f;
+  tuning.maxRunLength = 5;
+  viewer->setTuning(tuning);
+  ASSERT_TRUE(viewer->waitForBake().ok());
+  ASSERT_TRUE(viewer->step().ok());
+  const auto& tracers = viewer->renderer().feature<hsdf::SphereTraceFeature>()->settings();
+  EXPECT_EQ(tracers.epsilon, 0.001953125f);
+  EXPECT_EQ(tracers.maxSteps, 1u);
+  EXPECT_EQ(tracers.centralDifferenceStep, 0.25f);
+  EXPECT_EQ(viewer->renderer().feature<hsdf::HermiteCellFeature>()->settings().maxRunLength, 5u);
+  EXPECT_TRUE(viewer->close().ok());
+}
+
 TEST(Viewer, LevelsOfDetailBakeOffTheFrameThread) {
   auto viewer = viewTorus(64);
   ASSERT_NE(viewer, nullptr);
