@@ -20,6 +20,7 @@
 #include "engine/scene/transform.h"
 #include "engine/ui/ui_layer.h"
 #include "hermite_sdf/render/cell_feature.h"
+#include "hermite_sdf/render/features.h"
 #include "hermite_sdf/render/lod.h"
 #include "hermite_sdf/render/sphere_trace_feature.h"
 #include "shader_build.h"
@@ -96,8 +97,7 @@ Status Viewer::initialize(const ViewerDesc& desc) {
   }
   renderer_ = std::make_unique<render::Renderer>(*context_, render::RendererDesc{}, extent);
   ENGINE_TRY(renderer_->addFeature(std::make_unique<render::MeshFeature>(*pool_)));
-  ENGINE_TRY(renderer_->addFeature(std::make_unique<hsdf::HermiteCellFeature>()));
-  ENGINE_TRY(renderer_->addFeature(std::make_unique<hsdf::SphereTraceFeature>()));
+  ENGINE_TRY(hsdf::addRenderFeatures(*renderer_));
   if (window_ || desc.headlessUi) {
     ENGINE_TRY_ASSIGN(ui_, ui::UiLayer::create(*context_, renderer_->desc().formats.color,
                                                renderer_->desc().framesInFlight, window_.get()));

@@ -15,7 +15,7 @@
 #include "engine/render/scene_instantiate.h"
 #include "engine/scene/gltf_loader.h"
 #include "engine/scene/transform.h"
-#include "frame_step.h"
+#include "measurement.h"
 #include "ground_truth.h"
 #include "hermite_sdf/core/analytic.h"
 #include "hermite_sdf/render/cell_feature.h"

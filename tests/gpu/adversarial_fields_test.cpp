@@ -23,6 +23,7 @@
 #include "hermite_sdf/render/cell_feature.h"
 #include "hermite_sdf/core/cells.h"
 #include "hermite_sdf/core/field.h"
+#include "hermite_sdf/render/features.h"
 #include "hermite_sdf/render/sphere_trace_feature.h"
 #include "device_tolerances.h"
 #include "hermite_test_support.h"
@@ -84,9 +85,7 @@ class AdversarialFieldsTest : public GpuTest {
   void SetUp() override {
     GpuTest::SetUp();
     createRenderer(kSize, kSize);
-    Status added = renderer_->addFeature(std::make_unique<hsdf::HermiteCellFeature>());
-    ASSERT_TRUE(added.ok()) << added.error().message;
-    added = renderer_->addFeature(std::make_unique<hsdf::SphereTraceFeature>());
+    const Status added = hsdf::addRenderFeatures(*renderer_);
     ASSERT_TRUE(added.ok()) << added.error().message;
   }
 

@@ -22,6 +22,7 @@
 #include "hermite_sdf/core/analytic.h"
 #include "hermite_sdf/render/cell_feature.h"
 #include "hermite_sdf/core/field.h"
+#include "hermite_sdf/render/features.h"
 #include "hermite_sdf/render/sphere_trace_feature.h"
 #include "hermite_test_support.h"
 #include "shared/host_device.h"
@@ -154,9 +155,7 @@ class HermiteRootsTest : public GpuTest {
   void SetUp() override {
     GpuTest::SetUp();
     createRenderer(kWidth, kHeight);
-    Status added = renderer_->addFeature(std::make_unique<hsdf::HermiteCellFeature>());
-    ASSERT_TRUE(added.ok()) << added.error().message;
-    added = renderer_->addFeature(std::make_unique<hsdf::SphereTraceFeature>());
+    const Status added = hsdf::addRenderFeatures(*renderer_);
     ASSERT_TRUE(added.ok()) << added.error().message;
   }
 

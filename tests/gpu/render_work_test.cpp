@@ -9,6 +9,7 @@
 #include "engine/gpu/pipeline_statistics.h"
 #include "engine/scene/transform.h"
 #include "hermite_sdf/render/cell_feature.h"
+#include "hermite_sdf/render/features.h"
 #include "hermite_sdf/render/sphere_trace_feature.h"
 #include "hermite_test_support.h"
 #include "shared/host_device.h"
@@ -29,8 +30,7 @@ class RenderWorkTest : public GpuTest {
     desc.formats.color = color;
     renderer_ = std::make_unique<render::Renderer>(*context_, desc, VkExtent2D{kSize, kSize});
     ASSERT_TRUE(renderer_->addFeature(std::make_unique<render::MeshFeature>(*pool_)).ok());
-    ASSERT_TRUE(renderer_->addFeature(std::make_unique<hsdf::HermiteCellFeature>()).ok());
-    ASSERT_TRUE(renderer_->addFeature(std::make_unique<hsdf::SphereTraceFeature>()).ok());
+    ASSERT_TRUE(hsdf::addRenderFeatures(*renderer_).ok());
   }
 
   // The sphere (K = 16) seen from one side, filling the middle of the image: the image corners

@@ -1,7 +1,8 @@
-#include "frame_step.h"
+#include "measurement.h"
 
 #include "engine/render/mesh_feature.h"
 #include "hermite_sdf/render/cell_feature.h"
+#include "hermite_sdf/render/features.h"
 #include "hermite_sdf/render/sphere_trace_feature.h"
 #include "shared/host_device.h"
 
@@ -35,8 +36,7 @@ Expected<std::unique_ptr<Measurement>> Measurement::create(const gpu::Context& c
   measurement->renderer_ = std::make_unique<render::Renderer>(context, desc, extent);
   render::Renderer& r = *measurement->renderer_;
   ENGINE_TRY(r.addFeature(std::make_unique<render::MeshFeature>(pool)));
-  ENGINE_TRY(r.addFeature(std::make_unique<hsdf::HermiteCellFeature>()));
-  ENGINE_TRY(r.addFeature(std::make_unique<hsdf::SphereTraceFeature>()));
+  ENGINE_TRY(hsdf::addRenderFeatures(r));
   return measurement;
 }
 
