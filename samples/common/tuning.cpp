@@ -281,8 +281,7 @@ engine::Status validateTuning(const TuningState& t) {
   ENGINE_TRY(checkRange("--max-run-length", t.maxRunLength, kMaxRunLengthRange));
   if (!isSdfMethod(t.compareMethod))
     return engine::makeError("--compare-method mesh: the compared method must be cells, trilinear or hermite");
-  if (!(t.splitPosition >= kSplitMin && t.splitPosition <= kSplitMax))
-    return engine::makeError(fmt::format("--split-position {} is outside {}..{}", t.splitPosition, kSplitMin, kSplitMax));
+  ENGINE_TRY(checkFloatRange("--split-position", t.splitPosition, FloatRange{kSplitMin, kSplitMax}));
   const int compareK = effectiveCompareResolution(t);
   if (compareK - 1 - 2 * t.padding < 1)
     return engine::makeError(
