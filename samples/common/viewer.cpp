@@ -349,6 +349,7 @@ void Viewer::applyTuningToScene() {
 // entity draws level 0 again. `wait` (waitForBake) finishes every level and leaves the choice to
 // the next frame.
 void Viewer::updateLevelsOfDetail(bool wait) {
+  if (objectScene_) return updateObjectLevels(!wait);
   hsdf::HermiteSdfRenderable* renderable = sdfRenderable();
   if (!renderable) return;
   hsdf::HermiteSdfLod* lod = registry_.tryGet<hsdf::HermiteSdfLod>(*bakedEntity_);

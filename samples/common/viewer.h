@@ -286,6 +286,10 @@ class Viewer {
   // mesh's new asset (viewer_objects.cpp).
   engine::Status rebakeSceneObjects();
   void updateObjectVisibility(bool sdfShown);
+  // TuningState::lod in objects mode: each mesh's levels, each SDF node choosing its own level
+  // (viewer_objects.cpp). `select`: pick the levels for this frame's camera.
+  void updateObjectLevels(bool select);
+  void dropObjectLevels();
   engine::ecs::Entity addSdfEntity(std::shared_ptr<const hsdf::SdfAsset> asset, const glm::vec3& offset,
                                    const glm::vec4* color);
 
@@ -341,6 +345,8 @@ class Viewer {
   std::shared_ptr<const engine::scene::SceneData> objectScene_;
   std::vector<engine::ecs::Entity> objectNodes_;
   hsdf::SceneObjectOptions objectOptions_;
+  hsdf::SceneObjects objects_;             // the nodes' draws and the meshes' assets baked at K
+  hsdf::SceneObjectLevels objectLevels_;  // with TuningState::lod: [mesh] its levels (empty: none baked)
 
   // The compared side of the split screen / difference view.
   std::shared_ptr<const hsdf::SdfAsset> compareAsset_;

@@ -32,6 +32,7 @@ Status Viewer::addSceneObjects(std::shared_ptr<const scene::SceneData> scene, st
   objectNodes_.assign(nodes.begin(), nodes.end());
   objectOptions_ = options;
   objectBakes_ = objects.bakes;
+  objects_ = objects;
   bakedResolution_ = settings.resolution;
   bakedPadding_ = settings.padding;
   // The triangles of SDF nodes give way to the SDF; those of triangle nodes always draw.
@@ -64,7 +65,9 @@ Status Viewer::rebakeSceneObjects() {
     tuning_.padding = bakedPadding_;
     return baked.error().withContext(fmt::format("re-baking the scene's objects at resolution {}", settings.resolution));
   }
+  dropObjectLevels();  // the levels of the old K
   const hsdf::SceneObjects& objects = *baked;
+  objects_ = objects;
   for (std::size_t n = 0; n < objectScene_->nodes.size() && n < objectNodes_.size(); ++n) {
     const int mesh = objectScene_->nodes[n].mesh;
     if (mesh < 0 || objects.draws[n] != hsdf::NodeDraw::Sdf || !objects.meshAssets[std::size_t(mesh)]) continue;
@@ -80,6 +83,54 @@ Status Viewer::rebakeSceneObjects() {
   log::info("{} meshes baked again at K = {} in {:.2f} s", objects.bakes, settings.resolution,
             std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
   return {};
+}
+
+// Levels of detail of scene objects: baked on this thread when first wanted, as the objects are at
+// load and re-bake (a mesh's levels together cost less than its level 0); every SDF node carries
+// its mesh's levels and the module's system picks a level per node from this frame's camera, so
+// near and far instances of one mesh draw different levels in the cells' one draw. A failed bake
+// turns levels off and keeps level 0.
+void Viewer::updateObjectLevels(bool select) {
+  if (!tuning_.lod) return dropObjectLevels();
+  if (objectLevels_.empty()) {
+    hsdf::BakeSettings settings;
+    settings.resolution = bakedResolution_;
+    settings.padding = bakedPadding_;
+    settings.budget = bakeBudget_;
+    const auto start = std::chrono::steady_clock::now();
+    auto levels = hsdf::bakeSceneObjectLevels(*objectScene_, objects_, settings);
+    if (!levels) {
+      bakeError_ = levels.error().message;
+      log::warn("{} (levels of detail turned off)", bakeError_);
+      tuning_.lod = false;
+      return;
+    }
+    objectLevels_ = std::move(*levels);
+    const std::size_t nodes = hsdf::addSdfInstanceLevels(*objectScene_, objects_, objectLevels_, objectNodes_,
+                                                         tuning_.lodPixelsPerCell, registry_);
+    std::size_t assets = 0;
+    for (const auto& mesh : objectLevels_) assets += mesh.size();
+    log::info("levels of detail: {} assets for {} meshes from K = {} in {:.2f} s, chosen per node for {} nodes", assets,
+              objects_.bakes, bakedResolution_,
+              std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(), nodes);
+  }
+  registry_.view<hsdf::HermiteSdfLod>().each(
+      [this](ecs::Entity, hsdf::HermiteSdfLod& lod) { lod.pixelsPerCell = tuning_.lodPixelsPerCell; });
+  if (select) hsdf::selectSdfLevels(registry_, cameraView(), renderer_->extent().height);
+}
+
+// Every SDF node back to its mesh's level 0 (shown or hidden by a mesh method), its levels gone.
+void Viewer::dropObjectLevels() {
+  if (objectLevels_.empty()) return;
+  for (const ecs::Entity entity : objectEntities_) {
+    const hsdf::HermiteSdfLod* lod = registry_.tryGet<hsdf::HermiteSdfLod>(entity);
+    if (!lod || lod->levels.empty()) continue;
+    if (auto* renderable = registry_.tryGet<hsdf::HermiteSdfRenderable>(entity)) renderable->asset = lod->levels.front();
+    for (auto& [hidden, renderable] : hiddenObjects_)
+      if (hidden == entity) renderable.asset = lod->levels.front();
+    registry_.remove<hsdf::HermiteSdfLod>(entity);
+  }
+  objectLevels_.clear();
 }
 
 // Method::Mesh hides the SDF objects (their renderables wait in hiddenObjects_), an SDF method

@@ -2,7 +2,7 @@
 // for the scene runner's per-mesh SDF objects (issue 22). Meshes: the bunny (read from the
 // committed samples/assets/bunny.glb, bytes unchanged), and three generated closed meshes of about
 // the bunny's size: a torus (genus 1), a box (flat faces, sharp edges) and a rock (an icosphere
-// with deterministic radial noise). Nodes: a 12 x 9 grid (108 instances) under one root node, each
+// with deterministic radial noise). Nodes: a 12 x 10 grid (120 instances) under one root node, each
 // rotated about Y and scaled; a few carry "extras": {"hermite_sdf": {"draw": "triangles"}} (drawn as
 // triangles) and a few {"draw": "sdf"}. Deterministic: no randomness, same bytes each run.
 //
@@ -17,7 +17,7 @@ const ARRAY_BUFFER = 34962;
 const ELEMENT_ARRAY_BUFFER = 34963;
 const TRIANGLES = 4;
 const COLUMNS = 12;
-const ROWS = 9;
+const ROWS = 10;
 const SPACING = 14;
 
 function normalize(v) {

@@ -118,4 +118,35 @@ std::vector<engine::ecs::Entity> addSdfInstances(const engine::scene::SceneData&
   return added;
 }
 
+engine::Expected<SceneObjectLevels> bakeSceneObjectLevels(const engine::scene::SceneData& scene,
+                                                          const SceneObjects& objects, const BakeSettings& finest,
+                                                          int minResolution) {
+  SceneObjectLevels levels(objects.meshAssets.size());
+  for (std::size_t mesh = 0; mesh < objects.meshAssets.size() && mesh < scene.meshes.size(); ++mesh) {
+    if (!objects.meshAssets[mesh]) continue;
+    ENGINE_TRY_ASSIGN(BakeSource source, meshBakeSource(scene, int(mesh)));
+    const std::string where = fmt::format("mesh {} '{}'", mesh, scene.meshes[mesh].name);
+    ENGINE_TRY_ASSIGN(levels[mesh], bakeLodLevels(source, finest, minResolution, objects.meshAssets[mesh]).withContext(where));
+  }
+  return levels;
+}
+
+std::size_t addSdfInstanceLevels(const engine::scene::SceneData& scene, const SceneObjects& objects,
+                                 const SceneObjectLevels& levels, std::span<const engine::ecs::Entity> nodeEntities,
+                                 float pixelsPerCell, engine::ecs::Registry& registry) {
+  std::size_t added = 0;
+  for (std::size_t n = 0; n < scene.nodes.size() && n < nodeEntities.size(); ++n) {
+    const int mesh = scene.nodes[n].mesh;
+    if (mesh < 0 || objects.draws[n] != NodeDraw::Sdf || std::size_t(mesh) >= levels.size() ||
+        levels[std::size_t(mesh)].empty() || !registry.has<HermiteSdfRenderable>(nodeEntities[n]))
+      continue;
+    HermiteSdfLod lod;
+    lod.levels = levels[std::size_t(mesh)];
+    lod.pixelsPerCell = pixelsPerCell;
+    registry.emplaceOrReplace<HermiteSdfLod>(nodeEntities[n], std::move(lod));
+    ++added;
+  }
+  return added;
+}
+
 }  // namespace hsdf

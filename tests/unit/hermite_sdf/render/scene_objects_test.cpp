@@ -155,6 +155,49 @@ TEST(SceneObjects, UnknownTriangleNodeNameIsRefusedByName) {
   EXPECT_NE(message.find("no node named 'kube9'"), std::string::npos) << message;
 }
 
+// Tricky: levels are per mesh, not per node: instances of one mesh share the same level assets
+// (level 0 is the asset the scene's bake made, not a second bake), yet each instance picks its own
+// level from its own distance, so near and far copies of one mesh draw different K in one frame.
+TEST(SceneObjects, InstancesShareTheirMeshsLevelsAndChooseTheirOwn) {
+  SceneData scene = twoMeshScene();
+  scene.nodes[3] = node("cube3", 0, glm::vec3(0.0f, 0.0f, -400.0f));  // one cube far down the view
+  BakeSettings settings = smallBake();
+  settings.resolution = 32;
+  SceneObjectOptions options;
+  options.triangleNodes = {"slab1"};
+  const auto objects = bakeSceneObjects(scene, options, settings);
+  ASSERT_TRUE(objects) << objects.error().message;
+  const auto levels = bakeSceneObjectLevels(scene, *objects, settings, 8);
+  ASSERT_TRUE(levels) << levels.error().message;
+  ASSERT_EQ(levels->size(), 2u);
+  for (std::size_t mesh = 0; mesh < 2; ++mesh) {
+    const auto& mine = (*levels)[mesh];
+    ASSERT_EQ(mine.size(), 3u) << "K = 32, 16, 8 for mesh " << mesh;
+    EXPECT_EQ(mine.front().get(), objects->meshAssets[mesh].get()) << "level 0 is the scene's own bake";
+    for (std::size_t l = 0; l < mine.size(); ++l) EXPECT_EQ(mine[l]->cells.grid.resolution, 32 >> l);
+  }
+
+  engine::ecs::Registry registry;
+  std::vector<engine::ecs::Entity> entities;
+  for (const NodeData& n : scene.nodes) {
+    const engine::ecs::Entity e = registry.create();
+    registry.emplace<engine::scene::WorldTransform>(e, engine::scene::WorldTransform{n.world});
+    entities.push_back(e);
+  }
+  addSdfInstances(scene, *objects, entities, registry);
+  EXPECT_EQ(addSdfInstanceLevels(scene, *objects, *levels, entities, 2.0f, registry), 5u) << "slab1 draws triangles";
+  EXPECT_FALSE(registry.has<HermiteSdfLod>(entities[5]));
+  EXPECT_EQ(registry.get<HermiteSdfLod>(entities[0]).levels, registry.get<HermiteSdfLod>(entities[1]).levels);
+  EXPECT_EQ(registry.get<HermiteSdfLod>(entities[4]).levels, (*levels)[1]);
+
+  // The eye 12 units in front of cube0 (the first cube, 2 units across): cube0 fills much of a
+  // 1080-pixel image and keeps K = 32; cube3, 400 units away, covers a few pixels and draws K = 8.
+  const auto camera = engine::render::CameraView::lookAt({0, 0, 12}, {0, 0, 0}, 0.8f, 0.05f, 16.0f / 9.0f);
+  selectSdfLevels(registry, camera, 1080);
+  EXPECT_EQ(registry.get<HermiteSdfRenderable>(entities[0]).asset->cells.grid.resolution, 32);
+  EXPECT_EQ(registry.get<HermiteSdfRenderable>(entities[3]).asset->cells.grid.resolution, 8);
+}
+
 // The committed sample scene: several meshes, 100+ instances, some marked as triangles in extras.
 TEST(SceneObjects, SampleGridSceneChoices) {
   const auto scene = engine::scene::loadGltf(std::filesystem::path(HSDF_ASSET_DIR) / "grid_scene.glb");
@@ -167,8 +210,9 @@ TEST(SceneObjects, SampleGridSceneChoices) {
     if (scene->nodes[n].mesh < 0) continue;
     ((*draws)[n] == NodeDraw::Sdf ? sdf : triangles) += 1;
   }
-  EXPECT_EQ(sdf + triangles, 108);
-  EXPECT_EQ(triangles, 9);
+  EXPECT_EQ(sdf + triangles, 120);
+  EXPECT_EQ(triangles, 12);
+  EXPECT_GE(sdf, 100) << "issue 22's scene target: 100+ SDF instances";
 }
 
 }  // namespace

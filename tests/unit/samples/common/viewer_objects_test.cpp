@@ -36,7 +36,7 @@ std::set<std::string> namesWith(Viewer& viewer, bool sdf) {
   return names;
 }
 
-// Tricky: 108 nodes of 4 meshes must cost 4 bakes and 4 distinct assets, the 9 nodes marked
+// Tricky: 120 nodes of 4 meshes must cost 4 bakes and 4 distinct assets, the 12 nodes marked
 // triangles in extras (and one more from the list) must keep their triangles and no SDF, the other
 // SDF nodes must hide theirs, and all SDF instances go through the cells' batches in one frame.
 TEST(ViewerObjects, GridSceneSharesOneAssetPerMeshAndKeepsTriangleNodes) {
@@ -52,7 +52,7 @@ TEST(ViewerObjects, GridSceneSharesOneAssetPerMeshAndKeepsTriangleNodes) {
   const engine::Status loaded = viewer->loadScene(scene, tuning);
   ASSERT_TRUE(loaded.ok()) << loaded.error().message;
   EXPECT_EQ(viewer->objectBakes(), 4);
-  EXPECT_EQ(viewer->sdfObjects().size(), 98u);  // 108 - 9 marked in extras - 1 listed
+  EXPECT_EQ(viewer->sdfObjects().size(), 107u);  // 120 - 12 marked in extras - 1 listed
   std::set<std::uint64_t> ids;
   viewer->registry().view<hsdf::HermiteSdfRenderable>().each(
       [&ids](engine::ecs::Entity, const hsdf::HermiteSdfRenderable& r) { ids.insert(r.asset->id); });
@@ -60,14 +60,14 @@ TEST(ViewerObjects, GridSceneSharesOneAssetPerMeshAndKeepsTriangleNodes) {
 
   const std::set<std::string> sdfNames = namesWith(*viewer, true);
   const std::set<std::string> meshNames = namesWith(*viewer, false);
-  EXPECT_EQ(meshNames.size(), 10u);
+  EXPECT_EQ(meshNames.size(), 13u);
   EXPECT_TRUE(meshNames.contains("bunny_4_0")) << "the list wins over the default";
   EXPECT_TRUE(meshNames.contains("rock_0_3")) << "extras: triangles";
   for (const std::string& name : meshNames) EXPECT_FALSE(sdfNames.contains(name)) << name << " drawn twice";
 
   ASSERT_TRUE(viewer->step().ok());
   const auto& stats = viewer->renderer().feature<hsdf::HermiteCellFeature>()->stats();
-  EXPECT_EQ(stats.objects, 98u);
+  EXPECT_EQ(stats.objects, 107u);
 
   // Method::Mesh shows every node's triangles and no SDF; back to cells shows them again.
   tuning = viewer->tuning();
@@ -75,12 +75,12 @@ TEST(ViewerObjects, GridSceneSharesOneAssetPerMeshAndKeepsTriangleNodes) {
   viewer->setTuning(tuning);
   ASSERT_TRUE(viewer->step().ok());
   EXPECT_TRUE(namesWith(*viewer, true).empty());
-  EXPECT_EQ(namesWith(*viewer, false).size(), 108u);
+  EXPECT_EQ(namesWith(*viewer, false).size(), 120u);
   tuning.method = Method::Cells;
   viewer->setTuning(tuning);
   ASSERT_TRUE(viewer->step().ok());
-  EXPECT_EQ(namesWith(*viewer, true).size(), 98u);
-  EXPECT_EQ(namesWith(*viewer, false).size(), 10u);
+  EXPECT_EQ(namesWith(*viewer, true).size(), 107u);
+  EXPECT_EQ(namesWith(*viewer, false).size(), 13u);
   EXPECT_TRUE(viewer->close().ok());
 }
 
@@ -129,6 +129,56 @@ TEST(ViewerObjects, ANewResolutionRebakesEveryMeshOnce) {
   ASSERT_TRUE(viewer->step().ok());
   EXPECT_EQ(drawnResolution(*viewer), 24);
   EXPECT_EQ(viewer->tuning().resolution, 24);
+  EXPECT_TRUE(viewer->close().ok());
+}
+
+// The K of every drawn SDF node.
+std::multiset<std::uint32_t> drawnResolutions(Viewer& viewer) {
+  std::multiset<std::uint32_t> ks;
+  viewer.registry().view<hsdf::HermiteSdfRenderable>().each(
+      [&ks](engine::ecs::Entity, const hsdf::HermiteSdfRenderable& r) { ks.insert(r.asset->cells.grid.resolution); });
+  return ks;
+}
+
+// Why: levels of detail must work per node in a scene, not only for one baked object: looking
+// down the grid from just above its first row, the near nodes must keep a finer level than the
+// far rows, in the cells' one draw; turning levels off, or a new K, must put every node back on
+// its mesh's (new) asset.
+TEST(ViewerObjects, LevelsOfDetailAreChosenPerNode) {
+  auto viewer = makeTestViewer(320, 180);  // large enough for a near node's finest cells to pass 2 px
+  ASSERT_NE(viewer, nullptr);
+  SceneDesc scene;
+  scene.gltf = kGridScene;
+  scene.objects = true;
+  scene.groundPlane = false;
+  TuningState tuning;
+  tuning.resolution = 64;
+  tuning.lod = true;
+  ASSERT_TRUE(viewer->loadScene(scene, tuning).ok());
+  // The grid's rows run along z from -63 to +63 (spacing 14): the eye just outside the last row.
+  viewer->setCamera({0.0, 12.0, 80.0}, {0.0, 0.0, -60.0});
+  ASSERT_TRUE(viewer->waitForBake().ok());
+  ASSERT_TRUE(viewer->step().ok());
+  const std::multiset<std::uint32_t> ks = drawnResolutions(*viewer);
+  ASSERT_EQ(ks.size(), 108u);
+  EXPECT_GT(*ks.rbegin(), *ks.begin()) << "near and far nodes on different levels";
+  EXPECT_EQ(*ks.rbegin(), 64u) << "the front row's cells are over 2 px at K = 64";
+  EXPECT_EQ(*ks.begin(), 16u) << "the back rows draw the coarsest level";
+  EXPECT_EQ(viewer->renderer().feature<hsdf::HermiteCellFeature>()->stats().objects, 108u) << "one draw, every node";
+
+  tuning = viewer->tuning();
+  tuning.lod = false;
+  viewer->setTuning(tuning);
+  ASSERT_TRUE(viewer->step().ok());
+  EXPECT_EQ(drawnResolution(*viewer), 64);
+
+  tuning.lod = true;
+  tuning.resolution = 32;
+  viewer->setTuning(tuning);
+  ASSERT_TRUE(viewer->step().ok());
+  const std::multiset<std::uint32_t> rebaked = drawnResolutions(*viewer);
+  EXPECT_EQ(*rebaked.rbegin(), 32u) << "the new K's levels, not the old ones";
+  EXPECT_EQ(*rebaked.begin(), 16u);
   EXPECT_TRUE(viewer->close().ok());
 }
 

@@ -22,6 +22,7 @@
 #include "engine/ecs/registry.h"
 #include "engine/scene/scene_data.h"
 #include "hermite_sdf/core/bake_job.h"
+#include "hermite_sdf/render/lod.h"
 #include "hermite_sdf/render/renderable.h"
 
 namespace hsdf {
@@ -63,5 +64,24 @@ engine::Expected<SceneObjects> bakeSceneObjects(const engine::scene::SceneData& 
 std::vector<engine::ecs::Entity> addSdfInstances(const engine::scene::SceneData& scene, const SceneObjects& objects,
                                                  std::span<const engine::ecs::Entity> nodeEntities,
                                                  engine::ecs::Registry& registry);
+
+// Levels of detail of scene objects ([mesh]: the mesh's levels, finest first; empty where no SDF
+// node uses the mesh).
+using SceneObjectLevels = std::vector<std::vector<std::shared_ptr<const SdfAsset>>>;
+
+// The levels of every mesh an SDF node uses (bakeLodLevels): level 0 is objects.meshAssets[mesh]
+// (baked with `finest`, not baked again), then K/2, K/4, ... down to minResolution, each from the
+// same mesh. Errors name the mesh and the level's K.
+engine::Expected<SceneObjectLevels> bakeSceneObjectLevels(const engine::scene::SceneData& scene,
+                                                          const SceneObjects& objects, const BakeSettings& finest,
+                                                          int minResolution = kDefaultLodMinResolution);
+
+// Puts a HermiteSdfLod with its mesh's levels (target `pixelsPerCell`) beside the renderable of
+// every SDF node (the entities addSdfInstances gave one), so that selectSdfLevels picks a level per
+// instance: near instances of a mesh draw its fine level, far ones a coarse one, all in the cells'
+// one draw. Returns how many entities got levels.
+std::size_t addSdfInstanceLevels(const engine::scene::SceneData& scene, const SceneObjects& objects,
+                                 const SceneObjectLevels& levels, std::span<const engine::ecs::Entity> nodeEntities,
+                                 float pixelsPerCell, engine::ecs::Registry& registry);
 
 }  // namespace hsdf
