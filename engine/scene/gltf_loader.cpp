@@ -1390,7 +1390,8 @@ Status checkFlattenable(const SceneData& scene, std::uint64_t maxVertices) {
 
 TriangleSoup flattenTriangles(const SceneData& scene) {
   TriangleSoup soup;
-  for (const auto& node : scene.nodes) {
+  for (std::size_t n = 0; n < scene.nodes.size(); ++n) {
+    const NodeData& node = scene.nodes[n];
     if (node.mesh < 0 || std::size_t(node.mesh) >= scene.meshes.size()) continue;
     const bool mirrored = glm::determinant(node.world) < 0.0f;
     for (const auto& primitive : scene.meshes[std::size_t(node.mesh)].primitives) {
@@ -1404,6 +1405,7 @@ TriangleSoup flattenTriangles(const SceneData& scene) {
         const std::uint32_t a = primitive.indices[t], b = primitive.indices[t + 1], c = primitive.indices[t + 2];
         const auto offset = static_cast<std::uint32_t>(base);
         soup.indices.insert(soup.indices.end(), {offset + a, offset + (mirrored ? c : b), offset + (mirrored ? b : c)});
+        soup.triangleNodes.push_back(std::uint32_t(n));
       }
     }
   }

@@ -71,7 +71,7 @@ Status checkFlattenable(const SceneData& scene, std::uint64_t maxVertices = kMax
 // World-space positions and triangle indices of every mesh instance (node with a mesh) in `scene`.
 // Instances whose world matrix mirrors (negative determinant) get their triangles re-wound so that
 // every triangle stays counter-clockwise seen from outside. Instances that would push the vertex
-// count past 2^32-1 are left out with an error in the log.
+// count past 2^32-1 are left out with an error in the log. Each triangle's node is in triangleNodes.
 TriangleSoup flattenTriangles(const SceneData& scene);
 
 }  // namespace engine::scene

@@ -63,6 +63,9 @@ struct SceneData {
 struct TriangleSoup {
   std::vector<glm::vec3> positions;
   std::vector<std::uint32_t> indices;
+  // flattenTriangles: the SceneData::nodes index of each triangle's instance (indices.size() / 3
+  // entries), so that a hit on the soup names its object; empty for soups built otherwise.
+  std::vector<std::uint32_t> triangleNodes;
 };
 
 }  // namespace engine::scene

@@ -189,6 +189,7 @@ Status captureRow(const Group& g, const RowSpec& spec, std::size_t index, std::s
   result.prepassMs = median(prepassMs);
   result.shadingMs = median(shadingMs);
   result.quality = quality.result();
+  result.parts = quality.parts();
   if (result.quality.coveredPixels == 0) return makeError("drew nothing in any view");
   result.ok = true;
   return {};
@@ -225,6 +226,11 @@ RunInfo runInfo(const Options& options, const gpu::Context& context, const Subje
   std::strftime(date, sizeof(date), "%Y-%m-%d %H:%M:%S UTC", std::gmtime(&now));
   info.date = date;
   info.scene = subject.name;
+  if (subject.scene)
+    for (const scene::NodeData& node : subject.scene->nodes)
+      info.partNames.push_back(node.mesh >= 0 && std::size_t(node.mesh) < subject.scene->meshes.size()
+                                   ? fmt::format("{} ({})", node.name, subject.scene->meshes[std::size_t(node.mesh)].name)
+                                   : node.name);
   info.width = options.width;
   info.height = options.height;
   info.views = options.views;
@@ -355,6 +361,7 @@ Status run(const Options& options, int& failedRows) {
   std::fprintf(stderr, "\n");
   if (!info) return makeError("--methods: no rows to capture");
   ENGINE_TRY(writeCsv(options.out / "results.csv", *info, results));
+  ENGINE_TRY(writeObjectsCsv(options.out / "objects.csv", *info, results));
   ENGINE_TRY(writeJson(options.out / "results.json", *info, results));
   ENGINE_TRY(writeMarkdown(options.out, *info, results));
   failedRows = int(std::count_if(results.begin(), results.end(), [](const RowResult& r) { return !r.ok; }));

@@ -31,8 +31,10 @@ glm::dvec2 slabs(const Ray& ray, const glm::dvec3& lo, const glm::dvec3& hi) {
 class MeshSurface final : public TruthSurface {
  public:
   explicit MeshSurface(const engine::scene::TriangleSoup& soup) {
+    const bool parts = soup.triangleNodes.size() * 3 == soup.indices.size();
     for (std::size_t i = 0; i + 2 < soup.indices.size(); i += 3) {
       Triangle t;
+      t.part = parts ? std::int32_t(soup.triangleNodes[i / 3]) : -1;
       for (int k = 0; k < 3; ++k) t.p[k] = glm::dvec3(soup.positions[soup.indices[i + std::size_t(k)]]);
       const glm::dvec3 n = glm::cross(t.p[1] - t.p[0], t.p[2] - t.p[0]);
       if (glm::length(n) == 0.0) continue;  // no area, no hit
@@ -72,13 +74,14 @@ class MeshSurface final : public TruthSurface {
     if (!hit) return std::nullopt;
     // The face normal facing the ray: the first hit from outside is on the outward side.
     const glm::dvec3 n = glm::dot(hit->normal, ray.direction) > 0.0 ? -hit->normal : hit->normal;
-    return TruthHit{best, n};
+    return TruthHit{best, n, hit->part};
   }
 
  private:
   struct Triangle {
     glm::dvec3 p[3];
     glm::dvec3 normal;
+    std::int32_t part = -1;
   };
   struct Node {
     glm::dvec3 lo, hi;
@@ -181,6 +184,7 @@ TruthImage castTruth(const TruthSurface& surface, const engine::render::CameraVi
   image.height = height;
   image.distance.assign(std::size_t(width) * std::size_t(height), -1.0f);
   image.normal.assign(image.distance.size(), glm::vec3(0.0f));
+  image.part.assign(image.distance.size(), -1);
   std::atomic<int> nextRow{0};
   auto worker = [&] {
     for (int y = nextRow++; y < height; y = nextRow++) {
@@ -192,6 +196,7 @@ TruthImage castTruth(const TruthSurface& surface, const engine::render::CameraVi
         const std::size_t i = std::size_t(y) * std::size_t(width) + std::size_t(x);
         image.distance[i] = float(hit->distance);
         image.normal[i] = glm::vec3(hit->normal);
+        image.part[i] = hit->part;
       }
     }
   };

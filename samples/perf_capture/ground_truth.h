@@ -7,6 +7,7 @@
 //                    triangle mesh is faceted, so interpolated vertex normals are not what any SDF
 //                    converges to.
 // Rows of pixels are cast in parallel.
+#include <cstdint>
 #include <memory>
 #include <optional>
 #include <vector>
@@ -25,12 +26,14 @@ struct TruthImage {
   int height = 0;
   std::vector<float> distance;     // along the pixel's unit ray from the eye; < 0 on a miss
   std::vector<glm::vec3> normal;   // world-space unit normal, facing the ray; 0 on a miss
+  std::vector<std::int32_t> part;  // the object hit (a glTF scene's node index); -1 on a miss or unknown
   bool hit(std::size_t i) const { return distance[i] >= 0.0f; }
 };
 
 struct TruthHit {
   double distance = 0.0;
   glm::dvec3 normal{0.0};
+  std::int32_t part = -1;  // the object hit, where the surface knows its objects
 };
 
 // A surface the truth can be cast against.
@@ -40,7 +43,8 @@ class TruthSurface {
   virtual std::optional<TruthHit> cast(const engine::math::Ray& ray) const = 0;
 };
 
-// The triangle mesh (world space), in a bounding volume hierarchy of its own (median splits).
+// The triangle mesh (world space), in a bounding volume hierarchy of its own (median splits); a hit
+// names its triangle's node (TriangleSoup::triangleNodes) where the soup has them.
 std::unique_ptr<TruthSurface> meshSurface(const engine::scene::TriangleSoup& soup);
 // An analytic source whose value is an exact signed distance (sphere, box, torus, capsule).
 std::unique_ptr<TruthSurface> analyticSurface(std::unique_ptr<hsdf::SdfSource> source);

@@ -36,16 +36,20 @@ void QualityAccumulator::add(const TruthImage& truth, const GpuReadback& gpu, co
         if (!gpu.work.empty()) evals_.push_back(gpu.work[i]);
       }
       if (gpuHit != truth.hit(i)) ++mismatches_;
+      PartSums* part = truth.hit(i) && i < truth.part.size() && truth.part[i] >= 0 ? &parts_[truth.part[i]] : nullptr;
+      if (part) ++part->truth, part->missed += !gpuHit;
       if (!gpuHit || !truth.hit(i)) continue;
       const engine::math::Ray ray =
           engine::math::pixelRay(camera.view, camera.proj, {float(x) + 0.5f, float(y) + 0.5f}, {truth.width, truth.height});
       const double viewDistance = engine::math::depthToViewDistance(gpu.depth[i], camera.znear);
       const double distance = viewDistance / glm::dot(ray.direction, forward);
-      depthErrorSum_ += std::abs(distance - double(truth.distance[i])) / diagonal_;
+      const double depthError = std::abs(distance - double(truth.distance[i])) / diagonal_;
+      depthErrorSum_ += depthError;
       const glm::dvec3 n = glm::dvec3(glm::vec3(gpu.normalColor[i])) * 2.0 - 1.0;
       const double length = glm::length(n);
       const double c = length > 0.0 ? glm::dot(n / length, glm::dvec3(truth.normal[i])) : -1.0;
       angles_.push_back(float(std::acos(std::clamp(c, -1.0, 1.0)) * kDegrees));
+      if (part) part->depthErrorSum += depthError, part->angles.push_back(angles_.back());
     }
   }
 }
@@ -67,6 +71,25 @@ RowQuality QualityAccumulator::result() const {
     q.evalsP95 = nearestRank(evals, 0.95);
   }
   return q;
+}
+
+std::vector<PartQuality> QualityAccumulator::parts() const {
+  std::vector<PartQuality> out;
+  const double views = std::max(1.0, double(views_));
+  for (const auto& [index, sums] : parts_) {
+    PartQuality q;
+    q.part = index;
+    q.truthPixels = double(sums.truth) / views;
+    q.missedPixels = double(sums.missed) / views;
+    if (!sums.angles.empty()) {
+      q.normalErrorMean = std::accumulate(sums.angles.begin(), sums.angles.end(), 0.0) / double(sums.angles.size());
+      std::vector<float> angles = sums.angles;
+      q.normalErrorP95 = nearestRank(angles, 0.95);
+      q.depthErrorMean = sums.depthErrorSum / double(sums.angles.size());
+    }
+    out.push_back(q);
+  }
+  return out;
 }
 
 }  // namespace capture

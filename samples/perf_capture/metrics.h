@@ -8,6 +8,7 @@
 //   work: the renderer's per-pixel work counters (root-search evaluations) over covered pixels,
 //         and the rays that ran out of steps (sphere tracing; drawn as misses), per view.
 #include <cstdint>
+#include <map>
 #include <vector>
 
 #include <glm/glm.hpp>
@@ -36,11 +37,24 @@ struct RowQuality {
   std::uint64_t coveredPixels = 0;
 };
 
+// The quality of one object of a scene (TruthImage::part), from the pixels where the truth hits
+// it: GPU hits where the truth sees background belong to no object and count only in RowQuality.
+struct PartQuality {
+  std::int32_t part = -1;          // SceneData::nodes index
+  double truthPixels = 0.0;        // per view
+  double missedPixels = 0.0;       // per view: the truth hits the object, the GPU draws nothing
+  double normalErrorMean = 0.0;    // degrees, over the object's pixels both hit
+  double normalErrorP95 = 0.0;
+  double depthErrorMean = 0.0;     // fraction of the diagonal
+};
+
 class QualityAccumulator {
  public:
   explicit QualityAccumulator(double diagonal) : diagonal_(diagonal) {}
   void add(const TruthImage& truth, const GpuReadback& gpu, const engine::render::CameraView& camera);
   RowQuality result() const;
+  // One entry per object the truth hit in some view, by part index.
+  std::vector<PartQuality> parts() const;
 
  private:
   double diagonal_;
@@ -51,6 +65,12 @@ class QualityAccumulator {
   std::vector<float> angles_;
   std::vector<std::uint32_t> evals_;
   std::uint64_t covered_ = 0;
+  struct PartSums {
+    std::uint64_t truth = 0, missed = 0;
+    double depthErrorSum = 0.0;
+    std::vector<float> angles;
+  };
+  std::map<std::int32_t, PartSums> parts_;
 };
 
 // The value at fraction p (0..1) of the sorted values (nearest rank); 0 for none.

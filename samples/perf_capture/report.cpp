@@ -296,6 +296,55 @@ engine::Status writeCsv(const std::filesystem::path& path, const RunInfo& info, 
   return engine::writeTextFile(path, csv);
 }
 
+namespace {
+
+std::string partName(const RunInfo& info, std::int32_t part) {
+  return part >= 0 && std::size_t(part) < info.partNames.size() ? info.partNames[std::size_t(part)]
+                                                                 : fmt::format("object {}", part);
+}
+
+bool hasObjects(const RowResult& r) { return r.ok && r.parts.size() >= 2; }
+
+// Per row of a scene: how the objects' quality spreads, and the worst object by normal error and
+// by missed pixels (objects.csv has every object).
+void objectsSection(std::string& md, const std::vector<RowResult>& rows, const RunInfo& info) {
+  if (std::none_of(rows.begin(), rows.end(), hasObjects)) return;
+  md += "## Quality per object\n\nEach object's pixels are those where the ground truth hits it (objects.csv has "
+        "every object of every row). Normal error in degrees; missed px: the truth hits the object and the row draws "
+        "nothing there, per view.\n\n| row | objects | normal err mean: median / worst | normal err p95: median / "
+        "worst (object) | missed px: worst (object, of its px) |\n|---|---|---|---|---|\n";
+  for (const RowResult& r : rows) {
+    if (!hasObjects(r)) continue;
+    std::vector<double> means, p95s;
+    for (const PartQuality& p : r.parts) means.push_back(p.normalErrorMean), p95s.push_back(p.normalErrorP95);
+    const auto byP95 = std::max_element(r.parts.begin(), r.parts.end(), [](const PartQuality& a, const PartQuality& b) {
+      return a.normalErrorP95 < b.normalErrorP95;
+    });
+    const auto byMissed = std::max_element(r.parts.begin(), r.parts.end(), [](const PartQuality& a, const PartQuality& b) {
+      return a.missedPixels < b.missedPixels;
+    });
+    md += fmt::format("| {} | {} | {:.3f} / {:.3f} | {:.3f} / {:.3f} ({}) | {:.1f} ({}, of {:.1f}) |\n", r.spec.label,
+                      r.parts.size(), percentile(means, 0.5), *std::max_element(means.begin(), means.end()),
+                      percentile(p95s, 0.5), byP95->normalErrorP95, partName(info, byP95->part), byMissed->missedPixels,
+                      partName(info, byMissed->part), byMissed->truthPixels);
+  }
+  md += "\n";
+}
+
+}  // namespace
+
+engine::Status writeObjectsCsv(const std::filesystem::path& path, const RunInfo& info, const std::vector<RowResult>& rows) {
+  if (std::none_of(rows.begin(), rows.end(), hasObjects)) return {};
+  std::string csv = "row,object,truth_px,missed_px,normal_err_mean_deg,normal_err_p95_deg,depth_err_mean\n";
+  for (const RowResult& r : rows) {
+    if (!hasObjects(r)) continue;
+    for (const PartQuality& p : r.parts)
+      csv += fmt::format("{},{},{:.1f},{:.1f},{:.5f},{:.5f},{:.4e}\n", csvEscape(r.spec.label), csvEscape(partName(info, p.part)),
+                         p.truthPixels, p.missedPixels, p.normalErrorMean, p.normalErrorP95, p.depthErrorMean);
+  }
+  return engine::writeTextFile(path, csv);
+}
+
 engine::Status writeJson(const std::filesystem::path& path, const RunInfo& info, const std::vector<RowResult>& rows) {
   std::string json = "{\n";
   json += fmt::format(
@@ -343,6 +392,7 @@ engine::Status writeMarkdown(const std::filesystem::path& folder, const RunInfo&
   paperTable(md, rows);
   targets(md, rows, info);
   countTargets(md, rows, info);
+  objectsSection(md, rows, info);
   md += "## Charts\n\n";
   ENGINE_TRY(chartSection(md, folder, "time_vs_k.png", "GPU ms per frame vs K (log-log)",
                           chartOf(rows, [](const RowResult& r) { return glm::dvec2(r.spec.resolution, r.gpuMsMedian); },

@@ -30,18 +30,22 @@ struct RowResult {
   // views; 0 for the other methods.
   double boxes = 0.0;
   RowQuality quality;
+  std::vector<PartQuality> parts;  // per object of a scene (empty for a single shape)
   std::uint64_t storedScalars = 0, storedBytes = 0, cells = 0;
   std::string image;           // first view's screenshot, relative to the output folder
 };
 
 struct RunInfo {
   std::string device, driver, commandLine, commit, date, scene;
+  std::vector<std::string> partNames;  // [SceneData::nodes index] "node (mesh)", for PartQuality::part
   std::uint32_t width = 0, height = 0, views = 0, frames = 0, warmup = 0;
   bool pipelineStatistics = false;
   bool softwareRasterizer = false;
 };
 
 engine::Status writeCsv(const std::filesystem::path& path, const RunInfo& info, const std::vector<RowResult>& rows);
+// objects.csv: one line per row and object of a scene (PartQuality); nothing when no row has two.
+engine::Status writeObjectsCsv(const std::filesystem::path& path, const RunInfo& info, const std::vector<RowResult>& rows);
 engine::Status writeJson(const std::filesystem::path& path, const RunInfo& info, const std::vector<RowResult>& rows);
 // Writes the charts next to results.md and the Markdown that shows them.
 engine::Status writeMarkdown(const std::filesystem::path& folder, const RunInfo& info, const std::vector<RowResult>& rows);

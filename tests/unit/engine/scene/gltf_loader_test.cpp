@@ -306,6 +306,12 @@ TEST(GltfLoaderHierarchy, MeshMaterialAndFlattenedInstances) {
   expectNear(soup.positions[1], {-1, 2, 0});
   expectNear(soup.positions[2], {-3, 0, 0});
   expectNear(soup.positions[5], {-3, 0, 6});
+  // Each triangle names the node whose instance it is (the capture's per-object quality reads it).
+  ASSERT_EQ(soup.triangleNodes.size(), 2u);
+  EXPECT_NE(soup.triangleNodes[0], soup.triangleNodes[1]);
+  for (const std::uint32_t n : soup.triangleNodes) EXPECT_EQ(scene->nodes.at(n).mesh, 0);
+  expectNear(glm::vec3(scene->nodes[soup.triangleNodes[1]].world * glm::vec4(primitive.positions[2], 1.0f)),
+             soup.positions[5]);
 }
 
 // ------------------------------------------------------------------------------------------------

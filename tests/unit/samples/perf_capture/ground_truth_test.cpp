@@ -90,6 +90,25 @@ TEST(MeshTruth, FaceNormalIsGeometricAndFacesTheRay) {
   EXPECT_EQ(back->normal, glm::dvec3(0, 0, -1));
 }
 
+// Tricky: the BVH reorders the triangles, so a hit must carry its own triangle's object, not the
+// object of the triangle that was at its index before sorting: two overlapping objects, the near
+// one named 7 and the far one 3, each hit where the other is behind or absent.
+TEST(MeshTruth, HitsNameTheirTrianglesObject) {
+  engine::scene::TriangleSoup soup;
+  soup.positions = {{-1, -1, 0}, {1, -1, 0}, {0, 1, 0}, {-1, -1, -1}, {3, -1, -1}, {1, 3, -1}};
+  soup.indices = {3, 4, 5, 0, 1, 2};
+  soup.triangleNodes = {3, 7};
+  const auto surface = meshSurface(soup);
+  const auto near = surface->cast({{0.0, -0.5, 2.0}, {0.0, 0.0, -1.0}});
+  ASSERT_TRUE(near);
+  EXPECT_EQ(near->part, 7);
+  const auto far = surface->cast({{2.0, 0.0, 2.0}, {0.0, 0.0, -1.0}});  // outside the near triangle
+  ASSERT_TRUE(far);
+  EXPECT_EQ(far->part, 3);
+  soup.triangleNodes.clear();
+  EXPECT_EQ(meshSurface(soup)->cast({{0.0, -0.5, 2.0}, {0.0, 0.0, -1.0}})->part, -1) << "no objects: unknown";
+}
+
 // Tricky: a ray that passes the unit sphere at 0.999 of its radius grazes it: sphere tracing
 // creeps along it in small steps; the hit must still be the exact first intersection.
 TEST(AnalyticTruth, SphereHitsAreExactIncludingGrazingRays) {

@@ -92,6 +92,46 @@ TEST(Quality, DefectsShowUpInTheirOwnMetric) {
   EXPECT_EQ(r.evalsP95, 10.0);
 }
 
+// Tricky: per-object quality must keep each object's defects to itself: the sphere's pixels split
+// into two objects by image column, 10-degree normals and 3 dropped pixels put in the right one
+// only; the left must score zero and the right exactly what was put in, over two views.
+TEST(Quality, DefectsStayWithTheirObject) {
+  Scene scene;
+  std::size_t hits[2] = {0, 0};
+  for (std::size_t i = 0; i < scene.truth.part.size(); ++i) {
+    if (!scene.truth.hit(i)) continue;
+    const int part = int(i % kWidth) < kWidth / 2 ? 4 : 9;
+    scene.truth.part[i] = part;
+    ++hits[part == 9];
+  }
+  GpuReadback gpu = scene.perfect();
+  int dropped = 0;
+  for (std::size_t i = 0; i < gpu.depth.size(); ++i) {
+    if (scene.truth.part[i] != 9) continue;
+    const glm::dvec3 n = glm::dvec3(glm::vec3(gpu.normalColor[i])) * 2.0 - 1.0;
+    const glm::dvec3 axis = glm::normalize(glm::cross(n, std::abs(n.x) < 0.9 ? glm::dvec3(1, 0, 0) : glm::dvec3(0, 1, 0)));
+    const double a = 10.0 * 3.14159265358979 / 180.0;
+    const glm::dvec3 turned = n * std::cos(a) + glm::cross(axis, n) * std::sin(a);
+    gpu.normalColor[i] = glm::vec4(glm::vec3(turned * 0.5 + 0.5), 1.0f);
+    if (dropped < 3) gpu.depth[i] = 0.0f, ++dropped;
+  }
+  QualityAccumulator q(2.0 * std::sqrt(3.0));
+  q.add(scene.truth, gpu, scene.camera);
+  q.add(scene.truth, gpu, scene.camera);
+  const std::vector<PartQuality> parts = q.parts();
+  ASSERT_EQ(parts.size(), 2u);
+  EXPECT_EQ(parts[0].part, 4);
+  EXPECT_EQ(parts[0].truthPixels, double(hits[0]));
+  EXPECT_EQ(parts[0].missedPixels, 0.0);
+  EXPECT_LT(parts[0].normalErrorMean, 0.01);
+  EXPECT_LT(parts[0].normalErrorP95, 0.05) << "float rounding of the normals only";
+  EXPECT_EQ(parts[1].part, 9);
+  EXPECT_EQ(parts[1].truthPixels, double(hits[1]));
+  EXPECT_EQ(parts[1].missedPixels, 3.0);
+  EXPECT_NEAR(parts[1].normalErrorMean, 10.0, 0.01);
+  EXPECT_NEAR(parts[1].normalErrorP95, 10.0, 0.01);
+}
+
 TEST(Quality, PercentileIsNearestRank) {
   EXPECT_EQ(percentile({}, 0.5), 0.0);
   EXPECT_EQ(percentile({3.0, 1.0, 2.0}, 0.5), 2.0);
