@@ -287,7 +287,7 @@ class SchemaCheck {
     ENGINE_TRY_ASSIGN(const std::int64_t byteLength, requiredInteger(view, "byteLength", path));
     ENGINE_TRY(checkMinimum(byteLength, 1, member(path, "byteLength")));
     // Whether the view lies inside its buffer is checked where it is read, against the bytes the
-    // buffer really has (bufferViewBytes in gltf_loader.cpp); an unread one (say, an image's) may
+    // buffer really has (bufferViewBytes in gltf_accessors.cpp); an unread one (say, an image's) may
     // be broken without harm.
     ENGINE_TRY_ASSIGN(const auto byteStride, optionalInteger(view, "byteStride", path));
     if (byteStride && (*byteStride < kMinStride || *byteStride > kMaxStride || *byteStride % 4 != 0))

@@ -1,5 +1,5 @@
 #pragma once
-// glTF 2.0 schema ranges, checked on the document's JSON before tinygltf parses it (gltf_loader.cpp).
+// glTF 2.0 schema ranges, checked on the document's JSON before tinygltf parses it (gltf_document.cpp).
 //
 // Why the JSON and not tinygltf's Model: tinygltf 2.7 drops or rewrites many out-of-range values
 // without a word, so its Model no longer shows what the file said and a check there would pass a

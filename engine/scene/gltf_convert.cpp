@@ -1,0 +1,566 @@
+// glTF model -> SceneData (gltf_convert.h): primitives, materials and cameras, nodes, the whole model.
+#include "engine/scene/gltf_convert.h"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <cstring>
+#include <limits>
+#include <map>
+#include <optional>
+#include <string>
+#include <system_error>
+#include <vector>
+
+#include <fmt/format.h>
+#include <glm/gtc/constants.hpp>
+#include <glm/gtc/matrix_transform.hpp>
+#include <glm/gtc/quaternion.hpp>
+#include <glm/gtc/type_ptr.hpp>
+#include <nlohmann/json.hpp>
+
+#include "engine/core/log.h"
+#include "engine/scene/gltf_compression.h"
+
+namespace engine::scene::gltf {
+namespace {
+
+// Decoded geometry may legitimately be larger than its encoding (uint8 indices become uint32,
+// quantized positions become floats, normals are generated), but a small file must not be able
+// to demand gigabytes by referencing one accessor from thousands of primitives.
+constexpr std::uint64_t kDecodeBudgetFloorBytes = std::uint64_t(64) << 20;
+constexpr std::uint64_t kDecodeBudgetPerInputByte = 16;
+
+using Json = nlohmann::json;
+
+// ---------------------------------------------------------------------------------------------
+// Primitives
+
+Expected<std::vector<std::uint32_t>> sequentialIndices(ImportContext& context, std::size_t vertexCount) {
+  ENGINE_TRY(chargeDecode(context, std::uint64_t(vertexCount) * sizeof(std::uint32_t)));
+  std::vector<std::uint32_t> indices(vertexCount);
+  for (std::size_t i = 0; i < vertexCount; ++i) indices[i] = static_cast<std::uint32_t>(i);
+  return indices;
+}
+
+// Triangle strips and fans as lists, with the vertex order the glTF specification gives (so the
+// winding of every triangle matches the first one).
+Expected<std::vector<std::uint32_t>> toTriangleList(int mode, std::vector<std::uint32_t> indices) {
+  if (mode == TINYGLTF_MODE_TRIANGLES) {
+    if (indices.size() % 3 != 0)
+      return makeError(fmt::format("{} indices do not make whole triangles", indices.size()));
+    return indices;
+  }
+  std::vector<std::uint32_t> list;
+  if (indices.size() < 3) return list;
+  list.reserve((indices.size() - 2) * 3);
+  for (std::size_t i = 0; i + 2 < indices.size(); ++i) {
+    if (mode == TINYGLTF_MODE_TRIANGLE_STRIP) {
+      const std::size_t odd = i % 2;
+      list.insert(list.end(), {indices[i], indices[i + 1 + odd], indices[i + 2 - odd]});
+    } else {  // fan
+      list.insert(list.end(), {indices[i + 1], indices[i + 2], indices[0]});
+    }
+  }
+  return list;
+}
+
+// Smooth normals: each triangle adds its unnormalised face normal (length = twice its area) to its
+// corners, so large triangles weigh more than slivers. Accumulated in double so that positions near
+// the float range do not overflow the cross products. Vertices without area get +Y.
+std::vector<glm::vec3> smoothNormals(const std::vector<glm::vec3>& positions, const std::vector<std::uint32_t>& indices) {
+  std::vector<glm::dvec3> sums(positions.size(), glm::dvec3(0.0));
+  for (std::size_t t = 0; t + 2 < indices.size(); t += 3) {
+    const glm::dvec3 a = positions[indices[t]];
+    const glm::dvec3 b = positions[indices[t + 1]];
+    const glm::dvec3 c = positions[indices[t + 2]];
+    const glm::dvec3 faceNormal = glm::cross(b - a, c - a);
+    for (std::size_t k = 0; k < 3; ++k) sums[indices[t + k]] += faceNormal;
+  }
+  std::vector<glm::vec3> normals(positions.size());
+  for (std::size_t v = 0; v < sums.size(); ++v) {
+    const double length = glm::length(sums[v]);
+    normals[v] = length > 0.0 && std::isfinite(length) ? glm::vec3(sums[v] / length) : glm::vec3(0.0f, 1.0f, 0.0f);
+  }
+  return normals;
+}
+
+int findAttribute(const tinygltf::Primitive& primitive, const char* name) {
+  const auto it = primitive.attributes.find(name);
+  return it == primitive.attributes.end() ? -2 : it->second;  // -2: absent (-1 could be in the file)
+}
+
+Status checkIndicesInRange(const std::vector<std::uint32_t>& indices, std::size_t vertexCount) {
+  for (std::size_t i = 0; i < indices.size(); ++i)
+    if (indices[i] >= vertexCount)
+      return makeError(fmt::format("index {} (at position {}) is out of range of the {} vertices", indices[i], i, vertexCount));
+  return {};
+}
+
+// Which primitive of which mesh, with what the sanitiser lifted out of it.
+struct PrimitiveRef {
+  const tinygltf::Primitive& primitive;
+  int indices = -1;                          // index accessor, -1 none
+  const DracoExtension* draco = nullptr;     // KHR_draco_mesh_compression, when compressed
+};
+
+Expected<std::vector<std::uint32_t>> readPrimitiveTriangles(ImportContext& context, const PrimitiveRef& ref,
+                                                            std::size_t vertexCount) {
+  std::vector<std::uint32_t> indices;
+  if (ref.indices >= 0) {
+    ENGINE_TRY_ASSIGN(indices, readIndices(context, ref.indices).withContext("indices"));
+  } else {
+    ENGINE_TRY_ASSIGN(indices, sequentialIndices(context, vertexCount));
+  }
+  ENGINE_TRY(checkIndicesInRange(indices, vertexCount));
+  return toTriangleList(ref.primitive.mode, std::move(indices));
+}
+
+// The accessor a primitive names for `semantic` must exist; its count is what the decoded
+// attribute must have (KHR_draco_mesh_compression keeps count, type and bounds in the accessors).
+Expected<std::uint64_t> accessorCount(const ImportContext& context, int accessorIndex, const char* what) {
+  if (!inRange(accessorIndex, context.model.accessors))
+    return makeError(fmt::format("{}: {}", what, describeIndexRange("accessor", accessorIndex, context.model.accessors.size())));
+  return std::uint64_t(context.model.accessors[std::size_t(accessorIndex)].count);
+}
+
+// libdraco sizes its tables from the stream's declared counts before reading the data that would
+// contradict them (a 1 KB stream declaring 10^9 faces allocates gigabytes): the least those counts
+// decode to must fit what the file may still decode (the charge itself follows the decoding).
+Status checkDracoCounts(const ImportContext& context, std::span<const std::uint8_t> compressed, bool withNormals) {
+  ENGINE_TRY_ASSIGN(const DracoCounts declared, readDracoCounts(compressed));
+  const std::uint64_t bytes = declared.decodedBytes(withNormals);
+  if (bytes > context.decodeBudgetBytes)
+    return makeError(fmt::format("the Draco stream declares {} faces and {} vertices ({} bytes decoded), over the limit for "
+                                 "this file ({} bytes left)",
+                                 declared.faces, declared.vertices, bytes, context.decodeBudgetBytes));
+  return {};
+}
+
+// Positions, indices and (when compressed too) normals from the primitive's Draco stream, checked
+// against the counts its accessors declare.
+Expected<MeshPrimitiveData> decodeDracoGeometry(ImportContext& context, const PrimitiveRef& ref) {
+  const DracoExtension& draco = *ref.draco;
+  if (ref.primitive.mode != TINYGLTF_MODE_TRIANGLES)
+    return makeError(fmt::format("KHR_draco_mesh_compression on mode {} (only TRIANGLES is supported)", ref.primitive.mode));
+  const auto position = draco.attributes.find("POSITION");
+  if (position == draco.attributes.end()) return makeError("KHR_draco_mesh_compression has no POSITION attribute");
+  const auto normal = draco.attributes.find("NORMAL");
+  ENGINE_TRY_ASSIGN(const auto compressed, bufferViewBytes(context, draco.bufferView).withContext("KHR_draco_mesh_compression"));
+  ENGINE_TRY(checkDracoCounts(context, compressed, normal != draco.attributes.end()).withContext("KHR_draco_mesh_compression"));
+  ENGINE_TRY_ASSIGN(const DracoPrimitive decoded,
+                    decodeDracoPrimitive(compressed, position->second,
+                                         normal == draco.attributes.end() ? std::nullopt : std::optional(normal->second))
+                        .withContext("KHR_draco_mesh_compression"));
+  ENGINE_TRY(chargeDecode(context, (decoded.positions.size() + decoded.normals.size()) * sizeof(glm::vec3) +
+                                       decoded.indices.size() * sizeof(std::uint32_t)));
+  ENGINE_TRY_ASSIGN(const std::uint64_t vertexCount, accessorCount(context, findAttribute(ref.primitive, "POSITION"), "POSITION"));
+  if (decoded.positions.size() != vertexCount)
+    return makeError(fmt::format("the Draco stream has {} points but the POSITION accessor says {}", decoded.positions.size(),
+                                 vertexCount));
+  if (ref.indices >= 0) {
+    ENGINE_TRY_ASSIGN(const std::uint64_t indexCount, accessorCount(context, ref.indices, "indices"));
+    if (decoded.indices.size() != indexCount)
+      return makeError(fmt::format("the Draco stream has {} indices but the indices accessor says {}", decoded.indices.size(),
+                                   indexCount));
+  }
+  MeshPrimitiveData out;
+  out.positions = decoded.positions;
+  out.normals = decoded.normals;
+  out.indices = decoded.indices;
+  return out;
+}
+
+Expected<MeshPrimitiveData> readUncompressedGeometry(ImportContext& context, const PrimitiveRef& ref) {
+  MeshPrimitiveData out;
+  const int positionAccessor = findAttribute(ref.primitive, "POSITION");
+  ENGINE_TRY_ASSIGN(out.positions, readVec3(context, positionAccessor).withContext("POSITION"));
+  if (out.positions.size() > std::numeric_limits<std::uint32_t>::max())
+    return makeError(fmt::format("{} vertices do not fit 32-bit indices", out.positions.size()));
+  ENGINE_TRY_ASSIGN(out.indices, readPrimitiveTriangles(context, ref, out.positions.size()));
+  return out;
+}
+
+// The NORMAL accessor, or smooth normals when the primitive has none.
+Expected<std::vector<glm::vec3>> readOrGenerateNormals(ImportContext& context, const tinygltf::Primitive& primitive,
+                                                       const MeshPrimitiveData& geometry) {
+  const int normalAccessor = findAttribute(primitive, "NORMAL");
+  if (normalAccessor == -2) {
+    ENGINE_TRY(chargeDecode(context, geometry.positions.size() * sizeof(glm::vec3)));
+    return smoothNormals(geometry.positions, geometry.indices);
+  }
+  ENGINE_TRY_ASSIGN(auto normals, readVec3(context, normalAccessor).withContext("NORMAL"));
+  if (normals.size() != geometry.positions.size())
+    return makeError(fmt::format("NORMAL has {} elements but POSITION has {}", normals.size(), geometry.positions.size()));
+  return normals;
+}
+
+Expected<MeshPrimitiveData> convertTrianglePrimitive(ImportContext& context, const PrimitiveRef& ref) {
+  const auto& primitive = ref.primitive;
+  if (findAttribute(primitive, "POSITION") == -2) return makeError("has no POSITION attribute");
+  MeshPrimitiveData out;
+  if (ref.draco) {
+    ENGINE_TRY_ASSIGN(out, decodeDracoGeometry(context, ref));
+  } else {
+    ENGINE_TRY_ASSIGN(out, readUncompressedGeometry(context, ref));
+  }
+
+  if (out.normals.empty()) {  // not decoded from Draco with the positions
+    ENGINE_TRY_ASSIGN(out.normals, readOrGenerateNormals(context, primitive, out));
+  }
+
+  if (primitive.material != -1 && !inRange(primitive.material, context.model.materials))
+    return makeError(describeIndexRange("material", primitive.material, context.model.materials.size()));
+  out.material = primitive.material;
+  return out;
+}
+
+// The sanitiser's plan has one entry per primitive tinygltf parsed; anything else is a bug here.
+Expected<PrimitiveRef> primitiveRef(const ImportContext& context, int meshIndex, std::size_t p) {
+  const auto& plan = context.plan;
+  const auto m = std::size_t(meshIndex);
+  if (m >= plan.primitiveIndices.size() || p >= plan.primitiveIndices[m].size())
+    return makeError("internal error: the primitive is missing from the extension plan");
+  const auto& draco = plan.draco[m][p];
+  return PrimitiveRef{context.model.meshes[m].primitives[p], plan.primitiveIndices[m][p], draco ? &*draco : nullptr};
+}
+
+bool isTriangleMode(int mode) {
+  return mode == TINYGLTF_MODE_TRIANGLES || mode == TINYGLTF_MODE_TRIANGLE_STRIP || mode == TINYGLTF_MODE_TRIANGLE_FAN;
+}
+
+bool isPointOrLineMode(int mode) { return mode >= TINYGLTF_MODE_POINTS && mode <= TINYGLTF_MODE_LINE_STRIP; }
+
+Expected<MeshData> convertMesh(ImportContext& context, int meshIndex) {
+  const auto& mesh = context.model.meshes[std::size_t(meshIndex)];
+  MeshData out;
+  out.name = mesh.name;
+  for (std::size_t p = 0; p < mesh.primitives.size(); ++p) {
+    const auto& primitive = mesh.primitives[p];
+    const std::string where = fmt::format("mesh {} '{}' primitive {}", meshIndex, mesh.name, p);
+    if (isPointOrLineMode(primitive.mode)) {
+      context.warnings.push_back(fmt::format("{}: mode {} is points or lines, skipped", where, primitive.mode));
+      continue;
+    }
+    if (!isTriangleMode(primitive.mode)) return makeError(fmt::format("{}: unknown mode {}", where, primitive.mode));
+    ENGINE_TRY_ASSIGN(const PrimitiveRef ref, primitiveRef(context, meshIndex, p).withContext(where));
+    ENGINE_TRY_ASSIGN(auto converted, convertTrianglePrimitive(context, ref).withContext(where));
+    if (converted.indices.empty()) {  // a strip or fan of fewer than 3 vertices: nothing to draw
+      context.warnings.push_back(fmt::format("{}: mode {} with fewer than 3 vertices has no triangles, skipped", where,
+                                             primitive.mode));
+      continue;
+    }
+    out.primitives.push_back(std::move(converted));
+  }
+  return out;
+}
+
+// ---------------------------------------------------------------------------------------------
+// Materials and cameras
+
+Expected<MaterialData> convertMaterial(const tinygltf::Material& material) {
+  const auto& pbr = material.pbrMetallicRoughness;
+  if (pbr.baseColorFactor.size() != 4)
+    return makeError(fmt::format("baseColorFactor has {} components, expected 4", pbr.baseColorFactor.size()));
+  MaterialData out;
+  out.name = material.name;
+  for (int c = 0; c < 4; ++c) {
+    ENGINE_TRY_ASSIGN(const float value, toFiniteFloat(pbr.baseColorFactor[std::size_t(c)], "baseColorFactor component"));
+    out.baseColor[c] = std::clamp(value, 0.0f, 1.0f);
+  }
+  ENGINE_TRY_ASSIGN(const float metallic, toFiniteFloat(pbr.metallicFactor, "metallicFactor"));
+  ENGINE_TRY_ASSIGN(const float roughness, toFiniteFloat(pbr.roughnessFactor, "roughnessFactor"));
+  out.metallic = std::clamp(metallic, 0.0f, 1.0f);
+  out.roughness = std::clamp(roughness, 0.0f, 1.0f);
+  return out;
+}
+
+Expected<CameraData> convertPerspectiveCamera(const tinygltf::Camera& camera) {
+  const auto& p = camera.perspective;
+  CameraData out;
+  out.name = camera.name;
+  ENGINE_TRY_ASSIGN(out.yfov, toFiniteFloat(p.yfov, "yfov"));
+  ENGINE_TRY_ASSIGN(out.znear, toFiniteFloat(p.znear, "znear"));
+  if (!(out.yfov > 0.0f && out.yfov < glm::pi<float>()))
+    return makeError(fmt::format("yfov {} is not in (0, pi)", out.yfov));
+  if (!(out.znear > 0.0f)) return makeError(fmt::format("znear {} is not positive", out.znear));
+  if (p.zfar != 0.0) {  // tinygltf's 0 means absent: infinite projection
+    ENGINE_TRY_ASSIGN(const float zfar, toFiniteFloat(p.zfar, "zfar"));
+    if (!(zfar > out.znear)) return makeError(fmt::format("zfar {} is not beyond znear {}", zfar, out.znear));
+    out.zfar = zfar;
+  }
+  if (p.aspectRatio != 0.0) {
+    ENGINE_TRY_ASSIGN(const float aspect, toFiniteFloat(p.aspectRatio, "aspectRatio"));
+    if (!(aspect > 0.0f)) return makeError(fmt::format("aspectRatio {} is not positive", aspect));
+    out.aspectRatio = aspect;
+  }
+  return out;
+}
+
+// Fills scene.cameras with the perspective cameras; returns, for each file camera, its index in
+// scene.cameras or -1 when it was skipped.
+Expected<std::vector<int>> convertCameras(ImportContext& context, SceneData& scene) {
+  std::vector<int> remap;
+  for (std::size_t i = 0; i < context.model.cameras.size(); ++i) {
+    const auto& camera = context.model.cameras[i];
+    if (camera.type == "perspective") {
+      ENGINE_TRY_ASSIGN(auto converted, convertPerspectiveCamera(camera).withContext(fmt::format("camera {}", i)));
+      remap.push_back(int(scene.cameras.size()));
+      scene.cameras.push_back(std::move(converted));
+    } else {
+      context.warnings.push_back(fmt::format("camera {} '{}': {} cameras are not supported, skipped", i, camera.name, camera.type));
+      remap.push_back(-1);
+    }
+  }
+  return remap;
+}
+
+// ---------------------------------------------------------------------------------------------
+// Nodes
+
+Expected<glm::mat4> localMatrix(const tinygltf::Node& node) {
+  if (!node.matrix.empty()) {  // glTF allows matrix or TRS; with both, tinygltf keeps only the matrix
+    if (node.matrix.size() != 16) return makeError(fmt::format("matrix has {} elements, expected 16", node.matrix.size()));
+    glm::mat4 m(1.0f);
+    for (std::size_t i = 0; i < 16; ++i) {  // glTF and GLM are both column-major
+      ENGINE_TRY_ASSIGN(glm::value_ptr(m)[i], toFiniteFloat(node.matrix[i], "matrix element"));
+    }
+    return m;
+  }
+  auto vectorOf = [](const std::vector<double>& values, std::size_t size, const char* name, glm::vec4 fallback) -> Expected<glm::vec4> {
+    if (values.empty()) return fallback;
+    if (values.size() != size) return makeError(fmt::format("{} has {} elements, expected {}", name, values.size(), size));
+    for (std::size_t i = 0; i < size; ++i) {
+      ENGINE_TRY_ASSIGN(fallback[int(i)], toFiniteFloat(values[i], name));
+    }
+    return fallback;
+  };
+  ENGINE_TRY_ASSIGN(const glm::vec4 t, vectorOf(node.translation, 3, "translation", glm::vec4(0.0f)));
+  ENGINE_TRY_ASSIGN(const glm::vec4 r, vectorOf(node.rotation, 4, "rotation", glm::vec4(0.0f, 0.0f, 0.0f, 1.0f)));
+  ENGINE_TRY_ASSIGN(const glm::vec4 s, vectorOf(node.scale, 3, "scale", glm::vec4(1.0f)));
+  const float rotationLength = glm::length(r);
+  if (!(rotationLength > 0.0f) || !std::isfinite(rotationLength))
+    return makeError("rotation quaternion has zero (or non-finite) length");
+  const glm::quat q = glm::quat(r.w, r.x, r.y, r.z) / rotationLength;  // glTF stores x, y, z, w
+  return glm::translate(glm::mat4(1.0f), glm::vec3(t)) * glm::mat4_cast(q) * glm::scale(glm::mat4(1.0f), glm::vec3(s));
+}
+
+// Parent of every node, checking that children exist, are not the node itself and have one parent.
+Expected<std::vector<int>> nodeParents(const tinygltf::Model& model) {
+  std::vector<int> parent(model.nodes.size(), -1);
+  for (std::size_t n = 0; n < model.nodes.size(); ++n) {
+    for (const int child : model.nodes[n].children) {
+      if (!inRange(child, model.nodes))
+        return makeError(fmt::format("node {}: child {}", n, describeIndexRange("node", child, model.nodes.size())));
+      if (std::size_t(child) == n) return makeError(fmt::format("node {} lists itself as a child", n));
+      if (parent[std::size_t(child)] != -1)
+        return makeError(fmt::format("node {} has two parents (node {} and node {})", child, parent[std::size_t(child)], n));
+      parent[std::size_t(child)] = int(n);
+    }
+  }
+  return parent;
+}
+
+// With one parent per node, a node that is not reachable from any root lies on (or hangs off) a
+// cycle. Checked iteratively: a cyclic file must not be able to exhaust the stack.
+Status checkAcyclic(const tinygltf::Model& model, const std::vector<int>& parent) {
+  std::vector<bool> reached(model.nodes.size(), false);
+  std::vector<int> pending;
+  for (std::size_t n = 0; n < parent.size(); ++n)
+    if (parent[n] == -1) pending.push_back(int(n));
+  while (!pending.empty()) {
+    const int node = pending.back();
+    pending.pop_back();
+    reached[std::size_t(node)] = true;
+    for (const int child : model.nodes[std::size_t(node)].children) pending.push_back(child);
+  }
+  for (std::size_t n = 0; n < reached.size(); ++n)
+    if (!reached[n]) return makeError(fmt::format("node hierarchy has a cycle through node {}", n));
+  return {};
+}
+
+// The scene to load: the one asked for, else the file's default, else scene 0. With several
+// scenes, a note says which one was loaded.
+Expected<int> chooseScene(const ImportContext& context) {
+  const auto& model = context.model;
+  if (context.scene >= 0) {
+    if (!inRange(context.scene, model.scenes))
+      return makeError(fmt::format("scene {} was requested but the file has {} scene(s)", context.scene, model.scenes.size()));
+    return context.scene;
+  }
+  const int sceneIndex = model.defaultScene == -1 ? 0 : model.defaultScene;
+  if (!inRange(sceneIndex, model.scenes))
+    return makeError(describeIndexRange("default scene", sceneIndex, model.scenes.size()));
+  return sceneIndex;
+}
+
+Expected<std::vector<int>> sceneRoots(ImportContext& context, const std::vector<int>& parent) {
+  const auto& model = context.model;
+  std::vector<int> roots;
+  if (model.scenes.empty()) {
+    if (model.defaultScene != -1) return makeError(fmt::format("default scene {} given but the file has no scenes", model.defaultScene));
+    if (context.scene >= 0) return makeError(fmt::format("scene {} was requested but the file has no scenes", context.scene));
+    for (std::size_t n = 0; n < parent.size(); ++n)
+      if (parent[n] == -1) roots.push_back(int(n));
+    return roots;
+  }
+  ENGINE_TRY_ASSIGN(const int sceneIndex, chooseScene(context));
+  if (model.scenes.size() > 1)
+    context.warnings.push_back(fmt::format("the file has {} scenes; loaded scene {} '{}' ({}), the others are ignored",
+                                           model.scenes.size(), sceneIndex, model.scenes[std::size_t(sceneIndex)].name,
+                                           context.scene >= 0 ? "as requested" : "the file's default"));
+  std::vector<bool> listed(parent.size(), false);
+  for (const int node : model.scenes[std::size_t(sceneIndex)].nodes) {
+    if (!inRange(node, model.nodes))
+      return makeError(fmt::format("scene {}: {}", sceneIndex, describeIndexRange("node", node, model.nodes.size())));
+    if (parent[std::size_t(node)] != -1)
+      return makeError(fmt::format("scene {} lists node {}, which is a child of node {}", sceneIndex, node, parent[std::size_t(node)]));
+    if (listed[std::size_t(node)]) return makeError(fmt::format("scene {} lists node {} twice", sceneIndex, node));
+    listed[std::size_t(node)] = true;
+    roots.push_back(node);
+  }
+  return roots;
+}
+
+Status checkNodeReferences(const tinygltf::Model& model, std::size_t n) {
+  const auto& node = model.nodes[n];
+  if (node.mesh != -1 && !inRange(node.mesh, model.meshes))
+    return makeError(describeIndexRange("mesh", node.mesh, model.meshes.size()));
+  if (node.camera != -1 && !inRange(node.camera, model.cameras))
+    return makeError(describeIndexRange("camera", node.camera, model.cameras.size()));
+  return {};
+}
+
+bool isFinite(const glm::mat4& m) {
+  for (int c = 0; c < 4; ++c)
+    for (int r = 0; r < 4; ++r)
+      if (!std::isfinite(m[c][r])) return false;
+  return true;
+}
+
+// tinygltf's parsed `extras` back as JSON, so that scene_data.h stays free of tinygltf. Depth is
+// bounded by kMaxJsonDepth, which the document passed before tinygltf parsed it.
+Json toJson(const tinygltf::Value& value) {
+  if (value.IsBool()) return value.Get<bool>();
+  if (value.IsInt()) return value.Get<int>();
+  if (value.IsNumber()) return value.GetNumberAsDouble();
+  if (value.IsString()) return value.Get<std::string>();
+  if (value.IsArray()) {
+    Json array = Json::array();
+    for (std::size_t i = 0; i < value.ArrayLen(); ++i) array.push_back(toJson(value.Get(int(i))));
+    return array;
+  }
+  if (value.IsObject()) {
+    Json object = Json::object();
+    for (const std::string& key : value.Keys()) object[key] = toJson(value.Get(key));
+    return object;
+  }
+  return nullptr;  // null, or binary (never in JSON extras)
+}
+
+// Scene nodes in depth-first pre-order (parents before children), with world matrices.
+Expected<std::vector<NodeData>> convertNodes(ImportContext& context, const std::vector<int>& cameraRemap) {
+  const auto& model = context.model;
+  ENGINE_TRY_ASSIGN(const auto parent, nodeParents(model));
+  ENGINE_TRY(checkAcyclic(model, parent));
+  ENGINE_TRY_ASSIGN(const auto roots, sceneRoots(context, parent));
+
+  std::vector<NodeData> out;
+  std::vector<std::pair<int, int>> pending;  // (file node, index of its parent in `out`)
+  for (auto root = roots.rbegin(); root != roots.rend(); ++root) pending.emplace_back(*root, -1);
+  while (!pending.empty()) {
+    const auto [fileIndex, outParent] = pending.back();
+    pending.pop_back();
+    const auto& node = model.nodes[std::size_t(fileIndex)];
+    const std::string where = fmt::format("node {} '{}'", fileIndex, node.name);
+    ENGINE_TRY(checkNodeReferences(model, std::size_t(fileIndex)).withContext(where));
+    NodeData data;
+    data.name = node.name;
+    data.parent = outParent;
+    ENGINE_TRY_ASSIGN(data.local, localMatrix(node).withContext(where));
+    data.world = outParent == -1 ? data.local : out[std::size_t(outParent)].world * data.local;
+    if (!isFinite(data.world)) return makeError(fmt::format("{}: world matrix is not finite", where));
+    data.mesh = node.mesh;
+    if (node.extras.Type() != tinygltf::NULL_TYPE) data.extras = toJson(node.extras).dump();
+    data.camera = node.camera == -1 ? -1 : cameraRemap[std::size_t(node.camera)];
+    out.push_back(std::move(data));
+    const int self = int(out.size() - 1);
+    for (auto child = node.children.rbegin(); child != node.children.rend(); ++child) pending.emplace_back(*child, self);
+  }
+  return out;
+}
+
+// Each mesh instance's world-space bounds must stay finite, so flattening never yields inf.
+Status checkInstancesFinite(const SceneData& scene) {
+  for (const auto& node : scene.nodes) {
+    if (node.mesh < 0) continue;
+    for (const auto& primitive : scene.meshes[std::size_t(node.mesh)].primitives) {
+      glm::vec3 lo(std::numeric_limits<float>::max());
+      glm::vec3 hi(-std::numeric_limits<float>::max());
+      for (const auto& p : primitive.positions) {
+        lo = glm::min(lo, p);
+        hi = glm::max(hi, p);
+      }
+      for (int corner = 0; corner < 8 && !primitive.positions.empty(); ++corner) {
+        const glm::vec3 local((corner & 1) ? hi.x : lo.x, (corner & 2) ? hi.y : lo.y, (corner & 4) ? hi.z : lo.z);
+        const glm::vec4 world = node.world * glm::vec4(local, 1.0f);
+        if (!std::isfinite(world.x) || !std::isfinite(world.y) || !std::isfinite(world.z))
+          return makeError(fmt::format("node '{}': mesh {} placed by its world matrix has non-finite positions", node.name, node.mesh));
+      }
+    }
+  }
+  return {};
+}
+
+// ---------------------------------------------------------------------------------------------
+// Whole model
+
+// Every EXT_meshopt_compression bufferView, decoded once (and charged to the decode budget) before
+// the accessors read them. The decoded size must be the view's byteLength.
+Status decodeMeshoptViews(ImportContext& context) {
+  const auto& plan = context.plan;
+  context.meshoptViews.resize(plan.meshopt.size());
+  for (std::size_t v = 0; v < plan.meshopt.size(); ++v) {
+    if (!plan.meshopt[v]) continue;
+    const MeshoptExtension& meshopt = *plan.meshopt[v];
+    const auto where = fmt::format("bufferView {}: EXT_meshopt_compression", v);
+    if (v >= context.model.bufferViews.size()) return makeError(fmt::format("{}: internal error: view not parsed", where));
+    const std::uint64_t decodedBytes = meshopt.desc.count * meshopt.desc.byteStride;  // both checked small (<= 2^64 / 256)
+    if (meshopt.desc.count > (std::uint64_t(1) << 48) || decodedBytes != context.model.bufferViews[v].byteLength)
+      return makeError(fmt::format("{}: count {} x byteStride {} is not the view's byteLength {}", where, meshopt.desc.count,
+                                   meshopt.desc.byteStride, context.model.bufferViews[v].byteLength));
+    ENGINE_TRY(chargeDecode(context, decodedBytes).withContext(where));
+    ENGINE_TRY_ASSIGN(const auto compressed, bufferRange(context.model, meshopt.buffer, meshopt.byteOffset, meshopt.byteLength)
+                                                 .withContext(where));
+    ENGINE_TRY_ASSIGN(context.meshoptViews[v], decodeMeshoptView(compressed, meshopt.desc).withContext(where));
+  }
+  return {};
+}
+
+}  // namespace
+
+Expected<SceneData> convertModel(ImportContext& context) {
+  const auto& model = context.model;
+  ENGINE_TRY(decodeMeshoptViews(context));
+  SceneData scene;
+  for (std::size_t m = 0; m < model.materials.size(); ++m) {
+    ENGINE_TRY_ASSIGN(auto material, convertMaterial(model.materials[m]).withContext(fmt::format("material {}", m)));
+    scene.materials.push_back(std::move(material));
+  }
+  ENGINE_TRY_ASSIGN(const auto cameraRemap, convertCameras(context, scene));
+  for (std::size_t m = 0; m < model.meshes.size(); ++m) {
+    ENGINE_TRY_ASSIGN(auto mesh, convertMesh(context, int(m)));
+    scene.meshes.push_back(std::move(mesh));
+  }
+  ENGINE_TRY_ASSIGN(scene.nodes, convertNodes(context, cameraRemap));
+  ENGINE_TRY(checkInstancesFinite(scene));
+  return scene;
+}
+
+std::uint64_t decodeBudget(std::uint64_t fileBytes, const tinygltf::Model& model) {
+  std::uint64_t inputBytes = fileBytes;
+  for (const auto& buffer : model.buffers) inputBytes += buffer.data.size();
+  return kDecodeBudgetFloorBytes + kDecodeBudgetPerInputByte * inputBytes;
+}
+
+}  // namespace engine::scene::gltf
