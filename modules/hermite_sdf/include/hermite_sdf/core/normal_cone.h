@@ -38,6 +38,8 @@
 namespace hsdf {
 
 inline constexpr float kNeverCullCutoff = 2.0f;
+// A cone that never culls (also what a cone that cannot be built is replaced by).
+inline shader::CellBrickCone neverCullCone() { return {glm::vec4(0.0f, 0.0f, 1.0f, kNeverCullCutoff)}; }
 // Added to theta (radians): the GPU evaluates the interpolant in float (its gradient differs from
 // the double control vectors by a few ulp) and the records are rounded; 1e-3 rad is far above both.
 inline constexpr double kConeAngleMargin = 1e-3;

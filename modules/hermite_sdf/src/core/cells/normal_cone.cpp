@@ -16,8 +16,6 @@ constexpr double kHalfPi = 1.57079632679489661923;
 // (a tangent touching root, whose ray does not enter the solid there): such a cell never culls.
 constexpr double kZeroVectorRatio = 1e-9;
 
-shader::CellBrickCone neverCull() { return {glm::vec4(0.0f, 0.0f, 1.0f, kNeverCullCutoff)}; }
-
 // Forward difference of b along `axis` at (a, b, c) with that axis's index i in 0..2; 0 outside,
 // which is what the degree elevation's end terms need.
 double difference(const BernsteinCell<double>& b, int axis, int i, int j, int k) {
@@ -67,22 +65,22 @@ glm::dvec3 narrowestAxis(const std::vector<glm::dvec3>& units, const glm::dvec3&
 shader::CellBrickCone coneOf(const std::vector<glm::dvec3>& vectors) {
   double longest = 0.0;
   for (const glm::dvec3& v : vectors) longest = std::max(longest, glm::length(v));
-  if (!(longest > 0.0) || !std::isfinite(longest)) return neverCull();
+  if (!(longest > 0.0) || !std::isfinite(longest)) return neverCullCone();
   std::vector<glm::dvec3> units;
   units.reserve(vectors.size());
   glm::dvec3 sum(0.0);
   for (const glm::dvec3& v : vectors) {
     const double length = glm::length(v);
-    if (length <= kZeroVectorRatio * longest) return neverCull();
+    if (length <= kZeroVectorRatio * longest) return neverCullCone();
     units.push_back(v / length);
     sum += units.back();
   }
-  if (glm::length(sum) <= 1e-9 * double(vectors.size())) return neverCull();
+  if (glm::length(sum) <= 1e-9 * double(vectors.size())) return neverCullCone();
   const glm::dvec3 axis = narrowestAxis(units, glm::normalize(sum));
   double minCos = 1.0;
   for (const glm::dvec3& u : units) minCos = std::min(minCos, glm::dot(axis, u));
   const double theta = std::acos(std::clamp(minCos, -1.0, 1.0)) + kConeAngleMargin;
-  if (theta >= kHalfPi) return neverCull();
+  if (theta >= kHalfPi) return neverCullCone();
   return {glm::vec4(glm::vec3(axis), float(std::sin(theta)))};
 }
 
@@ -122,7 +120,7 @@ shader::CellBrickCone cellGradientCone(const CellRecord& record, double h) {
 }
 
 shader::CellBrickCone brickGradientCone(const CellStream& cells, std::span<const std::uint32_t> recordIndices) {
-  if (recordIndices.empty()) return neverCull();
+  if (recordIndices.empty()) return neverCullCone();
   std::vector<glm::dvec3> vectors;
   vectors.reserve(64 * recordIndices.size());
   for (std::uint32_t index : recordIndices) appendControlVectors(cells.records.at(index), cells.grid.spacing, vectors);
