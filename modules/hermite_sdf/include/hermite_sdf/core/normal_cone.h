@@ -73,6 +73,9 @@ struct BrickBox {
   glm::vec3 hi{0.0f};
 };
 BrickBox brickBox(std::uint32_t packedXyz, const glm::vec3& gridOrigin, float h);
+// The cell's box (cell culling, cell_cull.comp): cell (x, y, z) of the grid. The twin of
+// normal_cone.glsl's gridBlockBox with side h, as brickBox is with side 4h.
+BrickBox cellBox(const glm::uvec3& cell, const glm::vec3& gridOrigin, float h);
 
 // True if no ray from `eye` can have its first root in the box, gradients in `cone` (all object
 // space). The twin of normal_cone.glsl's coneCullsBox.

@@ -163,13 +163,26 @@ bool boundaryIsPositive(const CellStream& cells) {
   return first->corners[0].f > 0.0f;
 }
 
-BrickBox brickBox(std::uint32_t packedXyz, const glm::vec3& gridOrigin, float h) {
-  const glm::vec3 brick(float(packedXyz & 1023u), float((packedXyz >> 10) & 1023u), float((packedXyz >> 20) & 1023u));
-  const float side = h * float(CELL_BRICK_SIZE);
+namespace {
+
+// The box of the grid block at integer coordinate `index` whose side is `side` (normal_cone.glsl's
+// gridBlockBox).
+BrickBox gridBlockBox(const glm::vec3& index, const glm::vec3& gridOrigin, float side) {
   BrickBox box;
-  box.lo = gridOrigin + side * brick;
+  box.lo = gridOrigin + side * index;
   box.hi = box.lo + glm::vec3(side);
   return box;
+}
+
+}  // namespace
+
+BrickBox brickBox(std::uint32_t packedXyz, const glm::vec3& gridOrigin, float h) {
+  const glm::vec3 brick(float(packedXyz & 1023u), float((packedXyz >> 10) & 1023u), float((packedXyz >> 20) & 1023u));
+  return gridBlockBox(brick, gridOrigin, h * float(CELL_BRICK_SIZE));
+}
+
+BrickBox cellBox(const glm::uvec3& cell, const glm::vec3& gridOrigin, float h) {
+  return gridBlockBox(glm::vec3(cell), gridOrigin, h);
 }
 
 glm::vec3 boxCorner(const BrickBox& box, int corner) {
