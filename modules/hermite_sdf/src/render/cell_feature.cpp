@@ -164,10 +164,7 @@ std::vector<shader::CellBrickCone> conesOf(const SdfAsset& asset, const CellBric
 std::vector<shader::CellBrickCone> cellConesOf(const SdfAsset& asset,
                                                const std::unordered_map<std::uint64_t, CellBuffers::Entry>& built) {
   if (auto old = built.find(asset.id); old != built.end() && old->second.cellConesBuilt) return old->second.cellCones;
-  std::vector<shader::CellBrickCone> cones;
-  cones.reserve(asset.cells.records.size());
-  for (const CellRecord& record : asset.cells.records) cones.push_back(cellGradientCone(record, asset.cells.grid.spacing));
-  return cones;
+  return cellGradientCones(asset.cells);
 }
 
 // A culling pass's output buffer of at least `bytes` (device address, storage, plus `usage`): the

@@ -47,6 +47,11 @@ inline constexpr double kConeAngleMargin = 1e-3;
 // The cone of every gradient of one kept cell (grid spacing h), object space.
 shader::CellBrickCone cellGradientCone(const CellRecord& record, double h);
 
+// cellGradientCone of every record of the stream, in record order, on worker threads (`threads`,
+// 0: all hardware threads): the cell culling pass's cones, a few microseconds a cell (seconds at
+// K >= 1024 on one thread).
+std::vector<shader::CellBrickCone> cellGradientCones(const CellStream& cells, unsigned threads = 0);
+
 // The cone of every gradient of several cells (the union of their control vectors, so at least as
 // tight as merging their cell cones). No cells: a cone that never culls.
 shader::CellBrickCone brickGradientCone(const CellStream& cells, std::span<const std::uint32_t> recordIndices);

@@ -8,6 +8,8 @@
 
 #include <fmt/format.h>
 
+#include "field/parallel.h"
+
 namespace hsdf {
 namespace {
 
@@ -117,6 +119,21 @@ shader::CellBrickCone cellGradientCone(const CellRecord& record, double h) {
   vectors.reserve(64);
   appendControlVectors(record, h, vectors);
   return coneOf(vectors);
+}
+
+std::vector<shader::CellBrickCone> cellGradientCones(const CellStream& cells, unsigned threads) {
+  constexpr std::size_t kChunk = 4096;  // records per work item: the claim per item stays negligible
+  std::vector<shader::CellBrickCone> cones(cells.records.size());
+  BakeOptions options;
+  options.threads = threads;
+  // Without a cancel token or progress callback and with work that cannot fail, this cannot fail.
+  const engine::Status done = detail::runParallel((cones.size() + kChunk - 1) / kChunk, options, [&](std::size_t chunk) {
+    const std::size_t end = std::min(cones.size(), (chunk + 1) * kChunk);
+    for (std::size_t i = chunk * kChunk; i < end; ++i) cones[i] = cellGradientCone(cells.records[i], cells.grid.spacing);
+    return engine::Status{};
+  });
+  (void)done;
+  return cones;
 }
 
 shader::CellBrickCone brickGradientCone(const CellStream& cells, std::span<const std::uint32_t> recordIndices) {
