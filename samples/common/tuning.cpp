@@ -171,6 +171,7 @@ engine::Status readKey(const std::string& key, const json& value, TuningState& t
   if (key == "early_depth") return readEarlyDepth(value, t.earlyDepth);
   if (key == "certified") return readBool(value, t.certified);
   if (key == "cull_bricks") return readBool(value, t.cullBricks);
+  if (key == "cull_cells") return readBool(value, t.cullCells);
   if (key == "thin_boxes") return readEarlyDepth(value, t.thinBoxes);  // the same true / false / "auto" switch
   if (key == "split") return readName(value, kSplitModes, t.split);
   if (key == "split_position") return readFloat(value, kSplitMin, kSplitMax, t.splitPosition);
@@ -343,6 +344,7 @@ engine::Status saveTuning(const std::filesystem::path& file, const TuningState& 
                      {"early_depth", earlyDepth},
                      {"certified", t.certified},
                      {"cull_bricks", t.cullBricks},
+                     {"cull_cells", t.cullCells},
                      {"thin_boxes", t.thinBoxes == ThinBoxes::Auto ? json("auto") : json(t.thinBoxes == ThinBoxes::On)},
                      {"split", splitModeName(t.split)},
                      {"split_position", t.splitPosition},

@@ -112,6 +112,10 @@ void TuningPanel::drawMethod() {
   if (ImGui::IsItemHovered())
     ImGui::SetTooltip("cell bricks: a compute pass keeps only the bricks in the frustum whose normal cone may face the eye");
   ImGui::SameLine();
+  changed |= ImGui::Checkbox("cull cells", &t.cullCells);
+  if (ImGui::IsItemHovered())
+    ImGui::SetTooltip("cells: a compute pass keeps only the cells in the frustum whose normal cone may face the eye");
+  ImGui::SameLine();
   changed |= autoSwitchCombo("thin boxes", t.thinBoxes,
                              "cells: 12 bytes of varyings per box, the cell's data read by address in the fragment shader,\n"
                              "instead of each box vertex carrying the cell's Hermite data; auto: on GPUs when cells are small on screen");

@@ -327,6 +327,7 @@ void Viewer::applyTuningToScene() {
   cells.frontToBack = tuning_.frontToBack;
   cells.maxRunLength = tuning_.maxRunLength;
   cells.cullBricks = tuning_.cullBricks;
+  cells.cullCells = tuning_.cullCells;
   using CellThinBoxes = hsdf::HermiteCellFeature::ThinBoxes;
   cells.thinBoxes = tuning_.thinBoxes == ThinBoxes::On    ? CellThinBoxes::On
                     : tuning_.thinBoxes == ThinBoxes::Off ? CellThinBoxes::Off

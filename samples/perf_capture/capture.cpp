@@ -171,10 +171,10 @@ Status captureRow(const Group& g, const RowSpec& spec, std::size_t index, std::s
     addStatistics(last, views, result);
     const hsdf::HermiteCellFeature& cellFeature = *g.viewer.renderer().feature<hsdf::HermiteCellFeature>();
     const hsdf::HermiteCellFeature::Stats& cells = cellFeature.stats();
-    // Bricks: the boxes drawn are those the culling pass kept (the frame has completed).
+    // Culled bricks or cells: the boxes drawn are those the culling pass kept (the frame has completed).
     const shader::BrickCullTotals culled = cellFeature.cullTotals();
-    const double bricks = culled.tested > 0 ? double(culled.kept) : double(cells.bricks);
-    result.boxes += (cells.bricks > 0 ? bricks : double(cells.runs > 0 ? cells.runs : cells.cells)) / views;
+    const double drawn = double(cells.bricks > 0 ? cells.bricks : cells.runs > 0 ? cells.runs : cells.cells);
+    result.boxes += (culled.tested > 0 ? double(culled.kept) : drawn) / views;
     if (g.options.objects && v == 0 && samples::drawsCells(spec.state.method))
       std::fprintf(stderr, "\n%s: %zu assets, %u cell objects in %u indirect commands\n", spec.label.c_str(),
                    assets.size(), cells.objects, cells.draws);

@@ -34,6 +34,9 @@ const Variant kVariants[] = {
     {"cells", "n=3 r=1", true, {.method = Method::Cells, .subdivisions = 3, .refineSteps = 1}},
     // The fp16 target of issue 10 compares this one with the fp32 line above.
     {"cells", "n=3 r=1 fp16", false, {.method = Method::Cells, .subdivisions = 3, .refineSteps = 1, .fp16 = true}},
+    // What the cell culling pass removes: the same cells, every box drawn.
+    {"cells", "n=3 r=1 no-cull", false,
+     {.method = Method::Cells, .subdivisions = 3, .refineSteps = 1, .cullCells = false}},
     // Issue 20 step 2: the same cells and search with 12 bytes of varyings per box (records read by
     // address), and with the Hermite data as varyings (the paper's); the row above lets the device
     // and the cells' size on screen choose (HermiteCellFeature::ThinBoxes::Auto).

@@ -10,6 +10,7 @@
 #extension GL_GOOGLE_include_directive : require
 #include "hermite/hermite_host_device.h"
 #include "hermite/box.glsl"
+#include "hermite/cell_instance.glsl"
 #include "hermite/proxy_dilation.glsl"
 
 layout(push_constant, scalar) uniform Push { HermitePushConstants pc; };
@@ -47,7 +48,7 @@ void main() {
   outCorners = inCorners;
   outCell = inCell;
   outDraw = drawIndex;
-  outRecord = uint(gl_InstanceIndex);  // firstInstance of the command = first record of the range
+  outRecord = instanceRecord(pc.cellRecords);
   outDilation = dilation;
   outCameraLocal = cameraLocal;
   gl_Position = frame.viewProj * (object.model * vec4(objectPosition, 1.0));

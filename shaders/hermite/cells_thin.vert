@@ -9,6 +9,7 @@
 #extension GL_GOOGLE_include_directive : require
 #include "hermite/hermite_host_device.h"
 #include "hermite/box.glsl"
+#include "hermite/cell_instance.glsl"
 #include "hermite/proxy_dilation.glsl"
 
 layout(push_constant, scalar) uniform Push { HermitePushConstants pc; };
@@ -40,7 +41,7 @@ void main() {
   vec3 local = corner * (1.0 + 2.0 * dilation) - dilation;
   vec3 objectPosition = draw.gridOriginSpacing.xyz + h * (cell + local);
 
-  outRecord = uint(gl_InstanceIndex);  // firstInstance of the command = first record of the range
+  outRecord = instanceRecord(pc.cellRecords);
   outDraw = drawIndex;
   outDilation = dilation;
   gl_Position = frame.viewProj * (object.model * vec4(objectPosition, 1.0));

@@ -112,6 +112,37 @@ struct BrickCullPushConstants {
 };
 HSDF_CHECK_SIZE(BrickCullPushConstants, 6 * 8 + 2 * 4);
 
+// Cell culling (RenderMethod::Cells; cell_cull.comp, hsdf::CellCuller): one per front-face command
+// of a culled object (a row of cells, drawn in the order the CPU chose). The pass tests every cell
+// of the range as brick_cull.comp tests a brick and writes the kept ones, in the range's order, to
+// the frame slot's kept-cell stream from outputFirst on; their count is the command's instanceCount.
+struct CellCullRange {
+  uint firstCell;    // the range's first record (global index in the record buffer)
+  uint cellCount;
+  uint outputFirst;  // first entry of its range in the kept stream (= its command's firstInstance)
+  uint drawCommand;  // index of its VkDrawIndirectCommand
+  uint object;       // its object's BrickCullObject (only the object fields are read, not the brick range)
+  uint pad0;
+  uint pad1;
+  uint pad2;
+};
+HSDF_CHECK_SIZE(CellCullRange, 8 * 4);
+
+// Push constants of cell_cull.comp (one dispatch per record precision), every array by address.
+struct CellCullPushConstants {
+  uint64_t objects;      // BrickCullObject[]
+  uint64_t ranges;       // CellCullRange[rangeCount]
+  uint64_t records;      // the precision's record buffer (input), recordWords uints a record
+  uint64_t cones;        // CellBrickCone[], one per record (same index in both precisions)
+  uint64_t keptRecords;  // output: copies of the kept records (the draws' instance-rate vertex stream)
+  uint64_t keptIndices;  // output: uint record index of each kept record (HermitePushConstants::cellRecords)
+  uint64_t commands;     // VkDrawIndirectCommand[] (4 uints each)
+  uint64_t totals;       // BrickCullTotals (shared with the brick pass)
+  uint rangeCount;
+  uint recordWords;      // 34 (CellRecordGpu) or 18 (CellRecordHalfGpu)
+};
+HSDF_CHECK_SIZE(CellCullPushConstants, 8 * 8 + 2 * 4);
+
 // Per Hermite-cell object, reached through ObjectData::payload: what the shading pass needs to
 // find a visible cell's record from the visibility buffer (x: object, y: record index).
 struct HermiteObject {
@@ -135,13 +166,16 @@ struct HermitePushConstants {
   // fragment shader reads its brick there), and the uint record indices of the bricks' kept cells.
   uint64_t bricks;
   uint64_t brickCells;
+  // Culled cells (CellCullPushConstants::keptIndices): the record index of each instance of the
+  // kept-cell stream the draws read; 0 when the instances are the records themselves.
+  uint64_t cellRecords;
   uint drawBase;
   uint pad;
   // Shading pass: the rectangle (NDC x0, y0, x1, y1) that covers every drawn cell object on screen;
   // the resolve shades only its pixels (cells_resolve.vert).
   vec4 screenRect;
 };
-HSDF_CHECK_SIZE(HermitePushConstants, 32 + 5 * 8 + 8 + 16);
+HSDF_CHECK_SIZE(HermitePushConstants, 32 + 6 * 8 + 8 + 16);
 
 // ---- Sphere-tracing baselines (hsdf::SphereTraceFeature) ----------------------------------------
 #define SPHERE_TRACE_FEATURE_ID 3u

@@ -7,13 +7,19 @@
 #ifndef HSDF_NORMAL_CONE_GLSL
 #define HSDF_NORMAL_CONE_GLSL
 
+// The box of the grid block at integer coordinate `index` whose side is `side` (a cell: h; a
+// brick: 4h), object space.
+void gridBlockBox(vec3 index, vec3 gridOrigin, float side, out vec3 lo, out vec3 hi) {
+  precise vec3 l = gridOrigin + side * index;
+  lo = l;
+  hi = l + vec3(side);
+}
+
 // The brick's box in object space (CellBrickGpu::xyz, the grid's origin and spacing h).
 void brickBox(uint packedXyz, vec3 gridOrigin, float h, out vec3 lo, out vec3 hi) {
   precise vec3 brick = vec3(float(packedXyz & 1023u), float((packedXyz >> 10) & 1023u), float((packedXyz >> 20) & 1023u));
   precise float side = h * float(CELL_BRICK_SIZE);
-  precise vec3 l = gridOrigin + side * brick;
-  lo = l;
-  hi = l + vec3(side);
+  gridBlockBox(brick, gridOrigin, side, lo, hi);
 }
 
 // True if no ray from `eye` can have its first root in the box [lo, hi]: every gradient n of the

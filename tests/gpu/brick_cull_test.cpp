@@ -1,4 +1,5 @@
-// The brick culling pass (render/brick_culler.h, brick_cull.comp) on the test device, validation on:
+// The brick and cell culling passes (render/brick_culler.h, brick_cull.comp, cell_cull.comp) on the
+// test device, validation on. Bricks:
 // for a baked sphere and an inside-out sphere (negative on its grid boundary: cone culling must be
 // off), under several cameras (outside the frustum, near plane in the grid, eye in the grid, far,
 // sheared model), the GPU keeps exactly the bricks its C++ twin (normal_cone.h) keeps, writes them
@@ -188,6 +189,128 @@ TEST_F(BrickCullTest, GpuKeepsExactlyTheBricksOfTheCppTwin) {
   EXPECT_GT(overall[0].kept, 0u);
   EXPECT_EQ(overall[1].cone, 0u);
   EXPECT_GT(overall[1].kept, 0u);
+}
+
+// The cell culling pass (CellCuller, cell_cull.comp) on the same two spheres and cameras, fp32 and
+// fp16 records: each range (lengths around the workgroup's 64, so the prefix sum crosses chunks)
+// must hold exactly the cells the C++ twin keeps (brickVerdict on cellBox with cellGradientCone),
+// in the range's order, each a byte copy of its record beside its record index; each range's
+// command counts them and the totals add up. Synchronization validation checks the barriers.
+TEST_F(BrickCullTest, GpuKeepsExactlyTheCellsOfTheCppTwinInOrder) {
+  auto culler = CellCuller::create(*context_);
+  ASSERT_TRUE(culler.ok()) << culler.error().message;
+  std::vector<ObjectInput> objects(2);
+  objects[0].asset = sphereAsset(false);
+  objects[1].asset = sphereAsset(true);
+  objects[1].model = glm::translate(glm::mat4(1.0f), glm::vec3(3.5f, 0.0f, 0.0f));
+  objects[1].model[1][0] = 0.25f;  // shear
+  // Every record of both objects, their cones, and ranges of 1, 63, 64, 65, 150 and 7 records.
+  std::vector<CellRecord> full;
+  std::vector<CellRecordHalf> half;
+  std::vector<shader::CellBrickCone> cones;
+  std::vector<shader::CellCullRange> ranges;
+  const std::uint32_t lengths[] = {1, 63, 64, 65, 150, 7};
+  for (std::uint32_t i = 0; i < objects.size(); ++i) {
+    const SdfAsset& a = *objects[i].asset;
+    const auto first = std::uint32_t(full.size());
+    const auto count = std::uint32_t(a.cells.records.size());
+    for (std::uint32_t start = 0, n = 0; start < count; start += lengths[n % 6], ++n) {
+      const std::uint32_t length = std::min(lengths[n % 6], count - start);
+      ranges.push_back({first + start, length, first + start, std::uint32_t(ranges.size()), i, 0, 0, 0});
+    }
+    full.insert(full.end(), a.cells.records.begin(), a.cells.records.end());
+    half.insert(half.end(), a.cellsHalf.records.begin(), a.cellsHalf.records.end());
+    for (const CellRecord& r : a.cells.records) cones.push_back(cellGradientCone(r, a.cells.grid.spacing));
+  }
+  const auto storage = VK_BUFFER_USAGE_STORAGE_BUFFER_BIT;
+  Buffer records[2] = {hostBuffer(full.size() * sizeof(CellRecord), storage, "records fp32"),
+                       hostBuffer(half.size() * sizeof(CellRecordHalf), storage, "records fp16")};
+  records[0].write(std::span<const CellRecord>(full));
+  records[1].write(std::span<const CellRecordHalf>(half));
+  Buffer coneBuffer = hostBuffer(cones.size() * sizeof(shader::CellBrickCone), storage, "cones");
+  coneBuffer.write(std::span<const shader::CellBrickCone>(cones));
+  Buffer rangeBuffer = hostBuffer(ranges.size() * sizeof(shader::CellCullRange), storage, "ranges");
+  rangeBuffer.write(std::span<const shader::CellCullRange>(ranges));
+  Buffer kept = hostBuffer(full.size() * sizeof(CellRecord), storage | VK_BUFFER_USAGE_VERTEX_BUFFER_BIT, "kept");
+  Buffer indices = hostBuffer(full.size() * sizeof(std::uint32_t), storage, "kept indices");
+  Buffer commands = hostBuffer(ranges.size() * sizeof(VkDrawIndirectCommand),
+                               storage | VK_BUFFER_USAGE_INDIRECT_BUFFER_BIT, "commands");
+  Buffer cullObjects = hostBuffer(objects.size() * sizeof(shader::BrickCullObject), storage, "cull objects");
+  Buffer totals = hostBuffer(sizeof(shader::BrickCullTotals), storage, "totals");
+
+  const glm::vec3 centre(0.05f, 0.0f, -0.03f);
+  const std::pair<glm::vec3, glm::vec3> shots[] = {{{1.8f, 1.2f, 6.0f}, {1.7f, 0.0f, 0.0f}},
+                                                   {{0.0f, 0.3f, 4.0f}, {1.6f, 0.3f, 0.0f}},
+                                                   {{0.2f, 0.3f, 1.2f}, centre},
+                                                   {{-1.9f, -1.1f, 1.7f}, {0.4f, 0.2f, 0.0f}}};
+  TwinCounts overall;
+  for (int precision = 0; precision < 2; ++precision) {
+    const std::uint32_t recordBytes = precision == 0 ? sizeof(CellRecord) : sizeof(CellRecordHalf);
+    const auto* source = static_cast<const std::uint8_t*>(records[precision].mapped());
+    for (const auto& [eye, target] : shots) {
+      SCOPED_TRACE(std::string(precision == 0 ? "fp32" : "fp16") + ", eye " + std::to_string(eye.x));
+      const auto camera = engine::render::CameraView::lookAt(eye, target, 0.9f, 0.02f, 1.5f);
+      std::vector<shader::BrickCullObject> cull;
+      for (const ObjectInput& o : objects)
+        cull.push_back(BrickCuller::cullObject(camera, o.model, o.asset->cells.grid, o.asset->boundaryPositive, {}));
+      cullObjects.write(std::span<const shader::BrickCullObject>(cull));
+      commands.write(std::span<const VkDrawIndirectCommand>(
+          std::vector<VkDrawIndirectCommand>(ranges.size(), VkDrawIndirectCommand{8, 0, 0, 0})));
+      const shader::BrickCullTotals zero{};
+      totals.write(&zero, sizeof(zero));
+      const shader::CellCullPushConstants push{cullObjects.address(), rangeBuffer.address(), records[precision].address(),
+                                               coneBuffer.address(),  kept.address(),        indices.address(),
+                                               commands.address(),    totals.address(),      std::uint32_t(ranges.size()),
+                                               recordBytes / 4};
+      context_->submitAndWait([&](VkCommandBuffer cmd) {
+        barrierBeforeCulling(cmd);
+        culler->record(cmd, push);
+        barrierAfterCulling(cmd);
+      });
+      const auto* gpuCommands = static_cast<const VkDrawIndirectCommand*>(commands.mapped());
+      const auto* gpuIndices = static_cast<const std::uint32_t*>(indices.mapped());
+      const auto* gpuKept = static_cast<const std::uint8_t*>(kept.mapped());
+      TwinCounts sum;
+      for (const shader::CellCullRange& range : ranges) {
+        const shader::BrickCullObject& co = cull[range.object];
+        std::vector<std::uint32_t> expected;
+        for (std::uint32_t r = range.firstCell; r < range.firstCell + range.cellCount; ++r) {
+          const BrickBox box = cellBox({full[r].x, full[r].y, full[r].z}, glm::vec3(co.gridOriginSpacing),
+                                       co.gridOriginSpacing.w);
+          const BrickVerdict v =
+              brickVerdict(co.objectToClip, box, cones[r], glm::vec3(co.eyeConeTest), co.eyeConeTest.w != 0.0f);
+          if (v == BrickVerdict::Kept) expected.push_back(r);
+          (v == BrickVerdict::Kept ? sum.kept : v == BrickVerdict::FrustumCulled ? sum.frustum : sum.cone)++;
+          if (range.object == 1) {
+            ASSERT_NE(v, BrickVerdict::ConeCulled) << "negative boundary: never cone-culled";
+          }
+        }
+        ASSERT_EQ(gpuCommands[range.drawCommand].instanceCount, expected.size()) << "range " << range.drawCommand;
+        EXPECT_EQ(gpuCommands[range.drawCommand].vertexCount, 8u);
+        for (std::size_t k = 0; k < expected.size(); ++k) {
+          const std::uint32_t slot = range.outputFirst + std::uint32_t(k);
+          ASSERT_EQ(gpuIndices[slot], expected[k]) << "range " << range.drawCommand << ", kept cell " << k;
+          ASSERT_EQ(std::memcmp(gpuKept + std::size_t(slot) * recordBytes, source + std::size_t(expected[k]) * recordBytes,
+                                recordBytes),
+                    0)
+              << "the kept record is not a copy of record " << expected[k];
+        }
+      }
+      shader::BrickCullTotals gpuTotals;
+      std::memcpy(&gpuTotals, totals.mapped(), sizeof(gpuTotals));
+      EXPECT_EQ(gpuTotals.tested, std::uint32_t(full.size()));
+      EXPECT_EQ(gpuTotals.kept, sum.kept);
+      EXPECT_EQ(gpuTotals.frustumCulled, sum.frustum);
+      EXPECT_EQ(gpuTotals.coneCulled, sum.cone);
+      overall.kept += sum.kept;
+      overall.frustum += sum.frustum;
+      overall.cone += sum.cone;
+    }
+  }
+  // Every branch was exercised: cells kept, removed by the frustum and by the cones.
+  EXPECT_GT(overall.kept, 0u);
+  EXPECT_GT(overall.frustum, 0u);
+  EXPECT_GT(overall.cone, 0u);
 }
 
 // The measurement of docs/perf/cells-breakdown-lavapipe.md ("Brick culling"), on the C++ twin (no

@@ -1,5 +1,7 @@
 #include "render/brick_culler.h"
 
+#include <algorithm>
+
 #include "engine/gpu/buffer.h"
 #include "hermite_sdf/core/normal_cone.h"
 
@@ -18,23 +20,32 @@ engine::Expected<BrickCuller> BrickCuller::create(const engine::gpu::Context& co
   return culler;
 }
 
-void BrickCuller::record(VkCommandBuffer cmd, const Buffers& buffers, std::uint32_t objectCount,
-                         std::uint32_t maxBricks) const {
-  if (objectCount == 0 || maxBricks == 0) return;
-  // Write after read: the previous frame's draws may still read the output stream and commands.
-  engine::gpu::memoryBarrier(cmd, VK_PIPELINE_STAGE_2_DRAW_INDIRECT_BIT | VK_PIPELINE_STAGE_2_VERTEX_ATTRIBUTE_INPUT_BIT,
+void barrierBeforeCulling(VkCommandBuffer cmd) {
+  // Write after read: the previous frame's draws may still read the output streams and commands.
+  engine::gpu::memoryBarrier(cmd, VK_PIPELINE_STAGE_2_DRAW_INDIRECT_BIT | VK_PIPELINE_STAGE_2_VERTEX_ATTRIBUTE_INPUT_BIT |
+                                      VK_PIPELINE_STAGE_2_VERTEX_SHADER_BIT,
                              0, VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT, 0);
-  const shader::BrickCullPushConstants push{buffers.objects, buffers.bricks,   buffers.cones, buffers.keptBricks,
-                                            buffers.commands, buffers.totals, objectCount,  0};
-  vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, pipeline_.handle());
-  vkCmdPushConstants(cmd, pipeline_.layout(), VK_SHADER_STAGE_COMPUTE_BIT, 0, sizeof(push), &push);
-  vkCmdDispatch(cmd, (maxBricks + kWorkgroupSize - 1) / kWorkgroupSize, objectCount, 1);
+}
+
+void barrierAfterCulling(VkCommandBuffer cmd) {
   engine::gpu::memoryBarrier(
       cmd, VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT, VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT,
       VK_PIPELINE_STAGE_2_DRAW_INDIRECT_BIT | VK_PIPELINE_STAGE_2_VERTEX_ATTRIBUTE_INPUT_BIT |
           VK_PIPELINE_STAGE_2_ALL_GRAPHICS_BIT | VK_PIPELINE_STAGE_2_COPY_BIT | VK_PIPELINE_STAGE_2_HOST_BIT,
       VK_ACCESS_2_INDIRECT_COMMAND_READ_BIT | VK_ACCESS_2_VERTEX_ATTRIBUTE_READ_BIT | VK_ACCESS_2_SHADER_STORAGE_READ_BIT |
           VK_ACCESS_2_TRANSFER_READ_BIT | VK_ACCESS_2_HOST_READ_BIT);
+}
+
+void BrickCuller::record(VkCommandBuffer cmd, const Buffers& buffers, std::uint32_t objectCount,
+                         std::uint32_t maxBricks) const {
+  if (objectCount == 0 || maxBricks == 0) return;
+  barrierBeforeCulling(cmd);
+  const shader::BrickCullPushConstants push{buffers.objects, buffers.bricks,   buffers.cones, buffers.keptBricks,
+                                            buffers.commands, buffers.totals, objectCount,  0};
+  vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, pipeline_.handle());
+  vkCmdPushConstants(cmd, pipeline_.layout(), VK_SHADER_STAGE_COMPUTE_BIT, 0, sizeof(push), &push);
+  vkCmdDispatch(cmd, (maxBricks + kWorkgroupSize - 1) / kWorkgroupSize, objectCount, 1);
+  barrierAfterCulling(cmd);
 }
 
 shader::BrickCullObject BrickCuller::cullObject(const engine::render::CameraView& camera, const glm::mat4& model,
@@ -53,6 +64,23 @@ shader::BrickCullObject BrickCuller::cullObject(const engine::render::CameraView
   object.outputFirst = bricks.outputFirst;
   object.drawCommand = bricks.drawCommand;
   return object;
+}
+
+engine::Expected<CellCuller> CellCuller::create(const engine::gpu::Context& context) {
+  ENGINE_TRY_ASSIGN(auto module, engine::gpu::ShaderModule::load(context, "cell_cull.comp"));
+  CellCuller culler;
+  ENGINE_TRY_ASSIGN(culler.pipeline_, engine::gpu::Pipeline::createCompute(context, "cell cull", module.handle(),
+                                                                           sizeof(shader::CellCullPushConstants)));
+  return culler;
+}
+
+void CellCuller::record(VkCommandBuffer cmd, const shader::CellCullPushConstants& push) const {
+  if (push.rangeCount == 0) return;
+  constexpr std::uint32_t kMaxGroupsX = 65535;  // the least maxComputeWorkGroupCount[0] Vulkan allows
+  const std::uint32_t groupsX = std::min(push.rangeCount, kMaxGroupsX);
+  vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, pipeline_.handle());
+  vkCmdPushConstants(cmd, pipeline_.layout(), VK_SHADER_STAGE_COMPUTE_BIT, 0, sizeof(push), &push);
+  vkCmdDispatch(cmd, groupsX, (push.rangeCount + groupsX - 1) / groupsX, 1);
 }
 
 }  // namespace hsdf

@@ -27,6 +27,12 @@
 
 namespace hsdf {
 
+// Both culling passes, before and after their dispatches: the previous frame's indirect and vertex
+// reads before the writes; the writes before this frame's indirect, vertex-attribute, shader and
+// host reads.
+void barrierBeforeCulling(VkCommandBuffer cmd);
+void barrierAfterCulling(VkCommandBuffer cmd);
+
 class BrickCuller {
  public:
   struct Buffers {
@@ -41,9 +47,8 @@ class BrickCuller {
   static engine::Expected<BrickCuller> create(const engine::gpu::Context& context);
 
   // Records the dispatch (64 bricks a workgroup, one workgroup row per object; maxBricks: the most
-  // bricks of any object) between two barriers: the previous frame's indirect and vertex reads
-  // before the writes, the writes before this frame's indirect, vertex-attribute, shader and host
-  // reads. Nothing is recorded for no objects or no bricks.
+  // bricks of any object) between barrierBeforeCulling and barrierAfterCulling. Nothing is
+  // recorded for no objects or no bricks.
   void record(VkCommandBuffer cmd, const Buffers& buffers, std::uint32_t objectCount, std::uint32_t maxBricks) const;
 
   // One object's cull parameters: model and camera give the object-to-clip matrix and the eye in
@@ -57,6 +62,25 @@ class BrickCuller {
   };
   static shader::BrickCullObject cullObject(const engine::render::CameraView& camera, const glm::mat4& model,
                                             const GridSpec& grid, bool boundaryPositive, const ObjectBricks& bricks);
+
+ private:
+  engine::gpu::Pipeline pipeline_;
+};
+
+// GPU-driven culling of the cells of RenderMethod::Cells objects (issue 20): cell_cull.comp tests
+// every cell of every front-face range (a row of a culled object) as the brick pass tests a brick,
+// with the cells' own normal cones (cellGradientCone, one per record), and writes the kept records
+// (copies: the draws read them as vertex attributes), their record indices and each range's
+// command's instance count. Ranges and objects by address as for the bricks: the objects are
+// BrickCullObjects (BrickCuller::cullObject), of which the pass reads the object fields only.
+class CellCuller {
+ public:
+  static engine::Expected<CellCuller> create(const engine::gpu::Context& context);
+
+  // Records one dispatch per call (one record precision: its buffers in `push`), one workgroup a
+  // range, without barriers: the caller puts the passes between barrierBeforeCulling and
+  // barrierAfterCulling. Nothing is recorded for no ranges.
+  void record(VkCommandBuffer cmd, const shader::CellCullPushConstants& push) const;
 
  private:
   engine::gpu::Pipeline pipeline_;

@@ -41,6 +41,10 @@ struct CellBuffers {
     // few microseconds per cell (seconds at K >= 1024) that cells and runs would pay for nothing.
     bool bricksBuilt = false;
     std::uint32_t firstBrick = 0;          // index of bricks.bricks[0] in the brick buffer
+    // One normal cone per record (cellGradientCone), for the cell culling pass: built, as the
+    // bricks' cones, only for assets some entity draws as culled cells.
+    std::vector<shader::CellBrickCone> cellCones;
+    bool cellConesBuilt = false;
     std::uint64_t lastFrame = 0;           // the last frame that drew the asset
   };
   std::unordered_map<std::uint64_t, Entry> entries;  // by asset id
@@ -49,6 +53,8 @@ struct CellBuffers {
   Buffer bricks;      // every asset's CellBrickGpu, firstIndex global (RenderMethod::CellBricks)
   Buffer brickCells;  // the bricks' kept cells: global record indices, brick by brick
   Buffer brickCones;  // CellBrickCone per entry of `bricks`
+  Buffer cellCones;   // CellBrickCone per record (same index as `records`); never-cull cones for
+                      // assets without cell cones
   std::uint32_t runLength = 0;  // the maximum run length the runs were built with
   std::uint64_t bytes = 0;
 };
@@ -151,8 +157,28 @@ std::vector<shader::CellBrickCone> conesOf(const SdfAsset& asset, const CellBric
   auto cones = brickGradientCones(asset.cells, bricks.bricks, bricks.cellRecords);
   if (cones) return std::move(*cones);
   engine::log::warn("hermite cells: '{}': no brick normal cones: {}", asset.name, cones.error().message);
-  return std::vector<shader::CellBrickCone>(bricks.bricks.size(), shader::CellBrickCone{glm::vec4(1.0f, 0.0f, 0.0f, 2.0f)});
+  return std::vector<shader::CellBrickCone>(bricks.bricks.size(), neverCullCone());
 }
+
+// The normal cone of each of the asset's cells (cell culling), cached like the bricks' cones.
+std::vector<shader::CellBrickCone> cellConesOf(const SdfAsset& asset,
+                                               const std::unordered_map<std::uint64_t, CellBuffers::Entry>& built) {
+  if (auto old = built.find(asset.id); old != built.end() && old->second.cellConesBuilt) return old->second.cellCones;
+  return cellGradientCones(asset.cells);
+}
+
+// A culling pass's output buffer of at least `bytes` (device address, storage, plus `usage`): the
+// frame slot's old one while it is large enough.
+Buffer& ensureOutput(const engine::gpu::Context& context, Buffer& buffer, VkDeviceSize bytes, VkBufferUsageFlags usage,
+                     const char* name) {
+  bytes = std::max<VkDeviceSize>(bytes, 4);  // a zero-sized buffer is invalid
+  if (!buffer || buffer.size() < bytes)
+    buffer = Buffer(context, bytes, usage | VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_SHADER_DEVICE_ADDRESS_BIT,
+                    engine::gpu::MemoryUsage::GpuOnly, name);
+  return buffer;
+}
+
+constexpr std::uint32_t kNotCulled = ~0u;
 
 glm::vec4 unite(const glm::vec4& a, const glm::vec4& b) {
   return {std::min(a.x, b.x), std::min(a.y, b.y), std::max(a.z, b.z), std::max(a.w, b.w)};
@@ -184,6 +210,14 @@ engine::Status HermiteCellFeature::initialize(const engine::gpu::Context& contex
   keptBricks_.resize(framesInFlight);
   ENGINE_TRY_ASSIGN(auto culler, BrickCuller::create(context));
   culler_ = std::make_unique<BrickCuller>(std::move(culler));
+  cellCullObjectBuffer_ = engine::render::PerFrameBuffer(context, framesInFlight, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT,
+                                                         "hermite cell cull objects");
+  cellCullRangeBuffer_ = engine::render::PerFrameBuffer(context, framesInFlight, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT,
+                                                        "hermite cell cull ranges");
+  keptCellRecords_.resize(framesInFlight);
+  keptCellIndices_.resize(framesInFlight);
+  ENGINE_TRY_ASSIGN(auto cellCuller, CellCuller::create(context));
+  cellCuller_ = std::make_unique<CellCuller>(std::move(cellCuller));
   objects_ = engine::render::PerFrameBuffer(context, framesInFlight, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT,
                                             "hermite cell objects");
   formats_ = formats;
@@ -392,15 +426,18 @@ void HermiteCellFeature::syncAssets(const engine::render::FrameContext& frame) {
   std::vector<std::shared_ptr<const SdfAsset>> wanted;
   std::unordered_set<std::uint64_t> seen;
   std::unordered_set<std::uint64_t> asBricks;  // assets some entity draws as cell bricks
+  std::unordered_set<std::uint64_t> asCulledCells;  // ... as culled cells (RenderMethod::Cells, Settings::cullCells)
   bool missing = false;
   frame.registry.view<HermiteSdfRenderable>().each([&](engine::ecs::Entity entity, const HermiteSdfRenderable& r) {
     if (!drawnAsCells(r.method) || !r.asset || r.asset->cells.records.empty()) return;
     const bool bricks = r.method == RenderMethod::CellBricks;
+    const bool culledCells = r.method == RenderMethod::Cells && settings_.cullCells;
     if (refused_.contains(r.asset->id)) {
       // The entity still draws the asset the refused one replaced (buildDraws): keep it uploaded.
       if (auto previous = drawnAssets_.find(entity); previous != drawnAssets_.end())
         if (auto kept = buffers_->entries.find(previous->second); kept != buffers_->entries.end()) {
           if (bricks) asBricks.insert(kept->first);
+          if (culledCells) asCulledCells.insert(kept->first);
           if (seen.insert(kept->first).second) {
             wanted.push_back(kept->second.asset);
             kept->second.lastFrame = frame.frameNumber;
@@ -409,6 +446,7 @@ void HermiteCellFeature::syncAssets(const engine::render::FrameContext& frame) {
       return;
     }
     if (bricks) asBricks.insert(r.asset->id);
+    if (culledCells) asCulledCells.insert(r.asset->id);
     if (!seen.insert(r.asset->id).second) return;
     wanted.push_back(r.asset);
     auto entry = buffers_->entries.find(r.asset->id);
@@ -419,6 +457,9 @@ void HermiteCellFeature::syncAssets(const engine::render::FrameContext& frame) {
   });
   for (std::uint64_t id : asBricks)  // an uploaded asset now drawn as bricks: build its bricks
     if (auto entry = buffers_->entries.find(id); entry != buffers_->entries.end() && !entry->second.bricksBuilt)
+      missing = true;
+  for (std::uint64_t id : asCulledCells)  // ... now drawn as culled cells: build its cell cones
+    if (auto entry = buffers_->entries.find(id); entry != buffers_->entries.end() && !entry->second.cellConesBuilt)
       missing = true;
   const bool runsStale = !wanted.empty() && buffers_->runLength != settings_.maxRunLength &&
                          settings_.maxRunLength != refusedRunLength_;  // the setting changed
@@ -441,6 +482,7 @@ void HermiteCellFeature::syncAssets(const engine::render::FrameContext& frame) {
   std::vector<shader::CellBrickGpu> bricks;
   std::vector<std::uint32_t> brickCells;
   std::vector<shader::CellBrickCone> cones;
+  std::vector<shader::CellBrickCone> cellCones;
   for (const auto& asset : wanted) {
     CellBuffers::Entry entry;
     entry.asset = asset;
@@ -459,6 +501,14 @@ void HermiteCellFeature::syncAssets(const engine::render::FrameContext& frame) {
       entry.cones = conesOf(*asset, entry.bricks, buffers_->entries);
     }
     cones.insert(cones.end(), entry.cones.begin(), entry.cones.end());
+    entry.cellConesBuilt =
+        asCulledCells.contains(asset->id) || (old != buffers_->entries.end() && old->second.cellConesBuilt);
+    if (entry.cellConesBuilt) {
+      entry.cellCones = cellConesOf(*asset, buffers_->entries);
+      cellCones.insert(cellCones.end(), entry.cellCones.begin(), entry.cellCones.end());
+    } else {
+      cellCones.resize(cellCones.size() + asset->cells.records.size(), neverCullCone());
+    }
     entry.firstBrick = static_cast<std::uint32_t>(bricks.size());
     for (shader::CellBrickGpu brick : entry.bricks.bricks) {
       brick.firstIndex += static_cast<std::uint32_t>(brickCells.size());
@@ -484,6 +534,7 @@ void HermiteCellFeature::syncAssets(const engine::render::FrameContext& frame) {
     if (bricks.empty()) bricks.push_back({});
     if (brickCells.empty()) brickCells.push_back(0);
     if (cones.empty()) cones.push_back({});
+    if (cellCones.empty()) cellCones.push_back({});
     rebuilt.bricks = engine::gpu::createBufferWithData(*context_, bricks.data(), bricks.size() * sizeof(shader::CellBrickGpu),
                                                        usage, "hermite cell bricks");
     rebuilt.brickCells = engine::gpu::createBufferWithData(
@@ -492,6 +543,9 @@ void HermiteCellFeature::syncAssets(const engine::render::FrameContext& frame) {
     rebuilt.brickCones = engine::gpu::createBufferWithData(
         *context_, cones.data(), cones.size() * sizeof(shader::CellBrickCone),
         VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_SHADER_DEVICE_ADDRESS_BIT, "hermite cell brick cones");
+    rebuilt.cellCones = engine::gpu::createBufferWithData(
+        *context_, cellCones.data(), cellCones.size() * sizeof(shader::CellBrickCone),
+        VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_SHADER_DEVICE_ADDRESS_BIT, "hermite cell cones");
   } catch (const engine::gpu::VulkanError& e) {
     if (e.result() != VK_ERROR_OUT_OF_DEVICE_MEMORY) throw;
     refuseNewAssets(frame, wanted, e.what());  // the old buffers stay: what was drawn is drawn
@@ -503,7 +557,8 @@ void HermiteCellFeature::syncAssets(const engine::render::FrameContext& frame) {
   rebuilt.runLength = settings_.maxRunLength;
   rebuilt.bytes = full.size() * sizeof(CellRecord) + half.size() * sizeof(CellRecordHalf) +
                   runs.size() * sizeof(shader::CellRunGpu) + bricks.size() * sizeof(shader::CellBrickGpu) +
-                  brickCells.size() * sizeof(std::uint32_t) + cones.size() * sizeof(shader::CellBrickCone);
+                  brickCells.size() * sizeof(std::uint32_t) +
+                  (cones.size() + cellCones.size()) * sizeof(shader::CellBrickCone);
   for (auto& [id, entry] : rebuilt.entries) entry.lastFrame = frame.frameNumber;
   retired_.emplace_back(frame.frameNumber, std::move(buffers_));
   buffers_ = std::make_unique<CellBuffers>(std::move(rebuilt));
@@ -540,6 +595,12 @@ void HermiteCellFeature::buildDraws(engine::render::FrameContext& frame) {
   cullObjectList_.clear();
   cullOutputBricks_ = 0;
   cullMaxBricks_ = 0;
+  cellCullObjects_.clear();
+  std::vector<std::uint32_t> cellCullObject[2];  // per front command of the cell batches: its cull object or kNotCulled
+  for (int precision = 0; precision < 2; ++precision) {
+    cellCullRanges_[precision].clear();
+    cellCullOutput_[precision] = 0;
+  }
   stats_.gpuBytes = buffers_->bytes;
   screenRect_ = glm::vec4(1.0f, 1.0f, -1.0f, -1.0f);  // empty until an object is drawn
   std::vector<glm::vec4> objectRects;
@@ -637,9 +698,18 @@ void HermiteCellFeature::buildDraws(engine::render::FrameContext& frame) {
           return;
         }
         largestCellPixels = std::max(largestCellPixels, cellPixelsOnScreen(grid, world.matrix, frame.camera, frame.extent.height));
+        // Culled cells: the object's rows become ranges of the culling pass (cullCellRanges), which
+        // reads the object's frustum, eye and cone permission from its BrickCullObject.
+        std::uint32_t cullObject = kNotCulled;
+        if (settings_.cullCells) {
+          cullObject = std::uint32_t(cellCullObjects_.size());
+          cellCullObjects_.push_back(
+              BrickCuller::cullObject(frame.camera, world.matrix, grid, asset.boundaryPositive, {}));
+        }
         for (const CellRows::Range& range : orderedRows(entry.rows, eyeGrid, settings_.frontToBack)) {
           commands[precision][0].push_back({kFanVertices, range.count, 0, entry.firstRecord + range.first});
           draws[precision][0].push_back(draw);
+          cellCullObject[precision].push_back(cullObject);
           stats_.cells += range.count;
         }
         shader::HermiteDraw nearDraw = draw;
@@ -680,6 +750,7 @@ void HermiteCellFeature::buildDraws(engine::render::FrameContext& frame) {
       }
     }
   }
+  cullCellRanges(allCommands, cellCullObject);  // after the wireframe's copies, which draw every cell
   thinBoxes_ = thinBoxesWanted(settings_.thinBoxes, context_->capabilities().isSoftwareRasterizer, largestCellPixels);
   stats_.thinBoxes = thinBoxes_;
   stats_.largestCellPixels = largestCellPixels;
@@ -694,6 +765,27 @@ void HermiteCellFeature::buildDraws(engine::render::FrameContext& frame) {
     const VkDeviceAddress base = objects_.address(frame.frameSlot);
     for (std::size_t i = 0; i < objectIndices.size(); ++i)
       frame.scene.object(objectIndices[i]).payload = base + i * sizeof(shader::HermiteObject);
+  }
+}
+
+// The front-face commands of culled cells (cullObjects: per command of the two cell batches) become
+// the culling pass's ranges: each command then draws its range of the kept-cell stream, from an
+// instance count of 0 that the pass overwrites. The ranges take the commands' order, so the rows
+// stay front to back.
+void HermiteCellFeature::cullCellRanges(std::vector<VkDrawIndirectCommand>& commands,
+                                        const std::vector<std::uint32_t> cullObjects[2]) {
+  for (int precision = 0; precision < 2; ++precision) {
+    const Batch& batch = *batches_[precision];
+    for (std::uint32_t i = 0; i < batch.frontCount; ++i) {
+      if (cullObjects[precision][i] == kNotCulled) continue;
+      VkDrawIndirectCommand& command = commands[batch.frontFirst + i];
+      const shader::CellCullRange range{command.firstInstance, command.instanceCount, cellCullOutput_[precision],
+                                        batch.frontFirst + i, cullObjects[precision][i], 0, 0, 0};
+      cellCullRanges_[precision].push_back(range);
+      cellCullOutput_[precision] += command.instanceCount;
+      command.instanceCount = 0;
+      command.firstInstance = range.outputFirst;
+    }
   }
 }
 
@@ -751,40 +843,80 @@ void HermiteCellFeature::prepare(engine::render::FrameContext& frame) {
   std::erase_if(retired_, [&](const auto& old) { return old.first + frame.framesInFlight < frame.frameNumber; });
   syncAssets(frame);
   buildDraws(frame);
-  recordBrickCulling(frame);
+  recordCulling(frame);
   ensureCounters(frame);
   ensureHitDepths(frame);
   stats_.earlyDepth = earlyDepth_;
   stats_.countedVariant = stats_.draws > 0 && prepassVariant(frame) == kCounted;
 }
 
+// The culling passes of this frame slot, bricks and cells, which add up their counts in the slot's
+// totals. The totals of the slot's previous passes are complete now (its submission was waited
+// for): they become the stats.
+void HermiteCellFeature::recordCulling(engine::render::FrameContext& frame) {
+  lastCullSlot_ = frame.frameSlot;
+  if (cullObjectList_.empty() && cellCullObjects_.empty()) return;
+  cullTotals_.upload(frame.frameSlot, std::vector<shader::BrickCullTotals>(1));
+  recordBrickCulling(frame);
+  recordCellCulling(frame);
+}
+
 // The brick culling pass of this frame slot (brick_culler.h): every culled object's bricks tested
 // against the frustum and its normal cones, the kept ones written to the slot's kept-brick stream,
-// which the bricks' front-face draws then read instead of the asset buffer. The totals of the
-// slot's previous pass are complete now (its submission was waited for): they become the stats.
+// which the bricks' front-face draws then read instead of the asset buffer.
 void HermiteCellFeature::recordBrickCulling(engine::render::FrameContext& frame) {
-  lastCullSlot_ = frame.frameSlot;
   if (cullObjectList_.empty()) return;
   cullObjects_.upload(frame.frameSlot, cullObjectList_);
-  cullTotals_.upload(frame.frameSlot, std::vector<shader::BrickCullTotals>(1));
-  Buffer& kept = keptBricks_[frame.frameSlot];
-  const VkDeviceSize bytes = VkDeviceSize(cullOutputBricks_) * sizeof(shader::CellBrickGpu);
-  if (!kept || kept.size() < bytes) {
-    kept = Buffer(*context_, bytes,
-                  VK_BUFFER_USAGE_VERTEX_BUFFER_BIT | VK_BUFFER_USAGE_STORAGE_BUFFER_BIT |
-                      VK_BUFFER_USAGE_SHADER_DEVICE_ADDRESS_BIT,
-                  engine::gpu::MemoryUsage::GpuOnly, "hermite kept bricks");
-  }
+  Buffer& kept = ensureOutput(*context_, keptBricks_[frame.frameSlot],
+                              VkDeviceSize(cullOutputBricks_) * sizeof(shader::CellBrickGpu),
+                              VK_BUFFER_USAGE_VERTEX_BUFFER_BIT, "hermite kept bricks");
   culler_->record(frame.cmd,
                  {cullObjects_.address(frame.frameSlot), buffers_->bricks.address(), buffers_->brickCones.address(),
                   kept.address(), indirect_.address(frame.frameSlot), cullTotals_.address(frame.frameSlot)},
                  std::uint32_t(cullObjectList_.size()), cullMaxBricks_);
 }
 
+// The cell culling pass (cell_cull.comp) of this frame slot: one dispatch per record precision
+// over its ranges, writing the slot's kept records (the front faces' vertex stream instead of the
+// record buffer), their record indices and the commands' instance counts.
+void HermiteCellFeature::recordCellCulling(engine::render::FrameContext& frame) {
+  std::vector<shader::CellCullRange> ranges = cellCullRanges_[0];
+  ranges.insert(ranges.end(), cellCullRanges_[1].begin(), cellCullRanges_[1].end());
+  if (ranges.empty()) return;
+  const std::uint32_t slot = frame.frameSlot;
+  cellCullObjectBuffer_.upload(slot, cellCullObjects_);
+  cellCullRangeBuffer_.upload(slot, ranges);
+  barrierBeforeCulling(frame.cmd);
+  VkDeviceAddress rangeAddress = cellCullRangeBuffer_.address(slot);
+  for (int precision = 0; precision < 2; ++precision) {
+    const auto rangeCount = static_cast<std::uint32_t>(cellCullRanges_[precision].size());
+    if (rangeCount == 0) continue;
+    const VkDeviceSize kept = cellCullOutput_[precision];
+    const Buffer& records = ensureOutput(*context_, keptCellRecords_[slot][precision], kept * kRecordStride[precision],
+                                         VK_BUFFER_USAGE_VERTEX_BUFFER_BIT, "hermite kept cells");
+    const Buffer& indices = ensureOutput(*context_, keptCellIndices_[slot][precision], kept * sizeof(std::uint32_t), 0,
+                                         "hermite kept cell indices");
+    const shader::CellCullPushConstants push{cellCullObjectBuffer_.address(slot),
+                                             rangeAddress,
+                                             buffers_->records[precision].address(),
+                                             buffers_->cellCones.address(),
+                                             records.address(),
+                                             indices.address(),
+                                             indirect_.address(slot),
+                                             cullTotals_.address(slot),
+                                             rangeCount,
+                                             kRecordStride[precision] / 4};
+    cellCuller_->record(frame.cmd, push);
+    rangeAddress += VkDeviceAddress(rangeCount) * sizeof(shader::CellCullRange);
+  }
+  barrierAfterCulling(frame.cmd);
+}
+
 shader::BrickCullTotals HermiteCellFeature::cullTotals() const {
   shader::BrickCullTotals totals{};
   const Buffer& buffer = cullTotals_.buffer(lastCullSlot_);
-  if (!cullObjectList_.empty() && buffer && buffer.mapped()) std::memcpy(&totals, buffer.mapped(), sizeof(totals));
+  const bool culled = !cullObjectList_.empty() || !cellCullObjects_.empty();
+  if (culled && buffer && buffer.mapped()) std::memcpy(&totals, buffer.mapped(), sizeof(totals));
   return totals;
 }
 
@@ -868,6 +1000,11 @@ void HermiteCellFeature::recordBatch(engine::render::PassContext& pass, int prec
   } else if (bricks) {
     push.bricks = buffers_->bricks.address();
     push.brickCells = buffers_->brickCells.address();
+  } else if (!runs && !near && !cellCullRanges_[precision].empty()) {
+    // The front faces draw the cell culling pass's kept records (the near list: every near cell).
+    const VkBuffer keptBuffer = keptCellRecords_[pass.frame.frameSlot][precision].handle();
+    vkCmdBindVertexBuffers(cmd, 0, 1, &keptBuffer, &offset);
+    push.cellRecords = keptCellIndices_[pass.frame.frameSlot][precision].address();
   }
   recordIndirect(cmd, pipeline, push, pass.frame.frameSlot, first, count);
 }

@@ -78,6 +78,7 @@ TEST(Tuning, SettingsFileRoundTrip) {
   t.earlyDepth = EarlyDepth::Off;
   t.certified = true;
   t.cullBricks = false;
+  t.cullCells = false;
   t.thinBoxes = ThinBoxes::On;
   t.split = SplitMode::Horizontal;
   t.splitPosition = 0.3f;  // exact in binary and in the JSON text

@@ -38,12 +38,19 @@
 namespace hsdf {
 
 inline constexpr float kNeverCullCutoff = 2.0f;
+// A cone that never culls (also what a cone that cannot be built is replaced by).
+inline shader::CellBrickCone neverCullCone() { return {glm::vec4(0.0f, 0.0f, 1.0f, kNeverCullCutoff)}; }
 // Added to theta (radians): the GPU evaluates the interpolant in float (its gradient differs from
 // the double control vectors by a few ulp) and the records are rounded; 1e-3 rad is far above both.
 inline constexpr double kConeAngleMargin = 1e-3;
 
 // The cone of every gradient of one kept cell (grid spacing h), object space.
 shader::CellBrickCone cellGradientCone(const CellRecord& record, double h);
+
+// cellGradientCone of every record of the stream, in record order, on worker threads (`threads`,
+// 0: all hardware threads): the cell culling pass's cones, a few microseconds a cell (seconds at
+// K >= 1024 on one thread).
+std::vector<shader::CellBrickCone> cellGradientCones(const CellStream& cells, unsigned threads = 0);
 
 // The cone of every gradient of several cells (the union of their control vectors, so at least as
 // tight as merging their cell cones). No cells: a cone that never culls.
@@ -71,6 +78,9 @@ struct BrickBox {
   glm::vec3 hi{0.0f};
 };
 BrickBox brickBox(std::uint32_t packedXyz, const glm::vec3& gridOrigin, float h);
+// The cell's box (cell culling, cell_cull.comp): cell (x, y, z) of the grid. The twin of
+// normal_cone.glsl's gridBlockBox with side h, as brickBox is with side 4h.
+BrickBox cellBox(const glm::uvec3& cell, const glm::vec3& gridOrigin, float h);
 
 // True if no ray from `eye` can have its first root in the box, gradients in `cone` (all object
 // space). The twin of normal_cone.glsl's coneCullsBox.

@@ -42,6 +42,7 @@
 // Bricks have no early depth variant: a frame that draws bricks keeps the early depth stage off.
 // Settings::thinBoxes draws RenderMethod::Cells with 8 vertices and 12 bytes of varyings per box
 // (cells_thin.vert), the records read by address; no early depth variant either.
+#include <array>
 #include <cstdint>
 #include <memory>
 #include <string>
@@ -96,6 +97,10 @@ class HermiteCellFeature final : public engine::render::RenderFeature {
     // frustum that may hold a first hit (normal cones, hermite_sdf/core/normal_cone.h); off draws every
     // brick (to measure what it removes).
     bool cullBricks = true;
+    // RenderMethod::Cells: the same compute pass for the cells (cell_cull.comp, each cell with its
+    // own normal cone): only the kept cells' boxes are drawn, in the rows' order (front-to-back
+    // stays); off draws every cell's box. Cell-bricks and runs ignore it.
+    bool cullCells = true;
     // RenderMethod::Cells: each box's vertices hand on 12 bytes (cells_thin.vert), the fragment
     // shader reading the cell's record by address (cells_thin_depth.glsl), instead of the paper's
     // Hermite data as varyings. Same search, same image. Thin boxes have no early depth variant:
@@ -132,9 +137,9 @@ class HermiteCellFeature final : public engine::render::RenderFeature {
 
   Settings& settings() { return settings_; }
   const Stats& stats() const { return stats_; }
-  // The last brick culling pass's counts (bricks tested, kept, culled by frustum and by cone);
-  // valid once the frame that recorded it has completed (e.g. after Renderer::finish), zero when
-  // that frame culled no bricks.
+  // The last culling passes' counts (bricks and culled cells tested, kept, culled by frustum and
+  // by cone, the two passes summed); valid once the frame that recorded them has completed (e.g.
+  // after Renderer::finish), zero when that frame culled nothing.
   shader::BrickCullTotals cullTotals() const;
   // Whether the cells of `assetId` were refused (their upload did not fit in GPU memory): the
   // asset is not drawn, and not retried. An entity whose asset was refused keeps drawing the asset
@@ -151,7 +156,10 @@ class HermiteCellFeature final : public engine::render::RenderFeature {
   void refuseNewAssets(const engine::render::FrameContext& frame,
                        const std::vector<std::shared_ptr<const SdfAsset>>& wanted, const std::string& why);
   void buildDraws(engine::render::FrameContext& frame);
+  void recordCulling(engine::render::FrameContext& frame);
   void recordBrickCulling(engine::render::FrameContext& frame);
+  void recordCellCulling(engine::render::FrameContext& frame);
+  void cullCellRanges(std::vector<VkDrawIndirectCommand>& commands, const std::vector<std::uint32_t> cullObjects[2]);
   void ensureCounters(engine::render::FrameContext& frame);
   void ensureHitDepths(engine::render::FrameContext& frame);
   void recordPrepassDraws(engine::render::PassContext& pass);
@@ -231,6 +239,17 @@ class HermiteCellFeature final : public engine::render::RenderFeature {
   engine::render::PerFrameBuffer cullObjects_;
   engine::render::PerFrameBuffer cullTotals_;
   std::vector<engine::gpu::Buffer> keptBricks_;
+  // Cell culling (Settings::cullCells): this frame's culled objects and, per record precision, its
+  // ranges (the culled objects' front-face commands) and the kept stream's size; per frame slot and
+  // precision the kept records and their record indices (cell_cull.comp).
+  std::unique_ptr<class CellCuller> cellCuller_;
+  std::vector<shader::BrickCullObject> cellCullObjects_;
+  std::vector<shader::CellCullRange> cellCullRanges_[2];
+  std::uint32_t cellCullOutput_[2] = {0, 0};
+  engine::render::PerFrameBuffer cellCullObjectBuffer_;
+  engine::render::PerFrameBuffer cellCullRangeBuffer_;
+  std::vector<std::array<engine::gpu::Buffer, 2>> keptCellRecords_;
+  std::vector<std::array<engine::gpu::Buffer, 2>> keptCellIndices_;
   static constexpr int kRunBatch = 2;  // batches: fp32 cells, fp16 cells, runs, bricks
   static constexpr int kBrickBatch = 3;
   static constexpr int kBatches = 4;

@@ -8,6 +8,8 @@
 
 #include <fmt/format.h>
 
+#include "field/parallel.h"
+
 namespace hsdf {
 namespace {
 
@@ -15,8 +17,6 @@ constexpr double kHalfPi = 1.57079632679489661923;
 // A control vector this much shorter than the longest of its cell may stand for a zero gradient
 // (a tangent touching root, whose ray does not enter the solid there): such a cell never culls.
 constexpr double kZeroVectorRatio = 1e-9;
-
-shader::CellBrickCone neverCull() { return {glm::vec4(0.0f, 0.0f, 1.0f, kNeverCullCutoff)}; }
 
 // Forward difference of b along `axis` at (a, b, c) with that axis's index i in 0..2; 0 outside,
 // which is what the degree elevation's end terms need.
@@ -67,22 +67,22 @@ glm::dvec3 narrowestAxis(const std::vector<glm::dvec3>& units, const glm::dvec3&
 shader::CellBrickCone coneOf(const std::vector<glm::dvec3>& vectors) {
   double longest = 0.0;
   for (const glm::dvec3& v : vectors) longest = std::max(longest, glm::length(v));
-  if (!(longest > 0.0) || !std::isfinite(longest)) return neverCull();
+  if (!(longest > 0.0) || !std::isfinite(longest)) return neverCullCone();
   std::vector<glm::dvec3> units;
   units.reserve(vectors.size());
   glm::dvec3 sum(0.0);
   for (const glm::dvec3& v : vectors) {
     const double length = glm::length(v);
-    if (length <= kZeroVectorRatio * longest) return neverCull();
+    if (length <= kZeroVectorRatio * longest) return neverCullCone();
     units.push_back(v / length);
     sum += units.back();
   }
-  if (glm::length(sum) <= 1e-9 * double(vectors.size())) return neverCull();
+  if (glm::length(sum) <= 1e-9 * double(vectors.size())) return neverCullCone();
   const glm::dvec3 axis = narrowestAxis(units, glm::normalize(sum));
   double minCos = 1.0;
   for (const glm::dvec3& u : units) minCos = std::min(minCos, glm::dot(axis, u));
   const double theta = std::acos(std::clamp(minCos, -1.0, 1.0)) + kConeAngleMargin;
-  if (theta >= kHalfPi) return neverCull();
+  if (theta >= kHalfPi) return neverCullCone();
   return {glm::vec4(glm::vec3(axis), float(std::sin(theta)))};
 }
 
@@ -121,8 +121,23 @@ shader::CellBrickCone cellGradientCone(const CellRecord& record, double h) {
   return coneOf(vectors);
 }
 
+std::vector<shader::CellBrickCone> cellGradientCones(const CellStream& cells, unsigned threads) {
+  constexpr std::size_t kChunk = 4096;  // records per work item: the claim per item stays negligible
+  std::vector<shader::CellBrickCone> cones(cells.records.size());
+  BakeOptions options;
+  options.threads = threads;
+  // Without a cancel token or progress callback and with work that cannot fail, this cannot fail.
+  const engine::Status done = detail::runParallel((cones.size() + kChunk - 1) / kChunk, options, [&](std::size_t chunk) {
+    const std::size_t end = std::min(cones.size(), (chunk + 1) * kChunk);
+    for (std::size_t i = chunk * kChunk; i < end; ++i) cones[i] = cellGradientCone(cells.records[i], cells.grid.spacing);
+    return engine::Status{};
+  });
+  (void)done;
+  return cones;
+}
+
 shader::CellBrickCone brickGradientCone(const CellStream& cells, std::span<const std::uint32_t> recordIndices) {
-  if (recordIndices.empty()) return neverCull();
+  if (recordIndices.empty()) return neverCullCone();
   std::vector<glm::dvec3> vectors;
   vectors.reserve(64 * recordIndices.size());
   for (std::uint32_t index : recordIndices) appendControlVectors(cells.records.at(index), cells.grid.spacing, vectors);
@@ -165,13 +180,26 @@ bool boundaryIsPositive(const CellStream& cells) {
   return first->corners[0].f > 0.0f;
 }
 
-BrickBox brickBox(std::uint32_t packedXyz, const glm::vec3& gridOrigin, float h) {
-  const glm::vec3 brick(float(packedXyz & 1023u), float((packedXyz >> 10) & 1023u), float((packedXyz >> 20) & 1023u));
-  const float side = h * float(CELL_BRICK_SIZE);
+namespace {
+
+// The box of the grid block at integer coordinate `index` whose side is `side` (normal_cone.glsl's
+// gridBlockBox).
+BrickBox gridBlockBox(const glm::vec3& index, const glm::vec3& gridOrigin, float side) {
   BrickBox box;
-  box.lo = gridOrigin + side * brick;
+  box.lo = gridOrigin + side * index;
   box.hi = box.lo + glm::vec3(side);
   return box;
+}
+
+}  // namespace
+
+BrickBox brickBox(std::uint32_t packedXyz, const glm::vec3& gridOrigin, float h) {
+  const glm::vec3 brick(float(packedXyz & 1023u), float((packedXyz >> 10) & 1023u), float((packedXyz >> 20) & 1023u));
+  return gridBlockBox(brick, gridOrigin, h * float(CELL_BRICK_SIZE));
+}
+
+BrickBox cellBox(const glm::uvec3& cell, const glm::vec3& gridOrigin, float h) {
+  return gridBlockBox(glm::vec3(cell), gridOrigin, h);
 }
 
 glm::vec3 boxCorner(const BrickBox& box, int corner) {

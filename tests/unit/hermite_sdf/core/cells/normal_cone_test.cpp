@@ -161,6 +161,20 @@ TEST(NormalCone, BakedSphereAndTorusCellsAndBricks) {
   expectConesHoldBakedGradients(*bakedAsset(TorusSource({0.0, 0.0, 0.0}, 0.9, 0.35), 40, 1.4));
 }
 
+// The stream's cones on worker threads (cellGradientCones, the cell culling pass's: chunks of 4096
+// records) are each record's own cone, in record order, on one thread and on three.
+TEST(NormalCone, StreamConesAreEachRecordsConeInOrder) {
+  const auto asset = bakedAsset(SphereSource({0.1, -0.05, 0.0}, 1.0), 96, 1.4);
+  ASSERT_GT(asset->cells.records.size(), 2u * 4096u) << "several chunks";
+  for (const unsigned threads : {1u, 3u}) {
+    const std::vector<shader::CellBrickCone> cones = cellGradientCones(asset->cells, threads);
+    ASSERT_EQ(cones.size(), asset->cells.records.size());
+    for (std::size_t i = 0; i < cones.size(); ++i)
+      ASSERT_EQ(cones[i].axisCutoff, cellGradientCone(asset->cells.records[i], asset->cells.grid.spacing).axisCutoff)
+          << "record " << i << ", " << threads << " threads";
+  }
+}
+
 // Bricks that point past the index list or at records that do not exist are refused by name.
 TEST(NormalCone, BadBricksAreRefusedByName) {
   const auto asset = bakedAsset(SphereSource({0.0, 0.0, 0.0}, 1.0), 16, 1.4);
