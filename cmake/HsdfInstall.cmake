@@ -29,7 +29,8 @@ function(hsdf_relocate_interface_includes target)
   foreach(dir IN LISTS dirs)
     if(dir STREQUAL PROJECT_SOURCE_DIR)
       list(APPEND mapped "$<BUILD_INTERFACE:${dir}>" "$<INSTALL_INTERFACE:${HSDF_INSTALL_INCLUDEDIR}>")
-    elseif(dir STREQUAL "${PROJECT_SOURCE_DIR}/shaders")
+    elseif(dir STREQUAL "${PROJECT_SOURCE_DIR}/shaders"
+           OR dir STREQUAL "${PROJECT_SOURCE_DIR}/modules/hermite_sdf/shaders")
       list(APPEND mapped "$<BUILD_INTERFACE:${dir}>" "$<INSTALL_INTERFACE:${HSDF_INSTALL_INCLUDEDIR}/shaders>")
     elseif(dir STREQUAL "${PROJECT_SOURCE_DIR}/modules/hermite_sdf/include")
       list(APPEND mapped "$<BUILD_INTERFACE:${dir}>" "$<INSTALL_INTERFACE:${HSDF_INSTALL_INCLUDEDIR}>")
@@ -39,6 +40,7 @@ function(hsdf_relocate_interface_includes target)
       list(APPEND mapped "${dir}")  # system folders (e.g. /usr/include/imgui/backends) stay
     endif()
   endforeach()
+  list(REMOVE_DUPLICATES mapped)  # the engine's and the module's shaders/ install as one folder
   set_target_properties(${target} PROPERTIES INTERFACE_INCLUDE_DIRECTORIES "${mapped}")
 endfunction()
 
@@ -64,8 +66,9 @@ install(DIRECTORY ${PROJECT_SOURCE_DIR}/engine/ DESTINATION ${HSDF_INSTALL_INCLU
   FILES_MATCHING PATTERN "*.h")
 install(DIRECTORY ${PROJECT_SOURCE_DIR}/modules/hermite_sdf/include/hermite_sdf/
   DESTINATION ${HSDF_INSTALL_INCLUDEDIR}/hermite_sdf FILES_MATCHING PATTERN "*.h")
-install(DIRECTORY ${PROJECT_SOURCE_DIR}/shaders/ DESTINATION ${HSDF_INSTALL_INCLUDEDIR}/shaders
-  FILES_MATCHING PATTERN "*.h" PATTERN "*.glsl")
+# The engine's shaders/shared/ and the module's shaders/hermite/ side by side, as in one include folder.
+install(DIRECTORY ${PROJECT_SOURCE_DIR}/shaders/ ${PROJECT_SOURCE_DIR}/modules/hermite_sdf/shaders/
+  DESTINATION ${HSDF_INSTALL_INCLUDEDIR}/shaders FILES_MATCHING PATTERN "*.h" PATTERN "*.glsl")
 install(DIRECTORY ${HSDF_SHADER_OUTPUT_DIR}/ DESTINATION ${HSDF_INSTALL_SHADERDIR}
   FILES_MATCHING PATTERN "*.spv")
 
