@@ -16,6 +16,9 @@ include(CMakePackageConfigHelpers)
 set(HSDF_INSTALL_INCLUDEDIR ${CMAKE_INSTALL_INCLUDEDIR}/hermite_sdf)
 set(HSDF_INSTALL_SHADERDIR ${CMAKE_INSTALL_DATADIR}/hermite_sdf/shaders)
 set(HSDF_INSTALL_CMAKEDIR ${CMAKE_INSTALL_LIBDIR}/cmake/hermite_sdf)
+# An installed program finds the SPIR-V where this file installs it (engine/gpu/pipeline.h); the
+# engine itself names no package.
+target_compile_definitions(engine_gpu PRIVATE HSDF_INSTALLED_SHADER_DIR="${HSDF_INSTALL_SHADERDIR}")
 
 # Include folders in the source tree become $<BUILD_INTERFACE:...> and their installed twin
 # $<INSTALL_INTERFACE:...>; exporting a target whose interface names the source tree is an error.

@@ -128,6 +128,19 @@ std::vector<std::string> violations(const std::string& file, const std::string& 
   return out;
 }
 
+// Every line of one engine file's text that names the module (its name or its types' stem, in
+// any case: "hermite_sdf", "HermiteCellFeature", "HERMITE_..."): "<file>:<line>: <text>". The engine
+// is the floor under every module, in code, comments and build files alike.
+std::vector<std::string> moduleNames(const std::string& file, const std::string& text) {
+  static const std::regex moduleWord("hermite", std::regex::icase);
+  std::vector<std::string> out;
+  std::istringstream lines(text);
+  std::string line;
+  for (int number = 1; std::getline(lines, line); ++number)
+    if (std::regex_search(line, moduleWord)) out.push_back(file + ":" + std::to_string(number) + ": " + line);
+  return out;
+}
+
 std::string readFile(const fs::path& path) {
   std::ifstream in(path, std::ios::binary);
   std::ostringstream text;
@@ -177,6 +190,33 @@ TEST(Layering, TheCheckNamesEachStepUp) {
   EXPECT_TRUE(violations("modules/hermite_sdf/shaders/hermite/x.frag", "#include \"shared/host_device.h\"\n").empty());
   EXPECT_TRUE(violations("modules/hermite_sdf/src/render/x.cpp", "#include \"hermite_sdf/core/cells.h\"\n").empty());
   EXPECT_TRUE(violations("samples/common/x.cpp", "#include \"hermite_sdf/render/cell_feature.h\"\n").empty());
+}
+
+// Tricky because the name hides in comments, strings and build files, in several cases.
+TEST(Layering, TheNameCheckFindsTheModuleInAnyCase) {
+  EXPECT_EQ(moduleNames("engine/ui/x.cpp", "int a;\n  ImGui::Begin(\"hermite_sdf\");\n"),
+            std::vector<std::string>{"engine/ui/x.cpp:2:   ImGui::Begin(\"hermite_sdf\");"});
+  EXPECT_EQ(moduleNames("engine/render/x.h", "// as HermiteCellFeature does\n").size(), 1u);
+  EXPECT_EQ(moduleNames("engine/CMakeLists.txt", "set(HERMITE_DIR x)\n").size(), 1u);
+  EXPECT_TRUE(moduleNames("engine/render/x.h", "// a module's ray-cast surface\n").empty());
+}
+
+// Every file under engine/ and the engine's shaders/, of any kind (sources, CMakeLists): none
+// names the module, so the engine builds and reads the same with the module gone.
+TEST(Layering, TheEngineNamesNoModule) {
+  std::vector<std::string> found;
+  int files = 0;
+  for (const char* folder : {"engine", "shaders"}) {
+    for (const auto& entry : fs::recursive_directory_iterator(kRoot / folder)) {
+      if (!entry.is_regular_file()) continue;
+      const std::string relative = fs::relative(entry.path(), kRoot).generic_string();
+      const auto v = moduleNames(relative, readFile(entry.path()));
+      found.insert(found.end(), v.begin(), v.end());
+      ++files;
+    }
+  }
+  EXPECT_GT(files, 50) << "the walk found too few files: is HSDF_SOURCE_DIR the repository?";
+  for (const std::string& v : found) ADD_FAILURE() << v;
 }
 
 TEST(Layering, NoFloorIncludesAFloorAboveIt) {
