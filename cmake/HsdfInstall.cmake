@@ -16,6 +16,9 @@ include(CMakePackageConfigHelpers)
 set(HSDF_INSTALL_INCLUDEDIR ${CMAKE_INSTALL_INCLUDEDIR}/hermite_sdf)
 set(HSDF_INSTALL_SHADERDIR ${CMAKE_INSTALL_DATADIR}/hermite_sdf/shaders)
 set(HSDF_INSTALL_CMAKEDIR ${CMAKE_INSTALL_LIBDIR}/cmake/hermite_sdf)
+# An installed program finds the SPIR-V where this file installs it (engine/gpu/pipeline.h); the
+# engine itself names no package.
+target_compile_definitions(engine_gpu PRIVATE HSDF_INSTALLED_SHADER_DIR="${HSDF_INSTALL_SHADERDIR}")
 
 # Include folders in the source tree become $<BUILD_INTERFACE:...> and their installed twin
 # $<INSTALL_INTERFACE:...>; exporting a target whose interface names the source tree is an error.
@@ -29,7 +32,8 @@ function(hsdf_relocate_interface_includes target)
   foreach(dir IN LISTS dirs)
     if(dir STREQUAL PROJECT_SOURCE_DIR)
       list(APPEND mapped "$<BUILD_INTERFACE:${dir}>" "$<INSTALL_INTERFACE:${HSDF_INSTALL_INCLUDEDIR}>")
-    elseif(dir STREQUAL "${PROJECT_SOURCE_DIR}/shaders")
+    elseif(dir STREQUAL "${PROJECT_SOURCE_DIR}/shaders"
+           OR dir STREQUAL "${PROJECT_SOURCE_DIR}/modules/hermite_sdf/shaders")
       list(APPEND mapped "$<BUILD_INTERFACE:${dir}>" "$<INSTALL_INTERFACE:${HSDF_INSTALL_INCLUDEDIR}/shaders>")
     elseif(dir STREQUAL "${PROJECT_SOURCE_DIR}/modules/hermite_sdf/include")
       list(APPEND mapped "$<BUILD_INTERFACE:${dir}>" "$<INSTALL_INTERFACE:${HSDF_INSTALL_INCLUDEDIR}>")
@@ -39,6 +43,7 @@ function(hsdf_relocate_interface_includes target)
       list(APPEND mapped "${dir}")  # system folders (e.g. /usr/include/imgui/backends) stay
     endif()
   endforeach()
+  list(REMOVE_DUPLICATES mapped)  # the engine's and the module's shaders/ install as one folder
   set_target_properties(${target} PROPERTIES INTERFACE_INCLUDE_DIRECTORIES "${mapped}")
 endfunction()
 
@@ -64,8 +69,9 @@ install(DIRECTORY ${PROJECT_SOURCE_DIR}/engine/ DESTINATION ${HSDF_INSTALL_INCLU
   FILES_MATCHING PATTERN "*.h")
 install(DIRECTORY ${PROJECT_SOURCE_DIR}/modules/hermite_sdf/include/hermite_sdf/
   DESTINATION ${HSDF_INSTALL_INCLUDEDIR}/hermite_sdf FILES_MATCHING PATTERN "*.h")
-install(DIRECTORY ${PROJECT_SOURCE_DIR}/shaders/ DESTINATION ${HSDF_INSTALL_INCLUDEDIR}/shaders
-  FILES_MATCHING PATTERN "*.h" PATTERN "*.glsl")
+# The engine's shaders/shared/ and the module's shaders/hermite/ side by side, as in one include folder.
+install(DIRECTORY ${PROJECT_SOURCE_DIR}/shaders/ ${PROJECT_SOURCE_DIR}/modules/hermite_sdf/shaders/
+  DESTINATION ${HSDF_INSTALL_INCLUDEDIR}/shaders FILES_MATCHING PATTERN "*.h" PATTERN "*.glsl")
 install(DIRECTORY ${HSDF_SHADER_OUTPUT_DIR}/ DESTINATION ${HSDF_INSTALL_SHADERDIR}
   FILES_MATCHING PATTERN "*.spv")
 

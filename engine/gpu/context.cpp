@@ -180,7 +180,7 @@ Status Context::createInstance(const ContextDesc& desc) {
 
   VkApplicationInfo app{VK_STRUCTURE_TYPE_APPLICATION_INFO};
   app.pApplicationName = desc.applicationName.c_str();
-  app.pEngineName = "hermite_sdf engine";
+  app.pEngineName = desc.engineName.c_str();
   app.apiVersion = VK_API_VERSION_1_3;
 
   VkDebugUtilsMessengerCreateInfoEXT messengerInfo{VK_STRUCTURE_TYPE_DEBUG_UTILS_MESSENGER_CREATE_INFO_EXT};

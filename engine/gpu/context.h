@@ -23,7 +23,10 @@ enum class DevicePreference {
 };
 
 struct ContextDesc {
-  std::string applicationName = "hermite_sdf";
+  // Given to the driver (VkApplicationInfo), which may key per-application settings on them: the
+  // program names itself and the engine it ships.
+  std::string applicationName = "engine";
+  std::string engineName = "engine";
   DevicePreference device = DevicePreference::Auto;
   // Validation layers. Default: on in debug builds, or when HSDF_VALIDATION=1.
   bool validation = defaultValidation();

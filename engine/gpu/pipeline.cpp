@@ -11,17 +11,21 @@
 #ifndef HSDF_SHADER_DIR
 #error "HSDF_SHADER_DIR must be defined by the build"
 #endif
+#ifndef HSDF_INSTALLED_SHADER_DIR
+#error "HSDF_INSTALLED_SHADER_DIR must be defined by the build (cmake/HsdfInstall.cmake)"
+#endif
 
 namespace engine::gpu {
 
 namespace {
 
-// Where an installed program's SPIR-V lies (cmake --install: bin/ and share/hermite_sdf/shaders/).
+// Where an installed program's SPIR-V lies (cmake --install: bin/ and the package's shader folder
+// below the prefix, named by the build that installs it rather than by the engine).
 std::filesystem::path installedShaderDirectory() {
   std::error_code ec;
   const std::filesystem::path exe = std::filesystem::read_symlink("/proc/self/exe", ec);
   if (ec) return {};
-  return exe.parent_path().parent_path() / "share" / "hermite_sdf" / "shaders";
+  return exe.parent_path().parent_path() / HSDF_INSTALLED_SHADER_DIR;
 }
 
 }  // namespace

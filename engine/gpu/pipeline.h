@@ -14,7 +14,8 @@ namespace engine::gpu {
 class Context;
 
 // Folder holding the compiled shaders: $HSDF_SHADER_DIR, else the build tree's shaders/ folder while
-// it exists, else <program>/../share/hermite_sdf/shaders (an installed program, cmake --install).
+// it exists, else <program>/../<the installed shader folder> (an installed program, cmake --install;
+// the folder, e.g. share/<package>/shaders, is the one cmake/HsdfInstall.cmake installs to).
 std::filesystem::path shaderDirectory();
 
 class ShaderModule {

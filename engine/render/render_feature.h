@@ -46,7 +46,7 @@ struct RendererFormats {
   VkFormat depth = VK_FORMAT_D32_SFLOAT;
   // The depth prepass also writes a visibility buffer: per pixel, x = 1 + the GPU scene index of
   // the object that won the depth test (0: background) and y = which part of it (feature-specific:
-  // the triangle of a mesh, the cell record of a Hermite object). Every prepass pipeline has this
+  // the triangle of a mesh, the cell of a ray-cast surface). Every prepass pipeline has this
   // one colour attachment and writes a uvec2.
   VkFormat visibility = VK_FORMAT_R32G32_UINT;
   // Layout of the scene descriptor set (set 0 of pipelines that use it), filled in by the renderer:
@@ -105,10 +105,11 @@ class RenderFeature {
   virtual void prepare(FrameContext& frame) = 0;
   virtual void recordPass(PassContext& pass) = 0;
   // The early depth stage, for proxies that are cheaper to test at the depth of their own faces
-  // than at the depth of what they draw (HermiteCellFeature: hidden cell boxes then fail an early
-  // depth test instead of running the root search). The early draws may leave depths that are not
-  // the surface's in the depth buffer; recordEarlyDepthResolve() must replace them with the true
-  // ones before any other feature's prepass draw tests against them. pass.pass is DepthPrepass.
+  // than at the depth of what they draw (a feature that ray-casts inside bounding boxes: hidden
+  // boxes then fail an early depth test instead of running the ray cast). The early draws may leave
+  // depths that are not the surface's in the depth buffer; recordEarlyDepthResolve() must replace
+  // them with the true ones before any other feature's prepass draw tests against them. pass.pass is
+  // DepthPrepass.
   virtual bool usesEarlyDepth() const { return false; }
   virtual void recordEarlyDepth(PassContext& /*pass*/) {}
   virtual void recordEarlyDepthResolve(PassContext& /*pass*/) {}

@@ -47,7 +47,7 @@ struct RendererDesc {
 // A rectangle of the frame drawn with its own version of the scene, same camera: the split-screen
 // comparison draws the same entity with a different method (or asset, or normals) in each region.
 // Before the features prepare a region, `apply` runs: it changes the components of the registry
-// given to renderFrame (e.g. which method a HermiteSdfRenderable asks for); each region is then
+// given to renderFrame (e.g. which render method a module's component asks for); each region is then
 // drawn by the full pass list with its scissor (the viewport stays full-size, so the projection
 // and every pixel's ray are those of the whole frame). A region costs its pixels plus each
 // feature's per-frame CPU work (prepare) once more. Pixels outside every region show the clear

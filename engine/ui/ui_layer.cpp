@@ -147,7 +147,7 @@ void UiLayer::buildFrame(VkExtent2D extent, float deltaSeconds) {
   // A fixed size, not auto-fit: ImGui hides an auto-fitting window in its first frame, and a
   // one-frame headless screenshot would show no panel.
   ImGui::SetNextWindowSize(ImVec2(420.0f, std::max(120.0f, float(extent.height) - 20.0f)), ImGuiCond_FirstUseEver);
-  if (ImGui::Begin("hermite_sdf")) {
+  if (ImGui::Begin(windowTitle_.c_str())) {
     for (Panel& panel : panels_) {
       ImGui::PushID(panel.name.c_str());
       panel.draw();

@@ -7,6 +7,7 @@
 #include <memory>
 #include <string>
 #include <unordered_map>
+#include <utility>
 #include <vector>
 
 #include "engine/core/expected.h"
@@ -26,8 +27,10 @@ class UiLayer final : public render::OverlayPass {
   UiLayer(const UiLayer&) = delete;
   UiLayer& operator=(const UiLayer&) = delete;
 
-  // Panels are drawn every frame in registration order, each inside the main "hermite_sdf" window.
+  // Panels are drawn every frame in registration order, each inside the one main window.
   void addPanel(std::string name, std::function<void()> draw);
+  // The main window's title (the program names it; ImGui also keys the window's saved layout on it).
+  void setWindowTitle(std::string title) { windowTitle_ = std::move(title); }
   // ImGui's window layout: loaded from `file` now (when it exists) and saved to it while the UI
   // runs and at shutdown. Empty: not kept (the default).
   void setIniFile(const std::string& file);
@@ -59,6 +62,7 @@ class UiLayer final : public render::OverlayPass {
   std::unordered_map<VkImageView, VkFramebuffer> framebuffers_;
   std::vector<Panel> panels_;
   std::string iniFile_;  // ImGui keeps a pointer to it
+  std::string windowTitle_ = "engine";
   bool glfwBackend_ = false;
   bool vulkanBackend_ = false;
   bool frameBuilt_ = false;

@@ -76,6 +76,8 @@ Viewer::~Viewer() { (void)close(); }
 
 Status Viewer::initialize(const ViewerDesc& desc) {
   gpu::ContextDesc contextDesc;
+  contextDesc.applicationName = kProgramName;
+  contextDesc.engineName = std::string(kProgramName) + " engine";
   contextDesc.device = desc.device;
   if (desc.validation) contextDesc.validation = true;
   if (!desc.headless) {
@@ -101,6 +103,7 @@ Status Viewer::initialize(const ViewerDesc& desc) {
   if (window_ || desc.headlessUi) {
     ENGINE_TRY_ASSIGN(ui_, ui::UiLayer::create(*context_, renderer_->desc().formats.color,
                                                renderer_->desc().framesInFlight, window_.get()));
+    ui_->setWindowTitle(kProgramName);
     if (!desc.uiIniFile.empty()) ui_->setIniFile(desc.uiIniFile.string());
     panel_ = std::make_unique<TuningPanel>(*this);
     ui_->addPanel("tuning", [this] { panel_->draw(); });

@@ -58,8 +58,12 @@ namespace samples {
 inline constexpr double kMinSceneSize = 1e-15;
 inline constexpr double kMaxSceneSize = 1e15;
 
+// The name the sample programs go by: their default window title, the Vulkan application and engine
+// names and the UI window's title (the engine itself names no module).
+inline constexpr const char* kProgramName = "hermite_sdf";
+
 struct ViewerDesc {
-  std::string title = "hermite_sdf";
+  std::string title = kProgramName;
   std::uint32_t width = 1280;  // headless: the image; windowed: the initial window
   std::uint32_t height = 720;
   bool headless = false;

@@ -1,7 +1,9 @@
 // The floors of the house (docs/architecture.md), checked on every #include of the source tree:
 // a file may include its own floor and the floors below it, never one above. The engine knows no
 // module; the module's CPU half (core) knows no Vulkan and nothing of its GPU half (render); the
-// shaders include only shaders. Samples, tools and tests stand on top and may include anything.
+// shaders include only shaders, the engine's (shaders/) only the engine's, the module's
+// (modules/hermite_sdf/shaders/) their own and the engine's. Samples, tools and tests stand on top
+// and may include anything.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -35,7 +37,8 @@ std::optional<std::string> floorOfFile(const std::string& path) {
       {"modules/hermite_sdf/src/core/", "module/core"},
       {"modules/hermite_sdf/include/hermite_sdf/render/", "module/render"},
       {"modules/hermite_sdf/src/render/", "module/render"},
-      {"shaders/", "shaders"},
+      {"modules/hermite_sdf/shaders/", "module/shaders"},
+      {"shaders/", "engine/shaders"},
   };
   for (const auto& [prefix, floor] : prefixes)
     if (path.rfind(prefix, 0) == 0) return floor;
@@ -62,8 +65,8 @@ std::optional<std::string> floorOfInclude(const std::string& include) {
       {"reference/", "module/core"},
       {"bake/", "module/core"},
       {"render/", "module/render"},
-      {"hermite/", "shaders"},
-      {"shared/", "shaders"},
+      {"hermite/", "module/shaders"},
+      {"shared/", "engine/shaders"},
       {"samples/", "top"},
       {"tools/", "top"},
       {"tests/", "top"},
@@ -82,14 +85,17 @@ const std::map<std::string, std::set<std::string>>& allowedFloors() {
       {"engine/scene", {"engine/scene", "engine/core", "engine/ecs"}},
       {"engine/platform", {"engine/platform", "engine/core", "engine/gpu"}},
       // shaders/shared/host_device.h: the GPU structs of the engine's own passes.
-      {"engine/render", {"engine/render", "engine/core", "engine/ecs", "engine/gpu", "engine/scene", "shaders"}},
+      {"engine/render",
+       {"engine/render", "engine/core", "engine/ecs", "engine/gpu", "engine/scene", "engine/shaders"}},
       {"engine/ui", {"engine/ui", "engine/core", "engine/gpu", "engine/platform", "engine/render"}},
       // hermite/hermite_host_device.h: the cell record's and the cones' GPU layout (data, no Vulkan).
-      {"module/core", {"module/core", "engine/core", "engine/scene", "shaders"}},
+      // It includes shared/host_device.h, the engine's.
+      {"module/core", {"module/core", "engine/core", "engine/scene", "module/shaders", "engine/shaders"}},
       {"module/render",
        {"module/render", "module/core", "engine/core", "engine/ecs", "engine/gpu", "engine/scene", "engine/render",
-        "shaders"}},
-      {"shaders", {"shaders"}},
+        "module/shaders", "engine/shaders"}},
+      {"engine/shaders", {"engine/shaders"}},
+      {"module/shaders", {"module/shaders", "engine/shaders"}},
   };
   return allowed;
 }
@@ -97,7 +103,7 @@ const std::map<std::string, std::set<std::string>>& allowedFloors() {
 // Floors that must not see Vulkan, GLFW or ImGui (their angle-bracket includes).
 bool mayIncludeGraphicsApis(const std::string& floor) {
   return floor != "engine/core" && floor != "engine/ecs" && floor != "engine/scene" && floor != "module/core" &&
-         floor != "shaders";
+         floor != "engine/shaders" && floor != "module/shaders";
 }
 
 // Every violation in one file's text: "<file>: includes <what> (<floor> may not include <floor>)".
@@ -119,6 +125,19 @@ std::vector<std::string> violations(const std::string& file, const std::string& 
       out.push_back(file + ": includes <" + m[1].str() + "> (" + *floor + " stays free of graphics APIs)");
     }
   }
+  return out;
+}
+
+// Every line of one engine file's text that names the module (its name or its types' stem, in
+// any case: "hermite_sdf", "HermiteCellFeature", "HERMITE_..."): "<file>:<line>: <text>". The engine
+// is the floor under every module, in code, comments and build files alike.
+std::vector<std::string> moduleNames(const std::string& file, const std::string& text) {
+  static const std::regex moduleWord("hermite", std::regex::icase);
+  std::vector<std::string> out;
+  std::istringstream lines(text);
+  std::string line;
+  for (int number = 1; std::getline(lines, line); ++number)
+    if (std::regex_search(line, moduleWord)) out.push_back(file + ":" + std::to_string(number) + ": " + line);
   return out;
 }
 
@@ -160,9 +179,44 @@ TEST(Layering, TheCheckNamesEachStepUp) {
   EXPECT_EQ(one("modules/hermite_sdf/src/render/x.cpp", "\"engine/ui/ui_layer.h\""),
             "modules/hermite_sdf/src/render/x.cpp: includes \"engine/ui/ui_layer.h\" (module/render may not include "
             "engine/ui)");
+  // The module's GPU half is the module's: neither the engine's C++ nor its shaders see it.
+  EXPECT_EQ(one("engine/render/x.h", "\"hermite/hermite_host_device.h\""),
+            "engine/render/x.h: includes \"hermite/hermite_host_device.h\" (engine/render may not include "
+            "module/shaders)");
+  EXPECT_EQ(violations("shaders/x.frag", "#include \"shared/host_device.h\"\n#include \"hermite/hermite.glsl\"\n"),
+            std::vector<std::string>{
+                "shaders/x.frag: includes \"hermite/hermite.glsl\" (engine/shaders may not include module/shaders)"});
   // Steps down and sideways within a floor are fine; the top may include anything.
+  EXPECT_TRUE(violations("modules/hermite_sdf/shaders/hermite/x.frag", "#include \"shared/host_device.h\"\n").empty());
   EXPECT_TRUE(violations("modules/hermite_sdf/src/render/x.cpp", "#include \"hermite_sdf/core/cells.h\"\n").empty());
   EXPECT_TRUE(violations("samples/common/x.cpp", "#include \"hermite_sdf/render/cell_feature.h\"\n").empty());
+}
+
+// Tricky because the name hides in comments, strings and build files, in several cases.
+TEST(Layering, TheNameCheckFindsTheModuleInAnyCase) {
+  EXPECT_EQ(moduleNames("engine/ui/x.cpp", "int a;\n  ImGui::Begin(\"hermite_sdf\");\n"),
+            std::vector<std::string>{"engine/ui/x.cpp:2:   ImGui::Begin(\"hermite_sdf\");"});
+  EXPECT_EQ(moduleNames("engine/render/x.h", "// as HermiteCellFeature does\n").size(), 1u);
+  EXPECT_EQ(moduleNames("engine/CMakeLists.txt", "set(HERMITE_DIR x)\n").size(), 1u);
+  EXPECT_TRUE(moduleNames("engine/render/x.h", "// a module's ray-cast surface\n").empty());
+}
+
+// Every file under engine/ and the engine's shaders/, of any kind (sources, CMakeLists): none
+// names the module, so the engine builds and reads the same with the module gone.
+TEST(Layering, TheEngineNamesNoModule) {
+  std::vector<std::string> found;
+  int files = 0;
+  for (const char* folder : {"engine", "shaders"}) {
+    for (const auto& entry : fs::recursive_directory_iterator(kRoot / folder)) {
+      if (!entry.is_regular_file()) continue;
+      const std::string relative = fs::relative(entry.path(), kRoot).generic_string();
+      const auto v = moduleNames(relative, readFile(entry.path()));
+      found.insert(found.end(), v.begin(), v.end());
+      ++files;
+    }
+  }
+  EXPECT_GT(files, 50) << "the walk found too few files: is HSDF_SOURCE_DIR the repository?";
+  for (const std::string& v : found) ADD_FAILURE() << v;
 }
 
 TEST(Layering, NoFloorIncludesAFloorAboveIt) {
