@@ -216,7 +216,6 @@ class Viewer {
 
   // The UI panels on or off (F1); off leaves only the scene in windowed screenshots.
   void setUiVisible(bool visible) { uiVisible_ = visible; }
-  bool uiVisible() const { return uiVisible_; }
   // Window only (no-ops headless, where resize() sets the image size): V-sync (recreates the
   // swapchain with FIFO or the fastest mode the surface has), full screen (F11).
   engine::Status setVsync(bool vsync);

@@ -11,9 +11,7 @@
 
 layout(local_size_x = 64) in;
 
-layout(buffer_reference, scalar) readonly buffer CullObjectsRef { BrickCullObject objects[]; };
 layout(buffer_reference, scalar) readonly buffer BricksRef { CellBrickGpu bricks[]; };
-layout(buffer_reference, scalar) readonly buffer ConesRef { CellBrickCone cones[]; };
 layout(buffer_reference, scalar) writeonly buffer KeptBricksRef { CellBrickGpu bricks[]; };
 // VkDrawIndirectCommand[] as uints: vertexCount, instanceCount, firstVertex, firstInstance.
 layout(buffer_reference, scalar) buffer CommandsRef { uint words[]; };

@@ -12,7 +12,6 @@
 #include "hermite/proxy_dilation.glsl"
 
 layout(push_constant, scalar) uniform Push { HermitePushConstants pc; };
-layout(buffer_reference, scalar) readonly buffer HermiteDrawsRef { HermiteDraw draws[]; };
 
 layout(location = 0) in uvec4 inBrick;  // CellBrickGpu: xyz, firstIndex, maskLo, maskHi
 

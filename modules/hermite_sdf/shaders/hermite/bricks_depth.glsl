@@ -15,7 +15,6 @@
 #include "hermite/pixel_ray.glsl"
 
 layout(push_constant, scalar) uniform Push { HermitePushConstants pc; };
-layout(buffer_reference, scalar) readonly buffer HermiteDrawsRef { HermiteDraw draws[]; };
 layout(buffer_reference, scalar) readonly buffer CellBricksRef { CellBrickGpu bricks[]; };
 layout(buffer_reference, scalar) readonly buffer BrickCellsRef { uint records[]; };
 #include "hermite/cell_search.glsl"

@@ -13,10 +13,8 @@
 
 layout(local_size_x = 64) in;
 
-layout(buffer_reference, scalar) readonly buffer CullObjectsRef { BrickCullObject objects[]; };
 layout(buffer_reference, scalar) readonly buffer RangesRef { CellCullRange ranges[]; };
 layout(buffer_reference, scalar) readonly buffer RecordWordsRef { uint words[]; };
-layout(buffer_reference, scalar) readonly buffer ConesRef { CellBrickCone cones[]; };
 layout(buffer_reference, scalar) writeonly buffer KeptWordsRef { uint words[]; };
 layout(buffer_reference, scalar) writeonly buffer KeptIndicesRef { uint indices[]; };
 // VkDrawIndirectCommand[] as uints: vertexCount, instanceCount, firstVertex, firstInstance.

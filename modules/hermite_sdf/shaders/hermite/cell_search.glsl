@@ -6,8 +6,6 @@
 
 #include "hermite/segment_roots.glsl"
 
-layout(buffer_reference, scalar) readonly buffer CellRecordsRef { CellRecordGpu records[]; };
-layout(buffer_reference, scalar) readonly buffer CellRecordsHalfRef { CellRecordHalfGpu records[]; };
 
 void loadCorners(HermiteDraw draw, uint record, out vec4 corners[8]) {
   if ((draw.flags & HERMITE_FLAG_HALF_RECORDS) == 0u) {

@@ -14,7 +14,6 @@
 #include "hermite/proxy_dilation.glsl"
 
 layout(push_constant, scalar) uniform Push { HermitePushConstants pc; };
-layout(buffer_reference, scalar) readonly buffer HermiteDrawsRef { HermiteDraw draws[]; };
 
 layout(location = 0) in vec4 inCorners[8];
 layout(location = 8) in uvec4 inCell;  // x, y, z, class

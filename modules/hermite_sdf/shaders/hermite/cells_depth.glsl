@@ -9,7 +9,6 @@
 #include "hermite/pixel_ray.glsl"
 
 layout(push_constant, scalar) uniform Push { HermitePushConstants pc; };
-layout(buffer_reference, scalar) readonly buffer HermiteDrawsRef { HermiteDraw draws[]; };
 
 layout(location = 0) flat in vec4 inCorners[8];
 layout(location = 8) flat in uvec4 inCell;

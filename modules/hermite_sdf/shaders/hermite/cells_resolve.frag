@@ -11,8 +11,6 @@
 layout(push_constant, scalar) uniform Push { HermitePushConstants pc; };
 layout(buffer_reference, scalar) readonly buffer HermiteObjectRef { HermiteObject value; };
 layout(buffer_reference, scalar) readonly buffer CountersRef { uint counts[]; };
-layout(buffer_reference, scalar) readonly buffer CellRecordsRef { CellRecordGpu records[]; };
-layout(buffer_reference, scalar) readonly buffer CellRecordsHalfRef { CellRecordHalfGpu records[]; };
 
 layout(set = 0, binding = 0) uniform sampler2D sceneDepth;
 layout(set = 0, binding = 1) uniform usampler2D sceneVisibility;

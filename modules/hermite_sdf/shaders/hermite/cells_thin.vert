@@ -13,7 +13,6 @@
 #include "hermite/proxy_dilation.glsl"
 
 layout(push_constant, scalar) uniform Push { HermitePushConstants pc; };
-layout(buffer_reference, scalar) readonly buffer HermiteDrawsRef { HermiteDraw draws[]; };
 
 layout(location = 8) in uvec4 inCell;  // x, y, z, class (the record's last 8 bytes)
 

@@ -9,7 +9,6 @@
 #include "hermite/pixel_ray.glsl"
 
 layout(push_constant, scalar) uniform Push { HermitePushConstants pc; };
-layout(buffer_reference, scalar) readonly buffer HermiteDrawsRef { HermiteDraw draws[]; };
 #include "hermite/cell_search.glsl"
 
 layout(location = 0) flat in uint inRecord;

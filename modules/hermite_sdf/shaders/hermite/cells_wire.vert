@@ -5,7 +5,6 @@
 #include "hermite/hermite_host_device.h"
 
 layout(push_constant, scalar) uniform Push { HermitePushConstants pc; };
-layout(buffer_reference, scalar) readonly buffer HermiteDrawsRef { HermiteDraw draws[]; };
 
 layout(location = 8) in uvec4 inCell;
 

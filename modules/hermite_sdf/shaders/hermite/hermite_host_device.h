@@ -215,6 +215,14 @@ HSDF_CHECK_SIZE(SphereTracePushConstants, 32 + 3 * 8);
 
 #ifdef __cplusplus
 }  // namespace shader
+#else
+// The GLSL views of the buffers above that several shaders read, declared once here.
+layout(buffer_reference, scalar) readonly buffer HermiteDrawsRef { HermiteDraw draws[]; };
+layout(buffer_reference, scalar) readonly buffer SphereTraceDrawsRef { SphereTraceDraw draws[]; };
+layout(buffer_reference, scalar) readonly buffer CellRecordsRef { CellRecordGpu records[]; };
+layout(buffer_reference, scalar) readonly buffer CellRecordsHalfRef { CellRecordHalfGpu records[]; };
+layout(buffer_reference, scalar) readonly buffer CullObjectsRef { BrickCullObject objects[]; };
+layout(buffer_reference, scalar) readonly buffer ConesRef { CellBrickCone cones[]; };
 #endif
 
 #endif

@@ -12,7 +12,6 @@
 #include "hermite/proxy_dilation.glsl"
 
 layout(push_constant, scalar) uniform Push { HermitePushConstants pc; };
-layout(buffer_reference, scalar) readonly buffer HermiteDrawsRef { HermiteDraw draws[]; };
 
 layout(location = 0) in uvec2 inRun;        // x | y << 16, z | length << 16
 layout(location = 1) in uint inFirstRecord;

@@ -7,7 +7,6 @@
 #include "hermite/box.glsl"
 
 layout(push_constant, scalar) uniform Push { SphereTracePushConstants pc; };
-layout(buffer_reference, scalar) readonly buffer SphereTraceDrawsRef { SphereTraceDraw draws[]; };
 
 layout(location = 0) flat out uint outDraw;
 layout(location = 2) flat out vec3 outEyeGrid;  // the eye in grid units (the ray's direction: pixel_ray.glsl)

@@ -13,7 +13,6 @@
 #include "hermite/hermite.glsl"
 
 layout(push_constant, scalar) uniform Push { SphereTracePushConstants pc; };
-layout(buffer_reference, scalar) readonly buffer SphereTraceDrawsRef { SphereTraceDraw draws[]; };
 
 #ifdef SPHERE_TRACE_BINDLESS
 layout(set = 1, binding = 0) uniform sampler3D fieldTextures[];

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstddef>
 #include <cstring>
 #include <limits>
 #include <unordered_set>
@@ -67,8 +68,18 @@ struct HermiteCellFeature::Batch {
   std::uint32_t wireFirst = 0;  // DEBUG_VIEW_WIREFRAME: the front list again with kWireVertices
 };
 
-static_assert(sizeof(CellRecord) == sizeof(shader::CellRecordGpu), "CellRecord and CellRecordGpu must match");
-static_assert(sizeof(CellRecordHalf) == sizeof(shader::CellRecordHalfGpu), "CellRecordHalf and CellRecordHalfGpu must match");
+// One description of a cell record: the GPU structs of hermite_host_device.h. The CPU records
+// (cells.h), uploaded byte for byte, must match them field by field, and the vertex layout below is
+// derived from them. The coordinate halves pack as x | y << 16 and z | class << 16 (little endian).
+template <class Cpu, class Gpu>
+constexpr bool sameRecordLayout() {
+  return sizeof(Cpu) == sizeof(Gpu) && offsetof(Cpu, corners) == offsetof(Gpu, corners) &&
+         sizeof(Cpu::corners) == sizeof(Gpu::corners) && offsetof(Cpu, x) == offsetof(Gpu, xy) &&
+         offsetof(Cpu, y) == offsetof(Gpu, xy) + 2 && offsetof(Cpu, z) == offsetof(Gpu, zc) &&
+         offsetof(Cpu, cellClass) == offsetof(Gpu, zc) + 2 && offsetof(Gpu, zc) == offsetof(Gpu, xy) + 4;
+}
+static_assert(sameRecordLayout<CellRecord, shader::CellRecordGpu>(), "CellRecord and CellRecordGpu must match");
+static_assert(sameRecordLayout<CellRecordHalf, shader::CellRecordHalfGpu>(), "CellRecordHalf and CellRecordHalfGpu must match");
 
 namespace {
 
@@ -80,14 +91,22 @@ constexpr std::uint32_t kFanVertices = 8;
 constexpr std::uint32_t kStripVertices = 14;
 constexpr std::uint32_t kWireVertices = 24;
 
-engine::gpu::VertexLayout cellVertexLayout(int precision) {
+// One record per instance: locations 0-7 the corners (f, fx, fy, fz), 8 the coordinate and class
+// as four 16-bit integers (cells.vert, cells_thin.vert).
+template <class Gpu>
+engine::gpu::VertexLayout recordVertexLayout(VkFormat cornerFormat) {
   engine::gpu::VertexLayout layout;
-  layout.bindings.push_back({0, kRecordStride[precision], VK_VERTEX_INPUT_RATE_INSTANCE});
-  const VkFormat cornerFormat = precision == 0 ? VK_FORMAT_R32G32B32A32_SFLOAT : VK_FORMAT_R16G16B16A16_SFLOAT;
-  const std::uint32_t cornerBytes = precision == 0 ? 16 : 8;
-  for (std::uint32_t i = 0; i < 8; ++i) layout.attributes.push_back({i, 0, cornerFormat, i * cornerBytes});
-  layout.attributes.push_back({8, 0, VK_FORMAT_R16G16B16A16_UINT, 8 * cornerBytes});
+  layout.bindings.push_back({0, sizeof(Gpu), VK_VERTEX_INPUT_RATE_INSTANCE});
+  constexpr std::uint32_t cornerBytes = sizeof(Gpu::corners) / 8;
+  for (std::uint32_t i = 0; i < 8; ++i)
+    layout.attributes.push_back({i, 0, cornerFormat, std::uint32_t(offsetof(Gpu, corners)) + i * cornerBytes});
+  layout.attributes.push_back({8, 0, VK_FORMAT_R16G16B16A16_UINT, std::uint32_t(offsetof(Gpu, xy))});
   return layout;
+}
+
+engine::gpu::VertexLayout cellVertexLayout(int precision) {
+  return precision == 0 ? recordVertexLayout<shader::CellRecordGpu>(VK_FORMAT_R32G32B32A32_SFLOAT)
+                        : recordVertexLayout<shader::CellRecordHalfGpu>(VK_FORMAT_R16G16B16A16_SFLOAT);
 }
 
 engine::gpu::VertexLayout runVertexLayout() {
