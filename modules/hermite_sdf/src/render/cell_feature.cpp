@@ -114,7 +114,8 @@ bool drawnAsCells(RenderMethod method) {
 
 // The renderer's work counters when the frame counts (the capture reads them back), else the
 // feature's own heat-map counters when the evals view is on, else none.
-VkDeviceAddress counterAddress(const engine::render::FrameContext& frame, bool active, const Buffer& own) {
+VkDeviceAddress counterAddress(const engine::render::FrameContext& frame, bool active,
+                               const engine::gpu::PixelBuffer& own) {
   return frame.workCounters ? frame.workCounters : active ? own.address() : 0;
 }
 
@@ -822,14 +823,7 @@ void HermiteCellFeature::addBrickDraws(const std::vector<shader::CellBrickGpu>& 
 void HermiteCellFeature::ensureCounters(engine::render::FrameContext& frame) {
   countersActive_ = settings_.heatMapCounters && frame.debugView == DEBUG_VIEW_EVALS && stats_.draws > 0;
   if (!countersActive_) return;
-  if (!counters_ || countersExtent_.width != frame.extent.width || countersExtent_.height != frame.extent.height) {
-    context_->waitIdle();
-    counters_ = Buffer(*context_, VkDeviceSize(frame.extent.width) * frame.extent.height * sizeof(std::uint32_t),
-                       VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT |
-                           VK_BUFFER_USAGE_SHADER_DEVICE_ADDRESS_BIT,
-                       engine::gpu::MemoryUsage::GpuOnly, "hermite evaluation counters");
-    countersExtent_ = frame.extent;
-  }
+  counters_.ensure(*context_, frame.extent);
   // Earlier frames read the counters in their shading pass; this frame rewrites them.
   engine::gpu::memoryBarrier(frame.cmd, VK_PIPELINE_STAGE_2_FRAGMENT_SHADER_BIT, VK_ACCESS_2_SHADER_STORAGE_READ_BIT,
                              VK_PIPELINE_STAGE_2_CLEAR_BIT, VK_ACCESS_2_TRANSFER_WRITE_BIT);
@@ -925,22 +919,16 @@ shader::BrickCullTotals HermiteCellFeature::cullTotals() const {
 void HermiteCellFeature::ensureHitDepths(engine::render::FrameContext& frame) {
   if (!earlyDepth_) return;
   VkCommandBuffer cmd = frame.cmd;
-  if (!hitDepths_ || hitDepthsExtent_.width != frame.extent.width || hitDepthsExtent_.height != frame.extent.height) {
-    context_->waitIdle();
-    hitDepths_ = Buffer();
-    hitDepthsExtent_ = {0, 0};
-    try {
-      hitDepths_ = Buffer(*context_, VkDeviceSize(frame.extent.width) * frame.extent.height * sizeof(std::uint32_t),
-                          VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT |
-                              VK_BUFFER_USAGE_SHADER_DEVICE_ADDRESS_BIT,
-                          engine::gpu::MemoryUsage::GpuOnly, "hermite cell hit depths");
-    } catch (const engine::gpu::VulkanError& e) {
-      if (e.result() != VK_ERROR_OUT_OF_DEVICE_MEMORY) throw;
-      engine::log::warn("hermite cells: no early depth this frame: {}", e.what());
-      earlyDepth_ = false;
-      return;
-    }
-    hitDepthsExtent_ = frame.extent;
+  bool made = false;
+  try {
+    made = hitDepths_.ensure(*context_, frame.extent);
+  } catch (const engine::gpu::VulkanError& e) {
+    if (e.result() != VK_ERROR_OUT_OF_DEVICE_MEMORY) throw;
+    engine::log::warn("hermite cells: no early depth this frame: {}", e.what());
+    earlyDepth_ = false;
+    return;
+  }
+  if (made) {
     vkCmdFillBuffer(cmd, hitDepths_.handle(), 0, VK_WHOLE_SIZE, 0);
     engine::gpu::memoryBarrier(cmd, VK_PIPELINE_STAGE_2_CLEAR_BIT, VK_ACCESS_2_TRANSFER_WRITE_BIT,
                                VK_PIPELINE_STAGE_2_FRAGMENT_SHADER_BIT, kStorageReadWrite);
