@@ -472,10 +472,8 @@ void HermiteCellFeature::syncAssets(const engine::render::FrameContext& frame) {
     if (entry.lastFrame == frame.frameNumber && seen.insert(id).second) wanted.push_back(entry.asset);
 
   // Rebuild the concatenated buffers with the assets drawn now (assets no longer drawn are dropped).
-  // The old buffers may be referenced by commands recorded earlier in this frame: they are retired,
-  // and freed once the GPU is idle at a later rebuild or when the frame is surely complete.
-  context_->waitIdle();
-  std::erase_if(retired_, [&](const auto& old) { return old.first < frame.frameNumber; });
+  // The old buffers may be referenced by commands recorded earlier in this frame and by frames in
+  // flight: they are retired below, and freed once this frame has completed (prepare()).
   CellBuffers rebuilt;
   std::vector<CellRecord> full;
   std::vector<CellRecordHalf> half;
@@ -561,7 +559,7 @@ void HermiteCellFeature::syncAssets(const engine::render::FrameContext& frame) {
                   brickCells.size() * sizeof(std::uint32_t) +
                   (cones.size() + cellCones.size()) * sizeof(shader::CellBrickCone);
   for (auto& [id, entry] : rebuilt.entries) entry.lastFrame = frame.frameNumber;
-  retired_.emplace_back(frame.frameNumber, std::move(buffers_));
+  retired_.retire(std::move(buffers_), frame.frameNumber);
   buffers_ = std::make_unique<CellBuffers>(std::move(rebuilt));
   engine::log::debug("hermite cells: {} assets, {} records uploaded", buffers_->entries.size(), full.size());
 }
@@ -833,8 +831,7 @@ void HermiteCellFeature::ensureCounters(engine::render::FrameContext& frame) {
 }
 
 void HermiteCellFeature::prepare(engine::render::FrameContext& frame) {
-  // Retired buffers of a frame that has surely completed (its slot has been waited for since).
-  std::erase_if(retired_, [&](const auto& old) { return old.first + frame.framesInFlight < frame.frameNumber; });
+  retired_.collect(frame.frameNumber, frame.framesInFlight);
   syncAssets(frame);
   buildDraws(frame);
   recordCulling(frame);

@@ -53,6 +53,7 @@
 
 #include "engine/ecs/entity.h"
 #include "engine/gpu/buffer.h"
+#include "engine/gpu/deferred_release.h"
 #include "engine/gpu/pipeline.h"
 #include "engine/gpu/pixel_buffer.h"
 #include "engine/render/per_frame_buffer.h"
@@ -210,9 +211,9 @@ class HermiteCellFeature final : public engine::render::RenderFeature {
   engine::render::RendererFormats formats_;
   Pipelines pipelines_;
   std::unique_ptr<struct CellBuffers> buffers_;
-  // Buffers replaced during a frame, with that frame's number: commands recorded before the
-  // replacement (an earlier view region of the frame) still read them.
-  std::vector<std::pair<std::uint64_t, std::unique_ptr<struct CellBuffers>>> retired_;
+  // Buffers replaced during a frame: commands recorded before the replacement (an earlier view
+  // region of the frame, frames still in flight) still read them until the frame completes.
+  engine::gpu::DeferredRelease retired_;
   // Assets whose upload ran out of GPU memory (reported once, not retried: a re-bake or reload
   // makes a new asset, which is tried), and a run length refused the same way (0: none).
   std::unordered_set<std::uint64_t> refused_;
