@@ -246,14 +246,7 @@ void Renderer::collectTimings(FrameResources& frame) {
 // Zeroes the per-pixel work counters and the totals after them for this frame (after every
 // earlier frame's use of them).
 VkDeviceAddress Renderer::prepareWorkCounters(VkCommandBuffer cmd) {
-  const VkDeviceSize bytes = workTotalsOffset() + sizeof(shader::WorkTotals);
-  if (!workCounters_ || workCounters_.size() != bytes) {
-    context_.waitIdle();
-    workCounters_ = gpu::Buffer(context_, bytes,
-                                VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT |
-                                    VK_BUFFER_USAGE_TRANSFER_SRC_BIT | VK_BUFFER_USAGE_SHADER_DEVICE_ADDRESS_BIT,
-                                gpu::MemoryUsage::GpuOnly, "work counters");
-  }
+  workCounters_.ensure(context_, extent_);
   gpu::memoryBarrier(cmd, VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT, VK_ACCESS_2_MEMORY_READ_BIT | VK_ACCESS_2_MEMORY_WRITE_BIT,
                      VK_PIPELINE_STAGE_2_CLEAR_BIT, VK_ACCESS_2_TRANSFER_WRITE_BIT);
   vkCmdFillBuffer(cmd, workCounters_.handle(), 0, VK_WHOLE_SIZE, 0);
@@ -307,7 +300,7 @@ void Renderer::recordFrame(FrameResources& frame, std::uint32_t slot, const ecs:
   FrameContext context{frame.cmd, registry, context_,    scene_,           camera,
                        extent_,   slot,     frameNumber_, settings.debugView, workCounters};
   context.framesInFlight = desc_.framesInFlight;
-  if (workCounters) context.workTotals = workCounters + workTotalsOffset();
+  if (workCounters) context.workTotals = workCounters + workCounters_.pixelBytes();
   context.droppedObjects = &droppedObjects_;
   if (settings.regions.empty()) {
     recordRegion(frame, context, ViewRegion{{{0, 0}, extent_}, {}}, 0);
@@ -574,15 +567,11 @@ Expected<std::vector<glm::vec4>> Renderer::readbackColorFloat() {
   return pixels;
 }
 
-VkDeviceSize Renderer::workTotalsOffset() const {
-  return VkDeviceSize(extent_.width) * extent_.height * sizeof(std::uint32_t);
-}
-
 std::vector<std::uint32_t> Renderer::readbackWorkCounters() {
   finish();
   if (!workCounted_) return {};
-  const auto bytes = gpu::readbackBuffer(context_, workCounters_);
-  std::vector<std::uint32_t> counts(workTotalsOffset() / sizeof(std::uint32_t));
+  const auto bytes = gpu::readbackBuffer(context_, workCounters_.buffer());
+  std::vector<std::uint32_t> counts(workCounters_.pixelBytes() / sizeof(std::uint32_t));
   std::memcpy(counts.data(), bytes.data(), counts.size() * sizeof(std::uint32_t));
   return counts;
 }
@@ -591,8 +580,8 @@ shader::WorkTotals Renderer::readbackWorkTotals() {
   finish();
   shader::WorkTotals totals{};
   if (!workCounted_) return totals;
-  const auto bytes = gpu::readbackBuffer(context_, workCounters_);
-  std::memcpy(&totals, bytes.data() + workTotalsOffset(), sizeof(totals));
+  const auto bytes = gpu::readbackBuffer(context_, workCounters_.buffer());
+  std::memcpy(&totals, bytes.data() + workCounters_.pixelBytes(), sizeof(totals));
   return totals;
 }
 

@@ -14,6 +14,7 @@
 #include "engine/gpu/gpu_timer.h"
 #include "engine/gpu/image.h"
 #include "engine/gpu/pipeline_statistics.h"
+#include "engine/gpu/pixel_buffer.h"
 #include "engine/render/gpu_scene.h"
 #include "engine/render/per_frame_buffer.h"
 #include "engine/render/render_feature.h"
@@ -168,7 +169,6 @@ class Renderer {
   void recordPresentBlit(VkCommandBuffer cmd, gpu::Swapchain& swapchain, std::uint32_t imageIndex);
   void collectTimings(FrameResources& frame);
   VkDeviceAddress prepareWorkCounters(VkCommandBuffer cmd);
-  VkDeviceSize workTotalsOffset() const;  // bytes of the per-pixel counters, where the totals start
 
   const gpu::Context& context_;
   RendererDesc desc_;
@@ -187,7 +187,7 @@ class Renderer {
   std::vector<gpu::GpuTiming> lastTimings_;
   std::vector<gpu::PipelineStatistics> lastStatistics_;
   // One uint per pixel, then shader::WorkTotals; created on the first counting frame.
-  gpu::Buffer workCounters_;
+  gpu::PixelBuffer workCounters_{"work counters", VK_BUFFER_USAGE_TRANSFER_SRC_BIT, sizeof(shader::WorkTotals)};
   bool workCounted_ = false;
   std::vector<std::string> droppedObjects_;  // FrameContext::reportDropped, until takeDroppedObjects()
   bool reportedTooManyRegions_ = false;

@@ -133,7 +133,8 @@ bool drawnAsCells(RenderMethod method) {
 
 // The renderer's work counters when the frame counts (the capture reads them back), else the
 // feature's own heat-map counters when the evals view is on, else none.
-VkDeviceAddress counterAddress(const engine::render::FrameContext& frame, bool active, const Buffer& own) {
+VkDeviceAddress counterAddress(const engine::render::FrameContext& frame, bool active,
+                               const engine::gpu::PixelBuffer& own) {
   return frame.workCounters ? frame.workCounters : active ? own.address() : 0;
 }
 
@@ -490,10 +491,8 @@ void HermiteCellFeature::syncAssets(const engine::render::FrameContext& frame) {
     if (entry.lastFrame == frame.frameNumber && seen.insert(id).second) wanted.push_back(entry.asset);
 
   // Rebuild the concatenated buffers with the assets drawn now (assets no longer drawn are dropped).
-  // The old buffers may be referenced by commands recorded earlier in this frame: they are retired,
-  // and freed once the GPU is idle at a later rebuild or when the frame is surely complete.
-  context_->waitIdle();
-  std::erase_if(retired_, [&](const auto& old) { return old.first < frame.frameNumber; });
+  // The old buffers may be referenced by commands recorded earlier in this frame and by frames in
+  // flight: they are retired below, and freed once this frame has completed (prepare()).
   CellBuffers rebuilt;
   std::vector<CellRecord> full;
   std::vector<CellRecordHalf> half;
@@ -579,7 +578,7 @@ void HermiteCellFeature::syncAssets(const engine::render::FrameContext& frame) {
                   brickCells.size() * sizeof(std::uint32_t) +
                   (cones.size() + cellCones.size()) * sizeof(shader::CellBrickCone);
   for (auto& [id, entry] : rebuilt.entries) entry.lastFrame = frame.frameNumber;
-  retired_.emplace_back(frame.frameNumber, std::move(buffers_));
+  retired_.retire(std::move(buffers_), frame.frameNumber);
   buffers_ = std::make_unique<CellBuffers>(std::move(rebuilt));
   engine::log::debug("hermite cells: {} assets, {} records uploaded", buffers_->entries.size(), full.size());
 }
@@ -841,14 +840,7 @@ void HermiteCellFeature::addBrickDraws(const std::vector<shader::CellBrickGpu>& 
 void HermiteCellFeature::ensureCounters(engine::render::FrameContext& frame) {
   countersActive_ = settings_.heatMapCounters && frame.debugView == DEBUG_VIEW_EVALS && stats_.draws > 0;
   if (!countersActive_) return;
-  if (!counters_ || countersExtent_.width != frame.extent.width || countersExtent_.height != frame.extent.height) {
-    context_->waitIdle();
-    counters_ = Buffer(*context_, VkDeviceSize(frame.extent.width) * frame.extent.height * sizeof(std::uint32_t),
-                       VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT |
-                           VK_BUFFER_USAGE_SHADER_DEVICE_ADDRESS_BIT,
-                       engine::gpu::MemoryUsage::GpuOnly, "hermite evaluation counters");
-    countersExtent_ = frame.extent;
-  }
+  counters_.ensure(*context_, frame.extent);
   // Earlier frames read the counters in their shading pass; this frame rewrites them.
   engine::gpu::memoryBarrier(frame.cmd, VK_PIPELINE_STAGE_2_FRAGMENT_SHADER_BIT, VK_ACCESS_2_SHADER_STORAGE_READ_BIT,
                              VK_PIPELINE_STAGE_2_CLEAR_BIT, VK_ACCESS_2_TRANSFER_WRITE_BIT);
@@ -858,8 +850,7 @@ void HermiteCellFeature::ensureCounters(engine::render::FrameContext& frame) {
 }
 
 void HermiteCellFeature::prepare(engine::render::FrameContext& frame) {
-  // Retired buffers of a frame that has surely completed (its slot has been waited for since).
-  std::erase_if(retired_, [&](const auto& old) { return old.first + frame.framesInFlight < frame.frameNumber; });
+  retired_.collect(frame.frameNumber, frame.framesInFlight);
   syncAssets(frame);
   buildDraws(frame);
   recordCulling(frame);
@@ -944,22 +935,16 @@ shader::BrickCullTotals HermiteCellFeature::cullTotals() const {
 void HermiteCellFeature::ensureHitDepths(engine::render::FrameContext& frame) {
   if (!earlyDepth_) return;
   VkCommandBuffer cmd = frame.cmd;
-  if (!hitDepths_ || hitDepthsExtent_.width != frame.extent.width || hitDepthsExtent_.height != frame.extent.height) {
-    context_->waitIdle();
-    hitDepths_ = Buffer();
-    hitDepthsExtent_ = {0, 0};
-    try {
-      hitDepths_ = Buffer(*context_, VkDeviceSize(frame.extent.width) * frame.extent.height * sizeof(std::uint32_t),
-                          VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT |
-                              VK_BUFFER_USAGE_SHADER_DEVICE_ADDRESS_BIT,
-                          engine::gpu::MemoryUsage::GpuOnly, "hermite cell hit depths");
-    } catch (const engine::gpu::VulkanError& e) {
-      if (e.result() != VK_ERROR_OUT_OF_DEVICE_MEMORY) throw;
-      engine::log::warn("hermite cells: no early depth this frame: {}", e.what());
-      earlyDepth_ = false;
-      return;
-    }
-    hitDepthsExtent_ = frame.extent;
+  bool made = false;
+  try {
+    made = hitDepths_.ensure(*context_, frame.extent);
+  } catch (const engine::gpu::VulkanError& e) {
+    if (e.result() != VK_ERROR_OUT_OF_DEVICE_MEMORY) throw;
+    engine::log::warn("hermite cells: no early depth this frame: {}", e.what());
+    earlyDepth_ = false;
+    return;
+  }
+  if (made) {
     vkCmdFillBuffer(cmd, hitDepths_.handle(), 0, VK_WHOLE_SIZE, 0);
     engine::gpu::memoryBarrier(cmd, VK_PIPELINE_STAGE_2_CLEAR_BIT, VK_ACCESS_2_TRANSFER_WRITE_BIT,
                                VK_PIPELINE_STAGE_2_FRAGMENT_SHADER_BIT, kStorageReadWrite);

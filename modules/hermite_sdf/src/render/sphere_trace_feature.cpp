@@ -10,6 +10,7 @@
 #include "engine/core/math.h"
 #include "engine/ecs/registry.h"
 #include "engine/gpu/context.h"
+#include "engine/gpu/deferred_release.h"
 #include "engine/gpu/vk_check.h"
 #include "engine/render/gpu_scene.h"
 #include "engine/scene/transform.h"
@@ -209,7 +210,7 @@ const SphereTraceFeature::FieldTexture* SphereTraceFeature::acquireTexture(const
 // frame's slot waited for L's fence, and later frames no longer reference the texture.
 void SphereTraceFeature::releaseUnusedTextures(std::uint64_t frame, std::uint32_t framesInFlight) {
   for (auto it = textures_.begin(); it != textures_.end();) {
-    if (it->second.lastUsedFrame + framesInFlight <= frame) {
+    if (engine::gpu::DeferredRelease::completed(it->second.lastUsedFrame, frame, framesInFlight)) {
       bindings_->remove(it->second.slot);
       it = textures_.erase(it);
     } else {

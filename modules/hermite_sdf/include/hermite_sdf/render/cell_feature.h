@@ -53,7 +53,9 @@
 
 #include "engine/ecs/entity.h"
 #include "engine/gpu/buffer.h"
+#include "engine/gpu/deferred_release.h"
 #include "engine/gpu/pipeline.h"
+#include "engine/gpu/pixel_buffer.h"
 #include "engine/render/per_frame_buffer.h"
 #include "engine/render/render_feature.h"
 #include "hermite_sdf/render/renderable.h"
@@ -209,9 +211,9 @@ class HermiteCellFeature final : public engine::render::RenderFeature {
   engine::render::RendererFormats formats_;
   Pipelines pipelines_;
   std::unique_ptr<struct CellBuffers> buffers_;
-  // Buffers replaced during a frame, with that frame's number: commands recorded before the
-  // replacement (an earlier view region of the frame) still read them.
-  std::vector<std::pair<std::uint64_t, std::unique_ptr<struct CellBuffers>>> retired_;
+  // Buffers replaced during a frame: commands recorded before the replacement (an earlier view
+  // region of the frame, frames still in flight) still read them until the frame completes.
+  engine::gpu::DeferredRelease retired_;
   // Assets whose upload ran out of GPU memory (reported once, not retried: a re-bake or reload
   // makes a new asset, which is tried), and a run length refused the same way (0: none).
   std::unordered_set<std::uint64_t> refused_;
@@ -220,11 +222,9 @@ class HermiteCellFeature final : public engine::render::RenderFeature {
   engine::render::PerFrameBuffer drawData_;
   engine::render::PerFrameBuffer indirect_;
   engine::render::PerFrameBuffer objects_;  // shader::HermiteObject per drawn object
-  engine::gpu::Buffer counters_;
-  VkExtent2D countersExtent_{0, 0};
+  engine::gpu::PixelBuffer counters_{"hermite evaluation counters"};  // the heat map's evaluations per pixel
   bool countersActive_ = false;
-  engine::gpu::Buffer hitDepths_;  // a uint per pixel: the nearest hit's depth bits (early depth)
-  VkExtent2D hitDepthsExtent_{0, 0};
+  engine::gpu::PixelBuffer hitDepths_{"hermite cell hit depths"};  // the nearest hit's depth bits (early depth)
   bool earlyDepth_ = false;  // this frame's boxes are drawn in the early depth stage
   bool thinBoxes_ = false;   // this frame draws its RenderMethod::Cells objects as thin boxes
   glm::vec4 screenRect_{1.0f, 1.0f, -1.0f, -1.0f};  // NDC bounds of this frame's cell objects (resolve)

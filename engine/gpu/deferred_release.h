@@ -1,0 +1,43 @@
+#pragma once
+// GPU objects that commands of submitted frames may still use, kept until those frames have
+// completed and destroyed then, without waiting for the device (Granite's model, with frame
+// numbers instead of one list per frame slot). The renderer waits for frame slot F % framesInFlight
+// before it records frame F, so when frame F is prepared every frame up to F - framesInFlight has
+// completed: an object last used by frame L can go once L + framesInFlight <= F.
+#include <cstddef>
+#include <cstdint>
+#include <memory>
+#include <type_traits>
+#include <utility>
+#include <vector>
+
+namespace engine::gpu {
+
+class DeferredRelease {
+ public:
+  // Whether frame `lastUse` has surely completed when frame `frameNumber` is being prepared.
+  static bool completed(std::uint64_t lastUse, std::uint64_t frameNumber, std::uint32_t framesInFlight) {
+    return lastUse + framesInFlight <= frameNumber;
+  }
+
+  // Keeps `object` (any movable owner: a Buffer, an Image, a unique_ptr to a group of them) alive
+  // until frame `lastUse`, the last frame whose commands may use it, has completed.
+  template <class T>
+  void retire(T&& object, std::uint64_t lastUse) {
+    pending_.push_back({lastUse, std::make_shared<std::decay_t<T>>(std::forward<T>(object))});
+  }
+
+  // Destroys what only completed frames used, when frame `frameNumber` is being prepared.
+  void collect(std::uint64_t frameNumber, std::uint32_t framesInFlight);
+  // Objects retired and not yet destroyed.
+  std::size_t pending() const { return pending_.size(); }
+
+ private:
+  struct Entry {
+    std::uint64_t lastUse = 0;
+    std::shared_ptr<void> object;  // type-erased owner: its deleter runs the object's destructor
+  };
+  std::vector<Entry> pending_;
+};
+
+}  // namespace engine::gpu
