@@ -77,7 +77,16 @@ TEST(PixelBuffer, OldBufferOutlivesTheWorkInFlight) {
   VK_CHECK(vkAllocateCommandBuffers(context->device(), &allocInfo, &cmd));
   VkCommandBufferBeginInfo begin{VK_STRUCTURE_TYPE_COMMAND_BUFFER_BEGIN_INFO};
   VK_CHECK(vkBeginCommandBuffer(cmd, &begin));
-  for (int i = 0; i < 64; ++i) vkCmdFillBuffer(cmd, pixels.handle(), 0, VK_WHOLE_SIZE, std::uint32_t(i));
+  // Ordered fills (a barrier between each two: synchronization validation checks the test too).
+  VkMemoryBarrier between{VK_STRUCTURE_TYPE_MEMORY_BARRIER};
+  between.srcAccessMask = VK_ACCESS_TRANSFER_WRITE_BIT;
+  between.dstAccessMask = VK_ACCESS_TRANSFER_WRITE_BIT;
+  for (int i = 0; i < 64; ++i) {
+    if (i > 0)
+      vkCmdPipelineBarrier(cmd, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_PIPELINE_STAGE_TRANSFER_BIT, 0, 1, &between, 0, nullptr,
+                           0, nullptr);
+    vkCmdFillBuffer(cmd, pixels.handle(), 0, VK_WHOLE_SIZE, std::uint32_t(i));
+  }
   VK_CHECK(vkEndCommandBuffer(cmd));
   VkFenceCreateInfo fenceInfo{VK_STRUCTURE_TYPE_FENCE_CREATE_INFO};
   VkFence fence = VK_NULL_HANDLE;
