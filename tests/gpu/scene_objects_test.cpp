@@ -8,7 +8,7 @@
 #include <glm/gtc/matrix_transform.hpp>
 #include <gtest/gtest.h>
 
-#include "engine/scene/gltf_loader.h"
+#include "engine/scene/gltf/gltf_loader.h"
 #include "engine/scene/transform.h"
 #include "hermite_sdf/render/cell_feature.h"
 #include "hermite_sdf/render/scene_objects.h"
