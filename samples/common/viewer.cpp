@@ -452,7 +452,7 @@ std::vector<render::ViewRegion> Viewer::splitRegions(const std::shared_ptr<const
 NormalsFrame Viewer::renderNormals(const TuningState& tuning, const std::shared_ptr<const hsdf::SdfAsset>& asset) {
   showState(tuning, asset);
   render::FrameSettings settings;
-  settings.debugView = std::uint32_t(DebugView::Normals);
+  settings.debugView = DEBUG_VIEW_NORMALS;
   renderer_->renderFrame(registry_, cameraView(), settings);
   NormalsFrame frame;
   frame.rgba = renderer_->readbackColor();
