@@ -98,8 +98,7 @@ Status Viewer::initialize(const ViewerDesc& desc) {
     extent = swapchain_->extent();
   }
   renderer_ = std::make_unique<render::Renderer>(*context_, render::RendererDesc{}, extent);
-  ENGINE_TRY(renderer_->addFeature(std::make_unique<render::MeshFeature>(*pool_)));
-  ENGINE_TRY(hsdf::addRenderFeatures(*renderer_));
+  ENGINE_TRY(hsdf::addSceneFeatures(*renderer_, *pool_));
   if (window_ || desc.headlessUi) {
     ENGINE_TRY_ASSIGN(ui_, ui::UiLayer::create(*context_, renderer_->desc().formats.color,
                                                renderer_->desc().framesInFlight, window_.get()));
@@ -452,7 +451,7 @@ std::vector<render::ViewRegion> Viewer::splitRegions(const std::shared_ptr<const
 NormalsFrame Viewer::renderNormals(const TuningState& tuning, const std::shared_ptr<const hsdf::SdfAsset>& asset) {
   showState(tuning, asset);
   render::FrameSettings settings;
-  settings.debugView = std::uint32_t(DebugView::Normals);
+  settings.debugView = DEBUG_VIEW_NORMALS;
   renderer_->renderFrame(registry_, cameraView(), settings);
   NormalsFrame frame;
   frame.rgba = renderer_->readbackColor();
