@@ -37,6 +37,9 @@ const Variant kVariants[] = {
     // What the cell culling pass removes: the same cells, every box drawn.
     {"cells", "n=3 r=1 no-cull", false,
      {.method = Method::Cells, .subdivisions = 3, .refineSteps = 1, .cullCells = false}},
+    // What occlusion culling removes: the same cells culled by frustum and cones only.
+    {"cells", "n=3 r=1 no-occlusion", false,
+     {.method = Method::Cells, .subdivisions = 3, .refineSteps = 1, .cullOcclusion = false}},
     // Issue 20 step 2: the same cells and search with 12 bytes of varyings per box (records read by
     // address), and with the Hermite data as varyings (the paper's); the row above lets the device
     // and the cells' size on screen choose (HermiteCellFeature::ThinBoxes::Auto).
