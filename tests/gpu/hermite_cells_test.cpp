@@ -220,6 +220,7 @@ TEST_F(HermiteCellsTest, CameraInsideBoundsAndInsideACell) {
 TEST_F(HermiteCellsTest, EarlyDepthDrawsTheSameSurfaceWithFewerEvaluations) {
   createCellRenderer(kSize, kSize);
   auto* feature = renderer_->feature<hsdf::HermiteCellFeature>();
+  feature->settings().cullOcclusion = false;  // occlusion culling keeps the stage off
   // The stage belongs to the attribute boxes (thin ones have none, and ThinBoxes::Auto picks them
   // on a GPU for cells this small on screen).
   feature->settings().thinBoxes = hsdf::HermiteCellFeature::ThinBoxes::Off;
@@ -310,6 +311,7 @@ TEST_F(HermiteCellsTest, EarlyDepthDrawsTheSameSurfaceWithFewerEvaluations) {
 TEST_F(HermiteCellsTest, CountedVariantDrawsTheProductionImage) {
   createCellRenderer(kSize, kSize);
   auto* feature = renderer_->feature<hsdf::HermiteCellFeature>();
+  feature->settings().cullOcclusion = false;  // the early stage's variants are checked below
   feature->settings().earlyDepth = hsdf::HermiteCellFeature::EarlyDepth::Off;
   const auto torus = bakeAsset("torus", 16);
   ASSERT_NE(torus, nullptr);
@@ -413,6 +415,10 @@ TEST_F(HermiteCellsTest, EarlyDepthAutoFollowsTheDevice) {
   const auto torus = bakeAsset("torus", 16);
   ASSERT_NE(torus, nullptr);
   addSdf(registry_, torus, hsdf::RenderMethod::Cells);
+  // Occlusion culling (on by default) keeps the stage off whatever the device.
+  (void)renderWith(orbitCamera(*torus, 0), DEBUG_VIEW_NONE);
+  EXPECT_FALSE(feature->stats().earlyDepth);
+  feature->settings().cullOcclusion = false;
   (void)renderWith(orbitCamera(*torus, 0), DEBUG_VIEW_NONE);
   EXPECT_EQ(feature->stats().earlyDepth, context_->capabilities().isSoftwareRasterizer);
 }
@@ -974,7 +980,12 @@ TEST_F(HermiteCellsTest, SixtyFourInstancesInOneDrawMatchSeparateFrames) {
   const render::CameraView camera =
       render::CameraView::lookAt(glm::vec3(0.0f, 0.0f, 9.0f * extent), glm::vec3(0.0f), 0.9f, 0.05f * extent, 1.0f);
   for (const glm::mat4& m : transforms) addSdf(registry_, asset, hsdf::RenderMethod::Cells, m);
+  // With occlusion culling (the default) the instances hide each other's cells: the first frame
+  // (empty history) and the third (the history of the same view) must both be the sum below.
+  const Frame first = renderWith(camera, DEBUG_VIEW_NONE);
+  (void)renderWith(camera, DEBUG_VIEW_NONE);
   const Frame all = renderWith(camera, DEBUG_VIEW_NONE);
+  EXPECT_TRUE(first.depth == all.depth);
   EXPECT_EQ(renderer_->feature<hsdf::HermiteCellFeature>()->stats().objects, 64u);
   // The instances overlap on screen: drawn by depth (early depth would let one object's nearer box
   // face hide another object's nearer hit), while each one alone is drawn by its faces below, so
@@ -982,6 +993,7 @@ TEST_F(HermiteCellsTest, SixtyFourInstancesInOneDrawMatchSeparateFrames) {
   EXPECT_FALSE(renderer_->feature<hsdf::HermiteCellFeature>()->stats().earlyDepth);
 
   std::vector<float> expected(std::size_t(size) * size, 0.0f);
+  renderer_->feature<hsdf::HermiteCellFeature>()->settings().cullOcclusion = false;  // each alone: early depth
   for (const glm::mat4& m : transforms) {
     registry_.clear();
     addSdf(registry_, asset, hsdf::RenderMethod::Cells, m);
