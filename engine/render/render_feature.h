@@ -8,6 +8,12 @@
 //   recordEarlyDepthResolve() first in the rest of the prepass (storage writes of the early draws
 //                      are visible to it): the early stage's depth fixed up before anything else draws;
 //   recordPass(Depth)  inside the depth prepass (depth + visibility id, compare GREATER, reverse-Z);
+//                      with occlusion culling (usesOcclusionCulling() after prepare()), this is
+//                      phase 1 (what was visible last frame), then the prepass ends, the depth
+//                      pyramid is built from it (depth_pyramid.h) and
+//   recordLateCulling() outside any rendering instance: compute culling against the pyramid, then
+//   recordPass(Depth)  again, phase 2 (PassContext::occlusionLate), only for such features, in a
+//                      rendering instance that loads what phase 1 drew;
 //   recordPass(Opaque) inside the shading pass (colour + read-only depth: depth is final, test
 //                      EQUAL or read it from the scene descriptor set);
 //   drawUi()           inside the ImGui frame: the feature's tuning panel.
@@ -27,6 +33,7 @@
 #include "engine/core/expected.h"
 #include "engine/gpu/gpu_timer.h"
 #include "engine/render/camera_view.h"
+#include "engine/render/depth_pyramid.h"
 
 namespace engine::ecs {
 class Registry;
@@ -94,6 +101,9 @@ struct PassContext {
   // attachment is read-only in the shading pass, so it can be sampled while it is tested against.
   VkDescriptorSet sceneSet;
   gpu::GpuTimer& timer;          // for sub-pass timings: timer.begin(cmd, "name") / end(cmd)
+  // Depth prepass with occlusion culling: false in phase 1 (every feature), true in phase 2
+  // (only the features that use occlusion culling draw what their late culling kept).
+  bool occlusionLate = false;
 };
 
 class RenderFeature {
@@ -113,6 +123,15 @@ class RenderFeature {
   virtual bool usesEarlyDepth() const { return false; }
   virtual void recordEarlyDepth(PassContext& /*pass*/) {}
   virtual void recordEarlyDepthResolve(PassContext& /*pass*/) {}
+  // Two-phase occlusion culling (the scheme of zeux/niagara): when any feature says so after
+  // prepare(), the prepass draws phase 1, the renderer builds the depth pyramid of what it drew,
+  // calls recordLateCulling() (compute only; pass.pass is DepthPrepass, no rendering instance is
+  // open; the pyramid is readable by compute shaders) and then recordPass() with
+  // pass.occlusionLate set. The feature's own barriers make its late culling's output visible to
+  // the phase-2 draws. Correctness must not depend on phase 1: anything phase 1 left out that may
+  // be visible has to be drawn in phase 2.
+  virtual bool usesOcclusionCulling() const { return false; }
+  virtual void recordLateCulling(PassContext& /*pass*/, const DepthPyramidView& /*pyramid*/) {}
   virtual void drawUi() {}
   // Recreates the pipelines from the SPIR-V on disk now (e.g. after the shaders were rebuilt).
   // On failure the old pipelines stay and the error says why (the file, the loader's or Vulkan's

@@ -218,6 +218,7 @@ void Renderer::resize(VkExtent2D extent) {
   extent_ = extent;
   workCounted_ = false;  // the counts were of the old size
   createTargets();
+  if (pyramid_) pyramid_->resize(context_, extent_);
 }
 
 void Renderer::writeFrameGlobals(std::uint32_t slot, const CameraView& camera) {
@@ -462,6 +463,39 @@ void Renderer::recordDepthPrepass(PassContext& pass, VkRect2D rect, bool first) 
   }
   for (auto& feature : features_) feature->recordPass(pass);
   vkCmdEndRendering(pass.cmd);
+  if (std::any_of(features_.begin(), features_.end(), [](const auto& f) { return f->usesOcclusionCulling(); }))
+    recordOcclusionPhase2(pass, rect, first);
+}
+
+// Occlusion culling's second phase: the pyramid of what phase 1 drew, the features' late culling
+// against it, and their phase-2 draws over phase 1's depth and visibility (LOAD). Without a
+// pyramid (its shader failed to load) the features get an empty view and must cull nothing.
+void Renderer::recordOcclusionPhase2(PassContext& pass, VkRect2D rect, bool first) {
+  DepthPyramid* pyramid = ensurePyramid();
+  if (pyramid) pyramid->record(pass.cmd, depth_);
+  const DepthPyramidView view = pyramid ? pyramid->view() : DepthPyramidView{};
+  for (auto& feature : features_)
+    if (feature->usesOcclusionCulling()) feature->recordLateCulling(pass, view);
+  barrierBetweenPrepassStages(pass.cmd);
+  beginPrepassRendering(pass.cmd, rect, first, VK_ATTACHMENT_LOAD_OP_LOAD);
+  pass.occlusionLate = true;
+  for (auto& feature : features_)
+    if (feature->usesOcclusionCulling()) feature->recordPass(pass);
+  pass.occlusionLate = false;
+  vkCmdEndRendering(pass.cmd);
+}
+
+DepthPyramid* Renderer::ensurePyramid() {
+  if (pyramid_ || pyramidFailed_) return pyramid_.get();
+  auto created = DepthPyramid::create(context_);
+  if (!created) {
+    log::error("depth pyramid: {}; occlusion culling culls nothing", created.error().message);
+    pyramidFailed_ = true;
+    return nullptr;
+  }
+  pyramid_ = std::make_unique<DepthPyramid>(std::move(*created));
+  pyramid_->resize(context_, extent_);
+  return pyramid_.get();
 }
 
 void Renderer::beginPrepassRendering(VkCommandBuffer cmd, VkRect2D rect, bool first, VkAttachmentLoadOp load) {
@@ -591,6 +625,15 @@ std::vector<glm::uvec2> Renderer::readbackVisibility() {
   std::vector<glm::uvec2> ids(bytes.size() / sizeof(glm::uvec2));
   std::memcpy(ids.data(), bytes.data(), ids.size() * sizeof(glm::uvec2));
   return ids;
+}
+
+std::vector<float> Renderer::readbackDepthPyramid() {
+  finish();
+  if (!pyramid_) return {};
+  const auto bytes = gpu::readbackBuffer(context_, pyramid_->buffer());
+  std::vector<float> texels(bytes.size() / sizeof(float));
+  std::memcpy(texels.data(), bytes.data(), texels.size() * sizeof(float));
+  return texels;
 }
 
 std::vector<float> Renderer::readbackDepth() {

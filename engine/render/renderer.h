@@ -15,6 +15,7 @@
 #include "engine/gpu/image.h"
 #include "engine/gpu/pipeline_statistics.h"
 #include "engine/gpu/pixel_buffer.h"
+#include "engine/render/depth_pyramid.h"
 #include "engine/render/gpu_scene.h"
 #include "engine/render/per_frame_buffer.h"
 #include "engine/render/render_feature.h"
@@ -123,6 +124,10 @@ class Renderer {
   // The frame-wide totals of that frame (shader::WorkTotals); all zero when no frame has counted.
   shader::WorkTotals readbackWorkTotals();
   std::vector<float> readbackDepth();
+  // The depth pyramid of the last frame's last view region that used occlusion culling (levels
+  // concatenated, DepthPyramid::levelOffset), with its view; empty when no frame built one.
+  std::vector<float> readbackDepthPyramid();
+  DepthPyramidView depthPyramidView() const { return pyramid_ ? pyramid_->view() : DepthPyramidView{}; }
   // Per pixel: x = 1 + GPU scene object index (0 = background), y = feature-specific part id.
   std::vector<glm::uvec2> readbackVisibility();
   // Named GPU timings of the most recent frame whose results are available.
@@ -165,6 +170,8 @@ class Renderer {
   void recordDepthPrepass(PassContext& pass, VkRect2D rect, bool first);
   void beginPrepassRendering(VkCommandBuffer cmd, VkRect2D rect, bool first, VkAttachmentLoadOp load);
   static void barrierBetweenPrepassStages(VkCommandBuffer cmd);
+  void recordOcclusionPhase2(PassContext& pass, VkRect2D rect, bool first);
+  DepthPyramid* ensurePyramid();
   void recordOpaquePass(PassContext& pass, VkRect2D rect, bool first);
   void recordPresentBlit(VkCommandBuffer cmd, gpu::Swapchain& swapchain, std::uint32_t imageIndex);
   void collectTimings(FrameResources& frame);
@@ -184,6 +191,9 @@ class Renderer {
   GpuScene scene_;
   PerFrameBuffer frameGlobals_;
   std::vector<std::unique_ptr<RenderFeature>> features_;
+  // Made on the first frame with occlusion culling (its shader loaded then); sized with the targets.
+  std::unique_ptr<DepthPyramid> pyramid_;
+  bool pyramidFailed_ = false;  // its shader did not load: features get an empty pyramid
   std::vector<gpu::GpuTiming> lastTimings_;
   std::vector<gpu::PipelineStatistics> lastStatistics_;
   // One uint per pixel, then shader::WorkTotals; created on the first counting frame.

@@ -180,6 +180,7 @@ engine::Status readKey(const std::string& key, const json& value, TuningState& t
   if (key == "certified") return readBool(value, t.certified);
   if (key == "cull_bricks") return readBool(value, t.cullBricks);
   if (key == "cull_cells") return readBool(value, t.cullCells);
+  if (key == "cull_occlusion") return readBool(value, t.cullOcclusion);
   if (key == "thin_boxes") return readEarlyDepth(value, t.thinBoxes);  // the same true / false / "auto" switch
   if (key == "split") return readName(value, kSplitModes, t.split);
   if (key == "split_position") return readFloat(value, kSplitMin, kSplitMax, t.splitPosition);
@@ -377,6 +378,7 @@ engine::Status saveTuning(const std::filesystem::path& file, const TuningState& 
                      {"certified", t.certified},
                      {"cull_bricks", t.cullBricks},
                      {"cull_cells", t.cullCells},
+                     {"cull_occlusion", t.cullOcclusion},
                      {"thin_boxes", t.thinBoxes == ThinBoxes::Auto ? json("auto") : json(t.thinBoxes == ThinBoxes::On)},
                      {"split", splitModeName(t.split)},
                      {"split_position", t.splitPosition},

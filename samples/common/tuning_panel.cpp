@@ -125,6 +125,11 @@ void TuningPanel::drawMethod() {
   if (ImGui::IsItemHovered())
     ImGui::SetTooltip("cells: a compute pass keeps only the cells in the frustum whose normal cone may face the eye");
   ImGui::SameLine();
+  changed |= ImGui::Checkbox("cull occlusion", &t.cullOcclusion);
+  if (ImGui::IsItemHovered())
+    ImGui::SetTooltip("cells (with cull cells): last frame's visible cells drawn first, the rest tested against the\n"
+                      "depth pyramid of what they drew; only those that may be visible are drawn");
+  ImGui::SameLine();
   changed |= autoSwitchCombo("thin boxes", t.thinBoxes,
                              "cells: 12 bytes of varyings per box, the cell's data read by address in the fragment shader,\n"
                              "instead of each box vertex carrying the cell's Hermite data; auto: on GPUs when cells are small on screen");

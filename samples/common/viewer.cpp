@@ -330,6 +330,7 @@ void Viewer::applyTuningToScene() {
   cells.maxRunLength = tuning_.maxRunLength;
   cells.cullBricks = tuning_.cullBricks;
   cells.cullCells = tuning_.cullCells;
+  cells.cullOcclusion = tuning_.cullOcclusion;
   using CellThinBoxes = hsdf::HermiteCellFeature::ThinBoxes;
   cells.thinBoxes = tuning_.thinBoxes == ThinBoxes::On    ? CellThinBoxes::On
                     : tuning_.thinBoxes == ThinBoxes::Off ? CellThinBoxes::Off

@@ -37,6 +37,10 @@ const Variant kVariants[] = {
     // What the cell culling pass removes: the same cells, every box drawn.
     {"cells", "n=3 r=1 no-cull", false,
      {.method = hsdf::RenderMethod::Cells, .subdivisions = 3, .refineSteps = 1, .cullCells = false}},
+    // Two-phase occlusion culling on top of the frustum and cones (off by default: see
+    // HermiteCellFeature::Settings::cullOcclusion).
+    {"cells", "n=3 r=1 occlusion", false,
+     {.method = hsdf::RenderMethod::Cells, .subdivisions = 3, .refineSteps = 1, .cullOcclusion = true}},
     // Issue 20 step 2: the same cells and search with 12 bytes of varyings per box (records read by
     // address), and with the Hermite data as varyings (the paper's); the row above lets the device
     // and the cells' size on screen choose (HermiteCellFeature::ThinBoxes::Auto).

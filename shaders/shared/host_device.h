@@ -90,6 +90,20 @@ struct WorkTotals {
 };
 HSDF_CHECK_SIZE(WorkTotals, 16);
 
+// Push constants of depth_pyramid.comp (engine::render::DepthPyramid): one level of the pyramid
+// from the one before it, both in the same buffer (levels concatenated, level 0 = the frame's
+// depth), each texel the FARTHEST depth (reverse-Z: the minimum) of the up to 2x2 texels below it.
+struct DepthPyramidPushConstants {
+  uint64_t pyramid;  // address of float[]: every level, row-major, level 0 first
+  uint srcOffset;    // first float of the source level
+  uint dstOffset;    // first float of the level written
+  uint srcWidth;
+  uint srcHeight;
+  uint dstWidth;
+  uint dstHeight;
+};
+HSDF_CHECK_SIZE(DepthPyramidPushConstants, 8 + 6 * 4);
+
 #ifdef __cplusplus
 }  // namespace shader
 #else

@@ -13,6 +13,7 @@
 #include <optional>
 #include <string>
 
+#include <glm/gtc/matrix_transform.hpp>
 #include <gtest/gtest.h>
 
 #include "engine/core/image_io.h"
@@ -220,6 +221,7 @@ TEST_F(HermiteCellsTest, CameraInsideBoundsAndInsideACell) {
 TEST_F(HermiteCellsTest, EarlyDepthDrawsTheSameSurfaceWithFewerEvaluations) {
   createCellRenderer(kSize, kSize);
   auto* feature = renderer_->feature<hsdf::HermiteCellFeature>();
+  feature->settings().cullOcclusion = false;  // occlusion culling keeps the stage off
   // The stage belongs to the attribute boxes (thin ones have none, and ThinBoxes::Auto picks them
   // on a GPU for cells this small on screen).
   feature->settings().thinBoxes = hsdf::HermiteCellFeature::ThinBoxes::Off;
@@ -310,6 +312,7 @@ TEST_F(HermiteCellsTest, EarlyDepthDrawsTheSameSurfaceWithFewerEvaluations) {
 TEST_F(HermiteCellsTest, CountedVariantDrawsTheProductionImage) {
   createCellRenderer(kSize, kSize);
   auto* feature = renderer_->feature<hsdf::HermiteCellFeature>();
+  feature->settings().cullOcclusion = false;  // the early stage's variants are checked below
   feature->settings().earlyDepth = hsdf::HermiteCellFeature::EarlyDepth::Off;
   const auto torus = bakeAsset("torus", 16);
   ASSERT_NE(torus, nullptr);
@@ -413,6 +416,10 @@ TEST_F(HermiteCellsTest, EarlyDepthAutoFollowsTheDevice) {
   const auto torus = bakeAsset("torus", 16);
   ASSERT_NE(torus, nullptr);
   addSdf(registry_, torus, hsdf::RenderMethod::Cells);
+  // Occlusion culling (on by default) keeps the stage off whatever the device.
+  (void)renderWith(orbitCamera(*torus, 0), DEBUG_VIEW_NONE);
+  EXPECT_FALSE(feature->stats().earlyDepth);
+  feature->settings().cullOcclusion = false;
   (void)renderWith(orbitCamera(*torus, 0), DEBUG_VIEW_NONE);
   EXPECT_EQ(feature->stats().earlyDepth, context_->capabilities().isSoftwareRasterizer);
 }
@@ -629,6 +636,7 @@ TEST_F(HermiteCellsTest, BrickCullingKeepsTheImageAndDrawsFewerBricks) {
 TEST_F(HermiteCellsTest, CellCullingKeepsTheImageAndDrawsFewerBoxes) {
   createCellRenderer(kSize, kSize);
   auto* feature = renderer_->feature<hsdf::HermiteCellFeature>();
+  feature->settings().cullOcclusion = false;  // frustum and cones alone (occlusion: the test below)
   const auto asset = bakeAsset("bunny", 64);
   ASSERT_NE(asset, nullptr);
   ASSERT_TRUE(asset->boundaryPositive);
@@ -708,6 +716,131 @@ TEST_F(HermiteCellsTest, CellCullingKeepsTheImageAndDrawsFewerBoxes) {
   EXPECT_GT(totals.frustumCulled, 0u) << "from inside the torus most cells are off screen";
   EXPECT_TRUE(all.depth == culled.depth) << "culling changed the depth inside a cell";
   EXPECT_TRUE(all.rgba == culled.rgba) << "culling changed the colour inside a cell";
+}
+
+std::uint64_t prepassFragments(const render::Renderer& renderer) {
+  const auto* s = gpu::findStatistics(renderer.lastPipelineStatistics(), "depth prepass");
+  return s ? s->fragmentShaderInvocations : 0;
+}
+
+// Why: occlusion culling draws in two phases what one pass drew: a cell missing from both (a wrong
+// history index, an occlusion test that is not conservative at the box's edges or depth, a pyramid
+// texel that misses pixels) is a hole, a cell drawn twice or out of its row's order a different
+// winner where hits tie. The history must never decide what is drawn, only when: so depth and
+// colour identical with occlusion on and off on the concave bunny from several sides, on the first
+// frame (empty history), after a frame that looked from the opposite side (stale history) and in
+// steady state (the previous frames from the same camera); and the prepass rasterizes fewer
+// fragments in steady state (the bunny's surface hides cells behind it).
+TEST_F(HermiteCellsTest, OcclusionCullingKeepsTheImageAndDrawsFewerFragments) {
+  createCellRenderer(kSize, kSize);
+  auto* feature = renderer_->feature<hsdf::HermiteCellFeature>();
+  const auto asset = bakeAsset("bunny", 64);
+  ASSERT_NE(asset, nullptr);
+  const ecs::Entity entity = addSdf(registry_, asset, hsdf::RenderMethod::Cells);
+  const bool inOrder = tolerancesFor(*context_).fragmentsShadeInPrimitiveOrder;
+  using ThinBoxes = hsdf::HermiteCellFeature::ThinBoxes;
+  struct Case {
+    const char* label;
+    ThinBoxes thin;
+    bool half;
+    int firstView, viewStep;
+  };
+  const Case cases[] = {{"attribute boxes fp32", ThinBoxes::Off, false, 0, 1},
+                        {"thin boxes fp16", ThinBoxes::On, true, 1, 3}};
+  // Occlusion culling turns the early depth stage off (HermiteCellFeature::Settings::cullOcclusion):
+  // the frames without it keep it off too, so that only the culling differs.
+  feature->settings().earlyDepth = hsdf::HermiteCellFeature::EarlyDepth::Off;
+  {
+    feature->settings().cullOcclusion = false;
+    const Frame without = renderWith(orbitCamera(*asset, 0), DEBUG_VIEW_NONE);
+    feature->settings().cullOcclusion = true;
+    const Frame first = renderWith(orbitCamera(*asset, 0), DEBUG_VIEW_NONE);  // empty history
+    EXPECT_TRUE(without.depth == first.depth) << "occlusion culling changed the depth (empty history)";
+    EXPECT_TRUE(without.rgba == first.rgba) << "occlusion culling changed the colour (empty history)";
+  }
+  for (const Case& c : cases) {
+    feature->settings().thinBoxes = c.thin;
+    registry_.get<hsdf::HermiteSdfRenderable>(entity).halfPrecision = c.half;
+    std::uint64_t withoutSum = 0, withSum = 0;
+    for (int view = c.firstView; view < 6; view += c.viewStep) {
+      SCOPED_TRACE(std::string(c.label) + ", view " + std::to_string(view));
+      const render::CameraView camera = orbitCamera(*asset, view);
+      feature->settings().cullOcclusion = false;
+      const Frame without = renderWith(camera, DEBUG_VIEW_NONE);
+      const std::uint64_t withoutFragments = prepassFragments(*renderer_);
+      ASSERT_GT(std::count_if(without.depth.begin(), without.depth.end(), [](float d) { return d > 0.0f; }), 500);
+      feature->settings().cullOcclusion = true;
+      renderWith(orbitCamera(*asset, view + 3), DEBUG_VIEW_NONE);  // the history of the other side
+      const Frame stale = renderWith(camera, DEBUG_VIEW_NONE);
+      EXPECT_TRUE(without.depth == stale.depth) << "occlusion culling with a stale history changed the depth";
+      EXPECT_TRUE(without.rgba == stale.rgba) << "occlusion culling with a stale history changed the colour";
+      // After a stale history phase 1 draws little, so its pyramid hides little and phase 2
+      // marks nearly every cell visible: the next frame draws them all in phase 1 and finds
+      // which are hidden; from the one after on, those are not drawn.
+      const Frame settling = renderWith(camera, DEBUG_VIEW_NONE);
+      EXPECT_TRUE(without.depth == settling.depth) << "occlusion culling changed the depth (settling)";
+      EXPECT_TRUE(without.rgba == settling.rgba) << "occlusion culling changed the colour (settling)";
+      const Frame steady = renderWith(camera, DEBUG_VIEW_NONE);
+      EXPECT_TRUE(without.depth == steady.depth) << "occlusion culling changed the depth";
+      EXPECT_TRUE(without.rgba == steady.rgba) << "occlusion culling changed the colour";
+      EXPECT_TRUE(feature->usesOcclusionCulling());
+      EXPECT_FALSE(feature->stats().earlyDepth) << "the early depth stage is off with occlusion culling";
+      withoutSum += withoutFragments;
+      withSum += prepassFragments(*renderer_);
+      if (withoutFragments > 0 && inOrder) {
+        EXPECT_LT(prepassFragments(*renderer_), withoutFragments);
+      }
+    }
+    SCOPED_TRACE(c.label);
+    if (withoutSum > 0) {
+      EXPECT_LT(withSum, withoutSum) << "occlusion culling drew no fewer prepass fragments";
+    }
+  }
+}
+
+// Why: an object hidden behind another must cost nothing once the history holds the occluder: in
+// steady state its cells are neither drawn in phase 1 (not visible last frame) nor in phase 2
+// (behind the pyramid). A sphere in front of a small torus: with the torus the frame draws exactly
+// the boxes and prepass fragments it draws without it, and the image is the one drawn without
+// occlusion culling. The torus alone, from the same camera, draws boxes (it is in view).
+TEST_F(HermiteCellsTest, OcclusionCullingDrawsNothingOfAHiddenObject) {
+  createCellRenderer(kSize, kSize);
+  auto* feature = renderer_->feature<hsdf::HermiteCellFeature>();
+  const auto sphere = bakeAsset("sphere", 16);
+  const auto torus = bakeAsset("torus", 16);
+  ASSERT_NE(sphere, nullptr);
+  ASSERT_NE(torus, nullptr);
+  const render::CameraView camera = render::CameraView::lookAt({0.0f, 0.0f, 4.0f}, {0.0f, 0.0f, 0.0f}, 0.9f, 0.05f, 1.0f);
+  const glm::mat4 behind = glm::scale(glm::translate(glm::mat4(1.0f), {0.0f, 0.0f, -3.0f}), glm::vec3(0.2f));
+  struct Drawn {
+    std::uint64_t boxes = 0, tested = 0, fragments = 0;
+    Frame frame;
+  };
+  // Four frames from the camera (the history settles), the last one measured.
+  auto draw = [&](bool withSphere, bool withTorus) {
+    registry_ = ecs::Registry();
+    if (withSphere) addSdf(registry_, sphere, hsdf::RenderMethod::Cells);
+    if (withTorus) addSdf(registry_, torus, hsdf::RenderMethod::Cells, behind);
+    Drawn d;
+    for (int frame = 0; frame < 4; ++frame) d.frame = renderWith(camera, DEBUG_VIEW_NONE);
+    d.boxes = feature->cullTotals().kept;
+    d.tested = feature->cullTotals().tested;
+    d.fragments = prepassFragments(*renderer_);
+    return d;
+  };
+  const Drawn torusAlone = draw(false, true);
+  EXPECT_GT(torusAlone.boxes, 0u) << "the torus is in view";
+  const Drawn sphereAlone = draw(true, false);
+  const Drawn both = draw(true, true);
+  EXPECT_EQ(both.tested, sphereAlone.tested + torusAlone.tested) << "the torus's cells are tested";
+  EXPECT_EQ(both.boxes, sphereAlone.boxes) << "the hidden torus drew boxes";
+  EXPECT_EQ(both.fragments, sphereAlone.fragments) << "the hidden torus drew prepass fragments";
+  EXPECT_TRUE(both.frame.depth == sphereAlone.frame.depth);
+  feature->settings().cullOcclusion = false;
+  const Drawn unculled = draw(true, true);
+  EXPECT_GT(unculled.boxes, both.boxes);
+  EXPECT_TRUE(unculled.frame.depth == both.frame.depth) << "occlusion culling changed the depth";
+  EXPECT_TRUE(unculled.frame.rgba == both.frame.rgba) << "occlusion culling changed the colour";
 }
 
 // Why: inside a cell the near plane cuts the run's (brick's) front faces away; the back-face path
@@ -848,7 +981,13 @@ TEST_F(HermiteCellsTest, SixtyFourInstancesInOneDrawMatchSeparateFrames) {
   const render::CameraView camera =
       render::CameraView::lookAt(glm::vec3(0.0f, 0.0f, 9.0f * extent), glm::vec3(0.0f), 0.9f, 0.05f * extent, 1.0f);
   for (const glm::mat4& m : transforms) addSdf(registry_, asset, hsdf::RenderMethod::Cells, m);
+  // With occlusion culling the instances hide each other's cells: the first frame (empty history)
+  // and the third (the history of the same view) must both be the sum below.
+  renderer_->feature<hsdf::HermiteCellFeature>()->settings().cullOcclusion = true;
+  const Frame first = renderWith(camera, DEBUG_VIEW_NONE);
+  (void)renderWith(camera, DEBUG_VIEW_NONE);
   const Frame all = renderWith(camera, DEBUG_VIEW_NONE);
+  EXPECT_TRUE(first.depth == all.depth);
   EXPECT_EQ(renderer_->feature<hsdf::HermiteCellFeature>()->stats().objects, 64u);
   // The instances overlap on screen: drawn by depth (early depth would let one object's nearer box
   // face hide another object's nearer hit), while each one alone is drawn by its faces below, so
@@ -856,6 +995,7 @@ TEST_F(HermiteCellsTest, SixtyFourInstancesInOneDrawMatchSeparateFrames) {
   EXPECT_FALSE(renderer_->feature<hsdf::HermiteCellFeature>()->stats().earlyDepth);
 
   std::vector<float> expected(std::size_t(size) * size, 0.0f);
+  renderer_->feature<hsdf::HermiteCellFeature>()->settings().cullOcclusion = false;  // each alone: early depth
   for (const glm::mat4& m : transforms) {
     registry_.clear();
     addSdf(registry_, asset, hsdf::RenderMethod::Cells, m);

@@ -7,6 +7,11 @@
 // still read them as instance-rate vertex attributes, and each one's record index), and their
 // count becomes the command's instanceCount. The order is kept (a prefix sum, not an atomic
 // append) so that boxes whose hits tie at one depth resolve as without culling: same image.
+// Two-phase occlusion culling (pc.phase, the scheme of zeux/niagara): phase 1 keeps only the cells
+// that were visible when last tested (the history); phase 2, after the renderer built the depth
+// pyramid of what phase 1 drew, tests every surviving cell's box against it, records the result
+// as the history and keeps the visible cells phase 1 did not draw. A cell that may be visible is
+// drawn in one of the two phases whatever the history says: a stale history only costs work.
 #extension GL_GOOGLE_include_directive : require
 #include "hermite/hermite_host_device.h"
 #include "hermite/normal_cone.glsl"
@@ -20,25 +25,89 @@ layout(buffer_reference, scalar) writeonly buffer KeptIndicesRef { uint indices[
 // VkDrawIndirectCommand[] as uints: vertexCount, instanceCount, firstVertex, firstInstance.
 layout(buffer_reference, scalar) writeonly buffer CommandsRef { uint words[]; };
 layout(buffer_reference, scalar) buffer TotalsRef { BrickCullTotals totals; };
+layout(buffer_reference, scalar) buffer HistoryRef { uint visible[]; };
+layout(buffer_reference, scalar) readonly buffer PyramidRef { float depth[]; };
 
 layout(push_constant, scalar) uniform Push { CellCullPushConstants pc; };
 
 shared uint keptUpTo[64];  // inclusive prefix sum of the kept flags of one chunk of 64 cells
 
-// Whether cell `record` stays; counts a culled one in `frustum` or `cone`.
-bool cellKept(BrickCullObject object, uint record, inout uint frustum, inout uint cone) {
+// The box of cell `record` in object space.
+void cellBox(BrickCullObject object, uint record, out vec3 lo, out vec3 hi) {
   RecordWordsRef words = RecordWordsRef(pc.records);
   uint xy = words.words[record * pc.recordWords + pc.recordWords - 2u];
   uint zc = words.words[record * pc.recordWords + pc.recordWords - 1u];
-  vec3 lo, hi;
   gridBlockBox(vec3(float(xy & 0xffffu), float(xy >> 16), float(zc & 0xffffu)), object.gridOriginSpacing.xyz,
                object.gridOriginSpacing.w, lo, hi);
+}
+
+// Whether cell `record` stays; counts a culled one in `frustum` or `cone`.
+bool cellKept(BrickCullObject object, uint record, inout uint frustum, inout uint cone) {
+  vec3 lo, hi;
+  cellBox(object, record, lo, hi);
   bool frustumCulled;
   bool kept = brickSurvives(object.objectToClip, lo, hi, ConesRef(pc.cones).cones[record].axisCutoff,
                             object.eyeConeTest.xyz, object.eyeConeTest.w != 0.0, frustumCulled);
   if (!kept && frustumCulled) frustum++;
   if (!kept && !frustumCulled) cone++;
   return kept;
+}
+
+// The farthest pyramid depth over the pixels [lo, hi] (inclusive, inside the frame): the level
+// where the rectangle spans at most 2x2 texels (a texel of level k covers 2^k pixels per axis).
+float pyramidFarthest(uvec2 lo, uvec2 hi) {
+  // n pixels from any x cover at most 2 texels of a level whose texels are >= n - 1 pixels wide.
+  uint span = max(hi.x - lo.x, hi.y - lo.y) + 1u;
+  uint level = span <= 2u ? 0u : min(uint(findMSB(span - 2u)) + 1u, pc.pyramidLevels - 1u);
+  uint offset = 0u;
+  uvec2 size = uvec2(pc.pyramidWidth, pc.pyramidHeight);
+  for (uint k = 0u; k < level; ++k) {
+    offset += size.x * size.y;
+    size = (size + 1u) / 2u;
+  }
+  uvec2 a = lo >> level, b = min(hi >> level, size - 1u);
+  float farthest = 1.0;
+  for (uint y = a.y; y <= b.y; ++y)
+    for (uint x = a.x; x <= b.x; ++x) farthest = min(farthest, PyramidRef(pc.pyramid).depth[offset + y * size.x + x]);
+  return farthest;
+}
+
+// Whether everything the cell can draw is behind what phase 1 drew: its box's nearest depth
+// (reverse-Z: the largest z/w of its corners; a box's points lie between its corners' depths) is
+// farther than the pyramid's farthest depth over the pixels whose centres its corners' rectangle
+// may hold (one pixel wider each side: the proxies' dilation and rounding), the depth with
+// pc.depthMargin. A box reaching the near plane, or behind the eye, is never occluded.
+bool cellOccluded(BrickCullObject object, uint record) {
+  if (pc.pyramidLevels == 0u) return false;
+  vec3 lo, hi;
+  cellBox(object, record, lo, hi);
+  vec2 minNdc = vec2(1.0), maxNdc = vec2(-1.0);
+  float nearest = 0.0;
+  for (uint c = 0u; c < 8u; ++c) {
+    vec3 corner = vec3((c & 1u) != 0u ? hi.x : lo.x, (c & 2u) != 0u ? hi.y : lo.y, (c & 4u) != 0u ? hi.z : lo.z);
+    vec4 clip = object.objectToClip * vec4(corner, 1.0);
+    if (clip.w <= 0.0 || clip.z >= clip.w) return false;
+    vec3 ndc = clip.xyz / clip.w;
+    minNdc = min(minNdc, ndc.xy);
+    maxNdc = max(maxNdc, ndc.xy);
+    nearest = max(nearest, ndc.z);
+  }
+  vec2 frame = vec2(pc.pyramidWidth, pc.pyramidHeight);
+  vec2 loPixel = clamp(floor((minNdc * 0.5 + 0.5) * frame) - 1.0, vec2(0.0), frame - 1.0);
+  vec2 hiPixel = clamp(floor((maxNdc * 0.5 + 0.5) * frame) + 1.0, vec2(0.0), frame - 1.0);
+  return nearest * (1.0 + pc.depthMargin) < pyramidFarthest(uvec2(loPixel), uvec2(hiPixel));
+}
+
+// Phases 1 and 2 of occlusion culling for a cell that passed the frustum and cone tests: whether
+// this phase draws it (phase 2 also records whether it is visible).
+bool keptInPhase(BrickCullObject object, uint record, uint historyIndex, bool survives) {
+  if (pc.phase == CELL_CULL_PHASE_ALL) return survives;
+  HistoryRef history = HistoryRef(pc.history);
+  bool wasVisible = history.visible[historyIndex] != 0u;
+  if (pc.phase == CELL_CULL_PHASE_EARLY) return survives && wasVisible;
+  bool visible = survives && !cellOccluded(object, record);
+  history.visible[historyIndex] = visible ? 1u : 0u;
+  return visible && !wasVisible;
 }
 
 // The inclusive prefix sum of `flag` over the workgroup (Hillis-Steele in shared memory).
@@ -71,18 +140,23 @@ void main() {
   uint written = 0u, frustum = 0u, cone = 0u;
   for (uint base = 0u; base < range.cellCount; base += 64u) {
     uint i = base + lane;
-    bool kept = i < range.cellCount && cellKept(object, range.firstCell + i, frustum, cone);
+    bool kept = i < range.cellCount &&
+                keptInPhase(object, range.firstCell + i, range.historyFirst + i,
+                            cellKept(object, range.firstCell + i, frustum, cone));
     uint upTo = inclusivePrefix(kept ? 1u : 0u);
     uint chunkKept = keptUpTo[63];
     barrier();  // every lane has read the sums before the next chunk writes them
-    if (kept) copyRecord(range.firstCell + i, range.outputFirst + written + upTo - 1u);
+    if (kept) copyRecord(range.firstCell + i, range.outputFirst + pc.outputOffset + written + upTo - 1u);
     written += chunkKept;
   }
+  // Each cell is counted as tested, frustum- or cone-culled once (not again in phase 2); kept
+  // counts the boxes drawn, both phases together.
   TotalsRef totals = TotalsRef(pc.totals);
-  if (frustum > 0u) atomicAdd(totals.totals.frustumCulled, frustum);
-  if (cone > 0u) atomicAdd(totals.totals.coneCulled, cone);
+  bool counts = pc.phase != CELL_CULL_PHASE_LATE;
+  if (counts && frustum > 0u) atomicAdd(totals.totals.frustumCulled, frustum);
+  if (counts && cone > 0u) atomicAdd(totals.totals.coneCulled, cone);
   if (lane != 0u) return;
-  CommandsRef(pc.commands).words[range.drawCommand * 4u + 1u] = written;
-  atomicAdd(totals.totals.tested, range.cellCount);
+  CommandsRef(pc.commands).words[(range.drawCommand + pc.commandOffset) * 4u + 1u] = written;
+  if (counts) atomicAdd(totals.totals.tested, range.cellCount);
   atomicAdd(totals.totals.kept, written);
 }

@@ -122,7 +122,9 @@ struct CellCullRange {
   uint outputFirst;  // first entry of its range in the kept stream (= its command's firstInstance)
   uint drawCommand;  // index of its VkDrawIndirectCommand
   uint object;       // its object's BrickCullObject (only the object fields are read, not the brick range)
-  uint pad0;
+  // Occlusion culling: the index of the range's first cell in the visibility history (one uint per
+  // cell of each drawn object and view region, 1: visible when last tested), the next cells after it.
+  uint historyFirst;
   uint pad1;
   uint pad2;
 };
@@ -140,8 +142,28 @@ struct CellCullPushConstants {
   uint64_t totals;       // BrickCullTotals (shared with the brick pass)
   uint rangeCount;
   uint recordWords;      // 34 (CellRecordGpu) or 18 (CellRecordHalfGpu)
+  // Two-phase occlusion culling (CELL_CULL_PHASE_*): phase 1 keeps the cells visible when last
+  // tested, phase 2 tests every cell against the depth pyramid of what phase 1 drew, updates the
+  // history and keeps the visible cells phase 1 did not draw, writing the commands
+  // commandOffset further on and the kept stream from outputOffset on.
+  uint64_t history;      // uint per cell (CellCullRange::historyFirst)
+  uint64_t pyramid;      // engine::render::DepthPyramidView: float[], levels concatenated
+  uint pyramidWidth;     // level 0 = the frame (the viewport)
+  uint pyramidHeight;
+  uint pyramidLevels;    // 0: no pyramid, nothing is occluded
+  uint phase;
+  uint commandOffset;
+  uint outputOffset;
+  // Relative depth margin of the occlusion test: the draws search (and find hits) up to their
+  // proxies' dilation beyond the cell (proxy_dilation.glsl), so a box is occluded only when its
+  // nearest depth times (1 + depthMargin) is still behind the pyramid.
+  float depthMargin;
+  uint pad0;
 };
-HSDF_CHECK_SIZE(CellCullPushConstants, 8 * 8 + 2 * 4);
+HSDF_CHECK_SIZE(CellCullPushConstants, 10 * 8 + 10 * 4);
+#define CELL_CULL_PHASE_ALL 0u    // no occlusion culling
+#define CELL_CULL_PHASE_EARLY 1u
+#define CELL_CULL_PHASE_LATE 2u
 
 // Per Hermite-cell object, reached through ObjectData::payload: what the shading pass needs to
 // find a visible cell's record from the visibility buffer (x: object, y: record index).

@@ -18,6 +18,7 @@
 #include "hermite/hermite_host_device.h"
 #include "cells/cell_bricks.h"
 #include "render/brick_culler.h"
+#include "render/cell_history.h"
 #include "render/cell_rows.h"
 #include "hermite_sdf/render/lod.h"
 #include "hermite_sdf/core/normal_cone.h"
@@ -66,6 +67,7 @@ struct HermiteCellFeature::Batch {
   std::uint32_t frontFirst = 0, frontCount = 0;
   std::uint32_t nearFirst = 0, nearCount = 0;
   std::uint32_t wireFirst = 0;  // DEBUG_VIEW_WIREFRAME: the front list again with kWireVertices
+  std::uint32_t lateFirst = 0;  // occlusion culling: the front list again, drawn in phase 2
 };
 
 // One description of a cell record: the GPU structs of hermite_host_device.h. The CPU records
@@ -236,6 +238,8 @@ engine::Status HermiteCellFeature::initialize(const engine::gpu::Context& contex
                                                         "hermite cell cull ranges");
   keptCellRecords_.resize(framesInFlight);
   keptCellIndices_.resize(framesInFlight);
+  history_ = std::make_unique<CellHistory>();
+  frameSlots_ = framesInFlight;
   ENGINE_TRY_ASSIGN(auto cellCuller, CellCuller::create(context));
   cellCuller_ = std::make_unique<CellCuller>(std::move(cellCuller));
   objects_ = engine::render::PerFrameBuffer(context, framesInFlight, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT,
@@ -614,6 +618,9 @@ void HermiteCellFeature::buildDraws(engine::render::FrameContext& frame) {
   cullOutputBricks_ = 0;
   cullMaxBricks_ = 0;
   cellCullObjects_.clear();
+  cellCullEntities_.clear();
+  cellCullFirstRecord_.clear();
+  cellCullCells_.clear();
   std::vector<std::uint32_t> cellCullObject[2];  // per front command of the cell batches: its cull object or kNotCulled
   for (int precision = 0; precision < 2; ++precision) {
     cellCullRanges_[precision].clear();
@@ -723,6 +730,9 @@ void HermiteCellFeature::buildDraws(engine::render::FrameContext& frame) {
           cullObject = std::uint32_t(cellCullObjects_.size());
           cellCullObjects_.push_back(
               BrickCuller::cullObject(frame.camera, world.matrix, grid, asset.boundaryPositive, {}));
+          cellCullEntities_.emplace_back(entity, found->first);
+          cellCullFirstRecord_.push_back(entry.firstRecord);
+          cellCullCells_.push_back(std::uint32_t(asset.cells.records.size()));
         }
         for (const CellRows::Range& range : orderedRows(entry.rows, eyeGrid, settings_.frontToBack)) {
           commands[precision][0].push_back({kFanVertices, range.count, 0, entry.firstRecord + range.first});
@@ -768,12 +778,20 @@ void HermiteCellFeature::buildDraws(engine::render::FrameContext& frame) {
       }
     }
   }
+  occlusion_ = settings_.cullCells && settings_.cullOcclusion && !cellCullObjects_.empty();
+  if (occlusion_) placeHistory(frame);
   cullCellRanges(allCommands, cellCullObject);  // after the wireframe's copies, which draw every cell
+  if (occlusion_) addLateCommands(allCommands, allDraws);
   thinBoxes_ = thinBoxesWanted(settings_.thinBoxes, context_->capabilities().isSoftwareRasterizer, largestCellPixels);
   stats_.thinBoxes = thinBoxes_;
   stats_.largestCellPixels = largestCellPixels;
+  // Occlusion culling keeps the early depth stage off: the stage leaves the boxes' face depths in
+  // the depth buffer until its fix-up, so phase 1 would need its fix-up before the pyramid and
+  // phase 2 an early stage and a fix-up of its own over pixels that phase 1 already made final.
+  // Culling removes the hidden boxes the stage only made cheaper (on lavapipe; on GPUs the stage
+  // gains nothing, issue 20).
   earlyDepth_ = earlyDepthWanted(settings_.earlyDepth, context_->capabilities().isSoftwareRasterizer) &&
-                stats_.draws > 0 && !objectsOverlap && !drawsBricks && !thinBoxes_;
+                stats_.draws > 0 && !objectsOverlap && !drawsBricks && !thinBoxes_ && !occlusion_;
   if (!allCommands.empty()) {
     indirect_.upload(frame.frameSlot, allCommands);
     drawData_.upload(frame.frameSlot, allDraws);
@@ -797,12 +815,43 @@ void HermiteCellFeature::cullCellRanges(std::vector<VkDrawIndirectCommand>& comm
     for (std::uint32_t i = 0; i < batch.frontCount; ++i) {
       if (cullObjects[precision][i] == kNotCulled) continue;
       VkDrawIndirectCommand& command = commands[batch.frontFirst + i];
+      const std::uint32_t object = cullObjects[precision][i];
+      // The range's first cell in the history: its object's base plus the cell's index in its asset.
+      const std::uint32_t historyFirst =
+          occlusion_ ? historyBase_[object] + (command.firstInstance - cellCullFirstRecord_[object]) : 0;
       const shader::CellCullRange range{command.firstInstance, command.instanceCount, cellCullOutput_[precision],
-                                        batch.frontFirst + i, cullObjects[precision][i], 0, 0, 0};
+                                        batch.frontFirst + i, object, historyFirst, 0, 0};
       cellCullRanges_[precision].push_back(range);
       cellCullOutput_[precision] += command.instanceCount;
       command.instanceCount = 0;
       command.firstInstance = range.outputFirst;
+    }
+  }
+}
+
+// This view region's places in the visibility history for this frame's culled objects.
+void HermiteCellFeature::placeHistory(engine::render::FrameContext& frame) {
+  std::vector<CellHistory::Object> objects;
+  for (std::size_t i = 0; i < cellCullEntities_.size(); ++i)
+    objects.push_back({cellCullEntities_[i].first, cellCullEntities_[i].second, cellCullCells_[i]});
+  const std::uint32_t regions = std::max(1u, frameSlots_ / std::max(1u, frame.framesInFlight));
+  historyBase_ = history_->place(*context_, frame.cmd, objects, frame.frameSlot % regions, regions,
+                                 frame.frameNumber, retired_);
+}
+
+// Phase 2's commands: the culled front lists again (every front command of the two cell batches is
+// culled when occlusion culling is on), each drawing its range of the second half of the kept
+// stream, from an instance count of 0 that the late culling pass overwrites.
+void HermiteCellFeature::addLateCommands(std::vector<VkDrawIndirectCommand>& commands,
+                                         std::vector<shader::HermiteDraw>& draws) {
+  for (int precision = 0; precision < 2; ++precision) {
+    Batch& batch = *batches_[precision];
+    batch.lateFirst = static_cast<std::uint32_t>(commands.size());
+    for (std::uint32_t i = 0; i < batch.frontCount; ++i) {
+      VkDrawIndirectCommand late = commands[batch.frontFirst + i];
+      late.firstInstance += cellCullOutput_[precision];
+      commands.push_back(late);
+      draws.push_back(draws[batch.frontFirst + i]);
     }
   }
 }
@@ -897,29 +946,84 @@ void HermiteCellFeature::recordCellCulling(engine::render::FrameContext& frame) 
   cellCullObjectBuffer_.upload(slot, cellCullObjects_);
   cellCullRangeBuffer_.upload(slot, ranges);
   barrierBeforeCulling(frame.cmd);
+  shader::CellCullPushConstants push{};
+  if (occlusion_) {
+    // The previous frame's phase 2 wrote the history this phase 1 reads.
+    engine::gpu::memoryBarrier(frame.cmd, VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT, VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT,
+                               VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT, kStorageReadWrite);
+    push.history = history_->address();
+    push.phase = CELL_CULL_PHASE_EARLY;
+  }
+  recordCellCullPasses(frame.cmd, slot, push);
+  barrierAfterCulling(frame.cmd);
+}
+
+// The relative depth margin of the occlusion test (CellCullPushConstants::depthMargin). A hit lies
+// at most the search margin beyond its cell: 0.02 pixel of dilation (taken as 0.1 pixel: a depth
+// along the ray, any direction), or kMinDilation = 1/4096 cell. At a distance d, p pixels are
+// p * 2 d / (proj[1][1] H) world units, a relative depth change of p * 2 / (proj[1][1] H) under
+// reverse-Z (depth ~ 1 / d); 1/4096 of a cell is at most ~1e-3 of its distance for any cell not
+// larger on screen than the view (taken as 2e-3).
+float HermiteCellFeature::occlusionDepthMargin(const engine::render::CameraView& camera, VkExtent2D extent) {
+  const float pixelAngle = 2.0f / (std::abs(camera.proj[1][1]) * float(std::max(extent.height, 1u)));
+  return 0.1f * pixelAngle + 2.0e-3f;
+}
+
+// Occlusion culling's phase 2 (after the renderer built the pyramid of phase 1's depth): every
+// culled cell tested against it, the history updated, the visible cells phase 1 did not draw
+// written to the second half of the kept streams and counted in the late commands.
+void HermiteCellFeature::recordLateCulling(engine::render::PassContext& pass,
+                                           const engine::render::DepthPyramidView& pyramid) {
+  if (!occlusion_) return;
+  pass.timer.begin(pass.cmd, "cells late culling");
+  barrierBeforeCulling(pass.cmd);
+  // Phase 1 read the history and wrote the first halves of the streams and the commands.
+  engine::gpu::memoryBarrier(pass.cmd, VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT, kStorageReadWrite,
+                             VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT, kStorageReadWrite);
+  shader::CellCullPushConstants push{};
+  push.history = history_->address();
+  push.pyramid = pyramid.address;
+  push.pyramidWidth = pyramid.extent.width;
+  push.pyramidHeight = pyramid.extent.height;
+  push.pyramidLevels = pyramid.levels;
+  push.phase = CELL_CULL_PHASE_LATE;
+  push.depthMargin = occlusionDepthMargin(pass.frame.camera, pyramid.extent);
+  recordCellCullPasses(pass.cmd, pass.frame.frameSlot, push);
+  barrierAfterCulling(pass.cmd);
+  pass.timer.end(pass.cmd);
+}
+
+// One cell_cull.comp dispatch per record precision over its ranges, with the slot's buffers; the
+// phase and occlusion fields of `push` as the caller set them. Phase 2 writes its commands and
+// kept cells after phase 1's.
+void HermiteCellFeature::recordCellCullPasses(VkCommandBuffer cmd, std::uint32_t slot,
+                                              shader::CellCullPushConstants push) {
   VkDeviceAddress rangeAddress = cellCullRangeBuffer_.address(slot);
+  const bool late = push.phase == CELL_CULL_PHASE_LATE;
   for (int precision = 0; precision < 2; ++precision) {
     const auto rangeCount = static_cast<std::uint32_t>(cellCullRanges_[precision].size());
     if (rangeCount == 0) continue;
-    const VkDeviceSize kept = cellCullOutput_[precision];
+    const VkDeviceSize kept = VkDeviceSize(cellCullOutput_[precision]) * (occlusion_ ? 2 : 1);
     const Buffer& records = ensureOutput(*context_, keptCellRecords_[slot][precision], kept * kRecordStride[precision],
                                          VK_BUFFER_USAGE_VERTEX_BUFFER_BIT, "hermite kept cells");
     const Buffer& indices = ensureOutput(*context_, keptCellIndices_[slot][precision], kept * sizeof(std::uint32_t), 0,
                                          "hermite kept cell indices");
-    const shader::CellCullPushConstants push{cellCullObjectBuffer_.address(slot),
-                                             rangeAddress,
-                                             buffers_->records[precision].address(),
-                                             buffers_->cellCones.address(),
-                                             records.address(),
-                                             indices.address(),
-                                             indirect_.address(slot),
-                                             cullTotals_.address(slot),
-                                             rangeCount,
-                                             kRecordStride[precision] / 4};
-    cellCuller_->record(frame.cmd, push);
+    push.objects = cellCullObjectBuffer_.address(slot);
+    push.ranges = rangeAddress;
+    push.records = buffers_->records[precision].address();
+    push.cones = buffers_->cellCones.address();
+    push.keptRecords = records.address();
+    push.keptIndices = indices.address();
+    push.commands = indirect_.address(slot);
+    push.totals = cullTotals_.address(slot);
+    push.rangeCount = rangeCount;
+    push.recordWords = kRecordStride[precision] / 4;
+    const Batch& batch = *batches_[precision];
+    push.commandOffset = late ? batch.lateFirst - batch.frontFirst : 0;
+    push.outputOffset = late ? cellCullOutput_[precision] : 0;
+    cellCuller_->record(cmd, push);
     rangeAddress += VkDeviceAddress(rangeCount) * sizeof(shader::CellCullRange);
   }
-  barrierAfterCulling(frame.cmd);
 }
 
 shader::BrickCullTotals HermiteCellFeature::cullTotals() const {
@@ -964,9 +1068,9 @@ HermiteCellFeature::Variant HermiteCellFeature::prepassVariant(const engine::ren
   return counterAddress(frame, countersActive_, counters_) != 0 ? kCounted : kProduction;
 }
 
-void HermiteCellFeature::recordBatch(engine::render::PassContext& pass, int precision, bool near) {
+void HermiteCellFeature::recordBatch(engine::render::PassContext& pass, int precision, bool near, bool late) {
   const Batch& batch = *batches_[precision];
-  const std::uint32_t first = near ? batch.nearFirst : batch.frontFirst;
+  const std::uint32_t first = late ? batch.lateFirst : near ? batch.nearFirst : batch.frontFirst;
   const std::uint32_t count = near ? batch.nearCount : batch.frontCount;
   if (count == 0) return;
   VkCommandBuffer cmd = pass.cmd;
@@ -1081,6 +1185,12 @@ void HermiteCellFeature::recordPass(engine::render::PassContext& pass) {
     recordResolve(pass);
     if (pass.frame.debugView == DEBUG_VIEW_WIREFRAME)
       for (int precision = 0; precision < 2; ++precision) recordWireframe(pass, precision);
+    pass.timer.end(pass.cmd);
+    return;
+  }
+  if (pass.occlusionLate) {  // phase 2 of occlusion culling: the culled cells' late commands only
+    pass.timer.begin(pass.cmd, "cells prepass late");
+    for (int precision = 0; precision < 2; ++precision) recordBatch(pass, precision, false, true);
     pass.timer.end(pass.cmd);
     return;
   }

@@ -86,13 +86,14 @@ TEST(CaptureRows, MethodTimesKTimesSetting) {
     }
   }
   EXPECT_EQ(trilinear, 2 * 4);  // K = 32, 64, 128, 256, two normal modes each
-  EXPECT_EQ(cells, 2 * 9);  // n in {2, 3} x r in {0, 1}, fp16, no-cull, thin and attribute boxes, the certified search
+  EXPECT_EQ(cells, 2 * 10);  // n in {2, 3} x r in {0, 1}, fp16, no-cull, occlusion, thin and attribute boxes, the certified search
   EXPECT_TRUE(labels.contains("cells certified K=32"));
   EXPECT_TRUE(labels.contains("cells n=3 r=1 thin K=32"));
   EXPECT_TRUE(labels.contains("cells-runs n=3 r=1 K=32"));
   EXPECT_TRUE(labels.contains("cell-bricks n=3 r=1 fp16 K=32"));
   EXPECT_TRUE(labels.contains("cell-bricks n=3 r=1 no-cull K=32"));
   EXPECT_TRUE(labels.contains("cells n=3 r=1 no-cull K=32"));
+  EXPECT_TRUE(labels.contains("cells n=3 r=1 occlusion K=32"));
   EXPECT_TRUE(labels.contains("mesh"));
   EXPECT_TRUE(labels.contains("trilinear central K=256"));
   EXPECT_FALSE(labels.contains("hermite K=256"));

@@ -103,6 +103,16 @@ class HermiteCellFeature final : public engine::render::RenderFeature {
     // own normal cone): only the kept cells' boxes are drawn, in the rows' order (front-to-back
     // stays); off draws every cell's box. Cell-bricks and runs ignore it.
     bool cullCells = true;
+    // With cullCells: two-phase occlusion culling of the cells against the depth pyramid (the
+    // scheme of zeux/niagara; cell_cull.comp): the cells visible in this view region's previous
+    // frame are drawn first, the renderer builds the pyramid of that depth, every other cell is
+    // tested against it and only those that may be visible are drawn after. Same image. The
+    // early depth stage is off in frames that use it (see buildDraws). Bricks and runs ignore it.
+    // Off by default: on the bunny it removes only 4-8 % of the boxes the frustum and cones keep
+    // (docs/perf/cells-breakdown-lavapipe.md), at the price of the early depth stage on lavapipe
+    // and of a depth copy, a pyramid and a second culling pass on every device; no GPU has
+    // measured it yet.
+    bool cullOcclusion = false;
     // RenderMethod::Cells: each box's vertices hand on 12 bytes (cells_thin.vert), the fragment
     // shader reading the cell's record by address (cells_thin_depth.glsl), instead of the paper's
     // Hermite data as varyings. Same search, same image. Thin boxes have no early depth variant:
@@ -134,6 +144,8 @@ class HermiteCellFeature final : public engine::render::RenderFeature {
   bool usesEarlyDepth() const override { return earlyDepth_; }
   void recordEarlyDepth(engine::render::PassContext& pass) override;
   void recordEarlyDepthResolve(engine::render::PassContext& pass) override;
+  bool usesOcclusionCulling() const override { return occlusion_; }
+  void recordLateCulling(engine::render::PassContext& pass, const engine::render::DepthPyramidView& pyramid) override;
   void drawUi() override;
   engine::Status reloadShaders() override;
 
@@ -162,10 +174,14 @@ class HermiteCellFeature final : public engine::render::RenderFeature {
   void recordBrickCulling(engine::render::FrameContext& frame);
   void recordCellCulling(engine::render::FrameContext& frame);
   void cullCellRanges(std::vector<VkDrawIndirectCommand>& commands, const std::vector<std::uint32_t> cullObjects[2]);
+  void placeHistory(engine::render::FrameContext& frame);
+  static float occlusionDepthMargin(const engine::render::CameraView& camera, VkExtent2D extent);
+  void addLateCommands(std::vector<VkDrawIndirectCommand>& commands, std::vector<shader::HermiteDraw>& draws);
+  void recordCellCullPasses(VkCommandBuffer cmd, std::uint32_t slot, shader::CellCullPushConstants push);
   void ensureCounters(engine::render::FrameContext& frame);
   void ensureHitDepths(engine::render::FrameContext& frame);
   void recordPrepassDraws(engine::render::PassContext& pass);
-  void recordBatch(engine::render::PassContext& pass, int precision, bool near);
+  void recordBatch(engine::render::PassContext& pass, int precision, bool near, bool late = false);
   void recordWireframe(engine::render::PassContext& pass, int precision);
   void recordIndirect(VkCommandBuffer cmd, const engine::gpu::Pipeline& pipeline, shader::HermitePushConstants push,
                       std::uint32_t frameSlot, std::uint32_t first, std::uint32_t count);
@@ -250,6 +266,16 @@ class HermiteCellFeature final : public engine::render::RenderFeature {
   engine::render::PerFrameBuffer cellCullRangeBuffer_;
   std::vector<std::array<engine::gpu::Buffer, 2>> keptCellRecords_;
   std::vector<std::array<engine::gpu::Buffer, 2>> keptCellIndices_;
+  // Occlusion culling (Settings::cullOcclusion) this frame: the kept streams hold phase 2's cells
+  // after phase 1's (cellCullOutput_ further on) and the late commands follow the wireframe's.
+  // Per culled object of this frame: its history entry and its first record; the history itself.
+  bool occlusion_ = false;
+  std::vector<std::pair<engine::ecs::Entity, std::uint64_t>> cellCullEntities_;
+  std::vector<std::uint32_t> cellCullFirstRecord_;
+  std::vector<std::uint32_t> cellCullCells_;
+  std::vector<std::uint32_t> historyBase_;
+  std::unique_ptr<class CellHistory> history_;
+  std::uint32_t frameSlots_ = 1;  // framesInFlight given to initialize (frames in flight x view regions)
   static constexpr int kRunBatch = 2;  // batches: fp32 cells, fp16 cells, runs, bricks
   static constexpr int kBrickBatch = 3;
   static constexpr int kBatches = 4;

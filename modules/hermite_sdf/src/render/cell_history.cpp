@@ -1,0 +1,61 @@
+#include "render/cell_history.h"
+
+#include <algorithm>
+
+#include "engine/gpu/context.h"
+
+namespace hsdf {
+
+std::vector<std::uint32_t> CellHistory::place(const engine::gpu::Context& context, VkCommandBuffer cmd,
+                                              const std::vector<Object>& objects, std::uint32_t region,
+                                              std::uint32_t regions, std::uint64_t frameNumber,
+                                              engine::gpu::DeferredRelease& retired) {
+  std::vector<std::uint32_t> bases;
+  if (regions != regions_ || !placeAll(objects, bases)) {
+    grow(context, cmd, objects, regions, frameNumber, retired);
+    bases.clear();
+    placeAll(objects, bases);
+  }
+  for (std::uint32_t& base : bases) base += region * capacity_;
+  return bases;
+}
+
+// Keeps the bases of objects that draw the same asset as before, appends the others; false when
+// they do not fit.
+bool CellHistory::placeAll(const std::vector<Object>& objects, std::vector<std::uint32_t>& bases) {
+  for (const Object& object : objects) {
+    auto found = slots_.find(object.entity);
+    if (found != slots_.end() && found->second.asset == object.asset && found->second.cells == object.cells) {
+      bases.push_back(found->second.base);
+      continue;
+    }
+    if (std::uint64_t(used_) + object.cells > capacity_) return false;
+    slots_[object.entity] = {object.asset, used_, object.cells};
+    bases.push_back(used_);
+    used_ += object.cells;
+  }
+  return true;
+}
+
+// A zeroed buffer with room for twice this frame's cells (objects that come and go need not
+// reallocate it each time), the old one retired; the places are forgotten.
+void CellHistory::grow(const engine::gpu::Context& context, VkCommandBuffer cmd, const std::vector<Object>& objects,
+                       std::uint32_t regions, std::uint64_t frameNumber, engine::gpu::DeferredRelease& retired) {
+  std::uint64_t cells = 0;
+  for (const Object& object : objects) cells += object.cells;
+  slots_.clear();
+  used_ = 0;
+  capacity_ = std::uint32_t(std::max<std::uint64_t>(2 * cells, 64));
+  regions_ = regions;
+  if (buffer_) retired.retire(std::move(buffer_), frameNumber);
+  buffer_ = engine::gpu::Buffer(context, VkDeviceSize(capacity_) * regions_ * sizeof(std::uint32_t),
+                                VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_SHADER_DEVICE_ADDRESS_BIT |
+                                    VK_BUFFER_USAGE_TRANSFER_DST_BIT,
+                                engine::gpu::MemoryUsage::GpuOnly, "hermite cell visibility history");
+  vkCmdFillBuffer(cmd, buffer_.handle(), 0, VK_WHOLE_SIZE, 0);
+  engine::gpu::memoryBarrier(cmd, VK_PIPELINE_STAGE_2_CLEAR_BIT, VK_ACCESS_2_TRANSFER_WRITE_BIT,
+                             VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT,
+                             VK_ACCESS_2_SHADER_STORAGE_READ_BIT | VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT);
+}
+
+}  // namespace hsdf

@@ -1,0 +1,59 @@
+#pragma once
+// The visibility history of occlusion culling (issue 20; cell_cull.comp, HermiteCellFeature): one
+// uint per cell of each culled object and view region, 1 when the cell was visible the last time
+// phase 2 tested it. An object's cells keep their place from frame to frame (a base per entity,
+// plus the cell's index within its asset), so the history survives the per-frame re-sort of the
+// rows. Only the GPU reads and writes it. Nothing depends on it being right: a fresh (zeroed) or
+// stale history only makes phase 2 draw what phase 1 did not.
+#include <cstdint>
+#include <unordered_map>
+#include <vector>
+
+#include <vulkan/vulkan.h>
+
+#include "engine/ecs/entity.h"
+#include "engine/gpu/buffer.h"
+#include "engine/gpu/deferred_release.h"
+
+namespace engine::gpu {
+class Context;
+}
+
+namespace hsdf {
+
+class CellHistory {
+ public:
+  // One culled object of this frame: its entity, the asset it draws and that asset's cell count.
+  struct Object {
+    engine::ecs::Entity entity;
+    std::uint64_t asset = 0;
+    std::uint32_t cells = 0;
+  };
+
+  // The base of each object (same order) in view region `region` of `regions`. Objects keep their
+  // bases from earlier frames; new ones are appended. When they do not fit, the buffer is
+  // replaced by a larger zeroed one (fill recorded in `cmd`; the old one is retired until frame
+  // `frameNumber` completes) and every object is placed anew: the history restarts.
+  std::vector<std::uint32_t> place(const engine::gpu::Context& context, VkCommandBuffer cmd,
+                                   const std::vector<Object>& objects, std::uint32_t region, std::uint32_t regions,
+                                   std::uint64_t frameNumber, engine::gpu::DeferredRelease& retired);
+  VkDeviceAddress address() const { return buffer_.address(); }
+
+ private:
+  struct Slot {
+    std::uint64_t asset = 0;
+    std::uint32_t base = 0;
+    std::uint32_t cells = 0;
+  };
+  bool placeAll(const std::vector<Object>& objects, std::vector<std::uint32_t>& bases);
+  void grow(const engine::gpu::Context& context, VkCommandBuffer cmd, const std::vector<Object>& objects,
+            std::uint32_t regions, std::uint64_t frameNumber, engine::gpu::DeferredRelease& retired);
+
+  std::unordered_map<engine::ecs::Entity, Slot> slots_;
+  std::uint32_t used_ = 0;      // cells placed (per region)
+  std::uint32_t capacity_ = 0;  // cells per region
+  std::uint32_t regions_ = 0;
+  engine::gpu::Buffer buffer_;  // regions_ x capacity_ uints
+};
+
+}  // namespace hsdf
