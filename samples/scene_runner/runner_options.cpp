@@ -120,7 +120,7 @@ void addTuningOptions(CLI::App& app, TuningState& t) {
   app.add_option("--cull-bricks", t.cullBricks, "cell bricks: GPU culling by frustum and normal cones (true, default, or false)");
   app.add_option("--cull-cells", t.cullCells, "cells: GPU culling of each cell by frustum and normal cone (true, default, or false)");
   app.add_option("--cull-occlusion", t.cullOcclusion,
-                 "cells: two-phase occlusion culling of the cells against the depth pyramid (true, default, or false)");
+                 "cells: two-phase occlusion culling of the cells against the depth pyramid (true, or false: default)");
   app.add_option("--thin-boxes", t.thinBoxes,
                  "cells: 12 bytes of varyings per box, records read by address: auto (default: on GPUs when cells "
                  "cover at most 8 pixels), on or off")

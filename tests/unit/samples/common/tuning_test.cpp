@@ -95,7 +95,7 @@ TEST(Tuning, SettingsFileRoundTrip) {
   t.certified = true;
   t.cullBricks = false;
   t.cullCells = false;
-  t.cullOcclusion = false;
+  t.cullOcclusion = true;  // not the default (off)
   t.thinBoxes = ThinBoxes::On;
   t.split = SplitMode::Horizontal;
   t.splitPosition = 0.3f;  // exact in binary and in the JSON text
