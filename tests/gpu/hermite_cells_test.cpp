@@ -416,12 +416,12 @@ TEST_F(HermiteCellsTest, EarlyDepthAutoFollowsTheDevice) {
   const auto torus = bakeAsset("torus", 16);
   ASSERT_NE(torus, nullptr);
   addSdf(registry_, torus, hsdf::RenderMethod::Cells);
-  // Occlusion culling (on by default) keeps the stage off whatever the device.
-  (void)renderWith(orbitCamera(*torus, 0), DEBUG_VIEW_NONE);
-  EXPECT_FALSE(feature->stats().earlyDepth);
-  feature->settings().cullOcclusion = false;
   (void)renderWith(orbitCamera(*torus, 0), DEBUG_VIEW_NONE);
   EXPECT_EQ(feature->stats().earlyDepth, context_->capabilities().isSoftwareRasterizer);
+  // Occlusion culling (off by default) keeps the stage off whatever the device.
+  feature->settings().cullOcclusion = true;
+  (void)renderWith(orbitCamera(*torus, 0), DEBUG_VIEW_NONE);
+  EXPECT_FALSE(feature->stats().earlyDepth);
 }
 
 // Cell runs (RenderMethod::CellRuns) draw the same cells as one box per run along x and walk them
@@ -806,6 +806,7 @@ TEST_F(HermiteCellsTest, OcclusionCullingKeepsTheImageAndDrawsFewerFragments) {
 TEST_F(HermiteCellsTest, OcclusionCullingDrawsNothingOfAHiddenObject) {
   createCellRenderer(kSize, kSize);
   auto* feature = renderer_->feature<hsdf::HermiteCellFeature>();
+  feature->settings().cullOcclusion = true;
   const auto sphere = bakeAsset("sphere", 16);
   const auto torus = bakeAsset("torus", 16);
   ASSERT_NE(sphere, nullptr);
