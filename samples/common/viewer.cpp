@@ -1,7 +1,6 @@
 #include "viewer.h"
 
 #include <algorithm>
-#include <chrono>
 
 #include <GLFW/glfw3.h>
 
@@ -9,7 +8,6 @@
 #include <fmt/ranges.h>
 #include <imgui.h>
 
-#include "engine/core/image_io.h"
 #include "engine/core/log.h"
 #include "engine/gpu/pipeline.h"
 #include "engine/gpu/swapchain.h"
@@ -44,21 +42,6 @@ Status checkImageSize(const ViewerDesc& desc, const gpu::Context& context) {
                                desc.width, desc.height, context.capabilities().deviceName, limit));
 }
 
-double nowSeconds() {
-  return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count();
-}
-
-// How long a script waits for the window system to apply a request (minimise, restore, resize).
-constexpr double kWindowSystemSeconds = 2.0;
-
-// Handles window events until `done()` or kWindowSystemSeconds have passed; whether it is done.
-template <class Done>
-bool waitForWindowSystem(platform::Window& window, Done done) {
-  const double deadline = nowSeconds() + kWindowSystemSeconds;
-  while (!done() && nowSeconds() < deadline) window.waitEvents(0.01);
-  return done();
-}
-
 }  // namespace
 
 Expected<std::unique_ptr<Viewer>> Viewer::create(const ViewerDesc& desc) {
@@ -81,7 +64,7 @@ Status Viewer::initialize(const ViewerDesc& desc) {
   contextDesc.device = desc.device;
   if (desc.validation) contextDesc.validation = true;
   if (!desc.headless) {
-    ENGINE_TRY_ASSIGN(window_, platform::Window::create(desc.title, int(desc.width), int(desc.height)));
+    ENGINE_TRY_ASSIGN(window_, ViewerWindow::create(desc.title, desc.width, desc.height));
     contextDesc.instanceExtensions = platform::Window::requiredInstanceExtensions();
     contextDesc.swapchain = true;
   }
@@ -93,24 +76,27 @@ Status Viewer::initialize(const ViewerDesc& desc) {
 
   VkExtent2D extent{desc.width, desc.height};
   if (window_) {
-    ENGINE_TRY(window_->createSurface(context_->instance()));
-    ENGINE_TRY_ASSIGN(swapchain_, gpu::Swapchain::create(*context_, window_->surface(), window_->framebufferExtent(), true));
-    extent = swapchain_->extent();
+    ENGINE_TRY(window_->createSwapchain(*context_));
+    extent = window_->swapchain().extent();
   }
   renderer_ = std::make_unique<render::Renderer>(*context_, render::RendererDesc{}, extent);
   ENGINE_TRY(renderer_->addFeature(std::make_unique<render::MeshFeature>(*pool_)));
   ENGINE_TRY(hsdf::addRenderFeatures(*renderer_));
   if (window_ || desc.headlessUi) {
     ENGINE_TRY_ASSIGN(ui_, ui::UiLayer::create(*context_, renderer_->desc().formats.color,
-                                               renderer_->desc().framesInFlight, window_.get()));
+                                               renderer_->desc().framesInFlight,
+                                               window_ ? &window_->window() : nullptr));
     ui_->setWindowTitle(kProgramName);
     if (!desc.uiIniFile.empty()) ui_->setIniFile(desc.uiIniFile.string());
     panel_ = std::make_unique<TuningPanel>(*this);
     ui_->addPanel("tuning", [this] { panel_->draw(); });
     ui_->addFeaturePanels(*renderer_);
   }
-  differenceOverlay_ = std::make_unique<ImageOverlay>(*context_, renderer_->desc().framesInFlight);
-  lastFrameTime_ = nowSeconds();
+  compare_.initialize(*context_, renderer_->desc().framesInFlight,
+                      [this](const TuningState& tuning, const std::shared_ptr<const hsdf::SdfAsset>& asset) {
+                        showState(tuning, asset);
+                      });
+  if (window_) window_->startFrameClock();
   return {};
 }
 
@@ -174,56 +160,17 @@ void Viewer::setTuning(const TuningState& tuning) {
   if (tuning.resolution != resolution || tuning.padding != padding || (sparse && needsDense)) startRebake();
 }
 
-// Starts the compared side's bake when it should draw another K (or padding) than it has. The
-// main asset at the same K and padding is the same field: it is shared, not baked twice.
+// The compared side shares the asset baked at K (level 0 when levels of detail draw another).
 void Viewer::updateCompareBake() {
-  if (!comparing(tuning_) || drawsCells(tuning_.compareMethod) || !bakeSource_) return;
-  const int k = effectiveCompareResolution(tuning_);
-  const int padding = tuning_.padding;
-  const bool have = compareAsset_ && compareResolution_ == k && comparePadding_ == padding;
-  const bool baking = compareJob_ && compareJob_->settings().resolution == k && compareJob_->settings().padding == padding;
-  if (baking || (have && !compareJob_)) return;
-  compareJob_.reset();  // cancels a bake for a K no longer asked for
-  if (have || compareFailed_ == std::pair{k, padding}) return;
-  // Shared: the asset baked at K (level 0 when levels of detail draw another), if it has the dense
-  // field the compared tracer needs (a sparse cell bake has none).
   const hsdf::HermiteSdfRenderable* r = sdfRenderable();
   const hsdf::HermiteSdfLod* lod = bakedEntity_ ? registry_.tryGet<hsdf::HermiteSdfLod>(*bakedEntity_) : nullptr;
-  const auto baked = lod && !lod->levels.empty() ? lod->levels.front() : r ? r->asset : nullptr;
-  if (baked && !baked->field.samples.empty() && k == bakedResolution_ && padding == bakedPadding_) {
-    compareAsset_ = baked;
-    compareResolution_ = k;
-    comparePadding_ = padding;
-    return;
-  }
-  hsdf::BakeSettings settings;
-  settings.resolution = k;
-  settings.padding = padding;
-  settings.budget = bakeBudget_;
-  compareBakeError_.clear();
-  compareJob_ = std::make_unique<hsdf::BakeJob>(*bakeSource_, settings);
-}
-
-// A failed compared bake is not retried for the same K (the reason is in compareBakeError()).
-void Viewer::finishCompareBake() {
-  hsdf::BakeJob::Result result = compareJob_->wait();
-  const hsdf::BakeSettings settings = compareJob_->settings();
-  compareJob_.reset();
-  if (!result) {
-    compareBakeError_ = result.error().withContext(fmt::format("baking the compared side at resolution {}", settings.resolution)).message;
-    compareFailed_ = {settings.resolution, settings.padding};
-    log::warn("{}", compareBakeError_);
-    return;
-  }
-  log::info("compared side baked at resolution {}: {}", settings.resolution, describeSdfStats(sdfStats(**result)));
-  compareAsset_ = std::move(*result);
-  compareResolution_ = settings.resolution;
-  comparePadding_ = settings.padding;
+  auto baked = lod && !lod->levels.empty() ? lod->levels.front() : r ? r->asset : nullptr;
+  compare_.updateBake(tuning_, bakeSource_ ? &*bakeSource_ : nullptr, {std::move(baked), bakedResolution_, bakedPadding_},
+                      bakeBudget_);
 }
 
 int Viewer::compareResolutionDrawn() const {
-  if (drawsCells(tuning_.compareMethod) || !compareAsset_) return bakedEntity_ ? bakedResolution_ : 0;
-  return compareResolution_;
+  return compare_.resolutionDrawn(tuning_, bakedEntity_ ? bakedResolution_ : 0);
 }
 
 void Viewer::startRebake() {
@@ -239,7 +186,7 @@ void Viewer::startRebake() {
 
 void Viewer::cancelBake() {
   if (bakeJob_) bakeJob_->cancel();
-  if (compareJob_) compareJob_->cancel();
+  compare_.cancelBake();
   if (levelJob_) levelJob_->cancel();
 }
 
@@ -278,7 +225,7 @@ Status Viewer::finishBake() {
 
 Status Viewer::waitForBake() {
   const Status main = bakeJob_ ? finishBake() : Status{};
-  if (compareJob_) finishCompareBake();
+  if (compare_.bakeJob()) compare_.finishBake();
   updateCompareBake();  // e.g. the compared side can share the new main asset
   updateLevelsOfDetail(true);
   return main;
@@ -420,63 +367,8 @@ void Viewer::showState(const TuningState& tuning, const std::shared_ptr<const hs
       [&tuning](ecs::Entity, hsdf::HermiteSdfRenderable& renderable) { applyTuning(tuning, renderable); });
 }
 
-// The compared side's asset: its own bake, or the main one (a compared method of cells, a .hsdf
-// file, or while the first compared bake runs).
-std::shared_ptr<const hsdf::SdfAsset> Viewer::comparedAsset(const std::shared_ptr<const hsdf::SdfAsset>& main) const {
-  if (drawsCells(tuning_.compareMethod) || !compareAsset_) return main;
-  return compareAsset_;
-}
-
-// Two regions split at the divider: the main tuning left (top), the compared one right (bottom).
 std::vector<render::ViewRegion> Viewer::splitRegions(const std::shared_ptr<const hsdf::SdfAsset>& main) {
-  const VkExtent2D e = renderer_->extent();
-  const bool vertical = tuning_.split == SplitMode::Vertical;
-  const auto divider = std::uint32_t(std::lround(double(tuning_.splitPosition) * (vertical ? e.width : e.height)));
-  VkRect2D first{{0, 0}, e}, second{{0, 0}, e};
-  if (vertical) {
-    first.extent.width = divider;
-    second.offset.x = std::int32_t(divider);
-    second.extent.width = e.width - divider;
-  } else {
-    first.extent.height = divider;
-    second.offset.y = std::int32_t(divider);
-    second.extent.height = e.height - divider;
-  }
-  const TuningState compared = compareTuning(tuning_);
-  const std::shared_ptr<const hsdf::SdfAsset> other = comparedAsset(main);
-  return {{first, [this, main] { showState(tuning_, main); }},
-          {second, [this, compared, other] { showState(compared, other); }}};
-}
-
-// One frame of the normals view with `tuning` and `asset`, read back.
-NormalsFrame Viewer::renderNormals(const TuningState& tuning, const std::shared_ptr<const hsdf::SdfAsset>& asset) {
-  showState(tuning, asset);
-  render::FrameSettings settings;
-  settings.debugView = std::uint32_t(DebugView::Normals);
-  renderer_->renderFrame(registry_, cameraView(), settings);
-  NormalsFrame frame;
-  frame.rgba = renderer_->readbackColor();
-  frame.visibility = renderer_->readbackVisibility();
-  return frame;
-}
-
-// The two methods' normals frames (the SDF alone: meshes and the ground would count as covered by
-// both), compared on the CPU; the heat map goes to the overlay of the frame drawn next. Needs an
-// SDF method on the main side (then the scene's meshes are already hidden, see updateVisibility).
-Status Viewer::renderDifference(const std::shared_ptr<const hsdf::SdfAsset>& main) {
-  std::vector<std::pair<ecs::Entity, render::MeshRenderable>> meshes;
-  registry_.view<render::MeshRenderable>().each(
-      [&meshes](ecs::Entity entity, const render::MeshRenderable& mesh) { meshes.emplace_back(entity, mesh); });
-  for (const auto& entry : meshes) registry_.remove<render::MeshRenderable>(entry.first);
-  const NormalsFrame a = renderNormals(tuning_, main);
-  const NormalsFrame b = renderNormals(compareTuning(tuning_), comparedAsset(main));
-  for (const auto& [entity, mesh] : meshes) registry_.emplace<render::MeshRenderable>(entity, mesh);
-  showState(tuning_, main);
-  const VkExtent2D extent = renderer_->extent();
-  ENGINE_TRY_ASSIGN(NormalDifference d, compareNormals(a, b, extent.width, extent.height));
-  differenceOverlay_->setImage(heatMapImage(d, differenceRange_), extent.width, extent.height);
-  difference_ = std::move(d);
-  return {};
+  return compare_.splitRegions(tuning_, renderer_->extent(), main);
 }
 
 void Viewer::rebuildAndReloadShaders() {
@@ -502,47 +394,14 @@ std::vector<render::Renderer::ShaderReload> Viewer::reloadShaders() {
 
 bool Viewer::shouldClose() const { return window_ && window_->shouldClose(); }
 
-// A minimised window (or a 0x0 framebuffer) gets no swapchain: the old one waits, marked stale,
-// and the first drawable step recreates it (an out-of-date swapchain may report the old size).
-Status Viewer::recreateSwapchain() {
-  swapchainStale_ = true;
-  if (window_->minimized()) return {};
-  ENGINE_TRY(swapchain_->recreate(window_->framebufferExtent()));
-  swapchainStale_ = false;
-  ++swapchainRecreations_;
-  log::debug("swapchain recreated: {}x{}", swapchain_->extent().width, swapchain_->extent().height);
-  renderer_->resize(swapchain_->extent());
-  return {};
-}
-
-// While minimised the step sleeps for events (at most kMinimizedWaitSeconds) and draws nothing,
-// so that the caller's loop (scripts, finished bakes, closing) goes on without spinning.
-Status Viewer::handleWindow(float dt, bool& drawable) {
-  constexpr double kMinimizedWaitSeconds = 0.05;
-  window_->pollEvents();
-  drawable = !window_->minimized();
-  if (!drawable) {
-    if (skippedSteps_++ == 0) {
-      const VkExtent2D e = window_->framebufferExtent();
-      log::info("window minimised (framebuffer {}x{}): drawing nothing until it is restored", e.width, e.height);
-    }
-    window_->waitEvents(kMinimizedWaitSeconds);
-    return {};
-  }
-  if (skippedSteps_ > 0) {
-    log::info("window restored after {} step(s) without a frame", skippedSteps_);
-    skippedSteps_ = 0;
-  }
-  platform::InputState& input = window_->input();
+// Input of a drawable windowed frame: the UI's capture of mouse and keyboard, keys, the camera.
+void Viewer::handleInput(float dt) {
+  platform::InputState& input = window_->window().input();
   input.uiWantsMouse = ui_ && uiVisible_ && ui_->wantsMouse();
   input.uiWantsKeyboard = ui_ && uiVisible_ && ui_->wantsKeyboard();
   handleKeys(input);
   if (cameraMode_ == CameraMode::Orbit) orbit_.update(input);
   else fly_.update(input, std::min(dt, 0.1f));  // a stall does not throw the camera across the scene
-  const VkExtent2D extent = window_->framebufferExtent();
-  if (swapchainStale_ || extent.width != swapchain_->extent().width || extent.height != swapchain_->extent().height)
-    ENGINE_TRY(recreateSwapchain());
-  return {};
 }
 
 // F1: panel on/off; F2: orbit/fly camera; F11: full screen. On the press, not while held.
@@ -557,22 +416,13 @@ void Viewer::handleKeys(const platform::InputState& input) {
   std::copy(std::begin(input.keys), std::end(input.keys), std::begin(keysDown_));
 }
 
-Status Viewer::setVsync(bool vsync) {
-  if (!swapchain_ || vsync == vsync_) return {};
-  // The present mode is fixed at swapchain creation: a new swapchain (later, when minimised).
-  swapchain_->setVsync(vsync);
-  vsync_ = vsync;
-  return recreateSwapchain();
-}
+Status Viewer::setVsync(bool vsync) { return window_ ? window_->setVsync(vsync, *renderer_) : Status{}; }
+
+bool Viewer::vsync() const { return !window_ || window_->vsync(); }
 
 Status Viewer::setMinimized(bool minimized) {
   if (!window_) return makeError("minimise/restore: no window (headless)");
-  if (minimized) window_->iconify();
-  else window_->restore();
-  if (!waitForWindowSystem(*window_, [&] { return window_->minimized() == minimized; }))
-    return makeError(fmt::format("the window system did not {} the window within {} s (X11 needs a window manager for this)",
-                                 minimized ? "minimise" : "restore", kWindowSystemSeconds));
-  return {};
+  return window_->setMinimized(minimized);
 }
 
 void Viewer::setFullscreen(bool fullscreen) {
@@ -581,60 +431,45 @@ void Viewer::setFullscreen(bool fullscreen) {
 
 bool Viewer::fullscreen() const { return window_ && window_->fullscreen(); }
 
+std::uint64_t Viewer::swapchainRecreations() const { return window_ ? window_->swapchainRecreations() : 0; }
+
 void Viewer::resize(std::uint32_t width, std::uint32_t height) {
-  if (window_) {
-    window_->setSize(int(width), int(height));
-    requestedSize_ = {width, height};
-    return;
-  }
+  if (window_) return window_->requestSize(width, height);
   context_->waitIdle();
   renderer_->resize({width, height});
 }
 
-Status Viewer::waitForWindowSize() {
-  if (!window_ || requestedSize_.width == 0) return {};
-  auto reached = [this] {
-    const VkExtent2D e = window_->framebufferExtent();
-    return e.width == requestedSize_.width && e.height == requestedSize_.height;
-  };
-  if (!waitForWindowSystem(*window_, reached))
-    return makeError(fmt::format("the window system did not resize the window to {}x{} within {} s", requestedSize_.width,
-                                 requestedSize_.height, kWindowSystemSeconds));
-  return {};
-}
+Status Viewer::waitForWindowSize() { return window_ ? window_->waitForSize() : Status{}; }
 
 Status Viewer::step() {
   float dt = 1.0f / 60.0f;  // headless frames are deterministic
   if (window_) {
-    const double now = nowSeconds();
-    dt = float(now - lastFrameTime_);
-    lastFrameTime_ = now;
-    bool drawable = true;
-    ENGINE_TRY(handleWindow(dt, drawable));
-    if (!drawable) return {};
+    dt = window_->secondsSinceLastFrame();
+    if (!window_->pollEvents()) return {};
+    handleInput(dt);
+    ENGINE_TRY(window_->fitSwapchain(*renderer_));
   }
   frameSeconds_ = dt;
   if (bakeJob_ && bakeJob_->done()) {
     if (Status baked = finishBake(); !baked) log::warn("{}", baked.error().message);
     updateCompareBake();
   }
-  if (compareJob_ && compareJob_->done()) finishCompareBake();
+  if (compare_.bakeJob() && compare_.bakeJob()->done()) compare_.finishBake();
   applyTuningToScene();
   scene::updateWorldTransforms(registry_);
   updateLevelsOfDetail(false);
   const bool ui = ui_ && uiVisible_;
   render::FrameSettings settings;
   settings.debugView = std::uint32_t(tuning_.debugView);
-  settings.swapchain = swapchain_.get();
+  settings.swapchain = window_ ? &window_->swapchain() : nullptr;
   settings.overlay = ui ? ui_.get() : nullptr;
   // The comparison: the main asset is put back after the frame (regions swap it in and out).
   hsdf::HermiteSdfRenderable* sdf = sdfRenderable();
   const std::shared_ptr<const hsdf::SdfAsset> main = sdf ? sdf->asset : nullptr;
-  difference_.reset();
+  compare_.clearDifference();
   if (tuning_.difference && main && isSdfMethod(tuning_.method)) {
-    ENGINE_TRY(renderDifference(main));
-    differenceOverlay_->setNext(settings.overlay);
-    settings.overlay = differenceOverlay_.get();
+    ENGINE_TRY(compare_.renderDifference(tuning_, main, registry_, *renderer_, cameraView()));
+    settings.overlay = compare_.overlay(settings.overlay);
   } else if (tuning_.split != SplitMode::Off && main) {
     settings.regions = splitRegions(main);
   }
@@ -643,7 +478,7 @@ Status Viewer::step() {
   if (!settings.regions.empty()) showState(tuning_, main);
   if (!presented) {
     log::debug("swapchain out of date or suboptimal: recreating it");
-    ENGINE_TRY(recreateSwapchain());
+    ENGINE_TRY(window_->recreateSwapchain(*renderer_));
   }
   ++frames_;
   finishStep();
@@ -721,62 +556,23 @@ Status Viewer::droppedObjectsError(std::uint64_t frame) {
 
 // What the panel or a script asked for that needs the finished frame.
 void Viewer::finishStep() {
-  if (!pendingScreenshot_) return;
-  const std::filesystem::path path = std::move(*pendingScreenshot_);
-  pendingScreenshot_.reset();
-  const Status written = writeScreenshot(path);
-  statusLine_ = written ? "wrote " + path.string() : written.error().message;
-  if (!written) log::warn("{}", written.error().message);
+  screenshots_.writeRequested([this](const std::filesystem::path& path) { return writeScreenshot(path); });
 }
 
 Status Viewer::writeScreenshot(const std::filesystem::path& path) {
-  renderer_->finish();
-  const std::vector<std::uint8_t> pixels = renderer_->readbackColor();
-  const VkExtent2D extent = renderer_->extent();
-  ENGINE_TRY(writePng(path, pixels, extent.width, extent.height, 4));
-  std::filesystem::path sidecar = path;
-  sidecar.replace_extension(".json");
-  ENGINE_TRY(saveTuning(sidecar, tuning_));
-  const hsdf::SdfAsset* asset = sdfAsset();
-  log::info("screenshot: {} ({}x{}, {}{}{})", path.string(), extent.width, extent.height, methodName(tuning_.method),
-            asset ? "; " : "", asset ? describeSdfStats(sdfStats(*asset)) : "");
-  if (tuning_.split != SplitMode::Off)
-    log::info("screenshot: {}: split {} at {:.2f}: {} K {} | {} K {} ({} normals)", path.string(), splitModeName(tuning_.split),
-              tuning_.splitPosition, methodName(tuning_.method), bakedResolution_, methodName(tuning_.compareMethod),
-              compareResolutionDrawn(), normalModeName(tuning_.compareNormals));
-  if (difference_)
-    log::info("screenshot: {}: difference {} vs {}: mean {:.3f} deg, max {:.3f} deg over {} pixels; coverage differs in "
-              "{} of {} covered pixels ({:.4f})",
-              path.string(), methodName(tuning_.method), methodName(tuning_.compareMethod), difference_->meanDegrees,
-              difference_->maxDegrees, difference_->coveredBoth, difference_->coverageDiffers, difference_->coveredEither,
-              difference_->coverageDiffersShare());
-  return {};
-}
-
-SdfStats sdfStats(const hsdf::SdfAsset& asset) {
-  SdfStats stats;
-  const std::uint64_t k = std::uint64_t(asset.cells.grid.resolution);
-  stats.resolution = int(k);
-  stats.cells = asset.classification.stats;
-  stats.cellScalars = asset.cells.stored_scalars();
-  stats.cellBytes = asset.cells.stored_bytes();
-  stats.cellBytesHalf = asset.cellsHalf.stored_bytes();
-  stats.trilinearScalars = k * k * k;
-  stats.hermiteScalars = 4 * k * k * k;
-  return stats;
-}
-
-std::string describeSdfStats(const SdfStats& s) {
-  return fmt::format("K {}: cells {} crossing / {} ambiguous / {} empty; stored scalars: cells {}, trilinear {}, hermite {}",
-                     s.resolution, s.cells.crossing, s.cells.ambiguous, s.cells.empty, s.cellScalars, s.trilinearScalars,
-                     s.hermiteScalars);
+  const std::optional<NormalDifference>& difference = compare_.difference();
+  return Screenshots::write(*renderer_, path,
+                            {.tuning = tuning_,
+                             .asset = sdfAsset(),
+                             .resolution = bakedResolution_,
+                             .compareResolution = compareResolutionDrawn(),
+                             .difference = difference ? &*difference : nullptr});
 }
 
 Status Viewer::close() {
   if (closed_ || !context_) return {};
   closed_ = true;
   bakeJob_.reset();
-  compareJob_.reset();
   levelJob_.reset();
   try {
     context_->waitIdle();
@@ -784,11 +580,10 @@ Status Viewer::close() {
     if (e.result() != VK_ERROR_DEVICE_LOST) throw;
     deviceLost_ = true;
   }
-  differenceOverlay_.reset();
+  compare_.release();
   ui_.reset();
   renderer_.reset();
-  swapchain_.reset();
-  if (window_) window_->destroySurface(context_->instance());
+  if (window_) window_->destroySwapchain(*context_);
   registry_.clear();
   pool_.reset();
   const std::uint32_t messages = context_->validationMessageCount();

@@ -29,16 +29,14 @@
 #include "engine/platform/camera_controller.h"
 #include "engine/render/components.h"
 #include "engine/render/renderer.h"
+#include "compared_side.h"
 #include "difference_view.h"
 #include "hermite_sdf/core/bake_job.h"
+#include "screenshots.h"
+#include "sdf_stats.h"
 #include "tuning.h"
+#include "viewer_window.h"
 
-namespace engine::gpu {
-class Swapchain;
-}
-namespace engine::platform {
-class Window;
-}
 namespace engine::render {
 class MeshPool;
 }
@@ -76,20 +74,6 @@ struct ViewerDesc {
   // more fails with an error naming the resource and the budget (step()).
   std::uint64_t gpuMemoryBudget = engine::gpu::Allocator::kUnlimited;
 };
-
-// What the baked SDF costs per method and what its cells are, for the panel and the screenshot log.
-struct SdfStats {
-  int resolution = 0;  // K
-  hsdf::CellStats cells;
-  std::uint64_t cellScalars = 0;  // 32 per kept cell: f and its gradient at 8 corners
-  std::uint64_t cellBytes = 0;    // fp32 records, coordinates included
-  std::uint64_t cellBytesHalf = 0;
-  std::uint64_t trilinearScalars = 0;  // K^3 values of f
-  std::uint64_t hermiteScalars = 0;    // 4 K^3: f and its gradient at every sample
-};
-SdfStats sdfStats(const hsdf::SdfAsset& asset);
-// "cells 1234 crossing / 56 ambiguous / 9999 empty; stored scalars: cells N, trilinear N, hermite N"
-std::string describeSdfStats(const SdfStats& stats);
 
 // What to show. A glTF scene's meshes are drawn as triangles (Method::Mesh) or baked into one SDF
 // through the module bake job (any other method), which replaces them or, with sideBySide, stands
@@ -151,15 +135,15 @@ class Viewer {
   // Split screen and difference view (TuningState::split, difference): the compared side is drawn
   // from its own bake at effectiveCompareResolution (on the worker thread too; until it is ready,
   // the main asset stands in). waitForBake() and cancelBake() cover this bake as well.
-  hsdf::BakeJob* compareBakeJob() { return compareJob_.get(); }
-  const std::string& compareBakeError() const { return compareBakeError_; }
+  hsdf::BakeJob* compareBakeJob() { return compare_.bakeJob(); }
+  const std::string& compareBakeError() const { return compare_.bakeError(); }
   // The K the compared side is drawn with now (0: no SDF).
   int compareResolutionDrawn() const;
   // The numbers of the last difference-view frame (empty when the view is off).
-  const std::optional<NormalDifference>& difference() const { return difference_; }
+  const std::optional<NormalDifference>& difference() const { return compare_.difference(); }
   // Degrees shown red in the heat map.
-  float differenceRange() const { return differenceRange_; }
-  void setDifferenceRange(float degrees) { differenceRange_ = std::max(degrees, 0.1f); }
+  float differenceRange() const { return compare_.range(); }
+  void setDifferenceRange(float degrees) { compare_.setRange(degrees); }
 
   // Recreates every render feature's pipelines from the SPIR-V on disk (the panel's "Reload
   // shaders", F5, the script's reload-shaders). A feature that fails keeps drawing with its old
@@ -209,17 +193,17 @@ class Viewer {
   // file (same name, .json: --settings loads it) and the SDF statistics to the log.
   engine::Status writeScreenshot(const std::filesystem::path& path);
   // writeScreenshot after the next frame is drawn (the panel's button; the UI is in the image).
-  void requestScreenshot(std::filesystem::path path) { pendingScreenshot_ = std::move(path); }
+  void requestScreenshot(std::filesystem::path path) { screenshots_.request(std::move(path)); }
   // What the last requested screenshot or settings file operation said ("wrote x.png", an error).
-  const std::string& statusLine() const { return statusLine_; }
-  void setStatusLine(std::string line) { statusLine_ = std::move(line); }
+  const std::string& statusLine() const { return screenshots_.statusLine(); }
+  void setStatusLine(std::string line) { screenshots_.setStatusLine(std::move(line)); }
 
   // The UI panels on or off (F1); off leaves only the scene in windowed screenshots.
   void setUiVisible(bool visible) { uiVisible_ = visible; }
   // Window only (no-ops headless, where resize() sets the image size): V-sync (recreates the
   // swapchain with FIFO or the fastest mode the surface has), full screen (F11).
   engine::Status setVsync(bool vsync);
-  bool vsync() const { return vsync_; }
+  bool vsync() const;
   void setFullscreen(bool fullscreen);
   bool fullscreen() const;
   // Minimises (iconifies) or restores the window and waits (at most 2 s) until the window system
@@ -227,7 +211,7 @@ class Viewer {
   // minimised, step() draws nothing and returns after a short wait for events.
   engine::Status setMinimized(bool minimized);
   // Swapchains created after the first (resize, out of date, suboptimal, restore).
-  std::uint64_t swapchainRecreations() const { return swapchainRecreations_; }
+  std::uint64_t swapchainRecreations() const;
   // Windowed: asks for a new window size (applied asynchronously by the window system; several
   // requests in a row may arrive as one); headless: resizes the render targets now.
   void resize(std::uint32_t width, std::uint32_t height);
@@ -253,19 +237,14 @@ class Viewer {
  private:
   Viewer() = default;
   engine::Status initialize(const ViewerDesc& desc);
-  engine::Status handleWindow(float dt, bool& drawable);
+  void handleInput(float dt);
   void handleKeys(const engine::platform::InputState& input);
   void updateVisibility(Method method, bool meshes = true);
   void finishStep();
   hsdf::HermiteSdfRenderable* sdfRenderable();
   void showState(const TuningState& tuning, const std::shared_ptr<const hsdf::SdfAsset>& asset);
-  std::shared_ptr<const hsdf::SdfAsset> comparedAsset(const std::shared_ptr<const hsdf::SdfAsset>& main) const;
   std::vector<engine::render::ViewRegion> splitRegions(const std::shared_ptr<const hsdf::SdfAsset>& main);
-  engine::Status renderDifference(const std::shared_ptr<const hsdf::SdfAsset>& main);
-  NormalsFrame renderNormals(const TuningState& tuning, const std::shared_ptr<const hsdf::SdfAsset>& asset);
   void updateCompareBake();
-  void finishCompareBake();
-  engine::Status recreateSwapchain();
   engine::Expected<bool> renderFrame(const engine::render::FrameSettings& settings);
   engine::Status droppedObjectsError(std::uint64_t frame);
   void applyTuningToScene();
@@ -297,11 +276,10 @@ class Viewer {
                                    const glm::vec4* color);
 
   std::unique_ptr<engine::gpu::Context> context_;
-  std::unique_ptr<engine::platform::Window> window_;
+  std::unique_ptr<ViewerWindow> window_;
   std::unique_ptr<engine::render::MeshPool> pool_;
   std::unique_ptr<engine::render::Renderer> renderer_;
   std::unique_ptr<engine::ui::UiLayer> ui_;
-  std::unique_ptr<engine::gpu::Swapchain> swapchain_;
   std::unique_ptr<TuningPanel> panel_;
   engine::ecs::Registry registry_;
 
@@ -312,7 +290,6 @@ class Viewer {
   CameraMode cameraMode_ = CameraMode::Orbit;
   float fovY_ = 0.8f;
   float znear_ = 0.01f;
-  double lastFrameTime_ = 0.0;  // seconds on the steady clock; windowed frames measure dt
   std::uint64_t frames_ = 0;
   TuningState tuning_;
 
@@ -351,28 +328,13 @@ class Viewer {
   hsdf::SceneObjects objects_;             // the nodes' draws and the meshes' assets baked at K
   hsdf::SceneObjectLevels objectLevels_;  // with TuningState::lod: [mesh] its levels (empty: none baked)
 
-  // The compared side of the split screen / difference view.
-  std::shared_ptr<const hsdf::SdfAsset> compareAsset_;
-  int compareResolution_ = 0;  // K of compareAsset_
-  int comparePadding_ = 0;
-  std::unique_ptr<hsdf::BakeJob> compareJob_;
-  std::string compareBakeError_;
-  std::pair<int, int> compareFailed_{-1, -1};  // K and padding of the last failed compared bake
-  std::optional<NormalDifference> difference_;
-  float differenceRange_ = 10.0f;
-  std::unique_ptr<ImageOverlay> differenceOverlay_;
+  ComparedSide compare_;  // the split screen's / difference view's other side
   std::string shaderReloadReport_;
 
-  std::optional<std::filesystem::path> pendingScreenshot_;
-  std::string statusLine_;
+  Screenshots screenshots_;
   bool uiVisible_ = true;
-  bool vsync_ = true;
   float frameSeconds_ = 1.0f / 60.0f;
   bool keysDown_[512] = {};  // last frame's keys, for presses (F1, F11)
-  VkExtent2D requestedSize_{0, 0};  // the last resize() of the window
-  bool swapchainStale_ = false;  // out of date or resized while it could not be recreated (minimised)
-  std::uint64_t swapchainRecreations_ = 0;
-  std::uint64_t skippedSteps_ = 0;  // steps of the current minimised spell
   bool closed_ = false;
   bool deviceLost_ = false;   // a checked call reported VK_ERROR_DEVICE_LOST
   std::string frameFailure_;  // why the scene cannot continue (device lost)
