@@ -13,9 +13,8 @@ namespace samples {
 
 using namespace engine;
 
-void ComparedSide::initialize(const gpu::Context& context, std::uint32_t framesInFlight, ShowState showState) {
+void ComparedSide::createOverlay(const gpu::Context& context, std::uint32_t framesInFlight) {
   overlay_ = std::make_unique<ImageOverlay>(context, framesInFlight);
-  showState_ = std::move(showState);
 }
 
 void ComparedSide::release() {

@@ -32,8 +32,9 @@ class ComparedSide {
     int padding = 0;
   };
 
-  // The heat map's overlay and how a region shows its side (before the first frame).
-  void initialize(const engine::gpu::Context& context, std::uint32_t framesInFlight, ShowState showState);
+  explicit ComparedSide(ShowState showState) : showState_(std::move(showState)) {}
+  // The heat map's overlay (before the first difference frame).
+  void createOverlay(const engine::gpu::Context& context, std::uint32_t framesInFlight);
   // Before the device goes: the bake stops, the overlay's buffers are released.
   void release();
 

@@ -68,7 +68,7 @@ Status Viewer::initialize(const ViewerDesc& desc) {
     contextDesc.instanceExtensions = platform::Window::requiredInstanceExtensions();
     contextDesc.swapchain = true;
   }
-  bakeBudget_ = desc.bakeBudget;
+  bakes_.setBudget(desc.bakeBudget);
   ENGINE_TRY_ASSIGN(context_, gpu::Context::create(contextDesc));
   context_->allocator().setBudget(desc.gpuMemoryBudget);
   ENGINE_TRY(checkImageSize(desc, *context_));
@@ -92,10 +92,7 @@ Status Viewer::initialize(const ViewerDesc& desc) {
     ui_->addPanel("tuning", [this] { panel_->draw(); });
     ui_->addFeaturePanels(*renderer_);
   }
-  compare_.initialize(*context_, renderer_->desc().framesInFlight,
-                      [this](const TuningState& tuning, const std::shared_ptr<const hsdf::SdfAsset>& asset) {
-                        showState(tuning, asset);
-                      });
+  compare_.createOverlay(*context_, renderer_->desc().framesInFlight);
   if (window_) window_->startFrameClock();
   return {};
 }
@@ -139,125 +136,45 @@ void Viewer::setCameraMode(CameraMode mode) {
 
 void Viewer::setTuning(const TuningState& tuning) {
   tuning_ = tuning;
-  if (objectScene_ && (tuning_.resolution != bakedResolution_ || tuning_.padding != bakedPadding_)) {
-    if (Status rebaked = rebakeSceneObjects(); !rebaked) log::error("{}", rebaked.error().message);
+  if (sceneObjects_.loaded() && (tuning_.resolution != bakes_.resolution() || tuning_.padding != bakes_.padding())) {
+    if (Status rebaked = sceneObjects_.rebake(); !rebaked) log::error("{}", rebaked.error().message);
   }
   updateCompareBake();
-  if (!bakeSource_ || (!bakedEntity_ && !isSdfMethod(tuning.method) && !comparing(tuning))) return;
-  // A scene loaded as meshes bakes its SDF when an SDF method (or a comparison) is first picked.
-  if (!bakedEntity_) {
-    if (!bakeJob_) startRebake();
-    return;
-  }
-  // Compared with what is being baked, else with what is drawn.
-  const int resolution = bakeJob_ ? bakeJob_->settings().resolution : bakedResolution_;
-  const int padding = bakeJob_ ? bakeJob_->settings().padding : bakedPadding_;
-  // A sparse bake (the cells past K = 256) has no dense field: a dense tracer needs a re-bake.
-  const hsdf::SdfAsset* drawn = sdfAsset();
-  const bool sparse = bakeJob_ ? bakeJob_->settings().band == hsdf::BakeBand::Sparse
-                               : drawn && drawn->field.samples.empty();
-  const bool needsDense = isSdfMethod(tuning.method) && !drawsCells(tuning.method);
-  if (tuning.resolution != resolution || tuning.padding != padding || (sparse && needsDense)) startRebake();
+  bakes_.followTuning();
 }
 
 // The compared side shares the asset baked at K (level 0 when levels of detail draw another).
 void Viewer::updateCompareBake() {
-  const hsdf::HermiteSdfRenderable* r = sdfRenderable();
-  const hsdf::HermiteSdfLod* lod = bakedEntity_ ? registry_.tryGet<hsdf::HermiteSdfLod>(*bakedEntity_) : nullptr;
-  auto baked = lod && !lod->levels.empty() ? lod->levels.front() : r ? r->asset : nullptr;
-  compare_.updateBake(tuning_, bakeSource_ ? &*bakeSource_ : nullptr, {std::move(baked), bakedResolution_, bakedPadding_},
-                      bakeBudget_);
+  compare_.updateBake(tuning_, bakes_.source(), {bakes_.bakedAsset(), bakes_.resolution(), bakes_.padding()},
+                      bakes_.budget());
 }
 
 int Viewer::compareResolutionDrawn() const {
-  return compare_.resolutionDrawn(tuning_, bakedEntity_ ? bakedResolution_ : 0);
-}
-
-void Viewer::startRebake() {
-  hsdf::BakeSettings settings;
-  settings.resolution = tuning_.resolution;
-  settings.padding = tuning_.padding;
-  settings.band = bakeBandFor(tuning_.method, tuning_.resolution);
-  settings.budget = bakeBudget_;
-  bakeError_.clear();
-  bakeJob_.reset();  // cancels a re-bake for settings that are already outdated
-  bakeJob_ = std::make_unique<hsdf::BakeJob>(*bakeSource_, settings);
+  return compare_.resolutionDrawn(tuning_, bakes_.entity() ? bakes_.resolution() : 0);
 }
 
 void Viewer::cancelBake() {
-  if (bakeJob_) bakeJob_->cancel();
+  bakes_.cancel();
   compare_.cancelBake();
-  if (levelJob_) levelJob_->cancel();
-}
-
-// Swaps the re-bake's asset into the entity (waiting for it). A failed one leaves the old asset
-// and puts the tuning back to the K drawn (or to the meshes, when there is no SDF yet), so that
-// the panel shows what is on screen; the reason stays in bakeError().
-Status Viewer::finishBake() {
-  hsdf::BakeJob::Result result = bakeJob_->wait();
-  const hsdf::BakeSettings settings = bakeJob_->settings();
-  bakeJob_.reset();
-  if (!result) {
-    const Error error = result.error().withContext(fmt::format("re-baking at resolution {}", settings.resolution));
-    bakeError_ = error.message;
-    if (bakedEntity_) {
-      tuning_.resolution = bakedResolution_;
-      tuning_.padding = bakedPadding_;
-    } else {
-      tuning_.method = Method::Mesh;
-    }
-    return error;
-  }
-  log::info("re-baked at resolution {}: {}", settings.resolution, describeSdfStats(sdfStats(**result)));
-  if (bakedEntity_) {
-    hsdf::HermiteSdfRenderable& sdf = hiddenSdf_ ? *hiddenSdf_ : registry_.get<hsdf::HermiteSdfRenderable>(*bakedEntity_);
-    // With levels of detail the renderable holds the level drawn; the bake replaced level 0.
-    const hsdf::HermiteSdfLod* lod = registry_.tryGet<hsdf::HermiteSdfLod>(*bakedEntity_);
-    replaced_ = {lod && !lod->levels.empty() ? lod->levels.front() : sdf.asset, bakedResolution_, bakedPadding_};
-    sdf.asset = std::move(*result);
-  } else {
-    bakedEntity_ = addSdfEntity(std::move(*result), glm::vec3(0.0f), sdfColor_ ? &*sdfColor_ : nullptr);
-  }
-  bakedResolution_ = settings.resolution;
-  bakedPadding_ = settings.padding;
-  return {};
 }
 
 Status Viewer::waitForBake() {
-  const Status main = bakeJob_ ? finishBake() : Status{};
+  const Status main = bakes_.job() ? bakes_.finish() : Status{};
   if (compare_.bakeJob()) compare_.finishBake();
   updateCompareBake();  // e.g. the compared side can share the new main asset
   updateLevelsOfDetail(true);
   return main;
 }
 
-hsdf::HermiteSdfRenderable* Viewer::sdfRenderable() {
-  if (hiddenSdf_) return &*hiddenSdf_;
-  if (!bakedEntity_) return nullptr;
-  return &registry_.get<hsdf::HermiteSdfRenderable>(*bakedEntity_);
-}
-
-const hsdf::SdfAsset* Viewer::sdfAsset() const {
-  if (hiddenSdf_) return hiddenSdf_->asset.get();
-  if (!bakedEntity_) return nullptr;
-  return registry_.get<hsdf::HermiteSdfRenderable>(*bakedEntity_).asset.get();
-}
+const hsdf::SdfAsset* Viewer::sdfAsset() const { return bakes_.asset(); }
 
 // The method picks what is drawn: the SDF, or the scene's meshes (also while the first SDF of a
 // mesh scene bakes, and always beside it with --side-by-side).
 void Viewer::updateVisibility(Method method, bool meshes) {
-  const bool sdfShown = isSdfMethod(method) && (bakedEntity_ || !objectEntities_.empty());
+  const bool sdfShown = isSdfMethod(method) && (bakes_.entity() || !sceneObjects_.entities().empty());
   const bool meshesShown = meshes && (sideBySide_ || !sdfShown);
-  updateObjectVisibility(sdfShown);
-  if (bakedEntity_ && sdfShown == hiddenSdf_.has_value()) {
-    if (sdfShown) {
-      registry_.emplace<hsdf::HermiteSdfRenderable>(*bakedEntity_, std::move(*hiddenSdf_));
-      hiddenSdf_.reset();
-    } else {
-      hiddenSdf_ = registry_.get<hsdf::HermiteSdfRenderable>(*bakedEntity_);
-      registry_.remove<hsdf::HermiteSdfRenderable>(*bakedEntity_);
-    }
-  }
+  sceneObjects_.setShown(sdfShown);
+  bakes_.setShown(sdfShown);
   if (meshesShown && !hiddenMeshes_.empty()) {
     for (auto& [entity, mesh] : hiddenMeshes_) registry_.emplace<render::MeshRenderable>(entity, mesh);
     hiddenMeshes_.clear();
@@ -292,76 +209,16 @@ void Viewer::applyTuningToScene() {
   tracers.centralDifferenceStep = tuning_.centralDifferenceStep;
 }
 
-// Levels of detail (TuningState::lod): the baked entity carries an hsdf::HermiteSdfLod whose level 0
-// is the asset baked at K. A renderable holding none of the levels has a new bake (re-bake, refused
-// bake put back): its coarser levels are baked then, from the same source, with its band, one
-// hsdf::BakeJob per level on a worker thread (finer first), so that the frame never waits for them;
-// the module's system picks among the levels ready so far, from the camera of this frame. Off: the
-// entity draws level 0 again. `wait` (waitForBake) finishes every level and leaves the choice to
-// the next frame.
+// Levels of detail (TuningState::lod): the scene objects' or the SDF entity's. `wait` (waitForBake)
+// finishes every level and leaves the choice to the next frame.
 void Viewer::updateLevelsOfDetail(bool wait) {
-  if (objectScene_) return updateObjectLevels(!wait);
-  hsdf::HermiteSdfRenderable* renderable = sdfRenderable();
-  if (!renderable) return;
-  hsdf::HermiteSdfLod* lod = registry_.tryGet<hsdf::HermiteSdfLod>(*bakedEntity_);
-  const bool holdsLevel =
-      lod && std::find(lod->levels.begin(), lod->levels.end(), renderable->asset) != lod->levels.end();
-  if (!tuning_.lod || !bakeSource_) {
-    levelJob_.reset();
-    // A level goes back to level 0; a new bake in the renderable stays.
-    if (holdsLevel) renderable->asset = lod->levels.front();
-    if (lod) registry_.remove<hsdf::HermiteSdfLod>(*bakedEntity_);
-    return;
-  }
-  if (!holdsLevel) startLevelBakes(renderable->asset);
-  if (Status baked = finishLevelBakes(wait); !baked) {
-    bakeError_ = baked.error().message;
-    log::warn("{} (levels of detail turned off)", bakeError_);
-    tuning_.lod = false;
-    return;
-  }
-  registry_.get<hsdf::HermiteSdfLod>(*bakedEntity_).pixelsPerCell = tuning_.lodPixelsPerCell;
-  if (!wait) hsdf::selectSdfLevels(registry_, cameraView(), renderer_->extent().height);
-}
-
-// New levels with `finest` (baked at bakedResolution_) as level 0, the coarser ones to come.
-void Viewer::startLevelBakes(std::shared_ptr<const hsdf::SdfAsset> finest) {
-  levelJob_.reset();  // a level of the old level 0 is outdated
-  hsdf::BakeSettings settings;
-  settings.resolution = bakedResolution_;
-  settings.padding = bakedPadding_;
-  settings.band = finest->field.samples.empty() ? hsdf::BakeBand::Sparse : hsdf::BakeBand::Dense;
-  settings.budget = bakeBudget_;
-  hsdf::HermiteSdfLod lod;
-  lod.levels = {std::move(finest)};
-  registry_.emplaceOrReplace<hsdf::HermiteSdfLod>(*bakedEntity_, std::move(lod));
-  startNextLevelBake(settings);
-}
-
-void Viewer::startNextLevelBake(const hsdf::BakeSettings& previous) {
-  if (const std::optional<hsdf::BakeSettings> next = hsdf::coarserLodLevel(previous))
-    levelJob_ = std::make_unique<hsdf::BakeJob>(*bakeSource_, *next);
-  else
-    log::info("levels of detail: {} levels from K = {}", registry_.get<hsdf::HermiteSdfLod>(*bakedEntity_).levels.size(),
-              bakedResolution_);
-}
-
-// Adds the levels whose bakes are done (all of them when `wait`), starting the next one each time.
-Status Viewer::finishLevelBakes(bool wait) {
-  while (levelJob_ && (wait || levelJob_->done())) {
-    hsdf::BakeJob::Result result = levelJob_->wait();
-    const hsdf::BakeSettings settings = levelJob_->settings();
-    levelJob_.reset();
-    if (!result) return result.error().withContext(fmt::format("levels of detail: level K = {}", settings.resolution));
-    registry_.get<hsdf::HermiteSdfLod>(*bakedEntity_).levels.push_back(std::move(*result));
-    startNextLevelBake(settings);
-  }
-  return {};
+  const bool levels = sceneObjects_.loaded() ? sceneObjects_.updateLevels() : bakes_.updateLevels(wait);
+  if (levels && !wait) hsdf::selectSdfLevels(registry_, cameraView(), renderer_->extent().height);
 }
 
 // The scene as `tuning` draws it, the SDF entity showing `asset`: a view region's override.
 void Viewer::showState(const TuningState& tuning, const std::shared_ptr<const hsdf::SdfAsset>& asset) {
-  if (hsdf::HermiteSdfRenderable* r = sdfRenderable(); r && asset) r->asset = asset;
+  if (hsdf::HermiteSdfRenderable* r = bakes_.renderable(); r && asset) r->asset = asset;
   updateVisibility(tuning.method);
   registry_.view<hsdf::HermiteSdfRenderable>().each(
       [&tuning](ecs::Entity, hsdf::HermiteSdfRenderable& renderable) { applyTuning(tuning, renderable); });
@@ -450,8 +307,8 @@ Status Viewer::step() {
     ENGINE_TRY(window_->fitSwapchain(*renderer_));
   }
   frameSeconds_ = dt;
-  if (bakeJob_ && bakeJob_->done()) {
-    if (Status baked = finishBake(); !baked) log::warn("{}", baked.error().message);
+  if (bakes_.job() && bakes_.job()->done()) {
+    if (Status baked = bakes_.finish(); !baked) log::warn("{}", baked.error().message);
     updateCompareBake();
   }
   if (compare_.bakeJob() && compare_.bakeJob()->done()) compare_.finishBake();
@@ -464,7 +321,7 @@ Status Viewer::step() {
   settings.swapchain = window_ ? &window_->swapchain() : nullptr;
   settings.overlay = ui ? ui_.get() : nullptr;
   // The comparison: the main asset is put back after the frame (regions swap it in and out).
-  hsdf::HermiteSdfRenderable* sdf = sdfRenderable();
+  hsdf::HermiteSdfRenderable* sdf = bakes_.renderable();
   const std::shared_ptr<const hsdf::SdfAsset> main = sdf ? sdf->asset : nullptr;
   compare_.clearDifference();
   if (tuning_.difference && main && isSdfMethod(tuning_.method)) {
@@ -482,7 +339,7 @@ Status Viewer::step() {
   }
   ++frames_;
   finishStep();
-  const std::optional<std::string> restored = restoreRefusedBake();
+  const std::optional<std::string> restored = bakes_.restoreRefused(*renderer_);
   Status dropped = droppedObjectsError(frames_);
   if (restored && !dropped.ok()) return makeError(dropped.error().message + "; " + *restored);
   return dropped;
@@ -492,7 +349,7 @@ Expected<Viewer::FrameWork> Viewer::countWork() {
   render::FrameSettings settings;
   settings.debugView = std::uint32_t(tuning_.debugView);
   settings.countWork = true;
-  hsdf::HermiteSdfRenderable* sdf = sdfRenderable();
+  hsdf::HermiteSdfRenderable* sdf = bakes_.renderable();
   const std::shared_ptr<const hsdf::SdfAsset> main = sdf ? sdf->asset : nullptr;
   if (tuning_.split != SplitMode::Off && main && !tuning_.difference) settings.regions = splitRegions(main);
   const Expected<bool> rendered = renderFrame(settings);
@@ -502,28 +359,6 @@ Expected<Viewer::FrameWork> Viewer::countWork() {
   for (const std::uint32_t count : renderer_->readbackWorkCounters()) work.evaluations += count;
   work.raysOutOfSteps = renderer_->readbackWorkTotals().raysOutOfSteps;
   return work;
-}
-
-// A re-baked field the GPU could not take (a feature refused its upload: out of GPU memory) is
-// swapped back for the field it replaced, which the features still hold (and drew already in the
-// frame that found out, in place of the refused one): the component and the tuning name the K on
-// screen again. Checked on the first frame after the swap; the replaced field is released then.
-std::optional<std::string> Viewer::restoreRefusedBake() {
-  const ReplacedField replaced = std::exchange(replaced_, {});
-  hsdf::HermiteSdfRenderable* sdf = sdfRenderable();
-  if (!replaced.asset || !sdf || !sdf->asset) return std::nullopt;
-  const std::uint64_t id = sdf->asset->id;
-  if (!renderer_->feature<hsdf::HermiteCellFeature>()->refused(id) &&
-      !renderer_->feature<hsdf::SphereTraceFeature>()->refused(id))
-    return std::nullopt;
-  bakeError_ = fmt::format("re-baking at resolution {}: the new field does not fit in GPU memory; resolution {} stays "
-                           "drawn",
-                           bakedResolution_, replaced.resolution);
-  log::warn("{}", bakeError_);
-  sdf->asset = replaced.asset;
-  bakedResolution_ = tuning_.resolution = replaced.resolution;
-  bakedPadding_ = tuning_.padding = replaced.padding;
-  return bakeError_;
 }
 
 // A lost device ends the scene: an error (the caller exits cleanly, close() still tears down)
@@ -564,7 +399,7 @@ Status Viewer::writeScreenshot(const std::filesystem::path& path) {
   return Screenshots::write(*renderer_, path,
                             {.tuning = tuning_,
                              .asset = sdfAsset(),
-                             .resolution = bakedResolution_,
+                             .resolution = bakes_.resolution(),
                              .compareResolution = compareResolutionDrawn(),
                              .difference = difference ? &*difference : nullptr});
 }
@@ -572,8 +407,7 @@ Status Viewer::writeScreenshot(const std::filesystem::path& path) {
 Status Viewer::close() {
   if (closed_ || !context_) return {};
   closed_ = true;
-  bakeJob_.reset();
-  levelJob_.reset();
+  bakes_.stop();
   try {
     context_->waitIdle();
   } catch (const gpu::VulkanError& e) {  // a lost device has nothing left to wait for

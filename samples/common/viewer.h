@@ -33,6 +33,8 @@
 #include "difference_view.h"
 #include "hermite_sdf/core/bake_job.h"
 #include "screenshots.h"
+#include "sdf_bakes.h"
+#include "sdf_objects.h"
 #include "sdf_stats.h"
 #include "tuning.h"
 #include "viewer_window.h"
@@ -123,14 +125,14 @@ class Viewer {
   // thread (hsdf::BakeJob); the old asset keeps drawing until the new one is ready.
   void setTuning(const TuningState& tuning);
   // The running re-bake (progress(), cancel()), or null.
-  hsdf::BakeJob* bakeJob() { return bakeJob_.get(); }
+  hsdf::BakeJob* bakeJob() { return bakes_.job(); }
   // Blocks until a running re-bake is done and in the scene, and with TuningState::lod until its
   // levels of detail are (they bake on worker threads too); the re-bake's error, if it failed.
   engine::Status waitForBake();
   // Cancels the running re-bake (the old field keeps drawing; K goes back to the drawn one).
   void cancelBake();
   // Why the last bake failed or was refused (budget, cancelled), or empty.
-  const std::string& bakeError() const { return bakeError_; }
+  const std::string& bakeError() const { return bakes_.error(); }
 
   // Split screen and difference view (TuningState::split, difference): the compared side is drawn
   // from its own bake at effectiveCompareResolution (on the worker thread too; until it is ready,
@@ -157,13 +159,13 @@ class Viewer {
   // The SDF in the scene (shown or hidden by the method), or null.
   const hsdf::SdfAsset* sdfAsset() const;
   // Whether a new K can be baked (a glTF scene or an analytic shape; not a .hsdf file).
-  bool canRebake() const { return bakeSource_.has_value(); }
+  bool canRebake() const { return bakes_.source() != nullptr; }
   // Whether Method::Mesh has triangles to show (a glTF scene).
   bool hasMeshes() const { return !meshEntities_.empty(); }
   // SceneDesc::objects: the entities drawing a mesh's shared asset (one per SDF node), and the
   // bakes that made those assets (one per mesh they use).
-  const std::vector<engine::ecs::Entity>& sdfObjects() const { return objectEntities_; }
-  int objectBakes() const { return objectBakes_; }
+  const std::vector<engine::ecs::Entity>& sdfObjects() const { return sceneObjects_.entities(); }
+  int objectBakes() const { return sceneObjects_.bakes(); }
 
   // Windowed: the user closed the window. Headless: never.
   bool shouldClose() const;
@@ -241,7 +243,6 @@ class Viewer {
   void handleKeys(const engine::platform::InputState& input);
   void updateVisibility(Method method, bool meshes = true);
   void finishStep();
-  hsdf::HermiteSdfRenderable* sdfRenderable();
   void showState(const TuningState& tuning, const std::shared_ptr<const hsdf::SdfAsset>& asset);
   std::vector<engine::render::ViewRegion> splitRegions(const std::shared_ptr<const hsdf::SdfAsset>& main);
   void updateCompareBake();
@@ -249,31 +250,11 @@ class Viewer {
   engine::Status droppedObjectsError(std::uint64_t frame);
   void applyTuningToScene();
   void updateLevelsOfDetail(bool wait);
-  void startLevelBakes(std::shared_ptr<const hsdf::SdfAsset> finest);
-  void startNextLevelBake(const hsdf::BakeSettings& previous);
-  engine::Status finishLevelBakes(bool wait);
-  void startRebake();
-  engine::Status finishBake();
-  std::optional<std::string> restoreRefusedBake();
   // Scene loading (viewer_scene.cpp).
   engine::Status addBakedSdf(hsdf::BakeSource source, const SceneDesc& scene);
   engine::Status addSdfFile(const std::filesystem::path& file, bool frameIt);
   engine::Status loadGltf(const SceneDesc& scene);
   void addGroundPlane();
-  // SceneDesc::objects (viewer_objects.cpp): `nodes` are the scene's node entities, `parts` the
-  // entities of their mesh primitives.
-  engine::Status addSceneObjects(std::shared_ptr<const engine::scene::SceneData> data,
-                                 std::span<const engine::ecs::Entity> nodes, std::span<const engine::ecs::Entity> parts);
-  // A K or padding change in objects mode: every mesh baked again and every SDF node drawing its
-  // mesh's new asset (viewer_objects.cpp).
-  engine::Status rebakeSceneObjects();
-  void updateObjectVisibility(bool sdfShown);
-  // TuningState::lod in objects mode: each mesh's levels, each SDF node choosing its own level
-  // (viewer_objects.cpp). `select`: pick the levels for this frame's camera.
-  void updateObjectLevels(bool select);
-  void dropObjectLevels();
-  engine::ecs::Entity addSdfEntity(std::shared_ptr<const hsdf::SdfAsset> asset, const glm::vec3& offset,
-                                   const glm::vec4* color);
 
   std::unique_ptr<engine::gpu::Context> context_;
   std::unique_ptr<ViewerWindow> window_;
@@ -293,42 +274,18 @@ class Viewer {
   std::uint64_t frames_ = 0;
   TuningState tuning_;
 
-  // The SDF entity (baked or from a .hsdf file), what it was baked from and at which K and
-  // padding it is drawn. A glTF scene keeps its mesh entities: the method shows one or the other
-  // (a hidden entity's renderable waits in hiddenMeshes_ / hiddenSdf_).
-  std::optional<hsdf::BakeSource> bakeSource_;
-  std::optional<engine::ecs::Entity> bakedEntity_;
-  std::optional<glm::vec4> sdfColor_;  // the SDF looks like the mesh it stands for
-  int bakedResolution_ = 0;
-  int bakedPadding_ = 0;
-  std::unique_ptr<hsdf::BakeJob> bakeJob_;
-  std::unique_ptr<hsdf::BakeJob> levelJob_;  // the next coarser level of detail (TuningState::lod)
-  // The field a finished re-bake replaced, kept until the first frame after the swap has shown
-  // whether the GPU took the new one (restoreRefusedBake).
-  struct ReplacedField {
-    std::shared_ptr<const hsdf::SdfAsset> asset;
-    int resolution = 0;
-    int padding = 0;
-  };
-  ReplacedField replaced_;
-  hsdf::BakeBudget bakeBudget_;
-  std::string bakeError_;
+  // The SDF entity (baked or from a .hsdf file) and its bakes. A glTF scene keeps its mesh
+  // entities: the method shows one or the other (a hidden mesh's renderable waits in hiddenMeshes_).
+  SdfBakes bakes_{registry_, tuning_};
   bool sideBySide_ = false;
   std::vector<engine::ecs::Entity> meshEntities_;
   std::vector<std::pair<engine::ecs::Entity, engine::render::MeshRenderable>> hiddenMeshes_;
-  std::optional<hsdf::HermiteSdfRenderable> hiddenSdf_;
-  // SceneDesc::objects: the SDF nodes' entities, their renderables while a mesh method hides them.
-  std::vector<engine::ecs::Entity> objectEntities_;
-  std::vector<std::pair<engine::ecs::Entity, hsdf::HermiteSdfRenderable>> hiddenObjects_;
-  int objectBakes_ = 0;
-  // What a re-bake at another K needs: the scene, its node entities, the options of the load.
-  std::shared_ptr<const engine::scene::SceneData> objectScene_;
-  std::vector<engine::ecs::Entity> objectNodes_;
-  hsdf::SceneObjectOptions objectOptions_;
-  hsdf::SceneObjects objects_;             // the nodes' draws and the meshes' assets baked at K
-  hsdf::SceneObjectLevels objectLevels_;  // with TuningState::lod: [mesh] its levels (empty: none baked)
+  SdfObjects sceneObjects_{registry_, tuning_, bakes_};  // SceneDesc::objects
 
-  ComparedSide compare_;  // the split screen's / difference view's other side
+  // The split screen's / difference view's other side; its view regions show it with showState.
+  ComparedSide compare_{[this](const TuningState& tuning, const std::shared_ptr<const hsdf::SdfAsset>& asset) {
+    showState(tuning, asset);
+  }};
   std::string shaderReloadReport_;
 
   Screenshots screenshots_;
