@@ -2,7 +2,11 @@
 // One frame step shared by every program that shows a scene: the scene runner's windowed and
 // headless loops, the perf capture and the soak test. A Viewer owns the device, the renderer
 // (mesh, Hermite cell and sphere-tracing features), the scene registry, the orbit camera and,
-// when windowed or asked for, the window, swapchain and UI. Typical use:
+// when windowed or asked for, the window, swapchain and UI. Its other jobs are pieces of their own
+// that it composes: ViewerWindow (viewer_window.h: window, swapchain), SdfBakes (sdf_bakes.h: the SDF
+// entity's re-bakes, levels of detail, refused bakes), SdfObjects (sdf_objects.h), ComparedSide
+// (compared_side.h: split screen, difference view), Screenshots (screenshots.h); scene loading is in
+// viewer_scene.cpp. Typical use:
 //
 //   auto viewer = Viewer::create(desc);                 // device, renderer, window/UI
 //   (*viewer)->loadScene(scene, tuning);                // glTF / analytic shape / .hsdf
