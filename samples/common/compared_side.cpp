@@ -107,7 +107,7 @@ NormalsFrame ComparedSide::renderNormals(const TuningState& tuning, const std::s
                                          const render::CameraView& camera) {
   showState_(tuning, asset);
   render::FrameSettings settings;
-  settings.debugView = std::uint32_t(DebugView::Normals);
+  settings.debugView = DEBUG_VIEW_NORMALS;
   renderer.renderFrame(registry, camera, settings);
   NormalsFrame frame;
   frame.rgba = renderer.readbackColor();

@@ -16,29 +16,14 @@ namespace {
 template <class T, std::size_t N>
 using NameTable = std::array<std::pair<T, const char*>, N>;
 
-constexpr NameTable<Method, 6> kMethods{{{Method::Mesh, "mesh"},
-                                         {Method::Cells, "cells"},
-                                         {Method::Trilinear, "trilinear"},
-                                         {Method::Hermite, "hermite"},
-                                         {Method::CellRuns, "cells-runs"},
-                                         {Method::CellBricks, "cell-bricks"}}};
+constexpr const char* kMeshName = "mesh";  // the one name not the module's
 constexpr NameTable<hsdf::NormalMode, 2> kNormalModes{
     {{hsdf::NormalMode::Exact, "exact"}, {hsdf::NormalMode::CentralDifferences, "central"}}};
-constexpr NameTable<DebugView, 6> kDebugViews{{{DebugView::None, "none"},
-                                               {DebugView::Normals, "normals"},
-                                               {DebugView::Depth, "depth"},
-                                               {DebugView::Cells, "cells"},
-                                               {DebugView::Evals, "evals"},
-                                               {DebugView::Wireframe, "wireframe"}}};
 constexpr NameTable<SplitMode, 3> kSplitModes{
     {{SplitMode::Off, "off"}, {SplitMode::Vertical, "vertical"}, {SplitMode::Horizontal, "horizontal"}}};
 constexpr NameTable<EarlyDepth, 3> kEarlyDepths{
     {{EarlyDepth::Auto, "auto"}, {EarlyDepth::On, "on"}, {EarlyDepth::Off, "off"}}};
 constexpr float kSplitMin = 0.05f, kSplitMax = 0.95f;  // both sides stay visible
-static_assert(std::uint32_t(DebugView::Normals) == DEBUG_VIEW_NORMALS && std::uint32_t(DebugView::Depth) == DEBUG_VIEW_DEPTH &&
-              std::uint32_t(DebugView::Cells) == DEBUG_VIEW_CELLS && std::uint32_t(DebugView::Evals) == DEBUG_VIEW_EVALS &&
-              std::uint32_t(DebugView::Wireframe) == DEBUG_VIEW_WIREFRAME && std::uint32_t(DebugView::None) == DEBUG_VIEW_NONE);
-
 template <class T, std::size_t N>
 const char* nameOf(const NameTable<T, N>& table, T value) {
   for (const auto& [v, name] : table)
@@ -109,12 +94,35 @@ engine::Status readEarlyDepth(const json& value, EarlyDepth& out) {
   return engine::makeError(fmt::format("expected true, false or \"auto\", got {}", value.dump()));
 }
 
+engine::Status refuseName(const json& value, const std::string& names) {
+  return engine::makeError(fmt::format("{} is not one of {}", value.dump(), names));
+}
+
 template <class T, std::size_t N>
 engine::Status readName(const json& value, const NameTable<T, N>& table, T& out) {
   const std::optional<T> parsed = value.is_string() ? valueOf(table, value.get<std::string>()) : std::nullopt;
-  if (!parsed) return engine::makeError(fmt::format("{} is not one of {}", value.dump(), allNames(table)));
+  if (!parsed) return refuseName(value, allNames(table));
   out = *parsed;
   return {};
+}
+
+// A name of a list that is not a NameTable here (the methods, the debug views: defined by the module
+// and the shared header).
+template <class T>
+engine::Status readParsed(const json& value, std::optional<T> (*parse)(std::string_view), const std::string& names,
+                          T& out) {
+  const std::optional<T> parsed = value.is_string() ? parse(value.get<std::string>()) : std::nullopt;
+  if (!parsed) return refuseName(value, names);
+  out = *parsed;
+  return {};
+}
+
+engine::Status readMethod(const json& value, Method& out) { return readParsed(value, parseMethod, allMethodNames(), out); }
+
+engine::Status readDebugView(const json& value, DebugView& out) {
+  std::string names;
+  for (const char* name : shader::kDebugViewNames) names += (names.empty() ? "" : ", ") + std::string(name);
+  return readParsed(value, parseDebugView, names, out);
 }
 
 engine::Status readNodeDraw(const json& value, hsdf::NodeDraw& out) {
@@ -151,7 +159,7 @@ engine::Status readNames(const json& value, std::vector<std::string>& out) {
 
 engine::Status readKey(const std::string& key, const json& value, TuningState& t) {
   int n = 0;
-  if (key == "method") return readName(value, kMethods, t.method);
+  if (key == "method") return readMethod(value, t.method);
   if (key == "resolution") return readInt(value, kResolutionRange, t.resolution);
   if (key == "padding") return readInt(value, kPaddingRange, t.padding);
   if (key == "subdivisions") {
@@ -166,7 +174,7 @@ engine::Status readKey(const std::string& key, const json& value, TuningState& t
   }
   if (key == "normals") return readName(value, kNormalModes, t.normals);
   if (key == "fp16") return readBool(value, t.fp16);
-  if (key == "debug_view") return readName(value, kDebugViews, t.debugView);
+  if (key == "debug_view") return readDebugView(value, t.debugView);
   if (key == "front_to_back") return readBool(value, t.frontToBack);
   if (key == "early_depth") return readEarlyDepth(value, t.earlyDepth);
   if (key == "certified") return readBool(value, t.certified);
@@ -176,7 +184,7 @@ engine::Status readKey(const std::string& key, const json& value, TuningState& t
   if (key == "split") return readName(value, kSplitModes, t.split);
   if (key == "split_position") return readFloat(value, kSplitMin, kSplitMax, t.splitPosition);
   if (key == "compare_method") {
-    ENGINE_TRY(readName(value, kMethods, t.compareMethod));
+    ENGINE_TRY(readMethod(value, t.compareMethod));
     if (!isSdfMethod(t.compareMethod)) return engine::makeError("the compared method must be an SDF method (cells, cells-runs, cell-bricks, trilinear, hermite)");
     return {};
   }
@@ -212,7 +220,18 @@ engine::Status readKey(const std::string& key, const json& value, TuningState& t
 
 }  // namespace
 
-const char* methodName(Method method) { return nameOf(kMethods, method); }
+std::vector<Method> allMethods() {
+  std::vector<Method> methods{Method::Mesh};
+  methods.insert(methods.end(), std::begin(hsdf::kRenderMethods), std::end(hsdf::kRenderMethods));
+  return methods;
+}
+std::string allMethodNames() {
+  std::string names;
+  for (const Method method : allMethods()) names += (names.empty() ? "" : ", ") + std::string(methodName(method));
+  return names;
+}
+
+const char* methodName(Method method) { return method.sdf() ? hsdf::renderMethodName(*method.sdf()) : kMeshName; }
 const char* earlyDepthName(EarlyDepth mode) { return nameOf(kEarlyDepths, mode); }
 std::optional<EarlyDepth> parseEarlyDepth(std::string_view name) { return valueOf(kEarlyDepths, name); }
 const char* splitModeName(SplitMode mode) { return nameOf(kSplitModes, mode); }
@@ -237,15 +256,32 @@ TuningState compareTuning(const TuningState& t) {
   compared.normals = t.compareNormals;
   return compared;
 }
-std::optional<Method> parseMethod(std::string_view name) { return valueOf(kMethods, name); }
-bool isSdfMethod(Method method) { return method != Method::Mesh; }
+std::optional<Method> parseMethod(std::string_view name) {
+  if (name == kMeshName) return Method::Mesh;
+  const std::optional<hsdf::RenderMethod> sdf = hsdf::parseRenderMethod(name);
+  return sdf ? std::optional<Method>(*sdf) : std::nullopt;
+}
+bool isSdfMethod(Method method) { return method.sdf().has_value(); }
 bool drawsCells(Method method) {
-  return method == Method::Cells || method == Method::CellRuns || method == Method::CellBricks;
+  using hsdf::RenderMethod;
+  return method == RenderMethod::Cells || method == RenderMethod::CellRuns || method == RenderMethod::CellBricks;
 }
 const char* normalModeName(hsdf::NormalMode mode) { return nameOf(kNormalModes, mode); }
 std::optional<hsdf::NormalMode> parseNormalMode(std::string_view name) { return valueOf(kNormalModes, name); }
-const char* debugViewName(DebugView view) { return nameOf(kDebugViews, view); }
-std::optional<DebugView> parseDebugView(std::string_view name) { return valueOf(kDebugViews, name); }
+std::vector<DebugView> allDebugViews() {
+  std::vector<DebugView> views;
+  for (std::uint32_t v = 0; v < std::size(shader::kDebugViewNames); ++v) views.push_back(DebugView(v));
+  return views;
+}
+const char* debugViewName(DebugView view) {
+  const auto v = std::uint32_t(view);
+  return v < std::size(shader::kDebugViewNames) ? shader::kDebugViewNames[v] : "?";
+}
+std::optional<DebugView> parseDebugView(std::string_view name) {
+  for (const DebugView view : allDebugViews())
+    if (name == debugViewName(view)) return view;
+  return std::nullopt;
+}
 
 IntRange resolutionRange(Method method) { return drawsCells(method) || method == Method::Mesh ? kCellResolutionRange : kDenseResolutionRange; }
 
@@ -296,11 +332,7 @@ engine::Status validateTuning(const TuningState& t) {
 }
 
 void applyTuning(const TuningState& tuning, hsdf::HermiteSdfRenderable& renderable) {
-  if (tuning.method == Method::Cells) renderable.method = hsdf::RenderMethod::Cells;
-  if (tuning.method == Method::Trilinear) renderable.method = hsdf::RenderMethod::TrilinearSphereTrace;
-  if (tuning.method == Method::Hermite) renderable.method = hsdf::RenderMethod::HermiteSphereTrace;
-  if (tuning.method == Method::CellRuns) renderable.method = hsdf::RenderMethod::CellRuns;
-  if (tuning.method == Method::CellBricks) renderable.method = hsdf::RenderMethod::CellBricks;
+  if (tuning.method.sdf()) renderable.method = *tuning.method.sdf();
   renderable.subdivisions = tuning.subdivisions;
   renderable.refineSteps = tuning.refineSteps;
   renderable.normals = tuning.normals;

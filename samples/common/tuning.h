@@ -15,15 +15,33 @@
 #include "hermite_sdf/render/renderable.h"
 #include "hermite_sdf/render/scene_objects.h"
 #include "hermite_sdf/render/sphere_trace_feature.h"
+#include "shared/host_device.h"
 
 namespace samples {
 
-// How the scene's meshes are drawn: as triangles, or baked into one SDF drawn by the paper's
-// Hermite cells or one of the sphere-tracing baselines.
-// CellRuns: the cells drawn as runs along x (hsdf::RenderMethod::CellRuns, issue 13).
-// CellBricks: the cells drawn as bricks of 4x4x4 cells (hsdf::RenderMethod::CellBricks, issue 20).
-enum class Method { Mesh, Cells, Trilinear, Hermite, CellRuns, CellBricks };
-const char* methodName(Method method);  // "mesh", "cells", "trilinear", "hermite", "cells-runs", "cell-bricks"
+// How the scene's meshes are drawn: as triangles (Method::Mesh), or baked into one SDF drawn by one
+// of the module's methods (the paper's Hermite cells, their runs and bricks, the sphere-tracing
+// baselines). Not a second list of SDF methods: those and their names are hsdf::RenderMethod's
+// (kRenderMethods, renderMethodName), and one converts to a Method, so that a method the module adds
+// reaches the command line, the settings files and the panel without an edit here.
+class Method {
+ public:
+  static const Method Mesh;  // the scene's triangles
+  constexpr Method(hsdf::RenderMethod sdf) : sdf_(sdf) {}  // implicit: an SDF method is a Method
+  // The SDF method; none for Mesh.
+  constexpr std::optional<hsdf::RenderMethod> sdf() const { return sdf_; }
+  constexpr bool operator==(const Method&) const = default;
+
+ private:
+  constexpr Method() = default;  // Mesh
+  std::optional<hsdf::RenderMethod> sdf_;
+};
+inline constexpr Method Method::Mesh{};
+
+// Mesh, then the module's methods in their order (the order of --help and of the panel).
+std::vector<Method> allMethods();
+const char* methodName(Method method);  // "mesh", else hsdf::renderMethodName
+std::string allMethodNames();            // "mesh, cells, trilinear, ...", for messages
 std::optional<Method> parseMethod(std::string_view name);
 bool isSdfMethod(Method method);
 // The cell renderers (cells, cells-runs, cell-bricks): they draw the baked asset's kept cells.
@@ -32,8 +50,10 @@ bool drawsCells(Method method);
 const char* normalModeName(hsdf::NormalMode mode);  // "exact", "central"
 std::optional<hsdf::NormalMode> parseNormalMode(std::string_view name);
 
-// DEBUG_VIEW_* of shaders/shared/host_device.h.
-enum class DebugView : std::uint32_t { None = 0, Normals = 1, Depth = 2, Cells = 3, Evals = 4, Wireframe = 5 };
+// A DEBUG_VIEW_* of shaders/shared/host_device.h, typed (DebugView(DEBUG_VIEW_NORMALS)): the views,
+// their numbers and names (shader::kDebugViewNames) are defined there once, for GLSL and C++.
+enum class DebugView : std::uint32_t {};
+std::vector<DebugView> allDebugViews();     // by value
 const char* debugViewName(DebugView view);  // "none", "normals", "depth", "cells", "evals", "wireframe"
 std::optional<DebugView> parseDebugView(std::string_view name);
 
@@ -89,14 +109,14 @@ inline constexpr IntRange kPanelSubdivisionsRange{1, 16};
 inline constexpr IntRange kPanelRefineRange{0, 4};
 
 struct TuningState {
-  Method method = Method::Cells;  // the paper's method is what a user sees first
+  Method method = hsdf::RenderMethod::Cells;  // the paper's method is what a user sees first
   int resolution = 64;  // K samples per axis of the baked field (changing it re-bakes)
   int padding = 1;      // cells of padding around the mesh bounds (changing it re-bakes)
   std::uint32_t subdivisions = 3;
   std::uint32_t refineSteps = 1;
   hsdf::NormalMode normals = hsdf::NormalMode::Exact;
   bool fp16 = false;
-  DebugView debugView = DebugView::None;
+  DebugView debugView = DebugView(DEBUG_VIEW_NONE);
   bool frontToBack = true;  // cells: submit rows of cells front to back
   EarlyDepth earlyDepth = EarlyDepth::Auto;  // cells: test boxes at their faces' depth, hidden ones skip the search
   bool certified = false;   // cells: certified root search instead of n samples (renderable.h)
@@ -108,7 +128,7 @@ struct TuningState {
   // refinement and fp16 are shared). A compared method of cells draws the main asset (K above).
   SplitMode split = SplitMode::Off;
   float splitPosition = 0.5f;  // the divider, as a fraction of the width (vertical) or height
-  Method compareMethod = Method::Trilinear;
+  Method compareMethod = hsdf::RenderMethod::TrilinearSphereTrace;
   // 0: twice K, at most kDefaultCompareResolutionMax (the paper's rule of thumb for trilinear).
   int compareResolution = 0;
   hsdf::NormalMode compareNormals = hsdf::NormalMode::CentralDifferences;  // the paper's for trilinear

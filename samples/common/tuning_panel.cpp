@@ -15,11 +15,20 @@ namespace {
 
 double mebibytes(std::uint64_t bytes) { return double(bytes) / (1024.0 * 1024.0); }
 
-// Method names in the order of the Method enum.
+// The panel's words for the methods, in the order of allMethods() (mesh, then hsdf::kRenderMethods).
 constexpr const char* kMethodLabels[] = {"mesh (triangles)", "Hermite cells (the paper)", "trilinear sphere tracing",
                                          "dense Hermite sphere tracing", "Hermite cells, runs along x",
                                          "Hermite cells, 4x4x4 bricks"};
+static_assert(std::size(kMethodLabels) == 1 + std::size(hsdf::kRenderMethods), "a label per method");
+// The panel's words for the debug views, by DEBUG_VIEW_* value.
 constexpr const char* kDebugViewLabels[] = {"shaded", "normals", "depth", "cells", "evaluations", "cell boxes"};
+static_assert(std::size(kDebugViewLabels) == std::size(shader::kDebugViewNames), "a label per debug view");
+
+// The place of `method` in allMethods(), the index of its label.
+int methodIndex(Method method) {
+  const std::vector<Method> methods = allMethods();
+  return int(std::find(methods.begin(), methods.end(), method) - methods.begin());
+}
 
 bool sliderU32(const char* label, std::uint32_t& value, IntRange range) {
   int v = int(value);
@@ -75,13 +84,13 @@ void TuningPanel::draw() {
 void TuningPanel::drawMethod() {
   TuningState t = viewer_.tuning();
   bool changed = false;
-  int method = int(t.method);
+  int method = methodIndex(t.method);
   const bool sdf = viewer_.sdfAsset() || viewer_.canRebake();
   if (ImGui::BeginCombo("method", kMethodLabels[method])) {
     for (int m = 0; m < int(std::size(kMethodLabels)); ++m) {
-      const bool available = m == int(Method::Mesh) ? viewer_.hasMeshes() : sdf;
+      const bool available = m == methodIndex(Method::Mesh) ? viewer_.hasMeshes() : sdf;
       if (available && ImGui::Selectable(kMethodLabels[m], m == method)) {
-        t.method = Method(m);
+        t.method = allMethods()[std::size_t(m)];
         // A dense tracer stops at a lower K than the cells: the switch bakes at its limit.
         t.resolution = std::min(t.resolution, resolutionRange(t.method).max);
         changed = true;
@@ -177,7 +186,7 @@ void TuningPanel::drawLod(const TuningState& tuning) {
 void TuningPanel::drawSearchLimits(const TuningState& tuning) {
   TuningState t = tuning;
   bool changed = false;
-  const auto tracing = [](Method m) { return m == Method::Trilinear || m == Method::Hermite; };
+  const auto tracing = [](Method m) { return m == hsdf::RenderMethod::TrilinearSphereTrace || m == hsdf::RenderMethod::HermiteSphereTrace; };
   const bool tracer = tracing(t.method) || (comparing(t) && tracing(t.compareMethod));
   if (tracer) {
     float logEpsilon = std::log10(t.traceEpsilon);
@@ -194,7 +203,7 @@ void TuningPanel::drawSearchLimits(const TuningState& tuning) {
     changed |= ImGui::SliderFloat("central difference step (h)", &t.centralDifferenceStep, kCentralDifferenceStepRange.min,
                                   kCentralDifferenceStepRange.max, "%.2f");
   }
-  if (t.method == Method::CellRuns) {
+  if (t.method == hsdf::RenderMethod::CellRuns) {
     int length = int(t.maxRunLength);
     if (ImGui::SliderInt("max run length", &length, kMaxRunLengthRange.min, kMaxRunLengthRange.max)) {
       t.maxRunLength = std::uint32_t(length);
@@ -234,7 +243,7 @@ void TuningPanel::drawStatistics() {
     const TuningState& t = viewer_.tuning();
     const auto k = std::uint64_t(viewer_.compareResolutionDrawn());
     if (comparing(t) && !drawsCells(t.compareMethod) && k != std::uint64_t(s.resolution)) {
-      const std::uint64_t scalars = (t.compareMethod == Method::Hermite ? 4 : 1) * k * k * k;
+      const std::uint64_t scalars = (t.compareMethod == hsdf::RenderMethod::HermiteSphereTrace ? 4 : 1) * k * k * k;
       const std::string label = fmt::format("compared, K {}", k);
       row(label.c_str(), scalars, 4 * scalars, 2 * scalars);
     }
@@ -255,9 +264,9 @@ void TuningPanel::drawComparison() {
   }
   t.split = SplitMode(split);
   if (t.split != SplitMode::Off) changed |= ImGui::SliderFloat("divider", &t.splitPosition, 0.05f, 0.95f, "%.2f");
-  int compared = int(t.compareMethod) - 1;  // the SDF methods: cells, trilinear, hermite
+  int compared = methodIndex(t.compareMethod) - 1;  // the SDF methods: cells, trilinear, hermite
   if (ImGui::Combo("compared method", &compared, kMethodLabels + 1, 3)) {
-    t.compareMethod = Method(compared + 1);
+    t.compareMethod = allMethods()[std::size_t(compared + 1)];
     changed = true;
   }
   if (!drawsCells(t.compareMethod) && viewer_.canRebake()) {

@@ -80,8 +80,7 @@ Status Viewer::initialize(const ViewerDesc& desc) {
     extent = window_->swapchain().extent();
   }
   renderer_ = std::make_unique<render::Renderer>(*context_, render::RendererDesc{}, extent);
-  ENGINE_TRY(renderer_->addFeature(std::make_unique<render::MeshFeature>(*pool_)));
-  ENGINE_TRY(hsdf::addRenderFeatures(*renderer_));
+  ENGINE_TRY(hsdf::addSceneFeatures(*renderer_, *pool_));
   if (window_ || desc.headlessUi) {
     ENGINE_TRY_ASSIGN(ui_, ui::UiLayer::create(*context_, renderer_->desc().formats.color,
                                                renderer_->desc().framesInFlight,

@@ -7,7 +7,7 @@
 #include "engine/core/log.h"
 #include "engine/render/components.h"
 #include "engine/render/scene_instantiate.h"
-#include "engine/scene/gltf_loader.h"
+#include "engine/scene/gltf/gltf_loader.h"
 #include "engine/scene/transform.h"
 #include "hermite_sdf/core/hsdf_file.h"
 #include "viewer.h"

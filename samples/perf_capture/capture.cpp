@@ -13,7 +13,7 @@
 #include "engine/gpu/context.h"
 #include "engine/render/mesh_pool.h"
 #include "engine/render/scene_instantiate.h"
-#include "engine/scene/gltf_loader.h"
+#include "engine/scene/gltf/gltf_loader.h"
 #include "engine/scene/transform.h"
 #include "measurement.h"
 #include "ground_truth.h"

@@ -1,7 +1,6 @@
 #include "capture_options.h"
 
 #include <algorithm>
-#include <cstdlib>
 #include <regex>
 
 #include <CLI/CLI.hpp>
@@ -13,23 +12,7 @@
 namespace capture {
 namespace {
 
-constexpr std::uint32_t kMaxDimension = 16384;
-const std::vector<std::string> kMethods{"mesh", "trilinear", "hermite", "cells", "cells-runs", "cell-bricks"};
 const std::vector<std::string> kShapes{"torus", "sphere", "capsule", "box"};
-
-std::optional<std::string> parseSize(const std::string& text, Options& options) {
-  static const std::regex pattern(R"((\d{1,6})[xX](\d{1,6}))");
-  std::smatch match;
-  if (std::regex_match(text, match, pattern)) {
-    const unsigned long w = std::stoul(match[1]), h = std::stoul(match[2]);
-    if (w >= 1 && h >= 1 && w <= kMaxDimension && h <= kMaxDimension) {
-      options.width = std::uint32_t(w);
-      options.height = std::uint32_t(h);
-      return std::nullopt;
-    }
-  }
-  return "--size: '" + text + "' is not WxH with 1 <= W,H <= " + std::to_string(kMaxDimension);
-}
 
 // Comma-separated items, none empty.
 std::vector<std::string> splitList(const std::string& text) {
@@ -62,8 +45,7 @@ std::optional<std::string> parseResolutions(const std::string& text, Options& op
 std::optional<std::string> parseMethods(const std::string& text, Options& options) {
   std::vector<std::string> methods;
   for (const std::string& item : splitList(text)) {
-    if (std::find(kMethods.begin(), kMethods.end(), item) == kMethods.end())
-      return "--methods: '" + item + "' is not one of mesh, trilinear, hermite, cells, cells-runs, cell-bricks";
+    if (!samples::parseMethod(item)) return "--methods: '" + item + "' is not one of " + samples::allMethodNames();
     if (std::find(methods.begin(), methods.end(), item) == methods.end()) methods.push_back(item);
   }
   options.methods = methods;
@@ -89,11 +71,6 @@ std::string joinArguments(int argc, const char* const* argv) {
 }
 
 }  // namespace
-
-std::filesystem::path defaultScenePath() {
-  if (const char* dir = std::getenv("HSDF_ASSET_DIR")) return std::filesystem::path(dir) / "bunny.glb";
-  return std::filesystem::path(HSDF_DEFAULT_ASSET_DIR) / "bunny.glb";
-}
 
 ParseResult parseOptions(int argc, const char* const* argv) {
   Options options;
@@ -130,17 +107,7 @@ ParseResult parseOptions(int argc, const char* const* argv) {
   app.add_option("--device", options.device, "Vulkan device: auto, gpu or lavapipe")
       ->check(CLI::IsMember({"auto", "gpu", "lavapipe"}));
 
-  ParseResult result;
-  try {
-    app.parse(argc, argv);
-  } catch (const CLI::CallForHelp&) {
-    result.message = app.help();
-    return result;
-  } catch (const CLI::ParseError& e) {
-    result.message = std::string("perf_capture: ") + e.what() + "\nRun with --help for the options.";
-    result.exitCode = 2;
-    return result;
-  }
+  if (auto stop = samples::parseCommandLine(app, "perf_capture", argc, argv)) return samples::stoppedWith<Options>(*stop);
   // The preset first, then whatever was given explicitly overrides it.
   if (options.quick) {
     options.width = 320;
@@ -151,7 +118,7 @@ ParseResult parseOptions(int argc, const char* const* argv) {
     if (app.count("--warmup") == 0) options.warmup = 1;
   }
   std::optional<std::string> problem;
-  if (!size.empty()) problem = parseSize(size, options);
+  if (!size.empty()) problem = samples::parseSize(size, options.width, options.height);
   if (!problem && !resolutions.empty()) problem = parseResolutions(resolutions, options);
   if (!problem && !methods.empty()) problem = parseMethods(methods, options);
   if (!problem && !settings.empty()) problem = parseSettings(settings, options);
@@ -164,14 +131,11 @@ ParseResult parseOptions(int argc, const char* const* argv) {
               "it: give the glTF (or --shape) it was baked from";
   if (!problem && std::filesystem::exists(options.out) && !std::filesystem::is_directory(options.out))
     problem = "--out: '" + options.out.string() + "' exists and is not a directory";
-  if (problem) {
-    result.message = "perf_capture: " + *problem;
-    result.exitCode = 2;
-    return result;
-  }
-  if (options.scene.empty() && options.shape.empty()) options.scene = defaultScenePath();
+  if (problem) return samples::stoppedWith<Options>(samples::parseError("perf_capture", *problem));
+  if (options.scene.empty() && options.shape.empty()) options.scene = samples::defaultScenePath();
   if (!options.shape.empty()) std::erase(options.methods, std::string("mesh"));  // no triangles to draw
   options.commandLine = joinArguments(argc, argv);
+  ParseResult result;
   result.options = options;
   return result;
 }

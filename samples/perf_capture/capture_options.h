@@ -10,6 +10,8 @@
 #include <string>
 #include <vector>
 
+#include "options_common.h"
+
 namespace capture {
 
 struct Options {
@@ -38,13 +40,7 @@ struct Options {
   std::string commandLine;       // as given, for results.json
 };
 
-struct ParseResult {
-  std::optional<Options> options;
-  std::string message;  // help text or error
-  int exitCode = 0;
-};
+using ParseResult = samples::ParseResult<Options>;
 ParseResult parseOptions(int argc, const char* const* argv);
-
-std::filesystem::path defaultScenePath();
 
 }  // namespace capture

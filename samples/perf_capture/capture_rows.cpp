@@ -25,43 +25,43 @@ struct Variant {
 
 using samples::Method;
 const Variant kVariants[] = {
-    {"trilinear", "central", true, {.method = Method::Trilinear, .normals = NormalMode::CentralDifferences}},
-    {"trilinear", "exact", false, {.method = Method::Trilinear, .normals = NormalMode::Exact}},
-    {"hermite", "", true, {.method = Method::Hermite, .normals = NormalMode::Exact}},
-    {"cells", "n=2 r=0", false, {.method = Method::Cells, .subdivisions = 2, .refineSteps = 0}},
-    {"cells", "n=2 r=1", false, {.method = Method::Cells, .subdivisions = 2, .refineSteps = 1}},
-    {"cells", "n=3 r=0", false, {.method = Method::Cells, .subdivisions = 3, .refineSteps = 0}},
-    {"cells", "n=3 r=1", true, {.method = Method::Cells, .subdivisions = 3, .refineSteps = 1}},
+    {"trilinear", "central", true, {.method = hsdf::RenderMethod::TrilinearSphereTrace, .normals = NormalMode::CentralDifferences}},
+    {"trilinear", "exact", false, {.method = hsdf::RenderMethod::TrilinearSphereTrace, .normals = NormalMode::Exact}},
+    {"hermite", "", true, {.method = hsdf::RenderMethod::HermiteSphereTrace, .normals = NormalMode::Exact}},
+    {"cells", "n=2 r=0", false, {.method = hsdf::RenderMethod::Cells, .subdivisions = 2, .refineSteps = 0}},
+    {"cells", "n=2 r=1", false, {.method = hsdf::RenderMethod::Cells, .subdivisions = 2, .refineSteps = 1}},
+    {"cells", "n=3 r=0", false, {.method = hsdf::RenderMethod::Cells, .subdivisions = 3, .refineSteps = 0}},
+    {"cells", "n=3 r=1", true, {.method = hsdf::RenderMethod::Cells, .subdivisions = 3, .refineSteps = 1}},
     // The fp16 target of issue 10 compares this one with the fp32 line above.
-    {"cells", "n=3 r=1 fp16", false, {.method = Method::Cells, .subdivisions = 3, .refineSteps = 1, .fp16 = true}},
+    {"cells", "n=3 r=1 fp16", false, {.method = hsdf::RenderMethod::Cells, .subdivisions = 3, .refineSteps = 1, .fp16 = true}},
     // What the cell culling pass removes: the same cells, every box drawn.
     {"cells", "n=3 r=1 no-cull", false,
-     {.method = Method::Cells, .subdivisions = 3, .refineSteps = 1, .cullCells = false}},
+     {.method = hsdf::RenderMethod::Cells, .subdivisions = 3, .refineSteps = 1, .cullCells = false}},
     // Issue 20 step 2: the same cells and search with 12 bytes of varyings per box (records read by
     // address), and with the Hermite data as varyings (the paper's); the row above lets the device
     // and the cells' size on screen choose (HermiteCellFeature::ThinBoxes::Auto).
     {"cells", "n=3 r=1 thin", false,
-     {.method = Method::Cells, .subdivisions = 3, .refineSteps = 1, .thinBoxes = samples::ThinBoxes::On}},
+     {.method = hsdf::RenderMethod::Cells, .subdivisions = 3, .refineSteps = 1, .thinBoxes = samples::ThinBoxes::On}},
     {"cells", "n=3 r=1 attributes", false,
-     {.method = Method::Cells, .subdivisions = 3, .refineSteps = 1, .thinBoxes = samples::ThinBoxes::Off}},
+     {.method = hsdf::RenderMethod::Cells, .subdivisions = 3, .refineSteps = 1, .thinBoxes = samples::ThinBoxes::Off}},
     // The certified root search (docs/root-finding.md): its cost against the paper's fixed n above.
-    {"cells", "certified", false, {.method = Method::Cells, .subdivisions = 3, .refineSteps = 1, .certified = true}},
+    {"cells", "certified", false, {.method = hsdf::RenderMethod::Cells, .subdivisions = 3, .refineSteps = 1, .certified = true}},
     // Issue 13's variant: the same cells and search, one box per run of cells along x.
-    {"cells-runs", "n=3 r=1", false, {.method = Method::CellRuns, .subdivisions = 3, .refineSteps = 1}},
-    {"cells-runs", "n=3 r=1 fp16", false, {.method = Method::CellRuns, .subdivisions = 3, .refineSteps = 1, .fp16 = true}},
+    {"cells-runs", "n=3 r=1", false, {.method = hsdf::RenderMethod::CellRuns, .subdivisions = 3, .refineSteps = 1}},
+    {"cells-runs", "n=3 r=1 fp16", false, {.method = hsdf::RenderMethod::CellRuns, .subdivisions = 3, .refineSteps = 1, .fp16 = true}},
     // Issue 20's variant: the same cells and search, one box per brick of 4x4x4 cells.
-    {"cell-bricks", "n=3 r=1", false, {.method = Method::CellBricks, .subdivisions = 3, .refineSteps = 1}},
-    {"cell-bricks", "n=3 r=1 fp16", false, {.method = Method::CellBricks, .subdivisions = 3, .refineSteps = 1, .fp16 = true}},
+    {"cell-bricks", "n=3 r=1", false, {.method = hsdf::RenderMethod::CellBricks, .subdivisions = 3, .refineSteps = 1}},
+    {"cell-bricks", "n=3 r=1 fp16", false, {.method = hsdf::RenderMethod::CellBricks, .subdivisions = 3, .refineSteps = 1, .fp16 = true}},
     // What the brick culling pass removes: the same bricks, every one drawn.
     {"cell-bricks", "n=3 r=1 no-cull", false,
-     {.method = Method::CellBricks, .subdivisions = 3, .refineSteps = 1, .cullBricks = false}},
+     {.method = hsdf::RenderMethod::CellBricks, .subdivisions = 3, .refineSteps = 1, .cullBricks = false}},
 };
 
 RenderMethod renderMethodOf(Method method) {
-  if (method == Method::Trilinear) return RenderMethod::TrilinearSphereTrace;
-  if (method == Method::Hermite) return RenderMethod::HermiteSphereTrace;
-  if (method == Method::CellRuns) return RenderMethod::CellRuns;
-  if (method == Method::CellBricks) return RenderMethod::CellBricks;
+  if (method == hsdf::RenderMethod::TrilinearSphereTrace) return RenderMethod::TrilinearSphereTrace;
+  if (method == hsdf::RenderMethod::HermiteSphereTrace) return RenderMethod::HermiteSphereTrace;
+  if (method == hsdf::RenderMethod::CellRuns) return RenderMethod::CellRuns;
+  if (method == hsdf::RenderMethod::CellBricks) return RenderMethod::CellBricks;
   return RenderMethod::Cells;
 }
 
@@ -128,7 +128,7 @@ std::vector<RowSpec> buildRows(const Options& options) {
     for (const Variant& v : kVariants) {
       if (!wanted(options, v.method) || !wantedSetting(options, v)) continue;
       // Only trilinear runs at the extra 2K resolutions; the dense tracers stop at their K range.
-      if (!asked.contains(k) && v.tuning.method != Method::Trilinear) continue;
+      if (!asked.contains(k) && v.tuning.method != hsdf::RenderMethod::TrilinearSphereTrace) continue;
       if (k > samples::resolutionRange(v.tuning.method).max) continue;
       for (bool lod : {false, true}) {
         if (lod && (!options.lod || !samples::drawsCells(v.tuning.method))) continue;

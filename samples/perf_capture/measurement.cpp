@@ -1,6 +1,5 @@
 #include "measurement.h"
 
-#include "engine/render/mesh_feature.h"
 #include "hermite_sdf/render/cell_feature.h"
 #include "hermite_sdf/render/features.h"
 #include "hermite_sdf/render/sphere_trace_feature.h"
@@ -35,8 +34,7 @@ Expected<std::unique_ptr<Measurement>> Measurement::create(const gpu::Context& c
   desc.formats.color = VK_FORMAT_R32G32B32A32_SFLOAT;
   measurement->renderer_ = std::make_unique<render::Renderer>(context, desc, extent);
   render::Renderer& r = *measurement->renderer_;
-  ENGINE_TRY(r.addFeature(std::make_unique<render::MeshFeature>(pool)));
-  ENGINE_TRY(hsdf::addRenderFeatures(r));
+  ENGINE_TRY(hsdf::addSceneFeatures(r, pool));
   return measurement;
 }
 

@@ -2,34 +2,19 @@
 
 #include <algorithm>
 #include <cmath>
-#include <cstdlib>
 #include <map>
-#include <regex>
 
 #include <CLI/CLI.hpp>
 #include <fmt/format.h>
 #include <glm/glm.hpp>
 
+#include "options_common.h"
 #include "viewer.h"
 
 namespace runner {
 namespace {
 
 using samples::TuningState;
-
-constexpr std::uint32_t kMaxDimension = 16384;
-
-// "WxH" with both in [1, kMaxDimension].
-bool parseSize(const std::string& text, std::uint32_t& width, std::uint32_t& height) {
-  static const std::regex pattern(R"((\d{1,6})[xX](\d{1,6}))");
-  std::smatch match;
-  if (!std::regex_match(text, match, pattern)) return false;
-  const unsigned long w = std::stoul(match[1]), h = std::stoul(match[2]);
-  if (w == 0 || h == 0 || w > kMaxDimension || h > kMaxDimension) return false;
-  width = std::uint32_t(w);
-  height = std::uint32_t(h);
-  return true;
-}
 
 // Eye and target as given, or a message. Their distance is the orbit camera's radius, in float.
 std::optional<std::string> parseCamera(const std::vector<float>& camera, Options& options) {
@@ -58,10 +43,11 @@ std::optional<std::string> checkCombinations(const Options& options, bool method
   return std::nullopt;
 }
 
-// A transform for an enum option: accepts exactly the names (not the numbers CLI11 would also take
-// for an enum) and hands CLI11 the value; the error lists the names.
-template <class T>
-CLI::Validator oneOf(std::initializer_list<T> values, const char* (*name)(T)) {
+// A transform for a named option: accepts exactly the names (not the numbers CLI11 would also take
+// for an enum) and hands CLI11 the value of an enum, the name itself of a samples::Method (no enum:
+// the option parses it); the error lists the names.
+template <class T, class Values>
+CLI::Validator namesOf(const Values& values, const char* (*name)(T)) {
   std::map<std::string, T> byName;
   std::string list;
   for (T v : values) {
@@ -72,10 +58,25 @@ CLI::Validator oneOf(std::initializer_list<T> values, const char* (*name)(T)) {
       [byName, list](std::string& text) -> std::string {
         const auto found = byName.find(text);
         if (found == byName.end()) return "'" + text + "' is not one of " + list;
-        text = std::to_string(static_cast<std::underlying_type_t<T>>(found->second));
+        if constexpr (std::is_enum_v<T>) text = std::to_string(static_cast<std::underlying_type_t<T>>(found->second));
         return {};
       },
       "{" + list + "}");
+}
+
+template <class T>
+CLI::Validator oneOf(std::initializer_list<T> values, const char* (*name)(T)) {
+  return namesOf(values, name);
+}
+
+// --method, --compare-method: one of `methods`, by name.
+template <class Values>
+CLI::Option* addMethodOption(CLI::App& app, const char* option, samples::Method& out, const Values& methods,
+                             const char* help) {
+  return app
+      .add_option_function<std::string>(
+          option, [&out](const std::string& name) { out = *samples::parseMethod(name); }, help)
+      ->transform(namesOf(methods, samples::methodName));
 }
 
 const char* deviceName(engine::gpu::DevicePreference device) {
@@ -89,13 +90,8 @@ const char* deviceName(engine::gpu::DevicePreference device) {
 // Options that write the TuningState. Defined after --settings, whose callback runs first, so that
 // options given on the command line override the file.
 void addTuningOptions(CLI::App& app, TuningState& t) {
-  using samples::Method;
-  using samples::DebugView;
-  app.add_option("--method", t.method,
-                 "mesh, cells (Hermite cells; cells-runs, cell-bricks: fewer proxies), trilinear or hermite (sphere tracing)")
-      ->transform(oneOf({Method::Mesh, Method::Cells, Method::Trilinear, Method::Hermite, Method::CellRuns,
-                         Method::CellBricks},
-                        samples::methodName));
+  addMethodOption(app, "--method", t.method, samples::allMethods(),
+                  "mesh, cells (Hermite cells; cells-runs, cell-bricks: fewer proxies), trilinear or hermite (sphere tracing)");
   app.add_option("--resolution", t.resolution,
                  "samples per axis K of the baked field (cells 2..2048, sparse bake past 256; trilinear, hermite 2..512)")
       ->check(CLI::Range(samples::kResolutionRange.min, samples::kResolutionRange.max));
@@ -109,9 +105,7 @@ void addTuningOptions(CLI::App& app, TuningState& t) {
   app.add_option("--normals", t.normals, "exact or central (differences)")
       ->transform(oneOf({hsdf::NormalMode::Exact, hsdf::NormalMode::CentralDifferences}, samples::normalModeName));
   app.add_option("--debug-view", t.debugView, "none, normals, depth, cells, evals or wireframe")
-      ->transform(oneOf({DebugView::None, DebugView::Normals, DebugView::Depth, DebugView::Cells, DebugView::Evals,
-                         DebugView::Wireframe},
-                        samples::debugViewName));
+      ->transform(namesOf(samples::allDebugViews(), samples::debugViewName));
   app.add_flag("!--no-front-to-back", t.frontToBack, "cells: submit in storage order, not front to back");
   auto* early = app.add_option("--early-depth", t.earlyDepth,
                                 "cells: the early depth stage, boxes tested at their faces' depth: auto (default: on "
@@ -135,9 +129,8 @@ void addTuningOptions(CLI::App& app, TuningState& t) {
                         samples::splitModeName));
   app.add_option("--split-position", t.splitPosition, "the divider as a fraction of the width/height (0.05..0.95)")
       ->check(CLI::Range(0.05f, 0.95f));
-  app.add_option("--compare-method", t.compareMethod, "the compared side: trilinear (default), hermite or cells")
-      ->transform(oneOf({Method::Cells, Method::Trilinear, Method::Hermite, Method::CellRuns, Method::CellBricks},
-                        samples::methodName));
+  addMethodOption(app, "--compare-method", t.compareMethod, hsdf::kRenderMethods,
+                  "the compared side: trilinear (default), hermite or cells");
   app.add_option("--compare-resolution", t.compareResolution, "K of the compared side (2..512; default 0: 2K, at most 256)")
       ->check(CLI::Range(0, samples::kResolutionRange.max));
   app.add_option("--compare-normals", t.compareNormals, "normals of the compared side: exact or central (default)")
@@ -162,18 +155,10 @@ void addTuningOptions(CLI::App& app, TuningState& t) {
 }
 
 ParseResult failure(const std::string& message) {
-  ParseResult result;
-  result.message = "scene_runner: " + message;
-  result.exitCode = 2;
-  return result;
+  return samples::stoppedWith<Options>(samples::parseError("scene_runner", message));
 }
 
 }  // namespace
-
-std::filesystem::path defaultScenePath() {
-  if (const char* dir = std::getenv("HSDF_ASSET_DIR")) return std::filesystem::path(dir) / "bunny.glb";
-  return std::filesystem::path(HSDF_DEFAULT_ASSET_DIR) / "bunny.glb";
-}
 
 ParseResult parseOptions(int argc, const char* const* argv) {
   Options options;
@@ -222,18 +207,9 @@ ParseResult parseOptions(int argc, const char* const* argv) {
   std::vector<float> camera;
   app.add_option("--camera", camera, "eye and target: ex,ey,ez,tx,ty,tz")->delimiter(',')->expected(6);
 
-  try {
-    app.parse(argc, argv);
-  } catch (const CLI::CallForHelp&) {
-    ParseResult help;
-    help.message = app.help();
-    return help;
-  } catch (const CLI::ParseError& e) {
-    return failure(std::string(e.what()) + "\nRun with --help for the options.");
-  }
+  if (auto stop = samples::parseCommandLine(app, "scene_runner", argc, argv)) return samples::stoppedWith<Options>(*stop);
   std::optional<std::string> problem;
-  if (!size.empty() && !parseSize(size, options.width, options.height))
-    problem = "--size: '" + size + "' is not WxH with 1 <= W,H <= " + std::to_string(kMaxDimension);
+  if (!size.empty()) problem = samples::parseSize(size, options.width, options.height);
   if (!problem && !options.screenshot.empty() && options.screenshot.extension() != ".png")
     problem = "--screenshot: '" + options.screenshot.string() + "' must end in .png";
   if (!problem) problem = parseCamera(camera, options);
@@ -243,8 +219,8 @@ ParseResult parseOptions(int argc, const char* const* argv) {
   if (problem) return failure(*problem);
   if (options.headless && options.frames == 0) options.frames = 1;
   if (!options.headless && app.count("--ui-ini") == 0) options.uiIni = "imgui.ini";
-  if (options.scene.empty() && options.sdfFile.empty()) options.scene = defaultScenePath();
-  if (!options.sdfFile.empty() && options.tuning.method == samples::Method::Mesh) options.tuning.method = samples::Method::Cells;
+  if (options.scene.empty() && options.sdfFile.empty()) options.scene = samples::defaultScenePath();
+  if (!options.sdfFile.empty() && options.tuning.method == samples::Method::Mesh) options.tuning.method = hsdf::RenderMethod::Cells;
   ParseResult result;
   result.options = options;
   return result;

@@ -9,6 +9,7 @@
 #include <string>
 
 #include "engine/gpu/context.h"
+#include "options_common.h"
 #include "tuning.h"
 
 namespace runner {
@@ -42,13 +43,7 @@ struct Options {
 
 // Parses argv. Returns the options, or a message naming the bad option (exit code 2); `--help`
 // yields the help text with exit code 0.
-struct ParseResult {
-  std::optional<Options> options;
-  std::string message;  // help text or error
-  int exitCode = 0;
-};
+using ParseResult = samples::ParseResult<Options>;
 ParseResult parseOptions(int argc, const char* const* argv);
-
-std::filesystem::path defaultScenePath();
 
 }  // namespace runner

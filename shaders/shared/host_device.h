@@ -31,6 +31,13 @@ using uint64_t = std::uint64_t;
 #define DEBUG_VIEW_CELLS 3
 #define DEBUG_VIEW_EVALS 4
 #define DEBUG_VIEW_WIREFRAME 5  // shaded, with the boxes of drawn cells outlined
+#ifdef __cplusplus
+// Their names, indexed by value (the samples' --debug-view, settings files and scripts): a view added
+// above gets its name here, the one other place it is spelled.
+inline constexpr const char* kDebugViewNames[] = {"none", "normals", "depth", "cells", "evals", "wireframe"};
+static_assert(sizeof(kDebugViewNames) / sizeof(kDebugViewNames[0]) == DEBUG_VIEW_WIREFRAME + 1,
+              "a name per DEBUG_VIEW_*");
+#endif
 
 // Per frame: camera and light. One record per frame in flight.
 struct FrameGlobals {

@@ -6,7 +6,7 @@
 #include <memory>
 #include <mutex>
 
-#include "engine/scene/gltf_loader.h"
+#include "engine/scene/gltf/gltf_loader.h"
 
 namespace hsdf::bench {
 

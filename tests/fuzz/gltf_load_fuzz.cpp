@@ -10,7 +10,7 @@
 
 #include "engine/core/log.h"
 #include "fuzz_check.h"
-#include "engine/scene/gltf_loader.h"
+#include "engine/scene/gltf/gltf_loader.h"
 
 namespace {
 constexpr std::uint64_t kMaxFlattenedVertices = std::uint64_t(1) << 20;  // 12 MB of positions

@@ -37,8 +37,6 @@ using hsdf::RenderMethod;
 
 constexpr std::uint32_t kSize = 63;
 constexpr int kResolution = 8;
-constexpr RenderMethod kMethods[] = {RenderMethod::Cells, RenderMethod::CellRuns, RenderMethod::CellBricks,
-                                     RenderMethod::TrilinearSphereTrace, RenderMethod::HermiteSphereTrace};
 bool cellMethod(RenderMethod method) {
   return method == RenderMethod::Cells || method == RenderMethod::CellRuns || method == RenderMethod::CellBricks;
 }
@@ -98,7 +96,7 @@ class AdversarialFieldsTest : public GpuTest {
     const hsdf::TrilinearField trilinear = trilinearOf(c.field);
     const hsdf::ReferenceImage trilinearReference = reference(c, nullptr, &trilinear);
     const DeviceTolerances tolerance = tolerancesFor(*context_);
-    for (const RenderMethod method : kMethods) {
+    for (const RenderMethod method : hsdf::kRenderMethods) {
       const std::string where = c.label + ", " + hsdf::renderMethodName(method);
       registry_.get<hsdf::HermiteSdfRenderable>(entity).method = method;
       const Frame normals = renderWith(c.camera, DEBUG_VIEW_NORMALS);

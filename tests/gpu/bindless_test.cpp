@@ -36,10 +36,6 @@ using hsdf::RenderMethod;
 
 constexpr std::uint32_t kSize = 192;
 
-const char* methodName(RenderMethod method) {
-  return method == RenderMethod::TrilinearSphereTrace ? "trilinear" : "hermite";
-}
-
 render::CameraView orbitCamera(const glm::vec3& center, float radius, int view) {
   const float yaw = 0.4f + float(view) * 1.57f;
   const float pitch = (view % 2 == 0) ? 0.35f : -0.5f;
@@ -87,6 +83,7 @@ class BindlessTest : public GpuTest {
     auto renderer = std::make_unique<render::Renderer>(context, render::RendererDesc{}, VkExtent2D{kSize, kSize});
     hsdf::SphereTraceFeature::Options options;
     options.allowBindless = allowBindless;
+    // The tracer alone, with the bindless switch under test (the cells have no such option).
     const Status added = renderer->addFeature(std::make_unique<hsdf::SphereTraceFeature>(options));
     EXPECT_TRUE(added.ok()) << added.error().message;
     return added.ok() ? std::move(renderer) : nullptr;
@@ -214,7 +211,7 @@ TEST_F(BindlessTest, EachMethodMatchesItsReference) {
     registry_.clear();
     addTracedSdf(registry_, asset, method);
     for (int view = 0; view < 2; ++view) {
-      const std::string label = std::string(methodName(method)) + " view " + std::to_string(view);
+      const std::string label = std::string(hsdf::renderMethodName(method)) + " view " + std::to_string(view);
       SCOPED_TRACE(label);
       const render::CameraView camera = orbitCamera(center, radius, view);
       const Frame shaded = draw(*renderer_, camera, DEBUG_VIEW_NONE);

@@ -11,7 +11,7 @@
 
 #include "engine/core/math.h"
 #include "engine/render/scene_instantiate.h"
-#include "engine/scene/gltf_loader.h"
+#include "engine/scene/gltf/gltf_loader.h"
 #include "engine/scene/transform.h"
 #include "device_tolerances.h"
 #include "gpu_test_support.h"

@@ -102,6 +102,8 @@ void GpuTest::TearDown() {
 
 void GpuTest::createRenderer(std::uint32_t width, std::uint32_t height) {
   renderer_ = std::make_unique<render::Renderer>(*context_, render::RendererDesc{}, VkExtent2D{width, height});
+  // The meshes alone: every fixture starts here and adds the SDF features it tests (their one list:
+  // hsdf::addRenderFeatures), so that a test of one feature pays for no other's pipelines.
   const Status added = renderer_->addFeature(std::make_unique<render::MeshFeature>(*pool_));
   ASSERT_TRUE(added.ok()) << added.error().message;
 }

@@ -54,6 +54,7 @@ class HermiteCellsTest : public GpuTest {
  protected:
   void createCellRenderer(std::uint32_t width, std::uint32_t height) {
     createRenderer(width, height);
+    // The cell feature alone: the feature under test, without the tracers' pipelines.
     const Status added = renderer_->addFeature(std::make_unique<hsdf::HermiteCellFeature>());
     ASSERT_TRUE(added.ok()) << added.error().message;
   }

@@ -6,7 +6,7 @@
 
 #include "engine/core/math.h"
 #include "engine/render/components.h"
-#include "engine/scene/gltf_loader.h"
+#include "engine/scene/gltf/gltf_loader.h"
 #include "engine/scene/transform.h"
 #include "hermite_sdf/core/analytic.h"
 #include "hermite_sdf/core/cells.h"

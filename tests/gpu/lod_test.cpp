@@ -26,6 +26,7 @@ class LodGpuTest : public GpuTest {
     render::RendererDesc desc;
     renderer_ = std::make_unique<render::Renderer>(*context_, desc, VkExtent2D{kSize, kSize});
     ASSERT_TRUE(renderer_->addFeature(std::make_unique<render::MeshFeature>(*pool_)).ok());
+    // The cells alone beside the meshes: levels of detail are drawn by the cell renderers only.
     ASSERT_TRUE(renderer_->addFeature(std::make_unique<hsdf::HermiteCellFeature>()).ok());
   }
 

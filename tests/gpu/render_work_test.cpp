@@ -29,8 +29,8 @@ class RenderWorkTest : public GpuTest {
     render::RendererDesc desc;
     desc.formats.color = color;
     renderer_ = std::make_unique<render::Renderer>(*context_, desc, VkExtent2D{kSize, kSize});
-    ASSERT_TRUE(renderer_->addFeature(std::make_unique<render::MeshFeature>(*pool_)).ok());
-    ASSERT_TRUE(hsdf::addRenderFeatures(*renderer_).ok());
+    const Status added = hsdf::addSceneFeatures(*renderer_, *pool_);
+    ASSERT_TRUE(added.ok()) << added.error().message;
   }
 
   // The sphere (K = 16) seen from one side, filling the middle of the image: the image corners

@@ -8,7 +8,7 @@
 #include <glm/gtc/matrix_transform.hpp>
 #include <gtest/gtest.h>
 
-#include "engine/scene/gltf_loader.h"
+#include "engine/scene/gltf/gltf_loader.h"
 #include "engine/scene/transform.h"
 #include "hermite_sdf/render/cell_feature.h"
 #include "hermite_sdf/render/scene_objects.h"
@@ -86,6 +86,7 @@ class SceneObjectsGpuTest : public GpuTest {};
 TEST_F(SceneObjectsGpuTest, TwoMeshesSixInstancesMatchTheReferenceAndUploadEachAssetOnce) {
   constexpr std::uint32_t kSize = 256;
   createRenderer(kSize, kSize);
+  // The cells alone: scene objects share their record buffer and multi-draw (no tracer involved).
   ASSERT_TRUE(renderer_->addFeature(std::make_unique<hsdf::HermiteCellFeature>()).ok());
   const scene::SceneData data = twoMeshScene();
   ASSERT_EQ(data.nodes.size(), 6u);
@@ -160,6 +161,7 @@ TEST_F(SceneObjectsGpuTest, TwoMeshesSixInstancesMatchTheReferenceAndUploadEachA
 TEST_F(SceneObjectsGpuTest, EachInstanceDrawsInTheSceneExactlyAsAlone) {
   constexpr std::uint32_t kSize = 192;
   createRenderer(kSize, kSize);
+  // The cells alone: scene objects share their record buffer and multi-draw (no tracer involved).
   ASSERT_TRUE(renderer_->addFeature(std::make_unique<hsdf::HermiteCellFeature>()).ok());
   const scene::SceneData data = twoMeshScene();
   ASSERT_EQ(data.nodes.size(), 6u);

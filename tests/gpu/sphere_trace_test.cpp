@@ -38,7 +38,6 @@ constexpr int kPixels = int(kSize * kSize);
 constexpr double kMaxToleranceViolations = 0.001;  // fraction of the pixels both hit
 
 int methodIndex(RenderMethod method) { return method == RenderMethod::TrilinearSphereTrace ? 0 : 1; }
-const char* methodName(RenderMethod method) { return methodIndex(method) == 0 ? "trilinear" : "hermite"; }
 
 // The field as the fp16 textures hold it.
 hsdf::HermiteField roundedToHalf(const hsdf::HermiteField& field) {
@@ -99,6 +98,7 @@ class SphereTraceTest : public GpuTest {
  protected:
   void createTraceRenderer(std::uint32_t width, std::uint32_t height) {
     createRenderer(width, height);
+    // The tracer alone: the feature under test, without the cells' pipelines.
     const Status added = renderer_->addFeature(std::make_unique<hsdf::SphereTraceFeature>());
     ASSERT_TRUE(added.ok()) << added.error().message;
   }
@@ -151,7 +151,7 @@ TEST_F(SphereTraceTest, EachMethodMatchesItsReferenceFromFourViews) {
     addTracedSdf(registry_, asset, method);
     for (int view = 0; view < 4; ++view)
       expectMatchesReference(method, asset->field, orbitCamera(*asset, view),
-                             std::string(methodName(method)) + " view " + std::to_string(view));
+                             std::string(hsdf::renderMethodName(method)) + " view " + std::to_string(view));
     EXPECT_EQ(feature().stats().nearObjects, 0u) << "from outside, the front faces are drawn";
   }
 }
@@ -198,7 +198,7 @@ TEST_F(SphereTraceTest, FieldsWhoseValuesJumpAcrossZeroStillStopOnTheExactInterp
     for (int view = 0; view < 4; ++view) {
       const render::CameraView camera = orbitCamera(*binary, view);
       expectMatchesReference(method, binary->field, camera,
-                             std::string(methodName(method)) + ", samples of +-h, view " + std::to_string(view));
+                             std::string(hsdf::renderMethodName(method)) + ", samples of +-h, view " + std::to_string(view));
       EXPECT_EQ(raysOutOfSteps(*renderer_, registry_, camera), 0u) << "view " << view;
     }
   }
@@ -243,7 +243,7 @@ TEST_F(SphereTraceTest, RaysThatRunOutOfStepsAreCounted) {
   ASSERT_NE(asset, nullptr);
   const render::CameraView camera = render::CameraView::lookAt({0.0f, 0.0f, 4.0f}, glm::vec3(0.0f), 0.9f, 0.01f, 1.0f);
   for (const RenderMethod method : {RenderMethod::TrilinearSphereTrace, RenderMethod::HermiteSphereTrace}) {
-    SCOPED_TRACE(methodName(method));
+    SCOPED_TRACE(hsdf::renderMethodName(method));
     registry_.clear();
     addTracedSdf(registry_, asset, method);
     auto& settings = renderer_->feature<hsdf::SphereTraceFeature>()->settings();
@@ -275,9 +275,9 @@ TEST_F(SphereTraceTest, CameraInsideTheBoundsAndInsideTheSurface) {
   for (const RenderMethod method : {RenderMethod::TrilinearSphereTrace, RenderMethod::HermiteSphereTrace}) {
     registry_.clear();
     addTracedSdf(registry_, asset, method);
-    expectMatchesReference(method, asset->field, hole, std::string(methodName(method)) + " in the hole");
+    expectMatchesReference(method, asset->field, hole, std::string(hsdf::renderMethodName(method)) + " in the hole");
     EXPECT_EQ(feature().stats().nearObjects, 1u);
-    expectMatchesReference(method, asset->field, tube, std::string(methodName(method)) + " in the tube");
+    expectMatchesReference(method, asset->field, tube, std::string(hsdf::renderMethodName(method)) + " in the tube");
   }
 }
 
@@ -294,7 +294,7 @@ TEST_F(SphereTraceTest, HalfPrecisionTexturesMatchTheRoundedField) {
     addTracedSdf(registry_, asset, method);
     registry_.view<hsdf::HermiteSdfRenderable>().each(
         [](ecs::Entity, hsdf::HermiteSdfRenderable& r) { r.halfPrecision = true; });
-    expectMatchesReference(method, rounded, orbitCamera(*asset, 1), std::string(methodName(method)) + " fp16");
+    expectMatchesReference(method, rounded, orbitCamera(*asset, 1), std::string(hsdf::renderMethodName(method)) + " fp16");
     EXPECT_EQ(feature().stats().textureBytes, samples * (methodIndex(method) == 0 ? 2u : 8u));
   }
 }
@@ -486,7 +486,7 @@ TEST_F(SphereTraceTest, MirroredScaledAndShearedObjectsMatchTheirReferences) {
       for (int view = 0; view < 2; ++view) {
         const ImageComparison c = expectMatchesReference(
             method, asset->field, orbitAround(worldSphere(*asset, transform.matrix()), view),
-            std::string(methodName(method)) + ", " + transform.label + ", view " + std::to_string(view), transform.matrix(),
+            std::string(hsdf::renderMethodName(method)) + ", " + transform.label + ", view " + std::to_string(view), transform.matrix(),
             1000);
         EXPECT_LT(c.normalFlips, c.referenceHits / 100) << "normals of a mirrored object must still point out of it";
       }
@@ -510,7 +510,7 @@ TEST_F(SphereTraceTest, CameraInsideATransformedObject) {
   for (const RenderMethod method : {RenderMethod::TrilinearSphereTrace, RenderMethod::HermiteSphereTrace}) {
     registry_.clear();
     addTracedSdf(registry_, asset, method, model);
-    expectMatchesReference(method, asset->field, camera, std::string(methodName(method)) + " in the tube", model);
+    expectMatchesReference(method, asset->field, camera, std::string(hsdf::renderMethodName(method)) + " in the tube", model);
     EXPECT_EQ(feature().stats().nearObjects, 1u);
   }
 }
@@ -526,7 +526,7 @@ TEST_F(SphereTraceTest, ExtremeCamerasAndViewports) {
   for (const CameraSetup& setup : extremeCameras(sphere.center, sphere.radius)) {
     createTraceRenderer(setup.size.x, setup.size.y);
     for (const RenderMethod method : {RenderMethod::TrilinearSphereTrace, RenderMethod::HermiteSphereTrace}) {
-      SCOPED_TRACE(std::string(methodName(method)) + ", " + setup.label);
+      SCOPED_TRACE(std::string(hsdf::renderMethodName(method)) + ", " + setup.label);
       registry_.clear();
       addTracedSdf(registry_, asset, method, model);
       const Frame frame = renderWith(setup.camera, DEBUG_VIEW_NONE);
@@ -538,7 +538,7 @@ TEST_F(SphereTraceTest, ExtremeCamerasAndViewports) {
       const int violations = toleranceViolations(frame, reference, setup.camera, asset->field.grid.spacing,
                                                  tolerancesFor(*context_).traceStopCells, commonHits, model);
       std::printf("[ %s, %s ] hits ref %d gpu %d, disagree %d, holes %d, extras %d, beyond tolerance %d\n",
-                  methodName(method), setup.label.c_str(), c.referenceHits, c.gpuHits, c.disagreements,
+                  hsdf::renderMethodName(method), setup.label.c_str(), c.referenceHits, c.gpuHits, c.disagreements,
                   c.interiorHoles, c.interiorExtras, violations);
       EXPECT_GT(c.referenceHits, 0);
       // Coverage may differ only on the silhouette, and there rarely (relative to the pixels

@@ -151,8 +151,8 @@ class Soak {
     switch (change) {
       case Change::Rebake24: tuning.resolution = 24; break;
       case Change::Rebake16: tuning.resolution = 16; break;
-      case Change::Trilinear: tuning.method = samples::Method::Trilinear; break;
-      case Change::Hermite: tuning.method = samples::Method::Hermite; break;
+      case Change::Trilinear: tuning.method = hsdf::RenderMethod::TrilinearSphereTrace; break;
+      case Change::Hermite: tuning.method = hsdf::RenderMethod::HermiteSphereTrace; break;
       case Change::Mesh:  // and the split view off
         tuning.method = samples::Method::Mesh;
         tuning.split = samples::SplitMode::Off;
@@ -160,13 +160,13 @@ class Soak {
       case Change::MoreSubdivisions: tuning.subdivisions = 4; break;
       case Change::CentralNormals: tuning.normals = hsdf::NormalMode::CentralDifferences; break;
       case Change::BackToCells:
-        tuning.method = samples::Method::Cells;
+        tuning.method = hsdf::RenderMethod::Cells;
         tuning.subdivisions = 3;
         tuning.normals = hsdf::NormalMode::Exact;
         break;
       case Change::AddObject:  // and the split view on: two view regions, the compared side from its own bake at 2K
         tuning.split = samples::SplitMode::Vertical;
-        tuning.compareMethod = samples::Method::Trilinear;
+        tuning.compareMethod = hsdf::RenderMethod::TrilinearSphereTrace;
         viewer_.setTuning(tuning);
         return addObject();
       case Change::RemoveObject: return removeObject();

@@ -1,5 +1,6 @@
 // The smallest use of the installed hermite_sdf package: bake an analytic torus through the
-// module's bake job, draw one headless frame with the Hermite cell feature on the test device
+// module's bake job, draw one headless frame with the module's render features (the Hermite cells
+// drawing it, as every program adds them: hsdf::addRenderFeatures) on the test device
 // (HSDF_DEVICE from the ctest's launcher, lavapipe unless HSDF_TEST_DEVICE says otherwise;
 // validation layers on) and check the frame against the module's CPU reference ray caster.
 // Exit code 0 only when the torus covers the pixels the reference says it covers and the
@@ -14,8 +15,10 @@
 #include "engine/render/renderer.h"
 #include "engine/scene/transform.h"
 #include "hermite_sdf/core/bake_job.h"
-#include "hermite_sdf/render/cell_feature.h"
 #include "hermite_sdf/core/reference.h"
+#include "hermite_sdf/render/cell_feature.h"
+#include "hermite_sdf/render/features.h"
+#include "hermite_sdf/render/renderable.h"
 
 namespace {
 
@@ -52,8 +55,7 @@ int main() {
   if (!context) return fail("vulkan", context.error().message);
 
   engine::render::Renderer renderer(**context, engine::render::RendererDesc{}, VkExtent2D{kSize, kSize});
-  if (auto added = renderer.addFeature(std::make_unique<hsdf::HermiteCellFeature>()); !added)
-    return fail("cell feature", added.error().message);
+  if (auto added = hsdf::addRenderFeatures(renderer); !added) return fail("render features", added.error().message);
 
   engine::ecs::Registry registry;
   const engine::ecs::Entity torus = registry.create();

@@ -30,11 +30,11 @@ Asset bake(int resolution, int padding, hsdf::BakeBand band = hsdf::BakeBand::De
 // A split comparing trilinear at `compareK` with the main tuning at K 16, padding 1.
 TuningState splitTuning(int compareK) {
   TuningState tuning;
-  tuning.method = Method::Hermite;
+  tuning.method = hsdf::RenderMethod::HermiteSphereTrace;
   tuning.resolution = 16;
   tuning.padding = 1;
   tuning.split = SplitMode::Vertical;
-  tuning.compareMethod = Method::Trilinear;
+  tuning.compareMethod = hsdf::RenderMethod::TrilinearSphereTrace;
   tuning.compareResolution = compareK;
   return tuning;
 }
@@ -96,7 +96,7 @@ TEST(ComparedSide, NoBakeWithoutComparisonSourceOrForCells) {
   side.updateBake(splitTuning(24), nullptr, {}, {});  // a .hsdf file: nothing to bake from
   EXPECT_EQ(side.bakeJob(), nullptr);
   TuningState cells = splitTuning(24);
-  cells.compareMethod = Method::Cells;  // draws the main asset
+  cells.compareMethod = hsdf::RenderMethod::Cells;  // draws the main asset
   side.updateBake(cells, &kSphere, {}, {});
   EXPECT_EQ(side.bakeJob(), nullptr);
   EXPECT_EQ(side.resolutionDrawn(cells, kNotDrawn), kNotDrawn);
@@ -132,10 +132,10 @@ TEST(ComparedSide, SplitRegionsShowEachSideOnItsSideOfTheDivider) {
   EXPECT_EQ(vertical[1].rect.extent.height, 50u);
   for (const auto& region : vertical) region.apply();
   ASSERT_EQ(shown.size(), 2u);
-  EXPECT_EQ(shown[0].method, Method::Hermite);
+  EXPECT_EQ(shown[0].method, hsdf::RenderMethod::HermiteSphereTrace);
   EXPECT_EQ(shown[0].resolution, 16);
   EXPECT_EQ(shown[0].asset, main);
-  EXPECT_EQ(shown[1].method, Method::Trilinear);
+  EXPECT_EQ(shown[1].method, hsdf::RenderMethod::TrilinearSphereTrace);
   EXPECT_EQ(shown[1].resolution, 24);
   ASSERT_NE(shown[1].asset, nullptr);
   EXPECT_NE(shown[1].asset, main);  // its own bake

@@ -19,14 +19,30 @@ bool contains(const std::string& text, const std::string& part) { return text.fi
 // Tricky: the name tables are the only place strings meet methods; a missing or duplicated entry
 // would make a method unparseable or print as another.
 TEST(Tuning, EveryNameParsesBackToItsValue) {
-  for (Method m : {Method::Mesh, Method::Cells, Method::Trilinear, Method::Hermite, Method::CellRuns, Method::CellBricks})
-    EXPECT_EQ(parseMethod(methodName(m)), m);
-  EXPECT_EQ(parseMethod("cell-bricks"), Method::CellBricks);
+  for (Method m : allMethods()) EXPECT_EQ(parseMethod(methodName(m)), m);
+  // The names of command lines, settings files and scripts, now the module's table and "mesh".
+  const std::pair<const char*, Method> names[] = {{"mesh", Method::Mesh},
+                                                  {"cells", hsdf::RenderMethod::Cells},
+                                                  {"trilinear", hsdf::RenderMethod::TrilinearSphereTrace},
+                                                  {"hermite", hsdf::RenderMethod::HermiteSphereTrace},
+                                                  {"cells-runs", hsdf::RenderMethod::CellRuns},
+                                                  {"cell-bricks", hsdf::RenderMethod::CellBricks}};
+  ASSERT_EQ(allMethods().size(), std::size(names)) << "a method without a name here";
+  for (const auto& [name, method] : names) {
+    EXPECT_EQ(parseMethod(name), method) << name;
+    EXPECT_STREQ(methodName(method), name);
+  }
   for (hsdf::NormalMode n : {hsdf::NormalMode::Exact, hsdf::NormalMode::CentralDifferences})
     EXPECT_EQ(parseNormalMode(normalModeName(n)), n);
-  for (DebugView v : {DebugView::None, DebugView::Normals, DebugView::Depth, DebugView::Cells, DebugView::Evals,
-                      DebugView::Wireframe})
-    EXPECT_EQ(parseDebugView(debugViewName(v)), v);
+  for (DebugView v : allDebugViews()) EXPECT_EQ(parseDebugView(debugViewName(v)), v);
+  const std::pair<const char*, std::uint32_t> views[] = {{"none", DEBUG_VIEW_NONE},   {"normals", DEBUG_VIEW_NORMALS},
+                                                         {"depth", DEBUG_VIEW_DEPTH}, {"cells", DEBUG_VIEW_CELLS},
+                                                         {"evals", DEBUG_VIEW_EVALS}, {"wireframe", DEBUG_VIEW_WIREFRAME}};
+  ASSERT_EQ(allDebugViews().size(), std::size(views)) << "a debug view without a name here";
+  for (const auto& [name, value] : views) {
+    EXPECT_EQ(parseDebugView(name), DebugView(value)) << name;
+    EXPECT_STREQ(debugViewName(DebugView(value)), name);
+  }
   for (SplitMode m : {SplitMode::Off, SplitMode::Vertical, SplitMode::Horizontal}) EXPECT_EQ(parseSplitMode(splitModeName(m)), m);
   for (EarlyDepth m : {EarlyDepth::Auto, EarlyDepth::On, EarlyDepth::Off}) EXPECT_EQ(parseEarlyDepth(earlyDepthName(m)), m);
   EXPECT_FALSE(parseMethod("Cells").has_value()) << "names are case-sensitive, as on the command line";
@@ -37,7 +53,7 @@ TEST(Tuning, EveryNameParsesBackToItsValue) {
 // method the entity already has (the mesh method has no SDF counterpart).
 TEST(Tuning, ApplyTuningMapsEveryField) {
   TuningState t;
-  t.method = Method::Hermite;
+  t.method = hsdf::RenderMethod::HermiteSphereTrace;
   t.subdivisions = 7;
   t.refineSteps = 4;
   t.normals = hsdf::NormalMode::CentralDifferences;
@@ -51,13 +67,13 @@ TEST(Tuning, ApplyTuningMapsEveryField) {
   EXPECT_EQ(r.refineSteps, 4u);
   EXPECT_EQ(r.normals, hsdf::NormalMode::CentralDifferences);
   EXPECT_TRUE(r.halfPrecision);
-  t.method = Method::Trilinear;
+  t.method = hsdf::RenderMethod::TrilinearSphereTrace;
   applyTuning(t, r);
   EXPECT_EQ(r.method, hsdf::RenderMethod::TrilinearSphereTrace);
   t.method = Method::Mesh;
   applyTuning(t, r);
   EXPECT_EQ(r.method, hsdf::RenderMethod::TrilinearSphereTrace);
-  t.method = Method::Cells;
+  t.method = hsdf::RenderMethod::Cells;
   applyTuning(t, r);
   EXPECT_EQ(r.method, hsdf::RenderMethod::Cells);
 }
@@ -66,14 +82,14 @@ TEST(Tuning, ApplyTuningMapsEveryField) {
 // into the wrong field) breaks the equality.
 TEST(Tuning, SettingsFileRoundTrip) {
   TuningState t;
-  t.method = Method::Trilinear;
+  t.method = hsdf::RenderMethod::TrilinearSphereTrace;
   t.resolution = 40;
   t.padding = 3;
   t.subdivisions = 9;
   t.refineSteps = 0;
   t.normals = hsdf::NormalMode::CentralDifferences;
   t.fp16 = true;
-  t.debugView = DebugView::Wireframe;
+  t.debugView = DebugView(DEBUG_VIEW_WIREFRAME);
   t.frontToBack = false;
   t.earlyDepth = EarlyDepth::Off;
   t.certified = true;
@@ -82,7 +98,7 @@ TEST(Tuning, SettingsFileRoundTrip) {
   t.thinBoxes = ThinBoxes::On;
   t.split = SplitMode::Horizontal;
   t.splitPosition = 0.3f;  // exact in binary and in the JSON text
-  t.compareMethod = Method::Hermite;
+  t.compareMethod = hsdf::RenderMethod::HermiteSphereTrace;
   t.compareResolution = 48;
   t.compareNormals = hsdf::NormalMode::Exact;
   t.difference = true;
@@ -137,7 +153,7 @@ TEST(Tuning, MissingKeysKeepTheBase) {
   base.resolution = 33;
   const auto loaded = loadTuning(file, base);
   ASSERT_TRUE(loaded.ok()) << loaded.error().message;
-  EXPECT_EQ(loaded->method, Method::Cells);
+  EXPECT_EQ(loaded->method, hsdf::RenderMethod::Cells);
   EXPECT_EQ(loaded->resolution, 33);
 }
 
@@ -208,11 +224,11 @@ TEST(Tuning, CompareTuningFollowsTheRuleOfThumb) {
   t.compareResolution = 24;
   EXPECT_EQ(effectiveCompareResolution(t), 24);
   const TuningState c = compareTuning(t);
-  EXPECT_EQ(c.method, Method::Trilinear);
+  EXPECT_EQ(c.method, hsdf::RenderMethod::TrilinearSphereTrace);
   EXPECT_EQ(c.resolution, 24);
   EXPECT_EQ(c.normals, hsdf::NormalMode::CentralDifferences);
   EXPECT_EQ(c.subdivisions, 5u);
-  t.compareMethod = Method::Cells;
+  t.compareMethod = hsdf::RenderMethod::Cells;
   EXPECT_EQ(compareTuning(t).resolution, 200);
   t.split = SplitMode::Off;
   t.difference = true;
@@ -240,7 +256,7 @@ TEST(Tuning, SetTuningValueFromText) {
   EXPECT_EQ(t.compareResolution, 0);
   EXPECT_EQ(t.resolution, 32);
   EXPECT_TRUE(t.fp16);
-  EXPECT_EQ(t.method, Method::Trilinear);
+  EXPECT_EQ(t.method, hsdf::RenderMethod::TrilinearSphereTrace);
   EXPECT_EQ(t.normals, hsdf::NormalMode::CentralDifferences);
 
   const TuningState before = t;

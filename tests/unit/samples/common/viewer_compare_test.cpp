@@ -64,7 +64,7 @@ std::size_t differingPixels(const std::vector<std::uint8_t>& a, const std::vecto
 
 TuningState cellsK16() {
   TuningState tuning;
-  tuning.method = Method::Cells;
+  tuning.method = hsdf::RenderMethod::Cells;
   tuning.resolution = 16;
   return tuning;
 }
@@ -80,7 +80,7 @@ TEST(ViewerCompare, SplitShowsEachMethodInItsRegion) {
   auto viewer = viewTorus(main);
   ASSERT_NE(viewer, nullptr);
   TuningState trilinear = main;
-  trilinear.method = Method::Trilinear;
+  trilinear.method = hsdf::RenderMethod::TrilinearSphereTrace;
   trilinear.resolution = 32;  // 2K, the compared side's default
   trilinear.normals = hsdf::NormalMode::CentralDifferences;
   const std::vector<std::uint8_t> onlyTrilinear = frameWith(*viewer, trilinear);
@@ -115,9 +115,9 @@ TEST(ViewerCompare, SplitShowsEachMethodInItsRegion) {
 // frame (the overlay copies it before the UI).
 TEST(ViewerCompare, DifferenceOfIdenticalMethodsIsZero) {
   TuningState tuning = cellsK16();
-  tuning.method = Method::Trilinear;
+  tuning.method = hsdf::RenderMethod::TrilinearSphereTrace;
   tuning.normals = hsdf::NormalMode::Exact;
-  tuning.compareMethod = Method::Trilinear;
+  tuning.compareMethod = hsdf::RenderMethod::TrilinearSphereTrace;
   tuning.compareResolution = 16;
   tuning.compareNormals = hsdf::NormalMode::Exact;
   tuning.difference = true;
@@ -188,7 +188,7 @@ std::filesystem::path shaderCopy(const std::string& name, const std::vector<std:
 // shaders restores the original frame.
 TEST(ViewerCompare, ReloadShadersTakesFreshSpirvAndKeepsOldPipelinesOnFailure) {
   TuningState tuning = cellsK16();
-  tuning.method = Method::Trilinear;
+  tuning.method = hsdf::RenderMethod::TrilinearSphereTrace;
   auto viewer = viewTorus(tuning);
   ASSERT_NE(viewer, nullptr);
   const std::vector<std::uint8_t> original = frameWith(*viewer, tuning);

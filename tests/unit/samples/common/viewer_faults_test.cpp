@@ -170,10 +170,10 @@ void expectRebakePastTheBudgetKeepsTheOldField(Method method) {
   EXPECT_TRUE(closed.ok()) << closed.error().message;
 }
 
-TEST(ViewerFaults, RebakePastTheGpuBudgetKeepsDrawingTheOldField) { expectRebakePastTheBudgetKeepsTheOldField(Method::Cells); }
+TEST(ViewerFaults, RebakePastTheGpuBudgetKeepsDrawingTheOldField) { expectRebakePastTheBudgetKeepsTheOldField(hsdf::RenderMethod::Cells); }
 
 TEST(ViewerFaults, RebakePastTheGpuBudgetKeepsDrawingTheOldTracedField) {
-  expectRebakePastTheBudgetKeepsTheOldField(Method::Hermite);
+  expectRebakePastTheBudgetKeepsTheOldField(hsdf::RenderMethod::HermiteSphereTrace);
 }
 
 // Tricky: the new object's cell records are uploaded by the cell feature inside the frame (in

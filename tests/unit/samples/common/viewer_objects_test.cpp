@@ -76,7 +76,7 @@ TEST(ViewerObjects, GridSceneSharesOneAssetPerMeshAndKeepsTriangleNodes) {
   ASSERT_TRUE(viewer->step().ok());
   EXPECT_TRUE(namesWith(*viewer, true).empty());
   EXPECT_EQ(namesWith(*viewer, false).size(), 120u);
-  tuning.method = Method::Cells;
+  tuning.method = hsdf::RenderMethod::Cells;
   viewer->setTuning(tuning);
   ASSERT_TRUE(viewer->step().ok());
   EXPECT_EQ(namesWith(*viewer, true).size(), 107u);
@@ -124,7 +124,7 @@ TEST(ViewerObjects, ANewResolutionRebakesEveryMeshOnce) {
   viewer->setTuning(tuning);
   tuning.resolution = 24;
   viewer->setTuning(tuning);
-  tuning.method = Method::Cells;
+  tuning.method = hsdf::RenderMethod::Cells;
   viewer->setTuning(tuning);
   ASSERT_TRUE(viewer->step().ok());
   EXPECT_EQ(drawnResolution(*viewer), 24);

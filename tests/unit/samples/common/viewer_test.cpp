@@ -48,7 +48,7 @@ std::unique_ptr<Viewer> viewTorus(int resolution) {
   scene.shape = "torus";
   scene.groundPlane = false;
   TuningState tuning;
-  tuning.method = Method::Cells;
+  tuning.method = hsdf::RenderMethod::Cells;
   tuning.resolution = resolution;
   const engine::Status loaded = viewer->loadScene(scene, tuning);
   EXPECT_TRUE(loaded.ok()) << loaded.error().message;
@@ -78,7 +78,7 @@ TEST(Viewer, RebakesAndRetunesBetweenFrames) {
   EXPECT_EQ(rebaked.field.grid.resolution, 24);
   EXPECT_NE(rebaked.cells.records.size(), firstCells);
 
-  tuning.method = Method::Trilinear;
+  tuning.method = hsdf::RenderMethod::TrilinearSphereTrace;
   tuning.subdivisions = 5;
   tuning.normals = hsdf::NormalMode::CentralDifferences;
   viewer->setTuning(tuning);
@@ -216,7 +216,7 @@ TEST(Viewer, SwitchesBetweenMeshAndSdfAtRunTime) {
     auto sdfFirst = makeViewer();
     ASSERT_NE(sdfFirst, nullptr);
     TuningState cells = tuning;
-    cells.method = Method::Cells;
+    cells.method = hsdf::RenderMethod::Cells;
     ASSERT_TRUE(sdfFirst->loadScene(scene, cells).ok());
     EXPECT_EQ(meshCount(*sdfFirst), 0u);
     EXPECT_EQ(sdfCount(*sdfFirst), 1u);
@@ -228,7 +228,7 @@ TEST(Viewer, SwitchesBetweenMeshAndSdfAtRunTime) {
   EXPECT_EQ(viewer->sdfAsset(), nullptr);
   EXPECT_TRUE(viewer->hasMeshes());
 
-  tuning.method = Method::Cells;
+  tuning.method = hsdf::RenderMethod::Cells;
   viewer->setTuning(tuning);
   ASSERT_NE(viewer->bakeJob(), nullptr) << "the first SDF method bakes the scene";
   ASSERT_TRUE(viewer->step().ok());
@@ -247,7 +247,7 @@ TEST(Viewer, SwitchesBetweenMeshAndSdfAtRunTime) {
   EXPECT_EQ(sdfCount(*viewer), 0u);
   EXPECT_GT(coverage(*viewer), 0.05);
 
-  tuning.method = Method::Trilinear;
+  tuning.method = hsdf::RenderMethod::TrilinearSphereTrace;
   viewer->setTuning(tuning);
   EXPECT_EQ(viewer->bakeJob(), nullptr) << "the hidden SDF is still at this K";
   ASSERT_TRUE(viewer->step().ok());
@@ -358,7 +358,7 @@ TEST(Viewer, SearchLimitsOfTheTuningReachTheFeatures) {
   auto viewer = viewTorus(32);
   ASSERT_NE(viewer, nullptr);
   TuningState tuning = viewer->tuning();
-  tuning.method = Method::Hermite;
+  tuning.method = hsdf::RenderMethod::HermiteSphereTrace;
   tuning.traceEpsilon = 0.001953125f;
   tuning.traceMaxSteps = 1;
   tuning.centralDifferenceStep = 0.25f;
@@ -411,7 +411,7 @@ TEST(Viewer, SparseCellBakeRebakesDenseForTheTracers) {
   EXPECT_EQ(theSdf(*viewer).asset->cells.grid.resolution, 260);
   EXPECT_TRUE(theSdf(*viewer).asset->field.samples.empty()) << "the cells past 256 bake sparse";
   ASSERT_TRUE(viewer->step().ok());
-  tuning.method = Method::Trilinear;
+  tuning.method = hsdf::RenderMethod::TrilinearSphereTrace;
   viewer->setTuning(tuning);
   ASSERT_NE(viewer->bakeJob(), nullptr) << "a tracer needs the dense field";
   ASSERT_TRUE(viewer->waitForBake().ok());

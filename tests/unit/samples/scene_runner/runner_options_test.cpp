@@ -42,7 +42,7 @@ bool contains(const std::string& text, const std::string& part) { return text.fi
 // neither --scene nor --sdf is given.
 TEST(RunnerOptions, Defaults) {
   const Options o = parseOk({});
-  EXPECT_EQ(o.scene, defaultScenePath());
+  EXPECT_EQ(o.scene, samples::defaultScenePath());
   EXPECT_FALSE(o.headless);
   EXPECT_EQ(o.frames, 0u);
   EXPECT_EQ(o.width, 1280u);
@@ -50,7 +50,7 @@ TEST(RunnerOptions, Defaults) {
   EXPECT_EQ(o.device, engine::gpu::DevicePreference::Auto);
   EXPECT_TRUE(o.tuning == samples::TuningState{});
   // What a new user sees first is the paper's method, not the triangle mesh.
-  EXPECT_EQ(o.tuning.method, Method::Cells);
+  EXPECT_EQ(o.tuning.method, hsdf::RenderMethod::Cells);
   EXPECT_TRUE(o.script.empty());
   EXPECT_EQ(o.uiIni, "imgui.ini") << "a window keeps its panel layout";
   EXPECT_TRUE(parseOk({"--headless"}).uiIni.empty()) << "headless runs write no ImGui layout";
@@ -80,14 +80,14 @@ TEST(RunnerOptions, EveryOptionsGoodValue) {
   EXPECT_TRUE(o.validation);
   EXPECT_TRUE(o.headlessUi);
   EXPECT_FALSE(o.groundPlane);
-  EXPECT_EQ(o.tuning.method, Method::Trilinear);
+  EXPECT_EQ(o.tuning.method, hsdf::RenderMethod::TrilinearSphereTrace);
   EXPECT_EQ(o.tuning.resolution, 32);
   EXPECT_EQ(o.tuning.padding, 2);
   EXPECT_EQ(o.tuning.subdivisions, 5u);
   EXPECT_EQ(o.tuning.refineSteps, 0u);
   EXPECT_TRUE(o.tuning.fp16);
   EXPECT_EQ(o.tuning.normals, hsdf::NormalMode::CentralDifferences);
-  EXPECT_EQ(o.tuning.debugView, DebugView::Evals);
+  EXPECT_EQ(o.tuning.debugView, DebugView(DEBUG_VIEW_EVALS));
   EXPECT_TRUE(o.sideBySide);
   EXPECT_FALSE(o.tuning.frontToBack);
   EXPECT_EQ(o.tuning.earlyDepth, samples::EarlyDepth::Off);
@@ -102,26 +102,26 @@ TEST(RunnerOptions, EveryOptionsGoodValue) {
   EXPECT_EQ(o.uiIni, "layout.ini");
   EXPECT_EQ(o.tuning.split, samples::SplitMode::Horizontal);
   EXPECT_EQ(o.tuning.splitPosition, 0.25f);
-  EXPECT_EQ(o.tuning.compareMethod, Method::Hermite);
+  EXPECT_EQ(o.tuning.compareMethod, hsdf::RenderMethod::HermiteSphereTrace);
   EXPECT_EQ(o.tuning.compareResolution, 48);
   EXPECT_EQ(o.tuning.compareNormals, hsdf::NormalMode::Exact);
   EXPECT_TRUE(o.tuning.difference);
   EXPECT_EQ(parseOk({"--split", "vertical"}).tuning.split, samples::SplitMode::Vertical);
   EXPECT_EQ(parseOk({"--split", "off"}).tuning.split, samples::SplitMode::Off);
-  EXPECT_EQ(parseOk({"--compare-method", "cells"}).tuning.compareMethod, Method::Cells);
+  EXPECT_EQ(parseOk({"--compare-method", "cells"}).tuning.compareMethod, hsdf::RenderMethod::Cells);
 
   // Every remaining name of the typed options.
   EXPECT_EQ(parseOk({"--method", "mesh"}).tuning.method, Method::Mesh);
-  EXPECT_EQ(parseOk({"--method", "cells"}).tuning.method, Method::Cells);
-  EXPECT_EQ(parseOk({"--method", "hermite"}).tuning.method, Method::Hermite);
+  EXPECT_EQ(parseOk({"--method", "cells"}).tuning.method, hsdf::RenderMethod::Cells);
+  EXPECT_EQ(parseOk({"--method", "hermite"}).tuning.method, hsdf::RenderMethod::HermiteSphereTrace);
   EXPECT_EQ(parseOk({"--normals", "exact"}).tuning.normals, hsdf::NormalMode::Exact);
   EXPECT_EQ(parseOk({"--device", "gpu"}).device, engine::gpu::DevicePreference::Hardware);
   EXPECT_EQ(parseOk({"--device", "auto"}).device, engine::gpu::DevicePreference::Auto);
-  EXPECT_EQ(parseOk({"--debug-view", "none"}).tuning.debugView, DebugView::None);
-  EXPECT_EQ(parseOk({"--debug-view", "normals"}).tuning.debugView, DebugView::Normals);
-  EXPECT_EQ(parseOk({"--debug-view", "depth"}).tuning.debugView, DebugView::Depth);
-  EXPECT_EQ(parseOk({"--debug-view", "cells"}).tuning.debugView, DebugView::Cells);
-  EXPECT_EQ(parseOk({"--debug-view", "wireframe"}).tuning.debugView, DebugView::Wireframe);
+  EXPECT_EQ(parseOk({"--debug-view", "none"}).tuning.debugView, DebugView(DEBUG_VIEW_NONE));
+  EXPECT_EQ(parseOk({"--debug-view", "normals"}).tuning.debugView, DebugView(DEBUG_VIEW_NORMALS));
+  EXPECT_EQ(parseOk({"--debug-view", "depth"}).tuning.debugView, DebugView(DEBUG_VIEW_DEPTH));
+  EXPECT_EQ(parseOk({"--debug-view", "cells"}).tuning.debugView, DebugView(DEBUG_VIEW_CELLS));
+  EXPECT_EQ(parseOk({"--debug-view", "wireframe"}).tuning.debugView, DebugView(DEBUG_VIEW_WIREFRAME));
   // Range ends are inclusive.
   EXPECT_EQ(parseOk({"--resolution", "2048"}).tuning.resolution, 2048);  // cells: the sparse bake's range
   EXPECT_EQ(parseOk({"--method", "trilinear", "--resolution", "512"}).tuning.resolution, 512);
@@ -139,8 +139,8 @@ TEST(RunnerOptions, DerivedDefaults) {
   EXPECT_EQ(parseOk({"--headless", "--frames", "3"}).frames, 3u);
   const Options sdf = parseOk({"--sdf", kHsdf});
   EXPECT_TRUE(sdf.scene.empty());
-  EXPECT_EQ(sdf.tuning.method, Method::Cells);
-  EXPECT_EQ(parseOk({"--sdf", kHsdf, "--method", "hermite"}).tuning.method, Method::Hermite);
+  EXPECT_EQ(sdf.tuning.method, hsdf::RenderMethod::Cells);
+  EXPECT_EQ(parseOk({"--sdf", kHsdf, "--method", "hermite"}).tuning.method, hsdf::RenderMethod::HermiteSphereTrace);
 }
 
 // Tricky: each message must name the option the user has to fix; CLI11's own errors and the
@@ -236,7 +236,7 @@ TEST(RunnerOptions, SettingsFileRoundTripAndOverride) {
 
   samples::TuningState overridden = t;
   overridden.resolution = 20;
-  overridden.method = Method::Cells;
+  overridden.method = hsdf::RenderMethod::Cells;
   EXPECT_TRUE(parseOk({"--settings", file.string(), "--resolution", "20", "--method", "cells"}).tuning == overridden);
   EXPECT_TRUE(parseOk({"--resolution", "20", "--method", "cells", "--settings", file.string()}).tuning == overridden);
 }

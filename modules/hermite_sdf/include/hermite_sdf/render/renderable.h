@@ -6,6 +6,8 @@
 // switch method at run time.
 #include <cstdint>
 #include <memory>
+#include <optional>
+#include <string_view>
 
 #include <glm/glm.hpp>
 
@@ -25,7 +27,15 @@ enum class RenderMethod : std::uint32_t {
   // walked along the ray in the fragment shader: fewer proxies still (issue 20, step 3).
   CellBricks = 4,
 };
+// Every method, in the order of their values: the one list of SDF methods (the samples' method
+// choice, their settings files and command lines, loop over it), with the one name table below.
+inline constexpr RenderMethod kRenderMethods[] = {RenderMethod::Cells, RenderMethod::TrilinearSphereTrace,
+                                                  RenderMethod::HermiteSphereTrace, RenderMethod::CellRuns,
+                                                  RenderMethod::CellBricks};
+// "cells", "trilinear", "hermite", "cells-runs", "cell-bricks": the names of the command lines and
+// settings files. parseRenderMethod is case-sensitive, as the command line is.
 const char* renderMethodName(RenderMethod method);
+std::optional<RenderMethod> parseRenderMethod(std::string_view name);
 
 enum class NormalMode : std::uint32_t {
   Exact = 0,               // analytic gradient of the interpolant

@@ -5,7 +5,7 @@
 
 #include <fmt/format.h>
 
-#include "engine/scene/gltf_loader.h"
+#include "engine/scene/gltf/gltf_loader.h"
 #include "hermite_sdf/core/analytic.h"
 #include "hermite_sdf/core/cells.h"
 #include "hermite_sdf/core/hsdf_file.h"

@@ -8,7 +8,7 @@
 #include <string>
 #include <vector>
 
-#include "engine/scene/gltf_loader.h"
+#include "engine/scene/gltf/gltf_loader.h"
 #include "hermite_sdf/core/bake_job.h"
 
 namespace hsdf {

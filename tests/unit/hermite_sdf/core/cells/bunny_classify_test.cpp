@@ -5,7 +5,7 @@
 #include <cmath>
 #include <cstring>
 
-#include "engine/scene/gltf_loader.h"
+#include "engine/scene/gltf/gltf_loader.h"
 #include "hermite_sdf/core/cells.h"
 #include "hermite_sdf/core/mesh_source.h"
 

@@ -9,7 +9,7 @@
 #include <limits>
 #include <string>
 
-#include "engine/scene/gltf_loader.h"
+#include "engine/scene/gltf/gltf_loader.h"
 #include "hermite_sdf/core/analytic.h"
 #include "hermite_sdf/core/bake_job.h"
 #include "hermite_sdf/core/cells.h"

@@ -11,7 +11,7 @@
 #include <utility>
 
 #include "engine/core/math.h"
-#include "engine/scene/gltf_loader.h"
+#include "engine/scene/gltf/gltf_loader.h"
 #include "hermite_sdf/core/analytic.h"
 #include "hermite_sdf/core/hermite.h"
 #include "hermite_sdf/core/mesh_source.h"

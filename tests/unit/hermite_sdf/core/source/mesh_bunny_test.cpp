@@ -3,7 +3,7 @@
 
 #include <gtest/gtest.h>
 
-#include "engine/scene/gltf_loader.h"
+#include "engine/scene/gltf/gltf_loader.h"
 #include "hermite_sdf/core/mesh_source.h"
 #include "mesh_test_meshes.h"
 

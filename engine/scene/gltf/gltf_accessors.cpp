@@ -1,5 +1,5 @@
 // Checked reads of a parsed glTF model (gltf_accessors.h).
-#include "engine/scene/gltf_accessors.h"
+#include "engine/scene/gltf/gltf_accessors.h"
 
 #include <algorithm>
 #include <array>

@@ -1,6 +1,6 @@
 // glTF import: the committed bunny, a hand-written hierarchy, feature cases built in memory, and
 // malformed files that must give an error naming the file and the problem (never a crash or hang).
-#include "engine/scene/gltf_loader.h"
+#include "engine/scene/gltf/gltf_loader.h"
 
 #include <gtest/gtest.h>
 

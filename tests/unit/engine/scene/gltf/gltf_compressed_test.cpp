@@ -16,8 +16,8 @@
 #include <nlohmann/json.hpp>
 
 #include "engine/core/files.h"
-#include "engine/scene/gltf_compression.h"
-#include "engine/scene/gltf_loader.h"
+#include "engine/scene/gltf/gltf_compression.h"
+#include "engine/scene/gltf/gltf_loader.h"
 
 namespace engine::scene {
 namespace {

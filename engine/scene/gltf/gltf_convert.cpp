@@ -1,5 +1,5 @@
 // glTF model -> SceneData (gltf_convert.h): primitives, materials and cameras, nodes, the whole model.
-#include "engine/scene/gltf_convert.h"
+#include "engine/scene/gltf/gltf_convert.h"
 
 #include <algorithm>
 #include <array>
@@ -20,7 +20,7 @@
 #include <nlohmann/json.hpp>
 
 #include "engine/core/log.h"
-#include "engine/scene/gltf_compression.h"
+#include "engine/scene/gltf/gltf_compression.h"
 
 namespace engine::scene::gltf {
 namespace {

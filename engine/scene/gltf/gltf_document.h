@@ -14,7 +14,7 @@
 #include <tiny_gltf.h>
 
 #include "engine/core/expected.h"
-#include "engine/scene/gltf_compression.h"
+#include "engine/scene/gltf/gltf_compression.h"
 
 namespace engine::scene::gltf {
 

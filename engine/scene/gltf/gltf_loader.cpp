@@ -20,7 +20,7 @@
 // The JSON is checked against the glTF 2.0 schema's ranges first (gltf_validate.h: tinygltf drops
 // or wraps some out-of-range numbers silently). Everything else tinygltf leaves unchecked (ranges
 // against the buffers' real bytes, node graph, finiteness) is checked in the conversion below
-#include "engine/scene/gltf_loader.h"
+#include "engine/scene/gltf/gltf_loader.h"
 
 #include <cstdint>
 #include <string>
@@ -31,8 +31,8 @@
 
 #include "engine/core/files.h"
 #include "engine/core/log.h"
-#include "engine/scene/gltf_convert.h"
-#include "engine/scene/gltf_document.h"
+#include "engine/scene/gltf/gltf_convert.h"
+#include "engine/scene/gltf/gltf_document.h"
 
 namespace engine::scene {
 namespace {

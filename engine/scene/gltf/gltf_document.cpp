@@ -1,6 +1,6 @@
 // The glTF document before conversion (gltf_document.h): GLB container, JSON sanitising and the
 // extension plan, tinygltf with our own file access.
-#include "engine/scene/gltf_document.h"
+#include "engine/scene/gltf/gltf_document.h"
 
 #include <algorithm>
 #include <array>
@@ -18,7 +18,7 @@
 
 #include "engine/core/files.h"
 #include "engine/core/log.h"
-#include "engine/scene/gltf_validate.h"
+#include "engine/scene/gltf/gltf_validate.h"
 
 namespace engine::scene::gltf {
 namespace {

@@ -1,4 +1,4 @@
-#include "engine/scene/gltf_compression.h"
+#include "engine/scene/gltf/gltf_compression.h"
 
 #include <algorithm>
 #include <cmath>

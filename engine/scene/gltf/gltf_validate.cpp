@@ -1,6 +1,6 @@
 // glTF 2.0 schema ranges on the raw JSON (see gltf_validate.h for why not on tinygltf's Model).
 // Field paths in messages are JSON paths as the file spells them: accessors[3].sparse.count.
-#include "engine/scene/gltf_validate.h"
+#include "engine/scene/gltf/gltf_validate.h"
 
 #include <algorithm>
 #include <array>

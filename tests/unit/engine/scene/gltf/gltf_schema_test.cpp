@@ -15,7 +15,7 @@
 #include <glm/glm.hpp>
 #include <nlohmann/json.hpp>
 
-#include "engine/scene/gltf_loader.h"
+#include "engine/scene/gltf/gltf_loader.h"
 
 namespace engine::scene {
 namespace {

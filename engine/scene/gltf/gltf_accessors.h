@@ -12,7 +12,7 @@
 #include <tiny_gltf.h>
 
 #include "engine/core/expected.h"
-#include "engine/scene/gltf_document.h"
+#include "engine/scene/gltf/gltf_document.h"
 
 namespace engine::scene::gltf {
 

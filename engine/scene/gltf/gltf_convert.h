@@ -7,7 +7,7 @@
 #include <tiny_gltf.h>
 
 #include "engine/core/expected.h"
-#include "engine/scene/gltf_accessors.h"
+#include "engine/scene/gltf/gltf_accessors.h"
 #include "engine/scene/scene_data.h"
 
 namespace engine::scene::gltf {

@@ -1,0 +1,84 @@
+// The engine's ImGui layer, headless (no window, as the runner's --headless --ui screenshots): its
+// panels draw in registration order over the finished frame, inside the one main window, and
+// touch nothing else.
+#include <gtest/gtest.h>
+
+#include <imgui.h>
+
+#include <string>
+#include <vector>
+
+#include "engine/render/camera_view.h"
+#include "engine/ui/ui_layer.h"
+#include "gpu_test_support.h"
+
+namespace {
+
+using engine::render::CameraView;
+
+class UiLayerTest : public gputest::GpuTest {
+ protected:
+  static constexpr std::uint32_t kWidth = 256, kHeight = 192;
+  // The main window's rectangle: UiLayer::buildFrame places it at (10, 10), 420 wide, the frame's
+  // height less 20 tall (clipped by the frame).
+  static bool insideWindow(std::uint32_t x, std::uint32_t y) { return x >= 10 && y >= 10 && y < kHeight - 10; }
+
+  void SetUp() override {
+    GpuTest::SetUp();
+    createRenderer(kWidth, kHeight);
+    addQuad({0.0f, 0.0f, 0.0f}, 1.5f, {0.9f, 0.3f, 0.2f, 1.0f});
+  }
+  CameraView camera() const { return CameraView::lookAt({0.0f, 0.0f, 2.0f}, {0.0f, 0.0f, 0.0f}, 0.9f, 0.05f, 4.0f / 3.0f); }
+  gputest::Frame renderWithOverlay(engine::ui::UiLayer& ui) {
+    ui.buildFrame(renderer_->extent(), 1.0f / 60.0f);
+    engine::render::FrameSettings settings;
+    settings.overlay = &ui;
+    renderer_->renderFrame(registry_, camera(), settings);
+    gputest::Frame frame;
+    frame.width = kWidth;
+    frame.height = kHeight;
+    frame.rgba = renderer_->readbackColor();
+    frame.depth = renderer_->readbackDepth();
+    return frame;
+  }
+};
+
+// Tricky: the layer draws in a render pass of its own after the scene, loading the colour target;
+// a wrong load op, layout or dependency would clear or corrupt the scene outside the window, and
+// panels drawn out of order or twice would scramble every feature's tuning panel.
+TEST_F(UiLayerTest, PanelsDrawInOrderInsideTheWindowOverTheScene) {
+  const gputest::Frame scene = render(camera());
+  auto made = engine::ui::UiLayer::create(*context_, renderer_->desc().formats.color, renderer_->desc().framesInFlight, nullptr);
+  ASSERT_TRUE(made) << made.error().message;
+  std::unique_ptr<engine::ui::UiLayer> ui = std::move(*made);
+  ui->setWindowTitle("ui layer test");
+  std::vector<std::string> calls;
+  ui->addPanel("first", [&] {
+    calls.push_back("first");
+    ImGui::TextUnformatted("first panel");
+  });
+  ui->addPanel("second", [&] {
+    calls.push_back("second");
+    ImGui::Button("a button", ImVec2(200.0f, 60.0f));
+  });
+
+  const gputest::Frame withUi = renderWithOverlay(*ui);
+  EXPECT_EQ(calls, (std::vector<std::string>{"first", "second"}));
+  EXPECT_FALSE(ui->wantsMouse());  // headless: no cursor over the window
+  std::size_t changedInside = 0, changedOutside = 0;
+  for (std::uint32_t y = 0; y < kHeight; ++y) {
+    for (std::uint32_t x = 0; x < kWidth; ++x) {
+      const bool changed = scene.pixel(x, y) != withUi.pixel(x, y);
+      (insideWindow(x, y) ? changedInside : changedOutside) += changed ? 1 : 0;
+    }
+  }
+  EXPECT_EQ(changedOutside, 0u) << "the overlay drew outside its window";
+  EXPECT_GT(changedInside, std::size_t(kWidth * kHeight) / 4) << "the window's background and panels";
+  EXPECT_EQ(scene.depth, withUi.depth) << "the overlay must not touch the prepass depth";
+
+  // The next frame calls each panel once more, in the same order.
+  renderWithOverlay(*ui);
+  EXPECT_EQ(calls, (std::vector<std::string>{"first", "second", "first", "second"}));
+}
+
+}  // namespace
