@@ -1,7 +1,6 @@
 #include "viewer.h"
 
 #include <algorithm>
-#include <chrono>
 
 #include <GLFW/glfw3.h>
 
@@ -9,7 +8,6 @@
 #include <fmt/ranges.h>
 #include <imgui.h>
 
-#include "engine/core/image_io.h"
 #include "engine/core/log.h"
 #include "engine/gpu/pipeline.h"
 #include "engine/gpu/swapchain.h"
@@ -44,21 +42,6 @@ Status checkImageSize(const ViewerDesc& desc, const gpu::Context& context) {
                                desc.width, desc.height, context.capabilities().deviceName, limit));
 }
 
-double nowSeconds() {
-  return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count();
-}
-
-// How long a script waits for the window system to apply a request (minimise, restore, resize).
-constexpr double kWindowSystemSeconds = 2.0;
-
-// Handles window events until `done()` or kWindowSystemSeconds have passed; whether it is done.
-template <class Done>
-bool waitForWindowSystem(platform::Window& window, Done done) {
-  const double deadline = nowSeconds() + kWindowSystemSeconds;
-  while (!done() && nowSeconds() < deadline) window.waitEvents(0.01);
-  return done();
-}
-
 }  // namespace
 
 Expected<std::unique_ptr<Viewer>> Viewer::create(const ViewerDesc& desc) {
@@ -81,11 +64,11 @@ Status Viewer::initialize(const ViewerDesc& desc) {
   contextDesc.device = desc.device;
   if (desc.validation) contextDesc.validation = true;
   if (!desc.headless) {
-    ENGINE_TRY_ASSIGN(window_, platform::Window::create(desc.title, int(desc.width), int(desc.height)));
+    ENGINE_TRY_ASSIGN(window_, ViewerWindow::create(desc.title, desc.width, desc.height));
     contextDesc.instanceExtensions = platform::Window::requiredInstanceExtensions();
     contextDesc.swapchain = true;
   }
-  bakeBudget_ = desc.bakeBudget;
+  bakes_.setBudget(desc.bakeBudget);
   ENGINE_TRY_ASSIGN(context_, gpu::Context::create(contextDesc));
   context_->allocator().setBudget(desc.gpuMemoryBudget);
   ENGINE_TRY(checkImageSize(desc, *context_));
@@ -93,23 +76,23 @@ Status Viewer::initialize(const ViewerDesc& desc) {
 
   VkExtent2D extent{desc.width, desc.height};
   if (window_) {
-    ENGINE_TRY(window_->createSurface(context_->instance()));
-    ENGINE_TRY_ASSIGN(swapchain_, gpu::Swapchain::create(*context_, window_->surface(), window_->framebufferExtent(), true));
-    extent = swapchain_->extent();
+    ENGINE_TRY(window_->createSwapchain(*context_));
+    extent = window_->swapchain().extent();
   }
   renderer_ = std::make_unique<render::Renderer>(*context_, render::RendererDesc{}, extent);
   ENGINE_TRY(hsdf::addSceneFeatures(*renderer_, *pool_));
   if (window_ || desc.headlessUi) {
     ENGINE_TRY_ASSIGN(ui_, ui::UiLayer::create(*context_, renderer_->desc().formats.color,
-                                               renderer_->desc().framesInFlight, window_.get()));
+                                               renderer_->desc().framesInFlight,
+                                               window_ ? &window_->window() : nullptr));
     ui_->setWindowTitle(kProgramName);
     if (!desc.uiIniFile.empty()) ui_->setIniFile(desc.uiIniFile.string());
     panel_ = std::make_unique<TuningPanel>(*this);
     ui_->addPanel("tuning", [this] { panel_->draw(); });
     ui_->addFeaturePanels(*renderer_);
   }
-  differenceOverlay_ = std::make_unique<ImageOverlay>(*context_, renderer_->desc().framesInFlight);
-  lastFrameTime_ = nowSeconds();
+  compare_.createOverlay(*context_, renderer_->desc().framesInFlight);
+  if (window_) window_->startFrameClock();
   return {};
 }
 
@@ -152,164 +135,45 @@ void Viewer::setCameraMode(CameraMode mode) {
 
 void Viewer::setTuning(const TuningState& tuning) {
   tuning_ = tuning;
-  if (objectScene_ && (tuning_.resolution != bakedResolution_ || tuning_.padding != bakedPadding_)) {
-    if (Status rebaked = rebakeSceneObjects(); !rebaked) log::error("{}", rebaked.error().message);
+  if (sceneObjects_.loaded() && (tuning_.resolution != bakes_.resolution() || tuning_.padding != bakes_.padding())) {
+    if (Status rebaked = sceneObjects_.rebake(); !rebaked) log::error("{}", rebaked.error().message);
   }
   updateCompareBake();
-  if (!bakeSource_ || (!bakedEntity_ && !isSdfMethod(tuning.method) && !comparing(tuning))) return;
-  // A scene loaded as meshes bakes its SDF when an SDF method (or a comparison) is first picked.
-  if (!bakedEntity_) {
-    if (!bakeJob_) startRebake();
-    return;
-  }
-  // Compared with what is being baked, else with what is drawn.
-  const int resolution = bakeJob_ ? bakeJob_->settings().resolution : bakedResolution_;
-  const int padding = bakeJob_ ? bakeJob_->settings().padding : bakedPadding_;
-  // A sparse bake (the cells past K = 256) has no dense field: a dense tracer needs a re-bake.
-  const hsdf::SdfAsset* drawn = sdfAsset();
-  const bool sparse = bakeJob_ ? bakeJob_->settings().band == hsdf::BakeBand::Sparse
-                               : drawn && drawn->field.samples.empty();
-  const bool needsDense = isSdfMethod(tuning.method) && !drawsCells(tuning.method);
-  if (tuning.resolution != resolution || tuning.padding != padding || (sparse && needsDense)) startRebake();
+  bakes_.followTuning();
 }
 
-// Starts the compared side's bake when it should draw another K (or padding) than it has. The
-// main asset at the same K and padding is the same field: it is shared, not baked twice.
+// The compared side shares the asset baked at K (level 0 when levels of detail draw another).
 void Viewer::updateCompareBake() {
-  if (!comparing(tuning_) || drawsCells(tuning_.compareMethod) || !bakeSource_) return;
-  const int k = effectiveCompareResolution(tuning_);
-  const int padding = tuning_.padding;
-  const bool have = compareAsset_ && compareResolution_ == k && comparePadding_ == padding;
-  const bool baking = compareJob_ && compareJob_->settings().resolution == k && compareJob_->settings().padding == padding;
-  if (baking || (have && !compareJob_)) return;
-  compareJob_.reset();  // cancels a bake for a K no longer asked for
-  if (have || compareFailed_ == std::pair{k, padding}) return;
-  // Shared: the asset baked at K (level 0 when levels of detail draw another), if it has the dense
-  // field the compared tracer needs (a sparse cell bake has none).
-  const hsdf::HermiteSdfRenderable* r = sdfRenderable();
-  const hsdf::HermiteSdfLod* lod = bakedEntity_ ? registry_.tryGet<hsdf::HermiteSdfLod>(*bakedEntity_) : nullptr;
-  const auto baked = lod && !lod->levels.empty() ? lod->levels.front() : r ? r->asset : nullptr;
-  if (baked && !baked->field.samples.empty() && k == bakedResolution_ && padding == bakedPadding_) {
-    compareAsset_ = baked;
-    compareResolution_ = k;
-    comparePadding_ = padding;
-    return;
-  }
-  hsdf::BakeSettings settings;
-  settings.resolution = k;
-  settings.padding = padding;
-  settings.budget = bakeBudget_;
-  compareBakeError_.clear();
-  compareJob_ = std::make_unique<hsdf::BakeJob>(*bakeSource_, settings);
-}
-
-// A failed compared bake is not retried for the same K (the reason is in compareBakeError()).
-void Viewer::finishCompareBake() {
-  hsdf::BakeJob::Result result = compareJob_->wait();
-  const hsdf::BakeSettings settings = compareJob_->settings();
-  compareJob_.reset();
-  if (!result) {
-    compareBakeError_ = result.error().withContext(fmt::format("baking the compared side at resolution {}", settings.resolution)).message;
-    compareFailed_ = {settings.resolution, settings.padding};
-    log::warn("{}", compareBakeError_);
-    return;
-  }
-  log::info("compared side baked at resolution {}: {}", settings.resolution, describeSdfStats(sdfStats(**result)));
-  compareAsset_ = std::move(*result);
-  compareResolution_ = settings.resolution;
-  comparePadding_ = settings.padding;
+  compare_.updateBake(tuning_, bakes_.source(), {bakes_.bakedAsset(), bakes_.resolution(), bakes_.padding()},
+                      bakes_.budget());
 }
 
 int Viewer::compareResolutionDrawn() const {
-  if (drawsCells(tuning_.compareMethod) || !compareAsset_) return bakedEntity_ ? bakedResolution_ : 0;
-  return compareResolution_;
-}
-
-void Viewer::startRebake() {
-  hsdf::BakeSettings settings;
-  settings.resolution = tuning_.resolution;
-  settings.padding = tuning_.padding;
-  settings.band = bakeBandFor(tuning_.method, tuning_.resolution);
-  settings.budget = bakeBudget_;
-  bakeError_.clear();
-  bakeJob_.reset();  // cancels a re-bake for settings that are already outdated
-  bakeJob_ = std::make_unique<hsdf::BakeJob>(*bakeSource_, settings);
+  return compare_.resolutionDrawn(tuning_, bakes_.entity() ? bakes_.resolution() : 0);
 }
 
 void Viewer::cancelBake() {
-  if (bakeJob_) bakeJob_->cancel();
-  if (compareJob_) compareJob_->cancel();
-  if (levelJob_) levelJob_->cancel();
-}
-
-// Swaps the re-bake's asset into the entity (waiting for it). A failed one leaves the old asset
-// and puts the tuning back to the K drawn (or to the meshes, when there is no SDF yet), so that
-// the panel shows what is on screen; the reason stays in bakeError().
-Status Viewer::finishBake() {
-  hsdf::BakeJob::Result result = bakeJob_->wait();
-  const hsdf::BakeSettings settings = bakeJob_->settings();
-  bakeJob_.reset();
-  if (!result) {
-    const Error error = result.error().withContext(fmt::format("re-baking at resolution {}", settings.resolution));
-    bakeError_ = error.message;
-    if (bakedEntity_) {
-      tuning_.resolution = bakedResolution_;
-      tuning_.padding = bakedPadding_;
-    } else {
-      tuning_.method = Method::Mesh;
-    }
-    return error;
-  }
-  log::info("re-baked at resolution {}: {}", settings.resolution, describeSdfStats(sdfStats(**result)));
-  if (bakedEntity_) {
-    hsdf::HermiteSdfRenderable& sdf = hiddenSdf_ ? *hiddenSdf_ : registry_.get<hsdf::HermiteSdfRenderable>(*bakedEntity_);
-    // With levels of detail the renderable holds the level drawn; the bake replaced level 0.
-    const hsdf::HermiteSdfLod* lod = registry_.tryGet<hsdf::HermiteSdfLod>(*bakedEntity_);
-    replaced_ = {lod && !lod->levels.empty() ? lod->levels.front() : sdf.asset, bakedResolution_, bakedPadding_};
-    sdf.asset = std::move(*result);
-  } else {
-    bakedEntity_ = addSdfEntity(std::move(*result), glm::vec3(0.0f), sdfColor_ ? &*sdfColor_ : nullptr);
-  }
-  bakedResolution_ = settings.resolution;
-  bakedPadding_ = settings.padding;
-  return {};
+  bakes_.cancel();
+  compare_.cancelBake();
 }
 
 Status Viewer::waitForBake() {
-  const Status main = bakeJob_ ? finishBake() : Status{};
-  if (compareJob_) finishCompareBake();
+  const Status main = bakes_.job() ? bakes_.finish() : Status{};
+  if (compare_.bakeJob()) compare_.finishBake();
   updateCompareBake();  // e.g. the compared side can share the new main asset
   updateLevelsOfDetail(true);
   return main;
 }
 
-hsdf::HermiteSdfRenderable* Viewer::sdfRenderable() {
-  if (hiddenSdf_) return &*hiddenSdf_;
-  if (!bakedEntity_) return nullptr;
-  return &registry_.get<hsdf::HermiteSdfRenderable>(*bakedEntity_);
-}
-
-const hsdf::SdfAsset* Viewer::sdfAsset() const {
-  if (hiddenSdf_) return hiddenSdf_->asset.get();
-  if (!bakedEntity_) return nullptr;
-  return registry_.get<hsdf::HermiteSdfRenderable>(*bakedEntity_).asset.get();
-}
+const hsdf::SdfAsset* Viewer::sdfAsset() const { return bakes_.asset(); }
 
 // The method picks what is drawn: the SDF, or the scene's meshes (also while the first SDF of a
 // mesh scene bakes, and always beside it with --side-by-side).
 void Viewer::updateVisibility(Method method, bool meshes) {
-  const bool sdfShown = isSdfMethod(method) && (bakedEntity_ || !objectEntities_.empty());
+  const bool sdfShown = isSdfMethod(method) && (bakes_.entity() || !sceneObjects_.entities().empty());
   const bool meshesShown = meshes && (sideBySide_ || !sdfShown);
-  updateObjectVisibility(sdfShown);
-  if (bakedEntity_ && sdfShown == hiddenSdf_.has_value()) {
-    if (sdfShown) {
-      registry_.emplace<hsdf::HermiteSdfRenderable>(*bakedEntity_, std::move(*hiddenSdf_));
-      hiddenSdf_.reset();
-    } else {
-      hiddenSdf_ = registry_.get<hsdf::HermiteSdfRenderable>(*bakedEntity_);
-      registry_.remove<hsdf::HermiteSdfRenderable>(*bakedEntity_);
-    }
-  }
+  sceneObjects_.setShown(sdfShown);
+  bakes_.setShown(sdfShown);
   if (meshesShown && !hiddenMeshes_.empty()) {
     for (auto& [entity, mesh] : hiddenMeshes_) registry_.emplace<render::MeshRenderable>(entity, mesh);
     hiddenMeshes_.clear();
@@ -345,138 +209,23 @@ void Viewer::applyTuningToScene() {
   tracers.centralDifferenceStep = tuning_.centralDifferenceStep;
 }
 
-// Levels of detail (TuningState::lod): the baked entity carries an hsdf::HermiteSdfLod whose level 0
-// is the asset baked at K. A renderable holding none of the levels has a new bake (re-bake, refused
-// bake put back): its coarser levels are baked then, from the same source, with its band, one
-// hsdf::BakeJob per level on a worker thread (finer first), so that the frame never waits for them;
-// the module's system picks among the levels ready so far, from the camera of this frame. Off: the
-// entity draws level 0 again. `wait` (waitForBake) finishes every level and leaves the choice to
-// the next frame.
+// Levels of detail (TuningState::lod): the scene objects' or the SDF entity's. `wait` (waitForBake)
+// finishes every level and leaves the choice to the next frame.
 void Viewer::updateLevelsOfDetail(bool wait) {
-  if (objectScene_) return updateObjectLevels(!wait);
-  hsdf::HermiteSdfRenderable* renderable = sdfRenderable();
-  if (!renderable) return;
-  hsdf::HermiteSdfLod* lod = registry_.tryGet<hsdf::HermiteSdfLod>(*bakedEntity_);
-  const bool holdsLevel =
-      lod && std::find(lod->levels.begin(), lod->levels.end(), renderable->asset) != lod->levels.end();
-  if (!tuning_.lod || !bakeSource_) {
-    levelJob_.reset();
-    // A level goes back to level 0; a new bake in the renderable stays.
-    if (holdsLevel) renderable->asset = lod->levels.front();
-    if (lod) registry_.remove<hsdf::HermiteSdfLod>(*bakedEntity_);
-    return;
-  }
-  if (!holdsLevel) startLevelBakes(renderable->asset);
-  if (Status baked = finishLevelBakes(wait); !baked) {
-    bakeError_ = baked.error().message;
-    log::warn("{} (levels of detail turned off)", bakeError_);
-    tuning_.lod = false;
-    return;
-  }
-  registry_.get<hsdf::HermiteSdfLod>(*bakedEntity_).pixelsPerCell = tuning_.lodPixelsPerCell;
-  if (!wait) hsdf::selectSdfLevels(registry_, cameraView(), renderer_->extent().height);
-}
-
-// New levels with `finest` (baked at bakedResolution_) as level 0, the coarser ones to come.
-void Viewer::startLevelBakes(std::shared_ptr<const hsdf::SdfAsset> finest) {
-  levelJob_.reset();  // a level of the old level 0 is outdated
-  hsdf::BakeSettings settings;
-  settings.resolution = bakedResolution_;
-  settings.padding = bakedPadding_;
-  settings.band = finest->field.samples.empty() ? hsdf::BakeBand::Sparse : hsdf::BakeBand::Dense;
-  settings.budget = bakeBudget_;
-  hsdf::HermiteSdfLod lod;
-  lod.levels = {std::move(finest)};
-  registry_.emplaceOrReplace<hsdf::HermiteSdfLod>(*bakedEntity_, std::move(lod));
-  startNextLevelBake(settings);
-}
-
-void Viewer::startNextLevelBake(const hsdf::BakeSettings& previous) {
-  if (const std::optional<hsdf::BakeSettings> next = hsdf::coarserLodLevel(previous))
-    levelJob_ = std::make_unique<hsdf::BakeJob>(*bakeSource_, *next);
-  else
-    log::info("levels of detail: {} levels from K = {}", registry_.get<hsdf::HermiteSdfLod>(*bakedEntity_).levels.size(),
-              bakedResolution_);
-}
-
-// Adds the levels whose bakes are done (all of them when `wait`), starting the next one each time.
-Status Viewer::finishLevelBakes(bool wait) {
-  while (levelJob_ && (wait || levelJob_->done())) {
-    hsdf::BakeJob::Result result = levelJob_->wait();
-    const hsdf::BakeSettings settings = levelJob_->settings();
-    levelJob_.reset();
-    if (!result) return result.error().withContext(fmt::format("levels of detail: level K = {}", settings.resolution));
-    registry_.get<hsdf::HermiteSdfLod>(*bakedEntity_).levels.push_back(std::move(*result));
-    startNextLevelBake(settings);
-  }
-  return {};
+  const bool levels = sceneObjects_.loaded() ? sceneObjects_.updateLevels() : bakes_.updateLevels(wait);
+  if (levels && !wait) hsdf::selectSdfLevels(registry_, cameraView(), renderer_->extent().height);
 }
 
 // The scene as `tuning` draws it, the SDF entity showing `asset`: a view region's override.
 void Viewer::showState(const TuningState& tuning, const std::shared_ptr<const hsdf::SdfAsset>& asset) {
-  if (hsdf::HermiteSdfRenderable* r = sdfRenderable(); r && asset) r->asset = asset;
+  if (hsdf::HermiteSdfRenderable* r = bakes_.renderable(); r && asset) r->asset = asset;
   updateVisibility(tuning.method);
   registry_.view<hsdf::HermiteSdfRenderable>().each(
       [&tuning](ecs::Entity, hsdf::HermiteSdfRenderable& renderable) { applyTuning(tuning, renderable); });
 }
 
-// The compared side's asset: its own bake, or the main one (a compared method of cells, a .hsdf
-// file, or while the first compared bake runs).
-std::shared_ptr<const hsdf::SdfAsset> Viewer::comparedAsset(const std::shared_ptr<const hsdf::SdfAsset>& main) const {
-  if (drawsCells(tuning_.compareMethod) || !compareAsset_) return main;
-  return compareAsset_;
-}
-
-// Two regions split at the divider: the main tuning left (top), the compared one right (bottom).
 std::vector<render::ViewRegion> Viewer::splitRegions(const std::shared_ptr<const hsdf::SdfAsset>& main) {
-  const VkExtent2D e = renderer_->extent();
-  const bool vertical = tuning_.split == SplitMode::Vertical;
-  const auto divider = std::uint32_t(std::lround(double(tuning_.splitPosition) * (vertical ? e.width : e.height)));
-  VkRect2D first{{0, 0}, e}, second{{0, 0}, e};
-  if (vertical) {
-    first.extent.width = divider;
-    second.offset.x = std::int32_t(divider);
-    second.extent.width = e.width - divider;
-  } else {
-    first.extent.height = divider;
-    second.offset.y = std::int32_t(divider);
-    second.extent.height = e.height - divider;
-  }
-  const TuningState compared = compareTuning(tuning_);
-  const std::shared_ptr<const hsdf::SdfAsset> other = comparedAsset(main);
-  return {{first, [this, main] { showState(tuning_, main); }},
-          {second, [this, compared, other] { showState(compared, other); }}};
-}
-
-// One frame of the normals view with `tuning` and `asset`, read back.
-NormalsFrame Viewer::renderNormals(const TuningState& tuning, const std::shared_ptr<const hsdf::SdfAsset>& asset) {
-  showState(tuning, asset);
-  render::FrameSettings settings;
-  settings.debugView = DEBUG_VIEW_NORMALS;
-  renderer_->renderFrame(registry_, cameraView(), settings);
-  NormalsFrame frame;
-  frame.rgba = renderer_->readbackColor();
-  frame.visibility = renderer_->readbackVisibility();
-  return frame;
-}
-
-// The two methods' normals frames (the SDF alone: meshes and the ground would count as covered by
-// both), compared on the CPU; the heat map goes to the overlay of the frame drawn next. Needs an
-// SDF method on the main side (then the scene's meshes are already hidden, see updateVisibility).
-Status Viewer::renderDifference(const std::shared_ptr<const hsdf::SdfAsset>& main) {
-  std::vector<std::pair<ecs::Entity, render::MeshRenderable>> meshes;
-  registry_.view<render::MeshRenderable>().each(
-      [&meshes](ecs::Entity entity, const render::MeshRenderable& mesh) { meshes.emplace_back(entity, mesh); });
-  for (const auto& entry : meshes) registry_.remove<render::MeshRenderable>(entry.first);
-  const NormalsFrame a = renderNormals(tuning_, main);
-  const NormalsFrame b = renderNormals(compareTuning(tuning_), comparedAsset(main));
-  for (const auto& [entity, mesh] : meshes) registry_.emplace<render::MeshRenderable>(entity, mesh);
-  showState(tuning_, main);
-  const VkExtent2D extent = renderer_->extent();
-  ENGINE_TRY_ASSIGN(NormalDifference d, compareNormals(a, b, extent.width, extent.height));
-  differenceOverlay_->setImage(heatMapImage(d, differenceRange_), extent.width, extent.height);
-  difference_ = std::move(d);
-  return {};
+  return compare_.splitRegions(tuning_, renderer_->extent(), main);
 }
 
 void Viewer::rebuildAndReloadShaders() {
@@ -502,47 +251,14 @@ std::vector<render::Renderer::ShaderReload> Viewer::reloadShaders() {
 
 bool Viewer::shouldClose() const { return window_ && window_->shouldClose(); }
 
-// A minimised window (or a 0x0 framebuffer) gets no swapchain: the old one waits, marked stale,
-// and the first drawable step recreates it (an out-of-date swapchain may report the old size).
-Status Viewer::recreateSwapchain() {
-  swapchainStale_ = true;
-  if (window_->minimized()) return {};
-  ENGINE_TRY(swapchain_->recreate(window_->framebufferExtent()));
-  swapchainStale_ = false;
-  ++swapchainRecreations_;
-  log::debug("swapchain recreated: {}x{}", swapchain_->extent().width, swapchain_->extent().height);
-  renderer_->resize(swapchain_->extent());
-  return {};
-}
-
-// While minimised the step sleeps for events (at most kMinimizedWaitSeconds) and draws nothing,
-// so that the caller's loop (scripts, finished bakes, closing) goes on without spinning.
-Status Viewer::handleWindow(float dt, bool& drawable) {
-  constexpr double kMinimizedWaitSeconds = 0.05;
-  window_->pollEvents();
-  drawable = !window_->minimized();
-  if (!drawable) {
-    if (skippedSteps_++ == 0) {
-      const VkExtent2D e = window_->framebufferExtent();
-      log::info("window minimised (framebuffer {}x{}): drawing nothing until it is restored", e.width, e.height);
-    }
-    window_->waitEvents(kMinimizedWaitSeconds);
-    return {};
-  }
-  if (skippedSteps_ > 0) {
-    log::info("window restored after {} step(s) without a frame", skippedSteps_);
-    skippedSteps_ = 0;
-  }
-  platform::InputState& input = window_->input();
+// Input of a drawable windowed frame: the UI's capture of mouse and keyboard, keys, the camera.
+void Viewer::handleInput(float dt) {
+  platform::InputState& input = window_->window().input();
   input.uiWantsMouse = ui_ && uiVisible_ && ui_->wantsMouse();
   input.uiWantsKeyboard = ui_ && uiVisible_ && ui_->wantsKeyboard();
   handleKeys(input);
   if (cameraMode_ == CameraMode::Orbit) orbit_.update(input);
   else fly_.update(input, std::min(dt, 0.1f));  // a stall does not throw the camera across the scene
-  const VkExtent2D extent = window_->framebufferExtent();
-  if (swapchainStale_ || extent.width != swapchain_->extent().width || extent.height != swapchain_->extent().height)
-    ENGINE_TRY(recreateSwapchain());
-  return {};
 }
 
 // F1: panel on/off; F2: orbit/fly camera; F11: full screen. On the press, not while held.
@@ -557,22 +273,13 @@ void Viewer::handleKeys(const platform::InputState& input) {
   std::copy(std::begin(input.keys), std::end(input.keys), std::begin(keysDown_));
 }
 
-Status Viewer::setVsync(bool vsync) {
-  if (!swapchain_ || vsync == vsync_) return {};
-  // The present mode is fixed at swapchain creation: a new swapchain (later, when minimised).
-  swapchain_->setVsync(vsync);
-  vsync_ = vsync;
-  return recreateSwapchain();
-}
+Status Viewer::setVsync(bool vsync) { return window_ ? window_->setVsync(vsync, *renderer_) : Status{}; }
+
+bool Viewer::vsync() const { return !window_ || window_->vsync(); }
 
 Status Viewer::setMinimized(bool minimized) {
   if (!window_) return makeError("minimise/restore: no window (headless)");
-  if (minimized) window_->iconify();
-  else window_->restore();
-  if (!waitForWindowSystem(*window_, [&] { return window_->minimized() == minimized; }))
-    return makeError(fmt::format("the window system did not {} the window within {} s (X11 needs a window manager for this)",
-                                 minimized ? "minimise" : "restore", kWindowSystemSeconds));
-  return {};
+  return window_->setMinimized(minimized);
 }
 
 void Viewer::setFullscreen(bool fullscreen) {
@@ -581,60 +288,45 @@ void Viewer::setFullscreen(bool fullscreen) {
 
 bool Viewer::fullscreen() const { return window_ && window_->fullscreen(); }
 
+std::uint64_t Viewer::swapchainRecreations() const { return window_ ? window_->swapchainRecreations() : 0; }
+
 void Viewer::resize(std::uint32_t width, std::uint32_t height) {
-  if (window_) {
-    window_->setSize(int(width), int(height));
-    requestedSize_ = {width, height};
-    return;
-  }
+  if (window_) return window_->requestSize(width, height);
   context_->waitIdle();
   renderer_->resize({width, height});
 }
 
-Status Viewer::waitForWindowSize() {
-  if (!window_ || requestedSize_.width == 0) return {};
-  auto reached = [this] {
-    const VkExtent2D e = window_->framebufferExtent();
-    return e.width == requestedSize_.width && e.height == requestedSize_.height;
-  };
-  if (!waitForWindowSystem(*window_, reached))
-    return makeError(fmt::format("the window system did not resize the window to {}x{} within {} s", requestedSize_.width,
-                                 requestedSize_.height, kWindowSystemSeconds));
-  return {};
-}
+Status Viewer::waitForWindowSize() { return window_ ? window_->waitForSize() : Status{}; }
 
 Status Viewer::step() {
   float dt = 1.0f / 60.0f;  // headless frames are deterministic
   if (window_) {
-    const double now = nowSeconds();
-    dt = float(now - lastFrameTime_);
-    lastFrameTime_ = now;
-    bool drawable = true;
-    ENGINE_TRY(handleWindow(dt, drawable));
-    if (!drawable) return {};
+    dt = window_->secondsSinceLastFrame();
+    if (!window_->pollEvents()) return {};
+    handleInput(dt);
+    ENGINE_TRY(window_->fitSwapchain(*renderer_));
   }
   frameSeconds_ = dt;
-  if (bakeJob_ && bakeJob_->done()) {
-    if (Status baked = finishBake(); !baked) log::warn("{}", baked.error().message);
+  if (bakes_.job() && bakes_.job()->done()) {
+    if (Status baked = bakes_.finish(); !baked) log::warn("{}", baked.error().message);
     updateCompareBake();
   }
-  if (compareJob_ && compareJob_->done()) finishCompareBake();
+  if (compare_.bakeJob() && compare_.bakeJob()->done()) compare_.finishBake();
   applyTuningToScene();
   scene::updateWorldTransforms(registry_);
   updateLevelsOfDetail(false);
   const bool ui = ui_ && uiVisible_;
   render::FrameSettings settings;
   settings.debugView = std::uint32_t(tuning_.debugView);
-  settings.swapchain = swapchain_.get();
+  settings.swapchain = window_ ? &window_->swapchain() : nullptr;
   settings.overlay = ui ? ui_.get() : nullptr;
   // The comparison: the main asset is put back after the frame (regions swap it in and out).
-  hsdf::HermiteSdfRenderable* sdf = sdfRenderable();
+  hsdf::HermiteSdfRenderable* sdf = bakes_.renderable();
   const std::shared_ptr<const hsdf::SdfAsset> main = sdf ? sdf->asset : nullptr;
-  difference_.reset();
+  compare_.clearDifference();
   if (tuning_.difference && main && isSdfMethod(tuning_.method)) {
-    ENGINE_TRY(renderDifference(main));
-    differenceOverlay_->setNext(settings.overlay);
-    settings.overlay = differenceOverlay_.get();
+    ENGINE_TRY(compare_.renderDifference(tuning_, main, registry_, *renderer_, cameraView()));
+    settings.overlay = compare_.overlay(settings.overlay);
   } else if (tuning_.split != SplitMode::Off && main) {
     settings.regions = splitRegions(main);
   }
@@ -643,11 +335,11 @@ Status Viewer::step() {
   if (!settings.regions.empty()) showState(tuning_, main);
   if (!presented) {
     log::debug("swapchain out of date or suboptimal: recreating it");
-    ENGINE_TRY(recreateSwapchain());
+    ENGINE_TRY(window_->recreateSwapchain(*renderer_));
   }
   ++frames_;
   finishStep();
-  const std::optional<std::string> restored = restoreRefusedBake();
+  const std::optional<std::string> restored = bakes_.restoreRefused(*renderer_);
   Status dropped = droppedObjectsError(frames_);
   if (restored && !dropped.ok()) return makeError(dropped.error().message + "; " + *restored);
   return dropped;
@@ -657,7 +349,7 @@ Expected<Viewer::FrameWork> Viewer::countWork() {
   render::FrameSettings settings;
   settings.debugView = std::uint32_t(tuning_.debugView);
   settings.countWork = true;
-  hsdf::HermiteSdfRenderable* sdf = sdfRenderable();
+  hsdf::HermiteSdfRenderable* sdf = bakes_.renderable();
   const std::shared_ptr<const hsdf::SdfAsset> main = sdf ? sdf->asset : nullptr;
   if (tuning_.split != SplitMode::Off && main && !tuning_.difference) settings.regions = splitRegions(main);
   const Expected<bool> rendered = renderFrame(settings);
@@ -667,28 +359,6 @@ Expected<Viewer::FrameWork> Viewer::countWork() {
   for (const std::uint32_t count : renderer_->readbackWorkCounters()) work.evaluations += count;
   work.raysOutOfSteps = renderer_->readbackWorkTotals().raysOutOfSteps;
   return work;
-}
-
-// A re-baked field the GPU could not take (a feature refused its upload: out of GPU memory) is
-// swapped back for the field it replaced, which the features still hold (and drew already in the
-// frame that found out, in place of the refused one): the component and the tuning name the K on
-// screen again. Checked on the first frame after the swap; the replaced field is released then.
-std::optional<std::string> Viewer::restoreRefusedBake() {
-  const ReplacedField replaced = std::exchange(replaced_, {});
-  hsdf::HermiteSdfRenderable* sdf = sdfRenderable();
-  if (!replaced.asset || !sdf || !sdf->asset) return std::nullopt;
-  const std::uint64_t id = sdf->asset->id;
-  if (!renderer_->feature<hsdf::HermiteCellFeature>()->refused(id) &&
-      !renderer_->feature<hsdf::SphereTraceFeature>()->refused(id))
-    return std::nullopt;
-  bakeError_ = fmt::format("re-baking at resolution {}: the new field does not fit in GPU memory; resolution {} stays "
-                           "drawn",
-                           bakedResolution_, replaced.resolution);
-  log::warn("{}", bakeError_);
-  sdf->asset = replaced.asset;
-  bakedResolution_ = tuning_.resolution = replaced.resolution;
-  bakedPadding_ = tuning_.padding = replaced.padding;
-  return bakeError_;
 }
 
 // A lost device ends the scene: an error (the caller exits cleanly, close() still tears down)
@@ -721,74 +391,33 @@ Status Viewer::droppedObjectsError(std::uint64_t frame) {
 
 // What the panel or a script asked for that needs the finished frame.
 void Viewer::finishStep() {
-  if (!pendingScreenshot_) return;
-  const std::filesystem::path path = std::move(*pendingScreenshot_);
-  pendingScreenshot_.reset();
-  const Status written = writeScreenshot(path);
-  statusLine_ = written ? "wrote " + path.string() : written.error().message;
-  if (!written) log::warn("{}", written.error().message);
+  screenshots_.writeRequested([this](const std::filesystem::path& path) { return writeScreenshot(path); });
 }
 
 Status Viewer::writeScreenshot(const std::filesystem::path& path) {
-  renderer_->finish();
-  const std::vector<std::uint8_t> pixels = renderer_->readbackColor();
-  const VkExtent2D extent = renderer_->extent();
-  ENGINE_TRY(writePng(path, pixels, extent.width, extent.height, 4));
-  std::filesystem::path sidecar = path;
-  sidecar.replace_extension(".json");
-  ENGINE_TRY(saveTuning(sidecar, tuning_));
-  const hsdf::SdfAsset* asset = sdfAsset();
-  log::info("screenshot: {} ({}x{}, {}{}{})", path.string(), extent.width, extent.height, methodName(tuning_.method),
-            asset ? "; " : "", asset ? describeSdfStats(sdfStats(*asset)) : "");
-  if (tuning_.split != SplitMode::Off)
-    log::info("screenshot: {}: split {} at {:.2f}: {} K {} | {} K {} ({} normals)", path.string(), splitModeName(tuning_.split),
-              tuning_.splitPosition, methodName(tuning_.method), bakedResolution_, methodName(tuning_.compareMethod),
-              compareResolutionDrawn(), normalModeName(tuning_.compareNormals));
-  if (difference_)
-    log::info("screenshot: {}: difference {} vs {}: mean {:.3f} deg, max {:.3f} deg over {} pixels; coverage differs in "
-              "{} of {} covered pixels ({:.4f})",
-              path.string(), methodName(tuning_.method), methodName(tuning_.compareMethod), difference_->meanDegrees,
-              difference_->maxDegrees, difference_->coveredBoth, difference_->coverageDiffers, difference_->coveredEither,
-              difference_->coverageDiffersShare());
-  return {};
-}
-
-SdfStats sdfStats(const hsdf::SdfAsset& asset) {
-  SdfStats stats;
-  const std::uint64_t k = std::uint64_t(asset.cells.grid.resolution);
-  stats.resolution = int(k);
-  stats.cells = asset.classification.stats;
-  stats.cellScalars = asset.cells.stored_scalars();
-  stats.cellBytes = asset.cells.stored_bytes();
-  stats.cellBytesHalf = asset.cellsHalf.stored_bytes();
-  stats.trilinearScalars = k * k * k;
-  stats.hermiteScalars = 4 * k * k * k;
-  return stats;
-}
-
-std::string describeSdfStats(const SdfStats& s) {
-  return fmt::format("K {}: cells {} crossing / {} ambiguous / {} empty; stored scalars: cells {}, trilinear {}, hermite {}",
-                     s.resolution, s.cells.crossing, s.cells.ambiguous, s.cells.empty, s.cellScalars, s.trilinearScalars,
-                     s.hermiteScalars);
+  const std::optional<NormalDifference>& difference = compare_.difference();
+  return Screenshots::write(*renderer_, path,
+                            {.tuning = tuning_,
+                             .asset = sdfAsset(),
+                             .resolution = bakes_.resolution(),
+                             .compareResolution = compareResolutionDrawn(),
+                             .difference = difference ? &*difference : nullptr});
 }
 
 Status Viewer::close() {
   if (closed_ || !context_) return {};
   closed_ = true;
-  bakeJob_.reset();
-  compareJob_.reset();
-  levelJob_.reset();
+  bakes_.stop();
   try {
     context_->waitIdle();
   } catch (const gpu::VulkanError& e) {  // a lost device has nothing left to wait for
     if (e.result() != VK_ERROR_DEVICE_LOST) throw;
     deviceLost_ = true;
   }
-  differenceOverlay_.reset();
+  compare_.release();
   ui_.reset();
   renderer_.reset();
-  swapchain_.reset();
-  if (window_) window_->destroySurface(context_->instance());
+  if (window_) window_->destroySwapchain(*context_);
   registry_.clear();
   pool_.reset();
   const std::uint32_t messages = context_->validationMessageCount();

@@ -2,7 +2,11 @@
 // One frame step shared by every program that shows a scene: the scene runner's windowed and
 // headless loops, the perf capture and the soak test. A Viewer owns the device, the renderer
 // (mesh, Hermite cell and sphere-tracing features), the scene registry, the orbit camera and,
-// when windowed or asked for, the window, swapchain and UI. Typical use:
+// when windowed or asked for, the window, swapchain and UI. Its other jobs are pieces of their own
+// that it composes: ViewerWindow (viewer_window.h: window, swapchain), SdfBakes (sdf_bakes.h: the SDF
+// entity's re-bakes, levels of detail, refused bakes), SdfObjects (sdf_objects.h), ComparedSide
+// (compared_side.h: split screen, difference view), Screenshots (screenshots.h); scene loading is in
+// viewer_scene.cpp. Typical use:
 //
 //   auto viewer = Viewer::create(desc);                 // device, renderer, window/UI
 //   (*viewer)->loadScene(scene, tuning);                // glTF / analytic shape / .hsdf
@@ -29,16 +33,16 @@
 #include "engine/platform/camera_controller.h"
 #include "engine/render/components.h"
 #include "engine/render/renderer.h"
+#include "compared_side.h"
 #include "difference_view.h"
 #include "hermite_sdf/core/bake_job.h"
+#include "screenshots.h"
+#include "sdf_bakes.h"
+#include "sdf_objects.h"
+#include "sdf_stats.h"
 #include "tuning.h"
+#include "viewer_window.h"
 
-namespace engine::gpu {
-class Swapchain;
-}
-namespace engine::platform {
-class Window;
-}
 namespace engine::render {
 class MeshPool;
 }
@@ -76,20 +80,6 @@ struct ViewerDesc {
   // more fails with an error naming the resource and the budget (step()).
   std::uint64_t gpuMemoryBudget = engine::gpu::Allocator::kUnlimited;
 };
-
-// What the baked SDF costs per method and what its cells are, for the panel and the screenshot log.
-struct SdfStats {
-  int resolution = 0;  // K
-  hsdf::CellStats cells;
-  std::uint64_t cellScalars = 0;  // 32 per kept cell: f and its gradient at 8 corners
-  std::uint64_t cellBytes = 0;    // fp32 records, coordinates included
-  std::uint64_t cellBytesHalf = 0;
-  std::uint64_t trilinearScalars = 0;  // K^3 values of f
-  std::uint64_t hermiteScalars = 0;    // 4 K^3: f and its gradient at every sample
-};
-SdfStats sdfStats(const hsdf::SdfAsset& asset);
-// "cells 1234 crossing / 56 ambiguous / 9999 empty; stored scalars: cells N, trilinear N, hermite N"
-std::string describeSdfStats(const SdfStats& stats);
 
 // What to show. A glTF scene's meshes are drawn as triangles (Method::Mesh) or baked into one SDF
 // through the module bake job (any other method), which replaces them or, with sideBySide, stands
@@ -139,27 +129,27 @@ class Viewer {
   // thread (hsdf::BakeJob); the old asset keeps drawing until the new one is ready.
   void setTuning(const TuningState& tuning);
   // The running re-bake (progress(), cancel()), or null.
-  hsdf::BakeJob* bakeJob() { return bakeJob_.get(); }
+  hsdf::BakeJob* bakeJob() { return bakes_.job(); }
   // Blocks until a running re-bake is done and in the scene, and with TuningState::lod until its
   // levels of detail are (they bake on worker threads too); the re-bake's error, if it failed.
   engine::Status waitForBake();
   // Cancels the running re-bake (the old field keeps drawing; K goes back to the drawn one).
   void cancelBake();
   // Why the last bake failed or was refused (budget, cancelled), or empty.
-  const std::string& bakeError() const { return bakeError_; }
+  const std::string& bakeError() const { return bakes_.error(); }
 
   // Split screen and difference view (TuningState::split, difference): the compared side is drawn
   // from its own bake at effectiveCompareResolution (on the worker thread too; until it is ready,
   // the main asset stands in). waitForBake() and cancelBake() cover this bake as well.
-  hsdf::BakeJob* compareBakeJob() { return compareJob_.get(); }
-  const std::string& compareBakeError() const { return compareBakeError_; }
+  hsdf::BakeJob* compareBakeJob() { return compare_.bakeJob(); }
+  const std::string& compareBakeError() const { return compare_.bakeError(); }
   // The K the compared side is drawn with now (0: no SDF).
   int compareResolutionDrawn() const;
   // The numbers of the last difference-view frame (empty when the view is off).
-  const std::optional<NormalDifference>& difference() const { return difference_; }
+  const std::optional<NormalDifference>& difference() const { return compare_.difference(); }
   // Degrees shown red in the heat map.
-  float differenceRange() const { return differenceRange_; }
-  void setDifferenceRange(float degrees) { differenceRange_ = std::max(degrees, 0.1f); }
+  float differenceRange() const { return compare_.range(); }
+  void setDifferenceRange(float degrees) { compare_.setRange(degrees); }
 
   // Recreates every render feature's pipelines from the SPIR-V on disk (the panel's "Reload
   // shaders", F5, the script's reload-shaders). A feature that fails keeps drawing with its old
@@ -173,13 +163,13 @@ class Viewer {
   // The SDF in the scene (shown or hidden by the method), or null.
   const hsdf::SdfAsset* sdfAsset() const;
   // Whether a new K can be baked (a glTF scene or an analytic shape; not a .hsdf file).
-  bool canRebake() const { return bakeSource_.has_value(); }
+  bool canRebake() const { return bakes_.source() != nullptr; }
   // Whether Method::Mesh has triangles to show (a glTF scene).
   bool hasMeshes() const { return !meshEntities_.empty(); }
   // SceneDesc::objects: the entities drawing a mesh's shared asset (one per SDF node), and the
   // bakes that made those assets (one per mesh they use).
-  const std::vector<engine::ecs::Entity>& sdfObjects() const { return objectEntities_; }
-  int objectBakes() const { return objectBakes_; }
+  const std::vector<engine::ecs::Entity>& sdfObjects() const { return sceneObjects_.entities(); }
+  int objectBakes() const { return sceneObjects_.bakes(); }
 
   // Windowed: the user closed the window. Headless: never.
   bool shouldClose() const;
@@ -209,17 +199,17 @@ class Viewer {
   // file (same name, .json: --settings loads it) and the SDF statistics to the log.
   engine::Status writeScreenshot(const std::filesystem::path& path);
   // writeScreenshot after the next frame is drawn (the panel's button; the UI is in the image).
-  void requestScreenshot(std::filesystem::path path) { pendingScreenshot_ = std::move(path); }
+  void requestScreenshot(std::filesystem::path path) { screenshots_.request(std::move(path)); }
   // What the last requested screenshot or settings file operation said ("wrote x.png", an error).
-  const std::string& statusLine() const { return statusLine_; }
-  void setStatusLine(std::string line) { statusLine_ = std::move(line); }
+  const std::string& statusLine() const { return screenshots_.statusLine(); }
+  void setStatusLine(std::string line) { screenshots_.setStatusLine(std::move(line)); }
 
   // The UI panels on or off (F1); off leaves only the scene in windowed screenshots.
   void setUiVisible(bool visible) { uiVisible_ = visible; }
   // Window only (no-ops headless, where resize() sets the image size): V-sync (recreates the
   // swapchain with FIFO or the fastest mode the surface has), full screen (F11).
   engine::Status setVsync(bool vsync);
-  bool vsync() const { return vsync_; }
+  bool vsync() const;
   void setFullscreen(bool fullscreen);
   bool fullscreen() const;
   // Minimises (iconifies) or restores the window and waits (at most 2 s) until the window system
@@ -227,7 +217,7 @@ class Viewer {
   // minimised, step() draws nothing and returns after a short wait for events.
   engine::Status setMinimized(bool minimized);
   // Swapchains created after the first (resize, out of date, suboptimal, restore).
-  std::uint64_t swapchainRecreations() const { return swapchainRecreations_; }
+  std::uint64_t swapchainRecreations() const;
   // Windowed: asks for a new window size (applied asynchronously by the window system; several
   // requests in a row may arrive as one); headless: resizes the render targets now.
   void resize(std::uint32_t width, std::uint32_t height);
@@ -253,55 +243,28 @@ class Viewer {
  private:
   Viewer() = default;
   engine::Status initialize(const ViewerDesc& desc);
-  engine::Status handleWindow(float dt, bool& drawable);
+  void handleInput(float dt);
   void handleKeys(const engine::platform::InputState& input);
   void updateVisibility(Method method, bool meshes = true);
   void finishStep();
-  hsdf::HermiteSdfRenderable* sdfRenderable();
   void showState(const TuningState& tuning, const std::shared_ptr<const hsdf::SdfAsset>& asset);
-  std::shared_ptr<const hsdf::SdfAsset> comparedAsset(const std::shared_ptr<const hsdf::SdfAsset>& main) const;
   std::vector<engine::render::ViewRegion> splitRegions(const std::shared_ptr<const hsdf::SdfAsset>& main);
-  engine::Status renderDifference(const std::shared_ptr<const hsdf::SdfAsset>& main);
-  NormalsFrame renderNormals(const TuningState& tuning, const std::shared_ptr<const hsdf::SdfAsset>& asset);
   void updateCompareBake();
-  void finishCompareBake();
-  engine::Status recreateSwapchain();
   engine::Expected<bool> renderFrame(const engine::render::FrameSettings& settings);
   engine::Status droppedObjectsError(std::uint64_t frame);
   void applyTuningToScene();
   void updateLevelsOfDetail(bool wait);
-  void startLevelBakes(std::shared_ptr<const hsdf::SdfAsset> finest);
-  void startNextLevelBake(const hsdf::BakeSettings& previous);
-  engine::Status finishLevelBakes(bool wait);
-  void startRebake();
-  engine::Status finishBake();
-  std::optional<std::string> restoreRefusedBake();
   // Scene loading (viewer_scene.cpp).
   engine::Status addBakedSdf(hsdf::BakeSource source, const SceneDesc& scene);
   engine::Status addSdfFile(const std::filesystem::path& file, bool frameIt);
   engine::Status loadGltf(const SceneDesc& scene);
   void addGroundPlane();
-  // SceneDesc::objects (viewer_objects.cpp): `nodes` are the scene's node entities, `parts` the
-  // entities of their mesh primitives.
-  engine::Status addSceneObjects(std::shared_ptr<const engine::scene::SceneData> data,
-                                 std::span<const engine::ecs::Entity> nodes, std::span<const engine::ecs::Entity> parts);
-  // A K or padding change in objects mode: every mesh baked again and every SDF node drawing its
-  // mesh's new asset (viewer_objects.cpp).
-  engine::Status rebakeSceneObjects();
-  void updateObjectVisibility(bool sdfShown);
-  // TuningState::lod in objects mode: each mesh's levels, each SDF node choosing its own level
-  // (viewer_objects.cpp). `select`: pick the levels for this frame's camera.
-  void updateObjectLevels(bool select);
-  void dropObjectLevels();
-  engine::ecs::Entity addSdfEntity(std::shared_ptr<const hsdf::SdfAsset> asset, const glm::vec3& offset,
-                                   const glm::vec4* color);
 
   std::unique_ptr<engine::gpu::Context> context_;
-  std::unique_ptr<engine::platform::Window> window_;
+  std::unique_ptr<ViewerWindow> window_;
   std::unique_ptr<engine::render::MeshPool> pool_;
   std::unique_ptr<engine::render::Renderer> renderer_;
   std::unique_ptr<engine::ui::UiLayer> ui_;
-  std::unique_ptr<engine::gpu::Swapchain> swapchain_;
   std::unique_ptr<TuningPanel> panel_;
   engine::ecs::Registry registry_;
 
@@ -312,67 +275,27 @@ class Viewer {
   CameraMode cameraMode_ = CameraMode::Orbit;
   float fovY_ = 0.8f;
   float znear_ = 0.01f;
-  double lastFrameTime_ = 0.0;  // seconds on the steady clock; windowed frames measure dt
   std::uint64_t frames_ = 0;
   TuningState tuning_;
 
-  // The SDF entity (baked or from a .hsdf file), what it was baked from and at which K and
-  // padding it is drawn. A glTF scene keeps its mesh entities: the method shows one or the other
-  // (a hidden entity's renderable waits in hiddenMeshes_ / hiddenSdf_).
-  std::optional<hsdf::BakeSource> bakeSource_;
-  std::optional<engine::ecs::Entity> bakedEntity_;
-  std::optional<glm::vec4> sdfColor_;  // the SDF looks like the mesh it stands for
-  int bakedResolution_ = 0;
-  int bakedPadding_ = 0;
-  std::unique_ptr<hsdf::BakeJob> bakeJob_;
-  std::unique_ptr<hsdf::BakeJob> levelJob_;  // the next coarser level of detail (TuningState::lod)
-  // The field a finished re-bake replaced, kept until the first frame after the swap has shown
-  // whether the GPU took the new one (restoreRefusedBake).
-  struct ReplacedField {
-    std::shared_ptr<const hsdf::SdfAsset> asset;
-    int resolution = 0;
-    int padding = 0;
-  };
-  ReplacedField replaced_;
-  hsdf::BakeBudget bakeBudget_;
-  std::string bakeError_;
+  // The SDF entity (baked or from a .hsdf file) and its bakes. A glTF scene keeps its mesh
+  // entities: the method shows one or the other (a hidden mesh's renderable waits in hiddenMeshes_).
+  SdfBakes bakes_{registry_, tuning_};
   bool sideBySide_ = false;
   std::vector<engine::ecs::Entity> meshEntities_;
   std::vector<std::pair<engine::ecs::Entity, engine::render::MeshRenderable>> hiddenMeshes_;
-  std::optional<hsdf::HermiteSdfRenderable> hiddenSdf_;
-  // SceneDesc::objects: the SDF nodes' entities, their renderables while a mesh method hides them.
-  std::vector<engine::ecs::Entity> objectEntities_;
-  std::vector<std::pair<engine::ecs::Entity, hsdf::HermiteSdfRenderable>> hiddenObjects_;
-  int objectBakes_ = 0;
-  // What a re-bake at another K needs: the scene, its node entities, the options of the load.
-  std::shared_ptr<const engine::scene::SceneData> objectScene_;
-  std::vector<engine::ecs::Entity> objectNodes_;
-  hsdf::SceneObjectOptions objectOptions_;
-  hsdf::SceneObjects objects_;             // the nodes' draws and the meshes' assets baked at K
-  hsdf::SceneObjectLevels objectLevels_;  // with TuningState::lod: [mesh] its levels (empty: none baked)
+  SdfObjects sceneObjects_{registry_, tuning_, bakes_};  // SceneDesc::objects
 
-  // The compared side of the split screen / difference view.
-  std::shared_ptr<const hsdf::SdfAsset> compareAsset_;
-  int compareResolution_ = 0;  // K of compareAsset_
-  int comparePadding_ = 0;
-  std::unique_ptr<hsdf::BakeJob> compareJob_;
-  std::string compareBakeError_;
-  std::pair<int, int> compareFailed_{-1, -1};  // K and padding of the last failed compared bake
-  std::optional<NormalDifference> difference_;
-  float differenceRange_ = 10.0f;
-  std::unique_ptr<ImageOverlay> differenceOverlay_;
+  // The split screen's / difference view's other side; its view regions show it with showState.
+  ComparedSide compare_{[this](const TuningState& tuning, const std::shared_ptr<const hsdf::SdfAsset>& asset) {
+    showState(tuning, asset);
+  }};
   std::string shaderReloadReport_;
 
-  std::optional<std::filesystem::path> pendingScreenshot_;
-  std::string statusLine_;
+  Screenshots screenshots_;
   bool uiVisible_ = true;
-  bool vsync_ = true;
   float frameSeconds_ = 1.0f / 60.0f;
   bool keysDown_[512] = {};  // last frame's keys, for presses (F1, F11)
-  VkExtent2D requestedSize_{0, 0};  // the last resize() of the window
-  bool swapchainStale_ = false;  // out of date or resized while it could not be recreated (minimised)
-  std::uint64_t swapchainRecreations_ = 0;
-  std::uint64_t skippedSteps_ = 0;  // steps of the current minimised spell
   bool closed_ = false;
   bool deviceLost_ = false;   // a checked call reported VK_ERROR_DEVICE_LOST
   std::string frameFailure_;  // why the scene cannot continue (device lost)

@@ -98,18 +98,19 @@ Status Viewer::loadGltf(const SceneDesc& scene) {
     return {};
   }
   if (scene.objects)
-    return addSceneObjects(std::make_shared<const scene::SceneData>(std::move(data)), instantiated.nodes,
-                           instantiated.renderables)
+    return sceneObjects_
+        .add(std::make_shared<const scene::SceneData>(std::move(data)), instantiated.nodes, instantiated.renderables,
+             meshEntities_)
         .withContext(scene.gltf.string());
   meshEntities_ = instantiated.renderables;
   sideBySide_ = scene.sideBySide;
   // The SDF looks like the mesh it stands for.
-  if (!data.materials.empty()) sdfColor_ = data.materials.front().baseColor;
+  if (!data.materials.empty()) bakes_.setColor(data.materials.front().baseColor);
   auto source = hsdf::BakeSource::fromScene("scene sdf", data);
   if (!isSdfMethod(tuning_.method)) {
     // Baked when an SDF method is picked; a scene that cannot be baked says why then.
-    if (source) bakeSource_ = std::move(*source);
-    else bakeError_ = source.error().withContext(scene.gltf.string()).message;
+    if (source) bakes_.setSource(std::move(*source));
+    else bakes_.setError(source.error().withContext(scene.gltf.string()).message);
     return {};
   }
   if (!source) return source.error().withContext(scene.gltf.string());
@@ -119,11 +120,7 @@ Status Viewer::loadGltf(const SceneDesc& scene) {
 // Bakes `source` at the tuning's K and padding and adds it: as the scene when there are no meshes,
 // beside them with sideBySide, else in their place (they stay, hidden, for Method::Mesh).
 Status Viewer::addBakedSdf(hsdf::BakeSource source, const SceneDesc& scene) {
-  hsdf::BakeSettings settings;
-  settings.resolution = tuning_.resolution;
-  settings.padding = tuning_.padding;
-  settings.band = bakeBandFor(tuning_.method, tuning_.resolution);
-  settings.budget = bakeBudget_;
+  const hsdf::BakeSettings settings = bakes_.settings();
   ENGINE_TRY_ASSIGN(std::shared_ptr<const hsdf::SdfAsset> asset, bakeWithProgress(source, settings));
   glm::vec3 offset(0.0f);
   if (meshEntities_.empty()) {  // the baked shape is the scene
@@ -133,10 +130,9 @@ Status Viewer::addBakedSdf(hsdf::BakeSource source, const SceneDesc& scene) {
     offset.x = 1.25f * (boundsMax_.x - boundsMin_.x);
     boundsMax_.x += offset.x;
   }
-  bakedEntity_ = addSdfEntity(std::move(asset), offset, sdfColor_ ? &*sdfColor_ : nullptr);
-  bakeSource_ = std::move(source);
-  bakedResolution_ = settings.resolution;
-  bakedPadding_ = settings.padding;
+  bakes_.add(std::move(asset), offset);
+  bakes_.setSource(std::move(source));
+  bakes_.setBaked(settings.resolution, settings.padding);
   return {};
 }
 
@@ -152,24 +148,9 @@ Status Viewer::addSdfFile(const std::filesystem::path& file, bool frameIt) {
     boundsMin_ = glm::vec3(bounds.min);
     boundsMax_ = glm::vec3(bounds.max);
   }
-  bakedResolution_ = int(asset->cells.grid.resolution);
-  bakedEntity_ = addSdfEntity(std::move(asset), glm::vec3(0.0f), nullptr);
+  bakes_.setBaked(int(asset->cells.grid.resolution), bakes_.padding());
+  bakes_.add(std::move(asset), glm::vec3(0.0f));  // before the glTF scene's color is known: uncolored
   return {};
-}
-
-ecs::Entity Viewer::addSdfEntity(std::shared_ptr<const hsdf::SdfAsset> asset, const glm::vec3& offset,
-                                 const glm::vec4* color) {
-  hsdf::HermiteSdfRenderable renderable;
-  renderable.asset = std::move(asset);
-  if (color) renderable.color = *color;
-  applyTuning(tuning_, renderable);
-  const ecs::Entity entity = registry_.create();
-  scene::Transform transform;
-  transform.translation = offset;
-  registry_.emplace<scene::Transform>(entity, transform);
-  registry_.emplace<scene::Name>(entity, scene::Name{renderable.asset->name});
-  registry_.emplace<hsdf::HermiteSdfRenderable>(entity, std::move(renderable));
-  return entity;
 }
 
 // A thin box under the scene so that occlusion and the depth prepass have something to show.
