@@ -63,11 +63,61 @@ glm::vec4 unite(const glm::vec4& a, const glm::vec4& b) {
 
 }  // namespace
 
-void HermiteCellFeature::buildDraws(engine::render::FrameContext& frame) {
+// One frame's draws while buildDraws gathers them, object by object.
+struct HermiteCellFeature::FrameDraws {
   std::vector<VkDrawIndirectCommand> commands[kBatches][2];  // [fp32 cells, fp16 cells, runs, bricks][front, near]
   std::vector<shader::HermiteDraw> draws[kBatches][2];
   std::vector<shader::HermiteObject> hermiteObjects;
   std::vector<std::uint32_t> objectIndices;
+  std::vector<std::uint32_t> cellCullObject[2];  // per front command of the cell batches: its cull object or kNotCulled
+  std::vector<glm::vec4> objectRects;
+  bool objectsOverlap = false;  // two cell objects share screen pixels: no early depth (see the header)
+  bool drawsBricks = false;     // bricks have no early depth variant: none this frame
+  float largestCellPixels = 0.0f;  // of the RenderMethod::Cells objects (ThinBoxes::Auto)
+  std::unordered_map<engine::ecs::Entity, std::uint64_t> drawnThisFrame;
+  glm::mat4 viewProj{1.0f};
+};
+
+// One entity's object while its draws are added: the uploaded entry it draws, its draw record and
+// the eye in its grid.
+struct HermiteCellFeature::DrawnObject {
+  engine::ecs::Entity entity;
+  std::uint64_t assetId = 0;
+  const CellBuffers::Entry* entry = nullptr;
+  glm::mat4 world{1.0f};
+  int precision = 0;
+  shader::HermiteDraw draw{};
+  glm::dvec3 eyeGrid{0.0};  // the eye in grid units
+  double reachGrid = 0.0;   // how far (in grid units) the near plane reaches around it
+};
+
+// This frame's indirect draws of every cell object, uploaded for the prepass, the culling passes and the resolve.
+void HermiteCellFeature::buildDraws(engine::render::FrameContext& frame) {
+  resetDraws();
+  FrameDraws f;
+  f.viewProj = frame.camera.proj * frame.camera.view;
+  frame.registry.view<HermiteSdfRenderable, engine::scene::WorldTransform>().each(
+      [&](engine::ecs::Entity entity, const HermiteSdfRenderable& r, const engine::scene::WorldTransform& world) {
+        addObjectDraws(frame, f, entity, r, world.matrix);
+      });
+
+  std::vector<VkDrawIndirectCommand> allCommands;
+  std::vector<shader::HermiteDraw> allDraws;
+  concatenateBatches(f, allCommands, allDraws);
+  stats_.draws = static_cast<std::uint32_t>(allCommands.size());
+  for (shader::BrickCullObject& object : cullObjectList_) object.drawCommand += batches_[kBrickBatch]->frontFirst;
+  drawnAssets_ = std::move(f.drawnThisFrame);
+  if (frame.debugView == DEBUG_VIEW_WIREFRAME) addWireCommands(allCommands, allDraws);
+  occlusion_ = settings_.cullCells && settings_.cullOcclusion && !cellCullObjects_.empty();
+  if (occlusion_) placeHistory(frame);
+  cullCellRanges(allCommands, f.cellCullObject);  // after the wireframe's copies, which draw every cell
+  if (occlusion_) addLateCommands(allCommands, allDraws);
+  chooseDrawStages(f);
+  uploadDraws(frame, f, allCommands, allDraws);
+}
+
+// The stats and culling lists of the previous frame, emptied before this frame's objects fill them.
+void HermiteCellFeature::resetDraws() {
   stats_ = Stats{};
   cullObjectList_.clear();
   cullOutputBricks_ = 0;
@@ -76,186 +126,216 @@ void HermiteCellFeature::buildDraws(engine::render::FrameContext& frame) {
   cellCullEntities_.clear();
   cellCullFirstRecord_.clear();
   cellCullCells_.clear();
-  std::vector<std::uint32_t> cellCullObject[2];  // per front command of the cell batches: its cull object or kNotCulled
   for (int precision = 0; precision < 2; ++precision) {
     cellCullRanges_[precision].clear();
     cellCullOutput_[precision] = 0;
   }
   stats_.gpuBytes = buffers_->bytes;
   screenRect_ = glm::vec4(1.0f, 1.0f, -1.0f, -1.0f);  // empty until an object is drawn
-  std::vector<glm::vec4> objectRects;
-  bool objectsOverlap = false;  // two cell objects share screen pixels: no early depth (see the header)
-  bool drawsBricks = false;     // bricks have no early depth variant: none this frame
-  float largestCellPixels = 0.0f;  // of the RenderMethod::Cells objects (ThinBoxes::Auto)
-  std::unordered_map<engine::ecs::Entity, std::uint64_t> drawnThisFrame;
-  const glm::mat4 viewProj = frame.camera.proj * frame.camera.view;
+}
 
-  frame.registry.view<HermiteSdfRenderable, engine::scene::WorldTransform>().each(
-      [&](engine::ecs::Entity entity, const HermiteSdfRenderable& r, const engine::scene::WorldTransform& world) {
-        if (!drawnAsCells(r.method) || !r.asset) return;
-        if (!engine::render::drawableTransform(world.matrix)) {  // the rays could not be taken into the grid
-          stats_.skippedObjects++;
-          return;
-        }
-        auto found = buffers_->entries.find(r.asset->id);
-        // A refused asset (its upload did not fit in GPU memory) that replaced the entity's field:
-        // the field it replaced is still uploaded and is drawn instead, from this very frame on.
-        if (found == buffers_->entries.end() && refused_.contains(r.asset->id))
-          if (auto previous = drawnAssets_.find(entity); previous != drawnAssets_.end())
-            found = buffers_->entries.find(previous->second);
-        if (found == buffers_->entries.end()) return;
-        drawnThisFrame[entity] = found->first;
-        const CellBuffers::Entry& entry = found->second;
-        const SdfAsset& asset = *entry.asset;
-        const GridSpec& grid = asset.cells.grid;  // cells-only assets have no dense field
-        const int precision = r.halfPrecision && halfPrecisionFits(grid) ? 1 : 0;  // else fp32, see renderable.h
+// One entity's draws: the uploaded asset it draws, its draw record, then its method's commands.
+void HermiteCellFeature::addObjectDraws(engine::render::FrameContext& frame, FrameDraws& f, engine::ecs::Entity entity,
+                                        const HermiteSdfRenderable& r, const glm::mat4& world) {
+  if (!drawnAsCells(r.method) || !r.asset) return;
+  if (!engine::render::drawableTransform(world)) {  // the rays could not be taken into the grid
+    stats_.skippedObjects++;
+    return;
+  }
+  auto found = buffers_->entries.find(r.asset->id);
+  // A refused asset (its upload did not fit in GPU memory) that replaced the entity's field:
+  // the field it replaced is still uploaded and is drawn instead, from this very frame on.
+  if (found == buffers_->entries.end() && refused_.contains(r.asset->id))
+    if (auto previous = drawnAssets_.find(entity); previous != drawnAssets_.end())
+      found = buffers_->entries.find(previous->second);
+  if (found == buffers_->entries.end()) return;
+  f.drawnThisFrame[entity] = found->first;
+  DrawnObject o;
+  o.entity = entity;
+  o.assetId = found->first;
+  o.entry = &found->second;
+  o.world = world;
+  beginObjectDraw(frame, f, r, o);
+  if (r.method == RenderMethod::CellBricks) return addBrickObjectDraws(frame, f, o);
+  if (r.method == RenderMethod::CellRuns) return addRunObjectDraws(f, o);
+  addCellObjectDraws(frame, f, o);
+}
 
-        shader::ObjectData object = engine::render::GpuScene::makeObject(world.matrix, r.color, r.roughness, 0.0f, kFeatureId);
-        const std::uint32_t objectIndex = frame.scene.addObject(object);
-        shader::HermiteDraw draw{};
-        draw.gridOriginSpacing = glm::vec4(glm::vec3(grid.origin), float(grid.spacing));
-        draw.object = objectIndex;
-        draw.subdivisions = std::clamp(r.subdivisions, 1u, 64u);
-        draw.refineSteps = std::min(r.refineSteps, 16u);
-        draw.flags = r.normals == NormalMode::CentralDifferences ? HERMITE_FLAG_NORMALS_CENTRAL : 0u;
-        if (r.certified) draw.flags |= HERMITE_FLAG_CERTIFIED;
-        draw.resolution = std::uint32_t(grid.resolution);
-        draw.firstCell = entry.firstRecord;
-        hermiteObjects.push_back({draw.gridOriginSpacing, buffers_->records[precision].address(),
-                                  std::uint32_t(precision), draw.flags});
-        objectIndices.push_back(objectIndex);
+// The object's GPU scene entry, draw record and Hermite object, its eye in grid units and its
+// screen rectangle.
+void HermiteCellFeature::beginObjectDraw(engine::render::FrameContext& frame, FrameDraws& f,
+                                         const HermiteSdfRenderable& r, DrawnObject& o) {
+  const CellBuffers::Entry& entry = *o.entry;
+  const GridSpec& grid = entry.asset->cells.grid;  // cells-only assets have no dense field
+  o.precision = r.halfPrecision && halfPrecisionFits(grid) ? 1 : 0;  // else fp32, see renderable.h
+  const int precision = o.precision;
 
-        // The eye in grid units, and how far (in grid units) the near plane reaches around it.
-        const glm::vec3 eyeObject = glm::vec3(object.invModel * glm::vec4(frame.camera.position, 1.0f));
-        const glm::dvec3 eyeGrid = (glm::dvec3(eyeObject) - grid.origin) / grid.spacing;
-        const double reachGrid = double(frame.camera.nearPlaneReachInObject(object.invModel)) / grid.spacing;
+  shader::ObjectData object = engine::render::GpuScene::makeObject(o.world, r.color, r.roughness, 0.0f, kFeatureId);
+  const std::uint32_t objectIndex = frame.scene.addObject(object);
+  shader::HermiteDraw& draw = o.draw;
+  draw.gridOriginSpacing = glm::vec4(glm::vec3(grid.origin), float(grid.spacing));
+  draw.object = objectIndex;
+  draw.subdivisions = std::clamp(r.subdivisions, 1u, 64u);
+  draw.refineSteps = std::min(r.refineSteps, 16u);
+  draw.flags = r.normals == NormalMode::CentralDifferences ? HERMITE_FLAG_NORMALS_CENTRAL : 0u;
+  if (r.certified) draw.flags |= HERMITE_FLAG_CERTIFIED;
+  draw.resolution = std::uint32_t(grid.resolution);
+  draw.firstCell = entry.firstRecord;
+  f.hermiteObjects.push_back({draw.gridOriginSpacing, buffers_->records[precision].address(),
+                              std::uint32_t(precision), draw.flags});
+  f.objectIndices.push_back(objectIndex);
 
-        const glm::vec4 rect = screenBounds(viewProj, world.matrix, grid.bounds(), frame.extent);
-        for (const glm::vec4& other : objectRects)
-          objectsOverlap |= rect.x < other.z && other.x < rect.z && rect.y < other.w && other.y < rect.w;
-        objectRects.push_back(rect);
-        screenRect_ = unite(screenRect_, rect);
-        stats_.objects++;
-        // Runs, bricks and thin cells read their records by address: the draw says which buffer and
-        // which precision (the paper's cells ignore it: their records are vertex attributes).
-        draw.records = buffers_->records[precision].address();
-        if (precision == 1) draw.flags |= HERMITE_FLAG_HALF_RECORDS;
-        if (r.method == RenderMethod::CellBricks) {
-          drawsBricks = true;
-          stats_.cells += asset.cells.records.size();
-          addBrickDraws(entry.bricks.bricks, entry.firstBrick, draw, eyeGrid, reachGrid, commands[kBrickBatch],
-                        draws[kBrickBatch]);
-          if (settings_.cullBricks && !entry.bricks.bricks.empty()) {
-            // The command just added starts empty and the culling pass counts its kept bricks, which
-            // it writes from the object's range of the kept-brick stream on.
-            VkDrawIndirectCommand& command = commands[kBrickBatch][0].back();
-            BrickCuller::ObjectBricks range{entry.firstBrick, command.instanceCount, cullOutputBricks_,
-                                            std::uint32_t(commands[kBrickBatch][0].size() - 1)};
-            cullObjectList_.push_back(
-                BrickCuller::cullObject(frame.camera, world.matrix, grid, asset.boundaryPositive, range));
-            cullOutputBricks_ += command.instanceCount;
-            cullMaxBricks_ = std::max(cullMaxBricks_, command.instanceCount);
-            command.instanceCount = 0;
-            command.firstInstance = range.outputFirst;
-          }
-          return;
-        }
-        if (r.method == RenderMethod::CellRuns) {
-          const std::vector<CellRows::Range> rowOrder = orderedRows(entry.rows, eyeGrid, settings_.frontToBack);
-          for (const CellRows::Range& range : runRanges(entry.runs, rowOrder)) {
-            commands[2][0].push_back({kFanVertices, range.count, 0, entry.firstRun + range.first});
-            draws[2][0].push_back(draw);
-          }
-          shader::HermiteDraw nearDraw = draw;
-          nearDraw.flags |= HERMITE_FLAG_NEAR_CELL;
-          for (std::uint32_t run : runsNearPoint(entry.runs, eyeGrid, reachGrid)) {
-            commands[2][1].push_back({kStripVertices, 1, 0, entry.firstRun + run});
-            draws[2][1].push_back(nearDraw);
-            stats_.nearCells++;
-          }
-          stats_.cells += asset.cells.records.size();
-          stats_.runs += entry.runs.size();
-          return;
-        }
-        largestCellPixels = std::max(largestCellPixels, cellPixelsOnScreen(grid, world.matrix, frame.camera, frame.extent.height));
-        // Culled cells: the object's rows become ranges of the culling pass (cullCellRanges), which
-        // reads the object's frustum, eye and cone permission from its BrickCullObject.
-        std::uint32_t cullObject = kNotCulled;
-        if (settings_.cullCells) {
-          cullObject = std::uint32_t(cellCullObjects_.size());
-          cellCullObjects_.push_back(
-              BrickCuller::cullObject(frame.camera, world.matrix, grid, asset.boundaryPositive, {}));
-          cellCullEntities_.emplace_back(entity, found->first);
-          cellCullFirstRecord_.push_back(entry.firstRecord);
-          cellCullCells_.push_back(std::uint32_t(asset.cells.records.size()));
-        }
-        for (const CellRows::Range& range : orderedRows(entry.rows, eyeGrid, settings_.frontToBack)) {
-          commands[precision][0].push_back({kFanVertices, range.count, 0, entry.firstRecord + range.first});
-          draws[precision][0].push_back(draw);
-          cellCullObject[precision].push_back(cullObject);
-          stats_.cells += range.count;
-        }
-        shader::HermiteDraw nearDraw = draw;
-        nearDraw.flags |= HERMITE_FLAG_NEAR_CELL;
-        for (std::uint32_t record : cellsNearPoint(entry.rows, asset.cells, eyeGrid, reachGrid)) {
-          commands[precision][1].push_back({kStripVertices, 1, 0, entry.firstRecord + record});
-          draws[precision][1].push_back(nearDraw);
-          stats_.nearCells++;
-        }
-      });
+  // The eye in grid units, and how far (in grid units) the near plane reaches around it.
+  const glm::vec3 eyeObject = glm::vec3(object.invModel * glm::vec4(frame.camera.position, 1.0f));
+  o.eyeGrid = (glm::dvec3(eyeObject) - grid.origin) / grid.spacing;
+  o.reachGrid = double(frame.camera.nearPlaneReachInObject(object.invModel)) / grid.spacing;
 
-  // One upload: [fp32 front][fp32 near][fp16 front][fp16 near][runs front][runs near][bricks front][bricks near].
-  std::vector<VkDrawIndirectCommand> allCommands;
-  std::vector<shader::HermiteDraw> allDraws;
+  const glm::vec4 rect = screenBounds(f.viewProj, o.world, grid.bounds(), frame.extent);
+  for (const glm::vec4& other : f.objectRects)
+    f.objectsOverlap |= rect.x < other.z && other.x < rect.z && rect.y < other.w && other.y < rect.w;
+  f.objectRects.push_back(rect);
+  screenRect_ = unite(screenRect_, rect);
+  stats_.objects++;
+  // Runs, bricks and thin cells read their records by address: the draw says which buffer and
+  // which precision (the paper's cells ignore it: their records are vertex attributes).
+  draw.records = buffers_->records[precision].address();
+  if (precision == 1) draw.flags |= HERMITE_FLAG_HALF_RECORDS;
+}
+
+// RenderMethod::CellBricks: the brick batch's commands, and the object's range of the brick culling pass.
+void HermiteCellFeature::addBrickObjectDraws(engine::render::FrameContext& frame, FrameDraws& f, const DrawnObject& o) {
+  const CellBuffers::Entry& entry = *o.entry;
+  const SdfAsset& asset = *entry.asset;
+  f.drawsBricks = true;
+  stats_.cells += asset.cells.records.size();
+  addBrickDraws(entry.bricks.bricks, entry.firstBrick, o.draw, o.eyeGrid, o.reachGrid, f.commands[kBrickBatch],
+                f.draws[kBrickBatch]);
+  if (settings_.cullBricks && !entry.bricks.bricks.empty()) {
+    // The command just added starts empty and the culling pass counts its kept bricks, which
+    // it writes from the object's range of the kept-brick stream on.
+    VkDrawIndirectCommand& command = f.commands[kBrickBatch][0].back();
+    BrickCuller::ObjectBricks range{entry.firstBrick, command.instanceCount, cullOutputBricks_,
+                                    std::uint32_t(f.commands[kBrickBatch][0].size() - 1)};
+    cullObjectList_.push_back(
+        BrickCuller::cullObject(frame.camera, o.world, asset.cells.grid, asset.boundaryPositive, range));
+    cullOutputBricks_ += command.instanceCount;
+    cullMaxBricks_ = std::max(cullMaxBricks_, command.instanceCount);
+    command.instanceCount = 0;
+    command.firstInstance = range.outputFirst;
+  }
+}
+
+// RenderMethod::CellRuns: the run batch's front commands in row order, and the runs near the eye.
+void HermiteCellFeature::addRunObjectDraws(FrameDraws& f, const DrawnObject& o) {
+  const CellBuffers::Entry& entry = *o.entry;
+  const std::vector<CellRows::Range> rowOrder = orderedRows(entry.rows, o.eyeGrid, settings_.frontToBack);
+  for (const CellRows::Range& range : runRanges(entry.runs, rowOrder)) {
+    f.commands[2][0].push_back({kFanVertices, range.count, 0, entry.firstRun + range.first});
+    f.draws[2][0].push_back(o.draw);
+  }
+  shader::HermiteDraw nearDraw = o.draw;
+  nearDraw.flags |= HERMITE_FLAG_NEAR_CELL;
+  for (std::uint32_t run : runsNearPoint(entry.runs, o.eyeGrid, o.reachGrid)) {
+    f.commands[2][1].push_back({kStripVertices, 1, 0, entry.firstRun + run});
+    f.draws[2][1].push_back(nearDraw);
+    stats_.nearCells++;
+  }
+  stats_.cells += entry.asset->cells.records.size();
+  stats_.runs += entry.runs.size();
+}
+
+// RenderMethod::Cells: the precision's batch of rows in order (culled cells: ranges of the cell
+// culling pass), and the cells near the eye.
+void HermiteCellFeature::addCellObjectDraws(engine::render::FrameContext& frame, FrameDraws& f, const DrawnObject& o) {
+  const CellBuffers::Entry& entry = *o.entry;
+  const SdfAsset& asset = *entry.asset;
+  const GridSpec& grid = asset.cells.grid;
+  const int precision = o.precision;
+  f.largestCellPixels = std::max(f.largestCellPixels, cellPixelsOnScreen(grid, o.world, frame.camera, frame.extent.height));
+  // Culled cells: the object's rows become ranges of the culling pass (cullCellRanges), which
+  // reads the object's frustum, eye and cone permission from its BrickCullObject.
+  std::uint32_t cullObject = kNotCulled;
+  if (settings_.cullCells) {
+    cullObject = std::uint32_t(cellCullObjects_.size());
+    cellCullObjects_.push_back(
+        BrickCuller::cullObject(frame.camera, o.world, grid, asset.boundaryPositive, {}));
+    cellCullEntities_.emplace_back(o.entity, o.assetId);
+    cellCullFirstRecord_.push_back(entry.firstRecord);
+    cellCullCells_.push_back(std::uint32_t(asset.cells.records.size()));
+  }
+  for (const CellRows::Range& range : orderedRows(entry.rows, o.eyeGrid, settings_.frontToBack)) {
+    f.commands[precision][0].push_back({kFanVertices, range.count, 0, entry.firstRecord + range.first});
+    f.draws[precision][0].push_back(o.draw);
+    f.cellCullObject[precision].push_back(cullObject);
+    stats_.cells += range.count;
+  }
+  shader::HermiteDraw nearDraw = o.draw;
+  nearDraw.flags |= HERMITE_FLAG_NEAR_CELL;
+  for (std::uint32_t record : cellsNearPoint(entry.rows, asset.cells, o.eyeGrid, o.reachGrid)) {
+    f.commands[precision][1].push_back({kStripVertices, 1, 0, entry.firstRecord + record});
+    f.draws[precision][1].push_back(nearDraw);
+    stats_.nearCells++;
+  }
+}
+
+// One upload: [fp32 front][fp32 near][fp16 front][fp16 near][runs front][runs near][bricks front][bricks near].
+void HermiteCellFeature::concatenateBatches(const FrameDraws& f, std::vector<VkDrawIndirectCommand>& allCommands,
+                                            std::vector<shader::HermiteDraw>& allDraws) {
   for (int precision = 0; precision < kBatches; ++precision) {
     Batch& batch = *batches_[precision];
     batch.frontFirst = static_cast<std::uint32_t>(allCommands.size());
-    batch.frontCount = static_cast<std::uint32_t>(commands[precision][0].size());
-    allCommands.insert(allCommands.end(), commands[precision][0].begin(), commands[precision][0].end());
-    allDraws.insert(allDraws.end(), draws[precision][0].begin(), draws[precision][0].end());
+    batch.frontCount = static_cast<std::uint32_t>(f.commands[precision][0].size());
+    allCommands.insert(allCommands.end(), f.commands[precision][0].begin(), f.commands[precision][0].end());
+    allDraws.insert(allDraws.end(), f.draws[precision][0].begin(), f.draws[precision][0].end());
     batch.nearFirst = static_cast<std::uint32_t>(allCommands.size());
-    batch.nearCount = static_cast<std::uint32_t>(commands[precision][1].size());
-    allCommands.insert(allCommands.end(), commands[precision][1].begin(), commands[precision][1].end());
-    allDraws.insert(allDraws.end(), draws[precision][1].begin(), draws[precision][1].end());
+    batch.nearCount = static_cast<std::uint32_t>(f.commands[precision][1].size());
+    allCommands.insert(allCommands.end(), f.commands[precision][1].begin(), f.commands[precision][1].end());
+    allDraws.insert(allDraws.end(), f.draws[precision][1].begin(), f.draws[precision][1].end());
   }
-  stats_.draws = static_cast<std::uint32_t>(allCommands.size());
-  for (shader::BrickCullObject& object : cullObjectList_) object.drawCommand += batches_[kBrickBatch]->frontFirst;
-  drawnAssets_ = std::move(drawnThisFrame);
-  if (frame.debugView == DEBUG_VIEW_WIREFRAME) {
-    for (int precision = 0; precision < 2; ++precision) {
-      Batch& batch = *batches_[precision];
-      batch.wireFirst = static_cast<std::uint32_t>(allCommands.size());
-      for (std::uint32_t i = 0; i < batch.frontCount; ++i) {
-        VkDrawIndirectCommand wire = allCommands[batch.frontFirst + i];
-        wire.vertexCount = kWireVertices;
-        allCommands.push_back(wire);
-        allDraws.push_back(allDraws[batch.frontFirst + i]);
-      }
+}
+
+// DEBUG_VIEW_WIREFRAME: the cell batches' front lists again, drawn as the boxes' edges.
+void HermiteCellFeature::addWireCommands(std::vector<VkDrawIndirectCommand>& allCommands,
+                                         std::vector<shader::HermiteDraw>& allDraws) {
+  for (int precision = 0; precision < 2; ++precision) {
+    Batch& batch = *batches_[precision];
+    batch.wireFirst = static_cast<std::uint32_t>(allCommands.size());
+    for (std::uint32_t i = 0; i < batch.frontCount; ++i) {
+      VkDrawIndirectCommand wire = allCommands[batch.frontFirst + i];
+      wire.vertexCount = kWireVertices;
+      allCommands.push_back(wire);
+      allDraws.push_back(allDraws[batch.frontFirst + i]);
     }
   }
-  occlusion_ = settings_.cullCells && settings_.cullOcclusion && !cellCullObjects_.empty();
-  if (occlusion_) placeHistory(frame);
-  cullCellRanges(allCommands, cellCullObject);  // after the wireframe's copies, which draw every cell
-  if (occlusion_) addLateCommands(allCommands, allDraws);
-  thinBoxes_ = thinBoxesWanted(settings_.thinBoxes, context_->capabilities().isSoftwareRasterizer, largestCellPixels);
+}
+
+// The stages that depend on all of the frame's objects: thin boxes and the early depth stage.
+void HermiteCellFeature::chooseDrawStages(const FrameDraws& f) {
+  thinBoxes_ = thinBoxesWanted(settings_.thinBoxes, context_->capabilities().isSoftwareRasterizer, f.largestCellPixels);
   stats_.thinBoxes = thinBoxes_;
-  stats_.largestCellPixels = largestCellPixels;
+  stats_.largestCellPixels = f.largestCellPixels;
   // Occlusion culling keeps the early depth stage off: the stage leaves the boxes' face depths in
   // the depth buffer until its fix-up, so phase 1 would need its fix-up before the pyramid and
   // phase 2 an early stage and a fix-up of its own over pixels that phase 1 already made final.
   // Culling removes the hidden boxes the stage only made cheaper (on lavapipe; on GPUs the stage
   // gains nothing, issue 20).
   earlyDepth_ = earlyDepthWanted(settings_.earlyDepth, context_->capabilities().isSoftwareRasterizer) &&
-                stats_.draws > 0 && !objectsOverlap && !drawsBricks && !thinBoxes_ && !occlusion_;
+                stats_.draws > 0 && !f.objectsOverlap && !f.drawsBricks && !thinBoxes_ && !occlusion_;
+}
+
+// This frame slot's commands, draw data and Hermite objects, and each object's payload address.
+void HermiteCellFeature::uploadDraws(engine::render::FrameContext& frame, const FrameDraws& f,
+                                     const std::vector<VkDrawIndirectCommand>& allCommands,
+                                     const std::vector<shader::HermiteDraw>& allDraws) {
   if (!allCommands.empty()) {
     indirect_.upload(frame.frameSlot, allCommands);
     drawData_.upload(frame.frameSlot, allDraws);
   }
-  if (!hermiteObjects.empty()) {
-    objects_.upload(frame.frameSlot, hermiteObjects);
+  if (!f.hermiteObjects.empty()) {
+    objects_.upload(frame.frameSlot, f.hermiteObjects);
     const VkDeviceAddress base = objects_.address(frame.frameSlot);
-    for (std::size_t i = 0; i < objectIndices.size(); ++i)
-      frame.scene.object(objectIndices[i]).payload = base + i * sizeof(shader::HermiteObject);
+    for (std::size_t i = 0; i < f.objectIndices.size(); ++i)
+      frame.scene.object(f.objectIndices[i]).payload = base + i * sizeof(shader::HermiteObject);
   }
 }
 

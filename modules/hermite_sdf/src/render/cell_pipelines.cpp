@@ -78,20 +78,10 @@ engine::gpu::VertexLayout brickVertexLayout() {
 
 }  // namespace
 
+// Every pipeline of the feature; the shared shaders are loaded first, then each family is created.
 engine::Expected<HermiteCellFeature::Pipelines> HermiteCellFeature::createPipelines() const {
   const engine::gpu::Context& context = *context_;
-  const engine::render::RendererFormats& formats = formats_;
   Pipelines p;
-  // Fragment shaders per prepass variant (Variant; shaders/hermite/hit_depth.glsl): front faces, near cells.
-  static constexpr const char* kCellsFront[kVariants] = {"cells_depth.frag", "cells_depth_counted.frag",
-                                                         "cells_depth_early.frag"};
-  static constexpr const char* kCellsNear[kVariants] = {"cells_depth_near.frag", "cells_depth_near_counted.frag",
-                                                        "cells_depth_near_early.frag"};
-  static constexpr const char* kRunsFront[kVariants] = {"runs_depth.frag", "runs_depth_counted.frag",
-                                                        "runs_depth_early.frag"};
-  static constexpr const char* kRunsNear[kVariants] = {"runs_depth_near.frag", "runs_depth_near_counted.frag",
-                                                       "runs_depth_near_early.frag"};
-  static constexpr const char* kVariantNames[kVariants] = {"", " counted", " early"};
   ENGINE_TRY_ASSIGN(auto vert, engine::gpu::ShaderModule::load(context, "cells.vert"));
   ENGINE_TRY_ASSIGN(auto fixupFrag, engine::gpu::ShaderModule::load(context, "cells_depth_early_fixup.frag"));
   ENGINE_TRY_ASSIGN(auto resolveVert, engine::gpu::ShaderModule::load(context, "cells_resolve.vert"));
@@ -100,6 +90,25 @@ engine::Expected<HermiteCellFeature::Pipelines> HermiteCellFeature::createPipeli
   ENGINE_TRY_ASSIGN(auto resolveFrag, engine::gpu::ShaderModule::load(context, "cells_resolve.frag"));
   ENGINE_TRY_ASSIGN(auto runsVert, engine::gpu::ShaderModule::load(context, "runs.vert"));
 
+  ENGINE_TRY(createCellPipelines(p, vert, runsVert));
+  ENGINE_TRY(createBrickPipelines(p));
+  ENGINE_TRY(createThinCellPipelines(p));
+  ENGINE_TRY(createWirePipelines(p, wireVert, wireFrag));
+  ENGINE_TRY(createResolvePipelines(p, resolveVert, resolveFrag, fixupFrag));
+  return p;
+}
+
+// The prepass pipelines of cells (per variant and precision) and of cell runs (per variant).
+engine::Status HermiteCellFeature::createCellPipelines(Pipelines& p, const engine::gpu::ShaderModule& vert,
+                                                       const engine::gpu::ShaderModule& runsVert) const {
+  const engine::gpu::Context& context = *context_;
+  const engine::render::RendererFormats& formats = formats_;
+  // Fragment shaders per prepass variant (Variant; shaders/hermite/hit_depth.glsl): front faces, near cells.
+  static constexpr const char* kCellsFront[kVariants] = {"cells_depth.frag", "cells_depth_counted.frag",
+                                                         "cells_depth_early.frag"};
+  static constexpr const char* kCellsNear[kVariants] = {"cells_depth_near.frag", "cells_depth_near_counted.frag",
+                                                        "cells_depth_near_early.frag"};
+  static constexpr const char* kVariantNames[kVariants] = {"", " counted", " early"};
   for (int variant = 0; variant < kVariants; ++variant) {
     ENGINE_TRY_ASSIGN(auto frontFrag, engine::gpu::ShaderModule::load(context, kCellsFront[variant]));
     ENGINE_TRY_ASSIGN(auto nearFrag, engine::gpu::ShaderModule::load(context, kCellsNear[variant]));
@@ -123,31 +132,49 @@ engine::Expected<HermiteCellFeature::Pipelines> HermiteCellFeature::createPipeli
       desc.topology = VK_PRIMITIVE_TOPOLOGY_TRIANGLE_STRIP;
       ENGINE_TRY_ASSIGN(p.depthNear[variant][precision], Pipeline::createGraphics(context, desc));
     }
-    // Cell runs: records by address, one pipeline pair for both precisions (HERMITE_FLAG_HALF_RECORDS).
-    ENGINE_TRY_ASSIGN(auto runsFrontFrag, engine::gpu::ShaderModule::load(context, kRunsFront[variant]));
-    ENGINE_TRY_ASSIGN(auto runsNearFrag, engine::gpu::ShaderModule::load(context, kRunsNear[variant]));
-    engine::gpu::GraphicsPipelineDesc desc;
-    desc.vertex = runsVert.handle();
-    desc.vertexLayout = runVertexLayout();
-    desc.pushConstantBytes = sizeof(shader::HermitePushConstants);
-    desc.depthFormat = formats.depth;
-    desc.colorFormats = {formats.visibility};
-    desc.depthCompare = VK_COMPARE_OP_GREATER;
-    desc.name = std::string("hermite cell runs depth") + kVariantNames[variant];
-    desc.fragment = runsFrontFrag.handle();
-    desc.cullMode = VK_CULL_MODE_BACK_BIT;
-    desc.topology = VK_PRIMITIVE_TOPOLOGY_TRIANGLE_FAN;
-    ENGINE_TRY_ASSIGN(p.runsFront[variant], Pipeline::createGraphics(context, desc));
-    desc.name = std::string("hermite cell runs depth near") + kVariantNames[variant];
-    desc.fragment = runsNearFrag.handle();
-    desc.cullMode = VK_CULL_MODE_FRONT_BIT;
-    desc.topology = VK_PRIMITIVE_TOPOLOGY_TRIANGLE_STRIP;
-    ENGINE_TRY_ASSIGN(p.runsNear[variant], Pipeline::createGraphics(context, desc));
+    ENGINE_TRY(createRunPipelines(p, runsVert, variant, kVariantNames[variant]));
   }
-  ENGINE_TRY(createBrickPipelines(p));
-  ENGINE_TRY(createThinCellPipelines(p));
+  return {};
+}
 
-  // Wireframe: edges over the shaded frame, hidden where the surface is in front of them.
+// One variant's prepass pipelines of cell runs (front faces, near cells).
+engine::Status HermiteCellFeature::createRunPipelines(Pipelines& p, const engine::gpu::ShaderModule& runsVert,
+                                                      int variant, const char* variantName) const {
+  const engine::gpu::Context& context = *context_;
+  const engine::render::RendererFormats& formats = formats_;
+  static constexpr const char* kRunsFront[kVariants] = {"runs_depth.frag", "runs_depth_counted.frag",
+                                                        "runs_depth_early.frag"};
+  static constexpr const char* kRunsNear[kVariants] = {"runs_depth_near.frag", "runs_depth_near_counted.frag",
+                                                       "runs_depth_near_early.frag"};
+  // Cell runs: records by address, one pipeline pair for both precisions (HERMITE_FLAG_HALF_RECORDS).
+  ENGINE_TRY_ASSIGN(auto runsFrontFrag, engine::gpu::ShaderModule::load(context, kRunsFront[variant]));
+  ENGINE_TRY_ASSIGN(auto runsNearFrag, engine::gpu::ShaderModule::load(context, kRunsNear[variant]));
+  engine::gpu::GraphicsPipelineDesc desc;
+  desc.vertex = runsVert.handle();
+  desc.vertexLayout = runVertexLayout();
+  desc.pushConstantBytes = sizeof(shader::HermitePushConstants);
+  desc.depthFormat = formats.depth;
+  desc.colorFormats = {formats.visibility};
+  desc.depthCompare = VK_COMPARE_OP_GREATER;
+  desc.name = std::string("hermite cell runs depth") + variantName;
+  desc.fragment = runsFrontFrag.handle();
+  desc.cullMode = VK_CULL_MODE_BACK_BIT;
+  desc.topology = VK_PRIMITIVE_TOPOLOGY_TRIANGLE_FAN;
+  ENGINE_TRY_ASSIGN(p.runsFront[variant], Pipeline::createGraphics(context, desc));
+  desc.name = std::string("hermite cell runs depth near") + variantName;
+  desc.fragment = runsNearFrag.handle();
+  desc.cullMode = VK_CULL_MODE_FRONT_BIT;
+  desc.topology = VK_PRIMITIVE_TOPOLOGY_TRIANGLE_STRIP;
+  ENGINE_TRY_ASSIGN(p.runsNear[variant], Pipeline::createGraphics(context, desc));
+  return {};
+}
+
+// The wireframe pipelines, one per record precision (DEBUG_VIEW_WIREFRAME).
+engine::Status HermiteCellFeature::createWirePipelines(Pipelines& p, const engine::gpu::ShaderModule& wireVert,
+                                                       const engine::gpu::ShaderModule& wireFrag) const {
+  const engine::gpu::Context& context = *context_;
+  const engine::render::RendererFormats& formats = formats_;
+  // Edges over the shaded frame, hidden where the surface is in front of them.
   for (int precision = 0; precision < 2; ++precision) {
     engine::gpu::GraphicsPipelineDesc wire;
     wire.name = std::string("hermite cells wireframe") + (precision == 0 ? " fp32" : " fp16");
@@ -164,6 +191,15 @@ engine::Expected<HermiteCellFeature::Pipelines> HermiteCellFeature::createPipeli
     wire.depthCompare = VK_COMPARE_OP_GREATER_OR_EQUAL;
     ENGINE_TRY_ASSIGN(p.wire[precision], Pipeline::createGraphics(context, wire));
   }
+  return {};
+}
+
+// The full-screen-rectangle pipelines: the shading (resolve) pass and the early depth fix-up.
+engine::Status HermiteCellFeature::createResolvePipelines(Pipelines& p, const engine::gpu::ShaderModule& resolveVert,
+                                                          const engine::gpu::ShaderModule& resolveFrag,
+                                                          const engine::gpu::ShaderModule& fixupFrag) const {
+  const engine::gpu::Context& context = *context_;
+  const engine::render::RendererFormats& formats = formats_;
   // Shading: a rectangle over the cell objects' screen bounds; which of its pixels are ours comes
   // from the visibility buffer.
   engine::gpu::GraphicsPipelineDesc resolve;
@@ -196,7 +232,7 @@ engine::Expected<HermiteCellFeature::Pipelines> HermiteCellFeature::createPipeli
   fixup.colorWrite = false;
   fixup.pushConstantBytes = sizeof(shader::HermitePushConstants);
   ENGINE_TRY_ASSIGN(p.depthFixup, Pipeline::createGraphics(context, fixup));
-  return p;
+  return {};
 }
 
 
