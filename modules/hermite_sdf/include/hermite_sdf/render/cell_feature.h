@@ -63,6 +63,8 @@
 
 namespace hsdf {
 
+struct CellBuffers;  // the uploaded assets (src/render/cell_feature_internal.h)
+
 class HermiteCellFeature final : public engine::render::RenderFeature {
  public:
   static constexpr std::uint32_t kFeatureId = 2;
@@ -166,10 +168,34 @@ class HermiteCellFeature final : public engine::render::RenderFeature {
                                  std::uint32_t viewportHeight);
   struct AssetRows;
   struct Batch;
+  struct AssetDemand;
+  struct AssetUpload;
+  struct FrameDraws;
+  struct DrawnObject;
   void syncAssets(const engine::render::FrameContext& frame);
+  AssetDemand collectAssetDemand(const engine::render::FrameContext& frame);
+  void appendAsset(CellBuffers& rebuilt, AssetUpload& u, const std::shared_ptr<const SdfAsset>& asset,
+                   const AssetDemand& d) const;
+  void createAssetBuffers(CellBuffers& rebuilt, AssetUpload& u) const;
+  void commitAssetBuffers(const engine::render::FrameContext& frame, CellBuffers rebuilt, const AssetUpload& u);
   void refuseNewAssets(const engine::render::FrameContext& frame,
                        const std::vector<std::shared_ptr<const SdfAsset>>& wanted, const std::string& why);
   void buildDraws(engine::render::FrameContext& frame);
+  void resetDraws();
+  void addObjectDraws(engine::render::FrameContext& frame, FrameDraws& f, engine::ecs::Entity entity,
+                      const HermiteSdfRenderable& r, const glm::mat4& world);
+  void beginObjectDraw(engine::render::FrameContext& frame, FrameDraws& f, const HermiteSdfRenderable& r,
+                       DrawnObject& o);
+  void addBrickObjectDraws(engine::render::FrameContext& frame, FrameDraws& f, const DrawnObject& o);
+  void addRunObjectDraws(FrameDraws& f, const DrawnObject& o);
+  void addCellObjectDraws(engine::render::FrameContext& frame, FrameDraws& f, const DrawnObject& o);
+  void concatenateBatches(const FrameDraws& f, std::vector<VkDrawIndirectCommand>& allCommands,
+                          std::vector<shader::HermiteDraw>& allDraws);
+  void addWireCommands(std::vector<VkDrawIndirectCommand>& allCommands, std::vector<shader::HermiteDraw>& allDraws);
+  void chooseDrawStages(const FrameDraws& f);
+  void uploadDraws(engine::render::FrameContext& frame, const FrameDraws& f,
+                   const std::vector<VkDrawIndirectCommand>& allCommands,
+                   const std::vector<shader::HermiteDraw>& allDraws);
   void recordCulling(engine::render::FrameContext& frame);
   void recordBrickCulling(engine::render::FrameContext& frame);
   void recordCellCulling(engine::render::FrameContext& frame);
@@ -215,6 +241,15 @@ class HermiteCellFeature final : public engine::render::RenderFeature {
   };
   Variant prepassVariant(const engine::render::FrameContext& frame) const;
   engine::Expected<Pipelines> createPipelines() const;
+  engine::Status createCellPipelines(Pipelines& p, const engine::gpu::ShaderModule& vert,
+                                     const engine::gpu::ShaderModule& runsVert) const;
+  engine::Status createRunPipelines(Pipelines& p, const engine::gpu::ShaderModule& runsVert, int variant,
+                                    const char* variantName) const;
+  engine::Status createWirePipelines(Pipelines& p, const engine::gpu::ShaderModule& wireVert,
+                                     const engine::gpu::ShaderModule& wireFrag) const;
+  engine::Status createResolvePipelines(Pipelines& p, const engine::gpu::ShaderModule& resolveVert,
+                                        const engine::gpu::ShaderModule& resolveFrag,
+                                        const engine::gpu::ShaderModule& fixupFrag) const;
   engine::Status createBrickPipelines(Pipelines& p) const;
   engine::Status createThinCellPipelines(Pipelines& p) const;
   // Bricks and thin cells have only the production and counted variants (buildDraws keeps the early

@@ -1,0 +1,258 @@
+// The cell feature's GPU copy of the drawn assets: records, runs, bricks and normal cones.
+#include "hermite_sdf/render/cell_feature.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstddef>
+#include <cstring>
+#include <limits>
+#include <unordered_set>
+
+#include <imgui.h>
+
+#include "engine/core/log.h"
+#include "engine/ecs/registry.h"
+#include "engine/gpu/context.h"
+#include "engine/gpu/vk_check.h"
+#include "engine/render/gpu_scene.h"
+#include "engine/scene/transform.h"
+#include "hermite/hermite_host_device.h"
+#include "cells/cell_bricks.h"
+#include "render/brick_culler.h"
+#include "render/cell_feature_internal.h"
+#include "render/cell_history.h"
+#include "render/cell_rows.h"
+#include "hermite_sdf/render/lod.h"
+#include "hermite_sdf/core/normal_cone.h"
+
+namespace hsdf {
+
+namespace {
+
+// The asset's bricks: those built for it before (they depend on the asset only), else built now. A
+// grid too large for brick coordinates is reported and gets no bricks (its CellBricks objects
+// draw nothing).
+CellBricks bricksOf(const SdfAsset& asset, const std::unordered_map<std::uint64_t, CellBuffers::Entry>& built) {
+  if (auto old = built.find(asset.id); old != built.end() && old->second.bricksBuilt) return old->second.bricks;
+  auto bricks = buildCellBricks(asset.cells);
+  if (bricks) return std::move(*bricks);
+  engine::log::warn("hermite cells: '{}' cannot be drawn as cell bricks: {}", asset.name, bricks.error().message);
+  return {};
+}
+
+// The normal cones of the asset's bricks (brick culling), cached like the bricks. Cones that cannot
+// be built (they only fail for bricks inconsistent with the stream) are replaced by cones that
+// never cull, so the culling pass keeps every brick and the object still draws.
+std::vector<shader::CellBrickCone> conesOf(const SdfAsset& asset, const CellBricks& bricks,
+                                           const std::unordered_map<std::uint64_t, CellBuffers::Entry>& built) {
+  if (auto old = built.find(asset.id); old != built.end() && old->second.bricksBuilt) return old->second.cones;
+  auto cones = brickGradientCones(asset.cells, bricks.bricks, bricks.cellRecords);
+  if (cones) return std::move(*cones);
+  engine::log::warn("hermite cells: '{}': no brick normal cones: {}", asset.name, cones.error().message);
+  return std::vector<shader::CellBrickCone>(bricks.bricks.size(), neverCullCone());
+}
+
+// The normal cone of each of the asset's cells (cell culling), cached like the bricks' cones.
+std::vector<shader::CellBrickCone> cellConesOf(const SdfAsset& asset,
+                                               const std::unordered_map<std::uint64_t, CellBuffers::Entry>& built) {
+  if (auto old = built.find(asset.id); old != built.end() && old->second.cellConesBuilt) return old->second.cellCones;
+  return cellGradientCones(asset.cells);
+}
+
+}  // namespace
+
+// What this frame draws as cells, runs or bricks: the assets, and which need bricks or cell cones.
+struct HermiteCellFeature::AssetDemand {
+  std::vector<std::shared_ptr<const SdfAsset>> wanted;
+  std::unordered_set<std::uint64_t> seen;
+  std::unordered_set<std::uint64_t> asBricks;  // assets some entity draws as cell bricks
+  std::unordered_set<std::uint64_t> asCulledCells;  // ... as culled cells (RenderMethod::Cells, Settings::cullCells)
+  bool missing = false;
+};
+
+// The concatenation of the wanted assets' streams, the contents of the rebuilt buffers.
+struct HermiteCellFeature::AssetUpload {
+  std::vector<CellRecord> full;
+  std::vector<CellRecordHalf> half;
+  std::vector<shader::CellRunGpu> runs;
+  std::vector<shader::CellBrickGpu> bricks;
+  std::vector<std::uint32_t> brickCells;
+  std::vector<shader::CellBrickCone> cones;
+  std::vector<shader::CellBrickCone> cellCones;
+};
+
+// Uploads the assets drawn now when one is new, needs bricks or cell cones, or the run length changed.
+void HermiteCellFeature::syncAssets(const engine::render::FrameContext& frame) {
+  AssetDemand d = collectAssetDemand(frame);
+  const bool runsStale = !d.wanted.empty() && buffers_->runLength != settings_.maxRunLength &&
+                         settings_.maxRunLength != refusedRunLength_;  // the setting changed
+  if (!d.missing && !runsStale) return;
+
+  // View regions call prepare() once per region: an asset an earlier region of this frame drew
+  // stays (its draws are recorded already and the next frame draws it again).
+  for (const auto& [id, entry] : buffers_->entries)
+    if (entry.lastFrame == frame.frameNumber && d.seen.insert(id).second) d.wanted.push_back(entry.asset);
+
+  // Rebuild the concatenated buffers with the assets drawn now (assets no longer drawn are dropped).
+  // The old buffers may be referenced by commands recorded earlier in this frame and by frames in
+  // flight: they are retired below, and freed once this frame has completed (prepare()).
+  CellBuffers rebuilt;
+  AssetUpload u;
+  for (const auto& asset : d.wanted) appendAsset(rebuilt, u, asset, d);
+  try {
+    createAssetBuffers(rebuilt, u);
+  } catch (const engine::gpu::VulkanError& e) {
+    if (e.result() != VK_ERROR_OUT_OF_DEVICE_MEMORY) throw;
+    refuseNewAssets(frame, d.wanted, e.what());  // the old buffers stay: what was drawn is drawn
+    return;
+  }
+  commitAssetBuffers(frame, std::move(rebuilt), u);
+}
+
+// The assets the entities draw as cells (or keep drawing, for refused ones), and whether any upload is missing.
+HermiteCellFeature::AssetDemand HermiteCellFeature::collectAssetDemand(const engine::render::FrameContext& frame) {
+  AssetDemand d;
+  frame.registry.view<HermiteSdfRenderable>().each([&](engine::ecs::Entity entity, const HermiteSdfRenderable& r) {
+    if (!drawnAsCells(r.method) || !r.asset || r.asset->cells.records.empty()) return;
+    const bool bricks = r.method == RenderMethod::CellBricks;
+    const bool culledCells = r.method == RenderMethod::Cells && settings_.cullCells;
+    if (refused_.contains(r.asset->id)) {
+      // The entity still draws the asset the refused one replaced (buildDraws): keep it uploaded.
+      if (auto previous = drawnAssets_.find(entity); previous != drawnAssets_.end())
+        if (auto kept = buffers_->entries.find(previous->second); kept != buffers_->entries.end()) {
+          if (bricks) d.asBricks.insert(kept->first);
+          if (culledCells) d.asCulledCells.insert(kept->first);
+          if (d.seen.insert(kept->first).second) {
+            d.wanted.push_back(kept->second.asset);
+            kept->second.lastFrame = frame.frameNumber;
+          }
+        }
+      return;
+    }
+    if (bricks) d.asBricks.insert(r.asset->id);
+    if (culledCells) d.asCulledCells.insert(r.asset->id);
+    if (!d.seen.insert(r.asset->id).second) return;
+    d.wanted.push_back(r.asset);
+    auto entry = buffers_->entries.find(r.asset->id);
+    if (entry == buffers_->entries.end())
+      d.missing = true;
+    else
+      entry->second.lastFrame = frame.frameNumber;
+  });
+  for (std::uint64_t id : d.asBricks)  // an uploaded asset now drawn as bricks: build its bricks
+    if (auto entry = buffers_->entries.find(id); entry != buffers_->entries.end() && !entry->second.bricksBuilt)
+      d.missing = true;
+  for (std::uint64_t id : d.asCulledCells)  // ... now drawn as culled cells: build its cell cones
+    if (auto entry = buffers_->entries.find(id); entry != buffers_->entries.end() && !entry->second.cellConesBuilt)
+      d.missing = true;
+  return d;
+}
+
+// Appends one asset's records, runs, bricks and cones to the upload, and its entry to `rebuilt`.
+void HermiteCellFeature::appendAsset(CellBuffers& rebuilt, AssetUpload& u, const std::shared_ptr<const SdfAsset>& asset,
+                                     const AssetDemand& d) const {
+  CellBuffers::Entry entry;
+  entry.asset = asset;
+  entry.firstRecord = static_cast<std::uint32_t>(u.full.size());
+  if (!buffers_->entries.contains(asset->id)) entry.rows = buildCellRows(asset->cells);  // else moved below
+  entry.runs = buildCellRuns(asset->cells, settings_.maxRunLength);
+  entry.firstRun = static_cast<std::uint32_t>(u.runs.size());
+  for (shader::CellRunGpu run : entry.runs) {
+    run.firstRecord += entry.firstRecord;
+    u.runs.push_back(run);
+  }
+  const auto old = buffers_->entries.find(asset->id);
+  entry.bricksBuilt = d.asBricks.contains(asset->id) || (old != buffers_->entries.end() && old->second.bricksBuilt);
+  if (entry.bricksBuilt) {
+    entry.bricks = bricksOf(*asset, buffers_->entries);
+    entry.cones = conesOf(*asset, entry.bricks, buffers_->entries);
+  }
+  u.cones.insert(u.cones.end(), entry.cones.begin(), entry.cones.end());
+  entry.cellConesBuilt =
+      d.asCulledCells.contains(asset->id) || (old != buffers_->entries.end() && old->second.cellConesBuilt);
+  if (entry.cellConesBuilt) {
+    entry.cellCones = cellConesOf(*asset, buffers_->entries);
+    u.cellCones.insert(u.cellCones.end(), entry.cellCones.begin(), entry.cellCones.end());
+  } else {
+    u.cellCones.resize(u.cellCones.size() + asset->cells.records.size(), neverCullCone());
+  }
+  entry.firstBrick = static_cast<std::uint32_t>(u.bricks.size());
+  for (shader::CellBrickGpu brick : entry.bricks.bricks) {
+    brick.firstIndex += static_cast<std::uint32_t>(u.brickCells.size());
+    u.bricks.push_back(brick);
+  }
+  for (std::uint32_t record : entry.bricks.cellRecords) u.brickCells.push_back(entry.firstRecord + record);
+  u.full.insert(u.full.end(), asset->cells.records.begin(), asset->cells.records.end());
+  u.half.insert(u.half.end(), asset->cellsHalf.records.begin(), asset->cellsHalf.records.end());
+  rebuilt.entries.emplace(asset->id, std::move(entry));
+}
+
+// The rebuilt GPU buffers; throws engine::gpu::VulkanError when an allocation fails.
+void HermiteCellFeature::createAssetBuffers(CellBuffers& rebuilt, AssetUpload& u) const {
+  // Vertex attributes in the prepass; read by address in the resolve pass.
+  constexpr VkBufferUsageFlags usage = VK_BUFFER_USAGE_VERTEX_BUFFER_BIT | VK_BUFFER_USAGE_STORAGE_BUFFER_BIT |
+                                       VK_BUFFER_USAGE_SHADER_DEVICE_ADDRESS_BIT;
+  rebuilt.records[0] = engine::gpu::createBufferWithData(*context_, u.full.data(), u.full.size() * sizeof(CellRecord),
+                                                         usage, "hermite cells fp32");
+  rebuilt.records[1] = engine::gpu::createBufferWithData(*context_, u.half.data(),
+                                                         u.half.size() * sizeof(CellRecordHalf), usage,
+                                                         "hermite cells fp16");
+  rebuilt.runs = engine::gpu::createBufferWithData(*context_, u.runs.data(), u.runs.size() * sizeof(shader::CellRunGpu),
+                                                   VK_BUFFER_USAGE_VERTEX_BUFFER_BIT, "hermite cell runs");
+  // Never empty (a zero-sized buffer is invalid): a padding entry no draw reaches.
+  if (u.bricks.empty()) u.bricks.push_back({});
+  if (u.brickCells.empty()) u.brickCells.push_back(0);
+  if (u.cones.empty()) u.cones.push_back({});
+  if (u.cellCones.empty()) u.cellCones.push_back({});
+  rebuilt.bricks = engine::gpu::createBufferWithData(*context_, u.bricks.data(), u.bricks.size() * sizeof(shader::CellBrickGpu),
+                                                     usage, "hermite cell bricks");
+  rebuilt.brickCells = engine::gpu::createBufferWithData(
+      *context_, u.brickCells.data(), u.brickCells.size() * sizeof(std::uint32_t),
+      VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_SHADER_DEVICE_ADDRESS_BIT, "hermite cell brick cells");
+  rebuilt.brickCones = engine::gpu::createBufferWithData(
+      *context_, u.cones.data(), u.cones.size() * sizeof(shader::CellBrickCone),
+      VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_SHADER_DEVICE_ADDRESS_BIT, "hermite cell brick cones");
+  rebuilt.cellCones = engine::gpu::createBufferWithData(
+      *context_, u.cellCones.data(), u.cellCones.size() * sizeof(shader::CellBrickCone),
+      VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_SHADER_DEVICE_ADDRESS_BIT, "hermite cell cones");
+}
+
+// Replaces the feature's buffers with the rebuilt ones, retiring the old for frames in flight.
+void HermiteCellFeature::commitAssetBuffers(const engine::render::FrameContext& frame, CellBuffers rebuilt,
+                                            const AssetUpload& u) {
+  // Only now: a failed allocation (createAssetBuffers) must leave the old entries whole.
+  for (auto& [id, entry] : rebuilt.entries)
+    if (auto old = buffers_->entries.find(id); old != buffers_->entries.end()) entry.rows = std::move(old->second.rows);
+  rebuilt.runLength = settings_.maxRunLength;
+  rebuilt.bytes = u.full.size() * sizeof(CellRecord) + u.half.size() * sizeof(CellRecordHalf) +
+                  u.runs.size() * sizeof(shader::CellRunGpu) + u.bricks.size() * sizeof(shader::CellBrickGpu) +
+                  u.brickCells.size() * sizeof(std::uint32_t) +
+                  (u.cones.size() + u.cellCones.size()) * sizeof(shader::CellBrickCone);
+  for (auto& [id, entry] : rebuilt.entries) entry.lastFrame = frame.frameNumber;
+  retired_.retire(std::move(buffers_), frame.frameNumber);
+  buffers_ = std::make_unique<CellBuffers>(std::move(rebuilt));
+  engine::log::debug("hermite cells: {} assets, {} records uploaded", buffers_->entries.size(), u.full.size());
+}
+
+// The rebuilt buffers did not fit in GPU memory. The assets this rebuild was for (new ones, or a
+// new run length) are refused for good, each reported once, so later frames neither retry nor
+// report them again; the assets already uploaded keep drawing from the old buffers.
+void HermiteCellFeature::refuseNewAssets(const engine::render::FrameContext& frame,
+                                         const std::vector<std::shared_ptr<const SdfAsset>>& wanted,
+                                         const std::string& why) {
+  bool refusedAny = false;
+  for (const auto& asset : wanted) {
+    if (buffers_->entries.contains(asset->id)) continue;
+    refused_.insert(asset->id);
+    refusedAny = true;
+    frame.reportDropped(fmt::format("hermite cells: '{}' ({} cells) is not drawn: out of GPU memory ({})", asset->name,
+                                    asset->cells.records.size(), why));
+  }
+  if (refusedAny) return;
+  refusedRunLength_ = settings_.maxRunLength;
+  frame.reportDropped(fmt::format("hermite cells: cell runs of length {} are not built: out of GPU memory ({}); the "
+                                  "runs of length {} stay",
+                                  settings_.maxRunLength, why, buffers_->runLength));
+}
+
+}  // namespace hsdf

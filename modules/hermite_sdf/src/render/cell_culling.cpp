@@ -1,0 +1,172 @@
+// The cell feature's GPU culling passes: bricks, cells and occlusion's late culling.
+#include "hermite_sdf/render/cell_feature.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstddef>
+#include <cstring>
+#include <limits>
+#include <unordered_set>
+
+#include <imgui.h>
+
+#include "engine/core/log.h"
+#include "engine/ecs/registry.h"
+#include "engine/gpu/context.h"
+#include "engine/gpu/vk_check.h"
+#include "engine/render/gpu_scene.h"
+#include "engine/scene/transform.h"
+#include "hermite/hermite_host_device.h"
+#include "cells/cell_bricks.h"
+#include "render/brick_culler.h"
+#include "render/cell_feature_internal.h"
+#include "render/cell_history.h"
+#include "render/cell_rows.h"
+#include "hermite_sdf/render/lod.h"
+#include "hermite_sdf/core/normal_cone.h"
+
+namespace hsdf {
+
+namespace {
+
+constexpr std::uint32_t kRecordStride[2] = {sizeof(CellRecord), sizeof(CellRecordHalf)};
+
+// A culling pass's output buffer of at least `bytes` (device address, storage, plus `usage`): the
+// frame slot's old one while it is large enough.
+Buffer& ensureOutput(const engine::gpu::Context& context, Buffer& buffer, VkDeviceSize bytes, VkBufferUsageFlags usage,
+                     const char* name) {
+  bytes = std::max<VkDeviceSize>(bytes, 4);  // a zero-sized buffer is invalid
+  if (!buffer || buffer.size() < bytes)
+    buffer = Buffer(context, bytes, usage | VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_SHADER_DEVICE_ADDRESS_BIT,
+                    engine::gpu::MemoryUsage::GpuOnly, name);
+  return buffer;
+}
+
+}  // namespace
+
+// The culling passes of this frame slot, bricks and cells, which add up their counts in the slot's
+// totals. The totals of the slot's previous passes are complete now (its submission was waited
+// for): they become the stats.
+void HermiteCellFeature::recordCulling(engine::render::FrameContext& frame) {
+  lastCullSlot_ = frame.frameSlot;
+  if (cullObjectList_.empty() && cellCullObjects_.empty()) return;
+  cullTotals_.upload(frame.frameSlot, std::vector<shader::BrickCullTotals>(1));
+  recordBrickCulling(frame);
+  recordCellCulling(frame);
+}
+
+// The brick culling pass of this frame slot (brick_culler.h): every culled object's bricks tested
+// against the frustum and its normal cones, the kept ones written to the slot's kept-brick stream,
+// which the bricks' front-face draws then read instead of the asset buffer.
+void HermiteCellFeature::recordBrickCulling(engine::render::FrameContext& frame) {
+  if (cullObjectList_.empty()) return;
+  cullObjects_.upload(frame.frameSlot, cullObjectList_);
+  Buffer& kept = ensureOutput(*context_, keptBricks_[frame.frameSlot],
+                              VkDeviceSize(cullOutputBricks_) * sizeof(shader::CellBrickGpu),
+                              VK_BUFFER_USAGE_VERTEX_BUFFER_BIT, "hermite kept bricks");
+  culler_->record(frame.cmd,
+                 {cullObjects_.address(frame.frameSlot), buffers_->bricks.address(), buffers_->brickCones.address(),
+                  kept.address(), indirect_.address(frame.frameSlot), cullTotals_.address(frame.frameSlot)},
+                 std::uint32_t(cullObjectList_.size()), cullMaxBricks_);
+}
+
+// The cell culling pass (cell_cull.comp) of this frame slot: one dispatch per record precision
+// over its ranges, writing the slot's kept records (the front faces' vertex stream instead of the
+// record buffer), their record indices and the commands' instance counts.
+void HermiteCellFeature::recordCellCulling(engine::render::FrameContext& frame) {
+  std::vector<shader::CellCullRange> ranges = cellCullRanges_[0];
+  ranges.insert(ranges.end(), cellCullRanges_[1].begin(), cellCullRanges_[1].end());
+  if (ranges.empty()) return;
+  const std::uint32_t slot = frame.frameSlot;
+  cellCullObjectBuffer_.upload(slot, cellCullObjects_);
+  cellCullRangeBuffer_.upload(slot, ranges);
+  barrierBeforeCulling(frame.cmd);
+  shader::CellCullPushConstants push{};
+  if (occlusion_) {
+    // The previous frame's phase 2 wrote the history this phase 1 reads.
+    engine::gpu::memoryBarrier(frame.cmd, VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT, VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT,
+                               VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT, kStorageReadWrite);
+    push.history = history_->address();
+    push.phase = CELL_CULL_PHASE_EARLY;
+  }
+  recordCellCullPasses(frame.cmd, slot, push);
+  barrierAfterCulling(frame.cmd);
+}
+
+// The relative depth margin of the occlusion test (CellCullPushConstants::depthMargin). A hit lies
+// at most the search margin beyond its cell: 0.02 pixel of dilation (taken as 0.1 pixel: a depth
+// along the ray, any direction), or kMinDilation = 1/4096 cell. At a distance d, p pixels are
+// p * 2 d / (proj[1][1] H) world units, a relative depth change of p * 2 / (proj[1][1] H) under
+// reverse-Z (depth ~ 1 / d); 1/4096 of a cell is at most ~1e-3 of its distance for any cell not
+// larger on screen than the view (taken as 2e-3).
+float HermiteCellFeature::occlusionDepthMargin(const engine::render::CameraView& camera, VkExtent2D extent) {
+  const float pixelAngle = 2.0f / (std::abs(camera.proj[1][1]) * float(std::max(extent.height, 1u)));
+  return 0.1f * pixelAngle + 2.0e-3f;
+}
+
+// Occlusion culling's phase 2 (after the renderer built the pyramid of phase 1's depth): every
+// culled cell tested against it, the history updated, the visible cells phase 1 did not draw
+// written to the second half of the kept streams and counted in the late commands.
+void HermiteCellFeature::recordLateCulling(engine::render::PassContext& pass,
+                                           const engine::render::DepthPyramidView& pyramid) {
+  if (!occlusion_) return;
+  pass.timer.begin(pass.cmd, "cells late culling");
+  barrierBeforeCulling(pass.cmd);
+  // Phase 1 read the history and wrote the first halves of the streams and the commands.
+  engine::gpu::memoryBarrier(pass.cmd, VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT, kStorageReadWrite,
+                             VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT, kStorageReadWrite);
+  shader::CellCullPushConstants push{};
+  push.history = history_->address();
+  push.pyramid = pyramid.address;
+  push.pyramidWidth = pyramid.extent.width;
+  push.pyramidHeight = pyramid.extent.height;
+  push.pyramidLevels = pyramid.levels;
+  push.phase = CELL_CULL_PHASE_LATE;
+  push.depthMargin = occlusionDepthMargin(pass.frame.camera, pyramid.extent);
+  recordCellCullPasses(pass.cmd, pass.frame.frameSlot, push);
+  barrierAfterCulling(pass.cmd);
+  pass.timer.end(pass.cmd);
+}
+
+// One cell_cull.comp dispatch per record precision over its ranges, with the slot's buffers; the
+// phase and occlusion fields of `push` as the caller set them. Phase 2 writes its commands and
+// kept cells after phase 1's.
+void HermiteCellFeature::recordCellCullPasses(VkCommandBuffer cmd, std::uint32_t slot,
+                                              shader::CellCullPushConstants push) {
+  VkDeviceAddress rangeAddress = cellCullRangeBuffer_.address(slot);
+  const bool late = push.phase == CELL_CULL_PHASE_LATE;
+  for (int precision = 0; precision < 2; ++precision) {
+    const auto rangeCount = static_cast<std::uint32_t>(cellCullRanges_[precision].size());
+    if (rangeCount == 0) continue;
+    const VkDeviceSize kept = VkDeviceSize(cellCullOutput_[precision]) * (occlusion_ ? 2 : 1);
+    const Buffer& records = ensureOutput(*context_, keptCellRecords_[slot][precision], kept * kRecordStride[precision],
+                                         VK_BUFFER_USAGE_VERTEX_BUFFER_BIT, "hermite kept cells");
+    const Buffer& indices = ensureOutput(*context_, keptCellIndices_[slot][precision], kept * sizeof(std::uint32_t), 0,
+                                         "hermite kept cell indices");
+    push.objects = cellCullObjectBuffer_.address(slot);
+    push.ranges = rangeAddress;
+    push.records = buffers_->records[precision].address();
+    push.cones = buffers_->cellCones.address();
+    push.keptRecords = records.address();
+    push.keptIndices = indices.address();
+    push.commands = indirect_.address(slot);
+    push.totals = cullTotals_.address(slot);
+    push.rangeCount = rangeCount;
+    push.recordWords = kRecordStride[precision] / 4;
+    const Batch& batch = *batches_[precision];
+    push.commandOffset = late ? batch.lateFirst - batch.frontFirst : 0;
+    push.outputOffset = late ? cellCullOutput_[precision] : 0;
+    cellCuller_->record(cmd, push);
+    rangeAddress += VkDeviceAddress(rangeCount) * sizeof(shader::CellCullRange);
+  }
+}
+
+shader::BrickCullTotals HermiteCellFeature::cullTotals() const {
+  shader::BrickCullTotals totals{};
+  const Buffer& buffer = cullTotals_.buffer(lastCullSlot_);
+  const bool culled = !cullObjectList_.empty() || !cellCullObjects_.empty();
+  if (culled && buffer && buffer.mapped()) std::memcpy(&totals, buffer.mapped(), sizeof(totals));
+  return totals;
+}
+
+}  // namespace hsdf

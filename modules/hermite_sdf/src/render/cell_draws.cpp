@@ -1,0 +1,424 @@
+// The cell feature's indirect draws of a frame: commands per batch, cull ranges, brick draws.
+#include "hermite_sdf/render/cell_feature.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstddef>
+#include <cstring>
+#include <limits>
+#include <unordered_set>
+
+#include <imgui.h>
+
+#include "engine/core/log.h"
+#include "engine/ecs/registry.h"
+#include "engine/gpu/context.h"
+#include "engine/gpu/vk_check.h"
+#include "engine/render/gpu_scene.h"
+#include "engine/scene/transform.h"
+#include "hermite/hermite_host_device.h"
+#include "cells/cell_bricks.h"
+#include "render/brick_culler.h"
+#include "render/cell_feature_internal.h"
+#include "render/cell_history.h"
+#include "render/cell_rows.h"
+#include "hermite_sdf/render/lod.h"
+#include "hermite_sdf/core/normal_cone.h"
+
+namespace hsdf {
+
+namespace {
+
+// Vertices per instance of every box (cells, thin cells, runs, bricks; box.glsl): the front faces as
+// one triangle fan, all six faces (near-plane boxes, drawn by back faces) as one triangle strip: 8
+// and 14 vertex-shader invocations per box (issue 20, step 2); the wireframe: the 12 edges.
+constexpr std::uint32_t kFanVertices = 8;
+constexpr std::uint32_t kStripVertices = 14;
+constexpr std::uint32_t kWireVertices = 24;
+
+// The NDC rectangle (x0, y0, x1, y1) that holds the object's grid box on screen, grown by two
+// pixels for the proxies' dilation and rasterization; the whole screen when a corner lies at or
+// behind the eye plane, where the projection of the box is unbounded.
+glm::vec4 screenBounds(const glm::mat4& viewProj, const glm::mat4& model, const Aabb& box, VkExtent2D extent) {
+  const glm::vec4 whole(-1.0f, -1.0f, 1.0f, 1.0f);
+  glm::vec2 lo(std::numeric_limits<float>::max()), hi(-std::numeric_limits<float>::max());
+  for (int corner = 0; corner < 8; ++corner) {
+    const glm::dvec3 p((corner & 1) ? box.max.x : box.min.x, (corner & 2) ? box.max.y : box.min.y,
+                       (corner & 4) ? box.max.z : box.min.z);
+    const glm::vec4 clip = viewProj * (model * glm::vec4(glm::vec3(p), 1.0f));
+    if (!(clip.w > 1e-6f)) return whole;
+    const glm::vec2 ndc = glm::vec2(clip) / clip.w;
+    lo = glm::min(lo, ndc);
+    hi = glm::max(hi, ndc);
+  }
+  const glm::vec2 margin(4.0f / float(std::max(extent.width, 1u)), 4.0f / float(std::max(extent.height, 1u)));
+  return glm::clamp(glm::vec4(lo - margin, hi + margin), -1.0f, 1.0f);
+}
+
+constexpr std::uint32_t kNotCulled = ~0u;
+
+glm::vec4 unite(const glm::vec4& a, const glm::vec4& b) {
+  return {std::min(a.x, b.x), std::min(a.y, b.y), std::max(a.z, b.z), std::max(a.w, b.w)};
+}
+
+}  // namespace
+
+// One frame's draws while buildDraws gathers them, object by object.
+struct HermiteCellFeature::FrameDraws {
+  std::vector<VkDrawIndirectCommand> commands[kBatches][2];  // [fp32 cells, fp16 cells, runs, bricks][front, near]
+  std::vector<shader::HermiteDraw> draws[kBatches][2];
+  std::vector<shader::HermiteObject> hermiteObjects;
+  std::vector<std::uint32_t> objectIndices;
+  std::vector<std::uint32_t> cellCullObject[2];  // per front command of the cell batches: its cull object or kNotCulled
+  std::vector<glm::vec4> objectRects;
+  bool objectsOverlap = false;  // two cell objects share screen pixels: no early depth (see the header)
+  bool drawsBricks = false;     // bricks have no early depth variant: none this frame
+  float largestCellPixels = 0.0f;  // of the RenderMethod::Cells objects (ThinBoxes::Auto)
+  std::unordered_map<engine::ecs::Entity, std::uint64_t> drawnThisFrame;
+  glm::mat4 viewProj{1.0f};
+};
+
+// One entity's object while its draws are added: the uploaded entry it draws, its draw record and
+// the eye in its grid.
+struct HermiteCellFeature::DrawnObject {
+  engine::ecs::Entity entity;
+  std::uint64_t assetId = 0;
+  const CellBuffers::Entry* entry = nullptr;
+  glm::mat4 world{1.0f};
+  int precision = 0;
+  shader::HermiteDraw draw{};
+  glm::dvec3 eyeGrid{0.0};  // the eye in grid units
+  double reachGrid = 0.0;   // how far (in grid units) the near plane reaches around it
+};
+
+// This frame's indirect draws of every cell object, uploaded for the prepass, the culling passes and the resolve.
+void HermiteCellFeature::buildDraws(engine::render::FrameContext& frame) {
+  resetDraws();
+  FrameDraws f;
+  f.viewProj = frame.camera.proj * frame.camera.view;
+  frame.registry.view<HermiteSdfRenderable, engine::scene::WorldTransform>().each(
+      [&](engine::ecs::Entity entity, const HermiteSdfRenderable& r, const engine::scene::WorldTransform& world) {
+        addObjectDraws(frame, f, entity, r, world.matrix);
+      });
+
+  std::vector<VkDrawIndirectCommand> allCommands;
+  std::vector<shader::HermiteDraw> allDraws;
+  concatenateBatches(f, allCommands, allDraws);
+  stats_.draws = static_cast<std::uint32_t>(allCommands.size());
+  for (shader::BrickCullObject& object : cullObjectList_) object.drawCommand += batches_[kBrickBatch]->frontFirst;
+  drawnAssets_ = std::move(f.drawnThisFrame);
+  if (frame.debugView == DEBUG_VIEW_WIREFRAME) addWireCommands(allCommands, allDraws);
+  occlusion_ = settings_.cullCells && settings_.cullOcclusion && !cellCullObjects_.empty();
+  if (occlusion_) placeHistory(frame);
+  cullCellRanges(allCommands, f.cellCullObject);  // after the wireframe's copies, which draw every cell
+  if (occlusion_) addLateCommands(allCommands, allDraws);
+  chooseDrawStages(f);
+  uploadDraws(frame, f, allCommands, allDraws);
+}
+
+// The stats and culling lists of the previous frame, emptied before this frame's objects fill them.
+void HermiteCellFeature::resetDraws() {
+  stats_ = Stats{};
+  cullObjectList_.clear();
+  cullOutputBricks_ = 0;
+  cullMaxBricks_ = 0;
+  cellCullObjects_.clear();
+  cellCullEntities_.clear();
+  cellCullFirstRecord_.clear();
+  cellCullCells_.clear();
+  for (int precision = 0; precision < 2; ++precision) {
+    cellCullRanges_[precision].clear();
+    cellCullOutput_[precision] = 0;
+  }
+  stats_.gpuBytes = buffers_->bytes;
+  screenRect_ = glm::vec4(1.0f, 1.0f, -1.0f, -1.0f);  // empty until an object is drawn
+}
+
+// One entity's draws: the uploaded asset it draws, its draw record, then its method's commands.
+void HermiteCellFeature::addObjectDraws(engine::render::FrameContext& frame, FrameDraws& f, engine::ecs::Entity entity,
+                                        const HermiteSdfRenderable& r, const glm::mat4& world) {
+  if (!drawnAsCells(r.method) || !r.asset) return;
+  if (!engine::render::drawableTransform(world)) {  // the rays could not be taken into the grid
+    stats_.skippedObjects++;
+    return;
+  }
+  auto found = buffers_->entries.find(r.asset->id);
+  // A refused asset (its upload did not fit in GPU memory) that replaced the entity's field:
+  // the field it replaced is still uploaded and is drawn instead, from this very frame on.
+  if (found == buffers_->entries.end() && refused_.contains(r.asset->id))
+    if (auto previous = drawnAssets_.find(entity); previous != drawnAssets_.end())
+      found = buffers_->entries.find(previous->second);
+  if (found == buffers_->entries.end()) return;
+  f.drawnThisFrame[entity] = found->first;
+  DrawnObject o;
+  o.entity = entity;
+  o.assetId = found->first;
+  o.entry = &found->second;
+  o.world = world;
+  beginObjectDraw(frame, f, r, o);
+  if (r.method == RenderMethod::CellBricks) return addBrickObjectDraws(frame, f, o);
+  if (r.method == RenderMethod::CellRuns) return addRunObjectDraws(f, o);
+  addCellObjectDraws(frame, f, o);
+}
+
+// The object's GPU scene entry, draw record and Hermite object, its eye in grid units and its
+// screen rectangle.
+void HermiteCellFeature::beginObjectDraw(engine::render::FrameContext& frame, FrameDraws& f,
+                                         const HermiteSdfRenderable& r, DrawnObject& o) {
+  const CellBuffers::Entry& entry = *o.entry;
+  const GridSpec& grid = entry.asset->cells.grid;  // cells-only assets have no dense field
+  o.precision = r.halfPrecision && halfPrecisionFits(grid) ? 1 : 0;  // else fp32, see renderable.h
+  const int precision = o.precision;
+
+  shader::ObjectData object = engine::render::GpuScene::makeObject(o.world, r.color, r.roughness, 0.0f, kFeatureId);
+  const std::uint32_t objectIndex = frame.scene.addObject(object);
+  shader::HermiteDraw& draw = o.draw;
+  draw.gridOriginSpacing = glm::vec4(glm::vec3(grid.origin), float(grid.spacing));
+  draw.object = objectIndex;
+  draw.subdivisions = std::clamp(r.subdivisions, 1u, 64u);
+  draw.refineSteps = std::min(r.refineSteps, 16u);
+  draw.flags = r.normals == NormalMode::CentralDifferences ? HERMITE_FLAG_NORMALS_CENTRAL : 0u;
+  if (r.certified) draw.flags |= HERMITE_FLAG_CERTIFIED;
+  draw.resolution = std::uint32_t(grid.resolution);
+  draw.firstCell = entry.firstRecord;
+  f.hermiteObjects.push_back({draw.gridOriginSpacing, buffers_->records[precision].address(),
+                              std::uint32_t(precision), draw.flags});
+  f.objectIndices.push_back(objectIndex);
+
+  // The eye in grid units, and how far (in grid units) the near plane reaches around it.
+  const glm::vec3 eyeObject = glm::vec3(object.invModel * glm::vec4(frame.camera.position, 1.0f));
+  o.eyeGrid = (glm::dvec3(eyeObject) - grid.origin) / grid.spacing;
+  o.reachGrid = double(frame.camera.nearPlaneReachInObject(object.invModel)) / grid.spacing;
+
+  const glm::vec4 rect = screenBounds(f.viewProj, o.world, grid.bounds(), frame.extent);
+  for (const glm::vec4& other : f.objectRects)
+    f.objectsOverlap |= rect.x < other.z && other.x < rect.z && rect.y < other.w && other.y < rect.w;
+  f.objectRects.push_back(rect);
+  screenRect_ = unite(screenRect_, rect);
+  stats_.objects++;
+  // Runs, bricks and thin cells read their records by address: the draw says which buffer and
+  // which precision (the paper's cells ignore it: their records are vertex attributes).
+  draw.records = buffers_->records[precision].address();
+  if (precision == 1) draw.flags |= HERMITE_FLAG_HALF_RECORDS;
+}
+
+// RenderMethod::CellBricks: the brick batch's commands, and the object's range of the brick culling pass.
+void HermiteCellFeature::addBrickObjectDraws(engine::render::FrameContext& frame, FrameDraws& f, const DrawnObject& o) {
+  const CellBuffers::Entry& entry = *o.entry;
+  const SdfAsset& asset = *entry.asset;
+  f.drawsBricks = true;
+  stats_.cells += asset.cells.records.size();
+  addBrickDraws(entry.bricks.bricks, entry.firstBrick, o.draw, o.eyeGrid, o.reachGrid, f.commands[kBrickBatch],
+                f.draws[kBrickBatch]);
+  if (settings_.cullBricks && !entry.bricks.bricks.empty()) {
+    // The command just added starts empty and the culling pass counts its kept bricks, which
+    // it writes from the object's range of the kept-brick stream on.
+    VkDrawIndirectCommand& command = f.commands[kBrickBatch][0].back();
+    BrickCuller::ObjectBricks range{entry.firstBrick, command.instanceCount, cullOutputBricks_,
+                                    std::uint32_t(f.commands[kBrickBatch][0].size() - 1)};
+    cullObjectList_.push_back(
+        BrickCuller::cullObject(frame.camera, o.world, asset.cells.grid, asset.boundaryPositive, range));
+    cullOutputBricks_ += command.instanceCount;
+    cullMaxBricks_ = std::max(cullMaxBricks_, command.instanceCount);
+    command.instanceCount = 0;
+    command.firstInstance = range.outputFirst;
+  }
+}
+
+// RenderMethod::CellRuns: the run batch's front commands in row order, and the runs near the eye.
+void HermiteCellFeature::addRunObjectDraws(FrameDraws& f, const DrawnObject& o) {
+  const CellBuffers::Entry& entry = *o.entry;
+  const std::vector<CellRows::Range> rowOrder = orderedRows(entry.rows, o.eyeGrid, settings_.frontToBack);
+  for (const CellRows::Range& range : runRanges(entry.runs, rowOrder)) {
+    f.commands[2][0].push_back({kFanVertices, range.count, 0, entry.firstRun + range.first});
+    f.draws[2][0].push_back(o.draw);
+  }
+  shader::HermiteDraw nearDraw = o.draw;
+  nearDraw.flags |= HERMITE_FLAG_NEAR_CELL;
+  for (std::uint32_t run : runsNearPoint(entry.runs, o.eyeGrid, o.reachGrid)) {
+    f.commands[2][1].push_back({kStripVertices, 1, 0, entry.firstRun + run});
+    f.draws[2][1].push_back(nearDraw);
+    stats_.nearCells++;
+  }
+  stats_.cells += entry.asset->cells.records.size();
+  stats_.runs += entry.runs.size();
+}
+
+// RenderMethod::Cells: the precision's batch of rows in order (culled cells: ranges of the cell
+// culling pass), and the cells near the eye.
+void HermiteCellFeature::addCellObjectDraws(engine::render::FrameContext& frame, FrameDraws& f, const DrawnObject& o) {
+  const CellBuffers::Entry& entry = *o.entry;
+  const SdfAsset& asset = *entry.asset;
+  const GridSpec& grid = asset.cells.grid;
+  const int precision = o.precision;
+  f.largestCellPixels = std::max(f.largestCellPixels, cellPixelsOnScreen(grid, o.world, frame.camera, frame.extent.height));
+  // Culled cells: the object's rows become ranges of the culling pass (cullCellRanges), which
+  // reads the object's frustum, eye and cone permission from its BrickCullObject.
+  std::uint32_t cullObject = kNotCulled;
+  if (settings_.cullCells) {
+    cullObject = std::uint32_t(cellCullObjects_.size());
+    cellCullObjects_.push_back(
+        BrickCuller::cullObject(frame.camera, o.world, grid, asset.boundaryPositive, {}));
+    cellCullEntities_.emplace_back(o.entity, o.assetId);
+    cellCullFirstRecord_.push_back(entry.firstRecord);
+    cellCullCells_.push_back(std::uint32_t(asset.cells.records.size()));
+  }
+  for (const CellRows::Range& range : orderedRows(entry.rows, o.eyeGrid, settings_.frontToBack)) {
+    f.commands[precision][0].push_back({kFanVertices, range.count, 0, entry.firstRecord + range.first});
+    f.draws[precision][0].push_back(o.draw);
+    f.cellCullObject[precision].push_back(cullObject);
+    stats_.cells += range.count;
+  }
+  shader::HermiteDraw nearDraw = o.draw;
+  nearDraw.flags |= HERMITE_FLAG_NEAR_CELL;
+  for (std::uint32_t record : cellsNearPoint(entry.rows, asset.cells, o.eyeGrid, o.reachGrid)) {
+    f.commands[precision][1].push_back({kStripVertices, 1, 0, entry.firstRecord + record});
+    f.draws[precision][1].push_back(nearDraw);
+    stats_.nearCells++;
+  }
+}
+
+// One upload: [fp32 front][fp32 near][fp16 front][fp16 near][runs front][runs near][bricks front][bricks near].
+void HermiteCellFeature::concatenateBatches(const FrameDraws& f, std::vector<VkDrawIndirectCommand>& allCommands,
+                                            std::vector<shader::HermiteDraw>& allDraws) {
+  for (int precision = 0; precision < kBatches; ++precision) {
+    Batch& batch = *batches_[precision];
+    batch.frontFirst = static_cast<std::uint32_t>(allCommands.size());
+    batch.frontCount = static_cast<std::uint32_t>(f.commands[precision][0].size());
+    allCommands.insert(allCommands.end(), f.commands[precision][0].begin(), f.commands[precision][0].end());
+    allDraws.insert(allDraws.end(), f.draws[precision][0].begin(), f.draws[precision][0].end());
+    batch.nearFirst = static_cast<std::uint32_t>(allCommands.size());
+    batch.nearCount = static_cast<std::uint32_t>(f.commands[precision][1].size());
+    allCommands.insert(allCommands.end(), f.commands[precision][1].begin(), f.commands[precision][1].end());
+    allDraws.insert(allDraws.end(), f.draws[precision][1].begin(), f.draws[precision][1].end());
+  }
+}
+
+// DEBUG_VIEW_WIREFRAME: the cell batches' front lists again, drawn as the boxes' edges.
+void HermiteCellFeature::addWireCommands(std::vector<VkDrawIndirectCommand>& allCommands,
+                                         std::vector<shader::HermiteDraw>& allDraws) {
+  for (int precision = 0; precision < 2; ++precision) {
+    Batch& batch = *batches_[precision];
+    batch.wireFirst = static_cast<std::uint32_t>(allCommands.size());
+    for (std::uint32_t i = 0; i < batch.frontCount; ++i) {
+      VkDrawIndirectCommand wire = allCommands[batch.frontFirst + i];
+      wire.vertexCount = kWireVertices;
+      allCommands.push_back(wire);
+      allDraws.push_back(allDraws[batch.frontFirst + i]);
+    }
+  }
+}
+
+// The stages that depend on all of the frame's objects: thin boxes and the early depth stage.
+void HermiteCellFeature::chooseDrawStages(const FrameDraws& f) {
+  thinBoxes_ = thinBoxesWanted(settings_.thinBoxes, context_->capabilities().isSoftwareRasterizer, f.largestCellPixels);
+  stats_.thinBoxes = thinBoxes_;
+  stats_.largestCellPixels = f.largestCellPixels;
+  // Occlusion culling keeps the early depth stage off: the stage leaves the boxes' face depths in
+  // the depth buffer until its fix-up, so phase 1 would need its fix-up before the pyramid and
+  // phase 2 an early stage and a fix-up of its own over pixels that phase 1 already made final.
+  // Culling removes the hidden boxes the stage only made cheaper (on lavapipe; on GPUs the stage
+  // gains nothing, issue 20).
+  earlyDepth_ = earlyDepthWanted(settings_.earlyDepth, context_->capabilities().isSoftwareRasterizer) &&
+                stats_.draws > 0 && !f.objectsOverlap && !f.drawsBricks && !thinBoxes_ && !occlusion_;
+}
+
+// This frame slot's commands, draw data and Hermite objects, and each object's payload address.
+void HermiteCellFeature::uploadDraws(engine::render::FrameContext& frame, const FrameDraws& f,
+                                     const std::vector<VkDrawIndirectCommand>& allCommands,
+                                     const std::vector<shader::HermiteDraw>& allDraws) {
+  if (!allCommands.empty()) {
+    indirect_.upload(frame.frameSlot, allCommands);
+    drawData_.upload(frame.frameSlot, allDraws);
+  }
+  if (!f.hermiteObjects.empty()) {
+    objects_.upload(frame.frameSlot, f.hermiteObjects);
+    const VkDeviceAddress base = objects_.address(frame.frameSlot);
+    for (std::size_t i = 0; i < f.objectIndices.size(); ++i)
+      frame.scene.object(f.objectIndices[i]).payload = base + i * sizeof(shader::HermiteObject);
+  }
+}
+
+// The front-face commands of culled cells (cullObjects: per command of the two cell batches) become
+// the culling pass's ranges: each command then draws its range of the kept-cell stream, from an
+// instance count of 0 that the pass overwrites. The ranges take the commands' order, so the rows
+// stay front to back.
+void HermiteCellFeature::cullCellRanges(std::vector<VkDrawIndirectCommand>& commands,
+                                        const std::vector<std::uint32_t> cullObjects[2]) {
+  for (int precision = 0; precision < 2; ++precision) {
+    const Batch& batch = *batches_[precision];
+    for (std::uint32_t i = 0; i < batch.frontCount; ++i) {
+      if (cullObjects[precision][i] == kNotCulled) continue;
+      VkDrawIndirectCommand& command = commands[batch.frontFirst + i];
+      const std::uint32_t object = cullObjects[precision][i];
+      // The range's first cell in the history: its object's base plus the cell's index in its asset.
+      const std::uint32_t historyFirst =
+          occlusion_ ? historyBase_[object] + (command.firstInstance - cellCullFirstRecord_[object]) : 0;
+      const shader::CellCullRange range{command.firstInstance, command.instanceCount, cellCullOutput_[precision],
+                                        batch.frontFirst + i, object, historyFirst, 0, 0};
+      cellCullRanges_[precision].push_back(range);
+      cellCullOutput_[precision] += command.instanceCount;
+      command.instanceCount = 0;
+      command.firstInstance = range.outputFirst;
+    }
+  }
+}
+
+// This view region's places in the visibility history for this frame's culled objects.
+void HermiteCellFeature::placeHistory(engine::render::FrameContext& frame) {
+  std::vector<CellHistory::Object> objects;
+  for (std::size_t i = 0; i < cellCullEntities_.size(); ++i)
+    objects.push_back({cellCullEntities_[i].first, cellCullEntities_[i].second, cellCullCells_[i]});
+  const std::uint32_t regions = std::max(1u, frameSlots_ / std::max(1u, frame.framesInFlight));
+  historyBase_ = history_->place(*context_, frame.cmd, objects, frame.frameSlot % regions, regions,
+                                 frame.frameNumber, retired_);
+}
+
+// Phase 2's commands: the culled front lists again (every front command of the two cell batches is
+// culled when occlusion culling is on), each drawing its range of the second half of the kept
+// stream, from an instance count of 0 that the late culling pass overwrites.
+void HermiteCellFeature::addLateCommands(std::vector<VkDrawIndirectCommand>& commands,
+                                         std::vector<shader::HermiteDraw>& draws) {
+  for (int precision = 0; precision < 2; ++precision) {
+    Batch& batch = *batches_[precision];
+    batch.lateFirst = static_cast<std::uint32_t>(commands.size());
+    for (std::uint32_t i = 0; i < batch.frontCount; ++i) {
+      VkDrawIndirectCommand late = commands[batch.frontFirst + i];
+      late.firstInstance += cellCullOutput_[precision];
+      commands.push_back(late);
+      draws.push_back(draws[batch.frontFirst + i]);
+    }
+  }
+}
+
+// The size on screen, in pixels, of one cell of `grid` placed by `world`, seen from the camera at
+// the distance of the grid box's centre (ThinBoxes::Auto: a typical cell of the object, not its
+// nearest one as the levels of detail take).
+float HermiteCellFeature::cellPixelsOnScreen(const GridSpec& grid, const glm::mat4& world,
+                                             const engine::render::CameraView& camera, std::uint32_t viewportHeight) {
+  const float scale = largestAxisScale(world);
+  const glm::vec3 centre = glm::vec3(world * glm::vec4(glm::vec3(grid.bounds().center()), 1.0f));
+  return projectedPixels(scale * float(grid.spacing), glm::length(camera.position - centre), camera.fovY, viewportHeight);
+}
+
+// A CellBricks object: one command for all its bricks (firstInstance = its first brick; the brick
+// culling pass will write instanceCount), and the bricks the near plane may cut by back faces.
+void HermiteCellFeature::addBrickDraws(const std::vector<shader::CellBrickGpu>& bricks, std::uint32_t firstBrick,
+                                       const shader::HermiteDraw& draw, const glm::dvec3& eyeGrid, double reachGrid,
+                                       std::vector<VkDrawIndirectCommand> commands[2],
+                                       std::vector<shader::HermiteDraw> draws[2]) {
+  const auto count = static_cast<std::uint32_t>(bricks.size());
+  if (count == 0) return;  // reported when the bricks could not be built
+  commands[0].push_back({kFanVertices, count, 0, firstBrick});
+  draws[0].push_back(draw);
+  shader::HermiteDraw nearDraw = draw;
+  nearDraw.flags |= HERMITE_FLAG_NEAR_CELL;
+  for (std::uint32_t brick : bricksNearPoint(bricks, eyeGrid, reachGrid)) {
+    commands[1].push_back({kStripVertices, 1, 0, firstBrick + brick});
+    draws[1].push_back(nearDraw);
+    stats_.nearCells++;
+  }
+  stats_.bricks += count;
+}
+
+}  // namespace hsdf

@@ -1,0 +1,69 @@
+// Private to the cell feature's files (cell_feature.cpp, cell_pipelines.cpp, cell_assets.cpp,
+// cell_draws.cpp, cell_culling.cpp): the state and helpers more than one of them needs.
+#pragma once
+
+#include <cstdint>
+#include <memory>
+#include <unordered_map>
+#include <vector>
+
+#include "engine/gpu/buffer.h"
+#include "hermite/hermite_host_device.h"
+#include "cells/cell_bricks.h"
+#include "render/cell_rows.h"
+#include "hermite_sdf/render/cell_feature.h"
+
+namespace hsdf {
+
+using engine::gpu::Buffer;
+using engine::gpu::Pipeline;
+
+// The GPU copy of every drawn asset's cell records: one fp32 and one fp16 buffer, each the
+// concatenation of the assets' streams, so one vertex-buffer binding serves all objects.
+struct CellBuffers {
+  struct Entry {
+    std::shared_ptr<const SdfAsset> asset;
+    std::uint32_t firstRecord = 0;  // same index in both buffers
+    CellRows rows;
+    std::vector<shader::CellRunGpu> runs;  // firstRecord relative to the asset's stream
+    std::uint32_t firstRun = 0;            // index of runs[0] in the run buffer
+    CellBricks bricks;                     // RenderMethod::CellBricks, indices relative to the asset's stream
+    std::vector<shader::CellBrickCone> cones;  // one per brick (normal_cone.h), for the brick culling pass
+    // Whether bricks and cones were built: only for assets drawn as bricks, since the cones cost a
+    // few microseconds per cell (seconds at K >= 1024) that cells and runs would pay for nothing.
+    bool bricksBuilt = false;
+    std::uint32_t firstBrick = 0;          // index of bricks.bricks[0] in the brick buffer
+    // One normal cone per record (cellGradientCone), for the cell culling pass: built, as the
+    // bricks' cones, only for assets some entity draws as culled cells.
+    std::vector<shader::CellBrickCone> cellCones;
+    bool cellConesBuilt = false;
+    std::uint64_t lastFrame = 0;           // the last frame that drew the asset
+  };
+  std::unordered_map<std::uint64_t, Entry> entries;  // by asset id
+  Buffer records[2];
+  Buffer runs;  // every asset's runs, firstRecord global (RenderMethod::CellRuns)
+  Buffer bricks;      // every asset's CellBrickGpu, firstIndex global (RenderMethod::CellBricks)
+  Buffer brickCells;  // the bricks' kept cells: global record indices, brick by brick
+  Buffer brickCones;  // CellBrickCone per entry of `bricks`
+  Buffer cellCones;   // CellBrickCone per record (same index as `records`); never-cull cones for
+                      // assets without cell cones
+  std::uint32_t runLength = 0;  // the maximum run length the runs were built with
+  std::uint64_t bytes = 0;
+};
+
+// This frame's indirect commands for one record precision: the front-face list, then the
+// near-cell list, as ranges of the shared command and draw-data arrays.
+struct HermiteCellFeature::Batch {
+  std::uint32_t frontFirst = 0, frontCount = 0;
+  std::uint32_t nearFirst = 0, nearCount = 0;
+  std::uint32_t wireFirst = 0;  // DEBUG_VIEW_WIREFRAME: the front list again with kWireVertices
+  std::uint32_t lateFirst = 0;  // occlusion culling: the front list again, drawn in phase 2
+};
+
+constexpr VkAccessFlags2 kStorageReadWrite = VK_ACCESS_2_SHADER_STORAGE_READ_BIT | VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT;
+
+inline bool drawnAsCells(RenderMethod method) {
+  return method == RenderMethod::Cells || method == RenderMethod::CellRuns || method == RenderMethod::CellBricks;
+}
+
+}  // namespace hsdf

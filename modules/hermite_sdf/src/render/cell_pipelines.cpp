@@ -1,0 +1,306 @@
+// The cell feature's pipelines: cells, thin cells, runs, bricks and their vertex layouts.
+#include "hermite_sdf/render/cell_feature.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstddef>
+#include <cstring>
+#include <limits>
+#include <unordered_set>
+
+#include <imgui.h>
+
+#include "engine/core/log.h"
+#include "engine/ecs/registry.h"
+#include "engine/gpu/context.h"
+#include "engine/gpu/vk_check.h"
+#include "engine/render/gpu_scene.h"
+#include "engine/scene/transform.h"
+#include "hermite/hermite_host_device.h"
+#include "cells/cell_bricks.h"
+#include "render/brick_culler.h"
+#include "render/cell_feature_internal.h"
+#include "render/cell_history.h"
+#include "render/cell_rows.h"
+#include "hermite_sdf/render/lod.h"
+#include "hermite_sdf/core/normal_cone.h"
+
+namespace hsdf {
+
+// One description of a cell record: the GPU structs of hermite_host_device.h. The CPU records
+// (cells.h), uploaded byte for byte, must match them field by field, and the vertex layout below is
+// derived from them. The coordinate halves pack as x | y << 16 and z | class << 16 (little endian).
+template <class Cpu, class Gpu>
+constexpr bool sameRecordLayout() {
+  return sizeof(Cpu) == sizeof(Gpu) && offsetof(Cpu, corners) == offsetof(Gpu, corners) &&
+         sizeof(Cpu::corners) == sizeof(Gpu::corners) && offsetof(Cpu, x) == offsetof(Gpu, xy) &&
+         offsetof(Cpu, y) == offsetof(Gpu, xy) + 2 && offsetof(Cpu, z) == offsetof(Gpu, zc) &&
+         offsetof(Cpu, cellClass) == offsetof(Gpu, zc) + 2 && offsetof(Gpu, zc) == offsetof(Gpu, xy) + 4;
+}
+static_assert(sameRecordLayout<CellRecord, shader::CellRecordGpu>(), "CellRecord and CellRecordGpu must match");
+static_assert(sameRecordLayout<CellRecordHalf, shader::CellRecordHalfGpu>(), "CellRecordHalf and CellRecordHalfGpu must match");
+
+namespace {
+
+// One record per instance: locations 0-7 the corners (f, fx, fy, fz), 8 the coordinate and class
+// as four 16-bit integers (cells.vert, cells_thin.vert).
+template <class Gpu>
+engine::gpu::VertexLayout recordVertexLayout(VkFormat cornerFormat) {
+  engine::gpu::VertexLayout layout;
+  layout.bindings.push_back({0, sizeof(Gpu), VK_VERTEX_INPUT_RATE_INSTANCE});
+  constexpr std::uint32_t cornerBytes = sizeof(Gpu::corners) / 8;
+  for (std::uint32_t i = 0; i < 8; ++i)
+    layout.attributes.push_back({i, 0, cornerFormat, std::uint32_t(offsetof(Gpu, corners)) + i * cornerBytes});
+  layout.attributes.push_back({8, 0, VK_FORMAT_R16G16B16A16_UINT, std::uint32_t(offsetof(Gpu, xy))});
+  return layout;
+}
+
+engine::gpu::VertexLayout cellVertexLayout(int precision) {
+  return precision == 0 ? recordVertexLayout<shader::CellRecordGpu>(VK_FORMAT_R32G32B32A32_SFLOAT)
+                        : recordVertexLayout<shader::CellRecordHalfGpu>(VK_FORMAT_R16G16B16A16_SFLOAT);
+}
+
+engine::gpu::VertexLayout runVertexLayout() {
+  engine::gpu::VertexLayout layout;
+  layout.bindings.push_back({0, sizeof(shader::CellRunGpu), VK_VERTEX_INPUT_RATE_INSTANCE});
+  layout.attributes.push_back({0, 0, VK_FORMAT_R32G32_UINT, offsetof(shader::CellRunGpu, xy)});
+  layout.attributes.push_back({1, 0, VK_FORMAT_R32_UINT, offsetof(shader::CellRunGpu, firstRecord)});
+  return layout;
+}
+
+// One CellBrickGpu per instance, read whole (bricks.vert).
+engine::gpu::VertexLayout brickVertexLayout() {
+  engine::gpu::VertexLayout layout;
+  layout.bindings.push_back({0, sizeof(shader::CellBrickGpu), VK_VERTEX_INPUT_RATE_INSTANCE});
+  layout.attributes.push_back({0, 0, VK_FORMAT_R32G32B32A32_UINT, 0});
+  return layout;
+}
+
+}  // namespace
+
+// Every pipeline of the feature; the shared shaders are loaded first, then each family is created.
+engine::Expected<HermiteCellFeature::Pipelines> HermiteCellFeature::createPipelines() const {
+  const engine::gpu::Context& context = *context_;
+  Pipelines p;
+  ENGINE_TRY_ASSIGN(auto vert, engine::gpu::ShaderModule::load(context, "cells.vert"));
+  ENGINE_TRY_ASSIGN(auto fixupFrag, engine::gpu::ShaderModule::load(context, "cells_depth_early_fixup.frag"));
+  ENGINE_TRY_ASSIGN(auto resolveVert, engine::gpu::ShaderModule::load(context, "cells_resolve.vert"));
+  ENGINE_TRY_ASSIGN(auto wireVert, engine::gpu::ShaderModule::load(context, "cells_wire.vert"));
+  ENGINE_TRY_ASSIGN(auto wireFrag, engine::gpu::ShaderModule::load(context, "cells_wire.frag"));
+  ENGINE_TRY_ASSIGN(auto resolveFrag, engine::gpu::ShaderModule::load(context, "cells_resolve.frag"));
+  ENGINE_TRY_ASSIGN(auto runsVert, engine::gpu::ShaderModule::load(context, "runs.vert"));
+
+  ENGINE_TRY(createCellPipelines(p, vert, runsVert));
+  ENGINE_TRY(createBrickPipelines(p));
+  ENGINE_TRY(createThinCellPipelines(p));
+  ENGINE_TRY(createWirePipelines(p, wireVert, wireFrag));
+  ENGINE_TRY(createResolvePipelines(p, resolveVert, resolveFrag, fixupFrag));
+  return p;
+}
+
+// The prepass pipelines of cells (per variant and precision) and of cell runs (per variant).
+engine::Status HermiteCellFeature::createCellPipelines(Pipelines& p, const engine::gpu::ShaderModule& vert,
+                                                       const engine::gpu::ShaderModule& runsVert) const {
+  const engine::gpu::Context& context = *context_;
+  const engine::render::RendererFormats& formats = formats_;
+  // Fragment shaders per prepass variant (Variant; shaders/hermite/hit_depth.glsl): front faces, near cells.
+  static constexpr const char* kCellsFront[kVariants] = {"cells_depth.frag", "cells_depth_counted.frag",
+                                                         "cells_depth_early.frag"};
+  static constexpr const char* kCellsNear[kVariants] = {"cells_depth_near.frag", "cells_depth_near_counted.frag",
+                                                        "cells_depth_near_early.frag"};
+  static constexpr const char* kVariantNames[kVariants] = {"", " counted", " early"};
+  for (int variant = 0; variant < kVariants; ++variant) {
+    ENGINE_TRY_ASSIGN(auto frontFrag, engine::gpu::ShaderModule::load(context, kCellsFront[variant]));
+    ENGINE_TRY_ASSIGN(auto nearFrag, engine::gpu::ShaderModule::load(context, kCellsNear[variant]));
+    for (int precision = 0; precision < 2; ++precision) {
+      const std::string suffix = std::string(kVariantNames[variant]) + (precision == 0 ? " fp32" : " fp16");
+      engine::gpu::GraphicsPipelineDesc desc;
+      desc.vertex = vert.handle();
+      desc.vertexLayout = cellVertexLayout(precision);
+      desc.pushConstantBytes = sizeof(shader::HermitePushConstants);
+      desc.depthFormat = formats.depth;
+      desc.colorFormats = {formats.visibility};
+      desc.depthCompare = VK_COMPARE_OP_GREATER;  // a miss writes depth 0, which this rejects (hit_depth.glsl)
+      desc.name = "hermite cells depth" + suffix;
+      desc.fragment = frontFrag.handle();
+      desc.cullMode = VK_CULL_MODE_BACK_BIT;
+      desc.topology = VK_PRIMITIVE_TOPOLOGY_TRIANGLE_FAN;
+      ENGINE_TRY_ASSIGN(p.depthFront[variant][precision], Pipeline::createGraphics(context, desc));
+      desc.name = "hermite cells depth near" + suffix;
+      desc.fragment = nearFrag.handle();
+      desc.cullMode = VK_CULL_MODE_FRONT_BIT;
+      desc.topology = VK_PRIMITIVE_TOPOLOGY_TRIANGLE_STRIP;
+      ENGINE_TRY_ASSIGN(p.depthNear[variant][precision], Pipeline::createGraphics(context, desc));
+    }
+    ENGINE_TRY(createRunPipelines(p, runsVert, variant, kVariantNames[variant]));
+  }
+  return {};
+}
+
+// One variant's prepass pipelines of cell runs (front faces, near cells).
+engine::Status HermiteCellFeature::createRunPipelines(Pipelines& p, const engine::gpu::ShaderModule& runsVert,
+                                                      int variant, const char* variantName) const {
+  const engine::gpu::Context& context = *context_;
+  const engine::render::RendererFormats& formats = formats_;
+  static constexpr const char* kRunsFront[kVariants] = {"runs_depth.frag", "runs_depth_counted.frag",
+                                                        "runs_depth_early.frag"};
+  static constexpr const char* kRunsNear[kVariants] = {"runs_depth_near.frag", "runs_depth_near_counted.frag",
+                                                       "runs_depth_near_early.frag"};
+  // Cell runs: records by address, one pipeline pair for both precisions (HERMITE_FLAG_HALF_RECORDS).
+  ENGINE_TRY_ASSIGN(auto runsFrontFrag, engine::gpu::ShaderModule::load(context, kRunsFront[variant]));
+  ENGINE_TRY_ASSIGN(auto runsNearFrag, engine::gpu::ShaderModule::load(context, kRunsNear[variant]));
+  engine::gpu::GraphicsPipelineDesc desc;
+  desc.vertex = runsVert.handle();
+  desc.vertexLayout = runVertexLayout();
+  desc.pushConstantBytes = sizeof(shader::HermitePushConstants);
+  desc.depthFormat = formats.depth;
+  desc.colorFormats = {formats.visibility};
+  desc.depthCompare = VK_COMPARE_OP_GREATER;
+  desc.name = std::string("hermite cell runs depth") + variantName;
+  desc.fragment = runsFrontFrag.handle();
+  desc.cullMode = VK_CULL_MODE_BACK_BIT;
+  desc.topology = VK_PRIMITIVE_TOPOLOGY_TRIANGLE_FAN;
+  ENGINE_TRY_ASSIGN(p.runsFront[variant], Pipeline::createGraphics(context, desc));
+  desc.name = std::string("hermite cell runs depth near") + variantName;
+  desc.fragment = runsNearFrag.handle();
+  desc.cullMode = VK_CULL_MODE_FRONT_BIT;
+  desc.topology = VK_PRIMITIVE_TOPOLOGY_TRIANGLE_STRIP;
+  ENGINE_TRY_ASSIGN(p.runsNear[variant], Pipeline::createGraphics(context, desc));
+  return {};
+}
+
+// The wireframe pipelines, one per record precision (DEBUG_VIEW_WIREFRAME).
+engine::Status HermiteCellFeature::createWirePipelines(Pipelines& p, const engine::gpu::ShaderModule& wireVert,
+                                                       const engine::gpu::ShaderModule& wireFrag) const {
+  const engine::gpu::Context& context = *context_;
+  const engine::render::RendererFormats& formats = formats_;
+  // Edges over the shaded frame, hidden where the surface is in front of them.
+  for (int precision = 0; precision < 2; ++precision) {
+    engine::gpu::GraphicsPipelineDesc wire;
+    wire.name = std::string("hermite cells wireframe") + (precision == 0 ? " fp32" : " fp16");
+    wire.vertex = wireVert.handle();
+    wire.fragment = wireFrag.handle();
+    wire.vertexLayout = cellVertexLayout(precision);
+    std::erase_if(wire.vertexLayout.attributes, [](const auto& a) { return a.location != 8; });  // coordinates only
+    wire.pushConstantBytes = sizeof(shader::HermitePushConstants);
+    wire.topology = VK_PRIMITIVE_TOPOLOGY_LINE_LIST;
+    wire.cullMode = VK_CULL_MODE_NONE;
+    wire.depthFormat = formats.depth;
+    wire.colorFormats = {formats.color};
+    wire.depthWrite = false;
+    wire.depthCompare = VK_COMPARE_OP_GREATER_OR_EQUAL;
+    ENGINE_TRY_ASSIGN(p.wire[precision], Pipeline::createGraphics(context, wire));
+  }
+  return {};
+}
+
+// The full-screen-rectangle pipelines: the shading (resolve) pass and the early depth fix-up.
+engine::Status HermiteCellFeature::createResolvePipelines(Pipelines& p, const engine::gpu::ShaderModule& resolveVert,
+                                                          const engine::gpu::ShaderModule& resolveFrag,
+                                                          const engine::gpu::ShaderModule& fixupFrag) const {
+  const engine::gpu::Context& context = *context_;
+  const engine::render::RendererFormats& formats = formats_;
+  // Shading: a rectangle over the cell objects' screen bounds; which of its pixels are ours comes
+  // from the visibility buffer.
+  engine::gpu::GraphicsPipelineDesc resolve;
+  resolve.name = "hermite cells resolve";
+  resolve.vertex = resolveVert.handle();
+  resolve.fragment = resolveFrag.handle();
+  resolve.cullMode = VK_CULL_MODE_NONE;
+  // The rectangle lies on the far plane (reverse-Z: depth 0), so LESS passes only where the prepass
+  // drew something. Background pixels fail this test before the shader runs: on lavapipe a 4x4
+  // block whose pixels all fail an early test skips the shader, while a discard inside it does
+  // not (docs/perf/cells-breakdown-lavapipe.md); GPUs reject such quads early too.
+  resolve.depthTest = true;
+  resolve.depthCompare = VK_COMPARE_OP_LESS;
+  resolve.depthWrite = false;
+  resolve.depthFormat = formats.depth;
+  resolve.colorFormats = {formats.color};
+  resolve.pushConstantBytes = sizeof(shader::HermitePushConstants);
+  resolve.setLayouts = {formats.sceneSetLayout};
+  ENGINE_TRY_ASSIGN(p.resolve, Pipeline::createGraphics(context, resolve));
+  // Early depth fix-up: the same rectangle, in the prepass, writing only depth (always: the faces it
+  // replaces lie in front of the hits, and nothing else has been drawn yet).
+  engine::gpu::GraphicsPipelineDesc fixup;
+  fixup.name = "hermite cells depth fix-up";
+  fixup.vertex = resolveVert.handle();
+  fixup.fragment = fixupFrag.handle();
+  fixup.cullMode = VK_CULL_MODE_NONE;
+  fixup.depthCompare = VK_COMPARE_OP_ALWAYS;
+  fixup.depthFormat = formats.depth;
+  fixup.colorFormats = {formats.visibility};
+  fixup.colorWrite = false;
+  fixup.pushConstantBytes = sizeof(shader::HermitePushConstants);
+  ENGINE_TRY_ASSIGN(p.depthFixup, Pipeline::createGraphics(context, fixup));
+  return {};
+}
+
+
+// Cell bricks: production and counted variants, no early depth one (a frame that draws bricks
+// keeps the early depth stage off: buildDraws). Both precisions share one pipeline pair.
+engine::Status HermiteCellFeature::createBrickPipelines(Pipelines& p) const {
+  static constexpr const char* kFront[kBrickVariants] = {"bricks_depth.frag", "bricks_depth_counted.frag"};
+  static constexpr const char* kNear[kBrickVariants] = {"bricks_depth_near.frag", "bricks_depth_near_counted.frag"};
+  static constexpr const char* kNames[kBrickVariants] = {"", " counted"};
+  ENGINE_TRY_ASSIGN(auto vert, engine::gpu::ShaderModule::load(*context_, "bricks.vert"));
+  for (int variant = 0; variant < kBrickVariants; ++variant) {
+    ENGINE_TRY_ASSIGN(auto front, engine::gpu::ShaderModule::load(*context_, kFront[variant]));
+    ENGINE_TRY_ASSIGN(auto near, engine::gpu::ShaderModule::load(*context_, kNear[variant]));
+    engine::gpu::GraphicsPipelineDesc desc;
+    desc.vertex = vert.handle();
+    desc.vertexLayout = brickVertexLayout();
+    desc.pushConstantBytes = sizeof(shader::HermitePushConstants);
+    desc.depthFormat = formats_.depth;
+    desc.colorFormats = {formats_.visibility};
+    desc.depthCompare = VK_COMPARE_OP_GREATER;
+    desc.name = std::string("hermite cell bricks depth") + kNames[variant];
+    desc.fragment = front.handle();
+    desc.cullMode = VK_CULL_MODE_BACK_BIT;
+    desc.topology = VK_PRIMITIVE_TOPOLOGY_TRIANGLE_FAN;
+    ENGINE_TRY_ASSIGN(p.bricksFront[variant], Pipeline::createGraphics(*context_, desc));
+    desc.name = std::string("hermite cell bricks depth near") + kNames[variant];
+    desc.fragment = near.handle();
+    desc.cullMode = VK_CULL_MODE_FRONT_BIT;
+    desc.topology = VK_PRIMITIVE_TOPOLOGY_TRIANGLE_STRIP;
+    ENGINE_TRY_ASSIGN(p.bricksNear[variant], Pipeline::createGraphics(*context_, desc));
+  }
+  return {};
+}
+
+// Thin cell boxes: production and counted variants (no early depth one: buildDraws keeps the stage
+// off), per precision for the cell attribute's offset in the record; the corners are read by address.
+engine::Status HermiteCellFeature::createThinCellPipelines(Pipelines& p) const {
+  static constexpr const char* kFront[kBrickVariants] = {"cells_thin_depth.frag", "cells_thin_depth_counted.frag"};
+  static constexpr const char* kNear[kBrickVariants] = {"cells_thin_depth_near.frag",
+                                                        "cells_thin_depth_near_counted.frag"};
+  static constexpr const char* kNames[kBrickVariants] = {"", " counted"};
+  ENGINE_TRY_ASSIGN(auto vert, engine::gpu::ShaderModule::load(*context_, "cells_thin.vert"));
+  for (int variant = 0; variant < kBrickVariants; ++variant) {
+    ENGINE_TRY_ASSIGN(auto front, engine::gpu::ShaderModule::load(*context_, kFront[variant]));
+    ENGINE_TRY_ASSIGN(auto near, engine::gpu::ShaderModule::load(*context_, kNear[variant]));
+    for (int precision = 0; precision < 2; ++precision) {
+      const std::string suffix = std::string(kNames[variant]) + (precision == 0 ? " fp32" : " fp16");
+      engine::gpu::GraphicsPipelineDesc desc;
+      desc.vertex = vert.handle();
+      desc.vertexLayout = cellVertexLayout(precision);
+      std::erase_if(desc.vertexLayout.attributes, [](const auto& a) { return a.location != 8; });  // the cell only
+      desc.pushConstantBytes = sizeof(shader::HermitePushConstants);
+      desc.depthFormat = formats_.depth;
+      desc.colorFormats = {formats_.visibility};
+      desc.depthCompare = VK_COMPARE_OP_GREATER;
+      desc.name = "hermite thin cells depth" + suffix;
+      desc.fragment = front.handle();
+      desc.cullMode = VK_CULL_MODE_BACK_BIT;
+      desc.topology = VK_PRIMITIVE_TOPOLOGY_TRIANGLE_FAN;
+      ENGINE_TRY_ASSIGN(p.thinFront[variant][precision], Pipeline::createGraphics(*context_, desc));
+      desc.name = "hermite thin cells depth near" + suffix;
+      desc.fragment = near.handle();
+      desc.cullMode = VK_CULL_MODE_FRONT_BIT;
+      desc.topology = VK_PRIMITIVE_TOPOLOGY_TRIANGLE_STRIP;
+      ENGINE_TRY_ASSIGN(p.thinNear[variant][precision], Pipeline::createGraphics(*context_, desc));
+    }
+  }
+  return {};
+}
+
+}  // namespace hsdf
