@@ -290,6 +290,7 @@ Status Context::createDevice(const ContextDesc& desc) {
   caps_.multiDrawIndirect = supported.core.features.multiDrawIndirect;
   caps_.drawIndirectCount = supported.v12.drawIndirectCount;
   caps_.fillModeNonSolid = supported.core.features.fillModeNonSolid;
+  caps_.maxPointSize = supported.core.features.largePoints ? properties.limits.pointSizeRange[1] : 1.0f;
   caps_.pipelineStatistics = supported.core.features.pipelineStatisticsQuery;
   caps_.timestampPeriodNs = properties.limits.timestampPeriod;
   caps_.maxPushConstantsSize = properties.limits.maxPushConstantsSize;
@@ -313,6 +314,7 @@ Status Context::createDevice(const ContextDesc& desc) {
   enabled.core.features.multiDrawIndirect = supported.core.features.multiDrawIndirect;
   enabled.core.features.drawIndirectFirstInstance = supported.core.features.drawIndirectFirstInstance;
   enabled.core.features.fillModeNonSolid = supported.core.features.fillModeNonSolid;
+  enabled.core.features.largePoints = supported.core.features.largePoints;
   enabled.core.features.pipelineStatisticsQuery = supported.core.features.pipelineStatisticsQuery;
   enabled.core.features.shaderInt64 = VK_TRUE;
   enabled.core.features.depthClamp = supported.core.features.depthClamp;

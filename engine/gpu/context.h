@@ -49,6 +49,7 @@ struct DeviceCapabilities {
   bool multiDrawIndirect = false;
   bool drawIndirectCount = false;
   bool fillModeNonSolid = false;         // wireframe debug views
+  float maxPointSize = 1.0f;             // points larger than one pixel: largePoints, else 1
   bool timestamps = false;
   bool pipelineStatistics = false;       // pipeline-statistics queries (engine/gpu/pipeline_statistics.h)
   float timestampPeriodNs = 1.0f;

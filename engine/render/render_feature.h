@@ -79,6 +79,9 @@ struct FrameContext {
   VkDeviceAddress workCounters = 0;
   // Address of this frame's shader::WorkTotals (zeroed with the counters), 0 when not counting.
   VkDeviceAddress workTotals = 0;
+  // Address of this frame's FrameGlobals (the camera), for compute work recorded in prepare()
+  // that reads what the passes read.
+  VkDeviceAddress frameGlobals = 0;
   // The view region drawn now (the whole frame without regions); passes are scissored to it.
   VkRect2D viewRegion{{0, 0}, {0, 0}};
   // Frames in flight (not frame slots): a resource last used by frame L is free once frame

@@ -301,6 +301,7 @@ void Renderer::recordFrame(FrameResources& frame, std::uint32_t slot, const ecs:
   FrameContext context{frame.cmd, registry, context_,    scene_,           camera,
                        extent_,   slot,     frameNumber_, settings.debugView, workCounters};
   context.framesInFlight = desc_.framesInFlight;
+  context.frameGlobals = frameGlobals_.address(slot);
   if (workCounters) context.workTotals = workCounters + workCounters_.pixelBytes();
   context.droppedObjects = &droppedObjects_;
   if (settings.regions.empty()) {

@@ -182,6 +182,7 @@ engine::Status readKey(const std::string& key, const json& value, TuningState& t
   if (key == "cull_cells") return readBool(value, t.cullCells);
   if (key == "cull_occlusion") return readBool(value, t.cullOcclusion);
   if (key == "thin_boxes") return readEarlyDepth(value, t.thinBoxes);  // the same true / false / "auto" switch
+  if (key == "tiles") return readEarlyDepth(value, t.tiles);
   if (key == "split") return readName(value, kSplitModes, t.split);
   if (key == "split_position") return readFloat(value, kSplitMin, kSplitMax, t.splitPosition);
   if (key == "compare_method") {
@@ -380,6 +381,7 @@ engine::Status saveTuning(const std::filesystem::path& file, const TuningState& 
                      {"cull_cells", t.cullCells},
                      {"cull_occlusion", t.cullOcclusion},
                      {"thin_boxes", t.thinBoxes == ThinBoxes::Auto ? json("auto") : json(t.thinBoxes == ThinBoxes::On)},
+                     {"tiles", t.tiles == TiledCells::Auto ? json("auto") : json(t.tiles == TiledCells::On)},
                      {"split", splitModeName(t.split)},
                      {"split_position", t.splitPosition},
                      {"compare_method", methodName(t.compareMethod)},

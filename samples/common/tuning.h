@@ -66,6 +66,9 @@ std::optional<EarlyDepth> parseEarlyDepth(std::string_view name);
 // The cells' thin boxes (hsdf::HermiteCellFeature::ThinBoxes), the same three-way switch: auto (on
 // GPUs when the cells are small on screen), on, off; written as true, false or "auto".
 using ThinBoxes = EarlyDepth;
+// The cells' screen tiles (hsdf::HermiteCellFeature::Tiles), the same switch: auto (on for software
+// rasterizers), on, off; written as true, false or "auto".
+using TiledCells = EarlyDepth;
 
 // Split-screen comparison: off, or a divider that is vertical (compared method on the right) or
 // horizontal (compared method at the bottom).
@@ -124,6 +127,7 @@ struct TuningState {
   bool cullCells = true;    // cells: the same pass per cell (each with its own normal cone)
   bool cullOcclusion = hsdf::HermiteCellFeature::Settings{}.cullOcclusion;  // cells (with cullCells): two-phase occlusion culling against the depth pyramid
   ThinBoxes thinBoxes = ThinBoxes::Auto;  // cells: 12 bytes of varyings per box, records read by address
+  TiledCells tiles = TiledCells::Auto;    // cells (with cullCells): one quad per 8x8-pixel screen tile, not a box per cell
   // Split-screen comparison (same camera, same frame): the tuning above on one side, the compared
   // method on the other, drawn from its own bake at compareResolution with compareNormals (n,
   // refinement and fp16 are shared). A compared method of cells draws the main asset (K above).
@@ -160,7 +164,7 @@ struct TuningState {
 // The keys of a settings file and of --script settings, in the order saveTuning writes them.
 inline constexpr std::string_view kTuningKeys[] = {
     "method",        "resolution", "padding", "subdivisions",   "refine",          "normals",
-    "fp16",          "debug_view", "front_to_back", "early_depth", "certified", "cull_bricks", "cull_cells", "cull_occlusion", "thin_boxes", "split", "split_position",
+    "fp16",          "debug_view", "front_to_back", "early_depth", "certified", "cull_bricks", "cull_cells", "cull_occlusion", "thin_boxes", "tiles", "split", "split_position",
     "compare_method", "compare_resolution", "compare_normals", "difference",
     "node_draw", "triangle_nodes", "lod", "lod_pixels_per_cell", "trace_epsilon", "trace_max_steps",
     "central_difference_step", "max_run_length"};
@@ -190,7 +194,7 @@ void applyTuning(const TuningState& tuning, hsdf::HermiteSdfRenderable& renderab
 
 // Settings files: JSON objects with the keys "method", "resolution", "padding", "subdivisions",
 // "refine", "normals", "fp16", "debug_view", "front_to_back", "early_depth" (true, false or "auto"),
-// "certified", "cull_bricks", "cull_cells", "cull_occlusion", "thin_boxes", "split",
+// "certified", "cull_bricks", "cull_cells", "cull_occlusion", "thin_boxes", "tiles" (true, false or "auto"), "split",
 // "split_position" (0.05..0.95), "compare_method", "compare_resolution" (0: 2K, else 2..2048, checked by method),
 // "compare_normals", "difference", "node_draw" ("sdf" or "triangles"), "triangle_nodes" (an array of
 // node names; as text, names separated by commas), "lod", "lod_pixels_per_cell" (0.25..64), all optional. Loading starts from

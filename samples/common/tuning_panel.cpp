@@ -133,6 +133,9 @@ void TuningPanel::drawMethod() {
   changed |= autoSwitchCombo("thin boxes", t.thinBoxes,
                              "cells: 12 bytes of varyings per box, the cell's data read by address in the fragment shader,\n"
                              "instead of each box vertex carrying the cell's Hermite data; auto: on GPUs when cells are small on screen");
+  changed |= autoSwitchCombo("tiles", t.tiles,
+                             "cells (with cull cells): the kept cells binned into 8x8-pixel screen tiles, one quad per tile\n"
+                             "searching the tile's cells, instead of a box per cell; auto: on for software rasterizers");
   int view = int(t.debugView);
   if (ImGui::Combo("debug view", &view, kDebugViewLabels, IM_ARRAYSIZE(kDebugViewLabels))) {
     t.debugView = DebugView(view);

@@ -199,6 +199,10 @@ void Viewer::applyTuningToScene() {
   cells.thinBoxes = tuning_.thinBoxes == ThinBoxes::On    ? CellThinBoxes::On
                     : tuning_.thinBoxes == ThinBoxes::Off ? CellThinBoxes::Off
                                                           : CellThinBoxes::Auto;
+  using CellTiles = hsdf::HermiteCellFeature::Tiles;
+  cells.tiles = tuning_.tiles == TiledCells::On    ? CellTiles::On
+                : tuning_.tiles == TiledCells::Off ? CellTiles::Off
+                                                   : CellTiles::Auto;
   using CellEarlyDepth = hsdf::HermiteCellFeature::EarlyDepth;
   cells.earlyDepth = tuning_.earlyDepth == EarlyDepth::On    ? CellEarlyDepth::On
                      : tuning_.earlyDepth == EarlyDepth::Off ? CellEarlyDepth::Off

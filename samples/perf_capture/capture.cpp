@@ -174,7 +174,9 @@ Status captureRow(const Group& g, const RowSpec& spec, std::size_t index, std::s
     // Culled bricks or cells: the boxes drawn are those the culling pass kept (the frame has completed).
     const shader::BrickCullTotals culled = cellFeature.cullTotals();
     const double drawn = double(cells.bricks > 0 ? cells.bricks : cells.runs > 0 ? cells.runs : cells.cells);
-    result.boxes += (culled.tested > 0 ? double(culled.kept) : drawn) / views;
+    // Tiled cells: the proxies are the tiles' quads.
+    const double proxies = cells.tiles ? double(cellFeature.tileTotals().instanceCount) : culled.tested > 0 ? double(culled.kept) : drawn;
+    result.boxes += proxies / views;
     if (g.options.objects && v == 0 && samples::drawsCells(spec.state.method))
       std::fprintf(stderr, "\n%s: %zu assets, %u cell objects in %u indirect commands\n", spec.label.c_str(),
                    assets.size(), cells.objects, cells.draws);

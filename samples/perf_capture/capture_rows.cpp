@@ -48,6 +48,12 @@ const Variant kVariants[] = {
      {.method = hsdf::RenderMethod::Cells, .subdivisions = 3, .refineSteps = 1, .thinBoxes = samples::ThinBoxes::On}},
     {"cells", "n=3 r=1 attributes", false,
      {.method = hsdf::RenderMethod::Cells, .subdivisions = 3, .refineSteps = 1, .thinBoxes = samples::ThinBoxes::Off}},
+    // Issue 20: the culled cells as screen tiles and as boxes (the row above lets the device choose,
+    // HermiteCellFeature::Tiles::Auto: tiles on software rasterizers).
+    {"cells", "n=3 r=1 tiles", false,
+     {.method = hsdf::RenderMethod::Cells, .subdivisions = 3, .refineSteps = 1, .tiles = samples::TiledCells::On}},
+    {"cells", "n=3 r=1 boxes", false,
+     {.method = hsdf::RenderMethod::Cells, .subdivisions = 3, .refineSteps = 1, .tiles = samples::TiledCells::Off}},
     // The certified root search (docs/root-finding.md): its cost against the paper's fixed n above.
     {"cells", "certified", false, {.method = hsdf::RenderMethod::Cells, .subdivisions = 3, .refineSteps = 1, .certified = true}},
     // Issue 13's variant: the same cells and search, one box per run of cells along x.

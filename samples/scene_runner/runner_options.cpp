@@ -126,6 +126,11 @@ void addTuningOptions(CLI::App& app, TuningState& t) {
                  "cover at most 8 pixels), on or off")
       ->transform(oneOf({samples::ThinBoxes::Auto, samples::ThinBoxes::On, samples::ThinBoxes::Off},
                         samples::earlyDepthName));
+  app.add_option("--tiles", t.tiles,
+                 "cells (with --cull-cells): one quad per 8x8-pixel screen tile whose fragments search the tile's "
+                 "cells, instead of a box per cell: auto (default: on for software rasterizers), on or off")
+      ->transform(oneOf({samples::TiledCells::Auto, samples::TiledCells::On, samples::TiledCells::Off},
+                        samples::earlyDepthName));
   app.add_option("--split", t.split, "split-screen comparison: off, vertical or horizontal (divider)")
       ->transform(oneOf({samples::SplitMode::Off, samples::SplitMode::Vertical, samples::SplitMode::Horizontal},
                         samples::splitModeName));

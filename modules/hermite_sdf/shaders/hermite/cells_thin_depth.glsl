@@ -7,6 +7,7 @@
 #include "hermite/hermite_host_device.h"
 #include "hermite/proxy_dilation.glsl"
 #include "hermite/pixel_ray.glsl"
+#include "hermite/record_cell.glsl"
 
 layout(push_constant, scalar) uniform Push { HermitePushConstants pc; };
 #include "hermite/cell_search.glsl"
@@ -20,19 +21,6 @@ layout(location = 0) out uvec2 outVisibility;  // (1 + object, cell record)
 layout(depth_less) out float gl_FragDepth;  // reverse-Z: the hit is never nearer than the front face
 #endif
 #include "hermite/hit_depth.glsl"
-
-// The cell's grid coordinate, from its record (the record's xy / zc words, as cells_resolve.frag).
-vec3 recordCell(HermiteDraw draw, uint record) {
-  uint xy, zc;
-  if ((draw.flags & HERMITE_FLAG_HALF_RECORDS) == 0u) {
-    xy = CellRecordsRef(draw.records).records[record].xy;
-    zc = CellRecordsRef(draw.records).records[record].zc;
-  } else {
-    xy = CellRecordsHalfRef(draw.records).records[record].xy;
-    zc = CellRecordsHalfRef(draw.records).records[record].zc;
-  }
-  return vec3(uvec3(xy & 0xffffu, xy >> 16, zc & 0xffffu));
-}
 
 void main() {
   HermiteDraw draw = HermiteDrawsRef(pc.draws).draws[inDraw];

@@ -165,6 +165,66 @@ HSDF_CHECK_SIZE(CellCullPushConstants, 10 * 8 + 10 * 4);
 #define CELL_CULL_PHASE_EARLY 1u
 #define CELL_CULL_PHASE_LATE 2u
 
+// Tiled cells (HermiteCellFeature::Settings::tiles; cell_tiles.comp, hsdf::CellTiler): the kept
+// cells of the culling pass are binned into CELL_TILE_SIZE^2-pixel screen tiles by the screen
+// rectangle of their (dilated) boxes, and the prepass draws one quad per tile that holds a cell,
+// whose fragments search every cell of the tile's list that their ray meets (cell_tiles_depth.glsl).
+// One fragment per pixel and object group instead of one per box: on lavapipe, which shades (and
+// counts) whole 4x4 blocks, a small box costs 16-64 invocations whatever it covers.
+#define CELL_TILE_SIZE 8u
+#define CELL_TILES_COUNT 0u    // per kept cell: add 1 to the count of every tile its rectangle touches
+#define CELL_TILES_SCAN 1u     // one workgroup: each tile's first entry, the non-empty tile list, the draw
+#define CELL_TILES_SCATTER 2u  // per kept cell: write (draw, record, depth) into every tile's list
+#define CELL_TILES_SORT 3u     // per non-empty tile: its list nearest first (tiles of at most CELL_TILE_SORT_MAX)
+#define CELL_TILE_SORT_MAX 1024u
+struct CellTile {
+  uint first;   // its first entry in the entry list
+  uint count;   // its entries (clamped to the list's capacity by the scan)
+  uint cursor;  // scatter: entries written so far
+  uint depth;   // the nearest (reverse-Z: largest) depth of its cells' boxes, float bits: the quad's depth
+};
+HSDF_CHECK_SIZE(CellTile, 16);
+
+struct CellTileEntry {
+  uint draw;      // HermiteDraw index (the cell's object, grid, search and record buffer)
+  uint record;    // the cell's record in that buffer
+  float nearest;  // the nearest depth of the cell's box (reverse-Z, a little nearer for the search margin)
+};
+HSDF_CHECK_SIZE(CellTileEntry, 12);
+
+// The tile draw's indirect command and what the scan found (read back for the next capacity).
+struct CellTileTotals {
+  uint vertexCount;    // VkDrawIndirectCommand: 1 (a point per tile) or 6 (two triangles)
+  uint instanceCount;  //   the non-empty tiles
+  uint firstVertex;
+  uint firstInstance;
+  uint entriesNeeded;  // the entries every tile needed, capacity or not
+  uint sortGroups[3];  // VkDispatchIndirectCommand of the sort: one workgroup per non-empty tile
+};
+HSDF_CHECK_SIZE(CellTileTotals, 32);
+
+// Push constants of cell_tiles.comp. COUNT and SCATTER: a lane per slot of the cell culling pass's
+// kept stream (one record precision per dispatch), its kept cells read as the draws would read them.
+struct CellTilePushConstants {
+  uint64_t ranges;        // CellCullRange[rangeCount]
+  uint64_t commands;      // the feature's VkDrawIndirectCommand[]: each range's kept count
+  uint64_t keptIndices;   // record index of each kept instance (CellCullPushConstants::keptIndices)
+  uint64_t draws;         // HermiteDraw[] (a range's drawCommand indexes it)
+  uint64_t objects;       // BrickCullObject[] of the culling pass (CellCullRange::object indexes it)
+  uint64_t frameGlobals;  // FrameGlobals
+  uint64_t tiles;         // CellTile[tilesX * tilesY], then uint[tilesX * tilesY]: the non-empty tiles
+  uint64_t entries;       // CellTileEntry[entryCapacity]: the scatter's lists
+  uint64_t sortedEntries; // CellTileEntry[entryCapacity]: the same lists sorted (what the draw reads)
+  uint64_t totals;        // CellTileTotals
+  uint rangeCount;
+  uint tilesX;
+  uint tilesY;
+  uint entryCapacity;
+  uint phase;             // CELL_TILES_*
+  uint slotCount;         // COUNT, SCATTER: the kept stream's slots (CellCullRange::outputFirst + its row)
+};
+HSDF_CHECK_SIZE(CellTilePushConstants, 10 * 8 + 6 * 4);
+
 // Per Hermite-cell object, reached through ObjectData::payload: what the shading pass needs to
 // find a visible cell's record from the visibility buffer (x: object, y: record index).
 struct HermiteObject {
@@ -191,13 +251,17 @@ struct HermitePushConstants {
   // Culled cells (CellCullPushConstants::keptIndices): the record index of each instance of the
   // kept-cell stream the draws read; 0 when the instances are the records themselves.
   uint64_t cellRecords;
+  // Tiled cells: CellTile[] then the non-empty tile list (CellTilePushConstants::tiles), and the
+  // tiles' CellTileEntry[].
+  uint64_t tiles;
+  uint64_t tileEntries;
   uint drawBase;
   uint pad;
   // Shading pass: the rectangle (NDC x0, y0, x1, y1) that covers every drawn cell object on screen;
   // the resolve shades only its pixels (cells_resolve.vert).
   vec4 screenRect;
 };
-HSDF_CHECK_SIZE(HermitePushConstants, 32 + 6 * 8 + 8 + 16);
+HSDF_CHECK_SIZE(HermitePushConstants, 32 + 8 * 8 + 8 + 16);
 
 // ---- Sphere-tracing baselines (hsdf::SphereTraceFeature) ----------------------------------------
 #define SPHERE_TRACE_FEATURE_ID 3u

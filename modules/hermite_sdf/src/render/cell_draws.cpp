@@ -108,7 +108,9 @@ void HermiteCellFeature::buildDraws(engine::render::FrameContext& frame) {
   for (shader::BrickCullObject& object : cullObjectList_) object.drawCommand += batches_[kBrickBatch]->frontFirst;
   drawnAssets_ = std::move(f.drawnThisFrame);
   if (frame.debugView == DEBUG_VIEW_WIREFRAME) addWireCommands(allCommands, allDraws);
-  occlusion_ = settings_.cullCells && settings_.cullOcclusion && !cellCullObjects_.empty();
+  tiles_ = settings_.cullCells && !cellCullObjects_.empty() &&
+           tilesWanted(settings_.tiles, context_->capabilities().isSoftwareRasterizer);
+  occlusion_ = settings_.cullCells && settings_.cullOcclusion && !cellCullObjects_.empty() && !tiles_;
   if (occlusion_) placeHistory(frame);
   cullCellRanges(allCommands, f.cellCullObject);  // after the wireframe's copies, which draw every cell
   if (occlusion_) addLateCommands(allCommands, allDraws);
@@ -131,6 +133,7 @@ void HermiteCellFeature::resetDraws() {
     cellCullOutput_[precision] = 0;
   }
   stats_.gpuBytes = buffers_->bytes;
+  tileEntryEstimate_ = 0;
   screenRect_ = glm::vec4(1.0f, 1.0f, -1.0f, -1.0f);  // empty until an object is drawn
 }
 
@@ -262,6 +265,7 @@ void HermiteCellFeature::addCellObjectDraws(engine::render::FrameContext& frame,
     cellCullEntities_.emplace_back(o.entity, o.assetId);
     cellCullFirstRecord_.push_back(entry.firstRecord);
     cellCullCells_.push_back(std::uint32_t(asset.cells.records.size()));
+    tileEntryEstimate_ += tileEntryEstimate(grid, asset.cells.records.size(), o.world, frame.camera, frame.extent);
   }
   for (const CellRows::Range& range : orderedRows(entry.rows, o.eyeGrid, settings_.frontToBack)) {
     f.commands[precision][0].push_back({kFanVertices, range.count, 0, entry.firstRecord + range.first});
@@ -320,7 +324,8 @@ void HermiteCellFeature::chooseDrawStages(const FrameDraws& f) {
   // Culling removes the hidden boxes the stage only made cheaper (on lavapipe; on GPUs the stage
   // gains nothing, issue 20).
   earlyDepth_ = earlyDepthWanted(settings_.earlyDepth, context_->capabilities().isSoftwareRasterizer) &&
-                stats_.draws > 0 && !f.objectsOverlap && !f.drawsBricks && !thinBoxes_ && !occlusion_;
+                stats_.draws > 0 && !f.objectsOverlap && !f.drawsBricks && !thinBoxes_ && !occlusion_ && !tiles_;
+  stats_.tiles = tiles_;
 }
 
 // This frame slot's commands, draw data and Hermite objects, and each object's payload address.
@@ -399,6 +404,31 @@ float HermiteCellFeature::cellPixelsOnScreen(const GridSpec& grid, const glm::ma
   const float scale = largestAxisScale(world);
   const glm::vec3 centre = glm::vec3(world * glm::vec4(glm::vec3(grid.bounds().center()), 1.0f));
   return projectedPixels(scale * float(grid.spacing), glm::length(camera.position - centre), camera.fovY, viewportHeight);
+}
+
+// At most how many tile entries the object's cells make (cell_tiles.comp): every cell as large on
+// screen as one at the grid box's point nearest the eye, its rectangle grown by the dilation and the
+// pixel of slack; a box the eye may be inside spans the screen. An upper bound, so that the first
+// frame of a view has room for every entry (later frames also grow to what earlier ones needed).
+std::uint64_t HermiteCellFeature::tileEntryEstimate(const GridSpec& grid, std::uint64_t cells, const glm::mat4& world,
+                                                    const engine::render::CameraView& camera, VkExtent2D extent) {
+  const std::uint64_t tileCount = std::uint64_t((extent.width + CELL_TILE_SIZE - 1) / CELL_TILE_SIZE) *
+                                  ((extent.height + CELL_TILE_SIZE - 1) / CELL_TILE_SIZE);
+  const Aabb box = grid.bounds();
+  glm::vec3 lo(std::numeric_limits<float>::max()), hi(-std::numeric_limits<float>::max());
+  for (int c = 0; c < 8; ++c) {
+    const glm::dvec3 corner((c & 1) ? box.max.x : box.min.x, (c & 2) ? box.max.y : box.min.y,
+                            (c & 4) ? box.max.z : box.min.z);
+    const glm::vec3 p = glm::vec3(world * glm::vec4(glm::vec3(corner), 1.0f));
+    lo = glm::min(lo, p);
+    hi = glm::max(hi, p);
+  }
+  const float distance = glm::length(glm::max(glm::max(lo - camera.position, camera.position - hi), glm::vec3(0.0f)));
+  if (distance <= 2.0f * camera.znear) return cells * tileCount;
+  const float pixels =
+      projectedPixels(largestAxisScale(world) * float(grid.spacing) * 1.7320508f, distance, camera.fovY, extent.height);
+  const auto span = std::uint64_t(std::ceil((pixels + 4.0f) / float(CELL_TILE_SIZE))) + 1;
+  return cells * std::min(span * span, tileCount);
 }
 
 // A CellBricks object: one command for all its bricks (firstInstance = its first brick; the brick

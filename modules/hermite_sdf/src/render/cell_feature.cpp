@@ -22,6 +22,7 @@
 #include "render/cell_feature_internal.h"
 #include "render/cell_history.h"
 #include "render/cell_rows.h"
+#include "render/cell_tiler.h"
 #include "hermite_sdf/render/lod.h"
 #include "hermite_sdf/core/normal_cone.h"
 
@@ -72,6 +73,8 @@ engine::Status HermiteCellFeature::initialize(const engine::gpu::Context& contex
   frameSlots_ = framesInFlight;
   ENGINE_TRY_ASSIGN(auto cellCuller, CellCuller::create(context));
   cellCuller_ = std::make_unique<CellCuller>(std::move(cellCuller));
+  ENGINE_TRY_ASSIGN(auto tiler, CellTiler::create(context, framesInFlight));
+  tiler_ = std::make_unique<CellTiler>(std::move(tiler));
   objects_ = engine::render::PerFrameBuffer(context, framesInFlight, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT,
                                             "hermite cell objects");
   formats_ = formats;
@@ -104,6 +107,7 @@ void HermiteCellFeature::prepare(engine::render::FrameContext& frame) {
   syncAssets(frame);
   buildDraws(frame);
   recordCulling(frame);
+  recordTiling(frame);
   ensureCounters(frame);
   ensureHitDepths(frame);
   stats_.earlyDepth = earlyDepth_;
@@ -286,11 +290,61 @@ void HermiteCellFeature::recordEarlyDepthResolve(engine::render::PassContext& pa
 
 void HermiteCellFeature::recordPrepassDraws(engine::render::PassContext& pass) {
   pass.timer.begin(pass.cmd, "cells prepass");
+  if (tiles_) recordTiles(pass);
   for (int precision = 0; precision < kBatches; ++precision) {
-    recordBatch(pass, precision, false);
+    // Tiles draw the culled cells' front lists (every front command of a tiled frame is culled).
+    if (!(tiles_ && precision < kRunBatch)) recordBatch(pass, precision, false);
     recordBatch(pass, precision, true);
   }
   pass.timer.end(pass.cmd);
+}
+
+// The tiling of this frame's culled cells (cell_tiler.h), after the culling pass that kept them.
+void HermiteCellFeature::recordTiling(engine::render::FrameContext& frame) {
+  if (!tiles_) return;
+  const std::uint32_t slot = frame.frameSlot;
+  CellTiler::Frame tiling;
+  tiling.slot = slot;
+  tiling.extent = frame.extent;
+  tiling.commands = indirect_.address(slot);
+  tiling.draws = drawData_.address(slot);
+  tiling.objects = cellCullObjectBuffer_.address(slot);
+  tiling.frameGlobals = frame.frameGlobals;
+  tiling.entryEstimate = tileEntryEstimate_;
+  VkDeviceAddress ranges = cellCullRangeBuffer_.address(slot);
+  for (int precision = 0; precision < 2; ++precision) {
+    const auto count = static_cast<std::uint32_t>(cellCullRanges_[precision].size());
+    if (count == 0) continue;
+    tiling.precisions[precision] = {ranges, keptCellIndices_[slot][precision].address(), count,
+                                    cellCullOutput_[precision]};
+    ranges += VkDeviceAddress(count) * sizeof(shader::CellCullRange);
+  }
+  tiler_->record(frame.cmd, tiling);
+  lastTileSlot_ = slot;
+  tiledOnce_ = true;
+}
+
+// One quad per non-empty tile (cell_tiles.vert), its instance count written by the tiling's scan.
+void HermiteCellFeature::recordTiles(engine::render::PassContext& pass) {
+  const std::uint32_t slot = pass.frame.frameSlot;
+  const Pipeline& pipeline = pipelines_.tiles[withoutEarlyStage(prepassVariant(pass.frame))];
+  vkCmdBindPipeline(pass.cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, pipeline.handle());
+  shader::HermitePushConstants push{};
+  push.draw.frameGlobals = pass.frameGlobals;
+  push.draw.objects = pass.objects;
+  push.draw.debugView = pass.frame.debugView;
+  push.draws = drawData_.address(slot);
+  push.counters = counterAddress(pass.frame, countersActive_, counters_);
+  push.tiles = tiler_->tiles(slot);
+  push.tileEntries = tiler_->entries(slot);
+  vkCmdPushConstants(pass.cmd, pipeline.layout(), VK_SHADER_STAGE_VERTEX_BIT | VK_SHADER_STAGE_FRAGMENT_BIT, 0,
+                     sizeof(push), &push);
+  vkCmdDrawIndirect(pass.cmd, tiler_->drawCommand(slot).handle(), 0, 1, sizeof(VkDrawIndirectCommand));
+}
+
+shader::CellTileTotals HermiteCellFeature::tileTotals() const {
+  if (!tiledOnce_ || !stats_.tiles) return {};
+  return tiler_->lastTotals(lastTileSlot_);
 }
 
 void HermiteCellFeature::drawUi() {

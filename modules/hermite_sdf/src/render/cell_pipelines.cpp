@@ -20,6 +20,7 @@
 #include "cells/cell_bricks.h"
 #include "render/brick_culler.h"
 #include "render/cell_feature_internal.h"
+#include "render/cell_tiler.h"
 #include "render/cell_history.h"
 #include "render/cell_rows.h"
 #include "hermite_sdf/render/lod.h"
@@ -93,6 +94,7 @@ engine::Expected<HermiteCellFeature::Pipelines> HermiteCellFeature::createPipeli
   ENGINE_TRY(createCellPipelines(p, vert, runsVert));
   ENGINE_TRY(createBrickPipelines(p));
   ENGINE_TRY(createThinCellPipelines(p));
+  ENGINE_TRY(createTilePipelines(p));
   ENGINE_TRY(createWirePipelines(p, wireVert, wireFrag));
   ENGINE_TRY(createResolvePipelines(p, resolveVert, resolveFrag, fixupFrag));
   return p;
@@ -299,6 +301,30 @@ engine::Status HermiteCellFeature::createThinCellPipelines(Pipelines& p) const {
       desc.topology = VK_PRIMITIVE_TOPOLOGY_TRIANGLE_STRIP;
       ENGINE_TRY_ASSIGN(p.thinNear[variant][precision], Pipeline::createGraphics(*context_, desc));
     }
+  }
+  return {};
+}
+
+// Tiled cells: production and counted variants (no early depth: a frame that draws tiles keeps the
+// stage off), both precisions in one pipeline (the fragment shader reads records by address).
+engine::Status HermiteCellFeature::createTilePipelines(Pipelines& p) const {
+  static constexpr const char* kFragments[kBrickVariants] = {"cell_tiles_depth.frag", "cell_tiles_depth_counted.frag"};
+  static constexpr const char* kNames[kBrickVariants] = {"", " counted"};
+  const bool points = tilesAsPoints(*context_);
+  ENGINE_TRY_ASSIGN(auto vert, engine::gpu::ShaderModule::load(*context_, points ? "cell_tiles.vert" : "cell_tiles_quads.vert"));
+  for (int variant = 0; variant < kBrickVariants; ++variant) {
+    ENGINE_TRY_ASSIGN(auto frag, engine::gpu::ShaderModule::load(*context_, kFragments[variant]));
+    engine::gpu::GraphicsPipelineDesc desc;
+    desc.vertex = vert.handle();
+    desc.fragment = frag.handle();
+    desc.pushConstantBytes = sizeof(shader::HermitePushConstants);
+    desc.depthFormat = formats_.depth;
+    desc.colorFormats = {formats_.visibility};
+    desc.depthCompare = VK_COMPARE_OP_GREATER;  // a miss writes depth 0, which this rejects (hit_depth.glsl)
+    desc.cullMode = VK_CULL_MODE_NONE;
+    desc.topology = points ? VK_PRIMITIVE_TOPOLOGY_POINT_LIST : VK_PRIMITIVE_TOPOLOGY_TRIANGLE_LIST;
+    desc.name = std::string("hermite cell tiles depth") + kNames[variant];
+    ENGINE_TRY_ASSIGN(p.tiles[variant], Pipeline::createGraphics(*context_, desc));
   }
   return {};
 }

@@ -222,6 +222,7 @@ TEST_F(HermiteCellsTest, EarlyDepthDrawsTheSameSurfaceWithFewerEvaluations) {
   createCellRenderer(kSize, kSize);
   auto* feature = renderer_->feature<hsdf::HermiteCellFeature>();
   feature->settings().cullOcclusion = false;  // occlusion culling keeps the stage off
+  feature->settings().tiles = hsdf::HermiteCellFeature::Tiles::Off;  // and so do tiles
   // The stage belongs to the attribute boxes (thin ones have none, and ThinBoxes::Auto picks them
   // on a GPU for cells this small on screen).
   feature->settings().thinBoxes = hsdf::HermiteCellFeature::ThinBoxes::Off;
@@ -383,8 +384,9 @@ TEST_F(HermiteCellsTest, CountedVariantDrawsTheProductionImage) {
   EXPECT_TRUE(feature->stats().countedVariant);
   (void)renderWith(orbitCamera(*torus, 1), DEBUG_VIEW_NORMALS);
   EXPECT_FALSE(feature->stats().countedVariant);
-  // The early depth stage counts in its own variants.
+  // The early depth stage counts in its own variants (it draws boxes: tiles have none).
   feature->settings().earlyDepth = hsdf::HermiteCellFeature::EarlyDepth::On;
+  feature->settings().tiles = hsdf::HermiteCellFeature::Tiles::Off;
   render::FrameSettings counting;
   counting.countWork = true;
   renderer_->renderFrame(registry_, orbitCamera(*torus, 1), counting);
@@ -413,6 +415,7 @@ TEST_F(HermiteCellsTest, EarlyDepthAutoFollowsTheDevice) {
   createCellRenderer(64, 64);
   auto* feature = renderer_->feature<hsdf::HermiteCellFeature>();
   EXPECT_EQ(feature->settings().earlyDepth, EarlyDepth::Auto);
+  feature->settings().tiles = hsdf::HermiteCellFeature::Tiles::Off;  // the stage draws boxes (TilesAutoFollowsTheDevice)
   const auto torus = bakeAsset("torus", 16);
   ASSERT_NE(torus, nullptr);
   addSdf(registry_, torus, hsdf::RenderMethod::Cells);
@@ -637,6 +640,7 @@ TEST_F(HermiteCellsTest, CellCullingKeepsTheImageAndDrawsFewerBoxes) {
   createCellRenderer(kSize, kSize);
   auto* feature = renderer_->feature<hsdf::HermiteCellFeature>();
   feature->settings().cullOcclusion = false;  // frustum and cones alone (occlusion: the test below)
+  feature->settings().tiles = hsdf::HermiteCellFeature::Tiles::Off;  // boxes, culled or not (tiles: TiledCells*)
   const auto asset = bakeAsset("bunny", 64);
   ASSERT_NE(asset, nullptr);
   ASSERT_TRUE(asset->boundaryPositive);
@@ -723,6 +727,152 @@ std::uint64_t prepassFragments(const render::Renderer& renderer) {
   return s ? s->fragmentShaderInvocations : 0;
 }
 
+// Tiled cells against the boxes they replace: the same cells and the same search, one fragment per
+// pixel and tile instead of one per box. The images may differ only where two cells' roots tie
+// (which visibility id wins) and in the last bits of depth (the ray is rebuilt from the tile's depth
+// instead of the box face's), never in coverage.
+struct TileComparison {
+  int hitsBoxes = 0, hitsTiles = 0;
+  int coverageDiffers = 0;  // a hit in one image, none in the other
+  int colourDiffers = 0;    // some channel more than 8 levels apart
+  double depthRelativeMax = 0.0;
+};
+
+TileComparison compareTilesWithBoxes(const Frame& boxes, const Frame& tiles) {
+  TileComparison c;
+  for (std::size_t i = 0; i < boxes.depth.size(); ++i) {
+    const bool a = boxes.depth[i] > 0.0f, b = tiles.depth[i] > 0.0f;
+    c.hitsBoxes += a;
+    c.hitsTiles += b;
+    c.coverageDiffers += a != b;
+    if (a && b)
+      c.depthRelativeMax = std::max(c.depthRelativeMax, double(std::abs(boxes.depth[i] - tiles.depth[i]) / boxes.depth[i]));
+    for (int k = 0; k < 3; ++k)
+      if (std::abs(int(boxes.rgba[i * 4 + k]) - int(tiles.rgba[i * 4 + k])) > 8) {
+        ++c.colourDiffers;
+        break;
+      }
+  }
+  return c;
+}
+
+class TiledCellsTest : public HermiteCellsTest {
+ protected:
+  // Renders the registry from `camera` with boxes, then with tiles; checks that the tiles drew and
+  // that the images agree; returns the prepass fragment invocations of both (boxes, tiles).
+  std::pair<std::uint64_t, std::uint64_t> expectTilesDrawTheBoxes(const render::CameraView& camera, const char* label) {
+    auto* feature = renderer_->feature<hsdf::HermiteCellFeature>();
+    feature->settings().tiles = hsdf::HermiteCellFeature::Tiles::Off;
+    const Frame boxes = renderWith(camera, DEBUG_VIEW_NONE);
+    const std::uint64_t boxFragments = prepassFragments(*renderer_);
+    EXPECT_FALSE(feature->stats().tiles);
+    feature->settings().tiles = hsdf::HermiteCellFeature::Tiles::On;
+    const Frame tiles = renderWith(camera, DEBUG_VIEW_NONE);
+    const std::uint64_t tileFragments = prepassFragments(*renderer_);
+    EXPECT_TRUE(feature->stats().tiles) << label;
+    EXPECT_FALSE(feature->stats().earlyDepth) << label << ": tiles have no early depth stage";
+    const shader::CellTileTotals totals = feature->tileTotals();
+    EXPECT_GT(totals.instanceCount, 0u) << label;
+    const TileComparison c = compareTilesWithBoxes(boxes, tiles);
+    std::printf("[ %s ] hits %d / %d, coverage differs %d, colour differs %d, depth rel max %.2e, tiles %u, "
+                "entries %u, prepass fragments %llu -> %llu\n",
+                label, c.hitsBoxes, c.hitsTiles, c.coverageDiffers, c.colourDiffers, c.depthRelativeMax,
+                totals.instanceCount, totals.entriesNeeded, static_cast<unsigned long long>(boxFragments),
+                static_cast<unsigned long long>(tileFragments));
+    EXPECT_GT(c.hitsBoxes, 200) << label;
+    EXPECT_LE(c.coverageDiffers, 0) << label;
+    EXPECT_LE(c.colourDiffers, c.hitsBoxes / 500 + 2) << label << ": only where two cells' roots tie";
+    // Relative to the depth (reverse-Z): grazing rays at silhouettes, whose depth is ill-conditioned,
+    // move by up to ~2e-5 between the two rays (box face or tile depth as the reference point).
+    EXPECT_LT(c.depthRelativeMax, 1e-4) << label;
+    EXPECT_EQ(countIsolatedPixels(tiles), countIsolatedPixels(boxes)) << label << ": a speck of its own";
+    return {boxFragments, tileFragments};
+  }
+};
+
+// Why: a tile lists every kept cell whose box may cover one of its pixels, sorted nearest first, and
+// its fragments stop at the first cell behind their hit; a cell missing from a list (a rectangle
+// too small, an entry past the list's capacity in the first frame of a view), a wrong sort or a
+// break that comes too early shows as a hole or a hit of a farther surface. The bunny from six
+// sides at K = 16 (cells of ~20 pixels: long overlapping lists) and K = 64, fp32 and fp16 records.
+TEST_F(TiledCellsTest, TilesDrawTheBoxesImageWithAFragmentPerPixel) {
+  createCellRenderer(kSize, kSize);
+  const bool inOrder = tolerancesFor(*context_).fragmentsShadeInPrimitiveOrder;
+  for (int k : {16, 64}) {
+    const auto asset = bakeAsset("bunny", k);
+    ASSERT_NE(asset, nullptr);
+    for (bool half : {false, true}) {
+      registry_ = ecs::Registry();
+      registry_.get<hsdf::HermiteSdfRenderable>(addSdf(registry_, asset, hsdf::RenderMethod::Cells)).halfPrecision = half;
+      std::uint64_t boxFragments = 0, tileFragments = 0;
+      for (int view = half ? 1 : 0; view < 6; view += 2) {
+        const std::string label = "bunny K=" + std::to_string(k) + (half ? " fp16" : " fp32") + " view " + std::to_string(view);
+        const auto [boxes, tiles] = expectTilesDrawTheBoxes(orbitCamera(*asset, view), label.c_str());
+        boxFragments += boxes;
+        tileFragments += tiles;
+      }
+      // On lavapipe, which shades and counts 4x4 blocks, a tile costs its pixels once; a box of a
+      // few pixels costs up to 64 invocations, hidden or not.
+      if (inOrder && boxFragments > 0) {
+        EXPECT_LT(tileFragments * 4, boxFragments) << "K = " << k;
+      }
+    }
+  }
+}
+
+// Why: tiles hold cells of several objects, whose rays differ (each in its own grid); the nearest
+// hit over all of them must win as the depth test made it win among boxes. Two bunnies overlapping
+// on screen, one mirrored and non-uniformly scaled (OBJECT_FLAG_MIRRORED, the dilation's smallest
+// axis scale).
+TEST_F(TiledCellsTest, TilesResolveOverlappingObjects) {
+  createCellRenderer(kSize, kSize);
+  const auto asset = bakeAsset("bunny", 32);
+  ASSERT_NE(asset, nullptr);
+  const glm::vec3 centre = glm::vec3(asset->surfaceBounds.center());
+  addSdf(registry_, asset, hsdf::RenderMethod::Cells);
+  const std::vector<NamedTransform> transforms = userTransforms(centre);
+  ASSERT_FALSE(transforms.empty());
+  const glm::mat4 shifted = glm::translate(glm::mat4(1.0f), glm::vec3(0.3f * float(asset->surfaceBounds.size().x), 0.0f, 0.1f));
+  addSdf(registry_, asset, hsdf::RenderMethod::Cells, shifted * transforms.front().matrix());
+  for (int view : {0, 3}) expectTilesDrawTheBoxes(orbitCamera(*asset, view, 2.6f), ("two bunnies view " + std::to_string(view)).c_str());
+}
+
+// Why: where the near plane cuts cells their boxes' corners lie behind the eye; the tile pass then
+// lists such a cell in every tile and draws those tiles at the near plane. Inside a cell of the
+// torus, and a frame whose size is no multiple of the tile size (edge tiles the frame cuts: their
+// points' centres are moved into the frame).
+TEST_F(TiledCellsTest, TilesInsideACellAndAtTheFramesEdges) {
+  createCellRenderer(203, 117);
+  const auto torus = bakeAsset("torus", 16);
+  ASSERT_NE(torus, nullptr);
+  addSdf(registry_, torus, hsdf::RenderMethod::Cells);
+  const std::optional<render::CameraView> inside = insideACellCamera(*torus);
+  ASSERT_TRUE(inside);
+  expectTilesDrawTheBoxes(*inside, "inside a torus cell");
+  EXPECT_GT(renderer_->feature<hsdf::HermiteCellFeature>()->stats().nearCells, 0u);
+  render::CameraView wide = orbitCamera(*torus, 2, 1.2f);
+  expectTilesDrawTheBoxes(wide, "torus filling a 203x117 frame");
+}
+
+TEST_F(HermiteCellsTest, TilesAutoFollowsTheDevice) {
+  using Tiles = hsdf::HermiteCellFeature::Tiles;
+  EXPECT_TRUE(hsdf::HermiteCellFeature::tilesWanted(Tiles::Auto, true));
+  EXPECT_FALSE(hsdf::HermiteCellFeature::tilesWanted(Tiles::Auto, false));
+  EXPECT_TRUE(hsdf::HermiteCellFeature::tilesWanted(Tiles::On, false));
+  EXPECT_FALSE(hsdf::HermiteCellFeature::tilesWanted(Tiles::Off, true));
+  createCellRenderer(64, 64);
+  auto* feature = renderer_->feature<hsdf::HermiteCellFeature>();
+  EXPECT_EQ(feature->settings().tiles, Tiles::Auto);
+  const auto asset = bakeAsset("sphere", 16);
+  ASSERT_NE(asset, nullptr);
+  addSdf(registry_, asset, hsdf::RenderMethod::Cells);
+  renderWith(orbitCamera(*asset, 0), DEBUG_VIEW_NONE);
+  EXPECT_EQ(feature->stats().tiles, context_->capabilities().isSoftwareRasterizer);
+  feature->settings().cullCells = false;  // tiles bin the culling pass's cells
+  renderWith(orbitCamera(*asset, 0), DEBUG_VIEW_NONE);
+  EXPECT_FALSE(feature->stats().tiles);
+}
+
 // Why: occlusion culling draws in two phases what one pass drew: a cell missing from both (a wrong
 // history index, an occlusion test that is not conservative at the box's edges or depth, a pyramid
 // texel that misses pixels) is a hole, a cell drawn twice or out of its row's order a different
@@ -734,6 +884,7 @@ std::uint64_t prepassFragments(const render::Renderer& renderer) {
 TEST_F(HermiteCellsTest, OcclusionCullingKeepsTheImageAndDrawsFewerFragments) {
   createCellRenderer(kSize, kSize);
   auto* feature = renderer_->feature<hsdf::HermiteCellFeature>();
+  feature->settings().tiles = hsdf::HermiteCellFeature::Tiles::Off;  // occlusion culls boxes; tiles turn it off
   const auto asset = bakeAsset("bunny", 64);
   ASSERT_NE(asset, nullptr);
   const ecs::Entity entity = addSdf(registry_, asset, hsdf::RenderMethod::Cells);
@@ -806,6 +957,7 @@ TEST_F(HermiteCellsTest, OcclusionCullingKeepsTheImageAndDrawsFewerFragments) {
 TEST_F(HermiteCellsTest, OcclusionCullingDrawsNothingOfAHiddenObject) {
   createCellRenderer(kSize, kSize);
   auto* feature = renderer_->feature<hsdf::HermiteCellFeature>();
+  feature->settings().tiles = hsdf::HermiteCellFeature::Tiles::Off;  // occlusion culls boxes; tiles turn it off
   feature->settings().cullOcclusion = true;
   const auto sphere = bakeAsset("sphere", 16);
   const auto torus = bakeAsset("torus", 16);
@@ -983,7 +1135,9 @@ TEST_F(HermiteCellsTest, SixtyFourInstancesInOneDrawMatchSeparateFrames) {
       render::CameraView::lookAt(glm::vec3(0.0f, 0.0f, 9.0f * extent), glm::vec3(0.0f), 0.9f, 0.05f * extent, 1.0f);
   for (const glm::mat4& m : transforms) addSdf(registry_, asset, hsdf::RenderMethod::Cells, m);
   // With occlusion culling the instances hide each other's cells: the first frame (empty history)
-  // and the third (the history of the same view) must both be the sum below.
+  // and the third (the history of the same view) must both be the sum below. Boxes: occlusion
+  // culling and the early depth stage are theirs (tiles: TiledCellsTest.TilesResolveOverlappingObjects).
+  renderer_->feature<hsdf::HermiteCellFeature>()->settings().tiles = hsdf::HermiteCellFeature::Tiles::Off;
   renderer_->feature<hsdf::HermiteCellFeature>()->settings().cullOcclusion = true;
   const Frame first = renderWith(camera, DEBUG_VIEW_NONE);
   (void)renderWith(camera, DEBUG_VIEW_NONE);

@@ -215,7 +215,8 @@ TEST(PrepassSpirv, TheRuleFindsTheKnownPrepassShaders) {
                             "bricks_depth.frag.spv", "bricks_depth_near.frag.spv", "bricks_depth_counted.frag.spv",
                             "bricks_depth_near_counted.frag.spv", "cells_thin_depth.frag.spv",
                             "cells_thin_depth_near.frag.spv", "cells_thin_depth_counted.frag.spv",
-                            "cells_thin_depth_near_counted.frag.spv"})
+                            "cells_thin_depth_near_counted.frag.spv", "cell_tiles_depth.frag.spv",
+                            "cell_tiles_depth_counted.frag.spv"})
     EXPECT_TRUE(names.contains(known)) << known << " not found by the rule in " << shaderDir();
   EXPECT_TRUE(std::any_of(names.begin(), names.end(), [](const std::string& n) {
     return n.starts_with("sphere_trace_") && !isExempt(n);
@@ -235,7 +236,7 @@ TEST(PrepassSpirv, ProductionPrepassShadersHoldNoDiscardAtomicOrBufferWrite) {
                                   << joined(breakers);
     ++checked;
   }
-  EXPECT_GE(checked, 8) << "cells_depth, cells_thin_depth, runs_depth, bricks_depth and their _near variants at least";
+  EXPECT_GE(checked, 9) << "cells_depth, cells_thin_depth, runs_depth, bricks_depth, their _near variants and cell_tiles_depth at least";
 }
 
 // Tricky: the walker must see what it is meant to see in real modules, or the test above passes
@@ -246,7 +247,8 @@ TEST(PrepassSpirv, TheWalkerFindsWhatTheExemptVariantsAreExemptFor) {
   for (const char* counted : {"cells_depth_counted.frag.spv", "cells_depth_near_counted.frag.spv",
                               "runs_depth_counted.frag.spv", "runs_depth_near_counted.frag.spv",
                               "bricks_depth_counted.frag.spv", "bricks_depth_near_counted.frag.spv",
-                              "cells_thin_depth_counted.frag.spv", "cells_thin_depth_near_counted.frag.spv"}) {
+                              "cells_thin_depth_counted.frag.spv", "cells_thin_depth_near_counted.frag.spv",
+                              "cell_tiles_depth_counted.frag.spv"}) {
     const std::string found = breakers(counted);
     EXPECT_TRUE(contains(found, "OpAtomicIAdd")) << counted << ": " << found;
     EXPECT_FALSE(contains(found, "discard")) << counted << ": counting must not change the depth test: " << found;

@@ -86,9 +86,12 @@ TEST(CaptureRows, MethodTimesKTimesSetting) {
     }
   }
   EXPECT_EQ(trilinear, 2 * 4);  // K = 32, 64, 128, 256, two normal modes each
-  EXPECT_EQ(cells, 2 * 10);  // n in {2, 3} x r in {0, 1}, fp16, no-cull, occlusion, thin and attribute boxes, the certified search
+  // n in {2, 3} x r in {0, 1}, fp16, no-cull, occlusion, thin and attribute boxes, tiles and boxes, the certified search
+  EXPECT_EQ(cells, 2 * 12);
   EXPECT_TRUE(labels.contains("cells certified K=32"));
   EXPECT_TRUE(labels.contains("cells n=3 r=1 thin K=32"));
+  EXPECT_TRUE(labels.contains("cells n=3 r=1 tiles K=32"));
+  EXPECT_TRUE(labels.contains("cells n=3 r=1 boxes K=128"));
   EXPECT_TRUE(labels.contains("cells-runs n=3 r=1 K=32"));
   EXPECT_TRUE(labels.contains("cell-bricks n=3 r=1 fp16 K=32"));
   EXPECT_TRUE(labels.contains("cell-bricks n=3 r=1 no-cull K=32"));

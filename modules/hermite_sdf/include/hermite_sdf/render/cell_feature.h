@@ -90,6 +90,17 @@ class HermiteCellFeature final : public engine::render::RenderFeature {
            (mode == ThinBoxes::Auto && !softwareRasterizer && largestCellPixels <= kThinBoxesMaxCellPixels);
   }
 
+  // Whether the culled RenderMethod::Cells objects are drawn as screen tiles (Settings::tiles): the
+  // culling pass's kept cells binned into 8x8-pixel tiles (cell_tiles.comp), one quad per tile whose
+  // fragments search the tile's cells. Same cells, same search, same image; one fragment per pixel
+  // instead of one per box and pixel. Auto: on for software rasterizers, which shade and count whole
+  // 4x4 blocks (a box of a few pixels costs 16-64 invocations there; issue 20's <= 3 fragment
+  // invocations per covered pixel); off for GPUs until one has measured it.
+  enum class Tiles : std::uint8_t { Auto, On, Off };
+  static bool tilesWanted(Tiles mode, bool softwareRasterizer) {
+    return mode == Tiles::On || (mode == Tiles::Auto && softwareRasterizer);
+  }
+
   struct Settings {
     bool frontToBack = true;  // sort rows of cells by the view octant
     EarlyDepth earlyDepth = EarlyDepth::Auto;
@@ -120,6 +131,10 @@ class HermiteCellFeature final : public engine::render::RenderFeature {
     // Hermite data as varyings. Same search, same image. Thin boxes have no early depth variant:
     // a frame that draws them keeps the stage off. See ThinBoxes for Auto.
     ThinBoxes thinBoxes = ThinBoxes::Auto;
+    // RenderMethod::Cells with cullCells: screen tiles instead of boxes (see Tiles). Occlusion
+    // culling and the early depth stage are off in frames that draw tiles; the cells the near plane
+    // may cut are still drawn as boxes too.
+    Tiles tiles = Tiles::Auto;
   };
   struct Stats {
     std::uint32_t objects = 0;
@@ -134,6 +149,7 @@ class HermiteCellFeature final : public engine::render::RenderFeature {
     bool countedVariant = false;    // the last frame's prepass used the *_counted pipelines
     bool thinBoxes = false;         // the last frame drew its RenderMethod::Cells objects as thin boxes
     float largestCellPixels = 0.0f; // of those objects: the largest cell's size on screen, pixels
+    bool tiles = false;             // the last frame drew its culled RenderMethod::Cells objects as tiles
   };
 
   HermiteCellFeature();
@@ -157,6 +173,9 @@ class HermiteCellFeature final : public engine::render::RenderFeature {
   // by cone, the two passes summed); valid once the frame that recorded them has completed (e.g.
   // after Renderer::finish), zero when that frame culled nothing.
   shader::BrickCullTotals cullTotals() const;
+  // The tile draw of the last tiled frame (Stats::tiles): its non-empty tiles (instanceCount) and the
+  // entries its lists needed; valid once that frame has completed, zero without tiles.
+  shader::CellTileTotals tileTotals() const;
   // Whether the cells of `assetId` were refused (their upload did not fit in GPU memory): the
   // asset is not drawn, and not retried. An entity whose asset was refused keeps drawing the asset
   // it drew before, if any (a re-bake past the budget: no frame without the object); the caller
@@ -212,6 +231,10 @@ class HermiteCellFeature final : public engine::render::RenderFeature {
   void recordIndirect(VkCommandBuffer cmd, const engine::gpu::Pipeline& pipeline, shader::HermitePushConstants push,
                       std::uint32_t frameSlot, std::uint32_t first, std::uint32_t count);
   void recordResolve(engine::render::PassContext& pass);
+  void recordTiling(engine::render::FrameContext& frame);
+  void recordTiles(engine::render::PassContext& pass);
+  static std::uint64_t tileEntryEstimate(const GridSpec& grid, std::uint64_t cells, const glm::mat4& world,
+                                         const engine::render::CameraView& camera, VkExtent2D extent);
   void recordRectangle(engine::render::PassContext& pass, const engine::gpu::Pipeline& pipeline);
 
   const engine::gpu::Context* context_ = nullptr;
@@ -236,6 +259,7 @@ class HermiteCellFeature final : public engine::render::RenderFeature {
     engine::gpu::Pipeline bricksNear[kBrickVariants];
     engine::gpu::Pipeline thinFront[kBrickVariants][2];  // Settings::thinBoxes, per precision (the cell attribute)
     engine::gpu::Pipeline thinNear[kBrickVariants][2];
+    engine::gpu::Pipeline tiles[kBrickVariants];  // Settings::tiles, both precisions
     engine::gpu::Pipeline resolve;
     engine::gpu::Pipeline depthFixup;  // the hits' true depth after the early stage
   };
@@ -252,6 +276,7 @@ class HermiteCellFeature final : public engine::render::RenderFeature {
                                         const engine::gpu::ShaderModule& fixupFrag) const;
   engine::Status createBrickPipelines(Pipelines& p) const;
   engine::Status createThinCellPipelines(Pipelines& p) const;
+  engine::Status createTilePipelines(Pipelines& p) const;
   // Bricks and thin cells have only the production and counted variants (buildDraws keeps the early
   // depth stage off in frames that draw them): the variant of those two that `variant` stands for.
   static Variant withoutEarlyStage(Variant variant);
@@ -278,6 +303,11 @@ class HermiteCellFeature final : public engine::render::RenderFeature {
   engine::gpu::PixelBuffer hitDepths_{"hermite cell hit depths"};  // the nearest hit's depth bits (early depth)
   bool earlyDepth_ = false;  // this frame's boxes are drawn in the early depth stage
   bool thinBoxes_ = false;   // this frame draws its RenderMethod::Cells objects as thin boxes
+  bool tiles_ = false;       // this frame draws its culled RenderMethod::Cells objects as tiles
+  std::uint64_t tileEntryEstimate_ = 0;  // this frame's culled cells' tile entries, at most
+  std::unique_ptr<class CellTiler> tiler_;
+  std::uint32_t lastTileSlot_ = 0;
+  bool tiledOnce_ = false;
   glm::vec4 screenRect_{1.0f, 1.0f, -1.0f, -1.0f};  // NDC bounds of this frame's cell objects (resolve)
   bool multiDraw_ = false;
   // Brick culling (Settings::cullBricks): this frame's objects, the kept-brick stream's size and the

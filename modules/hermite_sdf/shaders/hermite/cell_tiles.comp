@@ -1,0 +1,211 @@
+#version 460
+// Tiled cells (issue 20; HermiteCellFeature::Settings::tiles, hsdf::CellTiler): the kept cells of
+// the cell culling pass binned into screen tiles of CELL_TILE_SIZE^2 pixels, so that the prepass
+// draws one quad per tile holding a cell instead of one box per cell (cell_tiles.vert,
+// cell_tiles_depth.glsl). Three phases (pc.phase), recorded as COUNT, SCAN, SCATTER with barriers:
+//  - COUNT: a lane per kept cell (per slot of the culling pass's kept stream): the screen rectangle of the
+//    cell's box, grown by its proxy's dilation and a pixel of slack (below); every
+//    tile it touches counts the cell and keeps the nearest depth of the boxes;
+//  - SCAN (one workgroup): each tile's first entry (a prefix sum of the counts), counts clamped to
+//    the entry list's capacity, the list of non-empty tiles and the tile draw's instance count;
+//  - SCATTER: the same rectangles, each cell's (draw, record, depth) written into the lists of its tiles;
+//  - SORT: one workgroup per non-empty tile (an indirect dispatch the scan wrote): its list copied
+//    to the sorted entries nearest first (depth, then draw and record: the same order whatever
+//    order the atomics wrote), so that a fragment stops at the first cell behind its hit. Longer
+//    lists keep the scatter's order and are walked whole (the fragment shader knows them by their
+//    length).
+// The rectangle only has to hold every pixel whose ray meets the dilated box: the fragment shader
+// tests each listed box against its own ray, as the rasterizer would have. The objects' matrices
+// come from the culling pass's BrickCullObjects (written before this pass; the scene's ObjectData
+// are uploaded only after the features' prepare). The proxy's dilation (0.02 pixel, at least
+// kMinDilation cells) is taken as kMinDilation cells plus a pixel of the rectangle's slack.
+#extension GL_GOOGLE_include_directive : require
+#include "hermite/hermite_host_device.h"
+#include "hermite/proxy_dilation.glsl"
+#include "hermite/record_cell.glsl"
+
+layout(local_size_x = 64) in;
+
+layout(buffer_reference, scalar) readonly buffer RangesRef { CellCullRange ranges[]; };
+layout(buffer_reference, scalar) readonly buffer UintsRef { uint words[]; };
+layout(buffer_reference, scalar) buffer TilesRef { CellTile tiles[]; };
+layout(buffer_reference, scalar) buffer TileListRef { uint tiles[]; };
+layout(buffer_reference, scalar) writeonly buffer EntriesRef { CellTileEntry entries[]; };
+layout(buffer_reference, scalar) readonly buffer ReadEntriesRef { CellTileEntry entries[]; };
+layout(buffer_reference, scalar) buffer TotalsRef { CellTileTotals totals; };
+
+layout(push_constant, scalar) uniform Push { CellTilePushConstants pc; };
+
+shared uint groupSums[64];
+shared uint groupTiles[64];
+
+// The tiles [lo, hi] (inclusive) that the cell's dilated box may cover, and the nearest depth of the
+// box (1, the near plane, when a corner lies at or behind the eye: the box then spans the screen).
+bool cellTileRect(HermiteDraw draw, uint object, uint record, out uvec2 lo, out uvec2 hi, out float nearest) {
+  FrameGlobals frame = FrameGlobalsRef(pc.frameGlobals).globals;
+  mat4 toClip = CullObjectsRef(pc.objects).objects[object].objectToClip;
+  vec3 cell = recordCell(draw, record);
+  float h = draw.gridOriginSpacing.w;
+  const float dilation = kMinDilation;
+  vec2 pmin = vec2(3.0e38), pmax = vec2(-3.0e38);
+  nearest = 0.0;
+  bool behind = false;
+  for (int c = 0; c < 8; ++c) {
+    vec3 corner = vec3(c & 1, (c >> 1) & 1, c >> 2) * (1.0 + 2.0 * dilation) - dilation;
+    vec4 clip = toClip * vec4(draw.gridOriginSpacing.xyz + h * (cell + corner), 1.0);
+    if (clip.w <= 1.0e-6 * abs(clip.z) || clip.w <= 0.0) {
+      behind = true;
+      continue;
+    }
+    vec2 pixel = (clip.xy / clip.w * 0.5 + 0.5) * frame.viewport.xy;
+    pmin = min(pmin, pixel);
+    pmax = max(pmax, pixel);
+    nearest = max(nearest, clip.z / clip.w);
+  }
+  if (behind) {
+    pmin = vec2(0.0);
+    pmax = frame.viewport.xy;
+    nearest = 1.0;
+  }
+  // A hit may lie up to the search margin (searchMargin: at most ~1e-4 of the distance) in front of
+  // the box: the entry's depth is taken that much nearer, so sorting by it never skips a hit.
+  nearest = clamp(nearest * 1.0002, 0.0, 1.0);
+  pmin -= 1.5;  // the dilation, and slack for the rasterizer's and this projection's rounding
+  pmax += 1.5;
+  vec2 extent = vec2(pc.tilesX, pc.tilesY);
+  if (any(greaterThanEqual(pmin, frame.viewport.xy)) || any(lessThan(pmax, vec2(0.0)))) return false;
+  lo = uvec2(clamp(floor(pmin / float(CELL_TILE_SIZE)), vec2(0.0), extent - 1.0));
+  hi = uvec2(clamp(floor(pmax / float(CELL_TILE_SIZE)), vec2(0.0), extent - 1.0));
+  return true;
+}
+
+// The range whose part of the kept stream holds `slot`: the last one starting at or before it (the
+// ranges' outputFirst ascend).
+CellCullRange rangeOfSlot(uint slot) {
+  RangesRef ranges = RangesRef(pc.ranges);
+  uint lo = 0u, hi = pc.rangeCount - 1u;
+  while (lo < hi) {
+    uint mid = (lo + hi + 1u) / 2u;
+    if (ranges.ranges[mid].outputFirst <= slot) lo = mid; else hi = mid - 1u;
+  }
+  return ranges.ranges[lo];
+}
+
+// One lane per slot of the kept stream (the ranges' parts are as long as their unculled rows; the
+// culling pass filled the first instanceCount of each): a lane per cell rather than a workgroup per
+// range, whose rows hold a few cells each at large K.
+void binCells() {
+  uint slot = (gl_WorkGroupID.x + gl_NumWorkGroups.x * gl_WorkGroupID.y) * gl_WorkGroupSize.x + gl_LocalInvocationID.x;
+  if (slot >= pc.slotCount) return;
+  CellCullRange range = rangeOfSlot(slot);
+  uint kept = UintsRef(pc.commands).words[range.drawCommand * 4u + 1u];
+  if (slot - range.outputFirst >= kept) return;
+  HermiteDraw draw = HermiteDrawsRef(pc.draws).draws[range.drawCommand];
+  TilesRef tiles = TilesRef(pc.tiles);
+  {
+    uint record = UintsRef(pc.keptIndices).words[slot];
+    uvec2 lo, hi;
+    float nearest;
+    if (!cellTileRect(draw, range.object, record, lo, hi, nearest)) return;
+    for (uint y = lo.y; y <= hi.y; ++y)
+      for (uint x = lo.x; x <= hi.x; ++x) {
+        uint tile = y * pc.tilesX + x;
+        if (pc.phase == CELL_TILES_COUNT) {
+          atomicAdd(tiles.tiles[tile].count, 1u);
+          atomicMax(tiles.tiles[tile].depth, floatBitsToUint(nearest));
+        } else {
+          uint slot = atomicAdd(tiles.tiles[tile].cursor, 1u);
+          if (slot < tiles.tiles[tile].count) {
+            uint at = tiles.tiles[tile].first + slot;
+            EntriesRef(pc.entries).entries[at].draw = range.drawCommand;
+            EntriesRef(pc.entries).entries[at].record = record;
+            EntriesRef(pc.entries).entries[at].nearest = nearest;
+          }
+        }
+      }
+  }
+}
+
+// One workgroup: lane l takes a contiguous chunk of tiles; the chunks' sums are prefix-summed in
+// shared memory, then each lane writes its tiles' first entries and its part of the tile list.
+void scanTiles() {
+  uint tileCount = pc.tilesX * pc.tilesY;
+  uint lane = gl_LocalInvocationID.x;
+  uint chunk = (tileCount + 63u) / 64u;
+  uint begin = min(lane * chunk, tileCount), end = min(begin + chunk, tileCount);
+  TilesRef tiles = TilesRef(pc.tiles);
+  uint sum = 0u, nonEmpty = 0u;
+  for (uint t = begin; t < end; ++t) {
+    uint count = tiles.tiles[t].count;
+    sum += count;
+    nonEmpty += count > 0u ? 1u : 0u;
+  }
+  groupSums[lane] = sum;
+  groupTiles[lane] = nonEmpty;
+  barrier();
+  uint first = 0u, listed = 0u;
+  for (uint l = 0u; l < lane; ++l) {
+    first += groupSums[l];
+    listed += groupTiles[l];
+  }
+  TileListRef list = TileListRef(pc.tiles + uint64_t(tileCount) * 16ul);
+  for (uint t = begin; t < end; ++t) {
+    uint count = tiles.tiles[t].count;
+    tiles.tiles[t].first = first;
+    tiles.tiles[t].count = min(count, pc.entryCapacity - min(first, pc.entryCapacity));
+    tiles.tiles[t].cursor = 0u;
+    if (count > 0u) list.tiles[listed++] = t;
+    first += count;
+  }
+  if (lane == 63u) {
+    TotalsRef(pc.totals).totals.instanceCount = listed;
+    TotalsRef(pc.totals).totals.entriesNeeded = first;
+    uint groupsX = min(listed, 65535u);  // the least maxComputeWorkGroupCount[0] Vulkan allows
+    TotalsRef(pc.totals).totals.sortGroups[0] = groupsX;
+    TotalsRef(pc.totals).totals.sortGroups[1] = groupsX == 0u ? 0u : (listed + groupsX - 1u) / groupsX;
+    TotalsRef(pc.totals).totals.sortGroups[2] = 1u;
+  }
+}
+
+// Whether entry a comes before entry b: nearer first (reverse-Z: larger depth), ties by draw and
+// record (a total order: no two entries of one tile are the same cell).
+bool before(CellTileEntry a, CellTileEntry b) {
+  if (a.nearest != b.nearest) return a.nearest > b.nearest;
+  if (a.draw != b.draw) return a.draw < b.draw;
+  return a.record < b.record;
+}
+
+// One tile's list, copied from the scatter's entries to the sorted ones: each entry goes to its
+// rank, the number of entries before it (a rank sort: quadratic, but without barriers, which cost
+// software rasterizers' compute dearly; lists are short). Lists longer than CELL_TILE_SORT_MAX are
+// copied as they are.
+void sortTile() {
+  uint listIndex = gl_WorkGroupID.x + gl_NumWorkGroups.x * gl_WorkGroupID.y;
+  uint tileCount = pc.tilesX * pc.tilesY;
+  if (listIndex >= TotalsRef(pc.totals).totals.instanceCount) return;
+  uint tile = TileListRef(pc.tiles + uint64_t(tileCount) * 16ul).tiles[listIndex];
+  uint first = TilesRef(pc.tiles).tiles[tile].first, count = TilesRef(pc.tiles).tiles[tile].count;
+  ReadEntriesRef source = ReadEntriesRef(pc.entries);
+  for (uint i = gl_LocalInvocationID.x; i < count; i += gl_WorkGroupSize.x) {
+    CellTileEntry entry = source.entries[first + i];
+    uint rank = i;
+    if (count <= CELL_TILE_SORT_MAX) {
+      rank = 0u;
+      for (uint j = 0u; j < count; ++j) rank += before(source.entries[first + j], entry) ? 1u : 0u;
+    }
+    EntriesRef target = EntriesRef(pc.sortedEntries);
+    target.entries[first + rank].draw = entry.draw;
+    target.entries[first + rank].record = entry.record;
+    target.entries[first + rank].nearest = entry.nearest;
+  }
+}
+
+void main() {
+  if (pc.phase == CELL_TILES_SCAN) {
+    scanTiles();
+  } else if (pc.phase == CELL_TILES_SORT) {
+    sortTile();
+  } else {
+    binCells();
+  }
+}

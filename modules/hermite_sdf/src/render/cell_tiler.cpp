@@ -1,0 +1,140 @@
+#include "render/cell_tiler.h"
+
+#include <algorithm>
+#include <cstddef>
+#include <cstring>
+
+#include "engine/gpu/context.h"
+#include "engine/gpu/pipeline.h"
+
+namespace hsdf {
+namespace {
+
+constexpr std::uint32_t kMaxGroupsX = 65535;  // the least maxComputeWorkGroupCount[0] Vulkan allows
+constexpr std::uint32_t kWorkgroupSize = 64;  // cell_tiles.comp local_size_x
+
+VkDeviceSize tileBytes(std::uint32_t tileCount) {
+  return VkDeviceSize(tileCount) * (sizeof(shader::CellTile) + sizeof(std::uint32_t));
+}
+
+void computeToCompute(VkCommandBuffer cmd) {
+  constexpr VkAccessFlags2 kReadWrite = VK_ACCESS_2_SHADER_STORAGE_READ_BIT | VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT;
+  engine::gpu::memoryBarrier(cmd, VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT, VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT,
+                             VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT, kReadWrite);
+}
+
+}  // namespace
+
+bool tilesAsPoints(const engine::gpu::Context& context) {
+  return context.capabilities().maxPointSize >= float(CELL_TILE_SIZE);
+}
+
+engine::Expected<CellTiler> CellTiler::create(const engine::gpu::Context& context, std::uint32_t frameSlots) {
+  ENGINE_TRY_ASSIGN(auto module, engine::gpu::ShaderModule::load(context, "cell_tiles.comp"));
+  CellTiler tiler;
+  tiler.context_ = &context;
+  ENGINE_TRY_ASSIGN(tiler.pipeline_, engine::gpu::Pipeline::createCompute(context, "cell tiles", module.handle(),
+                                                                         sizeof(shader::CellTilePushConstants)));
+  tiler.slots_.resize(frameSlots);
+  // The scan writes the tile draw's command; the CPU reads the entries it needed.
+  tiler.totals_ = engine::render::PerFrameBuffer(
+      context, frameSlots, VK_BUFFER_USAGE_INDIRECT_BUFFER_BIT | VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, "hermite cell tile totals");
+  return tiler;
+}
+
+shader::CellTileTotals CellTiler::lastTotals(std::uint32_t slot) const {
+  shader::CellTileTotals totals{};
+  const engine::gpu::Buffer& buffer = totals_.buffer(slot);
+  if (slots_[slot].recorded && buffer && buffer.mapped()) std::memcpy(&totals, buffer.mapped(), sizeof(totals));
+  return totals;
+}
+
+// The slot's buffers for this frame's tiles and at least `wanted` entries. The slot's previous
+// frame has completed (its fence was waited for), so replacing them is safe.
+void CellTiler::ensureBuffers(Slot& slot, std::uint32_t tileCount, std::uint64_t wanted) {
+  constexpr VkBufferUsageFlags kUsage = VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_SHADER_DEVICE_ADDRESS_BIT;
+  if (!slot.tiles || slot.tiles.size() < tileBytes(tileCount))
+    slot.tiles = engine::gpu::Buffer(*context_, tileBytes(tileCount), kUsage | VK_BUFFER_USAGE_TRANSFER_DST_BIT,
+                                     engine::gpu::MemoryUsage::GpuOnly, "hermite cell tiles");
+  wanted = std::clamp<std::uint64_t>(wanted, 4096, kMaxEntries);
+  if (slot.capacity < wanted) {
+    // A quarter more than asked: views that move a little do not reallocate every frame.
+    const auto capacity = std::uint32_t(std::min<std::uint64_t>(wanted + wanted / 4, kMaxEntries));
+    const VkDeviceSize bytes = VkDeviceSize(capacity) * sizeof(shader::CellTileEntry);
+    slot.entries = engine::gpu::Buffer(*context_, bytes, kUsage, engine::gpu::MemoryUsage::GpuOnly, "hermite cell tile entries");
+    slot.sortedEntries =
+        engine::gpu::Buffer(*context_, bytes, kUsage, engine::gpu::MemoryUsage::GpuOnly, "hermite sorted cell tile entries");
+    slot.capacity = capacity;
+  }
+}
+
+void CellTiler::dispatchBins(VkCommandBuffer cmd, shader::CellTilePushConstants push, const Frame& frame,
+                             std::uint32_t phase) {
+  push.phase = phase;
+  for (const Ranges& ranges : frame.precisions) {
+    if (ranges.count == 0 || ranges.slots == 0) continue;
+    push.ranges = ranges.ranges;
+    push.keptIndices = ranges.keptIndices;
+    push.rangeCount = ranges.count;
+    push.slotCount = ranges.slots;
+    const std::uint32_t groups = (ranges.slots + kWorkgroupSize - 1) / kWorkgroupSize;
+    const std::uint32_t groupsX = std::min(groups, kMaxGroupsX);
+    vkCmdPushConstants(cmd, pipeline_.layout(), VK_SHADER_STAGE_COMPUTE_BIT, 0, sizeof(push), &push);
+    vkCmdDispatch(cmd, groupsX, (groups + groupsX - 1) / groupsX, 1);
+  }
+}
+
+void CellTiler::record(VkCommandBuffer cmd, const Frame& frame) {
+  Slot& slot = slots_[frame.slot];
+  const std::uint32_t tilesX = (frame.extent.width + CELL_TILE_SIZE - 1) / CELL_TILE_SIZE;
+  const std::uint32_t tilesY = (frame.extent.height + CELL_TILE_SIZE - 1) / CELL_TILE_SIZE;
+  const std::uint32_t tileCount = std::max(tilesX * tilesY, 1u);
+  const std::uint64_t needed = slot.recorded ? lastTotals(frame.slot).entriesNeeded : 0;
+  ensureBuffers(slot, tileCount, std::max(frame.entryEstimate, needed));
+  slot.recorded = true;
+  shader::CellTileTotals totals{};
+  totals.vertexCount = tilesAsPoints(*context_) ? 1 : 6;
+  totals_.upload(frame.slot, &totals, sizeof(totals));
+
+  // The previous frame's draw read the tiles and entries (write after read), then zero the tiles.
+  engine::gpu::memoryBarrier(cmd, VK_PIPELINE_STAGE_2_DRAW_INDIRECT_BIT | VK_PIPELINE_STAGE_2_ALL_GRAPHICS_BIT, 0,
+                             VK_PIPELINE_STAGE_2_CLEAR_BIT | VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT, 0);
+  vkCmdFillBuffer(cmd, slot.tiles.handle(), 0, VkDeviceSize(tileCount) * sizeof(shader::CellTile), 0);
+  engine::gpu::memoryBarrier(cmd, VK_PIPELINE_STAGE_2_CLEAR_BIT, VK_ACCESS_2_TRANSFER_WRITE_BIT,
+                             VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT,
+                             VK_ACCESS_2_SHADER_STORAGE_READ_BIT | VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT);
+
+  shader::CellTilePushConstants push{};
+  push.commands = frame.commands;
+  push.draws = frame.draws;
+  push.objects = frame.objects;
+  push.frameGlobals = frame.frameGlobals;
+  push.tiles = slot.tiles.address();
+  push.entries = slot.entries.address();
+  push.sortedEntries = slot.sortedEntries.address();
+  push.totals = totals_.address(frame.slot);
+  push.tilesX = tilesX;
+  push.tilesY = tilesY;
+  push.entryCapacity = slot.capacity;
+  vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, pipeline_.handle());
+  dispatchBins(cmd, push, frame, CELL_TILES_COUNT);
+  computeToCompute(cmd);
+  push.phase = CELL_TILES_SCAN;
+  vkCmdPushConstants(cmd, pipeline_.layout(), VK_SHADER_STAGE_COMPUTE_BIT, 0, sizeof(push), &push);
+  vkCmdDispatch(cmd, 1, 1, 1);
+  computeToCompute(cmd);
+  dispatchBins(cmd, push, frame, CELL_TILES_SCATTER);
+  engine::gpu::memoryBarrier(cmd, VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT, VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT,
+                             VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_2_DRAW_INDIRECT_BIT,
+                             VK_ACCESS_2_SHADER_STORAGE_READ_BIT | VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT |
+                                 VK_ACCESS_2_INDIRECT_COMMAND_READ_BIT);
+  push.phase = CELL_TILES_SORT;
+  vkCmdPushConstants(cmd, pipeline_.layout(), VK_SHADER_STAGE_COMPUTE_BIT, 0, sizeof(push), &push);
+  vkCmdDispatchIndirect(cmd, totals_.buffer(frame.slot).handle(), offsetof(shader::CellTileTotals, sortGroups));
+  engine::gpu::memoryBarrier(
+      cmd, VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT, VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT,
+      VK_PIPELINE_STAGE_2_DRAW_INDIRECT_BIT | VK_PIPELINE_STAGE_2_ALL_GRAPHICS_BIT | VK_PIPELINE_STAGE_2_HOST_BIT,
+      VK_ACCESS_2_INDIRECT_COMMAND_READ_BIT | VK_ACCESS_2_SHADER_STORAGE_READ_BIT | VK_ACCESS_2_HOST_READ_BIT);
+}
+
+}  // namespace hsdf

@@ -1,0 +1,81 @@
+#pragma once
+// Tiled cells (issue 20; HermiteCellFeature::Settings::tiles): cell_tiles.comp bins the cells that
+// the cell culling pass kept into screen tiles, and the prepass draws one quad per non-empty tile
+// (cell_tiles.vert) whose fragments search the tile's cells (cell_tiles_depth.glsl). On lavapipe,
+// which shades and counts whole 4x4 blocks, a box of a few pixels costs 16-64 fragment invocations;
+// a tile costs its 64 pixels once, whatever the number of cells behind them.
+//
+// Per frame slot: the tiles (CellTile per tile, then the non-empty tile list), the entry list and
+// the totals (the tile draw's indirect command, host-visible: the entries the scan needed are read
+// back to size the next frame's list). record() in prepare(), after the cell culling pass.
+#include <cstdint>
+#include <vector>
+
+#include <vulkan/vulkan.h>
+
+#include "engine/core/expected.h"
+#include "engine/gpu/buffer.h"
+#include "engine/gpu/pipeline.h"
+#include "engine/render/per_frame_buffer.h"
+#include "hermite/hermite_host_device.h"
+
+namespace hsdf {
+
+// Whether the tiles are drawn as points of CELL_TILE_SIZE pixels (one vertex; large points), else as
+// two triangles (cell_tiles_vert.glsl).
+bool tilesAsPoints(const engine::gpu::Context& context);
+
+class CellTiler {
+ public:
+  static engine::Expected<CellTiler> create(const engine::gpu::Context& context, std::uint32_t frameSlots);
+
+  // One record precision's culled ranges, as the cell culling pass wrote them.
+  struct Ranges {
+    VkDeviceAddress ranges = 0;       // CellCullRange[count]
+    VkDeviceAddress keptIndices = 0;  // their kept cells' record indices
+    std::uint32_t count = 0;
+    std::uint32_t slots = 0;          // the kept stream's length (the ranges' unculled rows)
+  };
+  struct Frame {
+    std::uint32_t slot = 0;
+    VkExtent2D extent{};
+    VkDeviceAddress commands = 0;      // the feature's indirect commands (the ranges' kept counts)
+    VkDeviceAddress draws = 0;         // HermiteDraw[]
+    VkDeviceAddress objects = 0;       // BrickCullObject[] of the cell culling pass
+    VkDeviceAddress frameGlobals = 0;  // FrameGlobals
+    Ranges precisions[2];
+    // The entries this frame may need (an estimate from the cells and their size on screen); the
+    // list grows to it, and to what an earlier frame of this slot needed.
+    std::uint64_t entryEstimate = 0;
+  };
+  // Records COUNT, SCAN and SCATTER with their barriers; after it the tiles, entries and the tile
+  // draw's command are visible to the draw.
+  void record(VkCommandBuffer cmd, const Frame& frame);
+
+  VkDeviceAddress tiles(std::uint32_t slot) const { return slots_[slot].tiles.address(); }
+  VkDeviceAddress entries(std::uint32_t slot) const { return slots_[slot].sortedEntries.address(); }
+  const engine::gpu::Buffer& drawCommand(std::uint32_t slot) const { return totals_.buffer(slot); }
+  // The entries the slot's last completed scan needed, and the list's capacity then.
+  shader::CellTileTotals lastTotals(std::uint32_t slot) const;
+  std::uint32_t capacity(std::uint32_t slot) const { return slots_[slot].capacity; }
+
+  static constexpr std::uint32_t kMaxEntries = 1u << 23;  // 2 x 96 MiB of entries at most
+
+ private:
+  struct Slot {
+    engine::gpu::Buffer tiles;
+    engine::gpu::Buffer entries;        // the scatter's lists
+    engine::gpu::Buffer sortedEntries;  // the same, sorted (the draw's)
+    std::uint32_t capacity = 0;
+    bool recorded = false;
+  };
+  void ensureBuffers(Slot& slot, std::uint32_t tileCount, std::uint64_t wanted);
+  void dispatchBins(VkCommandBuffer cmd, shader::CellTilePushConstants push, const Frame& frame, std::uint32_t phase);
+
+  const engine::gpu::Context* context_ = nullptr;
+  engine::gpu::Pipeline pipeline_;
+  std::vector<Slot> slots_;
+  engine::render::PerFrameBuffer totals_;
+};
+
+}  // namespace hsdf
