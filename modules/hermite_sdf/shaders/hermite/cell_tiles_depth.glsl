@@ -38,31 +38,48 @@ void main() {
   uint lastObject = 0xffffffffu;
   ObjectData object;
   vec3 eyeGrid, direction;
-  for (uint i = 0u; i < tile.count; ++i) {
-    CellTileEntry entry = TileEntriesRef(pc.tileEntries).entries[tile.first + i];
-    if (sorted && visibility.x != 0u && entry.nearest < gl_FragCoord.z / best) break;  // this box and the rest lie behind the hit
-    HermiteDraw draw = HermiteDrawsRef(pc.draws).draws[entry.draw];
-    if (draw.object != lastObject) {
-      lastObject = draw.object;
-      object = ObjectsRef(pc.draw.objects).objects[draw.object];
+  uint i = 0u;
+  for (;;) {
+    // The next entry this fragment must search, by cheap tests only: the search below has one call
+    // site, so the lanes of a SIMD group (a GPU's warp, lavapipe's 4x4 block, which runs a loop's
+    // whole body whatever its lanes need) share its iterations instead of running it once per
+    // entry of the list (as bricks_depth.glsl does for a brick's cells).
+    bool pending = false;
+    HermiteDraw draw;
+    uint record = 0u;
+    vec3 origin;
+    float margin = 0.0;
+    for (; i < tile.count && !pending; ++i) {
+      CellTileEntry entry = TileEntriesRef(pc.tileEntries).entries[tile.first + i];
+      if (sorted && visibility.x != 0u && entry.nearest < gl_FragCoord.z / best) {
+        i = tile.count;  // this box and the rest lie behind the hit
+        break;
+      }
+      draw = HermiteDrawsRef(pc.draws).draws[entry.draw];
+      if (draw.object != lastObject) {
+        lastObject = draw.object;
+        object = ObjectsRef(pc.draw.objects).objects[draw.object];
+        float h = draw.gridOriginSpacing.w;
+        eyeGrid = ((object.invModel * vec4(frame.cameraPosition.xyz, 1.0)).xyz - draw.gridOriginSpacing.xyz) / h;
+        direction = pixelRayDirection(frame, object.invModel, h);
+      }
+      vec3 cell = recordCell(draw, entry.record);
+      origin = eyeGrid - cell;
       float h = draw.gridOriginSpacing.w;
-      eyeGrid = ((object.invModel * vec4(frame.cameraPosition.xyz, 1.0)).xyz - draw.gridOriginSpacing.xyz) / h;
-      direction = pixelRayDirection(frame, object.invModel, h);
+      float dilation = proxyDilation(frame, object, draw.gridOriginSpacing.xyz + h * (cell + 0.5), h);
+      // Would the cell's own proxy have covered this pixel? And can its search (over the margin,
+      // at least the dilation) begin in front of what was found already?
+      vec2 box = intersectBox(origin, direction, vec3(-dilation), vec3(1.0 + dilation));
+      margin = searchMargin(origin, dilation);
+      vec2 searched = intersectBox(origin, direction, vec3(-margin), vec3(1.0 + margin));
+      pending = max(box.x, gl_FragCoord.z) < box.y && max(searched.x, gl_FragCoord.z) < best;
+      record = entry.record;
     }
-    vec3 cell = recordCell(draw, entry.record);
-    vec3 origin = eyeGrid - cell;
-    float h = draw.gridOriginSpacing.w;
-    float dilation = proxyDilation(frame, object, draw.gridOriginSpacing.xyz + h * (cell + 0.5), h);
-    // Would the cell's own proxy have covered this pixel? And can its search (over the margin,
-    // at least the dilation) begin in front of what was found already?
-    vec2 box = intersectBox(origin, direction, vec3(-dilation), vec3(1.0 + dilation));
-    float margin = searchMargin(origin, dilation);
-    vec2 searched = intersectBox(origin, direction, vec3(-margin), vec3(1.0 + margin));
-    if (!(max(box.x, gl_FragCoord.z) < box.y) || max(searched.x, gl_FragCoord.z) >= best) continue;
-    float t = searchCell(draw, entry.record, origin, direction, margin, gl_FragCoord.z, 3.0e38, evaluations);
+    if (!pending) break;
+    float t = searchCell(draw, record, origin, direction, margin, gl_FragCoord.z, 3.0e38, evaluations);
     if (t >= 0.0 && t < best) {
       best = t;
-      visibility = uvec2(draw.object + 1u, entry.record);
+      visibility = uvec2(draw.object + 1u, record);
     }
   }
   countWork(evaluations);
