@@ -342,6 +342,30 @@ void applyTuning(const TuningState& tuning, hsdf::HermiteSdfRenderable& renderab
   renderable.certified = tuning.certified;
 }
 
+namespace {
+
+template <typename Switch>
+Switch threeWay(EarlyDepth mode) {
+  return mode == EarlyDepth::On ? Switch::On : mode == EarlyDepth::Off ? Switch::Off : Switch::Auto;
+}
+
+}  // namespace
+
+void applyTuning(const TuningState& tuning, hsdf::HermiteCellFeature::Settings& cells,
+                 hsdf::SphereTraceFeature::Settings& tracers) {
+  cells.frontToBack = tuning.frontToBack;
+  cells.maxRunLength = tuning.maxRunLength;
+  cells.cullBricks = tuning.cullBricks;
+  cells.cullCells = tuning.cullCells;
+  cells.cullOcclusion = tuning.cullOcclusion;
+  cells.thinBoxes = threeWay<hsdf::HermiteCellFeature::ThinBoxes>(tuning.thinBoxes);
+  cells.tiles = threeWay<hsdf::HermiteCellFeature::Tiles>(tuning.tiles);
+  cells.earlyDepth = threeWay<hsdf::HermiteCellFeature::EarlyDepth>(tuning.earlyDepth);
+  tracers.epsilon = tuning.traceEpsilon;
+  tracers.maxSteps = tuning.traceMaxSteps;
+  tracers.centralDifferenceStep = tuning.centralDifferenceStep;
+}
+
 engine::Status setTuningValue(TuningState& tuning, std::string_view key, std::string_view value) {
   json parsed = json::parse(value, nullptr, /*allow_exceptions=*/false);
   if (parsed.is_discarded() || !(parsed.is_number() || parsed.is_boolean())) parsed = std::string(value);

@@ -191,6 +191,11 @@ TuningState compareTuning(const TuningState& tuning);
 // The one place tuning reaches the SDF component (method, n, refinement, normals, precision).
 // Method::Mesh leaves the method as it is (the entity then is not drawn by the caller's choice).
 void applyTuning(const TuningState& tuning, hsdf::HermiteSdfRenderable& renderable);
+// The one place tuning reaches the render features' settings (cells: order, culling, thin boxes,
+// tiles, early depth; tracers: epsilon, steps, central step): the Viewer's renderer, and the perf
+// capture's measuring renderer, which must draw a row as its frames were drawn.
+void applyTuning(const TuningState& tuning, hsdf::HermiteCellFeature::Settings& cells,
+                 hsdf::SphereTraceFeature::Settings& tracers);
 
 // Settings files: JSON objects with the keys "method", "resolution", "padding", "subdivisions",
 // "refine", "normals", "fp16", "debug_view", "front_to_back", "early_depth" (true, false or "auto"),

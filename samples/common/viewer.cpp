@@ -189,28 +189,8 @@ void Viewer::applyTuningToScene() {
   updateVisibility(tuning_.method);
   registry_.view<hsdf::HermiteSdfRenderable>().each(
       [this](ecs::Entity, hsdf::HermiteSdfRenderable& renderable) { applyTuning(tuning_, renderable); });
-  hsdf::HermiteCellFeature::Settings& cells = renderer_->feature<hsdf::HermiteCellFeature>()->settings();
-  cells.frontToBack = tuning_.frontToBack;
-  cells.maxRunLength = tuning_.maxRunLength;
-  cells.cullBricks = tuning_.cullBricks;
-  cells.cullCells = tuning_.cullCells;
-  cells.cullOcclusion = tuning_.cullOcclusion;
-  using CellThinBoxes = hsdf::HermiteCellFeature::ThinBoxes;
-  cells.thinBoxes = tuning_.thinBoxes == ThinBoxes::On    ? CellThinBoxes::On
-                    : tuning_.thinBoxes == ThinBoxes::Off ? CellThinBoxes::Off
-                                                          : CellThinBoxes::Auto;
-  using CellTiles = hsdf::HermiteCellFeature::Tiles;
-  cells.tiles = tuning_.tiles == TiledCells::On    ? CellTiles::On
-                : tuning_.tiles == TiledCells::Off ? CellTiles::Off
-                                                   : CellTiles::Auto;
-  using CellEarlyDepth = hsdf::HermiteCellFeature::EarlyDepth;
-  cells.earlyDepth = tuning_.earlyDepth == EarlyDepth::On    ? CellEarlyDepth::On
-                     : tuning_.earlyDepth == EarlyDepth::Off ? CellEarlyDepth::Off
-                                                             : CellEarlyDepth::Auto;
-  hsdf::SphereTraceFeature::Settings& tracers = renderer_->feature<hsdf::SphereTraceFeature>()->settings();
-  tracers.epsilon = tuning_.traceEpsilon;
-  tracers.maxSteps = tuning_.traceMaxSteps;
-  tracers.centralDifferenceStep = tuning_.centralDifferenceStep;
+  applyTuning(tuning_, renderer_->feature<hsdf::HermiteCellFeature>()->settings(),
+              renderer_->feature<hsdf::SphereTraceFeature>()->settings());
 }
 
 // Levels of detail (TuningState::lod): the scene objects' or the SDF entity's. `wait` (waitForBake)

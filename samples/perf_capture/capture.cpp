@@ -184,7 +184,7 @@ Status captureRow(const Group& g, const RowSpec& spec, std::size_t index, std::s
       result.image = "images/" + fileName(spec.label) + ".png";
       ENGINE_TRY(g.viewer.writeScreenshot(g.options.out / result.image));
     }
-    quality.add(g.truth[v], g.measurement.measure(g.measured, g.cameras[v]), g.cameras[v]);
+    quality.add(g.truth[v], g.measurement.measure(g.measured, g.cameras[v], spec.state), g.cameras[v]);
   }
   result.gpuMsMedian = median(frameMs);
   result.gpuMsP95 = percentile(frameMs, 0.95);

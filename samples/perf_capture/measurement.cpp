@@ -3,6 +3,7 @@
 #include "hermite_sdf/render/cell_feature.h"
 #include "hermite_sdf/render/features.h"
 #include "hermite_sdf/render/sphere_trace_feature.h"
+#include "tuning.h"
 #include "shared/host_device.h"
 
 namespace capture {
@@ -38,7 +39,10 @@ Expected<std::unique_ptr<Measurement>> Measurement::create(const gpu::Context& c
   return measurement;
 }
 
-GpuReadback Measurement::measure(const ecs::Registry& registry, const render::CameraView& camera) {
+GpuReadback Measurement::measure(const ecs::Registry& registry, const render::CameraView& camera,
+                                 const samples::TuningState& tuning) {
+  samples::applyTuning(tuning, renderer_->feature<hsdf::HermiteCellFeature>()->settings(),
+                       renderer_->feature<hsdf::SphereTraceFeature>()->settings());
   render::FrameSettings settings;
   settings.debugView = DEBUG_VIEW_NORMALS;
   settings.countWork = true;

@@ -38,8 +38,10 @@ class Measurement {
   // `pool` holds the meshes of the registries it will draw (the Viewer's SDF registry has none).
   static engine::Expected<std::unique_ptr<Measurement>> create(const engine::gpu::Context& context,
                                                                engine::render::MeshPool& pool, VkExtent2D extent);
-  // Renders the registry with the normals debug view and work counters and reads it back.
-  GpuReadback measure(const engine::ecs::Registry& registry, const engine::render::CameraView& camera);
+  // Renders the registry with the normals debug view and work counters and reads it back, its
+  // features set as `tuning` sets the Viewer's (the row's culling, tiles, early depth...).
+  GpuReadback measure(const engine::ecs::Registry& registry, const engine::render::CameraView& camera,
+                      const samples::TuningState& tuning);
 
  private:
   std::unique_ptr<engine::render::Renderer> renderer_;
