@@ -127,7 +127,7 @@ struct TuningState {
   bool cullCells = true;    // cells: the same pass per cell (each with its own normal cone)
   bool cullOcclusion = hsdf::HermiteCellFeature::Settings{}.cullOcclusion;  // cells (with cullCells): two-phase occlusion culling against the depth pyramid
   ThinBoxes thinBoxes = ThinBoxes::Auto;  // cells: 12 bytes of varyings per box, records read by address
-  TiledCells tiles = TiledCells::Auto;    // cells (with cullCells): one quad per 8x8-pixel screen tile, not a box per cell
+  TiledCells tiles = TiledCells::Auto;    // cells (with cullCells): one point per 8x8-pixel screen tile, not a box per cell
   // Split-screen comparison (same camera, same frame): the tuning above on one side, the compared
   // method on the other, drawn from its own bake at compareResolution with compareNormals (n,
   // refinement and fp16 are shared). A compared method of cells draws the main asset (K above).

@@ -38,16 +38,20 @@ const Variant kVariants[] = {
     {"cells", "n=3 r=1 no-cull", false,
      {.method = hsdf::RenderMethod::Cells, .subdivisions = 3, .refineSteps = 1, .cullCells = false}},
     // Two-phase occlusion culling on top of the frustum and cones (off by default: see
-    // HermiteCellFeature::Settings::cullOcclusion).
+    // HermiteCellFeature::Settings::cullOcclusion). This row and the thin / attribute rows below
+    // are box variants: boxes on every device (Tiles::Auto would draw tiles on lavapipe).
     {"cells", "n=3 r=1 occlusion", false,
-     {.method = hsdf::RenderMethod::Cells, .subdivisions = 3, .refineSteps = 1, .cullOcclusion = true}},
+     {.method = hsdf::RenderMethod::Cells, .subdivisions = 3, .refineSteps = 1, .cullOcclusion = true,
+      .tiles = samples::TiledCells::Off}},
     // Issue 20 step 2: the same cells and search with 12 bytes of varyings per box (records read by
     // address), and with the Hermite data as varyings (the paper's); the row above lets the device
     // and the cells' size on screen choose (HermiteCellFeature::ThinBoxes::Auto).
     {"cells", "n=3 r=1 thin", false,
-     {.method = hsdf::RenderMethod::Cells, .subdivisions = 3, .refineSteps = 1, .thinBoxes = samples::ThinBoxes::On}},
+     {.method = hsdf::RenderMethod::Cells, .subdivisions = 3, .refineSteps = 1, .thinBoxes = samples::ThinBoxes::On,
+      .tiles = samples::TiledCells::Off}},
     {"cells", "n=3 r=1 attributes", false,
-     {.method = hsdf::RenderMethod::Cells, .subdivisions = 3, .refineSteps = 1, .thinBoxes = samples::ThinBoxes::Off}},
+     {.method = hsdf::RenderMethod::Cells, .subdivisions = 3, .refineSteps = 1, .thinBoxes = samples::ThinBoxes::Off,
+      .tiles = samples::TiledCells::Off}},
     // Issue 20: the culled cells as screen tiles and as boxes (the row above lets the device choose,
     // HermiteCellFeature::Tiles::Auto: tiles on software rasterizers).
     {"cells", "n=3 r=1 tiles", false,

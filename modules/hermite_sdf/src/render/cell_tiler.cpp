@@ -96,6 +96,9 @@ void CellTiler::record(VkCommandBuffer cmd, const Frame& frame) {
   totals.vertexCount = tilesAsPoints(*context_) ? 1 : 6;
   totals_.upload(frame.slot, &totals, sizeof(totals));
 
+  // The culling pass wrote the kept cells and their counts that COUNT reads (its own barrier hands
+  // them to the draws only).
+  computeToCompute(cmd);
   // The previous frame's draw read the tiles and entries (write after read), then zero the tiles.
   engine::gpu::memoryBarrier(cmd, VK_PIPELINE_STAGE_2_DRAW_INDIRECT_BIT | VK_PIPELINE_STAGE_2_ALL_GRAPHICS_BIT, 0,
                              VK_PIPELINE_STAGE_2_CLEAR_BIT | VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT, 0);

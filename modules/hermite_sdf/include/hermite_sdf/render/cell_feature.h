@@ -42,6 +42,10 @@
 // Bricks have no early depth variant: a frame that draws bricks keeps the early depth stage off.
 // Settings::thinBoxes draws RenderMethod::Cells with 8 vertices and 12 bytes of varyings per box
 // (cells_thin.vert), the records read by address; no early depth variant either.
+// Settings::tiles draws the culled RenderMethod::Cells objects as screen tiles instead of boxes
+// (src/render/cell_tiler.h: the kept cells binned into 8x8-pixel tiles by a compute pass, one
+// point per non-empty tile whose fragments search the tile's cells nearest first); no early depth
+// stage and no occlusion culling in frames that draw tiles.
 #include <array>
 #include <cstdint>
 #include <memory>
