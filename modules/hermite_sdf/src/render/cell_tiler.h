@@ -55,9 +55,8 @@ class CellTiler {
   VkDeviceAddress tiles(std::uint32_t slot) const { return slots_[slot].tiles.address(); }
   VkDeviceAddress entries(std::uint32_t slot) const { return slots_[slot].sortedEntries.address(); }
   const engine::gpu::Buffer& drawCommand(std::uint32_t slot) const { return totals_.buffer(slot); }
-  // The entries the slot's last completed scan needed, and the list's capacity then.
+  // What the slot's last completed scan wrote (the draw, the entries it needed).
   shader::CellTileTotals lastTotals(std::uint32_t slot) const;
-  std::uint32_t capacity(std::uint32_t slot) const { return slots_[slot].capacity; }
 
   static constexpr std::uint32_t kMaxEntries = 1u << 23;  // 2 x 96 MiB of entries at most
 
