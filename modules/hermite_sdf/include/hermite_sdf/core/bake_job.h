@@ -113,6 +113,8 @@ class BakeJob {
 
   float progress() const { return progress_.load(std::memory_order_relaxed); }
   void cancel() { cancel_.cancel(); }
+  // Whether cancel() was called (the job may still be running until its next check).
+  bool cancelled() const { return cancel_.isCancelled(); }
   bool done() const { return done_.load(std::memory_order_acquire); }
   // The result once done() (then once only); nullopt while running or after it was taken.
   std::optional<Result> take();
