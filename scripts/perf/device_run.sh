@@ -1,0 +1,45 @@
+#!/usr/bin/env bash
+# There, on a lent GPU machine, in one device call (scripts/perf/device_pack.sh made the pack):
+#   bash .device/device_run.sh [perf_capture options...]
+# Unpacks .device/pack.tar.xz and, each step under its own time limit so that one call fits the
+# device tool's per-call limit (HSDF_DEVICE_SECONDS, default 480, for the whole script):
+#   1. the perf capture (bunny, 1920x1080, 8 views, K = 16..256; the dense Hermite tracer, the
+#      trilinear tracer, the cells as tiles and as boxes), or the capture options given;
+#   2. the GPU test suite, HSDF_TEST_DEVICE=gpu, validation layers on (one gtest XML per binary);
+#   3. what scripts/run.sh shows (the default split screen), headless, as a PNG.
+# Everything lands under $OUT (the device tool brings it back): capture/, tests/, device.txt,
+# run_sh_default_split.png, and steps.txt with each step's exit status and seconds. Commit the
+# capture under docs/perf/<gpu name>/ with the command that made it.
+set -uo pipefail
+here=$(cd "$(dirname "$0")" && pwd)
+out=${OUT:-$here/out}
+budget=${HSDF_DEVICE_SECONDS:-480}
+device=${HSDF_DEVICE_KIND:-gpu}  # lavapipe: to try the script here
+export HSDF_TEST_DEVICE=${HSDF_TEST_DEVICE:-$device}
+mkdir -p "$out"
+work=$(mktemp -d)
+tar -C "$work" -xJf "$here/pack.tar.xz" || { echo "device_run: cannot unpack $here/pack.tar.xz" >&2; exit 1; }
+export HSDF_COMMIT=$(cat "$work/commit")
+start=$SECONDS
+left() { echo $((budget - (SECONDS - start))); }
+step() {  # step NAME SECONDS COMMAND...: runs it with a time limit, records rc and duration
+  local name=$1 limit=$2 t0=$SECONDS rc
+  shift 2
+  if [ "$limit" -le 5 ]; then echo "$name: skipped (no time left)" | tee -a "$out/steps.txt"; return; fi
+  timeout --kill-after=10 "$limit" "$@" > "$out/$name.log" 2>&1
+  rc=$?
+  echo "$name: rc=$rc, $((SECONDS - t0)) s (limit $limit s)" | tee -a "$out/steps.txt"
+}
+
+{ { nvidia-smi -L || echo "no nvidia-smi"; } 2>&1; echo "commit: $HSDF_COMMIT"; } > "$out/device.txt"
+capture=("$@")
+if [ ${#capture[@]} -eq 0 ]; then
+  capture=(--size 1920x1080 --views 8 --frames 10 --warmup 3 --resolutions 16,32,64,128,256
+           --methods hermite,trilinear,cells --settings "n=3 r=1 tiles,n=3 r=1 boxes")
+fi
+# The tests and the screenshot take well under two minutes together: the capture gets the rest.
+step capture $(( $(left) - 120 )) "$work/gpu/run.sh" perf_capture --device "$device" --out "$out/capture" "${capture[@]}"
+step tests $(( $(left) - 40 )) "$work/gpu-tests/run.sh" "$out/tests"
+step split $(( $(left) )) "$work/gpu/run.sh" scene_runner --headless --ui --device "$device" --split vertical --frames 3 \
+  --screenshot "$out/run_sh_default_split.png"
+tail -n 3 "$out"/*.log
