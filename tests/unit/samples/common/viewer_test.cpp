@@ -295,6 +295,37 @@ TEST(Viewer, BakePastTheBudgetIsRefusedAndCancelKeepsTheOldK) {
   EXPECT_TRUE(viewer->close().ok());
 }
 
+// Tricky: the panel's and the script's cancel is followed by frames, not by waitForBake. The step
+// after the cancel must finish the cancelled job (however far its worker got) and report it, and
+// put the tuning back to the K drawn; a new K asked for right after must then bake. Before, a new
+// K could replace the cancelled job before its worker noticed, with no word of the cancellation
+// (the CI failure of scene_runner_panel_script_xvfb, stop 28).
+TEST(Viewer, CancelIsReportedOnTheNextStepBeforeANewBake) {
+  auto viewer = makeViewer();
+  ASSERT_NE(viewer, nullptr);
+  SceneDesc scene;
+  scene.gltf = std::string(HSDF_ASSET_DIR) + "/bunny.glb";  // a bake long enough to be cancelled
+  scene.groundPlane = false;
+  TuningState tuning;
+  tuning.resolution = 12;
+  ASSERT_TRUE(viewer->loadScene(scene, tuning).ok());
+  tuning.resolution = 64;
+  viewer->setTuning(tuning);
+  viewer->cancelBake();
+  ASSERT_TRUE(viewer->step().ok());
+  EXPECT_TRUE(viewer->bakeError().find("cancelled") != std::string::npos) << viewer->bakeError();
+  EXPECT_EQ(viewer->tuning().resolution, 12);
+  EXPECT_EQ(viewer->sdfAsset()->cells.grid.resolution, 12);
+
+  tuning.resolution = 16;
+  viewer->setTuning(tuning);
+  EXPECT_TRUE(viewer->bakeError().empty());
+  ASSERT_TRUE(viewer->waitForBake().ok());
+  ASSERT_TRUE(viewer->step().ok());
+  EXPECT_EQ(viewer->sdfAsset()->cells.grid.resolution, 16);
+  EXPECT_TRUE(viewer->close().ok());
+}
+
 // Tricky: the level is chosen inside the one frame step, from that frame's camera: near (K's cells
 // about 1 px on the 48-pixel image, target 1) draws K, 6 times farther draws a coarser level
 // of the same source, and turning levels off draws K again; the levels are baked once per asset
