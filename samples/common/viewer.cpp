@@ -294,11 +294,11 @@ Status Viewer::step() {
   // A cancelled bake is finished (waited for: the worker stops at its next check) on the next
   // step, before the tuning can start another: a re-bake started first would replace the
   // cancelled job without reporting it, and the tuning would not name what is drawn.
-  if (bakes_.job() && (bakes_.job()->done() || bakes_.job()->cancelled())) {
+  if (bakes_.job() && bakes_.job()->finishable()) {
     if (Status baked = bakes_.finish(); !baked) log::warn("{}", baked.error().message);
     updateCompareBake();
   }
-  if (compare_.bakeJob() && (compare_.bakeJob()->done() || compare_.bakeJob()->cancelled())) compare_.finishBake();
+  if (compare_.bakeJob() && compare_.bakeJob()->finishable()) compare_.finishBake();
   applyTuningToScene();
   scene::updateWorldTransforms(registry_);
   updateLevelsOfDetail(false);

@@ -116,6 +116,9 @@ class BakeJob {
   // Whether cancel() was called (the job may still be running until its next check).
   bool cancelled() const { return cancel_.isCancelled(); }
   bool done() const { return done_.load(std::memory_order_acquire); }
+  // Whether a caller may finish the job now without waiting for work it still wants: done, or
+  // cancelled (wait() then returns at the worker's next check).
+  bool finishable() const { return done() || cancelled(); }
   // The result once done() (then once only); nullopt while running or after it was taken.
   std::optional<Result> take();
   // Blocks until done, then take()s.

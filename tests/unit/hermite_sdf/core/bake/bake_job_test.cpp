@@ -59,7 +59,9 @@ TEST(BakeJob, WorkerThreadJobCancels) {
   BakeSettings settings;
   settings.resolution = 128;
   BakeJob job(bunnySource(), settings);
+  EXPECT_FALSE(job.finishable()) << "a running job that nobody cancelled is not finished";
   job.cancel();
+  EXPECT_TRUE(job.finishable()) << "a cancelled job may be finished before the worker notices";
   const BakeJob::Result result = job.wait();
   ASSERT_FALSE(result.ok());
   EXPECT_TRUE(contains(result.error().message, "cancelled")) << result.error().message;
@@ -145,6 +147,7 @@ TEST(BakeJob, WorkerThreadResultEqualsSynchronousResult) {
   BakeJob job(blob, settings);
   const BakeJob::Result threaded = job.wait();
   ASSERT_TRUE(threaded.ok()) << threaded.error().message;
+  EXPECT_TRUE(job.finishable());
   EXPECT_FLOAT_EQ(job.progress(), 1.0f);
   const SdfAsset& a = **sync;
   const SdfAsset& b = **threaded;
