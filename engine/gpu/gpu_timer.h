@@ -40,4 +40,22 @@ class GpuTimer {
   std::vector<std::uint32_t> open_; // stack of open scope indices
 };
 
+// begin() on construction and end() on destruction, where `timer` is not null: a scope for work
+// recorded by a function with several early returns (RenderFeature::prepare's sub-steps).
+class GpuTimerScope {
+ public:
+  GpuTimerScope(GpuTimer* timer, VkCommandBuffer cmd, const std::string& scope) : timer_(timer), cmd_(cmd) {
+    if (timer_) timer_->begin(cmd_, scope);
+  }
+  ~GpuTimerScope() {
+    if (timer_) timer_->end(cmd_);
+  }
+  GpuTimerScope(const GpuTimerScope&) = delete;
+  GpuTimerScope& operator=(const GpuTimerScope&) = delete;
+
+ private:
+  GpuTimer* timer_;
+  VkCommandBuffer cmd_;
+};
+
 }  // namespace engine::gpu

@@ -92,6 +92,10 @@ struct FrameContext {
   // renderer hands the reports to its caller (Renderer::takeDroppedObjects).
   std::vector<std::string>* droppedObjects = nullptr;
   void reportDropped(std::string message) const;
+  // The frame's named GPU timings: the renderer times every feature's prepare() together as
+  // "prepare" (per view region, like the passes); a feature names the parts of its compute work
+  // inside it (gpu::GpuTimerScope). Null where the frame is not timed.
+  gpu::GpuTimer* timer = nullptr;
 };
 
 struct PassContext {

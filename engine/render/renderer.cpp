@@ -384,8 +384,11 @@ void Renderer::recordRegion(FrameResources& frame, FrameContext& context, const 
   FrameContext regionContext = context;
   regionContext.frameSlot = context.frameSlot * desc_.maxViewRegions + index;
   regionContext.viewRegion = rect;
+  regionContext.timer = &frame.timer;
   scene_.beginFrame();
+  frame.timer.begin(frame.cmd, "prepare" + regionSuffix(index));
   for (auto& feature : features_) feature->prepare(regionContext);
+  frame.timer.end(frame.cmd);
   scene_.upload(regionContext.frameSlot);
   recordScenePasses(frame, regionContext, rect, index);
 }

@@ -84,6 +84,27 @@ void storage(const RowSpec& spec, const Subject& subject, const std::vector<cons
 
 double median(std::vector<double> v) { return percentile(std::move(v), 0.5); }
 
+// Every named GPU timing over the timed frames, by name in the order first seen: a scope a frame
+// did not record (a feature with nothing to cull) is left out of that frame, not counted as 0.
+class NamedTimings {
+ public:
+  void add(const std::vector<gpu::GpuTiming>& timings) {
+    for (const gpu::GpuTiming& t : timings) {
+      auto it = std::find_if(samples_.begin(), samples_.end(), [&](const auto& s) { return s.first == t.name; });
+      if (it == samples_.end()) it = samples_.insert(samples_.end(), {t.name, {}});
+      it->second.push_back(t.milliseconds);
+    }
+  }
+  std::vector<std::pair<std::string, double>> medians() const {
+    std::vector<std::pair<std::string, double>> result;
+    for (const auto& [name, ms] : samples_) result.emplace_back(name, median(ms));
+    return result;
+  }
+
+ private:
+  std::vector<std::pair<std::string, std::vector<double>>> samples_;
+};
+
 void addStatistics(const TimedFrame& frame, double views, RowResult& result) {
   for (const gpu::PipelineStatistics& s : frame.statistics) {
     const bool prepass = s.name == "depth prepass";
@@ -155,6 +176,7 @@ Status captureRow(const Group& g, const RowSpec& spec, std::size_t index, std::s
   storage(spec, g.subject, assets, result);
   QualityAccumulator quality(g.diagonal);
   std::vector<double> frameMs, prepassMs, shadingMs;
+  NamedTimings named;
   const double views = double(g.cameras.size());
   for (std::size_t v = 0; v < g.cameras.size(); ++v) {
     std::fprintf(stderr, "\r[%zu/%zu] %-26s view %zu/%zu   ", index + 1, total, spec.label.c_str(), v + 1,
@@ -167,6 +189,7 @@ Status captureRow(const Group& g, const RowSpec& spec, std::size_t index, std::s
       frameMs.push_back(last.frameMs);
       prepassMs.push_back(last.prepassMs);
       shadingMs.push_back(last.shadingMs);
+      named.add(last.timings);
     }
     addStatistics(last, views, result);
     const hsdf::HermiteCellFeature& cellFeature = *g.viewer.renderer().feature<hsdf::HermiteCellFeature>();
@@ -190,6 +213,7 @@ Status captureRow(const Group& g, const RowSpec& spec, std::size_t index, std::s
   result.gpuMsP95 = percentile(frameMs, 0.95);
   result.prepassMs = median(prepassMs);
   result.shadingMs = median(shadingMs);
+  result.passMs = named.medians();
   result.quality = quality.result();
   result.parts = quality.parts();
   if (result.quality.coveredPixels == 0) return makeError("drew nothing in any view");

@@ -25,7 +25,7 @@ Expected<TimedFrame> timeFrame(samples::Viewer& viewer) {
   renderer.finish();
   const auto& timings = renderer.lastTimings();
   return TimedFrame{timingOf(timings, "frame"), timingOf(timings, "depth prepass"), timingOf(timings, "opaque"),
-                    renderer.lastPipelineStatistics()};
+                    timings, renderer.lastPipelineStatistics()};
 }
 
 Expected<std::unique_ptr<Measurement>> Measurement::create(const gpu::Context& context, render::MeshPool& pool,

@@ -27,6 +27,7 @@ struct TimedFrame {
   double frameMs = 0.0;    // "frame": the whole command buffer
   double prepassMs = 0.0;  // "depth prepass"
   double shadingMs = 0.0;  // "opaque"
+  std::vector<engine::gpu::GpuTiming> timings;  // every named scope ("prepare", "cells tiling", ...)
   std::vector<engine::gpu::PipelineStatistics> statistics;  // per pass; empty without the feature
 };
 

@@ -246,6 +246,34 @@ void allRows(std::string& md, const std::vector<RowResult>& rows, const RunInfo&
   md += "\n";
 }
 
+// The median of every named GPU scope per row: where the frame's time goes beyond the two passes
+// (the features' compute work in "prepare": the cells' culling and tiling) and within them.
+void passTable(std::string& md, const std::vector<RowResult>& rows) {
+  std::vector<std::string> names;  // the union of the rows' scopes, in the order first seen
+  for (const RowResult& r : rows)
+    for (const auto& [name, ms] : r.passMs)
+      if (std::find(names.begin(), names.end(), name) == names.end()) names.push_back(name);
+  if (names.empty()) return;  // a device without timestamps
+  md += "## GPU time per named scope\n\n"
+        "Median ms over views x timed frames of each scope the frame recorded (Renderer::lastTimings; nested "
+        "scopes are inside the one before them: \"cells culling\" and \"cells tiling\" inside \"prepare\", "
+        "\"cells prepass\" inside \"depth prepass\"). –: the row's frames did not record it.\n\n| row |";
+  for (const std::string& name : names) md += " " + name + " |";
+  md += "\n|---|";
+  for (std::size_t i = 0; i < names.size(); ++i) md += "---|";
+  md += "\n";
+  for (const RowResult& r : rows) {
+    if (!r.ok) continue;
+    md += "| " + r.spec.label + " |";
+    for (const std::string& name : names) {
+      auto it = std::find_if(r.passMs.begin(), r.passMs.end(), [&](const auto& p) { return p.first == name; });
+      md += it == r.passMs.end() ? std::string(" – |") : fmt::format(" {:.2f} |", it->second);
+    }
+    md += "\n";
+  }
+  md += "\n";
+}
+
 // One series per setting (the row label without K), x and y picked from each row.
 Chart chartOf(const std::vector<RowResult>& rows, const std::function<glm::dvec2(const RowResult&)>& point,
               bool includeMesh) {
@@ -345,6 +373,17 @@ engine::Status writeObjectsCsv(const std::filesystem::path& path, const RunInfo&
   return engine::writeTextFile(path, csv);
 }
 
+namespace {
+
+std::string passesJson(const RowResult& r) {
+  std::string json;
+  for (const auto& [name, ms] : r.passMs)
+    json += fmt::format("{}\"{}\": {}", json.empty() ? "" : ", ", jsonEscape(name), ms);
+  return json;
+}
+
+}  // namespace
+
 engine::Status writeJson(const std::filesystem::path& path, const RunInfo& info, const std::vector<RowResult>& rows) {
   std::string json = "{\n";
   json += fmt::format(
@@ -364,13 +403,14 @@ engine::Status writeJson(const std::filesystem::path& path, const RunInfo& info,
         "\"clipped_primitives\": {}, \"evals_per_pixel_mean\": "
         "{}, \"evals_per_pixel_p95\": {}, \"covered_pixels\": {}, \"stored_scalars\": {}, \"stored_bytes\": {}, "
         "\"cells\": {}, \"coverage_mismatch\": {}, \"normal_err_mean_deg\": {}, \"normal_err_p95_deg\": {}, "
-        "\"depth_err_mean\": {}, \"rays_out_of_steps\": {}, \"image\": \"{}\"}}{}\n",
+        "\"depth_err_mean\": {}, \"rays_out_of_steps\": {}, \"passes_ms\": {{{}}}, \"image\": \"{}\"}}{}\n",
         jsonEscape(r.spec.label), r.spec.method, r.spec.resolution, r.spec.subdivisions, r.spec.refine,
         r.spec.normalsName(), r.spec.fp16, r.ok, jsonEscape(r.error), r.gpuMsMedian, r.gpuMsP95, r.prepassMs,
         r.shadingMs, r.fsInvocations, r.prepassFsInvocations, r.shadingFsInvocations, r.vsInvocations,
         r.prepassVsInvocations, r.boxes, r.clippedPrimitives, r.quality.evalsMean, r.quality.evalsP95, r.quality.coveredPixels, r.storedScalars,
         r.storedBytes, r.cells, r.quality.coverageMismatch, r.quality.normalErrorMean, r.quality.normalErrorP95,
-        r.quality.depthErrorMean, r.quality.raysOutOfSteps, jsonEscape(r.image), i + 1 < rows.size() ? "," : "");
+        r.quality.depthErrorMean, r.quality.raysOutOfSteps, passesJson(r), jsonEscape(r.image),
+        i + 1 < rows.size() ? "," : "");
   }
   json += "  ]\n}\n";
   return engine::writeTextFile(path, json);
@@ -414,6 +454,7 @@ engine::Status writeMarkdown(const std::filesystem::path& folder, const RunInfo&
                 },
                 false)));
   allRows(md, rows, info);
+  passTable(md, rows);
   return engine::writeTextFile(folder / "results.md", md);
 }
 

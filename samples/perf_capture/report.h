@@ -5,6 +5,7 @@
 #include <cstdint>
 #include <filesystem>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "capture_rows.h"
@@ -21,6 +22,10 @@ struct RowResult {
   std::string error;           // why the row failed
   double gpuMsMedian = 0.0, gpuMsP95 = 0.0;
   double prepassMs = 0.0, shadingMs = 0.0;  // medians
+  // Median of every named GPU timing of the frame ("frame", "prepare" with the features' compute
+  // scopes inside it, "depth prepass", "opaque" and the features' scopes inside those), in the
+  // order the frame first recorded them.
+  std::vector<std::pair<std::string, double>> passMs;
   // Pipeline statistics per frame, mean over views (0 without the feature).
   double fsInvocations = 0.0;  // both passes
   double prepassFsInvocations = 0.0, shadingFsInvocations = 0.0;

@@ -106,6 +106,10 @@ foreach(key device driver command_line commit date)
     message(FATAL_ERROR "results.json has no ${key}")
   endif()
 endforeach()
+# Every row's named GPU scopes, "prepare" (the compute work before the passes) among them.
+if(NOT json MATCHES "\"passes_ms\": {\"frame\": [0-9.e-]+, \"prepare\": [0-9.e-]+")
+  message(FATAL_ERROR "results.json has no passes_ms with the frame and prepare timings")
+endif()
 # The device the capture names is the one the test asked for (lavapipe reports itself as llvmpipe).
 string(REGEX MATCH "\"device\": \"[^\"]+\"" deviceEntry "${json}")
 if("$ENV{HSDF_DEVICE}" STREQUAL "lavapipe" AND NOT deviceEntry MATCHES "llvmpipe")

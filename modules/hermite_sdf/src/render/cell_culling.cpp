@@ -50,6 +50,7 @@ Buffer& ensureOutput(const engine::gpu::Context& context, Buffer& buffer, VkDevi
 void HermiteCellFeature::recordCulling(engine::render::FrameContext& frame) {
   lastCullSlot_ = frame.frameSlot;
   if (cullObjectList_.empty() && cellCullObjects_.empty()) return;
+  const engine::gpu::GpuTimerScope timing(frame.timer, frame.cmd, "cells culling");
   cullTotals_.upload(frame.frameSlot, std::vector<shader::BrickCullTotals>(1));
   recordBrickCulling(frame);
   recordCellCulling(frame);

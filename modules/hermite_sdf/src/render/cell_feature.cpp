@@ -319,7 +319,10 @@ void HermiteCellFeature::recordTiling(engine::render::FrameContext& frame) {
                                     cellCullOutput_[precision]};
     ranges += VkDeviceAddress(count) * sizeof(shader::CellCullRange);
   }
-  tiler_->record(frame.cmd, tiling);
+  {
+    const engine::gpu::GpuTimerScope timing(frame.timer, frame.cmd, "cells tiling");
+    tiler_->record(frame.cmd, tiling);
+  }
   lastTileSlot_ = slot;
   tiledOnce_ = true;
 }

@@ -854,6 +854,44 @@ TEST_F(TiledCellsTest, TilesInsideACellAndAtTheFramesEdges) {
   expectTilesDrawTheBoxes(wide, "torus filling a 203x117 frame");
 }
 
+// Why: the tiles' binning and the cell culling are compute work recorded in prepare(), outside
+// both passes; without scopes of their own a GPU capture cannot say whether the tiles' time goes
+// to binning or to drawing (issue 20). The renderer times prepare() as a whole and the feature
+// names its parts inside it; a frame without tiles has no tiling scope.
+TEST_F(TiledCellsTest, FrameTimingsNameTheCellsComputeInsidePrepare) {
+  if (!context_->capabilities().timestamps) GTEST_SKIP() << "no timestamp queries on this device";
+  createCellRenderer(kSize, kSize);
+  const auto asset = bakeAsset("bunny", 32);
+  ASSERT_NE(asset, nullptr);
+  addSdf(registry_, asset, hsdf::RenderMethod::Cells);
+  auto* feature = renderer_->feature<hsdf::HermiteCellFeature>();
+  const auto timing = [&](const std::string& name) -> std::optional<std::pair<std::size_t, double>> {
+    const std::vector<gpu::GpuTiming>& timings = renderer_->lastTimings();
+    for (std::size_t i = 0; i < timings.size(); ++i)
+      if (timings[i].name == name) return std::pair{i, timings[i].milliseconds};
+    return std::nullopt;
+  };
+  for (auto tiles : {hsdf::HermiteCellFeature::Tiles::On, hsdf::HermiteCellFeature::Tiles::Off}) {
+    feature->settings().tiles = tiles;
+    render(orbitCamera(*asset, 1));
+    const bool tiled = tiles == hsdf::HermiteCellFeature::Tiles::On;
+    ASSERT_EQ(feature->stats().tiles, tiled);
+    const auto prepare = timing("prepare"), culling = timing("cells culling"), tiling = timing("cells tiling");
+    ASSERT_TRUE(prepare && culling) << (tiled ? "tiles" : "boxes");
+    EXPECT_LT(prepare->first, culling->first) << "culling is timed inside prepare";
+    EXPECT_LE(culling->second, prepare->second * 1.001 + 1e-6);
+    EXPECT_EQ(bool(tiling), tiled);
+    if (tiling) {
+      EXPECT_LT(culling->first, tiling->first) << "the tiles bin what the culling kept";
+      EXPECT_GT(tiling->second, 0.0);
+      EXPECT_LE(culling->second + tiling->second, prepare->second * 1.001 + 1e-6);
+    }
+    const auto prepass = timing("depth prepass");
+    ASSERT_TRUE(prepass);
+    EXPECT_LT(prepare->first, prepass->first) << "prepare's work runs before the passes";
+  }
+}
+
 TEST_F(HermiteCellsTest, TilesAutoFollowsTheDevice) {
   using Tiles = hsdf::HermiteCellFeature::Tiles;
   EXPECT_TRUE(hsdf::HermiteCellFeature::tilesWanted(Tiles::Auto, true));
