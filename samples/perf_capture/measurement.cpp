@@ -51,7 +51,10 @@ GpuReadback Measurement::measure(const ecs::Registry& registry, const render::Ca
   readback.depth = renderer_->readbackDepth();
   readback.normalColor = renderer_->readbackColorFloat().value();  // a float target by construction
   readback.work = renderer_->readbackWorkCounters();
-  readback.raysOutOfSteps = renderer_->readbackWorkTotals().raysOutOfSteps;
+  const shader::WorkTotals totals = renderer_->readbackWorkTotals();
+  readback.raysOutOfSteps = totals.raysOutOfSteps;
+  readback.tileEntriesWalked = totals.tileEntriesWalked;
+  readback.tileEntriesTested = totals.tileEntriesTested;
   return readback;
 }
 

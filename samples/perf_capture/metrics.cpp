@@ -26,6 +26,8 @@ double percentile(std::vector<double> values, double p) { return nearestRank(val
 void QualityAccumulator::add(const TruthImage& truth, const GpuReadback& gpu, const engine::render::CameraView& camera) {
   ++views_;
   raysOutOfSteps_ += gpu.raysOutOfSteps;
+  tileEntriesWalked_ += gpu.tileEntriesWalked;
+  tileEntriesTested_ += gpu.tileEntriesTested;
   const glm::dvec3 forward = glm::normalize(glm::dvec3(glm::inverse(camera.view) * glm::vec4(0, 0, -1, 0)));
   for (int y = 0; y < truth.height; ++y) {
     for (int x = 0; x < truth.width; ++x) {
@@ -59,6 +61,10 @@ RowQuality QualityAccumulator::result() const {
   q.coverageMismatch = views_ ? double(mismatches_) / double(views_) : 0.0;
   q.coveredPixels = covered_;
   q.raysOutOfSteps = views_ ? double(raysOutOfSteps_) / double(views_) : 0.0;
+  if (covered_ > 0) {
+    q.tileEntriesWalked = double(tileEntriesWalked_) / double(covered_);
+    q.tileEntriesTested = double(tileEntriesTested_) / double(covered_);
+  }
   if (!angles_.empty()) {
     q.normalErrorMean = std::accumulate(angles_.begin(), angles_.end(), 0.0) / double(angles_.size());
     std::vector<float> angles = angles_;

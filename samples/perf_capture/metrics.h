@@ -6,7 +6,8 @@
 //   depth error: |distance along the ray (GPU depth) - truth distance| over pixels both hit,
 //                mean, relative to the bounding-box diagonal of the source;
 //   work: the renderer's per-pixel work counters (root-search evaluations) over covered pixels,
-//         and the rays that ran out of steps (sphere tracing; drawn as misses), per view.
+//         the rays that ran out of steps (sphere tracing; drawn as misses), per view, and the tiled
+//         cells' list walk per covered pixel.
 #include <cstdint>
 #include <map>
 #include <vector>
@@ -24,6 +25,8 @@ struct GpuReadback {
   std::vector<glm::vec4> normalColor;  // DEBUG_VIEW_NORMALS: 0.5 n + 0.5
   std::vector<std::uint32_t> work;     // empty when nothing counted
   std::uint32_t raysOutOfSteps = 0;    // WorkTotals::raysOutOfSteps of the frame
+  std::uint32_t tileEntriesWalked = 0; // WorkTotals: the tiled cells' list walk (0 without tiles)
+  std::uint32_t tileEntriesTested = 0;
 };
 
 struct RowQuality {
@@ -34,6 +37,9 @@ struct RowQuality {
   double evalsMean = 0.0;         // per covered pixel
   double evalsP95 = 0.0;
   double raysOutOfSteps = 0.0;    // per view
+  // Tiled cells: tile-list entries read / ray-box tested by the prepass fragments, per covered pixel.
+  double tileEntriesWalked = 0.0;
+  double tileEntriesTested = 0.0;
   std::uint64_t coveredPixels = 0;
 };
 
@@ -61,6 +67,7 @@ class QualityAccumulator {
   std::uint32_t views_ = 0;
   std::uint64_t mismatches_ = 0;
   std::uint64_t raysOutOfSteps_ = 0;
+  std::uint64_t tileEntriesWalked_ = 0, tileEntriesTested_ = 0;
   double depthErrorSum_ = 0.0;
   std::vector<float> angles_;
   std::vector<std::uint32_t> evals_;

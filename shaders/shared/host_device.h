@@ -83,10 +83,13 @@ HSDF_CHECK_SIZE(DrawPushConstants, 32);
 // right after its one uint per pixel: what a feature gave up on, counted so that it is never
 // silently dropped.
 struct WorkTotals {
-  uint raysOutOfSteps;  // sphere-tracing rays that reached the step limit (drawn as misses)
+  uint raysOutOfSteps;     // sphere-tracing rays that reached the step limit (drawn as misses)
+  // Tiled cells (cell_tiles_depth.glsl), summed over the prepass fragments: the tile-list entries
+  // they read, and those that passed the per-pixel prefilter and got the ray-box test. The walk
+  // over the lists is the tiles' per-fragment cost beside the root search (the evaluations).
+  uint tileEntriesWalked;
+  uint tileEntriesTested;
   uint pad0;
-  uint pad1;
-  uint pad2;
 };
 HSDF_CHECK_SIZE(WorkTotals, 16);
 

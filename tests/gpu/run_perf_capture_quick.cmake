@@ -10,7 +10,7 @@
 # error than trilinear sphere tracing (either normal mode); the cells' fragment invocations are
 # counted (pipeline statistics) and non-zero; every SDF method has evaluations per pixel > 0; no
 # row has a ray that ran out of steps (sphere tracers that oscillate near the surface until their
-# step limit drew noise on an NVIDIA GPU: issue 19).
+# step limit drew noise on an NVIDIA GPU: issue 19); the tiled cells count their list walk.
 cmake_policy(SET CMP0054 NEW)
 file(REMOVE_RECURSE "${OUT}")
 execute_process(COMMAND "${CAPTURE}" --quick --out "${OUT}" RESULT_VARIABLE rc ERROR_VARIABLE err)
@@ -109,6 +109,25 @@ endforeach()
 # Every row's named GPU scopes, "prepare" (the compute work before the passes) among them.
 if(NOT json MATCHES "\"passes_ms\": {\"frame\": [0-9.e-]+, \"prepare\": [0-9.e-]+")
   message(FATAL_ERROR "results.json has no passes_ms with the frame and prepare timings")
+endif()
+# The tiled cells' list walk (WorkTotals, counted in the tiles' counted variant): a fragment tests
+# no more entries than it reads; on lavapipe the default cells are tiles, so their rows count it.
+string(JSON rowTotal LENGTH "${json}" rows)
+math(EXPR lastRow "${rowTotal} - 1")
+set(tiledRows 0)
+foreach(i RANGE ${lastRow})
+  string(JSON rowMethod GET "${json}" rows ${i} method)
+  string(JSON read GET "${json}" rows ${i} tile_entries_read_per_pixel)
+  string(JSON tested GET "${json}" rows ${i} tile_entries_tested_per_pixel)
+  if(tested GREATER read)
+    message(FATAL_ERROR "row ${i}: ${tested} tile entries tested per pixel but only ${read} read")
+  endif()
+  if(rowMethod STREQUAL "cells" AND read GREATER 0)
+    math(EXPR tiledRows "${tiledRows} + 1")
+  endif()
+endforeach()
+if("$ENV{HSDF_DEVICE}" STREQUAL "lavapipe" AND tiledRows EQUAL 0)
+  message(FATAL_ERROR "no cells row counted the tiles' list walk (tiles are the default on lavapipe)")
 endif()
 # The device the capture names is the one the test asked for (lavapipe reports itself as llvmpipe).
 string(REGEX MATCH "\"device\": \"[^\"]+\"" deviceEntry "${json}")

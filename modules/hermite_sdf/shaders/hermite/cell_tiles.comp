@@ -4,11 +4,12 @@
 // draws one quad per tile holding a cell instead of one box per cell (cell_tiles.vert,
 // cell_tiles_depth.glsl). Three phases (pc.phase), recorded as COUNT, SCAN, SCATTER with barriers:
 //  - COUNT: a lane per kept cell (per slot of the culling pass's kept stream): the screen rectangle of the
-//    cell's box, grown by its proxy's dilation and a pixel of slack (below); every
+//    cell's box, grown by its proxy's dilation (below); every
 //    tile it touches counts the cell and keeps the nearest depth of the boxes;
 //  - SCAN (one workgroup): each tile's first entry (a prefix sum of the counts), counts clamped to
 //    the entry list's capacity, the list of non-empty tiles and the tile draw's instance count;
-//  - SCATTER: the same rectangles, each cell's (draw, record, depth) written into the lists of its tiles;
+//  - SCATTER: the same rectangles, each cell's (draw, record, depth, the tile's pixels it may cover)
+//    written into the lists of its tiles;
 //  - SORT: one workgroup per non-empty tile (an indirect dispatch the scan wrote): its list copied
 //    to the sorted entries nearest first (depth, then draw and record: the same order whatever
 //    order the atomics wrote), so that a fragment stops at the first cell behind its hit. Longer
@@ -17,8 +18,8 @@
 // The rectangle only has to hold every pixel whose ray meets the dilated box: the fragment shader
 // tests each listed box against its own ray, as the rasterizer would have. The objects' matrices
 // come from the culling pass's BrickCullObjects (written before this pass; the scene's ObjectData
-// are uploaded only after the features' prepare). The proxy's dilation (0.02 pixel, at least
-// kMinDilation cells) is taken as kMinDilation cells plus a pixel of the rectangle's slack.
+// are uploaded only after the features' prepare), with the smallest axis scale that the proxy's
+// dilation (0.02 pixel at the cell's centre, at least kMinDilation cells) is computed from.
 #extension GL_GOOGLE_include_directive : require
 #include "hermite/hermite_host_device.h"
 #include "hermite/proxy_dilation.glsl"
@@ -39,14 +40,20 @@ layout(push_constant, scalar) uniform Push { CellTilePushConstants pc; };
 shared uint groupSums[64];
 shared uint groupTiles[64];
 
-// The tiles [lo, hi] (inclusive) that the cell's dilated box may cover, and the nearest depth of the
-// box (1, the near plane, when a corner lies at or behind the eye: the box then spans the screen).
-bool cellTileRect(HermiteDraw draw, uint object, uint record, out uvec2 lo, out uvec2 hi, out float nearest) {
+// The pixels [lo, hi] (inclusive, frame coordinates) whose centres may see the cell's dilated box,
+// and the nearest depth of the box (1, the near plane, when a corner lies at or behind the eye:
+// the box then spans the screen). False when no pixel centre of the frame does.
+bool cellPixelRect(HermiteDraw draw, uint object, uint record, out ivec2 lo, out ivec2 hi, out float nearest) {
   FrameGlobals frame = FrameGlobalsRef(pc.frameGlobals).globals;
-  mat4 toClip = CullObjectsRef(pc.objects).objects[object].objectToClip;
+  BrickCullObject cullObject = CullObjectsRef(pc.objects).objects[object];
+  mat4 toClip = cullObject.objectToClip;
   vec3 cell = recordCell(draw, record);
   float h = draw.gridOriginSpacing.w;
-  const float dilation = kMinDilation;
+  // The proxy's dilation (proxyDilation; clip w is the view depth -z), a percent more for the
+  // rounding of the two computations.
+  float centreDepth = (toClip * vec4(draw.gridOriginSpacing.xyz + h * (cell + 0.5), 1.0)).w;
+  float worldPerPixel = 2.0 * max(centreDepth, 0.0) / (frame.proj[1][1] * frame.viewport.y);
+  float dilation = 1.01 * max(kMinDilation, kDilationPixels * worldPerPixel / (h * cullObject.minAxisScale));
   vec2 pmin = vec2(3.0e38), pmax = vec2(-3.0e38);
   nearest = 0.0;
   bool behind = false;
@@ -70,13 +77,28 @@ bool cellTileRect(HermiteDraw draw, uint object, uint record, out uvec2 lo, out 
   // A hit may lie up to the search margin (searchMargin: at most ~1e-4 of the distance) in front of
   // the box: the entry's depth is taken that much nearer, so sorting by it never skips a hit.
   nearest = clamp(nearest * 1.0002, 0.0, 1.0);
-  pmin -= 1.5;  // the dilation, and slack for the rasterizer's and this projection's rounding
-  pmax += 1.5;
-  vec2 extent = vec2(pc.tilesX, pc.tilesY);
-  if (any(greaterThanEqual(pmin, frame.viewport.xy)) || any(lessThan(pmax, vec2(0.0)))) return false;
-  lo = uvec2(clamp(floor(pmin / float(CELL_TILE_SIZE)), vec2(0.0), extent - 1.0));
-  hi = uvec2(clamp(floor(pmax / float(CELL_TILE_SIZE)), vec2(0.0), extent - 1.0));
-  return true;
+  // The rectangle holds the projection of the dilated box, in which lies the centre of every pixel
+  // whose ray meets it (the fragment's test); 1/16 pixel more for the rounding of this projection
+  // and of the fragment's ray (a few thousandths of a pixel). No rasterizer is involved: the tile's
+  // quad covers its pixels whole.
+  pmin -= 0.0625;
+  pmax += 0.0625;
+  // The pixel centres (x + 0.5) inside [pmin, pmax], clamped to the frame first (a corner near the
+  // eye's plane projects arbitrarily far).
+  vec2 size = frame.viewport.xy;
+  lo = ivec2(ceil(clamp(pmin, vec2(-1.0), size + 1.0) - 0.5));
+  hi = ivec2(floor(clamp(pmax, vec2(-1.0), size + 1.0) - 0.5));
+  lo = max(lo, ivec2(0));
+  hi = min(hi, ivec2(size) - 1);
+  return all(lessThanEqual(lo, hi));
+}
+
+// The tile-local pixels of `rect` in tile (x, y), packed as CellTileEntry::pixels.
+uint tilePixels(ivec2 lo, ivec2 hi, uint x, uint y) {
+  ivec2 origin = ivec2(x, y) * int(CELL_TILE_SIZE);
+  uvec2 a = uvec2(clamp(lo - origin, ivec2(0), ivec2(CELL_TILE_SIZE - 1u)));
+  uvec2 b = uvec2(clamp(hi - origin, ivec2(0), ivec2(CELL_TILE_SIZE - 1u)));
+  return a.x | (a.y << 8) | (b.x << 16) | (b.y << 24);
 }
 
 // The range whose part of the kept stream holds `slot`: the last one starting at or before it (the
@@ -104,9 +126,10 @@ void binCells() {
   TilesRef tiles = TilesRef(pc.tiles);
   {
     uint record = UintsRef(pc.keptIndices).words[slot];
-    uvec2 lo, hi;
+    ivec2 pixelLo, pixelHi;
     float nearest;
-    if (!cellTileRect(draw, range.object, record, lo, hi, nearest)) return;
+    if (!cellPixelRect(draw, range.object, record, pixelLo, pixelHi, nearest)) return;
+    uvec2 lo = uvec2(pixelLo) / CELL_TILE_SIZE, hi = uvec2(pixelHi) / CELL_TILE_SIZE;
     for (uint y = lo.y; y <= hi.y; ++y)
       for (uint x = lo.x; x <= hi.x; ++x) {
         uint tile = y * pc.tilesX + x;
@@ -120,6 +143,7 @@ void binCells() {
             EntriesRef(pc.entries).entries[at].draw = range.drawCommand;
             EntriesRef(pc.entries).entries[at].record = record;
             EntriesRef(pc.entries).entries[at].nearest = nearest;
+            EntriesRef(pc.entries).entries[at].pixels = tilePixels(pixelLo, pixelHi, x, y);
           }
         }
       }
@@ -197,6 +221,7 @@ void sortTile() {
     target.entries[first + rank].draw = entry.draw;
     target.entries[first + rank].record = entry.record;
     target.entries[first + rank].nearest = entry.nearest;
+    target.entries[first + rank].pixels = entry.pixels;
   }
 }
 

@@ -1,5 +1,7 @@
 // Depth prepass of the tiled cells (cell_tiles.vert): the fragment walks its tile's list of kept
-// cells (cell_tiles.comp) and searches every one whose dilated box its ray meets, exactly as that
+// cells (cell_tiles.comp), skips those whose screen rectangle misses its pixel (the entry's
+// pixels: one load and a compare, where the ray-box test below costs the cell's record, the
+// dilation and two slab tests), and searches every one whose dilated box its ray meets, exactly as that
 // cell's own box would have (cells_thin_depth.glsl: the box dilated as the proxy, the search over
 // the search margin, cell_search.glsl; docs/root-finding.md); the nearest root wins, as the depth
 // test would have chosen among the boxes. A cell whose box the ray enters only behind the nearest
@@ -26,6 +28,13 @@ layout(depth_less) out float gl_FragDepth;  // reverse-Z: the hit is never neare
 #endif
 #include "hermite/hit_depth.glsl"
 
+// Whether the pixel at `local` (in its tile) is among an entry's pixels (CellTileEntry::pixels).
+bool cellTileEntryCovers(uint pixels, uvec2 local) {
+  uvec2 lo = uvec2(pixels & 0xffu, (pixels >> 8) & 0xffu);
+  uvec2 hi = uvec2((pixels >> 16) & 0xffu, pixels >> 24);
+  return all(greaterThanEqual(local, lo)) && all(lessThanEqual(local, hi));
+}
+
 void main() {
   FrameGlobals frame = FrameGlobalsRef(pc.draw.frameGlobals).globals;
   CellTile tile = TilesRef(pc.tiles).tiles[inTile];
@@ -39,6 +48,8 @@ void main() {
   ObjectData object;
   vec3 eyeGrid, direction;
   uint i = 0u;
+  uint walked = 0u, tested = 0u;  // the list entries read and ray-box tested (countTileWalk)
+  uvec2 local = uvec2(gl_FragCoord.xy) % CELL_TILE_SIZE;  // tiles start at multiples of the size
   for (;;) {
     // The next entry this fragment must search, by cheap tests only: the search below has one call
     // site, so the lanes of a SIMD group (a GPU's warp, lavapipe's 4x4 block, which runs a loop's
@@ -51,10 +62,13 @@ void main() {
     float margin = 0.0;
     for (; i < tile.count && !pending; ++i) {
       CellTileEntry entry = TileEntriesRef(pc.tileEntries).entries[tile.first + i];
+      ++walked;
       if (sorted && visibility.x != 0u && entry.nearest < gl_FragCoord.z / best) {
         i = tile.count;  // this box and the rest lie behind the hit
         break;
       }
+      if (!cellTileEntryCovers(entry.pixels, local)) continue;  // its box cannot meet this ray
+      ++tested;
       draw = HermiteDrawsRef(pc.draws).draws[entry.draw];
       if (draw.object != lastObject) {
         lastObject = draw.object;
@@ -83,6 +97,7 @@ void main() {
     }
   }
   countWork(evaluations);
+  countTileWalk(walked, tested);
   if (visibility.x == 0u) {
     writeMiss();  // no discard: see hit_depth.glsl
   } else {

@@ -87,8 +87,14 @@ struct BrickCullObject {
   uint brickCount;
   uint outputFirst;        // first entry of its range in the output bricks (= its command's firstInstance)
   uint drawCommand;        // index of its VkDrawIndirectCommand; instanceCount counts the kept bricks
+  // The model matrix's smallest axis scale, as proxyDilation takes it from ObjectData::model: the
+  // tiles (cell_tiles.comp) grow a cell's screen rectangle by exactly the proxy's dilation.
+  float minAxisScale;
+  uint pad0;
+  uint pad1;
+  uint pad2;
 };
-HSDF_CHECK_SIZE(BrickCullObject, 64 + 2 * 16 + 4 * 4);
+HSDF_CHECK_SIZE(BrickCullObject, 64 + 2 * 16 + 4 * 4 + 16);
 
 // Totals of one culling pass, for stats (written by atomics; the CPU zeroes them).
 struct BrickCullTotals {
@@ -189,8 +195,12 @@ struct CellTileEntry {
   uint draw;      // HermiteDraw index (the cell's object, grid, search and record buffer)
   uint record;    // the cell's record in that buffer
   float nearest;  // the nearest depth of the cell's box (reverse-Z, a little nearer for the search margin)
+  // The pixels of the tile whose centres the cell's screen rectangle holds, tile-local and
+  // inclusive: x0 | y0 << 8 | x1 << 16 | y1 << 24 (cellTileEntryCovers). A fragment outside them
+  // skips the entry without its ray-box test.
+  uint pixels;
 };
-HSDF_CHECK_SIZE(CellTileEntry, 12);
+HSDF_CHECK_SIZE(CellTileEntry, 16);
 
 // The tile draw's indirect command and what the scan found (read back for the next capacity).
 struct CellTileTotals {
@@ -260,8 +270,11 @@ struct HermitePushConstants {
   // Shading pass: the rectangle (NDC x0, y0, x1, y1) that covers every drawn cell object on screen;
   // the resolve shades only its pixels (cells_resolve.vert).
   vec4 screenRect;
+  // The frame's WorkTotals (FrameContext::workTotals) in frames that count work, else 0.
+  uint64_t workTotals;
 };
-HSDF_CHECK_SIZE(HermitePushConstants, 32 + 8 * 8 + 8 + 16);
+// 128 bytes: every Vulkan device's least maxPushConstantsSize.
+HSDF_CHECK_SIZE(HermitePushConstants, 32 + 8 * 8 + 8 + 16 + 8);
 
 // ---- Sphere-tracing baselines (hsdf::SphereTraceFeature) ----------------------------------------
 #define SPHERE_TRACE_FEATURE_ID 3u

@@ -37,6 +37,7 @@ layout(buffer_reference, scalar) buffer HitDepthsRef { uint depths[]; };
 #endif
 #ifdef HSDF_COUNT_WORK
 layout(buffer_reference, scalar) buffer CountersRef { uint counts[]; };
+layout(buffer_reference, scalar) buffer WorkTotalsRef { WorkTotals totals; };
 #endif
 
 uint pixelIndex() {
@@ -49,6 +50,16 @@ uint pixelIndex() {
 void countWork(uint evaluations) {
 #ifdef HSDF_COUNT_WORK
   if (pc.counters != 0ul) atomicAdd(CountersRef(pc.counters).counts[pixelIndex()], evaluations);
+#endif
+}
+
+// The tile-list entries this fragment read and ray-box tested (WorkTotals), when the variant counts.
+void countTileWalk(uint walked, uint tested) {
+#ifdef HSDF_COUNT_WORK
+  if (pc.workTotals != 0ul) {
+    atomicAdd(WorkTotalsRef(pc.workTotals).totals.tileEntriesWalked, walked);
+    atomicAdd(WorkTotalsRef(pc.workTotals).totals.tileEntriesTested, tested);
+  }
 #endif
 }
 

@@ -63,6 +63,8 @@ shader::BrickCullObject BrickCuller::cullObject(const engine::render::CameraView
   object.brickCount = bricks.brickCount;
   object.outputFirst = bricks.outputFirst;
   object.drawCommand = bricks.drawCommand;
+  object.minAxisScale = std::min({glm::length(glm::vec3(model[0])), glm::length(glm::vec3(model[1])),
+                                  glm::length(glm::vec3(model[2]))});
   return object;
 }
 

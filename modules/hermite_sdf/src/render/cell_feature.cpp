@@ -340,6 +340,7 @@ void HermiteCellFeature::recordTiles(engine::render::PassContext& pass) {
   push.counters = counterAddress(pass.frame, countersActive_, counters_);
   push.tiles = tiler_->tiles(slot);
   push.tileEntries = tiler_->entries(slot);
+  push.workTotals = pass.frame.workTotals;  // the counted variant adds its walk there
   vkCmdPushConstants(pass.cmd, pipeline.layout(), VK_SHADER_STAGE_VERTEX_BIT | VK_SHADER_STAGE_FRAGMENT_BIT, 0,
                      sizeof(push), &push);
   vkCmdDrawIndirect(pass.cmd, tiler_->drawCommand(slot).handle(), 0, 1, sizeof(VkDrawIndirectCommand));

@@ -58,7 +58,7 @@ class CellTiler {
   // What the slot's last completed scan wrote (the draw, the entries it needed).
   shader::CellTileTotals lastTotals(std::uint32_t slot) const;
 
-  static constexpr std::uint32_t kMaxEntries = 1u << 23;  // 2 x 96 MiB of entries at most
+  static constexpr std::uint32_t kMaxEntries = 1u << 23;  // 2 x 128 MiB of entries at most
 
  private:
   struct Slot {
