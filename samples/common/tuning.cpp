@@ -183,6 +183,11 @@ engine::Status readKey(const std::string& key, const json& value, TuningState& t
   if (key == "cull_occlusion") return readBool(value, t.cullOcclusion);
   if (key == "thin_boxes") return readEarlyDepth(value, t.thinBoxes);  // the same true / false / "auto" switch
   if (key == "tiles") return readEarlyDepth(value, t.tiles);
+  if (key == "tile_size") {
+    ENGINE_TRY(readInt(value, IntRange{4, 16}, n));
+    t.tileSize = std::uint32_t(n);
+    return {};  // one of kTileSizes: validateTuning
+  }
   if (key == "split") return readName(value, kSplitModes, t.split);
   if (key == "split_position") return readFloat(value, kSplitMin, kSplitMax, t.splitPosition);
   if (key == "compare_method") {
@@ -318,6 +323,8 @@ engine::Status validateTuning(const TuningState& t) {
   ENGINE_TRY(checkRange("--trace-max-steps", t.traceMaxSteps, kTraceMaxStepsRange));
   ENGINE_TRY(checkFloatRange("--central-difference-step", t.centralDifferenceStep, kCentralDifferenceStepRange));
   ENGINE_TRY(checkRange("--max-run-length", t.maxRunLength, kMaxRunLengthRange));
+  if (!hsdf::HermiteCellFeature::tileSizeValid(t.tileSize))
+    return engine::makeError(fmt::format("--tile-size {} is not one of 4, 8, 16", t.tileSize));
   if (!isSdfMethod(t.compareMethod))
     return engine::makeError("--compare-method mesh: the compared method must be cells, trilinear or hermite");
   ENGINE_TRY(checkFloatRange("--split-position", t.splitPosition, FloatRange{kSplitMin, kSplitMax}));
@@ -360,6 +367,7 @@ void applyTuning(const TuningState& tuning, hsdf::HermiteCellFeature::Settings& 
   cells.cullOcclusion = tuning.cullOcclusion;
   cells.thinBoxes = threeWay<hsdf::HermiteCellFeature::ThinBoxes>(tuning.thinBoxes);
   cells.tiles = threeWay<hsdf::HermiteCellFeature::Tiles>(tuning.tiles);
+  cells.tileSize = tuning.tileSize;
   cells.earlyDepth = threeWay<hsdf::HermiteCellFeature::EarlyDepth>(tuning.earlyDepth);
   tracers.epsilon = tuning.traceEpsilon;
   tracers.maxSteps = tuning.traceMaxSteps;
@@ -406,6 +414,7 @@ engine::Status saveTuning(const std::filesystem::path& file, const TuningState& 
                      {"cull_occlusion", t.cullOcclusion},
                      {"thin_boxes", t.thinBoxes == ThinBoxes::Auto ? json("auto") : json(t.thinBoxes == ThinBoxes::On)},
                      {"tiles", t.tiles == TiledCells::Auto ? json("auto") : json(t.tiles == TiledCells::On)},
+                     {"tile_size", t.tileSize},
                      {"split", splitModeName(t.split)},
                      {"split_position", t.splitPosition},
                      {"compare_method", methodName(t.compareMethod)},

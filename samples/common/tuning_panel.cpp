@@ -136,6 +136,18 @@ void TuningPanel::drawMethod() {
   changed |= autoSwitchCombo("tiles", t.tiles,
                              "cells (with cull cells): the kept cells binned into 8x8-pixel screen tiles, one quad per tile\n"
                              "searching the tile's cells, instead of a box per cell; auto: on for software rasterizers");
+  if (t.tiles != TiledCells::Off) {
+    static constexpr const char* kTileSizeLabels[] = {"4x4", "8x8", "16x16"};
+    static_assert(std::size(kTileSizeLabels) == std::size(kTileSizes));
+    int size = int(std::find(std::begin(kTileSizes), std::end(kTileSizes), t.tileSize) - std::begin(kTileSizes));
+    if (ImGui::Combo("tile size", &size, kTileSizeLabels, IM_ARRAYSIZE(kTileSizeLabels))) {
+      t.tileSize = kTileSizes[size];
+      changed = true;
+    }
+    if (ImGui::IsItemHovered())
+      ImGui::SetTooltip("tiles: pixels per tile side; smaller tiles list fewer cells each pixel cannot see,\n"
+                        "but there are more tiles to bin, sort and draw");
+  }
   int view = int(t.debugView);
   if (ImGui::Combo("debug view", &view, kDebugViewLabels, IM_ARRAYSIZE(kDebugViewLabels))) {
     t.debugView = DebugView(view);

@@ -56,6 +56,11 @@ const Variant kVariants[] = {
     // HermiteCellFeature::Tiles::Auto: tiles on software rasterizers).
     {"cells", "n=3 r=1 tiles", false,
      {.method = hsdf::RenderMethod::Cells, .subdivisions = 3, .refineSteps = 1, .tiles = samples::TiledCells::On}},
+    // Tiles of 4x4 pixels (HermiteCellFeature::Settings::tileSize): each fragment reads a shorter
+    // list, the binning makes more entries and four times the tiles.
+    {"cells", "n=3 r=1 tiles 4x4", false,
+     {.method = hsdf::RenderMethod::Cells, .subdivisions = 3, .refineSteps = 1, .tiles = samples::TiledCells::On,
+      .tileSize = 4}},
     {"cells", "n=3 r=1 boxes", false,
      {.method = hsdf::RenderMethod::Cells, .subdivisions = 3, .refineSteps = 1, .tiles = samples::TiledCells::Off}},
     // The certified root search (docs/root-finding.md): its cost against the paper's fixed n above.

@@ -131,6 +131,10 @@ void addTuningOptions(CLI::App& app, TuningState& t) {
                  "cells, instead of a box per cell: auto (default: on for software rasterizers), on or off")
       ->transform(oneOf({samples::TiledCells::Auto, samples::TiledCells::On, samples::TiledCells::Off},
                         samples::earlyDepthName));
+  app.add_option("--tile-size", t.tileSize,
+                 "cells as tiles: the tiles' side in pixels, 4, 8 (default) or 16; smaller tiles list fewer cells a "
+                 "pixel cannot see, but there are more of them to bin and draw")
+      ->check(CLI::IsMember(std::vector<std::uint32_t>(std::begin(samples::kTileSizes), std::end(samples::kTileSizes))));
   app.add_option("--split", t.split, "split-screen comparison: off, vertical or horizontal (divider)")
       ->transform(oneOf({samples::SplitMode::Off, samples::SplitMode::Vertical, samples::SplitMode::Horizontal},
                         samples::splitModeName));

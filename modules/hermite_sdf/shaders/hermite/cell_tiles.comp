@@ -1,6 +1,6 @@
 #version 460
 // Tiled cells (issue 20; HermiteCellFeature::Settings::tiles, hsdf::CellTiler): the kept cells of
-// the cell culling pass binned into screen tiles of CELL_TILE_SIZE^2 pixels, so that the prepass
+// the cell culling pass binned into screen tiles of pc.tileSize^2 pixels, so that the prepass
 // draws one quad per tile holding a cell instead of one box per cell (cell_tiles.vert,
 // cell_tiles_depth.glsl). Three phases (pc.phase), recorded as COUNT, SCAN, SCATTER with barriers:
 //  - COUNT: a lane per kept cell (per slot of the culling pass's kept stream): the screen rectangle of the
@@ -95,9 +95,9 @@ bool cellPixelRect(HermiteDraw draw, uint object, uint record, out ivec2 lo, out
 
 // The tile-local pixels of `rect` in tile (x, y), packed as CellTileEntry::pixels.
 uint tilePixels(ivec2 lo, ivec2 hi, uint x, uint y) {
-  ivec2 origin = ivec2(x, y) * int(CELL_TILE_SIZE);
-  uvec2 a = uvec2(clamp(lo - origin, ivec2(0), ivec2(CELL_TILE_SIZE - 1u)));
-  uvec2 b = uvec2(clamp(hi - origin, ivec2(0), ivec2(CELL_TILE_SIZE - 1u)));
+  ivec2 origin = ivec2(x, y) * int(pc.tileSize);
+  uvec2 a = uvec2(clamp(lo - origin, ivec2(0), ivec2(pc.tileSize - 1u)));
+  uvec2 b = uvec2(clamp(hi - origin, ivec2(0), ivec2(pc.tileSize - 1u)));
   return a.x | (a.y << 8) | (b.x << 16) | (b.y << 24);
 }
 
@@ -129,7 +129,7 @@ void binCells() {
     ivec2 pixelLo, pixelHi;
     float nearest;
     if (!cellPixelRect(draw, range.object, record, pixelLo, pixelHi, nearest)) return;
-    uvec2 lo = uvec2(pixelLo) / CELL_TILE_SIZE, hi = uvec2(pixelHi) / CELL_TILE_SIZE;
+    uvec2 lo = uvec2(pixelLo) / pc.tileSize, hi = uvec2(pixelHi) / pc.tileSize;
     for (uint y = lo.y; y <= hi.y; ++y)
       for (uint x = lo.x; x <= hi.x; ++x) {
         uint tile = y * pc.tilesX + x;

@@ -49,7 +49,7 @@ void main() {
   vec3 eyeGrid, direction;
   uint i = 0u;
   uint walked = 0u, tested = 0u;  // the list entries read and ray-box tested (countTileWalk)
-  uvec2 local = uvec2(gl_FragCoord.xy) % CELL_TILE_SIZE;  // tiles start at multiples of the size
+  uvec2 local = uvec2(gl_FragCoord.xy) % pc.tileSize;  // tiles start at multiples of the size
   for (;;) {
     // The next entry this fragment must search, by cheap tests only: the search below has one call
     // site, so the lanes of a SIMD group (a GPU's warp, lavapipe's 4x4 block, which runs a loop's

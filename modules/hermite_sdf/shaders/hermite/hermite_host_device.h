@@ -177,7 +177,8 @@ HSDF_CHECK_SIZE(CellCullPushConstants, 10 * 8 + 10 * 4);
 // whose fragments search every cell of the tile's list that their ray meets (cell_tiles_depth.glsl).
 // One fragment per pixel and object group instead of one per box: on lavapipe, which shades (and
 // counts) whole 4x4 blocks, a small box costs 16-64 invocations whatever it covers.
-#define CELL_TILE_SIZE 8u
+#define CELL_TILE_SIZE 8u       // the default side of a tile in pixels (HermiteCellFeature::Settings::tileSize)
+#define CELL_TILE_SIZE_MAX 16u  // the largest (the tiles are points of this size where the device has them)
 #define CELL_TILES_COUNT 0u    // per kept cell: add 1 to the count of every tile its rectangle touches
 #define CELL_TILES_SCAN 1u     // one workgroup: each tile's first entry, the non-empty tile list, the draw
 #define CELL_TILES_SCATTER 2u  // per kept cell: write (draw, record, depth) into every tile's list
@@ -232,8 +233,10 @@ struct CellTilePushConstants {
   uint entryCapacity;
   uint phase;             // CELL_TILES_*
   uint slotCount;         // COUNT, SCATTER: the kept stream's slots (CellCullRange::outputFirst + its row)
+  uint tileSize;          // the tiles' side in pixels (4, 8 or 16)
+  uint pad0;
 };
-HSDF_CHECK_SIZE(CellTilePushConstants, 10 * 8 + 6 * 4);
+HSDF_CHECK_SIZE(CellTilePushConstants, 10 * 8 + 8 * 4);
 
 // Per Hermite-cell object, reached through ObjectData::payload: what the shading pass needs to
 // find a visible cell's record from the visibility buffer (x: object, y: record index).
@@ -266,7 +269,7 @@ struct HermitePushConstants {
   uint64_t tiles;
   uint64_t tileEntries;
   uint drawBase;
-  uint pad;
+  uint tileSize;           // tiled cells: the tiles' side in pixels (CellTilePushConstants::tileSize)
   // Shading pass: the rectangle (NDC x0, y0, x1, y1) that covers every drawn cell object on screen;
   // the resolve shades only its pixels (cells_resolve.vert).
   vec4 screenRect;

@@ -94,6 +94,12 @@ struct HermiteCellFeature::DrawnObject {
 // This frame's indirect draws of every cell object, uploaded for the prepass, the culling passes and the resolve.
 void HermiteCellFeature::buildDraws(engine::render::FrameContext& frame) {
   resetDraws();
+  tileSize_ = tileSizeValid(settings_.tileSize) ? settings_.tileSize : CELL_TILE_SIZE;
+  if (tileSize_ != settings_.tileSize && !warnedTileSize_) {
+    engine::log::warn("hermite cells: tile size {} is not 4, 8 or 16; drawing {}x{} tiles", settings_.tileSize,
+                      tileSize_, tileSize_);
+    warnedTileSize_ = true;
+  }
   FrameDraws f;
   f.viewProj = frame.camera.proj * frame.camera.view;
   frame.registry.view<HermiteSdfRenderable, engine::scene::WorldTransform>().each(
@@ -265,7 +271,8 @@ void HermiteCellFeature::addCellObjectDraws(engine::render::FrameContext& frame,
     cellCullEntities_.emplace_back(o.entity, o.assetId);
     cellCullFirstRecord_.push_back(entry.firstRecord);
     cellCullCells_.push_back(std::uint32_t(asset.cells.records.size()));
-    tileEntryEstimate_ += tileEntryEstimate(grid, asset.cells.records.size(), o.world, frame.camera, frame.extent);
+    tileEntryEstimate_ +=
+        tileEntryEstimate(grid, asset.cells.records.size(), o.world, frame.camera, frame.extent, tileSize_);
   }
   for (const CellRows::Range& range : orderedRows(entry.rows, o.eyeGrid, settings_.frontToBack)) {
     f.commands[precision][0].push_back({kFanVertices, range.count, 0, entry.firstRecord + range.first});
@@ -411,9 +418,10 @@ float HermiteCellFeature::cellPixelsOnScreen(const GridSpec& grid, const glm::ma
 // pixel of slack; a box the eye may be inside spans the screen. An upper bound, so that the first
 // frame of a view has room for every entry (later frames also grow to what earlier ones needed).
 std::uint64_t HermiteCellFeature::tileEntryEstimate(const GridSpec& grid, std::uint64_t cells, const glm::mat4& world,
-                                                    const engine::render::CameraView& camera, VkExtent2D extent) {
-  const std::uint64_t tileCount = std::uint64_t((extent.width + CELL_TILE_SIZE - 1) / CELL_TILE_SIZE) *
-                                  ((extent.height + CELL_TILE_SIZE - 1) / CELL_TILE_SIZE);
+                                                    const engine::render::CameraView& camera, VkExtent2D extent,
+                                                    std::uint32_t tileSize) {
+  const std::uint64_t tileCount =
+      std::uint64_t((extent.width + tileSize - 1) / tileSize) * ((extent.height + tileSize - 1) / tileSize);
   const Aabb box = grid.bounds();
   glm::vec3 lo(std::numeric_limits<float>::max()), hi(-std::numeric_limits<float>::max());
   for (int c = 0; c < 8; ++c) {
@@ -427,7 +435,7 @@ std::uint64_t HermiteCellFeature::tileEntryEstimate(const GridSpec& grid, std::u
   if (distance <= 2.0f * camera.znear) return cells * tileCount;
   const float pixels =
       projectedPixels(largestAxisScale(world) * float(grid.spacing) * 1.7320508f, distance, camera.fovY, extent.height);
-  const auto span = std::uint64_t(std::ceil((pixels + 4.0f) / float(CELL_TILE_SIZE))) + 1;
+  const auto span = std::uint64_t(std::ceil((pixels + 4.0f) / float(tileSize))) + 1;
   return cells * std::min(span * span, tileCount);
 }
 

@@ -306,6 +306,7 @@ void HermiteCellFeature::recordTiling(engine::render::FrameContext& frame) {
   CellTiler::Frame tiling;
   tiling.slot = slot;
   tiling.extent = frame.extent;
+  tiling.tileSize = tileSize_;
   tiling.commands = indirect_.address(slot);
   tiling.draws = drawData_.address(slot);
   tiling.objects = cellCullObjectBuffer_.address(slot);
@@ -341,6 +342,7 @@ void HermiteCellFeature::recordTiles(engine::render::PassContext& pass) {
   push.tiles = tiler_->tiles(slot);
   push.tileEntries = tiler_->entries(slot);
   push.workTotals = pass.frame.workTotals;  // the counted variant adds its walk there
+  push.tileSize = tileSize_;
   vkCmdPushConstants(pass.cmd, pipeline.layout(), VK_SHADER_STAGE_VERTEX_BIT | VK_SHADER_STAGE_FRAGMENT_BIT, 0,
                      sizeof(push), &push);
   vkCmdDrawIndirect(pass.cmd, tiler_->drawCommand(slot).handle(), 0, 1, sizeof(VkDrawIndirectCommand));

@@ -26,7 +26,7 @@ void computeToCompute(VkCommandBuffer cmd) {
 }  // namespace
 
 bool tilesAsPoints(const engine::gpu::Context& context) {
-  return context.capabilities().maxPointSize >= float(CELL_TILE_SIZE);
+  return context.capabilities().maxPointSize >= float(CELL_TILE_SIZE_MAX);
 }
 
 engine::Expected<CellTiler> CellTiler::create(const engine::gpu::Context& context, std::uint32_t frameSlots) {
@@ -86,8 +86,8 @@ void CellTiler::dispatchBins(VkCommandBuffer cmd, shader::CellTilePushConstants 
 
 void CellTiler::record(VkCommandBuffer cmd, const Frame& frame) {
   Slot& slot = slots_[frame.slot];
-  const std::uint32_t tilesX = (frame.extent.width + CELL_TILE_SIZE - 1) / CELL_TILE_SIZE;
-  const std::uint32_t tilesY = (frame.extent.height + CELL_TILE_SIZE - 1) / CELL_TILE_SIZE;
+  const std::uint32_t tilesX = (frame.extent.width + frame.tileSize - 1) / frame.tileSize;
+  const std::uint32_t tilesY = (frame.extent.height + frame.tileSize - 1) / frame.tileSize;
   const std::uint32_t tileCount = std::max(tilesX * tilesY, 1u);
   const std::uint64_t needed = slot.recorded ? lastTotals(frame.slot).entriesNeeded : 0;
   ensureBuffers(slot, tileCount, std::max(frame.entryEstimate, needed));
@@ -118,6 +118,7 @@ void CellTiler::record(VkCommandBuffer cmd, const Frame& frame) {
   push.totals = totals_.address(frame.slot);
   push.tilesX = tilesX;
   push.tilesY = tilesY;
+  push.tileSize = frame.tileSize;
   push.entryCapacity = slot.capacity;
   vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, pipeline_.handle());
   dispatchBins(cmd, push, frame, CELL_TILES_COUNT);

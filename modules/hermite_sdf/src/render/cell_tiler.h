@@ -21,8 +21,9 @@
 
 namespace hsdf {
 
-// Whether the tiles are drawn as points of CELL_TILE_SIZE pixels (one vertex; large points), else as
-// two triangles (cell_tiles_vert.glsl).
+// Whether the tiles are drawn as points (one vertex; large points up to CELL_TILE_SIZE_MAX pixels,
+// so that every tile size can be drawn by the same pipelines), else as two triangles
+// (cell_tiles_vert.glsl).
 bool tilesAsPoints(const engine::gpu::Context& context);
 
 class CellTiler {
@@ -39,6 +40,7 @@ class CellTiler {
   struct Frame {
     std::uint32_t slot = 0;
     VkExtent2D extent{};
+    std::uint32_t tileSize = CELL_TILE_SIZE;  // the tiles' side in pixels (Settings::tileSize)
     VkDeviceAddress commands = 0;      // the feature's indirect commands (the ranges' kept counts)
     VkDeviceAddress draws = 0;         // HermiteDraw[]
     VkDeviceAddress objects = 0;       // BrickCullObject[] of the cell culling pass

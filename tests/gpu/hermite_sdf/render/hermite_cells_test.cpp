@@ -925,6 +925,34 @@ TEST_F(TiledCellsTest, CellRectanglesHoldEveryPixelTheBoxesDraw) {
   }
 }
 
+// Why: the tile size (Settings::tileSize) reaches the binning (tile counts, each entry's pixels),
+// the points' size and position and the fragment's pixel within its tile; one place that kept the
+// old size would list a cell in the wrong tile or test the wrong pixel. 4x4 and 16x16 tiles
+// against boxes: large cells spanning many tiles (K = 16), small ones (K = 64), and a frame whose
+// sides are no multiple of either size (edge tiles cut by the frame).
+TEST_F(TiledCellsTest, EveryTileSizeDrawsTheBoxesImage) {
+  const auto torus = bakeAsset("torus", 16);
+  ASSERT_NE(torus, nullptr);
+  for (std::uint32_t size : {4u, 16u}) {
+    createCellRenderer(kSize, kSize);
+    renderer_->feature<hsdf::HermiteCellFeature>()->settings().tileSize = size;
+    const std::string tiles = std::to_string(size) + "x" + std::to_string(size) + " tiles, ";
+    for (int k : {16, 64}) {
+      const auto asset = bakeAsset("bunny", k);
+      ASSERT_NE(asset, nullptr);
+      registry_ = ecs::Registry();
+      addSdf(registry_, asset, hsdf::RenderMethod::Cells);
+      for (int view : {0, 3})
+        expectTilesDrawTheBoxes(orbitCamera(*asset, view), (tiles + "bunny K=" + std::to_string(k) + " view " + std::to_string(view)).c_str());
+    }
+    createCellRenderer(203, 117);
+    renderer_->feature<hsdf::HermiteCellFeature>()->settings().tileSize = size;
+    registry_ = ecs::Registry();
+    addSdf(registry_, torus, hsdf::RenderMethod::Cells);
+    expectTilesDrawTheBoxes(orbitCamera(*torus, 2, 1.2f), (tiles + "torus filling a 203x117 frame").c_str());
+  }
+}
+
 TEST_F(HermiteCellsTest, TilesAutoFollowsTheDevice) {
   using Tiles = hsdf::HermiteCellFeature::Tiles;
   EXPECT_TRUE(hsdf::HermiteCellFeature::tilesWanted(Tiles::Auto, true));

@@ -97,6 +97,8 @@ TEST(Tuning, SettingsFileRoundTrip) {
   t.cullCells = false;
   t.cullOcclusion = true;  // not the default (off)
   t.thinBoxes = ThinBoxes::On;
+  t.tiles = TiledCells::Off;
+  t.tileSize = 16;
   t.split = SplitMode::Horizontal;
   t.splitPosition = 0.3f;  // exact in binary and in the JSON text
   t.compareMethod = hsdf::RenderMethod::HermiteSphereTrace;
@@ -195,6 +197,9 @@ TEST(Tuning, BadSettingsFilesNameTheKeyAndFile) {
       {R"({"triangle_nodes": [1]})", "setting 'triangle_nodes': expected node names, got 1"},
       {R"({"triangle_nodes": ["a", ""]})", "setting 'triangle_nodes': an empty node name"},
       {R"({"triangle_nodes": true})", "setting 'triangle_nodes': expected an array of node names"},
+      // In range but not a size the tiles have (4, 8, 16): a rule of its own, named.
+      {R"({"tile_size": 6})", "--tile-size 6 is not one of 4, 8, 16"},
+      {R"({"tile_size": 32})", "setting 'tile_size': 32 is outside 4..16"},
   };
   const auto file = tempFile("bad.json");
   for (const Case& c : cases) {

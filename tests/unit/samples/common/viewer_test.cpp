@@ -394,6 +394,7 @@ TEST(Viewer, SearchLimitsOfTheTuningReachTheFeatures) {
   tuning.traceMaxSteps = 1;
   tuning.centralDifferenceStep = 0.25f;
   tuning.maxRunLength = 5;
+  tuning.tileSize = 4;
   viewer->setTuning(tuning);
   ASSERT_TRUE(viewer->waitForBake().ok());
   ASSERT_TRUE(viewer->step().ok());
@@ -402,6 +403,7 @@ TEST(Viewer, SearchLimitsOfTheTuningReachTheFeatures) {
   EXPECT_EQ(tracers.maxSteps, 1u);
   EXPECT_EQ(tracers.centralDifferenceStep, 0.25f);
   EXPECT_EQ(viewer->renderer().feature<hsdf::HermiteCellFeature>()->settings().maxRunLength, 5u);
+  EXPECT_EQ(viewer->renderer().feature<hsdf::HermiteCellFeature>()->settings().tileSize, 4u);
   EXPECT_TRUE(viewer->close().ok());
 }
 

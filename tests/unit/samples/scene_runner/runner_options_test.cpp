@@ -129,6 +129,7 @@ TEST(RunnerOptions, EveryOptionsGoodValue) {
   EXPECT_FALSE(parseOk({}).tuning.lod);
   EXPECT_EQ(parseOk({"--lod-pixels-per-cell", "64"}).tuning.lodPixelsPerCell, 64.0f);
   EXPECT_EQ(parseOk({"--subdivisions", "64"}).tuning.subdivisions, 64u);
+  EXPECT_EQ(parseOk({"--tile-size", "4"}).tuning.tileSize, 4u);
   EXPECT_EQ(parseOk({"--size", "16384x1"}).width, 16384u);
 }
 
@@ -192,6 +193,7 @@ TEST(RunnerOptions, BadValuesNameTheOption) {
       {{"--compare-normals", "forward"}, "--compare-normals: 'forward' is not one of exact, central"},
       {{"--early-depth", "yes"}, "--early-depth: 'yes' is not one of auto, on, off"},
       {{"--early-depth", "on", "--no-early-depth"}, "excludes"},
+      {{"--tile-size", "6"}, "--tile-size"},
   };
   for (const Case& c : cases) {
     const ParseResult result = parse(c.args);

@@ -95,7 +95,7 @@ class HermiteCellFeature final : public engine::render::RenderFeature {
   }
 
   // Whether the culled RenderMethod::Cells objects are drawn as screen tiles (Settings::tiles): the
-  // culling pass's kept cells binned into 8x8-pixel tiles (cell_tiles.comp), one quad per tile whose
+  // culling pass's kept cells binned into 8x8-pixel tiles (Settings::tileSize; cell_tiles.comp), one quad per tile whose
   // fragments search the tile's cells. Same cells, same search, same image; one fragment per pixel
   // instead of one per box and pixel. Auto: on for software rasterizers, which shade and count whole
   // 4x4 blocks (a box of a few pixels costs 16-64 invocations there; issue 20's <= 3 fragment
@@ -139,7 +139,12 @@ class HermiteCellFeature final : public engine::render::RenderFeature {
     // culling and the early depth stage are off in frames that draw tiles; the cells the near plane
     // may cut are still drawn as boxes too.
     Tiles tiles = Tiles::Auto;
+    // The tiles' side in pixels: 4, 8 or 16 (tileSizeValid; another value draws 8). Smaller tiles
+    // list fewer cells a pixel cannot see (each fragment reads its tile's list) but make more
+    // tiles to bin, sort and draw.
+    std::uint32_t tileSize = CELL_TILE_SIZE;
   };
+  static bool tileSizeValid(std::uint32_t size) { return size == 4 || size == 8 || size == 16; }
   struct Stats {
     std::uint32_t objects = 0;
     std::uint64_t cells = 0;        // instances drawn in the last frame
@@ -238,7 +243,8 @@ class HermiteCellFeature final : public engine::render::RenderFeature {
   void recordTiling(engine::render::FrameContext& frame);
   void recordTiles(engine::render::PassContext& pass);
   static std::uint64_t tileEntryEstimate(const GridSpec& grid, std::uint64_t cells, const glm::mat4& world,
-                                         const engine::render::CameraView& camera, VkExtent2D extent);
+                                         const engine::render::CameraView& camera, VkExtent2D extent,
+                                         std::uint32_t tileSize);
   void recordRectangle(engine::render::PassContext& pass, const engine::gpu::Pipeline& pipeline);
 
   const engine::gpu::Context* context_ = nullptr;
@@ -309,6 +315,8 @@ class HermiteCellFeature final : public engine::render::RenderFeature {
   bool thinBoxes_ = false;   // this frame draws its RenderMethod::Cells objects as thin boxes
   bool tiles_ = false;       // this frame draws its culled RenderMethod::Cells objects as tiles
   std::uint64_t tileEntryEstimate_ = 0;  // this frame's culled cells' tile entries, at most
+  std::uint32_t tileSize_ = CELL_TILE_SIZE;  // this frame's (Settings::tileSize, checked)
+  bool warnedTileSize_ = false;
   std::unique_ptr<class CellTiler> tiler_;
   std::uint32_t lastTileSlot_ = 0;
   bool tiledOnce_ = false;
