@@ -148,6 +148,19 @@ HermiteCellFeature::Variant HermiteCellFeature::prepassVariant(const engine::ren
   return counterAddress(frame, countersActive_, counters_) != 0 ? kCounted : kProduction;
 }
 
+// What every prepass draw of the cells pushes: the frame, the objects, this slot's draws, the
+// evaluation counters and the work totals where the frame counts (0 otherwise).
+shader::HermitePushConstants HermiteCellFeature::prepassPush(const engine::render::PassContext& pass) const {
+  shader::HermitePushConstants push{};
+  push.draw.frameGlobals = pass.frameGlobals;
+  push.draw.objects = pass.objects;
+  push.draw.debugView = pass.frame.debugView;
+  push.draws = drawData_.address(pass.frame.frameSlot);
+  push.counters = counterAddress(pass.frame, countersActive_, counters_);
+  push.workTotals = pass.frame.workTotals;
+  return push;
+}
+
 void HermiteCellFeature::recordBatch(engine::render::PassContext& pass, int precision, bool near, bool late) {
   const Batch& batch = *batches_[precision];
   const std::uint32_t first = late ? batch.lateFirst : near ? batch.nearFirst : batch.frontFirst;
@@ -171,12 +184,7 @@ void HermiteCellFeature::recordBatch(engine::render::PassContext& pass, int prec
   const VkDeviceSize offset = 0;
   vkCmdBindVertexBuffers(cmd, 0, 1, &vertexBuffer, &offset);
 
-  shader::HermitePushConstants push{};
-  push.draw.frameGlobals = pass.frameGlobals;
-  push.draw.objects = pass.objects;
-  push.draw.debugView = pass.frame.debugView;
-  push.draws = drawData_.address(pass.frame.frameSlot);
-  push.counters = counterAddress(pass.frame, countersActive_, counters_);
+  shader::HermitePushConstants push = prepassPush(pass);
   push.hitDepths = earlyDepth_ ? hitDepths_.address() : 0;
   if (bricks && !near && !cullObjectList_.empty()) {
     // The front faces draw the culling pass's kept bricks (the near list: every near brick).
@@ -333,15 +341,9 @@ void HermiteCellFeature::recordTiles(engine::render::PassContext& pass) {
   const std::uint32_t slot = pass.frame.frameSlot;
   const Pipeline& pipeline = pipelines_.tiles[withoutEarlyStage(prepassVariant(pass.frame))];
   vkCmdBindPipeline(pass.cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, pipeline.handle());
-  shader::HermitePushConstants push{};
-  push.draw.frameGlobals = pass.frameGlobals;
-  push.draw.objects = pass.objects;
-  push.draw.debugView = pass.frame.debugView;
-  push.draws = drawData_.address(slot);
-  push.counters = counterAddress(pass.frame, countersActive_, counters_);
+  shader::HermitePushConstants push = prepassPush(pass);
   push.tiles = tiler_->tiles(slot);
   push.tileEntries = tiler_->entries(slot);
-  push.workTotals = pass.frame.workTotals;  // the counted variant adds its walk there
   push.tileSize = tileSize_;
   vkCmdPushConstants(pass.cmd, pipeline.layout(), VK_SHADER_STAGE_VERTEX_BIT | VK_SHADER_STAGE_FRAGMENT_BIT, 0,
                      sizeof(push), &push);

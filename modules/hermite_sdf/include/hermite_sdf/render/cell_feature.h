@@ -242,6 +242,7 @@ class HermiteCellFeature final : public engine::render::RenderFeature {
   void recordResolve(engine::render::PassContext& pass);
   void recordTiling(engine::render::FrameContext& frame);
   void recordTiles(engine::render::PassContext& pass);
+  shader::HermitePushConstants prepassPush(const engine::render::PassContext& pass) const;
   static std::uint64_t tileEntryEstimate(const GridSpec& grid, std::uint64_t cells, const glm::mat4& world,
                                          const engine::render::CameraView& camera, VkExtent2D extent,
                                          std::uint32_t tileSize);
