@@ -5,6 +5,7 @@
 #include <utility>
 
 #include <fmt/format.h>
+#include <fmt/ranges.h>
 #include <nlohmann/json.hpp>
 
 #include "engine/core/files.h"
@@ -324,7 +325,7 @@ engine::Status validateTuning(const TuningState& t) {
   ENGINE_TRY(checkFloatRange("--central-difference-step", t.centralDifferenceStep, kCentralDifferenceStepRange));
   ENGINE_TRY(checkRange("--max-run-length", t.maxRunLength, kMaxRunLengthRange));
   if (!hsdf::HermiteCellFeature::tileSizeValid(t.tileSize))
-    return engine::makeError(fmt::format("--tile-size {} is not one of 4, 8, 16", t.tileSize));
+    return engine::makeError(fmt::format("--tile-size {} is not one of {}", t.tileSize, fmt::join(kTileSizes, ", ")));
   if (!isSdfMethod(t.compareMethod))
     return engine::makeError("--compare-method mesh: the compared method must be cells, trilinear or hermite");
   ENGINE_TRY(checkFloatRange("--split-position", t.splitPosition, FloatRange{kSplitMin, kSplitMax}));

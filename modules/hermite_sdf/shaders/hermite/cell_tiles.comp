@@ -49,11 +49,10 @@ bool cellPixelRect(HermiteDraw draw, uint object, uint record, out ivec2 lo, out
   mat4 toClip = cullObject.objectToClip;
   vec3 cell = recordCell(draw, record);
   float h = draw.gridOriginSpacing.w;
-  // The proxy's dilation (proxyDilation; clip w is the view depth -z), a percent more for the
+  // The proxy's dilation (as proxyDilation; clip w is the view depth -z), a percent more for the
   // rounding of the two computations.
   float centreDepth = (toClip * vec4(draw.gridOriginSpacing.xyz + h * (cell + 0.5), 1.0)).w;
-  float worldPerPixel = 2.0 * max(centreDepth, 0.0) / (frame.proj[1][1] * frame.viewport.y);
-  float dilation = 1.01 * max(kMinDilation, kDilationPixels * worldPerPixel / (h * cullObject.minAxisScale));
+  float dilation = 1.01 * proxyDilationAt(frame, centreDepth, h, cullObject.minAxisScale);
   vec2 pmin = vec2(3.0e38), pmax = vec2(-3.0e38);
   nearest = 0.0;
   bool behind = false;

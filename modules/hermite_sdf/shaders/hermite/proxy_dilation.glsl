@@ -12,12 +12,17 @@
 const float kDilationPixels = 0.02;
 const float kMinDilation = 1.0 / 4096.0;
 
+// The dilation in cells of a cell whose centre lies `viewDepth` in front of the eye, in an object
+// whose smallest axis scale (the most cells per world unit) is `minAxisScale`.
+float proxyDilationAt(FrameGlobals frame, float viewDepth, float h, float minAxisScale) {
+  float worldPerPixel = 2.0 * max(viewDepth, 0.0) / (frame.proj[1][1] * frame.viewport.y);
+  return max(kMinDilation, kDilationPixels * worldPerPixel / (h * minAxisScale));
+}
+
 float proxyDilation(FrameGlobals frame, ObjectData object, vec3 cellCentre, float h) {
   vec4 view = frame.view * (object.model * vec4(cellCentre, 1.0));
-  float worldPerPixel = 2.0 * max(-view.z, 0.0) / (frame.proj[1][1] * frame.viewport.y);
-  // The object's smallest axis scale: the most cells per world unit.
   float scale = min(min(length(object.model[0].xyz), length(object.model[1].xyz)), length(object.model[2].xyz));
-  return max(kMinDilation, kDilationPixels * worldPerPixel / (h * scale));
+  return proxyDilationAt(frame, -view.z, h, scale);
 }
 
 // How far beyond its cell a fragment searches the ray (cell-local units): the proxy's dilation,

@@ -10,6 +10,8 @@
 
 #include <imgui.h>
 
+#include <fmt/ranges.h>
+
 #include "engine/core/log.h"
 #include "engine/ecs/registry.h"
 #include "engine/gpu/context.h"
@@ -96,7 +98,8 @@ void HermiteCellFeature::buildDraws(engine::render::FrameContext& frame) {
   resetDraws();
   tileSize_ = tileSizeValid(settings_.tileSize) ? settings_.tileSize : CELL_TILE_SIZE;
   if (tileSize_ != settings_.tileSize && !warnedTileSize_) {
-    engine::log::warn("hermite cells: tile size {} is not 4, 8 or 16; drawing {}x{} tiles", settings_.tileSize,
+    engine::log::warn("hermite cells: tile size {} is not one of {}; drawing {}x{} tiles", settings_.tileSize,
+                      fmt::join(kTileSizes, ", "),
                       tileSize_, tileSize_);
     warnedTileSize_ = true;
   }

@@ -46,8 +46,10 @@
 // (src/render/cell_tiler.h: the kept cells binned into 8x8-pixel tiles by a compute pass, one
 // point per non-empty tile whose fragments search the tile's cells nearest first); no early depth
 // stage and no occlusion culling in frames that draw tiles.
+#include <algorithm>
 #include <array>
 #include <cstdint>
+#include <iterator>
 #include <memory>
 #include <string>
 #include <unordered_map>
@@ -144,7 +146,10 @@ class HermiteCellFeature final : public engine::render::RenderFeature {
     // tiles to bin, sort and draw.
     std::uint32_t tileSize = CELL_TILE_SIZE;
   };
-  static bool tileSizeValid(std::uint32_t size) { return size == 4 || size == 8 || size == 16; }
+  static constexpr std::uint32_t kTileSizes[] = {4, 8, 16};  // the sides Settings::tileSize may take
+  static bool tileSizeValid(std::uint32_t size) {
+    return std::find(std::begin(kTileSizes), std::end(kTileSizes), size) != std::end(kTileSizes);
+  }
   struct Stats {
     std::uint32_t objects = 0;
     std::uint64_t cells = 0;        // instances drawn in the last frame
