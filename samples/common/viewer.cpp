@@ -344,7 +344,17 @@ Expected<Viewer::FrameWork> Viewer::countWork() {
   if (!rendered) return rendered.error();
   FrameWork work;
   for (const std::uint32_t count : renderer_->readbackWorkCounters()) work.evaluations += count;
-  work.raysOutOfSteps = renderer_->readbackWorkTotals().raysOutOfSteps;
+  const shader::WorkTotals totals = renderer_->readbackWorkTotals();
+  work.raysOutOfSteps = totals.raysOutOfSteps;
+  work.tileEntriesWalked = totals.tileEntriesWalked;
+  work.tileEntriesTested = totals.tileEntriesTested;
+  const auto* cells = renderer_->feature<hsdf::HermiteCellFeature>();
+  if (cells->stats().tiles) {
+    const shader::CellTileTotals tiles = cells->tileTotals();
+    work.tilesDrawn = tiles.instanceCount;
+    work.tileEntries = tiles.entriesNeeded;
+    work.tilesOverflowed = tiles.boxDrawCount != 0;
+  }
   return work;
 }
 

@@ -192,6 +192,13 @@ class Viewer {
   struct FrameWork {
     std::uint64_t evaluations = 0;
     std::uint32_t raysOutOfSteps = 0;
+    // Tiled cells (zero without tiles): the non-empty tiles drawn, the list entries they needed,
+    // and the entries the fragments read and ray-box tested (the tiles' walk, beside the search).
+    std::uint32_t tilesDrawn = 0;
+    std::uint32_t tileEntries = 0;
+    bool tilesOverflowed = false;  // the lists needed more entries than allowed: boxes were drawn
+    std::uint64_t tileEntriesWalked = 0;
+    std::uint64_t tileEntriesTested = 0;
   };
   engine::Expected<FrameWork> countWork();
 

@@ -6,8 +6,9 @@
 //  - COUNT: a lane per kept cell (per slot of the culling pass's kept stream): the screen rectangle of the
 //    cell's box, grown by its proxy's dilation (below); every
 //    tile it touches counts the cell and keeps the nearest depth of the boxes;
-//  - SCAN (one workgroup): each tile's first entry (a prefix sum of the counts), counts clamped to
-//    the entry list's capacity, the list of non-empty tiles and the tile draw's instance count;
+//  - SCAN (one workgroup): each tile's first entry (a prefix sum of the counts), the list of
+//    non-empty tiles and the tile draw's instance count; where the lists would not fit in the
+//    entry list's capacity, no tile at all and the boxes' fallback count (CellTileTotals::boxDrawCount);
 //  - SCATTER: the same rectangles, each cell's (draw, record, depth, the tile's pixels it may cover)
 //    written into the lists of its tiles;
 //  - SORT: one workgroup per non-empty tile (an indirect dispatch the scan wrote): its list copied
@@ -166,23 +167,31 @@ void scanTiles() {
   groupSums[lane] = sum;
   groupTiles[lane] = nonEmpty;
   barrier();
-  uint first = 0u, listed = 0u;
-  for (uint l = 0u; l < lane; ++l) {
-    first += groupSums[l];
-    listed += groupTiles[l];
+  uint first = 0u, listed = 0u, needed = 0u;
+  for (uint l = 0u; l < 64u; ++l) {
+    if (l < lane) {
+      first += groupSums[l];
+      listed += groupTiles[l];
+    }
+    needed += groupSums[l];
   }
+  // Lists that do not fit whole would lose cells (holes): then every tile is left empty (nothing
+  // scattered, sorted or drawn) and the culled cells' boxes are drawn instead (boxDrawCount).
+  bool overflow = needed > pc.entryCapacity;
   TileListRef list = TileListRef(pc.tiles + uint64_t(tileCount) * 16ul);
   for (uint t = begin; t < end; ++t) {
     uint count = tiles.tiles[t].count;
     tiles.tiles[t].first = first;
-    tiles.tiles[t].count = min(count, pc.entryCapacity - min(first, pc.entryCapacity));
+    tiles.tiles[t].count = overflow ? 0u : count;
     tiles.tiles[t].cursor = 0u;
-    if (count > 0u) list.tiles[listed++] = t;
+    if (count > 0u && !overflow) list.tiles[listed++] = t;
     first += count;
   }
   if (lane == 63u) {
+    if (overflow) listed = 0u;
     TotalsRef(pc.totals).totals.instanceCount = listed;
-    TotalsRef(pc.totals).totals.entriesNeeded = first;
+    TotalsRef(pc.totals).totals.entriesNeeded = needed;
+    TotalsRef(pc.totals).totals.boxDrawCount = overflow ? 0xffffffffu : 0u;
     uint groupsX = min(listed, 65535u);  // the least maxComputeWorkGroupCount[0] Vulkan allows
     TotalsRef(pc.totals).totals.sortGroups[0] = groupsX;
     TotalsRef(pc.totals).totals.sortGroups[1] = groupsX == 0u ? 0u : (listed + groupsX - 1u) / groupsX;

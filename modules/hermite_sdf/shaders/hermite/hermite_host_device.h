@@ -186,7 +186,7 @@ HSDF_CHECK_SIZE(CellCullPushConstants, 10 * 8 + 10 * 4);
 #define CELL_TILE_SORT_MAX 1024u
 struct CellTile {
   uint first;   // its first entry in the entry list
-  uint count;   // its entries (clamped to the list's capacity by the scan)
+  uint count;   // its entries (0 in every tile where the lists overflowed: CellTileTotals::boxDrawCount)
   uint cursor;  // scatter: entries written so far
   uint depth;   // the nearest (reverse-Z: largest) depth of its cells' boxes, float bits: the quad's depth
 };
@@ -211,8 +211,15 @@ struct CellTileTotals {
   uint firstInstance;
   uint entriesNeeded;  // the entries every tile needed, capacity or not
   uint sortGroups[3];  // VkDispatchIndirectCommand of the sort: one workgroup per non-empty tile
+  // The lists' overflow: where the tiles needed more entries than the list holds (its capacity,
+  // at most HermiteCellFeature::Settings::maxTileEntries), no tile is drawn and this count buffer
+  // of vkCmdDrawIndirectCount draws every box command of the culled cells instead (~0u; else 0).
+  uint boxDrawCount;
+  uint pad0;
+  uint pad1;
+  uint pad2;
 };
-HSDF_CHECK_SIZE(CellTileTotals, 32);
+HSDF_CHECK_SIZE(CellTileTotals, 48);
 
 // Push constants of cell_tiles.comp. COUNT and SCATTER: a lane per slot of the cell culling pass's
 // kept stream (one record precision per dispatch), its kept cells read as the draws would read them.

@@ -117,7 +117,7 @@ void HermiteCellFeature::buildDraws(engine::render::FrameContext& frame) {
   for (shader::BrickCullObject& object : cullObjectList_) object.drawCommand += batches_[kBrickBatch]->frontFirst;
   drawnAssets_ = std::move(f.drawnThisFrame);
   if (frame.debugView == DEBUG_VIEW_WIREFRAME) addWireCommands(allCommands, allDraws);
-  tiles_ = settings_.cullCells && !cellCullObjects_.empty() &&
+  tiles_ = settings_.cullCells && !cellCullObjects_.empty() && context_->capabilities().drawIndirectCount &&
            tilesWanted(settings_.tiles, context_->capabilities().isSoftwareRasterizer);
   occlusion_ = settings_.cullCells && settings_.cullOcclusion && !cellCullObjects_.empty() && !tiles_;
   if (occlusion_) placeHistory(frame);

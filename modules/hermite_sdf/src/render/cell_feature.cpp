@@ -50,6 +50,12 @@ engine::Status HermiteCellFeature::initialize(const engine::gpu::Context& contex
                                               std::uint32_t framesInFlight) {
   context_ = &context;
   multiDraw_ = context.capabilities().multiDrawIndirect;
+  if (context.capabilities().drawIndirectCount) {
+    drawAllCount_ = engine::gpu::Buffer(context, sizeof(std::uint32_t), VK_BUFFER_USAGE_INDIRECT_BUFFER_BIT,
+                                        engine::gpu::MemoryUsage::Upload, "hermite cell draw-all count");
+    const std::uint32_t all = ~0u;
+    drawAllCount_.write(&all, sizeof(all));
+  }
   drawData_ = engine::render::PerFrameBuffer(context, framesInFlight, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT,
                                              "hermite cell draws");
   // Storage too: the brick culling pass writes the instance counts of the bricks' commands.
@@ -161,7 +167,8 @@ shader::HermitePushConstants HermiteCellFeature::prepassPush(const engine::rende
   return push;
 }
 
-void HermiteCellFeature::recordBatch(engine::render::PassContext& pass, int precision, bool near, bool late) {
+void HermiteCellFeature::recordBatch(engine::render::PassContext& pass, int precision, bool near, bool late,
+                                     VkBuffer countBuffer, VkDeviceSize countOffset) {
   const Batch& batch = *batches_[precision];
   const std::uint32_t first = late ? batch.lateFirst : near ? batch.nearFirst : batch.frontFirst;
   const std::uint32_t count = near ? batch.nearCount : batch.frontCount;
@@ -202,7 +209,22 @@ void HermiteCellFeature::recordBatch(engine::render::PassContext& pass, int prec
     vkCmdBindVertexBuffers(cmd, 0, 1, &keptBuffer, &offset);
     push.cellRecords = keptCellIndices_[pass.frame.frameSlot][precision].address();
   }
-  recordIndirect(cmd, pipeline, push, pass.frame.frameSlot, first, count);
+  recordIndirect(cmd, pipeline, push, pass.frame.frameSlot, first, count, countBuffer, countOffset);
+}
+
+// `count` VkDrawIndirectCommands of `buffer` from command `first`, at most as many as countBuffer's
+// word says where one is given. See drawAllCount_ for why the count form draws them all too.
+void HermiteCellFeature::drawIndirect(VkCommandBuffer cmd, VkBuffer buffer, std::uint32_t first, std::uint32_t count,
+                                      VkBuffer countBuffer, VkDeviceSize countOffset) const {
+  constexpr auto stride = static_cast<std::uint32_t>(sizeof(VkDrawIndirectCommand));
+  if (countBuffer == VK_NULL_HANDLE && drawAllCount_) {
+    countBuffer = drawAllCount_.handle();
+    countOffset = 0;
+  }
+  if (countBuffer != VK_NULL_HANDLE)
+    vkCmdDrawIndirectCount(cmd, buffer, VkDeviceSize(first) * stride, countBuffer, countOffset, count, stride);
+  else
+    vkCmdDrawIndirect(cmd, buffer, VkDeviceSize(first) * stride, count, stride);
 }
 
 HermiteCellFeature::Variant HermiteCellFeature::withoutEarlyStage(Variant variant) {
@@ -210,20 +232,21 @@ HermiteCellFeature::Variant HermiteCellFeature::withoutEarlyStage(Variant varian
 }
 
 void HermiteCellFeature::recordIndirect(VkCommandBuffer cmd, const Pipeline& pipeline, shader::HermitePushConstants push,
-                                        std::uint32_t frameSlot, std::uint32_t first, std::uint32_t count) {
+                                        std::uint32_t frameSlot, std::uint32_t first, std::uint32_t count,
+                                        VkBuffer countBuffer, VkDeviceSize countOffset) {
   const VkBuffer indirect = indirect_.buffer(frameSlot).handle();
-  constexpr auto stride = static_cast<std::uint32_t>(sizeof(VkDrawIndirectCommand));
   const VkShaderStageFlags stages = VK_SHADER_STAGE_VERTEX_BIT | VK_SHADER_STAGE_FRAGMENT_BIT;
+  const auto draw = [&](std::uint32_t at, std::uint32_t n) { drawIndirect(cmd, indirect, at, n, countBuffer, countOffset); };
   if (multiDraw_) {
     push.drawBase = first;
     vkCmdPushConstants(cmd, pipeline.layout(), stages, 0, sizeof(push), &push);
-    vkCmdDrawIndirect(cmd, indirect, VkDeviceSize(first) * stride, count, stride);
+    draw(first, count);
     return;
   }
   for (std::uint32_t i = 0; i < count; ++i) {  // gl_DrawID is 0 in each single draw
     push.drawBase = first + i;
     vkCmdPushConstants(cmd, pipeline.layout(), stages, 0, sizeof(push), &push);
-    vkCmdDrawIndirect(cmd, indirect, VkDeviceSize(first + i) * stride, 1, stride);
+    draw(first + i, 1);
   }
 }
 
@@ -300,8 +323,13 @@ void HermiteCellFeature::recordPrepassDraws(engine::render::PassContext& pass) {
   pass.timer.begin(pass.cmd, "cells prepass");
   if (tiles_) recordTiles(pass);
   for (int precision = 0; precision < kBatches; ++precision) {
-    // Tiles draw the culled cells' front lists (every front command of a tiled frame is culled).
-    if (!(tiles_ && precision < kRunBatch)) recordBatch(pass, precision, false);
+    // Tiles draw the culled cells' front lists (every front command of a tiled frame is culled),
+    // unless their lists overflowed: then the GPU-written count draws those lists' boxes.
+    if (tiles_ && precision < kRunBatch)
+      recordBatch(pass, precision, false, false, tiler_->drawCommand(pass.frame.frameSlot).handle(),
+                  CellTiler::kBoxDrawCountOffset);
+    else
+      recordBatch(pass, precision, false);
     recordBatch(pass, precision, true);
   }
   pass.timer.end(pass.cmd);
@@ -320,6 +348,7 @@ void HermiteCellFeature::recordTiling(engine::render::FrameContext& frame) {
   tiling.objects = cellCullObjectBuffer_.address(slot);
   tiling.frameGlobals = frame.frameGlobals;
   tiling.entryEstimate = tileEntryEstimate_;
+  tiling.entryLimit = std::max(settings_.maxTileEntries, kMinTileEntries);
   VkDeviceAddress ranges = cellCullRangeBuffer_.address(slot);
   for (int precision = 0; precision < 2; ++precision) {
     const auto count = static_cast<std::uint32_t>(cellCullRanges_[precision].size());
@@ -328,12 +357,27 @@ void HermiteCellFeature::recordTiling(engine::render::FrameContext& frame) {
                                     cellCullOutput_[precision]};
     ranges += VkDeviceAddress(count) * sizeof(shader::CellCullRange);
   }
+  logTileOverflow(tiler_->lastTotals(slot), tiling.entryLimit);
   {
     const engine::gpu::GpuTimerScope timing(frame.timer, frame.cmd, "cells tiling");
     tiler_->record(frame.cmd, tiling);
   }
   lastTileSlot_ = slot;
   tiledOnce_ = true;
+}
+
+// What this slot's previous tiled frame (completed) found: lists that overflowed drew boxes, which
+// a user should hear of (the tiles' saving is gone, and the limit is a setting) once, until a
+// frame fits again.
+void HermiteCellFeature::logTileOverflow(const shader::CellTileTotals& previous, std::uint32_t limit) {
+  if (previous.boxDrawCount != 0 && !tileOverflowLogged_) {
+    engine::log::warn("hermite cells: the tiles needed {} list entries, more than the {} they may hold "
+              "(Settings::maxTileEntries): the frame drew the cells as boxes instead",
+              previous.entriesNeeded, limit);
+    tileOverflowLogged_ = true;
+  } else if (previous.boxDrawCount == 0 && previous.entriesNeeded > 0) {
+    tileOverflowLogged_ = false;
+  }
 }
 
 // One quad per non-empty tile (cell_tiles.vert), its instance count written by the tiling's scan.
@@ -347,7 +391,7 @@ void HermiteCellFeature::recordTiles(engine::render::PassContext& pass) {
   push.tileSize = tileSize_;
   vkCmdPushConstants(pass.cmd, pipeline.layout(), VK_SHADER_STAGE_VERTEX_BIT | VK_SHADER_STAGE_FRAGMENT_BIT, 0,
                      sizeof(push), &push);
-  vkCmdDrawIndirect(pass.cmd, tiler_->drawCommand(slot).handle(), 0, 1, sizeof(VkDrawIndirectCommand));
+  drawIndirect(pass.cmd, tiler_->drawCommand(slot).handle(), 0, 1);
 }
 
 shader::CellTileTotals HermiteCellFeature::tileTotals() const {

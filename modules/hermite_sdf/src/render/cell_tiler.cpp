@@ -49,17 +49,18 @@ shader::CellTileTotals CellTiler::lastTotals(std::uint32_t slot) const {
   return totals;
 }
 
-// The slot's buffers for this frame's tiles and at least `wanted` entries. The slot's previous
-// frame has completed (its fence was waited for), so replacing them is safe.
-void CellTiler::ensureBuffers(Slot& slot, std::uint32_t tileCount, std::uint64_t wanted) {
+// The slot's buffers for this frame's tiles and at least `wanted` entries, at most `limit` (a
+// smaller limit than the slot holds shrinks it). The slot's previous frame has completed (its
+// fence was waited for), so replacing them is safe.
+void CellTiler::ensureBuffers(Slot& slot, std::uint32_t tileCount, std::uint64_t wanted, std::uint32_t limit) {
   constexpr VkBufferUsageFlags kUsage = VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_SHADER_DEVICE_ADDRESS_BIT;
   if (!slot.tiles || slot.tiles.size() < tileBytes(tileCount))
     slot.tiles = engine::gpu::Buffer(*context_, tileBytes(tileCount), kUsage | VK_BUFFER_USAGE_TRANSFER_DST_BIT,
                                      engine::gpu::MemoryUsage::GpuOnly, "hermite cell tiles");
-  wanted = std::clamp<std::uint64_t>(wanted, 4096, kMaxEntries);
-  if (slot.capacity < wanted) {
+  wanted = std::clamp<std::uint64_t>(wanted, std::min<std::uint64_t>(4096, limit), limit);
+  if (slot.capacity < wanted || slot.capacity > limit) {
     // A quarter more than asked: views that move a little do not reallocate every frame.
-    const auto capacity = std::uint32_t(std::min<std::uint64_t>(wanted + wanted / 4, kMaxEntries));
+    const auto capacity = std::uint32_t(std::min<std::uint64_t>(wanted + wanted / 4, limit));
     const VkDeviceSize bytes = VkDeviceSize(capacity) * sizeof(shader::CellTileEntry);
     slot.entries = engine::gpu::Buffer(*context_, bytes, kUsage, engine::gpu::MemoryUsage::GpuOnly, "hermite cell tile entries");
     slot.sortedEntries =
@@ -90,7 +91,7 @@ void CellTiler::record(VkCommandBuffer cmd, const Frame& frame) {
   const std::uint32_t tilesY = (frame.extent.height + frame.tileSize - 1) / frame.tileSize;
   const std::uint32_t tileCount = std::max(tilesX * tilesY, 1u);
   const std::uint64_t needed = slot.recorded ? lastTotals(frame.slot).entriesNeeded : 0;
-  ensureBuffers(slot, tileCount, std::max(frame.entryEstimate, needed));
+  ensureBuffers(slot, tileCount, std::max(frame.entryEstimate, needed), std::max(frame.entryLimit, 1u));
   slot.recorded = true;
   shader::CellTileTotals totals{};
   totals.vertexCount = tilesAsPoints(*context_) ? 1 : 6;

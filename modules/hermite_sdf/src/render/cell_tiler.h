@@ -8,6 +8,7 @@
 // Per frame slot: the tiles (CellTile per tile, then the non-empty tile list), the entry list and
 // the totals (the tile draw's indirect command, host-visible: the entries the scan needed are read
 // back to size the next frame's list). record() in prepare(), after the cell culling pass.
+#include <cstddef>
 #include <cstdint>
 #include <vector>
 
@@ -47,8 +48,9 @@ class CellTiler {
     VkDeviceAddress frameGlobals = 0;  // FrameGlobals
     Ranges precisions[2];
     // The entries this frame may need (an estimate from the cells and their size on screen); the
-    // list grows to it, and to what an earlier frame of this slot needed.
+    // list grows to it, and to what an earlier frame of this slot needed, up to entryLimit.
     std::uint64_t entryEstimate = 0;
+    std::uint32_t entryLimit = 4096;  // HermiteCellFeature::Settings::maxTileEntries
   };
   // Records COUNT, SCAN and SCATTER with their barriers; after it the tiles, entries and the tile
   // draw's command are visible to the draw.
@@ -57,10 +59,11 @@ class CellTiler {
   VkDeviceAddress tiles(std::uint32_t slot) const { return slots_[slot].tiles.address(); }
   VkDeviceAddress entries(std::uint32_t slot) const { return slots_[slot].sortedEntries.address(); }
   const engine::gpu::Buffer& drawCommand(std::uint32_t slot) const { return totals_.buffer(slot); }
+  // The count of the boxes' fallback draws (vkCmdDrawIndirectCount): in drawCommand(slot) at this
+  // offset, ~0u where this frame's lists overflowed, else 0.
+  static constexpr VkDeviceSize kBoxDrawCountOffset = offsetof(shader::CellTileTotals, boxDrawCount);
   // What the slot's last completed scan wrote (the draw, the entries it needed).
   shader::CellTileTotals lastTotals(std::uint32_t slot) const;
-
-  static constexpr std::uint32_t kMaxEntries = 1u << 23;  // 2 x 128 MiB of entries at most
 
  private:
   struct Slot {
@@ -70,7 +73,7 @@ class CellTiler {
     std::uint32_t capacity = 0;
     bool recorded = false;
   };
-  void ensureBuffers(Slot& slot, std::uint32_t tileCount, std::uint64_t wanted);
+  void ensureBuffers(Slot& slot, std::uint32_t tileCount, std::uint64_t wanted, std::uint32_t limit);
   void dispatchBins(VkCommandBuffer cmd, shader::CellTilePushConstants push, const Frame& frame, std::uint32_t phase);
 
   const engine::gpu::Context* context_ = nullptr;

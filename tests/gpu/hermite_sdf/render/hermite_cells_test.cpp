@@ -953,6 +953,48 @@ TEST_F(TiledCellsTest, EveryTileSizeDrawsTheBoxesImage) {
   }
 }
 
+// Why: the tiles' lists have a limit (Settings::maxTileEntries, a memory cap that very fine grids
+// on large frames reach). Lists past it used to be clamped: the cells past the limit went missing,
+// holes with no message. Now the scan leaves every tile empty and a GPU-written count draws the
+// culled cells' boxes in the same frame: the boxes' image, the overflow in the totals, in the
+// first frame at the lower limit (the list shrinks to it) as in the frames after; under a limit
+// that fits, the same frames draw tiles again.
+TEST_F(TiledCellsTest, ListsPastTheirLimitDrawTheBoxesInstead) {
+  createCellRenderer(kSize, kSize);
+  const auto asset = bakeAsset("bunny", 64);
+  ASSERT_NE(asset, nullptr);
+  addSdf(registry_, asset, hsdf::RenderMethod::Cells);
+  auto* feature = renderer_->feature<hsdf::HermiteCellFeature>();
+  const render::CameraView camera = orbitCamera(*asset, 1);
+  feature->settings().tiles = hsdf::HermiteCellFeature::Tiles::Off;
+  const Frame boxes = renderWith(camera, DEBUG_VIEW_NONE);
+  feature->settings().tiles = hsdf::HermiteCellFeature::Tiles::On;
+  renderWith(camera, DEBUG_VIEW_NONE);
+  const shader::CellTileTotals fitting = feature->tileTotals();
+  ASSERT_GT(fitting.instanceCount, 0u);
+  EXPECT_EQ(fitting.boxDrawCount, 0u);
+  ASSERT_GT(fitting.entriesNeeded / 2, hsdf::HermiteCellFeature::kMinTileEntries);
+  const std::uint32_t defaultLimit = feature->settings().maxTileEntries;
+  for (std::uint32_t limit : {fitting.entriesNeeded / 2, fitting.entriesNeeded - 1, defaultLimit}) {
+    feature->settings().maxTileEntries = limit;
+    const bool overflows = limit < fitting.entriesNeeded;
+    for (int frame = 0; frame < 3; ++frame) {
+      const std::string label = "limit " + std::to_string(limit) + ", frame " + std::to_string(frame);
+      const Frame drawn = renderWith(camera, DEBUG_VIEW_NONE);
+      ASSERT_TRUE(feature->stats().tiles) << label;
+      const shader::CellTileTotals totals = feature->tileTotals();
+      EXPECT_EQ(totals.entriesNeeded, fitting.entriesNeeded) << label;
+      EXPECT_EQ(totals.boxDrawCount != 0, overflows) << label;
+      EXPECT_EQ(totals.instanceCount, overflows ? 0u : fitting.instanceCount) << label;
+      const TileComparison c = compareTilesWithBoxes(boxes, drawn);
+      EXPECT_GE(c.hitsBoxes, 2000) << label;
+      EXPECT_EQ(c.coverageDiffers, 0) << label;
+      EXPECT_LE(c.colourDiffers, c.hitsBoxes / 500 + 2) << label;
+      EXPECT_LT(c.depthRelativeMax, 1e-4) << label;
+    }
+  }
+}
+
 TEST_F(HermiteCellsTest, TilesAutoFollowsTheDevice) {
   using Tiles = hsdf::HermiteCellFeature::Tiles;
   EXPECT_TRUE(hsdf::HermiteCellFeature::tilesWanted(Tiles::Auto, true));
@@ -966,7 +1008,8 @@ TEST_F(HermiteCellsTest, TilesAutoFollowsTheDevice) {
   ASSERT_NE(asset, nullptr);
   addSdf(registry_, asset, hsdf::RenderMethod::Cells);
   renderWith(orbitCamera(*asset, 0), DEBUG_VIEW_NONE);
-  EXPECT_EQ(feature->stats().tiles, context_->capabilities().isSoftwareRasterizer);
+  EXPECT_EQ(feature->stats().tiles,
+            context_->capabilities().isSoftwareRasterizer && context_->capabilities().drawIndirectCount);
   feature->settings().cullCells = false;  // tiles bin the culling pass's cells
   renderWith(orbitCamera(*asset, 0), DEBUG_VIEW_NONE);
   EXPECT_FALSE(feature->stats().tiles);

@@ -101,7 +101,9 @@ class HermiteCellFeature final : public engine::render::RenderFeature {
   // fragments search the tile's cells. Same cells, same search, same image; one fragment per pixel
   // instead of one per box and pixel. Auto: on for software rasterizers, which shade and count whole
   // 4x4 blocks (a box of a few pixels costs 16-64 invocations there; issue 20's <= 3 fragment
-  // invocations per covered pixel); off for GPUs until one has measured it.
+  // invocations per covered pixel); off for GPUs until one has measured it. Tiles need
+  // vkCmdDrawIndirectCount (Vulkan 1.2's drawIndirectCount; their overflow falls back to boxes
+  // on the GPU): a device without it draws boxes.
   enum class Tiles : std::uint8_t { Auto, On, Off };
   static bool tilesWanted(Tiles mode, bool softwareRasterizer) {
     return mode == Tiles::On || (mode == Tiles::Auto && softwareRasterizer);
@@ -145,7 +147,13 @@ class HermiteCellFeature final : public engine::render::RenderFeature {
     // list fewer cells a pixel cannot see (each fragment reads its tile's list) but make more
     // tiles to bin, sort and draw.
     std::uint32_t tileSize = CELL_TILE_SIZE;
+    // The most tile-list entries (16 bytes each, held twice: the scatter's and the sorted lists)
+    // per frame slot. A frame whose tiles need more draws its culled cells as boxes instead (the
+    // same image, decided on the GPU: CellTileTotals::boxDrawCount) and logs it; the lists grow to
+    // what a frame needed, up to this. At least kMinTileEntries.
+    std::uint32_t maxTileEntries = 1u << 23;
   };
+  static constexpr std::uint32_t kMinTileEntries = 64;
   static constexpr std::uint32_t kTileSizes[] = {4, 8, 16};  // the sides Settings::tileSize may take
   static bool tileSizeValid(std::uint32_t size) {
     return std::find(std::begin(kTileSizes), std::end(kTileSizes), size) != std::end(kTileSizes);
@@ -240,13 +248,20 @@ class HermiteCellFeature final : public engine::render::RenderFeature {
   void ensureCounters(engine::render::FrameContext& frame);
   void ensureHitDepths(engine::render::FrameContext& frame);
   void recordPrepassDraws(engine::render::PassContext& pass);
-  void recordBatch(engine::render::PassContext& pass, int precision, bool near, bool late = false);
+  // countBuffer (at countOffset): a GPU-written count that caps the batch's draws
+  // (vkCmdDrawIndirectCount); none by default.
+  void recordBatch(engine::render::PassContext& pass, int precision, bool near, bool late = false,
+                   VkBuffer countBuffer = VK_NULL_HANDLE, VkDeviceSize countOffset = 0);
   void recordWireframe(engine::render::PassContext& pass, int precision);
   void recordIndirect(VkCommandBuffer cmd, const engine::gpu::Pipeline& pipeline, shader::HermitePushConstants push,
-                      std::uint32_t frameSlot, std::uint32_t first, std::uint32_t count);
+                      std::uint32_t frameSlot, std::uint32_t first, std::uint32_t count,
+                      VkBuffer countBuffer = VK_NULL_HANDLE, VkDeviceSize countOffset = 0);
+  void drawIndirect(VkCommandBuffer cmd, VkBuffer buffer, std::uint32_t first, std::uint32_t count,
+                    VkBuffer countBuffer = VK_NULL_HANDLE, VkDeviceSize countOffset = 0) const;
   void recordResolve(engine::render::PassContext& pass);
   void recordTiling(engine::render::FrameContext& frame);
   void recordTiles(engine::render::PassContext& pass);
+  void logTileOverflow(const shader::CellTileTotals& previous, std::uint32_t limit);
   shader::HermitePushConstants prepassPush(const engine::render::PassContext& pass) const;
   static std::uint64_t tileEntryEstimate(const GridSpec& grid, std::uint64_t cells, const glm::mat4& world,
                                          const engine::render::CameraView& camera, VkExtent2D extent,
@@ -326,8 +341,14 @@ class HermiteCellFeature final : public engine::render::RenderFeature {
   std::unique_ptr<class CellTiler> tiler_;
   std::uint32_t lastTileSlot_ = 0;
   bool tiledOnce_ = false;
+  bool tileOverflowLogged_ = false;  // logTileOverflow: said until a frame fits again
   glm::vec4 screenRect_{1.0f, 1.0f, -1.0f, -1.0f};  // NDC bounds of this frame's cell objects (resolve)
   bool multiDraw_ = false;
+  // Where the device has vkCmdDrawIndirectCount, every indirect draw of the feature goes through
+  // it, this buffer's one word (~0u: every command) as the count of those that draw all: lavapipe
+  // (Mesa 22.3) keeps a count buffer's state for the later vkCmdDrawIndirect of the command buffer,
+  // which then drew nothing (the wireframe, a second view region) after the tiles' fallback draws.
+  engine::gpu::Buffer drawAllCount_;
   // Brick culling (Settings::cullBricks): this frame's objects, the kept-brick stream's size and the
   // most bricks of one object; per frame slot the objects, totals and kept-brick stream.
   std::unique_ptr<class BrickCuller> culler_;
