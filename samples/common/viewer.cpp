@@ -348,6 +348,7 @@ Expected<Viewer::FrameWork> Viewer::countWork() {
   work.raysOutOfSteps = totals.raysOutOfSteps;
   work.tileEntriesWalked = totals.tileEntriesWalked;
   work.tileEntriesTested = totals.tileEntriesTested;
+  work.tileMaskWordsRead = totals.tileMaskWordsRead;
   const auto* cells = renderer_->feature<hsdf::HermiteCellFeature>();
   if (cells->stats().tiles) {
     const shader::CellTileTotals tiles = cells->tileTotals();

@@ -199,6 +199,7 @@ class Viewer {
     bool tilesOverflowed = false;  // the lists needed more entries than allowed: boxes were drawn
     std::uint64_t tileEntriesWalked = 0;
     std::uint64_t tileEntriesTested = 0;
+    std::uint64_t tileMaskWordsRead = 0;
   };
   engine::Expected<FrameWork> countWork();
 

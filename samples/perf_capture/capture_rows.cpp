@@ -56,11 +56,15 @@ const Variant kVariants[] = {
     // HermiteCellFeature::Tiles::Auto: tiles on software rasterizers).
     {"cells", "n=3 r=1 tiles", false,
      {.method = hsdf::RenderMethod::Cells, .subdivisions = 3, .refineSteps = 1, .tiles = samples::TiledCells::On}},
-    // Tiles of 4x4 pixels (HermiteCellFeature::Settings::tileSize): each fragment reads a shorter
-    // list, the binning makes more entries and four times the tiles.
+    // Tiles of 4x4 and 16x16 pixels (HermiteCellFeature::Settings::tileSize): smaller tiles have
+    // shorter lists (fewer mask words per pixel, a lane's entries nearer its own) but make more
+    // entries and tiles to bin, sort and draw; larger ones the other way round.
     {"cells", "n=3 r=1 tiles 4x4", false,
      {.method = hsdf::RenderMethod::Cells, .subdivisions = 3, .refineSteps = 1, .tiles = samples::TiledCells::On,
       .tileSize = 4}},
+    {"cells", "n=3 r=1 tiles 16x16", false,
+     {.method = hsdf::RenderMethod::Cells, .subdivisions = 3, .refineSteps = 1, .tiles = samples::TiledCells::On,
+      .tileSize = 16}},
     {"cells", "n=3 r=1 boxes", false,
      {.method = hsdf::RenderMethod::Cells, .subdivisions = 3, .refineSteps = 1, .tiles = samples::TiledCells::Off}},
     // The certified root search (docs/root-finding.md): its cost against the paper's fixed n above.

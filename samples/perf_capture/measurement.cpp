@@ -55,6 +55,7 @@ GpuReadback Measurement::measure(const ecs::Registry& registry, const render::Ca
   readback.raysOutOfSteps = totals.raysOutOfSteps;
   readback.tileEntriesWalked = totals.tileEntriesWalked;
   readback.tileEntriesTested = totals.tileEntriesTested;
+  readback.tileMaskWordsRead = totals.tileMaskWordsRead;
   return readback;
 }
 

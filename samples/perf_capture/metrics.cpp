@@ -28,6 +28,7 @@ void QualityAccumulator::add(const TruthImage& truth, const GpuReadback& gpu, co
   raysOutOfSteps_ += gpu.raysOutOfSteps;
   tileEntriesWalked_ += gpu.tileEntriesWalked;
   tileEntriesTested_ += gpu.tileEntriesTested;
+  tileMaskWordsRead_ += gpu.tileMaskWordsRead;
   const glm::dvec3 forward = glm::normalize(glm::dvec3(glm::inverse(camera.view) * glm::vec4(0, 0, -1, 0)));
   for (int y = 0; y < truth.height; ++y) {
     for (int x = 0; x < truth.width; ++x) {
@@ -64,6 +65,7 @@ RowQuality QualityAccumulator::result() const {
   if (covered_ > 0) {
     q.tileEntriesWalked = double(tileEntriesWalked_) / double(covered_);
     q.tileEntriesTested = double(tileEntriesTested_) / double(covered_);
+    q.tileMaskWordsRead = double(tileMaskWordsRead_) / double(covered_);
   }
   if (!angles_.empty()) {
     q.normalErrorMean = std::accumulate(angles_.begin(), angles_.end(), 0.0) / double(angles_.size());

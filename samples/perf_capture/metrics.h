@@ -27,6 +27,7 @@ struct GpuReadback {
   std::uint32_t raysOutOfSteps = 0;    // WorkTotals::raysOutOfSteps of the frame
   std::uint32_t tileEntriesWalked = 0; // WorkTotals: the tiled cells' list walk (0 without tiles)
   std::uint32_t tileEntriesTested = 0;
+  std::uint32_t tileMaskWordsRead = 0;  // the words of their pixels' masks the fragments read
 };
 
 struct RowQuality {
@@ -40,6 +41,7 @@ struct RowQuality {
   // Tiled cells: tile-list entries read / ray-box tested by the prepass fragments, per covered pixel.
   double tileEntriesWalked = 0.0;
   double tileEntriesTested = 0.0;
+  double tileMaskWordsRead = 0.0;
   std::uint64_t coveredPixels = 0;
 };
 
@@ -67,7 +69,7 @@ class QualityAccumulator {
   std::uint32_t views_ = 0;
   std::uint64_t mismatches_ = 0;
   std::uint64_t raysOutOfSteps_ = 0;
-  std::uint64_t tileEntriesWalked_ = 0, tileEntriesTested_ = 0;
+  std::uint64_t tileEntriesWalked_ = 0, tileEntriesTested_ = 0, tileMaskWordsRead_ = 0;
   double depthErrorSum_ = 0.0;
   std::vector<float> angles_;
   std::vector<std::uint32_t> evals_;

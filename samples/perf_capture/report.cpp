@@ -204,18 +204,20 @@ void countTargets(std::string& md, const std::vector<RowResult>& rows, const Run
   if (!info.pipelineStatistics) return;
   md += "## Count targets (issue 20; pipeline statistics, any device)\n\n"
         "| row | prepass FS / covered px (target <= 3) | boxes / view | prepass VS / box (target <= 8) | evaluations "
-        "/ covered px | tile entries read / covered px | tile entries ray-box tested / covered px |\n"
-        "|---|---|---|---|---|---|---|\n";
+        "/ covered px | tile entries read / covered px | tile entries ray-box tested / covered px | tile mask words "
+        "read / covered px |\n"
+        "|---|---|---|---|---|---|---|---|\n";
   // Every setting of every cell method (thin boxes, no-cull, fp16, ...), not only the target rows.
   for (const char* method : kCellMethods)
     for (int k : resolutionsOf(rows))
       for (const RowResult& c : rows) {
         if (!c.ok || c.spec.method != method || c.spec.resolution != k || c.boxes <= 0.0) continue;
         const bool tiled = c.quality.tileEntriesWalked > 0.0;  // the tiles' list walk (cell_tiles_depth.glsl)
-        md += fmt::format("| {} | {:.2f} | {:.0f} | {:.2f} | {:.1f} | {} | {} |\n", c.spec.label,
+        const auto tileColumn = [&](double value) { return tiled ? fmt::format("{:.1f}", value) : std::string("–"); };
+        md += fmt::format("| {} | {:.2f} | {:.0f} | {:.2f} | {:.1f} | {} | {} | {} |\n", c.spec.label,
                           perCovered(c.prepassFsInvocations, c, info.views), c.boxes, c.prepassVsInvocations / c.boxes,
-                          c.quality.evalsMean, tiled ? fmt::format("{:.1f}", c.quality.tileEntriesWalked) : "–",
-                          tiled ? fmt::format("{:.1f}", c.quality.tileEntriesTested) : "–");
+                          c.quality.evalsMean, tileColumn(c.quality.tileEntriesWalked),
+                          tileColumn(c.quality.tileEntriesTested), tileColumn(c.quality.tileMaskWordsRead));
       }
   md += "\n";
 }
@@ -406,6 +408,7 @@ engine::Status writeJson(const std::filesystem::path& path, const RunInfo& info,
         "\"shading_fs_invocations\": {}, \"vs_invocations\": {}, \"prepass_vs_invocations\": {}, \"boxes\": {}, "
         "\"clipped_primitives\": {}, \"evals_per_pixel_mean\": "
         "{}, \"evals_per_pixel_p95\": {}, \"tile_entries_read_per_pixel\": {}, \"tile_entries_tested_per_pixel\": {}, "
+        "\"tile_mask_words_read_per_pixel\": {}, "
         "\"covered_pixels\": {}, \"stored_scalars\": {}, \"stored_bytes\": {}, "
         "\"cells\": {}, \"coverage_mismatch\": {}, \"normal_err_mean_deg\": {}, \"normal_err_p95_deg\": {}, "
         "\"depth_err_mean\": {}, \"rays_out_of_steps\": {}, \"passes_ms\": {{{}}}, \"image\": \"{}\"}}{}\n",
@@ -413,7 +416,7 @@ engine::Status writeJson(const std::filesystem::path& path, const RunInfo& info,
         r.spec.normalsName(), r.spec.fp16, r.ok, jsonEscape(r.error), r.gpuMsMedian, r.gpuMsP95, r.prepassMs,
         r.shadingMs, r.fsInvocations, r.prepassFsInvocations, r.shadingFsInvocations, r.vsInvocations,
         r.prepassVsInvocations, r.boxes, r.clippedPrimitives, r.quality.evalsMean, r.quality.evalsP95, r.quality.tileEntriesWalked,
-        r.quality.tileEntriesTested, r.quality.coveredPixels, r.storedScalars,
+        r.quality.tileEntriesTested, r.quality.tileMaskWordsRead, r.quality.coveredPixels, r.storedScalars,
         r.storedBytes, r.cells, r.quality.coverageMismatch, r.quality.normalErrorMean, r.quality.normalErrorP95,
         r.quality.depthErrorMean, r.quality.raysOutOfSteps, passesJson(r), jsonEscape(r.image),
         i + 1 < rows.size() ? "," : "");

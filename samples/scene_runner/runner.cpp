@@ -77,9 +77,10 @@ void logWork(samples::Viewer& viewer) {
   }
   log::info("work: {} field evaluations, {} rays ran out of steps", work->evaluations, work->raysOutOfSteps);
   if (work->tileEntries > 0)
-    log::info("tiles: {} drawn, {} list entries{}; the fragments read {} entries and ray-box tested {}",
+    log::info("tiles: {} drawn, {} list entries{}; the fragments read {} mask words and {} entries, and ray-box "
+              "tested {}",
               work->tilesDrawn, work->tileEntries, work->tilesOverflowed ? " (past the limit: boxes drawn)" : "",
-              work->tileEntriesWalked, work->tileEntriesTested);
+              work->tileMaskWordsRead, work->tileEntriesWalked, work->tileEntriesTested);
   if (work->raysOutOfSteps > 0)
     log::warn("{} sphere-tracing rays reached the step limit and were drawn as misses", work->raysOutOfSteps);
 }

@@ -35,7 +35,7 @@ step() {  # step NAME SECONDS COMMAND...: runs it with a time limit, records rc 
 capture=("$@")
 if [ ${#capture[@]} -eq 0 ]; then
   capture=(--size 1920x1080 --views 8 --frames 10 --warmup 3 --resolutions 16,32,64,128,256
-           --methods hermite,trilinear,cells --settings "n=3 r=1 tiles,n=3 r=1 tiles 4x4,n=3 r=1 boxes")
+           --methods hermite,trilinear,cells --settings "n=3 r=1 tiles,n=3 r=1 tiles 4x4,n=3 r=1 tiles 16x16,n=3 r=1 boxes")
 fi
 # The tests and the screenshot take well under two minutes together: the capture gets the rest.
 step capture $(( $(left) - 120 )) "$work/gpu/run.sh" perf_capture --device "$device" --out "$out/capture" "${capture[@]}"

@@ -85,11 +85,11 @@ HSDF_CHECK_SIZE(DrawPushConstants, 32);
 struct WorkTotals {
   uint raysOutOfSteps;     // sphere-tracing rays that reached the step limit (drawn as misses)
   // Tiled cells (cell_tiles_depth.glsl), summed over the prepass fragments: the tile-list entries
-  // they read, and those that passed the per-pixel prefilter and got the ray-box test. The walk
+  // they read, and those that got the ray-box test. The walk
   // over the lists is the tiles' per-fragment cost beside the root search (the evaluations).
   uint tileEntriesWalked;
   uint tileEntriesTested;
-  uint pad0;
+  uint tileMaskWordsRead;  // the words of their pixel's masks they read (CELL_TILES_MASKS)
 };
 HSDF_CHECK_SIZE(WorkTotals, 16);
 

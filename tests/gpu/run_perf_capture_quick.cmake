@@ -111,7 +111,8 @@ if(NOT json MATCHES "\"passes_ms\": {\"frame\": [0-9.e-]+, \"prepare\": [0-9.e-]
   message(FATAL_ERROR "results.json has no passes_ms with the frame and prepare timings")
 endif()
 # The tiled cells' list walk (WorkTotals, counted in the tiles' counted variant): a fragment tests
-# no more entries than it reads; on lavapipe the default cells are tiles, so their rows count it.
+# no more entries than it reads, and reads entries only through its pixel's mask words; on lavapipe
+# the default cells are tiles, so their rows count it.
 string(JSON rowTotal LENGTH "${json}" rows)
 math(EXPR lastRow "${rowTotal} - 1")
 set(tiledRows 0)
@@ -119,8 +120,13 @@ foreach(i RANGE ${lastRow})
   string(JSON rowMethod GET "${json}" rows ${i} method)
   string(JSON read GET "${json}" rows ${i} tile_entries_read_per_pixel)
   string(JSON tested GET "${json}" rows ${i} tile_entries_tested_per_pixel)
+  string(JSON maskWords GET "${json}" rows ${i} tile_mask_words_read_per_pixel)
   if(tested GREATER read)
     message(FATAL_ERROR "row ${i}: ${tested} tile entries tested per pixel but only ${read} read")
+  endif()
+  # Every entry a fragment reads is named by a mask word it read first (cell_tiles_depth.glsl).
+  if(read GREATER 0 AND NOT maskWords GREATER 0)
+    message(FATAL_ERROR "row ${i}: ${read} tile entries read per pixel without a mask word read")
   endif()
   if(rowMethod STREQUAL "cells" AND read GREATER 0)
     math(EXPR tiledRows "${tiledRows} + 1")

@@ -2,7 +2,7 @@
 // Tiled cells (issue 20; HermiteCellFeature::Settings::tiles, hsdf::CellTiler): the kept cells of
 // the cell culling pass binned into screen tiles of pc.tileSize^2 pixels, so that the prepass
 // draws one quad per tile holding a cell instead of one box per cell (cell_tiles.vert,
-// cell_tiles_depth.glsl). Three phases (pc.phase), recorded as COUNT, SCAN, SCATTER with barriers:
+// cell_tiles_depth.glsl). Five phases (pc.phase), recorded in this order with barriers:
 //  - COUNT: a lane per kept cell (per slot of the culling pass's kept stream): the screen rectangle of the
 //    cell's box, grown by its proxy's dilation (below); every
 //    tile it touches counts the cell and keeps the nearest depth of the boxes;
@@ -15,7 +15,10 @@
 //    to the sorted entries nearest first (depth, then draw and record: the same order whatever
 //    order the atomics wrote), so that a fragment stops at the first cell behind its hit. Longer
 //    lists keep the scatter's order and are walked whole (the fragment shader knows them by their
-//    length).
+//    length);
+//  - MASKS: a workgroup per CELL_TILE_MASK_GROUP_TILES non-empty tiles: each pixel's bit masks of the sorted entries
+//    whose pixels hold it (the layout at CELL_TILE_MASK_BITS), so that a fragment reads only the
+//    entries that may cover it (the list's length grows with K, those entries do not).
 // The rectangle only has to hold every pixel whose ray meets the dilated box: the fragment shader
 // tests each listed box against its own ray, as the rasterizer would have. The objects' matrices
 // come from the culling pass's BrickCullObjects (written before this pass; the scene's ObjectData
@@ -196,6 +199,11 @@ void scanTiles() {
     TotalsRef(pc.totals).totals.sortGroups[0] = groupsX;
     TotalsRef(pc.totals).totals.sortGroups[1] = groupsX == 0u ? 0u : (listed + groupsX - 1u) / groupsX;
     TotalsRef(pc.totals).totals.sortGroups[2] = 1u;
+    uint maskGroups = (listed + CELL_TILE_MASK_GROUP_TILES - 1u) / CELL_TILE_MASK_GROUP_TILES;
+    uint maskGroupsX = min(maskGroups, 65535u);
+    TotalsRef(pc.totals).totals.maskGroups[0] = maskGroupsX;
+    TotalsRef(pc.totals).totals.maskGroups[1] = maskGroupsX == 0u ? 0u : (maskGroups + maskGroupsX - 1u) / maskGroupsX;
+    TotalsRef(pc.totals).totals.maskGroups[2] = 1u;
   }
 }
 
@@ -233,11 +241,55 @@ void sortTile() {
   }
 }
 
+// Whether the tile-local pixel `local` is among an entry's pixels (CellTileEntry::pixels).
+bool entryCovers(uint pixels, uvec2 local) {
+  uvec2 lo = uvec2(pixels & 0xffu, (pixels >> 8) & 0xffu);
+  uvec2 hi = uvec2((pixels >> 16) & 0xffu, pixels >> 24);
+  return all(greaterThanEqual(local, lo)) && all(lessThanEqual(local, hi));
+}
+
+// One tile's pixel masks over its sorted list (the layout at CELL_TILE_MASK_BITS), 32 entries per
+// word; its first word goes to the tile's cursor, which the scatter no longer needs.
+void maskTile(uint listIndex, uint lane) {
+  uint tileCount = pc.tilesX * pc.tilesY;
+  uint tile = TileListRef(pc.tiles + uint64_t(tileCount) * 16ul).tiles[listIndex];
+  uint first = TilesRef(pc.tiles).tiles[tile].first, count = TilesRef(pc.tiles).tiles[tile].count;
+  uint pixels = pc.tileSize * pc.tileSize;
+  uint base = (first / CELL_TILE_MASK_BITS + listIndex) * pixels;
+  if (lane == 0u) TilesRef(pc.tiles).tiles[tile].cursor = base;
+  TileListRef masks = TileListRef(pc.tiles + uint64_t(tileCount) * 20ul);
+  ReadEntriesRef sorted = ReadEntriesRef(pc.sortedEntries);
+  uint chunks = (count + CELL_TILE_MASK_BITS - 1u) / CELL_TILE_MASK_BITS;
+  for (uint p = lane; p < pixels; p += gl_WorkGroupSize.x) {
+    uvec2 local = uvec2(p % pc.tileSize, p / pc.tileSize);
+    for (uint c = 0u; c < chunks; ++c) {
+      uint mask = 0u;
+      uint end = min(count - c * CELL_TILE_MASK_BITS, CELL_TILE_MASK_BITS);
+      for (uint j = 0u; j < end; ++j)
+        if (entryCovers(sorted.entries[first + c * CELL_TILE_MASK_BITS + j].pixels, local)) mask |= 1u << j;
+      masks.tiles[base + c * pixels + p] = mask;
+    }
+  }
+}
+
+// CELL_TILE_MASK_GROUP_TILES tiles per workgroup, a lane per pixel of each: no atomics and no
+// barrier (each lane writes its own words).
+void maskTiles() {
+  uint group = gl_WorkGroupID.x + gl_NumWorkGroups.x * gl_WorkGroupID.y;
+  uint listed = TotalsRef(pc.totals).totals.instanceCount;
+  for (uint t = 0u; t < CELL_TILE_MASK_GROUP_TILES; ++t) {
+    uint listIndex = group * CELL_TILE_MASK_GROUP_TILES + t;
+    if (listIndex < listed) maskTile(listIndex, gl_LocalInvocationID.x);
+  }
+}
+
 void main() {
   if (pc.phase == CELL_TILES_SCAN) {
     scanTiles();
   } else if (pc.phase == CELL_TILES_SORT) {
     sortTile();
+  } else if (pc.phase == CELL_TILES_MASKS) {
+    maskTiles();
   } else {
     binCells();
   }

@@ -1,7 +1,7 @@
-// Depth prepass of the tiled cells (cell_tiles.vert): the fragment walks its tile's list of kept
-// cells (cell_tiles.comp), skips those whose screen rectangle misses its pixel (the entry's
-// pixels: one load and a compare, where the ray-box test below costs the cell's record, the
-// dilation and two slab tests), and searches every one whose dilated box its ray meets, exactly as that
+// Depth prepass of the tiled cells (cell_tiles.vert): the fragment walks the entries of its tile's
+// list of kept cells (cell_tiles.comp) that its pixel's masks name (those whose screen rectangle
+// holds the pixel: the rest of the list, which grows with K, is never read), and searches every
+// one whose dilated box its ray meets, exactly as that
 // cell's own box would have (cells_thin_depth.glsl: the box dilated as the proxy, the search over
 // the search margin, cell_search.glsl; docs/root-finding.md); the nearest root wins, as the depth
 // test would have chosen among the boxes. A cell whose box the ray enters only behind the nearest
@@ -18,6 +18,7 @@
 layout(push_constant, scalar) uniform Push { HermitePushConstants pc; };
 layout(buffer_reference, scalar) readonly buffer TilesRef { CellTile tiles[]; };
 layout(buffer_reference, scalar) readonly buffer TileEntriesRef { CellTileEntry entries[]; };
+layout(buffer_reference, scalar) readonly buffer TileMasksRef { uint word; };
 #include "hermite/cell_search.glsl"
 
 layout(location = 0) flat in uint inTile;
@@ -27,13 +28,6 @@ layout(location = 0) out uvec2 outVisibility;  // (1 + object, cell record)
 layout(depth_less) out float gl_FragDepth;  // reverse-Z: the hit is never nearer than the tile's quad
 #endif
 #include "hermite/hit_depth.glsl"
-
-// Whether the pixel at `local` (in its tile) is among an entry's pixels (CellTileEntry::pixels).
-bool cellTileEntryCovers(uint pixels, uvec2 local) {
-  uvec2 lo = uvec2(pixels & 0xffu, (pixels >> 8) & 0xffu);
-  uvec2 hi = uvec2((pixels >> 16) & 0xffu, pixels >> 24);
-  return all(greaterThanEqual(local, lo)) && all(lessThanEqual(local, hi));
-}
 
 void main() {
   FrameGlobals frame = FrameGlobalsRef(pc.draw.frameGlobals).globals;
@@ -47,9 +41,15 @@ void main() {
   uint lastObject = 0xffffffffu;
   ObjectData object;
   vec3 eyeGrid, direction;
-  uint i = 0u;
-  uint walked = 0u, tested = 0u;  // the list entries read and ray-box tested (countTileWalk)
+  uint walked = 0u, tested = 0u, maskWords = 0u;  // entries and mask words read, entries ray-box tested
+  // This pixel's masks (cell_tiles.comp, CELL_TILE_MASK_BITS): word c names the entries 32c..32c+31
+  // whose screen rectangle holds the pixel; the others are never read.
   uvec2 local = uvec2(gl_FragCoord.xy) % pc.tileSize;  // tiles start at multiples of the size
+  uvec2 tiles = (uvec2(frame.viewport.xy) + pc.tileSize - 1u) / pc.tileSize;
+  uint pixels = pc.tileSize * pc.tileSize;
+  uint64_t masks = pc.tiles + uint64_t(tiles.x * tiles.y) * 20ul + uint64_t(tile.cursor + local.y * pc.tileSize + local.x) * 4ul;
+  uint chunks = (tile.count + CELL_TILE_MASK_BITS - 1u) / CELL_TILE_MASK_BITS;
+  uint chunk = 0u, mask = 0u;
   for (;;) {
     // The next entry this fragment must search, by cheap tests only: the search below has one call
     // site, so the lanes of a SIMD group (a GPU's warp, lavapipe's 4x4 block, which runs a loop's
@@ -60,14 +60,23 @@ void main() {
     uint record = 0u;
     vec3 origin;
     float margin = 0.0;
-    for (; i < tile.count && !pending; ++i) {
+    while (!pending) {
+      if (mask == 0u) {
+        if (chunk == chunks) break;
+        mask = TileMasksRef(masks + uint64_t(chunk * pixels) * 4ul).word;
+        ++chunk;
+        ++maskWords;
+        continue;
+      }
+      uint i = (chunk - 1u) * CELL_TILE_MASK_BITS + uint(findLSB(mask));
+      mask &= mask - 1u;
       CellTileEntry entry = TileEntriesRef(pc.tileEntries).entries[tile.first + i];
       ++walked;
       if (sorted && visibility.x != 0u && entry.nearest < gl_FragCoord.z / best) {
-        i = tile.count;  // this box and the rest lie behind the hit
+        chunk = chunks;  // this box and the rest lie behind the hit
+        mask = 0u;
         break;
       }
-      if (!cellTileEntryCovers(entry.pixels, local)) continue;  // its box cannot meet this ray
       ++tested;
       draw = HermiteDrawsRef(pc.draws).draws[entry.draw];
       if (draw.object != lastObject) {
@@ -97,7 +106,7 @@ void main() {
     }
   }
   countWork(evaluations);
-  countTileWalk(walked, tested);
+  countTileWalk(walked, tested, maskWords);
   if (visibility.x == 0u) {
     writeMiss();  // no discard: see hit_depth.glsl
   } else {

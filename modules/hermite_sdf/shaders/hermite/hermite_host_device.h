@@ -183,11 +183,24 @@ HSDF_CHECK_SIZE(CellCullPushConstants, 10 * 8 + 10 * 4);
 #define CELL_TILES_SCAN 1u     // one workgroup: each tile's first entry, the non-empty tile list, the draw
 #define CELL_TILES_SCATTER 2u  // per kept cell: write (draw, record, depth) into every tile's list
 #define CELL_TILES_SORT 3u     // per non-empty tile: its list nearest first (tiles of at most CELL_TILE_SORT_MAX)
+#define CELL_TILES_MASKS 4u    // per non-empty tile: each pixel's masks of the sorted entries that may cover it
 #define CELL_TILE_SORT_MAX 1024u
+// The tiles' buffer: CellTile[tiles], then the non-empty tiles (uint[tiles]), then the pixel masks
+// (uint[cellTileMaskWords]): for each non-empty tile, chunk c of 32 of its sorted entries and pixel
+// p of the tile, bit j of word (masks + c * pixels + p) says that entry 32c + j may cover the
+// pixel (its CellTileEntry::pixels hold it). A fragment reads its pixel's words and only the
+// entries they name, not the whole list. A tile's masks start at word (first / 32 + its place in
+// the non-empty list) * pixels, which leaves room for every tile's ceil(count / 32) chunks.
+#define CELL_TILE_MASK_BITS 32u
+#define CELL_TILE_MASK_GROUP_TILES 8u
+// The mask words the tiles' buffer holds for `capacity` entries, `tiles` tiles of `pixels` each.
+#define CELL_TILE_MASK_WORDS(capacity, tiles, pixels) \
+  ((uint64_t(capacity) / CELL_TILE_MASK_BITS + uint64_t(tiles)) * uint64_t(pixels))
 struct CellTile {
   uint first;   // its first entry in the entry list
   uint count;   // its entries (0 in every tile where the lists overflowed: CellTileTotals::boxDrawCount)
-  uint cursor;  // scatter: entries written so far
+  // Scatter: entries written so far; from the masks phase on: its first pixel-mask word.
+  uint cursor;
   uint depth;   // the nearest (reverse-Z: largest) depth of its cells' boxes, float bits: the quad's depth
 };
 HSDF_CHECK_SIZE(CellTile, 16);
@@ -215,9 +228,9 @@ struct CellTileTotals {
   // at most HermiteCellFeature::Settings::maxTileEntries), no tile is drawn and this count buffer
   // of vkCmdDrawIndirectCount draws every box command of the culled cells instead (~0u; else 0).
   uint boxDrawCount;
-  uint pad0;
-  uint pad1;
-  uint pad2;
+  // VkDispatchIndirectCommand of the masks: one workgroup per CELL_TILE_MASK_GROUP_TILES non-empty
+  // tiles (a workgroup per tile costs software rasterizers more than the work it holds).
+  uint maskGroups[3];
 };
 HSDF_CHECK_SIZE(CellTileTotals, 48);
 

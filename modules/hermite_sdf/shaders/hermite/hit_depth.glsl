@@ -53,12 +53,14 @@ void countWork(uint evaluations) {
 #endif
 }
 
-// The tile-list entries this fragment read and ray-box tested (WorkTotals), when the variant counts.
-void countTileWalk(uint walked, uint tested) {
+// The tile-list entries this fragment read and ray-box tested, and the words of its pixel masks it
+// read (WorkTotals), when the variant counts.
+void countTileWalk(uint walked, uint tested, uint maskWords) {
 #ifdef HSDF_COUNT_WORK
   if (pc.workTotals != 0ul) {
     atomicAdd(WorkTotalsRef(pc.workTotals).totals.tileEntriesWalked, walked);
     atomicAdd(WorkTotalsRef(pc.workTotals).totals.tileEntriesTested, tested);
+    atomicAdd(WorkTotalsRef(pc.workTotals).totals.tileMaskWordsRead, maskWords);
   }
 #endif
 }

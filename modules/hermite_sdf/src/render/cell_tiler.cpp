@@ -13,8 +13,11 @@ namespace {
 constexpr std::uint32_t kMaxGroupsX = 65535;  // the least maxComputeWorkGroupCount[0] Vulkan allows
 constexpr std::uint32_t kWorkgroupSize = 64;  // cell_tiles.comp local_size_x
 
-VkDeviceSize tileBytes(std::uint32_t tileCount) {
-  return VkDeviceSize(tileCount) * (sizeof(shader::CellTile) + sizeof(std::uint32_t));
+// CellTile[tiles], the non-empty tile list and the pixel masks (CELL_TILE_MASK_BITS) of lists of
+// `capacity` entries in all.
+VkDeviceSize tileBytes(std::uint32_t tileCount, std::uint32_t tileSize, std::uint32_t capacity) {
+  return VkDeviceSize(tileCount) * (sizeof(shader::CellTile) + sizeof(std::uint32_t)) +
+         VkDeviceSize(CELL_TILE_MASK_WORDS(capacity, tileCount, tileSize * tileSize)) * sizeof(std::uint32_t);
 }
 
 void computeToCompute(VkCommandBuffer cmd) {
@@ -52,11 +55,9 @@ shader::CellTileTotals CellTiler::lastTotals(std::uint32_t slot) const {
 // The slot's buffers for this frame's tiles and at least `wanted` entries, at most `limit` (a
 // smaller limit than the slot holds shrinks it). The slot's previous frame has completed (its
 // fence was waited for), so replacing them is safe.
-void CellTiler::ensureBuffers(Slot& slot, std::uint32_t tileCount, std::uint64_t wanted, std::uint32_t limit) {
+void CellTiler::ensureBuffers(Slot& slot, std::uint32_t tileCount, std::uint32_t tileSize, std::uint64_t wanted,
+                              std::uint32_t limit) {
   constexpr VkBufferUsageFlags kUsage = VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_SHADER_DEVICE_ADDRESS_BIT;
-  if (!slot.tiles || slot.tiles.size() < tileBytes(tileCount))
-    slot.tiles = engine::gpu::Buffer(*context_, tileBytes(tileCount), kUsage | VK_BUFFER_USAGE_TRANSFER_DST_BIT,
-                                     engine::gpu::MemoryUsage::GpuOnly, "hermite cell tiles");
   wanted = std::clamp<std::uint64_t>(wanted, std::min<std::uint64_t>(4096, limit), limit);
   if (slot.capacity < wanted || slot.capacity > limit) {
     // A quarter more than asked: views that move a little do not reallocate every frame.
@@ -67,6 +68,10 @@ void CellTiler::ensureBuffers(Slot& slot, std::uint32_t tileCount, std::uint64_t
         engine::gpu::Buffer(*context_, bytes, kUsage, engine::gpu::MemoryUsage::GpuOnly, "hermite sorted cell tile entries");
     slot.capacity = capacity;
   }
+  const VkDeviceSize bytes = tileBytes(tileCount, tileSize, slot.capacity);
+  if (!slot.tiles || slot.tiles.size() < bytes)
+    slot.tiles = engine::gpu::Buffer(*context_, bytes, kUsage | VK_BUFFER_USAGE_TRANSFER_DST_BIT,
+                                     engine::gpu::MemoryUsage::GpuOnly, "hermite cell tiles");
 }
 
 void CellTiler::dispatchBins(VkCommandBuffer cmd, shader::CellTilePushConstants push, const Frame& frame,
@@ -91,7 +96,7 @@ void CellTiler::record(VkCommandBuffer cmd, const Frame& frame) {
   const std::uint32_t tilesY = (frame.extent.height + frame.tileSize - 1) / frame.tileSize;
   const std::uint32_t tileCount = std::max(tilesX * tilesY, 1u);
   const std::uint64_t needed = slot.recorded ? lastTotals(frame.slot).entriesNeeded : 0;
-  ensureBuffers(slot, tileCount, std::max(frame.entryEstimate, needed), std::max(frame.entryLimit, 1u));
+  ensureBuffers(slot, tileCount, frame.tileSize, std::max(frame.entryEstimate, needed), std::max(frame.entryLimit, 1u));
   slot.recorded = true;
   shader::CellTileTotals totals{};
   totals.vertexCount = tilesAsPoints(*context_) ? 1 : 6;
@@ -133,9 +138,14 @@ void CellTiler::record(VkCommandBuffer cmd, const Frame& frame) {
                              VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_2_DRAW_INDIRECT_BIT,
                              VK_ACCESS_2_SHADER_STORAGE_READ_BIT | VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT |
                                  VK_ACCESS_2_INDIRECT_COMMAND_READ_BIT);
+  // SORT (a workgroup per non-empty tile), then MASKS over the sorted lists.
   push.phase = CELL_TILES_SORT;
   vkCmdPushConstants(cmd, pipeline_.layout(), VK_SHADER_STAGE_COMPUTE_BIT, 0, sizeof(push), &push);
   vkCmdDispatchIndirect(cmd, totals_.buffer(frame.slot).handle(), offsetof(shader::CellTileTotals, sortGroups));
+  computeToCompute(cmd);
+  push.phase = CELL_TILES_MASKS;
+  vkCmdPushConstants(cmd, pipeline_.layout(), VK_SHADER_STAGE_COMPUTE_BIT, 0, sizeof(push), &push);
+  vkCmdDispatchIndirect(cmd, totals_.buffer(frame.slot).handle(), offsetof(shader::CellTileTotals, maskGroups));
   engine::gpu::memoryBarrier(
       cmd, VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT, VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT,
       VK_PIPELINE_STAGE_2_DRAW_INDIRECT_BIT | VK_PIPELINE_STAGE_2_ALL_GRAPHICS_BIT | VK_PIPELINE_STAGE_2_HOST_BIT,

@@ -5,7 +5,7 @@
 // which shades and counts whole 4x4 blocks, a box of a few pixels costs 16-64 fragment invocations;
 // a tile costs its 64 pixels once, whatever the number of cells behind them.
 //
-// Per frame slot: the tiles (CellTile per tile, then the non-empty tile list), the entry list and
+// Per frame slot: the tiles (CellTile per tile, the non-empty tile list, the pixel masks), the entry list and
 // the totals (the tile draw's indirect command, host-visible: the entries the scan needed are read
 // back to size the next frame's list). record() in prepare(), after the cell culling pass.
 #include <cstddef>
@@ -52,7 +52,7 @@ class CellTiler {
     std::uint64_t entryEstimate = 0;
     std::uint32_t entryLimit = 4096;  // HermiteCellFeature::Settings::maxTileEntries
   };
-  // Records COUNT, SCAN and SCATTER with their barriers; after it the tiles, entries and the tile
+  // Records COUNT, SCAN, SCATTER, SORT and MASKS with their barriers; after it the tiles, entries and the tile
   // draw's command are visible to the draw.
   void record(VkCommandBuffer cmd, const Frame& frame);
 
@@ -73,7 +73,8 @@ class CellTiler {
     std::uint32_t capacity = 0;
     bool recorded = false;
   };
-  void ensureBuffers(Slot& slot, std::uint32_t tileCount, std::uint64_t wanted, std::uint32_t limit);
+  void ensureBuffers(Slot& slot, std::uint32_t tileCount, std::uint32_t tileSize, std::uint64_t wanted,
+                     std::uint32_t limit);
   void dispatchBins(VkCommandBuffer cmd, shader::CellTilePushConstants push, const Frame& frame, std::uint32_t phase);
 
   const engine::gpu::Context* context_ = nullptr;
