@@ -181,7 +181,7 @@ void scanTiles() {
   // Lists that do not fit whole would lose cells (holes): then every tile is left empty (nothing
   // scattered, sorted or drawn) and the culled cells' boxes are drawn instead (boxDrawCount).
   bool overflow = needed > pc.entryCapacity;
-  TileListRef list = TileListRef(pc.tiles + uint64_t(tileCount) * 16ul);
+  TileListRef list = TileListRef(pc.tiles + CELL_TILE_LIST_OFFSET(tileCount));
   for (uint t = begin; t < end; ++t) {
     uint count = tiles.tiles[t].count;
     tiles.tiles[t].first = first;
@@ -223,7 +223,7 @@ void sortTile() {
   uint listIndex = gl_WorkGroupID.x + gl_NumWorkGroups.x * gl_WorkGroupID.y;
   uint tileCount = pc.tilesX * pc.tilesY;
   if (listIndex >= TotalsRef(pc.totals).totals.instanceCount) return;
-  uint tile = TileListRef(pc.tiles + uint64_t(tileCount) * 16ul).tiles[listIndex];
+  uint tile = TileListRef(pc.tiles + CELL_TILE_LIST_OFFSET(tileCount)).tiles[listIndex];
   uint first = TilesRef(pc.tiles).tiles[tile].first, count = TilesRef(pc.tiles).tiles[tile].count;
   ReadEntriesRef source = ReadEntriesRef(pc.entries);
   for (uint i = gl_LocalInvocationID.x; i < count; i += gl_WorkGroupSize.x) {
@@ -252,12 +252,12 @@ bool entryCovers(uint pixels, uvec2 local) {
 // word; its first word goes to the tile's cursor, which the scatter no longer needs.
 void maskTile(uint listIndex, uint lane) {
   uint tileCount = pc.tilesX * pc.tilesY;
-  uint tile = TileListRef(pc.tiles + uint64_t(tileCount) * 16ul).tiles[listIndex];
+  uint tile = TileListRef(pc.tiles + CELL_TILE_LIST_OFFSET(tileCount)).tiles[listIndex];
   uint first = TilesRef(pc.tiles).tiles[tile].first, count = TilesRef(pc.tiles).tiles[tile].count;
   uint pixels = pc.tileSize * pc.tileSize;
   uint base = (first / CELL_TILE_MASK_BITS + listIndex) * pixels;
   if (lane == 0u) TilesRef(pc.tiles).tiles[tile].cursor = base;
-  TileListRef masks = TileListRef(pc.tiles + uint64_t(tileCount) * 20ul);
+  TileListRef masks = TileListRef(pc.tiles + CELL_TILE_MASKS_OFFSET(tileCount));
   ReadEntriesRef sorted = ReadEntriesRef(pc.sortedEntries);
   uint chunks = (count + CELL_TILE_MASK_BITS - 1u) / CELL_TILE_MASK_BITS;
   for (uint p = lane; p < pixels; p += gl_WorkGroupSize.x) {

@@ -47,7 +47,7 @@ void main() {
   uvec2 local = uvec2(gl_FragCoord.xy) % pc.tileSize;  // tiles start at multiples of the size
   uvec2 tiles = (uvec2(frame.viewport.xy) + pc.tileSize - 1u) / pc.tileSize;
   uint pixels = pc.tileSize * pc.tileSize;
-  uint64_t masks = pc.tiles + uint64_t(tiles.x * tiles.y) * 20ul + uint64_t(tile.cursor + local.y * pc.tileSize + local.x) * 4ul;
+  uint64_t masks = pc.tiles + CELL_TILE_MASKS_OFFSET(tiles.x * tiles.y) + uint64_t(tile.cursor + local.y * pc.tileSize + local.x) * 4ul;
   uint chunks = (tile.count + CELL_TILE_MASK_BITS - 1u) / CELL_TILE_MASK_BITS;
   uint chunk = 0u, mask = 0u;
   for (;;) {

@@ -21,7 +21,7 @@ const int kQuadCorners[6] = int[6](0, 1, 2, 2, 1, 3);
 void main() {
   FrameGlobals frame = FrameGlobalsRef(pc.draw.frameGlobals).globals;
   uvec2 tiles = (uvec2(frame.viewport.xy) + pc.tileSize - 1u) / pc.tileSize;
-  uint tile = TileListRef(pc.tiles + uint64_t(tiles.x * tiles.y) * 16ul).tiles[gl_InstanceIndex];
+  uint tile = TileListRef(pc.tiles + CELL_TILE_LIST_OFFSET(tiles.x * tiles.y)).tiles[gl_InstanceIndex];
   vec2 origin = vec2(tile % tiles.x, tile / tiles.x) * float(pc.tileSize);
 #ifdef HSDF_TILE_POINTS
   // The centre, kept inside the frame for a tile the frame's edge cuts (a point whose centre lies

@@ -193,6 +193,9 @@ HSDF_CHECK_SIZE(CellCullPushConstants, 10 * 8 + 10 * 4);
 // the non-empty list) * pixels, which leaves room for every tile's ceil(count / 32) chunks.
 #define CELL_TILE_MASK_BITS 32u
 #define CELL_TILE_MASK_GROUP_TILES 8u
+// Where the non-empty tile list and the masks start in the tiles' buffer, in bytes.
+#define CELL_TILE_LIST_OFFSET(tiles) (uint64_t(tiles) * 16u)
+#define CELL_TILE_MASKS_OFFSET(tiles) (uint64_t(tiles) * 20u)
 // The mask words the tiles' buffer holds for `capacity` entries, `tiles` tiles of `pixels` each.
 #define CELL_TILE_MASK_WORDS(capacity, tiles, pixels) \
   ((uint64_t(capacity) / CELL_TILE_MASK_BITS + uint64_t(tiles)) * uint64_t(pixels))
@@ -243,7 +246,7 @@ struct CellTilePushConstants {
   uint64_t draws;         // HermiteDraw[] (a range's drawCommand indexes it)
   uint64_t objects;       // BrickCullObject[] of the culling pass (CellCullRange::object indexes it)
   uint64_t frameGlobals;  // FrameGlobals
-  uint64_t tiles;         // CellTile[tilesX * tilesY], then uint[tilesX * tilesY]: the non-empty tiles
+  uint64_t tiles;         // CellTile[tilesX * tilesY], the non-empty tiles (uint[tilesX * tilesY]), the masks
   uint64_t entries;       // CellTileEntry[entryCapacity]: the scatter's lists
   uint64_t sortedEntries; // CellTileEntry[entryCapacity]: the same lists sorted (what the draw reads)
   uint64_t totals;        // CellTileTotals
@@ -284,8 +287,8 @@ struct HermitePushConstants {
   // Culled cells (CellCullPushConstants::keptIndices): the record index of each instance of the
   // kept-cell stream the draws read; 0 when the instances are the records themselves.
   uint64_t cellRecords;
-  // Tiled cells: CellTile[] then the non-empty tile list (CellTilePushConstants::tiles), and the
-  // tiles' CellTileEntry[].
+  // Tiled cells: CellTile[], the non-empty tile list and the pixel masks (CellTilePushConstants::tiles),
+  // and the tiles' sorted CellTileEntry[].
   uint64_t tiles;
   uint64_t tileEntries;
   uint drawBase;

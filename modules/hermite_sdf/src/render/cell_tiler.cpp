@@ -16,7 +16,8 @@ constexpr std::uint32_t kWorkgroupSize = 64;  // cell_tiles.comp local_size_x
 // CellTile[tiles], the non-empty tile list and the pixel masks (CELL_TILE_MASK_BITS) of lists of
 // `capacity` entries in all.
 VkDeviceSize tileBytes(std::uint32_t tileCount, std::uint32_t tileSize, std::uint32_t capacity) {
-  return VkDeviceSize(tileCount) * (sizeof(shader::CellTile) + sizeof(std::uint32_t)) +
+  static_assert(CELL_TILE_MASKS_OFFSET(1) == sizeof(shader::CellTile) + sizeof(std::uint32_t));
+  return VkDeviceSize(CELL_TILE_MASKS_OFFSET(tileCount)) +
          VkDeviceSize(CELL_TILE_MASK_WORDS(capacity, tileCount, tileSize * tileSize)) * sizeof(std::uint32_t);
 }
 
