@@ -24,7 +24,7 @@ gpu::VertexLayout meshVertexLayout() {
 Status MeshFeature::initialize(const gpu::Context& context, const RendererFormats& formats, std::uint32_t framesInFlight) {
   context_ = &context;
   formats_ = formats;
-  multiDraw_ = context.capabilities().multiDrawIndirect;
+  draws_ = gpu::IndirectDraws(context);
   indirect_ = PerFrameBuffer(context, framesInFlight, VK_BUFFER_USAGE_INDIRECT_BUFFER_BIT, "mesh indirect draws");
   ENGINE_TRY_ASSIGN(pipelines_, createPipelines());
   return {};
@@ -113,20 +113,9 @@ void MeshFeature::recordDraws(PassContext& pass, const gpu::Pipeline& pipeline) 
   vkCmdBindIndexBuffer(cmd, pool_.indexBuffer().handle(), 0, VK_INDEX_TYPE_UINT32);
   const VkBuffer indirect = indirect_.buffer(pass.frame.frameSlot).handle();
   vkCmdSetFrontFace(cmd, VK_FRONT_FACE_COUNTER_CLOCKWISE);
-  recordBatch(cmd, indirect, 0, mirroredFirst_);
+  draws_.drawIndexed(cmd, indirect, 0, mirroredFirst_);
   vkCmdSetFrontFace(cmd, VK_FRONT_FACE_CLOCKWISE);
-  recordBatch(cmd, indirect, mirroredFirst_, drawCount_ - mirroredFirst_);
-}
-
-void MeshFeature::recordBatch(VkCommandBuffer cmd, VkBuffer indirect, std::uint32_t first, std::uint32_t count) const {
-  if (count == 0) return;
-  const auto stride = static_cast<std::uint32_t>(sizeof(VkDrawIndexedIndirectCommand));
-  if (multiDraw_) {
-    vkCmdDrawIndexedIndirect(cmd, indirect, VkDeviceSize(first) * stride, count, stride);
-  } else {
-    for (std::uint32_t i = first; i < first + count; ++i)
-      vkCmdDrawIndexedIndirect(cmd, indirect, VkDeviceSize(i) * stride, 1, stride);
-  }
+  draws_.drawIndexed(cmd, indirect, mirroredFirst_, drawCount_ - mirroredFirst_);
 }
 
 void MeshFeature::drawUi() {

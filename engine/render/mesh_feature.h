@@ -8,6 +8,7 @@
 #include <memory>
 #include <vector>
 
+#include "engine/gpu/indirect_draws.h"
 #include "engine/gpu/pipeline.h"
 #include "engine/render/mesh_pool.h"
 #include "engine/render/per_frame_buffer.h"
@@ -36,7 +37,6 @@ class MeshFeature final : public RenderFeature {
   };
   Expected<Pipelines> createPipelines() const;
   void recordDraws(PassContext& pass, const gpu::Pipeline& pipeline);
-  void recordBatch(VkCommandBuffer cmd, VkBuffer indirect, std::uint32_t first, std::uint32_t count) const;
 
   MeshPool& pool_;
   const gpu::Context* context_ = nullptr;
@@ -47,7 +47,7 @@ class MeshFeature final : public RenderFeature {
   std::uint32_t drawCount_ = 0;
   std::uint32_t mirroredFirst_ = 0;  // index of the first mirrored object's command
   std::uint32_t culledCount_ = 0;
-  bool multiDraw_ = false;
+  gpu::IndirectDraws draws_;
 };
 
 }  // namespace engine::render

@@ -49,13 +49,7 @@ engine::Status HermiteCellFeature::initialize(const engine::gpu::Context& contex
                                               const engine::render::RendererFormats& formats,
                                               std::uint32_t framesInFlight) {
   context_ = &context;
-  multiDraw_ = context.capabilities().multiDrawIndirect;
-  if (context.capabilities().drawIndirectCount) {
-    drawAllCount_ = engine::gpu::Buffer(context, sizeof(std::uint32_t), VK_BUFFER_USAGE_INDIRECT_BUFFER_BIT,
-                                        engine::gpu::MemoryUsage::Upload, "hermite cell draw-all count");
-    const std::uint32_t all = ~0u;
-    drawAllCount_.write(&all, sizeof(all));
-  }
+  draws_ = engine::gpu::IndirectDraws(context);
   drawData_ = engine::render::PerFrameBuffer(context, framesInFlight, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT,
                                              "hermite cell draws");
   // Storage too: the brick culling pass writes the instance counts of the bricks' commands.
@@ -212,21 +206,6 @@ void HermiteCellFeature::recordBatch(engine::render::PassContext& pass, int prec
   recordIndirect(cmd, pipeline, push, pass.frame.frameSlot, first, count, countBuffer, countOffset);
 }
 
-// `count` VkDrawIndirectCommands of `buffer` from command `first`, at most as many as countBuffer's
-// word says where one is given. See drawAllCount_ for why the count form draws them all too.
-void HermiteCellFeature::drawIndirect(VkCommandBuffer cmd, VkBuffer buffer, std::uint32_t first, std::uint32_t count,
-                                      VkBuffer countBuffer, VkDeviceSize countOffset) const {
-  constexpr auto stride = static_cast<std::uint32_t>(sizeof(VkDrawIndirectCommand));
-  if (countBuffer == VK_NULL_HANDLE && drawAllCount_) {
-    countBuffer = drawAllCount_.handle();
-    countOffset = 0;
-  }
-  if (countBuffer != VK_NULL_HANDLE)
-    vkCmdDrawIndirectCount(cmd, buffer, VkDeviceSize(first) * stride, countBuffer, countOffset, count, stride);
-  else
-    vkCmdDrawIndirect(cmd, buffer, VkDeviceSize(first) * stride, count, stride);
-}
-
 HermiteCellFeature::Variant HermiteCellFeature::withoutEarlyStage(Variant variant) {
   return variant == kCounted ? kCounted : kProduction;
 }
@@ -234,20 +213,14 @@ HermiteCellFeature::Variant HermiteCellFeature::withoutEarlyStage(Variant varian
 void HermiteCellFeature::recordIndirect(VkCommandBuffer cmd, const Pipeline& pipeline, shader::HermitePushConstants push,
                                         std::uint32_t frameSlot, std::uint32_t first, std::uint32_t count,
                                         VkBuffer countBuffer, VkDeviceSize countOffset) {
-  const VkBuffer indirect = indirect_.buffer(frameSlot).handle();
   const VkShaderStageFlags stages = VK_SHADER_STAGE_VERTEX_BIT | VK_SHADER_STAGE_FRAGMENT_BIT;
-  const auto draw = [&](std::uint32_t at, std::uint32_t n) { drawIndirect(cmd, indirect, at, n, countBuffer, countOffset); };
-  if (multiDraw_) {
-    push.drawBase = first;
+  // The draws find their HermiteDraw at drawBase + gl_DrawID, which is 0 in each single draw.
+  const auto pushBase = [&](std::uint32_t base) {
+    push.drawBase = base;
     vkCmdPushConstants(cmd, pipeline.layout(), stages, 0, sizeof(push), &push);
-    draw(first, count);
-    return;
-  }
-  for (std::uint32_t i = 0; i < count; ++i) {  // gl_DrawID is 0 in each single draw
-    push.drawBase = first + i;
-    vkCmdPushConstants(cmd, pipeline.layout(), stages, 0, sizeof(push), &push);
-    draw(first + i, 1);
-  }
+  };
+  if (draws_.multiDraw()) pushBase(first);
+  draws_.draw(cmd, indirect_.buffer(frameSlot).handle(), first, count, countBuffer, countOffset, pushBase);
 }
 
 void HermiteCellFeature::recordWireframe(engine::render::PassContext& pass, int precision) {
@@ -391,7 +364,7 @@ void HermiteCellFeature::recordTiles(engine::render::PassContext& pass) {
   push.tileSize = tileSize_;
   vkCmdPushConstants(pass.cmd, pipeline.layout(), VK_SHADER_STAGE_VERTEX_BIT | VK_SHADER_STAGE_FRAGMENT_BIT, 0,
                      sizeof(push), &push);
-  drawIndirect(pass.cmd, tiler_->drawCommand(slot).handle(), 0, 1);
+  draws_.draw(pass.cmd, tiler_->drawCommand(slot).handle(), 0, 1);
 }
 
 shader::CellTileTotals HermiteCellFeature::tileTotals() const {

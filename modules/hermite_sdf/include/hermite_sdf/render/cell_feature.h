@@ -60,6 +60,7 @@
 #include "engine/ecs/entity.h"
 #include "engine/gpu/buffer.h"
 #include "engine/gpu/deferred_release.h"
+#include "engine/gpu/indirect_draws.h"
 #include "engine/gpu/pipeline.h"
 #include "engine/gpu/pixel_buffer.h"
 #include "engine/render/per_frame_buffer.h"
@@ -256,8 +257,6 @@ class HermiteCellFeature final : public engine::render::RenderFeature {
   void recordIndirect(VkCommandBuffer cmd, const engine::gpu::Pipeline& pipeline, shader::HermitePushConstants push,
                       std::uint32_t frameSlot, std::uint32_t first, std::uint32_t count,
                       VkBuffer countBuffer = VK_NULL_HANDLE, VkDeviceSize countOffset = 0);
-  void drawIndirect(VkCommandBuffer cmd, VkBuffer buffer, std::uint32_t first, std::uint32_t count,
-                    VkBuffer countBuffer = VK_NULL_HANDLE, VkDeviceSize countOffset = 0) const;
   void recordResolve(engine::render::PassContext& pass);
   void recordTiling(engine::render::FrameContext& frame);
   void recordTiles(engine::render::PassContext& pass);
@@ -343,12 +342,7 @@ class HermiteCellFeature final : public engine::render::RenderFeature {
   bool tiledOnce_ = false;
   bool tileOverflowLogged_ = false;  // logTileOverflow: said until a frame fits again
   glm::vec4 screenRect_{1.0f, 1.0f, -1.0f, -1.0f};  // NDC bounds of this frame's cell objects (resolve)
-  bool multiDraw_ = false;
-  // Where the device has vkCmdDrawIndirectCount, every indirect draw of the feature goes through
-  // it, this buffer's one word (~0u: every command) as the count of those that draw all: lavapipe
-  // (Mesa 22.3) keeps a count buffer's state for the later vkCmdDrawIndirect of the command buffer,
-  // which then drew nothing (the wireframe, a second view region) after the tiles' fallback draws.
-  engine::gpu::Buffer drawAllCount_;
+  engine::gpu::IndirectDraws draws_;  // every indirect draw of the feature (see its header)
   // Brick culling (Settings::cullBricks): this frame's objects, the kept-brick stream's size and the
   // most bricks of one object; per frame slot the objects, totals and kept-brick stream.
   std::unique_ptr<class BrickCuller> culler_;
