@@ -1,6 +1,8 @@
 #version 460
-// Cell culling (issue 20; RenderMethod::Cells, hsdf::CellCuller): one workgroup per range of cells
-// (one front-face command of a culled object: a row, in the order the CPU sorted the rows). Each
+// Cell culling (issue 20; RenderMethod::Cells, hsdf::CellCuller): one workgroup per pack of ranges
+// of cells (a range: one front-face command of a culled object, a row, in the order the CPU sorted
+// the rows; a pack: consecutive ranges of at most CELL_CULL_PACK_CELLS cells together, a lane per
+// cell, or one longer range). Each
 // cell is tested as brick_cull.comp tests a brick (normal_cone.glsl brickSurvives: the frustum,
 // then the normal cone where the object allows it); the kept cells are copied, in their order
 // within the range, to the range's part of the kept-cell stream (the records whole, so the draws
@@ -19,6 +21,7 @@
 layout(local_size_x = 64) in;
 
 layout(buffer_reference, scalar) readonly buffer RangesRef { CellCullRange ranges[]; };
+layout(buffer_reference, scalar) readonly buffer PackFirstRef { uint first[]; };
 layout(buffer_reference, scalar) readonly buffer RecordWordsRef { uint words[]; };
 layout(buffer_reference, scalar) writeonly buffer KeptWordsRef { uint words[]; };
 layout(buffer_reference, scalar) writeonly buffer KeptIndicesRef { uint indices[]; };
@@ -130,10 +133,51 @@ void copyRecord(uint record, uint slot) {
   KeptIndicesRef(pc.keptIndices).indices[slot] = record;
 }
 
-void main() {
-  // Ranges beyond 65535 continue on the next workgroup row (maxComputeWorkGroupCount[0]).
-  uint rangeIndex = gl_WorkGroupID.y * gl_NumWorkGroups.x + gl_WorkGroupID.x;
-  if (rangeIndex >= pc.rangeCount) return;  // the whole workgroup: the barriers below stay uniform
+// The counts of a culled range: its command's instance count and the pass's totals. Each cell is
+// counted as tested, frustum- or cone-culled once (not again in phase 2); kept counts the boxes
+// drawn, both phases together.
+void countRange(CellCullRange range, uint written) {
+  CommandsRef(pc.commands).words[(range.drawCommand + pc.commandOffset) * 4u + 1u] = written;
+  TotalsRef totals = TotalsRef(pc.totals);
+  if (pc.phase != CELL_CULL_PHASE_LATE) atomicAdd(totals.totals.tested, range.cellCount);
+  atomicAdd(totals.totals.kept, written);
+}
+
+void countCulled(uint frustum, uint cone) {
+  TotalsRef totals = TotalsRef(pc.totals);
+  bool counts = pc.phase != CELL_CULL_PHASE_LATE;
+  if (counts && frustum > 0u) atomicAdd(totals.totals.frustumCulled, frustum);
+  if (counts && cone > 0u) atomicAdd(totals.totals.coneCulled, cone);
+}
+
+// A pack of short ranges (at most CELL_CULL_PACK_CELLS cells together): a lane per cell, one
+// prefix sum over the pack; a range's kept cells keep their order, from the range's own start.
+void cullPack(uint firstRange, uint endRange) {
+  uint lane = gl_LocalInvocationID.x;
+  uint r = firstRange, start = 0u;
+  for (; r < endRange; ++r) {
+    uint cells = RangesRef(pc.ranges).ranges[r].cellCount;
+    if (lane < start + cells) break;
+    start += cells;
+  }
+  bool inRange = r < endRange;
+  CellCullRange range;
+  uint i = lane - start, frustum = 0u, cone = 0u;
+  bool kept = false;
+  if (inRange) {
+    range = RangesRef(pc.ranges).ranges[r];
+    BrickCullObject object = CullObjectsRef(pc.objects).objects[range.object];
+    kept = keptInPhase(object, range.firstCell + i, range.historyFirst + i, cellKept(object, range.firstCell + i, frustum, cone));
+  }
+  uint upTo = inclusivePrefix(kept ? 1u : 0u);  // every lane: the barriers stay uniform
+  uint before = inRange && start > 0u ? keptUpTo[start - 1u] : 0u;
+  if (kept) copyRecord(range.firstCell + i, range.outputFirst + pc.outputOffset + upTo - before - 1u);
+  countCulled(frustum, cone);
+  if (inRange && i + 1u == range.cellCount) countRange(range, upTo - before);
+}
+
+// A range of its own, CELL_CULL_PACK_CELLS cells at a time.
+void cullRange(uint rangeIndex) {
   CellCullRange range = RangesRef(pc.ranges).ranges[rangeIndex];
   BrickCullObject object = CullObjectsRef(pc.objects).objects[range.object];
   uint lane = gl_LocalInvocationID.x;
@@ -149,14 +193,19 @@ void main() {
     if (kept) copyRecord(range.firstCell + i, range.outputFirst + pc.outputOffset + written + upTo - 1u);
     written += chunkKept;
   }
-  // Each cell is counted as tested, frustum- or cone-culled once (not again in phase 2); kept
-  // counts the boxes drawn, both phases together.
-  TotalsRef totals = TotalsRef(pc.totals);
-  bool counts = pc.phase != CELL_CULL_PHASE_LATE;
-  if (counts && frustum > 0u) atomicAdd(totals.totals.frustumCulled, frustum);
-  if (counts && cone > 0u) atomicAdd(totals.totals.coneCulled, cone);
-  if (lane != 0u) return;
-  CommandsRef(pc.commands).words[(range.drawCommand + pc.commandOffset) * 4u + 1u] = written;
-  if (counts) atomicAdd(totals.totals.tested, range.cellCount);
-  atomicAdd(totals.totals.kept, written);
+  countCulled(frustum, cone);
+  if (lane == 0u) countRange(range, written);
+}
+
+void main() {
+  // Packs beyond 65535 continue on the next workgroup row (maxComputeWorkGroupCount[0]).
+  uint pack = gl_WorkGroupID.y * gl_NumWorkGroups.x + gl_WorkGroupID.x;
+  if (pack >= pc.packCount) return;  // the whole workgroup: the barriers below stay uniform
+  PackFirstRef packs = PackFirstRef(pc.ranges + uint64_t(pc.rangeCount) * 32u);
+  uint firstRange = packs.first[pack], endRange = packs.first[pack + 1u];
+  if (endRange - firstRange == 1u) {
+    cullRange(firstRange);
+  } else {
+    cullPack(firstRange, endRange);
+  }
 }

@@ -164,8 +164,14 @@ struct CellCullPushConstants {
   // proxies' dilation beyond the cell (proxy_dilation.glsl), so a box is occluded only when its
   // nearest depth times (1 + depthMargin) is still behind the pyramid.
   float depthMargin;
-  uint pad0;
+  // The workgroups: packs of consecutive ranges (CELL_CULL_PACK_CELLS), whose first ranges follow
+  // the ranges in their buffer (uint[packCount + 1], the last one rangeCount).
+  uint packCount;
 };
+// At most this many cells in a pack of ranges (one workgroup, a lane per cell); a longer range is
+// a pack of its own, walked 64 cells at a time. Rows hold a few cells each at large K and in small
+// objects: a workgroup per range left most lanes idle (lavapipe runs them all).
+#define CELL_CULL_PACK_CELLS 64u
 HSDF_CHECK_SIZE(CellCullPushConstants, 10 * 8 + 10 * 4);
 #define CELL_CULL_PHASE_ALL 0u    // no occlusion culling
 #define CELL_CULL_PHASE_EARLY 1u

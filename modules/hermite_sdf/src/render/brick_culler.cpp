@@ -1,6 +1,7 @@
 #include "render/brick_culler.h"
 
 #include <algorithm>
+#include <cstring>
 
 #include "engine/gpu/buffer.h"
 #include "hermite_sdf/core/normal_cone.h"
@@ -76,13 +77,34 @@ engine::Expected<CellCuller> CellCuller::create(const engine::gpu::Context& cont
   return culler;
 }
 
+CellCuller::RangeUpload CellCuller::rangeUpload(std::span<const shader::CellCullRange> ranges) {
+  RangeUpload upload;
+  upload.words.resize(ranges.size_bytes() / sizeof(std::uint32_t));
+  if (!ranges.empty()) std::memcpy(upload.words.data(), ranges.data(), ranges.size_bytes());
+  std::uint32_t cells = 0;
+  bool open = false;  // a pack that may take more ranges
+  for (std::uint32_t r = 0; r < ranges.size(); ++r) {
+    const std::uint32_t n = ranges[r].cellCount;
+    const bool alone = n == 0 || n > CELL_CULL_PACK_CELLS;  // an empty range's count: the single-range path
+    if (alone || !open || cells + n > CELL_CULL_PACK_CELLS) {
+      upload.words.push_back(r);
+      ++upload.packCount;
+      cells = 0;
+    }
+    cells += n;
+    open = !alone;
+  }
+  upload.words.push_back(static_cast<std::uint32_t>(ranges.size()));
+  return upload;
+}
+
 void CellCuller::record(VkCommandBuffer cmd, const shader::CellCullPushConstants& push) const {
-  if (push.rangeCount == 0) return;
+  if (push.packCount == 0) return;
   constexpr std::uint32_t kMaxGroupsX = 65535;  // the least maxComputeWorkGroupCount[0] Vulkan allows
-  const std::uint32_t groupsX = std::min(push.rangeCount, kMaxGroupsX);
+  const std::uint32_t groupsX = std::min(push.packCount, kMaxGroupsX);
   vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, pipeline_.handle());
   vkCmdPushConstants(cmd, pipeline_.layout(), VK_SHADER_STAGE_COMPUTE_BIT, 0, sizeof(push), &push);
-  vkCmdDispatch(cmd, groupsX, (push.rangeCount + groupsX - 1) / groupsX, 1);
+  vkCmdDispatch(cmd, groupsX, (push.packCount + groupsX - 1) / groupsX, 1);
 }
 
 }  // namespace hsdf

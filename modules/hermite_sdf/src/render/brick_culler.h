@@ -15,6 +15,8 @@
 // record() in prepare(): its barriers make the kept bricks and counts visible to the indirect draws
 // and the vertex input of every later pass of the same queue.
 #include <cstdint>
+#include <span>
+#include <vector>
 
 #include <glm/glm.hpp>
 #include <vulkan/vulkan.h>
@@ -77,8 +79,17 @@ class CellCuller {
  public:
   static engine::Expected<CellCuller> create(const engine::gpu::Context& context);
 
+  // What cell_cull.comp reads at CellCullPushConstants::ranges: the ranges, then each pack's first
+  // range and ranges.size() (a pack, one workgroup: consecutive ranges of at most
+  // CELL_CULL_PACK_CELLS cells together; a longer or an empty one alone), and the pack count.
+  struct RangeUpload {
+    std::vector<std::uint32_t> words;
+    std::uint32_t packCount = 0;
+  };
+  static RangeUpload rangeUpload(std::span<const shader::CellCullRange> ranges);
+
   // Records one dispatch per call (one record precision: its buffers in `push`), one workgroup a
-  // range, without barriers: the caller puts the passes between barrierBeforeCulling and
+  // pack of ranges (push.packCount), without barriers: the caller puts the passes between barrierBeforeCulling and
   // barrierAfterCulling. Nothing is recorded for no ranges.
   void record(VkCommandBuffer cmd, const shader::CellCullPushConstants& push) const;
 

@@ -75,12 +75,19 @@ void HermiteCellFeature::recordBrickCulling(engine::render::FrameContext& frame)
 // over its ranges, writing the slot's kept records (the front faces' vertex stream instead of the
 // record buffer), their record indices and the commands' instance counts.
 void HermiteCellFeature::recordCellCulling(engine::render::FrameContext& frame) {
-  std::vector<shader::CellCullRange> ranges = cellCullRanges_[0];
-  ranges.insert(ranges.end(), cellCullRanges_[1].begin(), cellCullRanges_[1].end());
-  if (ranges.empty()) return;
+  if (cellCullRanges_[0].empty() && cellCullRanges_[1].empty()) return;
+  // Per precision: its ranges and packs (CellCuller::rangeUpload; uints, 4-byte aligned as the
+  // scalar layout wants).
+  std::vector<std::uint32_t> words;
+  for (int precision = 0; precision < 2; ++precision) {
+    const CellCuller::RangeUpload upload = CellCuller::rangeUpload(cellCullRanges_[precision]);
+    cellCullRangeOffsets_[precision] = words.size() * sizeof(std::uint32_t);
+    cellCullPackCounts_[precision] = upload.packCount;
+    words.insert(words.end(), upload.words.begin(), upload.words.end());
+  }
   const std::uint32_t slot = frame.frameSlot;
   cellCullObjectBuffer_.upload(slot, cellCullObjects_);
-  cellCullRangeBuffer_.upload(slot, ranges);
+  cellCullRangeBuffer_.upload(slot, words);
   barrierBeforeCulling(frame.cmd);
   shader::CellCullPushConstants push{};
   if (occlusion_) {
@@ -134,7 +141,6 @@ void HermiteCellFeature::recordLateCulling(engine::render::PassContext& pass,
 // kept cells after phase 1's.
 void HermiteCellFeature::recordCellCullPasses(VkCommandBuffer cmd, std::uint32_t slot,
                                               shader::CellCullPushConstants push) {
-  VkDeviceAddress rangeAddress = cellCullRangeBuffer_.address(slot);
   const bool late = push.phase == CELL_CULL_PHASE_LATE;
   for (int precision = 0; precision < 2; ++precision) {
     const auto rangeCount = static_cast<std::uint32_t>(cellCullRanges_[precision].size());
@@ -145,7 +151,8 @@ void HermiteCellFeature::recordCellCullPasses(VkCommandBuffer cmd, std::uint32_t
     const Buffer& indices = ensureOutput(*context_, keptCellIndices_[slot][precision], kept * sizeof(std::uint32_t), 0,
                                          "hermite kept cell indices");
     push.objects = cellCullObjectBuffer_.address(slot);
-    push.ranges = rangeAddress;
+    push.ranges = cellCullRangeBuffer_.address(slot) + cellCullRangeOffsets_[precision];
+    push.packCount = cellCullPackCounts_[precision];
     push.records = buffers_->records[precision].address();
     push.cones = buffers_->cellCones.address();
     push.keptRecords = records.address();
@@ -158,7 +165,6 @@ void HermiteCellFeature::recordCellCullPasses(VkCommandBuffer cmd, std::uint32_t
     push.commandOffset = late ? batch.lateFirst - batch.frontFirst : 0;
     push.outputOffset = late ? cellCullOutput_[precision] : 0;
     cellCuller_->record(cmd, push);
-    rangeAddress += VkDeviceAddress(rangeCount) * sizeof(shader::CellCullRange);
   }
 }
 

@@ -322,13 +322,11 @@ void HermiteCellFeature::recordTiling(engine::render::FrameContext& frame) {
   tiling.frameGlobals = frame.frameGlobals;
   tiling.entryEstimate = tileEntryEstimate_;
   tiling.entryLimit = std::max(settings_.maxTileEntries, kMinTileEntries);
-  VkDeviceAddress ranges = cellCullRangeBuffer_.address(slot);
   for (int precision = 0; precision < 2; ++precision) {
     const auto count = static_cast<std::uint32_t>(cellCullRanges_[precision].size());
     if (count == 0) continue;
-    tiling.precisions[precision] = {ranges, keptCellIndices_[slot][precision].address(), count,
-                                    cellCullOutput_[precision]};
-    ranges += VkDeviceAddress(count) * sizeof(shader::CellCullRange);
+    tiling.precisions[precision] = {cellCullRangeBuffer_.address(slot) + cellCullRangeOffsets_[precision],
+                                    keptCellIndices_[slot][precision].address(), count, cellCullOutput_[precision]};
   }
   logTileOverflow(tiler_->lastTotals(slot), tiling.entryLimit);
   {

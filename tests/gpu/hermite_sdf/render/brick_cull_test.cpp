@@ -192,7 +192,8 @@ TEST_F(BrickCullTest, GpuKeepsExactlyTheBricksOfTheCppTwin) {
 }
 
 // The cell culling pass (CellCuller, cell_cull.comp) on the same two spheres and cameras, fp32 and
-// fp16 records: each range (lengths around the workgroup's 64, so the prefix sum crosses chunks)
+// fp16 records: each range (lengths around the workgroup's 64, so the prefix sum crosses chunks,
+// and short ones that share a workgroup, where each range's kept cells start from its own first)
 // must hold exactly the cells the C++ twin keeps (brickVerdict on cellBox with cellGradientCone),
 // in the range's order, each a byte copy of its record beside its record index; each range's
 // command counts them and the totals add up. Synchronization validation checks the barriers.
@@ -229,8 +230,12 @@ TEST_F(BrickCullTest, GpuKeepsExactlyTheCellsOfTheCppTwinInOrder) {
   records[1].write(std::span<const CellRecordHalf>(half));
   Buffer coneBuffer = hostBuffer(cones.size() * sizeof(shader::CellBrickCone), storage, "cones");
   coneBuffer.write(std::span<const shader::CellBrickCone>(cones));
-  Buffer rangeBuffer = hostBuffer(ranges.size() * sizeof(shader::CellCullRange), storage, "ranges");
-  rangeBuffer.write(std::span<const shader::CellCullRange>(ranges));
+  // The ranges as the feature uploads them: packs of short ranges (1 + 63, 7 + 1 + ...) share a
+  // workgroup, 64, 65 and 150 are walked alone.
+  const CellCuller::RangeUpload upload = CellCuller::rangeUpload(ranges);
+  EXPECT_LT(upload.packCount, ranges.size());
+  Buffer rangeBuffer = hostBuffer(upload.words.size() * sizeof(std::uint32_t), storage, "ranges");
+  rangeBuffer.write(std::span<const std::uint32_t>(upload.words));
   Buffer kept = hostBuffer(full.size() * sizeof(CellRecord), storage | VK_BUFFER_USAGE_VERTEX_BUFFER_BIT, "kept");
   Buffer indices = hostBuffer(full.size() * sizeof(std::uint32_t), storage, "kept indices");
   Buffer commands = hostBuffer(ranges.size() * sizeof(VkDrawIndirectCommand),
@@ -258,10 +263,11 @@ TEST_F(BrickCullTest, GpuKeepsExactlyTheCellsOfTheCppTwinInOrder) {
           std::vector<VkDrawIndirectCommand>(ranges.size(), VkDrawIndirectCommand{8, 0, 0, 0})));
       const shader::BrickCullTotals zero{};
       totals.write(&zero, sizeof(zero));
-      const shader::CellCullPushConstants push{cullObjects.address(), rangeBuffer.address(), records[precision].address(),
-                                               coneBuffer.address(),  kept.address(),        indices.address(),
-                                               commands.address(),    totals.address(),      std::uint32_t(ranges.size()),
-                                               recordBytes / 4};
+      shader::CellCullPushConstants push{cullObjects.address(), rangeBuffer.address(), records[precision].address(),
+                                         coneBuffer.address(),  kept.address(),        indices.address(),
+                                         commands.address(),    totals.address(),      std::uint32_t(ranges.size()),
+                                         recordBytes / 4};
+      push.packCount = upload.packCount;
       context_->submitAndWait([&](VkCommandBuffer cmd) {
         barrierBeforeCulling(cmd);
         culler->record(cmd, push);

@@ -359,6 +359,10 @@ class HermiteCellFeature final : public engine::render::RenderFeature {
   std::unique_ptr<class CellCuller> cellCuller_;
   std::vector<shader::BrickCullObject> cellCullObjects_;
   std::vector<shader::CellCullRange> cellCullRanges_[2];
+  // Where each precision's ranges start in the slot's range buffer (bytes; its packs' first
+  // ranges follow them, cell_cull.comp) and how many packs it has: set by recordCellCulling.
+  VkDeviceSize cellCullRangeOffsets_[2] = {0, 0};
+  std::uint32_t cellCullPackCounts_[2] = {0, 0};
   std::uint32_t cellCullOutput_[2] = {0, 0};
   engine::render::PerFrameBuffer cellCullObjectBuffer_;
   engine::render::PerFrameBuffer cellCullRangeBuffer_;
