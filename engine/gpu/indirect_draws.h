@@ -41,7 +41,6 @@ class IndirectDraws {
                    const BeforeSingle& beforeSingle = {}) const;
 
   bool multiDraw() const { return multiDraw_; }
-  bool countDraws() const { return static_cast<bool>(drawAll_); }
 
  private:
   void record(VkCommandBuffer cmd, bool indexed, VkBuffer commands, std::uint32_t first, std::uint32_t count,
