@@ -17,7 +17,7 @@ void GpuTimer::reset(VkCommandBuffer cmd) {
   pool_.reset(cmd);
 }
 
-void GpuTimer::begin(VkCommandBuffer cmd, const std::string& scope) {
+void GpuTimer::begin(VkCommandBuffer cmd, const std::string& scope, VkPipelineStageFlags2 after) {
   if (!pool_) return;
   if (names_.size() >= maxScopes_) {
     log::warn("GpuTimer: more than {} scopes in one frame; '{}' not timed", maxScopes_, scope);
@@ -27,7 +27,7 @@ void GpuTimer::begin(VkCommandBuffer cmd, const std::string& scope) {
   const auto index = static_cast<std::uint32_t>(names_.size());
   names_.push_back(scope);
   open_.push_back(index);
-  vkCmdWriteTimestamp2(cmd, VK_PIPELINE_STAGE_2_TOP_OF_PIPE_BIT, pool_.handle(), index * 2);
+  vkCmdWriteTimestamp2(cmd, after, pool_.handle(), index * 2);
 }
 
 void GpuTimer::end(VkCommandBuffer cmd) {

@@ -26,7 +26,11 @@ class GpuTimer {
 
   // Starts a new frame of measurements (records a pool reset).
   void reset(VkCommandBuffer cmd);
-  void begin(VkCommandBuffer cmd, const std::string& scope);
+  // The scope's first timestamp is written when the work recorded before it has passed `after` (one
+  // stage): the top of the pipe (the default) at once, which on GPUs may be before earlier work
+  // ends; the bottom of the pipe once it has ended, which times one step of a chain of dispatches.
+  void begin(VkCommandBuffer cmd, const std::string& scope,
+             VkPipelineStageFlags2 after = VK_PIPELINE_STAGE_2_TOP_OF_PIPE_BIT);
   void end(VkCommandBuffer cmd);
   // Reads the results of the last recorded frame; call only after its submission completed.
   std::vector<GpuTiming> results() const;
@@ -44,8 +48,10 @@ class GpuTimer {
 // recorded by a function with several early returns (RenderFeature::prepare's sub-steps).
 class GpuTimerScope {
  public:
-  GpuTimerScope(GpuTimer* timer, VkCommandBuffer cmd, const std::string& scope) : timer_(timer), cmd_(cmd) {
-    if (timer_) timer_->begin(cmd_, scope);
+  GpuTimerScope(GpuTimer* timer, VkCommandBuffer cmd, const std::string& scope,
+                VkPipelineStageFlags2 after = VK_PIPELINE_STAGE_2_TOP_OF_PIPE_BIT)
+      : timer_(timer), cmd_(cmd) {
+    if (timer_) timer_->begin(cmd_, scope, after);
   }
   ~GpuTimerScope() {
     if (timer_) timer_->end(cmd_);

@@ -331,7 +331,7 @@ void HermiteCellFeature::recordTiling(engine::render::FrameContext& frame) {
   logTileOverflow(tiler_->lastTotals(slot), tiling.entryLimit);
   {
     const engine::gpu::GpuTimerScope timing(frame.timer, frame.cmd, "cells tiling");
-    tiler_->record(frame.cmd, tiling);
+    tiler_->record(frame.cmd, tiling, frame.timer);
   }
   lastTileSlot_ = slot;
   tiledOnce_ = true;

@@ -91,7 +91,7 @@ void CellTiler::dispatchBins(VkCommandBuffer cmd, shader::CellTilePushConstants 
   }
 }
 
-void CellTiler::record(VkCommandBuffer cmd, const Frame& frame) {
+void CellTiler::record(VkCommandBuffer cmd, const Frame& frame, engine::gpu::GpuTimer* timer) {
   Slot& slot = slots_[frame.slot];
   const std::uint32_t tilesX = (frame.extent.width + frame.tileSize - 1) / frame.tileSize;
   const std::uint32_t tilesY = (frame.extent.height + frame.tileSize - 1) / frame.tileSize;
@@ -106,13 +106,21 @@ void CellTiler::record(VkCommandBuffer cmd, const Frame& frame) {
   // The culling pass wrote the kept cells and their counts that COUNT reads (its own barrier hands
   // them to the draws only).
   computeToCompute(cmd);
-  // The previous frame's draw read the tiles and entries (write after read), then zero the tiles.
-  engine::gpu::memoryBarrier(cmd, VK_PIPELINE_STAGE_2_DRAW_INDIRECT_BIT | VK_PIPELINE_STAGE_2_ALL_GRAPHICS_BIT, 0,
-                             VK_PIPELINE_STAGE_2_CLEAR_BIT | VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT, 0);
-  vkCmdFillBuffer(cmd, slot.tiles.handle(), 0, VkDeviceSize(tileCount) * sizeof(shader::CellTile), 0);
-  engine::gpu::memoryBarrier(cmd, VK_PIPELINE_STAGE_2_CLEAR_BIT, VK_ACCESS_2_TRANSFER_WRITE_BIT,
-                             VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT,
-                             VK_ACCESS_2_SHADER_STORAGE_READ_BIT | VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT);
+  // Each phase timed on its own (GPU captures say which one the tiling's time goes to): from the
+  // end of everything recorded before it (a scope begun at the top of the pipe could start while
+  // the previous phase still runs), through the barrier that waits for its input, to the end of its
+  // work. The barrier comes first in the scope for lavapipe, which stamps a timestamp only at the
+  // next barrier (docs/gpu-vs-lavapipe.md): stamped after the dispatch, a begin would hide it.
+  const auto phase = [&](const char* name) {
+    return engine::gpu::GpuTimerScope(timer, cmd, name, VK_PIPELINE_STAGE_2_BOTTOM_OF_PIPE_BIT);
+  };
+  {
+    const auto timing = phase("cells tiling clear");
+    // The previous frame's draw read the tiles and entries (write after read), then zero the tiles.
+    engine::gpu::memoryBarrier(cmd, VK_PIPELINE_STAGE_2_DRAW_INDIRECT_BIT | VK_PIPELINE_STAGE_2_ALL_GRAPHICS_BIT, 0,
+                               VK_PIPELINE_STAGE_2_CLEAR_BIT | VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT, 0);
+    vkCmdFillBuffer(cmd, slot.tiles.handle(), 0, VkDeviceSize(tileCount) * sizeof(shader::CellTile), 0);
+  }
 
   shader::CellTilePushConstants push{};
   push.commands = frame.commands;
@@ -128,25 +136,43 @@ void CellTiler::record(VkCommandBuffer cmd, const Frame& frame) {
   push.tileSize = frame.tileSize;
   push.entryCapacity = slot.capacity;
   vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, pipeline_.handle());
-  dispatchBins(cmd, push, frame, CELL_TILES_COUNT);
-  computeToCompute(cmd);
-  push.phase = CELL_TILES_SCAN;
-  vkCmdPushConstants(cmd, pipeline_.layout(), VK_SHADER_STAGE_COMPUTE_BIT, 0, sizeof(push), &push);
-  vkCmdDispatch(cmd, 1, 1, 1);
-  computeToCompute(cmd);
-  dispatchBins(cmd, push, frame, CELL_TILES_SCATTER);
-  engine::gpu::memoryBarrier(cmd, VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT, VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT,
-                             VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_2_DRAW_INDIRECT_BIT,
-                             VK_ACCESS_2_SHADER_STORAGE_READ_BIT | VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT |
-                                 VK_ACCESS_2_INDIRECT_COMMAND_READ_BIT);
-  // SORT (a workgroup per non-empty tile), then MASKS over the sorted lists.
-  push.phase = CELL_TILES_SORT;
-  vkCmdPushConstants(cmd, pipeline_.layout(), VK_SHADER_STAGE_COMPUTE_BIT, 0, sizeof(push), &push);
-  vkCmdDispatchIndirect(cmd, totals_.buffer(frame.slot).handle(), offsetof(shader::CellTileTotals, sortGroups));
-  computeToCompute(cmd);
-  push.phase = CELL_TILES_MASKS;
-  vkCmdPushConstants(cmd, pipeline_.layout(), VK_SHADER_STAGE_COMPUTE_BIT, 0, sizeof(push), &push);
-  vkCmdDispatchIndirect(cmd, totals_.buffer(frame.slot).handle(), offsetof(shader::CellTileTotals, maskGroups));
+  {
+    const auto timing = phase("cells tiling count");
+    engine::gpu::memoryBarrier(cmd, VK_PIPELINE_STAGE_2_CLEAR_BIT, VK_ACCESS_2_TRANSFER_WRITE_BIT,
+                               VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT,
+                               VK_ACCESS_2_SHADER_STORAGE_READ_BIT | VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT);
+    dispatchBins(cmd, push, frame, CELL_TILES_COUNT);
+  }
+  {
+    const auto timing = phase("cells tiling scan");
+    computeToCompute(cmd);
+    push.phase = CELL_TILES_SCAN;
+    vkCmdPushConstants(cmd, pipeline_.layout(), VK_SHADER_STAGE_COMPUTE_BIT, 0, sizeof(push), &push);
+    vkCmdDispatch(cmd, 1, 1, 1);
+  }
+  {
+    const auto timing = phase("cells tiling scatter");
+    computeToCompute(cmd);
+    dispatchBins(cmd, push, frame, CELL_TILES_SCATTER);
+  }
+  // SORT (a workgroup per non-empty tile, as many as the scan wrote), then MASKS over the sorted lists.
+  {
+    const auto timing = phase("cells tiling sort");
+    engine::gpu::memoryBarrier(cmd, VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT, VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT,
+                               VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_2_DRAW_INDIRECT_BIT,
+                               VK_ACCESS_2_SHADER_STORAGE_READ_BIT | VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT |
+                                   VK_ACCESS_2_INDIRECT_COMMAND_READ_BIT);
+    push.phase = CELL_TILES_SORT;
+    vkCmdPushConstants(cmd, pipeline_.layout(), VK_SHADER_STAGE_COMPUTE_BIT, 0, sizeof(push), &push);
+    vkCmdDispatchIndirect(cmd, totals_.buffer(frame.slot).handle(), offsetof(shader::CellTileTotals, sortGroups));
+  }
+  {
+    const auto timing = phase("cells tiling masks");
+    computeToCompute(cmd);
+    push.phase = CELL_TILES_MASKS;
+    vkCmdPushConstants(cmd, pipeline_.layout(), VK_SHADER_STAGE_COMPUTE_BIT, 0, sizeof(push), &push);
+    vkCmdDispatchIndirect(cmd, totals_.buffer(frame.slot).handle(), offsetof(shader::CellTileTotals, maskGroups));
+  }
   engine::gpu::memoryBarrier(
       cmd, VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT, VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT,
       VK_PIPELINE_STAGE_2_DRAW_INDIRECT_BIT | VK_PIPELINE_STAGE_2_ALL_GRAPHICS_BIT | VK_PIPELINE_STAGE_2_HOST_BIT,

@@ -16,6 +16,7 @@
 
 #include "engine/core/expected.h"
 #include "engine/gpu/buffer.h"
+#include "engine/gpu/gpu_timer.h"
 #include "engine/gpu/pipeline.h"
 #include "engine/render/per_frame_buffer.h"
 #include "hermite/hermite_host_device.h"
@@ -53,8 +54,9 @@ class CellTiler {
     std::uint32_t entryLimit = 4096;  // HermiteCellFeature::Settings::maxTileEntries
   };
   // Records COUNT, SCAN, SCATTER, SORT and MASKS with their barriers; after it the tiles, entries and the tile
-  // draw's command are visible to the draw.
-  void record(VkCommandBuffer cmd, const Frame& frame);
+  // draw's command are visible to the draw. Each phase is a scope of `timer` where it is not null
+  // ("cells tiling count", ... "cells tiling masks").
+  void record(VkCommandBuffer cmd, const Frame& frame, engine::gpu::GpuTimer* timer);
 
   VkDeviceAddress tiles(std::uint32_t slot) const { return slots_[slot].tiles.address(); }
   VkDeviceAddress entries(std::uint32_t slot) const { return slots_[slot].sortedEntries.address(); }

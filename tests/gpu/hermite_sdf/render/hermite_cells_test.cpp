@@ -857,8 +857,9 @@ TEST_F(TiledCellsTest, TilesInsideACellAndAtTheFramesEdges) {
 
 // Why: the tiles' binning and the cell culling are compute work recorded in prepare(), outside
 // both passes; without scopes of their own a GPU capture cannot say whether the tiles' time goes
-// to binning or to drawing (issue 20). The renderer times prepare() as a whole and the feature
-// names its parts inside it; a frame without tiles has no tiling scope.
+// to binning or to drawing (issue 20), nor which of the binning's five phases it goes to. The
+// renderer times prepare() as a whole, the feature names its parts inside it and the tiling its
+// phases; a frame without tiles has no tiling scope.
 TEST_F(TiledCellsTest, FrameTimingsNameTheCellsComputeInsidePrepare) {
   if (!context_->capabilities().timestamps) GTEST_SKIP() << "no timestamp queries on this device";
   createCellRenderer(kSize, kSize);
@@ -886,6 +887,21 @@ TEST_F(TiledCellsTest, FrameTimingsNameTheCellsComputeInsidePrepare) {
       EXPECT_LT(culling->first, tiling->first) << "the tiles bin what the culling kept";
       EXPECT_GT(tiling->second, 0.0);
       EXPECT_LE(culling->second + tiling->second, prepare->second * 1.001 + 1e-6);
+      // Its five phases, in their order, inside it; each begins after the one before has ended,
+      // so together they fit in the tiling's time.
+      double phases = 0.0;
+      std::size_t previous = tiling->first;
+      for (const char* name : {"cells tiling count", "cells tiling scan", "cells tiling scatter", "cells tiling sort",
+                               "cells tiling masks"}) {
+        const auto step = timing(name);
+        ASSERT_TRUE(step) << name;
+        EXPECT_LT(previous, step->first) << name;
+        previous = step->first;
+        phases += step->second;
+      }
+      EXPECT_LE(phases, tiling->second * 1.001 + 1e-6);
+    } else {
+      EXPECT_FALSE(timing("cells tiling count"));
     }
     const auto prepass = timing("depth prepass");
     ASSERT_TRUE(prepass);
