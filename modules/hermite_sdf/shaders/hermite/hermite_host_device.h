@@ -191,6 +191,7 @@ HSDF_CHECK_SIZE(CellCullPushConstants, 10 * 8 + 10 * 4);
 #define CELL_TILES_SORT 3u     // per non-empty tile: its list nearest first (tiles of at most CELL_TILE_SORT_MAX)
 #define CELL_TILES_MASKS 4u    // per non-empty tile: each pixel's masks of the sorted entries that may cover it
 #define CELL_TILE_SORT_MAX 1024u
+#define CELL_TILE_SORT_GROUP_TILES 8u  // the non-empty tiles one workgroup of the sort takes, a lane per entry
 // The tiles' buffer: CellTile[tiles], then the non-empty tiles (uint[tiles]), then the pixel masks
 // (uint[cellTileMaskWords]): for each non-empty tile, chunk c of 32 of its sorted entries and pixel
 // p of the tile, bit j of word (masks + c * pixels + p) says that entry 32c + j may cover the
@@ -232,7 +233,7 @@ struct CellTileTotals {
   uint firstVertex;
   uint firstInstance;
   uint entriesNeeded;  // the entries every tile needed, capacity or not
-  uint sortGroups[3];  // VkDispatchIndirectCommand of the sort: one workgroup per non-empty tile
+  uint sortGroups[3];  // VkDispatchIndirectCommand of the sort: a workgroup per CELL_TILE_SORT_GROUP_TILES non-empty tiles
   // The lists' overflow: where the tiles needed more entries than the list holds (its capacity,
   // at most HermiteCellFeature::Settings::maxTileEntries), no tile is drawn and this count buffer
   // of vkCmdDrawIndirectCount draws every box command of the culled cells instead (~0u; else 0).
