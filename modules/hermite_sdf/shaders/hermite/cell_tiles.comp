@@ -11,14 +11,22 @@
 //    entry list's capacity, no tile at all and the boxes' fallback count (CellTileTotals::boxDrawCount);
 //  - SCATTER: the same rectangles, each cell's (draw, record, depth, the tile's pixels it may cover)
 //    written into the lists of its tiles;
-//  - SORT: a workgroup per CELL_TILE_SORT_GROUP_TILES non-empty tiles (an indirect dispatch the
-//    scan wrote), a lane per entry: each list copied to the sorted entries nearest first (depth,
-//    then draw and record: the same order whatever order the atomics wrote), so that a fragment
-//    stops at the first cell behind its hit. Longer lists keep the scatter's order and are walked
-//    whole (the fragment shader knows them by their length);
-//  - MASKS: a workgroup per CELL_TILE_MASK_GROUP_TILES non-empty tiles: each pixel's bit masks of the sorted entries
-//    whose pixels hold it (the layout at CELL_TILE_MASK_BITS), so that a fragment reads only the
-//    entries that may cover it (the list's length grows with K, those entries do not).
+//  - SORT: one workgroup per non-empty tile (an indirect dispatch the scan wrote): its list copied
+//    to the sorted entries nearest first (depth, then draw and record: the same order whatever
+//    order the atomics wrote), so that a fragment stops at the first cell behind its hit. Longer
+//    lists keep the scatter's order and are walked whole (the fragment shader knows them by their
+//    length);
+//  - MASKS: a workgroup per CELL_TILE_MASK_GROUP_ROWS rows of masks (a row: 32 sorted entries of
+//    one tile): each pixel's bit masks of the sorted entries whose pixels hold it (the layout at
+//    CELL_TILE_MASK_BITS), so that a fragment reads only the entries that may cover it (the list's
+//    length grows with K, those entries do not).
+// Every invocation's loops are bounded whatever the lists' lengths: lavapipe (Mesa's gallivm) ends
+// all loops of an invocation, silently, once it has run 65,535 loop iterations in all
+// (LP_MAX_TGSI_LOOP_ITERATIONS). Masks walked per tile, 8 tiles a workgroup, drew 16x16-pixel holes
+// in a scene whose lists held thousands of entries; a sort of 8 tiles a workgroup left lists of
+// ~900 entries unsorted. Hence a workgroup per tile for the sort (at most 16 x 1024 compares a
+// lane), a few rows for the masks, and no tiles for a cell whose rectangle spans more than
+// CELL_TILE_MAX_CELL_TILES tiles (COUNT, below).
 // The rectangle only has to hold every pixel whose ray meets the dilated box: the fragment shader
 // tests each listed box against its own ray, as the rasterizer would have. The objects' matrices
 // come from the culling pass's BrickCullObjects (written before this pass; the scene's ObjectData
@@ -133,6 +141,13 @@ void binCells() {
     float nearest;
     if (!cellPixelRect(draw, range.object, record, pixelLo, pixelHi, nearest)) return;
     uvec2 lo = uvec2(pixelLo) / pc.tileSize, hi = uvec2(pixelHi) / pc.tileSize;
+    // A rectangle of more tiles than one lane may walk (the eye near or inside the cell): the frame
+    // draws its boxes instead (the scan's overflow), as it does where the lists would not fit.
+    uvec2 span = hi - lo + 1u;
+    if (span.x * span.y > CELL_TILE_MAX_CELL_TILES) {
+      if (pc.phase == CELL_TILES_COUNT) atomicAdd(TotalsRef(pc.totals).totals.hugeCells, 1u);
+      return;
+    }
     for (uint y = lo.y; y <= hi.y; ++y)
       for (uint x = lo.x; x <= hi.x; ++x) {
         uint tile = y * pc.tilesX + x;
@@ -178,9 +193,10 @@ void scanTiles() {
     }
     needed += groupSums[l];
   }
-  // Lists that do not fit whole would lose cells (holes): then every tile is left empty (nothing
-  // scattered, sorted or drawn) and the culled cells' boxes are drawn instead (boxDrawCount).
-  bool overflow = needed > pc.entryCapacity;
+  // Lists that do not fit whole would lose cells (holes), as would a cell COUNT left out for its
+  // size (hugeCells): then every tile is left empty (nothing scattered, sorted or drawn) and the
+  // culled cells' boxes are drawn instead (boxDrawCount).
+  bool overflow = needed > pc.entryCapacity || TotalsRef(pc.totals).totals.hugeCells > 0u;
   TileListRef list = TileListRef(pc.tiles + CELL_TILE_LIST_OFFSET(tileCount));
   for (uint t = begin; t < end; ++t) {
     uint count = tiles.tiles[t].count;
@@ -195,12 +211,13 @@ void scanTiles() {
     TotalsRef(pc.totals).totals.instanceCount = listed;
     TotalsRef(pc.totals).totals.entriesNeeded = needed;
     TotalsRef(pc.totals).totals.boxDrawCount = overflow ? 0xffffffffu : 0u;
-    uint sortGroups = (listed + CELL_TILE_SORT_GROUP_TILES - 1u) / CELL_TILE_SORT_GROUP_TILES;
-    uint sortGroupsX = min(sortGroups, 65535u);  // the least maxComputeWorkGroupCount[0] Vulkan allows
-    TotalsRef(pc.totals).totals.sortGroups[0] = sortGroupsX;
-    TotalsRef(pc.totals).totals.sortGroups[1] = sortGroupsX == 0u ? 0u : (sortGroups + sortGroupsX - 1u) / sortGroupsX;
+    uint groupsX = min(listed, 65535u);  // the least maxComputeWorkGroupCount[0] Vulkan allows
+    TotalsRef(pc.totals).totals.sortGroups[0] = groupsX;
+    TotalsRef(pc.totals).totals.sortGroups[1] = groupsX == 0u ? 0u : (listed + groupsX - 1u) / groupsX;
     TotalsRef(pc.totals).totals.sortGroups[2] = 1u;
-    uint maskGroups = (listed + CELL_TILE_MASK_GROUP_TILES - 1u) / CELL_TILE_MASK_GROUP_TILES;
+    // The mask rows (a chunk of 32 entries of one tile each) lie below needed / 32 + listed + 1.
+    uint maskRows = listed == 0u ? 0u : needed / CELL_TILE_MASK_BITS + listed + 1u;
+    uint maskGroups = (maskRows + CELL_TILE_MASK_GROUP_ROWS - 1u) / CELL_TILE_MASK_GROUP_ROWS;
     uint maskGroupsX = min(maskGroups, 65535u);
     TotalsRef(pc.totals).totals.maskGroups[0] = maskGroupsX;
     TotalsRef(pc.totals).totals.maskGroups[1] = maskGroupsX == 0u ? 0u : (maskGroups + maskGroupsX - 1u) / maskGroupsX;
@@ -216,42 +233,31 @@ bool before(CellTileEntry a, CellTileEntry b) {
   return a.record < b.record;
 }
 
-// The sort of CELL_TILE_SORT_GROUP_TILES consecutive non-empty tiles, whose lists are consecutive
-// in the entry list (the scan's prefix sum runs in tile order, as the list does): a lane per entry
-// of them all, so a workgroup is busy whatever the lists' lengths (a workgroup per tile left most of
-// its 64 lanes idle on lists of a few entries, and cost software rasterizers 3 us each: 14.6 ms of
-// 23 for ~5,000 tiles on lavapipe at 1080p). Each entry goes to its rank in its tile's list, the
-// number of entries before it (a rank sort: quadratic, but without barriers, which cost software
-// rasterizers' compute dearly; lists are short). Lists longer than CELL_TILE_SORT_MAX are copied as
-// they are.
-void sortTiles() {
-  uint group = gl_WorkGroupID.x + gl_NumWorkGroups.x * gl_WorkGroupID.y;
-  uint listed = TotalsRef(pc.totals).totals.instanceCount;
-  uint firstIndex = group * CELL_TILE_SORT_GROUP_TILES;
-  if (firstIndex >= listed) return;
-  uint lastIndex = min(firstIndex + CELL_TILE_SORT_GROUP_TILES, listed) - 1u;
+// One tile's list, copied from the scatter's entries to the sorted ones: each entry goes to its
+// rank, the number of entries before it (a rank sort: quadratic, but without barriers, which cost
+// software rasterizers' compute dearly; lists are short). Lists longer than CELL_TILE_SORT_MAX are
+// copied as they are. One tile per workgroup: a lane then compares at most 16 x 1024 entries, far
+// below lavapipe's 65,535 loop iterations per invocation (above; 8 tiles per workgroup, 5x faster
+// there, went past it).
+void sortTile() {
+  uint listIndex = gl_WorkGroupID.x + gl_NumWorkGroups.x * gl_WorkGroupID.y;
   uint tileCount = pc.tilesX * pc.tilesY;
-  TileListRef list = TileListRef(pc.tiles + CELL_TILE_LIST_OFFSET(tileCount));
-  TilesRef tiles = TilesRef(pc.tiles);
-  CellTile last = tiles.tiles[list.tiles[lastIndex]];
-  uint begin = tiles.tiles[list.tiles[firstIndex]].first, end = last.first + last.count;
+  if (listIndex >= TotalsRef(pc.totals).totals.instanceCount) return;
+  uint tile = TileListRef(pc.tiles + CELL_TILE_LIST_OFFSET(tileCount)).tiles[listIndex];
+  uint first = TilesRef(pc.tiles).tiles[tile].first, count = TilesRef(pc.tiles).tiles[tile].count;
   ReadEntriesRef source = ReadEntriesRef(pc.entries);
-  EntriesRef target = EntriesRef(pc.sortedEntries);
-  for (uint at = begin + gl_LocalInvocationID.x; at < end; at += gl_WorkGroupSize.x) {
-    // The entry's tile: the last of the group's tiles whose list starts at or before it.
-    uint index = firstIndex;
-    while (index < lastIndex && tiles.tiles[list.tiles[index + 1u]].first <= at) ++index;
-    CellTile tile = tiles.tiles[list.tiles[index]];
-    CellTileEntry entry = source.entries[at];
-    uint rank = at - tile.first;
-    if (tile.count <= CELL_TILE_SORT_MAX) {
+  for (uint i = gl_LocalInvocationID.x; i < count; i += gl_WorkGroupSize.x) {
+    CellTileEntry entry = source.entries[first + i];
+    uint rank = i;
+    if (count <= CELL_TILE_SORT_MAX) {
       rank = 0u;
-      for (uint j = 0u; j < tile.count; ++j) rank += before(source.entries[tile.first + j], entry) ? 1u : 0u;
+      for (uint j = 0u; j < count; ++j) rank += before(source.entries[first + j], entry) ? 1u : 0u;
     }
-    target.entries[tile.first + rank].draw = entry.draw;
-    target.entries[tile.first + rank].record = entry.record;
-    target.entries[tile.first + rank].nearest = entry.nearest;
-    target.entries[tile.first + rank].pixels = entry.pixels;
+    EntriesRef target = EntriesRef(pc.sortedEntries);
+    target.entries[first + rank].draw = entry.draw;
+    target.entries[first + rank].record = entry.record;
+    target.entries[first + rank].nearest = entry.nearest;
+    target.entries[first + rank].pixels = entry.pixels;
   }
 }
 
@@ -262,38 +268,51 @@ bool entryCovers(uint pixels, uvec2 local) {
   return all(greaterThanEqual(local, lo)) && all(lessThanEqual(local, hi));
 }
 
-// One tile's pixel masks over its sorted list (the layout at CELL_TILE_MASK_BITS), 32 entries per
-// word; its first word goes to the tile's cursor, which the scatter no longer needs.
-void maskTile(uint listIndex, uint lane) {
-  uint tileCount = pc.tilesX * pc.tilesY;
-  uint tile = TileListRef(pc.tiles + CELL_TILE_LIST_OFFSET(tileCount)).tiles[listIndex];
-  uint first = TilesRef(pc.tiles).tiles[tile].first, count = TilesRef(pc.tiles).tiles[tile].count;
-  uint pixels = pc.tileSize * pc.tileSize;
-  uint base = (first / CELL_TILE_MASK_BITS + listIndex) * pixels;
-  if (lane == 0u) TilesRef(pc.tiles).tiles[tile].cursor = base;
-  TileListRef masks = TileListRef(pc.tiles + CELL_TILE_MASKS_OFFSET(tileCount));
-  ReadEntriesRef sorted = ReadEntriesRef(pc.sortedEntries);
-  uint chunks = (count + CELL_TILE_MASK_BITS - 1u) / CELL_TILE_MASK_BITS;
-  for (uint p = lane; p < pixels; p += gl_WorkGroupSize.x) {
-    uvec2 local = uvec2(p % pc.tileSize, p / pc.tileSize);
-    for (uint c = 0u; c < chunks; ++c) {
-      uint mask = 0u;
-      uint end = min(count - c * CELL_TILE_MASK_BITS, CELL_TILE_MASK_BITS);
-      for (uint j = 0u; j < end; ++j)
-        if (entryCovers(sorted.entries[first + c * CELL_TILE_MASK_BITS + j].pixels, local)) mask |= 1u << j;
-      masks.tiles[base + c * pixels + p] = mask;
-    }
-  }
+// The first mask row of listed tile i: (first / 32 + i), in units of a tile's pixels (the layout
+// at CELL_TILE_MASK_BITS); rows increase with i.
+uint maskRow(uint listIndex, TileListRef list) {
+  return TilesRef(pc.tiles).tiles[list.tiles[listIndex]].first / CELL_TILE_MASK_BITS + listIndex;
 }
 
-// CELL_TILE_MASK_GROUP_TILES tiles per workgroup, a lane per pixel of each: no atomics and no
-// barrier (each lane writes its own words).
-void maskTiles() {
+// CELL_TILE_MASK_GROUP_ROWS mask rows per workgroup (a row: one chunk of 32 sorted entries of one
+// tile, a word per pixel), a lane per pixel of each: bounded work per invocation whatever the lists'
+// lengths, no atomics and no barrier. Each row's tile is the last listed tile whose first row is at
+// or before it (a binary search for the group's first row, then steps); rows between two tiles'
+// rows hold no chunk and are skipped. The
+// row of a tile's first chunk also writes the tile's first mask word to its cursor, which the
+// scatter no longer needs.
+void maskRows() {
   uint group = gl_WorkGroupID.x + gl_NumWorkGroups.x * gl_WorkGroupID.y;
   uint listed = TotalsRef(pc.totals).totals.instanceCount;
-  for (uint t = 0u; t < CELL_TILE_MASK_GROUP_TILES; ++t) {
-    uint listIndex = group * CELL_TILE_MASK_GROUP_TILES + t;
-    if (listIndex < listed) maskTile(listIndex, gl_LocalInvocationID.x);
+  if (listed == 0u) return;
+  uint tileCount = pc.tilesX * pc.tilesY;
+  TileListRef list = TileListRef(pc.tiles + CELL_TILE_LIST_OFFSET(tileCount));
+  TileListRef masks = TileListRef(pc.tiles + CELL_TILE_MASKS_OFFSET(tileCount));
+  ReadEntriesRef sorted = ReadEntriesRef(pc.sortedEntries);
+  uint pixels = pc.tileSize * pc.tileSize;
+  uint firstRow = group * CELL_TILE_MASK_GROUP_ROWS;
+  uint lo = 0u, hi = listed - 1u;
+  while (lo < hi) {
+    uint mid = (lo + hi + 1u) / 2u;
+    if (maskRow(mid, list) <= firstRow) lo = mid; else hi = mid - 1u;
+  }
+  for (uint row = firstRow; row < firstRow + CELL_TILE_MASK_GROUP_ROWS; ++row) {
+    // Each tile has a row at least: the next rows' tiles are at most a row's worth of steps on.
+    while (lo + 1u < listed && maskRow(lo + 1u, list) <= row) ++lo;
+    uint tile = list.tiles[lo];
+    uint first = TilesRef(pc.tiles).tiles[tile].first, count = TilesRef(pc.tiles).tiles[tile].count;
+    uint tileRow = first / CELL_TILE_MASK_BITS + lo;
+    uint chunk = row - tileRow;
+    if (row < tileRow || chunk * CELL_TILE_MASK_BITS >= count) continue;  // between two tiles' rows
+    if (chunk == 0u && gl_LocalInvocationID.x == 0u) TilesRef(pc.tiles).tiles[tile].cursor = tileRow * pixels;
+    uint begin = first + chunk * CELL_TILE_MASK_BITS, end = min(count - chunk * CELL_TILE_MASK_BITS, CELL_TILE_MASK_BITS);
+    for (uint p = gl_LocalInvocationID.x; p < pixels; p += gl_WorkGroupSize.x) {
+      uvec2 local = uvec2(p % pc.tileSize, p / pc.tileSize);
+      uint mask = 0u;
+      for (uint j = 0u; j < end; ++j)
+        if (entryCovers(sorted.entries[begin + j].pixels, local)) mask |= 1u << j;
+      masks.tiles[row * pixels + p] = mask;
+    }
   }
 }
 
@@ -301,9 +320,9 @@ void main() {
   if (pc.phase == CELL_TILES_SCAN) {
     scanTiles();
   } else if (pc.phase == CELL_TILES_SORT) {
-    sortTiles();
+    sortTile();
   } else if (pc.phase == CELL_TILES_MASKS) {
-    maskTiles();
+    maskRows();
   } else {
     binCells();
   }

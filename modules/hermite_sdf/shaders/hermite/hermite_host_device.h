@@ -191,7 +191,6 @@ HSDF_CHECK_SIZE(CellCullPushConstants, 10 * 8 + 10 * 4);
 #define CELL_TILES_SORT 3u     // per non-empty tile: its list nearest first (tiles of at most CELL_TILE_SORT_MAX)
 #define CELL_TILES_MASKS 4u    // per non-empty tile: each pixel's masks of the sorted entries that may cover it
 #define CELL_TILE_SORT_MAX 1024u
-#define CELL_TILE_SORT_GROUP_TILES 8u  // the non-empty tiles one workgroup of the sort takes, a lane per entry
 // The tiles' buffer: CellTile[tiles], then the non-empty tiles (uint[tiles]), then the pixel masks
 // (uint[cellTileMaskWords]): for each non-empty tile, chunk c of 32 of its sorted entries and pixel
 // p of the tile, bit j of word (masks + c * pixels + p) says that entry 32c + j may cover the
@@ -199,7 +198,13 @@ HSDF_CHECK_SIZE(CellCullPushConstants, 10 * 8 + 10 * 4);
 // entries they name, not the whole list. A tile's masks start at word (first / 32 + its place in
 // the non-empty list) * pixels, which leaves room for every tile's ceil(count / 32) chunks.
 #define CELL_TILE_MASK_BITS 32u
-#define CELL_TILE_MASK_GROUP_TILES 8u
+#define CELL_TILE_MASK_GROUP_ROWS 32u  // mask rows (32 entries of one tile each) per workgroup of the masks phase
+// The most tiles one cell's rectangle may span (COUNT walks them in one lane): past it the frame
+// draws boxes (CellTileTotals::hugeCells). Below lavapipe's 65,535 loop iterations per invocation
+// (cell_tiles.comp); a whole 1920x1080 frame of 8x8 tiles (32,400) fits.
+#define CELL_TILE_MAX_CELL_TILES 49152u
+// The most tiles a frame may have: the one-workgroup scan walks tiles / 64 per lane twice.
+#define CELL_TILE_MAX_TILES (1u << 20)
 // Where the non-empty tile list and the masks start in the tiles' buffer, in bytes.
 #define CELL_TILE_LIST_OFFSET(tiles) (uint64_t(tiles) * 16u)
 #define CELL_TILE_MASKS_OFFSET(tiles) (uint64_t(tiles) * 20u)
@@ -233,16 +238,19 @@ struct CellTileTotals {
   uint firstVertex;
   uint firstInstance;
   uint entriesNeeded;  // the entries every tile needed, capacity or not
-  uint sortGroups[3];  // VkDispatchIndirectCommand of the sort: a workgroup per CELL_TILE_SORT_GROUP_TILES non-empty tiles
+  uint sortGroups[3];  // VkDispatchIndirectCommand of the sort: one workgroup per non-empty tile
   // The lists' overflow: where the tiles needed more entries than the list holds (its capacity,
   // at most HermiteCellFeature::Settings::maxTileEntries), no tile is drawn and this count buffer
   // of vkCmdDrawIndirectCount draws every box command of the culled cells instead (~0u; else 0).
   uint boxDrawCount;
-  // VkDispatchIndirectCommand of the masks: one workgroup per CELL_TILE_MASK_GROUP_TILES non-empty
-  // tiles (a workgroup per tile costs software rasterizers more than the work it holds).
+  // VkDispatchIndirectCommand of the masks: one workgroup per CELL_TILE_MASK_GROUP_ROWS mask rows
+  // (a workgroup per row costs software rasterizers more than the work it holds).
   uint maskGroups[3];
+  // The kept cells whose rectangle spans more than CELL_TILE_MAX_CELL_TILES tiles: any makes the
+  // frame draw boxes (boxDrawCount), as an overflow of the lists does.
+  uint hugeCells;
 };
-HSDF_CHECK_SIZE(CellTileTotals, 48);
+HSDF_CHECK_SIZE(CellTileTotals, 52);
 
 // Push constants of cell_tiles.comp. COUNT and SCATTER: a lane per slot of the cell culling pass's
 // kept stream (one record precision per dispatch), its kept cells read as the draws would read them.

@@ -117,8 +117,13 @@ void HermiteCellFeature::buildDraws(engine::render::FrameContext& frame) {
   for (shader::BrickCullObject& object : cullObjectList_) object.drawCommand += batches_[kBrickBatch]->frontFirst;
   drawnAssets_ = std::move(f.drawnThisFrame);
   if (frame.debugView == DEBUG_VIEW_WIREFRAME) addWireCommands(allCommands, allDraws);
+  // A frame of more than CELL_TILE_MAX_TILES tiles (16K frames of 8x8 tiles) is past what the
+  // tiling's one-workgroup scan walks: boxes.
+  const std::uint64_t frameTiles = std::uint64_t((frame.extent.width + tileSize_ - 1) / tileSize_) *
+                                   ((frame.extent.height + tileSize_ - 1) / tileSize_);
   tiles_ = settings_.cullCells && !cellCullObjects_.empty() && context_->capabilities().drawIndirectCount &&
-           tilesWanted(settings_.tiles, context_->capabilities().isSoftwareRasterizer);
+           tilesWanted(settings_.tiles, context_->capabilities().isSoftwareRasterizer) &&
+           frameTiles <= CELL_TILE_MAX_TILES;
   occlusion_ = settings_.cullCells && settings_.cullOcclusion && !cellCullObjects_.empty() && !tiles_;
   if (occlusion_) placeHistory(frame);
   cullCellRanges(allCommands, f.cellCullObject);  // after the wireframe's copies, which draw every cell

@@ -342,9 +342,14 @@ void HermiteCellFeature::recordTiling(engine::render::FrameContext& frame) {
 // frame fits again.
 void HermiteCellFeature::logTileOverflow(const shader::CellTileTotals& previous, std::uint32_t limit) {
   if (previous.boxDrawCount != 0 && !tileOverflowLogged_) {
-    engine::log::warn("hermite cells: the tiles needed {} list entries, more than the {} they may hold "
-              "(Settings::maxTileEntries): the frame drew the cells as boxes instead",
-              previous.entriesNeeded, limit);
+    if (previous.hugeCells > 0)
+      engine::log::warn("hermite cells: {} cells each spanned more than {} screen tiles (the eye near the surface): "
+                        "the frame drew the cells as boxes instead",
+                        previous.hugeCells, CELL_TILE_MAX_CELL_TILES);
+    else
+      engine::log::warn("hermite cells: the tiles needed {} list entries, more than the {} they may hold "
+                        "(Settings::maxTileEntries): the frame drew the cells as boxes instead",
+                        previous.entriesNeeded, limit);
     tileOverflowLogged_ = true;
   } else if (previous.boxDrawCount == 0 && previous.entriesNeeded > 0) {
     tileOverflowLogged_ = false;

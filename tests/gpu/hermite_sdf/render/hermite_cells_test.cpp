@@ -838,6 +838,30 @@ TEST_F(TiledCellsTest, TilesResolveOverlappingObjects) {
   for (int view : {0, 3}) expectTilesDrawTheBoxes(orbitCamera(*asset, view, 2.6f), ("two bunnies view " + std::to_string(view)).c_str());
 }
 
+// Why: lavapipe (Mesa's gallivm) ends every loop of a shader invocation once the invocation has
+// run 65,535 loop iterations in all, silently (cell_tiles.comp). The masks phase walked 8 tiles of
+// 16x16 pixels per workgroup, a lane looping over 4 pixels x every entry of each: lists of a few
+// thousand entries (dense scenes, many objects behind each other) ran past the limit and whole
+// tiles lost their cells (16x16-pixel holes in a 108-object scene). Thirty bunnies, each shifted by
+// a fraction of a cell, behind each other: lists of thousands of entries, in tiles of every size.
+TEST_F(TiledCellsTest, LongListsDrawTheBoxesImage) {
+  createCellRenderer(kSize, kSize);
+  const auto asset = bakeAsset("bunny", 64);
+  ASSERT_NE(asset, nullptr);
+  const float h = float(asset->field.grid.spacing);
+  for (int i = 0; i < 30; ++i)
+    addSdf(registry_, asset, hsdf::RenderMethod::Cells,
+           glm::translate(glm::mat4(1.0f), glm::vec3(0.013f * h * float(i), 0.007f * h * float(i), -0.6f * h * float(i))));
+  auto* feature = renderer_->feature<hsdf::HermiteCellFeature>();
+  for (std::uint32_t size : {16u, 8u}) {
+    feature->settings().tileSize = size;
+    const std::string label = "30 bunnies, " + std::to_string(size) + "x" + std::to_string(size) + " tiles";
+    expectTilesDrawTheBoxes(orbitCamera(*asset, 1, 1.6f), label.c_str());
+    const shader::CellTileTotals totals = feature->tileTotals();
+    EXPECT_GT(totals.entriesNeeded, 16u * 2048u) << label << ": lists long enough to have crossed the limit";
+  }
+}
+
 // Why: where the near plane cuts cells their boxes' corners lie behind the eye; the tile pass then
 // lists such a cell in every tile and draws those tiles at the near plane. Inside a cell of the
 // torus, and a frame whose size is no multiple of the tile size (edge tiles the frame cuts: their
@@ -967,6 +991,36 @@ TEST_F(TiledCellsTest, EveryTileSizeDrawsTheBoxesImage) {
     addSdf(registry_, torus, hsdf::RenderMethod::Cells);
     expectTilesDrawTheBoxes(orbitCamera(*torus, 2, 1.2f), (tiles + "torus filling a 203x117 frame").c_str());
   }
+}
+
+// Why: lavapipe (Mesa's gallivm) ends every loop of a shader invocation once the invocation has
+// run 65,535 loop iterations in all, silently. A cell whose box holds the eye spans the whole
+// frame, and the binning lane that lists it loops over every tile: 67,600 4x4 tiles in a 1040x1040
+// frame, so the lists of the frame's last rows lost the cell (holes) while the boxes drew it. Such
+// rectangles now make the frame draw its boxes (CellTileTotals::hugeCells), on every device: one
+// lane walking the whole frame is slow on a GPU too.
+TEST_F(TiledCellsTest, CellsSpanningTheFrameDrawTheBoxes) {
+  createCellRenderer(1040, 1040);
+  const auto torus = bakeAsset("torus", 16);
+  ASSERT_NE(torus, nullptr);
+  addSdf(registry_, torus, hsdf::RenderMethod::Cells);
+  auto* feature = renderer_->feature<hsdf::HermiteCellFeature>();
+  feature->settings().tileSize = 4;
+  const std::optional<render::CameraView> inside = insideACellCamera(*torus);
+  ASSERT_TRUE(inside);
+  feature->settings().tiles = hsdf::HermiteCellFeature::Tiles::Off;
+  const Frame boxes = renderWith(*inside, DEBUG_VIEW_NONE);
+  feature->settings().tiles = hsdf::HermiteCellFeature::Tiles::On;
+  const Frame drawn = renderWith(*inside, DEBUG_VIEW_NONE);
+  ASSERT_TRUE(feature->stats().tiles);
+  const shader::CellTileTotals totals = feature->tileTotals();
+  EXPECT_GT(totals.hugeCells, 0u);
+  EXPECT_NE(totals.boxDrawCount, 0u) << "the frame's boxes drawn instead";
+  const TileComparison c = compareTilesWithBoxes(boxes, drawn);
+  EXPECT_GE(c.hitsBoxes, 100000);
+  EXPECT_EQ(c.coverageDiffers, 0);
+  EXPECT_LE(c.colourDiffers, c.hitsBoxes / 500 + 2);
+  EXPECT_LT(c.depthRelativeMax, 1e-4);
 }
 
 // Why: the tiles' lists have a limit (Settings::maxTileEntries, a memory cap that very fine grids
