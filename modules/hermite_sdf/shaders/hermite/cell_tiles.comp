@@ -278,9 +278,8 @@ uint maskRow(uint listIndex, TileListRef list) {
 // tile, a word per pixel), a lane per pixel of each: bounded work per invocation whatever the lists'
 // lengths, no atomics and no barrier. Each row's tile is the last listed tile whose first row is at
 // or before it (a binary search for the group's first row, then steps); rows between two tiles'
-// rows hold no chunk and are skipped. The
-// row of a tile's first chunk also writes the tile's first mask word to its cursor, which the
-// scatter no longer needs.
+// rows hold no chunk and are skipped. The row of a tile's first chunk also writes the tile's first
+// mask word to its cursor, which the scatter no longer needs.
 void maskRows() {
   uint group = gl_WorkGroupID.x + gl_NumWorkGroups.x * gl_WorkGroupID.y;
   uint listed = TotalsRef(pc.totals).totals.instanceCount;

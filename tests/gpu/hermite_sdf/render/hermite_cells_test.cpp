@@ -996,9 +996,11 @@ TEST_F(TiledCellsTest, EveryTileSizeDrawsTheBoxesImage) {
 // Why: lavapipe (Mesa's gallivm) ends every loop of a shader invocation once the invocation has
 // run 65,535 loop iterations in all, silently. A cell whose box holds the eye spans the whole
 // frame, and the binning lane that lists it loops over every tile: 67,600 4x4 tiles in a 1040x1040
-// frame, so the lists of the frame's last rows lost the cell (holes) while the boxes drew it. Such
-// rectangles now make the frame draw its boxes (CellTileTotals::hugeCells), on every device: one
-// lane walking the whole frame is slow on a GPU too.
+// frame, past the limit, so the frame's last tiles never listed it. Here the cell's near box drew
+// it anyway (this test passed its image checks before the change, with no huge cell counted), but
+// a cell that reaches behind the eye's plane away from the eye has no near box. Such rectangles
+// now make the frame draw its boxes (CellTileTotals::hugeCells), on every device: one lane walking
+// the whole frame is slow on a GPU too.
 TEST_F(TiledCellsTest, CellsSpanningTheFrameDrawTheBoxes) {
   createCellRenderer(1040, 1040);
   const auto torus = bakeAsset("torus", 16);
