@@ -11,7 +11,7 @@
 //    entry list's capacity, no tile at all and the boxes' fallback count (CellTileTotals::boxDrawCount);
 //  - SCATTER: the same rectangles, each cell's (draw, record, depth, the tile's pixels it may cover)
 //    written into the lists of its tiles;
-//  - SORT: one workgroup per non-empty tile (an indirect dispatch the scan wrote): its list copied
+//  - SORT: a workgroup per few non-empty tiles (the scan's groups, an indirect dispatch): each list copied
 //    to the sorted entries nearest first (depth, then draw and record: the same order whatever
 //    order the atomics wrote), so that a fragment stops at the first cell behind its hit. Longer
 //    lists keep the scatter's order and are walked whole (the fragment shader knows them by their
@@ -24,8 +24,8 @@
 // all loops of an invocation, silently, once it has run 65,535 loop iterations in all
 // (LP_MAX_TGSI_LOOP_ITERATIONS). Masks walked per tile, 8 tiles a workgroup, drew 16x16-pixel holes
 // in a scene whose lists held thousands of entries; a sort of 8 tiles a workgroup left lists of
-// ~900 entries unsorted. Hence a workgroup per tile for the sort (at most 16 x 1024 compares a
-// lane), a few rows for the masks, and no tiles for a cell whose rectangle spans more than
+// ~900 entries unsorted. Hence sort workgroups of at most 16 x 1024 compares a lane, a few rows
+// for the masks, and no tiles for a cell whose rectangle spans more than
 // CELL_TILE_MAX_CELL_TILES tiles (COUNT, below).
 // The rectangle only has to hold every pixel whose ray meets the dilated box: the fragment shader
 // tests each listed box against its own ray, as the rasterizer would have. The objects' matrices
@@ -51,6 +51,7 @@ layout(push_constant, scalar) uniform Push { CellTilePushConstants pc; };
 
 shared uint groupSums[64];
 shared uint groupTiles[64];
+shared uint groupSorts[64];  // the sort's workgroups that start in each lane's tiles
 
 // The pixels [lo, hi] (inclusive, frame coordinates) whose centres may see the cell's dilated box,
 // and the nearest depth of the box (1, the near plane, when a corner lies at or behind the eye:
@@ -168,6 +169,28 @@ void binCells() {
   }
 }
 
+// The compares one lane makes sorting a list of `count` entries in a workgroup (sortList).
+uint sortWork(uint count) {
+  uint rounds = (count + 63u) / 64u;
+  return count <= CELL_TILE_SORT_MAX ? rounds * count : rounds;
+}
+
+// The sort's workgroups, formed in list order while the scan walks its tiles: a workgroup takes the
+// next non-empty tile, and the ones after it while they are at most CELL_TILE_SORT_GROUP_TILES and
+// their compares per lane at most CELL_TILE_SORT_GROUP_WORK (one list of CELL_TILE_SORT_MAX
+// entries: 16 x 1024). Whether tile `count` starts a workgroup; `tiles` and `work` are the open one's.
+bool startsSortGroup(uint count, inout uint tiles, inout uint work) {
+  uint w = sortWork(count);
+  if (tiles > 0u && tiles < CELL_TILE_SORT_GROUP_TILES && work + w <= CELL_TILE_SORT_GROUP_WORK) {
+    ++tiles;
+    work += w;
+    return false;
+  }
+  tiles = 1u;
+  work = w;
+  return true;
+}
+
 // One workgroup: lane l takes a contiguous chunk of tiles; the chunks' sums are prefix-summed in
 // shared memory, then each lane writes its tiles' first entries and its part of the tile list.
 void scanTiles() {
@@ -176,34 +199,44 @@ void scanTiles() {
   uint chunk = (tileCount + 63u) / 64u;
   uint begin = min(lane * chunk, tileCount), end = min(begin + chunk, tileCount);
   TilesRef tiles = TilesRef(pc.tiles);
-  uint sum = 0u, nonEmpty = 0u;
+  uint sum = 0u, nonEmpty = 0u, sorts = 0u, openTiles = 0u, openWork = 0u;  // the open sort workgroup
   for (uint t = begin; t < end; ++t) {
     uint count = tiles.tiles[t].count;
     sum += count;
     nonEmpty += count > 0u ? 1u : 0u;
+    if (count > 0u && startsSortGroup(count, openTiles, openWork)) ++sorts;  // a lane's groups end with its chunk
   }
   groupSums[lane] = sum;
   groupTiles[lane] = nonEmpty;
+  groupSorts[lane] = sorts;
   barrier();
-  uint first = 0u, listed = 0u, needed = 0u;
+  uint first = 0u, listed = 0u, needed = 0u, sortFirst = 0u, sortCount = 0u;
   for (uint l = 0u; l < 64u; ++l) {
     if (l < lane) {
       first += groupSums[l];
       listed += groupTiles[l];
+      sortFirst += groupSorts[l];
     }
     needed += groupSums[l];
+    sortCount += groupSorts[l];
   }
   // Lists that do not fit whole would lose cells (holes), as would a cell COUNT left out for its
   // size (hugeCells): then every tile is left empty (nothing scattered, sorted or drawn) and the
   // culled cells' boxes are drawn instead (boxDrawCount).
   bool overflow = needed > pc.entryCapacity || TotalsRef(pc.totals).totals.hugeCells > 0u;
   TileListRef list = TileListRef(pc.tiles + CELL_TILE_LIST_OFFSET(tileCount));
+  TileListRef sortStarts = TileListRef(pc.tiles + CELL_TILE_SORT_GROUPS_OFFSET(tileCount));
+  openTiles = 0u;  // the same groups again, written this time
+  openWork = 0u;
   for (uint t = begin; t < end; ++t) {
     uint count = tiles.tiles[t].count;
     tiles.tiles[t].first = first;
     tiles.tiles[t].count = overflow ? 0u : count;
     tiles.tiles[t].cursor = 0u;
-    if (count > 0u && !overflow) list.tiles[listed++] = t;
+    if (count > 0u && !overflow) {
+      if (startsSortGroup(count, openTiles, openWork)) sortStarts.tiles[sortFirst++] = listed;
+      list.tiles[listed++] = t;
+    }
     first += count;
   }
   if (lane == 63u) {
@@ -211,9 +244,11 @@ void scanTiles() {
     TotalsRef(pc.totals).totals.instanceCount = listed;
     TotalsRef(pc.totals).totals.entriesNeeded = needed;
     TotalsRef(pc.totals).totals.boxDrawCount = overflow ? 0xffffffffu : 0u;
-    uint groupsX = min(listed, 65535u);  // the least maxComputeWorkGroupCount[0] Vulkan allows
+    if (overflow) sortCount = 0u;
+    TotalsRef(pc.totals).totals.sortGroupCount = sortCount;
+    uint groupsX = min(sortCount, 65535u);  // the least maxComputeWorkGroupCount[0] Vulkan allows
     TotalsRef(pc.totals).totals.sortGroups[0] = groupsX;
-    TotalsRef(pc.totals).totals.sortGroups[1] = groupsX == 0u ? 0u : (listed + groupsX - 1u) / groupsX;
+    TotalsRef(pc.totals).totals.sortGroups[1] = groupsX == 0u ? 0u : (sortCount + groupsX - 1u) / groupsX;
     TotalsRef(pc.totals).totals.sortGroups[2] = 1u;
     // The mask rows (a chunk of 32 entries of one tile each) lie below needed / 32 + listed + 1.
     uint maskRows = listed == 0u ? 0u : needed / CELL_TILE_MASK_BITS + listed + 1u;
@@ -236,16 +271,10 @@ bool before(CellTileEntry a, CellTileEntry b) {
 // One tile's list, copied from the scatter's entries to the sorted ones: each entry goes to its
 // rank, the number of entries before it (a rank sort: quadratic, but without barriers, which cost
 // software rasterizers' compute dearly; lists are short). Lists longer than CELL_TILE_SORT_MAX are
-// copied as they are. One tile per workgroup: a lane then compares at most 16 x 1024 entries, far
-// below lavapipe's 65,535 loop iterations per invocation (above; 8 tiles per workgroup, 5x faster
-// there, went past it).
-void sortTile() {
-  uint listIndex = gl_WorkGroupID.x + gl_NumWorkGroups.x * gl_WorkGroupID.y;
-  uint tileCount = pc.tilesX * pc.tilesY;
-  if (listIndex >= TotalsRef(pc.totals).totals.instanceCount) return;
-  uint tile = TileListRef(pc.tiles + CELL_TILE_LIST_OFFSET(tileCount)).tiles[listIndex];
-  uint first = TilesRef(pc.tiles).tiles[tile].first, count = TilesRef(pc.tiles).tiles[tile].count;
+// copied as they are.
+void sortList(uint first, uint count) {
   ReadEntriesRef source = ReadEntriesRef(pc.entries);
+  EntriesRef target = EntriesRef(pc.sortedEntries);
   for (uint i = gl_LocalInvocationID.x; i < count; i += gl_WorkGroupSize.x) {
     CellTileEntry entry = source.entries[first + i];
     uint rank = i;
@@ -253,11 +282,29 @@ void sortTile() {
       rank = 0u;
       for (uint j = 0u; j < count; ++j) rank += before(source.entries[first + j], entry) ? 1u : 0u;
     }
-    EntriesRef target = EntriesRef(pc.sortedEntries);
     target.entries[first + rank].draw = entry.draw;
     target.entries[first + rank].record = entry.record;
     target.entries[first + rank].nearest = entry.nearest;
     target.entries[first + rank].pixels = entry.pixels;
+  }
+}
+
+// One of the scan's sort workgroups (startsSortGroup): its tiles' lists one after the other. A
+// workgroup per tile cost software rasterizers ~3 us for lists of a few entries; the bound on the
+// compares keeps every lane far below lavapipe's 65,535 loop iterations per invocation (above: 8
+// tiles per workgroup whatever their lengths left a list of 889 entries unsorted).
+void sortTiles() {
+  uint group = gl_WorkGroupID.x + gl_NumWorkGroups.x * gl_WorkGroupID.y;
+  uint groups = TotalsRef(pc.totals).totals.sortGroupCount;
+  if (group >= groups) return;
+  uint tileCount = pc.tilesX * pc.tilesY;
+  TileListRef list = TileListRef(pc.tiles + CELL_TILE_LIST_OFFSET(tileCount));
+  TileListRef sortStarts = TileListRef(pc.tiles + CELL_TILE_SORT_GROUPS_OFFSET(tileCount));
+  uint begin = sortStarts.tiles[group];
+  uint end = group + 1u < groups ? sortStarts.tiles[group + 1u] : TotalsRef(pc.totals).totals.instanceCount;
+  for (uint listIndex = begin; listIndex < end; ++listIndex) {
+    CellTile tile = TilesRef(pc.tiles).tiles[list.tiles[listIndex]];
+    sortList(tile.first, tile.count);
   }
 }
 
@@ -319,7 +366,7 @@ void main() {
   if (pc.phase == CELL_TILES_SCAN) {
     scanTiles();
   } else if (pc.phase == CELL_TILES_SORT) {
-    sortTile();
+    sortTiles();
   } else if (pc.phase == CELL_TILES_MASKS) {
     maskRows();
   } else {

@@ -191,7 +191,12 @@ HSDF_CHECK_SIZE(CellCullPushConstants, 10 * 8 + 10 * 4);
 #define CELL_TILES_SORT 3u     // per non-empty tile: its list nearest first (tiles of at most CELL_TILE_SORT_MAX)
 #define CELL_TILES_MASKS 4u    // per non-empty tile: each pixel's masks of the sorted entries that may cover it
 #define CELL_TILE_SORT_MAX 1024u
-// The tiles' buffer: CellTile[tiles], then the non-empty tiles (uint[tiles]), then the pixel masks
+// A sort workgroup takes consecutive non-empty tiles while they are at most this many and their
+// compares per lane at most CELL_TILE_SORT_GROUP_WORK (one list of CELL_TILE_SORT_MAX: 16 x 1024).
+#define CELL_TILE_SORT_GROUP_TILES 8u
+#define CELL_TILE_SORT_GROUP_WORK 16384u
+// The tiles' buffer: CellTile[tiles], then the non-empty tiles (uint[tiles]), then the sort
+// workgroups' first list indices (uint[tiles]), then the pixel masks
 // (uint[cellTileMaskWords]): for each non-empty tile, chunk c of 32 of its sorted entries and pixel
 // p of the tile, bit j of word (masks + c * pixels + p) says that entry 32c + j may cover the
 // pixel (its CellTileEntry::pixels hold it). A fragment reads its pixel's words and only the
@@ -207,7 +212,8 @@ HSDF_CHECK_SIZE(CellCullPushConstants, 10 * 8 + 10 * 4);
 #define CELL_TILE_MAX_TILES (1u << 20)
 // Where the non-empty tile list and the masks start in the tiles' buffer, in bytes.
 #define CELL_TILE_LIST_OFFSET(tiles) (uint64_t(tiles) * 16u)
-#define CELL_TILE_MASKS_OFFSET(tiles) (uint64_t(tiles) * 20u)
+#define CELL_TILE_SORT_GROUPS_OFFSET(tiles) (uint64_t(tiles) * 20u)  // each sort workgroup's first list index
+#define CELL_TILE_MASKS_OFFSET(tiles) (uint64_t(tiles) * 24u)
 // The mask words the tiles' buffer holds for `capacity` entries, `tiles` tiles of `pixels` each.
 #define CELL_TILE_MASK_WORDS(capacity, tiles, pixels) \
   ((uint64_t(capacity) / CELL_TILE_MASK_BITS + uint64_t(tiles)) * uint64_t(pixels))
@@ -238,7 +244,7 @@ struct CellTileTotals {
   uint firstVertex;
   uint firstInstance;
   uint entriesNeeded;  // the entries every tile needed, capacity or not
-  uint sortGroups[3];  // VkDispatchIndirectCommand of the sort: one workgroup per non-empty tile
+  uint sortGroups[3];  // VkDispatchIndirectCommand of the sort: a workgroup per few non-empty tiles
   // The lists' overflow: where the tiles needed more entries than the list holds (its capacity,
   // at most HermiteCellFeature::Settings::maxTileEntries), no tile is drawn and this count buffer
   // of vkCmdDrawIndirectCount draws every box command of the culled cells instead (~0u; else 0).
@@ -249,8 +255,9 @@ struct CellTileTotals {
   // The kept cells whose rectangle spans more than CELL_TILE_MAX_CELL_TILES tiles: any makes the
   // frame draw boxes (boxDrawCount), as an overflow of the lists does.
   uint hugeCells;
+  uint sortGroupCount;  // the sort's workgroups (sortGroups' product may exceed it)
 };
-HSDF_CHECK_SIZE(CellTileTotals, 52);
+HSDF_CHECK_SIZE(CellTileTotals, 56);
 
 // Push constants of cell_tiles.comp. COUNT and SCATTER: a lane per slot of the cell culling pass's
 // kept stream (one record precision per dispatch), its kept cells read as the draws would read them.

@@ -16,7 +16,7 @@ constexpr std::uint32_t kWorkgroupSize = 64;  // cell_tiles.comp local_size_x
 // CellTile[tiles], the non-empty tile list and the pixel masks (CELL_TILE_MASK_BITS) of lists of
 // `capacity` entries in all.
 VkDeviceSize tileBytes(std::uint32_t tileCount, std::uint32_t tileSize, std::uint32_t capacity) {
-  static_assert(CELL_TILE_MASKS_OFFSET(1) == sizeof(shader::CellTile) + sizeof(std::uint32_t));
+  static_assert(CELL_TILE_MASKS_OFFSET(1) == sizeof(shader::CellTile) + 2 * sizeof(std::uint32_t));
   return VkDeviceSize(CELL_TILE_MASKS_OFFSET(tileCount)) +
          VkDeviceSize(CELL_TILE_MASK_WORDS(capacity, tileCount, tileSize * tileSize)) * sizeof(std::uint32_t);
 }
@@ -155,7 +155,7 @@ void CellTiler::record(VkCommandBuffer cmd, const Frame& frame, engine::gpu::Gpu
     computeToCompute(cmd);
     dispatchBins(cmd, push, frame, CELL_TILES_SCATTER);
   }
-  // SORT (a workgroup per non-empty tile, as many as the scan wrote), then MASKS over the sorted lists.
+  // SORT (a workgroup per few non-empty tiles, as the scan grouped them), then MASKS over the sorted lists.
   {
     const auto timing = phase("cells tiling sort");
     engine::gpu::memoryBarrier(cmd, VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT, VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT,
