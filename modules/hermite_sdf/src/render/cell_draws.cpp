@@ -24,6 +24,7 @@
 #include "render/cell_feature_internal.h"
 #include "render/cell_history.h"
 #include "render/cell_rows.h"
+#include "render/cell_tiler.h"
 #include "hermite_sdf/render/lod.h"
 #include "hermite_sdf/core/normal_cone.h"
 
@@ -119,8 +120,8 @@ void HermiteCellFeature::buildDraws(engine::render::FrameContext& frame) {
   if (frame.debugView == DEBUG_VIEW_WIREFRAME) addWireCommands(allCommands, allDraws);
   // A frame of more than CELL_TILE_MAX_TILES tiles (16K frames of 8x8 tiles) is past what the
   // tiling's one-workgroup scan walks: boxes.
-  const std::uint64_t frameTiles = std::uint64_t((frame.extent.width + tileSize_ - 1) / tileSize_) *
-                                   ((frame.extent.height + tileSize_ - 1) / tileSize_);
+  const VkExtent2D tileRows = tileGrid(frame.extent, tileSize_);
+  const std::uint64_t frameTiles = std::uint64_t(tileRows.width) * tileRows.height;
   tiles_ = settings_.cullCells && !cellCullObjects_.empty() && context_->capabilities().drawIndirectCount &&
            tilesWanted(settings_.tiles, context_->capabilities().isSoftwareRasterizer) &&
            frameTiles <= CELL_TILE_MAX_TILES;
@@ -428,8 +429,8 @@ float HermiteCellFeature::cellPixelsOnScreen(const GridSpec& grid, const glm::ma
 std::uint64_t HermiteCellFeature::tileEntryEstimate(const GridSpec& grid, std::uint64_t cells, const glm::mat4& world,
                                                     const engine::render::CameraView& camera, VkExtent2D extent,
                                                     std::uint32_t tileSize) {
-  const std::uint64_t tileCount =
-      std::uint64_t((extent.width + tileSize - 1) / tileSize) * ((extent.height + tileSize - 1) / tileSize);
+  const VkExtent2D tiles = tileGrid(extent, tileSize);
+  const std::uint64_t tileCount = std::uint64_t(tiles.width) * tiles.height;
   const Aabb box = grid.bounds();
   glm::vec3 lo(std::numeric_limits<float>::max()), hi(-std::numeric_limits<float>::max());
   for (int c = 0; c < 8; ++c) {

@@ -93,8 +93,8 @@ void CellTiler::dispatchBins(VkCommandBuffer cmd, shader::CellTilePushConstants 
 
 void CellTiler::record(VkCommandBuffer cmd, const Frame& frame, engine::gpu::GpuTimer* timer) {
   Slot& slot = slots_[frame.slot];
-  const std::uint32_t tilesX = (frame.extent.width + frame.tileSize - 1) / frame.tileSize;
-  const std::uint32_t tilesY = (frame.extent.height + frame.tileSize - 1) / frame.tileSize;
+  const VkExtent2D grid = tileGrid(frame.extent, frame.tileSize);
+  const std::uint32_t tilesX = grid.width, tilesY = grid.height;
   const std::uint32_t tileCount = std::max(tilesX * tilesY, 1u);
   const std::uint64_t needed = slot.recorded ? lastTotals(frame.slot).entriesNeeded : 0;
   ensureBuffers(slot, tileCount, frame.tileSize, std::max(frame.entryEstimate, needed), std::max(frame.entryLimit, 1u));

@@ -28,6 +28,11 @@ namespace hsdf {
 // (cell_tiles_vert.glsl).
 bool tilesAsPoints(const engine::gpu::Context& context);
 
+// The tiles per row and column of a frame (its edge tiles cut by the frame count whole).
+inline VkExtent2D tileGrid(VkExtent2D extent, std::uint32_t tileSize) {
+  return {(extent.width + tileSize - 1) / tileSize, (extent.height + tileSize - 1) / tileSize};
+}
+
 class CellTiler {
  public:
   static engine::Expected<CellTiler> create(const engine::gpu::Context& context, std::uint32_t frameSlots);
