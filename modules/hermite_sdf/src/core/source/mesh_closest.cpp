@@ -42,6 +42,14 @@ constexpr float kUnusedExtent = -1e30f;  // gives an unused lane an infinite bou
 constexpr float kInfinityF = std::numeric_limits<float>::infinity();
 constexpr double kInfinity = std::numeric_limits<double>::infinity();
 
+// Whether triangle t at squared distance d2 replaces `best`: closer, or as close with a lower index
+// (never a bare bound, which only points strictly closer beat). The margin in the prune threshold
+// keeps every triangle at the best distance in the traversal, so the order (d2, t) decides alone.
+bool beats(double d2, std::uint32_t t, const ClosestHit& best) {
+  return d2 < best.distanceSquared ||
+         (d2 == best.distanceSquared && best.triangle != UINT32_MAX && t < best.triangle);
+}
+
 double halfArea(const OrientedBox& box) {
   const glm::dvec3& e = box.halfExtent;
   return e.x * e.y + e.y * e.z + e.z * e.x;
@@ -203,7 +211,7 @@ void ClosestPointTree::visitLeaf(const Leaf& leaf, const glm::dvec3& p, const fl
     const std::uint32_t t = leaf.first + std::uint32_t(order[k]);
     const TrianglePoint c = closestPointOnTriangle(p, triangles_[t]);
     const double d2 = glm::dot(p - c.point, p - c.point);
-    if (d2 < hit.distanceSquared) {
+    if (beats(d2, t, hit)) {
       hit.distanceSquared = d2;
       hit.point = c.point;
       hit.feature = c.feature;
@@ -221,10 +229,12 @@ void ClosestPointTree::visitLeaf(const Leaf& leaf, const glm::dvec3& p, const fl
 }
 
 template <bool kTrackPruned>
-ClosestHit ClosestPointTree::find(const glm::dvec3& p, double boundSquared) const {
+ClosestHit ClosestPointTree::find(const glm::dvec3& p, const ClosestHit& seed) const {
+  const double boundSquared = seed.distanceSquared;
   Search search;
   ClosestHit& hit = search.hit;
-  hit.distanceSquared = boundSquared;
+  hit = seed;
+  hit.prunedBoundSquared = std::numeric_limits<double>::infinity();
   const glm::dvec3 local = p - origin_;
   const glm::dvec3 scaled = local * inverseUnit_;
   const float q[3] = {float(scaled.x), float(scaled.y), float(scaled.z)};
@@ -290,17 +300,21 @@ ClosestHit ClosestPointTree::closestByScan(const glm::dvec3& p) const {
   ClosestHit best;
   for (std::uint32_t t = 0; t < triangles_.size(); ++t) {
     const ClosestHit hit = distanceTo(p, t);
-    if (best.triangle == UINT32_MAX || hit.distanceSquared < best.distanceSquared) best = hit;
+    if (best.triangle == UINT32_MAX || beats(hit.distanceSquared, t, best)) best = hit;
   }
   return best;
 }
 
+ClosestHit ClosestPointTree::closest(const glm::dvec3& p, const ClosestHit& seed) const { return find<false>(p, seed); }
+
 ClosestHit ClosestPointTree::closest(const glm::dvec3& p, double boundSquared) const {
-  return find<false>(p, boundSquared);
+  ClosestHit bound;
+  bound.distanceSquared = boundSquared;
+  return find<false>(p, bound);
 }
 
-ClosestHit ClosestPointTree::closestOrBound(const glm::dvec3& p, double boundSquared) const {
-  return find<true>(p, boundSquared);
+ClosestHit ClosestPointTree::closestOrBound(const glm::dvec3& p, const ClosestHit& seed) const {
+  return find<true>(p, seed);
 }
 
 }  // namespace hsdf::mesh

@@ -33,13 +33,22 @@ class ClosestPointTree {
  public:
   explicit ClosestPointTree(const TriangleBvh& bvh);
 
-  // The closest point of the mesh to p among those strictly closer than sqrt(boundSquared)
-  // (hit.triangle == UINT32_MAX when there is none; never with an infinite bound, even for a p so
-  // far away that its float bounds overflow).
+  // The closest point of the mesh to p: of the triangles at the smallest distance, the one of lowest
+  // index (BVH order), whatever the seed. `seed` is either a hit already known (distanceTo: the
+  // result is that triangle unless another is closer or as close with a lower index) or, with no
+  // triangle, a strict bound (hit.triangle == UINT32_MAX when nothing is closer than
+  // sqrt(seed.distanceSquared); never with an infinite bound, even for a p so far away that its
+  // float bounds overflow).
+  // Why the tie rule: the seed comes from the previous queries of the calling thread, and points
+  // equidistant from two faces (a cube's medial planes) are common on grids. With "the seed unless
+  // something is strictly closer", such a sample's gradient depended on which slab that thread had
+  // baked before: the bake differed from run to run with the scheduling (the 108-object scene drew
+  // 5-15 different pixels under load).
+  ClosestHit closest(const glm::dvec3& p, const ClosestHit& seed) const;
   ClosestHit closest(const glm::dvec3& p, double boundSquared) const;
-  // The same, and when there is none, hit.prunedBoundSquared is a lower bound on the squared
-  // distance from p to the mesh, itself >= boundSquared (costs a little more bookkeeping).
-  ClosestHit closestOrBound(const glm::dvec3& p, double boundSquared) const;
+  // The same, and when no triangle is found, hit.prunedBoundSquared is a lower bound on the squared
+  // distance from p to the mesh, itself >= the bound (costs a little more bookkeeping).
+  ClosestHit closestOrBound(const glm::dvec3& p, const ClosestHit& seed) const;
 
   // Squared distance from p to triangle t (BVH order) and the closest point on it.
   ClosestHit distanceTo(const glm::dvec3& p, std::uint32_t t) const;
@@ -78,7 +87,7 @@ class ClosestPointTree {
   std::int32_t addLeaf(const TriangleBvh& bvh, const BvhNode& binaryLeaf);
   void setLane(Node& node, int lane, const OrientedBox* box) const;
   template <bool kTrackPruned>
-  ClosestHit find(const glm::dvec3& p, double boundSquared) const;
+  ClosestHit find(const glm::dvec3& p, const ClosestHit& seed) const;
   ClosestHit closestByScan(const glm::dvec3& p) const;
   float pruneThreshold(double bestSquared, double margin) const;
   double trueBoundSquared(float boundF, double margin) const;

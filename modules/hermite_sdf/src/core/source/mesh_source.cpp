@@ -130,9 +130,7 @@ struct MeshSource::Impl {
   }
 
   mesh::ClosestHit closest(const glm::dvec3& p, const QueryCache& cache) const {
-    const mesh::ClosestHit seed = seedHit(p, cache);
-    const mesh::ClosestHit hit = tree.closest(p, seed.distanceSquared);
-    return hit.triangle == UINT32_MAX ? seed : hit;
+    return tree.closest(p, seedHit(p, cache));
   }
 
   void remember(QueryCache& cache, const Anchor& anchor) const {
@@ -169,15 +167,13 @@ struct MeshSource::Impl {
   // The closest triangle when it lies within `band` of p; otherwise no triangle and, in
   // prunedBoundSquared, the traversal's bound.
   mesh::ClosestHit closestWithin(const glm::dvec3& p, double band, const QueryCache& cache) const {
-    mesh::ClosestHit seed = seedHit(p, cache);
+    mesh::ClosestHit seed = seedHit(p, cache);  // a candidate, or the band as a strict bound
     const double bandSquared = band * band;
     if (seed.distanceSquared > bandSquared) {
       seed = mesh::ClosestHit{};
       seed.distanceSquared = bandSquared;
     }
-    mesh::ClosestHit hit = tree.closestOrBound(p, seed.distanceSquared);
-    if (hit.triangle == UINT32_MAX && seed.triangle != UINT32_MAX) hit = seed;
-    return hit;
+    return tree.closestOrBound(p, seed);
   }
 
   SdfSample exactSample(const glm::dvec3& p, const mesh::ClosestHit& hit, QueryCache& cache) const {
