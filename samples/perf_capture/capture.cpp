@@ -1,6 +1,7 @@
 #include "capture.h"
 
 #include <algorithm>
+#include <chrono>
 #include <cstdio>
 #include <cstdlib>
 #include <ctime>
@@ -267,6 +268,42 @@ RunInfo runInfo(const Options& options, const gpu::Context& context, const Subje
   return info;
 }
 
+// Which rows may still start (--time-limit), and the finished rows written out after each one, so
+// that a capture stopped from outside (a device call's time limit, a crash) keeps what it measured.
+class Progress {
+ public:
+  explicit Progress(const Options& options) : options_(options), start_(std::chrono::steady_clock::now()) {}
+
+  // Why the next row does not start, if it does not: past the time limit, once a row was measured
+  // (a capture always measures its first row).
+  std::optional<std::string> refusal(const std::vector<RowResult>& results) const {
+    if (options_.timeLimitSeconds <= 0.0) return std::nullopt;
+    const bool measured = std::any_of(results.begin(), results.end(), [](const RowResult& r) { return r.ok; });
+    const double elapsed = std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
+    if (!measured || elapsed < options_.timeLimitSeconds) return std::nullopt;
+    return fmt::format("not run: --time-limit {} s reached ({:.0f} s)", options_.timeLimitSeconds, elapsed);
+  }
+
+  // results.csv and results.json as they stand (the report and charts come at the end).
+  Status save(const RunInfo& info, const std::vector<RowResult>& results) const {
+    ENGINE_TRY(writeCsv(options_.out / "results.csv", info, results));
+    return writeJson(options_.out / "results.json", info, results);
+  }
+
+ private:
+  const Options& options_;
+  std::chrono::steady_clock::time_point start_;
+};
+
+// A row that did not start, listed with why (a failed row: the capture exits non-zero).
+void addNotRun(const RowSpec& spec, const std::string& why, std::vector<RowResult>& results) {
+  RowResult& result = results.emplace_back();
+  result.spec = spec;
+  result.ok = false;
+  result.error = why;
+  std::fprintf(stderr, "\n%s: %s\n", spec.label.c_str(), why.c_str());
+}
+
 gpu::DevicePreference devicePreference(const std::string& name) {
   if (name == "gpu") return gpu::DevicePreference::Hardware;
   if (name == "lavapipe") return gpu::DevicePreference::Software;
@@ -278,7 +315,7 @@ gpu::DevicePreference devicePreference(const std::string& name) {
 Status captureGroup(const Options& options, const Subject& subject, const std::vector<RowSpec>& rows,
                     std::vector<render::CameraView>& cameras, std::vector<TruthImage>& truth,
                     std::vector<RowResult>& results, std::size_t& index, std::size_t total,
-                    std::optional<RunInfo>& info) {
+                    std::optional<RunInfo>& info, const Progress& progress) {
   samples::ViewerDesc desc;
   desc.title = "hermite_sdf perf capture";
   desc.width = options.width;
@@ -323,6 +360,11 @@ Status captureGroup(const Options& options, const Subject& subject, const std::v
     const Group group{options, extent, subject, *viewer, *measurement,
                       rows.front().isMesh() ? meshes : viewer->registry(), cameras, truth, diagonal};
     for (const RowSpec& spec : rows) {
+      if (const std::optional<std::string> why = progress.refusal(results)) {
+        addNotRun(spec, *why, results);
+        ++index;
+        continue;
+      }
       RowResult& result = results.emplace_back();
       result.spec = spec;
       Status status;
@@ -336,6 +378,7 @@ Status captureGroup(const Options& options, const Subject& subject, const std::v
         result.error = status.error().message;
         std::fprintf(stderr, "\n%s: failed: %s\n", spec.label.c_str(), result.error.c_str());
       }
+      ENGINE_TRY(progress.save(*info, results));
     }
     viewer->context().waitIdle();
   }
@@ -382,8 +425,16 @@ Status run(const Options& options, int& failedRows) {
   std::vector<RowResult> results;
   std::size_t index = 0;
   std::optional<RunInfo> info;
-  for (const std::vector<RowSpec>& group : groupRows(options, meshRows, sdfRows))
-    ENGINE_TRY(captureGroup(options, subject, group, cameras, truth, results, index, rows.size(), info));
+  const Progress progress(options);
+  for (const std::vector<RowSpec>& group : groupRows(options, meshRows, sdfRows)) {
+    // Out of time: the group's rows are listed, without opening a device for them.
+    if (const std::optional<std::string> why = info ? progress.refusal(results) : std::nullopt) {
+      for (const RowSpec& spec : group) addNotRun(spec, *why, results);
+      index += group.size();
+      continue;
+    }
+    ENGINE_TRY(captureGroup(options, subject, group, cameras, truth, results, index, rows.size(), info, progress));
+  }
   std::fprintf(stderr, "\n");
   if (!info) return makeError("--methods: no rows to capture");
   ENGINE_TRY(writeCsv(options.out / "results.csv", *info, results));

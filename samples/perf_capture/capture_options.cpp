@@ -1,6 +1,7 @@
 #include "capture_options.h"
 
 #include <algorithm>
+#include <cmath>
 #include <regex>
 
 #include <CLI/CLI.hpp>
@@ -104,6 +105,10 @@ ParseResult parseOptions(int argc, const char* const* argv) {
   app.add_flag("--lod", options.lod, "each cell row also with levels of detail on (rows labelled 'lod')");
   app.add_option("--distance", options.distance, "orbit views this many times farther than the framing (1..64, default 1)")
       ->check(CLI::Range(1.0f, 64.0f));
+  app.add_option("--time-limit", options.timeLimitSeconds,
+                 "no row starts after this many seconds (0: none, the default; the first row always runs): the "
+                 "others are listed as not run (the exit code is non-zero) and every output is written")
+      ->check(CLI::Range(0.0, 1e7));
   app.add_option("--device", options.device, "Vulkan device: auto, gpu or lavapipe")
       ->check(CLI::IsMember({"auto", "gpu", "lavapipe"}));
 
@@ -118,7 +123,9 @@ ParseResult parseOptions(int argc, const char* const* argv) {
     if (app.count("--warmup") == 0) options.warmup = 1;
   }
   std::optional<std::string> problem;
-  if (!size.empty()) problem = samples::parseSize(size, options.width, options.height);
+  if (!std::isfinite(options.timeLimitSeconds))  // CLI::Range lets NaN through
+    problem = "--time-limit: not a number of seconds in 0..1e7";
+  if (!problem && !size.empty()) problem = samples::parseSize(size, options.width, options.height);
   if (!problem && !resolutions.empty()) problem = parseResolutions(resolutions, options);
   if (!problem && !methods.empty()) problem = parseMethods(methods, options);
   if (!problem && !settings.empty()) problem = parseSettings(settings, options);

@@ -2,7 +2,7 @@
 // Command line of the perf capture (issue 10):
 //   perf_capture --out DIR [--scene FILE [--objects] | --shape NAME] [--size WxH] [--resolutions 16,32,64,128]
 //                [--methods mesh,trilinear,hermite,cells,cells-runs,cell-bricks] [--settings "n=3 r=1,..."] [--views N]
-//                [--frames N] [--warmup N] [--quick] [--lod] [--distance F]
+//                [--frames N] [--warmup N] [--quick] [--lod] [--distance F] [--time-limit SECONDS]
 // Every value is checked before a device opens; a bad one is refused naming its option.
 #include <cstdint>
 #include <filesystem>
@@ -37,6 +37,9 @@ struct Options {
   bool lod = false;
   float distance = 1.0f;
   std::string device = "auto";   // auto | gpu | lavapipe
+  // No row starts after this many seconds from the start (0: no limit; the first row always runs):
+  // the rest are listed as not run and the outputs written, within a device call's time limit.
+  double timeLimitSeconds = 0.0;
   std::string commandLine;       // as given, for results.json
 };
 

@@ -37,8 +37,12 @@ if [ ${#capture[@]} -eq 0 ]; then
   capture=(--size 1920x1080 --views 8 --frames 10 --warmup 3 --resolutions 16,32,64,128,256
            --methods hermite,trilinear,cells --settings "n=3 r=1 tiles,n=3 r=1 tiles 4x4,n=3 r=1 tiles 16x16,n=3 r=1 boxes")
 fi
-# The tests and the screenshot take well under two minutes together: the capture gets the rest.
-step capture $(( $(left) - 120 )) "$work/gpu/run.sh" perf_capture --device "$device" --out "$out/capture" "${capture[@]}"
+# The tests and the screenshot take well under two minutes together: the capture gets the rest. Its
+# own --time-limit stops starting rows 60 s before the step's limit, so that it writes its report
+# rather than being killed (results.csv / .json are rewritten after every row in any case).
+limit=$(( $(left) - 120 ))
+case " ${capture[*]} " in *" --time-limit "*) ;; *) capture+=(--time-limit $(( limit > 120 ? limit - 60 : limit / 2 ))) ;; esac
+step capture $limit "$work/gpu/run.sh" perf_capture --device "$device" --out "$out/capture" "${capture[@]}"
 step tests $(( $(left) - 40 )) "$work/gpu-tests/run.sh" "$out/tests"
 step split $(( $(left) )) "$work/gpu/run.sh" scene_runner --headless --ui --device "$device" --split vertical --frames 3 \
   --screenshot "$out/run_sh_default_split.png"

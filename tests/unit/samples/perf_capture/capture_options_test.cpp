@@ -54,6 +54,8 @@ TEST(CaptureOptions, BadValuesAreRefusedNamingTheOption) {
       {{"--out", "x", "--size", "12x"}, "--size: '12x'"},
       {{"--out", "x", "--views", "9"}, "--views"},
       {{"--out", "x", "--frames", "0"}, "--frames"},
+      {{"--out", "x", "--time-limit", "-1"}, "--time-limit"},
+      {{"--out", "x", "--time-limit", "nan"}, "--time-limit"},
       {{"--out", "x", "--shape", "teapot"}, "--shape"},
       {{"--out", "x", "--shape", "torus", "--methods", "mesh"}, "--methods mesh"},
       {{"--out", "x", "--shape", "torus", "--objects"}, "--objects"},
