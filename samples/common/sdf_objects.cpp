@@ -5,6 +5,7 @@
 #include <cstddef>
 
 #include <fmt/format.h>
+#include <fmt/ranges.h>
 
 #include "engine/core/log.h"
 #include "engine/scene/transform.h"
@@ -41,10 +42,12 @@ Status SdfObjects::add(std::shared_ptr<const scene::SceneData> scene, std::span<
   std::size_t triangleNodes = 0;
   for (std::size_t n = 0; n < data.nodes.size(); ++n)
     triangleNodes += data.nodes[n].mesh >= 0 && objects.draws[n] == hsdf::NodeDraw::Triangles;
+  for (const std::string& fallback : objects.fallbacks) log::warn("{}", fallback);
   const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   log::info("{} meshes baked at K = {} in {:.2f} s into {} SDF assets, drawn by {} nodes; {} mesh nodes drawn as "
             "triangles",
-            objects.bakes, settings.resolution, seconds, objects.bakes, entities_.size(), triangleNodes);
+            objects.bakes, settings.resolution, seconds, objects.bakes - int(objects.fallbacks.size()),
+            entities_.size(), triangleNodes);
   return {};
 }
 
@@ -57,6 +60,15 @@ Status SdfObjects::rebake() {
   settings.budget = bakes_.budget();
   const auto start = std::chrono::steady_clock::now();
   auto baked = hsdf::bakeSceneObjects(*scene_, options_, settings);
+  // A mesh that is an SDF at one K and cannot be at the other (a thin part gone, or back) would
+  // change which nodes draw triangles: the entities were made for the load's choice, so that K is
+  // refused, naming the mesh, rather than drawn half.
+  if (baked && baked->draws != objects_.draws) {
+    const std::vector<std::string>& named = baked->fallbacks.empty() ? objects_.fallbacks : baked->fallbacks;
+    baked = engine::makeError(fmt::format("the meshes drawn as triangles would change (at load: {} of them, now: {}; "
+                                          "{}); reload the scene at this resolution",
+                                          objects_.fallbacks.size(), baked->fallbacks.size(), fmt::join(named, "; ")));
+  }
   if (!baked) {
     tuning_.resolution = bakes_.resolution();
     tuning_.padding = bakes_.padding();

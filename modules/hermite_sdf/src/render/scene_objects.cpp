@@ -82,6 +82,41 @@ engine::Expected<BakeSource> meshBakeSource(const engine::scene::SceneData& scen
   return BakeSource::fromScene(name.empty() ? fmt::format("mesh {}", mesh) : name, single);
 }
 
+namespace {
+
+// Every node of `mesh` draws triangles; the reason is kept for the caller to report.
+void fallBackToTriangles(const engine::scene::SceneData& scene, int mesh, std::string reason, SceneObjects& objects) {
+  for (std::size_t n = 0; n < scene.nodes.size(); ++n)
+    if (scene.nodes[n].mesh == mesh) objects.draws[n] = NodeDraw::Triangles;
+  objects.fallbacks.push_back(std::move(reason));
+}
+
+// One mesh's asset, or the reason it has none (Expected's error) and whether that reason stops the
+// scene (`fatal`: a K refused for every mesh, a cancelled bake) rather than this mesh only.
+engine::Expected<std::shared_ptr<const SdfAsset>> bakeMesh(const engine::scene::SceneData& scene, int mesh,
+                                                           const BakeSettings& settings, const BakeControl& control,
+                                                           bool& fatal) {
+  fatal = false;
+  ENGINE_TRY_ASSIGN(BakeSource source, meshBakeSource(scene, mesh));
+  ENGINE_TRY_ASSIGN(PreparedSource prepared, prepareSource(source));  // a degenerate mesh: this mesh only
+  if (auto grid = planBake(prepared, settings); !grid) {
+    fatal = true;  // the budget's K, samples or bytes: the same K refuses every mesh
+    return grid.error();
+  }
+  bool refused = false;  // a progress callback that asks to stop cancels the whole scene
+  BakeControl watched = control;
+  if (control.progress)
+    watched.progress = [&control, &refused](float fraction) {
+      refused = !control.progress(fraction);
+      return !refused;
+    };
+  auto asset = bakeAsset(prepared, settings, watched);
+  fatal = !asset && (refused || (control.cancel != nullptr && control.cancel->isCancelled()));
+  return asset;
+}
+
+}  // namespace
+
 engine::Expected<SceneObjects> bakeSceneObjects(const engine::scene::SceneData& scene,
                                                 const SceneObjectOptions& options, const BakeSettings& settings,
                                                 const BakeControl& control) {
@@ -91,10 +126,17 @@ engine::Expected<SceneObjects> bakeSceneObjects(const engine::scene::SceneData& 
   for (std::size_t n = 0; n < scene.nodes.size(); ++n) {
     const int mesh = scene.nodes[n].mesh;
     if (mesh < 0 || objects.draws[n] != NodeDraw::Sdf || objects.meshAssets[std::size_t(mesh)]) continue;
-    ENGINE_TRY_ASSIGN(BakeSource source, meshBakeSource(scene, mesh));
     const std::string where = fmt::format("mesh {} '{}'", mesh, scene.meshes[std::size_t(mesh)].name);
-    ENGINE_TRY_ASSIGN(objects.meshAssets[std::size_t(mesh)], bakeAsset(source, settings, control).withContext(where));
+    bool fatal = false;
+    auto asset = bakeMesh(scene, mesh, settings, control, fatal);
     ++objects.bakes;
+    if (asset) {
+      objects.meshAssets[std::size_t(mesh)] = std::move(*asset);
+    } else if (fatal) {
+      return asset.error().withContext(where);
+    } else {
+      fallBackToTriangles(scene, mesh, where + ": drawn as triangles: " + asset.error().message, objects);
+    }
   }
   return objects;
 }

@@ -127,6 +127,77 @@ TEST(SceneObjects, PerNodeChoiceFromExtrasOptionsAndDefault) {
   EXPECT_EQ((*forced)[3], NodeDraw::Triangles);
 }
 
+// An open square (one quad, no volume: its field is positive everywhere) and a mesh whose every
+// triangle has zero area (nothing left after cleaning).
+MeshData openSheet(std::string name) {
+  engine::scene::MeshPrimitiveData p;
+  p.positions = {{-1, 0, -1}, {1, 0, -1}, {1, 0, 1}, {-1, 0, 1}};
+  p.normals.assign(4, glm::vec3(0.0f, 1.0f, 0.0f));
+  p.indices = {0, 2, 1, 0, 3, 2};
+  return {std::move(name), {std::move(p)}};
+}
+MeshData degenerate(std::string name) {
+  engine::scene::MeshPrimitiveData p;
+  p.positions = {{0, 0, 0}, {1, 1, 1}, {2, 2, 2}};  // collinear
+  p.normals.assign(3, glm::vec3(0.0f, 1.0f, 0.0f));
+  p.indices = {0, 1, 2};
+  return {std::move(name), {std::move(p)}};
+}
+
+// Tricky: a scene's leaf or decal is an open sheet, which no SDF can hold; it must not cost the
+// closed meshes their SDFs. Each such mesh turns all its nodes (not only the first one, which
+// triggered the bake) to triangles, is named with the reason, and is not baked again per node.
+TEST(SceneObjects, MeshesThatCannotBeSdfsDrawTrianglesAndAreNamed) {
+  SceneData scene = twoMeshScene();
+  scene.meshes.push_back(openSheet("leaf"));
+  scene.meshes.push_back(degenerate("needle"));
+  for (int i = 0; i < 3; ++i) scene.nodes.push_back(node("leaf" + std::to_string(i), 2, glm::vec3(0, 5.0f * float(i), 0)));
+  scene.nodes.push_back(node("needle", 3, glm::vec3(0, -5, 0)));
+  const auto objects = bakeSceneObjects(scene, {}, smallBake());
+  ASSERT_TRUE(objects) << objects.error().message;
+  EXPECT_EQ(objects->bakes, 4) << "one bake per mesh, the failed ones included";
+  ASSERT_TRUE(objects->meshAssets[0] && objects->meshAssets[1]) << "the closed meshes keep their SDFs";
+  EXPECT_FALSE(objects->meshAssets[2]);
+  EXPECT_FALSE(objects->meshAssets[3]);
+  for (std::size_t n = 0; n < scene.nodes.size(); ++n)
+    EXPECT_EQ(objects->draws[n], scene.nodes[n].mesh >= 2 ? NodeDraw::Triangles : NodeDraw::Sdf) << scene.nodes[n].name;
+  ASSERT_EQ(objects->fallbacks.size(), 2u);
+  EXPECT_NE(objects->fallbacks[0].find("mesh 2 'leaf': drawn as triangles: the baked field has no surface"),
+            std::string::npos)
+      << objects->fallbacks[0];
+  EXPECT_NE(objects->fallbacks[1].find("mesh 3 'needle': drawn as triangles: "), std::string::npos)
+      << objects->fallbacks[1];
+
+  engine::ecs::Registry registry;
+  std::vector<engine::ecs::Entity> entities;
+  for (std::size_t i = 0; i < scene.nodes.size(); ++i) entities.push_back(registry.create());
+  EXPECT_EQ(addSdfInstances(scene, *objects, entities, registry).size(), 6u) << "the leaves and the needle get none";
+}
+
+// Tricky: what stops one mesh is not always about that mesh. A cancelled bake and a K that the
+// budget refuses (the same K for every mesh) stop the scene with an error, not a triangle fallback.
+TEST(SceneObjects, CancelAndBudgetStopTheSceneInsteadOfFallingBack) {
+  const SceneData scene = twoMeshScene();
+  BakeControl refuse;
+  refuse.progress = [](float) { return false; };
+  const auto cancelled = bakeSceneObjects(scene, {}, smallBake(), refuse);
+  ASSERT_FALSE(cancelled);
+  EXPECT_NE(cancelled.error().message.find("cancelled"), std::string::npos) << cancelled.error().message;
+  engine::CancelToken token;
+  token.cancel();
+  BakeControl byToken;
+  byToken.cancel = &token;
+  EXPECT_FALSE(bakeSceneObjects(scene, {}, smallBake(), byToken));
+
+  BakeSettings tooBig = smallBake();
+  tooBig.budget.maxResolution = 8;
+  const auto refused = bakeSceneObjects(scene, {}, tooBig);
+  ASSERT_FALSE(refused);
+  EXPECT_NE(refused.error().message.find("mesh 0 'cube': resolution 12 is over the bake budget's max resolution 8"),
+            std::string::npos)
+      << refused.error().message;
+}
+
 TEST(SceneObjects, BadExtrasAreRefusedNamingNodeAndKey) {
   SceneData scene = twoMeshScene();
   scene.nodes[3].extras = R"({"hermite_sdf": {"draw": "mesh"}})";

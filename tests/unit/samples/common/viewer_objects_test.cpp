@@ -132,6 +132,32 @@ TEST(ViewerObjects, ANewResolutionRebakesEveryMeshOnce) {
   EXPECT_TRUE(viewer->close().ok());
 }
 
+// Tricky: every node of this scene places one open triangle, which encloses no volume: no SDF is
+// possible. The scene must still load, its two placed nodes keep their triangles, and a new K
+// re-bakes (and falls back) again without refusing, since no node changes between SDF and triangles.
+TEST(ViewerObjects, AnOpenMeshDrawsItsTrianglesAndTheSceneLoads) {
+  auto viewer = makeViewer();
+  ASSERT_NE(viewer, nullptr);
+  SceneDesc scene;
+  scene.gltf = std::filesystem::path(HSDF_TEST_DATA_DIR) / "gltf" / "hierarchy.gltf";
+  scene.objects = true;
+  scene.groundPlane = false;
+  TuningState tuning;
+  tuning.resolution = 16;
+  const engine::Status loaded = viewer->loadScene(scene, tuning);
+  ASSERT_TRUE(loaded.ok()) << loaded.error().message;
+  EXPECT_TRUE(viewer->sdfObjects().empty());
+  EXPECT_EQ(namesWith(*viewer, false), (std::set<std::string>{"child", "grandchild"}));
+  ASSERT_TRUE(viewer->step().ok());
+  tuning = viewer->tuning();
+  tuning.resolution = 20;
+  viewer->setTuning(tuning);
+  ASSERT_TRUE(viewer->step().ok());
+  EXPECT_EQ(viewer->tuning().resolution, 20) << "the new K was taken, not refused";
+  EXPECT_EQ(namesWith(*viewer, false), (std::set<std::string>{"child", "grandchild"}));
+  EXPECT_TRUE(viewer->close().ok());
+}
+
 // The K of every drawn SDF node.
 std::multiset<std::uint32_t> drawnResolutions(Viewer& viewer) {
   std::multiset<std::uint32_t> ks;

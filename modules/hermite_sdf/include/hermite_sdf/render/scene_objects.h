@@ -50,10 +50,17 @@ struct SceneObjects {
   std::vector<NodeDraw> draws;                             // [node]
   std::vector<std::shared_ptr<const SdfAsset>> meshAssets;  // [mesh]: null when no SDF node uses it
   int bakes = 0;                                           // bakeAsset calls: one per mesh used as SDF
+  // Meshes that cannot be an SDF at this K (an open sheet or a flat mesh encloses no volume, a
+  // degenerate mesh has no triangle left, a mesh over the kept-cell budget): their nodes draw
+  // triangles instead, each line naming the mesh and why ("mesh 0 'leaf': ...").
+  std::vector<std::string> fallbacks;
 };
 
-// Chooses the nodes' draws and bakes, through bakeAsset, each mesh an SDF node uses, once.
-// `control` covers every bake (progress goes 0..1 per mesh). Errors name the mesh.
+// Chooses the nodes' draws and bakes, through bakeAsset, each mesh an SDF node uses, once. A mesh
+// that cannot be baked turns its nodes to triangles (SceneObjects::fallbacks): one leaf or decal
+// does not cost the scene its SDFs. Errors: the choices (bad extras, unknown names), a K the budget
+// refuses for every mesh (planBake), a cancelled bake. `control` covers every bake (progress goes
+// 0..1 per mesh). Errors name the mesh.
 engine::Expected<SceneObjects> bakeSceneObjects(const engine::scene::SceneData& scene,
                                                 const SceneObjectOptions& options, const BakeSettings& settings,
                                                 const BakeControl& control = {});
