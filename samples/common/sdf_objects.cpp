@@ -64,10 +64,13 @@ Status SdfObjects::rebake() {
   // change which nodes draw triangles: the entities were made for the load's choice, so that K is
   // refused, naming the mesh, rather than drawn half.
   if (baked && baked->draws != objects_.draws) {
-    const std::vector<std::string>& named = baked->fallbacks.empty() ? objects_.fallbacks : baked->fallbacks;
-    baked = engine::makeError(fmt::format("the meshes drawn as triangles would change (at load: {} of them, now: {}; "
-                                          "{}); reload the scene at this resolution",
-                                          objects_.fallbacks.size(), baked->fallbacks.size(), fmt::join(named, "; ")));
+    const auto list = [](const std::vector<std::string>& fallbacks) {
+      return fallbacks.empty() ? std::string("none") : fmt::format("{}", fmt::join(fallbacks, "; "));
+    };
+    baked = engine::makeError(fmt::format("the meshes drawn as triangles would change (at resolution {}: {}; at the "
+                                          "resolution drawn, {}: {}); reload the scene at this resolution",
+                                          settings.resolution, list(baked->fallbacks), bakes_.resolution(),
+                                          list(objects_.fallbacks)));
   }
   if (!baked) {
     tuning_.resolution = bakes_.resolution();

@@ -136,7 +136,13 @@ void Viewer::setCameraMode(CameraMode mode) {
 void Viewer::setTuning(const TuningState& tuning) {
   tuning_ = tuning;
   if (sceneObjects_.loaded() && (tuning_.resolution != bakes_.resolution() || tuning_.padding != bakes_.padding())) {
-    if (Status rebaked = sceneObjects_.rebake(); !rebaked) log::error("{}", rebaked.error().message);
+    // The reason stays in bakeError() (the panel shows it) as for one baked object.
+    if (Status rebaked = sceneObjects_.rebake(); !rebaked) {
+      log::error("{}", rebaked.error().message);
+      bakes_.setError(rebaked.error().message);
+    } else {
+      bakes_.setError({});
+    }
   }
   updateCompareBake();
   bakes_.followTuning();

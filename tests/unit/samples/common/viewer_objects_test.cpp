@@ -158,6 +158,40 @@ TEST(ViewerObjects, AnOpenMeshDrawsItsTrianglesAndTheSceneLoads) {
   EXPECT_TRUE(viewer->close().ok());
 }
 
+// Tricky: the slab of thin_slab.gltf (0.01 thick) has a surface at K = 17 (a sample plane through
+// it) and none at K = 16 (it falls between two), so a new K would turn its two nodes between SDF
+// and triangles, which the entities made at load cannot follow. The new K is refused, naming the
+// slab, in bakeError() as the panel shows it; the K drawn stays, and so do the drawn nodes.
+TEST(ViewerObjects, ANewResolutionThatWouldTurnNodesToTrianglesIsRefused) {
+  for (const int load : {17, 16}) {
+    auto viewer = makeViewer();
+    ASSERT_NE(viewer, nullptr);
+    SceneDesc scene;
+    scene.gltf = std::filesystem::path(HSDF_TEST_DATA_DIR) / "gltf" / "thin_slab.gltf";
+    scene.objects = true;
+    scene.groundPlane = false;
+    TuningState tuning;
+    tuning.resolution = load;
+    ASSERT_TRUE(viewer->loadScene(scene, tuning).ok());
+    const std::set<std::string> sdf = namesWith(*viewer, true);
+    EXPECT_EQ(sdf, load == 17 ? (std::set<std::string>{"slab_a", "slab_b", "cube"}) : (std::set<std::string>{"cube"}));
+    tuning = viewer->tuning();
+    tuning.resolution = load == 17 ? 16 : 17;
+    viewer->setTuning(tuning);
+    EXPECT_EQ(viewer->tuning().resolution, load) << "the K drawn is put back";
+    EXPECT_NE(viewer->bakeError().find("mesh 0 'slab'"), std::string::npos) << viewer->bakeError();
+    EXPECT_NE(viewer->bakeError().find("would change"), std::string::npos) << viewer->bakeError();
+    EXPECT_EQ(namesWith(*viewer, true), sdf);
+    EXPECT_EQ(drawnResolution(*viewer), load);
+    ASSERT_TRUE(viewer->step().ok());
+    tuning.resolution = load == 17 ? 33 : 32;  // the same parity: no node changes, the K is taken
+    viewer->setTuning(tuning);
+    EXPECT_EQ(viewer->tuning().resolution, tuning.resolution);
+    EXPECT_TRUE(viewer->bakeError().empty()) << viewer->bakeError();
+    EXPECT_TRUE(viewer->close().ok());
+  }
+}
+
 // The K of every drawn SDF node.
 std::multiset<std::uint32_t> drawnResolutions(Viewer& viewer) {
   std::multiset<std::uint32_t> ks;

@@ -66,12 +66,15 @@ engine::Expected<HermiteField> bakeField(const SdfSource& source, const GridSpec
                                                : bakeHermiteField(source, grid, options);
 }
 
-// A field without a surface draws nothing: an error with the likely cause, not an empty result.
-engine::Status checkHasSurface(const CellStats& stats) {
+// A field without a surface draws nothing: an error with the likely causes, not an empty result. A
+// closed part thinner than the spacing can fall between two sample planes (a 0.01-thick slab has a
+// surface at K = 17 and none at K = 16): the spacing is named so that the user can compare.
+engine::Status checkHasSurface(const CellStats& stats, const GridSpec& grid) {
   if (stats.kept() > 0) return {};
   return engine::makeError(fmt::format("the baked field has no surface: none of its {} cells changes sign (the input "
-                                       "encloses no volume, e.g. a flat or open sheet)",
-                                       stats.cells));
+                                       "encloses no volume, e.g. a flat or open sheet, or none thicker than about "
+                                       "the grid spacing {:.6g}: a higher resolution may resolve it)",
+                                       stats.cells, grid.spacing));
 }
 
 }  // namespace
@@ -164,7 +167,7 @@ engine::Expected<std::shared_ptr<const SdfAsset>> bakeAsset(const PreparedSource
   ENGINE_TRY_ASSIGN(GridSpec grid, planBake(source, settings));
   if (settings.band == BakeBand::Sparse) {
     ENGINE_TRY_ASSIGN(std::shared_ptr<const SdfAsset> asset, bakeSparseAsset(source, grid, settings, control));
-    ENGINE_TRY(checkHasSurface(asset->classification.stats));
+    ENGINE_TRY(checkHasSurface(asset->classification.stats, grid));
     if (control.progress && !control.progress(1.0f)) return engine::makeError("baking: cancelled");
     return asset;
   }
@@ -177,7 +180,7 @@ engine::Expected<std::shared_ptr<const SdfAsset>> bakeAsset(const PreparedSource
   classify.maxKeptCells = settings.budget.maxKeptCells;
   ENGINE_TRY_ASSIGN(std::shared_ptr<const SdfAsset> asset,
                     makeSdfAsset(source.name, std::move(field), source.source->bounds(), classify));
-  ENGINE_TRY(checkHasSurface(asset->classification.stats));
+  ENGINE_TRY(checkHasSurface(asset->classification.stats, grid));
   if (control.progress && !control.progress(1.0f)) return engine::makeError("baking: cancelled");
   return asset;
 }
