@@ -132,24 +132,31 @@ TEST(ViewerObjects, ANewResolutionRebakesEveryMeshOnce) {
   EXPECT_TRUE(viewer->close().ok());
 }
 
+// A viewer showing tests/data/gltf/<file> as scene objects at K = `resolution` (null if it fails).
+std::unique_ptr<Viewer> viewTestScene(const std::string& file, int resolution) {
+  auto viewer = makeViewer();
+  if (!viewer) return nullptr;
+  SceneDesc scene;
+  scene.gltf = std::filesystem::path(HSDF_TEST_DATA_DIR) / "gltf" / file;
+  scene.objects = true;
+  scene.groundPlane = false;
+  TuningState tuning;
+  tuning.resolution = resolution;
+  const engine::Status loaded = viewer->loadScene(scene, tuning);
+  EXPECT_TRUE(loaded.ok()) << loaded.error().message;
+  return loaded.ok() ? std::move(viewer) : nullptr;
+}
+
 // Tricky: every node of this scene places one open triangle, which encloses no volume: no SDF is
 // possible. The scene must still load, its two placed nodes keep their triangles, and a new K
 // re-bakes (and falls back) again without refusing, since no node changes between SDF and triangles.
 TEST(ViewerObjects, AnOpenMeshDrawsItsTrianglesAndTheSceneLoads) {
-  auto viewer = makeViewer();
+  auto viewer = viewTestScene("hierarchy.gltf", 16);
   ASSERT_NE(viewer, nullptr);
-  SceneDesc scene;
-  scene.gltf = std::filesystem::path(HSDF_TEST_DATA_DIR) / "gltf" / "hierarchy.gltf";
-  scene.objects = true;
-  scene.groundPlane = false;
-  TuningState tuning;
-  tuning.resolution = 16;
-  const engine::Status loaded = viewer->loadScene(scene, tuning);
-  ASSERT_TRUE(loaded.ok()) << loaded.error().message;
   EXPECT_TRUE(viewer->sdfObjects().empty());
   EXPECT_EQ(namesWith(*viewer, false), (std::set<std::string>{"child", "grandchild"}));
   ASSERT_TRUE(viewer->step().ok());
-  tuning = viewer->tuning();
+  TuningState tuning = viewer->tuning();
   tuning.resolution = 20;
   viewer->setTuning(tuning);
   ASSERT_TRUE(viewer->step().ok());
@@ -164,18 +171,11 @@ TEST(ViewerObjects, AnOpenMeshDrawsItsTrianglesAndTheSceneLoads) {
 // slab, in bakeError() as the panel shows it; the K drawn stays, and so do the drawn nodes.
 TEST(ViewerObjects, ANewResolutionThatWouldTurnNodesToTrianglesIsRefused) {
   for (const int load : {17, 16}) {
-    auto viewer = makeViewer();
+    auto viewer = viewTestScene("thin_slab.gltf", load);
     ASSERT_NE(viewer, nullptr);
-    SceneDesc scene;
-    scene.gltf = std::filesystem::path(HSDF_TEST_DATA_DIR) / "gltf" / "thin_slab.gltf";
-    scene.objects = true;
-    scene.groundPlane = false;
-    TuningState tuning;
-    tuning.resolution = load;
-    ASSERT_TRUE(viewer->loadScene(scene, tuning).ok());
     const std::set<std::string> sdf = namesWith(*viewer, true);
     EXPECT_EQ(sdf, load == 17 ? (std::set<std::string>{"slab_a", "slab_b", "cube"}) : (std::set<std::string>{"cube"}));
-    tuning = viewer->tuning();
+    TuningState tuning = viewer->tuning();
     tuning.resolution = load == 17 ? 16 : 17;
     viewer->setTuning(tuning);
     EXPECT_EQ(viewer->tuning().resolution, load) << "the K drawn is put back";
