@@ -428,7 +428,7 @@ Status run(const Options& options, int& failedRows) {
   const Progress progress(options);
   for (const std::vector<RowSpec>& group : groupRows(options, meshRows, sdfRows)) {
     // Out of time: the group's rows are listed, without opening a device for them.
-    if (const std::optional<std::string> why = info ? progress.refusal(results) : std::nullopt) {
+    if (const std::optional<std::string> why = progress.refusal(results)) {
       for (const RowSpec& spec : group) addNotRun(spec, *why, results);
       index += group.size();
       continue;
@@ -437,9 +437,8 @@ Status run(const Options& options, int& failedRows) {
   }
   std::fprintf(stderr, "\n");
   if (!info) return makeError("--methods: no rows to capture");
-  ENGINE_TRY(writeCsv(options.out / "results.csv", *info, results));
+  ENGINE_TRY(progress.save(*info, results));  // the rows not run after the last save included
   ENGINE_TRY(writeObjectsCsv(options.out / "objects.csv", *info, results));
-  ENGINE_TRY(writeJson(options.out / "results.json", *info, results));
   ENGINE_TRY(writeMarkdown(options.out, *info, results));
   failedRows = int(std::count_if(results.begin(), results.end(), [](const RowResult& r) { return !r.ok; }));
   std::fprintf(stderr, "wrote %s (%zu rows, %d failed)\n", (options.out / "results.md").string().c_str(),

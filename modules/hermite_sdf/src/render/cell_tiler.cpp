@@ -13,8 +13,8 @@ namespace {
 constexpr std::uint32_t kMaxGroupsX = 65535;  // the least maxComputeWorkGroupCount[0] Vulkan allows
 constexpr std::uint32_t kWorkgroupSize = 64;  // cell_tiles.comp local_size_x
 
-// CellTile[tiles], the non-empty tile list and the pixel masks (CELL_TILE_MASK_BITS) of lists of
-// `capacity` entries in all.
+// CellTile[tiles], the non-empty tile list, the sort workgroups' starts and the pixel masks
+// (CELL_TILE_MASK_BITS) of lists of `capacity` entries in all.
 VkDeviceSize tileBytes(std::uint32_t tileCount, std::uint32_t tileSize, std::uint32_t capacity) {
   static_assert(CELL_TILE_MASKS_OFFSET(1) == sizeof(shader::CellTile) + 2 * sizeof(std::uint32_t));
   return VkDeviceSize(CELL_TILE_MASKS_OFFSET(tileCount)) +
