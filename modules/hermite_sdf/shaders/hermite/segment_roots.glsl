@@ -37,55 +37,47 @@ void axisBasisScaledBernstein(float a, float b, out vec4 k[4]) {
   k[3] = pb;
 }
 
-// Scaled Bernstein coefficients (times C(6, m)) of the product of two cubics given scaled.
-void multiplyCubics(float p[4], float q[4], out float r[7]) {
-  for (int m = 0; m < 7; ++m) r[m] = 0.0;
+// Scaled coefficients of the product of a scaled cubic and a scaled degree-6 polynomial, added to r.
+void addCubicTimesSextic(vec4 p, float q[7], inout float r[SEGMENT_COEFFS]) {
   for (int i = 0; i < 4; ++i)
-    for (int j = 0; j < 4; ++j) r[i + j] += p[i] * q[j];
+    for (int m = 0; m < 7; ++m) r[i + m] += p[i] * q[m];
 }
 
 // Bernstein coefficients (degree 9, s in [0,1]) of F along the segment from cell-local u0 to u1.
-// F = sum over corners of f Hx Hy Hz + h (fx Gx Hy Hz + fy Hx Gy Hz + fz Hx Hy Gz), grouped by the
-// x factor: F = sum over x sides of Hx * QH + Gx * QG, with QH, QG products of y and z cubics.
+// F = sum over corners of f Hx Hy Hz + h (fx Gx Hy Hz + fy Hx Gy Hz + fz Hx Hy Gz), summed inside
+// out to share the products: per (y, z) side, the x cubics A = sum_x (f Hx + h fx Gx),
+// B = sum_x h fy Hx, C = sum_x h fz Hx; per z side, D = sum_y (Hy A + Gy B), E = sum_y Hy C
+// (degree 6); F = sum_z (Hz D + Gz E). In scaled Bernstein form (coefficients times the binomial
+// weights) products are plain convolutions.
 void restrictToSegment(vec4 corners[8], float h, vec3 u0, vec3 u1, out float b[SEGMENT_COEFFS]) {
   vec4 kx[4], ky[4], kz[4];
   axisBasisScaledBernstein(u0.x, u1.x, kx);
   axisBasisScaledBernstein(u0.y, u1.y, ky);
   axisBasisScaledBernstein(u0.z, u1.z, kz);
-  float qh[2][7], qg[2][7];
-  for (int side = 0; side < 2; ++side)
-    for (int m = 0; m < 7; ++m) {
-      qh[side][m] = 0.0;
-      qg[side][m] = 0.0;
-    }
-  for (int sy = 0; sy < 2; ++sy)
-    for (int sz = 0; sz < 2; ++sz) {
-      float hy[4], gy[4], hz[4], gz[4];
-      for (int i = 0; i < 4; ++i) {
-        hy[i] = ky[i][sy];
-        gy[i] = ky[i][2 + sy];
-        hz[i] = kz[i][sz];
-        gz[i] = kz[i][2 + sz];
-      }
-      float hh[7], gh[7], hg[7];
-      multiplyCubics(hy, hz, hh);
-      multiplyCubics(gy, hz, gh);
-      multiplyCubics(hy, gz, hg);
-      for (int sx = 0; sx < 2; ++sx) {
-        vec4 s = corners[sx + 2 * sy + 4 * sz];
-        for (int m = 0; m < 7; ++m) {
-          qh[sx][m] += s.x * hh[m] + h * (s.z * gh[m] + s.w * hg[m]);
-          qg[sx][m] += h * s.y * hh[m];
-        }
-      }
-    }
-  const float binomial9[SEGMENT_COEFFS] = float[](1.0, 9.0, 36.0, 84.0, 126.0, 126.0, 84.0, 36.0, 9.0, 1.0);
   for (int k = 0; k < SEGMENT_COEFFS; ++k) b[k] = 0.0;
-  for (int sx = 0; sx < 2; ++sx)
-    for (int i = 0; i < 4; ++i) {
-      float hx = kx[i][sx], gx = kx[i][2 + sx];
-      for (int m = 0; m < 7; ++m) b[i + m] += hx * qh[sx][m] + gx * qg[sx][m];
+  for (int sz = 0; sz < 2; ++sz) {
+    float d[7], e[7];
+    for (int m = 0; m < 7; ++m) {
+      d[m] = 0.0;
+      e[m] = 0.0;
     }
+    for (int sy = 0; sy < 2; ++sy) {
+      vec4 s0 = corners[2 * sy + 4 * sz], s1 = corners[1 + 2 * sy + 4 * sz];
+      vec4 x0 = vec4(kx[0][0], kx[1][0], kx[2][0], kx[3][0]), x1 = vec4(kx[0][1], kx[1][1], kx[2][1], kx[3][1]);
+      vec4 gx0 = vec4(kx[0][2], kx[1][2], kx[2][2], kx[3][2]), gx1 = vec4(kx[0][3], kx[1][3], kx[2][3], kx[3][3]);
+      vec4 cubicA = s0.x * x0 + s1.x * x1 + h * (s0.y * gx0 + s1.y * gx1);
+      vec4 cubicB = h * (s0.z * x0 + s1.z * x1);
+      vec4 cubicC = h * (s0.w * x0 + s1.w * x1);
+      for (int i = 0; i < 4; ++i)
+        for (int j = 0; j < 4; ++j) {
+          d[i + j] += ky[i][sy] * cubicA[j] + ky[i][2 + sy] * cubicB[j];
+          e[i + j] += ky[i][sy] * cubicC[j];
+        }
+    }
+    addCubicTimesSextic(vec4(kz[0][sz], kz[1][sz], kz[2][sz], kz[3][sz]), d, b);
+    addCubicTimesSextic(vec4(kz[0][2 + sz], kz[1][2 + sz], kz[2][2 + sz], kz[3][2 + sz]), e, b);
+  }
+  const float binomial9[SEGMENT_COEFFS] = float[](1.0, 9.0, 36.0, 84.0, 126.0, 126.0, 84.0, 36.0, 9.0, 1.0);
   for (int k = 0; k < SEGMENT_COEFFS; ++k) b[k] /= binomial9[k];
 }
 
@@ -99,18 +91,13 @@ vec2 bernsteinValueDerivative(float b[SEGMENT_COEFFS], float s) {
 
 float bernsteinValue(float b[SEGMENT_COEFFS], float s) { return bernsteinValueDerivative(b, s).x; }
 
-// The coefficients of the same polynomial on the sub-interval [s0, s1] of [0,1] (two de Casteljau
-// splits: keep [s0, 1], then its left part up to s1).
-void bernsteinSubSegment(float b[SEGMENT_COEFFS], float s0, float s1, out float c[SEGMENT_COEFFS]) {
-  c = b;
-  if (s0 > 0.0) {
-    for (int level = SEGMENT_DEGREE; level > 0; --level)
-      for (int i = 0; i < level; ++i) c[i] = mix(c[i], c[i + 1], s0);  // c[i] becomes the right part's
-  }
-  float split = s0 < 1.0 ? (s1 - s0) / (1.0 - s0) : 1.0;
-  if (split < 1.0) {
-    for (int level = SEGMENT_DEGREE; level > 0; --level)
-      for (int i = SEGMENT_DEGREE; i > SEGMENT_DEGREE - level; --i) c[i] = mix(c[i - 1], c[i], split);
+// Splits the polynomial at s in one de Casteljau pass: c becomes its coefficients on [s, 1], left
+// its coefficients on [0, s] (the first coefficient of each level).
+void bernsteinSplit(inout float c[SEGMENT_COEFFS], float s, out float left[SEGMENT_COEFFS]) {
+  left[0] = c[0];
+  for (int level = SEGMENT_DEGREE; level > 0; --level) {
+    for (int i = 0; i < level; ++i) c[i] = mix(c[i], c[i + 1], s);
+    left[SEGMENT_COEFFS - level] = c[0];
   }
 }
 
@@ -192,7 +179,8 @@ float solveInBracket(float c[SEGMENT_COEFFS], uint steps, bool certified, inout 
 // The first root on [0,1] of the restricted polynomial b, or -1 when there is none. One walk does
 // the paper's search and its certification together: [0,1] is cut into `subdivisions` equal
 // intervals (the paper's n equidistant samples are their ends), visited left to right. An
-// interval's coefficients (two de Casteljau splits of b) decide it:
+// interval's coefficients (one de Casteljau split of the rest of b, which starts where the last
+// interval ended) decide it:
 //   - all of one strict sign: no root (convex hull), go to the next interval;
 //   - end values of different sign (or a zero end) and one sign variation: exactly one root
 //     (Descartes), the first; placed by linear interpolation of the ends and `refineSteps`
@@ -219,10 +207,15 @@ float segmentFirstRoot(float b[SEGMENT_COEFFS], uint subdivisions, uint refineSt
   int level = 0;
   float w = top, a = 0.0;
   float c[SEGMENT_COEFFS];
+  float rest[SEGMENT_COEFFS] = b;  // the polynomial on [a, 1]: every interval starts where one ended
   int outcome = 0;  // 0: no root, 1: a unique root in [a, a + w], 2: a contact at a + w / 2
   for (int step = 0; step < kMaxSteps; ++step) {
     a = float(index) * w;
-    bernsteinSubSegment(b, a, min(a + w, 1.0), c);
+    // One split of the rest gives the interval's coefficients and, should it be excluded, the rest
+    // after it: half the work of cutting each interval out of b (two splits), and the intervals
+    // tile [0, 1] exactly.
+    float after[SEGMENT_COEFFS] = rest;
+    bernsteinSplit(after, a < 1.0 ? min(w / (1.0 - a), 1.0) : 1.0, c);
     ++evaluations;
     bool excluded = strictSign(c) != 0;
     bool endsDiffer = c[0] == 0.0 || c[SEGMENT_DEGREE] == 0.0 || (c[0] < 0.0) != (c[SEGMENT_DEGREE] < 0.0);
@@ -241,7 +234,8 @@ float segmentFirstRoot(float b[SEGMENT_COEFFS], uint subdivisions, uint refineSt
       continue;
     }
     // The next interval; a finished right child climbs to its parent's successor (as many levels
-    // as the new index has trailing zero bits, without a loop).
+    // as the new index has trailing zero bits, without a loop). Either way it starts at a + w.
+    rest = after;
     ++index;
     int climb = min(findLSB(index), level);
     index >>= uint(climb);
