@@ -8,7 +8,8 @@ namespace engine::gpu {
 GpuTimer::GpuTimer(const Context& context, std::uint32_t maxScopes, const std::string& name) : maxScopes_(maxScopes) {
   if (!context.capabilities().timestamps) return;  // timings silently empty on such devices
   periodMs_ = double(context.capabilities().timestampPeriodNs) * 1e-6;
-  pool_ = QueryPool(context, VK_QUERY_TYPE_TIMESTAMP, maxScopes * 2, name);
+  slotsPerScope_ = context.capabilities().isSoftwareRasterizer ? 4 : 2;
+  pool_ = QueryPool(context, VK_QUERY_TYPE_TIMESTAMP, maxScopes * slotsPerScope_, name);
 }
 
 void GpuTimer::reset(VkCommandBuffer cmd) {
@@ -27,24 +28,31 @@ void GpuTimer::begin(VkCommandBuffer cmd, const std::string& scope, VkPipelineSt
   const auto index = static_cast<std::uint32_t>(names_.size());
   names_.push_back(scope);
   open_.push_back(index);
-  vkCmdWriteTimestamp2(cmd, after, pool_.handle(), index * 2);
+  stamp(cmd, after, index * slotsPerScope_);
 }
 
 void GpuTimer::end(VkCommandBuffer cmd) {
   if (!pool_ || open_.empty()) return;
   const std::uint32_t index = open_.back();
   open_.pop_back();
-  if (index != ~0u) vkCmdWriteTimestamp2(cmd, VK_PIPELINE_STAGE_2_BOTTOM_OF_PIPE_BIT, pool_.handle(), index * 2 + 1);
+  if (index != ~0u) stamp(cmd, VK_PIPELINE_STAGE_2_BOTTOM_OF_PIPE_BIT, index * slotsPerScope_ + slotsPerScope_ / 2);
+}
+
+void GpuTimer::stamp(VkCommandBuffer cmd, VkPipelineStageFlags2 after, std::uint32_t slot) {
+  vkCmdWriteTimestamp2(cmd, after, pool_.handle(), slot);
+  if (slotsPerScope_ == 4) vkCmdWriteTimestamp2(cmd, VK_PIPELINE_STAGE_2_BOTTOM_OF_PIPE_BIT, pool_.handle(), slot + 1);
 }
 
 std::vector<GpuTiming> GpuTimer::results() const {
   std::vector<GpuTiming> timings;
   if (!pool_ || names_.empty()) return timings;
-  // Per scope: begin tick, its availability, end tick, its availability.
-  const std::vector<std::uint64_t> ticks = pool_.read(static_cast<std::uint32_t>(names_.size() * 2), 1);
+  // Per slot: its tick and its availability; a scope's begin and end are its first slot and the
+  // one half way (the others only flush).
+  const std::vector<std::uint64_t> ticks = pool_.read(static_cast<std::uint32_t>(names_.size() * slotsPerScope_), 1);
   for (std::size_t i = 0; i < names_.size(); ++i) {
-    const std::uint64_t begin = ticks[4 * i], beginReady = ticks[4 * i + 1];
-    const std::uint64_t end = ticks[4 * i + 2], endReady = ticks[4 * i + 3];
+    const std::size_t first = 2 * i * slotsPerScope_, last = first + slotsPerScope_;
+    const std::uint64_t begin = ticks[first], beginReady = ticks[first + 1];
+    const std::uint64_t end = ticks[last], endReady = ticks[last + 1];
     if (!beginReady || !endReady) continue;
     timings.push_back({names_[i], double(end - begin) * periodMs_});
   }

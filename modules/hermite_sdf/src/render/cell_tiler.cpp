@@ -107,13 +107,11 @@ void CellTiler::record(VkCommandBuffer cmd, const Frame& frame, engine::gpu::Gpu
   // them to the draws only).
   computeToCompute(cmd);
   // Each phase timed on its own (GPU captures say which one the tiling's time goes to): from the
-  // end of everything recorded before it (a scope begun at the top of the pipe could start while
-  // the previous phase still runs), through the barrier that waits for its input, to the end of its
-  // work. The barrier comes first in the scope for lavapipe, which stamps a timestamp only at the
-  // next barrier (docs/gpu-vs-lavapipe.md): stamped after the dispatch, a begin would hide it.
-  const auto phase = [&](const char* name) {
-    return engine::gpu::GpuTimerScope(timer, cmd, name, VK_PIPELINE_STAGE_2_BOTTOM_OF_PIPE_BIT);
-  };
+  // end of everything recorded before it (GpuTimer's bottom-of-pipe begin), through the barrier
+  // that waits for its input, to the end of its work. The barrier comes first in the scope for
+  // lavapipe, which stamps a timestamp only at the next barrier (docs/gpu-vs-lavapipe.md): stamped
+  // after the dispatch, a begin would hide it.
+  const auto phase = [&](const char* name) { return engine::gpu::GpuTimerScope(timer, cmd, name); };
   {
     const auto timing = phase("cells tiling clear");
     // The previous frame's draw read the tiles and entries (write after read), then zero the tiles.
