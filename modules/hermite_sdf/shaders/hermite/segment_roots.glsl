@@ -37,6 +37,9 @@ void axisBasisScaledBernstein(float a, float b, out vec4 k[4]) {
   k[3] = pb;
 }
 
+// One basis function's scaled cubic from axisBasisScaledBernstein (`which`: H0, H1, G0, G1).
+vec4 basisCubic(vec4 k[4], int which) { return vec4(k[0][which], k[1][which], k[2][which], k[3][which]); }
+
 // Scaled coefficients of the product of a scaled cubic and a scaled degree-6 polynomial, added to r.
 void addCubicTimesSextic(vec4 p, float q[7], inout float r[SEGMENT_COEFFS]) {
   for (int i = 0; i < 4; ++i)
@@ -54,6 +57,7 @@ void restrictToSegment(vec4 corners[8], float h, vec3 u0, vec3 u1, out float b[S
   axisBasisScaledBernstein(u0.x, u1.x, kx);
   axisBasisScaledBernstein(u0.y, u1.y, ky);
   axisBasisScaledBernstein(u0.z, u1.z, kz);
+  vec4 x0 = basisCubic(kx, 0), x1 = basisCubic(kx, 1), gx0 = basisCubic(kx, 2), gx1 = basisCubic(kx, 3);
   for (int k = 0; k < SEGMENT_COEFFS; ++k) b[k] = 0.0;
   for (int sz = 0; sz < 2; ++sz) {
     float d[7], e[7];
@@ -63,8 +67,6 @@ void restrictToSegment(vec4 corners[8], float h, vec3 u0, vec3 u1, out float b[S
     }
     for (int sy = 0; sy < 2; ++sy) {
       vec4 s0 = corners[2 * sy + 4 * sz], s1 = corners[1 + 2 * sy + 4 * sz];
-      vec4 x0 = vec4(kx[0][0], kx[1][0], kx[2][0], kx[3][0]), x1 = vec4(kx[0][1], kx[1][1], kx[2][1], kx[3][1]);
-      vec4 gx0 = vec4(kx[0][2], kx[1][2], kx[2][2], kx[3][2]), gx1 = vec4(kx[0][3], kx[1][3], kx[2][3], kx[3][3]);
       vec4 cubicA = s0.x * x0 + s1.x * x1 + h * (s0.y * gx0 + s1.y * gx1);
       vec4 cubicB = h * (s0.z * x0 + s1.z * x1);
       vec4 cubicC = h * (s0.w * x0 + s1.w * x1);
@@ -74,8 +76,8 @@ void restrictToSegment(vec4 corners[8], float h, vec3 u0, vec3 u1, out float b[S
           e[i + j] += ky[i][sy] * cubicC[j];
         }
     }
-    addCubicTimesSextic(vec4(kz[0][sz], kz[1][sz], kz[2][sz], kz[3][sz]), d, b);
-    addCubicTimesSextic(vec4(kz[0][2 + sz], kz[1][2 + sz], kz[2][2 + sz], kz[3][2 + sz]), e, b);
+    addCubicTimesSextic(basisCubic(kz, sz), d, b);
+    addCubicTimesSextic(basisCubic(kz, 2 + sz), e, b);
   }
   const float binomial9[SEGMENT_COEFFS] = float[](1.0, 9.0, 36.0, 84.0, 126.0, 126.0, 84.0, 36.0, 9.0, 1.0);
   for (int k = 0; k < SEGMENT_COEFFS; ++k) b[k] /= binomial9[k];
@@ -88,8 +90,6 @@ vec2 bernsteinValueDerivative(float b[SEGMENT_COEFFS], float s) {
     for (int i = 0; i < level; ++i) c[i] = mix(c[i], c[i + 1], s);
   return vec2(mix(c[0], c[1], s), float(SEGMENT_DEGREE) * (c[1] - c[0]));
 }
-
-float bernsteinValue(float b[SEGMENT_COEFFS], float s) { return bernsteinValueDerivative(b, s).x; }
 
 // Splits the polynomial at s in one de Casteljau pass: c becomes its coefficients on [s, 1], left
 // its coefficients on [0, s] (the first coefficient of each level).

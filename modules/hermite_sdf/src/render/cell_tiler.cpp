@@ -108,9 +108,7 @@ void CellTiler::record(VkCommandBuffer cmd, const Frame& frame, engine::gpu::Gpu
   computeToCompute(cmd);
   // Each phase timed on its own (GPU captures say which one the tiling's time goes to): from the
   // end of everything recorded before it (GpuTimer's bottom-of-pipe begin), through the barrier
-  // that waits for its input, to the end of its work. The barrier comes first in the scope for
-  // lavapipe, which stamps a timestamp only at the next barrier (docs/gpu-vs-lavapipe.md): stamped
-  // after the dispatch, a begin would hide it.
+  // that waits for its input, to the end of its work.
   const auto phase = [&](const char* name) { return engine::gpu::GpuTimerScope(timer, cmd, name); };
   {
     const auto timing = phase("cells tiling clear");
