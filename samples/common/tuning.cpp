@@ -182,6 +182,7 @@ engine::Status readKey(const std::string& key, const json& value, TuningState& t
   if (key == "cull_bricks") return readBool(value, t.cullBricks);
   if (key == "cull_cells") return readBool(value, t.cullCells);
   if (key == "cull_occlusion") return readBool(value, t.cullOcclusion);
+  if (key == "proxy_boxes") return readBool(value, t.proxyBoxes);
   if (key == "thin_boxes") return readEarlyDepth(value, t.thinBoxes);  // the same true / false / "auto" switch
   if (key == "tiles") return readEarlyDepth(value, t.tiles);
   if (key == "tile_size") {
@@ -366,6 +367,7 @@ void applyTuning(const TuningState& tuning, hsdf::HermiteCellFeature::Settings& 
   cells.cullBricks = tuning.cullBricks;
   cells.cullCells = tuning.cullCells;
   cells.cullOcclusion = tuning.cullOcclusion;
+  cells.proxyBoxes = tuning.proxyBoxes;
   cells.thinBoxes = threeWay<hsdf::HermiteCellFeature::ThinBoxes>(tuning.thinBoxes);
   cells.tiles = threeWay<hsdf::HermiteCellFeature::Tiles>(tuning.tiles);
   cells.tileSize = tuning.tileSize;
@@ -413,6 +415,7 @@ engine::Status saveTuning(const std::filesystem::path& file, const TuningState& 
                      {"cull_bricks", t.cullBricks},
                      {"cull_cells", t.cullCells},
                      {"cull_occlusion", t.cullOcclusion},
+                     {"proxy_boxes", t.proxyBoxes},
                      {"thin_boxes", t.thinBoxes == ThinBoxes::Auto ? json("auto") : json(t.thinBoxes == ThinBoxes::On)},
                      {"tiles", t.tiles == TiledCells::Auto ? json("auto") : json(t.tiles == TiledCells::On)},
                      {"tile_size", t.tileSize},

@@ -127,6 +127,7 @@ struct TuningState {
   bool cullBricks = true;   // cell bricks: the GPU culling pass (frustum, normal cones) before the prepass
   bool cullCells = true;    // cells: the same pass per cell (each with its own normal cone)
   bool cullOcclusion = hsdf::HermiteCellFeature::Settings{}.cullOcclusion;  // cells (with cullCells): two-phase occlusion culling against the depth pyramid
+  bool proxyBoxes = hsdf::HermiteCellFeature::Settings{}.proxyBoxes;  // cells, runs, bricks: each cell drawn and searched over the part that can hold its roots
   ThinBoxes thinBoxes = ThinBoxes::Auto;  // cells: 12 bytes of varyings per box, records read by address
   TiledCells tiles = TiledCells::Auto;    // cells (with cullCells): one point per 8x8-pixel screen tile, not a box per cell
   std::uint32_t tileSize = hsdf::HermiteCellFeature::Settings{}.tileSize;  // tiles: their side in pixels, 4, 8 or 16
@@ -166,7 +167,7 @@ struct TuningState {
 // The keys of a settings file and of --script settings, in the order saveTuning writes them.
 inline constexpr std::string_view kTuningKeys[] = {
     "method",        "resolution", "padding", "subdivisions",   "refine",          "normals",
-    "fp16",          "debug_view", "front_to_back", "early_depth", "certified", "cull_bricks", "cull_cells", "cull_occlusion", "thin_boxes", "tiles", "tile_size", "split", "split_position",
+    "fp16",          "debug_view", "front_to_back", "early_depth", "certified", "cull_bricks", "cull_cells", "cull_occlusion", "proxy_boxes", "thin_boxes", "tiles", "tile_size", "split", "split_position",
     "compare_method", "compare_resolution", "compare_normals", "difference",
     "node_draw", "triangle_nodes", "lod", "lod_pixels_per_cell", "trace_epsilon", "trace_max_steps",
     "central_difference_step", "max_run_length"};
@@ -201,7 +202,7 @@ void applyTuning(const TuningState& tuning, hsdf::HermiteCellFeature::Settings& 
 
 // Settings files: JSON objects with the keys "method", "resolution", "padding", "subdivisions",
 // "refine", "normals", "fp16", "debug_view", "front_to_back", "early_depth" (true, false or "auto"),
-// "certified", "cull_bricks", "cull_cells", "cull_occlusion", "thin_boxes", "tiles" (true, false or "auto"), "tile_size" (4, 8 or 16), "split",
+// "certified", "cull_bricks", "cull_cells", "cull_occlusion", "proxy_boxes", "thin_boxes", "tiles" (true, false or "auto"), "tile_size" (4, 8 or 16), "split",
 // "split_position" (0.05..0.95), "compare_method", "compare_resolution" (0: 2K, else 2..2048, checked by method),
 // "compare_normals", "difference", "node_draw" ("sdf" or "triangles"), "triangle_nodes" (an array of
 // node names; as text, names separated by commas), "lod", "lod_pixels_per_cell" (0.25..64), all optional. Loading starts from

@@ -130,6 +130,11 @@ void TuningPanel::drawMethod() {
     ImGui::SetTooltip("cells (with cull cells): last frame's visible cells drawn first, the rest tested against the\n"
                       "depth pyramid of what they drew; only those that may be visible are drawn");
   ImGui::SameLine();
+  changed |= ImGui::Checkbox("proxy boxes", &t.proxyBoxes);
+  if (ImGui::IsItemHovered())
+    ImGui::SetTooltip("cells, runs, bricks: each cell drawn and searched over the part of it that can hold its surface\n"
+                      "(the same roots, fewer box fragments and searches); off: the whole cell, as the paper");
+  ImGui::SameLine();
   changed |= autoSwitchCombo("thin boxes", t.thinBoxes,
                              "cells: 12 bytes of varyings per box, the cell's data read by address in the fragment shader,\n"
                              "instead of each box vertex carrying the cell's Hermite data; auto: on GPUs when cells are small on screen");

@@ -67,6 +67,14 @@ const Variant kVariants[] = {
       .tileSize = 16}},
     {"cells", "n=3 r=1 boxes", false,
      {.method = hsdf::RenderMethod::Cells, .subdivisions = 3, .refineSteps = 1, .tiles = samples::TiledCells::Off}},
+    // The paper's proxy, the whole cell, against the cells' proxy boxes (the rows above; cells.h,
+    // "Proxy boxes"): as tiles and as boxes.
+    {"cells", "n=3 r=1 tiles whole cells", false,
+     {.method = hsdf::RenderMethod::Cells, .subdivisions = 3, .refineSteps = 1, .proxyBoxes = false,
+      .tiles = samples::TiledCells::On}},
+    {"cells", "n=3 r=1 boxes whole cells", false,
+     {.method = hsdf::RenderMethod::Cells, .subdivisions = 3, .refineSteps = 1, .proxyBoxes = false,
+      .tiles = samples::TiledCells::Off}},
     // The certified root search (docs/root-finding.md): its cost against the paper's fixed n above.
     {"cells", "certified", false, {.method = hsdf::RenderMethod::Cells, .subdivisions = 3, .refineSteps = 1, .certified = true}},
     // Issue 13's variant: the same cells and search, one box per run of cells along x.

@@ -121,6 +121,9 @@ void addTuningOptions(CLI::App& app, TuningState& t) {
   app.add_option("--cull-cells", t.cullCells, "cells: GPU culling of each cell by frustum and normal cone (true, default, or false)");
   app.add_option("--cull-occlusion", t.cullOcclusion,
                  "cells: two-phase occlusion culling of the cells against the depth pyramid (true, or false: default)");
+  app.add_option("--proxy-boxes", t.proxyBoxes,
+                 "cells, runs, bricks: draw and search each cell's part that can hold its surface (true, default), or "
+                 "the whole cell, as the paper (false)");
   app.add_option("--thin-boxes", t.thinBoxes,
                  "cells: 12 bytes of varyings per box, records read by address: auto (default: on GPUs when cells "
                  "cover at most 8 pixels), on or off")

@@ -117,6 +117,10 @@ Frame GpuTest::render(const render::CameraView& camera, std::uint32_t frames) {
 Frame GpuTest::renderWith(const render::CameraView& camera, std::uint32_t debugView) {
   render::FrameSettings settings;
   settings.debugView = debugView;
+  return renderWith(camera, settings);
+}
+
+Frame GpuTest::renderWith(const render::CameraView& camera, const render::FrameSettings& settings) {
   renderer_->renderFrame(registry_, camera, settings);
   Frame frame;
   frame.width = renderer_->extent().width;

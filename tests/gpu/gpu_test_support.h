@@ -72,6 +72,8 @@ class GpuTest : public ::testing::Test {
   // Renders one frame with a debug view (DEBUG_VIEW_*) as the registry stands (WorldTransforms
   // are used as they are) and reads it back.
   Frame renderWith(const engine::render::CameraView& camera, std::uint32_t debugView);
+  // The same with any frame settings (work counters, ...).
+  Frame renderWith(const engine::render::CameraView& camera, const engine::render::FrameSettings& settings);
   // An axis-aligned square of side `size` in the plane z = center.z, facing +Z.
   engine::ecs::Entity addQuad(const glm::vec3& center, float size, const glm::vec4& color);
 

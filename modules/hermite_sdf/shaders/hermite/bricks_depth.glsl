@@ -137,7 +137,9 @@ BrickHit walkBrick(HermiteDraw draw, CellBrickGpu brick, ivec3 lo, ivec3 hi, vec
   ivec3 n;
   while (nextCandidate(w, brick, lo, hi, origin, direction, margin, vec2(t0, t1), done, n)) {
     uint record = brickCellRecord(brick, uint(n.x + 4 * n.y + 16 * n.z));
-    float t = searchCell(draw, record, origin - vec3(n), direction, margin, t0, t1, evaluations);
+    vec3 proxyLo, proxyHi;
+    recordProxyBox(draw, record, proxyLo, proxyHi);
+    float t = searchCell(draw, record, proxyLo, proxyHi, origin - vec3(n), direction, margin, t0, t1, evaluations);
     if (t >= 0.0 && (hit.t < 0.0 || t < hit.t)) hit = BrickHit(t, record);
     w.stop = hit.t >= 0.0;
   }

@@ -4,6 +4,7 @@
 #ifndef HSDF_CELL_SEARCH_GLSL
 #define HSDF_CELL_SEARCH_GLSL
 
+#include "hermite/record_cell.glsl"
 #include "hermite/segment_roots.glsl"
 
 
@@ -17,12 +18,13 @@ void loadCorners(HermiteDraw draw, uint record, out vec4 corners[8]) {
 }
 
 // The first root of cell `record` along origin + t * direction (cell-local: the cell spans
-// [0, 1]^3), searched over the cell's box dilated by `margin` on every side and clipped to
-// [t0, t1], as each cell searches its own proxy (cells_depth.glsl; docs/root-finding.md): a root
-// on a face two cells share is then inside the searched segment of both. Returns t, or -1.
-float searchCell(HermiteDraw draw, uint record, vec3 origin, vec3 direction, float margin, float t0, float t1,
-                 inout uint evaluations) {
-  vec2 segment = intersectBox(origin, direction, vec3(-margin), vec3(1.0 + margin));
+// [0, 1]^3), searched over the cell's proxy box [lo, hi] (recordProxyBox, record_cell.glsl: every
+// root of the cell lies in it) dilated by `margin` on every side and clipped to [t0, t1], as each
+// cell searches its own proxy (cells_depth.glsl; docs/root-finding.md): a root on a face two cells
+// share is then inside the searched segment of both. Returns t, or -1.
+float searchCell(HermiteDraw draw, uint record, vec3 lo, vec3 hi, vec3 origin, vec3 direction, float margin,
+                 float t0, float t1, inout uint evaluations) {
+  vec2 segment = intersectBox(origin, direction, lo - margin, hi + margin);
   float c0 = max(segment.x, t0), c1 = min(segment.y, t1);
   if (!(c0 < c1)) return -1.0;
   vec4 corners[8];

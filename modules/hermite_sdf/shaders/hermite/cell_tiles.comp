@@ -4,7 +4,7 @@
 // draws one quad per tile holding a cell instead of one box per cell (cell_tiles.vert,
 // cell_tiles_depth.glsl). Five phases (pc.phase), recorded in this order with barriers:
 //  - COUNT: a lane per kept cell (per slot of the culling pass's kept stream): the screen rectangle of the
-//    cell's box, grown by its proxy's dilation (below); every
+//    cell's proxy box (record_cell.glsl), grown by its dilation (below); every
 //    tile it touches counts the cell and keeps the nearest depth of the boxes;
 //  - SCAN (one workgroup): each tile's first entry (a prefix sum of the counts), the list of
 //    non-empty tiles and the tile draw's instance count; where the lists would not fit in the
@@ -53,7 +53,7 @@ shared uint groupSums[64];
 shared uint groupTiles[64];
 shared uint groupSorts[64];  // the sort's workgroups that start in each lane's tiles
 
-// The pixels [lo, hi] (inclusive, frame coordinates) whose centres may see the cell's dilated box,
+// The pixels [lo, hi] (inclusive, frame coordinates) whose centres may see the cell's dilated proxy box,
 // and the nearest depth of the box (1, the near plane, when a corner lies at or behind the eye:
 // the box then spans the screen). False when no pixel centre of the frame does.
 bool cellPixelRect(HermiteDraw draw, uint object, uint record, out ivec2 lo, out ivec2 hi, out float nearest) {
@@ -66,11 +66,13 @@ bool cellPixelRect(HermiteDraw draw, uint object, uint record, out ivec2 lo, out
   // rounding of the two computations.
   float centreDepth = (toClip * vec4(draw.gridOriginSpacing.xyz + h * (cell + 0.5), 1.0)).w;
   float dilation = 1.01 * proxyDilationAt(frame, centreDepth, h, cullObject.minAxisScale);
+  vec3 boxLo, boxHi;  // the cell's proxy box (record_cell.glsl)
+  recordProxyBox(draw, record, boxLo, boxHi);
   vec2 pmin = vec2(3.0e38), pmax = vec2(-3.0e38);
   nearest = 0.0;
   bool behind = false;
   for (int c = 0; c < 8; ++c) {
-    vec3 corner = vec3(c & 1, (c >> 1) & 1, c >> 2) * (1.0 + 2.0 * dilation) - dilation;
+    vec3 corner = mix(boxLo - dilation, boxHi + dilation, vec3(c & 1, (c >> 1) & 1, c >> 2));
     vec4 clip = toClip * vec4(draw.gridOriginSpacing.xyz + h * (cell + corner), 1.0);
     if (clip.w <= 1.0e-6 * abs(clip.z) || clip.w <= 0.0) {
       behind = true;

@@ -58,7 +58,7 @@ void main() {
     bool pending = false;
     HermiteDraw draw;
     uint record = 0u;
-    vec3 origin;
+    vec3 origin, lo, hi;  // the ray in cell-local coordinates, the cell's proxy box
     float margin = 0.0;
     while (!pending) {
       if (mask == 0u) {
@@ -92,14 +92,15 @@ void main() {
       float dilation = proxyDilation(frame, object, draw.gridOriginSpacing.xyz + h * (cell + 0.5), h);
       // Would the cell's own proxy have covered this pixel? And can its search (over the margin,
       // at least the dilation) begin in front of what was found already?
-      vec2 box = intersectBox(origin, direction, vec3(-dilation), vec3(1.0 + dilation));
+      recordProxyBox(draw, entry.record, lo, hi);
+      vec2 box = intersectBox(origin, direction, lo - dilation, hi + dilation);
       margin = searchMargin(origin, dilation);
-      vec2 searched = intersectBox(origin, direction, vec3(-margin), vec3(1.0 + margin));
+      vec2 searched = intersectBox(origin, direction, lo - margin, hi + margin);
       pending = max(box.x, gl_FragCoord.z) < box.y && max(searched.x, gl_FragCoord.z) < best;
       record = entry.record;
     }
     if (!pending) break;
-    float t = searchCell(draw, record, origin, direction, margin, gl_FragCoord.z, 3.0e38, evaluations);
+    float t = searchCell(draw, record, lo, hi, origin, direction, margin, gl_FragCoord.z, 3.0e38, evaluations);
     if (t >= 0.0 && t < best) {
       best = t;
       visibility = uvec2(draw.object + 1u, record);

@@ -12,6 +12,7 @@
 #include "hermite/box.glsl"
 #include "hermite/cell_instance.glsl"
 #include "hermite/proxy_dilation.glsl"
+#include "hermite/record_cell.glsl"
 
 layout(push_constant, scalar) uniform Push { HermitePushConstants pc; };
 
@@ -39,9 +40,12 @@ void main() {
   vec3 cameraObject = (object.invModel * vec4(frame.cameraPosition.xyz, 1.0)).xyz;
   vec3 cameraLocal = (cameraObject - draw.gridOriginSpacing.xyz) / h - cell;
   bool mirrored = (object.flags & OBJECT_FLAG_MIRRORED) != 0u;
-  vec3 corner = (draw.flags & HERMITE_FLAG_NEAR_CELL) != 0u ? boxStripCorner(gl_VertexIndex, mirrored)
-                                                             : frontFanCorner(gl_VertexIndex, cameraLocal, vec3(0.5), mirrored);
-  vec3 local = corner * (1.0 + 2.0 * dilation) - dilation;
+  vec3 lo, hi;  // the cell's proxy box (record_cell.glsl), the part of the cell that can hold its roots
+  proxyBox(inCell.w, draw.flags, lo, hi);
+  vec3 corner = (draw.flags & HERMITE_FLAG_NEAR_CELL) != 0u
+                    ? boxStripCorner(gl_VertexIndex, mirrored)
+                    : frontFanCorner(gl_VertexIndex, cameraLocal, 0.5 * (lo + hi), mirrored);
+  vec3 local = mix(lo - dilation, hi + dilation, corner);
   vec3 objectPosition = draw.gridOriginSpacing.xyz + h * (cell + local);
 
   outCorners = inCorners;

@@ -7,6 +7,7 @@
 #include "hermite/segment_roots.glsl"
 #include "hermite/proxy_dilation.glsl"
 #include "hermite/pixel_ray.glsl"
+#include "hermite/record_cell.glsl"
 
 layout(push_constant, scalar) uniform Push { HermitePushConstants pc; };
 
@@ -50,7 +51,9 @@ void main() {
   HermiteDraw draw = HermiteDrawsRef(pc.draws).draws[inDraw];
   CellRay ray = cellRay(draw);
   float margin = searchMargin(ray.origin, inDilation);
-  vec2 box = intersectBox(ray.origin, ray.direction, vec3(-margin), vec3(1.0 + margin));
+  vec3 lo, hi;
+  proxyBox(inCell.w, draw.flags, lo, hi);  // every root of the cell lies in its proxy box
+  vec2 box = intersectBox(ray.origin, ray.direction, lo - margin, hi + margin);
   float tNear = gl_FragCoord.z;  // the near plane (see cellRay)
   float t0 = max(box.x, tNear);
   float t1 = box.y;

@@ -1,5 +1,5 @@
 // Depth prepass of the thin cell boxes (cells_thin.vert): the search of cells_depth.glsl over the
-// cell's box dilated by the search margin (cell_search.glsl; docs/root-finding.md), with the
+// cell's proxy box dilated by the search margin (cell_search.glsl; docs/root-finding.md), with the
 // cell's record read by buffer address instead of handed on as varyings, and the ray rebuilt from
 // gl_FragCoord (pixel_ray.glsl). Included by cells_thin_depth{,_near}{,_counted}.frag; no early
 // depth variant (a frame that draws thin cells keeps the early depth stage off).
@@ -33,7 +33,9 @@ void main() {
   float margin = searchMargin(origin, inDilation);
   uint evaluations = 0u;
   // From the near plane (t = gl_FragCoord.z, pixel_ray.glsl) on; searchCell clips to the dilated box.
-  float t = searchCell(draw, inRecord, origin, direction, margin, gl_FragCoord.z, 3.0e38, evaluations);
+  vec3 lo, hi;
+  recordProxyBox(draw, inRecord, lo, hi);
+  float t = searchCell(draw, inRecord, lo, hi, origin, direction, margin, gl_FragCoord.z, 3.0e38, evaluations);
   countWork(evaluations);
   if (t < 0.0) {
     writeMiss();  // no discard: see hit_depth.glsl

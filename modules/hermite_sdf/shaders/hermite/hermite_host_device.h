@@ -14,6 +14,7 @@ namespace shader {
 #define HERMITE_FLAG_NEAR_CELL 2u        // the cell may intersect the near plane: drawn by back faces
 #define HERMITE_FLAG_CERTIFIED 4u        // certified first-root search instead of n equidistant samples
 #define HERMITE_FLAG_HALF_RECORDS 8u     // cell runs, bricks: the records are CellRecordHalfGpu (else CellRecordGpu)
+#define HERMITE_FLAG_WHOLE_CELLS 16u     // cells: the paper's proxy, the whole cell, not the record's proxy box
 
 // One per indirect draw command of a Hermite feature: which object, and how to search.
 struct HermiteDraw {
@@ -31,6 +32,12 @@ HSDF_CHECK_SIZE(HermiteDraw, 16 + 6 * 4 + 8);
 // A kept cell's record as the GPU reads it by address (the resolve pass, the cell runs), the same
 // bytes as hsdf::CellRecord / CellRecordHalf (cells.h asserts it): 8 corners (f, fx, fy, fz), corner
 // x + 2y + 4z, then the cell coordinate and class as 16-bit pairs (x | y << 16, z | class << 16).
+// In the GPU's copies the class halfword also holds the cell's proxy box (hsdf::packProxyBox, cells.h
+// "Proxy boxes"): class | code << CELL_PROXY_SHIFT, the code (x pair) + 21 ((y pair) + 21 (z pair)),
+// a pair (lo, hi) in CELL_PROXY_STEPS-ths of the cell numbered by s = lo + (STEPS - hi), then
+// STEPS - hi, from 0 (the whole axis); code 0 is the whole cell (record_cell.glsl, proxyBox).
+#define CELL_PROXY_SHIFT 2u
+#define CELL_PROXY_STEPS 6u
 struct CellRecordGpu {
   vec4 corners[8];
   uint xy;

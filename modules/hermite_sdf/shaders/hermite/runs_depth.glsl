@@ -51,7 +51,9 @@ void main() {
     for (int k = 0; k < count; ++k) {
       int cell = first + stepX * k;
       vec3 cellOrigin = origin - vec3(float(cell), 0.0, 0.0);
-      t = searchCell(draw, inFirstRecord + uint(cell), cellOrigin, direction, margin, t0, t1, evaluations);
+      vec3 lo, hi;
+      recordProxyBox(draw, inFirstRecord + uint(cell), lo, hi);
+      t = searchCell(draw, inFirstRecord + uint(cell), lo, hi, cellOrigin, direction, margin, t0, t1, evaluations);
       if (t >= 0.0) {
         hitRecord = inFirstRecord + uint(cell);
         break;

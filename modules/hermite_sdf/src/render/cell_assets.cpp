@@ -6,6 +6,7 @@
 #include <cstddef>
 #include <cstring>
 #include <limits>
+#include <span>
 #include <unordered_set>
 
 #include <imgui.h>
@@ -148,6 +149,17 @@ HermiteCellFeature::AssetDemand HermiteCellFeature::collectAssetDemand(const eng
   return d;
 }
 
+// The GPU copies of the records carry their proxy box beside the class (CELL_PROXY_SHIFT); an asset
+// without codes (made by hand) keeps the whole cells (code 0).
+static_assert(kProxySteps == int(CELL_PROXY_STEPS), "cells.h and hermite_host_device.h must agree");
+
+template <class Record>
+void appendProxyBoxes(const std::vector<std::uint16_t>& codes, std::span<Record> uploaded) {
+  if (codes.size() != uploaded.size()) return;
+  for (std::size_t i = 0; i < codes.size(); ++i)
+    uploaded[i].cellClass = std::uint16_t(uploaded[i].cellClass | (codes[i] << CELL_PROXY_SHIFT));
+}
+
 // Appends one asset's records, runs, bricks and cones to the upload, and its entry to `rebuilt`.
 void HermiteCellFeature::appendAsset(CellBuffers& rebuilt, AssetUpload& u, const std::shared_ptr<const SdfAsset>& asset,
                                      const AssetDemand& d) const {
@@ -184,6 +196,8 @@ void HermiteCellFeature::appendAsset(CellBuffers& rebuilt, AssetUpload& u, const
   for (std::uint32_t record : entry.bricks.cellRecords) u.brickCells.push_back(entry.firstRecord + record);
   u.full.insert(u.full.end(), asset->cells.records.begin(), asset->cells.records.end());
   u.half.insert(u.half.end(), asset->cellsHalf.records.begin(), asset->cellsHalf.records.end());
+  appendProxyBoxes(asset->proxyBoxes, std::span(u.full).last(asset->cells.records.size()));
+  appendProxyBoxes(asset->proxyBoxesHalf, std::span(u.half).last(asset->cellsHalf.records.size()));
   rebuilt.entries.emplace(asset->id, std::move(entry));
 }
 

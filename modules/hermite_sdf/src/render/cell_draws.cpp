@@ -197,6 +197,7 @@ void HermiteCellFeature::beginObjectDraw(engine::render::FrameContext& frame, Fr
   draw.refineSteps = std::min(r.refineSteps, 16u);
   draw.flags = r.normals == NormalMode::CentralDifferences ? HERMITE_FLAG_NORMALS_CENTRAL : 0u;
   if (r.certified) draw.flags |= HERMITE_FLAG_CERTIFIED;
+  if (!settings_.proxyBoxes) draw.flags |= HERMITE_FLAG_WHOLE_CELLS;
   draw.resolution = std::uint32_t(grid.resolution);
   draw.firstCell = entry.firstRecord;
   f.hermiteObjects.push_back({draw.gridOriginSpacing, buffers_->records[precision].address(),

@@ -1133,6 +1133,101 @@ TEST_F(HermiteCellsTest, TilesAutoFollowsTheDevice) {
   EXPECT_FALSE(feature->stats().tiles);
 }
 
+// Why: every cell method draws and searches each cell's proxy box (Settings::proxyBoxes; cells.h,
+// "Proxy boxes"), the part of the cell its zero set can reach, instead of the whole cell. A box that
+// missed part of the zero set would lose those roots (a hole, a farther hit, a neighbour's colour);
+// the point of the boxes is less work. Each method and record precision against the whole cells:
+// the bunny at K = 16 (cells of ~20 pixels) and K = 64 from two sides, and the torus from inside one
+// of its cells (near-plane boxes, drawn by their back faces). Root-search evaluations fall for every
+// method (a ray that misses a cell's proxy box skips its search); prepass fragments fall for the
+// boxes, whose rasterized proxies shrink (summed over the views: on a GPU the early depth test
+// depends on the order of parallel fragments). The roots are placed on another segment, so their
+// depth may move by the default search's placement error (one Newton step from the control
+// polygon's zero: up to 1.1e-4 of the depth at K = 16 on lavapipe), and by little more than the
+// rounding in the certified search, which solves to 2^-18 of its interval.
+TEST_F(HermiteCellsTest, ProxyBoxesDrawTheWholeCellsImageWithLessWork) {
+  createCellRenderer(kSize, kSize);
+  auto* feature = renderer_->feature<hsdf::HermiteCellFeature>();
+  using Tiles = hsdf::HermiteCellFeature::Tiles;
+  using ThinBoxes = hsdf::HermiteCellFeature::ThinBoxes;
+  struct Case {
+    const char* label;
+    hsdf::RenderMethod method;
+    Tiles tiles;
+    ThinBoxes thin;
+    bool half;
+    bool boxes;  // its proxies are the cells' boxes (fewer fragments expected)
+    bool certified = false;
+  };
+  const Case cases[] = {{"attribute boxes", hsdf::RenderMethod::Cells, Tiles::Off, ThinBoxes::Off, false, true},
+                        {"thin boxes fp16", hsdf::RenderMethod::Cells, Tiles::Off, ThinBoxes::On, true, true},
+                        {"tiles", hsdf::RenderMethod::Cells, Tiles::On, ThinBoxes::Auto, false, false},
+                        {"tiles fp16", hsdf::RenderMethod::Cells, Tiles::On, ThinBoxes::Auto, true, false},
+                        {"runs", hsdf::RenderMethod::CellRuns, Tiles::Off, ThinBoxes::Auto, false, false},
+                        {"bricks fp16", hsdf::RenderMethod::CellBricks, Tiles::Off, ThinBoxes::Auto, true, false},
+                        {"certified boxes", hsdf::RenderMethod::Cells, Tiles::Off, ThinBoxes::Off, false, true, true},
+                        {"certified tiles", hsdf::RenderMethod::Cells, Tiles::On, ThinBoxes::Auto, false, false, true}};
+  struct Work {
+    std::uint64_t fragments = 0, evaluations = 0;
+  };
+  const auto draw = [&](const render::CameraView& camera, bool proxies, Work& work) {
+    feature->settings().proxyBoxes = proxies;
+    render::FrameSettings settings;
+    settings.countWork = true;
+    const Frame frame = renderWith(camera, settings);
+    work.fragments += prepassFragments(*renderer_);
+    for (std::uint32_t count : renderer_->readbackWorkCounters()) work.evaluations += count;
+    return frame;
+  };
+  const auto expectSame = [&](const render::CameraView& camera, const std::string& label, bool certified, Work& whole,
+                              Work& proxy) {
+    const Frame wholeFrame = draw(camera, false, whole);
+    const Frame proxyFrame = draw(camera, true, proxy);
+    const TileComparison c = compareTilesWithBoxes(wholeFrame, proxyFrame);
+    std::printf("[ %s ] hits %d / %d, coverage differs %d, colour differs %d, depth rel max %.2e\n", label.c_str(),
+                c.hitsBoxes, c.hitsTiles, c.coverageDiffers, c.colourDiffers, c.depthRelativeMax);
+    EXPECT_GE(c.hitsBoxes, 200) << label;
+    EXPECT_EQ(c.coverageDiffers, 0) << label;
+    EXPECT_LE(c.colourDiffers, c.hitsBoxes / 500 + 2) << label;
+    EXPECT_LT(c.depthRelativeMax, certified ? 3e-5 : 3e-4) << label;
+    EXPECT_EQ(countIsolatedPixels(proxyFrame), countIsolatedPixels(wholeFrame)) << label << ": a speck of its own";
+  };
+  const auto torus = bakeAsset("torus", 16);
+  ASSERT_NE(torus, nullptr);
+  const std::optional<render::CameraView> inside = insideACellCamera(*torus);
+  ASSERT_TRUE(inside);
+  for (int k : {16, 64}) {
+    const auto bunny = bakeAsset("bunny", k);
+    ASSERT_NE(bunny, nullptr);
+    for (const Case& c : cases) {
+      feature->settings().tiles = c.tiles;
+      feature->settings().thinBoxes = c.thin;
+      Work whole, proxy;
+      const auto add = [&](const std::shared_ptr<const hsdf::SdfAsset>& asset) {
+        registry_ = ecs::Registry();
+        auto& renderable = registry_.get<hsdf::HermiteSdfRenderable>(addSdf(registry_, asset, c.method));
+        renderable.halfPrecision = c.half;
+        renderable.certified = c.certified;
+      };
+      add(bunny);
+      const std::string label = std::string(c.label) + ", bunny K=" + std::to_string(k);
+      for (int view : {0, 3})
+        expectSame(orbitCamera(*bunny, view), label + " view " + std::to_string(view), c.certified, whole, proxy);
+      if (k == 16) {
+        add(torus);
+        expectSame(*inside, std::string(c.label) + ", inside a cell of the torus", c.certified, whole, proxy);
+      }
+      std::printf("[ %s ] prepass fragments %llu -> %llu, evaluations %llu -> %llu\n", label.c_str(),
+                  static_cast<unsigned long long>(whole.fragments), static_cast<unsigned long long>(proxy.fragments),
+                  static_cast<unsigned long long>(whole.evaluations), static_cast<unsigned long long>(proxy.evaluations));
+      EXPECT_LT(proxy.evaluations, whole.evaluations) << label;
+      if (c.boxes) {
+        EXPECT_LT(proxy.fragments, whole.fragments) << label;
+      }
+    }
+  }
+}
+
 // Why: occlusion culling draws in two phases what one pass drew: a cell missing from both (a wrong
 // history index, an occlusion test that is not conservative at the box's edges or depth, a pyramid
 // texel that misses pixels) is a hole, a cell drawn twice or out of its row's order a different

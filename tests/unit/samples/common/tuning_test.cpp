@@ -96,6 +96,7 @@ TEST(Tuning, SettingsFileRoundTrip) {
   t.cullBricks = false;
   t.cullCells = false;
   t.cullOcclusion = true;  // not the default (off)
+  t.proxyBoxes = false;     // not the default (on)
   t.thinBoxes = ThinBoxes::On;
   t.tiles = TiledCells::Off;
   t.tileSize = 16;

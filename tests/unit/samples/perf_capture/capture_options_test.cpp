@@ -89,14 +89,16 @@ TEST(CaptureRows, MethodTimesKTimesSetting) {
   }
   EXPECT_EQ(trilinear, 2 * 4);  // K = 32, 64, 128, 256, two normal modes each
   // n in {2, 3} x r in {0, 1}, fp16, no-cull, occlusion, thin and attribute boxes, 8x8, 4x4 and
-  // 16x16 tiles and boxes, the certified search
-  EXPECT_EQ(cells, 2 * 14);
+  // 16x16 tiles and boxes, tiles and boxes of whole cells (the paper's proxy), the certified search
+  EXPECT_EQ(cells, 2 * 16);
   EXPECT_TRUE(labels.contains("cells certified K=32"));
   EXPECT_TRUE(labels.contains("cells n=3 r=1 thin K=32"));
   EXPECT_TRUE(labels.contains("cells n=3 r=1 tiles K=32"));
   EXPECT_TRUE(labels.contains("cells n=3 r=1 tiles 4x4 K=128"));
   EXPECT_TRUE(labels.contains("cells n=3 r=1 tiles 16x16 K=128"));
   EXPECT_TRUE(labels.contains("cells n=3 r=1 boxes K=128"));
+  EXPECT_TRUE(labels.contains("cells n=3 r=1 boxes whole cells K=32"));
+  EXPECT_TRUE(labels.contains("cells n=3 r=1 tiles whole cells K=128"));
   EXPECT_TRUE(labels.contains("cells-runs n=3 r=1 K=32"));
   EXPECT_TRUE(labels.contains("cell-bricks n=3 r=1 fp16 K=32"));
   EXPECT_TRUE(labels.contains("cell-bricks n=3 r=1 no-cull K=32"));

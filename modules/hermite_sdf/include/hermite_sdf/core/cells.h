@@ -140,6 +140,32 @@ CellStream toFloat(const CellStreamHalf& stream);
 std::uint16_t floatToHalf(float value);
 float halfToFloat(std::uint16_t bits);
 
+// ---- Proxy boxes ---------------------------------------------------------------------------------
+// The part of a kept cell that can hold its zero set: the renderers draw and search it instead of
+// the whole cell (issue 20, box overdraw: on the bunny its boxes have ~0.57x the cells' surface
+// area, so ~0.57x as many rays meet them). Per axis, F lies between the Bernstein polynomials of
+// the least and of the greatest coefficient of each slice across that axis (the other axes' basis
+// functions are positive and sum to 1), so F can vanish only where the convex hulls of those two
+// control polygons reach zero (one step of Bezier clipping). Coefficients within the classifier's
+// zero band (zeroToleranceFor) count as zero, so a root the classifier keeps a cell for (a face on a
+// sample plane) is never clipped away. The box is rounded outward to kProxySteps-ths of the cell:
+// three (lo, hi) pairs of 0..6, 21 pairs per axis, pack into 14 bits (packProxyBox), which the GPU
+// records carry beside the cell class (hermite_host_device.h, CELL_PROXY_*).
+inline constexpr int kProxySteps = 6;
+struct CellProxyBox {
+  std::array<std::uint8_t, 3> lo{0, 0, 0};  // in kProxySteps-ths of the cell, lo < hi
+  std::array<std::uint8_t, 3> hi{kProxySteps, kProxySteps, kProxySteps};
+  bool operator==(const CellProxyBox&) const = default;
+};
+CellProxyBox cellProxyBox(const HermiteCellCorners<double>& corners, double h);
+// 0 is the whole cell; every code is below 21^3.
+std::uint16_t packProxyBox(const CellProxyBox& box);
+CellProxyBox unpackProxyBox(std::uint16_t code);
+// packProxyBox(cellProxyBox(...)) of every record, from the values the record stores (fp16 records
+// have their own: their interpolant is not the fp32 one).
+std::vector<std::uint16_t> proxyBoxCodes(const CellStream& cells);
+std::vector<std::uint16_t> proxyBoxCodes(const CellStreamHalf& cells);
+
 // ---- Statistics ----------------------------------------------------------------------------------
 
 // Kept cells that dense sampling of the interpolant finds empty (no sample of different sign from

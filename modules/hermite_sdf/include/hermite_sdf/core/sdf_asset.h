@@ -21,6 +21,8 @@ struct SdfAsset {
   CellClassification classification;
   CellStream cells;           // kept cells, fp32
   CellStreamHalf cellsHalf;   // the same records in fp16
+  // packProxyBox(cellProxyBox(...)) per record of cells and of cellsHalf (cells.h, "Proxy boxes").
+  std::vector<std::uint16_t> proxyBoxes, proxyBoxesHalf;
   Aabb surfaceBounds;         // bounds of the source surface (grid bounds are field.grid.bounds())
   // The interpolant is positive on the whole grid boundary (normal_cone.h, boundaryIsPositive), so
   // a ray from outside the grid box starts outside the solid and brick normal-cone culling is

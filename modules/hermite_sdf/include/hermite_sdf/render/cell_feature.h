@@ -135,6 +135,11 @@ class HermiteCellFeature final : public engine::render::RenderFeature {
     // and of a depth copy, a pyramid and a second culling pass on every device; no GPU has
     // measured it yet.
     bool cullOcclusion = false;
+    // Cells, runs and bricks: each kept cell is drawn (boxes, tiles) and searched over its proxy
+    // box, the part of the cell that can hold its zero set (cells.h, "Proxy boxes"): the same
+    // roots, ~0.57x the boxes' surface on the bunny, so fewer box fragments, tile entries and
+    // searches. Off: the paper's proxy, the whole cell.
+    bool proxyBoxes = true;
     // RenderMethod::Cells: each box's vertices hand on 12 bytes (cells_thin.vert), the fragment
     // shader reading the cell's record by address (cells_thin_depth.glsl), instead of the paper's
     // Hermite data as varyings. Same search, same image. Thin boxes have no early depth variant:

@@ -48,6 +48,14 @@ engine::Status checkFiniteRecords(const CellStream& cells) {
   return {};
 }
 
+// What every asset derives from its fp32 records, whichever way they were made.
+void deriveFromCells(SdfAsset& asset) {
+  asset.cellsHalf = toHalf(asset.cells);
+  asset.boundaryPositive = boundaryIsPositive(asset.cells);
+  asset.proxyBoxes = proxyBoxCodes(asset.cells);
+  asset.proxyBoxesHalf = proxyBoxCodes(asset.cellsHalf);
+}
+
 }  // namespace
 
 engine::Expected<std::shared_ptr<const SdfAsset>> makeSdfAssetFromCells(std::string name, CellStream cells) {
@@ -61,9 +69,8 @@ engine::Expected<std::shared_ptr<const SdfAsset>> makeSdfAssetFromCells(std::str
   for (const CellRecord& r : cells.records)
     (r.cellClass == std::uint16_t(CellClass::Ambiguous) ? asset->classification.stats.ambiguous
                                                         : asset->classification.stats.crossing)++;
-  asset->cellsHalf = toHalf(cells);
-  asset->boundaryPositive = boundaryIsPositive(cells);
   asset->cells = std::move(cells);
+  deriveFromCells(*asset);
   return std::shared_ptr<const SdfAsset>(std::move(asset));
 }
 
@@ -83,9 +90,8 @@ engine::Expected<std::shared_ptr<const SdfAsset>> makeSdfAssetFromSparseBake(std
   asset->classification.grid = cells.grid;
   asset->classification.stats = stats;
   asset->classification.refineDepth = refineDepth;
-  asset->cellsHalf = toHalf(cells);
-  asset->boundaryPositive = boundaryIsPositive(cells);
   asset->cells = std::move(cells);
+  deriveFromCells(*asset);
   return std::shared_ptr<const SdfAsset>(std::move(asset));
 }
 
@@ -106,8 +112,7 @@ engine::Expected<std::shared_ptr<const SdfAsset>> makeSdfAsset(std::string name,
   if (!cells) return cells.error().withContext("asset '" + asset->name + "'");
   asset->classification = std::move(classification.value());
   asset->cells = std::move(cells.value());
-  asset->cellsHalf = toHalf(asset->cells);
-  asset->boundaryPositive = boundaryIsPositive(asset->cells);
+  deriveFromCells(*asset);
   asset->field = std::move(field);
   return std::shared_ptr<const SdfAsset>(std::move(asset));
 }
