@@ -2,6 +2,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "field/parallel.h"
 #include "hermite_sdf/core/cells.h"
 
 namespace hsdf {
@@ -66,12 +67,20 @@ int pairIndex(int lo, int hi) {
   return s * (s + 1) / 2 + b;
 }
 
+// On all cores, in chunks of records: ~0.3 us a cell on one core, 4 s for the ~13M cells of a
+// K = 2048 bunny.
 template <class Stream, class Corners>
-std::vector<std::uint16_t> codesOf(const Stream& cells, Corners&& corners) {
-  std::vector<std::uint16_t> codes;
-  codes.reserve(cells.records.size());
-  for (const auto& record : cells.records)
-    codes.push_back(packProxyBox(cellProxyBox(corners(record), cells.grid.spacing)));
+std::vector<std::uint16_t> codesOf(const Stream& cells, const Corners& corners) {
+  constexpr std::size_t kChunk = 4096;
+  std::vector<std::uint16_t> codes(cells.records.size());
+  const std::size_t chunks = (codes.size() + kChunk - 1) / kChunk;
+  const engine::Status done = detail::runParallel(chunks, BakeOptions{}, [&](std::size_t chunk) -> engine::Status {
+    const std::size_t end = std::min(codes.size(), (chunk + 1) * kChunk);
+    for (std::size_t i = chunk * kChunk; i < end; ++i)
+      codes[i] = packProxyBox(cellProxyBox(corners(cells.records[i]), cells.grid.spacing));
+    return {};
+  });
+  (void)done;  // no item fails and nothing can cancel: no progress callback, no token
   return codes;
 }
 
