@@ -1,8 +1,10 @@
 #version 460
-// Box wireframe debug view of the Hermite cells: the 12 edges of each drawn cell as a line list.
+// Box wireframe debug view of the Hermite cells: the 12 edges of each drawn cell's proxy box (the
+// whole cell with HERMITE_FLAG_WHOLE_CELLS; record_cell.glsl) as a line list.
 // Its indirect commands are the boxes' with 24 vertices per instance (cell_feature.cpp).
 #extension GL_GOOGLE_include_directive : require
 #include "hermite/hermite_host_device.h"
+#include "hermite/record_cell.glsl"
 
 layout(push_constant, scalar) uniform Push { HermitePushConstants pc; };
 
@@ -20,7 +22,9 @@ void main() {
   ObjectData object = ObjectsRef(pc.draw.objects).objects[draw.object];
   FrameGlobals frame = FrameGlobalsRef(pc.draw.frameGlobals).globals;
   int corner = kEdgeCorners[gl_VertexIndex];
-  vec3 local = vec3(corner & 1, (corner >> 1) & 1, corner >> 2);
+  vec3 lo, hi;
+  proxyBox(inCell.w, draw.flags, lo, hi);
+  vec3 local = mix(lo, hi, vec3(corner & 1, (corner >> 1) & 1, corner >> 2));
   vec3 objectPosition = draw.gridOriginSpacing.xyz + draw.gridOriginSpacing.w * (vec3(inCell.xyz) + local);
   gl_Position = frame.viewProj * (object.model * vec4(objectPosition, 1.0));
 }

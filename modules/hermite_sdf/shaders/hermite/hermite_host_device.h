@@ -14,7 +14,7 @@ namespace shader {
 #define HERMITE_FLAG_NEAR_CELL 2u        // the cell may intersect the near plane: drawn by back faces
 #define HERMITE_FLAG_CERTIFIED 4u        // certified first-root search instead of n equidistant samples
 #define HERMITE_FLAG_HALF_RECORDS 8u     // cell runs, bricks: the records are CellRecordHalfGpu (else CellRecordGpu)
-#define HERMITE_FLAG_WHOLE_CELLS 16u     // cells: the paper's proxy, the whole cell, not the record's proxy box
+#define HERMITE_FLAG_WHOLE_CELLS 16u     // cell methods: the paper's proxy, the whole cell, not the record's proxy box
 
 // One per indirect draw command of a Hermite feature: which object, and how to search.
 struct HermiteDraw {
