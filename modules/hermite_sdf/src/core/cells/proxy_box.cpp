@@ -90,6 +90,9 @@ CellProxyBox cellProxyBox(const HermiteCellCorners<double>& corners, double h) {
   const BernsteinCell<double> b = toBernstein(corners, h);
   const double band = zeroToleranceFor(corners, h);
   CellProxyBox box;
+  // fp16 records of values past its range hold infinities (such records are never drawn:
+  // halfPrecisionFits); comparisons with NaN would clip at random.
+  if (!std::isfinite(band) || !std::all_of(b.begin(), b.end(), [](double v) { return std::isfinite(v); })) return box;
   for (int axis = 0; axis < 3; ++axis) clipAxis(b, axis, band, box.lo[axis], box.hi[axis]);
   return box;
 }

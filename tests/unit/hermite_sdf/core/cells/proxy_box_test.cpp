@@ -137,6 +137,17 @@ TEST(ProxyBox, AContactOnTheCellsFaceWithinTheZeroBandIsKept) {
   }
 }
 
+// Tricky: fp16 records of values beyond its range hold infinities; the box must not come from NaN
+// comparisons (which would clip anywhere) but be the whole cell.
+TEST(ProxyBox, NonFiniteValuesKeepTheWholeCell) {
+  const double h = 0.25;
+  for (double bad : {HUGE_VAL, -HUGE_VAL, std::nan("")}) {
+    Corners c = planeCell({0, 0, 1}, {0, 0, 0.3}, h);
+    c[5].fx = bad;
+    EXPECT_EQ(cellProxyBox(c, h), CellProxyBox{}) << bad;
+  }
+}
+
 // The bunny (thin ears, folds) at several K, fp32 and fp16 records, and cells of random data with
 // roots anywhere: no root outside its cell's box.
 TEST(ProxyBox, EveryRootOfTheBunnysAndRandomCellsLiesInItsBox) {
