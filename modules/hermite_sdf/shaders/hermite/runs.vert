@@ -2,7 +2,7 @@
 // Hermite cell runs (RenderMethod::CellRuns): one instance per run of kept cells that follow each
 // other along x in one row, drawn as one box of `length` cells: its front faces as one triangle fan
 // (8 vertices, box.glsl frontFanCorner), or all six faces as one strip (14) for runs the near plane
-// may cut (drawn by back faces).
+// may cut (drawn by back faces); the box is the union of the run's cells' proxy boxes.
 // The fragment shader walks the ray through the run's cells and reads each cell's record by
 // buffer device address, so the vertex stream carries 12 bytes per run instead of 136 per cell and
 // the faces between cells of a run produce no fragments (issue 13; docs/perf/).
@@ -10,6 +10,7 @@
 #include "hermite/hermite_host_device.h"
 #include "hermite/box.glsl"
 #include "hermite/proxy_dilation.glsl"
+#include "hermite/record_cell.glsl"
 
 layout(push_constant, scalar) uniform Push { HermitePushConstants pc; };
 
@@ -41,9 +42,19 @@ void main() {
   vec3 cameraObject = (object.invModel * vec4(frame.cameraPosition.xyz, 1.0)).xyz;
   vec3 cameraLocal = (cameraObject - draw.gridOriginSpacing.xyz) / h - start;
   bool mirrored = (object.flags & OBJECT_FLAG_MIRRORED) != 0u;
+  // The proxy: the union of the run's cells' proxy boxes (record_cell.glsl), which holds every
+  // root of the run (the whole run with HERMITE_FLAG_WHOLE_CELLS). The fragment shader still clips
+  // the ray to the whole run and each cell's search to the cell's own box.
+  vec3 lo = vec3(3.0e38), hi = vec3(-3.0e38);
+  for (uint i = 0u; i < run.w; ++i) {
+    vec3 cellLo, cellHi;
+    recordProxyBox(draw, inFirstRecord + i, cellLo, cellHi);
+    lo = min(lo, cellLo + vec3(float(i), 0.0, 0.0));
+    hi = max(hi, cellHi + vec3(float(i), 0.0, 0.0));
+  }
   vec3 corner = (draw.flags & HERMITE_FLAG_NEAR_CELL) != 0u ? boxStripCorner(gl_VertexIndex, mirrored)
-                                                             : frontFanCorner(gl_VertexIndex, cameraLocal, 0.5 * size, mirrored);
-  vec3 local = corner * (size + 2.0 * dilation) - dilation;
+                                                             : frontFanCorner(gl_VertexIndex, cameraLocal, 0.5 * (lo + hi), mirrored);
+  vec3 local = mix(lo - dilation, hi + dilation, corner);
   vec3 objectPosition = draw.gridOriginSpacing.xyz + h * (start + local);
 
   outRun = run;

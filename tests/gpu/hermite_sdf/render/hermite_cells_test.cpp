@@ -1140,7 +1140,7 @@ TEST_F(HermiteCellsTest, TilesAutoFollowsTheDevice) {
 // the bunny at K = 16 (cells of ~20 pixels) and K = 64 from two sides, and the torus from inside one
 // of its cells (near-plane boxes, drawn by their back faces). Root-search evaluations fall for every
 // method (a ray that misses a cell's proxy box skips its search); prepass fragments fall for the
-// boxes, whose rasterized proxies shrink (summed over the views: on a GPU the early depth test
+// boxes and the runs (the union of their cells' boxes), whose rasterized proxies shrink (summed over the views: on a GPU the early depth test
 // depends on the order of parallel fragments). The roots are placed on another segment, so their
 // depth may move by the default search's placement error (one Newton step from the control
 // polygon's zero: up to 1.1e-4 of the depth at K = 16 on lavapipe), and by little more than the
@@ -1156,14 +1156,14 @@ TEST_F(HermiteCellsTest, ProxyBoxesDrawTheWholeCellsImageWithLessWork) {
     Tiles tiles;
     ThinBoxes thin;
     bool half;
-    bool boxes;  // its proxies are the cells' boxes (fewer fragments expected)
+    bool boxes;  // its proxies shrink with the cells' boxes (fewer fragments expected): boxes, runs
     bool certified = false;
   };
   const Case cases[] = {{"attribute boxes", hsdf::RenderMethod::Cells, Tiles::Off, ThinBoxes::Off, false, true},
                         {"thin boxes fp16", hsdf::RenderMethod::Cells, Tiles::Off, ThinBoxes::On, true, true},
                         {"tiles", hsdf::RenderMethod::Cells, Tiles::On, ThinBoxes::Auto, false, false},
                         {"tiles fp16", hsdf::RenderMethod::Cells, Tiles::On, ThinBoxes::Auto, true, false},
-                        {"runs", hsdf::RenderMethod::CellRuns, Tiles::Off, ThinBoxes::Auto, false, false},
+                        {"runs", hsdf::RenderMethod::CellRuns, Tiles::Off, ThinBoxes::Auto, false, true},
                         {"bricks fp16", hsdf::RenderMethod::CellBricks, Tiles::Off, ThinBoxes::Auto, true, false},
                         {"certified boxes", hsdf::RenderMethod::Cells, Tiles::Off, ThinBoxes::Off, false, true, true},
                         {"certified tiles", hsdf::RenderMethod::Cells, Tiles::On, ThinBoxes::Auto, false, false, true}};
