@@ -60,14 +60,13 @@ bool cellPixelRect(HermiteDraw draw, uint object, uint record, out ivec2 lo, out
   FrameGlobals frame = FrameGlobalsRef(pc.frameGlobals).globals;
   BrickCullObject cullObject = CullObjectsRef(pc.objects).objects[object];
   mat4 toClip = cullObject.objectToClip;
-  vec3 cell = recordCell(draw, record);
+  vec3 boxLo, boxHi;  // the cell's proxy box (record_cell.glsl)
+  vec3 cell = recordCellBox(draw, record, boxLo, boxHi);
   float h = draw.gridOriginSpacing.w;
   // The proxy's dilation (as proxyDilation; clip w is the view depth -z), a percent more for the
   // rounding of the two computations.
   float centreDepth = (toClip * vec4(draw.gridOriginSpacing.xyz + h * (cell + 0.5), 1.0)).w;
   float dilation = 1.01 * proxyDilationAt(frame, centreDepth, h, cullObject.minAxisScale);
-  vec3 boxLo, boxHi;  // the cell's proxy box (record_cell.glsl)
-  recordProxyBox(draw, record, boxLo, boxHi);
   vec2 pmin = vec2(3.0e38), pmax = vec2(-3.0e38);
   nearest = 0.0;
   bool behind = false;

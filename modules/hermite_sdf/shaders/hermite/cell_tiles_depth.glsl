@@ -86,13 +86,12 @@ void main() {
         eyeGrid = ((object.invModel * vec4(frame.cameraPosition.xyz, 1.0)).xyz - draw.gridOriginSpacing.xyz) / h;
         direction = pixelRayDirection(frame, object.invModel, h);
       }
-      vec3 cell = recordCell(draw, entry.record);
+      vec3 cell = recordCellBox(draw, entry.record, lo, hi);
       origin = eyeGrid - cell;
       float h = draw.gridOriginSpacing.w;
       float dilation = proxyDilation(frame, object, draw.gridOriginSpacing.xyz + h * (cell + 0.5), h);
       // Would the cell's own proxy have covered this pixel? And can its search (over the margin,
       // at least the dilation) begin in front of what was found already?
-      recordProxyBox(draw, entry.record, lo, hi);
       vec2 box = intersectBox(origin, direction, lo - dilation, hi + dilation);
       margin = searchMargin(origin, dilation);
       vec2 searched = intersectBox(origin, direction, lo - margin, hi + margin);

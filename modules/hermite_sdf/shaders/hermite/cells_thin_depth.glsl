@@ -28,13 +28,12 @@ void main() {
   mat4 invModel = ObjectsRef(pc.draw.objects).objects[draw.object].invModel;
   float h = draw.gridOriginSpacing.w;
   vec3 eyeObject = (invModel * vec4(frame.cameraPosition.xyz, 1.0)).xyz;
-  vec3 origin = (eyeObject - draw.gridOriginSpacing.xyz) / h - recordCell(draw, inRecord);
+  vec3 lo, hi;  // the cell's proxy box
+  vec3 origin = (eyeObject - draw.gridOriginSpacing.xyz) / h - recordCellBox(draw, inRecord, lo, hi);
   vec3 direction = pixelRayDirection(frame, invModel, h);
   float margin = searchMargin(origin, inDilation);
   uint evaluations = 0u;
   // From the near plane (t = gl_FragCoord.z, pixel_ray.glsl) on; searchCell clips to the dilated box.
-  vec3 lo, hi;
-  recordProxyBox(draw, inRecord, lo, hi);
   float t = searchCell(draw, inRecord, lo, hi, origin, direction, margin, gl_FragCoord.z, 3.0e38, evaluations);
   countWork(evaluations);
   if (t < 0.0) {

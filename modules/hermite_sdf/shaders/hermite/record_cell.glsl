@@ -1,19 +1,14 @@
-// A kept cell's grid coordinate from its record, read by address (HermiteDraw::records, fp32 or
-// fp16 by HERMITE_FLAG_HALF_RECORDS): the record's xy / zc words, as cells_resolve.frag reads them.
-// Shared by the thin boxes, the tiles' binning and the tiles' prepass.
+// A kept cell's grid coordinate and proxy box from its record, read by address (HermiteDraw::records,
+// fp32 or fp16 by HERMITE_FLAG_HALF_RECORDS): the record's xy / zc words, as cells_resolve.frag
+// reads them. Shared by the thin boxes, the runs, the bricks, the tiles' binning and prepass.
 #ifndef HSDF_RECORD_CELL_GLSL
 #define HSDF_RECORD_CELL_GLSL
 
-vec3 recordCell(HermiteDraw draw, uint record) {
-  uint xy, zc;
-  if ((draw.flags & HERMITE_FLAG_HALF_RECORDS) == 0u) {
-    xy = CellRecordsRef(draw.records).records[record].xy;
-    zc = CellRecordsRef(draw.records).records[record].zc;
-  } else {
-    xy = CellRecordsHalfRef(draw.records).records[record].xy;
-    zc = CellRecordsHalfRef(draw.records).records[record].zc;
-  }
-  return vec3(uvec3(xy & 0xffffu, xy >> 16, zc & 0xffffu));
+// The record's last two words: x | y << 16, z | class word << 16 (hermite_host_device.h).
+uvec2 recordWords(HermiteDraw draw, uint record) {
+  if ((draw.flags & HERMITE_FLAG_HALF_RECORDS) == 0u)
+    return uvec2(CellRecordsRef(draw.records).records[record].xy, CellRecordsRef(draw.records).records[record].zc);
+  return uvec2(CellRecordsHalfRef(draw.records).records[record].xy, CellRecordsHalfRef(draw.records).records[record].zc);
 }
 
 // The proxy box [lo, hi] (cell-local, within [0, 1]^3) of a record from its class halfword (the
@@ -36,9 +31,14 @@ void proxyBox(uint classWord, uint flags, out vec3 lo, out vec3 hi) {
 }
 
 void recordProxyBox(HermiteDraw draw, uint record, out vec3 lo, out vec3 hi) {
-  uint zc = (draw.flags & HERMITE_FLAG_HALF_RECORDS) == 0u ? CellRecordsRef(draw.records).records[record].zc
-                                                          : CellRecordsHalfRef(draw.records).records[record].zc;
-  proxyBox(zc >> 16, draw.flags, lo, hi);
+  proxyBox(recordWords(draw, record).y >> 16, draw.flags, lo, hi);
+}
+
+// The record's grid coordinate, and its proxy box, from one read of its words.
+vec3 recordCellBox(HermiteDraw draw, uint record, out vec3 lo, out vec3 hi) {
+  uvec2 words = recordWords(draw, record);
+  proxyBox(words.y >> 16, draw.flags, lo, hi);
+  return vec3(uvec3(words.x & 0xffffu, words.x >> 16, words.y & 0xffffu));
 }
 
 #endif

@@ -134,6 +134,7 @@ CellStreamHalf toHalf(const CellStream& stream);
 inline constexpr double kMinFp16Spacing = 1.0 / 8192.0;
 bool halfPrecisionFits(const GridSpec& grid);
 CellStream toFloat(const CellStreamHalf& stream);
+CellRecord toFloat(const CellRecordHalf& record);
 
 // IEEE 754 binary16 conversion, round to nearest even; overflow gives +-inf, NaN stays NaN
 // (quiet, sign and top payload bits kept), subnormals are produced and read exactly.

@@ -123,13 +123,7 @@ std::vector<std::uint16_t> proxyBoxCodes(const CellStream& cells) {
 }
 
 std::vector<std::uint16_t> proxyBoxCodes(const CellStreamHalf& cells) {
-  return codesOf(cells, [](const CellRecordHalf& h) {
-    HermiteCellCorners<double> corners;
-    for (int k = 0; k < 8; ++k)
-      corners[k] = {double(halfToFloat(h.corners[4 * k + 0])), double(halfToFloat(h.corners[4 * k + 1])),
-                    double(halfToFloat(h.corners[4 * k + 2])), double(halfToFloat(h.corners[4 * k + 3]))};
-    return corners;
-  });
+  return codesOf(cells, [](const CellRecordHalf& h) { return cellCorners(toFloat(h)); });
 }
 
 }  // namespace hsdf

@@ -114,21 +114,23 @@ CellStreamHalf toHalf(const CellStream& stream) {
   return out;
 }
 
+CellRecord toFloat(const CellRecordHalf& h) {
+  CellRecord r;
+  for (int k = 0; k < 8; ++k)
+    r.corners[k] = {halfToFloat(h.corners[4 * k + 0]), halfToFloat(h.corners[4 * k + 1]),
+                    halfToFloat(h.corners[4 * k + 2]), halfToFloat(h.corners[4 * k + 3])};
+  r.x = h.x;
+  r.y = h.y;
+  r.z = h.z;
+  r.cellClass = h.cellClass;
+  return r;
+}
+
 CellStream toFloat(const CellStreamHalf& stream) {
   CellStream out;
   out.grid = stream.grid;
   out.records.reserve(stream.records.size());
-  for (const CellRecordHalf& h : stream.records) {
-    CellRecord r;
-    for (int k = 0; k < 8; ++k)
-      r.corners[k] = {halfToFloat(h.corners[4 * k + 0]), halfToFloat(h.corners[4 * k + 1]),
-                      halfToFloat(h.corners[4 * k + 2]), halfToFloat(h.corners[4 * k + 3])};
-    r.x = h.x;
-    r.y = h.y;
-    r.z = h.z;
-    r.cellClass = h.cellClass;
-    out.records.push_back(r);
-  }
+  for (const CellRecordHalf& h : stream.records) out.records.push_back(toFloat(h));
   return out;
 }
 
