@@ -51,7 +51,14 @@ glm::vec3 orbitEye(const glm::vec3& target, float radius, float yawRadians, floa
   return target + radius * direction;
 }
 
-Ray pixelRay(const glm::mat4& view, const glm::mat4& proj, glm::vec2 pixelCenter, glm::ivec2 imageSize) {
+namespace {
+// The pixel's ray and its point on the near plane (depth 1), both in world space, in double.
+struct PixelRayPoints {
+  Ray ray;
+  glm::dvec3 nearPoint;
+};
+
+PixelRayPoints pixelRayPoints(const glm::mat4& view, const glm::mat4& proj, glm::vec2 pixelCenter, glm::ivec2 imageSize) {
   if (imageSize.x <= 0 || imageSize.y <= 0) {
     throw std::invalid_argument(fmt::format("pixelRay: image size {}x{} is empty", imageSize.x, imageSize.y));
   }
@@ -62,10 +69,21 @@ Ray pixelRay(const glm::mat4& view, const glm::mat4& proj, glm::vec2 pixelCenter
   // The point of this pixel on the near plane (depth 1); the eye is the view-space origin.
   const glm::dvec4 nearPoint = inverseProj * glm::dvec4(ndc, 1.0, 1.0);
   const glm::dvec3 viewDirection = glm::dvec3(nearPoint) / nearPoint.w;
-  Ray ray;
-  ray.origin = glm::dvec3(inverseView * glm::dvec4(0.0, 0.0, 0.0, 1.0));
-  ray.direction = glm::normalize(glm::dvec3(inverseView * glm::dvec4(viewDirection, 0.0)));
-  return ray;
+  PixelRayPoints points;
+  points.ray.origin = glm::dvec3(inverseView * glm::dvec4(0.0, 0.0, 0.0, 1.0));
+  points.ray.direction = glm::normalize(glm::dvec3(inverseView * glm::dvec4(viewDirection, 0.0)));
+  points.nearPoint = glm::dvec3(inverseView * glm::dvec4(viewDirection, 1.0));
+  return points;
+}
+}  // namespace
+
+Ray pixelRay(const glm::mat4& view, const glm::mat4& proj, glm::vec2 pixelCenter, glm::ivec2 imageSize) {
+  return pixelRayPoints(view, proj, pixelCenter, imageSize).ray;
+}
+
+Ray pixelRayFromNearPlane(const glm::mat4& view, const glm::mat4& proj, glm::vec2 pixelCenter, glm::ivec2 imageSize) {
+  const PixelRayPoints points = pixelRayPoints(view, proj, pixelCenter, imageSize);
+  return {points.nearPoint, points.ray.direction};
 }
 
 namespace {

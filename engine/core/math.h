@@ -35,6 +35,9 @@ struct Ray {
 // Vulkan rasterizes the fragment whose framebuffer coordinate is pixelCenter (e.g. (x + 0.5, y + 0.5)).
 // Computed in double from the inverse of the given matrices.
 Ray pixelRay(const glm::mat4& view, const glm::mat4& proj, glm::vec2 pixelCenter, glm::ivec2 imageSize);
+// The same ray starting where it crosses the near plane (reverse-Z depth 1) instead of at the eye:
+// a rasterizer clips everything nearer, so what the pixel shows is the first surface after it.
+Ray pixelRayFromNearPlane(const glm::mat4& view, const glm::mat4& proj, glm::vec2 pixelCenter, glm::ivec2 imageSize);
 
 // Reverse-Z depth <-> distance along the view axis. Depth 0 (or less) maps to +infinity and back.
 double depthToViewDistance(double depth, double znear);

@@ -45,8 +45,10 @@ struct ImageComparison {
   double depthErrorP50 = 0.0;     // |view distance difference| / h, percentiles over common hits
   double depthErrorP90 = 0.0;
   double depthErrorP99 = 0.0;
-  // Over interior hits only (no reference miss within 2 pixels): at a silhouette the ray grazes
-  // the surface and its depth is ill-conditioned (a tiny change of F moves the hit far).
+  // Over interior hits only (no reference miss within 2 pixels, and no occlusion edge: two
+  // neighbouring reference hits more than a cell apart along their rays): at a silhouette, the
+  // object's outline or a nearer part's in front of a farther one, the ray grazes the surface and
+  // its depth is ill-conditioned (a tiny change of F moves the hit far).
   double interiorDepthErrorP99 = 0.0;
   double depthErrorMax = 0.0;
   double normalErrorP99Degrees = 0.0;
@@ -55,6 +57,7 @@ struct ImageComparison {
   // percentile hides a few of those).
   int interiorDepthOutliers = 0;
   int normalFlips = 0;            // GPU normal facing against the reference normal (dot < 0)
+  int interiorNormalFlips = 0;    // the same at interior pixels (as for interiorDepthErrorP99)
   double agreement(int pixels) const { return 1.0 - double(disagreements) / double(pixels); }
 };
 

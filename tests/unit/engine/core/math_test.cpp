@@ -127,6 +127,28 @@ TEST(PixelRay, RoundTripsWithProjectionForArbitraryCamera) {
   EXPECT_GT(checked, 100);
 }
 
+// Tricky: the reference images start their rays here; a point off the near plane (depth != 1), off
+// the pixel's ray or at another pixel would shift every depth the GPU tests compare, or show the
+// clipped front of a surface the near plane cuts.
+TEST(PixelRay, FromNearPlaneStartsOnThePixelsRayAtDepthOne) {
+  const glm::vec3 target(1.0f, -2.0f, 0.5f);
+  const glm::vec3 eye = orbitEye(target, 6.0f, 0.7f, 0.4f);
+  const glm::mat4 view = lookAt(eye, target, glm::vec3(0.0f, 1.0f, 0.0f));
+  const glm::mat4 proj = testProjection();
+  for (const glm::vec2 pixel : {glm::vec2(0.5f, 0.5f), glm::vec2(160.5f, 90.5f), glm::vec2(319.5f, 12.5f)}) {
+    const Ray fromEye = pixelRay(view, proj, pixel, kImage);
+    const Ray fromNear = pixelRayFromNearPlane(view, proj, pixel, kImage);
+    EXPECT_NEAR(glm::distance(fromNear.direction, fromEye.direction), 0.0, 1e-12);
+    const glm::dvec3 offset = fromNear.origin - fromEye.origin;
+    EXPECT_NEAR(glm::length(glm::cross(offset, fromEye.direction)), 0.0, 1e-6) << "on the pixel's ray";
+    EXPECT_GT(glm::dot(offset, fromEye.direction), 0.0) << "in front of the eye";
+    const Projected p = project(proj * view, glm::vec3(fromNear.origin), kImage);
+    EXPECT_NEAR(p.depth, 1.0, 1e-5);
+    EXPECT_NEAR(p.pixel.x, double(pixel.x), 1e-3);
+    EXPECT_NEAR(p.pixel.y, double(pixel.y), 1e-3);
+  }
+}
+
 TEST(DepthConversion, EdgesAndRoundTrip) {
   EXPECT_EQ(depthToViewDistance(1.0, 0.25), 0.25);
   EXPECT_EQ(viewDistanceToDepth(0.25, 0.25), 1.0);

@@ -101,7 +101,8 @@ struct RenderOptions {
   glm::mat4 model{1.0f};
 };
 
-// Casts one ray per pixel centre with engine::math::pixelRay(view, proj, (x+0.5, y+0.5), size).
+// Casts one ray per pixel centre with engine::math::pixelRayFromNearPlane(view, proj, (x+0.5, y+0.5),
+// size): from the near plane, as a rasterizer clips what is nearer.
 // `cells` (optional) restricts the cast to kept cells. Errors: image size outside 1..16384,
 // invalid field or matrices (non-finite, singular view-projection, model not invertible affine).
 engine::Expected<ReferenceImage> renderReference(const HermiteField& field, const glm::mat4& view,

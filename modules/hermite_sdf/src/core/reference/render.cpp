@@ -46,7 +46,9 @@ Ray toObject(const Ray& world, const glm::dmat4& inverseModel) {
           glm::normalize(glm::dvec3(inverseModel * glm::dvec4(world.direction, 0.0)))};
 }
 
-// Rays of every pixel centre in object space; an error if the camera cannot produce valid rays.
+// Rays of every pixel centre in object space, each from its point on the near plane (the GPU draws
+// nothing nearer: with the near plane through the surface, a pixel shows what lies behind it); an
+// error if the camera cannot produce valid rays.
 engine::Expected<std::vector<Ray>> cameraRays(const glm::mat4& view, const glm::mat4& proj, glm::ivec2 size,
                                               const glm::mat4& model) {
   ENGINE_TRY(validateCamera(view, proj, size));
@@ -57,7 +59,8 @@ engine::Expected<std::vector<Ray>> cameraRays(const glm::mat4& view, const glm::
     for (int y = 0; y < size.y; ++y)
       for (int x = 0; x < size.x; ++x)
         rays[std::size_t(y) * std::size_t(size.x) + std::size_t(x)] = toObject(
-            engine::math::pixelRay(view, proj, glm::vec2(float(x) + 0.5f, float(y) + 0.5f), size), inverseModel);
+            engine::math::pixelRayFromNearPlane(view, proj, glm::vec2(float(x) + 0.5f, float(y) + 0.5f), size),
+            inverseModel);
   } catch (const std::invalid_argument& e) {
     return engine::makeError(fmt::format("camera cannot produce pixel rays: {}", e.what()));
   }

@@ -90,6 +90,47 @@ TEST(ReferenceRender, MatchesTheExactSurfacePerPixel) {
 
 // Tricky: rendering only kept cells (what the GPU draws) must give the same image bit for bit,
 // and the work split over threads must not change any pixel.
+// Tricky: a near plane through the sphere. The GPU clips everything nearer than the near plane, so
+// where it cuts the front of the sphere a pixel shows the inside of the back (the first root behind
+// the plane, its normal facing away from the eye), and where the whole sphere along the ray lies in
+// front of it, nothing. A reference that casts from the eye draws the clipped front there instead.
+TEST(ReferenceRender, RaysStartAtTheNearPlane) {
+  const HermiteField field = quadricSphereField();
+  Camera cam;
+  cam.znear = 2.6f;  // the sphere: entry ~2.26, exit ~3.76 on the axis; its rim ~2.8 away
+  cam.view = engine::math::lookAt({1.2f, 1.1f, 4.0f}, {1.0f, 1.0f, 1.0f}, {0.0f, 1.0f, 0.0f});
+  cam.proj = engine::math::perspectiveReverseZInfinite(0.7f, float(cam.size.x) / float(cam.size.y), cam.znear);
+  auto image = renderReference(field, cam.view, cam.proj, cam.size);
+  ASSERT_TRUE(image.ok()) << image.error().message;
+  const glm::dmat4 view(cam.view);
+  int backHits = 0, frontHits = 0;
+  for (int y = 0; y < cam.size.y; ++y)
+    for (int x = 0; x < cam.size.x; ++x) {
+      const Ray ray = engine::math::pixelRay(cam.view, cam.proj, {float(x) + 0.5f, float(y) + 0.5f}, cam.size);
+      const dvec3 oc = ray.origin - dvec3(1.0);
+      const double b = glm::dot(oc, ray.direction), disc = b * b - (glm::dot(oc, oc) - 0.5625);
+      if (disc < 1e-6) continue;  // a miss or a silhouette
+      const auto viewDistance = [&](double t) { return -(view * glm::dvec4(ray.origin + t * ray.direction, 1.0)).z; };
+      const double entry = -b - std::sqrt(disc), exit = -b + std::sqrt(disc);
+      const std::size_t p = image->pixel(x, y);
+      if (std::abs(viewDistance(entry) - double(cam.znear)) < 1e-3 || std::abs(viewDistance(exit) - double(cam.znear)) < 1e-3)
+        continue;  // a root on the plane itself: either answer is right
+      if (viewDistance(exit) < double(cam.znear)) {
+        EXPECT_EQ(image->hit[p], 0) << x << "," << y << ": the sphere lies wholly in front of the near plane";
+        continue;
+      }
+      const bool back = viewDistance(entry) < double(cam.znear);
+      const double t = back ? exit : entry;
+      ASSERT_EQ(image->hit[p], 1) << x << "," << y;
+      EXPECT_NEAR(image->depth[p], engine::math::viewDistanceToDepth(viewDistance(t), cam.znear), 1e-6) << x << "," << y;
+      const double facing = glm::dot(glm::dvec3(image->normal[p]), ray.direction);
+      EXPECT_EQ(facing > 0.0, back) << x << "," << y << ": the back's normal faces away from the eye";
+      (back ? backHits : frontHits) += 1;
+    }
+  EXPECT_GT(backHits, 50);
+  EXPECT_GT(frontHits, 10);
+}
+
 TEST(ReferenceRender, KeptCellsAndThreadCountDoNotChangeTheImage) {
   const HermiteField field = quadricSphereField();
   auto cells = classifyCells(field, {});
