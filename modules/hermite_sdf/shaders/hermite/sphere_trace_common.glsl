@@ -320,10 +320,16 @@ TraceResult sphereTrace(SphereTraceDraw draw, vec3 origin, vec3 direction, float
   float t = t0;
   float d = evaluateField(draw, cursor, origin + t * direction) / h;  // grid units, what the next step trusts
   float side = d < 0.0 ? -1.0 : 1.0;
+  // The ray's first point is never a hit by epsilon alone: there the surface may lie just behind
+  // it, on the clipped side of the near plane (an eye pressed against a wall, the near plane a
+  // hair beyond the wall: the tracer drew the wall at the near plane, where nothing nearer than
+  // the plane is drawn). The first step finds a surface just ahead by its sign change instead.
+  bool first = true;
   for (uint attempt = 0u; attempt < kMaxUnconfirmed; ++attempt) {
     float tNext = t;
     float dNext = d;
-    while (abs(d) >= draw.epsilon) {
+    while (first || abs(d) >= draw.epsilon) {
+      first = false;
       if (result.evaluations >= draw.maxSteps) {
         result.outOfSteps = true;
         return result;

@@ -281,6 +281,29 @@ TEST_F(SphereTraceTest, CameraInsideTheBoundsAndInsideTheSurface) {
   }
 }
 
+// Why: an eye pressed against a wall, its near plane a hair beyond the wall (inside the solid,
+// closer to the face than the tracer's epsilon). Nothing nearer than the near plane is drawn, so
+// the pixel shows where the ray leaves the box. The tracers took the first point of the ray, within
+// epsilon of the face, for a hit and drew the wall at the near plane (found by the random views
+// test); the cells and the reference never did.
+TEST_F(SphereTraceTest, NearPlaneJustBeyondAFaceDrawsWhatLiesBehindIt) {
+  createTraceRenderer(kSize, kSize);
+  const auto asset = bakeAsset("box", 12);  // half extents (1, 0.7, 0.5): the face z = 0.5
+  ASSERT_NE(asset, nullptr);
+  const float h = float(asset->field.grid.spacing);
+  const float znear = 0.01f * h;
+  const float beyond = 2e-5f * h;  // the near plane this far inside the face: within epsilon (1e-4 cells)
+  const glm::vec3 eye(0.05f, -0.03f, 0.5f + znear - beyond);
+  const render::CameraView camera = render::CameraView::lookAt(eye, eye - glm::vec3(0.0f, 0.0f, 1.0f), 1.2f, znear, 1.0f);
+  for (const RenderMethod method : {RenderMethod::TrilinearSphereTrace, RenderMethod::HermiteSphereTrace}) {
+    registry_.clear();
+    addTracedSdf(registry_, asset, method);
+    const ImageComparison c = expectMatchesReference(method, asset->field, camera,
+                                                     std::string(hsdf::renderMethodName(method)) + " against a wall");
+    EXPECT_EQ(c.referenceHits, int(kSize * kSize)) << "the box's far side fills the view";
+  }
+}
+
 // Why: fp16 textures round f and the gradient; the GPU must then match the reference of the
 // rounded field (not of the fp32 one), and the texture must really be half the size.
 TEST_F(SphereTraceTest, HalfPrecisionTexturesMatchTheRoundedField) {
