@@ -52,6 +52,13 @@ hsdf::TrilinearField trilinearOf(const hsdf::HermiteField& field) {
   return out;
 }
 
+hsdf::HermiteField roundedToHalf(const hsdf::HermiteField& field) {
+  hsdf::HermiteField out = field;
+  auto round = [](float v) { return hsdf::halfToFloat(hsdf::floatToHalf(v)); };
+  for (hsdf::HermiteSample& s : out.samples) s = {round(s.f), round(s.fx), round(s.fy), round(s.fz)};
+  return out;
+}
+
 hsdf::ReferenceImage referenceFor(hsdf::RenderMethod method, const hsdf::HermiteField& field,
                                   const render::CameraView& camera, glm::ivec2 size, const glm::mat4& model) {
   hsdf::RenderOptions options;

@@ -19,6 +19,9 @@ std::shared_ptr<const hsdf::SdfAsset> bakeAsset(const std::string& shape, int re
 // The f samples alone: the field the trilinear tracer draws.
 hsdf::TrilinearField trilinearOf(const hsdf::HermiteField& field);
 
+// The field as fp16 textures and fp16 cell records hold it: every value rounded to half.
+hsdf::HermiteField roundedToHalf(const hsdf::HermiteField& field);
+
 // The CPU reference image (of `size` pixels) of the interpolant a sphere-tracing `method` draws,
 // for an object placed by `model`. Hermite casts through the kept cells only: the same hits as
 // all cells (reference.h), faster. Fails the test on error.

@@ -39,14 +39,6 @@ constexpr double kMaxToleranceViolations = 0.001;  // fraction of the pixels bot
 
 int methodIndex(RenderMethod method) { return method == RenderMethod::TrilinearSphereTrace ? 0 : 1; }
 
-// The field as the fp16 textures hold it.
-hsdf::HermiteField roundedToHalf(const hsdf::HermiteField& field) {
-  hsdf::HermiteField out = field;
-  auto round = [](float v) { return hsdf::halfToFloat(hsdf::floatToHalf(v)); };
-  for (hsdf::HermiteSample& s : out.samples) s = {round(s.f), round(s.fx), round(s.fy), round(s.fz)};
-  return out;
-}
-
 render::CameraView orbitCamera(const hsdf::SdfAsset& asset, int view) {
   const glm::vec3 center(asset.surfaceBounds.center());
   const float radius = 0.5f * float(glm::length(asset.surfaceBounds.size()));

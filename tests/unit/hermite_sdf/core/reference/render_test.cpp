@@ -31,14 +31,25 @@ HermiteField quadricSphereField() {
   return field;
 }
 
+// Where a ray meets the quadric sphere: t = -b -+ sqrt(disc) (no crossing when disc < 0).
+struct SphereCrossing {
+  double b, disc;
+};
+SphereCrossing crossSphere(const Ray& ray) {
+  const dvec3 oc = ray.origin - dvec3(1.0);
+  const double b = glm::dot(oc, ray.direction);
+  return {b, b * b - (glm::dot(oc, oc) - 0.5625)};
+}
+
 struct Camera {
   glm::mat4 view, proj;
   glm::ivec2 size{33, 25};  // odd: the centre pixel's ray is the view axis
   float znear = 0.1f;
 };
 
-Camera frontCamera() {
+Camera frontCamera(float znear = 0.1f) {
   Camera c;
+  c.znear = znear;
   c.view = engine::math::lookAt({1.2f, 1.1f, 4.0f}, {1.0f, 1.0f, 1.0f}, {0.0f, 1.0f, 0.0f});
   c.proj = engine::math::perspectiveReverseZInfinite(0.7f, float(c.size.x) / float(c.size.y), c.znear);
   return c;
@@ -58,8 +69,7 @@ TEST(ReferenceRender, MatchesTheExactSurfacePerPixel) {
   for (int y = 0; y < cam.size.y; ++y)
     for (int x = 0; x < cam.size.x; ++x) {
       const Ray ray = engine::math::pixelRay(cam.view, cam.proj, {float(x) + 0.5f, float(y) + 0.5f}, cam.size);
-      const dvec3 oc = ray.origin - dvec3(1.0);
-      const double b = glm::dot(oc, ray.direction), disc = b * b - (glm::dot(oc, oc) - 0.5625);
+      const auto [b, disc] = crossSphere(ray);
       if (std::abs(disc) < 1e-6) continue;  // silhouette: either answer is right
       ++checked;
       const std::size_t p = image->pixel(x, y);
@@ -96,10 +106,7 @@ TEST(ReferenceRender, MatchesTheExactSurfacePerPixel) {
 // front of it, nothing. A reference that casts from the eye draws the clipped front there instead.
 TEST(ReferenceRender, RaysStartAtTheNearPlane) {
   const HermiteField field = quadricSphereField();
-  Camera cam;
-  cam.znear = 2.6f;  // the sphere: entry ~2.26, exit ~3.76 on the axis; its rim ~2.8 away
-  cam.view = engine::math::lookAt({1.2f, 1.1f, 4.0f}, {1.0f, 1.0f, 1.0f}, {0.0f, 1.0f, 0.0f});
-  cam.proj = engine::math::perspectiveReverseZInfinite(0.7f, float(cam.size.x) / float(cam.size.y), cam.znear);
+  const Camera cam = frontCamera(2.6f);  // the sphere: entry ~2.26, exit ~3.76 on the axis; its rim ~2.8 away
   auto image = renderReference(field, cam.view, cam.proj, cam.size);
   ASSERT_TRUE(image.ok()) << image.error().message;
   const glm::dmat4 view(cam.view);
@@ -107,8 +114,7 @@ TEST(ReferenceRender, RaysStartAtTheNearPlane) {
   for (int y = 0; y < cam.size.y; ++y)
     for (int x = 0; x < cam.size.x; ++x) {
       const Ray ray = engine::math::pixelRay(cam.view, cam.proj, {float(x) + 0.5f, float(y) + 0.5f}, cam.size);
-      const dvec3 oc = ray.origin - dvec3(1.0);
-      const double b = glm::dot(oc, ray.direction), disc = b * b - (glm::dot(oc, oc) - 0.5625);
+      const auto [b, disc] = crossSphere(ray);
       if (disc < 1e-6) continue;  // a miss or a silhouette
       const auto viewDistance = [&](double t) { return -(view * glm::dvec4(ray.origin + t * ray.direction, 1.0)).z; };
       const double entry = -b - std::sqrt(disc), exit = -b + std::sqrt(disc);
