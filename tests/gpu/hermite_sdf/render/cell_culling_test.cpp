@@ -1,0 +1,301 @@
+// The culling passes before the cells' prepass (cell_culling.cpp, brick_culler.cpp, cell_cull.comp,
+// brick_cull.comp; the two-phase occlusion culling against the depth pyramid): what they remove
+// never changes the image, and they remove work.
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <limits>
+#include <optional>
+#include <set>
+#include <string>
+
+#include <glm/gtc/matrix_transform.hpp>
+#include <gtest/gtest.h>
+
+#include "engine/core/image_io.h"
+#include "engine/core/math.h"
+#include "engine/gpu/pipeline_statistics.h"
+#include "engine/render/components.h"
+#include "engine/scene/transform.h"
+#include "hermite_sdf/render/cell_feature.h"
+#include "cell_test_support.h"
+#include "device_tolerances.h"
+#include "hermite_test_support.h"
+#include "shared/host_device.h"
+
+namespace gputest {
+namespace {
+
+using namespace engine;
+
+// Why: the brick culling pass (brick_cull.comp) decides on the GPU which bricks are drawn, from
+// normal cones and the frustum; a brick it wrongly removes is a hole, and one it keeps needlessly
+// is only cost. So: the image (depth and colour) is identical with culling on and off, on a
+// concave object seen from several sides, the pass reports that it removed bricks, and the
+// prepass rasterizes fewer fragments (pipeline statistics: what lavapipe counts before the depth
+// test falls only when boxes are not drawn).
+TEST_F(HermiteCellsTest, BrickCullingKeepsTheImageAndDrawsFewerBricks) {
+  createCellRenderer(kSize, kSize);
+  auto* feature = renderer_->feature<hsdf::HermiteCellFeature>();
+  const auto asset = bakeAsset("bunny", 64);
+  ASSERT_NE(asset, nullptr);
+  ASSERT_TRUE(asset->boundaryPositive);
+  addSdf(registry_, asset, hsdf::RenderMethod::CellBricks);
+  auto fragments = [&] {
+    const auto* s = gpu::findStatistics(renderer_->lastPipelineStatistics(), "depth prepass");
+    return s ? s->fragmentShaderInvocations : 0;
+  };
+  std::uint64_t tested = 0, kept = 0, allSum = 0, culledSum = 0;
+  const bool inOrder = tolerancesFor(*context_).fragmentsShadeInPrimitiveOrder;
+  for (int view = 0; view < 6; ++view) {
+    SCOPED_TRACE("view " + std::to_string(view));
+    const render::CameraView camera = orbitCamera(*asset, view);
+    feature->settings().cullBricks = false;
+    const Frame all = renderWith(camera, DEBUG_VIEW_NONE);
+    const std::uint64_t allFragments = fragments();
+    EXPECT_EQ(feature->cullTotals().tested, 0u) << "no culling pass when it is off";
+    feature->settings().cullBricks = true;
+    const Frame culled = renderWith(camera, DEBUG_VIEW_NONE);
+    const shader::BrickCullTotals totals = feature->cullTotals();
+    EXPECT_EQ(totals.tested, feature->stats().bricks);
+    EXPECT_EQ(totals.kept + totals.frustumCulled + totals.coneCulled, totals.tested);
+    tested += totals.tested;
+    kept += totals.kept;
+    ASSERT_GT(std::count_if(culled.depth.begin(), culled.depth.end(), [](float d) { return d > 0.0f; }), 500);
+    EXPECT_TRUE(all.depth == culled.depth) << "culling changed the depth";
+    EXPECT_TRUE(all.rgba == culled.rgba) << "culling changed the colour";
+    allSum += allFragments;
+    culledSum += fragments();
+    // In primitive order (lavapipe) every view's count can only fall. A GPU counts the fragments
+    // its early depth test let through, which depends on the order its parallel fragments happen to
+    // write depth: one H200 view of six had 0.6 % more with culling; the six views together fall.
+    if (allFragments > 0 && inOrder) {
+      EXPECT_LE(fragments(), allFragments);
+    }
+  }
+  EXPECT_LT(kept, tested) << "the cones removed no brick of the bunny in six views";
+  if (allSum > 0) {
+    EXPECT_LT(culledSum, allSum) << "culling drew no fewer prepass fragments over six views";
+  }
+}
+
+// Why: the cell culling pass (cell_cull.comp) decides on the GPU which cells' boxes are drawn and
+// rewrites the draws to read its kept-record stream (attribute boxes, with and without the early
+// depth stage, and thin boxes; fp32 and fp16 records). A cell it wrongly removes is a hole, a
+// wrong record index a wrong shade, and a lost order a different winner where hits tie. So: depth
+// and colour identical with culling on and off on the concave bunny from several sides, the pass
+// reports that its cones and the frustum removed cells, and the prepass rasterizes fewer fragments.
+// Then from inside a cell, where the near plane lies in the grid: the cone test must stay off (no
+// cone-culled cell) and the image must still be the same.
+TEST_F(HermiteCellsTest, CellCullingKeepsTheImageAndDrawsFewerBoxes) {
+  createCellRenderer(kSize, kSize);
+  auto* feature = renderer_->feature<hsdf::HermiteCellFeature>();
+  feature->settings().cullOcclusion = false;  // frustum and cones alone (occlusion: the test below)
+  feature->settings().tiles = hsdf::HermiteCellFeature::Tiles::Off;  // boxes, culled or not (tiles: TiledCells*)
+  const auto asset = bakeAsset("bunny", 64);
+  ASSERT_NE(asset, nullptr);
+  ASSERT_TRUE(asset->boundaryPositive);
+  const ecs::Entity entity = addSdf(registry_, asset, hsdf::RenderMethod::Cells);
+  auto fragments = [&] {
+    const auto* s = gpu::findStatistics(renderer_->lastPipelineStatistics(), "depth prepass");
+    return s ? s->fragmentShaderInvocations : 0;
+  };
+  const bool inOrder = tolerancesFor(*context_).fragmentsShadeInPrimitiveOrder;
+  using ThinBoxes = hsdf::HermiteCellFeature::ThinBoxes;
+  struct Case {
+    const char* label;
+    ThinBoxes thin;
+    bool half;
+    int firstView, viewStep;
+  };
+  const Case cases[] = {{"attribute boxes fp32", ThinBoxes::Off, false, 0, 1},
+                        {"thin boxes fp32", ThinBoxes::On, false, 1, 2},
+                        {"attribute boxes fp16", ThinBoxes::Off, true, 0, 2},
+                        {"thin boxes fp16", ThinBoxes::On, true, 1, 2}};
+  for (const Case& c : cases) {
+    feature->settings().thinBoxes = c.thin;
+    registry_.get<hsdf::HermiteSdfRenderable>(entity).halfPrecision = c.half;
+    std::uint64_t tested = 0, kept = 0, coneCulled = 0, allSum = 0, culledSum = 0;
+    for (int view = c.firstView; view < 6; view += c.viewStep) {
+      SCOPED_TRACE(std::string(c.label) + ", view " + std::to_string(view));
+      const render::CameraView camera = orbitCamera(*asset, view);
+      feature->settings().cullCells = false;
+      const Frame all = renderWith(camera, DEBUG_VIEW_NONE);
+      const std::uint64_t allFragments = fragments();
+      EXPECT_EQ(feature->cullTotals().tested, 0u) << "no culling pass when it is off";
+      feature->settings().cullCells = true;
+      const Frame culled = renderWith(camera, DEBUG_VIEW_NONE);
+      const shader::BrickCullTotals totals = feature->cullTotals();
+      EXPECT_EQ(totals.tested, feature->stats().cells) << "every front-face cell is tested once";
+      EXPECT_EQ(totals.kept + totals.frustumCulled + totals.coneCulled, totals.tested);
+      tested += totals.tested;
+      kept += totals.kept;
+      coneCulled += totals.coneCulled;
+      ASSERT_GT(std::count_if(culled.depth.begin(), culled.depth.end(), [](float d) { return d > 0.0f; }), 500);
+      EXPECT_TRUE(all.depth == culled.depth) << "culling changed the depth";
+      EXPECT_TRUE(all.rgba == culled.rgba) << "culling changed the colour";
+      allSum += allFragments;
+      culledSum += fragments();
+      // In primitive order (lavapipe) every view's count can only fall; a GPU's early depth test
+      // depends on the order its parallel fragments write depth (see the bricks' test).
+      if (allFragments > 0 && inOrder) {
+        EXPECT_LT(fragments(), allFragments);
+      }
+    }
+    SCOPED_TRACE(c.label);
+    EXPECT_GT(coneCulled, 0u) << "the cones removed no cell of the bunny";
+    // Most of the back half goes (55 % of the cells kept here at K = 64; cells near the silhouette,
+    // whose cones are wide or face sideways, stay).
+    EXPECT_LT(double(kept), 0.65 * double(tested)) << "the cones kept nearly every cell of the bunny";
+    if (allSum > 0) {
+      EXPECT_LT(culledSum, allSum) << "culling drew no fewer prepass fragments";
+    }
+  }
+
+  // Inside a cell of the torus: the near plane in the grid turns the cone test off.
+  feature->settings().thinBoxes = ThinBoxes::Off;
+  registry_ = ecs::Registry();
+  const auto torus = bakeAsset("torus", 16);
+  ASSERT_NE(torus, nullptr);
+  addSdf(registry_, torus, hsdf::RenderMethod::Cells);
+  const std::optional<render::CameraView> inside = insideACellCamera(*torus);
+  ASSERT_TRUE(inside);
+  feature->settings().cullCells = false;
+  const Frame all = renderWith(*inside, DEBUG_VIEW_NONE);
+  feature->settings().cullCells = true;
+  const Frame culled = renderWith(*inside, DEBUG_VIEW_NONE);
+  EXPECT_GT(feature->stats().nearCells, 0u);
+  const shader::BrickCullTotals totals = feature->cullTotals();
+  EXPECT_GT(totals.tested, 0u);
+  EXPECT_EQ(totals.coneCulled, 0u) << "the near plane lies in the grid: no cone test";
+  EXPECT_GT(totals.frustumCulled, 0u) << "from inside the torus most cells are off screen";
+  EXPECT_TRUE(all.depth == culled.depth) << "culling changed the depth inside a cell";
+  EXPECT_TRUE(all.rgba == culled.rgba) << "culling changed the colour inside a cell";
+}
+
+// Why: occlusion culling draws in two phases what one pass drew: a cell missing from both (a wrong
+// history index, an occlusion test that is not conservative at the box's edges or depth, a pyramid
+// texel that misses pixels) is a hole, a cell drawn twice or out of its row's order a different
+// winner where hits tie. The history must never decide what is drawn, only when: so depth and
+// colour identical with occlusion on and off on the concave bunny from several sides, on the first
+// frame (empty history), after a frame that looked from the opposite side (stale history) and in
+// steady state (the previous frames from the same camera); and the prepass rasterizes fewer
+// fragments in steady state (the bunny's surface hides cells behind it).
+TEST_F(HermiteCellsTest, OcclusionCullingKeepsTheImageAndDrawsFewerFragments) {
+  createCellRenderer(kSize, kSize);
+  auto* feature = renderer_->feature<hsdf::HermiteCellFeature>();
+  feature->settings().tiles = hsdf::HermiteCellFeature::Tiles::Off;  // occlusion culls boxes; tiles turn it off
+  const auto asset = bakeAsset("bunny", 64);
+  ASSERT_NE(asset, nullptr);
+  const ecs::Entity entity = addSdf(registry_, asset, hsdf::RenderMethod::Cells);
+  const bool inOrder = tolerancesFor(*context_).fragmentsShadeInPrimitiveOrder;
+  using ThinBoxes = hsdf::HermiteCellFeature::ThinBoxes;
+  struct Case {
+    const char* label;
+    ThinBoxes thin;
+    bool half;
+    int firstView, viewStep;
+  };
+  const Case cases[] = {{"attribute boxes fp32", ThinBoxes::Off, false, 0, 1},
+                        {"thin boxes fp16", ThinBoxes::On, true, 1, 3}};
+  // Occlusion culling turns the early depth stage off (HermiteCellFeature::Settings::cullOcclusion):
+  // the frames without it keep it off too, so that only the culling differs.
+  feature->settings().earlyDepth = hsdf::HermiteCellFeature::EarlyDepth::Off;
+  {
+    feature->settings().cullOcclusion = false;
+    const Frame without = renderWith(orbitCamera(*asset, 0), DEBUG_VIEW_NONE);
+    feature->settings().cullOcclusion = true;
+    const Frame first = renderWith(orbitCamera(*asset, 0), DEBUG_VIEW_NONE);  // empty history
+    EXPECT_TRUE(without.depth == first.depth) << "occlusion culling changed the depth (empty history)";
+    EXPECT_TRUE(without.rgba == first.rgba) << "occlusion culling changed the colour (empty history)";
+  }
+  for (const Case& c : cases) {
+    feature->settings().thinBoxes = c.thin;
+    registry_.get<hsdf::HermiteSdfRenderable>(entity).halfPrecision = c.half;
+    std::uint64_t withoutSum = 0, withSum = 0;
+    for (int view = c.firstView; view < 6; view += c.viewStep) {
+      SCOPED_TRACE(std::string(c.label) + ", view " + std::to_string(view));
+      const render::CameraView camera = orbitCamera(*asset, view);
+      feature->settings().cullOcclusion = false;
+      const Frame without = renderWith(camera, DEBUG_VIEW_NONE);
+      const std::uint64_t withoutFragments = prepassFragments(*renderer_);
+      ASSERT_GT(std::count_if(without.depth.begin(), without.depth.end(), [](float d) { return d > 0.0f; }), 500);
+      feature->settings().cullOcclusion = true;
+      renderWith(orbitCamera(*asset, view + 3), DEBUG_VIEW_NONE);  // the history of the other side
+      const Frame stale = renderWith(camera, DEBUG_VIEW_NONE);
+      EXPECT_TRUE(without.depth == stale.depth) << "occlusion culling with a stale history changed the depth";
+      EXPECT_TRUE(without.rgba == stale.rgba) << "occlusion culling with a stale history changed the colour";
+      // After a stale history phase 1 draws little, so its pyramid hides little and phase 2
+      // marks nearly every cell visible: the next frame draws them all in phase 1 and finds
+      // which are hidden; from the one after on, those are not drawn.
+      const Frame settling = renderWith(camera, DEBUG_VIEW_NONE);
+      EXPECT_TRUE(without.depth == settling.depth) << "occlusion culling changed the depth (settling)";
+      EXPECT_TRUE(without.rgba == settling.rgba) << "occlusion culling changed the colour (settling)";
+      const Frame steady = renderWith(camera, DEBUG_VIEW_NONE);
+      EXPECT_TRUE(without.depth == steady.depth) << "occlusion culling changed the depth";
+      EXPECT_TRUE(without.rgba == steady.rgba) << "occlusion culling changed the colour";
+      EXPECT_TRUE(feature->usesOcclusionCulling());
+      EXPECT_FALSE(feature->stats().earlyDepth) << "the early depth stage is off with occlusion culling";
+      withoutSum += withoutFragments;
+      withSum += prepassFragments(*renderer_);
+      if (withoutFragments > 0 && inOrder) {
+        EXPECT_LT(prepassFragments(*renderer_), withoutFragments);
+      }
+    }
+    SCOPED_TRACE(c.label);
+    if (withoutSum > 0) {
+      EXPECT_LT(withSum, withoutSum) << "occlusion culling drew no fewer prepass fragments";
+    }
+  }
+}
+
+// Why: an object hidden behind another must cost nothing once the history holds the occluder: in
+// steady state its cells are neither drawn in phase 1 (not visible last frame) nor in phase 2
+// (behind the pyramid). A sphere in front of a small torus: with the torus the frame draws exactly
+// the boxes and prepass fragments it draws without it, and the image is the one drawn without
+// occlusion culling. The torus alone, from the same camera, draws boxes (it is in view).
+TEST_F(HermiteCellsTest, OcclusionCullingDrawsNothingOfAHiddenObject) {
+  createCellRenderer(kSize, kSize);
+  auto* feature = renderer_->feature<hsdf::HermiteCellFeature>();
+  feature->settings().tiles = hsdf::HermiteCellFeature::Tiles::Off;  // occlusion culls boxes; tiles turn it off
+  feature->settings().cullOcclusion = true;
+  const auto sphere = bakeAsset("sphere", 16);
+  const auto torus = bakeAsset("torus", 16);
+  ASSERT_NE(sphere, nullptr);
+  ASSERT_NE(torus, nullptr);
+  const render::CameraView camera = render::CameraView::lookAt({0.0f, 0.0f, 4.0f}, {0.0f, 0.0f, 0.0f}, 0.9f, 0.05f, 1.0f);
+  const glm::mat4 behind = glm::scale(glm::translate(glm::mat4(1.0f), {0.0f, 0.0f, -3.0f}), glm::vec3(0.2f));
+  struct Drawn {
+    std::uint64_t boxes = 0, tested = 0, fragments = 0;
+    Frame frame;
+  };
+  // Four frames from the camera (the history settles), the last one measured.
+  auto draw = [&](bool withSphere, bool withTorus) {
+    registry_ = ecs::Registry();
+    if (withSphere) addSdf(registry_, sphere, hsdf::RenderMethod::Cells);
+    if (withTorus) addSdf(registry_, torus, hsdf::RenderMethod::Cells, behind);
+    Drawn d;
+    for (int frame = 0; frame < 4; ++frame) d.frame = renderWith(camera, DEBUG_VIEW_NONE);
+    d.boxes = feature->cullTotals().kept;
+    d.tested = feature->cullTotals().tested;
+    d.fragments = prepassFragments(*renderer_);
+    return d;
+  };
+  const Drawn torusAlone = draw(false, true);
+  EXPECT_GT(torusAlone.boxes, 0u) << "the torus is in view";
+  const Drawn sphereAlone = draw(true, false);
+  const Drawn both = draw(true, true);
+  EXPECT_EQ(both.tested, sphereAlone.tested + torusAlone.tested) << "the torus's cells are tested";
+  EXPECT_EQ(both.boxes, sphereAlone.boxes) << "the hidden torus drew boxes";
+  EXPECT_EQ(both.fragments, sphereAlone.fragments) << "the hidden torus drew prepass fragments";
+  EXPECT_TRUE(both.frame.depth == sphereAlone.frame.depth);
+  feature->settings().cullOcclusion = false;
+  const Drawn unculled = draw(true, true);
+  EXPECT_GT(unculled.boxes, both.boxes);
+  EXPECT_TRUE(unculled.frame.depth == both.frame.depth) << "occlusion culling changed the depth";
+  EXPECT_TRUE(unculled.frame.rgba == both.frame.rgba) << "occlusion culling changed the colour";
+}
+
+}  // namespace
+}  // namespace gputest
