@@ -97,12 +97,16 @@ RandomCamera randomCamera(std::mt19937& rng, const WorldSphere& sphere, float ce
 
 // One way to draw the SDF: a render method with the cell feature's settings it needs.
 struct Method {
-  const char* label;
+  std::string label;
   hsdf::RenderMethod method;
   hsdf::HermiteCellFeature::Tiles tiles = hsdf::HermiteCellFeature::Tiles::Auto;
   hsdf::HermiteCellFeature::ThinBoxes thin = hsdf::HermiteCellFeature::ThinBoxes::Auto;
   bool certified = false;
   bool half = false;  // fp16 records or textures: the reference is the rounded field's
+  // Every other setting of the cell feature (tiles and thin boxes above win) and the search's.
+  hsdf::HermiteCellFeature::Settings settings = {};
+  std::uint32_t subdivisions = 3;
+  std::uint32_t refineSteps = 1;
 };
 
 bool isTracer(hsdf::RenderMethod method) {
@@ -126,6 +130,43 @@ const std::vector<Method>& cellMethods() {
   return methods;
 }
 
+// A cell method with random settings: any combination a user may set from the panel, the
+// command line or a settings file.
+Method randomCellMethod(std::mt19937& rng) {
+  std::uniform_int_distribution<int> pick(0, 99);
+  const auto chance = [&](int percent) { return pick(rng) < percent; };
+  const auto oneOf3 = [&]() { return pick(rng) % 3; };
+  Method m{"", hsdf::RenderMethod::Cells};
+  const int method = pick(rng) % 5;
+  m.method = method == 3 ? hsdf::RenderMethod::CellRuns : method == 4 ? hsdf::RenderMethod::CellBricks : hsdf::RenderMethod::Cells;
+  m.tiles = Tiles(oneOf3());
+  m.thin = ThinBoxes(oneOf3());
+  m.certified = chance(20);
+  m.half = chance(30);
+  auto& s = m.settings;
+  s.frontToBack = chance(70);
+  s.earlyDepth = hsdf::HermiteCellFeature::EarlyDepth(oneOf3());
+  s.cullCells = chance(75);
+  s.cullBricks = chance(75);
+  s.cullOcclusion = chance(30);
+  s.proxyBoxes = chance(70);
+  s.tileSize = 4u << (pick(rng) % 3);
+  s.maxRunLength = 1u + std::uint32_t(pick(rng) % 8);
+  m.subdivisions = 1u + std::uint32_t(pick(rng) % 6);
+  m.refineSteps = std::uint32_t(pick(rng) % 4);
+  const char* modes[] = {"auto", "on", "off"};
+  char label[256];
+  std::snprintf(label, sizeof(label),
+                "%s n=%u r=%u%s%s, tiles %s %ux%u, thin %s, early depth %s, front to back %d, cull cells %d bricks %d "
+                "occlusion %d, proxy boxes %d, run length %u",
+                hsdf::renderMethodName(m.method), m.subdivisions, m.refineSteps, m.certified ? " certified" : "",
+                m.half ? " fp16" : "", modes[int(m.tiles)], s.tileSize, s.tileSize, modes[int(m.thin)],
+                modes[int(s.earlyDepth)], int(s.frontToBack), int(s.cullCells), int(s.cullBricks), int(s.cullOcclusion),
+                int(s.proxyBoxes), s.maxRunLength);
+  m.label = label;
+  return m;
+}
+
 // An object of a view: an asset and where it stands.
 struct Placed {
   std::shared_ptr<const hsdf::SdfAsset> asset;
@@ -139,6 +180,42 @@ class RandomViewsTest : public GpuTest {
     createRenderer(64, 64);
     ASSERT_TRUE(renderer_->addFeature(std::make_unique<hsdf::HermiteCellFeature>()).ok());
     ASSERT_TRUE(renderer_->addFeature(std::make_unique<hsdf::SphereTraceFeature>()).ok());
+  }
+
+  // Makes `entity`'s renderable draw as `m` says.
+  void drawWith(const Method& m, ecs::Entity entity) {
+    auto& renderable = registry_.get<hsdf::HermiteSdfRenderable>(entity);
+    renderable.method = m.method;
+    renderable.subdivisions = m.subdivisions;
+    renderable.refineSteps = m.refineSteps;
+    renderable.certified = m.certified;
+    renderable.halfPrecision = m.half;
+  }
+
+  // Checks one image against its reference (see expectViewMatches).
+  void expectMatches(const Method& m, const Frame& shaded, const Frame& normals, const hsdf::ReferenceImage& reference,
+                     const RandomCamera& c, double spacing, const glm::mat4& model, int& shown) {
+    const ImageComparison r = compareWithReference(shaded, &normals.rgba, reference, c.camera, spacing, model);
+    std::printf("[ %s, %s ] hits ref %d gpu %d, disagree %d, holes %d, extras %d, outliers %d, flips %d (interior %d), "
+                "interior depth p99 %.1e cells\n",
+                c.label.c_str(), m.label.c_str(), r.referenceHits, r.gpuHits, r.disagreements, r.interiorHoles,
+                r.interiorExtras, r.interiorDepthOutliers, r.normalFlips, r.interiorNormalFlips, r.interiorDepthErrorP99);
+    // A sphere tracer steps by the interpolant's value, which is no distance bound: where the ray
+    // grazes a bump (two roots within one step) it may step over it and hit the surface just
+    // behind, a pixel or so in a thousand (seed 99, 150 views: one trilinear ray at an occlusion
+    // edge hit nothing at all, not out of steps; docs/root-finding.md). The cells' search never
+    // passes a root.
+    const int passedRoots = isTracer(m.method) ? std::max(1, r.referenceHits / 1000) : 0;
+    EXPECT_LE(r.interiorHoles, passedRoots);
+    EXPECT_EQ(r.interiorExtras, 0);
+    // Without a refinement step a root is placed at the zero of its interval's control polygon:
+    // within the interval, not within 0.05 cells (docs/root-finding.md).
+    if (m.refineSteps > 0 || m.certified) {
+      EXPECT_LE(r.interiorDepthOutliers, passedRoots);
+    }
+    EXPECT_LE(r.interiorNormalFlips, passedRoots);
+    EXPECT_LE(r.disagreements, std::max(4, r.referenceHits / 100));
+    shown += r.referenceHits > 0;
   }
 
   // The reference of what `m` draws of the objects: each object's own, the nearer hit per pixel.
@@ -175,52 +252,29 @@ class RandomViewsTest : public GpuTest {
     std::map<std::pair<bool, bool>, hsdf::ReferenceImage> references;  // (trilinear, fp16): each cast once
     int shown = 0;
     for (const Method& m : methods) {
-      const std::string label = c.label + ", " + m.label;
-      SCOPED_TRACE(label);
+      SCOPED_TRACE(c.label + ", " + m.label);
       const std::pair<bool, bool> key(m.method == hsdf::RenderMethod::TrilinearSphereTrace, m.half);
       if (!references.count(key)) references[key] = referenceOf(m, objects, c);
       const hsdf::ReferenceImage& reference = references[key];
+      cells = m.settings;
       cells.tiles = m.tiles;
       cells.thinBoxes = m.thin;
       registry_ = ecs::Registry();
-      for (const Placed& object : objects) {
-        if (isTracer(m.method)) {
-          addTracedSdf(registry_, object.asset, m.method, object.model, m.half);
-        } else {
-          auto& renderable = registry_.get<hsdf::HermiteSdfRenderable>(addSdf(registry_, object.asset, m.method, object.model));
-          renderable.certified = m.certified;
-          renderable.halfPrecision = m.half;
-        }
-      }
+      for (const Placed& object : objects) drawWith(m, addSdf(registry_, object.asset, m.method, object.model));
       const Frame shaded = renderWith(c.camera, DEBUG_VIEW_NONE);
       const Frame normals = renderWith(c.camera, DEBUG_VIEW_NORMALS);
-      const ImageComparison r = compareWithReference(shaded, &normals.rgba, reference, c.camera, spacing, objects[0].model);
-      std::printf("[ %s ] hits ref %d gpu %d, disagree %d, holes %d, extras %d, outliers %d, flips %d (interior %d), "
-                  "interior depth p99 %.1e cells\n",
-                  label.c_str(), r.referenceHits, r.gpuHits, r.disagreements, r.interiorHoles, r.interiorExtras,
-                  r.interiorDepthOutliers, r.normalFlips, r.interiorNormalFlips, r.interiorDepthErrorP99);
-      // A sphere tracer steps by the interpolant's value, which is no distance bound: where the ray
-      // grazes a bump (two roots within one step) it may step over it and hit the surface just
-      // behind, a pixel or so in a thousand (seed 99, 150 views: one trilinear ray at an occlusion
-      // edge hit nothing at all, not out of steps; docs/root-finding.md). The cells' search never
-      // passes a root.
-      const int passedRoots = isTracer(m.method) ? std::max(1, r.referenceHits / 1000) : 0;
-      EXPECT_LE(r.interiorHoles, passedRoots);
-      EXPECT_EQ(r.interiorExtras, 0);
-      EXPECT_LE(r.interiorDepthOutliers, passedRoots);
-      EXPECT_LE(r.interiorNormalFlips, passedRoots);
-      EXPECT_LE(r.disagreements, std::max(4, r.referenceHits / 100));
-      shown += r.referenceHits > 0;
+      expectMatches(m, shaded, normals, reference, c, spacing, objects[0].model, shown);
     }
     return shown;
   }
 
-  // Each shape alone, placed and looked at from HSDF_RANDOM_VIEWS random views (default 4).
-  void expectEveryViewMatches(const std::vector<Method>& methods) {
+  // Each shape alone, placed and looked at from HSDF_RANDOM_VIEWS random views (default 4), drawn
+  // with `methods`, or with `randomMethods` random cell methods per view when there are none.
+  void expectEveryViewMatches(const std::vector<Method>& fixedMethods, int randomMethods = 0) {
     const unsigned views = envCount("HSDF_RANDOM_VIEWS", 4);
     std::mt19937 rng(envCount("HSDF_RANDOM_SEED", 20261127));
     const std::pair<const char*, int> shapes[] = {{"torus", 16}, {"box", 12}, {"blob", 20}, {"bunny", 32}};
-    int shown = 0;
+    int shown = 0, drawn = 0;
     for (const auto& [shape, k] : shapes) {
       const auto asset = bakeAsset(shape, k);
       ASSERT_NE(asset, nullptr);
@@ -233,11 +287,14 @@ class RandomViewsTest : public GpuTest {
         std::snprintf(label, sizeof(label), "%s view %u, scale (%.2f %.2f %.2f), ", shape, v, double(scale.x),
                       double(scale.y), double(scale.z));
         c.label = label + c.label;
+        std::vector<Method> methods = fixedMethods;
+        for (int i = 0; i < randomMethods; ++i) methods.push_back(randomCellMethod(rng));
         shown += expectViewMatches(methods, {object}, c);
+        drawn += int(methods.size());
       }
     }
     // Most random views must show some surface, or the test compares empty frames.
-    EXPECT_GE(shown, int(std::size(shapes) * views * methods.size()) / 2);
+    EXPECT_GE(shown, drawn / 2);
   }
 };
 
@@ -257,6 +314,86 @@ TEST_F(RandomViewsTest, EachSphereTracerMatchesItsReferenceFromRandomCameras) {
   expectEveryViewMatches({{"trilinear", hsdf::RenderMethod::TrilinearSphereTrace},
                           {"hermite", hsdf::RenderMethod::HermiteSphereTrace},
                           {"hermite fp16", hsdf::RenderMethod::HermiteSphereTrace, Tiles::Auto, ThinBoxes::Auto, false, true}});
+}
+
+// Why: the cell feature's settings (tiles, thin boxes, tile size, early depth, front-to-back
+// order, cell, brick and occlusion culling, proxy boxes, run length) and the search's (n,
+// refinement, certified, fp16) each pick another path or change what a path is given; a user may
+// set any combination. Three random combinations per view.
+TEST_F(RandomViewsTest, RandomSettingsOfTheCellMethodsMatchTheReference) {
+  expectEveryViewMatches({}, 3);
+}
+
+// Why: the scene runner's split screen (and any editor's viewports) draws one frame in view
+// regions, each with its own method: a region need not start at a multiple of the tiles' size,
+// its tiles, boxes and tracers are clipped to it, and each region's features are prepared for it.
+// A random column or row splits each view; the left (top) side draws a random cell method, the
+// other side a tracer or another cell method, and each side must match its own reference.
+TEST_F(RandomViewsTest, SplitScreensAtAnyColumnOrRowMatchEachSidesReference) {
+  const unsigned views = envCount("HSDF_RANDOM_VIEWS", 4);
+  std::mt19937 rng(envCount("HSDF_RANDOM_SEED", 20261127) + 2);
+  std::uniform_real_distribution<float> unit(0.0f, 1.0f);
+  const auto torus = bakeAsset("torus", 16);
+  const auto bunny = bakeAsset("bunny", 32);
+  ASSERT_NE(torus, nullptr);
+  ASSERT_NE(bunny, nullptr);
+  const std::vector<Method> others = {{"trilinear", hsdf::RenderMethod::TrilinearSphereTrace},
+                                      {"hermite", hsdf::RenderMethod::HermiteSphereTrace},
+                                      {"cell runs", hsdf::RenderMethod::CellRuns}};
+  int shown = 0;
+  for (unsigned v = 0; v < 2 * views; ++v) {
+    const auto& asset = v % 2 == 0 ? torus : bunny;
+    glm::vec3 scale;
+    const Placed object{asset, placeAbout(*asset, randomLinear(rng, scale), glm::vec3(0.0f))};
+    const float cellWorld = float(asset->field.grid.spacing) * std::min({std::abs(scale.x), scale.y, scale.z});
+    RandomCamera c = randomCamera(rng, worldSphere(*asset, object.model), cellWorld);
+    const Method first = randomCellMethod(rng);
+    const Method second = unit(rng) < 0.5f ? others[std::size_t(v / 2) % others.size()] : randomCellMethod(rng);
+    const bool vertical = unit(rng) < 0.5f;
+    const std::uint32_t extent = vertical ? c.size.x : c.size.y;
+    const std::uint32_t split = 1u + std::uint32_t(unit(rng) * float(extent - 2));
+    c.label = std::string(asset->name) + " split view " + std::to_string(v) + " at " + (vertical ? "column " : "row ") +
+              std::to_string(split) + ", " + c.label;
+    SCOPED_TRACE(c.label + ", " + first.label + " | " + second.label);
+    renderer_->resize({c.size.x, c.size.y});
+    // One feature setting for the frame (the regions change the object, not the feature).
+    auto& cells = renderer_->feature<hsdf::HermiteCellFeature>()->settings();
+    cells = first.settings;
+    cells.tiles = first.tiles;
+    cells.thinBoxes = first.thin;
+    registry_ = ecs::Registry();
+    const ecs::Entity entity = addSdf(registry_, asset, first.method, object.model);
+    render::FrameSettings settings;
+    const VkExtent2D size{c.size.x, c.size.y};
+    const VkRect2D near = vertical ? VkRect2D{{0, 0}, {split, size.height}} : VkRect2D{{0, 0}, {size.width, split}};
+    const VkRect2D far = vertical ? VkRect2D{{int(split), 0}, {size.width - split, size.height}}
+                                  : VkRect2D{{0, int(split)}, {size.width, size.height - split}};
+    settings.regions = {{near, [&] { drawWith(first, entity); }}, {far, [&] { drawWith(second, entity); }}};
+    const Frame shaded = renderWith(c.camera, settings);
+    settings.debugView = DEBUG_VIEW_NORMALS;
+    const Frame normals = renderWith(c.camera, settings);
+    // The reference: each pixel from its side's method, so that a pixel drawn by the wrong side or
+    // by neither shows on the seam as on any other pixel.
+    hsdf::ReferenceImage reference = referenceOf(first, {object}, c);
+    const hsdf::ReferenceImage other = referenceOf(second, {object}, c);
+    for (std::uint32_t y = 0; y < size.height; ++y)
+      for (std::uint32_t x = 0; x < size.width; ++x) {
+        if ((vertical ? x : y) < split) continue;
+        const std::size_t i = std::size_t(y) * size.width + x;
+        reference.hit[i] = other.hit[i];
+        reference.depth[i] = other.depth[i];
+        reference.normal[i] = other.normal[i];
+        reference.cellId[i] = other.cellId[i];
+      }
+    // Checked as strictly as the laxer side allows.
+    Method both = first;
+    both.label = first.label + " | " + second.label;
+    if (isTracer(second.method)) both.method = second.method;
+    both.refineSteps = std::min(first.refineSteps, second.refineSteps);
+    both.certified = first.certified && second.certified;
+    expectMatches(both, shaded, normals, reference, c, asset->field.grid.spacing, object.model, shown);
+  }
+  EXPECT_GE(shown, int(views));
 }
 
 // Why: two objects of different assets in one draw, in front of and through each other: the depth
