@@ -396,11 +396,12 @@ TEST_F(RandomViewsTest, SplitScreensAtAnyColumnOrRowMatchEachSidesReference) {
   EXPECT_GE(shown, int(views));
 }
 
-// Why: two objects of different assets in one draw, in front of and through each other: the depth
-// test between their boxes, a tile's list mixing both objects' cells (sorted by box, the ray
-// rebuilt per object), the near-plane path for one and not the other. Each pixel must show the
-// nearer of the two references.
-TEST_F(RandomViewsTest, TwoObjectsThroughEachOtherShowTheNearerSurface) {
+// Why: objects in one draw, in front of and through each other: two instances of the torus (one
+// asset, two transforms in one multi-draw) and the bunny (another asset): the depth test between
+// their boxes, a tile's list mixing the objects' cells (sorted by box, the ray rebuilt per
+// object), the near-plane path for one and not another. Each pixel must show the nearest of the
+// references.
+TEST_F(RandomViewsTest, ObjectsThroughEachOtherShowTheNearestSurface) {
   const auto torus = bakeAsset("torus", 16);
   const auto bunny = bakeAsset("bunny", 32);
   ASSERT_NE(torus, nullptr);
@@ -411,17 +412,19 @@ TEST_F(RandomViewsTest, TwoObjectsThroughEachOtherShowTheNearerSurface) {
   int shown = 0;
   for (unsigned v = 0; v < views; ++v) {
     glm::vec3 scale;
-    const glm::mat4 linear = randomLinear(rng, scale);  // shared: one depth error scale for both
+    const glm::mat4 linear = randomLinear(rng, scale);  // shared: one depth error scale for all
     const Placed first{torus, placeAbout(*torus, linear, glm::vec3(0.0f))};
     const WorldSphere sphere = worldSphere(*torus, first.model);
     const Placed second{bunny, placeAbout(*bunny, linear, 0.6f * sphere.radius * unit(rng) * unitVector(rng))};
+    const Placed third{torus, placeAbout(*torus, linear, 0.6f * sphere.radius * unit(rng) * unitVector(rng))};
     const WorldSphere other = worldSphere(*bunny, second.model);
-    const WorldSphere both{0.5f * (sphere.center + other.center),
-                           0.5f * glm::distance(sphere.center, other.center) + std::max(sphere.radius, other.radius)};
+    // A sphere holding both spheres: the third torus lies within 0.6 radii of the first.
+    const WorldSphere all{0.5f * (sphere.center + other.center),
+                          0.5f * glm::distance(sphere.center, other.center) + std::max(1.6f * sphere.radius, other.radius)};
     const float cellWorld = float(bunny->field.grid.spacing) * std::min({std::abs(scale.x), scale.y, scale.z});
-    RandomCamera c = randomCamera(rng, both, cellWorld);
-    c.label = "torus and bunny view " + std::to_string(v) + ", " + c.label;
-    shown += expectViewMatches(cellMethods(), {first, second}, c);
+    RandomCamera c = randomCamera(rng, all, cellWorld);
+    c.label = "two tori and a bunny, view " + std::to_string(v) + ", " + c.label;
+    shown += expectViewMatches(cellMethods(), {first, second, third}, c);
   }
   EXPECT_GE(shown, int(views * cellMethods().size()) / 2);
 }
