@@ -202,9 +202,9 @@ class RandomViewsTest : public GpuTest {
                 r.interiorExtras, r.interiorDepthOutliers, r.normalFlips, r.interiorNormalFlips, r.interiorDepthErrorP99);
     // A sphere tracer steps by the interpolant's value, which is no distance bound: where the ray
     // grazes a bump (two roots within one step) it may step over it and hit the surface just
-    // behind, a pixel or so in a thousand (seed 99, 150 views: one trilinear ray at an occlusion
-    // edge hit nothing at all, not out of steps; docs/root-finding.md). The cells' search never
-    // passes a root.
+    // behind, a pixel or so in a thousand (once in the sweeps a trilinear ray at an occlusion edge
+    // hit nothing at all, not out of steps; docs/root-finding.md). The cells' search never passes
+    // a root.
     const int passedRoots = isTracer(m.method) ? std::max(1, r.referenceHits / 1000) : 0;
     EXPECT_LE(r.interiorHoles, passedRoots);
     EXPECT_EQ(r.interiorExtras, 0);
@@ -269,7 +269,7 @@ class RandomViewsTest : public GpuTest {
   }
 
   // Each shape alone, placed and looked at from HSDF_RANDOM_VIEWS random views (default 4), drawn
-  // with `methods`, or with `randomMethods` random cell methods per view when there are none.
+  // with `fixedMethods` and `randomMethods` random cell methods per view.
   void expectEveryViewMatches(const std::vector<Method>& fixedMethods, int randomMethods = 0) {
     const unsigned views = envCount("HSDF_RANDOM_VIEWS", 4);
     std::mt19937 rng(envCount("HSDF_RANDOM_SEED", 20261127));
