@@ -171,19 +171,19 @@ ImageComparison compareWithReference(const Frame& gpu, const std::vector<std::ui
   std::vector<double> depthErrors, interiorDepthErrors, normalErrors;
   const bool placed = model != glm::mat4(1.0f);
   const glm::dmat3 inverseModel = glm::inverse(glm::dmat3(model));
-  // Cells per world unit along each pixel's ray: a cell measures h / |M^-1 d| world units along d.
-  const auto cellsPerWorldUnit = [&](int x, int y) {
-    if (!placed) return 1.0 / spacing;
-    const math::Ray ray = math::pixelRay(camera.view, camera.proj, {float(x) + 0.5f, float(y) + 0.5f},
-                                         {reference.width, reference.height});
-    return glm::length(inverseModel * ray.direction) / spacing;
-  };
-  std::vector<double> referenceCells(reference.hit.size(), 0.0);
+  // Per reference hit, once: cells per world unit along its ray (a cell measures h / |M^-1 d| world
+  // units along d) and its distance in those cells.
+  std::vector<double> cellsPerWorldUnit(reference.hit.size(), 1.0 / spacing), referenceCells(reference.hit.size(), 0.0);
   for (int y = 0; y < reference.height; ++y)
     for (int x = 0; x < reference.width; ++x) {
       const std::size_t i = reference.pixel(x, y);
-      if (reference.hit[i])
-        referenceCells[i] = math::depthToViewDistance(reference.depth[i], camera.znear) * cellsPerWorldUnit(x, y);
+      if (!reference.hit[i]) continue;
+      if (placed) {
+        const math::Ray ray = math::pixelRay(camera.view, camera.proj, {float(x) + 0.5f, float(y) + 0.5f},
+                                             {reference.width, reference.height});
+        cellsPerWorldUnit[i] = glm::length(inverseModel * ray.direction) / spacing;
+      }
+      referenceCells[i] = math::depthToViewDistance(reference.depth[i], camera.znear) * cellsPerWorldUnit[i];
     }
   const std::vector<bool> occlusionEdge = nearOcclusionEdges(reference, referenceCells, 2);
   for (int y = 0; y < reference.height; ++y) {
@@ -203,7 +203,7 @@ ImageComparison compareWithReference(const Frame& gpu, const std::vector<std::ui
       if (!refHit) continue;
       const double gpuDistance = math::depthToViewDistance(depth, camera.znear);
       const double refDistance = math::depthToViewDistance(reference.depth[i], camera.znear);
-      depthErrors.push_back(std::abs(gpuDistance - refDistance) * cellsPerWorldUnit(x, y));
+      depthErrors.push_back(std::abs(gpuDistance - refDistance) * cellsPerWorldUnit[i]);
       const bool interior = allHitsWithin(reference, x, y, 2) && !occlusionEdge[i];
       if (interior && depthErrors.back() > kDepthOutlierCells) ++result.interiorDepthOutliers;
       if (interior) interiorDepthErrors.push_back(depthErrors.back());

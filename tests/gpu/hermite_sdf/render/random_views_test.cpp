@@ -167,6 +167,14 @@ Method randomCellMethod(std::mt19937& rng) {
   return m;
 }
 
+// Pixel i of `to` becomes pixel i of `from` (hit, depth, normal, cell).
+void takePixel(hsdf::ReferenceImage& to, const hsdf::ReferenceImage& from, std::size_t i) {
+  to.hit[i] = from.hit[i];
+  to.depth[i] = from.depth[i];
+  to.normal[i] = from.normal[i];
+  to.cellId[i] = from.cellId[i];
+}
+
 // An object of a view: an asset and where it stands.
 struct Placed {
   std::shared_ptr<const hsdf::SdfAsset> asset;
@@ -229,12 +237,8 @@ class RandomViewsTest : public GpuTest {
         continue;
       }
       for (std::size_t i = 0; i < image.hit.size(); ++i)
-        if (image.hit[i] && (!nearest.hit[i] || image.depth[i] > nearest.depth[i])) {  // reverse-Z: nearer is greater
-          nearest.hit[i] = 1;
-          nearest.depth[i] = image.depth[i];
-          nearest.normal[i] = image.normal[i];
-          nearest.cellId[i] = image.cellId[i];
-        }
+        if (image.hit[i] && (!nearest.hit[i] || image.depth[i] > nearest.depth[i]))  // reverse-Z: nearer is greater
+          takePixel(nearest, image, i);
     }
     return nearest;
   }
@@ -378,12 +382,7 @@ TEST_F(RandomViewsTest, SplitScreensAtAnyColumnOrRowMatchEachSidesReference) {
     const hsdf::ReferenceImage other = referenceOf(second, {object}, c);
     for (std::uint32_t y = 0; y < size.height; ++y)
       for (std::uint32_t x = 0; x < size.width; ++x) {
-        if ((vertical ? x : y) < split) continue;
-        const std::size_t i = std::size_t(y) * size.width + x;
-        reference.hit[i] = other.hit[i];
-        reference.depth[i] = other.depth[i];
-        reference.normal[i] = other.normal[i];
-        reference.cellId[i] = other.cellId[i];
+        if ((vertical ? x : y) >= split) takePixel(reference, other, std::size_t(y) * size.width + x);
       }
     // Checked as strictly as the laxer side allows.
     Method both = first;
