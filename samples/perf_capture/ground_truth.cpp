@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <atomic>
+#include <cmath>
 #include <limits>
 #include <thread>
 
@@ -156,8 +157,10 @@ class AnalyticSurface final : public TruthSurface {
     double t = span.x;
     for (int step = 0; step < 100000 && t <= span.y; ++step) {
       const hsdf::SdfSample s = source_->sample(ray.origin + t * ray.direction);
-      if (s.value < tolerance_) return TruthHit{t, glm::normalize(s.gradient)};
-      t += s.value;  // an exact distance: the ball of this radius holds no surface
+      // A ray that starts inside the shape hits where it leaves, as the GPU's root search and the
+      // reference caster do (the first sign change), not at its start.
+      if (std::abs(s.value) < tolerance_) return TruthHit{t, glm::normalize(s.gradient)};
+      t += std::abs(s.value);  // an exact distance: the ball of this radius holds no surface
     }
     return std::nullopt;
   }
@@ -189,12 +192,16 @@ TruthImage castTruth(const TruthSurface& surface, const engine::render::CameraVi
   auto worker = [&] {
     for (int y = nextRow++; y < height; y = nextRow++) {
       for (int x = 0; x < width; ++x) {
-        const Ray ray = engine::math::pixelRay(camera.view, camera.proj, {float(x) + 0.5f, float(y) + 0.5f},
-                                               {width, height});
+        // From the pixel's point on the near plane, as the GPU draws nothing nearer; the distance
+        // is still counted from the eye.
+        const glm::vec2 pixel{float(x) + 0.5f, float(y) + 0.5f};
+        const Ray ray = engine::math::pixelRayFromNearPlane(camera.view, camera.proj, pixel, {width, height});
         const std::optional<TruthHit> hit = surface.cast(ray);
         if (!hit) continue;
+        const double nearDistance =
+            glm::length(ray.origin - engine::math::pixelRay(camera.view, camera.proj, pixel, {width, height}).origin);
         const std::size_t i = std::size_t(y) * std::size_t(width) + std::size_t(x);
-        image.distance[i] = float(hit->distance);
+        image.distance[i] = float(nearDistance + hit->distance);
         image.normal[i] = glm::vec3(hit->normal);
         image.part[i] = hit->part;
       }

@@ -1,8 +1,10 @@
 #pragma once
 // Ground truth for the capture's quality metrics, on the CPU in double, from the same camera as
-// the GPU frame (engine::math::pixelRay through each pixel centre):
+// the GPU frame (each pixel centre's ray from its point on the near plane,
+// engine::math::pixelRayFromNearPlane: the GPU draws nothing nearer):
 //   analytic shapes: the exact surface (sphere tracing of the exact distance to 1e-9 of the
 //                    shape's bounding-box diagonal) and its exact normal (the analytic gradient);
+//                    a ray that starts inside the shape hits where it leaves, as on the GPU;
 //   meshes:          the triangle mesh itself, with geometric (face) normals: the SDF of a
 //                    triangle mesh is faceted, so interpolated vertex normals are not what any SDF
 //                    converges to.
@@ -25,7 +27,9 @@ struct TruthImage {
   int width = 0;
   int height = 0;
   std::vector<float> distance;     // along the pixel's unit ray from the eye; < 0 on a miss
-  std::vector<glm::vec3> normal;   // world-space unit normal, facing the ray; 0 on a miss
+  // World-space unit normal, facing the ray (an analytic shape's outward gradient where the ray
+  // starts inside it, as the GPU draws it); 0 on a miss.
+  std::vector<glm::vec3> normal;
   std::vector<std::int32_t> part;  // the object hit (a glTF scene's node index); -1 on a miss or unknown
   bool hit(std::size_t i) const { return distance[i] >= 0.0f; }
 };

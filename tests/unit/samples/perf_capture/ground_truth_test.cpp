@@ -140,5 +140,39 @@ TEST(AnalyticTruth, TorusHoleMissesAndTubeHits) {
   EXPECT_NEAR(hit->normal.y, 1.0, 1e-9);
 }
 
+// Tricky: a ray that starts inside an exact distance field sees a negative value at once; a
+// caster that stops at the first value below its tolerance reports a hit at its start, where the
+// GPU's root search (the first sign change) finds the exit.
+TEST(AnalyticTruth, RayStartingInsideHitsWhereItLeaves) {
+  auto source = hsdf::makeAnalyticSource("sphere");
+  ASSERT_TRUE(source.ok());
+  const auto surface = analyticSurface(std::move(source.value()));
+  const auto hit = surface->cast({{0.0, 0.0, 0.5}, {0.0, 0.0, -1.0}});
+  ASSERT_TRUE(hit);
+  EXPECT_NEAR(hit->distance, 1.5, 1e-7);
+  EXPECT_NEAR(hit->normal.z, -1.0, 1e-9);
+}
+
+// Tricky: the near plane (4.5 from the eye) cuts the unit sphere, whose near side is 4 from the
+// eye. The GPU draws nothing nearer than the plane, so the centre pixel shows the far side, 6 from
+// the eye; a truth cast from the eye reports 4 there, and a truth that forgets to count the eye's
+// distance to the plane reports 1.5. Both casters, mesh and analytic, must agree.
+TEST(CastTruth, RaysStartAtTheNearPlaneAndDistancesAreFromTheEye) {
+  constexpr int kSize = 21;  // odd: the centre pixel's ray is the view axis
+  const auto camera = engine::render::CameraView::lookAt({0.0f, 0.0f, 5.0f}, {0.0f, 0.0f, 0.0f}, 0.6f, 4.5f, 1.0f);
+  auto source = hsdf::makeAnalyticSource("sphere");
+  ASSERT_TRUE(source.ok());
+  const TruthImage analytic = castTruth(*analyticSurface(std::move(source.value())), camera, kSize, kSize);
+  const TruthImage mesh = castTruth(*meshSurface(uvSphere(63, 127, 1.0f)), camera, kSize, kSize);
+  const std::size_t centre = std::size_t(kSize / 2) * kSize + kSize / 2;
+  ASSERT_TRUE(analytic.hit(centre));
+  ASSERT_TRUE(mesh.hit(centre));
+  EXPECT_NEAR(analytic.distance[centre], 6.0, 1e-5);
+  EXPECT_NEAR(mesh.distance[centre], 6.0, 1e-3);
+  // A corner pixel's ray from the plane passes outside the sphere's cut disc: a miss for both.
+  EXPECT_FALSE(analytic.hit(0));
+  EXPECT_FALSE(mesh.hit(0));
+}
+
 }  // namespace
 }  // namespace capture
