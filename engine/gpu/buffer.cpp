@@ -3,6 +3,8 @@
 #include <stdexcept>
 #include <utility>
 
+#include <fmt/format.h>
+
 #include "engine/gpu/context.h"
 #include "engine/gpu/vk_check.h"
 
@@ -12,12 +14,22 @@ Buffer::Buffer(const Context& context, VkDeviceSize size, VkBufferUsageFlags usa
                const std::string& name)
     : context_(&context), size_(size) {
   if (size == 0) throw std::invalid_argument("Buffer '" + name + "': size 0");
+  // Creating it would be invalid usage (VUID-VkBufferCreateInfo-size-06409); callers that size
+  // buffers by the scene catch this and draw otherwise.
+  if (size > context.capabilities().maxBufferSize)
+    throw VulkanError(VK_ERROR_OUT_OF_DEVICE_MEMORY, fmt::format("Buffer '{}' ({} bytes): larger than the device's "
+                                                                 "maxBufferSize ({} bytes)",
+                                                                 name, size, context.capabilities().maxBufferSize));
   const bool wantsAddress = (usage & VK_BUFFER_USAGE_SHADER_DEVICE_ADDRESS_BIT) != 0;
   VkBufferCreateInfo info{VK_STRUCTURE_TYPE_BUFFER_CREATE_INFO};
   info.size = size;
   info.usage = usage;
   info.sharingMode = VK_SHARING_MODE_EXCLUSIVE;
-  VK_CHECK(vkCreateBuffer(context.device(), &info, nullptr, &buffer_));
+  try {
+    VK_CHECK(vkCreateBuffer(context.device(), &info, nullptr, &buffer_));
+  } catch (const VulkanError& error) {  // a size past the device's limits fails here: say which buffer
+    throw VulkanError(error.result(), fmt::format("Buffer '{}' ({} bytes): {}", name, size, error.what()));
+  }
   context.setName(buffer_, VK_OBJECT_TYPE_BUFFER, name);
 
   VkMemoryRequirements requirements{};

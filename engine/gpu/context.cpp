@@ -278,6 +278,11 @@ Status Context::createDevice(const ContextDesc& desc) {
   vkGetPhysicalDeviceProperties(physicalDevice_, &properties);
   FeatureChain supported;
   vkGetPhysicalDeviceFeatures2(physicalDevice_, &supported.core);
+  VkPhysicalDeviceVulkan13Properties properties13{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_3_PROPERTIES};
+  VkPhysicalDeviceProperties2 properties2{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_PROPERTIES_2};
+  properties2.pNext = &properties13;
+  vkGetPhysicalDeviceProperties2(physicalDevice_, &properties2);
+  caps_.maxBufferSize = std::max(properties13.maxBufferSize, caps_.maxBufferSize);
 
   caps_.deviceName = properties.deviceName;
   caps_.isSoftwareRasterizer = properties.deviceType == VK_PHYSICAL_DEVICE_TYPE_CPU;

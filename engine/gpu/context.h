@@ -56,6 +56,9 @@ struct DeviceCapabilities {
   bool isSoftwareRasterizer = false;     // lavapipe & co: timings are CPU-bound
   std::string deviceName;
   std::uint32_t maxPushConstantsSize = 128;
+  // The largest VkBuffer the device creates (Vulkan 1.3 maxBufferSize; at least 2^30): a bigger one
+  // is refused by engine::gpu::Buffer with an error naming it, not created.
+  VkDeviceSize maxBufferSize = VkDeviceSize(1) << 30;
 };
 
 class Context {

@@ -80,5 +80,29 @@ TEST(AllocatorBudget, ImagePastTheBudgetFailsNamedAndLeavesNothing) {
   EXPECT_EQ(context->validationMessageCount(), 0u);
 }
 
+// Tricky: a buffer sized by the scene (one entry per cell of every instance) can pass the
+// device's maxBufferSize long before its memory: creating it is invalid usage (a validation
+// message, on lavapipe VK_ERROR_OUT_OF_DEVICE_MEMORY); the constructor must refuse it with an error
+// naming it, its size and the limit, and create nothing. The limit itself is read from the device.
+TEST(BufferLimits, PastMaxBufferSizeFailsNamedAndCreatesNothing) {
+  auto context = test::makeTestContext();
+  ASSERT_NE(context, nullptr);
+  const VkDeviceSize limit = context->capabilities().maxBufferSize;
+  EXPECT_GE(limit, VkDeviceSize(1) << 30);  // Vulkan 1.3's minimum
+  const AllocatorStats before = context->allocator().stats();
+  try {
+    Buffer tooBig(*context, limit + 1, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, MemoryUsage::GpuOnly, "kept cells");
+    FAIL() << "a buffer of maxBufferSize + 1 bytes was created";
+  } catch (const VulkanError& e) {
+    EXPECT_EQ(e.result(), VK_ERROR_OUT_OF_DEVICE_MEMORY);
+    const std::string message = e.what();
+    EXPECT_NE(message.find("Buffer 'kept cells' (" + std::to_string(limit + 1) + " bytes)"), std::string::npos)
+        << message;
+    EXPECT_NE(message.find("maxBufferSize (" + std::to_string(limit) + " bytes)"), std::string::npos) << message;
+  }
+  EXPECT_EQ(context->allocator().stats().allocationCount, before.allocationCount);
+  EXPECT_EQ(context->validationMessageCount(), 0u);
+}
+
 }  // namespace
 }  // namespace engine::gpu
