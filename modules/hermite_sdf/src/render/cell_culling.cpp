@@ -44,6 +44,35 @@ Buffer& ensureOutput(const engine::gpu::Context& context, Buffer& buffer, VkDevi
 
 }  // namespace
 
+// Makes this slot's kept-cell streams large enough for the frame's culled objects before their
+// commands are written: the culling pass keeps each range's cells in the range's own part of the
+// streams (in order, without atomics), so they must hold every cell of every culled object, twice
+// with occlusion culling. For scenes of many instances that is far more than is ever kept (10,000
+// bunnies at K = 32: 5.9 GB per slot), past the device's buffers or memory: then false, with
+// the reason, and the frame draws every cell unculled instead of failing.
+bool HermiteCellFeature::reserveCellCulling(std::uint32_t slot, const std::array<std::uint64_t, 2>& cells,
+                                            std::string& refusal) {
+  for (int precision = 0; precision < 2; ++precision) {
+    const std::uint64_t kept = cells[precision] * (occlusion_ ? 2u : 1u);
+    if (kept == 0) continue;
+    if (kept > std::numeric_limits<std::uint32_t>::max()) {
+      refusal = fmt::format("{} cells to cull, more than a 32-bit instance index reaches", kept);
+      return false;
+    }
+    try {
+      ensureOutput(*context_, keptCellRecords_[slot][precision], kept * kRecordStride[precision],
+                   VK_BUFFER_USAGE_VERTEX_BUFFER_BIT, "hermite kept cells");
+      ensureOutput(*context_, keptCellIndices_[slot][precision], kept * sizeof(std::uint32_t), 0,
+                   "hermite kept cell indices");
+    } catch (const engine::gpu::VulkanError& error) {
+      refusal = fmt::format("the kept-cell streams of {} cells ({} MiB) do not fit: {}", kept,
+                            (kept * (kRecordStride[precision] + sizeof(std::uint32_t))) >> 20, error.what());
+      return false;
+    }
+  }
+  return true;
+}
+
 // The culling passes of this frame slot, bricks and cells, which add up their counts in the slot's
 // totals. The totals of the slot's previous passes are complete now (its submission was waited
 // for): they become the stats.

@@ -122,15 +122,60 @@ void HermiteCellFeature::buildDraws(engine::render::FrameContext& frame) {
   // tiling's one-workgroup scan walks: boxes.
   const VkExtent2D tileRows = tileGrid(frame.extent, tileSize_);
   const std::uint64_t frameTiles = std::uint64_t(tileRows.width) * tileRows.height;
-  tiles_ = settings_.cullCells && !cellCullObjects_.empty() && context_->capabilities().drawIndirectCount &&
+  const bool culling = settings_.cullCells && !cellCullObjects_.empty();
+  tiles_ = culling && context_->capabilities().drawIndirectCount &&
            tilesWanted(settings_.tiles, context_->capabilities().isSoftwareRasterizer) &&
            frameTiles <= CELL_TILE_MAX_TILES;
-  occlusion_ = settings_.cullCells && settings_.cullOcclusion && !cellCullObjects_.empty() && !tiles_;
-  if (occlusion_) placeHistory(frame);
+  occlusion_ = culling && settings_.cullOcclusion && !tiles_;
+  std::string refusal;
+  const bool refused = culling && !reserveCellCulling(frame.frameSlot, culledCells(f), refusal);
+  if (refused) {
+    dropCellCulling(f);
+    tiles_ = occlusion_ = false;
+  }
+  if (refused != cullingRefused_) {
+    if (refused) {
+      engine::log::warn("hermite cells: cell culling off, every cell drawn: {} (fewer instances, a lower K or levels "
+                        "of detail bring it back)",
+                        refusal);
+    } else {
+      engine::log::info("hermite cells: cell culling back on");
+    }
+    cullingRefused_ = refused;
+  }
+  stats_.cullingRefused = refused;
+  if (occlusion_) {
+    try {
+      placeHistory(frame);
+    } catch (const engine::gpu::VulkanError& error) {  // its buffer did not fit: cull without it
+      occlusion_ = false;
+      if (!warnedHistory_) engine::log::warn("hermite cells: occlusion culling off: {}", error.what());
+      warnedHistory_ = true;
+    }
+  }
   cullCellRanges(allCommands, f.cellCullObject);  // after the wireframe's copies, which draw every cell
   if (occlusion_) addLateCommands(allCommands, allDraws);
   chooseDrawStages(f);
   uploadDraws(frame, f, allCommands, allDraws);
+}
+
+// Per record precision, the cells of the frame's culled objects: what the kept streams must hold.
+std::array<std::uint64_t, 2> HermiteCellFeature::culledCells(const FrameDraws& f) const {
+  std::array<std::uint64_t, 2> cells{0, 0};
+  for (int precision = 0; precision < 2; ++precision)
+    for (std::size_t i = 0; i < f.cellCullObject[precision].size(); ++i)
+      if (f.cellCullObject[precision][i] != kNotCulled) cells[precision] += f.commands[precision][0][i].instanceCount;
+  return cells;
+}
+
+// The frame's objects drawn without cell culling, as with Settings::cullCells off.
+void HermiteCellFeature::dropCellCulling(FrameDraws& f) {
+  for (auto& objects : f.cellCullObject) std::fill(objects.begin(), objects.end(), kNotCulled);
+  cellCullObjects_.clear();
+  cellCullEntities_.clear();
+  cellCullFirstRecord_.clear();
+  cellCullCells_.clear();
+  tileEntryEstimate_ = 0;
 }
 
 // The stats and culling lists of the previous frame, emptied before this frame's objects fill them.

@@ -385,6 +385,7 @@ void HermiteCellFeature::drawUi() {
   ImGui::Text("objects %u, cells %llu, draws %u, near cells %u, skipped %u", stats_.objects,
               static_cast<unsigned long long>(stats_.cells), stats_.draws, stats_.nearCells, stats_.skippedObjects);
   ImGui::Text("cell buffers: %.2f MiB", double(stats_.gpuBytes) / (1024.0 * 1024.0));
+  if (stats_.cullingRefused) ImGui::TextUnformatted("cell culling off: its kept-cell streams do not fit (see the log)");
 }
 
 }  // namespace hsdf

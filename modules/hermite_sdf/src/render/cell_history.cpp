@@ -3,6 +3,7 @@
 #include <algorithm>
 
 #include "engine/gpu/context.h"
+#include "engine/gpu/vk_check.h"
 
 namespace hsdf {
 
@@ -43,15 +44,23 @@ void CellHistory::grow(const engine::gpu::Context& context, VkCommandBuffer cmd,
                        std::uint32_t regions, std::uint64_t frameNumber, engine::gpu::DeferredRelease& retired) {
   std::uint64_t cells = 0;
   for (const Object& object : objects) cells += object.cells;
+  // Twice the cells, but within a 32-bit index; at least the cells themselves.
+  const std::uint64_t capacity = std::max<std::uint64_t>(std::min<std::uint64_t>(2 * cells, 0xffffffffu), 64);
+  if (cells > capacity)
+    throw engine::gpu::VulkanError(VK_ERROR_OUT_OF_DEVICE_MEMORY,
+                                   "hermite cell visibility history: more cells than a 32-bit index reaches");
+  // The new buffer first: if it cannot be had, the history stays as it was (the caller draws
+  // without occlusion culling).
+  engine::gpu::Buffer buffer(context, VkDeviceSize(capacity) * regions * sizeof(std::uint32_t),
+                             VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_SHADER_DEVICE_ADDRESS_BIT |
+                                 VK_BUFFER_USAGE_TRANSFER_DST_BIT,
+                             engine::gpu::MemoryUsage::GpuOnly, "hermite cell visibility history");
   slots_.clear();
   used_ = 0;
-  capacity_ = std::uint32_t(std::max<std::uint64_t>(2 * cells, 64));
+  capacity_ = std::uint32_t(capacity);
   regions_ = regions;
   if (buffer_) retired.retire(std::move(buffer_), frameNumber);
-  buffer_ = engine::gpu::Buffer(context, VkDeviceSize(capacity_) * regions_ * sizeof(std::uint32_t),
-                                VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_SHADER_DEVICE_ADDRESS_BIT |
-                                    VK_BUFFER_USAGE_TRANSFER_DST_BIT,
-                                engine::gpu::MemoryUsage::GpuOnly, "hermite cell visibility history");
+  buffer_ = std::move(buffer);
   vkCmdFillBuffer(cmd, buffer_.handle(), 0, VK_WHOLE_SIZE, 0);
   engine::gpu::memoryBarrier(cmd, VK_PIPELINE_STAGE_2_CLEAR_BIT, VK_ACCESS_2_TRANSFER_WRITE_BIT,
                              VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT,

@@ -15,6 +15,8 @@
 
 #include "engine/core/image_io.h"
 #include "engine/core/math.h"
+#include "engine/gpu/context.h"
+#include "engine/gpu/memory.h"
 #include "engine/gpu/pipeline_statistics.h"
 #include "engine/render/components.h"
 #include "engine/scene/transform.h"
@@ -172,6 +174,69 @@ TEST_F(HermiteCellsTest, CellCullingKeepsTheImageAndDrawsFewerBoxes) {
   EXPECT_GT(totals.frustumCulled, 0u) << "from inside the torus most cells are off screen";
   EXPECT_TRUE(all.depth == culled.depth) << "culling changed the depth inside a cell";
   EXPECT_TRUE(all.rgba == culled.rgba) << "culling changed the colour inside a cell";
+}
+
+// Why: the culling pass keeps each range's cells in the range's own part of the kept streams, so
+// they are sized for every cell of every culled object (twice with occlusion culling): a scene of
+// many instances needs more than the device gives (10,000 bunnies at K = 32: 5.9 GB, past
+// lavapipe's maxBufferSize; 108 objects at K = 128: 1.3 GB per frame slot, past a 2 GiB budget).
+// Such a frame must not fail: it draws every cell unculled, the image of culling off, says so in
+// its stats, and culls again once the streams fit. Here the allocator's budget leaves no room for
+// them, with occlusion culling (its history too) and with tiles (which need culling).
+TEST_F(HermiteCellsTest, CullingThatDoesNotFitDrawsEveryCellInstead) {
+  createCellRenderer(kSize, kSize);
+  auto* feature = renderer_->feature<hsdf::HermiteCellFeature>();
+  const auto asset = bakeAsset("bunny", 32);
+  ASSERT_NE(asset, nullptr);
+  const float extent = float(glm::length(asset->surfaceBounds.size()));
+  int instances = 0;
+  const auto addInstances = [&](int count) {
+    for (int i = 0; i < count; ++i, ++instances)
+      addSdf(registry_, asset, hsdf::RenderMethod::Cells,
+             glm::translate(glm::mat4(1.0f), glm::vec3(float(instances % 3 - 1) * 0.6f * extent,
+                                                       float(instances / 3) * 0.6f * extent, 0.0f)));
+  };
+  const render::CameraView camera = orbitCamera(*asset, 1, 3.0f);
+  // One culled frame first, with room: the asset's cones and runs are uploaded once, so that the
+  // frames under the budget below have only the kept streams left to grow.
+  addInstances(1);
+  feature->settings().cullCells = true;
+  (void)renderWith(camera, DEBUG_VIEW_NONE);
+
+  gpu::Allocator& allocator = context_->allocator();
+  using Tiles = hsdf::HermiteCellFeature::Tiles;
+  for (const Tiles tiles : {Tiles::Off, Tiles::On}) {
+    SCOPED_TRACE(tiles == Tiles::On ? "tiles" : "boxes with occlusion culling");
+    // The kept streams must grow past what the previous frames needed (3 instances with occlusion
+    // culling's second half, then 8 without).
+    addInstances(tiles == Tiles::Off ? 2 : 5);
+    feature->settings().tiles = tiles;
+    feature->settings().cullOcclusion = tiles == Tiles::Off;
+    feature->settings().cullCells = false;
+    const Frame all = renderWith(camera, DEBUG_VIEW_NONE);
+    ASSERT_GT(std::count_if(all.depth.begin(), all.depth.end(), [](float d) { return d > 0.0f; }), 1000);
+    EXPECT_FALSE(feature->stats().cullingRefused) << "culling was off, not refused";
+    feature->settings().cullCells = true;
+    // Room for 64 KiB more during the frame (not during its read-back): the kept records of the
+    // instances' cells need ~30x that.
+    allocator.setBudget(allocator.stats().usedBytes + 65536);
+    renderer_->renderFrame(registry_, camera, render::FrameSettings{});
+    allocator.setBudget(gpu::Allocator::kUnlimited);
+    EXPECT_TRUE(feature->stats().cullingRefused);
+    EXPECT_FALSE(feature->stats().tiles) << "tiles need the culled cells";
+    EXPECT_EQ(feature->cullTotals().tested, 0u) << "no culling pass ran";
+    EXPECT_TRUE(all.depth == renderer_->readbackDepth()) << "the unculled frame is not culling off's";
+    EXPECT_TRUE(all.rgba == renderer_->readbackColor()) << "the unculled frame is not culling off's";
+    // With room again, the next frame culls.
+    const Frame culled = renderWith(camera, DEBUG_VIEW_NONE);
+    EXPECT_FALSE(feature->stats().cullingRefused);
+    EXPECT_GT(feature->cullTotals().tested, 0u);
+    if (tiles == Tiles::Off) {
+      EXPECT_TRUE(all.depth == culled.depth) << "culling changed the depth";
+    } else {
+      EXPECT_TRUE(feature->stats().tiles);
+    }
+  }
 }
 
 // Why: occlusion culling draws in two phases what one pass drew: a cell missing from both (a wrong

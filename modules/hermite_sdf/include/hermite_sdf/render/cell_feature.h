@@ -178,6 +178,10 @@ class HermiteCellFeature final : public engine::render::RenderFeature {
     bool thinBoxes = false;         // the last frame drew its RenderMethod::Cells objects as thin boxes
     float largestCellPixels = 0.0f; // of those objects: the largest cell's size on screen, pixels
     bool tiles = false;             // the last frame drew its culled RenderMethod::Cells objects as tiles
+    // Settings::cullCells was on but the last frame drew every cell unculled: the kept-cell streams
+    // it needed (worst case: every cell of every culled object) did not fit in GPU memory, the
+    // allocator's budget or one buffer (see reserveCellCulling).
+    bool cullingRefused = false;
   };
 
   HermiteCellFeature();
@@ -247,6 +251,9 @@ class HermiteCellFeature final : public engine::render::RenderFeature {
   void recordBrickCulling(engine::render::FrameContext& frame);
   void recordCellCulling(engine::render::FrameContext& frame);
   void cullCellRanges(std::vector<VkDrawIndirectCommand>& commands, const std::vector<std::uint32_t> cullObjects[2]);
+  std::array<std::uint64_t, 2> culledCells(const FrameDraws& f) const;
+  bool reserveCellCulling(std::uint32_t slot, const std::array<std::uint64_t, 2>& cells, std::string& refusal);
+  void dropCellCulling(FrameDraws& f);
   void placeHistory(engine::render::FrameContext& frame);
   static float occlusionDepthMargin(const engine::render::CameraView& camera, VkExtent2D extent);
   void addLateCommands(std::vector<VkDrawIndirectCommand>& commands, std::vector<shader::HermiteDraw>& draws);
@@ -342,6 +349,8 @@ class HermiteCellFeature final : public engine::render::RenderFeature {
   std::uint64_t tileEntryEstimate_ = 0;  // this frame's culled cells' tile entries, at most
   std::uint32_t tileSize_ = CELL_TILE_SIZE;  // this frame's (Settings::tileSize, checked)
   bool warnedTileSize_ = false;
+  bool cullingRefused_ = false;  // the previous frame's culling did not fit (logged once per change)
+  bool warnedHistory_ = false;   // occlusion culling's history did not fit once (logged once)
   std::unique_ptr<class CellTiler> tiler_;
   std::uint32_t lastTileSlot_ = 0;
   bool tiledOnce_ = false;
