@@ -3,6 +3,7 @@
 #include <fmt/format.h>
 
 #include "engine/core/log.h"
+#include "hermite_sdf/render/cell_feature.h"
 #include "script.h"
 #include "viewer.h"
 
@@ -83,6 +84,12 @@ void logWork(samples::Viewer& viewer) {
               work->tileMaskWordsRead, work->tileEntriesWalked, work->tileEntriesTested);
   if (work->raysOutOfSteps > 0)
     log::warn("{} sphere-tracing rays reached the step limit and were drawn as misses", work->raysOutOfSteps);
+  if (const auto* cells = viewer.renderer().feature<hsdf::HermiteCellFeature>()) {
+    const hsdf::HermiteCellFeature::Stats& stats = cells->stats();
+    if (stats.objects + stats.culledObjects > 0)
+      log::info("cell objects: {} drawn ({} cells), {} outside the view{}", stats.objects, stats.cells,
+                stats.culledObjects, stats.cullingRefused ? "; cell culling refused: every cell drawn" : "");
+  }
 }
 
 // Windowed: until the window closes or --frames are drawn. Headless: --frames (default 1). A

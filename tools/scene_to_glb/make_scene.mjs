@@ -16,8 +16,10 @@ const UNSIGNED_INT = 5125;
 const ARRAY_BUFFER = 34962;
 const ELEMENT_ARRAY_BUFFER = 34963;
 const TRIANGLES = 4;
-const COLUMNS = 12;
-const ROWS = 10;
+// The grid's size: 12 x 10 for the committed asset; larger grids (COLUMNS ROWS on the command line)
+// for scale tests, not committed.
+let COLUMNS = 12;
+let ROWS = 10;
 const SPACING = 14;
 
 function normalize(v) {
@@ -200,9 +202,14 @@ function buildScene(meshes) {
 }
 
 function main() {
-  const [bunnyPath, outPath] = process.argv.slice(2);
-  if (!bunnyPath || !outPath) {
-    console.error('usage: node make_scene.mjs BUNNY.glb OUTPUT.glb');
+  const [bunnyPath, outPath, columns, rows] = process.argv.slice(2);
+  const size = (text) => (/^[1-9][0-9]{0,3}$/.test(text) ? Number(text) : NaN);
+  if (columns !== undefined || rows !== undefined) {
+    COLUMNS = size(columns);
+    ROWS = size(rows);
+  }
+  if (!bunnyPath || !outPath || !(COLUMNS > 0) || !(ROWS > 0)) {
+    console.error('usage: node make_scene.mjs BUNNY.glb OUTPUT.glb [COLUMNS ROWS]  (each 1..9999; default 12 10)');
     process.exit(2);
   }
   const meshes = [readBunny(bunnyPath), torus(3.5, 1.5, 48, 24), box([3.5, 3.5, 3.5]), rock(4.0, 3)];

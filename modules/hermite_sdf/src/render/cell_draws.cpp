@@ -13,6 +13,7 @@
 #include <fmt/ranges.h>
 
 #include "engine/core/log.h"
+#include "engine/core/math.h"
 #include "engine/ecs/registry.h"
 #include "engine/gpu/context.h"
 #include "engine/gpu/vk_check.h"
@@ -79,6 +80,7 @@ struct HermiteCellFeature::FrameDraws {
   float largestCellPixels = 0.0f;  // of the RenderMethod::Cells objects (ThinBoxes::Auto)
   std::unordered_map<engine::ecs::Entity, std::uint64_t> drawnThisFrame;
   glm::mat4 viewProj{1.0f};
+  engine::math::Frustum frustum{};
 };
 
 // One entity's object while its draws are added: the uploaded entry it draws, its draw record and
@@ -106,6 +108,7 @@ void HermiteCellFeature::buildDraws(engine::render::FrameContext& frame) {
   }
   FrameDraws f;
   f.viewProj = frame.camera.proj * frame.camera.view;
+  f.frustum = engine::math::extractFrustum(f.viewProj);
   frame.registry.view<HermiteSdfRenderable, engine::scene::WorldTransform>().each(
       [&](engine::ecs::Entity entity, const HermiteSdfRenderable& r, const engine::scene::WorldTransform& world) {
         addObjectDraws(frame, f, entity, r, world.matrix);
@@ -213,6 +216,15 @@ void HermiteCellFeature::addObjectDraws(engine::render::FrameContext& frame, Fra
       found = buffers_->entries.find(previous->second);
   if (found == buffers_->entries.end()) return;
   f.drawnThisFrame[entity] = found->first;
+  // An object whose grid box lies outside the view (or wholly nearer than the near plane) has no
+  // pixel: no commands, no culling ranges, no room in the kept streams.
+  const GridSpec& grid = found->second.asset->cells.grid;
+  glm::vec3 worldLo, worldHi;
+  engine::math::transformBounds(world, glm::vec3(grid.bounds().min), glm::vec3(grid.bounds().max), worldLo, worldHi);
+  if (!engine::math::intersects(f.frustum, worldLo, worldHi)) {
+    stats_.culledObjects++;
+    return;
+  }
   DrawnObject o;
   o.entity = entity;
   o.assetId = found->first;

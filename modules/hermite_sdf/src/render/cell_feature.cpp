@@ -382,8 +382,9 @@ void HermiteCellFeature::drawUi() {
   const char* mode = settings_.earlyDepth == EarlyDepth::Auto ? " (auto)" : "";
   ImGui::Text("front-to-back rows: %s, early depth: %s%s", settings_.frontToBack ? "on" : "off",
               stats_.earlyDepth ? "on" : wanted ? "off (objects overlap on screen)" : "off", mode);
-  ImGui::Text("objects %u, cells %llu, draws %u, near cells %u, skipped %u", stats_.objects,
-              static_cast<unsigned long long>(stats_.cells), stats_.draws, stats_.nearCells, stats_.skippedObjects);
+  ImGui::Text("objects %u, cells %llu, draws %u, near cells %u, outside the view %u, skipped %u", stats_.objects,
+              static_cast<unsigned long long>(stats_.cells), stats_.draws, stats_.nearCells, stats_.culledObjects,
+              stats_.skippedObjects);
   ImGui::Text("cell buffers: %.2f MiB", double(stats_.gpuBytes) / (1024.0 * 1024.0));
   if (stats_.cullingRefused) ImGui::TextUnformatted("cell culling off: its kept-cell streams do not fit (see the log)");
 }

@@ -176,6 +176,54 @@ TEST_F(HermiteCellsTest, CellCullingKeepsTheImageAndDrawsFewerBoxes) {
   EXPECT_TRUE(all.rgba == culled.rgba) << "culling changed the colour inside a cell";
 }
 
+// Why: a world holds many objects, most of them out of view; one whose grid box lies outside the
+// frustum must cost no commands, no culling work and no room in the kept streams, for every cell
+// method, and one that only reaches into the view (its box across a frustum plane) must still be
+// drawn. So: the object in view alone, then with copies beside the view, behind the camera and
+// nearer than the near plane, and one across the left edge: the same pixels where the first one is
+// drawn, the hidden copies counted as outside the view and never tested by the culling pass.
+TEST_F(HermiteCellsTest, ObjectsOutsideTheViewAreNotDrawn) {
+  createCellRenderer(kSize, kSize);
+  auto* feature = renderer_->feature<hsdf::HermiteCellFeature>();
+  const auto asset = bakeAsset("bunny", 16);
+  ASSERT_NE(asset, nullptr);
+  const glm::vec3 center(asset->surfaceBounds.center());
+  const float extent = float(glm::length(asset->surfaceBounds.size()));
+  const render::CameraView camera =
+      render::CameraView::lookAt(center + glm::vec3(0.0f, 0.0f, 2.0f * extent), center, 0.8f, 0.5f * extent, 1.0f);
+  // The asset moved by `offset` and scaled by `scale` about its centre.
+  const auto at = [&](const glm::vec3& offset, float scale = 1.0f) {
+    return glm::translate(glm::mat4(1.0f), center + offset) * glm::scale(glm::mat4(1.0f), glm::vec3(scale)) *
+           glm::translate(glm::mat4(1.0f), -center);
+  };
+  for (const hsdf::RenderMethod method : {hsdf::RenderMethod::Cells, hsdf::RenderMethod::CellRuns, hsdf::RenderMethod::CellBricks}) {
+    SCOPED_TRACE(hsdf::renderMethodName(method));
+    registry_ = ecs::Registry();
+    addSdf(registry_, asset, method);
+    const Frame alone = renderWith(camera, DEBUG_VIEW_NONE);
+    EXPECT_EQ(feature->stats().culledObjects, 0u);
+    const std::uint64_t tested = feature->cullTotals().tested;
+    ASSERT_GT(std::count_if(alone.depth.begin(), alone.depth.end(), [](float d) { return d > 0.0f; }), 1000);
+    addSdf(registry_, asset, method, at({8.0f * extent, 0.0f, 0.0f}));    // far to the right
+    addSdf(registry_, asset, method, at({0.0f, 0.0f, 5.0f * extent}));    // behind the camera
+    addSdf(registry_, asset, method, at({0.0f, 0.0f, 1.75f * extent}, 0.1f));  // between the eye and the near plane
+    const Frame hidden = renderWith(camera, DEBUG_VIEW_NONE);
+    EXPECT_EQ(feature->stats().culledObjects, 3u);
+    EXPECT_EQ(feature->stats().objects, 1u);
+    EXPECT_EQ(feature->cullTotals().tested, tested) << "the culling pass tested cells of objects out of view";
+    EXPECT_TRUE(alone.depth == hidden.depth) << "objects out of view changed the image";
+    // A copy whose box crosses the left edge of the view is drawn.
+    const float halfWidth = 2.0f * extent * std::tan(0.4f);
+    addSdf(registry_, asset, method, at({-halfWidth - 0.1f * extent, 0.0f, 0.0f}));
+    const Frame edge = renderWith(camera, DEBUG_VIEW_NONE);
+    EXPECT_EQ(feature->stats().culledObjects, 3u);
+    EXPECT_EQ(feature->stats().objects, 2u);
+    int leftColumn = 0;
+    for (std::uint32_t y = 0; y < kSize; ++y) leftColumn += edge.depthAt(0, y) > 0.0f;
+    EXPECT_GT(leftColumn, 0) << "the copy across the left edge was not drawn";
+  }
+}
+
 // Why: the culling pass keeps each range's cells in the range's own part of the kept streams, so
 // they are sized for every cell of every culled object (twice with occlusion culling): a scene of
 // many instances needs more than the device gives (10,000 bunnies at K = 32: 5.9 GB, past

@@ -172,6 +172,7 @@ class HermiteCellFeature final : public engine::render::RenderFeature {
     std::uint64_t runs = 0;         // run boxes of RenderMethod::CellRuns objects (their cells are in `cells`)
     std::uint64_t bricks = 0;       // brick boxes of RenderMethod::CellBricks objects (their cells are in `cells`)
     std::uint32_t skippedObjects = 0;  // transform not invertible (e.g. scaled to zero): not drawn
+    std::uint32_t culledObjects = 0;   // grid box outside the view: not drawn
     std::uint64_t gpuBytes = 0;     // cell buffers
     bool earlyDepth = false;        // the last frame drew the boxes in the early depth stage
     bool countedVariant = false;    // the last frame's prepass used the *_counted pipelines
