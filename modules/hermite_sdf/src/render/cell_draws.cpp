@@ -147,6 +147,13 @@ void HermiteCellFeature::buildDraws(engine::render::FrameContext& frame) {
     cullingRefused_ = refused;
   }
   stats_.cullingRefused = refused;
+  std::string tilesRefusal;
+  if (tiles_ && !tiler_->reserve(frame.frameSlot, frame.extent, tileSize_, tileEntryEstimate_,
+                                 std::max(settings_.maxTileEntries, kMinTileEntries), tilesRefusal)) {
+    tiles_ = false;  // the culled cells as boxes, as when the lists overflow
+    if (!tilesRefused_) engine::log::warn("hermite cells: tiles off, culled cells drawn as boxes: {}", tilesRefusal);
+  }
+  tilesRefused_ = !tilesRefusal.empty();
   if (occlusion_) {
     try {
       placeHistory(frame);

@@ -6,6 +6,7 @@
 
 #include "engine/gpu/context.h"
 #include "engine/gpu/pipeline.h"
+#include "engine/gpu/vk_check.h"
 
 namespace hsdf {
 namespace {
@@ -64,15 +65,36 @@ void CellTiler::ensureBuffers(Slot& slot, std::uint32_t tileCount, std::uint32_t
     // A quarter more than asked: views that move a little do not reallocate every frame.
     const auto capacity = std::uint32_t(std::min<std::uint64_t>(wanted + wanted / 4, limit));
     const VkDeviceSize bytes = VkDeviceSize(capacity) * sizeof(shader::CellTileEntry);
-    slot.entries = engine::gpu::Buffer(*context_, bytes, kUsage, engine::gpu::MemoryUsage::GpuOnly, "hermite cell tile entries");
-    slot.sortedEntries =
-        engine::gpu::Buffer(*context_, bytes, kUsage, engine::gpu::MemoryUsage::GpuOnly, "hermite sorted cell tile entries");
+    // Both made before either is replaced: a refusal leaves the slot as it was, its capacity true.
+    engine::gpu::Buffer entries(*context_, bytes, kUsage, engine::gpu::MemoryUsage::GpuOnly, "hermite cell tile entries");
+    engine::gpu::Buffer sorted(*context_, bytes, kUsage, engine::gpu::MemoryUsage::GpuOnly, "hermite sorted cell tile entries");
+    slot.entries = std::move(entries);
+    slot.sortedEntries = std::move(sorted);
     slot.capacity = capacity;
   }
   const VkDeviceSize bytes = tileBytes(tileCount, tileSize, slot.capacity);
   if (!slot.tiles || slot.tiles.size() < bytes)
     slot.tiles = engine::gpu::Buffer(*context_, bytes, kUsage | VK_BUFFER_USAGE_TRANSFER_DST_BIT,
                                      engine::gpu::MemoryUsage::GpuOnly, "hermite cell tiles");
+}
+
+// The entries to make room for: the estimate, or what the slot's last completed frame needed.
+std::uint64_t CellTiler::wantedEntries(std::uint32_t slot, std::uint64_t entryEstimate) const {
+  const std::uint64_t needed = slots_[slot].recorded ? lastTotals(slot).entriesNeeded : 0;
+  return std::max(entryEstimate, needed);
+}
+
+bool CellTiler::reserve(std::uint32_t slot, VkExtent2D extent, std::uint32_t tileSize, std::uint64_t entryEstimate,
+                        std::uint32_t entryLimit, std::string& refusal) {
+  const VkExtent2D grid = tileGrid(extent, tileSize);
+  try {
+    ensureBuffers(slots_[slot], std::max(grid.width * grid.height, 1u), tileSize, wantedEntries(slot, entryEstimate),
+                  std::max(entryLimit, 1u));
+  } catch (const engine::gpu::VulkanError& error) {
+    refusal = error.what();
+    return false;
+  }
+  return true;
 }
 
 void CellTiler::dispatchBins(VkCommandBuffer cmd, shader::CellTilePushConstants push, const Frame& frame,
@@ -96,8 +118,7 @@ void CellTiler::record(VkCommandBuffer cmd, const Frame& frame, engine::gpu::Gpu
   const VkExtent2D grid = tileGrid(frame.extent, frame.tileSize);
   const std::uint32_t tilesX = grid.width, tilesY = grid.height;
   const std::uint32_t tileCount = std::max(tilesX * tilesY, 1u);
-  const std::uint64_t needed = slot.recorded ? lastTotals(frame.slot).entriesNeeded : 0;
-  ensureBuffers(slot, tileCount, frame.tileSize, std::max(frame.entryEstimate, needed), std::max(frame.entryLimit, 1u));
+  ensureBuffers(slot, tileCount, frame.tileSize, wantedEntries(frame.slot, frame.entryEstimate), std::max(frame.entryLimit, 1u));
   slot.recorded = true;
   shader::CellTileTotals totals{};
   totals.vertexCount = tilesAsPoints(*context_) ? 1 : 6;

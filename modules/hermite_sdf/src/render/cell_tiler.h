@@ -10,6 +10,7 @@
 // back to size the next frame's list). record() in prepare(), after the cell culling pass.
 #include <cstddef>
 #include <cstdint>
+#include <string>
 #include <vector>
 
 #include <vulkan/vulkan.h>
@@ -62,6 +63,11 @@ class CellTiler {
   // draw's command are visible to the draw. Each phase is a scope of `timer` where it is not null
   // ("cells tiling count", ... "cells tiling masks").
   void record(VkCommandBuffer cmd, const Frame& frame, engine::gpu::GpuTimer* timer);
+  // Makes the slot's buffers ready for such a frame (record makes them otherwise) before its
+  // commands are written: false, with the reason, when GPU memory or the budget refuses them (the
+  // slot keeps its old buffers, and the frame draws its cells as boxes instead).
+  bool reserve(std::uint32_t slot, VkExtent2D extent, std::uint32_t tileSize, std::uint64_t entryEstimate,
+               std::uint32_t entryLimit, std::string& refusal);
 
   VkDeviceAddress tiles(std::uint32_t slot) const { return slots_[slot].tiles.address(); }
   VkDeviceAddress entries(std::uint32_t slot) const { return slots_[slot].sortedEntries.address(); }
@@ -82,6 +88,7 @@ class CellTiler {
   };
   void ensureBuffers(Slot& slot, std::uint32_t tileCount, std::uint32_t tileSize, std::uint64_t wanted,
                      std::uint32_t limit);
+  std::uint64_t wantedEntries(std::uint32_t slot, std::uint64_t entryEstimate) const;
   void dispatchBins(VkCommandBuffer cmd, shader::CellTilePushConstants push, const Frame& frame, std::uint32_t phase);
 
   const engine::gpu::Context* context_ = nullptr;

@@ -14,6 +14,9 @@
 #include <glm/gtc/matrix_transform.hpp>
 #include <gtest/gtest.h>
 
+#include "engine/gpu/context.h"
+#include "engine/gpu/memory.h"
+
 #include "engine/core/image_io.h"
 #include "engine/core/math.h"
 #include "engine/gpu/pipeline_statistics.h"
@@ -339,6 +342,37 @@ TEST_F(TiledCellsTest, ListsPastTheirLimitDrawTheBoxesInstead) {
       EXPECT_LT(c.depthRelativeMax, 1e-4) << label;
     }
   }
+}
+
+// Why: the tiles' lists are allocated per frame slot as the frame needs them; where GPU memory
+// (or the application's budget) refuses them, the frame must still draw: its culled cells as
+// boxes, the image of the boxes, and the tiles once they fit again. Before, the refusal failed the
+// frame (the scene runner skipped it with "out of GPU memory").
+TEST_F(TiledCellsTest, TileListsThatDoNotFitDrawTheBoxesInstead) {
+  createCellRenderer(kSize, kSize);
+  const auto asset = bakeAsset("bunny", 64);
+  ASSERT_NE(asset, nullptr);
+  addSdf(registry_, asset, hsdf::RenderMethod::Cells);
+  auto* feature = renderer_->feature<hsdf::HermiteCellFeature>();
+  const render::CameraView camera = orbitCamera(*asset, 1);
+  feature->settings().tiles = hsdf::HermiteCellFeature::Tiles::Off;
+  (void)renderWith(camera, DEBUG_VIEW_NONE);  // every frame slot's culled streams made
+  const Frame boxes = renderWith(camera, DEBUG_VIEW_NONE);
+  feature->settings().tiles = hsdf::HermiteCellFeature::Tiles::On;
+  gpu::Allocator& allocator = context_->allocator();
+  // Room for 16 KiB more during the frame: a slot's lists start at 4,096 entries (64 KiB each).
+  allocator.setBudget(allocator.stats().usedBytes + 16384);
+  renderer_->renderFrame(registry_, camera, render::FrameSettings{});
+  allocator.setBudget(gpu::Allocator::kUnlimited);
+  EXPECT_FALSE(feature->stats().tiles) << "the tiles were drawn without their lists";
+  EXPECT_FALSE(feature->stats().cullingRefused) << "the culling streams were there already";
+  EXPECT_TRUE(boxes.depth == renderer_->readbackDepth()) << "the fallback is not the boxes' image";
+  EXPECT_TRUE(boxes.rgba == renderer_->readbackColor()) << "the fallback is not the boxes' image";
+  const Frame tiled = renderWith(camera, DEBUG_VIEW_NONE);
+  EXPECT_TRUE(feature->stats().tiles) << "room again, but no tiles";
+  const TileComparison c = compareTilesWithBoxes(boxes, tiled);
+  EXPECT_GE(c.hitsBoxes, 2000);
+  EXPECT_EQ(c.coverageDiffers, 0);
 }
 
 // Why: the tiles and their fallback draw through vkCmdDrawIndirectCount, the meshes through
