@@ -121,6 +121,18 @@ void HermiteCellFeature::buildDraws(engine::render::FrameContext& frame) {
   for (shader::BrickCullObject& object : cullObjectList_) object.drawCommand += batches_[kBrickBatch]->frontFirst;
   drawnAssets_ = std::move(f.drawnThisFrame);
   if (frame.debugView == DEBUG_VIEW_WIREFRAME) addWireCommands(allCommands, allDraws);
+  chooseCullingPaths(frame, f);
+  cullCellRanges(allCommands, f.cellCullObject);  // after the wireframe's copies, which draw every cell
+  if (occlusion_) addLateCommands(allCommands, allDraws);
+  chooseDrawStages(f);
+  uploadDraws(frame, f, allCommands, allDraws);
+}
+
+// Which of culling, tiles and occlusion culling this frame uses: what the settings and the device
+// allow, and what fits. Each one's GPU memory is had here, before the frame's commands are
+// written, so that a refusal changes the path (unculled cells, boxes instead of tiles, culling
+// without occlusion) instead of failing the frame.
+void HermiteCellFeature::chooseCullingPaths(engine::render::FrameContext& frame, FrameDraws& f) {
   // A frame of more than CELL_TILE_MAX_TILES tiles (16K frames of 8x8 tiles) is past what the
   // tiling's one-workgroup scan walks: boxes.
   const VkExtent2D tileRows = tileGrid(frame.extent, tileSize_);
@@ -163,10 +175,6 @@ void HermiteCellFeature::buildDraws(engine::render::FrameContext& frame) {
       warnedHistory_ = true;
     }
   }
-  cullCellRanges(allCommands, f.cellCullObject);  // after the wireframe's copies, which draw every cell
-  if (occlusion_) addLateCommands(allCommands, allDraws);
-  chooseDrawStages(f);
-  uploadDraws(frame, f, allCommands, allDraws);
 }
 
 // Per record precision, the cells of the frame's culled objects: what the kept streams must hold.

@@ -252,6 +252,7 @@ class HermiteCellFeature final : public engine::render::RenderFeature {
   void recordBrickCulling(engine::render::FrameContext& frame);
   void recordCellCulling(engine::render::FrameContext& frame);
   void cullCellRanges(std::vector<VkDrawIndirectCommand>& commands, const std::vector<std::uint32_t> cullObjects[2]);
+  void chooseCullingPaths(engine::render::FrameContext& frame, FrameDraws& f);
   std::array<std::uint64_t, 2> culledCells(const FrameDraws& f) const;
   bool reserveCellCulling(std::uint32_t slot, const std::array<std::uint64_t, 2>& cells, std::string& refusal);
   void dropCellCulling(FrameDraws& f);
