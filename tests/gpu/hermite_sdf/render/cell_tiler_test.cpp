@@ -66,6 +66,21 @@ class TiledCellsTest : public HermiteCellsTest {
     EXPECT_EQ(countIsolatedPixels(tiles), countIsolatedPixels(boxes)) << label << ": a speck of its own";
     return {boxFragments, tileFragments};
   }
+
+  // The bunny at K = 64 from orbit view 1 (`camera`), drawn as boxes, with tiles on for what follows.
+  Frame bunnyAsBoxes(render::CameraView& camera) {
+    const auto asset = bakeAsset("bunny", 64);
+    EXPECT_NE(asset, nullptr);
+    if (!asset) return {};
+    addSdf(registry_, asset, hsdf::RenderMethod::Cells);
+    auto* feature = renderer_->feature<hsdf::HermiteCellFeature>();
+    camera = orbitCamera(*asset, 1);
+    feature->settings().tiles = hsdf::HermiteCellFeature::Tiles::Off;
+    (void)renderWith(camera, DEBUG_VIEW_NONE);  // every frame slot's culled streams made
+    const Frame boxes = renderWith(camera, DEBUG_VIEW_NONE);
+    feature->settings().tiles = hsdf::HermiteCellFeature::Tiles::On;
+    return boxes;
+  }
 };
 
 // Why: a tile lists every kept cell whose box may cover one of its pixels, sorted nearest first, and
@@ -310,14 +325,10 @@ TEST_F(TiledCellsTest, CellsSpanningTheFrameDrawTheBoxes) {
 // that fits, the same frames draw tiles again.
 TEST_F(TiledCellsTest, ListsPastTheirLimitDrawTheBoxesInstead) {
   createCellRenderer(kSize, kSize);
-  const auto asset = bakeAsset("bunny", 64);
-  ASSERT_NE(asset, nullptr);
-  addSdf(registry_, asset, hsdf::RenderMethod::Cells);
+  render::CameraView camera;
+  const Frame boxes = bunnyAsBoxes(camera);
+  ASSERT_FALSE(boxes.depth.empty());
   auto* feature = renderer_->feature<hsdf::HermiteCellFeature>();
-  const render::CameraView camera = orbitCamera(*asset, 1);
-  feature->settings().tiles = hsdf::HermiteCellFeature::Tiles::Off;
-  const Frame boxes = renderWith(camera, DEBUG_VIEW_NONE);
-  feature->settings().tiles = hsdf::HermiteCellFeature::Tiles::On;
   renderWith(camera, DEBUG_VIEW_NONE);
   const shader::CellTileTotals fitting = feature->tileTotals();
   ASSERT_GT(fitting.instanceCount, 0u);
@@ -350,15 +361,10 @@ TEST_F(TiledCellsTest, ListsPastTheirLimitDrawTheBoxesInstead) {
 // frame (the scene runner skipped it with "out of GPU memory").
 TEST_F(TiledCellsTest, TileListsThatDoNotFitDrawTheBoxesInstead) {
   createCellRenderer(kSize, kSize);
-  const auto asset = bakeAsset("bunny", 64);
-  ASSERT_NE(asset, nullptr);
-  addSdf(registry_, asset, hsdf::RenderMethod::Cells);
+  render::CameraView camera;
+  const Frame boxes = bunnyAsBoxes(camera);
+  ASSERT_FALSE(boxes.depth.empty());
   auto* feature = renderer_->feature<hsdf::HermiteCellFeature>();
-  const render::CameraView camera = orbitCamera(*asset, 1);
-  feature->settings().tiles = hsdf::HermiteCellFeature::Tiles::Off;
-  (void)renderWith(camera, DEBUG_VIEW_NONE);  // every frame slot's culled streams made
-  const Frame boxes = renderWith(camera, DEBUG_VIEW_NONE);
-  feature->settings().tiles = hsdf::HermiteCellFeature::Tiles::On;
   gpu::Allocator& allocator = context_->allocator();
   // Room for 16 KiB more during the frame: a slot's lists start at 4,096 entries (64 KiB each).
   allocator.setBudget(allocator.stats().usedBytes + 16384);
