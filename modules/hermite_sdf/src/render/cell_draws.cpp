@@ -143,7 +143,13 @@ void HermiteCellFeature::chooseCullingPaths(engine::render::FrameContext& frame,
            frameTiles <= CELL_TILE_MAX_TILES;
   occlusion_ = culling && settings_.cullOcclusion && !tiles_;
   std::string refusal;
-  const bool refused = culling && !reserveCellCulling(frame.frameSlot, culledCells(f), refusal);
+  bool refused = culling && !reserveCellCulling(frame.frameSlot, culledCells(f), refusal);
+  if (refused && occlusion_) {  // its second phase doubles the streams: cull without it first
+    occlusion_ = false;
+    if (!warnedHistory_) engine::log::warn("hermite cells: occlusion culling off: {}", refusal);
+    warnedHistory_ = true;
+    refused = !reserveCellCulling(frame.frameSlot, culledCells(f), refusal);
+  }
   if (refused) {
     dropCellCulling(f);
     tiles_ = occlusion_ = false;

@@ -285,6 +285,25 @@ TEST_F(HermiteCellsTest, CullingThatDoesNotFitDrawsEveryCellInstead) {
       EXPECT_TRUE(feature->stats().tiles);
     }
   }
+
+  // Room for the streams once but not twice: occlusion culling's second phase goes, culling stays.
+  addInstances(4);
+  feature->settings().tiles = Tiles::Off;
+  feature->settings().cullOcclusion = true;
+  feature->settings().cullCells = false;
+  const Frame all = renderWith(camera, DEBUG_VIEW_NONE);
+  const std::uint64_t cells = feature->stats().cells;  // the front cells of every instance
+  feature->settings().cullCells = true;
+  // The streams' old buffers are held while the new ones are made: used bytes count them.
+  allocator.setBudget(allocator.stats().usedBytes + cells * (sizeof(hsdf::CellRecord) + 4) + 65536);
+  renderer_->renderFrame(registry_, camera, render::FrameSettings{});
+  allocator.setBudget(gpu::Allocator::kUnlimited);
+  EXPECT_FALSE(feature->stats().cullingRefused) << "the streams fit once";
+  EXPECT_FALSE(feature->usesOcclusionCulling()) << "the streams do not fit twice";
+  EXPECT_TRUE(all.depth == renderer_->readbackDepth()) << "culling without occlusion changed the depth";
+  EXPECT_GT(feature->cullTotals().tested, 0u);  // the frame has completed (read back)
+  (void)renderWith(camera, DEBUG_VIEW_NONE);
+  EXPECT_TRUE(feature->usesOcclusionCulling()) << "room again, but no occlusion culling";
 }
 
 // Why: occlusion culling draws in two phases what one pass drew: a cell missing from both (a wrong

@@ -352,7 +352,7 @@ class HermiteCellFeature final : public engine::render::RenderFeature {
   std::uint32_t tileSize_ = CELL_TILE_SIZE;  // this frame's (Settings::tileSize, checked)
   bool warnedTileSize_ = false;
   bool cullingRefused_ = false;  // the previous frame's culling did not fit (logged once per change)
-  bool warnedHistory_ = false;   // occlusion culling's history did not fit once (logged once)
+  bool warnedHistory_ = false;   // occlusion culling's history or streams did not fit once (logged once)
   bool tilesRefused_ = false;    // the previous frame's tile lists did not fit (logged once per change)
   std::unique_ptr<class CellTiler> tiler_;
   std::uint32_t lastTileSlot_ = 0;
