@@ -142,6 +142,12 @@ bool intersects(const Frustum& frustum, const glm::vec3& aabbMin, const glm::vec
   return true;
 }
 
+bool intersects(const Frustum& frustum, const glm::mat4& model, const glm::vec3& lo, const glm::vec3& hi) {
+  glm::vec3 worldLo, worldHi;
+  transformBounds(model, lo, hi, worldLo, worldHi);
+  return intersects(frustum, worldLo, worldHi);
+}
+
 void transformBounds(const glm::mat4& m, const glm::vec3& lo, const glm::vec3& hi, glm::vec3& outLo, glm::vec3& outHi) {
   const glm::vec3 center = glm::vec3(m * glm::vec4(0.5f * (lo + hi), 1.0f));
   const glm::vec3 half = 0.5f * (hi - lo);

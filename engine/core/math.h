@@ -60,5 +60,7 @@ void transformBounds(const glm::mat4& m, const glm::vec3& lo, const glm::vec3& h
 // False only if the box lies entirely outside one plane. Conservative: a box near a frustum corner
 // may be reported as intersecting although it is outside.
 bool intersects(const Frustum& frustum, const glm::vec3& aabbMin, const glm::vec3& aabbMax);
+// The same for an object's box [lo, hi] placed by the affine `model` (its world bounds tested).
+bool intersects(const Frustum& frustum, const glm::mat4& model, const glm::vec3& lo, const glm::vec3& hi);
 
 }  // namespace engine::math

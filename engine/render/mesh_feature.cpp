@@ -76,9 +76,7 @@ void MeshFeature::prepare(FrameContext& frame) {
       [&](ecs::Entity, const MeshRenderable& mesh, const scene::WorldTransform& world) {
         if (!mesh.mesh.valid() || mesh.mesh.index >= pool_.meshCount() || !drawableTransform(world.matrix)) return;
         const MeshRange& range = pool_.range(mesh.mesh);
-        glm::vec3 lo, hi;
-        math::transformBounds(world.matrix, range.boundsMin, range.boundsMax, lo, hi);
-        if (!math::intersects(frustum, lo, hi)) {
+        if (!math::intersects(frustum, world.matrix, range.boundsMin, range.boundsMax)) {
           ++culledCount_;
           return;
         }

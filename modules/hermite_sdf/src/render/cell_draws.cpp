@@ -239,10 +239,8 @@ void HermiteCellFeature::addObjectDraws(engine::render::FrameContext& frame, Fra
   f.drawnThisFrame[entity] = found->first;
   // An object whose grid box lies outside the view (or wholly nearer than the near plane) has no
   // pixel: no commands, no culling ranges, no room in the kept streams.
-  const GridSpec& grid = found->second.asset->cells.grid;
-  glm::vec3 worldLo, worldHi;
-  engine::math::transformBounds(world, glm::vec3(grid.bounds().min), glm::vec3(grid.bounds().max), worldLo, worldHi);
-  if (!engine::math::intersects(f.frustum, worldLo, worldHi)) {
+  const Aabb bounds = found->second.asset->cells.grid.bounds();
+  if (!engine::math::intersects(f.frustum, world, glm::vec3(bounds.min), glm::vec3(bounds.max))) {
     stats_.culledObjects++;
     return;
   }

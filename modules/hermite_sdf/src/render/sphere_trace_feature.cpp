@@ -231,10 +231,8 @@ void SphereTraceFeature::collectDraws(engine::render::FrameContext& frame) {
           ++stats_.skippedObjects;
           return;
         }
-        glm::vec3 worldLo, worldHi;
-        engine::math::transformBounds(world.matrix, glm::vec3(r.asset->field.grid.bounds().min),
-                                      glm::vec3(r.asset->field.grid.bounds().max), worldLo, worldHi);
-        if (!engine::math::intersects(frustum, worldLo, worldHi)) {
+        const Aabb bounds = r.asset->field.grid.bounds();
+        if (!engine::math::intersects(frustum, world.matrix, glm::vec3(bounds.min), glm::vec3(bounds.max))) {
           ++stats_.culledObjects;
           if (auto previous = drawnAssets_.find(entity); previous != drawnAssets_.end())
             drawnThisFrame[entity] = previous->second;  // what it would draw when back in view
