@@ -189,6 +189,7 @@ TruthImage castTruth(const TruthSurface& surface, const engine::render::CameraVi
   image.normal.assign(image.distance.size(), glm::vec3(0.0f));
   image.part.assign(image.distance.size(), -1);
   std::atomic<int> nextRow{0};
+  const glm::dvec3 eye(glm::inverse(glm::dmat4(camera.view))[3]);
   auto worker = [&] {
     for (int y = nextRow++; y < height; y = nextRow++) {
       for (int x = 0; x < width; ++x) {
@@ -198,8 +199,7 @@ TruthImage castTruth(const TruthSurface& surface, const engine::render::CameraVi
         const Ray ray = engine::math::pixelRayFromNearPlane(camera.view, camera.proj, pixel, {width, height});
         const std::optional<TruthHit> hit = surface.cast(ray);
         if (!hit) continue;
-        const double nearDistance =
-            glm::length(ray.origin - engine::math::pixelRay(camera.view, camera.proj, pixel, {width, height}).origin);
+        const double nearDistance = glm::length(ray.origin - eye);
         const std::size_t i = std::size_t(y) * std::size_t(width) + std::size_t(x);
         image.distance[i] = float(nearDistance + hit->distance);
         image.normal[i] = glm::vec3(hit->normal);
