@@ -2,13 +2,17 @@
 // Cell culling (issue 20; RenderMethod::Cells, hsdf::CellCuller): one workgroup per pack of ranges
 // of cells (a range: one front-face command of a culled object, a row, in the order the CPU sorted
 // the rows; a pack: consecutive ranges of at most CELL_CULL_PACK_CELLS cells together, a lane per
-// cell, or one longer range). Each
+// cell, or one longer range of at most CELL_CULL_MAX_RANGE_CELLS). Each
 // cell is tested as brick_cull.comp tests a brick (normal_cone.glsl brickSurvives: the frustum,
-// then the normal cone where the object allows it); the kept cells are copied, in their order
-// within the range, to the range's part of the kept-cell stream (the records whole, so the draws
-// still read them as instance-rate vertex attributes, and each one's record index), and their
-// count becomes the command's instanceCount. The order is kept (a prefix sum, not an atomic
-// append) so that boxes whose hits tie at one depth resolve as without culling: same image.
+// then the normal cone where the object allows it); the kept cells of a range are appended to the
+// kept-cell streams together and in their order within the range (the records whole, so the draws
+// still read them as instance-rate vertex attributes, and each one's record index): one atomic per
+// range claims its slots, and the command's firstInstance and instanceCount say where and how many.
+// Within a range the order is kept (a prefix sum) so that boxes whose hits tie at one depth resolve
+// as without culling, and the commands keep the rows' order: same image. The streams are sized from
+// what earlier frames kept, not from every cell of every object (10,000 bunnies at K = 32 would
+// need 5.9 GB): a range whose kept cells no longer fit is drawn whole and unculled by its fallback
+// command instead, and the cursor's final value tells the CPU how much the next frames need.
 // Two-phase occlusion culling (pc.phase, the scheme of zeux/niagara): phase 1 keeps only the cells
 // that were visible when last tested (the history); phase 2, after the renderer built the depth
 // pyramid of what phase 1 drew, tests every surviving cell's box against it, records the result
@@ -25,6 +29,7 @@ layout(buffer_reference, scalar) readonly buffer PackFirstRef { uint first[]; };
 layout(buffer_reference, scalar) readonly buffer RecordWordsRef { uint words[]; };
 layout(buffer_reference, scalar) writeonly buffer KeptWordsRef { uint words[]; };
 layout(buffer_reference, scalar) writeonly buffer KeptIndicesRef { uint indices[]; };
+layout(buffer_reference, scalar) writeonly buffer KeptRangesRef { uint ranges[]; };
 // VkDrawIndirectCommand[] as uints: vertexCount, instanceCount, firstVertex, firstInstance.
 layout(buffer_reference, scalar) writeonly buffer CommandsRef { uint words[]; };
 layout(buffer_reference, scalar) buffer TotalsRef { BrickCullTotals totals; };
@@ -34,6 +39,10 @@ layout(buffer_reference, scalar) readonly buffer PyramidRef { float depth[]; };
 layout(push_constant, scalar) uniform Push { CellCullPushConstants pc; };
 
 shared uint keptUpTo[64];  // inclusive prefix sum of the kept flags of one chunk of 64 cells
+shared uint rangeFirst[64];  // per range of a pack: its first slot in the kept streams
+shared uint rangeKept[64];   // per range of a pack: its kept cells
+
+const uint kNoRange = 0xffffffffu;  // keptRanges of a hole (cell_tiles.comp skips it)
 
 // The box of cell `record` in object space.
 void cellBox(BrickCullObject object, uint record, out vec3 lo, out vec3 hi) {
@@ -63,7 +72,7 @@ float pyramidFarthest(uvec2 lo, uvec2 hi) {
   uint span = max(hi.x - lo.x, hi.y - lo.y) + 1u;
   uint level = span <= 2u ? 0u : min(uint(findMSB(span - 2u)) + 1u, pc.pyramidLevels - 1u);
   uint offset = 0u;
-  uvec2 size = uvec2(pc.pyramidWidth, pc.pyramidHeight);
+  uvec2 size = uvec2(pc.pyramidExtent & 0xffffu, pc.pyramidExtent >> 16);
   for (uint k = 0u; k < level; ++k) {
     offset += size.x * size.y;
     size = (size + 1u) / 2u;
@@ -95,7 +104,7 @@ bool cellOccluded(BrickCullObject object, uint record) {
     maxNdc = max(maxNdc, ndc.xy);
     nearest = max(nearest, ndc.z);
   }
-  vec2 frame = vec2(pc.pyramidWidth, pc.pyramidHeight);
+  vec2 frame = vec2(pc.pyramidExtent & 0xffffu, pc.pyramidExtent >> 16);
   vec2 loPixel = clamp(floor((minNdc * 0.5 + 0.5) * frame) - 1.0, vec2(0.0), frame - 1.0);
   vec2 hiPixel = clamp(floor((maxNdc * 0.5 + 0.5) * frame) + 1.0, vec2(0.0), frame - 1.0);
   return nearest * (1.0 + pc.depthMargin) < pyramidFarthest(uvec2(loPixel), uvec2(hiPixel));
@@ -127,20 +136,44 @@ uint inclusivePrefix(uint flag) {
   return keptUpTo[lane];
 }
 
-void copyRecord(uint record, uint slot) {
-  for (uint w = 0u; w < pc.recordWords; ++w)
-    KeptWordsRef(pc.keptRecords).words[slot * pc.recordWords + w] = RecordWordsRef(pc.records).words[record * pc.recordWords + w];
-  KeptIndicesRef(pc.keptIndices).indices[slot] = record;
+// Kept cell `record` of range `rangeIndex` into the slot `first + k` of its range's claim: copied
+// where the claim fits; where it does not, the slots it reached below the streams' end stay holes,
+// which the tiling must skip (marked in keptRanges: no range).
+void keepCell(uint record, uint rangeIndex, uint first, uint kept, uint k) {
+  uint slot = first + k;
+  if (first + kept <= pc.keptCapacity) {
+    for (uint w = 0u; w < pc.recordWords; ++w)
+      KeptWordsRef(pc.keptRecords).words[slot * pc.recordWords + w] = RecordWordsRef(pc.records).words[record * pc.recordWords + w];
+    KeptIndicesRef(pc.keptIndices).indices[slot] = record;
+  }
+  if (pc.keptRanges != 0ul && slot < pc.keptCapacity)
+    KeptRangesRef(pc.keptRanges).ranges[slot] = first + kept <= pc.keptCapacity ? rangeIndex : kNoRange;
 }
 
-// The counts of a culled range: its command's instance count and the pass's totals. Each cell is
-// counted as tested, frustum- or cone-culled once (not again in phase 2); kept counts the boxes
-// drawn, both phases together.
-void countRange(CellCullRange range, uint written) {
-  CommandsRef(pc.commands).words[(range.drawCommand + pc.commandOffset) * 4u + 1u] = written;
+// The first of `kept` consecutive slots in the kept streams for one range (past the streams' end
+// when they do not fit any more: the cursor still advances, so that its final value is what the
+// frame wanted). Both at most the frame's culled cells, which the CPU keeps below 2^32.
+uint claimSlots(uint kept) {
+  return kept == 0u ? 0u : atomicAdd(TotalsRef(pc.totals).totals.keptSlots[pc.recordPrecision], kept);
+}
+
+// The command of a culled range: its kept cells from `first` on, or (the streams full) none, and
+// its fallback command draws the whole range from the record buffer. Then the pass's totals: each
+// cell is counted as tested, frustum- or cone-culled once (not again in phase 2); kept counts the
+// cells the tests kept, both phases together.
+void finishRange(CellCullRange range, uint kept, uint first) {
+  CommandsRef commands = CommandsRef(pc.commands);
+  uint command = (range.drawCommand + pc.commandOffset) * 4u;
+  bool full = first + kept > pc.keptCapacity;
+  commands.words[command + 1u] = full ? 0u : kept;
+  commands.words[command + 3u] = full ? 0u : first;
   TotalsRef totals = TotalsRef(pc.totals);
+  if (full) {
+    commands.words[range.fallbackCommand * 4u + 1u] = range.cellCount;
+    atomicAdd(totals.totals.fallbackCells, range.cellCount);
+  }
   if (pc.phase != CELL_CULL_PHASE_LATE) atomicAdd(totals.totals.tested, range.cellCount);
-  atomicAdd(totals.totals.kept, written);
+  atomicAdd(totals.totals.kept, kept);
 }
 
 void countCulled(uint frustum, uint cone) {
@@ -151,7 +184,7 @@ void countCulled(uint frustum, uint cone) {
 }
 
 // A pack of short ranges (at most CELL_CULL_PACK_CELLS cells together): a lane per cell, one
-// prefix sum over the pack; a range's kept cells keep their order, from the range's own start.
+// prefix sum over the pack; each range claims its slots, and its kept cells keep their order.
 void cullPack(uint firstRange, uint endRange) {
   uint lane = gl_LocalInvocationID.x;
   uint r = firstRange, start = 0u;
@@ -171,30 +204,49 @@ void cullPack(uint firstRange, uint endRange) {
   }
   uint upTo = inclusivePrefix(kept ? 1u : 0u);  // every lane: the barriers stay uniform
   uint before = inRange && start > 0u ? keptUpTo[start - 1u] : 0u;
-  if (kept) copyRecord(range.firstCell + i, range.outputFirst + pc.outputOffset + upTo - before - 1u);
+  bool last = inRange && i + 1u == range.cellCount;  // the range's last lane: its count is known
+  if (last) {  // a pack's ranges hold >= 1 cell each: at most 64
+    rangeKept[r - firstRange] = upTo - before;
+    rangeFirst[r - firstRange] = claimSlots(upTo - before);
+  }
+  barrier();
+  if (kept) keepCell(range.firstCell + i, r, rangeFirst[r - firstRange], rangeKept[r - firstRange], upTo - before - 1u);
   countCulled(frustum, cone);
-  if (inRange && i + 1u == range.cellCount) countRange(range, upTo - before);
+  if (last) finishRange(range, upTo - before, rangeFirst[r - firstRange]);
 }
 
-// A range of its own, CELL_CULL_PACK_CELLS cells at a time.
+// A range of its own (at most CELL_CULL_MAX_RANGE_CELLS cells), 64 cells at a time, twice: the
+// first walk tests the cells (each lane keeps its verdicts as bits) and counts the kept ones, so
+// that the range claims its slots; the second writes them in order.
 void cullRange(uint rangeIndex) {
   CellCullRange range = RangesRef(pc.ranges).ranges[rangeIndex];
   BrickCullObject object = CullObjectsRef(pc.objects).objects[range.object];
   uint lane = gl_LocalInvocationID.x;
-  uint written = 0u, frustum = 0u, cone = 0u;
-  for (uint base = 0u; base < range.cellCount; base += 64u) {
-    uint i = base + lane;
-    bool kept = i < range.cellCount &&
-                keptInPhase(object, range.firstCell + i, range.historyFirst + i,
-                            cellKept(object, range.firstCell + i, frustum, cone));
-    uint upTo = inclusivePrefix(kept ? 1u : 0u);
+  uint verdicts = 0u, frustum = 0u, cone = 0u;
+  if (lane == 0u) rangeKept[0] = 0u;
+  barrier();
+  uint chunks = min((range.cellCount + 63u) / 64u, CELL_CULL_MAX_RANGE_CELLS / 64u);
+  for (uint chunk = 0u; chunk < chunks; ++chunk) {
+    uint i = chunk * 64u + lane;
+    if (i < range.cellCount &&
+        keptInPhase(object, range.firstCell + i, range.historyFirst + i, cellKept(object, range.firstCell + i, frustum, cone)))
+      verdicts |= 1u << chunk;
+  }
+  if (verdicts != 0u) atomicAdd(rangeKept[0], uint(bitCount(verdicts)));
+  barrier();
+  if (lane == 0u) rangeFirst[0] = claimSlots(rangeKept[0]);
+  barrier();
+  uint first = rangeFirst[0], kept = rangeKept[0], written = 0u;
+  for (uint chunk = 0u; chunk < chunks; ++chunk) {
+    bool keptHere = (verdicts & (1u << chunk)) != 0u;
+    uint upTo = inclusivePrefix(keptHere ? 1u : 0u);
     uint chunkKept = keptUpTo[63];
     barrier();  // every lane has read the sums before the next chunk writes them
-    if (kept) copyRecord(range.firstCell + i, range.outputFirst + pc.outputOffset + written + upTo - 1u);
+    if (keptHere) keepCell(range.firstCell + chunk * 64u + lane, rangeIndex, first, kept, written + upTo - 1u);
     written += chunkKept;
   }
   countCulled(frustum, cone);
-  if (lane == 0u) countRange(range, written);
+  if (lane == 0u) finishRange(range, kept, first);
 }
 
 void main() {

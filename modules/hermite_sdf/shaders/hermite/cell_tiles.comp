@@ -114,27 +114,16 @@ uint tilePixels(ivec2 lo, ivec2 hi, uint x, uint y) {
   return a.x | (a.y << 8) | (b.x << 16) | (b.y << 24);
 }
 
-// The range whose part of the kept stream holds `slot`: the last one starting at or before it (the
-// ranges' outputFirst ascend).
-CellCullRange rangeOfSlot(uint slot) {
-  RangesRef ranges = RangesRef(pc.ranges);
-  uint lo = 0u, hi = pc.rangeCount - 1u;
-  while (lo < hi) {
-    uint mid = (lo + hi + 1u) / 2u;
-    if (ranges.ranges[mid].outputFirst <= slot) lo = mid; else hi = mid - 1u;
-  }
-  return ranges.ranges[lo];
-}
-
-// One lane per slot of the kept stream (the ranges' parts are as long as their unculled rows; the
-// culling pass filled the first instanceCount of each): a lane per cell rather than a workgroup per
-// range, whose rows hold a few cells each at large K.
+// One lane per slot of the kept streams that the culling pass filled (its cursor, at most the
+// slots they hold): a lane per cell rather than a workgroup per range, whose rows hold a few cells
+// each at large K. Each kept cell's range says its draw and object; a hole (a range whose claim did
+// not fit: its fallback command draws it as boxes) has none.
 void binCells() {
   uint slot = (gl_WorkGroupID.x + gl_NumWorkGroups.x * gl_WorkGroupID.y) * gl_WorkGroupSize.x + gl_LocalInvocationID.x;
-  if (slot >= pc.slotCount) return;
-  CellCullRange range = rangeOfSlot(slot);
-  uint kept = UintsRef(pc.commands).words[range.drawCommand * 4u + 1u];
-  if (slot - range.outputFirst >= kept) return;
+  if (slot >= min(pc.slotCount, UintsRef(pc.keptCount).words[0])) return;
+  uint rangeIndex = UintsRef(pc.keptRanges).words[slot];
+  if (rangeIndex >= pc.rangeCount) return;
+  CellCullRange range = RangesRef(pc.ranges).ranges[rangeIndex];
   HermiteDraw draw = HermiteDrawsRef(pc.draws).draws[range.drawCommand];
   TilesRef tiles = TilesRef(pc.tiles);
   {

@@ -109,8 +109,15 @@ struct BrickCullTotals {
   uint kept;
   uint frustumCulled;
   uint coneCulled;  // inside the frustum, removed by the normal cone
+  // Cell culling, per record precision: the kept-cell streams' append cursor. Its final value is
+  // the slots the frame's ranges asked for, whether or not the streams held them (the next frames
+  // size the streams by it).
+  uint keptSlots[2];
+  // Cells of ranges that did not fit in the kept streams, drawn unculled by their fallback commands.
+  uint fallbackCells;
+  uint pad0;
 };
-HSDF_CHECK_SIZE(BrickCullTotals, 16);
+HSDF_CHECK_SIZE(BrickCullTotals, 32);
 
 // Push constants of brick_cull.comp: every array by device address.
 struct BrickCullPushConstants {
@@ -126,13 +133,18 @@ struct BrickCullPushConstants {
 HSDF_CHECK_SIZE(BrickCullPushConstants, 6 * 8 + 2 * 4);
 
 // Cell culling (RenderMethod::Cells; cell_cull.comp, hsdf::CellCuller): one per front-face command
-// of a culled object (a row of cells, drawn in the order the CPU chose). The pass tests every cell
-// of the range as brick_cull.comp tests a brick and writes the kept ones, in the range's order, to
-// the frame slot's kept-cell stream from outputFirst on; their count is the command's instanceCount.
+// of a culled object (a row of cells, drawn in the order the CPU chose; at most
+// CELL_CULL_MAX_RANGE_CELLS). The pass tests every cell of the range as brick_cull.comp tests a
+// brick and appends the kept ones, in the range's order and together, to the frame slot's kept-cell
+// streams; the command's firstInstance and instanceCount become where and how many. A range whose
+// kept cells the streams cannot hold any more is drawn whole and unculled by its fallback command.
 struct CellCullRange {
   uint firstCell;    // the range's first record (global index in the record buffer)
   uint cellCount;
-  uint outputFirst;  // first entry of its range in the kept stream (= its command's firstInstance)
+  // Index of its fallback VkDrawIndirectCommand (firstInstance = firstCell, instanceCount 0 until
+  // the pass sets it to cellCount), drawn from the record buffer; ~0u when the frame's streams hold
+  // every cell of every range, so that none can overflow.
+  uint fallbackCommand;
   uint drawCommand;  // index of its VkDrawIndirectCommand
   uint object;       // its object's BrickCullObject (only the object fields are read, not the brick range)
   // Occlusion culling: the index of the range's first cell in the visibility history (one uint per
@@ -152,21 +164,23 @@ struct CellCullPushConstants {
   uint64_t keptRecords;  // output: copies of the kept records (the draws' instance-rate vertex stream)
   uint64_t keptIndices;  // output: uint record index of each kept record (HermitePushConstants::cellRecords)
   uint64_t commands;     // VkDrawIndirectCommand[] (4 uints each)
-  uint64_t totals;       // BrickCullTotals (shared with the brick pass)
+  uint64_t totals;       // BrickCullTotals (shared with the brick pass; keptSlots[precision] is the append cursor)
+  uint64_t keptRanges;   // output where not 0: uint range index of each kept record (the tiling's)
   uint rangeCount;
   uint recordWords;      // 34 (CellRecordGpu) or 18 (CellRecordHalfGpu)
+  uint recordPrecision;  // 0: fp32 records, 1: fp16 (BrickCullTotals::keptSlots)
+  uint keptCapacity;     // the records the kept streams hold
   // Two-phase occlusion culling (CELL_CULL_PHASE_*): phase 1 keeps the cells visible when last
   // tested, phase 2 tests every cell against the depth pyramid of what phase 1 drew, updates the
   // history and keeps the visible cells phase 1 did not draw, writing the commands
-  // commandOffset further on and the kept stream from outputOffset on.
+  // commandOffset further on and appending to the same kept streams (each cell is drawn in at
+  // most one phase, so the streams never need more than the ranges' cells).
   uint64_t history;      // uint per cell (CellCullRange::historyFirst)
   uint64_t pyramid;      // engine::render::DepthPyramidView: float[], levels concatenated
-  uint pyramidWidth;     // level 0 = the frame (the viewport)
-  uint pyramidHeight;
+  uint pyramidExtent;    // level 0 = the frame (the viewport): width | height << 16
   uint pyramidLevels;    // 0: no pyramid, nothing is occluded
   uint phase;
   uint commandOffset;
-  uint outputOffset;
   // Relative depth margin of the occlusion test: the draws search (and find hits) up to their
   // proxies' dilation beyond the cell (proxy_dilation.glsl), so a box is occluded only when its
   // nearest depth times (1 + depthMargin) is still behind the pyramid.
@@ -179,7 +193,11 @@ struct CellCullPushConstants {
 // a pack of its own, walked 64 cells at a time. Rows hold a few cells each at large K and in small
 // objects: a workgroup per range left most lanes idle (lavapipe runs them all).
 #define CELL_CULL_PACK_CELLS 64u
-HSDF_CHECK_SIZE(CellCullPushConstants, 10 * 8 + 10 * 4);
+// At most this many cells in one range: its workgroup claims the range's slots in the kept streams
+// before writing them, so it walks the range twice, keeping each lane's verdicts as the bits of
+// one uint (32 chunks of 64 cells). The CPU splits longer rows.
+#define CELL_CULL_MAX_RANGE_CELLS 2048u
+HSDF_CHECK_SIZE(CellCullPushConstants, 11 * 8 + 10 * 4);
 #define CELL_CULL_PHASE_ALL 0u    // no occlusion culling
 #define CELL_CULL_PHASE_EARLY 1u
 #define CELL_CULL_PHASE_LATE 2u
@@ -270,7 +288,8 @@ HSDF_CHECK_SIZE(CellTileTotals, 56);
 // kept stream (one record precision per dispatch), its kept cells read as the draws would read them.
 struct CellTilePushConstants {
   uint64_t ranges;        // CellCullRange[rangeCount]
-  uint64_t commands;      // the feature's VkDrawIndirectCommand[]: each range's kept count
+  uint64_t keptRanges;    // range index of each kept instance (CellCullPushConstants::keptRanges)
+  uint64_t keptCount;     // uint: the kept streams' append cursor (BrickCullTotals::keptSlots[precision])
   uint64_t keptIndices;   // record index of each kept instance (CellCullPushConstants::keptIndices)
   uint64_t draws;         // HermiteDraw[] (a range's drawCommand indexes it)
   uint64_t objects;       // BrickCullObject[] of the culling pass (CellCullRange::object indexes it)
@@ -284,11 +303,11 @@ struct CellTilePushConstants {
   uint tilesY;
   uint entryCapacity;
   uint phase;             // CELL_TILES_*
-  uint slotCount;         // COUNT, SCATTER: the kept stream's slots (CellCullRange::outputFirst + its row)
+  uint slotCount;         // COUNT, SCATTER: the slots the kept streams hold (cells past them were not kept there)
   uint tileSize;          // the tiles' side in pixels (4, 8 or 16)
   uint pad0;
 };
-HSDF_CHECK_SIZE(CellTilePushConstants, 10 * 8 + 8 * 4);
+HSDF_CHECK_SIZE(CellTilePushConstants, 11 * 8 + 8 * 4);
 
 // Per Hermite-cell object, reached through ObjectData::payload: what the shading pass needs to
 // find a visible cell's record from the visibility buffer (x: object, y: record index).

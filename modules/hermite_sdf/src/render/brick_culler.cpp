@@ -2,6 +2,9 @@
 
 #include <algorithm>
 #include <cstring>
+#include <stdexcept>
+
+#include <fmt/format.h>
 
 #include "engine/gpu/buffer.h"
 #include "hermite_sdf/core/normal_cone.h"
@@ -85,6 +88,9 @@ CellCuller::RangeUpload CellCuller::rangeUpload(std::span<const shader::CellCull
   bool open = false;  // a pack that may take more ranges
   for (std::uint32_t r = 0; r < ranges.size(); ++r) {
     const std::uint32_t n = ranges[r].cellCount;
+    if (n > CELL_CULL_MAX_RANGE_CELLS)  // the pass walks a range's cells as 32 chunks of 64 bits
+      throw std::invalid_argument(fmt::format("cell cull range {} has {} cells, more than CELL_CULL_MAX_RANGE_CELLS",
+                                              r, n));
     const bool alone = n == 0 || n > CELL_CULL_PACK_CELLS;  // an empty range's count: the single-range path
     if (alone || !open || cells + n > CELL_CULL_PACK_CELLS) {
       upload.words.push_back(r);

@@ -81,7 +81,8 @@ class CellCuller {
 
   // What cell_cull.comp reads at CellCullPushConstants::ranges: the ranges, then each pack's first
   // range and ranges.size() (a pack, one workgroup: consecutive ranges of at most
-  // CELL_CULL_PACK_CELLS cells together; a longer or an empty one alone), and the pack count.
+  // CELL_CULL_PACK_CELLS cells together; a longer or an empty one alone), and the pack count. A range
+  // of more than CELL_CULL_MAX_RANGE_CELLS cells is a programming error (std::invalid_argument).
   struct RangeUpload {
     std::vector<std::uint32_t> words;
     std::uint32_t packCount = 0;

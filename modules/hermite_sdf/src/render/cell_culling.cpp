@@ -42,34 +42,101 @@ Buffer& ensureOutput(const engine::gpu::Context& context, Buffer& buffer, VkDevi
   return buffer;
 }
 
+// The bytes of one slot of the kept streams: the record's copy, its record index and its range
+// index (the tiling's).
+std::uint64_t keptSlotBytes(int precision) { return kRecordStride[precision] + 2 * sizeof(std::uint32_t); }
+
+// The least slots worth making the streams for: below it, the frame draws every cell unculled.
+constexpr std::uint64_t kMinKeptSlots = 4096;
+
 }  // namespace
 
-// Makes this slot's kept-cell streams large enough for the frame's culled objects before their
-// commands are written: the culling pass keeps each range's cells in the range's own part of the
-// streams (in order, without atomics), so they must hold every cell of every culled object, twice
-// with occlusion culling. For scenes of many instances that is far more than is ever kept (10,000
-// bunnies at K = 32: 5.9 GB per slot), past the device's buffers or memory: then false, with
-// the reason, and the frame draws every cell unculled instead of failing.
+// The slots the kept streams of `precision` should hold for a frame whose culled objects have
+// `cells` cells: all of them while that fits in Settings::keptStreamBytes (no row can fall back);
+// else what the slot's last completed frame wanted with a quarter to spare, at least that size.
+std::uint64_t HermiteCellFeature::wantedKeptSlots(int precision, std::uint64_t cells) const {
+  const std::uint64_t bytes = keptSlotBytes(precision);
+  if (cells * bytes <= settings_.keptStreamBytes) return cells;
+  const std::uint64_t demand = keptDemand_[precision] + keptDemand_[precision] / 4;
+  return std::min(cells, std::max(settings_.keptStreamBytes / bytes, demand));
+}
+
+// What the slot's last culling passes wanted of the kept streams (complete now: its submission was
+// waited for), for this frame's sizes; and, once per change, a word when rows fell back.
+void HermiteCellFeature::readKeptDemand(std::uint32_t slot) {
+  const Buffer& buffer = cullTotals_.buffer(slot);
+  if (!buffer || !buffer.mapped()) return;
+  shader::BrickCullTotals previous{};
+  std::memcpy(&previous, buffer.mapped(), sizeof(previous));
+  for (int precision = 0; precision < 2; ++precision) keptDemand_[precision] = previous.keptSlots[precision];
+  if (previous.fallbackCells > 0 && !keptOverflowLogged_) {
+    engine::log::info("hermite cells: {} cells of culled rows did not fit in the kept-cell streams and were drawn "
+                      "unculled; the next frames' streams are sized for the {} + {} slots the frame wanted, as far "
+                      "as GPU memory allows",
+                      previous.fallbackCells, previous.keptSlots[0], previous.keptSlots[1]);
+  }
+  keptOverflowLogged_ = previous.fallbackCells > 0;
+}
+
+// The slots this slot's kept streams of `precision` hold now (0 while one of them is missing).
+std::uint64_t HermiteCellFeature::heldKeptSlots(std::uint32_t slot, int precision) const {
+  const Buffer& records = keptCellRecords_[slot][precision];
+  const Buffer& indices = keptCellIndices_[slot][precision];
+  const Buffer& ranges = keptCellRanges_[slot][precision];
+  if (!records || !indices || !ranges) return 0;
+  return std::min({records.size() / kRecordStride[precision], indices.size() / 4, ranges.size() / 4});
+}
+
+// Makes this slot's kept-cell streams for the frame's culled objects before their commands are
+// written (wantedKeptSlots; halved while GPU memory, the allocator's budget or one buffer refuses
+// them, down to the streams the slot already holds: rows that do not fit then fall back). False,
+// with the reason, when the slot holds none and not even kMinKeptSlots fit: the frame draws every
+// cell unculled instead of failing.
 bool HermiteCellFeature::reserveCellCulling(std::uint32_t slot, const std::array<std::uint64_t, 2>& cells,
                                             std::string& refusal) {
   for (int precision = 0; precision < 2; ++precision) {
-    const std::uint64_t kept = cells[precision] * (occlusion_ ? 2u : 1u);
-    if (kept == 0) continue;
-    if (kept > std::numeric_limits<std::uint32_t>::max()) {
-      refusal = fmt::format("{} cells to cull, more than a 32-bit instance index reaches", kept);
+    keptCapacity_[precision] = 0;
+    keptFallback_[precision] = false;
+    if (cells[precision] == 0) continue;
+    if (cells[precision] > std::numeric_limits<std::uint32_t>::max()) {
+      refusal = fmt::format("{} cells to cull, more than a 32-bit instance index reaches", cells[precision]);
       return false;
     }
-    try {
-      ensureOutput(*context_, keptCellRecords_[slot][precision], kept * kRecordStride[precision],
-                   VK_BUFFER_USAGE_VERTEX_BUFFER_BIT, "hermite kept cells");
-      ensureOutput(*context_, keptCellIndices_[slot][precision], kept * sizeof(std::uint32_t), 0,
-                   "hermite kept cell indices");
-    } catch (const engine::gpu::VulkanError& error) {
-      refusal = fmt::format("the kept-cell streams of {} cells ({} MiB) do not fit: {}", kept,
-                            (kept * (kRecordStride[precision] + sizeof(std::uint32_t))) >> 20, error.what());
-      return false;
+    const std::uint64_t stride = kRecordStride[precision];
+    // At most what one buffer holds (past it the records' buffer would be refused outright).
+    std::uint64_t wanted = std::min(wantedKeptSlots(precision, cells[precision]),
+                                    std::max<std::uint64_t>(context_->capabilities().maxBufferSize / stride, 1));
+    for (;;) {
+      try {
+        const Buffer& records = ensureOutput(*context_, keptCellRecords_[slot][precision], wanted * stride,
+                                             VK_BUFFER_USAGE_VERTEX_BUFFER_BIT, "hermite kept cells");
+        const Buffer& indices = ensureOutput(*context_, keptCellIndices_[slot][precision],
+                                             wanted * sizeof(std::uint32_t), 0, "hermite kept cell indices");
+        // The range indices only serve the tiling, but are made in every culled frame: a frame
+        // whose tiles come on then has its streams, and stays within the same budget.
+        const Buffer& ranges = ensureOutput(*context_, keptCellRanges_[slot][precision], wanted * sizeof(std::uint32_t),
+                                            0, "hermite kept cell ranges");
+        const std::uint64_t capacity =
+            std::min({cells[precision], records.size() / stride, indices.size() / 4, ranges.size() / 4});
+        keptCapacity_[precision] = std::uint32_t(capacity);
+        keptFallback_[precision] = capacity < cells[precision];
+        break;
+      } catch (const engine::gpu::VulkanError& error) {
+        // Half as many, or the streams the slot holds when they are larger (no new buffer), or
+        // when nothing of kMinKeptSlots fits, the streams it holds whatever their size.
+        const std::uint64_t held = heldKeptSlots(slot, precision);
+        const std::uint64_t next = std::max(wanted / 2, held);
+        if (next >= wanted || (next < kMinKeptSlots && held == 0)) {
+          refusal = fmt::format("the kept-cell streams of {} cells ({} MiB) do not fit: {}", wanted,
+                                (wanted * keptSlotBytes(precision)) >> 20, error.what());
+          return false;
+        }
+        wanted = next < kMinKeptSlots ? held : next;
+      }
     }
   }
+  stats_.keptSlots = std::uint64_t(keptCapacity_[0]) + keptCapacity_[1];
+  stats_.keptMayFallBack = keptFallback_[0] || keptFallback_[1];
   return true;
 }
 
@@ -143,7 +210,7 @@ float HermiteCellFeature::occlusionDepthMargin(const engine::render::CameraView&
 
 // Occlusion culling's phase 2 (after the renderer built the pyramid of phase 1's depth): every
 // culled cell tested against it, the history updated, the visible cells phase 1 did not draw
-// written to the second half of the kept streams and counted in the late commands.
+// appended to the kept streams and counted in the late commands.
 void HermiteCellFeature::recordLateCulling(engine::render::PassContext& pass,
                                            const engine::render::DepthPyramidView& pyramid) {
   if (!occlusion_) return;
@@ -155,8 +222,7 @@ void HermiteCellFeature::recordLateCulling(engine::render::PassContext& pass,
   shader::CellCullPushConstants push{};
   push.history = history_->address();
   push.pyramid = pyramid.address;
-  push.pyramidWidth = pyramid.extent.width;
-  push.pyramidHeight = pyramid.extent.height;
+  push.pyramidExtent = pyramid.extent.width | (pyramid.extent.height << 16);
   push.pyramidLevels = pyramid.levels;
   push.phase = CELL_CULL_PHASE_LATE;
   push.depthMargin = occlusionDepthMargin(pass.frame.camera, pyramid.extent);
@@ -165,34 +231,31 @@ void HermiteCellFeature::recordLateCulling(engine::render::PassContext& pass,
   pass.timer.end(pass.cmd);
 }
 
-// One cell_cull.comp dispatch per record precision over its ranges, with the slot's buffers; the
-// phase and occlusion fields of `push` as the caller set them. Phase 2 writes its commands and
-// kept cells after phase 1's.
+// One cell_cull.comp dispatch per record precision over its ranges, with the slot's buffers (made
+// by reserveCellCulling); the phase and occlusion fields of `push` as the caller set them. Phase 2
+// writes its commands after phase 1's and appends to the same streams.
 void HermiteCellFeature::recordCellCullPasses(VkCommandBuffer cmd, std::uint32_t slot,
                                               shader::CellCullPushConstants push) {
   const bool late = push.phase == CELL_CULL_PHASE_LATE;
   for (int precision = 0; precision < 2; ++precision) {
     const auto rangeCount = static_cast<std::uint32_t>(cellCullRanges_[precision].size());
     if (rangeCount == 0) continue;
-    const VkDeviceSize kept = VkDeviceSize(cellCullOutput_[precision]) * (occlusion_ ? 2 : 1);
-    const Buffer& records = ensureOutput(*context_, keptCellRecords_[slot][precision], kept * kRecordStride[precision],
-                                         VK_BUFFER_USAGE_VERTEX_BUFFER_BIT, "hermite kept cells");
-    const Buffer& indices = ensureOutput(*context_, keptCellIndices_[slot][precision], kept * sizeof(std::uint32_t), 0,
-                                         "hermite kept cell indices");
     push.objects = cellCullObjectBuffer_.address(slot);
     push.ranges = cellCullRangeBuffer_.address(slot) + cellCullRangeOffsets_[precision];
     push.packCount = cellCullPackCounts_[precision];
     push.records = buffers_->records[precision].address();
     push.cones = buffers_->cellCones.address();
-    push.keptRecords = records.address();
-    push.keptIndices = indices.address();
+    push.keptRecords = keptCellRecords_[slot][precision].address();
+    push.keptIndices = keptCellIndices_[slot][precision].address();
+    push.keptRanges = tiles_ ? keptCellRanges_[slot][precision].address() : 0;
     push.commands = indirect_.address(slot);
     push.totals = cullTotals_.address(slot);
     push.rangeCount = rangeCount;
     push.recordWords = kRecordStride[precision] / 4;
+    push.recordPrecision = std::uint32_t(precision);
+    push.keptCapacity = keptCapacity_[precision];
     const Batch& batch = *batches_[precision];
     push.commandOffset = late ? batch.lateFirst - batch.frontFirst : 0;
-    push.outputOffset = late ? cellCullOutput_[precision] : 0;
     cellCuller_->record(cmd, push);
   }
 }

@@ -122,6 +122,7 @@ void HermiteCellFeature::buildDraws(engine::render::FrameContext& frame) {
   drawnAssets_ = std::move(f.drawnThisFrame);
   if (frame.debugView == DEBUG_VIEW_WIREFRAME) addWireCommands(allCommands, allDraws);
   chooseCullingPaths(frame, f);
+  addFallbackCommands(allCommands, allDraws);     // copies of the front lists before they are culled
   cullCellRanges(allCommands, f.cellCullObject);  // after the wireframe's copies, which draw every cell
   if (occlusion_) addLateCommands(allCommands, allDraws);
   chooseDrawStages(f);
@@ -143,22 +144,15 @@ void HermiteCellFeature::chooseCullingPaths(engine::render::FrameContext& frame,
            frameTiles <= CELL_TILE_MAX_TILES;
   occlusion_ = culling && settings_.cullOcclusion && !tiles_;
   std::string refusal;
-  bool refused = culling && !reserveCellCulling(frame.frameSlot, culledCells(f), refusal);
-  if (refused && occlusion_) {  // its second phase doubles the streams: cull without it first
-    occlusion_ = false;
-    if (!warnedHistory_) engine::log::warn("hermite cells: occlusion culling off: {}", refusal);
-    warnedHistory_ = true;
-    refused = !reserveCellCulling(frame.frameSlot, culledCells(f), refusal);
-  }
+  if (culling) readKeptDemand(frame.frameSlot);
+  const bool refused = culling && !reserveCellCulling(frame.frameSlot, culledCells(f), refusal);
   if (refused) {
     dropCellCulling(f);
     tiles_ = occlusion_ = false;
   }
   if (refused != cullingRefused_) {
     if (refused) {
-      engine::log::warn("hermite cells: cell culling off, every cell drawn: {} (fewer instances, a lower K or levels "
-                        "of detail bring it back)",
-                        refusal);
+      engine::log::warn("hermite cells: cell culling off, every cell drawn: {}", refusal);
     } else {
       engine::log::info("hermite cells: cell culling back on");
     }
@@ -183,7 +177,8 @@ void HermiteCellFeature::chooseCullingPaths(engine::render::FrameContext& frame,
   }
 }
 
-// Per record precision, the cells of the frame's culled objects: what the kept streams must hold.
+// Per record precision, the cells of the frame's culled objects: the most the kept streams can be
+// asked to hold (each cell is kept in at most one of occlusion culling's phases).
 std::array<std::uint64_t, 2> HermiteCellFeature::culledCells(const FrameDraws& f) const {
   std::array<std::uint64_t, 2> cells{0, 0};
   for (int precision = 0; precision < 2; ++precision)
@@ -214,7 +209,9 @@ void HermiteCellFeature::resetDraws() {
   cellCullCells_.clear();
   for (int precision = 0; precision < 2; ++precision) {
     cellCullRanges_[precision].clear();
-    cellCullOutput_[precision] = 0;
+    keptCapacity_[precision] = 0;
+    keptFallback_[precision] = false;
+    batches_[precision]->fallbackCount = 0;
   }
   stats_.gpuBytes = buffers_->bytes;
   tileEntryEstimate_ = 0;
@@ -360,10 +357,16 @@ void HermiteCellFeature::addCellObjectDraws(engine::render::FrameContext& frame,
     tileEntryEstimate_ +=
         tileEntryEstimate(grid, asset.cells.records.size(), o.world, frame.camera, frame.extent, tileSize_);
   }
+  // A culled range is at most CELL_CULL_MAX_RANGE_CELLS cells (one workgroup claims its slots in the
+  // kept streams); the pieces of a longer one keep its order.
+  const std::uint32_t longest = cullObject == kNotCulled ? ~0u : CELL_CULL_MAX_RANGE_CELLS;
   for (const CellRows::Range& range : orderedRows(entry.rows, o.eyeGrid, settings_.frontToBack)) {
-    f.commands[precision][0].push_back({kFanVertices, range.count, 0, entry.firstRecord + range.first});
-    f.draws[precision][0].push_back(o.draw);
-    f.cellCullObject[precision].push_back(cullObject);
+    for (std::uint32_t first = 0; first < range.count; first += longest) {
+      const std::uint32_t count = std::min(longest, range.count - first);
+      f.commands[precision][0].push_back({kFanVertices, count, 0, entry.firstRecord + range.first + first});
+      f.draws[precision][0].push_back(o.draw);
+      f.cellCullObject[precision].push_back(cullObject);
+    }
     stats_.cells += range.count;
   }
   shader::HermiteDraw nearDraw = o.draw;
@@ -438,9 +441,9 @@ void HermiteCellFeature::uploadDraws(engine::render::FrameContext& frame, const 
 }
 
 // The front-face commands of culled cells (cullObjects: per command of the two cell batches) become
-// the culling pass's ranges: each command then draws its range of the kept-cell stream, from an
-// instance count of 0 that the pass overwrites. The ranges take the commands' order, so the rows
-// stay front to back.
+// the culling pass's ranges: each command then draws its range's kept cells, wherever in the kept
+// streams the pass appends them, from an instance count of 0 that the pass overwrites. The ranges
+// take the commands' order, so the rows stay front to back.
 void HermiteCellFeature::cullCellRanges(std::vector<VkDrawIndirectCommand>& commands,
                                         const std::vector<std::uint32_t> cullObjects[2]) {
   for (int precision = 0; precision < 2; ++precision) {
@@ -452,12 +455,29 @@ void HermiteCellFeature::cullCellRanges(std::vector<VkDrawIndirectCommand>& comm
       // The range's first cell in the history: its object's base plus the cell's index in its asset.
       const std::uint32_t historyFirst =
           occlusion_ ? historyBase_[object] + (command.firstInstance - cellCullFirstRecord_[object]) : 0;
-      const shader::CellCullRange range{command.firstInstance, command.instanceCount, cellCullOutput_[precision],
-                                        batch.frontFirst + i, object, historyFirst, 0, 0};
-      cellCullRanges_[precision].push_back(range);
-      cellCullOutput_[precision] += command.instanceCount;
+      const std::uint32_t fallback = keptFallback_[precision] ? batch.fallbackFirst + i : ~0u;
+      cellCullRanges_[precision].push_back(
+          {command.firstInstance, command.instanceCount, fallback, batch.frontFirst + i, object, historyFirst, 0, 0});
       command.instanceCount = 0;
-      command.firstInstance = range.outputFirst;
+      command.firstInstance = 0;
+    }
+  }
+}
+
+// Where the kept streams may not hold every culled cell (keptFallback_), each culled front command
+// again, unculled and with no instance, for the culling pass to fill where the row does not fit
+// (CellCullRange::fallbackCommand).
+void HermiteCellFeature::addFallbackCommands(std::vector<VkDrawIndirectCommand>& commands,
+                                             std::vector<shader::HermiteDraw>& draws) {
+  for (int precision = 0; precision < 2; ++precision) {
+    Batch& batch = *batches_[precision];
+    batch.fallbackFirst = static_cast<std::uint32_t>(commands.size());
+    batch.fallbackCount = keptFallback_[precision] ? batch.frontCount : 0;
+    for (std::uint32_t i = 0; i < batch.fallbackCount; ++i) {
+      VkDrawIndirectCommand fallback = commands[batch.frontFirst + i];
+      fallback.instanceCount = 0;
+      commands.push_back(fallback);
+      draws.push_back(draws[batch.frontFirst + i]);
     }
   }
 }
@@ -473,17 +493,15 @@ void HermiteCellFeature::placeHistory(engine::render::FrameContext& frame) {
 }
 
 // Phase 2's commands: the culled front lists again (every front command of the two cell batches is
-// culled when occlusion culling is on), each drawing its range of the second half of the kept
-// stream, from an instance count of 0 that the late culling pass overwrites.
+// culled when occlusion culling is on), each drawing the cells the late culling pass appends for
+// its range, from an instance count of 0 that the pass overwrites.
 void HermiteCellFeature::addLateCommands(std::vector<VkDrawIndirectCommand>& commands,
                                          std::vector<shader::HermiteDraw>& draws) {
   for (int precision = 0; precision < 2; ++precision) {
     Batch& batch = *batches_[precision];
     batch.lateFirst = static_cast<std::uint32_t>(commands.size());
     for (std::uint32_t i = 0; i < batch.frontCount; ++i) {
-      VkDrawIndirectCommand late = commands[batch.frontFirst + i];
-      late.firstInstance += cellCullOutput_[precision];
-      commands.push_back(late);
+      commands.push_back(commands[batch.frontFirst + i]);
       draws.push_back(draws[batch.frontFirst + i]);
     }
   }

@@ -69,6 +69,7 @@ engine::Status HermiteCellFeature::initialize(const engine::gpu::Context& contex
                                                         "hermite cell cull ranges");
   keptCellRecords_.resize(framesInFlight);
   keptCellIndices_.resize(framesInFlight);
+  keptCellRanges_.resize(framesInFlight);
   history_ = std::make_unique<CellHistory>();
   frameSlots_ = framesInFlight;
   ENGINE_TRY_ASSIGN(auto cellCuller, CellCuller::create(context));
@@ -161,11 +162,15 @@ shader::HermitePushConstants HermiteCellFeature::prepassPush(const engine::rende
   return push;
 }
 
-void HermiteCellFeature::recordBatch(engine::render::PassContext& pass, int precision, bool near, bool late,
-                                     VkBuffer countBuffer, VkDeviceSize countOffset) {
+void HermiteCellFeature::recordBatch(engine::render::PassContext& pass, int precision, List list, VkBuffer countBuffer,
+                                     VkDeviceSize countOffset) {
   const Batch& batch = *batches_[precision];
-  const std::uint32_t first = late ? batch.lateFirst : near ? batch.nearFirst : batch.frontFirst;
-  const std::uint32_t count = near ? batch.nearCount : batch.frontCount;
+  const bool near = list == List::Near;
+  const std::uint32_t first = list == List::Late       ? batch.lateFirst
+                              : list == List::Near     ? batch.nearFirst
+                              : list == List::Fallback ? batch.fallbackFirst
+                                                       : batch.frontFirst;
+  const std::uint32_t count = near ? batch.nearCount : list == List::Fallback ? batch.fallbackCount : batch.frontCount;
   if (count == 0) return;
   VkCommandBuffer cmd = pass.cmd;
   const bool runs = precision == kRunBatch;
@@ -197,8 +202,9 @@ void HermiteCellFeature::recordBatch(engine::render::PassContext& pass, int prec
   } else if (bricks) {
     push.bricks = buffers_->bricks.address();
     push.brickCells = buffers_->brickCells.address();
-  } else if (!runs && !near && !cellCullRanges_[precision].empty()) {
-    // The front faces draw the cell culling pass's kept records (the near list: every near cell).
+  } else if (!runs && (list == List::Front || list == List::Late) && !cellCullRanges_[precision].empty()) {
+    // The front faces draw the cell culling pass's kept records (the near list: every near cell;
+    // the fallback list: the rows the kept streams could not hold, from the record buffer).
     const VkBuffer keptBuffer = keptCellRecords_[pass.frame.frameSlot][precision].handle();
     vkCmdBindVertexBuffers(cmd, 0, 1, &keptBuffer, &offset);
     push.cellRecords = keptCellIndices_[pass.frame.frameSlot][precision].address();
@@ -274,7 +280,11 @@ void HermiteCellFeature::recordPass(engine::render::PassContext& pass) {
   }
   if (pass.occlusionLate) {  // phase 2 of occlusion culling: the culled cells' late commands only
     pass.timer.begin(pass.cmd, "cells prepass late");
-    for (int precision = 0; precision < 2; ++precision) recordBatch(pass, precision, false, true);
+    // The rows that did not fit in phase 2's part of the streams, as well as phase 1's again.
+    for (int precision = 0; precision < 2; ++precision) {
+      recordBatch(pass, precision, List::Late);
+      recordBatch(pass, precision, List::Fallback);
+    }
     pass.timer.end(pass.cmd);
     return;
   }
@@ -299,11 +309,12 @@ void HermiteCellFeature::recordPrepassDraws(engine::render::PassContext& pass) {
     // Tiles draw the culled cells' front lists (every front command of a tiled frame is culled),
     // unless their lists overflowed: then the GPU-written count draws those lists' boxes.
     if (tiles_ && precision < kRunBatch)
-      recordBatch(pass, precision, false, false, tiler_->drawCommand(pass.frame.frameSlot).handle(),
+      recordBatch(pass, precision, List::Front, tiler_->drawCommand(pass.frame.frameSlot).handle(),
                   CellTiler::kBoxDrawCountOffset);
     else
-      recordBatch(pass, precision, false);
-    recordBatch(pass, precision, true);
+      recordBatch(pass, precision, List::Front);
+    recordBatch(pass, precision, List::Near);
+    if (precision < kRunBatch) recordBatch(pass, precision, List::Fallback);
   }
   pass.timer.end(pass.cmd);
 }
@@ -316,7 +327,6 @@ void HermiteCellFeature::recordTiling(engine::render::FrameContext& frame) {
   tiling.slot = slot;
   tiling.extent = frame.extent;
   tiling.tileSize = tileSize_;
-  tiling.commands = indirect_.address(slot);
   tiling.draws = drawData_.address(slot);
   tiling.objects = cellCullObjectBuffer_.address(slot);
   tiling.frameGlobals = frame.frameGlobals;
@@ -326,7 +336,12 @@ void HermiteCellFeature::recordTiling(engine::render::FrameContext& frame) {
     const auto count = static_cast<std::uint32_t>(cellCullRanges_[precision].size());
     if (count == 0) continue;
     tiling.precisions[precision] = {cellCullRangeBuffer_.address(slot) + cellCullRangeOffsets_[precision],
-                                    keptCellIndices_[slot][precision].address(), count, cellCullOutput_[precision]};
+                                    keptCellIndices_[slot][precision].address(),
+                                    keptCellRanges_[slot][precision].address(),
+                                    cullTotals_.address(slot) + offsetof(shader::BrickCullTotals, keptSlots) +
+                                        precision * sizeof(std::uint32_t),
+                                    count,
+                                    keptCapacity_[precision]};
   }
   logTileOverflow(tiler_->lastTotals(slot), tiling.entryLimit);
   {
@@ -387,6 +402,9 @@ void HermiteCellFeature::drawUi() {
               stats_.skippedObjects);
   ImGui::Text("cell buffers: %.2f MiB", double(stats_.gpuBytes) / (1024.0 * 1024.0));
   if (stats_.cullingRefused) ImGui::TextUnformatted("cell culling off: its kept-cell streams do not fit (see the log)");
+  if (stats_.keptMayFallBack)
+    ImGui::Text("kept-cell streams: %llu slots, sized by recent frames (rows past them drawn unculled)",
+                static_cast<unsigned long long>(stats_.keptSlots));
 }
 
 }  // namespace hsdf

@@ -58,6 +58,9 @@ struct HermiteCellFeature::Batch {
   std::uint32_t nearFirst = 0, nearCount = 0;
   std::uint32_t wireFirst = 0;  // DEBUG_VIEW_WIREFRAME: the front list again with kWireVertices
   std::uint32_t lateFirst = 0;  // occlusion culling: the front list again, drawn in phase 2
+  // Culled cells whose kept streams may overflow: the front list again, unculled and empty until
+  // the culling pass gives an overflowing row its cells (CellCullRange::fallbackCommand).
+  std::uint32_t fallbackFirst = 0, fallbackCount = 0;
 };
 
 constexpr VkAccessFlags2 kStorageReadWrite = VK_ACCESS_2_SHADER_STORAGE_READ_BIT | VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT;

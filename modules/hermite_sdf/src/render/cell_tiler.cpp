@@ -103,6 +103,8 @@ void CellTiler::dispatchBins(VkCommandBuffer cmd, shader::CellTilePushConstants 
   for (const Ranges& ranges : frame.precisions) {
     if (ranges.count == 0 || ranges.slots == 0) continue;
     push.ranges = ranges.ranges;
+    push.keptRanges = ranges.keptRanges;
+    push.keptCount = ranges.keptCount;
     push.keptIndices = ranges.keptIndices;
     push.rangeCount = ranges.count;
     push.slotCount = ranges.slots;
@@ -140,7 +142,6 @@ void CellTiler::record(VkCommandBuffer cmd, const Frame& frame, engine::gpu::Gpu
   }
 
   shader::CellTilePushConstants push{};
-  push.commands = frame.commands;
   push.draws = frame.draws;
   push.objects = frame.objects;
   push.frameGlobals = frame.frameGlobals;

@@ -42,14 +42,15 @@ class CellTiler {
   struct Ranges {
     VkDeviceAddress ranges = 0;       // CellCullRange[count]
     VkDeviceAddress keptIndices = 0;  // their kept cells' record indices
+    VkDeviceAddress keptRanges = 0;   // their kept cells' range indices
+    VkDeviceAddress keptCount = 0;    // uint: the culling pass's append cursor
     std::uint32_t count = 0;
-    std::uint32_t slots = 0;          // the kept stream's length (the ranges' unculled rows)
+    std::uint32_t slots = 0;          // the kept streams' capacity
   };
   struct Frame {
     std::uint32_t slot = 0;
     VkExtent2D extent{};
     std::uint32_t tileSize = CELL_TILE_SIZE;  // the tiles' side in pixels (Settings::tileSize)
-    VkDeviceAddress commands = 0;      // the feature's indirect commands (the ranges' kept counts)
     VkDeviceAddress draws = 0;         // HermiteDraw[]
     VkDeviceAddress objects = 0;       // BrickCullObject[] of the cell culling pass
     VkDeviceAddress frameGlobals = 0;  // FrameGlobals

@@ -193,10 +193,14 @@ TEST_F(BrickCullTest, GpuKeepsExactlyTheBricksOfTheCppTwin) {
 
 // The cell culling pass (CellCuller, cell_cull.comp) on the same two spheres and cameras, fp32 and
 // fp16 records: each range (lengths around the workgroup's 64, so the prefix sum crosses chunks,
-// and short ones that share a workgroup, where each range's kept cells start from its own first)
-// must hold exactly the cells the C++ twin keeps (brickVerdict on cellBox with cellGradientCone),
-// in the range's order, each a byte copy of its record beside its record index; each range's
-// command counts them and the totals add up. Synchronization validation checks the barriers.
+// short ones that share a workgroup, and long ones walked in many chunks) must hold exactly the
+// cells the C++ twin keeps (brickVerdict on cellBox with cellGradientCone), in the range's order and
+// together (one claim per range: its command's firstInstance), each a byte copy of its record
+// beside its record and range index; the claims must not overlap, and the append cursor must end
+// at the cells kept. Twice per view: streams that hold every cell, then streams that hold a third
+// of the kept cells, where a range whose claim does not fit draws nothing from them, its fallback
+// command gets its whole row, and the slots it reached are marked as holes for the tiling.
+// Synchronization validation checks the barriers.
 TEST_F(BrickCullTest, GpuKeepsExactlyTheCellsOfTheCppTwinInOrder) {
   auto culler = CellCuller::create(*context_);
   ASSERT_TRUE(culler.ok()) << culler.error().message;
@@ -205,24 +209,29 @@ TEST_F(BrickCullTest, GpuKeepsExactlyTheCellsOfTheCppTwinInOrder) {
   objects[1].asset = sphereAsset(true);
   objects[1].model = glm::translate(glm::mat4(1.0f), glm::vec3(3.5f, 0.0f, 0.0f));
   objects[1].model[1][0] = 0.25f;  // shear
-  // Every record of both objects, their cones, and ranges of 1, 63, 64, 65, 150 and 7 records.
+  // Every record of both objects, their cones, and ranges of 1, 63, 64, 65, 150, 7 and 1000 records.
   std::vector<CellRecord> full;
   std::vector<CellRecordHalf> half;
   std::vector<shader::CellBrickCone> cones;
   std::vector<shader::CellCullRange> ranges;
-  const std::uint32_t lengths[] = {1, 63, 64, 65, 150, 7};
+  const std::uint32_t lengths[] = {1, 63, 64, 65, 150, 7, 1000};
+  constexpr std::size_t kLengths = std::size(lengths);
   for (std::uint32_t i = 0; i < objects.size(); ++i) {
     const SdfAsset& a = *objects[i].asset;
     const auto first = std::uint32_t(full.size());
     const auto count = std::uint32_t(a.cells.records.size());
-    for (std::uint32_t start = 0, n = 0; start < count; start += lengths[n % 6], ++n) {
-      const std::uint32_t length = std::min(lengths[n % 6], count - start);
-      ranges.push_back({first + start, length, first + start, std::uint32_t(ranges.size()), i, 0, 0, 0});
+    for (std::uint32_t start = 0, n = 0; start < count; start += lengths[n % kLengths], ++n) {
+      const std::uint32_t length = std::min(lengths[n % kLengths], count - start);
+      ranges.push_back({first + start, length, 0, std::uint32_t(ranges.size()), i, 0, 0, 0});
     }
     full.insert(full.end(), a.cells.records.begin(), a.cells.records.end());
     half.insert(half.end(), a.cellsHalf.records.begin(), a.cellsHalf.records.end());
     for (const CellRecord& r : a.cells.records) cones.push_back(cellGradientCone(r, a.cells.grid.spacing));
   }
+  // Each range's fallback command follows the range commands.
+  const auto rangeCount = std::uint32_t(ranges.size());
+  for (shader::CellCullRange& range : ranges) range.fallbackCommand = rangeCount + range.drawCommand;
+  ASSERT_TRUE(std::any_of(ranges.begin(), ranges.end(), [](const auto& r) { return r.cellCount == 1000; }));
   const auto storage = VK_BUFFER_USAGE_STORAGE_BUFFER_BIT;
   Buffer records[2] = {hostBuffer(full.size() * sizeof(CellRecord), storage, "records fp32"),
                        hostBuffer(half.size() * sizeof(CellRecordHalf), storage, "records fp16")};
@@ -231,14 +240,15 @@ TEST_F(BrickCullTest, GpuKeepsExactlyTheCellsOfTheCppTwinInOrder) {
   Buffer coneBuffer = hostBuffer(cones.size() * sizeof(shader::CellBrickCone), storage, "cones");
   coneBuffer.write(std::span<const shader::CellBrickCone>(cones));
   // The ranges as the feature uploads them: packs of short ranges (1 + 63, 7 + 1 + ...) share a
-  // workgroup, 64, 65 and 150 are walked alone.
+  // workgroup, 64, 65, 150 and 1000 are walked alone.
   const CellCuller::RangeUpload upload = CellCuller::rangeUpload(ranges);
   EXPECT_LT(upload.packCount, ranges.size());
   Buffer rangeBuffer = hostBuffer(upload.words.size() * sizeof(std::uint32_t), storage, "ranges");
   rangeBuffer.write(std::span<const std::uint32_t>(upload.words));
   Buffer kept = hostBuffer(full.size() * sizeof(CellRecord), storage | VK_BUFFER_USAGE_VERTEX_BUFFER_BIT, "kept");
   Buffer indices = hostBuffer(full.size() * sizeof(std::uint32_t), storage, "kept indices");
-  Buffer commands = hostBuffer(ranges.size() * sizeof(VkDrawIndirectCommand),
+  Buffer keptRanges = hostBuffer(full.size() * sizeof(std::uint32_t), storage, "kept ranges");
+  Buffer commands = hostBuffer(2 * ranges.size() * sizeof(VkDrawIndirectCommand),
                                storage | VK_BUFFER_USAGE_INDIRECT_BUFFER_BIT, "commands");
   Buffer cullObjects = hostBuffer(objects.size() * sizeof(shader::BrickCullObject), storage, "cull objects");
   Buffer totals = hostBuffer(sizeof(shader::BrickCullTotals), storage, "totals");
@@ -248,71 +258,124 @@ TEST_F(BrickCullTest, GpuKeepsExactlyTheCellsOfTheCppTwinInOrder) {
                                                    {{0.0f, 0.3f, 4.0f}, {1.6f, 0.3f, 0.0f}},
                                                    {{0.2f, 0.3f, 1.2f}, centre},
                                                    {{-1.9f, -1.1f, 1.7f}, {0.4f, 0.2f, 0.0f}}};
+  constexpr std::uint32_t kUnwritten = 0xaaaaaaaau, kHole = ~0u;
   TwinCounts overall;
+  std::uint32_t fellBack = 0, fitted = 0;
   for (int precision = 0; precision < 2; ++precision) {
     const std::uint32_t recordBytes = precision == 0 ? sizeof(CellRecord) : sizeof(CellRecordHalf);
     const auto* source = static_cast<const std::uint8_t*>(records[precision].mapped());
     for (const auto& [eye, target] : shots) {
-      SCOPED_TRACE(std::string(precision == 0 ? "fp32" : "fp16") + ", eye " + std::to_string(eye.x));
       const auto camera = engine::render::CameraView::lookAt(eye, target, 0.9f, 0.02f, 1.5f);
       std::vector<shader::BrickCullObject> cull;
       for (const ObjectInput& o : objects)
         cull.push_back(BrickCuller::cullObject(camera, o.model, o.asset->cells.grid, o.asset->boundaryPositive, {}));
       cullObjects.write(std::span<const shader::BrickCullObject>(cull));
-      commands.write(std::span<const VkDrawIndirectCommand>(
-          std::vector<VkDrawIndirectCommand>(ranges.size(), VkDrawIndirectCommand{8, 0, 0, 0})));
-      const shader::BrickCullTotals zero{};
-      totals.write(&zero, sizeof(zero));
-      shader::CellCullPushConstants push{cullObjects.address(), rangeBuffer.address(), records[precision].address(),
-                                         coneBuffer.address(),  kept.address(),        indices.address(),
-                                         commands.address(),    totals.address(),      std::uint32_t(ranges.size()),
-                                         recordBytes / 4};
-      push.packCount = upload.packCount;
-      context_->submitAndWait([&](VkCommandBuffer cmd) {
-        barrierBeforeCulling(cmd);
-        culler->record(cmd, push);
-        barrierAfterCulling(cmd);
-      });
-      const auto* gpuCommands = static_cast<const VkDrawIndirectCommand*>(commands.mapped());
-      const auto* gpuIndices = static_cast<const std::uint32_t*>(indices.mapped());
-      const auto* gpuKept = static_cast<const std::uint8_t*>(kept.mapped());
+      // What the C++ twin keeps, range by range.
       TwinCounts sum;
+      std::vector<std::vector<std::uint32_t>> expected(ranges.size());
       for (const shader::CellCullRange& range : ranges) {
         const shader::BrickCullObject& co = cull[range.object];
-        std::vector<std::uint32_t> expected;
         for (std::uint32_t r = range.firstCell; r < range.firstCell + range.cellCount; ++r) {
           const BrickBox box = cellBox({full[r].x, full[r].y, full[r].z}, glm::vec3(co.gridOriginSpacing),
                                        co.gridOriginSpacing.w);
           const BrickVerdict v =
               brickVerdict(co.objectToClip, box, cones[r], glm::vec3(co.eyeConeTest), co.eyeConeTest.w != 0.0f);
-          if (v == BrickVerdict::Kept) expected.push_back(r);
+          if (v == BrickVerdict::Kept) expected[range.drawCommand].push_back(r);
           (v == BrickVerdict::Kept ? sum.kept : v == BrickVerdict::FrustumCulled ? sum.frustum : sum.cone)++;
           if (range.object == 1) {
             ASSERT_NE(v, BrickVerdict::ConeCulled) << "negative boundary: never cone-culled";
           }
         }
-        ASSERT_EQ(gpuCommands[range.drawCommand].instanceCount, expected.size()) << "range " << range.drawCommand;
-        EXPECT_EQ(gpuCommands[range.drawCommand].vertexCount, 8u);
-        for (std::size_t k = 0; k < expected.size(); ++k) {
-          const std::uint32_t slot = range.outputFirst + std::uint32_t(k);
-          ASSERT_EQ(gpuIndices[slot], expected[k]) << "range " << range.drawCommand << ", kept cell " << k;
-          ASSERT_EQ(std::memcmp(gpuKept + std::size_t(slot) * recordBytes, source + std::size_t(expected[k]) * recordBytes,
-                                recordBytes),
-                    0)
-              << "the kept record is not a copy of record " << expected[k];
-        }
       }
-      shader::BrickCullTotals gpuTotals;
-      std::memcpy(&gpuTotals, totals.mapped(), sizeof(gpuTotals));
-      EXPECT_EQ(gpuTotals.tested, std::uint32_t(full.size()));
-      EXPECT_EQ(gpuTotals.kept, sum.kept);
-      EXPECT_EQ(gpuTotals.frustumCulled, sum.frustum);
-      EXPECT_EQ(gpuTotals.coneCulled, sum.cone);
+      for (const std::uint32_t capacity : {std::uint32_t(full.size()), sum.kept / 3}) {
+        SCOPED_TRACE(std::string(precision == 0 ? "fp32" : "fp16") + ", eye " + std::to_string(eye.x) +
+                     ", streams of " + std::to_string(capacity) + " slots");
+        std::vector<VkDrawIndirectCommand> initial(ranges.size(), VkDrawIndirectCommand{8, 0, 0, 0});
+        for (const shader::CellCullRange& range : ranges) initial.push_back({8, 0, 0, range.firstCell});
+        commands.write(std::span<const VkDrawIndirectCommand>(initial));
+        const shader::BrickCullTotals zero{};
+        totals.write(&zero, sizeof(zero));
+        std::fill_n(static_cast<std::uint32_t*>(keptRanges.mapped()), full.size(), kUnwritten);
+        shader::CellCullPushConstants push{};
+        push.objects = cullObjects.address();
+        push.ranges = rangeBuffer.address();
+        push.records = records[precision].address();
+        push.cones = coneBuffer.address();
+        push.keptRecords = kept.address();
+        push.keptIndices = indices.address();
+        push.keptRanges = keptRanges.address();
+        push.commands = commands.address();
+        push.totals = totals.address();
+        push.rangeCount = rangeCount;
+        push.recordWords = recordBytes / 4;
+        push.recordPrecision = std::uint32_t(precision);
+        push.keptCapacity = capacity;
+        push.packCount = upload.packCount;
+        context_->submitAndWait([&](VkCommandBuffer cmd) {
+          barrierBeforeCulling(cmd);
+          culler->record(cmd, push);
+          barrierAfterCulling(cmd);
+        });
+        const auto* gpuCommands = static_cast<const VkDrawIndirectCommand*>(commands.mapped());
+        const auto* gpuIndices = static_cast<const std::uint32_t*>(indices.mapped());
+        const auto* gpuRanges = static_cast<const std::uint32_t*>(keptRanges.mapped());
+        const auto* gpuKept = static_cast<const std::uint8_t*>(kept.mapped());
+        shader::BrickCullTotals gpuTotals;
+        std::memcpy(&gpuTotals, totals.mapped(), sizeof(gpuTotals));
+        ASSERT_EQ(gpuTotals.keptSlots[precision], sum.kept) << "the cursor is not the cells kept";
+        EXPECT_EQ(gpuTotals.keptSlots[1 - precision], 0u);
+        std::vector<std::uint32_t> owner(capacity, kHole);  // the fitting range of each slot
+        std::uint32_t fallbackCells = 0;
+        for (const shader::CellCullRange& range : ranges) {
+          const std::vector<std::uint32_t>& want = expected[range.drawCommand];
+          const VkDrawIndirectCommand& command = gpuCommands[range.drawCommand];
+          const VkDrawIndirectCommand& fallback = gpuCommands[range.fallbackCommand];
+          EXPECT_EQ(command.vertexCount, 8u);
+          EXPECT_EQ(fallback.firstInstance, range.firstCell) << "the fallback draws the row from the record buffer";
+          if (!want.empty() && command.instanceCount == 0) {  // the claim did not fit
+            ASSERT_LT(capacity, sum.kept) << "range " << range.drawCommand << " fell back from streams that hold every cell";
+            ASSERT_EQ(fallback.instanceCount, range.cellCount) << "range " << range.drawCommand;
+            fallbackCells += range.cellCount;
+            fellBack++;
+            continue;
+          }
+          ASSERT_EQ(fallback.instanceCount, 0u) << "range " << range.drawCommand << " fell back though it fits";
+          ASSERT_EQ(command.instanceCount, want.size()) << "range " << range.drawCommand;
+          if (want.empty()) continue;
+          fitted++;
+          ASSERT_LE(std::uint64_t(command.firstInstance) + want.size(), capacity) << "range " << range.drawCommand;
+          for (std::size_t k = 0; k < want.size(); ++k) {
+            const std::uint32_t slot = command.firstInstance + std::uint32_t(k);
+            ASSERT_EQ(owner[slot], kHole) << "slot " << slot << " claimed by ranges " << owner[slot] << " and "
+                                          << range.drawCommand;
+            owner[slot] = range.drawCommand;
+            ASSERT_EQ(gpuIndices[slot], want[k]) << "range " << range.drawCommand << ", kept cell " << k;
+            ASSERT_EQ(gpuRanges[slot], range.drawCommand) << "range " << range.drawCommand << ", kept cell " << k;
+            ASSERT_EQ(std::memcmp(gpuKept + std::size_t(slot) * recordBytes,
+                                  source + std::size_t(want[k]) * recordBytes, recordBytes),
+                      0)
+                << "the kept record is not a copy of record " << want[k];
+          }
+        }
+        // Below the cursor every slot belongs to a fitting range or is a marked hole.
+        for (std::uint32_t slot = 0; slot < std::min(capacity, sum.kept); ++slot) {
+          if (owner[slot] == kHole) {
+            ASSERT_EQ(gpuRanges[slot], kHole) << "slot " << slot << " is neither claimed by a fitting range nor a hole";
+          }
+        }
+        EXPECT_EQ(gpuTotals.fallbackCells, fallbackCells);
+        EXPECT_EQ(gpuTotals.tested, std::uint32_t(full.size()));
+        EXPECT_EQ(gpuTotals.kept, sum.kept);
+        EXPECT_EQ(gpuTotals.frustumCulled, sum.frustum);
+        EXPECT_EQ(gpuTotals.coneCulled, sum.cone);
+      }
       overall.kept += sum.kept;
       overall.frustum += sum.frustum;
       overall.cone += sum.cone;
     }
   }
+  EXPECT_GT(fellBack, 0u) << "no range fell back from streams that hold a third of the kept cells";
+  EXPECT_GT(fitted, fellBack);
   // Every branch was exercised: cells kept, removed by the frustum and by the cones.
   EXPECT_GT(overall.kept, 0u);
   EXPECT_GT(overall.frustum, 0u);

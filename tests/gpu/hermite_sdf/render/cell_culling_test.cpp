@@ -224,86 +224,157 @@ TEST_F(HermiteCellsTest, ObjectsOutsideTheViewAreNotDrawn) {
   }
 }
 
-// Why: the culling pass keeps each range's cells in the range's own part of the kept streams, so
-// they are sized for every cell of every culled object (twice with occlusion culling): a scene of
-// many instances needs more than the device gives (10,000 bunnies at K = 32: 5.9 GB, past
-// lavapipe's maxBufferSize; 108 objects at K = 128: 1.3 GB per frame slot, past a 2 GiB budget).
-// Such a frame must not fail: it draws every cell unculled, the image of culling off, says so in
-// its stats, and culls again once the streams fit. Here the allocator's budget leaves no room for
-// them, with occlusion culling (its history too) and with tiles (which need culling).
+// Instances of `asset` in rows of three facing the camera, 0.6 of the object's extent apart.
+struct Instances {
+  ecs::Registry& registry;
+  std::shared_ptr<const hsdf::SdfAsset> asset;
+  int count = 0;
+  void add(int more) {
+    const float extent = float(glm::length(asset->surfaceBounds.size()));
+    for (int i = 0; i < more; ++i, ++count)
+      addSdf(registry, asset, hsdf::RenderMethod::Cells,
+             glm::translate(glm::mat4(1.0f), glm::vec3(float(count % 3 - 1) * 0.6f * extent,
+                                                       float(count / 3) * 0.6f * extent, 0.0f)));
+  }
+};
+
+// Why: the kept-cell streams hold every cell of every culled object only up to
+// Settings::keptStreamBytes; past it (scenes of many instances: 10,000 bunnies at K = 32 would need
+// 5.9 GB per frame slot) they are sized by what the slot's last frame kept, so a frame can keep
+// more than they hold: the first frame of a larger scene, or one whose streams the allocator's
+// budget stops from growing. Such a frame must not lose a cell: each row whose kept cells do not
+// fit is drawn whole and unculled (its fallback command), the image of culling off, and the next
+// frames' streams grow to what the frame wanted. With boxes, with occlusion culling (whose second
+// phase appends to the same streams and draws the fallbacks again) and with tiles (which must skip
+// the holes that a row that did not fit leaves in the streams). A mutant that drops the fallback
+// draw loses the rows; one that grows nothing keeps falling back.
+TEST_F(HermiteCellsTest, KeptCellsPastTheStreamsDrawTheirRowsUnculled) {
+  using Tiles = hsdf::HermiteCellFeature::Tiles;
+  struct Mode {
+    const char* name;
+    Tiles tiles;
+    bool occlusion;
+  };
+  for (const Mode mode : {Mode{"boxes", Tiles::Off, false}, Mode{"occlusion culling", Tiles::Off, true},
+                          Mode{"tiles", Tiles::On, false}}) {
+    SCOPED_TRACE(mode.name);
+    registry_ = ecs::Registry{};
+    renderer_.reset();
+    createCellRenderer(kSize, kSize);
+    auto* feature = renderer_->feature<hsdf::HermiteCellFeature>();
+    const auto asset = bakeAsset("bunny", 32);
+    ASSERT_NE(asset, nullptr);
+    Instances instances{registry_, asset};
+    instances.add(3);
+    const render::CameraView camera = orbitCamera(*asset, 1, 3.0f);
+    hsdf::HermiteCellFeature::Settings& settings = feature->settings();
+    settings.tiles = mode.tiles;
+    settings.cullOcclusion = mode.occlusion;
+    settings.cullCells = true;
+    settings.keptStreamBytes = 64 << 10;  // 450 fp32 slots: less than one bunny keeps
+    // The same frame with every cell in the streams, rendered after the frames under test (its
+    // streams would hold everything later frames keep): the image each fallback must reproduce
+    // (tiles and boxes differ where roots tie, so tiles with fallback rows are compared with tiles).
+    const auto reference = [&] {
+      settings.cullCells = mode.tiles == Tiles::On;
+      settings.keptStreamBytes = std::uint64_t(1) << 30;
+      const Frame frame = renderWith(camera, DEBUG_VIEW_NONE);
+      EXPECT_FALSE(feature->stats().keptMayFallBack);
+      settings.cullCells = true;
+      settings.keptStreamBytes = 64 << 10;
+      return frame;
+    };
+    const auto expectSame = [&](const Frame& want, const Frame& got, const char* what) {
+      ASSERT_GT(std::count_if(want.depth.begin(), want.depth.end(), [](float d) { return d > 0.0f; }), 1000);
+      if (mode.tiles == Tiles::On) {
+        const TileComparison c = compareTilesWithBoxes(want, got);
+        EXPECT_EQ(c.coverageDiffers, 0) << what;
+        EXPECT_LE(c.colourDiffers, c.hitsBoxes / 500 + 2) << what;
+        EXPECT_LT(c.depthRelativeMax, 1e-4) << what;
+      } else {
+        EXPECT_TRUE(want.depth == got.depth) << what << " changed the depth";
+        EXPECT_TRUE(want.rgba == got.rgba) << what << " changed the colour";
+      }
+    };
+    // The first culled frame: the streams know no demand yet.
+    const Frame first = renderWith(camera, DEBUG_VIEW_NONE);
+    EXPECT_TRUE(feature->stats().keptMayFallBack);
+    EXPECT_EQ(feature->stats().tiles, mode.tiles == Tiles::On);
+    EXPECT_FALSE(feature->stats().cullingRefused);
+    const shader::BrickCullTotals firstTotals = feature->cullTotals();
+    EXPECT_GT(firstTotals.fallbackCells, 0u) << "the first frame's kept cells fit in 450 slots";
+    EXPECT_GT(firstTotals.keptSlots[0] + firstTotals.keptSlots[1], feature->stats().keptSlots);
+    // The streams grow to what the frames want (each frame slot learns from its own last frame).
+    Frame steady;
+    int frames = 0;
+    for (; frames < 4; ++frames) {
+      steady = renderWith(camera, DEBUG_VIEW_NONE);
+      if (feature->cullTotals().fallbackCells == 0) break;
+    }
+    EXPECT_LT(frames, 4) << "the streams never grew to what the frames kept";
+    EXPECT_GE(feature->stats().keptSlots, feature->cullTotals().keptSlots[0]);
+    Frame want = reference();
+    expectSame(want, first, "the first frame's fallback rows");
+    expectSame(want, steady, "culling with streams sized by the demand");
+
+    // Three times the instances; after two frames (one per frame slot) the slots know the larger
+    // demand, but the budget stops their streams from growing: the frame culls into the streams it
+    // has and draws the rows past them unculled, rather than turning culling off. (Not with
+    // occlusion culling: it keeps only the visible cells, and the instances hide each other, so its
+    // demand stays within the streams the first frames made.)
+    if (mode.occlusion) continue;
+    instances.add(6);
+    for (int slot = 0; slot < 2; ++slot) (void)renderWith(camera, DEBUG_VIEW_NONE);
+    gpu::Allocator& allocator = context_->allocator();
+    allocator.setBudget(allocator.stats().usedBytes + 16384);
+    renderer_->renderFrame(registry_, camera, render::FrameSettings{});
+    allocator.setBudget(gpu::Allocator::kUnlimited);  // before the read-back's staging buffers
+    Frame budgeted = first;
+    budgeted.rgba = renderer_->readbackColor();
+    budgeted.depth = renderer_->readbackDepth();
+    EXPECT_FALSE(feature->stats().cullingRefused) << "culling was turned off, the streams held a few rows";
+    EXPECT_TRUE(feature->stats().keptMayFallBack);
+    EXPECT_GT(feature->cullTotals().fallbackCells, 0u)
+        << "streams of " << feature->stats().keptSlots << " slots, " << feature->cullTotals().keptSlots[0] << " wanted";
+    want = reference();
+    expectSame(want, budgeted, "the budget's fallback rows");
+  }
+}
+
+// Why: where not even a few thousand kept cells fit in GPU memory, the allocator's budget or one
+// buffer, the frame must not fail: it draws every cell unculled, the image of culling off, says so
+// in its stats, and culls again once the streams fit (before the kept streams were sized by the
+// demand, every frame of 10,000 bunnies failed this way).
 TEST_F(HermiteCellsTest, CullingThatDoesNotFitDrawsEveryCellInstead) {
   createCellRenderer(kSize, kSize);
   auto* feature = renderer_->feature<hsdf::HermiteCellFeature>();
   const auto asset = bakeAsset("bunny", 32);
   ASSERT_NE(asset, nullptr);
-  const float extent = float(glm::length(asset->surfaceBounds.size()));
-  int instances = 0;
-  const auto addInstances = [&](int count) {
-    for (int i = 0; i < count; ++i, ++instances)
-      addSdf(registry_, asset, hsdf::RenderMethod::Cells,
-             glm::translate(glm::mat4(1.0f), glm::vec3(float(instances % 3 - 1) * 0.6f * extent,
-                                                       float(instances / 3) * 0.6f * extent, 0.0f)));
-  };
+  Instances instances{registry_, asset};
+  instances.add(3);
   const render::CameraView camera = orbitCamera(*asset, 1, 3.0f);
-  // One culled frame first, with room: the asset's cones and runs are uploaded once, so that the
-  // frames under the budget below have only the kept streams left to grow.
-  addInstances(1);
-  feature->settings().cullCells = true;
-  (void)renderWith(camera, DEBUG_VIEW_NONE);
-
-  gpu::Allocator& allocator = context_->allocator();
-  using Tiles = hsdf::HermiteCellFeature::Tiles;
-  for (const Tiles tiles : {Tiles::Off, Tiles::On}) {
-    SCOPED_TRACE(tiles == Tiles::On ? "tiles" : "boxes with occlusion culling");
-    // The kept streams must grow past what the previous frames needed (3 instances with occlusion
-    // culling's second half, then 8 without).
-    addInstances(tiles == Tiles::Off ? 2 : 5);
-    feature->settings().tiles = tiles;
-    feature->settings().cullOcclusion = tiles == Tiles::Off;
-    feature->settings().cullCells = false;
-    const Frame all = renderWith(camera, DEBUG_VIEW_NONE);
-    ASSERT_GT(std::count_if(all.depth.begin(), all.depth.end(), [](float d) { return d > 0.0f; }), 1000);
-    EXPECT_FALSE(feature->stats().cullingRefused) << "culling was off, not refused";
-    feature->settings().cullCells = true;
-    // Room for 64 KiB more during the frame (not during its read-back): the kept records of the
-    // instances' cells need ~30x that.
-    allocator.setBudget(allocator.stats().usedBytes + 65536);
-    renderer_->renderFrame(registry_, camera, render::FrameSettings{});
-    allocator.setBudget(gpu::Allocator::kUnlimited);
-    EXPECT_TRUE(feature->stats().cullingRefused);
-    EXPECT_FALSE(feature->stats().tiles) << "tiles need the culled cells";
-    EXPECT_EQ(feature->cullTotals().tested, 0u) << "no culling pass ran";
-    EXPECT_TRUE(all.depth == renderer_->readbackDepth()) << "the unculled frame is not culling off's";
-    EXPECT_TRUE(all.rgba == renderer_->readbackColor()) << "the unculled frame is not culling off's";
-    // With room again, the next frame culls.
-    const Frame culled = renderWith(camera, DEBUG_VIEW_NONE);
-    EXPECT_FALSE(feature->stats().cullingRefused);
-    EXPECT_GT(feature->cullTotals().tested, 0u);
-    if (tiles == Tiles::Off) {
-      EXPECT_TRUE(all.depth == culled.depth) << "culling changed the depth";
-    } else {
-      EXPECT_TRUE(feature->stats().tiles);
-    }
-  }
-
-  // Room for the streams once but not twice: occlusion culling's second phase goes, culling stays.
-  addInstances(4);
-  feature->settings().tiles = Tiles::Off;
-  feature->settings().cullOcclusion = true;
+  feature->settings().tiles = hsdf::HermiteCellFeature::Tiles::Off;
   feature->settings().cullCells = false;
   const Frame all = renderWith(camera, DEBUG_VIEW_NONE);
-  const std::uint64_t cells = feature->stats().cells;  // the front cells of every instance
+  ASSERT_GT(std::count_if(all.depth.begin(), all.depth.end(), [](float d) { return d > 0.0f; }), 1000);
+  EXPECT_FALSE(feature->stats().cullingRefused) << "culling was off, not refused";
   feature->settings().cullCells = true;
-  // The streams' old buffers are held while the new ones are made: used bytes count them.
-  allocator.setBudget(allocator.stats().usedBytes + cells * (sizeof(hsdf::CellRecord) + 4) + 65536);
+  // Room for the asset's cell cones (uploaded by the first culled frame) and 64 KiB more: the
+  // least streams need 4,096 slots of 144 bytes.
+  const std::uint64_t cones = asset->cells.records.size() * sizeof(shader::CellBrickCone);
+  gpu::Allocator& allocator = context_->allocator();
+  allocator.setBudget(allocator.stats().usedBytes + cones + 65536);
   renderer_->renderFrame(registry_, camera, render::FrameSettings{});
   allocator.setBudget(gpu::Allocator::kUnlimited);
-  EXPECT_FALSE(feature->stats().cullingRefused) << "the streams fit once";
-  EXPECT_FALSE(feature->usesOcclusionCulling()) << "the streams do not fit twice";
-  EXPECT_TRUE(all.depth == renderer_->readbackDepth()) << "culling without occlusion changed the depth";
-  EXPECT_GT(feature->cullTotals().tested, 0u);  // the frame has completed (read back)
-  (void)renderWith(camera, DEBUG_VIEW_NONE);
-  EXPECT_TRUE(feature->usesOcclusionCulling()) << "room again, but no occlusion culling";
+  EXPECT_TRUE(feature->stats().cullingRefused);
+  EXPECT_EQ(feature->cullTotals().tested, 0u) << "no culling pass ran";
+  EXPECT_TRUE(all.depth == renderer_->readbackDepth()) << "the unculled frame is not culling off's";
+  EXPECT_TRUE(all.rgba == renderer_->readbackColor()) << "the unculled frame is not culling off's";
+  // With room again, the next frame culls.
+  const Frame culled = renderWith(camera, DEBUG_VIEW_NONE);
+  EXPECT_FALSE(feature->stats().cullingRefused);
+  EXPECT_GT(feature->cullTotals().tested, 0u);
+  EXPECT_TRUE(all.depth == culled.depth) << "culling changed the depth";
 }
 
 // Why: occlusion culling draws in two phases what one pass drew: a cell missing from both (a wrong

@@ -158,6 +158,14 @@ class HermiteCellFeature final : public engine::render::RenderFeature {
     // same image, decided on the GPU: CellTileTotals::boxDrawCount) and logs it; the lists grow to
     // what a frame needed, up to this. At least kMinTileEntries.
     std::uint32_t maxTileEntries = 1u << 23;
+    // RenderMethod::Cells with cullCells: the bytes per frame slot and record precision up to which
+    // the kept-cell streams (cell_cull.comp's copies of the kept records, their record and range
+    // indices) hold every cell of the frame's culled objects, so that no row can fall back. Past
+    // it (scenes of many instances: 10,000 bunnies at K = 32 would want 5.9 GB) they hold what the
+    // slot's previous frame kept with a quarter to spare, at least this: a row whose kept cells no
+    // longer fit is drawn whole and unculled (the same image, more boxes; BrickCullTotals::
+    // fallbackCells) and the next frames' streams grow to what the frame wanted.
+    std::uint64_t keptStreamBytes = std::uint64_t(256) << 20;
   };
   static constexpr std::uint32_t kMinTileEntries = 64;
   static constexpr std::uint32_t kTileSizes[] = {4, 8, 16};  // the sides Settings::tileSize may take
@@ -179,10 +187,14 @@ class HermiteCellFeature final : public engine::render::RenderFeature {
     bool thinBoxes = false;         // the last frame drew its RenderMethod::Cells objects as thin boxes
     float largestCellPixels = 0.0f; // of those objects: the largest cell's size on screen, pixels
     bool tiles = false;             // the last frame drew its culled RenderMethod::Cells objects as tiles
-    // Settings::cullCells was on but the last frame drew every cell unculled: the kept-cell streams
-    // it needed (worst case: every cell of every culled object) did not fit in GPU memory, the
+    // Settings::cullCells was on but the last frame drew every cell unculled: its frame slot held
+    // no kept-cell streams and not even streams of a few thousand cells fitted in GPU memory, the
     // allocator's budget or one buffer (see reserveCellCulling).
     bool cullingRefused = false;
+    // The kept-cell streams' slots this frame (both precisions) and whether they hold fewer than
+    // the culled objects' cells (Settings::keptStreamBytes): then rows may fall back.
+    std::uint64_t keptSlots = 0;
+    bool keptMayFallBack = false;
   };
 
   HermiteCellFeature();
@@ -255,6 +267,10 @@ class HermiteCellFeature final : public engine::render::RenderFeature {
   void chooseCullingPaths(engine::render::FrameContext& frame, FrameDraws& f);
   std::array<std::uint64_t, 2> culledCells(const FrameDraws& f) const;
   bool reserveCellCulling(std::uint32_t slot, const std::array<std::uint64_t, 2>& cells, std::string& refusal);
+  std::uint64_t wantedKeptSlots(int precision, std::uint64_t cells) const;
+  std::uint64_t heldKeptSlots(std::uint32_t slot, int precision) const;
+  void readKeptDemand(std::uint32_t slot);
+  void addFallbackCommands(std::vector<VkDrawIndirectCommand>& commands, std::vector<shader::HermiteDraw>& draws);
   void dropCellCulling(FrameDraws& f);
   void placeHistory(engine::render::FrameContext& frame);
   static float occlusionDepthMargin(const engine::render::CameraView& camera, VkExtent2D extent);
@@ -265,8 +281,11 @@ class HermiteCellFeature final : public engine::render::RenderFeature {
   void recordPrepassDraws(engine::render::PassContext& pass);
   // countBuffer (at countOffset): a GPU-written count that caps the batch's draws
   // (vkCmdDrawIndirectCount); none by default.
-  void recordBatch(engine::render::PassContext& pass, int precision, bool near, bool late = false,
-                   VkBuffer countBuffer = VK_NULL_HANDLE, VkDeviceSize countOffset = 0);
+  // The lists of a batch (Batch): front faces, near cells (back faces), occlusion culling's phase 2,
+  // and the culled rows that did not fit in the kept streams (drawn unculled).
+  enum class List : std::uint8_t { Front, Near, Late, Fallback };
+  void recordBatch(engine::render::PassContext& pass, int precision, List list, VkBuffer countBuffer = VK_NULL_HANDLE,
+                   VkDeviceSize countOffset = 0);
   void recordWireframe(engine::render::PassContext& pass, int precision);
   void recordIndirect(VkCommandBuffer cmd, const engine::gpu::Pipeline& pipeline, shader::HermitePushConstants push,
                       std::uint32_t frameSlot, std::uint32_t first, std::uint32_t count,
@@ -371,8 +390,9 @@ class HermiteCellFeature final : public engine::render::RenderFeature {
   engine::render::PerFrameBuffer cullTotals_;
   std::vector<engine::gpu::Buffer> keptBricks_;
   // Cell culling (Settings::cullCells): this frame's culled objects and, per record precision, its
-  // ranges (the culled objects' front-face commands) and the kept stream's size; per frame slot and
-  // precision the kept records and their record indices (cell_cull.comp).
+  // ranges (the culled objects' front-face commands), the kept streams' slots (keptCapacity_) and
+  // the slots the last completed frame wanted (keptDemand_); per frame slot and precision the kept
+  // records, their record indices and (for the tiling) their range indices (cell_cull.comp).
   std::unique_ptr<class CellCuller> cellCuller_;
   std::vector<shader::BrickCullObject> cellCullObjects_;
   std::vector<shader::CellCullRange> cellCullRanges_[2];
@@ -380,13 +400,17 @@ class HermiteCellFeature final : public engine::render::RenderFeature {
   // ranges follow them, cell_cull.comp) and how many packs it has: set by recordCellCulling.
   VkDeviceSize cellCullRangeOffsets_[2] = {0, 0};
   std::uint32_t cellCullPackCounts_[2] = {0, 0};
-  std::uint32_t cellCullOutput_[2] = {0, 0};
+  std::uint32_t keptCapacity_[2] = {0, 0};
+  std::uint64_t keptDemand_[2] = {0, 0};
+  bool keptFallback_[2] = {false, false};  // the streams hold fewer slots than the ranges have cells
+  bool keptOverflowLogged_ = false;
   engine::render::PerFrameBuffer cellCullObjectBuffer_;
   engine::render::PerFrameBuffer cellCullRangeBuffer_;
   std::vector<std::array<engine::gpu::Buffer, 2>> keptCellRecords_;
   std::vector<std::array<engine::gpu::Buffer, 2>> keptCellIndices_;
-  // Occlusion culling (Settings::cullOcclusion) this frame: the kept streams hold phase 2's cells
-  // after phase 1's (cellCullOutput_ further on) and the late commands follow the wireframe's.
+  std::vector<std::array<engine::gpu::Buffer, 2>> keptCellRanges_;
+  // Occlusion culling (Settings::cullOcclusion) this frame: phase 2 appends to the same kept
+  // streams and its late commands follow the wireframe's.
   // Per culled object of this frame: its history entry and its first record; the history itself.
   bool occlusion_ = false;
   std::vector<std::pair<engine::ecs::Entity, std::uint64_t>> cellCullEntities_;
