@@ -7,7 +7,8 @@
 // then the normal cone where the object allows it); the kept cells of a range are appended to the
 // kept-cell streams together and in their order within the range (the records whole, so the draws
 // still read them as instance-rate vertex attributes, and each one's record index): one atomic per
-// range claims its slots, and the command's firstInstance and instanceCount say where and how many.
+// workgroup claims its ranges' slots, and each command's firstInstance and instanceCount say where
+// and how many.
 // Within a range the order is kept (a prefix sum) so that boxes whose hits tie at one depth resolve
 // as without culling, and the commands keep the rows' order: same image. The streams are sized from
 // what earlier frames kept, not from every cell of every object (10,000 bunnies at K = 32 would
@@ -39,7 +40,7 @@ layout(buffer_reference, scalar) readonly buffer PyramidRef { float depth[]; };
 layout(push_constant, scalar) uniform Push { CellCullPushConstants pc; };
 
 shared uint keptUpTo[64];  // inclusive prefix sum of the kept flags of one chunk of 64 cells
-shared uint rangeFirst[64];  // per range of a pack: its first slot in the kept streams
+shared uint groupFirst;       // the workgroup's first slot in the kept streams
 shared uint rangeKept[64];   // per range of a pack: its kept cells
 
 const uint kNoRange = 0xffffffffu;  // keptRanges of a hole (cell_tiles.comp skips it)
@@ -164,7 +165,7 @@ uint claimSlots(uint kept) {
 void finishRange(CellCullRange range, uint kept, uint first) {
   CommandsRef commands = CommandsRef(pc.commands);
   uint command = (range.drawCommand + pc.commandOffset) * 4u;
-  bool full = first + kept > pc.keptCapacity;
+  bool full = kept > 0u && first + kept > pc.keptCapacity;  // a range with none needs no slot
   commands.words[command + 1u] = full ? 0u : kept;
   commands.words[command + 3u] = full ? 0u : first;
   TotalsRef totals = TotalsRef(pc.totals);
@@ -184,7 +185,7 @@ void countCulled(uint frustum, uint cone) {
 }
 
 // A pack of short ranges (at most CELL_CULL_PACK_CELLS cells together): a lane per cell, one
-// prefix sum over the pack; each range claims its slots, and its kept cells keep their order.
+// prefix sum over the pack; the pack claims its slots, and each range's kept cells keep their order.
 void cullPack(uint firstRange, uint endRange) {
   uint lane = gl_LocalInvocationID.x;
   uint r = firstRange, start = 0u;
@@ -205,14 +206,15 @@ void cullPack(uint firstRange, uint endRange) {
   uint upTo = inclusivePrefix(kept ? 1u : 0u);  // every lane: the barriers stay uniform
   uint before = inRange && start > 0u ? keptUpTo[start - 1u] : 0u;
   bool last = inRange && i + 1u == range.cellCount;  // the range's last lane: its count is known
-  if (last) {  // a pack's ranges hold >= 1 cell each: at most 64
-    rangeKept[r - firstRange] = upTo - before;
-    rangeFirst[r - firstRange] = claimSlots(upTo - before);
-  }
+  // One claim for the whole pack (its ranges are consecutive, so each range's cells stay together
+  // and in order): a global atomic per workgroup rather than per range.
+  if (lane == 0u) groupFirst = claimSlots(keptUpTo[63]);
+  if (last) rangeKept[r - firstRange] = upTo - before;  // a pack's ranges hold >= 1 cell each: at most 64
   barrier();
-  if (kept) keepCell(range.firstCell + i, r, rangeFirst[r - firstRange], rangeKept[r - firstRange], upTo - before - 1u);
+  uint first = groupFirst + before;
+  if (kept) keepCell(range.firstCell + i, r, first, rangeKept[r - firstRange], upTo - before - 1u);
   countCulled(frustum, cone);
-  if (last) finishRange(range, upTo - before, rangeFirst[r - firstRange]);
+  if (last) finishRange(range, upTo - before, first);
 }
 
 // A range of its own (at most CELL_CULL_MAX_RANGE_CELLS cells), 64 cells at a time, twice: the
@@ -234,9 +236,9 @@ void cullRange(uint rangeIndex) {
   }
   if (verdicts != 0u) atomicAdd(rangeKept[0], uint(bitCount(verdicts)));
   barrier();
-  if (lane == 0u) rangeFirst[0] = claimSlots(rangeKept[0]);
+  if (lane == 0u) groupFirst = claimSlots(rangeKept[0]);
   barrier();
-  uint first = rangeFirst[0], kept = rangeKept[0], written = 0u;
+  uint first = groupFirst, kept = rangeKept[0], written = 0u;
   for (uint chunk = 0u; chunk < chunks; ++chunk) {
     bool keptHere = (verdicts & (1u << chunk)) != 0u;
     uint upTo = inclusivePrefix(keptHere ? 1u : 0u);

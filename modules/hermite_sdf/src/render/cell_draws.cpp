@@ -195,6 +195,12 @@ void HermiteCellFeature::dropCellCulling(FrameDraws& f) {
   cellCullFirstRecord_.clear();
   cellCullCells_.clear();
   tileEntryEstimate_ = 0;
+  for (int precision = 0; precision < 2; ++precision) {  // no fallback commands either
+    keptCapacity_[precision] = 0;
+    keptFallback_[precision] = false;
+  }
+  stats_.keptSlots = 0;
+  stats_.keptMayFallBack = false;
 }
 
 // The stats and culling lists of the previous frame, emptied before this frame's objects fill them.
