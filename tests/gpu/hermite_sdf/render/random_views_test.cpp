@@ -154,17 +154,20 @@ Method randomCellMethod(std::mt19937& rng) {
   s.proxyBoxes = chance(70);
   s.tileSize = 4u << (pick(rng) % 3);
   s.maxRunLength = 1u + std::uint32_t(pick(rng) % 8);
+  // Small kept-cell streams: the first frames' culled rows fall back to unculled draws, which the
+  // later frames' streams (sized by the demand) no longer need.
+  if (chance(30)) s.keptStreamBytes = 4096u * (1u + std::uint32_t(pick(rng) % 64));
   m.subdivisions = 1u + std::uint32_t(pick(rng) % 6);
   m.refineSteps = std::uint32_t(pick(rng) % 4);
   const char* modes[] = {"auto", "on", "off"};
   char label[256];
   std::snprintf(label, sizeof(label),
                 "%s n=%u r=%u%s%s, tiles %s %ux%u, thin %s, early depth %s, front to back %d, cull cells %d bricks %d "
-                "occlusion %d, proxy boxes %d, run length %u",
+                "occlusion %d, proxy boxes %d, run length %u, kept streams %llu KiB",
                 hsdf::renderMethodName(m.method), m.subdivisions, m.refineSteps, m.certified ? " certified" : "",
                 m.half ? " fp16" : "", modes[int(m.tiles)], s.tileSize, s.tileSize, modes[int(m.thin)],
                 modes[int(s.earlyDepth)], int(s.frontToBack), int(s.cullCells), int(s.cullBricks), int(s.cullOcclusion),
-                int(s.proxyBoxes), s.maxRunLength);
+                int(s.proxyBoxes), s.maxRunLength, static_cast<unsigned long long>(s.keptStreamBytes >> 10));
   m.label = label;
   return m;
 }
