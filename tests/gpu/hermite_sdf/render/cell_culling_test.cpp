@@ -224,18 +224,32 @@ TEST_F(HermiteCellsTest, ObjectsOutsideTheViewAreNotDrawn) {
   }
 }
 
-// Instances of `asset` in rows of three facing the camera, 0.6 of the object's extent apart.
-struct Instances {
-  ecs::Registry& registry;
-  std::shared_ptr<const hsdf::SdfAsset> asset;
-  int count = 0;
-  void add(int more) {
-    const float extent = float(glm::length(asset->surfaceBounds.size()));
-    for (int i = 0; i < more; ++i, ++count)
-      addSdf(registry, asset, hsdf::RenderMethod::Cells,
-             glm::translate(glm::mat4(1.0f), glm::vec3(float(count % 3 - 1) * 0.6f * extent,
-                                                       float(count / 3) * 0.6f * extent, 0.0f)));
+// The kept streams' tests: a cell renderer with instances of the bunny at K = 32 in rows of three
+// facing the camera, 0.6 of the object's extent apart (three to start with), and that camera.
+class KeptStreamsTest : public HermiteCellsTest {
+ protected:
+  void startBunnies() {
+    registry_ = ecs::Registry{};
+    renderer_.reset();
+    instances_ = 0;
+    createCellRenderer(kSize, kSize);
+    feature_ = renderer_->feature<hsdf::HermiteCellFeature>();
+    asset_ = bakeAsset("bunny", 32);
+    ASSERT_NE(asset_, nullptr);
+    addBunnies(3);
+    camera_ = orbitCamera(*asset_, 1, 3.0f);
   }
+  void addBunnies(int more) {
+    const float extent = float(glm::length(asset_->surfaceBounds.size()));
+    for (int i = 0; i < more; ++i, ++instances_)
+      addSdf(registry_, asset_, hsdf::RenderMethod::Cells,
+             glm::translate(glm::mat4(1.0f), glm::vec3(float(instances_ % 3 - 1) * 0.6f * extent,
+                                                       float(instances_ / 3) * 0.6f * extent, 0.0f)));
+  }
+  hsdf::HermiteCellFeature* feature_ = nullptr;
+  std::shared_ptr<const hsdf::SdfAsset> asset_;
+  render::CameraView camera_;
+  int instances_ = 0;
 };
 
 // Why: the kept-cell streams hold every cell of every culled object only up to
@@ -248,7 +262,7 @@ struct Instances {
 // phase appends to the same streams and draws the fallbacks again) and with tiles (which must skip
 // the holes that a row that did not fit leaves in the streams). A mutant that drops the fallback
 // draw loses the rows; one that grows nothing keeps falling back.
-TEST_F(HermiteCellsTest, KeptCellsPastTheStreamsDrawTheirRowsUnculled) {
+TEST_F(KeptStreamsTest, KeptCellsPastTheStreamsDrawTheirRowsUnculled) {
   using Tiles = hsdf::HermiteCellFeature::Tiles;
   struct Mode {
     const char* name;
@@ -258,15 +272,9 @@ TEST_F(HermiteCellsTest, KeptCellsPastTheStreamsDrawTheirRowsUnculled) {
   for (const Mode mode : {Mode{"boxes", Tiles::Off, false}, Mode{"occlusion culling", Tiles::Off, true},
                           Mode{"tiles", Tiles::On, false}}) {
     SCOPED_TRACE(mode.name);
-    registry_ = ecs::Registry{};
-    renderer_.reset();
-    createCellRenderer(kSize, kSize);
-    auto* feature = renderer_->feature<hsdf::HermiteCellFeature>();
-    const auto asset = bakeAsset("bunny", 32);
-    ASSERT_NE(asset, nullptr);
-    Instances instances{registry_, asset};
-    instances.add(3);
-    const render::CameraView camera = orbitCamera(*asset, 1, 3.0f);
+    startBunnies();
+    auto* feature = feature_;
+    const render::CameraView camera = camera_;
     hsdf::HermiteCellFeature::Settings& settings = feature->settings();
     settings.tiles = mode.tiles;
     settings.cullOcclusion = mode.occlusion;
@@ -323,7 +331,7 @@ TEST_F(HermiteCellsTest, KeptCellsPastTheStreamsDrawTheirRowsUnculled) {
     // occlusion culling: it keeps only the visible cells, and the instances hide each other, so its
     // demand stays within the streams the first frames made.)
     if (mode.occlusion) continue;
-    instances.add(6);
+    addBunnies(6);
     for (int slot = 0; slot < 2; ++slot) (void)renderWith(camera, DEBUG_VIEW_NONE);
     gpu::Allocator& allocator = context_->allocator();
     allocator.setBudget(allocator.stats().usedBytes + 16384);
@@ -345,14 +353,10 @@ TEST_F(HermiteCellsTest, KeptCellsPastTheStreamsDrawTheirRowsUnculled) {
 // buffer, the frame must not fail: it draws every cell unculled, the image of culling off, says so
 // in its stats, and culls again once the streams fit (before the kept streams were sized by the
 // demand, every frame of 10,000 bunnies failed this way).
-TEST_F(HermiteCellsTest, CullingThatDoesNotFitDrawsEveryCellInstead) {
-  createCellRenderer(kSize, kSize);
-  auto* feature = renderer_->feature<hsdf::HermiteCellFeature>();
-  const auto asset = bakeAsset("bunny", 32);
-  ASSERT_NE(asset, nullptr);
-  Instances instances{registry_, asset};
-  instances.add(3);
-  const render::CameraView camera = orbitCamera(*asset, 1, 3.0f);
+TEST_F(KeptStreamsTest, CullingThatDoesNotFitDrawsEveryCellInstead) {
+  startBunnies();
+  auto* feature = feature_;
+  const render::CameraView camera = camera_;
   feature->settings().tiles = hsdf::HermiteCellFeature::Tiles::Off;
   feature->settings().cullCells = false;
   const Frame all = renderWith(camera, DEBUG_VIEW_NONE);
@@ -361,7 +365,7 @@ TEST_F(HermiteCellsTest, CullingThatDoesNotFitDrawsEveryCellInstead) {
   feature->settings().cullCells = true;
   // Room for the asset's cell cones (uploaded by the first culled frame) and 64 KiB more: the
   // least streams need 4,096 slots of 144 bytes.
-  const std::uint64_t cones = asset->cells.records.size() * sizeof(shader::CellBrickCone);
+  const std::uint64_t cones = asset_->cells.records.size() * sizeof(shader::CellBrickCone);
   gpu::Allocator& allocator = context_->allocator();
   allocator.setBudget(allocator.stats().usedBytes + cones + 65536);
   renderer_->renderFrame(registry_, camera, render::FrameSettings{});
