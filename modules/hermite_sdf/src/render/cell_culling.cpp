@@ -94,9 +94,8 @@ std::uint64_t HermiteCellFeature::heldKeptSlots(std::uint32_t slot, int precisio
 // cell unculled instead of failing.
 bool HermiteCellFeature::reserveCellCulling(std::uint32_t slot, const std::array<std::uint64_t, 2>& cells,
                                             std::string& refusal) {
+  clearKeptStreams();
   for (int precision = 0; precision < 2; ++precision) {
-    keptCapacity_[precision] = 0;
-    keptFallback_[precision] = false;
     if (cells[precision] == 0) continue;
     if (cells[precision] > std::numeric_limits<std::uint32_t>::max()) {
       refusal = fmt::format("{} cells to cull, more than a 32-bit instance index reaches", cells[precision]);

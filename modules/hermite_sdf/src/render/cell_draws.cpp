@@ -65,6 +65,22 @@ glm::vec4 unite(const glm::vec4& a, const glm::vec4& b) {
   return {std::min(a.x, b.x), std::min(a.y, b.y), std::max(a.z, b.z), std::max(a.w, b.w)};
 }
 
+// The `count` commands from `first` (a batch's front list) again at the end of `commands`, each
+// changed by `change`, with their draws: the wireframe's, the fallback's and phase 2's lists.
+// Returns where the copy starts.
+template <class Change>
+std::uint32_t appendCopies(std::vector<VkDrawIndirectCommand>& commands, std::vector<shader::HermiteDraw>& draws,
+                           std::uint32_t first, std::uint32_t count, Change change) {
+  const auto start = static_cast<std::uint32_t>(commands.size());
+  for (std::uint32_t i = 0; i < count; ++i) {
+    VkDrawIndirectCommand copy = commands[first + i];
+    change(copy);
+    commands.push_back(copy);
+    draws.push_back(draws[first + i]);
+  }
+  return start;
+}
+
 }  // namespace
 
 // One frame's draws while buildDraws gathers them, object by object.
@@ -195,7 +211,12 @@ void HermiteCellFeature::dropCellCulling(FrameDraws& f) {
   cellCullFirstRecord_.clear();
   cellCullCells_.clear();
   tileEntryEstimate_ = 0;
-  for (int precision = 0; precision < 2; ++precision) {  // no fallback commands either
+  clearKeptStreams();  // no fallback commands either
+}
+
+// No kept streams this frame (until reserveCellCulling sizes them): no slots, no fallback commands.
+void HermiteCellFeature::clearKeptStreams() {
+  for (int precision = 0; precision < 2; ++precision) {
     keptCapacity_[precision] = 0;
     keptFallback_[precision] = false;
   }
@@ -215,10 +236,9 @@ void HermiteCellFeature::resetDraws() {
   cellCullCells_.clear();
   for (int precision = 0; precision < 2; ++precision) {
     cellCullRanges_[precision].clear();
-    keptCapacity_[precision] = 0;
-    keptFallback_[precision] = false;
     batches_[precision]->fallbackCount = 0;
   }
+  clearKeptStreams();
   stats_.gpuBytes = buffers_->bytes;
   tileEntryEstimate_ = 0;
   screenRect_ = glm::vec4(1.0f, 1.0f, -1.0f, -1.0f);  // empty until an object is drawn
@@ -405,13 +425,8 @@ void HermiteCellFeature::addWireCommands(std::vector<VkDrawIndirectCommand>& all
                                          std::vector<shader::HermiteDraw>& allDraws) {
   for (int precision = 0; precision < 2; ++precision) {
     Batch& batch = *batches_[precision];
-    batch.wireFirst = static_cast<std::uint32_t>(allCommands.size());
-    for (std::uint32_t i = 0; i < batch.frontCount; ++i) {
-      VkDrawIndirectCommand wire = allCommands[batch.frontFirst + i];
-      wire.vertexCount = kWireVertices;
-      allCommands.push_back(wire);
-      allDraws.push_back(allDraws[batch.frontFirst + i]);
-    }
+    batch.wireFirst = appendCopies(allCommands, allDraws, batch.frontFirst, batch.frontCount,
+                                   [](VkDrawIndirectCommand& wire) { wire.vertexCount = kWireVertices; });
   }
 }
 
@@ -477,14 +492,9 @@ void HermiteCellFeature::addFallbackCommands(std::vector<VkDrawIndirectCommand>&
                                              std::vector<shader::HermiteDraw>& draws) {
   for (int precision = 0; precision < 2; ++precision) {
     Batch& batch = *batches_[precision];
-    batch.fallbackFirst = static_cast<std::uint32_t>(commands.size());
     batch.fallbackCount = keptFallback_[precision] ? batch.frontCount : 0;
-    for (std::uint32_t i = 0; i < batch.fallbackCount; ++i) {
-      VkDrawIndirectCommand fallback = commands[batch.frontFirst + i];
-      fallback.instanceCount = 0;
-      commands.push_back(fallback);
-      draws.push_back(draws[batch.frontFirst + i]);
-    }
+    batch.fallbackFirst = appendCopies(commands, draws, batch.frontFirst, batch.fallbackCount,
+                                       [](VkDrawIndirectCommand& fallback) { fallback.instanceCount = 0; });
   }
 }
 
@@ -505,11 +515,8 @@ void HermiteCellFeature::addLateCommands(std::vector<VkDrawIndirectCommand>& com
                                          std::vector<shader::HermiteDraw>& draws) {
   for (int precision = 0; precision < 2; ++precision) {
     Batch& batch = *batches_[precision];
-    batch.lateFirst = static_cast<std::uint32_t>(commands.size());
-    for (std::uint32_t i = 0; i < batch.frontCount; ++i) {
-      commands.push_back(commands[batch.frontFirst + i]);
-      draws.push_back(draws[batch.frontFirst + i]);
-    }
+    batch.lateFirst =
+        appendCopies(commands, draws, batch.frontFirst, batch.frontCount, [](VkDrawIndirectCommand&) {});
   }
 }
 

@@ -269,6 +269,7 @@ class HermiteCellFeature final : public engine::render::RenderFeature {
   bool reserveCellCulling(std::uint32_t slot, const std::array<std::uint64_t, 2>& cells, std::string& refusal);
   std::uint64_t wantedKeptSlots(int precision, std::uint64_t cells) const;
   std::uint64_t heldKeptSlots(std::uint32_t slot, int precision) const;
+  void clearKeptStreams();
   void readKeptDemand(std::uint32_t slot);
   void addFallbackCommands(std::vector<VkDrawIndirectCommand>& commands, std::vector<shader::HermiteDraw>& draws);
   void dropCellCulling(FrameDraws& f);
