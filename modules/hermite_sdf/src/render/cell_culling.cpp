@@ -87,6 +87,29 @@ std::uint64_t HermiteCellFeature::heldKeptSlots(std::uint32_t slot, int precisio
   return std::min({records.size() / kRecordStride[precision], indices.size() / 4, ranges.size() / 4});
 }
 
+// Releases this slot's kept-cell streams of a precision that have held far more than the slot's
+// frames wanted (`wanted` slots this frame, 0 when it culls none of that precision) for
+// Settings::keptStreamShrinkFrames of its frames in a row: more than four times as many slots and
+// more than keptStreamBytes, or any while nothing is wanted. reserveCellCulling then makes them at
+// this frame's size. The slot's last submission is complete, so its streams are free to go.
+void HermiteCellFeature::releaseUnneededKeptStreams(std::uint32_t slot, const std::array<std::uint64_t, 2>& wanted) {
+  for (int precision = 0; precision < 2; ++precision) {
+    const std::uint64_t held = heldKeptSlots(slot, precision);
+    const bool oversized = wanted[precision] == 0
+                               ? keptCellRecords_[slot][precision] || keptCellIndices_[slot][precision] ||
+                                     keptCellRanges_[slot][precision]
+                               : held * keptSlotBytes(precision) > settings_.keptStreamBytes &&
+                                     held / 4 > wanted[precision];
+    std::uint32_t& frames = keptOversizedFrames_[slot][precision];
+    frames = oversized ? frames + 1 : 0;
+    if (frames < std::max<std::uint32_t>(settings_.keptStreamShrinkFrames, 1)) continue;
+    frames = 0;
+    keptCellRecords_[slot][precision] = Buffer{};
+    keptCellIndices_[slot][precision] = Buffer{};
+    keptCellRanges_[slot][precision] = Buffer{};
+  }
+}
+
 // Makes this slot's kept-cell streams for the frame's culled objects before their commands are
 // written (wantedKeptSlots; halved while GPU memory, the allocator's budget or one buffer refuses
 // them, down to the streams the slot already holds: rows that do not fit then fall back). False,

@@ -161,7 +161,13 @@ void HermiteCellFeature::chooseCullingPaths(engine::render::FrameContext& frame,
   occlusion_ = culling && settings_.cullOcclusion && !tiles_;
   std::string refusal;
   if (culling) readKeptDemand(frame.frameSlot);
-  const bool refused = culling && !reserveCellCulling(frame.frameSlot, culledCells(f), refusal);
+  const std::array<std::uint64_t, 2> cells = culling ? culledCells(f) : std::array<std::uint64_t, 2>{0, 0};
+  releaseUnneededKeptStreams(frame.frameSlot, {wantedKeptSlots(0, cells[0]), wantedKeptSlots(1, cells[1])});
+  const bool refused = culling && !reserveCellCulling(frame.frameSlot, cells, refusal);
+  stats_.keptStreamBytesHeld = 0;
+  for (const auto* streams : {&keptCellRecords_, &keptCellIndices_, &keptCellRanges_})
+    for (const auto& slotStreams : *streams)
+      for (const Buffer& buffer : slotStreams) stats_.keptStreamBytesHeld += buffer ? buffer.size() : 0;
   if (refused) {
     dropCellCulling(f);
     tiles_ = occlusion_ = false;

@@ -70,6 +70,7 @@ engine::Status HermiteCellFeature::initialize(const engine::gpu::Context& contex
   keptCellRecords_.resize(framesInFlight);
   keptCellIndices_.resize(framesInFlight);
   keptCellRanges_.resize(framesInFlight);
+  keptOversizedFrames_.assign(framesInFlight, {0, 0});
   history_ = std::make_unique<CellHistory>();
   frameSlots_ = framesInFlight;
   ENGINE_TRY_ASSIGN(auto cellCuller, CellCuller::create(context));
@@ -405,6 +406,8 @@ void HermiteCellFeature::drawUi() {
   if (stats_.keptMayFallBack)
     ImGui::Text("kept-cell streams: %llu slots, sized by recent frames (rows past them drawn unculled)",
                 static_cast<unsigned long long>(stats_.keptSlots));
+  if (stats_.keptStreamBytesHeld > 0)
+    ImGui::Text("kept-cell streams held: %.2f MiB", double(stats_.keptStreamBytesHeld) / (1024.0 * 1024.0));
 }
 
 }  // namespace hsdf

@@ -232,6 +232,7 @@ class KeptStreamsTest : public HermiteCellsTest {
     registry_ = ecs::Registry{};
     renderer_.reset();
     instances_ = 0;
+    bunnies_.clear();
     createCellRenderer(kSize, kSize);
     feature_ = renderer_->feature<hsdf::HermiteCellFeature>();
     asset_ = bakeAsset("bunny", 32);
@@ -242,10 +243,11 @@ class KeptStreamsTest : public HermiteCellsTest {
   void addBunnies(int more) {
     const float extent = float(glm::length(asset_->surfaceBounds.size()));
     for (int i = 0; i < more; ++i, ++instances_)
-      addSdf(registry_, asset_, hsdf::RenderMethod::Cells,
-             glm::translate(glm::mat4(1.0f), glm::vec3(float(instances_ % 3 - 1) * 0.6f * extent,
-                                                       float(instances_ / 3) * 0.6f * extent, 0.0f)));
+      bunnies_.push_back(addSdf(registry_, asset_, hsdf::RenderMethod::Cells,
+                                glm::translate(glm::mat4(1.0f), glm::vec3(float(instances_ % 3 - 1) * 0.6f * extent,
+                                                                          float(instances_ / 3) * 0.6f * extent, 0.0f))));
   }
+  std::vector<ecs::Entity> bunnies_;
   hsdf::HermiteCellFeature* feature_ = nullptr;
   std::shared_ptr<const hsdf::SdfAsset> asset_;
   render::CameraView camera_;
@@ -379,6 +381,51 @@ TEST_F(KeptStreamsTest, CullingThatDoesNotFitDrawsEveryCellInstead) {
   EXPECT_FALSE(feature->stats().cullingRefused);
   EXPECT_GT(feature->cullTotals().tested, 0u);
   EXPECT_TRUE(all.depth == culled.depth) << "culling changed the depth";
+}
+
+// Why: streams sized by the demand grow with the scene; were that all, one look at a large scene
+// (the whole 10,000-bunny grid holds 9 GB of streams) would keep its memory for the rest of the run.
+// Streams far larger than their frames want, or held while nothing is culled, must be released
+// after Settings::keptStreamShrinkFrames of the slot's frames in a row, and not before (a camera
+// swinging back and forth must not reallocate them every frame); the frames after the release
+// must draw the same image. A mutant that never releases keeps the nine bunnies' streams.
+TEST_F(KeptStreamsTest, StreamsFarLargerThanTheFramesWantAreReleased) {
+  startBunnies();
+  auto* feature = feature_;
+  hsdf::HermiteCellFeature::Settings& settings = feature->settings();
+  settings.tiles = hsdf::HermiteCellFeature::Tiles::Off;
+  settings.cullCells = true;
+  settings.keptStreamBytes = 64 << 10;  // 450 fp32 slots: the streams are sized by the demand
+  addBunnies(6);
+  const auto render = [&] { return renderWith(camera_, DEBUG_VIEW_NONE); };
+  // Until both frame slots' streams hold what their frames keep.
+  for (int frame = 0; frame < 6; ++frame) (void)render();
+  ASSERT_EQ(feature->cullTotals().fallbackCells, 0u);
+  const std::uint64_t nine = feature->stats().keptStreamBytesHeld;
+  ASSERT_GT(nine, 2 * settings.keptStreamBytes);
+  // One bunny left (the middle one of the first row, in the camera's centre).
+  for (std::size_t i = 0; i < bunnies_.size(); ++i) {
+    if (i == 1) continue;
+    ASSERT_TRUE(registry_.destroy(bunnies_[i]));
+  }
+  for (int frame = 0; frame < 10; ++frame) (void)render();
+  EXPECT_EQ(feature->stats().keptStreamBytesHeld, nine) << "released before keptStreamShrinkFrames (120) frames";
+  settings.keptStreamShrinkFrames = 3;
+  Frame shrunk;
+  for (int frame = 0; frame < 10 && feature->stats().keptStreamBytesHeld >= nine / 2; ++frame) shrunk = render();
+  const std::uint64_t one = feature->stats().keptStreamBytesHeld;
+  EXPECT_LT(one, nine / 2) << "the nine bunnies' streams were kept for one bunny";
+  EXPECT_GT(one, 0u);
+  shrunk = render();  // a frame drawn into the streams made at one bunny's size
+  EXPECT_EQ(feature->cullTotals().fallbackCells, 0u);
+  // Culling off: nothing is culled, so nothing is kept.
+  settings.cullCells = false;
+  Frame unculled;
+  for (int frame = 0; frame < 10 && feature->stats().keptStreamBytesHeld > 0; ++frame) unculled = render();
+  EXPECT_EQ(feature->stats().keptStreamBytesHeld, 0u) << "streams held while nothing is culled";
+  ASSERT_GT(std::count_if(unculled.depth.begin(), unculled.depth.end(), [](float d) { return d > 0.0f; }), 1000);
+  EXPECT_TRUE(unculled.depth == shrunk.depth) << "culling into the released and remade streams changed the depth";
+  EXPECT_TRUE(unculled.rgba == shrunk.rgba) << "culling into the released and remade streams changed the colour";
 }
 
 // Why: occlusion culling draws in two phases what one pass drew: a cell missing from both (a wrong

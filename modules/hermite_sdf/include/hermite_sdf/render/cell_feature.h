@@ -166,6 +166,13 @@ class HermiteCellFeature final : public engine::render::RenderFeature {
     // longer fit is drawn whole and unculled (the same image, more boxes; BrickCullTotals::
     // fallbackCells) and the next frames' streams grow to what the frame wanted.
     std::uint64_t keptStreamBytes = std::uint64_t(256) << 20;
+    // The kept-cell streams give memory back: a frame slot's streams of a precision larger than
+    // keptStreamBytes and more than four times what its frames want (a smaller scene, objects out
+    // of view, a lower K), or any streams while the slot culls no cell of that precision (culling
+    // off, a tracer), are released after this many of the slot's frames in a row, and the next
+    // frame that culls makes them at its size. Streams otherwise only grow: a camera that swings
+    // back and forth does not reallocate every frame.
+    std::uint32_t keptStreamShrinkFrames = 120;
   };
   static constexpr std::uint32_t kMinTileEntries = 64;
   static constexpr std::uint32_t kTileSizes[] = {4, 8, 16};  // the sides Settings::tileSize may take
@@ -195,6 +202,8 @@ class HermiteCellFeature final : public engine::render::RenderFeature {
     // the culled objects' cells (Settings::keptStreamBytes): then rows may fall back.
     std::uint64_t keptSlots = 0;
     bool keptMayFallBack = false;
+    // The bytes every frame slot's kept-cell streams hold (Settings::keptStreamShrinkFrames).
+    std::uint64_t keptStreamBytesHeld = 0;
   };
 
   HermiteCellFeature();
@@ -270,6 +279,7 @@ class HermiteCellFeature final : public engine::render::RenderFeature {
   std::uint64_t wantedKeptSlots(int precision, std::uint64_t cells) const;
   std::uint64_t heldKeptSlots(std::uint32_t slot, int precision) const;
   void clearKeptStreams();
+  void releaseUnneededKeptStreams(std::uint32_t slot, const std::array<std::uint64_t, 2>& wanted);
   void readKeptDemand(std::uint32_t slot);
   void addFallbackCommands(std::vector<VkDrawIndirectCommand>& commands, std::vector<shader::HermiteDraw>& draws);
   void dropCellCulling(FrameDraws& f);
@@ -410,6 +420,9 @@ class HermiteCellFeature final : public engine::render::RenderFeature {
   std::vector<std::array<engine::gpu::Buffer, 2>> keptCellRecords_;
   std::vector<std::array<engine::gpu::Buffer, 2>> keptCellIndices_;
   std::vector<std::array<engine::gpu::Buffer, 2>> keptCellRanges_;
+  // Per frame slot and precision: the slot's frames in a row whose streams were more than they
+  // wanted (Settings::keptStreamShrinkFrames).
+  std::vector<std::array<std::uint32_t, 2>> keptOversizedFrames_;
   // Occlusion culling (Settings::cullOcclusion) this frame: phase 2 appends to the same kept
   // streams and its late commands follow the wireframe's.
   // Per culled object of this frame: its history entry and its first record; the history itself.
