@@ -70,9 +70,12 @@ engine::Status readInt(const json& value, IntRange range, int& out) {
 
 engine::Status readFloat(const json& value, float lo, float hi, float& out) {
   if (!value.is_number()) return engine::makeError(fmt::format("expected a number, got {}", value.dump()));
+  // Compared as the float it is stored as: the bounds are floats, and 0.05 written in a file is a
+  // hair below 0.05f as a double, so a bound the message names would be refused.
   const double v = value.get<double>();
-  if (!(v >= double(lo) && v <= double(hi))) return engine::makeError(fmt::format("{} is outside {}..{}", v, lo, hi));
-  out = float(v);
+  const float f = float(v);
+  if (!(f >= lo && f <= hi)) return engine::makeError(fmt::format("{} is outside {}..{}", v, lo, hi));
+  out = f;
   return {};
 }
 

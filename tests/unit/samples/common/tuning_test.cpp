@@ -4,6 +4,8 @@
 
 #include <filesystem>
 
+#include <fmt/format.h>
+
 #include "engine/core/files.h"
 #include "tuning.h"
 
@@ -240,6 +242,39 @@ TEST(Tuning, CompareTuningFollowsTheRuleOfThumb) {
   t.split = SplitMode::Off;
   t.difference = true;
   EXPECT_TRUE(comparing(t));
+}
+
+// Tricky: a float setting's bounds are floats (0.05f is a hair above the double 0.05), so the
+// bounds the error message names, written in a file or a script, were refused: every float key
+// must take both ends of its range as text and as JSON, and refuse the next value out.
+TEST(Tuning, FloatSettingsTakeTheBoundsTheirMessagesName) {
+  struct Case {
+    const char* key;
+    const char* lo;
+    const char* hi;
+    const char* below;
+    const char* above;
+  };
+  const Case cases[] = {{"split_position", "0.05", "0.95", "0.049", "0.951"},
+                        {"lod_pixels_per_cell", "0.25", "64", "0.249", "64.01"},
+                        {"trace_epsilon", "1e-6", "0.1", "9e-7", "0.101"},
+                        {"central_difference_step", "0.01", "1", "0.0099", "1.001"}};
+  for (const Case& c : cases) {
+    for (const char* value : {c.lo, c.hi}) {
+      TuningState t;
+      EXPECT_TRUE(setTuningValue(t, c.key, value).ok()) << c.key << "=" << value;
+      const auto file = tempFile("bounds.json");
+      ASSERT_TRUE(engine::writeTextFile(file, fmt::format(R"({{"{}": {}}})", c.key, value)).ok());
+      const auto loaded = loadTuning(file);
+      EXPECT_TRUE(loaded.ok()) << c.key << ": " << value << ": " << (loaded.ok() ? "" : loaded.error().message);
+    }
+    for (const char* value : {c.below, c.above}) {
+      TuningState t;
+      const engine::Status status = setTuningValue(t, c.key, value);
+      ASSERT_FALSE(status.ok()) << c.key << "=" << value;
+      EXPECT_TRUE(contains(status.error().message, "is outside")) << status.error().message;
+    }
+  }
 }
 
 // Tricky: script values arrive as text: "32" must become a number, "true" a bool and "cells" a
