@@ -164,6 +164,9 @@ void HermiteCellFeature::chooseCullingPaths(engine::render::FrameContext& frame,
   const std::array<std::uint64_t, 2> cells = culling ? culledCells(f) : std::array<std::uint64_t, 2>{0, 0};
   releaseUnneededKeptStreams(frame.frameSlot, {wantedKeptSlots(0, cells[0]), wantedKeptSlots(1, cells[1])});
   const bool refused = culling && !reserveCellCulling(frame.frameSlot, cells, refusal);
+  // The cells whose kept share this slot's totals will hold once the frame is done (none without
+  // a culling pass: its totals then say nothing about this frame).
+  keptCulledCells_[frame.frameSlot] = refused ? std::array<std::uint64_t, 2>{0, 0} : cells;
   stats_.keptStreamBytesHeld = 0;
   for (const auto* streams : {&keptCellRecords_, &keptCellIndices_, &keptCellRanges_})
     for (const auto& slotStreams : *streams)

@@ -71,6 +71,7 @@ engine::Status HermiteCellFeature::initialize(const engine::gpu::Context& contex
   keptCellIndices_.resize(framesInFlight);
   keptCellRanges_.resize(framesInFlight);
   keptOversizedFrames_.assign(framesInFlight, {0, 0});
+  keptCulledCells_.assign(framesInFlight, {0, 0});
   history_ = std::make_unique<CellHistory>();
   frameSlots_ = framesInFlight;
   ENGINE_TRY_ASSIGN(auto cellCuller, CellCuller::create(context));

@@ -241,11 +241,14 @@ class KeptStreamsTest : public HermiteCellsTest {
     camera_ = orbitCamera(*asset_, 1, 3.0f);
   }
   void addBunnies(int more) {
+    for (int i = 0; i < more; ++i, ++instances_) bunnies_.push_back(addBunnyAt(instances_));
+  }
+  // The i-th place of the rows (another bunny there overlaps the one placed first).
+  ecs::Entity addBunnyAt(int i) {
     const float extent = float(glm::length(asset_->surfaceBounds.size()));
-    for (int i = 0; i < more; ++i, ++instances_)
-      bunnies_.push_back(addSdf(registry_, asset_, hsdf::RenderMethod::Cells,
-                                glm::translate(glm::mat4(1.0f), glm::vec3(float(instances_ % 3 - 1) * 0.6f * extent,
-                                                                          float(instances_ / 3) * 0.6f * extent, 0.0f))));
+    return addSdf(registry_, asset_, hsdf::RenderMethod::Cells,
+                  glm::translate(glm::mat4(1.0f), glm::vec3(float(i % 3 - 1) * 0.6f * extent,
+                                                            float(i / 3) * 0.6f * extent, 0.0f)));
   }
   std::vector<ecs::Entity> bunnies_;
   hsdf::HermiteCellFeature* feature_ = nullptr;
@@ -256,14 +259,17 @@ class KeptStreamsTest : public HermiteCellsTest {
 
 // Why: the kept-cell streams hold every cell of every culled object only up to
 // Settings::keptStreamBytes; past it (scenes of many instances: 10,000 bunnies at K = 32 would need
-// 5.9 GB per frame slot) they are sized by what the slot's last frame kept, so a frame can keep
-// more than they hold: the first frame of a larger scene, or one whose streams the allocator's
-// budget stops from growing. Such a frame must not lose a cell: each row whose kept cells do not
-// fit is drawn whole and unculled (its fallback command), the image of culling off, and the next
-// frames' streams grow to what the frame wanted. With boxes, with occlusion culling (whose second
-// phase appends to the same streams and draws the fallbacks again) and with tiles (which must skip
-// the holes that a row that did not fit leaves in the streams). A mutant that drops the fallback
-// draw loses the rows; one that grows nothing keeps falling back.
+// 5.9 GB per frame slot) they are sized by the share of its culled cells the slot's last frame
+// kept, so a frame can keep more than they hold: a view that keeps a larger share than the last
+// one (here: the camera pulls back from close to one bunny, where the frustum culled most cells), or
+// a frame whose streams the allocator's budget stops from growing. Such a frame must not lose a
+// cell: each row whose kept cells do not fit is drawn whole and unculled (its fallback command),
+// the image of culling off, and the next frames' streams grow to what the frame wanted. With
+// boxes, with occlusion culling (whose second phase appends to the same streams and draws the
+// fallbacks again) and with tiles (which must skip the holes that a row that did not fit leaves in
+// the streams). A mutant that drops the fallback draw loses the rows; one that grows nothing keeps
+// falling back; one that sizes by the last frame's count instead of its share falls back on the
+// first frame of three times the instances.
 TEST_F(KeptStreamsTest, KeptCellsPastTheStreamsDrawTheirRowsUnculled) {
   using Tiles = hsdf::HermiteCellFeature::Tiles;
   struct Mode {
@@ -306,13 +312,24 @@ TEST_F(KeptStreamsTest, KeptCellsPastTheStreamsDrawTheirRowsUnculled) {
         EXPECT_TRUE(want.rgba == got.rgba) << what << " changed the colour";
       }
     };
-    // The first culled frame: the streams know no demand yet.
+    // Two frames (one per frame slot) close to the middle bunny with a narrow field of view: one
+    // object in view, most of its cells outside the frustum, so the slots learn a small kept share
+    // and make streams for one bunny.
+    const glm::vec3 centre = glm::vec3(asset_->surfaceBounds.center());
+    const render::CameraView close = render::CameraView::lookAt(orbitCamera(*asset_, 0, 0.3f).position, centre,
+                                                                0.3f, camera.znear, 1.0f);
+    for (int slot = 0; slot < 2; ++slot) (void)renderWith(close, DEBUG_VIEW_NONE);
+    ASSERT_EQ(feature->stats().objects, 1u);
+    const shader::BrickCullTotals closeTotals = feature->cullTotals();
+    ASSERT_LT(closeTotals.keptSlots[0] * 4, feature->stats().cells) << "the close view keeps a large share";
+    // Pulled back, every bunny in view keeps a larger share than the streams were sized for.
     const Frame first = renderWith(camera, DEBUG_VIEW_NONE);
     EXPECT_TRUE(feature->stats().keptMayFallBack);
     EXPECT_EQ(feature->stats().tiles, mode.tiles == Tiles::On);
     EXPECT_FALSE(feature->stats().cullingRefused);
     const shader::BrickCullTotals firstTotals = feature->cullTotals();
-    EXPECT_GT(firstTotals.fallbackCells, 0u) << "the first frame's kept cells fit in 450 slots";
+    EXPECT_GT(firstTotals.fallbackCells, 0u) << "the pulled-back frame's kept cells fit in the streams sized from "
+                                             << closeTotals.keptSlots[0] << " kept cells close to one bunny";
     EXPECT_GT(firstTotals.keptSlots[0] + firstTotals.keptSlots[1], feature->stats().keptSlots);
     // The streams grow to what the frames want (each frame slot learns from its own last frame).
     Frame steady;
@@ -324,19 +341,31 @@ TEST_F(KeptStreamsTest, KeptCellsPastTheStreamsDrawTheirRowsUnculled) {
     EXPECT_LT(frames, 4) << "the streams never grew to what the frames kept";
     EXPECT_GE(feature->stats().keptSlots, feature->cullTotals().keptSlots[0]);
     Frame want = reference();
-    expectSame(want, first, "the first frame's fallback rows");
+    expectSame(want, first, "the pulled-back frame's fallback rows");
     expectSame(want, steady, "culling with streams sized by the demand");
+    for (int slot = 0; slot < 2; ++slot) (void)renderWith(camera, DEBUG_VIEW_NONE);  // both slots sized again
 
-    // Three times the instances; after two frames (one per frame slot) the slots know the larger
-    // demand, but the budget stops their streams from growing: the frame culls into the streams it
-    // has and draws the rows past them unculled, rather than turning culling off. (Not with
-    // occlusion culling: it keeps only the visible cells, and the instances hide each other, so its
-    // demand stays within the streams the first frames made.)
-    if (mode.occlusion) continue;
+    // Three times the instances: the streams are sized by the share kept, so the first frame of
+    // the larger scene fits (not with occlusion culling: its share falls as the instances hide
+    // each other, and is not what this checks).
     addBunnies(6);
+    if (!mode.occlusion) {
+      (void)renderWith(camera, DEBUG_VIEW_NONE);
+      EXPECT_EQ(feature->cullTotals().fallbackCells, 0u)
+          << "streams of " << feature->stats().keptSlots << " slots, " << feature->cullTotals().keptSlots[0]
+          << " wanted: sized by the last frame's count rather than its share";
+    }
+    // A second bunny at each of the nine places (twice the kept cells in the same view, the same
+    // image), but the budget stops the streams from growing (room for the frame's other buffers,
+    // not for streams larger than those held): the frame culls into the streams it has and draws
+    // the rows past them unculled, rather than turning culling off. (Not with occlusion culling:
+    // it keeps only the visible cells, and the instances hide each other, so its demand stays
+    // within the streams the first frames made.)
+    if (mode.occlusion) continue;
     for (int slot = 0; slot < 2; ++slot) (void)renderWith(camera, DEBUG_VIEW_NONE);
+    for (int i = 0; i < 9; ++i) addBunnyAt(i);
     gpu::Allocator& allocator = context_->allocator();
-    allocator.setBudget(allocator.stats().usedBytes + 16384);
+    allocator.setBudget(allocator.stats().usedBytes + feature->stats().keptStreamBytesHeld / 8);
     renderer_->renderFrame(registry_, camera, render::FrameSettings{});
     allocator.setBudget(gpu::Allocator::kUnlimited);  // before the read-back's staging buffers
     Frame budgeted = first;

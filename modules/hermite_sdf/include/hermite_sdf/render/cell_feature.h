@@ -161,10 +161,11 @@ class HermiteCellFeature final : public engine::render::RenderFeature {
     // RenderMethod::Cells with cullCells: the bytes per frame slot and record precision up to which
     // the kept-cell streams (cell_cull.comp's copies of the kept records, their record and range
     // indices) hold every cell of the frame's culled objects, so that no row can fall back. Past
-    // it (scenes of many instances: 10,000 bunnies at K = 32 would want 5.9 GB) they hold what the
-    // slot's previous frame kept with a quarter to spare, at least this: a row whose kept cells no
-    // longer fit is drawn whole and unculled (the same image, more boxes; BrickCullTotals::
-    // fallbackCells) and the next frames' streams grow to what the frame wanted.
+    // it (scenes of many instances: 10,000 bunnies at K = 32 would want 5.9 GB) they hold the
+    // frame's culled cells times the share the slot's previous culling frame kept (0.6 before one
+    // has) with a quarter to spare, at least this: a row whose kept cells no longer fit is drawn
+    // whole and unculled (the same image, more boxes; BrickCullTotals::fallbackCells) and the
+    // next frames' streams grow to what the frame wanted.
     std::uint64_t keptStreamBytes = std::uint64_t(256) << 20;
     // The kept-cell streams give memory back: a frame slot's streams of a precision larger than
     // keptStreamBytes and more than four times what its frames want (a smaller scene, objects out
@@ -413,6 +414,10 @@ class HermiteCellFeature final : public engine::render::RenderFeature {
   std::uint32_t cellCullPackCounts_[2] = {0, 0};
   std::uint32_t keptCapacity_[2] = {0, 0};
   std::uint64_t keptDemand_[2] = {0, 0};
+  // The culled objects' cells of the frame keptDemand_ comes from (0: no such frame), and per frame
+  // slot those of its last frame whose culling pass ran (what readKeptDemand pairs with its totals).
+  std::uint64_t keptDemandCells_[2] = {0, 0};
+  std::vector<std::array<std::uint64_t, 2>> keptCulledCells_;
   bool keptFallback_[2] = {false, false};  // the streams hold fewer slots than the ranges have cells
   bool keptOverflowLogged_ = false;
   engine::render::PerFrameBuffer cellCullObjectBuffer_;
