@@ -105,7 +105,7 @@ std::uint64_t HermiteCellFeature::heldKeptSlots(std::uint32_t slot, int precisio
 
 // Releases this slot's kept-cell streams of a precision that have held far more than the slot's
 // frames wanted (`wanted` slots this frame, 0 when it culls none of that precision) for
-// Settings::keptStreamShrinkFrames of its frames in a row: more than four times as many slots and
+// Settings::releaseAfterFrames of its frames in a row: more than four times as many slots and
 // more than keptStreamBytes, or any while nothing is wanted. reserveCellCulling then makes them at
 // this frame's size. The slot's last submission is complete, so its streams are free to go.
 void HermiteCellFeature::releaseUnneededKeptStreams(std::uint32_t slot, const std::array<std::uint64_t, 2>& wanted) {
@@ -118,7 +118,7 @@ void HermiteCellFeature::releaseUnneededKeptStreams(std::uint32_t slot, const st
                                      held / 4 > wanted[precision];
     std::uint32_t& frames = keptOversizedFrames_[slot][precision];
     frames = oversized ? frames + 1 : 0;
-    if (frames < std::max<std::uint32_t>(settings_.keptStreamShrinkFrames, 1)) continue;
+    if (frames < std::max<std::uint32_t>(settings_.releaseAfterFrames, 1)) continue;
     frames = 0;
     keptCellRecords_[slot][precision] = Buffer{};
     keptCellIndices_[slot][precision] = Buffer{};

@@ -185,6 +185,7 @@ void HermiteCellFeature::chooseCullingPaths(engine::render::FrameContext& frame,
   }
   stats_.cullingRefused = refused;
   std::string tilesRefusal;
+  tiler_->releaseUnneeded(frame.frameSlot, tiles_, tileEntryEstimate_, settings_.releaseAfterFrames);
   if (tiles_ && !tiler_->reserve(frame.frameSlot, frame.extent, tileSize_, tileEntryEstimate_,
                                  std::max(settings_.maxTileEntries, kMinTileEntries), tilesRefusal)) {
     tiles_ = false;  // the culled cells as boxes, as when the lists overflow

@@ -111,6 +111,7 @@ void HermiteCellFeature::prepare(engine::render::FrameContext& frame) {
   buildDraws(frame);
   recordCulling(frame);
   recordTiling(frame);
+  stats_.tileListBytesHeld = tiler_->bytesHeld();
   ensureCounters(frame);
   ensureHitDepths(frame);
   stats_.earlyDepth = earlyDepth_;
@@ -407,8 +408,10 @@ void HermiteCellFeature::drawUi() {
   if (stats_.keptMayFallBack)
     ImGui::Text("kept-cell streams: %llu slots, sized by recent frames (rows past them drawn unculled)",
                 static_cast<unsigned long long>(stats_.keptSlots));
-  if (stats_.keptStreamBytesHeld > 0)
-    ImGui::Text("kept-cell streams held: %.2f MiB", double(stats_.keptStreamBytesHeld) / (1024.0 * 1024.0));
+  if (stats_.keptStreamBytesHeld + stats_.tileListBytesHeld > 0)
+    ImGui::Text("held for culling: kept-cell streams %.2f MiB, tile lists %.2f MiB",
+                double(stats_.keptStreamBytesHeld) / (1024.0 * 1024.0),
+                double(stats_.tileListBytesHeld) / (1024.0 * 1024.0));
 }
 
 }  // namespace hsdf

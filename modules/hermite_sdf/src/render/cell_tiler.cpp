@@ -78,6 +78,31 @@ void CellTiler::ensureBuffers(Slot& slot, std::uint32_t tileCount, std::uint32_t
                                      engine::gpu::MemoryUsage::GpuOnly, "hermite cell tiles");
 }
 
+void CellTiler::releaseUnneeded(std::uint32_t slotIndex, bool tiling, std::uint64_t entryEstimate,
+                                std::uint32_t frames) {
+  constexpr std::uint64_t kKeptEntries = std::uint64_t(1) << 20;  // lists this small stay (32 MiB for both)
+  Slot& slot = slots_[slotIndex];
+  const bool held = slot.tiles || slot.entries || slot.sortedEntries;
+  const bool unneeded = tiling ? slot.capacity > kKeptEntries && slot.capacity / 4 > wantedEntries(slotIndex, entryEstimate)
+                               : held;
+  slot.unneededFrames = unneeded ? slot.unneededFrames + 1 : 0;
+  if (slot.unneededFrames < std::max<std::uint32_t>(frames, 1)) return;
+  // The slot's last submission is complete (its fence was waited for): nothing reads them now.
+  slot.tiles = engine::gpu::Buffer{};
+  slot.entries = engine::gpu::Buffer{};
+  slot.sortedEntries = engine::gpu::Buffer{};
+  slot.capacity = 0;
+  slot.unneededFrames = 0;
+}
+
+std::uint64_t CellTiler::bytesHeld() const {
+  std::uint64_t bytes = 0;
+  for (const Slot& slot : slots_)
+    for (const engine::gpu::Buffer* buffer : {&slot.tiles, &slot.entries, &slot.sortedEntries})
+      bytes += *buffer ? buffer->size() : 0;
+  return bytes;
+}
+
 // The entries to make room for: the estimate, or what the slot's last completed frame needed.
 std::uint64_t CellTiler::wantedEntries(std::uint32_t slot, std::uint64_t entryEstimate) const {
   const std::uint64_t needed = slots_[slot].recorded ? lastTotals(slot).entriesNeeded : 0;

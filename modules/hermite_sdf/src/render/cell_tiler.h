@@ -70,6 +70,14 @@ class CellTiler {
   bool reserve(std::uint32_t slot, VkExtent2D extent, std::uint32_t tileSize, std::uint64_t entryEstimate,
                std::uint32_t entryLimit, std::string& refusal);
 
+  // Releases the slot's tiles and lists after `frames` of its frames in a row that drew no tiles
+  // (`tiling` false) or whose lists held more than 2^20 entries and four times what they wanted
+  // (the estimate, or what the slot's last tiled frame needed); the next tiled frame makes them at
+  // its size. Before reserve, every frame.
+  void releaseUnneeded(std::uint32_t slot, bool tiling, std::uint64_t entryEstimate, std::uint32_t frames);
+  // The bytes every slot's tiles and lists hold.
+  std::uint64_t bytesHeld() const;
+
   VkDeviceAddress tiles(std::uint32_t slot) const { return slots_[slot].tiles.address(); }
   VkDeviceAddress entries(std::uint32_t slot) const { return slots_[slot].sortedEntries.address(); }
   const engine::gpu::Buffer& drawCommand(std::uint32_t slot) const { return totals_.buffer(slot); }
@@ -86,6 +94,7 @@ class CellTiler {
     engine::gpu::Buffer sortedEntries;  // the same, sorted (the draw's)
     std::uint32_t capacity = 0;
     bool recorded = false;
+    std::uint32_t unneededFrames = 0;  // releaseUnneeded's count of frames in a row
   };
   void ensureBuffers(Slot& slot, std::uint32_t tileCount, std::uint32_t tileSize, std::uint64_t wanted,
                      std::uint32_t limit);

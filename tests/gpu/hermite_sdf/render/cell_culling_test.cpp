@@ -415,7 +415,7 @@ TEST_F(KeptStreamsTest, CullingThatDoesNotFitDrawsEveryCellInstead) {
 // Why: streams sized by the demand grow with the scene; were that all, one look at a large scene
 // (the whole 10,000-bunny grid holds 9 GB of streams) would keep its memory for the rest of the run.
 // Streams far larger than their frames want, or held while nothing is culled, must be released
-// after Settings::keptStreamShrinkFrames of the slot's frames in a row, and not before (a camera
+// after Settings::releaseAfterFrames of the slot's frames in a row, and not before (a camera
 // swinging back and forth must not reallocate them every frame); the frames after the release
 // must draw the same image. A mutant that never releases keeps the nine bunnies' streams.
 TEST_F(KeptStreamsTest, StreamsFarLargerThanTheFramesWantAreReleased) {
@@ -438,8 +438,8 @@ TEST_F(KeptStreamsTest, StreamsFarLargerThanTheFramesWantAreReleased) {
     ASSERT_TRUE(registry_.destroy(bunnies_[i]));
   }
   for (int frame = 0; frame < 10; ++frame) (void)render();
-  EXPECT_EQ(feature->stats().keptStreamBytesHeld, nine) << "released before keptStreamShrinkFrames (120) frames";
-  settings.keptStreamShrinkFrames = 3;
+  EXPECT_EQ(feature->stats().keptStreamBytesHeld, nine) << "released before releaseAfterFrames (120) frames";
+  settings.releaseAfterFrames = 3;
   Frame shrunk;
   for (int frame = 0; frame < 10 && feature->stats().keptStreamBytesHeld >= nine / 2; ++frame) shrunk = render();
   const std::uint64_t one = feature->stats().keptStreamBytesHeld;

@@ -381,6 +381,39 @@ TEST_F(TiledCellsTest, TileListsThatDoNotFitDrawTheBoxesInstead) {
   EXPECT_EQ(c.coverageDiffers, 0);
 }
 
+// Why: each frame slot's tiles and lists (up to 2^23 entries, twice) grow to what its frames needed
+// and would be held for the rest of the run once a scene stops drawing tiles (tiles off, a tracer,
+// boxes only). After Settings::releaseAfterFrames of the slot's frames without tiles they must go,
+// not before, and the next tiled frame must draw the same image from lists made anew. A mutant
+// that never releases keeps them; one that forgets the capacity tiles into released lists.
+TEST_F(TiledCellsTest, TileListsOfASlotThatStopsTilingAreReleased) {
+  createCellRenderer(kSize, kSize);
+  render::CameraView camera;
+  const Frame boxes = bunnyAsBoxes(camera);
+  ASSERT_FALSE(boxes.depth.empty());
+  auto* feature = renderer_->feature<hsdf::HermiteCellFeature>();
+  (void)renderWith(camera, DEBUG_VIEW_NONE);
+  const Frame tiled = renderWith(camera, DEBUG_VIEW_NONE);  // both slots tiled
+  ASSERT_TRUE(feature->stats().tiles);
+  const std::uint64_t held = feature->stats().tileListBytesHeld;
+  ASSERT_GT(held, 0u);
+  feature->settings().tiles = hsdf::HermiteCellFeature::Tiles::Off;
+  for (int frame = 0; frame < 10; ++frame) (void)renderWith(camera, DEBUG_VIEW_NONE);
+  EXPECT_EQ(feature->stats().tileListBytesHeld, held) << "released before releaseAfterFrames (120) frames";
+  feature->settings().releaseAfterFrames = 3;
+  for (int frame = 0; frame < 10 && feature->stats().tileListBytesHeld > 0; ++frame)
+    (void)renderWith(camera, DEBUG_VIEW_NONE);
+  EXPECT_EQ(feature->stats().tileListBytesHeld, 0u) << "the lists were kept while no frame drew tiles";
+  feature->settings().tiles = hsdf::HermiteCellFeature::Tiles::On;
+  for (int slot = 0; slot < 2; ++slot) {
+    const Frame again = renderWith(camera, DEBUG_VIEW_NONE);
+    EXPECT_TRUE(feature->stats().tiles);
+    EXPECT_GT(feature->stats().tileListBytesHeld, 0u);
+    EXPECT_TRUE(tiled.depth == again.depth) << "tiles from lists made anew changed the depth (slot " << slot << ")";
+    EXPECT_TRUE(tiled.rgba == again.rgba) << "tiles from lists made anew changed the colour (slot " << slot << ")";
+  }
+}
+
 // Why: the tiles and their fallback draw through vkCmdDrawIndirectCount, the meshes through
 // vkCmdDrawIndexedIndirect, in the same passes. On lavapipe (Mesa 22.3) a count buffer once used
 // stays in the driver's state for every later indirect draw of the command buffer: the meshes

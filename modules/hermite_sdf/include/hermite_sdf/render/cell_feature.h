@@ -167,13 +167,14 @@ class HermiteCellFeature final : public engine::render::RenderFeature {
     // whole and unculled (the same image, more boxes; BrickCullTotals::fallbackCells) and the
     // next frames' streams grow to what the frame wanted.
     std::uint64_t keptStreamBytes = std::uint64_t(256) << 20;
-    // The kept-cell streams give memory back: a frame slot's streams of a precision larger than
+    // The buffers sized by earlier frames give memory back after this many of a frame slot's
+    // frames in a row that did not want them: its kept-cell streams of a precision larger than
     // keptStreamBytes and more than four times what its frames want (a smaller scene, objects out
-    // of view, a lower K), or any streams while the slot culls no cell of that precision (culling
-    // off, a tracer), are released after this many of the slot's frames in a row, and the next
-    // frame that culls makes them at its size. Streams otherwise only grow: a camera that swings
-    // back and forth does not reallocate every frame.
-    std::uint32_t keptStreamShrinkFrames = 120;
+    // of view, a lower K), or any while the slot culls no cell of that precision (culling off, a
+    // tracer); its tile lists larger than 2^20 entries and more than four times what its frames
+    // want, or any while it draws no tiles. The next frame that needs them makes them at its size.
+    // Otherwise they only grow: a camera that swings back and forth does not reallocate them.
+    std::uint32_t releaseAfterFrames = 120;
   };
   static constexpr std::uint32_t kMinTileEntries = 64;
   static constexpr std::uint32_t kTileSizes[] = {4, 8, 16};  // the sides Settings::tileSize may take
@@ -203,8 +204,10 @@ class HermiteCellFeature final : public engine::render::RenderFeature {
     // the culled objects' cells (Settings::keptStreamBytes): then rows may fall back.
     std::uint64_t keptSlots = 0;
     bool keptMayFallBack = false;
-    // The bytes every frame slot's kept-cell streams hold (Settings::keptStreamShrinkFrames).
+    // The bytes every frame slot's kept-cell streams and tile lists (with their tiles) hold
+    // (Settings::releaseAfterFrames).
     std::uint64_t keptStreamBytesHeld = 0;
+    std::uint64_t tileListBytesHeld = 0;
   };
 
   HermiteCellFeature();
@@ -426,7 +429,7 @@ class HermiteCellFeature final : public engine::render::RenderFeature {
   std::vector<std::array<engine::gpu::Buffer, 2>> keptCellIndices_;
   std::vector<std::array<engine::gpu::Buffer, 2>> keptCellRanges_;
   // Per frame slot and precision: the slot's frames in a row whose streams were more than they
-  // wanted (Settings::keptStreamShrinkFrames).
+  // wanted (Settings::releaseAfterFrames).
   std::vector<std::array<std::uint32_t, 2>> keptOversizedFrames_;
   // Occlusion culling (Settings::cullOcclusion) this frame: phase 2 appends to the same kept
   // streams and its late commands follow the wireframe's.
