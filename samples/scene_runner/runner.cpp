@@ -87,12 +87,12 @@ void logWork(samples::Viewer& viewer) {
   if (const auto* cells = viewer.renderer().feature<hsdf::HermiteCellFeature>()) {
     const hsdf::HermiteCellFeature::Stats& stats = cells->stats();
     if (stats.objects + stats.culledObjects > 0)
-      log::info("cell objects: {} drawn ({} cells), {} outside the view{}; kept-cell streams hold {:.1f} MiB, tile "
-                "lists {:.1f} MiB",
+      log::info("cell objects: {} drawn ({} cells), {} outside the view{}; held for culling: kept-cell streams "
+                "{:.1f} MiB, tile lists {:.1f} MiB, occlusion history {:.1f} MiB",
                 stats.objects, stats.cells, stats.culledObjects,
                 stats.cullingRefused ? "; cell culling refused: every cell drawn" : "",
                 double(stats.keptStreamBytesHeld) / (1024.0 * 1024.0),
-                double(stats.tileListBytesHeld) / (1024.0 * 1024.0));
+                double(stats.tileListBytesHeld) / (1024.0 * 1024.0), double(stats.historyBytesHeld) / (1024.0 * 1024.0));
   }
 }
 

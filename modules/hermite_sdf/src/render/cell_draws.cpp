@@ -192,6 +192,9 @@ void HermiteCellFeature::chooseCullingPaths(engine::render::FrameContext& frame,
     if (!tilesRefused_) engine::log::warn("hermite cells: tiles off, culled cells drawn as boxes: {}", tilesRefusal);
   }
   tilesRefused_ = !tilesRefusal.empty();
+  framesWithoutOcclusion_ = occlusion_ ? 0 : framesWithoutOcclusion_ + 1;
+  if (framesWithoutOcclusion_ >= std::max<std::uint32_t>(settings_.releaseAfterFrames, 1) && history_->bytes() > 0)
+    history_->release(frame.frameNumber, retired_);
   if (occlusion_) {
     try {
       placeHistory(frame);

@@ -112,6 +112,7 @@ void HermiteCellFeature::prepare(engine::render::FrameContext& frame) {
   recordCulling(frame);
   recordTiling(frame);
   stats_.tileListBytesHeld = tiler_->bytesHeld();
+  stats_.historyBytesHeld = history_->bytes();
   ensureCounters(frame);
   ensureHitDepths(frame);
   stats_.earlyDepth = earlyDepth_;
@@ -408,10 +409,11 @@ void HermiteCellFeature::drawUi() {
   if (stats_.keptMayFallBack)
     ImGui::Text("kept-cell streams: %llu slots, sized by recent frames (rows past them drawn unculled)",
                 static_cast<unsigned long long>(stats_.keptSlots));
-  if (stats_.keptStreamBytesHeld + stats_.tileListBytesHeld > 0)
-    ImGui::Text("held for culling: kept-cell streams %.2f MiB, tile lists %.2f MiB",
+  if (stats_.keptStreamBytesHeld + stats_.tileListBytesHeld + stats_.historyBytesHeld > 0)
+    ImGui::Text("held for culling: kept-cell streams %.2f MiB, tile lists %.2f MiB, occlusion history %.2f MiB",
                 double(stats_.keptStreamBytesHeld) / (1024.0 * 1024.0),
-                double(stats_.tileListBytesHeld) / (1024.0 * 1024.0));
+                double(stats_.tileListBytesHeld) / (1024.0 * 1024.0),
+                double(stats_.historyBytesHeld) / (1024.0 * 1024.0));
 }
 
 }  // namespace hsdf

@@ -38,6 +38,13 @@ bool CellHistory::placeAll(const std::vector<Object>& objects, std::vector<std::
   return true;
 }
 
+void CellHistory::release(std::uint64_t frameNumber, engine::gpu::DeferredRelease& retired) {
+  slots_.clear();
+  used_ = capacity_ = regions_ = 0;
+  if (buffer_) retired.retire(std::move(buffer_), frameNumber);
+  buffer_ = engine::gpu::Buffer{};
+}
+
 // A zeroed buffer with room for twice this frame's cells (objects that come and go need not
 // reallocate it each time), the old one retired; the places are forgotten.
 void CellHistory::grow(const engine::gpu::Context& context, VkCommandBuffer cmd, const std::vector<Object>& objects,

@@ -38,6 +38,11 @@ class CellHistory {
                                    const std::vector<Object>& objects, std::uint32_t region, std::uint32_t regions,
                                    std::uint64_t frameNumber, engine::gpu::DeferredRelease& retired);
   VkDeviceAddress address() const { return buffer_.address(); }
+  // Forgets every place and retires the buffer until frame `frameNumber` completes (occlusion
+  // culling unused for a while: HermiteCellFeature::Settings::releaseAfterFrames); the next place()
+  // starts a fresh history.
+  void release(std::uint64_t frameNumber, engine::gpu::DeferredRelease& retired);
+  std::uint64_t bytes() const { return buffer_ ? buffer_.size() : 0; }
 
  private:
   struct Slot {

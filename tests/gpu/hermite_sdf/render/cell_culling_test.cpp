@@ -457,6 +457,39 @@ TEST_F(KeptStreamsTest, StreamsFarLargerThanTheFramesWantAreReleased) {
   EXPECT_TRUE(unculled.rgba == shrunk.rgba) << "culling into the released and remade streams changed the colour";
 }
 
+// Why: occlusion culling's history (a uint per cell of every culled object: 174 MB for the
+// 10,000-bunny grid) would be held for the rest of the run once occlusion culling is turned off.
+// After Settings::releaseAfterFrames frames without it, it must go, and not before; turning it
+// on again must start a fresh history that draws the same image.
+TEST_F(HermiteCellsTest, OcclusionHistoryIsReleasedWhenOcclusionCullingStops) {
+  createCellRenderer(kSize, kSize);
+  auto* feature = renderer_->feature<hsdf::HermiteCellFeature>();
+  hsdf::HermiteCellFeature::Settings& settings = feature->settings();
+  settings.tiles = hsdf::HermiteCellFeature::Tiles::Off;  // occlusion culls boxes; tiles turn it off
+  settings.earlyDepth = hsdf::HermiteCellFeature::EarlyDepth::Off;
+  const auto asset = bakeAsset("bunny", 32);
+  ASSERT_NE(asset, nullptr);
+  addSdf(registry_, asset, hsdf::RenderMethod::Cells);
+  const render::CameraView camera = orbitCamera(*asset, 2);
+  settings.cullOcclusion = true;
+  const Frame culled = renderWith(camera, DEBUG_VIEW_NONE);
+  const std::uint64_t held = feature->stats().historyBytesHeld;
+  ASSERT_GE(held, asset->cells.records.size() * sizeof(std::uint32_t));
+  settings.cullOcclusion = false;
+  for (int frame = 0; frame < 10; ++frame) (void)renderWith(camera, DEBUG_VIEW_NONE);
+  EXPECT_EQ(feature->stats().historyBytesHeld, held) << "released before releaseAfterFrames (120) frames";
+  settings.releaseAfterFrames = 3;
+  for (int frame = 0; frame < 3; ++frame) (void)renderWith(camera, DEBUG_VIEW_NONE);
+  EXPECT_EQ(feature->stats().historyBytesHeld, 0u) << "the history was kept while nothing culled by occlusion";
+  settings.cullOcclusion = true;
+  for (int frame = 0; frame < 3; ++frame) {
+    const Frame again = renderWith(camera, DEBUG_VIEW_NONE);
+    EXPECT_GT(feature->stats().historyBytesHeld, 0u);
+    EXPECT_TRUE(culled.depth == again.depth) << "a fresh history changed the depth (frame " << frame << ")";
+    EXPECT_TRUE(culled.rgba == again.rgba) << "a fresh history changed the colour (frame " << frame << ")";
+  }
+}
+
 // Why: occlusion culling draws in two phases what one pass drew: a cell missing from both (a wrong
 // history index, an occlusion test that is not conservative at the box's edges or depth, a pyramid
 // texel that misses pixels) is a hole, a cell drawn twice or out of its row's order a different

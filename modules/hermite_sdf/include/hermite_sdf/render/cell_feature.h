@@ -172,7 +172,8 @@ class HermiteCellFeature final : public engine::render::RenderFeature {
     // keptStreamBytes and more than four times what its frames want (a smaller scene, objects out
     // of view, a lower K), or any while the slot culls no cell of that precision (culling off, a
     // tracer); its tile lists larger than 2^20 entries and more than four times what its frames
-    // want, or any while it draws no tiles. The next frame that needs them makes them at its size.
+    // want, or any while it draws no tiles; occlusion culling's history after as many frames
+    // without occlusion culling. The next frame that needs them makes them at its size.
     // Otherwise they only grow: a camera that swings back and forth does not reallocate them.
     std::uint32_t releaseAfterFrames = 120;
   };
@@ -208,6 +209,7 @@ class HermiteCellFeature final : public engine::render::RenderFeature {
     // (Settings::releaseAfterFrames).
     std::uint64_t keptStreamBytesHeld = 0;
     std::uint64_t tileListBytesHeld = 0;
+    std::uint64_t historyBytesHeld = 0;  // occlusion culling's visibility history
   };
 
   HermiteCellFeature();
@@ -435,6 +437,7 @@ class HermiteCellFeature final : public engine::render::RenderFeature {
   // streams and its late commands follow the wireframe's.
   // Per culled object of this frame: its history entry and its first record; the history itself.
   bool occlusion_ = false;
+  std::uint32_t framesWithoutOcclusion_ = 0;  // in a row (Settings::releaseAfterFrames)
   std::vector<std::pair<engine::ecs::Entity, std::uint64_t>> cellCullEntities_;
   std::vector<std::uint32_t> cellCullFirstRecord_;
   std::vector<std::uint32_t> cellCullCells_;
