@@ -388,10 +388,12 @@ TEST_F(TiledCellsTest, TileListsThatDoNotFitDrawTheBoxesInstead) {
 // that never releases keeps them; one that forgets the capacity tiles into released lists.
 TEST_F(TiledCellsTest, TileListsOfASlotThatStopsTilingAreReleased) {
   createCellRenderer(kSize, kSize);
-  render::CameraView camera;
-  const Frame boxes = bunnyAsBoxes(camera);
-  ASSERT_FALSE(boxes.depth.empty());
+  const auto asset = bakeAsset("bunny", 32);
+  ASSERT_NE(asset, nullptr);
+  addSdf(registry_, asset, hsdf::RenderMethod::Cells);
   auto* feature = renderer_->feature<hsdf::HermiteCellFeature>();
+  feature->settings().tiles = hsdf::HermiteCellFeature::Tiles::On;
+  const render::CameraView camera = orbitCamera(*asset, 3);
   (void)renderWith(camera, DEBUG_VIEW_NONE);
   const Frame tiled = renderWith(camera, DEBUG_VIEW_NONE);  // both slots tiled
   ASSERT_TRUE(feature->stats().tiles);
