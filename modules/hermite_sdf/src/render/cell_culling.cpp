@@ -126,6 +126,14 @@ void HermiteCellFeature::releaseUnneededKeptStreams(std::uint32_t slot, const st
   }
 }
 
+std::uint64_t HermiteCellFeature::keptStreamBytesHeld() const {
+  std::uint64_t bytes = 0;
+  for (const auto* streams : {&keptCellRecords_, &keptCellIndices_, &keptCellRanges_})
+    for (const auto& slotStreams : *streams)
+      for (const Buffer& buffer : slotStreams) bytes += buffer ? buffer.size() : 0;
+  return bytes;
+}
+
 // Makes this slot's kept-cell streams for the frame's culled objects before their commands are
 // written (wantedKeptSlots; halved while GPU memory, the allocator's budget or one buffer refuses
 // them, down to the streams the slot already holds: rows that do not fit then fall back). False,

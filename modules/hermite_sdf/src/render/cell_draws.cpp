@@ -167,10 +167,6 @@ void HermiteCellFeature::chooseCullingPaths(engine::render::FrameContext& frame,
   // The cells whose kept share this slot's totals will hold once the frame is done (none without
   // a culling pass: its totals then say nothing about this frame).
   keptCulledCells_[frame.frameSlot] = refused ? std::array<std::uint64_t, 2>{0, 0} : cells;
-  stats_.keptStreamBytesHeld = 0;
-  for (const auto* streams : {&keptCellRecords_, &keptCellIndices_, &keptCellRanges_})
-    for (const auto& slotStreams : *streams)
-      for (const Buffer& buffer : slotStreams) stats_.keptStreamBytesHeld += buffer ? buffer.size() : 0;
   if (refused) {
     dropCellCulling(f);
     tiles_ = occlusion_ = false;

@@ -111,6 +111,7 @@ void HermiteCellFeature::prepare(engine::render::FrameContext& frame) {
   buildDraws(frame);
   recordCulling(frame);
   recordTiling(frame);
+  stats_.keptStreamBytesHeld = keptStreamBytesHeld();
   stats_.tileListBytesHeld = tiler_->bytesHeld();
   stats_.historyBytesHeld = history_->bytes();
   ensureCounters(frame);

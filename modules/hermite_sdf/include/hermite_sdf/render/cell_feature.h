@@ -205,11 +205,12 @@ class HermiteCellFeature final : public engine::render::RenderFeature {
     // the culled objects' cells (Settings::keptStreamBytes): then rows may fall back.
     std::uint64_t keptSlots = 0;
     bool keptMayFallBack = false;
-    // The bytes every frame slot's kept-cell streams and tile lists (with their tiles) hold
-    // (Settings::releaseAfterFrames).
+    // The bytes held by the buffers sized by earlier frames (Settings::releaseAfterFrames): every
+    // frame slot's kept-cell streams, its tile lists with their tiles, and occlusion culling's
+    // visibility history.
     std::uint64_t keptStreamBytesHeld = 0;
     std::uint64_t tileListBytesHeld = 0;
-    std::uint64_t historyBytesHeld = 0;  // occlusion culling's visibility history
+    std::uint64_t historyBytesHeld = 0;
   };
 
   HermiteCellFeature();
@@ -286,6 +287,7 @@ class HermiteCellFeature final : public engine::render::RenderFeature {
   std::uint64_t heldKeptSlots(std::uint32_t slot, int precision) const;
   void clearKeptStreams();
   void releaseUnneededKeptStreams(std::uint32_t slot, const std::array<std::uint64_t, 2>& wanted);
+  std::uint64_t keptStreamBytesHeld() const;
   void readKeptDemand(std::uint32_t slot);
   void addFallbackCommands(std::vector<VkDrawIndirectCommand>& commands, std::vector<shader::HermiteDraw>& draws);
   void dropCellCulling(FrameDraws& f);
