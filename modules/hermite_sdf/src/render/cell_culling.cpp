@@ -22,6 +22,7 @@
 #include "render/cell_feature_internal.h"
 #include "render/cell_history.h"
 #include "render/cell_rows.h"
+#include "render/cell_tiler.h"
 #include "hermite_sdf/render/lod.h"
 #include "hermite_sdf/core/normal_cone.h"
 
@@ -118,11 +119,30 @@ void HermiteCellFeature::releaseUnneededKeptStreams(std::uint32_t slot, const st
                                      held / 4 > wanted[precision];
     std::uint32_t& frames = keptOversizedFrames_[slot][precision];
     frames = oversized ? frames + 1 : 0;
-    if (frames < std::max<std::uint32_t>(settings_.releaseAfterFrames, 1)) continue;
-    frames = 0;
-    keptCellRecords_[slot][precision] = Buffer{};
-    keptCellIndices_[slot][precision] = Buffer{};
-    keptCellRanges_[slot][precision] = Buffer{};
+    if (frames >= std::max<std::uint32_t>(settings_.releaseAfterFrames, 1)) releaseKeptStreams(slot, precision);
+  }
+}
+
+void HermiteCellFeature::releaseKeptStreams(std::uint32_t slot, int precision) {
+  keptOversizedFrames_[slot][precision] = 0;
+  keptCellRecords_[slot][precision] = Buffer{};
+  keptCellIndices_[slot][precision] = Buffer{};
+  keptCellRanges_[slot][precision] = Buffer{};
+}
+
+// Marks this frame's slot prepared, and releases the kept streams and tile lists of every other
+// slot that no frame has prepared for Settings::releaseAfterFrames frames (a view region no longer
+// drawn never prepares its slots again, so their own frames cannot release them). Their last
+// frame has completed: it is further back than the frames in flight.
+void HermiteCellFeature::releaseIdleSlots(const engine::render::FrameContext& frame) {
+  slotPreparedFrame_[frame.frameSlot] = frame.frameNumber;
+  const std::uint64_t idle = std::max<std::uint64_t>(settings_.releaseAfterFrames, frame.framesInFlight);
+  for (std::uint32_t slot = 0; slot < slotPreparedFrame_.size(); ++slot) {
+    const std::uint64_t last = slotPreparedFrame_[slot];
+    if (last == kNeverPrepared || frame.frameNumber - last < idle) continue;
+    for (int precision = 0; precision < 2; ++precision) releaseKeptStreams(slot, precision);
+    tiler_->release(slot);
+    slotPreparedFrame_[slot] = kNeverPrepared;
   }
 }
 

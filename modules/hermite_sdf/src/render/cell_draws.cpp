@@ -162,6 +162,7 @@ void HermiteCellFeature::chooseCullingPaths(engine::render::FrameContext& frame,
   std::string refusal;
   if (culling) readKeptDemand(frame.frameSlot);
   const std::array<std::uint64_t, 2> cells = culling ? culledCells(f) : std::array<std::uint64_t, 2>{0, 0};
+  releaseIdleSlots(frame);
   releaseUnneededKeptStreams(frame.frameSlot, {wantedKeptSlots(0, cells[0]), wantedKeptSlots(1, cells[1])});
   const bool refused = culling && !reserveCellCulling(frame.frameSlot, cells, refusal);
   // The cells whose kept share this slot's totals will hold once the frame is done (none without

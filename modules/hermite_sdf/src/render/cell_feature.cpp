@@ -72,6 +72,7 @@ engine::Status HermiteCellFeature::initialize(const engine::gpu::Context& contex
   keptCellRanges_.resize(framesInFlight);
   keptOversizedFrames_.assign(framesInFlight, {0, 0});
   keptCulledCells_.assign(framesInFlight, {0, 0});
+  slotPreparedFrame_.assign(framesInFlight, kNeverPrepared);
   history_ = std::make_unique<CellHistory>();
   frameSlots_ = framesInFlight;
   ENGINE_TRY_ASSIGN(auto cellCuller, CellCuller::create(context));

@@ -86,8 +86,12 @@ void CellTiler::releaseUnneeded(std::uint32_t slotIndex, bool tiling, std::uint6
   const bool unneeded = tiling ? slot.capacity > kKeptEntries && slot.capacity / 4 > wantedEntries(slotIndex, entryEstimate)
                                : held;
   slot.unneededFrames = unneeded ? slot.unneededFrames + 1 : 0;
-  if (slot.unneededFrames < std::max<std::uint32_t>(frames, 1)) return;
   // The slot's last submission is complete (its fence was waited for): nothing reads them now.
+  if (slot.unneededFrames >= std::max<std::uint32_t>(frames, 1)) release(slotIndex);
+}
+
+void CellTiler::release(std::uint32_t slotIndex) {
+  Slot& slot = slots_[slotIndex];
   slot.tiles = engine::gpu::Buffer{};
   slot.entries = engine::gpu::Buffer{};
   slot.sortedEntries = engine::gpu::Buffer{};

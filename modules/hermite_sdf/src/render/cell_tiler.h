@@ -75,6 +75,8 @@ class CellTiler {
   // (the estimate, or what the slot's last tiled frame needed); the next tiled frame makes them at
   // its size. Before reserve, every frame.
   void releaseUnneeded(std::uint32_t slot, bool tiling, std::uint64_t entryEstimate, std::uint32_t frames);
+  // Releases the slot's tiles and lists now (its last submission must be complete).
+  void release(std::uint32_t slot);
   // The bytes every slot's tiles and lists hold.
   std::uint64_t bytesHeld() const;
 

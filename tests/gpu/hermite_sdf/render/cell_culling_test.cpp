@@ -457,6 +457,37 @@ TEST_F(KeptStreamsTest, StreamsFarLargerThanTheFramesWantAreReleased) {
   EXPECT_TRUE(unculled.rgba == shrunk.rgba) << "culling into the released and remade streams changed the colour";
 }
 
+// Why: each view region has frame slots of its own, prepared only while it is drawn: a slot's own
+// frames release what it no longer wants, but a region that is no longer drawn (the split screen
+// turned off) has no frames, and its kept streams and tile lists would be held for the rest of the
+// run. They must go once no frame has prepared the slot for Settings::releaseAfterFrames frames,
+// not before, and the region drawn again must show the same image.
+TEST_F(KeptStreamsTest, BuffersOfAViewRegionNoLongerDrawnAreReleased) {
+  startBunnies();
+  auto* feature = feature_;
+  feature->settings().tiles = hsdf::HermiteCellFeature::Tiles::On;
+  render::FrameSettings split;
+  const std::uint32_t half = kSize / 2;
+  split.regions = {{VkRect2D{{0, 0}, {half, kSize}}, {}}, {VkRect2D{{int(half), 0}, {kSize - half, kSize}}, {}}};
+  const auto held = [&] { return feature->stats().keptStreamBytesHeld + feature->stats().tileListBytesHeld; };
+  (void)renderWith(camera_, split);
+  const Frame before = renderWith(camera_, split);  // every slot of both regions prepared
+  const std::uint64_t bothRegions = held();
+  ASSERT_GT(bothRegions, 0u);
+  for (int frame = 0; frame < 10; ++frame) (void)renderWith(camera_, DEBUG_VIEW_NONE);
+  EXPECT_EQ(held(), bothRegions) << "released before releaseAfterFrames (120) frames";
+  feature->settings().releaseAfterFrames = 3;
+  (void)renderWith(camera_, DEBUG_VIEW_NONE);
+  EXPECT_LT(held(), bothRegions) << "the second region's buffers were kept while it was not drawn";
+  EXPECT_GT(held(), 0u) << "the drawn region's buffers were released";
+  (void)renderWith(camera_, split);
+  const Frame after = renderWith(camera_, split);
+  EXPECT_EQ(held(), bothRegions);
+  ASSERT_GT(std::count_if(after.depth.begin(), after.depth.end(), [](float d) { return d > 0.0f; }), 1000);
+  EXPECT_TRUE(before.depth == after.depth) << "the region drawn again changed the depth";
+  EXPECT_TRUE(before.rgba == after.rgba) << "the region drawn again changed the colour";
+}
+
 // Why: occlusion culling's history (a uint per cell of every culled object: 174 MB for the
 // 10,000-bunny grid) would be held for the rest of the run once occlusion culling is turned off.
 // After Settings::releaseAfterFrames frames without it, it must go, and not before; turning it

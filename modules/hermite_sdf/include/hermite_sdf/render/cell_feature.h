@@ -173,7 +173,9 @@ class HermiteCellFeature final : public engine::render::RenderFeature {
     // of view, a lower K), or any while the slot culls no cell of that precision (culling off, a
     // tracer); its tile lists larger than 2^20 entries and more than four times what its frames
     // want, or any while it draws no tiles; occlusion culling's history after as many frames
-    // without occlusion culling. The next frame that needs them makes them at its size.
+    // without occlusion culling; and every buffer of a frame slot not prepared for as many
+    // frames (a view region no longer drawn: the split screen turned off). The next frame that
+    // needs them makes them at its size.
     // Otherwise they only grow: a camera that swings back and forth does not reallocate them.
     std::uint32_t releaseAfterFrames = 120;
   };
@@ -287,6 +289,8 @@ class HermiteCellFeature final : public engine::render::RenderFeature {
   std::uint64_t heldKeptSlots(std::uint32_t slot, int precision) const;
   void clearKeptStreams();
   void releaseUnneededKeptStreams(std::uint32_t slot, const std::array<std::uint64_t, 2>& wanted);
+  void releaseKeptStreams(std::uint32_t slot, int precision);
+  void releaseIdleSlots(const engine::render::FrameContext& frame);
   std::uint64_t keptStreamBytesHeld() const;
   void readKeptDemand(std::uint32_t slot);
   void addFallbackCommands(std::vector<VkDrawIndirectCommand>& commands, std::vector<shader::HermiteDraw>& draws);
@@ -435,6 +439,9 @@ class HermiteCellFeature final : public engine::render::RenderFeature {
   // Per frame slot and precision: the slot's frames in a row whose streams were more than they
   // wanted (Settings::releaseAfterFrames).
   std::vector<std::array<std::uint32_t, 2>> keptOversizedFrames_;
+  // Per frame slot: the frame that last prepared it (kNeverPrepared: none since its buffers went).
+  static constexpr std::uint64_t kNeverPrepared = ~std::uint64_t(0);
+  std::vector<std::uint64_t> slotPreparedFrame_;
   // Occlusion culling (Settings::cullOcclusion) this frame: phase 2 appends to the same kept
   // streams and its late commands follow the wireframe's.
   // Per culled object of this frame: its history entry and its first record; the history itself.
