@@ -40,4 +40,22 @@ class DeferredRelease {
   std::vector<Entry> pending_;
 };
 
+// A buffer sized by earlier frames that is given back once it has gone unneeded for a number of
+// frames in a row (not at the first such frame: a view that swings back must not reallocate it).
+// due() counts one more frame, and says when the count has reached `frames` (at least 1), starting
+// again from there; a needed frame starts it again too.
+class IdleFrames {
+ public:
+  bool due(bool unneeded, std::uint32_t frames) {
+    count_ = unneeded ? count_ + 1 : 0;
+    if (count_ < (frames > 0 ? frames : 1)) return false;
+    count_ = 0;
+    return true;
+  }
+  void reset() { count_ = 0; }
+
+ private:
+  std::uint32_t count_ = 0;
+};
+
 }  // namespace engine::gpu

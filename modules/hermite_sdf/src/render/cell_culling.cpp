@@ -67,9 +67,7 @@ constexpr double kKeptShareGuess = 0.6;
 std::uint64_t HermiteCellFeature::wantedKeptSlots(int precision, std::uint64_t cells) const {
   const std::uint64_t bytes = keptSlotBytes(precision);
   if (cells * bytes <= settings_.keptStreamBytes) return cells;
-  const double share = keptDemandCells_[precision] > 0
-                           ? double(keptDemand_[precision]) / double(keptDemandCells_[precision])
-                           : kKeptShareGuess;
+  const double share = keptShare_[precision] >= 0.0 ? keptShare_[precision] : kKeptShareGuess;
   const double demand = std::ceil(double(cells) * std::min(share, 1.0) * 1.25);
   return std::min(cells, std::max(settings_.keptStreamBytes / bytes, std::uint64_t(demand)));
 }
@@ -78,14 +76,13 @@ std::uint64_t HermiteCellFeature::wantedKeptSlots(int precision, std::uint64_t c
 // waited for), for this frame's sizes; and, once per change, a word when rows fell back.
 void HermiteCellFeature::readKeptDemand(std::uint32_t slot) {
   const Buffer& buffer = cullTotals_.buffer(slot);
-  for (int precision = 0; precision < 2; ++precision) keptDemandCells_[precision] = 0;  // until read
+  for (double& share : keptShare_) share = -1.0;  // until read
   if (!buffer || !buffer.mapped()) return;
   shader::BrickCullTotals previous{};
   std::memcpy(&previous, buffer.mapped(), sizeof(previous));
-  for (int precision = 0; precision < 2; ++precision) {
-    keptDemand_[precision] = previous.keptSlots[precision];
-    keptDemandCells_[precision] = keptCulledCells_[slot][precision];
-  }
+  for (int precision = 0; precision < 2; ++precision)
+    if (const std::uint64_t culled = keptCulledCells_[slot][precision]; culled > 0)
+      keptShare_[precision] = double(previous.keptSlots[precision]) / double(culled);
   if (previous.fallbackCells > 0 && !keptOverflowLogged_) {
     engine::log::info("hermite cells: {} cells of culled rows did not fit in the kept-cell streams and were drawn "
                       "unculled; the next frames' streams are sized for the {} + {} slots the frame wanted, as far "
@@ -117,14 +114,12 @@ void HermiteCellFeature::releaseUnneededKeptStreams(std::uint32_t slot, const st
                                      keptCellRanges_[slot][precision]
                                : held * keptSlotBytes(precision) > settings_.keptStreamBytes &&
                                      held / 4 > wanted[precision];
-    std::uint32_t& frames = keptOversizedFrames_[slot][precision];
-    frames = oversized ? frames + 1 : 0;
-    if (frames >= std::max<std::uint32_t>(settings_.releaseAfterFrames, 1)) releaseKeptStreams(slot, precision);
+    if (keptIdle_[slot][precision].due(oversized, settings_.releaseAfterFrames)) releaseKeptStreams(slot, precision);
   }
 }
 
 void HermiteCellFeature::releaseKeptStreams(std::uint32_t slot, int precision) {
-  keptOversizedFrames_[slot][precision] = 0;
+  keptIdle_[slot][precision].reset();
   keptCellRecords_[slot][precision] = Buffer{};
   keptCellIndices_[slot][precision] = Buffer{};
   keptCellRanges_[slot][precision] = Buffer{};
@@ -155,12 +150,12 @@ std::uint64_t HermiteCellFeature::keptStreamBytesHeld() const {
 }
 
 // Makes this slot's kept-cell streams for the frame's culled objects before their commands are
-// written (wantedKeptSlots; halved while GPU memory, the allocator's budget or one buffer refuses
+// written (`wantedSlots`, wantedKeptSlots' sizes; halved while GPU memory, the allocator's budget or one buffer refuses
 // them, down to the streams the slot already holds: rows that do not fit then fall back). False,
 // with the reason, when the slot holds none and not even kMinKeptSlots fit: the frame draws every
 // cell unculled instead of failing.
 bool HermiteCellFeature::reserveCellCulling(std::uint32_t slot, const std::array<std::uint64_t, 2>& cells,
-                                            std::string& refusal) {
+                                            const std::array<std::uint64_t, 2>& wantedSlots, std::string& refusal) {
   clearKeptStreams();
   for (int precision = 0; precision < 2; ++precision) {
     if (cells[precision] == 0) continue;
@@ -170,7 +165,7 @@ bool HermiteCellFeature::reserveCellCulling(std::uint32_t slot, const std::array
     }
     const std::uint64_t stride = kRecordStride[precision];
     // At most what one buffer holds (past it the records' buffer would be refused outright).
-    std::uint64_t wanted = std::min(wantedKeptSlots(precision, cells[precision]),
+    std::uint64_t wanted = std::min(wantedSlots[precision],
                                     std::max<std::uint64_t>(context_->capabilities().maxBufferSize / stride, 1));
     for (;;) {
       try {

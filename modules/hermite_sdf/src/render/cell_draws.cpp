@@ -163,8 +163,9 @@ void HermiteCellFeature::chooseCullingPaths(engine::render::FrameContext& frame,
   if (culling) readKeptDemand(frame.frameSlot);
   const std::array<std::uint64_t, 2> cells = culling ? culledCells(f) : std::array<std::uint64_t, 2>{0, 0};
   releaseIdleSlots(frame);
-  releaseUnneededKeptStreams(frame.frameSlot, {wantedKeptSlots(0, cells[0]), wantedKeptSlots(1, cells[1])});
-  const bool refused = culling && !reserveCellCulling(frame.frameSlot, cells, refusal);
+  const std::array<std::uint64_t, 2> wanted{wantedKeptSlots(0, cells[0]), wantedKeptSlots(1, cells[1])};
+  releaseUnneededKeptStreams(frame.frameSlot, wanted);
+  const bool refused = culling && !reserveCellCulling(frame.frameSlot, cells, wanted, refusal);
   // The cells whose kept share this slot's totals will hold once the frame is done (none without
   // a culling pass: its totals then say nothing about this frame).
   keptCulledCells_[frame.frameSlot] = refused ? std::array<std::uint64_t, 2>{0, 0} : cells;
@@ -189,8 +190,7 @@ void HermiteCellFeature::chooseCullingPaths(engine::render::FrameContext& frame,
     if (!tilesRefused_) engine::log::warn("hermite cells: tiles off, culled cells drawn as boxes: {}", tilesRefusal);
   }
   tilesRefused_ = !tilesRefusal.empty();
-  framesWithoutOcclusion_ = occlusion_ ? 0 : framesWithoutOcclusion_ + 1;
-  if (framesWithoutOcclusion_ >= std::max<std::uint32_t>(settings_.releaseAfterFrames, 1) && history_->bytes() > 0)
+  if (historyIdle_.due(!occlusion_ && history_->bytes() > 0, settings_.releaseAfterFrames))
     history_->release(frame.frameNumber, retired_);
   if (occlusion_) {
     try {

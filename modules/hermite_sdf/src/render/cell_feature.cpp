@@ -70,7 +70,7 @@ engine::Status HermiteCellFeature::initialize(const engine::gpu::Context& contex
   keptCellRecords_.resize(framesInFlight);
   keptCellIndices_.resize(framesInFlight);
   keptCellRanges_.resize(framesInFlight);
-  keptOversizedFrames_.assign(framesInFlight, {0, 0});
+  keptIdle_.assign(framesInFlight, {});
   keptCulledCells_.assign(framesInFlight, {0, 0});
   slotPreparedFrame_.assign(framesInFlight, kNeverPrepared);
   history_ = std::make_unique<CellHistory>();

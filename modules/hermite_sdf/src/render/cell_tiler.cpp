@@ -85,9 +85,8 @@ void CellTiler::releaseUnneeded(std::uint32_t slotIndex, bool tiling, std::uint6
   const bool held = slot.tiles || slot.entries || slot.sortedEntries;
   const bool unneeded = tiling ? slot.capacity > kKeptEntries && slot.capacity / 4 > wantedEntries(slotIndex, entryEstimate)
                                : held;
-  slot.unneededFrames = unneeded ? slot.unneededFrames + 1 : 0;
   // The slot's last submission is complete (its fence was waited for): nothing reads them now.
-  if (slot.unneededFrames >= std::max<std::uint32_t>(frames, 1)) release(slotIndex);
+  if (slot.idle.due(unneeded, frames)) release(slotIndex);
 }
 
 void CellTiler::release(std::uint32_t slotIndex) {
@@ -96,7 +95,7 @@ void CellTiler::release(std::uint32_t slotIndex) {
   slot.entries = engine::gpu::Buffer{};
   slot.sortedEntries = engine::gpu::Buffer{};
   slot.capacity = 0;
-  slot.unneededFrames = 0;
+  slot.idle.reset();
 }
 
 std::uint64_t CellTiler::bytesHeld() const {

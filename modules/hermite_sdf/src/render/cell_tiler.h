@@ -17,6 +17,7 @@
 
 #include "engine/core/expected.h"
 #include "engine/gpu/buffer.h"
+#include "engine/gpu/deferred_release.h"
 #include "engine/gpu/gpu_timer.h"
 #include "engine/gpu/pipeline.h"
 #include "engine/render/per_frame_buffer.h"
@@ -96,7 +97,7 @@ class CellTiler {
     engine::gpu::Buffer sortedEntries;  // the same, sorted (the draw's)
     std::uint32_t capacity = 0;
     bool recorded = false;
-    std::uint32_t unneededFrames = 0;  // releaseUnneeded's count of frames in a row
+    engine::gpu::IdleFrames idle;  // releaseUnneeded's frames in a row
   };
   void ensureBuffers(Slot& slot, std::uint32_t tileCount, std::uint32_t tileSize, std::uint64_t wanted,
                      std::uint32_t limit);

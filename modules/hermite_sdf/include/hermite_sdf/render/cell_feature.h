@@ -284,7 +284,8 @@ class HermiteCellFeature final : public engine::render::RenderFeature {
   void cullCellRanges(std::vector<VkDrawIndirectCommand>& commands, const std::vector<std::uint32_t> cullObjects[2]);
   void chooseCullingPaths(engine::render::FrameContext& frame, FrameDraws& f);
   std::array<std::uint64_t, 2> culledCells(const FrameDraws& f) const;
-  bool reserveCellCulling(std::uint32_t slot, const std::array<std::uint64_t, 2>& cells, std::string& refusal);
+  bool reserveCellCulling(std::uint32_t slot, const std::array<std::uint64_t, 2>& cells,
+                          const std::array<std::uint64_t, 2>& wantedSlots, std::string& refusal);
   std::uint64_t wantedKeptSlots(int precision, std::uint64_t cells) const;
   std::uint64_t heldKeptSlots(std::uint32_t slot, int precision) const;
   void clearKeptStreams();
@@ -414,7 +415,7 @@ class HermiteCellFeature final : public engine::render::RenderFeature {
   std::vector<engine::gpu::Buffer> keptBricks_;
   // Cell culling (Settings::cullCells): this frame's culled objects and, per record precision, its
   // ranges (the culled objects' front-face commands), the kept streams' slots (keptCapacity_) and
-  // the slots the last completed frame wanted (keptDemand_); per frame slot and precision the kept
+  // the share of its culled cells the last completed frame kept (keptShare_); per frame slot and precision the kept
   // records, their record indices and (for the tiling) their range indices (cell_cull.comp).
   std::unique_ptr<class CellCuller> cellCuller_;
   std::vector<shader::BrickCullObject> cellCullObjects_;
@@ -424,10 +425,10 @@ class HermiteCellFeature final : public engine::render::RenderFeature {
   VkDeviceSize cellCullRangeOffsets_[2] = {0, 0};
   std::uint32_t cellCullPackCounts_[2] = {0, 0};
   std::uint32_t keptCapacity_[2] = {0, 0};
-  std::uint64_t keptDemand_[2] = {0, 0};
-  // The culled objects' cells of the frame keptDemand_ comes from (0: no such frame), and per frame
-  // slot those of its last frame whose culling pass ran (what readKeptDemand pairs with its totals).
-  std::uint64_t keptDemandCells_[2] = {0, 0};
+  // The share of its culled cells the slot's last culling frame kept (negative: not measured),
+  // and per frame slot the culled cells of its last frame whose culling pass ran (what
+  // readKeptDemand divides its totals' append cursor by).
+  double keptShare_[2] = {-1.0, -1.0};
   std::vector<std::array<std::uint64_t, 2>> keptCulledCells_;
   bool keptFallback_[2] = {false, false};  // the streams hold fewer slots than the ranges have cells
   bool keptOverflowLogged_ = false;
@@ -438,7 +439,7 @@ class HermiteCellFeature final : public engine::render::RenderFeature {
   std::vector<std::array<engine::gpu::Buffer, 2>> keptCellRanges_;
   // Per frame slot and precision: the slot's frames in a row whose streams were more than they
   // wanted (Settings::releaseAfterFrames).
-  std::vector<std::array<std::uint32_t, 2>> keptOversizedFrames_;
+  std::vector<std::array<engine::gpu::IdleFrames, 2>> keptIdle_;
   // Per frame slot: the frame that last prepared it (kNeverPrepared: none since its buffers went).
   static constexpr std::uint64_t kNeverPrepared = ~std::uint64_t(0);
   std::vector<std::uint64_t> slotPreparedFrame_;
@@ -446,7 +447,7 @@ class HermiteCellFeature final : public engine::render::RenderFeature {
   // streams and its late commands follow the wireframe's.
   // Per culled object of this frame: its history entry and its first record; the history itself.
   bool occlusion_ = false;
-  std::uint32_t framesWithoutOcclusion_ = 0;  // in a row (Settings::releaseAfterFrames)
+  engine::gpu::IdleFrames historyIdle_;  // frames without occlusion culling (Settings::releaseAfterFrames)
   std::vector<std::pair<engine::ecs::Entity, std::uint64_t>> cellCullEntities_;
   std::vector<std::uint32_t> cellCullFirstRecord_;
   std::vector<std::uint32_t> cellCullCells_;
