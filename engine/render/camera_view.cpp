@@ -2,6 +2,8 @@
 
 #include <cmath>
 
+#include <fmt/format.h>
+
 #include "engine/core/math.h"
 
 namespace engine::render {
@@ -31,9 +33,32 @@ float CameraView::nearPlaneReachInObject(const glm::mat4& invModel) const {
   return nearPlaneReach() * frobenius;
 }
 
-CameraView CameraView::fromWorld(const glm::mat4& world, float fovY, float znear, float aspect) {
+Expected<CameraView> CameraView::fromWorld(const glm::mat4& world, float fovY, float znear, float aspect) {
+  for (int column = 0; column < 4; ++column)
+    for (int row = 0; row < 4; ++row)
+      if (!std::isfinite(world[column][row])) return makeError("the camera's world matrix is not finite");
+  if (!(fovY > 0.0f && fovY < 3.14159265f))
+    return makeError(fmt::format("vertical field of view {:g} rad is not between 0 and pi", fovY));
+  if (!(znear > 0.0f) || !std::isfinite(znear)) return makeError(fmt::format("znear {:g} is not positive", znear));
+  if (!(aspect > 0.0f) || !std::isfinite(aspect)) return makeError(fmt::format("aspect ratio {:g} is not positive", aspect));
+  // In double, relative to the axes' own lengths: a camera under a parent scaled by 1e-6 is valid.
+  const glm::dvec3 back(world[2]), up(world[1]);
+  const double backLength = glm::length(back);
+  if (!(backLength > 0.0)) return makeError("the camera's Z axis has zero length (a zero scale)");
+  const glm::dvec3 z = back / backLength;
+  const glm::dvec3 upAcross = up - glm::dot(up, z) * z;
+  const double upLength = glm::length(upAcross);
+  if (!(upLength > 1e-6 * glm::length(up)))
+    return makeError("the camera's Y axis has zero length or is parallel to its Z axis");
+  const glm::dvec3 y = upAcross / upLength;
+  const glm::dvec3 x = glm::cross(y, z);
+  glm::mat4 pose(1.0f);
+  pose[0] = glm::vec4(glm::vec3(x), 0.0f);
+  pose[1] = glm::vec4(glm::vec3(y), 0.0f);
+  pose[2] = glm::vec4(glm::vec3(z), 0.0f);
+  pose[3] = glm::vec4(glm::vec3(world[3]), 1.0f);
   CameraView c;
-  c.view = glm::inverse(world);
+  c.view = glm::inverse(pose);
   c.proj = math::perspectiveReverseZInfinite(fovY, aspect, znear);
   c.position = glm::vec3(world[3]);
   c.znear = znear;

@@ -2,6 +2,8 @@
 // What the renderer needs of a camera for one frame.
 #include <glm/glm.hpp>
 
+#include "engine/core/expected.h"
+
 namespace engine::render {
 
 struct CameraView {
@@ -22,8 +24,12 @@ struct CameraView {
 
   // A camera at `eye` looking at `target`, Y up, for an image of the given aspect ratio.
   static CameraView lookAt(const glm::vec3& eye, const glm::vec3& target, float fovY, float znear, float aspect);
-  // A camera placed by a world matrix (its local -Z is the viewing direction).
-  static CameraView fromWorld(const glm::mat4& world, float fovY, float znear, float aspect);
+  // A camera placed by a world matrix, as a glTF camera node is: its local -Z is the viewing
+  // direction and +Y is up. Scale and shear are dropped (the axes are orthonormalized, -Z kept,
+  // then +Y), so that a camera under a scaled parent sees the scene undistorted. An error names
+  // what cannot make a camera: a non-finite matrix, a zero or parallel -Z / +Y axis (zero scale),
+  // fovY outside (0, pi), znear not positive and finite, an aspect that is not positive.
+  static Expected<CameraView> fromWorld(const glm::mat4& world, float fovY, float znear, float aspect);
 };
 
 }  // namespace engine::render

@@ -21,7 +21,7 @@ using engine::Status;
 
 constexpr std::string_view kValueActions[] = {"screenshot", "size",          "panel",         "vsync",  "fullscreen",
                                               "view",       "save-settings", "load-settings", "camera", "shader-dir",
-                                              "present-fault"};
+                                              "present-fault", "scene-camera"};
 constexpr std::string_view kBareActions[] = {"wait-bake", "cancel-bake", "reload-shaders", "rebuild-shaders", "minimize",
                                              "restore",   "wait-size",   "fail-frame"};
 
@@ -69,7 +69,7 @@ Status checkCommand(const ScriptCommand& c, TuningState& scratch) {
   }
   if (!contains(kValueActions, c.key))
     return engine::makeError(fmt::format("unknown key '{}' (settings: {}; actions: screenshot, size, panel, vsync, "
-                                         "fullscreen, view, camera, save-settings, load-settings, shader-dir, present-fault, "
+                                         "fullscreen, view, camera, scene-camera, save-settings, load-settings, shader-dir, present-fault, "
                                          "wait-bake, cancel-bake, reload-shaders, rebuild-shaders, minimize, restore, wait-size, "
                                          "fail-frame)",
                                          c.key, tuningKeyList()));
@@ -203,6 +203,8 @@ Status runCommand(const ScriptCommand& c, Viewer& viewer) {
     viewer.setOrbitView(view);
   } else if (c.key == "camera") {
     viewer.setCameraMode(c.value == "fly" ? CameraMode::Fly : CameraMode::Orbit);
+  } else if (c.key == "scene-camera") {
+    ENGINE_TRY(viewer.lookThroughSceneCamera(c.value));
   } else if (c.key == "save-settings") {
     ENGINE_TRY(saveTuning(c.value, viewer.tuning()));
   } else if (c.key == "load-settings") {

@@ -19,7 +19,8 @@
 // has), present-fault=out-of-date|suboptimal (the next present reports that: vk_check.h's fault
 // injection), fail-frame (the next frame fails while it is recorded: GPU memory runs out at its
 // vkEndCommandBuffer, the same injection; the renderer skips that frame), panel=on|off, vsync=on|off, fullscreen=on|off, view=0..7 (orbit view), camera=orbit|fly
-// (keeps the view), save-settings=PATH, load-settings=PATH.
+// (keeps the view), scene-camera=NAME|INDEX (look through a glTF camera node; an unknown one fails
+// the run when it comes, naming the scene's cameras), save-settings=PATH, load-settings=PATH.
 // Commands of a frame run in order before that frame is drawn (frame 0: the first). "frame N" counts
 // steps of the frame loop: a minimised window's steps draw nothing but count, so a script can
 // restore the window it minimised.

@@ -440,6 +440,24 @@ void TuningPanel::drawFiles() {
   if (!viewer_.statusLine().empty()) ImGui::TextWrapped("%s", viewer_.statusLine().c_str());
 }
 
+// The glTF scene's cameras, when it has any: picking one looks through it until the camera moves.
+void TuningPanel::drawSceneCameras() {
+  const std::vector<std::string>& names = viewer_.sceneCameraNames();
+  if (names.empty()) return;
+  const bool through = viewer_.cameraMode() == CameraMode::Scene;
+  const char* preview = through ? names[viewer_.sceneCamera()].c_str() : "(none)";
+  if (!ImGui::BeginCombo("scene camera", preview)) return;
+  for (std::size_t i = 0; i < names.size(); ++i) {
+    ImGui::PushID(int(i));
+    if (ImGui::Selectable(names[i].c_str(), through && viewer_.sceneCamera() == i)) {
+      const engine::Status looked = viewer_.lookThroughSceneCamera(i);
+      viewer_.setStatusLine(looked ? "looking through scene camera '" + names[i] + "'" : looked.error().message);
+    }
+    ImGui::PopID();
+  }
+  ImGui::EndCombo();
+}
+
 void TuningPanel::drawWindow() {
   int mode = int(viewer_.cameraMode());
   ImGui::TextUnformatted("camera");
@@ -448,9 +466,10 @@ void TuningPanel::drawWindow() {
   ImGui::SameLine();
   changed |= ImGui::RadioButton("fly", &mode, int(CameraMode::Fly));
   if (changed) viewer_.setCameraMode(CameraMode(mode));
-  ImGui::TextWrapped(viewer_.cameraMode() == CameraMode::Orbit
-                         ? "Orbit: left-drag rotates, right-drag or scroll zooms, middle-drag pans."
-                         : "Fly: W/A/S/D moves, Q/E down/up, Shift faster, right-drag looks.");
+  drawSceneCameras();
+  ImGui::TextWrapped(viewer_.cameraMode() == CameraMode::Fly
+                         ? "Fly: W/A/S/D moves, Q/E down/up, Shift faster, right-drag looks."
+                         : "Orbit: left-drag rotates, right-drag or scroll zooms, middle-drag pans.");
   ImGui::TextWrapped("F1: panel on/off, F2: orbit/fly, F11: full screen.");
   if (!viewer_.windowed()) return;
   bool vsync = viewer_.vsync();

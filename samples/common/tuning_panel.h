@@ -44,6 +44,7 @@ class TuningPanel {
   void drawTimings();
   void drawFiles();
   void drawWindow();
+  void drawSceneCameras();
 
   Viewer& viewer_;
   std::map<std::string, PlotHistory> gpuHistory_;  // per pass name

@@ -96,43 +96,6 @@ Status Viewer::initialize(const ViewerDesc& desc) {
   return {};
 }
 
-void Viewer::setOrbitView(int index) { orbit_ = platform::framingOrbit(boundsMin_, boundsMax_, fovY_, index); }
-
-void Viewer::setCamera(const glm::dvec3& eye, const glm::dvec3& target) {
-  // In double: a distance that fits a float may have a square that does not.
-  const double distance = glm::length(eye - target);
-  const glm::dvec3 d = (eye - target) / distance;
-  orbit_.target = glm::vec3(target);
-  orbit_.radius = float(distance);
-  orbit_.minRadius = std::min(orbit_.minRadius, orbit_.radius);
-  orbit_.maxRadius = std::max(orbit_.maxRadius, orbit_.radius);
-  orbit_.pitch = float(std::asin(std::clamp(d.y, -1.0, 1.0)));
-  orbit_.yaw = float(std::atan2(d.x, d.z));
-}
-
-render::CameraView Viewer::cameraView() const {
-  const VkExtent2D extent = renderer_->extent();
-  const float aspect = float(extent.width) / float(std::max(extent.height, 1u));
-  if (cameraMode_ == CameraMode::Fly)
-    return render::CameraView::lookAt(fly_.position, fly_.position + fly_.forward(), fovY_, znear_, aspect);
-  return render::CameraView::lookAt(orbit_.eye(), orbit_.target, fovY_, znear_, aspect);
-}
-
-void Viewer::setCameraMode(CameraMode mode) {
-  if (mode == cameraMode_) return;
-  cameraMode_ = mode;
-  if (mode == CameraMode::Orbit) {  // orbit around the point the fly camera looked at
-    setCamera(glm::dvec3(fly_.position), glm::dvec3(fly_.position + fly_.forward() * orbit_.radius));
-    return;
-  }
-  const glm::vec3 eye = orbit_.eye();
-  const glm::vec3 d = glm::normalize(orbit_.target - eye);
-  fly_.position = eye;
-  fly_.pitch = std::asin(std::clamp(d.y, -1.0f, 1.0f));
-  fly_.yaw = std::atan2(-d.x, -d.z);  // FlyController::forward() inverted
-  fly_.speed = 0.5f * glm::length(boundsMax_ - boundsMin_);  // half the scene per second
-}
-
 void Viewer::setTuning(const TuningState& tuning) {
   tuning_ = tuning;
   if (sceneObjects_.loaded() && (tuning_.resolution != bakes_.resolution() || tuning_.padding != bakes_.padding())) {
@@ -247,8 +210,7 @@ void Viewer::handleInput(float dt) {
   input.uiWantsMouse = ui_ && uiVisible_ && ui_->wantsMouse();
   input.uiWantsKeyboard = ui_ && uiVisible_ && ui_->wantsKeyboard();
   handleKeys(input);
-  if (cameraMode_ == CameraMode::Orbit) orbit_.update(input);
-  else fly_.update(input, std::min(dt, 0.1f));  // a stall does not throw the camera across the scene
+  moveCamera(input, dt);
 }
 
 // F1: panel on/off; F2: orbit/fly camera; F11: full screen. On the press, not while held.

@@ -21,6 +21,7 @@
 #include <optional>
 #include <span>
 #include <string>
+#include <string_view>
 #include <utility>
 #include <vector>
 
@@ -101,8 +102,9 @@ struct SceneDesc {
 class TuningPanel;
 
 // Orbit: around the scene (drag rotates, right-drag/scroll zooms, middle-drag pans). Fly: WASD
-// (Q/E down/up, Shift faster) and right-drag to look.
-enum class CameraMode { Orbit, Fly };
+// (Q/E down/up, Shift faster) and right-drag to look. Scene: through one of a glTF scene's camera
+// nodes (Viewer::lookThroughSceneCamera), until the camera is moved.
+enum class CameraMode { Orbit, Fly, Scene };
 
 class Viewer {
  public:
@@ -120,9 +122,24 @@ class Viewer {
   void setOrbitView(int index);
   void setCamera(const glm::dvec3& eye, const glm::dvec3& target);
   engine::render::CameraView cameraView() const;
-  // Switching keeps the eye and the view direction (F2 toggles).
+  // Orbit or fly from the eye and view direction of the camera now (F2 toggles; the first orbit or
+  // fly gesture leaves a scene camera the same way). CameraMode::Scene is entered through
+  // lookThroughSceneCamera, and ignored here.
   void setCameraMode(CameraMode mode);
   CameraMode cameraMode() const { return cameraMode_; }
+  // The glTF scene's perspective cameras, in the order of their nodes: each node's name ("camera N"
+  // for a node without one). Orthographic cameras are skipped by the importer.
+  const std::vector<std::string>& sceneCameraNames() const { return sceneCameraNames_; }
+  // Looks through a scene camera, named or given by its index in sceneCameraNames(): its node's
+  // world pose (scale and shear dropped), its yfov and znear, the image's aspect ratio (a file's
+  // aspectRatio is not letterboxed; the projection stays infinite). The node's pose is read every
+  // frame, so a camera node the scene moves is followed. Errors name the camera and why: no such
+  // camera (the names are listed), a degenerate pose, a field of view not below pi, an eye farther
+  // than kMaxSceneSize from the scene.
+  engine::Status lookThroughSceneCamera(std::string_view nameOrIndex);
+  engine::Status lookThroughSceneCamera(std::size_t index);
+  // The index of the scene camera looked through (meaningful while cameraMode() is Scene).
+  std::size_t sceneCamera() const { return sceneCamera_; }
 
   const TuningState& tuning() const { return tuning_; }
   // Applied at the next step(). A new resolution or padding re-bakes the baked SDF on a worker
@@ -252,6 +269,10 @@ class Viewer {
   Viewer() = default;
   engine::Status initialize(const ViewerDesc& desc);
   void handleInput(float dt);
+  // The camera (viewer_camera.cpp): this frame's gestures; the scene's camera nodes at load.
+  void moveCamera(const engine::platform::InputState& input, float dt);
+  void collectSceneCameras(const std::vector<engine::ecs::Entity>& cameras);
+  engine::Expected<engine::render::CameraView> sceneCameraView(std::size_t index) const;
   void handleKeys(const engine::platform::InputState& input);
   void updateVisibility(Method method, bool meshes = true);
   void finishStep();
@@ -281,6 +302,9 @@ class Viewer {
   engine::platform::OrbitController orbit_;
   engine::platform::FlyController fly_;
   CameraMode cameraMode_ = CameraMode::Orbit;
+  std::vector<std::string> sceneCameraNames_;      // lookThroughSceneCamera
+  std::vector<engine::ecs::Entity> sceneCameras_;  // their nodes, same order
+  std::size_t sceneCamera_ = 0;
   float fovY_ = 0.8f;
   float znear_ = 0.01f;
   std::uint64_t frames_ = 0;

@@ -85,6 +85,7 @@ Status Viewer::loadScene(const SceneDesc& scene, const TuningState& tuning) {
 Status Viewer::loadGltf(const SceneDesc& scene) {
   ENGINE_TRY_ASSIGN(scene::SceneData data, scene::loadGltf(scene.gltf));
   const render::InstantiatedScene instantiated = render::instantiateScene(data, registry_, *pool_);
+  collectSceneCameras(instantiated.cameras);
   if (instantiated.renderables.empty()) {
     log::warn("{}: the scene has no triangle meshes", scene.gltf.string());
   } else {

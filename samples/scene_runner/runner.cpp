@@ -48,6 +48,8 @@ Status createApp(const Options& options, std::unique_ptr<samples::Viewer>& viewe
     const auto& c = *options.camera;
     viewer->setCamera(glm::dvec3(c[0], c[1], c[2]), glm::dvec3(c[3], c[4], c[5]));
   }
+  if (!options.sceneCamera.empty())
+    ENGINE_TRY(viewer->lookThroughSceneCamera(options.sceneCamera).withContext(options.scene.string()));
   return {};
 }
 

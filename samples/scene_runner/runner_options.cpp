@@ -217,9 +217,15 @@ ParseResult parseOptions(int argc, const char* const* argv) {
                  "with an error naming the resource")
       ->check(CLI::Range(std::uint64_t(0), std::uint64_t(1) << 30));
   app.add_option("--ui-ini", options.uiIni, "ImGui window layout file (windowed default: imgui.ini; '' : none)");
-  app.add_option("--view", options.view, "one of 8 fixed orbit views (0..7)")->check(CLI::Range(0, 7));
+  CLI::Option* view = app.add_option("--view", options.view, "one of 8 fixed orbit views (0..7)")->check(CLI::Range(0, 7));
   std::vector<float> camera;
-  app.add_option("--camera", camera, "eye and target: ex,ey,ez,tx,ty,tz")->delimiter(',')->expected(6);
+  CLI::Option* eye =
+      app.add_option("--camera", camera, "eye and target: ex,ey,ez,tx,ty,tz")->delimiter(',')->expected(6);
+  app.add_option("--scene-camera", options.sceneCamera,
+                 "look through a camera node of the glTF scene, by name or index (its pose, yfov and znear; "
+                 "orbit or fly take over when the camera is moved)")
+      ->excludes(view)
+      ->excludes(eye);
 
   if (auto stop = samples::parseCommandLine(app, "scene_runner", argc, argv)) return samples::stoppedWith<Options>(*stop);
   std::optional<std::string> problem;
@@ -228,6 +234,8 @@ ParseResult parseOptions(int argc, const char* const* argv) {
     problem = "--screenshot: '" + options.screenshot.string() + "' must end in .png";
   if (!problem) problem = parseCamera(camera, options);
   if (!problem) problem = checkCombinations(options, app.count("--method") > 0);
+  if (!problem && !options.sceneCamera.empty() && options.scene.empty())
+    problem = "--scene-camera: looks through a camera of a glTF scene; add --scene FILE";
   if (!problem && !options.objects && app.count("--node-draw") + app.count("--triangle-nodes") > 0)
     problem = "--node-draw and --triangle-nodes choose per node of a scene loaded with --objects; add --objects";
   if (problem) return failure(*problem);

@@ -30,6 +30,7 @@ struct Options {
   bool objects = false;              // each glTF mesh its own SDF object, drawn per node (--objects)
   std::optional<int> view;           // one of 8 fixed orbit views
   std::optional<std::array<float, 6>> camera;  // eye xyz, target xyz
+  std::string sceneCamera;           // a glTF camera node to look through: its name or index (--scene-camera)
   std::filesystem::path saveSettings;  // write the final tuning to this file (--save-settings)
   std::filesystem::path script;        // "frame N: key=value ..." lines (samples/common/script.h)
   std::uint64_t bakeBudgetMiB = 4096;  // bakes needing more memory are refused (--bake-budget-mib)

@@ -88,7 +88,7 @@ RandomCamera randomCamera(std::mt19937& rng, const WorldSphere& sphere, float ce
   const glm::mat4 world(glm::vec4(right, 0.0f), glm::vec4(up, 0.0f), glm::vec4(-forward, 0.0f), glm::vec4(eye, 1.0f));
   const float fovY = glm::radians(15.0f + 105.0f * unit(rng));
   const float znear = std::exp(glm::mix(std::log(1e-3f * cellWorld), std::log(0.1f * sphere.radius), unit(rng)));
-  c.camera = render::CameraView::fromWorld(world, fovY, znear, float(c.size.x) / float(c.size.y));
+  c.camera = render::CameraView::fromWorld(world, fovY, znear, float(c.size.x) / float(c.size.y)).value();
   char label[160];
   std::snprintf(label, sizeof(label), "%ux%u, eye %.2f radii%s, fov %.0f deg, near %.1e", c.size.x, c.size.y,
                 double(distance / sphere.radius), inside ? " (inside the sphere)" : "", double(glm::degrees(fovY)),

@@ -18,10 +18,11 @@ TEST(Script, ParsesFramesAndCommandsInOrder) {
       "\n"
       "frame 0: panel=off method=trilinear  # trailing comment\n"
       "frame 3: resolution=32 wait-bake screenshot=out/a.png\n"
-      "frame 3: cancel-bake size=200x100 view=7\n",
+      "frame 3: cancel-bake size=200x100 view=7\n"
+      "frame 4: scene-camera=front\n",
       "test.txt");
   ASSERT_TRUE(script.ok()) << script.error().message;
-  ASSERT_EQ(script->frames.size(), 3u);
+  ASSERT_EQ(script->frames.size(), 4u);
   EXPECT_EQ(script->frames[0].frame, 0u);
   ASSERT_EQ(script->frames[0].commands.size(), 2u);
   EXPECT_EQ(script->frames[0].commands[1].key, "method");
@@ -31,7 +32,9 @@ TEST(Script, ParsesFramesAndCommandsInOrder) {
   EXPECT_EQ(script->frames[1].commands[1].value, "");
   EXPECT_EQ(script->frames[1].commands[2].value, "out/a.png");
   EXPECT_EQ(script->frames[2].frame, 3u);
-  EXPECT_EQ(script->lastFrame(), 3u);
+  EXPECT_EQ(script->frames[3].commands[0].key, "scene-camera");  // the name is looked up when it runs
+  EXPECT_EQ(script->frames[3].commands[0].value, "front");
+  EXPECT_EQ(script->lastFrame(), 4u);
 }
 
 // Tricky: each mistake must be caught when the file is read (a typo found at frame 500 of a soak
@@ -60,6 +63,7 @@ TEST(Script, BadLinesNameFileLineAndProblem) {
       {"frame 0: minimize=3\n", "s.txt:1: 'minimize' takes no value"},
       {"frame 0: fail-frame=oom\n", "s.txt:1: 'fail-frame' takes no value"},
       {"frame 0: shader-dir\n", "s.txt:1: 'shader-dir' needs a value"},
+      {"frame 0: scene-camera\n", "s.txt:1: 'scene-camera' needs a value"},
       {"frame 0: present-fault=lost\n", "s.txt:1: present-fault 'lost' is not out-of-date or suboptimal"},
       {"frame 0: size=4097x1\n", "s.txt:1: size '4097x1' is not WxH"},
       {"frame 0: split=both\n", "s.txt:1: setting 'split': \"both\" is not one of off, vertical, horizontal"},

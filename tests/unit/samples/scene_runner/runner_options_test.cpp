@@ -131,6 +131,9 @@ TEST(RunnerOptions, EveryOptionsGoodValue) {
   EXPECT_EQ(parseOk({"--subdivisions", "64"}).tuning.subdivisions, 64u);
   EXPECT_EQ(parseOk({"--tile-size", "4"}).tuning.tileSize, 4u);
   EXPECT_EQ(parseOk({"--size", "16384x1"}).width, 16384u);
+  // The name or index is looked up once the scene is loaded (samples::Viewer::lookThroughSceneCamera).
+  EXPECT_EQ(parseOk({"--scene", kBunny, "--scene-camera", "front"}).sceneCamera, "front");
+  EXPECT_EQ(parseOk({}).sceneCamera, "");
 }
 
 // Tricky: derived defaults: headless draws one frame; a .hsdf file alone replaces the bunny and
@@ -177,6 +180,10 @@ TEST(RunnerOptions, BadValuesNameTheOption) {
       {{"--camera", "0,0,0,0,0,1e-30"}, "(they are 1e-30 apart)"},
       {{"--camera", "3e38,0,0,-3e38,0,0"}, "(they are 6e+38 apart)"},
       {{"--scene", "no_such_scene.glb"}, "--scene"},
+      // A camera to look through needs a glTF scene holding it, and one camera placement, not two.
+      {{"--scene-camera", "front"}, "--scene-camera: looks through a camera of a glTF scene; add --scene FILE"},
+      {{"--scene", kBunny, "--scene-camera", "front", "--view", "2"}, "excludes"},
+      {{"--scene", kBunny, "--scene-camera", "front", "--camera", "1,2,3,4,5,6"}, "excludes"},
       {{"--sdf", "no_such_file.hsdf"}, "--sdf"},
       {{"--settings", "no_such_settings.json"}, "--settings"},
       {{"--resolution", "3", "--padding", "1"}, "--resolution 3 leaves no cells inside --padding 1"},

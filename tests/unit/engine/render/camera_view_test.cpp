@@ -1,0 +1,89 @@
+// CameraView::fromWorld (engine/render/camera_view.h): a camera placed by a node's world matrix, as
+// glTF camera nodes are. Each case says what a mistake would break.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <limits>
+#include <string>
+
+#include <glm/gtc/matrix_transform.hpp>
+
+#include "engine/render/camera_view.h"
+
+namespace engine::render {
+namespace {
+
+const glm::mat4 kTurn = glm::rotate(glm::mat4(1.0f), 0.8f, glm::normalize(glm::vec3(1.0f, 0.4f, -0.3f)));
+const glm::vec3 kEye(1.0f, -2.0f, 3.0f);
+
+glm::mat4 placed(const glm::mat4& linear) { return glm::translate(glm::mat4(1.0f), kEye) * linear; }
+
+// Where a world point lands in normalized device coordinates.
+glm::vec3 project(const CameraView& camera, const glm::vec3& p) {
+  const glm::vec4 clip = camera.proj * camera.view * glm::vec4(p, 1.0f);
+  return glm::vec3(clip) / clip.w;
+}
+
+// Tricky: a camera under a scaled parent (non-uniform, or a Y axis sheared along Z) must see the
+// scene as the unscaled camera does: a scale left in the view would squash the image. Points ahead
+// of the camera must project to the same place in both.
+TEST(CameraFromWorld, DropsScaleAndShear) {
+  const Expected<CameraView> plain = CameraView::fromWorld(placed(kTurn), 0.9f, 0.1f, 1.5f);
+  ASSERT_TRUE(plain.ok()) << plain.error().message;
+  glm::mat4 shear(1.0f);
+  shear[1][2] = 0.3f;  // the Y axis leans along Z: no longer perpendicular to the view direction
+  for (const glm::mat4& distort : {glm::scale(glm::mat4(1.0f), glm::vec3(3.0f, 0.5f, 2.0f)), shear}) {
+    const Expected<CameraView> scaled = CameraView::fromWorld(placed(kTurn * distort), 0.9f, 0.1f, 1.5f);
+    ASSERT_TRUE(scaled.ok()) << scaled.error().message;
+    EXPECT_NEAR(glm::length(scaled->position - kEye), 0.0f, 1e-5f);
+    for (const glm::vec3& local : {glm::vec3(0.0f, 0.0f, -4.0f), glm::vec3(1.0f, 0.5f, -3.0f), glm::vec3(-2.0f, 1.0f, -7.0f)}) {
+      const glm::vec3 world = kEye + glm::vec3(kTurn * glm::vec4(local, 0.0f));
+      EXPECT_NEAR(glm::length(project(*scaled, world) - project(*plain, world)), 0.0f, 1e-5f);
+    }
+  }
+  // The unscaled camera looks down its -Z: a point ahead lands in the middle of the image.
+  const glm::vec3 ahead = kEye + glm::vec3(kTurn * glm::vec4(0.0f, 0.0f, -5.0f, 0.0f));
+  EXPECT_NEAR(project(*plain, ahead).x, 0.0f, 1e-5f);
+  EXPECT_NEAR(project(*plain, ahead).y, 0.0f, 1e-5f);
+}
+
+// Tricky: a camera under a parent scaled to micrometres is a valid camera (the axes are compared
+// with their own lengths, not with an absolute epsilon).
+TEST(CameraFromWorld, TinyScaleIsStillACamera) {
+  EXPECT_TRUE(CameraView::fromWorld(placed(kTurn * glm::scale(glm::mat4(1.0f), glm::vec3(1e-6f))), 0.9f, 0.1f, 1.0f).ok());
+}
+
+// Tricky: each of these would make a projection of NaNs or a view that is not a camera; the error
+// must say which (a glTF file's camera is checked when it is picked, not when the frame is black).
+TEST(CameraFromWorld, WhatCannotMakeACameraIsNamed) {
+  const float nan = std::numeric_limits<float>::quiet_NaN();
+  glm::mat4 notFinite = placed(kTurn);
+  notFinite[3][1] = nan;
+  glm::mat4 parallel = placed(kTurn);
+  parallel[1] = parallel[2];
+  struct Case {
+    glm::mat4 world;
+    float fovY, znear, aspect;
+    const char* expected;
+  };
+  const Case cases[] = {
+      {notFinite, 0.9f, 0.1f, 1.0f, "world matrix is not finite"},
+      {placed(glm::scale(glm::mat4(1.0f), glm::vec3(1.0f, 1.0f, 0.0f))), 0.9f, 0.1f, 1.0f, "Z axis has zero length"},
+      {placed(glm::scale(glm::mat4(1.0f), glm::vec3(1.0f, 0.0f, 1.0f))), 0.9f, 0.1f, 1.0f, "Y axis has zero length"},
+      {parallel, 0.9f, 0.1f, 1.0f, "parallel to its Z axis"},
+      {placed(kTurn), 0.0f, 0.1f, 1.0f, "vertical field of view 0 rad is not between 0 and pi"},
+      {placed(kTurn), 3.2f, 0.1f, 1.0f, "vertical field of view 3.2 rad"},
+      {placed(kTurn), nan, 0.1f, 1.0f, "vertical field of view nan"},
+      {placed(kTurn), 0.9f, 0.0f, 1.0f, "znear 0 is not positive"},
+      {placed(kTurn), 0.9f, std::numeric_limits<float>::infinity(), 1.0f, "znear inf"},
+      {placed(kTurn), 0.9f, 0.1f, -1.0f, "aspect ratio -1 is not positive"},
+  };
+  for (const Case& c : cases) {
+    const Expected<CameraView> made = CameraView::fromWorld(c.world, c.fovY, c.znear, c.aspect);
+    ASSERT_FALSE(made.ok()) << c.expected;
+    EXPECT_NE(made.error().message.find(c.expected), std::string::npos) << made.error().message;
+  }
+}
+
+}  // namespace
+}  // namespace engine::render
