@@ -138,6 +138,8 @@ class Viewer {
   // than kMaxSceneSize from the scene.
   engine::Status lookThroughSceneCamera(std::string_view nameOrIndex);
   engine::Status lookThroughSceneCamera(std::size_t index);
+  // The index of a scene camera by name (first), else by index; the error lists the names.
+  engine::Expected<std::size_t> findSceneCamera(std::string_view nameOrIndex) const;
   // The index of the scene camera looked through (meaningful while cameraMode() is Scene).
   std::size_t sceneCamera() const { return sceneCamera_; }
 

@@ -111,15 +111,20 @@ Expected<render::CameraView> Viewer::sceneCameraView(std::size_t index) const {
   return render::CameraView::fromWorld(world->matrix, camera->fovY, camera->znear, aspect);
 }
 
-Status Viewer::lookThroughSceneCamera(std::string_view nameOrIndex) {
+Expected<std::size_t> Viewer::findSceneCamera(std::string_view nameOrIndex) const {
   const auto named = std::find(sceneCameraNames_.begin(), sceneCameraNames_.end(), nameOrIndex);
-  if (named != sceneCameraNames_.end()) return lookThroughSceneCamera(std::size_t(named - sceneCameraNames_.begin()));
+  if (named != sceneCameraNames_.end()) return std::size_t(named - sceneCameraNames_.begin());
   std::size_t index = 0;  // not a name: an index
   const char* end = nameOrIndex.data() + nameOrIndex.size();
   const auto parsed = std::from_chars(nameOrIndex.data(), end, index);
   if (parsed.ec != std::errc() || parsed.ptr != end || index >= sceneCameraNames_.size())
     return makeError(fmt::format("scene camera '{}': no camera of that name or index ({})", nameOrIndex,
                                  cameraList(sceneCameraNames_)));
+  return index;
+}
+
+Status Viewer::lookThroughSceneCamera(std::string_view nameOrIndex) {
+  ENGINE_TRY_ASSIGN(const std::size_t index, findSceneCamera(nameOrIndex));
   return lookThroughSceneCamera(index);
 }
 

@@ -123,20 +123,42 @@ std::string fileName(const std::string& label) {
   return name;
 }
 
-// Orbit view v, `distance` times farther from the framing's target (the scene bounds' centre).
-void showView(samples::Viewer& viewer, int v, float distance) {
-  viewer.setOrbitView(v);
-  if (distance == 1.0f) return;
-  const glm::dvec3 target = 0.5 * (glm::dvec3(viewer.boundsMin()) + glm::dvec3(viewer.boundsMax()));
-  viewer.setCamera(target + double(distance) * (glm::dvec3(viewer.cameraView().position) - target), target);
+// The scene cameras the views look through (--scene-cameras), by index; empty for the orbit views.
+Expected<std::vector<std::size_t>> sceneCameraViews(const samples::Viewer& viewer, const Options& options) {
+  std::vector<std::size_t> cameras;
+  for (const std::string& camera : options.sceneCameras) {
+    if (camera == "all") {
+      for (std::size_t i = 0; i < viewer.sceneCameraNames().size(); ++i) cameras.push_back(i);
+      continue;
+    }
+    ENGINE_TRY_ASSIGN(const std::size_t index, viewer.findSceneCamera(camera).withContext("--scene-cameras"));
+    cameras.push_back(index);
+  }
+  if (!options.sceneCameras.empty() && cameras.empty())
+    return makeError("--scene-cameras: " + options.scene.string() + " has no perspective cameras");
+  return cameras;
 }
 
-// The fixed views of the capture: the Viewer's orbit views, framed on the source's bounds (glTF:
-// its mesh vertices; shapes: the shape's bounds), never on the grid's padded bounds.
-std::vector<render::CameraView> orbitViews(samples::Viewer& viewer, std::uint32_t views, float distance) {
+// View v: scene camera sceneCameras[v], or orbit view v `distance` times farther from the
+// framing's target (the scene bounds' centre).
+Status showView(samples::Viewer& viewer, std::size_t v, const Options& options, const std::vector<std::size_t>& sceneCameras) {
+  if (!sceneCameras.empty()) return viewer.lookThroughSceneCamera(sceneCameras[v]).withContext("--scene-cameras");
+  viewer.setOrbitView(int(v));
+  if (options.distance == 1.0f) return {};
+  const glm::dvec3 target = 0.5 * (glm::dvec3(viewer.boundsMin()) + glm::dvec3(viewer.boundsMax()));
+  viewer.setCamera(target + double(options.distance) * (glm::dvec3(viewer.cameraView().position) - target), target);
+  return {};
+}
+
+// The fixed views of the capture: the scene's cameras, or the Viewer's orbit views framed on the
+// source's bounds (glTF: its mesh vertices; shapes: the shape's bounds), never on the grid's padded
+// bounds.
+Expected<std::vector<render::CameraView>> captureViews(samples::Viewer& viewer, const Options& options,
+                                                       const std::vector<std::size_t>& sceneCameras) {
+  const std::size_t count = sceneCameras.empty() ? options.views : sceneCameras.size();
   std::vector<render::CameraView> cameras;
-  for (std::uint32_t v = 0; v < views; ++v) {
-    showView(viewer, int(v), distance);
+  for (std::size_t v = 0; v < count; ++v) {
+    ENGINE_TRY(showView(viewer, v, options, sceneCameras));
     cameras.push_back(viewer.cameraView());
   }
   return cameras;
@@ -155,6 +177,7 @@ struct Group {
   Measurement& measurement;
   const ecs::Registry& measured;  // what Measurement draws: the Viewer's registry, or the meshes
   const std::vector<render::CameraView>& cameras;
+  const std::vector<std::size_t>& sceneCameras;  // the scene cameras of the views (sceneCameraViews)
   const std::vector<TruthImage>& truth;
   double diagonal;
 };
@@ -182,7 +205,7 @@ Status captureRow(const Group& g, const RowSpec& spec, std::size_t index, std::s
   for (std::size_t v = 0; v < g.cameras.size(); ++v) {
     std::fprintf(stderr, "\r[%zu/%zu] %-26s view %zu/%zu   ", index + 1, total, spec.label.c_str(), v + 1,
                  g.cameras.size());
-    showView(g.viewer, int(v), g.options.distance);
+    ENGINE_TRY(showView(g.viewer, v, g.options, g.sceneCameras));
     for (std::uint32_t f = 0; f < g.options.warmup; ++f) ENGINE_TRY(timeFrame(g.viewer));
     TimedFrame last;
     for (std::uint32_t f = 0; f < g.options.frames; ++f) {
@@ -332,7 +355,11 @@ Status captureGroup(const Options& options, const Subject& subject, const std::v
   if (!info) info = runInfo(options, viewer->context(), subject);
   const glm::vec3 size = viewer->boundsMax() - viewer->boundsMin();
   const double diagonal = glm::length(glm::dvec3(size));
-  const std::vector<render::CameraView> views = orbitViews(*viewer, options.views, options.distance);
+  ENGINE_TRY_ASSIGN(const std::vector<std::size_t> sceneCameras, sceneCameraViews(*viewer, options));
+  ENGINE_TRY_ASSIGN(const std::vector<render::CameraView> views, captureViews(*viewer, options, sceneCameras));
+  info->views = std::uint32_t(views.size());
+  info->viewNames.clear();
+  for (const std::size_t camera : sceneCameras) info->viewNames.push_back(viewer->sceneCameraNames()[camera]);
   if (cameras.empty()) {
     cameras = views;
     for (std::size_t v = 0; v < cameras.size(); ++v) {
@@ -358,7 +385,7 @@ Status captureGroup(const Options& options, const Subject& subject, const std::v
     ENGINE_TRY_ASSIGN(std::unique_ptr<Measurement> measurement,
                       Measurement::create(viewer->context(), measuredPool, extent));
     const Group group{options, extent, subject, *viewer, *measurement,
-                      rows.front().isMesh() ? meshes : viewer->registry(), cameras, truth, diagonal};
+                      rows.front().isMesh() ? meshes : viewer->registry(), cameras, sceneCameras, truth, diagonal};
     for (const RowSpec& spec : rows) {
       if (const std::optional<std::string> why = progress.refusal(results)) {
         addNotRun(spec, *why, results);

@@ -96,15 +96,23 @@ ParseResult parseOptions(int argc, const char* const* argv) {
   app.add_option("--settings", settings,
                  "only these settings of the cell methods, e.g. \"n=3 r=1,certified\" (default: every one; the "
                  "settings are those of the rows' labels)");
-  app.add_option("--views", options.views, "orbit views 1..8 (default 8; --quick 2)")->check(CLI::Range(1u, 8u));
+  auto* views = app.add_option("--views", options.views, "orbit views 1..8 (default 8; --quick 2)")->check(CLI::Range(1u, 8u));
   app.add_option("--frames", options.frames, "timed frames per view 1..1000 (default 5; --quick 2)")
       ->check(CLI::Range(1u, 1000u));
   app.add_option("--warmup", options.warmup, "untimed frames per view before the timed ones 0..1000 (default 2; --quick 1)")
       ->check(CLI::Range(0u, 1000u));
   app.add_flag("--quick", options.quick, "small CI preset: 320x180, K 16,32, 2 views, 2 frames, 1 warm-up");
   app.add_flag("--lod", options.lod, "each cell row also with levels of detail on (rows labelled 'lod')");
-  app.add_option("--distance", options.distance, "orbit views this many times farther than the framing (1..64, default 1)")
-      ->check(CLI::Range(1.0f, 64.0f));
+  auto* distance =
+      app.add_option("--distance", options.distance, "orbit views this many times farther than the framing (1..64, default 1)")
+          ->check(CLI::Range(1.0f, 64.0f));
+  app.add_option("--scene-cameras", options.sceneCameras,
+                 "the views are these cameras of the --scene (glTF camera nodes, by name or index, comma-separated; "
+                 "all: every perspective camera, in node order) instead of the orbit views")
+      ->delimiter(',')
+      ->excludes(views)
+      ->excludes(distance)
+      ->excludes(shape);
   app.add_option("--time-limit", options.timeLimitSeconds,
                  "no row starts after this many seconds (0: none, the default; the first row always runs): the "
                  "others are listed as not run (the exit code is non-zero) and every output is written")
@@ -132,6 +140,8 @@ ParseResult parseOptions(int argc, const char* const* argv) {
   if (!problem && !options.shape.empty() &&
       std::find(options.methods.begin(), options.methods.end(), "mesh") != options.methods.end() && !methods.empty())
     problem = "--methods mesh: an analytic --shape has no triangle mesh to draw";
+  if (!problem && !options.sceneCameras.empty() && options.scene.empty())
+    problem = "--scene-cameras: the views are a glTF scene's cameras; give the --scene that holds them";
   if (!problem && options.scene.extension() == ".hsdf")
     problem = "--scene: '" + options.scene.string() +
               "' is a baked .hsdf file; the capture re-bakes its source at every K and casts the ground truth from "

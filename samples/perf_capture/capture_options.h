@@ -1,7 +1,8 @@
 #pragma once
 // Command line of the perf capture (issue 10):
 //   perf_capture --out DIR [--scene FILE [--objects] | --shape NAME] [--size WxH] [--resolutions 16,32,64,128]
-//                [--methods mesh,trilinear,hermite,cells,cells-runs,cell-bricks] [--settings "n=3 r=1,..."] [--views N]
+//                [--methods mesh,trilinear,hermite,cells,cells-runs,cell-bricks] [--settings "n=3 r=1,..."]
+//                [--views N | --scene-cameras all|NAME,...]
 //                [--frames N] [--warmup N] [--quick] [--lod] [--distance F] [--time-limit SECONDS]
 // Every value is checked before a device opens; a bad one is refused naming its option.
 #include <cstdint>
@@ -28,6 +29,10 @@ struct Options {
   // Settings of the cell methods to capture (capture_rows.cpp labels, e.g. "n=3 r=1"); empty: all.
   std::vector<std::string> cellSettings;
   std::uint32_t views = 8;
+  // The views are these perspective cameras of the --scene (glTF camera nodes, by name or index;
+  // "all": every one, in node order) instead of the orbit views: a scene measured from where its
+  // author looks at it. Empty: the orbit views.
+  std::vector<std::string> sceneCameras;
   std::uint32_t frames = 5;      // timed frames per view
   std::uint32_t warmup = 2;      // untimed frames per view before them
   bool quick = false;

@@ -427,10 +427,13 @@ engine::Status writeJson(const std::filesystem::path& path, const RunInfo& info,
 
 engine::Status writeMarkdown(const std::filesystem::path& folder, const RunInfo& info, const std::vector<RowResult>& rows) {
   std::string md = "# Perf capture: " + info.scene + "\n\n";
-  md += fmt::format("- Command: `{}`\n- Device: {} ({})\n- Commit: {}\n- Date: {}\n- {}x{}, {} views, {} warm-up + {} "
+  md += fmt::format("- Command: `{}`\n- Device: {} ({})\n- Commit: {}\n- Date: {}\n- {}x{}, {} views{}, {} warm-up + {} "
                     "timed frames per view\n\n",
                     info.commandLine, info.device, info.driver, info.commit, info.date, info.width, info.height,
-                    info.views, info.warmup, info.frames);
+                    info.views,
+                    info.viewNames.empty() ? std::string(" (orbit views)")
+                                           : fmt::format(" (the scene's cameras: {})", fmt::join(info.viewNames, ", ")),
+                    info.warmup, info.frames);
   if (info.softwareRasterizer)
     md += "**This device is a software rasterizer (CPU).** Its timings only compare rows of this run with each other; "
           "they say nothing about frame times on a GPU. ";

@@ -44,6 +44,7 @@ struct RunInfo {
   std::string device, driver, commandLine, commit, date, scene;
   std::vector<std::string> partNames;  // [SceneData::nodes index] "node (mesh)", for PartQuality::part
   std::uint32_t width = 0, height = 0, views = 0, frames = 0, warmup = 0;
+  std::vector<std::string> viewNames;  // --scene-cameras: the cameras, one per view; empty: orbit views
   bool pipelineStatistics = false;
   bool softwareRasterizer = false;
 };

@@ -27,6 +27,11 @@ TEST(CaptureOptions, DefaultsAreTheIssuesFullRun) {
   const ParseResult objects = parse({"--out", "x", "--scene", HSDF_ASSET_DIR "/grid_scene.glb", "--objects"});
   ASSERT_TRUE(objects.options) << objects.message;
   EXPECT_TRUE(objects.options->objects);
+  EXPECT_TRUE(r.options->sceneCameras.empty()) << "the orbit views by default";
+  // Names and indices as given; they are looked up in the scene when it is loaded.
+  const ParseResult cameras = parse({"--out", "x", "--scene", HSDF_ASSET_DIR "/grid_scene.glb", "--scene-cameras", "front,2"});
+  ASSERT_TRUE(cameras.options) << cameras.message;
+  EXPECT_EQ(cameras.options->sceneCameras, (std::vector<std::string>{"front", "2"}));
 }
 
 // Tricky: --quick is a preset, and options given beside it win, whatever their order.
@@ -53,6 +58,10 @@ TEST(CaptureOptions, BadValuesAreRefusedNamingTheOption) {
       {{"--out", "x", "--settings", "n=3 r=1,n=9"}, "--settings: 'n=9'"},
       {{"--out", "x", "--size", "12x"}, "--size: '12x'"},
       {{"--out", "x", "--views", "9"}, "--views"},
+      // The scene's cameras replace the orbit views: with them, --views and --distance mean nothing.
+      {{"--out", "x", "--scene-cameras", "all"}, "--scene-cameras: the views are a glTF scene's cameras; give the --scene"},
+      {{"--out", "x", "--scene-cameras", "all", "--views", "3"}, "excludes"},
+      {{"--out", "x", "--scene-cameras", "all", "--distance", "2"}, "excludes"},
       {{"--out", "x", "--frames", "0"}, "--frames"},
       {{"--out", "x", "--time-limit", "-1"}, "--time-limit"},
       {{"--out", "x", "--time-limit", "nan"}, "--time-limit"},
