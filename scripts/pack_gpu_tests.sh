@@ -2,7 +2,9 @@
 # Packs the GPU test suite of a release build into one folder that runs on another x86-64 Linux
 # machine with a Vulkan driver but none of Debian's packages (the device machines lent to some
 # sessions: they cannot install or build anything). What ../shared/tools/pack_for_gpu.sh does for
-# the programs, for the tests: the gtest binaries of tests/gpu, their SPIR-V and sample assets, every
+# the programs, for the tests: the gtest binaries of tests/gpu and the Viewer's GPU tests
+# (tests/unit/samples: the frame step the programs share), their SPIR-V, sample assets and test
+# data (tests/data), every
 # shared library they need except glibc/libstdc++/libgcc (the target's are newer), the Vulkan loader
 # and Khronos validation layer (the tests fail on any validation message, on every device).
 #   scripts/pack_gpu_tests.sh [BUILD_DIR] [OUT_DIR]     (default build/release .gpu-tests)
@@ -14,14 +16,18 @@ root=$(cd "$(dirname "$0")/.." && pwd)
 build=$(cd "${1:-$root/build/release}" && pwd)
 out=${2:-$root/.gpu-tests}
 rm -rf "$out"
-mkdir -p "$out/bin" "$out/lib" "$out/shaders" "$out/assets" "$out/layers"
+mkdir -p "$out/bin" "$out/lib" "$out/shaders" "$out/assets" "$out/data" "$out/layers"
 
 tests=()
-for t in "$build"/tests/gpu/*_tests; do [ -x "$t" ] && tests+=("$t"); done
+for t in "$build"/tests/gpu/*_tests "$build"/tests/unit/samples/sample_viewer_gpu_tests \
+         "$build"/tests/unit/samples/sample_viewer_fault_tests; do
+  [ -x "$t" ] && tests+=("$t")
+done
 [ ${#tests[@]} -gt 0 ] || { echo "pack_gpu_tests: no GPU test binaries under $build/tests/gpu (build first)" >&2; exit 1; }
 for t in "${tests[@]}"; do cp "$t" "$out/bin/"; strip "$out/bin/$(basename "$t")"; done
 cp "$build"/shaders/*.spv "$out/shaders/"
 cp "$root"/samples/assets/*.gl* "$out/assets/"
+cp -r "$root"/tests/data/. "$out/data/"
 
 # Libraries: what the tests link, and what the validation layer links.
 layer_so=$(ldconfig -p | awk '$1 == "libVkLayer_khronos_validation.so" && /x86-64/ {print $NF; exit}')
@@ -51,7 +57,8 @@ results=${1:-${OUT:-$here/results}}
 filter=${2:-*}
 mkdir -p "$results"
 export LD_LIBRARY_PATH="$here/lib${LD_LIBRARY_PATH:+:$LD_LIBRARY_PATH}"
-export HSDF_SHADER_DIR="$here/shaders" HSDF_ASSET_DIR="$here/assets" HSDF_TEST_DEVICE=${HSDF_TEST_DEVICE:-gpu}
+export HSDF_SHADER_DIR="$here/shaders" HSDF_ASSET_DIR="$here/assets" HSDF_TEST_DATA_DIR="$here/data"
+export HSDF_TEST_DEVICE=${HSDF_TEST_DEVICE:-gpu}
 export VK_ADD_LAYER_PATH="$here/layers${VK_ADD_LAYER_PATH:+:$VK_ADD_LAYER_PATH}"
 if [ -z "${XDG_RUNTIME_DIR:-}" ]; then export XDG_RUNTIME_DIR=$(mktemp -d); chmod 700 "$XDG_RUNTIME_DIR"; fi
 # A driver installed outside the loader's search path (some containers): point the loader at it.

@@ -34,11 +34,6 @@ std::unique_ptr<gpu::Context> createTestContext(bool synchronizationValidation) 
   return std::move(context.value());
 }
 
-std::filesystem::path sampleAsset(const std::string& name) {
-  if (const char* dir = std::getenv("HSDF_ASSET_DIR"); dir && *dir) return std::filesystem::path(dir) / name;
-  return std::filesystem::path(HSDF_ASSET_DIR) / name;
-}
-
 std::vector<NamedTransform> userTransforms(const glm::vec3& pivot) {
   const glm::mat4 toOrigin = glm::translate(glm::mat4(1.0f), -pivot);
   const glm::mat4 back = glm::translate(glm::mat4(1.0f), pivot);

@@ -14,12 +14,11 @@
 #include "engine/render/mesh_feature.h"
 #include "engine/render/mesh_pool.h"
 #include "engine/render/renderer.h"
+#include "test_files.h"
 
 namespace gputest {
 
-// A file of samples/assets: under $HSDF_ASSET_DIR when set (a packed test folder on another
-// machine, scripts/pack_gpu_tests.sh), else in this source tree.
-std::filesystem::path sampleAsset(const std::string& name);
+using hsdftest::sampleAsset;  // test_files.h
 
 // Creates the context every GPU test uses, on the device HSDF_TEST_DEVICE names (lavapipe when
 // unset); validation is always on. An unknown HSDF_TEST_DEVICE fails the test naming the value.

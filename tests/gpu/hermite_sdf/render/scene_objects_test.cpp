@@ -33,7 +33,7 @@ scene::MeshData boxMesh(glm::vec3 lo, glm::vec3 hi) {
 // The bunny (about 10 units) and a box, three nodes each on a 3 x 2 grid, each turned about Y
 // (lengths kept, so one cell measures the same in the world as in its asset).
 scene::SceneData twoMeshScene() {
-  auto bunny = scene::loadGltf(std::filesystem::path(HSDF_ASSET_DIR) / "bunny.glb");
+  auto bunny = scene::loadGltf(gputest::sampleAsset("bunny.glb"));
   EXPECT_TRUE(bunny) << bunny.error().message;
   scene::SceneData data;
   if (!bunny) return data;

@@ -7,6 +7,7 @@
 #include <gtest/gtest.h>
 
 #include "test_device.h"
+#include "test_files.h"
 #include "viewer.h"
 
 namespace samples {

@@ -9,6 +9,7 @@
 
 #include <cmath>
 #include <cstdint>
+#include <filesystem>
 #include <string>
 #include <vector>
 
@@ -19,7 +20,7 @@ namespace samples {
 namespace {
 
 constexpr std::uint32_t kWidth = 96, kHeight = 64;
-const std::string kScene = std::string(HSDF_TEST_DATA_DIR) + "/gltf/camera_cube.gltf";
+const std::filesystem::path kScene = hsdftest::testData("gltf/camera_cube.gltf");
 
 std::unique_ptr<Viewer> viewCameraCube() {
   auto viewer = makeTestViewer(kWidth, kHeight);

@@ -200,7 +200,7 @@ TEST(ViewerCompare, ReloadShadersTakesFreshSpirvAndKeepsOldPipelinesOnFailure) {
 
   const auto swapped = shaderCopy("hsdf_swapped_shaders", {{"sphere_trace_trilinear_shade.frag.spv", "sphere_trace_hermite_shade.frag.spv"},
                                                            {"sphere_trace_trilinear_shade_bindless.frag.spv", "sphere_trace_hermite_shade_bindless.frag.spv"}});
-  ASSERT_EQ(setenv("HSDF_SHADER_DIR", swapped.c_str(), 1), 0);
+  hsdftest::ScopedEnvironment shaderDir("HSDF_SHADER_DIR", swapped.string());
   ASSERT_TRUE(trace->reloadShaders().ok());
   ASSERT_TRUE(viewer->step().ok());
   const std::vector<std::uint8_t> reloaded = viewer->renderer().readbackColor();
@@ -209,7 +209,7 @@ TEST(ViewerCompare, ReloadShadersTakesFreshSpirvAndKeepsOldPipelinesOnFailure) {
   const auto broken = shaderCopy("hsdf_broken_shaders", {{"mesh.frag.spv", ""}, {"sphere_trace_trilinear_shade.frag.spv", ""},
                                                          {"sphere_trace_trilinear_shade_bindless.frag.spv", ""},
                                                          {"cells_resolve.frag.spv", ""}});
-  ASSERT_EQ(setenv("HSDF_SHADER_DIR", broken.c_str(), 1), 0);
+  shaderDir.set(broken.string());
   const std::vector<engine::render::Renderer::ShaderReload> results = viewer->reloadShaders();
   ASSERT_EQ(results.size(), 3u);
   for (const auto& r : results) {
@@ -225,7 +225,7 @@ TEST(ViewerCompare, ReloadShadersTakesFreshSpirvAndKeepsOldPipelinesOnFailure) {
   ASSERT_TRUE(viewer->step().ok());
   EXPECT_EQ(viewer->renderer().readbackColor(), reloaded) << "the old (swapped) pipelines keep drawing";
 
-  ASSERT_EQ(setenv("HSDF_SHADER_DIR", dir.c_str(), 1), 0);
+  shaderDir.set(dir);
   EXPECT_TRUE(mesh->reloadShaders().ok());
   EXPECT_TRUE(trace->reloadShaders().ok());
   auto* cells = viewer->renderer().feature<hsdf::HermiteCellFeature>();
@@ -233,7 +233,6 @@ TEST(ViewerCompare, ReloadShadersTakesFreshSpirvAndKeepsOldPipelinesOnFailure) {
   EXPECT_TRUE(cells->reloadShaders().ok()) << "the cells reload from the build's shaders";
   ASSERT_TRUE(viewer->step().ok());
   EXPECT_EQ(viewer->renderer().readbackColor(), original);
-  unsetenv("HSDF_SHADER_DIR");
   const engine::Status closed = viewer->close();
   EXPECT_TRUE(closed.ok()) << closed.error().message;
 }

@@ -8,6 +8,7 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <optional>
 #include <string>
 
 #include "engine/gpu/memory.h"
@@ -257,10 +258,10 @@ class BrokenShaderDir {
     dir_ = std::filesystem::path(testing::TempDir()) / ("hsdf_shaders_" + testName);
     std::filesystem::remove_all(dir_);
     std::filesystem::copy(real_, dir_, std::filesystem::copy_options::recursive);
-    setenv("HSDF_SHADER_DIR", dir_.c_str(), 1);
+    environment_.emplace("HSDF_SHADER_DIR", dir_.string());
   }
   ~BrokenShaderDir() {
-    unsetenv("HSDF_SHADER_DIR");
+    environment_.reset();
     std::filesystem::remove_all(dir_);
   }
   std::filesystem::path file(const std::string& name) const { return dir_ / name; }
@@ -268,6 +269,7 @@ class BrokenShaderDir {
  private:
   std::filesystem::path real_;
   std::filesystem::path dir_;
+  std::optional<hsdftest::ScopedEnvironment> environment_;
 };
 
 void writeBytes(const std::filesystem::path& path, const std::string& bytes) {

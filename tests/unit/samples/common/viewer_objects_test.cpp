@@ -14,7 +14,7 @@
 namespace samples {
 namespace {
 
-const std::filesystem::path kGridScene = std::filesystem::path(HSDF_ASSET_DIR) / "grid_scene.glb";
+const std::filesystem::path kGridScene = hsdftest::sampleAsset("grid_scene.glb");
 
 std::unique_ptr<Viewer> makeViewer() { return makeTestViewer(96, 64); }
 
@@ -137,7 +137,7 @@ std::unique_ptr<Viewer> viewTestScene(const std::string& file, int resolution) {
   auto viewer = makeViewer();
   if (!viewer) return nullptr;
   SceneDesc scene;
-  scene.gltf = std::filesystem::path(HSDF_TEST_DATA_DIR) / "gltf" / file;
+  scene.gltf = hsdftest::testData("gltf") / file;
   scene.objects = true;
   scene.groundPlane = false;
   TuningState tuning;

@@ -244,7 +244,7 @@ TEST(Viewer, SwitchesBetweenMeshAndSdfAtRunTime) {
   auto viewer = makeViewer();
   ASSERT_NE(viewer, nullptr);
   SceneDesc scene;
-  scene.gltf = std::string(HSDF_ASSET_DIR) + "/bunny.glb";
+  scene.gltf = hsdftest::sampleAsset("bunny.glb");
   scene.groundPlane = false;
   TuningState tuning;
   tuning.method = Method::Mesh;
@@ -307,7 +307,7 @@ TEST(Viewer, BakePastTheBudgetIsRefusedAndCancelKeepsTheOldK) {
   // The bunny, not an analytic shape: its bake (BVH distance queries) takes long enough that the
   // cancel below lands while it runs rather than racing a bake of a few microseconds.
   SceneDesc scene;
-  scene.gltf = std::string(HSDF_ASSET_DIR) + "/bunny.glb";
+  scene.gltf = hsdftest::sampleAsset("bunny.glb");
   scene.groundPlane = false;
   TuningState tuning;
   tuning.resolution = 12;
@@ -343,7 +343,7 @@ TEST(Viewer, CancelIsReportedOnTheNextStepBeforeANewBake) {
   auto viewer = makeViewer();
   ASSERT_NE(viewer, nullptr);
   SceneDesc scene;
-  scene.gltf = std::string(HSDF_ASSET_DIR) + "/bunny.glb";  // a bake long enough to be cancelled
+  scene.gltf = hsdftest::sampleAsset("bunny.glb");  // a bake long enough to be cancelled
   scene.groundPlane = false;
   TuningState tuning;
   tuning.resolution = 12;

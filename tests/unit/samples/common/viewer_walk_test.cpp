@@ -16,7 +16,6 @@
 namespace samples {
 namespace {
 
-const std::filesystem::path kAssets(HSDF_ASSET_DIR);
 constexpr std::uint32_t kWidth = 96, kHeight = 72;
 
 // Every key of a settings file with values worth walking through (small K: the walk re-bakes).
@@ -143,7 +142,7 @@ void walkAndCompare(const SceneDesc& scene, const TuningState& start, std::uint3
 // so a failure replays; the message lists the walk.
 TEST(ViewerWalk, AnyWalkThroughTheTuningEndsInTheFrameOfAFreshStart) {
   SceneDesc scene;
-  scene.gltf = kAssets / "bunny.glb";
+  scene.gltf = hsdftest::sampleAsset("bunny.glb");
   TuningState start;
   start.resolution = 16;
   for (const std::uint32_t seed : {20261127u, 7u, 4242u, 11u, 12u, 13u, 14u, 15u}) walkAndCompare(scene, start, seed, 16);
@@ -153,7 +152,7 @@ TEST(ViewerWalk, AnyWalkThroughTheTuningEndsInTheFrameOfAFreshStart) {
 // re-baked at a new K, levels of detail per node).
 TEST(ViewerWalk, AnyWalkThroughAScenesTuningEndsInTheFrameOfAFreshStart) {
   SceneDesc scene;
-  scene.gltf = kAssets / "grid_scene.glb";
+  scene.gltf = hsdftest::sampleAsset("grid_scene.glb");
   scene.objects = true;
   TuningState start;
   start.resolution = 16;
