@@ -2,7 +2,8 @@
 // rather than compression (see tests/data/gltf/README.md):
 //   tetra_sparse_scenes.gltf     sparse accessors (over a bufferView and over zeros), two scenes,
 //                                an extension that does not affect geometry
-//   requires_gpu_instancing.gltf a required extension the loader does not support
+//   gpu_instancing.gltf          EXT_mesh_gpu_instancing (required): a tetrahedron placed three times
+//                                by float translations and scales and normalized int16 rotations
 // Usage: node make_structural.mjs <output folder>
 import { writeFileSync } from 'node:fs';
 import { join } from 'node:path';
@@ -125,11 +126,15 @@ function writeTetraSparseScenes() {
   writeFileSync(join(out, 'tetra_sparse_scenes.gltf'), JSON.stringify(doc, null, 1) + '\n');
 }
 
-function writeRequiresGpuInstancing() {
+function writeGpuInstancing() {
   const bin = new BufferWriter();
   const positions = bin.add(new Float32Array(tetra.flat()));
   const triangles = bin.add(new Uint16Array(indices));
-  const translations = bin.add(new Float32Array([0, 0, 0, 2, 0, 0]));
+  const translations = bin.add(new Float32Array([0, 0, 0, 2, 0, 0, 0, 3, 0]));
+  // Quaternions x, y, z, w as normalized int16: the identity, 90 degrees about z, the identity.
+  const q = Math.round(Math.SQRT1_2 * 32767);
+  const rotations = bin.add(new Int16Array([0, 0, 0, 32767, 0, 0, q, q, 0, 0, 0, 32767]));
+  const scales = bin.add(new Float32Array([1, 1, 1, 1, 1, 1, 2, 2, 2]));
   const { min, max } = bounds(tetra);
   const doc = {
     asset: { version: '2.0', generator: 'hermite_sdf tools/gltf_testdata/make_structural.mjs' },
@@ -137,22 +142,33 @@ function writeRequiresGpuInstancing() {
     extensionsRequired: ['EXT_mesh_gpu_instancing'],
     scene: 0,
     scenes: [{ nodes: [0] }],
-    nodes: [{ mesh: 0, extensions: { EXT_mesh_gpu_instancing: { attributes: { TRANSLATION: 1 } } } }],
+    nodes: [
+      {
+        name: 'tetras',
+        translation: [0, 0, -1],
+        mesh: 0,
+        extensions: { EXT_mesh_gpu_instancing: { attributes: { TRANSLATION: 1, ROTATION: 3, SCALE: 4 } } },
+      },
+    ],
     meshes: [{ primitives: [{ attributes: { POSITION: 0 }, indices: 2 }] }],
     accessors: [
       { bufferView: 0, componentType: 5126, count: 4, type: 'VEC3', min, max },
-      { bufferView: 1, componentType: 5126, count: 2, type: 'VEC3' },
+      { bufferView: 1, componentType: 5126, count: 3, type: 'VEC3' },
       { bufferView: 2, componentType: 5123, count: indices.length, type: 'SCALAR' },
+      { bufferView: 3, componentType: 5122, normalized: true, count: 3, type: 'VEC4' },
+      { bufferView: 4, componentType: 5126, count: 3, type: 'VEC3' },
     ],
     bufferViews: [
       { buffer: 0, byteOffset: positions, byteLength: 48, target: 34962 },
-      { buffer: 0, byteOffset: translations, byteLength: 24 },
+      { buffer: 0, byteOffset: translations, byteLength: 36 },
       { buffer: 0, byteOffset: triangles, byteLength: 2 * indices.length, target: 34963 },
+      { buffer: 0, byteOffset: rotations, byteLength: 24 },
+      { buffer: 0, byteOffset: scales, byteLength: 36 },
     ],
     buffers: [{ byteLength: bin.length, uri: bin.dataUri() }],
   };
-  writeFileSync(join(out, 'requires_gpu_instancing.gltf'), JSON.stringify(doc, null, 1) + '\n');
+  writeFileSync(join(out, 'gpu_instancing.gltf'), JSON.stringify(doc, null, 1) + '\n');
 }
 
 writeTetraSparseScenes();
-writeRequiresGpuInstancing();
+writeGpuInstancing();

@@ -276,15 +276,19 @@ Expected<AccessorSpan> accessorSpan(ImportContext& context, int accessorIndex, i
 
 }  // namespace
 
-// VEC3 attribute (POSITION, NORMAL) as floats; every component must be finite.
-Expected<std::vector<glm::vec3>> readVec3(ImportContext& context, int accessorIndex) {
-  ENGINE_TRY_ASSIGN(const AccessorSpan span, accessorSpan(context, accessorIndex, TINYGLTF_TYPE_VEC3));
-  ENGINE_TRY(chargeDecode(context, span.count * sizeof(glm::vec3)));
+namespace {
+
+// VEC3 or VEC4 elements as floats (glTF's rules for normalized integers); every component finite.
+template <int N>
+Expected<std::vector<glm::vec<N, float>>> readFloatVectors(ImportContext& context, int accessorIndex) {
+  ENGINE_TRY_ASSIGN(const AccessorSpan span,
+                    accessorSpan(context, accessorIndex, N == 3 ? TINYGLTF_TYPE_VEC3 : TINYGLTF_TYPE_VEC4));
+  ENGINE_TRY(chargeDecode(context, span.count * sizeof(glm::vec<N, float>)));
   const std::uint64_t componentSize = componentBytes(span.componentType);
-  std::vector<glm::vec3> values(static_cast<std::size_t>(span.count));
+  std::vector<glm::vec<N, float>> values(static_cast<std::size_t>(span.count));
   for (std::size_t i = 0; i < values.size(); ++i) {
     const std::uint8_t* element = span.element(i);
-    for (int c = 0; c < 3; ++c) {
+    for (int c = 0; c < N; ++c) {
       const float component = readComponent(element + std::uint64_t(c) * componentSize, span.componentType, span.normalized);
       if (!std::isfinite(component))
         return makeError(fmt::format("accessor {}: element {} component {} is {} (must be finite)", accessorIndex,
@@ -293,6 +297,16 @@ Expected<std::vector<glm::vec3>> readVec3(ImportContext& context, int accessorIn
     }
   }
   return values;
+}
+
+}  // namespace
+
+Expected<std::vector<glm::vec3>> readVec3(ImportContext& context, int accessorIndex) {
+  return readFloatVectors<3>(context, accessorIndex);
+}
+
+Expected<std::vector<glm::vec4>> readVec4(ImportContext& context, int accessorIndex) {
+  return readFloatVectors<4>(context, accessorIndex);
 }
 
 Expected<std::vector<std::uint32_t>> readIndices(ImportContext& context, int accessorIndex) {

@@ -45,6 +45,9 @@ Expected<std::span<const std::uint8_t>> bufferViewBytes(const ImportContext& con
 
 // VEC3 attribute (POSITION, NORMAL) as floats; every component must be finite.
 Expected<std::vector<glm::vec3>> readVec3(ImportContext& context, int accessorIndex);
+// VEC4 elements (an instance's ROTATION quaternion: float or normalized integers) as floats; every
+// component must be finite.
+Expected<std::vector<glm::vec4>> readVec4(ImportContext& context, int accessorIndex);
 // Primitive indices, widened to 32 bits.
 Expected<std::vector<std::uint32_t>> readIndices(ImportContext& context, int accessorIndex);
 

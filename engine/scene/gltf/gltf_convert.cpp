@@ -30,6 +30,10 @@ namespace {
 // to demand gigabytes by referencing one accessor from thousands of primitives.
 constexpr std::uint64_t kDecodeBudgetFloorBytes = std::uint64_t(64) << 20;
 constexpr std::uint64_t kDecodeBudgetPerInputByte = 16;
+// Mesh instances a file may place through EXT_mesh_gpu_instancing: each becomes a scene node (an
+// entity, a draw or an SDF instance), so a forged count of billions must stop here.
+constexpr std::size_t kMaxMeshInstances = std::size_t(1) << 20;
+constexpr std::string_view kInstancingExtension = "EXT_mesh_gpu_instancing";
 
 using Json = nlohmann::json;
 
@@ -318,6 +322,15 @@ Expected<std::vector<int>> convertCameras(ImportContext& context, SceneData& sce
 // ---------------------------------------------------------------------------------------------
 // Nodes
 
+// translate(t) * rotate(r: a quaternion stored x, y, z, w as glTF does; normalized here) * scale(s).
+Expected<glm::mat4> trsMatrix(const glm::vec3& t, const glm::vec4& r, const glm::vec3& s) {
+  const float rotationLength = glm::length(r);
+  if (!(rotationLength > 0.0f) || !std::isfinite(rotationLength))
+    return makeError("rotation quaternion has zero (or non-finite) length");
+  const glm::quat q = glm::quat(r.w, r.x, r.y, r.z) / rotationLength;
+  return glm::translate(glm::mat4(1.0f), t) * glm::mat4_cast(q) * glm::scale(glm::mat4(1.0f), s);
+}
+
 Expected<glm::mat4> localMatrix(const tinygltf::Node& node) {
   if (!node.matrix.empty()) {  // glTF allows matrix or TRS; with both, tinygltf keeps only the matrix
     if (node.matrix.size() != 16) return makeError(fmt::format("matrix has {} elements, expected 16", node.matrix.size()));
@@ -338,11 +351,56 @@ Expected<glm::mat4> localMatrix(const tinygltf::Node& node) {
   ENGINE_TRY_ASSIGN(const glm::vec4 t, vectorOf(node.translation, 3, "translation", glm::vec4(0.0f)));
   ENGINE_TRY_ASSIGN(const glm::vec4 r, vectorOf(node.rotation, 4, "rotation", glm::vec4(0.0f, 0.0f, 0.0f, 1.0f)));
   ENGINE_TRY_ASSIGN(const glm::vec4 s, vectorOf(node.scale, 3, "scale", glm::vec4(1.0f)));
-  const float rotationLength = glm::length(r);
-  if (!(rotationLength > 0.0f) || !std::isfinite(rotationLength))
-    return makeError("rotation quaternion has zero (or non-finite) length");
-  const glm::quat q = glm::quat(r.w, r.x, r.y, r.z) / rotationLength;  // glTF stores x, y, z, w
-  return glm::translate(glm::mat4(1.0f), glm::vec3(t)) * glm::mat4_cast(q) * glm::scale(glm::mat4(1.0f), glm::vec3(s));
+  return trsMatrix(glm::vec3(t), r, glm::vec3(s));
+}
+
+// EXT_mesh_gpu_instancing: the local matrices of a node's mesh instances (translation, rotation
+// and scale per instance, each attribute optional), or none when the node has no such extension.
+// `placed`: the instances of the nodes before it, counted against kMaxMeshInstances.
+Expected<std::vector<glm::mat4>> meshInstances(ImportContext& context, const tinygltf::Node& node, std::size_t placed) {
+  const auto extension = node.extensions.find(std::string(kInstancingExtension));
+  if (extension == node.extensions.end()) return std::vector<glm::mat4>{};
+  const tinygltf::Value& value = extension->second;
+  if (!value.IsObject() || !value.Has("attributes") || !value.Get("attributes").IsObject())
+    return makeError("attributes is missing or not an object");
+  const tinygltf::Value& attributes = value.Get("attributes");
+  std::vector<glm::vec3> translations, scales;
+  std::vector<glm::vec4> rotations;
+  std::size_t count = 0;
+  for (const std::string& name : attributes.Keys()) {
+    const tinygltf::Value& index = attributes.Get(name);
+    if (!index.IsInt()) return makeError(fmt::format("attribute {} is not an accessor index", name));
+    const std::string where = fmt::format("attribute {}", name);
+    std::size_t read = 0;
+    if (name == "TRANSLATION") {
+      ENGINE_TRY_ASSIGN(translations, readVec3(context, index.Get<int>()).withContext(where));
+      read = translations.size();
+    } else if (name == "ROTATION") {
+      ENGINE_TRY_ASSIGN(rotations, readVec4(context, index.Get<int>()).withContext(where));
+      read = rotations.size();
+    } else if (name == "SCALE") {
+      ENGINE_TRY_ASSIGN(scales, readVec3(context, index.Get<int>()).withContext(where));
+      read = scales.size();
+    } else {
+      context.warnings.push_back(fmt::format("node '{}': {} attribute {} ignored", node.name, kInstancingExtension, name));
+      continue;
+    }
+    if (count != 0 && read != count)
+      return makeError(fmt::format("attribute {} has {} instances, the others {}", name, read, count));
+    count = read;
+  }
+  if (count == 0) return makeError("no TRANSLATION, ROTATION or SCALE attribute");
+  if (count > kMaxMeshInstances - placed)
+    return makeError(fmt::format("{} instances here after {} before: more than the {} mesh instances a file may place",
+                                 count, placed, kMaxMeshInstances));
+  std::vector<glm::mat4> instances(count);
+  for (std::size_t i = 0; i < count; ++i) {
+    const glm::vec3 t = translations.empty() ? glm::vec3(0.0f) : translations[i];
+    const glm::vec4 r = rotations.empty() ? glm::vec4(0.0f, 0.0f, 0.0f, 1.0f) : rotations[i];
+    const glm::vec3 s = scales.empty() ? glm::vec3(1.0f) : scales[i];
+    ENGINE_TRY_ASSIGN(instances[i], trsMatrix(t, r, s).withContext(fmt::format("instance {}", i)));
+  }
+  return instances;
 }
 
 // Parent of every node, checking that children exist, are not the node itself and have one parent.
@@ -458,7 +516,28 @@ Json toJson(const tinygltf::Value& value) {
   return nullptr;  // null, or binary (never in JSON extras)
 }
 
-// Scene nodes in depth-first pre-order (parents before children), with world matrices.
+// EXT_mesh_gpu_instancing's instances of node `self` as its children, one NodeData each: named
+// "node[i]", the node's mesh and extras (hermite_sdf's per-node choices apply to every instance).
+Status addInstanceNodes(std::vector<NodeData>& out, int self, int mesh, const std::vector<glm::mat4>& instances) {
+  for (std::size_t i = 0; i < instances.size(); ++i) {
+    const NodeData& node = out[std::size_t(self)];
+    NodeData instance;
+    instance.name = fmt::format("{}[{}]", node.name, i);
+    instance.parent = self;
+    instance.local = instances[i];
+    instance.world = node.world * instance.local;
+    if (!isFinite(instance.world))
+      return makeError(fmt::format("node '{}': {} instance {}: world matrix is not finite", node.name,
+                                   kInstancingExtension, i));
+    instance.mesh = mesh;
+    instance.extras = node.extras;
+    out.push_back(std::move(instance));
+  }
+  return {};
+}
+
+// Scene nodes in depth-first pre-order (parents before children), with world matrices; the
+// instances of EXT_mesh_gpu_instancing follow their node as its first children.
 Expected<std::vector<NodeData>> convertNodes(ImportContext& context, const std::vector<int>& cameraRemap) {
   const auto& model = context.model;
   ENGINE_TRY_ASSIGN(const auto parent, nodeParents(model));
@@ -466,6 +545,7 @@ Expected<std::vector<NodeData>> convertNodes(ImportContext& context, const std::
   ENGINE_TRY_ASSIGN(const auto roots, sceneRoots(context, parent));
 
   std::vector<NodeData> out;
+  std::size_t instanceCount = 0;
   std::vector<std::pair<int, int>> pending;  // (file node, index of its parent in `out`)
   for (auto root = roots.rbegin(); root != roots.rend(); ++root) pending.emplace_back(*root, -1);
   while (!pending.empty()) {
@@ -483,8 +563,18 @@ Expected<std::vector<NodeData>> convertNodes(ImportContext& context, const std::
     data.mesh = node.mesh;
     if (node.extras.Type() != tinygltf::NULL_TYPE) data.extras = toJson(node.extras).dump();
     data.camera = node.camera == -1 ? -1 : cameraRemap[std::size_t(node.camera)];
-    out.push_back(std::move(data));
+    ENGINE_TRY_ASSIGN(const std::vector<glm::mat4> instances,
+                      meshInstances(context, node, instanceCount)
+                          .withContext(fmt::format("{}: {}", where, kInstancingExtension)));
+    if (!instances.empty() && node.mesh == -1) {
+      context.warnings.push_back(fmt::format("{}: {} on a node without a mesh ignored", where, kInstancingExtension));
+    } else if (!instances.empty()) {
+      instanceCount += instances.size();
+      data.mesh = -1;  // the mesh is drawn at its instances only
+    }
+    out.push_back(data);
     const int self = int(out.size() - 1);
+    if (node.mesh != -1) ENGINE_TRY(addInstanceNodes(out, self, node.mesh, instances));
     for (auto child = node.children.rbegin(); child != node.children.rend(); ++child) pending.emplace_back(*child, self);
   }
   return out;

@@ -34,10 +34,11 @@ constexpr std::size_t kChunkHeaderBytes = 8;
 constexpr int kMaxJsonDepth = 64;
 
 // Extensions that change how geometry is stored, all decoded here.
-constexpr std::array<std::string_view, 3> kGeometryExtensions = {
+constexpr std::array<std::string_view, 4> kGeometryExtensions = {
     "KHR_mesh_quantization",       // integer/normalized vertex attributes
     "KHR_draco_mesh_compression",  // Draco-compressed primitives
     "EXT_meshopt_compression",     // meshopt-compressed bufferViews
+    "EXT_mesh_gpu_instancing",     // a node's mesh placed many times (gltf_convert.cpp)
 };
 // Extensions (by prefix) that only describe materials, textures, images, lights or metadata: the
 // importer reads none of those, so a file that uses or even requires them loads the same geometry.
@@ -292,8 +293,8 @@ Status checkExtensions(const Json& document, std::vector<std::string>& warnings)
   for (const auto& name : required) {
     if (!isGeometryExtension(name) && !isNonGeometryExtension(name))
       return makeError(fmt::format("requires extension {}, which this loader does not support (it decodes "
-                                   "KHR_draco_mesh_compression, EXT_meshopt_compression and KHR_mesh_quantization, "
-                                   "and ignores material, texture and light extensions)",
+                                   "KHR_draco_mesh_compression, EXT_meshopt_compression and KHR_mesh_quantization, places "
+                                   "EXT_mesh_gpu_instancing's instances and ignores material, texture and light extensions)",
                                    name));
   }
   ENGINE_TRY_ASSIGN(const auto used, extensionNames(document, "extensionsUsed"));
