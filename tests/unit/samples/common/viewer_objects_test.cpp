@@ -147,6 +147,39 @@ std::unique_ptr<Viewer> viewTestScene(const std::string& file, int resolution) {
   return loaded.ok() ? std::move(viewer) : nullptr;
 }
 
+// Tricky: EXT_mesh_gpu_instancing places the tetrahedron three times from one node: one bake, three
+// SDF objects sharing its asset, drawn in the cells' one batch, each instance a node that the
+// triangle list can pick by its name ("tetras[1]"), and the instancing node itself draws nothing.
+TEST(ViewerObjects, GpuInstancesShareOneAssetAndArePickedByName) {
+  auto viewer = viewTestScene("gpu_instancing.gltf", 24);
+  ASSERT_NE(viewer, nullptr);
+  EXPECT_EQ(viewer->objectBakes(), 1);
+  EXPECT_EQ(namesWith(*viewer, true), (std::set<std::string>{"tetras[0]", "tetras[1]", "tetras[2]"}));
+  EXPECT_TRUE(namesWith(*viewer, false).empty());
+  std::set<std::uint64_t> ids;
+  viewer->registry().view<hsdf::HermiteSdfRenderable>().each(
+      [&ids](engine::ecs::Entity, const hsdf::HermiteSdfRenderable& r) { ids.insert(r.asset->id); });
+  EXPECT_EQ(ids.size(), 1u);
+  ASSERT_TRUE(viewer->step().ok());
+  EXPECT_EQ(viewer->renderer().feature<hsdf::HermiteCellFeature>()->stats().objects, 3u);
+  EXPECT_TRUE(viewer->close().ok());
+
+  auto picked = makeViewer();
+  ASSERT_NE(picked, nullptr);
+  SceneDesc scene;
+  scene.gltf = hsdftest::testData("gltf/gpu_instancing.gltf");
+  scene.objects = true;
+  scene.groundPlane = false;
+  TuningState tuning;
+  tuning.resolution = 24;
+  tuning.triangleNodes = {"tetras[1]"};
+  const engine::Status loaded = picked->loadScene(scene, tuning);
+  ASSERT_TRUE(loaded.ok()) << loaded.error().message;
+  EXPECT_EQ(namesWith(*picked, true), (std::set<std::string>{"tetras[0]", "tetras[2]"}));
+  EXPECT_EQ(namesWith(*picked, false), (std::set<std::string>{"tetras[1]"}));
+  EXPECT_TRUE(picked->close().ok());
+}
+
 // Tricky: every node of this scene places one open triangle, which encloses no volume: no SDF is
 // possible. The scene must still load, its two placed nodes keep their triangles, and a new K
 // re-bakes (and falls back) again without refusing, since no node changes between SDF and triangles.
