@@ -4,7 +4,8 @@
 # Unpacks .device/pack.tar.xz and, each step under its own time limit so that one call fits the
 # device tool's per-call limit (HSDF_DEVICE_SECONDS, default 480, for the whole script):
 #   1. the perf capture (bunny, 1920x1080, 8 views, K = 16..256; the dense Hermite tracer, the
-#      trilinear tracer, the cells as 8x8 tiles and as boxes over proxy boxes and over whole cells,
+#      trilinear tracer, the cells as 8x8 tiles and as boxes over proxy boxes, as boxes with
+#      two-phase occlusion culling (off by default until a GPU has measured it), over whole cells,
 #      then as 4x4 and 16x16 tiles), or the capture options given;
 #   2. the GPU test suite, HSDF_TEST_DEVICE=gpu, validation layers on (one gtest XML per binary);
 #   3. what scripts/run.sh shows (the default split screen), headless, as a PNG.
@@ -36,7 +37,8 @@ step() {  # step NAME SECONDS COMMAND...: runs it with a time limit, records rc 
 capture=("$@")
 if [ ${#capture[@]} -eq 0 ]; then
   capture=(--size 1920x1080 --views 8 --frames 10 --warmup 3 --resolutions 16,32,64,128,256
-           --methods hermite,trilinear,cells --settings "n=3 r=1 tiles,n=3 r=1 boxes,n=3 r=1 boxes whole cells,n=3 r=1 tiles whole cells,n=3 r=1 tiles 4x4,n=3 r=1 tiles 16x16")
+           --methods hermite,trilinear,cells
+           --settings "n=3 r=1 tiles,n=3 r=1 boxes,n=3 r=1 occlusion,n=3 r=1 boxes whole cells,n=3 r=1 tiles whole cells,n=3 r=1 tiles 4x4,n=3 r=1 tiles 16x16")
 fi
 # The tests and the screenshot take well under two minutes together: the capture gets the rest. Its
 # own --time-limit stops starting rows 60 s before the step's limit, so that it writes its report
