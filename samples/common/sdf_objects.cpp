@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cstddef>
+#include <unordered_set>
 
 #include <fmt/format.h>
 #include <fmt/ranges.h>
@@ -34,11 +35,11 @@ Status SdfObjects::add(std::shared_ptr<const scene::SceneData> scene, std::span<
   bakeCount_ = objects.bakes;
   objects_ = objects;
   bakes_.setBaked(settings.resolution, settings.padding);
-  // The triangles of SDF nodes give way to the SDF; those of triangle nodes always draw.
-  for (const ecs::Entity part : parts) {
-    const ecs::Entity node = registry_.get<scene::Parent>(part).entity;
-    if (std::find(entities_.begin(), entities_.end(), node) != entities_.end()) meshes.push_back(part);
-  }
+  // The triangles of SDF nodes give way to the SDF; those of triangle nodes always draw. (A set:
+  // a scene of instanced meshes has as many parts as SDF nodes, a million or so.)
+  const std::unordered_set<ecs::Entity> sdfNodes(entities_.begin(), entities_.end());
+  for (const ecs::Entity part : parts)
+    if (sdfNodes.contains(registry_.get<scene::Parent>(part).entity)) meshes.push_back(part);
   std::size_t triangleNodes = 0;
   for (std::size_t n = 0; n < data.nodes.size(); ++n)
     triangleNodes += data.nodes[n].mesh >= 0 && objects.draws[n] == hsdf::NodeDraw::Triangles;
@@ -80,15 +81,16 @@ Status SdfObjects::rebake() {
   dropLevels();  // the levels of the old K
   const hsdf::SceneObjects& objects = *baked;
   objects_ = objects;
+  HiddenAssets hiddenAssets;  // a mesh method hides them: they draw the new asset when shown
   for (std::size_t n = 0; n < scene_->nodes.size() && n < nodes_.size(); ++n) {
     const int mesh = scene_->nodes[n].mesh;
     if (mesh < 0 || objects.draws[n] != hsdf::NodeDraw::Sdf || !objects.meshAssets[std::size_t(mesh)]) continue;
     const ecs::Entity entity = nodes_[n];
     const auto& asset = objects.meshAssets[std::size_t(mesh)];
     if (auto* renderable = registry_.tryGet<hsdf::HermiteSdfRenderable>(entity)) renderable->asset = asset;
-    for (auto& [hidden, renderable] : hidden_)  // a mesh method hides them: they draw it when shown
-      if (hidden == entity) renderable.asset = asset;
+    else if (!hidden_.empty()) hiddenAssets.emplace(entity, asset);
   }
+  setHiddenAssets(hiddenAssets);
   bakeCount_ += objects.bakes;
   bakes_.setBaked(settings.resolution, settings.padding);
   log::info("{} meshes baked again at K = {} in {:.2f} s", objects.bakes, settings.resolution,
@@ -136,15 +138,24 @@ bool SdfObjects::updateLevels() {
 // Every SDF node back to its mesh's level 0 (shown or hidden by a mesh method), its levels gone.
 void SdfObjects::dropLevels() {
   if (levels_.empty()) return;
+  HiddenAssets hiddenAssets;
   for (const ecs::Entity entity : entities_) {
     const hsdf::HermiteSdfLod* lod = registry_.tryGet<hsdf::HermiteSdfLod>(entity);
     if (!lod || lod->levels.empty()) continue;
     if (auto* renderable = registry_.tryGet<hsdf::HermiteSdfRenderable>(entity)) renderable->asset = lod->levels.front();
-    for (auto& [hidden, renderable] : hidden_)
-      if (hidden == entity) renderable.asset = lod->levels.front();
+    else if (!hidden_.empty()) hiddenAssets.emplace(entity, lod->levels.front());
     registry_.remove<hsdf::HermiteSdfLod>(entity);
   }
+  setHiddenAssets(hiddenAssets);
   levels_.clear();
+}
+
+// The renderables hidden by a mesh method take these assets (one pass: hidden_ keeps the nodes'
+// order, which a shown scene's draw order follows).
+void SdfObjects::setHiddenAssets(const HiddenAssets& assets) {
+  if (assets.empty()) return;
+  for (auto& [entity, renderable] : hidden_)
+    if (const auto found = assets.find(entity); found != assets.end()) renderable.asset = found->second;
 }
 
 // Method::Mesh hides the SDF objects (their renderables wait in hidden_), an SDF method shows them.

@@ -6,6 +6,7 @@
 // error are the Viewer's SdfBakes'.
 #include <memory>
 #include <span>
+#include <unordered_map>
 #include <utility>
 #include <vector>
 
@@ -48,6 +49,8 @@ class SdfObjects {
 
  private:
   void dropLevels();
+  using HiddenAssets = std::unordered_map<engine::ecs::Entity, std::shared_ptr<const hsdf::SdfAsset>>;
+  void setHiddenAssets(const HiddenAssets& assets);
 
   engine::ecs::Registry& registry_;
   TuningState& tuning_;

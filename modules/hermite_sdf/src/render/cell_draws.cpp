@@ -60,6 +60,7 @@ glm::vec4 screenBounds(const glm::mat4& viewProj, const glm::mat4& model, const 
 }
 
 constexpr std::uint32_t kNotCulled = ~0u;
+constexpr std::size_t kMaxOverlapTestedObjects = 4096;
 
 glm::vec4 unite(const glm::vec4& a, const glm::vec4& b) {
   return {std::min(a.x, b.x), std::min(a.y, b.y), std::max(a.z, b.z), std::max(a.w, b.w)};
@@ -319,9 +320,15 @@ void HermiteCellFeature::beginObjectDraw(engine::render::FrameContext& frame, Fr
   o.reachGrid = double(frame.camera.nearPlaneReachInObject(object.invModel)) / grid.spacing;
 
   const glm::vec4 rect = screenBounds(f.viewProj, o.world, grid.bounds(), frame.extent);
-  for (const glm::vec4& other : f.objectRects)
-    f.objectsOverlap |= rect.x < other.z && other.x < rect.z && rect.y < other.w && other.y < rect.w;
-  f.objectRects.push_back(rect);
+  // Pairs are compared until one overlaps; past kMaxOverlapTestedObjects the objects are taken to
+  // overlap (the early depth stage off: the same image), so that a scene of a million instances
+  // does not cost 10^12 comparisons a frame.
+  if (!f.objectsOverlap && f.objectRects.size() >= kMaxOverlapTestedObjects) f.objectsOverlap = true;
+  if (!f.objectsOverlap) {
+    for (const glm::vec4& other : f.objectRects)
+      f.objectsOverlap |= rect.x < other.z && other.x < rect.z && rect.y < other.w && other.y < rect.w;
+    f.objectRects.push_back(rect);
+  }
   screenRect_ = unite(screenRect_, rect);
   stats_.objects++;
   // Runs, bricks and thin cells read their records by address: the draw says which buffer and

@@ -1,6 +1,8 @@
 #include "hermite_sdf/render/scene_objects.h"
 
 #include <algorithm>
+#include <string_view>
+#include <unordered_set>
 
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>
@@ -30,12 +32,14 @@ engine::Expected<std::optional<NodeDraw>> readDrawKey(const Json& settings) {
   return engine::makeError(fmt::format("extras.{}.draw: '{}' is not one of sdf, triangles", kExtrasKey, name));
 }
 
+// Sets, not searches per name and node: an instanced scene has a million nodes.
 engine::Status checkNamesExist(const engine::scene::SceneData& scene, const std::vector<std::string>& names) {
-  for (const std::string& name : names) {
-    const auto has = [&name](const engine::scene::NodeData& node) { return node.name == name; };
-    if (std::none_of(scene.nodes.begin(), scene.nodes.end(), has))
+  if (names.empty()) return {};
+  std::unordered_set<std::string_view> nodeNames;
+  for (const engine::scene::NodeData& node : scene.nodes) nodeNames.insert(node.name);
+  for (const std::string& name : names)
+    if (!nodeNames.contains(name))
       return engine::makeError(fmt::format("triangle nodes: the scene has no node named '{}'", name));
-  }
   return {};
 }
 
@@ -62,10 +66,10 @@ engine::Expected<std::vector<NodeDraw>> chooseNodeDraws(const engine::scene::Sce
   ENGINE_TRY(checkNamesExist(scene, options.triangleNodes));
   std::vector<NodeDraw> draws;
   draws.reserve(scene.nodes.size());
+  const std::unordered_set<std::string_view> listed(options.triangleNodes.begin(), options.triangleNodes.end());
   for (const engine::scene::NodeData& node : scene.nodes) {
     ENGINE_TRY_ASSIGN(const std::optional<NodeDraw> own, nodeDrawFromExtras(node));
-    const auto& listed = options.triangleNodes;
-    const bool forced = std::find(listed.begin(), listed.end(), node.name) != listed.end();
+    const bool forced = listed.contains(node.name);
     draws.push_back(forced ? NodeDraw::Triangles : own.value_or(options.defaultDraw));
   }
   return draws;
