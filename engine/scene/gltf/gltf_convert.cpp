@@ -517,7 +517,7 @@ Json toJson(const tinygltf::Value& value) {
 }
 
 // EXT_mesh_gpu_instancing's instances of node `self` as its children, one NodeData each: named
-// "node[i]", the node's mesh and extras (hermite_sdf's per-node choices apply to every instance).
+// "node[i]", the node's mesh and extras (per-node choices made in extras apply to every instance).
 Status addInstanceNodes(std::vector<NodeData>& out, int self, int mesh, const std::vector<glm::mat4>& instances) {
   for (std::size_t i = 0; i < instances.size(); ++i) {
     const NodeData& node = out[std::size_t(self)];
