@@ -147,7 +147,7 @@ BrickHit walkBrick(HermiteDraw draw, CellBrickGpu brick, ivec3 lo, ivec3 hi, vec
 }
 
 void main() {
-  HermiteDraw draw = HermiteDrawsRef(pc.draws).draws[inDraw];
+  HermiteDraw draw = hermiteDrawAt(pc.draws, inDraw);  // inDraw: the record (the vertex shader looked it up)
   CellBrickGpu brick = CellBricksRef(pc.bricks).bricks[inBrick];
   uvec3 lo, hi;
   brickCellBounds(brick, lo, hi);

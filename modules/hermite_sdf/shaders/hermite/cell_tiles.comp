@@ -124,7 +124,7 @@ void binCells() {
   uint rangeIndex = UintsRef(pc.keptRanges).words[slot];
   if (rangeIndex >= pc.rangeCount) return;
   CellCullRange range = RangesRef(pc.ranges).ranges[rangeIndex];
-  HermiteDraw draw = HermiteDrawsRef(pc.draws).draws[range.drawCommand];
+  HermiteDraw draw = hermiteDraw(pc.draws, range.drawCommand);
   TilesRef tiles = TilesRef(pc.tiles);
   {
     uint record = UintsRef(pc.keptIndices).words[slot];

@@ -78,7 +78,7 @@ void main() {
         break;
       }
       ++tested;
-      draw = HermiteDrawsRef(pc.draws).draws[entry.draw];
+      draw = hermiteDraw(pc.draws, entry.draw);
       if (draw.object != lastObject) {
         lastObject = draw.object;
         object = ObjectsRef(pc.draw.objects).objects[draw.object];

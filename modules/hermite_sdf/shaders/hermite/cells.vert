@@ -30,7 +30,8 @@ precise gl_Position;
 
 void main() {
   uint drawIndex = pc.drawBase + gl_DrawID;
-  HermiteDraw draw = HermiteDrawsRef(pc.draws).draws[drawIndex];
+  uint drawRecord = hermiteDrawRecord(pc.draws, drawIndex);
+  HermiteDraw draw = hermiteDrawAt(pc.draws, drawRecord);
   ObjectData object = ObjectsRef(pc.draw.objects).objects[draw.object];
   FrameGlobals frame = FrameGlobalsRef(pc.draw.frameGlobals).globals;
 
@@ -50,7 +51,7 @@ void main() {
 
   outCorners = inCorners;
   outCell = inCell;
-  outDraw = drawIndex;
+  outDraw = drawRecord;  // the fragments read the record without the table's per-command index
   outRecord = instanceRecord(pc.cellRecords);
   outDilation = dilation;
   outCameraLocal = cameraLocal;

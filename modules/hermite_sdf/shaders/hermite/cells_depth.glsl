@@ -48,7 +48,7 @@ layout(depth_less) out float gl_FragDepth;
 // and the ray passed through the face. The margin grows with the distance of the eye in cells,
 // where the local coordinates lose precision (searchMargin, proxy_dilation.glsl).
 void main() {
-  HermiteDraw draw = HermiteDrawsRef(pc.draws).draws[inDraw];
+  HermiteDraw draw = hermiteDrawAt(pc.draws, inDraw);  // inDraw: the record (the vertex shader looked it up)
   CellRay ray = cellRay(draw);
   float margin = searchMargin(ray.origin, inDilation);
   vec3 lo, hi;

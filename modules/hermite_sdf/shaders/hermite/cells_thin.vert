@@ -19,14 +19,15 @@ layout(location = 8) in uvec4 inCell;  // x, y, z, class (the record's last 8 by
 
 // Every varying is flat: 3 x 4 bytes per vertex (issue 20's target: at most 16).
 layout(location = 0) flat out uint outRecord;     // index of the cell record in its buffer
-layout(location = 1) flat out uint outDraw;       // index of the HermiteDraw
+layout(location = 1) flat out uint outDraw;       // the HermiteDraw record (hermiteDrawAt)
 layout(location = 2) flat out float outDilation;  // how far the proxy reaches beyond the cell, cells
 
 precise gl_Position;
 
 void main() {
   uint drawIndex = pc.drawBase + gl_DrawID;
-  HermiteDraw draw = HermiteDrawsRef(pc.draws).draws[drawIndex];
+  uint drawRecord = hermiteDrawRecord(pc.draws, drawIndex);
+  HermiteDraw draw = hermiteDrawAt(pc.draws, drawRecord);
   ObjectData object = ObjectsRef(pc.draw.objects).objects[draw.object];
   FrameGlobals frame = FrameGlobalsRef(pc.draw.frameGlobals).globals;
 
@@ -45,7 +46,7 @@ void main() {
   vec3 objectPosition = draw.gridOriginSpacing.xyz + h * (cell + local);
 
   outRecord = instanceRecord(pc.cellRecords);
-  outDraw = drawIndex;
+  outDraw = drawRecord;  // the fragments read the record without the table's per-command index
   outDilation = dilation;
   gl_Position = frame.viewProj * (object.model * vec4(objectPosition, 1.0));
 }

@@ -23,7 +23,7 @@ layout(depth_less) out float gl_FragDepth;  // reverse-Z: the hit is never neare
 #include "hermite/hit_depth.glsl"
 
 void main() {
-  HermiteDraw draw = HermiteDrawsRef(pc.draws).draws[inDraw];
+  HermiteDraw draw = hermiteDrawAt(pc.draws, inDraw);  // inDraw: the record (the vertex shader looked it up)
   FrameGlobals frame = FrameGlobalsRef(pc.draw.frameGlobals).globals;
   mat4 invModel = ObjectsRef(pc.draw.objects).objects[draw.object].invModel;
   float h = draw.gridOriginSpacing.w;

@@ -18,7 +18,7 @@ void main() {
     gl_Position = vec4(2.0, 2.0, 2.0, 1.0);  // outside: clipped away
     return;
   }
-  HermiteDraw draw = HermiteDrawsRef(pc.draws).draws[pc.drawBase + gl_DrawID];
+  HermiteDraw draw = hermiteDraw(pc.draws, pc.drawBase + gl_DrawID);
   ObjectData object = ObjectsRef(pc.draw.objects).objects[draw.object];
   FrameGlobals frame = FrameGlobalsRef(pc.draw.frameGlobals).globals;
   int corner = kEdgeCorners[gl_VertexIndex];

@@ -29,6 +29,16 @@ struct HermiteDraw {
 };
 HSDF_CHECK_SIZE(HermiteDraw, 16 + 6 * 4 + 8);
 
+// The frame's draw table, what the shaders' `draws` address points at: this header, then one uint
+// per indirect command naming its HermiteDraw in the records. An object's rows are many commands
+// (front to back, their culling fallbacks, the wireframe's copies) sharing one record: a record per
+// command cost 48 bytes each, 4.9 GB for a million instanced objects.
+struct HermiteDrawTableHeader {
+  uint64_t records;  // address of HermiteDraw[]
+  uint64_t unused;   // keeps the per-command indices 16-byte aligned
+};
+HSDF_CHECK_SIZE(HermiteDrawTableHeader, 16);
+
 // A kept cell's record as the GPU reads it by address (the resolve pass, the cell runs), the same
 // bytes as hsdf::CellRecord / CellRecordHalf (cells.h asserts it): 8 corners (f, fx, fy, fz), corner
 // x + 2y + 4z, then the cell coordinate and class as 16-bit pairs (x | y << 16, z | class << 16).
@@ -291,7 +301,7 @@ struct CellTilePushConstants {
   uint64_t keptRanges;    // range index of each kept instance (CellCullPushConstants::keptRanges)
   uint64_t keptCount;     // uint: the kept streams' append cursor (BrickCullTotals::keptSlots[precision])
   uint64_t keptIndices;   // record index of each kept instance (CellCullPushConstants::keptIndices)
-  uint64_t draws;         // HermiteDraw[] (a range's drawCommand indexes it)
+  uint64_t draws;         // the draw table (HermiteDrawTableHeader; a range's drawCommand indexes it)
   uint64_t objects;       // BrickCullObject[] of the culling pass (CellCullRange::object indexes it)
   uint64_t frameGlobals;  // FrameGlobals
   uint64_t tiles;         // CellTile[tilesX * tilesY], the non-empty tiles (uint[tilesX * tilesY]), the masks
@@ -325,7 +335,7 @@ HSDF_CHECK_SIZE(HermiteObject, 16 + 8 + 2 * 4);
 // Push constants of the Hermite pipelines: the engine's DrawPushConstants plus the draw table.
 struct HermitePushConstants {
   DrawPushConstants draw;
-  uint64_t draws;          // address of HermiteDraw[] (indexed by drawBase + gl_DrawID)
+  uint64_t draws;          // address of the draw table (HermiteDrawTableHeader), indexed by drawBase + gl_DrawID
   uint64_t hitDepths;      // address of a uint per pixel: the cells' nearest hit depth (hit_depth.glsl), 0 when unused
   uint64_t counters;       // address of a uint per pixel (evaluation heat map), 0 when off
   // Cell bricks: the CellBrickGpu[] the draws' instances index (the bound vertex buffer; the
@@ -391,6 +401,18 @@ HSDF_CHECK_SIZE(SphereTracePushConstants, 32 + 3 * 8);
 #else
 // The GLSL views of the buffers above that several shaders read, declared once here.
 layout(buffer_reference, scalar) readonly buffer HermiteDrawsRef { HermiteDraw draws[]; };
+layout(buffer_reference, scalar) readonly buffer HermiteDrawTableRef {
+  HermiteDrawTableHeader header;
+  uint recordOf[];
+};
+// The record of indirect command `command` in the draw table at `table` (the box vertex shaders
+// hand it to their fragments, which then read the record with one load, as before the table).
+uint hermiteDrawRecord(uint64_t table, uint command) { return HermiteDrawTableRef(table).recordOf[command]; }
+HermiteDraw hermiteDrawAt(uint64_t table, uint record) {
+  return HermiteDrawsRef(HermiteDrawTableRef(table).header.records).draws[record];
+}
+// The HermiteDraw of indirect command `command`.
+HermiteDraw hermiteDraw(uint64_t table, uint command) { return hermiteDrawAt(table, hermiteDrawRecord(table, command)); }
 layout(buffer_reference, scalar) readonly buffer SphereTraceDrawsRef { SphereTraceDraw draws[]; };
 layout(buffer_reference, scalar) readonly buffer CellRecordsRef { CellRecordGpu records[]; };
 layout(buffer_reference, scalar) readonly buffer CellRecordsHalfRef { CellRecordHalfGpu records[]; };

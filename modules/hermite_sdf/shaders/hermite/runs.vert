@@ -27,7 +27,8 @@ precise gl_Position;
 
 void main() {
   uint drawIndex = pc.drawBase + gl_DrawID;
-  HermiteDraw draw = HermiteDrawsRef(pc.draws).draws[drawIndex];
+  uint drawRecord = hermiteDrawRecord(pc.draws, drawIndex);
+  HermiteDraw draw = hermiteDrawAt(pc.draws, drawRecord);
   ObjectData object = ObjectsRef(pc.draw.objects).objects[draw.object];
   FrameGlobals frame = FrameGlobalsRef(pc.draw.frameGlobals).globals;
 
@@ -59,7 +60,7 @@ void main() {
 
   outRun = run;
   outFirstRecord = inFirstRecord;
-  outDraw = drawIndex;
+  outDraw = drawRecord;  // the fragments read the record without the table's per-command index
   outDilation = dilation;
   outCameraLocal = cameraLocal;
   gl_Position = frame.viewProj * (object.model * vec4(objectPosition, 1.0));

@@ -24,7 +24,7 @@ layout(depth_less) out float gl_FragDepth;  // reverse-Z: the hit is never neare
 #include "hermite/hit_depth.glsl"
 
 void main() {
-  HermiteDraw draw = HermiteDrawsRef(pc.draws).draws[inDraw];
+  HermiteDraw draw = hermiteDrawAt(pc.draws, inDraw);  // inDraw: the record (the vertex shader looked it up)
   // The ray in run-local coordinates (cells; cell i of the run spans x in [i, i + 1]), t = 1 at this
   // fragment's point on the proxy, so a point at t has reverse-Z depth gl_FragCoord.z / t and the
   // near plane lies at t = gl_FragCoord.z (pixel_ray.glsl).

@@ -70,7 +70,7 @@ glm::vec4 unite(const glm::vec4& a, const glm::vec4& b) {
 // changed by `change`, with their draws: the wireframe's, the fallback's and phase 2's lists.
 // Returns where the copy starts.
 template <class Change>
-std::uint32_t appendCopies(std::vector<VkDrawIndirectCommand>& commands, std::vector<shader::HermiteDraw>& draws,
+std::uint32_t appendCopies(std::vector<VkDrawIndirectCommand>& commands, std::vector<std::uint32_t>& draws,
                            std::uint32_t first, std::uint32_t count, Change change) {
   const auto start = static_cast<std::uint32_t>(commands.size());
   for (std::uint32_t i = 0; i < count; ++i) {
@@ -87,7 +87,8 @@ std::uint32_t appendCopies(std::vector<VkDrawIndirectCommand>& commands, std::ve
 // One frame's draws while buildDraws gathers them, object by object.
 struct HermiteCellFeature::FrameDraws {
   std::vector<VkDrawIndirectCommand> commands[kBatches][2];  // [fp32 cells, fp16 cells, runs, bricks][front, near]
-  std::vector<shader::HermiteDraw> draws[kBatches][2];
+  std::vector<std::uint32_t> draws[kBatches][2];     // per command: its record in `records`
+  std::vector<shader::HermiteDraw> records;          // one per object (and one for its near cells)
   std::vector<shader::HermiteObject> hermiteObjects;
   std::vector<std::uint32_t> objectIndices;
   std::vector<std::uint32_t> cellCullObject[2];  // per front command of the cell batches: its cull object or kNotCulled
@@ -109,6 +110,7 @@ struct HermiteCellFeature::DrawnObject {
   glm::mat4 world{1.0f};
   int precision = 0;
   shader::HermiteDraw draw{};
+  std::uint32_t record = 0;  // `draw` in FrameDraws::records
   glm::dvec3 eyeGrid{0.0};  // the eye in grid units
   double reachGrid = 0.0;   // how far (in grid units) the near plane reaches around it
 };
@@ -132,7 +134,7 @@ void HermiteCellFeature::buildDraws(engine::render::FrameContext& frame) {
       });
 
   std::vector<VkDrawIndirectCommand> allCommands;
-  std::vector<shader::HermiteDraw> allDraws;
+  std::vector<std::uint32_t> allDraws;  // per command: its record in f.records
   concatenateBatches(f, allCommands, allDraws);
   stats_.draws = static_cast<std::uint32_t>(allCommands.size());
   for (shader::BrickCullObject& object : cullObjectList_) object.drawCommand += batches_[kBrickBatch]->frontFirst;
@@ -335,6 +337,20 @@ void HermiteCellFeature::beginObjectDraw(engine::render::FrameContext& frame, Fr
   // which precision (the paper's cells ignore it: their records are vertex attributes).
   draw.records = buffers_->records[precision].address();
   if (precision == 1) draw.flags |= HERMITE_FLAG_HALF_RECORDS;
+  o.record = addRecord(f, draw);
+}
+
+// `draw` as the next record of the frame's draw table, for the commands that share it.
+std::uint32_t HermiteCellFeature::addRecord(FrameDraws& f, const shader::HermiteDraw& draw) {
+  f.records.push_back(draw);
+  return static_cast<std::uint32_t>(f.records.size() - 1);
+}
+
+// The object's record with HERMITE_FLAG_NEAR_CELL, for the cells the near plane may cut.
+std::uint32_t HermiteCellFeature::addNearRecord(FrameDraws& f, const DrawnObject& o) {
+  shader::HermiteDraw nearDraw = o.draw;
+  nearDraw.flags |= HERMITE_FLAG_NEAR_CELL;
+  return addRecord(f, nearDraw);
 }
 
 // RenderMethod::CellBricks: the brick batch's commands, and the object's range of the brick culling pass.
@@ -343,8 +359,7 @@ void HermiteCellFeature::addBrickObjectDraws(engine::render::FrameContext& frame
   const SdfAsset& asset = *entry.asset;
   f.drawsBricks = true;
   stats_.cells += asset.cells.records.size();
-  addBrickDraws(entry.bricks.bricks, entry.firstBrick, o.draw, o.eyeGrid, o.reachGrid, f.commands[kBrickBatch],
-                f.draws[kBrickBatch]);
+  addBrickDraws(f, entry.bricks.bricks, entry.firstBrick, o);
   if (settings_.cullBricks && !entry.bricks.bricks.empty()) {
     // The command just added starts empty and the culling pass counts its kept bricks, which
     // it writes from the object's range of the kept-brick stream on.
@@ -366,13 +381,13 @@ void HermiteCellFeature::addRunObjectDraws(FrameDraws& f, const DrawnObject& o) 
   const std::vector<CellRows::Range> rowOrder = orderedRows(entry.rows, o.eyeGrid, settings_.frontToBack);
   for (const CellRows::Range& range : runRanges(entry.runs, rowOrder)) {
     f.commands[2][0].push_back({kFanVertices, range.count, 0, entry.firstRun + range.first});
-    f.draws[2][0].push_back(o.draw);
+    f.draws[2][0].push_back(o.record);
   }
-  shader::HermiteDraw nearDraw = o.draw;
-  nearDraw.flags |= HERMITE_FLAG_NEAR_CELL;
-  for (std::uint32_t run : runsNearPoint(entry.runs, o.eyeGrid, o.reachGrid)) {
+  const std::vector<std::uint32_t> near = runsNearPoint(entry.runs, o.eyeGrid, o.reachGrid);
+  const std::uint32_t nearRecord = near.empty() ? 0 : addNearRecord(f, o);
+  for (std::uint32_t run : near) {
     f.commands[2][1].push_back({kStripVertices, 1, 0, entry.firstRun + run});
-    f.draws[2][1].push_back(nearDraw);
+    f.draws[2][1].push_back(nearRecord);
     stats_.nearCells++;
   }
   stats_.cells += entry.asset->cells.records.size();
@@ -407,23 +422,23 @@ void HermiteCellFeature::addCellObjectDraws(engine::render::FrameContext& frame,
     for (std::uint32_t first = 0; first < range.count; first += longest) {
       const std::uint32_t count = std::min(longest, range.count - first);
       f.commands[precision][0].push_back({kFanVertices, count, 0, entry.firstRecord + range.first + first});
-      f.draws[precision][0].push_back(o.draw);
+      f.draws[precision][0].push_back(o.record);
       f.cellCullObject[precision].push_back(cullObject);
     }
     stats_.cells += range.count;
   }
-  shader::HermiteDraw nearDraw = o.draw;
-  nearDraw.flags |= HERMITE_FLAG_NEAR_CELL;
-  for (std::uint32_t record : cellsNearPoint(entry.rows, asset.cells, o.eyeGrid, o.reachGrid)) {
+  const std::vector<std::uint32_t> near = cellsNearPoint(entry.rows, asset.cells, o.eyeGrid, o.reachGrid);
+  const std::uint32_t nearRecord = near.empty() ? 0 : addNearRecord(f, o);
+  for (std::uint32_t record : near) {
     f.commands[precision][1].push_back({kStripVertices, 1, 0, entry.firstRecord + record});
-    f.draws[precision][1].push_back(nearDraw);
+    f.draws[precision][1].push_back(nearRecord);
     stats_.nearCells++;
   }
 }
 
 // One upload: [fp32 front][fp32 near][fp16 front][fp16 near][runs front][runs near][bricks front][bricks near].
 void HermiteCellFeature::concatenateBatches(const FrameDraws& f, std::vector<VkDrawIndirectCommand>& allCommands,
-                                            std::vector<shader::HermiteDraw>& allDraws) {
+                                            std::vector<std::uint32_t>& allDraws) {
   for (int precision = 0; precision < kBatches; ++precision) {
     Batch& batch = *batches_[precision];
     batch.frontFirst = static_cast<std::uint32_t>(allCommands.size());
@@ -439,7 +454,7 @@ void HermiteCellFeature::concatenateBatches(const FrameDraws& f, std::vector<VkD
 
 // DEBUG_VIEW_WIREFRAME: the cell batches' front lists again, drawn as the boxes' edges.
 void HermiteCellFeature::addWireCommands(std::vector<VkDrawIndirectCommand>& allCommands,
-                                         std::vector<shader::HermiteDraw>& allDraws) {
+                                         std::vector<std::uint32_t>& allDraws) {
   for (int precision = 0; precision < 2; ++precision) {
     Batch& batch = *batches_[precision];
     batch.wireFirst = appendCopies(allCommands, allDraws, batch.frontFirst, batch.frontCount,
@@ -462,13 +477,19 @@ void HermiteCellFeature::chooseDrawStages(const FrameDraws& f) {
   stats_.tiles = tiles_;
 }
 
-// This frame slot's commands, draw data and Hermite objects, and each object's payload address.
+// This frame slot's commands, draw table (records, then the header and each command's record) and
+// Hermite objects, and each object's payload address.
 void HermiteCellFeature::uploadDraws(engine::render::FrameContext& frame, const FrameDraws& f,
                                      const std::vector<VkDrawIndirectCommand>& allCommands,
-                                     const std::vector<shader::HermiteDraw>& allDraws) {
+                                     const std::vector<std::uint32_t>& allDraws) {
   if (!allCommands.empty()) {
     indirect_.upload(frame.frameSlot, allCommands);
-    drawData_.upload(frame.frameSlot, allDraws);
+    drawRecords_.upload(frame.frameSlot, f.records);
+    std::vector<std::uint32_t> table(sizeof(shader::HermiteDrawTableHeader) / sizeof(std::uint32_t) + allDraws.size());
+    const shader::HermiteDrawTableHeader header{drawRecords_.address(frame.frameSlot), 0};
+    std::memcpy(table.data(), &header, sizeof(header));
+    std::copy(allDraws.begin(), allDraws.end(), table.begin() + sizeof(header) / sizeof(std::uint32_t));
+    drawData_.upload(frame.frameSlot, table);
   }
   if (!f.hermiteObjects.empty()) {
     objects_.upload(frame.frameSlot, f.hermiteObjects);
@@ -506,7 +527,7 @@ void HermiteCellFeature::cullCellRanges(std::vector<VkDrawIndirectCommand>& comm
 // again, unculled and with no instance, for the culling pass to fill where the row does not fit
 // (CellCullRange::fallbackCommand).
 void HermiteCellFeature::addFallbackCommands(std::vector<VkDrawIndirectCommand>& commands,
-                                             std::vector<shader::HermiteDraw>& draws) {
+                                             std::vector<std::uint32_t>& draws) {
   for (int precision = 0; precision < 2; ++precision) {
     Batch& batch = *batches_[precision];
     batch.fallbackCount = keptFallback_[precision] ? batch.frontCount : 0;
@@ -529,7 +550,7 @@ void HermiteCellFeature::placeHistory(engine::render::FrameContext& frame) {
 // culled when occlusion culling is on), each drawing the cells the late culling pass appends for
 // its range, from an instance count of 0 that the pass overwrites.
 void HermiteCellFeature::addLateCommands(std::vector<VkDrawIndirectCommand>& commands,
-                                         std::vector<shader::HermiteDraw>& draws) {
+                                         std::vector<std::uint32_t>& draws) {
   for (int precision = 0; precision < 2; ++precision) {
     Batch& batch = *batches_[precision];
     batch.lateFirst =
@@ -575,19 +596,17 @@ std::uint64_t HermiteCellFeature::tileEntryEstimate(const GridSpec& grid, std::u
 
 // A CellBricks object: one command for all its bricks (firstInstance = its first brick; the brick
 // culling pass will write instanceCount), and the bricks the near plane may cut by back faces.
-void HermiteCellFeature::addBrickDraws(const std::vector<shader::CellBrickGpu>& bricks, std::uint32_t firstBrick,
-                                       const shader::HermiteDraw& draw, const glm::dvec3& eyeGrid, double reachGrid,
-                                       std::vector<VkDrawIndirectCommand> commands[2],
-                                       std::vector<shader::HermiteDraw> draws[2]) {
+void HermiteCellFeature::addBrickDraws(FrameDraws& f, const std::vector<shader::CellBrickGpu>& bricks,
+                                       std::uint32_t firstBrick, const DrawnObject& o) {
   const auto count = static_cast<std::uint32_t>(bricks.size());
   if (count == 0) return;  // reported when the bricks could not be built
-  commands[0].push_back({kFanVertices, count, 0, firstBrick});
-  draws[0].push_back(draw);
-  shader::HermiteDraw nearDraw = draw;
-  nearDraw.flags |= HERMITE_FLAG_NEAR_CELL;
-  for (std::uint32_t brick : bricksNearPoint(bricks, eyeGrid, reachGrid)) {
-    commands[1].push_back({kStripVertices, 1, 0, firstBrick + brick});
-    draws[1].push_back(nearDraw);
+  f.commands[kBrickBatch][0].push_back({kFanVertices, count, 0, firstBrick});
+  f.draws[kBrickBatch][0].push_back(o.record);
+  const std::vector<std::uint32_t> near = bricksNearPoint(bricks, o.eyeGrid, o.reachGrid);
+  const std::uint32_t nearRecord = near.empty() ? 0 : addNearRecord(f, o);
+  for (std::uint32_t brick : near) {
+    f.commands[kBrickBatch][1].push_back({kStripVertices, 1, 0, firstBrick + brick});
+    f.draws[kBrickBatch][1].push_back(nearRecord);
     stats_.nearCells++;
   }
   stats_.bricks += count;

@@ -51,7 +51,9 @@ engine::Status HermiteCellFeature::initialize(const engine::gpu::Context& contex
   context_ = &context;
   draws_ = engine::gpu::IndirectDraws(context);
   drawData_ = engine::render::PerFrameBuffer(context, framesInFlight, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT,
-                                             "hermite cell draws");
+                                             "hermite cell draw table");
+  drawRecords_ = engine::render::PerFrameBuffer(context, framesInFlight, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT,
+                                                "hermite cell draws");
   // Storage too: the brick culling pass writes the instance counts of the bricks' commands.
   indirect_ = engine::render::PerFrameBuffer(context, framesInFlight,
                                              VK_BUFFER_USAGE_INDIRECT_BUFFER_BIT | VK_BUFFER_USAGE_STORAGE_BUFFER_BIT,

@@ -52,7 +52,7 @@ class CellTiler {
     std::uint32_t slot = 0;
     VkExtent2D extent{};
     std::uint32_t tileSize = CELL_TILE_SIZE;  // the tiles' side in pixels (Settings::tileSize)
-    VkDeviceAddress draws = 0;         // HermiteDraw[]
+    VkDeviceAddress draws = 0;         // the draw table (HermiteDrawTableHeader)
     VkDeviceAddress objects = 0;       // BrickCullObject[] of the cell culling pass
     VkDeviceAddress frameGlobals = 0;  // FrameGlobals
     Ranges precisions[2];

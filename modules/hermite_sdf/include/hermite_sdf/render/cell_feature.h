@@ -272,12 +272,12 @@ class HermiteCellFeature final : public engine::render::RenderFeature {
   void addRunObjectDraws(FrameDraws& f, const DrawnObject& o);
   void addCellObjectDraws(engine::render::FrameContext& frame, FrameDraws& f, const DrawnObject& o);
   void concatenateBatches(const FrameDraws& f, std::vector<VkDrawIndirectCommand>& allCommands,
-                          std::vector<shader::HermiteDraw>& allDraws);
-  void addWireCommands(std::vector<VkDrawIndirectCommand>& allCommands, std::vector<shader::HermiteDraw>& allDraws);
+                          std::vector<std::uint32_t>& allDraws);
+  void addWireCommands(std::vector<VkDrawIndirectCommand>& allCommands, std::vector<std::uint32_t>& allDraws);
   void chooseDrawStages(const FrameDraws& f);
   void uploadDraws(engine::render::FrameContext& frame, const FrameDraws& f,
                    const std::vector<VkDrawIndirectCommand>& allCommands,
-                   const std::vector<shader::HermiteDraw>& allDraws);
+                   const std::vector<std::uint32_t>& allDraws);
   void recordCulling(engine::render::FrameContext& frame);
   void recordBrickCulling(engine::render::FrameContext& frame);
   void recordCellCulling(engine::render::FrameContext& frame);
@@ -294,11 +294,11 @@ class HermiteCellFeature final : public engine::render::RenderFeature {
   void releaseIdleSlots(const engine::render::FrameContext& frame);
   std::uint64_t keptStreamBytesHeld() const;
   void readKeptDemand(std::uint32_t slot);
-  void addFallbackCommands(std::vector<VkDrawIndirectCommand>& commands, std::vector<shader::HermiteDraw>& draws);
+  void addFallbackCommands(std::vector<VkDrawIndirectCommand>& commands, std::vector<std::uint32_t>& draws);
   void dropCellCulling(FrameDraws& f);
   void placeHistory(engine::render::FrameContext& frame);
   static float occlusionDepthMargin(const engine::render::CameraView& camera, VkExtent2D extent);
-  void addLateCommands(std::vector<VkDrawIndirectCommand>& commands, std::vector<shader::HermiteDraw>& draws);
+  void addLateCommands(std::vector<VkDrawIndirectCommand>& commands, std::vector<std::uint32_t>& draws);
   void recordCellCullPasses(VkCommandBuffer cmd, std::uint32_t slot, shader::CellCullPushConstants push);
   void ensureCounters(engine::render::FrameContext& frame);
   void ensureHitDepths(engine::render::FrameContext& frame);
@@ -367,9 +367,10 @@ class HermiteCellFeature final : public engine::render::RenderFeature {
   // Bricks and thin cells have only the production and counted variants (buildDraws keeps the early
   // depth stage off in frames that draw them): the variant of those two that `variant` stands for.
   static Variant withoutEarlyStage(Variant variant);
-  void addBrickDraws(const std::vector<shader::CellBrickGpu>& bricks, std::uint32_t firstBrick,
-                     const shader::HermiteDraw& draw, const glm::dvec3& eyeGrid, double reachGrid,
-                     std::vector<VkDrawIndirectCommand> commands[2], std::vector<shader::HermiteDraw> draws[2]);
+  void addBrickDraws(FrameDraws& f, const std::vector<shader::CellBrickGpu>& bricks, std::uint32_t firstBrick,
+                     const DrawnObject& o);
+  static std::uint32_t addRecord(FrameDraws& f, const shader::HermiteDraw& draw);
+  static std::uint32_t addNearRecord(FrameDraws& f, const DrawnObject& o);
 
   engine::render::RendererFormats formats_;
   Pipelines pipelines_;
@@ -382,7 +383,8 @@ class HermiteCellFeature final : public engine::render::RenderFeature {
   std::unordered_set<std::uint64_t> refused_;
   std::unordered_map<engine::ecs::Entity, std::uint64_t> drawnAssets_;  // the asset each entity drew last frame
   std::uint32_t refusedRunLength_ = 0;
-  engine::render::PerFrameBuffer drawData_;
+  engine::render::PerFrameBuffer drawData_;     // the draw table: HermiteDrawTableHeader, a record per command
+  engine::render::PerFrameBuffer drawRecords_;  // its HermiteDraw records
   engine::render::PerFrameBuffer indirect_;
   engine::render::PerFrameBuffer objects_;  // shader::HermiteObject per drawn object
   engine::gpu::PixelBuffer counters_{"hermite evaluation counters"};  // the heat map's evaluations per pixel
