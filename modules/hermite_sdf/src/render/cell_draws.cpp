@@ -137,6 +137,7 @@ void HermiteCellFeature::buildDraws(engine::render::FrameContext& frame) {
   std::vector<std::uint32_t> allDraws;  // per command: its record in f.records
   concatenateBatches(f, allCommands, allDraws);
   stats_.draws = static_cast<std::uint32_t>(allCommands.size());
+  stats_.drawRecords = static_cast<std::uint32_t>(f.records.size());
   for (shader::BrickCullObject& object : cullObjectList_) object.drawCommand += batches_[kBrickBatch]->frontFirst;
   drawnAssets_ = std::move(f.drawnThisFrame);
   if (frame.debugView == DEBUG_VIEW_WIREFRAME) addWireCommands(allCommands, allDraws);

@@ -98,7 +98,9 @@ TEST_F(HermiteCellsTest, CameraInsideBoundsAndInsideACell) {
   ASSERT_TRUE(close);
   const ImageComparison c = compareView(*asset, *close, "inside a cell");
   expectMatchesReference(c);
-  EXPECT_GT(renderer_->feature<hsdf::HermiteCellFeature>()->stats().nearCells, 0u);
+  const hsdf::HermiteCellFeature::Stats& stats = renderer_->feature<hsdf::HermiteCellFeature>()->stats();
+  EXPECT_GT(stats.nearCells, 0u);
+  EXPECT_EQ(stats.drawRecords, 2u) << "the object's record and its near cells' (HERMITE_FLAG_NEAR_CELL)";
 }
 
 // Early depth (the default) tests each box at its own face's depth and writes the hits' depths in
@@ -718,7 +720,13 @@ TEST_F(HermiteCellsTest, SixtyFourInstancesInOneDrawMatchSeparateFrames) {
   (void)renderWith(camera, DEBUG_VIEW_NONE);
   const Frame all = renderWith(camera, DEBUG_VIEW_NONE);
   EXPECT_TRUE(first.depth == all.depth);
-  EXPECT_EQ(renderer_->feature<hsdf::HermiteCellFeature>()->stats().objects, 64u);
+  const hsdf::HermiteCellFeature::Stats& stats = renderer_->feature<hsdf::HermiteCellFeature>()->stats();
+  EXPECT_EQ(stats.objects, 64u);
+  // Every command of an instance (its row ranges, phase 2's copies) shares the instance's one draw
+  // record: a record per command made a million instances 4.9 GB of draw data.
+  EXPECT_EQ(stats.nearCells, 0u);
+  EXPECT_EQ(stats.drawRecords, 64u);
+  EXPECT_GT(stats.draws, 4u * stats.drawRecords);
   // The instances overlap on screen: drawn by depth (early depth would let one object's nearer box
   // face hide another object's nearer hit), while each one alone is drawn by its faces below, so
   // the equality also checks the two prepasses against each other.

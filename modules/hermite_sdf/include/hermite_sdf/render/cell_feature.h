@@ -188,6 +188,9 @@ class HermiteCellFeature final : public engine::render::RenderFeature {
     std::uint32_t objects = 0;
     std::uint64_t cells = 0;        // instances drawn in the last frame
     std::uint32_t draws = 0;        // indirect commands in the last frame
+    // HermiteDraw records of its draw table: one per object, one more for an object with near
+    // cells; every command of an object shares them (HermiteDrawTableHeader).
+    std::uint32_t drawRecords = 0;
     std::uint32_t nearCells = 0;    // cells (or runs) drawn by their back faces
     std::uint64_t runs = 0;         // run boxes of RenderMethod::CellRuns objects (their cells are in `cells`)
     std::uint64_t bricks = 0;       // brick boxes of RenderMethod::CellBricks objects (their cells are in `cells`)
