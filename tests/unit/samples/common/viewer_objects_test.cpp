@@ -36,6 +36,14 @@ std::set<std::string> namesWith(Viewer& viewer, bool sdf) {
   return names;
 }
 
+// The distinct assets the scene's SDF objects draw.
+std::size_t distinctAssets(Viewer& viewer) {
+  std::set<std::uint64_t> ids;
+  viewer.registry().view<hsdf::HermiteSdfRenderable>().each(
+      [&ids](engine::ecs::Entity, const hsdf::HermiteSdfRenderable& r) { ids.insert(r.asset->id); });
+  return ids.size();
+}
+
 // Tricky: 120 nodes of 4 meshes must cost 4 bakes and 4 distinct assets, the 12 nodes marked
 // triangles in extras (and one more from the list) must keep their triangles and no SDF, the other
 // SDF nodes must hide theirs, and all SDF instances go through the cells' batches in one frame.
@@ -53,10 +61,7 @@ TEST(ViewerObjects, GridSceneSharesOneAssetPerMeshAndKeepsTriangleNodes) {
   ASSERT_TRUE(loaded.ok()) << loaded.error().message;
   EXPECT_EQ(viewer->objectBakes(), 4);
   EXPECT_EQ(viewer->sdfObjects().size(), 107u);  // 120 - 12 marked in extras - 1 listed
-  std::set<std::uint64_t> ids;
-  viewer->registry().view<hsdf::HermiteSdfRenderable>().each(
-      [&ids](engine::ecs::Entity, const hsdf::HermiteSdfRenderable& r) { ids.insert(r.asset->id); });
-  EXPECT_EQ(ids.size(), 4u);
+  EXPECT_EQ(distinctAssets(*viewer), 4u);
 
   const std::set<std::string> sdfNames = namesWith(*viewer, true);
   const std::set<std::string> meshNames = namesWith(*viewer, false);
@@ -132,8 +137,10 @@ TEST(ViewerObjects, ANewResolutionRebakesEveryMeshOnce) {
   EXPECT_TRUE(viewer->close().ok());
 }
 
-// A viewer showing tests/data/gltf/<file> as scene objects at K = `resolution` (null if it fails).
-std::unique_ptr<Viewer> viewTestScene(const std::string& file, int resolution) {
+// A viewer showing tests/data/gltf/<file> as scene objects at K = `resolution`, the listed nodes as
+// triangles (null if it fails).
+std::unique_ptr<Viewer> viewTestScene(const std::string& file, int resolution,
+                                      const std::vector<std::string>& triangleNodes = {}) {
   auto viewer = makeViewer();
   if (!viewer) return nullptr;
   SceneDesc scene;
@@ -142,6 +149,7 @@ std::unique_ptr<Viewer> viewTestScene(const std::string& file, int resolution) {
   scene.groundPlane = false;
   TuningState tuning;
   tuning.resolution = resolution;
+  tuning.triangleNodes = triangleNodes;
   const engine::Status loaded = viewer->loadScene(scene, tuning);
   EXPECT_TRUE(loaded.ok()) << loaded.error().message;
   return loaded.ok() ? std::move(viewer) : nullptr;
@@ -156,25 +164,13 @@ TEST(ViewerObjects, GpuInstancesShareOneAssetAndArePickedByName) {
   EXPECT_EQ(viewer->objectBakes(), 1);
   EXPECT_EQ(namesWith(*viewer, true), (std::set<std::string>{"tetras[0]", "tetras[1]", "tetras[2]"}));
   EXPECT_TRUE(namesWith(*viewer, false).empty());
-  std::set<std::uint64_t> ids;
-  viewer->registry().view<hsdf::HermiteSdfRenderable>().each(
-      [&ids](engine::ecs::Entity, const hsdf::HermiteSdfRenderable& r) { ids.insert(r.asset->id); });
-  EXPECT_EQ(ids.size(), 1u);
+  EXPECT_EQ(distinctAssets(*viewer), 1u);
   ASSERT_TRUE(viewer->step().ok());
   EXPECT_EQ(viewer->renderer().feature<hsdf::HermiteCellFeature>()->stats().objects, 3u);
   EXPECT_TRUE(viewer->close().ok());
 
-  auto picked = makeViewer();
+  auto picked = viewTestScene("gpu_instancing.gltf", 24, {"tetras[1]"});
   ASSERT_NE(picked, nullptr);
-  SceneDesc scene;
-  scene.gltf = hsdftest::testData("gltf/gpu_instancing.gltf");
-  scene.objects = true;
-  scene.groundPlane = false;
-  TuningState tuning;
-  tuning.resolution = 24;
-  tuning.triangleNodes = {"tetras[1]"};
-  const engine::Status loaded = picked->loadScene(scene, tuning);
-  ASSERT_TRUE(loaded.ok()) << loaded.error().message;
   EXPECT_EQ(namesWith(*picked, true), (std::set<std::string>{"tetras[0]", "tetras[2]"}));
   EXPECT_EQ(namesWith(*picked, false), (std::set<std::string>{"tetras[1]"}));
   EXPECT_TRUE(picked->close().ok());
