@@ -92,6 +92,9 @@ void Viewer::moveCamera(const platform::InputState& input, float dt) {
 }
 
 void Viewer::collectSceneCameras(const std::vector<ecs::Entity>& cameras) {
+  sceneCameraNames_.clear();
+  sceneCameras_.clear();
+  if (cameraMode_ == CameraMode::Scene) cameraMode_ = CameraMode::Orbit;
   for (const ecs::Entity entity : cameras) {
     const scene::Name* name = registry_.tryGet<scene::Name>(entity);
     sceneCameraNames_.push_back(name && !name->value.empty() ? name->value
