@@ -467,9 +467,12 @@ void TuningPanel::drawWindow() {
   changed |= ImGui::RadioButton("fly", &mode, int(CameraMode::Fly));
   if (changed) viewer_.setCameraMode(CameraMode(mode));
   drawSceneCameras();
-  ImGui::TextWrapped(viewer_.cameraMode() == CameraMode::Fly
-                         ? "Fly: W/A/S/D moves, Q/E down/up, Shift faster, right-drag looks."
-                         : "Orbit: left-drag rotates, right-drag or scroll zooms, middle-drag pans.");
+  const char* help = "Orbit: left-drag rotates, right-drag or scroll zooms, middle-drag pans.";
+  if (viewer_.cameraMode() == CameraMode::Fly) help = "Fly: W/A/S/D moves, Q/E down/up, Shift faster, right-drag looks.";
+  if (viewer_.cameraMode() == CameraMode::Scene)
+    help = "Scene camera: an orbit gesture (left-drag, scroll, middle-drag) or a fly one (W/A/S/D/Q/E, right-drag) "
+           "leaves it from where it looks.";
+  ImGui::TextWrapped("%s", help);
   ImGui::TextWrapped("F1: panel on/off, F2: orbit/fly, F11: full screen.");
   if (!viewer_.windowed()) return;
   bool vsync = viewer_.vsync();
