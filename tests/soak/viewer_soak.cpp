@@ -26,6 +26,7 @@
 //   viewer_soak [--frames N] [--period P] [--size WxH] [--rss-tolerance-mb M] [--csv FILE]
 //               [--validation on|off]   (default on; off: to tell the layers' own growth from ours)
 //               [--scene FILE.glb] [--objects on|off]  (default off; on: each mesh its own SDF object)
+#include <malloc.h>
 #include <unistd.h>
 
 #include <algorithm>
@@ -126,7 +127,13 @@ struct Sample {
   int resolution = 0;
 };
 
+// The process's resident bytes, after glibc has given back the free memory it keeps: the bake's
+// worker threads allocate in per-thread arenas, and how many arenas a run touches depends on how
+// the threads happen to be scheduled (a CI run under load grew 56 MiB once, at frame 300 of the
+// scene-objects soak, and never again). malloc_trim(0) returns the free pages of every arena, so the
+// samples compare memory in use (a leak stays resident), not the allocator's spare capacity.
 std::uint64_t residentBytes() {
+  malloc_trim(0);
   std::ifstream statm("/proc/self/statm");
   std::uint64_t size = 0, resident = 0;
   statm >> size >> resident;
