@@ -572,7 +572,7 @@ Expected<std::vector<NodeData>> convertNodes(ImportContext& context, const std::
       instanceCount += instances.size();
       data.mesh = -1;  // the mesh is drawn at its instances only
     }
-    out.push_back(data);
+    out.push_back(std::move(data));
     const int self = int(out.size() - 1);
     if (node.mesh != -1) ENGINE_TRY(addInstanceNodes(out, self, node.mesh, instances));
     for (auto child = node.children.rbegin(); child != node.children.rend(); ++child) pending.emplace_back(*child, self);
