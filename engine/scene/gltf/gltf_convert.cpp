@@ -563,12 +563,15 @@ Expected<std::vector<NodeData>> convertNodes(ImportContext& context, const std::
     data.mesh = node.mesh;
     if (node.extras.Type() != tinygltf::NULL_TYPE) data.extras = toJson(node.extras).dump();
     data.camera = node.camera == -1 ? -1 : cameraRemap[std::size_t(node.camera)];
-    ENGINE_TRY_ASSIGN(const std::vector<glm::mat4> instances,
-                      meshInstances(context, node, instanceCount)
-                          .withContext(fmt::format("{}: {}", where, kInstancingExtension)));
-    if (!instances.empty() && node.mesh == -1) {
+    std::vector<glm::mat4> instances;
+    if (node.mesh == -1 && node.extensions.count(std::string(kInstancingExtension)) != 0) {
+      // Nothing to instance: the extension is not read, so its contents cannot fail the file.
       context.warnings.push_back(fmt::format("{}: {} on a node without a mesh ignored", where, kInstancingExtension));
-    } else if (!instances.empty()) {
+    } else if (node.mesh != -1) {
+      ENGINE_TRY_ASSIGN(instances, meshInstances(context, node, instanceCount)
+                                       .withContext(fmt::format("{}: {}", where, kInstancingExtension)));
+    }
+    if (!instances.empty()) {
       instanceCount += instances.size();
       data.mesh = -1;  // the mesh is drawn at its instances only
     }

@@ -66,23 +66,36 @@ glm::vec4 unite(const glm::vec4& a, const glm::vec4& b) {
   return {std::min(a.x, b.x), std::min(a.y, b.y), std::max(a.z, b.z), std::max(a.w, b.w)};
 }
 
-// The `count` commands from `first` (a batch's front list) again at the end of `commands`, each
-// changed by `change`, with their draws: the wireframe's, the fallback's and phase 2's lists.
-// Returns where the copy starts.
-template <class Change>
-std::uint32_t appendCopies(std::vector<VkDrawIndirectCommand>& commands, std::vector<std::uint32_t>& draws,
-                           std::uint32_t first, std::uint32_t count, Change change) {
-  const auto start = static_cast<std::uint32_t>(commands.size());
-  for (std::uint32_t i = 0; i < count; ++i) {
-    VkDrawIndirectCommand copy = commands[first + i];
-    change(copy);
-    commands.push_back(copy);
-    draws.push_back(draws[first + i]);
-  }
-  return start;
-}
-
 }  // namespace
+
+// The frame's indirect commands and, in step with them, the draw table the shaders read: its
+// header, then each command's record. Kept as one array from the start, so the upload copies it
+// once (at 10^6 objects the table holds ~10^8 commands).
+struct HermiteCellFeature::FrameCommands {
+  static constexpr std::size_t kHeaderWords = sizeof(shader::HermiteDrawTableHeader) / sizeof(std::uint32_t);
+  std::vector<VkDrawIndirectCommand> commands;
+  std::vector<std::uint32_t> table = std::vector<std::uint32_t>(kHeaderWords, 0u);
+
+  std::uint32_t size() const { return static_cast<std::uint32_t>(commands.size()); }
+  void append(const std::vector<VkDrawIndirectCommand>& more, const std::vector<std::uint32_t>& records) {
+    commands.insert(commands.end(), more.begin(), more.end());
+    table.insert(table.end(), records.begin(), records.end());
+  }
+  // The `count` commands from `first` (a batch's front list) again at the end, each changed by
+  // `change`, with their records: the wireframe's, the fallback's and phase 2's lists. Returns
+  // where the copy starts.
+  template <class Change>
+  std::uint32_t appendCopies(std::uint32_t first, std::uint32_t count, Change change) {
+    const std::uint32_t start = size();
+    for (std::uint32_t i = 0; i < count; ++i) {
+      VkDrawIndirectCommand copy = commands[first + i];
+      change(copy);
+      commands.push_back(copy);
+      table.push_back(table[kHeaderWords + first + i]);
+    }
+    return start;
+  }
+};
 
 // One frame's draws while buildDraws gathers them, object by object.
 struct HermiteCellFeature::FrameDraws {
@@ -133,20 +146,19 @@ void HermiteCellFeature::buildDraws(engine::render::FrameContext& frame) {
         addObjectDraws(frame, f, entity, r, world.matrix);
       });
 
-  std::vector<VkDrawIndirectCommand> allCommands;
-  std::vector<std::uint32_t> allDraws;  // per command: its record in f.records
-  concatenateBatches(f, allCommands, allDraws);
-  stats_.draws = static_cast<std::uint32_t>(allCommands.size());
+  FrameCommands all;
+  concatenateBatches(f, all);
+  stats_.draws = all.size();
   stats_.drawRecords = static_cast<std::uint32_t>(f.records.size());
   for (shader::BrickCullObject& object : cullObjectList_) object.drawCommand += batches_[kBrickBatch]->frontFirst;
   drawnAssets_ = std::move(f.drawnThisFrame);
-  if (frame.debugView == DEBUG_VIEW_WIREFRAME) addWireCommands(allCommands, allDraws);
+  if (frame.debugView == DEBUG_VIEW_WIREFRAME) addWireCommands(all);
   chooseCullingPaths(frame, f);
-  addFallbackCommands(allCommands, allDraws);     // copies of the front lists before they are culled
-  cullCellRanges(allCommands, f.cellCullObject);  // after the wireframe's copies, which draw every cell
-  if (occlusion_) addLateCommands(allCommands, allDraws);
+  addFallbackCommands(all);                        // copies of the front lists before they are culled
+  cullCellRanges(all.commands, f.cellCullObject);  // after the wireframe's copies, which draw every cell
+  if (occlusion_) addLateCommands(all);
   chooseDrawStages(f);
-  uploadDraws(frame, f, allCommands, allDraws);
+  uploadDraws(frame, f, all);
 }
 
 // Which of culling, tiles and occlusion culling this frame uses: what the settings and the device
@@ -438,28 +450,24 @@ void HermiteCellFeature::addCellObjectDraws(engine::render::FrameContext& frame,
 }
 
 // One upload: [fp32 front][fp32 near][fp16 front][fp16 near][runs front][runs near][bricks front][bricks near].
-void HermiteCellFeature::concatenateBatches(const FrameDraws& f, std::vector<VkDrawIndirectCommand>& allCommands,
-                                            std::vector<std::uint32_t>& allDraws) {
+void HermiteCellFeature::concatenateBatches(const FrameDraws& f, FrameCommands& all) {
   for (int precision = 0; precision < kBatches; ++precision) {
     Batch& batch = *batches_[precision];
-    batch.frontFirst = static_cast<std::uint32_t>(allCommands.size());
+    batch.frontFirst = all.size();
     batch.frontCount = static_cast<std::uint32_t>(f.commands[precision][0].size());
-    allCommands.insert(allCommands.end(), f.commands[precision][0].begin(), f.commands[precision][0].end());
-    allDraws.insert(allDraws.end(), f.draws[precision][0].begin(), f.draws[precision][0].end());
-    batch.nearFirst = static_cast<std::uint32_t>(allCommands.size());
+    all.append(f.commands[precision][0], f.draws[precision][0]);
+    batch.nearFirst = all.size();
     batch.nearCount = static_cast<std::uint32_t>(f.commands[precision][1].size());
-    allCommands.insert(allCommands.end(), f.commands[precision][1].begin(), f.commands[precision][1].end());
-    allDraws.insert(allDraws.end(), f.draws[precision][1].begin(), f.draws[precision][1].end());
+    all.append(f.commands[precision][1], f.draws[precision][1]);
   }
 }
 
 // DEBUG_VIEW_WIREFRAME: the cell batches' front lists again, drawn as the boxes' edges.
-void HermiteCellFeature::addWireCommands(std::vector<VkDrawIndirectCommand>& allCommands,
-                                         std::vector<std::uint32_t>& allDraws) {
+void HermiteCellFeature::addWireCommands(FrameCommands& all) {
   for (int precision = 0; precision < 2; ++precision) {
     Batch& batch = *batches_[precision];
-    batch.wireFirst = appendCopies(allCommands, allDraws, batch.frontFirst, batch.frontCount,
-                                   [](VkDrawIndirectCommand& wire) { wire.vertexCount = kWireVertices; });
+    batch.wireFirst = all.appendCopies(batch.frontFirst, batch.frontCount,
+                                       [](VkDrawIndirectCommand& wire) { wire.vertexCount = kWireVertices; });
   }
 }
 
@@ -480,17 +488,13 @@ void HermiteCellFeature::chooseDrawStages(const FrameDraws& f) {
 
 // This frame slot's commands, draw table (records, then the header and each command's record) and
 // Hermite objects, and each object's payload address.
-void HermiteCellFeature::uploadDraws(engine::render::FrameContext& frame, const FrameDraws& f,
-                                     const std::vector<VkDrawIndirectCommand>& allCommands,
-                                     const std::vector<std::uint32_t>& allDraws) {
-  if (!allCommands.empty()) {
-    indirect_.upload(frame.frameSlot, allCommands);
+void HermiteCellFeature::uploadDraws(engine::render::FrameContext& frame, const FrameDraws& f, FrameCommands& all) {
+  if (!all.commands.empty()) {
+    indirect_.upload(frame.frameSlot, all.commands);
     drawRecords_.upload(frame.frameSlot, f.records);
-    std::vector<std::uint32_t> table(sizeof(shader::HermiteDrawTableHeader) / sizeof(std::uint32_t) + allDraws.size());
     const shader::HermiteDrawTableHeader header{drawRecords_.address(frame.frameSlot), 0};
-    std::memcpy(table.data(), &header, sizeof(header));
-    std::copy(allDraws.begin(), allDraws.end(), table.begin() + sizeof(header) / sizeof(std::uint32_t));
-    drawData_.upload(frame.frameSlot, table);
+    std::memcpy(all.table.data(), &header, sizeof(header));
+    drawData_.upload(frame.frameSlot, all.table);
   }
   if (!f.hermiteObjects.empty()) {
     objects_.upload(frame.frameSlot, f.hermiteObjects);
@@ -527,13 +531,12 @@ void HermiteCellFeature::cullCellRanges(std::vector<VkDrawIndirectCommand>& comm
 // Where the kept streams may not hold every culled cell (keptFallback_), each culled front command
 // again, unculled and with no instance, for the culling pass to fill where the row does not fit
 // (CellCullRange::fallbackCommand).
-void HermiteCellFeature::addFallbackCommands(std::vector<VkDrawIndirectCommand>& commands,
-                                             std::vector<std::uint32_t>& draws) {
+void HermiteCellFeature::addFallbackCommands(FrameCommands& all) {
   for (int precision = 0; precision < 2; ++precision) {
     Batch& batch = *batches_[precision];
     batch.fallbackCount = keptFallback_[precision] ? batch.frontCount : 0;
-    batch.fallbackFirst = appendCopies(commands, draws, batch.frontFirst, batch.fallbackCount,
-                                       [](VkDrawIndirectCommand& fallback) { fallback.instanceCount = 0; });
+    batch.fallbackFirst = all.appendCopies(batch.frontFirst, batch.fallbackCount,
+                                           [](VkDrawIndirectCommand& fallback) { fallback.instanceCount = 0; });
   }
 }
 
@@ -550,12 +553,10 @@ void HermiteCellFeature::placeHistory(engine::render::FrameContext& frame) {
 // Phase 2's commands: the culled front lists again (every front command of the two cell batches is
 // culled when occlusion culling is on), each drawing the cells the late culling pass appends for
 // its range, from an instance count of 0 that the pass overwrites.
-void HermiteCellFeature::addLateCommands(std::vector<VkDrawIndirectCommand>& commands,
-                                         std::vector<std::uint32_t>& draws) {
+void HermiteCellFeature::addLateCommands(FrameCommands& all) {
   for (int precision = 0; precision < 2; ++precision) {
     Batch& batch = *batches_[precision];
-    batch.lateFirst =
-        appendCopies(commands, draws, batch.frontFirst, batch.frontCount, [](VkDrawIndirectCommand&) {});
+    batch.lateFirst = all.appendCopies(batch.frontFirst, batch.frontCount, [](VkDrawIndirectCommand&) {});
   }
 }
 

@@ -256,6 +256,7 @@ class HermiteCellFeature final : public engine::render::RenderFeature {
   struct AssetDemand;
   struct AssetUpload;
   struct FrameDraws;
+  struct FrameCommands;
   struct DrawnObject;
   void syncAssets(const engine::render::FrameContext& frame);
   AssetDemand collectAssetDemand(const engine::render::FrameContext& frame);
@@ -274,13 +275,10 @@ class HermiteCellFeature final : public engine::render::RenderFeature {
   void addBrickObjectDraws(engine::render::FrameContext& frame, FrameDraws& f, const DrawnObject& o);
   void addRunObjectDraws(FrameDraws& f, const DrawnObject& o);
   void addCellObjectDraws(engine::render::FrameContext& frame, FrameDraws& f, const DrawnObject& o);
-  void concatenateBatches(const FrameDraws& f, std::vector<VkDrawIndirectCommand>& allCommands,
-                          std::vector<std::uint32_t>& allDraws);
-  void addWireCommands(std::vector<VkDrawIndirectCommand>& allCommands, std::vector<std::uint32_t>& allDraws);
+  void concatenateBatches(const FrameDraws& f, FrameCommands& all);
+  void addWireCommands(FrameCommands& all);
   void chooseDrawStages(const FrameDraws& f);
-  void uploadDraws(engine::render::FrameContext& frame, const FrameDraws& f,
-                   const std::vector<VkDrawIndirectCommand>& allCommands,
-                   const std::vector<std::uint32_t>& allDraws);
+  void uploadDraws(engine::render::FrameContext& frame, const FrameDraws& f, FrameCommands& all);
   void recordCulling(engine::render::FrameContext& frame);
   void recordBrickCulling(engine::render::FrameContext& frame);
   void recordCellCulling(engine::render::FrameContext& frame);
@@ -297,11 +295,11 @@ class HermiteCellFeature final : public engine::render::RenderFeature {
   void releaseIdleSlots(const engine::render::FrameContext& frame);
   std::uint64_t keptStreamBytesHeld() const;
   void readKeptDemand(std::uint32_t slot);
-  void addFallbackCommands(std::vector<VkDrawIndirectCommand>& commands, std::vector<std::uint32_t>& draws);
+  void addFallbackCommands(FrameCommands& all);
   void dropCellCulling(FrameDraws& f);
   void placeHistory(engine::render::FrameContext& frame);
   static float occlusionDepthMargin(const engine::render::CameraView& camera, VkExtent2D extent);
-  void addLateCommands(std::vector<VkDrawIndirectCommand>& commands, std::vector<std::uint32_t>& draws);
+  void addLateCommands(FrameCommands& all);
   void recordCellCullPasses(VkCommandBuffer cmd, std::uint32_t slot, shader::CellCullPushConstants push);
   void ensureCounters(engine::render::FrameContext& frame);
   void ensureHitDepths(engine::render::FrameContext& frame);

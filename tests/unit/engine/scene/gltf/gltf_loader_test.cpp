@@ -896,6 +896,17 @@ TEST(GltfLoaderExtensions, GpuInstancingWithoutAMeshIsIgnoredWithANote) {
   EXPECT_TRUE(anyWarningContains(*scene, "EXT_mesh_gpu_instancing on a node without a mesh ignored"));
 }
 
+// Tricky because the extension is broken (its attribute names no accessor) on a node it could not
+// apply to anyway: ignoring it means not reading it, so the file loads with the same note.
+TEST(GltfLoaderExtensions, BrokenGpuInstancingWithoutAMeshIsIgnoredUnread) {
+  GltfBuilder b = instancedTriangle([](GltfBuilder&) { return json{{"TRANSLATION", 999}}; });
+  b.doc()["nodes"][0].erase("mesh");
+  const auto scene = load(b);
+  ASSERT_TRUE(scene.ok()) << scene.error().message;
+  EXPECT_EQ(scene->nodes.size(), 1u);
+  EXPECT_TRUE(anyWarningContains(*scene, "EXT_mesh_gpu_instancing on a node without a mesh ignored"));
+}
+
 // ------------------------------------------------------------------------------------------------
 // Sparse accessors and accessors without a bufferView (tests/data/gltf/tetra_sparse_scenes.gltf and
 // in-memory cases)
