@@ -572,8 +572,9 @@ float HermiteCellFeature::cellPixelsOnScreen(const GridSpec& grid, const glm::ma
 
 // At most how many tile entries the object's cells make (cell_tiles.comp): every cell as large on
 // screen as one at the grid box's point nearest the eye, its rectangle grown by the dilation and the
-// pixel of slack; a box the eye may be inside spans the screen. An upper bound, so that the first
-// frame of a view has room for every entry (later frames also grow to what earlier ones needed).
+// pixel of slack; a box the eye may be inside spans the screen. An upper bound, so that a frame
+// slot's first tiled frame has room for every entry; later frames size the lists by what the
+// slot's last frame needed, scaled by this estimate's growth (CellTiler::wantedEntries).
 std::uint64_t HermiteCellFeature::tileEntryEstimate(const GridSpec& grid, std::uint64_t cells, const glm::mat4& world,
                                                     const engine::render::CameraView& camera, VkExtent2D extent,
                                                     std::uint32_t tileSize) {

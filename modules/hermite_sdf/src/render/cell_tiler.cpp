@@ -1,8 +1,10 @@
 #include "render/cell_tiler.h"
 
 #include <algorithm>
+#include <cmath>
 #include <cstddef>
 #include <cstring>
+#include <limits>
 
 #include "engine/gpu/context.h"
 #include "engine/gpu/pipeline.h"
@@ -80,7 +82,7 @@ void CellTiler::ensureBuffers(Slot& slot, std::uint32_t tileCount, std::uint32_t
 
 void CellTiler::releaseUnneeded(std::uint32_t slotIndex, bool tiling, std::uint64_t entryEstimate,
                                 std::uint32_t frames) {
-  constexpr std::uint64_t kKeptEntries = std::uint64_t(1) << 20;  // lists this small stay (32 MiB for both)
+  constexpr std::uint64_t kKeptEntries = std::uint64_t(1) << 16;  // lists this small stay (2.5 MiB with their masks)
   Slot& slot = slots_[slotIndex];
   const bool held = slot.tiles || slot.entries || slot.sortedEntries;
   const bool unneeded = tiling ? slot.capacity > kKeptEntries && slot.capacity / 4 > wantedEntries(slotIndex, entryEstimate)
@@ -106,10 +108,18 @@ std::uint64_t CellTiler::bytesHeld() const {
   return bytes;
 }
 
-// The entries to make room for: the estimate, or what the slot's last completed frame needed.
+// The entries to make room for. Before the slot has tiled a frame: the estimate, an upper bound.
+// After: what its last (completed) frame needed, scaled by how much the estimate has grown since
+// (more objects, a nearer view), so that the lists follow the frame's real need rather than the
+// bound, which holds 5-8x as many entries on the bunny (1920x1080, K = 64..256). A frame that
+// needs more all the same draws its cells as boxes (an overflow, CellTileTotals::boxDrawCount),
+// and the slot's next frame has room.
 std::uint64_t CellTiler::wantedEntries(std::uint32_t slot, std::uint64_t entryEstimate) const {
-  const std::uint64_t needed = slots_[slot].recorded ? lastTotals(slot).entriesNeeded : 0;
-  return std::max(entryEstimate, needed);
+  const Slot& s = slots_[slot];
+  if (!s.recorded || s.recordedEstimate == 0) return entryEstimate;
+  const double growth = std::max(1.0, double(entryEstimate) / double(s.recordedEstimate));
+  const double wanted = std::ceil(double(lastTotals(slot).entriesNeeded) * growth);
+  return wanted >= 1.8e19 ? std::numeric_limits<std::uint64_t>::max() : std::uint64_t(wanted);
 }
 
 bool CellTiler::reserve(std::uint32_t slot, VkExtent2D extent, std::uint32_t tileSize, std::uint64_t entryEstimate,
@@ -150,6 +160,7 @@ void CellTiler::record(VkCommandBuffer cmd, const Frame& frame, engine::gpu::Gpu
   const std::uint32_t tileCount = std::max(tilesX * tilesY, 1u);
   ensureBuffers(slot, tileCount, frame.tileSize, wantedEntries(frame.slot, frame.entryEstimate), std::max(frame.entryLimit, 1u));
   slot.recorded = true;
+  slot.recordedEstimate = frame.entryEstimate;
   shader::CellTileTotals totals{};
   totals.vertexCount = tilesAsPoints(*context_) ? 1 : 6;
   totals_.upload(frame.slot, &totals, sizeof(totals));

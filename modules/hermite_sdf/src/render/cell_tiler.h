@@ -72,9 +72,8 @@ class CellTiler {
                std::uint32_t entryLimit, std::string& refusal);
 
   // Releases the slot's tiles and lists after `frames` of its frames in a row that drew no tiles
-  // (`tiling` false) or whose lists held more than 2^20 entries and four times what they wanted
-  // (the estimate, or what the slot's last tiled frame needed); the next tiled frame makes them at
-  // its size. Before reserve, every frame.
+  // (`tiling` false) or whose lists held more than 2^16 entries and four times what they wanted
+  // (wantedEntries); the next tiled frame makes them at its size. Before reserve, every frame.
   void releaseUnneeded(std::uint32_t slot, bool tiling, std::uint64_t entryEstimate, std::uint32_t frames);
   // Releases the slot's tiles and lists now (its last submission must be complete).
   void release(std::uint32_t slot);
@@ -97,6 +96,7 @@ class CellTiler {
     engine::gpu::Buffer sortedEntries;  // the same, sorted (the draw's)
     std::uint32_t capacity = 0;
     bool recorded = false;
+    std::uint64_t recordedEstimate = 0;  // the entry estimate of the slot's last recorded frame
     engine::gpu::IdleFrames idle;  // releaseUnneeded's frames in a row
   };
   void ensureBuffers(Slot& slot, std::uint32_t tileCount, std::uint32_t tileSize, std::uint64_t wanted,

@@ -477,12 +477,18 @@ TEST_F(KeptStreamsTest, BuffersOfAViewRegionNoLongerDrawnAreReleased) {
   for (int frame = 0; frame < 10; ++frame) (void)renderWith(camera_, DEBUG_VIEW_NONE);
   EXPECT_EQ(held(), bothRegions) << "released before releaseAfterFrames (120) frames";
   feature->settings().releaseAfterFrames = 3;
-  (void)renderWith(camera_, DEBUG_VIEW_NONE);
-  EXPECT_LT(held(), bothRegions) << "the second region's buffers were kept while it was not drawn";
-  EXPECT_GT(held(), 0u) << "the drawn region's buffers were released";
+  // The drawn region's tile lists, made by the first frame's upper bound, also shrink to what its
+  // frames need (TiledCellsTest.TileListsFollowWhatTheFramesNeed): a few frames to settle.
+  for (int frame = 0; frame < 4; ++frame) (void)renderWith(camera_, DEBUG_VIEW_NONE);
+  const std::uint64_t oneRegion = held();
+  EXPECT_LT(oneRegion, bothRegions) << "the second region's buffers were kept while it was not drawn";
+  EXPECT_GT(oneRegion, 0u) << "the drawn region's buffers were released";
   (void)renderWith(camera_, split);
   const Frame after = renderWith(camera_, split);
-  EXPECT_EQ(held(), bothRegions);
+  // Made again, at most as large: the tile lists are now sized by what the slots last needed, not
+  // by the first frame's upper bound (TiledCellsTest.TileListsFollowWhatTheFramesNeed).
+  EXPECT_GT(held(), oneRegion) << "the second region's buffers were not made again";
+  EXPECT_LE(held(), bothRegions);
   ASSERT_GT(std::count_if(after.depth.begin(), after.depth.end(), [](float d) { return d > 0.0f; }), 1000);
   EXPECT_TRUE(before.depth == after.depth) << "the region drawn again changed the depth";
   EXPECT_TRUE(before.rgba == after.rgba) << "the region drawn again changed the colour";

@@ -416,6 +416,64 @@ TEST_F(TiledCellsTest, TileListsOfASlotThatStopsTilingAreReleased) {
   }
 }
 
+// Why: a frame slot's first tiled frame sizes its lists by an upper bound (every cell as large on
+// screen as the nearest one, none culled), several times what its frames need. Lists that stayed
+// at the bound held 195 MiB at 1920x1080 for the bunny at K = 256, whose frames needed 140,000
+// entries (4.5 MiB). Later frames size them by what the slot's last frame needed, scaled by the
+// bound's growth: a steady view gives the rest back (after Settings::releaseAfterFrames) and keeps
+// its image; a view nearer than the last frames (more entries than they needed) has room, draws
+// the boxes' image, and so do the frames after it.
+TEST_F(TiledCellsTest, TileListsFollowWhatTheFramesNeed) {
+  createCellRenderer(kSize, kSize);
+  const auto asset = bakeAsset("bunny", 128);
+  ASSERT_NE(asset, nullptr);
+  addSdf(registry_, asset, hsdf::RenderMethod::Cells);
+  auto* feature = renderer_->feature<hsdf::HermiteCellFeature>();
+  const render::CameraView far = orbitCamera(*asset, 1, 3.8f), near = orbitCamera(*asset, 1);
+  feature->settings().tiles = hsdf::HermiteCellFeature::Tiles::Off;
+  (void)renderWith(near, DEBUG_VIEW_NONE);
+  const Frame nearBoxes = renderWith(near, DEBUG_VIEW_NONE);
+  feature->settings().tiles = hsdf::HermiteCellFeature::Tiles::On;
+  feature->settings().releaseAfterFrames = 2;
+  (void)renderWith(far, DEBUG_VIEW_NONE);
+  const Frame first = renderWith(far, DEBUG_VIEW_NONE);  // both slots' lists made by the bound
+  ASSERT_TRUE(feature->stats().tiles);
+  const std::uint64_t bound = feature->stats().tileListBytesHeld;
+  const std::uint32_t farNeeds = feature->tileTotals().entriesNeeded;
+  ASSERT_GT(farNeeds, 1000u);
+  for (int frame = 0; frame < 6; ++frame) {
+    const Frame steady = renderWith(far, DEBUG_VIEW_NONE);
+    EXPECT_EQ(feature->tileTotals().boxDrawCount, 0u) << "steady frame " << frame << " overflowed";
+    EXPECT_TRUE(first.depth == steady.depth) << "steady frame " << frame << " changed the depth";
+    EXPECT_TRUE(first.rgba == steady.rgba) << "steady frame " << frame << " changed the colour";
+  }
+  const std::uint64_t steady = feature->stats().tileListBytesHeld;
+  std::printf("[ lists ] far view needs %u entries: %.2f MiB held at the bound, %.2f MiB after\n", farNeeds,
+              double(bound) / 1048576.0, double(steady) / 1048576.0);
+  EXPECT_LT(steady * 3, bound) << "the lists stayed near the bound";
+  bool overflowed = false;
+  for (int frame = 0; frame < 4; ++frame) {
+    const std::string label = "near frame " + std::to_string(frame);
+    const Frame drawn = renderWith(near, DEBUG_VIEW_NONE);
+    const shader::CellTileTotals totals = feature->tileTotals();
+    overflowed = overflowed || totals.boxDrawCount != 0;
+    if (frame >= 2) {
+      EXPECT_EQ(totals.boxDrawCount, 0u) << label << ": the slot's lists did not grow";
+    }
+    EXPECT_GT(totals.entriesNeeded, farNeeds) << label;
+    const TileComparison c = compareTilesWithBoxes(nearBoxes, drawn);
+    EXPECT_GE(c.hitsBoxes, 2000) << label;
+    EXPECT_EQ(c.coverageDiffers, 0) << label;
+    EXPECT_LE(c.colourDiffers, c.hitsBoxes / 500 + 2) << label;
+    EXPECT_LT(c.depthRelativeMax, 1e-4) << label;
+  }
+  std::printf("[ lists ] the near view needs %u entries; its first frames %s\n", feature->tileTotals().entriesNeeded,
+              overflowed ? "overflowed (drawn as boxes)" : "fit");
+  // Here the bound grows with the view (its cells' size on screen), and the far frames' need
+  // scaled by that growth leaves room for the near ones: no frame of boxes.
+  EXPECT_FALSE(overflowed) << "the far view's lists were not scaled by the bound's growth";
+}
+
 // Why: the tiles and their fallback draw through vkCmdDrawIndirectCount, the meshes through
 // vkCmdDrawIndexedIndirect, in the same passes. On lavapipe (Mesa 22.3) a count buffer once used
 // stays in the driver's state for every later indirect draw of the command buffer: the meshes
