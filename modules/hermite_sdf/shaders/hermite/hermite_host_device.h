@@ -47,6 +47,11 @@ HSDF_CHECK_SIZE(HermiteDrawTableHeader, 16);
 // a pair (lo, hi) in CELL_PROXY_STEPS-ths of the cell numbered by s = lo + (STEPS - hi), then
 // STEPS - hi, from 0 (the whole axis); code 0 is the whole cell (record_cell.glsl, proxyBox).
 #define CELL_PROXY_SHIFT 2u
+// How far a proxy box is grown beyond the cells it covers (proxy_dilation.glsl): CELL_DILATION_PIXELS
+// of a pixel at the cell's depth, at least CELL_MIN_DILATION cells. The host widens the near cells'
+// reach by it (cell_draws.cpp): an eye inside a box's dilation sees only the box's back faces.
+#define CELL_DILATION_PIXELS 0.02
+#define CELL_MIN_DILATION (1.0 / 4096.0)
 #define CELL_PROXY_STEPS 6u
 struct CellRecordGpu {
   vec4 corners[8];

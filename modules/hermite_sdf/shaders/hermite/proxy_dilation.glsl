@@ -9,8 +9,8 @@
 // centre that close to the edge could fall outside the box's triangles while its ray meets the box.
 // 0.02 pixel at the cell's centre is 5x the snapping; the fragment shader searches the ray over
 // the same dilated box (docs/root-finding.md).
-const float kDilationPixels = 0.02;
-const float kMinDilation = 1.0 / 4096.0;
+const float kDilationPixels = CELL_DILATION_PIXELS;
+const float kMinDilation = CELL_MIN_DILATION;
 
 // The dilation in cells of a cell whose centre lies `viewDepth` in front of the eye, in an object
 // whose smallest axis scale (the most cells per world unit) is `minAxisScale`.

@@ -60,6 +60,21 @@ glm::vec4 screenBounds(const glm::mat4& viewProj, const glm::mat4& model, const 
 }
 
 constexpr std::uint32_t kNotCulled = ~0u;
+
+// Twice the most that the proxy box of a cell within two cells of the eye is dilated beyond its
+// cell (proxy_dilation.glsl; the object's anisotropy widens it in the smallest axis' cells). An eye
+// inside that dilation but outside the cell sees only the box's back faces, which the front-face
+// draw culls: the cell must count as near the eye (drawn by its back faces) though the near plane
+// does not reach it. Before, a torus seen from 1e-5 outside a kept cell lost its nearest surface.
+double nearDilationCells(const engine::render::CameraView& camera, const glm::mat4& world, std::uint32_t viewportHeight) {
+  const glm::dvec3 axes(glm::length(glm::dvec3(world[0])), glm::length(glm::dvec3(world[1])), glm::length(glm::dvec3(world[2])));
+  const double smallest = std::min({axes.x, axes.y, axes.z}), largest = std::max({axes.x, axes.y, axes.z});
+  const double anisotropy = smallest > 0.0 ? largest / smallest : 1.0;
+  // At a view depth of two cells: worldPerPixel = 2 depth / (proj[1][1] H), proj[1][1] = 1 / tan(fovY / 2).
+  const double pixels = CELL_DILATION_PIXELS * 2.0 * 2.0 * anisotropy * std::tan(0.5 * double(camera.fovY)) /
+                        double(std::max(viewportHeight, 1u));
+  return 2.0 * std::max(double(CELL_MIN_DILATION), pixels);
+}
 constexpr std::size_t kMaxOverlapTestedObjects = 4096;
 
 glm::vec4 unite(const glm::vec4& a, const glm::vec4& b) {
@@ -332,7 +347,8 @@ void HermiteCellFeature::beginObjectDraw(engine::render::FrameContext& frame, Fr
   // The eye in grid units, and how far (in grid units) the near plane reaches around it.
   const glm::vec3 eyeObject = glm::vec3(object.invModel * glm::vec4(frame.camera.position, 1.0f));
   o.eyeGrid = (glm::dvec3(eyeObject) - grid.origin) / grid.spacing;
-  o.reachGrid = double(frame.camera.nearPlaneReachInObject(object.invModel)) / grid.spacing;
+  o.reachGrid = double(frame.camera.nearPlaneReachInObject(object.invModel)) / grid.spacing +
+                nearDilationCells(frame.camera, o.world, frame.extent.height);
 
   const glm::vec4 rect = screenBounds(f.viewProj, o.world, grid.bounds(), frame.extent);
   // Pairs are compared until one overlaps; past kMaxOverlapTestedObjects the objects are taken to

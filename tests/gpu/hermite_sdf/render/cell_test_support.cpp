@@ -1,7 +1,9 @@
 #include "cell_test_support.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
+#include <set>
 
 #include "engine/core/image_io.h"
 #include "engine/core/math.h"
@@ -55,6 +57,25 @@ std::optional<render::CameraView> insideACellCamera(const hsdf::SdfAsset& torus)
   return render::CameraView::lookAt(eye, surface + glm::vec3(0.0f, 0.3f * h, 0.0f), 1.2f, 0.25f * h, 1.0f);
 }
 
+std::optional<render::CameraView> justOutsideAKeptCellCamera(const hsdf::SdfAsset& asset) {
+  const hsdf::CellStream& cells = asset.cells;
+  const double h = cells.grid.spacing;
+  std::set<std::array<int, 3>> kept;
+  for (const hsdf::CellRecord& r : cells.records) kept.insert({r.x, r.y, r.z});
+  const std::vector<std::uint16_t> codes = hsdf::proxyBoxCodes(cells);
+  constexpr double kSteps = hsdf::kProxySteps;
+  for (std::size_t i = 0; i < cells.records.size(); ++i) {
+    const hsdf::CellRecord& r = cells.records[i];
+    const hsdf::CellProxyBox box = hsdf::unpackProxyBox(codes[i]);
+    if (kept.count({r.x + 1, r.y, r.z}) != 0 || box.hi[0] != hsdf::kProxySteps) continue;
+    const glm::dvec3 inCell(1.0 + 1.0 / 16384.0, (box.lo[1] + box.hi[1]) / (2.0 * kSteps), (box.lo[2] + box.hi[2]) / (2.0 * kSteps));
+    const glm::dvec3 eye = cells.grid.origin + h * (glm::dvec3(r.x, r.y, r.z) + inCell);
+    const auto hit = hsdf::castRay(asset.field, {eye, glm::dvec3(-1.0, 0.0, 0.0)});
+    if (!hit.ok() || !hit->has_value() || (*hit)->t > h) continue;
+    return render::CameraView::lookAt(glm::vec3(eye), glm::vec3(eye - glm::dvec3(h, 0.0, 0.0)), 1.2f, float(1e-6 * h), 1.0f);
+  }
+  return std::nullopt;
+}
 
 void expectMatchesReference(const ImageComparison& c, int pixels, int minHits) {
   EXPECT_GT(c.referenceHits, minHits);

@@ -76,6 +76,10 @@ glm::vec3 torusRing(const hsdf::SdfAsset& torus);
 // quarter cell: the eye's own cell holds surface in front of it and the near plane cuts cells,
 // which only the back-face (near) path can draw. Empty if the ray from the hole meets no ring.
 std::optional<engine::render::CameraView> insideACellCamera(const hsdf::SdfAsset& torus);
+// An eye 2^-14 cells (a quarter of the least proxy dilation) outside the +x face of a kept cell
+// whose proxy box reaches that face, whose +x neighbour is not kept and whose surface the ray
+// back along -x meets within the cell; it looks along -x with a near plane of 1e-6 cells.
+std::optional<engine::render::CameraView> justOutsideAKeptCellCamera(const hsdf::SdfAsset& asset);
 
 // `minHits`: enough surface in view for the statistics to mean something.
 void expectMatchesReference(const ImageComparison& c, int pixels = int(kSize * kSize), int minHits = 500);
