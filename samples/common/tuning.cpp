@@ -333,20 +333,28 @@ engine::Status validateTuning(const TuningState& t) {
   if (!isSdfMethod(t.compareMethod))
     return engine::makeError("--compare-method mesh: the compared method must be cells, trilinear or hermite");
   ENGINE_TRY(checkFloatRange("--split-position", t.splitPosition, FloatRange{kSplitMin, kSplitMax}));
-  const int compareK = effectiveCompareResolution(t);
-  if (compareK - 1 - 2 * t.padding < 1)
-    return engine::makeError(
-        fmt::format("--compare-resolution {} leaves no cells inside --padding {}", compareK, t.padding));
   if (t.resolution - 1 - 2 * t.padding < 1)
     return engine::makeError(
         fmt::format("--resolution {} leaves no cells inside --padding {}", t.resolution, t.padding));
+  // The compared side's K only where it is drawn or was asked for: the automatic 2K (at most
+  // 256) is never below a K that passed.
+  const int compareK = effectiveCompareResolution(t);
+  if ((comparing(t) || t.compareResolution != 0) && compareK - 1 - 2 * t.padding < 1)
+    return engine::makeError(
+        fmt::format("--compare-resolution {} leaves no cells inside --padding {}", compareK, t.padding));
   if (std::find(t.triangleNodes.begin(), t.triangleNodes.end(), std::string()) != t.triangleNodes.end())
     return engine::makeError("--triangle-nodes: an empty node name");
   return {};
 }
 
+hsdf::RenderMethod drawableMethod(hsdf::RenderMethod wanted, const hsdf::SdfAsset* asset) {
+  const bool tracer =
+      wanted == hsdf::RenderMethod::TrilinearSphereTrace || wanted == hsdf::RenderMethod::HermiteSphereTrace;
+  return tracer && asset && asset->field.samples.empty() ? hsdf::RenderMethod::Cells : wanted;
+}
+
 void applyTuning(const TuningState& tuning, hsdf::HermiteSdfRenderable& renderable) {
-  if (tuning.method.sdf()) renderable.method = *tuning.method.sdf();
+  if (tuning.method.sdf()) renderable.method = drawableMethod(*tuning.method.sdf(), renderable.asset.get());
   renderable.subdivisions = tuning.subdivisions;
   renderable.refineSteps = tuning.refineSteps;
   renderable.normals = tuning.normals;

@@ -191,6 +191,10 @@ bool comparing(const TuningState& tuning);
 // The tuning of the compared side: the main tuning with the compared method, K and normals.
 TuningState compareTuning(const TuningState& tuning);
 
+// The method that draws `asset` for `wanted`: a sphere tracer needs the dense field, so an asset of
+// cells only (a sparse bake whose dense re-bake is still running, a cells-only .hsdf) draws its
+// cells instead of failing the frame.
+hsdf::RenderMethod drawableMethod(hsdf::RenderMethod wanted, const hsdf::SdfAsset* asset);
 // The one place tuning reaches the SDF component (method, n, refinement, normals, precision).
 // Method::Mesh leaves the method as it is (the entity then is not drawn by the caller's choice).
 void applyTuning(const TuningState& tuning, hsdf::HermiteSdfRenderable& renderable);

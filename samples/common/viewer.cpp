@@ -109,6 +109,23 @@ void Viewer::setTuning(const TuningState& tuning) {
   }
   updateCompareBake();
   bakes_.followTuning();
+  warnIfCellsOnly();
+}
+
+// A tracer asked for where no bake can give it the dense field (a cells-only .hsdf: no source to
+// re-bake) draws the cells (drawableMethod); said once per such request, in the log and the panel.
+void Viewer::warnIfCellsOnly() {
+  const hsdf::SdfAsset* asset = bakes_.asset();
+  const bool cellsOnly = asset && asset->field.samples.empty() && !bakes_.source();
+  const auto needsDense = [](Method m) { return isSdfMethod(m) && !drawsCells(m); };
+  const bool wanted = needsDense(tuning_.method) || (comparing(tuning_) && needsDense(tuning_.compareMethod));
+  if (cellsOnly && wanted && !warnedCellsOnly_) {
+    const std::string message = fmt::format("'{}' holds only cells: the sphere tracers need the dense field (bake "
+                                            "without --cells); its cells are drawn instead", asset->name);
+    log::warn("{}", message);
+    bakes_.setError(message);
+  }
+  warnedCellsOnly_ = cellsOnly && wanted;
 }
 
 // The compared side shares the asset baked at K (level 0 when levels of detail draw another).

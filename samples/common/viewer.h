@@ -281,6 +281,7 @@ class Viewer {
   void showState(const TuningState& tuning, const std::shared_ptr<const hsdf::SdfAsset>& asset);
   std::vector<engine::render::ViewRegion> splitRegions(const std::shared_ptr<const hsdf::SdfAsset>& main);
   void updateCompareBake();
+  void warnIfCellsOnly();
   engine::Expected<bool> renderFrame(const engine::render::FrameSettings& settings);
   engine::Status droppedObjectsError(std::uint64_t frame);
   void applyTuningToScene();
@@ -316,6 +317,7 @@ class Viewer {
   // entities: the method shows one or the other (a hidden mesh's renderable waits in hiddenMeshes_).
   SdfBakes bakes_{registry_, tuning_};
   bool sideBySide_ = false;
+  bool warnedCellsOnly_ = false;  // warnIfCellsOnly said it for the current request
   std::vector<engine::ecs::Entity> meshEntities_;
   std::vector<std::pair<engine::ecs::Entity, engine::render::MeshRenderable>> hiddenMeshes_;
   SdfObjects sceneObjects_{registry_, tuning_, bakes_};  // SceneDesc::objects

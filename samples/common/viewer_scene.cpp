@@ -143,6 +143,10 @@ Status Viewer::addSdfFile(const std::filesystem::path& file, bool frameIt) {
   if (!drawsCells(tuning_.method) && asset->field.samples.empty())
     return makeError(fmt::format("{}: holds only cells; --method {} needs the dense field (bake without --cells)",
                                  file.string(), methodName(tuning_.method)));
+  if (comparing(tuning_) && !drawsCells(tuning_.compareMethod) && asset->field.samples.empty())
+    return makeError(fmt::format("{}: holds only cells; the compared side ({} with --split or --difference) needs "
+                                 "the dense field: --compare-method cells, or a file baked without --cells",
+                                 file.string(), methodName(tuning_.compareMethod)));
   const hsdf::Aabb bounds = asset->cells.grid.bounds();
   ENGINE_TRY(checkDrawableSize(file, glm::vec3(bounds.min), glm::vec3(bounds.max)));
   if (frameIt) {

@@ -1,5 +1,8 @@
 # hsdf_bake -> .hsdf -> scene_runner --sdf: a baked file drawn by every method it supports, and a
-# cells-only file refused for a sphere-tracing method with a message naming the file.
+# cells-only file refused for a sphere-tracing method with a message naming the file, on the
+# command line for the method drawn and for the compared side; a tracer asked for later (a script,
+# the panel) draws the file's cells, the same image as --method cells, and says why. Before, the
+# frame failed and the runner exited 1 ("resolution 0 exceeds the device's 3D texture size").
 set(dense ${WORK}/torus_dense.hsdf)
 set(cells ${WORK}/torus_cells.hsdf)
 execute_process(COMMAND ${BAKE} torus -o ${dense} -r 20 -q RESULT_VARIABLE rc)
@@ -22,4 +25,20 @@ endforeach()
 execute_process(COMMAND ${RUNNER} --headless --sdf ${cells} --method hermite RESULT_VARIABLE rc ERROR_VARIABLE err)
 if(rc EQUAL 0 OR NOT err MATCHES "torus_cells.hsdf: holds only cells")
   message(FATAL_ERROR "a cells-only file must be refused for --method hermite with a clear message, got (${rc}): ${err}")
+endif()
+execute_process(COMMAND ${RUNNER} --headless --sdf ${cells} --split vertical RESULT_VARIABLE rc ERROR_VARIABLE err)
+if(rc EQUAL 0 OR NOT err MATCHES "torus_cells.hsdf: holds only cells; the compared side")
+  message(FATAL_ERROR "a cells-only file must be refused for a traced compared side with a clear message, got (${rc}): ${err}")
+endif()
+file(WRITE ${WORK}/sdf_trace_later.txt "frame 1: method=trilinear\nframe 2: method=hermite\n")
+execute_process(COMMAND ${RUNNER} --headless --validation --sdf ${cells} --size 96x64 --frames 4
+                --script ${WORK}/sdf_trace_later.txt --screenshot ${WORK}/sdf_trace_later.png
+                RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err)
+if(NOT rc EQUAL 0 OR NOT "${out}${err}" MATCHES "holds only cells: the sphere tracers need the dense field")
+  message(FATAL_ERROR "a tracer asked for by a script must draw the cells and say so, got (${rc}):\n${out}${err}")
+endif()
+file(SHA256 ${WORK}/sdf_cells.png cellsImage)
+file(SHA256 ${WORK}/sdf_trace_later.png laterImage)
+if(NOT cellsImage STREQUAL laterImage)
+  message(FATAL_ERROR "the cells drawn for a tracer differ from --method cells (sdf_cells.png, sdf_trace_later.png)")
 endif()

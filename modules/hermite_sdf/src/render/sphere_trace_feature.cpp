@@ -156,6 +156,8 @@ engine::Expected<SphereTraceFeature::Pipelines> SphereTraceFeature::createPipeli
 engine::Expected<SphereTraceFeature::FieldTexture> SphereTraceFeature::uploadTexture(const SdfAsset& asset,
                                                                                      std::uint32_t method, bool half) {
   const GridSpec& grid = asset.field.grid;
+  if (asset.field.samples.empty())
+    return engine::makeError("it has no dense field (cells only: a sparse bake or a file baked with --cells)");
   VkPhysicalDeviceProperties properties{};
   vkGetPhysicalDeviceProperties(context_->physicalDevice(), &properties);
   if (grid.resolution < 2 || std::uint32_t(grid.resolution) > properties.limits.maxImageDimension3D)

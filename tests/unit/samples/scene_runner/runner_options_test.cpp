@@ -187,6 +187,8 @@ TEST(RunnerOptions, BadValuesNameTheOption) {
       {{"--sdf", "no_such_file.hsdf"}, "--sdf"},
       {{"--settings", "no_such_settings.json"}, "--settings"},
       {{"--resolution", "3", "--padding", "1"}, "--resolution 3 leaves no cells inside --padding 1"},
+      // The K drawn is named, not the automatic compared K (2K) of a comparison nobody asked for.
+      {{"--resolution", "16", "--padding", "16"}, "--resolution 16 leaves no cells inside --padding 16"},
       {{"--method", "mesh", "--side-by-side"}, "--side-by-side: needs a scene baked into an SDF"},
       {{"--script", "no_such_script.txt"}, "--script"},
       {{"--bake-budget-mib", "0"}, "--bake-budget-mib"},
