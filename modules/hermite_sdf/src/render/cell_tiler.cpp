@@ -73,6 +73,7 @@ void CellTiler::ensureBuffers(Slot& slot, std::uint32_t tileCount, std::uint32_t
     slot.entries = std::move(entries);
     slot.sortedEntries = std::move(sorted);
     slot.capacity = capacity;
+    slot.boundSized = !slot.recorded || slot.recordedEstimate == 0;  // wantedEntries took the estimate
   }
   const VkDeviceSize bytes = tileBytes(tileCount, tileSize, slot.capacity);
   if (!slot.tiles || slot.tiles.size() < bytes)
@@ -87,8 +88,12 @@ void CellTiler::releaseUnneeded(std::uint32_t slotIndex, bool tiling, std::uint6
   const bool held = slot.tiles || slot.entries || slot.sortedEntries;
   const bool unneeded = tiling ? slot.capacity > kKeptEntries && slot.capacity / 4 > wantedEntries(slotIndex, entryEstimate)
                                : held;
+  // Lists the first frame made by the upper bound go as soon as a frame has measured what it
+  // needs (the bound's extra is no history worth keeping); measured ones after `frames` frames.
+  const bool measured = slot.recorded && slot.recordedEstimate != 0;
+  const bool boundOversized = tiling && unneeded && slot.boundSized && measured;
   // The slot's last submission is complete (its fence was waited for): nothing reads them now.
-  if (slot.idle.due(unneeded, frames)) release(slotIndex);
+  if (slot.idle.due(unneeded, frames) || boundOversized) release(slotIndex);
 }
 
 void CellTiler::release(std::uint32_t slotIndex) {
@@ -97,6 +102,7 @@ void CellTiler::release(std::uint32_t slotIndex) {
   slot.entries = engine::gpu::Buffer{};
   slot.sortedEntries = engine::gpu::Buffer{};
   slot.capacity = 0;
+  slot.boundSized = false;
   slot.idle.reset();
 }
 

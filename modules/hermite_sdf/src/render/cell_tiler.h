@@ -97,6 +97,7 @@ class CellTiler {
     std::uint32_t capacity = 0;
     bool recorded = false;
     std::uint64_t recordedEstimate = 0;  // the entry estimate of the slot's last recorded frame
+    bool boundSized = false;             // its lists were made by the estimate, before any measure
     engine::gpu::IdleFrames idle;  // releaseUnneeded's frames in a row
   };
   void ensureBuffers(Slot& slot, std::uint32_t tileCount, std::uint32_t tileSize, std::uint64_t wanted,

@@ -420,8 +420,8 @@ TEST_F(TiledCellsTest, TileListsOfASlotThatStopsTilingAreReleased) {
 // screen as the nearest one, none culled), several times what its frames need. Lists that stayed
 // at the bound held 195 MiB at 1920x1080 for the bunny at K = 256, whose frames needed 140,000
 // entries (4.5 MiB). Later frames size them by what the slot's last frame needed, scaled by the
-// bound's growth: a steady view gives the rest back (after Settings::releaseAfterFrames) and keeps
-// its image; a view nearer than the last frames (more entries than they needed) has room, draws
+// bound's growth: lists made by the bound are remade as soon as a frame has measured its need,
+// and the view keeps its image; a view nearer than the last frames (more entries than they needed) has room, draws
 // the boxes' image, and so do the frames after it.
 TEST_F(TiledCellsTest, TileListsFollowWhatTheFramesNeed) {
   createCellRenderer(kSize, kSize);
@@ -434,7 +434,6 @@ TEST_F(TiledCellsTest, TileListsFollowWhatTheFramesNeed) {
   (void)renderWith(near, DEBUG_VIEW_NONE);
   const Frame nearBoxes = renderWith(near, DEBUG_VIEW_NONE);
   feature->settings().tiles = hsdf::HermiteCellFeature::Tiles::On;
-  feature->settings().releaseAfterFrames = 2;
   (void)renderWith(far, DEBUG_VIEW_NONE);
   const Frame first = renderWith(far, DEBUG_VIEW_NONE);  // both slots' lists made by the bound
   ASSERT_TRUE(feature->stats().tiles);
