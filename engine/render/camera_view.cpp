@@ -33,6 +33,13 @@ float CameraView::nearPlaneReachInObject(const glm::mat4& invModel) const {
   return nearPlaneReach() * frobenius;
 }
 
+glm::dmat4 CameraView::viewFrom(const glm::dvec3& origin) const {
+  const glm::dmat3 rotation{glm::mat3(view)};
+  glm::dmat4 shifted{rotation};
+  shifted[3] = glm::dvec4(rotation * (origin - glm::dvec3(position)), 1.0);
+  return shifted;
+}
+
 Expected<CameraView> CameraView::fromWorld(const glm::mat4& world, float fovY, float znear, float aspect) {
   for (int column = 0; column < 4; ++column)
     for (int row = 0; row < 4; ++row)

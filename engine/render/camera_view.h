@@ -21,6 +21,11 @@ struct CameraView {
   // for any invertible affine model (mirroring, non-uniform scale and shear included). A world
   // length L spans at most L * |M^-1|_2 object units, and |M^-1|_2 <= |M^-1|_Frobenius.
   float nearPlaneReachInObject(const glm::mat4& invModel) const;
+  // The view matrix of world space shifted by -origin (camera-relative rendering), in double, from
+  // the view's rotation and `position` (view is rigid and puts `position` at the view origin): its
+  // translation is exact, not the float product -R * position, which ~1e5 units from the world
+  // origin is off by ~1e-2. viewFrom(dvec3(0)) is the world's view matrix in double.
+  glm::dmat4 viewFrom(const glm::dvec3& origin) const;
 
   // A camera at `eye` looking at `target`, Y up, for an image of the given aspect ratio.
   static CameraView lookAt(const glm::vec3& eye, const glm::vec3& target, float fovY, float znear, float aspect);

@@ -25,8 +25,17 @@ bool mirrors(const glm::mat4& model) { return glm::determinant(glm::dmat3(model)
 GpuScene::GpuScene(const gpu::Context& context, std::uint32_t framesInFlight)
     : buffer_(context, framesInFlight, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, "gpu scene objects") {}
 
+glm::dvec3 eyeInObject(const glm::mat4& model, const glm::vec3& eye) {
+  return glm::dvec3(glm::inverse(glm::dmat4(model)) * glm::dvec4(glm::dvec3(eye), 1.0));
+}
+
 std::uint32_t GpuScene::addObject(const shader::ObjectData& object) {
-  objects_.push_back(object);
+  glm::dmat4 model(object.model);
+  model[3] -= glm::dvec4(origin_, 0.0);
+  shader::ObjectData shifted = object;
+  shifted.model = glm::mat4(model);
+  shifted.invModel = glm::mat4(glm::inverse(model));
+  objects_.push_back(shifted);
   return static_cast<std::uint32_t>(objects_.size() - 1);
 }
 

@@ -21,12 +21,23 @@ bool drawableTransform(const glm::mat4& model);
 // clockwise on screen instead of counter-clockwise.
 bool mirrors(const glm::mat4& model);
 
+// The eye relative to the object placed by `model`, in its own space, computed in double: float
+// matrices far from the origin (a world position of 5000 holds only ~5e-4) would move it.
+glm::dvec3 eyeInObject(const glm::mat4& model, const glm::vec3& eye);
+
 class GpuScene {
  public:
   GpuScene(const gpu::Context& context, std::uint32_t framesInFlight);
 
   void beginFrame() { objects_.clear(); }
-  // Appends an object and returns its index.
+  // Camera-relative rendering: the shaders see world space shifted by -origin (the renderer sets
+  // the frame's eye), the frame globals and every object's model matrix alike, each made in double.
+  // Positions near the eye then keep float's precision however far from the world origin the
+  // scene is; before, objects 1e4-1e5 units away showed cracks between cells (rasterized in float
+  // world space, searched in exact cell space). Features pass world matrices as before.
+  void setOrigin(const glm::dvec3& origin) { origin_ = origin; }
+  const glm::dvec3& origin() const { return origin_; }
+  // Appends an object (its world matrices, shifted here by -origin) and returns its index.
   std::uint32_t addObject(const shader::ObjectData& object);
   // An object added this frame, e.g. to set its payload address once the payload is uploaded.
   shader::ObjectData& object(std::uint32_t index) { return objects_.at(index); }
@@ -41,6 +52,7 @@ class GpuScene {
 
  private:
   std::vector<shader::ObjectData> objects_;
+  glm::dvec3 origin_{0.0};
   PerFrameBuffer buffer_;
 };
 

@@ -221,14 +221,18 @@ void Renderer::resize(VkExtent2D extent) {
   if (pyramid_) pyramid_->resize(context_, extent_);
 }
 
+// Camera-relative (GpuScene::setOrigin): the view matrix of world space shifted by -origin, made in
+// double (CameraView::viewFrom), so that its translation is ~0 instead of the rounded product of a far eye.
 void Renderer::writeFrameGlobals(std::uint32_t slot, const CameraView& camera) {
+  const glm::dvec3 origin = scene_.origin();
+  const glm::dmat4 view = camera.viewFrom(origin);
   shader::FrameGlobals globals{};
-  globals.view = camera.view;
+  globals.view = glm::mat4(view);
   globals.proj = camera.proj;
-  globals.viewProj = camera.proj * camera.view;
-  globals.invView = glm::inverse(camera.view);
+  globals.viewProj = glm::mat4(glm::dmat4(camera.proj) * view);
+  globals.invView = glm::mat4(glm::inverse(view));
   globals.invProj = glm::inverse(camera.proj);
-  globals.cameraPosition = glm::vec4(camera.position, camera.znear);
+  globals.cameraPosition = glm::vec4(glm::vec3(glm::dvec3(camera.position) - origin), camera.znear);
   globals.lightDirection = glm::vec4(glm::normalize(desc_.lightDirection), desc_.lightIntensity);
   globals.lightColor = glm::vec4(1.0f, 0.97f, 0.92f, desc_.ambient);
   globals.viewport = glm::vec4(float(extent_.width), float(extent_.height), 1.0f / float(extent_.width),
@@ -296,6 +300,7 @@ void Renderer::recordFrame(FrameResources& frame, std::uint32_t slot, const ecs:
   frame.timer.reset(frame.cmd);
   frame.statistics.reset(frame.cmd);
   frame.timer.begin(frame.cmd, "frame");
+  scene_.setOrigin(glm::dvec3(camera.position));
   writeFrameGlobals(slot, camera);
   const VkDeviceAddress workCounters = settings.countWork ? prepareWorkCounters(frame.cmd) : 0;
   FrameContext context{frame.cmd, registry, context_,    scene_,           camera,

@@ -130,7 +130,7 @@ Status SdfBakes::finish() {
     replaced_ = {bakedAsset(), resolution_, padding_};
     sdf.asset = std::move(*result);
   } else {
-    add(std::move(*result), glm::vec3(0.0f));
+    add(std::move(*result), origin_);
   }
   setBaked(settings.resolution, settings.padding);
   return {};

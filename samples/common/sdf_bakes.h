@@ -30,7 +30,13 @@ class SdfBakes {
   // The SDF entity, drawing `asset` with the tuning (and the color of setColor) at `offset`.
   void add(std::shared_ptr<const hsdf::SdfAsset> asset, const glm::vec3& offset);
   // What re-bakes are made from (none for a .hsdf file: canRebake() is false).
-  void setSource(hsdf::BakeSource source) { source_ = std::move(source); }
+  // `origin`: where the source's space lies in the world (a scene far from the world origin is
+  // baked about its centre, Viewer::loadGltf); the SDF entity is placed there.
+  void setSource(hsdf::BakeSource source, const glm::vec3& origin = glm::vec3(0.0f)) {
+    source_ = std::move(source);
+    origin_ = origin;
+  }
+  const glm::vec3& sourceOrigin() const { return origin_; }
   const hsdf::BakeSource* source() const { return source_ ? &*source_ : nullptr; }
   // The SDF looks like the mesh it stands for.
   void setColor(const glm::vec4& color) { color_ = color; }
@@ -81,6 +87,7 @@ class SdfBakes {
   engine::ecs::Registry& registry_;
   TuningState& tuning_;
   std::optional<hsdf::BakeSource> source_;
+  glm::vec3 origin_{0.0f};
   std::optional<engine::ecs::Entity> entity_;
   std::optional<hsdf::HermiteSdfRenderable> hidden_;  // the renderable while a mesh method hides it
   std::optional<glm::vec4> color_;

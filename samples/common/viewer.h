@@ -287,7 +287,8 @@ class Viewer {
   void applyTuningToScene();
   void updateLevelsOfDetail(bool wait);
   // Scene loading (viewer_scene.cpp).
-  engine::Status addBakedSdf(hsdf::BakeSource source, const SceneDesc& scene);
+  engine::Status addBakedSdf(hsdf::BakeSource source, const SceneDesc& scene, const glm::vec3& origin = glm::vec3(0.0f));
+  static glm::vec3 bakeOrigin(const glm::vec3& lo, const glm::vec3& hi);
   engine::Status addSdfFile(const std::filesystem::path& file, bool frameIt);
   engine::Status loadGltf(const SceneDesc& scene);
   void addGroundPlane();

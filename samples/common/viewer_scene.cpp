@@ -107,32 +107,44 @@ Status Viewer::loadGltf(const SceneDesc& scene) {
   sideBySide_ = scene.sideBySide;
   // The SDF looks like the mesh it stands for.
   if (!data.materials.empty()) bakes_.setColor(data.materials.front().baseColor);
-  auto source = hsdf::BakeSource::fromScene("scene sdf", data);
+  const glm::vec3 origin = bakeOrigin(boundsMin_, boundsMax_);
+  auto source = hsdf::BakeSource::fromScene("scene sdf", data, glm::dvec3(origin));
   if (!isSdfMethod(tuning_.method)) {
     // Baked when an SDF method is picked; a scene that cannot be baked says why then.
-    if (source) bakes_.setSource(std::move(*source));
+    if (source) bakes_.setSource(std::move(*source), origin);
     else bakes_.setError(source.error().withContext(scene.gltf.string()).message);
     return {};
   }
   if (!source) return source.error().withContext(scene.gltf.string());
-  return addBakedSdf(std::move(*source), scene).withContext(scene.gltf.string());
+  return addBakedSdf(std::move(*source), scene, origin).withContext(scene.gltf.string());
+}
+
+// Where a flattened scene is baked about: its centre when the scene lies farther from the world
+// origin than twice its size, else the origin. Far away, world positions in float lose what the
+// cells need (1e6 units from the origin float holds 0.06, two cells of a unit cube at K = 32): the
+// scene is baked about its centre, in double (flattenTriangles), and the SDF entity placed there.
+// The centre is a float, so the entity's translation holds it exactly.
+glm::vec3 Viewer::bakeOrigin(const glm::vec3& lo, const glm::vec3& hi) {
+  const glm::vec3 centre = 0.5f * (lo + hi);
+  const float size = glm::length(hi - lo);
+  return glm::length(centre) > 2.0f * size ? centre : glm::vec3(0.0f);
 }
 
 // Bakes `source` at the tuning's K and padding and adds it: as the scene when there are no meshes,
 // beside them with sideBySide, else in their place (they stay, hidden, for Method::Mesh).
-Status Viewer::addBakedSdf(hsdf::BakeSource source, const SceneDesc& scene) {
+Status Viewer::addBakedSdf(hsdf::BakeSource source, const SceneDesc& scene, const glm::vec3& origin) {
   const hsdf::BakeSettings settings = bakes_.settings();
   ENGINE_TRY_ASSIGN(std::shared_ptr<const hsdf::SdfAsset> asset, bakeWithProgress(source, settings));
-  glm::vec3 offset(0.0f);
+  glm::vec3 offset = origin;  // the source's space in the world (bakeOrigin)
   if (meshEntities_.empty()) {  // the baked shape is the scene
-    boundsMin_ = glm::vec3(asset->surfaceBounds.min);
-    boundsMax_ = glm::vec3(asset->surfaceBounds.max);
+    boundsMin_ = glm::vec3(asset->surfaceBounds.min) + origin;
+    boundsMax_ = glm::vec3(asset->surfaceBounds.max) + origin;
   } else if (scene.sideBySide) {
-    offset.x = 1.25f * (boundsMax_.x - boundsMin_.x);
-    boundsMax_.x += offset.x;
+    offset.x += 1.25f * (boundsMax_.x - boundsMin_.x);
+    boundsMax_.x += 1.25f * (boundsMax_.x - boundsMin_.x);
   }
   bakes_.add(std::move(asset), offset);
-  bakes_.setSource(std::move(source));
+  bakes_.setSource(std::move(source), origin);
   bakes_.setBaked(settings.resolution, settings.padding);
   return {};
 }

@@ -91,7 +91,7 @@ Status checkFlattenable(const SceneData& scene, std::uint64_t maxVertices) {
                                instances, vertices, maxVertices));
 }
 
-TriangleSoup flattenTriangles(const SceneData& scene) {
+TriangleSoup flattenTriangles(const SceneData& scene, const glm::dvec3& origin) {
   TriangleSoup soup;
   for (std::size_t n = 0; n < scene.nodes.size(); ++n) {
     const NodeData& node = scene.nodes[n];
@@ -103,7 +103,9 @@ TriangleSoup flattenTriangles(const SceneData& scene) {
         log::error("flattenTriangles: node '{}' would push the vertex count past 2^32-1; instance left out", node.name);
         continue;
       }
-      for (const auto& p : primitive.positions) soup.positions.push_back(glm::vec3(node.world * glm::vec4(p, 1.0f)));
+      const glm::dmat4 world(node.world);
+      for (const auto& p : primitive.positions)
+        soup.positions.push_back(glm::vec3(glm::dvec3(world * glm::dvec4(glm::dvec3(p), 1.0)) - origin));
       for (std::size_t t = 0; t + 2 < primitive.indices.size(); t += 3) {
         const std::uint32_t a = primitive.indices[t], b = primitive.indices[t + 1], c = primitive.indices[t + 2];
         const auto offset = static_cast<std::uint32_t>(base);

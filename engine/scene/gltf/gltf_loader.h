@@ -72,6 +72,8 @@ Status checkFlattenable(const SceneData& scene, std::uint64_t maxVertices = kMax
 // Instances whose world matrix mirrors (negative determinant) get their triangles re-wound so that
 // every triangle stays counter-clockwise seen from outside. Instances that would push the vertex
 // count past 2^32-1 are left out with an error in the log. Each triangle's node is in triangleNodes.
-TriangleSoup flattenTriangles(const SceneData& scene);
+// `origin` is subtracted from every position in double before it is rounded to float: a scene far
+// from the world origin (1e6 units away, where float holds 0.06) keeps its shape about it.
+TriangleSoup flattenTriangles(const SceneData& scene, const glm::dvec3& origin = glm::dvec3(0.0));
 
 }  // namespace engine::scene

@@ -6,6 +6,7 @@
 
 #include <fmt/format.h>
 
+#include "engine/render/gpu_scene.h"
 #include "engine/gpu/buffer.h"
 #include "hermite_sdf/core/normal_cone.h"
 
@@ -56,11 +57,13 @@ shader::BrickCullObject BrickCuller::cullObject(const engine::render::CameraView
                                                 const GridSpec& grid, bool boundaryPositive,
                                                 const ObjectBricks& bricks) {
   const glm::mat4 invModel = glm::inverse(model);
-  const glm::vec3 eye = glm::vec3(invModel * glm::vec4(camera.position, 1.0f));
+  // Both in double, from matrices far from the world origin (engine::render::eyeInObject).
+  const glm::dvec3 eyeExact = engine::render::eyeInObject(model, camera.position);
+  const glm::vec3 eye(eyeExact);
   const bool coneTest =
-      brickConeCullAllowed(boundaryPositive, glm::dvec3(eye), double(camera.nearPlaneReachInObject(invModel)), grid);
+      brickConeCullAllowed(boundaryPositive, eyeExact, double(camera.nearPlaneReachInObject(invModel)), grid);
   shader::BrickCullObject object{};
-  object.objectToClip = camera.proj * camera.view * model;
+  object.objectToClip = glm::mat4(glm::dmat4(camera.proj) * camera.viewFrom(glm::dvec3(0.0)) * glm::dmat4(model));
   object.gridOriginSpacing = glm::vec4(glm::vec3(grid.origin), float(grid.spacing));
   object.eyeConeTest = glm::vec4(eye, coneTest ? 1.0f : 0.0f);
   object.firstBrick = bricks.firstBrick;

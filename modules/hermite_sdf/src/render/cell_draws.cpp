@@ -345,8 +345,7 @@ void HermiteCellFeature::beginObjectDraw(engine::render::FrameContext& frame, Fr
   f.objectIndices.push_back(objectIndex);
 
   // The eye in grid units, and how far (in grid units) the near plane reaches around it.
-  const glm::vec3 eyeObject = glm::vec3(object.invModel * glm::vec4(frame.camera.position, 1.0f));
-  o.eyeGrid = (glm::dvec3(eyeObject) - grid.origin) / grid.spacing;
+  o.eyeGrid = (engine::render::eyeInObject(o.world, frame.camera.position) - grid.origin) / grid.spacing;
   o.reachGrid = double(frame.camera.nearPlaneReachInObject(object.invModel)) / grid.spacing +
                 nearDilationCells(frame.camera, o.world, frame.extent.height);
 

@@ -35,9 +35,10 @@ bool traceMethod(RenderMethod method, std::uint32_t& out) {
 
 // Whether the near plane may cut the object's box (then its front faces can be clipped away and
 // it is drawn by its back faces). Conservative for any affine transform (see nearPlaneReachInObject).
-bool nearPlaneMayCut(const engine::render::CameraView& camera, const glm::mat4& invModel, const glm::vec3& lo,
+bool nearPlaneMayCut(const engine::render::CameraView& camera, const glm::mat4& model, const glm::vec3& lo,
                      const glm::vec3& hi) {
-  const glm::vec3 eye = glm::vec3(invModel * glm::vec4(camera.position, 1.0f));
+  const glm::mat4 invModel = glm::inverse(model);
+  const glm::vec3 eye(engine::render::eyeInObject(model, camera.position));
   const float objectDistance = glm::length(eye - glm::clamp(eye, lo, hi));
   return objectDistance <= camera.nearPlaneReachInObject(invModel);
 }
@@ -269,7 +270,7 @@ void SphereTraceFeature::collectDraws(engine::render::FrameContext& frame) {
         draw.centralStep = settings_.centralDifferenceStep;
         draw.filterBits = std::min(settings_.emulatedFilterBits, 16u);
         draw.exactBelow = exactBelowCells(draw.filterBits != 0 ? draw.filterBits : deviceFilterBits_);
-        const bool near = nearPlaneMayCut(frame.camera, object.invModel, lo, hi);
+        const bool near = nearPlaneMayCut(frame.camera, object.model, lo, hi);
         lists[method][near ? 1 : 0].push_back(draw);
         (method == std::uint32_t(TraceMethod::Trilinear) ? stats_.trilinearObjects : stats_.hermiteObjects)++;
         stats_.nearObjects += near ? 1u : 0u;

@@ -134,6 +134,58 @@ TEST_F(HermiteCellsTest, EyeInsideABoxDilationButOutsideItsCell) {
   }
 }
 
+// Why: float holds ~1e-3 at 2^14 = 16,384 units from the world origin and ~1e-2 at 2^17. A cell box
+// rasterized in world coordinates there lands a few percent of a cell (the torus at K = 64) away
+// from where its fragments search, in exact cell space: cracks and specks between cells (a helper
+// counted 57 wrong pixels 2e4 units away, 1,775 at 1e5, the torus at K = 32 as boxes). The renderer
+// draws relative to the eye (GpuScene::setOrigin, CameraView::viewFrom) and the culling's matrices
+// are made in double, so an object and a camera moved together by an offset that floats hold
+// exactly (the eye and target on a 1/64 grid) draw, bit for bit, the image drawn at the origin.
+TEST_F(HermiteCellsTest, FarFromTheWorldOriginDrawsTheImageDrawnAtIt) {
+  createCellRenderer(kSize, kSize);
+  const auto asset = bakeAsset("torus", 64);
+  ASSERT_NE(asset, nullptr);
+  const render::CameraView orbit = orbitCamera(*asset, 2);
+  const auto snap = [](const glm::vec3& p) { return glm::round(p * 64.0f) / 64.0f; };
+  const glm::vec3 eye = snap(orbit.position), target = snap(glm::vec3(asset->surfaceBounds.center()));
+  auto& settings = renderer_->feature<hsdf::HermiteCellFeature>()->settings();
+  using Tiles = hsdf::HermiteCellFeature::Tiles;
+  struct Case {
+    const char* name;
+    hsdf::RenderMethod method;
+    Tiles tiles;
+  };
+  for (const Case& c : {Case{"boxes", hsdf::RenderMethod::Cells, Tiles::Off}, Case{"tiles", hsdf::RenderMethod::Cells, Tiles::On},
+                        Case{"runs", hsdf::RenderMethod::CellRuns, Tiles::Off},
+                        Case{"bricks", hsdf::RenderMethod::CellBricks, Tiles::Off}}) {
+    settings.tiles = c.tiles;
+    Frame atOrigin;
+    for (const float offset : {0.0f, 16384.0f, 131072.0f}) {
+      const std::string label = std::string(c.name) + ", offset " + std::to_string(int(offset));
+      const glm::vec3 shift(offset, -offset, 0.5f * offset);
+      registry_ = ecs::Registry();
+      addSdf(registry_, asset, c.method, glm::translate(glm::mat4(1.0f), shift));
+      const render::CameraView camera = render::CameraView::lookAt(eye + shift, target + shift, 0.9f, orbit.znear, 1.0f);
+      (void)renderWith(camera, DEBUG_VIEW_NONE);  // both frame slots
+      const Frame frame = renderWith(camera, DEBUG_VIEW_NONE);
+      if (offset == 0.0f) {
+        atOrigin = frame;
+        ASSERT_GT(std::count_if(frame.depth.begin(), frame.depth.end(), [](float d) { return d > 0.0f; }), 10000) << label;
+        continue;
+      }
+      int coverage = 0, colour = 0;
+      for (std::size_t i = 0; i < frame.depth.size(); ++i) {
+        coverage += (frame.depth[i] > 0.0f) != (atOrigin.depth[i] > 0.0f);
+        for (int k = 0; k < 3; ++k) colour += std::abs(int(frame.rgba[4 * i + k]) - int(atOrigin.rgba[4 * i + k])) > 24 ? 1 : 0;
+      }
+      EXPECT_EQ(coverage, 0) << label;
+      EXPECT_EQ(colour, 0) << label;
+      EXPECT_TRUE(frame.depth == atOrigin.depth) << label << ": the depth is not the origin's, bit for bit";
+      EXPECT_EQ(countIsolatedPixels(frame), countIsolatedPixels(atOrigin)) << label << ": specks of its own";
+    }
+  }
+}
+
 // Early depth (the default) tests each box at its own face's depth and writes the hits' depths in
 // a fix-up pass; with it off every box writes its hit's depth. Both must draw the same surface.
 // Why these cases: orbit views of the bunny (front-to-back rows, silhouettes where boxes are grazed

@@ -3,12 +3,17 @@
 // Small images (64x48) keep it fast.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdint>
+#include <filesystem>
+#include <fstream>
 #include <string>
 #include <thread>
 #include <vector>
+
+#include <nlohmann/json.hpp>
 
 #include "test_viewer.h"
 
@@ -486,12 +491,77 @@ TEST(Viewer, SparseCellBakeRebakesDenseForTheTracers) {
   tuning.method = hsdf::RenderMethod::TrilinearSphereTrace;
   viewer->setTuning(tuning);
   ASSERT_NE(viewer->bakeJob(), nullptr) << "a tracer needs the dense field";
+  // Until it lands, the frames draw the cells (drawableMethod); before, the frame failed.
+  ASSERT_TRUE(viewer->step().ok()) << "a frame while the dense re-bake runs";
+  EXPECT_EQ(theSdf(*viewer).method, hsdf::RenderMethod::Cells);
   ASSERT_TRUE(viewer->waitForBake().ok());
   EXPECT_EQ(theSdf(*viewer).asset->field.grid.resolution, 260);
   EXPECT_FALSE(theSdf(*viewer).asset->field.samples.empty());
   ASSERT_TRUE(viewer->step().ok());
   EXPECT_GT(coverage(*viewer), 0.05);
   EXPECT_TRUE(viewer->close().ok());
+}
+
+// tests/data/gltf/tilted_cube.gltf under a root node translated by `offset`, in a file of its own.
+std::filesystem::path tiltedCubeAt(const glm::vec3& offset, const std::string& name) {
+  std::ifstream in(hsdftest::testData("gltf/tilted_cube.gltf"));
+  nlohmann::json doc = nlohmann::json::parse(in);
+  doc["nodes"].push_back({{"name", "placed"}, {"translation", {offset.x, offset.y, offset.z}}, {"children", {0}}});
+  doc["scenes"][0]["nodes"] = {doc["nodes"].size() - 1};
+  const std::filesystem::path path = std::filesystem::temp_directory_path() / name;
+  std::ofstream(path) << doc.dump();
+  return path;
+}
+
+// Why: a glTF scene 2^17 units from the world origin, baked whole (not --objects): float holds
+// 1/64 there, and the grid, baked in world coordinates, put 1.3e5 into the cells' own float
+// arithmetic (a unit cube 1e6 units away drew scattered specks). The scene is baked about its
+// centre (Viewer::bakeOrigin, flattened in double) and its SDF entity placed there, so it draws
+// the image of the same scene at the origin, seen from the same place relative to it.
+TEST(Viewer, ASceneFarFromTheOriginIsBakedAboutItsCentre) {
+  const glm::vec3 far(131072.0f, -65536.0f, 131072.0f);
+  std::vector<float> depth[2];
+  std::vector<std::uint8_t> rgba[2];
+  glm::dvec3 eye(0.0), target(0.0);
+  for (int i = 0; i < 2; ++i) {
+    const glm::vec3 offset = i == 0 ? glm::vec3(0.0f) : far;
+    auto viewer = makeTestViewer(96, 64);
+    ASSERT_NE(viewer, nullptr);
+    SceneDesc scene;
+    scene.gltf = tiltedCubeAt(offset, "tilted_cube_at_" + std::to_string(i) + ".gltf");
+    scene.groundPlane = false;
+    TuningState tuning;
+    tuning.method = hsdf::RenderMethod::Cells;
+    tuning.resolution = 24;
+    const engine::Status loaded = viewer->loadScene(scene, tuning);
+    ASSERT_TRUE(loaded.ok()) << loaded.error().message;
+    const hsdf::Aabb grid = theSdf(*viewer).asset->cells.grid.bounds();
+    const double size = glm::length(grid.size());
+    if (i == 0) {
+      // An orbit view's eye and the scene's centre on a 1/64 grid: moved by `far` they stay exact.
+      viewer->setOrbitView(2);
+      const auto snap = [](const glm::dvec3& p) { return glm::round(p * 64.0) / 64.0; };
+      eye = snap(glm::dvec3(viewer->cameraView().position));
+      target = snap(grid.center());
+    } else {
+      EXPECT_LT(glm::length(grid.center()), size) << "the far scene was not baked about its centre";
+    }
+    viewer->setCamera(eye + glm::dvec3(offset), target + glm::dvec3(offset));
+    ASSERT_TRUE(viewer->step().ok());
+    viewer->renderer().finish();
+    depth[i] = viewer->renderer().readbackDepth();
+    rgba[i] = viewer->renderer().readbackColor();
+    EXPECT_TRUE(viewer->close().ok());
+  }
+  int hits = 0, coverage = 0, colour = 0;
+  for (std::size_t p = 0; p < depth[0].size(); ++p) {
+    hits += depth[0][p] > 0.0f;
+    coverage += (depth[0][p] > 0.0f) != (depth[1][p] > 0.0f);
+    for (std::size_t c = 0; c < 3; ++c) colour += std::abs(int(rgba[0][4 * p + c]) - int(rgba[1][4 * p + c])) > 24;
+  }
+  ASSERT_GT(hits, 500);
+  EXPECT_LE(coverage, 2) << "of " << hits << " covered pixels";
+  EXPECT_LE(colour, 6) << "of " << hits << " covered pixels";
 }
 
 }  // namespace

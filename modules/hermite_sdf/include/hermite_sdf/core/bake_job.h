@@ -11,6 +11,8 @@
 #include <string>
 #include <thread>
 
+#include <glm/glm.hpp>
+
 #include "engine/core/expected.h"
 #include "engine/core/progress.h"
 #include "engine/scene/scene_data.h"
@@ -28,8 +30,10 @@ struct BakeSource {
 
   static BakeSource fromTriangles(std::string name, engine::scene::TriangleSoup triangles);
   static BakeSource fromShape(std::string shapeName);
-  // Every mesh instance of a glTF scene in world space. Errors: what checkFlattenable refuses.
-  static engine::Expected<BakeSource> fromScene(std::string name, const engine::scene::SceneData& scene);
+  // Every mesh instance of a glTF scene in world space, shifted by -origin (flattenTriangles).
+  // Errors: what checkFlattenable refuses.
+  static engine::Expected<BakeSource> fromScene(std::string name, const engine::scene::SceneData& scene,
+                                                const glm::dvec3& origin = glm::dvec3(0.0));
   // A path that exists is read as glTF/GLB (the loader names what is wrong with it); anything else
   // must be an analytic shape name (the error lists the known ones).
   static engine::Expected<BakeSource> fromPathOrShape(const std::string& input);

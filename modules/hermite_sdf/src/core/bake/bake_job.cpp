@@ -93,9 +93,10 @@ BakeSource BakeSource::fromShape(std::string shapeName) {
   return source;
 }
 
-engine::Expected<BakeSource> BakeSource::fromScene(std::string name, const engine::scene::SceneData& scene) {
+engine::Expected<BakeSource> BakeSource::fromScene(std::string name, const engine::scene::SceneData& scene,
+                                                  const glm::dvec3& origin) {
   ENGINE_TRY(engine::scene::checkFlattenable(scene));
-  return fromTriangles(std::move(name), engine::scene::flattenTriangles(scene));
+  return fromTriangles(std::move(name), engine::scene::flattenTriangles(scene, origin));
 }
 
 engine::Expected<BakeSource> BakeSource::fromPathOrShape(const std::string& input) {

@@ -4,6 +4,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstring>
 #include <functional>
@@ -315,6 +316,32 @@ TEST(GltfLoaderHierarchy, MeshMaterialAndFlattenedInstances) {
   for (const std::uint32_t n : soup.triangleNodes) EXPECT_EQ(scene->nodes.at(n).mesh, 0);
   expectNear(glm::vec3(scene->nodes[soup.triangleNodes[1]].world * glm::vec4(primitive.positions[2], 1.0f)),
              soup.positions[5]);
+}
+
+// Tricky because a mesh placed a million units from the origin, where float holds only 0.0625,
+// loses its shape when its world positions are rounded to float; flattened about an origin near
+// it (the scene runner bakes far scenes about their centre), each position is computed in double
+// and rounded only once it is small again.
+TEST(GltfLoaderHierarchy, FlattenedAboutAnOriginKeepsAFarMeshExact) {
+  SceneData scene;
+  MeshPrimitiveData primitive;
+  primitive.positions = {{0.1f, 0.2f, 0.3f}, {0.7f, 0.2f, 0.3f}, {0.1f, 0.9f, 0.35f}};
+  primitive.indices = {0, 1, 2};
+  scene.meshes.push_back({"tri", {primitive}});
+  NodeData node;
+  node.mesh = 0;
+  node.world = glm::translate(glm::mat4(1.0f), glm::vec3(1048576.0f, -1048576.0f, 524288.0f));
+  scene.nodes.push_back(node);
+  const auto about = flattenTriangles(scene, glm::dvec3(1048576.0, -1048576.0, 524288.0));
+  const auto plain = flattenTriangles(scene);
+  ASSERT_EQ(about.positions.size(), 3u);
+  float plainError = 0.0f;
+  for (std::size_t i = 0; i < 3; ++i) {
+    expectNear(about.positions[i], primitive.positions[i], 1e-7f);
+    plainError = std::max(plainError, glm::length(plain.positions[i] - glm::vec3(1048576.0f, -1048576.0f, 524288.0f) -
+                                                  primitive.positions[i]));
+  }
+  EXPECT_GT(plainError, 0.01f) << "the case does not need the origin";
 }
 
 // ------------------------------------------------------------------------------------------------
