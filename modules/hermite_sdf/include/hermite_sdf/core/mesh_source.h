@@ -67,6 +67,12 @@ struct MeshSourceStats {
   bool closed = false;               // every edge has exactly one oppositely oriented twin
   bool selfIntersecting = false;     // two triangles without a common vertex touch (closed meshes only)
   bool pseudoNormalSign = false;     // the sign comes from pseudonormals (else the winding number)
+  // Closed, not self-intersecting, yet a part is nested in another with the same orientation or
+  // turned inside out: pseudonormals would sign it wrongly, the winding number (nonzero) signs it.
+  bool partsMisoriented = false;
+  // Triangles of parts with the solid on both sides (the inner of two boxes nested with the same
+  // orientation): not its boundary, so dropped; counted in inputTriangles, not in triangles.
+  std::size_t droppedInterior = 0;
   std::size_t bvhNodes = 0;
 };
 

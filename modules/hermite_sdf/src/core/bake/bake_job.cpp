@@ -21,8 +21,13 @@ constexpr float kBakeShare = 0.9f;
 std::string describeMesh(const std::string& name, const MeshSourceStats& s) {
   std::string description = fmt::format("{}: mesh, {} triangles", name, s.triangles);
   if (s.droppedZeroArea > 0) description += fmt::format(" ({} zero-area dropped)", s.droppedZeroArea);
+  if (s.droppedInterior > 0)
+    description += fmt::format(" ({} inside the solid dropped: a part nested in another)", s.droppedInterior);
   description += s.closed ? ", closed" : fmt::format(", open ({} boundary edges)", s.boundaryEdges);
-  description += s.pseudoNormalSign ? ", sign from pseudonormals" : ", sign from the winding number";
+  description += s.pseudoNormalSign    ? ", sign from pseudonormals"
+                 : s.partsMisoriented ? ", sign from the winding number (parts nested with the same orientation or "
+                                        "turned inside out)"
+                                      : ", sign from the winding number";
   return description;
 }
 

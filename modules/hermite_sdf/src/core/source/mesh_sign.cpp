@@ -119,4 +119,45 @@ bool hasSelfIntersections(const TriangleBvh& bvh, const std::vector<std::uint32_
   return false;
 }
 
+PartSides partSides(const TriangleBvh& bvh, const std::vector<std::uint32_t>& vertexOf, double windingBeta) {
+  // Parts: triangles joined by welded vertices (union-find over the vertices).
+  std::vector<std::uint32_t> parent(vertexOf.empty() ? 0 : *std::max_element(vertexOf.begin(), vertexOf.end()) + 1);
+  for (std::uint32_t v = 0; v < parent.size(); ++v) parent[v] = v;
+  const auto find = [&parent](std::uint32_t v) {
+    while (parent[v] != v) v = parent[v] = parent[parent[v]];
+    return v;
+  };
+  const auto triangles = static_cast<std::uint32_t>(bvh.triangleCount());
+  for (std::uint32_t t = 0; t < triangles; ++t)
+    for (int k = 1; k < 3; ++k) parent[find(vertexOf[3 * std::size_t(t) + std::size_t(k)])] = find(vertexOf[3 * std::size_t(t)]);
+  // Each part's largest triangle: the points off it are farthest from its edges.
+  std::vector<std::uint32_t> largest(parent.size(), UINT32_MAX);
+  std::vector<double> largestArea(parent.size(), -1.0);
+  for (std::uint32_t t = 0; t < triangles; ++t) {
+    const std::uint32_t part = find(vertexOf[3 * std::size_t(t)]);
+    const double area = glm::length(glm::cross(bvh.corner(t, 1) - bvh.corner(t, 0), bvh.corner(t, 2) - bvh.corner(t, 0)));
+    if (area > largestArea[part]) {
+      largestArea[part] = area;
+      largest[part] = t;
+    }
+  }
+  PartSides sides;
+  std::vector<bool> interiorPart(parent.size(), false);
+  for (std::uint32_t part = 0; part < parent.size(); ++part) {
+    const std::uint32_t t = largest[part];
+    if (t == UINT32_MAX) continue;
+    const glm::dvec3 centroid = (bvh.corner(t, 0) + bvh.corner(t, 1) + bvh.corner(t, 2)) / 3.0;
+    // 1e-4 of the triangle's size off it: far less than the part's distance to another part
+    // (they do not touch), far enough that the triangle's own solid angle is ~2 pi, not 0.
+    const glm::dvec3 step = 1e-4 * std::sqrt(largestArea[part]) * bvh.unitNormal(t);
+    const bool front = std::abs(bvh.windingNumber(centroid + step, windingBeta)) >= 0.5;
+    const bool back = std::abs(bvh.windingNumber(centroid - step, windingBeta)) >= 0.5;
+    sides.faceOutside = sides.faceOutside && !front;
+    interiorPart[part] = front && back;
+  }
+  for (std::uint32_t t = 0; t < triangles; ++t)
+    if (interiorPart[find(vertexOf[3 * std::size_t(t)])]) sides.interior.push_back(t);
+  return sides;
+}
+
 }  // namespace hsdf::mesh

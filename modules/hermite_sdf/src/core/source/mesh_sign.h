@@ -36,4 +36,19 @@ class PseudoNormals {
 // already make a mesh non-closed).
 bool hasSelfIntersections(const TriangleBvh& bvh, const std::vector<std::uint32_t>& vertexOf);
 
+// How the connected parts of a closed mesh that does not intersect itself sit in the solid of
+// nonzero winding number, from points just off each part's largest triangle on either side.
+struct PartSides {
+  // Every part faces the region of winding number 0 (its normals' side is outside): pseudonormals
+  // then sign each part's own inside, which is the solid's. It fails for a part nested in another
+  // with the same orientation (a box inside a box: between them the winding number is 1, yet the
+  // inner box's pseudonormals say outside, and the field jumps sign there without a surface) and
+  // for a part turned inside out (its normals point into winding number -1). A hollow passes.
+  bool faceOutside = true;
+  // BVH triangles of the parts with a nonzero winding number on both sides: inside the solid, not
+  // on its boundary (the inner box of two nested ones).
+  std::vector<std::uint32_t> interior;
+};
+PartSides partSides(const TriangleBvh& bvh, const std::vector<std::uint32_t>& vertexOf, double windingBeta);
+
 }  // namespace hsdf::mesh

@@ -69,9 +69,10 @@ struct MeshSource::Impl {
   Aabb bounds;
   double onSurfaceDistance = 0.0;
   std::uint64_t id = nextSourceId.fetch_add(1);
+  std::vector<std::uint32_t> interiorTriangles;  // of `clean`: parts inside the solid (PartSides)
 
-  Impl(mesh::CleanTriangles clean, const MeshSourceOptions& opts)
-      : bvh(clean.corners), tree(bvh), inputTriangle(std::move(clean.inputTriangle)), options(opts) {
+  Impl(const mesh::CleanTriangles& clean, const MeshSourceOptions& opts)
+      : bvh(clean.corners), tree(bvh), inputTriangle(clean.inputTriangle), options(opts) {
     bounds.min = glm::dvec3(kInfinity);
     bounds.max = glm::dvec3(-kInfinity);
     for (const glm::dvec3& c : clean.corners) {
@@ -89,10 +90,20 @@ struct MeshSource::Impl {
     stats.bvhNodes = bvh.nodeCount();
     if (stats.closed) stats.selfIntersecting = mesh::hasSelfIntersections(bvh, vertexOf);
     if (options.signMode == SignMode::Auto && stats.closed && !stats.selfIntersecting) {
-      pseudoNormals = std::make_unique<mesh::PseudoNormals>(bvh, vertexOf);
-      stats.pseudoNormalSign = true;
+      mesh::PartSides sides = mesh::partSides(bvh, vertexOf, options.windingBeta);
+      stats.partsMisoriented = !sides.faceOutside;
+      for (const std::uint32_t t : sides.interior) interiorTriangles.push_back(bvh.inputIndex(t));
+      if (!stats.partsMisoriented) {
+        pseudoNormals = std::make_unique<mesh::PseudoNormals>(bvh, vertexOf);
+        stats.pseudoNormalSign = true;
+      }
     }
   }
+
+  // Inside by the winding number: for a closed mesh wherever it is not 0 (the nonzero rule: a part
+  // nested in another with the same orientation adds to it, a part turned inside out has -1), for
+  // an open one where the generalized winding number passes 1/2.
+  bool inside(double w) const { return stats.closed ? std::abs(w) >= 0.5 : w >= 0.5; }
 
   bool mayPassOn(const Anchor& anchor) const {
     return stats.closed || std::abs(anchor.winding - 0.5) >= kDecisiveWinding;
@@ -143,7 +154,7 @@ struct MeshSource::Impl {
 
   SdfSample signedSample(const glm::dvec3& p, const mesh::ClosestHit& hit, double winding) const {
     const double distance = std::sqrt(hit.distanceSquared);
-    const double sign = winding >= 0.5 ? -1.0 : 1.0;
+    const double sign = inside(winding) ? -1.0 : 1.0;
     SdfSample s;
     s.value = sign * distance;
     s.gradient = distance > onSurfaceDistance ? (p - hit.point) * (sign / distance) : bvh.unitNormal(hit.triangle);
@@ -209,7 +220,7 @@ struct MeshSource::Impl {
     }
     remember(cache, anchor);
     SdfBandSample out;
-    out.sample.value = (anchor.winding >= 0.5 ? -1.0 : 1.0) * anchor.radius;
+    out.sample.value = (inside(anchor.winding) ? -1.0 : 1.0) * anchor.radius;
     out.exact = false;
     return out;
   }
@@ -222,7 +233,28 @@ engine::Expected<std::unique_ptr<MeshSource>> MeshSource::create(std::vector<glm
     return engine::makeError("mesh source: windingBeta must be a positive finite number");
   auto clean = mesh::cleanTriangles(positions, indices);
   if (!clean) return clean.error().withContext("mesh source");
-  return std::unique_ptr<MeshSource>(new MeshSource(std::make_unique<Impl>(std::move(*clean), options)));
+  auto impl = std::make_unique<Impl>(*clean, options);
+  if (!impl->interiorTriangles.empty()) {
+    // Parts with the solid on both sides (the inner of two nested boxes) are not its boundary:
+    // dropped, so that distances are to the boundary (else the field touches zero inside the
+    // solid, and cells are kept there). What is left bounds the same solid by the nonzero rule.
+    const std::size_t interior = impl->interiorTriangles.size();
+    std::vector<bool> drop(clean->inputTriangle.size(), false);
+    for (const std::uint32_t t : impl->interiorTriangles) drop[t] = true;
+    mesh::CleanTriangles kept;
+    kept.droppedZeroArea = clean->droppedZeroArea;
+    for (std::size_t t = 0; t < drop.size(); ++t) {
+      if (drop[t]) continue;
+      kept.corners.insert(kept.corners.end(), clean->corners.begin() + std::ptrdiff_t(3 * t),
+                          clean->corners.begin() + std::ptrdiff_t(3 * t + 3));
+      kept.inputTriangle.push_back(clean->inputTriangle[t]);
+    }
+    impl = std::make_unique<Impl>(kept, options);
+    impl->stats.droppedInterior = interior;
+    impl->stats.inputTriangles += interior;
+    impl->stats.partsMisoriented = impl->stats.partsMisoriented || !impl->stats.pseudoNormalSign;
+  }
+  return std::unique_ptr<MeshSource>(new MeshSource(std::move(impl)));
 }
 
 engine::Expected<std::unique_ptr<MeshSource>> MeshSource::create(const engine::scene::TriangleSoup& soup,
