@@ -234,7 +234,9 @@ engine::Expected<std::unique_ptr<MeshSource>> MeshSource::create(std::vector<glm
   auto clean = mesh::cleanTriangles(positions, indices);
   if (!clean) return clean.error().withContext("mesh source");
   auto impl = std::make_unique<Impl>(*clean, options);
-  if (!impl->interiorTriangles.empty()) {
+  // Every part inside (coincident copies of a part, which read nonzero on both sides): nothing is
+  // its boundary for sure, so nothing is dropped and the winding number signs it.
+  if (!impl->interiorTriangles.empty() && impl->interiorTriangles.size() < clean->inputTriangle.size()) {
     // Parts with the solid on both sides (the inner of two nested boxes) are not its boundary:
     // dropped, so that distances are to the boundary (else the field touches zero inside the
     // solid, and cells are kept there). What is left bounds the same solid by the nonzero rule.
