@@ -146,10 +146,16 @@ PartSides partSides(const TriangleBvh& bvh, const std::vector<std::uint32_t>& ve
   for (std::uint32_t part = 0; part < parent.size(); ++part) {
     const std::uint32_t t = largest[part];
     if (t == UINT32_MAX) continue;
-    const glm::dvec3 centroid = (bvh.corner(t, 0) + bvh.corner(t, 1) + bvh.corner(t, 2)) / 3.0;
-    // 1e-4 of the triangle's size off it: far less than the part's distance to another part
-    // (they do not touch), far enough that the triangle's own solid angle is ~2 pi, not 0.
-    const glm::dvec3 step = 1e-4 * std::sqrt(largestArea[part]) * bvh.unitNormal(t);
+    const glm::dvec3 a = bvh.corner(t, 0), b = bvh.corner(t, 1), c = bvh.corner(t, 2);
+    const glm::dvec3 centroid = (a + b + c) / 3.0;
+    // A millionth of the triangle's smallest altitude off it (a sliver's length says nothing of
+    // how thin the part is): far less than the part's thickness or its distance to another part,
+    // far enough that the triangle's own solid angle is ~2 pi, and above the coordinates' rounding.
+    const double longest = std::max({glm::length(b - a), glm::length(c - b), glm::length(a - c)});
+    const glm::dvec3 magnitude = glm::abs(centroid);
+    const double offset = std::max(1e-6 * largestArea[part] / longest,
+                                   1e-13 * std::max({magnitude.x, magnitude.y, magnitude.z}));
+    const glm::dvec3 step = offset * bvh.unitNormal(t);
     const bool front = std::abs(bvh.windingNumber(centroid + step, windingBeta)) >= 0.5;
     const bool back = std::abs(bvh.windingNumber(centroid - step, windingBeta)) >= 0.5;
     sides.faceOutside = sides.faceOutside && !front;

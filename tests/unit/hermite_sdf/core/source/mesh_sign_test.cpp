@@ -291,5 +291,28 @@ TEST(MeshSign, APartTurnedInsideOutKeepsItsInside) {
   EXPECT_GT(mixedSource->sample({1.0, 0.0, 0.0}).value, 0.0) << "between them";
 }
 
+// Tricky: a tetrahedron 5.5e11 long and about 1 wide, with subnormal coordinates (from the
+// mesh-bake fuzz corpus, where it read as a part inside the solid, every triangle was dropped and
+// the BVH of nothing crashed). Its largest triangle is a sliver, so the side test steps off it by
+// a millionth of its smallest altitude, not a share of its size; the part must stay, and the
+// sign agree with the exact winding number near the thick end.
+TEST(MeshSign, ASliverPartIsNotTakenForTheInsideOfTheSolid) {
+  TestMesh sliver;
+  sliver.positions = {{0.0f, 0.0f, -5.49756e11f}, {8.96831e-44f, 1.0f, 3.85186e-34f}, {1.0f, 0.0f, 0.0f}, {0.0f, 0.0f, 1.0f}};
+  sliver.indices = {0, 1, 2, 0, 2, 3, 0, 3, 1, 2, 1, 3};
+  const auto source = makeSource(sliver);
+  EXPECT_EQ(source->stats().droppedInterior, 0u);
+  EXPECT_FALSE(source->stats().partsMisoriented) << "an outward tetrahedron read as nested or inside out";
+  EXPECT_TRUE(source->stats().pseudoNormalSign);
+  int inside = 0;
+  for (const glm::dvec3& p : {glm::dvec3(0.1, 0.1, 0.1), glm::dvec3(0.2, 0.1, -5.0), glm::dvec3(0.6, 0.6, 0.6),
+                              glm::dvec3(-0.1, 0.2, 0.2), glm::dvec3(0.3, 0.3, 0.2)}) {
+    const bool byWinding = std::abs(source->windingNumberExact(p)) >= 0.5;
+    inside += byWinding;
+    EXPECT_EQ(source->sample(p).value < 0.0, byWinding) << p.x << " " << p.y << " " << p.z;
+  }
+  EXPECT_GE(inside, 2) << "the case has points inside";
+}
+
 }  // namespace
 }  // namespace hsdf
