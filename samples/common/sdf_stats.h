@@ -16,9 +16,11 @@ struct SdfStats {
   std::uint64_t cellBytesHalf = 0;
   std::uint64_t trilinearScalars = 0;  // K^3 values of f
   std::uint64_t hermiteScalars = 0;    // 4 K^3: f and its gradient at every sample
+  bool denseField = true;  // the asset holds them (a sparse bake or a cells-only file does not)
 };
 SdfStats sdfStats(const hsdf::SdfAsset& asset);
 // "cells 1234 crossing / 56 ambiguous / 9999 empty; stored scalars: cells N, trilinear N, hermite N"
+// (without a dense field: "...: cells N; no dense field (the tracers would store trilinear N, hermite N)")
 std::string describeSdfStats(const SdfStats& stats);
 
 }  // namespace samples

@@ -273,6 +273,7 @@ void TuningPanel::drawStatistics() {
       row(label.c_str(), scalars, 4 * scalars, 2 * scalars);
     }
     ImGui::EndTable();
+    if (!s.denseField) ImGui::TextDisabled("no dense field held (cells only): the K^3 rows are what the tracers would store");
   }
 }
 

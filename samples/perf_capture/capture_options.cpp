@@ -134,6 +134,11 @@ ParseResult parseOptions(int argc, const char* const* argv) {
   if (!std::isfinite(options.timeLimitSeconds))  // CLI::Range lets NaN through
     problem = "--time-limit: not a number of seconds in 0..1e7";
   if (!problem && !size.empty()) problem = samples::parseSize(size, options.width, options.height);
+  // Given but empty (--resolutions ""): an error, not the default list run in its place.
+  if (!problem && app.count("--resolutions") > 0 && resolutions.empty())
+    problem = "--resolutions: an empty list (e.g. --resolutions 16,32,64,128)";
+  if (!problem && app.count("--methods") > 0 && methods.empty())
+    problem = "--methods: an empty list (e.g. --methods cells,hermite)";
   if (!problem && !resolutions.empty()) problem = parseResolutions(resolutions, options);
   if (!problem && !methods.empty()) problem = parseMethods(methods, options);
   if (!problem && !settings.empty()) problem = parseSettings(settings, options);

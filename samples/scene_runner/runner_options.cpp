@@ -39,6 +39,9 @@ std::optional<std::string> checkCombinations(const Options& options, bool method
     return "--side-by-side: needs a scene baked into an SDF (--method cells, trilinear or hermite, without --sdf)";
   if (options.objects && (!options.sdfFile.empty() || options.sideBySide))
     return "--objects: draws a glTF scene's meshes as separate objects; it takes neither --sdf nor --side-by-side";
+  // The comparison draws one baked SDF against another bake of it; --objects has one per mesh.
+  if (options.objects && (options.tuning.split != samples::SplitMode::Off || options.tuning.difference))
+    return "--objects: the split screen and --difference compare one baked SDF; not drawn with --objects";
   if (auto valid = samples::validateTuning(options.tuning); !valid) return valid.error().message;
   return std::nullopt;
 }

@@ -487,6 +487,10 @@ TEST(Viewer, SparseCellBakeRebakesDenseForTheTracers) {
   ASSERT_TRUE(viewer->waitForBake().ok());
   EXPECT_EQ(theSdf(*viewer).asset->cells.grid.resolution, 260);
   EXPECT_TRUE(theSdf(*viewer).asset->field.samples.empty()) << "the cells past 256 bake sparse";
+  // The log and the panel say the tracers' storage is what they would store, not what is held.
+  const SdfStats sparse = sdfStats(*theSdf(*viewer).asset);
+  EXPECT_FALSE(sparse.denseField);
+  EXPECT_NE(describeSdfStats(sparse).find("no dense field"), std::string::npos) << describeSdfStats(sparse);
   ASSERT_TRUE(viewer->step().ok());
   tuning.method = hsdf::RenderMethod::TrilinearSphereTrace;
   viewer->setTuning(tuning);

@@ -52,6 +52,9 @@ TEST(CaptureOptions, BadValuesAreRefusedNamingTheOption) {
   };
   const Case cases[] = {
       {{"--out", "x", "--resolutions", "16,,32"}, "--resolutions: '' is not a resolution"},
+      // Given but empty: refused, not the default list run in its place.
+      {{"--out", "x", "--resolutions", ""}, "--resolutions: an empty list"},
+      {{"--out", "x", "--methods", ""}, "--methods: an empty list"},
       {{"--out", "x", "--resolutions", "4096"}, "--resolutions: '4096' is not a resolution K in 4..2048"},
       {{"--out", "x", "--distance", "0.5"}, "--distance"},
       {{"--out", "x", "--methods", "cells,splats"}, "--methods: 'splats'"},

@@ -189,6 +189,9 @@ TEST(RunnerOptions, BadValuesNameTheOption) {
       {{"--resolution", "3", "--padding", "1"}, "--resolution 3 leaves no cells inside --padding 1"},
       // The K drawn is named, not the automatic compared K (2K) of a comparison nobody asked for.
       {{"--resolution", "16", "--padding", "16"}, "--resolution 16 leaves no cells inside --padding 16"},
+      // The comparison is of one baked SDF: with --objects it drew nothing and the log said split.
+      {{"--scene", kBunny, "--objects", "--split", "vertical"}, "--objects: the split screen and --difference"},
+      {{"--scene", kBunny, "--objects", "--difference"}, "--objects: the split screen and --difference"},
       {{"--method", "mesh", "--side-by-side"}, "--side-by-side: needs a scene baked into an SDF"},
       {{"--script", "no_such_script.txt"}, "--script"},
       {{"--bake-budget-mib", "0"}, "--bake-budget-mib"},
