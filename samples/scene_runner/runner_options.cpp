@@ -241,6 +241,12 @@ ParseResult parseOptions(int argc, const char* const* argv) {
     problem = "--scene-camera: looks through a camera of a glTF scene; add --scene FILE";
   if (!problem && !options.objects && app.count("--node-draw") + app.count("--triangle-nodes") > 0)
     problem = "--node-draw and --triangle-nodes choose per node of a scene loaded with --objects; add --objects";
+  // A .hsdf file is drawn as it was baked: there is no source to bake again (both were ignored).
+  if (!problem && !options.sdfFile.empty() && app.count("--resolution") + app.count("--padding") > 0)
+    problem = "--resolution / --padding: a .hsdf file (--sdf) is drawn at the K and padding it was baked with "
+              "(hsdf_bake -r K --padding P makes another)";
+  if (!problem && !options.sdfFile.empty() && options.tuning.lod)
+    problem = "--lod: levels of detail bake the source again at K/2, K/4, ...; a .hsdf file (--sdf) has no source";
   if (problem) return failure(*problem);
   if (options.headless && options.frames == 0) options.frames = 1;
   if (!options.headless && app.count("--ui-ini") == 0) options.uiIni = "imgui.ini";

@@ -196,6 +196,10 @@ TEST(RunnerOptions, BadValuesNameTheOption) {
       {{"--script", "no_such_script.txt"}, "--script"},
       {{"--bake-budget-mib", "0"}, "--bake-budget-mib"},
       {{"--sdf", kHsdf, "--method", "mesh"}, "--method mesh: a .hsdf file (--sdf) has no triangles"},
+      // A .hsdf file has no source to bake again: these were silently ignored.
+      {{"--sdf", kHsdf, "--resolution", "16"}, "--resolution / --padding: a .hsdf file (--sdf) is drawn at the K"},
+      {{"--sdf", kHsdf, "--padding", "2"}, "--resolution / --padding: a .hsdf file (--sdf) is drawn at the K"},
+      {{"--sdf", kHsdf, "--lod"}, "--lod: levels of detail bake the source again"},
       {{"--no-such-option"}, "--no-such-option"},
       {{"--split", "diagonal"}, "--split: 'diagonal' is not one of off, vertical, horizontal"},
       {{"--split-position", "0.99"}, "--split-position"},
