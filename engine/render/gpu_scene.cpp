@@ -30,11 +30,15 @@ glm::dvec3 eyeInObject(const glm::mat4& model, const glm::vec3& eye) {
 }
 
 std::uint32_t GpuScene::addObject(const shader::ObjectData& object) {
-  glm::dmat4 model(object.model);
-  model[3] -= glm::dvec4(origin_, 0.0);
+  // An affine model: its inverse is the linear part's, with the shifted translation brought back.
+  const glm::dmat3 inverseLinear = glm::inverse(glm::dmat3(object.model));
+  const glm::dvec3 translation = glm::dvec3(object.model[3]) - origin_;
+  glm::dmat4 model{glm::dmat3(object.model)}, inverse{inverseLinear};
+  model[3] = glm::dvec4(translation, 1.0);
+  inverse[3] = glm::dvec4(-(inverseLinear * translation), 1.0);
   shader::ObjectData shifted = object;
   shifted.model = glm::mat4(model);
-  shifted.invModel = glm::mat4(glm::inverse(model));
+  shifted.invModel = glm::mat4(inverse);
   objects_.push_back(shifted);
   return static_cast<std::uint32_t>(objects_.size() - 1);
 }

@@ -86,7 +86,7 @@ void SdfBakes::followTuning() {
   // A sparse bake (the cells past K = 256) has no dense field: a dense tracer needs a re-bake.
   const hsdf::SdfAsset* drawn = asset();
   const bool sparse = job_ ? job_->settings().band == hsdf::BakeBand::Sparse : drawn && drawn->field.samples.empty();
-  const bool needsDense = isSdfMethod(tuning_.method) && !drawsCells(tuning_.method);
+  const bool needsDense = needsDenseField(tuning_.method);
   if (tuning_.resolution != resolution || tuning_.padding != padding || (sparse && needsDense)) start();
 }
 

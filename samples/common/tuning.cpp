@@ -278,6 +278,8 @@ bool drawsCells(Method method) {
   using hsdf::RenderMethod;
   return method == RenderMethod::Cells || method == RenderMethod::CellRuns || method == RenderMethod::CellBricks;
 }
+
+bool needsDenseField(Method method) { return isSdfMethod(method) && !drawsCells(method); }
 const char* normalModeName(hsdf::NormalMode mode) { return nameOf(kNormalModes, mode); }
 std::optional<hsdf::NormalMode> parseNormalMode(std::string_view name) { return valueOf(kNormalModes, name); }
 std::vector<DebugView> allDebugViews() {
@@ -348,9 +350,7 @@ engine::Status validateTuning(const TuningState& t) {
 }
 
 hsdf::RenderMethod drawableMethod(hsdf::RenderMethod wanted, const hsdf::SdfAsset* asset) {
-  const bool tracer =
-      wanted == hsdf::RenderMethod::TrilinearSphereTrace || wanted == hsdf::RenderMethod::HermiteSphereTrace;
-  return tracer && asset && asset->field.samples.empty() ? hsdf::RenderMethod::Cells : wanted;
+  return needsDenseField(wanted) && asset && asset->field.samples.empty() ? hsdf::RenderMethod::Cells : wanted;
 }
 
 void applyTuning(const TuningState& tuning, hsdf::HermiteSdfRenderable& renderable) {

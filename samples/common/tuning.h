@@ -46,6 +46,8 @@ std::optional<Method> parseMethod(std::string_view name);
 bool isSdfMethod(Method method);
 // The cell renderers (cells, cells-runs, cell-bricks): they draw the baked asset's kept cells.
 bool drawsCells(Method method);
+// The sphere tracers (trilinear, hermite): they need the dense field.
+bool needsDenseField(Method method);
 
 const char* normalModeName(hsdf::NormalMode mode);  // "exact", "central"
 std::optional<hsdf::NormalMode> parseNormalMode(std::string_view name);

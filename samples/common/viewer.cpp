@@ -117,8 +117,8 @@ void Viewer::setTuning(const TuningState& tuning) {
 void Viewer::warnIfCellsOnly() {
   const hsdf::SdfAsset* asset = bakes_.asset();
   const bool cellsOnly = asset && asset->field.samples.empty() && !bakes_.source();
-  const auto needsDense = [](Method m) { return isSdfMethod(m) && !drawsCells(m); };
-  const bool wanted = needsDense(tuning_.method) || (comparing(tuning_) && needsDense(tuning_.compareMethod));
+  const bool wanted =
+      needsDenseField(tuning_.method) || (comparing(tuning_) && needsDenseField(tuning_.compareMethod));
   if (cellsOnly && wanted && !warnedCellsOnly_) {
     const std::string message = fmt::format("'{}' holds only cells: the sphere tracers need the dense field (bake "
                                             "without --cells); its cells are drawn instead", asset->name);

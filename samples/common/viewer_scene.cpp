@@ -140,8 +140,9 @@ Status Viewer::addBakedSdf(hsdf::BakeSource source, const SceneDesc& scene, cons
     boundsMin_ = glm::vec3(asset->surfaceBounds.min) + origin;
     boundsMax_ = glm::vec3(asset->surfaceBounds.max) + origin;
   } else if (scene.sideBySide) {
-    offset.x += 1.25f * (boundsMax_.x - boundsMin_.x);
-    boundsMax_.x += 1.25f * (boundsMax_.x - boundsMin_.x);
+    const float shift = 1.25f * (boundsMax_.x - boundsMin_.x);
+    offset.x += shift;
+    boundsMax_.x += shift;
   }
   bakes_.add(std::move(asset), offset);
   bakes_.setSource(std::move(source), origin);
@@ -155,7 +156,7 @@ Status Viewer::addSdfFile(const std::filesystem::path& file, bool frameIt) {
   if (!drawsCells(tuning_.method) && asset->field.samples.empty())
     return makeError(fmt::format("{}: holds only cells; --method {} needs the dense field (bake without --cells)",
                                  file.string(), methodName(tuning_.method)));
-  if (comparing(tuning_) && !drawsCells(tuning_.compareMethod) && asset->field.samples.empty())
+  if (comparing(tuning_) && needsDenseField(tuning_.compareMethod) && asset->field.samples.empty())
     return makeError(fmt::format("{}: holds only cells; the compared side ({} with --split or --difference) needs "
                                  "the dense field: --compare-method cells, or a file baked without --cells",
                                  file.string(), methodName(tuning_.compareMethod)));

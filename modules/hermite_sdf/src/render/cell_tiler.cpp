@@ -73,7 +73,7 @@ void CellTiler::ensureBuffers(Slot& slot, std::uint32_t tileCount, std::uint32_t
     slot.entries = std::move(entries);
     slot.sortedEntries = std::move(sorted);
     slot.capacity = capacity;
-    slot.boundSized = !slot.recorded || slot.recordedEstimate == 0;  // wantedEntries took the estimate
+    slot.boundSized = !measured(slot);  // wantedEntries took the estimate
   }
   const VkDeviceSize bytes = tileBytes(tileCount, tileSize, slot.capacity);
   if (!slot.tiles || slot.tiles.size() < bytes)
@@ -90,8 +90,7 @@ void CellTiler::releaseUnneeded(std::uint32_t slotIndex, bool tiling, std::uint6
                                : held;
   // Lists the first frame made by the upper bound go as soon as a frame has measured what it
   // needs (the bound's extra is no history worth keeping); measured ones after `frames` frames.
-  const bool measured = slot.recorded && slot.recordedEstimate != 0;
-  const bool boundOversized = tiling && unneeded && slot.boundSized && measured;
+  const bool boundOversized = tiling && unneeded && slot.boundSized && measured(slot);
   // The slot's last submission is complete (its fence was waited for): nothing reads them now.
   if (slot.idle.due(unneeded, frames) || boundOversized) release(slotIndex);
 }
@@ -122,7 +121,7 @@ std::uint64_t CellTiler::bytesHeld() const {
 // and the slot's next frame has room.
 std::uint64_t CellTiler::wantedEntries(std::uint32_t slot, std::uint64_t entryEstimate) const {
   const Slot& s = slots_[slot];
-  if (!s.recorded || s.recordedEstimate == 0) return entryEstimate;
+  if (!measured(s)) return entryEstimate;
   const double growth = std::max(1.0, double(entryEstimate) / double(s.recordedEstimate));
   const double wanted = std::ceil(double(lastTotals(slot).entriesNeeded) * growth);
   return wanted >= 1.8e19 ? std::numeric_limits<std::uint64_t>::max() : std::uint64_t(wanted);

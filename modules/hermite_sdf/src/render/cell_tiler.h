@@ -100,6 +100,8 @@ class CellTiler {
     bool boundSized = false;             // its lists were made by the estimate, before any measure
     engine::gpu::IdleFrames idle;  // releaseUnneeded's frames in a row
   };
+  // Whether the slot has tiled a frame whose need (CellTileTotals::entriesNeeded) can be read.
+  static bool measured(const Slot& slot) { return slot.recorded && slot.recordedEstimate != 0; }
   void ensureBuffers(Slot& slot, std::uint32_t tileCount, std::uint32_t tileSize, std::uint64_t wanted,
                      std::uint32_t limit);
   std::uint64_t wantedEntries(std::uint32_t slot, std::uint64_t entryEstimate) const;

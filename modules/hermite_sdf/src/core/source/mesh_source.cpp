@@ -226,6 +226,25 @@ struct MeshSource::Impl {
   }
 };
 
+namespace {
+
+// `clean` less the triangles listed (indices into it).
+mesh::CleanTriangles withoutTriangles(const mesh::CleanTriangles& clean, const std::vector<std::uint32_t>& dropped) {
+  std::vector<bool> drop(clean.inputTriangle.size(), false);
+  for (const std::uint32_t t : dropped) drop[t] = true;
+  mesh::CleanTriangles kept;
+  kept.droppedZeroArea = clean.droppedZeroArea;
+  for (std::size_t t = 0; t < drop.size(); ++t) {
+    if (drop[t]) continue;
+    kept.corners.insert(kept.corners.end(), clean.corners.begin() + std::ptrdiff_t(3 * t),
+                        clean.corners.begin() + std::ptrdiff_t(3 * t + 3));
+    kept.inputTriangle.push_back(clean.inputTriangle[t]);
+  }
+  return kept;
+}
+
+}  // namespace
+
 engine::Expected<std::unique_ptr<MeshSource>> MeshSource::create(std::vector<glm::vec3> positions,
                                                                   std::vector<std::uint32_t> indices,
                                                                   const MeshSourceOptions& options) {
@@ -241,20 +260,9 @@ engine::Expected<std::unique_ptr<MeshSource>> MeshSource::create(std::vector<glm
     // dropped, so that distances are to the boundary (else the field touches zero inside the
     // solid, and cells are kept there). What is left bounds the same solid by the nonzero rule.
     const std::size_t interior = impl->interiorTriangles.size();
-    std::vector<bool> drop(clean->inputTriangle.size(), false);
-    for (const std::uint32_t t : impl->interiorTriangles) drop[t] = true;
-    mesh::CleanTriangles kept;
-    kept.droppedZeroArea = clean->droppedZeroArea;
-    for (std::size_t t = 0; t < drop.size(); ++t) {
-      if (drop[t]) continue;
-      kept.corners.insert(kept.corners.end(), clean->corners.begin() + std::ptrdiff_t(3 * t),
-                          clean->corners.begin() + std::ptrdiff_t(3 * t + 3));
-      kept.inputTriangle.push_back(clean->inputTriangle[t]);
-    }
-    impl = std::make_unique<Impl>(kept, options);
+    impl = std::make_unique<Impl>(withoutTriangles(*clean, impl->interiorTriangles), options);
     impl->stats.droppedInterior = interior;
     impl->stats.inputTriangles += interior;
-    impl->stats.partsMisoriented = impl->stats.partsMisoriented || !impl->stats.pseudoNormalSign;
   }
   return std::unique_ptr<MeshSource>(new MeshSource(std::move(impl)));
 }
