@@ -59,10 +59,25 @@ bool parseOnOff(std::string_view text, bool& out) {
   return true;
 }
 
-// Checks one command's key and value (tuning values against `scratch`, the tuning the script has
-// built so far, so that ranges are checked when the file is read, not halfway through a run).
-Status checkCommand(const ScriptCommand& c, TuningState& scratch) {
-  if (contains(kTuningKeys, c.key)) return setTuningValue(scratch, c.key, c.value);
+bool isTuning(const ScriptCommand& c) { return contains(kTuningKeys, c.key); }
+
+// Settings that follow one another on a line are one change, checked and applied together (as the
+// keys of a settings file): "padding=16 resolution=40" from K = 16 is the same as the other order.
+// Returns the end of the run of settings that starts at `begin`.
+std::vector<ScriptCommand>::const_iterator settingsRun(std::vector<ScriptCommand>::const_iterator begin,
+                                                       std::vector<ScriptCommand>::const_iterator end) {
+  return std::find_if_not(begin, end, isTuning);
+}
+
+Status applySettings(std::vector<ScriptCommand>::const_iterator begin, std::vector<ScriptCommand>::const_iterator end,
+                     TuningState& tuning) {
+  std::vector<TuningAssignment> values;
+  for (auto c = begin; c != end; ++c) values.push_back({c->key, c->value});
+  return setTuningValues(tuning, values);
+}
+
+// Checks one action's key and value.
+Status checkAction(const ScriptCommand& c) {
   if (contains(kBareActions, c.key)) {
     if (!c.value.empty()) return engine::makeError(fmt::format("'{}' takes no value", c.key));
     return {};
@@ -126,11 +141,20 @@ engine::Expected<Script> parseScript(std::string_view text, const std::string& n
     std::istringstream words(rest);
     for (std::string word; words >> word;) {
       const std::size_t eq = word.find('=');
-      ScriptCommand command{word.substr(0, eq), eq == std::string::npos ? "" : word.substr(eq + 1), number};
-      ENGINE_TRY(checkCommand(command, scratch).withContext(where));
-      frame.commands.push_back(std::move(command));
+      frame.commands.push_back({word.substr(0, eq), eq == std::string::npos ? "" : word.substr(eq + 1), number});
     }
     if (frame.commands.empty()) return engine::makeError(where + ": no commands after 'frame N:'");
+    // Settings against `scratch`, the tuning the script has built so far, so that ranges are
+    // checked when the file is read, not halfway through a run.
+    for (auto c = frame.commands.cbegin(); c != frame.commands.cend();) {
+      if (isTuning(*c)) {
+        const auto end = settingsRun(c, frame.commands.cend());
+        ENGINE_TRY(applySettings(c, end, scratch).withContext(where));
+        c = end;
+      } else {
+        ENGINE_TRY(checkAction(*c++).withContext(where));
+      }
+    }
     script.frames.push_back(std::move(frame));
   }
   return script;
@@ -154,13 +178,17 @@ Status useShaderDirectory(const std::string& path) {
   return {};
 }
 
-Status runCommand(const ScriptCommand& c, Viewer& viewer) {
-  if (contains(kTuningKeys, c.key)) {
-    TuningState tuning = viewer.tuning();
-    ENGINE_TRY(setTuningValue(tuning, c.key, c.value));
-    viewer.setTuning(tuning);
-    return {};
-  }
+// A run of settings: checked together, then against what the viewer's scene can draw.
+Status runSettings(std::vector<ScriptCommand>::const_iterator begin, std::vector<ScriptCommand>::const_iterator end,
+                   Viewer& viewer) {
+  TuningState tuning = viewer.tuning();
+  ENGINE_TRY(applySettings(begin, end, tuning));
+  ENGINE_TRY(viewer.checkTuning(tuning));
+  viewer.setTuning(tuning);
+  return {};
+}
+
+Status runAction(const ScriptCommand& c, Viewer& viewer) {
   bool flag = false;
   std::uint32_t w = 0, h = 0;
   int view = 0;
@@ -209,6 +237,7 @@ Status runCommand(const ScriptCommand& c, Viewer& viewer) {
     ENGINE_TRY(saveTuning(c.value, viewer.tuning()));
   } else if (c.key == "load-settings") {
     ENGINE_TRY_ASSIGN(TuningState loaded, loadTuning(c.value, viewer.tuning()));
+    ENGINE_TRY(viewer.checkTuning(loaded).withContext(c.value));
     viewer.setTuning(loaded);
   }
   return {};
@@ -217,9 +246,14 @@ Status runCommand(const ScriptCommand& c, Viewer& viewer) {
 }  // namespace
 
 Status runScriptFrame(const Script& script, const ScriptFrame& frame, Viewer& viewer) {
-  for (const ScriptCommand& c : frame.commands) {
-    engine::log::info("script frame {}: {}{}{}", frame.frame, c.key, c.value.empty() ? "" : "=", c.value);
-    ENGINE_TRY(runCommand(c, viewer).withContext(fmt::format("{}:{}", script.name, c.line)));
+  for (auto c = frame.commands.cbegin(); c != frame.commands.cend();) {
+    const auto end = isTuning(*c) ? settingsRun(c, frame.commands.cend()) : c + 1;
+    for (auto logged = c; logged != end; ++logged)
+      engine::log::info("script frame {}: {}{}{}", frame.frame, logged->key, logged->value.empty() ? "" : "=",
+                        logged->value);
+    Status ran = isTuning(*c) ? runSettings(c, end, viewer) : runAction(*c, viewer);
+    ENGINE_TRY(std::move(ran).withContext(fmt::format("{}:{}", script.name, c->line)));
+    c = end;
   }
   return {};
 }

@@ -1,6 +1,7 @@
 #pragma once
 // Test scripts for the Viewer (scene_runner --script FILE): lines "frame N: key=value ..." whose
-// settings go through setTuningValue -> Viewer::setTuning, the path the panel takes, and whose
+// settings go through setTuningValues -> Viewer::checkTuning -> Viewer::setTuning, the path the
+// panel takes (the settings of a line that follow one another are one change), and whose
 // actions are the panel's buttons. So a ctest under Xvfb drives every control. Format:
 //
 //   # comment

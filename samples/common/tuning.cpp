@@ -388,14 +388,21 @@ void applyTuning(const TuningState& tuning, hsdf::HermiteCellFeature::Settings& 
   tracers.centralDifferenceStep = tuning.centralDifferenceStep;
 }
 
-engine::Status setTuningValue(TuningState& tuning, std::string_view key, std::string_view value) {
-  json parsed = json::parse(value, nullptr, /*allow_exceptions=*/false);
-  if (parsed.is_discarded() || !(parsed.is_number() || parsed.is_boolean())) parsed = std::string(value);
+engine::Status setTuningValues(TuningState& tuning, std::span<const TuningAssignment> values) {
   TuningState changed = tuning;
-  ENGINE_TRY(readKey(std::string(key), parsed, changed).withContext(fmt::format("setting '{}'", key)));
+  for (const auto& [key, value] : values) {
+    json parsed = json::parse(value, nullptr, /*allow_exceptions=*/false);
+    if (parsed.is_discarded() || !(parsed.is_number() || parsed.is_boolean())) parsed = std::string(value);
+    ENGINE_TRY(readKey(std::string(key), parsed, changed).withContext(fmt::format("setting '{}'", key)));
+  }
   ENGINE_TRY(validateTuning(changed));
   tuning = changed;
   return {};
+}
+
+engine::Status setTuningValue(TuningState& tuning, std::string_view key, std::string_view value) {
+  const TuningAssignment one{key, value};
+  return setTuningValues(tuning, std::span(&one, 1));
 }
 
 engine::Expected<TuningState> loadTuning(const std::filesystem::path& file, const TuningState& base) {

@@ -5,6 +5,7 @@
 #include <cstdint>
 #include <filesystem>
 #include <optional>
+#include <span>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -214,9 +215,16 @@ void applyTuning(const TuningState& tuning, hsdf::HermiteCellFeature::Settings& 
 // node names; as text, names separated by commas), "lod", "lod_pixels_per_cell" (0.25..64), all optional. Loading starts from
 // `base`; an unknown key, a value of the wrong type or out of range is refused naming the key
 // and the file.
-// One setting given as text, "key=value" style, with the keys and checks of a settings file (the
+// Settings given as text, "key=value" style, with the keys and checks of a settings file (the
 // value is read as JSON when it parses as a number or true/false, else as a name): how a --script
-// line writes the TuningState. Errors name the key.
+// line writes the TuningState. The values are checked together, after all are read, as a settings
+// file's: "padding=16 resolution=40" from K = 16 passes as "resolution=40 padding=16" does. Errors
+// name the key; on an error `tuning` is unchanged.
+struct TuningAssignment {
+  std::string_view key;
+  std::string_view value;
+};
+engine::Status setTuningValues(TuningState& tuning, std::span<const TuningAssignment> values);
 engine::Status setTuningValue(TuningState& tuning, std::string_view key, std::string_view value);
 
 engine::Expected<TuningState> loadTuning(const std::filesystem::path& file, const TuningState& base = {});

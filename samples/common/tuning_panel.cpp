@@ -281,6 +281,12 @@ void TuningPanel::drawStatistics() {
 void TuningPanel::drawComparison() {
   if (!ImGui::CollapsingHeader("Compare (split screen, difference view)", ImGuiTreeNodeFlags_DefaultOpen)) return;
   TuningState t = viewer_.tuning();
+  TuningState splitOn = t;
+  splitOn.split = SplitMode::Vertical;
+  if (const engine::Status drawable = viewer_.checkTuning(splitOn); !drawable) {  // a scene of separate objects
+    ImGui::TextWrapped("%s", drawable.error().message.c_str());
+    return;
+  }
   bool changed = false;
   int split = int(t.split);
   ImGui::TextUnformatted("split");

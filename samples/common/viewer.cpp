@@ -112,6 +112,22 @@ void Viewer::setTuning(const TuningState& tuning) {
   warnIfCellsOnly();
 }
 
+Status Viewer::checkTuning(const TuningState& t) const {
+  if (t.method == Method::Mesh && !hasMeshes())
+    return makeError("method mesh: this scene has no triangles (a .hsdf file, an analytic shape); draw it with cells, "
+                     "trilinear or hermite");
+  if (!canRebake() && (t.resolution != tuning_.resolution || t.padding != tuning_.padding))
+    return makeError(fmt::format("resolution {} / padding {}: a .hsdf file is drawn at the K it was baked with ({}); "
+                                 "there is no source to bake again",
+                                 t.resolution, t.padding, tuning_.resolution));
+  if (!canRebake() && t.lod)
+    return makeError("lod: levels of detail bake the source again at K/2, K/4, ...; a .hsdf file has no source");
+  if (sceneObjects_.loaded() && comparing(t))
+    return makeError("split / difference: the comparison draws one baked SDF; a scene of separate objects has one "
+                     "per mesh");
+  return {};
+}
+
 // A tracer asked for where no bake can give it the dense field (a cells-only .hsdf: no source to
 // re-bake) draws the cells (drawableMethod); said once per such request, in the log and the panel.
 void Viewer::warnIfCellsOnly() {

@@ -94,8 +94,8 @@ struct SceneDesc {
   bool groundPlane = true;
   // A glTF scene as separate objects: each mesh baked once into its own asset (at the tuning's K
   // and padding), drawn at every node that places it, except nodes drawn as triangles
-  // (TuningState::nodeDraw, triangleNodes, the nodes' extras: hermite_sdf/render/scene_objects.h). The
-  // assets are baked when the scene loads and kept: a new K does not re-bake them.
+  // (TuningState::nodeDraw, triangleNodes, the nodes' extras: hermite_sdf/render/scene_objects.h). A
+  // new K or padding bakes every mesh again (on the frame's thread); there is no comparison.
   bool objects = false;
 };
 
@@ -147,6 +147,11 @@ class Viewer {
   // Applied at the next step(). A new resolution or padding re-bakes the baked SDF on a worker
   // thread (hsdf::BakeJob); the old asset keeps drawing until the new one is ready.
   void setTuning(const TuningState& tuning);
+  // What this scene cannot draw, said before it is asked for (a script, a settings file loaded
+  // while running, the panel; the command line refuses the same before a Viewer exists): the mesh
+  // method without triangles, a new K, padding or levels of detail without a source to bake (a
+  // .hsdf file), a comparison of a scene of separate objects.
+  engine::Status checkTuning(const TuningState& tuning) const;
   // The running re-bake (progress(), cancel()), or null.
   hsdf::BakeJob* bakeJob() { return bakes_.job(); }
   // Blocks until a running re-bake is done and in the scene, and with TuningState::lod until its
@@ -181,8 +186,9 @@ class Viewer {
   const std::string& shaderReloadReport() const { return shaderReloadReport_; }
   // The SDF in the scene (shown or hidden by the method), or null.
   const hsdf::SdfAsset* sdfAsset() const;
-  // Whether a new K can be baked (a glTF scene or an analytic shape; not a .hsdf file).
-  bool canRebake() const { return bakes_.source() != nullptr; }
+  // Whether a new K can be baked (a glTF scene, its separate objects or an analytic shape; not a
+  // .hsdf file).
+  bool canRebake() const { return bakes_.source() != nullptr || sceneObjects_.loaded(); }
   // Whether Method::Mesh has triangles to show (a glTF scene).
   bool hasMeshes() const { return !meshEntities_.empty(); }
   // SceneDesc::objects: the entities drawing a mesh's shared asset (one per SDF node), and the

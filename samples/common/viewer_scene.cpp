@@ -167,6 +167,7 @@ Status Viewer::addSdfFile(const std::filesystem::path& file, bool frameIt) {
     boundsMax_ = glm::vec3(bounds.max);
   }
   bakes_.setBaked(int(asset->cells.grid.resolution), bakes_.padding());
+  tuning_.resolution = int(asset->cells.grid.resolution);  // what the panel and saved settings say
   bakes_.add(std::move(asset), glm::vec3(0.0f));  // before the glTF scene's color is known: uncolored
   return {};
 }

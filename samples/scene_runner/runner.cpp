@@ -139,10 +139,11 @@ Status runFrames(const Options& options, samples::Viewer& viewer) {
 }  // namespace
 
 Status run(const Options& options) {
-  if (!options.saveSettings.empty())
-    ENGINE_TRY(samples::saveTuning(options.saveSettings, options.tuning).withContext("--save-settings"));
   std::unique_ptr<samples::Viewer> viewer;
   Status status = createApp(options, viewer);
+  // The viewer's settings, as loaded: a .hsdf file's K is the one it was baked with.
+  if (status && !options.saveSettings.empty())
+    status = samples::saveTuning(options.saveSettings, viewer->tuning()).withContext("--save-settings");
   if (status) status = runFrames(options, *viewer);
   // Validation messages during teardown count too; both errors are told (a run the window went on
   // through still ends with an error, which must not hide validation messages).

@@ -42,3 +42,23 @@ file(SHA256 ${WORK}/sdf_trace_later.png laterImage)
 if(NOT cellsImage STREQUAL laterImage)
   message(FATAL_ERROR "the cells drawn for a tracer differ from --method cells (sdf_cells.png, sdf_trace_later.png)")
 endif()
+# What a .hsdf file cannot do is refused when a script asks for it, as on the command line, naming
+# the script's line (before: method=mesh drew only the ground, resolution=16 was ignored); the
+# settings the runner saves say the K the file was baked with (before: the default, 64).
+foreach(run "method=mesh;this scene has no triangles" "resolution=16;drawn at the K it was baked with \\(20\\)"
+            "lod=true;a .hsdf file has no source")
+  list(GET run 0 line)
+  list(GET run 1 expected)
+  file(WRITE ${WORK}/sdf_refused.txt "frame 1: ${line}\n")
+  execute_process(COMMAND ${RUNNER} --headless --sdf ${dense} --size 32x32 --frames 3 --script ${WORK}/sdf_refused.txt
+                  RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err)
+  if(rc EQUAL 0 OR NOT "${out}${err}" MATCHES "sdf_refused.txt:1: .*${expected}")
+    message(FATAL_ERROR "script '${line}' on a .hsdf file must be refused naming the line, got (${rc}):\n${out}${err}")
+  endif()
+endforeach()
+execute_process(COMMAND ${RUNNER} --headless --sdf ${dense} --size 32x32 --save-settings ${WORK}/sdf_settings.json
+                RESULT_VARIABLE rc ERROR_VARIABLE err)
+file(READ ${WORK}/sdf_settings.json saved)
+if(NOT rc EQUAL 0 OR NOT saved MATCHES "\"resolution\": 20,")
+  message(FATAL_ERROR "the saved settings of a .hsdf file must say its K (20), got (${rc}): ${saved}${err}")
+endif()

@@ -78,5 +78,20 @@ TEST(Script, BadLinesNameFileLineAndProblem) {
   EXPECT_TRUE(contains(missing.error().message, "no_such_script.txt")) << missing.error().message;
 }
 
+// Tricky: settings that follow one another on a line are one change, checked together as a
+// settings file's keys. From K = 16 (padding 1), "padding=16" alone leaves no cells inside the
+// padding, so checking key by key refused "padding=16 resolution=40" but took the other order.
+// An action between two settings still splits them: each part must stand on its own.
+TEST(Script, SettingsOnALineAreCheckedTogether) {
+  for (const char* line : {"frame 1: padding=16 resolution=40\n", "frame 1: resolution=40 padding=16\n"}) {
+    const auto script = parseScript(std::string("frame 0: resolution=16\n") + line, "s.txt");
+    EXPECT_TRUE(script.ok()) << line << script.error().message;
+  }
+  const auto split = parseScript("frame 0: resolution=16\nframe 1: padding=16 panel=on resolution=40\n", "s.txt");
+  ASSERT_FALSE(split.ok());
+  EXPECT_TRUE(contains(split.error().message, "s.txt:2: --resolution 16 leaves no cells inside --padding 16"))
+      << split.error().message;
+}
+
 }  // namespace
 }  // namespace samples

@@ -198,6 +198,31 @@ TEST(ViewerObjects, AnOpenMeshDrawsItsTrianglesAndTheSceneLoads) {
 // it) and none at K = 16 (it falls between two), so a new K would turn its two nodes between SDF
 // and triangles, which the entities made at load cannot follow. The new K is refused, naming the
 // slab, in bakeError() as the panel shows it; the K drawn stays, and so do the drawn nodes.
+// Tricky: a scene of separate objects bakes again at a new K (the panel showed no K slider: it
+// asked whether the one baked object had a source) but draws no comparison (the command line
+// refuses --split with --objects; the panel and a script got a split that drew neither side).
+TEST(ViewerObjects, BakeAgainButDoNotCompare) {
+  auto viewer = makeViewer();
+  ASSERT_NE(viewer, nullptr);
+  SceneDesc scene;
+  scene.gltf = kGridScene;
+  scene.objects = true;
+  TuningState tuning;
+  tuning.resolution = 16;
+  ASSERT_TRUE(viewer->loadScene(scene, tuning).ok());
+  EXPECT_TRUE(viewer->canRebake());
+  TuningState t = viewer->tuning();
+  t.resolution = 20;
+  t.method = Method::Mesh;
+  EXPECT_TRUE(viewer->checkTuning(t).ok());
+  t = viewer->tuning();
+  t.difference = true;
+  const engine::Status compared = viewer->checkTuning(t);
+  ASSERT_FALSE(compared.ok());
+  EXPECT_NE(compared.error().message.find("a scene of separate objects"), std::string::npos)
+      << compared.error().message;
+}
+
 TEST(ViewerObjects, ANewResolutionThatWouldTurnNodesToTrianglesIsRefused) {
   for (const int load : {17, 16}) {
     auto viewer = viewTestScene("thin_slab.gltf", load);

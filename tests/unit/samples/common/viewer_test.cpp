@@ -15,6 +15,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "hermite_sdf/core/hsdf_file.h"
 #include "test_viewer.h"
 
 namespace samples {
@@ -566,6 +567,67 @@ TEST(Viewer, ASceneFarFromTheOriginIsBakedAboutItsCentre) {
   ASSERT_GT(hits, 500);
   EXPECT_LE(coverage, 2) << "of " << hits << " covered pixels";
   EXPECT_LE(colour, 6) << "of " << hits << " covered pixels";
+}
+
+// Tricky: the panel, a script and a settings file loaded while running write the same TuningState
+// the command line checks up front, but after the scene is known. A .hsdf file has no triangles and
+// no source to bake (before: a script's method=mesh drew only the ground, a new K was ignored and
+// the saved settings named the default K, not the file's); an analytic shape has no triangles but
+// bakes again at any K.
+TEST(Viewer, TuningTheSceneCannotDrawIsRefused) {
+  auto shape = viewTorus(20);
+  ASSERT_NE(shape, nullptr);
+  TuningState t = shape->tuning();
+  EXPECT_TRUE(shape->checkTuning(t).ok());
+  t.resolution = 24;
+  t.lod = true;
+  t.split = SplitMode::Vertical;
+  EXPECT_TRUE(shape->checkTuning(t).ok()) << "a shape bakes again and compares";
+  t = shape->tuning();
+  t.method = Method::Mesh;
+  const engine::Status mesh = shape->checkTuning(t);
+  ASSERT_FALSE(mesh.ok());
+  EXPECT_NE(mesh.error().message.find("method mesh: this scene has no triangles"), std::string::npos);
+
+  const hsdf::SdfAsset& asset = *theSdf(*shape).asset;
+  hsdf::HsdfContentsView contents;
+  contents.grid = asset.field.grid;
+  contents.dense = &asset.field;
+  contents.cells = &asset.cells;
+  const auto bytes = hsdf::serializeHsdf(contents);
+  ASSERT_TRUE(bytes.ok()) << bytes.error().message;
+  const std::filesystem::path file = std::filesystem::temp_directory_path() / "viewer_tuning_refused.hsdf";
+  std::ofstream(file, std::ios::binary).write(reinterpret_cast<const char*>(bytes->data()), std::streamsize(bytes->size()));
+  EXPECT_TRUE(shape->close().ok());
+
+  auto viewer = makeViewer();
+  ASSERT_NE(viewer, nullptr);
+  SceneDesc scene;
+  scene.sdfFile = file;
+  TuningState tuning;
+  tuning.method = hsdf::RenderMethod::Cells;
+  ASSERT_EQ(tuning.resolution, 64) << "the default must differ from the file's K for this test";
+  ASSERT_TRUE(viewer->loadScene(scene, tuning).ok());
+  EXPECT_EQ(viewer->tuning().resolution, 20) << "the K the file was baked with";
+  t = viewer->tuning();
+  t.method = hsdf::RenderMethod::HermiteSphereTrace;
+  t.subdivisions = 5;
+  EXPECT_TRUE(viewer->checkTuning(t).ok()) << "what the file can draw";
+  for (const auto& [change, expected] :
+       std::vector<std::pair<void (*)(TuningState&), std::string>>{
+           {[](TuningState& s) { s.method = Method::Mesh; }, "this scene has no triangles"},
+           {[](TuningState& s) { s.resolution = 24; }, "drawn at the K it was baked with (20)"},
+           {[](TuningState& s) { s.padding += 1; }, "drawn at the K it was baked with (20)"},
+           {[](TuningState& s) { s.lod = true; }, "a .hsdf file has no source"}}) {
+    t = viewer->tuning();
+    change(t);
+    const engine::Status refused = viewer->checkTuning(t);
+    ASSERT_FALSE(refused.ok()) << expected;
+    EXPECT_NE(refused.error().message.find(expected), std::string::npos) << refused.error().message;
+  }
+  EXPECT_FALSE(viewer->canRebake());
+  EXPECT_TRUE(viewer->close().ok());
+  std::filesystem::remove(file);
 }
 
 }  // namespace
