@@ -15,14 +15,14 @@ MeshHandle MeshPool::add(std::span<const glm::vec3> positions, std::span<const g
   range.vertexOffset = static_cast<std::int32_t>(vertices_.size());
   range.boundsMin = glm::vec3(std::numeric_limits<float>::max());
   range.boundsMax = glm::vec3(std::numeric_limits<float>::lowest());
-  for (std::size_t i = 0; i < positions.size(); ++i) {
-    vertices_.push_back({positions[i], normals[i]});
-    range.boundsMin = glm::min(range.boundsMin, positions[i]);
-    range.boundsMax = glm::max(range.boundsMax, positions[i]);
-  }
+  for (std::size_t i = 0; i < positions.size(); ++i) vertices_.push_back({positions[i], normals[i]});
+  // The bounds of what is drawn: a vertex no triangle uses (a glTF accessor may hold any) must not
+  // frame the scene, size its ground or set its near plane.
   for (std::uint32_t index : indices) {
     if (index >= positions.size()) throw std::out_of_range("MeshPool::add: index out of range");
     indices_.push_back(index);
+    range.boundsMin = glm::min(range.boundsMin, positions[index]);
+    range.boundsMax = glm::max(range.boundsMax, positions[index]);
   }
   ranges_.push_back(range);
   dirty_ = true;

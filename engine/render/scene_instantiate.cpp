@@ -54,8 +54,9 @@ InstantiatedScene instantiateScene(const scene::SceneData& data, ecs::Registry& 
       registry.emplace<scene::Parent>(part, scene::Parent{entity});
       registry.emplace<MeshRenderable>(part, renderable);
       result.renderables.push_back(part);
-      for (const glm::vec3& position : primitive.positions) {
-        const glm::vec3 world = glm::vec3(node.world * glm::vec4(position, 1.0f));
+      // What the triangles use (MeshPool::add's bounds): an unused vertex must not frame the scene.
+      for (const std::uint32_t index : primitive.indices) {
+        const glm::vec3 world = glm::vec3(node.world * glm::vec4(primitive.positions[index], 1.0f));
         lo = glm::min(lo, world);
         hi = glm::max(hi, world);
       }

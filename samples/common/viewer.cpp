@@ -122,6 +122,13 @@ Status Viewer::checkTuning(const TuningState& t) const {
                                  t.resolution, t.padding, tuning_.resolution));
   if (!canRebake() && t.lod)
     return makeError("lod: levels of detail bake the source again at K/2, K/4, ...; a .hsdf file has no source");
+  // SdfObjects reads them when the scene loads and keeps its nodes' choice (a script changing them
+  // was taken and drew nothing new).
+  if (t.nodeDraw != tuning_.nodeDraw || t.triangleNodes != tuning_.triangleNodes)
+    return makeError(sceneObjects_.loaded()
+                         ? "node_draw / triangle_nodes: chosen per node when the scene loads (--node-draw, "
+                           "--triangle-nodes); load the scene again to change them"
+                         : "node_draw / triangle_nodes: choose per node of a scene loaded with --objects");
   if (sceneObjects_.loaded() && comparing(t))
     return makeError("split / difference: the comparison draws one baked SDF; a scene of separate objects has one "
                      "per mesh");

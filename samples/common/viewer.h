@@ -150,7 +150,8 @@ class Viewer {
   // What this scene cannot draw, said before it is asked for (a script, a settings file loaded
   // while running, the panel; the command line refuses the same before a Viewer exists): the mesh
   // method without triangles, a new K, padding or levels of detail without a source to bake (a
-  // .hsdf file), a comparison of a scene of separate objects.
+  // .hsdf file), a comparison of a scene of separate objects, another choice of the nodes drawn as
+  // triangles (made when the scene loads).
   engine::Status checkTuning(const TuningState& tuning) const;
   // The running re-bake (progress(), cancel()), or null.
   hsdf::BakeJob* bakeJob() { return bakes_.job(); }

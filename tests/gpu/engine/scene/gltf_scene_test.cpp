@@ -168,6 +168,28 @@ TEST_F(GpuTest, BunnyMatchesCpuRayCastOfItsTriangles) {
   }
 }
 
+// Why: a glTF accessor may hold vertices no triangle uses (an exporter's leftovers, a shared
+// buffer). The scene's bounds frame the camera, size the ground and set the near plane: one unused
+// vertex 100 units away made a unit triangle cover 4 pixels of 4,643. The bounds, the mesh pool's
+// (frustum culling) and the scene's, are those of the triangles.
+TEST_F(GpuTest, AVertexNoTriangleUsesDoesNotBoundTheScene) {
+  scene::SceneData data;
+  scene::MeshPrimitiveData triangle;
+  triangle.positions = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {100, 0, 0}};
+  triangle.normals.assign(4, glm::vec3(0, 0, 1));
+  triangle.indices = {0, 1, 2};
+  data.meshes.push_back({"triangle", {triangle}});
+  scene::NodeData node;
+  node.mesh = 0;
+  node.local = node.world = glm::translate(glm::mat4(1.0f), glm::vec3(0, 0, 2));
+  data.nodes.push_back(node);
+  const render::InstantiatedScene instantiated = render::instantiateScene(data, registry_, *pool_);
+  EXPECT_EQ(instantiated.boundsMin, glm::vec3(0, 0, 2));
+  EXPECT_EQ(instantiated.boundsMax, glm::vec3(1, 1, 2));
+  const render::MeshRange& range = pool_->range(registry_.get<render::MeshRenderable>(instantiated.renderables[0]).mesh);
+  EXPECT_EQ(range.boundsMax, glm::vec3(1, 1, 0));
+}
+
 // `data` with a new root node (local matrix `parent`) above its roots, whose local matrices are
 // premultiplied by `local`; world matrices recomputed (parents come before their children).
 scene::SceneData placeUnder(const scene::SceneData& data, const glm::mat4& parent, const glm::mat4& local) {

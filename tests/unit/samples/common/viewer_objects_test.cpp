@@ -200,7 +200,8 @@ TEST(ViewerObjects, AnOpenMeshDrawsItsTrianglesAndTheSceneLoads) {
 // slab, in bakeError() as the panel shows it; the K drawn stays, and so do the drawn nodes.
 // Tricky: a scene of separate objects bakes again at a new K (the panel showed no K slider: it
 // asked whether the one baked object had a source) but draws no comparison (the command line
-// refuses --split with --objects; the panel and a script got a split that drew neither side).
+// refuses --split with --objects; the panel and a script got a split that drew neither side), and
+// keeps the nodes' choice of triangles it loaded with.
 TEST(ViewerObjects, BakeAgainButDoNotCompare) {
   auto viewer = makeViewer();
   ASSERT_NE(viewer, nullptr);
@@ -221,6 +222,14 @@ TEST(ViewerObjects, BakeAgainButDoNotCompare) {
   ASSERT_FALSE(compared.ok());
   EXPECT_NE(compared.error().message.find("a scene of separate objects"), std::string::npos)
       << compared.error().message;
+  // The nodes' choice is made when the scene loads (a script's triangle_nodes=... was taken and
+  // changed nothing).
+  t = viewer->tuning();
+  t.triangleNodes = {"bogus"};
+  const engine::Status nodes = viewer->checkTuning(t);
+  ASSERT_FALSE(nodes.ok());
+  EXPECT_NE(nodes.error().message.find("chosen per node when the scene loads"), std::string::npos)
+      << nodes.error().message;
 }
 
 TEST(ViewerObjects, ANewResolutionThatWouldTurnNodesToTrianglesIsRefused) {
