@@ -162,7 +162,7 @@ TEST(SceneObjects, MeshesThatCannotBeSdfsDrawTrianglesAndAreNamed) {
   for (std::size_t n = 0; n < scene.nodes.size(); ++n)
     EXPECT_EQ(objects->draws[n], scene.nodes[n].mesh >= 2 ? NodeDraw::Triangles : NodeDraw::Sdf) << scene.nodes[n].name;
   ASSERT_EQ(objects->fallbacks.size(), 2u);
-  EXPECT_NE(objects->fallbacks[0].find("mesh 2 'leaf': drawn as triangles: the baked field has no surface"),
+  EXPECT_NE(objects->fallbacks[0].find("mesh 2 'leaf': drawn as triangles: mesh source: the mesh bounds no volume"),
             std::string::npos)
       << objects->fallbacks[0];
   EXPECT_NE(objects->fallbacks[1].find("mesh 3 'needle': drawn as triangles: "), std::string::npos)

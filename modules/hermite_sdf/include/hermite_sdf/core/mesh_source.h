@@ -73,6 +73,10 @@ struct MeshSourceStats {
   // Triangles of parts with the solid on both sides (the inner of two boxes nested with the same
   // orientation): not its boundary, so dropped; counted in inputTriangles, not in triangles.
   std::size_t droppedInterior = 0;
+  // Triangles of open parts that bound no volume (mesh_sign.h, partsBoundingNothing: a floor quad
+  // beside a closed ball), dropped; counted in inputTriangles, not in triangles. A mesh of nothing
+  // else is refused.
+  std::size_t droppedOpen = 0;
   std::size_t bvhNodes = 0;
 };
 

@@ -23,6 +23,8 @@ std::string describeMesh(const std::string& name, const MeshSourceStats& s) {
   if (s.droppedZeroArea > 0) description += fmt::format(" ({} zero-area dropped)", s.droppedZeroArea);
   if (s.droppedInterior > 0)
     description += fmt::format(" ({} inside the solid dropped: a part nested in another)", s.droppedInterior);
+  if (s.droppedOpen > 0)
+    description += fmt::format(" ({} dropped: open parts that bound no volume, such as a sheet)", s.droppedOpen);
   description += s.closed ? ", closed" : fmt::format(", open ({} boundary edges)", s.boundaryEdges);
   description += s.pseudoNormalSign    ? ", sign from pseudonormals"
                  : s.partsMisoriented ? ", sign from the winding number (parts nested with the same orientation or "

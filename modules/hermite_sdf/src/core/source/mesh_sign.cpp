@@ -119,8 +119,20 @@ bool hasSelfIntersections(const TriangleBvh& bvh, const std::vector<std::uint32_
   return false;
 }
 
-PartSides partSides(const TriangleBvh& bvh, const std::vector<std::uint32_t>& vertexOf, double windingBeta) {
-  // Parts: triangles joined by welded vertices (union-find over the vertices).
+namespace {
+
+// Twice the area of BVH triangle t.
+double doubleArea(const TriangleBvh& bvh, std::uint32_t t) {
+  return glm::length(glm::cross(bvh.corner(t, 1) - bvh.corner(t, 0), bvh.corner(t, 2) - bvh.corner(t, 0)));
+}
+
+// Connected parts: triangles joined by welded vertices (union-find over the vertices).
+struct Parts {
+  std::vector<std::uint32_t> of;  // part of each BVH triangle, 0..count-1
+  std::uint32_t count = 0;
+};
+
+Parts connectedParts(const TriangleBvh& bvh, const std::vector<std::uint32_t>& vertexOf) {
   std::vector<std::uint32_t> parent(vertexOf.empty() ? 0 : *std::max_element(vertexOf.begin(), vertexOf.end()) + 1);
   for (std::uint32_t v = 0; v < parent.size(); ++v) parent[v] = v;
   const auto find = [&parent](std::uint32_t v) {
@@ -130,40 +142,95 @@ PartSides partSides(const TriangleBvh& bvh, const std::vector<std::uint32_t>& ve
   const auto triangles = static_cast<std::uint32_t>(bvh.triangleCount());
   for (std::uint32_t t = 0; t < triangles; ++t)
     for (int k = 1; k < 3; ++k) parent[find(vertexOf[3 * std::size_t(t) + std::size_t(k)])] = find(vertexOf[3 * std::size_t(t)]);
-  // Each part's largest triangle: the points off it are farthest from its edges.
-  std::vector<std::uint32_t> largest(parent.size(), UINT32_MAX);
-  std::vector<double> largestArea(parent.size(), -1.0);
+  Parts parts;
+  std::vector<std::uint32_t> number(parent.size(), UINT32_MAX);
+  parts.of.resize(triangles);
   for (std::uint32_t t = 0; t < triangles; ++t) {
-    const std::uint32_t part = find(vertexOf[3 * std::size_t(t)]);
-    const double area = glm::length(glm::cross(bvh.corner(t, 1) - bvh.corner(t, 0), bvh.corner(t, 2) - bvh.corner(t, 0)));
-    if (area > largestArea[part]) {
+    std::uint32_t& n = number[find(vertexOf[3 * std::size_t(t)])];
+    if (n == UINT32_MAX) n = parts.count++;
+    parts.of[t] = n;
+  }
+  return parts;
+}
+
+// The winding numbers just in front of and just behind triangle t at its centroid. The step is a
+// millionth of the triangle's smallest altitude (a sliver's length says nothing of how thin the
+// part is): far less than the part's thickness or its distance to another part, far enough that
+// the triangle's own solid angle is ~2 pi, and above the coordinates' rounding.
+std::pair<double, double> windingBothSides(const TriangleBvh& bvh, std::uint32_t t, double windingBeta) {
+  const glm::dvec3 a = bvh.corner(t, 0), b = bvh.corner(t, 1), c = bvh.corner(t, 2);
+  const glm::dvec3 centroid = (a + b + c) / 3.0;
+  const double longest = std::max({glm::length(b - a), glm::length(c - b), glm::length(a - c)});
+  const glm::dvec3 magnitude = glm::abs(centroid);
+  const double offset =
+      std::max(1e-6 * doubleArea(bvh, t) / longest, 1e-13 * std::max({magnitude.x, magnitude.y, magnitude.z}));
+  const glm::dvec3 step = offset * bvh.unitNormal(t);
+  return {bvh.windingNumber(centroid + step, windingBeta), bvh.windingNumber(centroid - step, windingBeta)};
+}
+
+// A winding number this far from 1/2 says inside or outside of an open mesh for sure.
+constexpr double kSeparatingMargin = 0.1;
+// Points sampled over the whole mesh, by area (at least one per part, at most kMaxPartSamples).
+constexpr double kOpenSamples = 4096.0;
+constexpr std::size_t kMaxPartSamples = 64;
+
+}  // namespace
+
+PartSides partSides(const TriangleBvh& bvh, const std::vector<std::uint32_t>& vertexOf, double windingBeta) {
+  const Parts parts = connectedParts(bvh, vertexOf);
+  // Each part's largest triangle: the points off it are farthest from its edges.
+  std::vector<std::uint32_t> largest(parts.count, UINT32_MAX);
+  std::vector<double> largestArea(parts.count, -1.0);
+  for (std::uint32_t t = 0; t < parts.of.size(); ++t) {
+    const std::uint32_t part = parts.of[t];
+    if (const double area = doubleArea(bvh, t); area > largestArea[part]) {
       largestArea[part] = area;
       largest[part] = t;
     }
   }
   PartSides sides;
-  std::vector<bool> interiorPart(parent.size(), false);
-  for (std::uint32_t part = 0; part < parent.size(); ++part) {
-    const std::uint32_t t = largest[part];
-    if (t == UINT32_MAX) continue;
-    const glm::dvec3 a = bvh.corner(t, 0), b = bvh.corner(t, 1), c = bvh.corner(t, 2);
-    const glm::dvec3 centroid = (a + b + c) / 3.0;
-    // A millionth of the triangle's smallest altitude off it (a sliver's length says nothing of
-    // how thin the part is): far less than the part's thickness or its distance to another part,
-    // far enough that the triangle's own solid angle is ~2 pi, and above the coordinates' rounding.
-    const double longest = std::max({glm::length(b - a), glm::length(c - b), glm::length(a - c)});
-    const glm::dvec3 magnitude = glm::abs(centroid);
-    const double offset = std::max(1e-6 * largestArea[part] / longest,
-                                   1e-13 * std::max({magnitude.x, magnitude.y, magnitude.z}));
-    const glm::dvec3 step = offset * bvh.unitNormal(t);
-    const bool front = std::abs(bvh.windingNumber(centroid + step, windingBeta)) >= 0.5;
-    const bool back = std::abs(bvh.windingNumber(centroid - step, windingBeta)) >= 0.5;
-    sides.faceOutside = sides.faceOutside && !front;
-    interiorPart[part] = front && back;
+  std::vector<bool> interiorPart(parts.count, false);
+  for (std::uint32_t part = 0; part < parts.count; ++part) {
+    const auto [front, back] = windingBothSides(bvh, largest[part], windingBeta);
+    sides.faceOutside = sides.faceOutside && std::abs(front) < 0.5;
+    interiorPart[part] = std::abs(front) >= 0.5 && std::abs(back) >= 0.5;
   }
-  for (std::uint32_t t = 0; t < triangles; ++t)
-    if (interiorPart[find(vertexOf[3 * std::size_t(t)])]) sides.interior.push_back(t);
+  for (std::uint32_t t = 0; t < parts.of.size(); ++t)
+    if (interiorPart[parts.of[t]]) sides.interior.push_back(t);
   return sides;
+}
+
+std::vector<std::uint32_t> partsBoundingNothing(const TriangleBvh& bvh, const std::vector<std::uint32_t>& vertexOf,
+                                                double windingBeta) {
+  const Parts parts = connectedParts(bvh, vertexOf);
+  std::vector<std::vector<std::uint32_t>> members(parts.count);
+  std::vector<double> partArea(parts.count, 0.0);
+  double total = 0.0;
+  for (std::uint32_t t = 0; t < parts.of.size(); ++t) {
+    members[parts.of[t]].push_back(t);
+    partArea[parts.of[t]] += doubleArea(bvh, t);
+    total += doubleArea(bvh, t);
+  }
+  std::vector<bool> nothing(parts.count, false);
+  for (std::uint32_t part = 0; part < parts.count; ++part) {
+    // Stratified by area: sample i at the triangle holding area (i + 1/2) / n of the part.
+    const auto n = std::size_t(std::clamp(std::ceil(kOpenSamples * partArea[part] / total), 1.0, double(kMaxPartSamples)));
+    std::size_t separating = 0, sample = 0;
+    double before = 0.0;
+    for (const std::uint32_t t : members[part]) {
+      before += doubleArea(bvh, t);
+      for (; sample < n && (double(sample) + 0.5) / double(n) * partArea[part] <= before; ++sample) {
+        const auto [front, back] = windingBothSides(bvh, t, windingBeta);
+        const bool decisive = std::abs(front - 0.5) >= kSeparatingMargin && std::abs(back - 0.5) >= kSeparatingMargin;
+        separating += decisive && (front >= 0.5) != (back >= 0.5);
+      }
+    }
+    nothing[part] = 2 * separating < n;
+  }
+  std::vector<std::uint32_t> triangles;
+  for (std::uint32_t t = 0; t < parts.of.size(); ++t)
+    if (nothing[parts.of[t]]) triangles.push_back(t);
+  return triangles;
 }
 
 }  // namespace hsdf::mesh

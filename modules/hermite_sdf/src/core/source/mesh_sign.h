@@ -51,4 +51,12 @@ struct PartSides {
 };
 PartSides partSides(const TriangleBvh& bvh, const std::vector<std::uint32_t>& vertexOf, double windingBeta);
 
+// The BVH triangles of a mesh with boundary edges whose connected part bounds no volume: across
+// less than half of its area (sampled) the generalized winding number does not go decisively from
+// one side of 1/2 to the other. An open sheet (a terrain, a plane: the winding number is 1/2 - e
+// under it and -1/2 - e over it, so its sign follows rounding) and triangles doubled with both
+// windings (0 on both sides) are such parts; a bowl, or a closed surface with a hole, is not.
+std::vector<std::uint32_t> partsBoundingNothing(const TriangleBvh& bvh, const std::vector<std::uint32_t>& vertexOf,
+                                                double windingBeta);
+
 }  // namespace hsdf::mesh

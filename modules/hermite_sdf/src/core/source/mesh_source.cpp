@@ -5,6 +5,8 @@
 #include <limits>
 #include <optional>
 
+#include <fmt/format.h>
+
 #include "source/mesh_bvh.h"
 #include "source/mesh_closest.h"
 #include "source/mesh_input.h"
@@ -70,6 +72,7 @@ struct MeshSource::Impl {
   double onSurfaceDistance = 0.0;
   std::uint64_t id = nextSourceId.fetch_add(1);
   std::vector<std::uint32_t> interiorTriangles;  // of `clean`: parts inside the solid (PartSides)
+  std::vector<std::uint32_t> openTriangles;      // of `clean`: open parts bounding nothing
 
   Impl(const mesh::CleanTriangles& clean, const MeshSourceOptions& opts)
       : bvh(clean.corners), tree(bvh), inputTriangle(clean.inputTriangle), options(opts) {
@@ -89,6 +92,9 @@ struct MeshSource::Impl {
     stats.closed = topology.closed;
     stats.bvhNodes = bvh.nodeCount();
     if (stats.closed) stats.selfIntersecting = mesh::hasSelfIntersections(bvh, vertexOf);
+    if (!stats.closed)
+      for (const std::uint32_t t : mesh::partsBoundingNothing(bvh, vertexOf, options.windingBeta))
+        openTriangles.push_back(bvh.inputIndex(t));
     if (options.signMode == SignMode::Auto && stats.closed && !stats.selfIntersecting) {
       mesh::PartSides sides = mesh::partSides(bvh, vertexOf, options.windingBeta);
       stats.partsMisoriented = !sides.faceOutside;
@@ -253,6 +259,21 @@ engine::Expected<std::unique_ptr<MeshSource>> MeshSource::create(std::vector<glm
   auto clean = mesh::cleanTriangles(positions, indices);
   if (!clean) return clean.error().withContext("mesh source");
   auto impl = std::make_unique<Impl>(*clean, options);
+  // An open part across which the winding number does not decide inside and outside would be
+  // signed by rounding: a terrain drew as scattered specks. Such parts are dropped (a floor under a
+  // closed ball: the ball is baked), and a mesh made of nothing else is refused.
+  if (const std::size_t open = impl->openTriangles.size(); open > 0) {
+    if (open == clean->inputTriangle.size())
+      return engine::makeError(fmt::format(
+          "mesh source: the mesh bounds no volume: across most of its area the winding number does not tell an "
+          "inside from an outside ({} triangles, {} boundary edges: an open sheet such as a terrain or a plane, or "
+          "triangles doubled with both windings); draw it as triangles, or close it",
+          open, impl->stats.boundaryEdges));
+    impl = std::make_unique<Impl>(withoutTriangles(*clean, impl->openTriangles), options);
+    impl->stats.droppedOpen = open;
+    impl->stats.inputTriangles += open;
+    return std::unique_ptr<MeshSource>(new MeshSource(std::move(impl)));
+  }
   // Every part inside (coincident copies of a part, which read nonzero on both sides): nothing is
   // its boundary for sure, so nothing is dropped and the winding number signs it.
   if (!impl->interiorTriangles.empty() && impl->interiorTriangles.size() < clean->inputTriangle.size()) {

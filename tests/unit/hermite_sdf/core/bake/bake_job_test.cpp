@@ -179,15 +179,20 @@ TEST(BakeJob, ProgressIsMonotoneAndEndsAtOne) {
   EXPECT_EQ(fractions.back(), 1.0f);
 }
 
-// Tricky: a flat square bakes into a field positive everywhere; the bake itself succeeds and only
-// the classification shows there is nothing to draw.
+// Tricky: a closed slab 0.01 thick bounds a volume, but at K = 8 no sample falls inside it: the
+// field is positive everywhere. The bake itself succeeds and only the classification shows there is
+// nothing to draw. (An open square is refused before, by the mesh source: MeshSign tests.)
 TEST(BakeJob, FieldWithoutSurfaceIsAnError) {
-  engine::scene::TriangleSoup square;
-  square.positions = {{0, 0, 0}, {1, 0, 0}, {1, 0, 1}, {0, 0, 1}};
-  square.indices = {0, 1, 2, 0, 2, 3};
+  engine::scene::TriangleSoup slab;
+  for (const float y : {0.0f, 0.01f})
+    for (const glm::vec2 xz : {glm::vec2(0, 0), glm::vec2(1, 0), glm::vec2(1, 1), glm::vec2(0, 1)})
+      slab.positions.push_back({xz.x, y, xz.y});
+  // Outward windings: bottom (y = 0) faces down, top faces up, four sides.
+  slab.indices = {0, 1, 2, 0, 2, 3, 4, 6, 5, 4, 7, 6, 0, 4, 5, 0, 5, 1, 1, 5, 6, 1, 6, 2,
+                  2, 6, 7, 2, 7, 3, 3, 7, 4, 3, 4, 0};
   BakeSettings settings;
   settings.resolution = 8;
-  const auto result = bakeAsset(BakeSource::fromTriangles("square", square), settings);
+  const auto result = bakeAsset(BakeSource::fromTriangles("slab", slab), settings);
   ASSERT_FALSE(result.ok());
   EXPECT_TRUE(contains(result.error().message, "the baked field has no surface: none of its 343 cells changes sign"))
       << result.error().message;

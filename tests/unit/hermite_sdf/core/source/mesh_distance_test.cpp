@@ -59,14 +59,15 @@ TEST(MeshDistance, ExactForMeshFarFromOriginAndFarQueries) {
   }
 }
 
-// Tricky: a mesh smaller than one BVH leaf makes the root itself a leaf, a separate path in the
-// tree construction.
-TEST(MeshDistance, SingleTriangleMesh) {
-  const TestMesh triangle{{{0, 0, 0}, {1, 0, 0}, {0, 1, 0}}, {0, 1, 2}};
-  const auto source = makeSource(triangle);
-  EXPECT_NEAR(std::abs(source->sample({0.2, 0.2, 0.5}).value), 0.5, 1e-15);
-  EXPECT_NEAR(std::abs(source->sample({2.0, 0.0, 0.0}).value), 1.0, 1e-15);
-  EXPECT_NEAR(std::abs(source->sample({-1.0, -1.0, 1.0}).value), std::sqrt(3.0), 1e-15);
+// Tricky: a mesh no larger than one BVH leaf (4 triangles: a tetrahedron) makes the root itself a
+// leaf, a separate path in the tree construction. (A lone triangle bounds no volume: refused.)
+TEST(MeshDistance, SingleLeafMesh) {
+  const TestMesh tetrahedron{{{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0, 0, 1}}, {0, 2, 1, 0, 1, 3, 0, 3, 2, 1, 2, 3}};
+  const auto source = makeSource(tetrahedron);
+  EXPECT_NEAR(source->sample({0.2, 0.2, -0.5}).value, 0.5, 1e-15);
+  EXPECT_NEAR(source->sample({2.0, 0.0, 0.0}).value, 1.0, 1e-15);
+  EXPECT_NEAR(source->sample({-1.0, -1.0, 1.0}).value, std::sqrt(2.0), 1e-15);
+  EXPECT_NEAR(source->sample({0.1, 0.1, 0.1}).value, -0.1, 1e-15);
 }
 
 // Tricky: grid rows are the coherent case the seed bound is built for; each step changes the
