@@ -54,4 +54,10 @@ vec3 boxStripCorner(int vertexIndex, bool mirrored) {
   return cornerPosition(mirrored ? swapCornerYZ(corner) : corner);
 }
 
+// DEBUG_VIEW_WIREFRAME: the 12 edges of a box as a line list, the corner of each of 24 vertices
+// (edges along x, then y, then z).
+const int kWireCorners[24] = int[24](0, 1, 2, 3, 4, 5, 6, 7, 0, 2, 1, 3, 4, 6, 5, 7, 0, 4, 1, 5, 2, 6, 3, 7);
+
+vec3 wireCorner(int vertexIndex) { return cornerPosition(kWireCorners[vertexIndex]); }
+
 #endif

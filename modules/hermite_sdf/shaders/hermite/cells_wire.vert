@@ -4,14 +4,12 @@
 // Its indirect commands are the boxes' with 24 vertices per instance (cell_feature.cpp).
 #extension GL_GOOGLE_include_directive : require
 #include "hermite/hermite_host_device.h"
+#include "hermite/box.glsl"
 #include "hermite/record_cell.glsl"
 
 layout(push_constant, scalar) uniform Push { HermitePushConstants pc; };
 
 layout(location = 8) in uvec4 inCell;
-
-// Corner (x + 2y + 4z) of each endpoint: edges along x, then y, then z.
-const int kEdgeCorners[24] = int[24](0, 1, 2, 3, 4, 5, 6, 7, 0, 2, 1, 3, 4, 6, 5, 7, 0, 4, 1, 5, 2, 6, 3, 7);
 
 void main() {
   if (gl_VertexIndex >= 24) {
@@ -21,10 +19,9 @@ void main() {
   HermiteDraw draw = hermiteDraw(pc.draws, pc.drawBase + gl_DrawID);
   ObjectData object = ObjectsRef(pc.draw.objects).objects[draw.object];
   FrameGlobals frame = FrameGlobalsRef(pc.draw.frameGlobals).globals;
-  int corner = kEdgeCorners[gl_VertexIndex];
   vec3 lo, hi;
   proxyBox(inCell.w, draw.flags, lo, hi);
-  vec3 local = mix(lo, hi, vec3(corner & 1, (corner >> 1) & 1, corner >> 2));
+  vec3 local = mix(lo, hi, wireCorner(gl_VertexIndex));
   vec3 objectPosition = draw.gridOriginSpacing.xyz + draw.gridOriginSpacing.w * (vec3(inCell.xyz) + local);
   gl_Position = frame.viewProj * (object.model * vec4(objectPosition, 1.0));
 }

@@ -477,12 +477,20 @@ void HermiteCellFeature::concatenateBatches(const FrameDraws& f, FrameCommands& 
   }
 }
 
-// DEBUG_VIEW_WIREFRAME: the cell batches' front lists again, drawn as the boxes' edges.
+// DEBUG_VIEW_WIREFRAME: every batch's front list again, drawn as the boxes' edges (cells, runs,
+// bricks). A brick command the culling pass fills starts with no instance: its wireframe copy draws
+// all of the object's bricks from the brick stream, as the cells' copies draw every cell.
 void HermiteCellFeature::addWireCommands(FrameCommands& all) {
-  for (int precision = 0; precision < 2; ++precision) {
-    Batch& batch = *batches_[precision];
+  for (int b = 0; b < kBatches; ++b) {
+    Batch& batch = *batches_[b];
     batch.wireFirst = all.appendCopies(batch.frontFirst, batch.frontCount,
                                        [](VkDrawIndirectCommand& wire) { wire.vertexCount = kWireVertices; });
+  }
+  const Batch& bricks = *batches_[kBrickBatch];
+  for (const shader::BrickCullObject& object : cullObjectList_) {
+    VkDrawIndirectCommand& wire = all.commands[bricks.wireFirst + (object.drawCommand - bricks.frontFirst)];
+    wire.instanceCount = object.brickCount;
+    wire.firstInstance = object.firstBrick;
   }
 }
 

@@ -237,19 +237,21 @@ void HermiteCellFeature::recordIndirect(VkCommandBuffer cmd, const Pipeline& pip
   draws_.draw(cmd, indirect_.buffer(frameSlot).handle(), first, count, countBuffer, countOffset, pushBase);
 }
 
-void HermiteCellFeature::recordWireframe(engine::render::PassContext& pass, int precision) {
-  const Batch& batch = *batches_[precision];
+void HermiteCellFeature::recordWireframe(engine::render::PassContext& pass, int b) {
+  const Batch& batch = *batches_[b];
   if (batch.frontCount == 0) return;
   VkCommandBuffer cmd = pass.cmd;
-  vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, pipelines_.wire[precision].handle());
-  const VkBuffer vertexBuffer = buffers_->records[precision].handle();
+  vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, pipelines_.wire[b].handle());
+  const VkBuffer vertexBuffer = b == kBrickBatch ? buffers_->bricks.handle()
+                                : b == kRunBatch ? buffers_->runs.handle()
+                                                 : buffers_->records[b].handle();
   const VkDeviceSize offset = 0;
   vkCmdBindVertexBuffers(cmd, 0, 1, &vertexBuffer, &offset);
   shader::HermitePushConstants push{};
   push.draw.frameGlobals = pass.frameGlobals;
   push.draw.objects = pass.objects;
   push.draws = drawData_.address(pass.frame.frameSlot);
-  recordIndirect(cmd, pipelines_.wire[precision], push, pass.frame.frameSlot, batch.wireFirst, batch.frontCount);
+  recordIndirect(cmd, pipelines_.wire[b], push, pass.frame.frameSlot, batch.wireFirst, batch.frontCount);
 }
 
 void HermiteCellFeature::recordResolve(engine::render::PassContext& pass) {
@@ -282,7 +284,7 @@ void HermiteCellFeature::recordPass(engine::render::PassContext& pass) {
     pass.timer.begin(pass.cmd, "cells shading");
     recordResolve(pass);
     if (pass.frame.debugView == DEBUG_VIEW_WIREFRAME)
-      for (int precision = 0; precision < 2; ++precision) recordWireframe(pass, precision);
+      for (int b = 0; b < kBatches; ++b) recordWireframe(pass, b);
     pass.timer.end(pass.cmd);
     return;
   }

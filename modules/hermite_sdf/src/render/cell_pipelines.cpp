@@ -86,7 +86,6 @@ engine::Expected<HermiteCellFeature::Pipelines> HermiteCellFeature::createPipeli
   ENGINE_TRY_ASSIGN(auto vert, engine::gpu::ShaderModule::load(context, "cells.vert"));
   ENGINE_TRY_ASSIGN(auto fixupFrag, engine::gpu::ShaderModule::load(context, "cells_depth_early_fixup.frag"));
   ENGINE_TRY_ASSIGN(auto resolveVert, engine::gpu::ShaderModule::load(context, "cells_resolve.vert"));
-  ENGINE_TRY_ASSIGN(auto wireVert, engine::gpu::ShaderModule::load(context, "cells_wire.vert"));
   ENGINE_TRY_ASSIGN(auto wireFrag, engine::gpu::ShaderModule::load(context, "cells_wire.frag"));
   ENGINE_TRY_ASSIGN(auto resolveFrag, engine::gpu::ShaderModule::load(context, "cells_resolve.frag"));
   ENGINE_TRY_ASSIGN(auto runsVert, engine::gpu::ShaderModule::load(context, "runs.vert"));
@@ -95,7 +94,7 @@ engine::Expected<HermiteCellFeature::Pipelines> HermiteCellFeature::createPipeli
   ENGINE_TRY(createBrickPipelines(p));
   ENGINE_TRY(createThinCellPipelines(p));
   ENGINE_TRY(createTilePipelines(p));
-  ENGINE_TRY(createWirePipelines(p, wireVert, wireFrag));
+  ENGINE_TRY(createWirePipelines(p, wireFrag));
   ENGINE_TRY(createResolvePipelines(p, resolveVert, resolveFrag, fixupFrag));
   return p;
 }
@@ -171,19 +170,29 @@ engine::Status HermiteCellFeature::createRunPipelines(Pipelines& p, const engine
   return {};
 }
 
-// The wireframe pipelines, one per record precision (DEBUG_VIEW_WIREFRAME).
-engine::Status HermiteCellFeature::createWirePipelines(Pipelines& p, const engine::gpu::ShaderModule& wireVert,
-                                                       const engine::gpu::ShaderModule& wireFrag) const {
+// The wireframe pipelines, one per batch (DEBUG_VIEW_WIREFRAME): the cells' boxes per record
+// precision, the runs' and the bricks' boxes, each from its batch's vertex stream.
+engine::Status HermiteCellFeature::createWirePipelines(Pipelines& p, const engine::gpu::ShaderModule& wireFrag) const {
   const engine::gpu::Context& context = *context_;
   const engine::render::RendererFormats& formats = formats_;
+  ENGINE_TRY_ASSIGN(auto cellsWire, engine::gpu::ShaderModule::load(context, "cells_wire.vert"));
+  ENGINE_TRY_ASSIGN(auto runsWire, engine::gpu::ShaderModule::load(context, "runs_wire.vert"));
+  ENGINE_TRY_ASSIGN(auto bricksWire, engine::gpu::ShaderModule::load(context, "bricks_wire.vert"));
+  static constexpr const char* kNames[kBatches] = {"cells fp32", "cells fp16", "runs", "bricks"};
   // Edges over the shaded frame, hidden where the surface is in front of them.
-  for (int precision = 0; precision < 2; ++precision) {
+  for (int batch = 0; batch < kBatches; ++batch) {
     engine::gpu::GraphicsPipelineDesc wire;
-    wire.name = std::string("hermite cells wireframe") + (precision == 0 ? " fp32" : " fp16");
-    wire.vertex = wireVert.handle();
+    wire.name = std::string("hermite wireframe ") + kNames[batch];
+    wire.vertex = batch == kRunBatch ? runsWire.handle() : batch == kBrickBatch ? bricksWire.handle() : cellsWire.handle();
     wire.fragment = wireFrag.handle();
-    wire.vertexLayout = cellVertexLayout(precision);
-    std::erase_if(wire.vertexLayout.attributes, [](const auto& a) { return a.location != 8; });  // coordinates only
+    if (batch == kRunBatch) {
+      wire.vertexLayout = runVertexLayout();
+    } else if (batch == kBrickBatch) {
+      wire.vertexLayout = brickVertexLayout();
+    } else {
+      wire.vertexLayout = cellVertexLayout(batch);
+      std::erase_if(wire.vertexLayout.attributes, [](const auto& a) { return a.location != 8; });  // coordinates only
+    }
     wire.pushConstantBytes = sizeof(shader::HermitePushConstants);
     wire.topology = VK_PRIMITIVE_TOPOLOGY_LINE_LIST;
     wire.cullMode = VK_CULL_MODE_NONE;
@@ -191,7 +200,7 @@ engine::Status HermiteCellFeature::createWirePipelines(Pipelines& p, const engin
     wire.colorFormats = {formats.color};
     wire.depthWrite = false;
     wire.depthCompare = VK_COMPARE_OP_GREATER_OR_EQUAL;
-    ENGINE_TRY_ASSIGN(p.wire[precision], Pipeline::createGraphics(context, wire));
+    ENGINE_TRY_ASSIGN(p.wire[batch], Pipeline::createGraphics(context, wire));
   }
   return {};
 }

@@ -869,14 +869,24 @@ TEST_F(HermiteCellsTest, DebugViewsShowCellsEvaluationsAndBoxes) {
   EXPECT_GT(heatColours, 5u) << "the heat map varies with the work per pixel";
   EXPECT_GT(heatChanged, 1000);
 
-  const Frame wire = renderWith(camera, DEBUG_VIEW_WIREFRAME);
-  int edgePixels = 0;
-  for (std::size_t i = 0; i < wire.depth.size(); ++i) {
-    const std::uint8_t* c = &wire.rgba[i * 4];
-    edgePixels += c[0] > 230 && c[1] > 200 && c[2] < 150 && std::memcmp(c, &shaded.rgba[i * 4], 3) != 0;
+  // The boxes drawn, by every cell method: the runs' and the bricks' boxes (their wireframe drew
+  // nothing: only the cell batches had line copies, found by a helper), the bricks with culling on,
+  // whose commands start with no instance.
+  for (const hsdf::RenderMethod method :
+       {hsdf::RenderMethod::Cells, hsdf::RenderMethod::CellRuns, hsdf::RenderMethod::CellBricks}) {
+    SCOPED_TRACE(hsdf::renderMethodName(method));
+    registry_.clear();
+    addSdf(registry_, asset, method);
+    const Frame methodShaded = renderWith(camera, DEBUG_VIEW_NONE);
+    const Frame wire = renderWith(camera, DEBUG_VIEW_WIREFRAME);
+    int edgePixels = 0;
+    for (std::size_t i = 0; i < wire.depth.size(); ++i) {
+      const std::uint8_t* c = &wire.rgba[i * 4];
+      edgePixels += c[0] > 230 && c[1] > 200 && c[2] < 150 && std::memcmp(c, &methodShaded.rgba[i * 4], 3) != 0;
+    }
+    EXPECT_GT(edgePixels, 200) << "box edges drawn over the surface";
+    EXPECT_EQ(wire.depth, methodShaded.depth) << "debug views do not change depth";
   }
-  EXPECT_GT(edgePixels, 200) << "box edges drawn over the surface";
-  EXPECT_EQ(wire.depth, shaded.depth) << "debug views do not change depth";
 }
 
 // Why: a mirroring model matrix reverses the winding of the cell boxes on screen, so a fixed

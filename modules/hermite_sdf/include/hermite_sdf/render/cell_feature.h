@@ -311,7 +311,7 @@ class HermiteCellFeature final : public engine::render::RenderFeature {
   enum class List : std::uint8_t { Front, Near, Late, Fallback };
   void recordBatch(engine::render::PassContext& pass, int precision, List list, VkBuffer countBuffer = VK_NULL_HANDLE,
                    VkDeviceSize countOffset = 0);
-  void recordWireframe(engine::render::PassContext& pass, int precision);
+  void recordWireframe(engine::render::PassContext& pass, int batch);  // DEBUG_VIEW_WIREFRAME: batch b's box edges
   void recordIndirect(VkCommandBuffer cmd, const engine::gpu::Pipeline& pipeline, shader::HermitePushConstants push,
                       std::uint32_t frameSlot, std::uint32_t first, std::uint32_t count,
                       VkBuffer countBuffer = VK_NULL_HANDLE, VkDeviceSize countOffset = 0);
@@ -340,7 +340,7 @@ class HermiteCellFeature final : public engine::render::RenderFeature {
     // [variant][precision]: precision 0 = fp32, 1 = fp16 records.
     engine::gpu::Pipeline depthFront[kVariants][2];
     engine::gpu::Pipeline depthNear[kVariants][2];
-    engine::gpu::Pipeline wire[2];  // DEBUG_VIEW_WIREFRAME: the boxes' edges
+    engine::gpu::Pipeline wire[4];  // DEBUG_VIEW_WIREFRAME: the boxes' edges, per batch (kBatches)
     engine::gpu::Pipeline runsFront[kVariants];  // RenderMethod::CellRuns, both precisions
     engine::gpu::Pipeline runsNear[kVariants];
     engine::gpu::Pipeline bricksFront[kBrickVariants];  // RenderMethod::CellBricks, both precisions
@@ -357,8 +357,7 @@ class HermiteCellFeature final : public engine::render::RenderFeature {
                                      const engine::gpu::ShaderModule& runsVert) const;
   engine::Status createRunPipelines(Pipelines& p, const engine::gpu::ShaderModule& runsVert, int variant,
                                     const char* variantName) const;
-  engine::Status createWirePipelines(Pipelines& p, const engine::gpu::ShaderModule& wireVert,
-                                     const engine::gpu::ShaderModule& wireFrag) const;
+  engine::Status createWirePipelines(Pipelines& p, const engine::gpu::ShaderModule& wireFrag) const;
   engine::Status createResolvePipelines(Pipelines& p, const engine::gpu::ShaderModule& resolveVert,
                                         const engine::gpu::ShaderModule& resolveFrag,
                                         const engine::gpu::ShaderModule& fixupFrag) const;
