@@ -39,12 +39,14 @@ bool OrbitController::update(const InputState& input) {
   return moved;
 }
 
-OrbitController framingOrbit(const glm::vec3& lo, const glm::vec3& hi, float fovY, int viewIndex) {
+OrbitController framingOrbit(const glm::vec3& lo, const glm::vec3& hi, float fovY, int viewIndex, float aspect) {
   OrbitController orbit;
   orbit.target = 0.5f * (lo + hi);
   // In double: the float length of a box 1e20 across overflows (its squared length does).
   const double halfDiagonal = 0.5 * glm::length(glm::dvec3(hi) - glm::dvec3(lo));
-  const double radius = (halfDiagonal > 0.0 ? halfDiagonal : 0.5) / std::sin(0.5 * double(fovY)) * 1.05;
+  const double halfFov = aspect < 1.0f && aspect > 0.0f ? std::atan(std::tan(0.5 * double(fovY)) * double(aspect))
+                                                        : 0.5 * double(fovY);
+  const double radius = (halfDiagonal > 0.0 ? halfDiagonal : 0.5) / std::sin(halfFov) * 1.05;
   orbit.radius = float(radius);
   orbit.minRadius = float(1e-3 * radius);
   orbit.maxRadius = float(1e3 * radius);

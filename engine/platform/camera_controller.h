@@ -24,12 +24,14 @@ struct OrbitController {
   glm::vec3 eye() const;
 };
 
-// An orbit that frames the box [lo, hi] for a vertical field of view fovY. viewIndex 0..7 picks
-// one of 8 fixed views around it (yaw in 45 degree steps, pitch alternating 20 and 35 degrees);
-// the scene runner's --view and the perf capture use the same views. The radius is proportional to
-// the box at any scale (a box without extent is framed as if it were 1 across); zooming is limited
-// to 1e-3..1e3 times it.
-OrbitController framingOrbit(const glm::vec3& lo, const glm::vec3& hi, float fovY, int viewIndex = 0);
+// An orbit that frames the box [lo, hi] for a vertical field of view fovY and an image of
+// width / height `aspect`: below 1 (a portrait image) the horizontal field of view is the narrower
+// and frames it. viewIndex 0..7 picks one of 8 fixed views around it (yaw in 45 degree steps, pitch
+// alternating 20 and 35 degrees); the scene runner's --view and the perf capture use the same
+// views. The radius is proportional to the box at any scale (a box without extent is framed as if
+// it were 1 across); zooming is limited to 1e-3..1e3 times it.
+OrbitController framingOrbit(const glm::vec3& lo, const glm::vec3& hi, float fovY, int viewIndex = 0,
+                             float aspect = 1.0f);
 
 struct FlyController {
   glm::vec3 position{0.0f, 0.0f, 3.0f};

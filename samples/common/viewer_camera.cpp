@@ -39,7 +39,9 @@ std::string cameraList(const std::vector<std::string>& names) {
 
 void Viewer::setOrbitView(int index) {
   cameraMode_ = CameraMode::Orbit;
-  orbit_ = platform::framingOrbit(boundsMin_, boundsMax_, fovY_, index);
+  const VkExtent2D extent = renderer_ ? renderer_->extent() : VkExtent2D{1, 1};
+  orbit_ = platform::framingOrbit(boundsMin_, boundsMax_, fovY_, index,
+                                  float(extent.width) / float(std::max(extent.height, 1u)));
 }
 
 void Viewer::setCamera(const glm::dvec3& eye, const glm::dvec3& target) {

@@ -50,6 +50,21 @@ TEST(FramingOrbit, EveryViewSeesTheWholeBoxAtAnyScale) {
   }
 }
 
+// Tricky: a portrait image (width / height 0.28, as 90x320) has a horizontal field of view far
+// narrower than fovY: framed by fovY alone, the bunny touched both sides of the image (found by a
+// helper). Landscape images keep fovY's framing.
+TEST(FramingOrbit, APortraitImageIsFramedByItsNarrowerFieldOfView) {
+  const glm::vec3 lo(-1.0f), hi(1.0f);
+  const float fovY = 0.8f, aspect = 90.0f / 320.0f;
+  const float fovX = 2.0f * std::atan(std::tan(0.5f * fovY) * aspect);
+  for (int view = 0; view < 8; ++view) {
+    const OrbitController portrait = framingOrbit(lo, hi, fovY, view, aspect);
+    EXPECT_LT(widestCornerAngle(portrait, lo, hi), 0.5f * fovX) << "view " << view;
+    EXPECT_GT(widestCornerAngle(portrait, lo, hi), 0.2f * fovX) << "view " << view;
+    EXPECT_EQ(framingOrbit(lo, hi, fovY, view, 16.0f / 9.0f).radius, framingOrbit(lo, hi, fovY, view).radius);
+  }
+}
+
 // Tricky: the 8 views must be 8 different directions (the capture averages over them) and the
 // index wraps, negative included, so --view 9 and --view -7 are view 1.
 TEST(FramingOrbit, EightDistinctViewsAndTheIndexWraps) {
