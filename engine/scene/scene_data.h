@@ -59,6 +59,13 @@ struct SceneData {
   std::vector<std::string> warnings; // what the importer skipped or ignored (also logged)
 };
 
+// The base colour of `material` (an index into scene.materials), else a default material's: how
+// a primitive without a material is drawn, as triangles or as the SDF standing for it.
+inline glm::vec4 baseColorOf(const SceneData& scene, int material) {
+  return material >= 0 && std::size_t(material) < scene.materials.size() ? scene.materials[std::size_t(material)].baseColor
+                                                                          : MaterialData{}.baseColor;
+}
+
 // World-space triangles of every mesh instance in a scene.
 struct TriangleSoup {
   std::vector<glm::vec3> positions;

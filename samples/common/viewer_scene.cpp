@@ -105,8 +105,13 @@ Status Viewer::loadGltf(const SceneDesc& scene) {
         .withContext(scene.gltf.string());
   meshEntities_ = instantiated.renderables;
   sideBySide_ = scene.sideBySide;
-  // The SDF looks like the mesh it stands for.
-  if (!data.materials.empty()) bakes_.setColor(data.materials.front().baseColor);
+  // The SDF looks like the mesh it stands for: the colour of the first primitive drawn (a mesh
+  // without a material is drawn in the default material's grey, not in the SDF's own colour).
+  for (const scene::NodeData& node : data.nodes)
+    if (node.mesh >= 0 && std::size_t(node.mesh) < data.meshes.size() && !data.meshes[std::size_t(node.mesh)].primitives.empty()) {
+      bakes_.setColor(scene::baseColorOf(data, data.meshes[std::size_t(node.mesh)].primitives.front().material));
+      break;
+    }
   const glm::vec3 origin = bakeOrigin(boundsMin_, boundsMax_);
   auto source = hsdf::BakeSource::fromScene("scene sdf", data, glm::dvec3(origin));
   if (!isSdfMethod(tuning_.method)) {

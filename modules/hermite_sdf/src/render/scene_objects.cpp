@@ -155,9 +155,8 @@ std::vector<engine::ecs::Entity> addSdfInstances(const engine::scene::SceneData&
     HermiteSdfRenderable renderable;
     renderable.asset = objects.meshAssets[std::size_t(mesh)];
     const auto& primitives = scene.meshes[std::size_t(mesh)].primitives;
-    const int material = primitives.empty() ? -1 : primitives.front().material;
-    if (material >= 0 && std::size_t(material) < scene.materials.size())
-      renderable.color = scene.materials[std::size_t(material)].baseColor;
+    // As its triangles are drawn (a mesh without a material too); one colour: its first primitive's.
+    renderable.color = engine::scene::baseColorOf(scene, primitives.empty() ? -1 : primitives.front().material);
     registry.emplace<HermiteSdfRenderable>(nodeEntities[n], std::move(renderable));
     added.push_back(nodeEntities[n]);
   }

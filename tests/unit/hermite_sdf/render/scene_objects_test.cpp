@@ -86,6 +86,25 @@ TEST(SceneObjects, EachMeshBakedOnceAndSharedByItsNodes) {
   EXPECT_EQ(ids.size(), 2u);
 }
 
+// Tricky: an SDF object has the colour its triangles are drawn in: its first primitive's material,
+// and for a mesh without one the default material's grey, not the SDF component's own default
+// (a cube without a material was pink as an SDF and grey as triangles, found by a helper).
+TEST(SceneObjects, EachObjectTakesTheColourItsTrianglesAreDrawnIn) {
+  SceneData scene = twoMeshScene();
+  scene.materials.push_back({"blue", glm::vec4(0.1f, 0.2f, 0.9f, 1.0f)});
+  scene.meshes[1].primitives.front().material = 0;  // the slab; the cube has none
+  const auto objects = bakeSceneObjects(scene, {}, smallBake());
+  ASSERT_TRUE(objects) << objects.error().message;
+  engine::ecs::Registry registry;
+  std::vector<engine::ecs::Entity> entities;
+  for (std::size_t i = 0; i < scene.nodes.size(); ++i) entities.push_back(registry.create());
+  addSdfInstances(scene, *objects, entities, registry);
+  for (std::size_t n = 0; n < scene.nodes.size(); ++n)
+    EXPECT_EQ(registry.get<HermiteSdfRenderable>(entities[n]).color,
+              scene.nodes[n].mesh == 1 ? glm::vec4(0.1f, 0.2f, 0.9f, 1.0f) : engine::scene::MaterialData{}.baseColor)
+        << n;
+}
+
 // Tricky: the asset is the mesh in its own space; the node's placement (10 units away) must not be
 // baked in, or every instance would be drawn twice offset.
 TEST(SceneObjects, AssetsAreBakedInTheMeshsOwnSpace) {

@@ -246,6 +246,26 @@ std::size_t sdfCount(Viewer& viewer) {
 // Tricky: a glTF scene loaded as meshes has no SDF yet: picking an SDF method must bake it on the
 // worker thread while the meshes keep drawing, then show only the SDF; picking the mesh again must
 // bring the same mesh entities back and hide (not drop) the SDF, which returns without a re-bake.
+// Tricky: the baked SDF stands for the scene's meshes and takes their colour: the bunny's material,
+// and for a mesh without a material the grey its triangles are drawn in (it was the SDF
+// component's own terracotta default, found by a helper).
+TEST(Viewer, TheSdfTakesTheColourOfTheMeshItStandsFor) {
+  for (const auto& [file, colour] : {std::pair{hsdftest::sampleAsset("bunny.glb"), glm::vec4(0.8f, 0.45f, 0.3f, 1.0f)},
+                                     std::pair{hsdftest::testData("gltf/tilted_cube.gltf"),
+                                               engine::scene::MaterialData{}.baseColor}}) {
+    auto viewer = makeViewer();
+    ASSERT_NE(viewer, nullptr);
+    SceneDesc scene;
+    scene.gltf = file;
+    TuningState tuning;
+    tuning.method = hsdf::RenderMethod::Cells;
+    tuning.resolution = 16;
+    ASSERT_TRUE(viewer->loadScene(scene, tuning).ok());
+    EXPECT_EQ(theSdf(*viewer).color, colour) << file;
+    EXPECT_TRUE(viewer->close().ok());
+  }
+}
+
 TEST(Viewer, SwitchesBetweenMeshAndSdfAtRunTime) {
   auto viewer = makeViewer();
   ASSERT_NE(viewer, nullptr);
