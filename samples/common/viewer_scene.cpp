@@ -86,6 +86,10 @@ Status Viewer::loadGltf(const SceneDesc& scene) {
   ENGINE_TRY_ASSIGN(scene::SceneData data, scene::loadGltf(scene.gltf));
   const render::InstantiatedScene instantiated = render::instantiateScene(data, registry_, *pool_);
   collectSceneCameras(instantiated.cameras);
+  // Named when a camera is not found: "camera 1 'ortho_cam': orthographic cameras are not supported".
+  skippedCameras_.clear();
+  for (const std::string& warning : data.warnings)
+    if (warning.rfind("camera ", 0) == 0) skippedCameras_.push_back(warning);
   if (instantiated.renderables.empty()) {
     log::warn("{}: the scene has no triangle meshes", scene.gltf.string());
   } else {

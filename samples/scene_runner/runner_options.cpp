@@ -237,6 +237,8 @@ ParseResult parseOptions(int argc, const char* const* argv) {
     problem = "--screenshot: '" + options.screenshot.string() + "' must end in .png";
   if (!problem) problem = parseCamera(camera, options);
   if (!problem) problem = checkCombinations(options, app.count("--method") > 0);
+  if (!problem && app.count("--scene-camera") > 0 && options.sceneCamera.empty())
+    problem = "--scene-camera: needs a camera's node name or index (it was empty)";
   if (!problem && !options.sceneCamera.empty() && options.scene.empty())
     problem = "--scene-camera: looks through a camera of a glTF scene; add --scene FILE";
   if (!problem && !options.objects && app.count("--node-draw") + app.count("--triangle-nodes") > 0)

@@ -143,6 +143,11 @@ TEST(SceneCameras, BadChoicesAreRefusedNamingTheCamera) {
     ASSERT_FALSE(refused.ok()) << missing;
     EXPECT_NE(refused.error().message.find("the scene's cameras: front, away, tilted, flat, camera 4"), std::string::npos)
         << refused.error().message;
+    // The orthographic camera the importer skipped is named with why (the file's "plan" read as
+    // missing with no word of it).
+    EXPECT_NE(refused.error().message.find("skipped: camera 2 'plan': orthographic cameras are not supported"),
+              std::string::npos)
+        << refused.error().message;
   }
   EXPECT_FALSE(viewer->lookThroughSceneCamera(std::size_t(5)).ok());
   EXPECT_EQ(viewer->cameraMode(), CameraMode::Orbit);

@@ -182,6 +182,7 @@ TEST(RunnerOptions, BadValuesNameTheOption) {
       {{"--scene", "no_such_scene.glb"}, "--scene"},
       // A camera to look through needs a glTF scene holding it, and one camera placement, not two.
       {{"--scene-camera", "front"}, "--scene-camera: looks through a camera of a glTF scene; add --scene FILE"},
+      {{"--scene", kBunny, "--scene-camera", ""}, "--scene-camera: needs a camera's node name or index"},
       {{"--scene", kBunny, "--scene-camera", "front", "--view", "2"}, "excludes"},
       {{"--scene", kBunny, "--scene-camera", "front", "--camera", "1,2,3,4,5,6"}, "excludes"},
       {{"--sdf", "no_such_file.hsdf"}, "--sdf"},
