@@ -194,10 +194,6 @@ TEST(ViewerObjects, AnOpenMeshDrawsItsTrianglesAndTheSceneLoads) {
   EXPECT_TRUE(viewer->close().ok());
 }
 
-// Tricky: the slab of thin_slab.gltf (0.01 thick) has a surface at K = 17 (a sample plane through
-// it) and none at K = 16 (it falls between two), so a new K would turn its two nodes between SDF
-// and triangles, which the entities made at load cannot follow. The new K is refused, naming the
-// slab, in bakeError() as the panel shows it; the K drawn stays, and so do the drawn nodes.
 // Tricky: a scene of separate objects bakes again at a new K (the panel showed no K slider: it
 // asked whether the one baked object had a source) but draws no comparison (the command line
 // refuses --split with --objects; the panel and a script got a split that drew neither side), and
@@ -232,6 +228,10 @@ TEST(ViewerObjects, BakeAgainButDoNotCompare) {
       << nodes.error().message;
 }
 
+// Tricky: the slab of thin_slab.gltf (0.01 thick) has a surface at K = 17 (a sample plane through
+// it) and none at K = 16 (it falls between two), so a new K would turn its two nodes between SDF
+// and triangles, which the entities made at load cannot follow. The new K is refused, naming the
+// slab, in bakeError() as the panel shows it; the K drawn stays, and so do the drawn nodes.
 TEST(ViewerObjects, ANewResolutionThatWouldTurnNodesToTrianglesIsRefused) {
   for (const int load : {17, 16}) {
     auto viewer = viewTestScene("thin_slab.gltf", load);
