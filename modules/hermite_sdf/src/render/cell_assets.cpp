@@ -87,13 +87,18 @@ void HermiteCellFeature::syncAssets(const engine::render::FrameContext& frame) {
   AssetDemand d = collectAssetDemand(frame);
   const bool runsStale = !d.wanted.empty() && buffers_->runLength != settings_.maxRunLength &&
                          settings_.maxRunLength != refusedRunLength_;  // the setting changed
-  if (!d.missing && !runsStale) return;
+  if (!d.missing && !runsStale && !idleAssetsToDrop(frame)) return;
 
   // View regions call prepare() once per region: an asset an earlier region of this frame drew
   // stays (its draws are recorded already and the next frame draws it again).
   for (const auto& [id, entry] : buffers_->entries)
     if (entry.lastFrame == frame.frameNumber && d.seen.insert(id).second) d.wanted.push_back(entry.asset);
 
+  if (d.wanted.empty()) {  // no asset drawn any more (idleAssetsToDrop): every buffer goes, as at the start
+    retired_.retire(std::move(buffers_), frame.frameNumber);
+    buffers_ = std::make_unique<CellBuffers>();
+    return;
+  }
   // Rebuild the concatenated buffers with the assets drawn now (assets no longer drawn are dropped).
   // The old buffers may be referenced by commands recorded earlier in this frame and by frames in
   // flight: they are retired below, and freed once this frame has completed (prepare()).
@@ -108,6 +113,24 @@ void HermiteCellFeature::syncAssets(const engine::render::FrameContext& frame) {
     return;
   }
   commitAssetBuffers(frame, std::move(rebuilt), u);
+}
+
+// Whether the uploaded assets that no entity has drawn for Settings::releaseAfterFrames frames (at
+// least the frames in flight) hold at least half of the uploaded records: then the buffers are
+// rebuilt without them. A destroyed object's asset was held, CPU and GPU, until a new asset came.
+bool HermiteCellFeature::idleAssetsToDrop(const engine::render::FrameContext& frame) const {
+  const std::uint64_t idle = std::max<std::uint64_t>(settings_.releaseAfterFrames, frame.framesInFlight);
+  std::uint64_t idleRecords = 0, records = 0;
+  bool anyIdle = false;
+  for (const auto& [id, entry] : buffers_->entries) {
+    const std::uint64_t count = entry.asset->cells.records.size();
+    records += count;
+    if (frame.frameNumber - entry.lastFrame >= idle) {
+      idleRecords += count;
+      anyIdle = true;
+    }
+  }
+  return anyIdle && 2 * idleRecords >= records;
 }
 
 // The assets the entities draw as cells (or keep drawing, for refused ones), and whether any upload is missing.

@@ -110,6 +110,8 @@ void HermiteCellFeature::ensureCounters(engine::render::FrameContext& frame) {
 
 void HermiteCellFeature::prepare(engine::render::FrameContext& frame) {
   retired_.collect(frame.frameNumber, frame.framesInFlight);
+  if (drawnRegistry_ != &frame.registry) drawnAssets_.clear();
+  drawnRegistry_ = &frame.registry;
   syncAssets(frame);
   buildDraws(frame);
   recordCulling(frame);

@@ -155,7 +155,9 @@ engine::Expected<SphereTraceFeature::Pipelines> SphereTraceFeature::createPipeli
 }
 
 engine::Expected<SphereTraceFeature::FieldTexture> SphereTraceFeature::uploadTexture(const SdfAsset& asset,
-                                                                                     std::uint32_t method, bool half) {
+                                                                                     std::uint32_t method, bool half,
+                                                                                     bool& outOfResources) {
+  outOfResources = false;
   const GridSpec& grid = asset.field.grid;
   if (asset.field.samples.empty())
     return engine::makeError("it has no dense field (cells only: a sparse bake or a file baked with --cells)");
@@ -178,17 +180,22 @@ engine::Expected<SphereTraceFeature::FieldTexture> SphereTraceFeature::uploadTex
     engine::gpu::uploadImage(*context_, texture.image, texels.bytes.data(), texels.bytes.size());
   } catch (const engine::gpu::VulkanError& e) {
     if (e.result() != VK_ERROR_OUT_OF_DEVICE_MEMORY) throw;
+    outOfResources = true;
     return engine::makeError(std::string("out of GPU memory (") + e.what() + ")");
   }
   texture.bytes = texels.bytes.size();
-  ENGINE_TRY_ASSIGN(texture.slot, bindings_->add(texture.image.view(), samplers_[method]));
+  auto slot = bindings_->add(texture.image.view(), samplers_[method]);
+  if (!slot) {
+    outOfResources = true;
+    return slot.error();
+  }
+  texture.slot = *slot;
   return texture;
 }
 
-bool SphereTraceFeature::refused(std::uint64_t assetId) const {
-  return std::any_of(failedTextures_.begin(), failedTextures_.end(),
-                     [&](const TextureKey& key) { return std::get<0>(key) == assetId; });
-}
+// Only a refusal for resources: an asset the tracers cannot draw at all (cells only) is not drawn,
+// and its entity does not go on drawing the field it replaced (it did: a stale image).
+bool SphereTraceFeature::refused(std::uint64_t assetId) const { return refusedAssets_.contains(assetId); }
 
 const SphereTraceFeature::FieldTexture* SphereTraceFeature::acquireTexture(const SdfAsset& asset, std::uint32_t method,
                                                                            bool half,
@@ -197,10 +204,12 @@ const SphereTraceFeature::FieldTexture* SphereTraceFeature::acquireTexture(const
   auto found = textures_.find(key);
   if (found == textures_.end()) {
     if (failedTextures_.contains(key)) return nullptr;
-    auto uploaded = uploadTexture(asset, method, half);
+    bool outOfResources = false;
+    auto uploaded = uploadTexture(asset, method, half, outOfResources);
     if (!uploaded) {
       frame.reportDropped(fmt::format("sphere tracing: '{}' is not drawn: {}", asset.name, uploaded.error().message));
       failedTextures_.insert(key);
+      if (outOfResources) refusedAssets_.insert(asset.id);
       return nullptr;
     }
     found = textures_.emplace(key, std::move(uploaded.value())).first;
@@ -226,6 +235,8 @@ void SphereTraceFeature::collectDraws(engine::render::FrameContext& frame) {
   std::vector<shader::SphereTraceDraw> lists[kTraceMethodCount][2];  // [method][near]
   const engine::math::Frustum frustum = engine::math::extractFrustum(frame.camera.proj * frame.camera.view);
   std::unordered_map<engine::ecs::Entity, std::shared_ptr<const SdfAsset>> drawnThisFrame;
+  if (drawnRegistry_ != &frame.registry) drawnAssets_.clear();
+  drawnRegistry_ = &frame.registry;
   frame.registry.view<HermiteSdfRenderable, engine::scene::WorldTransform>().each(
       [&](engine::ecs::Entity entity, const HermiteSdfRenderable& r, const engine::scene::WorldTransform& world) {
         std::uint32_t method = 0;

@@ -841,6 +841,84 @@ TEST_F(HermiteCellsTest, SixtyFourInstancesInOneDrawMatchSeparateFrames) {
 namespace gputest {
 namespace {
 
+// Why: a game destroys objects and gives entities other assets; the cell buffers hold every
+// uploaded asset, and were rebuilt only when a new one came, so a destroyed object's asset stayed,
+// CPU and GPU, for good (found by a helper: 0.5 MB after 300 empty frames). Assets no entity draws
+// for Settings::releaseAfterFrames frames go once they hold half of the records, or when nothing
+// is drawn; not before (an object hidden for a moment is not uploaded again), and not a small one
+// beside a larger one drawn (each removal would re-upload the rest).
+TEST_F(HermiteCellsTest, AssetsNoEntityDrawsAreReleased) {
+  createCellRenderer(64, 64);
+  auto* feature = renderer_->feature<hsdf::HermiteCellFeature>();
+  feature->settings().releaseAfterFrames = 4;
+  std::shared_ptr<const hsdf::SdfAsset> big = bakeAsset("torus", 32);
+  std::shared_ptr<const hsdf::SdfAsset> small = bakeAsset("sphere", 12);
+  ASSERT_TRUE(big && small);
+  ASSERT_GT(big->cells.records.size(), 2 * small->cells.records.size());
+  const std::weak_ptr<const hsdf::SdfAsset> bigAlive = big, smallAlive = small;
+  const render::CameraView camera = orbitCamera(*big, 0);
+  const auto frames = [&](int count) {
+    for (int i = 0; i < count; ++i) (void)renderWith(camera, DEBUG_VIEW_NONE);
+  };
+  const ecs::Entity bigEntity = addSdf(registry_, big, hsdf::RenderMethod::Cells);
+  const ecs::Entity smallEntity = addSdf(registry_, small, hsdf::RenderMethod::CellRuns,
+                                         glm::translate(glm::mat4(1.0f), glm::vec3(3.0f, 0.0f, 0.0f)));
+  big.reset();
+  small.reset();
+  frames(2);
+  const std::uint64_t both = feature->stats().gpuBytes;
+  ASSERT_GT(both, 0u);
+
+  ASSERT_TRUE(registry_.destroy(smallEntity));  // the smaller share: kept while the torus is drawn
+  frames(10);
+  EXPECT_FALSE(smallAlive.expired()) << "a small idle asset beside a larger drawn one is not worth a rebuild";
+  EXPECT_EQ(feature->stats().gpuBytes, both);
+
+  ASSERT_TRUE(registry_.destroy(bigEntity));  // nothing drawn
+  frames(3);
+  EXPECT_FALSE(bigAlive.expired()) << "released before releaseAfterFrames";
+  frames(3);
+  EXPECT_TRUE(bigAlive.expired()) << "the destroyed object's asset is still held";
+  EXPECT_TRUE(smallAlive.expired());
+  EXPECT_EQ(feature->stats().gpuBytes, 0u);
+
+  // The scene drawn again from nothing: the same image as a renderer that never dropped anything.
+  const auto torus = bakeAsset("torus", 32);
+  addSdf(registry_, torus, hsdf::RenderMethod::Cells);
+  const Frame again = renderWith(camera, DEBUG_VIEW_NONE);
+  EXPECT_GT(std::count_if(again.depth.begin(), again.depth.end(), [](float d) { return d > 0.0f; }), 500);
+}
+
+// Why: a field the GPU could not take (out of memory) is replaced by the one the entity drew
+// before; the entities of another registry are other objects, with nothing to fall back to (the
+// tracers drew another registry's field for the same entity id, found by a helper).
+TEST_F(HermiteCellsTest, ARefusedAssetFallsBackOnlyToItsOwnEntitysField) {
+  createCellRenderer(64, 64);
+  const auto torus = bakeAsset("torus", 16);
+  const auto big = bakeAsset("sphere", 48);
+  ASSERT_TRUE(torus && big);
+  const render::CameraView camera = orbitCamera(*torus, 0);
+  const auto covered = [&](const ecs::Registry& registry, VkDeviceSize budget) {
+    engine::gpu::Allocator& allocator = context_->allocator();
+    if (budget != 0) allocator.setBudget(allocator.stats().usedBytes + budget);
+    renderer_->renderFrame(registry, camera, {});
+    allocator.setBudget(engine::gpu::Allocator::kUnlimited);  // before the read-back's staging buffers
+    const std::vector<float> depth = renderer_->readbackDepth();
+    return std::count_if(depth.begin(), depth.end(), [](float d) { return d > 0.0f; });
+  };
+  ecs::Registry registry;
+  const ecs::Entity entity = addSdf(registry, torus, hsdf::RenderMethod::Cells);
+  std::int64_t torusPixels = 0;
+  for (int slot = 0; slot < 8; ++slot) torusPixels = covered(registry, 0);  // every frame slot's buffers made
+  ASSERT_GT(torusPixels, 500);
+  registry.get<hsdf::HermiteSdfRenderable>(entity).asset = big;
+  EXPECT_EQ(covered(registry, 512 << 10), torusPixels) << "the torus it replaced is drawn";  // the sphere needs 1.3 MB
+  ASSERT_TRUE(renderer_->feature<hsdf::HermiteCellFeature>()->refused(big->id));
+  ecs::Registry other;
+  ASSERT_EQ(addSdf(other, big, hsdf::RenderMethod::Cells), entity) << "the case needs the same entity id";
+  EXPECT_EQ(covered(other, 0), 0) << "another registry's entity drew the torus of this one";
+}
+
 // Why: the debug views are how a user inspects the method; each must show what it claims:
 // cells in distinct colours, an evaluation heat map that varies, and the boxes' edges.
 TEST_F(HermiteCellsTest, DebugViewsShowCellsEvaluationsAndBoxes) {

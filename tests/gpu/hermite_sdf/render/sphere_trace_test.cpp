@@ -416,6 +416,59 @@ TEST_F(SphereTraceTest, SwitchingTheMethodAtRunTime) {
   EXPECT_EQ(feature().stats().trilinearObjects + feature().stats().hermiteObjects, 0u);
 }
 
+// Why: a field the GPU could not take (out of memory) is replaced by the one it replaced, still
+// uploaded; an asset the tracers cannot draw at all (cells only) is not such a refusal. The entity
+// went on drawing the torus it had before, and an entity of another registry with the same id drew
+// it too: an image that depended on history (found by a helper writing a program against the
+// installed package). Both must draw nothing, as a renderer that never saw the torus does.
+TEST_F(SphereTraceTest, AnAssetTheTracersCannotDrawReplacesTheOldOneWithNothing) {
+  createTraceRenderer(kSize, kSize);
+  const auto torus = bakeAsset("torus", 10);
+  ASSERT_NE(torus, nullptr);
+  auto cellsOnly = std::make_shared<hsdf::SdfAsset>(*torus);
+  cellsOnly->id = torus->id + 1000000;
+  cellsOnly->field.samples.clear();  // a sparse bake: no dense field
+  const render::CameraView camera = orbitCamera(*torus, 0);
+  const auto covered = [&](const ecs::Registry& registry) {
+    renderer_->renderFrame(registry, camera, {});
+    const std::vector<float> depth = renderer_->readbackDepth();
+    return std::count_if(depth.begin(), depth.end(), [](float d) { return d > 0.0f; });
+  };
+  for (const RenderMethod method : {RenderMethod::TrilinearSphereTrace, RenderMethod::HermiteSphereTrace}) {
+    SCOPED_TRACE(hsdf::renderMethodName(method));
+    ecs::Registry registry;
+    const ecs::Entity entity = addTracedSdf(registry, torus, method);
+    ASSERT_GT(covered(registry), 1000);
+    registry.get<hsdf::HermiteSdfRenderable>(entity).asset = cellsOnly;
+    EXPECT_EQ(covered(registry), 0);
+    EXPECT_FALSE(feature().refused(cellsOnly->id)) << "not refused for GPU memory";
+
+    registry.get<hsdf::HermiteSdfRenderable>(entity).asset = torus;
+    ASSERT_GT(covered(registry), 1000);
+    ecs::Registry other;
+    ASSERT_EQ(addTracedSdf(other, cellsOnly, method), entity) << "the case needs the same entity id in another registry";
+    EXPECT_EQ(covered(other), 0);
+
+    // A refusal for GPU memory: the entity keeps its torus; the same entity id in another registry
+    // is another object, with no field to fall back to.
+    const auto big = bakeAsset("sphere", 40);
+    ASSERT_NE(big, nullptr);
+    const std::int64_t torusPixels = covered(registry);
+    registry.get<hsdf::HermiteSdfRenderable>(entity).asset = big;
+    gpu::Allocator& allocator = context_->allocator();
+    allocator.setBudget(allocator.stats().usedBytes + 4096);
+    renderer_->renderFrame(registry, camera, {});
+    allocator.setBudget(gpu::Allocator::kUnlimited);  // before the read-back's staging buffers
+    const std::vector<float> kept = renderer_->readbackDepth();
+    EXPECT_TRUE(feature().refused(big->id));
+    EXPECT_EQ(std::count_if(kept.begin(), kept.end(), [](float d) { return d > 0.0f; }), torusPixels)
+        << "the torus it replaced is drawn";
+    ecs::Registry third;
+    ASSERT_EQ(addTracedSdf(third, big, method), entity);
+    EXPECT_EQ(covered(third), 0) << "another registry's entity drew the torus of this one";
+  }
+}
+
 // Why: one frame may mix methods (the paper's side-by-side comparison); each object must find its
 // own texture, pipeline and visibility id while sharing the frame's draw buffer.
 TEST_F(SphereTraceTest, TwoMethodsSideBySideInOneFrame) {

@@ -173,7 +173,10 @@ class HermiteCellFeature final : public engine::render::RenderFeature {
     // of view, a lower K), or any while the slot culls no cell of that precision (culling off, a
     // tracer); its tile lists larger than 2^20 entries and more than four times what its frames
     // want, or any while it draws no tiles; occlusion culling's history after as many frames
-    // without occlusion culling; and every buffer of a frame slot not prepared for as many
+    // without occlusion culling; the assets no entity has drawn as cells for as many frames
+    // (destroyed, given another asset or a tracer) once they hold at least half of the uploaded
+    // records, or when no asset is drawn any more (dropping them re-uploads the rest: at half, the
+    // uploads stay within twice what is dropped); and every buffer of a frame slot not prepared for as many
     // frames (a view region no longer drawn: the split screen turned off). The next frame that
     // needs them makes them at its size.
     // Otherwise they only grow: a camera that swings back and forth does not reallocate them.
@@ -259,6 +262,7 @@ class HermiteCellFeature final : public engine::render::RenderFeature {
   struct FrameCommands;
   struct DrawnObject;
   void syncAssets(const engine::render::FrameContext& frame);
+  bool idleAssetsToDrop(const engine::render::FrameContext& frame) const;  // Settings::releaseAfterFrames
   AssetDemand collectAssetDemand(const engine::render::FrameContext& frame);
   void appendAsset(CellBuffers& rebuilt, AssetUpload& u, const std::shared_ptr<const SdfAsset>& asset,
                    const AssetDemand& d) const;
@@ -381,7 +385,10 @@ class HermiteCellFeature final : public engine::render::RenderFeature {
   // Assets whose upload ran out of GPU memory (reported once, not retried: a re-bake or reload
   // makes a new asset, which is tried), and a run length refused the same way (0: none).
   std::unordered_set<std::uint64_t> refused_;
-  std::unordered_map<engine::ecs::Entity, std::uint64_t> drawnAssets_;  // the asset each entity drew last frame
+  // The asset each entity of drawnRegistry_ drew last frame (drawn instead of a refused one; the
+  // entities of another registry are other objects).
+  std::unordered_map<engine::ecs::Entity, std::uint64_t> drawnAssets_;
+  const engine::ecs::Registry* drawnRegistry_ = nullptr;
   std::uint32_t refusedRunLength_ = 0;
   engine::render::PerFrameBuffer drawData_;     // the draw table: HermiteDrawTableHeader, a record per command
   engine::render::PerFrameBuffer drawRecords_;  // its HermiteDraw records

@@ -150,7 +150,10 @@ class SphereTraceFeature final : public engine::render::RenderFeature {
   void createSamplers();
   const FieldTexture* acquireTexture(const SdfAsset& asset, std::uint32_t method, bool half,
                                      const engine::render::FrameContext& frame);
-  engine::Expected<FieldTexture> uploadTexture(const SdfAsset& asset, std::uint32_t method, bool half);
+  // `outOfResources`: the error is GPU memory or the texture table, not the asset (no dense field,
+  // too large a resolution), so refused() names it.
+  engine::Expected<FieldTexture> uploadTexture(const SdfAsset& asset, std::uint32_t method, bool half,
+                                               bool& outOfResources);
   void releaseUnusedTextures(std::uint64_t frame, std::uint32_t framesInFlight);
   void collectDraws(engine::render::FrameContext& frame);
   void recordDraws(VkCommandBuffer cmd, VkPipelineLayout layout, Range range) const;
@@ -166,8 +169,11 @@ class SphereTraceFeature final : public engine::render::RenderFeature {
   Pipelines pipelines_;
   std::map<TextureKey, FieldTexture> textures_;
   std::set<TextureKey> failedTextures_;  // reported once, not retried
-  // The asset each entity drew last frame: drawn instead of a refused asset that replaced it.
+  std::set<std::uint64_t> refusedAssets_;  // of those, for GPU memory or the texture table (refused())
+  // The asset each entity of drawnRegistry_ drew last frame: drawn instead of a refused asset that
+  // replaced it (the entities of another registry are other objects).
   std::unordered_map<engine::ecs::Entity, std::shared_ptr<const SdfAsset>> drawnAssets_;
+  const engine::ecs::Registry* drawnRegistry_ = nullptr;
   engine::render::PerFrameBuffer drawBuffer_;
   std::vector<std::uint32_t> drawSlots_;  // texture slot per draw of this frame
   Range front_[2], near_[2];              // per method, ranges of this frame's draws
