@@ -40,9 +40,11 @@ samples::SceneDesc sceneDesc(const Options& options) {
 Status createApp(const Options& options, std::unique_ptr<samples::Viewer>& viewer) {
   ENGINE_TRY_ASSIGN(viewer, samples::Viewer::create(viewerDesc(options)));
   ENGINE_TRY(viewer->loadScene(sceneDesc(options), options.tuning));
-  // A run of a fixed number of frames (headless, screenshots) shows the comparison asked for, not
-  // the main asset standing in while the compared side bakes.
-  if (options.frames > 0 && samples::comparing(options.tuning)) ENGINE_TRY(viewer->waitForBake());
+  // A run of a fixed number of frames (headless, screenshots) shows the comparison and the levels
+  // of detail asked for, not the main asset standing in while they bake (a one-frame --lod
+  // screenshot drew K, not the level its view picks).
+  if (options.frames > 0 && (samples::comparing(options.tuning) || options.tuning.lod))
+    ENGINE_TRY(viewer->waitForBake());
   if (options.view) viewer->setOrbitView(*options.view);
   if (options.camera) {
     const auto& c = *options.camera;
