@@ -312,7 +312,7 @@ engine::Status writeCsv(const std::filesystem::path& path, const RunInfo& info, 
   std::string csv =
       "method,K,subdivisions,refinement,normals,width,height,views,frames,gpu_ms_median,gpu_ms_p95,prepass_ms,"
       "shading_ms,fs_invocations,evals_per_pixel_mean,evals_per_pixel_p95,stored_scalars,stored_bytes,cells,"
-      "coverage_mismatch,normal_err_mean_deg,normal_err_p95_deg,depth_err_mean,rays_out_of_steps,device\n";
+      "coverage_mismatch,normal_err_mean_deg,normal_err_p95_deg,depth_err_mean,rays_out_of_steps,device,label\n";
   for (const RowResult& r : rows) {
     const RowSpec& s = r.spec;
     csv += fmt::format("{},{},{},{},{},{},{},{},{},", s.method, s.resolution, s.subdivisions, s.refine, s.normalsName(),
@@ -325,7 +325,9 @@ engine::Status writeCsv(const std::filesystem::path& path, const RunInfo& info, 
                          r.quality.raysOutOfSteps);
     else
       csv += ",,,,,,,,,,,,,,,";  // a failed row: no numbers (the capture exits non-zero)
-    csv += csvEscape(info.device) + "\n";
+    // The row's label last: the columns before it do not tell apart the variants of one method and K
+    // (culling, tiles, thin boxes, certified, fp16, levels of detail).
+    csv += csvEscape(info.device) + "," + csvEscape(s.label) + "\n";
   }
   return engine::writeTextFile(path, csv);
 }
