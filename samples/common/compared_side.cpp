@@ -82,7 +82,8 @@ std::shared_ptr<const hsdf::SdfAsset> ComparedSide::asset(const TuningState& tun
 }
 
 std::vector<render::ViewRegion> ComparedSide::splitRegions(const TuningState& tuning, VkExtent2D e,
-                                                           const std::shared_ptr<const hsdf::SdfAsset>& main) const {
+                                                           const std::shared_ptr<const hsdf::SdfAsset>& main,
+                                                           const std::shared_ptr<const hsdf::SdfAsset>& baked) const {
   const bool vertical = tuning.split == SplitMode::Vertical;
   const auto divider = std::uint32_t(std::lround(double(tuning.splitPosition) * (vertical ? e.width : e.height)));
   VkRect2D first{{0, 0}, e}, second{{0, 0}, e};
@@ -96,7 +97,7 @@ std::vector<render::ViewRegion> ComparedSide::splitRegions(const TuningState& tu
     second.extent.height = e.height - divider;
   }
   const TuningState compared = compareTuning(tuning);
-  const std::shared_ptr<const hsdf::SdfAsset> other = asset(tuning, main);
+  const std::shared_ptr<const hsdf::SdfAsset> other = asset(tuning, baked);
   return {{first, [show = showState_, tuning, main] { show(tuning, main); }},
           {second, [show = showState_, compared, other] { show(compared, other); }}};
 }
@@ -119,13 +120,14 @@ NormalsFrame ComparedSide::renderNormals(const TuningState& tuning, const std::s
 // Needs an SDF method on the main side (then the scene's meshes are already hidden, see
 // Viewer::updateVisibility).
 Status ComparedSide::renderDifference(const TuningState& tuning, const std::shared_ptr<const hsdf::SdfAsset>& main,
-                                      ecs::Registry& registry, render::Renderer& renderer, const render::CameraView& camera) {
+                                      const std::shared_ptr<const hsdf::SdfAsset>& baked, ecs::Registry& registry,
+                                      render::Renderer& renderer, const render::CameraView& camera) {
   std::vector<std::pair<ecs::Entity, render::MeshRenderable>> meshes;
   registry.view<render::MeshRenderable>().each(
       [&meshes](ecs::Entity entity, const render::MeshRenderable& mesh) { meshes.emplace_back(entity, mesh); });
   for (const auto& entry : meshes) registry.remove<render::MeshRenderable>(entry.first);
   const NormalsFrame a = renderNormals(tuning, main, registry, renderer, camera);
-  const NormalsFrame b = renderNormals(compareTuning(tuning), asset(tuning, main), registry, renderer, camera);
+  const NormalsFrame b = renderNormals(compareTuning(tuning), asset(tuning, baked), registry, renderer, camera);
   for (const auto& [entity, mesh] : meshes) registry.emplace<render::MeshRenderable>(entity, mesh);
   showState_(tuning, main);
   const VkExtent2D extent = renderer.extent();

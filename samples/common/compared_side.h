@@ -50,12 +50,16 @@ class ComparedSide {
   // The K the compared side is drawn with (`mainResolution` when it draws the main asset).
   int resolutionDrawn(const TuningState& tuning, int mainResolution) const;
 
-  // Two regions split at the divider: `tuning` left (top), the compared one right (bottom).
+  // Two regions split at the divider: `tuning` left (top) drawing `main` (with levels of detail,
+  // the level the view picked), the compared one right (bottom) drawing its own bake or `baked`,
+  // the field baked at K (level 0: a compared side of cells at K is K, not the level).
   std::vector<engine::render::ViewRegion> splitRegions(const TuningState& tuning, VkExtent2D extent,
-                                                       const std::shared_ptr<const hsdf::SdfAsset>& main) const;
+                                                       const std::shared_ptr<const hsdf::SdfAsset>& main,
+                                                       const std::shared_ptr<const hsdf::SdfAsset>& baked) const;
   // The two sides' normals frames (the SDF alone) compared on the CPU; the heat map goes to the
-  // overlay of the frame drawn next (overlay()).
+  // overlay of the frame drawn next (overlay()). `main` and `baked` as for splitRegions.
   engine::Status renderDifference(const TuningState& tuning, const std::shared_ptr<const hsdf::SdfAsset>& main,
+                                  const std::shared_ptr<const hsdf::SdfAsset>& baked,
                                   engine::ecs::Registry& registry, engine::render::Renderer& renderer,
                                   const engine::render::CameraView& camera);
   // The heat map over `next` (the UI, or null).

@@ -317,7 +317,7 @@ void TuningPanel::drawComparison() {
   }
   changed |= ImGui::Checkbox("difference view (normal angle)", &t.difference);
   if (comparing(t))
-    ImGui::Text("%s, K %d  |  %s, K %d", methodName(t.method), t.resolution, methodName(t.compareMethod),
+    ImGui::Text("%s, K %d  |  %s, K %d", methodName(t.method), viewer_.resolutionDrawn(), methodName(t.compareMethod),
                 viewer_.compareResolutionDrawn());
   if (hsdf::BakeJob* job = viewer_.compareBakeJob()) {
     const std::string label =
@@ -361,7 +361,7 @@ void TuningPanel::drawDivider() {
     const ImU32 color = active ? IM_COL32(255, 220, 80, 255) : IM_COL32(255, 255, 255, 200);
     if (vertical) draw->AddLine(ImVec2(at, 0.0f), ImVec2(at, display.y), color, 2.0f);
     else draw->AddLine(ImVec2(0.0f, at), ImVec2(display.x, at), color, 2.0f);
-    const std::string left = fmt::format("{} K {}", methodName(t.method), t.resolution);
+    const std::string left = fmt::format("{} K {}", methodName(t.method), viewer_.resolutionDrawn());
     const std::string right = fmt::format("{} K {}", methodName(t.compareMethod), viewer_.compareResolutionDrawn());
     // Labels at the bottom beside a vertical divider, at the right end of a horizontal one (the
     // panel is on the left).

@@ -157,6 +157,11 @@ void Viewer::updateCompareBake() {
                       bakes_.budget());
 }
 
+int Viewer::resolutionDrawn() const {
+  const hsdf::SdfAsset* drawn = sdfAsset();  // with levels of detail, the level the view picked
+  return drawn && bakes_.entity() ? int(drawn->cells.grid.resolution) : bakes_.resolution();
+}
+
 int Viewer::compareResolutionDrawn() const {
   return compare_.resolutionDrawn(tuning_, bakes_.entity() ? bakes_.resolution() : 0);
 }
@@ -218,7 +223,7 @@ void Viewer::showState(const TuningState& tuning, const std::shared_ptr<const hs
 }
 
 std::vector<render::ViewRegion> Viewer::splitRegions(const std::shared_ptr<const hsdf::SdfAsset>& main) {
-  return compare_.splitRegions(tuning_, renderer_->extent(), main);
+  return compare_.splitRegions(tuning_, renderer_->extent(), main, bakes_.bakedAsset());
 }
 
 void Viewer::rebuildAndReloadShaders() {
@@ -320,7 +325,7 @@ Status Viewer::step() {
   const std::shared_ptr<const hsdf::SdfAsset> main = sdf ? sdf->asset : nullptr;
   compare_.clearDifference();
   if (tuning_.difference && main && isSdfMethod(tuning_.method)) {
-    ENGINE_TRY(compare_.renderDifference(tuning_, main, registry_, *renderer_, cameraView()));
+    ENGINE_TRY(compare_.renderDifference(tuning_, main, bakes_.bakedAsset(), registry_, *renderer_, cameraView()));
     settings.overlay = compare_.overlay(settings.overlay);
   } else if (tuning_.split != SplitMode::Off && main) {
     settings.regions = splitRegions(main);
@@ -405,7 +410,7 @@ Status Viewer::writeScreenshot(const std::filesystem::path& path) {
   return Screenshots::write(*renderer_, path,
                             {.tuning = tuning_,
                              .asset = sdfAsset(),
-                             .resolution = bakes_.resolution(),
+                             .resolution = resolutionDrawn(),
                              .compareResolution = compareResolutionDrawn(),
                              .difference = difference ? &*difference : nullptr});
 }

@@ -168,7 +168,9 @@ class Viewer {
   // the main asset stands in). waitForBake() and cancelBake() cover this bake as well.
   hsdf::BakeJob* compareBakeJob() { return compare_.bakeJob(); }
   const std::string& compareBakeError() const { return compare_.bakeError(); }
-  // The K the compared side is drawn with now (0: no SDF).
+  // The K the main side is drawn with now (the level the view picked with levels of detail) and
+  // the K the compared side is drawn with now (0: no SDF).
+  int resolutionDrawn() const;
   int compareResolutionDrawn() const;
   // The numbers of the last difference-view frame (empty when the view is off).
   const std::optional<NormalDifference>& difference() const { return compare_.difference(); }

@@ -121,7 +121,7 @@ TEST(ComparedSide, SplitRegionsShowEachSideOnItsSideOfTheDivider) {
   side.finishBake();
   const VkExtent2D extent{101, 50};
 
-  const std::vector<engine::render::ViewRegion> vertical = side.splitRegions(tuning, extent, main);
+  const std::vector<engine::render::ViewRegion> vertical = side.splitRegions(tuning, extent, main, main);
   ASSERT_EQ(vertical.size(), 2u);
   const std::uint32_t divider = 30;  // 0.3 * 101 = 30.3
   EXPECT_EQ(vertical[0].rect.offset.x, 0);
@@ -142,7 +142,7 @@ TEST(ComparedSide, SplitRegionsShowEachSideOnItsSideOfTheDivider) {
   EXPECT_EQ(int(shown[1].asset->cells.grid.resolution), 24);
 
   tuning.split = SplitMode::Horizontal;
-  const std::vector<engine::render::ViewRegion> horizontal = side.splitRegions(tuning, extent, main);
+  const std::vector<engine::render::ViewRegion> horizontal = side.splitRegions(tuning, extent, main, main);
   ASSERT_EQ(horizontal.size(), 2u);
   EXPECT_EQ(horizontal[0].rect.extent.width, 101u);
   EXPECT_EQ(horizontal[0].rect.extent.height, 15u);  // 0.3 * 50

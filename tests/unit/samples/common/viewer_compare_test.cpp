@@ -109,6 +109,40 @@ TEST(ViewerCompare, SplitShowsEachMethodInItsRegion) {
   EXPECT_TRUE(closed.ok()) << closed.error().message;
 }
 
+// Tricky: with levels of detail the main side draws the level its view picks, and a compared side
+// of cells at K must draw K (the field baked at K), not the level again: both sides drew the level
+// while the labels said K (found by a helper). Each half is the frame of its field drawn alone.
+TEST(ViewerCompare, SplitWithLevelsOfDetailComparesTheLevelWithK) {
+  TuningState main = cellsK16();
+  main.resolution = 32;
+  auto viewer = viewTorus(main);
+  ASSERT_NE(viewer, nullptr);
+  const std::vector<std::uint8_t> onlyK = frameWith(*viewer, main);
+  TuningState lod = main;
+  lod.lod = true;
+  lod.lodPixelsPerCell = 16.0f;  // cells this large on screen: a coarser level than K = 32
+  (void)frameWith(*viewer, lod);
+  const int level = viewer->resolutionDrawn();
+  ASSERT_LT(level, 32) << "the view must pick a coarser level for the test to mean anything";
+  TuningState atLevel = main;
+  atLevel.resolution = level;
+  const std::vector<std::uint8_t> onlyLevel = frameWith(*viewer, atLevel);
+
+  TuningState split = lod;
+  split.split = SplitMode::Vertical;
+  split.compareMethod = hsdf::RenderMethod::Cells;
+  split.compareNormals = hsdf::NormalMode::Exact;  // as the main side's (the compared default is central)
+  const std::vector<std::uint8_t> both = frameWith(*viewer, split);
+  EXPECT_EQ(viewer->resolutionDrawn(), level);
+  EXPECT_EQ(viewer->compareResolutionDrawn(), 32);
+  const Rect first{0, 0, kWidth / 2, kHeight}, second{kWidth / 2, 0, kWidth, kHeight};
+  EXPECT_GT(differingPixels(onlyK, onlyLevel, second), 20u) << "K and the level must differ for the test to mean anything";
+  EXPECT_EQ(differingPixels(both, onlyLevel, first), 0u) << "the main side is the level";
+  EXPECT_EQ(differingPixels(both, onlyK, second), 0u) << "the compared side of cells is K";
+  const engine::Status closed = viewer->close();
+  EXPECT_TRUE(closed.ok()) << closed.error().message;
+}
+
 // Tricky: the difference view compares two frames drawn and read back within one step; the same
 // method on both sides must give exactly 0 degrees and no coverage difference (so any asset or
 // state leaking between the two frames shows up), and the heat map must be what reaches the
