@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <ctime>
@@ -20,6 +21,7 @@
 #include "ground_truth.h"
 #include "hermite_sdf/core/analytic.h"
 #include "hermite_sdf/render/cell_feature.h"
+#include "hermite_sdf/render/lod.h"
 #include "hermite_sdf/core/cells.h"
 #include "metrics.h"
 #include "report.h"
@@ -191,13 +193,33 @@ std::vector<const hsdf::SdfAsset*> drawnAssets(samples::Viewer& viewer) {
   return assets;
 }
 
+// The distinct assets the scene holds: those drawn and, with levels of detail, every level.
+std::vector<const hsdf::SdfAsset*> heldAssets(samples::Viewer& viewer) {
+  std::vector<const hsdf::SdfAsset*> assets = drawnAssets(viewer);
+  viewer.registry().view<hsdf::HermiteSdfLod>().each([&assets](ecs::Entity, const hsdf::HermiteSdfLod& lod) {
+    for (const auto& level : lod.levels)
+      if (std::find(assets.begin(), assets.end(), level.get()) == assets.end()) assets.push_back(level.get());
+  });
+  return assets;
+}
+
+std::uint64_t cellsOf(const std::vector<const hsdf::SdfAsset*>& assets) {
+  std::uint64_t cells = 0;
+  for (const hsdf::SdfAsset* asset : assets) cells += asset->cells.records.size();
+  return cells;
+}
+
 // One row over every view: warm-up, timed frames (Viewer steps), one measured frame.
 Status captureRow(const Group& g, const RowSpec& spec, std::size_t index, std::size_t total, RowResult& result) {
   g.viewer.setTuning(spec.tuning());
   ENGINE_TRY(g.viewer.waitForBake());  // a new K re-bakes through the module bake job
   const std::vector<const hsdf::SdfAsset*> assets = drawnAssets(g.viewer);
   if (!spec.isMesh() && assets.empty()) return makeError("no SDF in the scene");
-  storage(spec, g.subject, assets, result);
+  // With levels of detail the rows held every level and drew the ones their views picked (the
+  // frames select them): the storage of all, the cells of those drawn. They reported level 0's.
+  const bool levels = spec.state.lod && !spec.isMesh();
+  storage(spec, g.subject, levels ? heldAssets(g.viewer) : assets, result);
+  double drawnCells = 0.0;
   QualityAccumulator quality(g.diagonal);
   std::vector<double> frameMs, prepassMs, shadingMs;
   NamedTimings named;
@@ -216,6 +238,7 @@ Status captureRow(const Group& g, const RowSpec& spec, std::size_t index, std::s
       named.add(last.timings);
     }
     addStatistics(last, views, result);
+    drawnCells += double(cellsOf(drawnAssets(g.viewer))) / views;
     const hsdf::HermiteCellFeature& cellFeature = *g.viewer.renderer().feature<hsdf::HermiteCellFeature>();
     const hsdf::HermiteCellFeature::Stats& cells = cellFeature.stats();
     // Culled bricks or cells: the boxes drawn are those the culling pass kept (the frame has completed).
@@ -233,6 +256,7 @@ Status captureRow(const Group& g, const RowSpec& spec, std::size_t index, std::s
     }
     quality.add(g.truth[v], g.measurement.measure(g.measured, g.cameras[v], spec.state), g.cameras[v]);
   }
+  if (levels) result.cells = std::uint64_t(std::llround(drawnCells));
   result.gpuMsMedian = median(frameMs);
   result.gpuMsP95 = percentile(frameMs, 0.95);
   result.prepassMs = median(prepassMs);

@@ -36,6 +36,8 @@ struct RowResult {
   double boxes = 0.0;
   RowQuality quality;
   std::vector<PartQuality> parts;  // per object of a scene (empty for a single shape)
+  // Storage: what the scene holds (with levels of detail every level, K, K/2, ...); cells: the kept
+  // cells stored, with levels of detail those of the levels drawn, mean over views.
   std::uint64_t storedScalars = 0, storedBytes = 0, cells = 0;
   std::string image;           // first view's screenshot, relative to the output folder
 };
