@@ -62,3 +62,16 @@ file(READ ${WORK}/sdf_settings.json saved)
 if(NOT rc EQUAL 0 OR NOT saved MATCHES "\"resolution\": 20,")
   message(FATAL_ERROR "the saved settings of a .hsdf file must say its K (20), got (${rc}): ${saved}${err}")
 endif()
+# A file baked with --refine keeps its refined cells when drawn: the loader classified the stored
+# field again, at depth 0, and drew the cells refinement had dropped (found by a helper).
+execute_process(COMMAND ${BAKE} sphere -o ${WORK}/sphere_refined.hsdf -r 32 --refine 2 RESULT_VARIABLE rc OUTPUT_VARIABLE baked)
+string(REGEX MATCH "kept ([0-9]+), refined to empty ([0-9]+)" found "${baked}")
+if(NOT rc EQUAL 0 OR NOT found OR CMAKE_MATCH_2 EQUAL 0)
+  message(FATAL_ERROR "hsdf_bake --refine 2 must refine some cells for this test (${rc}): ${baked}")
+endif()
+set(kept ${CMAKE_MATCH_1})
+execute_process(COMMAND ${RUNNER} --headless --validation --sdf ${WORK}/sphere_refined.hsdf --size 64x48
+                RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err)
+if(NOT rc EQUAL 0 OR NOT "${out}${err}" MATCHES "cell objects: 1 drawn \\(${kept} cells\\)")
+  message(FATAL_ERROR "a refined file must draw its ${kept} stored cells, got (${rc}):\n${out}${err}")
+endif()
