@@ -10,10 +10,10 @@ int main(int argc, char** argv) {
   hsdf::tools::BakeRequest request;
   std::string inspect;
   bool denseOnly = false, cellsOnly = false, quiet = false;
-  app.add_option("input", request.input, "glTF/GLB file, or an analytic shape: sphere, box, torus, capsule, blob");
-  app.add_option("-o,--output", request.output, "output .hsdf file");
-  app.add_option("-r,--resolution", request.resolution, "K, samples per axis (2..4096)")
-      ->check(CLI::Range(2, hsdf::kMaxResolution));
+  auto* input = app.add_option("input", request.input, "glTF/GLB file, or an analytic shape: sphere, box, torus, capsule, blob");
+  auto* output = app.add_option("-o,--output", request.output, "output .hsdf file");
+  auto* resolution = app.add_option("-r,--resolution", request.resolution, "K, samples per axis (2..4096)")
+                         ->check(CLI::Range(2, hsdf::kMaxResolution));
   app.add_option("-p,--padding", request.padding, "cells of padding around the bounding box")->capture_default_str();
   app.add_flag("--fp16", request.fp16, "store scalars as IEEE binary16 (half the size)");
   auto* dense = app.add_flag("--dense", denseOnly, "store only the dense Hermite field");
@@ -28,7 +28,11 @@ int main(int argc, char** argv) {
       ->capture_default_str()
       ->check(CLI::Range(0u, 256u));
   app.add_flag("-q,--quiet", quiet, "no progress bar");
-  app.add_option("--inspect", inspect, "validate and summarise an .hsdf file instead of baking");
+  // Given with a bake's INPUT, -o or -r it skipped the bake silently.
+  app.add_option("--inspect", inspect, "validate and summarise an .hsdf file instead of baking")
+      ->excludes(input)
+      ->excludes(output)
+      ->excludes(resolution);
   CLI11_PARSE(app, argc, argv);
 
   if (!inspect.empty()) return hsdf::tools::runInspect(inspect);

@@ -50,6 +50,10 @@ struct HsdfLoadOptions {
   std::uint64_t memoryBudgetBytes = std::uint64_t(4) << 30;
 };
 
+// Whether `bytes` start with the .hsdf magic: a tool given a baked file where it wants a mesh names
+// the mix-up instead of failing to parse it as what it wanted.
+bool startsWithHsdfMagic(std::span<const std::uint8_t> bytes);
+
 // FNV-1a, 64 bit (offset basis 0xcbf29ce484222325, prime 0x100000001b3) over `bytes`: the file
 // checksum, computed over everything before the trailer.
 std::uint64_t hsdfChecksum(std::span<const std::uint8_t> bytes);

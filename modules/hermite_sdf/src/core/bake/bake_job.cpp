@@ -1,6 +1,8 @@
 #include "hermite_sdf/core/bake_job.h"
 
+#include <array>
 #include <exception>
+#include <fstream>
 #include <filesystem>
 
 #include <fmt/format.h>
@@ -109,6 +111,12 @@ engine::Expected<BakeSource> BakeSource::fromScene(std::string name, const engin
 engine::Expected<BakeSource> BakeSource::fromPathOrShape(const std::string& input) {
   std::error_code ec;
   if (std::filesystem::exists(input, ec)) {
+    std::array<std::uint8_t, 8> head{};
+    std::ifstream(input, std::ios::binary).read(reinterpret_cast<char*>(head.data()), std::streamsize(head.size()));
+    if (startsWithHsdfMagic(head))
+      return engine::makeError(fmt::format("INPUT '{}' is an .hsdf file, already baked: bake a glTF/GLB mesh or an "
+                                           "analytic shape (hsdf_bake --inspect reads .hsdf files)",
+                                           input));
     ENGINE_TRY_ASSIGN(engine::scene::SceneData scene, engine::scene::loadGltf(input));
     return fromScene(std::filesystem::path(input).filename().string(), scene).withContext(input);
   }

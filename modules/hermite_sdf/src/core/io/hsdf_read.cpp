@@ -1,4 +1,5 @@
 // Reading .hsdf files: validate sizes, then the checksum, then every value (docs/hsdf-format.md).
+#include <algorithm>
 #include <cmath>
 
 #include <fmt/format.h>
@@ -202,6 +203,10 @@ engine::Expected<HsdfContents> loadHsdf(const std::filesystem::path& path, const
   auto bytes = engine::readBinaryFile(path, options.memoryBudgetBytes + kHsdfHeaderBytes + kHsdfTrailerBytes);
   if (!bytes) return bytes.error();
   return loadHsdfFromMemory(*bytes, options).withContext(path.string());
+}
+
+bool startsWithHsdfMagic(std::span<const std::uint8_t> bytes) {
+  return bytes.size() >= io::kMagic.size() && std::equal(io::kMagic.begin(), io::kMagic.end(), bytes.begin());
 }
 
 }  // namespace hsdf
