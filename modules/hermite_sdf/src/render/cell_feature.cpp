@@ -194,9 +194,7 @@ void HermiteCellFeature::recordBatch(engine::render::PassContext& pass, int prec
                                     : (near ? pipelines_.depthNear[variant][precision]
                                             : pipelines_.depthFront[variant][precision]);
   vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, pipeline.handle());
-  const VkBuffer vertexBuffer = bricks ? buffers_->bricks.handle()
-                                : runs ? buffers_->runs.handle()
-                                       : buffers_->records[precision].handle();
+  const VkBuffer vertexBuffer = batchStream(precision);
   const VkDeviceSize offset = 0;
   vkCmdBindVertexBuffers(cmd, 0, 1, &vertexBuffer, &offset);
 
@@ -239,14 +237,19 @@ void HermiteCellFeature::recordIndirect(VkCommandBuffer cmd, const Pipeline& pip
   draws_.draw(cmd, indirect_.buffer(frameSlot).handle(), first, count, countBuffer, countOffset, pushBase);
 }
 
+// The instance stream batch b's draws read: the bricks, the runs, or the records of a precision.
+VkBuffer HermiteCellFeature::batchStream(int b) const {
+  return b == kBrickBatch ? buffers_->bricks.handle()
+         : b == kRunBatch ? buffers_->runs.handle()
+                          : buffers_->records[b].handle();
+}
+
 void HermiteCellFeature::recordWireframe(engine::render::PassContext& pass, int b) {
   const Batch& batch = *batches_[b];
   if (batch.frontCount == 0) return;
   VkCommandBuffer cmd = pass.cmd;
   vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, pipelines_.wire[b].handle());
-  const VkBuffer vertexBuffer = b == kBrickBatch ? buffers_->bricks.handle()
-                                : b == kRunBatch ? buffers_->runs.handle()
-                                                 : buffers_->records[b].handle();
+  const VkBuffer vertexBuffer = batchStream(b);
   const VkDeviceSize offset = 0;
   vkCmdBindVertexBuffers(cmd, 0, 1, &vertexBuffer, &offset);
   shader::HermitePushConstants push{};

@@ -315,6 +315,7 @@ class HermiteCellFeature final : public engine::render::RenderFeature {
   enum class List : std::uint8_t { Front, Near, Late, Fallback };
   void recordBatch(engine::render::PassContext& pass, int precision, List list, VkBuffer countBuffer = VK_NULL_HANDLE,
                    VkDeviceSize countOffset = 0);
+  VkBuffer batchStream(int batch) const;
   void recordWireframe(engine::render::PassContext& pass, int batch);  // DEBUG_VIEW_WIREFRAME: batch b's box edges
   void recordIndirect(VkCommandBuffer cmd, const engine::gpu::Pipeline& pipeline, shader::HermitePushConstants push,
                       std::uint32_t frameSlot, std::uint32_t first, std::uint32_t count,
