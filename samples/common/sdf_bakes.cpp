@@ -96,9 +96,11 @@ void SdfBakes::start() {
   job_ = std::make_unique<hsdf::BakeJob>(*source_, settings());
 }
 
+// The panel's cancel stands beside the bake it names: the re-bake at a new K when there is one (the
+// levels of the field drawn go on baking), else the level of detail being baked.
 void SdfBakes::cancel() {
   if (job_) job_->cancel();
-  if (levelJob_) levelJob_->cancel();
+  else if (levelJob_) levelJob_->cancel();
 }
 
 void SdfBakes::stop() {
@@ -141,7 +143,8 @@ Status SdfBakes::finish() {
 // bake put back): its coarser levels are baked then, from the same source, with its band, one
 // hsdf::BakeJob per level on a worker thread (finer first), so that the frame never waits for them;
 // the module's system picks among the levels ready so far, from the camera of this frame. Off: the
-// entity draws level 0 again. A failed level turns levels off.
+// entity draws level 0 again. A failed level turns levels off; a cancelled one keeps the levels
+// baked so far (off and on again bakes the rest).
 bool SdfBakes::updateLevels(bool wait) {
   hsdf::HermiteSdfRenderable* drawn = renderable();
   if (!drawn) return false;
@@ -189,10 +192,16 @@ void SdfBakes::startNextLevel(const hsdf::BakeSettings& previous) {
 
 // Adds the levels whose bakes are done (all of them when `wait`), starting the next one each time.
 Status SdfBakes::finishLevels(bool wait) {
-  while (levelJob_ && (wait || levelJob_->done())) {
+  while (levelJob_ && (wait || levelJob_->finishable())) {
     hsdf::BakeJob::Result result = levelJob_->wait();
     const hsdf::BakeSettings settings = levelJob_->settings();
+    const bool cancelled = levelJob_->cancelled();
     levelJob_.reset();
+    if (!result && cancelled) {
+      log::info("levels of detail: level K = {} cancelled; {} levels from K = {} kept", settings.resolution,
+                registry_.get<hsdf::HermiteSdfLod>(*entity_).levels.size(), resolution_);
+      return {};
+    }
     if (!result) return result.error().withContext(fmt::format("levels of detail: level K = {}", settings.resolution));
     registry_.get<hsdf::HermiteSdfLod>(*entity_).levels.push_back(std::move(*result));
     startNextLevel(settings);

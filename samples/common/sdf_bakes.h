@@ -62,8 +62,11 @@ class SdfBakes {
   // the first one, when an SDF method or a comparison is picked in a scene loaded as meshes).
   void followTuning();
   hsdf::BakeJob* job() { return job_.get(); }
+  // The level of detail being baked, or null.
+  hsdf::BakeJob* levelJob() { return levelJob_.get(); }
   // Swaps the finished re-bake's asset into the entity (waiting for it).
   engine::Status finish();
+  // Cancels the re-bake, else the level of detail being baked (finished by the next step).
   void cancel();
   // Stops every bake (the Viewer closing).
   void stop();

@@ -188,6 +188,12 @@ void TuningPanel::drawResolution() {
     ImGui::ProgressBar(job->progress(), ImVec2(-80.0f, 0.0f), label.c_str());
     ImGui::SameLine();
     if (ImGui::Button("cancel")) viewer_.cancelBake();
+  } else if (hsdf::BakeJob* level = viewer_.levelBakeJob()) {
+    const std::string label =
+        fmt::format("level of detail K = {}: {:.0f}%", level->settings().resolution, 100.0f * level->progress());
+    ImGui::ProgressBar(level->progress(), ImVec2(-80.0f, 0.0f), label.c_str());
+    ImGui::SameLine();
+    if (ImGui::Button("cancel##level")) viewer_.cancelBake();
   }
   if (!viewer_.bakeError().empty()) ImGui::TextWrapped("bake refused/failed: %s", viewer_.bakeError().c_str());
 }

@@ -155,10 +155,13 @@ class Viewer {
   engine::Status checkTuning(const TuningState& tuning) const;
   // The running re-bake (progress(), cancel()), or null.
   hsdf::BakeJob* bakeJob() { return bakes_.job(); }
+  // The level of detail being baked (TuningState::lod; coarser levels one after another), or null.
+  hsdf::BakeJob* levelBakeJob() { return bakes_.levelJob(); }
   // Blocks until a running re-bake is done and in the scene, and with TuningState::lod until its
   // levels of detail are (they bake on worker threads too); the re-bake's error, if it failed.
   engine::Status waitForBake();
-  // Cancels the running re-bake (the old field keeps drawing; K goes back to the drawn one).
+  // Cancels the running re-bake (the old field keeps drawing; K goes back to the drawn one), else
+  // the level of detail being baked (the levels baked so far stay; levels of detail stay on).
   void cancelBake();
   // Why the last bake failed or was refused (budget, cancelled), or empty.
   const std::string& bakeError() const { return bakes_.error(); }

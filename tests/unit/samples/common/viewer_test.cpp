@@ -497,6 +497,46 @@ TEST(Viewer, LevelsOfDetailBakeOffTheFrameThread) {
   EXPECT_TRUE(viewer->close().ok());
 }
 
+// Tricky: the cancel button stands beside the bake it names. With no re-bake running it cancels
+// the level of detail being baked, and that is not a failure: levels of detail stay on with the
+// levels baked so far, no error is shown and no level bake starts again by itself (before, the
+// cancelled level turned levels of detail off with the error "cancelled"). Off and on again bakes
+// every level.
+TEST(Viewer, CancellingALevelOfDetailKeepsLevelsOfDetailOn) {
+  auto viewer = makeViewer();
+  ASSERT_NE(viewer, nullptr);
+  SceneDesc scene;
+  scene.gltf = hsdftest::sampleAsset("bunny.glb");  // level K = 64 of a mesh: ~0.4 s, a bake the cancel catches
+  scene.groundPlane = false;
+  TuningState loaded;
+  loaded.resolution = 128;
+  ASSERT_TRUE(viewer->loadScene(scene, loaded).ok());
+  ASSERT_TRUE(viewer->step().ok());  // the pipelines built: the step that starts the levels is short
+  const glm::vec3 target = 0.5f * (viewer->boundsMin() + viewer->boundsMax());
+  viewer->setOrbitView(0);
+  const glm::vec3 eye = viewer->cameraView().position;
+  viewer->setCamera(glm::dvec3(target + 1000.0f * (eye - target)), glm::dvec3(target));
+  TuningState tuning = viewer->tuning();
+  tuning.lod = true;
+  viewer->setTuning(tuning);
+  ASSERT_TRUE(viewer->step().ok());
+  ASSERT_NE(viewer->levelBakeJob(), nullptr) << "the step started the levels' bakes";
+  viewer->cancelBake();
+  for (int frame = 0; frame < 3; ++frame) ASSERT_TRUE(viewer->step().ok());
+  EXPECT_TRUE(viewer->tuning().lod) << "a cancelled level keeps levels of detail on";
+  EXPECT_TRUE(viewer->bakeError().empty()) << viewer->bakeError();
+  EXPECT_EQ(viewer->levelBakeJob(), nullptr) << "no level bakes again by itself after a cancel";
+  tuning.lod = false;
+  viewer->setTuning(tuning);
+  ASSERT_TRUE(viewer->step().ok());
+  tuning.lod = true;
+  viewer->setTuning(tuning);
+  ASSERT_TRUE(viewer->waitForBake().ok());
+  ASSERT_TRUE(viewer->step().ok());
+  EXPECT_EQ(theSdf(*viewer).asset->cells.grid.resolution, 16) << "off and on again: every level, the coarsest drawn";
+  EXPECT_TRUE(viewer->close().ok());
+}
+
 // Tricky: past K = 256 the cells bake sparse (no dense field); switching to a dense tracer at a K
 // it allows must re-bake with the field, not hand the tracer an asset without one.
 TEST(Viewer, SparseCellBakeRebakesDenseForTheTracers) {
