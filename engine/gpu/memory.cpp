@@ -112,6 +112,19 @@ void Allocator::releaseRange(Block& block, Range range) {
   }
 }
 
+MemoryRefusal::MemoryRefusal(const Allocator& allocator, VkDeviceSize needed)
+    : used_(allocator.stats().usedBytes), budget_(allocator.budget()), needed_(needed) {}
+
+bool MemoryRefusal::mayRetry(const Allocator& allocator) const {
+  const VkDeviceSize used = allocator.stats().usedBytes;
+  const VkDeviceSize budget = allocator.budget();
+  if (used >= used_ && budget <= budget_) return false;  // nothing given back, no more allowed
+  // No budget: lifted since, or the device's memory was short and some was given back (how much
+  // the device has free is not known here).
+  if (budget == Allocator::kUnlimited) return true;
+  return needed_ <= budget && used <= budget - needed_;
+}
+
 void Allocator::setBudget(VkDeviceSize bytes) {
   std::lock_guard lock(mutex_);
   budget_ = bytes;

@@ -87,4 +87,20 @@ class Allocator {
   AllocatorStats stats_;
 };
 
+// An upload refused for GPU memory (the budget or the device), and whether trying it again could
+// now succeed: memory was given back since (the bytes in use fell) or the budget was raised, and,
+// under a budget, `needed` (what the upload allocates at least) fits below it. Retrying only then
+// keeps a refused upload from being tried, and reported, every frame, while an object refused in a
+// full scene is drawn once others are destroyed.
+class MemoryRefusal {
+ public:
+  MemoryRefusal(const Allocator& allocator, VkDeviceSize needed);
+  bool mayRetry(const Allocator& allocator) const;
+
+ private:
+  VkDeviceSize used_ = 0;
+  VkDeviceSize budget_ = 0;
+  VkDeviceSize needed_ = 0;
+};
+
 }  // namespace engine::gpu

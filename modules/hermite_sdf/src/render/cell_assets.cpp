@@ -80,10 +80,18 @@ struct HermiteCellFeature::AssetUpload {
   std::vector<std::uint32_t> brickCells;
   std::vector<shader::CellBrickCone> cones;
   std::vector<shader::CellBrickCone> cellCones;
+
+  // The bytes of the buffers made from these streams.
+  VkDeviceSize bytes() const {
+    return full.size() * sizeof(CellRecord) + half.size() * sizeof(CellRecordHalf) +
+           runs.size() * sizeof(shader::CellRunGpu) + bricks.size() * sizeof(shader::CellBrickGpu) +
+           brickCells.size() * sizeof(std::uint32_t) + (cones.size() + cellCones.size()) * sizeof(shader::CellBrickCone);
+  }
 };
 
 // Uploads the assets drawn now when one is new, needs bricks or cell cones, or the run length changed.
 void HermiteCellFeature::syncAssets(const engine::render::FrameContext& frame) {
+  forgetRefusalsThatMayFit();
   AssetDemand d = collectAssetDemand(frame);
   const bool runsStale = !d.wanted.empty() && buffers_->runLength != settings_.maxRunLength &&
                          settings_.maxRunLength != refusedRunLength_;  // the setting changed
@@ -102,17 +110,34 @@ void HermiteCellFeature::syncAssets(const engine::render::FrameContext& frame) {
   // Rebuild the concatenated buffers with the assets drawn now (assets no longer drawn are dropped).
   // The old buffers may be referenced by commands recorded earlier in this frame and by frames in
   // flight: they are retired below, and freed once this frame has completed (prepare()).
-  CellBuffers rebuilt;
-  AssetUpload u;
-  for (const auto& asset : d.wanted) appendAsset(rebuilt, u, asset, d);
-  try {
-    createAssetBuffers(rebuilt, u);
-  } catch (const engine::gpu::VulkanError& e) {
-    if (e.result() != VK_ERROR_OUT_OF_DEVICE_MEMORY) throw;
-    refuseNewAssets(frame, d.wanted, e.what());  // the old buffers stay: what was drawn is drawn
-    return;
+  std::string failure;
+  VkDeviceSize needed = 0;
+  {
+    CellBuffers rebuilt;
+    AssetUpload u;
+    for (const auto& asset : d.wanted) appendAsset(rebuilt, u, asset, d);
+    try {
+      createAssetBuffers(rebuilt, u);
+    } catch (const engine::gpu::VulkanError& e) {
+      if (e.result() != VK_ERROR_OUT_OF_DEVICE_MEMORY) throw;
+      failure = e.what();
+      needed = u.bytes();  // at least (the staging copies come on top)
+    }
+    if (failure.empty()) return commitAssetBuffers(frame, std::move(rebuilt), u);
+  }  // the buffers built so far are given back before the refusal notes the memory in use
+  refuseNewAssets(frame, d.wanted, failure, needed);  // the old buffers stay: what was drawn is drawn
+}
+
+// Refusals whose upload may fit now (memory given back or the budget raised since) are forgotten:
+// those assets, or that run length, are tried again (and reported again if refused). A refusal is
+// otherwise kept, so that a full GPU is not asked every frame.
+void HermiteCellFeature::forgetRefusalsThatMayFit() {
+  const engine::gpu::Allocator& allocator = context_->allocator();
+  std::erase_if(refused_, [&allocator](const auto& refusal) { return refusal.second.mayRetry(allocator); });
+  if (runsRefusal_ && runsRefusal_->mayRetry(allocator)) {
+    runsRefusal_.reset();
+    refusedRunLength_ = 0;
   }
-  commitAssetBuffers(frame, std::move(rebuilt), u);
 }
 
 // Whether the uploaded assets that no entity has drawn for Settings::releaseAfterFrames frames (at
@@ -261,32 +286,32 @@ void HermiteCellFeature::commitAssetBuffers(const engine::render::FrameContext& 
   for (auto& [id, entry] : rebuilt.entries)
     if (auto old = buffers_->entries.find(id); old != buffers_->entries.end()) entry.rows = std::move(old->second.rows);
   rebuilt.runLength = settings_.maxRunLength;
-  rebuilt.bytes = u.full.size() * sizeof(CellRecord) + u.half.size() * sizeof(CellRecordHalf) +
-                  u.runs.size() * sizeof(shader::CellRunGpu) + u.bricks.size() * sizeof(shader::CellBrickGpu) +
-                  u.brickCells.size() * sizeof(std::uint32_t) +
-                  (u.cones.size() + u.cellCones.size()) * sizeof(shader::CellBrickCone);
+  rebuilt.bytes = u.bytes();
   for (auto& [id, entry] : rebuilt.entries) entry.lastFrame = frame.frameNumber;
   retired_.retire(std::move(buffers_), frame.frameNumber);
   buffers_ = std::make_unique<CellBuffers>(std::move(rebuilt));
   engine::log::debug("hermite cells: {} assets, {} records uploaded", buffers_->entries.size(), u.full.size());
 }
 
-// The rebuilt buffers did not fit in GPU memory. The assets this rebuild was for (new ones, or a
-// new run length) are refused for good, each reported once, so later frames neither retry nor
-// report them again; the assets already uploaded keep drawing from the old buffers.
+// The rebuilt buffers (`needed` bytes) did not fit in GPU memory. The assets this rebuild was for
+// (new ones, or a new run length) are refused, each reported once, and not tried again until
+// memory is given back (forgetRefusalsThatMayFit); the assets already uploaded keep drawing from
+// the old buffers.
 void HermiteCellFeature::refuseNewAssets(const engine::render::FrameContext& frame,
                                          const std::vector<std::shared_ptr<const SdfAsset>>& wanted,
-                                         const std::string& why) {
+                                         const std::string& why, VkDeviceSize needed) {
+  const engine::gpu::MemoryRefusal refusal(context_->allocator(), needed);
   bool refusedAny = false;
   for (const auto& asset : wanted) {
     if (buffers_->entries.contains(asset->id)) continue;
-    refused_.insert(asset->id);
+    refused_.insert_or_assign(asset->id, refusal);
     refusedAny = true;
     frame.reportDropped(fmt::format("hermite cells: '{}' ({} cells) is not drawn: out of GPU memory ({})", asset->name,
                                     asset->cells.records.size(), why));
   }
   if (refusedAny) return;
   refusedRunLength_ = settings_.maxRunLength;
+  runsRefusal_ = refusal;
   frame.reportDropped(fmt::format("hermite cells: cell runs of length {} are not built: out of GPU memory ({}); the "
                                   "runs of length {} stay",
                                   settings_.maxRunLength, why, buffers_->runLength));

@@ -156,8 +156,10 @@ engine::Expected<SphereTraceFeature::Pipelines> SphereTraceFeature::createPipeli
 
 engine::Expected<SphereTraceFeature::FieldTexture> SphereTraceFeature::uploadTexture(const SdfAsset& asset,
                                                                                      std::uint32_t method, bool half,
-                                                                                     bool& outOfResources) {
+                                                                                     bool& outOfResources,
+                                                                                     VkDeviceSize& neededBytes) {
   outOfResources = false;
+  neededBytes = 0;
   const GridSpec& grid = asset.field.grid;
   if (asset.field.samples.empty())
     return engine::makeError("it has no dense field (cells only: a sparse bake or a file baked with --cells)");
@@ -167,6 +169,7 @@ engine::Expected<SphereTraceFeature::FieldTexture> SphereTraceFeature::uploadTex
     return engine::makeError("resolution " + std::to_string(grid.resolution) + " exceeds the device's 3D texture size " +
                              std::to_string(properties.limits.maxImageDimension3D));
   ENGINE_TRY_ASSIGN(FieldTexels texels, packFieldTexels(asset.field, TraceMethod(method), half));
+  neededBytes = texels.bytes.size();  // at least (its staging copy comes on top)
 
   FieldTexture texture;
   engine::gpu::ImageDesc desc;
@@ -195,7 +198,20 @@ engine::Expected<SphereTraceFeature::FieldTexture> SphereTraceFeature::uploadTex
 
 // Only a refusal for resources: an asset the tracers cannot draw at all (cells only) is not drawn,
 // and its entity does not go on drawing the field it replaced (it did: a stale image).
-bool SphereTraceFeature::refused(std::uint64_t assetId) const { return refusedAssets_.contains(assetId); }
+bool SphereTraceFeature::refused(std::uint64_t assetId) const {
+  return std::any_of(refusals_.begin(), refusals_.end(), [assetId](const auto& r) { return std::get<0>(r.first) == assetId; });
+}
+
+// A refusal for GPU memory or the texture table is forgotten (the texture is tried again, and
+// reported again if refused) once memory may fit it or a texture has given its slot back since.
+void SphereTraceFeature::forgetRefusalsThatMayFit() {
+  const engine::gpu::Allocator& allocator = context_->allocator();
+  std::erase_if(refusals_, [&](const auto& r) {
+    const bool retry = r.second.memory.mayRetry(allocator) || r.second.releasedTextures < releasedTextures_;
+    if (retry) failedTextures_.erase(r.first);
+    return retry;
+  });
+}
 
 const SphereTraceFeature::FieldTexture* SphereTraceFeature::acquireTexture(const SdfAsset& asset, std::uint32_t method,
                                                                            bool half,
@@ -205,11 +221,13 @@ const SphereTraceFeature::FieldTexture* SphereTraceFeature::acquireTexture(const
   if (found == textures_.end()) {
     if (failedTextures_.contains(key)) return nullptr;
     bool outOfResources = false;
-    auto uploaded = uploadTexture(asset, method, half, outOfResources);
+    VkDeviceSize needed = 0;
+    auto uploaded = uploadTexture(asset, method, half, outOfResources, needed);
     if (!uploaded) {
       frame.reportDropped(fmt::format("sphere tracing: '{}' is not drawn: {}", asset.name, uploaded.error().message));
       failedTextures_.insert(key);
-      if (outOfResources) refusedAssets_.insert(asset.id);
+      if (outOfResources)
+        refusals_.insert_or_assign(key, Refusal{engine::gpu::MemoryRefusal(context_->allocator(), needed), releasedTextures_});
       return nullptr;
     }
     found = textures_.emplace(key, std::move(uploaded.value())).first;
@@ -225,6 +243,7 @@ void SphereTraceFeature::releaseUnusedTextures(std::uint64_t frame, std::uint32_
     if (engine::gpu::DeferredRelease::completed(it->second.lastUsedFrame, frame, framesInFlight)) {
       bindings_->remove(it->second.slot);
       it = textures_.erase(it);
+      ++releasedTextures_;
     } else {
       ++it;
     }
@@ -305,6 +324,7 @@ void SphereTraceFeature::prepare(engine::render::FrameContext& frame) {
   const bool bindless = stats_.bindless;
   stats_ = Stats{};
   stats_.bindless = bindless;
+  forgetRefusalsThatMayFit();
   collectDraws(frame);
   releaseUnusedTextures(frame.frameNumber, frame.framesInFlight);
   stats_.textures = std::uint32_t(textures_.size());

@@ -916,7 +916,78 @@ TEST_F(HermiteCellsTest, ARefusedAssetFallsBackOnlyToItsOwnEntitysField) {
   ASSERT_TRUE(renderer_->feature<hsdf::HermiteCellFeature>()->refused(big->id));
   ecs::Registry other;
   ASSERT_EQ(addSdf(other, big, hsdf::RenderMethod::Cells), entity) << "the case needs the same entity id";
-  EXPECT_EQ(covered(other, 0), 0) << "another registry's entity drew the torus of this one";
+  EXPECT_EQ(covered(other, 512 << 10), 0) << "another registry's entity drew the torus of this one";
+  (void)renderer_->takeDroppedObjects();
+}
+
+// Why: cells refused for GPU memory must be drawn once the memory is there, not be refused for
+// good (a game's object refused in a full scene stayed invisible after others were destroyed,
+// found by a helper), and not be tried, and reported, again every frame while nothing changed.
+// Two ways memory comes: the budget raised, and another object destroyed (its asset's buffers
+// dropped after Settings::releaseAfterFrames idle frames, then freed once its frames completed).
+TEST_F(HermiteCellsTest, RefusedCellsAreDrawnOnceTheMemoryIsThere) {
+  createCellRenderer(64, 64);
+  const auto big = bakeAsset("sphere", 48);
+  const auto held = bakeAsset("torus", 48);
+  ASSERT_TRUE(big && held);
+  const render::CameraView camera = orbitCamera(*big, 0);
+  engine::gpu::Allocator& allocator = context_->allocator();
+  auto* feature = renderer_->feature<hsdf::HermiteCellFeature>();
+  feature->settings().releaseAfterFrames = 2;
+  const auto frames = [&](const ecs::Registry& registry, int count) {
+    for (int frame = 0; frame < count; ++frame) renderer_->renderFrame(registry, camera, {});
+  };
+  const auto depthCovered = [&] {
+    const std::vector<float> depth = renderer_->readbackDepth();
+    return std::count_if(depth.begin(), depth.end(), [](float d) { return d > 0.0f; });
+  };
+  ecs::Registry alone;
+  addSdf(alone, big, hsdf::RenderMethod::Cells);
+  frames(alone, 8);  // every frame slot's buffers made
+  const std::int64_t bigPixels = depthCovered();
+  ASSERT_GT(bigPixels, 500);
+  const VkDeviceSize bigBytes = feature->stats().gpuBytes;
+  alone.clear();
+  frames(alone, 8);  // its buffers dropped and freed
+  ASSERT_EQ(feature->stats().gpuBytes, 0u);
+
+  // The budget: short of the rebuild with both objects (it holds the old buffers and the new ones,
+  // the torus's records again with the sphere's), room for the sphere's once the torus's are gone.
+  ecs::Registry registry;
+  const ecs::Entity heldEntity = addSdf(registry, held, hsdf::RenderMethod::Cells,
+                                        glm::translate(glm::mat4(1.0f), glm::vec3(1000.0f, 0.0f, 0.0f)));
+  frames(registry, 8);
+  const VkDeviceSize heldBytes = feature->stats().gpuBytes;
+  ASSERT_GT(heldBytes, 0u);
+  allocator.setBudget(allocator.stats().usedBytes + bigBytes + heldBytes / 2);
+  (void)renderer_->takeDroppedObjects();
+  addSdf(registry, big, hsdf::RenderMethod::Cells);
+  frames(registry, 1);
+  EXPECT_TRUE(feature->refused(big->id));
+  EXPECT_EQ(renderer_->takeDroppedObjects().size(), 1u);
+  frames(registry, 3);
+  EXPECT_TRUE(renderer_->takeDroppedObjects().empty()) << "refused again with nothing changed";
+
+  // The held object destroyed: its buffers go (idle, then freed), and the refused sphere is drawn.
+  registry.destroy(heldEntity);
+  frames(registry, 8);
+  EXPECT_FALSE(feature->refused(big->id));
+  allocator.setBudget(engine::gpu::Allocator::kUnlimited);  // before the read-back's staging buffers
+  EXPECT_EQ(depthCovered(), bigPixels);
+  EXPECT_TRUE(renderer_->takeDroppedObjects().empty()) << "drawn without another refusal";
+
+  // Refused again under a budget, then the budget raised: drawn.
+  registry.clear();
+  frames(registry, 8);
+  allocator.setBudget(allocator.stats().usedBytes + 4096);
+  addSdf(registry, big, hsdf::RenderMethod::Cells);
+  frames(registry, 2);
+  EXPECT_TRUE(feature->refused(big->id));
+  allocator.setBudget(engine::gpu::Allocator::kUnlimited);
+  frames(registry, 1);
+  EXPECT_FALSE(feature->refused(big->id));
+  EXPECT_EQ(depthCovered(), bigPixels);
+  (void)renderer_->takeDroppedObjects();
 }
 
 // Why: the debug views are how a user inspects the method; each must show what it claims:

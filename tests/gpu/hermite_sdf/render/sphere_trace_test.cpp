@@ -465,8 +465,55 @@ TEST_F(SphereTraceTest, AnAssetTheTracersCannotDrawReplacesTheOldOneWithNothing)
         << "the torus it replaced is drawn";
     ecs::Registry third;
     ASSERT_EQ(addTracedSdf(third, big, method), entity);
-    EXPECT_EQ(covered(third), 0) << "another registry's entity drew the torus of this one";
+    allocator.setBudget(allocator.stats().usedBytes + 4096);  // still refused: no retry
+    renderer_->renderFrame(third, camera, {});
+    allocator.setBudget(gpu::Allocator::kUnlimited);
+    const std::vector<float> thirdDepth = renderer_->readbackDepth();
+    EXPECT_EQ(std::count_if(thirdDepth.begin(), thirdDepth.end(), [](float d) { return d > 0.0f; }), 0)
+        << "another registry's entity drew the torus of this one";
+    (void)renderer_->takeDroppedObjects();
   }
+}
+
+// Why: a field refused for GPU memory must be drawn once the memory is there (a raised budget,
+// another field's texture released), not be refused for good (a game's object refused in a full
+// scene stayed invisible after others were destroyed, found by a helper), and must not be tried,
+// and reported, again every frame while nothing changed.
+TEST_F(SphereTraceTest, ARefusedFieldIsDrawnOnceTheMemoryIsThere) {
+  createTraceRenderer(kSize, kSize);
+  const auto torus = bakeAsset("torus", 16);
+  const auto big = bakeAsset("sphere", 40);
+  ASSERT_TRUE(torus && big);
+  const render::CameraView camera = orbitCamera(*big, 0);
+  gpu::Allocator& allocator = context_->allocator();
+  const auto depthCovered = [&] {
+    const std::vector<float> depth = renderer_->readbackDepth();
+    return std::count_if(depth.begin(), depth.end(), [](float d) { return d > 0.0f; });
+  };
+  ecs::Registry fresh;
+  addTracedSdf(fresh, big, RenderMethod::HermiteSphereTrace);
+  renderer_->renderFrame(fresh, camera, {});
+  const std::int64_t bigPixels = depthCovered();
+  ASSERT_GT(bigPixels, 1000);
+  fresh.clear();
+  for (int frame = 0; frame < 4; ++frame) renderer_->renderFrame(fresh, camera, {});  // its texture released
+  (void)renderer_->takeDroppedObjects();
+
+  // Refused under a budget; the same budget next frame: no retry, no second report.
+  addTracedSdf(registry_, big, RenderMethod::HermiteSphereTrace);
+  const VkDeviceSize tight = allocator.stats().usedBytes + 4096;
+  allocator.setBudget(tight);
+  renderer_->renderFrame(registry_, camera, {});
+  EXPECT_TRUE(feature().refused(big->id));
+  EXPECT_EQ(renderer_->takeDroppedObjects().size(), 1u);
+  renderer_->renderFrame(registry_, camera, {});
+  EXPECT_TRUE(renderer_->takeDroppedObjects().empty()) << "refused again with nothing changed";
+  // The budget raised: drawn.
+  allocator.setBudget(gpu::Allocator::kUnlimited);
+  renderer_->renderFrame(registry_, camera, {});
+  EXPECT_FALSE(feature().refused(big->id));
+  EXPECT_EQ(depthCovered(), bigPixels);
+  EXPECT_TRUE(renderer_->takeDroppedObjects().empty());
 }
 
 // Why: one frame may mix methods (the paper's side-by-side comparison); each object must find its

@@ -3,6 +3,7 @@
 // behind (no half-made buffer or image, unchanged totals).
 #include <gtest/gtest.h>
 
+#include <memory>
 #include <string>
 
 #include "engine/gpu/buffer.h"
@@ -77,6 +78,49 @@ TEST(AllocatorBudget, ImagePastTheBudgetFailsNamedAndLeavesNothing) {
   allocator.setBudget(Allocator::kUnlimited);
   Image image(*context, desc);
   EXPECT_EQ(allocator.stats().allocationCount, before.allocationCount + 1);
+  EXPECT_EQ(context->validationMessageCount(), 0u);
+}
+
+// Tricky: a refused upload must be retried when it may now fit and not before (else a full GPU is
+// asked, and the refusal reported, every frame): not while the memory in use is unchanged or
+// higher, not for a freed amount that still leaves it over the budget, yes once enough is given
+// back or the budget raised or lifted; without a budget (the device ran out) once anything is
+// given back, the device's free memory being unknown.
+TEST(MemoryRefusal, RetriesOnlyOnceMemoryGivenBackOrTheBudgetRaisedMayFitIt) {
+  auto context = test::makeTestContext();
+  ASSERT_NE(context, nullptr);
+  Allocator& allocator = context->allocator();
+  const auto buffer = [&](VkDeviceSize bytes) {
+    return std::make_unique<Buffer>(*context, bytes, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, MemoryUsage::GpuOnly, "held");
+  };
+  auto small = buffer(65536);
+  auto large = buffer(262144);
+  allocator.setBudget(allocator.stats().usedBytes + 4096);
+  const MemoryRefusal refusal(allocator, 131072);  // 128 KiB did not fit in 4 KiB
+  EXPECT_FALSE(refusal.mayRetry(allocator)) << "nothing changed";
+  auto more = buffer(4096);
+  EXPECT_FALSE(refusal.mayRetry(allocator)) << "more in use";
+  small.reset();
+  EXPECT_FALSE(refusal.mayRetry(allocator)) << "64 KiB given back: 128 KiB still does not fit";
+  large.reset();
+  EXPECT_TRUE(refusal.mayRetry(allocator)) << "320 KiB given back";
+
+  const MemoryRefusal underBudget(allocator, VkDeviceSize(1) << 20);
+  EXPECT_FALSE(underBudget.mayRetry(allocator));
+  allocator.setBudget(allocator.stats().usedBytes + (VkDeviceSize(1) << 19));
+  EXPECT_FALSE(underBudget.mayRetry(allocator)) << "raised, not enough";
+  allocator.setBudget(allocator.stats().usedBytes + (VkDeviceSize(1) << 20));
+  EXPECT_TRUE(underBudget.mayRetry(allocator)) << "raised by what it needs";
+  allocator.setBudget(allocator.stats().usedBytes + 4096);
+  const MemoryRefusal lifted(allocator, VkDeviceSize(1) << 20);
+  allocator.setBudget(Allocator::kUnlimited);
+  EXPECT_TRUE(lifted.mayRetry(allocator)) << "the budget lifted";
+
+  auto other = buffer(65536);
+  const MemoryRefusal deviceFull(allocator, 131072);  // no budget: the device refused it
+  EXPECT_FALSE(deviceFull.mayRetry(allocator));
+  other.reset();
+  EXPECT_TRUE(deviceFull.mayRetry(allocator)) << "memory given back";
   EXPECT_EQ(context->validationMessageCount(), 0u);
 }
 

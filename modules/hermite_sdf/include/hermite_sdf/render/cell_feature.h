@@ -51,6 +51,7 @@
 #include <cstdint>
 #include <iterator>
 #include <memory>
+#include <optional>
 #include <string>
 #include <unordered_map>
 #include <unordered_set>
@@ -61,6 +62,7 @@
 #include "engine/gpu/buffer.h"
 #include "engine/gpu/deferred_release.h"
 #include "engine/gpu/indirect_draws.h"
+#include "engine/gpu/memory.h"
 #include "engine/gpu/pipeline.h"
 #include "engine/gpu/pixel_buffer.h"
 #include "engine/render/per_frame_buffer.h"
@@ -246,7 +248,8 @@ class HermiteCellFeature final : public engine::render::RenderFeature {
   // entries its lists needed; valid once that frame has completed, zero without tiles.
   shader::CellTileTotals tileTotals() const;
   // Whether the cells of `assetId` were refused (their upload did not fit in GPU memory): the
-  // asset is not drawn, and not retried. An entity whose asset was refused keeps drawing the asset
+  // asset is not drawn, and tried again only once memory has been given back or the budget raised
+  // (engine::gpu::MemoryRefusal). An entity whose asset was refused keeps drawing the asset
   // it drew before, if any (a re-bake past the budget: no frame without the object); the caller
   // can put that asset back into the component (the Viewer does, so the tuning names it).
   bool refused(std::uint64_t assetId) const { return refused_.contains(assetId); }
@@ -269,7 +272,9 @@ class HermiteCellFeature final : public engine::render::RenderFeature {
   void createAssetBuffers(CellBuffers& rebuilt, AssetUpload& u) const;
   void commitAssetBuffers(const engine::render::FrameContext& frame, CellBuffers rebuilt, const AssetUpload& u);
   void refuseNewAssets(const engine::render::FrameContext& frame,
-                       const std::vector<std::shared_ptr<const SdfAsset>>& wanted, const std::string& why);
+                       const std::vector<std::shared_ptr<const SdfAsset>>& wanted, const std::string& why,
+                       VkDeviceSize needed);
+  void forgetRefusalsThatMayFit();
   void buildDraws(engine::render::FrameContext& frame);
   void resetDraws();
   void addObjectDraws(engine::render::FrameContext& frame, FrameDraws& f, engine::ecs::Entity entity,
@@ -383,9 +388,10 @@ class HermiteCellFeature final : public engine::render::RenderFeature {
   // Buffers replaced during a frame: commands recorded before the replacement (an earlier view
   // region of the frame, frames still in flight) still read them until the frame completes.
   engine::gpu::DeferredRelease retired_;
-  // Assets whose upload ran out of GPU memory (reported once, not retried: a re-bake or reload
-  // makes a new asset, which is tried), and a run length refused the same way (0: none).
-  std::unordered_set<std::uint64_t> refused_;
+  // Assets whose upload ran out of GPU memory (reported once, tried again once memory may fit
+  // them: forgetRefusalsThatMayFit), and a run length refused the same way (0: none).
+  std::unordered_map<std::uint64_t, engine::gpu::MemoryRefusal> refused_;
+  std::optional<engine::gpu::MemoryRefusal> runsRefusal_;
   // The asset each entity of drawnRegistry_ drew last frame (drawn instead of a refused one; the
   // entities of another registry are other objects).
   std::unordered_map<engine::ecs::Entity, std::uint64_t> drawnAssets_;

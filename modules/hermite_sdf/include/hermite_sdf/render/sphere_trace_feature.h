@@ -63,6 +63,7 @@
 
 #include "engine/ecs/entity.h"
 #include "engine/gpu/image.h"
+#include "engine/gpu/memory.h"
 #include "engine/gpu/pipeline.h"
 #include "engine/render/per_frame_buffer.h"
 #include "engine/render/render_feature.h"
@@ -121,8 +122,9 @@ class SphereTraceFeature final : public engine::render::RenderFeature {
 
   Settings& settings() { return settings_; }
   const Stats& stats() const { return stats_; }
-  // Whether the field texture of `assetId` could not be uploaded (out of GPU memory): the asset is
-  // not drawn, and not retried. Lets the caller draw the field the asset replaced instead.
+  // Whether the field texture of `assetId` could not be uploaded (out of GPU memory or texture
+  // slots): the asset is not drawn, and tried again only once memory has been given back, the
+  // budget raised or a texture released. Lets the caller draw the field the asset replaced instead.
   bool refused(std::uint64_t assetId) const;
 
  private:
@@ -152,8 +154,10 @@ class SphereTraceFeature final : public engine::render::RenderFeature {
                                      const engine::render::FrameContext& frame);
   // `outOfResources`: the error is GPU memory or the texture table, not the asset (no dense field,
   // too large a resolution), so refused() names it.
+  // `neededBytes`: what the upload allocates, for a refusal's retry.
   engine::Expected<FieldTexture> uploadTexture(const SdfAsset& asset, std::uint32_t method, bool half,
-                                               bool& outOfResources);
+                                               bool& outOfResources, VkDeviceSize& neededBytes);
+  void forgetRefusalsThatMayFit();
   void releaseUnusedTextures(std::uint64_t frame, std::uint32_t framesInFlight);
   void collectDraws(engine::render::FrameContext& frame);
   void recordDraws(VkCommandBuffer cmd, VkPipelineLayout layout, Range range) const;
@@ -168,8 +172,15 @@ class SphereTraceFeature final : public engine::render::RenderFeature {
   engine::render::RendererFormats formats_;
   Pipelines pipelines_;
   std::map<TextureKey, FieldTexture> textures_;
-  std::set<TextureKey> failedTextures_;  // reported once, not retried
-  std::set<std::uint64_t> refusedAssets_;  // of those, for GPU memory or the texture table (refused())
+  std::set<TextureKey> failedTextures_;  // reported once, not retried (refusals: until they may fit)
+  // Of those, the refusals for GPU memory or the texture table (refused()), with the number of
+  // textures released when they were made (a released texture frees a slot of the table).
+  struct Refusal {
+    engine::gpu::MemoryRefusal memory;
+    std::uint64_t releasedTextures = 0;
+  };
+  std::map<TextureKey, Refusal> refusals_;
+  std::uint64_t releasedTextures_ = 0;
   // The asset each entity of drawnRegistry_ drew last frame: drawn instead of a refused asset that
   // replaced it (the entities of another registry are other objects).
   std::unordered_map<engine::ecs::Entity, std::shared_ptr<const SdfAsset>> drawnAssets_;
