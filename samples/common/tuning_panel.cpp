@@ -7,6 +7,7 @@
 #include <fmt/format.h>
 #include <imgui.h>
 
+#include "engine/core/log.h"
 #include "engine/gpu/pipeline.h"
 #include "viewer.h"
 
@@ -30,9 +31,13 @@ int methodIndex(Method method) {
   return int(std::find(methods.begin(), methods.end(), method) - methods.begin());
 }
 
+// Every slider clamps what is typed into it (ctrl+click) to its range: without it ImGui took n = 200,
+// a central-difference step of 0 (a black object) or K = 3000 past the sliders' ends.
+constexpr ImGuiSliderFlags kClamp = ImGuiSliderFlags_AlwaysClamp;
+
 bool sliderU32(const char* label, std::uint32_t& value, IntRange range) {
   int v = int(value);
-  if (!ImGui::SliderInt(label, &v, range.min, range.max)) return false;
+  if (!ImGui::SliderInt(label, &v, range.min, range.max, "%d", kClamp)) return false;
   value = std::uint32_t(v);
   return true;
 }
@@ -68,6 +73,7 @@ void PlotHistory::push(float value) {
 }
 
 void TuningPanel::draw() {
+  if (!refusal_.empty()) ImGui::TextColored(ImVec4(1.0f, 0.45f, 0.35f, 1.0f), "refused: %s", refusal_.c_str());
   drawMethod();
   drawResolution();
   drawComparison();
@@ -78,6 +84,19 @@ void TuningPanel::draw() {
   drawTimings();
   drawFiles();
   drawWindow();
+}
+
+bool TuningPanel::apply(const TuningState& tuning) {
+  engine::Status valid = validateTuning(tuning);
+  if (valid) valid = viewer_.checkTuning(tuning);
+  if (!valid) {
+    refusal_ = valid.error().message;
+    engine::log::warn("panel: {}", refusal_);
+    return false;
+  }
+  refusal_.clear();
+  viewer_.setTuning(tuning);
+  return true;
 }
 
 // Everything here writes the TuningState (applied at the next frame), nothing else.
@@ -158,7 +177,7 @@ void TuningPanel::drawMethod() {
     t.debugView = DebugView(view);
     changed = true;
   }
-  if (changed) viewer_.setTuning(t);
+  if (changed) apply(t);
 }
 
 // K re-bakes when the slider is released (not at every value dragged over).
@@ -173,13 +192,13 @@ void TuningPanel::drawResolution() {
   if (!ImGui::IsAnyItemActive()) resolution_ = t.resolution;
   // The method's range (cells 2048, dense tracers 512), logarithmic: 8..2048 on one slider.
   const int top = std::min(kPanelResolutionRange.max, resolutionRange(t.method).max);
-  ImGui::SliderInt("K (resolution)", &resolution_, kPanelResolutionRange.min, top, "%d", ImGuiSliderFlags_Logarithmic);
+  ImGui::SliderInt("K (resolution)", &resolution_, kPanelResolutionRange.min, top, "%d", ImGuiSliderFlags_Logarithmic | kClamp);
   if (ImGui::IsItemHovered())
     ImGui::SetTooltip("K up to %d for %s; cells past %d bake sparse (the bake budget may refuse, naming its limit)", top,
                       methodName(t.method), kDenseBakeMaxResolution);
   if (ImGui::IsItemDeactivatedAfterEdit() && resolution_ != t.resolution) {
     t.resolution = resolution_;
-    viewer_.setTuning(t);
+    apply(t);
   }
   drawLod(viewer_.tuning());
   drawSearchLimits(viewer_.tuning());
@@ -207,9 +226,9 @@ void TuningPanel::drawLod(const TuningState& tuning) {
     ImGui::SameLine();
     ImGui::SetNextItemWidth(ImGui::GetFontSize() * 8.0f);
     changed |= ImGui::SliderFloat("px per cell", &t.lodPixelsPerCell, kLodPixelsPerCellRange.min,
-                                  kLodPixelsPerCellRange.max, "%.2f", ImGuiSliderFlags_Logarithmic);
+                                  kLodPixelsPerCellRange.max, "%.2f", ImGuiSliderFlags_Logarithmic | kClamp);
   }
-  if (changed) viewer_.setTuning(t);
+  if (changed) apply(t);
 }
 
 // The sphere tracers' stopping rule and normals step, the runs' length (TuningState::traceEpsilon,
@@ -222,26 +241,26 @@ void TuningPanel::drawSearchLimits(const TuningState& tuning) {
   if (tracer) {
     float logEpsilon = std::log10(t.traceEpsilon);
     if (ImGui::SliderFloat("log10 epsilon (h)", &logEpsilon, std::log10(kTraceEpsilonRange.min),
-                           std::log10(kTraceEpsilonRange.max), "%.1f")) {
+                           std::log10(kTraceEpsilonRange.max), "%.1f", kClamp)) {
       t.traceEpsilon = std::clamp(std::pow(10.0f, logEpsilon), kTraceEpsilonRange.min, kTraceEpsilonRange.max);
       changed = true;
     }
     int steps = int(t.traceMaxSteps);
-    if (ImGui::SliderInt("max steps", &steps, kTraceMaxStepsRange.min, kTraceMaxStepsRange.max)) {
+    if (ImGui::SliderInt("max steps", &steps, kTraceMaxStepsRange.min, kTraceMaxStepsRange.max, "%d", kClamp)) {
       t.traceMaxSteps = std::uint32_t(steps);
       changed = true;
     }
     changed |= ImGui::SliderFloat("central difference step (h)", &t.centralDifferenceStep, kCentralDifferenceStepRange.min,
-                                  kCentralDifferenceStepRange.max, "%.2f");
+                                  kCentralDifferenceStepRange.max, "%.2f", kClamp);
   }
   if (t.method == hsdf::RenderMethod::CellRuns) {
     int length = int(t.maxRunLength);
-    if (ImGui::SliderInt("max run length", &length, kMaxRunLengthRange.min, kMaxRunLengthRange.max)) {
+    if (ImGui::SliderInt("max run length", &length, kMaxRunLengthRange.min, kMaxRunLengthRange.max, "%d", kClamp)) {
       t.maxRunLength = std::uint32_t(length);
       changed = true;
     }
   }
-  if (changed) viewer_.setTuning(t);
+  if (changed) apply(t);
 }
 
 void TuningPanel::drawStatistics() {
@@ -301,7 +320,7 @@ void TuningPanel::drawComparison() {
     changed |= ImGui::RadioButton(splitModeName(SplitMode(mode)), &split, mode);
   }
   t.split = SplitMode(split);
-  if (t.split != SplitMode::Off) changed |= ImGui::SliderFloat("divider", &t.splitPosition, 0.05f, 0.95f, "%.2f");
+  if (t.split != SplitMode::Off) changed |= ImGui::SliderFloat("divider", &t.splitPosition, 0.05f, 0.95f, "%.2f", kClamp);
   int compared = methodIndex(t.compareMethod) - 1;  // the SDF methods: cells, trilinear, hermite
   if (ImGui::Combo("compared method", &compared, kMethodLabels + 1, 3)) {
     t.compareMethod = allMethods()[std::size_t(compared + 1)];
@@ -310,7 +329,7 @@ void TuningPanel::drawComparison() {
   if (!drawsCells(t.compareMethod) && viewer_.canRebake()) {
     // 0 = the rule of thumb (2K); re-bakes on release, like K.
     if (!ImGui::IsAnyItemActive()) compareResolution_ = t.compareResolution;
-    ImGui::SliderInt("compared K (0: 2K)", &compareResolution_, 0, resolutionRange(t.compareMethod).max);
+    ImGui::SliderInt("compared K (0: 2K)", &compareResolution_, 0, resolutionRange(t.compareMethod).max, "%d", kClamp);
     if (ImGui::IsItemDeactivatedAfterEdit() && compareResolution_ != t.compareResolution) {
       t.compareResolution = compareResolution_ == 0 ? 0 : std::max(compareResolution_, kPanelResolutionRange.min);
       changed = true;
@@ -334,7 +353,7 @@ void TuningPanel::drawComparison() {
   }
   if (!viewer_.compareBakeError().empty()) ImGui::TextWrapped("%s", viewer_.compareBakeError().c_str());
   if (t.difference && !isSdfMethod(t.method)) ImGui::TextWrapped("the difference view compares two SDF methods");
-  if (changed && validateTuning(t)) viewer_.setTuning(t);
+  if (changed) apply(t);
 }
 
 // A handle over the divider, dragged in the frame (an ImGui window, so the camera does not take
@@ -361,9 +380,12 @@ void TuningPanel::drawDivider() {
     if (active) {
       const ImVec2 mouse = ImGui::GetIO().MousePos;
       t.splitPosition = std::clamp(vertical ? mouse.x / display.x : mouse.y / display.y, 0.05f, 0.95f);
-      viewer_.setTuning(t);
+      apply(t);
     }
-    ImDrawList* draw = ImGui::GetForegroundDrawList();
+    // Behind the other windows, as the handle is: where the panel covers the divider, the panel
+    // takes the mouse, so the line is not drawn there either (it was drawn over the panel, where
+    // it could not be grabbed).
+    ImDrawList* draw = ImGui::GetBackgroundDrawList();
     const ImU32 color = active ? IM_COL32(255, 220, 80, 255) : IM_COL32(255, 255, 255, 200);
     if (vertical) draw->AddLine(ImVec2(at, 0.0f), ImVec2(at, display.y), color, 2.0f);
     else draw->AddLine(ImVec2(0.0f, at), ImVec2(display.x, at), color, 2.0f);
@@ -371,11 +393,17 @@ void TuningPanel::drawDivider() {
     const std::string right = fmt::format("{} K {}", methodName(t.compareMethod), viewer_.compareResolutionDrawn());
     // Labels at the bottom beside a vertical divider, at the right end of a horizontal one (the
     // panel is on the left).
+    // Kept inside the image with the divider at either end of its range.
     const float leftWidth = ImGui::CalcTextSize(left.c_str()).x, rightWidth = ImGui::CalcTextSize(right.c_str()).x;
+    const auto inside = [&display](ImVec2 p, float width) {
+      return ImVec2(std::clamp(p.x, 4.0f, std::max(4.0f, display.x - width - 4.0f)),
+                    std::clamp(p.y, 4.0f, std::max(4.0f, display.y - 20.0f)));
+    };
+    const ImVec2 leftAt =
+        vertical ? ImVec2(at - 8.0f - leftWidth, display.y - 20.0f) : ImVec2(display.x - leftWidth - 8.0f, at - 22.0f);
     const ImVec2 rightAt = vertical ? ImVec2(at + 8.0f, display.y - 20.0f) : ImVec2(display.x - rightWidth - 8.0f, at + 6.0f);
-    draw->AddText(vertical ? ImVec2(at - 8.0f - leftWidth, display.y - 20.0f) : ImVec2(display.x - leftWidth - 8.0f, at - 22.0f),
-                  IM_COL32_WHITE, left.c_str());
-    draw->AddText(rightAt, IM_COL32_WHITE, right.c_str());
+    draw->AddText(inside(leftAt, leftWidth), IM_COL32_WHITE, left.c_str());
+    draw->AddText(inside(rightAt, rightWidth), IM_COL32_WHITE, right.c_str());
   }
   ImGui::End();
   ImGui::PopStyleVar(2);
@@ -386,7 +414,7 @@ void TuningPanel::drawDifferenceLegend() {
   const std::optional<NormalDifference>& d = viewer_.difference();
   if (!d) return;
   float range = viewer_.differenceRange();
-  if (ImGui::SliderFloat("red at (deg)", &range, 0.5f, 90.0f, "%.1f", ImGuiSliderFlags_Logarithmic))
+  if (ImGui::SliderFloat("red at (deg)", &range, 0.5f, 90.0f, "%.1f", ImGuiSliderFlags_Logarithmic | kClamp))
     viewer_.setDifferenceRange(range);
   // A colour bar with ticks at 0, 1/2 and the full range; white: covered by one method only.
   const ImVec2 origin = ImGui::GetCursorScreenPos();
@@ -447,8 +475,8 @@ void TuningPanel::drawFiles() {
   ImGui::SameLine();
   if (ImGui::Button("load settings")) {
     auto loaded = loadTuning(settingsPath_.data(), viewer_.tuning());
-    if (loaded) viewer_.setTuning(*loaded);
-    viewer_.setStatusLine(loaded ? fmt::format("loaded {}", settingsPath_.data()) : loaded.error().message);
+    if (loaded && apply(*loaded)) viewer_.setStatusLine(fmt::format("loaded {}", settingsPath_.data()));
+    else if (!loaded) viewer_.setStatusLine(loaded.error().message);
   }
   if (!viewer_.statusLine().empty()) ImGui::TextWrapped("%s", viewer_.statusLine().c_str());
 }

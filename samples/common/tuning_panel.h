@@ -30,6 +30,11 @@ class TuningPanel {
   explicit TuningPanel(Viewer& viewer) : viewer_(viewer) {}
   // Inside the ImGui frame (a UiLayer panel).
   void draw();
+  // The panel's one way to change the tuning: a state that validateTuning or Viewer::checkTuning
+  // refuses is not applied, and the reason is shown at the top of the panel until a change is
+  // applied (the controls' ranges and choices should never produce one: this is the backstop).
+  bool apply(const TuningState& tuning);
+  const std::string& refusal() const { return refusal_; }
 
  private:
   void drawMethod();
@@ -53,6 +58,7 @@ class TuningPanel {
   int compareResolution_ = 0;  // the same for the compared side
   std::array<char, 256> screenshotPath_{"hsdf_screenshot.png"};
   std::array<char, 256> settingsPath_{"hsdf_settings.json"};
+  std::string refusal_;  // why the last change was refused (apply), until one is applied
 };
 
 }  // namespace samples

@@ -358,7 +358,7 @@ void HermiteCellFeature::recordTiling(engine::render::FrameContext& frame) {
                                     count,
                                     keptCapacity_[precision]};
   }
-  logTileOverflow(tiler_->lastTotals(slot), tiling.entryLimit);
+  logTileOverflow(tiler_->lastTotals(slot), tiler_->lastCapacity(slot), tiling.entryLimit);
   {
     const engine::gpu::GpuTimerScope timing(frame.timer, frame.cmd, "cells tiling");
     tiler_->record(frame.cmd, tiling, frame.timer);
@@ -369,17 +369,25 @@ void HermiteCellFeature::recordTiling(engine::render::FrameContext& frame) {
 
 // What this slot's previous tiled frame (completed) found: lists that overflowed drew boxes, which
 // a user should hear of (the tiles' saving is gone, and the limit is a setting) once, until a
-// frame fits again.
-void HermiteCellFeature::logTileOverflow(const shader::CellTileTotals& previous, std::uint32_t limit) {
+// frame fits again. Lists sized by the slot's earlier frames that a larger frame outgrew (a window
+// made larger) are remade at its size by the next frame: that is said at debug level, naming the
+// capacity they had (the warning named the setting's limit, which was not reached).
+void HermiteCellFeature::logTileOverflow(const shader::CellTileTotals& previous, std::uint32_t capacity,
+                                         std::uint32_t limit) {
   if (previous.boxDrawCount != 0 && !tileOverflowLogged_) {
     if (previous.hugeCells > 0)
       engine::log::warn("hermite cells: {} cells each spanned more than {} screen tiles (the eye near the surface): "
                         "the frame drew the cells as boxes instead",
                         previous.hugeCells, CELL_TILE_MAX_CELL_TILES);
-    else
+    else if (previous.entriesNeeded > limit)
       engine::log::warn("hermite cells: the tiles needed {} list entries, more than the {} they may hold "
                         "(Settings::maxTileEntries): the frame drew the cells as boxes instead",
                         previous.entriesNeeded, limit);
+    else
+      engine::log::debug("hermite cells: the tiles needed {} list entries, more than the {} this frame slot's lists "
+                         "held (sized by its earlier frames; the next frame's are sized for it): the frame drew the "
+                         "cells as boxes instead",
+                         previous.entriesNeeded, capacity);
     tileOverflowLogged_ = true;
   } else if (previous.boxDrawCount == 0 && previous.entriesNeeded > 0) {
     tileOverflowLogged_ = false;

@@ -166,6 +166,7 @@ void CellTiler::record(VkCommandBuffer cmd, const Frame& frame, engine::gpu::Gpu
   ensureBuffers(slot, tileCount, frame.tileSize, wantedEntries(frame.slot, frame.entryEstimate), std::max(frame.entryLimit, 1u));
   slot.recorded = true;
   slot.recordedEstimate = frame.entryEstimate;
+  slot.recordedCapacity = slot.capacity;
   shader::CellTileTotals totals{};
   totals.vertexCount = tilesAsPoints(*context_) ? 1 : 6;
   totals_.upload(frame.slot, &totals, sizeof(totals));

@@ -88,6 +88,8 @@ class CellTiler {
   static constexpr VkDeviceSize kBoxDrawCountOffset = offsetof(shader::CellTileTotals, boxDrawCount);
   // What the slot's last completed scan wrote (the draw, the entries it needed).
   shader::CellTileTotals lastTotals(std::uint32_t slot) const;
+  // The entries the slot's lists held when that scan was recorded.
+  std::uint32_t lastCapacity(std::uint32_t slot) const { return slots_[slot].recordedCapacity; }
 
  private:
   struct Slot {
@@ -97,6 +99,7 @@ class CellTiler {
     std::uint32_t capacity = 0;
     bool recorded = false;
     std::uint64_t recordedEstimate = 0;  // the entry estimate of the slot's last recorded frame
+    std::uint32_t recordedCapacity = 0;  // the lists' capacity then
     bool boundSized = false;             // its lists were made by the estimate, before any measure
     engine::gpu::IdleFrames idle;  // releaseUnneeded's frames in a row
   };

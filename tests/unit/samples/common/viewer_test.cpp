@@ -17,6 +17,7 @@
 
 #include "hermite_sdf/core/hsdf_file.h"
 #include "test_viewer.h"
+#include "tuning_panel.h"
 
 namespace samples {
 namespace {
@@ -494,6 +495,36 @@ TEST(Viewer, LevelsOfDetailBakeOffTheFrameThread) {
     drawn = now;
   }
   EXPECT_EQ(drawn, 16) << "the coarsest level of K = 64 (floor 16) arrived without waitForBake";
+  EXPECT_TRUE(viewer->close().ok());
+}
+
+// Tricky: the panel's controls reach the Viewer through TuningPanel::apply, which must refuse what
+// the settings file and the command line refuse (a value typed past a slider's range: n = 200 was
+// taken, saved into a settings file that then failed to load, and silently blocked every control
+// of the comparison section) and what this scene cannot draw, keep the tuning as it was, and show
+// why until a change is applied.
+TEST(Viewer, ThePanelRefusesWhatTheSettingsWouldRefuse) {
+  auto viewer = viewTorus(16);
+  ASSERT_NE(viewer, nullptr);
+  TuningPanel panel(*viewer);
+  const TuningState before = viewer->tuning();
+  TuningState typed = before;
+  typed.subdivisions = 200;
+  EXPECT_FALSE(panel.apply(typed));
+  EXPECT_NE(panel.refusal().find("subdivisions"), std::string::npos) << panel.refusal();
+  EXPECT_EQ(viewer->tuning().subdivisions, before.subdivisions);
+  TuningState black = before;
+  black.centralDifferenceStep = 0.0f;
+  EXPECT_FALSE(panel.apply(black)) << "a step of 0 drew the object black";
+  TuningState mesh = before;
+  mesh.method = Method::Mesh;
+  EXPECT_FALSE(panel.apply(mesh)) << "an analytic torus has no triangles";
+  EXPECT_EQ(viewer->tuning().method, before.method);
+  TuningState fine = before;
+  fine.subdivisions = 5;
+  EXPECT_TRUE(panel.apply(fine));
+  EXPECT_TRUE(panel.refusal().empty());
+  EXPECT_EQ(viewer->tuning().subdivisions, 5u);
   EXPECT_TRUE(viewer->close().ok());
 }
 

@@ -328,7 +328,7 @@ class HermiteCellFeature final : public engine::render::RenderFeature {
   void recordResolve(engine::render::PassContext& pass);
   void recordTiling(engine::render::FrameContext& frame);
   void recordTiles(engine::render::PassContext& pass);
-  void logTileOverflow(const shader::CellTileTotals& previous, std::uint32_t limit);
+  void logTileOverflow(const shader::CellTileTotals& previous, std::uint32_t capacity, std::uint32_t limit);
   shader::HermitePushConstants prepassPush(const engine::render::PassContext& pass) const;
   static std::uint64_t tileEntryEstimate(const GridSpec& grid, std::uint64_t cells, const glm::mat4& world,
                                          const engine::render::CameraView& camera, VkExtent2D extent,
