@@ -102,11 +102,7 @@ void logWork(samples::Viewer& viewer) {
 
 // Windowed: until the window closes or --frames are drawn. Headless: --frames (default 1). A
 // --script's commands run before the frame they name.
-Status runFrames(const Options& options, samples::Viewer& viewer) {
-  samples::Script script;
-  if (!options.script.empty()) {
-    ENGINE_TRY_ASSIGN(script, samples::loadScript(options.script).withContext("--script"));
-  }
+Status runFrames(const Options& options, const samples::Script& script, samples::Viewer& viewer) {
   // Script frames count steps: a minimised window's steps draw nothing (framesRendered() stays) but
   // the script goes on, so it can restore the window.
   auto next = script.frames.begin();
@@ -141,12 +137,17 @@ Status runFrames(const Options& options, samples::Viewer& viewer) {
 }  // namespace
 
 Status run(const Options& options) {
+  // The script is read first: a bad line is refused before the device starts and the scene bakes.
+  samples::Script script;
+  if (!options.script.empty()) {
+    ENGINE_TRY_ASSIGN(script, samples::loadScript(options.script).withContext("--script"));
+  }
   std::unique_ptr<samples::Viewer> viewer;
   Status status = createApp(options, viewer);
   // The viewer's settings, as loaded: a .hsdf file's K is the one it was baked with.
   if (status && !options.saveSettings.empty())
     status = samples::saveTuning(options.saveSettings, viewer->tuning()).withContext("--save-settings");
-  if (status) status = runFrames(options, *viewer);
+  if (status) status = runFrames(options, script, *viewer);
   // Validation messages during teardown count too; both errors are told (a run the window went on
   // through still ends with an error, which must not hide validation messages).
   const Status closed = viewer ? viewer->close() : Status{};
