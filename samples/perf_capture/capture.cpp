@@ -12,6 +12,7 @@
 #include <fmt/format.h>
 
 #include "capture_rows.h"
+#include "engine/core/log.h"
 #include "engine/gpu/context.h"
 #include "engine/render/mesh_pool.h"
 #include "engine/render/scene_instantiate.h"
@@ -126,18 +127,26 @@ std::string fileName(const std::string& label) {
 }
 
 // The scene cameras the views look through (--scene-cameras), by index; empty for the orbit views.
-Expected<std::vector<std::size_t>> sceneCameraViews(const samples::Viewer& viewer, const Options& options) {
+// A camera named is one the capture must look through (refused if it cannot be one); "all" takes
+// every camera that can be one and skips, with a warning, those that cannot (a zero scale).
+Expected<std::vector<std::size_t>> sceneCameraViews(samples::Viewer& viewer, const Options& options) {
   std::vector<std::size_t> cameras;
   for (const std::string& camera : options.sceneCameras) {
     if (camera == "all") {
-      for (std::size_t i = 0; i < viewer.sceneCameraNames().size(); ++i) cameras.push_back(i);
+      for (std::size_t i = 0; i < viewer.sceneCameraNames().size(); ++i) {
+        if (Status usable = viewer.lookThroughSceneCamera(i); !usable)
+          log::warn("--scene-cameras all: skipped: {}", usable.error().message);
+        else
+          cameras.push_back(i);
+      }
       continue;
     }
     ENGINE_TRY_ASSIGN(const std::size_t index, viewer.findSceneCamera(camera).withContext("--scene-cameras"));
     cameras.push_back(index);
   }
   if (!options.sceneCameras.empty() && cameras.empty())
-    return makeError("--scene-cameras: " + options.scene.string() + " has no perspective cameras");
+    return makeError("--scene-cameras: " + options.scene.string() + " has no perspective camera the capture can look "
+                     "through");
   return cameras;
 }
 

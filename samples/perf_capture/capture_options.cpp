@@ -108,7 +108,8 @@ ParseResult parseOptions(int argc, const char* const* argv) {
           ->check(CLI::Range(1.0f, 64.0f));
   app.add_option("--scene-cameras", options.sceneCameras,
                  "the views are these cameras of the --scene (glTF camera nodes, by name or index, comma-separated; "
-                 "all: every perspective camera, in node order) instead of the orbit views")
+                 "all: every perspective camera, in node order, skipping with a warning one that cannot be a camera, such as a "
+                 "zero scale) instead of the orbit views")
       ->delimiter(',')
       ->excludes(views)
       ->excludes(distance)
