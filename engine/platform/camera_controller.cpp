@@ -15,24 +15,24 @@ constexpr float kMaxPitch = 1.55f;
 bool OrbitController::update(const InputState& input) {
   bool moved = false;
   if (!input.uiWantsMouse) {
-    if (input.leftButton && (input.cursorDelta.x != 0.0f || input.cursorDelta.y != 0.0f)) {
-      yaw -= input.cursorDelta.x * rotateSpeed;
-      pitch = std::clamp(pitch + input.cursorDelta.y * rotateSpeed, -kMaxPitch, kMaxPitch);
+    if (input.leftDrag.x != 0.0f || input.leftDrag.y != 0.0f) {
+      yaw -= input.leftDrag.x * rotateSpeed;
+      pitch = std::clamp(pitch + input.leftDrag.y * rotateSpeed, -kMaxPitch, kMaxPitch);
       moved = true;
     }
     if (input.scrollDelta != 0.0f) {
       radius = std::clamp(radius * std::exp(-input.scrollDelta * zoomSpeed), minRadius, maxRadius);
       moved = true;
     }
-    if (input.rightButton && input.cursorDelta.y != 0.0f) {
-      radius = std::clamp(radius * std::exp(input.cursorDelta.y * 0.01f), minRadius, maxRadius);
+    if (input.rightDrag.y != 0.0f) {
+      radius = std::clamp(radius * std::exp(input.rightDrag.y * 0.01f), minRadius, maxRadius);
       moved = true;
     }
-    if (input.middleButton) {
+    if (input.middleDrag.x != 0.0f || input.middleDrag.y != 0.0f) {
       const glm::vec3 forward = glm::normalize(target - eye());
       const glm::vec3 right = glm::normalize(glm::cross(forward, glm::vec3(0, 1, 0)));
       const glm::vec3 up = glm::cross(right, forward);
-      target += (-right * input.cursorDelta.x + up * input.cursorDelta.y) * radius * 0.002f;
+      target += (-right * input.middleDrag.x + up * input.middleDrag.y) * radius * 0.002f;
       moved = true;
     }
   }
@@ -64,15 +64,15 @@ glm::vec3 FlyController::forward() const {
 
 bool FlyController::update(const InputState& input, float dt) {
   bool moved = false;
-  if (!input.uiWantsMouse && input.rightButton) {
-    yaw -= input.cursorDelta.x * lookSpeed;
-    pitch = std::clamp(pitch - input.cursorDelta.y * lookSpeed, -kMaxPitch, kMaxPitch);
+  if (!input.uiWantsMouse && (input.rightDrag.x != 0.0f || input.rightDrag.y != 0.0f)) {
+    yaw -= input.rightDrag.x * lookSpeed;
+    pitch = std::clamp(pitch - input.rightDrag.y * lookSpeed, -kMaxPitch, kMaxPitch);
     moved = true;
   }
   if (input.uiWantsKeyboard) return moved;
   const glm::vec3 f = forward();
   const glm::vec3 r = glm::normalize(glm::cross(f, glm::vec3(0, 1, 0)));
-  glm::vec3 step(0.0f);
+  glm::vec3 step(0.0f);  // keys[]: held, or tapped since the last poll (a tap moves for one frame)
   if (input.keys[GLFW_KEY_W]) step += f;
   if (input.keys[GLFW_KEY_S]) step -= f;
   if (input.keys[GLFW_KEY_D]) step += r;

@@ -1,9 +1,11 @@
 #pragma once
 // Camera controllers driven by InputState: orbit (drag to rotate, right-drag/scroll to zoom,
-// middle-drag to pan) and fly (WASD + mouse look while the right button is held).
+// middle-drag to pan) and fly (WASD + mouse look while the right button is held). Drags read the
+// per-button drag deltas (motion while that button was down), never cursorDelta: the motion before
+// a click is not a drag.
 #include <glm/glm.hpp>
 
-#include "engine/platform/window.h"
+#include "engine/platform/input_events.h"
 
 namespace engine::platform {
 

@@ -9,6 +9,13 @@
 namespace engine::platform {
 namespace {
 
+static_assert(int(KeyAction::Release) == GLFW_RELEASE && int(KeyAction::Press) == GLFW_PRESS &&
+              int(KeyAction::Repeat) == GLFW_REPEAT);
+static_assert(kMouseLeft == GLFW_MOUSE_BUTTON_LEFT && kMouseRight == GLFW_MOUSE_BUTTON_RIGHT &&
+              kMouseMiddle == GLFW_MOUSE_BUTTON_MIDDLE);
+
+Window* owner(GLFWwindow* window) { return static_cast<Window*>(glfwGetWindowUserPointer(window)); }
+
 int& glfwUsers() {
   static int users = 0;
   return users;
@@ -32,7 +39,16 @@ Expected<std::unique_ptr<Window>> Window::create(const std::string& title, int w
   window->window_ = glfwCreateWindow(width, height, title.c_str(), nullptr, nullptr);
   if (!window->window_) return makeError("cannot create a " + std::to_string(width) + "x" + std::to_string(height) + " window");
   glfwSetWindowUserPointer(window->window_, window.get());
+  // Input by events, not by the state at the poll: a tap or click shorter than a frame is seen,
+  // and a drag is the motion while the button is down. Installed now, before the UI layer starts:
+  // ImGui's GLFW backend (installed after) calls these from its own callbacks.
+  glfwSetKeyCallback(window->window_, &Window::onKey);
+  glfwSetMouseButtonCallback(window->window_, &Window::onMouseButton);
+  glfwSetCursorPosCallback(window->window_, &Window::onCursorPos);
   glfwSetScrollCallback(window->window_, &Window::onScroll);
+  double x = 0.0, y = 0.0;
+  glfwGetCursorPos(window->window_, &x, &y);
+  window->events_.setCursor({float(x), float(y)});
   return window;
 }
 
@@ -57,26 +73,28 @@ void Window::destroySurface(VkInstance instance) {
   surface_ = VK_NULL_HANDLE;
 }
 
+void Window::onKey(GLFWwindow* window, int key, int /*scancode*/, int action, int /*mods*/) {
+  if (Window* self = owner(window)) self->events_.onKey(key, KeyAction(action));
+}
+
+void Window::onMouseButton(GLFWwindow* window, int button, int action, int /*mods*/) {
+  if (Window* self = owner(window)) self->events_.onButton(button, KeyAction(action));
+}
+
+void Window::onCursorPos(GLFWwindow* window, double x, double y) {
+  if (Window* self = owner(window)) self->events_.onCursor({float(x), float(y)});
+}
+
 void Window::onScroll(GLFWwindow* window, double /*dx*/, double dy) {
-  auto* self = static_cast<Window*>(glfwGetWindowUserPointer(window));
-  if (self) self->pendingScroll_ += float(dy);
+  if (Window* self = owner(window)) self->events_.onScroll(float(dy));
 }
 
 void Window::pollEvents() {
-  glfwPollEvents();
-  double x = 0.0, y = 0.0;
-  glfwGetCursorPos(window_, &x, &y);
-  const glm::vec2 cursor{float(x), float(y)};
-  input_.cursorDelta = firstPoll_ ? glm::vec2(0.0f) : cursor - input_.cursor;
-  input_.cursor = cursor;
-  firstPoll_ = false;
-  input_.scrollDelta = pendingScroll_;
-  pendingScroll_ = 0.0f;
-  input_.leftButton = glfwGetMouseButton(window_, GLFW_MOUSE_BUTTON_LEFT) == GLFW_PRESS;
-  input_.rightButton = glfwGetMouseButton(window_, GLFW_MOUSE_BUTTON_RIGHT) == GLFW_PRESS;
-  input_.middleButton = glfwGetMouseButton(window_, GLFW_MOUSE_BUTTON_MIDDLE) == GLFW_PRESS;
-  for (int key = GLFW_KEY_SPACE; key <= GLFW_KEY_LAST && key < 512; ++key)
-    input_.keys[key] = glfwGetKey(window_, key) == GLFW_PRESS;
+  glfwPollEvents();  // runs the callbacks above (also for events waitEvents() took in)
+  const bool uiWantsMouse = input_.uiWantsMouse, uiWantsKeyboard = input_.uiWantsKeyboard;
+  input_ = events_.endFrame();
+  input_.uiWantsMouse = uiWantsMouse;
+  input_.uiWantsKeyboard = uiWantsKeyboard;
 }
 
 bool Window::shouldClose() const { return glfwWindowShouldClose(window_); }

@@ -1,29 +1,18 @@
 #pragma once
-// A GLFW window with a Vulkan surface, and the input state the camera controllers read.
+// A GLFW window with a Vulkan surface, and the input state the camera controllers read
+// (gathered from the window's events: input_events.h).
 #include <memory>
 #include <string>
 #include <vector>
 
-#include <glm/glm.hpp>
 #include <vulkan/vulkan.h>
 
 #include "engine/core/expected.h"
+#include "engine/platform/input_events.h"
 
 struct GLFWwindow;
 
 namespace engine::platform {
-
-struct InputState {
-  glm::vec2 cursor{0.0f};
-  glm::vec2 cursorDelta{0.0f};
-  float scrollDelta = 0.0f;
-  bool leftButton = false;
-  bool rightButton = false;
-  bool middleButton = false;
-  bool keys[512] = {};        // GLFW key codes
-  bool uiWantsMouse = false;  // set by the UI layer: the camera ignores the mouse then
-  bool uiWantsKeyboard = false;
-};
 
 class Window {
  public:
@@ -39,7 +28,11 @@ class Window {
   void destroySurface(VkInstance instance);
   VkSurfaceKHR surface() const { return surface_; }
 
-  // Polls events and updates the input state (deltas are per call).
+  // Polls events and makes the input state from the key, button, cursor and scroll events since
+  // the last call (a key tapped or a button clicked between two calls counts as pressed; a drag is
+  // only the motion while its button was down). The events arrive through GLFW callbacks that
+  // create() installs; a UI backend installed later must chain to them (ImGui's GLFW backend
+  // does: it calls the callbacks installed before its own) or the input stops changing.
   void pollEvents();
   bool shouldClose() const;
   VkExtent2D framebufferExtent() const;  // {0,0} while minimised (Windows; X11 keeps the size)
@@ -65,13 +58,15 @@ class Window {
 
  private:
   Window() = default;
+  static void onKey(GLFWwindow* window, int key, int scancode, int action, int mods);
+  static void onMouseButton(GLFWwindow* window, int button, int action, int mods);
+  static void onCursorPos(GLFWwindow* window, double x, double y);
   static void onScroll(GLFWwindow* window, double dx, double dy);
 
   GLFWwindow* window_ = nullptr;
   VkSurfaceKHR surface_ = VK_NULL_HANDLE;
   InputState input_;
-  float pendingScroll_ = 0.0f;
-  bool firstPoll_ = true;
+  InputEvents events_;  // what the callbacks saw since the last pollEvents()
   int windowedRect_[4] = {0, 0, 0, 0};  // x, y, width, height before going full screen
 };
 

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 
+#include <GLFW/glfw3.h>
 #include <imgui.h>
 #include <imgui_impl_glfw.h>
 #include <imgui_impl_vulkan.h>
@@ -85,6 +86,7 @@ Status UiLayer::initialize(VkFormat colorFormat, std::uint32_t framesInFlight, p
   if (window) {
     if (!ImGui_ImplGlfw_InitForVulkan(window->handle(), true)) return makeError("ImGui GLFW backend failed to start");
     glfwBackend_ = true;
+    window_ = window;
   }
 
   ImGui_ImplVulkan_InitInfo info{};
@@ -137,6 +139,7 @@ void UiLayer::buildFrame(VkExtent2D extent, float deltaSeconds) {
   ImGuiIO& io = ImGui::GetIO();
   ImGui_ImplVulkan_NewFrame();
   if (glfwBackend_) {
+    showKeysToImGui();
     ImGui_ImplGlfw_NewFrame();
   } else {
     io.DisplaySize = ImVec2(float(extent.width), float(extent.height));
@@ -157,6 +160,30 @@ void UiLayer::buildFrame(VkExtent2D extent, float deltaSeconds) {
   ImGui::End();
   ImGui::Render();
   frameBuilt_ = true;
+}
+
+// Dear ImGui 1.86 (Debian 12's) keeps keys as levels: its GLFW backend writes io.KeysDown at each
+// key event and NewFrame() compares them with the last frame's. A key pressed and released between
+// two frames (a quick tap while a frame takes 50-500 ms) is up again when NewFrame() looks, so the
+// press is lost: Return tapped in a slider's text field left it in edit mode. (Characters are not
+// affected: they are queued. Mouse clicks neither: the backend keeps a just-pressed flag. ImGui
+// 1.87 queues key events and needs none of this.) So the levels ImGui reads are replaced by the
+// window's: every press since the last frame shows down for this frame, a release that came in
+// the same frame as its press is delivered one frame late (PolledKeyLevels), and the modifiers
+// follow the same levels.
+void UiLayer::showKeysToImGui() {
+#if IMGUI_VERSION_NUM < 18700
+  if (!window_) return;
+  imguiKeys_.update(window_->input());
+  ImGuiIO& io = ImGui::GetIO();
+  constexpr int kKeys = std::min(int(sizeof(ImGuiIO::KeysDown) / sizeof(bool)), platform::InputState::kKeyCount);
+  for (int key = 0; key < kKeys; ++key) io.KeysDown[key] = imguiKeys_.down(key);
+  auto down = [&](int a, int b) { return imguiKeys_.down(a) || imguiKeys_.down(b); };
+  io.KeyCtrl = down(GLFW_KEY_LEFT_CONTROL, GLFW_KEY_RIGHT_CONTROL);
+  io.KeyShift = down(GLFW_KEY_LEFT_SHIFT, GLFW_KEY_RIGHT_SHIFT);
+  io.KeyAlt = down(GLFW_KEY_LEFT_ALT, GLFW_KEY_RIGHT_ALT);
+  io.KeySuper = down(GLFW_KEY_LEFT_SUPER, GLFW_KEY_RIGHT_SUPER);
+#endif
 }
 
 bool UiLayer::wantsMouse() const { return ImGui::GetIO().WantCaptureMouse; }

@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "engine/core/expected.h"
+#include "engine/platform/input_events.h"
 #include "engine/render/renderer.h"
 
 namespace engine::platform {
@@ -38,7 +39,8 @@ class UiLayer final : public render::OverlayPass {
   // Adds every render feature's drawUi() as a panel.
   void addFeaturePanels(const render::Renderer& renderer);
 
-  // Builds this frame's UI (call once per frame before Renderer::renderFrame).
+  // Builds this frame's UI (call once per frame before Renderer::renderFrame, after the window's
+  // pollEvents: the key presses ImGui is shown are that poll's).
   void buildFrame(VkExtent2D extent, float deltaSeconds);
   // True when ImGui wants the mouse/keyboard (camera controllers should ignore them).
   bool wantsMouse() const;
@@ -50,6 +52,7 @@ class UiLayer final : public render::OverlayPass {
   UiLayer(const gpu::Context& context) : context_(context) {}
   Status initialize(VkFormat colorFormat, std::uint32_t framesInFlight, platform::Window* window);
   VkFramebuffer framebufferFor(const gpu::Image& color);
+  void showKeysToImGui();
 
   struct Panel {
     std::string name;
@@ -63,6 +66,10 @@ class UiLayer final : public render::OverlayPass {
   std::vector<Panel> panels_;
   std::string iniFile_;  // ImGui keeps a pointer to it
   std::string windowTitle_ = "engine";
+  platform::Window* window_ = nullptr;  // null headless
+  // ImGui 1.86 reads keys as levels once a frame: a tap within one frame is stretched over a frame
+  // (buildFrame).
+  platform::PolledKeyLevels imguiKeys_;
   bool glfwBackend_ = false;
   bool vulkanBackend_ = false;
   bool frameBuilt_ = false;

@@ -258,16 +258,16 @@ void Viewer::handleInput(float dt) {
   moveCamera(input, dt);
 }
 
-// F1: panel on/off; F2: orbit/fly camera; F11: full screen. On the press, not while held.
+// F1: panel on/off; F2: orbit/fly camera; F11: full screen. On the press, not while held; a tap
+// shorter than a frame is a press too (the window's press edges come from its key events).
 void Viewer::handleKeys(const platform::InputState& input) {
-  auto pressed = [&](int key) { return input.keys[key] && !keysDown_[key]; };
+  auto pressed = [&](int key) { return input.keysPressed[key]; };
   if (!input.uiWantsKeyboard) {
     if (pressed(GLFW_KEY_F1)) uiVisible_ = !uiVisible_;
     if (pressed(GLFW_KEY_F2)) setCameraMode(cameraMode_ == CameraMode::Orbit ? CameraMode::Fly : CameraMode::Orbit);
     if (pressed(GLFW_KEY_F11)) setFullscreen(!fullscreen());
     if (pressed(GLFW_KEY_F5)) rebuildAndReloadShaders();
   }
-  std::copy(std::begin(input.keys), std::end(input.keys), std::begin(keysDown_));
 }
 
 Status Viewer::setVsync(bool vsync) { return window_ ? window_->setVsync(vsync, *renderer_) : Status{}; }

@@ -345,7 +345,6 @@ class Viewer {
   Screenshots screenshots_;
   bool uiVisible_ = true;
   float frameSeconds_ = 1.0f / 60.0f;
-  bool keysDown_[512] = {};  // last frame's keys, for presses (F1, F11)
   bool closed_ = false;
   bool deviceLost_ = false;   // a checked call reported VK_ERROR_DEVICE_LOST
   std::string frameFailure_;  // why the scene cannot continue (device lost)

@@ -25,9 +25,10 @@ CameraMode gestureMode(const platform::InputState& input) {
     for (int key : {GLFW_KEY_W, GLFW_KEY_A, GLFW_KEY_S, GLFW_KEY_D, GLFW_KEY_Q, GLFW_KEY_E})
       if (input.keys[key]) return CameraMode::Fly;
   if (input.uiWantsMouse) return CameraMode::Scene;
-  const bool dragged = input.cursorDelta.x != 0.0f || input.cursorDelta.y != 0.0f;
-  if (input.rightButton && dragged) return CameraMode::Fly;
-  if ((input.leftButton && dragged) || input.middleButton || input.scrollDelta != 0.0f) return CameraMode::Orbit;
+  // Drags: motion while the button was down (a click after moving the mouse is not one).
+  auto dragged = [](glm::vec2 d) { return d.x != 0.0f || d.y != 0.0f; };
+  if (dragged(input.rightDrag)) return CameraMode::Fly;
+  if (dragged(input.leftDrag) || input.middleButton || input.scrollDelta != 0.0f) return CameraMode::Orbit;
   return CameraMode::Scene;
 }
 

@@ -103,7 +103,7 @@ TEST(OrbitController, ZoomAndPitchStopAtTheirLimits) {
 
   InputState drag;
   drag.leftButton = true;
-  drag.cursorDelta = {0.0f, 1e4f};
+  drag.leftDrag = {0.0f, 1e4f};
   EXPECT_TRUE(orbit.update(drag));
   EXPECT_LT(orbit.pitch, 1.5708f);
   const glm::vec3 view = glm::normalize(orbit.target - orbit.eye());
@@ -118,7 +118,7 @@ TEST(OrbitController, IgnoresTheMouseWhileTheUiHasIt) {
   InputState input;
   input.leftButton = true;
   input.middleButton = true;
-  input.cursorDelta = {30.0f, -20.0f};
+  input.leftDrag = input.middleDrag = {30.0f, -20.0f};
   input.scrollDelta = 2.0f;
   input.uiWantsMouse = true;
   EXPECT_FALSE(orbit.update(input));
@@ -134,7 +134,7 @@ TEST(OrbitController, PanMovesTheTargetAcrossTheView) {
   const glm::vec3 axis = glm::normalize(orbit.target - orbit.eye());
   InputState input;
   input.middleButton = true;
-  input.cursorDelta = {40.0f, 25.0f};
+  input.middleDrag = {40.0f, 25.0f};
   ASSERT_TRUE(orbit.update(input));
   const glm::vec3 moved = orbit.target - glm::vec3(0.0f);
   EXPECT_GT(glm::length(moved), 0.0f);
