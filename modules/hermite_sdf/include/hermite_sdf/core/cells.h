@@ -19,6 +19,7 @@
 #include <vector>
 
 #include "engine/core/expected.h"
+#include "engine/core/progress.h"
 #include "hermite_sdf/core/field.h"
 #include "hermite_sdf/core/hermite.h"
 
@@ -60,6 +61,9 @@ struct ClassifyOptions {
   // makeSdfAsset refuses more kept cells than this after classifying, before it extracts their
   // records (fp32 + fp16: 192 B a cell, then as much again on the GPU).
   std::uint64_t maxKeptCells = std::uint64_t(-1);
+  // Checked between slabs: the classification of a large grid takes seconds (K = 512: about 8 s
+  // on 2 cores), and a cancelled bake waited for it. Fails with "cancelled".
+  const engine::CancelToken* cancel = nullptr;
 };
 
 struct CellStats {

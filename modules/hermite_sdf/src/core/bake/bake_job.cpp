@@ -194,8 +194,10 @@ engine::Expected<std::shared_ptr<const SdfAsset>> bakeAsset(const PreparedSource
   classify.refineDepth = settings.refineDepth;
   classify.threads = settings.threads;
   classify.maxKeptCells = settings.budget.maxKeptCells;
-  ENGINE_TRY_ASSIGN(std::shared_ptr<const SdfAsset> asset,
-                    makeSdfAsset(source.name, std::move(field), source.source->bounds(), classify));
+  classify.cancel = control.cancel;
+  auto made = makeSdfAsset(source.name, std::move(field), source.source->bounds(), classify);
+  if (!made && cancelled(control)) return engine::makeError("baking: cancelled");
+  ENGINE_TRY_ASSIGN(std::shared_ptr<const SdfAsset> asset, std::move(made));
   ENGINE_TRY(checkHasSurface(asset->classification.stats, grid));
   if (control.progress && !control.progress(1.0f)) return engine::makeError("baking: cancelled");
   return asset;

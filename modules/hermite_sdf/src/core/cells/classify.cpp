@@ -166,8 +166,9 @@ engine::Expected<CellClassification> classifyCells(const HermiteField& field, co
       options.threads != 0 ? options.threads : std::max(1u, std::thread::hardware_concurrency()), unsigned(n));
   std::vector<SlabCounts> perThread(threads);
   std::atomic<int> nextSlab{0};
+  const auto cancelled = [&options] { return options.cancel && options.cancel->isCancelled(); };
   auto worker = [&](unsigned t) {
-    for (int cz = nextSlab.fetch_add(1); cz < n; cz = nextSlab.fetch_add(1)) {
+    for (int cz = nextSlab.fetch_add(1); cz < n && !cancelled(); cz = nextSlab.fetch_add(1)) {
       const SlabCounts c = classifySlab(field, cz, options.refineDepth, out.classes, out);
       perThread[t].crossing += c.crossing;
       perThread[t].ambiguous += c.ambiguous;
@@ -179,6 +180,7 @@ engine::Expected<CellClassification> classifyCells(const HermiteField& field, co
   for (unsigned t = 1; t < threads; ++t) pool.emplace_back(worker, t);
   worker(0);
   for (std::thread& thread : pool) thread.join();
+  if (cancelled()) return engine::makeError("cancelled");
 
   out.stats.cells = out.classes.size();
   for (const SlabCounts& c : perThread) {

@@ -6,6 +6,7 @@
 
 #include "hermite_sdf/core/analytic.h"
 #include "hermite_sdf/core/cells.h"
+#include "hermite_sdf/core/sdf_asset.h"
 
 namespace hsdf {
 namespace {
@@ -122,6 +123,32 @@ TEST(Classification, NoFalseNegativesOnAnalyticShapes) {
       expectNoFalseNegatives(*field, name + " K=" + std::to_string(k));
     }
   }
+}
+
+// Why: classifying a large grid takes seconds after the field is baked (K = 512: about 8 s on 2
+// cores), and a cancelled bake had to wait for all of it, the frame that finished the cancelled job
+// with it. A token cancelled before (or during) the classification stops it between slabs with
+// "cancelled"; one never cancelled changes nothing.
+TEST(Classification, StopsWhenCancelled) {
+  auto source = makeAnalyticSource("torus");
+  ASSERT_TRUE(source.ok());
+  auto grid = fitGrid((*source)->bounds(), 24, 1);
+  ASSERT_TRUE(grid.ok());
+  auto field = bakeHermiteField(**source, *grid, {});
+  ASSERT_TRUE(field.ok());
+  engine::CancelToken token;
+  ClassifyOptions options;
+  options.cancel = &token;
+  auto whole = classifyCells(*field, options);
+  ASSERT_TRUE(whole.ok());
+  EXPECT_GT(whole->stats.kept(), 0u);
+  token.cancel();
+  auto stopped = classifyCells(*field, options);
+  ASSERT_FALSE(stopped.ok());
+  EXPECT_EQ(stopped.error().message, "cancelled");
+  auto asset = makeSdfAsset("torus", std::move(*field), (*source)->bounds(), options);
+  ASSERT_FALSE(asset.ok());
+  EXPECT_NE(asset.error().message.find("cancelled"), std::string::npos) << asset.error().message;
 }
 
 // Tricky: gradients of a non-distance field are far from unit length, so cells far (in value)
