@@ -150,7 +150,9 @@ void UiLayer::buildFrame(VkExtent2D extent, float deltaSeconds) {
   // A fixed size, not auto-fit: ImGui hides an auto-fitting window in its first frame, and a
   // one-frame headless screenshot would show no panel.
   ImGui::SetNextWindowSize(ImVec2(420.0f, std::max(120.0f, float(extent.height) - 20.0f)), ImGuiCond_FirstUseEver);
-  if (ImGui::Begin(windowTitle_.c_str())) {
+  const bool open = ImGui::Begin(windowTitle_.c_str());
+  keepTitleBarReachable(io.DisplaySize);
+  if (open) {
     for (Panel& panel : panels_) {
       ImGui::PushID(panel.name.c_str());
       panel.draw();
@@ -160,6 +162,19 @@ void UiLayer::buildFrame(VkExtent2D extent, float deltaSeconds) {
   ImGui::End();
   ImGui::Render();
   frameBuilt_ = true;
+}
+
+// Inside the current window: a display made tiny (a window resized to 10x10) makes ImGui push the
+// window up and left until a few pixels of it stay inside; made large again, the window stayed
+// there with its title bar above the display, where it cannot be dragged or collapsed. The title
+// bar's left end (the collapse arrow) is put back inside; a window dragged past the right or
+// bottom edge keeps 40 pixels of its title bar visible.
+void UiLayer::keepTitleBarReachable(const ImVec2& display) {
+  constexpr float kVisible = 40.0f;
+  const ImVec2 pos = ImGui::GetWindowPos();
+  const ImVec2 kept(std::clamp(pos.x, 0.0f, std::max(0.0f, display.x - kVisible)),
+                    std::clamp(pos.y, 0.0f, std::max(0.0f, display.y - ImGui::GetFrameHeight())));
+  if (kept.x != pos.x || kept.y != pos.y) ImGui::SetWindowPos(kept);
 }
 
 // Dear ImGui 1.86 (Debian 12's) keeps keys as levels: its GLFW backend writes io.KeysDown at each

@@ -14,6 +14,8 @@
 #include "engine/platform/input_events.h"
 #include "engine/render/renderer.h"
 
+struct ImVec2;
+
 namespace engine::platform {
 class Window;
 }
@@ -53,6 +55,7 @@ class UiLayer final : public render::OverlayPass {
   Status initialize(VkFormat colorFormat, std::uint32_t framesInFlight, platform::Window* window);
   VkFramebuffer framebufferFor(const gpu::Image& color);
   void showKeysToImGui();
+  static void keepTitleBarReachable(const ImVec2& display);
 
   struct Panel {
     std::string name;

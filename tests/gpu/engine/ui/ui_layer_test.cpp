@@ -81,4 +81,24 @@ TEST_F(UiLayerTest, PanelsDrawInOrderInsideTheWindowOverTheScene) {
   EXPECT_EQ(calls, (std::vector<std::string>{"first", "second", "first", "second"}));
 }
 
+// Tricky: a window resized down to a few pixels makes ImGui push the panel up and left until only a
+// corner stays inside; resized back, the panel stayed there with its title bar above the display,
+// out of reach of the mouse (found by driving the window with xdotool). Each frame the title bar is
+// put back inside the display.
+TEST_F(UiLayerTest, TheTitleBarComesBackInsideAfterATinyDisplay) {
+  auto made = engine::ui::UiLayer::create(*context_, renderer_->desc().formats.color, renderer_->desc().framesInFlight, nullptr);
+  ASSERT_TRUE(made) << made.error().message;
+  std::unique_ptr<engine::ui::UiLayer> ui = std::move(*made);
+  ImVec2 pos(-1.0f, -1.0f);
+  ui->addPanel("where", [&] { pos = ImGui::GetWindowPos(); });
+  for (int frame = 0; frame < 3; ++frame) ui->buildFrame({640, 400}, 1.0f / 60.0f);
+  EXPECT_EQ(pos.x, 10.0f);
+  EXPECT_EQ(pos.y, 10.0f);
+  for (int frame = 0; frame < 3; ++frame) ui->buildFrame({10, 10}, 1.0f / 60.0f);
+  for (int frame = 0; frame < 3; ++frame) ui->buildFrame({1200, 760}, 1.0f / 60.0f);
+  EXPECT_GE(pos.y, 0.0f) << "the title bar is above the display";
+  EXPECT_GE(pos.x, 0.0f);
+  EXPECT_EQ(context_->validationMessageCount(), 0u);
+}
+
 }  // namespace
