@@ -80,7 +80,7 @@ engine::Status SphereTraceFeature::initialize(const engine::gpu::Context& contex
   return {};
 }
 
-// Built aside and swapped in only when all ten were created: a failure keeps the old ones.
+// Built aside and swapped in only when all eleven were created: a failure keeps the old ones.
 engine::Status SphereTraceFeature::reloadShaders() {
   ENGINE_TRY_ASSIGN(Pipelines fresh, createPipelines());
   context_->waitIdle();  // frames in flight may still use the old pipelines
@@ -151,6 +151,22 @@ engine::Expected<SphereTraceFeature::Pipelines> SphereTraceFeature::createPipeli
     desc.extraDynamicStates = {VK_DYNAMIC_STATE_CULL_MODE};
     ENGINE_TRY_ASSIGN(pipelines.shade[method], engine::gpu::Pipeline::createGraphics(*context_, desc));
   }
+
+  // The boxes' edges over the shaded frame, tested against the prepass depth (as the cells' are).
+  ENGINE_TRY_ASSIGN(auto wireVert, engine::gpu::ShaderModule::load(*context_, "sphere_trace_wire.vert"));
+  ENGINE_TRY_ASSIGN(auto wireFrag, engine::gpu::ShaderModule::load(*context_, "cells_wire.frag"));
+  engine::gpu::GraphicsPipelineDesc wire;
+  wire.name = "sphere trace wireframe";
+  wire.vertex = wireVert.handle();
+  wire.fragment = wireFrag.handle();
+  wire.pushConstantBytes = sizeof(shader::SphereTracePushConstants);
+  wire.topology = VK_PRIMITIVE_TOPOLOGY_LINE_LIST;
+  wire.cullMode = VK_CULL_MODE_NONE;
+  wire.depthFormat = formats.depth;
+  wire.colorFormats = {formats.color};
+  wire.depthWrite = false;
+  wire.depthCompare = VK_COMPARE_OP_GREATER_OR_EQUAL;
+  ENGINE_TRY_ASSIGN(pipelines.wire, engine::gpu::Pipeline::createGraphics(*context_, wire));
   return pipelines;
 }
 
@@ -383,6 +399,24 @@ void SphereTraceFeature::recordMethod(engine::render::PassContext& pass, std::ui
 
 void SphereTraceFeature::recordPass(engine::render::PassContext& pass) {
   for (std::uint32_t method = 0; method < kTraceMethodCount; ++method) recordMethod(pass, method);
+  if (pass.pass == engine::render::Pass::Opaque && pass.frame.debugView == DEBUG_VIEW_WIREFRAME) recordWireframe(pass);
+}
+
+// Every draw of both methods, front and near lists alike: one instanced draw per list (the
+// instance is the draw's index; no texture is read).
+void SphereTraceFeature::recordWireframe(engine::render::PassContext& pass) {
+  shader::SphereTracePushConstants push{};
+  push.draw.frameGlobals = pass.frameGlobals;
+  push.draw.objects = pass.objects;
+  push.draws = drawBuffer_.address(pass.frame.frameSlot);
+  VkCommandBuffer cmd = pass.cmd;
+  vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, pipelines_.wire.handle());
+  vkCmdPushConstants(cmd, pipelines_.wire.layout(), VK_SHADER_STAGE_VERTEX_BIT | VK_SHADER_STAGE_FRAGMENT_BIT, 0,
+                     sizeof(push), &push);
+  constexpr std::uint32_t kEdgeVertices = 24;
+  for (std::uint32_t method = 0; method < kTraceMethodCount; ++method)
+    for (const Range& range : {front_[method], near_[method]})
+      if (range.count != 0) vkCmdDraw(cmd, kEdgeVertices, range.count, 0, range.first);
 }
 
 void SphereTraceFeature::drawUi() {

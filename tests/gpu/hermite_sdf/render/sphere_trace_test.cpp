@@ -17,6 +17,8 @@
 
 #include <gtest/gtest.h>
 
+#include <cstring>
+
 #include "engine/core/log.h"
 #include "engine/core/math.h"
 #include "engine/render/components.h"
@@ -514,6 +516,30 @@ TEST_F(SphereTraceTest, ARefusedFieldIsDrawnOnceTheMemoryIsThere) {
   EXPECT_FALSE(feature().refused(big->id));
   EXPECT_EQ(depthCovered(), bigPixels);
   EXPECT_TRUE(renderer_->takeDroppedObjects().empty());
+}
+
+// Why: the debug view "cell boxes" (wireframe) drew nothing for the sphere tracers (found by a
+// helper): each traced object's proxy, its grid's bounding box, must show its 12 edges over the
+// shaded frame, for both methods, without changing the depth.
+TEST_F(SphereTraceTest, WireframeShowsEachTracedObjectsBox) {
+  createTraceRenderer(kSize, kSize);
+  const auto asset = bakeAsset("torus", 16);
+  ASSERT_NE(asset, nullptr);
+  const render::CameraView camera = orbitCamera(*asset, 1);
+  for (const RenderMethod method : {RenderMethod::TrilinearSphereTrace, RenderMethod::HermiteSphereTrace}) {
+    SCOPED_TRACE(hsdf::renderMethodName(method));
+    registry_.clear();
+    addTracedSdf(registry_, asset, method);
+    const Frame shaded = renderWith(camera, DEBUG_VIEW_NONE);
+    const Frame wire = renderWith(camera, DEBUG_VIEW_WIREFRAME);
+    int edgePixels = 0;
+    for (std::size_t i = 0; i < wire.depth.size(); ++i) {
+      const std::uint8_t* c = &wire.rgba[i * 4];
+      edgePixels += c[0] > 230 && c[1] > 200 && c[2] < 150 && std::memcmp(c, &shaded.rgba[i * 4], 3) != 0;
+    }
+    EXPECT_GT(edgePixels, int(kSize)) << "the box's edges drawn";
+    EXPECT_EQ(wire.depth, shaded.depth) << "debug views do not change depth";
+  }
 }
 
 // Why: one frame may mix methods (the paper's side-by-side comparison); each object must find its

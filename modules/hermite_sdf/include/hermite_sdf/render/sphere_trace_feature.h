@@ -117,7 +117,7 @@ class SphereTraceFeature final : public engine::render::RenderFeature {
   void prepare(engine::render::FrameContext& frame) override;
   void recordPass(engine::render::PassContext& pass) override;
   void drawUi() override;
-  // Rebuilds the ten pipelines from the SPIR-V on disk; a failure keeps the old ones.
+  // Rebuilds the eleven pipelines from the SPIR-V on disk; a failure keeps the old ones.
   engine::Status reloadShaders() override;
 
   Settings& settings() { return settings_; }
@@ -147,6 +147,7 @@ class SphereTraceFeature final : public engine::render::RenderFeature {
     engine::gpu::Pipeline depthFront[2][2];
     engine::gpu::Pipeline depthNear[2][2];
     engine::gpu::Pipeline shade[2];
+    engine::gpu::Pipeline wire;  // DEBUG_VIEW_WIREFRAME: the proxies' edges
   };
   engine::Expected<Pipelines> createPipelines() const;
   void createSamplers();
@@ -162,6 +163,7 @@ class SphereTraceFeature final : public engine::render::RenderFeature {
   void collectDraws(engine::render::FrameContext& frame);
   void recordDraws(VkCommandBuffer cmd, VkPipelineLayout layout, Range range) const;
   void recordMethod(engine::render::PassContext& pass, std::uint32_t method);
+  void recordWireframe(engine::render::PassContext& pass);
 
   Options options_;
   Settings settings_;
