@@ -1,6 +1,7 @@
 #include "hermite_test_support.h"
 
 #include <algorithm>
+#include <cstring>
 #include <cmath>
 #include <cstdio>
 
@@ -225,6 +226,15 @@ ImageComparison compareWithReference(const Frame& gpu, const std::vector<std::ui
   result.depthErrorMax = depthErrors.empty() ? 0.0 : *std::max_element(depthErrors.begin(), depthErrors.end());
   result.normalErrorP99Degrees = percentile(normalErrors, 0.99);
   return result;
+}
+
+int wireEdgePixels(const Frame& wire, const Frame& shaded) {
+  int edges = 0;
+  for (std::size_t i = 0; i < wire.depth.size(); ++i) {
+    const std::uint8_t* c = &wire.rgba[i * 4];
+    edges += c[0] > 230 && c[1] > 200 && c[2] < 150 && std::memcmp(c, &shaded.rgba[i * 4], 3) != 0;
+  }
+  return edges;
 }
 
 int countIsolatedPixels(const Frame& frame, int tolerance, const std::function<bool(std::size_t)>& wrong) {

@@ -73,6 +73,10 @@ inline constexpr double kDepthOutlierCells = 0.05;
 // feature of the interpolant, not a missed root.
 int countIsolatedPixels(const Frame& frame, int tolerance = 24, const std::function<bool(std::size_t)>& wrong = {});
 
+// Pixels of a DEBUG_VIEW_WIREFRAME frame drawn in the edges' colour (cells_wire.frag's yellow)
+// where the shaded frame of the same view was another colour: the boxes' edges drawn.
+int wireEdgePixels(const Frame& wire, const Frame& shaded);
+
 // Pixels of a DEBUG_VIEW_NORMALS frame that disagree with the reference away from its silhouettes
 // (the reference's 5x5 neighbourhood all hit or all missed): coverage differs, or the normal is
 // more than `degrees` off (orientation-free, as in compareWithReference). At a silhouette the ray

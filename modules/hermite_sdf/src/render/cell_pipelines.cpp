@@ -23,6 +23,7 @@
 #include "render/cell_tiler.h"
 #include "render/cell_history.h"
 #include "render/cell_rows.h"
+#include "render/wireframe.h"
 #include "hermite_sdf/render/lod.h"
 #include "hermite_sdf/core/normal_cone.h"
 
@@ -181,7 +182,7 @@ engine::Status HermiteCellFeature::createWirePipelines(Pipelines& p, const engin
   static constexpr const char* kNames[kBatches] = {"cells fp32", "cells fp16", "runs", "bricks"};
   // Edges over the shaded frame, hidden where the surface is in front of them.
   for (int batch = 0; batch < kBatches; ++batch) {
-    engine::gpu::GraphicsPipelineDesc wire;
+    engine::gpu::GraphicsPipelineDesc wire = wireframePipelineDesc(formats);
     wire.name = std::string("hermite wireframe ") + kNames[batch];
     wire.vertex = batch == kRunBatch ? runsWire.handle() : batch == kBrickBatch ? bricksWire.handle() : cellsWire.handle();
     wire.fragment = wireFrag.handle();
@@ -194,12 +195,6 @@ engine::Status HermiteCellFeature::createWirePipelines(Pipelines& p, const engin
       std::erase_if(wire.vertexLayout.attributes, [](const auto& a) { return a.location != 8; });  // coordinates only
     }
     wire.pushConstantBytes = sizeof(shader::HermitePushConstants);
-    wire.topology = VK_PRIMITIVE_TOPOLOGY_LINE_LIST;
-    wire.cullMode = VK_CULL_MODE_NONE;
-    wire.depthFormat = formats.depth;
-    wire.colorFormats = {formats.color};
-    wire.depthWrite = false;
-    wire.depthCompare = VK_COMPARE_OP_GREATER_OR_EQUAL;
     ENGINE_TRY_ASSIGN(p.wire[batch], Pipeline::createGraphics(context, wire));
   }
   return {};

@@ -15,6 +15,7 @@
 #include "engine/render/gpu_scene.h"
 #include "engine/scene/transform.h"
 #include "hermite/hermite_host_device.h"
+#include "render/wireframe.h"
 #include "render/sphere_trace_textures.h"
 
 namespace hsdf {
@@ -155,17 +156,11 @@ engine::Expected<SphereTraceFeature::Pipelines> SphereTraceFeature::createPipeli
   // The boxes' edges over the shaded frame, tested against the prepass depth (as the cells' are).
   ENGINE_TRY_ASSIGN(auto wireVert, engine::gpu::ShaderModule::load(*context_, "sphere_trace_wire.vert"));
   ENGINE_TRY_ASSIGN(auto wireFrag, engine::gpu::ShaderModule::load(*context_, "cells_wire.frag"));
-  engine::gpu::GraphicsPipelineDesc wire;
+  engine::gpu::GraphicsPipelineDesc wire = wireframePipelineDesc(formats);
   wire.name = "sphere trace wireframe";
   wire.vertex = wireVert.handle();
   wire.fragment = wireFrag.handle();
   wire.pushConstantBytes = sizeof(shader::SphereTracePushConstants);
-  wire.topology = VK_PRIMITIVE_TOPOLOGY_LINE_LIST;
-  wire.cullMode = VK_CULL_MODE_NONE;
-  wire.depthFormat = formats.depth;
-  wire.colorFormats = {formats.color};
-  wire.depthWrite = false;
-  wire.depthCompare = VK_COMPARE_OP_GREATER_OR_EQUAL;
   ENGINE_TRY_ASSIGN(pipelines.wire, engine::gpu::Pipeline::createGraphics(*context_, wire));
   return pipelines;
 }

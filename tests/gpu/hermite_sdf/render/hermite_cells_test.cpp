@@ -1028,12 +1028,7 @@ TEST_F(HermiteCellsTest, DebugViewsShowCellsEvaluationsAndBoxes) {
     addSdf(registry_, asset, method);
     const Frame methodShaded = renderWith(camera, DEBUG_VIEW_NONE);
     const Frame wire = renderWith(camera, DEBUG_VIEW_WIREFRAME);
-    int edgePixels = 0;
-    for (std::size_t i = 0; i < wire.depth.size(); ++i) {
-      const std::uint8_t* c = &wire.rgba[i * 4];
-      edgePixels += c[0] > 230 && c[1] > 200 && c[2] < 150 && std::memcmp(c, &methodShaded.rgba[i * 4], 3) != 0;
-    }
-    EXPECT_GT(edgePixels, 200) << "box edges drawn over the surface";
+    EXPECT_GT(wireEdgePixels(wire, methodShaded), 200) << "box edges drawn over the surface";
     EXPECT_EQ(wire.depth, methodShaded.depth) << "debug views do not change depth";
   }
 }

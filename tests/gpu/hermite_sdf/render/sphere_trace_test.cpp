@@ -17,8 +17,6 @@
 
 #include <gtest/gtest.h>
 
-#include <cstring>
-
 #include "engine/core/log.h"
 #include "engine/core/math.h"
 #include "engine/render/components.h"
@@ -532,12 +530,7 @@ TEST_F(SphereTraceTest, WireframeShowsEachTracedObjectsBox) {
     addTracedSdf(registry_, asset, method);
     const Frame shaded = renderWith(camera, DEBUG_VIEW_NONE);
     const Frame wire = renderWith(camera, DEBUG_VIEW_WIREFRAME);
-    int edgePixels = 0;
-    for (std::size_t i = 0; i < wire.depth.size(); ++i) {
-      const std::uint8_t* c = &wire.rgba[i * 4];
-      edgePixels += c[0] > 230 && c[1] > 200 && c[2] < 150 && std::memcmp(c, &shaded.rgba[i * 4], 3) != 0;
-    }
-    EXPECT_GT(edgePixels, int(kSize)) << "the box's edges drawn";
+    EXPECT_GT(wireEdgePixels(wire, shaded), int(kSize)) << "the box's edges drawn";
     EXPECT_EQ(wire.depth, shaded.depth) << "debug views do not change depth";
   }
 }
