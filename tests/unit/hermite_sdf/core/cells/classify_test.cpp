@@ -125,7 +125,7 @@ TEST(Classification, NoFalseNegativesOnAnalyticShapes) {
   }
 }
 
-// Why: classifying a large grid takes seconds after the field is baked (K = 512: about 8 s on 2
+// Why: classifying a large grid takes long after the field is baked (the bunny at K = 256: 0.7 s on 2
 // cores), and a cancelled bake had to wait for all of it, the frame that finished the cancelled job
 // with it. A token cancelled before (or during) the classification stops it between slabs with
 // "cancelled"; one never cancelled changes nothing.
