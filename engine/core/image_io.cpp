@@ -1,5 +1,7 @@
 #include "engine/core/image_io.h"
 
+#include "engine/core/files.h"
+
 #include <string>
 #include <vector>
 
@@ -15,14 +17,17 @@ Status writePng(const std::filesystem::path& path, std::span<const std::uint8_t>
                      " image with " + std::to_string(channels) + " channels");
   if (pixels.size() < std::size_t(width) * height * channels)
     return makeError(path.string() + ": pixel buffer smaller than the image");
-  if (path.has_parent_path()) {
-    std::error_code ec;
-    std::filesystem::create_directories(path.parent_path(), ec);
-  }
-  const int ok = stbi_write_png(path.string().c_str(), int(width), int(height), int(channels), pixels.data(),
-                                int(width * channels));
-  if (!ok) return makeError(path.string() + ": cannot write PNG");
-  return {};
+  // Encoded in memory and written by writeBinaryFile: stbi_write_png checks neither its writes nor
+  // the close, and a full disk left a truncated PNG behind a success.
+  std::vector<std::uint8_t> encoded;
+  const auto append = [](void* context, void* data, int size) {
+    auto* out = static_cast<std::vector<std::uint8_t>*>(context);
+    out->insert(out->end(), static_cast<const std::uint8_t*>(data), static_cast<const std::uint8_t*>(data) + size);
+  };
+  const int ok = stbi_write_png_to_func(append, &encoded, int(width), int(height), int(channels), pixels.data(),
+                                        int(width * channels));
+  if (!ok) return makeError(path.string() + ": cannot encode PNG");
+  return writeBinaryFile(path, encoded);
 }
 
 Expected<LoadedImage> readPng(const std::filesystem::path& path) {

@@ -58,7 +58,7 @@ engine::Status checkOutput(const BakeRequest& request) {
   if (std::filesystem::equivalent(request.input, request.output, ec))
     return engine::makeError(fmt::format("-o {}: is the INPUT file; baking would overwrite it",
                                          request.output.string()));
-  return {};
+  return engine::checkWritable(request.output).withContext("-o");
 }
 
 }  // namespace
