@@ -1,6 +1,8 @@
 // perf_capture: the paper's results table on the bunny (or a glTF scene / an analytic shape) with
 // quality and work metrics, from one command. See capture_options.h and README "Perf capture".
 #include <cstdio>
+#include <exception>
+#include <new>
 
 #include "capture.h"
 
@@ -11,7 +13,17 @@ int main(int argc, char** argv) {
     return parsed.exitCode;
   }
   int failedRows = 0;
-  const engine::Status status = capture::run(*parsed.options, failedRows);
+  engine::Status status;
+  try {
+    status = capture::run(*parsed.options, failedRows);
+  } catch (const std::bad_alloc&) {
+    std::fprintf(stderr, "perf_capture: error: out of memory (fewer or smaller --resolutions, or a smaller --size, "
+                         "need less)\n");
+    return 1;
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "perf_capture: fatal: %s\n", e.what());
+    return 1;
+  }
   if (!status.ok()) {
     std::fprintf(stderr, "perf_capture: error: %s\n", status.error().message.c_str());
     return 1;

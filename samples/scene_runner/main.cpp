@@ -2,6 +2,7 @@
 // headless into a PNG. `scene_runner --help` lists the options.
 #include <cstdio>
 #include <exception>
+#include <new>
 
 #include "runner.h"
 #include "runner_options.h"
@@ -18,6 +19,10 @@ int main(int argc, char** argv) {
       std::fprintf(stderr, "scene_runner: error: %s\n", status.error().message.c_str());
       return 1;
     }
+  } catch (const std::bad_alloc&) {
+    std::fprintf(stderr, "scene_runner: error: out of memory (a smaller --resolution or --size, or --fp16, needs "
+                         "less; --bake-budget-mib refuses bakes past a limit before they start)\n");
+    return 1;
   } catch (const std::exception& e) {
     std::fprintf(stderr, "scene_runner: fatal: %s\n", e.what());
     return 1;

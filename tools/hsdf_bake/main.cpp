@@ -1,5 +1,9 @@
 // hsdf_bake INPUT -o OUTPUT.hsdf --resolution K [--padding P] [--fp16] [--dense|--cells]
 // hsdf_bake --inspect FILE.hsdf
+#include <cstdio>
+#include <exception>
+#include <new>
+
 #include <CLI/CLI.hpp>
 
 #include "bake_command.h"
@@ -43,5 +47,20 @@ int main(int argc, char** argv) {
   request.payload = denseOnly ? hsdf::tools::Payload::Dense
                               : (cellsOnly ? hsdf::tools::Payload::Cells : hsdf::tools::Payload::Both);
   request.progress = !quiet;
-  return hsdf::tools::runBake(request);
+  // The bake's own allocations are checked against the budget and reported; anything else that runs
+  // out of memory (the file is assembled in memory before it is written) ends here, with a reason,
+  // instead of std::terminate (exit 134, the printed summary lost).
+  try {
+    return hsdf::tools::runBake(request);
+  } catch (const std::bad_alloc&) {
+    std::fflush(stdout);
+    std::fprintf(stderr, "hsdf_bake: error: out of memory (the bake at K = %d and its file do not fit in this "
+                         "process's memory; a smaller --resolution, --cells or --fp16 needs less)\n",
+                 request.resolution);
+    return 1;
+  } catch (const std::exception& e) {
+    std::fflush(stdout);
+    std::fprintf(stderr, "hsdf_bake: fatal: %s\n", e.what());
+    return 1;
+  }
 }
