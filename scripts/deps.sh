@@ -29,11 +29,16 @@ hsdf_install_deps() {
   DEBIAN_FRONTEND=noninteractive $sudo apt-get install -y -qq --no-install-recommends "${missing[@]}"
 }
 
-# Vulkan's loader warns when XDG_RUNTIME_DIR is unset; give it a private folder.
+# Vulkan's loader warns when XDG_RUNTIME_DIR is unset; give it a private folder, one per user that
+# every call reuses (a new mktemp folder per call was never removed: one more per test script), or a
+# fresh one where that name is taken by another user.
 hsdf_runtime_env() {
   if [ -z "${XDG_RUNTIME_DIR:-}" ] || [ ! -d "${XDG_RUNTIME_DIR}" ]; then
     export XDG_RUNTIME_DIR
-    XDG_RUNTIME_DIR=$(mktemp -d /tmp/hsdf-xdg.XXXXXX)
+    XDG_RUNTIME_DIR="${TMPDIR:-/tmp}/hsdf-xdg-$(id -u)"
+    if ! { mkdir -p "$XDG_RUNTIME_DIR" 2>/dev/null && [ -O "$XDG_RUNTIME_DIR" ]; }; then
+      XDG_RUNTIME_DIR=$(mktemp -d /tmp/hsdf-xdg.XXXXXX)
+    fi
     chmod 700 "$XDG_RUNTIME_DIR"
   fi
 }

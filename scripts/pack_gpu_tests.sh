@@ -60,7 +60,12 @@ export LD_LIBRARY_PATH="$here/lib${LD_LIBRARY_PATH:+:$LD_LIBRARY_PATH}"
 export HSDF_SHADER_DIR="$here/shaders" HSDF_ASSET_DIR="$here/assets" HSDF_TEST_DATA_DIR="$here/data"
 export HSDF_TEST_DEVICE=${HSDF_TEST_DEVICE:-gpu}
 export VK_ADD_LAYER_PATH="$here/layers${VK_ADD_LAYER_PATH:+:$VK_ADD_LAYER_PATH}"
-if [ -z "${XDG_RUNTIME_DIR:-}" ]; then export XDG_RUNTIME_DIR=$(mktemp -d); chmod 700 "$XDG_RUNTIME_DIR"; fi
+# One folder per user, reused by every call (a mktemp folder per call was never removed).
+if [ -z "${XDG_RUNTIME_DIR:-}" ]; then
+  export XDG_RUNTIME_DIR="${TMPDIR:-/tmp}/hsdf-xdg-$(id -u)"
+  { mkdir -p "$XDG_RUNTIME_DIR" 2>/dev/null && [ -O "$XDG_RUNTIME_DIR" ]; } || XDG_RUNTIME_DIR=$(mktemp -d)
+  chmod 700 "$XDG_RUNTIME_DIR"
+fi
 # A driver installed outside the loader's search path (some containers): point the loader at it.
 for icd in /usr/local/nvidia/share/vulkan/icd.d/nvidia_icd.json; do
   [ -z "${VK_DRIVER_FILES:-}" ] && [ -f "$icd" ] && [ ! -f /usr/share/vulkan/icd.d/nvidia_icd.json ] && export VK_DRIVER_FILES=$icd

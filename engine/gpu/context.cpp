@@ -1,6 +1,7 @@
 #include "engine/gpu/context.h"
 
 #include <algorithm>
+#include <optional>
 #include <cstdlib>
 #include <cstring>
 #include <string_view>
@@ -13,10 +14,16 @@ namespace {
 
 constexpr const char* kValidationLayer = "VK_LAYER_KHRONOS_validation";
 
-bool envFlag(const char* name) {
+// An on/off environment variable: unset or empty says nothing; 0, false, off and no are off; any
+// other value is on. (HSDF_VALIDATION= and HSDF_VALIDATION=false turned validation on.)
+std::optional<bool> envSwitch(const char* name) {
   const char* value = std::getenv(name);
-  return value && std::string_view(value) != "0" && std::string_view(value) != "";
+  if (!value || !*value) return std::nullopt;
+  const std::string_view v(value);
+  return !(v == "0" || v == "false" || v == "off" || v == "no");
 }
+
+bool envFlag(const char* name) { return envSwitch(name).value_or(false); }
 
 bool hasLayer(const char* name) {
   std::uint32_t count = 0;
@@ -107,7 +114,7 @@ Expected<DevicePreference> preferenceFromEnv(DevicePreference requested) {
 }  // namespace
 
 bool ContextDesc::defaultValidation() {
-  if (const char* value = std::getenv("HSDF_VALIDATION")) return std::string_view(value) != "0";
+  if (const std::optional<bool> set = envSwitch("HSDF_VALIDATION")) return *set;
 #ifdef NDEBUG
   return false;
 #else

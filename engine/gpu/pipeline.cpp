@@ -31,7 +31,7 @@ std::filesystem::path installedShaderDirectory() {
 }  // namespace
 
 std::filesystem::path shaderDirectory() {
-  if (const char* dir = std::getenv("HSDF_SHADER_DIR")) return dir;
+  if (const char* dir = std::getenv("HSDF_SHADER_DIR"); dir && *dir) return dir;  // empty: unset, not the cwd
   // The build tree the program was compiled in, while it exists; else the installed copy.
   std::error_code ec;
   if (std::filesystem::is_directory(HSDF_SHADER_DIR, ec)) return HSDF_SHADER_DIR;

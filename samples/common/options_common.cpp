@@ -23,7 +23,7 @@ std::optional<ParseStop> parseCommandLine(CLI::App& app, std::string_view progra
 }
 
 std::filesystem::path defaultScenePath() {
-  if (const char* dir = std::getenv("HSDF_ASSET_DIR")) return std::filesystem::path(dir) / "bunny.glb";
+  if (const char* dir = std::getenv("HSDF_ASSET_DIR"); dir && *dir) return std::filesystem::path(dir) / "bunny.glb";
   return std::filesystem::path(HSDF_DEFAULT_ASSET_DIR) / "bunny.glb";
 }
 

@@ -27,7 +27,7 @@ std::string quoted(const std::filesystem::path& path) {
 }  // namespace
 
 ShaderBuild thisProgramsShaderBuild() {
-  if (std::getenv("HSDF_SHADER_DIR")) return {};
+  if (const char* dir = std::getenv("HSDF_SHADER_DIR"); dir && *dir) return {};
   std::error_code ec;
   if (!std::filesystem::is_directory(HSDF_BUILD_DIR, ec)) return {};
   return {HSDF_CMAKE_COMMAND, HSDF_BUILD_DIR};

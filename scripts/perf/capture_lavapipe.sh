@@ -7,6 +7,6 @@
 set -euo pipefail
 build=${1:-build/release}
 shift || true
-export XDG_RUNTIME_DIR=${XDG_RUNTIME_DIR:-$(mktemp -d)}
+source "$(dirname "$0")/../deps.sh" && hsdf_runtime_env  # a private XDG_RUNTIME_DIR, reused
 exec "$build/samples/perf_capture/perf_capture" --device lavapipe --out docs/perf/lavapipe \
   --size 1920x1080 --resolutions 16,32,64,128 --views 8 "$@"

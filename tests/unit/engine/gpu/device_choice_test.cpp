@@ -15,24 +15,54 @@
 namespace engine::gpu {
 namespace {
 
-// Sets HSDF_DEVICE for one test and puts the caller's value back (ctest may run this binary under
-// the launcher, which sets it).
-class ScopedHsdfDevice {
+// Sets an environment variable for one test and puts the caller's value back (ctest may run this
+// binary under the launcher, which sets HSDF_DEVICE).
+class ScopedEnv {
  public:
-  explicit ScopedHsdfDevice(const char* value) {
-    if (const char* old = std::getenv("HSDF_DEVICE")) saved_ = old;
-    setenv("HSDF_DEVICE", value, 1);
+  ScopedEnv(const char* name, const char* value) : name_(name) {
+    if (const char* old = std::getenv(name)) saved_ = old;
+    setenv(name, value, 1);
   }
-  ~ScopedHsdfDevice() {
-    if (saved_) setenv("HSDF_DEVICE", saved_->c_str(), 1);
-    else unsetenv("HSDF_DEVICE");
+  ~ScopedEnv() {
+    if (saved_) setenv(name_, saved_->c_str(), 1);
+    else unsetenv(name_);
   }
-  ScopedHsdfDevice(const ScopedHsdfDevice&) = delete;
-  ScopedHsdfDevice& operator=(const ScopedHsdfDevice&) = delete;
+  ScopedEnv(const ScopedEnv&) = delete;
+  ScopedEnv& operator=(const ScopedEnv&) = delete;
 
  private:
+  const char* name_;
   std::optional<std::string> saved_;
 };
+
+class ScopedHsdfDevice : public ScopedEnv {
+ public:
+  explicit ScopedHsdfDevice(const char* value) : ScopedEnv("HSDF_DEVICE", value) {}
+};
+
+// Tricky: an empty value says nothing (the build's default), and the usual words for off are off
+// (HSDF_VALIDATION= and HSDF_VALIDATION=false turned validation on, and a machine without the
+// layer then failed to start with no word of the variable).
+TEST(DeviceChoice, HsdfValidationReadsOffWordsAndEmptyAsUnset) {
+  bool unset = false;
+  {
+    ScopedEnv none("HSDF_VALIDATION", "");
+    unset = ContextDesc::defaultValidation();
+#ifdef NDEBUG
+    EXPECT_FALSE(unset) << "empty is the release build's default, off";
+#else
+    EXPECT_TRUE(unset) << "empty is the debug build's default, on";
+#endif
+  }
+  for (const char* off : {"0", "false", "off", "no"}) {
+    ScopedEnv value("HSDF_VALIDATION", off);
+    EXPECT_FALSE(ContextDesc::defaultValidation()) << off;
+  }
+  for (const char* on : {"1", "true", "on", "yes"}) {
+    ScopedEnv value("HSDF_VALIDATION", on);
+    EXPECT_TRUE(ContextDesc::defaultValidation()) << on;
+  }
+}
 
 Expected<std::unique_ptr<Context>> create(DevicePreference preference) {
   ContextDesc desc;
