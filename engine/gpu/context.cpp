@@ -111,6 +111,15 @@ Expected<DevicePreference> preferenceFromEnv(DevicePreference requested) {
   return makeError("HSDF_DEVICE='" + std::string(v) + "' is not one of gpu, lavapipe, auto");
 }
 
+const char* preferenceName(DevicePreference preference) {
+  switch (preference) {
+    case DevicePreference::Hardware: return "a hardware GPU";
+    case DevicePreference::Software: return "lavapipe";
+    case DevicePreference::Auto: break;
+  }
+  return "auto";
+}
+
 }  // namespace
 
 bool ContextDesc::defaultValidation() {
@@ -230,7 +239,13 @@ Status Context::createInstance(const ContextDesc& desc) {
     chain = &validationFeatures;
   }
   info.pNext = chain;
-  VK_TRY(vkCreateInstance(&info, nullptr, &instance_));
+  // No driver at all is the likely reason for this one result: say so, not only the code.
+  if (const VkResult created = vkCreateInstance(&info, nullptr, &instance_); created == VK_ERROR_INCOMPATIBLE_DRIVER)
+    return makeError("no Vulkan driver found (vkCreateInstance: VK_ERROR_INCOMPATIBLE_DRIVER): install "
+                     "mesa-vulkan-drivers (lavapipe) or a GPU's driver, and check VK_ICD_FILENAMES / "
+                     "VK_DRIVER_FILES if they are set");
+  else
+    VK_TRY(created);
 
   if (debugUtils_) {
     messengerInfo.pNext = nullptr;
@@ -265,7 +280,8 @@ Status Context::pickPhysicalDevice(const ContextDesc& desc) {
       why = "no VK_KHR_swapchain";
     const int rank = deviceRank(properties.deviceType, preference);
     if (!why.empty() || rank < 0) {
-      rejected += std::string("\n  ") + properties.deviceName + ": " + (why.empty() ? "not the preferred kind" : why);
+      rejected += std::string("\n  ") + properties.deviceName + ": " +
+                  (why.empty() ? std::string("not the kind asked for (") + preferenceName(preference) + ")" : why);
       continue;
     }
     if (rank > bestRank) {
@@ -273,6 +289,9 @@ Status Context::pickPhysicalDevice(const ContextDesc& desc) {
       physicalDevice_ = device;
     }
   }
+  if (!physicalDevice_ && preference == DevicePreference::Hardware)
+    return makeError("no hardware GPU with Vulkan 1.3 (dynamic rendering, synchronization2, buffer device address) "
+                     "was found; --device lavapipe or auto draws on the CPU" + rejected);
   if (!physicalDevice_)
     return makeError("no suitable Vulkan device (need Vulkan 1.3 with dynamic rendering, "
                      "synchronization2, buffer device address; install mesa-vulkan-drivers for lavapipe)" +

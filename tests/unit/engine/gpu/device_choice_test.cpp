@@ -109,14 +109,15 @@ TEST(DeviceChoice, ExplicitPreferenceWinsOverHsdfDevice) {
 TEST(DeviceChoice, AutoFollowsHsdfDevice) {
   {
     // HSDF_DEVICE=gpu under Auto: a hardware device, or (no GPU here) the error that lavapipe is
-    // not the preferred kind. Without HSDF_DEVICE, Auto would take lavapipe on a machine without one.
+    // not the kind asked for. Without HSDF_DEVICE, Auto would take lavapipe on a machine without one.
     ScopedHsdfDevice env("gpu");
     const auto context = create(DevicePreference::Auto);
     if (context.ok()) {
       EXPECT_FALSE((*context)->capabilities().isSoftwareRasterizer) << (*context)->capabilities().deviceName;
       EXPECT_EQ((*context)->validationMessageCount(), 0u);
     } else {
-      EXPECT_NE(context.error().message.find("not the preferred kind"), std::string::npos) << context.error().message;
+      EXPECT_NE(context.error().message.find("not the kind asked for (a hardware GPU)"), std::string::npos)
+          << context.error().message;
     }
   }
   // What the test launcher exports for the test device picks the same kind of device under Auto.
