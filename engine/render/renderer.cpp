@@ -495,11 +495,11 @@ void Renderer::recordOcclusionPhase2(PassContext& pass, VkRect2D rect, bool firs
 }
 
 DepthPyramid* Renderer::ensurePyramid() {
-  if (pyramid_ || pyramidFailed_) return pyramid_.get();
+  if (pyramid_ || !pyramidFailure_.empty()) return pyramid_.get();
   auto created = DepthPyramid::create(context_);
   if (!created) {
-    log::error("depth pyramid: {}; occlusion culling culls nothing", created.error().message);
-    pyramidFailed_ = true;
+    pyramidFailure_ = "depth pyramid: " + created.error().message;
+    log::error("{}; occlusion culling culls nothing", pyramidFailure_);
     return nullptr;
   }
   pyramid_ = std::make_unique<DepthPyramid>(std::move(*created));

@@ -139,6 +139,9 @@ class Renderer {
   // e.g. a new asset whose GPU buffers did not fit the allocator's budget. The frames that
   // dropped them drew the rest of the scene.
   std::vector<std::string> takeDroppedObjects();
+  // Why occlusion culling culls nothing (its depth pyramid could not be made: a shader missing), or
+  // empty. The frames are right, only not culled: a measurement of occlusion culling must check it.
+  const std::string& occlusionFailure() const { return pyramidFailure_; }
   // Waits for all frames and collects the timings of the last one.
   void finish();
 
@@ -193,7 +196,7 @@ class Renderer {
   std::vector<std::unique_ptr<RenderFeature>> features_;
   // Made on the first frame with occlusion culling (its shader loaded then); sized with the targets.
   std::unique_ptr<DepthPyramid> pyramid_;
-  bool pyramidFailed_ = false;  // its shader did not load: features get an empty pyramid
+  std::string pyramidFailure_;  // why it could not be made (its shader did not load): features get an empty pyramid
   std::vector<gpu::GpuTiming> lastTimings_;
   std::vector<gpu::PipelineStatistics> lastStatistics_;
   // One uint per pixel, then shader::WorkTotals; created on the first counting frame.

@@ -247,6 +247,10 @@ Status captureRow(const Group& g, const RowSpec& spec, std::size_t index, std::s
       named.add(last.timings);
     }
     addStatistics(last, views, result);
+    // A row of occlusion culling measured without it (its depth pyramid could not be made) is not
+    // that row: it fails, naming why (it was measured and reported as passing).
+    if (spec.state.cullOcclusion && !g.viewer.renderer().occlusionFailure().empty())
+      return makeError("occlusion culling culls nothing: " + g.viewer.renderer().occlusionFailure());
     drawnCells += double(cellsOf(drawnAssets(g.viewer))) / views;
     const hsdf::HermiteCellFeature& cellFeature = *g.viewer.renderer().feature<hsdf::HermiteCellFeature>();
     const hsdf::HermiteCellFeature::Stats& cells = cellFeature.stats();
