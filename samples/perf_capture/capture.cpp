@@ -389,7 +389,10 @@ Status captureGroup(const Options& options, const Subject& subject, const std::v
   scene.groundPlane = false;
   scene.objects = options.objects;
   ENGINE_TRY(viewer->loadScene(scene, rows.front().tuning()));
-  if (!info) info = runInfo(options, viewer->context(), subject);
+  if (!info) {
+    info = runInfo(options, viewer->context(), subject);
+    info->rowsPlanned = total;
+  }
   const glm::vec3 size = viewer->boundsMax() - viewer->boundsMin();
   const double diagonal = glm::length(glm::dvec3(size));
   ENGINE_TRY_ASSIGN(const std::vector<std::size_t> sceneCameras, sceneCameraViews(*viewer, options));
@@ -475,10 +478,16 @@ std::vector<std::vector<RowSpec>> groupRows(const Options& options, const std::v
 
 }  // namespace
 
+// What the end of a capture writes into --out, removed at its start: an interrupted capture left
+// an earlier run's results.md and charts beside its own partial CSV and JSON, one folder of two runs.
+constexpr const char* kFinalOutputs[] = {"results.md", "objects.csv", "time_vs_k.png", "normal_error_vs_bytes.png",
+                                         "work_vs_k.png"};
+
 Status run(const Options& options, int& failedRows) {
   std::error_code ec;
   std::filesystem::create_directories(options.out / "images", ec);
   if (ec) return makeError("--out: cannot create '" + options.out.string() + "': " + ec.message());
+  for (const char* name : kFinalOutputs) std::filesystem::remove(options.out / name, ec);
   Subject subject;
   ENGINE_TRY(loadSubject(options, subject));
   const std::vector<RowSpec> rows = buildRows(options);
@@ -501,6 +510,7 @@ Status run(const Options& options, int& failedRows) {
   }
   std::fprintf(stderr, "\n");
   if (!info) return makeError("--methods: no rows to capture");
+  info->complete = true;
   ENGINE_TRY(progress.save(*info, results));  // the rows not run after the last save included
   ENGINE_TRY(writeObjectsCsv(options.out / "objects.csv", *info, results));
   ENGINE_TRY(writeMarkdown(options.out, *info, results));

@@ -409,10 +409,11 @@ engine::Status writeJson(const std::filesystem::path& path, const RunInfo& info,
   json += fmt::format(
       "  \"device\": \"{}\",\n  \"driver\": \"{}\",\n  \"command_line\": \"{}\",\n  \"commit\": \"{}\",\n  \"date\": "
       "\"{}\",\n  \"scene\": \"{}\",\n  \"width\": {},\n  \"height\": {},\n  \"views\": {},\n  \"frames\": {},\n  "
-      "\"warmup\": {},\n  \"pipeline_statistics\": {},\n  \"software_rasterizer\": {},\n  \"rows\": [\n",
+      "\"warmup\": {},\n  \"pipeline_statistics\": {},\n  \"software_rasterizer\": {},\n  \"rows_planned\": {},\n  "
+      "\"complete\": {},\n  \"rows\": [\n",
       jsonEscape(info.device), jsonEscape(info.driver), jsonEscape(info.commandLine), jsonEscape(info.commit),
       jsonEscape(info.date), jsonEscape(info.scene), info.width, info.height, info.views, info.frames, info.warmup,
-      info.pipelineStatistics, info.softwareRasterizer);
+      info.pipelineStatistics, info.softwareRasterizer, info.rowsPlanned, info.complete);
   for (std::size_t i = 0; i < rows.size(); ++i) {
     const RowResult& r = rows[i];
     json += fmt::format(

@@ -49,6 +49,10 @@ struct RunInfo {
   std::vector<std::string> viewNames;  // --scene-cameras: the cameras, one per view; empty: orbit views
   bool pipelineStatistics = false;
   bool softwareRasterizer = false;
+  // The rows the command asked for, and whether every one was run or listed as not run: the CSV and
+  // JSON are saved after each row, so an interrupted capture leaves files that must say so.
+  std::size_t rowsPlanned = 0;
+  bool complete = false;
 };
 
 engine::Status writeCsv(const std::filesystem::path& path, const RunInfo& info, const std::vector<RowResult>& rows);

@@ -120,6 +120,13 @@ foreach(key device driver command_line commit date)
   endif()
 endforeach()
 # Every row's named GPU scopes, "prepare" (the compute work before the passes) among them.
+# Saved after every row: a finished capture says it is complete, with the rows it planned.
+string(JSON complete GET "${json}" complete)
+string(JSON planned GET "${json}" rows_planned)
+string(JSON savedRows LENGTH "${json}" rows)
+if(NOT complete OR NOT planned EQUAL savedRows)
+  message(FATAL_ERROR "results.json: complete ${complete}, ${planned} rows planned, ${savedRows} saved")
+endif()
 if(NOT json MATCHES "\"passes_ms\": {\"frame\": [0-9.e-]+, \"prepare\": [0-9.e-]+")
   message(FATAL_ERROR "results.json has no passes_ms with the frame and prepare timings")
 endif()
