@@ -1,6 +1,9 @@
 #include "engine/render/scene_instantiate.h"
 
+#include <cmath>
 #include <limits>
+#include <stdexcept>
+#include <vector>
 
 #include "engine/render/components.h"
 #include "engine/scene/transform.h"
@@ -8,12 +11,41 @@
 namespace engine::render {
 namespace {
 
+// Flat normals (a glTF primitive without NORMAL, MeshPrimitiveData::flatNormals): each triangle
+// gets three vertices of its own with its face normal. The shared vertices' smooth normals drew a
+// cube as a rounded blob, unlike the SDF baked from it. A triangle without area gets +Y.
+MeshHandle addFlat(const scene::MeshPrimitiveData& primitive, MeshPool& pool) {
+  std::vector<glm::vec3> positions, normals;
+  std::vector<std::uint32_t> indices;
+  positions.reserve(primitive.indices.size());
+  normals.reserve(primitive.indices.size());
+  indices.reserve(primitive.indices.size());
+  for (std::size_t t = 0; t + 2 < primitive.indices.size(); t += 3) {
+    glm::vec3 corner[3];
+    for (std::size_t k = 0; k < 3; ++k) {
+      const std::uint32_t index = primitive.indices[t + k];
+      if (index >= primitive.positions.size()) throw std::out_of_range("instantiateScene: index out of range");
+      corner[k] = primitive.positions[index];
+    }
+    const glm::dvec3 face = glm::cross(glm::dvec3(corner[1] - corner[0]), glm::dvec3(corner[2] - corner[0]));
+    const double length = glm::length(face);
+    const glm::vec3 normal = length > 0.0 && std::isfinite(length) ? glm::vec3(face / length) : glm::vec3(0, 1, 0);
+    for (const glm::vec3& p : corner) {
+      indices.push_back(std::uint32_t(positions.size()));
+      positions.push_back(p);
+      normals.push_back(normal);
+    }
+  }
+  return pool.add(positions, normals, indices);
+}
+
 void uploadMeshes(const scene::SceneData& data, MeshPool& pool,
                                                    std::vector<std::vector<MeshHandle>>& handles) {
   handles.resize(data.meshes.size());
   for (std::size_t m = 0; m < data.meshes.size(); ++m)
     for (const auto& primitive : data.meshes[m].primitives)
-      handles[m].push_back(pool.add(primitive.positions, primitive.normals, primitive.indices));
+      handles[m].push_back(primitive.flatNormals ? addFlat(primitive, pool)
+                                                 : pool.add(primitive.positions, primitive.normals, primitive.indices));
 }
 
 }  // namespace

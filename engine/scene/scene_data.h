@@ -16,9 +16,13 @@ namespace engine::scene {
 
 struct MeshPrimitiveData {
   std::vector<glm::vec3> positions;
-  std::vector<glm::vec3> normals;     // same count as positions (generated when the file has none)
+  std::vector<glm::vec3> normals;     // same count as positions (area-weighted smooth ones when the file has none)
   std::vector<std::uint32_t> indices; // triangle list
   int material = -1;                  // index into SceneData::materials, -1 for the default
+  // The file gave no normals: glTF asks for flat ones, each triangle's own. The triangles keep their
+  // shared vertices (an SDF's closedness and pseudonormals need them); the drawn mesh gives each
+  // triangle its face normal (render::instantiateScene).
+  bool flatNormals = false;
 };
 
 struct MeshData {

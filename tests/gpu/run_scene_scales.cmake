@@ -3,7 +3,9 @@
 # scales exactly) must give byte-identical screenshots, with the mesh and with the baked cells.
 # Before the camera framing was made relative, the small one came out empty (a fixed 1e-3 minimum
 # orbit radius and 1e-4 near plane). The unit image must not be empty itself: with --no-ground an
-# empty frame is one flat colour and compresses to a few hundred bytes.
+# empty frame is one flat colour; png_probe's coverage is the share of pixels unlike the corner's.
+# (The file's size told before: the flat-shaded mesh, three faces of one colour each, compresses to
+# 611 bytes.)
 foreach(method mesh cells)
   foreach(scene tilted_cube tilted_cube_2e-17)
     set(png ${WORK}/scale_${scene}_${method}.png)
@@ -15,9 +17,13 @@ foreach(method mesh cells)
       message(FATAL_ERROR "scene_runner --scene ${scene}.gltf --method ${method} failed (${rc}):\n${err}")
     endif()
   endforeach()
-  file(SIZE ${WORK}/scale_tilted_cube_${method}.png size)
-  if(size LESS 1000)
-    message(FATAL_ERROR "the unit cube drawn with ${method} looks empty (${size} bytes)")
+  execute_process(COMMAND ${PROBE} ${WORK}/scale_tilted_cube_${method}.png OUTPUT_VARIABLE probe RESULT_VARIABLE rc)
+  string(REGEX MATCH "coverage ([0-9.]+)" found "${probe}")
+  if(NOT rc EQUAL 0 OR NOT found)
+    message(FATAL_ERROR "png_probe failed on the unit cube's image: ${probe}")
+  endif()
+  if(CMAKE_MATCH_1 LESS 0.05)
+    message(FATAL_ERROR "the unit cube drawn with ${method} looks empty: ${probe}")
   endif()
   execute_process(COMMAND ${CMAKE_COMMAND} -E compare_files ${WORK}/scale_tilted_cube_${method}.png
                           ${WORK}/scale_tilted_cube_2e-17_${method}.png RESULT_VARIABLE differ)

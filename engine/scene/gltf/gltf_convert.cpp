@@ -210,6 +210,7 @@ Expected<MeshPrimitiveData> convertTrianglePrimitive(ImportContext& context, con
   }
 
   if (out.normals.empty()) {  // not decoded from Draco with the positions
+    out.flatNormals = findAttribute(primitive, "NORMAL") == -2;
     ENGINE_TRY_ASSIGN(out.normals, readOrGenerateNormals(context, primitive, out));
   }
 

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <cstdio>
 #include <limits>
+#include <map>
 #include <optional>
 
 #include <glm/gtc/matrix_transform.hpp>
@@ -188,6 +189,41 @@ TEST_F(GpuTest, AVertexNoTriangleUsesDoesNotBoundTheScene) {
   EXPECT_EQ(instantiated.boundsMax, glm::vec3(1, 1, 2));
   const render::MeshRange& range = pool_->range(registry_.get<render::MeshRenderable>(instantiated.renderables[0]).mesh);
   EXPECT_EQ(range.boundsMax, glm::vec3(1, 1, 0));
+}
+
+// Why: a glTF primitive without NORMAL must be drawn with flat normals (the spec asks clients to
+// compute them); the area-weighted smooth normals over a cube's 8 shared corners drew it as a
+// rounded blob with dark wedges, unlike the flat-faced SDF baked from the same triangles (found by
+// a helper looking at the images). Seen from a corner, three faces: three normals, each over its
+// whole face; the triangles keep their shared corners for everyone else (the SDF's closedness).
+TEST_F(GpuTest, APrimitiveWithoutNormalsIsDrawnFlat) {
+  createRenderer(96, 96);
+  scene::SceneData data;
+  scene::MeshPrimitiveData cube;
+  for (int c = 0; c < 8; ++c) cube.positions.push_back(glm::vec3(c & 1, (c >> 1) & 1, (c >> 2) & 1) - 0.5f);
+  cube.indices = {0, 2, 1, 1, 2, 3, 4, 5, 6, 5, 7, 6, 0, 1, 4, 1, 5, 4,
+                  2, 6, 3, 3, 6, 7, 0, 4, 2, 2, 4, 6, 1, 3, 5, 3, 7, 5};
+  cube.normals.assign(8, glm::vec3(0, 1, 0));  // what a smooth fill would hold; flat must not use them
+  cube.flatNormals = true;
+  data.meshes.push_back({"cube", {cube}});
+  scene::NodeData node;
+  node.mesh = 0;
+  node.local = node.world = glm::mat4(1.0f);
+  data.nodes.push_back(node);
+  render::instantiateScene(data, registry_, *pool_);
+  scene::updateWorldTransforms(registry_);
+  const render::CameraView camera =
+      render::CameraView::lookAt({1.6f, 1.3f, 1.9f}, {0.0f, 0.0f, 0.0f}, 0.8f, 0.05f, 1.0f);
+  const Frame frame = renderWith(camera, DEBUG_VIEW_NORMALS);
+  std::map<std::uint32_t, int> colours;
+  for (std::size_t i = 0; i < frame.depth.size(); ++i) {
+    if (frame.depth[i] <= 0.0f) continue;
+    const std::uint8_t* c = &frame.rgba[i * 4];
+    ++colours[std::uint32_t(c[0]) << 16 | std::uint32_t(c[1]) << 8 | c[2]];
+  }
+  ASSERT_EQ(colours.size(), 3u) << "three visible faces, one normal each";
+  for (const auto& [colour, pixels] : colours) EXPECT_GT(pixels, 300) << std::hex << colour;
+  EXPECT_EQ(context_->validationMessageCount(), 0u);
 }
 
 // `data` with a new root node (local matrix `parent`) above its roots, whose local matrices are

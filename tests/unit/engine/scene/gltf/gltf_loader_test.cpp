@@ -388,6 +388,7 @@ TEST(GltfLoaderFeatures, MissingNormalsAreAreaWeightedSmoothNormals) {
   const auto scene = load(b);
   ASSERT_TRUE(scene.ok()) << scene.error().message;
   const auto& normals = scene->meshes[0].primitives[0].normals;
+  EXPECT_TRUE(scene->meshes[0].primitives[0].flatNormals) << "glTF asks for flat normals: drawn flat";
   ASSERT_EQ(normals.size(), 4u);
   expectNear(normals[0], glm::normalize(glm::vec3(0, 1, 2)));
   expectNear(normals[1], glm::normalize(glm::vec3(0, 1, 2)));
@@ -446,6 +447,7 @@ TEST(GltfLoaderFeatures, NormalizedAndStridedAttributesDecode) {
   expectNear(primitive.normals[0], {-1, 0, 0});
   expectNear(primitive.normals[1], {0, -1, 0});
   expectNear(primitive.normals[2], {0, 0, 1});
+  EXPECT_FALSE(primitive.flatNormals) << "the file's normals are drawn as given";
 }
 
 // Tricky because strips alternate their vertex order to keep one winding, and fans pivot on the
