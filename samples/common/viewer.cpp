@@ -243,7 +243,14 @@ std::vector<render::Renderer::ShaderReload> Viewer::reloadShaders() {
   for (const auto& r : results)
     report += fmt::format("{}{}: {}", report.empty() ? "" : "\n", r.feature, r.status ? "reloaded" : r.status.error().message);
   shaderReloadReport_ = report;
-  log::info("shaders reloaded from {}:\n{}", gpu::shaderDirectory().string(), report);
+  // Said as it went: a reload in which a feature kept its old pipelines is a warning naming them (it
+  // was "shaders reloaded" whatever failed).
+  const auto kept = std::count_if(results.begin(), results.end(), [](const auto& r) { return !r.status.ok(); });
+  if (kept == 0)
+    log::info("shaders reloaded from {}:\n{}", gpu::shaderDirectory().string(), report);
+  else
+    log::warn("shaders from {}: {} of {} features kept their old pipelines:\n{}", gpu::shaderDirectory().string(),
+              kept, results.size(), report);
   return results;
 }
 

@@ -100,6 +100,8 @@ grep -q "hermite cells: shader spv_broken/cells_resolve.frag.spv: not SPIR-V (tr
   fail "the broken cells_resolve.frag.spv was not refused with the file named"
 grep -A3 "reload-shaders: panel report" log.txt | grep -q "spv_broken/cells_resolve.frag.spv: not SPIR-V (truncated" ||
   fail "the panel's reload report does not hold the loader's message"
+grep -q "\[warning\] shaders from .*spv_broken: 1 of [0-9]* features kept their old pipelines" log.txt ||
+  fail "the broken reload was not logged as a warning naming how many features kept their pipelines"
 same broken_reload after_reload "the failed reload changed the image"
 # The good reload after it: every feature reloaded (the last cells line says so), same image.
 last_cells=$(grep "^hermite cells: " log.txt | tail -1)
