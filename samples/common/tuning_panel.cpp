@@ -35,6 +35,14 @@ int methodIndex(Method method) {
 // a central-difference step of 0 (a black object) or K = 3000 past the sliders' ends.
 constexpr ImGuiSliderFlags kClamp = ImGuiSliderFlags_AlwaysClamp;
 
+// A bake's progress bar ("WHAT K = k: p%") with its cancel button; true when it was pressed.
+bool bakeProgress(const hsdf::BakeJob& job, const char* what, const char* cancelId) {
+  const std::string label = fmt::format("{} K = {}: {:.0f}%", what, job.settings().resolution, 100.0f * job.progress());
+  ImGui::ProgressBar(job.progress(), ImVec2(-80.0f, 0.0f), label.c_str());
+  ImGui::SameLine();
+  return ImGui::Button(cancelId);
+}
+
 bool sliderU32(const char* label, std::uint32_t& value, IntRange range) {
   int v = int(value);
   if (!ImGui::SliderInt(label, &v, range.min, range.max, "%d", kClamp)) return false;
@@ -202,17 +210,10 @@ void TuningPanel::drawResolution() {
   }
   drawLod(viewer_.tuning());
   drawSearchLimits(viewer_.tuning());
-  if (hsdf::BakeJob* job = viewer_.bakeJob()) {
-    const std::string label = fmt::format("baking K = {}: {:.0f}%", job->settings().resolution, 100.0f * job->progress());
-    ImGui::ProgressBar(job->progress(), ImVec2(-80.0f, 0.0f), label.c_str());
-    ImGui::SameLine();
-    if (ImGui::Button("cancel")) viewer_.cancelBake();
-  } else if (hsdf::BakeJob* level = viewer_.levelBakeJob()) {
-    const std::string label =
-        fmt::format("level of detail K = {}: {:.0f}%", level->settings().resolution, 100.0f * level->progress());
-    ImGui::ProgressBar(level->progress(), ImVec2(-80.0f, 0.0f), label.c_str());
-    ImGui::SameLine();
-    if (ImGui::Button("cancel##level")) viewer_.cancelBake();
+  if (const hsdf::BakeJob* job = viewer_.bakeJob()) {
+    if (bakeProgress(*job, "baking", "cancel")) viewer_.cancelBake();
+  } else if (const hsdf::BakeJob* level = viewer_.levelBakeJob()) {
+    if (bakeProgress(*level, "level of detail", "cancel##level")) viewer_.cancelBake();
   }
   if (!viewer_.bakeError().empty()) ImGui::TextWrapped("bake refused/failed: %s", viewer_.bakeError().c_str());
 }
@@ -344,13 +345,8 @@ void TuningPanel::drawComparison() {
   if (comparing(t))
     ImGui::Text("%s, K %d  |  %s, K %d", methodName(t.method), viewer_.resolutionDrawn(), methodName(t.compareMethod),
                 viewer_.compareResolutionDrawn());
-  if (hsdf::BakeJob* job = viewer_.compareBakeJob()) {
-    const std::string label =
-        fmt::format("compared side K = {}: {:.0f}%", job->settings().resolution, 100.0f * job->progress());
-    ImGui::ProgressBar(job->progress(), ImVec2(-80.0f, 0.0f), label.c_str());
-    ImGui::SameLine();
-    if (ImGui::Button("cancel##compare")) viewer_.cancelBake();
-  }
+  if (const hsdf::BakeJob* job = viewer_.compareBakeJob())
+    if (bakeProgress(*job, "compared side", "cancel##compare")) viewer_.cancelBake();
   if (!viewer_.compareBakeError().empty()) ImGui::TextWrapped("%s", viewer_.compareBakeError().c_str());
   if (t.difference && !isSdfMethod(t.method)) ImGui::TextWrapped("the difference view compares two SDF methods");
   if (changed) apply(t);

@@ -62,6 +62,23 @@ float SphereTraceFeature::exactBelowCells(std::uint32_t bits) {
   return std::ldexp(1.0f, 2 - b);
 }
 
+namespace {
+
+// What every pipeline of the tracers reads (`draws`: this frame's SphereTraceDraw buffer), the same
+// in each pass of a frame.
+shader::SphereTracePushConstants pushConstants(const engine::render::PassContext& pass, VkDeviceAddress draws) {
+  shader::SphereTracePushConstants push{};
+  push.draw.frameGlobals = pass.frameGlobals;
+  push.draw.objects = pass.objects;
+  push.draw.debugView = pass.frame.debugView;
+  push.draws = draws;
+  push.counters = pass.frame.workCounters;
+  push.workTotals = pass.frame.workTotals;
+  return push;
+}
+
+}  // namespace
+
 engine::Status SphereTraceFeature::initialize(const engine::gpu::Context& context,
                                               const engine::render::RendererFormats& formats,
                                               std::uint32_t framesInFlight) {
@@ -362,13 +379,7 @@ void SphereTraceFeature::recordMethod(engine::render::PassContext& pass, std::ui
   VkCommandBuffer cmd = pass.cmd;
   const bool prepass = pass.pass == engine::render::Pass::DepthPrepass;
   pass.timer.begin(cmd, std::string(kMethodNames[method]) + (prepass ? " prepass" : " shading"));
-  shader::SphereTracePushConstants push{};
-  push.draw.frameGlobals = pass.frameGlobals;
-  push.draw.objects = pass.objects;
-  push.draw.debugView = pass.frame.debugView;
-  push.draws = drawBuffer_.address(pass.frame.frameSlot);
-  push.counters = pass.frame.workCounters;
-  push.workTotals = pass.frame.workTotals;
+  const shader::SphereTracePushConstants push = pushConstants(pass, drawBuffer_.address(pass.frame.frameSlot));
   const bool counted = pass.frame.workCounters != 0;
   const VkShaderStageFlags stages = VK_SHADER_STAGE_VERTEX_BIT | VK_SHADER_STAGE_FRAGMENT_BIT;
   if (prepass) {
@@ -400,10 +411,7 @@ void SphereTraceFeature::recordPass(engine::render::PassContext& pass) {
 // Every draw of both methods, front and near lists alike: one instanced draw per list (the
 // instance is the draw's index; no texture is read).
 void SphereTraceFeature::recordWireframe(engine::render::PassContext& pass) {
-  shader::SphereTracePushConstants push{};
-  push.draw.frameGlobals = pass.frameGlobals;
-  push.draw.objects = pass.objects;
-  push.draws = drawBuffer_.address(pass.frame.frameSlot);
+  const shader::SphereTracePushConstants push = pushConstants(pass, drawBuffer_.address(pass.frame.frameSlot));
   VkCommandBuffer cmd = pass.cmd;
   vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, pipelines_.wire.handle());
   vkCmdPushConstants(cmd, pipelines_.wire.layout(), VK_SHADER_STAGE_VERTEX_BIT | VK_SHADER_STAGE_FRAGMENT_BIT, 0,
