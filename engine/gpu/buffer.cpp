@@ -1,5 +1,7 @@
 #include "engine/gpu/buffer.h"
 
+#include <algorithm>
+#include <optional>
 #include <stdexcept>
 #include <utility>
 
@@ -94,6 +96,69 @@ Buffer createBufferWithData(const Context& context, const void* data, VkDeviceSi
   Buffer buffer(context, bytes, usage | VK_BUFFER_USAGE_TRANSFER_DST_BIT, MemoryUsage::GpuOnly, name);
   uploadToBuffer(context, buffer, data, bytes);
   return buffer;
+}
+
+namespace {
+
+// The buffer that replaces `a.buffer` when it is too small: room for half as much again where
+// memory allows it (a stream that keeps growing is copied O(log n) times, not once per append).
+std::optional<Buffer> grownBuffer(const Context& context, const BufferAppend& a) {
+  const VkDeviceSize needed = a.used + a.data.size();
+  if (needed <= a.buffer->size()) return std::nullopt;
+  const VkBufferUsageFlags usage = a.usage | VK_BUFFER_USAGE_TRANSFER_SRC_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT;
+  const VkDeviceSize roomy = a.buffer->size() == 0 ? needed : std::max(needed, a.buffer->size() + a.buffer->size() / 2);
+  if (roomy > needed) {
+    try {
+      return std::optional<Buffer>(std::in_place, context, roomy, usage, MemoryUsage::GpuOnly, a.name);
+    } catch (const VulkanError& error) {
+      if (error.result() != VK_ERROR_OUT_OF_DEVICE_MEMORY) throw;
+    }
+  }
+  return std::optional<Buffer>(std::in_place, context, needed, usage, MemoryUsage::GpuOnly, a.name);
+}
+
+}  // namespace
+
+std::vector<Buffer> appendToBuffers(const Context& context, std::span<BufferAppend> appends) {
+  for (const BufferAppend& a : appends)
+    if (a.buffer == nullptr || (!*a.buffer && a.used != 0) || a.used > a.buffer->size())
+      throw std::invalid_argument("appendToBuffers: '" + a.name + "' holds fewer bytes than it is said to use");
+  // Every allocation before any copy: one that fails leaves the buffers as they were. One staging
+  // buffer, as large as the largest append, serves them in turn: the peak is one buffer's data, not all.
+  std::vector<std::optional<Buffer>> grown;
+  VkDeviceSize largest = 0;
+  for (const BufferAppend& a : appends) {
+    grown.push_back(grownBuffer(context, a));
+    largest = std::max<VkDeviceSize>(largest, a.data.size());
+  }
+  if (largest == 0) return {};
+  Buffer staging(context, largest, VK_BUFFER_USAGE_TRANSFER_SRC_BIT, MemoryUsage::Upload, "append staging");
+  for (std::size_t i = 0; i < appends.size(); ++i) {
+    const BufferAppend& a = appends[i];
+    if (a.data.empty()) continue;
+    staging.write(a.data.data(), a.data.size());
+    const Buffer& target = grown[i] ? *grown[i] : *a.buffer;
+    context.submitAndWait([&](VkCommandBuffer cmd) {
+      // The buffer is read by earlier submissions (frames in flight): their reads come first.
+      memoryBarrier(cmd, VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT, VK_ACCESS_2_MEMORY_READ_BIT | VK_ACCESS_2_MEMORY_WRITE_BIT,
+                    VK_PIPELINE_STAGE_2_COPY_BIT, VK_ACCESS_2_TRANSFER_READ_BIT | VK_ACCESS_2_TRANSFER_WRITE_BIT);
+      if (grown[i] && a.used > 0) {
+        const VkBufferCopy kept{0, 0, a.used};
+        vkCmdCopyBuffer(cmd, a.buffer->handle(), target.handle(), 1, &kept);
+      }
+      const VkBufferCopy added{0, a.used, a.data.size()};
+      vkCmdCopyBuffer(cmd, staging.handle(), target.handle(), 1, &added);
+      memoryBarrier(cmd, VK_PIPELINE_STAGE_2_COPY_BIT, VK_ACCESS_2_TRANSFER_WRITE_BIT,
+                    VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT, VK_ACCESS_2_MEMORY_READ_BIT | VK_ACCESS_2_MEMORY_WRITE_BIT);
+    });
+  }
+  std::vector<Buffer> replaced;
+  for (std::size_t i = 0; i < appends.size(); ++i) {
+    if (!grown[i]) continue;
+    Buffer old = std::exchange(*appends[i].buffer, std::move(*grown[i]));
+    if (old) replaced.push_back(std::move(old));  // an empty one was made, not replaced
+  }
+  return replaced;
 }
 
 void memoryBarrier(VkCommandBuffer cmd, VkPipelineStageFlags2 srcStage, VkAccessFlags2 srcAccess,

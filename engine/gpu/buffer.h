@@ -1,5 +1,6 @@
 #pragma once
 // RAII buffer with a device address. Upload/Readback buffers stay mapped.
+#include <cstddef>
 #include <cstdint>
 #include <cstring>
 #include <span>
@@ -60,6 +61,25 @@ Buffer createBufferWithData(const Context& context, const void* data, VkDeviceSi
 // Copies `bytes` from a CPU pointer into an existing device-local buffer at `offset` (waits).
 void uploadToBuffer(const Context& context, const Buffer& destination, const void* data, VkDeviceSize bytes,
                     VkDeviceSize offset = 0);
+
+// One buffer's part in appendToBuffers: `data` is written after the `used` bytes that hold data.
+struct BufferAppend {
+  Buffer* buffer = nullptr;  // may be empty (then `used` is 0): it is made
+  VkDeviceSize used = 0;
+  std::span<const std::byte> data;
+  VkBufferUsageFlags usage = 0;  // for a buffer made or grown (transfer usage is added)
+  std::string name;
+};
+
+// Appends to device-local buffers (created with TRANSFER_SRC and TRANSFER_DST usage), one
+// submission per buffer through one staging buffer, and waits. The data already there stays where it is, so addresses and offsets that
+// commands recorded earlier hold stay valid. A buffer too small for used + data is replaced by one
+// with room for half as much again (exactly that when the room does not fit in memory), into which
+// the GPU copies its used bytes; the replaced buffers are returned, for the caller to release once
+// the commands that read them have completed. Every earlier command on the queue completes its
+// reads and writes before the copies, and later ones see the data. Throws VulkanError when an
+// allocation fails, leaving every buffer as it was.
+std::vector<Buffer> appendToBuffers(const Context& context, std::span<BufferAppend> appends);
 
 // Copies a device-local buffer (created with TRANSFER_SRC usage) back to the CPU (waits). Waits
 // for every earlier write to it on the queue (all stages).

@@ -2,6 +2,7 @@
 #include "hermite_sdf/render/cell_feature.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstddef>
 #include <cstring>
@@ -71,8 +72,10 @@ struct HermiteCellFeature::AssetDemand {
   bool missing = false;
 };
 
-// The concatenation of the wanted assets' streams, the contents of the rebuilt buffers.
+// The concatenation of the wanted assets' streams: the contents of the rebuilt buffers, or what is
+// appended to the uploaded ones (then `base` is where it goes: the entries they hold).
 struct HermiteCellFeature::AssetUpload {
+  StreamCounts base;
   std::vector<CellRecord> full;
   std::vector<CellRecordHalf> half;
   std::vector<shader::CellRunGpu> runs;
@@ -87,7 +90,46 @@ struct HermiteCellFeature::AssetUpload {
            runs.size() * sizeof(shader::CellRunGpu) + bricks.size() * sizeof(shader::CellBrickGpu) +
            brickCells.size() * sizeof(std::uint32_t) + (cones.size() + cellCones.size()) * sizeof(shader::CellBrickCone);
   }
+  // The entries of the buffers once these streams are in.
+  StreamCounts end() const {
+    return {base.records + std::uint32_t(full.size()), base.runs + std::uint32_t(runs.size()),
+            base.bricks + std::uint32_t(bricks.size()), base.brickCells + std::uint32_t(brickCells.size())};
+  }
 };
+
+namespace {
+
+template <class T>
+std::span<const std::byte> bytesOf(const std::vector<T>& items) {
+  return std::as_bytes(std::span(items));
+}
+
+// The seven cell buffers as appends of the upload's streams after the `used` entries they hold,
+// with each buffer's usage. The records are vertex attributes in the prepass and read by address
+// in the resolve pass; the runs are vertex attributes only.
+template <class Upload>  // HermiteCellFeature::AssetUpload, private to the feature
+std::vector<engine::gpu::BufferAppend> streamAppends(CellBuffers& b, const Upload& u, const StreamCounts& used) {
+  constexpr VkBufferUsageFlags address =
+      VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_SHADER_DEVICE_ADDRESS_BIT | VK_BUFFER_USAGE_TRANSFER_SRC_BIT;
+  constexpr VkBufferUsageFlags vertex = VK_BUFFER_USAGE_VERTEX_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_SRC_BIT;
+  const auto entries = [](std::uint32_t count, std::size_t size) { return VkDeviceSize(count) * size; };
+  return {
+      {&b.records[0], entries(used.records, sizeof(CellRecord)), bytesOf(u.full), vertex | address, "hermite cells fp32"},
+      {&b.records[1], entries(used.records, sizeof(CellRecordHalf)), bytesOf(u.half), vertex | address,
+       "hermite cells fp16"},
+      {&b.runs, entries(used.runs, sizeof(shader::CellRunGpu)), bytesOf(u.runs), vertex, "hermite cell runs"},
+      {&b.bricks, entries(used.bricks, sizeof(shader::CellBrickGpu)), bytesOf(u.bricks), vertex | address,
+       "hermite cell bricks"},
+      {&b.brickCells, entries(used.brickCells, sizeof(std::uint32_t)), bytesOf(u.brickCells), address,
+       "hermite cell brick cells"},
+      {&b.brickCones, entries(used.bricks, sizeof(shader::CellBrickCone)), bytesOf(u.cones), address,
+       "hermite cell brick cones"},
+      {&b.cellCones, entries(used.records, sizeof(shader::CellBrickCone)), bytesOf(u.cellCones), address,
+       "hermite cell cones"},
+  };
+}
+
+}  // namespace
 
 // Uploads the assets drawn now when one is new, needs bricks or cell cones, or the run length changed.
 void HermiteCellFeature::syncAssets(const engine::render::FrameContext& frame) {
@@ -95,13 +137,15 @@ void HermiteCellFeature::syncAssets(const engine::render::FrameContext& frame) {
   AssetDemand d = collectAssetDemand(frame);
   const bool runsStale = !d.wanted.empty() && buffers_->runLength != settings_.maxRunLength &&
                          settings_.maxRunLength != refusedRunLength_;  // the setting changed
-  if (!d.missing && !runsStale && !idleAssetsToDrop(frame)) return;
+  const bool drop = idleAssetsToDrop(frame);
+  if (!d.missing && !runsStale && !drop) return;
 
   // View regions call prepare() once per region: an asset an earlier region of this frame drew
   // stays (its draws are recorded already and the next frame draws it again).
   for (const auto& [id, entry] : buffers_->entries)
     if (entry.lastFrame == frame.frameNumber && d.seen.insert(id).second) d.wanted.push_back(entry.asset);
 
+  if (!runsStale && !drop && appendNewAssets(frame, d)) return;
   if (d.wanted.empty()) {  // no asset drawn any more (idleAssetsToDrop): every buffer goes, as at the start
     retired_.retire(std::move(buffers_), frame.frameNumber);
     buffers_ = std::make_unique<CellBuffers>();
@@ -116,6 +160,7 @@ void HermiteCellFeature::syncAssets(const engine::render::FrameContext& frame) {
     CellBuffers rebuilt;
     AssetUpload u;
     for (const auto& asset : d.wanted) appendAsset(rebuilt, u, asset, d);
+    rebuilt.used = u.end();
     try {
       createAssetBuffers(rebuilt, u);
     } catch (const engine::gpu::VulkanError& e) {
@@ -213,10 +258,10 @@ void HermiteCellFeature::appendAsset(CellBuffers& rebuilt, AssetUpload& u, const
                                      const AssetDemand& d) const {
   CellBuffers::Entry entry;
   entry.asset = asset;
-  entry.firstRecord = static_cast<std::uint32_t>(u.full.size());
+  entry.firstRecord = u.base.records + static_cast<std::uint32_t>(u.full.size());
   if (!buffers_->entries.contains(asset->id)) entry.rows = buildCellRows(asset->cells);  // else moved below
   entry.runs = buildCellRuns(asset->cells, settings_.maxRunLength);
-  entry.firstRun = static_cast<std::uint32_t>(u.runs.size());
+  entry.firstRun = u.base.runs + static_cast<std::uint32_t>(u.runs.size());
   for (shader::CellRunGpu run : entry.runs) {
     run.firstRecord += entry.firstRecord;
     u.runs.push_back(run);
@@ -236,9 +281,9 @@ void HermiteCellFeature::appendAsset(CellBuffers& rebuilt, AssetUpload& u, const
   } else {
     u.cellCones.resize(u.cellCones.size() + asset->cells.records.size(), neverCullCone());
   }
-  entry.firstBrick = static_cast<std::uint32_t>(u.bricks.size());
+  entry.firstBrick = u.base.bricks + static_cast<std::uint32_t>(u.bricks.size());
   for (shader::CellBrickGpu brick : entry.bricks.bricks) {
-    brick.firstIndex += static_cast<std::uint32_t>(u.brickCells.size());
+    brick.firstIndex += u.base.brickCells + static_cast<std::uint32_t>(u.brickCells.size());
     u.bricks.push_back(brick);
   }
   for (std::uint32_t record : entry.bricks.cellRecords) u.brickCells.push_back(entry.firstRecord + record);
@@ -249,34 +294,65 @@ void HermiteCellFeature::appendAsset(CellBuffers& rebuilt, AssetUpload& u, const
   rebuilt.entries.emplace(asset->id, std::move(entry));
 }
 
-// The rebuilt GPU buffers; throws engine::gpu::VulkanError when an allocation fails.
-void HermiteCellFeature::createAssetBuffers(CellBuffers& rebuilt, AssetUpload& u) const {
-  // Vertex attributes in the prepass; read by address in the resolve pass.
-  constexpr VkBufferUsageFlags usage = VK_BUFFER_USAGE_VERTEX_BUFFER_BIT | VK_BUFFER_USAGE_STORAGE_BUFFER_BIT |
-                                       VK_BUFFER_USAGE_SHADER_DEVICE_ADDRESS_BIT;
-  rebuilt.records[0] = engine::gpu::createBufferWithData(*context_, u.full.data(), u.full.size() * sizeof(CellRecord),
-                                                         usage, "hermite cells fp32");
-  rebuilt.records[1] = engine::gpu::createBufferWithData(*context_, u.half.data(),
-                                                         u.half.size() * sizeof(CellRecordHalf), usage,
-                                                         "hermite cells fp16");
-  rebuilt.runs = engine::gpu::createBufferWithData(*context_, u.runs.data(), u.runs.size() * sizeof(shader::CellRunGpu),
-                                                   VK_BUFFER_USAGE_VERTEX_BUFFER_BIT, "hermite cell runs");
-  // Never empty (a zero-sized buffer is invalid): a padding entry no draw reaches.
-  if (u.bricks.empty()) u.bricks.push_back({});
-  if (u.brickCells.empty()) u.brickCells.push_back(0);
-  if (u.cones.empty()) u.cones.push_back({});
-  if (u.cellCones.empty()) u.cellCones.push_back({});
-  rebuilt.bricks = engine::gpu::createBufferWithData(*context_, u.bricks.data(), u.bricks.size() * sizeof(shader::CellBrickGpu),
-                                                     usage, "hermite cell bricks");
-  rebuilt.brickCells = engine::gpu::createBufferWithData(
-      *context_, u.brickCells.data(), u.brickCells.size() * sizeof(std::uint32_t),
-      VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_SHADER_DEVICE_ADDRESS_BIT, "hermite cell brick cells");
-  rebuilt.brickCones = engine::gpu::createBufferWithData(
-      *context_, u.cones.data(), u.cones.size() * sizeof(shader::CellBrickCone),
-      VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_SHADER_DEVICE_ADDRESS_BIT, "hermite cell brick cones");
-  rebuilt.cellCones = engine::gpu::createBufferWithData(
-      *context_, u.cellCones.data(), u.cellCones.size() * sizeof(shader::CellBrickCone),
-      VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_SHADER_DEVICE_ADDRESS_BIT, "hermite cell cones");
+// The rebuilt GPU buffers, made and filled in one submission; throws engine::gpu::VulkanError
+// when an allocation fails.
+void HermiteCellFeature::createAssetBuffers(CellBuffers& rebuilt, const AssetUpload& u) const {
+  // Never empty (a zero-sized buffer is invalid): padding no draw reaches, as large as any entry,
+  // overwritten by the first asset appended with bricks or cones.
+  static constexpr std::array<std::byte, 64> kPadding{};
+  std::vector<engine::gpu::BufferAppend> appends = streamAppends(rebuilt, u, StreamCounts{});
+  for (engine::gpu::BufferAppend& a : appends)
+    if (a.data.empty()) a.data = kPadding;
+  (void)engine::gpu::appendToBuffers(*context_, appends);  // the buffers were empty: none replaced
+}
+
+// Appends the wanted assets not uploaded yet to the uploaded buffers, which grow when short, and
+// leaves the uploaded ones where they are: a scene that streams assets in while the others stay
+// uploads each one once (every new asset rebuilt every drawn asset's buffers before). False when
+// a rebuild is due: nothing uploaded yet, bricks or cell cones wanted for an uploaded asset, or an
+// uploaded asset no longer drawn (a rebuild leaves it out, as it did before: what the buffers
+// hold stays a function of what is drawn, not of the order things came in).
+bool HermiteCellFeature::appendNewAssets(const engine::render::FrameContext& frame, const AssetDemand& d) {
+  if (buffers_->entries.empty()) return false;
+  for (const auto& [id, entry] : buffers_->entries)
+    if (!d.seen.contains(id)) return false;
+  const auto lacks = [&](const std::unordered_set<std::uint64_t>& ids, bool CellBuffers::Entry::*built) {
+    return std::any_of(ids.begin(), ids.end(), [&](std::uint64_t id) {
+      auto entry = buffers_->entries.find(id);
+      return entry != buffers_->entries.end() && !(entry->second.*built);
+    });
+  };
+  if (lacks(d.asBricks, &CellBuffers::Entry::bricksBuilt) ||
+      lacks(d.asCulledCells, &CellBuffers::Entry::cellConesBuilt))
+    return false;
+
+  CellBuffers added;  // the new assets' entries
+  AssetUpload u;
+  u.base = buffers_->used;
+  for (const auto& asset : d.wanted)
+    if (!buffers_->entries.contains(asset->id)) appendAsset(added, u, asset, d);
+  std::vector<engine::gpu::BufferAppend> appends = streamAppends(*buffers_, u, buffers_->used);
+  std::vector<Buffer> replaced;
+  try {
+    replaced = engine::gpu::appendToBuffers(*context_, appends);
+  } catch (const engine::gpu::VulkanError& e) {
+    if (e.result() != VK_ERROR_OUT_OF_DEVICE_MEMORY) throw;
+    refuseNewAssets(frame, d.wanted, e.what(), u.bytes());  // at least (drawn alone: no other asset's bytes)
+    return true;  // the buffers stay as they were: what was drawn is drawn
+  }
+  // Commands recorded earlier (this frame's earlier view regions, frames in flight) read the
+  // replaced buffers until their frames complete.
+  for (Buffer& old : replaced) retired_.retire(std::move(old), frame.frameNumber);
+  for (auto& [id, entry] : added.entries) {
+    entry.lastFrame = frame.frameNumber;
+    buffers_->entries.emplace(id, std::move(entry));
+  }
+  buffers_->used = u.end();
+  buffers_->bytes += u.bytes();
+  uploadedBytes_ += u.bytes();
+  engine::log::debug("hermite cells: {} assets appended, {} records uploaded ({} in all)", added.entries.size(),
+                     u.full.size(), buffers_->used.records);
+  return true;
 }
 
 // Replaces the feature's buffers with the rebuilt ones, retiring the old for frames in flight.
@@ -287,6 +363,7 @@ void HermiteCellFeature::commitAssetBuffers(const engine::render::FrameContext& 
     if (auto old = buffers_->entries.find(id); old != buffers_->entries.end()) entry.rows = std::move(old->second.rows);
   rebuilt.runLength = settings_.maxRunLength;
   rebuilt.bytes = u.bytes();
+  uploadedBytes_ += u.bytes();
   for (auto& [id, entry] : rebuilt.entries) entry.lastFrame = frame.frameNumber;
   retired_.retire(std::move(buffers_), frame.frameNumber);
   buffers_ = std::make_unique<CellBuffers>(std::move(rebuilt));

@@ -423,7 +423,8 @@ void HermiteCellFeature::drawUi() {
   ImGui::Text("objects %u, cells %llu, draws %u, near cells %u, outside the view %u, skipped %u", stats_.objects,
               static_cast<unsigned long long>(stats_.cells), stats_.draws, stats_.nearCells, stats_.culledObjects,
               stats_.skippedObjects);
-  ImGui::Text("cell buffers: %.2f MiB", double(stats_.gpuBytes) / (1024.0 * 1024.0));
+  ImGui::Text("cell buffers: %.2f MiB (held: %.2f MiB)", double(stats_.gpuBytes) / (1024.0 * 1024.0),
+              double(stats_.gpuBytesHeld) / (1024.0 * 1024.0));
   if (stats_.cullingRefused) ImGui::TextUnformatted("cell culling off: its kept-cell streams do not fit (see the log)");
   if (stats_.keptMayFallBack)
     ImGui::Text("kept-cell streams: %llu slots, sized by recent frames (rows past them drawn unculled)",

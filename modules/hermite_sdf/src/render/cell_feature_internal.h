@@ -18,8 +18,16 @@ namespace hsdf {
 using engine::gpu::Buffer;
 using engine::gpu::Pipeline;
 
+// Entries of each stream of the cell buffers (cell cones: one per record; brick cones: one per brick).
+struct StreamCounts {
+  std::uint32_t records = 0, runs = 0, bricks = 0, brickCells = 0;
+};
+
 // The GPU copy of every drawn asset's cell records: one fp32 and one fp16 buffer, each the
-// concatenation of the assets' streams, so one vertex-buffer binding serves all objects.
+// concatenation of the assets' streams, so one vertex-buffer binding serves all objects. A new
+// asset is appended while every uploaded one is still drawn (the buffers grow by half when short);
+// they are rebuilt, holding only the assets drawn, when one is no longer drawn or an uploaded
+// asset needs more (bricks, cones, another run length).
 struct CellBuffers {
   struct Entry {
     std::shared_ptr<const SdfAsset> asset;
@@ -48,7 +56,8 @@ struct CellBuffers {
   Buffer cellCones;   // CellBrickCone per record (same index as `records`); never-cull cones for
                       // assets without cell cones
   std::uint32_t runLength = 0;  // the maximum run length the runs were built with
-  std::uint64_t bytes = 0;
+  StreamCounts used;            // the entries that hold data; the buffers may have room for more
+  std::uint64_t bytes = 0;      // the bytes of those entries
 };
 
 // This frame's indirect commands for one record precision: the front-face list, then the

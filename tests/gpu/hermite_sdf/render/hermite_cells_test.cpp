@@ -889,6 +889,65 @@ TEST_F(HermiteCellsTest, AssetsNoEntityDrawsAreReleased) {
   EXPECT_GT(std::count_if(again.depth.begin(), again.depth.end(), [](float d) { return d > 0.0f; }), 500);
 }
 
+// Why: a game streams its assets in, one every few frames, while the others draw. Each new asset
+// must be uploaded once (every new asset re-uploaded every drawn one before: n assets streamed in
+// cost O(n^2) bytes), land after the others in buffers that grow under the frames in flight, and
+// be drawn from its own records, runs, bricks and cones at their new offsets: the frame must be
+// the one drawn when the buffers are built with every asset at once. Cells, runs and bricks take
+// turns, so every stream is appended to; the grids differ, so no offset can stand in for another.
+TEST_F(HermiteCellsTest, StreamedAssetsAreUploadedOnceAndDrawnAsIfGivenAtOnce) {
+  constexpr std::uint32_t size = 96;
+  createCellRenderer(size, size);
+  auto* feature = renderer_->feature<hsdf::HermiteCellFeature>();
+  feature->settings().releaseAfterFrames = 2;
+  const char* shapes[] = {"sphere", "torus", "box", "bunny", "torus", "sphere", "bunny", "box"};
+  const hsdf::RenderMethod methods[] = {hsdf::RenderMethod::Cells, hsdf::RenderMethod::CellRuns,
+                                        hsdf::RenderMethod::CellBricks};
+  struct Object {
+    std::shared_ptr<const hsdf::SdfAsset> asset;
+    hsdf::RenderMethod method;
+    glm::mat4 transform;
+  };
+  std::vector<Object> objects;
+  for (int i = 0; i < 8; ++i) {
+    auto asset = bakeAsset(shapes[i], 10 + 2 * i);
+    ASSERT_NE(asset, nullptr);
+    const glm::vec3 center(asset->surfaceBounds.center());
+    const float scale = 3.0f / float(glm::length(asset->surfaceBounds.size()));
+    glm::mat4 m = glm::translate(glm::mat4(1.0f), glm::vec3((float(i % 4) - 1.5f) * 1.9f, (float(i / 4) - 0.5f) * 1.9f, 0.0f));
+    m = glm::rotate(m, 0.5f * float(i), glm::vec3(0.3f, 1.0f, 0.1f));
+    objects.push_back({asset, methods[i % 3], glm::translate(glm::scale(m, glm::vec3(scale)), -center)});
+  }
+  const render::CameraView camera =
+      render::CameraView::lookAt(glm::vec3(0.0f, 0.0f, 9.0f), glm::vec3(0.0f), 0.9f, 0.1f, 1.0f);
+
+  for (const Object& o : objects) {  // one more asset each frame
+    addSdf(registry_, o.asset, o.method, o.transform);
+    (void)renderWith(camera, DEBUG_VIEW_NONE);
+    const hsdf::HermiteCellFeature::Stats& stats = feature->stats();
+    EXPECT_EQ(stats.uploadedBytes, stats.gpuBytes) << "the assets uploaded before were uploaded again";
+    EXPECT_GE(stats.gpuBytesHeld, stats.gpuBytes);
+  }
+  (void)renderWith(camera, DEBUG_VIEW_NONE);  // the tiles' and streams' sizes settle
+  const Frame streamed = renderWith(camera, DEBUG_VIEW_NONE);
+  const std::uint64_t streamedBytes = feature->stats().gpuBytes;
+  EXPECT_EQ(feature->stats().objects, 8u);
+
+  registry_.clear();  // every buffer dropped, then all eight at once: one upload of everything
+  for (int frame = 0; frame < 4; ++frame) (void)renderWith(camera, DEBUG_VIEW_NONE);
+  ASSERT_EQ(feature->stats().gpuBytes, 0u);
+  for (const Object& o : objects) addSdf(registry_, o.asset, o.method, o.transform);
+  (void)renderWith(camera, DEBUG_VIEW_NONE);
+  EXPECT_EQ(feature->stats().gpuBytes, streamedBytes);
+  EXPECT_EQ(feature->stats().gpuBytesHeld, feature->stats().gpuBytes) << "built at once: no room to spare";
+  (void)renderWith(camera, DEBUG_VIEW_NONE);
+  const Frame atOnce = renderWith(camera, DEBUG_VIEW_NONE);
+  const auto covered = std::count_if(atOnce.depth.begin(), atOnce.depth.end(), [](float d) { return d > 0.0f; });
+  EXPECT_GT(covered, std::int64_t(size * size / 8));
+  EXPECT_TRUE(streamed.depth == atOnce.depth);
+  EXPECT_TRUE(streamed.rgba == atOnce.rgba);
+}
+
 // Why: a field the GPU could not take (out of memory) is replaced by the one the entity drew
 // before; the entities of another registry are other objects, with nothing to fall back to (the
 // tracers drew another registry's field for the same entity id, found by a helper).

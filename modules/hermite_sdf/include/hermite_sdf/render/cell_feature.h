@@ -201,7 +201,11 @@ class HermiteCellFeature final : public engine::render::RenderFeature {
     std::uint64_t bricks = 0;       // brick boxes of RenderMethod::CellBricks objects (their cells are in `cells`)
     std::uint32_t skippedObjects = 0;  // transform not invertible (e.g. scaled to zero): not drawn
     std::uint32_t culledObjects = 0;   // grid box outside the view: not drawn
-    std::uint64_t gpuBytes = 0;     // cell buffers
+    std::uint64_t gpuBytes = 0;     // cell buffers: the bytes of the uploaded assets
+    std::uint64_t gpuBytesHeld = 0; // cell buffers: their size (room for assets appended later)
+    // Bytes of cell buffers uploaded from the CPU since initialize(): a new asset adds its own
+    // (appended), a rebuild every drawn asset's.
+    std::uint64_t uploadedBytes = 0;
     bool earlyDepth = false;        // the last frame drew the boxes in the early depth stage
     bool countedVariant = false;    // the last frame's prepass used the *_counted pipelines
     bool thinBoxes = false;         // the last frame drew its RenderMethod::Cells objects as thin boxes
@@ -269,7 +273,8 @@ class HermiteCellFeature final : public engine::render::RenderFeature {
   AssetDemand collectAssetDemand(const engine::render::FrameContext& frame);
   void appendAsset(CellBuffers& rebuilt, AssetUpload& u, const std::shared_ptr<const SdfAsset>& asset,
                    const AssetDemand& d) const;
-  void createAssetBuffers(CellBuffers& rebuilt, AssetUpload& u) const;
+  bool appendNewAssets(const engine::render::FrameContext& frame, const AssetDemand& d);
+  void createAssetBuffers(CellBuffers& rebuilt, const AssetUpload& u) const;
   void commitAssetBuffers(const engine::render::FrameContext& frame, CellBuffers rebuilt, const AssetUpload& u);
   void refuseNewAssets(const engine::render::FrameContext& frame,
                        const std::vector<std::shared_ptr<const SdfAsset>>& wanted, const std::string& why,
@@ -397,6 +402,7 @@ class HermiteCellFeature final : public engine::render::RenderFeature {
   std::unordered_map<engine::ecs::Entity, std::uint64_t> drawnAssets_;
   const engine::ecs::Registry* drawnRegistry_ = nullptr;
   std::uint32_t refusedRunLength_ = 0;
+  std::uint64_t uploadedBytes_ = 0;  // Stats::uploadedBytes
   engine::render::PerFrameBuffer drawData_;     // the draw table: HermiteDrawTableHeader, a record per command
   engine::render::PerFrameBuffer drawRecords_;  // its HermiteDraw records
   engine::render::PerFrameBuffer indirect_;

@@ -1,0 +1,119 @@
+// engine::gpu::appendToBuffers (engine/gpu/buffer.h): data appended after what a buffer holds, in
+// place while it fits, else in a larger buffer that keeps the old bytes; the replaced buffer handed
+// back to outlive the work that reads it; a failed allocation leaving every buffer as it was.
+#include <gtest/gtest.h>
+
+#include <cstddef>
+#include <cstdint>
+#include <cstring>
+#include <numeric>
+#include <vector>
+
+#include "engine/gpu/buffer.h"
+#include "engine/gpu/vk_check.h"
+#include "gpu_fault_support.h"
+
+namespace engine::gpu {
+namespace {
+
+constexpr VkBufferUsageFlags kUsage = VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_SRC_BIT;
+
+std::vector<std::uint32_t> iota(std::uint32_t first, std::size_t count) {
+  std::vector<std::uint32_t> values(count);
+  std::iota(values.begin(), values.end(), first);
+  return values;
+}
+
+std::vector<std::uint32_t> readWords(const Context& context, const Buffer& buffer, std::size_t count) {
+  const std::vector<std::uint8_t> bytes = readbackBuffer(context, buffer);
+  std::vector<std::uint32_t> words(count);
+  std::memcpy(words.data(), bytes.data(), count * sizeof(std::uint32_t));
+  return words;
+}
+
+BufferAppend appendOf(Buffer& buffer, std::size_t usedWords, const std::vector<std::uint32_t>& words) {
+  return {&buffer, usedWords * sizeof(std::uint32_t), std::as_bytes(std::span(words)), kUsage, "append test"};
+}
+
+// Tricky: three appends to two buffers, one of them starting empty: the first fills exactly (no
+// room to spare from nothing), the second grows (the old words copied on the GPU, room for half as
+// much again, the old buffer handed back), the third fits the room the growth left and must keep
+// the very buffer (its address stays valid for commands recorded before).
+TEST(BufferAppend, KeepsWhatIsThereGrowsByHalfAndFillsTheRoomInPlace) {
+  auto context = test::makeTestContext();
+  ASSERT_NE(context, nullptr);
+  Buffer empty, other;
+  const auto a = iota(0, 100), b = iota(1000, 60), c = iota(5000, 40), d = iota(9000, 7);
+  std::vector<BufferAppend> first{appendOf(empty, 0, a), appendOf(other, 0, d)};
+  EXPECT_TRUE(appendToBuffers(*context, first).empty());
+  ASSERT_TRUE(empty);
+  EXPECT_EQ(empty.size(), 100u * 4u);
+
+  std::vector<BufferAppend> second{appendOf(empty, 100, b)};
+  std::vector<Buffer> replaced = appendToBuffers(*context, second);
+  ASSERT_EQ(replaced.size(), 1u);
+  EXPECT_EQ(replaced[0].size(), 100u * 4u);
+  EXPECT_EQ(empty.size(), 160u * 4u) << "room for half as much again: 150 words, short of the 160 needed";
+  replaced.clear();
+
+  std::vector<BufferAppend> third{appendOf(empty, 160, iota(7000, 0))};
+  EXPECT_TRUE(appendToBuffers(*context, third).empty()) << "nothing to append";
+  std::vector<BufferAppend> grow{appendOf(empty, 160, c)};
+  replaced = appendToBuffers(*context, grow);
+  ASSERT_EQ(replaced.size(), 1u);
+  EXPECT_EQ(empty.size(), 240u * 4u) << "half as much again as 160 words";
+  const VkBuffer kept = empty.handle();
+  std::vector<BufferAppend> fits{appendOf(empty, 200, d)};
+  EXPECT_TRUE(appendToBuffers(*context, fits).empty());
+  EXPECT_EQ(empty.handle(), kept);
+
+  std::vector<std::uint32_t> expected = a;
+  expected.insert(expected.end(), b.begin(), b.end());
+  expected.insert(expected.end(), c.begin(), c.end());
+  expected.insert(expected.end(), d.begin(), d.end());
+  EXPECT_EQ(readWords(*context, empty, expected.size()), expected);
+  EXPECT_EQ(readWords(*context, other, d.size()), d);
+  EXPECT_EQ(context->validationMessageCount(), 0u) << ::testing::PrintToString(context->validationMessages());
+}
+
+// Tricky: the second buffer's growth does not fit the budget after the first's did: neither may
+// change (the first's larger buffer given back, its words as they were), and with the budget
+// lifted the same append succeeds. A buffer said to hold more than it has is refused by name.
+TEST(BufferAppend, AFailedAllocationLeavesEveryBufferAsItWas) {
+  auto context = test::makeTestContext();
+  ASSERT_NE(context, nullptr);
+  Buffer small, large;
+  const auto a = iota(0, 16), b = iota(100, 4096), more = iota(20000, 8192);
+  std::vector<BufferAppend> first{appendOf(small, 0, a), appendOf(large, 0, b)};
+  (void)appendToBuffers(*context, first);
+  Allocator& allocator = context->allocator();
+  allocator.setBudget(allocator.stats().usedBytes + 16 * 1024);  // the small one's growth, not the large one's
+  std::vector<BufferAppend> both{appendOf(small, 16, a), appendOf(large, 4096, more)};
+  const VkBuffer smallBefore = small.handle(), largeBefore = large.handle();
+  const VkDeviceSize usedBefore = allocator.stats().usedBytes;
+  EXPECT_THROW((void)appendToBuffers(*context, both), VulkanError);
+  EXPECT_EQ(small.handle(), smallBefore);
+  EXPECT_EQ(large.handle(), largeBefore);
+  EXPECT_EQ(allocator.stats().usedBytes, usedBefore) << "the grown small buffer was not given back";
+  allocator.setBudget(Allocator::kUnlimited);
+  EXPECT_EQ(readWords(*context, small, a.size()), a);
+  EXPECT_EQ(readWords(*context, large, b.size()), b);
+
+  std::vector<BufferAppend> again{appendOf(small, 16, a), appendOf(large, 4096, more)};
+  EXPECT_EQ(appendToBuffers(*context, again).size(), 2u);
+  std::vector<std::uint32_t> expected = b;
+  expected.insert(expected.end(), more.begin(), more.end());
+  EXPECT_EQ(readWords(*context, large, expected.size()), expected);
+
+  std::vector<BufferAppend> wrong{appendOf(small, 1000, a)};
+  try {
+    (void)appendToBuffers(*context, wrong);
+    FAIL() << "a buffer said to hold more than its size was taken";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find("'append test'"), std::string::npos) << e.what();
+  }
+  EXPECT_EQ(context->validationMessageCount(), 0u) << ::testing::PrintToString(context->validationMessages());
+}
+
+}  // namespace
+}  // namespace engine::gpu
