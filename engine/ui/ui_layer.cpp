@@ -1,12 +1,15 @@
 #include "engine/ui/ui_layer.h"
 
 #include <algorithm>
+#include <filesystem>
+#include <string_view>
 
 #include <GLFW/glfw3.h>
 #include <imgui.h>
 #include <imgui_impl_glfw.h>
 #include <imgui_impl_vulkan.h>
 
+#include "engine/core/files.h"
 #include "engine/core/log.h"
 #include "engine/gpu/context.h"
 #include "engine/gpu/vk_check.h"
@@ -108,6 +111,7 @@ Status UiLayer::initialize(VkFormat colorFormat, std::uint32_t framesInFlight, p
 }
 
 UiLayer::~UiLayer() {
+  if (ImGui::GetCurrentContext()) saveLayout(true);  // as ImGui did at shutdown: a change of the last seconds too
   vkDeviceWaitIdle(context_.device());
   if (vulkanBackend_) ImGui_ImplVulkan_Shutdown();
   if (glfwBackend_) ImGui_ImplGlfw_Shutdown();
@@ -123,9 +127,27 @@ void UiLayer::addPanel(std::string name, std::function<void()> draw) {
 
 void UiLayer::setIniFile(const std::string& file) {
   iniFile_ = file;
+  layoutWriteFailed_ = false;
+  // ImGui saves nothing itself (no IniFilename): it raises WantSaveIniSettings, and saveLayout writes.
+  ImGui::GetIO().IniFilename = nullptr;
+  if (iniFile_.empty()) return;
+  if (std::filesystem::exists(iniFile_)) ImGui::LoadIniSettingsFromDisk(iniFile_.c_str());
+  if (const Status writable = checkWritable(iniFile_); !writable) {
+    log::warn("the window layout will not be saved: {}", writable.error().message);
+    layoutWriteFailed_ = true;
+  }
+}
+
+// Writes ImGui's layout when it asks to (a few seconds after a change), or whatever it is (shutdown).
+void UiLayer::saveLayout(bool evenUnchanged) {
   ImGuiIO& io = ImGui::GetIO();
-  io.IniFilename = iniFile_.empty() ? nullptr : iniFile_.c_str();
-  if (!iniFile_.empty()) ImGui::LoadIniSettingsFromDisk(iniFile_.c_str());
+  if (iniFile_.empty() || (!io.WantSaveIniSettings && !evenUnchanged)) return;
+  std::size_t size = 0;
+  const char* text = ImGui::SaveIniSettingsToMemory(&size);
+  io.WantSaveIniSettings = false;
+  const Status written = writeTextFile(iniFile_, std::string_view(text, size));
+  if (!written && !layoutWriteFailed_) log::warn("the window layout was not saved: {}", written.error().message);
+  layoutWriteFailed_ = !written;
 }
 
 void UiLayer::addFeaturePanels(const render::Renderer& renderer) {
@@ -161,6 +183,7 @@ void UiLayer::buildFrame(VkExtent2D extent, float deltaSeconds) {
   }
   ImGui::End();
   ImGui::Render();
+  saveLayout(false);
   frameBuilt_ = true;
 }
 

@@ -35,7 +35,9 @@ class UiLayer final : public render::OverlayPass {
   // The main window's title (the program names it; ImGui also keys the window's saved layout on it).
   void setWindowTitle(std::string title) { windowTitle_ = std::move(title); }
   // ImGui's window layout: loaded from `file` now (when it exists) and saved to it while the UI
-  // runs and at shutdown. Empty: not kept (the default).
+  // runs (a few seconds after a change) and at shutdown, through engine::writeBinaryFile: a file
+  // that cannot be written is said once, as a warning naming it and why (ImGui's own writer
+  // dropped the error). Empty: not kept (the default).
   void setIniFile(const std::string& file);
 
   // Adds every render feature's drawUi() as a panel.
@@ -56,6 +58,7 @@ class UiLayer final : public render::OverlayPass {
   VkFramebuffer framebufferFor(const gpu::Image& color);
   void showKeysToImGui();
   static void keepTitleBarReachable(const ImVec2& display);
+  void saveLayout(bool evenUnchanged);
 
   struct Panel {
     std::string name;
@@ -67,7 +70,8 @@ class UiLayer final : public render::OverlayPass {
   VkDescriptorPool descriptorPool_ = VK_NULL_HANDLE;
   std::unordered_map<VkImageView, VkFramebuffer> framebuffers_;
   std::vector<Panel> panels_;
-  std::string iniFile_;  // ImGui keeps a pointer to it
+  std::string iniFile_;
+  bool layoutWriteFailed_ = false;  // said once
   std::string windowTitle_ = "engine";
   platform::Window* window_ = nullptr;  // null headless
   // ImGui 1.86 reads keys as levels once a frame: a tap within one frame is stretched over a frame
