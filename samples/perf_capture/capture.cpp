@@ -487,6 +487,14 @@ Status run(const Options& options, int& failedRows) {
   std::error_code ec;
   std::filesystem::create_directories(options.out / "images", ec);
   if (ec) return makeError("--out: cannot create '" + options.out.string() + "': " + ec.message());
+  // A capture that ends before its first image (no device, a bad subject) leaves no empty folder.
+  struct RemoveIfEmpty {
+    std::filesystem::path folder;
+    ~RemoveIfEmpty() {
+      std::error_code ignored;
+      if (std::filesystem::is_empty(folder, ignored)) std::filesystem::remove(folder, ignored);
+    }
+  } images{options.out / "images"};
   for (const char* name : kFinalOutputs) std::filesystem::remove(options.out / name, ec);
   Subject subject;
   ENGINE_TRY(loadSubject(options, subject));
