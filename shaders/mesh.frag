@@ -20,7 +20,14 @@ void main() {
   } else if (pc.debugView == DEBUG_VIEW_DEPTH) {
     color = vec3(gl_FragCoord.z);
   } else {
-    color = shadeSurface(frame, object.color.rgb, object.material.x, inWorldPosition, inWorldNormal);
+    // The rasterizer says which side of the triangle the eye sees: a back face (a mesh drawn
+    // without culling) is lit as its other side. On the side seen, the interpolated vertex normal
+    // may still face away near a silhouette (the vertices' normals lean over it): bent to face the
+    // eye, not turned round, which lit single pixels along the outline as the object's far side.
+    vec3 n = normalize(inWorldNormal);
+    if (!gl_FrontFacing) n = -n;
+    n = normalTowardEye(n, normalize(frame.cameraPosition.xyz - inWorldPosition));
+    color = shadeSurface(frame, object.color.rgb, object.material.x, inWorldPosition, n);
   }
   outColor = vec4(color, 1.0);
 }

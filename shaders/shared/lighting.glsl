@@ -2,11 +2,31 @@
 #ifndef HSDF_LIGHTING_GLSL
 #define HSDF_LIGHTING_GLSL
 
-// Lambert + Blinn-Phong with a hemispheric ambient term; all in linear colour.
+// How far a shading normal that must face the eye is bent past perpendicular (cosine).
+const float kFacingEyeCosine = 1e-3;
+
+// `n` (unit) bent in the plane of n and v (unit, towards the eye) until it just faces the eye, if it
+// faces away. For a surface known to face the eye whose shading normal does not: a vertex normal
+// interpolated over a front face near a silhouette, a sphere tracer's hit at a ray's closest
+// approach to a surface it grazes. Bending keeps the normal's direction across the view; turning
+// it round (-n) would light it as the far side of the object (bright or dark specks).
+vec3 normalTowardEye(vec3 n, vec3 v) {
+  float nv = dot(n, v);
+  if (nv >= kFacingEyeCosine) return n;
+  vec3 across = n - nv * v;  // the part perpendicular to v
+  float len = length(across);
+  if (len < 1e-6) return v;  // n was (anti)parallel to v: no direction across the view to keep
+  return normalize(across / len + kFacingEyeCosine * v);
+}
+
+// Lambert + Blinn-Phong with a hemispheric ambient term; all in linear colour. A normal that
+// faces away from the eye is a back face (the inside of an SDF object seen from within it, or
+// through the near plane): it is lit as its other side. Callers that know their surface faces the
+// eye bend a normal that does not with normalTowardEye first (mesh.frag, the sphere tracers).
 vec3 shadeSurface(FrameGlobals frame, vec3 baseColor, float roughness, vec3 worldPosition, vec3 normal) {
   vec3 n = normalize(normal);
   vec3 v = normalize(frame.cameraPosition.xyz - worldPosition);
-  if (dot(n, v) < 0.0) n = -n;  // back faces seen through clipped geometry stay lit sensibly
+  if (dot(n, v) < 0.0) n = -n;
   vec3 l = normalize(frame.lightDirection.xyz);
   vec3 h = normalize(l + v);
   float diffuse = max(dot(n, l), 0.0);

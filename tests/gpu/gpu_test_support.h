@@ -61,6 +61,15 @@ std::vector<CameraSetup> extremeCameras(const glm::vec3& center, float radius);
 // The world normal a DEBUG_VIEW_NORMALS frame shows at pixel index i (n * 0.5 + 0.5, sRGB target).
 glm::dvec3 decodeNormal(const std::vector<std::uint8_t>& normalRgba, std::size_t i);
 
+// The linear colour of an sRGB-encoded 8-bit pixel.
+glm::dvec3 linearColor(glm::u8vec4 srgb);
+
+// The linear colour shared/lighting.glsl's shadeSurface gives a point at `position` with the unit
+// normal `normal`, facing the eye (the lighting of `desc`; written again here, in double, as the
+// independent reference of the shaded frames).
+glm::dvec3 referenceShading(const engine::render::RendererDesc& desc, const glm::dvec3& baseColor, double roughness,
+                            const glm::dvec3& eye, const glm::dvec3& position, const glm::dvec3& normal);
+
 class GpuTest : public ::testing::Test {
  protected:
   void SetUp() override;

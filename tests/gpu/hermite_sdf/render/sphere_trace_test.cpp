@@ -296,6 +296,68 @@ TEST_F(SphereTraceTest, NearPlaneJustBeyondAFaceDrawsWhatLiesBehindIt) {
   }
 }
 
+// Why: a ray that grazes a surface stops within epsilon of it just past its closest approach (or
+// the shading pass's point, rebuilt from the prepass depth, rounds past it), where the exact
+// gradient faces a little away from the eye. The shading turned such a normal round and lit the
+// pixel as the object's far side: dark specks on lit faces and bright ones on dark faces along
+// the box's rounded edges at K = 16 (found in the dense Hermite tracer's images). The cameras look
+// along the box's faces from just above or beside them; two are inside the box (its inside faces
+// the eye: lit as the far side of the surface, as before). Each pixel both hit is compared with
+// lighting.glsl's shading (written again on the CPU) of the reference's normal, taken as the side
+// the eye is on sees it (the old shading: 2 pixels wrong here).
+TEST_F(SphereTraceTest, GrazingHitsAreLitAsTheSideTheEyeSees) {
+  const std::uint32_t width = 640, height = 360;
+  createTraceRenderer(width, height);
+  const auto asset = bakeAsset("box", 16);  // half extents (1, 0.7, 0.5)
+  ASSERT_NE(asset, nullptr);
+  const render::RendererDesc lighting;  // the fixture's renderer lights as the defaults say
+  struct View {
+    glm::vec3 eye, target;
+    bool inside;
+  };
+  // Views of the scene runner's box (hsdf_bake box -r 16) in which the old shading left 1-4 such
+  // specks each at 640x360, and two from inside the box.
+  const std::vector<View> views = {
+      {{0.6f, 1.25f, 2.6f}, {0.0f, 0.6f, 0.0f}, false},   {{0.3f, 1.1f, 3.0f}, {0.0f, 0.8f, 0.0f}, false},
+      {{2.6f, 1.2f, 0.6f}, {0.0f, 0.6f, 0.0f}, false},    {{1.5f, 1.15f, 2.5f}, {0.0f, 0.7f, 0.0f}, false},
+      {{2.5f, 1.02f, 2.5f}, {-0.5f, 0.9f, -0.5f}, false}, {{-2.0f, 1.3f, 2.4f}, {0.0f, 0.7f, 0.0f}, false},
+      {{2.4f, -1.2f, 1.9f}, {0.0f, -0.5f, 0.0f}, false},  {{1.1f, 0.3f, 3.2f}, {1.0f, 0.0f, 0.0f}, false},
+      {{3.2f, 0.2f, 1.1f}, {1.0f, 0.0f, 1.0f}, false},    {{0.2f, 0.1f, 0.05f}, {1.0f, 0.3f, -0.2f}, true},
+      {{-0.5f, -0.2f, 0.1f}, {-1.0f, -0.7f, 0.5f}, true}};
+  int wrong = 0, compared = 0;
+  const RenderMethod method = RenderMethod::HermiteSphereTrace;
+  const ecs::Entity entity = addTracedSdf(registry_, asset, method);
+  const auto& renderable = registry_.get<hsdf::HermiteSdfRenderable>(entity);
+  for (std::size_t v = 0; v < views.size(); ++v) {
+    const render::CameraView camera =
+        render::CameraView::lookAt(views[v].eye, views[v].target, 0.8f, 1e-3f, float(width) / float(height));
+    const Frame frame = renderWith(camera, DEBUG_VIEW_NONE);
+    const hsdf::ReferenceImage reference =
+        referenceFor(method, asset->field, camera, {int(width), int(height)});
+    int viewWrong = 0;
+    for (std::uint32_t y = 0; y < height; ++y) {
+      for (std::uint32_t x = 0; x < width; ++x) {
+        const std::size_t i = reference.pixel(int(x), int(y));
+        if (!reference.hit[i] || frame.depthAt(x, y) <= 0.0f) continue;
+        const math::Ray ray = math::pixelRay(camera.view, camera.proj, {float(x) + 0.5f, float(y) + 0.5f},
+                                             {int(width), int(height)});
+        const double distance = math::depthToViewDistance(reference.depth[i], camera.znear) /
+                                glm::dot(ray.direction, viewForward(camera));
+        const glm::dvec3 hit = ray.origin + distance * ray.direction;
+        const glm::dvec3 normal = glm::dvec3(reference.normal[i]) * (views[v].inside ? -1.0 : 1.0);
+        const glm::dvec3 expected = referenceShading(lighting, glm::dvec3(renderable.color), renderable.roughness,
+                                                     glm::dvec3(views[v].eye), hit, normal);
+        ++compared;
+        viewWrong += glm::length(linearColor(frame.pixel(x, y)) - expected) > 0.3;
+      }
+    }
+    if (viewWrong > 0) std::printf("[ view %zu ] %d pixels lit unlike the reference\n", v, viewWrong);
+    wrong += viewWrong;
+  }
+  EXPECT_GT(compared, 100000);
+  EXPECT_EQ(wrong, 0);
+}
+
 // Why: fp16 textures round f and the gradient; the GPU must then match the reference of the
 // rounded field (not of the fp32 one), and the texture must really be half the size.
 TEST_F(SphereTraceTest, HalfPrecisionTexturesMatchTheRoundedField) {
