@@ -367,6 +367,10 @@ HSDF_CHECK_SIZE(HermitePushConstants, 32 + 8 * 8 + 8 + 16 + 8);
 
 // ---- Sphere-tracing baselines (hsdf::SphereTraceFeature) ----------------------------------------
 #define SPHERE_TRACE_FEATURE_ID 3u
+// The prepass's visibility is (1 + object, field evaluations | this bit when the pixel's ray started
+// inside the surface): the shading pass lights the hit as the side the ray came from without
+// evaluating the field again.
+#define SPHERE_TRACE_STARTED_INSIDE 0x80000000u
 
 // One per drawn object of the sphere-tracing feature, indexed by gl_InstanceIndex. The field is a
 // dense 3D texture of K^3 samples; "grid units" are object-space lengths divided by h, so sample

@@ -293,9 +293,10 @@ Settled hitInBracket(SphereTraceDraw draw, inout ExactCache cache, TraceRay ray,
 const float kMinStep = 1.0 / 64.0;
 
 struct TraceResult {
-  float t;           // the hit's t, or -1 on a miss
-  uint evaluations;  // field evaluations (filtered and exact)
-  bool outOfSteps;   // the step limit ran out before a hit or the box's end: a miss, counted
+  float t;             // the hit's t, or -1 on a miss
+  uint evaluations;    // field evaluations (filtered and exact)
+  bool outOfSteps;     // the step limit ran out before a hit or the box's end: a miss, counted
+  bool startedInside;  // the ray's first point was inside the surface (f < 0): it hit the surface's back
 };
 
 // How many times a ray may go on after a crossing that the exact interpolant did not confirm (a
@@ -316,10 +317,11 @@ TraceResult sphereTrace(SphereTraceDraw draw, vec3 origin, vec3 direction, float
   float h = draw.gridOriginSpacing.w;
   TraceRay ray = TraceRay(origin, direction, 1.0 / length(direction));
   FieldCursor cursor = newFieldCursor();
-  TraceResult result = TraceResult(-1.0, 1u, false);
+  TraceResult result = TraceResult(-1.0, 1u, false, false);
   float t = t0;
   float d = evaluateField(draw, cursor, origin + t * direction) / h;  // grid units, what the next step trusts
   float side = d < 0.0 ? -1.0 : 1.0;
+  result.startedInside = d < 0.0;
   // The ray's first point is never a hit by epsilon alone: there the surface may lie just behind
   // it, on the clipped side of the near plane (an eye pressed against a wall, the near plane a
   // hair beyond the wall: the tracer drew the wall at the near plane, where nothing nearer than

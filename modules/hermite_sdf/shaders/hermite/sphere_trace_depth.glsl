@@ -19,7 +19,7 @@ layout(buffer_reference, scalar) buffer WorkTotalsRef { WorkTotals totals; };
 layout(location = 0) flat in uint inDraw;
 layout(location = 2) flat in vec3 inEyeGrid;
 
-layout(location = 0) out uvec2 outVisibility;  // (1 + object, field evaluations)
+layout(location = 0) out uvec2 outVisibility;  // (1 + object, field evaluations | SPHERE_TRACE_STARTED_INSIDE)
 #ifdef SPHERE_TRACE_CONSERVATIVE_DEPTH
 // Reverse-Z: the hit is never nearer than the front face, so its depth is never greater (a miss
 // writes 0, which is less too).
@@ -38,7 +38,7 @@ void main() {
   float cells = float(draw.resolution - 1u);
   vec2 box = intersectUnitBox(origin / cells, direction / cells);
   float t0 = max(box.x, gl_FragCoord.z);
-  TraceResult trace = TraceResult(-1.0, 0u, false);
+  TraceResult trace = TraceResult(-1.0, 0u, false, false);
   if (t0 <= box.y) trace = sphereTrace(draw, origin, direction, t0, box.y);
 #ifdef HSDF_COUNT_WORK
   // Every ray's steps, hits and misses alike (the renderer's work counters).
@@ -51,5 +51,5 @@ void main() {
   if (t >= 0.0) t = max(t, 1.0);  // rounding of the box entry must not move the hit in front of the face
 #endif
   gl_FragDepth = t < 0.0 ? 0.0 : gl_FragCoord.z / t;
-  outVisibility = uvec2(draw.object + 1u, trace.evaluations);
+  outVisibility = uvec2(draw.object + 1u, trace.evaluations | (trace.startedInside ? SPHERE_TRACE_STARTED_INSIDE : 0u));
 }
