@@ -307,15 +307,18 @@ void HermiteCellFeature::createAssetBuffers(CellBuffers& rebuilt, const AssetUpl
 }
 
 // Appends the wanted assets not uploaded yet to the uploaded buffers, which grow when short, and
-// leaves the uploaded ones where they are: a scene that streams assets in while the others stay
-// uploads each one once (every new asset rebuilt every drawn asset's buffers before). False when
-// a rebuild is due: nothing uploaded yet, bricks or cell cones wanted for an uploaded asset, or an
-// uploaded asset no longer drawn (a rebuild leaves it out, as it did before: what the buffers
-// hold stays a function of what is drawn, not of the order things came in).
+// leaves the uploaded ones where they are: a scene that streams assets in (and out) uploads each
+// one once (every new asset rebuilt every drawn asset's buffers before: O(n) bytes a frame for a
+// level that streams one asset in and one out per frame). False when a rebuild is due: nothing
+// uploaded yet, bricks or cell cones wanted for an uploaded asset, or the uploaded assets no longer
+// drawn holding at least half of the records (the rebuild leaves them out, as the idle release
+// does: at half, the uploads stay within twice what is dropped).
 bool HermiteCellFeature::appendNewAssets(const engine::render::FrameContext& frame, const AssetDemand& d) {
   if (buffers_->entries.empty()) return false;
+  std::uint64_t idleRecords = 0;
   for (const auto& [id, entry] : buffers_->entries)
-    if (!d.seen.contains(id)) return false;
+    if (!d.seen.contains(id)) idleRecords += entry.asset->cells.records.size();
+  if (2 * idleRecords >= buffers_->used.records) return false;
   const auto lacks = [&](const std::unordered_set<std::uint64_t>& ids, bool CellBuffers::Entry::*built) {
     return std::any_of(ids.begin(), ids.end(), [&](std::uint64_t id) {
       auto entry = buffers_->entries.find(id);

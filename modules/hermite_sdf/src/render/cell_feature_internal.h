@@ -25,9 +25,9 @@ struct StreamCounts {
 
 // The GPU copy of every drawn asset's cell records: one fp32 and one fp16 buffer, each the
 // concatenation of the assets' streams, so one vertex-buffer binding serves all objects. A new
-// asset is appended while every uploaded one is still drawn (the buffers grow by half when short);
-// they are rebuilt, holding only the assets drawn, when one is no longer drawn or an uploaded
-// asset needs more (bricks, cones, another run length).
+// asset is appended while the assets no longer drawn hold less than half of the records (the
+// buffers grow by half when short); they are rebuilt, holding only the assets drawn, when those
+// hold half or more, or an uploaded asset needs more (bricks, cones, another run length).
 struct CellBuffers {
   struct Entry {
     std::shared_ptr<const SdfAsset> asset;
