@@ -948,6 +948,65 @@ TEST_F(HermiteCellsTest, StreamedAssetsAreUploadedOnceAndDrawnAsIfGivenAtOnce) {
   EXPECT_TRUE(streamed.rgba == atOnce.rgba);
 }
 
+// Why: a level streams chunks out and in at once: each frame one object goes and another comes
+// with its own asset. The new asset must be all that is uploaded (a rebuild whenever an uploaded
+// asset was no longer drawn re-uploaded every asset every frame: O(n) a frame), until the assets
+// no longer drawn hold half of the records; and what is drawn must still be what buffers holding
+// only the drawn assets draw.
+TEST_F(HermiteCellsTest, StreamingOutAndInUploadsOnlyTheNewAsset) {
+  constexpr std::uint32_t size = 96;
+  createCellRenderer(size, size);
+  auto* feature = renderer_->feature<hsdf::HermiteCellFeature>();
+  feature->settings().releaseAfterFrames = 1000;  // no timed release: the half rule alone
+  const char* shapes[] = {"sphere", "torus", "box"};
+  const auto place = [](const hsdf::SdfAsset& asset, int slot) {
+    const glm::vec3 center(asset.surfaceBounds.center());
+    const float scale = 3.0f / float(glm::length(asset.surfaceBounds.size()));
+    const glm::mat4 m = glm::translate(glm::mat4(1.0f), glm::vec3((float(slot % 4) - 1.5f) * 1.9f,
+                                                                  (float(slot / 4) - 0.5f) * 1.9f, 0.0f));
+    return glm::translate(glm::scale(m, glm::vec3(scale)), -center);
+  };
+  const render::CameraView camera =
+      render::CameraView::lookAt(glm::vec3(0.0f, 0.0f, 9.0f), glm::vec3(0.0f), 0.9f, 0.1f, 1.0f);
+  std::vector<ecs::Entity> entities;
+  for (int slot = 0; slot < 8; ++slot) {
+    const auto asset = bakeAsset(shapes[slot % 3], 14);
+    entities.push_back(addSdf(registry_, asset, hsdf::RenderMethod::Cells, place(*asset, slot)));
+  }
+  (void)renderWith(camera, DEBUG_VIEW_NONE);
+  for (int frame = 0; frame < 4; ++frame) {  // the oldest goes, a new one takes its place
+    const int slot = frame;
+    ASSERT_TRUE(registry_.destroy(entities[std::size_t(slot)]));
+    const auto arriving = bakeAsset(shapes[(slot + 1) % 3], 15 + frame);
+    entities[std::size_t(slot)] = addSdf(registry_, arriving, hsdf::RenderMethod::Cells, place(*arriving, slot));
+    const std::uint64_t uploadedBefore = feature->stats().uploadedBytes, heldBefore = feature->stats().gpuBytes;
+    (void)renderWith(camera, DEBUG_VIEW_NONE);
+    const std::uint64_t uploaded = feature->stats().uploadedBytes - uploadedBefore;
+    EXPECT_EQ(uploaded, feature->stats().gpuBytes - heldBefore) << "frame " << frame << ": more than the new asset";
+    EXPECT_LT(uploaded, heldBefore / 4) << "frame " << frame;
+  }
+  (void)renderWith(camera, DEBUG_VIEW_NONE);
+  const Frame streamed = renderWith(camera, DEBUG_VIEW_NONE);
+
+  // The same entities drawn from buffers that hold only their assets.
+  std::vector<std::pair<std::shared_ptr<const hsdf::SdfAsset>, glm::mat4>> drawn;
+  for (ecs::Entity entity : entities)
+    drawn.emplace_back(registry_.get<hsdf::HermiteSdfRenderable>(entity).asset,
+                       registry_.get<scene::WorldTransform>(entity).matrix);
+  registry_.clear();
+  feature->settings().releaseAfterFrames = 1;
+  for (int frame = 0; frame < 4; ++frame) (void)renderWith(camera, DEBUG_VIEW_NONE);
+  ASSERT_EQ(feature->stats().gpuBytes, 0u);
+  for (const auto& [asset, matrix] : drawn) addSdf(registry_, asset, hsdf::RenderMethod::Cells, matrix);
+  (void)renderWith(camera, DEBUG_VIEW_NONE);
+  (void)renderWith(camera, DEBUG_VIEW_NONE);
+  const Frame fresh = renderWith(camera, DEBUG_VIEW_NONE);
+  EXPECT_GT(std::count_if(fresh.depth.begin(), fresh.depth.end(), [](float d) { return d > 0.0f; }),
+            std::int64_t(size * size / 10));
+  EXPECT_TRUE(streamed.depth == fresh.depth);
+  EXPECT_TRUE(streamed.rgba == fresh.rgba);
+}
+
 // Why: a field the GPU could not take (out of memory) is replaced by the one the entity drew
 // before; the entities of another registry are other objects, with nothing to fall back to (the
 // tracers drew another registry's field for the same entity id, found by a helper).
