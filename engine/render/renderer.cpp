@@ -2,8 +2,10 @@
 
 #include <algorithm>
 #include <cstring>
+#include <stdexcept>
 #include <utility>
 
+#include <fmt/format.h>
 #include <glm/gtc/packing.hpp>
 
 #include "engine/core/log.h"
@@ -14,7 +16,8 @@
 namespace engine::render {
 namespace {
 
-constexpr std::uint32_t kMaxTimerScopes = 64;  // passes and feature scopes, per view region
+constexpr std::uint32_t kMaxTimerScopes = 64;  // passes and feature scopes, per view region (times maxViewRegions)
+constexpr std::uint32_t kMaxFramesInFlight = 16;
 constexpr std::uint32_t kStatisticsScopes = 2;  // depth prepass, opaque (of the first view region)
 
 // The depth target lives in this layout from the end of the prepass on (shading pass, read-backs).
@@ -50,6 +53,29 @@ std::string regionSuffix(std::uint32_t region) {
   return region == 0 ? std::string() : " [view " + std::to_string(region + 1) + "]";
 }
 
+// The extent's sides against zero and the device's largest image and framebuffer; throws
+// std::invalid_argument naming `what` (a Vulkan call with such an extent is invalid usage).
+void checkExtent(const gpu::Context& context, VkExtent2D extent, const char* what) {
+  VkPhysicalDeviceProperties properties;
+  vkGetPhysicalDeviceProperties(context.physicalDevice(), &properties);
+  const VkPhysicalDeviceLimits& limits = properties.limits;
+  const std::uint32_t largest = std::min({limits.maxImageDimension2D, limits.maxFramebufferWidth, limits.maxFramebufferHeight});
+  if (extent.width == 0 || extent.height == 0 || extent.width > largest || extent.height > largest)
+    throw std::invalid_argument(fmt::format("{}: extent {}x{}: each side must be 1 to {} pixels on '{}' "
+                                            "(maxImageDimension2D, maxFramebufferWidth/Height)",
+                                            what, extent.width, extent.height, largest,
+                                            context.capabilities().deviceName));
+}
+
+// The description the renderer is made with, checked before any member uses it.
+const RendererDesc& checkedDesc(const gpu::Context& context, const RendererDesc& desc, VkExtent2D extent) {
+  if (desc.framesInFlight == 0 || desc.framesInFlight > kMaxFramesInFlight)
+    throw std::invalid_argument(fmt::format("RendererDesc::framesInFlight {}: 1 to {}", desc.framesInFlight,
+                                            kMaxFramesInFlight));
+  checkExtent(context, extent, "Renderer");
+  return desc;
+}
+
 }  // namespace
 
 void FrameContext::reportDropped(std::string message) const {
@@ -59,7 +85,7 @@ void FrameContext::reportDropped(std::string message) const {
 
 Renderer::Renderer(const gpu::Context& context, const RendererDesc& desc, VkExtent2D extent)
     : context_(context),
-      desc_(desc),
+      desc_(checkedDesc(context, desc, extent)),
       extent_(extent),
       scene_(context, desc.framesInFlight * std::max(desc.maxViewRegions, 1u)),
       frameGlobals_(context, desc.framesInFlight, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, "frame globals") {
@@ -86,7 +112,7 @@ Renderer::Renderer(const gpu::Context& context, const RendererDesc& desc, VkExte
     VkSemaphoreCreateInfo semaphoreInfo{VK_STRUCTURE_TYPE_SEMAPHORE_CREATE_INFO};
     VK_CHECK(vkCreateSemaphore(context.device(), &semaphoreInfo, nullptr, &frame.imageAvailable));
     context.setName(frame.imageAvailable, VK_OBJECT_TYPE_SEMAPHORE, "image available" + suffix);
-    frame.timer = gpu::GpuTimer(context, kMaxTimerScopes, "pass timings" + suffix);
+    frame.timer = gpu::GpuTimer(context, kMaxTimerScopes * desc_.maxViewRegions, "pass timings" + suffix);
     frame.statistics = gpu::PipelineStatisticsQueries(context, kStatisticsScopes, "pass statistics" + suffix);
   }
 }
@@ -214,6 +240,7 @@ std::vector<Renderer::ShaderReload> Renderer::reloadShaders() {
 void Renderer::resize(VkExtent2D extent) {
   if (extent.width == 0 || extent.height == 0) return;
   if (extent.width == extent_.width && extent.height == extent_.height) return;
+  checkExtent(context_, extent, "Renderer::resize");
   context_.waitIdle();
   extent_ = extent;
   workCounted_ = false;  // the counts were of the old size

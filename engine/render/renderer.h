@@ -77,6 +77,9 @@ struct FrameSettings {
 
 class Renderer {
  public:
+  // Throws std::invalid_argument naming the value for RendererDesc::framesInFlight outside 1..16 and
+  // an extent with a side of 0 or past the device's largest image or framebuffer; gpu::VulkanError
+  // when a Vulkan call fails (out of memory for the targets).
   Renderer(const gpu::Context& context, const RendererDesc& desc, VkExtent2D extent);
   ~Renderer();
   Renderer(const Renderer&) = delete;
@@ -101,7 +104,8 @@ class Renderer {
   };
   std::vector<ShaderReload> reloadShaders();
 
-  // Recreates the targets (waits for the GPU).
+  // Recreates the targets (waits for the GPU). An extent with a side of 0 (a minimised window)
+  // keeps the current targets; one past the device's limits throws std::invalid_argument.
   void resize(VkExtent2D extent);
   VkExtent2D extent() const { return extent_; }
 

@@ -44,6 +44,20 @@ bool nearPlaneMayCut(const engine::render::CameraView& camera, const glm::mat4& 
   return objectDistance <= camera.nearPlaneReachInObject(invModel);
 }
 
+// A length setting a program may set by hand (epsilon, the central-difference step): a NaN, an
+// infinity or a value not above zero drew garbage (a NaN epsilon twice the coverage) and takes
+// the default instead, said once per value.
+float checkedLength(float value, float fallback, const char* name, std::string& said) {
+  if (std::isfinite(value) && value > 0.0f) return value;
+  const std::string message = fmt::format("sphere tracing: Settings::{} {} is not a positive length; {} is used",
+                                          name, value, fallback);
+  if (said.find(message) == std::string::npos) {
+    engine::log::warn("{}", message);
+    said += message + "\n";
+  }
+  return fallback;
+}
+
 }  // namespace
 
 SphereTraceFeature::SphereTraceFeature() = default;
@@ -324,8 +338,9 @@ void SphereTraceFeature::collectDraws(engine::render::FrameContext& frame) {
         draw.flags = r.normals == NormalMode::CentralDifferences ? HERMITE_FLAG_NORMALS_CENTRAL : 0u;
         draw.texture = texture->slot;
         draw.maxSteps = std::max(settings_.maxSteps, 1u);
-        draw.epsilon = settings_.epsilon;
-        draw.centralStep = settings_.centralDifferenceStep;
+        draw.epsilon = checkedLength(settings_.epsilon, Settings{}.epsilon, "epsilon", settingsSaid_);
+        draw.centralStep = checkedLength(settings_.centralDifferenceStep, Settings{}.centralDifferenceStep,
+                                         "centralDifferenceStep", settingsSaid_);
         draw.filterBits = std::min(settings_.emulatedFilterBits, 16u);
         draw.exactBelow = exactBelowCells(draw.filterBits != 0 ? draw.filterBits : deviceFilterBits_);
         const bool near = nearPlaneMayCut(frame.camera, object.model, lo, hi);

@@ -3,9 +3,12 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <stdexcept>
+#include <string>
 
 #include <gtest/gtest.h>
 
+#include "engine/core/log.h"
 #include "engine/core/math.h"
 #include "engine/render/components.h"
 #include "engine/scene/transform.h"
@@ -152,6 +155,82 @@ TEST_F(GpuTest, ResizeKeepsRendering) {
   const Frame frame = render(frontCamera(5.0f, 48, 40), 2);
   ASSERT_EQ(frame.width, 48u);
   EXPECT_GT(frame.depthAt(24, 20), 0.0f);
+}
+
+// Tricky: a renderer made with no frame in flight divided by zero at its first frame (SIGFPE),
+// and one made with an empty extent or one past the device's largest image called Vulkan with
+// invalid arguments (8 validation errors, then "Buffer 'readback': size 0"); found by a helper's
+// program against the installed package. Each must be refused by name before anything is made; a
+// resize past the limits too, while a resize to a side of 0 (a minimised window) keeps the targets.
+TEST_F(GpuTest, ARendererRefusesNoFramesInFlightAndExtentsPastTheDevice) {
+  const auto refusal = [&](const render::RendererDesc& desc, VkExtent2D extent) -> std::string {
+    try {
+      render::Renderer renderer(*context_, desc, extent);
+    } catch (const std::invalid_argument& e) {
+      return e.what();
+    }
+    return "accepted";
+  };
+  render::RendererDesc none;
+  none.framesInFlight = 0;
+  EXPECT_NE(refusal(none, {32, 32}).find("RendererDesc::framesInFlight 0"), std::string::npos) << refusal(none, {32, 32});
+  EXPECT_NE(refusal({}, {0, 0}).find("extent 0x0"), std::string::npos) << refusal({}, {0, 0});
+  EXPECT_NE(refusal({}, {32, 0}).find("extent 32x0"), std::string::npos);
+  VkPhysicalDeviceProperties properties;
+  vkGetPhysicalDeviceProperties(context_->physicalDevice(), &properties);
+  const std::uint32_t past = properties.limits.maxImageDimension2D + 1;
+  EXPECT_NE(refusal({}, {past, 8}).find("extent " + std::to_string(past) + "x8"), std::string::npos) << refusal({}, {past, 8});
+
+  createRenderer(32, 32);
+  addQuad({0.0f, 0.0f, 0.0f}, 2.0f, {1.0f, 0.0f, 0.0f, 1.0f});
+  EXPECT_THROW(renderer_->resize({8, past}), std::invalid_argument);
+  renderer_->resize({0, 40});
+  EXPECT_EQ(renderer_->extent().width, 32u);
+  const Frame frame = render(frontCamera(5.0f, 32, 32), 2);
+  EXPECT_GT(frame.depthAt(16, 16), 0.0f);
+  EXPECT_EQ(context_->validationMessageCount(), 0u);
+}
+
+// A feature that times many parts of its pass, as the module's features do (culling, prepass,
+// shading per method).
+class ManyScopesFeature final : public render::RenderFeature {
+ public:
+  static constexpr int kScopes = 20;
+  std::string_view name() const override { return "many scopes"; }
+  Status initialize(const gpu::Context&, const render::RendererFormats&, std::uint32_t) override { return {}; }
+  void prepare(render::FrameContext&) override {}
+  void recordPass(render::PassContext& pass) override {
+    for (int i = 0; i < kScopes; ++i) {
+      pass.timer.begin(pass.cmd, "scope " + std::to_string(i));
+      pass.timer.end(pass.cmd);
+    }
+  }
+};
+
+// Tricky: the GPU timer held 64 scopes per frame for all view regions together, though meant per
+// region: a four-region split screen of every method lost the fourth region's timings and warned
+// five times a frame (found by a helper). Each region's scopes must all be timed.
+TEST_F(GpuTest, EveryViewRegionIsTimed) {
+  createRenderer(64, 64);
+  ASSERT_TRUE(renderer_->addFeature(std::make_unique<ManyScopesFeature>()).ok());
+  addQuad({0.0f, 0.0f, 0.0f}, 2.0f, {1.0f, 0.0f, 0.0f, 1.0f});
+  std::vector<std::string> warnings;
+  log::setSink([&](log::Level level, std::string_view message) {
+    if (level == log::Level::Warning) warnings.emplace_back(message);
+  });
+  render::FrameSettings settings;
+  const std::uint32_t regions = renderer_->desc().maxViewRegions;
+  for (std::uint32_t r = 0; r < regions; ++r) settings.regions.push_back({{{std::int32_t(16 * r), 0}, {16, 64}}, {}});
+  scene::updateWorldTransforms(registry_);
+  for (int frame = 0; frame < 4; ++frame) renderer_->renderFrame(registry_, frontCamera(5.0f, 64, 64), settings);
+  renderer_->finish();
+  log::setSink({});
+  EXPECT_TRUE(warnings.empty()) << warnings.front();
+  std::size_t timed = 0;
+  for (const gpu::GpuTiming& timing : renderer_->lastTimings()) timed += timing.name.starts_with("scope ") ? 1 : 0;
+  // Each region's passes (prepass, opaque) call recordPass: every call's scopes.
+  EXPECT_GE(timed, std::size_t(ManyScopesFeature::kScopes) * regions * 2);
+  EXPECT_EQ(context_->validationMessageCount(), 0u);
 }
 
 // Why: a smooth mesh's vertex normals lean over its silhouette, so the normal interpolated over a

@@ -14,6 +14,9 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <limits>
+#include <string>
+#include <vector>
 
 #include <gtest/gtest.h>
 
@@ -224,6 +227,41 @@ TEST_F(SphereTraceTest, QuantizedFilterWeightsAsOnGpusStillDrawTheExactInterpola
       }
     }
   }
+}
+
+// Tricky: the settings are a public struct a program writes by hand; a NaN epsilon drew garbage
+// (twice the coverage, found by a helper), a zero or negative one or a NaN central-difference
+// step no better. Each must draw what the default draws, and say so once, not every frame.
+TEST_F(SphereTraceTest, SettingsThatAreNoLengthTakeTheDefault) {
+  createTraceRenderer(kSize, kSize);
+  const auto asset = bakeAsset("torus", 16);
+  ASSERT_NE(asset, nullptr);
+  const ecs::Entity entity = addTracedSdf(registry_, asset, RenderMethod::HermiteSphereTrace);
+  hsdf::SphereTraceFeature::Settings& settings = renderer_->feature<hsdf::SphereTraceFeature>()->settings();
+  const render::CameraView camera = orbitCamera(*asset, 1);
+  const Frame expected = renderWith(camera, DEBUG_VIEW_NONE);
+  std::vector<std::string> warnings;
+  engine::log::setSink([&](engine::log::Level level, std::string_view message) {
+    if (level == engine::log::Level::Warning) warnings.emplace_back(message);
+  });
+  for (float bad : {std::nanf(""), 0.0f, -1.0f, std::numeric_limits<float>::infinity()}) {
+    settings = {};
+    settings.epsilon = bad;
+    const Frame a = renderWith(camera, DEBUG_VIEW_NONE);
+    const Frame b = renderWith(camera, DEBUG_VIEW_NONE);
+    EXPECT_TRUE(a.depth == expected.depth && a.rgba == expected.rgba) << "epsilon " << bad;
+    EXPECT_TRUE(b.rgba == expected.rgba) << "epsilon " << bad;
+    settings = {};
+    settings.centralDifferenceStep = bad;
+    registry_.get<hsdf::HermiteSdfRenderable>(entity).normals = hsdf::NormalMode::CentralDifferences;
+    const Frame central = renderWith(camera, DEBUG_VIEW_NONE);
+    settings = {};
+    EXPECT_TRUE(central.rgba == renderWith(camera, DEBUG_VIEW_NONE).rgba) << "central step " << bad;
+    registry_.get<hsdf::HermiteSdfRenderable>(entity).normals = hsdf::NormalMode::Exact;
+  }
+  engine::log::setSink({});
+  EXPECT_EQ(warnings.size(), 8u) << "once per bad value";
+  for (const std::string& w : warnings) EXPECT_NE(w.find("is not a positive length"), std::string::npos) << w;
 }
 
 // Why: the counting variants report rays that reach the step limit instead of dropping them

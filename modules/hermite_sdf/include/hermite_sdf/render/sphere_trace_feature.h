@@ -57,6 +57,7 @@
 #include <map>
 #include <memory>
 #include <set>
+#include <string>
 #include <tuple>
 #include <unordered_map>
 #include <vector>
@@ -80,6 +81,8 @@ class SphereTraceFeature final : public engine::render::RenderFeature {
   struct Options {
     bool allowBindless = true;  // false: per-texture descriptor sets even where bindless works
   };
+  // A NaN, infinite or non-positive epsilon or central-difference step takes its default (a
+  // warning names it once).
   struct Settings {
     float epsilon = 1e-4f;              // stop when |f| < epsilon * h (grid spacings)
     std::uint32_t maxSteps = 1024;      // field evaluations per ray (see the header comment)
@@ -186,6 +189,7 @@ class SphereTraceFeature final : public engine::render::RenderFeature {
   // The asset each entity of drawnRegistry_ drew last frame: drawn instead of a refused asset that
   // replaced it (the entities of another registry are other objects).
   std::unordered_map<engine::ecs::Entity, std::shared_ptr<const SdfAsset>> drawnAssets_;
+  std::string settingsSaid_;  // the warnings about bad Settings given so far (each said once)
   const engine::ecs::Registry* drawnRegistry_ = nullptr;
   engine::render::PerFrameBuffer drawBuffer_;
   std::vector<std::uint32_t> drawSlots_;  // texture slot per draw of this frame
