@@ -27,7 +27,8 @@ struct CameraView {
   // origin is off by ~1e-2. viewFrom(dvec3(0)) is the world's view matrix in double.
   glm::dmat4 viewFrom(const glm::dvec3& origin) const;
 
-  // A camera at `eye` looking at `target`, Y up, for an image of the given aspect ratio.
+  // A camera at `eye` looking at `target`, Y up, for an image of the given aspect ratio. Throws
+  // std::invalid_argument when eye and target are the same point (no direction to look in).
   static CameraView lookAt(const glm::vec3& eye, const glm::vec3& target, float fovY, float znear, float aspect);
   // A camera placed by a world matrix, as a glTF camera node is: its local -Z is the viewing
   // direction and +Y is up. Scale and shear are dropped (the axes are orthonormalized, -Z kept,
