@@ -178,7 +178,8 @@ class HermiteCellFeature final : public engine::render::RenderFeature {
     // without occlusion culling; the assets no entity has drawn as cells for as many frames
     // (destroyed, given another asset or a tracer) once they hold at least half of the uploaded
     // records, or when no asset is drawn any more (dropping them re-uploads the rest: at half, the
-    // uploads stay within twice what is dropped); and every buffer of a frame slot not prepared for as many
+    // uploads stay within twice what is dropped; a new asset is appended beside them until then, and
+    // comes with that rebuild past it); and every buffer of a frame slot not prepared for as many
     // frames (a view region no longer drawn: the split screen turned off). The next frame that
     // needs them makes them at its size.
     // Otherwise they only grow: a camera that swings back and forth does not reallocate them.
