@@ -72,13 +72,13 @@ struct BufferAppend {
 };
 
 // Appends to device-local buffers (created with TRANSFER_SRC and TRANSFER_DST usage), one
-// submission per buffer through one staging buffer, and waits. The data already there stays where it is, so addresses and offsets that
-// commands recorded earlier hold stay valid. A buffer too small for used + data is replaced by one
-// with room for half as much again (exactly that when the room does not fit in memory), into which
-// the GPU copies its used bytes; the replaced buffers are returned, for the caller to release once
-// the commands that read them have completed. Every earlier command on the queue completes its
-// reads and writes before the copies, and later ones see the data. Throws VulkanError when an
-// allocation fails, leaving every buffer as it was.
+// submission per buffer through one staging buffer, and waits. The data already there stays where
+// it is, so addresses and offsets that commands recorded earlier hold stay valid. A buffer too
+// small for used + data is replaced by one with room for half as much again (exactly that when the
+// room does not fit in memory), into which the GPU copies its used bytes; the replaced buffers are
+// returned, for the caller to release once the commands that read them have completed. Every
+// earlier command on the queue completes its reads and writes before the copies, and later ones
+// see the data. Throws VulkanError when an allocation fails, leaving every buffer as it was.
 std::vector<Buffer> appendToBuffers(const Context& context, std::span<BufferAppend> appends);
 
 // Copies a device-local buffer (created with TRANSFER_SRC usage) back to the CPU (waits). Waits
