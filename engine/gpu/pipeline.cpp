@@ -43,7 +43,10 @@ std::filesystem::path shaderDirectory() {
 Expected<ShaderModule> ShaderModule::load(const Context& context, const std::string& name) {
   const std::filesystem::path path = shaderDirectory() / (name + ".spv");
   auto bytes = readBinaryFile(path, 64u << 20);
-  if (!bytes) return bytes.error().withContext("shader " + name);
+  if (!bytes) {  // say where the folder came from: a stale HSDF_SHADER_DIR is the usual cause
+    const char* env = std::getenv("HSDF_SHADER_DIR");
+    return bytes.error().withContext("shader " + name + (env && *env ? " (the folder is HSDF_SHADER_DIR's)" : ""));
+  }
   // Checked here, not left to the driver: invalid SPIR-V is undefined behaviour in
   // vkCreateShaderModule (a reload of a broken or half-written file must fail cleanly, old
   // pipelines kept).

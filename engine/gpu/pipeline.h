@@ -56,7 +56,7 @@ struct GraphicsPipelineDesc {
   VkFormat depthFormat = VK_FORMAT_UNDEFINED;
   bool alphaBlend = false;
   bool colorWrite = true;  // false: the colour attachments are kept as they are (e.g. a depth-only fix-up)
-  std::uint32_t pushConstantBytes = 0;
+  std::uint32_t pushConstantBytes = 0;  // one range at offset 0, for the vertex and fragment stages
   std::vector<VkDescriptorSetLayout> setLayouts;
   // Besides viewport and scissor, which are always dynamic (e.g. VK_DYNAMIC_STATE_CULL_MODE).
   std::vector<VkDynamicState> extraDynamicStates;

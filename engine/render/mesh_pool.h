@@ -30,7 +30,9 @@ class MeshPool {
  public:
   explicit MeshPool(const gpu::Context& context) : context_(context) {}
 
-  // Copies the mesh; it reaches the GPU at the next sync(). Indices must be < positions.size().
+  // Copies the mesh; it reaches the GPU at the next sync() (render::MeshFeature calls it in its
+  // prepare(): a program drawing through the mesh feature never calls it). Indices must be <
+  // positions.size().
   MeshHandle add(std::span<const glm::vec3> positions, std::span<const glm::vec3> normals,
                  std::span<const std::uint32_t> indices);
   const MeshRange& range(MeshHandle mesh) const { return ranges_[mesh.index]; }

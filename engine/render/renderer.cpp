@@ -12,6 +12,7 @@
 #include "engine/gpu/context.h"
 #include "engine/gpu/swapchain.h"
 #include "engine/gpu/vk_check.h"
+#include "engine/scene/transform.h"
 
 namespace engine::render {
 namespace {
@@ -237,6 +238,19 @@ std::vector<Renderer::ShaderReload> Renderer::reloadShaders() {
   return results;
 }
 
+// Features draw the entities with a WorldTransform; a program that places its entities by
+// Transform (and Parent) and never runs scene::updateWorldTransforms drew an empty frame without
+// a word. Said once; O(1) a frame (the components' counts), so a registry updated in part is not
+// caught.
+void Renderer::warnIfWorldTransformsMissing(const ecs::Registry& registry) {
+  if (worldTransformsWarned_ || registry.size<scene::Transform>() == 0 || registry.size<scene::WorldTransform>() != 0)
+    return;
+  worldTransformsWarned_ = true;
+  log::warn("renderer: {} entities have a Transform and none a WorldTransform, which is what the features draw: "
+            "call engine::scene::updateWorldTransforms(registry) before renderFrame",
+            registry.size<scene::Transform>());
+}
+
 void Renderer::resize(VkExtent2D extent) {
   if (extent.width == 0 || extent.height == 0) return;
   if (extent.width == extent_.width && extent.height == extent_.height) return;
@@ -294,6 +308,7 @@ VkDeviceAddress Renderer::prepareWorkCounters(VkCommandBuffer cmd) {
 // nothing of it submitted, so the next frame on this slot neither waits forever nor sees half a
 // frame. The error still reaches the caller; the renderer stays usable.
 bool Renderer::renderFrame(const ecs::Registry& registry, const CameraView& camera, const FrameSettings& settings) {
+  warnIfWorldTransformsMissing(registry);
   const auto slot = static_cast<std::uint32_t>(frameNumber_ % desc_.framesInFlight);
   FrameResources& frame = frames_[slot];
   if (frame.submitted) {

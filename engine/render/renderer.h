@@ -113,7 +113,9 @@ class Renderer {
   // date (resize it and the renderer, then try again). An exception while the frame is recorded
   // (e.g. gpu::VulkanError out of device memory from a feature's upload) reaches the caller with
   // nothing of the frame submitted; the next call renders normally (with a window, the failed
-  // frame shows the last finished one again).
+  // frame shows the last finished one again). The features draw entities by their
+  // scene::WorldTransform: run scene::updateWorldTransforms(registry) after changing Transforms
+  // (a registry of Transforms without any WorldTransform is said once, as a warning).
   bool renderFrame(const ecs::Registry& registry, const CameraView& camera, const FrameSettings& settings = {});
 
   // Waits for the GPU, then copies the last frame back: RGBA8 (sRGB-encoded) and depth values.
@@ -182,6 +184,7 @@ class Renderer {
   void recordOpaquePass(PassContext& pass, VkRect2D rect, bool first);
   void recordPresentBlit(VkCommandBuffer cmd, gpu::Swapchain& swapchain, std::uint32_t imageIndex);
   void collectTimings(FrameResources& frame);
+  void warnIfWorldTransformsMissing(const ecs::Registry& registry);
   VkDeviceAddress prepareWorkCounters(VkCommandBuffer cmd);
 
   const gpu::Context& context_;
@@ -206,6 +209,7 @@ class Renderer {
   // One uint per pixel, then shader::WorkTotals; created on the first counting frame.
   gpu::PixelBuffer workCounters_{"work counters", VK_BUFFER_USAGE_TRANSFER_SRC_BIT, sizeof(shader::WorkTotals)};
   bool workCounted_ = false;
+  bool worldTransformsWarned_ = false;  // warnIfWorldTransformsMissing said it
   std::vector<std::string> droppedObjects_;  // FrameContext::reportDropped, until takeDroppedObjects()
   bool reportedTooManyRegions_ = false;
   std::uint64_t frameNumber_ = 0;

@@ -17,6 +17,8 @@ struct InstantiatedScene {
   glm::vec3 boundsMax{0.0f};
 };
 
+// The entities get Transform, Parent and Name (and MeshRenderable); their WorldTransform comes
+// from scene::updateWorldTransforms(registry), which the program runs before renderFrame.
 InstantiatedScene instantiateScene(const scene::SceneData& data, ecs::Registry& registry, MeshPool& pool);
 
 }  // namespace engine::render

@@ -131,7 +131,14 @@ void UiLayer::setIniFile(const std::string& file) {
   // ImGui saves nothing itself (no IniFilename): it raises WantSaveIniSettings, and saveLayout writes.
   ImGui::GetIO().IniFilename = nullptr;
   if (iniFile_.empty()) return;
-  if (std::filesystem::exists(iniFile_)) ImGui::LoadIniSettingsFromDisk(iniFile_.c_str());
+  // Read by the engine's reader, not ImGui's: ImGui's took a folder's size as 2^63 bytes and asked
+  // malloc for them (AddressSanitizer stopped there; without it the layout was dropped unsaid).
+  if (std::filesystem::exists(iniFile_)) {
+    if (const Expected<std::string> text = readTextFile(iniFile_))
+      ImGui::LoadIniSettingsFromMemory(text->data(), text->size());
+    else
+      log::warn("the window layout was not loaded: {}", text.error().message);
+  }
   if (const Status writable = checkWritable(iniFile_); !writable) {
     log::warn("the window layout will not be saved: {}", writable.error().message);
     layoutWriteFailed_ = true;

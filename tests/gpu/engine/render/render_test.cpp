@@ -191,6 +191,28 @@ TEST_F(GpuTest, ARendererRefusesNoFramesInFlightAndExtentsPastTheDevice) {
   EXPECT_EQ(context_->validationMessageCount(), 0u);
 }
 
+// Tricky: a program that places its entities by Transform and never runs updateWorldTransforms
+// drew an empty frame without a word (found by a newcomer helper following the docs): said once,
+// as a warning naming the call, and not again every frame; an updated registry says nothing.
+TEST_F(GpuTest, ARegistryWithoutWorldTransformsIsSaidOnce) {
+  createRenderer(32, 32);
+  addQuad({0.0f, 0.0f, 0.0f}, 2.0f, {1.0f, 0.0f, 0.0f, 1.0f});
+  std::vector<std::string> warnings;
+  log::setSink([&](log::Level level, std::string_view message) {
+    if (level == log::Level::Warning) warnings.emplace_back(message);
+  });
+  for (int frame = 0; frame < 3; ++frame) renderer_->renderFrame(registry_, frontCamera(5.0f, 32, 32));
+  const std::vector<float> empty = renderer_->readbackDepth();
+  scene::updateWorldTransforms(registry_);
+  renderer_->renderFrame(registry_, frontCamera(5.0f, 32, 32));
+  const std::vector<float> drawn = renderer_->readbackDepth();
+  log::setSink({});
+  ASSERT_EQ(warnings.size(), 1u);
+  EXPECT_NE(warnings[0].find("updateWorldTransforms"), std::string::npos) << warnings[0];
+  EXPECT_TRUE(std::all_of(empty.begin(), empty.end(), [](float d) { return d == 0.0f; }));
+  EXPECT_GT(drawn[16 * 32 + 16], 0.0f);
+}
+
 // A feature that times many parts of its pass, as the module's features do (culling, prepass,
 // shading per method).
 class ManyScopesFeature final : public render::RenderFeature {
