@@ -7,7 +7,8 @@
 #   include/hermite_sdf/{engine,hermite_sdf}/...   C++ headers (#include "engine/...", "hermite_sdf/...")
 #   include/hermite_sdf/shaders/{shared,hermite}/  host/device headers and GLSL includes
 #   lib/libengine_*.a lib/libhermite_sdf_*.a       the libraries (static)
-#   lib/cmake/hermite_sdf/                         hermite_sdf-config.cmake, version, targets
+#   lib/cmake/hermite_sdf/                         hermite_sdf-config.cmake, version, targets,
+#                                                  hermite_sdf-shaders.cmake (a project's own shaders)
 #   share/hermite_sdf/shaders/*.spv                SPIR-V (hermite_sdf_SHADER_DIR in the package)
 #   bin/hsdf_bake
 include(GNUInstallDirs)
@@ -84,4 +85,4 @@ configure_package_config_file(${PROJECT_SOURCE_DIR}/cmake/hermite_sdf-config.cma
 write_basic_package_version_file(${PROJECT_BINARY_DIR}/hermite_sdf-config-version.cmake
   COMPATIBILITY SameMinorVersion)
 install(FILES ${PROJECT_BINARY_DIR}/hermite_sdf-config.cmake ${PROJECT_BINARY_DIR}/hermite_sdf-config-version.cmake
-  DESTINATION ${HSDF_INSTALL_CMAKEDIR})
+  ${PROJECT_SOURCE_DIR}/cmake/hermite_sdf-shaders.cmake DESTINATION ${HSDF_INSTALL_CMAKEDIR})

@@ -1,6 +1,8 @@
 #include "engine/gpu/pipeline.h"
 
+#include <algorithm>
 #include <cstdlib>
+#include <mutex>
 #include <utility>
 
 #include "engine/core/files.h"
@@ -28,7 +30,41 @@ std::filesystem::path installedShaderDirectory() {
   return exe.parent_path().parent_path() / HSDF_INSTALLED_SHADER_DIR;
 }
 
+std::mutex& addedShaderDirectoriesMutex() {
+  static std::mutex mutex;
+  return mutex;
+}
+std::vector<std::filesystem::path>& addedShaderDirectories() {
+  static std::vector<std::filesystem::path> folders;
+  return folders;
+}
+
+// Where `name` is: the first folder that has the file, else the last folder's (whose read error
+// then names a file that is not there).
+std::filesystem::path findShader(const std::vector<std::filesystem::path>& folders, const std::string& file) {
+  std::error_code ec;
+  for (const std::filesystem::path& folder : folders)
+    if (std::filesystem::is_regular_file(folder / file, ec)) return folder / file;
+  return folders.back() / file;
+}
+
 }  // namespace
+
+void addShaderDirectory(const std::filesystem::path& folder) {
+  const std::lock_guard lock(addedShaderDirectoriesMutex());
+  std::vector<std::filesystem::path>& folders = addedShaderDirectories();
+  if (std::find(folders.begin(), folders.end(), folder) == folders.end()) folders.push_back(folder);
+}
+
+std::vector<std::filesystem::path> shaderDirectories() {
+  std::vector<std::filesystem::path> folders;
+  {
+    const std::lock_guard lock(addedShaderDirectoriesMutex());
+    folders = addedShaderDirectories();
+  }
+  folders.push_back(shaderDirectory());
+  return folders;
+}
 
 std::filesystem::path shaderDirectory() {
   if (const char* dir = std::getenv("HSDF_SHADER_DIR"); dir && *dir) return dir;  // empty: unset, not the cwd
@@ -41,11 +77,18 @@ std::filesystem::path shaderDirectory() {
 }
 
 Expected<ShaderModule> ShaderModule::load(const Context& context, const std::string& name) {
-  const std::filesystem::path path = shaderDirectory() / (name + ".spv");
+  const std::vector<std::filesystem::path> folders = shaderDirectories();
+  const std::filesystem::path path = findShader(folders, name + ".spv");
   auto bytes = readBinaryFile(path, 64u << 20);
-  if (!bytes) {  // say where the folder came from: a stale HSDF_SHADER_DIR is the usual cause
+  if (!bytes) {  // say where the folders came from: a stale HSDF_SHADER_DIR is the usual cause
+    std::string searched;
+    for (std::size_t i = 0; i + 1 < folders.size(); ++i) searched += folders[i].string() + ", ";
     const char* env = std::getenv("HSDF_SHADER_DIR");
-    return bytes.error().withContext("shader " + name + (env && *env ? " (the folder is HSDF_SHADER_DIR's)" : ""));
+    const std::string where = folders.size() > 1 || (env && *env)
+                                  ? " (searched " + searched + (env && *env ? "HSDF_SHADER_DIR's " : "") +
+                                        folders.back().string() + ")"
+                                  : "";
+    return bytes.error().withContext("shader " + name + where);
   }
   // Checked here, not left to the driver: invalid SPIR-V is undefined behaviour in
   // vkCreateShaderModule (a reload of a broken or half-written file must fail cleanly, old

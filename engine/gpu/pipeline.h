@@ -17,11 +17,18 @@ class Context;
 // it exists, else <program>/../<the installed shader folder> (an installed program, cmake --install;
 // the folder, e.g. share/<package>/shaders, is the one cmake/HsdfInstall.cmake installs to).
 std::filesystem::path shaderDirectory();
+// A folder of a program's own SPIR-V (a project outside this repository compiles its shaders there,
+// e.g. with the installed package's CMake function for shaders), searched before shaderDirectory(): a program's
+// shader of the same name as one of the engine's is found first. Thread-safe; added once.
+void addShaderDirectory(const std::filesystem::path& folder);
+// The folders ShaderModule::load searches, in order: those added, then shaderDirectory().
+std::vector<std::filesystem::path> shaderDirectories();
 
 class ShaderModule {
  public:
   ShaderModule() = default;
-  // Loads `<shaderDirectory()>/<name>.spv`, e.g. name = "mesh.vert".
+  // Loads `<folder>/<name>.spv` from the first of shaderDirectories() that has it, e.g. name =
+  // "mesh.vert"; the error names the folders searched when none has it.
   static Expected<ShaderModule> load(const Context& context, const std::string& name);
   ~ShaderModule();
   ShaderModule(ShaderModule&& other) noexcept;

@@ -35,3 +35,5 @@ run(configure ${CMAKE_COMMAND} -S ${SOURCE} -B ${WORK}/build -G ${GENERATOR} -DC
 run(build ${CMAKE_COMMAND} --build ${WORK}/build)
 run(run ${WORK}/build/torus_frame)
 message(STATUS "${last_output}")
+run(own_feature ${WORK}/build/corner_frame)
+message(STATUS "${last_output}")

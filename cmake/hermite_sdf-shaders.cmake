@@ -1,0 +1,38 @@
+# hermite_sdf_add_shaders(<target> OUTPUT_DIR <folder> SOURCES <glsl>... [INCLUDE_DIRS <folder>...])
+# Installed with the package (included by hermite_sdf-config.cmake), for a project's own shaders:
+# each GLSL stage (file names ending in .vert, .frag, .comp, ...) becomes <OUTPUT_DIR>/<file>.spv
+# at build time, compiled as the engine's are (glslangValidator, Vulkan 1.3, debug info), with the
+# package's shader headers on the include path (#include "shared/host_device.h", the module's
+# "hermite/..."; GL_GOOGLE_include_directive) and a depfile, so that editing an #included header
+# rebuilds the stages that include it. <target> builds them all and is built by default. The
+# program adds OUTPUT_DIR with engine::gpu::addShaderDirectory before it makes its feature's
+# pipelines; rebuilding <target> while it runs, then Renderer::reloadShaders(), is hot reload.
+function(hermite_sdf_add_shaders target)
+  cmake_parse_arguments(PARSE_ARGV 1 arg "" "OUTPUT_DIR" "SOURCES;INCLUDE_DIRS")
+  if(NOT arg_OUTPUT_DIR OR NOT arg_SOURCES)
+    message(FATAL_ERROR "hermite_sdf_add_shaders(${target}): OUTPUT_DIR and SOURCES are required")
+  endif()
+  find_program(HERMITE_SDF_GLSLANG_VALIDATOR glslangValidator REQUIRED)
+  set(includes "-I${HERMITE_SDF_SHADER_INCLUDE_DIR}")
+  foreach(dir IN LISTS arg_INCLUDE_DIRS)
+    get_filename_component(abs ${dir} ABSOLUTE)
+    list(APPEND includes "-I${abs}")
+  endforeach()
+  set(outputs)
+  foreach(source IN LISTS arg_SOURCES)
+    get_filename_component(abs ${source} ABSOLUTE)
+    get_filename_component(name ${source} NAME)
+    set(spv ${arg_OUTPUT_DIR}/${name}.spv)
+    add_custom_command(
+      OUTPUT ${spv}
+      COMMAND ${CMAKE_COMMAND} -E make_directory ${arg_OUTPUT_DIR}
+      COMMAND ${HERMITE_SDF_GLSLANG_VALIDATOR} --quiet --target-env vulkan1.3 -g ${includes}
+              --depfile ${arg_OUTPUT_DIR}/${name}.d -o ${spv} ${abs}
+      MAIN_DEPENDENCY ${abs}
+      DEPFILE ${arg_OUTPUT_DIR}/${name}.d
+      COMMENT "GLSL ${name}"
+      VERBATIM)
+    list(APPEND outputs ${spv})
+  endforeach()
+  add_custom_target(${target} ALL DEPENDS ${outputs})
+endfunction()
