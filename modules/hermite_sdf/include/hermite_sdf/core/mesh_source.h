@@ -16,7 +16,8 @@
 //   Meshes with defects, open meshes and self-intersecting ones (e.g. overlapping closed parts)
 //   use the winding number.
 // - Gradient: (p - closest) / |p - closest| times the sign; on the surface itself (distance below
-//   1e-12 of the mesh size) the unit normal of the closest triangle.
+//   1e-12 of the mesh size) the unit normal of the closest feature: the face's, or on an edge or a
+//   vertex its pseudonormal where the mesh has them (else the closest triangle's normal).
 // - Degenerate input: no triangles, an index count that is not a multiple of 3, indices out of
 //   range, NaN/inf coordinates are errors naming the problem. Zero-area triangles (repeated
 //   vertices, collinear corners: height below 1e-12 of the longest edge) are dropped: they bound

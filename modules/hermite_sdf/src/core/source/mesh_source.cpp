@@ -17,7 +17,7 @@ namespace {
 
 constexpr double kInfinity = std::numeric_limits<double>::infinity();
 // Below this fraction of the mesh size a point counts as on the surface: (p - closest) has no
-// reliable direction there, so the gradient is the face normal.
+// reliable direction there, so the gradient is the closest feature's normal (onSurfaceGradient).
 constexpr double kOnSurfaceRelative = 1e-12;
 // A reused sign must come from a ball that strictly contains the point; this margin keeps rounding
 // in the distance from letting a point on the ball's boundary (possibly on the surface) through.
@@ -158,12 +158,25 @@ struct MeshSource::Impl {
     cache.hasPrevious = true;
   }
 
+  // The gradient at a sample on the surface, where (p - closest) has no direction: the normal of
+  // the closest feature. On an edge or a vertex (an axis-aligned box's samples lie on its edges),
+  // the face normal was that of whichever adjacent face the search met first, so the Hermite
+  // interpolant leaned out past the other face and the edge bulged, differently for each
+  // triangulation; the pseudonormal (the faces' normals summed, angle-weighted at a vertex) is
+  // the same for every triangulation and leans to neither face.
+  glm::dvec3 onSurfaceGradient(const mesh::ClosestHit& hit) const {
+    if (!pseudoNormals) return bvh.unitNormal(hit.triangle);
+    const glm::dvec3& n = pseudoNormals->normal(hit.triangle, hit.feature);
+    const double length = glm::length(n);
+    return length > 0.0 ? n / length : bvh.unitNormal(hit.triangle);
+  }
+
   SdfSample signedSample(const glm::dvec3& p, const mesh::ClosestHit& hit, double winding) const {
     const double distance = std::sqrt(hit.distanceSquared);
     const double sign = inside(winding) ? -1.0 : 1.0;
     SdfSample s;
     s.value = sign * distance;
-    s.gradient = distance > onSurfaceDistance ? (p - hit.point) * (sign / distance) : bvh.unitNormal(hit.triangle);
+    s.gradient = distance > onSurfaceDistance ? (p - hit.point) * (sign / distance) : onSurfaceGradient(hit);
     return s;
   }
 
