@@ -77,6 +77,12 @@ int fail(const char* what, const std::string& message) {
   return 1;
 }
 
+// One assertion of the program: false (and the reason printed) when `holds` is not.
+bool expect(bool holds, const char* what, const std::string& message) {
+  if (!holds) fail(what, message);
+  return holds;
+}
+
 }  // namespace
 
 int main() {
@@ -105,17 +111,18 @@ int main() {
   const std::uint8_t* opposite = pixel(kSize - 3, kSize - 3);
   std::printf("corner_frame: corner (%u, %u, %u), opposite (%u, %u, %u)\n", corner[0], corner[1], corner[2],
               opposite[0], opposite[1], opposite[2]);
-  if (!(corner[1] > 200 && corner[0] < 40 && corner[2] < 40)) return fail("image", "the corner is not the triangle's green");
-  if (opposite[1] > 100) return fail("image", "the triangle reached the opposite corner");
-
   bool timed = false;
   for (const engine::gpu::GpuTiming& timing : renderer.lastTimings()) timed = timed || timing.name == "corner";
-  if (!timed) return fail("timings", "no 'corner' scope among the renderer's timings");
-
+  std::string reloadFailure;
   for (const engine::render::Renderer::ShaderReload& reload : renderer.reloadShaders())
-    if (reload.feature == "corner" && !reload.status) return fail("reload", reload.status.error().message);
+    if (reload.feature == "corner" && !reload.status) reloadFailure = reload.status.error().message;
 
-  if ((*context)->validationMessageCount() != 0) return fail("validation", "the layers reported messages");
+  bool ok = expect(corner[1] > 200 && corner[0] < 40 && corner[2] < 40, "image", "the corner is not the triangle's green");
+  ok = expect(opposite[1] <= 100, "image", "the triangle reached the opposite corner") && ok;
+  ok = expect(timed, "timings", "no 'corner' scope among the renderer's timings") && ok;
+  ok = expect(reloadFailure.empty(), "reload", reloadFailure) && ok;
+  ok = expect((*context)->validationMessageCount() == 0, "validation", "the layers reported messages") && ok;
+  if (!ok) return 1;
   std::printf("corner_frame: ok\n");
   return 0;
 }
