@@ -9,6 +9,7 @@
 
 #include <algorithm>
 #include <filesystem>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -17,6 +18,7 @@
 #include "engine/render/camera_view.h"
 #include "engine/ui/ui_layer.h"
 #include "gpu_test_support.h"
+#include "log_capture.h"
 
 namespace {
 
@@ -116,14 +118,8 @@ TEST_F(UiLayerTest, TheLayoutIsSavedAndAFileThatCannotBeWrittenIsSaidOnce) {
       std::filesystem::temp_directory_path() / ("hsdf_ui_layout_" + std::to_string(::getpid()));
   std::filesystem::remove_all(dir);
   std::filesystem::create_directories(dir);
-  std::vector<std::string> warnings;
-  engine::log::setSink([&](engine::log::Level level, std::string_view message) {
-    if (level == engine::log::Level::Warning) warnings.emplace_back(message);
-  });
-  const auto layoutWarnings = [&] {
-    return std::count_if(warnings.begin(), warnings.end(),
-                         [](const std::string& w) { return w.find("window layout") != std::string::npos; });
-  };
+  auto warnings = std::make_unique<hsdftest::LogCapture>();
+  const auto layoutWarnings = [&] { return warnings->count("window layout"); };
   {
     auto made = engine::ui::UiLayer::create(*context_, renderer_->desc().formats.color, renderer_->desc().framesInFlight, nullptr);
     ASSERT_TRUE(made) << made.error().message;
@@ -147,21 +143,21 @@ TEST_F(UiLayerTest, TheLayoutIsSavedAndAFileThatCannotBeWrittenIsSaidOnce) {
     const auto text = engine::readTextFile(saved);
     ASSERT_TRUE(text) << "not saved after a change: " << text.error().message;
     EXPECT_NE(text->find("[Window][layout test]"), std::string::npos) << *text;
-    EXPECT_EQ(layoutWarnings(), 0);
+    EXPECT_EQ(layoutWarnings(), 0u);
 
     ui->setIniFile(dir.string());  // a folder: nothing to load from, and no file can be written there by that name
-    EXPECT_EQ(layoutWarnings(), 2) << "not loaded, and will not be saved: said when the file is set";
+    EXPECT_EQ(layoutWarnings(), 2u) << "not loaded, and will not be saved: said when the file is set";
     for (int i = 0; i < 3; ++i) changedFrames(3);
-    EXPECT_EQ(layoutWarnings(), 2) << "said again at each change";
-    ASSERT_EQ(warnings.size(), 2u);
-    for (const std::string& w : warnings) EXPECT_NE(w.find(dir.string()), std::string::npos) << w;
+    EXPECT_EQ(layoutWarnings(), 2u) << "said again at each change";
+    ASSERT_EQ(warnings->messages().size(), 2u);
+    for (const std::string& w : warnings->messages()) EXPECT_NE(w.find(dir.string()), std::string::npos) << w;
 
     ImGui::GetIO().IniSavingRate = 1000.0f;  // a change the running UI does not save...
     ui->setIniFile((dir / "at_exit.ini").string());
     changedFrames(2);
     EXPECT_FALSE(std::filesystem::exists(dir / "at_exit.ini"));
   }  // ... is saved at shutdown
-  engine::log::setSink({});
+  warnings.reset();
   EXPECT_TRUE(std::filesystem::exists(dir / "at_exit.ini"));
   std::filesystem::remove_all(dir);
   EXPECT_EQ(context_->validationMessageCount(), 0u);

@@ -28,6 +28,7 @@
 #include "hermite_sdf/core/cells.h"
 #include "hermite_sdf/render/sphere_trace_feature.h"
 #include "hermite_test_support.h"
+#include "log_capture.h"
 #include "shared/host_device.h"
 
 namespace gputest {
@@ -240,10 +241,7 @@ TEST_F(SphereTraceTest, SettingsThatAreNoLengthTakeTheDefault) {
   hsdf::SphereTraceFeature::Settings& settings = renderer_->feature<hsdf::SphereTraceFeature>()->settings();
   const render::CameraView camera = orbitCamera(*asset, 1);
   const Frame expected = renderWith(camera, DEBUG_VIEW_NONE);
-  std::vector<std::string> warnings;
-  engine::log::setSink([&](engine::log::Level level, std::string_view message) {
-    if (level == engine::log::Level::Warning) warnings.emplace_back(message);
-  });
+  hsdftest::LogCapture capture;
   for (float bad : {std::nanf(""), 0.0f, -1.0f, std::numeric_limits<float>::infinity()}) {
     settings = {};
     settings.epsilon = bad;
@@ -259,7 +257,7 @@ TEST_F(SphereTraceTest, SettingsThatAreNoLengthTakeTheDefault) {
     EXPECT_TRUE(central.rgba == renderWith(camera, DEBUG_VIEW_NONE).rgba) << "central step " << bad;
     registry_.get<hsdf::HermiteSdfRenderable>(entity).normals = hsdf::NormalMode::Exact;
   }
-  engine::log::setSink({});
+  const std::vector<std::string> warnings = capture.messages();
   EXPECT_EQ(warnings.size(), 8u) << "once per bad value";
   for (const std::string& w : warnings) EXPECT_NE(w.find("is not a positive length"), std::string::npos) << w;
 }
@@ -686,10 +684,7 @@ TEST_F(SphereTraceTest, BadObjectsAreSkippedAndTheRestRenders) {
   addTracedSdf(registry_, good, RenderMethod::HermiteSphereTrace);
   addTracedSdf(registry_, good, RenderMethod::TrilinearSphereTrace, glm::scale(glm::mat4(1.0f), glm::vec3(0.0f)));
   const render::CameraView camera = render::CameraView::lookAt({0.0f, 0.0f, 4.0f}, glm::vec3(0.0f), 0.9f, 0.01f, 1.0f);
-  std::vector<std::string> errors;
-  log::setSink([&errors](log::Level level, std::string_view message) {
-    if (level == log::Level::Error) errors.emplace_back(message);
-  });
+  hsdftest::LogCapture capture(log::Level::Error);
   for (int frame = 0; frame < 2; ++frame) {
     const Frame image = renderWith(camera, DEBUG_VIEW_NONE);
     EXPECT_EQ(feature().stats().skippedObjects, 2u);
@@ -697,7 +692,7 @@ TEST_F(SphereTraceTest, BadObjectsAreSkippedAndTheRestRenders) {
     EXPECT_EQ(feature().stats().trilinearObjects, 0u);
     EXPECT_GT(std::count_if(image.depth.begin(), image.depth.end(), [](float d) { return d > 0.0f; }), 500);
   }
-  log::setSink({});
+  const std::vector<std::string> errors = capture.messages();
   ASSERT_EQ(errors.size(), 1u) << "reported once, not every frame";
   EXPECT_NE(errors[0].find("'broken'"), std::string::npos) << errors[0];
   EXPECT_NE(errors[0].find("10 samples"), std::string::npos) << errors[0];

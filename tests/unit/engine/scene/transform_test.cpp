@@ -11,6 +11,7 @@
 #include <gtest/gtest.h>
 
 #include "engine/core/log.h"
+#include "log_capture.h"
 
 namespace engine::scene {
 namespace {
@@ -26,20 +27,6 @@ void expectMatrixNear(const glm::mat4& actual, const glm::mat4& expected, float 
 }
 
 glm::vec3 transformPoint(const glm::mat4& m, const glm::vec3& p) { return glm::vec3(m * glm::vec4(p, 1.0f)); }
-
-// Captures warnings for the duration of a test.
-class WarningCapture {
- public:
-  WarningCapture() {
-    log::setSink([this](log::Level level, std::string_view message) {
-      if (level == log::Level::Warning) messages.emplace_back(message);
-    });
-  }
-  ~WarningCapture() { log::setSink({}); }
-  WarningCapture(const WarningCapture&) = delete;
-  WarningCapture& operator=(const WarningCapture&) = delete;
-  std::vector<std::string> messages;
-};
 
 Entity makeNode(ecs::Registry& registry, const Transform& local, Entity parent = ecs::kNullEntity) {
   const Entity e = registry.create();
@@ -193,7 +180,7 @@ TEST(Transform, EntitiesWithoutTransformAreUntouched) {
 // must not be mistaken for the parent), or alive without a Transform. Both become roots, and the
 // warning names the entity once, not on every frame.
 TEST(Transform, DanglingParentsBecomeRootsAndWarnOnce) {
-  WarningCapture warnings;
+  hsdftest::LogCapture warnings;
   ecs::Registry registry;
   Transform offset;
   offset.translation = {0.0f, 0.0f, 4.0f};
@@ -214,24 +201,24 @@ TEST(Transform, DanglingParentsBecomeRootsAndWarnOnce) {
   EXPECT_EQ(issues.cycleMembers, 0u);
   expectMatrixNear(registry.get<WorldTransform>(orphan).matrix, toMatrix(childLocal));
   expectMatrixNear(registry.get<WorldTransform>(stepChild).matrix, toMatrix(childLocal));
-  ASSERT_EQ(warnings.messages.size(), 1u);
-  EXPECT_NE(warnings.messages[0].find("orphan"), std::string::npos) << warnings.messages[0];
-  EXPECT_NE(warnings.messages[0].find(fmt::format("{}", stepChild)), std::string::npos) << warnings.messages[0];
+  ASSERT_EQ(warnings.messages().size(), 1u);
+  EXPECT_NE(warnings.messages()[0].find("orphan"), std::string::npos) << warnings.messages()[0];
+  EXPECT_NE(warnings.messages()[0].find(fmt::format("{}", stepChild)), std::string::npos) << warnings.messages()[0];
 
   issues = updateWorldTransforms(registry);
   EXPECT_EQ(issues.danglingParents, 2u) << "still counted on every call";
-  EXPECT_EQ(warnings.messages.size(), 1u) << "but not warned about again";
+  EXPECT_EQ(warnings.messages().size(), 1u) << "but not warned about again";
 
   registry.get<Parent>(orphan).entity = noTransform;  // broken differently: worth a new warning
   updateWorldTransforms(registry);
-  EXPECT_EQ(warnings.messages.size(), 2u);
+  EXPECT_EQ(warnings.messages().size(), 2u);
 }
 
 // Tricky: a two-cycle, a self-parent, and a child hanging off the cycle. The update must terminate,
 // make every cycle member a root regardless of which one the walk reaches first, and still give the
 // hanging child its member's world matrix.
 TEST(Transform, CyclesTerminateAndTheirMembersBecomeRoots) {
-  WarningCapture warnings;
+  hsdftest::LogCapture warnings;
   ecs::Registry registry;
   Transform la;
   la.translation = {1.0f, 0.0f, 0.0f};
@@ -256,11 +243,11 @@ TEST(Transform, CyclesTerminateAndTheirMembersBecomeRoots) {
   expectMatrixNear(registry.get<WorldTransform>(b).matrix, toMatrix(lb));
   expectMatrixNear(registry.get<WorldTransform>(self).matrix, toMatrix(la));
   expectMatrixNear(registry.get<WorldTransform>(hanging).matrix, toMatrix(lb) * toMatrix(lc));
-  ASSERT_EQ(warnings.messages.size(), 1u);
-  EXPECT_NE(warnings.messages[0].find("cycle"), std::string::npos) << warnings.messages[0];
+  ASSERT_EQ(warnings.messages().size(), 1u);
+  EXPECT_NE(warnings.messages()[0].find("cycle"), std::string::npos) << warnings.messages()[0];
 
   updateWorldTransforms(registry);
-  EXPECT_EQ(warnings.messages.size(), 1u);
+  EXPECT_EQ(warnings.messages().size(), 1u);
 }
 
 }  // namespace
