@@ -15,18 +15,19 @@ GpuTimer::GpuTimer(const Context& context, std::uint32_t maxScopes, const std::s
 void GpuTimer::reset(VkCommandBuffer cmd) {
   names_.clear();
   open_.clear();
+  suffix_.clear();
   pool_.reset(cmd);
 }
 
 void GpuTimer::begin(VkCommandBuffer cmd, const std::string& scope, VkPipelineStageFlags2 after) {
   if (!pool_) return;
   if (names_.size() >= maxScopes_) {
-    log::warn("GpuTimer: more than {} scopes in one frame; '{}' not timed", maxScopes_, scope);
+    log::warn("GpuTimer: more than {} scopes in one frame; '{}{}' not timed", maxScopes_, scope, suffix_);
     open_.push_back(~0u);
     return;
   }
   const auto index = static_cast<std::uint32_t>(names_.size());
-  names_.push_back(scope);
+  names_.push_back(scope + suffix_);
   open_.push_back(index);
   stamp(cmd, after, index * slotsPerScope_);
 }
@@ -57,6 +58,12 @@ std::vector<GpuTiming> GpuTimer::results() const {
     timings.push_back({names_[i], double(end - begin) * periodMs_});
   }
   return timings;
+}
+
+const GpuTiming* findTiming(const std::vector<GpuTiming>& timings, std::string_view name) {
+  for (const GpuTiming& timing : timings)
+    if (timing.name == name) return &timing;
+  return nullptr;
 }
 
 }  // namespace engine::gpu

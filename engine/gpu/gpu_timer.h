@@ -4,6 +4,7 @@
 // milliseconds per name. Names, not query slot numbers, are the interface.
 #include <cstdint>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include <vulkan/vulkan.h>
@@ -33,6 +34,10 @@ class GpuTimer {
   void begin(VkCommandBuffer cmd, const std::string& scope,
              VkPipelineStageFlags2 after = VK_PIPELINE_STAGE_2_BOTTOM_OF_PIPE_BIT);
   void end(VkCommandBuffer cmd);
+  // Appended to the names of the scopes begun from now on (the renderer's " [view 2]" while it
+  // records a second view region): a split screen drawing one feature on both sides gets a timing
+  // per side, where one name twice merged both sides' histories in the panel.
+  void setScopeSuffix(std::string suffix) { suffix_ = std::move(suffix); }
   // Reads the results of the last recorded frame; call only after its submission completed.
   std::vector<GpuTiming> results() const;
   bool enabled() const { return bool(pool_); }
@@ -53,8 +58,13 @@ class GpuTimer {
   std::uint32_t slotsPerScope_ = 2;
   double periodMs_ = 0.0;
   std::vector<std::string> names_;  // one per begun scope, in query order
+  std::string suffix_;
   std::vector<std::uint32_t> open_; // stack of open scope indices
 };
+
+// The timing named `name`, or null: a scope not recorded that frame, or a device without
+// timestamps (no timings at all). Callers that need the scope tell the two apart.
+const GpuTiming* findTiming(const std::vector<GpuTiming>& timings, std::string_view name);
 
 // begin() on construction and end() on destruction, where `timer` is not null: a scope for work
 // recorded by a function with several early returns (RenderFeature::prepare's sub-steps).

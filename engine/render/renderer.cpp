@@ -433,11 +433,13 @@ void Renderer::recordRegion(FrameResources& frame, FrameContext& context, const 
   regionContext.viewRegion = rect;
   regionContext.timer = &frame.timer;
   scene_.beginFrame();
-  frame.timer.begin(frame.cmd, "prepare" + regionSuffix(index));
+  frame.timer.setScopeSuffix(regionSuffix(index));  // the features' scopes too
+  frame.timer.begin(frame.cmd, "prepare");
   for (auto& feature : features_) feature->prepare(regionContext);
   frame.timer.end(frame.cmd);
   scene_.upload(regionContext.frameSlot);
   recordScenePasses(frame, regionContext, rect, index);
+  frame.timer.setScopeSuffix({});
 }
 
 void Renderer::recordScenePasses(FrameResources& frame, FrameContext& context, VkRect2D rect, std::uint32_t region) {
@@ -465,8 +467,7 @@ void Renderer::recordScenePasses(FrameResources& frame, FrameContext& context, V
   const std::uint32_t frameInFlight = context.frameSlot / desc_.maxViewRegions;
   PassContext pass{cmd, context, Pass::DepthPrepass, frameGlobals_.address(frameInFlight),
                    scene_.address(context.frameSlot), sceneSet_, frame.timer};
-  const std::string suffix = regionSuffix(region);
-  frame.timer.begin(cmd, "depth prepass" + suffix);
+  frame.timer.begin(cmd, "depth prepass");
   if (first) frame.statistics.begin(cmd, "depth prepass");
   recordDepthPrepass(pass, rect, first);
   if (first) frame.statistics.end(cmd);
@@ -489,7 +490,7 @@ void Renderer::recordScenePasses(FrameResources& frame, FrameContext& context, V
   gpu::memoryBarrier(cmd, VK_PIPELINE_STAGE_2_FRAGMENT_SHADER_BIT, VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT,
                      VK_PIPELINE_STAGE_2_FRAGMENT_SHADER_BIT, VK_ACCESS_2_SHADER_STORAGE_READ_BIT);
   pass.pass = Pass::Opaque;
-  frame.timer.begin(cmd, "opaque" + suffix);
+  frame.timer.begin(cmd, "opaque");
   if (first) frame.statistics.begin(cmd, "opaque");
   recordOpaquePass(pass, rect, first);
   if (first) frame.statistics.end(cmd);

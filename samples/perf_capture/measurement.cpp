@@ -1,5 +1,7 @@
 #include "measurement.h"
 
+#include <fmt/format.h>
+
 #include "hermite_sdf/render/cell_feature.h"
 #include "hermite_sdf/render/features.h"
 #include "hermite_sdf/render/sphere_trace_feature.h"
@@ -11,10 +13,13 @@ namespace {
 
 using namespace engine;
 
-double timingOf(const std::vector<gpu::GpuTiming>& timings, const char* name) {
-  for (const gpu::GpuTiming& t : timings)
-    if (t.name == name) return t.milliseconds;
-  return 0.0;
+// A pass's milliseconds; 0 on a device without timestamps (no timings at all: the report leaves
+// the time columns out). A frame with timings but not this pass's is an error, not a 0 in the
+// table: the renderer's pass names and these would have drifted apart.
+Expected<double> timingOf(const std::vector<gpu::GpuTiming>& timings, const char* name) {
+  if (timings.empty()) return 0.0;
+  if (const gpu::GpuTiming* timing = gpu::findTiming(timings, name)) return timing->milliseconds;
+  return makeError(fmt::format("the frame has no GPU timing named '{}' (the renderer's pass names changed?)", name));
 }
 
 }  // namespace
@@ -24,8 +29,10 @@ Expected<TimedFrame> timeFrame(samples::Viewer& viewer) {
   render::Renderer& renderer = viewer.renderer();
   renderer.finish();
   const auto& timings = renderer.lastTimings();
-  return TimedFrame{timingOf(timings, "frame"), timingOf(timings, "depth prepass"), timingOf(timings, "opaque"),
-                    timings, renderer.lastPipelineStatistics()};
+  ENGINE_TRY_ASSIGN(const double frame, timingOf(timings, "frame"));
+  ENGINE_TRY_ASSIGN(const double prepass, timingOf(timings, "depth prepass"));
+  ENGINE_TRY_ASSIGN(const double opaque, timingOf(timings, "opaque"));
+  return TimedFrame{frame, prepass, opaque, timings, renderer.lastPipelineStatistics()};
 }
 
 Expected<std::unique_ptr<Measurement>> Measurement::create(const gpu::Context& context, render::MeshPool& pool,

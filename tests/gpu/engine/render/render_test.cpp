@@ -4,6 +4,7 @@
 #include <cmath>
 #include <cstdio>
 #include <stdexcept>
+#include <set>
 #include <string>
 
 #include <gtest/gtest.h>
@@ -14,6 +15,7 @@
 #include "engine/scene/transform.h"
 #include "device_tolerances.h"
 #include "gpu_test_support.h"
+#include "log_capture.h"
 
 namespace gputest {
 namespace {
@@ -197,16 +199,13 @@ TEST_F(GpuTest, ARendererRefusesNoFramesInFlightAndExtentsPastTheDevice) {
 TEST_F(GpuTest, ARegistryWithoutWorldTransformsIsSaidOnce) {
   createRenderer(32, 32);
   addQuad({0.0f, 0.0f, 0.0f}, 2.0f, {1.0f, 0.0f, 0.0f, 1.0f});
-  std::vector<std::string> warnings;
-  log::setSink([&](log::Level level, std::string_view message) {
-    if (level == log::Level::Warning) warnings.emplace_back(message);
-  });
+  hsdftest::LogCapture capture;
   for (int frame = 0; frame < 3; ++frame) renderer_->renderFrame(registry_, frontCamera(5.0f, 32, 32));
   const std::vector<float> empty = renderer_->readbackDepth();
   scene::updateWorldTransforms(registry_);
   renderer_->renderFrame(registry_, frontCamera(5.0f, 32, 32));
   const std::vector<float> drawn = renderer_->readbackDepth();
-  log::setSink({});
+  const std::vector<std::string> warnings = capture.messages();
   ASSERT_EQ(warnings.size(), 1u);
   EXPECT_NE(warnings[0].find("updateWorldTransforms"), std::string::npos) << warnings[0];
   EXPECT_TRUE(std::all_of(empty.begin(), empty.end(), [](float d) { return d == 0.0f; }));
@@ -231,27 +230,36 @@ class ManyScopesFeature final : public render::RenderFeature {
 
 // Tricky: the GPU timer held 64 scopes per frame for all view regions together, though meant per
 // region: a four-region split screen of every method lost the fourth region's timings and warned
-// five times a frame (found by a helper). Each region's scopes must all be timed.
+// five times a frame (found by a helper). Each region's scopes must all be timed, and under names
+// of their own: a feature's scopes carried no region suffix, so a split screen drawing one method
+// on both sides had two "cells prepass" timings, merged into one history by the panel.
 TEST_F(GpuTest, EveryViewRegionIsTimed) {
   createRenderer(64, 64);
   ASSERT_TRUE(renderer_->addFeature(std::make_unique<ManyScopesFeature>()).ok());
   addQuad({0.0f, 0.0f, 0.0f}, 2.0f, {1.0f, 0.0f, 0.0f, 1.0f});
-  std::vector<std::string> warnings;
-  log::setSink([&](log::Level level, std::string_view message) {
-    if (level == log::Level::Warning) warnings.emplace_back(message);
-  });
+  hsdftest::LogCapture capture;
   render::FrameSettings settings;
   const std::uint32_t regions = renderer_->desc().maxViewRegions;
   for (std::uint32_t r = 0; r < regions; ++r) settings.regions.push_back({{{std::int32_t(16 * r), 0}, {16, 64}}, {}});
   scene::updateWorldTransforms(registry_);
   for (int frame = 0; frame < 4; ++frame) renderer_->renderFrame(registry_, frontCamera(5.0f, 64, 64), settings);
   renderer_->finish();
-  log::setSink({});
+  const std::vector<std::string> warnings = capture.messages();
   EXPECT_TRUE(warnings.empty()) << warnings.front();
   std::size_t timed = 0;
-  for (const gpu::GpuTiming& timing : renderer_->lastTimings()) timed += timing.name.starts_with("scope ") ? 1 : 0;
+  std::set<std::string> names;
+  for (const gpu::GpuTiming& timing : renderer_->lastTimings()) {
+    if (!timing.name.starts_with("scope ")) continue;
+    ++timed;
+    names.insert(timing.name);
+  }
   // Each region's passes (prepass, opaque) call recordPass: every call's scopes.
   EXPECT_GE(timed, std::size_t(ManyScopesFeature::kScopes) * regions * 2);
+  EXPECT_EQ(names.size(), std::size_t(ManyScopesFeature::kScopes) * regions) << "a name per scope and region";
+  EXPECT_NE(gpu::findTiming(renderer_->lastTimings(), "scope 0 [view 2]"), nullptr);
+  EXPECT_NE(gpu::findTiming(renderer_->lastTimings(), "depth prepass [view 2]"), nullptr);
+  EXPECT_NE(gpu::findTiming(renderer_->lastTimings(), "depth prepass"), nullptr);
+  EXPECT_EQ(gpu::findTiming(renderer_->lastTimings(), "depth prepass [view 1]"), nullptr) << "the first region is unmarked";
   EXPECT_EQ(context_->validationMessageCount(), 0u);
 }
 

@@ -79,10 +79,9 @@ TEST(Viewer, EachMethodsPrepassTimingHoldsItsWorkBehindTheGround) {
   tuning.resolution = 32;
   ASSERT_TRUE(viewer->loadScene(scene, tuning).ok());
   const auto milliseconds = [&](const std::string& name) {
-    for (const engine::gpu::GpuTiming& timing : viewer->renderer().lastTimings())
-      if (timing.name == name) return timing.milliseconds;
-    ADD_FAILURE() << "no timing named '" << name << "'";
-    return 0.0;
+    const engine::gpu::GpuTiming* timing = engine::gpu::findTiming(viewer->renderer().lastTimings(), name);
+    if (!timing) ADD_FAILURE() << "no timing named '" << name << "'";
+    return timing ? timing->milliseconds : 0.0;
   };
   for (const auto& [method, scope] : {std::pair{hsdf::RenderMethod::HermiteSphereTrace, "hermite prepass"},
                                       std::pair{hsdf::RenderMethod::TrilinearSphereTrace, "trilinear prepass"},
