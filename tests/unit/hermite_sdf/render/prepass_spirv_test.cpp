@@ -239,6 +239,46 @@ TEST(PrepassSpirv, ProductionPrepassShadersHoldNoDiscardAtomicOrBufferWrite) {
   EXPECT_GE(checked, 9) << "cells_depth, cells_thin_depth, runs_depth, bricks_depth, their _near variants and cell_tiles_depth at least";
 }
 
+// The execution modes a fragment shader declares (OpExecutionMode, opcode 16: entry point, mode).
+constexpr std::uint32_t kOpExecutionMode = 16;
+constexpr std::uint32_t kModeDepthReplacing = 12, kModeDepthGreater = 14, kModeDepthLess = 15;
+
+std::set<std::uint32_t> executionModes(const std::vector<std::uint32_t>& words) {
+  std::set<std::uint32_t> modes;
+  for (std::size_t at = 5; at < words.size();) {
+    const std::uint32_t count = words[at] >> 16, op = words[at] & 0xffffu;
+    if (count == 0 || at + count > words.size()) break;
+    if (op == kOpExecutionMode && count >= 3) modes.insert(words[at + 2]);
+    at += count;
+  }
+  return modes;
+}
+
+// Tricky: a prepass shader that writes its depth keeps early and hierarchical depth rejection on
+// GPUs only if it declares the depth it writes conservative: under reverse-Z, `depth_less` (never
+// nearer than the box face it was drawn on). The declaration is a macro in each variant's file;
+// forgetting it in a new variant lost the rejection without a word, and the test above saw nothing
+// (no discard, no store). The near variants draw a box's back faces (the eye is inside it), where
+// the hit lies in front of the face: declaring it there would be wrong, and must not happen either.
+TEST(PrepassSpirv, DepthWritingPrepassShadersDeclareItConservativeExceptNearVariants) {
+  int conservative = 0, near = 0;
+  for (const std::string& name : prepassShaders()) {
+    if (contains(name, "_early") || contains(name, "_wire") || contains(name, "_debug")) continue;
+    const std::set<std::uint32_t> modes = executionModes(readWords(shaderDir() / name));
+    if (!modes.contains(kModeDepthReplacing)) continue;
+    if (contains(name, "_near")) {
+      EXPECT_FALSE(modes.contains(kModeDepthLess) || modes.contains(kModeDepthGreater))
+          << name << " draws back faces: its hits lie in front of them, no conservative depth may be declared";
+      ++near;
+    } else {
+      EXPECT_TRUE(modes.contains(kModeDepthLess)) << name << " writes its depth without declaring it depth_less";
+      ++conservative;
+    }
+  }
+  EXPECT_GE(conservative, 12) << "cells, thin cells, runs, bricks, tiles, both tracers (each with its counted variant)";
+  EXPECT_GE(near, 10);
+}
+
 // Tricky: the walker must see what it is meant to see in real modules, or the test above passes
 // vacuously: the counted variants hold the counters' atomicAdd, the early ones the hit depths'
 // atomicMax and a discard, the fix-up a discard and a store into a buffer by address.
