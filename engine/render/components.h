@@ -1,6 +1,7 @@
 #pragma once
 // Render components: plain structs on entities. Positions come from engine::scene::WorldTransform.
 #include <cstdint>
+#include <string>
 
 #include <glm/glm.hpp>
 
@@ -23,6 +24,7 @@ struct MeshRenderable {
 struct Camera {
   float fovY = 0.8f;     // radians
   float znear = 0.05f;   // the projection is infinite (reverse-Z)
+  std::string name;      // the camera's own name (glTF cameras[i].name), beside its node's
 };
 
 }  // namespace engine::render

@@ -66,7 +66,7 @@ InstantiatedScene instantiateScene(const scene::SceneData& data, ecs::Registry& 
       registry.emplace<scene::Parent>(entity, scene::Parent{result.nodes[std::size_t(node.parent)]});
     if (node.camera >= 0 && std::size_t(node.camera) < data.cameras.size()) {
       const scene::CameraData& camera = data.cameras[std::size_t(node.camera)];
-      registry.emplace<Camera>(entity, Camera{camera.yfov, camera.znear});
+      registry.emplace<Camera>(entity, Camera{camera.yfov, camera.znear, camera.name});
       result.cameras.push_back(entity);
     }
     if (node.mesh < 0 || std::size_t(node.mesh) >= data.meshes.size()) continue;

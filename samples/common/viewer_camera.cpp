@@ -117,9 +117,14 @@ Expected<render::CameraView> Viewer::sceneCameraView(std::size_t index) const {
   return render::CameraView::fromWorld(world->matrix, camera->fovY, camera->znear, aspect);
 }
 
+// A node's name first, then a camera's own name (exporters name both; Blender's camera data is
+// "Camera.001" under the node "Camera"), then an index.
 Expected<std::size_t> Viewer::findSceneCamera(std::string_view nameOrIndex) const {
   const auto named = std::find(sceneCameraNames_.begin(), sceneCameraNames_.end(), nameOrIndex);
   if (named != sceneCameraNames_.end()) return std::size_t(named - sceneCameraNames_.begin());
+  for (std::size_t i = 0; i < sceneCameras_.size(); ++i)
+    if (const auto* camera = registry_.tryGet<render::Camera>(sceneCameras_[i]); camera && !camera->name.empty() && camera->name == nameOrIndex)
+      return i;
   std::size_t index = 0;  // not a name: an index
   const char* end = nameOrIndex.data() + nameOrIndex.size();
   const auto parsed = std::from_chars(nameOrIndex.data(), end, index);

@@ -103,6 +103,23 @@ TEST(SceneCameras, LookThroughTheNodesPoseWithoutItsScale) {
                    "tilted");
 }
 
+// Tricky: exporters name a camera's node and its camera data apart (Blender: node "Camera", camera
+// "Camera.001"); a user reading the file may give either. The camera's own name picks the first
+// node showing it ("lens" is shown by four nodes), a node's name wins over a camera's, and the
+// orthographic camera's name is still refused (the importer skipped it).
+TEST(SceneCameras, ACamerasOwnNamePicksTheFirstNodeShowingIt) {
+  auto viewer = viewCameraCube();
+  ASSERT_TRUE(viewer);
+  ASSERT_TRUE(viewer->lookThroughSceneCamera("tele").ok());
+  EXPECT_EQ(viewer->sceneCamera(), 2u) << "tele is tilted's camera";
+  ASSERT_TRUE(viewer->lookThroughSceneCamera("lens").ok());
+  EXPECT_EQ(viewer->sceneCamera(), 0u) << "lens is shown by front first";
+  const engine::Status plan = viewer->lookThroughSceneCamera("plan");
+  ASSERT_FALSE(plan.ok());
+  EXPECT_NE(plan.error().message.find("'plan'"), std::string::npos) << plan.error().message;
+  EXPECT_EQ(viewer->sceneCamera(), 0u) << "a refusal leaves the camera where it was";
+}
+
 // Tricky: the cells' and tiles' culling, the depth prepass and the resolve all take the frame's
 // camera; the frame through "front" must show the cube as an orbit camera placed at the same eye
 // does (the same yfov; only the near plane differs: the file's 0.05 against the viewer's), and
