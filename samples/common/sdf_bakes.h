@@ -36,7 +36,6 @@ class SdfBakes {
     source_ = std::move(source);
     origin_ = origin;
   }
-  const glm::vec3& sourceOrigin() const { return origin_; }
   const hsdf::BakeSource* source() const { return source_ ? &*source_ : nullptr; }
   // The SDF looks like the mesh it stands for.
   void setColor(const glm::vec4& color) { color_ = color; }

@@ -1,6 +1,6 @@
 // A cell brick (CellBrickGpu, RenderMethod::CellBricks) decoded: its coordinate and the bounds of
 // its kept cells, shared by the vertex shader that draws the brick's box (bricks.vert) and the
-// fragment shader that walks its cells (bricks_depth.glsl); the CPU twin is render/cell_bricks.cpp.
+// fragment shader that walks its cells (bricks_depth.glsl); the CPU twin is src/core/cells/cell_bricks.cpp.
 #ifndef HSDF_BRICK_GLSL
 #define HSDF_BRICK_GLSL
 

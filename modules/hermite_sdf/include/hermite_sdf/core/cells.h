@@ -26,7 +26,6 @@
 namespace hsdf {
 
 enum class CellClass : std::uint8_t { Empty = 0, Crossing = 1, Ambiguous = 2 };
-const char* cellClassName(CellClass c);
 
 inline constexpr double kZeroTolerance = 1e-12;
 

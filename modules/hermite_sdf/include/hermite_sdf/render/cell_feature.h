@@ -1,12 +1,16 @@
 #pragma once
-// The paper's renderer as an engine RenderFeature: every entity with a HermiteSdfRenderable
-// (method Cells) and a WorldTransform is drawn as its kept cells, each cell an instanced box whose
+// The paper's renderer as an engine RenderFeature: every entity with a HermiteSdfRenderable whose
+// method is a cell method (Cells, CellRuns, CellBricks) and a WorldTransform is drawn from its kept
+// cells. In the paper's form (Settings::thinBoxes off, tiles off) each cell is an instanced box whose
 // Hermite data (8 corners x (f, grad f) + cell coordinate) arrive as instance-rate vertex
-// attributes from one GPU cell buffer. One pipeline and one indirect multi-draw per pass cover all
-// objects; per-draw data (object index, grid, subdivisions) is read through buffer device address.
+// attributes from one GPU cell buffer; the other forms (thin boxes, runs, bricks, tiles: below)
+// read the same records by buffer device address. Each form has its pipelines (plain, near,
+// counted, early), and each pass draws each form's objects with one indirect multi-draw per list
+// (front, near, occlusion culling's late list, culling's fallback); per-draw data (object index, grid, subdivisions) is read
+// through buffer device address.
 //
 // Depth prepass: the fragment shader clips the pixel's ray to its cell (and the near plane), finds
-// the first root by n equidistant evaluations + linear interpolation + regula-falsi refinement and
+// the first root by n equidistant evaluations + linear interpolation + safeguarded Newton steps and
 // hands on the hit's depth (early depth, below; else gl_FragDepth with conservative depth: the hit
 // is never nearer than the front face), plus the visibility id. Boxes are drawn by their front
 // faces (one triangle fan of 8 vertices around the corner nearest the eye); cells the near plane may cut are drawn

@@ -39,15 +39,6 @@ bool obviouslyEmpty(const HermiteCellCorners<double>& corners, double h, double 
 
 }  // namespace
 
-const char* cellClassName(CellClass c) {
-  switch (c) {
-    case CellClass::Empty: return "empty";
-    case CellClass::Crossing: return "crossing";
-    case CellClass::Ambiguous: return "ambiguous";
-  }
-  return "unknown";
-}
-
 bool cornersCrossSurface(const HermiteCellCorners<double>& corners) {
   bool anyNegative = false, anyPositive = false;
   for (const HermiteCorner<double>& c : corners) {
