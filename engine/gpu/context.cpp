@@ -12,6 +12,8 @@
 namespace engine::gpu {
 namespace {
 
+std::atomic<std::uint64_t> processValidationMessages{0};
+
 constexpr const char* kValidationLayer = "VK_LAYER_KHRONOS_validation";
 
 // An on/off environment variable: unset or empty says nothing; 0, false, off and no are off; any
@@ -162,6 +164,7 @@ VKAPI_ATTR VkBool32 VKAPI_CALL Context::onDebugMessage(VkDebugUtilsMessageSeveri
   const char* text = data && data->pMessage ? data->pMessage : "(no message)";
   if (severity >= VK_DEBUG_UTILS_MESSAGE_SEVERITY_WARNING_BIT_EXT) {
     self->validationMessages_.fetch_add(1);
+    processValidationMessages.fetch_add(1);
     {
       std::lock_guard lock(self->messagesMutex_);
       if (self->messages_.size() < 64) self->messages_.emplace_back(text);
@@ -175,6 +178,8 @@ VKAPI_ATTR VkBool32 VKAPI_CALL Context::onDebugMessage(VkDebugUtilsMessageSeveri
   }
   return VK_FALSE;
 }
+
+std::uint64_t Context::processValidationMessageCount() { return processValidationMessages.load(); }
 
 std::vector<std::string> Context::validationMessages() const {
   std::lock_guard lock(messagesMutex_);
@@ -409,28 +414,34 @@ void Context::setName(VkObjectType type, std::uint64_t handle, const std::string
   VK_CHECK(setObjectName_(device_, &info));
 }
 
-VkCommandBuffer Context::beginOneOff() const {
-  oneOffMutex_.lock();  // unlocked in endOneOffAndWait: one-off submissions are serialized
+Context::OneOffCommands::OneOffCommands(const Context& context) : context_(context) {
   VkCommandBufferAllocateInfo info{VK_STRUCTURE_TYPE_COMMAND_BUFFER_ALLOCATE_INFO};
-  info.commandPool = oneOffPool_;
+  info.commandPool = context.oneOffPool_;
   info.level = VK_COMMAND_BUFFER_LEVEL_PRIMARY;
   info.commandBufferCount = 1;
-  VkCommandBuffer cmd = VK_NULL_HANDLE;
-  VK_CHECK(vkAllocateCommandBuffers(device_, &info, &cmd));
-  VkCommandBufferBeginInfo begin{VK_STRUCTURE_TYPE_COMMAND_BUFFER_BEGIN_INFO};
-  begin.flags = VK_COMMAND_BUFFER_USAGE_ONE_TIME_SUBMIT_BIT;
-  VK_CHECK(vkBeginCommandBuffer(cmd, &begin));
-  return cmd;
+  try {  // a constructor that throws runs no destructor
+    VK_CHECK(vkAllocateCommandBuffers(context.device_, &info, &cmd_));
+    VkCommandBufferBeginInfo begin{VK_STRUCTURE_TYPE_COMMAND_BUFFER_BEGIN_INFO};
+    begin.flags = VK_COMMAND_BUFFER_USAGE_ONE_TIME_SUBMIT_BIT;
+    VK_CHECK(vkBeginCommandBuffer(cmd_, &begin));
+  } catch (...) {
+    free();
+    throw;
+  }
 }
 
-void Context::endOneOffAndWait(VkCommandBuffer cmd) const {
-  std::unique_lock lock(oneOffMutex_, std::adopt_lock);
+Context::OneOffCommands::~OneOffCommands() { free(); }
+
+// A failed vkAllocateCommandBuffers leaves the handle null (nothing to free); fault injection
+// reports a failure for one the driver did allocate.
+void Context::OneOffCommands::free() noexcept {
+  if (cmd_) vkFreeCommandBuffers(context_.device_, context_.oneOffPool_, 1, &cmd_);
+  cmd_ = VK_NULL_HANDLE;
+}
+
+void Context::submitOneOffAndWait(VkCommandBuffer cmd) const {
   VkFence fence = VK_NULL_HANDLE;
-  const auto release = [&] {
-    if (fence) vkDestroyFence(device_, fence, nullptr);
-    vkFreeCommandBuffers(device_, oneOffPool_, 1, &cmd);
-  };
-  try {  // a failed call (a lost device, no memory for the fence) must not leak the fence or the commands
+  try {  // a failed call (a lost device, no memory for the fence) must not leak the fence
     VK_CHECK(vkEndCommandBuffer(cmd));
     VkFenceCreateInfo fenceInfo{VK_STRUCTURE_TYPE_FENCE_CREATE_INFO};
     VK_CHECK(vkCreateFence(device_, &fenceInfo, nullptr, &fence));
@@ -442,11 +453,13 @@ void Context::endOneOffAndWait(VkCommandBuffer cmd) const {
     VK_CHECK(vkQueueSubmit2(queue_, 1, &submit, fence));
     VK_CHECK(vkWaitForFences(device_, 1, &fence, VK_TRUE, UINT64_MAX));
   } catch (...) {
-    vkQueueWaitIdle(queue_);  // what was submitted may still run; a lost device returns at once
-    release();
+    // What was submitted may still run (its command buffer is freed after this); a lost device
+    // returns at once.
+    vkQueueWaitIdle(queue_);
+    if (fence) vkDestroyFence(device_, fence, nullptr);
     throw;
   }
-  release();
+  vkDestroyFence(device_, fence, nullptr);
 }
 
 void Context::waitIdle() const { VK_CHECK(vkDeviceWaitIdle(device_)); }

@@ -79,13 +79,20 @@ class Context {
   // Validation messages (warnings and errors) seen so far; tests assert this stays 0.
   std::uint32_t validationMessageCount() const { return validationMessages_.load(); }
   std::vector<std::string> validationMessages() const;
+  // Validation messages of every context of this process so far, those reported while a context
+  // is destroyed included: the layer reports objects never destroyed at vkDestroyDevice, after
+  // the last moment anyone can ask the context itself.
+  static std::uint64_t processValidationMessageCount();
 
-  // Records commands with `record` into a one-off command buffer, submits and waits.
+  // Records commands with `record` into a one-off command buffer, submits and waits. One-off
+  // submissions are serialized; the lock and the command buffer are given back however this
+  // ends (a failed allocation, a throwing `record`, a failed submission).
   template <class F>
   void submitAndWait(F&& record) const {
-    VkCommandBuffer cmd = beginOneOff();
-    record(cmd);
-    endOneOffAndWait(cmd);
+    const std::lock_guard lock(oneOffMutex_);
+    const OneOffCommands commands(*this);
+    record(commands.cmd());
+    submitOneOffAndWait(commands.cmd());
   }
 
   // Gives a Vulkan object a name that validation messages and debuggers show.
@@ -102,8 +109,21 @@ class Context {
   Status createInstance(const ContextDesc& desc);
   Status pickPhysicalDevice(const ContextDesc& desc);
   Status createDevice(const ContextDesc& desc);
-  VkCommandBuffer beginOneOff() const;
-  void endOneOffAndWait(VkCommandBuffer cmd) const;
+  // A begun one-off command buffer, freed by the destructor on every path (with oneOffMutex_ held).
+  class OneOffCommands {
+   public:
+    explicit OneOffCommands(const Context& context);
+    ~OneOffCommands();
+    OneOffCommands(const OneOffCommands&) = delete;
+    OneOffCommands& operator=(const OneOffCommands&) = delete;
+    VkCommandBuffer cmd() const { return cmd_; }
+
+   private:
+    void free() noexcept;
+    const Context& context_;
+    VkCommandBuffer cmd_ = VK_NULL_HANDLE;
+  };
+  void submitOneOffAndWait(VkCommandBuffer cmd) const;
   static VKAPI_ATTR VkBool32 VKAPI_CALL onDebugMessage(VkDebugUtilsMessageSeverityFlagBitsEXT severity,
                                                        VkDebugUtilsMessageTypeFlagsEXT types,
                                                        const VkDebugUtilsMessengerCallbackDataEXT* data,
