@@ -27,29 +27,34 @@ std::optional<bool> envSwitch(const char* name) {
 
 bool envFlag(const char* name) { return envSwitch(name).value_or(false); }
 
-bool hasLayer(const char* name) {
+// The two-call vkEnumerate* idiom, each call checked: a failure (out of memory, a broken layer
+// manifest) is an error naming the call, not an empty list that reads as "not installed".
+Expected<bool> hasLayer(const char* name) {
   std::uint32_t count = 0;
-  vkEnumerateInstanceLayerProperties(&count, nullptr);
+  VK_TRY(vkEnumerateInstanceLayerProperties(&count, nullptr));
   std::vector<VkLayerProperties> layers(count);
-  vkEnumerateInstanceLayerProperties(&count, layers.data());
+  VK_TRY(vkEnumerateInstanceLayerProperties(&count, layers.data()));
+  layers.resize(count);
   return std::any_of(layers.begin(), layers.end(),
                      [&](const VkLayerProperties& l) { return std::strcmp(l.layerName, name) == 0; });
 }
 
-bool hasInstanceExtension(const char* name) {
+Expected<bool> hasInstanceExtension(const char* name) {
   std::uint32_t count = 0;
-  vkEnumerateInstanceExtensionProperties(nullptr, &count, nullptr);
+  VK_TRY(vkEnumerateInstanceExtensionProperties(nullptr, &count, nullptr));
   std::vector<VkExtensionProperties> extensions(count);
-  vkEnumerateInstanceExtensionProperties(nullptr, &count, extensions.data());
+  VK_TRY(vkEnumerateInstanceExtensionProperties(nullptr, &count, extensions.data()));
+  extensions.resize(count);
   return std::any_of(extensions.begin(), extensions.end(),
                      [&](const VkExtensionProperties& e) { return std::strcmp(e.extensionName, name) == 0; });
 }
 
-bool hasDeviceExtension(VkPhysicalDevice device, const char* name) {
+Expected<bool> hasDeviceExtension(VkPhysicalDevice device, const char* name) {
   std::uint32_t count = 0;
-  vkEnumerateDeviceExtensionProperties(device, nullptr, &count, nullptr);
+  VK_TRY(vkEnumerateDeviceExtensionProperties(device, nullptr, &count, nullptr));
   std::vector<VkExtensionProperties> extensions(count);
-  vkEnumerateDeviceExtensionProperties(device, nullptr, &count, extensions.data());
+  VK_TRY(vkEnumerateDeviceExtensionProperties(device, nullptr, &count, extensions.data()));
+  extensions.resize(count);
   return std::any_of(extensions.begin(), extensions.end(),
                      [&](const VkExtensionProperties& e) { return std::strcmp(e.extensionName, name) == 0; });
 }
@@ -192,11 +197,14 @@ Status Context::createInstance(const ContextDesc& desc) {
   for (const std::string& e : desc.instanceExtensions) extensions.push_back(e.c_str());
 
   const bool validation = desc.validation;
-  if (validation && !hasLayer(kValidationLayer))
-    return makeError("validation requested but VK_LAYER_KHRONOS_validation is not installed "
-                     "(Debian package vulkan-validationlayers)");
-  if (validation) layers.push_back(kValidationLayer);
-  debugUtils_ = hasInstanceExtension(VK_EXT_DEBUG_UTILS_EXTENSION_NAME);
+  if (validation) {
+    ENGINE_TRY_ASSIGN(const bool installed, hasLayer(kValidationLayer));
+    if (!installed)
+      return makeError("validation requested but VK_LAYER_KHRONOS_validation is not installed "
+                       "(Debian package vulkan-validationlayers)");
+    layers.push_back(kValidationLayer);
+  }
+  ENGINE_TRY_ASSIGN(debugUtils_, hasInstanceExtension(VK_EXT_DEBUG_UTILS_EXTENSION_NAME));
   if (debugUtils_) extensions.push_back(VK_EXT_DEBUG_UTILS_EXTENSION_NAME);
 
   VkApplicationInfo app{VK_STRUCTURE_TYPE_APPLICATION_INFO};
@@ -281,8 +289,10 @@ Status Context::pickPhysicalDevice(const ContextDesc& desc) {
     VkPhysicalDeviceProperties properties{};
     vkGetPhysicalDeviceProperties(device, &properties);
     std::string why = missingRequirements(device);
-    if (desc.swapchain && why.empty() && !hasDeviceExtension(device, VK_KHR_SWAPCHAIN_EXTENSION_NAME))
-      why = "no VK_KHR_swapchain";
+    if (desc.swapchain && why.empty()) {
+      ENGINE_TRY_ASSIGN(const bool canPresent, hasDeviceExtension(device, VK_KHR_SWAPCHAIN_EXTENSION_NAME));
+      if (!canPresent) why = "no VK_KHR_swapchain";
+    }
     const int rank = deviceRank(properties.deviceType, preference);
     if (!why.empty() || rank < 0) {
       rejected += std::string("\n  ") + properties.deviceName + ": " +

@@ -134,5 +134,55 @@ TEST(FaultInjection, FailedOneOffBeforeSubmitReleasesItsLock) {
   EXPECT_EQ(test::messagesThroughDestruction(context), 0u);
 }
 
+// Tricky: the two-call enumeration of layers and extensions ran unchecked, so a failed call read
+// as "nothing installed" (the validation layer or debug utils silently missing, or a device
+// refused as having no VK_KHR_swapchain). Each one, at either of its two calls, must now fail the
+// context's creation naming the call.
+TEST(FaultInjection, FailedEnumerationFailsTheContextByName) {
+  const auto device = hsdftest::testDevicePreference();
+  ASSERT_TRUE(device.ok()) << device.error().message;
+  for (const char* call : {"vkEnumerateInstanceLayerProperties", "vkEnumerateInstanceExtensionProperties",
+                           "vkEnumerateDeviceExtensionProperties"}) {
+    for (std::uint32_t skip : {0u, 1u}) {
+      SCOPED_TRACE(std::string(call) + " skip " + std::to_string(skip));
+      FaultGuard guard;
+      ContextDesc desc;
+      desc.device = *device;
+      desc.validation = true;
+      desc.swapchain = true;  // the device extensions are asked for VK_KHR_swapchain
+      injectFault({call, VK_ERROR_OUT_OF_HOST_MEMORY, skip});
+      const auto context = Context::create(desc);
+      ASSERT_FALSE(context.ok()) << "created with a failed " << call;
+      EXPECT_NE(context.error().message.find(std::string(call) + "("), std::string::npos) << context.error().message;
+      EXPECT_NE(context.error().message.find("VK_ERROR_OUT_OF_HOST_MEMORY"), std::string::npos)
+          << context.error().message;
+    }
+  }
+}
+
+VkResult fakeSwapchainCall(VkResult result) { return result; }
+
+// Tricky: the swapchain's calls pass two results that are not VK_SUCCESS (suboptimal, out of
+// date) back to their caller and must throw for the rest, naming the call, not the variable that
+// held its result; and the acquire must go through fault injection as the present does.
+TEST(FaultInjection, SwapchainResultsPassOrThrowNamingTheCall) {
+  FaultGuard guard;
+  EXPECT_EQ(VK_CHECK_SWAPCHAIN(fakeSwapchainCall(VK_SUCCESS)), VK_SUCCESS);
+  EXPECT_EQ(VK_CHECK_SWAPCHAIN(fakeSwapchainCall(VK_SUBOPTIMAL_KHR)), VK_SUBOPTIMAL_KHR);
+  EXPECT_EQ(VK_CHECK_SWAPCHAIN(fakeSwapchainCall(VK_ERROR_OUT_OF_DATE_KHR)), VK_ERROR_OUT_OF_DATE_KHR);
+  injectFault({"fakeSwapchainCall", VK_ERROR_OUT_OF_DATE_KHR, 0});
+  EXPECT_EQ(VK_CHECK_SWAPCHAIN(fakeSwapchainCall(VK_SUCCESS)), VK_ERROR_OUT_OF_DATE_KHR);
+  injectFault({"fakeSwapchainCall", VK_ERROR_SURFACE_LOST_KHR, 0});
+  try {
+    (void)VK_CHECK_SWAPCHAIN(fakeSwapchainCall(VK_SUCCESS));
+    FAIL() << "VK_ERROR_SURFACE_LOST_KHR passed";
+  } catch (const VulkanError& e) {
+    EXPECT_EQ(e.result(), VK_ERROR_SURFACE_LOST_KHR);
+    EXPECT_NE(std::string(e.what()).find("fakeSwapchainCall(VK_SUCCESS) failed with VK_ERROR_SURFACE_LOST_KHR"),
+              std::string::npos)
+        << e.what();
+  }
+}
+
 }  // namespace
 }  // namespace engine::gpu
