@@ -7,6 +7,7 @@
 #include <string_view>
 
 #include "engine/core/log.h"
+#include "engine/gpu/device_features.h"
 #include "engine/gpu/vk_check.h"
 
 namespace engine::gpu {
@@ -59,21 +60,6 @@ Expected<bool> hasDeviceExtension(VkPhysicalDevice device, const char* name) {
                      [&](const VkExtensionProperties& e) { return std::strcmp(e.extensionName, name) == 0; });
 }
 
-// The chain of feature structs the engine queries and enables.
-struct FeatureChain {
-  VkPhysicalDeviceFeatures2 core{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_FEATURES_2};
-  VkPhysicalDeviceVulkan11Features v11{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_1_FEATURES};
-  VkPhysicalDeviceVulkan12Features v12{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_2_FEATURES};
-  VkPhysicalDeviceVulkan13Features v13{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_3_FEATURES};
-  FeatureChain() {
-    core.pNext = &v11;
-    v11.pNext = &v12;
-    v12.pNext = &v13;
-  }
-  FeatureChain(const FeatureChain&) = delete;
-  FeatureChain& operator=(const FeatureChain&) = delete;
-};
-
 // Why a device cannot run the engine, or empty when it can.
 std::string missingRequirements(VkPhysicalDevice device) {
   VkPhysicalDeviceProperties properties{};
@@ -81,13 +67,7 @@ std::string missingRequirements(VkPhysicalDevice device) {
   if (properties.apiVersion < VK_API_VERSION_1_3) return "Vulkan 1.3 not supported";
   FeatureChain features;
   vkGetPhysicalDeviceFeatures2(device, &features.core);
-  if (!features.v13.dynamicRendering) return "no dynamicRendering";
-  if (!features.v13.synchronization2) return "no synchronization2";
-  if (!features.v12.bufferDeviceAddress) return "no bufferDeviceAddress";
-  if (!features.v12.timelineSemaphore) return "no timelineSemaphore";
-  if (!features.v12.scalarBlockLayout) return "no scalarBlockLayout";
-  if (!features.core.features.shaderInt64) return "no shaderInt64";
-  return {};
+  return missingRequiredFeatures(features);
 }
 
 int deviceRank(VkPhysicalDeviceType type, DevicePreference preference) {
@@ -305,12 +285,11 @@ Status Context::pickPhysicalDevice(const ContextDesc& desc) {
     }
   }
   if (!physicalDevice_ && preference == DevicePreference::Hardware)
-    return makeError("no hardware GPU with Vulkan 1.3 (dynamic rendering, synchronization2, buffer device address) "
-                     "was found; --device lavapipe or auto draws on the CPU" + rejected);
+    return makeError("no hardware GPU with " + describeRequirements() +
+                     " was found; --device lavapipe or auto draws on the CPU" + rejected);
   if (!physicalDevice_)
-    return makeError("no suitable Vulkan device (need Vulkan 1.3 with dynamic rendering, "
-                     "synchronization2, buffer device address; install mesa-vulkan-drivers for lavapipe)" +
-                     rejected);
+    return makeError("no suitable Vulkan device (need " + describeRequirements() +
+                     "; install mesa-vulkan-drivers for lavapipe)" + rejected);
   return {};
 }
 
@@ -339,7 +318,6 @@ Status Context::createDevice(const ContextDesc& desc) {
   caps_.maxPointSize = supported.core.features.largePoints ? properties.limits.pointSizeRange[1] : 1.0f;
   caps_.pipelineStatistics = supported.core.features.pipelineStatisticsQuery;
   caps_.timestampPeriodNs = properties.limits.timestampPeriod;
-  caps_.maxPushConstantsSize = properties.limits.maxPushConstantsSize;
 
   // Queue: the first family with graphics (graphics queues can also compute and transfer).
   std::uint32_t familyCount = 0;
@@ -356,21 +334,16 @@ Status Context::createDevice(const ContextDesc& desc) {
   }
   if (!found) return makeError(caps_.deviceName + ": no graphics queue");
 
+  // The required features (device_features.h), then the optional ones the device has.
   FeatureChain enabled;
+  enableRequiredFeatures(enabled);
   enabled.core.features.multiDrawIndirect = supported.core.features.multiDrawIndirect;
-  enabled.core.features.drawIndirectFirstInstance = supported.core.features.drawIndirectFirstInstance;
   enabled.core.features.fillModeNonSolid = supported.core.features.fillModeNonSolid;
   enabled.core.features.largePoints = supported.core.features.largePoints;
   enabled.core.features.pipelineStatisticsQuery = supported.core.features.pipelineStatisticsQuery;
-  enabled.core.features.shaderInt64 = VK_TRUE;
   enabled.core.features.depthClamp = supported.core.features.depthClamp;
   enabled.core.features.samplerAnisotropy = supported.core.features.samplerAnisotropy;
-  enabled.core.features.fragmentStoresAndAtomics = supported.core.features.fragmentStoresAndAtomics;
   enabled.v11.storageBuffer16BitAccess = supported.v11.storageBuffer16BitAccess;
-  enabled.v11.shaderDrawParameters = supported.v11.shaderDrawParameters;
-  enabled.v12.bufferDeviceAddress = VK_TRUE;
-  enabled.v12.timelineSemaphore = VK_TRUE;
-  enabled.v12.scalarBlockLayout = VK_TRUE;
   enabled.v12.shaderFloat16 = supported.v12.shaderFloat16;
   enabled.v12.drawIndirectCount = supported.v12.drawIndirectCount;
   enabled.v12.hostQueryReset = supported.v12.hostQueryReset;
@@ -381,8 +354,6 @@ Status Context::createDevice(const ContextDesc& desc) {
     enabled.v12.descriptorBindingPartiallyBound = VK_TRUE;
     enabled.v12.descriptorBindingSampledImageUpdateAfterBind = VK_TRUE;
   }
-  enabled.v13.dynamicRendering = VK_TRUE;
-  enabled.v13.synchronization2 = VK_TRUE;
   enabled.v13.maintenance4 = supported.v13.maintenance4;
 
   const float priority = 1.0f;

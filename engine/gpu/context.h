@@ -39,23 +39,21 @@ struct ContextDesc {
   static bool defaultValidation();
 };
 
-// Optional capabilities, detected at device creation. Features the engine requires (Vulkan 1.3
-// dynamic rendering, synchronization2, buffer device address, timeline semaphores) are not listed:
-// a device without them is rejected.
+// Optional capabilities, detected at device creation. Features the engine requires
+// (engine/gpu/device_features.h) are not listed: a device without them is rejected.
 struct DeviceCapabilities {
   bool descriptorIndexing = false;       // runtime arrays + non-uniform sampled-image indexing
   bool shaderFloat16 = false;
   bool storageBuffer16BitAccess = false;
   bool multiDrawIndirect = false;
   bool drawIndirectCount = false;
-  bool fillModeNonSolid = false;         // wireframe debug views
+  bool fillModeNonSolid = false;         // PipelineDesc::polygonMode other than FILL
   float maxPointSize = 1.0f;             // points larger than one pixel: largePoints, else 1
   bool timestamps = false;
   bool pipelineStatistics = false;       // pipeline-statistics queries (engine/gpu/pipeline_statistics.h)
   float timestampPeriodNs = 1.0f;
   bool isSoftwareRasterizer = false;     // lavapipe & co: timings are CPU-bound
   std::string deviceName;
-  std::uint32_t maxPushConstantsSize = 128;
   // The largest VkBuffer the device creates (Vulkan 1.3 maxBufferSize; at least 2^30): a bigger one
   // is refused by engine::gpu::Buffer with an error naming it, not created.
   VkDeviceSize maxBufferSize = VkDeviceSize(1) << 30;
