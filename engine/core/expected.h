@@ -3,6 +3,7 @@
 // Expected<T>; the error names what failed and why, and callers add context as it travels up
 // ("loading scene.glb: accessor 3: buffer view out of range").
 #include <optional>
+#include <stdexcept>
 #include <string>
 #include <utility>
 #include <variant>
@@ -16,6 +17,14 @@ struct Error {
   Error withContext(const std::string& context) const { return Error{context + ": " + message}; }
 };
 
+// A value asked of an Expected that holds an error, or an error of one that holds a value: a bug
+// in the caller, which should have tested ok(). The message carries the error that was not
+// handled (std::bad_variant_access would drop it).
+class BadExpectedAccess : public std::logic_error {
+ public:
+  using std::logic_error::logic_error;
+};
+
 template <class T>
 class [[nodiscard]] Expected {
  public:
@@ -25,15 +34,27 @@ class [[nodiscard]] Expected {
   bool ok() const { return std::holds_alternative<T>(data_); }
   explicit operator bool() const { return ok(); }
 
-  T& value() & { return std::get<T>(data_); }
-  const T& value() const& { return std::get<T>(data_); }
-  T&& value() && { return std::get<T>(std::move(data_)); }
+  T& value() & {
+    checkValue();
+    return std::get<T>(data_);
+  }
+  const T& value() const& {
+    checkValue();
+    return std::get<T>(data_);
+  }
+  T&& value() && {
+    checkValue();
+    return std::get<T>(std::move(data_));
+  }
   T& operator*() & { return value(); }
   const T& operator*() const& { return value(); }
   T* operator->() { return &value(); }
   const T* operator->() const { return &value(); }
 
-  const Error& error() const { return std::get<Error>(data_); }
+  const Error& error() const {
+    if (ok()) throw BadExpectedAccess("Expected::error() on a result that holds a value");
+    return std::get<Error>(data_);
+  }
 
   // Returns this result with `context` prefixed to its error, if any.
   Expected withContext(const std::string& context) && {
@@ -42,6 +63,11 @@ class [[nodiscard]] Expected {
   }
 
  private:
+  void checkValue() const {
+    if (!ok())
+      throw BadExpectedAccess("Expected::value() on an error: " + std::get<Error>(data_).message);
+  }
+
   std::variant<T, Error> data_;
 };
 
@@ -54,7 +80,10 @@ class [[nodiscard]] Expected<void> {
 
   bool ok() const { return !error_.has_value(); }
   explicit operator bool() const { return ok(); }
-  const Error& error() const { return *error_; }
+  const Error& error() const {
+    if (ok()) throw BadExpectedAccess("Expected::error() on a result that holds a value");
+    return *error_;
+  }
   Expected withContext(const std::string& context) && {
     if (ok()) return {};
     return error_->withContext(context);

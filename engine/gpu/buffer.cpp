@@ -27,16 +27,18 @@ Buffer::Buffer(const Context& context, VkDeviceSize size, VkBufferUsageFlags usa
   info.size = size;
   info.usage = usage;
   info.sharingMode = VK_SHARING_MODE_EXCLUSIVE;
+  // A constructor that throws runs no destructor: every step after the buffer is made gives it
+  // back here. A failed vkCreateBuffer leaves buffer_ null; fault injection reports a failure for
+  // one the driver did make.
   try {
-    VK_CHECK(vkCreateBuffer(context.device(), &info, nullptr, &buffer_));
-  } catch (const VulkanError& error) {  // a size past the device's limits fails here: say which buffer
-    throw VulkanError(error.result(), fmt::format("Buffer '{}' ({} bytes): {}", name, size, error.what()));
-  }
-  context.setName(buffer_, VK_OBJECT_TYPE_BUFFER, name);
-
-  VkMemoryRequirements requirements{};
-  vkGetBufferMemoryRequirements(context.device(), buffer_, &requirements);
-  try {  // a constructor that throws runs no destructor: give the buffer back here
+    try {
+      VK_CHECK(vkCreateBuffer(context.device(), &info, nullptr, &buffer_));
+    } catch (const VulkanError& error) {  // a size past the device's limits fails here: say which buffer
+      throw VulkanError(error.result(), fmt::format("Buffer '{}' ({} bytes): {}", name, size, error.what()));
+    }
+    context.setName(buffer_, VK_OBJECT_TYPE_BUFFER, name);
+    VkMemoryRequirements requirements{};
+    vkGetBufferMemoryRequirements(context.device(), buffer_, &requirements);
     allocation_ = context.allocator().allocate(requirements, memory, name);
     VK_CHECK(vkBindBufferMemory(context.device(), buffer_, allocation_.memory, allocation_.offset));
   } catch (...) {

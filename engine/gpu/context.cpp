@@ -7,10 +7,13 @@
 #include <string_view>
 
 #include "engine/core/log.h"
+#include "engine/gpu/device_features.h"
 #include "engine/gpu/vk_check.h"
 
 namespace engine::gpu {
 namespace {
+
+std::atomic<std::uint64_t> processValidationMessages{0};
 
 constexpr const char* kValidationLayer = "VK_LAYER_KHRONOS_validation";
 
@@ -25,47 +28,37 @@ std::optional<bool> envSwitch(const char* name) {
 
 bool envFlag(const char* name) { return envSwitch(name).value_or(false); }
 
-bool hasLayer(const char* name) {
+// The two-call vkEnumerate* idiom, each call checked: a failure (out of memory, a broken layer
+// manifest) is an error naming the call, not an empty list that reads as "not installed".
+Expected<bool> hasLayer(const char* name) {
   std::uint32_t count = 0;
-  vkEnumerateInstanceLayerProperties(&count, nullptr);
+  VK_TRY(vkEnumerateInstanceLayerProperties(&count, nullptr));
   std::vector<VkLayerProperties> layers(count);
-  vkEnumerateInstanceLayerProperties(&count, layers.data());
+  VK_TRY(vkEnumerateInstanceLayerProperties(&count, layers.data()));
+  layers.resize(count);
   return std::any_of(layers.begin(), layers.end(),
                      [&](const VkLayerProperties& l) { return std::strcmp(l.layerName, name) == 0; });
 }
 
-bool hasInstanceExtension(const char* name) {
+Expected<bool> hasInstanceExtension(const char* name) {
   std::uint32_t count = 0;
-  vkEnumerateInstanceExtensionProperties(nullptr, &count, nullptr);
+  VK_TRY(vkEnumerateInstanceExtensionProperties(nullptr, &count, nullptr));
   std::vector<VkExtensionProperties> extensions(count);
-  vkEnumerateInstanceExtensionProperties(nullptr, &count, extensions.data());
+  VK_TRY(vkEnumerateInstanceExtensionProperties(nullptr, &count, extensions.data()));
+  extensions.resize(count);
   return std::any_of(extensions.begin(), extensions.end(),
                      [&](const VkExtensionProperties& e) { return std::strcmp(e.extensionName, name) == 0; });
 }
 
-bool hasDeviceExtension(VkPhysicalDevice device, const char* name) {
+Expected<bool> hasDeviceExtension(VkPhysicalDevice device, const char* name) {
   std::uint32_t count = 0;
-  vkEnumerateDeviceExtensionProperties(device, nullptr, &count, nullptr);
+  VK_TRY(vkEnumerateDeviceExtensionProperties(device, nullptr, &count, nullptr));
   std::vector<VkExtensionProperties> extensions(count);
-  vkEnumerateDeviceExtensionProperties(device, nullptr, &count, extensions.data());
+  VK_TRY(vkEnumerateDeviceExtensionProperties(device, nullptr, &count, extensions.data()));
+  extensions.resize(count);
   return std::any_of(extensions.begin(), extensions.end(),
                      [&](const VkExtensionProperties& e) { return std::strcmp(e.extensionName, name) == 0; });
 }
-
-// The chain of feature structs the engine queries and enables.
-struct FeatureChain {
-  VkPhysicalDeviceFeatures2 core{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_FEATURES_2};
-  VkPhysicalDeviceVulkan11Features v11{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_1_FEATURES};
-  VkPhysicalDeviceVulkan12Features v12{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_2_FEATURES};
-  VkPhysicalDeviceVulkan13Features v13{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_3_FEATURES};
-  FeatureChain() {
-    core.pNext = &v11;
-    v11.pNext = &v12;
-    v12.pNext = &v13;
-  }
-  FeatureChain(const FeatureChain&) = delete;
-  FeatureChain& operator=(const FeatureChain&) = delete;
-};
 
 // Why a device cannot run the engine, or empty when it can.
 std::string missingRequirements(VkPhysicalDevice device) {
@@ -74,13 +67,7 @@ std::string missingRequirements(VkPhysicalDevice device) {
   if (properties.apiVersion < VK_API_VERSION_1_3) return "Vulkan 1.3 not supported";
   FeatureChain features;
   vkGetPhysicalDeviceFeatures2(device, &features.core);
-  if (!features.v13.dynamicRendering) return "no dynamicRendering";
-  if (!features.v13.synchronization2) return "no synchronization2";
-  if (!features.v12.bufferDeviceAddress) return "no bufferDeviceAddress";
-  if (!features.v12.timelineSemaphore) return "no timelineSemaphore";
-  if (!features.v12.scalarBlockLayout) return "no scalarBlockLayout";
-  if (!features.core.features.shaderInt64) return "no shaderInt64";
-  return {};
+  return missingRequiredFeatures(features);
 }
 
 int deviceRank(VkPhysicalDeviceType type, DevicePreference preference) {
@@ -162,6 +149,7 @@ VKAPI_ATTR VkBool32 VKAPI_CALL Context::onDebugMessage(VkDebugUtilsMessageSeveri
   const char* text = data && data->pMessage ? data->pMessage : "(no message)";
   if (severity >= VK_DEBUG_UTILS_MESSAGE_SEVERITY_WARNING_BIT_EXT) {
     self->validationMessages_.fetch_add(1);
+    processValidationMessages.fetch_add(1);
     {
       std::lock_guard lock(self->messagesMutex_);
       if (self->messages_.size() < 64) self->messages_.emplace_back(text);
@@ -176,6 +164,8 @@ VKAPI_ATTR VkBool32 VKAPI_CALL Context::onDebugMessage(VkDebugUtilsMessageSeveri
   return VK_FALSE;
 }
 
+std::uint64_t Context::processValidationMessageCount() { return processValidationMessages.load(); }
+
 std::vector<std::string> Context::validationMessages() const {
   std::lock_guard lock(messagesMutex_);
   return messages_;
@@ -187,11 +177,14 @@ Status Context::createInstance(const ContextDesc& desc) {
   for (const std::string& e : desc.instanceExtensions) extensions.push_back(e.c_str());
 
   const bool validation = desc.validation;
-  if (validation && !hasLayer(kValidationLayer))
-    return makeError("validation requested but VK_LAYER_KHRONOS_validation is not installed "
-                     "(Debian package vulkan-validationlayers)");
-  if (validation) layers.push_back(kValidationLayer);
-  debugUtils_ = hasInstanceExtension(VK_EXT_DEBUG_UTILS_EXTENSION_NAME);
+  if (validation) {
+    ENGINE_TRY_ASSIGN(const bool installed, hasLayer(kValidationLayer));
+    if (!installed)
+      return makeError("validation requested but VK_LAYER_KHRONOS_validation is not installed "
+                       "(Debian package vulkan-validationlayers)");
+    layers.push_back(kValidationLayer);
+  }
+  ENGINE_TRY_ASSIGN(debugUtils_, hasInstanceExtension(VK_EXT_DEBUG_UTILS_EXTENSION_NAME));
   if (debugUtils_) extensions.push_back(VK_EXT_DEBUG_UTILS_EXTENSION_NAME);
 
   VkApplicationInfo app{VK_STRUCTURE_TYPE_APPLICATION_INFO};
@@ -276,8 +269,10 @@ Status Context::pickPhysicalDevice(const ContextDesc& desc) {
     VkPhysicalDeviceProperties properties{};
     vkGetPhysicalDeviceProperties(device, &properties);
     std::string why = missingRequirements(device);
-    if (desc.swapchain && why.empty() && !hasDeviceExtension(device, VK_KHR_SWAPCHAIN_EXTENSION_NAME))
-      why = "no VK_KHR_swapchain";
+    if (desc.swapchain && why.empty()) {
+      ENGINE_TRY_ASSIGN(const bool canPresent, hasDeviceExtension(device, VK_KHR_SWAPCHAIN_EXTENSION_NAME));
+      if (!canPresent) why = "no VK_KHR_swapchain";
+    }
     const int rank = deviceRank(properties.deviceType, preference);
     if (!why.empty() || rank < 0) {
       rejected += std::string("\n  ") + properties.deviceName + ": " +
@@ -290,12 +285,11 @@ Status Context::pickPhysicalDevice(const ContextDesc& desc) {
     }
   }
   if (!physicalDevice_ && preference == DevicePreference::Hardware)
-    return makeError("no hardware GPU with Vulkan 1.3 (dynamic rendering, synchronization2, buffer device address) "
-                     "was found; --device lavapipe or auto draws on the CPU" + rejected);
+    return makeError("no hardware GPU with " + describeRequirements() +
+                     " was found; --device lavapipe or auto draws on the CPU" + rejected);
   if (!physicalDevice_)
-    return makeError("no suitable Vulkan device (need Vulkan 1.3 with dynamic rendering, "
-                     "synchronization2, buffer device address; install mesa-vulkan-drivers for lavapipe)" +
-                     rejected);
+    return makeError("no suitable Vulkan device (need " + describeRequirements() +
+                     "; install mesa-vulkan-drivers for lavapipe)" + rejected);
   return {};
 }
 
@@ -324,7 +318,6 @@ Status Context::createDevice(const ContextDesc& desc) {
   caps_.maxPointSize = supported.core.features.largePoints ? properties.limits.pointSizeRange[1] : 1.0f;
   caps_.pipelineStatistics = supported.core.features.pipelineStatisticsQuery;
   caps_.timestampPeriodNs = properties.limits.timestampPeriod;
-  caps_.maxPushConstantsSize = properties.limits.maxPushConstantsSize;
 
   // Queue: the first family with graphics (graphics queues can also compute and transfer).
   std::uint32_t familyCount = 0;
@@ -341,21 +334,16 @@ Status Context::createDevice(const ContextDesc& desc) {
   }
   if (!found) return makeError(caps_.deviceName + ": no graphics queue");
 
+  // The required features (device_features.h), then the optional ones the device has.
   FeatureChain enabled;
+  enableRequiredFeatures(enabled);
   enabled.core.features.multiDrawIndirect = supported.core.features.multiDrawIndirect;
-  enabled.core.features.drawIndirectFirstInstance = supported.core.features.drawIndirectFirstInstance;
   enabled.core.features.fillModeNonSolid = supported.core.features.fillModeNonSolid;
   enabled.core.features.largePoints = supported.core.features.largePoints;
   enabled.core.features.pipelineStatisticsQuery = supported.core.features.pipelineStatisticsQuery;
-  enabled.core.features.shaderInt64 = VK_TRUE;
   enabled.core.features.depthClamp = supported.core.features.depthClamp;
   enabled.core.features.samplerAnisotropy = supported.core.features.samplerAnisotropy;
-  enabled.core.features.fragmentStoresAndAtomics = supported.core.features.fragmentStoresAndAtomics;
   enabled.v11.storageBuffer16BitAccess = supported.v11.storageBuffer16BitAccess;
-  enabled.v11.shaderDrawParameters = supported.v11.shaderDrawParameters;
-  enabled.v12.bufferDeviceAddress = VK_TRUE;
-  enabled.v12.timelineSemaphore = VK_TRUE;
-  enabled.v12.scalarBlockLayout = VK_TRUE;
   enabled.v12.shaderFloat16 = supported.v12.shaderFloat16;
   enabled.v12.drawIndirectCount = supported.v12.drawIndirectCount;
   enabled.v12.hostQueryReset = supported.v12.hostQueryReset;
@@ -366,8 +354,6 @@ Status Context::createDevice(const ContextDesc& desc) {
     enabled.v12.descriptorBindingPartiallyBound = VK_TRUE;
     enabled.v12.descriptorBindingSampledImageUpdateAfterBind = VK_TRUE;
   }
-  enabled.v13.dynamicRendering = VK_TRUE;
-  enabled.v13.synchronization2 = VK_TRUE;
   enabled.v13.maintenance4 = supported.v13.maintenance4;
 
   const float priority = 1.0f;
@@ -409,28 +395,34 @@ void Context::setName(VkObjectType type, std::uint64_t handle, const std::string
   VK_CHECK(setObjectName_(device_, &info));
 }
 
-VkCommandBuffer Context::beginOneOff() const {
-  oneOffMutex_.lock();  // unlocked in endOneOffAndWait: one-off submissions are serialized
+Context::OneOffCommands::OneOffCommands(const Context& context) : context_(context) {
   VkCommandBufferAllocateInfo info{VK_STRUCTURE_TYPE_COMMAND_BUFFER_ALLOCATE_INFO};
-  info.commandPool = oneOffPool_;
+  info.commandPool = context.oneOffPool_;
   info.level = VK_COMMAND_BUFFER_LEVEL_PRIMARY;
   info.commandBufferCount = 1;
-  VkCommandBuffer cmd = VK_NULL_HANDLE;
-  VK_CHECK(vkAllocateCommandBuffers(device_, &info, &cmd));
-  VkCommandBufferBeginInfo begin{VK_STRUCTURE_TYPE_COMMAND_BUFFER_BEGIN_INFO};
-  begin.flags = VK_COMMAND_BUFFER_USAGE_ONE_TIME_SUBMIT_BIT;
-  VK_CHECK(vkBeginCommandBuffer(cmd, &begin));
-  return cmd;
+  try {  // a constructor that throws runs no destructor
+    VK_CHECK(vkAllocateCommandBuffers(context.device_, &info, &cmd_));
+    VkCommandBufferBeginInfo begin{VK_STRUCTURE_TYPE_COMMAND_BUFFER_BEGIN_INFO};
+    begin.flags = VK_COMMAND_BUFFER_USAGE_ONE_TIME_SUBMIT_BIT;
+    VK_CHECK(vkBeginCommandBuffer(cmd_, &begin));
+  } catch (...) {
+    free();
+    throw;
+  }
 }
 
-void Context::endOneOffAndWait(VkCommandBuffer cmd) const {
-  std::unique_lock lock(oneOffMutex_, std::adopt_lock);
+Context::OneOffCommands::~OneOffCommands() { free(); }
+
+// A failed vkAllocateCommandBuffers leaves the handle null (nothing to free); fault injection
+// reports a failure for one the driver did allocate.
+void Context::OneOffCommands::free() noexcept {
+  if (cmd_) vkFreeCommandBuffers(context_.device_, context_.oneOffPool_, 1, &cmd_);
+  cmd_ = VK_NULL_HANDLE;
+}
+
+void Context::submitOneOffAndWait(VkCommandBuffer cmd) const {
   VkFence fence = VK_NULL_HANDLE;
-  const auto release = [&] {
-    if (fence) vkDestroyFence(device_, fence, nullptr);
-    vkFreeCommandBuffers(device_, oneOffPool_, 1, &cmd);
-  };
-  try {  // a failed call (a lost device, no memory for the fence) must not leak the fence or the commands
+  try {  // a failed call (a lost device, no memory for the fence) must not leak the fence
     VK_CHECK(vkEndCommandBuffer(cmd));
     VkFenceCreateInfo fenceInfo{VK_STRUCTURE_TYPE_FENCE_CREATE_INFO};
     VK_CHECK(vkCreateFence(device_, &fenceInfo, nullptr, &fence));
@@ -442,11 +434,13 @@ void Context::endOneOffAndWait(VkCommandBuffer cmd) const {
     VK_CHECK(vkQueueSubmit2(queue_, 1, &submit, fence));
     VK_CHECK(vkWaitForFences(device_, 1, &fence, VK_TRUE, UINT64_MAX));
   } catch (...) {
-    vkQueueWaitIdle(queue_);  // what was submitted may still run; a lost device returns at once
-    release();
+    // What was submitted may still run (its command buffer is freed after this); a lost device
+    // returns at once.
+    vkQueueWaitIdle(queue_);
+    if (fence) vkDestroyFence(device_, fence, nullptr);
     throw;
   }
-  release();
+  vkDestroyFence(device_, fence, nullptr);
 }
 
 void Context::waitIdle() const { VK_CHECK(vkDeviceWaitIdle(device_)); }

@@ -39,23 +39,21 @@ struct ContextDesc {
   static bool defaultValidation();
 };
 
-// Optional capabilities, detected at device creation. Features the engine requires (Vulkan 1.3
-// dynamic rendering, synchronization2, buffer device address, timeline semaphores) are not listed:
-// a device without them is rejected.
+// Optional capabilities, detected at device creation. Features the engine requires
+// (engine/gpu/device_features.h) are not listed: a device without them is rejected.
 struct DeviceCapabilities {
   bool descriptorIndexing = false;       // runtime arrays + non-uniform sampled-image indexing
   bool shaderFloat16 = false;
   bool storageBuffer16BitAccess = false;
   bool multiDrawIndirect = false;
   bool drawIndirectCount = false;
-  bool fillModeNonSolid = false;         // wireframe debug views
+  bool fillModeNonSolid = false;         // PipelineDesc::polygonMode other than FILL
   float maxPointSize = 1.0f;             // points larger than one pixel: largePoints, else 1
   bool timestamps = false;
   bool pipelineStatistics = false;       // pipeline-statistics queries (engine/gpu/pipeline_statistics.h)
   float timestampPeriodNs = 1.0f;
   bool isSoftwareRasterizer = false;     // lavapipe & co: timings are CPU-bound
   std::string deviceName;
-  std::uint32_t maxPushConstantsSize = 128;
   // The largest VkBuffer the device creates (Vulkan 1.3 maxBufferSize; at least 2^30): a bigger one
   // is refused by engine::gpu::Buffer with an error naming it, not created.
   VkDeviceSize maxBufferSize = VkDeviceSize(1) << 30;
@@ -79,13 +77,20 @@ class Context {
   // Validation messages (warnings and errors) seen so far; tests assert this stays 0.
   std::uint32_t validationMessageCount() const { return validationMessages_.load(); }
   std::vector<std::string> validationMessages() const;
+  // Validation messages of every context of this process so far, those reported while a context
+  // is destroyed included: the layer reports objects never destroyed at vkDestroyDevice, after
+  // the last moment anyone can ask the context itself.
+  static std::uint64_t processValidationMessageCount();
 
-  // Records commands with `record` into a one-off command buffer, submits and waits.
+  // Records commands with `record` into a one-off command buffer, submits and waits. One-off
+  // submissions are serialized; the lock and the command buffer are given back however this
+  // ends (a failed allocation, a throwing `record`, a failed submission).
   template <class F>
   void submitAndWait(F&& record) const {
-    VkCommandBuffer cmd = beginOneOff();
-    record(cmd);
-    endOneOffAndWait(cmd);
+    const std::lock_guard lock(oneOffMutex_);
+    const OneOffCommands commands(*this);
+    record(commands.cmd());
+    submitOneOffAndWait(commands.cmd());
   }
 
   // Gives a Vulkan object a name that validation messages and debuggers show.
@@ -102,8 +107,21 @@ class Context {
   Status createInstance(const ContextDesc& desc);
   Status pickPhysicalDevice(const ContextDesc& desc);
   Status createDevice(const ContextDesc& desc);
-  VkCommandBuffer beginOneOff() const;
-  void endOneOffAndWait(VkCommandBuffer cmd) const;
+  // A begun one-off command buffer, freed by the destructor on every path (with oneOffMutex_ held).
+  class OneOffCommands {
+   public:
+    explicit OneOffCommands(const Context& context);
+    ~OneOffCommands();
+    OneOffCommands(const OneOffCommands&) = delete;
+    OneOffCommands& operator=(const OneOffCommands&) = delete;
+    VkCommandBuffer cmd() const { return cmd_; }
+
+   private:
+    void free() noexcept;
+    const Context& context_;
+    VkCommandBuffer cmd_ = VK_NULL_HANDLE;
+  };
+  void submitOneOffAndWait(VkCommandBuffer cmd) const;
   static VKAPI_ATTR VkBool32 VKAPI_CALL onDebugMessage(VkDebugUtilsMessageSeverityFlagBitsEXT severity,
                                                        VkDebugUtilsMessageTypeFlagsEXT types,
                                                        const VkDebugUtilsMessengerCallbackDataEXT* data,

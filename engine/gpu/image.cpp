@@ -45,26 +45,28 @@ Image::Image(const Context& context, const ImageDesc& desc)
   info.usage = desc.usage;
   info.sharingMode = VK_SHARING_MODE_EXCLUSIVE;
   info.initialLayout = VK_IMAGE_LAYOUT_UNDEFINED;
-  VK_CHECK(vkCreateImage(context.device(), &info, nullptr, &image_));
-  context.setName(image_, VK_OBJECT_TYPE_IMAGE, desc.name);
-
-  VkMemoryRequirements requirements{};
-  vkGetImageMemoryRequirements(context.device(), image_, &requirements);
-  try {  // a constructor that throws runs no destructor: give the image back here
+  // A constructor that throws runs no destructor: every step after the image is made gives it
+  // back here (its memory and view too). A failed vkCreateImage leaves image_ null; fault
+  // injection reports a failure for one the driver did make.
+  try {
+    VK_CHECK(vkCreateImage(context.device(), &info, nullptr, &image_));
+    context.setName(image_, VK_OBJECT_TYPE_IMAGE, desc.name);
+    VkMemoryRequirements requirements{};
+    vkGetImageMemoryRequirements(context.device(), image_, &requirements);
     allocation_ = context.allocator().allocate(requirements, MemoryUsage::GpuOnly, desc.name);
     VK_CHECK(vkBindImageMemory(context.device(), image_, allocation_.memory, allocation_.offset));
+
+    VkImageViewCreateInfo viewInfo{VK_STRUCTURE_TYPE_IMAGE_VIEW_CREATE_INFO};
+    viewInfo.image = image_;
+    viewInfo.viewType = desc.type == VK_IMAGE_TYPE_3D ? VK_IMAGE_VIEW_TYPE_3D : VK_IMAGE_VIEW_TYPE_2D;
+    viewInfo.format = desc.format;
+    viewInfo.subresourceRange = {aspect_, 0, 1, 0, 1};
+    VK_CHECK(vkCreateImageView(context.device(), &viewInfo, nullptr, &view_));
+    context.setName(view_, VK_OBJECT_TYPE_IMAGE_VIEW, desc.name + " view");
   } catch (...) {
     release();
     throw;
   }
-
-  VkImageViewCreateInfo viewInfo{VK_STRUCTURE_TYPE_IMAGE_VIEW_CREATE_INFO};
-  viewInfo.image = image_;
-  viewInfo.viewType = desc.type == VK_IMAGE_TYPE_3D ? VK_IMAGE_VIEW_TYPE_3D : VK_IMAGE_VIEW_TYPE_2D;
-  viewInfo.format = desc.format;
-  viewInfo.subresourceRange = {aspect_, 0, 1, 0, 1};
-  VK_CHECK(vkCreateImageView(context.device(), &viewInfo, nullptr, &view_));
-  context.setName(view_, VK_OBJECT_TYPE_IMAGE_VIEW, desc.name + " view");
 }
 
 Image::~Image() { release(); }

@@ -82,9 +82,10 @@ Status Swapchain::recreate(VkExtent2D desiredExtent) {
   info.presentMode = vsync_ ? VK_PRESENT_MODE_FIFO_KHR : VK_PRESENT_MODE_IMMEDIATE_KHR;
   if (!vsync_) {
     std::uint32_t modeCount = 0;
-    vkGetPhysicalDeviceSurfacePresentModesKHR(physical, surface_, &modeCount, nullptr);
+    VK_TRY(vkGetPhysicalDeviceSurfacePresentModesKHR(physical, surface_, &modeCount, nullptr));
     std::vector<VkPresentModeKHR> modes(modeCount);
-    vkGetPhysicalDeviceSurfacePresentModesKHR(physical, surface_, &modeCount, modes.data());
+    VK_TRY(vkGetPhysicalDeviceSurfacePresentModesKHR(physical, surface_, &modeCount, modes.data()));
+    modes.resize(modeCount);
     if (std::find(modes.begin(), modes.end(), info.presentMode) == modes.end())
       info.presentMode = VK_PRESENT_MODE_FIFO_KHR;
   }
@@ -112,11 +113,9 @@ Status Swapchain::recreate(VkExtent2D desiredExtent) {
 }
 
 bool Swapchain::acquire(VkSemaphore imageAvailable, std::uint32_t& imageIndex) {
-  const VkResult result =
-      vkAcquireNextImageKHR(context_.device(), swapchain_, UINT64_MAX, imageAvailable, VK_NULL_HANDLE, &imageIndex);
-  if (result == VK_ERROR_OUT_OF_DATE_KHR) return false;
-  if (result != VK_SUBOPTIMAL_KHR) VK_CHECK(result);
-  return true;
+  const VkResult result = VK_CHECK_SWAPCHAIN(
+      vkAcquireNextImageKHR(context_.device(), swapchain_, UINT64_MAX, imageAvailable, VK_NULL_HANDLE, &imageIndex));
+  return result != VK_ERROR_OUT_OF_DATE_KHR;
 }
 
 bool Swapchain::present(std::uint32_t imageIndex) {
@@ -128,11 +127,8 @@ bool Swapchain::present(std::uint32_t imageIndex) {
   info.pImageIndices = &imageIndex;
   // Through vk_check.h's fault injection: a test can have a present that the driver completed
   // report out of date or suboptimal (an X server that resizes synchronously never does).
-  const VkResult result =
-      detail::checkedResult("vkQueuePresentKHR(context_.queue(), &info)", vkQueuePresentKHR(context_.queue(), &info));
-  if (result == VK_ERROR_OUT_OF_DATE_KHR || result == VK_SUBOPTIMAL_KHR) return false;
-  VK_CHECK(result);
-  return true;
+  const VkResult result = VK_CHECK_SWAPCHAIN(vkQueuePresentKHR(context_.queue(), &info));
+  return result == VK_SUCCESS;
 }
 
 }  // namespace engine::gpu

@@ -48,6 +48,11 @@ VkResult applyInjectedFault(const char* callText, VkResult real);
 inline VkResult checkedResult(const char* callText, VkResult real) {
   return faultArmed.load(std::memory_order_relaxed) ? applyInjectedFault(callText, real) : real;
 }
+inline VkResult checkedSwapchainResult(const char* callText, VkResult real, const char* file, int line) {
+  const VkResult result = checkedResult(callText, real);
+  if (result == VK_SUCCESS || result == VK_SUBOPTIMAL_KHR || result == VK_ERROR_OUT_OF_DATE_KHR) return result;
+  throw VulkanError(result, describeFailedCall(result, callText, file, line));
+}
 }  // namespace detail
 
 }  // namespace engine::gpu
@@ -68,3 +73,8 @@ inline VkResult checkedResult(const char* callText, VkResult real) {
       return ::engine::makeError(                                                             \
           ::engine::gpu::describeFailedCall(vk_try_result_, #call, __FILE__, __LINE__));      \
   } while (0)
+
+// For vkAcquireNextImageKHR and vkQueuePresentKHR, whose caller handles a swapchain that no longer
+// matches its surface: evaluates to VK_SUCCESS, VK_SUBOPTIMAL_KHR or VK_ERROR_OUT_OF_DATE_KHR and
+// throws as VK_CHECK does for anything else, naming the call (fault injection applies).
+#define VK_CHECK_SWAPCHAIN(call) ::engine::gpu::detail::checkedSwapchainResult(#call, (call), __FILE__, __LINE__)

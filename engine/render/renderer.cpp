@@ -91,10 +91,20 @@ Renderer::Renderer(const gpu::Context& context, const RendererDesc& desc, VkExte
       scene_(context, desc.framesInFlight * std::max(desc.maxViewRegions, 1u)),
       frameGlobals_(context, desc.framesInFlight, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, "frame globals") {
   desc_.maxViewRegions = std::max(desc_.maxViewRegions, 1u);
+  try {  // a constructor that throws runs no destructor: the raw handles made so far go back here
+    createFrameObjects();
+  } catch (...) {
+    destroyHandles();
+    throw;
+  }
+}
+
+void Renderer::createFrameObjects() {
+  const gpu::Context& context = context_;
   createSceneDescriptors();
   createTargets();
-  frames_.resize(desc.framesInFlight);
-  for (std::uint32_t i = 0; i < desc.framesInFlight; ++i) {
+  frames_.resize(desc_.framesInFlight);
+  for (std::uint32_t i = 0; i < desc_.framesInFlight; ++i) {
     FrameResources& frame = frames_[i];
     const std::string suffix = " [frame " + std::to_string(i) + "]";
     VkCommandPoolCreateInfo poolInfo{VK_STRUCTURE_TYPE_COMMAND_POOL_CREATE_INFO};
@@ -121,6 +131,11 @@ Renderer::Renderer(const gpu::Context& context, const RendererDesc& desc, VkExte
 Renderer::~Renderer() {
   vkDeviceWaitIdle(context_.device());
   features_.clear();
+  destroyHandles();
+}
+
+// Null handles are skipped by the destroy calls: also what a constructor that failed half-way needs.
+void Renderer::destroyHandles() noexcept {
   for (FrameResources& frame : frames_) {
     vkDestroySemaphore(context_.device(), frame.imageAvailable, nullptr);
     vkDestroyFence(context_.device(), frame.fence, nullptr);

@@ -166,6 +166,8 @@ class Renderer {
     bool timed = false;      // the submission wrote the timer and statistics queries
   };
 
+  void createFrameObjects();
+  void destroyHandles() noexcept;
   void createTargets();
   void createSceneDescriptors();
   void updateSceneDescriptors();

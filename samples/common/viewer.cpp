@@ -55,7 +55,14 @@ Expected<std::unique_ptr<Viewer>> Viewer::create(const ViewerDesc& desc) {
   return viewer;
 }
 
-Viewer::~Viewer() { (void)close(); }
+// A destructor that throws terminates the program: what close() reports is logged instead.
+Viewer::~Viewer() {
+  try {
+    if (const Status closed = close(); !closed) log::error("closing the viewer: {}", closed.error().message);
+  } catch (const std::exception& e) {
+    log::error("closing the viewer: {}", e.what());
+  }
+}
 
 Status Viewer::initialize(const ViewerDesc& desc) {
   gpu::ContextDesc contextDesc;
@@ -426,11 +433,16 @@ Status Viewer::close() {
   if (closed_ || !context_) return {};
   closed_ = true;
   bakes_.stop();
+  // The teardown goes on whatever the wait says: stopping half-way would leave the rest to the
+  // members' destructors, in declaration order, not dependency order.
+  std::string waitFailed;
   try {
     context_->waitIdle();
   } catch (const gpu::VulkanError& e) {  // a lost device has nothing left to wait for
-    if (e.result() != VK_ERROR_DEVICE_LOST) throw;
-    deviceLost_ = true;
+    if (e.result() == VK_ERROR_DEVICE_LOST)
+      deviceLost_ = true;
+    else
+      waitFailed = e.what();
   }
   compare_.release();
   ui_.reset();
@@ -438,11 +450,15 @@ Status Viewer::close() {
   if (window_) window_->destroySwapchain(*context_);
   registry_.clear();
   pool_.reset();
-  const std::uint32_t messages = context_->validationMessageCount();
+  // Objects never destroyed are reported while the device is destroyed: counted too.
+  const std::uint64_t othersBefore =
+      gpu::Context::processValidationMessageCount() - context_->validationMessageCount();
   context_.reset();
   window_.reset();
+  const std::uint64_t messages = gpu::Context::processValidationMessageCount() - othersBefore;
   if (messages > 0) return makeError(std::to_string(messages) + " Vulkan validation message(s); see the log above");
   if (deviceLost_) return makeError("the Vulkan device was lost (VK_ERROR_DEVICE_LOST); closed without it");
+  if (!waitFailed.empty()) return makeError("waiting for the GPU before closing: " + waitFailed);
   return {};
 }
 

@@ -276,7 +276,9 @@ class Viewer {
   glm::vec3 boundsMax() const { return boundsMax_; }
 
   // Tears everything down in dependency order; an error when the validation layers reported
-  // anything during the Viewer's life. The destructor does the same, silently.
+  // anything during the Viewer's life (objects left at device destruction included) or the final
+  // wait for the GPU failed. Never throws for a failed Vulkan call; the destructor does the same
+  // and logs the error.
   engine::Status close();
 
  private:

@@ -17,11 +17,16 @@ using mat4 = glm::mat4;
 using uint = std::uint32_t;
 using uint64_t = std::uint64_t;
 #define HSDF_CHECK_SIZE(type, bytes) static_assert(sizeof(type) == (bytes), #type " layout changed")
+// Push constants fit the 128 bytes every Vulkan device offers (the least maxPushConstantsSize the
+// specification allows): no device is asked for more.
+#define HSDF_CHECK_PUSH_CONSTANTS(type) \
+  static_assert(sizeof(type) <= 128, #type " is larger than the 128 bytes of push constants every device has")
 #else
 #extension GL_EXT_buffer_reference : require
 #extension GL_EXT_scalar_block_layout : require
 #extension GL_EXT_shader_explicit_arithmetic_types_int64 : require
 #define HSDF_CHECK_SIZE(type, bytes)
+#define HSDF_CHECK_PUSH_CONSTANTS(type)
 #endif
 
 // Debug views (DrawPushConstants::debugView); the same numbers in the UI and on the command line.
@@ -80,6 +85,7 @@ struct DrawPushConstants {
   uint pad1;
 };
 HSDF_CHECK_SIZE(DrawPushConstants, 32);
+HSDF_CHECK_PUSH_CONSTANTS(DrawPushConstants);
 
 // Frame-wide work totals of a counting frame (FrameSettings::countWork), in the work-counter buffer
 // right after its one uint per pixel: what a feature gave up on, counted so that it is never
@@ -108,6 +114,7 @@ struct DepthPyramidPushConstants {
   uint dstHeight;
 };
 HSDF_CHECK_SIZE(DepthPyramidPushConstants, 8 + 6 * 4);
+HSDF_CHECK_PUSH_CONSTANTS(DepthPyramidPushConstants);
 
 #ifdef __cplusplus
 }  // namespace shader

@@ -114,7 +114,9 @@ void GpuTest::TearDown() {
   pool_.reset();
   const auto messages = context_->validationMessages();
   EXPECT_EQ(context_->validationMessageCount(), 0u) << (messages.empty() ? "" : messages.front());
-  context_.reset();
+  const std::uint32_t beforeDestruction = context_->validationMessageCount();
+  EXPECT_EQ(hsdftest::messagesThroughDestruction(context_), beforeDestruction)
+      << "objects left at device destruction (see the log)";
 }
 
 void GpuTest::createRenderer(std::uint32_t width, std::uint32_t height) {

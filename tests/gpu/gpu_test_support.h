@@ -73,7 +73,7 @@ glm::dvec3 referenceShading(const engine::render::RendererDesc& desc, const glm:
 class GpuTest : public ::testing::Test {
  protected:
   void SetUp() override;
-  void TearDown() override;  // fails the test on any validation message
+  void TearDown() override;  // fails the test on any validation message, at device destruction too
 
   // Resolves the transform hierarchy, renders `frames` frames and reads the last one back.
   Frame render(const engine::render::CameraView& camera, std::uint32_t frames = 1);

@@ -8,6 +8,8 @@
 // fallback: a typo must not quietly run the "GPU" suite on lavapipe. `auto` is the engine's own
 // choice (DevicePreference::Auto: discrete GPU first, lavapipe last; the launcher exports
 // HSDF_DEVICE=auto, and an in-process context honours an HSDF_DEVICE the caller set).
+#include <cstdint>
+#include <memory>
 #include <string>
 #include <string_view>
 
@@ -31,5 +33,15 @@ std::string_view engineDeviceName(engine::gpu::DevicePreference preference);
 // "lavapipe (HSDF_TEST_DEVICE unset)", "gpu (HSDF_TEST_DEVICE=gpu)": for messages that say where a
 // failing test ran and how that was chosen.
 std::string describeTestDevice();
+
+// Destroys `context` and returns the validation messages it reported over its whole life, those
+// reported while it is destroyed included: the layer names every object never destroyed at
+// vkDestroyDevice, after the last moment the context itself can be asked.
+inline std::uint64_t messagesThroughDestruction(std::unique_ptr<engine::gpu::Context>& context) {
+  const std::uint64_t others =
+      engine::gpu::Context::processValidationMessageCount() - context->validationMessageCount();
+  context.reset();
+  return engine::gpu::Context::processValidationMessageCount() - others;
+}
 
 }  // namespace hsdftest

@@ -146,6 +146,7 @@ struct BrickCullPushConstants {
   uint pad;
 };
 HSDF_CHECK_SIZE(BrickCullPushConstants, 6 * 8 + 2 * 4);
+HSDF_CHECK_PUSH_CONSTANTS(BrickCullPushConstants);
 
 // Cell culling (RenderMethod::Cells; cell_cull.comp, hsdf::CellCuller): one per front-face command
 // of a culled object (a row of cells, drawn in the order the CPU chose; at most
@@ -213,6 +214,7 @@ struct CellCullPushConstants {
 // one uint (32 chunks of 64 cells). The CPU splits longer rows.
 #define CELL_CULL_MAX_RANGE_CELLS 2048u
 HSDF_CHECK_SIZE(CellCullPushConstants, 11 * 8 + 10 * 4);
+HSDF_CHECK_PUSH_CONSTANTS(CellCullPushConstants);
 #define CELL_CULL_PHASE_ALL 0u    // no occlusion culling
 #define CELL_CULL_PHASE_EARLY 1u
 #define CELL_CULL_PHASE_LATE 2u
@@ -323,6 +325,7 @@ struct CellTilePushConstants {
   uint pad0;
 };
 HSDF_CHECK_SIZE(CellTilePushConstants, 11 * 8 + 8 * 4);
+HSDF_CHECK_PUSH_CONSTANTS(CellTilePushConstants);
 
 // Per Hermite-cell object, reached through ObjectData::payload: what the shading pass needs to
 // find a visible cell's record from the visibility buffer (x: object, y: record index).
@@ -364,6 +367,7 @@ struct HermitePushConstants {
 };
 // 128 bytes: every Vulkan device's least maxPushConstantsSize.
 HSDF_CHECK_SIZE(HermitePushConstants, 32 + 8 * 8 + 8 + 16 + 8);
+HSDF_CHECK_PUSH_CONSTANTS(HermitePushConstants);
 
 // ---- Sphere-tracing baselines (hsdf::SphereTraceFeature) ----------------------------------------
 #define SPHERE_TRACE_FEATURE_ID 3u
@@ -404,6 +408,7 @@ struct SphereTracePushConstants {
   uint64_t workTotals;     // address of the frame's WorkTotals, 0 when off
 };
 HSDF_CHECK_SIZE(SphereTracePushConstants, 32 + 3 * 8);
+HSDF_CHECK_PUSH_CONSTANTS(SphereTracePushConstants);
 
 #ifdef __cplusplus
 }  // namespace shader

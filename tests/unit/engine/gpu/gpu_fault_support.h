@@ -22,4 +22,6 @@ inline std::unique_ptr<Context> makeTestContext() {
   return context.ok() ? std::move(*context) : nullptr;
 }
 
+using hsdftest::messagesThroughDestruction;
+
 }  // namespace engine::gpu::test
