@@ -274,10 +274,7 @@ std::optional<Method> parseMethod(std::string_view name) {
   return sdf ? std::optional<Method>(*sdf) : std::nullopt;
 }
 bool isSdfMethod(Method method) { return method.sdf().has_value(); }
-bool drawsCells(Method method) {
-  using hsdf::RenderMethod;
-  return method == RenderMethod::Cells || method == RenderMethod::CellRuns || method == RenderMethod::CellBricks;
-}
+bool drawsCells(Method method) { return method.sdf() && hsdf::drawsCells(*method.sdf()); }
 
 bool needsDenseField(Method method) { return isSdfMethod(method) && !drawsCells(method); }
 const char* normalModeName(hsdf::NormalMode mode) { return nameOf(kNormalModes, mode); }
@@ -297,7 +294,7 @@ std::optional<DebugView> parseDebugView(std::string_view name) {
   return std::nullopt;
 }
 
-IntRange resolutionRange(Method method) { return drawsCells(method) || method == Method::Mesh ? kCellResolutionRange : kDenseResolutionRange; }
+IntRange resolutionRange(Method method) { return drawsCells(method) || method == Method::Mesh ? kResolutionRange : kDenseResolutionRange; }
 
 hsdf::BakeBand bakeBandFor(Method method, int resolution) {
   return drawsCells(method) && resolution > kDenseBakeMaxResolution ? hsdf::BakeBand::Sparse : hsdf::BakeBand::Dense;

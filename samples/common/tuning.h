@@ -45,7 +45,7 @@ const char* methodName(Method method);  // "mesh", else hsdf::renderMethodName
 std::string allMethodNames();            // "mesh, cells, trilinear, ...", for messages
 std::optional<Method> parseMethod(std::string_view name);
 bool isSdfMethod(Method method);
-// The cell renderers (cells, cells-runs, cell-bricks): they draw the baked asset's kept cells.
+// The cell renderers (hsdf::drawsCells; not Mesh): they draw the baked asset's kept cells.
 bool drawsCells(Method method);
 // The sphere tracers (trilinear, hermite): they need the dense field.
 bool needsDenseField(Method method);
@@ -87,9 +87,8 @@ struct IntRange {
 // K, by method (resolutionRange): the cell renderers up to 2048, past the dense bake's reach with
 // the sparse bake (bakeBandFor; the bake budget may still refuse a large K, naming its limit); the
 // dense tracers up to 512, where their textures hold K^3 texels (the Hermite one 16 B a texel: 2 GiB)
-// and the dense bake K^3 samples. kResolutionRange is the widest of them (what a file may hold).
+// and the dense bake K^3 samples. kResolutionRange is the cells' and the widest (what a file may hold).
 inline constexpr IntRange kResolutionRange{2, 2048};
-inline constexpr IntRange kCellResolutionRange{2, 2048};
 inline constexpr IntRange kDenseResolutionRange{2, 512};
 // Past this K the cell renderers bake sparse (no dense field, so a switch to a dense tracer re-bakes).
 inline constexpr int kDenseBakeMaxResolution = 256;

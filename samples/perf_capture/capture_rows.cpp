@@ -88,14 +88,6 @@ const Variant kVariants[] = {
      {.method = hsdf::RenderMethod::CellBricks, .subdivisions = 3, .refineSteps = 1, .cullBricks = false}},
 };
 
-RenderMethod renderMethodOf(Method method) {
-  if (method == hsdf::RenderMethod::TrilinearSphereTrace) return RenderMethod::TrilinearSphereTrace;
-  if (method == hsdf::RenderMethod::HermiteSphereTrace) return RenderMethod::HermiteSphereTrace;
-  if (method == hsdf::RenderMethod::CellRuns) return RenderMethod::CellRuns;
-  if (method == hsdf::RenderMethod::CellBricks) return RenderMethod::CellBricks;
-  return RenderMethod::Cells;
-}
-
 bool wanted(const Options& options, const std::string& method) {
   return std::find(options.methods.begin(), options.methods.end(), method) != options.methods.end();
 }
@@ -115,7 +107,9 @@ RowSpec makeRow(const Variant& v, int k, bool lod) {
   row.state.resolution = k;
   row.state.lod = lod;
   row.resolution = k;
-  row.render = renderMethodOf(v.tuning.method);
+  // Every variant is of an SDF method (the mesh rows are not variants): its method is the row's,
+  // whatever the module adds (a chain of ifs labelled a new method "cells").
+  row.render = v.tuning.method.sdf().value();
   const bool cells = samples::drawsCells(v.tuning.method);  // the tracers have no n or r
   row.subdivisions = cells ? v.tuning.subdivisions : 0;
   row.refine = cells ? v.tuning.refineSteps : 0;

@@ -6,6 +6,7 @@
 
 #include <CLI/CLI.hpp>
 #include <fmt/format.h>
+#include <fmt/ranges.h>
 #include <glm/glm.hpp>
 
 #include "options_common.h"
@@ -133,13 +134,15 @@ void addTuningOptions(CLI::App& app, TuningState& t) {
       ->transform(oneOf({samples::ThinBoxes::Auto, samples::ThinBoxes::On, samples::ThinBoxes::Off},
                         samples::earlyDepthName));
   app.add_option("--tiles", t.tiles,
-                 "cells (with --cull-cells): one quad per 8x8-pixel screen tile whose fragments search the tile's "
-                 "cells, instead of a box per cell: auto (default: on for software rasterizers), on or off")
+                 "cells (with --cull-cells): the kept cells binned into screen tiles (--tile-size), each drawn as a "
+                 "point where the device can, else a quad, whose fragments search the tile's cells, instead of a box "
+                 "per cell: auto (default: on for software rasterizers), on or off")
       ->transform(oneOf({samples::TiledCells::Auto, samples::TiledCells::On, samples::TiledCells::Off},
                         samples::earlyDepthName));
   app.add_option("--tile-size", t.tileSize,
-                 "cells as tiles: the tiles' side in pixels, 4, 8 (default) or 16; smaller tiles list fewer cells a "
-                 "pixel cannot see, but there are more of them to bin and draw")
+                 fmt::format("cells as tiles: the tiles' side in pixels, one of {} (default {}); smaller tiles list "
+                             "fewer cells a pixel cannot see, but there are more of them to bin and draw",
+                             fmt::join(samples::kTileSizes, ", "), TuningState{}.tileSize))
       ->check(CLI::IsMember(std::vector<std::uint32_t>(std::begin(samples::kTileSizes), std::end(samples::kTileSizes))));
   app.add_option("--split", t.split, "split-screen comparison: off, vertical or horizontal (divider)")
       ->transform(oneOf({samples::SplitMode::Off, samples::SplitMode::Vertical, samples::SplitMode::Horizontal},
@@ -148,7 +151,11 @@ void addTuningOptions(CLI::App& app, TuningState& t) {
       ->check(CLI::Range(0.05f, 0.95f));
   addMethodOption(app, "--compare-method", t.compareMethod, hsdf::kRenderMethods,
                   "the compared side: trilinear (default), hermite or cells");
-  app.add_option("--compare-resolution", t.compareResolution, "K of the compared side (2..512; default 0: 2K, at most 256)")
+  // The check takes the widest range; validateTuning then the compared method's (its message names it).
+  app.add_option("--compare-resolution", t.compareResolution,
+                 fmt::format("K of the compared side ({}..{}, trilinear and hermite up to {}; default 0: 2K, at most {})",
+                             samples::kResolutionRange.min, samples::kResolutionRange.max,
+                             samples::kDenseResolutionRange.max, samples::kDefaultCompareResolutionMax))
       ->check(CLI::Range(0, samples::kResolutionRange.max));
   app.add_option("--compare-normals", t.compareNormals, "normals of the compared side: exact or central (default)")
       ->transform(oneOf({hsdf::NormalMode::Exact, hsdf::NormalMode::CentralDifferences}, samples::normalModeName));
