@@ -46,7 +46,7 @@ TEST(Tuning, EveryNameParsesBackToItsValue) {
     EXPECT_STREQ(debugViewName(DebugView(value)), name);
   }
   for (SplitMode m : {SplitMode::Off, SplitMode::Vertical, SplitMode::Horizontal}) EXPECT_EQ(parseSplitMode(splitModeName(m)), m);
-  for (EarlyDepth m : {EarlyDepth::Auto, EarlyDepth::On, EarlyDepth::Off}) EXPECT_EQ(parseEarlyDepth(earlyDepthName(m)), m);
+  for (AutoSwitch m : {AutoSwitch::Auto, AutoSwitch::On, AutoSwitch::Off}) EXPECT_EQ(parseAutoSwitch(autoSwitchName(m)), m);
   EXPECT_FALSE(parseMethod("Cells").has_value()) << "names are case-sensitive, as on the command line";
   EXPECT_FALSE(parseNormalMode("").has_value());
 }
@@ -93,14 +93,14 @@ TEST(Tuning, SettingsFileRoundTrip) {
   t.fp16 = true;
   t.debugView = DebugView(DEBUG_VIEW_WIREFRAME);
   t.frontToBack = false;
-  t.earlyDepth = EarlyDepth::Off;
+  t.earlyDepth = AutoSwitch::Off;
   t.certified = true;
   t.cullBricks = false;
   t.cullCells = false;
   t.cullOcclusion = true;  // not the default (off)
   t.proxyBoxes = false;     // not the default (on)
-  t.thinBoxes = ThinBoxes::On;
-  t.tiles = TiledCells::Off;
+  t.thinBoxes = AutoSwitch::On;
+  t.tiles = AutoSwitch::Off;
   t.tileSize = 16;
   t.split = SplitMode::Horizontal;
   t.splitPosition = 0.3f;  // exact in binary and in the JSON text
@@ -126,29 +126,29 @@ TEST(Tuning, SettingsFileRoundTrip) {
 // Tricky: early_depth has three values in two JSON types (true / false / "auto"); each must come
 // back as itself, and "auto" must be the default a file without the key keeps.
 TEST(Tuning, EarlyDepthRoundTripsItsThreeValues) {
-  EXPECT_EQ(TuningState{}.earlyDepth, EarlyDepth::Auto);
+  EXPECT_EQ(TuningState{}.earlyDepth, AutoSwitch::Auto);
   const auto file = tempFile("early_depth.json");
-  for (EarlyDepth mode : {EarlyDepth::Auto, EarlyDepth::On, EarlyDepth::Off}) {
+  for (AutoSwitch mode : {AutoSwitch::Auto, AutoSwitch::On, AutoSwitch::Off}) {
     TuningState t;
     t.earlyDepth = mode;
     ASSERT_TRUE(saveTuning(file, t).ok());
     const auto text = engine::readTextFile(file);
     ASSERT_TRUE(text.ok());
-    const char* expected = mode == EarlyDepth::Auto ? R"("early_depth": "auto")"
-                           : mode == EarlyDepth::On ? R"("early_depth": true)"
+    const char* expected = mode == AutoSwitch::Auto ? R"("early_depth": "auto")"
+                           : mode == AutoSwitch::On ? R"("early_depth": true)"
                                                     : R"("early_depth": false)";
     EXPECT_NE(text->find(expected), std::string::npos) << *text;
     TuningState base;
-    base.earlyDepth = mode == EarlyDepth::Off ? EarlyDepth::On : EarlyDepth::Off;  // not what the file says
+    base.earlyDepth = mode == AutoSwitch::Off ? AutoSwitch::On : AutoSwitch::Off;  // not what the file says
     const auto loaded = loadTuning(file, base);
     ASSERT_TRUE(loaded.ok()) << loaded.error().message;
-    EXPECT_EQ(loaded->earlyDepth, mode) << earlyDepthName(mode);
+    EXPECT_EQ(loaded->earlyDepth, mode) << autoSwitchName(mode);
   }
   TuningState t;
   ASSERT_TRUE(setTuningValue(t, "early_depth", "false").ok());  // a --script line
-  EXPECT_EQ(t.earlyDepth, EarlyDepth::Off);
+  EXPECT_EQ(t.earlyDepth, AutoSwitch::Off);
   ASSERT_TRUE(setTuningValue(t, "early_depth", "auto").ok());
-  EXPECT_EQ(t.earlyDepth, EarlyDepth::Auto);
+  EXPECT_EQ(t.earlyDepth, AutoSwitch::Auto);
 }
 
 // Tricky: keys left out keep the base's values (a file may set only the method).

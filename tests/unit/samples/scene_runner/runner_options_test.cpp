@@ -90,7 +90,7 @@ TEST(RunnerOptions, EveryOptionsGoodValue) {
   EXPECT_EQ(o.tuning.debugView, DebugView(DEBUG_VIEW_EVALS));
   EXPECT_TRUE(o.sideBySide);
   EXPECT_FALSE(o.tuning.frontToBack);
-  EXPECT_EQ(o.tuning.earlyDepth, samples::EarlyDepth::Off);
+  EXPECT_EQ(o.tuning.earlyDepth, samples::AutoSwitch::Off);
   EXPECT_TRUE(o.tuning.certified);
   EXPECT_EQ(o.view, 3);
   ASSERT_TRUE(o.camera.has_value());
@@ -223,11 +223,11 @@ TEST(RunnerOptions, BadValuesNameTheOption) {
 // Tricky: the early depth stage has three values; --no-early-depth (older scripts) must stay --early-depth
 // off, and the default must be auto (the device decides), not on.
 TEST(RunnerOptions, EarlyDepthModes) {
-  EXPECT_EQ(parseOk({}).tuning.earlyDepth, samples::EarlyDepth::Auto);
-  EXPECT_EQ(parseOk({"--no-early-depth"}).tuning.earlyDepth, samples::EarlyDepth::Off);
-  EXPECT_EQ(parseOk({"--early-depth", "off"}).tuning.earlyDepth, samples::EarlyDepth::Off);
-  EXPECT_EQ(parseOk({"--early-depth", "on"}).tuning.earlyDepth, samples::EarlyDepth::On);
-  EXPECT_EQ(parseOk({"--early-depth", "auto"}).tuning.earlyDepth, samples::EarlyDepth::Auto);
+  EXPECT_EQ(parseOk({}).tuning.earlyDepth, samples::AutoSwitch::Auto);
+  EXPECT_EQ(parseOk({"--no-early-depth"}).tuning.earlyDepth, samples::AutoSwitch::Off);
+  EXPECT_EQ(parseOk({"--early-depth", "off"}).tuning.earlyDepth, samples::AutoSwitch::Off);
+  EXPECT_EQ(parseOk({"--early-depth", "on"}).tuning.earlyDepth, samples::AutoSwitch::On);
+  EXPECT_EQ(parseOk({"--early-depth", "auto"}).tuning.earlyDepth, samples::AutoSwitch::Auto);
 }
 
 // Tricky: --help is not an error (exit 0) and its text lists the options, new ones included.
