@@ -59,7 +59,7 @@ bool parseOnOff(std::string_view text, bool& out) {
   return true;
 }
 
-bool isTuning(const ScriptCommand& c) { return contains(kTuningKeys, c.key); }
+bool isTuning(const ScriptCommand& c) { return isTuningKey(c.key); }
 
 // Settings that follow one another on a line are one change, checked and applied together (as the
 // keys of a settings file): "padding=16 resolution=40" from K = 16 is the same as the other order.

@@ -45,7 +45,7 @@ const char* methodName(Method method);  // "mesh", else hsdf::renderMethodName
 std::string allMethodNames();            // "mesh, cells, trilinear, ...", for messages
 std::optional<Method> parseMethod(std::string_view name);
 bool isSdfMethod(Method method);
-// The cell renderers (cells, cells-runs, cell-bricks): they draw the baked asset's kept cells.
+// The cell renderers (hsdf::drawsCells; not Mesh): they draw the baked asset's kept cells.
 bool drawsCells(Method method);
 // The sphere tracers (trilinear, hermite): they need the dense field.
 bool needsDenseField(Method method);
@@ -60,18 +60,12 @@ std::vector<DebugView> allDebugViews();     // by value
 const char* debugViewName(DebugView view);  // "none", "normals", "depth", "cells", "evals", "wireframe"
 std::optional<DebugView> parseDebugView(std::string_view name);
 
-// The cells' early depth stage (hsdf::HermiteCellFeature::EarlyDepth): auto (on for software
-// rasterizers such as lavapipe, off on GPUs, where it costs more than it saves), on, off. A settings
-// file writes it as true, false or "auto".
-enum class EarlyDepth { Auto, On, Off };
-const char* earlyDepthName(EarlyDepth mode);  // "auto", "on", "off"
-std::optional<EarlyDepth> parseEarlyDepth(std::string_view name);
-// The cells' thin boxes (hsdf::HermiteCellFeature::ThinBoxes), the same three-way switch: auto (on
-// GPUs when the cells are small on screen), on, off; written as true, false or "auto".
-using ThinBoxes = EarlyDepth;
-// The cells' screen tiles (hsdf::HermiteCellFeature::Tiles), the same switch: auto (on for software
-// rasterizers), on, off; written as true, false or "auto".
-using TiledCells = EarlyDepth;
+// The cells' three-way switches (early depth stage, thin boxes, tiles): the module's one type,
+// hsdf::AutoSwitch, where Auto lets the device decide (each TuningState member says how). A settings
+// file writes one as true, false or "auto", the command line as auto, on or off.
+using AutoSwitch = hsdf::AutoSwitch;
+const char* autoSwitchName(AutoSwitch mode);  // "auto", "on", "off"
+std::optional<AutoSwitch> parseAutoSwitch(std::string_view name);
 
 // Split-screen comparison: off, or a divider that is vertical (compared method on the right) or
 // horizontal (compared method at the bottom).
@@ -87,9 +81,8 @@ struct IntRange {
 // K, by method (resolutionRange): the cell renderers up to 2048, past the dense bake's reach with
 // the sparse bake (bakeBandFor; the bake budget may still refuse a large K, naming its limit); the
 // dense tracers up to 512, where their textures hold K^3 texels (the Hermite one 16 B a texel: 2 GiB)
-// and the dense bake K^3 samples. kResolutionRange is the widest of them (what a file may hold).
+// and the dense bake K^3 samples. kResolutionRange is the cells' and the widest (what a file may hold).
 inline constexpr IntRange kResolutionRange{2, 2048};
-inline constexpr IntRange kCellResolutionRange{2, 2048};
 inline constexpr IntRange kDenseResolutionRange{2, 512};
 // Past this K the cell renderers bake sparse (no dense field, so a switch to a dense tracer re-bakes).
 inline constexpr int kDenseBakeMaxResolution = 256;
@@ -107,6 +100,7 @@ struct FloatRange {
   float max;
 };
 inline constexpr FloatRange kLodPixelsPerCellRange{0.25f, 64.0f};
+inline constexpr FloatRange kSplitPositionRange{0.05f, 0.95f};  // both sides stay visible
 inline constexpr FloatRange kTraceEpsilonRange{1e-6f, 0.1f};
 inline constexpr IntRange kTraceMaxStepsRange{1, 4096};
 inline constexpr FloatRange kCentralDifferenceStepRange{0.01f, 1.0f};
@@ -125,14 +119,14 @@ struct TuningState {
   bool fp16 = false;
   DebugView debugView = DebugView(DEBUG_VIEW_NONE);
   bool frontToBack = true;  // cells: submit rows of cells front to back
-  EarlyDepth earlyDepth = EarlyDepth::Auto;  // cells: test boxes at their faces' depth, hidden ones skip the search
+  AutoSwitch earlyDepth = AutoSwitch::Auto;  // cells: test boxes at their faces' depth, hidden ones skip the search
   bool certified = false;   // cells: certified root search instead of n samples (renderable.h)
   bool cullBricks = true;   // cell bricks: the GPU culling pass (frustum, normal cones) before the prepass
   bool cullCells = true;    // cells: the same pass per cell (each with its own normal cone)
   bool cullOcclusion = hsdf::HermiteCellFeature::Settings{}.cullOcclusion;  // cells (with cullCells): two-phase occlusion culling against the depth pyramid
   bool proxyBoxes = hsdf::HermiteCellFeature::Settings{}.proxyBoxes;  // cells, runs, bricks: each cell drawn and searched over the part that can hold its roots
-  ThinBoxes thinBoxes = ThinBoxes::Auto;  // cells: 12 bytes of varyings per box, records read by address
-  TiledCells tiles = TiledCells::Auto;    // cells (with cullCells): one point per 8x8-pixel screen tile, not a box per cell
+  AutoSwitch thinBoxes = AutoSwitch::Auto;  // cells: 12 bytes of varyings per box, records read by address
+  AutoSwitch tiles = AutoSwitch::Auto;      // cells (with cullCells): the kept cells binned into screen tiles, not a box per cell
   std::uint32_t tileSize = hsdf::HermiteCellFeature::Settings{}.tileSize;  // tiles: their side in pixels, 4, 8 or 16
   // Split-screen comparison (same camera, same frame): the tuning above on one side, the compared
   // method on the other, drawn from its own bake at compareResolution with compareNormals (n,
@@ -167,13 +161,8 @@ struct TuningState {
   bool operator==(const TuningState&) const = default;
 };
 
-// The keys of a settings file and of --script settings, in the order saveTuning writes them.
-inline constexpr std::string_view kTuningKeys[] = {
-    "method",        "resolution", "padding", "subdivisions",   "refine",          "normals",
-    "fp16",          "debug_view", "front_to_back", "early_depth", "certified", "cull_bricks", "cull_cells", "cull_occlusion", "proxy_boxes", "thin_boxes", "tiles", "tile_size", "split", "split_position",
-    "compare_method", "compare_resolution", "compare_normals", "difference",
-    "node_draw", "triangle_nodes", "lod", "lod_pixels_per_cell", "trace_epsilon", "trace_max_steps",
-    "central_difference_step", "max_run_length"};
+// The keys of a settings file and of --script settings are the table's (tuning_fields.h).
+bool isTuningKey(std::string_view key);
 std::string tuningKeyList();  // "method, resolution, ..."
 
 // The K range of a method (Mesh: the cells', as the SDF is baked when an SDF method is picked).
@@ -207,14 +196,9 @@ void applyTuning(const TuningState& tuning, hsdf::HermiteSdfRenderable& renderab
 void applyTuning(const TuningState& tuning, hsdf::HermiteCellFeature::Settings& cells,
                  hsdf::SphereTraceFeature::Settings& tracers);
 
-// Settings files: JSON objects with the keys "method", "resolution", "padding", "subdivisions",
-// "refine", "normals", "fp16", "debug_view", "front_to_back", "early_depth" (true, false or "auto"),
-// "certified", "cull_bricks", "cull_cells", "cull_occlusion", "proxy_boxes", "thin_boxes", "tiles" (true, false or "auto"), "tile_size" (4, 8 or 16), "split",
-// "split_position" (0.05..0.95), "compare_method", "compare_resolution" (0: 2K, else 2..2048, checked by method),
-// "compare_normals", "difference", "node_draw" ("sdf" or "triangles"), "triangle_nodes" (an array of
-// node names; as text, names separated by commas), "lod", "lod_pixels_per_cell" (0.25..64), all optional. Loading starts from
-// `base`; an unknown key, a value of the wrong type or out of range is refused naming the key
-// and the file.
+// Settings files: JSON objects whose keys are the table's (tuning_fields.h, each with its kind of
+// value and its range), all optional. Loading starts from `base`; an unknown key, a value of the
+// wrong type or out of range is refused naming the key and the file.
 // Settings given as text, "key=value" style, with the keys and checks of a settings file (the
 // value is read as JSON when it parses as a number or true/false, else as a name): how a --script
 // line writes the TuningState. The values are checked together, after all are read, as a settings

@@ -9,6 +9,7 @@
 
 #include "engine/core/log.h"
 #include "engine/gpu/pipeline.h"
+#include "tuning_fields.h"
 #include "viewer.h"
 
 namespace samples {
@@ -43,26 +44,76 @@ bool bakeProgress(const hsdf::BakeJob& job, const char* what, const char* cancel
   return ImGui::Button(cancelId);
 }
 
-bool sliderU32(const char* label, std::uint32_t& value, IntRange range) {
-  int v = int(value);
-  if (!ImGui::SliderInt(label, &v, range.min, range.max, "%d", kClamp)) return false;
-  value = std::uint32_t(v);
-  return true;
+// The table's words for a control (tuning_fields.h): its label, and its help as the tooltip,
+// wrapped (the help is one line, written for --help too).
+const char* label(std::string_view key) { return tuningField(key).label; }
+void tooltip(std::string_view key) {
+  if (!ImGui::IsItemHovered()) return;
+  ImGui::BeginTooltip();
+  ImGui::PushTextWrapPos(ImGui::GetFontSize() * 40.0f);
+  ImGui::TextUnformatted(tuningField(key).help.c_str());
+  ImGui::PopTextWrapPos();
+  ImGui::EndTooltip();
 }
 
-// A one-line scrolling plot of the samples seen so far (the last kSamples once full).
-// A narrow auto / on / off combo (samples::EarlyDepth, and ThinBoxes, the same switch) with its
-// tooltip; true when the user changed it.
-bool autoSwitchCombo(const char* label, EarlyDepth& value, const char* tooltip) {
-  static_assert(int(EarlyDepth::Auto) == 0 && int(EarlyDepth::On) == 1 && int(EarlyDepth::Off) == 2);
-  int index = int(value);
-  ImGui::SetNextItemWidth(ImGui::GetFontSize() * 4.0f);
-  const bool changed = ImGui::Combo(label, &index, "auto\0on\0off\0");  // the enum's order
-  if (changed) value = EarlyDepth(index);
-  if (ImGui::IsItemHovered()) ImGui::SetTooltip("%s", tooltip);
+template <class T>
+T& member(std::string_view key, TuningState& t) {
+  return t.*std::get<T TuningState::*>(tuningField(key).member);
+}
+
+// A bool setting's checkbox; true when the user changed it.
+bool checkbox(std::string_view key, TuningState& t) {
+  const bool changed = ImGui::Checkbox(label(key), &member<bool>(key, t));
+  tooltip(key);
   return changed;
 }
 
+// An integer setting's slider over `range` (the panel's, where it is narrower than the table's).
+bool sliderU32(std::string_view key, TuningState& t, IntRange range) {
+  std::uint32_t& value = member<std::uint32_t>(key, t);
+  int v = int(value);
+  const bool changed = ImGui::SliderInt(label(key), &v, range.min, range.max, "%d", kClamp);
+  tooltip(key);
+  if (changed) value = std::uint32_t(v);
+  return changed;
+}
+bool sliderU32(std::string_view key, TuningState& t) {
+  const NumberRange range = tuningField(key).range;
+  return sliderU32(key, t, IntRange{int(range.min), int(range.max)});
+}
+
+// A float setting's slider over the table's range.
+bool sliderFloat(std::string_view key, TuningState& t, const char* format, ImGuiSliderFlags flags = 0) {
+  const NumberRange range = tuningField(key).range;
+  const bool changed =
+      ImGui::SliderFloat(label(key), &member<float>(key, t), float(range.min), float(range.max), format, flags | kClamp);
+  tooltip(key);
+  return changed;
+}
+
+// A narrow auto / on / off combo of an AutoSwitch setting; true when the user changed it.
+bool autoSwitchCombo(std::string_view key, TuningState& t) {
+  static_assert(int(AutoSwitch::Auto) == 0 && int(AutoSwitch::On) == 1 && int(AutoSwitch::Off) == 2);
+  AutoSwitch& value = member<AutoSwitch>(key, t);
+  int index = int(value);
+  ImGui::SetNextItemWidth(ImGui::GetFontSize() * 4.0f);
+  const bool changed = ImGui::Combo(label(key), &index, "auto\0on\0off\0");  // the enum's order
+  if (changed) value = AutoSwitch(index);
+  tooltip(key);
+  return changed;
+}
+
+// A normals setting as a checkbox: exact, or off for central differences.
+bool exactNormals(std::string_view key, TuningState& t) {
+  hsdf::NormalMode& normals = member<hsdf::NormalMode>(key, t);
+  bool exact = normals == hsdf::NormalMode::Exact;
+  const bool changed = ImGui::Checkbox(label(key), &exact);
+  tooltip(key);
+  if (changed) normals = exact ? hsdf::NormalMode::Exact : hsdf::NormalMode::CentralDifferences;
+  return changed;
+}
+
+// A one-line scrolling plot of the samples seen so far (the last kSamples once full).
 void plot(const char* label, const PlotHistory& history) {
   const int count = std::min(history.count, PlotHistory::kSamples);
   const int offset = history.count < PlotHistory::kSamples ? 0 : history.next;
@@ -113,7 +164,7 @@ void TuningPanel::drawMethod() {
   bool changed = false;
   int method = methodIndex(t.method);
   const bool sdf = viewer_.sdfAsset() || viewer_.canRebake();
-  if (ImGui::BeginCombo("method", kMethodLabels[method])) {
+  if (ImGui::BeginCombo(label("method"), kMethodLabels[method])) {
     for (int m = 0; m < int(std::size(kMethodLabels)); ++m) {
       const bool available = m == methodIndex(Method::Mesh) ? viewer_.hasMeshes() : sdf;
       if (available && ImGui::Selectable(kMethodLabels[m], m == method)) {
@@ -125,66 +176,37 @@ void TuningPanel::drawMethod() {
     }
     ImGui::EndCombo();
   }
-  changed |= sliderU32("n (subdivisions)", t.subdivisions, kPanelSubdivisionsRange);
-  changed |= sliderU32("refinement", t.refineSteps, kPanelRefineRange);
-  bool exact = t.normals == hsdf::NormalMode::Exact;
-  if (ImGui::Checkbox("exact normals (off: central diff.)", &exact)) {
-    t.normals = exact ? hsdf::NormalMode::Exact : hsdf::NormalMode::CentralDifferences;
-    changed = true;
+  changed |= sliderU32("subdivisions", t, kPanelSubdivisionsRange);
+  changed |= sliderU32("refine", t, kPanelRefineRange);
+  changed |= exactNormals("normals", t);
+  changed |= checkbox("fp16", t);
+  ImGui::SameLine();
+  changed |= checkbox("front_to_back", t);
+  ImGui::SameLine();
+  changed |= autoSwitchCombo("early_depth", t);
+  for (const char* key : {"certified", "cull_bricks", "cull_cells", "cull_occlusion", "proxy_boxes"}) {
+    ImGui::SameLine();
+    changed |= checkbox(key, t);
   }
-  changed |= ImGui::Checkbox("fp16", &t.fp16);
   ImGui::SameLine();
-  changed |= ImGui::Checkbox("front to back", &t.frontToBack);
-  ImGui::SameLine();
-  changed |= autoSwitchCombo("early depth", t.earlyDepth,
-                             "cells: boxes tested at their faces' depth, so boxes behind a found hit skip the search;\n"
-                             "auto: on for software rasterizers (lavapipe), off on GPUs, where it costs more than it saves");
-  ImGui::SameLine();
-  changed |= ImGui::Checkbox("certified roots", &t.certified);
-  if (ImGui::IsItemHovered())
-    ImGui::SetTooltip("cells: Bernstein subdivision of the ray's cubic instead of n samples; never misses the first root");
-  ImGui::SameLine();
-  changed |= ImGui::Checkbox("cull bricks", &t.cullBricks);
-  if (ImGui::IsItemHovered())
-    ImGui::SetTooltip("cell bricks: a compute pass keeps only the bricks in the frustum whose normal cone may face the eye");
-  ImGui::SameLine();
-  changed |= ImGui::Checkbox("cull cells", &t.cullCells);
-  if (ImGui::IsItemHovered())
-    ImGui::SetTooltip("cells: a compute pass keeps only the cells in the frustum whose normal cone may face the eye");
-  ImGui::SameLine();
-  changed |= ImGui::Checkbox("cull occlusion", &t.cullOcclusion);
-  if (ImGui::IsItemHovered())
-    ImGui::SetTooltip("cells (with cull cells): last frame's visible cells drawn first, the rest tested against the\n"
-                      "depth pyramid of what they drew; only those that may be visible are drawn");
-  ImGui::SameLine();
-  changed |= ImGui::Checkbox("proxy boxes", &t.proxyBoxes);
-  if (ImGui::IsItemHovered())
-    ImGui::SetTooltip("cells, runs, bricks: each cell drawn and searched over the part of it that can hold its surface\n"
-                      "(the same roots, fewer box fragments and searches); off: the whole cell, as the paper");
-  ImGui::SameLine();
-  changed |= autoSwitchCombo("thin boxes", t.thinBoxes,
-                             "cells: 12 bytes of varyings per box, the cell's data read by address in the fragment shader,\n"
-                             "instead of each box vertex carrying the cell's Hermite data; auto: on GPUs when cells are small on screen");
-  changed |= autoSwitchCombo("tiles", t.tiles,
-                             "cells (with cull cells): the kept cells binned into 8x8-pixel screen tiles, one quad per tile\n"
-                             "searching the tile's cells, instead of a box per cell; auto: on for software rasterizers");
-  if (t.tiles != TiledCells::Off) {
+  changed |= autoSwitchCombo("thin_boxes", t);
+  changed |= autoSwitchCombo("tiles", t);
+  if (t.tiles != AutoSwitch::Off) {
     static constexpr const char* kTileSizeLabels[] = {"4x4", "8x8", "16x16"};
     static_assert(std::size(kTileSizeLabels) == std::size(kTileSizes));
     int size = int(std::find(std::begin(kTileSizes), std::end(kTileSizes), t.tileSize) - std::begin(kTileSizes));
-    if (ImGui::Combo("tile size", &size, kTileSizeLabels, IM_ARRAYSIZE(kTileSizeLabels))) {
+    if (ImGui::Combo(label("tile_size"), &size, kTileSizeLabels, IM_ARRAYSIZE(kTileSizeLabels))) {
       t.tileSize = kTileSizes[size];
       changed = true;
     }
-    if (ImGui::IsItemHovered())
-      ImGui::SetTooltip("tiles: pixels per tile side; smaller tiles list fewer cells each pixel cannot see,\n"
-                        "but there are more tiles to bin, sort and draw");
+    tooltip("tile_size");
   }
   int view = int(t.debugView);
-  if (ImGui::Combo("debug view", &view, kDebugViewLabels, IM_ARRAYSIZE(kDebugViewLabels))) {
+  if (ImGui::Combo(label("debug_view"), &view, kDebugViewLabels, IM_ARRAYSIZE(kDebugViewLabels))) {
     t.debugView = DebugView(view);
     changed = true;
   }
+  tooltip("debug_view");
   if (changed) apply(t);
 }
 
@@ -200,7 +222,7 @@ void TuningPanel::drawResolution() {
   if (!ImGui::IsAnyItemActive()) resolution_ = t.resolution;
   // The method's range (cells 2048, dense tracers 512), logarithmic: 8..2048 on one slider.
   const int top = std::min(kPanelResolutionRange.max, resolutionRange(t.method).max);
-  ImGui::SliderInt("K (resolution)", &resolution_, kPanelResolutionRange.min, top, "%d", ImGuiSliderFlags_Logarithmic | kClamp);
+  ImGui::SliderInt(label("resolution"), &resolution_, kPanelResolutionRange.min, top, "%d", ImGuiSliderFlags_Logarithmic | kClamp);
   if (ImGui::IsItemHovered())
     ImGui::SetTooltip("K up to %d for %s; cells past %d bake sparse (the bake budget may refuse, naming its limit)", top,
                       methodName(t.method), kDenseBakeMaxResolution);
@@ -221,13 +243,11 @@ void TuningPanel::drawResolution() {
 // Levels of detail: on/off and the target cell size (TuningState::lod, lodPixelsPerCell).
 void TuningPanel::drawLod(const TuningState& tuning) {
   TuningState t = tuning;
-  bool changed = ImGui::Checkbox("levels of detail", &t.lod);
-  if (ImGui::IsItemHovered()) ImGui::SetTooltip("bake K/2, K/4, ... (down to 16) too; draw the coarsest whose cells fit the target");
+  bool changed = checkbox("lod", t);
   if (t.lod) {
     ImGui::SameLine();
     ImGui::SetNextItemWidth(ImGui::GetFontSize() * 8.0f);
-    changed |= ImGui::SliderFloat("px per cell", &t.lodPixelsPerCell, kLodPixelsPerCellRange.min,
-                                  kLodPixelsPerCellRange.max, "%.2f", ImGuiSliderFlags_Logarithmic | kClamp);
+    changed |= sliderFloat("lod_pixels_per_cell", t, "%.2f", ImGuiSliderFlags_Logarithmic);
   }
   if (changed) apply(t);
 }
@@ -240,27 +260,19 @@ void TuningPanel::drawSearchLimits(const TuningState& tuning) {
   const auto tracing = [](Method m) { return m == hsdf::RenderMethod::TrilinearSphereTrace || m == hsdf::RenderMethod::HermiteSphereTrace; };
   const bool tracer = tracing(t.method) || (comparing(t) && tracing(t.compareMethod));
   if (tracer) {
+    // Epsilon spans five decades: its slider moves its logarithm.
+    const NumberRange epsilon = tuningField("trace_epsilon").range;
     float logEpsilon = std::log10(t.traceEpsilon);
-    if (ImGui::SliderFloat("log10 epsilon (h)", &logEpsilon, std::log10(kTraceEpsilonRange.min),
-                           std::log10(kTraceEpsilonRange.max), "%.1f", kClamp)) {
-      t.traceEpsilon = std::clamp(std::pow(10.0f, logEpsilon), kTraceEpsilonRange.min, kTraceEpsilonRange.max);
+    if (ImGui::SliderFloat(label("trace_epsilon"), &logEpsilon, std::log10(float(epsilon.min)),
+                           std::log10(float(epsilon.max)), "%.1f", kClamp)) {
+      t.traceEpsilon = std::clamp(std::pow(10.0f, logEpsilon), float(epsilon.min), float(epsilon.max));
       changed = true;
     }
-    int steps = int(t.traceMaxSteps);
-    if (ImGui::SliderInt("max steps", &steps, kTraceMaxStepsRange.min, kTraceMaxStepsRange.max, "%d", kClamp)) {
-      t.traceMaxSteps = std::uint32_t(steps);
-      changed = true;
-    }
-    changed |= ImGui::SliderFloat("central difference step (h)", &t.centralDifferenceStep, kCentralDifferenceStepRange.min,
-                                  kCentralDifferenceStepRange.max, "%.2f", kClamp);
+    tooltip("trace_epsilon");
+    changed |= sliderU32("trace_max_steps", t);
+    changed |= sliderFloat("central_difference_step", t, "%.2f");
   }
-  if (t.method == hsdf::RenderMethod::CellRuns) {
-    int length = int(t.maxRunLength);
-    if (ImGui::SliderInt("max run length", &length, kMaxRunLengthRange.min, kMaxRunLengthRange.max, "%d", kClamp)) {
-      t.maxRunLength = std::uint32_t(length);
-      changed = true;
-    }
-  }
+  if (t.method == hsdf::RenderMethod::CellRuns) changed |= sliderU32("max_run_length", t);
   if (changed) apply(t);
 }
 
@@ -315,33 +327,31 @@ void TuningPanel::drawComparison() {
   }
   bool changed = false;
   int split = int(t.split);
-  ImGui::TextUnformatted("split");
+  ImGui::TextUnformatted(label("split"));
+  tooltip("split");
   for (int mode = 0; mode < 3; ++mode) {
     ImGui::SameLine();
     changed |= ImGui::RadioButton(splitModeName(SplitMode(mode)), &split, mode);
   }
   t.split = SplitMode(split);
-  if (t.split != SplitMode::Off) changed |= ImGui::SliderFloat("divider", &t.splitPosition, 0.05f, 0.95f, "%.2f", kClamp);
+  if (t.split != SplitMode::Off) changed |= sliderFloat("split_position", t, "%.2f");
   int compared = methodIndex(t.compareMethod) - 1;  // the SDF methods: cells, trilinear, hermite
-  if (ImGui::Combo("compared method", &compared, kMethodLabels + 1, 3)) {
+  if (ImGui::Combo(label("compare_method"), &compared, kMethodLabels + 1, 3)) {
     t.compareMethod = allMethods()[std::size_t(compared + 1)];
     changed = true;
   }
   if (!drawsCells(t.compareMethod) && viewer_.canRebake()) {
     // 0 = the rule of thumb (2K); re-bakes on release, like K.
     if (!ImGui::IsAnyItemActive()) compareResolution_ = t.compareResolution;
-    ImGui::SliderInt("compared K (0: 2K)", &compareResolution_, 0, resolutionRange(t.compareMethod).max, "%d", kClamp);
+    ImGui::SliderInt(label("compare_resolution"), &compareResolution_, 0, resolutionRange(t.compareMethod).max, "%d", kClamp);
+    tooltip("compare_resolution");
     if (ImGui::IsItemDeactivatedAfterEdit() && compareResolution_ != t.compareResolution) {
       t.compareResolution = compareResolution_ == 0 ? 0 : std::max(compareResolution_, kPanelResolutionRange.min);
       changed = true;
     }
   }
-  bool exact = t.compareNormals == hsdf::NormalMode::Exact;
-  if (ImGui::Checkbox("compared side: exact normals (off: central diff.)", &exact)) {
-    t.compareNormals = exact ? hsdf::NormalMode::Exact : hsdf::NormalMode::CentralDifferences;
-    changed = true;
-  }
-  changed |= ImGui::Checkbox("difference view (normal angle)", &t.difference);
+  changed |= exactNormals("compare_normals", t);
+  changed |= checkbox("difference", t);
   if (comparing(t))
     ImGui::Text("%s, K %d  |  %s, K %d", methodName(t.method), viewer_.resolutionDrawn(), methodName(t.compareMethod),
                 viewer_.compareResolutionDrawn());
@@ -375,7 +385,8 @@ void TuningPanel::drawDivider() {
       ImGui::SetMouseCursor(vertical ? ImGuiMouseCursor_ResizeEW : ImGuiMouseCursor_ResizeNS);
     if (active) {
       const ImVec2 mouse = ImGui::GetIO().MousePos;
-      t.splitPosition = std::clamp(vertical ? mouse.x / display.x : mouse.y / display.y, 0.05f, 0.95f);
+      t.splitPosition =
+          std::clamp(vertical ? mouse.x / display.x : mouse.y / display.y, kSplitPositionRange.min, kSplitPositionRange.max);
       apply(t);
     }
     // Behind the other windows, as the handle is: where the panel covers the divider, the panel

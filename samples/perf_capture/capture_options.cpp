@@ -28,14 +28,18 @@ std::vector<std::string> splitList(const std::string& text) {
   return items;
 }
 
+// The cells' range (tuning.h; the dense tracers' rows stop at their own, capture_rows.cpp), from the
+// smallest K that leaves a cell inside the rows' padding of 1 (K - 1 - 2 >= 1).
+constexpr samples::IntRange kCaptureResolutions{4, samples::kResolutionRange.max};
+
 std::optional<std::string> parseResolutions(const std::string& text, Options& options) {
   std::vector<int> values;
   for (const std::string& item : splitList(text)) {
     static const std::regex number(R"(\d{1,4})");
     const int k = std::regex_match(item, number) ? std::stoi(item) : -1;
-    // The cells' range (tuning.h); the dense tracers' rows stop at their own (capture_rows.cpp).
-    if (k < 4 || k > samples::kCellResolutionRange.max)
-      return "--resolutions: '" + item + "' is not a resolution K in 4..2048 (e.g. --resolutions 16,32,64,128)";
+    if (k < kCaptureResolutions.min || k > kCaptureResolutions.max)
+      return fmt::format("--resolutions: '{}' is not a resolution K in {}..{} (e.g. --resolutions 16,32,64,128)", item,
+                         kCaptureResolutions.min, kCaptureResolutions.max);
     if (std::find(values.begin(), values.end(), k) == values.end()) values.push_back(k);
   }
   std::sort(values.begin(), values.end());

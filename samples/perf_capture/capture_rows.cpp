@@ -42,39 +42,39 @@ const Variant kVariants[] = {
     // are box variants: boxes on every device (Tiles::Auto would draw tiles on lavapipe).
     {"cells", "n=3 r=1 occlusion", false,
      {.method = hsdf::RenderMethod::Cells, .subdivisions = 3, .refineSteps = 1, .cullOcclusion = true,
-      .tiles = samples::TiledCells::Off}},
+      .tiles = samples::AutoSwitch::Off}},
     // Issue 20 step 2: the same cells and search with 12 bytes of varyings per box (records read by
     // address), and with the Hermite data as varyings (the paper's); the row above lets the device
     // and the cells' size on screen choose (HermiteCellFeature::ThinBoxes::Auto).
     {"cells", "n=3 r=1 thin", false,
-     {.method = hsdf::RenderMethod::Cells, .subdivisions = 3, .refineSteps = 1, .thinBoxes = samples::ThinBoxes::On,
-      .tiles = samples::TiledCells::Off}},
+     {.method = hsdf::RenderMethod::Cells, .subdivisions = 3, .refineSteps = 1, .thinBoxes = samples::AutoSwitch::On,
+      .tiles = samples::AutoSwitch::Off}},
     {"cells", "n=3 r=1 attributes", false,
-     {.method = hsdf::RenderMethod::Cells, .subdivisions = 3, .refineSteps = 1, .thinBoxes = samples::ThinBoxes::Off,
-      .tiles = samples::TiledCells::Off}},
+     {.method = hsdf::RenderMethod::Cells, .subdivisions = 3, .refineSteps = 1, .thinBoxes = samples::AutoSwitch::Off,
+      .tiles = samples::AutoSwitch::Off}},
     // Issue 20: the culled cells as screen tiles and as boxes (the row above lets the device choose,
     // HermiteCellFeature::Tiles::Auto: tiles on software rasterizers).
     {"cells", "n=3 r=1 tiles", false,
-     {.method = hsdf::RenderMethod::Cells, .subdivisions = 3, .refineSteps = 1, .tiles = samples::TiledCells::On}},
+     {.method = hsdf::RenderMethod::Cells, .subdivisions = 3, .refineSteps = 1, .tiles = samples::AutoSwitch::On}},
     // Tiles of 4x4 and 16x16 pixels (HermiteCellFeature::Settings::tileSize): smaller tiles have
     // shorter lists (fewer mask words per pixel, a lane's entries nearer its own) but make more
     // entries and tiles to bin, sort and draw; larger ones the other way round.
     {"cells", "n=3 r=1 tiles 4x4", false,
-     {.method = hsdf::RenderMethod::Cells, .subdivisions = 3, .refineSteps = 1, .tiles = samples::TiledCells::On,
+     {.method = hsdf::RenderMethod::Cells, .subdivisions = 3, .refineSteps = 1, .tiles = samples::AutoSwitch::On,
       .tileSize = 4}},
     {"cells", "n=3 r=1 tiles 16x16", false,
-     {.method = hsdf::RenderMethod::Cells, .subdivisions = 3, .refineSteps = 1, .tiles = samples::TiledCells::On,
+     {.method = hsdf::RenderMethod::Cells, .subdivisions = 3, .refineSteps = 1, .tiles = samples::AutoSwitch::On,
       .tileSize = 16}},
     {"cells", "n=3 r=1 boxes", false,
-     {.method = hsdf::RenderMethod::Cells, .subdivisions = 3, .refineSteps = 1, .tiles = samples::TiledCells::Off}},
+     {.method = hsdf::RenderMethod::Cells, .subdivisions = 3, .refineSteps = 1, .tiles = samples::AutoSwitch::Off}},
     // The paper's proxy, the whole cell, against the cells' proxy boxes (the rows above; cells.h,
     // "Proxy boxes"): as tiles and as boxes.
     {"cells", "n=3 r=1 tiles whole cells", false,
      {.method = hsdf::RenderMethod::Cells, .subdivisions = 3, .refineSteps = 1, .proxyBoxes = false,
-      .tiles = samples::TiledCells::On}},
+      .tiles = samples::AutoSwitch::On}},
     {"cells", "n=3 r=1 boxes whole cells", false,
      {.method = hsdf::RenderMethod::Cells, .subdivisions = 3, .refineSteps = 1, .proxyBoxes = false,
-      .tiles = samples::TiledCells::Off}},
+      .tiles = samples::AutoSwitch::Off}},
     // The certified root search (docs/root-finding.md): its cost against the paper's fixed n above.
     {"cells", "certified", false, {.method = hsdf::RenderMethod::Cells, .subdivisions = 3, .refineSteps = 1, .certified = true}},
     // Issue 13's variant: the same cells and search, one box per run of cells along x.
@@ -87,14 +87,6 @@ const Variant kVariants[] = {
     {"cell-bricks", "n=3 r=1 no-cull", false,
      {.method = hsdf::RenderMethod::CellBricks, .subdivisions = 3, .refineSteps = 1, .cullBricks = false}},
 };
-
-RenderMethod renderMethodOf(Method method) {
-  if (method == hsdf::RenderMethod::TrilinearSphereTrace) return RenderMethod::TrilinearSphereTrace;
-  if (method == hsdf::RenderMethod::HermiteSphereTrace) return RenderMethod::HermiteSphereTrace;
-  if (method == hsdf::RenderMethod::CellRuns) return RenderMethod::CellRuns;
-  if (method == hsdf::RenderMethod::CellBricks) return RenderMethod::CellBricks;
-  return RenderMethod::Cells;
-}
 
 bool wanted(const Options& options, const std::string& method) {
   return std::find(options.methods.begin(), options.methods.end(), method) != options.methods.end();
@@ -115,7 +107,9 @@ RowSpec makeRow(const Variant& v, int k, bool lod) {
   row.state.resolution = k;
   row.state.lod = lod;
   row.resolution = k;
-  row.render = renderMethodOf(v.tuning.method);
+  // Every variant is of an SDF method (the mesh rows are not variants): its method is the row's,
+  // whatever the module adds (a chain of ifs labelled a new method "cells").
+  row.render = v.tuning.method.sdf().value();
   const bool cells = samples::drawsCells(v.tuning.method);  // the tracers have no n or r
   row.subdivisions = cells ? v.tuning.subdivisions : 0;
   row.refine = cells ? v.tuning.refineSteps : 0;

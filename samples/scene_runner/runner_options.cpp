@@ -6,9 +6,11 @@
 
 #include <CLI/CLI.hpp>
 #include <fmt/format.h>
+#include <fmt/ranges.h>
 #include <glm/glm.hpp>
 
 #include "options_common.h"
+#include "tuning_fields.h"
 #include "viewer.h"
 
 namespace runner {
@@ -47,8 +49,7 @@ std::optional<std::string> checkCombinations(const Options& options, bool method
 }
 
 // A transform for a named option: accepts exactly the names (not the numbers CLI11 would also take
-// for an enum) and hands CLI11 the value of an enum, the name itself of a samples::Method (no enum:
-// the option parses it); the error lists the names.
+// for an enum) and hands CLI11 the value of an enum; the error lists the names.
 template <class T, class Values>
 CLI::Validator namesOf(const Values& values, const char* (*name)(T)) {
   std::map<std::string, T> byName;
@@ -61,7 +62,7 @@ CLI::Validator namesOf(const Values& values, const char* (*name)(T)) {
       [byName, list](std::string& text) -> std::string {
         const auto found = byName.find(text);
         if (found == byName.end()) return "'" + text + "' is not one of " + list;
-        if constexpr (std::is_enum_v<T>) text = std::to_string(static_cast<std::underlying_type_t<T>>(found->second));
+        text = std::to_string(static_cast<std::underlying_type_t<T>>(found->second));
         return {};
       },
       "{" + list + "}");
@@ -72,16 +73,6 @@ CLI::Validator oneOf(std::initializer_list<T> values, const char* (*name)(T)) {
   return namesOf(values, name);
 }
 
-// --method, --compare-method: one of `methods`, by name.
-template <class Values>
-CLI::Option* addMethodOption(CLI::App& app, const char* option, samples::Method& out, const Values& methods,
-                             const char* help) {
-  return app
-      .add_option_function<std::string>(
-          option, [&out](const std::string& name) { out = *samples::parseMethod(name); }, help)
-      ->transform(namesOf(methods, samples::methodName));
-}
-
 const char* deviceName(engine::gpu::DevicePreference device) {
   switch (device) {
     case engine::gpu::DevicePreference::Hardware: return "gpu";
@@ -90,85 +81,66 @@ const char* deviceName(engine::gpu::DevicePreference device) {
   }
 }
 
-// Options that write the TuningState. Defined after --settings, whose callback runs first, so that
-// options given on the command line override the file.
+// A named setting's option (tuningNames): exactly its names, set through the table's parser.
+CLI::Option* addNamedOption(CLI::App& app, const samples::TuningField& field, TuningState& t) {
+  const std::vector<std::string> names = samples::tuningNames(field);
+  const std::string list = fmt::format("{}", fmt::join(names, ", "));
+  const CLI::Validator onlyNames(
+      [names, list](std::string& text) -> std::string {
+        if (std::find(names.begin(), names.end(), text) != names.end()) return {};
+        return "'" + text + "' is not one of " + list;
+      },
+      "{" + list + "}");
+  const auto set = [&field, &t](const std::string& text) {
+    if (auto done = samples::setTuningFromText(field, text, t); !done) throw CLI::ValidationError(field.option, done.error().message);
+  };
+  return app.add_option_function<std::string>(field.option, set, samples::tuningHelp(field))->check(onlyNames);
+}
+
+// A number's option: its range (or its only values) from the table.
+template <class T>
+CLI::Option* addNumberOption(CLI::App& app, const samples::TuningField& field, T& value) {
+  CLI::Option* option = app.add_option(field.option, value, samples::tuningHelp(field));
+  if (!field.choices.empty())
+    return option->check(CLI::IsMember(std::vector<std::uint32_t>(field.choices.begin(), field.choices.end())));
+  return option->check(CLI::Range(field.zeroIsDerived ? T(0) : T(field.range.min), T(field.range.max)));
+}
+
+CLI::Option* addBoolOption(CLI::App& app, const samples::TuningField& field, bool& value) {
+  const std::string help = samples::tuningHelp(field);
+  switch (field.boolOption) {
+    case samples::BoolOption::Flag: return app.add_flag(field.option, value, help);
+    case samples::BoolOption::NegatedFlag: return app.add_flag(std::string("!") + field.option, value, help);
+    case samples::BoolOption::Value: break;
+  }
+  return app.add_option(field.option, value, help);
+}
+
+// The option of one row of the tuning table (tuning_fields.h), by the kind of its member.
+CLI::Option* addTuningOption(CLI::App& app, const samples::TuningField& field, TuningState& t) {
+  if (samples::tuningKind(field) == samples::TuningKind::Name) return addNamedOption(app, field, t);
+  return std::visit(
+      [&](auto member) -> CLI::Option* {
+        auto& value = t.*member;
+        using T = std::remove_reference_t<decltype(value)>;
+        if constexpr (std::is_same_v<T, bool>) return addBoolOption(app, field, value);
+        else if constexpr (std::is_arithmetic_v<T>) return addNumberOption(app, field, value);
+        else if constexpr (std::is_same_v<T, std::vector<std::string>>)
+          return app.add_option(field.option, value, samples::tuningHelp(field))->delimiter(',');
+        else return nullptr;  // a name: addNamedOption
+      },
+      field.member);
+}
+
+// Options that write the TuningState, one per row of the table. Defined after --settings, whose
+// callback runs first, so that options given on the command line override the file.
 void addTuningOptions(CLI::App& app, TuningState& t) {
-  addMethodOption(app, "--method", t.method, samples::allMethods(),
-                  "mesh, cells (Hermite cells; cells-runs, cell-bricks: fewer proxies), trilinear or hermite (sphere tracing)");
-  app.add_option("--resolution", t.resolution,
-                 "samples per axis K of the baked field (cells 2..2048, sparse bake past 256; trilinear, hermite 2..512)")
-      ->check(CLI::Range(samples::kResolutionRange.min, samples::kResolutionRange.max));
-  app.add_option("--padding", t.padding, "cells of padding around the mesh (0..16)")
-      ->check(CLI::Range(samples::kPaddingRange.min, samples::kPaddingRange.max));
-  app.add_option("--subdivisions", t.subdivisions, "equidistant evaluations per cell (1..64)")
-      ->check(CLI::Range(samples::kSubdivisionsRange.min, samples::kSubdivisionsRange.max));
-  app.add_option("--refine", t.refineSteps, "root refinement steps (0..16)")
-      ->check(CLI::Range(samples::kRefineRange.min, samples::kRefineRange.max));
-  app.add_flag("--fp16", t.fp16, "half-precision cell records / textures");
-  app.add_option("--normals", t.normals, "exact or central (differences)")
-      ->transform(oneOf({hsdf::NormalMode::Exact, hsdf::NormalMode::CentralDifferences}, samples::normalModeName));
-  app.add_option("--debug-view", t.debugView, "none, normals, depth, cells, evals or wireframe")
-      ->transform(namesOf(samples::allDebugViews(), samples::debugViewName));
-  app.add_flag("!--no-front-to-back", t.frontToBack, "cells: submit in storage order, not front to back");
-  auto* early = app.add_option("--early-depth", t.earlyDepth,
-                                "cells: the early depth stage, boxes tested at their faces' depth: auto (default: on "
-                                "for software rasterizers, off on GPUs), on or off")
-                    ->transform(oneOf({samples::EarlyDepth::Auto, samples::EarlyDepth::On, samples::EarlyDepth::Off},
-                                      samples::earlyDepthName));
+  for (const samples::TuningField& field : samples::tuningFields()) addTuningOption(app, field, t);
+  // The older spelling of --early-depth off, which scripts and docs still use.
   app.add_flag_callback(
-         "--no-early-depth", [&t] { t.earlyDepth = samples::EarlyDepth::Off; },
+         "--no-early-depth", [&t] { t.earlyDepth = samples::AutoSwitch::Off; },
          "cells: --early-depth off (every box runs its search)")
-      ->excludes(early);
-  app.add_flag("--certified", t.certified, "cells: certified root search (never misses the first root) instead of n samples");
-  app.add_option("--cull-bricks", t.cullBricks, "cell bricks: GPU culling by frustum and normal cones (true, default, or false)");
-  app.add_option("--cull-cells", t.cullCells, "cells: GPU culling of each cell by frustum and normal cone (true, default, or false)");
-  app.add_option("--cull-occlusion", t.cullOcclusion,
-                 "cells: two-phase occlusion culling of the cells against the depth pyramid (true, or false: default)");
-  app.add_option("--proxy-boxes", t.proxyBoxes,
-                 "cells, runs, bricks: draw and search each cell's part that can hold its surface (true, default), or "
-                 "the whole cell, as the paper (false)");
-  app.add_option("--thin-boxes", t.thinBoxes,
-                 "cells: 12 bytes of varyings per box, records read by address: auto (default: on GPUs when cells "
-                 "cover at most 8 pixels), on or off")
-      ->transform(oneOf({samples::ThinBoxes::Auto, samples::ThinBoxes::On, samples::ThinBoxes::Off},
-                        samples::earlyDepthName));
-  app.add_option("--tiles", t.tiles,
-                 "cells (with --cull-cells): one quad per 8x8-pixel screen tile whose fragments search the tile's "
-                 "cells, instead of a box per cell: auto (default: on for software rasterizers), on or off")
-      ->transform(oneOf({samples::TiledCells::Auto, samples::TiledCells::On, samples::TiledCells::Off},
-                        samples::earlyDepthName));
-  app.add_option("--tile-size", t.tileSize,
-                 "cells as tiles: the tiles' side in pixels, 4, 8 (default) or 16; smaller tiles list fewer cells a "
-                 "pixel cannot see, but there are more of them to bin and draw")
-      ->check(CLI::IsMember(std::vector<std::uint32_t>(std::begin(samples::kTileSizes), std::end(samples::kTileSizes))));
-  app.add_option("--split", t.split, "split-screen comparison: off, vertical or horizontal (divider)")
-      ->transform(oneOf({samples::SplitMode::Off, samples::SplitMode::Vertical, samples::SplitMode::Horizontal},
-                        samples::splitModeName));
-  app.add_option("--split-position", t.splitPosition, "the divider as a fraction of the width/height (0.05..0.95)")
-      ->check(CLI::Range(0.05f, 0.95f));
-  addMethodOption(app, "--compare-method", t.compareMethod, hsdf::kRenderMethods,
-                  "the compared side: trilinear (default), hermite or cells");
-  app.add_option("--compare-resolution", t.compareResolution, "K of the compared side (2..512; default 0: 2K, at most 256)")
-      ->check(CLI::Range(0, samples::kResolutionRange.max));
-  app.add_option("--compare-normals", t.compareNormals, "normals of the compared side: exact or central (default)")
-      ->transform(oneOf({hsdf::NormalMode::Exact, hsdf::NormalMode::CentralDifferences}, samples::normalModeName));
-  app.add_flag("--difference", t.difference, "difference view: normal angle between the two methods as a heat map");
-  app.add_option("--node-draw", t.nodeDraw, "--objects: how nodes without an extras choice draw: sdf (default) or triangles")
-      ->transform(oneOf({hsdf::NodeDraw::Sdf, hsdf::NodeDraw::Triangles}, hsdf::nodeDrawName));
-  app.add_option("--triangle-nodes", t.triangleNodes, "--objects: names of nodes drawn as triangles (comma-separated)")
-      ->delimiter(',');
-  app.add_flag("--lod", t.lod, "levels of detail: bake K/2, K/4, ... too and draw each frame the level that fits the screen");
-  app.add_option("--lod-pixels-per-cell", t.lodPixelsPerCell, "levels of detail: target cell size in pixels (0.25..64, default 2)")
-      ->check(CLI::Range(samples::kLodPixelsPerCellRange.min, samples::kLodPixelsPerCellRange.max));
-  app.add_option("--trace-epsilon", t.traceEpsilon, "sphere tracers: stop when |f| < this many grid spacings (1e-6..0.1, default 1e-4)")
-      ->check(CLI::Range(samples::kTraceEpsilonRange.min, samples::kTraceEpsilonRange.max));
-  app.add_option("--trace-max-steps", t.traceMaxSteps, "sphere tracers: field evaluations per ray before giving up (1..4096, default 1024)")
-      ->check(CLI::Range(samples::kTraceMaxStepsRange.min, samples::kTraceMaxStepsRange.max));
-  app.add_option("--central-difference-step", t.centralDifferenceStep,
-                 "central-difference normals: step in grid spacings (0.01..1, default 0.5)")
-      ->check(CLI::Range(samples::kCentralDifferenceStepRange.min, samples::kCentralDifferenceStepRange.max));
-  app.add_option("--max-run-length", t.maxRunLength, "cells-runs: the most cells one run's box covers (1..64, default 8)")
-      ->check(CLI::Range(samples::kMaxRunLengthRange.min, samples::kMaxRunLengthRange.max));
+      ->excludes(app.get_option("--early-depth"));
 }
 
 ParseResult failure(const std::string& message) {

@@ -207,7 +207,7 @@ bool HermiteCellFeature::idleAssetsToDrop(const engine::render::FrameContext& fr
 HermiteCellFeature::AssetDemand HermiteCellFeature::collectAssetDemand(const engine::render::FrameContext& frame) {
   AssetDemand d;
   frame.registry.view<HermiteSdfRenderable>().each([&](engine::ecs::Entity entity, const HermiteSdfRenderable& r) {
-    if (!drawnAsCells(r.method) || !r.asset || r.asset->cells.records.empty()) return;
+    if (!drawsCells(r.method) || !r.asset || r.asset->cells.records.empty()) return;
     const bool bricks = r.method == RenderMethod::CellBricks;
     const bool culledCells = r.method == RenderMethod::Cells && settings_.cullCells;
     if (refused_.contains(r.asset->id)) {

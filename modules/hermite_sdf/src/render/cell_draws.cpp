@@ -292,7 +292,7 @@ void HermiteCellFeature::resetDraws() {
 // One entity's draws: the uploaded asset it draws, its draw record, then its method's commands.
 void HermiteCellFeature::addObjectDraws(engine::render::FrameContext& frame, FrameDraws& f, engine::ecs::Entity entity,
                                         const HermiteSdfRenderable& r, const glm::mat4& world) {
-  if (!drawnAsCells(r.method) || !r.asset) return;
+  if (!drawsCells(r.method) || !r.asset) return;
   if (!engine::render::drawableTransform(world)) {  // the rays could not be taken into the grid
     stats_.skippedObjects++;
     return;

@@ -74,8 +74,4 @@ struct HermiteCellFeature::Batch {
 
 constexpr VkAccessFlags2 kStorageReadWrite = VK_ACCESS_2_SHADER_STORAGE_READ_BIT | VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT;
 
-inline bool drawnAsCells(RenderMethod method) {
-  return method == RenderMethod::Cells || method == RenderMethod::CellRuns || method == RenderMethod::CellBricks;
-}
-
 }  // namespace hsdf

@@ -8,6 +8,8 @@
 
 #include "engine/core/files.h"
 #include "tuning.h"
+#include "tuning_fields.h"
+#include "tuning_table_values.h"
 
 namespace samples {
 namespace {
@@ -46,7 +48,7 @@ TEST(Tuning, EveryNameParsesBackToItsValue) {
     EXPECT_STREQ(debugViewName(DebugView(value)), name);
   }
   for (SplitMode m : {SplitMode::Off, SplitMode::Vertical, SplitMode::Horizontal}) EXPECT_EQ(parseSplitMode(splitModeName(m)), m);
-  for (EarlyDepth m : {EarlyDepth::Auto, EarlyDepth::On, EarlyDepth::Off}) EXPECT_EQ(parseEarlyDepth(earlyDepthName(m)), m);
+  for (AutoSwitch m : {AutoSwitch::Auto, AutoSwitch::On, AutoSwitch::Off}) EXPECT_EQ(parseAutoSwitch(autoSwitchName(m)), m);
   EXPECT_FALSE(parseMethod("Cells").has_value()) << "names are case-sensitive, as on the command line";
   EXPECT_FALSE(parseNormalMode("").has_value());
 }
@@ -93,14 +95,14 @@ TEST(Tuning, SettingsFileRoundTrip) {
   t.fp16 = true;
   t.debugView = DebugView(DEBUG_VIEW_WIREFRAME);
   t.frontToBack = false;
-  t.earlyDepth = EarlyDepth::Off;
+  t.earlyDepth = AutoSwitch::Off;
   t.certified = true;
   t.cullBricks = false;
   t.cullCells = false;
   t.cullOcclusion = true;  // not the default (off)
   t.proxyBoxes = false;     // not the default (on)
-  t.thinBoxes = ThinBoxes::On;
-  t.tiles = TiledCells::Off;
+  t.thinBoxes = AutoSwitch::On;
+  t.tiles = AutoSwitch::Off;
   t.tileSize = 16;
   t.split = SplitMode::Horizontal;
   t.splitPosition = 0.3f;  // exact in binary and in the JSON text
@@ -126,29 +128,29 @@ TEST(Tuning, SettingsFileRoundTrip) {
 // Tricky: early_depth has three values in two JSON types (true / false / "auto"); each must come
 // back as itself, and "auto" must be the default a file without the key keeps.
 TEST(Tuning, EarlyDepthRoundTripsItsThreeValues) {
-  EXPECT_EQ(TuningState{}.earlyDepth, EarlyDepth::Auto);
+  EXPECT_EQ(TuningState{}.earlyDepth, AutoSwitch::Auto);
   const auto file = tempFile("early_depth.json");
-  for (EarlyDepth mode : {EarlyDepth::Auto, EarlyDepth::On, EarlyDepth::Off}) {
+  for (AutoSwitch mode : {AutoSwitch::Auto, AutoSwitch::On, AutoSwitch::Off}) {
     TuningState t;
     t.earlyDepth = mode;
     ASSERT_TRUE(saveTuning(file, t).ok());
     const auto text = engine::readTextFile(file);
     ASSERT_TRUE(text.ok());
-    const char* expected = mode == EarlyDepth::Auto ? R"("early_depth": "auto")"
-                           : mode == EarlyDepth::On ? R"("early_depth": true)"
+    const char* expected = mode == AutoSwitch::Auto ? R"("early_depth": "auto")"
+                           : mode == AutoSwitch::On ? R"("early_depth": true)"
                                                     : R"("early_depth": false)";
     EXPECT_NE(text->find(expected), std::string::npos) << *text;
     TuningState base;
-    base.earlyDepth = mode == EarlyDepth::Off ? EarlyDepth::On : EarlyDepth::Off;  // not what the file says
+    base.earlyDepth = mode == AutoSwitch::Off ? AutoSwitch::On : AutoSwitch::Off;  // not what the file says
     const auto loaded = loadTuning(file, base);
     ASSERT_TRUE(loaded.ok()) << loaded.error().message;
-    EXPECT_EQ(loaded->earlyDepth, mode) << earlyDepthName(mode);
+    EXPECT_EQ(loaded->earlyDepth, mode) << autoSwitchName(mode);
   }
   TuningState t;
   ASSERT_TRUE(setTuningValue(t, "early_depth", "false").ok());  // a --script line
-  EXPECT_EQ(t.earlyDepth, EarlyDepth::Off);
+  EXPECT_EQ(t.earlyDepth, AutoSwitch::Off);
   ASSERT_TRUE(setTuningValue(t, "early_depth", "auto").ok());
-  EXPECT_EQ(t.earlyDepth, EarlyDepth::Auto);
+  EXPECT_EQ(t.earlyDepth, AutoSwitch::Auto);
 }
 
 // Tricky: keys left out keep the base's values (a file may set only the method).
@@ -322,6 +324,67 @@ TEST(Tuning, SetTuningValueFromText) {
     ASSERT_FALSE(status.ok()) << c.key << "=" << c.value;
     EXPECT_TRUE(contains(status.error().message, c.expected)) << status.error().message;
     EXPECT_TRUE(t == before) << c.key << "=" << c.value << " changed the state although it was refused";
+  }
+}
+
+// Tricky: every reader, writer and option is made from the table's rows; a row that shares its
+// member, key, option or label with another would read or write the other's setting (the walks
+// below would then test one member twice and the other never).
+TEST(TuningTable, EveryRowHasItsOwnMemberKeyOptionAndLabel) {
+  const auto rows = tuningFields();
+  for (std::size_t i = 0; i < rows.size(); ++i) {
+    for (std::size_t j = i + 1; j < rows.size(); ++j) {
+      EXPECT_FALSE(rows[i].member == rows[j].member) << rows[i].key << " and " << rows[j].key;
+      EXPECT_STRNE(rows[i].key, rows[j].key);
+      EXPECT_STRNE(rows[i].option, rows[j].option);
+      EXPECT_STRNE(rows[i].label, rows[j].label);
+    }
+    EXPECT_EQ(findTuningField(rows[i].key), &rows[i]);
+    EXPECT_FALSE(rows[i].help.empty()) << rows[i].key << ": the option's help and the panel's tooltip";
+  }
+}
+
+// Tricky: a row whose reader or writer loses its value (an auto switch written as a bool, a float
+// as an int, a list as its first name) breaks the equality; the value changed is derived from the
+// row, so a new row is tested without an edit here.
+TEST(TuningTable, EveryFieldRoundTripsThroughASettingsFile) {
+  const auto file = tempFile("table_round_trip.json");
+  for (const TuningField& field : tuningFields()) {
+    TuningState t = testing::walkBase();
+    const std::string text = testing::otherValueText(field, t);
+    ASSERT_TRUE(setTuningFromText(field, text, t).ok()) << field.key << " " << text;
+    ASSERT_FALSE(sameTuningValue(field, t, testing::walkBase())) << field.key << ": " << text << " is its default";
+    ASSERT_TRUE(validateTuning(t).ok()) << field.key << " " << text << ": " << validateTuning(t).error().message;
+    ASSERT_TRUE(saveTuning(file, t).ok());
+    const auto loaded = loadTuning(file);
+    ASSERT_TRUE(loaded.ok()) << field.key << ": " << loaded.error().message;
+    EXPECT_TRUE(*loaded == t) << field.key << " = " << text << " came back as " << tuningValueText(field, *loaded);
+  }
+}
+
+// Tricky: every number refuses the values just past both ends of its range, in a file and in a
+// --script line, naming its key; every field refuses a value of no kind it takes (a JSON object).
+TEST(TuningTable, EveryFieldRefusesValuesOutsideItsRangeNamingItsKey) {
+  const auto file = tempFile("table_refused.json");
+  const auto refusedNaming = [&file](const TuningField& field, const std::string& json, const std::string& why) {
+    ASSERT_TRUE(engine::writeTextFile(file, fmt::format(R"({{"{}": {}}})", field.key, json)).ok());
+    const auto loaded = loadTuning(file);
+    ASSERT_FALSE(loaded.ok()) << field.key << ": " << json << " was taken";
+    const std::string named = fmt::format("setting '{}': ", field.key);
+    EXPECT_TRUE(contains(loaded.error().message, named + why)) << loaded.error().message;
+  };
+  for (const TuningField& field : tuningFields()) {
+    refusedNaming(field, R"({"a": 1})", "");
+    if (tuningKind(field) == TuningKind::Name) refusedNaming(field, R"("no-such-name")", "");
+    if (tuningKind(field) != TuningKind::Number) continue;
+    for (const std::string& value : {testing::belowRangeText(field), testing::aboveRangeText(field)}) {
+      refusedNaming(field, value, value + " is outside");
+      TuningState t = testing::walkBase();
+      const engine::Status status = setTuningValue(t, field.key, value);
+      ASSERT_FALSE(status.ok()) << field.key << "=" << value;
+      EXPECT_TRUE(contains(status.error().message, fmt::format("setting '{}': {} is outside", field.key, value)))
+          << status.error().message;
+    }
   }
 }
 

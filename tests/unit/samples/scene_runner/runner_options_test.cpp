@@ -7,6 +7,7 @@
 #include <string>
 #include <vector>
 
+#include "../common/tuning_table_values.h"
 #include "engine/core/files.h"
 #include "runner_options.h"
 
@@ -90,7 +91,7 @@ TEST(RunnerOptions, EveryOptionsGoodValue) {
   EXPECT_EQ(o.tuning.debugView, DebugView(DEBUG_VIEW_EVALS));
   EXPECT_TRUE(o.sideBySide);
   EXPECT_FALSE(o.tuning.frontToBack);
-  EXPECT_EQ(o.tuning.earlyDepth, samples::EarlyDepth::Off);
+  EXPECT_EQ(o.tuning.earlyDepth, samples::AutoSwitch::Off);
   EXPECT_TRUE(o.tuning.certified);
   EXPECT_EQ(o.view, 3);
   ASSERT_TRUE(o.camera.has_value());
@@ -223,11 +224,11 @@ TEST(RunnerOptions, BadValuesNameTheOption) {
 // Tricky: the early depth stage has three values; --no-early-depth (older scripts) must stay --early-depth
 // off, and the default must be auto (the device decides), not on.
 TEST(RunnerOptions, EarlyDepthModes) {
-  EXPECT_EQ(parseOk({}).tuning.earlyDepth, samples::EarlyDepth::Auto);
-  EXPECT_EQ(parseOk({"--no-early-depth"}).tuning.earlyDepth, samples::EarlyDepth::Off);
-  EXPECT_EQ(parseOk({"--early-depth", "off"}).tuning.earlyDepth, samples::EarlyDepth::Off);
-  EXPECT_EQ(parseOk({"--early-depth", "on"}).tuning.earlyDepth, samples::EarlyDepth::On);
-  EXPECT_EQ(parseOk({"--early-depth", "auto"}).tuning.earlyDepth, samples::EarlyDepth::Auto);
+  EXPECT_EQ(parseOk({}).tuning.earlyDepth, samples::AutoSwitch::Auto);
+  EXPECT_EQ(parseOk({"--no-early-depth"}).tuning.earlyDepth, samples::AutoSwitch::Off);
+  EXPECT_EQ(parseOk({"--early-depth", "off"}).tuning.earlyDepth, samples::AutoSwitch::Off);
+  EXPECT_EQ(parseOk({"--early-depth", "on"}).tuning.earlyDepth, samples::AutoSwitch::On);
+  EXPECT_EQ(parseOk({"--early-depth", "auto"}).tuning.earlyDepth, samples::AutoSwitch::Auto);
 }
 
 // Tricky: --help is not an error (exit 0) and its text lists the options, new ones included.
@@ -292,6 +293,55 @@ TEST(RunnerOptions, SceneObjectsPerNodeChoice) {
   const ParseResult withSdf = parse({"--objects", "--sdf", kHsdf});
   EXPECT_EQ(withSdf.exitCode, 2);
   EXPECT_TRUE(contains(withSdf.message, "--objects")) << withSdf.message;
+}
+
+// The command line of one row's value: its option (a flag alone for a flag's other value), after
+// what the walk's base state needs (tuning_table_values.h) and, for the per-node choices, --objects.
+std::vector<std::string> walkArgs(const samples::TuningField& field, const std::string& value) {
+  std::vector<std::string> args;
+  if (std::string_view(field.key) != "compare_method") args = {"--compare-method", "cells"};
+  if (std::string_view(field.key) == "node_draw" || std::string_view(field.key) == "triangle_nodes")
+    args.push_back("--objects");
+  args.push_back(field.option);
+  if (samples::tuningKind(field) != samples::TuningKind::Bool || field.boolOption == samples::BoolOption::Value)
+    args.push_back(value);
+  return args;
+}
+
+// Tricky: every row of the tuning table has an option, made from the row, that sets its member to
+// the value given (and only a flag's other value for a flag); --help lists it with the range and
+// default the row gives. The value is derived from the row: a new row is tested without an edit.
+TEST(RunnerOptions, EveryTuningFieldHasAnOptionThatSetsIt) {
+  const std::string help = parse({"--help"}).message;
+  for (const samples::TuningField& field : samples::tuningFields()) {
+    const samples::TuningState base = samples::testing::walkBase();
+    const std::string value = samples::testing::otherValueText(field, base);
+    const ParseResult result = parse(walkArgs(field, value));
+    ASSERT_TRUE(result.options.has_value()) << field.option << " " << value << ": " << result.message;
+    const samples::TuningState& t = result.options->tuning;
+    EXPECT_FALSE(samples::sameTuningValue(field, t, base)) << field.option << " " << value << " did not set it";
+    EXPECT_EQ(samples::tuningValueText(field, t), value) << field.option;
+    EXPECT_TRUE(contains(help, field.option)) << field.option;
+    EXPECT_TRUE(contains(help, samples::tuningHelp(field).substr(0, 30))) << field.option;
+  }
+}
+
+// Tricky: every number's option refuses the values just past both ends of the row's range, and
+// every named one a name it does not have, naming the option (the help's ranges are the ranges
+// checked: --compare-resolution's help said 2..512 while 2048 passed).
+TEST(RunnerOptions, EveryTuningFieldsOptionRefusesValuesOutsideItsRange) {
+  for (const samples::TuningField& field : samples::tuningFields()) {
+    std::vector<std::string> refused;
+    if (samples::tuningKind(field) == samples::TuningKind::Number)
+      refused = {samples::testing::belowRangeText(field), samples::testing::aboveRangeText(field)};
+    if (samples::tuningKind(field) == samples::TuningKind::Name) refused = {"no-such-name"};
+    for (const std::string& value : refused) {
+      const ParseResult result = parse(walkArgs(field, value));
+      EXPECT_FALSE(result.options.has_value()) << field.option << " " << value << " was taken";
+      EXPECT_EQ(result.exitCode, 2) << field.option << " " << value;
+      EXPECT_TRUE(contains(result.message, field.option)) << field.option << " " << value << ": " << result.message;
+    }
+  }
 }
 
 }  // namespace

@@ -78,12 +78,17 @@ namespace hsdf {
 
 struct CellBuffers;  // the uploaded assets (src/render/cell_feature_internal.h)
 
+// A switch the device may decide: Auto (each setting below says for which devices it is on), On,
+// Off. One type for the early depth stage, thin boxes and tiles, so that a program reads, writes and
+// shows each of them as one kind of value (the samples' settings had four copies of it).
+enum class AutoSwitch : std::uint8_t { Auto, On, Off };
+
 class HermiteCellFeature final : public engine::render::RenderFeature {
  public:
   static constexpr std::uint32_t kFeatureId = 2;
 
   // Whether the boxes are tested at their faces' depth in the early depth stage (see above).
-  enum class EarlyDepth : std::uint8_t { Auto, On, Off };
+  using EarlyDepth = AutoSwitch;
   // Auto: on exactly for software rasterizers (context.capabilities().isSoftwareRasterizer).
   static bool earlyDepthWanted(EarlyDepth mode, bool softwareRasterizer) {
     return mode == EarlyDepth::On || (mode == EarlyDepth::Auto && softwareRasterizer);
@@ -96,7 +101,7 @@ class HermiteCellFeature final : public engine::render::RenderFeature {
   // rasterizers when the frame's largest cell (kThinBoxesMaxCellPixels, cellPixelsOnScreen) is
   // small; off for software rasterizers, which lose their early depth stage with them (lavapipe:
   // 3-7x the prepass).
-  enum class ThinBoxes : std::uint8_t { Auto, On, Off };
+  using ThinBoxes = AutoSwitch;
   static constexpr float kThinBoxesMaxCellPixels = 8.0f;
   static bool thinBoxesWanted(ThinBoxes mode, bool softwareRasterizer, float largestCellPixels) {
     return mode == ThinBoxes::On ||
@@ -111,7 +116,7 @@ class HermiteCellFeature final : public engine::render::RenderFeature {
   // invocations per covered pixel); off for GPUs until one has measured it. Tiles need
   // vkCmdDrawIndirectCount (Vulkan 1.2's drawIndirectCount; their overflow falls back to boxes
   // on the GPU): a device without it draws boxes.
-  enum class Tiles : std::uint8_t { Auto, On, Off };
+  using Tiles = AutoSwitch;
   static bool tilesWanted(Tiles mode, bool softwareRasterizer) {
     return mode == Tiles::On || (mode == Tiles::Auto && softwareRasterizer);
   }

@@ -36,6 +36,12 @@ inline constexpr RenderMethod kRenderMethods[] = {RenderMethod::Cells, RenderMet
 // settings files. parseRenderMethod is case-sensitive, as the command line is.
 const char* renderMethodName(RenderMethod method);
 std::optional<RenderMethod> parseRenderMethod(std::string_view name);
+// The methods that draw the asset's sparse cells (cells, cells-runs, cell-bricks); the others
+// sphere-trace the dense field. The one test of it: the cell feature and the samples asked it each
+// with a copy of this list, which a new method would have had to find.
+constexpr bool drawsCells(RenderMethod method) {
+  return method == RenderMethod::Cells || method == RenderMethod::CellRuns || method == RenderMethod::CellBricks;
+}
 
 enum class NormalMode : std::uint32_t {
   Exact = 0,               // analytic gradient of the interpolant
