@@ -35,9 +35,8 @@ struct QuadList {
   }
 };
 
-// The side quads between heights y0 < y1, then the cap at `capY`.
-inline void addBand(QuadList& list, float y0, float y1, float capY) {
-  const glm::vec3 h = kBoxHalf;
+// The side quads between heights y0 < y1, then the cap at `capY`, of a box of half extents h.
+inline void addBand(QuadList& list, float y0, float y1, float capY, const glm::vec3& h) {
   const glm::vec2 ring[4] = {{-h.x, -h.z}, {h.x, -h.z}, {h.x, h.z}, {-h.x, h.z}};
   for (int s = 0; s < 4; ++s) {
     const glm::vec2 p = ring[s], q = ring[(s + 1) % 4];
@@ -48,13 +47,15 @@ inline void addBand(QuadList& list, float y0, float y1, float capY) {
 }
 
 // `twoMaterials` false: both primitives use material 0 (a mesh of one material, split the same way).
-inline engine::scene::SceneData twoMaterialBoxScene(bool twoMaterials = true) {
+// `half`: other half extents (a box whose caps are its nearest faces has samples equally close to
+// both materials on its medial plane).
+inline engine::scene::SceneData twoMaterialBoxScene(bool twoMaterials = true, const glm::vec3& half = kBoxHalf) {
   engine::scene::SceneData scene;
   scene.materials.push_back({"red", kRed, 0.0f, 0.35f});
   scene.materials.push_back({"blue", kBlue, 0.0f, 0.7f});
   QuadList upper, lower;
-  addBand(upper, kSplitY, kBoxHalf.y, kBoxHalf.y);
-  addBand(lower, -kBoxHalf.y, kSplitY, -kBoxHalf.y);
+  addBand(upper, kSplitY, half.y, half.y, half);
+  addBand(lower, -half.y, kSplitY, -half.y, half);
   upper.primitive.material = 0;
   lower.primitive.material = twoMaterials ? 1 : 0;
   scene.meshes.push_back({"two_material_box", {upper.primitive, lower.primitive}});
