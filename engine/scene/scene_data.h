@@ -77,6 +77,10 @@ struct TriangleSoup {
   // flattenTriangles: the SceneData::nodes index of each triangle's instance (indices.size() / 3
   // entries), so that a hit on the soup names its object; empty for soups built otherwise.
   std::vector<std::uint32_t> triangleNodes;
+  // flattenTriangles: the SceneData::materials index of each triangle's primitive (-1: the default
+  // material), indices.size() / 3 entries, so that a baked surface can keep its primitives'
+  // materials; empty for soups built otherwise.
+  std::vector<std::int32_t> triangleMaterials;
 };
 
 }  // namespace engine::scene

@@ -61,13 +61,14 @@ Expected<std::shared_ptr<const hsdf::SdfAsset>> loadSdfFile(const std::filesyste
   // fp16 file's rounding), the dense field is the sphere tracers'. Classifying the field again
   // dropped the refinement (2,698 cells stored, 2,721 drawn).
   if (contents->dense && contents->cells) {
-    ENGINE_TRY_ASSIGN(const std::shared_ptr<const hsdf::SdfAsset> cells, hsdf::makeSdfAssetFromCells(name, *contents->cells));
+    ENGINE_TRY_ASSIGN(const std::shared_ptr<const hsdf::SdfAsset> cells,
+                      hsdf::makeSdfAssetFromCells(name, *contents->cells, contents->palette));
     auto asset = std::make_shared<hsdf::SdfAsset>(*cells);
     asset->field = *contents->dense;
     return std::shared_ptr<const hsdf::SdfAsset>(std::move(asset));
   }
-  if (contents->dense) return hsdf::makeSdfAsset(name, *contents->dense, contents->grid.bounds());
-  if (contents->cells) return hsdf::makeSdfAssetFromCells(name, *contents->cells);
+  if (contents->dense) return hsdf::makeSdfAsset(name, *contents->dense, contents->grid.bounds(), {}, contents->palette);
+  if (contents->cells) return hsdf::makeSdfAssetFromCells(name, *contents->cells, contents->palette);
   return makeError(path.string() + ": holds neither a dense field nor cells");
 }
 
@@ -130,6 +131,9 @@ Status Viewer::loadGltf(const SceneDesc& scene) {
     }
   const glm::vec3 origin = bakeOrigin(boundsMin_, boundsMax_);
   auto source = hsdf::BakeSource::fromScene("scene sdf", data, glm::dvec3(origin));
+  // Primitives of several materials bake into a palette (hermite_sdf/core/materials.h), which the
+  // entity's colour multiplies: white shows the materials as authored.
+  if (source && source->materials) bakes_.setColor(glm::vec4(1.0f));
   if (!isSdfMethod(tuning_.method)) {
     // Baked when an SDF method is picked; a scene that cannot be baked says why then.
     if (source) bakes_.setSource(std::move(*source), origin);
@@ -189,6 +193,8 @@ Status Viewer::addSdfFile(const std::filesystem::path& file, bool frameIt) {
   }
   bakes_.setBaked(int(asset->cells.grid.resolution), bakes_.padding());
   tuning_.resolution = int(asset->cells.grid.resolution);  // what the panel and saved settings say
+  // A file of several materials shows its palette as authored (white multiplies it).
+  if (!asset->palette.empty()) bakes_.setColor(glm::vec4(1.0f));
   bakes_.add(std::move(asset), glm::vec3(0.0f));  // before the glTF scene's color is known: uncolored
   return {};
 }

@@ -102,12 +102,14 @@ int runBake(const BakeRequest& request) {
   contents.scalarType = request.fp16 ? HsdfScalarType::Float16 : HsdfScalarType::Float32;
   if (request.payload != Payload::Dense) contents.cells = &baked.cells;
   if (request.payload != Payload::Cells) contents.dense = &baked.field;
+  contents.palette = &baked.palette;  // a mesh of several materials (none for one: the file is as before)
   auto bytes = serializeHsdf(contents);
   if (!bytes) return fail(bytes.error().message);
   if (auto written = engine::writeBinaryFile(request.output, *bytes); !written) return fail(written.error().message);
-  std::printf("wrote %s: %zu bytes (%s%s%s)\n", request.output.string().c_str(), bytes->size(),
+  std::printf("wrote %s: %zu bytes (%s%s%s%s)\n", request.output.string().c_str(), bytes->size(),
               contents.dense ? "dense field" : "", contents.dense && contents.cells ? " + " : "",
-              contents.cells ? "cell stream" : "");
+              contents.cells ? "cell stream" : "",
+              baked.palette.empty() ? "" : fmt::format(" + {} materials", baked.palette.size()).c_str());
   return 0;
 }
 
@@ -127,6 +129,8 @@ int runInspect(const std::filesystem::path& file) {
                                                     : "none");
   std::printf("cell stream: %s\n", contents->cells ? fmt::format("{} cells", contents->cells->records.size()).c_str()
                                                     : "none");
+  std::printf("materials: %s\n", contents->palette.empty() ? "one (no material section)"
+                                                             : fmt::format("{}", contents->palette.size()).c_str());
   if (!contents->dense || !contents->cells) return 0;
   const HermiteField& field = *contents->dense;
   auto classes = classifyCells(field);

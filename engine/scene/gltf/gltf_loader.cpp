@@ -111,6 +111,7 @@ TriangleSoup flattenTriangles(const SceneData& scene, const glm::dvec3& origin) 
         const auto offset = static_cast<std::uint32_t>(base);
         soup.indices.insert(soup.indices.end(), {offset + a, offset + (mirrored ? c : b), offset + (mirrored ? b : c)});
         soup.triangleNodes.push_back(std::uint32_t(n));
+        soup.triangleMaterials.push_back(std::int32_t(primitive.material));
       }
     }
   }

@@ -5,6 +5,7 @@
 #extension GL_GOOGLE_include_directive : require
 #include "hermite/hermite_host_device.h"
 #include "hermite/hermite.glsl"
+#include "hermite/materials.glsl"
 #include "shared/debug_colors.glsl"
 #include "shared/lighting.glsl"
 
@@ -85,7 +86,13 @@ void main() {
     uint count = CountersRef(pc.counters).counts[pixel.y * int(frame.viewport.x) + pixel.x];
     color = heat(float(count) / 64.0);
   } else {
-    color = shadeSurface(frame, object.color.rgb, object.material.x, worldPosition, normal);
+    vec3 base = object.color.rgb;
+    float roughness = object.material.x;
+    // A multi-material asset: the palette entry of the hit cell's corner nearest to the hit.
+    if (hermite.palette != 0ul)
+      applyPaletteEntry(hermite.palette, cellCornerSlot(hermite.materialSlots, visible.y - hermite.firstRecord, nearestCorner(u)),
+                        base, roughness);
+    color = shadeSurface(frame, base, roughness, worldPosition, normal);
   }
   outColor = vec4(color, 1.0);
 }

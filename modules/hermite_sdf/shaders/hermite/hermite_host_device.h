@@ -334,8 +334,44 @@ struct HermiteObject {
   uint64_t records;        // address of the record buffer this object's cells are in
   uint halfPrecision;      // 0: CellRecordGpu records, 1: CellRecordHalfGpu records
   uint flags;              // HERMITE_FLAG_*
+  // A multi-material asset (hermite_sdf/core/materials.h): the address of its records' corner
+  // slots (CellMaterialSlotsGpu, one per record from firstRecord on) and of its palette
+  // (HermiteMaterialGpu[]); 0 and 0 for an asset of one material, shaded in the object's colour.
+  uint64_t materialSlots;
+  uint64_t palette;
+  uint firstRecord;        // the record index of the asset's first record (materialSlots' entry 0)
+  uint pad0;
 };
-HSDF_CHECK_SIZE(HermiteObject, 16 + 8 + 2 * 4);
+HSDF_CHECK_SIZE(HermiteObject, 16 + 8 + 2 * 4 + 2 * 8 + 2 * 4);
+
+// One palette entry of a multi-material asset (SdfAsset::palette): what ObjectData's color and
+// material hold for an object of one material. The shading multiplies the object's colour by
+// `color` and takes the roughness from material.x (hermite/materials.glsl).
+struct HermiteMaterialGpu {
+  vec4 color;     // linear base colour, a: alpha (unused)
+  vec4 material;  // x: roughness, y: metallic, zw: 0
+};
+HSDF_CHECK_SIZE(HermiteMaterialGpu, 2 * 16);
+
+// The material slots of one record's 8 corners, one byte each, corner c in byte c % 4 of word c / 4
+// (CellMaterialSlots, little-endian).
+struct CellMaterialSlotsGpu {
+  uint corners0123;
+  uint corners4567;
+};
+HSDF_CHECK_SIZE(CellMaterialSlotsGpu, 2 * 4);
+
+// The sphere tracers' materials of a multi-material asset, reached through ObjectData::payload
+// (0: one material): this header, then paletteSize HermiteMaterialGpu entries, then, at byte
+// slotsOffset of the block, one slot byte per dense sample (sample i in byte i % 4 of word i / 4),
+// padded to whole words.
+struct FieldMaterialsHeader {
+  uint paletteSize;
+  uint slotsOffset;
+  uint pad0;
+  uint pad1;
+};
+HSDF_CHECK_SIZE(FieldMaterialsHeader, 16);
 
 // Feature ids in ObjectData::feature (engine features use small numbers; see their headers).
 #define HERMITE_CELLS_FEATURE_ID 2u
@@ -432,6 +468,13 @@ layout(buffer_reference, scalar) readonly buffer CellRecordsRef { CellRecordGpu 
 layout(buffer_reference, scalar) readonly buffer CellRecordsHalfRef { CellRecordHalfGpu records[]; };
 layout(buffer_reference, scalar) readonly buffer CullObjectsRef { BrickCullObject objects[]; };
 layout(buffer_reference, scalar) readonly buffer ConesRef { CellBrickCone cones[]; };
+layout(buffer_reference, scalar) readonly buffer PaletteRef { HermiteMaterialGpu entries[]; };
+layout(buffer_reference, scalar) readonly buffer CellMaterialSlotsRef { CellMaterialSlotsGpu records[]; };
+layout(buffer_reference, scalar) readonly buffer FieldMaterialsRef {
+  FieldMaterialsHeader header;
+  HermiteMaterialGpu palette[];
+};
+layout(buffer_reference, scalar) readonly buffer SlotWordsRef { uint words[]; };
 #endif
 
 #endif

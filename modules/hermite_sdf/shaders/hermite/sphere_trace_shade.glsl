@@ -2,6 +2,7 @@
 // again; a fragment goes on only where this object won the prepass (visibility id), rebuilds the
 // hit from the prepass depth and shades it with the normal the object asks for.
 #include "hermite/sphere_trace_common.glsl"
+#include "hermite/materials.glsl"
 #include "shared/debug_colors.glsl"
 #include "shared/lighting.glsl"
 
@@ -46,7 +47,11 @@ void main() {
     // whose gradient faces away).
     vec3 n = (visible.y & SPHERE_TRACE_STARTED_INSIDE) != 0u ? -normal : normal;
     n = normalTowardEye(n, normalize(frame.cameraPosition.xyz - worldPosition));
-    color = shadeSurface(frame, object.color.rgb, object.material.x, worldPosition, n);
+    vec3 base = object.color.rgb;
+    float roughness = object.material.x;
+    // A multi-material asset (payload: FieldMaterialsHeader): the entry of the nearest sample.
+    if (object.payload != 0ul) applyFieldMaterial(object.payload, g, draw.resolution, base, roughness);
+    color = shadeSurface(frame, base, roughness, worldPosition, n);
   }
   outColor = vec4(color, 1.0);
 }

@@ -83,17 +83,21 @@ struct HermiteCellFeature::AssetUpload {
   std::vector<std::uint32_t> brickCells;
   std::vector<shader::CellBrickCone> cones;
   std::vector<shader::CellBrickCone> cellCones;
+  std::vector<CellMaterialSlots> materialSlots;           // the multi-material assets' records only
+  std::vector<shader::HermiteMaterialGpu> palette;        // their palettes
 
   // The bytes of the buffers made from these streams.
   VkDeviceSize bytes() const {
     return full.size() * sizeof(CellRecord) + half.size() * sizeof(CellRecordHalf) +
            runs.size() * sizeof(shader::CellRunGpu) + bricks.size() * sizeof(shader::CellBrickGpu) +
-           brickCells.size() * sizeof(std::uint32_t) + (cones.size() + cellCones.size()) * sizeof(shader::CellBrickCone);
+           brickCells.size() * sizeof(std::uint32_t) + (cones.size() + cellCones.size()) * sizeof(shader::CellBrickCone) +
+           materialSlots.size() * sizeof(CellMaterialSlots) + palette.size() * sizeof(shader::HermiteMaterialGpu);
   }
   // The entries of the buffers once these streams are in.
   StreamCounts end() const {
     return {base.records + std::uint32_t(full.size()), base.runs + std::uint32_t(runs.size()),
-            base.bricks + std::uint32_t(bricks.size()), base.brickCells + std::uint32_t(brickCells.size())};
+            base.bricks + std::uint32_t(bricks.size()), base.brickCells + std::uint32_t(brickCells.size()),
+            base.materialSlots + std::uint32_t(materialSlots.size()), base.palette + std::uint32_t(palette.size())};
   }
 };
 
@@ -104,11 +108,13 @@ std::span<const std::byte> bytesOf(const std::vector<T>& items) {
   return std::as_bytes(std::span(items));
 }
 
+static_assert(sizeof(CellMaterialSlots) == sizeof(shader::CellMaterialSlotsGpu), "materials.h and hermite_host_device.h");
+
 // The seven cell buffers as appends of the upload's streams after the `used` entries they hold,
 // with each buffer's usage. The records are vertex attributes in the prepass and read by address
 // in the resolve pass; the runs are vertex attributes only.
-template <class Upload>  // HermiteCellFeature::AssetUpload, private to the feature
-std::vector<engine::gpu::BufferAppend> streamAppends(CellBuffers& b, const Upload& u, const StreamCounts& used) {
+template <class Upload>
+std::vector<engine::gpu::BufferAppend> cellStreamAppends(CellBuffers& b, const Upload& u, const StreamCounts& used) {
   constexpr VkBufferUsageFlags address =
       VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_SHADER_DEVICE_ADDRESS_BIT | VK_BUFFER_USAGE_TRANSFER_SRC_BIT;
   constexpr VkBufferUsageFlags vertex = VK_BUFFER_USAGE_VERTEX_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_SRC_BIT;
@@ -127,6 +133,23 @@ std::vector<engine::gpu::BufferAppend> streamAppends(CellBuffers& b, const Uploa
       {&b.cellCones, entries(used.records, sizeof(shader::CellBrickCone)), bytesOf(u.cellCones), address,
        "hermite cell cones"},
   };
+}
+
+// The cell buffers' appends, then the multi-material assets' corner slots and palettes (read by
+// address in the resolve pass) only where there are some: an upload of assets of one material
+// makes no material buffers, and costs what it did.
+template <class Upload>  // HermiteCellFeature::AssetUpload, private to the feature
+std::vector<engine::gpu::BufferAppend> streamAppends(CellBuffers& b, const Upload& u, const StreamCounts& used) {
+  std::vector<engine::gpu::BufferAppend> appends = cellStreamAppends(b, u, used);
+  constexpr VkBufferUsageFlags address =
+      VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_SHADER_DEVICE_ADDRESS_BIT | VK_BUFFER_USAGE_TRANSFER_SRC_BIT;
+  if (!u.materialSlots.empty())
+    appends.push_back({&b.materialSlots, VkDeviceSize(used.materialSlots) * sizeof(CellMaterialSlots),
+                       bytesOf(u.materialSlots), address, "hermite cell material slots"});
+  if (!u.palette.empty())
+    appends.push_back({&b.palette, VkDeviceSize(used.palette) * sizeof(shader::HermiteMaterialGpu), bytesOf(u.palette),
+                       address, "hermite cell palettes"});
+  return appends;
 }
 
 }  // namespace
@@ -253,6 +276,18 @@ void appendProxyBoxes(const std::vector<std::uint16_t>& codes, std::span<Record>
     uploaded[i].cellClass = std::uint16_t(uploaded[i].cellClass | (codes[i] << CELL_PROXY_SHIFT));
 }
 
+// A multi-material asset's corner slots (one entry per record, the same for its fp32 and fp16
+// records) and palette, where its entry finds them; an asset of one material adds nothing.
+template <class Upload>
+void appendMaterials(Upload& u, const SdfAsset& asset, CellBuffers::Entry& entry) {
+  if (asset.palette.empty() || asset.cells.materials.size() != asset.cells.records.size()) return;
+  entry.firstMaterialSlots = u.base.materialSlots + static_cast<std::uint32_t>(u.materialSlots.size());
+  u.materialSlots.insert(u.materialSlots.end(), asset.cells.materials.begin(), asset.cells.materials.end());
+  entry.firstPaletteEntry = u.base.palette + static_cast<std::uint32_t>(u.palette.size());
+  for (const SdfMaterial& m : asset.palette)
+    u.palette.push_back({m.baseColor, glm::vec4(m.roughness, m.metallic, 0.0f, 0.0f)});
+}
+
 // Appends one asset's records, runs, bricks and cones to the upload, and its entry to `rebuilt`.
 void HermiteCellFeature::appendAsset(CellBuffers& rebuilt, AssetUpload& u, const std::shared_ptr<const SdfAsset>& asset,
                                      const AssetDemand& d) const {
@@ -291,6 +326,7 @@ void HermiteCellFeature::appendAsset(CellBuffers& rebuilt, AssetUpload& u, const
   u.half.insert(u.half.end(), asset->cellsHalf.records.begin(), asset->cellsHalf.records.end());
   appendProxyBoxes(asset->proxyBoxes, std::span(u.full).last(asset->cells.records.size()));
   appendProxyBoxes(asset->proxyBoxesHalf, std::span(u.half).last(asset->cellsHalf.records.size()));
+  appendMaterials(u, *asset, entry);
   rebuilt.entries.emplace(asset->id, std::move(entry));
 }
 

@@ -323,6 +323,23 @@ void HermiteCellFeature::addObjectDraws(engine::render::FrameContext& frame, Fra
   addCellObjectDraws(frame, f, o);
 }
 
+// What the shading pass reads of an object: its records, and a multi-material asset's corner
+// slots and palette (0: shaded in the object's colour).
+static shader::HermiteObject hermiteObject(const CellBuffers& buffers, const CellBuffers::Entry& entry,
+                                          const shader::HermiteDraw& draw, int precision) {
+  shader::HermiteObject object{};
+  object.gridOriginSpacing = draw.gridOriginSpacing;
+  object.records = buffers.records[precision].address();
+  object.halfPrecision = std::uint32_t(precision);
+  object.flags = draw.flags;
+  if (entry.firstMaterialSlots == CellBuffers::kNoMaterials) return object;
+  object.materialSlots =
+      buffers.materialSlots.address() + VkDeviceAddress(entry.firstMaterialSlots) * sizeof(shader::CellMaterialSlotsGpu);
+  object.palette = buffers.palette.address() + VkDeviceAddress(entry.firstPaletteEntry) * sizeof(shader::HermiteMaterialGpu);
+  object.firstRecord = entry.firstRecord;
+  return object;
+}
+
 // The object's GPU scene entry, draw record and Hermite object, its eye in grid units and its
 // screen rectangle.
 void HermiteCellFeature::beginObjectDraw(engine::render::FrameContext& frame, FrameDraws& f,
@@ -344,8 +361,7 @@ void HermiteCellFeature::beginObjectDraw(engine::render::FrameContext& frame, Fr
   if (!settings_.proxyBoxes) draw.flags |= HERMITE_FLAG_WHOLE_CELLS;
   draw.resolution = std::uint32_t(grid.resolution);
   draw.firstCell = entry.firstRecord;
-  f.hermiteObjects.push_back({draw.gridOriginSpacing, buffers_->records[precision].address(),
-                              std::uint32_t(precision), draw.flags});
+  f.hermiteObjects.push_back(hermiteObject(*buffers_, entry, draw, precision));
   f.objectIndices.push_back(objectIndex);
 
   // The eye in grid units, and how far (in grid units) the near plane reaches around it.

@@ -19,8 +19,10 @@ using engine::gpu::Buffer;
 using engine::gpu::Pipeline;
 
 // Entries of each stream of the cell buffers (cell cones: one per record; brick cones: one per brick).
+// Material slots: one per record of the multi-material assets only; palette: their palettes' entries.
 struct StreamCounts {
   std::uint32_t records = 0, runs = 0, bricks = 0, brickCells = 0;
+  std::uint32_t materialSlots = 0, palette = 0;
 };
 
 // The GPU copy of every drawn asset's cell records: one fp32 and one fp16 buffer, each the
@@ -45,8 +47,13 @@ struct CellBuffers {
     // bricks' cones, only for assets some entity draws as culled cells.
     std::vector<shader::CellBrickCone> cellCones;
     bool cellConesBuilt = false;
+    // A multi-material asset (SdfAsset::palette): the index of its first record's corner slots in
+    // `materialSlots` and of its palette in `palette`; kNoMaterials for one material.
+    std::uint32_t firstMaterialSlots = kNoMaterials;
+    std::uint32_t firstPaletteEntry = kNoMaterials;
     std::uint64_t lastFrame = 0;           // the last frame that drew the asset
   };
+  static constexpr std::uint32_t kNoMaterials = UINT32_MAX;
   std::unordered_map<std::uint64_t, Entry> entries;  // by asset id
   Buffer records[2];
   Buffer runs;  // every asset's runs, firstRecord global (RenderMethod::CellRuns)
@@ -55,6 +62,11 @@ struct CellBuffers {
   Buffer brickCones;  // CellBrickCone per entry of `bricks`
   Buffer cellCones;   // CellBrickCone per record (same index as `records`); never-cull cones for
                       // assets without cell cones
+  // The multi-material assets' corner slots (CellMaterialSlotsGpu, one per record of those assets
+  // only) and palettes (HermiteMaterialGpu), read by address in the resolve pass; never made while
+  // no drawn asset has materials (then an asset of one material costs nothing more).
+  Buffer materialSlots;
+  Buffer palette;
   std::uint32_t runLength = 0;  // the maximum run length the runs were built with
   StreamCounts used;            // the entries that hold data; the buffers may have room for more
   std::uint64_t bytes = 0;      // the bytes of those entries

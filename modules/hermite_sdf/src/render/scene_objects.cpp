@@ -82,6 +82,7 @@ engine::Expected<BakeSource> meshBakeSource(const engine::scene::SceneData& scen
   engine::scene::SceneData single;
   single.meshes.push_back(scene.meshes[std::size_t(mesh)]);
   single.nodes.emplace_back().mesh = 0;
+  single.materials = scene.materials;  // its primitives' materials, for a mesh of several (materials.h)
   const std::string& name = scene.meshes[std::size_t(mesh)].name;
   return BakeSource::fromScene(name.empty() ? fmt::format("mesh {}", mesh) : name, single);
 }
@@ -155,8 +156,11 @@ std::vector<engine::ecs::Entity> addSdfInstances(const engine::scene::SceneData&
     HermiteSdfRenderable renderable;
     renderable.asset = objects.meshAssets[std::size_t(mesh)];
     const auto& primitives = scene.meshes[std::size_t(mesh)].primitives;
-    // As its triangles are drawn (a mesh without a material too); one colour: its first primitive's.
-    renderable.color = engine::scene::baseColorOf(scene, primitives.empty() ? -1 : primitives.front().material);
+    // As its triangles are drawn (a mesh without a material too): one material, its colour; several,
+    // white, so that the asset's palette (materials.h) shows them as authored.
+    renderable.color = !renderable.asset->palette.empty()
+                           ? glm::vec4(1.0f)
+                           : engine::scene::baseColorOf(scene, primitives.empty() ? -1 : primitives.front().material);
     registry.emplace<HermiteSdfRenderable>(nodeEntities[n], std::move(renderable));
     added.push_back(nodeEntities[n]);
   }

@@ -2,7 +2,9 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 #include <string>
+#include <vector>
 
 #include <imgui.h>
 
@@ -196,6 +198,28 @@ engine::Expected<SphereTraceFeature::Pipelines> SphereTraceFeature::createPipeli
   return pipelines;
 }
 
+namespace {
+
+// A multi-material asset's palette and sample slots as the shading pass reads them
+// (FieldMaterialsHeader, then the palette, then the slots four to a word); empty for one material.
+std::vector<std::uint8_t> fieldMaterialsBlock(const SdfAsset& asset) {
+  if (asset.palette.empty() || asset.field.materials.empty()) return {};
+  shader::FieldMaterialsHeader header{};
+  std::vector<shader::HermiteMaterialGpu> palette;
+  for (const SdfMaterial& m : asset.palette) palette.push_back({m.baseColor, glm::vec4(m.roughness, m.metallic, 0.0f, 0.0f)});
+  const std::size_t paletteBytes = palette.size() * sizeof(shader::HermiteMaterialGpu);
+  header.paletteSize = std::uint32_t(palette.size());
+  header.slotsOffset = std::uint32_t(sizeof header + paletteBytes);
+  const std::size_t slotBytes = (asset.field.materials.size() + 3) / 4 * 4;
+  std::vector<std::uint8_t> block(sizeof header + paletteBytes + slotBytes, 0);
+  std::memcpy(block.data(), &header, sizeof header);
+  std::memcpy(block.data() + sizeof header, palette.data(), paletteBytes);
+  std::memcpy(block.data() + sizeof header + paletteBytes, asset.field.materials.data(), asset.field.materials.size());
+  return block;
+}
+
+}  // namespace
+
 engine::Expected<SphereTraceFeature::FieldTexture> SphereTraceFeature::uploadTexture(const SdfAsset& asset,
                                                                                      std::uint32_t method, bool half,
                                                                                      bool& outOfResources,
@@ -220,15 +244,21 @@ engine::Expected<SphereTraceFeature::FieldTexture> SphereTraceFeature::uploadTex
   desc.extent = {std::uint32_t(grid.resolution), std::uint32_t(grid.resolution), std::uint32_t(grid.resolution)};
   desc.usage = VK_IMAGE_USAGE_SAMPLED_BIT | VK_IMAGE_USAGE_TRANSFER_DST_BIT;
   desc.name = asset.name + " " + kMethodNames[method] + (half ? " fp16" : " fp32") + " field";
+  const std::vector<std::uint8_t> materials = fieldMaterialsBlock(asset);
+  neededBytes += materials.size();
   try {  // the allocator throws when the budget or the device is out of memory: this object only is dropped
     texture.image = engine::gpu::Image(*context_, desc);
     engine::gpu::uploadImage(*context_, texture.image, texels.bytes.data(), texels.bytes.size());
+    if (!materials.empty())
+      texture.materials = engine::gpu::createBufferWithData(
+          *context_, materials.data(), materials.size(),
+          VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_SHADER_DEVICE_ADDRESS_BIT, desc.name + " materials");
   } catch (const engine::gpu::VulkanError& e) {
     if (e.result() != VK_ERROR_OUT_OF_DEVICE_MEMORY) throw;
     outOfResources = true;
     return engine::makeError(std::string("out of GPU memory (") + e.what() + ")");
   }
-  texture.bytes = texels.bytes.size();
+  texture.bytes = texels.bytes.size() + materials.size();
   auto slot = bindings_->add(texture.image.view(), samplers_[method]);
   if (!slot) {
     outOfResources = true;
@@ -329,8 +359,9 @@ void SphereTraceFeature::collectDraws(engine::render::FrameContext& frame) {
         drawnThisFrame[entity] = asset;
         const GridSpec& grid = asset->field.grid;
         const glm::vec3 lo(grid.bounds().min), hi(grid.bounds().max);
-        const shader::ObjectData object =
+        shader::ObjectData object =
             engine::render::GpuScene::makeObject(world.matrix, r.color, r.roughness, 0.0f, kFeatureId);
+        object.payload = texture->materials ? texture->materials.address() : 0;  // FieldMaterialsHeader
         shader::SphereTraceDraw draw{};
         draw.gridOriginSpacing = glm::vec4(lo, float(grid.spacing));
         draw.object = frame.scene.addObject(object);

@@ -266,6 +266,59 @@ TEST(Viewer, TheSdfTakesTheColourOfTheMeshItStandsFor) {
   }
 }
 
+// Which of the two-material box's colours a pixel shows: 0 red, 1 blue, -1 neither (background,
+// ground, a grey pixel).
+int redOrBlue(const std::uint8_t* rgba) {
+  const double r = rgba[0], b = rgba[2];
+  return r > 1.3 * b + 4.0 ? 0 : (b > 1.3 * r + 4.0 ? 1 : -1);
+}
+
+// Tricky: a glTF mesh of two primitives in two materials (red top, blue bottom) baked as one SDF
+// must draw both, where its triangles draw them: before, the SDF took the first primitive's colour
+// and drew the blue half red. The entity is white (its colour multiplies the palette). The mesh's
+// and the cells' images are compared pixel by pixel: the colours may differ only along the seam,
+// where the SDF's colour follows the nearest grid sample (within a cell of the triangles' split).
+TEST(Viewer, AMeshOfTwoMaterialsDrawsBothAsAnSdf) {
+  auto viewer = makeTestViewer(128, 96);
+  ASSERT_NE(viewer, nullptr);
+  SceneDesc scene;
+  scene.gltf = hsdftest::testData("gltf/two_material_box.glb");
+  scene.groundPlane = false;
+  TuningState tuning;
+  tuning.method = hsdf::RenderMethod::Cells;
+  tuning.resolution = 32;
+  ASSERT_TRUE(viewer->loadScene(scene, tuning).ok());
+  EXPECT_EQ(theSdf(*viewer).color, glm::vec4(1.0f));
+  ASSERT_NE(viewer->sdfAsset(), nullptr);
+  EXPECT_EQ(viewer->sdfAsset()->palette.size(), 2u);
+  const auto frame = [&viewer](Method method, TuningState t) {
+    t.method = method;
+    viewer->setTuning(t);
+    EXPECT_TRUE(viewer->step().ok());
+    viewer->renderer().finish();
+    return viewer->renderer().readbackColor();
+  };
+  const std::vector<std::uint8_t> sdf = frame(hsdf::RenderMethod::Cells, tuning);
+  const std::vector<std::uint8_t> mesh = frame(Method::Mesh, tuning);
+  ASSERT_EQ(sdf.size(), mesh.size());
+  int red = 0, blue = 0, compared = 0, differ = 0;
+  for (std::size_t i = 0; i < sdf.size(); i += 4) {
+    const int s = redOrBlue(&sdf[i]), m = redOrBlue(&mesh[i]);
+    red += s == 0;
+    blue += s == 1;
+    if (m < 0) continue;
+    ++compared;
+    differ += s != m;
+  }
+  std::printf("[ two materials ] SDF: %d red, %d blue px; %d of %d mesh px in another colour\n", red, blue, differ,
+              compared);
+  EXPECT_GT(red, 500);
+  EXPECT_GT(blue, 500);
+  // The seam: one row of cells (a cell is about 1.2 px here) along the split's outline.
+  EXPECT_LT(differ, compared / 25);
+  EXPECT_TRUE(viewer->close().ok());
+}
+
 TEST(Viewer, SwitchesBetweenMeshAndSdfAtRunTime) {
   auto viewer = makeViewer();
   ASSERT_NE(viewer, nullptr);

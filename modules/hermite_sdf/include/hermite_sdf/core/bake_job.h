@@ -17,6 +17,7 @@
 #include "engine/core/progress.h"
 #include "engine/scene/scene_data.h"
 #include "hermite_sdf/core/field.h"
+#include "hermite_sdf/core/materials.h"
 #include "hermite_sdf/core/sdf_asset.h"
 
 namespace hsdf {
@@ -27,6 +28,9 @@ struct BakeSource {
   std::string name;  // names the asset and prefixes errors
   std::shared_ptr<const engine::scene::TriangleSoup> triangles;
   std::string shape;  // used when `triangles` is null
+  // The triangles' materials (materials.h): a palette and a slot per triangle when they use two or
+  // more, else null or empty (then the asset has no palette and the entity's colour shades it).
+  std::shared_ptr<const MeshMaterials> materials;
 
   static BakeSource fromTriangles(std::string name, engine::scene::TriangleSoup triangles);
   static BakeSource fromShape(std::string shapeName);
@@ -45,6 +49,7 @@ struct PreparedSource {
   std::string name;
   std::unique_ptr<SdfSource> source;
   std::string description;
+  std::vector<SdfMaterial> palette;  // what the source's material slots index; empty: one material
 };
 engine::Expected<PreparedSource> prepareSource(const BakeSource& source);
 

@@ -22,6 +22,7 @@
 #include "engine/core/progress.h"
 #include "hermite_sdf/core/field.h"
 #include "hermite_sdf/core/hermite.h"
+#include "hermite_sdf/core/materials.h"
 
 namespace hsdf {
 
@@ -118,6 +119,9 @@ template <class Record>
 struct CellStreamOf {
   GridSpec grid;
   std::vector<Record> records;
+  // A multi-material asset's material slots of each record's 8 corners (materials.h), one entry
+  // per record, beside the records (the GPU records keep their layout); empty for one material.
+  std::vector<CellMaterialSlots> materials;
 
   // As the paper counts them: 32 scalars (8 corners x 4) per kept cell. The cell coordinate is
   // NOT counted (it is implied by the position in a dense grid; the paper's table omits it).

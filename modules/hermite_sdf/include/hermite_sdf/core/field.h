@@ -42,6 +42,9 @@ static_assert(sizeof(HermiteSample) == 16);
 struct HermiteField {
   GridSpec grid;
   std::vector<HermiteSample> samples;  // grid.sampleCount() entries
+  // A multi-material bake's material slot of every sample (materials.h), in the order of
+  // `samples`; empty for a source of one material.
+  std::vector<std::uint8_t> materials;
   const HermiteSample& at(int i, int j, int k) const { return samples[grid.sampleIndex(i, j, k)]; }
   // The 8 corners of cell (cx,cy,cz) (corner index x + 2y + 4z), widened to T for the cell maths.
   template <class T = double>

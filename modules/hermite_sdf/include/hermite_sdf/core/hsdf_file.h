@@ -17,6 +17,7 @@
 #include "engine/core/expected.h"
 #include "hermite_sdf/core/cells.h"
 #include "hermite_sdf/core/field.h"
+#include "hermite_sdf/core/materials.h"
 
 namespace hsdf {
 
@@ -33,6 +34,9 @@ struct HsdfContents {
   HsdfScalarType scalarType = HsdfScalarType::Float32;
   std::optional<HermiteField> dense;  // on `grid`
   std::optional<CellStream> cells;    // on `grid`, records in increasing cell index order
+  // A multi-material field (materials.h): the palette its slots index (dense->materials and
+  // cells->materials, each present with its payload). Empty: one material (no material section).
+  std::vector<SdfMaterial> palette;
 };
 
 // The same contents by reference, for saving payloads that live elsewhere (an asset's cells)
@@ -42,6 +46,7 @@ struct HsdfContentsView {
   HsdfScalarType scalarType = HsdfScalarType::Float32;
   const HermiteField* dense = nullptr;  // on `grid`, or none
   const CellStream* cells = nullptr;    // on `grid`, records in increasing cell index order, or none
+  const std::vector<SdfMaterial>* palette = nullptr;  // as HsdfContents::palette; null or empty: none
 };
 
 struct HsdfLoadOptions {

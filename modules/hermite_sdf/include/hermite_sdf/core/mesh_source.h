@@ -58,6 +58,10 @@ struct MeshSourceOptions {
   double windingBeta = 2.0;
   // Reuse the sign of a recent query whose surface-free ball contains the point (see above).
   bool reuseSign = true;
+  // The material slot of each input triangle (materials.h, MeshMaterials::triangleSlots), for a
+  // mesh of several materials: each sample then reports its closest triangle's slot. Empty: one
+  // material (samples report slot 0 and materialSlots() is 0).
+  std::vector<std::uint8_t> triangleSlots;
 };
 
 struct MeshSourceStats {
@@ -102,6 +106,7 @@ class MeshSource final : public SdfSource {
 
   SdfSample sample(const glm::dvec3& p) const override;
   Aabb bounds() const override;
+  std::size_t materialSlots() const override;
   void sampleRow(const glm::dvec3& start, const glm::dvec3& step, std::span<SdfSample> out) const override;
   SdfBandSample sampleBand(const glm::dvec3& p, double band) const override;
   std::optional<SdfSample> sampleNear(const glm::dvec3& p, double band) const override;

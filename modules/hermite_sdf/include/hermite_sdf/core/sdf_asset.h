@@ -9,6 +9,7 @@
 #include "engine/core/expected.h"
 #include "hermite_sdf/core/cells.h"
 #include "hermite_sdf/core/field.h"
+#include "hermite_sdf/core/materials.h"
 
 namespace hsdf {
 
@@ -29,22 +30,30 @@ struct SdfAsset {
   // valid for it. Computed from the kept cells by every make*Asset (dense and sparse bakes, loaded
   // files); false (never cone-cull) when unknown.
   bool boundaryPositive = false;
+  // A multi-material asset's palette (materials.h): the slots in field.materials, cells.materials
+  // and cellsHalf.materials index it. Empty for one material: the entity's colour shades it.
+  std::vector<SdfMaterial> palette;
 };
 
-// Classifies the field's cells, extracts the kept ones (fp32 and fp16) and assigns a new id.
+// Classifies the field's cells, extracts the kept ones (fp32 and fp16, with their corners'
+// material slots when the field has them) and assigns a new id. `palette`: the materials the
+// field's slots index (checkMaterialSlots); empty with a field of one material.
 engine::Expected<std::shared_ptr<const SdfAsset>> makeSdfAsset(std::string name, HermiteField field,
                                                                const Aabb& surfaceBounds,
-                                                               const ClassifyOptions& options = {});
+                                                               const ClassifyOptions& options = {},
+                                                               std::vector<SdfMaterial> palette = {});
 
 // An asset from a sparse cell stream alone (e.g. a cells-only .hsdf file): drawable by the cell
 // renderer only (the sphere-tracing baselines need the dense field). Errors: invalid grid.
-engine::Expected<std::shared_ptr<const SdfAsset>> makeSdfAssetFromCells(std::string name, CellStream cells);
+engine::Expected<std::shared_ptr<const SdfAsset>> makeSdfAssetFromCells(std::string name, CellStream cells,
+                                                                        std::vector<SdfMaterial> palette = {});
 
 // An asset from a sparse bake (sparse_bake.h): the cells, their counts and refinement depth as
 // classifyCells reports them, the source's bounds. No dense field (field.samples is empty,
 // field.grid is the grid): drawable by the cell renderers only.
 engine::Expected<std::shared_ptr<const SdfAsset>> makeSdfAssetFromSparseBake(std::string name, CellStream cells,
                                                                              const CellStats& stats, int refineDepth,
-                                                                             const Aabb& surfaceBounds);
+                                                                             const Aabb& surfaceBounds,
+                                                                             std::vector<SdfMaterial> palette = {});
 
 }  // namespace hsdf

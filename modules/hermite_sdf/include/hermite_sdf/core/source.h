@@ -1,6 +1,8 @@
 #pragma once
 // SdfSource: anything that can be sampled into a field — analytic shapes, triangle meshes.
 // Sources are evaluated from many threads at once while baking, so every query must be thread-safe.
+#include <cstddef>
+#include <cstdint>
 #include <optional>
 #include <span>
 
@@ -19,6 +21,9 @@ struct Aabb {
 struct SdfSample {
   double value = 0.0;
   glm::dvec3 gradient{0.0};
+  // The material slot (materials.h) of the closest surface, for sources with materialSlots() > 1;
+  // 0 otherwise.
+  std::uint8_t material = 0;
 };
 
 // Answer of a band-limited query (narrow-band baking). When `exact`, `sample` is what sample()
@@ -36,6 +41,9 @@ class SdfSource {
   virtual SdfSample sample(const glm::dvec3& p) const = 0;
   // Bounds of the surface (not of the grid: grids add padding around these).
   virtual Aabb bounds() const = 0;
+  // How many material slots the samples' `material` takes (a mesh of several materials); 0 when
+  // the source has one material and the bakes record none.
+  virtual std::size_t materialSlots() const { return 0; }
 
   // Samples the points start + i*step, i = 0..out.size()-1, into out. Same results as calling
   // sample() per point; sources whose queries profit from coherence (meshes) override it, so a

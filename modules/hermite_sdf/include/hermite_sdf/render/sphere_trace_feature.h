@@ -63,6 +63,7 @@
 #include <vector>
 
 #include "engine/ecs/entity.h"
+#include "engine/gpu/buffer.h"
 #include "engine/gpu/image.h"
 #include "engine/gpu/memory.h"
 #include "engine/gpu/pipeline.h"
@@ -134,6 +135,9 @@ class SphereTraceFeature final : public engine::render::RenderFeature {
   std::uint32_t deviceFilterBits_ = 8;  // VkPhysicalDeviceLimits::subTexelPrecisionBits
   struct FieldTexture {
     engine::gpu::Image image;
+    // A multi-material asset's palette and sample slots (FieldMaterialsHeader), read by address
+    // in the shading pass (ObjectData::payload); none for one material.
+    engine::gpu::Buffer materials;
     std::uint32_t slot = 0;
     std::uint64_t lastUsedFrame = 0;
     std::uint64_t bytes = 0;

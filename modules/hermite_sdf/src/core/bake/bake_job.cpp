@@ -105,7 +105,11 @@ BakeSource BakeSource::fromShape(std::string shapeName) {
 engine::Expected<BakeSource> BakeSource::fromScene(std::string name, const engine::scene::SceneData& scene,
                                                   const glm::dvec3& origin) {
   ENGINE_TRY(engine::scene::checkFlattenable(scene));
-  return fromTriangles(std::move(name), engine::scene::flattenTriangles(scene, origin));
+  engine::scene::TriangleSoup soup = engine::scene::flattenTriangles(scene, origin);
+  ENGINE_TRY_ASSIGN(MeshMaterials materials, meshMaterials(soup, scene));
+  BakeSource source = fromTriangles(std::move(name), std::move(soup));
+  if (!materials.empty()) source.materials = std::make_shared<const MeshMaterials>(std::move(materials));
+  return source;
 }
 
 engine::Expected<BakeSource> BakeSource::fromPathOrShape(const std::string& input) {
@@ -130,8 +134,16 @@ engine::Expected<PreparedSource> prepareSource(const BakeSource& source) {
   PreparedSource prepared;
   prepared.name = source.name;
   if (source.triangles) {
-    ENGINE_TRY_ASSIGN(std::unique_ptr<MeshSource> mesh, MeshSource::create(*source.triangles));
+    MeshSourceOptions options;
+    if (source.materials && !source.materials->empty()) {
+      ENGINE_TRY(checkMaterialSlots(source.materials->palette, source.materials->triangleSlots, "triangles")
+                     .withContext("mesh source"));
+      options.triangleSlots = source.materials->triangleSlots;
+      prepared.palette = source.materials->palette;
+    }
+    ENGINE_TRY_ASSIGN(std::unique_ptr<MeshSource> mesh, MeshSource::create(*source.triangles, options));
     prepared.description = describeMesh(source.name, mesh->stats());
+    if (!prepared.palette.empty()) prepared.description += fmt::format(", {} materials", prepared.palette.size());
     prepared.source = std::move(mesh);
     return prepared;
   }
@@ -173,7 +185,7 @@ engine::Expected<std::shared_ptr<const SdfAsset>> bakeSparseAsset(const Prepared
   if (control.progress) options.progress = [&control](float f) { return control.progress(f * kBakeShare); };
   ENGINE_TRY_ASSIGN(SparseBakeResult baked, bakeCellsSparse(*source.source, grid, options).withContext("baking"));
   return makeSdfAssetFromSparseBake(source.name, std::move(baked.cells), baked.stats, settings.refineDepth,
-                                    source.source->bounds());
+                                    source.source->bounds(), source.palette);
 }
 
 }  // namespace
@@ -195,7 +207,7 @@ engine::Expected<std::shared_ptr<const SdfAsset>> bakeAsset(const PreparedSource
   classify.threads = settings.threads;
   classify.maxKeptCells = settings.budget.maxKeptCells;
   classify.cancel = control.cancel;
-  auto made = makeSdfAsset(source.name, std::move(field), source.source->bounds(), classify);
+  auto made = makeSdfAsset(source.name, std::move(field), source.source->bounds(), classify, source.palette);
   if (!made && cancelled(control)) return engine::makeError("baking: cancelled");
   ENGINE_TRY_ASSIGN(std::shared_ptr<const SdfAsset> asset, std::move(made));
   ENGINE_TRY(checkHasSurface(asset->classification.stats, grid));

@@ -48,6 +48,25 @@ engine::Status checkFiniteRecords(const CellStream& cells) {
   return {};
 }
 
+// The slots of every corner of the stream, flattened for checkMaterialSlots.
+std::span<const MaterialSlot> cornerSlots(const CellStream& cells) {
+  return {cells.materials.empty() ? nullptr : cells.materials.front().data(), cells.materials.size() * 8};
+}
+
+// A multi-material asset's slots and palette (materials.h): slots beside every record (and every
+// dense sample, where there is a field) exactly when there is a palette, each within it.
+engine::Status checkMaterials(const CellStream& cells, const HermiteField* field, const std::vector<SdfMaterial>& palette) {
+  if (!palette.empty() && cells.materials.size() != cells.records.size())
+    return engine::makeError(fmt::format("{} material slot entries for {} cell records", cells.materials.size(),
+                                         cells.records.size()));
+  ENGINE_TRY(checkMaterialSlots(palette, cornerSlots(cells), "cells"));
+  if (field == nullptr || field->samples.empty()) return {};
+  if (!palette.empty() && field->materials.size() != field->samples.size())
+    return engine::makeError(fmt::format("{} material slots for {} field samples", field->materials.size(),
+                                         field->samples.size()));
+  return checkMaterialSlots(palette, field->materials, "field");
+}
+
 // What every asset derives from its fp32 records, whichever way they were made.
 void deriveFromCells(SdfAsset& asset) {
   asset.cellsHalf = toHalf(asset.cells);
@@ -58,9 +77,12 @@ void deriveFromCells(SdfAsset& asset) {
 
 }  // namespace
 
-engine::Expected<std::shared_ptr<const SdfAsset>> makeSdfAssetFromCells(std::string name, CellStream cells) {
+engine::Expected<std::shared_ptr<const SdfAsset>> makeSdfAssetFromCells(std::string name, CellStream cells,
+                                                                        std::vector<SdfMaterial> palette) {
   if (auto valid = validateGrid(cells.grid); !valid) return valid.error().withContext("asset '" + name + "'");
   if (auto finite = checkFiniteRecords(cells); !finite) return finite.error().withContext("asset '" + name + "'");
+  if (auto materials = checkMaterials(cells, nullptr, palette); !materials)
+    return materials.error().withContext("asset '" + name + "'");
   auto asset = std::make_shared<SdfAsset>();
   asset->name = std::move(name);
   asset->id = nextAssetId();
@@ -70,15 +92,19 @@ engine::Expected<std::shared_ptr<const SdfAsset>> makeSdfAssetFromCells(std::str
     (r.cellClass == std::uint16_t(CellClass::Ambiguous) ? asset->classification.stats.ambiguous
                                                         : asset->classification.stats.crossing)++;
   asset->cells = std::move(cells);
+  asset->palette = std::move(palette);
   deriveFromCells(*asset);
   return std::shared_ptr<const SdfAsset>(std::move(asset));
 }
 
 engine::Expected<std::shared_ptr<const SdfAsset>> makeSdfAssetFromSparseBake(std::string name, CellStream cells,
                                                                              const CellStats& stats, int refineDepth,
-                                                                             const Aabb& surfaceBounds) {
+                                                                             const Aabb& surfaceBounds,
+                                                                             std::vector<SdfMaterial> palette) {
   if (auto valid = validateGrid(cells.grid); !valid) return valid.error().withContext("asset '" + name + "'");
   if (auto finite = checkFiniteRecords(cells); !finite) return finite.error().withContext("asset '" + name + "'");
+  if (auto materials = checkMaterials(cells, nullptr, palette); !materials)
+    return materials.error().withContext("asset '" + name + "'");
   if (cells.records.size() != stats.kept())
     return engine::makeError(fmt::format("asset '{}': {} cell records but the counts say {} kept cells", name,
                                          cells.records.size(), stats.kept()));
@@ -91,13 +117,15 @@ engine::Expected<std::shared_ptr<const SdfAsset>> makeSdfAssetFromSparseBake(std
   asset->classification.stats = stats;
   asset->classification.refineDepth = refineDepth;
   asset->cells = std::move(cells);
+  asset->palette = std::move(palette);
   deriveFromCells(*asset);
   return std::shared_ptr<const SdfAsset>(std::move(asset));
 }
 
 engine::Expected<std::shared_ptr<const SdfAsset>> makeSdfAsset(std::string name, HermiteField field,
                                                                const Aabb& surfaceBounds,
-                                                               const ClassifyOptions& options) {
+                                                               const ClassifyOptions& options,
+                                                               std::vector<SdfMaterial> palette) {
   auto asset = std::make_shared<SdfAsset>();
   asset->name = std::move(name);
   asset->id = nextAssetId();
@@ -110,8 +138,11 @@ engine::Expected<std::shared_ptr<const SdfAsset>> makeSdfAsset(std::string name,
                                          options.maxKeptCells));
   auto cells = extractCells(field, *classification);
   if (!cells) return cells.error().withContext("asset '" + asset->name + "'");
+  if (auto materials = checkMaterials(*cells, &field, palette); !materials)
+    return materials.error().withContext("asset '" + asset->name + "'");
   asset->classification = std::move(classification.value());
   asset->cells = std::move(cells.value());
+  asset->palette = std::move(palette);
   deriveFromCells(*asset);
   asset->field = std::move(field);
   return std::shared_ptr<const SdfAsset>(std::move(asset));

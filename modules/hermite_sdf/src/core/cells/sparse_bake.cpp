@@ -103,6 +103,7 @@ struct RecordOrder {
 // What the slab of one work item found: its kept records, their order, and its counts.
 struct SlabResult {
   RecordChunks records;
+  std::vector<CellMaterialSlots> materials;  // per record in push order, for a source with materials
   std::vector<RecordOrder> order;  // sorted by cellInSlab once the slab is done
   std::uint64_t crossing = 0, ambiguous = 0, refinedEmpty = 0;
   std::uint64_t sampleQueries = 0, brickProbes = 0;
@@ -133,6 +134,9 @@ class BrickSampleCache {
     return states_[i];
   }
   HermiteSample& sample(std::size_t i) { return samples_[i]; }
+  MaterialSlot& material(std::size_t i) { return materials_[i]; }
+  // The slot stored beside a sample this cache handed out (sampleAt's pointer).
+  MaterialSlot materialOf(const HermiteSample* s) const { return materials_[std::size_t(s - samples_.data())]; }
 
  private:
   glm::ivec3 origin_{0};
@@ -140,6 +144,7 @@ class BrickSampleCache {
   std::array<std::uint32_t, kCacheSide * kCacheSide * kCacheSide> stamps_{};  // brick_ when written
   std::array<State, kCacheSide * kCacheSide * kCacheSide> states_{};
   std::array<HermiteSample, kCacheSide * kCacheSide * kCacheSide> samples_{};
+  std::array<MaterialSlot, kCacheSide * kCacheSide * kCacheSide> materials_{};
 };
 
 // The budget: cells kept so far over all slabs, checked after every top brick.
@@ -176,7 +181,8 @@ class SlabBaker {
         refineDepth_(refineDepth),
         budget_(budget),
         margin_(kSparsePruneMarginCells * grid.spacing),
-        leafBand_(kSparseLeafQueryCells * grid.spacing) {}
+        leafBand_(kSparseLeafQueryCells * grid.spacing),
+        materials_(source.materialSlots() > 0) {}
 
   engine::Status bakeSlab(int cz, SlabResult& out) {
     const int n = grid_.cellsPerAxis();
@@ -264,6 +270,7 @@ class SlabBaker {
         ++out.sampleQueries;
         if (q) {
           ENGINE_TRY_ASSIGN(cache_.sample(i), detail::toStoredSample(*q, grid_, s.x, s.y, s.z));
+          cache_.material(i) = q->material;
         }
         // An exact value beyond q proves as much as a bound would (and analytic sources, whose
         // band queries are always exact, would otherwise fetch every corner of far cells).
@@ -274,7 +281,7 @@ class SlabBaker {
     return state == BrickSampleCache::State::Exact ? &cache_.sample(i) : nullptr;
   }
 
-  void keepIfNotEmpty(const glm::ivec3& cell, const StoredCellCorners& corners, SlabResult& out) const {
+  void keepIfNotEmpty(const glm::ivec3& cell, const StoredCellCorners& corners, SlabResult& out) {
     const StoredCellDecision d = classifyStoredCell(corners, grid_.spacing, refineDepth_);
     out.refinedEmpty += d.refinedEmpty;
     if (d.cellClass == CellClass::Empty) return;
@@ -289,6 +296,11 @@ class SlabBaker {
     const std::uint32_t layer = std::uint32_t(cell.z % kTopBrickCells), n = std::uint32_t(grid_.cellsPerAxis());
     out.order.push_back({(layer * n + std::uint32_t(cell.y)) * n + std::uint32_t(cell.x), std::uint32_t(out.records.size())});
     out.records.push(record);
+    if (materials_) {
+      CellMaterialSlots slots{};
+      for (std::size_t c = 0; c < 8; ++c) slots[c] = cache_.materialOf(corners[c]);
+      out.materials.push_back(slots);
+    }
   }
 
   // Cell index order (x fastest, then y, then z), as extractCells writes the dense bake's records.
@@ -303,6 +315,7 @@ class SlabBaker {
   KeptCellBudget& budget_;
   double margin_;    // m
   double leafBand_;  // q
+  bool materials_;   // the source reports material slots: the records get their corners'
   BrickSampleCache cache_;
 };
 
@@ -322,8 +335,13 @@ SparseBakeResult assemble(const GridSpec& grid, std::vector<SlabResult>& slabs) 
   for (const SlabResult& slab : slabs) total += slab.records.size();
   result.cells.records.reserve(total);  // not resize(): zeroing the stream first would touch it twice
   adviseHugePages(result.cells.records.data(), total * sizeof(CellRecord));
+  const bool materials = std::any_of(slabs.begin(), slabs.end(), [](const SlabResult& s) { return !s.materials.empty(); });
+  if (materials) result.cells.materials.reserve(total);
   for (SlabResult& slab : slabs) {
     for (const RecordOrder& o : slab.order) result.cells.records.push_back(slab.records[o.record]);
+    if (materials)
+      for (const RecordOrder& o : slab.order) result.cells.materials.push_back(slab.materials[o.record]);
+    std::vector<CellMaterialSlots>().swap(slab.materials);
     slab.records.clear();
     std::vector<RecordOrder>().swap(slab.order);
     result.stats.crossing += slab.crossing;

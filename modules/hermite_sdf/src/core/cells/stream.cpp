@@ -63,9 +63,13 @@ engine::Expected<CellStream> extractCells(const HermiteField& field, const CellC
       classification.classes.size() != std::size_t(n) * std::size_t(n) * std::size_t(n))
     return engine::makeError(fmt::format("field ({} samples) or classification ({} cells) does not match resolution {}",
                                          field.samples.size(), classification.classes.size(), field.grid.resolution));
+  if (!field.materials.empty() && field.materials.size() != field.samples.size())
+    return engine::makeError(fmt::format("field has {} material slots for {} samples", field.materials.size(),
+                                         field.samples.size()));
   CellStream stream;
   stream.grid = field.grid;
   stream.records.reserve(classification.stats.kept());
+  if (!field.materials.empty()) stream.materials.reserve(classification.stats.kept());
   for (int cz = 0; cz < n; ++cz)
     for (int cy = 0; cy < n; ++cy)
       for (int cx = 0; cx < n; ++cx) {
@@ -78,6 +82,12 @@ engine::Expected<CellStream> extractCells(const HermiteField& field, const CellC
         record.z = std::uint16_t(cz);
         record.cellClass = std::uint16_t(c);
         stream.records.push_back(record);
+        if (field.materials.empty()) continue;
+        CellMaterialSlots slots{};
+        for (int k = 0; k < 8; ++k)
+          slots[std::size_t(k)] =
+              field.materials[field.grid.sampleIndex(cx + (k & 1), cy + ((k >> 1) & 1), cz + ((k >> 2) & 1))];
+        stream.materials.push_back(slots);
       }
   return stream;
 }
@@ -111,6 +121,7 @@ CellStreamHalf toHalf(const CellStream& stream) {
     h.cellClass = r.cellClass;
     out.records.push_back(h);
   }
+  out.materials = stream.materials;
   return out;
 }
 
@@ -131,6 +142,7 @@ CellStream toFloat(const CellStreamHalf& stream) {
   out.grid = stream.grid;
   out.records.reserve(stream.records.size());
   for (const CellRecordHalf& h : stream.records) out.records.push_back(toFloat(h));
+  out.materials = stream.materials;
   return out;
 }
 

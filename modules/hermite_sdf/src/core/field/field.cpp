@@ -134,11 +134,19 @@ engine::Expected<HermiteField> bakeHermiteField(const SdfSource& source, const G
                                                 const BakeOptions& options) {
   HermiteField field;
   field.grid = grid;
+  // Sized before the parallel rows write into it (a source of one material records none).
+  const bool materials = source.materialSlots() > 0;
+  if (materials) {
+    ENGINE_TRY(validateGrid(grid));
+    ENGINE_TRY(checkBudget(grid, FieldKind::Hermite, options.memoryBudgetBytes));
+    ENGINE_TRY(allocate(field.materials, grid.sampleCount()));
+  }
   ENGINE_TRY(bakeDense(source, grid, FieldKind::Hermite, options, field.samples,
                        [&](int j, int k, const std::vector<SdfSample>& row) -> engine::Status {
                          for (int i = 0; i < grid.resolution; ++i) {
                            ENGINE_TRY_ASSIGN(field.samples[grid.sampleIndex(i, j, k)],
                                              toStoredSample(row[std::size_t(i)], grid, i, j, k));
+                           if (materials) field.materials[grid.sampleIndex(i, j, k)] = row[std::size_t(i)].material;
                          }
                          return {};
                        }));
@@ -281,6 +289,7 @@ class NarrowBandBaker {
           SdfSample stored = s.sample;
           if (!s.exact) stored.gradient = glm::dvec3(0.0);
           ENGINE_TRY_ASSIGN(field_.samples[grid.sampleIndex(i, j, k)], toStoredSample(stored, grid, i, j, k));
+          if (!field_.materials.empty()) field_.materials[grid.sampleIndex(i, j, k)] = stored.material;
           const std::uint8_t exactness = !s.exact ? 0 : (std::abs(s.sample.value) <= band_ ? kNear | kExact : kExact);
           flags_[grid.sampleIndex(i, j, k)] = std::uint8_t(exactness | signFlags(field_.samples[grid.sampleIndex(i, j, k)].f));
         }
@@ -315,7 +324,9 @@ engine::Status completeCellsOfSlab(const SdfSource& source, HermiteField& field,
         const std::size_t s = row + std::size_t(cx) + offsets[c];
         if (flags[s] & kExact) continue;
         const int i = cx + (c & 1), j = cy + ((c >> 1) & 1), l = cz + ((c >> 2) & 1);
-        ENGINE_TRY_ASSIGN(field.samples[s], toStoredSample(source.sample(grid.samplePosition(i, j, l)), grid, i, j, l));
+        const SdfSample exact = source.sample(grid.samplePosition(i, j, l));
+        ENGINE_TRY_ASSIGN(field.samples[s], toStoredSample(exact, grid, i, j, l));
+        if (!field.materials.empty()) field.materials[s] = exact.material;
         flags[s] = std::uint8_t(flags[s] | kExact);  // its cell row's column entry stays valid: same signs
       }
     }
@@ -340,6 +351,7 @@ engine::Expected<HermiteField> bakeHermiteFieldNarrowBand(const SdfSource& sourc
   HermiteField field;
   field.grid = grid;
   ENGINE_TRY(allocate(field.samples, grid.sampleCount()));
+  if (source.materialSlots() > 0) ENGINE_TRY(allocate(field.materials, grid.sampleCount()));
   std::vector<std::uint8_t> flags;
   ENGINE_TRY(allocate(flags, grid.sampleCount()));
 

@@ -36,7 +36,18 @@ inline constexpr std::size_t kReserved1 = 88;
 
 inline constexpr std::uint32_t kFlagDense = 1u << 0;
 inline constexpr std::uint32_t kFlagCells = 1u << 1;
-inline constexpr std::uint32_t kKnownFlags = kFlagDense | kFlagCells;
+// A material section follows the cells (docs/hsdf-format.md, "Materials"): files without it keep
+// the bytes of version 1 files from before materials.
+inline constexpr std::uint32_t kFlagMaterials = 1u << 2;
+inline constexpr std::uint32_t kKnownFlags = kFlagDense | kFlagCells | kFlagMaterials;
+
+// Material section: u32 palette size, u32 reserved, the palette (per entry f32 r, g, b, a,
+// roughness, metallic), a u8 slot per dense sample, then 8 u8 slots per cell record.
+inline constexpr std::uint64_t kMaterialsHeaderBytes = 8;
+inline constexpr std::uint64_t kPaletteEntryBytes = 6 * 4;
+inline std::uint64_t materialSectionBytes(std::uint64_t paletteSize, std::uint64_t denseSamples, std::uint64_t cells) {
+  return kMaterialsHeaderBytes + paletteSize * kPaletteEntryBytes + denseSamples + 8 * cells;
+}
 
 inline std::size_t scalarBytes(HsdfScalarType type) { return type == HsdfScalarType::Float16 ? 2 : 4; }
 inline std::uint64_t denseSampleBytes(HsdfScalarType type) { return 4 * scalarBytes(type); }
@@ -65,6 +76,7 @@ class ByteWriter {
 class ByteReader {
  public:
   explicit ByteReader(std::span<const std::uint8_t> bytes) : bytes_(bytes) {}
+  std::uint8_t u8(std::size_t at) const { return bytes_[at]; }
   std::uint16_t u16(std::size_t at) const { return std::uint16_t(little(at, 2)); }
   std::uint32_t u32(std::size_t at) const { return std::uint32_t(little(at, 4)); }
   std::uint64_t u64(std::size_t at) const { return little(at, 8); }

@@ -75,15 +75,35 @@ engine::Status checkHeaderFields(const Header& h) {
   if (h.scalarType > std::uint32_t(HsdfScalarType::Float16))
     return engine::makeError(fmt::format("unknown scalar type {} (0: fp32, 1: fp16)", h.scalarType));
   if ((h.flags & ~io::kKnownFlags) != 0) return engine::makeError(fmt::format("unknown flags 0x{:x}", h.flags));
-  if (h.flags == 0) return engine::makeError("no payload: neither the dense nor the cells flag is set");
+  if ((h.flags & (io::kFlagDense | io::kFlagCells)) == 0)
+    return engine::makeError("no payload: neither the dense nor the cells flag is set");
   if (h.resolution < 2 || h.resolution > std::uint32_t(kMaxResolution))
     return engine::makeError(fmt::format("resolution {} outside 2..{}", h.resolution, kMaxResolution));
   return checkStorable(GridSpec{int(h.resolution), h.origin, h.spacing}, HsdfScalarType(h.scalarType));
 }
 
+// The palette size of the material section (0 without the materials flag), which sizes the rest of
+// the section: read where the dense field and the cells end (`values` bytes after the header),
+// once the file is known to reach that far.
+engine::Expected<std::uint64_t> readPaletteSize(const Header& h, std::uint64_t values, std::size_t fileSize,
+                                                std::span<const std::uint8_t> bytes) {
+  if (!(h.flags & io::kFlagMaterials)) return std::uint64_t(0);
+  const std::uint64_t at = kHsdfHeaderBytes + values;
+  if (values > fileSize || fileSize < at + io::kMaterialsHeaderBytes + kHsdfTrailerBytes)
+    return engine::makeError(fmt::format("truncated: the materials flag is set but the file ends before its material "
+                                         "section ({} bytes, the section starts at byte {})",
+                                         fileSize, at));
+  const std::uint32_t paletteSize = io::ByteReader(bytes).u32(std::size_t(at));
+  if (paletteSize < 2 || paletteSize > kMaxMaterialSlots)
+    return engine::makeError(fmt::format("material section: a palette of {} materials (a multi-material file has 2..{})",
+                                         paletteSize, kMaxMaterialSlots));
+  return std::uint64_t(paletteSize);
+}
+
 // Counts against the resolution, the payload size against the counts and the file size, the
 // decoded size against the budget: after this every read is in bounds and every allocation small.
-engine::Status checkSizes(const Header& h, std::size_t fileSize, const HsdfLoadOptions& options) {
+engine::Status checkSizes(const Header& h, std::size_t fileSize, std::span<const std::uint8_t> bytes,
+                          const HsdfLoadOptions& options) {
   const std::uint64_t k = h.resolution;
   const std::uint64_t samples = k * k * k;
   const std::uint64_t cells = (k - 1) * (k - 1) * (k - 1);
@@ -97,7 +117,11 @@ engine::Status checkSizes(const Header& h, std::size_t fileSize, const HsdfLoadO
                                          "cells flag)",
                                          h.cellCount, k, hasCells ? cells : 0));
   const HsdfScalarType type = HsdfScalarType(h.scalarType);
-  const std::uint64_t payload = h.denseSamples * io::denseSampleBytes(type) + h.cellCount * io::cellRecordBytes(type);
+  const std::uint64_t values = h.denseSamples * io::denseSampleBytes(type) + h.cellCount * io::cellRecordBytes(type);
+  ENGINE_TRY_ASSIGN(const std::uint64_t paletteSize, readPaletteSize(h, values, fileSize, bytes));
+  const std::uint64_t materials =
+      (h.flags & io::kFlagMaterials) ? io::materialSectionBytes(paletteSize, h.denseSamples, h.cellCount) : 0;
+  const std::uint64_t payload = values + materials;
   if (h.payloadBytes != payload)
     return engine::makeError(fmt::format("payload size {} does not match the counts, which need {}", h.payloadBytes, payload));
   const std::uint64_t expected = kHsdfHeaderBytes + payload + kHsdfTrailerBytes;
@@ -105,7 +129,7 @@ engine::Status checkSizes(const Header& h, std::size_t fileSize, const HsdfLoadO
     return engine::makeError(fmt::format("truncated: the file has {} bytes, its header announces {}", fileSize, expected));
   if (fileSize > expected)
     return engine::makeError(fmt::format("{} unexpected bytes after the checksum", fileSize - expected));
-  const std::uint64_t decoded = h.denseSamples * sizeof(HermiteSample) + h.cellCount * sizeof(CellRecord);
+  const std::uint64_t decoded = h.denseSamples * sizeof(HermiteSample) + h.cellCount * sizeof(CellRecord) + materials;
   if (decoded > options.memoryBudgetBytes)
     return engine::makeError(fmt::format("the contents need {} bytes in memory, over the budget of {}", decoded,
                                          options.memoryBudgetBytes));
@@ -169,12 +193,59 @@ engine::Expected<CellStream> readCells(const io::ByteReader& in, std::size_t at,
   return stream;
 }
 
+// Every corner slot of every record equals the dense field's slot of that sample.
+engine::Status checkCellSlotsMatchField(const CellStream& cells, const HermiteField& field) {
+  for (std::size_t r = 0; r < cells.records.size(); ++r) {
+    const CellRecord& record = cells.records[r];
+    for (int c = 0; c < 8; ++c) {
+      const std::size_t s = field.grid.sampleIndex(record.x + (c & 1), record.y + ((c >> 1) & 1), record.z + ((c >> 2) & 1));
+      if (cells.materials[r][std::size_t(c)] != field.materials[s])
+        return engine::makeError(fmt::format("cell record {} ({}, {}, {}) corner {} has material slot {}, the dense "
+                                             "field's sample there {}",
+                                             r, record.x, record.y, record.z, c, int(cells.materials[r][std::size_t(c)]),
+                                             int(field.materials[s])));
+    }
+  }
+  return {};
+}
+
+// The palette and the slots (docs/hsdf-format.md, "Materials") into `contents`, whose payloads are
+// read: every value finite, every slot within the palette, each cell's corner slots those of the
+// dense samples there when both are present.
+engine::Status readMaterials(const io::ByteReader& in, std::size_t at, HsdfContents& contents) {
+  const std::uint32_t paletteSize = in.u32(at);
+  if (in.u32(at + 4) != 0) return engine::makeError("its reserved field is not zero");
+  at += std::size_t(io::kMaterialsHeaderBytes);
+  for (std::uint32_t e = 0; e < paletteSize; ++e, at += std::size_t(io::kPaletteEntryBytes)) {
+    SdfMaterial m;
+    for (int c = 0; c < 4; ++c) m.baseColor[c] = in.f32(at + 4 * std::size_t(c));
+    m.roughness = in.f32(at + 16);
+    m.metallic = in.f32(at + 20);
+    contents.palette.push_back(m);
+  }
+  if (contents.dense) {
+    contents.dense->materials.resize(contents.dense->samples.size());
+    for (std::uint8_t& slot : contents.dense->materials) slot = in.u8(at++);
+    ENGINE_TRY(checkMaterialSlots(contents.palette, contents.dense->materials, "dense field"));
+  }
+  if (contents.cells) {
+    contents.cells->materials.resize(contents.cells->records.size());
+    for (CellMaterialSlots& slots : contents.cells->materials)
+      for (MaterialSlot& slot : slots) slot = in.u8(at++);
+    const auto& cellSlots = contents.cells->materials;
+    ENGINE_TRY(checkMaterialSlots(contents.palette, {cellSlots.empty() ? nullptr : cellSlots.front().data(), cellSlots.size() * 8},
+                                  "cell stream"));
+    if (contents.dense) ENGINE_TRY(checkCellSlotsMatchField(*contents.cells, *contents.dense));
+  }
+  return {};
+}
+
 engine::Expected<HsdfContents> readContents(std::span<const std::uint8_t> bytes, const HsdfLoadOptions& options) {
   ENGINE_TRY(checkIdentity(bytes));
   const io::ByteReader in(bytes);
   const Header header = readHeader(in);
   ENGINE_TRY(checkHeaderFields(header));
-  ENGINE_TRY(checkSizes(header, bytes.size(), options));
+  ENGINE_TRY(checkSizes(header, bytes.size(), bytes, options));
   ENGINE_TRY(checkChecksum(bytes));
   HsdfContents contents;
   contents.grid = GridSpec{int(header.resolution), header.origin, header.spacing};
@@ -187,6 +258,11 @@ engine::Expected<HsdfContents> readContents(std::span<const std::uint8_t> bytes,
   if (header.flags & io::kFlagCells) {
     ENGINE_TRY_ASSIGN(contents.cells, readCells(in, cellsAt, header.cellCount, contents.grid, contents.scalarType));
     if (contents.dense) ENGINE_TRY(io::checkCellsMatchField(*contents.cells, *contents.dense));
+  }
+  if (header.flags & io::kFlagMaterials) {
+    const std::size_t materialsAt =
+        cellsAt + std::size_t(header.cellCount * io::cellRecordBytes(contents.scalarType));
+    ENGINE_TRY(readMaterials(in, materialsAt, contents).withContext("material section"));
   }
   return contents;
 }

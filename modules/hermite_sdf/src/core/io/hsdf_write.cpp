@@ -11,6 +11,29 @@
 namespace hsdf {
 namespace {
 
+bool hasMaterials(const HsdfContentsView& contents) { return contents.palette && !contents.palette->empty(); }
+
+// With a palette, every payload carries its slots (and they lie within it); without one, none does.
+engine::Status checkMaterials(const HsdfContentsView& contents) {
+  static const std::vector<SdfMaterial> kNone;
+  const std::vector<SdfMaterial>& palette = hasMaterials(contents) ? *contents.palette : kNone;
+  if (contents.dense) {
+    if (!palette.empty() && contents.dense->materials.size() != contents.dense->samples.size())
+      return engine::makeError(fmt::format("the dense field has {} material slots for {} samples",
+                                           contents.dense->materials.size(), contents.dense->samples.size()));
+    ENGINE_TRY(checkMaterialSlots(palette, contents.dense->materials, "the dense field"));
+  }
+  if (contents.cells) {
+    if (!palette.empty() && contents.cells->materials.size() != contents.cells->records.size())
+      return engine::makeError(fmt::format("the cell stream has {} material slot entries for {} records",
+                                           contents.cells->materials.size(), contents.cells->records.size()));
+    const auto& slots = contents.cells->materials;
+    ENGINE_TRY(checkMaterialSlots(palette, {slots.empty() ? nullptr : slots.front().data(), slots.size() * 8},
+                                  "the cell stream"));
+  }
+  return {};
+}
+
 engine::Status checkContents(const HsdfContentsView& contents) {
   ENGINE_TRY(checkStorable(contents.grid, contents.scalarType));
   if (!contents.dense && !contents.cells)
@@ -28,7 +51,7 @@ engine::Status checkContents(const HsdfContentsView& contents) {
     ENGINE_TRY(io::checkCellRecords(*contents.cells, contents.grid.resolution));
     if (contents.dense) ENGINE_TRY(io::checkCellsMatchField(*contents.cells, *contents.dense));
   }
-  return {};
+  return checkMaterials(contents);
 }
 
 // Appends one scalar; false if it is not finite or (fp16) does not fit binary16.
@@ -53,7 +76,9 @@ bool writeSample(io::ByteWriter& out, HsdfScalarType type, const HermiteSample& 
 std::uint64_t payloadBytes(const HsdfContentsView& contents) {
   const std::uint64_t dense = contents.dense ? contents.dense->samples.size() : 0;
   const std::uint64_t cells = contents.cells ? contents.cells->records.size() : 0;
-  return dense * io::denseSampleBytes(contents.scalarType) + cells * io::cellRecordBytes(contents.scalarType);
+  const std::uint64_t materials =
+      hasMaterials(contents) ? io::materialSectionBytes(contents.palette->size(), dense, cells) : 0;
+  return dense * io::denseSampleBytes(contents.scalarType) + cells * io::cellRecordBytes(contents.scalarType) + materials;
 }
 
 void writeHeader(io::ByteWriter& out, const HsdfContentsView& contents) {
@@ -62,7 +87,8 @@ void writeHeader(io::ByteWriter& out, const HsdfContentsView& contents) {
   out.u32(std::uint32_t(kHsdfHeaderBytes));
   out.u32(std::uint32_t(contents.grid.resolution));
   out.u32(std::uint32_t(contents.scalarType));
-  out.u32((contents.dense ? io::kFlagDense : 0u) | (contents.cells ? io::kFlagCells : 0u));
+  out.u32((contents.dense ? io::kFlagDense : 0u) | (contents.cells ? io::kFlagCells : 0u) |
+          (hasMaterials(contents) ? io::kFlagMaterials : 0u));
   out.u32(0);  // reserved
   out.f64(contents.grid.spacing);
   out.f64(contents.grid.origin.x);
@@ -100,6 +126,20 @@ engine::Status writeCells(io::ByteWriter& out, HsdfScalarType type, const CellSt
   return {};
 }
 
+// The material section (docs/hsdf-format.md, "Materials"), after the cells: palette, then the slots.
+void writeMaterials(io::ByteWriter& out, const HsdfContentsView& contents) {
+  out.u32(std::uint32_t(contents.palette->size()));
+  out.u32(0);  // reserved
+  for (const SdfMaterial& m : *contents.palette) {
+    for (int c = 0; c < 4; ++c) out.f32(m.baseColor[c]);
+    out.f32(m.roughness);
+    out.f32(m.metallic);
+  }
+  if (contents.dense) out.raw(contents.dense->materials);
+  if (contents.cells)
+    for (const CellMaterialSlots& slots : contents.cells->materials) out.raw(slots);
+}
+
 }  // namespace
 
 engine::Status checkStorable(const GridSpec& grid, HsdfScalarType type) {
@@ -125,7 +165,7 @@ std::uint64_t hsdfChecksum(std::span<const std::uint8_t> bytes) {
 
 engine::Expected<std::vector<std::uint8_t>> serializeHsdf(const HsdfContents& contents) {
   return serializeHsdf(HsdfContentsView{contents.grid, contents.scalarType, contents.dense ? &*contents.dense : nullptr,
-                                        contents.cells ? &*contents.cells : nullptr});
+                                        contents.cells ? &*contents.cells : nullptr, &contents.palette});
 }
 
 engine::Expected<std::vector<std::uint8_t>> serializeHsdf(const HsdfContentsView& contents) {
@@ -140,6 +180,7 @@ engine::Expected<std::vector<std::uint8_t>> serializeHsdf(const HsdfContentsView
     if (auto status = writeCells(out, contents.scalarType, *contents.cells); !status)
       return status.error().withContext("cannot save .hsdf");
   }
+  if (hasMaterials(contents)) writeMaterials(out, contents);
   out.u64(hsdfChecksum(out.bytes()));
   return std::move(out.bytes());
 }

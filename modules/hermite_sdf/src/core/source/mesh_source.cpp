@@ -73,6 +73,10 @@ struct MeshSource::Impl {
   std::uint64_t id = nextSourceId.fetch_add(1);
   std::vector<std::uint32_t> interiorTriangles;  // of `clean`: parts inside the solid (PartSides)
   std::vector<std::uint32_t> openTriangles;      // of `clean`: open parts bounding nothing
+  // The material slot of each triangle in BVH order (options.triangleSlots looked up once, so that
+  // a sample costs one load); empty for one material.
+  std::vector<std::uint8_t> slotOfTriangle;
+  std::size_t materialSlots = 0;
 
   Impl(const mesh::CleanTriangles& clean, const MeshSourceOptions& opts)
       : bvh(clean.corners), tree(bvh), inputTriangle(clean.inputTriangle), options(opts) {
@@ -83,6 +87,7 @@ struct MeshSource::Impl {
       bounds.max = glm::max(bounds.max, c);
     }
     onSurfaceDistance = kOnSurfaceRelative * glm::length(bounds.size());
+    setMaterialSlots(clean);
     const std::vector<std::uint32_t> vertexOf = mesh::weldVertices(bvh.corners());
     const mesh::EdgeTopology topology = mesh::edgeTopology(vertexOf);
     stats.droppedZeroArea = clean.droppedZeroArea;
@@ -103,6 +108,16 @@ struct MeshSource::Impl {
         pseudoNormals = std::make_unique<mesh::PseudoNormals>(bvh, vertexOf);
         stats.pseudoNormalSign = true;
       }
+    }
+  }
+
+  // The slot of each BVH triangle: the input triangle's (options.triangleSlots, already checked).
+  void setMaterialSlots(const mesh::CleanTriangles& clean) {
+    if (options.triangleSlots.empty()) return;
+    slotOfTriangle.resize(bvh.triangleCount());
+    for (std::uint32_t t = 0; t < bvh.triangleCount(); ++t) {
+      slotOfTriangle[t] = options.triangleSlots[clean.inputTriangle[bvh.inputIndex(t)]];
+      materialSlots = std::max<std::size_t>(materialSlots, std::size_t(slotOfTriangle[t]) + 1);
     }
   }
 
@@ -177,6 +192,10 @@ struct MeshSource::Impl {
     SdfSample s;
     s.value = sign * distance;
     s.gradient = distance > onSurfaceDistance ? (p - hit.point) * (sign / distance) : onSurfaceGradient(hit);
+    // The closest triangle's material: of the triangles equally close (an edge, a vertex), the one
+    // the query picks, the lowest in BVH order whatever the seed (mesh_closest.h), so the slot,
+    // like the gradient, does not depend on the thread schedule.
+    if (!slotOfTriangle.empty()) s.material = slotOfTriangle[hit.triangle];
     return s;
   }
 
@@ -269,6 +288,9 @@ engine::Expected<std::unique_ptr<MeshSource>> MeshSource::create(std::vector<glm
                                                                   const MeshSourceOptions& options) {
   if (!(options.windingBeta > 0.0) || !std::isfinite(options.windingBeta))
     return engine::makeError("mesh source: windingBeta must be a positive finite number");
+  if (!options.triangleSlots.empty() && options.triangleSlots.size() != indices.size() / 3)
+    return engine::makeError(fmt::format("mesh source: {} material slots for {} triangles",
+                                         options.triangleSlots.size(), indices.size() / 3));
   auto clean = mesh::cleanTriangles(positions, indices);
   if (!clean) return clean.error().withContext("mesh source");
   auto impl = std::make_unique<Impl>(*clean, options);
@@ -312,6 +334,8 @@ MeshSource::~MeshSource() = default;
 SdfSample MeshSource::sample(const glm::dvec3& p) const { return impl_->sample(p, threadCache(impl_->id)); }
 
 Aabb MeshSource::bounds() const { return impl_->bounds; }
+
+std::size_t MeshSource::materialSlots() const { return impl_->materialSlots; }
 
 void MeshSource::sampleRow(const glm::dvec3& start, const glm::dvec3& step, std::span<SdfSample> out) const {
   // The thread's cache, not a fresh one: a bake walks neighbouring rows on the same thread, so the

@@ -276,7 +276,9 @@ TEST(HsdfFile, BadHeaderFieldsAreNamed) {
   EXPECT_TRUE(contains(edited(12, 64), "header size 64"));
   EXPECT_TRUE(contains(edited(16, 1), "resolution 1 outside"));
   EXPECT_TRUE(contains(edited(20, 7), "unknown scalar type 7"));
-  EXPECT_TRUE(contains(edited(24, 4 | 3), "unknown flags"));
+  EXPECT_TRUE(contains(edited(24, 8 | 3), "unknown flags 0xb"));
+  // Bit 2 is the material section's (hsdf_materials_test.cpp): set on a file without one.
+  EXPECT_TRUE(contains(edited(24, 4 | 3), "ends before its material section"));
   EXPECT_TRUE(contains(edited(24, 0), "no payload"));
   EXPECT_TRUE(contains(edited(28, 1), "reserved"));
   Bytes spacing = b;
