@@ -7,6 +7,7 @@
 
 #include <fmt/format.h>
 
+#include "engine/core/log.h"
 #include "engine/scene/gltf/gltf_loader.h"
 #include "hermite_sdf/core/analytic.h"
 #include "hermite_sdf/core/cells.h"
@@ -132,12 +133,18 @@ engine::Expected<PreparedSource> prepareSource(const BakeSource& source) {
   if (source.triangles) {
     ENGINE_TRY_ASSIGN(std::unique_ptr<MeshSource> mesh, MeshSource::create(*source.triangles));
     prepared.description = describeMesh(source.name, mesh->stats());
+    prepared.droppedTriangles = mesh->stats().droppedOpen + mesh->stats().droppedInterior;
     prepared.source = std::move(mesh);
     return prepared;
   }
   ENGINE_TRY_ASSIGN(prepared.source, makeAnalyticSource(source.shape));
   prepared.description = fmt::format("{}: analytic shape", source.shape);
   return prepared;
+}
+
+void logPreparedSource(const PreparedSource& prepared) {
+  if (prepared.droppedTriangles > 0) engine::log::warn("bake: {}", prepared.description);
+  else engine::log::info("bake: {}", prepared.description);
 }
 
 std::uint64_t estimateBakeBytes(const GridSpec& grid, BakeBand band) {
@@ -206,6 +213,7 @@ engine::Expected<std::shared_ptr<const SdfAsset>> bakeAsset(const PreparedSource
 engine::Expected<std::shared_ptr<const SdfAsset>> bakeAsset(const BakeSource& source, const BakeSettings& settings,
                                                             const BakeControl& control) {
   ENGINE_TRY_ASSIGN(PreparedSource prepared, prepareSource(source));
+  logPreparedSource(prepared);
   return bakeAsset(prepared, settings, control);
 }
 
