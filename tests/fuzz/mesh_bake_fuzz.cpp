@@ -16,6 +16,7 @@
 #include <cstring>
 #include <string>
 
+#include "engine/core/log.h"
 #include "fuzz_check.h"
 #include "hermite_sdf/core/bake_job.h"
 
@@ -49,6 +50,12 @@ void checkAsset(const hsdf::SdfAsset& asset, int resolution) {
 }  // namespace
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
+  // The bake's one summary line per input (logPreparedSource) would flood the fuzzer's output.
+  static const bool quiet = [] {
+    engine::log::setMinLevel(engine::log::Level::Error);
+    return true;
+  }();
+  (void)quiet;
   if (size < 4) return 0;
   hsdf::BakeSettings settings;
   settings.resolution = 4 + data[0] % 9;

@@ -50,8 +50,15 @@ struct PreparedSource {
   std::unique_ptr<SdfSource> source;
   std::string description;
   std::vector<SdfMaterial> palette;  // what the source's material slots index; empty: one material
+  // Triangles of the input the bake leaves out as not the boundary of a solid (open parts that
+  // bound no volume, parts inside the solid: MeshSourceStats); zero-area ones change nothing and
+  // are not counted.
+  std::size_t droppedTriangles = 0;
 };
 engine::Expected<PreparedSource> prepareSource(const BakeSource& source);
+// The description, logged once per bake by the bakes that print nothing themselves (BakeJob, the
+// scene's objects): an info, or a warning when triangles were dropped (what the bake lacks).
+void logPreparedSource(const PreparedSource& prepared);
 
 // Limits checked after the grid is fitted and BEFORE anything is allocated; a refusal names the
 // limit ("bake budget: max resolution 128"). The kept cells are only known once the cells are
@@ -104,7 +111,7 @@ engine::Expected<GridSpec> planBake(const PreparedSource& source, const BakeSett
 // ("cancelled" included), classification, and "the baked field has no surface" when no cell is kept.
 engine::Expected<std::shared_ptr<const SdfAsset>> bakeAsset(const PreparedSource& source, const BakeSettings& settings,
                                                             const BakeControl& control = {});
-// prepareSource + bakeAsset.
+// prepareSource, logPreparedSource, bakeAsset.
 engine::Expected<std::shared_ptr<const SdfAsset>> bakeAsset(const BakeSource& source, const BakeSettings& settings,
                                                             const BakeControl& control = {});
 

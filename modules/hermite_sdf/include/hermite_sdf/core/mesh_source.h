@@ -8,7 +8,13 @@
 //   outside; small cracks, holes and flipped triangles only perturb it near the defect, so the
 //   sign stays right away from it. Open meshes (a single sheet, a cup) get the sign of their
 //   winding number too: inside is where the surface, closed by its minimal "membrane", wraps the
-//   point more than halfway.
+//   point more than halfway. A connected part (triangles joined by welded vertices) of a mesh with
+//   boundary edges is dropped when it bounds no volume: when its own winding number, of its
+//   triangles alone, does not go decisively from below 1/2 to above across most of it (an open
+//   sheet: a floor plane, a decal, crossed foliage cards), unless such parts close a volume together
+//   (a tube and cap disks on corners of their own). Its own, not the whole mesh's: a closed arm
+//   pushed through a torso lies where the whole mesh's goes from 1 to 2, and a large floor adds
+//   about 1/2 to the whole mesh's near the objects on it. A mesh of nothing else is refused.
 //   Fast path: for a mesh that is closed (every edge shared by exactly two oppositely oriented
 //   triangles, vertices welded by position) and does not intersect itself, the winding-number
 //   sign equals the sign given by the pseudonormal of the closest feature (Baerentzen & Aanaes
@@ -79,8 +85,8 @@ struct MeshSourceStats {
   // orientation): not its boundary, so dropped; counted in inputTriangles, not in triangles.
   std::size_t droppedInterior = 0;
   // Triangles of open parts that bound no volume (mesh_sign.h, partsBoundingNothing: a floor quad
-  // beside a closed ball), dropped; counted in inputTriangles, not in triangles. A mesh of nothing
-  // else is refused.
+  // beside a closed ball, crossed foliage cards), dropped; counted in inputTriangles, not in
+  // triangles. A mesh of nothing else is refused.
   std::size_t droppedOpen = 0;
   std::size_t bvhNodes = 0;
 };

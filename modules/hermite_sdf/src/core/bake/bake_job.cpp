@@ -7,6 +7,7 @@
 
 #include <fmt/format.h>
 
+#include "engine/core/log.h"
 #include "engine/scene/gltf/gltf_loader.h"
 #include "hermite_sdf/core/analytic.h"
 #include "hermite_sdf/core/cells.h"
@@ -144,12 +145,18 @@ engine::Expected<PreparedSource> prepareSource(const BakeSource& source) {
     ENGINE_TRY_ASSIGN(std::unique_ptr<MeshSource> mesh, MeshSource::create(*source.triangles, options));
     prepared.description = describeMesh(source.name, mesh->stats());
     if (!prepared.palette.empty()) prepared.description += fmt::format(", {} materials", prepared.palette.size());
+    prepared.droppedTriangles = mesh->stats().droppedOpen + mesh->stats().droppedInterior;
     prepared.source = std::move(mesh);
     return prepared;
   }
   ENGINE_TRY_ASSIGN(prepared.source, makeAnalyticSource(source.shape));
   prepared.description = fmt::format("{}: analytic shape", source.shape);
   return prepared;
+}
+
+void logPreparedSource(const PreparedSource& prepared) {
+  if (prepared.droppedTriangles > 0) engine::log::warn("bake: {}", prepared.description);
+  else engine::log::info("bake: {}", prepared.description);
 }
 
 std::uint64_t estimateBakeBytes(const GridSpec& grid, BakeBand band) {
@@ -218,6 +225,7 @@ engine::Expected<std::shared_ptr<const SdfAsset>> bakeAsset(const PreparedSource
 engine::Expected<std::shared_ptr<const SdfAsset>> bakeAsset(const BakeSource& source, const BakeSettings& settings,
                                                             const BakeControl& control) {
   ENGINE_TRY_ASSIGN(PreparedSource prepared, prepareSource(source));
+  logPreparedSource(prepared);
   return bakeAsset(prepared, settings, control);
 }
 

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <optional>
 #include <unordered_map>
 
 namespace hsdf::mesh {
@@ -153,18 +154,23 @@ Parts connectedParts(const TriangleBvh& bvh, const std::vector<std::uint32_t>& v
   return parts;
 }
 
-// The winding numbers just in front of and just behind triangle t at its centroid. The step is a
-// millionth of the triangle's smallest altitude (a sliver's length says nothing of how thin the
-// part is): far less than the part's thickness or its distance to another part, far enough that
-// the triangle's own solid angle is ~2 pi, and above the coordinates' rounding.
-std::pair<double, double> windingBothSides(const TriangleBvh& bvh, std::uint32_t t, double windingBeta) {
+// How far off triangle t the side points step. A millionth of the triangle's smallest altitude (a
+// sliver's length says nothing of how thin the part is): far less than the part's thickness or its
+// distance to another part, far enough that the triangle's own solid angle is ~2 pi, and above the
+// coordinates' rounding at `on`.
+glm::dvec3 sideStep(const TriangleBvh& bvh, std::uint32_t t, const glm::dvec3& on) {
   const glm::dvec3 a = bvh.corner(t, 0), b = bvh.corner(t, 1), c = bvh.corner(t, 2);
-  const glm::dvec3 centroid = (a + b + c) / 3.0;
   const double longest = std::max({glm::length(b - a), glm::length(c - b), glm::length(a - c)});
-  const glm::dvec3 magnitude = glm::abs(centroid);
+  const glm::dvec3 magnitude = glm::abs(on);
   const double offset =
       std::max(1e-6 * doubleArea(bvh, t) / longest, 1e-13 * std::max({magnitude.x, magnitude.y, magnitude.z}));
-  const glm::dvec3 step = offset * bvh.unitNormal(t);
+  return offset * bvh.unitNormal(t);
+}
+
+// The winding numbers just in front of and just behind triangle t at its centroid.
+std::pair<double, double> windingBothSides(const TriangleBvh& bvh, std::uint32_t t, double windingBeta) {
+  const glm::dvec3 centroid = (bvh.corner(t, 0) + bvh.corner(t, 1) + bvh.corner(t, 2)) / 3.0;
+  const glm::dvec3 step = sideStep(bvh, t, centroid);
   return {bvh.windingNumber(centroid + step, windingBeta), bvh.windingNumber(centroid - step, windingBeta)};
 }
 
@@ -173,6 +179,59 @@ constexpr double kSeparatingMargin = 0.1;
 // Points sampled over the whole mesh, by area (at least one per part, at most kMaxPartSamples).
 constexpr double kOpenSamples = 4096.0;
 constexpr std::size_t kMaxPartSamples = 64;
+// Open parts that bound nothing alone (sheets) but close a volume together (a tube and caps that
+// share no vertex with it, six loose faces of a box) separate it across nearly all their area: only
+// near their seams does the winding number sit near 1/2. Sheets that cross in the open (foliage
+// cards in an X) separate at most the wedge on one side of the crossing, where both add up: about
+// half their area. Between the two, this share.
+constexpr double kTogetherShare = 0.75;
+
+// The corners of BVH triangles `triangles`, three per triangle: a BVH of these alone.
+std::vector<glm::dvec3> cornersOf(const TriangleBvh& bvh, const std::vector<std::uint32_t>& triangles) {
+  std::vector<glm::dvec3> corners;
+  corners.reserve(3 * triangles.size());
+  for (const std::uint32_t t : triangles) corners.insert(corners.end(), {bvh.corner(t, 0), bvh.corner(t, 1), bvh.corner(t, 2)});
+  return corners;
+}
+
+// Sample j of the m that fall on triangle t: its centroid when alone, else the R2 low-discrepancy
+// sequence folded into the triangle. Distinct points matter on large triangles (a quad card, the
+// long sides of a cylinder pushed through a box): their centroids alone may all lie where the
+// triangle separates nothing, or all where it does.
+glm::dvec3 samplePoint(const TriangleBvh& bvh, std::uint32_t t, std::size_t j, std::size_t m) {
+  const glm::dvec3 a = bvh.corner(t, 0), b = bvh.corner(t, 1), c = bvh.corner(t, 2);
+  if (m == 1) return (a + b + c) / 3.0;
+  double u = 0.5 + 0.7548776662466927 * double(j), v = 0.5 + 0.5698402909980532 * double(j);
+  u -= std::floor(u);
+  v -= std::floor(v);
+  if (u + v > 1.0) {
+    u = 1.0 - u;
+    v = 1.0 - v;
+  }
+  return a + u * (b - a) + v * (c - a);
+}
+
+// The share of a part's samples (n, stratified by area: sample i on the triangle holding area
+// (i + 1/2) / n of the part) across which `winding` goes decisively from one side of 1/2 to the other.
+template <class Winding>
+double separatingShare(const TriangleBvh& bvh, const std::vector<std::uint32_t>& members, double partArea,
+                       std::size_t n, const Winding& winding) {
+  std::size_t separating = 0, sample = 0;
+  double before = 0.0;
+  for (const std::uint32_t t : members) {
+    before += doubleArea(bvh, t);
+    const std::size_t first = sample;
+    while (sample < n && (double(sample) + 0.5) / double(n) * partArea <= before) ++sample;
+    for (std::size_t j = first; j < sample; ++j) {
+      const glm::dvec3 p = samplePoint(bvh, t, j - first, sample - first);
+      const glm::dvec3 step = sideStep(bvh, t, p);
+      const double front = winding(p + step), back = winding(p - step);
+      const bool decisive = std::abs(front - 0.5) >= kSeparatingMargin && std::abs(back - 0.5) >= kSeparatingMargin;
+      separating += decisive && (front >= 0.5) != (back >= 0.5);
+    }
+  }
+  return double(separating) / double(n);
+}
 
 }  // namespace
 
@@ -211,21 +270,54 @@ std::vector<std::uint32_t> partsBoundingNothing(const TriangleBvh& bvh, const st
     partArea[parts.of[t]] += doubleArea(bvh, t);
     total += doubleArea(bvh, t);
   }
-  std::vector<bool> nothing(parts.count, false);
+  std::vector<std::size_t> samples(parts.count);
+  for (std::uint32_t part = 0; part < parts.count; ++part)
+    samples[part] = std::size_t(std::clamp(std::ceil(kOpenSamples * partArea[part] / total), 1.0, double(kMaxPartSamples)));
+  const auto whole = [&](const glm::dvec3& p) { return bvh.windingNumber(p, windingBeta); };
+
+  // Each part by its own winding number, its triangles alone: a closed part's is 0 on one side and
+  // 1 on the other wherever it is, also where it runs inside another part (an arm pushed through a
+  // torso, where the whole mesh's goes from 1 to 2) or beside a large sheet (a floor adds about
+  // 1/2 to the whole mesh's near it); a sheet's is about -1/2 and 1/2, wherever it is. A part with
+  // no BVH of its own is the largest: its winding number is the whole mesh's less the others'.
+  std::uint32_t largest = 0;
+  for (std::uint32_t part = 1; part < parts.count; ++part)
+    if (members[part].size() > members[largest].size()) largest = part;
+  std::vector<std::uint32_t> others;
+  for (std::uint32_t t = 0; t < parts.of.size(); ++t)
+    if (parts.of[t] != largest) others.push_back(t);
+  std::vector<bool> boundsAlone(parts.count, false);
+  {
+    const std::optional<TriangleBvh> rest = others.empty() ? std::nullopt : std::optional<TriangleBvh>(cornersOf(bvh, others));
+    boundsAlone[largest] =
+        2.0 * separatingShare(bvh, members[largest], partArea[largest], samples[largest], [&](const glm::dvec3& p) {
+          return rest ? whole(p) - rest->windingNumber(p, windingBeta) : whole(p);
+        }) >= 1.0;
+  }
   for (std::uint32_t part = 0; part < parts.count; ++part) {
-    // Stratified by area: sample i at the triangle holding area (i + 1/2) / n of the part.
-    const auto n = std::size_t(std::clamp(std::ceil(kOpenSamples * partArea[part] / total), 1.0, double(kMaxPartSamples)));
-    std::size_t separating = 0, sample = 0;
-    double before = 0.0;
-    for (const std::uint32_t t : members[part]) {
-      before += doubleArea(bvh, t);
-      for (; sample < n && (double(sample) + 0.5) / double(n) * partArea[part] <= before; ++sample) {
-        const auto [front, back] = windingBothSides(bvh, t, windingBeta);
-        const bool decisive = std::abs(front - 0.5) >= kSeparatingMargin && std::abs(back - 0.5) >= kSeparatingMargin;
-        separating += decisive && (front >= 0.5) != (back >= 0.5);
-      }
-    }
-    nothing[part] = 2 * separating < n;
+    if (part == largest) continue;
+    const TriangleBvh own(cornersOf(bvh, members[part]));
+    boundsAlone[part] = 2.0 * separatingShare(bvh, members[part], partArea[part], samples[part], [&](const glm::dvec3& p) {
+                          return own.windingNumber(p, windingBeta);
+                        }) >= 1.0;
+  }
+
+  // The parts that bound nothing alone may close a volume together (see kTogetherShare): each is
+  // kept if the winding number of all of them separates across most of its area.
+  std::vector<std::uint32_t> loose;
+  for (std::uint32_t t = 0; t < parts.of.size(); ++t)
+    if (!boundsAlone[parts.of[t]]) loose.push_back(t);
+  std::vector<bool> nothing(parts.count, false);
+  for (std::uint32_t part = 0; part < parts.count; ++part) nothing[part] = !boundsAlone[part];
+  if (std::count(boundsAlone.begin(), boundsAlone.end(), false) >= 2) {
+    // All of the mesh: its own BVH answers.
+    const std::optional<TriangleBvh> together =
+        loose.size() == parts.of.size() ? std::nullopt : std::optional<TriangleBvh>(cornersOf(bvh, loose));
+    for (std::uint32_t part = 0; part < parts.count; ++part)
+      if (!boundsAlone[part])
+        nothing[part] = separatingShare(bvh, members[part], partArea[part], samples[part], [&](const glm::dvec3& p) {
+                          return together ? together->windingNumber(p, windingBeta) : whole(p);
+                        }) < kTogetherShare;
   }
   std::vector<std::uint32_t> triangles;
   for (std::uint32_t t = 0; t < parts.of.size(); ++t)

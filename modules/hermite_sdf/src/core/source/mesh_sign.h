@@ -51,11 +51,15 @@ struct PartSides {
 };
 PartSides partSides(const TriangleBvh& bvh, const std::vector<std::uint32_t>& vertexOf, double windingBeta);
 
-// The BVH triangles of a mesh with boundary edges whose connected part bounds no volume: across
-// less than half of its area (sampled) the generalized winding number does not go decisively from
-// one side of 1/2 to the other. An open sheet (a terrain, a plane: the winding number is 1/2 - e
-// under it and -1/2 - e over it, so its sign follows rounding) and triangles doubled with both
-// windings (0 on both sides) are such parts; a bowl, or a closed surface with a hole, is not.
+// The BVH triangles of a mesh with boundary edges whose connected part bounds no volume. A part
+// bounds one alone when across at least half of its area (sampled) its own winding number (of its
+// triangles alone) goes decisively from one side of 1/2 to the other: a closed part's goes from 0
+// to 1 everywhere, also where it runs inside another part or beside a large sheet, whose winding
+// numbers the whole mesh's would add; a bowl's, or a closed surface's with a hole, does across most
+// of its area. An open sheet's (a terrain, a plane, a foliage card: about 1/2 under it and -1/2 over
+// it) and triangles doubled with both windings (0 on both sides) do not. Parts that bound nothing
+// alone are kept if, together, they separate across three quarters of each one's area (a tube and
+// caps on corners of their own); crossed cards separate about half.
 std::vector<std::uint32_t> partsBoundingNothing(const TriangleBvh& bvh, const std::vector<std::uint32_t>& vertexOf,
                                                 double windingBeta);
 

@@ -4,8 +4,12 @@
 
 #include <atomic>
 #include <cstring>
+#include <string>
+#include <string_view>
+#include <utility>
 #include <vector>
 
+#include "engine/core/log.h"
 #include "hermite_sdf/core/bake_job.h"
 
 namespace hsdf {
@@ -223,6 +227,47 @@ TEST(BakeJob, UnknownInputListsTheShapes) {
   ASSERT_FALSE(source.ok());
   EXPECT_TRUE(contains(source.error().message, "'no_such_shape' is neither a file nor an analytic shape"));
   EXPECT_TRUE(contains(source.error().message, "torus"));
+}
+
+// Every message logged while it lives, with its level.
+class LogCapture {
+ public:
+  LogCapture() {
+    engine::log::setSink([this](engine::log::Level level, std::string_view message) { messages.emplace_back(level, message); });
+  }
+  ~LogCapture() { engine::log::setSink({}); }
+  LogCapture(const LogCapture&) = delete;
+  LogCapture& operator=(const LogCapture&) = delete;
+  std::vector<std::pair<engine::log::Level, std::string>> messages;
+};
+
+// Tricky: only hsdf_bake printed what a bake left out ("2 dropped: open parts that bound no
+// volume"); the scene runner and the Viewer bake through the job and said nothing, so a floor or a
+// decal that vanished from the SDF left no trace in their logs. The job logs the same description
+// once per bake: a warning when triangles were dropped (the bake lacks them), else an info.
+TEST(BakeJob, TheBakeLogsWhatItDroppedOnce) {
+  engine::scene::TriangleSoup scene;
+  // A closed tetrahedron on a floor quad twenty times its size, one mesh.
+  scene.positions = {{0, 0.1f, 0}, {1, 0.1f, 0}, {0, 1.1f, 0}, {0, 0.1f, 1}, {-10, 0, -10}, {-10, 0, 10}, {10, 0, 10}, {10, 0, -10}};
+  scene.indices = {0, 2, 1, 0, 1, 3, 0, 3, 2, 1, 2, 3, 4, 5, 6, 4, 6, 7};
+  BakeSettings settings;
+  settings.resolution = 12;
+  {
+    LogCapture log;
+    BakeJob job(BakeSource::fromTriangles("tetra on a floor", scene), settings);
+    ASSERT_TRUE(job.wait().ok());
+    ASSERT_EQ(log.messages.size(), 1u);
+    EXPECT_EQ(log.messages[0].first, engine::log::Level::Warning);
+    EXPECT_TRUE(contains(log.messages[0].second,
+                         "bake: tetra on a floor: mesh, 4 triangles (2 dropped: open parts that bound no volume"))
+        << log.messages[0].second;
+  }
+  scene.indices.resize(12);
+  LogCapture log;
+  ASSERT_TRUE(bakeAsset(BakeSource::fromTriangles("tetra", scene), settings).ok());
+  ASSERT_EQ(log.messages.size(), 1u);
+  EXPECT_EQ(log.messages[0].first, engine::log::Level::Info);
+  EXPECT_EQ(log.messages[0].second, "bake: tetra: mesh, 4 triangles, closed, sign from pseudonormals");
 }
 
 }  // namespace
