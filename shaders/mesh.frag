@@ -14,18 +14,22 @@ layout(location = 0) out vec4 outColor;
 void main() {
   FrameGlobals frame = FrameGlobalsRef(pc.frameGlobals).globals;
   ObjectData object = ObjectsRef(pc.objects).objects[inObject];
+  // The rasterizer says which side of the triangle the eye sees (front faces as the pipeline's
+  // front-face state says: clockwise for a mirrored object, whose matrix reverses the winding). A
+  // back face is only drawn for a double-sided mesh (glTF doubleSided: "the back-face MUST have its
+  // normals reversed before the lighting equation is evaluated"): its normal is reversed, here and
+  // in the normals view.
+  vec3 n = normalize(inWorldNormal);
+  if (!gl_FrontFacing) n = -n;
   vec3 color;
   if (pc.debugView == DEBUG_VIEW_NORMALS) {
-    color = debugNormalColor(inWorldNormal);
+    color = debugNormalColor(n);
   } else if (pc.debugView == DEBUG_VIEW_DEPTH) {
     color = vec3(gl_FragCoord.z);
   } else {
-    // The rasterizer says which side of the triangle the eye sees: a back face (a mesh drawn
-    // without culling) is lit as its other side. On the side seen, the interpolated vertex normal
-    // may still face away near a silhouette (the vertices' normals lean over it): bent to face the
-    // eye, not turned round, which lit single pixels along the outline as the object's far side.
-    vec3 n = normalize(inWorldNormal);
-    if (!gl_FrontFacing) n = -n;
+    // On the side seen, the interpolated vertex normal may still face away near a silhouette (the
+    // vertices' normals lean over it): bent to face the eye, not turned round, which lit single
+    // pixels along the outline as the object's far side.
     n = normalTowardEye(n, normalize(frame.cameraPosition.xyz - inWorldPosition));
     color = shadeSurface(frame, object.color.rgb, object.material.x, inWorldPosition, n);
   }

@@ -18,6 +18,9 @@ struct MeshRenderable {
   glm::vec4 color{0.8f, 0.8f, 0.8f, 1.0f};  // linear base colour
   float roughness = 0.5f;
   float metallic = 0.0f;
+  // Both sides drawn (glTF material doubleSided): no back-face culling, and a back face lit with
+  // its normal reversed (MeshFeature). False: back faces are culled.
+  bool doubleSided = false;
 };
 
 // A perspective camera looking down its local -Z axis.

@@ -1,5 +1,7 @@
 #include "engine/render/mesh_feature.h"
 
+#include <array>
+
 #include <imgui.h>
 
 #include "engine/core/math.h"
@@ -44,25 +46,33 @@ Expected<MeshFeature::Pipelines> MeshFeature::createPipelines() const {
   ENGINE_TRY_ASSIGN(gpu::ShaderModule frag, gpu::ShaderModule::load(context, "mesh.frag"));
   ENGINE_TRY_ASSIGN(gpu::ShaderModule prepassFrag, gpu::ShaderModule::load(context, "mesh_prepass.frag"));
 
+  // One prepass and one shading pipeline per cull mode: a primitive is drawn with the same cull
+  // mode in both passes, or its back faces would have depth and no colour (or colour tested
+  // against depth the prepass never wrote).
   Pipelines pipelines;
-  gpu::GraphicsPipelineDesc desc;
-  desc.vertex = vert.handle();
-  desc.fragment = prepassFrag.handle();
-  desc.colorFormats = {formats_.visibility};
-  desc.vertexLayout = meshVertexLayout();
-  desc.depthFormat = formats_.depth;
-  desc.pushConstantBytes = sizeof(shader::DrawPushConstants);
-  desc.name = "mesh depth prepass";
-  desc.depthCompare = VK_COMPARE_OP_GREATER;
-  desc.extraDynamicStates = {VK_DYNAMIC_STATE_FRONT_FACE};  // clockwise for mirrored objects
-  ENGINE_TRY_ASSIGN(pipelines.depth, gpu::Pipeline::createGraphics(context, desc));
+  for (const Sides sides : {Sides::Single, Sides::Double}) {
+    const bool both = sides == Sides::Double;
+    gpu::GraphicsPipelineDesc desc;
+    desc.vertex = vert.handle();
+    desc.fragment = prepassFrag.handle();
+    desc.colorFormats = {formats_.visibility};
+    desc.vertexLayout = meshVertexLayout();
+    desc.depthFormat = formats_.depth;
+    desc.pushConstantBytes = sizeof(shader::DrawPushConstants);
+    desc.cullMode = both ? VK_CULL_MODE_NONE : VK_CULL_MODE_BACK_BIT;
+    desc.name = both ? "mesh depth prepass, double-sided" : "mesh depth prepass";
+    desc.depthCompare = VK_COMPARE_OP_GREATER;
+    // Clockwise for mirrored objects: what culling keeps, and gl_FrontFacing (which side is lit).
+    desc.extraDynamicStates = {VK_DYNAMIC_STATE_FRONT_FACE};
+    ENGINE_TRY_ASSIGN(pipelines.depth[std::size_t(sides)], gpu::Pipeline::createGraphics(context, desc));
 
-  desc.name = "mesh shading";
-  desc.fragment = frag.handle();
-  desc.colorFormats = {formats_.color};
-  desc.depthWrite = false;
-  desc.depthCompare = VK_COMPARE_OP_EQUAL;  // depth is final after the prepass
-  ENGINE_TRY_ASSIGN(pipelines.shade, gpu::Pipeline::createGraphics(context, desc));
+    desc.name = both ? "mesh shading, double-sided" : "mesh shading";
+    desc.fragment = frag.handle();
+    desc.colorFormats = {formats_.color};
+    desc.depthWrite = false;
+    desc.depthCompare = VK_COMPARE_OP_EQUAL;  // depth is final after the prepass
+    ENGINE_TRY_ASSIGN(pipelines.shade[std::size_t(sides)], gpu::Pipeline::createGraphics(context, desc));
+  }
   return pipelines;
 }
 
@@ -70,7 +80,9 @@ void MeshFeature::prepare(FrameContext& frame) {
   pool_.sync();
   commands_.clear();
   culledCount_ = 0;
-  std::vector<VkDrawIndexedIndirectCommand> mirrored;
+  // One list per batch, concatenated in batch order: single-sided objects come first, as they were
+  // drawn before double-sided ones existed.
+  std::array<std::vector<VkDrawIndexedIndirectCommand>, kBatchCount> batches;
   const math::Frustum frustum = math::extractFrustum(frame.camera.proj * frame.camera.view);
   frame.registry.view<MeshRenderable, scene::WorldTransform>().each(
       [&](ecs::Entity, const MeshRenderable& mesh, const scene::WorldTransform& world) {
@@ -82,21 +94,30 @@ void MeshFeature::prepare(FrameContext& frame) {
         }
         const std::uint32_t object = frame.scene.addObject(
             GpuScene::makeObject(world.matrix, mesh.color, mesh.roughness, mesh.metallic, kFeatureId));
-        (mirrors(world.matrix) ? mirrored : commands_).push_back(
+        batches[batchOf(mesh.doubleSided ? Sides::Double : Sides::Single, mirrors(world.matrix))].push_back(
             {range.indexCount, 1, range.firstIndex, range.vertexOffset, object});
       });
-  mirroredFirst_ = static_cast<std::uint32_t>(commands_.size());
-  commands_.insert(commands_.end(), mirrored.begin(), mirrored.end());
+  for (std::size_t b = 0; b < kBatchCount; ++b) {
+    batchFirst_[b] = static_cast<std::uint32_t>(commands_.size());
+    commands_.insert(commands_.end(), batches[b].begin(), batches[b].end());
+  }
   drawCount_ = static_cast<std::uint32_t>(commands_.size());
+  batchFirst_[kBatchCount] = drawCount_;
   if (!commands_.empty()) indirect_.upload(frame.frameSlot, commands_);
 }
 
 void MeshFeature::recordPass(PassContext& pass) {
   if (commands_.empty() || pool_.empty()) return;
-  recordDraws(pass, pass.pass == Pass::DepthPrepass ? pipelines_.depth : pipelines_.shade);
+  const bool prepass = pass.pass == Pass::DepthPrepass;
+  for (const Sides sides : {Sides::Single, Sides::Double})
+    recordDraws(pass, prepass ? pipelines_.depth[std::size_t(sides)] : pipelines_.shade[std::size_t(sides)], sides);
 }
 
-void MeshFeature::recordDraws(PassContext& pass, const gpu::Pipeline& pipeline) {
+void MeshFeature::recordDraws(PassContext& pass, const gpu::Pipeline& pipeline, Sides sides) {
+  const std::uint32_t first = batchFirst_[batchOf(sides, false)];
+  const std::uint32_t mirroredFirst = batchFirst_[batchOf(sides, true)];
+  const std::uint32_t end = batchFirst_[batchOf(sides, true) + 1];
+  if (first == end) return;
   VkCommandBuffer cmd = pass.cmd;
   vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, pipeline.handle());
   shader::DrawPushConstants push{};
@@ -111,15 +132,16 @@ void MeshFeature::recordDraws(PassContext& pass, const gpu::Pipeline& pipeline) 
   vkCmdBindIndexBuffer(cmd, pool_.indexBuffer().handle(), 0, VK_INDEX_TYPE_UINT32);
   const VkBuffer indirect = indirect_.buffer(pass.frame.frameSlot).handle();
   vkCmdSetFrontFace(cmd, VK_FRONT_FACE_COUNTER_CLOCKWISE);
-  draws_.drawIndexed(cmd, indirect, 0, mirroredFirst_);
+  draws_.drawIndexed(cmd, indirect, first, mirroredFirst - first);
   vkCmdSetFrontFace(cmd, VK_FRONT_FACE_CLOCKWISE);
-  draws_.drawIndexed(cmd, indirect, mirroredFirst_, drawCount_ - mirroredFirst_);
+  draws_.drawIndexed(cmd, indirect, mirroredFirst, end - mirroredFirst);
 }
 
 void MeshFeature::drawUi() {
   if (ImGui::CollapsingHeader("Meshes")) {
     ImGui::Text("meshes in pool: %u", pool_.meshCount());
-    ImGui::Text("drawn: %u, culled: %u", drawCount_, culledCount_);
+    ImGui::Text("drawn: %u (double-sided: %u), culled: %u", drawCount_, drawCount_ - batchFirst_[batchOf(Sides::Double, false)],
+                culledCount_);
   }
 }
 

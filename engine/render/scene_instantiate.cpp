@@ -80,6 +80,7 @@ InstantiatedScene instantiateScene(const scene::SceneData& data, ecs::Registry& 
         renderable.color = material.baseColor;
         renderable.roughness = material.roughness;
         renderable.metallic = material.metallic;
+        renderable.doubleSided = material.doubleSided;
       }
       const ecs::Entity part = registry.create();
       registry.emplace<scene::Transform>(part);

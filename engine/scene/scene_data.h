@@ -35,6 +35,9 @@ struct MaterialData {
   glm::vec4 baseColor{0.8f, 0.8f, 0.8f, 1.0f};
   float metallic = 0.0f;
   float roughness = 0.5f;
+  // glTF `doubleSided` (default false): both sides of each triangle are drawn, a back face lit
+  // with its normal reversed. False: back faces are culled (a closed mesh's inside is never seen).
+  bool doubleSided = false;
 };
 
 struct CameraData {

@@ -277,6 +277,7 @@ Expected<MaterialData> convertMaterial(const tinygltf::Material& material) {
   ENGINE_TRY_ASSIGN(const float roughness, toFiniteFloat(pbr.roughnessFactor, "roughnessFactor"));
   out.metallic = std::clamp(metallic, 0.0f, 1.0f);
   out.roughness = std::clamp(roughness, 0.0f, 1.0f);
+  out.doubleSided = material.doubleSided;  // a boolean (checkGltfSchema), false when absent
   return out;
 }
 

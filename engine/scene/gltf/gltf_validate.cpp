@@ -186,6 +186,14 @@ Status optionalNumberInRange(const Json& object, const char* key, const std::str
   return {};
 }
 
+// A boolean when present (tinygltf reads a value of another type as absent: the default).
+Status optionalBoolean(const Json& object, const char* key, const std::string& path) {
+  const Json* value = find(object, key);
+  if (value && !value->is_boolean())
+    return makeError(fmt::format("{}: is a JSON {}, not a boolean (schema: boolean)", member(path, key), value->type_name()));
+  return {};
+}
+
 // A list of ids (node.children, scene.nodes): at least one, unique, each in range. Duplicates are
 // found by sorting the list, not with a table as long as the array it points into: a file of many
 // nodes with a child each would otherwise cost nodes^2.
@@ -399,10 +407,8 @@ class SchemaCheck {
     if (view) ENGINE_TRY(checkIndex(*view, sizeOf(a_.bufferViews), "bufferViews", member(path, "bufferView")));
     ENGINE_TRY_ASSIGN(const ComponentType* component, componentType(accessor, path));
     ENGINE_TRY(checkAccessorOffset(accessor, path, *component, view));
+    ENGINE_TRY(optionalBoolean(accessor, "normalized", path));
     if (const Json* normalized = find(accessor, "normalized")) {
-      if (!normalized->is_boolean())
-        return makeError(fmt::format("{}: is a JSON {}, not a boolean (schema: boolean)", member(path, "normalized"),
-                                     normalized->type_name()));
       // 3.6.2.1: normalized MUST NOT be true for FLOAT or UNSIGNED_INT.
       if (normalized->get<bool>() && (component->code == kFloat || component->code == kUnsignedInt))
         return makeError(fmt::format("{}: true with componentType {} ({}); only 8- and 16-bit integers are normalized",
@@ -476,9 +482,12 @@ class SchemaCheck {
     return optionalNumberArray(node, "weights", path, 0);
   }
 
-  // The three factors the loader reads (it clamps them into [0, 1], which would hide the error).
+  // The fields the loader reads: doubleSided (tinygltf took a string or a number for false, and the
+  // surface lost its back faces unsaid) and the three factors (it clamps them into [0, 1], which
+  // would hide the error).
   Status checkMaterial(std::size_t m) {
     const std::string path = element("materials", m);
+    ENGINE_TRY(optionalBoolean((*a_.materials)[m], "doubleSided", path));
     ENGINE_TRY_ASSIGN(const Json* pbr, optionalObject((*a_.materials)[m], "pbrMetallicRoughness", path));
     if (!pbr) return {};
     const std::string pbrPath = member(path, "pbrMetallicRoughness");

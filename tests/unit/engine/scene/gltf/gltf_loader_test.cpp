@@ -318,6 +318,33 @@ TEST(GltfLoaderHierarchy, MeshMaterialAndFlattenedInstances) {
              soup.positions[5]);
 }
 
+// Tricky because glTF's doubleSided defaults to false when absent (glTF 2.0, material.doubleSided)
+// and is read per material: three materials, true, false and absent, on three primitives of one
+// mesh, must come out in their own order; a reader that took the first material's flag for every
+// one, or defaulted an absent one to true (Blender's export default), fails here.
+TEST(GltfLoaderFeatures, DoubleSidedIsReadPerMaterialAndDefaultsToFalse) {
+  GltfBuilder b;
+  const int positions = b.addPositions(kTriangle);
+  const int indices = b.addIndices({0, 1, 2});
+  b.doc()["materials"] = json::array({json{{"doubleSided", true}, {"name", "leaf"}},
+                                      json{{"doubleSided", false}, {"name", "bark"}},
+                                      json{{"name", "stone"}}});
+  json primitives = json::array();
+  for (int m = 0; m < 3; ++m)
+    primitives.push_back({{"attributes", {{"POSITION", positions}}}, {"indices", indices}, {"material", m}});
+  b.doc()["meshes"] = json::array({json{{"primitives", primitives}}});
+  b.addNode({{"mesh", 0}});
+  const auto scene = load(b);
+  ASSERT_TRUE(scene.ok()) << scene.error().message;
+  ASSERT_EQ(scene->materials.size(), 3u);
+  EXPECT_TRUE(scene->materials[0].doubleSided) << scene->materials[0].name;
+  EXPECT_FALSE(scene->materials[1].doubleSided) << scene->materials[1].name;
+  EXPECT_FALSE(scene->materials[2].doubleSided) << scene->materials[2].name << " (absent: the default)";
+  EXPECT_FALSE(MaterialData{}.doubleSided) << "a primitive without a material is single-sided";
+  ASSERT_EQ(scene->meshes.at(0).primitives.size(), 3u);
+  for (int m = 0; m < 3; ++m) EXPECT_EQ(scene->meshes[0].primitives[std::size_t(m)].material, m);
+}
+
 // Tricky because a mesh placed a million units from the origin, where float holds only 0.0625,
 // loses its shape when its world positions are rounded to float; flattened about an origin near
 // it (the scene runner bakes far scenes about their centre), each position is computed in double

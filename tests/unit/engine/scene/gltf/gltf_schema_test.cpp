@@ -246,6 +246,15 @@ std::vector<SchemaCase> schemaCases() {
        "materials[0].pbrMetallicRoughness.metallicFactor: 1.5 is outside [0, 1]"},
       {"a negative baseColorFactor component", {{"/materials/0/pbrMetallicRoughness/baseColorFactor/3", -0.25}},
        "materials[0].pbrMetallicRoughness.baseColorFactor[3]: -0.25 is below the minimum (schema: minimum 0)"},
+      // doubleSided (tinygltf read a value of another type as the default, false: the back faces
+      // were culled, unsaid)
+      {"doubleSided as the string \"true\" (a hand-written file, a tool writing strings)",
+       {{"/materials/0/doubleSided", "true"}}, "materials[0].doubleSided: is a JSON string, not a boolean (schema: boolean)"},
+      {"doubleSided as 1 (C habit): no JSON number is a boolean",
+       {{"/materials/0/doubleSided", 1}}, "materials[0].doubleSided: is a JSON number, not a boolean (schema: boolean)"},
+      {"doubleSided null on a material without pbrMetallicRoughness (its checks stopped there)",
+       {{"/materials/0/pbrMetallicRoughness", removed()}, {"/materials/0/doubleSided", nullptr}},
+       "materials[0].doubleSided: is a JSON null, not a boolean (schema: boolean)"},
       // Shapes
       {"a top-level array given as an object: tinygltf ignored it, and the error was about accessor 0 missing", {{"/accessors", json::object()}},
        "accessors: is a JSON object, not an array"},
