@@ -16,9 +16,11 @@
 //   pushed through a torso lies where the whole mesh's goes from 1 to 2, and a large floor adds
 //   about 1/2 to the whole mesh's near the objects on it. A mesh of nothing else is refused.
 //   Fast path: for a mesh that is closed (every edge shared by exactly two oppositely oriented
-//   triangles, vertices welded by position) and does not intersect itself, the winding-number
-//   sign equals the sign given by the pseudonormal of the closest feature (Baerentzen & Aanaes
-//   2005), which costs nothing beyond the closest point; such meshes use it (SignMode::Auto).
+//   triangles, vertices welded by position; where equal positions leave edges unpaired, also
+//   positions within 4 float ulps of the mesh's size, a seam computed twice with trigonometry)
+//   and does not intersect itself, the winding-number sign equals the sign given by the
+//   pseudonormal of the closest feature (Baerentzen & Aanaes 2005), which costs nothing beyond the
+//   closest point; such meshes use it (SignMode::Auto).
 //   Meshes with defects, open meshes and self-intersecting ones (e.g. overlapping closed parts)
 //   use the winding number.
 // - Gradient: (p - closest) / |p - closest| times the sign; on the surface itself (distance below
@@ -74,7 +76,7 @@ struct MeshSourceStats {
   std::size_t inputTriangles = 0;
   std::size_t droppedZeroArea = 0;   // dropped because their area is zero
   std::size_t triangles = 0;         // kept, in the BVH
-  std::size_t boundaryEdges = 0;     // edges (after welding equal positions) without an opposite twin
+  std::size_t boundaryEdges = 0;     // edges (after welding, see above) without an opposite twin
   bool closed = false;               // every edge has exactly one oppositely oriented twin
   bool selfIntersecting = false;     // two triangles without a common vertex touch (closed meshes only)
   bool pseudoNormalSign = false;     // the sign comes from pseudonormals (else the winding number)

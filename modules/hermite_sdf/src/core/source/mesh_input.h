@@ -2,6 +2,7 @@
 // Validation and clean-up of raw triangle lists before they become a MeshSource.
 #include <cstddef>
 #include <cstdint>
+#include <optional>
 #include <vector>
 
 #include <glm/glm.hpp>
@@ -25,8 +26,17 @@ engine::Expected<CleanTriangles> cleanTriangles(const std::vector<glm::vec3>& po
 // split vertices along normal or UV seams, which must not make a closed mesh look open.
 std::vector<std::uint32_t> weldVertices(const std::vector<glm::dvec3>& corners);
 
+// vertexOf with the boundaryVertices (of edges left unpaired by it: EdgeTopology) also welded
+// where they lie within 4 float ulps of the mesh's size of one another: a seam or a pole computed
+// twice with trigonometry. Nothing when none weld, or when that would weld two corners of one
+// triangle.
+std::optional<std::vector<std::uint32_t>> weldBoundaryWithinRounding(const std::vector<glm::dvec3>& corners,
+                                                                     const std::vector<std::uint32_t>& vertexOf,
+                                                                     const std::vector<std::uint32_t>& boundaryVertices);
+
 struct EdgeTopology {
   std::size_t boundaryEdges = 0;  // directed edges without exactly one opposite twin
+  std::vector<std::uint32_t> boundaryVertices;  // their ends, ascending, once each
   bool closed = false;
 };
 

@@ -88,8 +88,16 @@ struct MeshSource::Impl {
     }
     onSurfaceDistance = kOnSurfaceRelative * glm::length(bounds.size());
     setMaterialSlots(clean);
-    const std::vector<std::uint32_t> vertexOf = mesh::weldVertices(bvh.corners());
-    const mesh::EdgeTopology topology = mesh::edgeTopology(vertexOf);
+    std::vector<std::uint32_t> vertexOf = mesh::weldVertices(bvh.corners());
+    mesh::EdgeTopology topology = mesh::edgeTopology(vertexOf);
+    // Only a mesh open by equal positions looks for copies a rounding apart (a seam computed twice):
+    // a closed mesh keeps its cost, and two closed parts touching at nearly the same point keep
+    // their own vertices (and pseudonormals).
+    if (!topology.closed)
+      if (auto welded = mesh::weldBoundaryWithinRounding(bvh.corners(), vertexOf, topology.boundaryVertices)) {
+        vertexOf = std::move(*welded);
+        topology = mesh::edgeTopology(vertexOf);
+      }
     stats.droppedZeroArea = clean.droppedZeroArea;
     stats.triangles = bvh.triangleCount();
     stats.inputTriangles = stats.triangles + stats.droppedZeroArea;

@@ -2,11 +2,14 @@
 // triangles are dropped without changing the field.
 #include <cmath>
 #include <limits>
+#include <numbers>
+#include <set>
 
 #include <gtest/gtest.h>
 
 #include "hermite_sdf/core/mesh_source.h"
 #include "mesh_test_meshes.h"
+#include "source/mesh_input.h"
 
 namespace hsdf {
 namespace {
@@ -97,6 +100,64 @@ TEST(MeshInput, SoupWithSplitVerticesIsClosedAndKeepsTriangleIds) {
   const MeshClosestPoint c = (*source)->closestPoint({0.25, 0.3, 2.0});
   EXPECT_NEAR(testing::centroid(cube, c.triangle).z, 1.0, 1e-6);
   EXPECT_NEAR(c.distance, 1.0, 1e-12);
+}
+
+// A UV sphere as three.js's SphereGeometry makes it: (w + 1) x (h + 1) vertices computed with
+// trigonometry in double, stored in float; the seam column (phi = 2 pi) and the pole rows are
+// computed again, not shared, and no pole triangle has two pole corners.
+TestMesh threeJsSphere(int w, int h, double radius) {
+  TestMesh m;
+  for (int iy = 0; iy <= h; ++iy)
+    for (int ix = 0; ix <= w; ++ix) {
+      const double phi = 2.0 * std::numbers::pi * double(ix) / double(w), theta = std::numbers::pi * double(iy) / double(h);
+      m.positions.push_back(glm::vec3(glm::dvec3(-radius * std::cos(phi) * std::sin(theta), radius * std::cos(theta),
+                                                 radius * std::sin(phi) * std::sin(theta))));
+    }
+  const auto at = [w](int ix, int iy) { return std::uint32_t(iy * (w + 1) + ix); };
+  for (int iy = 0; iy < h; ++iy)
+    for (int ix = 0; ix < w; ++ix) {
+      const std::uint32_t a = at(ix + 1, iy), b = at(ix, iy), c = at(ix, iy + 1), d = at(ix + 1, iy + 1);
+      if (iy != 0) m.indices.insert(m.indices.end(), {a, b, d});
+      if (iy != h - 1) m.indices.insert(m.indices.end(), {b, c, d});
+    }
+  return m;
+}
+
+// Tricky: the seam's copies differ from the first column by sin(2 pi) * r = -2.4e-16 * r and the
+// south pole's copies by sin(pi) * r, so welding equal positions alone left the sphere open
+// (boundary edges along the seam and around a pole), signed by the winding number and exposed to
+// the rules for open parts (an explorer's finding). Positions within 4 float ulps of the mesh's
+// size weld: the sphere is closed and signed by pseudonormals, the same as the analytic sphere.
+TEST(MeshInput, ATrigRoundedSeamIsWelded) {
+  const TestMesh sphere = threeJsSphere(24, 12, 1.5);
+  // The premise: the seam's copies are not equal to the first column (row 6: the equator).
+  EXPECT_NE(sphere.positions[6 * 25], sphere.positions[6 * 25 + 24]);
+  auto source = MeshSource::create(sphere.positions, sphere.indices);
+  ASSERT_TRUE(source.ok()) << source.error().message;
+  const MeshSourceStats& stats = (*source)->stats();
+  EXPECT_TRUE(stats.closed) << stats.boundaryEdges << " boundary edges";
+  EXPECT_TRUE(stats.pseudoNormalSign);
+  EXPECT_EQ(stats.triangles, sphere.triangleCount());
+  // 24 x 12 facets lie within r (1 - cos(pi / 12)) = 0.052 of the sphere.
+  for (const glm::dvec3& p : {glm::dvec3(0.0), glm::dvec3(1.4, 0.0, 0.0), glm::dvec3(0.0, -1.4, 0.0),
+                              glm::dvec3(-1.0, 0.5, 0.01), glm::dvec3(1.6, 0.0, 0.0), glm::dvec3(0.0, -1.6, 0.0),
+                              glm::dvec3(1.2, 1.2, 0.0)})
+    EXPECT_EQ((*source)->sample(p).value < 0.0, glm::length(p) < 1.5) << p.x << " " << p.y << " " << p.z;
+}
+
+// Tricky: the tolerance must not weld distinct vertices: a slab 1e-5 of its size thick keeps its
+// top and bottom apart (20 float ulps of its size), copies 1e-9 apart weld whatever their order.
+TEST(MeshInput, WeldingKeepsDistinctVerticesApart) {
+  // Two triangles: every edge is a boundary edge, every vertex a candidate.
+  const std::vector<glm::dvec3> corners = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0, 0, 1e-5}, {1, 0, 1e-5}, {1e-9, 1, 0}};
+  const std::vector<std::uint32_t> equal = mesh::weldVertices(corners);
+  const auto welded = mesh::weldBoundaryWithinRounding(corners, equal, mesh::edgeTopology(equal).boundaryVertices);
+  ASSERT_TRUE(welded.has_value());
+  const std::vector<std::uint32_t>& ids = *welded;
+  EXPECT_NE(ids[0], ids[3]);
+  EXPECT_NE(ids[1], ids[4]);
+  EXPECT_EQ(ids[2], ids[5]);
+  EXPECT_EQ(std::set<std::uint32_t>(ids.begin(), ids.end()).size(), 5u);
 }
 
 }  // namespace
