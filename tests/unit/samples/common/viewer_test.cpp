@@ -282,7 +282,7 @@ TEST(Viewer, AMeshOfTwoMaterialsDrawsBothAsAnSdf) {
   auto viewer = makeTestViewer(128, 96);
   ASSERT_NE(viewer, nullptr);
   SceneDesc scene;
-  scene.gltf = hsdftest::testData("gltf/two_material_box.glb");
+  scene.gltf = hsdftest::testData("materials/two_material_box.glb");
   scene.groundPlane = false;
   TuningState tuning;
   tuning.method = hsdf::RenderMethod::Cells;
