@@ -4,7 +4,7 @@
 # The device: ctest runs this through hsdf_test_device_run, which sets HSDF_DEVICE from
 # HSDF_TEST_DEVICE (lavapipe unless set); the capture stays at its default --device auto, which
 # follows HSDF_DEVICE, and the check at the end proves the capture ran on that device.
-# What would break: a missing output; a header that is not the documented one; a number that is not finite
+# What would break: a missing output; a changed header; a number that is not finite
 # or not sane (negative times, angles outside 0..180, more mismatching pixels than the image has);
 # relations that hold on any device: at equal K, Hermite cells n=3 r=1 have a lower mean normal
 # error than trilinear sphere tracing (either normal mode); the cells' fragment invocations are
