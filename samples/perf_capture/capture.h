@@ -1,5 +1,5 @@
 #pragma once
-// The perf capture (issue 10): every row (method x K x setting, capture_rows.h) rendered from the
+// The perf capture: every row (method x K x setting, capture_rows.h) rendered from the
 // same fixed orbit views, timed, measured against the ground truth and written to the output folder.
 #include "capture_options.h"
 #include "engine/core/expected.h"

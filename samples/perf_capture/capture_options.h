@@ -1,5 +1,5 @@
 #pragma once
-// Command line of the perf capture (issue 10):
+// Command line of the perf capture:
 //   perf_capture --out DIR [--scene FILE [--objects] | --shape NAME] [--size WxH] [--resolutions 16,32,64,128]
 //                [--methods mesh,trilinear,hermite,cells,cells-runs,cell-bricks] [--settings "n=3 r=1,..."]
 //                [--views N | --scene-cameras all|NAME,...]
@@ -36,7 +36,7 @@ struct Options {
   std::uint32_t frames = 5;      // timed frames per view
   std::uint32_t warmup = 2;      // untimed frames per view before them
   bool quick = false;
-  // Levels of detail (issue 22): each cell row also with TuningState::lod on (label "... lod K=..."),
+  // Levels of detail: each cell row also with TuningState::lod on (label "... lod K=..."),
   // and the orbit views `distance` times farther than the framing (1..64): the same object near
   // (1) and far (e.g. 8) in two runs, its prepass work per row in results.json.
   bool lod = false;

@@ -32,7 +32,7 @@ const Variant kVariants[] = {
     {"cells", "n=2 r=1", false, {.method = hsdf::RenderMethod::Cells, .subdivisions = 2, .refineSteps = 1}},
     {"cells", "n=3 r=0", false, {.method = hsdf::RenderMethod::Cells, .subdivisions = 3, .refineSteps = 0}},
     {"cells", "n=3 r=1", true, {.method = hsdf::RenderMethod::Cells, .subdivisions = 3, .refineSteps = 1}},
-    // The fp16 target of issue 10 compares this one with the fp32 line above.
+    // The fp16 target compares this one with the fp32 line above.
     {"cells", "n=3 r=1 fp16", false, {.method = hsdf::RenderMethod::Cells, .subdivisions = 3, .refineSteps = 1, .fp16 = true}},
     // What the cell culling pass removes: the same cells, every box drawn.
     {"cells", "n=3 r=1 no-cull", false,

@@ -1,7 +1,7 @@
 // interpolant_coverage: how far each interpolant's own surface lies from the mesh, traced exactly on
 // the CPU (hsdf::renderReference: the degree-9 / degree-3 polynomial of each cell along the ray), so
 // that a tracer's coverage mismatch in the perf capture can be split into the interpolant's share
-// and the tracer's (issue 19: trilinear sphere tracing draws 2.2-3.4x dense Hermite's mismatch at
+// and the tracer's (trilinear sphere tracing draws 2.2-3.4x dense Hermite's mismatch at
 // the same K; is that the tracer or the trilinear interpolant itself?).
 //   interpolant_coverage [--scene FILE.glb] [--size WxH] [--resolutions 16,32,...] [--views N]
 // Prints a markdown table: per K, pixels per view whose hit/miss differs from the mesh for the

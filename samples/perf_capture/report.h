@@ -1,5 +1,5 @@
 #pragma once
-// The capture's outputs: results.csv (one row per method x K x setting, the header of issue 10),
+// The capture's outputs: results.csv (one row per method x K x setting under a fixed header),
 // results.json (device, driver, command line, commit, date, and every row), results.md (the
 // paper's table beside this run's, ratios, targets checked, every row, work and quality), charts.
 #include <cstdint>

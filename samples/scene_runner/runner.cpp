@@ -73,7 +73,7 @@ Status stepFailed(samples::Viewer& viewer, Status failed, int& failedInARow, Sta
 }
 
 // What the last frame's root search cost, and whether any ray gave up: a tracer that runs out of
-// steps draws a miss, which would otherwise go unseen (issue 19: noise on an NVIDIA GPU).
+// steps draws a miss, which would otherwise go unseen: on an NVIDIA GPU, noise).
 void logWork(samples::Viewer& viewer) {
   const Expected<samples::Viewer::FrameWork> work = viewer.countWork();
   if (!work) {

@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# The perf capture on lavapipe (issue 10), as committed under docs/perf/lavapipe/: the bunny,
+# The perf capture on lavapipe, as committed under docs/perf/lavapipe/: the bunny,
 # 1920x1080, K = 16, 32, 64, 128, 8 orbit views. Lavapipe runs every shader on the CPU: only ratios
 # within one run and the device-independent work counts mean anything. Extra arguments go to
 # perf_capture (e.g. --views 2 --frames 2 for a shorter run; say so wherever its numbers are used).

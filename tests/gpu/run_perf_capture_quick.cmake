@@ -1,16 +1,16 @@
-# perf_capture --quick end to end (issue 10): runs the CI preset on the test device and checks its
+# perf_capture --quick end to end: runs the CI preset on the test device and checks its
 # outputs.
 #   cmake -DCAPTURE=<perf_capture> -DOUT=<folder> -P run_perf_capture_quick.cmake
 # The device: ctest runs this through hsdf_test_device_run, which sets HSDF_DEVICE from
 # HSDF_TEST_DEVICE (lavapipe unless set); the capture stays at its default --device auto, which
 # follows HSDF_DEVICE, and the check at the end proves the capture ran on that device.
-# What would break: a missing output; a header that is not issue 10's; a number that is not finite
+# What would break: a missing output; a changed header; a number that is not finite
 # or not sane (negative times, angles outside 0..180, more mismatching pixels than the image has);
 # relations that hold on any device: at equal K, Hermite cells n=3 r=1 have a lower mean normal
 # error than trilinear sphere tracing (either normal mode); the cells' fragment invocations are
 # counted (pipeline statistics) and non-zero; every SDF method has evaluations per pixel > 0; no
 # row has a ray that ran out of steps (sphere tracers that oscillate near the surface until their
-# step limit drew noise on an NVIDIA GPU: issue 19); the tiled cells count their list walk.
+# step limit drew noise on an NVIDIA GPU); the tiled cells count their list walk.
 cmake_policy(SET CMP0054 NEW)
 file(REMOVE_RECURSE "${OUT}")
 execute_process(COMMAND "${CAPTURE}" --quick --out "${OUT}" RESULT_VARIABLE rc ERROR_VARIABLE err)

@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Window faults (issue 12) driven by window_faults_script.txt in a real GLFW window under Xvfb,
+# Window faults driven by window_faults_script.txt in a real GLFW window under Xvfb,
 # validation on (a message fails the run): minimise and restore, a resize storm down to 1x1, the
 # split screen in a 1-pixel-wide window, a resize while minimised, presents that report out of date
 # and suboptimal. X11 iconifies a window through

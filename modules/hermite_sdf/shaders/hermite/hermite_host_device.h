@@ -76,7 +76,7 @@ struct CellRunGpu {
 };
 HSDF_CHECK_SIZE(CellRunGpu, 12);
 
-// Cell bricks (issue 20, step 3): the grid's cells in blocks of CELL_BRICK_SIZE^3; each block with
+// Cell bricks: the grid's cells in blocks of CELL_BRICK_SIZE^3; each block with
 // at least one kept cell is one proxy box, walked cell by cell along the ray in the fragment shader
 // (records read by address). The kept cells of a brick are listed, in the order of their mask bits,
 // in a buffer of record indices starting at firstIndex: the record index of kept cell bit b is

@@ -1,5 +1,5 @@
 #pragma once
-// GPU-driven culling of cell bricks (issue 20): brick_cull.comp tests every brick of every drawn
+// GPU-driven culling of cell bricks: brick_cull.comp tests every brick of every drawn
 // object against the frustum and, where the object allows it, its normal cone (normal_cone.h), and
 // writes the kept bricks and the instance counts of the objects' indirect draws.
 //
@@ -69,7 +69,7 @@ class BrickCuller {
   engine::gpu::Pipeline pipeline_;
 };
 
-// GPU-driven culling of the cells of RenderMethod::Cells objects (issue 20): cell_cull.comp tests
+// GPU-driven culling of the cells of RenderMethod::Cells objects: cell_cull.comp tests
 // every cell of every front-face range (a row of a culled object) as the brick pass tests a brick,
 // with the cells' own normal cones (cellGradientCone, one per record), and writes the kept records
 // (copies: the draws read them as vertex attributes), their record indices and each range's

@@ -35,7 +35,7 @@ namespace {
 
 // Vertices per instance of every box (cells, thin cells, runs, bricks; box.glsl): the front faces as
 // one triangle fan, all six faces (near-plane boxes, drawn by back faces) as one triangle strip: 8
-// and 14 vertex-shader invocations per box (issue 20, step 2); the wireframe: the 12 edges.
+// and 14 vertex-shader invocations per box; the wireframe: the 12 edges.
 constexpr std::uint32_t kFanVertices = 8;
 constexpr std::uint32_t kStripVertices = 14;
 constexpr std::uint32_t kWireVertices = 24;
@@ -523,7 +523,7 @@ void HermiteCellFeature::chooseDrawStages(const FrameDraws& f) {
   // the depth buffer until its fix-up, so phase 1 would need its fix-up before the pyramid and
   // phase 2 an early stage and a fix-up of its own over pixels that phase 1 already made final.
   // Culling removes the hidden boxes the stage only made cheaper (on lavapipe; on GPUs the stage
-  // gains nothing, issue 20).
+  // gains nothing).
   earlyDepth_ = earlyDepthWanted(settings_.earlyDepth, context_->capabilities().isSoftwareRasterizer) &&
                 stats_.draws > 0 && !f.objectsOverlap && !f.drawsBricks && !thinBoxes_ && !occlusion_ && !tiles_;
   stats_.tiles = tiles_;

@@ -1,5 +1,5 @@
 #pragma once
-// The visibility history of occlusion culling (issue 20; cell_cull.comp, HermiteCellFeature): one
+// The visibility history of occlusion culling (cell_cull.comp, HermiteCellFeature): one
 // uint per cell of each culled object and view region, 1 when the cell was visible the last time
 // phase 2 tested it. An object's cells keep their place from frame to frame (a base per entity,
 // plus the cell's index within its asset), so the history survives the per-frame re-sort of the

@@ -1,5 +1,5 @@
 #pragma once
-// Tiled cells (issue 20; HermiteCellFeature::Settings::tiles): cell_tiles.comp bins the cells that
+// Tiled cells (HermiteCellFeature::Settings::tiles): cell_tiles.comp bins the cells that
 // the cell culling pass kept into screen tiles, and the prepass draws one quad per non-empty tile
 // (cell_tiles.vert) whose fragments search the tile's cells (cell_tiles_depth.glsl). On lavapipe,
 // which shades and counts whole 4x4 blocks, a box of a few pixels costs 16-64 fragment invocations;

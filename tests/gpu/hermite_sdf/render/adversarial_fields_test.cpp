@@ -1,4 +1,4 @@
-// Adversarial fields (issue 12, numerical robustness) drawn by every method — Hermite cells,
+// Adversarial fields (numerical robustness) drawn by every method — Hermite cells,
 // trilinear and Hermite sphere tracing — on lavapipe with the validation layers on: zero gradients
 // everywhere, values of 1e30, a surface tangent to a cell face, rays along cell edges and through
 // cell corners. Each frame must finish (a shader loop that does not terminate hangs lavapipe and

@@ -173,7 +173,7 @@ TEST_F(TiledCellsTest, TilesInsideACellAndAtTheFramesEdges) {
 
 // Why: the tiles' binning and the cell culling are compute work recorded in prepare(), outside
 // both passes; without scopes of their own a GPU capture cannot say whether the tiles' time goes
-// to binning or to drawing (issue 20), nor which of the binning's five phases it goes to. The
+// to binning or to drawing, nor which of the binning's five phases it goes to. The
 // renderer times prepare() as a whole, the feature names its parts inside it and the tiling its
 // phases; a frame without tiles has no tiling scope.
 TEST_F(TiledCellsTest, FrameTimingsNameTheCellsComputeInsidePrepare) {

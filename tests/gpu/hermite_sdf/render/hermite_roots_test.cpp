@@ -1,4 +1,4 @@
-// Robust roots of the Hermite cells (issue 9): surfaces on, near and half a cell off the sample
+// Robust roots of the Hermite cells: surfaces on, near and half a cell off the sample
 // planes, thin features, planes through cell edges and corners, grazing rays — in the default
 // search (the paper's n samples, with the Bernstein fallback when they show no sign change) and in
 // the certified mode, at every resolution K from 8 to 64. Each frame is compared with the CPU

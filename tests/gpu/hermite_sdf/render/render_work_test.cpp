@@ -1,4 +1,4 @@
-// The renderer's measurement outputs the perf capture reads (issue 10): per-pixel work counters
+// The renderer's measurement outputs the perf capture reads: per-pixel work counters
 // (FrameSettings::countWork), pipeline-statistics queries per pass, and the float colour read-back,
 // on lavapipe with the validation layers on.
 #include <algorithm>

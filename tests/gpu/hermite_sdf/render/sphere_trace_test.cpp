@@ -175,7 +175,7 @@ std::shared_ptr<const hsdf::SdfAsset> withBinaryValues(const hsdf::SdfAsset& ass
 
 // Why: hardware trilinear filters quantize their weights (8 fractional bits on an NVIDIA H100),
 // so near the surface the filtered f need not fall below epsilon; a tracer that only stopped there
-// overshot, stepped back and oscillated until its step limit, and the GPU drew noise (issue 19)
+// overshot, stepped back and oscillated until its step limit, and the GPU drew noise
 // while lavapipe, which filters in full float, drew the right image. A field whose samples jump
 // across zero (+-h) makes lavapipe see it: f overestimates the distance by up to 2x near the
 // surface, and an epsilon-only tracer bounces around the root until its step limit. Each tracer

@@ -1,5 +1,5 @@
 // The depth prepass's fragment shaders, as this build compiled them, keep early depth rejection on
-// GPUs (issue 20): none may contain `discard` (OpKill, OpTerminateInvocation,
+// GPUs: none may contain `discard` (OpKill, OpTerminateInvocation,
 // OpDemoteToHelperInvocation), an atomic, a store or memory copy into a storage buffer (StorageBuffer,
 // PhysicalStorageBuffer, or an old-style Uniform buffer block) or an image write. On an NVIDIA H100
 // a fragment shader that merely contains a buffer write lost early and hierarchical depth

@@ -302,7 +302,7 @@ TEST(SceneObjects, SampleGridSceneChoices) {
   }
   EXPECT_EQ(sdf + triangles, 120);
   EXPECT_EQ(triangles, 12);
-  EXPECT_GE(sdf, 100) << "issue 22's scene target: 100+ SDF instances";
+  EXPECT_GE(sdf, 100) << "the sample scene is meant to hold 100+ SDF instances";
 }
 
 }  // namespace

@@ -150,7 +150,7 @@ float halfToFloat(std::uint16_t bits);
 
 // ---- Proxy boxes ---------------------------------------------------------------------------------
 // The part of a kept cell that can hold its zero set: the renderers draw and search it instead of
-// the whole cell (issue 20, box overdraw: on the bunny its boxes have ~0.57x the cells' surface
+// the whole cell (box overdraw: on the bunny its boxes have ~0.57x the cells' surface
 // area, so ~0.57x as many rays meet them). Per axis, F lies between the Bernstein polynomials of
 // the least and of the greatest coefficient of each slice across that axis (the other axes' basis
 // functions are positive and sum to 1), so F can vanish only where the convex hulls of those two

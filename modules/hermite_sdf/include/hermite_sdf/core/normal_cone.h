@@ -1,5 +1,5 @@
 #pragma once
-// Normal cones of Hermite cells and bricks, and the brick culling tests (issue 20): the C++ side of
+// Normal cones of Hermite cells and bricks, and the brick culling tests: the C++ side of
 // shaders/hermite/normal_cone.glsl, whose tests repeat the float maths of brickConeCulls and
 // boxOutsideFrustum below operation for operation (brick_cull.comp keeps exactly the bricks these
 // keep; tests/gpu/brick_cull_test.cpp checks it).

@@ -112,7 +112,7 @@ class HermiteCellFeature final : public engine::render::RenderFeature {
   // culling pass's kept cells binned into 8x8-pixel tiles (Settings::tileSize; cell_tiles.comp), one quad per tile whose
   // fragments search the tile's cells. Same cells, same search, same image; one fragment per pixel
   // instead of one per box and pixel. Auto: on for software rasterizers, which shade and count whole
-  // 4x4 blocks (a box of a few pixels costs 16-64 invocations there; issue 20's <= 3 fragment
+  // 4x4 blocks (a box of a few pixels costs 16-64 invocations there; the <= 3 fragment
   // invocations per covered pixel); off for GPUs until one has measured it. Tiles need
   // vkCmdDrawIndirectCount (Vulkan 1.2's drawIndirectCount; their overflow falls back to boxes
   // on the GPU): a device without it draws boxes.

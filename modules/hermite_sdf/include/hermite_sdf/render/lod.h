@@ -1,5 +1,5 @@
 #pragma once
-// Levels of detail for SDF objects (issue 22): one object baked at K, K/2, K/4, ... from the same
+// Levels of detail for SDF objects: one object baked at K, K/2, K/4, ... from the same
 // source through the one bake job, and a per-frame choice of the level from the object's projected
 // size, so that the cells' work follows the screen rather than K. A cell of a level whose cells
 // cover about `pixelsPerCell` pixels or fewer is drawn; finer levels would only add proxies and

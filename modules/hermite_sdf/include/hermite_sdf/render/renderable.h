@@ -21,10 +21,10 @@ enum class RenderMethod : std::uint32_t {
   HermiteSphereTrace = 2,    // baseline: dense Hermite 3D texture, manual tricubic evaluation
   // The cells, drawn as runs of kept cells along x (one box per run, at most
   // HermiteCellFeature::Settings::maxRunLength cells) walked cell by cell in the fragment shader,
-  // records read by buffer device address: fewer, larger proxies than one box per cell (issue 13).
+  // records read by buffer device address: fewer, larger proxies than one box per cell.
   CellRuns = 3,
   // The cells, drawn as bricks of CELL_BRICK_SIZE^3 cells (one box per brick holding a kept cell)
-  // walked along the ray in the fragment shader: fewer proxies still (issue 20, step 3).
+  // walked along the ray in the fragment shader: fewer proxies still.
   CellBricks = 4,
 };
 // Every method, in the order of their values: the one list of SDF methods (the samples' method

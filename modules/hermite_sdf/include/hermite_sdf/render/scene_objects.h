@@ -1,5 +1,5 @@
 #pragma once
-// glTF scenes as separate SDF objects (issue 22): each mesh is baked once, in its own (mesh-local)
+// glTF scenes as separate SDF objects: each mesh is baked once, in its own (mesh-local)
 // space, into its own SdfAsset, and every node that places the mesh draws that shared asset as an
 // instance with the node's world transform. Nodes may instead keep their triangles.
 //

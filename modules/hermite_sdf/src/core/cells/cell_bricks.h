@@ -1,5 +1,5 @@
 #pragma once
-// Bricks of kept cells (RenderMethod::CellBricks, issue 20 step 3): the grid's cells in blocks of
+// Bricks of kept cells (RenderMethod::CellBricks): the grid's cells in blocks of
 // CELL_BRICK_SIZE^3; each block holding a kept cell is one proxy box whose fragment shader walks
 // its kept cells along the ray (bricks_depth.glsl). Fewer, larger boxes than cells or runs: the
 // number of proxies grows with the surface area in bricks, not in cells.

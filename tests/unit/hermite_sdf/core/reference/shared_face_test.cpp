@@ -1,4 +1,4 @@
-// Roots on faces shared by two cells (issue 9): the reference caster must find every hit on a flat
+// Roots on faces shared by two cells: the reference caster must find every hit on a flat
 // face that lies on a sample plane, within rounding of one, or is crossed by it at a tiny angle.
 #include <gtest/gtest.h>
 
