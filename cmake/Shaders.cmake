@@ -26,6 +26,10 @@ function(hsdf_register_shader name source defines include_dirs)
   set_property(GLOBAL APPEND PROPERTY HSDF_SHADER_NAMES ${name})
 endfunction()
 
+# Each shader folder registers its stages and the folders their #includes resolve in (a module's
+# shaders see its own folder and the engine's shaders/, the engine's only its own). Nothing is
+# compiled yet: hsdf_compile_shaders, called once after every folder, makes the one target, so that
+# the stale-SPIR-V sweep below knows every output of the shared folder.
 function(hsdf_add_shaders)
   cmake_parse_arguments(PARSE_ARGV 0 arg "" "" "SOURCES;INCLUDE_DIRS")
   foreach(source IN LISTS arg_SOURCES)
@@ -39,8 +43,8 @@ endfunction()
 
 # hsdf_shader_variant(<name> SOURCE <glsl> [DEFINES <NAME=VALUE>...]): one row of a folder's
 # variant table, after the folder's hsdf_add_shaders (whose INCLUDE_DIRS it uses). <name> is the
-# SPIR-V's name without .spv, and its extension the stage: hsdf_shader_variant(cells_depth_near.frag
-# SOURCE hermite/cells_depth.glsl DEFINES HSDF_COUNT_WORK=1) makes cells_depth_near.frag.spv.
+# SPIR-V's name without .spv, and its extension the stage: hsdf_shader_variant(lit_counted.frag
+# SOURCE lit.glsl DEFINES HSDF_COUNT_WORK=1) makes lit_counted.frag.spv.
 # SOURCE is relative to the folder and starts with #version (it is the stage's whole source).
 function(hsdf_shader_variant name)
   cmake_parse_arguments(PARSE_ARGV 1 arg "" "SOURCE" "DEFINES")
