@@ -6,6 +6,7 @@
 #include <iterator>
 #include <stdexcept>
 #include <sys/wait.h>
+#include <unistd.h>
 
 #include <gtest/gtest.h>
 
@@ -67,16 +68,23 @@ CommandResult runCommand(const std::string& command) {
 
 ShaderProject writeShaderProject(const std::string& name, const std::string& rows,
                                  const std::map<std::string, std::string>& files) {
-  const std::filesystem::path root = std::filesystem::path(::testing::TempDir()) / ("hsdf_shader_project_" + name);
+  // The process id keeps two build trees' test runs (release and asan at once) apart.
+  const std::filesystem::path root = std::filesystem::path(::testing::TempDir()) /
+                                     ("hsdf_shader_project_" + std::to_string(::getpid()) + "_" + name);
   std::filesystem::remove_all(root);
-  ShaderProject project{root / "source", root / "build"};
-  std::filesystem::create_directories(project.source);
-  writeText(project.source / "CMakeLists.txt",
+  std::filesystem::create_directories(root / "source");
+  writeText(root / "source" / "CMakeLists.txt",
             "cmake_minimum_required(VERSION 3.25)\nproject(shader_project NONE)\n"
             "list(APPEND CMAKE_MODULE_PATH \"" HSDF_SOURCE_DIR "/cmake\")\ninclude(Shaders)\n" +
                 rows + "\nhsdf_compile_shaders(shaders)\n");
-  for (const auto& [file, text] : files) writeText(project.source / file, text);
-  return project;
+  for (const auto& [file, text] : files) writeText(root / "source" / file, text);
+  return {root / "source", root / "build"};  // a prvalue: no copy whose destructor would remove it
+}
+
+ShaderProject::~ShaderProject() {
+  if (::testing::Test::HasFailure()) return;
+  std::error_code ignored;  // a scratch folder left behind is not the test's failure
+  std::filesystem::remove_all(source.parent_path(), ignored);
 }
 
 CommandResult configure(const ShaderProject& project) {

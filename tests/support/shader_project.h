@@ -19,6 +19,8 @@ CommandResult runCommand(const std::string& command);
 struct ShaderProject {
   std::filesystem::path source;  // CMakeLists.txt and the GLSL files
   std::filesystem::path build;   // the build tree (its SPIR-V in build/shaders)
+  // Removes both at the end of a passing test; a failed test's stay for its reader.
+  ~ShaderProject();
 };
 // Writes a fresh project under the test temp folder: CMakeLists.txt includes cmake/Shaders.cmake,
 // then `rows` (hsdf_add_shaders / hsdf_shader_variant calls), then makes the `shaders` target;
