@@ -9,6 +9,7 @@
 #   lib/libengine_*.a lib/libhermite_sdf_*.a       the libraries (static)
 #   lib/cmake/hermite_sdf/                         hermite_sdf-config.cmake, version, targets,
 #                                                  hermite_sdf-shaders.cmake (a project's own shaders)
+#                                                  and its glslang command line, GlslCommand.cmake
 #   share/hermite_sdf/shaders/*.spv                SPIR-V (hermite_sdf_SHADER_DIR in the package)
 #   bin/hsdf_bake
 include(GNUInstallDirs)
@@ -85,4 +86,5 @@ configure_package_config_file(${PROJECT_SOURCE_DIR}/cmake/hermite_sdf-config.cma
 write_basic_package_version_file(${PROJECT_BINARY_DIR}/hermite_sdf-config-version.cmake
   COMPATIBILITY SameMinorVersion)
 install(FILES ${PROJECT_BINARY_DIR}/hermite_sdf-config.cmake ${PROJECT_BINARY_DIR}/hermite_sdf-config-version.cmake
-  ${PROJECT_SOURCE_DIR}/cmake/hermite_sdf-shaders.cmake DESTINATION ${HSDF_INSTALL_CMAKEDIR})
+  ${PROJECT_SOURCE_DIR}/cmake/hermite_sdf-shaders.cmake ${PROJECT_SOURCE_DIR}/cmake/GlslCommand.cmake
+  DESTINATION ${HSDF_INSTALL_CMAKEDIR})

@@ -7,31 +7,26 @@
 # rebuilds the stages that include it. <target> builds them all and is built by default. The
 # program adds OUTPUT_DIR with engine::gpu::addShaderDirectory before it makes its feature's
 # pipelines; rebuilding <target> while it runs, then Renderer::reloadShaders(), is hot reload.
+include(${CMAKE_CURRENT_LIST_DIR}/GlslCommand.cmake)  # the glslang command line, shared with the engine's build
 function(hermite_sdf_add_shaders target)
   cmake_parse_arguments(PARSE_ARGV 1 arg "" "OUTPUT_DIR" "SOURCES;INCLUDE_DIRS")
   if(NOT arg_OUTPUT_DIR OR NOT arg_SOURCES)
     message(FATAL_ERROR "hermite_sdf_add_shaders(${target}): OUTPUT_DIR and SOURCES are required")
   endif()
   find_program(HERMITE_SDF_GLSLANG_VALIDATOR glslangValidator REQUIRED)
-  set(includes "-I${HERMITE_SDF_SHADER_INCLUDE_DIR}")
+  set(include_dirs ${HERMITE_SDF_SHADER_INCLUDE_DIR})
   foreach(dir IN LISTS arg_INCLUDE_DIRS)
     get_filename_component(abs ${dir} ABSOLUTE)
-    list(APPEND includes "-I${abs}")
+    list(APPEND include_dirs ${abs})
   endforeach()
   set(outputs)
   foreach(source IN LISTS arg_SOURCES)
     get_filename_component(abs ${source} ABSOLUTE)
     get_filename_component(name ${source} NAME)
+    hsdf_glsl_stage(${name} stage)
     set(spv ${arg_OUTPUT_DIR}/${name}.spv)
-    add_custom_command(
-      OUTPUT ${spv}
-      COMMAND ${CMAKE_COMMAND} -E make_directory ${arg_OUTPUT_DIR}
-      COMMAND ${HERMITE_SDF_GLSLANG_VALIDATOR} --quiet --target-env vulkan1.3 -g ${includes}
-              --depfile ${arg_OUTPUT_DIR}/${name}.d -o ${spv} ${abs}
-      MAIN_DEPENDENCY ${abs}
-      DEPFILE ${arg_OUTPUT_DIR}/${name}.d
-      COMMENT "GLSL ${name}"
-      VERBATIM)
+    hsdf_glsl_command(SPIRV ${spv} SOURCE ${abs} STAGE ${stage} GLSLANG ${HERMITE_SDF_GLSLANG_VALIDATOR}
+      INCLUDE_DIRS ${include_dirs})
     list(APPEND outputs ${spv})
   endforeach()
   add_custom_target(${target} ALL DEPENDS ${outputs})

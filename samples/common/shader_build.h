@@ -1,8 +1,9 @@
 #pragma once
 // "Reload shaders" rebuilds the SPIR-V first: the build tree's shader target (glslang through
 // cmake/Shaders.cmake), run as `cmake --build <build dir> --target shaders`, so that an edited
-// shaders/*.glsl reaches the running program. A compile error fails the build: the old .spv files
-// and the running pipelines stay, and the compiler's output is the error.
+// shaders/*.glsl reaches the running program; a variant (a row of a variant table, cmake/Shaders.cmake)
+// is recompiled with its row's defines, as the build compiled it. A compile error fails the build:
+// the old .spv files and the running pipelines stay, and the compiler's output is the error.
 #include <filesystem>
 #include <string>
 

@@ -1,4 +1,4 @@
-// Depth prepass of the Hermite cell bricks (RenderMethod::CellBricks). Included by
+// Depth prepass of the Hermite cell bricks (RenderMethod::CellBricks). Compiled as
 // bricks_depth.frag (front faces, conservative depth) and bricks_depth_near.frag (back faces of
 // bricks the near plane may cut), and by their counting variants (hit_depth.glsl); bricks have no
 // early depth variant: a frame that draws bricks keeps the early depth stage off.
@@ -8,6 +8,7 @@
 // margin of a kept cell it does not enter (near an edge or corner of the walk) searches that cell
 // too, in the step where it comes that close, so every kept cell whose dilated box the ray meets is
 // searched, as the cells' own proxies would be.
+#version 460
 #extension GL_GOOGLE_include_directive : require
 #include "hermite/hermite_host_device.h"
 #include "hermite/proxy_dilation.glsl"

@@ -6,6 +6,8 @@
 // (14 vertices) for bricks the near plane may cut (drawn by back faces). The vertex shader hands on
 // 12 bytes (brick, draw, dilation): the fragment shader reads the brick by address, rebuilds the
 // pixel's ray from gl_FragCoord and walks the brick's kept cells (bricks_depth.glsl).
+#version 460
+#extension GL_GOOGLE_include_directive : require
 #include "hermite/hermite_host_device.h"
 #include "hermite/box.glsl"
 #include "hermite/brick.glsl"

@@ -7,8 +7,9 @@
 // test would have chosen among the boxes. A cell whose box the ray enters only behind the nearest
 // root found so far cannot hold a nearer one and is skipped; in a sorted list (cell_tiles.comp:
 // nearest box first, lists of at most CELL_TILE_SORT_MAX) the walk stops at the first entry whose
-// box lies wholly behind the hit. Included by
+// box lies wholly behind the hit. Compiled as
 // cell_tiles_depth{,_counted}.frag; no early depth variant.
+#version 460
 #extension GL_GOOGLE_include_directive : require
 #include "hermite/hermite_host_device.h"
 #include "hermite/proxy_dilation.glsl"

@@ -7,6 +7,7 @@
 //    (lavapipe) of the tile is shaded once;
 //  - cell_tiles_quads.vert, where the device has no large points: two triangles (6 invocations),
 //    whose shared diagonal has the quads or blocks it crosses shaded once per triangle.
+#version 460
 #extension GL_GOOGLE_include_directive : require
 #include "hermite/hermite_host_device.h"
 

@@ -1,7 +1,8 @@
-// Depth prepass of the Hermite cells: the paper's intersection. Included by cells_depth.frag
+// Depth prepass of the Hermite cells: the paper's intersection. Compiled as cells_depth.frag
 // (front faces, conservative depth) and cells_depth_near.frag (back faces of cells the near plane
-// may cut; no depth guarantee relative to the face), and by their variants that count work
+// may cut; no depth guarantee relative to the face), and as their variants that count work
 // (*_counted.frag) or belong to the early depth stage (*_early.frag): hit_depth.glsl.
+#version 460
 #extension GL_GOOGLE_include_directive : require
 #include "hermite/hermite_host_device.h"
 #include "hermite/segment_roots.glsl"

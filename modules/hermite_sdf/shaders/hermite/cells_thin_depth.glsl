@@ -1,8 +1,9 @@
 // Depth prepass of the thin cell boxes (cells_thin.vert): the search of cells_depth.glsl over the
 // cell's proxy box dilated by the search margin (cell_search.glsl; docs/root-finding.md), with the
 // cell's record read by buffer address instead of handed on as varyings, and the ray rebuilt from
-// gl_FragCoord (pixel_ray.glsl). Included by cells_thin_depth{,_near}{,_counted}.frag; no early
+// gl_FragCoord (pixel_ray.glsl). Compiled as cells_thin_depth{,_near}{,_counted}.frag; no early
 // depth variant (a frame that draws thin cells keeps the early depth stage off).
+#version 460
 #extension GL_GOOGLE_include_directive : require
 #include "hermite/hermite_host_device.h"
 #include "hermite/proxy_dilation.glsl"

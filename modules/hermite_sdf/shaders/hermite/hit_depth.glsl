@@ -1,6 +1,6 @@
 // How the cells' and runs' prepass fragments hand on their hit, or their miss (cells_depth.glsl,
-// runs_depth.glsl). Each .frag wrapper picks one variant by its defines; the feature picks the
-// pipeline (modules/hermite_sdf/src/render/cell_feature.cpp):
+// runs_depth.glsl). Each row of the variant table (the module's shaders/CMakeLists.txt) picks one
+// by its defines; the feature picks the pipeline (modules/hermite_sdf/src/render/cell_feature.cpp):
 // - production (no define): the hit's depth as gl_FragDepth (the depth test orders the hits), a
 //   miss as depth 0, the far plane under reverse-Z, which fails the GREATER test, so neither depth
 //   nor visibility is written. No `discard` and no buffer write anywhere in the shader: on a GPU a

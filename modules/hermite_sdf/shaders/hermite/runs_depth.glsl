@@ -1,8 +1,9 @@
-// Depth prepass of the Hermite cell runs (RenderMethod::CellRuns). Included by runs_depth.frag
+// Depth prepass of the Hermite cell runs (RenderMethod::CellRuns). Compiled as runs_depth.frag
 // (front faces, conservative depth) and runs_depth_near.frag (back faces of runs the near plane may
-// cut), and by their counting and early depth variants (hit_depth.glsl). The same search as the cells (cells_depth.glsl), cell by cell along the ray inside the run:
+// cut), and as their counting and early depth variants (hit_depth.glsl). The same search as the cells (cells_depth.glsl), cell by cell along the ray inside the run:
 // each cell is searched over its own box dilated as in the cells (docs/root-finding.md), from the
 // cell the ray enters first, and the walk stops at the first root.
+#version 460
 #extension GL_GOOGLE_include_directive : require
 #include "hermite/hermite_host_device.h"
 #include "hermite/proxy_dilation.glsl"

@@ -7,6 +7,8 @@
 // The fragment shader walks the ray through the run's cells and reads each cell's record by
 // buffer device address, so the vertex stream carries 12 bytes per run instead of 136 per cell and
 // the faces between cells of a run produce no fragments (issue 13; docs/perf/).
+#version 460
+#extension GL_GOOGLE_include_directive : require
 #include "hermite/hermite_host_device.h"
 #include "hermite/box.glsl"
 #include "hermite/proxy_dilation.glsl"

@@ -1,5 +1,5 @@
 // Depth prepass of the sphere-tracing baselines: trace the pixel's ray from the box entry (or the
-// near plane) and write the hit's depth and the visibility id. Included by the
+// near plane) and write the hit's depth and the visibility id. Compiled as the
 // sphere_trace_*_depth*.frag variants; SPHERE_TRACE_CONSERVATIVE_DEPTH marks the front-face
 // variant, whose hits are never nearer than the rasterized face.
 //
@@ -8,6 +8,8 @@
 // docs/gpu-vs-lavapipe.md). A miss writes depth 0, the far plane under reverse-Z, which fails the
 // GREATER test like nothing drawn. HSDF_COUNT_WORK (the *_counted.frag variants, chosen only for
 // frames that count work) adds the per-pixel evaluation counts and the rays out of steps.
+#version 460
+#extension GL_GOOGLE_include_directive : require
 #include "hermite/sphere_trace_common.glsl"
 #include "hermite/pixel_ray.glsl"
 

@@ -1,6 +1,8 @@
 // Shading pass of the sphere-tracing baselines, once per pixel: the object's box is rasterized
 // again; a fragment goes on only where this object won the prepass (visibility id), rebuilds the
 // hit from the prepass depth and shades it with the normal the object asks for.
+#version 460
+#extension GL_GOOGLE_include_directive : require
 #include "hermite/sphere_trace_common.glsl"
 #include "hermite/materials.glsl"
 #include "shared/debug_colors.glsl"

@@ -1,5 +1,0 @@
-#version 460
-#extension GL_GOOGLE_include_directive : require
-// bricks.vert drawing the edges of its boxes (DEBUG_VIEW_WIREFRAME).
-#define HSDF_WIRE 1
-#include "hermite/bricks_vertex.glsl"

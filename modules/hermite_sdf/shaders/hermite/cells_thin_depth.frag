@@ -1,5 +1,0 @@
-#version 460
-#extension GL_GOOGLE_include_directive : require
-// Production prepass of the thin cell boxes, front faces: no discard, no buffer write (hit_depth.glsl).
-#define HSDF_CONSERVATIVE_DEPTH 1
-#include "hermite/cells_thin_depth.glsl"

@@ -1,5 +1,0 @@
-#version 460
-#extension GL_GOOGLE_include_directive : require
-// sphere_trace_trilinear_depth_near.frag with the work counters, for frames that count work (sphere_trace_depth.glsl).
-#define HSDF_COUNT_WORK 1
-#include "hermite/sphere_trace_depth.glsl"
