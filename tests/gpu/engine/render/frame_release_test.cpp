@@ -5,6 +5,7 @@
 // uses it is a message, which fails the test (GpuTest::TearDown).
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cstdint>
 #include <map>
 #include <memory>
@@ -117,9 +118,11 @@ TEST_F(FrameReleaseTest, RetiredAtFrameLGoesWhenFrameLPlusFramesInFlightIsPrepar
 }
 
 // Tricky: the mesh pool uploads all its meshes again whenever one is added, so a mesh added every
-// frame replaces the buffers that the frames in flight draw from, every frame. Replacing them at
-// once is a validation message (a vertex buffer destroyed in use); waiting for the device worked
-// but stalled the frame. Every quad must still be drawn at the end, from the last upload.
+// frame replaces the buffers the frames in flight draw from, every frame. They must wait in the
+// frame's list for exactly the frames in flight (two buffers a frame, two frames: four), neither
+// destroyed at once (today's upload waits for its own submission, which on one queue happens to
+// follow the frames in flight: a pool that leaned on that would break with an asynchronous
+// upload) nor kept; every quad must still be drawn at the end, from the last upload.
 TEST_F(FrameReleaseTest, MeshesAddedEveryFrameReplaceTheBuffersInFlight) {
   createRendererWith(2);
   const std::vector<glm::vec3> normals(4, glm::vec3(0.0f, 0.0f, 1.0f));
@@ -138,6 +141,8 @@ TEST_F(FrameReleaseTest, MeshesAddedEveryFrameReplaceTheBuffersInFlight) {
     registry_.emplace<render::MeshRenderable>(entity, renderable);
     scene::updateWorldTransforms(registry_);
     ASSERT_TRUE(renderer_->renderFrame(registry_, frontCamera()));
+    // Frame 0 makes the first buffers; each later frame retires the two it replaced.
+    EXPECT_EQ(renderer_->pendingReleases(), std::size_t(std::min(2 * i, 4))) << "after frame " << i;
   }
   const std::vector<float> depth = renderer_->readbackDepth();
   const render::CameraView camera = frontCamera();

@@ -1255,13 +1255,15 @@ TEST_F(HermiteCellsTest, ObjectsWithoutAnInverseAreSkipped) {
   EXPECT_GT(std::count_if(frame.depth.begin(), frame.depth.end(), [](float d) { return d > 0.0f; }), 500);
 }
 
-// Why: an asset swapped every frame (an animation by asset, an editor's live bake) makes the cell
-// feature append the new asset's cells to its buffers (replacing them) and, with
-// releaseAfterFrames at 1, drop the assets no longer drawn and rebuild its buffers, every frame or
-// two, while two frames are in flight: every replaced buffer goes through the frame's release list
-// (FrameContext::retire). What the list holds must stay bounded by the frames in flight (no buffer
-// kept for good), nothing may be freed under a frame that uses it (validation on), and the last
-// frame must draw the last asset as the reference does.
+// Why: the split screen draws one entity with a different asset in each view region, and here
+// both change every frame (an animation by asset on either side): the second region's prepare
+// appends its new asset's cells to the feature's buffers, replacing buffers that the first region
+// has just recorded draws with in this very frame, and the first region's prepare (releaseAfterFrames
+// at 1) drops the asset no longer drawn and rebuilds them, while two frames are in flight. Every
+// replaced buffer must wait in the frame's release list (FrameContext::retire): destroyed at once,
+// the frame's own command buffer holds a destroyed buffer (a validation message at its submit).
+// The list must stay bounded (no buffer kept for good), and the last asset must be drawn as the
+// reference draws it.
 TEST_F(HermiteCellsTest, AssetSwappedEveryFrameWithFramesInFlightDrawsTheLastOne) {
   createCellRenderer(kSize, kSize);
   renderer_->feature<hsdf::HermiteCellFeature>()->settings().releaseAfterFrames = 1;
@@ -1271,18 +1273,22 @@ TEST_F(HermiteCellsTest, AssetSwappedEveryFrameWithFramesInFlightDrawsTheLastOne
   const ecs::Entity entity = addSdf(registry_, assets[0], hsdf::RenderMethod::Cells);
   const render::CameraView camera = orbitCamera(*assets[0], 0);
   scene::updateWorldTransforms(registry_);
-  constexpr int kFrames = 13;
+  auto showing = [&](std::size_t index) {
+    return [&, index] { registry_.get<hsdf::HermiteSdfRenderable>(entity).asset = assets[index % assets.size()]; };
+  };
+  constexpr std::size_t kFrames = 13;
   std::size_t mostPending = 0;
-  for (int f = 0; f < kFrames; ++f) {
-    registry_.get<hsdf::HermiteSdfRenderable>(entity).asset = assets[std::size_t(f) % assets.size()];
-    ASSERT_TRUE(renderer_->renderFrame(registry_, camera));
+  for (std::size_t f = 0; f < kFrames; ++f) {
+    engine::render::FrameSettings split;
+    split.regions = {{{{0, 0}, {kSize / 2, kSize}}, showing(f)}, {{{kSize / 2, 0}, {kSize / 2, kSize}}, showing(f + 1)}};
+    ASSERT_TRUE(renderer_->renderFrame(registry_, camera, split));
     if (f >= 3) mostPending = std::max(mostPending, renderer_->pendingReleases());
   }
   std::printf("[ swaps ] most objects waiting for their frames: %zu\n", mostPending);
   EXPECT_GT(mostPending, 0u) << "the swaps retired nothing: the case does not reach the release path";
   EXPECT_LE(mostPending, 24u) << "retired buffers pile up instead of going when their frames complete";
-  const auto& last = assets[std::size_t(kFrames - 1) % assets.size()];
-  expectMatchesReference(compareView(*last, camera, "last swap"));
+  showing(kFrames)();
+  expectMatchesReference(compareView(*assets[kFrames % assets.size()], camera, "last swap"));
 }
 
 }  // namespace

@@ -784,10 +784,10 @@ TEST_F(SphereTraceTest, ExtremeCamerasAndViewports) {
 // Why: a texture no frame has drawn for the frames in flight is released; cycling three assets
 // through one entity, one per frame, with two frames in flight, releases one texture and uploads
 // another every frame. The released texture goes through the frame's release list with the last
-// frame that drew it, and its descriptor set (or bindless slot) is given back only then: freeing
-// it earlier is a validation message (an image, or a descriptor set, of a submitted frame
-// destroyed), keeping it for good grows the textures without bound, and the last frame must draw
-// the last asset as its reference does.
+// frame that drew it, and its descriptor set (or bindless slot) is given back only then. Released
+// a frame early, only this frame's texture is left (the one frame f - 1 still draws is gone: its
+// descriptor set freed under that frame); never released, they pile up; and the last frame must
+// draw the last asset as its reference does (validation on throughout).
 TEST_F(SphereTraceTest, AssetSwappedEveryFrameReleasesTexturesAsTheirFramesComplete) {
   createTraceRenderer(kSize, kSize);
   const std::vector<std::shared_ptr<const hsdf::SdfAsset>> assets = {bakeAsset("torus", 10), bakeAsset("sphere", 8),
