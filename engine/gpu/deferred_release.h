@@ -16,8 +16,8 @@
 // device is idle (collectAll()). A frame that fails while it is recorded is not submitted and its
 // number is used again by the next frame, so what it retired is kept at least as long.
 //
-// Who decides that an object is unneeded (a feature's policy, e.g. HermiteCellFeature's
-// releaseAfterFrames) is not this class's business; it only decides when it can be destroyed.
+// Who decides that an object is unneeded (a feature's own policy, e.g. "not drawn for N frames")
+// is not this class's business; it only decides when the object can be destroyed.
 #include <cstddef>
 #include <cstdint>
 #include <memory>
