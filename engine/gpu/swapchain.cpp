@@ -144,8 +144,9 @@ Status Swapchain::addImages(Parts& parts) const {
 
 bool Swapchain::acquire(VkSemaphore imageAvailable, std::uint32_t& imageIndex) {
   if (needsRecreate_) return false;  // a retired swapchain: asking it for an image may fail
+  const VkSwapchainKHR swapchain = parts_.swapchain.get();
   const VkResult result = VK_CHECK_SWAPCHAIN(
-      vkAcquireNextImageKHR(context_.device(), parts_.swapchain.get(), UINT64_MAX, imageAvailable, VK_NULL_HANDLE, &imageIndex));
+      vkAcquireNextImageKHR(context_.device(), swapchain, UINT64_MAX, imageAvailable, VK_NULL_HANDLE, &imageIndex));
   return result != VK_ERROR_OUT_OF_DATE_KHR;
 }
 

@@ -325,7 +325,8 @@ void SphereTraceFeature::releaseUnusedTextures(const engine::render::FrameContex
   for (auto it = textures_.begin(); it != textures_.end();) {
     const std::uint64_t lastUse = it->second.lastUsedFrame;
     if (engine::gpu::DeferredRelease::completed(lastUse, frame.frameNumber, frame.framesInFlight)) {
-      frame.retire(std::make_unique<RetiredTexture>(std::move(it->second), bindings_.get(), &releasedTextures_), lastUse);
+      auto retired = std::make_unique<RetiredTexture>(std::move(it->second), bindings_.get(), &releasedTextures_);
+      frame.retire(std::move(retired), lastUse);
       it = textures_.erase(it);
     } else {
       ++it;

@@ -57,7 +57,8 @@ class ReleaseProbe final : public render::RenderFeature {
                            VK_PIPELINE_STAGE_2_CLEAR_BIT, VK_ACCESS_2_TRANSFER_WRITE_BIT);
       vkCmdFillBuffer(frame.cmd, buffer.handle(), 0, VK_WHOLE_SIZE, i);
     }
-    frame.retire(std::make_unique<TrackedBuffer>(std::move(buffer), frame.frameNumber, &destroyedBefore_, &nextPrepared_));
+    auto tracked = std::make_unique<TrackedBuffer>(std::move(buffer), frame.frameNumber, &destroyedBefore_, &nextPrepared_);
+    frame.retire(std::move(tracked));
     nextPrepared_ = frame.frameNumber + 1;  // what goes from here on goes at a later frame's collect
   }
   void recordPass(render::PassContext&) override {}

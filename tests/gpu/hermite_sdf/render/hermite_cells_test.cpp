@@ -1280,7 +1280,8 @@ TEST_F(HermiteCellsTest, AssetSwappedEveryFrameWithFramesInFlightDrawsTheLastOne
   std::size_t mostPending = 0;
   for (std::size_t f = 0; f < kFrames; ++f) {
     engine::render::FrameSettings split;
-    split.regions = {{{{0, 0}, {kSize / 2, kSize}}, showing(f)}, {{{kSize / 2, 0}, {kSize / 2, kSize}}, showing(f + 1)}};
+    split.regions = {{{{0, 0}, {kSize / 2, kSize}}, showing(f)},
+                     {{{kSize / 2, 0}, {kSize / 2, kSize}}, showing(f + 1)}};
     ASSERT_TRUE(renderer_->renderFrame(registry_, camera, split));
     if (f >= 3) mostPending = std::max(mostPending, renderer_->pendingReleases());
   }

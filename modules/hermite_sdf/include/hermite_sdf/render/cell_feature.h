@@ -314,7 +314,8 @@ class HermiteCellFeature final : public engine::render::RenderFeature {
   std::uint64_t wantedKeptSlots(int precision, std::uint64_t cells) const;
   std::uint64_t heldKeptSlots(std::uint32_t slot, int precision) const;
   void clearKeptStreams();
-  void releaseUnneededKeptStreams(const engine::render::FrameContext& frame, const std::array<std::uint64_t, 2>& wanted);
+  void releaseUnneededKeptStreams(const engine::render::FrameContext& frame,
+                                  const std::array<std::uint64_t, 2>& wanted);
   // Retires the slot's kept-cell streams of `precision`, last used by frame `lastUse`.
   void releaseKeptStreams(const engine::render::FrameContext& frame, std::uint32_t slot, int precision,
                           std::uint64_t lastUse);
