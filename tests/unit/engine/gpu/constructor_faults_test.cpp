@@ -1,7 +1,8 @@
 // Constructors that fail half-way (engine/gpu/buffer.h, image.h, gpu_timer.h,
 // pipeline_statistics.h): a constructor that throws runs no destructor, so whatever it made before
-// the failing call must be given back by the constructor itself (or by its members). A leak shows twice: in the allocator's counts and as the validation layer's
-// report of objects never destroyed, at vkDestroyDevice (counted through the context's destruction).
+// the failing call must be given back by the constructor itself (or by its members). A leak shows
+// twice: in the allocator's counts and as the validation layer's report of objects never
+// destroyed, at vkDestroyDevice (counted through the context's destruction).
 #include <gtest/gtest.h>
 
 #include <string>
