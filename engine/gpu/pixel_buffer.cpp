@@ -3,7 +3,6 @@
 #include <stdexcept>
 #include <utility>
 
-#include "engine/gpu/context.h"
 
 namespace engine::gpu {
 
@@ -13,14 +12,13 @@ PixelBuffer::PixelBuffer(std::string name, VkBufferUsageFlags usage, VkDeviceSiz
              VK_BUFFER_USAGE_SHADER_DEVICE_ADDRESS_BIT),
       trailingBytes_(trailingBytes) {}
 
-bool PixelBuffer::ensure(const Context& context, VkExtent2D extent) {
+bool PixelBuffer::ensure(const Context& context, VkExtent2D extent, DeferredRelease& retired, std::uint64_t lastUse) {
   if (extent.width == 0 || extent.height == 0) {
     throw std::invalid_argument("PixelBuffer '" + name_ + "': extent " + std::to_string(extent.width) + "x" +
                                 std::to_string(extent.height));
   }
   if (buffer_ && extent_.width == extent.width && extent_.height == extent.height) return false;
-  // Frames still in flight may read or write the old buffer: it goes only once they are done.
-  if (buffer_) context.waitIdle();
+  if (buffer_) retired.retire(std::move(buffer_), lastUse);
   reset();
   buffer_ = Buffer(context, pixelBytes(extent) + trailingBytes_, usage_, MemoryUsage::GpuOnly, name_);
   extent_ = extent;

@@ -9,6 +9,7 @@
 #include <vulkan/vulkan.h>
 
 #include "engine/gpu/buffer.h"
+#include "engine/gpu/deferred_release.h"
 
 namespace engine::gpu {
 
@@ -22,10 +23,11 @@ class PixelBuffer {
   PixelBuffer(std::string name, VkBufferUsageFlags usage = 0, VkDeviceSize trailingBytes = 0);
 
   // Makes the buffer fit `extent` (width and height at least 1). Returns true when it was made now:
-  // its contents are then undefined, the caller clears them. An old buffer is freed only after the
-  // device is idle, so a frame in flight never reads a freed buffer. If the allocation fails the
-  // helper is left empty (extent 0 x 0) and the error is thrown.
-  bool ensure(const Context& context, VkExtent2D extent);
+  // its contents are then undefined, the caller clears them. An old buffer is retired to `retired`
+  // with `lastUse` (the frame being prepared: frames in flight and this frame's earlier commands
+  // may use it), so it is freed once those frames completed, without waiting for the device. If
+  // the allocation fails the helper is left empty (extent 0 x 0) and the error is thrown.
+  bool ensure(const Context& context, VkExtent2D extent, DeferredRelease& retired, std::uint64_t lastUse);
   // Frees the buffer (no frame in flight may still use it).
   void reset();
 

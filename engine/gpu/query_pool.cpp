@@ -1,7 +1,5 @@
 #include "engine/gpu/query_pool.h"
 
-#include <utility>
-
 #include "engine/gpu/context.h"
 #include "engine/gpu/vk_check.h"
 
@@ -14,31 +12,12 @@ QueryPool::QueryPool(const Context& context, VkQueryType type, std::uint32_t cou
   info.queryType = type;
   info.queryCount = count;
   info.pipelineStatistics = statistics;
-  VK_CHECK(vkCreateQueryPool(context.device(), &info, nullptr, &pool_));
-  context.setName(pool_, VK_OBJECT_TYPE_QUERY_POOL, name);
-}
-
-QueryPool::~QueryPool() { release(); }
-
-QueryPool::QueryPool(QueryPool&& other) noexcept { *this = std::move(other); }
-
-QueryPool& QueryPool::operator=(QueryPool&& other) noexcept {
-  if (this != &other) {
-    release();
-    context_ = std::exchange(other.context_, nullptr);
-    pool_ = std::exchange(other.pool_, VK_NULL_HANDLE);
-    count_ = std::exchange(other.count_, 0);
-  }
-  return *this;
-}
-
-void QueryPool::release() {
-  if (pool_) vkDestroyQueryPool(context_->device(), pool_, nullptr);
-  pool_ = VK_NULL_HANDLE;
+  VK_CHECK(vkCreateQueryPool(context.device(), &info, nullptr, pool_.receive(context.device())));
+  context.setName(pool_.get(), VK_OBJECT_TYPE_QUERY_POOL, name);
 }
 
 void QueryPool::reset(VkCommandBuffer cmd) const {
-  if (pool_) vkCmdResetQueryPool(cmd, pool_, 0, count_);
+  if (pool_) vkCmdResetQueryPool(cmd, pool_.get(), 0, count_);
 }
 
 std::vector<std::uint64_t> QueryPool::read(std::uint32_t queries, std::uint32_t valuesPerQuery) const {
@@ -48,7 +27,7 @@ std::vector<std::uint64_t> QueryPool::read(std::uint32_t queries, std::uint32_t 
   // VK_NOT_READY is expected for queries that were never written this frame (their availability
   // stays 0); anything else is an error.
   const VkResult result = vkGetQueryPoolResults(
-      context_->device(), pool_, 0, queries, values.size() * sizeof(std::uint64_t), values.data(),
+      context_->device(), pool_.get(), 0, queries, values.size() * sizeof(std::uint64_t), values.data(),
       stride * sizeof(std::uint64_t), VK_QUERY_RESULT_64_BIT | VK_QUERY_RESULT_WITH_AVAILABILITY_BIT);
   if (result != VK_SUCCESS && result != VK_NOT_READY) VK_CHECK(result);
   return values;

@@ -8,6 +8,8 @@
 
 #include <vulkan/vulkan.h>
 
+#include "engine/gpu/device_handle.h"
+
 namespace engine::gpu {
 
 class Context;
@@ -19,14 +21,9 @@ class QueryPool {
   // 0 for other types.
   QueryPool(const Context& context, VkQueryType type, std::uint32_t count, const std::string& name,
             VkQueryPipelineStatisticFlags statistics = 0);
-  ~QueryPool();
-  QueryPool(QueryPool&& other) noexcept;
-  QueryPool& operator=(QueryPool&& other) noexcept;
-  QueryPool(const QueryPool&) = delete;
-  QueryPool& operator=(const QueryPool&) = delete;
 
-  VkQueryPool handle() const { return pool_; }
-  explicit operator bool() const { return pool_ != VK_NULL_HANDLE; }
+  VkQueryPool handle() const { return pool_.get(); }
+  explicit operator bool() const { return bool(pool_); }
   std::uint32_t count() const { return count_; }
 
   // Records a reset of every query of the pool (outside a render pass).
@@ -36,9 +33,8 @@ class QueryPool {
   std::vector<std::uint64_t> read(std::uint32_t queries, std::uint32_t valuesPerQuery) const;
 
  private:
-  void release();
   const Context* context_ = nullptr;
-  VkQueryPool pool_ = VK_NULL_HANDLE;
+  QueryPoolHandle pool_;  // owned from its creation: a failed naming gives it back
   std::uint32_t count_ = 0;
 };
 

@@ -29,18 +29,35 @@ Expected<std::unique_ptr<Swapchain>> Swapchain::create(const Context& context, V
 }
 
 Swapchain::~Swapchain() {
-  vkDeviceWaitIdle(context_.device());
-  destroySemaphores();
-  if (swapchain_) vkDestroySwapchainKHR(context_.device(), swapchain_, nullptr);
-}
-
-void Swapchain::destroySemaphores() {
-  for (VkSemaphore s : renderFinished_) vkDestroySemaphore(context_.device(), s, nullptr);
-  renderFinished_.clear();
+  vkDeviceWaitIdle(context_.device());  // the parts' holders then destroy the semaphores and the swapchain
 }
 
 Status Swapchain::recreate(VkExtent2D desiredExtent) {
   VK_TRY(vkDeviceWaitIdle(context_.device()));
+  ENGINE_TRY_ASSIGN(VkSwapchainCreateInfoKHR info, chooseSettings(desiredExtent));
+  info.oldSwapchain = parts_.swapchain.get();
+  // From here on the old swapchain is retired, made anew or not (vkCreateSwapchainKHR).
+  needsRecreate_ = true;
+  Expected<Parts> made = makeParts(info);
+  if (!made) {
+    dropRetired();
+    return makeError("the swapchain could not be recreated (out of date until a recreate succeeds): " +
+                     made.error().message);
+  }
+  parts_ = std::move(*made);  // the old parts are destroyed here: the device is idle
+  needsRecreate_ = false;
+  return {};
+}
+
+// A retired swapchain gives no more images and cannot be the oldSwapchain of the next one: it and
+// its semaphores go now (the device is idle); the size and format stay as they were.
+void Swapchain::dropRetired() noexcept {
+  parts_.renderFinished.clear();
+  parts_.images.clear();
+  parts_.swapchain.reset();
+}
+
+Expected<VkSwapchainCreateInfoKHR> Swapchain::chooseSettings(VkExtent2D desiredExtent) const {
   VkPhysicalDevice physical = context_.physicalDevice();
   VkSurfaceCapabilitiesKHR caps{};
   VK_TRY(vkGetPhysicalDeviceSurfaceCapabilitiesKHR(physical, surface_, &caps));
@@ -65,7 +82,6 @@ Status Swapchain::recreate(VkExtent2D desiredExtent) {
   std::uint32_t imageCount = std::max(caps.minImageCount + 1, 2u);
   if (caps.maxImageCount) imageCount = std::min(imageCount, caps.maxImageCount);
 
-  VkSwapchainKHR old = swapchain_;
   VkSwapchainCreateInfoKHR info{VK_STRUCTURE_TYPE_SWAPCHAIN_CREATE_INFO_KHR};
   info.surface = surface_;
   info.minImageCount = imageCount;
@@ -90,40 +106,58 @@ Status Swapchain::recreate(VkExtent2D desiredExtent) {
       info.presentMode = VK_PRESENT_MODE_FIFO_KHR;
   }
   info.clipped = VK_TRUE;
-  info.oldSwapchain = old;
-  VK_TRY(vkCreateSwapchainKHR(context_.device(), &info, nullptr, &swapchain_));
-  if (old) vkDestroySwapchainKHR(context_.device(), old, nullptr);
-  context_.setName(swapchain_, VK_OBJECT_TYPE_SWAPCHAIN_KHR, "swapchain");
+  return info;
+}
 
-  format_ = format.format;
-  extent_ = extent;
-  VK_TRY(vkGetSwapchainImagesKHR(context_.device(), swapchain_, &count, nullptr));
-  images_.resize(count);
-  VK_TRY(vkGetSwapchainImagesKHR(context_.device(), swapchain_, &count, images_.data()));
-  destroySemaphores();
+// Every failure returns an error with what was made destroyed by its holder; a name the debug
+// utils refused (a throwing VK_CHECK) becomes such an error too.
+Expected<Swapchain::Parts> Swapchain::makeParts(const VkSwapchainCreateInfoKHR& info) const {
+  Parts parts;
+  parts.format = info.imageFormat;
+  parts.extent = info.imageExtent;
+  try {
+    VK_TRY(vkCreateSwapchainKHR(context_.device(), &info, nullptr, parts.swapchain.receive(context_.device())));
+    context_.setName(parts.swapchain.get(), VK_OBJECT_TYPE_SWAPCHAIN_KHR, "swapchain");
+    ENGINE_TRY(addImages(parts));
+  } catch (const VulkanError& error) {
+    return makeError(error.what());
+  }
+  return parts;
+}
+
+Status Swapchain::addImages(Parts& parts) const {
+  const VkDevice device = context_.device();
+  std::uint32_t count = 0;
+  VK_TRY(vkGetSwapchainImagesKHR(device, parts.swapchain.get(), &count, nullptr));
+  parts.images.resize(count);
+  VK_TRY(vkGetSwapchainImagesKHR(device, parts.swapchain.get(), &count, parts.images.data()));
+  parts.images.resize(count);
   for (std::uint32_t i = 0; i < count; ++i) {
-    VkSemaphoreCreateInfo semaphoreInfo{VK_STRUCTURE_TYPE_SEMAPHORE_CREATE_INFO};
-    VkSemaphore semaphore = VK_NULL_HANDLE;
-    VK_TRY(vkCreateSemaphore(context_.device(), &semaphoreInfo, nullptr, &semaphore));
-    context_.setName(semaphore, VK_OBJECT_TYPE_SEMAPHORE, "render finished " + std::to_string(i));
-    context_.setName(images_[i], VK_OBJECT_TYPE_IMAGE, "swapchain image " + std::to_string(i));
-    renderFinished_.push_back(semaphore);
+    const VkSemaphoreCreateInfo semaphoreInfo{VK_STRUCTURE_TYPE_SEMAPHORE_CREATE_INFO};
+    SemaphoreHandle& semaphore = parts.renderFinished.emplace_back();
+    VK_TRY(vkCreateSemaphore(device, &semaphoreInfo, nullptr, semaphore.receive(device)));
+    context_.setName(semaphore.get(), VK_OBJECT_TYPE_SEMAPHORE, "render finished " + std::to_string(i));
+    context_.setName(parts.images[i], VK_OBJECT_TYPE_IMAGE, "swapchain image " + std::to_string(i));
   }
   return {};
 }
 
 bool Swapchain::acquire(VkSemaphore imageAvailable, std::uint32_t& imageIndex) {
+  if (needsRecreate_) return false;  // a retired swapchain: asking it for an image may fail
+  const VkSwapchainKHR swapchain = parts_.swapchain.get();
   const VkResult result = VK_CHECK_SWAPCHAIN(
-      vkAcquireNextImageKHR(context_.device(), swapchain_, UINT64_MAX, imageAvailable, VK_NULL_HANDLE, &imageIndex));
+      vkAcquireNextImageKHR(context_.device(), swapchain, UINT64_MAX, imageAvailable, VK_NULL_HANDLE, &imageIndex));
   return result != VK_ERROR_OUT_OF_DATE_KHR;
 }
 
 bool Swapchain::present(std::uint32_t imageIndex) {
   VkPresentInfoKHR info{VK_STRUCTURE_TYPE_PRESENT_INFO_KHR};
   info.waitSemaphoreCount = 1;
-  info.pWaitSemaphores = &renderFinished_[imageIndex];
+  const VkSemaphore renderFinished = parts_.renderFinished[imageIndex].get();
+  const VkSwapchainKHR swapchain = parts_.swapchain.get();
+  info.pWaitSemaphores = &renderFinished;
   info.swapchainCount = 1;
-  info.pSwapchains = &swapchain_;
+  info.pSwapchains = &swapchain;
   info.pImageIndices = &imageIndex;
   // Through vk_check.h's fault injection: a test can have a present that the driver completed
   // report out of date or suboptimal (an X server that resizes synchronously never does).

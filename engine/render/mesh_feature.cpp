@@ -77,7 +77,7 @@ Expected<MeshFeature::Pipelines> MeshFeature::createPipelines() const {
 }
 
 void MeshFeature::prepare(FrameContext& frame) {
-  pool_.sync();
+  pool_.sync(frame);
   commands_.clear();
   culledCount_ = 0;
   // One list per batch, concatenated in batch order: single-sided objects come first, as they were

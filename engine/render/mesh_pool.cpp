@@ -1,8 +1,10 @@
 #include "engine/render/mesh_pool.h"
 
 #include <stdexcept>
+#include <utility>
 
 #include "engine/gpu/context.h"
+#include "engine/render/render_feature.h"
 
 namespace engine::render {
 
@@ -29,13 +31,16 @@ MeshHandle MeshPool::add(std::span<const glm::vec3> positions, std::span<const g
   return MeshHandle{static_cast<std::uint32_t>(ranges_.size() - 1)};
 }
 
-void MeshPool::sync() {
+void MeshPool::sync(const FrameContext& frame) {
   if (!dirty_ || indices_.empty()) return;
-  context_.waitIdle();
-  vertexBuffer_ = gpu::createBufferWithData(context_, vertices_.data(), vertices_.size() * sizeof(MeshVertex),
-                                            VK_BUFFER_USAGE_VERTEX_BUFFER_BIT, "mesh pool vertices");
-  indexBuffer_ = gpu::createBufferWithData(context_, indices_.data(), indices_.size() * sizeof(std::uint32_t),
-                                           VK_BUFFER_USAGE_INDEX_BUFFER_BIT, "mesh pool indices");
+  gpu::Buffer vertices = gpu::createBufferWithData(context_, vertices_.data(), vertices_.size() * sizeof(MeshVertex),
+                                                   VK_BUFFER_USAGE_VERTEX_BUFFER_BIT, "mesh pool vertices");
+  gpu::Buffer indices = gpu::createBufferWithData(context_, indices_.data(), indices_.size() * sizeof(std::uint32_t),
+                                                  VK_BUFFER_USAGE_INDEX_BUFFER_BIT, "mesh pool indices");
+  if (vertexBuffer_) frame.retire(std::move(vertexBuffer_));
+  if (indexBuffer_) frame.retire(std::move(indexBuffer_));
+  vertexBuffer_ = std::move(vertices);
+  indexBuffer_ = std::move(indices);
   dirty_ = false;
 }
 

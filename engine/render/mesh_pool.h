@@ -26,6 +26,8 @@ struct MeshRange {
   glm::vec3 boundsMax{0.0f};
 };
 
+struct FrameContext;
+
 class MeshPool {
  public:
   explicit MeshPool(const gpu::Context& context) : context_(context) {}
@@ -38,8 +40,9 @@ class MeshPool {
   const MeshRange& range(MeshHandle mesh) const { return ranges_[mesh.index]; }
   std::uint32_t meshCount() const { return static_cast<std::uint32_t>(ranges_.size()); }
 
-  // Uploads pending meshes (waits for the GPU first: the old buffers may be in use).
-  void sync();
+  // Uploads pending meshes into new buffers; the old ones, which frames in flight and this frame's
+  // earlier view regions may draw from, are retired with the frame (FrameContext::retire).
+  void sync(const FrameContext& frame);
   const gpu::Buffer& vertexBuffer() const { return vertexBuffer_; }
   const gpu::Buffer& indexBuffer() const { return indexBuffer_; }
   bool empty() const { return indices_.empty(); }

@@ -26,11 +26,13 @@
 #include <cstdint>
 #include <string>
 #include <string_view>
+#include <utility>
 #include <vector>
 
 #include <vulkan/vulkan.h>
 
 #include "engine/core/expected.h"
+#include "engine/gpu/deferred_release.h"
 #include "engine/gpu/gpu_timer.h"
 #include "engine/render/camera_view.h"
 #include "engine/render/depth_pyramid.h"
@@ -87,6 +89,25 @@ struct FrameContext {
   // Frames in flight (not frame slots): a resource last used by frame L is free once frame
   // L + framesInFlight is being prepared (that frame's slot waited for L's fence).
   std::uint32_t framesInFlight = 1;
+  // The renderer's one list of GPU objects waiting for their frames to complete
+  // (gpu/deferred_release.h has the frame number rule). A feature never destroys an object that a
+  // submitted frame may use, nor waits for the device to do so: it retires it here.
+  gpu::DeferredRelease* retired = nullptr;
+  // Retires `object` (a Buffer, an Image, a unique_ptr to a group of them...) that this frame's
+  // commands recorded so far, or any earlier frame's, may use.
+  template <class T>
+  void retire(T&& object) const {
+    retired->retire(std::forward<T>(object), frameNumber);
+  }
+  // Retires `object` that no frame after `lastUse` uses (e.g. slotLastUse() for a frame slot's own
+  // buffers, or the last frame that drew an asset).
+  template <class T>
+  void retire(T&& object, std::uint64_t lastUse) const {
+    retired->retire(std::forward<T>(object), lastUse);
+  }
+  // The last frame that may have used this frame slot's own resources: the slot's previous frame
+  // (frame slots repeat every framesInFlight frames), complete now.
+  std::uint64_t slotLastUse() const { return frameNumber >= framesInFlight ? frameNumber - framesInFlight : 0; }
   // Where a feature says it could not draw an object (e.g. its new asset's GPU buffers did not fit
   // the memory budget): it drops the object, draws the rest and reports it here once; the
   // renderer hands the reports to its caller (Renderer::takeDroppedObjects).

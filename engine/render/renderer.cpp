@@ -130,6 +130,7 @@ void Renderer::createFrameObjects() {
 
 Renderer::~Renderer() {
   vkDeviceWaitIdle(context_.device());
+  retired_.collectAll();
   features_.clear();
   destroyHandles();
 }
@@ -244,6 +245,7 @@ Status Renderer::addFeature(std::unique_ptr<RenderFeature> feature) {
 
 std::vector<Renderer::ShaderReload> Renderer::reloadShaders() {
   context_.waitIdle();  // no frame in flight uses the pipelines being replaced
+  retired_.collectAll();
   std::vector<ShaderReload> results;
   for (auto& feature : features_) {
     Status status = feature->reloadShaders();
@@ -271,6 +273,7 @@ void Renderer::resize(VkExtent2D extent) {
   if (extent.width == extent_.width && extent.height == extent_.height) return;
   checkExtent(context_, extent, "Renderer::resize");
   context_.waitIdle();
+  retired_.collectAll();
   extent_ = extent;
   workCounted_ = false;  // the counts were of the old size
   createTargets();
@@ -307,7 +310,7 @@ void Renderer::collectTimings(FrameResources& frame) {
 // Zeroes the per-pixel work counters and the totals after them for this frame (after every
 // earlier frame's use of them).
 VkDeviceAddress Renderer::prepareWorkCounters(VkCommandBuffer cmd) {
-  workCounters_.ensure(context_, extent_);
+  workCounters_.ensure(context_, extent_, retired_, frameNumber_);
   gpu::memoryBarrier(cmd, VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT, VK_ACCESS_2_MEMORY_READ_BIT | VK_ACCESS_2_MEMORY_WRITE_BIT,
                      VK_PIPELINE_STAGE_2_CLEAR_BIT, VK_ACCESS_2_TRANSFER_WRITE_BIT);
   vkCmdFillBuffer(cmd, workCounters_.handle(), 0, VK_WHOLE_SIZE, 0);
@@ -330,6 +333,7 @@ bool Renderer::renderFrame(const ecs::Registry& registry, const CameraView& came
     VK_CHECK(vkWaitForFences(context_.device(), 1, &frame.fence, VK_TRUE, UINT64_MAX));
     collectTimings(frame);
   }
+  retired_.collect(frameNumber_, desc_.framesInFlight);  // frames up to frameNumber_ - framesInFlight are done
 
   std::uint32_t imageIndex = 0;
   if (settings.swapchain && !settings.swapchain->acquire(frame.imageAvailable, imageIndex)) return false;
@@ -340,6 +344,8 @@ bool Renderer::renderFrame(const ecs::Registry& registry, const CameraView& came
     abandonFrame(frame, settings.swapchain, imageIndex);
     throw;
   }
+  // What the features retired this frame with an already-completed last use goes now, not a frame later.
+  retired_.collect(frameNumber_, desc_.framesInFlight);
   submitFrame(frame, settings.swapchain, imageIndex);
   frame.timed = true;
   ++frameNumber_;
@@ -366,6 +372,7 @@ void Renderer::recordFrame(FrameResources& frame, std::uint32_t slot, const ecs:
   context.frameGlobals = frameGlobals_.address(slot);
   if (workCounters) context.workTotals = workCounters + workCounters_.pixelBytes();
   context.droppedObjects = &droppedObjects_;
+  context.retired = &retired_;
   if (settings.regions.empty()) {
     recordRegion(frame, context, ViewRegion{{{0, 0}, extent_}, {}}, 0);
   } else {
@@ -638,6 +645,7 @@ void Renderer::recordPresentBlit(VkCommandBuffer cmd, gpu::Swapchain& swapchain,
 
 void Renderer::finish() {
   context_.waitIdle();
+  retired_.collectAll();
   if (frameNumber_ == 0) return;
   collectTimings(frames_[(frameNumber_ - 1) % desc_.framesInFlight]);
 }

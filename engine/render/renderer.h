@@ -11,6 +11,7 @@
 #include <glm/glm.hpp>
 
 #include "engine/gpu/buffer.h"
+#include "engine/gpu/deferred_release.h"
 #include "engine/gpu/gpu_timer.h"
 #include "engine/gpu/image.h"
 #include "engine/gpu/pipeline_statistics.h"
@@ -152,6 +153,9 @@ class Renderer {
   void finish();
 
   std::uint64_t frameNumber() const { return frameNumber_; }
+  // The GPU objects retired by the renderer and its features (FrameContext::retire) that are not
+  // destroyed yet: their frames may still be in flight.
+  std::size_t pendingReleases() const { return retired_.pending(); }
   const RendererDesc& desc() const { return desc_; }
 
  private:
@@ -203,6 +207,9 @@ class Renderer {
   GpuScene scene_;
   PerFrameBuffer frameGlobals_;
   std::vector<std::unique_ptr<RenderFeature>> features_;
+  // What the renderer and its features retired (FrameContext::retire). Emptied before the features
+  // go: a retired object may give a slot back to the feature that made it.
+  gpu::DeferredRelease retired_;
   // Made on the first frame with occlusion culling (its shader loaded then); sized with the targets.
   std::unique_ptr<DepthPyramid> pyramid_;
   std::string pyramidFailure_;  // why it could not be made (its shader did not load): features get an empty pyramid

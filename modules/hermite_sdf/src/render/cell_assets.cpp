@@ -170,13 +170,13 @@ void HermiteCellFeature::syncAssets(const engine::render::FrameContext& frame) {
 
   if (!runsStale && !drop && appendNewAssets(frame, d)) return;
   if (d.wanted.empty()) {  // no asset drawn any more (idleAssetsToDrop): every buffer goes, as at the start
-    retired_.retire(std::move(buffers_), frame.frameNumber);
+    frame.retire(std::move(buffers_));
     buffers_ = std::make_unique<CellBuffers>();
     return;
   }
   // Rebuild the concatenated buffers with the assets drawn now (assets no longer drawn are dropped).
   // The old buffers may be referenced by commands recorded earlier in this frame and by frames in
-  // flight: they are retired below, and freed once this frame has completed (prepare()).
+  // flight: they are retired below, and freed once this frame has completed.
   std::string failure;
   VkDeviceSize needed = 0;
   {
@@ -381,7 +381,7 @@ bool HermiteCellFeature::appendNewAssets(const engine::render::FrameContext& fra
   }
   // Commands recorded earlier (this frame's earlier view regions, frames in flight) read the
   // replaced buffers until their frames complete.
-  for (Buffer& old : replaced) retired_.retire(std::move(old), frame.frameNumber);
+  for (Buffer& old : replaced) frame.retire(std::move(old));
   for (auto& [id, entry] : added.entries) {
     entry.lastFrame = frame.frameNumber;
     buffers_->entries.emplace(id, std::move(entry));
@@ -404,7 +404,7 @@ void HermiteCellFeature::commitAssetBuffers(const engine::render::FrameContext& 
   rebuilt.bytes = u.bytes();
   uploadedBytes_ += u.bytes();
   for (auto& [id, entry] : rebuilt.entries) entry.lastFrame = frame.frameNumber;
-  retired_.retire(std::move(buffers_), frame.frameNumber);
+  frame.retire(std::move(buffers_));
   buffers_ = std::make_unique<CellBuffers>(std::move(rebuilt));
   engine::log::debug("hermite cells: {} assets, {} records uploaded", buffers_->entries.size(), u.full.size());
 }

@@ -105,8 +105,10 @@ std::uint64_t HermiteCellFeature::heldKeptSlots(std::uint32_t slot, int precisio
 // frames wanted (`wanted` slots this frame, 0 when it culls none of that precision) for
 // Settings::releaseAfterFrames of its frames in a row: more than four times as many slots and
 // more than keptStreamBytes, or any while nothing is wanted. reserveCellCulling then makes them at
-// this frame's size. The slot's last submission is complete, so its streams are free to go.
-void HermiteCellFeature::releaseUnneededKeptStreams(std::uint32_t slot, const std::array<std::uint64_t, 2>& wanted) {
+// this frame's size. The slot's previous frame last used them (FrameContext::slotLastUse).
+void HermiteCellFeature::releaseUnneededKeptStreams(const engine::render::FrameContext& frame,
+                                                    const std::array<std::uint64_t, 2>& wanted) {
+  const std::uint32_t slot = frame.frameSlot;
   for (int precision = 0; precision < 2; ++precision) {
     const std::uint64_t held = heldKeptSlots(slot, precision);
     const bool oversized = wanted[precision] == 0
@@ -114,29 +116,31 @@ void HermiteCellFeature::releaseUnneededKeptStreams(std::uint32_t slot, const st
                                      keptCellRanges_[slot][precision]
                                : held * keptSlotBytes(precision) > settings_.keptStreamBytes &&
                                      held / 4 > wanted[precision];
-    if (keptIdle_[slot][precision].due(oversized, settings_.releaseAfterFrames)) releaseKeptStreams(slot, precision);
+    if (keptIdle_[slot][precision].due(oversized, settings_.releaseAfterFrames))
+      releaseKeptStreams(frame, slot, precision, frame.slotLastUse());
   }
 }
 
-void HermiteCellFeature::releaseKeptStreams(std::uint32_t slot, int precision) {
+void HermiteCellFeature::releaseKeptStreams(const engine::render::FrameContext& frame, std::uint32_t slot,
+                                            int precision, std::uint64_t lastUse) {
   keptIdle_[slot][precision].reset();
-  keptCellRecords_[slot][precision] = Buffer{};
-  keptCellIndices_[slot][precision] = Buffer{};
-  keptCellRanges_[slot][precision] = Buffer{};
+  for (Buffer* stream : {&keptCellRecords_[slot][precision], &keptCellIndices_[slot][precision],
+                         &keptCellRanges_[slot][precision]})
+    if (*stream) frame.retire(std::move(*stream), lastUse);
 }
 
 // Marks this frame's slot prepared, and releases the kept streams and tile lists of every other
 // slot that no frame has prepared for Settings::releaseAfterFrames frames (a view region no longer
-// drawn never prepares its slots again, so their own frames cannot release them). Their last
-// frame has completed: it is further back than the frames in flight.
+// drawn never prepares its slots again, so their own frames cannot release them). They are retired
+// with the frame that last prepared them.
 void HermiteCellFeature::releaseIdleSlots(const engine::render::FrameContext& frame) {
   slotPreparedFrame_[frame.frameSlot] = frame.frameNumber;
   const std::uint64_t idle = std::max<std::uint64_t>(settings_.releaseAfterFrames, frame.framesInFlight);
   for (std::uint32_t slot = 0; slot < slotPreparedFrame_.size(); ++slot) {
     const std::uint64_t last = slotPreparedFrame_[slot];
     if (last == kNeverPrepared || frame.frameNumber - last < idle) continue;
-    for (int precision = 0; precision < 2; ++precision) releaseKeptStreams(slot, precision);
-    tiler_->release(slot);
+    for (int precision = 0; precision < 2; ++precision) releaseKeptStreams(frame, slot, precision, last);
+    tiler_->release(slot, *frame.retired, last);
     slotPreparedFrame_[slot] = kNeverPrepared;
   }
 }

@@ -195,7 +195,7 @@ void HermiteCellFeature::chooseCullingPaths(engine::render::FrameContext& frame,
   const std::array<std::uint64_t, 2> cells = culling ? culledCells(f) : std::array<std::uint64_t, 2>{0, 0};
   releaseIdleSlots(frame);
   const std::array<std::uint64_t, 2> wanted{wantedKeptSlots(0, cells[0]), wantedKeptSlots(1, cells[1])};
-  releaseUnneededKeptStreams(frame.frameSlot, wanted);
+  releaseUnneededKeptStreams(frame, wanted);
   const bool refused = culling && !reserveCellCulling(frame.frameSlot, cells, wanted, refusal);
   // The cells whose kept share this slot's totals will hold once the frame is done (none without
   // a culling pass: its totals then say nothing about this frame).
@@ -214,7 +214,8 @@ void HermiteCellFeature::chooseCullingPaths(engine::render::FrameContext& frame,
   }
   stats_.cullingRefused = refused;
   std::string tilesRefusal;
-  tiler_->releaseUnneeded(frame.frameSlot, tiles_, tileEntryEstimate_, settings_.releaseAfterFrames);
+  tiler_->releaseUnneeded(frame.frameSlot, tiles_, tileEntryEstimate_, settings_.releaseAfterFrames, *frame.retired,
+                          frame.slotLastUse());
   if (tiles_ && !tiler_->reserve(frame.frameSlot, frame.extent, tileSize_, tileEntryEstimate_,
                                  std::max(settings_.maxTileEntries, kMinTileEntries), tilesRefusal)) {
     tiles_ = false;  // the culled cells as boxes, as when the lists overflow
@@ -222,7 +223,7 @@ void HermiteCellFeature::chooseCullingPaths(engine::render::FrameContext& frame,
   }
   tilesRefused_ = !tilesRefusal.empty();
   if (historyIdle_.due(!occlusion_ && history_->bytes() > 0, settings_.releaseAfterFrames))
-    history_->release(frame.frameNumber, retired_);
+    history_->release(frame.frameNumber, *frame.retired);
   if (occlusion_) {
     try {
       placeHistory(frame);
@@ -590,7 +591,7 @@ void HermiteCellFeature::placeHistory(engine::render::FrameContext& frame) {
     objects.push_back({cellCullEntities_[i].first, cellCullEntities_[i].second, cellCullCells_[i]});
   const std::uint32_t regions = std::max(1u, frameSlots_ / std::max(1u, frame.framesInFlight));
   historyBase_ = history_->place(*context_, frame.cmd, objects, frame.frameSlot % regions, regions,
-                                 frame.frameNumber, retired_);
+                                 frame.frameNumber, *frame.retired);
 }
 
 // Phase 2's commands: the culled front lists again (every front command of the two cell batches is

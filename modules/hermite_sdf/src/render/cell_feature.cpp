@@ -99,7 +99,7 @@ engine::Status HermiteCellFeature::reloadShaders() {
 void HermiteCellFeature::ensureCounters(engine::render::FrameContext& frame) {
   countersActive_ = settings_.heatMapCounters && frame.debugView == DEBUG_VIEW_EVALS && stats_.draws > 0;
   if (!countersActive_) return;
-  counters_.ensure(*context_, frame.extent);
+  counters_.ensure(*context_, frame.extent, *frame.retired, frame.frameNumber);
   // Earlier frames read the counters in their shading pass; this frame rewrites them.
   engine::gpu::memoryBarrier(frame.cmd, VK_PIPELINE_STAGE_2_FRAGMENT_SHADER_BIT, VK_ACCESS_2_SHADER_STORAGE_READ_BIT,
                              VK_PIPELINE_STAGE_2_CLEAR_BIT, VK_ACCESS_2_TRANSFER_WRITE_BIT);
@@ -109,7 +109,6 @@ void HermiteCellFeature::ensureCounters(engine::render::FrameContext& frame) {
 }
 
 void HermiteCellFeature::prepare(engine::render::FrameContext& frame) {
-  retired_.collect(frame.frameNumber, frame.framesInFlight);
   if (drawnRegistry_ != &frame.registry) drawnAssets_.clear();
   drawnRegistry_ = &frame.registry;
   syncAssets(frame);
@@ -132,7 +131,7 @@ void HermiteCellFeature::ensureHitDepths(engine::render::FrameContext& frame) {
   VkCommandBuffer cmd = frame.cmd;
   bool made = false;
   try {
-    made = hitDepths_.ensure(*context_, frame.extent);
+    made = hitDepths_.ensure(*context_, frame.extent, *frame.retired, frame.frameNumber);
   } catch (const engine::gpu::VulkanError& e) {
     if (e.result() != VK_ERROR_OUT_OF_DEVICE_MEMORY) throw;
     engine::log::warn("hermite cells: no early depth this frame: {}", e.what());

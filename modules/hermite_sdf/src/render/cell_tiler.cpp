@@ -82,7 +82,7 @@ void CellTiler::ensureBuffers(Slot& slot, std::uint32_t tileCount, std::uint32_t
 }
 
 void CellTiler::releaseUnneeded(std::uint32_t slotIndex, bool tiling, std::uint64_t entryEstimate,
-                                std::uint32_t frames) {
+                                std::uint32_t frames, engine::gpu::DeferredRelease& retired, std::uint64_t lastUse) {
   constexpr std::uint64_t kKeptEntries = std::uint64_t(1) << 16;  // lists this small stay (2.5 MiB with their masks)
   Slot& slot = slots_[slotIndex];
   const bool held = slot.tiles || slot.entries || slot.sortedEntries;
@@ -91,15 +91,13 @@ void CellTiler::releaseUnneeded(std::uint32_t slotIndex, bool tiling, std::uint6
   // Lists the first frame made by the upper bound go as soon as a frame has measured what it
   // needs (the bound's extra is no history worth keeping); measured ones after `frames` frames.
   const bool boundOversized = tiling && unneeded && slot.boundSized && measured(slot);
-  // The slot's last submission is complete (its fence was waited for): nothing reads them now.
-  if (slot.idle.due(unneeded, frames) || boundOversized) release(slotIndex);
+  if (slot.idle.due(unneeded, frames) || boundOversized) release(slotIndex, retired, lastUse);
 }
 
-void CellTiler::release(std::uint32_t slotIndex) {
+void CellTiler::release(std::uint32_t slotIndex, engine::gpu::DeferredRelease& retired, std::uint64_t lastUse) {
   Slot& slot = slots_[slotIndex];
-  slot.tiles = engine::gpu::Buffer{};
-  slot.entries = engine::gpu::Buffer{};
-  slot.sortedEntries = engine::gpu::Buffer{};
+  for (engine::gpu::Buffer* buffer : {&slot.tiles, &slot.entries, &slot.sortedEntries})
+    if (*buffer) retired.retire(std::move(*buffer), lastUse);
   slot.capacity = 0;
   slot.boundSized = false;
   slot.idle.reset();

@@ -74,9 +74,11 @@ class CellTiler {
   // Releases the slot's tiles and lists after `frames` of its frames in a row that drew no tiles
   // (`tiling` false) or whose lists held more than 2^16 entries and four times what they wanted
   // (wantedEntries); the next tiled frame makes them at its size. Before reserve, every frame.
-  void releaseUnneeded(std::uint32_t slot, bool tiling, std::uint64_t entryEstimate, std::uint32_t frames);
-  // Releases the slot's tiles and lists now (its last submission must be complete).
-  void release(std::uint32_t slot);
+  // What goes is retired to `retired` with `lastUse`, the last frame that may have used the slot.
+  void releaseUnneeded(std::uint32_t slot, bool tiling, std::uint64_t entryEstimate, std::uint32_t frames,
+                       engine::gpu::DeferredRelease& retired, std::uint64_t lastUse);
+  // Retires the slot's tiles and lists, last used by frame `lastUse`.
+  void release(std::uint32_t slot, engine::gpu::DeferredRelease& retired, std::uint64_t lastUse);
   // The bytes every slot's tiles and lists hold.
   std::uint64_t bytesHeld() const;
 

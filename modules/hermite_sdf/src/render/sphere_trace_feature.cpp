@@ -308,14 +308,26 @@ const SphereTraceFeature::FieldTexture* SphereTraceFeature::acquireTexture(const
   return &found->second;
 }
 
-// A texture last drawn by frame L is free once frame L + framesInFlight is being prepared: that
-// frame's slot waited for L's fence, and later frames no longer reference the texture.
-void SphereTraceFeature::releaseUnusedTextures(std::uint64_t frame, std::uint32_t framesInFlight) {
+SphereTraceFeature::RetiredTexture::~RetiredTexture() {
+  try {
+    bindings->remove(texture.slot);
+    ++*releasedTextures;
+  } catch (const engine::gpu::VulkanError& e) {  // a destructor must not throw: the slot stays taken
+    engine::log::error("sphere tracing: a released texture's slot was not given back: {}", e.what());
+  }
+}
+
+// A texture no frame has drawn for framesInFlight frames is unneeded (a shorter wait would upload
+// again the texture of a view region drawn every other region, or of a split screen); it is retired
+// with the last frame that drew it, so it is destroyed, and its slot freed, as soon as that frame
+// has completed.
+void SphereTraceFeature::releaseUnusedTextures(const engine::render::FrameContext& frame) {
   for (auto it = textures_.begin(); it != textures_.end();) {
-    if (engine::gpu::DeferredRelease::completed(it->second.lastUsedFrame, frame, framesInFlight)) {
-      bindings_->remove(it->second.slot);
+    const std::uint64_t lastUse = it->second.lastUsedFrame;
+    if (engine::gpu::DeferredRelease::completed(lastUse, frame.frameNumber, frame.framesInFlight)) {
+      auto retired = std::make_unique<RetiredTexture>(std::move(it->second), bindings_.get(), &releasedTextures_);
+      frame.retire(std::move(retired), lastUse);
       it = textures_.erase(it);
-      ++releasedTextures_;
     } else {
       ++it;
     }
@@ -400,7 +412,7 @@ void SphereTraceFeature::prepare(engine::render::FrameContext& frame) {
   stats_.bindless = bindless;
   forgetRefusalsThatMayFit();
   collectDraws(frame);
-  releaseUnusedTextures(frame.frameNumber, frame.framesInFlight);
+  releaseUnusedTextures(frame);
   stats_.textures = std::uint32_t(textures_.size());
   for (const auto& [key, texture] : textures_) stats_.textureBytes += texture.bytes;
 }

@@ -165,12 +165,9 @@ class BindlessTable final : public FieldTextureBindings {
     return slot;
   }
 
-  // The slot's descriptor stays in the table (allowed by PARTIALLY_BOUND: no draw indexes it);
-  // the caller destroys the image next, which pending frames that bound the table must not see.
-  void remove(std::uint32_t slot) override {
-    context_.waitIdle();
-    slots_.release(slot);
-  }
+  // The slot's descriptor stays in the table (allowed by PARTIALLY_BOUND: no draw indexes it, and
+  // only descriptors a draw uses must stay valid); the caller destroys the image next.
+  void remove(std::uint32_t slot) override { slots_.release(slot); }
 
   void bind(VkCommandBuffer cmd, VkPipelineLayout layout, std::uint32_t) const override {
     vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, layout, 1, 1, &set_, 0, nullptr);

@@ -53,8 +53,8 @@ class FieldTextureBindings {
   // The bindless table is one set that submitted frames have bound, so adding waits for the GPU
   // to go idle first (uploads are rare: once per asset and method).
   virtual engine::Expected<std::uint32_t> add(VkImageView view, VkSampler sampler) = 0;
-  // Releases a slot; no submitted frame may still draw with it. Bindless: waits for the GPU to
-  // go idle (pending frames have bound the table, and the caller destroys the image next).
+  // Releases a slot once no frame in flight may draw with it (its texture was retired through the
+  // frame's DeferredRelease and the frames that drew it have completed): never waits for the GPU.
   virtual void remove(std::uint32_t slot) = 0;
   // Binds set 1 for drawing the texture in `slot`: the whole table when bindless (bind once, the
   // slot is ignored), the slot's own set otherwise (bind per draw).

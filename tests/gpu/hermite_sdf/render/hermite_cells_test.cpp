@@ -835,6 +835,7 @@ TEST_F(HermiteCellsTest, SixtyFourInstancesInOneDrawMatchSeparateFrames) {
   EXPECT_EQ(different, 0);
 }
 
+
 }  // namespace
 }  // namespace gputest
 
@@ -1252,6 +1253,43 @@ TEST_F(HermiteCellsTest, ObjectsWithoutAnInverseAreSkipped) {
   EXPECT_EQ(stats.skippedObjects, 2u);
   EXPECT_EQ(renderer_->feature<render::MeshFeature>()->drawnLastFrame(), 0u);
   EXPECT_GT(std::count_if(frame.depth.begin(), frame.depth.end(), [](float d) { return d > 0.0f; }), 500);
+}
+
+// Why: the split screen draws one entity with a different asset in each view region, and here
+// both change every frame (an animation by asset on either side): the second region's prepare
+// appends its new asset's cells to the feature's buffers, replacing buffers that the first region
+// has just recorded draws with in this very frame, and the first region's prepare (releaseAfterFrames
+// at 1) drops the asset no longer drawn and rebuilds them, while two frames are in flight. Every
+// replaced buffer must wait in the frame's release list (FrameContext::retire): destroyed at once,
+// the frame's own command buffer holds a destroyed buffer (a validation message at its submit).
+// The list must stay bounded (no buffer kept for good), and the last asset must be drawn as the
+// reference draws it.
+TEST_F(HermiteCellsTest, AssetSwappedEveryFrameWithFramesInFlightDrawsTheLastOne) {
+  createCellRenderer(kSize, kSize);
+  renderer_->feature<hsdf::HermiteCellFeature>()->settings().releaseAfterFrames = 1;
+  const std::vector<std::shared_ptr<const hsdf::SdfAsset>> assets = {bakeAsset("torus", 10), bakeAsset("sphere", 8),
+                                                                    bakeAsset("box", 9)};
+  for (const auto& asset : assets) ASSERT_NE(asset, nullptr);
+  const ecs::Entity entity = addSdf(registry_, assets[0], hsdf::RenderMethod::Cells);
+  const render::CameraView camera = orbitCamera(*assets[0], 0);
+  scene::updateWorldTransforms(registry_);
+  auto showing = [&](std::size_t index) {
+    return [&, index] { registry_.get<hsdf::HermiteSdfRenderable>(entity).asset = assets[index % assets.size()]; };
+  };
+  constexpr std::size_t kFrames = 13;
+  std::size_t mostPending = 0;
+  for (std::size_t f = 0; f < kFrames; ++f) {
+    engine::render::FrameSettings split;
+    split.regions = {{{{0, 0}, {kSize / 2, kSize}}, showing(f)},
+                     {{{kSize / 2, 0}, {kSize / 2, kSize}}, showing(f + 1)}};
+    ASSERT_TRUE(renderer_->renderFrame(registry_, camera, split));
+    if (f >= 3) mostPending = std::max(mostPending, renderer_->pendingReleases());
+  }
+  std::printf("[ swaps ] most objects waiting for their frames: %zu\n", mostPending);
+  EXPECT_GT(mostPending, 0u) << "the swaps retired nothing: the case does not reach the release path";
+  EXPECT_LE(mostPending, 24u) << "retired buffers pile up instead of going when their frames complete";
+  showing(kFrames)();
+  expectMatchesReference(compareView(*assets[kFrames % assets.size()], camera, "last swap"));
 }
 
 }  // namespace

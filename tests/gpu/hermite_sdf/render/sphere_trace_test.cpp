@@ -781,5 +781,31 @@ TEST_F(SphereTraceTest, ExtremeCamerasAndViewports) {
   }
 }
 
+// Why: a texture no frame has drawn for the frames in flight is released; cycling three assets
+// through one entity, one per frame, with two frames in flight, releases one texture and uploads
+// another every frame. The released texture goes through the frame's release list with the last
+// frame that drew it, and its descriptor set (or bindless slot) is given back only then. Released
+// a frame early, only this frame's texture is left (the one frame f - 1 still draws is gone: its
+// descriptor set freed under that frame); never released, they pile up; and the last frame must
+// draw the last asset as its reference does (validation on throughout).
+TEST_F(SphereTraceTest, AssetSwappedEveryFrameReleasesTexturesAsTheirFramesComplete) {
+  createTraceRenderer(kSize, kSize);
+  const std::vector<std::shared_ptr<const hsdf::SdfAsset>> assets = {bakeAsset("torus", 10), bakeAsset("sphere", 8),
+                                                                    bakeAsset("box", 9)};
+  for (const auto& asset : assets) ASSERT_NE(asset, nullptr);
+  const ecs::Entity entity = addTracedSdf(registry_, assets[0], RenderMethod::TrilinearSphereTrace);
+  const render::CameraView camera = orbitCamera(*assets[0], 0);
+  scene::updateWorldTransforms(registry_);
+  constexpr int kFrames = 13;
+  for (int f = 0; f < kFrames; ++f) {
+    registry_.get<hsdf::HermiteSdfRenderable>(entity).asset = assets[std::size_t(f) % assets.size()];
+    ASSERT_TRUE(renderer_->renderFrame(registry_, camera));
+    // This frame's texture and the one frame f - 1 (in flight) drew; frame f - 2's has gone.
+    EXPECT_EQ(feature().stats().textures, std::uint32_t(std::min(f + 1, 2))) << "frame " << f;
+  }
+  const auto& last = assets[std::size_t(kFrames - 1) % assets.size()];
+  expectMatchesReference(RenderMethod::TrilinearSphereTrace, last->field, camera, "last swap");
+}
+
 }  // namespace
 }  // namespace gputest

@@ -1,6 +1,7 @@
 // engine::gpu::PixelBuffer (engine/gpu/pixel_buffer.h): one uint per pixel plus trailing bytes,
 // made for an extent, kept while the extent stays, made again when it changes, and an old buffer
-// freed only once no submitted work uses it (validation on: freeing a buffer in use is a message).
+// retired (engine/gpu/deferred_release.h), freed only once no submitted work uses it (validation
+// on: freeing a buffer in use is a message).
 #include <gtest/gtest.h>
 
 #include <cstdint>
@@ -24,8 +25,9 @@ TEST(PixelBuffer, SizedForTheExtentKeptWhileItStaysRemadeWhenItChanges) {
   auto context = test::makeTestContext();
   ASSERT_NE(context, nullptr);
   PixelBuffer pixels("test pixels", VK_BUFFER_USAGE_TRANSFER_SRC_BIT, kTrailing);
+  DeferredRelease retired;
   EXPECT_FALSE(pixels);
-  EXPECT_TRUE(pixels.ensure(*context, {8, 4}));
+  EXPECT_TRUE(pixels.ensure(*context, {8, 4}, retired, 0));
   ASSERT_TRUE(pixels);
   EXPECT_EQ(pixels.pixelBytes(), 8u * 4u * 4u);
   EXPECT_EQ(pixels.buffer().size(), 8u * 4u * 4u + kTrailing);
@@ -33,14 +35,14 @@ TEST(PixelBuffer, SizedForTheExtentKeptWhileItStaysRemadeWhenItChanges) {
   const VkBuffer first = pixels.handle();
   const VkDeviceAddress firstAddress = pixels.address();
 
-  EXPECT_FALSE(pixels.ensure(*context, {8, 4}));
+  EXPECT_FALSE(pixels.ensure(*context, {8, 4}, retired, 0));
   EXPECT_EQ(pixels.handle(), first);
   EXPECT_EQ(pixels.address(), firstAddress);
 
-  EXPECT_TRUE(pixels.ensure(*context, {4, 8}));
+  EXPECT_TRUE(pixels.ensure(*context, {4, 8}, retired, 0));
   EXPECT_EQ(pixels.extent().width, 4u);
   EXPECT_EQ(pixels.extent().height, 8u);
-  EXPECT_TRUE(pixels.ensure(*context, {5, 3}));
+  EXPECT_TRUE(pixels.ensure(*context, {5, 3}, retired, 0));
   EXPECT_EQ(pixels.buffer().size(), 5u * 3u * 4u + kTrailing);
 
   context->submitAndWait([&](VkCommandBuffer cmd) {
@@ -57,13 +59,17 @@ TEST(PixelBuffer, SizedForTheExtentKeptWhileItStaysRemadeWhenItChanges) {
   EXPECT_EQ(context->validationMessageCount(), 0u);
 }
 
-// Tricky: the old buffer is still used by submitted, unfinished work when the extent changes; it
-// may be freed only once that work is done (a buffer destroyed in use is a validation error).
+// Tricky: the old buffer is still used by submitted, unfinished work (64 ordered fills) when the
+// extent changes; it may be freed only once that work is done (a buffer destroyed in use is a
+// validation error), and without waiting for the device: it waits in the release list.
 TEST(PixelBuffer, OldBufferOutlivesTheWorkInFlight) {
   auto context = test::makeTestContext();
   ASSERT_NE(context, nullptr);
   PixelBuffer pixels("in-flight pixels");
-  ASSERT_TRUE(pixels.ensure(*context, {64, 64}));
+  DeferredRelease retired;
+  constexpr std::uint64_t kFrame = 5;  // the frame that submits work on the buffer
+  constexpr std::uint32_t kInFlight = 2;
+  ASSERT_TRUE(pixels.ensure(*context, {64, 64}, retired, kFrame));
 
   VkCommandPoolCreateInfo poolInfo{VK_STRUCTURE_TYPE_COMMAND_POOL_CREATE_INFO};
   poolInfo.queueFamilyIndex = context->queueFamily();
@@ -96,8 +102,13 @@ TEST(PixelBuffer, OldBufferOutlivesTheWorkInFlight) {
   submit.pCommandBuffers = &cmd;
   VK_CHECK(vkQueueSubmit(context->queue(), 1, &submit, fence));
 
-  EXPECT_TRUE(pixels.ensure(*context, {32, 32}));  // frees the 64x64 buffer the submit still uses
-  EXPECT_EQ(vkGetFenceStatus(context->device(), fence), VK_SUCCESS);
+  EXPECT_TRUE(pixels.ensure(*context, {32, 32}, retired, kFrame));  // the 64x64 buffer the submit still uses
+  EXPECT_EQ(retired.pending(), 1u) << "the old buffer was not retired";
+  retired.collect(kFrame + kInFlight - 1, kInFlight);  // frame 5 may still run while frame 6 is prepared
+  EXPECT_EQ(retired.pending(), 1u);
+  VK_CHECK(vkWaitForFences(context->device(), 1, &fence, VK_TRUE, UINT64_MAX));  // as frame 7's slot does
+  retired.collect(kFrame + kInFlight, kInFlight);
+  EXPECT_EQ(retired.pending(), 0u);
   vkDestroyFence(context->device(), fence, nullptr);
   vkDestroyCommandPool(context->device(), pool, nullptr);
   EXPECT_EQ(context->validationMessageCount(), 0u) << ::testing::PrintToString(context->validationMessages());
@@ -109,15 +120,16 @@ TEST(PixelBuffer, FailedAllocationLeavesItEmptyAndBadExtentIsRefused) {
   auto context = test::makeTestContext();
   ASSERT_NE(context, nullptr);
   PixelBuffer pixels("budget pixels");
-  ASSERT_TRUE(pixels.ensure(*context, {4, 4}));
+  DeferredRelease retired;
+  ASSERT_TRUE(pixels.ensure(*context, {4, 4}, retired, 0));
   context->allocator().setBudget(context->allocator().stats().usedBytes);
-  EXPECT_THROW(pixels.ensure(*context, {1024, 1024}), VulkanError);
+  EXPECT_THROW(pixels.ensure(*context, {1024, 1024}, retired, 0), VulkanError);
   EXPECT_FALSE(pixels);
   EXPECT_EQ(pixels.extent().width, 0u);
   context->allocator().setBudget(Allocator::kUnlimited);
-  EXPECT_TRUE(pixels.ensure(*context, {4, 4}));
+  EXPECT_TRUE(pixels.ensure(*context, {4, 4}, retired, 0));
   try {
-    pixels.ensure(*context, {0, 7});
+    pixels.ensure(*context, {0, 7}, retired, 0);
     FAIL() << "a 0x7 extent was accepted";
   } catch (const std::invalid_argument& e) {
     EXPECT_NE(std::string(e.what()).find("'budget pixels': extent 0x7"), std::string::npos) << e.what();

@@ -314,8 +314,11 @@ class HermiteCellFeature final : public engine::render::RenderFeature {
   std::uint64_t wantedKeptSlots(int precision, std::uint64_t cells) const;
   std::uint64_t heldKeptSlots(std::uint32_t slot, int precision) const;
   void clearKeptStreams();
-  void releaseUnneededKeptStreams(std::uint32_t slot, const std::array<std::uint64_t, 2>& wanted);
-  void releaseKeptStreams(std::uint32_t slot, int precision);
+  void releaseUnneededKeptStreams(const engine::render::FrameContext& frame,
+                                  const std::array<std::uint64_t, 2>& wanted);
+  // Retires the slot's kept-cell streams of `precision`, last used by frame `lastUse`.
+  void releaseKeptStreams(const engine::render::FrameContext& frame, std::uint32_t slot, int precision,
+                          std::uint64_t lastUse);
   void releaseIdleSlots(const engine::render::FrameContext& frame);
   std::uint64_t keptStreamBytesHeld() const;
   void readKeptDemand(std::uint32_t slot);
@@ -399,10 +402,9 @@ class HermiteCellFeature final : public engine::render::RenderFeature {
 
   engine::render::RendererFormats formats_;
   Pipelines pipelines_;
+  // Replaced buffers are retired with the frame (FrameContext::retire): commands recorded before
+  // the replacement (an earlier view region of the frame, frames still in flight) still read them.
   std::unique_ptr<struct CellBuffers> buffers_;
-  // Buffers replaced during a frame: commands recorded before the replacement (an earlier view
-  // region of the frame, frames still in flight) still read them until the frame completes.
-  engine::gpu::DeferredRelease retired_;
   // Assets whose upload ran out of GPU memory (reported once, tried again once memory may fit
   // them: forgetRefusalsThatMayFit), and a run length refused the same way (0: none).
   std::unordered_map<std::uint64_t, engine::gpu::MemoryRefusal> refused_;

@@ -60,6 +60,7 @@
 #include <string>
 #include <tuple>
 #include <unordered_map>
+#include <utility>
 #include <vector>
 
 #include "engine/ecs/entity.h"
@@ -142,6 +143,19 @@ class SphereTraceFeature final : public engine::render::RenderFeature {
     std::uint64_t lastUsedFrame = 0;
     std::uint64_t bytes = 0;
   };
+  // A texture no longer drawn, retired with the frame (FrameContext::retire): when the frames that
+  // may draw it have completed it is destroyed and gives its slot back to the bindings (which must
+  // outlive it: the renderer destroys what is retired before its features).
+  struct RetiredTexture {
+    FieldTexture texture;
+    FieldTextureBindings* bindings = nullptr;
+    std::uint64_t* releasedTextures = nullptr;  // counts it once its slot is free again
+    RetiredTexture(FieldTexture t, FieldTextureBindings* b, std::uint64_t* released)
+        : texture(std::move(t)), bindings(b), releasedTextures(released) {}
+    RetiredTexture(const RetiredTexture&) = delete;
+    RetiredTexture& operator=(const RetiredTexture&) = delete;
+    ~RetiredTexture();
+  };
   using TextureKey = std::tuple<std::uint64_t, std::uint32_t, bool>;  // asset id, method, half
   struct Range {
     std::uint32_t first = 0;
@@ -166,7 +180,7 @@ class SphereTraceFeature final : public engine::render::RenderFeature {
   engine::Expected<FieldTexture> uploadTexture(const SdfAsset& asset, std::uint32_t method, bool half,
                                                bool& outOfResources, VkDeviceSize& neededBytes);
   void forgetRefusalsThatMayFit();
-  void releaseUnusedTextures(std::uint64_t frame, std::uint32_t framesInFlight);
+  void releaseUnusedTextures(const engine::render::FrameContext& frame);
   void collectDraws(engine::render::FrameContext& frame);
   void recordDraws(VkCommandBuffer cmd, VkPipelineLayout layout, Range range) const;
   void recordMethod(engine::render::PassContext& pass, std::uint32_t method);
