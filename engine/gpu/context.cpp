@@ -8,6 +8,7 @@
 
 #include "engine/core/log.h"
 #include "engine/gpu/device_features.h"
+#include "engine/gpu/device_names.h"
 #include "engine/gpu/vk_check.h"
 
 namespace engine::gpu {
@@ -91,11 +92,7 @@ Expected<DevicePreference> preferenceFromEnv(DevicePreference requested) {
   if (requested != DevicePreference::Auto) return requested;
   const char* value = std::getenv("HSDF_DEVICE");
   if (!value || !*value) return requested;
-  const std::string_view v(value);
-  if (v == "software" || v == "lavapipe" || v == "cpu") return DevicePreference::Software;
-  if (v == "hardware" || v == "gpu") return DevicePreference::Hardware;
-  if (v == "auto") return DevicePreference::Auto;
-  return makeError("HSDF_DEVICE='" + std::string(v) + "' is not one of gpu, lavapipe, auto");
+  return parseDeviceName("HSDF_DEVICE", value);
 }
 
 const char* preferenceName(DevicePreference preference) {

@@ -1,7 +1,7 @@
 #pragma once
 // What the samples' command lines (scene_runner, perf_capture) share: the result of parsing, the
-// parse itself with --help and CLI11's errors, --size and the default scene. Each program keeps
-// its own options; the words of help and errors are the same in both.
+// parse itself with --help and CLI11's errors, --size, --device and the default scene. Each
+// program keeps its own options; the words of help and errors are the same in both.
 #include <cstdint>
 #include <filesystem>
 #include <optional>
@@ -9,8 +9,12 @@
 #include <string_view>
 #include <utility>
 
+#include "engine/core/expected.h"
+#include "engine/gpu/device_names.h"
+
 namespace CLI {
 class App;
+class Option;
 }
 
 namespace samples {
@@ -43,9 +47,27 @@ ParseResult<Options> stoppedWith(ParseStop stop) {
 // the source tree (samples/assets).
 std::filesystem::path defaultScenePath();
 
-// --size: "WxH" (or "Wxh") with 1 <= W, H <= kMaxImageDimension into width and height, else the
-// message naming the option.
+// An image's size in pixels.
+struct ImageSize {
+  std::uint32_t width = 0;
+  std::uint32_t height = 0;
+};
+
+// The one parser of a size "WxH" (or "WXH"): two runs of decimal digits, nothing else (no sign, no
+// space, no suffix), each 1..maxSide. The error names the option and the text as given:
+// "--size: '0x0' is out of range: width and height must be 1..16384". The programs' --size takes
+// kMaxImageDimension; a window (scripts' size=, the soak) takes what a window can be.
 inline constexpr std::uint32_t kMaxImageDimension = 16384;
-std::optional<std::string> parseSize(const std::string& text, std::uint32_t& width, std::uint32_t& height);
+inline constexpr std::uint32_t kMaxWindowDimension = 4096;
+engine::Expected<ImageSize> parseImageSize(std::string_view option, std::string_view text,
+                                           std::uint32_t maxSide = kMaxImageDimension);
+
+// The programs' --size: parseImageSize into width and height (left as they are when not given),
+// refused through CLI11 (parseCommandLine's message) naming the option and the value.
+CLI::Option* addSizeOption(CLI::App& app, std::uint32_t& width, std::uint32_t& height, const std::string& help);
+
+// The programs' --device: one of engine::gpu::kDeviceNameList into `device`, refused through
+// CLI11 (parseCommandLine's message) naming the option and the value.
+CLI::Option* addDeviceOption(CLI::App& app, engine::gpu::DevicePreference& device);
 
 }  // namespace samples

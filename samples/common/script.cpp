@@ -11,6 +11,7 @@
 #include "engine/core/files.h"
 #include "engine/core/log.h"
 #include "engine/gpu/vk_check.h"
+#include "options_common.h"
 #include "tuning.h"
 #include "viewer.h"
 
@@ -35,15 +36,9 @@ bool parseInt(std::string_view text, int& out) {
   return error == std::errc() && end == text.data() + text.size();
 }
 
-// "WxH", each 1..4096 (1x1: the smallest framebuffer a window has; 0x0 comes from minimising).
-bool parseSize(std::string_view text, std::uint32_t& width, std::uint32_t& height) {
-  const std::size_t x = text.find('x');
-  int w = 0, h = 0;
-  if (x == std::string_view::npos || !parseInt(text.substr(0, x), w) || !parseInt(text.substr(x + 1), h)) return false;
-  if (w < 1 || h < 1 || w > 4096 || h > 4096) return false;
-  width = std::uint32_t(w);
-  height = std::uint32_t(h);
-  return true;
+// size=WxH, each 1..4096 (1x1: the smallest framebuffer a window has; 0x0 comes from minimising).
+engine::Expected<ImageSize> parseWindowSize(std::string_view text) {
+  return parseImageSize("size", text, kMaxWindowDimension);
 }
 
 // present-fault=out-of-date|suboptimal: what the next present reports.
@@ -88,12 +83,10 @@ Status checkAction(const ScriptCommand& c) {
                                          "wait-bake, cancel-bake, reload-shaders, rebuild-shaders, minimize, restore, wait-size, "
                                          "fail-frame)",
                                          c.key, tuningKeyList()));
-  std::uint32_t w = 0, h = 0;
   bool flag = false;
   int view = 0;
   if (c.value.empty()) return engine::makeError(fmt::format("'{}' needs a value ({}=...)", c.key, c.key));
-  if (c.key == "size" && !parseSize(c.value, w, h))
-    return engine::makeError(fmt::format("size '{}' is not WxH with 1 <= W,H <= 4096", c.value));
+  if (c.key == "size") ENGINE_TRY(parseWindowSize(c.value));
   if ((c.key == "panel" || c.key == "vsync" || c.key == "fullscreen") && !parseOnOff(c.value, flag))
     return engine::makeError(fmt::format("{} '{}' is not on or off", c.key, c.value));
   if (c.key == "view" && !(parseInt(c.value, view) && view >= 0 && view <= 7))
@@ -190,7 +183,6 @@ Status runSettings(std::vector<ScriptCommand>::const_iterator begin, std::vector
 
 Status runAction(const ScriptCommand& c, Viewer& viewer) {
   bool flag = false;
-  std::uint32_t w = 0, h = 0;
   int view = 0;
   if (c.key == "wait-bake") {
     if (Status baked = viewer.waitForBake(); !baked) engine::log::warn("{}", baked.error().message);
@@ -218,8 +210,9 @@ Status runAction(const ScriptCommand& c, Viewer& viewer) {
     engine::log::info("rebuild-shaders: {}", viewer.shaderReloadReport());
   } else if (c.key == "screenshot") {
     viewer.requestScreenshot(c.value);
-  } else if (c.key == "size" && parseSize(c.value, w, h)) {
-    viewer.resize(w, h);
+  } else if (c.key == "size") {
+    ENGINE_TRY_ASSIGN(const ImageSize size, parseWindowSize(c.value));
+    viewer.resize(size.width, size.height);
   } else if (c.key == "panel" && parseOnOff(c.value, flag)) {
     viewer.setUiVisible(flag);
   } else if (c.key == "vsync" && parseOnOff(c.value, flag)) {

@@ -9,6 +9,7 @@
 #include <imgui.h>
 
 #include "engine/core/log.h"
+#include "engine/gpu/allocate_or_refuse.h"
 #include "engine/gpu/pipeline.h"
 #include "engine/gpu/swapchain.h"
 #include "engine/gpu/vk_check.h"
@@ -46,12 +47,10 @@ Status checkImageSize(const ViewerDesc& desc, const gpu::Context& context) {
 
 Expected<std::unique_ptr<Viewer>> Viewer::create(const ViewerDesc& desc) {
   std::unique_ptr<Viewer> viewer(new Viewer());
-  try {  // a GPU memory budget too small for the render targets is an error, like a bad option
-    ENGINE_TRY(viewer->initialize(desc));
-  } catch (const gpu::VulkanError& e) {
-    if (e.result() != VK_ERROR_OUT_OF_DEVICE_MEMORY) throw;
-    return makeError(fmt::format("creating the renderer: out of GPU memory ({})", e.what()));
-  }
+  // A GPU memory budget too small for the render targets is an error, like a bad option.
+  const auto initialized = gpu::allocateOrRefuse([&] { return viewer->initialize(desc); });
+  if (!initialized) return makeError(fmt::format("creating the renderer: out of GPU memory ({})", initialized.error().message));
+  ENGINE_TRY(*initialized);
   return viewer;
 }
 

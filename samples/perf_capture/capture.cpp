@@ -364,12 +364,6 @@ void addNotRun(const RowSpec& spec, const std::string& why, std::vector<RowResul
   std::fprintf(stderr, "\n%s: %s\n", spec.label.c_str(), why.c_str());
 }
 
-gpu::DevicePreference devicePreference(const std::string& name) {
-  if (name == "gpu") return gpu::DevicePreference::Hardware;
-  if (name == "lavapipe") return gpu::DevicePreference::Software;
-  return gpu::DevicePreference::Auto;
-}
-
 // The rows one Viewer draws: the mesh rows (Method::Mesh keeps the scene's triangles) or the SDF
 // rows (the scene baked at each row's K). One Viewer at a time: each owns a device.
 Status captureGroup(const Options& options, const Subject& subject, const std::vector<RowSpec>& rows,
@@ -381,7 +375,7 @@ Status captureGroup(const Options& options, const Subject& subject, const std::v
   desc.width = options.width;
   desc.height = options.height;
   desc.headless = true;
-  desc.device = devicePreference(options.device);
+  desc.device = options.device;
   ENGINE_TRY_ASSIGN(std::unique_ptr<samples::Viewer> viewer, samples::Viewer::create(desc));
   samples::SceneDesc scene;
   scene.gltf = options.scene;

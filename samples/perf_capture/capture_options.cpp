@@ -79,7 +79,7 @@ std::string joinArguments(int argc, const char* const* argv) {
 
 ParseResult parseOptions(int argc, const char* const* argv) {
   Options options;
-  std::string size, resolutions, methods;
+  std::string resolutions, methods;
   CLI::App app{"hermite_sdf perf capture: the paper's results table (methods x resolutions) with quality and "
                "work metrics, written as CSV/JSON/Markdown/PNG",
                "perf_capture"};
@@ -93,7 +93,7 @@ ParseResult parseOptions(int argc, const char* const* argv) {
                "each mesh of --scene its own SDF object (one bake per mesh, drawn at every node that places it; "
                "nodes marked as triangles in extras stay meshes)")
       ->excludes(shape);
-  app.add_option("--size", size, "image size WxH (default 1920x1080; --quick 320x180)");
+  samples::addSizeOption(app, options.width, options.height, "image size WxH (default 1920x1080; --quick 320x180)");
   app.add_option("--resolutions", resolutions, "field resolutions K (default 16,32,64,128; --quick 16,32)");
   app.add_option("--methods", methods, "methods to capture (default mesh,trilinear,hermite,cells,cells-runs,cell-bricks)");
   std::string settings;
@@ -122,14 +122,15 @@ ParseResult parseOptions(int argc, const char* const* argv) {
                  "no row starts after this many seconds (0: none, the default; the first row always runs): the "
                  "others are listed as not run (the exit code is non-zero) and every output is written")
       ->check(CLI::Range(0.0, 1e7));
-  app.add_option("--device", options.device, "Vulkan device: auto, gpu or lavapipe")
-      ->check(CLI::IsMember({"auto", "gpu", "lavapipe"}));
+  samples::addDeviceOption(app, options.device);
 
   if (auto stop = samples::parseCommandLine(app, "perf_capture", argc, argv)) return samples::stoppedWith<Options>(*stop);
   // The preset first, then whatever was given explicitly overrides it.
   if (options.quick) {
-    options.width = 320;
-    options.height = 180;
+    if (app.count("--size") == 0) {
+      options.width = 320;
+      options.height = 180;
+    }
     options.resolutions = {16, 32};
     if (app.count("--views") == 0) options.views = 2;
     if (app.count("--frames") == 0) options.frames = 2;
@@ -138,7 +139,6 @@ ParseResult parseOptions(int argc, const char* const* argv) {
   std::optional<std::string> problem;
   if (!std::isfinite(options.timeLimitSeconds))  // CLI::Range lets NaN through
     problem = "--time-limit: not a number of seconds in 0..1e7";
-  if (!problem && !size.empty()) problem = samples::parseSize(size, options.width, options.height);
   // Given but empty (--resolutions ""): an error, not the default list run in its place.
   if (!problem && app.count("--resolutions") > 0 && resolutions.empty())
     problem = "--resolutions: an empty list (e.g. --resolutions 16,32,64,128)";

@@ -41,7 +41,7 @@ struct Options {
   // (1) and far (e.g. 8) in two runs, its prepass work per row in results.json.
   bool lod = false;
   float distance = 1.0f;
-  std::string device = "auto";   // auto | gpu | lavapipe
+  engine::gpu::DevicePreference device = engine::gpu::DevicePreference::Auto;  // --device
   // No row starts after this many seconds from the start (0: no limit; the first row always runs):
   // the rest are listed as not run and the outputs written, within a device call's time limit.
   double timeLimitSeconds = 0.0;

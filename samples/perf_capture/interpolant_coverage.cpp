@@ -56,11 +56,12 @@ int fail(const std::string& message) {
 
 int main(int argc, char** argv) {
   CLI::App app("Coverage mismatch against the mesh of the exact Hermite and trilinear interpolants, per K");
-  std::string scenePath = samples::defaultScenePath().string(), size = "960x540";
+  std::string scenePath = samples::defaultScenePath().string();
+  std::uint32_t width = 960, height = 540;
   std::vector<int> resolutions{16, 32, 64, 128};
   int views = 4;
   app.add_option("--scene", scenePath, "glTF/GLB mesh (default: the bunny)");
-  app.add_option("--size", size, "image size WxH (default 960x540)");
+  samples::addSizeOption(app, width, height, "image size WxH (default 960x540)");
   app.add_option("--resolutions", resolutions, "K, samples per axis, 4..512 (default 16,32,64,128)")
       ->delimiter(',')
       ->check(CLI::Range(4, 512));
@@ -69,8 +70,6 @@ int main(int argc, char** argv) {
     std::fprintf(stop->exitCode ? stderr : stdout, "%s\n", stop->message.c_str());
     return stop->exitCode;
   }
-  std::uint32_t width = 0, height = 0;
-  if (auto problem = samples::parseSize(size, width, height)) return fail(*problem);
 
   auto scene = engine::scene::loadGltf(scenePath);
   if (!scene.ok()) return fail(scenePath + ": " + scene.error().message);

@@ -2,7 +2,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <map>
 
 #include <CLI/CLI.hpp>
 #include <fmt/format.h>
@@ -46,39 +45,6 @@ std::optional<std::string> checkCombinations(const Options& options, bool method
     return "--objects: the split screen and --difference compare one baked SDF; not drawn with --objects";
   if (auto valid = samples::validateTuning(options.tuning); !valid) return valid.error().message;
   return std::nullopt;
-}
-
-// A transform for a named option: accepts exactly the names (not the numbers CLI11 would also take
-// for an enum) and hands CLI11 the value of an enum; the error lists the names.
-template <class T, class Values>
-CLI::Validator namesOf(const Values& values, const char* (*name)(T)) {
-  std::map<std::string, T> byName;
-  std::string list;
-  for (T v : values) {
-    byName.emplace(name(v), v);
-    list += (list.empty() ? "" : ", ") + std::string(name(v));
-  }
-  return CLI::Validator(
-      [byName, list](std::string& text) -> std::string {
-        const auto found = byName.find(text);
-        if (found == byName.end()) return "'" + text + "' is not one of " + list;
-        text = std::to_string(static_cast<std::underlying_type_t<T>>(found->second));
-        return {};
-      },
-      "{" + list + "}");
-}
-
-template <class T>
-CLI::Validator oneOf(std::initializer_list<T> values, const char* (*name)(T)) {
-  return namesOf(values, name);
-}
-
-const char* deviceName(engine::gpu::DevicePreference device) {
-  switch (device) {
-    case engine::gpu::DevicePreference::Hardware: return "gpu";
-    case engine::gpu::DevicePreference::Software: return "lavapipe";
-    default: return "auto";
-  }
 }
 
 // A named setting's option (tuningNames): exactly its names, set through the table's parser.
@@ -151,7 +117,6 @@ ParseResult failure(const std::string& message) {
 
 ParseResult parseOptions(int argc, const char* const* argv) {
   Options options;
-  std::string size;
   CLI::App app{"hermite_sdf scene runner: renders a glTF scene (default: the bundled bunny)", "scene_runner"};
   app.add_option_function<std::string>(
          "--settings",
@@ -167,13 +132,11 @@ ParseResult parseOptions(int argc, const char* const* argv) {
   app.add_option("--sdf", options.sdfFile, "draw a .hsdf file baked by hsdf_bake (replaces the default scene)")
       ->check(CLI::ExistingFile);
   app.add_flag("--headless", options.headless, "render offscreen without a window");
-  app.add_option("--size", size, "image size WxH (default 1280x720)");
+  samples::addSizeOption(app, options.width, options.height, "image size WxH (default 1280x720)");
   app.add_option("--frames", options.frames, "frames to render, then exit (0: until closed; headless default 1)")
       ->check(CLI::Range(0u, 1000000u));
   app.add_option("--screenshot", options.screenshot, "write the last frame to this PNG file");
-  using engine::gpu::DevicePreference;
-  app.add_option("--device", options.device, "Vulkan device: auto, gpu or lavapipe")
-      ->transform(oneOf({DevicePreference::Auto, DevicePreference::Hardware, DevicePreference::Software}, deviceName));
+  samples::addDeviceOption(app, options.device);
   app.add_flag("--validation", options.validation, "enable the Vulkan validation layers");
   app.add_flag("--ui", options.headlessUi, "draw the ImGui panels into headless screenshots");
   app.add_flag("!--no-ground", options.groundPlane, "do not add the ground plane");
@@ -197,20 +160,20 @@ ParseResult parseOptions(int argc, const char* const* argv) {
   CLI::Option* eye =
       app.add_option("--camera", camera, "eye and target: ex,ey,ez,tx,ty,tz")->delimiter(',')->expected(6);
   app.add_option("--scene-camera", options.sceneCamera,
-                 "look through a camera node of the glTF scene, by name or index (its pose, yfov and znear; "
-                 "orbit or fly take over when the camera is moved)")
+                 "look through a camera of the glTF scene, given by its node's name, the camera's own name (the "
+                 "first node showing it) or its index (its pose, yfov and znear; orbit or fly take over when the "
+                 "camera is moved)")
       ->excludes(view)
       ->excludes(eye);
 
   if (auto stop = samples::parseCommandLine(app, "scene_runner", argc, argv)) return samples::stoppedWith<Options>(*stop);
   std::optional<std::string> problem;
-  if (!size.empty()) problem = samples::parseSize(size, options.width, options.height);
   if (!problem && !options.screenshot.empty() && options.screenshot.extension() != ".png")
     problem = "--screenshot: '" + options.screenshot.string() + "' must end in .png";
   if (!problem) problem = parseCamera(camera, options);
   if (!problem) problem = checkCombinations(options, app.count("--method") > 0);
   if (!problem && app.count("--scene-camera") > 0 && options.sceneCamera.empty())
-    problem = "--scene-camera: needs a camera's node name or index (it was empty)";
+    problem = "--scene-camera: needs a camera's node name, own name or index (it was empty)";
   if (!problem && !options.sceneCamera.empty() && options.scene.empty())
     problem = "--scene-camera: looks through a camera of a glTF scene; add --scene FILE";
   if (!problem && !options.objects && app.count("--node-draw") + app.count("--triangle-nodes") > 0)

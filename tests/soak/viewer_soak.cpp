@@ -47,6 +47,7 @@
 #include "engine/gpu/memory.h"
 #include "engine/scene/transform.h"
 #include "hermite_sdf/core/bake_job.h"
+#include "options_common.h"
 #include "test_device.h"
 #include "viewer.h"
 
@@ -89,13 +90,9 @@ Expected<Options> parseOptions(int argc, char** argv) {
     } else if (option == "--period") {
       ENGINE_TRY_ASSIGN(options.period, parseCount(option, value));
     } else if (option == "--size") {
-      const std::size_t x = value.find('x');
-      if (x == std::string_view::npos) return makeError(fmt::format("--size: expected WxH, got '{}'", value));
-      ENGINE_TRY_ASSIGN(const std::uint64_t w, parseCount(option, value.substr(0, x)));
-      ENGINE_TRY_ASSIGN(const std::uint64_t h, parseCount(option, value.substr(x + 1)));
-      if (w > 4096 || h > 4096) return makeError(fmt::format("--size: at most 4096x4096, got '{}'", value));
-      options.width = std::uint32_t(w);
-      options.height = std::uint32_t(h);
+      ENGINE_TRY_ASSIGN(const samples::ImageSize size, samples::parseImageSize(option, value, samples::kMaxWindowDimension));
+      options.width = size.width;
+      options.height = size.height;
     } else if (option == "--rss-tolerance-mb") {
       ENGINE_TRY_ASSIGN(const std::uint64_t mb, parseCount(option, value));
       options.rssToleranceMb = double(mb);

@@ -2,29 +2,20 @@
 
 #include <cstdlib>
 
+#include "engine/gpu/device_names.h"
+
 namespace hsdftest {
 
 using engine::gpu::DevicePreference;
 
 engine::Expected<DevicePreference> parseTestDevice(const char* value) {
-  const std::string_view v = value ? value : "";
-  if (v.empty() || v == "lavapipe") return DevicePreference::Software;
-  if (v == "gpu") return DevicePreference::Hardware;
-  if (v == "auto") return DevicePreference::Auto;
-  return engine::makeError(std::string(kTestDeviceVariable) + "='" + std::string(v) +
-                           "' is not one of gpu, lavapipe, auto (unset means lavapipe)");
+  if (!value || !*value) return DevicePreference::Software;
+  auto parsed = engine::gpu::parseDeviceName(kTestDeviceVariable, value);
+  if (!parsed) return engine::makeError(parsed.error().message + " (unset means lavapipe)");
+  return parsed;
 }
 
 engine::Expected<DevicePreference> testDevicePreference() { return parseTestDevice(std::getenv(kTestDeviceVariable)); }
-
-std::string_view engineDeviceName(DevicePreference preference) {
-  switch (preference) {
-    case DevicePreference::Hardware: return "gpu";
-    case DevicePreference::Software: return "lavapipe";
-    case DevicePreference::Auto: break;
-  }
-  return "auto";
-}
 
 std::string describeTestDevice() {
   const char* value = std::getenv(kTestDeviceVariable);
@@ -32,7 +23,7 @@ std::string describeTestDevice() {
   const std::string how = value && *value ? std::string(kTestDeviceVariable) + "=" + value
                                           : std::string(kTestDeviceVariable) + " unset";
   if (!preference) return "no device (" + how + " is refused)";
-  return std::string(engineDeviceName(*preference)) + " (" + how + ")";
+  return std::string(engine::gpu::deviceName(*preference)) + " (" + how + ")";
 }
 
 }  // namespace hsdftest

@@ -20,15 +20,12 @@ namespace hsdftest {
 
 inline constexpr const char* kTestDeviceVariable = "HSDF_TEST_DEVICE";
 
-// Maps one value of HSDF_TEST_DEVICE; nullptr or "" (unset) is lavapipe.
+// Maps one value of HSDF_TEST_DEVICE with the engine's device names (engine/gpu/device_names.h,
+// whose deviceName() the launcher exports as HSDF_DEVICE); nullptr or "" (unset) is lavapipe.
 engine::Expected<engine::gpu::DevicePreference> parseTestDevice(const char* value);
 
 // parseTestDevice(getenv("HSDF_TEST_DEVICE")).
 engine::Expected<engine::gpu::DevicePreference> testDevicePreference();
-
-// The value of the engine's HSDF_DEVICE that picks the same device for a program left at its
-// default `--device auto`: "gpu", "lavapipe" or "auto".
-std::string_view engineDeviceName(engine::gpu::DevicePreference preference);
 
 // "lavapipe (HSDF_TEST_DEVICE unset)", "gpu (HSDF_TEST_DEVICE=gpu)": for messages that say where a
 // failing test ran and how that was chosen.

@@ -15,6 +15,7 @@
 #include <cstring>
 #include <string>
 
+#include "engine/gpu/device_names.h"
 #include "test_device.h"
 
 int main(int argc, char** argv) {
@@ -27,7 +28,7 @@ int main(int argc, char** argv) {
     std::fprintf(stderr, "hsdf_test_device_run: %s\n", preference.error().message.c_str());
     return 2;
   }
-  const std::string device(hsdftest::engineDeviceName(*preference));
+  const std::string device(engine::gpu::deviceName(*preference));
   if (setenv("HSDF_DEVICE", device.c_str(), 1) != 0) {
     std::fprintf(stderr, "hsdf_test_device_run: cannot set HSDF_DEVICE: %s\n", std::strerror(errno));
     return 2;

@@ -5,6 +5,7 @@
 #include <cstdlib>
 #include <string>
 
+#include "engine/gpu/device_names.h"
 #include "test_device.h"
 
 namespace {
@@ -30,15 +31,15 @@ TEST(TestDevice, UnknownValueIsRefusedNamingVariableAndValue) {
     const auto parsed = hsdftest::parseTestDevice(bad);
     ASSERT_FALSE(parsed.ok()) << bad;
     EXPECT_EQ(parsed.error().message,
-              std::string("HSDF_TEST_DEVICE='") + bad + "' is not one of gpu, lavapipe, auto (unset means lavapipe)");
+              std::string("HSDF_TEST_DEVICE: '") + bad + "' is not one of auto, gpu, lavapipe (unset means lavapipe)");
   }
 }
 
 TEST(TestDevice, EngineNamesRoundTrip) {
-  // The launcher exports engineDeviceName() as HSDF_DEVICE; each must be a value HSDF_TEST_DEVICE
-  // maps back to the same preference (and the engine accepts, engine_gpu_fault_tests).
+  // The launcher exports the engine's deviceName() as HSDF_DEVICE; each must be a value
+  // HSDF_TEST_DEVICE maps back to the same preference (and the engine accepts, engine_gpu_fault_tests).
   for (DevicePreference p : {DevicePreference::Software, DevicePreference::Hardware, DevicePreference::Auto}) {
-    const std::string name(hsdftest::engineDeviceName(p));
+    const std::string name(engine::gpu::deviceName(p));
     const auto back = hsdftest::parseTestDevice(name.c_str());
     ASSERT_TRUE(back.ok()) << name;
     EXPECT_EQ(*back, p) << name;

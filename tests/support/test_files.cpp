@@ -1,6 +1,11 @@
 #include "test_files.h"
 
+#include <unistd.h>
+
+#include <atomic>
+#include <cstdint>
 #include <cstdlib>
+#include <system_error>
 #include <utility>
 
 namespace hsdftest {
@@ -30,5 +35,16 @@ ScopedEnvironment::~ScopedEnvironment() {
 }
 
 void ScopedEnvironment::set(const std::string& value) { setenv(name_.c_str(), value.c_str(), 1); }
+
+ScopedTempPath::ScopedTempPath(const std::string& name) {
+  static std::atomic<std::uint64_t> count{0};
+  path_ = std::filesystem::temp_directory_path() /
+          ("hsdf_" + std::to_string(::getpid()) + "_" + std::to_string(count++) + "_" + name);
+}
+
+ScopedTempPath::~ScopedTempPath() {
+  std::error_code ignored;  // a destructor cannot fail; a file left behind harms no other run
+  std::filesystem::remove_all(path_, ignored);
+}
 
 }  // namespace hsdftest

@@ -33,4 +33,20 @@ class ScopedEnvironment {
   std::optional<std::string> previous_;
 };
 
+// A path under the system's temporary folder that no other process uses (the process id and a
+// count in its name: two test runs share /tmp on one machine, and a fixed name let one run read
+// or delete the other's file), removed with whatever is under it when the scope ends, however the
+// test ends. Nothing is created: the test writes the file or folder it needs at path().
+class ScopedTempPath {
+ public:
+  explicit ScopedTempPath(const std::string& name);
+  ~ScopedTempPath();
+  ScopedTempPath(const ScopedTempPath&) = delete;
+  ScopedTempPath& operator=(const ScopedTempPath&) = delete;
+  const std::filesystem::path& path() const { return path_; }
+
+ private:
+  std::filesystem::path path_;
+};
+
 }  // namespace hsdftest

@@ -5,6 +5,7 @@
 
 #include <cstdlib>
 #include <filesystem>
+#include <fstream>
 #include <string>
 
 #include "test_files.h"
@@ -46,6 +47,28 @@ TEST(TestFiles, ScopedEnvironmentPutsBackWhatWasThere) {
     EXPECT_EQ(environment(name.c_str()), "run");
   }
   EXPECT_EQ(environment(name.c_str()), "<unset>");
+}
+
+// Tricky: two paths asked for by the same name (two tests, or two runs of one) must differ, the
+// name must be kept (an extension decides how a file is read), and the path must be gone after the
+// scope with what the test wrote under it, a folder included.
+TEST(TestFiles, ScopedTempPathIsUniqueAndRemoved) {
+  std::filesystem::path first, second;
+  {
+    const hsdftest::ScopedTempPath a("same.hsdf"), b("same.hsdf");
+    first = a.path();
+    second = b.path();
+    EXPECT_NE(first, second);
+    EXPECT_EQ(first.extension(), ".hsdf");
+    EXPECT_EQ(first.parent_path(), std::filesystem::temp_directory_path());
+    EXPECT_FALSE(std::filesystem::exists(first)) << "nothing is made before the test writes it";
+    std::ofstream(first) << "a file";
+    std::filesystem::create_directories(second / "inner");
+    std::ofstream(second / "inner" / "x.txt") << "a folder";
+    ASSERT_TRUE(std::filesystem::is_regular_file(first));
+  }
+  EXPECT_FALSE(std::filesystem::exists(first));
+  EXPECT_FALSE(std::filesystem::exists(second));
 }
 
 }  // namespace

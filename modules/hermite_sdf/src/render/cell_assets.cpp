@@ -14,6 +14,7 @@
 
 #include "engine/core/log.h"
 #include "engine/ecs/registry.h"
+#include "engine/gpu/allocate_or_refuse.h"
 #include "engine/gpu/context.h"
 #include "engine/gpu/vk_check.h"
 #include "engine/render/gpu_scene.h"
@@ -184,11 +185,9 @@ void HermiteCellFeature::syncAssets(const engine::render::FrameContext& frame) {
     AssetUpload u;
     for (const auto& asset : d.wanted) appendAsset(rebuilt, u, asset, d);
     rebuilt.used = u.end();
-    try {
-      createAssetBuffers(rebuilt, u);
-    } catch (const engine::gpu::VulkanError& e) {
-      if (e.result() != VK_ERROR_OUT_OF_DEVICE_MEMORY) throw;
-      failure = e.what();
+    if (const engine::Status created = engine::gpu::allocateOrRefuse([&] { createAssetBuffers(rebuilt, u); });
+        !created) {
+      failure = created.error().message;
       needed = u.bytes();  // at least (the staging copies come on top)
     }
     if (failure.empty()) return commitAssetBuffers(frame, std::move(rebuilt), u);
@@ -371,17 +370,14 @@ bool HermiteCellFeature::appendNewAssets(const engine::render::FrameContext& fra
   for (const auto& asset : d.wanted)
     if (!buffers_->entries.contains(asset->id)) appendAsset(added, u, asset, d);
   std::vector<engine::gpu::BufferAppend> appends = streamAppends(*buffers_, u, buffers_->used);
-  std::vector<Buffer> replaced;
-  try {
-    replaced = engine::gpu::appendToBuffers(*context_, appends);
-  } catch (const engine::gpu::VulkanError& e) {
-    if (e.result() != VK_ERROR_OUT_OF_DEVICE_MEMORY) throw;
-    refuseNewAssets(frame, d.wanted, e.what(), u.bytes());  // at least (drawn alone: no other asset's bytes)
+  auto replaced = engine::gpu::allocateOrRefuse([&] { return engine::gpu::appendToBuffers(*context_, appends); });
+  if (!replaced) {
+    refuseNewAssets(frame, d.wanted, replaced.error().message, u.bytes());  // at least (drawn alone: no other asset's bytes)
     return true;  // the buffers stay as they were: what was drawn is drawn
   }
   // Commands recorded earlier (this frame's earlier view regions, frames in flight) read the
   // replaced buffers until their frames complete.
-  for (Buffer& old : replaced) frame.retire(std::move(old));
+  for (Buffer& old : *replaced) frame.retire(std::move(old));
   for (auto& [id, entry] : added.entries) {
     entry.lastFrame = frame.frameNumber;
     buffers_->entries.emplace(id, std::move(entry));

@@ -12,6 +12,7 @@
 
 #include "engine/core/log.h"
 #include "engine/ecs/registry.h"
+#include "engine/gpu/allocate_or_refuse.h"
 #include "engine/gpu/context.h"
 #include "engine/gpu/vk_check.h"
 #include "engine/render/gpu_scene.h"
@@ -172,7 +173,7 @@ bool HermiteCellFeature::reserveCellCulling(std::uint32_t slot, const std::array
     std::uint64_t wanted = std::min(wantedSlots[precision],
                                     std::max<std::uint64_t>(context_->capabilities().maxBufferSize / stride, 1));
     for (;;) {
-      try {
+      const engine::Status made = engine::gpu::allocateOrRefuse([&] {
         const Buffer& records = ensureOutput(*context_, keptCellRecords_[slot][precision], wanted * stride,
                                              VK_BUFFER_USAGE_VERTEX_BUFFER_BIT, "hermite kept cells");
         const Buffer& indices = ensureOutput(*context_, keptCellIndices_[slot][precision],
@@ -185,19 +186,18 @@ bool HermiteCellFeature::reserveCellCulling(std::uint32_t slot, const std::array
             std::min({cells[precision], records.size() / stride, indices.size() / 4, ranges.size() / 4});
         keptCapacity_[precision] = std::uint32_t(capacity);
         keptFallback_[precision] = capacity < cells[precision];
-        break;
-      } catch (const engine::gpu::VulkanError& error) {
-        // Half as many, or the streams the slot holds when they are larger (no new buffer), or
-        // when nothing of kMinKeptSlots fits, the streams it holds whatever their size.
-        const std::uint64_t held = heldKeptSlots(slot, precision);
-        const std::uint64_t next = std::max(wanted / 2, held);
-        if (next >= wanted || (next < kMinKeptSlots && held == 0)) {
-          refusal = fmt::format("the kept-cell streams of {} cells ({} MiB) do not fit: {}", wanted,
-                                (wanted * keptSlotBytes(precision)) >> 20, error.what());
-          return false;
-        }
-        wanted = next < kMinKeptSlots ? held : next;
+      });
+      if (made) break;
+      // Half as many, or the streams the slot holds when they are larger (no new buffer), or when
+      // nothing of kMinKeptSlots fits, the streams it holds whatever their size.
+      const std::uint64_t held = heldKeptSlots(slot, precision);
+      const std::uint64_t next = std::max(wanted / 2, held);
+      if (next >= wanted || (next < kMinKeptSlots && held == 0)) {
+        refusal = fmt::format("the kept-cell streams of {} cells ({} MiB) do not fit: {}", wanted,
+                              (wanted * keptSlotBytes(precision)) >> 20, made.error().message);
+        return false;
       }
+      wanted = next < kMinKeptSlots ? held : next;
     }
   }
   stats_.keptSlots = std::uint64_t(keptCapacity_[0]) + keptCapacity_[1];

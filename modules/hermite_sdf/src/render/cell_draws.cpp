@@ -15,6 +15,7 @@
 #include "engine/core/log.h"
 #include "engine/core/math.h"
 #include "engine/ecs/registry.h"
+#include "engine/gpu/allocate_or_refuse.h"
 #include "engine/gpu/context.h"
 #include "engine/gpu/vk_check.h"
 #include "engine/render/gpu_scene.h"
@@ -225,11 +226,10 @@ void HermiteCellFeature::chooseCullingPaths(engine::render::FrameContext& frame,
   if (historyIdle_.due(!occlusion_ && history_->bytes() > 0, settings_.releaseAfterFrames))
     history_->release(frame.frameNumber, *frame.retired);
   if (occlusion_) {
-    try {
-      placeHistory(frame);
-    } catch (const engine::gpu::VulkanError& error) {  // its buffer did not fit: cull without it
+    // Its buffer did not fit: cull without it.
+    if (const engine::Status placed = engine::gpu::allocateOrRefuse([&] { placeHistory(frame); }); !placed) {
       occlusion_ = false;
-      if (!warnedHistory_) engine::log::warn("hermite cells: occlusion culling off: {}", error.what());
+      if (!warnedHistory_) engine::log::warn("hermite cells: occlusion culling off: {}", placed.error().message);
       warnedHistory_ = true;
     }
   }

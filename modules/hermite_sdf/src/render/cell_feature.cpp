@@ -12,6 +12,7 @@
 
 #include "engine/core/log.h"
 #include "engine/ecs/registry.h"
+#include "engine/gpu/allocate_or_refuse.h"
 #include "engine/gpu/context.h"
 #include "engine/gpu/vk_check.h"
 #include "engine/render/gpu_scene.h"
@@ -129,16 +130,14 @@ void HermiteCellFeature::prepare(engine::render::FrameContext& frame) {
 void HermiteCellFeature::ensureHitDepths(engine::render::FrameContext& frame) {
   if (!earlyDepth_) return;
   VkCommandBuffer cmd = frame.cmd;
-  bool made = false;
-  try {
-    made = hitDepths_.ensure(*context_, frame.extent, *frame.retired, frame.frameNumber);
-  } catch (const engine::gpu::VulkanError& e) {
-    if (e.result() != VK_ERROR_OUT_OF_DEVICE_MEMORY) throw;
-    engine::log::warn("hermite cells: no early depth this frame: {}", e.what());
+  const auto made = engine::gpu::allocateOrRefuse(
+      [&] { return hitDepths_.ensure(*context_, frame.extent, *frame.retired, frame.frameNumber); });
+  if (!made) {
+    engine::log::warn("hermite cells: no early depth this frame: {}", made.error().message);
     earlyDepth_ = false;
     return;
   }
-  if (made) {
+  if (*made) {
     vkCmdFillBuffer(cmd, hitDepths_.handle(), 0, VK_WHOLE_SIZE, 0);
     engine::gpu::memoryBarrier(cmd, VK_PIPELINE_STAGE_2_CLEAR_BIT, VK_ACCESS_2_TRANSFER_WRITE_BIT,
                                VK_PIPELINE_STAGE_2_FRAGMENT_SHADER_BIT, kStorageReadWrite);

@@ -6,6 +6,7 @@
 #include <cstring>
 #include <limits>
 
+#include "engine/gpu/allocate_or_refuse.h"
 #include "engine/gpu/context.h"
 #include "engine/gpu/pipeline.h"
 #include "engine/gpu/vk_check.h"
@@ -128,14 +129,12 @@ std::uint64_t CellTiler::wantedEntries(std::uint32_t slot, std::uint64_t entryEs
 bool CellTiler::reserve(std::uint32_t slot, VkExtent2D extent, std::uint32_t tileSize, std::uint64_t entryEstimate,
                         std::uint32_t entryLimit, std::string& refusal) {
   const VkExtent2D grid = tileGrid(extent, tileSize);
-  try {
+  const engine::Status made = engine::gpu::allocateOrRefuse([&] {
     ensureBuffers(slots_[slot], std::max(grid.width * grid.height, 1u), tileSize, wantedEntries(slot, entryEstimate),
                   std::max(entryLimit, 1u));
-  } catch (const engine::gpu::VulkanError& error) {
-    refusal = error.what();
-    return false;
-  }
-  return true;
+  });
+  if (!made) refusal = made.error().message;
+  return made.ok();
 }
 
 void CellTiler::dispatchBins(VkCommandBuffer cmd, shader::CellTilePushConstants push, const Frame& frame,

@@ -11,6 +11,7 @@
 #include "engine/core/log.h"
 #include "engine/core/math.h"
 #include "engine/ecs/registry.h"
+#include "engine/gpu/allocate_or_refuse.h"
 #include "engine/gpu/context.h"
 #include "engine/gpu/deferred_release.h"
 #include "engine/gpu/vk_check.h"
@@ -244,27 +245,33 @@ engine::Expected<SphereTraceFeature::FieldTexture> SphereTraceFeature::uploadTex
   desc.extent = {std::uint32_t(grid.resolution), std::uint32_t(grid.resolution), std::uint32_t(grid.resolution)};
   desc.usage = VK_IMAGE_USAGE_SAMPLED_BIT | VK_IMAGE_USAGE_TRANSFER_DST_BIT;
   desc.name = asset.name + " " + kMethodNames[method] + (half ? " fp16" : " fp32") + " field";
-  const std::vector<std::uint8_t> materials = fieldMaterialsBlock(asset);
-  neededBytes += materials.size();
-  try {  // the allocator throws when the budget or the device is out of memory: this object only is dropped
+  // The asset's materials as another of its textures uploaded them, else uploaded here.
+  const auto shared = materials_.find(asset.id);
+  std::shared_ptr<const engine::gpu::Buffer> materials = shared == materials_.end() ? nullptr : shared->second.lock();
+  const std::vector<std::uint8_t> block = materials ? std::vector<std::uint8_t>() : fieldMaterialsBlock(asset);
+  neededBytes += block.size();
+  // Refused for the budget or the device's memory: this object only is dropped.
+  const engine::Status uploaded = engine::gpu::allocateOrRefuse([&] {
     texture.image = engine::gpu::Image(*context_, desc);
     engine::gpu::uploadImage(*context_, texture.image, texels.bytes.data(), texels.bytes.size());
-    if (!materials.empty())
-      texture.materials = engine::gpu::createBufferWithData(
-          *context_, materials.data(), materials.size(),
-          VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_SHADER_DEVICE_ADDRESS_BIT, desc.name + " materials");
-  } catch (const engine::gpu::VulkanError& e) {
-    if (e.result() != VK_ERROR_OUT_OF_DEVICE_MEMORY) throw;
+    if (!block.empty())
+      materials = std::make_shared<const engine::gpu::Buffer>(engine::gpu::createBufferWithData(
+          *context_, block.data(), block.size(), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_SHADER_DEVICE_ADDRESS_BIT,
+          asset.name + " materials"));
+  });
+  if (!uploaded) {
     outOfResources = true;
-    return engine::makeError(std::string("out of GPU memory (") + e.what() + ")");
+    return engine::makeError("out of GPU memory (" + uploaded.error().message + ")");
   }
-  texture.bytes = texels.bytes.size() + materials.size();
+  texture.bytes = texels.bytes.size();
   auto slot = bindings_->add(texture.image.view(), samplers_[method]);
   if (!slot) {
     outOfResources = true;
     return slot.error();
   }
   texture.slot = *slot;
+  texture.materials = materials;
+  if (materials) materials_[asset.id] = materials;
   return texture;
 }
 
@@ -373,7 +380,7 @@ void SphereTraceFeature::collectDraws(engine::render::FrameContext& frame) {
         const glm::vec3 lo(grid.bounds().min), hi(grid.bounds().max);
         shader::ObjectData object =
             engine::render::GpuScene::makeObject(world.matrix, r.color, r.roughness, 0.0f, kFeatureId);
-        object.payload = texture->materials ? texture->materials.address() : 0;  // FieldMaterialsHeader
+        object.payload = texture->materials ? texture->materials->address() : 0;  // FieldMaterialsHeader
         shader::SphereTraceDraw draw{};
         draw.gridOriginSpacing = glm::vec4(lo, float(grid.spacing));
         draw.object = frame.scene.addObject(object);
@@ -414,7 +421,14 @@ void SphereTraceFeature::prepare(engine::render::FrameContext& frame) {
   collectDraws(frame);
   releaseUnusedTextures(frame);
   stats_.textures = std::uint32_t(textures_.size());
-  for (const auto& [key, texture] : textures_) stats_.textureBytes += texture.bytes;
+  std::set<const engine::gpu::Buffer*> materials;  // as the textures hold them: each counted once
+  for (const auto& [key, texture] : textures_) {
+    stats_.textureBytes += texture.bytes;
+    if (texture.materials && materials.insert(texture.materials.get()).second)
+      stats_.textureBytes += texture.materials->size();
+  }
+  stats_.materialBuffers = std::uint32_t(materials.size());
+  std::erase_if(materials_, [](const auto& m) { return m.second.expired(); });
 }
 
 // Bindless: one instanced draw for the whole range (gl_InstanceIndex = the draw's index).

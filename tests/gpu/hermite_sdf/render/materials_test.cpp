@@ -11,6 +11,7 @@
 #include "hermite_sdf/core/bake_job.h"
 #include "hermite_sdf/render/cell_feature.h"
 #include "hermite_sdf/render/features.h"
+#include "hermite_sdf/render/sphere_trace_feature.h"
 #include "hermite_test_support.h"
 #include "shared/host_device.h"
 #include "two_material_box.h"
@@ -196,6 +197,50 @@ TEST_F(MaterialsGpuTest, EntityColourTintsThePaletteAndSingleMaterialKeepsItsCol
     EXPECT_GT(hits, 4000) << m.label;
     EXPECT_GT(greenest, hits * 99 / 100) << m.label;
     EXPECT_GT(ownGreen, hits * 99 / 100) << m.label;
+  }
+}
+
+// Tricky: the palette and slots are the asset's, not a method's: the trilinear and the Hermite
+// tracer, in either precision, read the same bytes, so an asset drawn by three tracer textures in
+// one frame has one materials buffer, and the two textures added to the first add their images'
+// bytes only (K^3 texels of RGBA32F and of RGBA16F), not another K^3 bytes of slots each. The
+// pixels of the frame still show both colours on each object: the shared buffer is the one each
+// texture's draws read.
+TEST_F(MaterialsGpuTest, BothTracersShareOneCopyOfAnAssetsMaterials) {
+  constexpr std::uint64_t kK = 20;
+  const auto asset = bakeBox(true, int(kK));
+  ASSERT_TRUE(asset);
+  const auto* tracer = renderer_->feature<hsdf::SphereTraceFeature>();
+  ASSERT_NE(tracer, nullptr);
+  const render::CameraView camera = render::CameraView::lookAt(glm::vec3(0.0f, 2.0f, 9.0f), glm::vec3(0.0f), 0.9f, 0.1f, 1.0f);
+  (void)addSdf(registry_, asset, hsdf::RenderMethod::TrilinearSphereTrace,
+               glm::translate(glm::mat4(1.0f), glm::vec3(-2.4f, 0.0f, 0.0f)));
+  (void)renderWith(camera, DEBUG_VIEW_NONE);
+  const hsdf::SphereTraceFeature::Stats first = tracer->stats();
+  EXPECT_EQ(first.textures, 1u);
+  EXPECT_EQ(first.materialBuffers, 1u);
+
+  (void)addSdf(registry_, asset, hsdf::RenderMethod::HermiteSphereTrace);
+  const ecs::Entity half = addSdf(registry_, asset, hsdf::RenderMethod::HermiteSphereTrace,
+                                  glm::translate(glm::mat4(1.0f), glm::vec3(2.4f, 0.0f, 0.0f)));
+  registry_.get<hsdf::HermiteSdfRenderable>(half).halfPrecision = true;
+  const Frame frame = renderWith(camera, DEBUG_VIEW_NONE);
+  const hsdf::SphereTraceFeature::Stats all = tracer->stats();
+  EXPECT_EQ(all.hermiteObjects, 2u);
+  EXPECT_EQ(all.textures, 3u);
+  EXPECT_EQ(all.materialBuffers, 1u) << "one upload of the palette and slots per asset";
+  EXPECT_EQ(all.textureBytes - first.textureBytes, kK * kK * kK * (16 + 8)) << "the images only";
+  // Each object's third of the image shows red and blue.
+  for (std::uint32_t third = 0; third < 3; ++third) {
+    int red = 0, blue = 0;
+    for (std::uint32_t y = 0; y < kImage; ++y)
+      for (std::uint32_t x = third * kImage / 3; x < (third + 1) * kImage / 3; ++x) {
+        if (frame.depthAt(x, y) == 0.0f) continue;
+        red += slotShown(frame.pixel(x, y)) == 0;
+        blue += slotShown(frame.pixel(x, y)) == 1;
+      }
+    EXPECT_GT(red, 100) << "object " << third;
+    EXPECT_GT(blue, 100) << "object " << third;
   }
 }
 

@@ -10,6 +10,7 @@
 #include <string>
 
 #include "engine/gpu/context.h"
+#include "engine/gpu/device_names.h"
 #include "test_device.h"
 
 namespace engine::gpu {
@@ -84,7 +85,7 @@ TEST(DeviceChoice, UnknownHsdfDeviceIsRefusedForAuto) {
   ScopedHsdfDevice env("vulkan");
   const auto context = create(DevicePreference::Auto);
   ASSERT_FALSE(context.ok());
-  EXPECT_NE(context.error().message.find("HSDF_DEVICE='vulkan' is not one of gpu, lavapipe, auto"), std::string::npos)
+  EXPECT_NE(context.error().message.find("HSDF_DEVICE: 'vulkan' is not one of auto, gpu, lavapipe"), std::string::npos)
       << context.error().message;
 }
 
@@ -123,7 +124,7 @@ TEST(DeviceChoice, AutoFollowsHsdfDevice) {
   // What the test launcher exports for the test device picks the same kind of device under Auto.
   const auto device = explicitTestDevice();
   if (!device) GTEST_SKIP() << "HSDF_TEST_DEVICE=auto names no explicit device to check";
-  ScopedHsdfDevice env(std::string(hsdftest::engineDeviceName(*device)).c_str());
+  ScopedHsdfDevice env(std::string(deviceName(*device)).c_str());
   const auto context = create(DevicePreference::Auto);
   ASSERT_TRUE(context.ok()) << context.error().message;
   EXPECT_EQ((*context)->capabilities().isSoftwareRasterizer, *device == DevicePreference::Software)

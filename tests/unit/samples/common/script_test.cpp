@@ -55,7 +55,7 @@ TEST(Script, BadLinesNameFileLineAndProblem) {
       {"frame 0: padding=4\nframe 1: resolution=8\n", "s.txt:2: --resolution 8 leaves no cells inside --padding 4"},
       {"frame 0: wait-bake=now\n", "s.txt:1: 'wait-bake' takes no value"},
       {"frame 0: screenshot\n", "s.txt:1: 'screenshot' needs a value"},
-      {"frame 0: size=0x10\n", "s.txt:1: size '0x10' is not WxH with 1 <= W,H <= 4096"},
+      {"frame 0: size=0x10\n", "s.txt:1: size: '0x10' is out of range: width and height must be 1..4096"},
       {"frame 0: panel=maybe\n", "s.txt:1: panel 'maybe' is not on or off"},
       {"frame 0: view=8\n", "s.txt:1: view '8' is not 0..7"},
       {"frame 0: camera=free\n", "s.txt:1: camera 'free' is not orbit or fly"},
@@ -65,7 +65,7 @@ TEST(Script, BadLinesNameFileLineAndProblem) {
       {"frame 0: shader-dir\n", "s.txt:1: 'shader-dir' needs a value"},
       {"frame 0: scene-camera\n", "s.txt:1: 'scene-camera' needs a value"},
       {"frame 0: present-fault=lost\n", "s.txt:1: present-fault 'lost' is not out-of-date or suboptimal"},
-      {"frame 0: size=4097x1\n", "s.txt:1: size '4097x1' is not WxH"},
+      {"frame 0: size=4097x1\n", "s.txt:1: size: '4097x1' is out of range: width and height must be 1..4096"},
       {"frame 0: split=both\n", "s.txt:1: setting 'split': \"both\" is not one of off, vertical, horizontal"},
   };
   for (const Case& c : cases) {

@@ -739,7 +739,8 @@ TEST(Viewer, TuningTheSceneCannotDrawIsRefused) {
   contents.cells = &asset.cells;
   const auto bytes = hsdf::serializeHsdf(contents);
   ASSERT_TRUE(bytes.ok()) << bytes.error().message;
-  const std::filesystem::path file = std::filesystem::temp_directory_path() / "viewer_tuning_refused.hsdf";
+  const hsdftest::ScopedTempPath temp("viewer_tuning_refused.hsdf");
+  const std::filesystem::path& file = temp.path();
   std::ofstream(file, std::ios::binary).write(reinterpret_cast<const char*>(bytes->data()), std::streamsize(bytes->size()));
   EXPECT_TRUE(shape->close().ok());
 
@@ -770,7 +771,6 @@ TEST(Viewer, TuningTheSceneCannotDrawIsRefused) {
   }
   EXPECT_FALSE(viewer->canRebake());
   EXPECT_TRUE(viewer->close().ok());
-  std::filesystem::remove(file);
 }
 
 }  // namespace

@@ -59,7 +59,8 @@ TEST(CaptureOptions, BadValuesAreRefusedNamingTheOption) {
       {{"--out", "x", "--distance", "0.5"}, "--distance"},
       {{"--out", "x", "--methods", "cells,splats"}, "--methods: 'splats'"},
       {{"--out", "x", "--settings", "n=3 r=1,n=9"}, "--settings: 'n=9'"},
-      {{"--out", "x", "--size", "12x"}, "--size: '12x'"},
+      {{"--out", "x", "--size", "12x"}, "--size: '12x' is not WxH"},
+      {{"--out", "x", "--device", "vulkan"}, "--device: 'vulkan' is not one of auto, gpu, lavapipe"},
       {{"--out", "x", "--views", "9"}, "--views"},
       // The scene's cameras replace the orbit views: with them, --views and --distance mean nothing.
       {{"--out", "x", "--scene-cameras", "all"}, "--scene-cameras: the views are a glTF scene's cameras; give the --scene"},

@@ -156,9 +156,9 @@ TEST(RunnerOptions, BadValuesNameTheOption) {
     const char* expected;
   };
   const std::vector<Case> cases = {
-      {{"--size", "0x100"}, "--size: '0x100' is not WxH"},
-      {{"--size", "100000x100000"}, "--size: '100000x100000' is not WxH with 1 <= W,H <= 16384"},
-      {{"--size", "wide"}, "--size: 'wide'"},
+      {{"--size", "0x100"}, "--size: '0x100' is out of range: width and height must be 1..16384"},
+      {{"--size", "100000x100000"}, "--size: '100000x100000' is out of range: width and height must be 1..16384"},
+      {{"--size", "wide"}, "--size: 'wide' is not WxH"},
       {{"--frames", "-1"}, "--frames"},
       {{"--frames", "many"}, "--frames"},
       {{"--screenshot", "a.jpg"}, "--screenshot: 'a.jpg' must end in .png"},
@@ -183,7 +183,7 @@ TEST(RunnerOptions, BadValuesNameTheOption) {
       {{"--scene", "no_such_scene.glb"}, "--scene"},
       // A camera to look through needs a glTF scene holding it, and one camera placement, not two.
       {{"--scene-camera", "front"}, "--scene-camera: looks through a camera of a glTF scene; add --scene FILE"},
-      {{"--scene", kBunny, "--scene-camera", ""}, "--scene-camera: needs a camera's node name or index"},
+      {{"--scene", kBunny, "--scene-camera", ""}, "--scene-camera: needs a camera's node name, own name or index"},
       {{"--scene", kBunny, "--scene-camera", "front", "--view", "2"}, "excludes"},
       {{"--scene", kBunny, "--scene-camera", "front", "--camera", "1,2,3,4,5,6"}, "excludes"},
       {{"--sdf", "no_such_file.hsdf"}, "--sdf"},
@@ -237,8 +237,12 @@ TEST(RunnerOptions, Help) {
   EXPECT_FALSE(result.options.has_value());
   EXPECT_EQ(result.exitCode, 0);
   for (const char* option : {"--method", "--resolution", "--settings", "--save-settings", "--camera", "--debug-view",
-                             "--script", "--bake-budget-mib", "--ui-ini"})
+                             "--script", "--bake-budget-mib", "--ui-ini", "--device", "--size"})
     EXPECT_TRUE(contains(result.message, option)) << option;
+  // --scene-camera takes what Viewer::findSceneCamera takes: a camera's own name too, not only its
+  // node's name or index.
+  EXPECT_TRUE(contains(result.message, "the camera's own name")) << result.message;
+  EXPECT_TRUE(contains(result.message, "Vulkan device: auto, gpu, lavapipe")) << result.message;
 }
 
 // Tricky: command line -> TuningState -> file -> --settings must give the same state (every field

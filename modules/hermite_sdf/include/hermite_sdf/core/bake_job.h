@@ -75,7 +75,7 @@ enum class BakeBand {
   NarrowBand,  // exact near the surface only: enough for the cells (bakeHermiteFieldNarrowBand)
   // The cells alone, never a K^3 array (bakeCellsSparse): time and memory grow with the kept cells.
   // The asset has no dense field, so only the cell renderers draw it; the budget is the kept cells
-  // (maxKeptCells, and maxBytes at kSparseBakeBytesPerKeptCell a cell), checked while baking,
+  // (maxKeptCells, and maxBytes at sparseBakeBytesPerKeptCell a cell), checked while baking,
   // instead of maxSamples and the K^3 estimate.
   Sparse,
 };
@@ -99,10 +99,11 @@ struct BakeControl {
   const engine::CancelToken* cancel = nullptr;
 };
 
-// Bytes the job allocates for a grid besides the kept cells: the field (16 B a sample), the narrow
+// Bytes the job allocates for a grid besides the kept cells: the field (16 B a sample, and its
+// material slot, 1 B a sample, for a source of several materials: `materialSlots`), the narrow
 // band's per-sample flags, one class byte per cell. 0 for the sparse bake: it allocates nothing per
 // sample or cell of the grid, only per kept cell (checked while it bakes).
-std::uint64_t estimateBakeBytes(const GridSpec& grid, BakeBand band);
+std::uint64_t estimateBakeBytes(const GridSpec& grid, BakeBand band, bool materialSlots = false);
 
 // The grid a bake of `source` uses, after the budget and fp16 checks. Allocates nothing.
 engine::Expected<GridSpec> planBake(const PreparedSource& source, const BakeSettings& settings);

@@ -85,8 +85,10 @@ engine::Expected<GridSpec> fitGrid(const Aabb& bounds, int resolution, int paddi
 
 enum class FieldKind { Hermite, Trilinear };
 
-// Bytes the samples of a field on `grid` occupy (16 per Hermite sample, 4 per trilinear sample).
-std::uint64_t estimateFieldBytes(const GridSpec& grid, FieldKind kind);
+// Bytes the samples of a field on `grid` occupy (16 per Hermite sample, 4 per trilinear sample),
+// with `materialSlots` (a Hermite field of a source of several materials) one more per sample: the
+// slot of each (HermiteField::materials).
+std::uint64_t estimateFieldBytes(const GridSpec& grid, FieldKind kind, bool materialSlots = false);
 
 // ---- Baking ------------------------------------------------------------------------------------
 

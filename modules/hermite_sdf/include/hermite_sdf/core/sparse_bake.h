@@ -46,13 +46,18 @@ inline constexpr double kSparseLeafQueryCells = 2.5;
 // its slab's chunks, its 8-byte order key and its copy in the stream. (The asset then holds the
 // stream and its fp16 copy, 208 bytes a cell, after the slabs are freed.)
 inline constexpr std::uint64_t kSparseBakeBytesPerKeptCell = 2 * sizeof(CellRecord) + 8;
+// A bake of a source of several materials (SdfSource::materialSlots() > 0) holds each kept cell's
+// corner slots twice as well: in its slab and in the stream.
+constexpr std::uint64_t sparseBakeBytesPerKeptCell(bool materialSlots) {
+  return kSparseBakeBytesPerKeptCell + (materialSlots ? 2 * sizeof(CellMaterialSlots) : 0);
+}
 
 struct SparseBakeOptions {
   int refineDepth = 0;  // as ClassifyOptions::refineDepth (0..2)
   // Budget, checked while baking (the kept cells are only known then): the bake stops with an
   // error naming the limit as soon as the cells kept so far exceed either.
   std::uint64_t maxKeptCells = std::uint64_t(-1);
-  std::uint64_t maxBytes = std::uint64_t(-1);  // kept cells * kSparseBakeBytesPerKeptCell
+  std::uint64_t maxBytes = std::uint64_t(-1);  // kept cells * sparseBakeBytesPerKeptCell
   engine::ProgressCallback progress;            // called from the calling thread only
   const engine::CancelToken* cancel = nullptr;
   unsigned threads = 0;  // 0: all hardware threads

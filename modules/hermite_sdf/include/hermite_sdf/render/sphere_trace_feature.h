@@ -109,7 +109,10 @@ class SphereTraceFeature final : public engine::render::RenderFeature {
     std::uint32_t skippedObjects = 0; // singular transform, or a field that cannot become a
                                       // texture (logged once per asset)
     std::uint32_t textures = 0;
-    std::uint64_t textureBytes = 0;
+    // Multi-material assets' palettes and slots: one buffer per asset, whichever methods and
+    // precisions draw it.
+    std::uint32_t materialBuffers = 0;
+    std::uint64_t textureBytes = 0;  // the textures' images and the material buffers
     bool bindless = false;
   };
 
@@ -137,11 +140,12 @@ class SphereTraceFeature final : public engine::render::RenderFeature {
   struct FieldTexture {
     engine::gpu::Image image;
     // A multi-material asset's palette and sample slots (FieldMaterialsHeader), read by address
-    // in the shading pass (ObjectData::payload); none for one material.
-    engine::gpu::Buffer materials;
+    // in the shading pass (ObjectData::payload); none for one material. The asset's textures of
+    // both methods and precisions share one (materials_): the last one released frees it.
+    std::shared_ptr<const engine::gpu::Buffer> materials;
     std::uint32_t slot = 0;
     std::uint64_t lastUsedFrame = 0;
-    std::uint64_t bytes = 0;
+    std::uint64_t bytes = 0;  // the image's
   };
   // A texture no longer drawn, retired with the frame (FrameContext::retire): when the frames that
   // may draw it have completed it is destroyed and gives its slot back to the bindings (which must
@@ -195,6 +199,8 @@ class SphereTraceFeature final : public engine::render::RenderFeature {
   engine::render::RendererFormats formats_;
   Pipelines pipelines_;
   std::map<TextureKey, FieldTexture> textures_;
+  // By asset id: the materials buffer its textures share (expired once they are all released).
+  std::map<std::uint64_t, std::weak_ptr<const engine::gpu::Buffer>> materials_;
   std::set<TextureKey> failedTextures_;  // reported once, not retried (refusals: until they may fit)
   // Of those, the refusals for GPU memory or the texture table (refused()), with the number of
   // textures released when they were made (a released texture frees a slot of the table).

@@ -45,7 +45,7 @@ std::string knownShapes() {
 bool cancelled(const BakeControl& control) { return control.cancel && control.cancel->isCancelled(); }
 
 // The budget is checked on numbers alone, so a refusal costs nothing and names the limit.
-engine::Status checkBudget(const GridSpec& grid, const BakeSettings& settings) {
+engine::Status checkBudget(const GridSpec& grid, const BakeSettings& settings, bool materialSlots) {
   const BakeBudget& budget = settings.budget;
   if (grid.resolution > budget.maxResolution)
     return engine::makeError(fmt::format("resolution {} is over the bake budget's max resolution {}", grid.resolution,
@@ -56,7 +56,7 @@ engine::Status checkBudget(const GridSpec& grid, const BakeSettings& settings) {
   if (samples > budget.maxSamples)
     return engine::makeError(fmt::format("resolution {} needs {} samples, over the bake budget's max samples {}",
                                          grid.resolution, samples, budget.maxSamples));
-  const std::uint64_t bytes = estimateBakeBytes(grid, settings.band);
+  const std::uint64_t bytes = estimateBakeBytes(grid, settings.band, materialSlots);
   if (bytes > budget.maxBytes)
     return engine::makeError(fmt::format("resolution {} needs {} bytes ({:.1f} MiB), over the bake budget's max bytes "
                                          "{} ({:.1f} MiB)",
@@ -159,20 +159,20 @@ void logPreparedSource(const PreparedSource& prepared) {
   else engine::log::info("bake: {}", prepared.description);
 }
 
-std::uint64_t estimateBakeBytes(const GridSpec& grid, BakeBand band) {
+std::uint64_t estimateBakeBytes(const GridSpec& grid, BakeBand band, bool materialSlots) {
   if (band == BakeBand::Sparse) return 0;
   const std::uint64_t samples = grid.sampleCount();
   const std::uint64_t cells = grid.resolution > 1 ? std::uint64_t(grid.cellsPerAxis()) * std::uint64_t(grid.cellsPerAxis()) *
                                                         std::uint64_t(grid.cellsPerAxis())
                                                   : 0;
   const std::uint64_t flags = band == BakeBand::NarrowBand ? samples : 0;
-  return estimateFieldBytes(grid, FieldKind::Hermite) + flags + cells * sizeof(CellClass);
+  return estimateFieldBytes(grid, FieldKind::Hermite, materialSlots) + flags + cells * sizeof(CellClass);
 }
 
 engine::Expected<GridSpec> planBake(const PreparedSource& source, const BakeSettings& settings) {
   ENGINE_TRY_ASSIGN(GridSpec grid, fitGrid(source.source->bounds(), settings.resolution, settings.padding)
                                        .withContext("fitting the grid"));
-  ENGINE_TRY(checkBudget(grid, settings));
+  ENGINE_TRY(checkBudget(grid, settings, source.source->materialSlots() > 0));
   if (settings.fp16) ENGINE_TRY(checkStorable(grid, HsdfScalarType::Float16).withContext("fp16"));
   return grid;
 }

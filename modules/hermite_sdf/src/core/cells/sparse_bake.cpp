@@ -150,7 +150,8 @@ class BrickSampleCache {
 // The budget: cells kept so far over all slabs, checked after every top brick.
 class KeptCellBudget {
  public:
-  explicit KeptCellBudget(const SparseBakeOptions& options) : options_(options) {}
+  KeptCellBudget(const SparseBakeOptions& options, bool materialSlots)
+      : options_(options), bytesPerCell_(sparseBakeBytesPerKeptCell(materialSlots)) {}
 
   engine::Status add(std::uint64_t cells) {
     const std::uint64_t kept = kept_.fetch_add(cells) + cells;
@@ -158,17 +159,18 @@ class KeptCellBudget {
       return engine::makeError(fmt::format("more than {} kept cells (stopped at {}), over the bake budget's max kept "
                                            "cells {}",
                                            options_.maxKeptCells, kept, options_.maxKeptCells));
-    const std::uint64_t bytes = kept * kSparseBakeBytesPerKeptCell;
+    const std::uint64_t bytes = kept * bytesPerCell_;
     if (bytes > options_.maxBytes)
       return engine::makeError(fmt::format("{} kept cells need {} bytes ({:.1f} MiB) at {} bytes a cell, over the bake "
                                            "budget's max bytes {} ({:.1f} MiB)",
-                                           kept, bytes, double(bytes) / 1048576.0, kSparseBakeBytesPerKeptCell,
+                                           kept, bytes, double(bytes) / 1048576.0, bytesPerCell_,
                                            options_.maxBytes, double(options_.maxBytes) / 1048576.0));
     return {};
   }
 
  private:
   const SparseBakeOptions& options_;
+  const std::uint64_t bytesPerCell_;
   std::atomic<std::uint64_t> kept_{0};
 };
 
@@ -363,7 +365,7 @@ engine::Expected<SparseBakeResult> bakeCellsSparse(const SdfSource& source, cons
   ENGINE_TRY(checkOptions(grid, options));
   const int n = grid.cellsPerAxis();
   std::vector<SlabResult> slabs(std::size_t((n + kTopBrickCells - 1) / kTopBrickCells));
-  KeptCellBudget budget(options);
+  KeptCellBudget budget(options, source.materialSlots() > 0);
   BakeOptions run;
   run.progress = options.progress;
   run.cancel = options.cancel;

@@ -8,6 +8,7 @@
 
 #include "field/parallel.h"
 #include "field/stored_sample.h"
+#include "hermite_sdf/core/materials.h"
 
 namespace hsdf {
 namespace {
@@ -25,14 +26,20 @@ std::string describeSample(const GridSpec& grid, int i, int j, int k) {
 
 using detail::toStoredSample;
 
-engine::Status checkBudget(const GridSpec& grid, FieldKind kind, std::uint64_t budget) {
-  const std::uint64_t bytes = estimateFieldBytes(grid, kind);
+// A Hermite field of a source of several materials holds a slot per sample besides the samples.
+bool recordsMaterials(const SdfSource& source, FieldKind kind) {
+  return kind == FieldKind::Hermite && source.materialSlots() > 0;
+}
+
+engine::Status checkBudget(const GridSpec& grid, FieldKind kind, bool materialSlots, std::uint64_t budget) {
+  const std::uint64_t bytes = estimateFieldBytes(grid, kind, materialSlots);
   if (bytes > budget)
     return engine::makeError(fmt::format(
-        "a {} field of resolution {} ({} samples) needs {} bytes ({:.1f} MiB), over the memory budget of {} bytes "
+        "a {} field of resolution {} ({} samples{}) needs {} bytes ({:.1f} MiB), over the memory budget of {} bytes "
         "({:.1f} MiB)",
-        kind == FieldKind::Hermite ? "Hermite" : "trilinear", grid.resolution, grid.sampleCount(), bytes,
-        double(bytes) / (1024.0 * 1024.0), budget, double(budget) / (1024.0 * 1024.0)));
+        kind == FieldKind::Hermite ? "Hermite" : "trilinear", grid.resolution, grid.sampleCount(),
+        materialSlots ? " and their material slots" : "", bytes, double(bytes) / (1024.0 * 1024.0), budget,
+        double(budget) / (1024.0 * 1024.0)));
   return {};
 }
 
@@ -55,7 +62,7 @@ template <class Storage, class StoreRow>
 engine::Status bakeDense(const SdfSource& source, const GridSpec& grid, FieldKind kind, const BakeOptions& options,
                          Storage& storage, StoreRow storeRow) {
   ENGINE_TRY(validateGrid(grid));
-  ENGINE_TRY(checkBudget(grid, kind, options.memoryBudgetBytes));
+  ENGINE_TRY(checkBudget(grid, kind, recordsMaterials(source, kind), options.memoryBudgetBytes));
   ENGINE_TRY(allocate(storage, grid.sampleCount()));
   const int n = grid.resolution;
   const glm::dvec3 step(grid.spacing, 0.0, 0.0);
@@ -124,8 +131,9 @@ engine::Expected<GridSpec> fitGrid(const Aabb& bounds, int resolution, int paddi
   return grid;
 }
 
-std::uint64_t estimateFieldBytes(const GridSpec& grid, FieldKind kind) {
-  const std::uint64_t perSample = kind == FieldKind::Hermite ? sizeof(HermiteSample) : sizeof(float);
+std::uint64_t estimateFieldBytes(const GridSpec& grid, FieldKind kind, bool materialSlots) {
+  const std::uint64_t perSample = (kind == FieldKind::Hermite ? sizeof(HermiteSample) : sizeof(float)) +
+                                  (materialSlots ? sizeof(MaterialSlot) : 0);
   const std::uint64_t k = grid.resolution > 0 ? std::uint64_t(grid.resolution) : 0;
   return k * k * k * perSample;
 }
@@ -138,7 +146,7 @@ engine::Expected<HermiteField> bakeHermiteField(const SdfSource& source, const G
   const bool materials = source.materialSlots() > 0;
   if (materials) {
     ENGINE_TRY(validateGrid(grid));
-    ENGINE_TRY(checkBudget(grid, FieldKind::Hermite, options.memoryBudgetBytes));
+    ENGINE_TRY(checkBudget(grid, FieldKind::Hermite, true, options.memoryBudgetBytes));
     ENGINE_TRY(allocate(field.materials, grid.sampleCount()));
   }
   ENGINE_TRY(bakeDense(source, grid, FieldKind::Hermite, options, field.samples,
@@ -347,7 +355,8 @@ BakeOptions withProgressRange(const BakeOptions& options, float from, float to) 
 engine::Expected<HermiteField> bakeHermiteFieldNarrowBand(const SdfSource& source, const GridSpec& grid,
                                                           const BakeOptions& options) {
   ENGINE_TRY(validateGrid(grid));
-  ENGINE_TRY(checkBudget(grid, FieldKind::Hermite, options.memoryBudgetBytes));
+  ENGINE_TRY(checkBudget(grid, FieldKind::Hermite, recordsMaterials(source, FieldKind::Hermite),
+                         options.memoryBudgetBytes));
   HermiteField field;
   field.grid = grid;
   ENGINE_TRY(allocate(field.samples, grid.sampleCount()));

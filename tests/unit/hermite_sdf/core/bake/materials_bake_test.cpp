@@ -6,12 +6,16 @@
 #include <cstring>
 #include <limits>
 #include <set>
+#include <string>
+
+#include <fmt/format.h>
 
 #include <gtest/gtest.h>
 
 #include "engine/scene/gltf/gltf_loader.h"
 #include "hermite_sdf/core/bake_job.h"
 #include "hermite_sdf/core/materials.h"
+#include "hermite_sdf/core/sparse_bake.h"
 #include "two_material_box.h"
 
 namespace hsdf {
@@ -252,6 +256,80 @@ TEST(MaterialsBake, NearestCornerRoundsHalfUp) {
   EXPECT_EQ(nearestCorner({0.0, 0.5, 0.0}), 2);
   EXPECT_EQ(nearestCorner({0.2, 0.7, 0.9}), 6);
   EXPECT_EQ(nearestCorner({1.0, 1.0, 1.0}), 7);
+}
+
+bool contains(const std::string& text, const std::string& part) { return text.find(part) != std::string::npos; }
+
+// Tricky: a slot is 1 byte a sample against a sample's 16, so a budget that holds the same grid's
+// bake of one material exactly is pushed over by the slots alone: the two-material bake must be
+// refused naming the bytes with its slots (they were allocated past the budget, uncounted), the
+// one-material bake of the same box (same grid) still fits, and the slots' bytes are enough.
+TEST(MaterialsBake, TheBakeBudgetCountsTheMaterialSlots) {
+  const BakeSource two = twoMaterialSource(true), one = twoMaterialSource(false);
+  auto prepared = prepareSource(two);
+  ASSERT_TRUE(prepared) << prepared.error().message;
+  for (const BakeBand band : {BakeBand::Dense, BakeBand::NarrowBand}) {
+    BakeSettings settings;
+    settings.resolution = 16;
+    settings.band = band;
+    auto grid = planBake(*prepared, settings);
+    ASSERT_TRUE(grid) << grid.error().message;
+    const std::uint64_t without = estimateBakeBytes(*grid, band), with = estimateBakeBytes(*grid, band, true);
+    EXPECT_EQ(with - without, grid->sampleCount()) << "one slot byte a sample";
+    settings.budget.maxBytes = without;
+    const auto refused = bakeAsset(two, settings);
+    ASSERT_FALSE(refused) << "band " << int(band);
+    EXPECT_TRUE(contains(refused.error().message, fmt::format("needs {} bytes", with))) << refused.error().message;
+    EXPECT_TRUE(contains(refused.error().message, fmt::format("over the bake budget's max bytes {} ", without)))
+        << refused.error().message;
+    EXPECT_TRUE(bakeAsset(one, settings)) << "one material: no slots, the same budget holds it";
+    settings.budget.maxBytes = with;
+    EXPECT_TRUE(bakeAsset(two, settings)) << "the slots' bytes are all the two-material bake needs more";
+  }
+}
+
+// Tricky: the field bakes check the budget themselves (a caller of bakeHermiteField has no bake
+// job): a field whose samples fit exactly is refused once its slots are counted, both bakes.
+TEST(MaterialsBake, TheFieldBudgetCountsTheMaterialSlots) {
+  auto prepared = prepareSource(twoMaterialSource(true));
+  ASSERT_TRUE(prepared) << prepared.error().message;
+  BakeSettings settings;
+  settings.resolution = 12;
+  auto grid = planBake(*prepared, settings);
+  ASSERT_TRUE(grid) << grid.error().message;
+  BakeOptions options;
+  options.memoryBudgetBytes = estimateFieldBytes(*grid, FieldKind::Hermite);
+  for (auto bakeField : {&bakeHermiteField, &bakeHermiteFieldNarrowBand}) {
+    options.memoryBudgetBytes = estimateFieldBytes(*grid, FieldKind::Hermite);
+    const auto refused = bakeField(*prepared->source, *grid, options);
+    ASSERT_FALSE(refused);
+    EXPECT_TRUE(contains(refused.error().message, "samples and their material slots) needs " +
+                                                      std::to_string(estimateFieldBytes(*grid, FieldKind::Hermite, true))))
+        << refused.error().message;
+    options.memoryBudgetBytes = estimateFieldBytes(*grid, FieldKind::Hermite, true);
+    EXPECT_TRUE(bakeField(*prepared->source, *grid, options));
+  }
+}
+
+// Tricky: the sparse bake's budget is per kept cell, known only while it bakes; a two-material
+// bake holds each kept cell's 8 corner slots twice (slab and stream) on top of the records.
+TEST(MaterialsBake, TheSparseBudgetCountsTheCornerSlots) {
+  const BakeSource two = twoMaterialSource(true);
+  BakeSettings settings;
+  settings.resolution = 20;
+  settings.band = BakeBand::Sparse;
+  const auto full = bakeAsset(two, settings);
+  ASSERT_TRUE(full) << full.error().message;
+  const std::uint64_t kept = (*full)->cells.records.size();
+  ASSERT_GT(kept, 100u);
+  EXPECT_EQ(sparseBakeBytesPerKeptCell(true), kSparseBakeBytesPerKeptCell + 2 * sizeof(CellMaterialSlots));
+  settings.budget.maxBytes = kept * kSparseBakeBytesPerKeptCell;
+  const auto refused = bakeAsset(two, settings);
+  ASSERT_FALSE(refused);
+  EXPECT_TRUE(contains(refused.error().message, fmt::format("at {} bytes a cell", sparseBakeBytesPerKeptCell(true))))
+      << refused.error().message;
+  settings.budget.maxBytes = kept * sparseBakeBytesPerKeptCell(true);
+  EXPECT_TRUE(bakeAsset(two, settings)) << "exactly the kept cells' bytes with their slots must fit";
 }
 
 }  // namespace
