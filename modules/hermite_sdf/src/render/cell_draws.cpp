@@ -153,6 +153,7 @@ void HermiteCellFeature::buildDraws(engine::render::FrameContext& frame) {
                       tileSize_, tileSize_);
     warnedTileSize_ = true;
   }
+  orthographicRefusal_.beginFrame(frame);
   FrameDraws f;
   f.viewProj = frame.camera.proj * frame.camera.view;
   f.frustum = engine::math::extractFrustum(f.viewProj);
@@ -292,7 +293,7 @@ void HermiteCellFeature::resetDraws() {
 // One entity's draws: the uploaded asset it draws, its draw record, then its method's commands.
 void HermiteCellFeature::addObjectDraws(engine::render::FrameContext& frame, FrameDraws& f, engine::ecs::Entity entity,
                                         const HermiteSdfRenderable& r, const glm::mat4& world) {
-  if (!drawsCells(r.method) || !r.asset) return;
+  if (!drawsCells(r.method) || !r.asset || orthographicRefusal_.refuse(frame, r)) return;
   if (!engine::render::drawableTransform(world)) {  // the rays could not be taken into the grid
     stats_.skippedObjects++;
     return;
@@ -610,7 +611,7 @@ float HermiteCellFeature::cellPixelsOnScreen(const GridSpec& grid, const glm::ma
                                              const engine::render::CameraView& camera, std::uint32_t viewportHeight) {
   const float scale = largestAxisScale(world);
   const glm::vec3 centre = glm::vec3(world * glm::vec4(glm::vec3(grid.bounds().center()), 1.0f));
-  return projectedPixels(scale * float(grid.spacing), glm::length(camera.position - centre), camera.fovY, viewportHeight);
+  return projectedPixels(scale * float(grid.spacing), glm::length(camera.position - centre), camera, viewportHeight);
 }
 
 // At most how many tile entries the object's cells make (cell_tiles.comp): every cell as large on
@@ -635,7 +636,7 @@ std::uint64_t HermiteCellFeature::tileEntryEstimate(const GridSpec& grid, std::u
   const float distance = glm::length(glm::max(glm::max(lo - camera.position, camera.position - hi), glm::vec3(0.0f)));
   if (distance <= 2.0f * camera.znear) return cells * tileCount;
   const float pixels =
-      projectedPixels(largestAxisScale(world) * float(grid.spacing) * 1.7320508f, distance, camera.fovY, extent.height);
+      projectedPixels(largestAxisScale(world) * float(grid.spacing) * 1.7320508f, distance, camera, extent.height);
   const auto span = std::uint64_t(std::ceil((pixels + 4.0f) / float(tileSize))) + 1;
   return cells * std::min(span * span, tileCount);
 }

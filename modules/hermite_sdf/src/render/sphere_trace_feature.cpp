@@ -328,10 +328,11 @@ void SphereTraceFeature::collectDraws(engine::render::FrameContext& frame) {
   std::unordered_map<engine::ecs::Entity, std::shared_ptr<const SdfAsset>> drawnThisFrame;
   if (drawnRegistry_ != &frame.registry) drawnAssets_.clear();
   drawnRegistry_ = &frame.registry;
+  orthographicRefusal_.beginFrame(frame);
   frame.registry.view<HermiteSdfRenderable, engine::scene::WorldTransform>().each(
       [&](engine::ecs::Entity entity, const HermiteSdfRenderable& r, const engine::scene::WorldTransform& world) {
         std::uint32_t method = 0;
-        if (!r.asset || !traceMethod(r.method, method)) return;
+        if (!r.asset || !traceMethod(r.method, method) || orthographicRefusal_.refuse(frame, r)) return;
         if (!engine::render::drawableTransform(world.matrix)) {  // the rays could not be taken into the grid
           ++stats_.skippedObjects;
           return;
