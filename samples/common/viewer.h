@@ -323,7 +323,6 @@ class Viewer {
   engine::platform::FlyController fly_;
   CameraMode cameraMode_ = CameraMode::Orbit;
   std::vector<std::string> sceneCameraNames_;      // lookThroughSceneCamera
-  std::vector<std::string> skippedCameras_;        // the importer's warnings about cameras it skipped
   std::vector<engine::ecs::Entity> sceneCameras_;  // their nodes, same order
   std::size_t sceneCamera_ = 0;
   float fovY_ = 0.8f;

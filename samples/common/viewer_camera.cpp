@@ -129,9 +129,8 @@ Expected<std::size_t> Viewer::findSceneCamera(std::string_view nameOrIndex) cons
   const char* end = nameOrIndex.data() + nameOrIndex.size();
   const auto parsed = std::from_chars(nameOrIndex.data(), end, index);
   if (parsed.ec != std::errc() || parsed.ptr != end || index >= sceneCameraNames_.size())
-    return makeError(fmt::format("scene camera '{}': no camera of that name or index ({}{}{})", nameOrIndex,
-                                 cameraList(sceneCameraNames_), skippedCameras_.empty() ? "" : "; skipped: ",
-                                 fmt::join(skippedCameras_, "; ")));
+    return makeError(fmt::format("scene camera '{}': no camera of that name or index ({})", nameOrIndex,
+                                 cameraList(sceneCameraNames_)));
   return index;
 }
 

@@ -322,22 +322,17 @@ Expected<CameraData> convertOrthographicCamera(const tinygltf::Camera& camera) {
   return out;
 }
 
-// Fills scene.cameras with the perspective and orthographic cameras; returns, for each file camera,
-// its index in scene.cameras or -1 when it was skipped (an unknown type).
+// Fills scene.cameras with the file's cameras, in file order (the parser refuses a type other than
+// perspective and orthographic); returns, for each file camera, its index in scene.cameras.
 Expected<std::vector<int>> convertCameras(ImportContext& context, SceneData& scene) {
   std::vector<int> remap;
   for (std::size_t i = 0; i < context.model.cameras.size(); ++i) {
     const auto& camera = context.model.cameras[i];
-    if (camera.type == "perspective" || camera.type == "orthographic") {
-      Expected<CameraData> converted = camera.type == "perspective" ? convertPerspectiveCamera(camera)
-                                                                    : convertOrthographicCamera(camera);
-      ENGINE_TRY_ASSIGN(auto valid, std::move(converted).withContext(fmt::format("camera {} '{}'", i, camera.name)));
-      remap.push_back(int(scene.cameras.size()));
-      scene.cameras.push_back(std::move(valid));
-    } else {
-      context.warnings.push_back(fmt::format("camera {} '{}': {} cameras are not supported, skipped", i, camera.name, camera.type));
-      remap.push_back(-1);
-    }
+    Expected<CameraData> converted = camera.type == "orthographic" ? convertOrthographicCamera(camera)
+                                                                   : convertPerspectiveCamera(camera);
+    ENGINE_TRY_ASSIGN(auto valid, std::move(converted).withContext(fmt::format("camera {} '{}'", i, camera.name)));
+    remap.push_back(int(scene.cameras.size()));
+    scene.cameras.push_back(std::move(valid));
   }
   return remap;
 }

@@ -48,9 +48,9 @@ constexpr bool drawsCells(RenderMethod method) {
 // that does not is refused under such a camera (OrthographicRefusal): its objects are reported as
 // dropped and not drawn, rather than drawn wrong.
 constexpr bool drawsOrthographic(RenderMethod method) {
-  return method != RenderMethod::Cells && method != RenderMethod::TrilinearSphereTrace &&
-         method != RenderMethod::HermiteSphereTrace && method != RenderMethod::CellRuns &&
-         method != RenderMethod::CellBricks;
+  return method == RenderMethod::Cells || method == RenderMethod::TrilinearSphereTrace ||
+         method == RenderMethod::HermiteSphereTrace || method == RenderMethod::CellRuns ||
+         method == RenderMethod::CellBricks;
 }
 
 enum class NormalMode : std::uint32_t {
