@@ -177,7 +177,6 @@ void HermiteCellFeature::buildDraws(engine::render::FrameContext& frame) {
                       tileSize_, tileSize_);
     warnedTileSize_ = true;
   }
-  orthographicRefusal_.beginFrame(frame);
   FrameDraws f;
   f.viewProj = frame.camera.proj * frame.camera.view;
   f.frustum = engine::math::extractFrustum(f.viewProj);
@@ -319,7 +318,7 @@ void HermiteCellFeature::resetDraws() {
 // One entity's draws: the uploaded asset it draws, its draw record, then its method's commands.
 void HermiteCellFeature::addObjectDraws(engine::render::FrameContext& frame, FrameDraws& f, engine::ecs::Entity entity,
                                         const HermiteSdfRenderable& r, const glm::mat4& world) {
-  if (!drawsCells(r.method) || !r.asset || orthographicRefusal_.refuse(frame, r)) return;
+  if (!drawsCells(r.method) || !r.asset) return;
   if (!engine::render::drawableTransform(world)) {  // the rays could not be taken into the grid
     stats_.skippedObjects++;
     return;

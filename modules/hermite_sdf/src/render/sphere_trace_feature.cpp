@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstring>
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -38,8 +39,19 @@ bool traceMethod(RenderMethod method, std::uint32_t& out) {
 
 // Whether the near plane may cut the object's box (then its front faces can be clipped away and
 // it is drawn by its back faces). Conservative for any affine transform (see nearPlaneReachInObject).
+// An orthographic camera's near plane is a plane across the whole view: it may cut the box when
+// the box's nearest corner (in view distance, in double) is not clearly beyond it.
 bool nearPlaneMayCut(const engine::render::CameraView& camera, const glm::mat4& model, const glm::vec3& lo,
                      const glm::vec3& hi) {
+  if (camera.orthographic()) {
+    const glm::dmat4 toView = camera.viewFrom(glm::dvec3(0.0)) * glm::dmat4(model);
+    double nearest = std::numeric_limits<double>::infinity();
+    for (int c = 0; c < 8; ++c) {
+      const glm::dvec3 corner((c & 1) ? hi.x : lo.x, (c & 2) ? hi.y : lo.y, (c & 4) ? hi.z : lo.z);
+      nearest = std::min(nearest, -(toView * glm::dvec4(corner, 1.0)).z);
+    }
+    return nearest <= double(camera.znear) * 1.01 + 1e-6 * double(camera.zfar);
+  }
   const glm::mat4 invModel = glm::inverse(model);
   const glm::vec3 eye(engine::render::eyeInObject(model, camera.position));
   const float objectDistance = glm::length(eye - glm::clamp(eye, lo, hi));
@@ -328,11 +340,10 @@ void SphereTraceFeature::collectDraws(engine::render::FrameContext& frame) {
   std::unordered_map<engine::ecs::Entity, std::shared_ptr<const SdfAsset>> drawnThisFrame;
   if (drawnRegistry_ != &frame.registry) drawnAssets_.clear();
   drawnRegistry_ = &frame.registry;
-  orthographicRefusal_.beginFrame(frame);
   frame.registry.view<HermiteSdfRenderable, engine::scene::WorldTransform>().each(
       [&](engine::ecs::Entity entity, const HermiteSdfRenderable& r, const engine::scene::WorldTransform& world) {
         std::uint32_t method = 0;
-        if (!r.asset || !traceMethod(r.method, method) || orthographicRefusal_.refuse(frame, r)) return;
+        if (!r.asset || !traceMethod(r.method, method)) return;
         if (!engine::render::drawableTransform(world.matrix)) {  // the rays could not be taken into the grid
           ++stats_.skippedObjects;
           return;

@@ -487,7 +487,9 @@ TEST_F(HermiteCellsTest, OrthographicCameraMatchesReferenceForEveryCellForm) {
                                 " orthographic view " + std::to_string(view);
       SCOPED_TRACE(label);
       expectMatchesReference(compareView(*asset, camera, label.c_str()));
-      if (cut) EXPECT_GT(feature.stats().nearCells, 0u) << "the near plane cuts cells: drawn by back faces";
+      if (cut) {
+        EXPECT_GT(feature.stats().nearCells, 0u) << "the near plane cuts cells: drawn by back faces";
+      }
     }
   }
 }

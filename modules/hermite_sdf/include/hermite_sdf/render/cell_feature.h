@@ -71,7 +71,6 @@
 #include "engine/gpu/pixel_buffer.h"
 #include "engine/render/per_frame_buffer.h"
 #include "engine/render/render_feature.h"
-#include "hermite_sdf/render/orthographic_refusal.h"
 #include "hermite_sdf/render/renderable.h"
 #include "hermite/hermite_host_device.h"
 
@@ -431,7 +430,6 @@ class HermiteCellFeature final : public engine::render::RenderFeature {
   bool warnedHistory_ = false;   // occlusion culling's history or streams did not fit once (logged once)
   bool tilesRefused_ = false;    // the previous frame's tile lists did not fit (logged once per change)
   std::unique_ptr<class CellTiler> tiler_;
-  OrthographicRefusal orthographicRefusal_;  // the cell methods an orthographic camera cannot use
   std::uint32_t lastTileSlot_ = 0;
   bool tiledOnce_ = false;
   bool tileOverflowLogged_ = false;  // logTileOverflow: said until a frame fits again

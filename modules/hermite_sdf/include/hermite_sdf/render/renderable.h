@@ -43,16 +43,6 @@ constexpr bool drawsCells(RenderMethod method) {
   return method == RenderMethod::Cells || method == RenderMethod::CellRuns || method == RenderMethod::CellBricks;
 }
 
-// Whether `method` draws correctly through an orthographic camera (CameraView::orthographic): its
-// shaders build parallel rays from the homogeneous eye (FrameGlobals::cameraPosition). A method
-// that does not is refused under such a camera (OrthographicRefusal): its objects are reported as
-// dropped and not drawn, rather than drawn wrong.
-constexpr bool drawsOrthographic(RenderMethod method) {
-  return method == RenderMethod::Cells || method == RenderMethod::TrilinearSphereTrace ||
-         method == RenderMethod::HermiteSphereTrace || method == RenderMethod::CellRuns ||
-         method == RenderMethod::CellBricks;
-}
-
 enum class NormalMode : std::uint32_t {
   Exact = 0,               // analytic gradient of the interpolant
   CentralDifferences = 1,  // six extra field evaluations (the paper's default for trilinear)

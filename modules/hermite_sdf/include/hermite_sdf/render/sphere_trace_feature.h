@@ -69,7 +69,6 @@
 #include "engine/gpu/pipeline.h"
 #include "engine/render/per_frame_buffer.h"
 #include "engine/render/render_feature.h"
-#include "hermite_sdf/render/orthographic_refusal.h"
 #include "hermite_sdf/render/renderable.h"
 
 namespace hsdf {
@@ -178,7 +177,6 @@ class SphereTraceFeature final : public engine::render::RenderFeature {
   Stats stats_;
   const engine::gpu::Context* context_ = nullptr;
   std::unique_ptr<FieldTextureBindings> bindings_;
-  OrthographicRefusal orthographicRefusal_;  // the tracers an orthographic camera cannot use
   VkSampler samplers_[2] = {VK_NULL_HANDLE, VK_NULL_HANDLE};  // by method: linear, nearest
   engine::render::RendererFormats formats_;
   Pipelines pipelines_;
