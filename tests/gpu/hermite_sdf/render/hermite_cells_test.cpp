@@ -461,8 +461,9 @@ TEST_F(HermiteCellsTest, CellRunsAndBricksMatchReferenceForTorusBoxAndBunny) {
 // camera's plane (not from one point), pick each box's front faces by the view direction (an eye
 // point's side of the box is meaningless), size the proxies' dilation by the constant pixel size,
 // and turn t into linear depth. The last view puts the near plane through the torus's centre, so
-// cells it cuts are drawn by their back faces with rays starting on the near plane inside them.
-// Any of these done the perspective way draws a distorted or holed torus.
+// cells it cuts are drawn by their back faces with rays starting on the near plane inside them; the
+// fourth has the camera's point off to the side of the torus. Any of these done the perspective
+// way draws a distorted or holed torus.
 TEST_F(HermiteCellsTest, OrthographicCameraMatchesReferenceForEveryCellForm) {
   createCellRenderer(kSize, kSize);
   hsdf::HermiteCellFeature& feature = *renderer_->feature<hsdf::HermiteCellFeature>();
@@ -479,10 +480,19 @@ TEST_F(HermiteCellsTest, OrthographicCameraMatchesReferenceForEveryCellForm) {
     addSdf(registry_, asset, form.method);
     feature.settings().thinBoxes =
         form.thin ? hsdf::HermiteCellFeature::ThinBoxes::On : hsdf::HermiteCellFeature::ThinBoxes::Off;
-    for (int view = 0; view < 3; ++view) {
+    for (int view = 0; view < 4; ++view) {
       const bool cut = view == 2;
-      const render::CameraView camera = orthographicLike(orbitCamera(*asset, view), 0.8f * radius,
-                                                         cut ? 1.9f * radius : 0.01f * radius, 4.0f * radius);
+      // View 3: the camera's point lies 3 radii to the side of the torus, on the -x side of most of
+      // its cells while the rays run towards -x: the side of a box the viewer is on is the view
+      // direction's, not the camera point's (whose side would pick back faces, left as holes).
+      const glm::vec3 center(asset->surfaceBounds.center());
+      const glm::vec3 back = glm::normalize(glm::vec3(1.0f, 0.3f, 1.0f)), side = glm::normalize(glm::vec3(-1.0f, 0.0f, 1.0f));
+      const glm::vec3 offAxis = center + 1.9f * radius * back + 3.0f * radius * side;
+      const render::CameraView camera =
+          view == 3 ? orthographicLike(render::CameraView::lookAt(offAxis, offAxis - back, 0.9f, 0.01f, 1.0f), 4.2f * radius,
+                                       0.01f * radius, 6.0f * radius)
+                    : orthographicLike(orbitCamera(*asset, view), 0.8f * radius, cut ? 1.9f * radius : 0.01f * radius,
+                                       4.0f * radius);
       const std::string label = std::string(hsdf::renderMethodName(form.method)) + (form.thin ? " thin" : "") +
                                 " orthographic view " + std::to_string(view);
       SCOPED_TRACE(label);
