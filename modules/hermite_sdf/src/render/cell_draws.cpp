@@ -26,6 +26,7 @@
 #include "render/cell_history.h"
 #include "render/cell_rows.h"
 #include "render/cell_tiler.h"
+#include "render/near_plane.h"
 #include "hermite_sdf/render/lod.h"
 #include "hermite_sdf/core/normal_cone.h"
 
@@ -393,8 +394,16 @@ void HermiteCellFeature::beginObjectDraw(engine::render::FrameContext& frame, Fr
   // The eye in grid units, and how far (in grid units) the near plane reaches around it.
   o.eyeGrid = (engine::render::eyeInObject(o.world, frame.camera.position) - grid.origin) / grid.spacing;
   o.sortEyeGrid = sortEye(frame.camera, object.invModel, o.eyeGrid, grid);
-  o.reachGrid = double(frame.camera.nearPlaneReachInObject(object.invModel)) / grid.spacing +
-                nearDilationCells(frame.camera, o.world, grid.spacing, frame.extent.height);
+  const double dilationCells = nearDilationCells(frame.camera, o.world, grid.spacing, frame.extent.height);
+  o.reachGrid = double(frame.camera.nearPlaneReachInObject(object.invModel)) / grid.spacing + dilationCells;
+  // An orthographic near plane that cannot cut the grid box (grown by the proxies' dilation) cuts
+  // no cell: none is near. Its reach around the camera's point spans the whole view, which would
+  // make every cell near and draw them all by their back faces.
+  const Aabb box = grid.bounds();
+  const glm::vec3 dilation(float(dilationCells * grid.spacing));
+  if (frame.camera.orthographic() &&
+      !nearPlaneMayCut(frame.camera, o.world, glm::vec3(box.min) - dilation, glm::vec3(box.max) + dilation))
+    o.reachGrid = -1.0;
 
   const glm::vec4 rect = screenBounds(f.viewProj, o.world, grid.bounds(), frame.extent);
   // Pairs are compared until one overlaps; past kMaxOverlapTestedObjects the objects are taken to

@@ -19,6 +19,7 @@
 #include "engine/scene/transform.h"
 #include "hermite/hermite_host_device.h"
 #include "render/wireframe.h"
+#include "render/near_plane.h"
 #include "render/sphere_trace_textures.h"
 
 namespace hsdf {
@@ -35,27 +36,6 @@ bool traceMethod(RenderMethod method, std::uint32_t& out) {
   else if (method == RenderMethod::HermiteSphereTrace) out = std::uint32_t(TraceMethod::Hermite);
   else return false;
   return true;
-}
-
-// Whether the near plane may cut the object's box (then its front faces can be clipped away and
-// it is drawn by its back faces). Conservative for any affine transform (see nearPlaneReachInObject).
-// An orthographic camera's near plane is a plane across the whole view: it may cut the box when
-// the box's nearest corner (in view distance, in double) is not clearly beyond it.
-bool nearPlaneMayCut(const engine::render::CameraView& camera, const glm::mat4& model, const glm::vec3& lo,
-                     const glm::vec3& hi) {
-  if (camera.orthographic()) {
-    const glm::dmat4 toView = camera.viewFrom(glm::dvec3(0.0)) * glm::dmat4(model);
-    double nearest = std::numeric_limits<double>::infinity();
-    for (int c = 0; c < 8; ++c) {
-      const glm::dvec3 corner((c & 1) ? hi.x : lo.x, (c & 2) ? hi.y : lo.y, (c & 4) ? hi.z : lo.z);
-      nearest = std::min(nearest, -(toView * glm::dvec4(corner, 1.0)).z);
-    }
-    return nearest <= double(camera.znear) * 1.01 + 1e-6 * double(camera.zfar);
-  }
-  const glm::mat4 invModel = glm::inverse(model);
-  const glm::vec3 eye(engine::render::eyeInObject(model, camera.position));
-  const float objectDistance = glm::length(eye - glm::clamp(eye, lo, hi));
-  return objectDistance <= camera.nearPlaneReachInObject(invModel);
 }
 
 // A length setting a program may set by hand (epsilon, the central-difference step): a NaN, an
