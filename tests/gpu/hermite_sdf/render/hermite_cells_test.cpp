@@ -457,7 +457,8 @@ TEST_F(HermiteCellsTest, CellRunsAndBricksMatchReferenceForTorusBoxAndBunny) {
   }
 }
 
-// Why: an orthographic camera has no eye point. Every cell form must build parallel rays from the
+// Why: an orthographic camera has no eye point. Every cell form (the paper's boxes, thin boxes,
+// screen tiles, runs, bricks) must build parallel rays from the
 // camera's plane (not from one point), pick each box's front faces by the view direction (an eye
 // point's side of the box is meaningless), size the proxies' dilation by the constant pixel size,
 // and turn t into linear depth. The last view puts the near plane through the torus's centre, so
@@ -470,16 +471,20 @@ TEST_F(HermiteCellsTest, OrthographicCameraMatchesReferenceForEveryCellForm) {
   const auto asset = bakeAsset("torus", 16);
   ASSERT_NE(asset, nullptr);
   const float radius = 0.5f * float(glm::length(asset->surfaceBounds.size()));
+  using Tiles = hsdf::HermiteCellFeature::Tiles;
   struct Form {
     hsdf::RenderMethod method;
     bool thin;
+    Tiles tiles;
   };
-  for (const Form form : {Form{hsdf::RenderMethod::Cells, false}, Form{hsdf::RenderMethod::Cells, true},
-                          Form{hsdf::RenderMethod::CellRuns, false}, Form{hsdf::RenderMethod::CellBricks, false}}) {
+  for (const Form form : {Form{hsdf::RenderMethod::Cells, false, Tiles::Off}, Form{hsdf::RenderMethod::Cells, true, Tiles::Off},
+                          Form{hsdf::RenderMethod::Cells, false, Tiles::On}, Form{hsdf::RenderMethod::CellRuns, false, Tiles::Off},
+                          Form{hsdf::RenderMethod::CellBricks, false, Tiles::Off}}) {
     registry_ = ecs::Registry();
     addSdf(registry_, asset, form.method);
     feature.settings().thinBoxes =
         form.thin ? hsdf::HermiteCellFeature::ThinBoxes::On : hsdf::HermiteCellFeature::ThinBoxes::Off;
+    feature.settings().tiles = form.tiles;
     for (int view = 0; view < 4; ++view) {
       const bool cut = view == 2;
       // View 3: the camera's point lies 3 radii to the side of the torus, on the -x side of most of
@@ -494,10 +499,10 @@ TEST_F(HermiteCellsTest, OrthographicCameraMatchesReferenceForEveryCellForm) {
                     : orthographicLike(orbitCamera(*asset, view), 0.8f * radius, cut ? 1.9f * radius : 0.01f * radius,
                                        4.0f * radius);
       const std::string label = std::string(hsdf::renderMethodName(form.method)) + (form.thin ? " thin" : "") +
-                                " orthographic view " + std::to_string(view);
+                                (form.tiles == Tiles::On ? " tiles" : "") + " orthographic view " + std::to_string(view);
       SCOPED_TRACE(label);
       expectMatchesReference(compareView(*asset, camera, label.c_str()));
-      if (cut) {
+      if (cut && form.tiles == Tiles::Off) {
         EXPECT_GT(feature.stats().nearCells, 0u) << "the near plane cuts cells: drawn by back faces";
       }
     }
