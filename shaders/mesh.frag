@@ -30,7 +30,7 @@ void main() {
     // On the side seen, the interpolated vertex normal may still face away near a silhouette (the
     // vertices' normals lean over it): bent to face the eye, not turned round, which lit single
     // pixels along the outline as the object's far side.
-    n = normalTowardEye(n, normalize(frame.cameraPosition.xyz - inWorldPosition));
+    n = normalTowardEye(n, towardViewer(frame, inWorldPosition));
     color = shadeSurface(frame, object.color.rgb, object.material.x, inWorldPosition, n);
   }
   outColor = vec4(color, 1.0);

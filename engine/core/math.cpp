@@ -31,6 +31,25 @@ glm::mat4 perspectiveReverseZInfinite(float fovyRadians, float aspect, float zne
   return m;
 }
 
+glm::mat4 orthographicReverseZ(float halfWidth, float halfHeight, float znear, float zfar) {
+  for (const float half : {halfWidth, halfHeight})
+    if (!(half > 0.0f) || !std::isfinite(half))
+      throw std::invalid_argument(fmt::format("orthographic: half extent {} is not positive", half));
+  if (!(znear >= 0.0f && zfar > znear) || !std::isfinite(zfar))
+    throw std::invalid_argument(fmt::format("orthographic: planes znear {} zfar {} are not 0 <= znear < zfar", znear, zfar));
+  // Column-major: clip = (x / halfWidth, -y / halfHeight, (zfar + z) / (zfar - znear), 1): depth 1 at
+  // view z = -znear, 0 at -zfar, and y negated as in the perspective projection.
+  glm::mat4 m(0.0f);
+  m[0][0] = 1.0f / halfWidth;
+  m[1][1] = -1.0f / halfHeight;
+  m[2][2] = 1.0f / (zfar - znear);
+  m[3][2] = zfar / (zfar - znear);
+  m[3][3] = 1.0f;
+  return m;
+}
+
+bool isOrthographic(const glm::mat4& proj) { return proj[0][3] == 0.0f && proj[1][3] == 0.0f && proj[2][3] == 0.0f; }
+
 glm::mat4 lookAt(const glm::vec3& eye, const glm::vec3& target, const glm::vec3& up) {
   const glm::vec3 forward = target - eye;
   if (!(glm::length(forward) > 0.0f)) {
@@ -66,13 +85,20 @@ PixelRayPoints pixelRayPoints(const glm::mat4& view, const glm::mat4& proj, glm:
   const glm::dvec2 ndc = 2.0 * glm::dvec2(pixelCenter) / glm::dvec2(imageSize) - 1.0;
   const glm::dmat4 inverseView = glm::inverse(glm::dmat4(view));
   const glm::dmat4 inverseProj = glm::inverse(glm::dmat4(proj));
-  // The point of this pixel on the near plane (depth 1); the eye is the view-space origin.
+  // The point of this pixel on the near plane (depth 1).
   const glm::dvec4 nearPoint = inverseProj * glm::dvec4(ndc, 1.0, 1.0);
-  const glm::dvec3 viewDirection = glm::dvec3(nearPoint) / nearPoint.w;
+  const glm::dvec3 nearView = glm::dvec3(nearPoint) / nearPoint.w;
   PixelRayPoints points;
+  points.nearPoint = glm::dvec3(inverseView * glm::dvec4(nearView, 1.0));
+  if (isOrthographic(proj)) {
+    // Parallel rays down -Z, each starting on the camera's plane beside the near point.
+    points.ray.origin = glm::dvec3(inverseView * glm::dvec4(nearView.x, nearView.y, 0.0, 1.0));
+    points.ray.direction = glm::normalize(glm::dvec3(inverseView * glm::dvec4(0.0, 0.0, -1.0, 0.0)));
+    return points;
+  }
+  // Perspective: the eye is the view-space origin.
   points.ray.origin = glm::dvec3(inverseView * glm::dvec4(0.0, 0.0, 0.0, 1.0));
-  points.ray.direction = glm::normalize(glm::dvec3(inverseView * glm::dvec4(viewDirection, 0.0)));
-  points.nearPoint = glm::dvec3(inverseView * glm::dvec4(viewDirection, 1.0));
+  points.ray.direction = glm::normalize(glm::dvec3(inverseView * glm::dvec4(nearView, 0.0)));
   return points;
 }
 }  // namespace
@@ -96,6 +122,14 @@ double depthToViewDistance(double depth, double znear) {
   requirePositiveZnear(znear, "depthToViewDistance");
   if (!(depth > 0.0)) return std::numeric_limits<double>::infinity();
   return znear / depth;
+}
+
+double depthToViewDistance(const glm::mat4& proj, double depth) {
+  // depth = (m22 z + m32) / (m23 z + m33) at view z = -distance, solved for z.
+  const double m22 = proj[2][2], m32 = proj[3][2], m23 = proj[2][3], m33 = proj[3][3];
+  const double denominator = m22 - depth * m23;
+  if (!(denominator > 0.0)) return std::numeric_limits<double>::infinity();  // depth <= 0 of an infinite one
+  return -(depth * m33 - m32) / denominator;
 }
 
 double viewDistanceToDepth(double viewDistance, double znear) {
@@ -129,6 +163,8 @@ Frustum extractFrustum(const glm::mat4& viewProj) {
   frustum.planes[Frustum::kTop] = normalizedPlane(w + y);  // NDC y = -1 is the top row of the image
   frustum.planes[Frustum::kBottom] = normalizedPlane(w - y);
   frustum.planes[Frustum::kNear] = normalizedPlane(w - z);
+  // Reverse-Z far plane z >= 0; an infinite perspective's z row has no normal (a plane holding all).
+  frustum.planes[Frustum::kFar] = normalizedPlane(z);
   return frustum;
 }
 

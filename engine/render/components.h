@@ -23,11 +23,20 @@ struct MeshRenderable {
   bool doubleSided = false;
 };
 
-// A perspective camera looking down its local -Z axis.
+enum class Projection { kPerspective, kOrthographic };
+
+// A camera looking down its local -Z axis. Perspective: reverse-Z with an infinite far plane.
+// Orthographic: reverse-Z between znear and zfar; the view is 2 ymag world units tall and as wide
+// as the image's aspect makes it (xmag is kept from the file but the viewport's aspect wins, as
+// fovY's does for a perspective camera).
 struct Camera {
-  float fovY = 0.8f;     // radians
-  float znear = 0.05f;   // the projection is infinite (reverse-Z)
+  float fovY = 0.8f;     // radians (perspective)
+  float znear = 0.05f;   // > 0 perspective, >= 0 orthographic
   std::string name;      // the camera's own name (glTF cameras[i].name), beside its node's
+  Projection projection = Projection::kPerspective;
+  float xmag = 1.0f;     // orthographic half extents, world units
+  float ymag = 1.0f;
+  float zfar = 0.0f;     // orthographic far plane (> znear); unused by a perspective camera
 };
 
 }  // namespace engine::render

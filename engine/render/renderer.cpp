@@ -291,7 +291,9 @@ void Renderer::writeFrameGlobals(std::uint32_t slot, const CameraView& camera) {
   globals.viewProj = glm::mat4(glm::dmat4(camera.proj) * view);
   globals.invView = glm::mat4(glm::inverse(view));
   globals.invProj = glm::inverse(camera.proj);
-  globals.cameraPosition = glm::vec4(glm::vec3(glm::dvec3(camera.position) - origin), camera.znear);
+  // The homogeneous eye (CameraView::eye): a point shifted like the world, or a direction as it is.
+  const glm::vec4 eye = camera.eye();
+  globals.cameraPosition = eye.w == 0.0f ? eye : glm::vec4(glm::vec3(glm::dvec3(camera.position) - origin), 1.0f);
   globals.lightDirection = glm::vec4(glm::normalize(desc_.lightDirection), desc_.lightIntensity);
   globals.lightColor = glm::vec4(1.0f, 0.97f, 0.92f, desc_.ambient);
   globals.viewport = glm::vec4(float(extent_.width), float(extent_.height), 1.0f / float(extent_.width),

@@ -48,6 +48,15 @@ void uploadMeshes(const scene::SceneData& data, MeshPool& pool,
                                                  : pool.add(primitive.positions, primitive.normals, primitive.indices));
 }
 
+Camera cameraFromData(const scene::CameraData& data) {
+  Camera camera{data.yfov, data.znear, data.name};
+  if (!data.orthographic) return camera;
+  camera.projection = Projection::kOrthographic;
+  camera.xmag = data.xmag;
+  camera.ymag = data.ymag;
+  camera.zfar = data.zfar.value_or(0.0f);  // the importer requires it; 0 is refused by CameraView
+  return camera;
+}
 }  // namespace
 
 InstantiatedScene instantiateScene(const scene::SceneData& data, ecs::Registry& registry, MeshPool& pool) {
@@ -66,7 +75,7 @@ InstantiatedScene instantiateScene(const scene::SceneData& data, ecs::Registry& 
       registry.emplace<scene::Parent>(entity, scene::Parent{result.nodes[std::size_t(node.parent)]});
     if (node.camera >= 0 && std::size_t(node.camera) < data.cameras.size()) {
       const scene::CameraData& camera = data.cameras[std::size_t(node.camera)];
-      registry.emplace<Camera>(entity, Camera{camera.yfov, camera.znear, camera.name});
+      registry.emplace<Camera>(entity, cameraFromData(camera));
       result.cameras.push_back(entity);
     }
     if (node.mesh < 0 || std::size_t(node.mesh) >= data.meshes.size()) continue;

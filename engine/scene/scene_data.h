@@ -42,9 +42,12 @@ struct MaterialData {
 
 struct CameraData {
   std::string name;
-  float yfov = 0.8f;                 // radians
-  float znear = 0.05f;
-  std::optional<float> zfar;         // none: infinite projection
+  bool orthographic = false;         // glTF "orthographic": xmag/ymag/zfar; else "perspective": yfov
+  float yfov = 0.8f;                 // radians (perspective)
+  float xmag = 1.0f;                 // half width / height of the view, world units (orthographic)
+  float ymag = 1.0f;
+  float znear = 0.05f;               // > 0 (perspective), >= 0 (orthographic)
+  std::optional<float> zfar;         // none: infinite projection (perspective only)
   std::optional<float> aspectRatio;
 };
 

@@ -127,12 +127,14 @@ class Viewer {
   // lookThroughSceneCamera, and ignored here.
   void setCameraMode(CameraMode mode);
   CameraMode cameraMode() const { return cameraMode_; }
-  // The glTF scene's perspective cameras, in the order of their nodes: each node's name ("camera N"
-  // for a node without one). Orthographic cameras are skipped by the importer.
+  // The glTF scene's perspective and orthographic cameras, in the order of their nodes: each node's
+  // name ("camera N" for a node without one).
   const std::vector<std::string>& sceneCameraNames() const { return sceneCameraNames_; }
   // Looks through a scene camera, named or given by its index in sceneCameraNames(): its node's
   // world pose (scale and shear dropped), its yfov and znear, the image's aspect ratio (a file's
-  // aspectRatio is not letterboxed; the projection stays infinite). The node's pose is read every
+  // aspectRatio is not letterboxed; the projection stays infinite), or for an orthographic camera
+  // its ymag, znear and zfar (the view 2 ymag tall, as wide as the image's aspect: xmag is not
+  // letterboxed either). The node's pose is read every
   // frame, so a camera node the scene moves is followed. Errors name the camera and why: no such
   // camera (the names are listed), a degenerate pose, a field of view not below pi, an eye farther
   // than kMaxSceneSize from the scene.
@@ -321,7 +323,6 @@ class Viewer {
   engine::platform::FlyController fly_;
   CameraMode cameraMode_ = CameraMode::Orbit;
   std::vector<std::string> sceneCameraNames_;      // lookThroughSceneCamera
-  std::vector<std::string> skippedCameras_;        // the importer's warnings about cameras it skipped
   std::vector<engine::ecs::Entity> sceneCameras_;  // their nodes, same order
   std::size_t sceneCamera_ = 0;
   float fovY_ = 0.8f;

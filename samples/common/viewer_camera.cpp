@@ -114,7 +114,7 @@ Expected<render::CameraView> Viewer::sceneCameraView(std::size_t index) const {
   if (!world || !camera) return makeError("its node is no longer in the scene");
   const VkExtent2D extent = renderer_->extent();
   const float aspect = float(extent.width) / float(std::max(extent.height, 1u));
-  return render::CameraView::fromWorld(world->matrix, camera->fovY, camera->znear, aspect);
+  return render::CameraView::fromWorld(world->matrix, *camera, aspect);
 }
 
 // A node's name first, then a camera's own name (exporters name both; Blender's camera data is
@@ -129,9 +129,8 @@ Expected<std::size_t> Viewer::findSceneCamera(std::string_view nameOrIndex) cons
   const char* end = nameOrIndex.data() + nameOrIndex.size();
   const auto parsed = std::from_chars(nameOrIndex.data(), end, index);
   if (parsed.ec != std::errc() || parsed.ptr != end || index >= sceneCameraNames_.size())
-    return makeError(fmt::format("scene camera '{}': no camera of that name or index ({}{}{})", nameOrIndex,
-                                 cameraList(sceneCameraNames_), skippedCameras_.empty() ? "" : "; skipped: ",
-                                 fmt::join(skippedCameras_, "; ")));
+    return makeError(fmt::format("scene camera '{}': no camera of that name or index ({})", nameOrIndex,
+                                 cameraList(sceneCameraNames_)));
   return index;
 }
 

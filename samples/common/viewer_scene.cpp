@@ -98,11 +98,6 @@ Status Viewer::loadGltf(const SceneDesc& scene) {
   ENGINE_TRY_ASSIGN(scene::SceneData data, scene::loadGltf(scene.gltf));
   const render::InstantiatedScene instantiated = render::instantiateScene(data, registry_, *pool_);
   collectSceneCameras(instantiated.cameras);
-  // Named when a camera is not found: "camera 1 'ortho_cam': orthographic cameras are not supported".
-  skippedCameras_.clear();
-  for (const std::string& warning : data.warnings)  // "FILE: camera 1 'ortho_cam': ... not supported, skipped"
-    if (const std::size_t at = warning.find(": camera "); at != std::string::npos && warning.ends_with("skipped"))
-      skippedCameras_.push_back(warning.substr(at + 2));
   if (instantiated.renderables.empty()) {
     log::warn("{}: the scene has no triangle meshes", scene.gltf.string());
   } else {

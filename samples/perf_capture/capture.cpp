@@ -145,7 +145,7 @@ Expected<std::vector<std::size_t>> sceneCameraViews(samples::Viewer& viewer, con
     cameras.push_back(index);
   }
   if (!options.sceneCameras.empty() && cameras.empty())
-    return makeError("--scene-cameras: " + options.scene.string() + " has no perspective camera the capture can look "
+    return makeError("--scene-cameras: " + options.scene.string() + " has no camera the capture can look "
                      "through");
   return cameras;
 }

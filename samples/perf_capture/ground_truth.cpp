@@ -189,17 +189,17 @@ TruthImage castTruth(const TruthSurface& surface, const engine::render::CameraVi
   image.normal.assign(image.distance.size(), glm::vec3(0.0f));
   image.part.assign(image.distance.size(), -1);
   std::atomic<int> nextRow{0};
-  const glm::dvec3 eye(glm::inverse(glm::dmat4(camera.view))[3]);
   auto worker = [&] {
     for (int y = nextRow++; y < height; y = nextRow++) {
       for (int x = 0; x < width; ++x) {
         // From the pixel's point on the near plane, as the GPU draws nothing nearer; the distance
-        // is still counted from the eye.
+        // is still counted from the ray's origin (the eye, or the orthographic camera's plane).
         const glm::vec2 pixel{float(x) + 0.5f, float(y) + 0.5f};
         const Ray ray = engine::math::pixelRayFromNearPlane(camera.view, camera.proj, pixel, {width, height});
         const std::optional<TruthHit> hit = surface.cast(ray);
         if (!hit) continue;
-        const double nearDistance = glm::length(ray.origin - eye);
+        const glm::dvec3 origin = engine::math::pixelRay(camera.view, camera.proj, pixel, {width, height}).origin;
+        const double nearDistance = glm::length(ray.origin - origin);
         const std::size_t i = std::size_t(y) * std::size_t(width) + std::size_t(x);
         image.distance[i] = float(nearDistance + hit->distance);
         image.normal[i] = glm::vec3(hit->normal);

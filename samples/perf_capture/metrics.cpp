@@ -49,7 +49,7 @@ void QualityAccumulator::add(const TruthImage& truth, const GpuReadback& gpu, co
       if (!gpuHit || !truth.hit(i)) continue;
       const engine::math::Ray ray =
           engine::math::pixelRay(camera.view, camera.proj, {float(x) + 0.5f, float(y) + 0.5f}, {truth.width, truth.height});
-      const double viewDistance = engine::math::depthToViewDistance(gpu.depth[i], camera.znear);
+      const double viewDistance = engine::math::depthToViewDistance(camera.proj, gpu.depth[i]);
       const double distance = viewDistance / glm::dot(ray.direction, forward);
       const double depthError = std::abs(distance - double(truth.distance[i])) / diagonal_;
       depthErrorSum_ += depthError;

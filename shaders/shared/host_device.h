@@ -51,9 +51,11 @@ struct FrameGlobals {
   mat4 viewProj;
   mat4 invView;
   mat4 invProj;
-  vec4 cameraPosition;    // xyz: the eye in the frame's world space, which is shifted so that the
-                          // eye lies near its origin (camera-relative: world - GpuScene::origin());
-                          // w: znear
+  vec4 cameraPosition;    // the homogeneous eye (CameraView::eye). Perspective, w = 1: xyz is the eye
+                          // in the frame's world space, which is shifted so that the eye lies near
+                          // its origin (camera-relative: world - GpuScene::origin()). Orthographic,
+                          // w = 0: xyz is the unit direction towards the viewer. The ray leaving a
+                          // point p towards the viewer: xyz - p * w (lighting.glsl towardViewer)
   vec4 lightDirection;    // xyz: unit vector towards the light; w: intensity
   vec4 lightColor;        // rgb; a: ambient intensity
   vec4 viewport;          // width, height, 1/width, 1/height

@@ -2,6 +2,12 @@
 #ifndef HSDF_LIGHTING_GLSL
 #define HSDF_LIGHTING_GLSL
 
+// The unit vector from worldPosition towards the viewer: to the eye point (perspective), or the
+// view's own direction (orthographic), from the homogeneous eye of FrameGlobals::cameraPosition.
+vec3 towardViewer(FrameGlobals frame, vec3 worldPosition) {
+  return normalize(frame.cameraPosition.xyz - worldPosition * frame.cameraPosition.w);
+}
+
 // How far a shading normal that must face the eye is bent past perpendicular (cosine).
 const float kFacingEyeCosine = 1e-3;
 
@@ -25,7 +31,7 @@ vec3 normalTowardEye(vec3 n, vec3 v) {
 // eye bend a normal that does not with normalTowardEye first (mesh.frag, the sphere tracers).
 vec3 shadeSurface(FrameGlobals frame, vec3 baseColor, float roughness, vec3 worldPosition, vec3 normal) {
   vec3 n = normalize(normal);
-  vec3 v = normalize(frame.cameraPosition.xyz - worldPosition);
+  vec3 v = towardViewer(frame, worldPosition);
   if (dot(n, v) < 0.0) n = -n;
   vec3 l = normalize(frame.lightDirection.xyz);
   vec3 h = normalize(l + v);

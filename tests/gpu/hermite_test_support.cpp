@@ -184,7 +184,7 @@ ImageComparison compareWithReference(const Frame& gpu, const std::vector<std::ui
                                              {reference.width, reference.height});
         cellsPerWorldUnit[i] = glm::length(inverseModel * ray.direction) / spacing;
       }
-      referenceCells[i] = math::depthToViewDistance(reference.depth[i], camera.znear) * cellsPerWorldUnit[i];
+      referenceCells[i] = math::depthToViewDistance(camera.proj, reference.depth[i]) * cellsPerWorldUnit[i];
     }
   const std::vector<bool> occlusionEdge = nearOcclusionEdges(reference, referenceCells, 2);
   for (int y = 0; y < reference.height; ++y) {
@@ -202,8 +202,8 @@ ImageComparison compareWithReference(const Frame& gpu, const std::vector<std::ui
         continue;
       }
       if (!refHit) continue;
-      const double gpuDistance = math::depthToViewDistance(depth, camera.znear);
-      const double refDistance = math::depthToViewDistance(reference.depth[i], camera.znear);
+      const double gpuDistance = math::depthToViewDistance(camera.proj, depth);
+      const double refDistance = math::depthToViewDistance(camera.proj, reference.depth[i]);
       depthErrors.push_back(std::abs(gpuDistance - refDistance) * cellsPerWorldUnit[i]);
       const bool interior = allHitsWithin(reference, x, y, 2) && !occlusionEdge[i];
       if (interior && depthErrors.back() > kDepthOutlierCells) ++result.interiorDepthOutliers;
@@ -280,6 +280,18 @@ render::CameraView orbitAround(const WorldSphere& sphere, int view) {
   const float pitch = (view % 2 == 0) ? 0.3f : -0.45f;
   const glm::vec3 eye = math::orbitEye(sphere.center, 1.9f * sphere.radius, yaw, pitch);
   return render::CameraView::lookAt(eye, sphere.center, 0.9f, 0.01f * sphere.radius, 1.0f);
+}
+
+engine::render::CameraView orthographicLike(const engine::render::CameraView& camera, float ymag, float znear, float zfar) {
+  engine::render::Camera ortho;
+  ortho.projection = engine::render::Projection::kOrthographic;
+  ortho.xmag = ortho.ymag = ymag;
+  ortho.znear = znear;
+  ortho.zfar = zfar;
+  const engine::Expected<engine::render::CameraView> made =
+      engine::render::CameraView::fromWorld(glm::inverse(camera.view), ortho, 1.0f);
+  EXPECT_TRUE(made.ok()) << made.error().message;
+  return made ? *made : camera;
 }
 
 }  // namespace gputest

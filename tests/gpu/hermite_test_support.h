@@ -101,4 +101,8 @@ WorldSphere worldSphere(const hsdf::SdfAsset& asset, const glm::mat4& model);
 // sides, above and below.
 engine::render::CameraView orbitAround(const WorldSphere& sphere, int view);
 
+// An orthographic camera with the pose of `camera` (a perspective one, e.g. orbitAround's): its view
+// 2 ymag tall, depth between znear and zfar, for a square image. Fails the test on error.
+engine::render::CameraView orthographicLike(const engine::render::CameraView& camera, float ymag, float znear, float zfar);
+
 }  // namespace gputest

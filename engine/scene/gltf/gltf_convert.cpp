@@ -303,20 +303,36 @@ Expected<CameraData> convertPerspectiveCamera(const tinygltf::Camera& camera) {
   return out;
 }
 
-// Fills scene.cameras with the perspective cameras; returns, for each file camera, its index in
-// scene.cameras or -1 when it was skipped.
+// glTF 2.0 orthographic: xmag and ymag non-zero (a negative one, which the schema discourages,
+// would mirror the image: refused too), zfar > znear >= 0, all required.
+Expected<CameraData> convertOrthographicCamera(const tinygltf::Camera& camera) {
+  const auto& o = camera.orthographic;
+  CameraData out;
+  out.name = camera.name;
+  out.orthographic = true;
+  ENGINE_TRY_ASSIGN(out.xmag, toFiniteFloat(o.xmag, "xmag"));
+  ENGINE_TRY_ASSIGN(out.ymag, toFiniteFloat(o.ymag, "ymag"));
+  ENGINE_TRY_ASSIGN(out.znear, toFiniteFloat(o.znear, "znear"));
+  ENGINE_TRY_ASSIGN(const float zfar, toFiniteFloat(o.zfar, "zfar"));
+  if (!(out.xmag > 0.0f)) return makeError(fmt::format("xmag {} is not positive", out.xmag));
+  if (!(out.ymag > 0.0f)) return makeError(fmt::format("ymag {} is not positive", out.ymag));
+  if (!(out.znear >= 0.0f)) return makeError(fmt::format("znear {} is negative", out.znear));
+  if (!(zfar > out.znear)) return makeError(fmt::format("zfar {} is not beyond znear {}", zfar, out.znear));
+  out.zfar = zfar;
+  return out;
+}
+
+// Fills scene.cameras with the file's cameras, in file order (the parser refuses a type other than
+// perspective and orthographic); returns, for each file camera, its index in scene.cameras.
 Expected<std::vector<int>> convertCameras(ImportContext& context, SceneData& scene) {
   std::vector<int> remap;
   for (std::size_t i = 0; i < context.model.cameras.size(); ++i) {
     const auto& camera = context.model.cameras[i];
-    if (camera.type == "perspective") {
-      ENGINE_TRY_ASSIGN(auto converted, convertPerspectiveCamera(camera).withContext(fmt::format("camera {}", i)));
-      remap.push_back(int(scene.cameras.size()));
-      scene.cameras.push_back(std::move(converted));
-    } else {
-      context.warnings.push_back(fmt::format("camera {} '{}': {} cameras are not supported, skipped", i, camera.name, camera.type));
-      remap.push_back(-1);
-    }
+    Expected<CameraData> converted = camera.type == "orthographic" ? convertOrthographicCamera(camera)
+                                                                   : convertPerspectiveCamera(camera);
+    ENGINE_TRY_ASSIGN(auto valid, std::move(converted).withContext(fmt::format("camera {} '{}'", i, camera.name)));
+    remap.push_back(int(scene.cameras.size()));
+    scene.cameras.push_back(std::move(valid));
   }
   return remap;
 }

@@ -26,8 +26,10 @@
 //    KHR_lights_punctual, ...) is an error naming it; used extensions that are ignored get a
 //    warning each.
 //  - materials: pbrMetallicRoughness baseColorFactor, metallicFactor, roughnessFactor.
-//  - cameras: perspective; orthographic cameras are skipped with a warning (nodes that use one get
-//    camera -1).
+//  - cameras: perspective (yfov, znear; zfar and aspectRatio kept but the projection is infinite and
+//    the viewport's aspect wins) and orthographic (xmag, ymag, znear, zfar: xmag and ymag positive,
+//    zfar > znear >= 0; a bad value is an error naming the camera and the field); another type is
+//    refused by the parser.
 //  - nodes: local matrix (from `matrix` or translation/rotation/scale; `matrix` wins when a node
 //    has both, which glTF forbids) and world matrix.
 // Images are never read or decoded (textures are not imported). A file without meshes is valid and

@@ -31,13 +31,16 @@ int swapCornerYZ(int corner) { return (corner & 1) | ((corner & 2) << 1) | ((cor
 const int kFrontFan[8] = int[8](0, 1, 5, 4, 6, 2, 3, 1);
 
 // The front faces of the box as a triangle fan (8 vertices, `vertexIndex` 0..7). Per axis the fan
-// takes the face on the eye's side of the box's `centre` (same coordinates as `eye`): moving the
-// fan's hub to that corner is a reflection on each axis where it is 1 (corner ^ near), and an odd
-// number of reflections, or a mirroring model matrix (OBJECT_FLAG_MIRRORED), reverses the winding:
-// then one more reflection (swapCornerYZ) restores it. A face whose two planes hold the eye between
-// them is a back face whichever of the two is taken, and the pipeline's back-face culling drops it.
-vec3 frontFanCorner(int vertexIndex, vec3 eye, vec3 centre, bool mirrored) {
-  ivec3 side = ivec3(greaterThan(eye, centre));
+// takes the face on the viewer's side of the box's `centre`: `viewer` is homogeneous (eye.glsl
+// viewerLocal), the eye point (w = 1, same coordinates as `centre`) or an orthographic camera's
+// direction towards the viewer (w = 0), so the side is the sign of viewer.xyz - centre * viewer.w.
+// Moving the fan's hub to that corner is a reflection on each axis where it is 1 (corner ^ near),
+// and an odd number of reflections, or a mirroring model matrix (OBJECT_FLAG_MIRRORED), reverses
+// the winding: then one more reflection (swapCornerYZ) restores it. A face whose two planes hold
+// the eye between them is a back face whichever of the two is taken, and the pipeline's back-face
+// culling drops it.
+vec3 frontFanCorner(int vertexIndex, vec4 viewer, vec3 centre, bool mirrored) {
+  ivec3 side = ivec3(greaterThan(viewer.xyz, centre * viewer.w));
   int near = side.x | (side.y << 1) | (side.z << 2);
   bool flip = (((side.x + side.y + side.z) & 1) != 0) != mirrored;
   int corner = kFrontFan[vertexIndex];

@@ -34,13 +34,11 @@ layout(depth_less) out float gl_FragDepth;  // reverse-Z: the hit is never neare
 // The pixel's ray in brick-local coordinates (cells; `start` is the brick's first cell in grid
 // units), u(t) = origin + t * direction with t = 1 at this fragment's point on the rasterized face
 // (pixel_ray.glsl).
-void pixelRay(HermiteDraw draw, vec3 start, out vec3 origin, out vec3 direction) {
-  FrameGlobals frame = FrameGlobalsRef(pc.draw.frameGlobals).globals;
+PixelRay brickRay(FrameGlobals frame, HermiteDraw draw, vec3 start) {
   mat4 invModel = ObjectsRef(pc.draw.objects).objects[draw.object].invModel;
   float h = draw.gridOriginSpacing.w;
-  vec3 eyeObject = (invModel * vec4(frame.cameraPosition.xyz, 1.0)).xyz;
-  origin = (eyeObject - draw.gridOriginSpacing.xyz) / h - start;
-  direction = pixelRayDirection(frame, invModel, h);
+  vec3 eyeObject = (invModel * vec4(rayEyePoint(frame), 1.0)).xyz;
+  return pixelRay(frame, invModel, h, (eyeObject - draw.gridOriginSpacing.xyz) / h - start);
 }
 
 bool keptBit(CellBrickGpu brick, uint bit) {
@@ -152,11 +150,13 @@ void main() {
   CellBrickGpu brick = CellBricksRef(pc.bricks).bricks[inBrick];
   uvec3 lo, hi;
   brickCellBounds(brick, lo, hi);
-  vec3 origin, direction;
-  pixelRay(draw, vec3(brickCoordinate(brick) * CELL_BRICK_SIZE), origin, direction);
+  FrameGlobals frame = FrameGlobalsRef(pc.draw.frameGlobals).globals;
+  PixelRay ray = brickRay(frame, draw, vec3(brickCoordinate(brick) * CELL_BRICK_SIZE));
+  vec3 origin = ray.origin;
+  vec3 direction = ray.direction;
   float margin = searchMargin(origin, inDilation);
   vec2 box = intersectBox(origin, direction, vec3(lo) - margin, vec3(hi + 1u) + margin);
-  float t0 = max(box.x, gl_FragCoord.z);  // never before the near plane (see pixelRay)
+  float t0 = max(box.x, pixelRayNearT(frame));  // never before the near plane
   float t1 = box.y;
   uint evaluations = 0u;
   BrickHit hit = BrickHit(-1.0, 0u);
@@ -168,7 +168,7 @@ void main() {
 #ifdef HSDF_CONSERVATIVE_DEPTH
     hit.t = max(hit.t, 1.0);  // a root in the margin before the brick's face is drawn at the face (cells_depth.glsl)
 #endif
-    writeHitDepth(gl_FragCoord.z / hit.t);
+    writeHitDepth(pixelRayDepth(frame, hit.t));
   }
   outVisibility = uvec2(draw.object + 1u, hit.record);  // kept only where the depth test passes
 }

@@ -10,6 +10,7 @@
 #extension GL_GOOGLE_include_directive : require
 #include "hermite/hermite_host_device.h"
 #include "hermite/box.glsl"
+#include "hermite/eye.glsl"
 #include "hermite/brick.glsl"
 #include "hermite/proxy_dilation.glsl"
 
@@ -43,14 +44,14 @@ void main() {
     vec3 cellCentre = draw.gridOriginSpacing.xyz + h * (start + 0.5 + cornerPosition(c) * (size - 1.0));
     dilation = max(dilation, proxyDilation(frame, object, cellCentre, h));
   }
-  vec3 cameraObject = (object.invModel * vec4(frame.cameraPosition.xyz, 1.0)).xyz;
+  vec3 cameraObject = (object.invModel * vec4(rayEyePoint(frame), 1.0)).xyz;
   vec3 cameraLocal = (cameraObject - draw.gridOriginSpacing.xyz) / h - start;
   bool mirrored = (object.flags & OBJECT_FLAG_MIRRORED) != 0u;
 #ifdef HSDF_WIRE
   vec3 corner = wireCorner(gl_VertexIndex);
 #else
   vec3 corner = (draw.flags & HERMITE_FLAG_NEAR_CELL) != 0u ? boxStripCorner(gl_VertexIndex, mirrored)
-                                                             : frontFanCorner(gl_VertexIndex, cameraLocal, 0.5 * size, mirrored);
+                                                             : frontFanCorner(gl_VertexIndex, viewerLocal(frame, object.invModel, cameraLocal), 0.5 * size, mirrored);
 #endif
   vec3 local = corner * (size + 2.0 * dilation) - dilation;
   vec3 objectPosition = draw.gridOriginSpacing.xyz + h * (start + local);

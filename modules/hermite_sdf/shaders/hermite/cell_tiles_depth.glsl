@@ -42,6 +42,7 @@ void main() {
   uint lastObject = 0xffffffffu;
   ObjectData object;
   vec3 eyeGrid, direction;
+  float tNear = pixelRayNearT(frame);
   uint walked = 0u, tested = 0u, maskWords = 0u;  // entries and mask words read, entries ray-box tested
   // This pixel's masks (cell_tiles.comp, CELL_TILE_MASK_BITS): word c names the entries 32c..32c+31
   // whose screen rectangle holds the pixel; the others are never read.
@@ -73,7 +74,7 @@ void main() {
       mask &= mask - 1u;
       CellTileEntry entry = TileEntriesRef(pc.tileEntries).entries[tile.first + i];
       ++walked;
-      if (sorted && visibility.x != 0u && entry.nearest < gl_FragCoord.z / best) {
+      if (sorted && visibility.x != 0u && entry.nearest < pixelRayDepth(frame, best)) {
         chunk = chunks;  // this box and the rest lie behind the hit
         mask = 0u;
         break;
@@ -84,8 +85,10 @@ void main() {
         lastObject = draw.object;
         object = ObjectsRef(pc.draw.objects).objects[draw.object];
         float h = draw.gridOriginSpacing.w;
-        eyeGrid = ((object.invModel * vec4(frame.cameraPosition.xyz, 1.0)).xyz - draw.gridOriginSpacing.xyz) / h;
-        direction = pixelRayDirection(frame, object.invModel, h);
+        PixelRay ray = pixelRay(frame, object.invModel, h,
+                                ((object.invModel * vec4(rayEyePoint(frame), 1.0)).xyz - draw.gridOriginSpacing.xyz) / h);
+        eyeGrid = ray.origin;
+        direction = ray.direction;
       }
       vec3 cell = recordCellBox(draw, entry.record, lo, hi);
       origin = eyeGrid - cell;
@@ -96,11 +99,11 @@ void main() {
       vec2 box = intersectBox(origin, direction, lo - dilation, hi + dilation);
       margin = searchMargin(origin, dilation);
       vec2 searched = intersectBox(origin, direction, lo - margin, hi + margin);
-      pending = max(box.x, gl_FragCoord.z) < box.y && max(searched.x, gl_FragCoord.z) < best;
+      pending = max(box.x, tNear) < box.y && max(searched.x, tNear) < best;
       record = entry.record;
     }
     if (!pending) break;
-    float t = searchCell(draw, record, lo, hi, origin, direction, margin, gl_FragCoord.z, 3.0e38, evaluations);
+    float t = searchCell(draw, record, lo, hi, origin, direction, margin, tNear, 3.0e38, evaluations);
     if (t >= 0.0 && t < best) {
       best = t;
       visibility = uvec2(draw.object + 1u, record);
@@ -114,7 +117,7 @@ void main() {
 #ifdef HSDF_CONSERVATIVE_DEPTH
     best = max(best, 1.0);  // a root in the margin before the quad is drawn at the quad (cells_depth.glsl)
 #endif
-    writeHitDepth(gl_FragCoord.z / best);
+    writeHitDepth(pixelRayDepth(frame, best));
   }
   outVisibility = visibility;  // kept only where the depth test passes
 }

@@ -10,6 +10,7 @@
 #extension GL_GOOGLE_include_directive : require
 #include "hermite/hermite_host_device.h"
 #include "hermite/box.glsl"
+#include "hermite/eye.glsl"
 #include "hermite/cell_instance.glsl"
 #include "hermite/proxy_dilation.glsl"
 #include "hermite/record_cell.glsl"
@@ -22,7 +23,7 @@ layout(location = 8) in uvec4 inCell;  // x, y, z, class
 layout(location = 0) flat out vec4 outCorners[8];
 layout(location = 8) flat out uvec4 outCell;
 layout(location = 9) flat out uint outDraw;
-layout(location = 11) flat out vec3 outCameraLocal;   // the eye in cell-local coordinates
+layout(location = 11) flat out vec3 outCameraLocal;   // the rays' eye point in cell-local coordinates (eye.glsl)
 layout(location = 12) flat out uint outRecord;        // index of the cell record in its buffer
 layout(location = 13) flat out float outDilation;     // how far the proxy reaches beyond the cell, cells
 
@@ -38,14 +39,14 @@ void main() {
   vec3 cell = vec3(inCell.xyz);
   float h = draw.gridOriginSpacing.w;
   float dilation = proxyDilation(frame, object, draw.gridOriginSpacing.xyz + h * (cell + 0.5), h);
-  vec3 cameraObject = (object.invModel * vec4(frame.cameraPosition.xyz, 1.0)).xyz;
+  vec3 cameraObject = (object.invModel * vec4(rayEyePoint(frame), 1.0)).xyz;
   vec3 cameraLocal = (cameraObject - draw.gridOriginSpacing.xyz) / h - cell;
   bool mirrored = (object.flags & OBJECT_FLAG_MIRRORED) != 0u;
   vec3 lo, hi;  // the cell's proxy box (record_cell.glsl), the part of the cell that can hold its roots
   proxyBox(inCell.w, draw.flags, lo, hi);
   vec3 corner = (draw.flags & HERMITE_FLAG_NEAR_CELL) != 0u
                     ? boxStripCorner(gl_VertexIndex, mirrored)
-                    : frontFanCorner(gl_VertexIndex, cameraLocal, 0.5 * (lo + hi), mirrored);
+                    : frontFanCorner(gl_VertexIndex, viewerLocal(frame, object.invModel, cameraLocal), 0.5 * (lo + hi), mirrored);
   vec3 local = mix(lo - dilation, hi + dilation, corner);
   vec3 objectPosition = draw.gridOriginSpacing.xyz + h * (cell + local);
 

@@ -20,18 +20,11 @@ layout(location = 12) flat in uint inRecord;
 layout(location = 13) flat in float inDilation;  // the proxy: the cell's box grown by this, cells
 
 // The pixel's ray in cell-local coordinates, u(t) = origin + t * direction, parametrized so that
-// t = 1 at this fragment's point on the box: the eye from the vertex shader (flat, exact), the
-// direction rebuilt from gl_FragCoord (pixel_ray.glsl). View distance is linear in t, so a point at
-// t has reverse-Z depth gl_FragCoord.z / t, and the near plane lies at t = gl_FragCoord.z.
-struct CellRay {
-  vec3 origin;
-  vec3 direction;
-};
-
-CellRay cellRay(HermiteDraw draw) {
-  FrameGlobals frame = FrameGlobalsRef(pc.draw.frameGlobals).globals;
+// t = 1 at this fragment's point on the box: from the eye point of the vertex shader (flat, exact),
+// rebuilt from gl_FragCoord (pixel_ray.glsl, which also gives the depth of any t).
+PixelRay cellRay(FrameGlobals frame, HermiteDraw draw) {
   mat4 invModel = ObjectsRef(pc.draw.objects).objects[draw.object].invModel;
-  return CellRay(inCameraLocal, pixelRayDirection(frame, invModel, draw.gridOriginSpacing.w));
+  return pixelRay(frame, invModel, draw.gridOriginSpacing.w, inCameraLocal);
 }
 
 layout(location = 0) out uvec2 outVisibility;  // (1 + object, cell record)
@@ -50,12 +43,13 @@ layout(depth_less) out float gl_FragDepth;
 // where the local coordinates lose precision (searchMargin, proxy_dilation.glsl).
 void main() {
   HermiteDraw draw = hermiteDrawAt(pc.draws, inDraw);  // inDraw: the record (the vertex shader looked it up)
-  CellRay ray = cellRay(draw);
+  FrameGlobals frame = FrameGlobalsRef(pc.draw.frameGlobals).globals;
+  PixelRay ray = cellRay(frame, draw);
   float margin = searchMargin(ray.origin, inDilation);
   vec3 lo, hi;
   proxyBox(inCell.w, draw.flags, lo, hi);  // every root of the cell lies in its proxy box
   vec2 box = intersectBox(ray.origin, ray.direction, lo - margin, hi + margin);
-  float tNear = gl_FragCoord.z;  // the near plane (see cellRay)
+  float tNear = pixelRayNearT(frame);
   float t0 = max(box.x, tNear);
   float t1 = box.y;
   uint evaluations = 0u;
@@ -78,7 +72,7 @@ void main() {
     // neighbour: here it is drawn at the face, which keeps the depth conservative.
     t = max(t, 1.0);
 #endif
-    writeHitDepth(gl_FragCoord.z / t);
+    writeHitDepth(pixelRayDepth(frame, t));
   }
   outVisibility = uvec2(draw.object + 1u, inRecord);  // kept only where the depth test passes
 }

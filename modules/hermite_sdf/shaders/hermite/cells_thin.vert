@@ -9,6 +9,7 @@
 #extension GL_GOOGLE_include_directive : require
 #include "hermite/hermite_host_device.h"
 #include "hermite/box.glsl"
+#include "hermite/eye.glsl"
 #include "hermite/cell_instance.glsl"
 #include "hermite/proxy_dilation.glsl"
 #include "hermite/record_cell.glsl"
@@ -34,14 +35,14 @@ void main() {
   vec3 cell = vec3(inCell.xyz);
   float h = draw.gridOriginSpacing.w;
   float dilation = proxyDilation(frame, object, draw.gridOriginSpacing.xyz + h * (cell + 0.5), h);
-  vec3 cameraObject = (object.invModel * vec4(frame.cameraPosition.xyz, 1.0)).xyz;
+  vec3 cameraObject = (object.invModel * vec4(rayEyePoint(frame), 1.0)).xyz;
   vec3 cameraLocal = (cameraObject - draw.gridOriginSpacing.xyz) / h - cell;
   bool mirrored = (object.flags & OBJECT_FLAG_MIRRORED) != 0u;
   vec3 lo, hi;  // the cell's proxy box (record_cell.glsl), the part of the cell that can hold its roots
   proxyBox(inCell.w, draw.flags, lo, hi);
   vec3 corner = (draw.flags & HERMITE_FLAG_NEAR_CELL) != 0u
                     ? boxStripCorner(gl_VertexIndex, mirrored)
-                    : frontFanCorner(gl_VertexIndex, cameraLocal, 0.5 * (lo + hi), mirrored);
+                    : frontFanCorner(gl_VertexIndex, viewerLocal(frame, object.invModel, cameraLocal), 0.5 * (lo + hi), mirrored);
   vec3 local = mix(lo - dilation, hi + dilation, corner);
   vec3 objectPosition = draw.gridOriginSpacing.xyz + h * (cell + local);
 

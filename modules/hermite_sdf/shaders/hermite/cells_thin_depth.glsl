@@ -28,14 +28,15 @@ void main() {
   FrameGlobals frame = FrameGlobalsRef(pc.draw.frameGlobals).globals;
   mat4 invModel = ObjectsRef(pc.draw.objects).objects[draw.object].invModel;
   float h = draw.gridOriginSpacing.w;
-  vec3 eyeObject = (invModel * vec4(frame.cameraPosition.xyz, 1.0)).xyz;
+  vec3 eyeObject = (invModel * vec4(rayEyePoint(frame), 1.0)).xyz;
   vec3 lo, hi;  // the cell's proxy box
-  vec3 origin = (eyeObject - draw.gridOriginSpacing.xyz) / h - recordCellBox(draw, inRecord, lo, hi);
-  vec3 direction = pixelRayDirection(frame, invModel, h);
+  PixelRay ray = pixelRay(frame, invModel, h, (eyeObject - draw.gridOriginSpacing.xyz) / h - recordCellBox(draw, inRecord, lo, hi));
+  vec3 origin = ray.origin;
+  vec3 direction = ray.direction;
   float margin = searchMargin(origin, inDilation);
   uint evaluations = 0u;
-  // From the near plane (t = gl_FragCoord.z, pixel_ray.glsl) on; searchCell clips to the dilated box.
-  float t = searchCell(draw, inRecord, lo, hi, origin, direction, margin, gl_FragCoord.z, 3.0e38, evaluations);
+  // From the near plane (pixel_ray.glsl) on; searchCell clips to the dilated box.
+  float t = searchCell(draw, inRecord, lo, hi, origin, direction, margin, pixelRayNearT(frame), 3.0e38, evaluations);
   countWork(evaluations);
   if (t < 0.0) {
     writeMiss();  // no discard: see hit_depth.glsl
@@ -43,7 +44,7 @@ void main() {
 #ifdef HSDF_CONSERVATIVE_DEPTH
     t = max(t, 1.0);  // a root in the margin before the face is drawn at the face (cells_depth.glsl)
 #endif
-    writeHitDepth(gl_FragCoord.z / t);
+    writeHitDepth(pixelRayDepth(frame, t));
   }
   outVisibility = uvec2(draw.object + 1u, inRecord);  // kept only where the depth test passes
 }

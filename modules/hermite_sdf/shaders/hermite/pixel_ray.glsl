@@ -1,19 +1,54 @@
-// The direction of this fragment's ray, rebuilt from gl_FragCoord: the offset from the eye to the
-// pixel centre unprojected at the fragment's own depth gl_FragCoord.z, in the grid units (object
-// space / spacing) of the object whose inverse model matrix is `invModel`. With the eye as origin,
-// the ray u(t) = eye + t * direction reaches this fragment's point on the rasterized face at t = 1;
-// view distance is linear in t, so a point at t has reverse-Z depth gl_FragCoord.z / t and the near
-// plane lies at t = gl_FragCoord.z. The direction is a view-space offset rotated into the grid,
-// never a difference of two far points.
+// The pixel's ray, rebuilt from gl_FragCoord: the offset from the ray's start to the pixel centre
+// unprojected at the fragment's own depth gl_FragCoord.z, in the grid units (object space /
+// spacing) of the object whose inverse model matrix is `invModel`. The ray reaches this fragment's
+// point on the rasterized face at t = 1 (pixelRayDepth, pixelRayNearT: the depth of any t). The
+// direction is a view-space offset rotated into the grid, never a difference of two far points.
 //
 // Why not interpolate the face point from the vertices: an NVIDIA H200 interpolates varyings less
 // precisely than lavapipe, and the depth of every hit on a ray built from an interpolated face point
 // and a flat eye was 10-20x further from the reference there (median 1e-4 cells at K = 64, the
 // roots tests' boxes lost pixels), while the bricks, which rebuilt their rays like this, matched
 // lavapipe's 1e-6 (docs/gpu-vs-lavapipe.md). The viewport is the whole frame (FrameGlobals).
-vec3 pixelRayDirection(FrameGlobals frame, mat4 invModel, float spacing) {
+#include "hermite/eye.glsl"
+
+struct PixelRay {
+  vec3 origin;
+  vec3 direction;
+};
+
+// This fragment's ray u(t) = origin + t * direction in the units of `eyeLocal` (an object's grid or
+// cell-local coordinates: object space / spacing, offset), t = 1 at the fragment's point on the
+// rasterized face. `eyeLocal` is eye.glsl's rayEyePoint in those units (flat, exact). Perspective
+// (FrameGlobals::cameraPosition.w = 1): the ray starts at the eye, `start` below is 0 and origin is
+// eyeLocal itself. Orthographic (w = 0): the ray runs down the view axis from the camera's plane,
+// starting beside the camera's point by the face point's view-space x and y.
+PixelRay pixelRay(FrameGlobals frame, mat4 invModel, float spacing, vec3 eyeLocal) {
   vec2 ndc = gl_FragCoord.xy * frame.viewport.zw * 2.0 - 1.0;
   vec4 face = frame.invProj * vec4(ndc, gl_FragCoord.z, 1.0);  // view space, eye at 0
-  vec3 toFace = mat3(frame.invView) * (face.xyz / face.w);
-  return mat3(invModel) * toFace / spacing;
+  vec3 faceView = face.xyz / face.w;
+  vec3 start = vec3(faceView.xy * (1.0 - frame.cameraPosition.w), 0.0);
+  vec3 toFace = mat3(frame.invView) * (faceView - start);
+  vec3 across = mat3(frame.invView) * start;
+  return PixelRay(eyeLocal + mat3(invModel) * across / spacing, mat3(invModel) * toFace / spacing);
+}
+
+// The reverse-Z depth of the ray's point at t. Perspective (w = 1): view distance is linear in t
+// from the eye (t = 0), so depth = gl_FragCoord.z / t. Orthographic (w = 0): depth itself is linear
+// in view distance, and the ray starts on the camera's plane, at depth proj[3][2] = zfar / (zfar -
+// znear). One expression for both, without a branch: with w exactly 0 or 1 the other projection's
+// terms are exact zeros, so the perspective depth is the division it always was.
+float pixelRayDepth(FrameGlobals frame, float t) {
+  float w = frame.cameraPosition.w;
+  float startDepth = frame.proj[3][2];
+  float linear = startDepth + (gl_FragCoord.z - startDepth) * t;
+  return (gl_FragCoord.z * w + linear * (1.0 - w)) / (t * w + (1.0 - w));
+}
+
+// Where the ray crosses the near plane (depth 1): t = gl_FragCoord.z in perspective; solved from the
+// linear depth in orthographic, t = (1 - proj[3][2]) / (gl_FragCoord.z - proj[3][2]) (the face lies
+// beyond the camera's plane, so the denominator is negative, as is the numerator unless znear = 0).
+float pixelRayNearT(FrameGlobals frame) {
+  float w = frame.cameraPosition.w;
+  float startDepth = frame.proj[3][2];
+  return (gl_FragCoord.z * w + (1.0 - startDepth) * (1.0 - w)) / (w + (gl_FragCoord.z - startDepth) * (1.0 - w));
 }

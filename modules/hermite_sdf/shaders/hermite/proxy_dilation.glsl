@@ -12,17 +12,19 @@
 const float kDilationPixels = CELL_DILATION_PIXELS;
 const float kMinDilation = CELL_MIN_DILATION;
 
-// The dilation in cells of a cell whose centre lies `viewDepth` in front of the eye, in an object
-// whose smallest axis scale (the most cells per world unit) is `minAxisScale`.
-float proxyDilationAt(FrameGlobals frame, float viewDepth, float h, float minAxisScale) {
-  float worldPerPixel = 2.0 * max(viewDepth, 0.0) / (frame.proj[1][1] * frame.viewport.y);
+// The dilation in cells of a cell whose centre has clip w `clipW` (its view depth in front of a
+// perspective eye; 1 for an orthographic camera, whose pixels span the same at every depth), in an
+// object whose smallest axis scale (the most cells per world unit) is `minAxisScale`.
+float proxyDilationAt(FrameGlobals frame, float clipW, float h, float minAxisScale) {
+  float worldPerPixel = 2.0 * max(clipW, 0.0) / (frame.proj[1][1] * frame.viewport.y);
   return max(kMinDilation, kDilationPixels * worldPerPixel / (h * minAxisScale));
 }
 
 float proxyDilation(FrameGlobals frame, ObjectData object, vec3 cellCentre, float h) {
   vec4 view = frame.view * (object.model * vec4(cellCentre, 1.0));
   float scale = min(min(length(object.model[0].xyz), length(object.model[1].xyz)), length(object.model[2].xyz));
-  return proxyDilationAt(frame, -view.z, h, scale);
+  float clipW = frame.proj[2][3] * view.z + frame.proj[3][3];  // -z (perspective) or 1 (orthographic)
+  return proxyDilationAt(frame, clipW, h, scale);
 }
 
 // How far beyond its cell a fragment searches the ray (cell-local units): the proxy's dilation,

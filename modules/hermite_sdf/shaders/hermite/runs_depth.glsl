@@ -27,16 +27,16 @@ layout(depth_less) out float gl_FragDepth;  // reverse-Z: the hit is never neare
 void main() {
   HermiteDraw draw = hermiteDrawAt(pc.draws, inDraw);  // inDraw: the record (the vertex shader looked it up)
   // The ray in run-local coordinates (cells; cell i of the run spans x in [i, i + 1]), t = 1 at this
-  // fragment's point on the proxy, so a point at t has reverse-Z depth gl_FragCoord.z / t and the
-  // near plane lies at t = gl_FragCoord.z (pixel_ray.glsl).
+  // fragment's point on the proxy (pixel_ray.glsl: the depth of any t, the near plane's t).
   FrameGlobals frame = FrameGlobalsRef(pc.draw.frameGlobals).globals;
   mat4 invModel = ObjectsRef(pc.draw.objects).objects[draw.object].invModel;
-  vec3 origin = inCameraLocal;
-  vec3 direction = pixelRayDirection(frame, invModel, draw.gridOriginSpacing.w);
+  PixelRay ray = pixelRay(frame, invModel, draw.gridOriginSpacing.w, inCameraLocal);
+  vec3 origin = ray.origin;
+  vec3 direction = ray.direction;
   float margin = searchMargin(origin, inDilation);
   float length = float(inRun.w);
   vec2 box = intersectBox(origin, direction, vec3(-margin), vec3(length + margin, 1.0 + margin, 1.0 + margin));
-  float tNear = gl_FragCoord.z;
+  float tNear = pixelRayNearT(frame);
   float t0 = max(box.x, tNear);
   float t1 = box.y;
   uint evaluations = 0u;
@@ -68,7 +68,7 @@ void main() {
 #ifdef HSDF_CONSERVATIVE_DEPTH
     t = max(t, 1.0);  // a root in the margin before the run's face is drawn at the face (cells_depth.glsl)
 #endif
-    writeHitDepth(gl_FragCoord.z / t);
+    writeHitDepth(pixelRayDepth(frame, t));
   }
   outVisibility = uvec2(draw.object + 1u, hitRecord);  // kept only where the depth test passes
 }

@@ -11,6 +11,7 @@
 #extension GL_GOOGLE_include_directive : require
 #include "hermite/hermite_host_device.h"
 #include "hermite/box.glsl"
+#include "hermite/eye.glsl"
 #include "hermite/proxy_dilation.glsl"
 #include "hermite/record_cell.glsl"
 
@@ -22,7 +23,7 @@ layout(location = 1) in uint inFirstRecord;
 layout(location = 0) flat out uvec4 outRun;          // x, y, z, length
 layout(location = 1) flat out uint outFirstRecord;
 layout(location = 2) flat out uint outDraw;
-layout(location = 4) flat out vec3 outCameraLocal;   // the eye in run-local coordinates
+layout(location = 4) flat out vec3 outCameraLocal;   // the rays' eye point in run-local coordinates (eye.glsl)
 layout(location = 5) flat out float outDilation;     // how far the proxy reaches beyond the run, cells
 
 precise gl_Position;
@@ -42,7 +43,7 @@ void main() {
   vec3 firstCentre = draw.gridOriginSpacing.xyz + h * (start + 0.5);
   vec3 lastCentre = firstCentre + vec3(h * (size.x - 1.0), 0.0, 0.0);
   float dilation = max(proxyDilation(frame, object, firstCentre, h), proxyDilation(frame, object, lastCentre, h));
-  vec3 cameraObject = (object.invModel * vec4(frame.cameraPosition.xyz, 1.0)).xyz;
+  vec3 cameraObject = (object.invModel * vec4(rayEyePoint(frame), 1.0)).xyz;
   vec3 cameraLocal = (cameraObject - draw.gridOriginSpacing.xyz) / h - start;
   bool mirrored = (object.flags & OBJECT_FLAG_MIRRORED) != 0u;
   // The proxy: the union of the run's cells' proxy boxes (record_cell.glsl), which holds every
@@ -59,7 +60,7 @@ void main() {
   vec3 corner = wireCorner(gl_VertexIndex);
 #else
   vec3 corner = (draw.flags & HERMITE_FLAG_NEAR_CELL) != 0u ? boxStripCorner(gl_VertexIndex, mirrored)
-                                                             : frontFanCorner(gl_VertexIndex, cameraLocal, 0.5 * (lo + hi), mirrored);
+                                                             : frontFanCorner(gl_VertexIndex, viewerLocal(frame, object.invModel, cameraLocal), 0.5 * (lo + hi), mirrored);
 #endif
   vec3 local = mix(lo - dilation, hi + dilation, corner);
   vec3 objectPosition = draw.gridOriginSpacing.xyz + h * (start + local);

@@ -5,11 +5,12 @@
 #extension GL_GOOGLE_include_directive : require
 #include "hermite/hermite_host_device.h"
 #include "hermite/box.glsl"
+#include "hermite/eye.glsl"
 
 layout(push_constant, scalar) uniform Push { SphereTracePushConstants pc; };
 
 layout(location = 0) flat out uint outDraw;
-layout(location = 2) flat out vec3 outEyeGrid;  // the eye in grid units (the ray's direction: pixel_ray.glsl)
+layout(location = 2) flat out vec3 outEyeGrid;  // the rays' eye point in grid units (eye.glsl, pixel_ray.glsl)
 
 // The prepass and the shading pass rasterize the same box: keep their coverage identical.
 precise gl_Position;
@@ -21,7 +22,7 @@ void main() {
 
   vec3 grid = boxCorner(gl_VertexIndex, (object.flags & OBJECT_FLAG_MIRRORED) != 0u) * float(draw.resolution - 1u);
   float h = draw.gridOriginSpacing.w;
-  vec3 eyeObject = (object.invModel * vec4(frame.cameraPosition.xyz, 1.0)).xyz;
+  vec3 eyeObject = (object.invModel * vec4(rayEyePoint(frame), 1.0)).xyz;
 
   outDraw = uint(gl_InstanceIndex);
   outEyeGrid = (eyeObject - draw.gridOriginSpacing.xyz) / h;

@@ -30,16 +30,16 @@ layout(depth_less) out float gl_FragDepth;
 
 void main() {
   SphereTraceDraw draw = SphereTraceDrawsRef(pc.draws).draws[inDraw];
-  // The ray u(t) = eye + t * direction in grid units has t = 1 at this fragment's point on the box
-  // (pixel_ray.glsl). View distance is linear in t, so the point at t has depth gl_FragCoord.z / t
-  // and the near plane (depth 1) lies at t = gl_FragCoord.z.
+  // The ray u(t) = origin + t * direction in grid units has t = 1 at this fragment's point on the
+  // box; pixelRayDepth gives the depth of any t and pixelRayNearT the near plane's (pixel_ray.glsl).
   FrameGlobals frame = FrameGlobalsRef(pc.draw.frameGlobals).globals;
   mat4 invModel = ObjectsRef(pc.draw.objects).objects[draw.object].invModel;
-  vec3 origin = inEyeGrid;
-  vec3 direction = pixelRayDirection(frame, invModel, draw.gridOriginSpacing.w);
+  PixelRay ray = pixelRay(frame, invModel, draw.gridOriginSpacing.w, inEyeGrid);
+  vec3 origin = ray.origin;
+  vec3 direction = ray.direction;
   float cells = float(draw.resolution - 1u);
   vec2 box = intersectUnitBox(origin / cells, direction / cells);
-  float t0 = max(box.x, gl_FragCoord.z);
+  float t0 = max(box.x, pixelRayNearT(frame));
   TraceResult trace = TraceResult(-1.0, 0u, false, false);
   if (t0 <= box.y) trace = sphereTrace(draw, origin, direction, t0, box.y);
 #ifdef HSDF_COUNT_WORK
@@ -52,6 +52,6 @@ void main() {
 #ifdef SPHERE_TRACE_CONSERVATIVE_DEPTH
   if (t >= 0.0) t = max(t, 1.0);  // rounding of the box entry must not move the hit in front of the face
 #endif
-  gl_FragDepth = t < 0.0 ? 0.0 : gl_FragCoord.z / t;
+  gl_FragDepth = t < 0.0 ? 0.0 : pixelRayDepth(frame, t);
   outVisibility = uvec2(draw.object + 1u, trace.evaluations | (trace.startedInside ? SPHERE_TRACE_STARTED_INSIDE : 0u));
 }

@@ -48,7 +48,7 @@ void main() {
     // Hermite tracer's shading pass 27 % slower on lavapipe, even when asked only for the pixels
     // whose gradient faces away).
     vec3 n = (visible.y & SPHERE_TRACE_STARTED_INSIDE) != 0u ? -normal : normal;
-    n = normalTowardEye(n, normalize(frame.cameraPosition.xyz - worldPosition));
+    n = normalTowardEye(n, towardViewer(frame, worldPosition));
     vec3 base = object.color.rgb;
     float roughness = object.material.x;
     // A multi-material asset (payload: FieldMaterialsHeader): the entry of the nearest sample.

@@ -60,7 +60,9 @@ shader::BrickCullObject BrickCuller::cullObject(const engine::render::CameraView
   // Both in double, from matrices far from the world origin (engine::render::eyeInObject).
   const glm::dvec3 eyeExact = engine::render::eyeInObject(model, camera.position);
   const glm::vec3 eye(eyeExact);
-  const bool coneTest =
+  // The cone test asks whether rays from an eye point meet a brick's surface from behind; an
+  // orthographic camera's rays share no point (normal_cone.glsl takes one): no cone test.
+  const bool coneTest = !camera.orthographic() &&
       brickConeCullAllowed(boundaryPositive, eyeExact, double(camera.nearPlaneReachInObject(invModel)), grid);
   shader::BrickCullObject object{};
   object.objectToClip = glm::mat4(glm::dmat4(camera.proj) * camera.viewFrom(glm::dvec3(0.0)) * glm::dmat4(model));

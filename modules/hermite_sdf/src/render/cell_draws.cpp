@@ -27,6 +27,7 @@
 #include "render/cell_history.h"
 #include "render/cell_rows.h"
 #include "render/cell_tiler.h"
+#include "render/near_plane.h"
 #include "hermite_sdf/render/lod.h"
 #include "hermite_sdf/core/normal_cone.h"
 
@@ -67,16 +68,39 @@ constexpr std::uint32_t kNotCulled = ~0u;
 // inside that dilation but outside the cell sees only the box's back faces, which the front-face
 // draw culls: the cell must count as near the eye (drawn by its back faces) though the near plane
 // does not reach it. Before, a torus seen from 1e-5 outside a kept cell lost its nearest surface.
-double nearDilationCells(const engine::render::CameraView& camera, const glm::mat4& world, std::uint32_t viewportHeight) {
+// An orthographic camera's proxies are dilated by the same world length at every depth
+// (proxy_dilation.glsl), which is `spacing`-dependent in cells: the near plane reaching into a
+// cell's dilation cuts its proxy.
+double nearDilationCells(const engine::render::CameraView& camera, const glm::mat4& world, double spacing,
+                         std::uint32_t viewportHeight) {
   const glm::dvec3 axes(glm::length(glm::dvec3(world[0])), glm::length(glm::dvec3(world[1])), glm::length(glm::dvec3(world[2])));
   const double smallest = std::min({axes.x, axes.y, axes.z}), largest = std::max({axes.x, axes.y, axes.z});
   const double anisotropy = smallest > 0.0 ? largest / smallest : 1.0;
+  if (camera.orthographic()) {
+    const double worldPerPixel = double(camera.worldPerPixel(1.0f, viewportHeight));
+    const double cells = smallest > 0.0 ? CELL_DILATION_PIXELS * worldPerPixel / (spacing * smallest) : 0.0;
+    return 2.0 * std::max(double(CELL_MIN_DILATION), cells * anisotropy);
+  }
   // At a view depth of two cells: worldPerPixel = 2 depth / (proj[1][1] H), proj[1][1] = 1 / tan(fovY / 2).
   const double pixels = CELL_DILATION_PIXELS * 2.0 * 2.0 * anisotropy * std::tan(0.5 * double(camera.fovY)) /
                         double(std::max(viewportHeight, 1u));
   return 2.0 * std::max(double(CELL_MIN_DILATION), pixels);
 }
 constexpr std::size_t kMaxOverlapTestedObjects = 4096;
+
+// The point whose distance orders an object's rows front to back (orderedRows), in grid units: the
+// eye; for an orthographic camera, a point far behind its plane along the view axis, from which
+// per-axis distance grows with depth along the parallel rays for every cell of the grid (its point
+// on the plane would put cells on both sides of it first and last alike).
+glm::dvec3 sortEye(const engine::render::CameraView& camera, const glm::mat4& invModel, const glm::dvec3& eyeGrid,
+                   const GridSpec& grid) {
+  if (!camera.orthographic()) return eyeGrid;
+  const glm::dvec3 towardViewer = glm::dmat3(glm::mat3(invModel)) * glm::dvec3(camera.towardViewer()) / grid.spacing;
+  const double cells = double(grid.cellsPerAxis());
+  const glm::dvec3 centre(0.5 * cells);
+  const double beyond = 2.0 * (glm::length(eyeGrid - centre) + 2.0 * cells);
+  return eyeGrid + glm::normalize(towardViewer) * beyond;
+}
 
 glm::vec4 unite(const glm::vec4& a, const glm::vec4& b) {
   return {std::min(a.x, b.x), std::min(a.y, b.y), std::max(a.z, b.z), std::max(a.w, b.w)};
@@ -140,7 +164,8 @@ struct HermiteCellFeature::DrawnObject {
   int precision = 0;
   shader::HermiteDraw draw{};
   std::uint32_t record = 0;  // `draw` in FrameDraws::records
-  glm::dvec3 eyeGrid{0.0};  // the eye in grid units
+  glm::dvec3 eyeGrid{0.0};  // the eye in grid units (an orthographic camera's point)
+  glm::dvec3 sortEyeGrid{0.0};  // the point front-to-back order is measured from (sortEye)
   double reachGrid = 0.0;   // how far (in grid units) the near plane reaches around it
 };
 
@@ -190,7 +215,9 @@ void HermiteCellFeature::chooseCullingPaths(engine::render::FrameContext& frame,
   tiles_ = culling && context_->capabilities().drawIndirectCount &&
            tilesWanted(settings_.tiles, context_->capabilities().isSoftwareRasterizer) &&
            frameTiles <= CELL_TILE_MAX_TILES;
-  occlusion_ = culling && settings_.cullOcclusion && !tiles_;
+  // Occlusion's depth margin is relative to depth (occlusionDepthMargin: depth ~ 1 / distance), which
+  // an orthographic camera's linear depth does not follow near its far plane: no occlusion culling.
+  occlusion_ = culling && settings_.cullOcclusion && !tiles_ && !frame.camera.orthographic();
   std::string refusal;
   if (culling) readKeptDemand(frame.frameSlot);
   const std::array<std::uint64_t, 2> cells = culling ? culledCells(f) : std::array<std::uint64_t, 2>{0, 0};
@@ -367,8 +394,17 @@ void HermiteCellFeature::beginObjectDraw(engine::render::FrameContext& frame, Fr
 
   // The eye in grid units, and how far (in grid units) the near plane reaches around it.
   o.eyeGrid = (engine::render::eyeInObject(o.world, frame.camera.position) - grid.origin) / grid.spacing;
-  o.reachGrid = double(frame.camera.nearPlaneReachInObject(object.invModel)) / grid.spacing +
-                nearDilationCells(frame.camera, o.world, frame.extent.height);
+  o.sortEyeGrid = sortEye(frame.camera, object.invModel, o.eyeGrid, grid);
+  const double dilationCells = nearDilationCells(frame.camera, o.world, grid.spacing, frame.extent.height);
+  o.reachGrid = double(frame.camera.nearPlaneReachInObject(object.invModel)) / grid.spacing + dilationCells;
+  // An orthographic near plane that cannot cut the grid box (grown by the proxies' dilation) cuts
+  // no cell: none is near. Its reach around the camera's point spans the whole view, which would
+  // make every cell near and draw them all by their back faces.
+  const Aabb box = grid.bounds();
+  const glm::vec3 dilation(float(dilationCells * grid.spacing));
+  if (frame.camera.orthographic() &&
+      !nearPlaneMayCut(frame.camera, o.world, glm::vec3(box.min) - dilation, glm::vec3(box.max) + dilation))
+    o.reachGrid = -1.0;
 
   const glm::vec4 rect = screenBounds(f.viewProj, o.world, grid.bounds(), frame.extent);
   // Pairs are compared until one overlaps; past kMaxOverlapTestedObjects the objects are taken to
@@ -427,7 +463,7 @@ void HermiteCellFeature::addBrickObjectDraws(engine::render::FrameContext& frame
 // RenderMethod::CellRuns: the run batch's front commands in row order, and the runs near the eye.
 void HermiteCellFeature::addRunObjectDraws(FrameDraws& f, const DrawnObject& o) {
   const CellBuffers::Entry& entry = *o.entry;
-  const std::vector<CellRows::Range> rowOrder = orderedRows(entry.rows, o.eyeGrid, settings_.frontToBack);
+  const std::vector<CellRows::Range> rowOrder = orderedRows(entry.rows, o.sortEyeGrid, settings_.frontToBack);
   for (const CellRows::Range& range : runRanges(entry.runs, rowOrder)) {
     f.commands[2][0].push_back({kFanVertices, range.count, 0, entry.firstRun + range.first});
     f.draws[2][0].push_back(o.record);
@@ -467,7 +503,7 @@ void HermiteCellFeature::addCellObjectDraws(engine::render::FrameContext& frame,
   // A culled range is at most CELL_CULL_MAX_RANGE_CELLS cells (one workgroup claims its slots in the
   // kept streams); the pieces of a longer one keep its order.
   const std::uint32_t longest = cullObject == kNotCulled ? ~0u : CELL_CULL_MAX_RANGE_CELLS;
-  for (const CellRows::Range& range : orderedRows(entry.rows, o.eyeGrid, settings_.frontToBack)) {
+  for (const CellRows::Range& range : orderedRows(entry.rows, o.sortEyeGrid, settings_.frontToBack)) {
     for (std::uint32_t first = 0; first < range.count; first += longest) {
       const std::uint32_t count = std::min(longest, range.count - first);
       f.commands[precision][0].push_back({kFanVertices, count, 0, entry.firstRecord + range.first + first});
@@ -611,7 +647,7 @@ float HermiteCellFeature::cellPixelsOnScreen(const GridSpec& grid, const glm::ma
                                              const engine::render::CameraView& camera, std::uint32_t viewportHeight) {
   const float scale = largestAxisScale(world);
   const glm::vec3 centre = glm::vec3(world * glm::vec4(glm::vec3(grid.bounds().center()), 1.0f));
-  return projectedPixels(scale * float(grid.spacing), glm::length(camera.position - centre), camera.fovY, viewportHeight);
+  return projectedPixels(scale * float(grid.spacing), glm::length(camera.position - centre), camera, viewportHeight);
 }
 
 // At most how many tile entries the object's cells make (cell_tiles.comp): every cell as large on
@@ -636,7 +672,7 @@ std::uint64_t HermiteCellFeature::tileEntryEstimate(const GridSpec& grid, std::u
   const float distance = glm::length(glm::max(glm::max(lo - camera.position, camera.position - hi), glm::vec3(0.0f)));
   if (distance <= 2.0f * camera.znear) return cells * tileCount;
   const float pixels =
-      projectedPixels(largestAxisScale(world) * float(grid.spacing) * 1.7320508f, distance, camera.fovY, extent.height);
+      projectedPixels(largestAxisScale(world) * float(grid.spacing) * 1.7320508f, distance, camera, extent.height);
   const auto span = std::uint64_t(std::ceil((pixels + 4.0f) / float(tileSize))) + 1;
   return cells * std::min(span * span, tileCount);
 }

@@ -17,6 +17,12 @@ float projectedPixels(float worldLength, float distance, float fovY, std::uint32
   return worldLength * pixelsPerUnitAtOne / distance;
 }
 
+float projectedPixels(float worldLength, float distance, const engine::render::CameraView& camera,
+                      std::uint32_t viewportHeight) {
+  if (!camera.orthographic()) return projectedPixels(worldLength, distance, camera.fovY, viewportHeight);
+  return worldLength / camera.worldPerPixel(distance, viewportHeight);
+}
+
 namespace {
 
 // The coarsest level whose cells cover at most `limit` pixels; 0 when none does.
@@ -53,7 +59,7 @@ std::vector<float> levelCellPixels(const HermiteSdfLod& lod, const glm::mat4& wo
   const float distance = glm::length(camera.position - center) - radius;
   for (const std::shared_ptr<const SdfAsset>& level : lod.levels) {
     const float cell = scale * float(level ? level->cells.grid.spacing : 0.0);
-    pixels.push_back(projectedPixels(cell, distance, camera.fovY, viewportHeight));
+    pixels.push_back(projectedPixels(cell, distance, camera, viewportHeight));
   }
   return pixels;
 }

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstring>
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -19,6 +20,7 @@
 #include "engine/scene/transform.h"
 #include "hermite/hermite_host_device.h"
 #include "render/wireframe.h"
+#include "render/near_plane.h"
 #include "render/sphere_trace_textures.h"
 
 namespace hsdf {
@@ -35,16 +37,6 @@ bool traceMethod(RenderMethod method, std::uint32_t& out) {
   else if (method == RenderMethod::HermiteSphereTrace) out = std::uint32_t(TraceMethod::Hermite);
   else return false;
   return true;
-}
-
-// Whether the near plane may cut the object's box (then its front faces can be clipped away and
-// it is drawn by its back faces). Conservative for any affine transform (see nearPlaneReachInObject).
-bool nearPlaneMayCut(const engine::render::CameraView& camera, const glm::mat4& model, const glm::vec3& lo,
-                     const glm::vec3& hi) {
-  const glm::mat4 invModel = glm::inverse(model);
-  const glm::vec3 eye(engine::render::eyeInObject(model, camera.position));
-  const float objectDistance = glm::length(eye - glm::clamp(eye, lo, hi));
-  return objectDistance <= camera.nearPlaneReachInObject(invModel);
 }
 
 // A length setting a program may set by hand (epsilon, the central-difference step): a NaN, an

@@ -119,21 +119,23 @@ Comparison compare(const Frame& frame, const std::vector<glm::uvec2>& visibility
       }
       (hit.backFace ? result.back : result.front) += 1;
       const glm::dvec3 position = ray.origin + hit.t * ray.direction;
-      const double viewDistance = -(glm::dmat4(camera.view) * glm::dvec4(position, 1.0)).z;
-      result.wrongDepth += std::abs(double(depth) - math::viewDistanceToDepth(viewDistance, kZNear)) >
-                           DeviceTolerances{}.meshDepthAbsolute;
+      const glm::dvec4 clip = glm::dmat4(camera.proj) * glm::dmat4(camera.view) * glm::dvec4(position, 1.0);
+      result.wrongDepth += std::abs(double(depth) - clip.z / clip.w) > DeviceTolerances{}.meshDepthAbsolute;
+      // The viewer as the shading sees it: the eye point, or a point one unit back along an
+      // orthographic camera's parallel ray (the lighting's view vector is then the view axis).
+      const glm::dvec3 viewer = camera.orthographic() ? position - ray.direction : glm::dvec3(eye);
       result.noObject += visibility[std::size_t(y) * frame.width + x].x == 0u;
       const glm::dvec3 normal = surface.normals[std::size_t(hit.triangle)];
       const glm::dvec3 seen = hit.backFace ? -normal : normal;  // the glTF rule: a back face's normal reversed
-      const glm::dvec3 expected = referenceShading(desc, surface.color, surface.roughness, glm::dvec3(eye), position, seen);
+      const glm::dvec3 expected = referenceShading(desc, surface.color, surface.roughness, viewer, position, seen);
       const double error = glm::length(linearColor(frame.pixel(x, y)) - expected);
       result.worstColour = std::max(result.worstColour, error);
       result.wrongColour += error > kColourTolerance;
       if (hit.backFace) {
         // What the shading would give the unreversed normal (bent toward the eye, mesh.frag's
         // silhouette fix): the case under test must look different from it.
-        const glm::dvec3 bent = normalTowardEye(normal, glm::normalize(glm::dvec3(eye) - position));
-        const glm::dvec3 unreversed = referenceShading(desc, surface.color, surface.roughness, glm::dvec3(eye), position, bent);
+        const glm::dvec3 bent = normalTowardEye(normal, glm::normalize(viewer - position));
+        const glm::dvec3 unreversed = referenceShading(desc, surface.color, surface.roughness, viewer, position, bent);
         result.backDiscriminating += glm::length(unreversed - expected) > 4.0 * kColourTolerance;
       }
     }
@@ -207,9 +209,11 @@ class DoubleSidedTest : public GpuTest {
   }
 
   Comparison renderAndCompare(const Surface& surface, const glm::vec3& eye) {
-    const render::CameraView camera = render::CameraView::lookAt(eye, {0.0f, 0.0f, 0.0f}, 0.8f, kZNear, 1.0f);
+    return renderAndCompare(surface, render::CameraView::lookAt(eye, {0.0f, 0.0f, 0.0f}, 0.8f, kZNear, 1.0f));
+  }
+  Comparison renderAndCompare(const Surface& surface, const render::CameraView& camera) {
     const Frame frame = render(camera);
-    return compare(frame, renderer_->readbackVisibility(), surface, camera, desc_, eye);
+    return compare(frame, renderer_->readbackVisibility(), surface, camera, desc_, camera.position);
   }
 
   render::RendererDesc desc_;
@@ -282,6 +286,31 @@ TEST_F(DoubleSidedTest, AMirroredDoubleSidedBoxIsLitAsTheSideSeen) {
   EXPECT_GT(c.front, 1000);
   EXPECT_GT(c.back, 2000);
   EXPECT_GT(c.backDiscriminating, 500) << "the inside lit unlike an unreversed normal";
+  expectMatches(c);
+}
+
+// Why: an orthographic camera (a glTF "orthographic" camera node) must draw the mesh through its
+// parallel projection: the open box's walls keep their size at any depth, depth is linear between
+// znear and zfar (compared with the projection of each ray's hit), and the lighting's view vector
+// is the view axis at every pixel, not the direction to the camera's point (the specular highlight
+// moves otherwise). Tricky because the box is seen from above at a slant, inside and outside in one
+// frame, through a camera made as the importer makes it (CameraView::fromWorld of a Camera).
+TEST_F(DoubleSidedTest, AnOpenBoxSeenThroughAnOrthographicCamera) {
+  const std::uint32_t size = 128;
+  createLitRenderer(size, {0.4f, 1.0f, 0.3f});
+  const glm::mat4 model = glm::rotate(glm::mat4(1.0f), 0.5f, glm::vec3(0.0f, 1.0f, 0.0f));
+  const Surface surface = addNode(openBox(), model, true, {0.3f, 0.7f, 0.9f, 1.0f});
+  render::Camera ortho;
+  ortho.projection = render::Projection::kOrthographic;
+  ortho.xmag = ortho.ymag = 0.9f;
+  ortho.znear = 0.5f;
+  ortho.zfar = 6.0f;
+  const glm::mat4 pose = glm::inverse(math::lookAt({0.9f, 2.4f, 1.3f}, {0.0f, 0.0f, 0.0f}, {0.0f, 1.0f, 0.0f}));
+  const Expected<render::CameraView> camera = render::CameraView::fromWorld(pose, ortho, 1.0f);
+  ASSERT_TRUE(camera.ok()) << camera.error().message;
+  const Comparison c = renderAndCompare(surface, *camera);
+  EXPECT_GT(c.front, 1000) << "the outside of the near walls";
+  EXPECT_GT(c.back, 2000) << "the inside: far walls and floor";
   expectMatches(c);
 }
 

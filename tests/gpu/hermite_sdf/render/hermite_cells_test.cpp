@@ -457,6 +457,109 @@ TEST_F(HermiteCellsTest, CellRunsAndBricksMatchReferenceForTorusBoxAndBunny) {
   }
 }
 
+// Why: an orthographic camera has no eye point. Every cell form (the paper's boxes, thin boxes,
+// screen tiles, runs, bricks) must build parallel rays from the
+// camera's plane (not from one point), pick each box's front faces by the view direction (an eye
+// point's side of the box is meaningless), size the proxies' dilation by the constant pixel size,
+// and turn t into linear depth. The last view puts the near plane through the torus's centre, so
+// cells it cuts are drawn by their back faces with rays starting on the near plane inside them; the
+// fourth has the camera's point off to the side of the torus. Any of these done the perspective
+// way draws a distorted or holed torus.
+TEST_F(HermiteCellsTest, OrthographicCameraMatchesReferenceForEveryCellForm) {
+  createCellRenderer(kSize, kSize);
+  hsdf::HermiteCellFeature& feature = *renderer_->feature<hsdf::HermiteCellFeature>();
+  const auto asset = bakeAsset("torus", 16);
+  ASSERT_NE(asset, nullptr);
+  const float radius = 0.5f * float(glm::length(asset->surfaceBounds.size()));
+  using Tiles = hsdf::HermiteCellFeature::Tiles;
+  struct Form {
+    hsdf::RenderMethod method;
+    bool thin;
+    Tiles tiles;
+  };
+  for (const Form form : {Form{hsdf::RenderMethod::Cells, false, Tiles::Off}, Form{hsdf::RenderMethod::Cells, true, Tiles::Off},
+                          Form{hsdf::RenderMethod::Cells, false, Tiles::On}, Form{hsdf::RenderMethod::CellRuns, false, Tiles::Off},
+                          Form{hsdf::RenderMethod::CellBricks, false, Tiles::Off}}) {
+    registry_ = ecs::Registry();
+    addSdf(registry_, asset, form.method);
+    feature.settings().thinBoxes =
+        form.thin ? hsdf::HermiteCellFeature::ThinBoxes::On : hsdf::HermiteCellFeature::ThinBoxes::Off;
+    feature.settings().tiles = form.tiles;
+    for (int view = 0; view < 4; ++view) {
+      const bool cut = view == 2;
+      // View 3: the camera's point lies 3 radii to the side of the torus, on the -x side of most of
+      // its cells while the rays run towards -x: the side of a box the viewer is on is the view
+      // direction's, not the camera point's (whose side would pick back faces, left as holes).
+      const glm::vec3 center(asset->surfaceBounds.center());
+      const glm::vec3 back = glm::normalize(glm::vec3(1.0f, 0.3f, 1.0f)), side = glm::normalize(glm::vec3(-1.0f, 0.0f, 1.0f));
+      const glm::vec3 offAxis = center + 1.9f * radius * back + 3.0f * radius * side;
+      const render::CameraView camera =
+          view == 3 ? orthographicLike(render::CameraView::lookAt(offAxis, offAxis - back, 0.9f, 0.01f, 1.0f), 4.2f * radius,
+                                       0.01f * radius, 6.0f * radius)
+                    : orthographicLike(orbitCamera(*asset, view), 0.8f * radius, cut ? 1.9f * radius : 0.01f * radius,
+                                       4.0f * radius);
+      const std::string label = std::string(hsdf::renderMethodName(form.method)) + (form.thin ? " thin" : "") +
+                                (form.tiles == Tiles::On ? " tiles" : "") + " orthographic view " + std::to_string(view);
+      SCOPED_TRACE(label);
+      expectMatchesReference(compareView(*asset, camera, label.c_str()));
+      if (cut && form.tiles == Tiles::Off) {
+        EXPECT_GT(feature.stats().nearCells, 0u) << "the near plane cuts cells: drawn by back faces";
+      }
+    }
+  }
+}
+
+// Why: the projection must be checked independently of the reference caster, which shares the
+// engine's camera maths: a sphere of radius r under an orthographic camera is a circle of r / ymag
+// * height / 2 pixels at every distance (a perspective camera's would shrink with distance).
+TEST_F(HermiteCellsTest, OrthographicSphereIsACircleOfTheProjectedRadius) {
+  createCellRenderer(kSize, kSize);
+  const auto asset = bakeAsset("sphere", 32);  // radius 1 about the origin
+  ASSERT_NE(asset, nullptr);
+  addSdf(registry_, asset, hsdf::RenderMethod::Cells);
+  const float ymag = 1.6f;
+  const double expected = 1.0 / double(ymag) * double(kSize) / 2.0;
+  for (const float distance : {3.0f, 12.0f}) {
+    const render::CameraView perspective =
+        render::CameraView::lookAt(glm::vec3(0.6f, 0.3f, 0.74f) * distance, glm::vec3(0.0f), 0.9f, 0.1f, 1.0f);
+    const Frame frame = renderWith(orthographicLike(perspective, ymag, 0.5f, 2.0f * distance), DEBUG_VIEW_NONE);
+    int covered = 0;
+    double sumX = 0.0, sumY = 0.0;
+    for (std::uint32_t y = 0; y < frame.height; ++y)
+      for (std::uint32_t x = 0; x < frame.width; ++x)
+        if (frame.depthAt(x, y) > 0.0f) ++covered, sumX += x + 0.5, sumY += y + 0.5;
+    const double radius = std::sqrt(double(covered) / 3.14159265358979);
+    EXPECT_NEAR(radius, expected, 0.5) << "at distance " << distance;
+    EXPECT_NEAR(sumX / covered, kSize / 2.0, 0.25) << "centred";
+    EXPECT_NEAR(sumY / covered, kSize / 2.0, 0.25);
+  }
+}
+
+// Why: a telephoto camera (1 degree field of view, the torus ~125 radii away) makes every ray
+// nearly parallel and puts all depths in a narrow band near 0 under reverse-Z; the near plane is
+// 12000x closer than the surface. Rays rebuilt from the fragment's depth must still meet the
+// reference's surface without cracks.
+TEST_F(HermiteCellsTest, TelephotoCameraMatchesReference) {
+  createCellRenderer(kSize, kSize);
+  const auto asset = bakeAsset("torus", 16);
+  ASSERT_NE(asset, nullptr);
+  addSdf(registry_, asset, hsdf::RenderMethod::Cells);
+  const glm::vec3 center(asset->surfaceBounds.center());
+  const float radius = 0.5f * float(glm::length(asset->surfaceBounds.size()));
+  const float fovY = 0.01745f;
+  const float distance = 0.8f * radius / std::tan(0.5f * fovY);
+  for (int view = 0; view < 2; ++view) {
+    const render::CameraView camera = render::CameraView::lookAt(
+        math::orbitEye(center, distance, 0.4f + 1.3f * float(view), view == 0 ? 0.3f : -0.45f), center, fovY,
+        0.01f * radius, 1.0f);
+    const std::string label = "telephoto view " + std::to_string(view);
+    SCOPED_TRACE(label);
+    const ImageComparison c = compareView(*asset, camera, label.c_str());
+    expectMatchesReference(c);
+    EXPECT_EQ(countIsolatedPixels(renderWith(camera, DEBUG_VIEW_NORMALS)), 0) << "cracks";
+  }
+}
+
 // Settings::thinBoxes draws the same cells with 8 vertices and 12 bytes of varyings per box
 // (cells_thin.vert), the fragment shader reading each cell's 32 scalars by address. It must draw
 // the cells' surface: against the reference, and against the paper's boxes (the same search over

@@ -77,8 +77,8 @@ int toleranceViolations(const Frame& gpu, const hsdf::ReferenceImage& reference,
       const math::Ray ray = math::pixelRay(camera.view, camera.proj, {float(x) + 0.5f, float(y) + 0.5f},
                                            {reference.width, reference.height});
       const double along = glm::dot(ray.direction, forward);
-      const double gpuDistance = math::depthToViewDistance(depth, camera.znear) / along;
-      const double refDistance = math::depthToViewDistance(reference.depth[i], camera.znear) / along;
+      const double gpuDistance = math::depthToViewDistance(camera.proj, depth) / along;
+      const double refDistance = math::depthToViewDistance(camera.proj, reference.depth[i]) / along;
       // Object space: a world step along the ray is |M^-1 d| times as long; normals map by M^T.
       const glm::dvec3 objectRay = inverseLinear * ray.direction;
       const glm::dvec3 objectNormal = glm::transpose(linear) * glm::dvec3(reference.normal[i]);
@@ -149,6 +149,30 @@ TEST_F(SphereTraceTest, EachMethodMatchesItsReferenceFromFourViews) {
       expectMatchesReference(method, asset->field, orbitCamera(*asset, view),
                              std::string(hsdf::renderMethodName(method)) + " view " + std::to_string(view));
     EXPECT_EQ(feature().stats().nearObjects, 0u) << "from outside, the front faces are drawn";
+  }
+}
+
+// Why: an orthographic camera has no eye: every ray runs down the view axis from its own start on
+// the camera's plane, and depth is linear in distance. A tracer that started its rays at one point,
+// or converted t to depth as 1 / distance, would draw a perspective-distorted torus at wrong depths.
+// The last view puts the near plane through the torus (znear at the camera's distance to its
+// centre): the boxes are drawn by back faces and the rays start on the plane, inside the box.
+TEST_F(SphereTraceTest, OrthographicCameraMatchesTheReference) {
+  createTraceRenderer(kSize, kSize);
+  const auto asset = bakeAsset("torus", 16);
+  ASSERT_NE(asset, nullptr);
+  const float radius = 0.5f * float(glm::length(asset->surfaceBounds.size()));
+  for (const RenderMethod method : {RenderMethod::TrilinearSphereTrace, RenderMethod::HermiteSphereTrace}) {
+    registry_.clear();
+    addTracedSdf(registry_, asset, method);
+    for (int view = 0; view < 3; ++view) {
+      const bool cut = view == 2;
+      const render::CameraView camera =
+          orthographicLike(orbitCamera(*asset, view), 0.8f * radius, cut ? 1.9f * radius : 0.01f * radius, 4.0f * radius);
+      expectMatchesReference(method, asset->field, camera,
+                             std::string(hsdf::renderMethodName(method)) + " orthographic view " + std::to_string(view));
+      EXPECT_EQ(feature().stats().nearObjects, cut ? 1u : 0u) << "the near plane cuts the box only in the last view";
+    }
   }
 }
 

@@ -250,5 +250,95 @@ TEST_F(FrustumTest, AgreesWithProjectionOnRandomPoints) {
   EXPECT_GT(outside, 100);
 }
 
+// An orthographic camera at (0,0,5) looking at the origin: a view 4 units tall, depth range [1, 9].
+constexpr float kOrthoHalfHeight = 2.0f;
+glm::mat4 orthoProjection() {
+  return orthographicReverseZ(kOrthoHalfHeight * float(kImage.x) / float(kImage.y), kOrthoHalfHeight, 1.0f, 9.0f);
+}
+const glm::mat4 kOrthoView = lookAt(glm::vec3(0.0f, 0.0f, 5.0f), glm::vec3(0.0f), glm::vec3(0.0f, 1.0f, 0.0f));
+
+// Tricky: orthographic rays have no common eye: each must run parallel to the view axis from the
+// camera's plane (view z = 0) beside its pixel, and the near-plane start must still project back
+// to its own pixel at depth 1 (the reference images compared with the GPU start there).
+TEST(PixelRay, OrthographicRaysAreParallelAndStartBesideTheirPixel) {
+  const glm::mat4 view = lookAt(glm::vec3(1.0f, 2.0f, 6.0f), glm::vec3(0.0f, -1.0f, 0.0f), glm::vec3(0.0f, 1.0f, 0.0f));
+  const glm::mat4 proj = orthoProjection();
+  const glm::dvec3 forward = glm::normalize(glm::dvec3(0.0, -1.0, 0.0) - glm::dvec3(1.0, 2.0, 6.0));
+  for (const glm::vec2 pixel : {glm::vec2(0.5f, 0.5f), glm::vec2(160.5f, 90.5f), glm::vec2(319.5f, 12.5f)}) {
+    const Ray ray = pixelRay(view, proj, pixel, kImage);
+    const Ray fromNear = pixelRayFromNearPlane(view, proj, pixel, kImage);
+    EXPECT_NEAR(glm::distance(ray.direction, forward), 0.0, 1e-6) << "parallel to the view axis";
+    EXPECT_NEAR(glm::distance(fromNear.direction, forward), 0.0, 1e-6);
+    EXPECT_NEAR((glm::dmat4(view) * glm::dvec4(ray.origin, 1.0)).z, 0.0, 1e-5) << "on the camera's plane";
+    EXPECT_NEAR(glm::distance(fromNear.origin, ray.origin + 1.0 * ray.direction), 0.0, 1e-5) << "znear = 1 ahead";
+    const Projected p = project(proj * view, glm::vec3(fromNear.origin), kImage);
+    EXPECT_NEAR(p.depth, 1.0, 1e-5);
+    EXPECT_NEAR(p.pixel.x, double(pixel.x), 1e-3);
+    EXPECT_NEAR(p.pixel.y, double(pixel.y), 1e-3);
+  }
+  // The top-left pixel's ray starts up and to the left of the axis, by the view's half extents.
+  const glm::dvec3 topLeft = glm::dvec3(kOrthoView * glm::vec4(glm::vec3(pixelRay(kOrthoView, proj, {0.0f, 0.0f}, kImage).origin), 1.0f));
+  EXPECT_NEAR(topLeft.x, -double(kOrthoHalfHeight) * double(kImage.x) / double(kImage.y), 1e-5);
+  EXPECT_NEAR(topLeft.y, double(kOrthoHalfHeight), 1e-5);
+}
+
+// Tricky: depth is linear in view distance for an orthographic projection and 1 / distance for a
+// perspective one; the conversion read from the matrix must invert both, and the depth 0 of an
+// infinite projection (the sky) is infinitely far.
+TEST(DepthConversion, FromAnyProjectionMatrix) {
+  const glm::mat4 ortho = orthoProjection();
+  for (const double distance : {1.0, 2.5, 9.0}) {
+    const glm::vec4 clip = ortho * glm::vec4(0.3f, 0.1f, -float(distance), 1.0f);
+    EXPECT_NEAR(depthToViewDistance(ortho, clip.z / clip.w), distance, 1e-5);
+  }
+  EXPECT_NEAR(depthToViewDistance(ortho, 1.0), 1.0, 1e-6);
+  EXPECT_NEAR(depthToViewDistance(ortho, 0.0), 9.0, 1e-5);
+  EXPECT_NEAR(depthToViewDistance(testProjection(), 0.5), 2.0 * double(kZnear), 1e-7);
+  EXPECT_EQ(depthToViewDistance(testProjection(), 0.0), std::numeric_limits<double>::infinity());
+}
+
+// Tricky: an orthographic view is a box: beside it, behind the camera, nearer than znear and beyond
+// zfar (a plane a perspective frustum does not have) all cull; the same property check as the
+// perspective frustum's, with the far plane in play.
+TEST(FrustumOrthographic, CullsOutsideTheBoxIncludingBeyondFar) {
+  const Frustum frustum = extractFrustum(orthoProjection() * kOrthoView);
+  const auto box = [&](glm::vec3 centre, float half) { return intersects(frustum, centre - glm::vec3(half), centre + glm::vec3(half)); };
+  EXPECT_TRUE(box(glm::vec3(0.0f), 0.5f));
+  EXPECT_TRUE(box(glm::vec3(3.0f, 1.5f, 0.0f), 0.1f)) << "near the corner, wider than tall";
+  EXPECT_FALSE(box(glm::vec3(0.0f, 0.0f, -20.0f), 1.0f)) << "beyond zfar";
+  EXPECT_FALSE(box(glm::vec3(0.0f, 0.0f, 4.5f), 0.2f)) << "between the camera and znear";
+  EXPECT_FALSE(box(glm::vec3(0.0f, 3.0f, 0.0f), 0.5f)) << "above (a perspective frustum would keep it)";
+  std::mt19937 random(7);
+  std::uniform_real_distribution<float> coordinate(-10.0f, 10.0f);
+  int inside = 0, outside = 0;
+  const glm::mat4 viewProj = orthoProjection() * kOrthoView;
+  for (int i = 0; i < 5000; ++i) {
+    const glm::vec3 p(coordinate(random) * 0.5f, coordinate(random) * 0.3f, coordinate(random));
+    const Projected projected = project(viewProj, p, kImage);
+    const bool visible = projected.depth >= 0.0 && projected.depth <= 1.0 && projected.pixel.x >= 0.0 &&
+                         projected.pixel.x <= kImage.x && projected.pixel.y >= 0.0 && projected.pixel.y <= kImage.y;
+    float margin = std::numeric_limits<float>::max();
+    for (const glm::vec4& plane : frustum.planes) margin = std::min(margin, std::abs(glm::dot(glm::vec3(plane), p) + plane.w));
+    if (margin < 1e-3f) continue;
+    EXPECT_EQ(intersects(frustum, p, p), visible) << p.x << " " << p.y << " " << p.z;
+    (visible ? inside : outside)++;
+  }
+  EXPECT_GT(inside, 100);
+  EXPECT_GT(outside, 100);
+}
+
+// Tricky: a zero or infinite extent, a negative znear or an empty depth range would divide by zero
+// or flip the image; each must throw, as a bad perspective does.
+TEST(Projection, RejectsOrthographicParametersThatDescribeNoCamera) {
+  EXPECT_THROW(orthographicReverseZ(0.0f, 1.0f, 0.1f, 10.0f), std::invalid_argument);
+  EXPECT_THROW(orthographicReverseZ(1.0f, -1.0f, 0.1f, 10.0f), std::invalid_argument);
+  EXPECT_THROW(orthographicReverseZ(1.0f, std::numeric_limits<float>::infinity(), 0.1f, 10.0f), std::invalid_argument);
+  EXPECT_THROW(orthographicReverseZ(1.0f, 1.0f, -0.1f, 10.0f), std::invalid_argument);
+  EXPECT_THROW(orthographicReverseZ(1.0f, 1.0f, 10.0f, 10.0f), std::invalid_argument);
+  EXPECT_NO_THROW(orthographicReverseZ(1.0f, 1.0f, 0.0f, 10.0f)) << "glTF allows znear = 0";
+  EXPECT_TRUE(isOrthographic(orthographicReverseZ(1.0f, 1.0f, 0.0f, 10.0f)));
+  EXPECT_FALSE(isOrthographic(testProjection()));
+}
+
 }  // namespace
 }  // namespace engine::math

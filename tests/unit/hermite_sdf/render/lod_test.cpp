@@ -25,6 +25,25 @@ TEST(Lod, ProjectedPixelsFollowsThePinholeModel) {
   EXPECT_TRUE(std::isinf(projectedPixels(1.0f, -3.0f, kFov, kHeight)));
 }
 
+// Tricky: an orthographic camera shows a length at the same size at every distance, L / (2 ymag)
+// of the image height, even with the camera's point inside the object (distance <= 0), where the
+// perspective rule's "finest level" would make an orthographic view of a large object draw its
+// finest level however small it is on screen. A perspective camera still follows the pinhole.
+TEST(Lod, ProjectedPixelsOfAnOrthographicCameraIgnoreDistance) {
+  engine::render::Camera ortho;
+  ortho.projection = engine::render::Projection::kOrthographic;
+  ortho.ymag = 4.0f;
+  ortho.znear = 0.0f;
+  ortho.zfar = 100.0f;
+  const auto camera = engine::render::CameraView::fromWorld(glm::mat4(1.0f), ortho, 1.5f);
+  ASSERT_TRUE(camera.ok()) << camera.error().message;
+  for (const float distance : {-3.0f, 0.0f, 10.0f, 90.0f})
+    EXPECT_NEAR(projectedPixels(2.0f, distance, *camera, kHeight), 2.0f * 720.0f / 8.0f, 1e-3f) << distance;
+  const auto perspective = engine::render::CameraView::fromWorld(glm::mat4(1.0f), kFov, 0.1f, 1.5f);
+  ASSERT_TRUE(perspective.ok());
+  EXPECT_NEAR(projectedPixels(1.0f, 10.0f, *perspective, kHeight), projectedPixels(1.0f, 10.0f, kFov, kHeight), 1e-3f);
+}
+
 // Cell sizes in pixels of levels K, K/2, K/4, K/8: each level doubles the cell.
 std::vector<float> levelsAt(float finestPixels) { return {finestPixels, 2 * finestPixels, 4 * finestPixels, 8 * finestPixels}; }
 

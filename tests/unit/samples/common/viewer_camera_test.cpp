@@ -4,7 +4,8 @@
 // parent rotated 90 degrees about Y and scaled by (2, 1, 2) (its world eye is (4, 0, 0), looking
 // down -X),
 // "away" at (0, 0, 4) turned to look along +Z, "tilted" at (0, 0, 4) pitched up by 0.2 rad with a
-// yfov of 0.3 and znear 0.5, "flat" with a zero scale, an unnamed one and an orthographic one.
+// yfov of 0.3 and znear 0.5, "flat" with a zero scale, an unnamed one and "ortho" at (0, 0, 4), an
+// orthographic camera ("plan": xmag = ymag = 1, znear 0.1, zfar 10) looking down -Z.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -73,12 +74,13 @@ engine::ecs::Entity named(Viewer& viewer, const std::string& name) {
   return found;
 }
 
-// Tricky: the orthographic camera is skipped by the importer, so the list must not hold it, and a
-// node without a name still needs one the panel and --scene-camera can use.
+// Tricky: the orthographic camera is listed with the perspective ones, in node order, and a node
+// without a name still needs one the panel and --scene-camera can use.
 TEST(SceneCameras, AreListedInNodeOrderByName) {
   auto viewer = viewCameraCube();
   ASSERT_TRUE(viewer);
-  EXPECT_EQ(viewer->sceneCameraNames(), (std::vector<std::string>{"front", "away", "tilted", "flat", "camera 4"}));
+  EXPECT_EQ(viewer->sceneCameraNames(),
+            (std::vector<std::string>{"front", "away", "tilted", "flat", "camera 4", "ortho"}));
   EXPECT_EQ(viewer->cameraMode(), CameraMode::Orbit) << "a scene's cameras are offered, not taken";
 }
 
@@ -106,7 +108,7 @@ TEST(SceneCameras, LookThroughTheNodesPoseWithoutItsScale) {
 // Tricky: exporters name a camera's node and its camera data apart (Blender: node "Camera", camera
 // "Camera.001"); a user reading the file may give either. The camera's own name picks the first
 // node showing it ("lens" is shown by four nodes), a node's name wins over a camera's, and the
-// orthographic camera's name is still refused (the importer skipped it).
+// orthographic camera is found by its own name too.
 TEST(SceneCameras, ACamerasOwnNamePicksTheFirstNodeShowingIt) {
   auto viewer = viewCameraCube();
   ASSERT_TRUE(viewer);
@@ -114,10 +116,42 @@ TEST(SceneCameras, ACamerasOwnNamePicksTheFirstNodeShowingIt) {
   EXPECT_EQ(viewer->sceneCamera(), 2u) << "tele is tilted's camera";
   ASSERT_TRUE(viewer->lookThroughSceneCamera("lens").ok());
   EXPECT_EQ(viewer->sceneCamera(), 0u) << "lens is shown by front first";
-  const engine::Status plan = viewer->lookThroughSceneCamera("plan");
-  ASSERT_FALSE(plan.ok());
-  EXPECT_NE(plan.error().message.find("'plan'"), std::string::npos) << plan.error().message;
-  EXPECT_EQ(viewer->sceneCamera(), 0u) << "a refusal leaves the camera where it was";
+  ASSERT_TRUE(viewer->lookThroughSceneCamera("plan").ok());
+  EXPECT_EQ(viewer->sceneCamera(), 5u) << "plan is ortho's camera";
+  EXPECT_TRUE(viewer->cameraView().orthographic());
+}
+
+// Tricky: --scene-camera must select an orthographic camera and the frame must be drawn through
+// it: the unit cube seen straight down -Z through a view 2 units tall (ymag 1) covers half the
+// image's height at any distance, and the projection is the file's (depth linear between its
+// znear and zfar), not the viewer's perspective.
+TEST(SceneCameras, AnOrthographicCameraDrawsThroughItsProjection) {
+  auto viewer = viewCameraCube();
+  ASSERT_TRUE(viewer);
+  ASSERT_TRUE(viewer->lookThroughSceneCamera("ortho").ok());
+  const engine::render::CameraView view = viewer->cameraView();
+  ASSERT_TRUE(view.orthographic());
+  EXPECT_FLOAT_EQ(view.ymag, 1.0f);
+  EXPECT_FLOAT_EQ(view.znear, 0.1f);
+  EXPECT_FLOAT_EQ(view.zfar, 10.0f);
+  // The cube's front face (z = 0.5) is 3.5 in front of the camera: depth (10 - 3.5) / 9.9.
+  const glm::vec4 clip = view.proj * view.view * glm::vec4(0.0f, 0.0f, 0.5f, 1.0f);
+  EXPECT_NEAR(clip.z / clip.w, 6.5f / 9.9f, 1e-5f);
+  // The face spans y in [-0.5, 0.5] of the view's [-1, 1]: rows kHeight / 4 .. 3 kHeight / 4.
+  const std::vector<std::uint8_t> pixels = frame(*viewer);
+  const auto coveredRow = [&](std::uint32_t y) {  // pixels unlike the background (the top-left one)
+    std::uint32_t count = 0;
+    for (std::uint32_t x = 0; x < kWidth; ++x)
+      for (std::size_t c = 0; c < 3; ++c)
+        if (pixels[(y * kWidth + x) * 4 + c] != pixels[c]) {
+          ++count;
+          break;
+        }
+    return count;
+  };
+  EXPECT_EQ(coveredRow(kHeight / 4 - 2), 0u) << "above the cube";
+  EXPECT_EQ(coveredRow(kHeight / 2), kHeight / 2) << "the face is as wide as it is tall: kHeight / 2 pixels";
+  EXPECT_EQ(coveredRow(3 * kHeight / 4 + 1), 0u) << "below the cube";
 }
 
 // Tricky: the cells' and tiles' culling, the depth prepass and the resolve all take the frame's
@@ -155,18 +189,14 @@ TEST(SceneCameras, BadChoicesAreRefusedNamingTheCamera) {
   ASSERT_FALSE(flat.ok());
   EXPECT_NE(flat.error().message.find("scene camera 'flat': the camera's Z axis has zero length"), std::string::npos)
       << flat.error().message;
-  for (const char* missing : {"plan", "5", "-1", "1x", ""}) {
+  for (const char* missing : {"planar", "6", "-1", "1x", ""}) {
     const engine::Status refused = viewer->lookThroughSceneCamera(std::string_view(missing));
     ASSERT_FALSE(refused.ok()) << missing;
-    EXPECT_NE(refused.error().message.find("the scene's cameras: front, away, tilted, flat, camera 4"), std::string::npos)
-        << refused.error().message;
-    // The orthographic camera the importer skipped is named with why (the file's "plan" read as
-    // missing with no word of it).
-    EXPECT_NE(refused.error().message.find("skipped: camera 2 'plan': orthographic cameras are not supported"),
+    EXPECT_NE(refused.error().message.find("the scene's cameras: front, away, tilted, flat, camera 4, ortho"),
               std::string::npos)
         << refused.error().message;
   }
-  EXPECT_FALSE(viewer->lookThroughSceneCamera(std::size_t(5)).ok());
+  EXPECT_FALSE(viewer->lookThroughSceneCamera(std::size_t(6)).ok());
   EXPECT_EQ(viewer->cameraMode(), CameraMode::Orbit);
   expectSameCamera(viewer->cameraView(), before, "after the refusals");
 }

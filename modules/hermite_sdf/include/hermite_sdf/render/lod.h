@@ -39,6 +39,10 @@ struct HermiteSdfLod {
 // Pixels a world length `worldLength` at `distance` covers on an image `viewportHeight` pixels
 // tall with vertical field of view fovY (radians). A distance <= 0 (the eye inside) gives +inf.
 float projectedPixels(float worldLength, float distance, float fovY, std::uint32_t viewportHeight);
+// The same for `camera`'s projection: an orthographic camera shows a length at the same size at
+// every distance (CameraView::worldPerPixel), so `distance` only matters to a perspective one.
+float projectedPixels(float worldLength, float distance, const engine::render::CameraView& camera,
+                      std::uint32_t viewportHeight);
 
 // The largest factor by which `world` stretches an object-space length along an axis (column
 // norms): a cell is never drawn larger than this predicts, so a choice made from it errs on the

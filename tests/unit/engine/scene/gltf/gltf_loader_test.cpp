@@ -270,23 +270,33 @@ TEST(GltfLoaderHierarchy, WorldMatricesMatchHandComputedOnes) {
   EXPECT_EQ(nodes[3].parent, -1);
 }
 
-// Tricky because the orthographic camera is skipped, so the perspective camera moves from file
-// index 1 to scene index 0 and the nodes' camera references must follow (-1 for the skipped one).
-TEST(GltfLoaderHierarchy, PerspectiveCameraKeptOrthographicSkippedWithWarning) {
+// Tricky because the file lists the orthographic camera first: both cameras must be kept in file
+// order with the nodes' references intact, and each keeps only its own projection's fields (the
+// orthographic one its magnifications and finite far plane, the perspective one its field of view).
+TEST(GltfLoaderHierarchy, PerspectiveAndOrthographicCamerasKept) {
   const auto scene = loadGltf(kDataDir / "hierarchy.gltf");
   ASSERT_TRUE(scene.ok()) << scene.error().message;
-  ASSERT_EQ(scene->cameras.size(), 1u);
-  const auto& camera = scene->cameras[0];
+  ASSERT_EQ(scene->cameras.size(), 2u);
+  const auto& ortho = scene->cameras[0];
+  EXPECT_EQ(ortho.name, "ortho");
+  EXPECT_TRUE(ortho.orthographic);
+  EXPECT_FLOAT_EQ(ortho.xmag, 1.0f);
+  EXPECT_FLOAT_EQ(ortho.ymag, 1.0f);
+  EXPECT_FLOAT_EQ(ortho.znear, 0.1f);
+  ASSERT_TRUE(ortho.zfar.has_value());
+  EXPECT_FLOAT_EQ(*ortho.zfar, 10.0f);
+  const auto& camera = scene->cameras[1];
   EXPECT_EQ(camera.name, "eye");
+  EXPECT_FALSE(camera.orthographic);
   EXPECT_FLOAT_EQ(camera.yfov, 0.7f);
   EXPECT_FLOAT_EQ(camera.znear, 0.1f);
   ASSERT_TRUE(camera.zfar.has_value());
   EXPECT_FLOAT_EQ(*camera.zfar, 100.0f);
   ASSERT_TRUE(camera.aspectRatio.has_value());
   EXPECT_FLOAT_EQ(*camera.aspectRatio, 1.5f);
-  EXPECT_EQ(scene->nodes[2].camera, 0);   // grandchild: file camera 1
-  EXPECT_EQ(scene->nodes[3].camera, -1);  // ortho_holder: skipped
-  EXPECT_TRUE(anyWarningContains(*scene, "orthographic")) << "no warning about the skipped camera";
+  EXPECT_EQ(scene->nodes[2].camera, 1);  // grandchild: file camera 1
+  EXPECT_EQ(scene->nodes[3].camera, 0);  // ortho_holder: file camera 0
+  EXPECT_FALSE(anyWarningContains(*scene, "camera")) << "a supported camera was warned about";
 }
 
 // Tricky because uint16 indices from an external file must be widened, the missing NORMAL must
@@ -1133,6 +1143,51 @@ TEST(GltfLoaderMalformed, UnusableCamera) {
   GltfBuilder b;
   b.doc()["cameras"] = {{{"type", "perspective"}, {"perspective", {{"yfov", 4.0}, {"znear", 0.1}}}}};
   expectError(load(b), "case.gltf", {"camera 0", "yfov"});
+}
+
+// A file with one orthographic camera named "plan", loaded.
+Expected<SceneData> orthographicCamera(double xmag, double ymag, double znear, double zfar) {
+  GltfBuilder b;
+  b.doc()["cameras"] = {{{"name", "plan"},
+                         {"type", "orthographic"},
+                         {"orthographic", {{"xmag", xmag}, {"ymag", ymag}, {"znear", znear}, {"zfar", zfar}}}}};
+  return load(b);
+}
+
+// Tricky because glTF allows an orthographic znear of exactly 0 (a perspective one must be > 0),
+// and a wide, short view (xmag != ymag) must keep both magnifications as they are.
+TEST(GltfLoaderCameras, OrthographicCameraWithZeroNearIsKept) {
+  const auto scene = orthographicCamera(4.0, 0.5, 0.0, 20.0);
+  ASSERT_TRUE(scene.ok()) << scene.error().message;
+  ASSERT_EQ(scene->cameras.size(), 1u);
+  const CameraData& camera = scene->cameras[0];
+  EXPECT_TRUE(camera.orthographic);
+  EXPECT_EQ(camera.name, "plan");
+  EXPECT_FLOAT_EQ(camera.xmag, 4.0f);
+  EXPECT_FLOAT_EQ(camera.ymag, 0.5f);
+  EXPECT_FLOAT_EQ(camera.znear, 0.0f);
+  EXPECT_FLOAT_EQ(camera.zfar.value_or(-1.0f), 20.0f);
+}
+
+// Tricky because each bad value is otherwise well-formed JSON that the parser accepts, and each
+// would make a degenerate (zero size, mirrored, or inverted depth) projection: the error must
+// name the camera and the offending field. A negative magnification is only discouraged by glTF,
+// but it mirrors the image (and the winding that back-face culling relies on), so it is refused.
+TEST(GltfLoaderCameras, UnusableOrthographicCameraNamesTheField) {
+  expectError(orthographicCamera(0.0, 1.0, 0.1, 10.0), "case.gltf", {"camera 0 'plan'", "xmag 0"});
+  expectError(orthographicCamera(1.0, 0.0, 0.1, 10.0), "case.gltf", {"camera 0 'plan'", "ymag 0"});
+  expectError(orthographicCamera(1.0, -2.0, 0.1, 10.0), "case.gltf", {"ymag -2", "not positive"});
+  expectError(orthographicCamera(1.0, 1.0, -0.5, 10.0), "case.gltf", {"znear -0.5", "negative"});
+  expectError(orthographicCamera(1.0, 1.0, 5.0, 5.0), "case.gltf", {"zfar 5", "not beyond znear 5"});
+  expectError(orthographicCamera(1.0, 1.0, 0.0, 1e300), "case.gltf", {"zfar"});
+}
+
+// Tricky because the orthographic far plane is required by glTF (unlike the perspective one, whose
+// absence means infinite): a file without it must be refused, naming the field.
+TEST(GltfLoaderCameras, OrthographicCameraWithoutFarPlaneIsRefused) {
+  GltfBuilder b;
+  b.doc()["cameras"] = {{{"type", "orthographic"}, {"orthographic", {{"xmag", 1.0}, {"ymag", 1.0}, {"znear", 0.1}}}}};
+  expectError(load(b), "case.gltf", {"zfar"});
 }
 
 }  // namespace
