@@ -52,9 +52,9 @@ class ReleaseProbe final : public render::RenderFeature {
     prepared_.push_back(frame.frameNumber);
     gpu::Buffer buffer(*context_, 1 << 20, VK_BUFFER_USAGE_TRANSFER_DST_BIT, gpu::MemoryUsage::GpuOnly, "probe");
     for (std::uint32_t i = 0; i < 16; ++i) {
-      if (i > 0)
-        gpu::memoryBarrier(frame.cmd, VK_PIPELINE_STAGE_2_CLEAR_BIT, VK_ACCESS_2_TRANSFER_WRITE_BIT,
-                           VK_PIPELINE_STAGE_2_CLEAR_BIT, VK_ACCESS_2_TRANSFER_WRITE_BIT);
+      if (i > 0)  // all transfer stages: validation layers that file a fill under "copy" see the order too
+        gpu::memoryBarrier(frame.cmd, VK_PIPELINE_STAGE_2_ALL_TRANSFER_BIT, VK_ACCESS_2_TRANSFER_WRITE_BIT,
+                           VK_PIPELINE_STAGE_2_ALL_TRANSFER_BIT, VK_ACCESS_2_TRANSFER_WRITE_BIT);
       vkCmdFillBuffer(frame.cmd, buffer.handle(), 0, VK_WHOLE_SIZE, i);
     }
     auto tracked = std::make_unique<TrackedBuffer>(std::move(buffer), frame.frameNumber, &destroyedBefore_, &nextPrepared_);
