@@ -47,7 +47,11 @@ samples::ParseResult<Options> parseOptions(int argc, char** argv) {
   samples::addDeviceOption(app, options.device);
   samples::addSizeOption(app, options.width, options.height, "the frames' size (default 64x48)");
   if (auto stop = samples::parseCommandLine(app, "shader_stats", argc, argv)) return samples::stoppedWith<Options>(*stop);
-  for (int i = 0; i < argc; ++i) options.commandLine += (i ? " " : "") + std::string(i ? argv[i] : "shader_stats");
+  // The driver variable that makes RADV's null device, as given: part of what ran.
+  if (const char* family = std::getenv("RADV_FORCE_FAMILY"); family && *family)
+    options.commandLine = "RADV_FORCE_FAMILY=" + std::string(family) + " ";
+  options.commandLine += "shader_stats";
+  for (int i = 1; i < argc; ++i) options.commandLine.append(" ").append(argv[i]);
   return {options, {}, 0};
 }
 
@@ -68,7 +72,7 @@ std::vector<samples::TuningState> tour() {
   add([](samples::TuningState& t) { t.tiles = AutoSwitch::On; });
   add([](samples::TuningState& t) { t.tiles = AutoSwitch::Off; t.thinBoxes = AutoSwitch::Off; t.earlyDepth = AutoSwitch::On; });
   add([](samples::TuningState& t) { t.tiles = AutoSwitch::Off; t.thinBoxes = AutoSwitch::On; t.earlyDepth = AutoSwitch::Off; });
-  add([](samples::TuningState& t) { t.cullOcclusion = true; t.fp16 = true; });
+  add([](samples::TuningState& t) { t.cullOcclusion = true; t.tiles = AutoSwitch::Off; t.fp16 = true; });  // occlusion: boxes only
   add([](samples::TuningState& t) { t.debugView = samples::DebugView(DEBUG_VIEW_WIREFRAME); });
   for (const RenderMethod method : {RenderMethod::CellRuns, RenderMethod::CellBricks, RenderMethod::TrilinearSphereTrace,
                                     RenderMethod::HermiteSphereTrace})

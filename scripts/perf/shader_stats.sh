@@ -9,10 +9,11 @@
 #   (another family: RADV_FORCE_FAMILY=gfx1100 scripts/perf/shader_stats.sh build/release --statistics-device GFX1100 --out DIR)
 set -euo pipefail
 root=$(cd "$(dirname "$0")/../.." && pwd)
-build=${1:-build/release}
+build=$(cd "${1:-$root/build/release}" && pwd)
 shift || true
+cd "$root"  # the table names its folder as committed
 source "$root/scripts/deps.sh" && hsdf_runtime_env  # a private XDG_RUNTIME_DIR, reused
 export RADV_FORCE_FAMILY=${RADV_FORCE_FAMILY:-navi10}
 export HSDF_COMMIT=${HSDF_COMMIT:-$(git -C "$root" describe --always --dirty 2>/dev/null || echo unknown)}
 exec "$build/samples/shader_stats/shader_stats" --device lavapipe --statistics-device NAVI10 \
-  --out "$root/docs/perf/radv-navi10" "$@"
+  --out docs/perf/radv-navi10 "$@"
