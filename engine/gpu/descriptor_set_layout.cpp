@@ -21,10 +21,14 @@ DescriptorSetLayout::DescriptorSetLayout(const Context& context, const Descripto
   info.pNext = desc.bindingFlags.empty() ? nullptr : &flags;
   info.bindingCount = static_cast<std::uint32_t>(desc.bindings.size());
   info.pBindings = desc.bindings.data();
-  VK_CHECK(vkCreateDescriptorSetLayout(context.device(), &info, nullptr, &layout_));
+  try {  // a constructor that throws runs no destructor; an injected fault leaves a created layout
+    VK_CHECK(vkCreateDescriptorSetLayout(context.device(), &info, nullptr, &layout_));
+  } catch (...) {
+    destroy();
+    throw;
+  }
   context.setName(layout_, VK_OBJECT_TYPE_DESCRIPTOR_SET_LAYOUT, desc.name);
   if (ShaderStatistics* statistics = context.shaderStatistics()) {
-    // A constructor that throws runs no destructor: give the layout back first.
     if (const Status copied = statistics->addSetLayout(layout_, info); !copied) {
       destroy();
       throw std::runtime_error("descriptor set layout '" + desc.name + "': " + copied.error().message);
