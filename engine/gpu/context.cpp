@@ -120,10 +120,12 @@ Expected<std::unique_ptr<Context>> Context::create(const ContextDesc& desc) {
   ENGINE_TRY(context->createInstance(desc));
   ENGINE_TRY(context->pickPhysicalDevice(desc));
   ENGINE_TRY(context->createDevice(desc));
+  ENGINE_TRY(context->createShaderStatistics(desc));
   return context;
 }
 
 Context::~Context() {
+  shaderStatistics_.reset();  // its device, if any, belongs to the instance destroyed below
   if (device_) {
     vkDeviceWaitIdle(device_);
     allocator_.reset();
@@ -266,6 +268,9 @@ Status Context::pickPhysicalDevice(const ContextDesc& desc) {
     VkPhysicalDeviceProperties properties{};
     vkGetPhysicalDeviceProperties(device, &properties);
     std::string why = missingRequirements(device);
+    if (why.empty() && isNullDevice(properties.deviceName))
+      why = "a null device: it compiles pipelines but cannot run them (RADV_FORCE_FAMILY is set); it serves only "
+            "as a shader statistics device";
     if (desc.swapchain && why.empty()) {
       ENGINE_TRY_ASSIGN(const bool canPresent, hasDeviceExtension(device, VK_KHR_SWAPCHAIN_EXTENSION_NAME));
       if (!canPresent) why = "no VK_KHR_swapchain";
@@ -303,10 +308,7 @@ Status Context::createDevice(const ContextDesc& desc) {
 
   caps_.deviceName = properties.deviceName;
   caps_.isSoftwareRasterizer = properties.deviceType == VK_PHYSICAL_DEVICE_TYPE_CPU;
-  caps_.descriptorIndexing = supported.v12.descriptorIndexing && supported.v12.runtimeDescriptorArray &&
-                             supported.v12.shaderSampledImageArrayNonUniformIndexing &&
-                             supported.v12.descriptorBindingPartiallyBound &&
-                             supported.v12.descriptorBindingSampledImageUpdateAfterBind;
+  caps_.descriptorIndexing = hasDescriptorIndexing(supported);
   caps_.shaderFloat16 = supported.v12.shaderFloat16;
   caps_.storageBuffer16BitAccess = supported.v11.storageBuffer16BitAccess;
   caps_.multiDrawIndirect = supported.core.features.multiDrawIndirect;
@@ -334,24 +336,7 @@ Status Context::createDevice(const ContextDesc& desc) {
   // The required features (device_features.h), then the optional ones the device has.
   FeatureChain enabled;
   enableRequiredFeatures(enabled);
-  enabled.core.features.multiDrawIndirect = supported.core.features.multiDrawIndirect;
-  enabled.core.features.fillModeNonSolid = supported.core.features.fillModeNonSolid;
-  enabled.core.features.largePoints = supported.core.features.largePoints;
-  enabled.core.features.pipelineStatisticsQuery = supported.core.features.pipelineStatisticsQuery;
-  enabled.core.features.depthClamp = supported.core.features.depthClamp;
-  enabled.core.features.samplerAnisotropy = supported.core.features.samplerAnisotropy;
-  enabled.v11.storageBuffer16BitAccess = supported.v11.storageBuffer16BitAccess;
-  enabled.v12.shaderFloat16 = supported.v12.shaderFloat16;
-  enabled.v12.drawIndirectCount = supported.v12.drawIndirectCount;
-  enabled.v12.hostQueryReset = supported.v12.hostQueryReset;
-  if (caps_.descriptorIndexing) {
-    enabled.v12.descriptorIndexing = VK_TRUE;
-    enabled.v12.runtimeDescriptorArray = VK_TRUE;
-    enabled.v12.shaderSampledImageArrayNonUniformIndexing = VK_TRUE;
-    enabled.v12.descriptorBindingPartiallyBound = VK_TRUE;
-    enabled.v12.descriptorBindingSampledImageUpdateAfterBind = VK_TRUE;
-  }
-  enabled.v13.maintenance4 = supported.v13.maintenance4;
+  enableOptionalFeatures(enabled, supported);
 
   const float priority = 1.0f;
   VkDeviceQueueCreateInfo queueInfo{VK_STRUCTURE_TYPE_DEVICE_QUEUE_CREATE_INFO};
@@ -361,6 +346,17 @@ Status Context::createDevice(const ContextDesc& desc) {
 
   std::vector<const char*> extensions;
   if (desc.swapchain) extensions.push_back(VK_KHR_SWAPCHAIN_EXTENSION_NAME);
+  VkPhysicalDevicePipelineExecutablePropertiesFeaturesKHR executable{
+      VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_PIPELINE_EXECUTABLE_PROPERTIES_FEATURES_KHR};
+  if (desc.shaderStatistics.target == StatisticsTarget::Native) {
+    ENGINE_TRY_ASSIGN(const bool has, hasDeviceExtension(physicalDevice_, VK_KHR_PIPELINE_EXECUTABLE_PROPERTIES_EXTENSION_NAME));
+    if (!has)
+      return makeError("shader statistics: " + caps_.deviceName + " has no " +
+                       VK_KHR_PIPELINE_EXECUTABLE_PROPERTIES_EXTENSION_NAME + " (a statistics device can compile them instead)");
+    extensions.push_back(VK_KHR_PIPELINE_EXECUTABLE_PROPERTIES_EXTENSION_NAME);
+    executable.pipelineExecutableInfo = VK_TRUE;
+    enabled.v13.pNext = &executable;
+  }
 
   VkDeviceCreateInfo info{VK_STRUCTURE_TYPE_DEVICE_CREATE_INFO};
   info.pNext = &enabled.core;
@@ -380,6 +376,19 @@ Status Context::createDevice(const ContextDesc& desc) {
   setName(oneOffPool_, VK_OBJECT_TYPE_COMMAND_POOL, "one-off command pool");
   setName(queue_, VK_OBJECT_TYPE_QUEUE, "graphics queue");
   log::info("Vulkan device: {}{}", caps_.deviceName, caps_.isSoftwareRasterizer ? " (software)" : "");
+  return {};
+}
+
+Status Context::createShaderStatistics(const ContextDesc& desc) {
+  switch (desc.shaderStatistics.target) {
+    case StatisticsTarget::Off: return {};
+    case StatisticsTarget::Native: shaderStatistics_ = ShaderStatistics::createNative(device_, caps_.deviceName); break;
+    case StatisticsTarget::Device: {
+      ENGINE_TRY_ASSIGN(shaderStatistics_, ShaderStatistics::createOnDevice(instance_, desc.shaderStatistics));
+      break;
+    }
+  }
+  log::info("shader statistics from {}", shaderStatistics_->deviceName());
   return {};
 }
 

@@ -13,6 +13,7 @@
 
 #include "engine/core/expected.h"
 #include "engine/gpu/memory.h"
+#include "engine/gpu/shader_statistics.h"
 
 namespace engine::gpu {
 
@@ -35,6 +36,10 @@ struct ContextDesc {
   // Extra instance extensions, e.g. those GLFW needs for a surface. Presence turns on the swapchain.
   std::vector<std::string> instanceExtensions;
   bool swapchain = false;
+  // The shader compiler's statistics of every pipeline (engine/gpu/shader_statistics.h); off by
+  // default. A target that is not there (a device without the extension, no device of the name)
+  // fails Context::create naming it.
+  ShaderStatisticsDesc shaderStatistics;
 
   static bool defaultValidation();
 };
@@ -73,6 +78,8 @@ class Context {
   std::uint32_t queueFamily() const { return queueFamily_; }
   const DeviceCapabilities& capabilities() const { return caps_; }
   Allocator& allocator() const { return *allocator_; }
+  // Where the pipelines' compiler statistics are recorded, or null when they are off.
+  ShaderStatistics* shaderStatistics() const { return shaderStatistics_.get(); }
 
   // Validation messages (warnings and errors) seen so far; tests assert this stays 0.
   std::uint32_t validationMessageCount() const { return validationMessages_.load(); }
@@ -107,6 +114,7 @@ class Context {
   Status createInstance(const ContextDesc& desc);
   Status pickPhysicalDevice(const ContextDesc& desc);
   Status createDevice(const ContextDesc& desc);
+  Status createShaderStatistics(const ContextDesc& desc);
   // A begun one-off command buffer, freed by the destructor on every path (with oneOffMutex_ held).
   class OneOffCommands {
    public:
@@ -138,6 +146,7 @@ class Context {
   bool debugUtils_ = false;
   PFN_vkSetDebugUtilsObjectNameEXT setObjectName_ = nullptr;
   std::unique_ptr<Allocator> allocator_;
+  std::unique_ptr<ShaderStatistics> shaderStatistics_;
   std::atomic<std::uint32_t> validationMessages_{0};
   mutable std::mutex messagesMutex_;
   std::vector<std::string> messages_;

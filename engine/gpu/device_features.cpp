@@ -38,6 +38,33 @@ void enableRequiredFeatures(FeatureChain& enabled) {
   for (const RequiredFeature& feature : kRequired) feature.member(enabled) = VK_TRUE;
 }
 
+bool hasDescriptorIndexing(FeatureChain& supported) {
+  return supported.v12.descriptorIndexing && supported.v12.runtimeDescriptorArray &&
+         supported.v12.shaderSampledImageArrayNonUniformIndexing && supported.v12.descriptorBindingPartiallyBound &&
+         supported.v12.descriptorBindingSampledImageUpdateAfterBind;
+}
+
+void enableOptionalFeatures(FeatureChain& enabled, FeatureChain& supported) {
+  enabled.core.features.multiDrawIndirect = supported.core.features.multiDrawIndirect;
+  enabled.core.features.fillModeNonSolid = supported.core.features.fillModeNonSolid;
+  enabled.core.features.largePoints = supported.core.features.largePoints;
+  enabled.core.features.pipelineStatisticsQuery = supported.core.features.pipelineStatisticsQuery;
+  enabled.core.features.depthClamp = supported.core.features.depthClamp;
+  enabled.core.features.samplerAnisotropy = supported.core.features.samplerAnisotropy;
+  enabled.v11.storageBuffer16BitAccess = supported.v11.storageBuffer16BitAccess;
+  enabled.v12.shaderFloat16 = supported.v12.shaderFloat16;
+  enabled.v12.drawIndirectCount = supported.v12.drawIndirectCount;
+  enabled.v12.hostQueryReset = supported.v12.hostQueryReset;
+  if (hasDescriptorIndexing(supported)) {
+    enabled.v12.descriptorIndexing = VK_TRUE;
+    enabled.v12.runtimeDescriptorArray = VK_TRUE;
+    enabled.v12.shaderSampledImageArrayNonUniformIndexing = VK_TRUE;
+    enabled.v12.descriptorBindingPartiallyBound = VK_TRUE;
+    enabled.v12.descriptorBindingSampledImageUpdateAfterBind = VK_TRUE;
+  }
+  enabled.v13.maintenance4 = supported.v13.maintenance4;
+}
+
 std::string describeRequirements() {
   std::string text = "Vulkan 1.3 with";
   for (const RequiredFeature& feature : kRequired) text += (&feature == kRequired ? " " : ", ") + std::string(feature.name);

@@ -41,6 +41,14 @@ std::string missingRequiredFeatures(FeatureChain& supported);
 // Sets every required feature in `enabled`.
 void enableRequiredFeatures(FeatureChain& enabled);
 
+// Whether `supported` has everything the descriptor-indexed ("bindless") sphere tracer needs.
+bool hasDescriptorIndexing(FeatureChain& supported);
+
+// Sets in `enabled` the optional features the engine uses where `supported` has them (multi-draw,
+// fp16, 16-bit storage, descriptor indexing, ...): every device the engine creates, the one it
+// renders on and a device that only compiles its pipelines, gets the same list.
+void enableOptionalFeatures(FeatureChain& enabled, FeatureChain& supported);
+
 // "Vulkan 1.3 with dynamicRendering, synchronization2, ...": what the engine needs, for messages.
 std::string describeRequirements();
 

@@ -7,6 +7,7 @@
 
 #include "engine/core/files.h"
 #include "engine/gpu/context.h"
+#include "engine/gpu/shader_statistics.h"
 #include "engine/gpu/spirv_check.h"
 #include "engine/gpu/vk_check.h"
 
@@ -47,6 +48,24 @@ std::filesystem::path findShader(const std::vector<std::filesystem::path>& folde
     if (std::filesystem::is_regular_file(folder / file, ec)) return folder / file;
   return folders.back() / file;
 }
+
+// A pipeline layout's create info: one push constant range at offset 0 (none for 0 bytes) and the
+// set layouts; the layout and a statistics device's copy of it are made from the same info.
+struct LayoutInfo {
+  LayoutInfo(VkShaderStageFlags pushStages, std::uint32_t pushConstantBytes,
+             const std::vector<VkDescriptorSetLayout>& sets)
+      : setLayouts(sets), pushRange{pushStages, 0, pushConstantBytes} {
+    info.setLayoutCount = static_cast<std::uint32_t>(setLayouts.size());
+    info.pSetLayouts = setLayouts.data();
+    info.pushConstantRangeCount = pushConstantBytes ? 1 : 0;
+    info.pPushConstantRanges = &pushRange;
+  }
+  LayoutInfo(const LayoutInfo&) = delete;  // info points into it
+  LayoutInfo& operator=(const LayoutInfo&) = delete;
+  std::vector<VkDescriptorSetLayout> setLayouts;
+  VkPushConstantRange pushRange;
+  VkPipelineLayoutCreateInfo info{VK_STRUCTURE_TYPE_PIPELINE_LAYOUT_CREATE_INFO};
+};
 
 }  // namespace
 
@@ -101,33 +120,33 @@ Expected<ShaderModule> ShaderModule::load(const Context& context, const std::str
   module.context_ = &context;
   VK_TRY(vkCreateShaderModule(context.device(), &info, nullptr, &module.module_));
   context.setName(module.module_, VK_OBJECT_TYPE_SHADER_MODULE, name);
+  // The statistics device compiles the pipelines again: it gets the SPIR-V while the module lives.
+  if (ShaderStatistics* statistics = context.shaderStatistics()) ENGINE_TRY(statistics->addShader(module.module_, name, *bytes));
   return module;
 }
 
-ShaderModule::~ShaderModule() {
-  if (module_) vkDestroyShaderModule(context_->device(), module_, nullptr);
+ShaderModule::~ShaderModule() { destroy(); }
+
+void ShaderModule::destroy() noexcept {
+  if (!module_) return;
+  if (ShaderStatistics* statistics = context_->shaderStatistics()) statistics->removeShader(module_);
+  vkDestroyShaderModule(context_->device(), module_, nullptr);
+  module_ = VK_NULL_HANDLE;
 }
 
 ShaderModule::ShaderModule(ShaderModule&& other) noexcept { *this = std::move(other); }
 
 ShaderModule& ShaderModule::operator=(ShaderModule&& other) noexcept {
   if (this != &other) {
-    if (module_) vkDestroyShaderModule(context_->device(), module_, nullptr);
+    destroy();
     context_ = std::exchange(other.context_, nullptr);
     module_ = std::exchange(other.module_, VK_NULL_HANDLE);
   }
   return *this;
 }
 
-Status Pipeline::createLayout(const std::string& name, VkShaderStageFlags pushStages, std::uint32_t pushConstantBytes,
-                              const std::vector<VkDescriptorSetLayout>& setLayouts) {
-  VkPushConstantRange pushRange{pushStages, 0, pushConstantBytes};
-  VkPipelineLayoutCreateInfo layoutInfo{VK_STRUCTURE_TYPE_PIPELINE_LAYOUT_CREATE_INFO};
-  layoutInfo.setLayoutCount = static_cast<std::uint32_t>(setLayouts.size());
-  layoutInfo.pSetLayouts = setLayouts.data();
-  layoutInfo.pushConstantRangeCount = pushConstantBytes ? 1 : 0;
-  layoutInfo.pPushConstantRanges = &pushRange;
-  VK_TRY(vkCreatePipelineLayout(context_->device(), &layoutInfo, nullptr, &layout_));
+Status Pipeline::createLayout(const std::string& name, const VkPipelineLayoutCreateInfo& info) {
+  VK_TRY(vkCreatePipelineLayout(context_->device(), &info, nullptr, &layout_));
   context_->setName(layout_, VK_OBJECT_TYPE_PIPELINE_LAYOUT, name + " layout");
   return {};
 }
@@ -136,23 +155,28 @@ Expected<Pipeline> Pipeline::createCompute(const Context& context, const std::st
                                            std::uint32_t pushConstantBytes) {
   Pipeline result;
   result.context_ = &context;
-  ENGINE_TRY(result.createLayout(name, VK_SHADER_STAGE_COMPUTE_BIT, pushConstantBytes, {}));
+  const LayoutInfo layout(VK_SHADER_STAGE_COMPUTE_BIT, pushConstantBytes, {});
+  ENGINE_TRY(result.createLayout(name, layout.info));
+  ShaderStatistics* statistics = context.shaderStatistics();
   VkComputePipelineCreateInfo info{VK_STRUCTURE_TYPE_COMPUTE_PIPELINE_CREATE_INFO};
   info.stage = {VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO};
   info.stage.stage = VK_SHADER_STAGE_COMPUTE_BIT;
   info.stage.module = shader;
   info.stage.pName = "main";
   info.layout = result.layout_;
+  if (statistics) info.flags |= statistics->pipelineFlags();
   VK_TRY(vkCreateComputePipelines(context.device(), VK_NULL_HANDLE, 1, &info, nullptr, &result.pipeline_));
   context.setName(result.pipeline_, VK_OBJECT_TYPE_PIPELINE, name);
+  if (statistics) statistics->record(name, info, layout.info, result.pipeline_);
   return result;
 }
 
 Expected<Pipeline> Pipeline::createGraphics(const Context& context, const GraphicsPipelineDesc& desc) {
   Pipeline result;
   result.context_ = &context;
-  ENGINE_TRY(result.createLayout(desc.name, VK_SHADER_STAGE_VERTEX_BIT | VK_SHADER_STAGE_FRAGMENT_BIT,
-                                 desc.pushConstantBytes, desc.setLayouts));
+  const LayoutInfo layout(VK_SHADER_STAGE_VERTEX_BIT | VK_SHADER_STAGE_FRAGMENT_BIT, desc.pushConstantBytes,
+                          desc.setLayouts);
+  ENGINE_TRY(result.createLayout(desc.name, layout.info));
 
   std::vector<VkPipelineShaderStageCreateInfo> stages;
   VkPipelineShaderStageCreateInfo stage{VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO};
@@ -236,8 +260,11 @@ Expected<Pipeline> Pipeline::createGraphics(const Context& context, const Graphi
   info.pColorBlendState = &blend;
   info.pDynamicState = &dynamic;
   info.layout = result.layout_;
+  ShaderStatistics* statistics = context.shaderStatistics();
+  if (statistics) info.flags |= statistics->pipelineFlags();
   VK_TRY(vkCreateGraphicsPipelines(context.device(), VK_NULL_HANDLE, 1, &info, nullptr, &result.pipeline_));
   context.setName(result.pipeline_, VK_OBJECT_TYPE_PIPELINE, desc.name);
+  if (statistics) statistics->record(desc.name, info, layout.info, result.pipeline_);
   return result;
 }
 

@@ -38,6 +38,7 @@ class ShaderModule {
   VkShaderModule handle() const { return module_; }
 
  private:
+  void destroy() noexcept;
   const Context* context_ = nullptr;
   VkShaderModule module_ = VK_NULL_HANDLE;
 };
@@ -88,8 +89,7 @@ class Pipeline {
 
  private:
   void release();
-  Status createLayout(const std::string& name, VkShaderStageFlags pushStages, std::uint32_t pushConstantBytes,
-                      const std::vector<VkDescriptorSetLayout>& setLayouts);
+  Status createLayout(const std::string& name, const VkPipelineLayoutCreateInfo& info);
   const Context* context_ = nullptr;
   VkPipeline pipeline_ = VK_NULL_HANDLE;
   VkPipelineLayout layout_ = VK_NULL_HANDLE;

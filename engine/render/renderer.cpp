@@ -143,7 +143,6 @@ void Renderer::destroyHandles() noexcept {
     vkDestroyCommandPool(context_.device(), frame.pool, nullptr);
   }
   vkDestroyDescriptorPool(context_.device(), descriptorPool_, nullptr);
-  vkDestroyDescriptorSetLayout(context_.device(), sceneSetLayout_, nullptr);
   vkDestroySampler(context_.device(), depthSampler_, nullptr);
 }
 
@@ -157,15 +156,12 @@ void Renderer::createSceneDescriptors() {
   VK_CHECK(vkCreateSampler(context_.device(), &samplerInfo, nullptr, &depthSampler_));
   context_.setName(depthSampler_, VK_OBJECT_TYPE_SAMPLER, "scene depth sampler");
 
-  const VkDescriptorSetLayoutBinding bindings[2] = {
-      {0, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, 1, VK_SHADER_STAGE_FRAGMENT_BIT, nullptr},
-      {1, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, 1, VK_SHADER_STAGE_FRAGMENT_BIT, nullptr}};
-  VkDescriptorSetLayoutCreateInfo layoutInfo{VK_STRUCTURE_TYPE_DESCRIPTOR_SET_LAYOUT_CREATE_INFO};
-  layoutInfo.bindingCount = 2;
-  layoutInfo.pBindings = bindings;
-  VK_CHECK(vkCreateDescriptorSetLayout(context_.device(), &layoutInfo, nullptr, &sceneSetLayout_));
-  context_.setName(sceneSetLayout_, VK_OBJECT_TYPE_DESCRIPTOR_SET_LAYOUT, "scene set layout");
-  desc_.formats.sceneSetLayout = sceneSetLayout_;
+  sceneSetLayout_ = gpu::DescriptorSetLayout(
+      context_, {"scene set layout",
+                 {{0, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, 1, VK_SHADER_STAGE_FRAGMENT_BIT, nullptr},
+                  {1, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, 1, VK_SHADER_STAGE_FRAGMENT_BIT, nullptr}},
+                 {}});
+  desc_.formats.sceneSetLayout = sceneSetLayout_.handle();
 
   VkDescriptorPoolSize size{VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, 2};
   VkDescriptorPoolCreateInfo poolInfo{VK_STRUCTURE_TYPE_DESCRIPTOR_POOL_CREATE_INFO};
@@ -177,7 +173,8 @@ void Renderer::createSceneDescriptors() {
   VkDescriptorSetAllocateInfo allocInfo{VK_STRUCTURE_TYPE_DESCRIPTOR_SET_ALLOCATE_INFO};
   allocInfo.descriptorPool = descriptorPool_;
   allocInfo.descriptorSetCount = 1;
-  allocInfo.pSetLayouts = &sceneSetLayout_;
+  const VkDescriptorSetLayout setLayout = sceneSetLayout_.handle();
+  allocInfo.pSetLayouts = &setLayout;
   VK_CHECK(vkAllocateDescriptorSets(context_.device(), &allocInfo, &sceneSet_));
   context_.setName(sceneSet_, VK_OBJECT_TYPE_DESCRIPTOR_SET, "scene set");
 }

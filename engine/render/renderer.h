@@ -12,6 +12,7 @@
 
 #include "engine/gpu/buffer.h"
 #include "engine/gpu/deferred_release.h"
+#include "engine/gpu/descriptor_set_layout.h"
 #include "engine/gpu/gpu_timer.h"
 #include "engine/gpu/image.h"
 #include "engine/gpu/pipeline_statistics.h"
@@ -200,7 +201,7 @@ class Renderer {
   gpu::Image depth_;
   gpu::Image visibility_;
   VkSampler depthSampler_ = VK_NULL_HANDLE;
-  VkDescriptorSetLayout sceneSetLayout_ = VK_NULL_HANDLE;
+  gpu::DescriptorSetLayout sceneSetLayout_;
   VkDescriptorPool descriptorPool_ = VK_NULL_HANDLE;
   VkDescriptorSet sceneSet_ = VK_NULL_HANDLE;
   std::vector<FrameResources> frames_;

@@ -68,6 +68,7 @@ Status Viewer::initialize(const ViewerDesc& desc) {
   contextDesc.applicationName = kProgramName;
   contextDesc.engineName = std::string(kProgramName) + " engine";
   contextDesc.device = desc.device;
+  contextDesc.shaderStatistics = desc.shaderStatistics;
   if (desc.validation) contextDesc.validation = true;
   if (!desc.headless) {
     ENGINE_TRY_ASSIGN(window_, ViewerWindow::create(desc.title, desc.width, desc.height));

@@ -80,6 +80,8 @@ struct ViewerDesc {
   // Device memory the renderer may hold (engine::gpu::Allocator::setBudget); a frame that needs
   // more fails with an error naming the resource and the budget (step()).
   std::uint64_t gpuMemoryBudget = engine::gpu::Allocator::kUnlimited;
+  // The shader compiler's statistics of every pipeline (engine/gpu/shader_statistics.h); off by default.
+  engine::gpu::ShaderStatisticsDesc shaderStatistics;
 };
 
 // What to show. A glTF scene's meshes are drawn as triangles (Method::Mesh) or baked into one SDF

@@ -16,6 +16,8 @@ out=$root/.device
 stage=$(mktemp -d)
 trap 'rm -rf "$stage"' EXIT
 bash "$pack_tool" "$build" "$stage/gpu" "$root" >/dev/null
+# shader_stats (the compiler statistics of every pipeline) needs no library perf_capture does not.
+cp "$build/samples/shader_stats/shader_stats" "$stage/gpu/bin/" && strip "$stage/gpu/bin/shader_stats"
 bash "$root/scripts/pack_gpu_tests.sh" "$build" "$stage/gpu-tests" >/dev/null
 commit=$(git -C "$root" describe --always --dirty 2>/dev/null || echo unknown)
 echo "$commit" > "$stage/commit"

@@ -8,8 +8,11 @@
 #      two-phase occlusion culling (off by default until a GPU has measured it), over whole cells,
 #      then as 4x4 and 16x16 tiles), or the capture options given;
 #   2. the GPU test suite, HSDF_TEST_DEVICE=gpu, validation layers on (one gtest XML per binary);
-#   3. what scripts/run.sh shows (the default split screen), headless, as a PNG.
-# Everything lands under $OUT (the device tool brings it back): capture/, tests/, device.txt,
+#   3. what scripts/run.sh shows (the default split screen), headless, as a PNG;
+#   4. the GPU's own shader compiler statistics of every pipeline (shader_stats --native: VGPRs,
+#      spills, ... where the driver has VK_KHR_pipeline_executable_properties; compiler
+#      statistics, not timings), in shader_stats/.
+# Everything lands under $OUT (the device tool brings it back): capture/, tests/, shader_stats/, device.txt,
 # run_sh_default_split.png, and steps.txt with each step's exit status and seconds. Commit the
 # capture under docs/perf/<gpu name>/ with the command that made it.
 set -uo pipefail
@@ -40,13 +43,15 @@ if [ ${#capture[@]} -eq 0 ]; then
            --methods hermite,trilinear,cells
            --settings "n=3 r=1 tiles,n=3 r=1 boxes,n=3 r=1 occlusion,n=3 r=1 boxes whole cells,n=3 r=1 tiles whole cells,n=3 r=1 tiles 4x4,n=3 r=1 tiles 16x16")
 fi
-# The tests and the screenshot take well under two minutes together: the capture gets the rest. Its
-# own --time-limit stops starting rows 60 s before the step's limit, so that it writes its report
-# rather than being killed (results.csv / .json are rewritten after every row in any case).
-limit=$(( $(left) - 120 ))
+# The tests, the screenshot and the statistics take well under two and a half minutes together: the
+# capture gets the rest. Its own --time-limit stops starting rows 60 s before the step's limit, so
+# that it writes its report rather than being killed (results.csv / .json are rewritten after every
+# row in any case).
+limit=$(( $(left) - 150 ))
 case " ${capture[*]} " in *" --time-limit "*) ;; *) capture+=(--time-limit $(( limit > 120 ? limit - 60 : limit / 2 ))) ;; esac
 step capture $limit "$work/gpu/run.sh" perf_capture --device "$device" --out "$out/capture" "${capture[@]}"
 step tests $(( $(left) - 40 )) "$work/gpu-tests/run.sh" "$out/tests"
-step split $(( $(left) )) "$work/gpu/run.sh" scene_runner --headless --ui --device "$device" --split vertical --frames 3 \
+step split $(( $(left) - 30 )) "$work/gpu/run.sh" scene_runner --headless --ui --device "$device" --split vertical --frames 3 \
   --screenshot "$out/run_sh_default_split.png"
+step shader_stats $(( $(left) )) "$work/gpu/run.sh" shader_stats --native --device "$device" --out "$out/shader_stats"
 tail -n 3 "$out"/*.log

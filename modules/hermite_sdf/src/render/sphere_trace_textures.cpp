@@ -5,6 +5,7 @@
 #include <string>
 
 #include "engine/gpu/context.h"
+#include "engine/gpu/descriptor_set_layout.h"
 #include "engine/gpu/vk_check.h"
 #include "hermite_sdf/core/cells.h"
 
@@ -109,26 +110,15 @@ class BindlessTable final : public FieldTextureBindings {
   explicit BindlessTable(const engine::gpu::Context& context) : context_(context) {}
   ~BindlessTable() override {
     vkDestroyDescriptorPool(context_.device(), pool_, nullptr);
-    vkDestroyDescriptorSetLayout(context_.device(), layout_, nullptr);
   }
 
   Status create() {
     capacity_ = tableCapacity();
-    VkDescriptorSetLayoutBinding binding{0, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, capacity_,
-                                         VK_SHADER_STAGE_FRAGMENT_BIT, nullptr};
     // Slots that no texture occupies stay unwritten: allowed because no draw indexes them.
-    const VkDescriptorBindingFlags flags = VK_DESCRIPTOR_BINDING_PARTIALLY_BOUND_BIT;
-    VkDescriptorSetLayoutBindingFlagsCreateInfo bindingFlags{};
-    bindingFlags.sType = VK_STRUCTURE_TYPE_DESCRIPTOR_SET_LAYOUT_BINDING_FLAGS_CREATE_INFO;
-    bindingFlags.bindingCount = 1;
-    bindingFlags.pBindingFlags = &flags;
-    VkDescriptorSetLayoutCreateInfo layoutInfo{};
-    layoutInfo.sType = VK_STRUCTURE_TYPE_DESCRIPTOR_SET_LAYOUT_CREATE_INFO;
-    layoutInfo.pNext = &bindingFlags;
-    layoutInfo.bindingCount = 1;
-    layoutInfo.pBindings = &binding;
-    VK_TRY(vkCreateDescriptorSetLayout(context_.device(), &layoutInfo, nullptr, &layout_));
-    context_.setName(layout_, VK_OBJECT_TYPE_DESCRIPTOR_SET_LAYOUT, "sphere trace bindless layout");
+    layout_ = engine::gpu::DescriptorSetLayout(
+        context_, {"sphere trace bindless layout",
+                   {{0, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, capacity_, VK_SHADER_STAGE_FRAGMENT_BIT, nullptr}},
+                   {VK_DESCRIPTOR_BINDING_PARTIALLY_BOUND_BIT}});
 
     const VkDescriptorPoolSize size{VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, capacity_};
     VkDescriptorPoolCreateInfo poolInfo{};
@@ -142,14 +132,15 @@ class BindlessTable final : public FieldTextureBindings {
     allocInfo.sType = VK_STRUCTURE_TYPE_DESCRIPTOR_SET_ALLOCATE_INFO;
     allocInfo.descriptorPool = pool_;
     allocInfo.descriptorSetCount = 1;
-    allocInfo.pSetLayouts = &layout_;
+    const VkDescriptorSetLayout setLayout = layout_.handle();
+    allocInfo.pSetLayouts = &setLayout;
     VK_TRY(vkAllocateDescriptorSets(context_.device(), &allocInfo, &set_));
     context_.setName(set_, VK_OBJECT_TYPE_DESCRIPTOR_SET, "sphere trace bindless textures");
     return {};
   }
 
   bool bindless() const override { return true; }
-  VkDescriptorSetLayout layout() const override { return layout_; }
+  VkDescriptorSetLayout layout() const override { return layout_.handle(); }
 
   Expected<std::uint32_t> add(VkImageView view, VkSampler sampler) override {
     const std::uint32_t slot = slots_.acquire();
@@ -188,7 +179,7 @@ class BindlessTable final : public FieldTextureBindings {
   }
 
   const engine::gpu::Context& context_;
-  VkDescriptorSetLayout layout_ = VK_NULL_HANDLE;
+  engine::gpu::DescriptorSetLayout layout_;
   VkDescriptorPool pool_ = VK_NULL_HANDLE;
   VkDescriptorSet set_ = VK_NULL_HANDLE;
   std::uint32_t capacity_ = 0;
@@ -202,23 +193,18 @@ class PerTextureSets final : public FieldTextureBindings {
   explicit PerTextureSets(const engine::gpu::Context& context) : context_(context) {}
   ~PerTextureSets() override {
     for (VkDescriptorPool pool : pools_) vkDestroyDescriptorPool(context_.device(), pool, nullptr);
-    vkDestroyDescriptorSetLayout(context_.device(), layout_, nullptr);
   }
 
   Status create() {
-    VkDescriptorSetLayoutBinding binding{0, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, 1, VK_SHADER_STAGE_FRAGMENT_BIT,
-                                         nullptr};
-    VkDescriptorSetLayoutCreateInfo layoutInfo{};
-    layoutInfo.sType = VK_STRUCTURE_TYPE_DESCRIPTOR_SET_LAYOUT_CREATE_INFO;
-    layoutInfo.bindingCount = 1;
-    layoutInfo.pBindings = &binding;
-    VK_TRY(vkCreateDescriptorSetLayout(context_.device(), &layoutInfo, nullptr, &layout_));
-    context_.setName(layout_, VK_OBJECT_TYPE_DESCRIPTOR_SET_LAYOUT, "sphere trace texture layout");
+    layout_ = engine::gpu::DescriptorSetLayout(
+        context_, {"sphere trace texture layout",
+                   {{0, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, 1, VK_SHADER_STAGE_FRAGMENT_BIT, nullptr}},
+                   {}});
     return {};
   }
 
   bool bindless() const override { return false; }
-  VkDescriptorSetLayout layout() const override { return layout_; }
+  VkDescriptorSetLayout layout() const override { return layout_.handle(); }
 
   Expected<std::uint32_t> add(VkImageView view, VkSampler sampler) override {
     ENGINE_TRY_ASSIGN(const Entry entry, allocateSet());
@@ -263,7 +249,8 @@ class PerTextureSets final : public FieldTextureBindings {
     allocInfo.sType = VK_STRUCTURE_TYPE_DESCRIPTOR_SET_ALLOCATE_INFO;
     allocInfo.descriptorPool = pool;
     allocInfo.descriptorSetCount = 1;
-    allocInfo.pSetLayouts = &layout_;
+    const VkDescriptorSetLayout setLayout = layout_.handle();
+    allocInfo.pSetLayouts = &setLayout;
     VkDescriptorSet set = VK_NULL_HANDLE;
     if (vkAllocateDescriptorSets(context_.device(), &allocInfo, &set) != VK_SUCCESS) return VK_NULL_HANDLE;
     context_.setName(set, VK_OBJECT_TYPE_DESCRIPTOR_SET, "sphere trace field texture");
@@ -287,7 +274,7 @@ class PerTextureSets final : public FieldTextureBindings {
   }
 
   const engine::gpu::Context& context_;
-  VkDescriptorSetLayout layout_ = VK_NULL_HANDLE;
+  engine::gpu::DescriptorSetLayout layout_;
   std::vector<VkDescriptorPool> pools_;
   std::vector<Entry> entries_;  // by slot
   SlotAllocator slots_;

@@ -11,30 +11,14 @@
 
 #include "engine/gpu/context.h"
 #include "engine/gpu/device_names.h"
+#include "engine/gpu/shader_statistics.h"
+#include "scoped_env.h"
 #include "test_device.h"
 
 namespace engine::gpu {
 namespace {
 
-// Sets an environment variable for one test and puts the caller's value back (ctest may run this
-// binary under the launcher, which sets HSDF_DEVICE).
-class ScopedEnv {
- public:
-  ScopedEnv(const char* name, const char* value) : name_(name) {
-    if (const char* old = std::getenv(name)) saved_ = old;
-    setenv(name, value, 1);
-  }
-  ~ScopedEnv() {
-    if (saved_) setenv(name_, saved_->c_str(), 1);
-    else unsetenv(name_);
-  }
-  ScopedEnv(const ScopedEnv&) = delete;
-  ScopedEnv& operator=(const ScopedEnv&) = delete;
-
- private:
-  const char* name_;
-  std::optional<std::string> saved_;
-};
+using hsdftest::ScopedEnv;
 
 class ScopedHsdfDevice : public ScopedEnv {
  public:
@@ -130,6 +114,26 @@ TEST(DeviceChoice, AutoFollowsHsdfDevice) {
   EXPECT_EQ((*context)->capabilities().isSoftwareRasterizer, *device == DevicePreference::Software)
       << (*context)->capabilities().deviceName;
   EXPECT_EQ((*context)->validationMessageCount(), 0u);
+}
+
+// Tricky: RADV's null device (what RADV_FORCE_FAMILY makes, for compiler statistics) says it is a
+// discrete GPU, so the ranking alone chose it over lavapipe and over an integrated GPU, and the
+// first submission crashed. It must be passed over, and named where nothing else is left.
+TEST(DeviceChoice, NeverPicksRadvsNullDevice) {
+  ScopedEnv family("RADV_FORCE_FAMILY", "navi10");
+  ScopedHsdfDevice unset("");  // Auto is the engine's own ranking
+  for (const DevicePreference preference : {DevicePreference::Auto, DevicePreference::Hardware}) {
+    SCOPED_TRACE(std::string(deviceName(preference)));
+    const auto context = create(preference);
+    if (context.ok()) {
+      EXPECT_FALSE(isNullDevice((*context)->capabilities().deviceName)) << (*context)->capabilities().deviceName;
+      EXPECT_EQ((*context)->validationMessageCount(), 0u);
+    } else {
+      EXPECT_EQ(preference, DevicePreference::Hardware) << "Auto has lavapipe left: " << context.error().message;
+      EXPECT_NE(context.error().message.find("Null hardware (RADV NAVI10): a null device"), std::string::npos)
+          << context.error().message;
+    }
+  }
 }
 
 }  // namespace

@@ -23,6 +23,8 @@
 #include <string>
 #include <vector>
 
+#include "prepass_shaders.h"
+
 #ifndef HSDF_SHADER_OUTPUT_DIR
 #error "HSDF_SHADER_OUTPUT_DIR must be defined by the build"
 #endif
@@ -177,20 +179,9 @@ std::vector<std::uint32_t> readWords(const std::filesystem::path& file) {
   return words;
 }
 
-bool contains(const std::string& text, const char* part) { return text.find(part) != std::string::npos; }
-
-// The rule that finds prepass fragment shaders, new ones included: every fragment shader whose name
-// says depth or prepass (cells_depth*, runs_depth*, sphere_trace_*_depth*, ...).
-bool isPrepassFragmentShader(const std::string& name) {
-  const std::string suffix = ".frag.spv";
-  if (name.size() <= suffix.size() || name.compare(name.size() - suffix.size(), suffix.size(), suffix) != 0) return false;
-  return contains(name, "depth") || contains(name, "prepass");
-}
-
-// Variants allowed their buffer writes (see the top of the file).
-bool isExempt(const std::string& name) {
-  return contains(name, "_counted") || contains(name, "_early") || contains(name, "_wire") || contains(name, "_debug");
-}
+using hsdftest::isPrepassFragmentShader;
+bool contains(const std::string& text, const char* part) { return hsdftest::nameContains(text, part); }
+bool isExempt(const std::string& name) { return hsdftest::isExemptPrepassVariant(name); }
 
 std::set<std::string> prepassShaders() {
   std::set<std::string> names;
