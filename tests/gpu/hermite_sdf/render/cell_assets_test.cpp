@@ -1,0 +1,104 @@
+// The cell feature's uploads of the drawn assets (src/render/cell_assets.cpp): what the frame that
+// first draws an asset, or draws it in a new form, costs the render thread.
+#include <chrono>
+#include <cstdio>
+#include <memory>
+#include <string>
+
+#include <glm/gtc/matrix_transform.hpp>
+#include <gtest/gtest.h>
+
+#include "hermite_sdf/core/bake_job.h"
+#include "hermite_sdf/render/cell_feature.h"
+#include "cell_test_support.h"
+#include "hermite_test_support.h"
+
+namespace gputest {
+namespace {
+
+using namespace engine;
+
+// The bunny through the one bake job (sparse: the cells alone), on its worker thread, as the
+// samples bake it. Fails the test on error.
+std::shared_ptr<const hsdf::SdfAsset> bakeBunnyOnWorker(int resolution) {
+  auto source = hsdf::BakeSource::fromPathOrShape(sampleAsset("bunny.glb").string());
+  EXPECT_TRUE(source.ok()) << source.error().message;
+  if (!source) return nullptr;
+  hsdf::BakeSettings settings;
+  settings.resolution = resolution;
+  settings.band = hsdf::BakeBand::Sparse;
+  hsdf::BakeJob job(std::move(*source), settings);
+  hsdf::BakeJob::Result baked = job.wait();
+  EXPECT_TRUE(baked.ok()) << baked.error().message;
+  return baked ? *baked : nullptr;
+}
+
+// Milliseconds the render thread spends in renderFrame (prepare, recording, submission; the
+// read-back after it is not counted).
+double frameMilliseconds(render::Renderer& renderer, const ecs::Registry& registry, const render::CameraView& camera) {
+  const auto start = std::chrono::steady_clock::now();
+  const bool drawn = renderer.renderFrame(registry, camera, render::FrameSettings{});
+  EXPECT_TRUE(drawn);
+  return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+}
+
+// Not a check, a measurement (docs/perf/render-changes-session31.md): the render-thread time of the
+// frame that first draws the bunny (K = 128, 256; unculled cells), of the frames that then draw it
+// as culled cells, bricks and runs, each followed by a frame of the same form (what the form costs
+// without any upload); then of the frame that first draws 200 spheres (K = 16) of their own as
+// culled cells. Run by hand:
+//   hermite_cells_gpu_tests --gtest_also_run_disabled_tests --gtest_filter='*FirstDrawFrameTimes'
+TEST_F(HermiteCellsTest, DISABLED_FirstDrawFrameTimes) {
+  createCellRenderer(kSize, kSize);
+  auto* feature = renderer_->feature<hsdf::HermiteCellFeature>();
+  feature->settings().tiles = hsdf::HermiteCellFeature::Tiles::Off;
+  for (const int resolution : {128, 256}) {
+    const auto asset = bakeBunnyOnWorker(resolution);
+    ASSERT_NE(asset, nullptr);
+    const render::CameraView camera = orbitCamera(*asset, 0);
+    feature->settings().cullCells = false;
+    const ecs::Entity entity = addSdf(registry_, asset, hsdf::RenderMethod::Cells);
+    struct Step {
+      const char* label;
+      hsdf::RenderMethod method;
+      bool cullCells;
+    };
+    for (const Step step : {Step{"first draw, unculled cells", hsdf::RenderMethod::Cells, false},
+                            Step{"culled cells", hsdf::RenderMethod::Cells, true},
+                            Step{"bricks", hsdf::RenderMethod::CellBricks, true},
+                            Step{"runs", hsdf::RenderMethod::CellRuns, true}}) {
+      registry_.get<hsdf::HermiteSdfRenderable>(entity).method = step.method;
+      feature->settings().cullCells = step.cullCells;
+      const double first = frameMilliseconds(*renderer_, registry_, camera);
+      (void)renderer_->readbackDepth();
+      const double next = frameMilliseconds(*renderer_, registry_, camera);
+      (void)renderer_->readbackDepth();
+      std::printf("[ K = %d, %zu cells ] %-28s frame %8.1f ms, next frame %6.1f ms\n", resolution,
+                  asset->cells.records.size(), step.label, first, next);
+    }
+    registry_.destroy(entity);
+  }
+  // Many small assets of their own (a game's level), first drawn in one frame as culled cells.
+  feature->settings().cullCells = true;
+  constexpr int kAssets = 200;
+  hsdf::BakeSettings settings;
+  settings.resolution = 16;
+  for (int i = 0; i < kAssets; ++i) {
+    hsdf::BakeJob job(hsdf::BakeSource::fromShape("sphere"), settings);
+    hsdf::BakeJob::Result sphere = job.wait();
+    ASSERT_TRUE(sphere.ok()) << sphere.error().message;
+    const glm::mat4 place = glm::translate(glm::mat4(1.0f), glm::vec3(float(i % 20) * 2.5f, float(i / 20) * 2.5f, 0.0f));
+    addSdf(registry_, *sphere, hsdf::RenderMethod::Cells, place);
+  }
+  const render::CameraView camera =
+      render::CameraView::lookAt(glm::vec3(24.0f, 12.0f, 60.0f), glm::vec3(24.0f, 12.0f, 0.0f), 0.9f, 0.1f, 1.0f);
+  const double first = frameMilliseconds(*renderer_, registry_, camera);
+  (void)renderer_->readbackDepth();
+  const double next = frameMilliseconds(*renderer_, registry_, camera);
+  (void)renderer_->readbackDepth();
+  std::printf("[ %d spheres, K = 16 ] first draw, culled cells   frame %8.1f ms, next frame %6.1f ms\n", kAssets, first,
+              next);
+}
+
+}  // namespace
+}  // namespace gputest
