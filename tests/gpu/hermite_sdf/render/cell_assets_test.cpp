@@ -1,5 +1,6 @@
 // The cell feature's uploads of the drawn assets (src/render/cell_assets.cpp): what the frame that
 // first draws an asset, or draws it in a new form, costs the render thread.
+#include <algorithm>
 #include <chrono>
 #include <cstdio>
 #include <memory>
@@ -9,8 +10,11 @@
 #include <gtest/gtest.h>
 
 #include "hermite_sdf/core/bake_job.h"
+#include "hermite_sdf/core/normal_cone.h"
+#include "hermite_sdf/core/sdf_asset.h"
 #include "hermite_sdf/render/cell_feature.h"
 #include "cell_test_support.h"
+#include "shared/host_device.h"
 #include "hermite_test_support.h"
 
 namespace gputest {
@@ -40,6 +44,55 @@ double frameMilliseconds(render::Renderer& renderer, const ecs::Registry& regist
   const bool drawn = renderer.renderFrame(registry, camera, render::FrameSettings{});
   EXPECT_TRUE(drawn);
   return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+}
+
+// Why: the cones and bricks are seconds of work at K >= 1024; the frame that first draws an asset,
+// or draws it in a new form (culled cells, bricks, runs), must take them from the asset (the bake
+// job made them on its worker thread) and build none on the render thread, while still culling
+// with them: real cones reach the GPU, so the cone test removes cells and bricks (never-cull cones
+// would draw the same image and remove none).
+TEST_F(HermiteCellsTest, FramesDrawingANewAssetBuildNoConesOnTheRenderThread) {
+  createCellRenderer(kSize, kSize);
+  auto* feature = renderer_->feature<hsdf::HermiteCellFeature>();
+  feature->settings().tiles = hsdf::HermiteCellFeature::Tiles::Off;  // the cull totals of boxes
+  const auto asset = bakeBunnyOnWorker(64);
+  ASSERT_NE(asset, nullptr);
+  const render::CameraView camera = orbitCamera(*asset, 0);
+  const std::uint64_t before = hsdf::gradientConesBuiltOnThisThread();
+  const ecs::Entity entity = addSdf(registry_, asset, hsdf::RenderMethod::Cells);
+  (void)renderWith(camera, DEBUG_VIEW_NONE);
+  EXPECT_GT(feature->cullTotals().coneCulled, 0u) << "culled cells: no cell removed by its cone";
+  registry_.get<hsdf::HermiteSdfRenderable>(entity).method = hsdf::RenderMethod::CellBricks;
+  (void)renderWith(camera, DEBUG_VIEW_NONE);
+  EXPECT_GT(feature->stats().bricks, 0u);
+  EXPECT_GT(feature->cullTotals().coneCulled, 0u) << "bricks: no brick removed by its cone";
+  registry_.get<hsdf::HermiteSdfRenderable>(entity).method = hsdf::RenderMethod::CellRuns;
+  (void)renderWith(camera, DEBUG_VIEW_NONE);
+  EXPECT_GT(feature->stats().runs, 0u);
+  EXPECT_EQ(hsdf::gradientConesBuiltOnThisThread(), before) << "the render thread built normal cones";
+}
+
+// Why: an asset made by hand carries no cones or bricks; its culled cells must still be drawn
+// whole (cones that never cull), with the image of the same cells drawn unculled, not with holes.
+TEST_F(HermiteCellsTest, AnAssetWithoutDerivedDataIsDrawnUnculled) {
+  createCellRenderer(kSize, kSize);
+  auto* feature = renderer_->feature<hsdf::HermiteCellFeature>();
+  feature->settings().tiles = hsdf::HermiteCellFeature::Tiles::Off;
+  const auto baked = bakeAsset("torus", 24);
+  ASSERT_NE(baked, nullptr);
+  auto byHand = std::make_shared<hsdf::SdfAsset>(*baked);  // a copy keeps the id: `baked` is not drawn here
+  byHand->derived = nullptr;
+  const render::CameraView camera = orbitCamera(*baked, 1);
+  addSdf(registry_, byHand, hsdf::RenderMethod::Cells);
+  feature->settings().cullCells = false;
+  const Frame unculled = renderWith(camera, DEBUG_VIEW_NONE);
+  feature->settings().cullCells = true;
+  const Frame culled = renderWith(camera, DEBUG_VIEW_NONE);
+  EXPECT_GT(feature->cullTotals().tested, 0u) << "the culling pass ran";
+  EXPECT_EQ(feature->cullTotals().coneCulled, 0u) << "cones of no cells culled some";
+  ASSERT_GT(std::count_if(culled.depth.begin(), culled.depth.end(), [](float d) { return d > 0.0f; }), 500);
+  EXPECT_TRUE(unculled.depth == culled.depth);
+  EXPECT_TRUE(unculled.rgba == culled.rgba);
 }
 
 // Not a check, a measurement (docs/perf/render-changes-session31.md): the render-thread time of the

@@ -167,7 +167,7 @@ TEST(NormalCone, StreamConesAreEachRecordsConeInOrder) {
   const auto asset = bakedAsset(SphereSource({0.1, -0.05, 0.0}, 1.0), 96, 1.4);
   ASSERT_GT(asset->cells.records.size(), 2u * 4096u) << "several chunks";
   for (const unsigned threads : {1u, 3u}) {
-    const std::vector<shader::CellBrickCone> cones = cellGradientCones(asset->cells, threads);
+    const std::vector<shader::CellBrickCone> cones = cellGradientCones(asset->cells, threads).value();
     ASSERT_EQ(cones.size(), asset->cells.records.size());
     for (std::size_t i = 0; i < cones.size(); ++i)
       ASSERT_EQ(cones[i].axisCutoff, cellGradientCone(asset->cells.records[i], asset->cells.grid.spacing).axisCutoff)
