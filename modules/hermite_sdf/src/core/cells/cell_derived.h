@@ -6,10 +6,11 @@
 // copies it into GPU buffers: building it in that frame held the render thread for as long as
 // the cones take (a few microseconds a cell: docs/perf/render-changes-session31.md).
 //
-// Every form for every asset, not only the forms drawn: about 20 bytes a kept cell on top of the
-// ~215 of its fp32 and fp16 records and proxy codes (counted in the sparse bake's bytes a kept
-// cell, sparseBakeBytesPerKeptCell), against a frame of the asset drawn unculled, or not drawn
-// as bricks, while a worker would build the form it first asks for.
+// Every form for every asset, not only the forms drawn: 22 bytes a kept cell on a torus (16 of
+// them the cell cones) on top of the 212 of its fp32 and fp16 records and proxy codes, within the
+// sparse bake's sparseBakeBytesPerKeptCell (made after its slabs are freed). Building only the
+// form an entity asks for, on a worker, would save them for assets never drawn culled or as
+// bricks, at the price of frames drawing the asset unculled, or not as bricks, meanwhile.
 #include <cstdint>
 #include <memory>
 #include <string>
