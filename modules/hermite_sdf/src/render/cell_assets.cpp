@@ -297,6 +297,25 @@ void appendBricks(Upload& u, CellBuffers::Entry& entry, const CellDerived* deriv
   u.cones.insert(u.cones.end(), derived->brickCones.begin(), derived->brickCones.end());
 }
 
+// The bricks of the uploaded assets now drawn as bricks, appended to the upload (after the new
+// assets' streams): the entries keep their records, rows and runs where they are. Returns each
+// one's id and first brick, for its entry once the append succeeded.
+template <class Upload>
+std::vector<std::pair<std::uint64_t, std::uint32_t>> appendUploadedAssetsBricks(
+    Upload& u, const CellBuffers& buffers, const std::unordered_set<std::uint64_t>& asBricks) {
+  std::vector<std::pair<std::uint64_t, std::uint32_t>> firstBricks;
+  for (std::uint64_t id : asBricks) {
+    const auto uploaded = buffers.entries.find(id);
+    if (uploaded == buffers.entries.end() || uploaded->second.bricksUploaded) continue;
+    CellBuffers::Entry placed;  // where appendBricks puts them: after its records, whose place it needs
+    placed.asset = uploaded->second.asset;
+    placed.firstRecord = uploaded->second.firstRecord;
+    appendBricks(u, placed, bricksOf(*placed.asset, derivedOrWarn(*placed.asset)));
+    firstBricks.emplace_back(id, placed.firstBrick);
+  }
+  return firstBricks;
+}
+
 // Appends one asset's records, runs, bricks and cones to the upload, and its entry to `rebuilt`.
 void HermiteCellFeature::appendAsset(CellBuffers& rebuilt, AssetUpload& u, const std::shared_ptr<const SdfAsset>& asset,
                                      const AssetDemand& d) const {
@@ -335,30 +354,27 @@ void HermiteCellFeature::createAssetBuffers(CellBuffers& rebuilt, const AssetUpl
   (void)engine::gpu::appendToBuffers(*context_, appends);  // the buffers were empty: none replaced
 }
 
-// Appends the wanted assets not uploaded yet to the uploaded buffers, which grow when short, and
-// leaves the uploaded ones where they are: a scene that streams assets in (and out) uploads each
-// one once (every new asset rebuilt every drawn asset's buffers before: O(n) bytes a frame for a
-// level that streams one asset in and one out per frame). False when a rebuild is due: nothing
-// uploaded yet, bricks wanted for an uploaded asset, or the uploaded assets no longer
-// drawn holding at least half of the records (the rebuild leaves them out, as the idle release
-// does: at half, the uploads stay within twice what is dropped).
+// Appends the wanted assets not uploaded yet, and the bricks of uploaded assets now drawn as
+// bricks, to the uploaded buffers, which grow when short, and leaves the uploaded ones where they
+// are: a scene that streams assets in (and out) uploads each one once (every new asset rebuilt
+// every drawn asset's buffers before: O(n) bytes a frame for a level that streams one asset in and
+// one out per frame), and a switch to bricks uploads the bricks alone (it rebuilt every drawn
+// asset's buffers too). False when a rebuild is due: nothing uploaded yet, or the uploaded assets
+// no longer drawn holding at least half of the records (the rebuild leaves them out, as the idle
+// release does: at half, the uploads stay within twice what is dropped).
 bool HermiteCellFeature::appendNewAssets(const engine::render::FrameContext& frame, const AssetDemand& d) {
   if (buffers_->entries.empty()) return false;
   std::uint64_t idleRecords = 0;
   for (const auto& [id, entry] : buffers_->entries)
     if (!d.seen.contains(id)) idleRecords += entry.asset->cells.records.size();
   if (2 * idleRecords >= buffers_->used.records) return false;
-  if (std::any_of(d.asBricks.begin(), d.asBricks.end(), [&](std::uint64_t id) {
-        auto entry = buffers_->entries.find(id);
-        return entry != buffers_->entries.end() && !entry->second.bricksUploaded;
-      }))
-    return false;
 
   CellBuffers added;  // the new assets' entries
   AssetUpload u;
   u.base = buffers_->used;
   for (const auto& asset : d.wanted)
     if (!buffers_->entries.contains(asset->id)) appendAsset(added, u, asset, d);
+  const auto bricked = appendUploadedAssetsBricks(u, *buffers_, d.asBricks);
   std::vector<engine::gpu::BufferAppend> appends = streamAppends(*buffers_, u, buffers_->used);
   auto replaced = engine::gpu::allocateOrRefuse([&] { return engine::gpu::appendToBuffers(*context_, appends); });
   if (!replaced) {
@@ -372,11 +388,16 @@ bool HermiteCellFeature::appendNewAssets(const engine::render::FrameContext& fra
     entry.lastFrame = frame.frameNumber;
     buffers_->entries.emplace(id, std::move(entry));
   }
+  for (const auto& [id, firstBrick] : bricked) {
+    CellBuffers::Entry& entry = buffers_->entries.at(id);
+    entry.bricksUploaded = true;
+    entry.firstBrick = firstBrick;
+  }
   buffers_->used = u.end();
   buffers_->bytes += u.bytes();
   uploadedBytes_ += u.bytes();
-  engine::log::debug("hermite cells: {} assets appended, {} records uploaded ({} in all)", added.entries.size(),
-                     u.full.size(), buffers_->used.records);
+  engine::log::debug("hermite cells: {} assets and the bricks of {} appended, {} records uploaded ({} in all)",
+                     added.entries.size(), bricked.size(), u.full.size(), buffers_->used.records);
   return true;
 }
 

@@ -29,8 +29,9 @@ struct StreamCounts {
 // The GPU copy of every drawn asset's cell records: one fp32 and one fp16 buffer, each the
 // concatenation of the assets' streams, so one vertex-buffer binding serves all objects. A new
 // asset is appended while the assets no longer drawn hold less than half of the records (the
-// buffers grow by half when short); they are rebuilt, holding only the assets drawn, when those
-// hold half or more, or an uploaded asset needs more (bricks, another run length).
+// buffers grow by half when short), as are the bricks of an uploaded asset first drawn as bricks;
+// they are rebuilt, holding only the assets drawn, when those hold half or more, or the run length
+// changes.
 struct CellBuffers {
   struct Entry {
     std::shared_ptr<const SdfAsset> asset;
