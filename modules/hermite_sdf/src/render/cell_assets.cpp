@@ -356,12 +356,13 @@ void HermiteCellFeature::createAssetBuffers(CellBuffers& rebuilt, const AssetUpl
 
 // Appends the wanted assets not uploaded yet, and the bricks of uploaded assets now drawn as
 // bricks, to the uploaded buffers, which grow when short, and leaves the uploaded ones where they
-// are: a scene that streams assets in (and out) uploads each one once (every new asset rebuilt
-// every drawn asset's buffers before: O(n) bytes a frame for a level that streams one asset in and
-// one out per frame), and a switch to bricks uploads the bricks alone (it rebuilt every drawn
-// asset's buffers too). False when a rebuild is due: nothing uploaded yet, or the uploaded assets
-// no longer drawn holding at least half of the records (the rebuild leaves them out, as the idle
-// release does: at half, the uploads stay within twice what is dropped).
+// are: a scene that streams assets in (and out) uploads each one once (a rebuild per new asset
+// would copy every drawn asset: O(n) bytes a frame for a level that streams one asset in and one
+// out per frame), and a switch to bricks copies the bricks alone, not every drawn asset's records
+// again (the bunny at K = 256: 0.3-0.8 s on lavapipe). False when a rebuild is due: nothing
+// uploaded yet, or the uploaded assets no longer drawn holding at least half of the records (the
+// rebuild leaves them out, as the idle release does: at half, the uploads stay within twice what
+// is dropped).
 bool HermiteCellFeature::appendNewAssets(const engine::render::FrameContext& frame, const AssetDemand& d) {
   if (buffers_->entries.empty()) return false;
   std::uint64_t idleRecords = 0;
