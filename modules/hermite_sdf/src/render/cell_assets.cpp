@@ -30,36 +30,30 @@
 
 namespace hsdf {
 
+const std::vector<shader::CellBrickGpu>& CellBuffers::Entry::bricks() const {
+  static const std::vector<shader::CellBrickGpu> kNone;
+  const CellDerived* derived = bricksUploaded ? matchingDerived(*asset) : nullptr;
+  return derived && derived->bricksProblem.empty() ? derived->bricks.bricks : kNone;
+}
+
 namespace {
 
-// The asset's bricks: those built for it before (they depend on the asset only), else built now. A
-// grid too large for brick coordinates is reported and gets no bricks (its CellBricks objects
-// draw nothing).
-CellBricks bricksOf(const SdfAsset& asset, const std::unordered_map<std::uint64_t, CellBuffers::Entry>& built) {
-  if (auto old = built.find(asset.id); old != built.end() && old->second.bricksBuilt) return old->second.bricks;
-  auto bricks = buildCellBricks(asset.cells);
-  if (bricks) return std::move(*bricks);
-  engine::log::warn("hermite cells: '{}' cannot be drawn as cell bricks: {}", asset.name, bricks.error().message);
-  return {};
+// The asset's derived data (the bake job made it), or null with a warning naming what the asset
+// lacks: then its cells draw unculled and it draws nothing as bricks.
+const CellDerived* derivedOrWarn(const SdfAsset& asset) {
+  if (const CellDerived* derived = matchingDerived(asset)) return derived;
+  engine::log::warn("hermite cells: '{}' has no normal cones or bricks (an asset made without make*Asset, or whose "
+                    "records changed after): its cells are drawn unculled and it is not drawn as cell bricks",
+                    asset.name);
+  return nullptr;
 }
 
-// The normal cones of the asset's bricks (brick culling), cached like the bricks. Cones that cannot
-// be built (they only fail for bricks inconsistent with the stream) are replaced by cones that
-// never cull, so the culling pass keeps every brick and the object still draws.
-std::vector<shader::CellBrickCone> conesOf(const SdfAsset& asset, const CellBricks& bricks,
-                                           const std::unordered_map<std::uint64_t, CellBuffers::Entry>& built) {
-  if (auto old = built.find(asset.id); old != built.end() && old->second.bricksBuilt) return old->second.cones;
-  auto cones = brickGradientCones(asset.cells, bricks.bricks, bricks.cellRecords);
-  if (cones) return std::move(*cones);
-  engine::log::warn("hermite cells: '{}': no brick normal cones: {}", asset.name, cones.error().message);
-  return std::vector<shader::CellBrickCone>(bricks.bricks.size(), neverCullCone());
-}
-
-// The normal cone of each of the asset's cells (cell culling), cached like the bricks' cones.
-std::vector<shader::CellBrickCone> cellConesOf(const SdfAsset& asset,
-                                               const std::unordered_map<std::uint64_t, CellBuffers::Entry>& built) {
-  if (auto old = built.find(asset.id); old != built.end() && old->second.cellConesBuilt) return old->second.cellCones;
-  return cellGradientCones(asset.cells);
+// The asset's bricks and their cones, or none when it has none (a grid too large for brick
+// coordinates: reported; its CellBricks objects draw nothing).
+const CellDerived* bricksOf(const SdfAsset& asset, const CellDerived* derived) {
+  if (derived && derived->bricksProblem.empty()) return derived;
+  if (derived) engine::log::warn("hermite cells: '{}' cannot be drawn as cell bricks: {}", asset.name, derived->bricksProblem);
+  return nullptr;
 }
 
 }  // namespace
@@ -69,7 +63,6 @@ struct HermiteCellFeature::AssetDemand {
   std::vector<std::shared_ptr<const SdfAsset>> wanted;
   std::unordered_set<std::uint64_t> seen;
   std::unordered_set<std::uint64_t> asBricks;  // assets some entity draws as cell bricks
-  std::unordered_set<std::uint64_t> asCulledCells;  // ... as culled cells (RenderMethod::Cells, Settings::cullCells)
   bool missing = false;
 };
 
@@ -155,7 +148,7 @@ std::vector<engine::gpu::BufferAppend> streamAppends(CellBuffers& b, const Uploa
 
 }  // namespace
 
-// Uploads the assets drawn now when one is new, needs bricks or cell cones, or the run length changed.
+// Uploads the assets drawn now when one is new, needs bricks, or the run length changed.
 void HermiteCellFeature::syncAssets(const engine::render::FrameContext& frame) {
   forgetRefusalsThatMayFit();
   AssetDemand d = collectAssetDemand(frame);
@@ -231,13 +224,11 @@ HermiteCellFeature::AssetDemand HermiteCellFeature::collectAssetDemand(const eng
   frame.registry.view<HermiteSdfRenderable>().each([&](engine::ecs::Entity entity, const HermiteSdfRenderable& r) {
     if (!drawsCells(r.method) || !r.asset || r.asset->cells.records.empty()) return;
     const bool bricks = r.method == RenderMethod::CellBricks;
-    const bool culledCells = r.method == RenderMethod::Cells && settings_.cullCells;
     if (refused_.contains(r.asset->id)) {
       // The entity still draws the asset the refused one replaced (buildDraws): keep it uploaded.
       if (auto previous = drawnAssets_.find(entity); previous != drawnAssets_.end())
         if (auto kept = buffers_->entries.find(previous->second); kept != buffers_->entries.end()) {
           if (bricks) d.asBricks.insert(kept->first);
-          if (culledCells) d.asCulledCells.insert(kept->first);
           if (d.seen.insert(kept->first).second) {
             d.wanted.push_back(kept->second.asset);
             kept->second.lastFrame = frame.frameNumber;
@@ -246,7 +237,6 @@ HermiteCellFeature::AssetDemand HermiteCellFeature::collectAssetDemand(const eng
       return;
     }
     if (bricks) d.asBricks.insert(r.asset->id);
-    if (culledCells) d.asCulledCells.insert(r.asset->id);
     if (!d.seen.insert(r.asset->id).second) return;
     d.wanted.push_back(r.asset);
     auto entry = buffers_->entries.find(r.asset->id);
@@ -255,11 +245,8 @@ HermiteCellFeature::AssetDemand HermiteCellFeature::collectAssetDemand(const eng
     else
       entry->second.lastFrame = frame.frameNumber;
   });
-  for (std::uint64_t id : d.asBricks)  // an uploaded asset now drawn as bricks: build its bricks
-    if (auto entry = buffers_->entries.find(id); entry != buffers_->entries.end() && !entry->second.bricksBuilt)
-      d.missing = true;
-  for (std::uint64_t id : d.asCulledCells)  // ... now drawn as culled cells: build its cell cones
-    if (auto entry = buffers_->entries.find(id); entry != buffers_->entries.end() && !entry->second.cellConesBuilt)
+  for (std::uint64_t id : d.asBricks)  // an uploaded asset now drawn as bricks: upload its bricks
+    if (auto entry = buffers_->entries.find(id); entry != buffers_->entries.end() && !entry->second.bricksUploaded)
       d.missing = true;
   return d;
 }
@@ -287,6 +274,48 @@ void appendMaterials(Upload& u, const SdfAsset& asset, CellBuffers::Entry& entry
     u.palette.push_back({m.baseColor, glm::vec4(m.roughness, m.metallic, 0.0f, 0.0f)});
 }
 
+// The asset's cell cones (one per record, what the cell culling pass reads), or cones that never
+// cull for an asset without them.
+template <class Upload>
+void appendCellCones(Upload& u, const SdfAsset& asset, const CellDerived* derived) {
+  if (derived) u.cellCones.insert(u.cellCones.end(), derived->cellCones.begin(), derived->cellCones.end());
+  else u.cellCones.resize(u.cellCones.size() + asset.cells.records.size(), neverCullCone());
+}
+
+// The asset's bricks, their cells (as indices into the record buffers) and cones, where its entry
+// finds them; with none (`derived` null), the entry holds no brick and its bricks draw nothing.
+template <class Upload>
+void appendBricks(Upload& u, CellBuffers::Entry& entry, const CellDerived* derived) {
+  entry.bricksUploaded = true;
+  entry.firstBrick = u.base.bricks + static_cast<std::uint32_t>(u.bricks.size());
+  if (!derived) return;
+  for (shader::CellBrickGpu brick : derived->bricks.bricks) {
+    brick.firstIndex += u.base.brickCells + static_cast<std::uint32_t>(u.brickCells.size());
+    u.bricks.push_back(brick);
+  }
+  for (std::uint32_t record : derived->bricks.cellRecords) u.brickCells.push_back(entry.firstRecord + record);
+  u.cones.insert(u.cones.end(), derived->brickCones.begin(), derived->brickCones.end());
+}
+
+// The bricks of the uploaded assets now drawn as bricks, appended to the upload (after the new
+// assets' streams): the entries keep their records, rows and runs where they are. Returns each
+// one's id and first brick, for its entry once the append succeeded.
+template <class Upload>
+std::vector<std::pair<std::uint64_t, std::uint32_t>> appendUploadedAssetsBricks(
+    Upload& u, const CellBuffers& buffers, const std::unordered_set<std::uint64_t>& asBricks) {
+  std::vector<std::pair<std::uint64_t, std::uint32_t>> firstBricks;
+  for (std::uint64_t id : asBricks) {
+    const auto uploaded = buffers.entries.find(id);
+    if (uploaded == buffers.entries.end() || uploaded->second.bricksUploaded) continue;
+    CellBuffers::Entry placed;  // where appendBricks puts them: after its records, whose place it needs
+    placed.asset = uploaded->second.asset;
+    placed.firstRecord = uploaded->second.firstRecord;
+    appendBricks(u, placed, bricksOf(*placed.asset, derivedOrWarn(*placed.asset)));
+    firstBricks.emplace_back(id, placed.firstBrick);
+  }
+  return firstBricks;
+}
+
 // Appends one asset's records, runs, bricks and cones to the upload, and its entry to `rebuilt`.
 void HermiteCellFeature::appendAsset(CellBuffers& rebuilt, AssetUpload& u, const std::shared_ptr<const SdfAsset>& asset,
                                      const AssetDemand& d) const {
@@ -300,27 +329,11 @@ void HermiteCellFeature::appendAsset(CellBuffers& rebuilt, AssetUpload& u, const
     run.firstRecord += entry.firstRecord;
     u.runs.push_back(run);
   }
+  const CellDerived* derived = derivedOrWarn(*asset);
+  appendCellCones(u, *asset, derived);
   const auto old = buffers_->entries.find(asset->id);
-  entry.bricksBuilt = d.asBricks.contains(asset->id) || (old != buffers_->entries.end() && old->second.bricksBuilt);
-  if (entry.bricksBuilt) {
-    entry.bricks = bricksOf(*asset, buffers_->entries);
-    entry.cones = conesOf(*asset, entry.bricks, buffers_->entries);
-  }
-  u.cones.insert(u.cones.end(), entry.cones.begin(), entry.cones.end());
-  entry.cellConesBuilt =
-      d.asCulledCells.contains(asset->id) || (old != buffers_->entries.end() && old->second.cellConesBuilt);
-  if (entry.cellConesBuilt) {
-    entry.cellCones = cellConesOf(*asset, buffers_->entries);
-    u.cellCones.insert(u.cellCones.end(), entry.cellCones.begin(), entry.cellCones.end());
-  } else {
-    u.cellCones.resize(u.cellCones.size() + asset->cells.records.size(), neverCullCone());
-  }
-  entry.firstBrick = u.base.bricks + static_cast<std::uint32_t>(u.bricks.size());
-  for (shader::CellBrickGpu brick : entry.bricks.bricks) {
-    brick.firstIndex += u.base.brickCells + static_cast<std::uint32_t>(u.brickCells.size());
-    u.bricks.push_back(brick);
-  }
-  for (std::uint32_t record : entry.bricks.cellRecords) u.brickCells.push_back(entry.firstRecord + record);
+  if (d.asBricks.contains(asset->id) || (old != buffers_->entries.end() && old->second.bricksUploaded))
+    appendBricks(u, entry, bricksOf(*asset, derived));
   u.full.insert(u.full.end(), asset->cells.records.begin(), asset->cells.records.end());
   u.half.insert(u.half.end(), asset->cellsHalf.records.begin(), asset->cellsHalf.records.end());
   appendProxyBoxes(asset->proxyBoxes, std::span(u.full).last(asset->cells.records.size()));
@@ -341,34 +354,28 @@ void HermiteCellFeature::createAssetBuffers(CellBuffers& rebuilt, const AssetUpl
   (void)engine::gpu::appendToBuffers(*context_, appends);  // the buffers were empty: none replaced
 }
 
-// Appends the wanted assets not uploaded yet to the uploaded buffers, which grow when short, and
-// leaves the uploaded ones where they are: a scene that streams assets in (and out) uploads each
-// one once (every new asset rebuilt every drawn asset's buffers before: O(n) bytes a frame for a
-// level that streams one asset in and one out per frame). False when a rebuild is due: nothing
-// uploaded yet, bricks or cell cones wanted for an uploaded asset, or the uploaded assets no longer
-// drawn holding at least half of the records (the rebuild leaves them out, as the idle release
-// does: at half, the uploads stay within twice what is dropped).
+// Appends the wanted assets not uploaded yet, and the bricks of uploaded assets now drawn as
+// bricks, to the uploaded buffers, which grow when short, and leaves the uploaded ones where they
+// are: a scene that streams assets in (and out) uploads each one once (a rebuild per new asset
+// would copy every drawn asset: O(n) bytes a frame for a level that streams one asset in and one
+// out per frame), and a switch to bricks copies the bricks alone, not every drawn asset's records
+// again (the bunny at K = 256: 0.3-0.8 s on lavapipe). False when a rebuild is due: nothing
+// uploaded yet, or the uploaded assets no longer drawn holding at least half of the records (the
+// rebuild leaves them out, as the idle release does: at half, the uploads stay within twice what
+// is dropped).
 bool HermiteCellFeature::appendNewAssets(const engine::render::FrameContext& frame, const AssetDemand& d) {
   if (buffers_->entries.empty()) return false;
   std::uint64_t idleRecords = 0;
   for (const auto& [id, entry] : buffers_->entries)
     if (!d.seen.contains(id)) idleRecords += entry.asset->cells.records.size();
   if (2 * idleRecords >= buffers_->used.records) return false;
-  const auto lacks = [&](const std::unordered_set<std::uint64_t>& ids, bool CellBuffers::Entry::*built) {
-    return std::any_of(ids.begin(), ids.end(), [&](std::uint64_t id) {
-      auto entry = buffers_->entries.find(id);
-      return entry != buffers_->entries.end() && !(entry->second.*built);
-    });
-  };
-  if (lacks(d.asBricks, &CellBuffers::Entry::bricksBuilt) ||
-      lacks(d.asCulledCells, &CellBuffers::Entry::cellConesBuilt))
-    return false;
 
   CellBuffers added;  // the new assets' entries
   AssetUpload u;
   u.base = buffers_->used;
   for (const auto& asset : d.wanted)
     if (!buffers_->entries.contains(asset->id)) appendAsset(added, u, asset, d);
+  const auto bricked = appendUploadedAssetsBricks(u, *buffers_, d.asBricks);
   std::vector<engine::gpu::BufferAppend> appends = streamAppends(*buffers_, u, buffers_->used);
   auto replaced = engine::gpu::allocateOrRefuse([&] { return engine::gpu::appendToBuffers(*context_, appends); });
   if (!replaced) {
@@ -382,11 +389,16 @@ bool HermiteCellFeature::appendNewAssets(const engine::render::FrameContext& fra
     entry.lastFrame = frame.frameNumber;
     buffers_->entries.emplace(id, std::move(entry));
   }
+  for (const auto& [id, firstBrick] : bricked) {
+    CellBuffers::Entry& entry = buffers_->entries.at(id);
+    entry.bricksUploaded = true;
+    entry.firstBrick = firstBrick;
+  }
   buffers_->used = u.end();
   buffers_->bytes += u.bytes();
   uploadedBytes_ += u.bytes();
-  engine::log::debug("hermite cells: {} assets appended, {} records uploaded ({} in all)", added.entries.size(),
-                     u.full.size(), buffers_->used.records);
+  engine::log::debug("hermite cells: {} assets and the bricks of {} appended, {} records uploaded ({} in all)",
+                     added.entries.size(), bricked.size(), u.full.size(), buffers_->used.records);
   return true;
 }
 

@@ -444,8 +444,8 @@ void HermiteCellFeature::addBrickObjectDraws(engine::render::FrameContext& frame
   const SdfAsset& asset = *entry.asset;
   f.drawsBricks = true;
   stats_.cells += asset.cells.records.size();
-  addBrickDraws(f, entry.bricks.bricks, entry.firstBrick, o);
-  if (settings_.cullBricks && !entry.bricks.bricks.empty()) {
+  addBrickDraws(f, entry.bricks(), entry.firstBrick, o);
+  if (settings_.cullBricks && !entry.bricks().empty()) {
     // The command just added starts empty and the culling pass counts its kept bricks, which
     // it writes from the object's range of the kept-brick stream on.
     VkDrawIndirectCommand& command = f.commands[kBrickBatch][0].back();

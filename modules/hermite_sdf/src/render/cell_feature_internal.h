@@ -10,6 +10,7 @@
 #include "engine/gpu/buffer.h"
 #include "hermite/hermite_host_device.h"
 #include "cells/cell_bricks.h"
+#include "cells/cell_derived.h"
 #include "render/cell_rows.h"
 #include "hermite_sdf/render/cell_feature.h"
 
@@ -28,8 +29,9 @@ struct StreamCounts {
 // The GPU copy of every drawn asset's cell records: one fp32 and one fp16 buffer, each the
 // concatenation of the assets' streams, so one vertex-buffer binding serves all objects. A new
 // asset is appended while the assets no longer drawn hold less than half of the records (the
-// buffers grow by half when short); they are rebuilt, holding only the assets drawn, when those
-// hold half or more, or an uploaded asset needs more (bricks, cones, another run length).
+// buffers grow by half when short), as are the bricks of an uploaded asset first drawn as bricks;
+// they are rebuilt, holding only the assets drawn, when those hold half or more, or the run length
+// changes.
 struct CellBuffers {
   struct Entry {
     std::shared_ptr<const SdfAsset> asset;
@@ -37,16 +39,16 @@ struct CellBuffers {
     CellRows rows;
     std::vector<shader::CellRunGpu> runs;  // firstRecord relative to the asset's stream
     std::uint32_t firstRun = 0;            // index of runs[0] in the run buffer
-    CellBricks bricks;                     // RenderMethod::CellBricks, indices relative to the asset's stream
-    std::vector<shader::CellBrickCone> cones;  // one per brick (normal_cone.h), for the brick culling pass
-    // Whether bricks and cones were built: only for assets drawn as bricks, since the cones cost a
-    // few microseconds per cell (seconds at K >= 1024) that cells and runs would pay for nothing.
-    bool bricksBuilt = false;
-    std::uint32_t firstBrick = 0;          // index of bricks.bricks[0] in the brick buffer
-    // One normal cone per record (cellGradientCone), for the cell culling pass: built, as the
-    // bricks' cones, only for assets some entity draws as culled cells.
-    std::vector<shader::CellBrickCone> cellCones;
-    bool cellConesBuilt = false;
+    // Whether the asset's bricks and their cones (RenderMethod::CellBricks, brick culling) are in
+    // the brick buffers: only for assets some entity draws as bricks, since cells and runs would
+    // hold that GPU memory for nothing. Its cells' cones are always in the cell cone buffer (a
+    // cone per record either way). Both are the asset's own (SdfAsset::derived, made by the bake
+    // job): an upload copies them and builds nothing.
+    bool bricksUploaded = false;
+    std::uint32_t firstBrick = 0;  // index of bricks()[0] in the brick buffer
+    // The bricks in the brick buffers (indices relative to the asset's stream); none unless
+    // bricksUploaded.
+    const std::vector<shader::CellBrickGpu>& bricks() const;
     // A multi-material asset (SdfAsset::palette): the index of its first record's corner slots in
     // `materialSlots` and of its palette in `palette`; kNoMaterials for one material.
     std::uint32_t firstMaterialSlots = kNoMaterials;
@@ -61,7 +63,7 @@ struct CellBuffers {
   Buffer brickCells;  // the bricks' kept cells: global record indices, brick by brick
   Buffer brickCones;  // CellBrickCone per entry of `bricks`
   Buffer cellCones;   // CellBrickCone per record (same index as `records`); never-cull cones for
-                      // assets without cell cones
+                      // an asset without derived data (made by hand)
   // The multi-material assets' corner slots (CellMaterialSlotsGpu, one per record of those assets
   // only) and palettes (HermiteMaterialGpu), read by address in the resolve pass; never made while
   // no drawn asset has materials (then an asset of one material costs nothing more).

@@ -32,6 +32,7 @@
 #include <glm/glm.hpp>
 
 #include "engine/core/expected.h"
+#include "engine/core/progress.h"
 #include "hermite/hermite_host_device.h"
 #include "hermite_sdf/core/cells.h"
 
@@ -49,19 +50,29 @@ shader::CellBrickCone cellGradientCone(const CellRecord& record, double h);
 
 // cellGradientCone of every record of the stream, in record order, on worker threads (`threads`,
 // 0: all hardware threads): the cell culling pass's cones, a few microseconds a cell (seconds at
-// K >= 1024 on one thread).
-std::vector<shader::CellBrickCone> cellGradientCones(const CellStream& cells, unsigned threads = 0);
+// K >= 1024 on one thread), which is why the bake job makes them (cell_derived.h), not a frame.
+// Errors: "cancelled" (the token).
+engine::Expected<std::vector<shader::CellBrickCone>> cellGradientCones(const CellStream& cells, unsigned threads = 0,
+                                                                       const engine::CancelToken* cancel = nullptr);
 
 // The cone of every gradient of several cells (the union of their control vectors, so at least as
 // tight as merging their cell cones). No cells: a cone that never culls.
 shader::CellBrickCone brickGradientCone(const CellStream& cells, std::span<const std::uint32_t> recordIndices);
 
-// One cone per brick: brick i's cells are the popcount(mask) record indices from
-// indices[bricks[i].firstIndex] (hermite_host_device.h, CellBrickGpu). Errors: a brick whose cells
-// run past the index list, an index past the stream's records (both named).
+// One cone per brick, on worker threads as cellGradientCones: brick i's cells are the
+// popcount(mask) record indices from indices[bricks[i].firstIndex] (hermite_host_device.h,
+// CellBrickGpu). Errors: a brick whose cells run past the index list, an index past the stream's
+// records (both named, checked before any cone is built), "cancelled".
 engine::Expected<std::vector<shader::CellBrickCone>> brickGradientCones(const CellStream& cells,
                                                                         std::span<const shader::CellBrickGpu> bricks,
-                                                                        std::span<const std::uint32_t> indices);
+                                                                        std::span<const std::uint32_t> indices,
+                                                                        unsigned threads = 0,
+                                                                        const engine::CancelToken* cancel = nullptr);
+
+// The cones cellGradientCones and brickGradientCones have built for calls made on the calling
+// thread (their worker threads count for it): what shows that a thread, such as the render
+// thread, left that work to the bake job.
+std::uint64_t gradientConesBuiltOnThisThread();
 
 // Whether the interpolant of these kept cells is positive on the whole grid boundary. The boundary
 // is a connected union of cell faces, and f is continuous on it. Each empty cell (any cell missing

@@ -13,6 +13,8 @@
 
 namespace hsdf {
 
+struct CellDerived;  // src/core/cells/cell_derived.h, private to the module
+
 // A baked SDF, shared by every entity that draws it. GPU renderers cache their uploads per asset
 // id; an asset never changes after creation (re-baking makes a new asset).
 struct SdfAsset {
@@ -33,6 +35,10 @@ struct SdfAsset {
   // A multi-material asset's palette (materials.h): the slots in field.materials, cells.materials
   // and cellsHalf.materials index it. Empty for one material: the entity's colour shades it.
   std::vector<SdfMaterial> palette;
+  // What the cell renderers derive from `cells` (the cells' and bricks' normal cones, the bricks):
+  // made with the asset by every make*Asset, so by the bake job on its worker thread, never by a
+  // frame. Null for an asset made by hand, which the cell renderers draw unculled and not as bricks.
+  std::shared_ptr<const CellDerived> derived;
 };
 
 // Classifies the field's cells, extracts the kept ones (fp32 and fp16, with their corners'
@@ -50,10 +56,13 @@ engine::Expected<std::shared_ptr<const SdfAsset>> makeSdfAssetFromCells(std::str
 
 // An asset from a sparse bake (sparse_bake.h): the cells, their counts and refinement depth as
 // classifyCells reports them, the source's bounds. No dense field (field.samples is empty,
-// field.grid is the grid): drawable by the cell renderers only.
+// field.grid is the grid): drawable by the cell renderers only. `threads` and `cancel` as in
+// ClassifyOptions, for the derived data.
 engine::Expected<std::shared_ptr<const SdfAsset>> makeSdfAssetFromSparseBake(std::string name, CellStream cells,
                                                                              const CellStats& stats, int refineDepth,
                                                                              const Aabb& surfaceBounds,
-                                                                             std::vector<SdfMaterial> palette = {});
+                                                                             std::vector<SdfMaterial> palette = {},
+                                                                             unsigned threads = 0,
+                                                                             const engine::CancelToken* cancel = nullptr);
 
 }  // namespace hsdf

@@ -44,7 +44,8 @@ inline constexpr double kSparseLeafQueryCells = 2.5;
 
 // Peak bytes a sparse bake holds per kept cell: while the stream is assembled, the fp32 record in
 // its slab's chunks, its 8-byte order key and its copy in the stream. (The asset then holds the
-// stream and its fp16 copy, 208 bytes a cell, after the slabs are freed.)
+// stream and its fp16 copy, 208 bytes a cell, its proxy codes, 4, and its derived cones and
+// bricks, 22 on a torus (cell_derived.h), all made after the slabs are freed.)
 inline constexpr std::uint64_t kSparseBakeBytesPerKeptCell = 2 * sizeof(CellRecord) + 8;
 // A bake of a source of several materials (SdfSource::materialSlots() > 0) holds each kept cell's
 // corner slots twice as well: in its slab and in the stream.

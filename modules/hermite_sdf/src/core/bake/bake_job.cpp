@@ -191,8 +191,10 @@ engine::Expected<std::shared_ptr<const SdfAsset>> bakeSparseAsset(const Prepared
   options.cancel = control.cancel;
   if (control.progress) options.progress = [&control](float f) { return control.progress(f * kBakeShare); };
   ENGINE_TRY_ASSIGN(SparseBakeResult baked, bakeCellsSparse(*source.source, grid, options).withContext("baking"));
-  return makeSdfAssetFromSparseBake(source.name, std::move(baked.cells), baked.stats, settings.refineDepth,
-                                    source.source->bounds(), source.palette);
+  auto made = makeSdfAssetFromSparseBake(source.name, std::move(baked.cells), baked.stats, settings.refineDepth,
+                                         source.source->bounds(), source.palette, settings.threads, control.cancel);
+  if (!made && cancelled(control)) return engine::makeError("baking: cancelled");
+  return made;
 }
 
 }  // namespace

@@ -3,7 +3,6 @@
 #include <algorithm>
 #include <bit>
 #include <cmath>
-#include <map>
 #include <string>
 
 namespace hsdf {
@@ -26,10 +25,16 @@ std::uint32_t occupiedSlices(std::uint64_t mask, int axis) {
 
 }  // namespace
 
-engine::Expected<CellBricks> buildCellBricks(const CellStream& stream) {
-  // Ordered by brick (z, y, x), then by mask bit: the map's key is the brick's packed coordinate
-  // with z in the high bits, the inner key the bit.
-  std::map<std::uint32_t, std::map<std::uint32_t, std::uint32_t>> cellsOfBrick;
+namespace {
+
+// A kept cell's place: its brick's packed coordinate (z in the high bits), then its mask bit.
+struct BrickedCell {
+  std::uint64_t key = 0;  // xyz << 6 | bit: sorting by it orders by brick (z, y, x), then by bit
+  std::uint32_t record = 0;
+};
+
+engine::Expected<std::vector<BrickedCell>> brickedCells(const CellStream& stream) {
+  std::vector<BrickedCell> cells(stream.records.size());
   for (std::uint32_t i = 0; i < stream.records.size(); ++i) {
     const CellRecord& r = stream.records[i];
     const glm::uvec3 cell(r.x, r.y, r.z);
@@ -39,17 +44,34 @@ engine::Expected<CellBricks> buildCellBricks(const CellStream& stream) {
                                std::to_string(cell.z) + ") lies beyond the 1024 bricks per axis a brick coordinate holds");
     const glm::uvec3 inBrick = cell % kBrick;
     const std::uint32_t bit = inBrick.x + kBrick * inBrick.y + kBrick * kBrick * inBrick.z;
-    cellsOfBrick[brick.x | (brick.y << 10) | (brick.z << 20)][bit] = i;
+    cells[i] = {(std::uint64_t(brick.x | (brick.y << 10) | (brick.z << 20)) << 6) | bit, i};
   }
+  return cells;
+}
+
+}  // namespace
+
+// A sort of 16 bytes a cell, not a tree node per cell: the bake job builds the bricks of every
+// asset, up to its budget's kept cells.
+engine::Expected<CellBricks> buildCellBricks(const CellStream& stream) {
+  ENGINE_TRY_ASSIGN(std::vector<BrickedCell> cells, brickedCells(stream));
+  std::sort(cells.begin(), cells.end(), [](const BrickedCell& a, const BrickedCell& b) {
+    return a.key < b.key || (a.key == b.key && a.record < b.record);
+  });
   CellBricks result;
-  result.bricks.reserve(cellsOfBrick.size());
-  result.cellRecords.reserve(stream.records.size());
-  for (const auto& [xyz, cells] : cellsOfBrick) {
-    std::uint64_t mask = 0;
-    for (const auto& [bit, record] : cells) mask |= std::uint64_t(1) << bit;
-    result.bricks.push_back({xyz, static_cast<std::uint32_t>(result.cellRecords.size()), std::uint32_t(mask),
-                             std::uint32_t(mask >> 32)});
-    for (const auto& [bit, record] : cells) result.cellRecords.push_back(record);
+  result.cellRecords.reserve(cells.size());
+  for (std::size_t i = 0; i < cells.size(); ++i) {
+    const BrickedCell& cell = cells[i];
+    if (i > 0 && cells[i - 1].key == cell.key) {  // a cell listed twice: its last record stands for it
+      result.cellRecords.back() = cell.record;
+      continue;
+    }
+    const auto xyz = std::uint32_t(cell.key >> 6);
+    if (result.bricks.empty() || result.bricks.back().xyz != xyz)
+      result.bricks.push_back({xyz, static_cast<std::uint32_t>(result.cellRecords.size()), 0u, 0u});
+    const std::uint32_t bit = std::uint32_t(cell.key & 63u);
+    (bit < 32 ? result.bricks.back().maskLo : result.bricks.back().maskHi) |= 1u << (bit & 31u);
+    result.cellRecords.push_back(cell.record);
   }
   return result;
 }

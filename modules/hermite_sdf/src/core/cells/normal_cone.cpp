@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <bit>
 #include <cmath>
+#include <functional>
 #include <tuple>
 #include <vector>
 
@@ -121,18 +122,53 @@ shader::CellBrickCone cellGradientCone(const CellRecord& record, double h) {
   return coneOf(vectors);
 }
 
-std::vector<shader::CellBrickCone> cellGradientCones(const CellStream& cells, unsigned threads) {
-  constexpr std::size_t kChunk = 4096;  // records per work item: the claim per item stays negligible
-  std::vector<shader::CellBrickCone> cones(cells.records.size());
+namespace {
+
+// Cones built by calls made on this thread (gradientConesBuiltOnThisThread).
+thread_local std::uint64_t conesBuiltHere = 0;
+
+// Each cone of `cones` made by cone(i) on worker threads, chunks of `chunk` items.
+engine::Status buildConesInParallel(std::vector<shader::CellBrickCone>& cones, std::size_t chunk, unsigned threads,
+                                    const engine::CancelToken* cancel,
+                                    const std::function<shader::CellBrickCone(std::size_t)>& cone) {
   BakeOptions options;
   options.threads = threads;
-  // Without a cancel token or progress callback and with work that cannot fail, this cannot fail.
-  const engine::Status done = detail::runParallel((cones.size() + kChunk - 1) / kChunk, options, [&](std::size_t chunk) {
-    const std::size_t end = std::min(cones.size(), (chunk + 1) * kChunk);
-    for (std::size_t i = chunk * kChunk; i < end; ++i) cones[i] = cellGradientCone(cells.records[i], cells.grid.spacing);
+  options.cancel = cancel;
+  ENGINE_TRY(detail::runParallel((cones.size() + chunk - 1) / chunk, options, [&](std::size_t item) {
+    const std::size_t end = std::min(cones.size(), (item + 1) * chunk);
+    for (std::size_t i = item * chunk; i < end; ++i) cones[i] = cone(i);
     return engine::Status{};
-  });
-  (void)done;
+  }));
+  conesBuiltHere += cones.size();
+  return {};
+}
+
+// A brick whose cells run past the index list or name a record the stream lacks (both named).
+engine::Status checkBrickIndices(const CellStream& cells, std::span<const shader::CellBrickGpu> bricks,
+                                 std::span<const std::uint32_t> indices) {
+  for (std::size_t b = 0; b < bricks.size(); ++b) {
+    const shader::CellBrickGpu& brick = bricks[b];
+    const std::size_t count = std::size_t(std::popcount(brick.maskLo) + std::popcount(brick.maskHi));
+    if (std::size_t(brick.firstIndex) + count > indices.size())
+      return engine::makeError(fmt::format("brick {}: cells {}..{} of a list of {} record indices", b,
+                                           brick.firstIndex, std::size_t(brick.firstIndex) + count, indices.size()));
+    for (std::uint32_t index : indices.subspan(brick.firstIndex, count))
+      if (index >= cells.records.size())
+        return engine::makeError(fmt::format("brick {}: record index {} of a stream of {} records", b, index,
+                                             cells.records.size()));
+  }
+  return {};
+}
+
+}  // namespace
+
+engine::Expected<std::vector<shader::CellBrickCone>> cellGradientCones(const CellStream& cells, unsigned threads,
+                                                                       const engine::CancelToken* cancel) {
+  constexpr std::size_t kChunk = 4096;  // records per work item: the claim per item stays negligible
+  std::vector<shader::CellBrickCone> cones(cells.records.size());
+  ENGINE_TRY(buildConesInParallel(cones, kChunk, threads, cancel, [&](std::size_t i) {
+    return cellGradientCone(cells.records[i], cells.grid.spacing);
+  }));
   return cones;
 }
 
@@ -146,24 +182,20 @@ shader::CellBrickCone brickGradientCone(const CellStream& cells, std::span<const
 
 engine::Expected<std::vector<shader::CellBrickCone>> brickGradientCones(const CellStream& cells,
                                                                         std::span<const shader::CellBrickGpu> bricks,
-                                                                        std::span<const std::uint32_t> indices) {
-  std::vector<shader::CellBrickCone> cones;
-  cones.reserve(bricks.size());
-  for (std::size_t b = 0; b < bricks.size(); ++b) {
-    const shader::CellBrickGpu& brick = bricks[b];
-    const std::size_t count = std::size_t(std::popcount(brick.maskLo) + std::popcount(brick.maskHi));
-    if (std::size_t(brick.firstIndex) + count > indices.size())
-      return engine::makeError(fmt::format("brick {}: cells {}..{} of a list of {} record indices", b,
-                                           brick.firstIndex, std::size_t(brick.firstIndex) + count, indices.size()));
-    const std::span<const std::uint32_t> mine = indices.subspan(brick.firstIndex, count);
-    for (std::uint32_t index : mine)
-      if (index >= cells.records.size())
-        return engine::makeError(fmt::format("brick {}: record index {} of a stream of {} records", b, index,
-                                             cells.records.size()));
-    cones.push_back(brickGradientCone(cells, mine));
-  }
+                                                                        std::span<const std::uint32_t> indices,
+                                                                        unsigned threads,
+                                                                        const engine::CancelToken* cancel) {
+  ENGINE_TRY(checkBrickIndices(cells, bricks, indices));
+  constexpr std::size_t kChunk = 256;  // bricks per work item (up to 64 cells each)
+  std::vector<shader::CellBrickCone> cones(bricks.size());
+  ENGINE_TRY(buildConesInParallel(cones, kChunk, threads, cancel, [&](std::size_t b) {
+    const std::size_t count = std::size_t(std::popcount(bricks[b].maskLo) + std::popcount(bricks[b].maskHi));
+    return brickGradientCone(cells, indices.subspan(bricks[b].firstIndex, count));
+  }));
   return cones;
 }
+
+std::uint64_t gradientConesBuiltOnThisThread() { return conesBuiltHere; }
 
 bool boundaryIsPositive(const CellStream& cells) {
   if (cells.records.empty()) return false;

@@ -4,6 +4,7 @@
 
 #include <fmt/format.h>
 
+#include "cells/cell_derived.h"
 #include "hermite_sdf/core/normal_cone.h"
 #include "hermite_sdf/core/sdf_asset.h"
 
@@ -67,12 +68,15 @@ engine::Status checkMaterials(const CellStream& cells, const HermiteField* field
   return checkMaterialSlots(palette, field->materials, "field");
 }
 
-// What every asset derives from its fp32 records, whichever way they were made.
-void deriveFromCells(SdfAsset& asset) {
+// What every asset derives from its fp32 records, whichever way they were made. Errors:
+// "cancelled" (the token).
+engine::Status deriveFromCells(SdfAsset& asset, unsigned threads, const engine::CancelToken* cancel) {
   asset.cellsHalf = toHalf(asset.cells);
   asset.boundaryPositive = boundaryIsPositive(asset.cells);
   asset.proxyBoxes = proxyBoxCodes(asset.cells);
   asset.proxyBoxesHalf = proxyBoxCodes(asset.cellsHalf);
+  ENGINE_TRY_ASSIGN(asset.derived, deriveCellData(asset.cells, threads, cancel));
+  return {};
 }
 
 }  // namespace
@@ -93,14 +97,17 @@ engine::Expected<std::shared_ptr<const SdfAsset>> makeSdfAssetFromCells(std::str
                                                         : asset->classification.stats.crossing)++;
   asset->cells = std::move(cells);
   asset->palette = std::move(palette);
-  deriveFromCells(*asset);
+  if (auto derived = deriveFromCells(*asset, 0, nullptr); !derived)
+    return derived.error().withContext("asset '" + asset->name + "'");
   return std::shared_ptr<const SdfAsset>(std::move(asset));
 }
 
 engine::Expected<std::shared_ptr<const SdfAsset>> makeSdfAssetFromSparseBake(std::string name, CellStream cells,
                                                                              const CellStats& stats, int refineDepth,
                                                                              const Aabb& surfaceBounds,
-                                                                             std::vector<SdfMaterial> palette) {
+                                                                             std::vector<SdfMaterial> palette,
+                                                                             unsigned threads,
+                                                                             const engine::CancelToken* cancel) {
   if (auto valid = validateGrid(cells.grid); !valid) return valid.error().withContext("asset '" + name + "'");
   if (auto finite = checkFiniteRecords(cells); !finite) return finite.error().withContext("asset '" + name + "'");
   if (auto materials = checkMaterials(cells, nullptr, palette); !materials)
@@ -118,7 +125,8 @@ engine::Expected<std::shared_ptr<const SdfAsset>> makeSdfAssetFromSparseBake(std
   asset->classification.refineDepth = refineDepth;
   asset->cells = std::move(cells);
   asset->palette = std::move(palette);
-  deriveFromCells(*asset);
+  if (auto derived = deriveFromCells(*asset, threads, cancel); !derived)
+    return derived.error().withContext("asset '" + asset->name + "'");
   return std::shared_ptr<const SdfAsset>(std::move(asset));
 }
 
@@ -143,7 +151,8 @@ engine::Expected<std::shared_ptr<const SdfAsset>> makeSdfAsset(std::string name,
   asset->classification = std::move(classification.value());
   asset->cells = std::move(cells.value());
   asset->palette = std::move(palette);
-  deriveFromCells(*asset);
+  if (auto derived = deriveFromCells(*asset, options.threads, options.cancel); !derived)
+    return derived.error().withContext("asset '" + asset->name + "'");
   asset->field = std::move(field);
   return std::shared_ptr<const SdfAsset>(std::move(asset));
 }

@@ -9,6 +9,7 @@
 #include <bit>
 #include <cmath>
 #include <random>
+#include <span>
 
 #include "cells/cell_bricks.h"
 #include "engine/core/math.h"
@@ -167,11 +168,32 @@ TEST(NormalCone, StreamConesAreEachRecordsConeInOrder) {
   const auto asset = bakedAsset(SphereSource({0.1, -0.05, 0.0}, 1.0), 96, 1.4);
   ASSERT_GT(asset->cells.records.size(), 2u * 4096u) << "several chunks";
   for (const unsigned threads : {1u, 3u}) {
-    const std::vector<shader::CellBrickCone> cones = cellGradientCones(asset->cells, threads);
+    const std::vector<shader::CellBrickCone> cones = cellGradientCones(asset->cells, threads).value();
     ASSERT_EQ(cones.size(), asset->cells.records.size());
     for (std::size_t i = 0; i < cones.size(); ++i)
       ASSERT_EQ(cones[i].axisCutoff, cellGradientCone(asset->cells.records[i], asset->cells.grid.spacing).axisCutoff)
           << "record " << i << ", " << threads << " threads";
+  }
+}
+
+// The bricks' cones on worker threads (brickGradientCones, the brick culling pass's, made by the
+// bake job: chunks of 256 bricks) are each brick's own cone of its own cells, in brick order, on one
+// thread and on three.
+TEST(NormalCone, BrickConesAreEachBricksConeInOrder) {
+  const auto asset = bakedAsset(SphereSource({0.1, -0.05, 0.0}, 1.0), 96, 1.4);
+  const CellBricks bricks = buildCellBricks(asset->cells).value();
+  ASSERT_GT(bricks.bricks.size(), 2u * 256u) << "several chunks";
+  for (const unsigned threads : {1u, 3u}) {
+    const std::vector<shader::CellBrickCone> cones =
+        brickGradientCones(asset->cells, bricks.bricks, bricks.cellRecords, threads).value();
+    ASSERT_EQ(cones.size(), bricks.bricks.size());
+    for (std::size_t b = 0; b < cones.size(); ++b) {
+      const shader::CellBrickGpu& brick = bricks.bricks[b];
+      const auto count = std::size_t(std::popcount(brick.maskLo) + std::popcount(brick.maskHi));
+      const std::span<const std::uint32_t> cells = std::span(bricks.cellRecords).subspan(brick.firstIndex, count);
+      ASSERT_EQ(cones[b].axisCutoff, brickGradientCone(asset->cells, cells).axisCutoff)
+          << "brick " << b << ", " << threads << " threads";
+    }
   }
 }
 
