@@ -223,7 +223,10 @@ float segmentFirstRoot(float b[SEGMENT_COEFFS], uint subdivisions, uint refineSt
   uint index = 0u;
   int level = 0;
   float w = top, a = 0.0;
-  float c[SEGMENT_COEFFS];
+  // Set here though every step sets it before it is read: the compiler cannot see that, and an
+  // unset c would live on from the last search of a fragment that walks several cells (runs,
+  // bricks, tiles), 10 registers through the whole next restriction.
+  float c[SEGMENT_COEFFS] = b;
   float rest[SEGMENT_COEFFS] = b;  // the polynomial on [a, 1]: every interval starts where one ended
   int outcome = 0;  // 0: no root, 1: a unique root in [a, a + w], 2: a contact at a + w / 2
   for (int step = 0; step < kMaxSteps; ++step) {
