@@ -96,6 +96,7 @@ bool stepCell(inout BrickWalk w, ivec3 lo, ivec3 hi, vec3 origin, vec3 direction
 // group that walk different cells share the iterations instead of adding them up.
 bool nextCandidate(inout BrickWalk w, CellBrickGpu brick, ivec3 lo, ivec3 hi, vec3 origin, vec3 direction,
                    float margin, vec2 ray, inout uvec2 done, out ivec3 n) {
+  n = ivec3(0);  // set on every path: an unset out value would live on from the last call
   for (int guard = 0; guard < 27 * 3 * int(CELL_BRICK_SIZE); ++guard) {  // a walk meets at most 10 cells
     if (w.next == 27 && !stepCell(w, lo, hi, origin, direction, margin, ray.y)) return false;
     ivec3 d = ivec3(w.next % 3, (w.next / 3) % 3, w.next / 9) - 1;
