@@ -62,8 +62,7 @@ struct BrickHit {
 // margin of) is considered next.
 struct BrickWalk {
   ivec3 cell;
-  vec3 tMax, tDelta;
-  ivec3 stepDir;
+  vec3 tMax;  // the step's direction and length per axis come from the ray where they are used
   float tEnter, tExit;
   ivec3 from, to;  // the neighbour offsets near [tEnter, tExit]
   int next;        // 0..26: the next offset (dx, dy, dz) = next % 3, next / 3 % 3, next / 9, minus 1
@@ -83,10 +82,10 @@ void enterCell(inout BrickWalk w, vec3 origin, vec3 direction, float margin, flo
 bool stepCell(inout BrickWalk w, ivec3 lo, ivec3 hi, vec3 origin, vec3 direction, float margin, float t1) {
   if (w.stop || w.tExit >= t1) return false;
   int axis = w.tMax.x < w.tMax.y ? (w.tMax.x < w.tMax.z ? 0 : 2) : (w.tMax.y < w.tMax.z ? 1 : 2);
-  w.cell[axis] += w.stepDir[axis];
+  w.cell[axis] += direction[axis] >= 0.0 ? 1 : -1;
   if (w.cell[axis] < lo[axis] || w.cell[axis] > hi[axis]) return false;
   w.tEnter = w.tExit;
-  w.tMax[axis] += w.tDelta[axis];
+  w.tMax[axis] += direction[axis] != 0.0 ? abs(1.0 / direction[axis]) : 3.0e38;
   enterCell(w, origin, direction, margin, t1);
   return true;
 }
@@ -122,12 +121,10 @@ BrickHit walkBrick(HermiteDraw draw, CellBrickGpu brick, ivec3 lo, ivec3 hi, vec
                    float margin, float t0, float t1, inout uint evaluations) {
   BrickWalk w;
   w.cell = clamp(ivec3(floor(origin + t0 * direction)), lo, hi);
-  w.stepDir = ivec3(greaterThanEqual(direction, vec3(0.0))) * 2 - 1;
   for (int axis = 0; axis < 3; ++axis) {
     bool moves = direction[axis] != 0.0;
-    float boundary = float(w.cell[axis] + (w.stepDir[axis] > 0 ? 1 : 0));
+    float boundary = float(w.cell[axis] + (direction[axis] >= 0.0 ? 1 : 0));
     w.tMax[axis] = moves ? (boundary - origin[axis]) / direction[axis] : 3.0e38;
-    w.tDelta[axis] = moves ? abs(1.0 / direction[axis]) : 3.0e38;
   }
   w.tEnter = t0;
   w.stop = false;
