@@ -62,7 +62,7 @@ struct BrickHit {
 // margin of) is considered next.
 struct BrickWalk {
   ivec3 cell;
-  vec3 tMax;  // the step's direction and length per axis come from the ray where they are used
+  vec3 tMax;  // each axis' step (sign, length) is taken from the ray where used: not held through searches
   float tEnter, tExit;
   ivec3 from, to;  // the neighbour offsets near [tEnter, tExit]
   int next;        // 0..26: the next offset (dx, dy, dz) = next % 3, next / 3 % 3, next / 9, minus 1
