@@ -93,12 +93,12 @@ void fromScaledBernstein(inout float b[SEGMENT_COEFFS]) {
 // weights) products are plain convolutions.
 // Shaped for register pressure, which sets how many fragments a GPU keeps in flight (the prepass
 // runs this once per box fragment): the two z sides are two calls with constant corner indices, so
-// a side's corners are read (cell_search.glsl: loaded from memory) just before they are summed and
-// die after, and the y and z cubics are built where they are used; only the x cubics, b and the
-// running d, e live through. A loop over the z sides that indexed the corners by sz kept all 32
-// corner floats and all three axes' cubics live at once: 128 VGPRs on RDNA1 where this needs 84
-// (docs/perf/render-changes-session31.md). The same polynomial; only the x sums are rearranged
-// (H0 + H1 = 1), which changes float rounding, not the roots.
+// a side's corners are read (cell_search.glsl: loaded from memory) just before they are summed
+// and die after, and the y and z cubics are built where they are used; only the x cubics (H0, G0,
+// G1), b and the running d, e live through. A loop over the z sides that indexed the corners by
+// sz kept all 32 corner floats and all three axes' cubics live at once: 128 VGPRs on RDNA1 where
+// this needs 84 (docs/perf/render-changes-session31.md). The same polynomial; only the x sums are
+// rearranged (H0 + H1 = 1), which changes float rounding, not the roots.
 void restrictToSegment(vec4 corners[8], float h, vec3 u0, vec3 u1, out float b[SEGMENT_COEFFS]) {
   for (int k = 0; k < SEGMENT_COEFFS; ++k) b[k] = 0.0;
   addZSide(vec4[4](corners[0], corners[1], corners[2], corners[3]), 0, h, u0, u1, b);
