@@ -62,8 +62,7 @@ struct BrickHit {
 // margin of) is considered next.
 struct BrickWalk {
   ivec3 cell;
-  vec3 tMax, tDelta;
-  ivec3 stepDir;
+  vec3 tMax;  // each axis' step (sign, length) is taken from the ray where used: not held through searches
   float tEnter, tExit;
   ivec3 from, to;  // the neighbour offsets near [tEnter, tExit]
   int next;        // 0..26: the next offset (dx, dy, dz) = next % 3, next / 3 % 3, next / 9, minus 1
@@ -83,10 +82,10 @@ void enterCell(inout BrickWalk w, vec3 origin, vec3 direction, float margin, flo
 bool stepCell(inout BrickWalk w, ivec3 lo, ivec3 hi, vec3 origin, vec3 direction, float margin, float t1) {
   if (w.stop || w.tExit >= t1) return false;
   int axis = w.tMax.x < w.tMax.y ? (w.tMax.x < w.tMax.z ? 0 : 2) : (w.tMax.y < w.tMax.z ? 1 : 2);
-  w.cell[axis] += w.stepDir[axis];
+  w.cell[axis] += direction[axis] >= 0.0 ? 1 : -1;
   if (w.cell[axis] < lo[axis] || w.cell[axis] > hi[axis]) return false;
   w.tEnter = w.tExit;
-  w.tMax[axis] += w.tDelta[axis];
+  w.tMax[axis] += direction[axis] != 0.0 ? abs(1.0 / direction[axis]) : 3.0e38;
   enterCell(w, origin, direction, margin, t1);
   return true;
 }
@@ -96,6 +95,7 @@ bool stepCell(inout BrickWalk w, ivec3 lo, ivec3 hi, vec3 origin, vec3 direction
 // group that walk different cells share the iterations instead of adding them up.
 bool nextCandidate(inout BrickWalk w, CellBrickGpu brick, ivec3 lo, ivec3 hi, vec3 origin, vec3 direction,
                    float margin, vec2 ray, inout uvec2 done, out ivec3 n) {
+  n = ivec3(0);  // set on every path: an unset out value would live on from the last call
   for (int guard = 0; guard < 27 * 3 * int(CELL_BRICK_SIZE); ++guard) {  // a walk meets at most 10 cells
     if (w.next == 27 && !stepCell(w, lo, hi, origin, direction, margin, ray.y)) return false;
     ivec3 d = ivec3(w.next % 3, (w.next / 3) % 3, w.next / 9) - 1;
@@ -121,12 +121,10 @@ BrickHit walkBrick(HermiteDraw draw, CellBrickGpu brick, ivec3 lo, ivec3 hi, vec
                    float margin, float t0, float t1, inout uint evaluations) {
   BrickWalk w;
   w.cell = clamp(ivec3(floor(origin + t0 * direction)), lo, hi);
-  w.stepDir = ivec3(greaterThanEqual(direction, vec3(0.0))) * 2 - 1;
   for (int axis = 0; axis < 3; ++axis) {
     bool moves = direction[axis] != 0.0;
-    float boundary = float(w.cell[axis] + (w.stepDir[axis] > 0 ? 1 : 0));
+    float boundary = float(w.cell[axis] + (direction[axis] >= 0.0 ? 1 : 0));
     w.tMax[axis] = moves ? (boundary - origin[axis]) / direction[axis] : 3.0e38;
-    w.tDelta[axis] = moves ? abs(1.0 / direction[axis]) : 3.0e38;
   }
   w.tEnter = t0;
   w.stop = false;

@@ -8,13 +8,29 @@
 #include "hermite/segment_roots.glsl"
 
 
-void loadCorners(HermiteDraw draw, uint record, out vec4 corners[8]) {
+// The four corners of z side `sz` of a record (side[x + 2y] = corner x + 2y + 4 sz), fp32 or fp16 by
+// HERMITE_FLAG_HALF_RECORDS. The restriction reads one side just before it sums it, so the two
+// sides' 32 floats are never live at once (register pressure: segment_roots.glsl, restrictToSegment).
+void loadZSide(HermiteDraw draw, uint record, int sz, out vec4 side[4]) {
   if ((draw.flags & HERMITE_FLAG_HALF_RECORDS) == 0u) {
-    corners = CellRecordsRef(draw.records).records[record].corners;
+    for (int i = 0; i < 4; ++i) side[i] = CellRecordsRef(draw.records).records[record].corners[4 * sz + i];
   } else {
-    uvec2 packed[8] = CellRecordsHalfRef(draw.records).records[record].corners;
-    for (int i = 0; i < 8; ++i) corners[i] = vec4(unpackHalf2x16(packed[i].x), unpackHalf2x16(packed[i].y));
+    for (int i = 0; i < 4; ++i) {
+      uvec2 packed = CellRecordsHalfRef(draw.records).records[record].corners[4 * sz + i];
+      side[i] = vec4(unpackHalf2x16(packed.x), unpackHalf2x16(packed.y));
+    }
   }
+}
+
+// restrictToSegment (segment_roots.glsl) of the record's cell, read side by side.
+void restrictRecordToSegment(HermiteDraw draw, uint record, vec3 u0, vec3 u1, out float b[SEGMENT_COEFFS]) {
+  for (int k = 0; k < SEGMENT_COEFFS; ++k) b[k] = 0.0;
+  vec4 side[4];
+  loadZSide(draw, record, 0, side);
+  addZSide(side, 0, draw.gridOriginSpacing.w, u0, u1, b);
+  loadZSide(draw, record, 1, side);
+  addZSide(side, 1, draw.gridOriginSpacing.w, u0, u1, b);
+  fromScaledBernstein(b);
 }
 
 // The first root of cell `record` along origin + t * direction (cell-local: the cell spans
@@ -27,10 +43,8 @@ float searchCell(HermiteDraw draw, uint record, vec3 lo, vec3 hi, vec3 origin, v
   vec2 segment = intersectBox(origin, direction, lo - margin, hi + margin);
   float c0 = max(segment.x, t0), c1 = min(segment.y, t1);
   if (!(c0 < c1)) return -1.0;
-  vec4 corners[8];
-  loadCorners(draw, record, corners);
   float coefficients[SEGMENT_COEFFS];
-  restrictToSegment(corners, draw.gridOriginSpacing.w, origin + c0 * direction, origin + c1 * direction, coefficients);
+  restrictRecordToSegment(draw, record, origin + c0 * direction, origin + c1 * direction, coefficients);
   ++evaluations;  // the restriction: the cost of a few tricubic evaluations, counted once
   float s = segmentFirstRoot(coefficients, draw.subdivisions, draw.refineSteps,
                              (draw.flags & HERMITE_FLAG_CERTIFIED) != 0u, evaluations);

@@ -38,9 +38,11 @@ void main() {
   uvec2 visibility = uvec2(0u);
   bool sorted = tile.count <= CELL_TILE_SORT_MAX;
   // The ray of the entry's object, rebuilt only when the object changes (pixel_ray.glsl: t is the
-  // same view-linear parameter for every object, so hits of different objects compare).
+  // same view-linear parameter for every object, so hits of different objects compare). Only the
+  // ray is kept from one entry to the next, never the object's or the draw's record: they are read
+  // again where needed (cached loads), since whatever lives through the walk adds to the registers
+  // of the search below, which set how many fragments a GPU keeps in flight.
   uint lastObject = 0xffffffffu;
-  ObjectData object;
   vec3 eyeGrid, direction;
   float tNear = pixelRayNearT(frame);
   uint walked = 0u, tested = 0u, maskWords = 0u;  // entries and mask words read, entries ray-box tested
@@ -58,9 +60,10 @@ void main() {
     // whole body whatever its lanes need) share its iterations instead of running it once per
     // entry of the list (as bricks_depth.glsl does for a brick's cells).
     bool pending = false;
-    HermiteDraw draw;
-    uint record = 0u;
-    vec3 origin, lo, hi;  // the ray in cell-local coordinates, the cell's proxy box
+    uint drawCommand = 0u, record = 0u;
+    // Set afresh in every pass: left unset, the last pass's values would have to live through its
+    // search (the compiler cannot see that they are never read before being set again).
+    vec3 origin = vec3(0.0), lo = vec3(0.0), hi = vec3(0.0);  // the ray in cell-local coordinates, the proxy box
     float margin = 0.0;
     while (!pending) {
       if (mask == 0u) {
@@ -80,20 +83,21 @@ void main() {
         break;
       }
       ++tested;
-      draw = hermiteDraw(pc.draws, entry.draw);
+      HermiteDraw draw = hermiteDraw(pc.draws, entry.draw);
       if (draw.object != lastObject) {
         lastObject = draw.object;
-        object = ObjectsRef(pc.draw.objects).objects[draw.object];
+        mat4 invModel = ObjectsRef(pc.draw.objects).objects[draw.object].invModel;
         float h = draw.gridOriginSpacing.w;
-        PixelRay ray = pixelRay(frame, object.invModel, h,
-                                ((object.invModel * vec4(rayEyePoint(frame), 1.0)).xyz - draw.gridOriginSpacing.xyz) / h);
+        PixelRay ray = pixelRay(frame, invModel, h,
+                                ((invModel * vec4(rayEyePoint(frame), 1.0)).xyz - draw.gridOriginSpacing.xyz) / h);
         eyeGrid = ray.origin;
         direction = ray.direction;
       }
       vec3 cell = recordCellBox(draw, entry.record, lo, hi);
       origin = eyeGrid - cell;
       float h = draw.gridOriginSpacing.w;
-      float dilation = proxyDilation(frame, object, draw.gridOriginSpacing.xyz + h * (cell + 0.5), h);
+      float dilation = proxyDilation(frame, ObjectsRef(pc.draw.objects).objects[draw.object],
+                                     draw.gridOriginSpacing.xyz + h * (cell + 0.5), h);
       // Would the cell's own proxy have covered this pixel? And can its search (over the margin,
       // at least the dilation) begin in front of what was found already?
       vec2 box = intersectBox(origin, direction, lo - dilation, hi + dilation);
@@ -101,8 +105,10 @@ void main() {
       vec2 searched = intersectBox(origin, direction, lo - margin, hi + margin);
       pending = max(box.x, tNear) < box.y && max(searched.x, tNear) < best;
       record = entry.record;
+      drawCommand = entry.draw;
     }
     if (!pending) break;
+    HermiteDraw draw = hermiteDraw(pc.draws, drawCommand);
     float t = searchCell(draw, record, lo, hi, origin, direction, margin, tNear, 3.0e38, evaluations);
     if (t >= 0.0 && t < best) {
       best = t;

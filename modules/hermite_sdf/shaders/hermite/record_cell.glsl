@@ -19,6 +19,10 @@ uvec2 recordWords(HermiteDraw draw, uint record) {
 void proxyBox(uint classWord, uint flags, out vec3 lo, out vec3 hi) {
   uint code = (flags & HERMITE_FLAG_WHOLE_CELLS) != 0u ? 0u : classWord >> CELL_PROXY_SHIFT;
   const float step = 1.0 / float(CELL_PROXY_STEPS);
+  // Set whole before the axes are (the loop may stay a loop, writing one component at a time):
+  // otherwise the caller's last box would live on through a fragment's walk of several cells.
+  lo = vec3(0.0);
+  hi = vec3(1.0);
   for (int axis = 0; axis < 3; ++axis) {
     uint pair = code % 21u;
     code /= 21u;

@@ -25,25 +25,64 @@
 #define SEGMENT_COEFFS 10
 
 // The Bernstein coefficients of a cubic p on s in [0,1] follow from its values and derivatives at
-// the ends: (p(0), p(0) + p'(0)/3, p(1) - p'(1)/3, p(1)). Here for the four Hermite basis
-// functions (H0, H1, G0, G1) of one axis at once, u(s) = a + s (b - a), scaled by the binomial
-// weights (1, 3, 3, 1) so that products of such polynomials are plain convolutions.
-void axisBasisScaledBernstein(float a, float b, out vec4 k[4]) {
+// the ends: (p(0), p(0) + p'(0)/3, p(1) - p'(1)/3, p(1)). Here for the two Hermite basis functions
+// of one axis that weight the corners on `side` (0: H0 and G0, 1: H1 and G1), u(s) = a + s (b - a),
+// scaled by the binomial weights (1, 3, 3, 1) so that products of such polynomials are plain
+// convolutions. One side at a time, where it is used (addZSide): a y or z side's 8 floats are then
+// live only while that side is summed.
+void sideCubics(float a, float b, int side, out vec4 value, out vec4 slope) {
   float d = (b - a) / 3.0;
   vec4 pa = hermiteBasis(a), pb = hermiteBasis(b);
-  k[0] = pa;
-  k[1] = 3.0 * (pa + d * hermiteBasisDerivative(a));
-  k[2] = 3.0 * (pb - d * hermiteBasisDerivative(b));
-  k[3] = pb;
+  vec4 ka = 3.0 * (pa + d * hermiteBasisDerivative(a)), kb = 3.0 * (pb - d * hermiteBasisDerivative(b));
+  value = vec4(pa[side], ka[side], kb[side], pb[side]);
+  slope = vec4(pa[2 + side], ka[2 + side], kb[2 + side], pb[2 + side]);
 }
 
-// One basis function's scaled cubic from axisBasisScaledBernstein (`which`: H0, H1, G0, G1).
-vec4 basisCubic(vec4 k[4], int which) { return vec4(k[0][which], k[1][which], k[2][which], k[3][which]); }
+// The scaled cubic of the constant 1 (H0 + H1 = 1).
+const vec4 kScaledOne = vec4(1.0, 3.0, 3.0, 1.0);
 
 // Scaled coefficients of the product of a scaled cubic and a scaled degree-6 polynomial, added to r.
 void addCubicTimesSextic(vec4 p, float q[7], inout float r[SEGMENT_COEFFS]) {
   for (int i = 0; i < 4; ++i)
     for (int m = 0; m < 7; ++m) r[i + m] += p[i] * q[m];
+}
+
+// The part of the restriction (restrictToSegment below) from the four corners of one z side:
+// corner x + 2y + 4 sz is side[x + 2y]. Added to the scaled coefficients b.
+void addZSide(vec4 side[4], int sz, float h, vec3 u0, vec3 u1, inout float b[SEGMENT_COEFFS]) {
+  vec4 x0, gx0, x1, gx1;  // x1 goes unused: H1 = 1 - H0 (below)
+  sideCubics(u0.x, u1.x, 0, x0, gx0);
+  sideCubics(u0.x, u1.x, 1, x1, gx1);
+  float d[7], e[7];
+  for (int m = 0; m < 7; ++m) {
+    d[m] = 0.0;
+    e[m] = 0.0;
+  }
+  for (int sy = 0; sy < 2; ++sy) {
+    vec4 s0 = side[2 * sy], s1 = side[1 + 2 * sy];
+    // H0 + H1 = 1, so sum_x f Hx = f1 (1, 3, 3, 1) + (f0 - f1) H0 in scaled form: H1's cubic is
+    // never built or held (4 registers fewer through the whole restriction, and fewer products).
+    vec4 cubicA = s1.x * kScaledOne + (s0.x - s1.x) * x0 + h * (s0.y * gx0 + s1.y * gx1);
+    vec4 cubicB = h * (s1.z * kScaledOne + (s0.z - s1.z) * x0);
+    vec4 cubicC = h * (s1.w * kScaledOne + (s0.w - s1.w) * x0);
+    vec4 y, gy;
+    sideCubics(u0.y, u1.y, sy, y, gy);
+    for (int i = 0; i < 4; ++i)
+      for (int j = 0; j < 4; ++j) {
+        d[i + j] += y[i] * cubicA[j] + gy[i] * cubicB[j];
+        e[i + j] += y[i] * cubicC[j];
+      }
+  }
+  vec4 z, gz;
+  sideCubics(u0.z, u1.z, sz, z, gz);
+  addCubicTimesSextic(z, d, b);
+  addCubicTimesSextic(gz, e, b);
+}
+
+// Scaled coefficients (times the binomial weights of degree 9) to Bernstein coefficients.
+void fromScaledBernstein(inout float b[SEGMENT_COEFFS]) {
+  const float binomial9[SEGMENT_COEFFS] = float[](1.0, 9.0, 36.0, 84.0, 126.0, 126.0, 84.0, 36.0, 9.0, 1.0);
+  for (int k = 0; k < SEGMENT_COEFFS; ++k) b[k] /= binomial9[k];
 }
 
 // Bernstein coefficients (degree 9, s in [0,1]) of F along the segment from cell-local u0 to u1.
@@ -52,35 +91,19 @@ void addCubicTimesSextic(vec4 p, float q[7], inout float r[SEGMENT_COEFFS]) {
 // B = sum_x h fy Hx, C = sum_x h fz Hx; per z side, D = sum_y (Hy A + Gy B), E = sum_y Hy C
 // (degree 6); F = sum_z (Hz D + Gz E). In scaled Bernstein form (coefficients times the binomial
 // weights) products are plain convolutions.
+// Shaped for register pressure, which sets how many fragments a GPU keeps in flight (the prepass
+// runs this once per box fragment): the two z sides are two calls with constant corner indices, so
+// a side's corners are read (cell_search.glsl: loaded from memory) just before they are summed
+// and die after, and the y and z cubics are built where they are used; only the x cubics (H0, G0,
+// G1), b and the running d, e live through. A loop over the z sides that indexed the corners by
+// sz kept all 32 corner floats and all three axes' cubics live at once: 128 VGPRs on RDNA1 where
+// this needs 84 (docs/perf/render-changes-session31.md). The same polynomial; only the x sums are
+// rearranged (H0 + H1 = 1), which changes float rounding, not the roots.
 void restrictToSegment(vec4 corners[8], float h, vec3 u0, vec3 u1, out float b[SEGMENT_COEFFS]) {
-  vec4 kx[4], ky[4], kz[4];
-  axisBasisScaledBernstein(u0.x, u1.x, kx);
-  axisBasisScaledBernstein(u0.y, u1.y, ky);
-  axisBasisScaledBernstein(u0.z, u1.z, kz);
-  vec4 x0 = basisCubic(kx, 0), x1 = basisCubic(kx, 1), gx0 = basisCubic(kx, 2), gx1 = basisCubic(kx, 3);
   for (int k = 0; k < SEGMENT_COEFFS; ++k) b[k] = 0.0;
-  for (int sz = 0; sz < 2; ++sz) {
-    float d[7], e[7];
-    for (int m = 0; m < 7; ++m) {
-      d[m] = 0.0;
-      e[m] = 0.0;
-    }
-    for (int sy = 0; sy < 2; ++sy) {
-      vec4 s0 = corners[2 * sy + 4 * sz], s1 = corners[1 + 2 * sy + 4 * sz];
-      vec4 cubicA = s0.x * x0 + s1.x * x1 + h * (s0.y * gx0 + s1.y * gx1);
-      vec4 cubicB = h * (s0.z * x0 + s1.z * x1);
-      vec4 cubicC = h * (s0.w * x0 + s1.w * x1);
-      for (int i = 0; i < 4; ++i)
-        for (int j = 0; j < 4; ++j) {
-          d[i + j] += ky[i][sy] * cubicA[j] + ky[i][2 + sy] * cubicB[j];
-          e[i + j] += ky[i][sy] * cubicC[j];
-        }
-    }
-    addCubicTimesSextic(basisCubic(kz, sz), d, b);
-    addCubicTimesSextic(basisCubic(kz, 2 + sz), e, b);
-  }
-  const float binomial9[SEGMENT_COEFFS] = float[](1.0, 9.0, 36.0, 84.0, 126.0, 126.0, 84.0, 36.0, 9.0, 1.0);
-  for (int k = 0; k < SEGMENT_COEFFS; ++k) b[k] /= binomial9[k];
+  addZSide(vec4[4](corners[0], corners[1], corners[2], corners[3]), 0, h, u0, u1, b);
+  addZSide(vec4[4](corners[4], corners[5], corners[6], corners[7]), 1, h, u0, u1, b);
+  fromScaledBernstein(b);
 }
 
 // Value and derivative (d/ds) of the Bernstein polynomial at s, by de Casteljau (stable in float).
@@ -206,7 +229,10 @@ float segmentFirstRoot(float b[SEGMENT_COEFFS], uint subdivisions, uint refineSt
   uint index = 0u;
   int level = 0;
   float w = top, a = 0.0;
-  float c[SEGMENT_COEFFS];
+  // Set here though every step sets it before it is read: the compiler cannot see that, and an
+  // unset c would live on from the last search of a fragment that walks several cells (runs,
+  // bricks, tiles), 10 registers through the whole next restriction.
+  float c[SEGMENT_COEFFS] = b;
   float rest[SEGMENT_COEFFS] = b;  // the polynomial on [a, 1]: every interval starts where one ended
   int outcome = 0;  // 0: no root, 1: a unique root in [a, a + w], 2: a contact at a + w / 2
   for (int step = 0; step < kMaxSteps; ++step) {
