@@ -17,8 +17,9 @@
 //   recordPass(Opaque) inside the shading pass (colour + read-only depth: depth is final, test
 //                      EQUAL or read it from the scene descriptor set);
 //   drawUi()           inside the ImGui frame: the feature's tuning panel.
-// A feature reads components, never globals. Features create their pipelines in initialize() with
-// the formats the renderer gives them, and again in reloadShaders() from fresh SPIR-V.
+// A feature reads components, never globals. Features create (or describe, to compile on first
+// use) their pipelines in initialize() with the formats the renderer gives them, and again in
+// reloadShaders() from fresh SPIR-V.
 // View regions (FrameSettings::regions): a frame with several regions calls prepare() and both
 // passes once per region, in that order (prepare, depth, opaque; next region), each region with
 // its own frame slot, so per-frame data written in prepare() stays valid until its passes ran.
@@ -165,6 +166,10 @@ class RenderFeature {
   // On failure the old pipelines stay and the error says why (the file, the loader's or Vulkan's
   // message). Called between frames; waits for the GPU before replacing pipelines.
   virtual Status reloadShaders() { return makeError("shader reload is not supported by " + std::string(name())); }
+  // Compiles now every pipeline the feature may draw with. A feature may otherwise compile one
+  // only when a frame first needs it (gpu/lazy_pipeline.h): call this where a later hitch would
+  // hurt (behind a load screen) or where every pipeline must exist (a shader statistics run).
+  virtual Status createAllPipelines() { return {}; }
 };
 
 }  // namespace engine::render

@@ -252,6 +252,13 @@ std::vector<Renderer::ShaderReload> Renderer::reloadShaders() {
   return results;
 }
 
+Status Renderer::createAllPipelines() {
+  for (auto& feature : features_)
+    if (Status status = feature->createAllPipelines(); !status)
+      return makeError(std::string(feature->name()) + ": " + status.error().message);
+  return {};
+}
+
 // Features draw the entities with a WorldTransform; a program that places its entities by
 // Transform (and Parent) and never runs scene::updateWorldTransforms drew an empty frame without
 // a word. Said once; O(1) a frame (the components' counts), so a registry updated in part is not

@@ -105,6 +105,10 @@ class Renderer {
     Status status;
   };
   std::vector<ShaderReload> reloadShaders();
+  // Compiles every pipeline each feature may draw with (RenderFeature::createAllPipelines), which
+  // frames would otherwise compile when they first need one: behind a load screen, or where every
+  // pipeline must exist. The first error names its feature.
+  Status createAllPipelines();
 
   // Recreates the targets (waits for the GPU). An extent with a side of 0 (a minimised window)
   // keeps the current targets; one past the device's limits throws std::invalid_argument.

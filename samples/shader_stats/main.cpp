@@ -55,8 +55,8 @@ samples::ParseResult<Options> parseOptions(int argc, char** argv) {
   return {options, {}, 0};
 }
 
-// One tuning per method and form whose pipelines a feature may create only when a frame asks for
-// them (the depth pyramid, the brick culler, ...); the rest exist from the features' creation.
+// One tuning per method and form whose pipelines a feature creates only when a frame asks for them
+// and Renderer::createAllPipelines() does not make (the depth pyramid, the brick culler, ...).
 std::vector<samples::TuningState> tour() {
   using hsdf::AutoSwitch;
   using hsdf::RenderMethod;
@@ -112,6 +112,7 @@ Status run(const Options& options) {
   samples::SceneDesc scene;
   scene.gltf = samples::defaultScenePath();
   scene.sideBySide = true;  // the bunny's triangles beside its SDF: the mesh pipelines draw too
+  ENGINE_TRY(viewer->renderer().createAllPipelines());  // those no frame of the tour draws with too
   ENGINE_TRY(viewer->loadScene(scene, tour().front()));
   ENGINE_TRY(drawTour(*viewer));
   const engine::gpu::ShaderStatistics& statistics = *viewer->context().shaderStatistics();

@@ -85,16 +85,23 @@ engine::Status HermiteCellFeature::initialize(const engine::gpu::Context& contex
   objects_ = engine::render::PerFrameBuffer(context, framesInFlight, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT,
                                             "hermite cell objects");
   formats_ = formats;
-  ENGINE_TRY_ASSIGN(pipelines_, createPipelines());
+  ENGINE_TRY_ASSIGN(pipelines_, describePipelines());
   return {};
 }
 
-// Built aside and swapped in only when every one was created: a failure keeps the old ones.
+// Built aside from the SPIR-V on disk, with every pipeline a frame has drawn with compiled, and
+// swapped in only when all of those were: a failure keeps the old ones. The rest are compiled
+// from the new SPIR-V when a frame first needs them.
 engine::Status HermiteCellFeature::reloadShaders() {
-  ENGINE_TRY_ASSIGN(Pipelines fresh, createPipelines());
+  ENGINE_TRY_ASSIGN(Pipelines fresh, describePipelines());
+  ENGINE_TRY(engine::gpu::createWhereMade(*context_, fresh.all(), pipelines_.all()));
   context_->waitIdle();  // frames in flight may still use the old pipelines
   pipelines_ = std::move(fresh);
   return {};
+}
+
+engine::Status HermiteCellFeature::createAllPipelines() {
+  return engine::gpu::createAll(*context_, pipelines_.all());
 }
 
 void HermiteCellFeature::ensureCounters(engine::render::FrameContext& frame) {
@@ -185,13 +192,15 @@ void HermiteCellFeature::recordBatch(engine::render::PassContext& pass, int prec
   const bool bricks = precision == kBrickBatch;
   const Variant variant = prepassVariant(pass.frame);
   const int noEarly = withoutEarlyStage(variant);
-  const Pipeline& pipeline = bricks ? (near ? pipelines_.bricksNear[noEarly] : pipelines_.bricksFront[noEarly])
-                             : runs ? (near ? pipelines_.runsNear[variant] : pipelines_.runsFront[variant])
-                             : thinBoxes_ ? (near ? pipelines_.thinNear[noEarly][precision]
-                                                  : pipelines_.thinFront[noEarly][precision])
-                                    : (near ? pipelines_.depthNear[variant][precision]
-                                            : pipelines_.depthFront[variant][precision]);
-  vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, pipeline.handle());
+  Pipelines::Lazy& lazy = bricks ? (near ? pipelines_.bricksNear[noEarly] : pipelines_.bricksFront[noEarly])
+                          : runs ? (near ? pipelines_.runsNear[variant] : pipelines_.runsFront[variant])
+                          : thinBoxes_ ? (near ? pipelines_.thinNear[noEarly][precision]
+                                               : pipelines_.thinFront[noEarly][precision])
+                                 : (near ? pipelines_.depthNear[variant][precision]
+                                         : pipelines_.depthFront[variant][precision]);
+  const Pipeline* pipeline = lazy.getOrLog(*context_);
+  if (!pipeline) return;
+  vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, pipeline->handle());
   const VkBuffer vertexBuffer = batchStream(precision);
   const VkDeviceSize offset = 0;
   vkCmdBindVertexBuffers(cmd, 0, 1, &vertexBuffer, &offset);
@@ -215,7 +224,7 @@ void HermiteCellFeature::recordBatch(engine::render::PassContext& pass, int prec
     vkCmdBindVertexBuffers(cmd, 0, 1, &keptBuffer, &offset);
     push.cellRecords = keptCellIndices_[pass.frame.frameSlot][precision].address();
   }
-  recordIndirect(cmd, pipeline, push, pass.frame.frameSlot, first, count, countBuffer, countOffset);
+  recordIndirect(cmd, *pipeline, push, pass.frame.frameSlot, first, count, countBuffer, countOffset);
 }
 
 HermiteCellFeature::Variant HermiteCellFeature::withoutEarlyStage(Variant variant) {
@@ -245,8 +254,10 @@ VkBuffer HermiteCellFeature::batchStream(int b) const {
 void HermiteCellFeature::recordWireframe(engine::render::PassContext& pass, int b) {
   const Batch& batch = *batches_[b];
   if (batch.frontCount == 0) return;
+  const Pipeline* pipeline = pipelines_.wire[b].getOrLog(*context_);
+  if (!pipeline) return;
   VkCommandBuffer cmd = pass.cmd;
-  vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, pipelines_.wire[b].handle());
+  vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, pipeline->handle());
   const VkBuffer vertexBuffer = batchStream(b);
   const VkDeviceSize offset = 0;
   vkCmdBindVertexBuffers(cmd, 0, 1, &vertexBuffer, &offset);
@@ -254,7 +265,7 @@ void HermiteCellFeature::recordWireframe(engine::render::PassContext& pass, int 
   push.draw.frameGlobals = pass.frameGlobals;
   push.draw.objects = pass.objects;
   push.draws = drawData_.address(pass.frame.frameSlot);
-  recordIndirect(cmd, pipelines_.wire[b], push, pass.frame.frameSlot, batch.wireFirst, batch.frontCount);
+  recordIndirect(cmd, *pipeline, push, pass.frame.frameSlot, batch.wireFirst, batch.frontCount);
 }
 
 void HermiteCellFeature::recordResolve(engine::render::PassContext& pass) {
@@ -263,8 +274,11 @@ void HermiteCellFeature::recordResolve(engine::render::PassContext& pass) {
 
 // The rectangle over the cell objects' screen bounds (cells_resolve.vert) with `pipeline`: the
 // shading resolve (which reads the scene set) or the early depth fix-up.
-void HermiteCellFeature::recordRectangle(engine::render::PassContext& pass, const Pipeline& pipeline) {
+void HermiteCellFeature::recordRectangle(engine::render::PassContext& pass, Pipelines::Lazy& lazy) {
   if (!(screenRect_.x < screenRect_.z && screenRect_.y < screenRect_.w)) return;  // no object on screen
+  const Pipeline* made = lazy.getOrLog(*context_);
+  if (!made) return;
+  const Pipeline& pipeline = *made;
   VkCommandBuffer cmd = pass.cmd;
   vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, pipeline.handle());
   if (pass.pass == engine::render::Pass::Opaque)
@@ -395,7 +409,9 @@ void HermiteCellFeature::logTileOverflow(const shader::CellTileTotals& previous,
 // One quad per non-empty tile (cell_tiles.vert), its instance count written by the tiling's scan.
 void HermiteCellFeature::recordTiles(engine::render::PassContext& pass) {
   const std::uint32_t slot = pass.frame.frameSlot;
-  const Pipeline& pipeline = pipelines_.tiles[withoutEarlyStage(prepassVariant(pass.frame))];
+  const Pipeline* made = pipelines_.tiles[withoutEarlyStage(prepassVariant(pass.frame))].getOrLog(*context_);
+  if (!made) return;
+  const Pipeline& pipeline = *made;
   vkCmdBindPipeline(pass.cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, pipeline.handle());
   shader::HermitePushConstants push = prepassPush(pass);
   push.tiles = tiler_->tiles(slot);
@@ -432,6 +448,8 @@ void HermiteCellFeature::drawUi() {
                 double(stats_.keptStreamBytesHeld) / (1024.0 * 1024.0),
                 double(stats_.tileListBytesHeld) / (1024.0 * 1024.0),
                 double(stats_.historyBytesHeld) / (1024.0 * 1024.0));
+  const engine::gpu::PipelineCounts pipelines = pipelineCounts();
+  ImGui::Text("pipelines compiled: %u of %u (each when first drawn with)", pipelines.compiled, pipelines.described);
 }
 
 }  // namespace hsdf

@@ -6,6 +6,7 @@
 #include <cstddef>
 #include <cstring>
 #include <limits>
+#include <span>
 #include <unordered_set>
 
 #include <imgui.h>
@@ -80,29 +81,48 @@ engine::gpu::VertexLayout brickVertexLayout() {
 
 }  // namespace
 
-// Every pipeline of the feature; the shared shaders are loaded first, then each family is created.
-engine::Expected<HermiteCellFeature::Pipelines> HermiteCellFeature::createPipelines() const {
+std::vector<HermiteCellFeature::Pipelines::Lazy*> HermiteCellFeature::Pipelines::all() {
+  std::vector<Lazy*> set;
+  const auto addEach = [&](std::span<Lazy> pipelines) {
+    for (Lazy& pipeline : pipelines) set.push_back(&pipeline);
+  };
+  for (auto& row : depthFront) addEach(row);
+  for (auto& row : depthNear) addEach(row);
+  for (auto& row : thinFront) addEach(row);
+  for (auto& row : thinNear) addEach(row);
+  for (std::span<Lazy> row : {std::span<Lazy>(wire), std::span<Lazy>(runsFront), std::span<Lazy>(runsNear),
+                              std::span<Lazy>(bricksFront), std::span<Lazy>(bricksNear), std::span<Lazy>(tiles)})
+    addEach(row);
+  set.push_back(&resolve);
+  set.push_back(&depthFixup);
+  return set;
+}
+
+// Every pipeline of the feature, described with its shader modules loaded (a missing or bad SPIR-V
+// file fails here), compiled when a frame first draws with it. The shared shaders are loaded
+// first, then each family is described.
+engine::Expected<HermiteCellFeature::Pipelines> HermiteCellFeature::describePipelines() const {
   const engine::gpu::Context& context = *context_;
   Pipelines p;
-  ENGINE_TRY_ASSIGN(auto vert, engine::gpu::ShaderModule::load(context, "cells.vert"));
-  ENGINE_TRY_ASSIGN(auto fixupFrag, engine::gpu::ShaderModule::load(context, "cells_depth_early_fixup.frag"));
-  ENGINE_TRY_ASSIGN(auto resolveVert, engine::gpu::ShaderModule::load(context, "cells_resolve.vert"));
-  ENGINE_TRY_ASSIGN(auto wireFrag, engine::gpu::ShaderModule::load(context, "cells_wire.frag"));
-  ENGINE_TRY_ASSIGN(auto resolveFrag, engine::gpu::ShaderModule::load(context, "cells_resolve.frag"));
-  ENGINE_TRY_ASSIGN(auto runsVert, engine::gpu::ShaderModule::load(context, "runs.vert"));
+  ENGINE_TRY_ASSIGN(auto vert, engine::gpu::loadSharedShaderModule(context, "cells.vert"));
+  ENGINE_TRY_ASSIGN(auto fixupFrag, engine::gpu::loadSharedShaderModule(context, "cells_depth_early_fixup.frag"));
+  ENGINE_TRY_ASSIGN(auto resolveVert, engine::gpu::loadSharedShaderModule(context, "cells_resolve.vert"));
+  ENGINE_TRY_ASSIGN(auto wireFrag, engine::gpu::loadSharedShaderModule(context, "cells_wire.frag"));
+  ENGINE_TRY_ASSIGN(auto resolveFrag, engine::gpu::loadSharedShaderModule(context, "cells_resolve.frag"));
+  ENGINE_TRY_ASSIGN(auto runsVert, engine::gpu::loadSharedShaderModule(context, "runs.vert"));
 
-  ENGINE_TRY(createCellPipelines(p, vert, runsVert));
-  ENGINE_TRY(createBrickPipelines(p));
-  ENGINE_TRY(createThinCellPipelines(p));
-  ENGINE_TRY(createTilePipelines(p));
-  ENGINE_TRY(createWirePipelines(p, wireFrag));
-  ENGINE_TRY(createResolvePipelines(p, resolveVert, resolveFrag, fixupFrag));
+  ENGINE_TRY(describeCellPipelines(p, vert, runsVert));
+  ENGINE_TRY(describeBrickPipelines(p));
+  ENGINE_TRY(describeThinCellPipelines(p));
+  ENGINE_TRY(describeTilePipelines(p));
+  ENGINE_TRY(describeWirePipelines(p, wireFrag));
+  describeResolvePipelines(p, resolveVert, resolveFrag, fixupFrag);
   return p;
 }
 
 // The prepass pipelines of cells (per variant and precision) and of cell runs (per variant).
-engine::Status HermiteCellFeature::createCellPipelines(Pipelines& p, const engine::gpu::ShaderModule& vert,
-                                                       const engine::gpu::ShaderModule& runsVert) const {
+engine::Status HermiteCellFeature::describeCellPipelines(Pipelines& p, const engine::gpu::SharedShaderModule& vert,
+                                                         const engine::gpu::SharedShaderModule& runsVert) const {
   const engine::gpu::Context& context = *context_;
   const engine::render::RendererFormats& formats = formats_;
   // Fragment shaders per prepass variant (Variant; shaders/hermite/hit_depth.glsl): front faces, near cells.
@@ -112,36 +132,36 @@ engine::Status HermiteCellFeature::createCellPipelines(Pipelines& p, const engin
                                                         "cells_depth_near_early.frag"};
   static constexpr const char* kVariantNames[kVariants] = {"", " counted", " early"};
   for (int variant = 0; variant < kVariants; ++variant) {
-    ENGINE_TRY_ASSIGN(auto frontFrag, engine::gpu::ShaderModule::load(context, kCellsFront[variant]));
-    ENGINE_TRY_ASSIGN(auto nearFrag, engine::gpu::ShaderModule::load(context, kCellsNear[variant]));
+    ENGINE_TRY_ASSIGN(auto frontFrag, engine::gpu::loadSharedShaderModule(context, kCellsFront[variant]));
+    ENGINE_TRY_ASSIGN(auto nearFrag, engine::gpu::loadSharedShaderModule(context, kCellsNear[variant]));
     for (int precision = 0; precision < 2; ++precision) {
       const std::string suffix = std::string(kVariantNames[variant]) + (precision == 0 ? " fp32" : " fp16");
       engine::gpu::GraphicsPipelineDesc desc;
-      desc.vertex = vert.handle();
+      desc.vertex = vert->handle();
       desc.vertexLayout = cellVertexLayout(precision);
       desc.pushConstantBytes = sizeof(shader::HermitePushConstants);
       desc.depthFormat = formats.depth;
       desc.colorFormats = {formats.visibility};
       desc.depthCompare = VK_COMPARE_OP_GREATER;  // a miss writes depth 0, which this rejects (hit_depth.glsl)
       desc.name = "hermite cells depth" + suffix;
-      desc.fragment = frontFrag.handle();
+      desc.fragment = frontFrag->handle();
       desc.cullMode = VK_CULL_MODE_BACK_BIT;
       desc.topology = VK_PRIMITIVE_TOPOLOGY_TRIANGLE_FAN;
-      ENGINE_TRY_ASSIGN(p.depthFront[variant][precision], Pipeline::createGraphics(context, desc));
+      p.depthFront[variant][precision] = Pipelines::Lazy(desc, {vert, frontFrag});
       desc.name = "hermite cells depth near" + suffix;
-      desc.fragment = nearFrag.handle();
+      desc.fragment = nearFrag->handle();
       desc.cullMode = VK_CULL_MODE_FRONT_BIT;
       desc.topology = VK_PRIMITIVE_TOPOLOGY_TRIANGLE_STRIP;
-      ENGINE_TRY_ASSIGN(p.depthNear[variant][precision], Pipeline::createGraphics(context, desc));
+      p.depthNear[variant][precision] = Pipelines::Lazy(desc, {vert, nearFrag});
     }
-    ENGINE_TRY(createRunPipelines(p, runsVert, variant, kVariantNames[variant]));
+    ENGINE_TRY(describeRunPipelines(p, runsVert, variant, kVariantNames[variant]));
   }
   return {};
 }
 
 // One variant's prepass pipelines of cell runs (front faces, near cells).
-engine::Status HermiteCellFeature::createRunPipelines(Pipelines& p, const engine::gpu::ShaderModule& runsVert,
-                                                      int variant, const char* variantName) const {
+engine::Status HermiteCellFeature::describeRunPipelines(Pipelines& p, const engine::gpu::SharedShaderModule& runsVert,
+                                                        int variant, const char* variantName) const {
   const engine::gpu::Context& context = *context_;
   const engine::render::RendererFormats& formats = formats_;
   static constexpr const char* kRunsFront[kVariants] = {"runs_depth.frag", "runs_depth_counted.frag",
@@ -149,43 +169,47 @@ engine::Status HermiteCellFeature::createRunPipelines(Pipelines& p, const engine
   static constexpr const char* kRunsNear[kVariants] = {"runs_depth_near.frag", "runs_depth_near_counted.frag",
                                                        "runs_depth_near_early.frag"};
   // Cell runs: records by address, one pipeline pair for both precisions (HERMITE_FLAG_HALF_RECORDS).
-  ENGINE_TRY_ASSIGN(auto runsFrontFrag, engine::gpu::ShaderModule::load(context, kRunsFront[variant]));
-  ENGINE_TRY_ASSIGN(auto runsNearFrag, engine::gpu::ShaderModule::load(context, kRunsNear[variant]));
+  ENGINE_TRY_ASSIGN(auto runsFrontFrag, engine::gpu::loadSharedShaderModule(context, kRunsFront[variant]));
+  ENGINE_TRY_ASSIGN(auto runsNearFrag, engine::gpu::loadSharedShaderModule(context, kRunsNear[variant]));
   engine::gpu::GraphicsPipelineDesc desc;
-  desc.vertex = runsVert.handle();
+  desc.vertex = runsVert->handle();
   desc.vertexLayout = runVertexLayout();
   desc.pushConstantBytes = sizeof(shader::HermitePushConstants);
   desc.depthFormat = formats.depth;
   desc.colorFormats = {formats.visibility};
   desc.depthCompare = VK_COMPARE_OP_GREATER;
   desc.name = std::string("hermite cell runs depth") + variantName;
-  desc.fragment = runsFrontFrag.handle();
+  desc.fragment = runsFrontFrag->handle();
   desc.cullMode = VK_CULL_MODE_BACK_BIT;
   desc.topology = VK_PRIMITIVE_TOPOLOGY_TRIANGLE_FAN;
-  ENGINE_TRY_ASSIGN(p.runsFront[variant], Pipeline::createGraphics(context, desc));
+  p.runsFront[variant] = Pipelines::Lazy(desc, {runsVert, runsFrontFrag});
   desc.name = std::string("hermite cell runs depth near") + variantName;
-  desc.fragment = runsNearFrag.handle();
+  desc.fragment = runsNearFrag->handle();
   desc.cullMode = VK_CULL_MODE_FRONT_BIT;
   desc.topology = VK_PRIMITIVE_TOPOLOGY_TRIANGLE_STRIP;
-  ENGINE_TRY_ASSIGN(p.runsNear[variant], Pipeline::createGraphics(context, desc));
+  p.runsNear[variant] = Pipelines::Lazy(desc, {runsVert, runsNearFrag});
   return {};
 }
 
 // The wireframe pipelines, one per batch (DEBUG_VIEW_WIREFRAME): the cells' boxes per record
 // precision, the runs' and the bricks' boxes, each from its batch's vertex stream.
-engine::Status HermiteCellFeature::createWirePipelines(Pipelines& p, const engine::gpu::ShaderModule& wireFrag) const {
+engine::Status HermiteCellFeature::describeWirePipelines(Pipelines& p,
+                                                         const engine::gpu::SharedShaderModule& wireFrag) const {
   const engine::gpu::Context& context = *context_;
   const engine::render::RendererFormats& formats = formats_;
-  ENGINE_TRY_ASSIGN(auto cellsWire, engine::gpu::ShaderModule::load(context, "cells_wire.vert"));
-  ENGINE_TRY_ASSIGN(auto runsWire, engine::gpu::ShaderModule::load(context, "runs_wire.vert"));
-  ENGINE_TRY_ASSIGN(auto bricksWire, engine::gpu::ShaderModule::load(context, "bricks_wire.vert"));
+  ENGINE_TRY_ASSIGN(auto cellsWire, engine::gpu::loadSharedShaderModule(context, "cells_wire.vert"));
+  ENGINE_TRY_ASSIGN(auto runsWire, engine::gpu::loadSharedShaderModule(context, "runs_wire.vert"));
+  ENGINE_TRY_ASSIGN(auto bricksWire, engine::gpu::loadSharedShaderModule(context, "bricks_wire.vert"));
   static constexpr const char* kNames[kBatches] = {"cells fp32", "cells fp16", "runs", "bricks"};
   // Edges over the shaded frame, hidden where the surface is in front of them.
   for (int batch = 0; batch < kBatches; ++batch) {
     engine::gpu::GraphicsPipelineDesc wire = wireframePipelineDesc(formats);
     wire.name = std::string("hermite wireframe ") + kNames[batch];
-    wire.vertex = batch == kRunBatch ? runsWire.handle() : batch == kBrickBatch ? bricksWire.handle() : cellsWire.handle();
-    wire.fragment = wireFrag.handle();
+    const engine::gpu::SharedShaderModule& vertex = batch == kRunBatch     ? runsWire
+                                                    : batch == kBrickBatch ? bricksWire
+                                                                           : cellsWire;
+    wire.vertex = vertex->handle();
+    wire.fragment = wireFrag->handle();
     if (batch == kRunBatch) {
       wire.vertexLayout = runVertexLayout();
     } else if (batch == kBrickBatch) {
@@ -195,23 +219,22 @@ engine::Status HermiteCellFeature::createWirePipelines(Pipelines& p, const engin
       std::erase_if(wire.vertexLayout.attributes, [](const auto& a) { return a.location != 8; });  // coordinates only
     }
     wire.pushConstantBytes = sizeof(shader::HermitePushConstants);
-    ENGINE_TRY_ASSIGN(p.wire[batch], Pipeline::createGraphics(context, wire));
+    p.wire[batch] = Pipelines::Lazy(wire, {vertex, wireFrag});
   }
   return {};
 }
 
 // The full-screen-rectangle pipelines: the shading (resolve) pass and the early depth fix-up.
-engine::Status HermiteCellFeature::createResolvePipelines(Pipelines& p, const engine::gpu::ShaderModule& resolveVert,
-                                                          const engine::gpu::ShaderModule& resolveFrag,
-                                                          const engine::gpu::ShaderModule& fixupFrag) const {
-  const engine::gpu::Context& context = *context_;
+void HermiteCellFeature::describeResolvePipelines(Pipelines& p, const engine::gpu::SharedShaderModule& resolveVert,
+                                                  const engine::gpu::SharedShaderModule& resolveFrag,
+                                                  const engine::gpu::SharedShaderModule& fixupFrag) const {
   const engine::render::RendererFormats& formats = formats_;
   // Shading: a rectangle over the cell objects' screen bounds; which of its pixels are ours comes
   // from the visibility buffer.
   engine::gpu::GraphicsPipelineDesc resolve;
   resolve.name = "hermite cells resolve";
-  resolve.vertex = resolveVert.handle();
-  resolve.fragment = resolveFrag.handle();
+  resolve.vertex = resolveVert->handle();
+  resolve.fragment = resolveFrag->handle();
   resolve.cullMode = VK_CULL_MODE_NONE;
   // The rectangle lies on the far plane (reverse-Z: depth 0), so LESS passes only where the prepass
   // drew something. Background pixels fail this test before the shader runs: on lavapipe a 4x4
@@ -224,70 +247,69 @@ engine::Status HermiteCellFeature::createResolvePipelines(Pipelines& p, const en
   resolve.colorFormats = {formats.color};
   resolve.pushConstantBytes = sizeof(shader::HermitePushConstants);
   resolve.setLayouts = {formats.sceneSetLayout};
-  ENGINE_TRY_ASSIGN(p.resolve, Pipeline::createGraphics(context, resolve));
+  p.resolve = Pipelines::Lazy(resolve, {resolveVert, resolveFrag});
   // Early depth fix-up: the same rectangle, in the prepass, writing only depth (always: the faces it
   // replaces lie in front of the hits, and nothing else has been drawn yet).
   engine::gpu::GraphicsPipelineDesc fixup;
   fixup.name = "hermite cells depth fix-up";
-  fixup.vertex = resolveVert.handle();
-  fixup.fragment = fixupFrag.handle();
+  fixup.vertex = resolveVert->handle();
+  fixup.fragment = fixupFrag->handle();
   fixup.cullMode = VK_CULL_MODE_NONE;
   fixup.depthCompare = VK_COMPARE_OP_ALWAYS;
   fixup.depthFormat = formats.depth;
   fixup.colorFormats = {formats.visibility};
   fixup.colorWrite = false;
   fixup.pushConstantBytes = sizeof(shader::HermitePushConstants);
-  ENGINE_TRY_ASSIGN(p.depthFixup, Pipeline::createGraphics(context, fixup));
-  return {};
+  p.depthFixup = Pipelines::Lazy(fixup, {resolveVert, fixupFrag});
 }
 
 
 // Cell bricks: production and counted variants, no early depth one (a frame that draws bricks
 // keeps the early depth stage off: buildDraws). Both precisions share one pipeline pair.
-engine::Status HermiteCellFeature::createBrickPipelines(Pipelines& p) const {
+engine::Status HermiteCellFeature::describeBrickPipelines(Pipelines& p) const {
   static constexpr const char* kFront[kBrickVariants] = {"bricks_depth.frag", "bricks_depth_counted.frag"};
   static constexpr const char* kNear[kBrickVariants] = {"bricks_depth_near.frag", "bricks_depth_near_counted.frag"};
   static constexpr const char* kNames[kBrickVariants] = {"", " counted"};
-  ENGINE_TRY_ASSIGN(auto vert, engine::gpu::ShaderModule::load(*context_, "bricks.vert"));
+  ENGINE_TRY_ASSIGN(auto vert, engine::gpu::loadSharedShaderModule(*context_, "bricks.vert"));
   for (int variant = 0; variant < kBrickVariants; ++variant) {
-    ENGINE_TRY_ASSIGN(auto front, engine::gpu::ShaderModule::load(*context_, kFront[variant]));
-    ENGINE_TRY_ASSIGN(auto near, engine::gpu::ShaderModule::load(*context_, kNear[variant]));
+    ENGINE_TRY_ASSIGN(auto front, engine::gpu::loadSharedShaderModule(*context_, kFront[variant]));
+    ENGINE_TRY_ASSIGN(auto near, engine::gpu::loadSharedShaderModule(*context_, kNear[variant]));
     engine::gpu::GraphicsPipelineDesc desc;
-    desc.vertex = vert.handle();
+    desc.vertex = vert->handle();
     desc.vertexLayout = brickVertexLayout();
     desc.pushConstantBytes = sizeof(shader::HermitePushConstants);
     desc.depthFormat = formats_.depth;
     desc.colorFormats = {formats_.visibility};
     desc.depthCompare = VK_COMPARE_OP_GREATER;
     desc.name = std::string("hermite cell bricks depth") + kNames[variant];
-    desc.fragment = front.handle();
+    desc.fragment = front->handle();
     desc.cullMode = VK_CULL_MODE_BACK_BIT;
     desc.topology = VK_PRIMITIVE_TOPOLOGY_TRIANGLE_FAN;
-    ENGINE_TRY_ASSIGN(p.bricksFront[variant], Pipeline::createGraphics(*context_, desc));
+    p.bricksFront[variant] = Pipelines::Lazy(desc, {vert, front});
     desc.name = std::string("hermite cell bricks depth near") + kNames[variant];
-    desc.fragment = near.handle();
+    desc.fragment = near->handle();
     desc.cullMode = VK_CULL_MODE_FRONT_BIT;
     desc.topology = VK_PRIMITIVE_TOPOLOGY_TRIANGLE_STRIP;
-    ENGINE_TRY_ASSIGN(p.bricksNear[variant], Pipeline::createGraphics(*context_, desc));
+    p.bricksNear[variant] = Pipelines::Lazy(desc, {vert, near});
   }
   return {};
 }
 
 // Thin cell boxes: production and counted variants (no early depth one: buildDraws keeps the stage
 // off), per precision for the cell attribute's offset in the record; the corners are read by address.
-engine::Status HermiteCellFeature::createThinCellPipelines(Pipelines& p) const {
+engine::Status HermiteCellFeature::describeThinCellPipelines(Pipelines& p) const {
   static constexpr const char* kFront[kBrickVariants] = {"cells_thin_depth.frag", "cells_thin_depth_counted.frag"};
   static constexpr const char* kNear[kBrickVariants] = {"cells_thin_depth_near.frag",
                                                         "cells_thin_depth_near_counted.frag"};
   static constexpr const char* kNames[kBrickVariants] = {"", " counted"};
-  ENGINE_TRY_ASSIGN(auto vert, engine::gpu::ShaderModule::load(*context_, "cells_thin.vert"));
+  ENGINE_TRY_ASSIGN(auto vert, engine::gpu::loadSharedShaderModule(*context_, "cells_thin.vert"));
   for (int variant = 0; variant < kBrickVariants; ++variant) {
-    ENGINE_TRY_ASSIGN(auto front, engine::gpu::ShaderModule::load(*context_, kFront[variant]));
-    ENGINE_TRY_ASSIGN(auto near, engine::gpu::ShaderModule::load(*context_, kNear[variant]));
+    ENGINE_TRY_ASSIGN(auto front, engine::gpu::loadSharedShaderModule(*context_, kFront[variant]));
+    ENGINE_TRY_ASSIGN(auto near, engine::gpu::loadSharedShaderModule(*context_, kNear[variant]));
     for (int precision = 0; precision < 2; ++precision) {
       const std::string suffix = std::string(kNames[variant]) + (precision == 0 ? " fp32" : " fp16");
       engine::gpu::GraphicsPipelineDesc desc;
-      desc.vertex = vert.handle();
+      desc.vertex = vert->handle();
       desc.vertexLayout = cellVertexLayout(precision);
       std::erase_if(desc.vertexLayout.attributes, [](const auto& a) { return a.location != 8; });  // the cell only
       desc.pushConstantBytes = sizeof(shader::HermitePushConstants);
@@ -295,15 +317,15 @@ engine::Status HermiteCellFeature::createThinCellPipelines(Pipelines& p) const {
       desc.colorFormats = {formats_.visibility};
       desc.depthCompare = VK_COMPARE_OP_GREATER;
       desc.name = "hermite thin cells depth" + suffix;
-      desc.fragment = front.handle();
+      desc.fragment = front->handle();
       desc.cullMode = VK_CULL_MODE_BACK_BIT;
       desc.topology = VK_PRIMITIVE_TOPOLOGY_TRIANGLE_FAN;
-      ENGINE_TRY_ASSIGN(p.thinFront[variant][precision], Pipeline::createGraphics(*context_, desc));
+      p.thinFront[variant][precision] = Pipelines::Lazy(desc, {vert, front});
       desc.name = "hermite thin cells depth near" + suffix;
-      desc.fragment = near.handle();
+      desc.fragment = near->handle();
       desc.cullMode = VK_CULL_MODE_FRONT_BIT;
       desc.topology = VK_PRIMITIVE_TOPOLOGY_TRIANGLE_STRIP;
-      ENGINE_TRY_ASSIGN(p.thinNear[variant][precision], Pipeline::createGraphics(*context_, desc));
+      p.thinNear[variant][precision] = Pipelines::Lazy(desc, {vert, near});
     }
   }
   return {};
@@ -311,16 +333,16 @@ engine::Status HermiteCellFeature::createThinCellPipelines(Pipelines& p) const {
 
 // Tiled cells: production and counted variants (no early depth: a frame that draws tiles keeps the
 // stage off), both precisions in one pipeline (the fragment shader reads records by address).
-engine::Status HermiteCellFeature::createTilePipelines(Pipelines& p) const {
+engine::Status HermiteCellFeature::describeTilePipelines(Pipelines& p) const {
   static constexpr const char* kFragments[kBrickVariants] = {"cell_tiles_depth.frag", "cell_tiles_depth_counted.frag"};
   static constexpr const char* kNames[kBrickVariants] = {"", " counted"};
   const bool points = tilesAsPoints(*context_);
-  ENGINE_TRY_ASSIGN(auto vert, engine::gpu::ShaderModule::load(*context_, points ? "cell_tiles.vert" : "cell_tiles_quads.vert"));
+  ENGINE_TRY_ASSIGN(auto vert, engine::gpu::loadSharedShaderModule(*context_, points ? "cell_tiles.vert" : "cell_tiles_quads.vert"));
   for (int variant = 0; variant < kBrickVariants; ++variant) {
-    ENGINE_TRY_ASSIGN(auto frag, engine::gpu::ShaderModule::load(*context_, kFragments[variant]));
+    ENGINE_TRY_ASSIGN(auto frag, engine::gpu::loadSharedShaderModule(*context_, kFragments[variant]));
     engine::gpu::GraphicsPipelineDesc desc;
-    desc.vertex = vert.handle();
-    desc.fragment = frag.handle();
+    desc.vertex = vert->handle();
+    desc.fragment = frag->handle();
     desc.pushConstantBytes = sizeof(shader::HermitePushConstants);
     desc.depthFormat = formats_.depth;
     desc.colorFormats = {formats_.visibility};
@@ -328,7 +350,7 @@ engine::Status HermiteCellFeature::createTilePipelines(Pipelines& p) const {
     desc.cullMode = VK_CULL_MODE_NONE;
     desc.topology = points ? VK_PRIMITIVE_TOPOLOGY_POINT_LIST : VK_PRIMITIVE_TOPOLOGY_TRIANGLE_LIST;
     desc.name = std::string("hermite cell tiles depth") + kNames[variant];
-    ENGINE_TRY_ASSIGN(p.tiles[variant], Pipeline::createGraphics(*context_, desc));
+    p.tiles[variant] = Pipelines::Lazy(desc, {vert, frag});
   }
   return {};
 }

@@ -103,16 +103,22 @@ engine::Status SphereTraceFeature::initialize(const engine::gpu::Context& contex
   drawBuffer_ = engine::render::PerFrameBuffer(context, framesInFlight, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT,
                                                "sphere trace draws");
   formats_ = formats;
-  ENGINE_TRY_ASSIGN(pipelines_, createPipelines());
+  ENGINE_TRY_ASSIGN(pipelines_, describePipelines());
   return {};
 }
 
-// Built aside and swapped in only when all eleven were created: a failure keeps the old ones.
+// Built aside from the SPIR-V on disk, with every pipeline a frame has drawn with compiled, and
+// swapped in only when all of those were: a failure keeps the old ones.
 engine::Status SphereTraceFeature::reloadShaders() {
-  ENGINE_TRY_ASSIGN(Pipelines fresh, createPipelines());
+  ENGINE_TRY_ASSIGN(Pipelines fresh, describePipelines());
+  ENGINE_TRY(engine::gpu::createWhereMade(*context_, fresh.all(), pipelines_.all()));
   context_->waitIdle();  // frames in flight may still use the old pipelines
   pipelines_ = std::move(fresh);
   return {};
+}
+
+engine::Status SphereTraceFeature::createAllPipelines() {
+  return engine::gpu::createAll(*context_, pipelines_.all());
 }
 
 void SphereTraceFeature::createSamplers() {
@@ -134,17 +140,29 @@ void SphereTraceFeature::createSamplers() {
   }
 }
 
-engine::Expected<SphereTraceFeature::Pipelines> SphereTraceFeature::createPipelines() const {
+std::vector<engine::gpu::LazyPipeline*> SphereTraceFeature::Pipelines::all() {
+  std::vector<engine::gpu::LazyPipeline*> set;
+  for (auto* pairs : {&depthFront, &depthNear})
+    for (auto& pair : *pairs)
+      for (auto& pipeline : pair) set.push_back(&pipeline);
+  for (auto& pipeline : shade) set.push_back(&pipeline);
+  set.push_back(&wire);
+  return set;
+}
+
+// Every pipeline, described with its shader modules loaded (a missing or bad SPIR-V file fails
+// here), compiled when a frame first draws with it.
+engine::Expected<SphereTraceFeature::Pipelines> SphereTraceFeature::describePipelines() const {
   const engine::render::RendererFormats& formats = formats_;
   Pipelines pipelines;
   const std::string bindless = bindings_->bindless() ? "_bindless" : "";
-  ENGINE_TRY_ASSIGN(auto vert, engine::gpu::ShaderModule::load(*context_, "sphere_trace.vert"));
+  ENGINE_TRY_ASSIGN(auto vert, engine::gpu::loadSharedShaderModule(*context_, "sphere_trace.vert"));
   for (std::uint32_t method = 0; method < kTraceMethodCount; ++method) {
     const std::string prefix = std::string("sphere_trace_") + kMethodNames[method];
-    ENGINE_TRY_ASSIGN(auto shadeFrag, engine::gpu::ShaderModule::load(*context_, prefix + "_shade" + bindless + ".frag"));
+    ENGINE_TRY_ASSIGN(auto shadeFrag, engine::gpu::loadSharedShaderModule(*context_, prefix + "_shade" + bindless + ".frag"));
 
     engine::gpu::GraphicsPipelineDesc desc;
-    desc.vertex = vert.handle();
+    desc.vertex = vert->handle();
     desc.pushConstantBytes = sizeof(shader::SphereTracePushConstants);
     desc.setLayouts = {formats.sceneSetLayout, bindings_->layout()};
     desc.depthFormat = formats.depth;
@@ -154,40 +172,40 @@ engine::Expected<SphereTraceFeature::Pipelines> SphereTraceFeature::createPipeli
     for (const bool counted : {false, true}) {
       const std::string variant = counted ? "_counted" : "";
       ENGINE_TRY_ASSIGN(auto depthFrag,
-                        engine::gpu::ShaderModule::load(*context_, prefix + "_depth" + bindless + variant + ".frag"));
+                        engine::gpu::loadSharedShaderModule(*context_, prefix + "_depth" + bindless + variant + ".frag"));
       ENGINE_TRY_ASSIGN(auto nearFrag,
-                        engine::gpu::ShaderModule::load(*context_, prefix + "_depth_near" + bindless + variant + ".frag"));
+                        engine::gpu::loadSharedShaderModule(*context_, prefix + "_depth_near" + bindless + variant + ".frag"));
       desc.name = std::string("sphere trace ") + kMethodNames[method] + " depth" + variant;
-      desc.fragment = depthFrag.handle();
+      desc.fragment = depthFrag->handle();
       desc.cullMode = VK_CULL_MODE_BACK_BIT;
-      ENGINE_TRY_ASSIGN(pipelines.depthFront[method][counted], engine::gpu::Pipeline::createGraphics(*context_, desc));
+      pipelines.depthFront[method][counted] = engine::gpu::LazyPipeline(desc, {vert, depthFrag});
 
       desc.name = std::string("sphere trace ") + kMethodNames[method] + " depth near" + variant;
-      desc.fragment = nearFrag.handle();
+      desc.fragment = nearFrag->handle();
       desc.cullMode = VK_CULL_MODE_FRONT_BIT;
-      ENGINE_TRY_ASSIGN(pipelines.depthNear[method][counted], engine::gpu::Pipeline::createGraphics(*context_, desc));
+      pipelines.depthNear[method][counted] = engine::gpu::LazyPipeline(desc, {vert, nearFrag});
     }
 
     // Shading: the prepass decided visibility; the box only selects candidate pixels. Its cull
     // mode follows the object's prepass variant (dynamic state, core in Vulkan 1.3).
     desc.name = std::string("sphere trace ") + kMethodNames[method] + " shading";
-    desc.fragment = shadeFrag.handle();
+    desc.fragment = shadeFrag->handle();
     desc.colorFormats = {formats.color};
     desc.depthTest = false;
     desc.depthWrite = false;
     desc.extraDynamicStates = {VK_DYNAMIC_STATE_CULL_MODE};
-    ENGINE_TRY_ASSIGN(pipelines.shade[method], engine::gpu::Pipeline::createGraphics(*context_, desc));
+    pipelines.shade[method] = engine::gpu::LazyPipeline(desc, {vert, shadeFrag});
   }
 
   // The boxes' edges over the shaded frame, tested against the prepass depth (as the cells' are).
-  ENGINE_TRY_ASSIGN(auto wireVert, engine::gpu::ShaderModule::load(*context_, "sphere_trace_wire.vert"));
-  ENGINE_TRY_ASSIGN(auto wireFrag, engine::gpu::ShaderModule::load(*context_, "cells_wire.frag"));
+  ENGINE_TRY_ASSIGN(auto wireVert, engine::gpu::loadSharedShaderModule(*context_, "sphere_trace_wire.vert"));
+  ENGINE_TRY_ASSIGN(auto wireFrag, engine::gpu::loadSharedShaderModule(*context_, "cells_wire.frag"));
   engine::gpu::GraphicsPipelineDesc wire = wireframePipelineDesc(formats);
   wire.name = "sphere trace wireframe";
-  wire.vertex = wireVert.handle();
-  wire.fragment = wireFrag.handle();
+  wire.vertex = wireVert->handle();
+  wire.fragment = wireFrag->handle();
   wire.pushConstantBytes = sizeof(shader::SphereTracePushConstants);
-  ENGINE_TRY_ASSIGN(pipelines.wire, engine::gpu::Pipeline::createGraphics(*context_, wire));
+  pipelines.wire = engine::gpu::LazyPipeline(wire, {wireVert, wireFrag});
   return pipelines;
 }
 
@@ -448,14 +466,18 @@ void SphereTraceFeature::recordMethod(engine::render::PassContext& pass, std::ui
   const VkShaderStageFlags stages = VK_SHADER_STAGE_VERTEX_BIT | VK_SHADER_STAGE_FRAGMENT_BIT;
   if (prepass) {
     for (const bool near : {false, true}) {
-      const engine::gpu::Pipeline& pipeline =
-          near ? pipelines_.depthNear[method][counted] : pipelines_.depthFront[method][counted];
-      vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, pipeline.handle());
-      vkCmdPushConstants(cmd, pipeline.layout(), stages, 0, sizeof(push), &push);
-      recordDraws(cmd, pipeline.layout(), near ? near_[method] : front_[method]);
+      const Range& range = near ? near_[method] : front_[method];
+      const engine::gpu::Pipeline* pipeline =
+          range.count == 0 ? nullptr
+                           : (near ? pipelines_.depthNear[method][counted] : pipelines_.depthFront[method][counted])
+                                 .getOrLog(*context_);
+      if (!pipeline) continue;
+      vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, pipeline->handle());
+      vkCmdPushConstants(cmd, pipeline->layout(), stages, 0, sizeof(push), &push);
+      recordDraws(cmd, pipeline->layout(), range);
     }
-  } else {
-    const engine::gpu::Pipeline& pipeline = pipelines_.shade[method];
+  } else if (const engine::gpu::Pipeline* made = pipelines_.shade[method].getOrLog(*context_)) {
+    const engine::gpu::Pipeline& pipeline = *made;
     vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, pipeline.handle());
     vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, pipeline.layout(), 0, 1, &pass.sceneSet, 0, nullptr);
     vkCmdPushConstants(cmd, pipeline.layout(), stages, 0, sizeof(push), &push);
@@ -476,9 +498,11 @@ void SphereTraceFeature::recordPass(engine::render::PassContext& pass) {
 // instance is the draw's index; no texture is read).
 void SphereTraceFeature::recordWireframe(engine::render::PassContext& pass) {
   const shader::SphereTracePushConstants push = pushConstants(pass, drawBuffer_.address(pass.frame.frameSlot));
+  const engine::gpu::Pipeline* pipeline = pipelines_.wire.getOrLog(*context_);
+  if (!pipeline) return;
   VkCommandBuffer cmd = pass.cmd;
-  vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, pipelines_.wire.handle());
-  vkCmdPushConstants(cmd, pipelines_.wire.layout(), VK_SHADER_STAGE_VERTEX_BIT | VK_SHADER_STAGE_FRAGMENT_BIT, 0,
+  vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, pipeline->handle());
+  vkCmdPushConstants(cmd, pipeline->layout(), VK_SHADER_STAGE_VERTEX_BIT | VK_SHADER_STAGE_FRAGMENT_BIT, 0,
                      sizeof(push), &push);
   constexpr std::uint32_t kEdgeVertices = 24;
   for (std::uint32_t method = 0; method < kTraceMethodCount; ++method)

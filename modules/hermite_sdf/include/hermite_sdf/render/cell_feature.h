@@ -66,6 +66,7 @@
 #include "engine/gpu/buffer.h"
 #include "engine/gpu/deferred_release.h"
 #include "engine/gpu/indirect_draws.h"
+#include "engine/gpu/lazy_pipeline.h"
 #include "engine/gpu/memory.h"
 #include "engine/gpu/pipeline.h"
 #include "engine/gpu/pixel_buffer.h"
@@ -251,6 +252,9 @@ class HermiteCellFeature final : public engine::render::RenderFeature {
   void recordLateCulling(engine::render::PassContext& pass, const engine::render::DepthPyramidView& pyramid) override;
   void drawUi() override;
   engine::Status reloadShaders() override;
+  engine::Status createAllPipelines() override;
+  // The feature's pipelines: described at creation, compiled when a frame first draws with one.
+  engine::gpu::PipelineCounts pipelineCounts() { return engine::gpu::countPipelines(pipelines_.all()); }
 
   Settings& settings() { return settings_; }
   const Stats& stats() const { return stats_; }
@@ -351,7 +355,7 @@ class HermiteCellFeature final : public engine::render::RenderFeature {
   static std::uint64_t tileEntryEstimate(const GridSpec& grid, std::uint64_t cells, const glm::mat4& world,
                                          const engine::render::CameraView& camera, VkExtent2D extent,
                                          std::uint32_t tileSize);
-  void recordRectangle(engine::render::PassContext& pass, const engine::gpu::Pipeline& pipeline);
+  void recordRectangle(engine::render::PassContext& pass, engine::gpu::LazyPipeline& pipeline);
 
   const engine::gpu::Context* context_ = nullptr;
   Settings settings_;
@@ -364,34 +368,39 @@ class HermiteCellFeature final : public engine::render::RenderFeature {
     kVariants = 3,
     kBrickVariants = 2,  // cell bricks: production and counted only
   };
+  // Described when the feature is created, compiled when a frame first draws with one
+  // (engine/gpu/lazy_pipeline.h): most processes draw with a few of them.
   struct Pipelines {
+    using Lazy = engine::gpu::LazyPipeline;
     // [variant][precision]: precision 0 = fp32, 1 = fp16 records.
-    engine::gpu::Pipeline depthFront[kVariants][2];
-    engine::gpu::Pipeline depthNear[kVariants][2];
-    engine::gpu::Pipeline wire[4];  // DEBUG_VIEW_WIREFRAME: the boxes' edges, per batch (kBatches)
-    engine::gpu::Pipeline runsFront[kVariants];  // RenderMethod::CellRuns, both precisions
-    engine::gpu::Pipeline runsNear[kVariants];
-    engine::gpu::Pipeline bricksFront[kBrickVariants];  // RenderMethod::CellBricks, both precisions
-    engine::gpu::Pipeline bricksNear[kBrickVariants];
-    engine::gpu::Pipeline thinFront[kBrickVariants][2];  // Settings::thinBoxes, per precision (the cell attribute)
-    engine::gpu::Pipeline thinNear[kBrickVariants][2];
-    engine::gpu::Pipeline tiles[kBrickVariants];  // Settings::tiles, both precisions
-    engine::gpu::Pipeline resolve;
-    engine::gpu::Pipeline depthFixup;  // the hits' true depth after the early stage
+    Lazy depthFront[kVariants][2];
+    Lazy depthNear[kVariants][2];
+    Lazy wire[4];  // DEBUG_VIEW_WIREFRAME: the boxes' edges, per batch (kBatches)
+    Lazy runsFront[kVariants];  // RenderMethod::CellRuns, both precisions
+    Lazy runsNear[kVariants];
+    Lazy bricksFront[kBrickVariants];  // RenderMethod::CellBricks, both precisions
+    Lazy bricksNear[kBrickVariants];
+    Lazy thinFront[kBrickVariants][2];  // Settings::thinBoxes, per precision (the cell attribute)
+    Lazy thinNear[kBrickVariants][2];
+    Lazy tiles[kBrickVariants];  // Settings::tiles, both precisions
+    Lazy resolve;
+    Lazy depthFixup;  // the hits' true depth after the early stage
+    // Every pipeline above, in one fixed order (a reload pairs the old set with the fresh one).
+    std::vector<Lazy*> all();
   };
   Variant prepassVariant(const engine::render::FrameContext& frame) const;
-  engine::Expected<Pipelines> createPipelines() const;
-  engine::Status createCellPipelines(Pipelines& p, const engine::gpu::ShaderModule& vert,
-                                     const engine::gpu::ShaderModule& runsVert) const;
-  engine::Status createRunPipelines(Pipelines& p, const engine::gpu::ShaderModule& runsVert, int variant,
-                                    const char* variantName) const;
-  engine::Status createWirePipelines(Pipelines& p, const engine::gpu::ShaderModule& wireFrag) const;
-  engine::Status createResolvePipelines(Pipelines& p, const engine::gpu::ShaderModule& resolveVert,
-                                        const engine::gpu::ShaderModule& resolveFrag,
-                                        const engine::gpu::ShaderModule& fixupFrag) const;
-  engine::Status createBrickPipelines(Pipelines& p) const;
-  engine::Status createThinCellPipelines(Pipelines& p) const;
-  engine::Status createTilePipelines(Pipelines& p) const;
+  engine::Expected<Pipelines> describePipelines() const;
+  engine::Status describeCellPipelines(Pipelines& p, const engine::gpu::SharedShaderModule& vert,
+                                       const engine::gpu::SharedShaderModule& runsVert) const;
+  engine::Status describeRunPipelines(Pipelines& p, const engine::gpu::SharedShaderModule& runsVert, int variant,
+                                      const char* variantName) const;
+  engine::Status describeWirePipelines(Pipelines& p, const engine::gpu::SharedShaderModule& wireFrag) const;
+  void describeResolvePipelines(Pipelines& p, const engine::gpu::SharedShaderModule& resolveVert,
+                                const engine::gpu::SharedShaderModule& resolveFrag,
+                                const engine::gpu::SharedShaderModule& fixupFrag) const;
+  engine::Status describeBrickPipelines(Pipelines& p) const;
+  engine::Status describeThinCellPipelines(Pipelines& p) const;
+  engine::Status describeTilePipelines(Pipelines& p) const;
   // Bricks and thin cells have only the production and counted variants (buildDraws keeps the early
   // depth stage off in frames that draw them): the variant of those two that `variant` stands for.
   static Variant withoutEarlyStage(Variant variant);

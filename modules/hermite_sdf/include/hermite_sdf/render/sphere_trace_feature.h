@@ -67,6 +67,7 @@
 #include "engine/gpu/buffer.h"
 #include "engine/gpu/image.h"
 #include "engine/gpu/memory.h"
+#include "engine/gpu/lazy_pipeline.h"
 #include "engine/gpu/pipeline.h"
 #include "engine/render/per_frame_buffer.h"
 #include "engine/render/render_feature.h"
@@ -127,6 +128,9 @@ class SphereTraceFeature final : public engine::render::RenderFeature {
   void drawUi() override;
   // Rebuilds the eleven pipelines from the SPIR-V on disk; a failure keeps the old ones.
   engine::Status reloadShaders() override;
+  engine::Status createAllPipelines() override;
+  // The feature's pipelines: described at creation, compiled when a frame first draws with one.
+  engine::gpu::PipelineCounts pipelineCounts() { return engine::gpu::countPipelines(pipelines_.all()); }
 
   Settings& settings() { return settings_; }
   const Stats& stats() const { return stats_; }
@@ -168,13 +172,17 @@ class SphereTraceFeature final : public engine::render::RenderFeature {
 
   // [method]: front faces with conservative depth, back faces (near plane), each without and
   // with the work counters ([counted]: frames that count work), and shading.
+  // Described when the feature is created, compiled when a frame first draws with one
+  // (engine/gpu/lazy_pipeline.h).
   struct Pipelines {
-    engine::gpu::Pipeline depthFront[2][2];
-    engine::gpu::Pipeline depthNear[2][2];
-    engine::gpu::Pipeline shade[2];
-    engine::gpu::Pipeline wire;  // DEBUG_VIEW_WIREFRAME: the proxies' edges
+    engine::gpu::LazyPipeline depthFront[2][2];  // [method][counted]
+    engine::gpu::LazyPipeline depthNear[2][2];
+    engine::gpu::LazyPipeline shade[2];
+    engine::gpu::LazyPipeline wire;  // DEBUG_VIEW_WIREFRAME: the proxies' edges
+    // Every pipeline above, in one fixed order (a reload pairs the old set with the fresh one).
+    std::vector<engine::gpu::LazyPipeline*> all();
   };
-  engine::Expected<Pipelines> createPipelines() const;
+  engine::Expected<Pipelines> describePipelines() const;
   void createSamplers();
   const FieldTexture* acquireTexture(const SdfAsset& asset, std::uint32_t method, bool half,
                                      const engine::render::FrameContext& frame);

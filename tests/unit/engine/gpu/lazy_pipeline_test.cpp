@@ -1,0 +1,152 @@
+// Pipelines described now and compiled when first used (engine/gpu/lazy_pipeline.h). What is
+// compiled, and when, is observed through the shader statistics of RADV's null NAVI10 device
+// (engine/gpu/shader_statistics.h): every pipeline created through engine::gpu::Pipeline is
+// compiled there again and leaves rows named after it, so a row says "this was compiled" without
+// any hook in the code under test.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "engine/gpu/context.h"
+#include "engine/gpu/lazy_pipeline.h"
+#include "engine/gpu/shader_statistics.h"
+#include "engine/gpu/vk_check.h"
+#include "scoped_env.h"
+#include "test_device.h"
+
+namespace engine::gpu {
+namespace {
+
+class LazyPipelineTest : public ::testing::Test {
+ protected:
+  // RADV shows its null device only when the variable is set as the instance is created.
+  hsdftest::ScopedEnv family_{"RADV_FORCE_FAMILY", "navi10"};
+
+  void SetUp() override {
+    ContextDesc desc;
+    desc.applicationName = "lazy pipeline test";
+    const auto device = hsdftest::testDevicePreference();
+    ASSERT_TRUE(device.ok()) << device.error().message;
+    desc.device = *device;
+    desc.validation = true;
+    desc.shaderStatistics = {StatisticsTarget::Device, "NAVI10"};
+    auto context = Context::create(desc);
+    ASSERT_TRUE(context.ok()) << "RADV's null NAVI10 device (mesa-vulkan-drivers) is needed: " << context.error().message;
+    context_ = std::move(*context);
+  }
+  void TearDown() override {
+    clearInjectedFaults();
+    if (context_) {
+      EXPECT_EQ(hsdftest::messagesThroughDestruction(context_), 0u);
+    }
+  }
+
+  // mesh.vert with mesh_prepass.frag (an id target and depth), named `name`. The test's own
+  // references to the modules end here: only the LazyPipeline keeps them.
+  LazyPipeline describe(const std::string& name) {
+    auto vert = loadSharedShaderModule(*context_, "mesh.vert");
+    auto frag = loadSharedShaderModule(*context_, "mesh_prepass.frag");
+    EXPECT_TRUE(vert && frag);
+    if (!vert || !frag) return {};
+    GraphicsPipelineDesc desc;
+    desc.name = name;
+    desc.vertex = (*vert)->handle();
+    desc.fragment = (*frag)->handle();
+    desc.vertexLayout.bindings.push_back({0, 24, VK_VERTEX_INPUT_RATE_VERTEX});
+    desc.vertexLayout.attributes.push_back({0, 0, VK_FORMAT_R32G32B32_SFLOAT, 0});
+    desc.vertexLayout.attributes.push_back({1, 0, VK_FORMAT_R32G32B32_SFLOAT, 12});
+    desc.colorFormats = {VK_FORMAT_R32G32_UINT};
+    desc.depthFormat = VK_FORMAT_D32_SFLOAT;
+    desc.pushConstantBytes = 128;
+    return LazyPipeline(desc, {*vert, *frag});
+  }
+
+  // How many times the pipeline `name` was compiled (its vertex stage's rows).
+  std::size_t compiled(const std::string& name) const {
+    const std::vector<StageStatistics> rows = context_->shaderStatistics()->stages();
+    return std::size_t(std::count_if(rows.begin(), rows.end(), [&](const StageStatistics& row) {
+      return row.pipeline == name && row.stage == "vertex";
+    }));
+  }
+
+  std::unique_ptr<Context> context_;
+};
+
+// Tricky: describing must compile nothing, the first use must compile exactly once, and the shader
+// modules must outlive the caller's references to them: a pipeline compiled from destroyed modules
+// is a validation error, which fails the test in TearDown.
+TEST_F(LazyPipelineTest, CompiledOnFirstUseAndOnlyOnce) {
+  LazyPipeline pipeline = describe("first use");
+  ASSERT_TRUE(pipeline.described());
+  EXPECT_FALSE(pipeline.made());
+  EXPECT_EQ(compiled("first use"), 0u) << "describing compiles nothing";
+  const auto first = pipeline.get(*context_);
+  ASSERT_TRUE(first.ok()) << first.error().message;
+  ASSERT_NE(*first, nullptr);
+  EXPECT_NE((*first)->handle(), VkPipeline(VK_NULL_HANDLE));
+  EXPECT_TRUE(pipeline.made());
+  EXPECT_EQ(compiled("first use"), 1u);
+  const auto again = pipeline.get(*context_);
+  ASSERT_TRUE(again.ok());
+  EXPECT_EQ(*again, *first) << "the same pipeline";
+  EXPECT_EQ(pipeline.getOrLog(*context_), *first);
+  EXPECT_EQ(compiled("first use"), 1u) << "not compiled again";
+}
+
+// Tricky: a failed compile would otherwise be retried by every frame that draws with the pipeline
+// (and logged every frame); the failure is kept until the owner describes the pipeline again.
+// The fault fires once, so a retry would succeed and show here.
+TEST_F(LazyPipelineTest, AFailureIsKeptAndNotRetried) {
+  LazyPipeline pipeline = describe("fails");
+  injectFault({"vkCreateGraphicsPipelines", VK_ERROR_OUT_OF_HOST_MEMORY, 0});
+  const auto failed = pipeline.get(*context_);
+  ASSERT_FALSE(failed.ok());
+  EXPECT_NE(failed.error().message.find("vkCreateGraphicsPipelines"), std::string::npos) << failed.error().message;
+  clearInjectedFaults();
+  const auto again = pipeline.get(*context_);
+  ASSERT_FALSE(again.ok()) << "retried";
+  EXPECT_EQ(again.error().message, failed.error().message);
+  EXPECT_EQ(pipeline.getOrLog(*context_), nullptr);
+  EXPECT_FALSE(pipeline.made());
+  EXPECT_EQ(compiled("fails"), 0u);
+
+  LazyPipeline never;
+  EXPECT_FALSE(never.described());
+  const auto undescribed = never.get(*context_);
+  ASSERT_FALSE(undescribed.ok());
+  EXPECT_NE(undescribed.error().message.find("never described"), std::string::npos) << undescribed.error().message;
+}
+
+// Tricky: a reload pairs each fresh pipeline with the old one at the same position and compiles
+// only those frames had used; compiling the others would undo the point of describing them, and
+// skipping a used one would leave the next frame to find a broken shader mid-frame. createAll()
+// skips a slot nothing was described for (a variant a device does not have).
+TEST_F(LazyPipelineTest, AReloadCompilesWhatWasUsedAndCreateAllEveryDescribedOne) {
+  LazyPipeline oldUsed = describe("old used"), oldUnused = describe("old unused");
+  ASSERT_TRUE(oldUsed.get(*context_).ok());
+  LazyPipeline freshUsed = describe("fresh used"), freshUnused = describe("fresh unused");
+  std::vector<LazyPipeline*> oldSet = {&oldUsed, &oldUnused};
+  std::vector<LazyPipeline*> freshSet = {&freshUsed, &freshUnused};
+  const Status reloaded = createWhereMade(*context_, freshSet, oldSet);
+  ASSERT_TRUE(reloaded.ok()) << reloaded.error().message;
+  EXPECT_TRUE(freshUsed.made());
+  EXPECT_FALSE(freshUnused.made());
+  EXPECT_EQ(compiled("fresh used"), 1u);
+  EXPECT_EQ(compiled("fresh unused"), 0u);
+  const std::vector<LazyPipeline*> shorter = {&freshUsed};
+  EXPECT_FALSE(createWhereMade(*context_, shorter, oldSet).ok()) << "sets of different sizes";
+
+  LazyPipeline undescribed;
+  std::vector<LazyPipeline*> all = {&freshUsed, &freshUnused, &undescribed};
+  const Status created = createAll(*context_, all);
+  ASSERT_TRUE(created.ok()) << created.error().message;
+  EXPECT_TRUE(freshUnused.made());
+  EXPECT_EQ(compiled("fresh used"), 1u) << "a compiled one is not compiled again";
+  EXPECT_EQ(compiled("fresh unused"), 1u);
+}
+
+}  // namespace
+}  // namespace engine::gpu
