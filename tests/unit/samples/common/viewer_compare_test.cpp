@@ -194,12 +194,10 @@ TEST(ViewerCompare, DifferenceOfTrilinearAndCellsIsLarge) {
   EXPECT_TRUE(viewer->close().ok());
 }
 
-// A copy of the shader folder in which `replace` maps file names to the file copied in their place
-// ("" : a file of garbage).
-std::filesystem::path shaderCopy(const std::string& name, const std::vector<std::pair<std::string, std::string>>& replace) {
+// A copy of the shader folder at `to` in which `replace` maps file names to the file copied in
+// their place ("" : a file of garbage).
+std::filesystem::path shaderCopy(const std::filesystem::path& to, const std::vector<std::pair<std::string, std::string>>& replace) {
   const std::filesystem::path from = engine::gpu::shaderDirectory();
-  const std::filesystem::path to = std::filesystem::path(::testing::TempDir()) / name;
-  std::filesystem::remove_all(to);
   std::filesystem::copy(from, to);
   for (const auto& [file, source] : replace) {
     if (!std::filesystem::exists(to / file)) continue;  // e.g. the bindless variant
@@ -232,17 +230,18 @@ TEST(ViewerCompare, ReloadShadersTakesFreshSpirvAndKeepsOldPipelinesOnFailure) {
   ASSERT_NE(mesh, nullptr);
   ASSERT_NE(trace, nullptr);
 
-  const auto swapped = shaderCopy("hsdf_swapped_shaders", {{"sphere_trace_trilinear_shade.frag.spv", "sphere_trace_hermite_shade.frag.spv"},
-                                                           {"sphere_trace_trilinear_shade_bindless.frag.spv", "sphere_trace_hermite_shade_bindless.frag.spv"}});
+  const hsdftest::ScopedTempPath swappedFolder("swapped_shaders"), brokenFolder("broken_shaders");
+  const auto swapped = shaderCopy(swappedFolder.path(), {{"sphere_trace_trilinear_shade.frag.spv", "sphere_trace_hermite_shade.frag.spv"},
+                                                         {"sphere_trace_trilinear_shade_bindless.frag.spv", "sphere_trace_hermite_shade_bindless.frag.spv"}});
   hsdftest::ScopedEnvironment shaderDir("HSDF_SHADER_DIR", swapped.string());
   ASSERT_TRUE(trace->reloadShaders().ok());
   ASSERT_TRUE(viewer->step().ok());
   const std::vector<std::uint8_t> reloaded = viewer->renderer().readbackColor();
   EXPECT_GT(differingPixels(reloaded, original, {0, 0, kWidth, kHeight}), 100u) << "the new shading shader draws";
 
-  const auto broken = shaderCopy("hsdf_broken_shaders", {{"mesh.frag.spv", ""}, {"sphere_trace_trilinear_shade.frag.spv", ""},
-                                                         {"sphere_trace_trilinear_shade_bindless.frag.spv", ""},
-                                                         {"cells_resolve.frag.spv", ""}});
+  const auto broken = shaderCopy(brokenFolder.path(), {{"mesh.frag.spv", ""}, {"sphere_trace_trilinear_shade.frag.spv", ""},
+                                                       {"sphere_trace_trilinear_shade_bindless.frag.spv", ""},
+                                                       {"cells_resolve.frag.spv", ""}});
   shaderDir.set(broken.string());
   const std::vector<engine::render::Renderer::ShaderReload> results = viewer->reloadShaders();
   ASSERT_EQ(results.size(), 3u);

@@ -1,5 +1,6 @@
 // glTF import: the committed bunny, a hand-written hierarchy, feature cases built in memory, and
 // malformed files that must give an error naming the file and the problem (never a crash or hang).
+#include "test_files.h"
 #include "engine/scene/gltf/gltf_loader.h"
 
 #include <gtest/gtest.h>
@@ -593,8 +594,8 @@ TEST(GltfLoaderFeatures, MatrixWinsOverTrs) {
 // is valid (and must load), while the same ".." climbing one level further must not be followed,
 // whether written plainly or percent-encoded (tinygltf decodes %2F to '/').
 TEST(GltfLoaderFeatures, BufferUrisStayInsideTheFilesFolder) {
-  const std::filesystem::path root = std::filesystem::temp_directory_path() / "gltf_loader_test_uris";
-  std::filesystem::remove_all(root);
+  const hsdftest::ScopedTempPath folder("gltf_loader_test_uris");  // its own: tests run side by side
+  const std::filesystem::path& root = folder.path();
   std::filesystem::create_directories(root / "scene" / "nested");
   std::vector<float> positions;
   for (const auto& p : kTriangle) positions.insert(positions.end(), {p.x, p.y, p.z});
@@ -619,7 +620,6 @@ TEST(GltfLoaderFeatures, BufferUrisStayInsideTheFilesFolder) {
   expectError(sceneWithUri("../outside.bin"), "scene.gltf", {"outside.bin", "lies outside the folder"});
   expectError(sceneWithUri("nested/../../outside.bin"), "scene.gltf", {"lies outside the folder"});
   expectError(sceneWithUri("..%2Foutside.bin"), "scene.gltf", {"lies outside the folder"});
-  std::filesystem::remove_all(root);
 }
 
 // Tricky because a mirroring transform (negative determinant) reverses the apparent winding; glTF

@@ -7,6 +7,7 @@
 
 #include <gtest/gtest.h>
 
+#include "test_files.h"
 #include "hermite_sdf/core/analytic.h"
 #include "hermite_sdf/core/hsdf_file.h"
 
@@ -384,7 +385,8 @@ TEST(HsdfFile, Fp16RefusesGridsTooFineForItsPrecision) {
 
 // Tricky: the path travels into every error, and save/load go through real files.
 TEST(HsdfFile, SaveAndLoadThroughFiles) {
-  const std::filesystem::path path = std::filesystem::temp_directory_path() / "hsdf_file_test_sphere.hsdf";
+  const hsdftest::ScopedTempPath file("hsdf_file_test_sphere.hsdf");  // its own: tests run side by side
+  const std::filesystem::path& path = file.path();
   ASSERT_TRUE(saveHsdf(path, sphereContents(HsdfScalarType::Float16)).ok());
   auto loaded = loadHsdf(path);
   ASSERT_TRUE(loaded.ok()) << loaded.error().message;

@@ -6,6 +6,7 @@
 
 #include <glm/gtc/matrix_transform.hpp>
 
+#include "test_files.h"
 #include "engine/core/image_io.h"
 #include "engine/core/math.h"
 #include "hermite_sdf/core/reference.h"
@@ -251,7 +252,8 @@ TEST(ReferenceRender, WritesDepthAndNormalPngs) {
   const Camera cam = frontCamera();
   auto image = renderReference(field, cam.view, cam.proj, cam.size);
   ASSERT_TRUE(image.ok());
-  const auto dir = std::filesystem::temp_directory_path() / "hsdf_reference_render_test";
+  const hsdftest::ScopedTempPath folder("reference_render_test");  // its own: tests run side by side
+  const std::filesystem::path& dir = folder.path();
   std::filesystem::create_directories(dir);
   ASSERT_TRUE(writeDepthPng(*image, dir / "depth.png").ok());
   ASSERT_TRUE(writeNormalPng(*image, dir / "normal.png").ok());
@@ -268,7 +270,6 @@ TEST(ReferenceRender, WritesDepthAndNormalPngs) {
   EXPECT_GE(depth->rgba[centre], 250);
   EXPECT_NEAR(normal->rgba[centre + 2], 255, 3);
   EXPECT_NEAR(normal->rgba[centre + 0], 128, 12);
-  std::filesystem::remove_all(dir);
 }
 
 }  // namespace
