@@ -198,7 +198,7 @@ float solveInBracket(float c[SEGMENT_COEFFS], uint steps, bool certified, inout 
   for (uint i = 0u; i < steps && b - a > width; ++i) {
     vec2 fd = bernsteinValueDerivative(c, s);
     ++evaluations;
-    if (fd.x == 0.0) return s;
+    if (fd.x == 0.0) break;  // s is the root; a return here leaves the result unset on the loop's other paths
     float previousWidth = b - a;
     if ((fd.x < 0.0) == (fa < 0.0)) {
       a = s;
