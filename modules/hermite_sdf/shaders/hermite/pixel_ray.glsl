@@ -35,10 +35,10 @@ PixelRay pixelRay(FrameGlobals frame, mat4 invModel, float spacing, vec3 eyeLoca
 // The reverse-Z depth of the ray's point at t. Perspective (w = 1): view distance is linear in t
 // from the eye (t = 0), so depth = gl_FragCoord.z / t. Orthographic (w = 0): depth itself is linear
 // in view distance, and the ray starts on the camera's plane, at depth proj[3][2] = zfar / (zfar -
-// znear). A select on w, not a branch. It was one expression for both, (z w + linear (1 - w)) /
-// (t w + 1 - w), the same values for w exactly 0 or 1; but its 1 - w is the pixel ray's too, and a
-// fragment that searches held it, with z w, through its whole search, where the select needs
-// gl_FragCoord.z alone.
+// znear). A select on w, not a branch. One expression for both, (z w + linear (1 - w)) /
+// (t w + 1 - w), gives the same values for w exactly 0 or 1, but shares 1 - w with the pixel ray:
+// a fragment that searches would hold it, and z w, through its whole search, where the select
+// needs gl_FragCoord.z alone.
 float pixelRayDepth(FrameGlobals frame, float t) {
   float startDepth = frame.proj[3][2];
   return frame.cameraPosition.w != 0.0 ? gl_FragCoord.z / t : startDepth + (gl_FragCoord.z - startDepth) * t;

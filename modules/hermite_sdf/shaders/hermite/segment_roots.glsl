@@ -113,7 +113,7 @@ void fromScaledBernstein(inout float b[SEGMENT_COEFFS]) {
 // (sideCubicsMirrored) so that the compiler cannot merge them with the first side's and hold those
 // through the second; only the x cubics (H0, G0, G1), b and the running d, e live through. A loop
 // over the z sides that indexed the corners by sz kept all 32 corner floats and all three axes'
-// cubics live at once: 128 VGPRs on RDNA1 where this needs 72 (docs/perf/render-changes-session31.md,
+// cubics live at once: 128 VGPRs on RDNA1 where this needs 68 (docs/perf/render-changes-session31.md,
 // render-changes-session32.md). The same polynomial; only the x sums are rearranged (H0 + H1 = 1)
 // and the second side's y and z cubics mirrored, which changes float rounding, not the roots.
 void restrictToSegment(vec4 corners[8], float h, vec3 u0, vec3 u1, out float b[SEGMENT_COEFFS]) {
