@@ -35,20 +35,23 @@ PixelRay pixelRay(FrameGlobals frame, mat4 invModel, float spacing, vec3 eyeLoca
 // The reverse-Z depth of the ray's point at t. Perspective (w = 1): view distance is linear in t
 // from the eye (t = 0), so depth = gl_FragCoord.z / t. Orthographic (w = 0): depth itself is linear
 // in view distance, and the ray starts on the camera's plane, at depth proj[3][2] = zfar / (zfar -
-// znear). One expression for both, without a branch: with w exactly 0 or 1 the other projection's
-// terms are exact zeros, so the perspective depth is the division it always was.
+// znear). A select on w, not a branch. One expression for both, (z w + linear (1 - w)) /
+// (t w + 1 - w), gives the same values for w exactly 0 or 1, but shares 1 - w with the pixel ray:
+// a fragment that searches would hold it, and z w, through its whole search, where the select
+// needs gl_FragCoord.z alone.
 float pixelRayDepth(FrameGlobals frame, float t) {
-  float w = frame.cameraPosition.w;
   float startDepth = frame.proj[3][2];
-  float linear = startDepth + (gl_FragCoord.z - startDepth) * t;
-  return (gl_FragCoord.z * w + linear * (1.0 - w)) / (t * w + (1.0 - w));
+  return frame.cameraPosition.w != 0.0 ? gl_FragCoord.z / t : startDepth + (gl_FragCoord.z - startDepth) * t;
 }
 
 // Where the ray crosses the near plane (depth 1): t = gl_FragCoord.z in perspective; solved from the
 // linear depth in orthographic, t = (1 - proj[3][2]) / (gl_FragCoord.z - proj[3][2]) (the face lies
 // beyond the camera's plane, so the denominator is negative, as is the numerator unless znear = 0).
+// A select on the projection, and the orthographic quotient with both of its terms negated (the
+// same value): written as pixelRayDepth's terms, the compiler would share them, and a fragment that
+// searches (the near t comes first, the depth last) would hold three of them, not gl_FragCoord.z,
+// through its whole search.
 float pixelRayNearT(FrameGlobals frame) {
-  float w = frame.cameraPosition.w;
   float startDepth = frame.proj[3][2];
-  return (gl_FragCoord.z * w + (1.0 - startDepth) * (1.0 - w)) / (w + (gl_FragCoord.z - startDepth) * (1.0 - w));
+  return frame.cameraPosition.w != 0.0 ? gl_FragCoord.z : (startDepth - 1.0) / (startDepth - gl_FragCoord.z);
 }

@@ -35,7 +35,10 @@ void main() {
   vec3 direction = ray.direction;
   float margin = searchMargin(origin, inDilation);
   float length = float(inRun.w);
-  vec2 box = intersectBox(origin, direction, vec3(-margin), vec3(length + margin, 1.0 + margin, 1.0 + margin));
+  // The run's box mirrored through the origin, the same interval: 1 / -direction shares nothing with the
+  // cells' searches' 1 / direction, which the compiler would otherwise hold from here through the walk
+  // (3 registers more through every search).
+  vec2 box = intersectBox(-origin, -direction, -vec3(length + margin, 1.0 + margin, 1.0 + margin), vec3(margin));
   float tNear = pixelRayNearT(frame);
   float t0 = max(box.x, tNear);
   float t1 = box.y;

@@ -38,6 +38,15 @@ void sideCubics(float a, float b, int side, out vec4 value, out vec4 slope) {
   slope = vec4(pa[2 + side], ka[2 + side], kb[2 + side], pb[2 + side]);
 }
 
+// The same cubics from the mirrored axis (H_side(t) = H_(1-side)(1 - t), G_side(t) = -G_(1-side)(1 - t)):
+// the same polynomials, rounded differently. The second z side builds its y cubics this way on
+// purpose (addZSide): built the same way as the first side's, the compiler merges the two and keeps
+// the first side's y and z cubics (16 + 8 floats) live through the whole second side.
+void sideCubicsMirrored(float a, float b, int side, out vec4 value, out vec4 slope) {
+  sideCubics(1.0 - a, 1.0 - b, 1 - side, value, slope);
+  slope = -slope;
+}
+
 // The scaled cubic of the constant 1 (H0 + H1 = 1).
 const vec4 kScaledOne = vec4(1.0, 3.0, 3.0, 1.0);
 
@@ -65,16 +74,22 @@ void addZSide(vec4 side[4], int sz, float h, vec3 u0, vec3 u1, inout float b[SEG
     vec4 cubicA = s1.x * kScaledOne + (s0.x - s1.x) * x0 + h * (s0.y * gx0 + s1.y * gx1);
     vec4 cubicB = h * (s1.z * kScaledOne + (s0.z - s1.z) * x0);
     vec4 cubicC = h * (s1.w * kScaledOne + (s0.w - s1.w) * x0);
-    vec4 y, gy;
-    sideCubics(u0.y, u1.y, sy, y, gy);
+    vec4 y, gy;  // mirrored on the second z side: not merged with the first side's (above)
+    if (sz == 0)
+      sideCubics(u0.y, u1.y, sy, y, gy);
+    else
+      sideCubicsMirrored(u0.y, u1.y, sy, y, gy);
     for (int i = 0; i < 4; ++i)
       for (int j = 0; j < 4; ++j) {
         d[i + j] += y[i] * cubicA[j] + gy[i] * cubicB[j];
         e[i + j] += y[i] * cubicC[j];
       }
   }
-  vec4 z, gz;
-  sideCubics(u0.z, u1.z, sz, z, gz);
+  vec4 z, gz;  // the same on z: the second side's cubics share no arithmetic with the first's
+  if (sz == 0)
+    sideCubics(u0.z, u1.z, sz, z, gz);
+  else
+    sideCubicsMirrored(u0.z, u1.z, sz, z, gz);
   addCubicTimesSextic(z, d, b);
   addCubicTimesSextic(gz, e, b);
 }
@@ -94,11 +109,13 @@ void fromScaledBernstein(inout float b[SEGMENT_COEFFS]) {
 // Shaped for register pressure, which sets how many fragments a GPU keeps in flight (the prepass
 // runs this once per box fragment): the two z sides are two calls with constant corner indices, so
 // a side's corners are read (cell_search.glsl: loaded from memory) just before they are summed
-// and die after, and the y and z cubics are built where they are used; only the x cubics (H0, G0,
-// G1), b and the running d, e live through. A loop over the z sides that indexed the corners by
-// sz kept all 32 corner floats and all three axes' cubics live at once: 128 VGPRs on RDNA1 where
-// this needs 84 (docs/perf/render-changes-session31.md). The same polynomial; only the x sums are
-// rearranged (H0 + H1 = 1), which changes float rounding, not the roots.
+// and die after, and the y and z cubics are built where they are used, the second side's mirrored
+// (sideCubicsMirrored) so that the compiler cannot merge them with the first side's and hold those
+// through the second; only the x cubics (H0, G0, G1), b and the running d, e live through. A loop
+// over the z sides that indexed the corners by sz kept all 32 corner floats and all three axes'
+// cubics live at once: 128 VGPRs on RDNA1 where this needs 68 (docs/perf/render-changes-session31.md,
+// render-changes-session32.md). The same polynomial; only the x sums are rearranged (H0 + H1 = 1)
+// and the second side's y and z cubics mirrored, which changes float rounding, not the roots.
 void restrictToSegment(vec4 corners[8], float h, vec3 u0, vec3 u1, out float b[SEGMENT_COEFFS]) {
   for (int k = 0; k < SEGMENT_COEFFS; ++k) b[k] = 0.0;
   addZSide(vec4[4](corners[0], corners[1], corners[2], corners[3]), 0, h, u0, u1, b);
@@ -181,7 +198,7 @@ float solveInBracket(float c[SEGMENT_COEFFS], uint steps, bool certified, inout 
   for (uint i = 0u; i < steps && b - a > width; ++i) {
     vec2 fd = bernsteinValueDerivative(c, s);
     ++evaluations;
-    if (fd.x == 0.0) return s;
+    if (fd.x == 0.0) break;  // s is the root; a return here leaves the result unset on the loop's other paths
     float previousWidth = b - a;
     if ((fd.x < 0.0) == (fa < 0.0)) {
       a = s;
