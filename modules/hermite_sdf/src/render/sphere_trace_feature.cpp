@@ -467,10 +467,9 @@ void SphereTraceFeature::recordMethod(engine::render::PassContext& pass, std::ui
   if (prepass) {
     for (const bool near : {false, true}) {
       const Range& range = near ? near_[method] : front_[method];
-      const engine::gpu::Pipeline* pipeline =
-          range.count == 0 ? nullptr
-                           : (near ? pipelines_.depthNear[method][counted] : pipelines_.depthFront[method][counted])
-                                 .getOrLog(*context_);
+      if (range.count == 0) continue;  // no pipeline compiled for a list with nothing to draw
+      engine::gpu::LazyPipeline& lazy = near ? pipelines_.depthNear[method][counted] : pipelines_.depthFront[method][counted];
+      const engine::gpu::Pipeline* pipeline = lazy.getOrLog(*context_);
       if (!pipeline) continue;
       vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, pipeline->handle());
       vkCmdPushConstants(cmd, pipeline->layout(), stages, 0, sizeof(push), &push);

@@ -12,17 +12,17 @@
 #include "engine/gpu/context.h"
 #include "engine/gpu/device_names.h"
 #include "engine/gpu/shader_statistics.h"
-#include "scoped_env.h"
+#include "test_files.h"
 #include "test_device.h"
 
 namespace engine::gpu {
 namespace {
 
-using hsdftest::ScopedEnv;
+using hsdftest::ScopedEnvironment;
 
-class ScopedHsdfDevice : public ScopedEnv {
+class ScopedHsdfDevice : public ScopedEnvironment {
  public:
-  explicit ScopedHsdfDevice(const char* value) : ScopedEnv("HSDF_DEVICE", value) {}
+  explicit ScopedHsdfDevice(const char* value) : ScopedEnvironment("HSDF_DEVICE", value) {}
 };
 
 // Tricky: an empty value says nothing (the build's default), and the usual words for off are off
@@ -31,7 +31,7 @@ class ScopedHsdfDevice : public ScopedEnv {
 TEST(DeviceChoice, HsdfValidationReadsOffWordsAndEmptyAsUnset) {
   bool unset = false;
   {
-    ScopedEnv none("HSDF_VALIDATION", "");
+    ScopedEnvironment none("HSDF_VALIDATION", "");
     unset = ContextDesc::defaultValidation();
 #ifdef NDEBUG
     EXPECT_FALSE(unset) << "empty is the release build's default, off";
@@ -40,11 +40,11 @@ TEST(DeviceChoice, HsdfValidationReadsOffWordsAndEmptyAsUnset) {
 #endif
   }
   for (const char* off : {"0", "false", "off", "no"}) {
-    ScopedEnv value("HSDF_VALIDATION", off);
+    ScopedEnvironment value("HSDF_VALIDATION", off);
     EXPECT_FALSE(ContextDesc::defaultValidation()) << off;
   }
   for (const char* on : {"1", "true", "on", "yes"}) {
-    ScopedEnv value("HSDF_VALIDATION", on);
+    ScopedEnvironment value("HSDF_VALIDATION", on);
     EXPECT_TRUE(ContextDesc::defaultValidation()) << on;
   }
 }
@@ -120,7 +120,7 @@ TEST(DeviceChoice, AutoFollowsHsdfDevice) {
 // discrete GPU, so the ranking alone chose it over lavapipe and over an integrated GPU, and the
 // first submission crashed. It must be passed over, and named where nothing else is left.
 TEST(DeviceChoice, NeverPicksRadvsNullDevice) {
-  ScopedEnv family("RADV_FORCE_FAMILY", "navi10");
+  ScopedEnvironment family("RADV_FORCE_FAMILY", "navi10");
   ScopedHsdfDevice unset("");  // Auto is the engine's own ranking
   for (const DevicePreference preference : {DevicePreference::Auto, DevicePreference::Hardware}) {
     SCOPED_TRACE(std::string(deviceName(preference)));

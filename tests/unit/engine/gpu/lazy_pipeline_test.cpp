@@ -14,7 +14,7 @@
 #include "engine/gpu/lazy_pipeline.h"
 #include "engine/gpu/shader_statistics.h"
 #include "engine/gpu/vk_check.h"
-#include "scoped_env.h"
+#include "test_files.h"
 #include "test_device.h"
 
 namespace engine::gpu {
@@ -23,7 +23,7 @@ namespace {
 class LazyPipelineTest : public ::testing::Test {
  protected:
   // RADV shows its null device only when the variable is set as the instance is created.
-  hsdftest::ScopedEnv family_{"RADV_FORCE_FAMILY", "navi10"};
+  hsdftest::ScopedEnvironment family_{"RADV_FORCE_FAMILY", "navi10"};
 
   void SetUp() override {
     ContextDesc desc;

@@ -15,7 +15,7 @@
 #include "engine/gpu/descriptor_set_layout.h"
 #include "engine/gpu/pipeline.h"
 #include "engine/gpu/shader_statistics.h"
-#include "scoped_env.h"
+#include "test_files.h"
 #include "test_device.h"
 
 namespace engine::gpu {
@@ -62,7 +62,7 @@ std::size_t rowsOf(const std::vector<StageStatistics>& rows, const std::string& 
 class ShaderStatisticsTest : public ::testing::Test {
  protected:
   // RADV shows its null device only when the variable is set as the instance is created.
-  hsdftest::ScopedEnv family_{"RADV_FORCE_FAMILY", "navi10"};
+  hsdftest::ScopedEnvironment family_{"RADV_FORCE_FAMILY", "navi10"};
 
   std::unique_ptr<Context> statisticsContext() {
     auto context = createContext({StatisticsTarget::Device, "NAVI10"});

@@ -20,7 +20,7 @@
 #include "engine/render/renderer.h"
 #include "hermite_sdf/render/features.h"
 #include "prepass_shaders.h"
-#include "scoped_env.h"
+#include "test_files.h"
 #include "test_device.h"
 
 namespace {
@@ -64,7 +64,7 @@ std::set<std::string> builtPrepassShaders(bool descriptorIndexing) {
 // checking only the rows found would pass vacuously if a family went missing, so every production
 // prepass shader of the build must have been compiled, and every one without a spill or scratch.
 TEST(PrepassRegisters, ProductionPrepassShadersNeitherSpillNorUseScratchOnNavi10) {
-  const hsdftest::ScopedEnv family("RADV_FORCE_FAMILY", "navi10");
+  const hsdftest::ScopedEnvironment family("RADV_FORCE_FAMILY", "navi10");
   std::unique_ptr<gpu::Context> context = navi10StatisticsContext();
   ASSERT_NE(context, nullptr);
   {
