@@ -29,14 +29,14 @@ void GpuTimer::begin(VkCommandBuffer cmd, const std::string& scope, VkPipelineSt
   const auto index = static_cast<std::uint32_t>(names_.size());
   names_.push_back(scope + suffix_);
   open_.push_back(index);
-  stamp(cmd, after, index * slotsPerScope_);
+  stamp(cmd, after, beginSlot(index));
 }
 
 void GpuTimer::end(VkCommandBuffer cmd) {
   if (!pool_ || open_.empty()) return;
   const std::uint32_t index = open_.back();
   open_.pop_back();
-  if (index != ~0u) stamp(cmd, VK_PIPELINE_STAGE_2_BOTTOM_OF_PIPE_BIT, index * slotsPerScope_ + slotsPerScope_ / 2);
+  if (index != ~0u) stamp(cmd, VK_PIPELINE_STAGE_2_BOTTOM_OF_PIPE_BIT, endSlot(index));
 }
 
 void GpuTimer::stamp(VkCommandBuffer cmd, VkPipelineStageFlags2 after, std::uint32_t slot) {
@@ -47,15 +47,13 @@ void GpuTimer::stamp(VkCommandBuffer cmd, VkPipelineStageFlags2 after, std::uint
 std::vector<GpuTiming> GpuTimer::results() const {
   std::vector<GpuTiming> timings;
   if (!pool_ || names_.empty()) return timings;
-  // Per slot: its tick and its availability; a scope's begin and end are its first slot and the
-  // one half way (the others only flush).
-  const std::vector<std::uint64_t> ticks = pool_.read(static_cast<std::uint32_t>(names_.size() * slotsPerScope_), 1);
-  for (std::size_t i = 0; i < names_.size(); ++i) {
-    const std::size_t first = 2 * i * slotsPerScope_, last = first + slotsPerScope_;
-    const std::uint64_t begin = ticks[first], beginReady = ticks[first + 1];
-    const std::uint64_t end = ticks[last], endReady = ticks[last + 1];
-    if (!beginReady || !endReady) continue;
-    timings.push_back({names_[i], double(end - begin) * periodMs_});
+  // read(..., 1) returns two values per slot, its tick and then its availability.
+  const std::vector<std::uint64_t> values = pool_.read(static_cast<std::uint32_t>(names_.size() * slotsPerScope_), 1);
+  const auto tick = [&](std::uint32_t slot) { return values[2 * std::size_t(slot)]; };
+  const auto ready = [&](std::uint32_t slot) { return values[2 * std::size_t(slot) + 1] != 0; };
+  for (std::uint32_t i = 0; i < names_.size(); ++i) {
+    if (!ready(beginSlot(i)) || !ready(endSlot(i))) continue;
+    timings.push_back({names_[i], double(tick(endSlot(i)) - tick(beginSlot(i))) * periodMs_});
   }
   return timings;
 }

@@ -44,6 +44,10 @@ class GpuTimer {
 
  private:
   void stamp(VkCommandBuffer cmd, VkPipelineStageFlags2 after, std::uint32_t slot);
+  // The slots whose timestamps begin and end scope `index`; on software rasterizers the slot after
+  // each only flushes it.
+  std::uint32_t beginSlot(std::uint32_t index) const { return index * slotsPerScope_; }
+  std::uint32_t endSlot(std::uint32_t index) const { return index * slotsPerScope_ + slotsPerScope_ / 2; }
 
   QueryPool pool_;                  // slotsPerScope_ timestamps per scope: begin, then end
   std::uint32_t maxScopes_ = 0;
