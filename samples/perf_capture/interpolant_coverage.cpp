@@ -6,6 +6,8 @@
 //   interpolant_coverage [--scene FILE.glb] [--size WxH] [--resolutions 16,32,...] [--views N]
 // Prints a markdown table: per K, pixels per view whose hit/miss differs from the mesh for the
 // exact tricubic Hermite and the exact trilinear interpolant of the same samples, and their ratio.
+// The samples come from the module's one bake pipeline (hsdf::bakeAsset, a dense field, padding 1),
+// so the mesh is prepared (welded, signed, open parts dropped) as every other tool bakes it.
 // The views orbit the mesh's bounds (yaw 0.3 + v * 90 deg, pitch 20 deg, the bounds' diagonal
 // filling ~1.2 of the 0.8 rad vertical field of view), not the perf capture's views.
 #include <cmath>
@@ -17,8 +19,8 @@
 #include "engine/core/math.h"
 #include "engine/scene/gltf/gltf_loader.h"
 #include "ground_truth.h"
+#include "hermite_sdf/core/bake_job.h"
 #include "hermite_sdf/core/field.h"
-#include "hermite_sdf/core/mesh_source.h"
 #include "hermite_sdf/core/reference.h"
 #include "options_common.h"
 
@@ -73,28 +75,32 @@ int main(int argc, char** argv) {
 
   auto scene = engine::scene::loadGltf(scenePath);
   if (!scene.ok()) return fail(scenePath + ": " + scene.error().message);
-  if (auto status = engine::scene::checkFlattenable(*scene); !status.ok()) return fail(scenePath + ": " + status.error().message);
-  const engine::scene::TriangleSoup soup = engine::scene::flattenTriangles(*scene);
-  auto mesh = hsdf::MeshSource::create(soup);
-  if (!mesh.ok()) return fail(scenePath + ": " + mesh.error().message);
-  const std::unique_ptr<capture::TruthSurface> surface = capture::meshSurface(soup);
-  const auto cameras = orbitCameras((*mesh)->bounds(), views, float(width) / float(height));
+  auto source = hsdf::BakeSource::fromScene(scenePath, *scene);
+  if (!source.ok()) return fail(scenePath + ": " + source.error().message);
+  auto prepared = hsdf::prepareSource(*source);
+  if (!prepared.ok()) return fail(scenePath + ": " + prepared.error().message);
+  hsdf::logPreparedSource(*prepared);
+  const std::unique_ptr<capture::TruthSurface> surface = capture::meshSurface(*source->triangles);
+  const auto cameras = orbitCameras(prepared->source->bounds(), views, float(width) / float(height));
   std::vector<capture::TruthImage> truth;
   for (const auto& camera : cameras) truth.push_back(capture::castTruth(*surface, camera, int(width), int(height)));
 
   std::printf("| K | exact Hermite (px/view) | exact trilinear (px/view) | trilinear / Hermite |\n|---|---|---|---|\n");
   for (const int k : resolutions) {
-    auto grid = hsdf::fitGrid((*mesh)->bounds(), k, 1);
-    if (!grid.ok()) return fail(grid.error().message);
-    auto hermite = hsdf::bakeHermiteField(**mesh, *grid, {});
-    if (!hermite.ok()) return fail(hermite.error().message);
+    hsdf::BakeSettings settings;
+    settings.resolution = k;
+    settings.padding = 1;
+    settings.band = hsdf::BakeBand::Dense;  // the dense samples both interpolants are made of
+    auto asset = hsdf::bakeAsset(*prepared, settings);
+    if (!asset.ok()) return fail(asset.error().message);
+    const hsdf::HermiteField& hermite = (*asset)->field;
     hsdf::TrilinearField trilinear;  // the f of the same samples: what the trilinear tracer's texture holds
-    trilinear.grid = hermite->grid;
-    for (const hsdf::HermiteSample& s : hermite->samples) trilinear.values.push_back(s.f);
+    trilinear.grid = hermite.grid;
+    for (const hsdf::HermiteSample& s : hermite.samples) trilinear.values.push_back(s.f);
     double hermiteMismatch = 0.0, trilinearMismatch = 0.0;
     for (std::size_t v = 0; v < cameras.size(); ++v) {
       const glm::ivec2 imageSize{int(width), int(height)};
-      auto h = hsdf::renderReference(*hermite, cameras[v].view, cameras[v].proj, imageSize);
+      auto h = hsdf::renderReference(hermite, cameras[v].view, cameras[v].proj, imageSize);
       auto t = hsdf::renderReference(trilinear, cameras[v].view, cameras[v].proj, imageSize);
       if (!h.ok() || !t.ok()) return fail((h.ok() ? t.error() : h.error()).message);
       hermiteMismatch += mismatch(*h, truth[v]);
