@@ -161,6 +161,13 @@ ParseResult parseOptions(int argc, const char* const* argv) {
   if (problem) return samples::stoppedWith<Options>(samples::parseError("perf_capture", *problem));
   if (options.scene.empty() && options.shape.empty()) options.scene = samples::defaultScenePath();
   if (!options.shape.empty()) std::erase(options.methods, std::string("mesh"));  // no triangles to draw
+  // Rows past a method's K range are left out (capture_rows.cpp); when that leaves none, the capture
+  // opened its device and then blamed --methods, exit 1.
+  if (buildRows(options).empty())
+    return samples::stoppedWith<Options>(samples::parseError(
+        "perf_capture", fmt::format("--resolutions / --methods: no row to capture: the sphere tracers (trilinear, "
+                                    "hermite) draw K up to {}, the cell methods and the mesh any K",
+                                    samples::kDenseResolutionRange.max)));
   options.commandLine = joinArguments(argc, argv);
   ParseResult result;
   result.options = options;

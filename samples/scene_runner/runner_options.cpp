@@ -43,6 +43,11 @@ std::optional<std::string> checkCombinations(const Options& options, bool method
   // The comparison draws one baked SDF against another bake of it; --objects has one per mesh.
   if (options.objects && (options.tuning.split != samples::SplitMode::Off || options.tuning.difference))
     return "--objects: the split screen and --difference compare one baked SDF; not drawn with --objects";
+  // The difference view compares two SDF methods' normals: with the mesh method the frame showed
+  // the triangles alone, after baking both sides for nothing.
+  if (options.tuning.difference && method == samples::Method::Mesh)
+    return "--difference: compares the normals of two SDF methods; --method mesh draws triangles (pick an SDF "
+           "method, or --split to show the mesh beside one)";
   if (auto valid = samples::validateTuning(options.tuning); !valid) return valid.error().message;
   return std::nullopt;
 }

@@ -73,6 +73,9 @@ TEST(CaptureOptions, BadValuesAreRefusedNamingTheOption) {
       {{"--out", "x", "--shape", "torus", "--methods", "mesh"}, "--methods mesh"},
       {{"--out", "x", "--shape", "torus", "--objects"}, "--objects"},
       {{"--resolutions", "16"}, "--out"},  // required
+      // Only tracers past their K range: every row is left out, and the capture failed after opening
+      // its device with "--methods: no rows to capture".
+      {{"--out", "x", "--resolutions", "600,1024", "--methods", "hermite,trilinear"}, "--resolutions / --methods: no row to capture"},
       // An existing file of the wrong kind: a baked field has no source to re-bake or cast against.
       {{"--out", "x", "--scene", HSDF_TEST_DATA_DIR "/fuzz/hsdf_load_fuzz/sphere_k4_fp32.hsdf"}, "--scene: '"},
   };

@@ -195,6 +195,8 @@ TEST(RunnerOptions, BadValuesNameTheOption) {
       {{"--scene", kBunny, "--objects", "--split", "vertical"}, "--objects: the split screen and --difference"},
       {{"--scene", kBunny, "--objects", "--difference"}, "--objects: the split screen and --difference"},
       {{"--method", "mesh", "--side-by-side"}, "--side-by-side: needs a scene baked into an SDF"},
+      // The frame was the mesh alone, exit 0, with both compared sides baked: the view asked for was never drawn.
+      {{"--method", "mesh", "--difference"}, "--difference: compares the normals of two SDF methods; --method mesh"},
       {{"--script", "no_such_script.txt"}, "--script"},
       {{"--bake-budget-mib", "0"}, "--bake-budget-mib"},
       {{"--sdf", kHsdf, "--method", "mesh"}, "--method mesh: a .hsdf file (--sdf) has no triangles"},
@@ -276,6 +278,24 @@ TEST(RunnerOptions, BadSettingsFileIsRefused) {
   EXPECT_TRUE(contains(result.message, "--settings")) << result.message;
   EXPECT_TRUE(contains(result.message, file.string() + ": setting 'subdivisions': 100 is outside 1..64"))
       << result.message;
+}
+
+// Tricky: the mesh method may come from a settings file and the difference view from the command
+// line (or the other way round): the check must see the merged tuning, not the options given.
+TEST(RunnerOptions, DifferenceWithTheMeshMethodIsRefusedWhereverEachComesFrom) {
+  const auto meshFile = tempFile("mesh_method.json");
+  ASSERT_TRUE(engine::writeTextFile(meshFile, R"({"method": "mesh"})").ok());
+  const auto differenceFile = tempFile("difference.json");
+  ASSERT_TRUE(engine::writeTextFile(differenceFile, R"({"difference": true})").ok());
+  for (const std::vector<std::string>& args : std::vector<std::vector<std::string>>{
+           {"--settings", meshFile.string(), "--difference"}, {"--settings", differenceFile.string(), "--method", "mesh"}}) {
+    const ParseResult result = parse(args);
+    EXPECT_FALSE(result.options.has_value()) << args.back();
+    EXPECT_EQ(result.exitCode, 2) << args.back();
+    EXPECT_TRUE(contains(result.message, "--difference: compares the normals of two SDF methods")) << result.message;
+  }
+  // An SDF method from the file keeps the difference view: only the mesh has no SDF normals.
+  EXPECT_TRUE(parseOk({"--settings", differenceFile.string(), "--method", "hermite"}).tuning.difference);
 }
 
 // Tricky: the per-node choice reaches the TuningState (the settings struct the panel and scripts
