@@ -88,7 +88,7 @@ inline constexpr IntRange kDenseResolutionRange{2, 512};
 inline constexpr int kDenseBakeMaxResolution = 256;
 // The compared side's default K (2K) stops here: a dense bake past it takes minutes.
 inline constexpr int kDefaultCompareResolutionMax = 256;
-inline constexpr IntRange kPaddingRange{0, 16};
+inline constexpr IntRange kPaddingRange{hsdf::kMinBakePadding, 16};
 inline constexpr IntRange kSubdivisionsRange{1, 64};
 inline constexpr IntRange kRefineRange{0, 16};
 // The panel's sliders: the useful part of each range (the paper uses n = 2 or 3; K past 256 is

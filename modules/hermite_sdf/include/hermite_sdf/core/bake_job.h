@@ -80,9 +80,13 @@ enum class BakeBand {
   Sparse,
 };
 
+// The least padding a bake takes (planBake refuses less): with none, the surface lies on the
+// grid's boundary.
+inline constexpr int kMinBakePadding = 1;
+
 struct BakeSettings {
   int resolution = 64;  // K samples per axis
-  int padding = 1;      // P cells around the source bounds (fitGrid)
+  int padding = 1;      // P cells around the source bounds (fitGrid), at least kMinBakePadding
   BakeBand band = BakeBand::Dense;
   // The result will be stored in fp16 (.hsdf): refuse, before baking, grids fp16 cannot hold
   // (checkStorable). Drawing in fp16 needs no such check (renderers fall back to fp32).

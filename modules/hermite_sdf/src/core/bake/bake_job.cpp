@@ -170,6 +170,13 @@ std::uint64_t estimateBakeBytes(const GridSpec& grid, BakeBand band, bool materi
 }
 
 engine::Expected<GridSpec> planBake(const PreparedSource& source, const BakeSettings& settings) {
+  // Without a cell of padding the source's extreme surface lies on the grid's boundary: rays enter
+  // the grid at f = 0 and cells there have no outside corner to change sign into, so every method
+  // draws holes and specks there (a cube: whole faces).
+  if (settings.padding < kMinBakePadding)
+    return engine::makeError(fmt::format("padding {}: a bake needs at least {} cell of padding around the source, "
+                                         "or its surface lies on the grid's boundary and draws with holes",
+                                         settings.padding, kMinBakePadding));
   ENGINE_TRY_ASSIGN(GridSpec grid, fitGrid(source.source->bounds(), settings.resolution, settings.padding)
                                        .withContext("fitting the grid"));
   ENGINE_TRY(checkBudget(grid, settings, source.source->materialSlots() > 0));

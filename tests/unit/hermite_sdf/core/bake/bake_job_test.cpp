@@ -222,6 +222,27 @@ TEST(BakeJob, Fp16StorageRefusesTooFineGrids) {
   EXPECT_TRUE(baked.ok()) << baked.error().message;
 }
 
+// Tricky: fitGrid itself takes padding 0 (a grid may hug any box), and a cube baked so drew its
+// faces with holes and specks in every method, its surface on the grid's boundary. Every band of
+// the one pipeline refuses it before baking, naming the padding; one cell bakes.
+TEST(BakeJob, PaddingBelowOneCellIsRefusedNamingIt) {
+  BakeSettings settings;
+  settings.resolution = 8;
+  for (const BakeBand band : {BakeBand::Dense, BakeBand::NarrowBand, BakeBand::Sparse}) {
+    settings.band = band;
+    for (const int padding : {0, -1}) {
+      settings.padding = padding;
+      const auto refused = bakeAsset(BakeSource::fromShape("box"), settings);
+      ASSERT_FALSE(refused.ok());
+      EXPECT_TRUE(contains(refused.error().message, "padding " + std::to_string(padding) + ": a bake needs at least 1 cell"))
+          << refused.error().message;
+    }
+    settings.padding = kMinBakePadding;
+    const auto baked = bakeAsset(BakeSource::fromShape("box"), settings);
+    EXPECT_TRUE(baked.ok()) << baked.error().message;
+  }
+}
+
 TEST(BakeJob, UnknownInputListsTheShapes) {
   const auto source = BakeSource::fromPathOrShape("no_such_shape");
   ASSERT_FALSE(source.ok());
