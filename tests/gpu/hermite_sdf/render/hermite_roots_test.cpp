@@ -123,9 +123,10 @@ glm::dvec3 wholeCells(int resolution) {
 // The paper's search (with its fallback when the samples show no sign change) and the certified one.
 constexpr bool kCertified[] = {false, true};
 // The cells' own proxies, and the bricks, whose fragments walk several cells each: a root on a face
-// two cells share must not be lost inside a brick or between bricks either. The walk does not
-// depend on the search mode, so the bricks run in the strictest one only (certified: depth held
-// too), which keeps this test's time at 1.5x instead of 2x.
+// two cells share must not be lost inside a brick or between bricks either. Both run in both modes:
+// the walk stops at the first step whose searches report a root, and the default search reports
+// roots (interpolated, contacts, its fallback's) where the certified one may not, so the default
+// mode, the renderer's own, is the one whose walk a wrong stop would show in.
 constexpr hsdf::RenderMethod kCellMethods[] = {hsdf::RenderMethod::Cells, hsdf::RenderMethod::CellBricks};
 
 // With HSDF_TEST_DUMP=folder, a failing frame's GPU normals, the reference normals and a map of
@@ -178,7 +179,6 @@ class HermiteRootsTest : public GpuTest {
     EXPECT_GT(referenceHits, 300) << label << ": too little surface in view for the test to mean anything";
     for (const hsdf::RenderMethod method : kCellMethods)
     for (const bool certified : kCertified) {
-      if (method == hsdf::RenderMethod::CellBricks && !certified) continue;
       hsdf::HermiteSdfRenderable& renderable = show(asset);
       renderable.method = method;
       renderable.subdivisions = 3;  // the paper's n and the renderer's default
