@@ -100,12 +100,16 @@ Buffer createBufferWithData(const Context& context, const void* data, VkDeviceSi
   return buffer;
 }
 
+BufferAppend::Writer copyOf(std::span<const std::byte> data) {
+  return [data](std::span<std::byte> out) { std::memcpy(out.data(), data.data(), std::min(data.size(), out.size())); };
+}
+
 namespace {
 
 // The buffer that replaces `a.buffer` when it is too small: room for half as much again where
 // memory allows it (a stream that keeps growing is copied O(log n) times, not once per append).
 std::optional<Buffer> grownBuffer(const Context& context, const BufferAppend& a) {
-  const VkDeviceSize needed = a.used + a.data.size();
+  const VkDeviceSize needed = a.used + a.bytes;
   if (needed <= a.buffer->size()) return std::nullopt;
   const VkBufferUsageFlags usage = a.usage | VK_BUFFER_USAGE_TRANSFER_SRC_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT;
   const VkDeviceSize roomy = a.buffer->size() == 0 ? needed : std::max(needed, a.buffer->size() + a.buffer->size() / 2);
@@ -122,23 +126,25 @@ std::optional<Buffer> grownBuffer(const Context& context, const BufferAppend& a)
 }  // namespace
 
 std::vector<Buffer> appendToBuffers(const Context& context, std::span<BufferAppend> appends) {
-  for (const BufferAppend& a : appends)
+  for (const BufferAppend& a : appends) {
     if (a.buffer == nullptr || (!*a.buffer && a.used != 0) || a.used > a.buffer->size())
       throw std::invalid_argument("appendToBuffers: '" + a.name + "' holds fewer bytes than it is said to use");
+    if (a.bytes != 0 && !a.write) throw std::invalid_argument("appendToBuffers: '" + a.name + "' has bytes and no writer");
+  }
   // Every allocation before any copy: one that fails leaves the buffers as they were. One staging
   // buffer, as large as the largest append, serves them in turn: the peak is one buffer's data, not all.
   std::vector<std::optional<Buffer>> grown;
   VkDeviceSize largest = 0;
   for (const BufferAppend& a : appends) {
     grown.push_back(grownBuffer(context, a));
-    largest = std::max<VkDeviceSize>(largest, a.data.size());
+    largest = std::max<VkDeviceSize>(largest, a.bytes);
   }
   if (largest == 0) return {};
   Buffer staging(context, largest, VK_BUFFER_USAGE_TRANSFER_SRC_BIT, MemoryUsage::Upload, "append staging");
   for (std::size_t i = 0; i < appends.size(); ++i) {
     const BufferAppend& a = appends[i];
-    if (a.data.empty()) continue;
-    staging.write(a.data.data(), a.data.size());
+    if (a.bytes == 0) continue;
+    a.write(std::span(static_cast<std::byte*>(staging.mapped()), a.bytes));
     const Buffer& target = grown[i] ? *grown[i] : *a.buffer;
     context.submitAndWait([&](VkCommandBuffer cmd) {
       // The buffer is read by earlier submissions (frames in flight): their reads come first.
@@ -148,7 +154,7 @@ std::vector<Buffer> appendToBuffers(const Context& context, std::span<BufferAppe
         const VkBufferCopy kept{0, 0, a.used};
         vkCmdCopyBuffer(cmd, a.buffer->handle(), target.handle(), 1, &kept);
       }
-      const VkBufferCopy added{0, a.used, a.data.size()};
+      const VkBufferCopy added{0, a.used, a.bytes};
       vkCmdCopyBuffer(cmd, staging.handle(), target.handle(), 1, &added);
       memoryBarrier(cmd, VK_PIPELINE_STAGE_2_COPY_BIT, VK_ACCESS_2_TRANSFER_WRITE_BIT,
                     VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT, VK_ACCESS_2_MEMORY_READ_BIT | VK_ACCESS_2_MEMORY_WRITE_BIT);

@@ -3,6 +3,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <cstring>
+#include <functional>
 #include <span>
 #include <string>
 #include <vector>
@@ -62,14 +63,22 @@ Buffer createBufferWithData(const Context& context, const void* data, VkDeviceSi
 void uploadToBuffer(const Context& context, const Buffer& destination, const void* data, VkDeviceSize bytes,
                     VkDeviceSize offset = 0);
 
-// One buffer's part in appendToBuffers: `data` is written after the `used` bytes that hold data.
+// One buffer's part in appendToBuffers: `bytes` written by `write` after the `used` bytes that
+// hold data. `write` fills the whole span it is given, straight into the staging memory: a caller
+// that assembles its data from several sources (or changes it on the way) makes no host copy of
+// it first. The staging memory may be write-combined: `write` should only write to it.
 struct BufferAppend {
+  using Writer = std::function<void(std::span<std::byte> out)>;
   Buffer* buffer = nullptr;  // may be empty (then `used` is 0): it is made
   VkDeviceSize used = 0;
-  std::span<const std::byte> data;
+  VkDeviceSize bytes = 0;
+  Writer write;  // called once with exactly `bytes` bytes when `bytes` is not 0
   VkBufferUsageFlags usage = 0;  // for a buffer made or grown (transfer usage is added)
   std::string name;
 };
+
+// A writer that copies `data`, which must outlive the append (for BufferAppend::write).
+BufferAppend::Writer copyOf(std::span<const std::byte> data);
 
 // Appends to device-local buffers (created with TRANSFER_SRC and TRANSFER_DST usage), one
 // submission per buffer through one staging buffer, and waits. The data already there stays where

@@ -67,29 +67,35 @@ struct HermiteCellFeature::AssetDemand {
 };
 
 // The concatenation of the wanted assets' streams: the contents of the rebuilt buffers, or what is
-// appended to the uploaded ones (then `base` is where it goes: the entries they hold).
+// appended to the uploaded ones (then `base` is where it goes: the entries they hold). The
+// per-record streams (fp32 and fp16 records, cell cones: 224 bytes a cell) are not copied here but
+// written from their assets straight into the staging memory (recordWriters); the rest is small.
 struct HermiteCellFeature::AssetUpload {
+  struct RecordSource {
+    const SdfAsset* asset = nullptr;
+    const CellDerived* derived = nullptr;  // its cell cones; null: cones that never cull
+  };
   StreamCounts base;
-  std::vector<CellRecord> full;
-  std::vector<CellRecordHalf> half;
+  std::vector<RecordSource> recordSources;  // in record order
+  std::uint32_t records = 0, halfRecords = 0;
   std::vector<shader::CellRunGpu> runs;
   std::vector<shader::CellBrickGpu> bricks;
   std::vector<std::uint32_t> brickCells;
   std::vector<shader::CellBrickCone> cones;
-  std::vector<shader::CellBrickCone> cellCones;
   std::vector<CellMaterialSlots> materialSlots;           // the multi-material assets' records only
   std::vector<shader::HermiteMaterialGpu> palette;        // their palettes
 
   // The bytes of the buffers made from these streams.
   VkDeviceSize bytes() const {
-    return full.size() * sizeof(CellRecord) + half.size() * sizeof(CellRecordHalf) +
-           runs.size() * sizeof(shader::CellRunGpu) + bricks.size() * sizeof(shader::CellBrickGpu) +
-           brickCells.size() * sizeof(std::uint32_t) + (cones.size() + cellCones.size()) * sizeof(shader::CellBrickCone) +
-           materialSlots.size() * sizeof(CellMaterialSlots) + palette.size() * sizeof(shader::HermiteMaterialGpu);
+    return VkDeviceSize(records) * (sizeof(CellRecord) + sizeof(shader::CellBrickCone)) +
+           VkDeviceSize(halfRecords) * sizeof(CellRecordHalf) + runs.size() * sizeof(shader::CellRunGpu) +
+           bricks.size() * sizeof(shader::CellBrickGpu) + brickCells.size() * sizeof(std::uint32_t) +
+           cones.size() * sizeof(shader::CellBrickCone) + materialSlots.size() * sizeof(CellMaterialSlots) +
+           palette.size() * sizeof(shader::HermiteMaterialGpu);
   }
   // The entries of the buffers once these streams are in.
   StreamCounts end() const {
-    return {base.records + std::uint32_t(full.size()), base.runs + std::uint32_t(runs.size()),
+    return {base.records + records, base.runs + std::uint32_t(runs.size()),
             base.bricks + std::uint32_t(bricks.size()), base.brickCells + std::uint32_t(brickCells.size()),
             base.materialSlots + std::uint32_t(materialSlots.size()), base.palette + std::uint32_t(palette.size())};
   }
@@ -97,9 +103,62 @@ struct HermiteCellFeature::AssetUpload {
 
 namespace {
 
+// An append of `items` (which outlive it) after the `used` bytes of `buffer`.
 template <class T>
-std::span<const std::byte> bytesOf(const std::vector<T>& items) {
-  return std::as_bytes(std::span(items));
+engine::gpu::BufferAppend appendOf(Buffer& buffer, VkDeviceSize used, const std::vector<T>& items,
+                                   VkBufferUsageFlags usage, const char* name) {
+  const std::span<const std::byte> bytes = std::as_bytes(std::span(items));
+  return {&buffer, used, bytes.size(), engine::gpu::copyOf(bytes), usage, name};
+}
+
+// The GPU copies of the records carry their proxy box beside the class (CELL_PROXY_SHIFT); an asset
+// without codes (made by hand) keeps the whole cells (code 0). Record by record through a local:
+// `out` is staging memory, which may be write-combined (never read back).
+template <class Record>
+std::byte* writeRecords(const std::vector<Record>& records, const std::vector<std::uint16_t>& codes, std::byte* out) {
+  if (codes.size() != records.size()) {
+    std::memcpy(out, records.data(), records.size() * sizeof(Record));
+    return out + records.size() * sizeof(Record);
+  }
+  for (std::size_t i = 0; i < records.size(); ++i, out += sizeof(Record)) {
+    Record record = records[i];
+    record.cellClass = std::uint16_t(record.cellClass | (codes[i] << CELL_PROXY_SHIFT));
+    std::memcpy(out, &record, sizeof(Record));
+  }
+  return out;
+}
+
+// The asset's cell cones (one per record, what the cell culling pass reads), or cones that never
+// cull for an asset without them.
+std::byte* writeCellCones(const SdfAsset& asset, const CellDerived* derived, std::byte* out) {
+  const std::size_t bytes = asset.cells.records.size() * sizeof(shader::CellBrickCone);
+  if (derived) {
+    std::memcpy(out, derived->cellCones.data(), bytes);
+    return out + bytes;
+  }
+  const shader::CellBrickCone never = neverCullCone();
+  for (std::size_t i = 0; i < asset.cells.records.size(); ++i, out += sizeof(never)) std::memcpy(out, &never, sizeof(never));
+  return out;
+}
+
+// The writers of the per-record streams (fp32 records, fp16 records, cell cones), from the
+// upload's sources (which outlive them) straight into the staging memory.
+template <class Upload>
+std::array<engine::gpu::BufferAppend::Writer, 3> recordWriters(const Upload& u) {
+  return {
+      [&u](std::span<std::byte> out) {
+        std::byte* at = out.data();
+        for (const auto& s : u.recordSources) at = writeRecords(s.asset->cells.records, s.asset->proxyBoxes, at);
+      },
+      [&u](std::span<std::byte> out) {
+        std::byte* at = out.data();
+        for (const auto& s : u.recordSources) at = writeRecords(s.asset->cellsHalf.records, s.asset->proxyBoxesHalf, at);
+      },
+      [&u](std::span<std::byte> out) {
+        std::byte* at = out.data();
+        for (const auto& s : u.recordSources) at = writeCellCones(*s.asset, s.derived, at);
+      },
+  };
 }
 
 static_assert(sizeof(CellMaterialSlots) == sizeof(shader::CellMaterialSlotsGpu), "materials.h and hermite_host_device.h");
@@ -113,19 +172,21 @@ std::vector<engine::gpu::BufferAppend> cellStreamAppends(CellBuffers& b, const U
       VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_SHADER_DEVICE_ADDRESS_BIT | VK_BUFFER_USAGE_TRANSFER_SRC_BIT;
   constexpr VkBufferUsageFlags vertex = VK_BUFFER_USAGE_VERTEX_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_SRC_BIT;
   const auto entries = [](std::uint32_t count, std::size_t size) { return VkDeviceSize(count) * size; };
+  auto [full, half, cellCones] = recordWriters(u);
   return {
-      {&b.records[0], entries(used.records, sizeof(CellRecord)), bytesOf(u.full), vertex | address, "hermite cells fp32"},
-      {&b.records[1], entries(used.records, sizeof(CellRecordHalf)), bytesOf(u.half), vertex | address,
-       "hermite cells fp16"},
-      {&b.runs, entries(used.runs, sizeof(shader::CellRunGpu)), bytesOf(u.runs), vertex, "hermite cell runs"},
-      {&b.bricks, entries(used.bricks, sizeof(shader::CellBrickGpu)), bytesOf(u.bricks), vertex | address,
-       "hermite cell bricks"},
-      {&b.brickCells, entries(used.brickCells, sizeof(std::uint32_t)), bytesOf(u.brickCells), address,
-       "hermite cell brick cells"},
-      {&b.brickCones, entries(used.bricks, sizeof(shader::CellBrickCone)), bytesOf(u.cones), address,
-       "hermite cell brick cones"},
-      {&b.cellCones, entries(used.records, sizeof(shader::CellBrickCone)), bytesOf(u.cellCones), address,
-       "hermite cell cones"},
+      {&b.records[0], entries(used.records, sizeof(CellRecord)), entries(u.records, sizeof(CellRecord)),
+       std::move(full), vertex | address, "hermite cells fp32"},
+      {&b.records[1], entries(used.records, sizeof(CellRecordHalf)), entries(u.halfRecords, sizeof(CellRecordHalf)),
+       std::move(half), vertex | address, "hermite cells fp16"},
+      appendOf(b.runs, entries(used.runs, sizeof(shader::CellRunGpu)), u.runs, vertex, "hermite cell runs"),
+      appendOf(b.bricks, entries(used.bricks, sizeof(shader::CellBrickGpu)), u.bricks, vertex | address,
+               "hermite cell bricks"),
+      appendOf(b.brickCells, entries(used.brickCells, sizeof(std::uint32_t)), u.brickCells, address,
+               "hermite cell brick cells"),
+      appendOf(b.brickCones, entries(used.bricks, sizeof(shader::CellBrickCone)), u.cones, address,
+               "hermite cell brick cones"),
+      {&b.cellCones, entries(used.records, sizeof(shader::CellBrickCone)), entries(u.records, sizeof(shader::CellBrickCone)),
+       std::move(cellCones), address, "hermite cell cones"},
   };
 }
 
@@ -138,11 +199,11 @@ std::vector<engine::gpu::BufferAppend> streamAppends(CellBuffers& b, const Uploa
   constexpr VkBufferUsageFlags address =
       VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_SHADER_DEVICE_ADDRESS_BIT | VK_BUFFER_USAGE_TRANSFER_SRC_BIT;
   if (!u.materialSlots.empty())
-    appends.push_back({&b.materialSlots, VkDeviceSize(used.materialSlots) * sizeof(CellMaterialSlots),
-                       bytesOf(u.materialSlots), address, "hermite cell material slots"});
+    appends.push_back(appendOf(b.materialSlots, VkDeviceSize(used.materialSlots) * sizeof(CellMaterialSlots),
+                               u.materialSlots, address, "hermite cell material slots"));
   if (!u.palette.empty())
-    appends.push_back({&b.palette, VkDeviceSize(used.palette) * sizeof(shader::HermiteMaterialGpu), bytesOf(u.palette),
-                       address, "hermite cell palettes"});
+    appends.push_back(appendOf(b.palette, VkDeviceSize(used.palette) * sizeof(shader::HermiteMaterialGpu), u.palette,
+                               address, "hermite cell palettes"));
   return appends;
 }
 
@@ -251,16 +312,7 @@ HermiteCellFeature::AssetDemand HermiteCellFeature::collectAssetDemand(const eng
   return d;
 }
 
-// The GPU copies of the records carry their proxy box beside the class (CELL_PROXY_SHIFT); an asset
-// without codes (made by hand) keeps the whole cells (code 0).
 static_assert(kProxySteps == int(CELL_PROXY_STEPS), "cells.h and hermite_host_device.h must agree");
-
-template <class Record>
-void appendProxyBoxes(const std::vector<std::uint16_t>& codes, std::span<Record> uploaded) {
-  if (codes.size() != uploaded.size()) return;
-  for (std::size_t i = 0; i < codes.size(); ++i)
-    uploaded[i].cellClass = std::uint16_t(uploaded[i].cellClass | (codes[i] << CELL_PROXY_SHIFT));
-}
 
 // A multi-material asset's corner slots (one entry per record, the same for its fp32 and fp16
 // records) and palette, where its entry finds them; an asset of one material adds nothing.
@@ -272,14 +324,6 @@ void appendMaterials(Upload& u, const SdfAsset& asset, CellBuffers::Entry& entry
   entry.firstPaletteEntry = u.base.palette + static_cast<std::uint32_t>(u.palette.size());
   for (const SdfMaterial& m : asset.palette)
     u.palette.push_back({m.baseColor, glm::vec4(m.roughness, m.metallic, 0.0f, 0.0f)});
-}
-
-// The asset's cell cones (one per record, what the cell culling pass reads), or cones that never
-// cull for an asset without them.
-template <class Upload>
-void appendCellCones(Upload& u, const SdfAsset& asset, const CellDerived* derived) {
-  if (derived) u.cellCones.insert(u.cellCones.end(), derived->cellCones.begin(), derived->cellCones.end());
-  else u.cellCones.resize(u.cellCones.size() + asset.cells.records.size(), neverCullCone());
 }
 
 // The asset's bricks, their cells (as indices into the record buffers) and cones, where its entry
@@ -321,7 +365,7 @@ void HermiteCellFeature::appendAsset(CellBuffers& rebuilt, AssetUpload& u, const
                                      const AssetDemand& d) const {
   CellBuffers::Entry entry;
   entry.asset = asset;
-  entry.firstRecord = u.base.records + static_cast<std::uint32_t>(u.full.size());
+  entry.firstRecord = u.base.records + u.records;
   if (!buffers_->entries.contains(asset->id)) entry.rows = buildCellRows(asset->cells);  // else moved below
   entry.runs = buildCellRuns(asset->cells, settings_.maxRunLength);
   entry.firstRun = u.base.runs + static_cast<std::uint32_t>(u.runs.size());
@@ -330,14 +374,12 @@ void HermiteCellFeature::appendAsset(CellBuffers& rebuilt, AssetUpload& u, const
     u.runs.push_back(run);
   }
   const CellDerived* derived = derivedOrWarn(*asset);
-  appendCellCones(u, *asset, derived);
   const auto old = buffers_->entries.find(asset->id);
   if (d.asBricks.contains(asset->id) || (old != buffers_->entries.end() && old->second.bricksUploaded))
     appendBricks(u, entry, bricksOf(*asset, derived));
-  u.full.insert(u.full.end(), asset->cells.records.begin(), asset->cells.records.end());
-  u.half.insert(u.half.end(), asset->cellsHalf.records.begin(), asset->cellsHalf.records.end());
-  appendProxyBoxes(asset->proxyBoxes, std::span(u.full).last(asset->cells.records.size()));
-  appendProxyBoxes(asset->proxyBoxesHalf, std::span(u.half).last(asset->cellsHalf.records.size()));
+  u.recordSources.push_back({asset.get(), derived});
+  u.records += static_cast<std::uint32_t>(asset->cells.records.size());
+  u.halfRecords += static_cast<std::uint32_t>(asset->cellsHalf.records.size());
   appendMaterials(u, *asset, entry);
   rebuilt.entries.emplace(asset->id, std::move(entry));
 }
@@ -350,7 +392,10 @@ void HermiteCellFeature::createAssetBuffers(CellBuffers& rebuilt, const AssetUpl
   static constexpr std::array<std::byte, 64> kPadding{};
   std::vector<engine::gpu::BufferAppend> appends = streamAppends(rebuilt, u, StreamCounts{});
   for (engine::gpu::BufferAppend& a : appends)
-    if (a.data.empty()) a.data = kPadding;
+    if (a.bytes == 0) {
+      a.bytes = kPadding.size();
+      a.write = engine::gpu::copyOf(kPadding);
+    }
   (void)engine::gpu::appendToBuffers(*context_, appends);  // the buffers were empty: none replaced
 }
 
@@ -398,7 +443,7 @@ bool HermiteCellFeature::appendNewAssets(const engine::render::FrameContext& fra
   buffers_->bytes += u.bytes();
   uploadedBytes_ += u.bytes();
   engine::log::debug("hermite cells: {} assets and the bricks of {} appended, {} records uploaded ({} in all)",
-                     added.entries.size(), bricked.size(), u.full.size(), buffers_->used.records);
+                     added.entries.size(), bricked.size(), u.records, buffers_->used.records);
   return true;
 }
 
@@ -414,7 +459,7 @@ void HermiteCellFeature::commitAssetBuffers(const engine::render::FrameContext& 
   for (auto& [id, entry] : rebuilt.entries) entry.lastFrame = frame.frameNumber;
   frame.retire(std::move(buffers_));
   buffers_ = std::make_unique<CellBuffers>(std::move(rebuilt));
-  engine::log::debug("hermite cells: {} assets, {} records uploaded", buffers_->entries.size(), u.full.size());
+  engine::log::debug("hermite cells: {} assets, {} records uploaded", buffers_->entries.size(), u.records);
 }
 
 // The rebuilt buffers (`needed` bytes) did not fit in GPU memory. The assets this rebuild was for

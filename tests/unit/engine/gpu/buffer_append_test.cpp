@@ -1,8 +1,10 @@
 // engine::gpu::appendToBuffers (engine/gpu/buffer.h): data appended after what a buffer holds, in
 // place while it fits, else in a larger buffer that keeps the old bytes; the replaced buffer handed
-// back to outlive the work that reads it; a failed allocation leaving every buffer as it was.
+// back to outlive the work that reads it; a failed allocation leaving every buffer as it was; each
+// append's writer filling its bytes straight into the staging memory.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cstddef>
 #include <cstdint>
 #include <cstring>
@@ -32,7 +34,8 @@ std::vector<std::uint32_t> readWords(const Context& context, const Buffer& buffe
 }
 
 BufferAppend appendOf(Buffer& buffer, std::size_t usedWords, const std::vector<std::uint32_t>& words) {
-  return {&buffer, usedWords * sizeof(std::uint32_t), std::as_bytes(std::span(words)), kUsage, "append test"};
+  const std::span<const std::byte> bytes = std::as_bytes(std::span(words));
+  return {&buffer, usedWords * sizeof(std::uint32_t), bytes.size(), copyOf(bytes), kUsage, "append test"};
 }
 
 // Tricky: three appends to two buffers, one of them starting empty: the first fills exactly (no
@@ -112,6 +115,62 @@ TEST(BufferAppend, AFailedAllocationLeavesEveryBufferAsItWas) {
   } catch (const std::invalid_argument& e) {
     EXPECT_NE(std::string(e.what()).find("'append test'"), std::string::npos) << e.what();
   }
+  EXPECT_EQ(context->validationMessageCount(), 0u) << ::testing::PrintToString(context->validationMessages());
+}
+
+// Tricky: the appends share one staging buffer as large as the largest of them, so a writer could
+// be handed the whole staging memory, or called again for a later buffer. Each writer must get
+// exactly its own byte count, once, and what it writes (from two sources, changed on the way, as
+// the cell feature writes its assets' records) must land after the bytes already there. Bytes
+// without a writer are refused by name, before any buffer is touched.
+TEST(BufferAppend, EachWriterFillsExactlyItsBytesOnceStraightIntoTheBuffer) {
+  auto context = test::makeTestContext();
+  ASSERT_NE(context, nullptr);
+  Buffer small, large;
+  const auto held = iota(0, 8), left = iota(100, 500), right = iota(900, 300), tail = iota(50, 3);
+  std::vector<BufferAppend> first{appendOf(small, 0, held), appendOf(large, 0, held)};
+  (void)appendToBuffers(*context, first);
+
+  std::vector<std::size_t> calls(2, 0), spans(2, 0);
+  const auto twoSources = [&](std::span<std::byte> out) {  // left, then right with its words doubled
+    ++calls[0];
+    spans[0] = out.size();
+    std::memcpy(out.data(), left.data(), left.size() * sizeof(std::uint32_t));
+    for (std::size_t i = 0; i < right.size(); ++i) {
+      const std::uint32_t word = 2 * right[i];
+      std::memcpy(out.data() + (left.size() + i) * sizeof(std::uint32_t), &word, sizeof(word));
+    }
+  };
+  const auto threeWords = [&](std::span<std::byte> out) {
+    ++calls[1];
+    spans[1] = out.size();
+    std::memcpy(out.data(), tail.data(), std::min(out.size(), tail.size() * sizeof(std::uint32_t)));
+  };
+  const VkDeviceSize word = sizeof(std::uint32_t);
+  std::vector<BufferAppend> appends{
+      {&large, held.size() * word, (left.size() + right.size()) * word, twoSources, kUsage, "two sources"},
+      {&small, held.size() * word, tail.size() * word, threeWords, kUsage, "three words"}};
+  (void)appendToBuffers(*context, appends);
+  EXPECT_EQ(calls, (std::vector<std::size_t>{1, 1}));
+  EXPECT_EQ(spans, (std::vector<std::size_t>{800 * word, 3 * word}));
+
+  std::vector<std::uint32_t> expected = held;
+  expected.insert(expected.end(), left.begin(), left.end());
+  for (std::uint32_t w : right) expected.push_back(2 * w);
+  EXPECT_EQ(readWords(*context, large, expected.size()), expected);
+  expected = held;
+  expected.insert(expected.end(), tail.begin(), tail.end());
+  EXPECT_EQ(readWords(*context, small, expected.size()), expected);
+
+  const VkBuffer before = small.handle();
+  std::vector<BufferAppend> noWriter{{&small, 11 * word, 64 * word, {}, kUsage, "no writer"}};
+  try {
+    (void)appendToBuffers(*context, noWriter);
+    FAIL() << "bytes without a writer were taken";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find("'no writer'"), std::string::npos) << e.what();
+  }
+  EXPECT_EQ(small.handle(), before);
   EXPECT_EQ(context->validationMessageCount(), 0u) << ::testing::PrintToString(context->validationMessages());
 }
 
