@@ -150,5 +150,46 @@ TEST(MeshUnion, BakeKeepsTheAnalyticUnionsCells) {
   EXPECT_EQ(sparse->stats.ambiguous, mesh.ambiguous);
 }
 
+// Tricky: only parts that contain p count. Near the corners of a ball's bounding box, outside the
+// ball but inside box A, the ball's surface is farther than A's: counting the ball there would
+// move the surface of A inward (a value below A's own).
+TEST(MeshUnion, OnlyPartsContainingThePointCount) {
+  TestMesh m = testing::cube(2, kHalfA);
+  const TestMesh ball = testing::icosphere(3, 0.5f);
+  const glm::dvec3 centre{1.0, 0.0, 0.0};
+  const auto offset = std::uint32_t(m.positions.size());
+  for (const glm::vec3& p : ball.positions) m.positions.push_back(p + glm::vec3(centre));
+  for (const std::uint32_t i : ball.indices) m.indices.push_back(i + offset);
+  const auto source = makeSource(m);
+  ASSERT_TRUE(source->stats().selfIntersecting);
+  const BoxSource a{glm::dvec3(0.0), glm::dvec3(kHalfA)};
+  for (const double y : {-0.45, 0.45})
+    for (const double z : {-0.45, 0.45}) {
+      const glm::dvec3 p{0.95, y, z};
+      ASSERT_GT(glm::length(p - centre), 0.5 + 0.1) << "probe not well outside the ball";
+      EXPECT_NEAR(source->sample(p).value, a.sample(p).value, 1e-6) << y << " " << z;
+    }
+}
+
+// Tricky: a part turned inside out is a hole (a hollow's inner wall), which a union of parts cannot
+// express: its own winding number is -1 inside it, so no part "contains" the wall between it and
+// the outer box on its side, and the union's value there would ignore the cavity (a field that
+// jumps sign at the cavity wall). Such a mesh keeps the plain distance, exact in the wall.
+TEST(MeshUnion, AHollowPartKeepsThePlainDistance) {
+  TestMesh m = overlappingBoxes();
+  const TestMesh cavity = testing::cube(2, 0.5f);
+  const auto offset = std::uint32_t(m.positions.size());
+  m.positions.insert(m.positions.end(), cavity.positions.begin(), cavity.positions.end());
+  for (std::size_t t = 0; t < cavity.indices.size(); t += 3)
+    m.indices.insert(m.indices.end(), {cavity.indices[t] + offset, cavity.indices[t + 2] + offset,
+                                       cavity.indices[t + 1] + offset});
+  const auto source = makeSource(m);
+  ASSERT_TRUE(source->stats().selfIntersecting);
+  EXPECT_GT(source->sample({0.0, 0.0, 0.0}).value, 0.0) << "the cavity is outside the solid";
+  // In the wall between the cavity (x = -0.5) and A's face x = -1, nearer the cavity.
+  EXPECT_NEAR(source->sample({-0.6, 0.0, 0.0}).value, -0.1, 1e-6);
+  EXPECT_NEAR(source->sample({-0.9, 0.0, 0.0}).value, -0.1, 1e-6);
+}
+
 }  // namespace
 }  // namespace hsdf
