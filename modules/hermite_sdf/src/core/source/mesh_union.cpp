@@ -1,6 +1,7 @@
 #include "source/mesh_union.h"
 
 #include <cmath>
+#include <limits>
 
 #include "source/mesh_sign.h"
 
@@ -22,15 +23,21 @@ struct PartUnion::Part {
     }
   }
 
-  bool mayContain(const glm::dvec3& p) const { return glm::all(glm::greaterThanEqual(p, min)) && glm::all(glm::lessThanEqual(p, max)); }
+  bool mayContain(const glm::dvec3& p) const {
+    return glm::all(glm::greaterThanEqual(p, min)) && glm::all(glm::lessThanEqual(p, max));
+  }
 
   // Own winding number 1 behind its largest face and 0 in front: its inside is behind its faces.
   bool facesOutward(double windingBeta) const {
     std::uint32_t largest = 0;
     double largestArea = -1.0;
     for (std::uint32_t t = 0; t < bvh.triangleCount(); ++t) {
-      const double area = glm::length(glm::cross(bvh.corner(t, 1) - bvh.corner(t, 0), bvh.corner(t, 2) - bvh.corner(t, 0)));
-      if (area > largestArea) largestArea = area, largest = t;
+      const double area =
+          glm::length(glm::cross(bvh.corner(t, 1) - bvh.corner(t, 0), bvh.corner(t, 2) - bvh.corner(t, 0)));
+      if (area > largestArea) {
+        largestArea = area;
+        largest = t;
+      }
     }
     const auto [front, back] = windingBothSides(bvh, largest, windingBeta);
     return std::abs(front) < 0.5 && back >= 0.5;
@@ -64,7 +71,6 @@ ClosestHit PartUnion::deepest(const glm::dvec3& p, double beyondSquared) const {
     hit.triangle = part->wholeTriangle[hit.triangle];
     best = hit;
   }
-  if (best.triangle == UINT32_MAX) best.distanceSquared = beyondSquared;
   return best;
 }
 
