@@ -2,6 +2,13 @@
 // MeshSource: signed distance to a triangle mesh.
 //
 // - Distance: exact unsigned distance to the closest point of any triangle (BVH, double precision).
+//   Except inside a closed mesh of parts pushed through each other (self-intersecting, each part
+//   facing outward): there the closest triangle may be a face of one part running inside another,
+//   whose distance goes to zero without a sign change (grooves along the intersection curves), so
+//   the value is instead -max, over the parts whose own winding number contains p, of the distance
+//   to that part's surface (the parts' union; each part has its own BVH): a lower bound of the
+//   distance to the solid's boundary, continuous, zero only on it (src/core/source/mesh_union.h).
+//   Outside, the closest triangle lies on the boundary, so the distance there is exact.
 // - Sign: inside where the generalized winding number is >= 0.5 (Jacobson et al. 2013), evaluated
 //   hierarchically (Barill et al. 2018: exact solid angles near the query, an order-2 far-field
 //   expansion for distant BVH nodes). The winding number of a closed mesh is 1 inside and 0
@@ -23,7 +30,8 @@
 //   closest point; such meshes use it (SignMode::Auto).
 //   Meshes with defects, open meshes and self-intersecting ones (e.g. overlapping closed parts)
 //   use the winding number.
-// - Gradient: (p - closest) / |p - closest| times the sign; on the surface itself (distance below
+// - Gradient: (p - closest) / |p - closest| times the sign (closest: the point the distance is
+//   measured to, the deepest part's inside overlapping parts); on the surface itself (distance below
 //   1e-12 of the mesh size) the unit normal of the closest feature: the face's, or on an edge or a
 //   vertex its pseudonormal where the mesh has them (else the closest triangle's normal).
 // - Degenerate input: no triangles, an index count that is not a multiple of 3, indices out of

@@ -154,6 +154,18 @@ Parts connectedParts(const TriangleBvh& bvh, const std::vector<std::uint32_t>& v
   return parts;
 }
 
+}  // namespace
+
+std::vector<std::vector<std::uint32_t>> connectedPartTriangles(const TriangleBvh& bvh,
+                                                               const std::vector<std::uint32_t>& vertexOf) {
+  const Parts parts = connectedParts(bvh, vertexOf);
+  std::vector<std::vector<std::uint32_t>> members(parts.count);
+  for (std::uint32_t t = 0; t < parts.of.size(); ++t) members[parts.of[t]].push_back(t);
+  return members;
+}
+
+namespace {
+
 // How far off triangle t the side points step. A millionth of the triangle's smallest altitude (a
 // sliver's length says nothing of how thin the part is): far less than the part's thickness or its
 // distance to another part, far enough that the triangle's own solid angle is ~2 pi, and above the
@@ -167,12 +179,16 @@ glm::dvec3 sideStep(const TriangleBvh& bvh, std::uint32_t t, const glm::dvec3& o
   return offset * bvh.unitNormal(t);
 }
 
+}  // namespace
+
 // The winding numbers just in front of and just behind triangle t at its centroid.
 std::pair<double, double> windingBothSides(const TriangleBvh& bvh, std::uint32_t t, double windingBeta) {
   const glm::dvec3 centroid = (bvh.corner(t, 0) + bvh.corner(t, 1) + bvh.corner(t, 2)) / 3.0;
   const glm::dvec3 step = sideStep(bvh, t, centroid);
   return {bvh.windingNumber(centroid + step, windingBeta), bvh.windingNumber(centroid - step, windingBeta)};
 }
+
+namespace {
 
 // A winding number this far from 1/2 says inside or outside of an open mesh for sure.
 constexpr double kSeparatingMargin = 0.1;
@@ -186,6 +202,8 @@ constexpr std::size_t kMaxPartSamples = 64;
 // half their area. Between the two, this share.
 constexpr double kTogetherShare = 0.75;
 
+}  // namespace
+
 // The corners of BVH triangles `triangles`, three per triangle: a BVH of these alone.
 std::vector<glm::dvec3> cornersOf(const TriangleBvh& bvh, const std::vector<std::uint32_t>& triangles) {
   std::vector<glm::dvec3> corners;
@@ -193,6 +211,8 @@ std::vector<glm::dvec3> cornersOf(const TriangleBvh& bvh, const std::vector<std:
   for (const std::uint32_t t : triangles) corners.insert(corners.end(), {bvh.corner(t, 0), bvh.corner(t, 1), bvh.corner(t, 2)});
   return corners;
 }
+
+namespace {
 
 // Sample j of the m that fall on triangle t: its centroid when alone, else the R2 low-discrepancy
 // sequence folded into the triangle. Distinct points matter on large triangles (a quad card, the

@@ -8,6 +8,7 @@
 // checks; other meshes keep the winding number.
 #include <array>
 #include <cstdint>
+#include <utility>
 #include <vector>
 
 #include <glm/glm.hpp>
@@ -62,5 +63,16 @@ PartSides partSides(const TriangleBvh& bvh, const std::vector<std::uint32_t>& ve
 // caps on corners of their own); crossed cards separate about half.
 std::vector<std::uint32_t> partsBoundingNothing(const TriangleBvh& bvh, const std::vector<std::uint32_t>& vertexOf,
                                                 double windingBeta);
+
+// The BVH triangles of each connected part (triangles joined by welded vertices), in BVH order.
+std::vector<std::vector<std::uint32_t>> connectedPartTriangles(const TriangleBvh& bvh,
+                                                               const std::vector<std::uint32_t>& vertexOf);
+
+// The corners of BVH triangles `triangles`, three per triangle: a BVH of these alone.
+std::vector<glm::dvec3> cornersOf(const TriangleBvh& bvh, const std::vector<std::uint32_t>& triangles);
+
+// The winding numbers just in front of and just behind triangle t at its centroid, a step off it
+// far less than any part's thickness.
+std::pair<double, double> windingBothSides(const TriangleBvh& bvh, std::uint32_t t, double windingBeta);
 
 }  // namespace hsdf::mesh

@@ -11,6 +11,7 @@
 #include "source/mesh_closest.h"
 #include "source/mesh_input.h"
 #include "source/mesh_sign.h"
+#include "source/mesh_union.h"
 
 namespace hsdf {
 namespace {
@@ -65,6 +66,7 @@ struct MeshSource::Impl {
   mesh::TriangleBvh bvh;         // winding numbers, normals
   mesh::ClosestPointTree tree;   // distances
   std::unique_ptr<mesh::PseudoNormals> pseudoNormals;  // set when they give the sign
+  std::unique_ptr<mesh::PartUnion> partUnion;  // set for overlapping closed parts: distances inside
   std::vector<std::uint32_t> inputTriangle;  // input index of each kept triangle (input order of kept)
   MeshSourceStats stats;
   MeshSourceOptions options;
@@ -105,6 +107,7 @@ struct MeshSource::Impl {
     stats.closed = topology.closed;
     stats.bvhNodes = bvh.nodeCount();
     if (stats.closed) stats.selfIntersecting = mesh::hasSelfIntersections(bvh, vertexOf);
+    if (stats.closed && stats.selfIntersecting) partUnion = mesh::PartUnion::create(bvh, vertexOf, options.windingBeta);
     if (!stats.closed)
       for (const std::uint32_t t : mesh::partsBoundingNothing(bvh, vertexOf, options.windingBeta))
         openTriangles.push_back(bvh.inputIndex(t));
@@ -214,11 +217,20 @@ struct MeshSource::Impl {
     return glm::dot(p - hit.point, pseudoNormals->normal(hit.triangle, hit.feature)) < 0.0 ? 1.0 : 0.0;
   }
 
+  // The point the distance is measured to: the closest of the mesh, except inside overlapping
+  // parts, where that may lie inside another part; there the deepest containing part's
+  // (mesh_union.h). Anchors keep the mesh's closest: their balls must hold no triangle at all.
+  mesh::ClosestHit boundaryHit(const glm::dvec3& p, const mesh::ClosestHit& hit, double winding) const {
+    if (!partUnion || !inside(winding)) return hit;
+    const mesh::ClosestHit deepest = partUnion->deepest(p, hit.distanceSquared);
+    return deepest.triangle == UINT32_MAX ? hit : deepest;
+  }
+
   SdfSample sample(const glm::dvec3& p, QueryCache& cache) const {
     const mesh::ClosestHit hit = closest(p, cache);
     const double w = windingAt(p, hit, cache);
     remember(cache, {p, std::sqrt(hit.distanceSquared), w, hit.triangle});
-    return signedSample(p, hit, w);
+    return signedSample(p, boundaryHit(p, hit, w), w);
   }
 
   // The closest triangle when it lies within `band` of p; otherwise no triangle and, in
@@ -236,7 +248,7 @@ struct MeshSource::Impl {
   SdfSample exactSample(const glm::dvec3& p, const mesh::ClosestHit& hit, QueryCache& cache) const {
     const double w = windingAt(p, hit, cache);
     remember(cache, {p, std::sqrt(hit.distanceSquared), w, hit.triangle});
-    return signedSample(p, hit, w);
+    return signedSample(p, boundaryHit(p, hit, w), w);
   }
 
   // A far point is not remembered: its anchor would need the sign, the query this skips.
