@@ -20,7 +20,7 @@ CellRows buildCellRows(const CellStream& stream) {
   result.recordOfCell.reserve(stream.records.size());
   for (std::uint32_t i = 0; i < stream.records.size(); ++i) {
     const CellRecord& r = stream.records[i];
-    result.recordOfCell.emplace(CellRows::cellKey(r.x, r.y, r.z), i);
+    result.recordOfCell.emplace_back(CellRows::cellKey(r.x, r.y, r.z), i);
     if (result.rows.empty() || result.rows.back().y != r.y || result.rows.back().z != r.z) {
       if (result.rows.empty() || result.rows.back().z != r.z)
         result.zGroups.push_back(static_cast<std::uint32_t>(result.rows.size()));
@@ -29,7 +29,17 @@ CellRows buildCellRows(const CellStream& stream) {
     result.rows.back().count++;
   }
   result.zGroups.push_back(static_cast<std::uint32_t>(result.rows.size()));
+  auto& keys = result.recordOfCell;
+  if (!std::is_sorted(keys.begin(), keys.end())) std::sort(keys.begin(), keys.end());
   return result;
+}
+
+std::optional<std::uint32_t> CellRows::recordOf(std::uint32_t x, std::uint32_t y, std::uint32_t z) const {
+  const std::uint64_t key = cellKey(x, y, z);
+  const auto it = std::lower_bound(recordOfCell.begin(), recordOfCell.end(), key,
+                                   [](const auto& entry, std::uint64_t k) { return entry.first < k; });
+  if (it == recordOfCell.end() || it->first != key) return std::nullopt;
+  return it->second;
 }
 
 std::vector<CellRows::Range> orderedRows(const CellRows& rows, const glm::dvec3& eyeGrid, bool frontToBack) {
@@ -87,8 +97,8 @@ std::vector<std::uint32_t> cellsNearPoint(const CellRows& rows, const CellStream
     for (int y = first.y; y <= last.y; ++y)
       for (int x = first.x; x <= last.x; ++x) {
         if (distanceToCellSquared(point, glm::dvec3(x, y, z)) > r2) continue;
-        auto it = rows.recordOfCell.find(CellRows::cellKey(std::uint32_t(x), std::uint32_t(y), std::uint32_t(z)));
-        if (it != rows.recordOfCell.end()) result.push_back(it->second);
+        if (const auto record = rows.recordOf(std::uint32_t(x), std::uint32_t(y), std::uint32_t(z)))
+          result.push_back(*record);
       }
   return result;
 }
