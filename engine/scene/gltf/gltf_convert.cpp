@@ -407,26 +407,26 @@ bool isTrsMatrix(const glm::mat4& m, const glm::mat4& trs) {
 // glTF requires a node's `matrix` to be translation * rotation * scale, but some exporters write
 // shear or a projective row. An entity's Transform holds TRS only, so the triangles would be drawn
 // by the TRS part and the SDF baked by the whole matrix: every path takes the TRS part, with a
-// warning naming the node.
-glm::mat4 trsPartOf(const glm::mat4& m, const tinygltf::Node& node, std::vector<std::string>& warnings) {
+// warning naming the node (`where`).
+glm::mat4 trsPartOf(const glm::mat4& m, const std::string& where, std::vector<std::string>& warnings) {
   const glm::mat4 trs = toMatrix(fromMatrix(m));
   // Columns too long for a float's square (1e19) have no float decomposition: kept as they are.
   const bool decomposed = std::isfinite(glm::determinant(glm::mat3(trs)));
   if (!decomposed || isTrsMatrix(m, trs)) return m;
-  warnings.push_back(fmt::format("node '{}': its matrix shears or projects, which glTF forbids (a matrix must be "
+  warnings.push_back(fmt::format("{}: its matrix shears or projects, which glTF forbids (a matrix must be "
                                  "translation * rotation * scale); drawn as its translation, rotation and scale",
-                                 node.name));
+                                 where));
   return trs;
 }
 
-Expected<glm::mat4> localMatrix(const tinygltf::Node& node, std::vector<std::string>& warnings) {
+Expected<glm::mat4> localMatrix(const tinygltf::Node& node, const std::string& where, std::vector<std::string>& warnings) {
   if (!node.matrix.empty()) {  // glTF allows matrix or TRS; with both, tinygltf keeps only the matrix
     if (node.matrix.size() != 16) return makeError(fmt::format("matrix has {} elements, expected 16", node.matrix.size()));
     glm::mat4 m(1.0f);
     for (std::size_t i = 0; i < 16; ++i) {  // glTF and GLM are both column-major
       ENGINE_TRY_ASSIGN(glm::value_ptr(m)[i], toFiniteFloat(node.matrix[i], "matrix element"));
     }
-    return trsPartOf(m, node, warnings);
+    return trsPartOf(m, where, warnings);
   }
   auto vectorOf = [](const std::vector<double>& values, std::size_t size, const char* name, glm::vec4 fallback) -> Expected<glm::vec4> {
     if (values.empty()) return fallback;
@@ -645,7 +645,7 @@ Expected<std::vector<NodeData>> convertNodes(ImportContext& context, const std::
     NodeData data;
     data.name = node.name;
     data.parent = outParent;
-    ENGINE_TRY_ASSIGN(data.local, localMatrix(node, context.warnings).withContext(where));
+    ENGINE_TRY_ASSIGN(data.local, localMatrix(node, where, context.warnings).withContext(where));
     data.world = outParent == -1 ? data.local : out[std::size_t(outParent)].world * data.local;
     if (!isFinite(data.world)) return makeError(fmt::format("{}: world matrix is not finite", where));
     data.mesh = node.mesh;

@@ -310,8 +310,8 @@ TEST(GltfLoaderHierarchy, ANodeMatrixThatShearsOrProjectsIsDrawnAsItsTrsPart) {
     SCOPED_TRACE(scene->nodes[n].name);
     expectMatrixRelativelyNear(scene->nodes[n].world, entityWorld(*scene, n), 3.0f);
   }
-  EXPECT_TRUE(anyWarningContains(*scene, "node 'sheared': its matrix shears or projects"));
-  EXPECT_TRUE(anyWarningContains(*scene, "node 'projective': its matrix shears or projects"));
+  EXPECT_TRUE(anyWarningContains(*scene, "'sheared': its matrix shears or projects"));
+  EXPECT_TRUE(anyWarningContains(*scene, "'projective': its matrix shears or projects"));
   EXPECT_FALSE(anyWarningContains(*scene, "'mirrored'"));
   EXPECT_FALSE(anyWarningContains(*scene, "'child'"));
   const NodeData& kept = scene->nodes[3];
