@@ -21,6 +21,7 @@
 
 #include "engine/core/log.h"
 #include "engine/scene/gltf/gltf_compression.h"
+#include "engine/scene/transform.h"
 
 namespace engine::scene::gltf {
 namespace {
@@ -106,6 +107,7 @@ struct PrimitiveRef {
   const tinygltf::Primitive& primitive;
   int indices = -1;                          // index accessor, -1 none
   const DracoExtension* draco = nullptr;     // KHR_draco_mesh_compression, when compressed
+  const std::vector<double>& morphWeights;   // the mesh's default morph target weights (may be empty)
 };
 
 Expected<std::vector<std::uint32_t>> readPrimitiveTriangles(ImportContext& context, const PrimitiveRef& ref,
@@ -199,6 +201,37 @@ Expected<std::vector<glm::vec3>> readOrGenerateNormals(ImportContext& context, c
   return normals;
 }
 
+// glTF's shape of a mesh with morph targets when nothing animates it: the base plus each target's
+// offsets (`semantic`: POSITION or NORMAL) times the mesh's default weight (a shape key an artist
+// left at a non-zero value is exported so). Targets of weight 0 are not read.
+Status addMorphTargets(ImportContext& context, const PrimitiveRef& ref, const char* semantic, std::vector<glm::vec3>& values) {
+  const auto& targets = ref.primitive.targets;
+  const auto& weights = ref.morphWeights;
+  if (targets.empty() || weights.empty()) return {};
+  if (weights.size() != targets.size())
+    return makeError(fmt::format("the mesh has {} morph weights for {} morph targets", weights.size(), targets.size()));
+  for (std::size_t t = 0; t < targets.size(); ++t) {
+    const std::string where = fmt::format("morph target {} {}", t, semantic);
+    ENGINE_TRY_ASSIGN(const float weight, toFiniteFloat(weights[t], "morph weight").withContext(where));
+    const auto accessor = targets[t].find(semantic);
+    if (weight == 0.0f || accessor == targets[t].end()) continue;
+    ENGINE_TRY_ASSIGN(const auto offsets, readVec3(context, accessor->second).withContext(where));
+    if (offsets.size() != values.size())
+      return makeError(fmt::format("{}: {} elements for {} vertices", where, offsets.size(), values.size()));
+    for (std::size_t v = 0; v < values.size(); ++v) values[v] += weight * offsets[v];
+  }
+  return {};
+}
+
+// Morphed normals are sums of unit vectors and offsets: normalized again (a zero sum keeps +Y, as
+// smoothNormals does).
+void renormalize(std::vector<glm::vec3>& normals) {
+  for (auto& n : normals) {
+    const float length = glm::length(n);
+    n = length > 0.0f && std::isfinite(length) ? n / length : glm::vec3(0.0f, 1.0f, 0.0f);
+  }
+}
+
 Expected<MeshPrimitiveData> convertTrianglePrimitive(ImportContext& context, const PrimitiveRef& ref) {
   const auto& primitive = ref.primitive;
   if (findAttribute(primitive, "POSITION") == -2) return makeError("has no POSITION attribute");
@@ -209,9 +242,15 @@ Expected<MeshPrimitiveData> convertTrianglePrimitive(ImportContext& context, con
     ENGINE_TRY_ASSIGN(out, readUncompressedGeometry(context, ref));
   }
 
+  const bool morphed = !ref.draco && !primitive.targets.empty() && !ref.morphWeights.empty();
+  if (morphed) ENGINE_TRY(addMorphTargets(context, ref, "POSITION", out.positions));
   if (out.normals.empty()) {  // not decoded from Draco with the positions
     out.flatNormals = findAttribute(primitive, "NORMAL") == -2;
     ENGINE_TRY_ASSIGN(out.normals, readOrGenerateNormals(context, primitive, out));
+    if (morphed && !out.flatNormals) {  // generated normals already follow the morphed positions
+      ENGINE_TRY(addMorphTargets(context, ref, "NORMAL", out.normals));
+      renormalize(out.normals);
+    }
   }
 
   if (primitive.material != -1 && !inRange(primitive.material, context.model.materials))
@@ -227,7 +266,8 @@ Expected<PrimitiveRef> primitiveRef(const ImportContext& context, int meshIndex,
   if (m >= plan.primitiveIndices.size() || p >= plan.primitiveIndices[m].size())
     return makeError("internal error: the primitive is missing from the extension plan");
   const auto& draco = plan.draco[m][p];
-  return PrimitiveRef{context.model.meshes[m].primitives[p], plan.primitiveIndices[m][p], draco ? &*draco : nullptr};
+  const auto& mesh = context.model.meshes[m];
+  return PrimitiveRef{mesh.primitives[p], plan.primitiveIndices[m][p], draco ? &*draco : nullptr, mesh.weights};
 }
 
 bool isTriangleMode(int mode) {
@@ -250,6 +290,8 @@ Expected<MeshData> convertMesh(ImportContext& context, int meshIndex) {
     if (!isTriangleMode(primitive.mode)) return makeError(fmt::format("{}: unknown mode {}", where, primitive.mode));
     ENGINE_TRY_ASSIGN(const PrimitiveRef ref, primitiveRef(context, meshIndex, p).withContext(where));
     ENGINE_TRY_ASSIGN(auto converted, convertTrianglePrimitive(context, ref).withContext(where));
+    if (ref.draco && !primitive.targets.empty() && !mesh.weights.empty())  // libdraco may reorder the points
+      context.warnings.push_back(fmt::format("{}: morph targets of a Draco-compressed primitive are not applied", where));
     if (converted.indices.empty()) {  // a strip or fan of fewer than 3 vertices: nothing to draw
       context.warnings.push_back(fmt::format("{}: mode {} with fewer than 3 vertices has no triangles, skipped", where,
                                              primitive.mode));
@@ -349,14 +391,42 @@ Expected<glm::mat4> trsMatrix(const glm::vec3& t, const glm::vec4& r, const glm:
   return glm::translate(glm::mat4(1.0f), t) * glm::mat4_cast(q) * glm::scale(glm::mat4(1.0f), s);
 }
 
-Expected<glm::mat4> localMatrix(const tinygltf::Node& node) {
+// Whether `m` is its own TRS decomposition up to an exporter's rounding (4 digits): the 3x3 part within 1e-4
+// of its longest column, the bottom row (0, 0, 0, 1) within 1e-6.
+bool isTrsMatrix(const glm::mat4& m, const glm::mat4& trs) {
+  float longest = 0.0f;
+  for (int c = 0; c < 3; ++c) longest = std::max(longest, glm::length(glm::vec3(m[c])));
+  for (int c = 0; c < 3; ++c)
+    for (int r = 0; r < 3; ++r)
+      if (!(std::abs(m[c][r] - trs[c][r]) <= 1e-4f * longest)) return false;
+  for (int c = 0; c < 4; ++c)
+    if (!(std::abs(m[c][3] - trs[c][3]) <= 1e-6f)) return false;
+  return true;
+}
+
+// glTF requires a node's `matrix` to be translation * rotation * scale, but some exporters write
+// shear or a projective row. An entity's Transform holds TRS only, so the triangles would be drawn
+// by the TRS part and the SDF baked by the whole matrix: every path takes the TRS part, with a
+// warning naming the node (`where`).
+glm::mat4 trsPartOf(const glm::mat4& m, const std::string& where, std::vector<std::string>& warnings) {
+  const glm::mat4 trs = toMatrix(fromMatrix(m));
+  // Columns too long for a float's square (1e19) have no float decomposition: kept as they are.
+  const bool decomposed = std::isfinite(glm::determinant(glm::mat3(trs)));
+  if (!decomposed || isTrsMatrix(m, trs)) return m;
+  warnings.push_back(fmt::format("{}: its matrix shears or projects, which glTF forbids (a matrix must be "
+                                 "translation * rotation * scale); drawn as its translation, rotation and scale",
+                                 where));
+  return trs;
+}
+
+Expected<glm::mat4> localMatrix(const tinygltf::Node& node, const std::string& where, std::vector<std::string>& warnings) {
   if (!node.matrix.empty()) {  // glTF allows matrix or TRS; with both, tinygltf keeps only the matrix
     if (node.matrix.size() != 16) return makeError(fmt::format("matrix has {} elements, expected 16", node.matrix.size()));
     glm::mat4 m(1.0f);
     for (std::size_t i = 0; i < 16; ++i) {  // glTF and GLM are both column-major
       ENGINE_TRY_ASSIGN(glm::value_ptr(m)[i], toFiniteFloat(node.matrix[i], "matrix element"));
     }
-    return m;
+    return trsPartOf(m, where, warnings);
   }
   auto vectorOf = [](const std::vector<double>& values, std::size_t size, const char* name, glm::vec4 fallback) -> Expected<glm::vec4> {
     if (values.empty()) return fallback;
@@ -575,12 +645,18 @@ Expected<std::vector<NodeData>> convertNodes(ImportContext& context, const std::
     NodeData data;
     data.name = node.name;
     data.parent = outParent;
-    ENGINE_TRY_ASSIGN(data.local, localMatrix(node).withContext(where));
+    ENGINE_TRY_ASSIGN(data.local, localMatrix(node, where, context.warnings).withContext(where));
     data.world = outParent == -1 ? data.local : out[std::size_t(outParent)].world * data.local;
     if (!isFinite(data.world)) return makeError(fmt::format("{}: world matrix is not finite", where));
     data.mesh = node.mesh;
     if (node.extras.Type() != tinygltf::NULL_TYPE) data.extras = toJson(node.extras).dump();
     data.camera = node.camera == -1 ? -1 : cameraRemap[std::size_t(node.camera)];
+    if (node.mesh != -1 && !node.weights.empty() && node.weights != model.meshes[std::size_t(node.mesh)].weights)
+      context.warnings.push_back(fmt::format("{}: its own morph weights are not applied (its mesh's are, to every node)", where));
+    if (node.mesh != -1 && node.skin != -1)
+      context.warnings.push_back(fmt::format("{}: skin {} ignored: the mesh is drawn as its vertices lie in the file (the "
+                                             "bind pose), placed by this node, not by the skin's joints",
+                                             where, node.skin));
     std::vector<glm::mat4> instances;
     if (node.mesh == -1 && node.extensions.count(std::string(kInstancingExtension)) != 0) {
       // Nothing to instance: the extension is not read, so its contents cannot fail the file.

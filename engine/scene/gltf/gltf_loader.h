@@ -17,7 +17,10 @@
 //    are optional (0..n-1 when absent) and may be of any glTF index type. Points and lines, and
 //    strips or fans of fewer than 3 vertices, are skipped with a warning. Vertex attributes may be
 //    float or normalized/integer (KHR_mesh_quantization); accessors may be sparse, and an accessor
-//    without a bufferView is zeros (plus its sparse values), as glTF defines it.
+//    without a bufferView is zeros (plus its sparse values), as glTF defines it. Morph targets
+//    are applied with the mesh's default `weights` (POSITION and NORMAL offsets; a count unlike the
+//    targets' is an error); a node's own `weights`, a Draco primitive's targets and skins are not
+//    applied (a warning each: a skinned mesh is drawn in its file pose, placed by its node).
 //  - compression: KHR_draco_mesh_compression primitives (libdraco) and EXT_meshopt_compression
 //    bufferViews (libmeshoptimizer, every mode and filter) are decoded; decoded counts must match
 //    the accessors, and decoded bytes count against the same budget as other decoded geometry.
@@ -31,7 +34,9 @@
 //    zfar > znear >= 0; a bad value is an error naming the camera and the field); another type is
 //    refused by the parser.
 //  - nodes: local matrix (from `matrix` or translation/rotation/scale; `matrix` wins when a node
-//    has both, which glTF forbids) and world matrix.
+//    has both, which glTF forbids) and world matrix. A `matrix` that shears or projects (glTF
+//    forbids both) is replaced by its translation, rotation and scale with a warning, so that the
+//    triangles (entities hold TRS transforms) and the baked SDF place the node alike.
 // Images are never read or decoded (textures are not imported). A file without meshes is valid and
 // gives a SceneData with empty meshes.
 #include <cstdint>

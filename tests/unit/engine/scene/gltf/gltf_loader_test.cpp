@@ -21,6 +21,7 @@
 #include <nlohmann/json.hpp>
 
 #include "engine/core/files.h"
+#include "engine/scene/transform.h"
 
 namespace engine::scene {
 namespace {
@@ -271,6 +272,54 @@ TEST(GltfLoaderHierarchy, WorldMatricesMatchHandComputedOnes) {
   EXPECT_EQ(nodes[3].parent, -1);
 }
 
+// The world matrix the entities compose (instantiateScene gives each node the Transform
+// fromMatrix(local) and the hierarchy multiplies them): what the mesh method draws.
+glm::mat4 entityWorld(const SceneData& scene, std::size_t n) {
+  const NodeData& node = scene.nodes[n];
+  const glm::mat4 local = toMatrix(fromMatrix(node.local));
+  return node.parent < 0 ? local : entityWorld(scene, std::size_t(node.parent)) * local;
+}
+
+void expectMatrixRelativelyNear(const glm::mat4& actual, const glm::mat4& expected, float scale) {
+  for (int c = 0; c < 4; ++c)
+    for (int r = 0; r < 4; ++r) EXPECT_NEAR(actual[c][r], expected[c][r], 1e-5f * scale) << "column " << c << " row " << r;
+}
+
+// Tricky because glTF forbids a `matrix` that shears or projects, yet exporters write them, and an
+// entity's Transform can only hold translation, rotation and scale: the triangles were drawn by
+// the matrix's TRS part while the SDF was baked from node.world with the shear (a box drawn upright
+// by the mesh method, leaning by the SDF methods). Every node's world must be what the entities
+// compose, under a sheared parent too; a valid matrix that mirrors and scales by 1e-3 on one axis
+// (a decomposition with an absolute epsilon would lose it) is kept as written, without a warning.
+TEST(GltfLoaderHierarchy, ANodeMatrixThatShearsOrProjectsIsDrawnAsItsTrsPart) {
+  GltfBuilder b;
+  const int mesh = b.addIndexedMesh(kTriangle, {0, 1, 2});
+  const int child = b.addNode({{"name", "child"}, {"mesh", mesh}, {"translation", {0.0, 1.0, 0.0}}});
+  const json shear = {1, 0, 0, 0, 0.8, 1, 0, 0, 0, 0, 1, 0, 2, 0, 0, 1};  // column-major: x += 0.8 y
+  b.addNode({{"name", "sheared"}, {"mesh", mesh}, {"matrix", shear}, {"children", {child}}});
+  const json projective = {1, 0, 0, 0.2, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1};
+  b.addNode({{"name", "projective"}, {"mesh", mesh}, {"matrix", projective}});
+  // Rotated 90 degrees about z, scaled (-2, 3, 1e-3): columns (0, -2, 0), (-3, 0, 0), (0, 0, 1e-3).
+  const json mirrored = {0, -2, 0, 0, -3, 0, 0, 0, 0, 0, 1e-3, 0, 5, 6, 7, 1};
+  b.addNode({{"name", "mirrored"}, {"mesh", mesh}, {"matrix", mirrored}});
+  const auto scene = load(b);
+  ASSERT_TRUE(scene.ok()) << scene.error().message;
+  ASSERT_EQ(scene->nodes.size(), 4u);
+
+  for (std::size_t n = 0; n < scene->nodes.size(); ++n) {
+    SCOPED_TRACE(scene->nodes[n].name);
+    expectMatrixRelativelyNear(scene->nodes[n].world, entityWorld(*scene, n), 3.0f);
+  }
+  EXPECT_TRUE(anyWarningContains(*scene, "'sheared': its matrix shears or projects"));
+  EXPECT_TRUE(anyWarningContains(*scene, "'projective': its matrix shears or projects"));
+  EXPECT_FALSE(anyWarningContains(*scene, "'mirrored'"));
+  EXPECT_FALSE(anyWarningContains(*scene, "'child'"));
+  const NodeData& kept = scene->nodes[3];
+  ASSERT_EQ(kept.name, "mirrored");
+  for (int c = 0; c < 4; ++c)
+    for (int r = 0; r < 4; ++r) EXPECT_EQ(kept.local[c][r], float(mirrored[std::size_t(c * 4 + r)].get<double>()));
+}
+
 // Tricky because the file lists the orthographic camera first: both cameras must be kept in file
 // order with the nodes' references intact, and each keeps only its own projection's fields (the
 // orthographic one its magnifications and finite far plane, the perspective one its field of view).
@@ -397,6 +446,79 @@ TEST(GltfLoaderFeatures, NodeExtrasKeptAsJson) {
   ASSERT_EQ(scene->nodes.size(), 2u);
   EXPECT_EQ(json::parse(scene->nodes[0].extras), extras);
   EXPECT_TRUE(scene->nodes[1].extras.empty());
+}
+
+// A triangle with +Z normals and two morph targets: target 0 lifts every vertex by (0, 0, 1) and
+// tilts the normals by (1, 0, 0); target 1 is sparse without a bufferView (zeros plus (2, 0, 0) at
+// vertex 1), as exporters write a shape key that moves few vertices.
+GltfBuilder morphScene(const json& meshWeights) {
+  GltfBuilder b;
+  const int positions = b.addPositions(kTriangle);
+  const int normals = b.addPositions({{0, 0, 1}, {0, 0, 1}, {0, 0, 1}});
+  const int lift = b.addPositions({{0, 0, 1}, {0, 0, 1}, {0, 0, 1}});
+  const int tilt = b.addPositions({{1, 0, 0}, {1, 0, 0}, {1, 0, 0}});
+  const std::vector<std::uint32_t> sparseIndex = {1};
+  const int indexView = b.addView(b.addData(sparseIndex), 4);
+  const std::vector<float> sparseValue = {2, 0, 0};
+  const int valueView = b.addView(b.addData(sparseValue), 12);
+  const int moved = int(b.doc()["accessors"].size());
+  b.doc()["accessors"].push_back({{"componentType", kFloat}, {"count", 3}, {"type", "VEC3"},
+                                  {"sparse", {{"count", 1},
+                                              {"indices", {{"bufferView", indexView}, {"componentType", kUnsignedInt}}},
+                                              {"values", {{"bufferView", valueView}}}}}});
+  const json primitive = {{"attributes", {{"POSITION", positions}, {"NORMAL", normals}}},
+                          {"targets", json::array({json{{"POSITION", lift}, {"NORMAL", tilt}}, json{{"POSITION", moved}}})}};
+  json mesh = {{"primitives", json::array({primitive})}};
+  if (!meshWeights.is_null()) mesh["weights"] = meshWeights;
+  b.doc()["meshes"] = json::array({mesh});
+  b.addNode({{"name", "shape"}, {"mesh", 0}});
+  return b;
+}
+
+// Tricky because glTF defines a morphed mesh's shape without animation as the base plus the
+// targets weighted by the mesh's default `weights`: a shape key an artist left at 0.5 was dropped,
+// so the mesh method and the SDF drew the base shape. Each weight must scale its own target (a
+// swapped weight moves vertex 1 by 1.0 in x instead of 0.5), a sparse target must add only its
+// vertex, normals must take the NORMAL offsets and be normalized again, and targets without weights
+// are the base shape. A weight count that is not the target count is an error naming both.
+TEST(GltfLoaderFeatures, MorphTargetsTakeTheMeshsDefaultWeights) {
+  GltfBuilder weighted = morphScene({0.5, 0.25});
+  const auto scene = load(weighted);
+  ASSERT_TRUE(scene.ok()) << scene.error().message;
+  const auto& primitive = scene->meshes.at(0).primitives.at(0);
+  expectNear(primitive.positions[0], {0, 0, 0.5f});
+  expectNear(primitive.positions[1], {1.5f, 0, 0.5f});
+  expectNear(primitive.positions[2], {0, 1, 0.5f});
+  for (const auto& n : primitive.normals) expectNear(n, glm::normalize(glm::vec3(0.5f, 0, 1)));
+  const auto soup = flattenTriangles(*scene);
+  ASSERT_EQ(soup.positions.size(), 3u);
+  expectNear(soup.positions[1], {1.5f, 0, 0.5f});
+
+  GltfBuilder unweighted = morphScene(nullptr);
+  const auto base = load(unweighted);
+  ASSERT_TRUE(base.ok()) << base.error().message;
+  for (std::size_t v = 0; v < 3; ++v) expectNear(base->meshes[0].primitives[0].positions[v], kTriangle[v], 0.0f);
+
+  GltfBuilder miscounted = morphScene({0.5, 0.25, 1.0});
+  expectError(load(miscounted), "case.gltf", {"mesh 0", "the mesh has 3 morph weights for 2 morph targets"});
+}
+
+// Tricky because what the importer does not apply must be said, naming the node: a node's own
+// morph weights (the mesh's are applied to every node that places it) and a skin (the mesh stays in
+// the pose its vertices are written in). A node repeating its mesh's weights is not warned about.
+TEST(GltfLoaderFeatures, NodeMorphWeightsAndSkinsAreNamedWhenIgnored) {
+  GltfBuilder b = morphScene({0.5, 0.25});
+  b.addNode({{"name", "own_weights"}, {"mesh", 0}, {"weights", {1.0, 0.0}}});
+  b.addNode({{"name", "same_weights"}, {"mesh", 0}, {"weights", {0.5, 0.25}}});
+  const int joint = b.addNode({{"name", "joint"}});
+  b.addNode({{"name", "skinned"}, {"mesh", 0}, {"skin", 0}});
+  b.doc()["skins"] = json::array({{{"joints", {joint}}}});
+  const auto scene = load(b);
+  ASSERT_TRUE(scene.ok()) << scene.error().message;
+  EXPECT_TRUE(anyWarningContains(*scene, "'own_weights': its own morph weights are not applied"));
+  EXPECT_FALSE(anyWarningContains(*scene, "'same_weights'"));
+  EXPECT_FALSE(anyWarningContains(*scene, "'shape'"));
+  EXPECT_TRUE(anyWarningContains(*scene, "'skinned': skin 0 ignored"));
 }
 
 // Tricky because a file without meshes (or nodes) is valid glTF and must not be mistaken for an
