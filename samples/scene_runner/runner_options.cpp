@@ -134,7 +134,8 @@ ParseResult parseOptions(int argc, const char* const* argv) {
       ->check(CLI::ExistingFile);
   app.add_option("--save-settings", options.saveSettings, "write the resulting settings to this JSON file");
   app.add_option("--scene", options.scene, "glTF/GLB scene to load")->check(CLI::ExistingFile);
-  app.add_option("--sdf", options.sdfFile, "draw a .hsdf file baked by hsdf_bake (replaces the default scene)")
+  app.add_option("--sdf", options.sdfFile, "draw a .hsdf file baked by hsdf_bake (replaces the default scene; with --scene G, drawn among G's "
+                 "triangle meshes, from G's cameras)")
       ->check(CLI::ExistingFile);
   app.add_flag("--headless", options.headless, "render offscreen without a window");
   samples::addSizeOption(app, options.width, options.height, "image size WxH (default 1280x720)");

@@ -27,3 +27,8 @@ seed("tetrahedron_k8.bin", 8, 1, 0, tet, tet_t)
 seed("cube_k10_narrow_refine2.bin", 10, 2, 1 | 4, cube, cube_t)  # narrow band, refinement depth 2
 seed("tetrahedron_k6_wide_indices.bin", 6, 0, 0, tet, tet_t, wide=True)
 seed("open_triangle_k5.bin", 5, 1, 0, tet[:3], [(0, 1, 2)])  # an open sheet: no volume
+seed("open_triangle_shell_k6.bin", 6, 1, 32 | 64, tet[:3], [(0, 1, 2)])  # a shell 2^-4 thick: bakes
+# A triangle 1e-45 across in a shell 16 thick: grid points 1e46 of its sizes away overflowed the
+# closest-point tree's float coordinates (a crash, found by the replay's mutations).
+seed("denormal_triangle_thick_shell_k5.bin", 5, 1, 1 | 32 | 128, [(1.4e-45, 0, 0), (0, 1.4e-45, 0), (0, 0, 1.4e-45)],
+     [(0, 1, 2)])

@@ -67,6 +67,7 @@ int runBake(const BakeRequest& request) {
   if (auto output = checkOutput(request); !output) return fail(output.error().message);
   auto source = BakeSource::fromPathOrShape(request.input);
   if (!source) return fail(source.error().message);
+  source->shellThickness = request.shell;
   auto prepared = prepareSource(*source);
   if (!prepared) return fail(prepared.error().withContext(request.input).message);
   std::printf("input: %s\n", prepared->description.c_str());
@@ -75,6 +76,12 @@ int runBake(const BakeRequest& request) {
   if (!grid) return fail(grid.error().message);
   std::printf("grid: K=%d, spacing %.9g, origin (%.9g, %.9g, %.9g), padding %d\n", grid->resolution, grid->spacing,
               grid->origin.x, grid->origin.y, grid->origin.z, request.padding);
+  // Both faces of a shell thinner than a cell lie between the same samples: half a cell bakes rough
+  // (the bunny at K = 128), a twentieth with holes.
+  if (request.shell > 0.0 && request.shell < grid->spacing)
+    std::printf("warning: --shell %g is thinner than a grid cell (%g): the shell bakes rough, and with holes when far "
+                "thinner; a larger --resolution or a thicker --shell resolves it\n",
+                request.shell, grid->spacing);
 
   const auto bakeStart = std::chrono::steady_clock::now();
   ProgressBar bar(settings.band == BakeBand::Sparse ? "baking (sparse cells)" : "baking (dense)", stderr);

@@ -26,6 +26,10 @@ int main(int argc, char** argv) {
   app.add_option("--refine", request.refineDepth, "de Casteljau refinement depth for ambiguous cells (0..2)")
       ->capture_default_str()
       ->check(CLI::Range(0, 2));
+  app.add_option("--shell", request.shell,
+                 "bake the triangles as a shell this thick (mesh units) instead of the solid they bound: for "
+                 "surfaces without an inside (a zero-thickness wall, cloth, an open cup, a sheet)")
+      ->check(CLI::PositiveNumber);
   app.add_flag("--false-positives", request.falsePositives,
                "count kept cells that dense sampling (17^3 points) finds empty");
   app.add_option("-j,--threads", request.threads, "worker threads (0: all, at most 256)")

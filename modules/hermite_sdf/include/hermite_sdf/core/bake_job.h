@@ -31,6 +31,9 @@ struct BakeSource {
   // The triangles' materials (materials.h): a palette and a slot per triangle when they use two or
   // more, else null or empty (then the asset has no palette and the entity's colour shades it).
   std::shared_ptr<const MeshMaterials> materials;
+  // Triangles only: above 0, bake them as a shell of this thickness in the triangles' units
+  // (MeshSourceOptions::shellThickness), for surfaces without an inside; 0 bakes the solid they bound.
+  double shellThickness = 0.0;
 
   static BakeSource fromTriangles(std::string name, engine::scene::TriangleSoup triangles);
   static BakeSource fromShape(std::string shapeName);

@@ -34,6 +34,8 @@
 //   measured to, the deepest part's inside overlapping parts); on the surface itself (distance below
 //   1e-12 of the mesh size) the unit normal of the closest feature: the face's, or on an edge or a
 //   vertex its pseudonormal where the mesh has them (else the closest triangle's normal).
+// - Shells (MeshSourceOptions::shellThickness): |d| - thickness / 2 with the same distance, and no
+//   sign at all: for surfaces without an inside.
 // - Degenerate input: no triangles, an index count that is not a multiple of 3, indices out of
 //   range, NaN/inf coordinates are errors naming the problem. Zero-area triangles (repeated
 //   vertices, collinear corners: height below 1e-12 of the longest edge) are dropped: they bound
@@ -78,6 +80,14 @@ struct MeshSourceOptions {
   // mesh of several materials: each sample then reports its closest triangle's slot. Empty: one
   // material (samples report slot 0 and materialSlots() is 0).
   std::vector<std::uint8_t> triangleSlots;
+  // Above 0: the mesh is a shell of this thickness around its triangles, f = |d| - thickness / 2,
+  // for surfaces with no inside (zero-thickness walls, cloth, cards, an open cup) that the
+  // winding number would fill (a cup baked solid to its rim) or refuse (a sheet bounds no volume).
+  // Nothing is signed or dropped: no winding number is computed. The field is exact outside the
+  // shell; its middle (on the triangles) is a crease of f = -thickness / 2, where no surface is.
+  // A shell thinner than a grid cell bakes rough, and with holes when far thinner: both of its faces
+  // then lie between the same samples.
+  double shellThickness = 0.0;
 };
 
 struct MeshSourceStats {

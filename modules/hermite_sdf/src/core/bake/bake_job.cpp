@@ -21,7 +21,7 @@ namespace {
 // Share of the progress bar the field bake takes; classification takes the rest.
 constexpr float kBakeShare = 0.9f;
 
-std::string describeMesh(const std::string& name, const MeshSourceStats& s) {
+std::string describeMesh(const std::string& name, const MeshSourceStats& s, double shellThickness) {
   std::string description = fmt::format("{}: mesh, {} triangles", name, s.triangles);
   if (s.droppedZeroArea > 0) description += fmt::format(" ({} zero-area dropped)", s.droppedZeroArea);
   if (s.droppedInterior > 0)
@@ -29,6 +29,7 @@ std::string describeMesh(const std::string& name, const MeshSourceStats& s) {
   if (s.droppedOpen > 0)
     description += fmt::format(" ({} dropped: open parts that bound no volume, such as a sheet)", s.droppedOpen);
   description += s.closed ? ", closed" : fmt::format(", open ({} boundary edges)", s.boundaryEdges);
+  if (shellThickness > 0.0) return description + fmt::format(", a shell {:g} thick", shellThickness);
   description += s.pseudoNormalSign    ? ", sign from pseudonormals"
                  : s.partsMisoriented ? ", sign from the winding number (parts nested with the same orientation or "
                                         "turned inside out)"
@@ -142,13 +143,17 @@ engine::Expected<PreparedSource> prepareSource(const BakeSource& source) {
       options.triangleSlots = source.materials->triangleSlots;
       prepared.palette = source.materials->palette;
     }
+    options.shellThickness = source.shellThickness;
     ENGINE_TRY_ASSIGN(std::unique_ptr<MeshSource> mesh, MeshSource::create(*source.triangles, options));
-    prepared.description = describeMesh(source.name, mesh->stats());
+    prepared.description = describeMesh(source.name, mesh->stats(), source.shellThickness);
     if (!prepared.palette.empty()) prepared.description += fmt::format(", {} materials", prepared.palette.size());
     prepared.droppedTriangles = mesh->stats().droppedOpen + mesh->stats().droppedInterior;
     prepared.source = std::move(mesh);
     return prepared;
   }
+  if (source.shellThickness != 0.0)
+    return engine::makeError(fmt::format("{}: a shell is baked around triangles; an analytic shape has none",
+                                         source.shape));
   ENGINE_TRY_ASSIGN(prepared.source, makeAnalyticSource(source.shape));
   prepared.description = fmt::format("{}: analytic shape", source.shape);
   return prepared;

@@ -38,6 +38,8 @@ constexpr double kRelativeMargin = 1e-5;
 // Stack bound: the wide tree is no deeper than the binary one (depth <= ~75, see mesh_bvh.cpp) and
 // each visited node pushes at most 3 entries beyond the one it replaces.
 constexpr int kStackSize = 256;
+// Farthest float query coordinate, in mesh units: its square summed over three axes stays finite.
+constexpr double kFarthest = 1e18;
 constexpr float kUnusedExtent = -1e30f;  // gives an unused lane an infinite bound
 constexpr float kInfinityF = std::numeric_limits<float>::infinity();
 constexpr double kInfinity = std::numeric_limits<double>::infinity();
@@ -236,7 +238,12 @@ ClosestHit ClosestPointTree::find(const glm::dvec3& p, const ClosestHit& seed) c
   hit = seed;
   hit.prunedBoundSquared = std::numeric_limits<double>::infinity();
   const glm::dvec3 local = p - origin_;
-  const glm::dvec3 scaled = local * inverseUnit_;
+  glm::dvec3 scaled = local * inverseUnit_;
+  // A query more than ~1e38 mesh sizes away (a shell far thicker than a tiny mesh) overflowed the
+  // float coordinates, and the bounds became inf and NaN. Moved toward the mesh along the same line,
+  // to kFarthest units, it is nearer every box than p is (the boxes lie within 2 units of origin_),
+  // so the bounds stay lower bounds and nothing is pruned wrongly; distances are taken from p.
+  if (const double far = glm::length(scaled); far > kFarthest) scaled *= kFarthest / far;
   const float q[3] = {float(scaled.x), float(scaled.y), float(scaled.z)};
   const double margin = kRelativeMargin * (radius_ + glm::length(local));
   search.threshold = pruneThreshold(boundSquared, margin);

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <optional>
+#include <span>
 #include <unordered_map>
 
 namespace hsdf::mesh {
@@ -55,6 +56,109 @@ Bounds alignedBounds(const OrientedBox& box) {
 
 bool overlap(const Bounds& x, const Bounds& y) {
   return glm::all(glm::lessThanEqual(x.lo, y.hi)) && glm::all(glm::lessThanEqual(y.lo, x.hi));
+}
+
+// Twice the area of BVH triangle t.
+double doubleArea(const TriangleBvh& bvh, std::uint32_t t) {
+  return glm::length(glm::cross(bvh.corner(t, 1) - bvh.corner(t, 0), bvh.corner(t, 2) - bvh.corner(t, 0)));
+}
+
+// Connected parts: triangles joined by welded vertices (union-find over the vertices).
+struct Parts {
+  std::vector<std::uint32_t> of;  // part of each BVH triangle, 0..count-1
+  std::uint32_t count = 0;
+};
+
+Parts connectedParts(const TriangleBvh& bvh, const std::vector<std::uint32_t>& vertexOf) {
+  std::vector<std::uint32_t> parent(vertexOf.empty() ? 0 : *std::max_element(vertexOf.begin(), vertexOf.end()) + 1);
+  for (std::uint32_t v = 0; v < parent.size(); ++v) parent[v] = v;
+  const auto find = [&parent](std::uint32_t v) {
+    while (parent[v] != v) v = parent[v] = parent[parent[v]];
+    return v;
+  };
+  const auto triangles = static_cast<std::uint32_t>(bvh.triangleCount());
+  for (std::uint32_t t = 0; t < triangles; ++t)
+    for (int k = 1; k < 3; ++k) parent[find(vertexOf[3 * std::size_t(t) + std::size_t(k)])] = find(vertexOf[3 * std::size_t(t)]);
+  Parts parts;
+  std::vector<std::uint32_t> number(parent.size(), UINT32_MAX);
+  parts.of.resize(triangles);
+  for (std::uint32_t t = 0; t < triangles; ++t) {
+    std::uint32_t& n = number[find(vertexOf[3 * std::size_t(t)])];
+    if (n == UINT32_MAX) n = parts.count++;
+    parts.of[t] = n;
+  }
+  return parts;
+}
+
+// The BVH triangles of each part, in BVH order.
+std::vector<std::vector<std::uint32_t>> membersOf(const Parts& parts) {
+  std::vector<std::vector<std::uint32_t>> members(parts.count);
+  for (std::uint32_t t = 0; t < parts.of.size(); ++t) members[parts.of[t]].push_back(t);
+  return members;
+}
+
+// How far off triangle t the side points step. A millionth of the triangle's smallest altitude (a
+// sliver's length says nothing of how thin the part is): far less than the part's thickness or its
+// distance to another part, far enough that the triangle's own solid angle is ~2 pi, and above the
+// coordinates' rounding at `on`.
+glm::dvec3 sideStep(const TriangleBvh& bvh, std::uint32_t t, const glm::dvec3& on) {
+  const glm::dvec3 a = bvh.corner(t, 0), b = bvh.corner(t, 1), c = bvh.corner(t, 2);
+  const double longest = std::max({glm::length(b - a), glm::length(c - b), glm::length(a - c)});
+  const glm::dvec3 magnitude = glm::abs(on);
+  const double offset =
+      std::max(1e-6 * doubleArea(bvh, t) / longest, 1e-13 * std::max({magnitude.x, magnitude.y, magnitude.z}));
+  return offset * bvh.unitNormal(t);
+}
+
+// A winding number this far from 1/2 says inside or outside of an open mesh for sure.
+constexpr double kSeparatingMargin = 0.1;
+// Points sampled over the whole mesh, by area (at least one per part, at most kMaxPartSamples).
+constexpr double kOpenSamples = 4096.0;
+constexpr std::size_t kMaxPartSamples = 64;
+// Open parts that bound nothing alone (sheets) but close a volume together (a tube and caps that
+// share no vertex with it, six loose faces of a box) separate it across nearly all their area: only
+// near their seams does the winding number sit near 1/2. Sheets that cross in the open (foliage
+// cards in an X) separate at most the wedge on one side of the crossing, where both add up: about
+// half their area. Between the two, this share.
+constexpr double kTogetherShare = 0.75;
+
+// Sample j of the m that fall on triangle t: its centroid when alone, else the R2 low-discrepancy
+// sequence folded into the triangle. Distinct points matter on large triangles (a quad card, the
+// long sides of a cylinder pushed through a box): their centroids alone may all lie where the
+// triangle separates nothing, or all where it does.
+glm::dvec3 samplePoint(const TriangleBvh& bvh, std::uint32_t t, std::size_t j, std::size_t m) {
+  const glm::dvec3 a = bvh.corner(t, 0), b = bvh.corner(t, 1), c = bvh.corner(t, 2);
+  if (m == 1) return (a + b + c) / 3.0;
+  double u = 0.5 + 0.7548776662466927 * double(j), v = 0.5 + 0.5698402909980532 * double(j);
+  u -= std::floor(u);
+  v -= std::floor(v);
+  if (u + v > 1.0) {
+    u = 1.0 - u;
+    v = 1.0 - v;
+  }
+  return a + u * (b - a) + v * (c - a);
+}
+
+// The share of a part's samples (n, stratified by area: sample i on the triangle holding area
+// (i + 1/2) / n of the part) across which `winding` goes decisively from one side of 1/2 to the other.
+template <class Winding>
+double separatingShare(const TriangleBvh& bvh, const std::vector<std::uint32_t>& members, double partArea,
+                       std::size_t n, const Winding& winding) {
+  std::size_t separating = 0, sample = 0;
+  double before = 0.0;
+  for (const std::uint32_t t : members) {
+    before += doubleArea(bvh, t);
+    const std::size_t first = sample;
+    while (sample < n && (double(sample) + 0.5) / double(n) * partArea <= before) ++sample;
+    for (std::size_t j = first; j < sample; ++j) {
+      const glm::dvec3 p = samplePoint(bvh, t, j - first, sample - first);
+      const glm::dvec3 step = sideStep(bvh, t, p);
+      const double front = winding(p + step), back = winding(p - step);
+      const bool decisive = std::abs(front - 0.5) >= kSeparatingMargin && std::abs(back - 0.5) >= kSeparatingMargin;
+      separating += decisive && (front >= 0.5) != (back >= 0.5);
+    }
+  }
+  return double(separating) / double(n);
 }
 
 }  // namespace
@@ -120,66 +224,21 @@ bool hasSelfIntersections(const TriangleBvh& bvh, const std::vector<std::uint32_
   return false;
 }
 
-namespace {
-
-// Twice the area of BVH triangle t.
-double doubleArea(const TriangleBvh& bvh, std::uint32_t t) {
-  return glm::length(glm::cross(bvh.corner(t, 1) - bvh.corner(t, 0), bvh.corner(t, 2) - bvh.corner(t, 0)));
-}
-
-// Connected parts: triangles joined by welded vertices (union-find over the vertices).
-struct Parts {
-  std::vector<std::uint32_t> of;  // part of each BVH triangle, 0..count-1
-  std::uint32_t count = 0;
-};
-
-Parts connectedParts(const TriangleBvh& bvh, const std::vector<std::uint32_t>& vertexOf) {
-  std::vector<std::uint32_t> parent(vertexOf.empty() ? 0 : *std::max_element(vertexOf.begin(), vertexOf.end()) + 1);
-  for (std::uint32_t v = 0; v < parent.size(); ++v) parent[v] = v;
-  const auto find = [&parent](std::uint32_t v) {
-    while (parent[v] != v) v = parent[v] = parent[parent[v]];
-    return v;
-  };
-  const auto triangles = static_cast<std::uint32_t>(bvh.triangleCount());
-  for (std::uint32_t t = 0; t < triangles; ++t)
-    for (int k = 1; k < 3; ++k) parent[find(vertexOf[3 * std::size_t(t) + std::size_t(k)])] = find(vertexOf[3 * std::size_t(t)]);
-  Parts parts;
-  std::vector<std::uint32_t> number(parent.size(), UINT32_MAX);
-  parts.of.resize(triangles);
-  for (std::uint32_t t = 0; t < triangles; ++t) {
-    std::uint32_t& n = number[find(vertexOf[3 * std::size_t(t)])];
-    if (n == UINT32_MAX) n = parts.count++;
-    parts.of[t] = n;
-  }
-  return parts;
-}
-
-}  // namespace
-
 std::vector<std::vector<std::uint32_t>> connectedPartTriangles(const TriangleBvh& bvh,
                                                                const std::vector<std::uint32_t>& vertexOf) {
-  const Parts parts = connectedParts(bvh, vertexOf);
-  std::vector<std::vector<std::uint32_t>> members(parts.count);
-  for (std::uint32_t t = 0; t < parts.of.size(); ++t) members[parts.of[t]].push_back(t);
-  return members;
+  return membersOf(connectedParts(bvh, vertexOf));
 }
 
-namespace {
-
-// How far off triangle t the side points step. A millionth of the triangle's smallest altitude (a
-// sliver's length says nothing of how thin the part is): far less than the part's thickness or its
-// distance to another part, far enough that the triangle's own solid angle is ~2 pi, and above the
-// coordinates' rounding at `on`.
-glm::dvec3 sideStep(const TriangleBvh& bvh, std::uint32_t t, const glm::dvec3& on) {
-  const glm::dvec3 a = bvh.corner(t, 0), b = bvh.corner(t, 1), c = bvh.corner(t, 2);
-  const double longest = std::max({glm::length(b - a), glm::length(c - b), glm::length(a - c)});
-  const glm::dvec3 magnitude = glm::abs(on);
-  const double offset =
-      std::max(1e-6 * doubleArea(bvh, t) / longest, 1e-13 * std::max({magnitude.x, magnitude.y, magnitude.z}));
-  return offset * bvh.unitNormal(t);
+std::uint32_t largestTriangle(const TriangleBvh& bvh, std::span<const std::uint32_t> triangles) {
+  std::uint32_t largest = UINT32_MAX;
+  double largestArea = -1.0;
+  for (const std::uint32_t t : triangles)
+    if (const double area = doubleArea(bvh, t); area > largestArea) {
+      largestArea = area;
+      largest = t;
+    }
+  return largest;
 }
-
-}  // namespace
 
 // The winding numbers just in front of and just behind triangle t at its centroid.
 std::pair<double, double> windingBothSides(const TriangleBvh& bvh, std::uint32_t t, double windingBeta) {
@@ -187,22 +246,6 @@ std::pair<double, double> windingBothSides(const TriangleBvh& bvh, std::uint32_t
   const glm::dvec3 step = sideStep(bvh, t, centroid);
   return {bvh.windingNumber(centroid + step, windingBeta), bvh.windingNumber(centroid - step, windingBeta)};
 }
-
-namespace {
-
-// A winding number this far from 1/2 says inside or outside of an open mesh for sure.
-constexpr double kSeparatingMargin = 0.1;
-// Points sampled over the whole mesh, by area (at least one per part, at most kMaxPartSamples).
-constexpr double kOpenSamples = 4096.0;
-constexpr std::size_t kMaxPartSamples = 64;
-// Open parts that bound nothing alone (sheets) but close a volume together (a tube and caps that
-// share no vertex with it, six loose faces of a box) separate it across nearly all their area: only
-// near their seams does the winding number sit near 1/2. Sheets that cross in the open (foliage
-// cards in an X) separate at most the wedge on one side of the crossing, where both add up: about
-// half their area. Between the two, this share.
-constexpr double kTogetherShare = 0.75;
-
-}  // namespace
 
 // The corners of BVH triangles `triangles`, three per triangle: a BVH of these alone.
 std::vector<glm::dvec3> cornersOf(const TriangleBvh& bvh, const std::vector<std::uint32_t>& triangles) {
@@ -212,65 +255,13 @@ std::vector<glm::dvec3> cornersOf(const TriangleBvh& bvh, const std::vector<std:
   return corners;
 }
 
-namespace {
-
-// Sample j of the m that fall on triangle t: its centroid when alone, else the R2 low-discrepancy
-// sequence folded into the triangle. Distinct points matter on large triangles (a quad card, the
-// long sides of a cylinder pushed through a box): their centroids alone may all lie where the
-// triangle separates nothing, or all where it does.
-glm::dvec3 samplePoint(const TriangleBvh& bvh, std::uint32_t t, std::size_t j, std::size_t m) {
-  const glm::dvec3 a = bvh.corner(t, 0), b = bvh.corner(t, 1), c = bvh.corner(t, 2);
-  if (m == 1) return (a + b + c) / 3.0;
-  double u = 0.5 + 0.7548776662466927 * double(j), v = 0.5 + 0.5698402909980532 * double(j);
-  u -= std::floor(u);
-  v -= std::floor(v);
-  if (u + v > 1.0) {
-    u = 1.0 - u;
-    v = 1.0 - v;
-  }
-  return a + u * (b - a) + v * (c - a);
-}
-
-// The share of a part's samples (n, stratified by area: sample i on the triangle holding area
-// (i + 1/2) / n of the part) across which `winding` goes decisively from one side of 1/2 to the other.
-template <class Winding>
-double separatingShare(const TriangleBvh& bvh, const std::vector<std::uint32_t>& members, double partArea,
-                       std::size_t n, const Winding& winding) {
-  std::size_t separating = 0, sample = 0;
-  double before = 0.0;
-  for (const std::uint32_t t : members) {
-    before += doubleArea(bvh, t);
-    const std::size_t first = sample;
-    while (sample < n && (double(sample) + 0.5) / double(n) * partArea <= before) ++sample;
-    for (std::size_t j = first; j < sample; ++j) {
-      const glm::dvec3 p = samplePoint(bvh, t, j - first, sample - first);
-      const glm::dvec3 step = sideStep(bvh, t, p);
-      const double front = winding(p + step), back = winding(p - step);
-      const bool decisive = std::abs(front - 0.5) >= kSeparatingMargin && std::abs(back - 0.5) >= kSeparatingMargin;
-      separating += decisive && (front >= 0.5) != (back >= 0.5);
-    }
-  }
-  return double(separating) / double(n);
-}
-
-}  // namespace
-
 PartSides partSides(const TriangleBvh& bvh, const std::vector<std::uint32_t>& vertexOf, double windingBeta) {
   const Parts parts = connectedParts(bvh, vertexOf);
-  // Each part's largest triangle: the points off it are farthest from its edges.
-  std::vector<std::uint32_t> largest(parts.count, UINT32_MAX);
-  std::vector<double> largestArea(parts.count, -1.0);
-  for (std::uint32_t t = 0; t < parts.of.size(); ++t) {
-    const std::uint32_t part = parts.of[t];
-    if (const double area = doubleArea(bvh, t); area > largestArea[part]) {
-      largestArea[part] = area;
-      largest[part] = t;
-    }
-  }
+  const std::vector<std::vector<std::uint32_t>> members = membersOf(parts);
   PartSides sides;
   std::vector<bool> interiorPart(parts.count, false);
   for (std::uint32_t part = 0; part < parts.count; ++part) {
-    const auto [front, back] = windingBothSides(bvh, largest[part], windingBeta);
+    const auto [front, back] = windingBothSides(bvh, largestTriangle(bvh, members[part]), windingBeta);
     sides.faceOutside = sides.faceOutside && std::abs(front) < 0.5;
     interiorPart[part] = std::abs(front) >= 0.5 && std::abs(back) >= 0.5;
   }
@@ -282,11 +273,10 @@ PartSides partSides(const TriangleBvh& bvh, const std::vector<std::uint32_t>& ve
 std::vector<std::uint32_t> partsBoundingNothing(const TriangleBvh& bvh, const std::vector<std::uint32_t>& vertexOf,
                                                 double windingBeta) {
   const Parts parts = connectedParts(bvh, vertexOf);
-  std::vector<std::vector<std::uint32_t>> members(parts.count);
+  const std::vector<std::vector<std::uint32_t>> members = membersOf(parts);
   std::vector<double> partArea(parts.count, 0.0);
   double total = 0.0;
   for (std::uint32_t t = 0; t < parts.of.size(); ++t) {
-    members[parts.of[t]].push_back(t);
     partArea[parts.of[t]] += doubleArea(bvh, t);
     total += doubleArea(bvh, t);
   }

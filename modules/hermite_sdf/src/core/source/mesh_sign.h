@@ -8,6 +8,7 @@
 // checks; other meshes keep the winding number.
 #include <array>
 #include <cstdint>
+#include <span>
 #include <utility>
 #include <vector>
 
@@ -67,6 +68,10 @@ std::vector<std::uint32_t> partsBoundingNothing(const TriangleBvh& bvh, const st
 // The BVH triangles of each connected part (triangles joined by welded vertices), in BVH order.
 std::vector<std::vector<std::uint32_t>> connectedPartTriangles(const TriangleBvh& bvh,
                                                                const std::vector<std::uint32_t>& vertexOf);
+
+// The largest (by area) of BVH triangles `triangles`, the first of equals: the points just off it
+// are farthest from its edges. UINT32_MAX for none.
+std::uint32_t largestTriangle(const TriangleBvh& bvh, std::span<const std::uint32_t> triangles);
 
 // The corners of BVH triangles `triangles`, three per triangle: a BVH of these alone.
 std::vector<glm::dvec3> cornersOf(const TriangleBvh& bvh, const std::vector<std::uint32_t>& triangles);

@@ -72,6 +72,7 @@ struct MeshSource::Impl {
   MeshSourceOptions options;
   Aabb bounds;
   double onSurfaceDistance = 0.0;
+  double halfShell = 0.0;  // options.shellThickness / 2: a shell's surface lies this far off the triangles
   std::uint64_t id = nextSourceId.fetch_add(1);
   std::vector<std::uint32_t> interiorTriangles;  // of `clean`: parts inside the solid (PartSides)
   std::vector<std::uint32_t> openTriangles;      // of `clean`: open parts bounding nothing
@@ -89,6 +90,9 @@ struct MeshSource::Impl {
       bounds.max = glm::max(bounds.max, c);
     }
     onSurfaceDistance = kOnSurfaceRelative * glm::length(bounds.size());
+    halfShell = 0.5 * opts.shellThickness;
+    bounds.min -= glm::dvec3(halfShell);
+    bounds.max += glm::dvec3(halfShell);
     setMaterialSlots(clean);
     std::vector<std::uint32_t> vertexOf = mesh::weldVertices(bvh.corners());
     mesh::EdgeTopology topology = mesh::edgeTopology(vertexOf);
@@ -106,6 +110,12 @@ struct MeshSource::Impl {
     stats.boundaryEdges = topology.boundaryEdges;
     stats.closed = topology.closed;
     stats.bvhNodes = bvh.nodeCount();
+    if (halfShell == 0.0) analyseSign(vertexOf);
+  }
+
+  // What signs the field: pseudonormals where valid, else the winding number; the parts that bound
+  // nothing, lie inside the solid or overlap (mesh_sign.h, mesh_union.h). A shell needs no sign.
+  void analyseSign(const std::vector<std::uint32_t>& vertexOf) {
     if (stats.closed) stats.selfIntersecting = mesh::hasSelfIntersections(bvh, vertexOf);
     if (stats.closed && stats.selfIntersecting) partUnion = mesh::PartUnion::create(bvh, vertexOf, options.windingBeta);
     if (!stats.closed)
@@ -226,7 +236,20 @@ struct MeshSource::Impl {
     return deepest.triangle == UINT32_MAX ? hit : deepest;
   }
 
+  // A shell's sample: |d| - t/2, its gradient (p - closest) / |d| (on the triangles, where the
+  // shell's middle is, any unit vector: no surface is there, t/2 away from both of its sides).
+  SdfSample shellSample(const glm::dvec3& p, const mesh::ClosestHit& hit, QueryCache& cache) const {
+    const double distance = std::sqrt(hit.distanceSquared);
+    remember(cache, {p, distance, 0.0, hit.triangle});
+    SdfSample s;
+    s.value = distance - halfShell;
+    s.gradient = distance > onSurfaceDistance ? (p - hit.point) / distance : bvh.unitNormal(hit.triangle);
+    if (!slotOfTriangle.empty()) s.material = slotOfTriangle[hit.triangle];
+    return s;
+  }
+
   SdfSample sample(const glm::dvec3& p, QueryCache& cache) const {
+    if (halfShell > 0.0) return shellSample(p, closest(p, cache), cache);
     const mesh::ClosestHit hit = closest(p, cache);
     const double w = windingAt(p, hit, cache);
     remember(cache, {p, std::sqrt(hit.distanceSquared), w, hit.triangle});
@@ -246,6 +269,7 @@ struct MeshSource::Impl {
   }
 
   SdfSample exactSample(const glm::dvec3& p, const mesh::ClosestHit& hit, QueryCache& cache) const {
+    if (halfShell > 0.0) return shellSample(p, hit, cache);
     const double w = windingAt(p, hit, cache);
     remember(cache, {p, std::sqrt(hit.distanceSquared), w, hit.triangle});
     return signedSample(p, boundaryHit(p, hit, w), w);
@@ -253,14 +277,15 @@ struct MeshSource::Impl {
 
   // A far point is not remembered: its anchor would need the sign, the query this skips.
   std::optional<SdfSample> sampleNear(const glm::dvec3& p, double band, QueryCache& cache) const {
-    const mesh::ClosestHit hit = closestWithin(p, band, cache);
+    const mesh::ClosestHit hit = closestWithin(p, band + halfShell, cache);
     if (hit.triangle == UINT32_MAX) return std::nullopt;
     return exactSample(p, hit, cache);
   }
 
   SdfBandSample sampleBand(const glm::dvec3& p, double band, QueryCache& cache) const {
-    const mesh::ClosestHit hit = closestWithin(p, band, cache);
+    const mesh::ClosestHit hit = closestWithin(p, band + halfShell, cache);
     if (hit.triangle != UINT32_MAX) return {exactSample(p, hit, cache), true};
+    if (halfShell > 0.0) return shellBound(p, std::max(hit.prunedBoundSquared, (band + halfShell) * (band + halfShell)), cache);
     const double bandSquared = band * band;
     // Nothing within the band: the traversal's pruning bound is a safe distance bound. The sign
     // comes from a recent query's ball if one holds p; otherwise, where pseudonormals are valid,
@@ -279,6 +304,17 @@ struct MeshSource::Impl {
     remember(cache, anchor);
     SdfBandSample out;
     out.sample.value = (inside(anchor.winding) ? -1.0 : 1.0) * anchor.radius;
+    out.exact = false;
+    return out;
+  }
+
+  // No triangle within sqrt(boundSquared) of p: a shell's surface is at least t/2 less away, on
+  // the outside (a shell has no inside farther than t/2 from its triangles).
+  SdfBandSample shellBound(const glm::dvec3& p, double boundSquared, QueryCache& cache) const {
+    const double radius = std::sqrt(boundSquared);
+    remember(cache, {p, radius, 0.0, cache.hasPrevious ? cache.previous.triangle : UINT32_MAX});
+    SdfBandSample out;
+    out.sample.value = radius - halfShell;
     out.exact = false;
     return out;
   }
@@ -308,6 +344,10 @@ engine::Expected<std::unique_ptr<MeshSource>> MeshSource::create(std::vector<glm
                                                                   const MeshSourceOptions& options) {
   if (!(options.windingBeta > 0.0) || !std::isfinite(options.windingBeta))
     return engine::makeError("mesh source: windingBeta must be a positive finite number");
+  if (!(options.shellThickness >= 0.0) || !std::isfinite(options.shellThickness))
+    return engine::makeError(fmt::format("mesh source: shell thickness {}: it must be a finite number, 0 (a solid) or "
+                                         "positive (a shell around the triangles)",
+                                         options.shellThickness));
   if (!options.triangleSlots.empty() && options.triangleSlots.size() != indices.size() / 3)
     return engine::makeError(fmt::format("mesh source: {} material slots for {} triangles",
                                          options.triangleSlots.size(), indices.size() / 3));
@@ -322,7 +362,8 @@ engine::Expected<std::unique_ptr<MeshSource>> MeshSource::create(std::vector<glm
       return engine::makeError(fmt::format(
           "mesh source: the mesh bounds no volume: across most of its area the winding number does not tell an "
           "inside from an outside ({} triangles, {} boundary edges: an open sheet such as a terrain or a plane, or "
-          "triangles doubled with both windings); draw it as triangles, or close it",
+          "triangles doubled with both windings); draw it as triangles, close it, or bake it as a shell of some "
+          "thickness (hsdf_bake --shell)",
           open, impl->stats.boundaryEdges));
     impl = std::make_unique<Impl>(withoutTriangles(*clean, impl->openTriangles), options);
     impl->stats.droppedOpen = open;

@@ -1,5 +1,6 @@
 #include "source/mesh_union.h"
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 
@@ -28,18 +29,11 @@ struct PartUnion::Part {
   }
 
   // Own winding number 1 behind its largest face and 0 in front: its inside is behind its faces.
-  bool facesOutward(double windingBeta) const {
-    std::uint32_t largest = 0;
-    double largestArea = -1.0;
-    for (std::uint32_t t = 0; t < bvh.triangleCount(); ++t) {
-      const double area =
-          glm::length(glm::cross(bvh.corner(t, 1) - bvh.corner(t, 0), bvh.corner(t, 2) - bvh.corner(t, 0)));
-      if (area > largestArea) {
-        largestArea = area;
-        largest = t;
-      }
-    }
-    const auto [front, back] = windingBothSides(bvh, largest, windingBeta);
+  // `members` are its triangles in the whole mesh, from which it was made.
+  bool facesOutward(const TriangleBvh& whole, const std::vector<std::uint32_t>& members, double windingBeta) const {
+    const std::uint32_t largest = largestTriangle(whole, members);
+    const auto own = std::uint32_t(std::find(wholeTriangle.begin(), wholeTriangle.end(), largest) - wholeTriangle.begin());
+    const auto [front, back] = windingBothSides(bvh, own, windingBeta);
     return std::abs(front) < 0.5 && back >= 0.5;
   }
 };
@@ -55,7 +49,7 @@ std::unique_ptr<PartUnion> PartUnion::create(const TriangleBvh& bvh, const std::
   std::vector<std::unique_ptr<Part>> parts;
   for (const std::vector<std::uint32_t>& part : members) {
     parts.push_back(std::make_unique<Part>(bvh, part));
-    if (!parts.back()->facesOutward(windingBeta)) return nullptr;
+    if (!parts.back()->facesOutward(bvh, part, windingBeta)) return nullptr;
   }
   return std::unique_ptr<PartUnion>(new PartUnion(std::move(parts), windingBeta));
 }

@@ -11,6 +11,7 @@
 
 #include "engine/core/log.h"
 #include "hermite_sdf/core/bake_job.h"
+#include "hermite_sdf/core/cells.h"
 
 namespace hsdf {
 namespace {
@@ -220,6 +221,58 @@ TEST(BakeJob, Fp16StorageRefusesTooFineGrids) {
   settings.fp16 = false;
   const auto baked = bakeAsset(source, settings);
   EXPECT_TRUE(baked.ok()) << baked.error().message;
+}
+
+// Tricky: a lone sheet bounds no volume, so the solid bake refuses it; as a shell it bakes in
+// every band, the sparse descent (which skips bricks by the band queries' bounds, here asked for
+// triangles within band + t/2) keeping exactly the dense bake's cells, each of them at the shell's
+// two faces (|z| = t/2 over the square) or its rim, on both sides of the sheet.
+TEST(BakeJob, AShellBakesWhatTheSolidBakeRefusesOnBothSidesOfTheSheet) {
+  engine::scene::TriangleSoup sheet;
+  sheet.positions = {{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0}};
+  sheet.indices = {0, 1, 2, 0, 2, 3};
+  BakeSource source = BakeSource::fromTriangles("sheet", sheet);
+  BakeSettings settings;
+  settings.resolution = 24;
+  const auto solid = bakeAsset(source, settings);
+  ASSERT_FALSE(solid.ok());
+  EXPECT_TRUE(contains(solid.error().message, "bounds no volume")) << solid.error().message;
+
+  const double thickness = 0.15;
+  source.shellThickness = thickness;
+  std::vector<std::vector<CellRecord>> kept;
+  for (const BakeBand band : {BakeBand::Dense, BakeBand::Sparse}) {
+    settings.band = band;
+    const auto baked = bakeAsset(source, settings);
+    ASSERT_TRUE(baked.ok()) << baked.error().message;
+    const CellStream& cells = (*baked)->cells;
+    const double h = cells.grid.spacing;
+    ASSERT_GT(thickness, 2.0 * h) << "the test wants both faces resolved";
+    int above = 0, below = 0;
+    for (const CellRecord& r : cells.records) {
+      const glm::dvec3 centre = glm::dvec3(cells.grid.origin) + (glm::dvec3(r.x, r.y, r.z) + 0.5) * h;
+      const glm::dvec2 past = glm::max(glm::abs(glm::dvec2(centre.x, centre.y) - 0.5) - 0.5, 0.0);
+      const double toShell = std::sqrt(glm::dot(past, past) + centre.z * centre.z) - 0.5 * thickness;
+      EXPECT_LE(std::abs(toShell), std::sqrt(3.0) * h) << r.x << " " << r.y << " " << r.z;
+      above += centre.z > 0.0;
+      below += centre.z < 0.0;
+    }
+    EXPECT_GT(above, 100);
+    EXPECT_GT(below, 100);
+    kept.push_back(cells.records);
+  }
+  ASSERT_EQ(kept[0].size(), kept[1].size());
+  EXPECT_EQ(std::memcmp(kept[0].data(), kept[1].data(), kept[0].size() * sizeof(CellRecord)), 0);
+}
+
+// Tricky: an analytic shape has no triangles to put a shell around; taking the option silently
+// would bake the solid the user did not ask for.
+TEST(BakeJob, AShellOfAnAnalyticShapeIsRefused) {
+  BakeSource source = BakeSource::fromShape("torus");
+  source.shellThickness = 0.1;
+  const auto refused = bakeAsset(source, BakeSettings{});
+  ASSERT_FALSE(refused.ok());
+  EXPECT_TRUE(contains(refused.error().message, "torus: a shell is baked around triangles")) << refused.error().message;
 }
 
 // Tricky: fitGrid itself takes padding 0 (a grid may hug any box), and a cube baked so drew its

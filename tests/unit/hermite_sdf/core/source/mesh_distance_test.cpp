@@ -303,16 +303,19 @@ TEST(MeshDistance, ExactAtExtremeScales) {
 // Tricky: a query so far away (1e25 mesh radii) that even the bounds in mesh units overflow float
 // must still find the closest triangle rather than report none (which indexed past the triangle
 // list when the sign was looked up). Only the distance is checked: at 1e25 radii double rounding
-// cannot tell which triangle is nearest, so the pseudonormal sign there is not meaningful.
+// cannot tell which triangle is nearest, so the pseudonormal sign there is not meaningful. At 1e45
+// radii (a shell far thicker than a tiny mesh puts grid points there) the query's own float
+// coordinates overflow: the search crashed on the inf and NaN bounds.
 TEST(MeshDistance, AbsurdlyFarQueriesStillFindTheClosestTriangle) {
   const TestMesh mesh = testing::bumpySphere(1);
   const auto source = makeSource(mesh);
-  for (const glm::dvec3& direction : randomPoints(20, 1.0, 32)) {
-    const glm::dvec3 p = 1e25 * direction;
-    const double expected = testing::bruteForceDistance(mesh, p);
-    EXPECT_NEAR(std::abs(source->sample(p).value), expected, 1e-9 * expected);
-    EXPECT_NEAR(source->closestPoint(p).distance, expected, 1e-9 * expected);
-  }
+  for (const double far : {1e25, 1e45})
+    for (const glm::dvec3& direction : randomPoints(20, 1.0, 32)) {
+      const glm::dvec3 p = far * direction;
+      const double expected = testing::bruteForceDistance(mesh, p);
+      EXPECT_NEAR(std::abs(source->sample(p).value), expected, 1e-9 * expected) << far;
+      EXPECT_NEAR(source->closestPoint(p).distance, expected, 1e-9 * expected) << far;
+    }
 }
 
 }  // namespace
