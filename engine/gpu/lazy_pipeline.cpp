@@ -49,6 +49,7 @@ Expected<const Pipeline*> LazyPipeline::compileLocked(const Context& context) {
   if (failure_) return *failure_;
   if (!described()) return makeError("pipeline '" + desc_.name + "' was never described");
   compiles_.fetch_add(1, std::memory_order_relaxed);
+  log::debug("compiling pipeline '{}'", desc_.name);
   Expected<Pipeline> made = Pipeline::createGraphics(context, desc_);
   if (!made) {
     failure_ = made.error();
