@@ -121,13 +121,27 @@ Expected<std::unique_ptr<Context>> Context::create(const ContextDesc& desc) {
   ENGINE_TRY(context->pickPhysicalDevice(desc));
   ENGINE_TRY(context->createDevice(desc));
   ENGINE_TRY(context->createShaderStatistics(desc));
+  ENGINE_TRY_ASSIGN(context->pipelineCache_, PipelineCache::create(context->device_, pipelineCacheIdentity(context->physicalDevice_),
+                                                                   desc.pipelineCacheFile));
   return context;
+}
+
+// A cache that cannot be written costs the next run its compiles, not this run anything: logged.
+void Context::savePipelineCache() const noexcept {
+  try {
+    if (const Status saved = pipelineCache_.save(); !saved)
+      log::warn("pipeline cache not saved: {}", saved.error().message);
+  } catch (const std::exception& error) {
+    log::warn("pipeline cache not saved: {}", error.what());
+  }
 }
 
 Context::~Context() {
   shaderStatistics_.reset();  // its device, if any, belongs to the instance destroyed below
   if (device_) {
     vkDeviceWaitIdle(device_);
+    savePipelineCache();
+    pipelineCache_ = PipelineCache();
     allocator_.reset();
     if (oneOffPool_) vkDestroyCommandPool(device_, oneOffPool_, nullptr);
     vkDestroyDevice(device_, nullptr);

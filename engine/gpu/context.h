@@ -4,6 +4,7 @@
 // the memory allocator and a command pool for one-off uploads.
 #include <atomic>
 #include <cstdint>
+#include <filesystem>
 #include <memory>
 #include <mutex>
 #include <string>
@@ -13,6 +14,7 @@
 
 #include "engine/core/expected.h"
 #include "engine/gpu/memory.h"
+#include "engine/gpu/pipeline_cache.h"
 #include "engine/gpu/shader_statistics.h"
 
 namespace engine::gpu {
@@ -40,6 +42,9 @@ struct ContextDesc {
   // default. A target that is not there (a device without the extension, no device of the name)
   // fails Context::create naming it.
   ShaderStatisticsDesc shaderStatistics;
+  // A file the pipeline cache is seeded from (when it is there and made by this device and driver)
+  // and saved to when the context is destroyed; empty: the cache lives as long as the context.
+  std::filesystem::path pipelineCacheFile;
 
   static bool defaultValidation();
 };
@@ -80,6 +85,8 @@ class Context {
   Allocator& allocator() const { return *allocator_; }
   // Where the pipelines' compiler statistics are recorded, or null when they are off.
   ShaderStatistics* shaderStatistics() const { return shaderStatistics_.get(); }
+  // The cache every pipeline is compiled through (engine/gpu/pipeline_cache.h); usable from any thread.
+  const PipelineCache& pipelineCache() const { return pipelineCache_; }
 
   // Validation messages (warnings and errors) seen so far; tests assert this stays 0.
   std::uint32_t validationMessageCount() const { return validationMessages_.load(); }
@@ -115,6 +122,7 @@ class Context {
   Status pickPhysicalDevice(const ContextDesc& desc);
   Status createDevice(const ContextDesc& desc);
   Status createShaderStatistics(const ContextDesc& desc);
+  void savePipelineCache() const noexcept;
   // A begun one-off command buffer, freed by the destructor on every path (with oneOffMutex_ held).
   class OneOffCommands {
    public:
@@ -147,6 +155,7 @@ class Context {
   PFN_vkSetDebugUtilsObjectNameEXT setObjectName_ = nullptr;
   std::unique_ptr<Allocator> allocator_;
   std::unique_ptr<ShaderStatistics> shaderStatistics_;
+  PipelineCache pipelineCache_;
   std::atomic<std::uint32_t> validationMessages_{0};
   mutable std::mutex messagesMutex_;
   std::vector<std::string> messages_;

@@ -1,6 +1,13 @@
 #include "engine/gpu/lazy_pipeline.h"
 
+#include <exception>
 #include <utility>
+
+#ifdef __linux__
+#include <sys/resource.h>
+#include <sys/syscall.h>
+#include <unistd.h>
+#endif
 
 #include "engine/core/log.h"
 
@@ -14,10 +21,35 @@ Expected<SharedShaderModule> loadSharedShaderModule(const Context& context, cons
 LazyPipeline::LazyPipeline(GraphicsPipelineDesc desc, std::vector<SharedShaderModule> modules)
     : desc_(std::move(desc)), modules_(std::move(modules)) {}
 
+LazyPipeline::LazyPipeline(LazyPipeline&& other) noexcept { *this = std::move(other); }
+
+LazyPipeline& LazyPipeline::operator=(LazyPipeline&& other) noexcept {
+  if (this != &other) {
+    desc_ = std::move(other.desc_);
+    modules_ = std::move(other.modules_);
+    pipeline_ = std::move(other.pipeline_);
+    other.pipeline_.reset();
+    failure_ = std::exchange(other.failure_, std::nullopt);
+    failureLogged_ = std::exchange(other.failureLogged_, false);
+    made_.store(other.made_.exchange(false));
+    compiles_.store(other.compiles_.exchange(0));
+  }
+  return *this;
+}
+
 Expected<const Pipeline*> LazyPipeline::get(const Context& context) {
+  if (made()) return &*pipeline_;  // set once before made_, never changed while shared
+  const std::lock_guard lock(mutex_);
+  return compileLocked(context);
+}
+
+// With mutex_ held: another thread that compiled it while this one waited leaves it made.
+Expected<const Pipeline*> LazyPipeline::compileLocked(const Context& context) {
   if (pipeline_) return &*pipeline_;
   if (failure_) return *failure_;
   if (!described()) return makeError("pipeline '" + desc_.name + "' was never described");
+  compiles_.fetch_add(1, std::memory_order_relaxed);
+  log::debug("compiling pipeline '{}'", desc_.name);
   Expected<Pipeline> made = Pipeline::createGraphics(context, desc_);
   if (!made) {
     failure_ = made.error();
@@ -25,14 +57,17 @@ Expected<const Pipeline*> LazyPipeline::get(const Context& context) {
   }
   pipeline_ = std::move(*made);
   modules_.clear();  // a compiled pipeline no longer needs its modules; other pipelines may
+  made_.store(true, std::memory_order_release);
   return &*pipeline_;
 }
 
 const Pipeline* LazyPipeline::getOrLog(const Context& context) {
-  const bool failedBefore = failure_.has_value();
-  Expected<const Pipeline*> pipeline = get(context);
+  if (made()) return &*pipeline_;
+  const std::lock_guard lock(mutex_);
+  Expected<const Pipeline*> pipeline = compileLocked(context);
   if (pipeline) return *pipeline;
-  if (!failedBefore) log::error("{}; its draws are skipped", pipeline.error().message);
+  // Logged by the first frame that needs it, whichever thread's compile failed.
+  if (!std::exchange(failureLogged_, true)) log::error("{}; its draws are skipped", pipeline.error().message);
   return nullptr;
 }
 
@@ -57,6 +92,46 @@ Status createWhereMade(const Context& context, std::span<LazyPipeline* const> fr
   for (std::size_t i = 0; i < fresh.size(); ++i)
     if (old[i]->made()) ENGINE_TRY(fresh[i]->get(context));
   return {};
+}
+
+namespace {
+
+// The warmer's compiles yield to the frames' threads on a machine with few cores (lavapipe renders
+// on the CPU): the lowest priority for this thread alone (Linux keeps a nice value per thread).
+void lowerThisThreadsPriority() {
+#ifdef __linux__
+  (void)setpriority(PRIO_PROCESS, static_cast<id_t>(syscall(SYS_gettid)), 19);
+#endif
+}
+
+}  // namespace
+
+PipelineWarmer::PipelineWarmer(const Context& context, std::vector<LazyPipeline*> set)
+    : worker_([this, &context, set = std::move(set)](std::stop_token stop) mutable {
+        run(stop, context, std::move(set));
+      }) {}
+
+void PipelineWarmer::run(std::stop_token stop, const Context& context, std::vector<LazyPipeline*> set) {
+  lowerThisThreadsPriority();
+  try {
+    for (LazyPipeline* pipeline : set) {
+      if (stop.stop_requested()) break;
+      // A failure is kept by the pipeline and logged by the frame that needs it (getOrLog).
+      if (pipeline->described()) (void)pipeline->get(context);
+    }
+  } catch (const std::exception& error) {  // a frame compiling the rest itself is no worse than without a warmer
+    log::warn("pipeline warmer stopped: {}", error.what());
+  }
+  finished_.store(true, std::memory_order_release);
+}
+
+void PipelineWarmer::stop() {
+  worker_.request_stop();
+  if (worker_.joinable()) worker_.join();
+}
+
+void PipelineWarmer::wait() {
+  if (worker_.joinable()) worker_.join();
 }
 
 }  // namespace engine::gpu

@@ -5,12 +5,23 @@
 // and a process compiles only the pipelines it draws with: on lavapipe, compiling all of one
 // feature's variants up front took 2.6 s of a 3-second test program, most of them never bound.
 // createAll() compiles a set ahead of any frame (a load screen, a statistics run); a reload
-// compiles again only what frames had used (createWhereMade).
+// compiles again only what frames had used (createWhereMade); a PipelineWarmer compiles a set on a
+// worker thread while frames go on, so a frame that later needs one of them does not compile it.
+//
+// Threads: get() may be called from several threads at once (a frame and a warmer). Each pipeline
+// has its own mutex, held while it compiles: a second caller waits for that one compile and then
+// finds it made, so nothing is compiled twice, and a frame never waits on another pipeline's
+// compile. vkCreateGraphicsPipelines is free-threaded and the context's pipeline cache is
+// internally synchronized. Moving, describing anew and destroying are the owner's alone, with no
+// warmer running over the pipeline.
+#include <atomic>
 #include <cstdint>
 #include <memory>
+#include <mutex>
 #include <optional>
 #include <span>
 #include <string>
+#include <thread>
 #include <vector>
 
 #include "engine/core/expected.h"
@@ -29,6 +40,11 @@ class LazyPipeline {
   LazyPipeline() = default;
   // `modules` keep the shader modules `desc` names alive until the pipeline is compiled.
   LazyPipeline(GraphicsPipelineDesc desc, std::vector<SharedShaderModule> modules);
+  // Moves are the owner's, with no other thread using either pipeline.
+  LazyPipeline(LazyPipeline&& other) noexcept;
+  LazyPipeline& operator=(LazyPipeline&& other) noexcept;
+  LazyPipeline(const LazyPipeline&) = delete;
+  LazyPipeline& operator=(const LazyPipeline&) = delete;
 
   // The pipeline, compiled on the first call. A failure is kept and returned again, not retried
   // every frame: the description and its SPIR-V do not change until the owner reloads them.
@@ -36,16 +52,52 @@ class LazyPipeline {
   // The pipeline, or null where it cannot be compiled: the failure is logged the first time, and
   // the caller skips the draws that need it (the frame goes on without them).
   const Pipeline* getOrLog(const Context& context);
-  // Whether get() has compiled it (a failed or never-needed pipeline is not made).
-  bool made() const { return pipeline_.has_value(); }
+  // Whether get() has compiled it (a failed or never-needed pipeline is not made). Never waits for
+  // a compile under way on another thread (it reads false until that one is done).
+  bool made() const { return made_.load(std::memory_order_acquire); }
   bool described() const { return desc_.vertex != VK_NULL_HANDLE; }
   const std::string& name() const { return desc_.name; }
+  // How many times this pipeline was compiled (attempts, failed ones included): 0 or 1 until the
+  // owner describes it anew.
+  std::uint32_t compiles() const { return compiles_.load(std::memory_order_relaxed); }
 
  private:
+  Expected<const Pipeline*> compileLocked(const Context& context);
   GraphicsPipelineDesc desc_;
   std::vector<SharedShaderModule> modules_;
   std::optional<Pipeline> pipeline_;
   std::optional<Error> failure_;
+  bool failureLogged_ = false;
+  std::atomic<bool> made_{false};  // pipeline_ is set; read without the lock (the frame's fast path)
+  std::atomic<std::uint32_t> compiles_{0};
+  mutable std::mutex mutex_;  // held while compiling: pipeline_, failure_, modules_, failureLogged_
+};
+
+// Compiles a set of described pipelines, one after another, on a worker thread at low priority,
+// so that a frame switching to one of them binds it instead of compiling it (a compile takes tens
+// to hundreds of milliseconds). A frame that needs a pipeline the worker is compiling waits for that
+// one (LazyPipeline's lock); one the worker has not reached it compiles itself, and the worker
+// then skips it. The destructor (or stop()) stops the worker before its next pipeline and joins it:
+// at most the compile under way finishes. The pipelines and the context must outlive the warmer,
+// and the owner stops it before it moves, replaces or destroys any of them (a shader reload).
+class PipelineWarmer {
+ public:
+  PipelineWarmer() = default;
+  PipelineWarmer(const Context& context, std::vector<LazyPipeline*> set);
+  ~PipelineWarmer() { stop(); }
+  PipelineWarmer(const PipelineWarmer&) = delete;
+  PipelineWarmer& operator=(const PipelineWarmer&) = delete;
+
+  // Stops the worker before its next pipeline and waits for it; idempotent.
+  void stop();
+  // Waits until the worker has been through its whole set (tests, a load screen).
+  void wait();
+  bool running() const { return worker_.joinable() && !finished_.load(std::memory_order_acquire); }
+
+ private:
+  void run(std::stop_token stop, const Context& context, std::vector<LazyPipeline*> set);
+  std::atomic<bool> finished_{false};
+  std::jthread worker_;  // last: joined before the members above go
 };
 
 // How many pipelines of a set were described, and how many of those are compiled so far.

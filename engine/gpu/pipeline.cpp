@@ -165,7 +165,7 @@ Expected<Pipeline> Pipeline::createCompute(const Context& context, const std::st
   info.stage.pName = "main";
   info.layout = result.layout_;
   if (statistics) info.flags |= statistics->pipelineFlags();
-  VK_TRY(vkCreateComputePipelines(context.device(), VK_NULL_HANDLE, 1, &info, nullptr, &result.pipeline_));
+  VK_TRY(vkCreateComputePipelines(context.device(), context.pipelineCache().handle(), 1, &info, nullptr, &result.pipeline_));
   context.setName(result.pipeline_, VK_OBJECT_TYPE_PIPELINE, name);
   if (statistics) statistics->record(name, info, layout.info, result.pipeline_);
   return result;
@@ -262,7 +262,7 @@ Expected<Pipeline> Pipeline::createGraphics(const Context& context, const Graphi
   info.layout = result.layout_;
   ShaderStatistics* statistics = context.shaderStatistics();
   if (statistics) info.flags |= statistics->pipelineFlags();
-  VK_TRY(vkCreateGraphicsPipelines(context.device(), VK_NULL_HANDLE, 1, &info, nullptr, &result.pipeline_));
+  VK_TRY(vkCreateGraphicsPipelines(context.device(), context.pipelineCache().handle(), 1, &info, nullptr, &result.pipeline_));
   context.setName(result.pipeline_, VK_OBJECT_TYPE_PIPELINE, desc.name);
   if (statistics) statistics->record(desc.name, info, layout.info, result.pipeline_);
   return result;

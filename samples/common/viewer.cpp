@@ -69,6 +69,7 @@ Status Viewer::initialize(const ViewerDesc& desc) {
   contextDesc.engineName = std::string(kProgramName) + " engine";
   contextDesc.device = desc.device;
   contextDesc.shaderStatistics = desc.shaderStatistics;
+  contextDesc.pipelineCacheFile = desc.pipelineCacheFile;
   if (desc.validation) contextDesc.validation = true;
   if (!desc.headless) {
     ENGINE_TRY_ASSIGN(window_, ViewerWindow::create(desc.title, desc.width, desc.height));

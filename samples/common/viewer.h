@@ -82,6 +82,8 @@ struct ViewerDesc {
   std::uint64_t gpuMemoryBudget = engine::gpu::Allocator::kUnlimited;
   // The shader compiler's statistics of every pipeline (engine/gpu/shader_statistics.h); off by default.
   engine::gpu::ShaderStatisticsDesc shaderStatistics;
+  // Compiled pipelines kept across runs (engine::gpu::ContextDesc::pipelineCacheFile; empty: not kept).
+  std::filesystem::path pipelineCacheFile;
 };
 
 // What to show. A glTF scene's meshes are drawn as triangles (Method::Mesh) or baked into one SDF

@@ -22,6 +22,7 @@ samples::ViewerDesc viewerDesc(const Options& options) {
   desc.device = options.device;
   desc.headlessUi = options.headlessUi;
   desc.uiIniFile = options.uiIni;
+  desc.pipelineCacheFile = options.pipelineCache;
   desc.bakeBudget.maxBytes = options.bakeBudgetMiB << 20;
   if (options.gpuBudgetMiB > 0) desc.gpuMemoryBudget = options.gpuBudgetMiB << 20;
   return desc;

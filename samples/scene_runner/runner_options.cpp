@@ -160,6 +160,9 @@ ParseResult parseOptions(int argc, const char* const* argv) {
                  "cap the GPU memory the renderer may allocate (MiB, default 0: no cap); past it the frame fails "
                  "with an error naming the resource")
       ->check(CLI::Range(std::uint64_t(0), std::uint64_t(1) << 30));
+  app.add_option("--pipeline-cache", options.pipelineCache,
+                 "keep compiled pipelines in this file across runs (read at start when made by this device and "
+                 "driver, written at exit; default: not kept)");
   app.add_option("--ui-ini", options.uiIni, "ImGui window layout file (windowed default: imgui.ini; '' : none)");
   CLI::Option* view = app.add_option("--view", options.view, "one of 8 fixed orbit views (0..7)")->check(CLI::Range(0, 7));
   std::vector<float> camera;

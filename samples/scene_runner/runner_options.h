@@ -36,6 +36,7 @@ struct Options {
   std::uint64_t bakeBudgetMiB = 4096;  // bakes needing more memory are refused (--bake-budget-mib)
   std::uint64_t gpuBudgetMiB = 0;      // device memory cap, 0: none (--gpu-budget-mib)
   std::filesystem::path uiIni;         // ImGui window layout (windowed default: imgui.ini)
+  std::filesystem::path pipelineCache;  // compiled pipelines kept across runs (--pipeline-cache; empty: not kept)
 
   // Method, K, padding, n, refinement, normals, fp16, debug view, front to back: defaults, then a
   // --settings file, then the options given on the command line.

@@ -93,6 +93,8 @@ engine::Status HermiteCellFeature::initialize(const engine::gpu::Context& contex
 // swapped in only when all of those were: a failure keeps the old ones. The rest are compiled
 // from the new SPIR-V when a frame first needs them.
 engine::Status HermiteCellFeature::reloadShaders() {
+  warmer_.reset();  // it compiles the pipelines about to be replaced; the next frame warms the fresh ones
+  drewFirstFrame_ = false;
   ENGINE_TRY_ASSIGN(Pipelines fresh, describePipelines());
   ENGINE_TRY(engine::gpu::createWhereMade(*context_, fresh.all(), pipelines_.all()));
   context_->waitIdle();  // frames in flight may still use the old pipelines
@@ -130,6 +132,7 @@ void HermiteCellFeature::prepare(engine::render::FrameContext& frame) {
   ensureHitDepths(frame);
   stats_.earlyDepth = earlyDepth_;
   stats_.countedVariant = stats_.draws > 0 && prepassVariant(frame) == kCounted;
+  warmPipelines(frame);
 }
 
 // The per-pixel hit depths of the early depth stage, zero between frames (the fix-up clears what

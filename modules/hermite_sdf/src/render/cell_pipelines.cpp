@@ -7,6 +7,7 @@
 #include <cstring>
 #include <limits>
 #include <span>
+#include <utility>
 #include <unordered_set>
 
 #include <imgui.h>
@@ -353,6 +354,45 @@ engine::Status HermiteCellFeature::describeTilePipelines(Pipelines& p) const {
     p.tiles[variant] = Pipelines::Lazy(desc, {vert, frag});
   }
   return {};
+}
+
+
+// What the next change of the tuning panel's most used options would bind: the other methods'
+// prepass pipelines (cells at either record precision, in the proxy form the frame draws them;
+// runs; bricks; front faces and near cells) and, where the early depth stage is wanted, the early
+// variants and their fix-up that cells and runs then draw with (a frame of tiles or bricks keeps
+// the stage off, the next frame of runs turns it on). Not every variant, the wireframe or the
+// other proxy form: those are 4 to 5 times as many compiles (on lavapipe ~0.1-0.3 s of CPU each,
+// competing with the frames on a machine of two cores) for switches that are rarer. Those made
+// already are skipped by the worker at the cost of a lock.
+std::vector<engine::gpu::LazyPipeline*> HermiteCellFeature::likelyNextPipelines(Variant base) {
+  Pipelines& p = pipelines_;
+  const bool early = earlyDepthWanted(settings_.earlyDepth, context_->capabilities().isSoftwareRasterizer) && !occlusion_;
+  const Variant boxes = early ? kEarly : base;  // cells as boxes and runs
+  std::vector<engine::gpu::LazyPipeline*> set;
+  for (int precision = 0; precision < 2; ++precision) {
+    set.push_back(thinBoxes_ ? &p.thinFront[base][precision] : &p.depthFront[boxes][precision]);
+    set.push_back(thinBoxes_ ? &p.thinNear[base][precision] : &p.depthNear[boxes][precision]);
+  }
+  for (engine::gpu::LazyPipeline* next :
+       {&p.bricksFront[base], &p.bricksNear[base], &p.runsFront[boxes], &p.runsNear[boxes]})
+    set.push_back(next);
+  if (early) set.push_back(&p.depthFixup);
+  return set;
+}
+
+// Started by the second frame that draws cells: the first compiles what it draws itself, and a
+// worker compiling beside it would only slow it down. Started once per set of pipelines (a reload
+// starts it again for the fresh ones).
+void HermiteCellFeature::warmPipelines(const engine::render::FrameContext& frame) {
+  if (!settings_.warmPipelines || warmer_ || stats_.draws == 0) return;
+  if (!std::exchange(drewFirstFrame_, true)) return;
+  warmer_ = std::make_unique<engine::gpu::PipelineWarmer>(*context_,
+                                                          likelyNextPipelines(withoutEarlyStage(prepassVariant(frame))));
+}
+
+void HermiteCellFeature::waitForWarmPipelines() {
+  if (warmer_) warmer_->wait();
 }
 
 }  // namespace hsdf

@@ -1,11 +1,14 @@
 // The cell feature's pipelines (src/render/cell_pipelines.cpp): described when the feature is
 // created, each compiled when a frame first draws with it (engine/gpu/lazy_pipeline.h).
 #include <algorithm>
+#include <chrono>
+#include <cstdio>
 #include <memory>
 
 #include <gtest/gtest.h>
 
 #include "engine/gpu/vk_check.h"
+#include "hermite_sdf/core/bake_job.h"
 #include "hermite_sdf/render/cell_feature.h"
 #include "cell_test_support.h"
 #include "shared/host_device.h"
@@ -67,6 +70,120 @@ TEST_F(HermiteCellsTest, APipelineThatCannotBeCompiledSkipsItsDrawsUntilAReload)
   ASSERT_TRUE(feature->reloadShaders().ok());
   const Frame reloaded = renderWith(camera, DEBUG_VIEW_NONE);
   EXPECT_GT(coveredPixels(reloaded), 500u);
+}
+
+// Why: a switch of method in the tuning panel used to compile its pipelines inside the next frame
+// (hundreds of milliseconds on lavapipe). Once the warmer (started by the second frame) is done,
+// the frames after switches to bricks and to runs must compile nothing more, and draw the same
+// pixels as a feature that never warmed and compiled them in the frame.
+TEST_F(HermiteCellsTest, AMethodSwitchAfterWarmingCompilesNothingInTheFrame) {
+  const auto asset = bakeAsset("torus", 24);
+  ASSERT_NE(asset, nullptr);
+  const render::CameraView camera = orbitCamera(*asset, 0);
+  const auto framesOf = [&](bool warm) {
+    createCellRenderer(kSize, kSize);
+    registry_ = ecs::Registry();
+    auto* feature = renderer_->feature<hsdf::HermiteCellFeature>();
+    feature->settings().warmPipelines = warm;
+    const ecs::Entity entity = addSdf(registry_, asset, hsdf::RenderMethod::Cells);
+    (void)renderWith(camera, DEBUG_VIEW_NONE);
+    (void)renderWith(camera, DEBUG_VIEW_NONE);
+    feature->waitForWarmPipelines();
+    const std::uint32_t warmed = feature->pipelineCounts().compiled;
+    std::vector<Frame> frames;
+    for (const hsdf::RenderMethod method : {hsdf::RenderMethod::CellBricks, hsdf::RenderMethod::CellRuns}) {
+      registry_.get<hsdf::HermiteSdfRenderable>(entity).method = method;
+      frames.push_back(renderWith(camera, DEBUG_VIEW_NONE));
+      if (warm) {
+        EXPECT_EQ(feature->pipelineCounts().compiled, warmed) << "the switch frame compiled a pipeline";
+      }
+    }
+    if (!warm) {
+      EXPECT_GT(feature->pipelineCounts().compiled, warmed) << "the frames should have compiled their own";
+    }
+    return frames;
+  };
+  const std::vector<Frame> warmed = framesOf(true);
+  const std::vector<Frame> cold = framesOf(false);
+  ASSERT_EQ(warmed.size(), cold.size());
+  for (std::size_t i = 0; i < warmed.size(); ++i) {
+    EXPECT_GT(coveredPixels(warmed[i]), 500u);
+    EXPECT_TRUE(warmed[i].depth == cold[i].depth) << "switch " << i;
+    EXPECT_TRUE(warmed[i].rgba == cold[i].rgba) << "switch " << i;
+  }
+}
+
+// Why: the worker compiles into the pipelines a reload replaces; the reload must stop it first (a
+// worker left running would compile into moved-from pipelines) and the next frames warm the fresh
+// set, the frame after a switch then still compiling nothing.
+TEST_F(HermiteCellsTest, AReloadWhileWarmingWarmsTheFreshPipelines) {
+  createCellRenderer(kSize, kSize);
+  auto* feature = renderer_->feature<hsdf::HermiteCellFeature>();
+  const auto asset = bakeAsset("torus", 24);
+  ASSERT_NE(asset, nullptr);
+  const ecs::Entity entity = addSdf(registry_, asset, hsdf::RenderMethod::Cells);
+  const render::CameraView camera = orbitCamera(*asset, 0);
+  (void)renderWith(camera, DEBUG_VIEW_NONE);
+  (void)renderWith(camera, DEBUG_VIEW_NONE);  // the warmer starts here
+  ASSERT_TRUE(feature->reloadShaders().ok());  // while it compiles
+  const Frame before = renderWith(camera, DEBUG_VIEW_NONE);
+  (void)renderWith(camera, DEBUG_VIEW_NONE);
+  feature->waitForWarmPipelines();
+  const std::uint32_t warmed = feature->pipelineCounts().compiled;
+  registry_.get<hsdf::HermiteSdfRenderable>(entity).method = hsdf::RenderMethod::CellBricks;
+  const Frame bricks = renderWith(camera, DEBUG_VIEW_NONE);
+  EXPECT_EQ(feature->pipelineCounts().compiled, warmed);
+  EXPECT_GT(coveredPixels(before), 500u);
+  EXPECT_GT(coveredPixels(bricks), 500u);
+}
+
+// Not a check, a measurement (docs/perf/render-changes-session34.md): the render-thread time of the
+// frames that switch the bunny (K = 128, culled cells, tiles off) to bricks, to runs and back to
+// cells, each followed by a frame of the same form, without and with the warmer; and the time the
+// warmer took after the second frame (waited for, as a user's seconds before a switch would be).
+// Run by hand:
+//   hermite_cells_gpu_tests --gtest_also_run_disabled_tests --gtest_filter='*SwitchFrameTimes'
+TEST_F(HermiteCellsTest, DISABLED_SwitchFrameTimes) {
+  auto source = hsdf::BakeSource::fromPathOrShape(sampleAsset("bunny.glb").string());
+  ASSERT_TRUE(source.ok());
+  hsdf::BakeSettings bake;
+  bake.resolution = 128;
+  bake.band = hsdf::BakeBand::Sparse;
+  hsdf::BakeJob job(std::move(*source), bake);
+  hsdf::BakeJob::Result asset = job.wait();
+  ASSERT_TRUE(asset.ok()) << asset.error().message;
+  const render::CameraView camera = orbitCamera(**asset, 0);
+  const auto milliseconds = [&] {
+    const auto start = std::chrono::steady_clock::now();
+    EXPECT_TRUE(renderer_->renderFrame(registry_, camera, render::FrameSettings{}));
+    const double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+    (void)renderer_->readbackDepth();
+    return ms;
+  };
+  for (const bool warm : {false, true}) {
+    createCellRenderer(kSize, kSize);
+    registry_ = ecs::Registry();
+    auto* feature = renderer_->feature<hsdf::HermiteCellFeature>();
+    feature->settings().tiles = hsdf::HermiteCellFeature::Tiles::Off;
+    feature->settings().warmPipelines = warm;
+    const ecs::Entity entity = addSdf(registry_, *asset, hsdf::RenderMethod::Cells);
+    const double first = milliseconds();
+    const double second = milliseconds();
+    const auto start = std::chrono::steady_clock::now();
+    feature->waitForWarmPipelines();
+    const double wait = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+    std::printf("[ warm %-3s ] first frame %7.1f ms, second %6.1f ms, warmer done %7.1f ms later\n", warm ? "on" : "off",
+                first, second, wait);
+    for (const hsdf::RenderMethod method :
+         {hsdf::RenderMethod::CellBricks, hsdf::RenderMethod::CellRuns, hsdf::RenderMethod::Cells}) {
+      registry_.get<hsdf::HermiteSdfRenderable>(entity).method = method;
+      const double switched = milliseconds();
+      const double next = milliseconds();
+      std::printf("[ warm %-3s ] switch to %-6s frame %7.1f ms, next frame %6.1f ms\n", warm ? "on" : "off",
+                  method == hsdf::RenderMethod::CellBricks ? "bricks" : method == hsdf::RenderMethod::CellRuns ? "runs" : "cells",
+                  switched, next);
+    }
+  }
 }
 
 }  // namespace

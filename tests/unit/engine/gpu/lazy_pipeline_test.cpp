@@ -8,6 +8,7 @@
 #include <algorithm>
 #include <memory>
 #include <string>
+#include <thread>
 #include <vector>
 
 #include "engine/gpu/context.h"
@@ -146,6 +147,81 @@ TEST_F(LazyPipelineTest, AReloadCompilesWhatWasUsedAndCreateAllEveryDescribedOne
   EXPECT_TRUE(freshUnused.made());
   EXPECT_EQ(compiled("fresh used"), 1u) << "a compiled one is not compiled again";
   EXPECT_EQ(compiled("fresh unused"), 1u);
+}
+
+// Six described pipelines and the set of pointers a warmer takes.
+struct Described {
+  std::vector<LazyPipeline> pipelines;
+  std::vector<LazyPipeline*> set() {
+    std::vector<LazyPipeline*> out;
+    for (LazyPipeline& pipeline : pipelines) out.push_back(&pipeline);
+    return out;
+  }
+};
+
+// Tricky: the point of warming is that the frame binds what the worker compiled: a pipeline the
+// worker made must be found made, returned as is and not compiled again on the frame's thread.
+TEST_F(LazyPipelineTest, AWarmedPipelineIsTheOneAFrameBinds) {
+  Described d;
+  for (int i = 0; i < 3; ++i) d.pipelines.push_back(describe("warmed " + std::to_string(i)));
+  {
+    PipelineWarmer warmer(*context_, d.set());
+    warmer.wait();
+    EXPECT_FALSE(warmer.running());
+  }
+  for (LazyPipeline& pipeline : d.pipelines) {
+    ASSERT_TRUE(pipeline.made()) << pipeline.name();
+    EXPECT_EQ(pipeline.compiles(), 1u);
+    const auto bound = pipeline.get(*context_);
+    ASSERT_TRUE(bound.ok());
+    EXPECT_NE((*bound)->handle(), VkPipeline(VK_NULL_HANDLE));
+    EXPECT_EQ(pipeline.compiles(), 1u) << pipeline.name() << " compiled again by the frame";
+    EXPECT_EQ(compiled(pipeline.name()), 1u);
+  }
+}
+
+// Tricky: the frame asks, on its own thread, for pipelines while the worker goes through the same
+// set: the last ones before the worker reaches them (the frame compiles them; the worker must
+// then skip them), the first ones while the worker compiles them (the frame must wait for that
+// compile, not start its own). Either way each is compiled once and both threads see one handle.
+TEST_F(LazyPipelineTest, AFrameNeedingAPipelineTheWorkerHasOrWillHaveGetsItCompiledOnce) {
+  Described d;
+  for (int i = 0; i < 6; ++i) d.pipelines.push_back(describe("shared " + std::to_string(i)));
+  PipelineWarmer warmer(*context_, d.set());
+  std::vector<VkPipeline> frame(d.pipelines.size());
+  for (std::size_t k = d.pipelines.size(); k-- > 0;) {
+    const auto bound = d.pipelines[k].get(*context_);
+    ASSERT_TRUE(bound.ok()) << bound.error().message;
+    frame[k] = (*bound)->handle();
+  }
+  warmer.wait();
+  for (std::size_t k = 0; k < d.pipelines.size(); ++k) {
+    EXPECT_EQ(d.pipelines[k].compiles(), 1u) << d.pipelines[k].name();
+    EXPECT_EQ((*d.pipelines[k].get(*context_))->handle(), frame[k]);
+  }
+}
+
+// Tricky: the owner goes (a feature destroyed, shaders reloaded) while its worker compiles; the
+// warmer must stop before its next pipeline and be joined before the pipelines it points at are
+// destroyed: a worker still running would compile into freed memory (the ASan build catches it) or
+// compile after the context is gone (a validation message in TearDown).
+TEST_F(LazyPipelineTest, DestroyingTheOwnerWhileItsWorkerRunsIsClean) {
+  struct Owner {
+    Described d;
+    std::unique_ptr<PipelineWarmer> warmer;  // after the pipelines: destroyed first
+  };
+  auto owner = std::make_unique<Owner>();
+  for (int i = 0; i < 8; ++i) owner->d.pipelines.push_back(describe("owned " + std::to_string(i)));
+  owner->warmer = std::make_unique<PipelineWarmer>(*context_, owner->d.set());
+  std::this_thread::yield();
+  std::uint32_t made = 0;
+  owner->warmer.reset();  // stop and join
+  for (const LazyPipeline& pipeline : owner->d.pipelines) made += pipeline.made() ? 1u : 0u;
+  EXPECT_LT(made, 8u) << "the worker went on after it was stopped";
+  owner.reset();
+  PipelineWarmer never;  // a warmer without a worker stops and waits at once
+  never.wait();
+  never.stop();
 }
 
 }  // namespace

@@ -194,6 +194,11 @@ class HermiteCellFeature final : public engine::render::RenderFeature {
     // needs them makes them at its size.
     // Otherwise they only grow: a camera that swings back and forth does not reallocate them.
     std::uint32_t releaseAfterFrames = 120;
+    // From the second frame that draws cells on, the pipelines a switch of method or record
+    // precision would need next are compiled on a worker thread at low priority (warmPipelines()),
+    // so that the frame after the switch binds them instead of compiling them. Off: that frame
+    // compiles them (tens to hundreds of milliseconds on the render thread).
+    bool warmPipelines = true;
   };
   static constexpr std::uint32_t kMinTileEntries = 64;
   static constexpr std::uint32_t kTileSizes[] = {4, 8, 16};  // the sides Settings::tileSize may take
@@ -255,6 +260,8 @@ class HermiteCellFeature final : public engine::render::RenderFeature {
   engine::Status createAllPipelines() override;
   // The feature's pipelines: described at creation, compiled when a frame first draws with one.
   engine::gpu::PipelineCounts pipelineCounts() { return engine::gpu::countPipelines(pipelines_.all()); }
+  // Waits until the pipelines being warmed (Settings::warmPipelines) are compiled; none: returns.
+  void waitForWarmPipelines();
 
   Settings& settings() { return settings_; }
   const Stats& stats() const { return stats_; }
@@ -389,6 +396,8 @@ class HermiteCellFeature final : public engine::render::RenderFeature {
     std::vector<Lazy*> all();
   };
   Variant prepassVariant(const engine::render::FrameContext& frame) const;
+  void warmPipelines(const engine::render::FrameContext& frame);
+  std::vector<engine::gpu::LazyPipeline*> likelyNextPipelines(Variant base);
   engine::Expected<Pipelines> describePipelines() const;
   engine::Status describeCellPipelines(Pipelines& p, const engine::gpu::SharedShaderModule& vert,
                                        const engine::gpu::SharedShaderModule& runsVert) const;
@@ -411,6 +420,10 @@ class HermiteCellFeature final : public engine::render::RenderFeature {
 
   engine::render::RendererFormats formats_;
   Pipelines pipelines_;
+  // Compiles likelyNextPipelines() on its worker; declared after pipelines_ so that it is stopped
+  // and joined before they are destroyed. Stopped before a reload replaces them.
+  std::unique_ptr<engine::gpu::PipelineWarmer> warmer_;
+  bool drewFirstFrame_ = false;  // the warmer starts after a frame has drawn (and compiled) its own
   // Replaced buffers are retired with the frame (FrameContext::retire): commands recorded before
   // the replacement (an earlier view region of the frame, frames still in flight) still read them.
   std::unique_ptr<struct CellBuffers> buffers_;
