@@ -345,8 +345,10 @@ bool bricksMissing(const Demand& d, const CellBuffers& buffers) {
 
 }  // namespace
 
-// A budget per frame (Settings::uploadBytesPerFrame): the new assets wanted get their records
-// written in turn, the one begun in an earlier frame first, until the frame's budget is spent. Those
+// A budget per frame (Settings::uploadBytesPerFrame): new assets that fit it together, none begun
+// in an earlier frame, are uploaded whole as without a budget (a rebuild into empty buffers sizes
+// them exactly). Otherwise they get their records written in turn, the one begun in an earlier
+// frame first, until the frame's budget is spent. Those
 // whose last records are in stay in this frame's upload, appended with their records in place (in
 // the order written); the others wait, their entities drawing the assets they replaced
 // (collectAssetDemand, buildDraws). One round a frame: view regions prepare the frame again.
@@ -355,13 +357,19 @@ void HermiteCellFeature::uploadInParts(const engine::render::FrameContext& frame
   std::vector<std::shared_ptr<const SdfAsset>> queue;
   for (const auto& asset : d.wanted)
     if (isNew(asset)) queue.insert(partial_ && partial_->assetId == asset->id ? queue.begin() : queue.end(), asset);
-  if (queue.empty()) partial_.reset();
+  std::uint64_t left = std::max<std::uint64_t>(1, settings_.uploadBytesPerFrame / kRecordUploadBytes);  // records
+  std::uint64_t queued = 0;
+  for (const auto& asset : queue) queued += asset->cells.records.size();
+  if (queue.empty() || (queued <= left && !partial_)) {  // within the budget: uploaded whole, as without one
+    partial_.reset();
+    assetsWaiting_ = 0;
+    return;
+  }
   std::erase_if(d.wanted, isNew);
   d.missing = bricksMissing(d, *buffers_);
-  if (queue.empty() || partsFrame_ == frame.frameNumber) return;
+  if (partsFrame_ == frame.frameNumber) return;
   partsFrame_ = frame.frameNumber;
   assetsWaiting_ = queue.size();
-  std::uint64_t left = std::max<std::uint64_t>(1, settings_.uploadBytesPerFrame / kRecordUploadBytes);  // records
   std::uint32_t base = buffers_->used.records;  // where the next asset's records go
   for (const auto& asset : queue) {
     if (!partial_ || partial_->assetId != asset->id) partial_ = PartialUpload{asset->id, 0};
