@@ -105,7 +105,7 @@ inline constexpr FloatRange kTraceEpsilonRange{1e-6f, 0.1f};
 inline constexpr IntRange kTraceMaxStepsRange{1, 4096};
 inline constexpr FloatRange kCentralDifferenceStepRange{0.01f, 1.0f};
 inline constexpr IntRange kMaxRunLengthRange{1, 64};
-inline constexpr IntRange kUploadMiBPerFrameRange{1, 4096};  // and 0: no limit
+inline constexpr IntRange kUploadMiBPerFrameRange{0, 4096};  // 0: no limit
 inline constexpr const auto& kTileSizes = hsdf::HermiteCellFeature::kTileSizes;
 inline constexpr IntRange kPanelSubdivisionsRange{1, 16};
 inline constexpr IntRange kPanelRefineRange{0, 4};

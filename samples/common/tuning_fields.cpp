@@ -351,7 +351,7 @@ std::vector<TuningField> makeFields() {
        .help = "cells, runs, bricks: the MiB of cell records one frame uploads when a new asset comes; a larger "
                "asset is uploaded over several frames and drawn once all of it is in (meanwhile the object draws "
                "what it drew before); 0: no limit. Headless runs (screenshots, perf captures) upload without one",
-       .member = &S::uploadMiBPerFrame, .range = numbers(kUploadMiBPerFrameRange), .zeroIsDerived = true},
+       .member = &S::uploadMiBPerFrame, .range = numbers(kUploadMiBPerFrameRange)},
   };
 }
 
