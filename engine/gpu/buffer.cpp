@@ -109,7 +109,7 @@ namespace {
 // The buffer that replaces `a.buffer` when it is too small: room for half as much again where
 // memory allows it (a stream that keeps growing is copied O(log n) times, not once per append).
 std::optional<Buffer> grownBuffer(const Context& context, const BufferAppend& a) {
-  const VkDeviceSize needed = a.used + a.bytes;
+  const VkDeviceSize needed = a.used + std::max(a.bytes, a.reserve);
   if (needed <= a.buffer->size()) return std::nullopt;
   const VkBufferUsageFlags usage = a.usage | VK_BUFFER_USAGE_TRANSFER_SRC_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT;
   const VkDeviceSize roomy = a.buffer->size() == 0 ? needed : std::max(needed, a.buffer->size() + a.buffer->size() / 2);

@@ -75,6 +75,10 @@ struct BufferAppend {
   Writer write;  // called once with exactly `bytes` bytes when `bytes` is not 0
   VkBufferUsageFlags usage = 0;  // for a buffer made or grown (transfer usage is added)
   std::string name;
+  // Bytes after `used` that a buffer made or grown has room for, when more than `bytes`: data
+  // written in parts over several appends is then copied into its final buffer once, not at
+  // every growth.
+  VkDeviceSize reserve = 0;
 };
 
 // A writer that copies `data`, which must outlive the append (for BufferAppend::write).

@@ -133,6 +133,7 @@ void applyTuning(const TuningState& tuning, hsdf::HermiteCellFeature::Settings& 
                  hsdf::SphereTraceFeature::Settings& tracers) {
   cells.frontToBack = tuning.frontToBack;
   cells.maxRunLength = tuning.maxRunLength;
+  cells.uploadBytesPerFrame = std::uint64_t(tuning.uploadMiBPerFrame) << 20;
   cells.cullBricks = tuning.cullBricks;
   cells.cullCells = tuning.cullCells;
   cells.cullOcclusion = tuning.cullOcclusion;

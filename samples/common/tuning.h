@@ -105,6 +105,7 @@ inline constexpr FloatRange kTraceEpsilonRange{1e-6f, 0.1f};
 inline constexpr IntRange kTraceMaxStepsRange{1, 4096};
 inline constexpr FloatRange kCentralDifferenceStepRange{0.01f, 1.0f};
 inline constexpr IntRange kMaxRunLengthRange{1, 64};
+inline constexpr IntRange kUploadMiBPerFrameRange{0, 4096};  // 0: no limit
 inline constexpr const auto& kTileSizes = hsdf::HermiteCellFeature::kTileSizes;
 inline constexpr IntRange kPanelSubdivisionsRange{1, 16};
 inline constexpr IntRange kPanelRefineRange{0, 4};
@@ -157,6 +158,9 @@ struct TuningState {
   float centralDifferenceStep = hsdf::SphereTraceFeature::Settings{}.centralDifferenceStep;
   // Cell runs: the most cells one run's box covers (HermiteCellFeature::Settings::maxRunLength).
   std::uint32_t maxRunLength = hsdf::HermiteCellFeature::Settings{}.maxRunLength;
+  // Cells: the MiB of cell records one frame uploads when a new asset comes, 0 for no limit
+  // (HermiteCellFeature::Settings::uploadBytesPerFrame; headless viewers upload without one).
+  std::uint32_t uploadMiBPerFrame = std::uint32_t(hsdf::HermiteCellFeature::Settings{}.uploadBytesPerFrame >> 20);
 
   bool operator==(const TuningState&) const = default;
 };

@@ -347,6 +347,11 @@ std::vector<TuningField> makeFields() {
       {.key = "max_run_length", .option = "--max-run-length", .label = "max run length",
        .help = "cells-runs: the most cells one run's box covers", .member = &S::maxRunLength,
        .range = numbers(kMaxRunLengthRange)},
+      {.key = "upload_mib_per_frame", .option = "--upload-mib-per-frame", .label = "upload MiB/frame (0: no limit)",
+       .help = "cells, runs, bricks: the MiB of cell records one frame uploads when a new asset comes; a larger "
+               "asset is uploaded over several frames and drawn once all of it is in (meanwhile the object draws "
+               "what it drew before); 0: no limit. Headless runs (screenshots, perf captures) upload without one",
+       .member = &S::uploadMiBPerFrame, .range = numbers(kUploadMiBPerFrameRange)},
   };
 }
 

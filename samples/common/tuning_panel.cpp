@@ -273,6 +273,8 @@ void TuningPanel::drawSearchLimits(const TuningState& tuning) {
     changed |= sliderFloat("central_difference_step", t, "%.2f");
   }
   if (t.method == hsdf::RenderMethod::CellRuns) changed |= sliderU32("max_run_length", t);
+  if (const auto sdf = t.method.sdf(); sdf && hsdf::drawsCells(*sdf))
+    changed |= sliderU32("upload_mib_per_frame", t, IntRange{0, 256});
   if (changed) apply(t);
 }
 

@@ -211,8 +211,11 @@ void Viewer::applyTuningToScene() {
   updateVisibility(tuning_.method);
   registry_.view<hsdf::HermiteSdfRenderable>().each(
       [this](ecs::Entity, hsdf::HermiteSdfRenderable& renderable) { applyTuning(tuning_, renderable); });
-  applyTuning(tuning_, renderer_->feature<hsdf::HermiteCellFeature>()->settings(),
-              renderer_->feature<hsdf::SphereTraceFeature>()->settings());
+  hsdf::HermiteCellFeature::Settings& cells = renderer_->feature<hsdf::HermiteCellFeature>()->settings();
+  applyTuning(tuning_, cells, renderer_->feature<hsdf::SphereTraceFeature>()->settings());
+  // Headless frames are captured (screenshots, perf captures, tests): each draws whole assets, never
+  // the object an asset uploaded in parts replaces.
+  if (!window_) cells.uploadBytesPerFrame = 0;
 }
 
 // Levels of detail (TuningState::lod): the scene objects' or the SDF entity's. `wait` (waitForBake)

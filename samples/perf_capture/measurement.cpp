@@ -48,8 +48,9 @@ Expected<std::unique_ptr<Measurement>> Measurement::create(const gpu::Context& c
 
 GpuReadback Measurement::measure(const ecs::Registry& registry, const render::CameraView& camera,
                                  const samples::TuningState& tuning) {
-  samples::applyTuning(tuning, renderer_->feature<hsdf::HermiteCellFeature>()->settings(),
-                       renderer_->feature<hsdf::SphereTraceFeature>()->settings());
+  hsdf::HermiteCellFeature::Settings& cells = renderer_->feature<hsdf::HermiteCellFeature>()->settings();
+  samples::applyTuning(tuning, cells, renderer_->feature<hsdf::SphereTraceFeature>()->settings());
+  cells.uploadBytesPerFrame = 0;  // the one frame measured draws whole assets
   render::FrameSettings settings;
   settings.debugView = DEBUG_VIEW_NORMALS;
   settings.countWork = true;

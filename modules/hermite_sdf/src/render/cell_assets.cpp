@@ -5,6 +5,7 @@
 #include <array>
 #include <cmath>
 #include <cstddef>
+#include <cstdint>
 #include <cstring>
 #include <limits>
 #include <span>
@@ -64,6 +65,9 @@ struct HermiteCellFeature::AssetDemand {
   std::unordered_set<std::uint64_t> seen;
   std::unordered_set<std::uint64_t> asBricks;  // assets some entity draws as cell bricks
   bool missing = false;
+  // The new assets wanted have their records in the buffers already, in the order wanted
+  // (uploadInParts); the other new assets wait.
+  bool recordsResident = false;
 };
 
 // The concatenation of the wanted assets' streams: the contents of the rebuilt buffers, or what is
@@ -78,6 +82,9 @@ struct HermiteCellFeature::AssetUpload {
   StreamCounts base;
   std::vector<RecordSource> recordSources;  // in record order
   std::uint32_t records = 0, halfRecords = 0;
+  // The records (and their cones) were written in earlier frames, after `base` (a new asset
+  // uploaded in parts: Settings::uploadBytesPerFrame): the other streams alone are appended.
+  bool recordsResident = false;
   std::vector<shader::CellRunGpu> runs;
   std::vector<shader::CellBrickGpu> bricks;
   std::vector<std::uint32_t> brickCells;
@@ -93,6 +100,10 @@ struct HermiteCellFeature::AssetUpload {
            cones.size() * sizeof(shader::CellBrickCone) + materialSlots.size() * sizeof(CellMaterialSlots) +
            palette.size() * sizeof(shader::HermiteMaterialGpu);
   }
+  // The bytes this upload writes from the CPU: bytes() less the records written before.
+  VkDeviceSize writtenBytes() const {
+    return bytes() - (recordsResident ? VkDeviceSize(records) * HermiteCellFeature::kRecordUploadBytes : 0);
+  }
   // The entries of the buffers once these streams are in.
   StreamCounts end() const {
     return {base.records + records, base.runs + std::uint32_t(runs.size()),
@@ -101,7 +112,16 @@ struct HermiteCellFeature::AssetUpload {
   }
 };
 
+const std::uint64_t HermiteCellFeature::kRecordUploadBytes =
+    sizeof(CellRecord) + sizeof(CellRecordHalf) + sizeof(shader::CellBrickCone);
+
 namespace {
+
+// The records are vertex attributes in the prepass and read by address in the resolve pass; the
+// runs are vertex attributes only.
+constexpr VkBufferUsageFlags kAddressUsage =
+    VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_SHADER_DEVICE_ADDRESS_BIT | VK_BUFFER_USAGE_TRANSFER_SRC_BIT;
+constexpr VkBufferUsageFlags kVertexUsage = VK_BUFFER_USAGE_VERTEX_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_SRC_BIT;
 
 // An append of `items` (which outlive it) after the `used` bytes of `buffer`.
 template <class T>
@@ -114,13 +134,17 @@ engine::gpu::BufferAppend appendOf(Buffer& buffer, VkDeviceSize used, const std:
 // The GPU copies of the records carry their proxy box beside the class (CELL_PROXY_SHIFT); an asset
 // without codes (made by hand) keeps the whole cells (code 0). Record by record through a local:
 // `out` is staging memory, which may be write-combined (never read back).
+// `first` and `count` pick the records written (a part of an upload spread over frames).
 template <class Record>
-std::byte* writeRecords(const std::vector<Record>& records, const std::vector<std::uint16_t>& codes, std::byte* out) {
+std::byte* writeRecords(const std::vector<Record>& records, const std::vector<std::uint16_t>& codes, std::byte* out,
+                        std::size_t first = 0, std::size_t count = SIZE_MAX) {
+  first = std::min(first, records.size());
+  count = std::min(count, records.size() - first);
   if (codes.size() != records.size()) {
-    std::memcpy(out, records.data(), records.size() * sizeof(Record));
-    return out + records.size() * sizeof(Record);
+    std::memcpy(out, records.data() + first, count * sizeof(Record));
+    return out + count * sizeof(Record);
   }
-  for (std::size_t i = 0; i < records.size(); ++i, out += sizeof(Record)) {
+  for (std::size_t i = first; i < first + count; ++i, out += sizeof(Record)) {
     Record record = records[i];
     record.cellClass = std::uint16_t(record.cellClass | (codes[i] << CELL_PROXY_SHIFT));
     std::memcpy(out, &record, sizeof(Record));
@@ -130,14 +154,16 @@ std::byte* writeRecords(const std::vector<Record>& records, const std::vector<st
 
 // The asset's cell cones (one per record, what the cell culling pass reads), or cones that never
 // cull for an asset without them.
-std::byte* writeCellCones(const SdfAsset& asset, const CellDerived* derived, std::byte* out) {
-  const std::size_t bytes = asset.cells.records.size() * sizeof(shader::CellBrickCone);
+std::byte* writeCellCones(const SdfAsset& asset, const CellDerived* derived, std::byte* out, std::size_t first = 0,
+                          std::size_t count = SIZE_MAX) {
+  first = std::min(first, asset.cells.records.size());
+  count = std::min(count, asset.cells.records.size() - first);
   if (derived) {
-    std::memcpy(out, derived->cellCones.data(), bytes);
-    return out + bytes;
+    std::memcpy(out, derived->cellCones.data() + first, count * sizeof(shader::CellBrickCone));
+    return out + count * sizeof(shader::CellBrickCone);
   }
   const shader::CellBrickCone never = neverCullCone();
-  for (std::size_t i = 0; i < asset.cells.records.size(); ++i, out += sizeof(never)) std::memcpy(out, &never, sizeof(never));
+  for (std::size_t i = 0; i < count; ++i, out += sizeof(never)) std::memcpy(out, &never, sizeof(never));
   return out;
 }
 
@@ -164,19 +190,17 @@ std::array<engine::gpu::BufferAppend::Writer, 3> recordWriters(const Upload& u) 
 static_assert(sizeof(CellMaterialSlots) == sizeof(shader::CellMaterialSlotsGpu), "materials.h and hermite_host_device.h");
 
 // The seven cell buffers as appends of the upload's streams after the `used` entries they hold,
-// with each buffer's usage. The records are vertex attributes in the prepass and read by address
-// in the resolve pass; the runs are vertex attributes only.
+// with each buffer's usage (records resident: none of theirs).
 template <class Upload>
 std::vector<engine::gpu::BufferAppend> cellStreamAppends(CellBuffers& b, const Upload& u, const StreamCounts& used) {
-  constexpr VkBufferUsageFlags address =
-      VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_SHADER_DEVICE_ADDRESS_BIT | VK_BUFFER_USAGE_TRANSFER_SRC_BIT;
-  constexpr VkBufferUsageFlags vertex = VK_BUFFER_USAGE_VERTEX_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_SRC_BIT;
+  constexpr VkBufferUsageFlags address = kAddressUsage, vertex = kVertexUsage;
   const auto entries = [](std::uint32_t count, std::size_t size) { return VkDeviceSize(count) * size; };
+  const std::uint32_t records = u.recordsResident ? 0 : u.records, halfRecords = u.recordsResident ? 0 : u.halfRecords;
   auto [full, half, cellCones] = recordWriters(u);
   return {
-      {&b.records[0], entries(used.records, sizeof(CellRecord)), entries(u.records, sizeof(CellRecord)),
+      {&b.records[0], entries(used.records, sizeof(CellRecord)), entries(records, sizeof(CellRecord)),
        std::move(full), vertex | address, "hermite cells fp32"},
-      {&b.records[1], entries(used.records, sizeof(CellRecordHalf)), entries(u.halfRecords, sizeof(CellRecordHalf)),
+      {&b.records[1], entries(used.records, sizeof(CellRecordHalf)), entries(halfRecords, sizeof(CellRecordHalf)),
        std::move(half), vertex | address, "hermite cells fp16"},
       appendOf(b.runs, entries(used.runs, sizeof(shader::CellRunGpu)), u.runs, vertex, "hermite cell runs"),
       appendOf(b.bricks, entries(used.bricks, sizeof(shader::CellBrickGpu)), u.bricks, vertex | address,
@@ -185,7 +209,7 @@ std::vector<engine::gpu::BufferAppend> cellStreamAppends(CellBuffers& b, const U
                "hermite cell brick cells"),
       appendOf(b.brickCones, entries(used.bricks, sizeof(shader::CellBrickCone)), u.cones, address,
                "hermite cell brick cones"),
-      {&b.cellCones, entries(used.records, sizeof(shader::CellBrickCone)), entries(u.records, sizeof(shader::CellBrickCone)),
+      {&b.cellCones, entries(used.records, sizeof(shader::CellBrickCone)), entries(records, sizeof(shader::CellBrickCone)),
        std::move(cellCones), address, "hermite cell cones"},
   };
 }
@@ -196,8 +220,7 @@ std::vector<engine::gpu::BufferAppend> cellStreamAppends(CellBuffers& b, const U
 template <class Upload>  // HermiteCellFeature::AssetUpload, private to the feature
 std::vector<engine::gpu::BufferAppend> streamAppends(CellBuffers& b, const Upload& u, const StreamCounts& used) {
   std::vector<engine::gpu::BufferAppend> appends = cellStreamAppends(b, u, used);
-  constexpr VkBufferUsageFlags address =
-      VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_SHADER_DEVICE_ADDRESS_BIT | VK_BUFFER_USAGE_TRANSFER_SRC_BIT;
+  constexpr VkBufferUsageFlags address = kAddressUsage;
   if (!u.materialSlots.empty())
     appends.push_back(appendOf(b.materialSlots, VkDeviceSize(used.materialSlots) * sizeof(CellMaterialSlots),
                                u.materialSlots, address, "hermite cell material slots"));
@@ -207,13 +230,60 @@ std::vector<engine::gpu::BufferAppend> streamAppends(CellBuffers& b, const Uploa
   return appends;
 }
 
+// Records [first, first + count) of `asset` (fp32, fp16 and cell cones) appended after the buffers'
+// `base` records and the `first` already written, each buffer made or grown with room for the
+// whole asset, so that the later parts are written in place.
+std::vector<engine::gpu::BufferAppend> recordPartAppends(CellBuffers& b, const SdfAsset& asset, const CellDerived* derived,
+                                                         std::uint32_t base, std::uint32_t first, std::uint32_t count) {
+  const auto total = static_cast<std::uint32_t>(asset.cells.records.size());
+  const auto part = [&](Buffer& buffer, std::size_t size, std::uint32_t entries, engine::gpu::BufferAppend::Writer write,
+                        VkBufferUsageFlags usage, const char* name) {
+    engine::gpu::BufferAppend a{&buffer, VkDeviceSize(base + first) * size, VkDeviceSize(entries) * size,
+                                std::move(write), usage, name};
+    a.reserve = VkDeviceSize(total - first) * size;
+    return a;
+  };
+  const std::size_t halves = asset.cellsHalf.records.size();
+  const auto halfCount = static_cast<std::uint32_t>(first < halves ? std::min<std::size_t>(count, halves - first) : 0);
+  std::vector<engine::gpu::BufferAppend> appends;
+  appends.push_back(part(b.records[0], sizeof(CellRecord), count, [&asset, first, count](std::span<std::byte> out) {
+    writeRecords(asset.cells.records, asset.proxyBoxes, out.data(), first, count);
+  }, kVertexUsage | kAddressUsage, "hermite cells fp32"));
+  appends.push_back(part(b.records[1], sizeof(CellRecordHalf), halfCount, [&asset, first, count](std::span<std::byte> out) {
+    writeRecords(asset.cellsHalf.records, asset.proxyBoxesHalf, out.data(), first, count);
+  }, kVertexUsage | kAddressUsage, "hermite cells fp16"));
+  appends.push_back(part(b.cellCones, sizeof(shader::CellBrickCone), count, [&asset, derived, first, count](std::span<std::byte> out) {
+    writeCellCones(asset, derived, out.data(), first, count);
+  }, kAddressUsage, "hermite cell cones"));
+  return appends;
+}
+
+// Never an empty buffer (a zero-sized buffer is invalid): a buffer not made yet that gets no bytes
+// gets padding no draw reaches, as large as any entry, overwritten by the first asset appended
+// with bricks or cones (its `used` stays 0).
+void padEmptyBuffers(std::span<engine::gpu::BufferAppend> appends) {
+  static constexpr std::array<std::byte, 64> kPadding{};
+  for (engine::gpu::BufferAppend& a : appends)
+    if (a.bytes == 0 && !*a.buffer) {
+      a.bytes = kPadding.size();
+      a.write = engine::gpu::copyOf(kPadding);
+    }
+}
+
 }  // namespace
 
 // Uploads the assets drawn now when one is new, needs bricks, or the run length changed.
 void HermiteCellFeature::syncAssets(const engine::render::FrameContext& frame) {
   forgetRefusalsThatMayFit();
   AssetDemand d = collectAssetDemand(frame);
-  const bool runsStale = !d.wanted.empty() && buffers_->runLength != settings_.maxRunLength &&
+  if (settings_.uploadBytesPerFrame != 0) {
+    uploadInParts(frame, d);
+  } else {  // every new asset comes whole, after the records the buffers hold
+    partial_.reset();
+    assetsWaiting_ = 0;
+  }
+  // Nothing uploaded yet (the first asset is being written in parts): no runs to be stale.
+  const bool runsStale = !d.wanted.empty() && !buffers_->entries.empty() && buffers_->runLength != settings_.maxRunLength &&
                          settings_.maxRunLength != refusedRunLength_;  // the setting changed
   const bool drop = idleAssetsToDrop(frame);
   if (!d.missing && !runsStale && !drop) return;
@@ -225,6 +295,7 @@ void HermiteCellFeature::syncAssets(const engine::render::FrameContext& frame) {
 
   if (!runsStale && !drop && appendNewAssets(frame, d)) return;
   if (d.wanted.empty()) {  // no asset drawn any more (idleAssetsToDrop): every buffer goes, as at the start
+    partial_.reset();
     frame.retire(std::move(buffers_));
     buffers_ = std::make_unique<CellBuffers>();
     return;
@@ -261,6 +332,107 @@ void HermiteCellFeature::forgetRefusalsThatMayFit() {
   }
 }
 
+namespace {
+
+// Whether an uploaded asset now drawn as bricks lacks its bricks.
+template <class Demand>
+bool bricksMissing(const Demand& d, const CellBuffers& buffers) {
+  for (std::uint64_t id : d.asBricks)
+    if (auto entry = buffers.entries.find(id); entry != buffers.entries.end() && !entry->second.bricksUploaded)
+      return true;
+  return false;
+}
+
+}  // namespace
+
+// A budget per frame (Settings::uploadBytesPerFrame): new assets that fit it together, none begun
+// in an earlier frame, are uploaded whole as without a budget (a rebuild into empty buffers sizes
+// them exactly). Otherwise they get their records written in turn, the one begun in an earlier
+// frame first, until the frame's budget is spent. Those
+// whose last records are in stay in this frame's upload, appended with their records in place (in
+// the order written); the others wait, their entities drawing the assets they replaced
+// (collectAssetDemand, buildDraws). One round a frame: view regions prepare the frame again.
+void HermiteCellFeature::uploadInParts(const engine::render::FrameContext& frame, AssetDemand& d) {
+  const auto isNew = [this](const std::shared_ptr<const SdfAsset>& a) { return !buffers_->entries.contains(a->id); };
+  std::vector<std::shared_ptr<const SdfAsset>> queue;
+  for (const auto& asset : d.wanted)
+    if (isNew(asset)) queue.insert(partial_ && partial_->assetId == asset->id ? queue.begin() : queue.end(), asset);
+  std::uint64_t left = std::max<std::uint64_t>(1, settings_.uploadBytesPerFrame / kRecordUploadBytes);  // records
+  std::uint64_t queued = 0;
+  for (const auto& asset : queue) queued += asset->cells.records.size();
+  if (queue.empty() || (queued <= left && !partial_)) {  // within the budget: uploaded whole, as without one
+    partial_.reset();
+    assetsWaiting_ = 0;
+    return;
+  }
+  std::erase_if(d.wanted, isNew);
+  d.missing = bricksMissing(d, *buffers_);
+  if (partsFrame_ == frame.frameNumber) return;
+  partsFrame_ = frame.frameNumber;
+  assetsWaiting_ = queue.size();
+  std::uint32_t base = buffers_->used.records;  // where the next asset's records go
+  for (const auto& asset : queue) {
+    if (!partial_ || partial_->assetId != asset->id) partial_ = PartialUpload{asset->id, 0};
+    const auto total = static_cast<std::uint32_t>(asset->cells.records.size());
+    const auto count = static_cast<std::uint32_t>(std::min<std::uint64_t>(total - partial_->written, left));
+    if (!writeRecordPart(frame, asset, base, count)) {  // refused, reported: not waiting any more
+      --assetsWaiting_;
+      break;
+    }
+    if (partial_->written < total) break;
+    partial_.reset();
+    d.wanted.push_back(asset);
+    d.recordsResident = true;
+    d.missing = true;
+    --assetsWaiting_;
+    base += total;
+    left -= count;
+    if (left == 0) break;
+  }
+}
+
+// Writes `count` more of `asset`'s records (partial_) after the `base` records before it; false
+// when the allocation was refused: the asset is refused as a whole upload would be.
+bool HermiteCellFeature::writeRecordPart(const engine::render::FrameContext& frame,
+                                         const std::shared_ptr<const SdfAsset>& asset, std::uint32_t base,
+                                         std::uint32_t count) {
+  std::vector<engine::gpu::BufferAppend> appends =
+      recordPartAppends(*buffers_, *asset, matchingDerived(*asset), base, partial_->written, count);
+  auto replaced = engine::gpu::allocateOrRefuse([&] { return engine::gpu::appendToBuffers(*context_, appends); });
+  if (!replaced) {
+    partial_.reset();
+    refuseNewAssets(frame, {asset}, replaced.error().message, VkDeviceSize(asset->cells.records.size()) * kRecordUploadBytes);
+    return false;
+  }
+  // Commands recorded earlier (frames in flight) read the replaced buffers until their frames complete.
+  for (Buffer& old : *replaced) frame.retire(std::move(old));
+  partial_->written += count;
+  uploadedBytes_ += VkDeviceSize(count) * kRecordUploadBytes;
+  return true;
+}
+
+bool HermiteCellFeature::uploading() const { return assetsWaiting_ != 0; }
+
+// An asset not uploaded whose entity draws the asset it replaced meanwhile: refused, or waiting
+// for its records to be written in parts (a budget per frame).
+bool HermiteCellFeature::drawsPreviousAsset(std::uint64_t assetId) const {
+  return refused_.contains(assetId) || settings_.uploadBytesPerFrame != 0;
+}
+
+// The asset the entity drew last frame stays uploaded, and drawn (buildDraws), while its new one is not.
+void HermiteCellFeature::keepPreviousAsset(const engine::render::FrameContext& frame, engine::ecs::Entity entity,
+                                           bool bricks, AssetDemand& d) {
+  const auto previous = drawnAssets_.find(entity);
+  if (previous == drawnAssets_.end()) return;
+  const auto kept = buffers_->entries.find(previous->second);
+  if (kept == buffers_->entries.end()) return;
+  if (bricks) d.asBricks.insert(kept->first);
+  if (d.seen.insert(kept->first).second) {
+    d.wanted.push_back(kept->second.asset);
+    kept->second.lastFrame = frame.frameNumber;
+  }
+}
+
 // Whether the uploaded assets that no entity has drawn for Settings::releaseAfterFrames frames (at
 // least the frames in flight) hold at least half of the uploaded records: then the buffers are
 // rebuilt without them. A destroyed object's asset was held, CPU and GPU, until a new asset came.
@@ -285,18 +457,9 @@ HermiteCellFeature::AssetDemand HermiteCellFeature::collectAssetDemand(const eng
   frame.registry.view<HermiteSdfRenderable>().each([&](engine::ecs::Entity entity, const HermiteSdfRenderable& r) {
     if (!drawsCells(r.method) || !r.asset || r.asset->cells.records.empty()) return;
     const bool bricks = r.method == RenderMethod::CellBricks;
-    if (refused_.contains(r.asset->id)) {
-      // The entity still draws the asset the refused one replaced (buildDraws): keep it uploaded.
-      if (auto previous = drawnAssets_.find(entity); previous != drawnAssets_.end())
-        if (auto kept = buffers_->entries.find(previous->second); kept != buffers_->entries.end()) {
-          if (bricks) d.asBricks.insert(kept->first);
-          if (d.seen.insert(kept->first).second) {
-            d.wanted.push_back(kept->second.asset);
-            kept->second.lastFrame = frame.frameNumber;
-          }
-        }
-      return;
-    }
+    if (!buffers_->entries.contains(r.asset->id) && drawsPreviousAsset(r.asset->id))
+      keepPreviousAsset(frame, entity, bricks, d);
+    if (refused_.contains(r.asset->id)) return;
     if (bricks) d.asBricks.insert(r.asset->id);
     if (!d.seen.insert(r.asset->id).second) return;
     d.wanted.push_back(r.asset);
@@ -306,9 +469,7 @@ HermiteCellFeature::AssetDemand HermiteCellFeature::collectAssetDemand(const eng
     else
       entry->second.lastFrame = frame.frameNumber;
   });
-  for (std::uint64_t id : d.asBricks)  // an uploaded asset now drawn as bricks: upload its bricks
-    if (auto entry = buffers_->entries.find(id); entry != buffers_->entries.end() && !entry->second.bricksUploaded)
-      d.missing = true;
+  d.missing = d.missing || bricksMissing(d, *buffers_);  // an uploaded asset now drawn as bricks: upload its bricks
   return d;
 }
 
@@ -377,7 +538,7 @@ void HermiteCellFeature::appendAsset(CellBuffers& rebuilt, AssetUpload& u, const
   const auto old = buffers_->entries.find(asset->id);
   if (d.asBricks.contains(asset->id) || (old != buffers_->entries.end() && old->second.bricksUploaded))
     appendBricks(u, entry, bricksOf(*asset, derived));
-  u.recordSources.push_back({asset.get(), derived});
+  if (!u.recordsResident) u.recordSources.push_back({asset.get(), derived});
   u.records += static_cast<std::uint32_t>(asset->cells.records.size());
   u.halfRecords += static_cast<std::uint32_t>(asset->cellsHalf.records.size());
   appendMaterials(u, *asset, entry);
@@ -387,15 +548,8 @@ void HermiteCellFeature::appendAsset(CellBuffers& rebuilt, AssetUpload& u, const
 // The rebuilt GPU buffers, made and filled in one submission; throws engine::gpu::VulkanError
 // when an allocation fails.
 void HermiteCellFeature::createAssetBuffers(CellBuffers& rebuilt, const AssetUpload& u) const {
-  // Never empty (a zero-sized buffer is invalid): padding no draw reaches, as large as any entry,
-  // overwritten by the first asset appended with bricks or cones.
-  static constexpr std::array<std::byte, 64> kPadding{};
   std::vector<engine::gpu::BufferAppend> appends = streamAppends(rebuilt, u, StreamCounts{});
-  for (engine::gpu::BufferAppend& a : appends)
-    if (a.bytes == 0) {
-      a.bytes = kPadding.size();
-      a.write = engine::gpu::copyOf(kPadding);
-    }
+  padEmptyBuffers(appends);
   (void)engine::gpu::appendToBuffers(*context_, appends);  // the buffers were empty: none replaced
 }
 
@@ -409,22 +563,28 @@ void HermiteCellFeature::createAssetBuffers(CellBuffers& rebuilt, const AssetUpl
 // rebuild leaves them out, as the idle release does: at half, the uploads stay within twice what
 // is dropped).
 bool HermiteCellFeature::appendNewAssets(const engine::render::FrameContext& frame, const AssetDemand& d) {
-  if (buffers_->entries.empty()) return false;
+  // New assets whose records were written in parts (uploadInParts: then they are the only new
+  // ones) are appended even to empty buffers: a rebuild would write their records again.
+  const bool resident = d.recordsResident;
+  if (buffers_->entries.empty() && !resident) return false;
   std::uint64_t idleRecords = 0;
   for (const auto& [id, entry] : buffers_->entries)
     if (!d.seen.contains(id)) idleRecords += entry.asset->cells.records.size();
-  if (2 * idleRecords >= buffers_->used.records) return false;
+  if (!buffers_->entries.empty() && 2 * idleRecords >= buffers_->used.records) return false;
 
   CellBuffers added;  // the new assets' entries
   AssetUpload u;
   u.base = buffers_->used;
+  u.recordsResident = resident;
   for (const auto& asset : d.wanted)
     if (!buffers_->entries.contains(asset->id)) appendAsset(added, u, asset, d);
   const auto bricked = appendUploadedAssetsBricks(u, *buffers_, d.asBricks);
   std::vector<engine::gpu::BufferAppend> appends = streamAppends(*buffers_, u, buffers_->used);
+  padEmptyBuffers(appends);  // the first asset, written in parts: the streams it has none of
   auto replaced = engine::gpu::allocateOrRefuse([&] { return engine::gpu::appendToBuffers(*context_, appends); });
   if (!replaced) {
     refuseNewAssets(frame, d.wanted, replaced.error().message, u.bytes());  // at least (drawn alone: no other asset's bytes)
+    if (resident) partial_.reset();  // its records were written after the refused ones: written again
     return true;  // the buffers stay as they were: what was drawn is drawn
   }
   // Commands recorded earlier (this frame's earlier view regions, frames in flight) read the
@@ -439,9 +599,10 @@ bool HermiteCellFeature::appendNewAssets(const engine::render::FrameContext& fra
     entry.bricksUploaded = true;
     entry.firstBrick = firstBrick;
   }
+  if (buffers_->entries.size() == added.entries.size()) buffers_->runLength = settings_.maxRunLength;  // the first
   buffers_->used = u.end();
   buffers_->bytes += u.bytes();
-  uploadedBytes_ += u.bytes();
+  uploadedBytes_ += u.writtenBytes();
   engine::log::debug("hermite cells: {} assets and the bricks of {} appended, {} records uploaded ({} in all)",
                      added.entries.size(), bricked.size(), u.records, buffers_->used.records);
   return true;
@@ -457,6 +618,7 @@ void HermiteCellFeature::commitAssetBuffers(const engine::render::FrameContext& 
   rebuilt.bytes = u.bytes();
   uploadedBytes_ += u.bytes();
   for (auto& [id, entry] : rebuilt.entries) entry.lastFrame = frame.frameNumber;
+  partial_.reset();  // records written in parts after the old buffers' are not in the new ones
   frame.retire(std::move(buffers_));
   buffers_ = std::make_unique<CellBuffers>(std::move(rebuilt));
   engine::log::debug("hermite cells: {} assets, {} records uploaded", buffers_->entries.size(), u.records);

@@ -326,9 +326,10 @@ void HermiteCellFeature::addObjectDraws(engine::render::FrameContext& frame, Fra
     return;
   }
   auto found = buffers_->entries.find(r.asset->id);
-  // A refused asset (its upload did not fit in GPU memory) that replaced the entity's field:
-  // the field it replaced is still uploaded and is drawn instead, from this very frame on.
-  if (found == buffers_->entries.end() && refused_.contains(r.asset->id))
+  // An asset not uploaded (refused: its upload did not fit in GPU memory; or still being written
+  // in parts) that replaced the entity's field: the field it replaced is still uploaded and is
+  // drawn instead, from this very frame on.
+  if (found == buffers_->entries.end() && drawsPreviousAsset(r.asset->id))
     if (auto previous = drawnAssets_.find(entity); previous != drawnAssets_.end())
       found = buffers_->entries.find(previous->second);
   if (found == buffers_->entries.end()) return;

@@ -79,6 +79,34 @@ TEST(BufferAppend, KeepsWhatIsThereGrowsByHalfAndFillsTheRoomInPlace) {
   EXPECT_EQ(context->validationMessageCount(), 0u) << ::testing::PrintToString(context->validationMessages());
 }
 
+// Tricky: data written in parts (a large upload spread over frames) reserves its whole size with
+// the first part, so the later parts fill that buffer in place: no growth copies the parts already
+// written, and the buffer keeps its handle (commands recorded meanwhile stay valid). A reserve
+// smaller than the part changes nothing.
+TEST(BufferAppend, AReserveMakesRoomForTheLaterParts) {
+  auto context = test::makeTestContext();
+  ASSERT_NE(context, nullptr);
+  Buffer buffer;
+  const auto a = iota(0, 30), b = iota(100, 30), c = iota(200, 40);
+  std::vector<BufferAppend> first{appendOf(buffer, 0, a)};
+  first[0].reserve = 100 * sizeof(std::uint32_t);
+  EXPECT_TRUE(appendToBuffers(*context, first).empty());
+  EXPECT_EQ(buffer.size(), 100u * 4u) << "made with room for the whole upload";
+  const VkBuffer made = buffer.handle();
+  std::vector<BufferAppend> second{appendOf(buffer, 30, b)};
+  second[0].reserve = 70 * sizeof(std::uint32_t);
+  std::vector<BufferAppend> third{appendOf(buffer, 60, c)};
+  third[0].reserve = 4;  // less than the part: the part's own size counts
+  EXPECT_TRUE(appendToBuffers(*context, second).empty());
+  EXPECT_TRUE(appendToBuffers(*context, third).empty());
+  EXPECT_EQ(buffer.handle(), made) << "a later part grew the buffer";
+  std::vector<std::uint32_t> expected = a;
+  expected.insert(expected.end(), b.begin(), b.end());
+  expected.insert(expected.end(), c.begin(), c.end());
+  EXPECT_EQ(readWords(*context, buffer, expected.size()), expected);
+  EXPECT_EQ(context->validationMessageCount(), 0u) << ::testing::PrintToString(context->validationMessages());
+}
+
 // Tricky: the second buffer's growth does not fit the budget after the first's did: neither may
 // change (the first's larger buffer given back, its words as they were), and with the budget
 // lifted the same append succeeds. A buffer said to hold more than it has is refused by name.

@@ -525,6 +525,26 @@ TEST(Viewer, SearchLimitsOfTheTuningReachTheFeatures) {
   EXPECT_TRUE(viewer->close().ok());
 }
 
+// Why: a headless viewer's frames are captured (screenshots, scripts, perf captures): each must
+// draw whole assets, so an upload budget asked for (by the command line, a settings file, a
+// script) must not reach the cell feature there, while applyTuning itself must carry it (a
+// windowed viewer's). Tricky: the viewer applies the tuning every step; the override must come
+// after it, not once at start.
+TEST(Viewer, AHeadlessViewerUploadsWithoutABudget) {
+  auto viewer = viewTorus(32);
+  ASSERT_NE(viewer, nullptr);
+  TuningState tuning = viewer->tuning();
+  tuning.uploadMiBPerFrame = 5;
+  viewer->setTuning(tuning);
+  ASSERT_TRUE(viewer->step().ok());
+  EXPECT_EQ(viewer->renderer().feature<hsdf::HermiteCellFeature>()->settings().uploadBytesPerFrame, 0u);
+  hsdf::HermiteCellFeature::Settings cells;
+  hsdf::SphereTraceFeature::Settings tracers;
+  applyTuning(tuning, cells, tracers);
+  EXPECT_EQ(cells.uploadBytesPerFrame, std::uint64_t(5) << 20);
+  EXPECT_TRUE(viewer->close().ok());
+}
+
 TEST(Viewer, LevelsOfDetailBakeOffTheFrameThread) {
   auto viewer = viewTorus(64);
   ASSERT_NE(viewer, nullptr);

@@ -199,7 +199,17 @@ class HermiteCellFeature final : public engine::render::RenderFeature {
     // so that the frame after the switch binds them instead of compiling them. Off: that frame
     // compiles them (tens to hundreds of milliseconds on the render thread).
     bool warmPipelines = true;
+    // The most bytes of cell records (fp32, fp16 and the cell's cone: kRecordUploadBytes a cell)
+    // one frame writes into the GPU buffers when new assets come: a larger asset is written over
+    // several frames, one new asset after another, at least one record a frame, and drawn from the
+    // frame its last records are in, never half uploaded (until then its entity draws the asset it
+    // replaced, if that is still uploaded, or nothing). That frame also writes the asset's runs,
+    // bricks and material slots (small beside the records). A rebuild (a new run length, idle
+    // assets dropped) writes every drawn asset in its frame, as does 0 always: no limit.
+    std::uint64_t uploadBytesPerFrame = std::uint64_t(32) << 20;
   };
+  // The bytes a cell costs in Settings::uploadBytesPerFrame: its fp32 and fp16 records and its cone.
+  static const std::uint64_t kRecordUploadBytes;
   static constexpr std::uint32_t kMinTileEntries = 64;
   static constexpr std::uint32_t kTileSizes[] = {4, 8, 16};  // the sides Settings::tileSize may take
   static bool tileSizeValid(std::uint32_t size) {
@@ -278,6 +288,9 @@ class HermiteCellFeature final : public engine::render::RenderFeature {
   // it drew before, if any (a re-bake past the budget: no frame without the object); the caller
   // can put that asset back into the component (the Viewer does, so the tuning names it).
   bool refused(std::uint64_t assetId) const { return refused_.contains(assetId); }
+  // Whether a new asset is being uploaded over several frames (Settings::uploadBytesPerFrame) and
+  // is not drawn yet.
+  bool uploading() const;
 
  private:
   static float cellPixelsOnScreen(const GridSpec& grid, const glm::mat4& world, const engine::render::CameraView& camera,
@@ -301,6 +314,12 @@ class HermiteCellFeature final : public engine::render::RenderFeature {
                        const std::vector<std::shared_ptr<const SdfAsset>>& wanted, const std::string& why,
                        VkDeviceSize needed);
   void forgetRefusalsThatMayFit();
+  void uploadInParts(const engine::render::FrameContext& frame, AssetDemand& d);
+  bool writeRecordPart(const engine::render::FrameContext& frame, const std::shared_ptr<const SdfAsset>& asset,
+                       std::uint32_t base, std::uint32_t count);
+  bool drawsPreviousAsset(std::uint64_t assetId) const;
+  void keepPreviousAsset(const engine::render::FrameContext& frame, engine::ecs::Entity entity, bool bricks,
+                         AssetDemand& d);
   void buildDraws(engine::render::FrameContext& frame);
   void resetDraws();
   void addObjectDraws(engine::render::FrameContext& frame, FrameDraws& f, engine::ecs::Entity entity,
@@ -437,6 +456,16 @@ class HermiteCellFeature final : public engine::render::RenderFeature {
   const engine::ecs::Registry* drawnRegistry_ = nullptr;
   std::uint32_t refusedRunLength_ = 0;
   std::uint64_t uploadedBytes_ = 0;  // Stats::uploadedBytes
+  // The new asset whose records are being written over several frames (Settings::
+  // uploadBytesPerFrame), after the records the buffers hold (CellBuffers::used): no entry points
+  // there until all are in. A rebuild of the buffers starts it again.
+  struct PartialUpload {
+    std::uint64_t assetId = 0;
+    std::uint32_t written = 0;  // its records in the buffers so far
+  };
+  std::optional<PartialUpload> partial_;
+  std::optional<std::uint64_t> partsFrame_;  // the frame that last wrote records in parts: one round a frame
+  std::size_t assetsWaiting_ = 0;            // new assets not drawn yet after that round (uploading())
   engine::render::PerFrameBuffer drawData_;     // the draw table: HermiteDrawTableHeader, a record per command
   engine::render::PerFrameBuffer drawRecords_;  // its HermiteDraw records
   engine::render::PerFrameBuffer indirect_;
