@@ -15,6 +15,7 @@
 #include "engine/gpu/lazy_pipeline.h"
 #include "engine/gpu/shader_statistics.h"
 #include "engine/gpu/vk_check.h"
+#include "mesh_prepass_pipeline.h"
 #include "test_files.h"
 #include "test_device.h"
 
@@ -47,23 +48,7 @@ class LazyPipelineTest : public ::testing::Test {
 
   // mesh.vert with mesh_prepass.frag (an id target and depth), named `name`. The test's own
   // references to the modules end here: only the LazyPipeline keeps them.
-  LazyPipeline describe(const std::string& name) {
-    auto vert = loadSharedShaderModule(*context_, "mesh.vert");
-    auto frag = loadSharedShaderModule(*context_, "mesh_prepass.frag");
-    EXPECT_TRUE(vert && frag);
-    if (!vert || !frag) return {};
-    GraphicsPipelineDesc desc;
-    desc.name = name;
-    desc.vertex = (*vert)->handle();
-    desc.fragment = (*frag)->handle();
-    desc.vertexLayout.bindings.push_back({0, 24, VK_VERTEX_INPUT_RATE_VERTEX});
-    desc.vertexLayout.attributes.push_back({0, 0, VK_FORMAT_R32G32B32_SFLOAT, 0});
-    desc.vertexLayout.attributes.push_back({1, 0, VK_FORMAT_R32G32B32_SFLOAT, 12});
-    desc.colorFormats = {VK_FORMAT_R32G32_UINT};
-    desc.depthFormat = VK_FORMAT_D32_SFLOAT;
-    desc.pushConstantBytes = 128;
-    return LazyPipeline(desc, {*vert, *frag});
-  }
+  LazyPipeline describe(const std::string& name) { return describeMeshPrepass(*context_, name); }
 
   // How many times the pipeline `name` was compiled (its vertex stage's rows).
   std::size_t compiled(const std::string& name) const {

@@ -13,6 +13,7 @@
 #include "engine/gpu/lazy_pipeline.h"
 #include "engine/gpu/pipeline_cache.h"
 #include "log_capture.h"
+#include "mesh_prepass_pipeline.h"
 #include "test_device.h"
 #include "test_files.h"
 
@@ -37,20 +38,8 @@ class PipelineCacheDeviceTest : public ::testing::Test {
 
   // Compiles mesh.vert with mesh_prepass.frag through the context's cache.
   static void compileOne(const Context& context) {
-    auto vert = loadSharedShaderModule(context, "mesh.vert");
-    auto frag = loadSharedShaderModule(context, "mesh_prepass.frag");
-    ASSERT_TRUE(vert && frag);
-    GraphicsPipelineDesc desc;
-    desc.name = "cached";
-    desc.vertex = (*vert)->handle();
-    desc.fragment = (*frag)->handle();
-    desc.vertexLayout.bindings.push_back({0, 24, VK_VERTEX_INPUT_RATE_VERTEX});
-    desc.vertexLayout.attributes.push_back({0, 0, VK_FORMAT_R32G32B32_SFLOAT, 0});
-    desc.vertexLayout.attributes.push_back({1, 0, VK_FORMAT_R32G32B32_SFLOAT, 12});
-    desc.colorFormats = {VK_FORMAT_R32G32_UINT};
-    desc.depthFormat = VK_FORMAT_D32_SFLOAT;
-    desc.pushConstantBytes = 128;
-    LazyPipeline pipeline(desc, {*vert, *frag});
+    LazyPipeline pipeline = describeMeshPrepass(context, "cached");
+    ASSERT_TRUE(pipeline.described());
     ASSERT_TRUE(pipeline.get(context).ok());
   }
 
