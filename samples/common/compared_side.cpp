@@ -22,27 +22,24 @@ void ComparedSide::release() {
   overlay_.reset();
 }
 
-// The main asset at the same K and padding is the same field: it is shared, not baked twice.
+// The main asset at the same key (K, padding, shell) is the same field: it is shared, not baked twice.
 void ComparedSide::updateBake(const TuningState& tuning, const hsdf::BakeSource* source, const MainField& main,
                               const hsdf::BakeBudget& budget) {
   if (!comparing(tuning) || drawsCells(tuning.compareMethod) || !source) return;
-  const int k = effectiveCompareResolution(tuning);
-  const int padding = tuning.padding;
-  const bool have = asset_ && resolution_ == k && padding_ == padding;
-  const bool baking = job_ && job_->settings().resolution == k && job_->settings().padding == padding;
+  const BakeKey wanted = bakeKey(compareTuning(tuning));
+  const bool have = asset_ && key_ == wanted;
+  const bool baking = job_ && bakeKey(job_->settings()) == wanted;
   if (baking || (have && !job_)) return;
   job_.reset();  // cancels a bake for a K no longer asked for
-  if (have || failed_ == std::pair{k, padding}) return;
+  if (have || failed_ == wanted) return;
   // Shared when it has the dense field the compared tracer needs (a sparse cell bake has none).
-  if (main.asset && !main.asset->field.samples.empty() && k == main.resolution && padding == main.padding) {
+  if (main.asset && !main.asset->field.samples.empty() && wanted == main.key) {
     asset_ = main.asset;
-    resolution_ = k;
-    padding_ = padding;
+    key_ = wanted;
     return;
   }
   hsdf::BakeSettings settings;
-  settings.resolution = k;
-  settings.padding = padding;
+  setBakeKey(wanted, settings);
   settings.budget = budget;
   bakeError_.clear();
   job_ = std::make_unique<hsdf::BakeJob>(*source, settings);
@@ -54,14 +51,13 @@ void ComparedSide::finishBake() {
   job_.reset();
   if (!result) {
     bakeError_ = result.error().withContext(fmt::format("baking the compared side at resolution {}", settings.resolution)).message;
-    failed_ = {settings.resolution, settings.padding};
+    failed_ = bakeKey(settings);
     log::warn("{}", bakeError_);
     return;
   }
   log::info("compared side baked at resolution {}: {}", settings.resolution, describeSdfStats(sdfStats(**result)));
   asset_ = std::move(*result);
-  resolution_ = settings.resolution;
-  padding_ = settings.padding;
+  key_ = bakeKey(settings);
 }
 
 void ComparedSide::cancelBake() {
@@ -70,7 +66,7 @@ void ComparedSide::cancelBake() {
 
 int ComparedSide::resolutionDrawn(const TuningState& tuning, int mainResolution) const {
   if (drawsCells(tuning.compareMethod) || !asset_) return mainResolution;
-  return resolution_;
+  return key_.resolution;
 }
 
 // Its own bake, or the main asset (a compared method of cells, a .hsdf file, or while the first

@@ -25,11 +25,10 @@ class ComparedSide {
   // Puts the scene in the state `tuning` draws, the SDF entity showing `asset` (a view region's
   // override; Viewer::showState).
   using ShowState = std::function<void(const TuningState& tuning, const std::shared_ptr<const hsdf::SdfAsset>& asset)>;
-  // The main side's field, shared when the compared side wants the same K and padding.
+  // The main side's field, shared when the compared side wants the same K, padding and shell.
   struct MainField {
     std::shared_ptr<const hsdf::SdfAsset> asset;  // with the dense field, or not shared
-    int resolution = 0;
-    int padding = 0;
+    BakeKey key;
   };
 
   explicit ComparedSide(ShowState showState) : showState_(std::move(showState)) {}
@@ -38,11 +37,11 @@ class ComparedSide {
   // Before the device goes: the bake stops, the overlay's buffers are released.
   void release();
 
-  // Starts the bake when the compared side should draw another K (or padding) than it has.
+  // Starts the bake when the compared side should draw another K (or padding, shell) than it has.
   void updateBake(const TuningState& tuning, const hsdf::BakeSource* source, const MainField& main,
                   const hsdf::BakeBudget& budget);
   // Puts the finished bake's field in place (waiting for it); a failed one is not retried for the
-  // same K and padding (the reason is in bakeError()).
+  // same key (the reason is in bakeError()).
   void finishBake();
   hsdf::BakeJob* bakeJob() { return job_.get(); }
   void cancelBake();
@@ -80,11 +79,10 @@ class ComparedSide {
 
   ShowState showState_;
   std::shared_ptr<const hsdf::SdfAsset> asset_;
-  int resolution_ = 0;  // K of asset_
-  int padding_ = 0;
+  BakeKey key_;  // what asset_ was baked with
   std::unique_ptr<hsdf::BakeJob> job_;
   std::string bakeError_;
-  std::pair<int, int> failed_{-1, -1};  // K and padding of the last failed bake
+  std::optional<BakeKey> failed_;  // the last failed bake's
   std::optional<NormalDifference> difference_;
   float range_ = 10.0f;
   std::unique_ptr<ImageOverlay> overlay_;

@@ -33,8 +33,7 @@ void SdfBakes::add(std::shared_ptr<const hsdf::SdfAsset> asset, const glm::vec3&
 
 hsdf::BakeSettings SdfBakes::settings() const {
   hsdf::BakeSettings settings;
-  settings.resolution = tuning_.resolution;
-  settings.padding = tuning_.padding;
+  setBakeKey(bakeKey(tuning_), settings);
   settings.band = bakeBandFor(tuning_.method, tuning_.resolution);
   settings.budget = budget_;
   return settings;
@@ -69,11 +68,6 @@ void SdfBakes::setShown(bool shown) {
   }
 }
 
-void SdfBakes::setBaked(int resolution, int padding) {
-  resolution_ = resolution;
-  padding_ = padding;
-}
-
 void SdfBakes::followTuning() {
   if (!source_ || (!entity_ && !isSdfMethod(tuning_.method) && !comparing(tuning_))) return;
   if (!entity_) {
@@ -81,13 +75,12 @@ void SdfBakes::followTuning() {
     return;
   }
   // Compared with what is being baked, else with what is drawn.
-  const int resolution = job_ ? job_->settings().resolution : resolution_;
-  const int padding = job_ ? job_->settings().padding : padding_;
+  const BakeKey current = job_ ? bakeKey(job_->settings()) : baked_;
   // A sparse bake (the cells past K = 256) has no dense field: a dense tracer needs a re-bake.
   const hsdf::SdfAsset* drawn = asset();
   const bool sparse = job_ ? job_->settings().band == hsdf::BakeBand::Sparse : drawn && drawn->field.samples.empty();
   const bool needsDense = needsDenseField(tuning_.method);
-  if (tuning_.resolution != resolution || tuning_.padding != padding || (sparse && needsDense)) start();
+  if (bakeKey(tuning_) != current || (sparse && needsDense)) start();
 }
 
 void SdfBakes::start() {
@@ -118,8 +111,7 @@ Status SdfBakes::finish() {
     const Error error = result.error().withContext(fmt::format("re-baking at resolution {}", settings.resolution));
     error_ = error.message;
     if (entity_) {
-      tuning_.resolution = resolution_;
-      tuning_.padding = padding_;
+      setBakeKey(baked_, tuning_);
     } else {
       tuning_.method = Method::Mesh;
     }
@@ -129,12 +121,12 @@ Status SdfBakes::finish() {
   if (entity_) {
     hsdf::HermiteSdfRenderable& sdf = *renderable();
     // With levels of detail the renderable holds the level drawn; the bake replaced level 0.
-    replaced_ = {bakedAsset(), resolution_, padding_};
+    replaced_ = {bakedAsset(), baked_};
     sdf.asset = std::move(*result);
   } else {
     add(std::move(*result), origin_);
   }
-  setBaked(settings.resolution, settings.padding);
+  setBaked(bakeKey(settings));
   return {};
 }
 
@@ -168,12 +160,11 @@ bool SdfBakes::updateLevels(bool wait) {
   return true;
 }
 
-// New levels with `finest` (baked at resolution_) as level 0, the coarser ones to come.
+// New levels with `finest` (baked as baked_) as level 0, the coarser ones to come.
 void SdfBakes::startLevels(std::shared_ptr<const hsdf::SdfAsset> finest) {
   levelJob_.reset();  // a level of the old level 0 is outdated
   hsdf::BakeSettings settings;
-  settings.resolution = resolution_;
-  settings.padding = padding_;
+  setBakeKey(baked_, settings);
   settings.band = finest->field.samples.empty() ? hsdf::BakeBand::Sparse : hsdf::BakeBand::Dense;
   settings.budget = budget_;
   hsdf::HermiteSdfLod lod;
@@ -187,7 +178,7 @@ void SdfBakes::startNextLevel(const hsdf::BakeSettings& previous) {
     levelJob_ = std::make_unique<hsdf::BakeJob>(*source_, *next);
   else
     log::info("levels of detail: {} levels from K = {}", registry_.get<hsdf::HermiteSdfLod>(*entity_).levels.size(),
-              resolution_);
+              baked_.resolution);
 }
 
 // Adds the levels whose bakes are done (all of them when `wait`), starting the next one each time.
@@ -199,7 +190,7 @@ Status SdfBakes::finishLevels(bool wait) {
     levelJob_.reset();
     if (!result && cancelled) {
       log::info("levels of detail: level K = {} cancelled; {} levels from K = {} kept", settings.resolution,
-                registry_.get<hsdf::HermiteSdfLod>(*entity_).levels.size(), resolution_);
+                registry_.get<hsdf::HermiteSdfLod>(*entity_).levels.size(), baked_.resolution);
       return {};
     }
     if (!result) return result.error().withContext(fmt::format("levels of detail: level K = {}", settings.resolution));
@@ -222,11 +213,11 @@ std::optional<std::string> SdfBakes::restoreRefused(render::Renderer& renderer) 
     return std::nullopt;
   error_ = fmt::format("re-baking at resolution {}: the new field does not fit in GPU memory; resolution {} stays "
                        "drawn",
-                       resolution_, replaced.resolution);
+                       baked_.resolution, replaced.key.resolution);
   log::warn("{}", error_);
   sdf->asset = replaced.asset;
-  resolution_ = tuning_.resolution = replaced.resolution;
-  padding_ = tuning_.padding = replaced.padding;
+  baked_ = replaced.key;
+  setBakeKey(baked_, tuning_);
   return error_;
 }
 

@@ -1,6 +1,6 @@
 #pragma once
 // The Viewer scene's one SDF entity (baked from a glTF scene or an analytic shape, or read from a
-// .hsdf file) and its bakes: the re-bake at a new K or padding on a worker thread (hsdf::BakeJob;
+// .hsdf file) and its bakes: the re-bake at a new K, padding or shell on a worker thread (hsdf::BakeJob;
 // the old field keeps drawing until the new one is ready), its coarser levels of detail
 // (TuningState::lod), and the fallback to the old field when the GPU refuses the new one. A failed
 // or refused bake puts the tuning back to what is drawn; the reason stays in error().
@@ -41,7 +41,7 @@ class SdfBakes {
   void setColor(const glm::vec4& color) { color_ = color; }
   void setBudget(const hsdf::BakeBudget& budget) { budget_ = budget; }
   const hsdf::BakeBudget& budget() const { return budget_; }
-  // A bake at the tuning's K, padding and band, within the budget.
+  // A bake at the tuning's K, padding, shell and band, within the budget.
   hsdf::BakeSettings settings() const;
 
   const std::optional<engine::ecs::Entity>& entity() const { return entity_; }
@@ -52,10 +52,10 @@ class SdfBakes {
   std::shared_ptr<const hsdf::SdfAsset> bakedAsset();
   // Hides the renderable (kept here) or shows it again.
   void setShown(bool shown);
-  // The K and padding drawn (also those of the scene objects: Viewer::addSceneObjects).
-  int resolution() const { return resolution_; }
-  int padding() const { return padding_; }
-  void setBaked(int resolution, int padding);
+  // The K, padding and shell drawn (also those of the scene objects: Viewer::addSceneObjects).
+  const BakeKey& baked() const { return baked_; }
+  int resolution() const { return baked_.resolution; }
+  void setBaked(const BakeKey& key) { baked_ = key; }
 
   // Starts a re-bake when the tuning asks for another field than is drawn or being baked (or for
   // the first one, when an SDF method or a comparison is picked in a scene loaded as meshes).
@@ -93,16 +93,14 @@ class SdfBakes {
   std::optional<engine::ecs::Entity> entity_;
   std::optional<hsdf::HermiteSdfRenderable> hidden_;  // the renderable while a mesh method hides it
   std::optional<glm::vec4> color_;
-  int resolution_ = 0;
-  int padding_ = 0;
+  BakeKey baked_;
   std::unique_ptr<hsdf::BakeJob> job_;
   std::unique_ptr<hsdf::BakeJob> levelJob_;  // the next coarser level of detail (TuningState::lod)
   // The field a finished re-bake replaced, kept until the first frame after the swap has shown
   // whether the GPU took the new one (restoreRefused).
   struct ReplacedField {
     std::shared_ptr<const hsdf::SdfAsset> asset;
-    int resolution = 0;
-    int padding = 0;
+    BakeKey key;
   };
   ReplacedField replaced_;
   hsdf::BakeBudget budget_;

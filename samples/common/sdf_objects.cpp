@@ -23,8 +23,7 @@ Status SdfObjects::add(std::shared_ptr<const scene::SceneData> scene, std::span<
   options.defaultDraw = tuning_.nodeDraw;
   options.triangleNodes = tuning_.triangleNodes;
   hsdf::BakeSettings settings;
-  settings.resolution = tuning_.resolution;
-  settings.padding = tuning_.padding;
+  setBakeKey(bakeKey(tuning_), settings);
   settings.budget = bakes_.budget();
   const auto start = std::chrono::steady_clock::now();
   ENGINE_TRY_ASSIGN(const hsdf::SceneObjects objects, hsdf::bakeSceneObjects(data, options, settings));
@@ -34,7 +33,7 @@ Status SdfObjects::add(std::shared_ptr<const scene::SceneData> scene, std::span<
   options_ = options;
   bakeCount_ = objects.bakes;
   objects_ = objects;
-  bakes_.setBaked(settings.resolution, settings.padding);
+  bakes_.setBaked(bakeKey(settings));
   // The triangles of SDF nodes give way to the SDF; those of triangle nodes always draw. (A set:
   // a scene of instanced meshes has as many parts as SDF nodes, a million or so.)
   const std::unordered_set<ecs::Entity> sdfNodes(entities_.begin(), entities_.end());
@@ -56,8 +55,7 @@ Status SdfObjects::add(std::shared_ptr<const scene::SceneData> scene, std::span<
 // failed bake keeps the assets drawn and puts their K back into the tuning.
 Status SdfObjects::rebake() {
   hsdf::BakeSettings settings;
-  settings.resolution = tuning_.resolution;
-  settings.padding = tuning_.padding;
+  setBakeKey(bakeKey(tuning_), settings);
   settings.budget = bakes_.budget();
   const auto start = std::chrono::steady_clock::now();
   auto baked = hsdf::bakeSceneObjects(*scene_, options_, settings);
@@ -74,8 +72,7 @@ Status SdfObjects::rebake() {
                                           list(objects_.fallbacks)));
   }
   if (!baked) {
-    tuning_.resolution = bakes_.resolution();
-    tuning_.padding = bakes_.padding();
+    setBakeKey(bakes_.baked(), tuning_);
     return baked.error().withContext(fmt::format("re-baking the scene's objects at resolution {}", settings.resolution));
   }
   dropLevels();  // the levels of the old K
@@ -92,7 +89,7 @@ Status SdfObjects::rebake() {
   }
   setHiddenAssets(hiddenAssets);
   bakeCount_ += objects.bakes;
-  bakes_.setBaked(settings.resolution, settings.padding);
+  bakes_.setBaked(bakeKey(settings));
   log::info("{} meshes baked again at K = {} in {:.2f} s", objects.bakes, settings.resolution,
             std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
   return {};
@@ -110,8 +107,7 @@ bool SdfObjects::updateLevels() {
   }
   if (levels_.empty()) {
     hsdf::BakeSettings settings;
-    settings.resolution = bakes_.resolution();
-    settings.padding = bakes_.padding();
+    setBakeKey(bakes_.baked(), settings);
     settings.budget = bakes_.budget();
     const auto start = std::chrono::steady_clock::now();
     auto levels = hsdf::bakeSceneObjectLevels(*scene_, objects_, settings);

@@ -1,7 +1,7 @@
 #pragma once
 // A glTF scene as separate SDF objects (SceneDesc::objects): each mesh baked once
 // (hsdf::bakeSceneObjects) into an asset drawn at every node that places it, except nodes drawn as
-// triangles; baked again at a new K or padding, hidden by a mesh method, and with TuningState::lod
+// triangles; baked again at a new K, padding or shell, hidden by a mesh method, and with TuningState::lod
 // each mesh's levels of detail, chosen per node. The K and padding drawn, the budget and the last
 // error are the Viewer's SdfBakes'.
 #include <memory>
@@ -34,7 +34,7 @@ class SdfObjects {
   engine::Status add(std::shared_ptr<const engine::scene::SceneData> scene, std::span<const engine::ecs::Entity> nodes,
                      std::span<const engine::ecs::Entity> parts, std::vector<engine::ecs::Entity>& meshes);
   bool loaded() const { return scene_ != nullptr; }
-  // A K or padding change: every mesh baked again and every SDF node drawing its mesh's new asset.
+  // A K, padding or shell change: every mesh baked again and every SDF node drawing its mesh's new asset.
   engine::Status rebake();
   // A mesh method hides the SDF nodes, an SDF method shows them.
   void setShown(bool sdfShown);

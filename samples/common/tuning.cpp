@@ -35,6 +35,19 @@ int effectiveCompareResolution(const TuningState& t) {
 
 bool comparing(const TuningState& t) { return t.split != SplitMode::Off || t.difference; }
 
+BakeKey bakeKey(const TuningState& t) { return {t.resolution, t.padding, t.shellThickness}; }
+BakeKey bakeKey(const hsdf::BakeSettings& s) { return {s.resolution, s.padding, float(s.shellThickness)}; }
+void setBakeKey(const BakeKey& key, hsdf::BakeSettings& s) {
+  s.resolution = key.resolution;
+  s.padding = key.padding;
+  s.shellThickness = key.shellThickness;
+}
+void setBakeKey(const BakeKey& key, TuningState& t) {
+  t.resolution = key.resolution;
+  t.padding = key.padding;
+  t.shellThickness = key.shellThickness;
+}
+
 TuningState compareTuning(const TuningState& t) {
   TuningState compared = t;
   compared.method = t.compareMethod;

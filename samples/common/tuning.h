@@ -99,6 +99,8 @@ struct FloatRange {
   float min;
   float max;
 };
+// A shell's thickness in the scene's units (0: the solid the meshes bound); the top is any scene's.
+inline constexpr FloatRange kShellThicknessRange{0.0f, 1e6f};
 inline constexpr FloatRange kLodPixelsPerCellRange{0.25f, 64.0f};
 inline constexpr FloatRange kSplitPositionRange{0.05f, 0.95f};  // both sides stay visible
 inline constexpr FloatRange kTraceEpsilonRange{1e-6f, 0.1f};
@@ -114,6 +116,9 @@ struct TuningState {
   Method method = hsdf::RenderMethod::Cells;  // the paper's method is what a user sees first
   int resolution = 64;  // K samples per axis of the baked field (changing it re-bakes)
   int padding = 1;      // cells of padding around the mesh bounds (changing it re-bakes)
+  // Above 0: the meshes baked as shells this thick around their triangles, in the scene's units
+  // (hsdf::BakeSettings::shellThickness), for sheets and open surfaces (changing it re-bakes).
+  float shellThickness = 0.0f;
   std::uint32_t subdivisions = 3;
   std::uint32_t refineSteps = 1;
   hsdf::NormalMode normals = hsdf::NormalMode::Exact;
@@ -168,6 +173,20 @@ struct TuningState {
 // The keys of a settings file and of --script settings are the table's (tuning_fields.h).
 bool isTuningKey(std::string_view key);
 std::string tuningKeyList();  // "method, resolution, ..."
+
+// The settings of the tuning that make one bake differ from another (K, padding, shell): the field
+// drawn, the one being baked and the one asked for are compared as keys, and a failed bake puts the
+// tuning back to the key drawn.
+struct BakeKey {
+  int resolution = 0;
+  int padding = 0;
+  float shellThickness = 0.0f;
+  bool operator==(const BakeKey&) const = default;
+};
+BakeKey bakeKey(const TuningState& tuning);  // the main side's (the compared side's: of compareTuning)
+BakeKey bakeKey(const hsdf::BakeSettings& settings);
+void setBakeKey(const BakeKey& key, hsdf::BakeSettings& settings);
+void setBakeKey(const BakeKey& key, TuningState& tuning);
 
 // The K range of a method (Mesh: the cells', as the SDF is baked when an SDF method is picked).
 IntRange resolutionRange(Method method);

@@ -247,6 +247,10 @@ std::vector<TuningField> makeFields() {
       {.key = "padding", .option = "--padding", .label = "padding",
        .help = "cells of padding around the mesh bounds (changing it re-bakes)", .member = &S::padding,
        .range = numbers(kPaddingRange)},
+      {.key = "shell", .option = "--shell", .label = "shell thickness",
+       .help = "above 0: the meshes baked as shells this thick (scene units) around their triangles, for sheets "
+               "and open surfaces that bound no volume; 0 bakes the solids they bound (changing it re-bakes)",
+       .member = &S::shellThickness, .range = numbers(kShellThicknessRange)},
       {.key = "subdivisions", .option = "--subdivisions", .label = "n (subdivisions)",
        .help = "n, equidistant evaluations per cell segment (the paper: 2 or 3)", .member = &S::subdivisions,
        .range = numbers(kSubdivisionsRange)},

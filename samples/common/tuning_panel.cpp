@@ -230,6 +230,7 @@ void TuningPanel::drawResolution() {
     t.resolution = resolution_;
     apply(t);
   }
+  drawShell(viewer_.tuning());
   drawLod(viewer_.tuning());
   drawSearchLimits(viewer_.tuning());
   if (const hsdf::BakeJob* job = viewer_.bakeJob()) {
@@ -238,6 +239,26 @@ void TuningPanel::drawResolution() {
     if (bakeProgress(*level, "level of detail", "cancel##level")) viewer_.cancelBake();
   }
   if (!viewer_.bakeError().empty()) ImGui::TextWrapped("bake refused/failed: %s", viewer_.bakeError().c_str());
+}
+
+// The shell thickness (TuningState::shellThickness) in scene units, dragged a hundredth of a grid
+// cell per step and re-baked on release, as K is. Below a cell both faces lie between the same
+// samples, so the panel says so beside it.
+void TuningPanel::drawShell(const TuningState& tuning) {
+  TuningState t = tuning;
+  if (!ImGui::IsAnyItemActive()) shell_ = t.shellThickness;
+  const hsdf::SdfAsset* asset = viewer_.sdfAsset();
+  const float cell = asset ? float(asset->cells.grid.spacing) : 0.0f;
+  const NumberRange range = tuningField("shell").range;
+  ImGui::DragFloat(label("shell"), &shell_, std::max(0.01f * cell, 1e-6f), float(range.min), float(range.max), "%.4g",
+                   kClamp);
+  tooltip("shell");
+  if (ImGui::IsItemDeactivatedAfterEdit() && shell_ != t.shellThickness) {
+    t.shellThickness = shell_;
+    apply(t);
+  }
+  if (t.shellThickness > 0.0f && t.shellThickness < cell)
+    ImGui::TextWrapped("thinner than a grid cell (%.4g): it draws rough, or with holes", double(cell));
 }
 
 // Levels of detail: on/off and the target cell size (TuningState::lod, lodPixelsPerCell).

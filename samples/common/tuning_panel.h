@@ -39,6 +39,7 @@ class TuningPanel {
  private:
   void drawMethod();
   void drawResolution();
+  void drawShell(const TuningState& tuning);
   void drawLod(const TuningState& tuning);
   void drawSearchLimits(const TuningState& tuning);
   void drawComparison();
@@ -56,6 +57,7 @@ class TuningPanel {
   PlotHistory frameHistory_;
   int resolution_ = 0;  // the K slider while it is dragged (re-bakes on release)
   int compareResolution_ = 0;  // the same for the compared side
+  float shell_ = 0.0f;         // the shell thickness while it is dragged (re-bakes on release)
   std::array<char, 256> screenshotPath_{"hsdf_screenshot.png"};
   std::array<char, 256> settingsPath_{"hsdf_settings.json"};
   std::string refusal_;  // why the last change was refused (apply), until one is applied

@@ -106,7 +106,7 @@ Status Viewer::initialize(const ViewerDesc& desc) {
 
 void Viewer::setTuning(const TuningState& tuning) {
   tuning_ = tuning;
-  if (sceneObjects_.loaded() && (tuning_.resolution != bakes_.resolution() || tuning_.padding != bakes_.padding())) {
+  if (sceneObjects_.loaded() && bakeKey(tuning_) != bakes_.baked()) {
     // The reason stays in bakeError() (the panel shows it) as for one baked object.
     if (Status rebaked = sceneObjects_.rebake(); !rebaked) {
       log::error("{}", rebaked.error().message);
@@ -124,10 +124,10 @@ Status Viewer::checkTuning(const TuningState& t) const {
   if (t.method == Method::Mesh && !hasMeshes())
     return makeError("method mesh: this scene has no triangles (a .hsdf file, an analytic shape); draw it with cells, "
                      "trilinear or hermite");
-  if (!canRebake() && (t.resolution != tuning_.resolution || t.padding != tuning_.padding))
-    return makeError(fmt::format("resolution {} / padding {}: a .hsdf file is drawn at the K it was baked with ({}); "
-                                 "there is no source to bake again",
-                                 t.resolution, t.padding, tuning_.resolution));
+  if (!canRebake() && bakeKey(t) != bakeKey(tuning_))
+    return makeError(fmt::format("resolution {} / padding {} / shell {:g}: a .hsdf file is drawn as it was baked (K = "
+                                 "{}); there is no source to bake again",
+                                 t.resolution, t.padding, t.shellThickness, tuning_.resolution));
   if (!canRebake() && t.lod)
     return makeError("lod: levels of detail bake the source again at K/2, K/4, ...; a .hsdf file has no source");
   // SdfObjects reads them when the scene loads and keeps its nodes' choice (a script changing them
@@ -161,7 +161,7 @@ void Viewer::warnIfCellsOnly() {
 
 // The compared side shares the asset baked at K (level 0 when levels of detail draw another).
 void Viewer::updateCompareBake() {
-  compare_.updateBake(tuning_, bakes_.source(), {bakes_.bakedAsset(), bakes_.resolution(), bakes_.padding()},
+  compare_.updateBake(tuning_, bakes_.source(), {bakes_.bakedAsset(), bakes_.baked()},
                       bakes_.budget());
 }
 

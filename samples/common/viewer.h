@@ -99,7 +99,7 @@ struct SceneDesc {
   // A glTF scene as separate objects: each mesh baked once into its own asset (at the tuning's K
   // and padding), drawn at every node that places it, except nodes drawn as triangles
   // (TuningState::nodeDraw, triangleNodes, the nodes' extras: hermite_sdf/render/scene_objects.h). A
-  // new K or padding bakes every mesh again (on the frame's thread); there is no comparison.
+  // new K, padding or shell bakes every mesh again (on the frame's thread); there is no comparison.
   bool objects = false;
 };
 

@@ -166,7 +166,7 @@ Status Viewer::addBakedSdf(hsdf::BakeSource source, const SceneDesc& scene, cons
   }
   bakes_.add(std::move(asset), offset);
   bakes_.setSource(std::move(source), origin);
-  bakes_.setBaked(settings.resolution, settings.padding);
+  bakes_.setBaked(bakeKey(settings));
   return {};
 }
 
@@ -186,7 +186,7 @@ Status Viewer::addSdfFile(const std::filesystem::path& file, bool frameIt) {
     boundsMin_ = glm::vec3(bounds.min);
     boundsMax_ = glm::vec3(bounds.max);
   }
-  bakes_.setBaked(int(asset->cells.grid.resolution), bakes_.padding());
+  bakes_.setBaked({int(asset->cells.grid.resolution), bakes_.baked().padding, bakes_.baked().shellThickness});
   tuning_.resolution = int(asset->cells.grid.resolution);  // what the panel and saved settings say
   // A file of several materials shows its palette as authored (white multiplies it).
   if (!asset->palette.empty()) bakes_.setColor(glm::vec4(1.0f));

@@ -77,7 +77,7 @@ int main(int argc, char** argv) {
   if (!scene.ok()) return fail(scenePath + ": " + scene.error().message);
   auto source = hsdf::BakeSource::fromScene(scenePath, *scene);
   if (!source.ok()) return fail(scenePath + ": " + source.error().message);
-  auto prepared = hsdf::prepareSource(*source);
+  auto prepared = hsdf::prepareSource(*source, hsdf::BakeSettings{});
   if (!prepared.ok()) return fail(scenePath + ": " + prepared.error().message);
   hsdf::logPreparedSource(*prepared);
   const std::unique_ptr<capture::TruthSurface> surface = capture::meshSurface(*source->triangles);

@@ -188,9 +188,9 @@ ParseResult parseOptions(int argc, const char* const* argv) {
   if (!problem && !options.objects && app.count("--node-draw") + app.count("--triangle-nodes") > 0)
     problem = "--node-draw and --triangle-nodes choose per node of a scene loaded with --objects; add --objects";
   // A .hsdf file is drawn as it was baked: there is no source to bake again (both were ignored).
-  if (!problem && !options.sdfFile.empty() && app.count("--resolution") + app.count("--padding") > 0)
-    problem = "--resolution / --padding: a .hsdf file (--sdf) is drawn at the K and padding it was baked with "
-              "(hsdf_bake -r K --padding P makes another)";
+  if (!problem && !options.sdfFile.empty() && app.count("--resolution") + app.count("--padding") + app.count("--shell") > 0)
+    problem = "--resolution / --padding / --shell: a .hsdf file (--sdf) is drawn as it was baked "
+              "(hsdf_bake -r K --padding P --shell T makes another)";
   if (!problem && !options.sdfFile.empty() && options.tuning.lod)
     problem = "--lod: levels of detail bake the source again at K/2, K/4, ...; a .hsdf file (--sdf) has no source";
   if (problem) return failure(*problem);

@@ -4,7 +4,7 @@
 //   byte 0: K = 4 + b % 9 (4..12)         byte 1: padding = b % 3
 //   byte 2: bit 0 narrow band, bits 1-2 refinement depth % 3, bit 3 indices as raw 32-bit words
 //           (out of range most of the time: the importer's checks) instead of one byte each
-//           bit 4 sparse band, bit 5 a shell (BakeSource::shellThickness) 2^(8 * (bits 6-7) - 12) thick
+//           bit 4 sparse band, bit 5 a shell (BakeSettings::shellThickness) 2^(8 * (bits 6-7) - 12) thick
 //   byte 3: vertex count V = 1 + b % 32, then V x 3 floats (raw bits: NaN, inf, denormals, 1e38)
 //   rest:   indices (bytes or little-endian 32-bit words), at most 64 triangles
 // A bake that succeeds must be consistent: the asked K, finite samples, at least one kept cell
@@ -77,7 +77,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     soup.indices.push_back(wideIndices ? readWord(data + offset) : data[offset]);
 
   hsdf::BakeSource source = hsdf::BakeSource::fromTriangles("fuzz", std::move(soup));
-  if (data[2] & 32) source.shellThickness = std::ldexp(1.0, 8 * (data[2] >> 6) - 12);
+  if (data[2] & 32) settings.shellThickness = std::ldexp(1.0, 8 * (data[2] >> 6) - 12);
   auto asset = hsdf::bakeAsset(source, settings);
   static const bool verbose = std::getenv("HSDF_FUZZ_VERBOSE") != nullptr;
   if (verbose)

@@ -26,6 +26,7 @@ BakeSettings bakeSettings(const BakeRequest& request) {
   // Cells only: the sparse bake (no dense field, cost ~ kept cells); otherwise every sample exact.
   settings.band = request.payload == Payload::Cells ? BakeBand::Sparse : BakeBand::Dense;
   settings.fp16 = request.fp16;
+  settings.shellThickness = request.shell;
   settings.refineDepth = request.refineDepth;
   settings.threads = request.threads;
   return settings;
@@ -67,11 +68,10 @@ int runBake(const BakeRequest& request) {
   if (auto output = checkOutput(request); !output) return fail(output.error().message);
   auto source = BakeSource::fromPathOrShape(request.input);
   if (!source) return fail(source.error().message);
-  source->shellThickness = request.shell;
-  auto prepared = prepareSource(*source);
+  const BakeSettings settings = bakeSettings(request);
+  auto prepared = prepareSource(*source, settings);
   if (!prepared) return fail(prepared.error().withContext(request.input).message);
   std::printf("input: %s\n", prepared->description.c_str());
-  const BakeSettings settings = bakeSettings(request);
   auto grid = planBake(*prepared, settings);
   if (!grid) return fail(grid.error().message);
   std::printf("grid: K=%d, spacing %.9g, origin (%.9g, %.9g, %.9g), padding %d\n", grid->resolution, grid->spacing,

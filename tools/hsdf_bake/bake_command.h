@@ -19,7 +19,7 @@ struct BakeRequest {
   int refineDepth = 0;             // de Casteljau refinement of ambiguous cells
   bool falsePositives = false;     // count kept cells that dense sampling finds empty
   unsigned threads = 0;            // 0: all hardware threads
-  double shell = 0.0;              // > 0: a shell this thick around the triangles (BakeSource::shellThickness)
+  double shell = 0.0;              // > 0: a shell this thick around the triangles (BakeSettings::shellThickness)
   bool progress = true;
 };
 

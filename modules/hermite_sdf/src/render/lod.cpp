@@ -97,7 +97,7 @@ engine::Expected<std::vector<std::shared_ptr<const SdfAsset>>> bakeLodLevels(con
                                                                              std::shared_ptr<const SdfAsset> finestAsset) {
   if (minResolution < 2)
     return engine::makeError(fmt::format("levels of detail: the coarsest level's K must be at least 2 (got {})", minResolution));
-  ENGINE_TRY_ASSIGN(PreparedSource prepared, prepareSource(source));
+  ENGINE_TRY_ASSIGN(PreparedSource prepared, prepareSource(source, finest));
   std::vector<std::shared_ptr<const SdfAsset>> levels;
   BakeSettings settings = finest;
   if (finestAsset) {

@@ -103,7 +103,7 @@ engine::Expected<std::shared_ptr<const SdfAsset>> bakeMesh(const engine::scene::
                                                            bool& fatal) {
   fatal = false;
   ENGINE_TRY_ASSIGN(BakeSource source, meshBakeSource(scene, mesh));
-  ENGINE_TRY_ASSIGN(PreparedSource prepared, prepareSource(source));  // a degenerate mesh: this mesh only
+  ENGINE_TRY_ASSIGN(PreparedSource prepared, prepareSource(source, settings));  // a degenerate mesh: this mesh only
   logPreparedSource(prepared);
   if (auto grid = planBake(prepared, settings); !grid) {
     fatal = true;  // the budget's K, samples or bytes: the same K refuses every mesh

@@ -391,7 +391,7 @@ TEST_F(BrickCullTest, GpuKeepsExactlyTheCellsOfTheCppTwinInOrder) {
 TEST(BunnyBrickCull, ShareOfBricksRemovedOnTheCaptureViews) {
   auto source = BakeSource::fromPathOrShape(gputest::sampleAsset("bunny.glb").string());
   ASSERT_TRUE(source.ok()) << source.error().message;
-  auto prepared = prepareSource(*source);
+  auto prepared = prepareSource(*source, BakeSettings{});
   ASSERT_TRUE(prepared.ok()) << prepared.error().message;
   std::printf("K    cells   bricks  cells/brick  kept%%  frustum%%  cone%%  (mean of 8 views)\n");
   for (const int k : {16, 32, 64, 128}) {

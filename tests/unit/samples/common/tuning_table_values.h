@@ -37,9 +37,10 @@ inline std::string otherValueText(const TuningField& field, const TuningState& b
 }
 
 // Numbers just outside a number's range: below and above it (an int by one, a float by half its
-// bound, then twice it).
+// bound, or by one below a bound of 0, then twice it).
 inline std::string belowRangeText(const TuningField& field) {
-  return numberText(field, isFloatField(field) ? field.range.min * 0.5 : field.range.min - 1.0);
+  const double min = field.range.min;
+  return numberText(field, isFloatField(field) && min > 0.0 ? min * 0.5 : min - 1.0);
 }
 inline std::string aboveRangeText(const TuningField& field) {
   return numberText(field, isFloatField(field) ? field.range.max * 2.0 : field.range.max + 1.0);

@@ -780,8 +780,9 @@ TEST(Viewer, TuningTheSceneCannotDrawIsRefused) {
   for (const auto& [change, expected] :
        std::vector<std::pair<void (*)(TuningState&), std::string>>{
            {[](TuningState& s) { s.method = Method::Mesh; }, "this scene has no triangles"},
-           {[](TuningState& s) { s.resolution = 24; }, "drawn at the K it was baked with (20)"},
-           {[](TuningState& s) { s.padding += 1; }, "drawn at the K it was baked with (20)"},
+           {[](TuningState& s) { s.resolution = 24; }, "drawn as it was baked (K = 20)"},
+           {[](TuningState& s) { s.padding += 1; }, "drawn as it was baked (K = 20)"},
+           {[](TuningState& s) { s.shellThickness = 0.1f; }, "shell 0.1: a .hsdf file is drawn as it was baked"},
            {[](TuningState& s) { s.lod = true; }, "a .hsdf file has no source"}}) {
     t = viewer->tuning();
     change(t);

@@ -201,8 +201,9 @@ TEST(RunnerOptions, BadValuesNameTheOption) {
       {{"--bake-budget-mib", "0"}, "--bake-budget-mib"},
       {{"--sdf", kHsdf, "--method", "mesh"}, "--method mesh: a .hsdf file (--sdf) has no triangles"},
       // A .hsdf file has no source to bake again: these were silently ignored.
-      {{"--sdf", kHsdf, "--resolution", "16"}, "--resolution / --padding: a .hsdf file (--sdf) is drawn at the K"},
-      {{"--sdf", kHsdf, "--padding", "2"}, "--resolution / --padding: a .hsdf file (--sdf) is drawn at the K"},
+      {{"--sdf", kHsdf, "--resolution", "16"}, "--resolution / --padding / --shell: a .hsdf file (--sdf) is drawn as"},
+      {{"--sdf", kHsdf, "--padding", "2"}, "--resolution / --padding / --shell: a .hsdf file (--sdf) is drawn as"},
+      {{"--sdf", kHsdf, "--shell", "0.1"}, "--resolution / --padding / --shell: a .hsdf file (--sdf) is drawn as"},
       {{"--sdf", kHsdf, "--lod"}, "--lod: levels of detail bake the source again"},
       {{"--no-such-option"}, "--no-such-option"},
       {{"--split", "diagonal"}, "--split: 'diagonal' is not one of off, vertical, horizontal"},

@@ -31,9 +31,6 @@ struct BakeSource {
   // The triangles' materials (materials.h): a palette and a slot per triangle when they use two or
   // more, else null or empty (then the asset has no palette and the entity's colour shades it).
   std::shared_ptr<const MeshMaterials> materials;
-  // Triangles only: above 0, bake them as a shell of this thickness in the triangles' units
-  // (MeshSourceOptions::shellThickness), for surfaces without an inside; 0 bakes the solid they bound.
-  double shellThickness = 0.0;
 
   static BakeSource fromTriangles(std::string name, engine::scene::TriangleSoup triangles);
   static BakeSource fromShape(std::string shapeName);
@@ -46,7 +43,7 @@ struct BakeSource {
   static engine::Expected<BakeSource> fromPathOrShape(const std::string& input);
 };
 
-// A source ready to sample: the SdfSource and a one-line description ("bunny.glb: mesh, 3674
+// A source ready to sample at the settings' shell thickness: the SdfSource and a one-line description ("bunny.glb: mesh, 3674
 // triangles, closed, ..."). Preparing a mesh builds its BVH.
 struct PreparedSource {
   std::string name;
@@ -57,8 +54,11 @@ struct PreparedSource {
   // bound no volume, parts inside the solid: MeshSourceStats); zero-area ones change nothing and
   // are not counted.
   std::size_t droppedTriangles = 0;
+  double shellThickness = 0.0;  // what it was prepared for (BakeSettings::shellThickness)
 };
-engine::Expected<PreparedSource> prepareSource(const BakeSource& source);
+struct BakeSettings;
+// Errors: what the mesh or the shape refuses, and a shell of an analytic shape (it has no triangles).
+engine::Expected<PreparedSource> prepareSource(const BakeSource& source, const BakeSettings& settings);
 // The description, logged once per bake by the bakes that print nothing themselves (BakeJob, the
 // scene's objects): an info, or a warning when triangles were dropped (what the bake lacks).
 void logPreparedSource(const PreparedSource& prepared);
@@ -94,6 +94,11 @@ struct BakeSettings {
   // The result will be stored in fp16 (.hsdf): refuse, before baking, grids fp16 cannot hold
   // (checkStorable). Drawing in fp16 needs no such check (renderers fall back to fp32).
   bool fp16 = false;
+  // Triangles only: above 0, bake them as a shell of this thickness in the triangles' units
+  // (MeshSourceOptions::shellThickness), for surfaces without an inside; 0 bakes the solid they
+  // bound. A setting, not part of the source: a UI re-bakes one scene as a solid or a shell as it
+  // re-bakes it at another K, and levels of detail keep the shell of their level 0.
+  double shellThickness = 0.0;
   int refineDepth = 0;   // de Casteljau refinement of ambiguous cells (ClassifyOptions, 0..2)
   unsigned threads = 0;  // 0: all hardware threads
   BakeBudget budget;

@@ -132,9 +132,11 @@ engine::Expected<BakeSource> BakeSource::fromPathOrShape(const std::string& inpu
       fmt::format("INPUT '{}' is neither a file nor an analytic shape (known shapes: {})", input, knownShapes()));
 }
 
-engine::Expected<PreparedSource> prepareSource(const BakeSource& source) {
+engine::Expected<PreparedSource> prepareSource(const BakeSource& source, const BakeSettings& settings) {
+  const double shellThickness = settings.shellThickness;
   PreparedSource prepared;
   prepared.name = source.name;
+  prepared.shellThickness = shellThickness;
   if (source.triangles) {
     MeshSourceOptions options;
     if (source.materials && !source.materials->empty()) {
@@ -143,15 +145,15 @@ engine::Expected<PreparedSource> prepareSource(const BakeSource& source) {
       options.triangleSlots = source.materials->triangleSlots;
       prepared.palette = source.materials->palette;
     }
-    options.shellThickness = source.shellThickness;
+    options.shellThickness = shellThickness;
     ENGINE_TRY_ASSIGN(std::unique_ptr<MeshSource> mesh, MeshSource::create(*source.triangles, options));
-    prepared.description = describeMesh(source.name, mesh->stats(), source.shellThickness);
+    prepared.description = describeMesh(source.name, mesh->stats(), shellThickness);
     if (!prepared.palette.empty()) prepared.description += fmt::format(", {} materials", prepared.palette.size());
     prepared.droppedTriangles = mesh->stats().droppedOpen + mesh->stats().droppedInterior;
     prepared.source = std::move(mesh);
     return prepared;
   }
-  if (source.shellThickness != 0.0)
+  if (shellThickness != 0.0)
     return engine::makeError(fmt::format("{}: a shell is baked around triangles; an analytic shape has none",
                                          source.shape));
   ENGINE_TRY_ASSIGN(prepared.source, makeAnalyticSource(source.shape));
@@ -182,6 +184,12 @@ engine::Expected<GridSpec> planBake(const PreparedSource& source, const BakeSett
     return engine::makeError(fmt::format("padding {}: a bake needs at least {} cell of padding around the source, "
                                          "or its surface lies on the grid's boundary and draws with holes",
                                          settings.padding, kMinBakePadding));
+  // The shell is in the prepared source (its distances and bounds): other settings would bake
+  // another surface than they name.
+  if (settings.shellThickness != source.shellThickness)
+    return engine::makeError(fmt::format("shell thickness {:g}: '{}' was prepared for {:g} (prepareSource with these "
+                                         "settings)",
+                                         settings.shellThickness, source.name, source.shellThickness));
   ENGINE_TRY_ASSIGN(GridSpec grid, fitGrid(source.source->bounds(), settings.resolution, settings.padding)
                                        .withContext("fitting the grid"));
   ENGINE_TRY(checkBudget(grid, settings, source.source->materialSlots() > 0));
@@ -238,7 +246,7 @@ engine::Expected<std::shared_ptr<const SdfAsset>> bakeAsset(const PreparedSource
 
 engine::Expected<std::shared_ptr<const SdfAsset>> bakeAsset(const BakeSource& source, const BakeSettings& settings,
                                                             const BakeControl& control) {
-  ENGINE_TRY_ASSIGN(PreparedSource prepared, prepareSource(source));
+  ENGINE_TRY_ASSIGN(PreparedSource prepared, prepareSource(source, settings));
   logPreparedSource(prepared);
   return bakeAsset(prepared, settings, control);
 }

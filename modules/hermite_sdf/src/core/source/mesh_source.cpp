@@ -363,7 +363,7 @@ engine::Expected<std::unique_ptr<MeshSource>> MeshSource::create(std::vector<glm
           "mesh source: the mesh bounds no volume: across most of its area the winding number does not tell an "
           "inside from an outside ({} triangles, {} boundary edges: an open sheet such as a terrain or a plane, or "
           "triangles doubled with both windings); draw it as triangles, close it, or bake it as a shell of some "
-          "thickness (hsdf_bake --shell)",
+          "thickness (--shell T of hsdf_bake and scene_runner, the panel's shell thickness)",
           open, impl->stats.boundaryEdges));
     impl = std::make_unique<Impl>(withoutTriangles(*clean, impl->openTriangles), options);
     impl->stats.droppedOpen = open;

@@ -98,7 +98,7 @@ TEST(BakeJob, BudgetRefusesBeforeAllocatingAndNamesTheLimit) {
   // One byte under what K = 32 needs: the estimate must cover the field and the cell classes.
   BakeSettings overBytes;
   overBytes.resolution = 32;
-  auto prepared = prepareSource(torus);
+  auto prepared = prepareSource(torus, BakeSettings{});
   ASSERT_TRUE(prepared.ok());
   auto grid = planBake(*prepared, overBytes);
   ASSERT_TRUE(grid.ok());
@@ -239,7 +239,7 @@ TEST(BakeJob, AShellBakesWhatTheSolidBakeRefusesOnBothSidesOfTheSheet) {
   EXPECT_TRUE(contains(solid.error().message, "bounds no volume")) << solid.error().message;
 
   const double thickness = 0.15;
-  source.shellThickness = thickness;
+  settings.shellThickness = thickness;
   std::vector<std::vector<CellRecord>> kept;
   for (const BakeBand band : {BakeBand::Dense, BakeBand::Sparse}) {
     settings.band = band;
@@ -269,10 +269,32 @@ TEST(BakeJob, AShellBakesWhatTheSolidBakeRefusesOnBothSidesOfTheSheet) {
 // would bake the solid the user did not ask for.
 TEST(BakeJob, AShellOfAnAnalyticShapeIsRefused) {
   BakeSource source = BakeSource::fromShape("torus");
-  source.shellThickness = 0.1;
-  const auto refused = bakeAsset(source, BakeSettings{});
+  BakeSettings shell;
+  shell.shellThickness = 0.1;
+  const auto refused = bakeAsset(source, shell);
   ASSERT_FALSE(refused.ok());
   EXPECT_TRUE(contains(refused.error().message, "torus: a shell is baked around triangles")) << refused.error().message;
+}
+
+// Tricky: the thickness is in the prepared source (its distances and bounds) and in the settings
+// (what a UI compares to decide a re-bake, what levels of detail copy): a source prepared for one
+// thickness baked with settings naming another would draw one surface labelled as the other.
+TEST(BakeJob, ASourcePreparedForAnotherShellThicknessIsRefusedNamingBoth) {
+  engine::scene::TriangleSoup sheet;
+  sheet.positions = {{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0}};
+  sheet.indices = {0, 1, 2, 0, 2, 3};
+  BakeSettings thin;
+  thin.resolution = 16;
+  thin.shellThickness = 0.1;
+  auto prepared = prepareSource(BakeSource::fromTriangles("sheet", sheet), thin);
+  ASSERT_TRUE(prepared.ok()) << prepared.error().message;
+  EXPECT_TRUE(bakeAsset(*prepared, thin).ok());
+  BakeSettings thick = thin;
+  thick.shellThickness = 0.3;
+  const auto refused = bakeAsset(*prepared, thick);
+  ASSERT_FALSE(refused.ok());
+  EXPECT_TRUE(contains(refused.error().message, "shell thickness 0.3: 'sheet' was prepared for 0.1"))
+      << refused.error().message;
 }
 
 // Tricky: fitGrid itself takes padding 0 (a grid may hug any box), and a cube baked so drew its

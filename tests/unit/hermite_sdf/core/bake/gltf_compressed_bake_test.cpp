@@ -36,7 +36,7 @@ double largestVertexShift(const std::vector<glm::vec3>& plain, const std::vector
 
 engine::Expected<PreparedSource> prepare(const std::string& file) {
   ENGINE_TRY_ASSIGN(const BakeSource source, BakeSource::fromPathOrShape(kGltfDir + file));
-  return prepareSource(source);
+  return prepareSource(source, BakeSettings{});
 }
 
 class CompressedBunnyBake : public ::testing::TestWithParam<const char*> {};

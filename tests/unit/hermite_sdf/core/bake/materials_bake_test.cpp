@@ -266,7 +266,7 @@ bool contains(const std::string& text, const std::string& part) { return text.fi
 // one-material bake of the same box (same grid) still fits, and the slots' bytes are enough.
 TEST(MaterialsBake, TheBakeBudgetCountsTheMaterialSlots) {
   const BakeSource two = twoMaterialSource(true), one = twoMaterialSource(false);
-  auto prepared = prepareSource(two);
+  auto prepared = prepareSource(two, BakeSettings{});
   ASSERT_TRUE(prepared) << prepared.error().message;
   for (const BakeBand band : {BakeBand::Dense, BakeBand::NarrowBand}) {
     BakeSettings settings;
@@ -291,7 +291,7 @@ TEST(MaterialsBake, TheBakeBudgetCountsTheMaterialSlots) {
 // Tricky: the field bakes check the budget themselves (a caller of bakeHermiteField has no bake
 // job): a field whose samples fit exactly is refused once its slots are counted, both bakes.
 TEST(MaterialsBake, TheFieldBudgetCountsTheMaterialSlots) {
-  auto prepared = prepareSource(twoMaterialSource(true));
+  auto prepared = prepareSource(twoMaterialSource(true), BakeSettings{});
   ASSERT_TRUE(prepared) << prepared.error().message;
   BakeSettings settings;
   settings.resolution = 12;

@@ -216,7 +216,7 @@ TEST(SparseBake, KeptCellAndByteBudgetsNameTheLimit) {
 // K^3 limits no longer apply to the sparse bake: K = 1024 (10^9 samples, over maxSamples) plans,
 // while the dense bake of the same grid is still refused by that limit.
 TEST(SparseBake, PlansResolutionsTheSampleBudgetRefuses) {
-  auto prepared = prepareSource(BakeSource::fromShape("sphere"));
+  auto prepared = prepareSource(BakeSource::fromShape("sphere"), BakeSettings{});
   ASSERT_TRUE(prepared.ok());
   BakeSettings settings;
   settings.resolution = 1024;
