@@ -233,6 +233,45 @@ TEST(GltfLoaderCompressedMalformed, BrokenDracoPrimitivesAreNamed) {
   expectContains(loadError(negative, "neg.glb"), {"bufferView is a JSON number, not a non-negative integer"});
 }
 
+// Tricky because libdraco may reorder a primitive's points, so morph targets stored beside a Draco
+// stream (uncompressed, in the file's order) cannot be added point by point: applying them would
+// move the wrong vertices. With the mesh's default weights set they are left out, and said so
+// naming the primitive; the mesh loads as its compressed stream, exactly.
+TEST(GltfLoaderCompressedMalformed, MorphTargetsOfADracoPrimitiveAreNamedAndNotApplied) {
+  const Glb original = readGlb("bunny_small_draco.glb");
+  Glb morphed = original;
+  json& doc = morphed.document;
+  const int positionAccessor = doc["meshes"][0]["primitives"][0]["attributes"]["POSITION"];
+  const std::size_t points = doc["accessors"][std::size_t(positionAccessor)]["count"];
+  const std::size_t at = morphed.bin.size();  // a 4-byte multiple: the BIN chunk is padded
+  for (std::size_t i = 0; i < points; ++i)
+    for (const float d : {1.0f, 0.0f, 0.0f}) {
+      std::array<std::uint8_t, 4> b{};
+      std::memcpy(b.data(), &d, 4);
+      morphed.bin.insert(morphed.bin.end(), b.begin(), b.end());
+    }
+  doc["buffers"][0]["byteLength"] = morphed.bin.size();
+  doc["bufferViews"].push_back({{"buffer", 0}, {"byteOffset", at}, {"byteLength", points * 12}});
+  doc["accessors"].push_back({{"bufferView", doc["bufferViews"].size() - 1}, {"componentType", 5126},
+                              {"count", points}, {"type", "VEC3"}, {"min", {1, 0, 0}}, {"max", {1, 0, 0}}});
+  doc["meshes"][0]["primitives"][0]["targets"] = json::array({{{"POSITION", doc["accessors"].size() - 1}}});
+  doc["meshes"][0]["weights"] = {1.0};
+  const auto loaded = [](const Glb& glb, std::string_view name) {
+    const auto bytes = writeGlb(glb);
+    return loadGltfFromMemory(bytes, name, {});
+  };
+  const auto scene = loaded(morphed, "morphed.glb");
+  ASSERT_TRUE(scene.ok()) << scene.error().message;
+  const auto named = std::find_if(scene->warnings.begin(), scene->warnings.end(), [](const std::string& w) {
+    return w.find("mesh 0 'bunny' primitive 0: morph targets of a Draco-compressed primitive are not applied") !=
+           std::string::npos;
+  });
+  EXPECT_NE(named, scene->warnings.end());
+  const auto plain = loaded(original, "plain.glb");
+  ASSERT_TRUE(plain.ok()) << plain.error().message;
+  EXPECT_EQ(scene->meshes[0].primitives[0].positions, plain->meshes[0].primitives[0].positions);
+}
+
 // The committed Draco stream is bitstream 2.2, edgebreaker, no metadata (gltf-pipeline's default):
 // an 11-byte header ("DRACO", version, encoder type, method, flags), the traversal type, then the
 // varint counts of encoded vertices and faces. The tests below edit it by that layout, written down
