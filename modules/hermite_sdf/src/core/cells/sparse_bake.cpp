@@ -19,6 +19,7 @@
 #include <sys/mman.h>
 #endif
 
+#include "field/index_box.h"
 #include "field/parallel.h"
 #include "field/stored_sample.h"
 
@@ -29,10 +30,8 @@ constexpr int kTopBrickCells = 16;  // bricks of a work item's slab; their sampl
 constexpr int kLeafBrickCells = 4;  // bricks this small that stay near are examined cell by cell
 constexpr int kCacheSide = kTopBrickCells + 1;
 
-struct CellBox {
-  glm::ivec3 lo;  // first cell, inclusive
-  glm::ivec3 hi;  // last cell, exclusive (its samples run lo..hi inclusive)
-};
+// Cells lo (inclusive) to hi (exclusive); their samples run lo..hi inclusive.
+using CellBox = detail::IndexBox;
 
 // The records are written once into fresh memory and copied once into the stream: at K = 1024
 // that is 2 x 460 MB first touched, and on 4 KiB pages the page faults alone took ~10 % of the bake
@@ -222,21 +221,7 @@ class SlabBaker {
 
   // Halves every axis longer than a leaf and descends into the parts.
   engine::Status descendChildren(const CellBox& box, SlabResult& out) {
-    glm::ivec3 mid = box.hi;
-    for (int a = 0; a < 3; ++a)
-      if (box.hi[a] - box.lo[a] > kLeafBrickCells) mid[a] = box.lo[a] + (box.hi[a] - box.lo[a]) / 2;
-    for (int child = 0; child < 8; ++child) {
-      CellBox part = box;
-      bool empty = false;
-      for (int a = 0; a < 3; ++a) {
-        const bool upper = (child >> a) & 1;
-        if (upper && mid[a] == box.hi[a]) empty = true;  // this axis was not split
-        part.lo[a] = upper ? mid[a] : box.lo[a];
-        part.hi[a] = upper ? box.hi[a] : mid[a];
-      }
-      if (!empty) ENGINE_TRY(descend(part, out));
-    }
-    return {};
+    return detail::forEachHalf(box, kLeafBrickCells, [this, &out](const CellBox& part) { return descend(part, out); });
   }
 
   // Every cell of a leaf whose 8 corners are exact is classified; a cell with a far corner is

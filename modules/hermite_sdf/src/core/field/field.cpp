@@ -6,6 +6,7 @@
 
 #include <fmt/format.h>
 
+#include "field/index_box.h"
 #include "field/parallel.h"
 #include "field/stored_sample.h"
 #include "hermite_sdf/core/materials.h"
@@ -197,10 +198,7 @@ std::uint8_t signFlags(float f) {
   return std::uint8_t((f < 0.0f ? kNegative : 0) | (f > 0.0f ? kPositive : 0));
 }
 
-struct SampleBox {
-  glm::ivec3 lo;  // inclusive
-  glm::ivec3 hi;  // exclusive
-};
+using SampleBox = detail::IndexBox;  // samples
 
 // Pass 1: hierarchical block tests, then per-sample band queries near the surface.
 class NarrowBandBaker {
@@ -235,21 +233,7 @@ class NarrowBandBaker {
  private:
   // Splits every axis longer than the minimum block in two and processes the parts.
   engine::Status processChildren(const SampleBox& box) const {
-    glm::ivec3 mid = box.hi;
-    for (int a = 0; a < 3; ++a)
-      if (box.hi[a] - box.lo[a] > kMinBlockSamples) mid[a] = box.lo[a] + (box.hi[a] - box.lo[a]) / 2;
-    for (int child = 0; child < 8; ++child) {
-      SampleBox part = box;
-      bool empty = false;
-      for (int a = 0; a < 3; ++a) {
-        const bool upper = (child >> a) & 1;
-        if (upper && mid[a] == box.hi[a]) empty = true;  // this axis was not split
-        part.lo[a] = upper ? mid[a] : box.lo[a];
-        part.hi[a] = upper ? box.hi[a] : mid[a];
-      }
-      if (!empty) ENGINE_TRY(processBlock(part));
-    }
-    return {};
+    return detail::forEachHalf(box, kMinBlockSamples, [this](const SampleBox& part) { return processBlock(part); });
   }
 
   // Sign of `distance` times the 1-Lipschitz bound |distance| - |p - centre| (> band here).
