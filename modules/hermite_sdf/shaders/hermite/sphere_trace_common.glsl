@@ -360,11 +360,11 @@ TraceResult traceFromStart(SphereTraceDraw draw, vec3 origin, vec3 direction, fl
   return result;
 }
 
-// The ray is re-based at its first point, t0: its t is about 1 at the box (t = 1 on the rasterized
-// face), so a camera far away (|direction| past ~3e5 grid units: an orthographic camera placed
-// back along its axis, a telephoto lens) made every step shorter than half a float ulp of t, and
-// t + step == t left the ray standing until its step limit. Counted from t0, the steps add to a
-// t that starts at 0; the hit's t is t0 + that, rounded once.
+// The ray is re-based at its first point, t0. The camera's t is about 1 at the box (t = 1 on the
+// rasterized face): with the camera far away (|direction| past ~5e5 grid units: an orthographic
+// camera placed back along its axis, a telephoto lens) every step would be shorter than half a
+// float ulp of that t, t + step == t, and the ray would stand until its step limit. Counted from
+// t0, the steps add to a t that starts at 0; the hit's t is t0 + that, rounded once.
 TraceResult sphereTrace(SphereTraceDraw draw, vec3 origin, vec3 direction, float t0, float t1) {
   TraceResult result = traceFromStart(draw, origin + t0 * direction, direction, t1 - t0);
   if (result.t >= 0.0) result.t += t0;
