@@ -303,7 +303,7 @@ struct TraceResult {
 // coarse filter's, hitInBracket / settleOnExact) before it gives up as out of steps.
 const uint kMaxUnconfirmed = 4u;
 
-// Sphere tracing of origin + t * direction (grid units) over [t0, t1]: step by the interpolated
+// Sphere tracing of origin + t * direction (grid units) over [0, t1]: step by the interpolated
 // distance f. The hit is the first of: |f| < epsilon * h (the paper's test, where it can be
 // reached), or a sign change of f between two steps (an overshoot: hardware-filtered values may
 // never fall below epsilon, and a field that is not an exact distance can step through the
@@ -313,13 +313,13 @@ const uint kMaxUnconfirmed = 4u;
 // The steps and the placement are separate loops: the placement's evaluations run once per ray,
 // after the stepping loop, not inside it where every lane of a SIMD group or warp would wait for
 // each other lane's placement in turn (10x the prepass on lavapipe).
-TraceResult sphereTrace(SphereTraceDraw draw, vec3 origin, vec3 direction, float t0, float t1) {
+TraceResult traceFromStart(SphereTraceDraw draw, vec3 origin, vec3 direction, float t1) {
   float h = draw.gridOriginSpacing.w;
   TraceRay ray = TraceRay(origin, direction, 1.0 / length(direction));
   FieldCursor cursor = newFieldCursor();
   TraceResult result = TraceResult(-1.0, 1u, false, false);
-  float t = t0;
-  float d = evaluateField(draw, cursor, origin + t * direction) / h;  // grid units, what the next step trusts
+  float t = 0.0;
+  float d = evaluateField(draw, cursor, origin) / h;  // grid units, what the next step trusts
   float side = d < 0.0 ? -1.0 : 1.0;
   result.startedInside = d < 0.0;
   // The ray's first point is never a hit by epsilon alone: there the surface may lie just behind
@@ -357,5 +357,16 @@ TraceResult sphereTrace(SphereTraceDraw draw, vec3 origin, vec3 direction, float
     d = settled.f;
   }
   result.outOfSteps = true;
+  return result;
+}
+
+// The ray is re-based at its first point, t0. The camera's t is about 1 at the box (t = 1 on the
+// rasterized face): with the camera far away (|direction| past ~5e5 grid units: an orthographic
+// camera placed back along its axis, a telephoto lens) every step would be shorter than half a
+// float ulp of that t, t + step == t, and the ray would stand until its step limit. Counted from
+// t0, the steps add to a t that starts at 0; the hit's t is t0 + that, rounded once.
+TraceResult sphereTrace(SphereTraceDraw draw, vec3 origin, vec3 direction, float t0, float t1) {
+  TraceResult result = traceFromStart(draw, origin + t0 * direction, direction, t1 - t0);
+  if (result.t >= 0.0) result.t += t0;
   return result;
 }

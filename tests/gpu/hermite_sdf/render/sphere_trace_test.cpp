@@ -185,6 +185,46 @@ std::uint32_t raysOutOfSteps(render::Renderer& renderer, const ecs::Registry& re
   return renderer.readbackWorkTotals().raysOutOfSteps;
 }
 
+// Why: an orthographic camera draws the same image from any distance along its axis, so users
+// place it far back (its znear and zfar around the scene). The ray has t = 1 on the box's face, so
+// with the camera ~6e5 grid units away a step of the tracer's shortest length (1/64 grid unit) is
+// below half a float ulp of t: t + step == t, and rays stood still until their step limit (70 % of
+// a cube's pixels lost at 2.7e4 units, K = 32, both tracers). Each tracer must still draw its
+// interpolant there: no ray out of steps, no interior hole or extra, the reference's coverage but
+// for a rim along the outline (the ray's first point, a float ~6e5 grid units out, rounds by up
+// to ~0.03 cells: about 390 of 22,000 hits, 0.6 % of the image; a tracer stepping in the camera's
+// t leaves 13,000 interior holes). The depth is left to float and is not compared.
+TEST_F(SphereTraceTest, AFarOrthographicCameraDrawsItsInterpolant) {
+  createTraceRenderer(kSize, kSize);
+  const auto asset = bakeAsset("torus", 16);
+  ASSERT_NE(asset, nullptr);
+  const glm::vec3 center(asset->surfaceBounds.center());
+  const float radius = 0.5f * float(glm::length(asset->surfaceBounds.size()));
+  const float distance = 6.5e4f * radius;
+  ASSERT_GT(distance / float(asset->field.grid.spacing), 5.5e5f) << "far enough for t + 1/64 cell to round to t";
+  const glm::vec3 back = glm::normalize(glm::vec3(0.6f, 0.5f, 0.8f));
+  const render::CameraView camera =
+      orthographicLike(render::CameraView::lookAt(center + distance * back, center, 0.9f, 0.01f, 1.0f), 0.8f * radius,
+                       distance - 2.0f * radius, distance + 2.0f * radius);
+  for (const RenderMethod method : {RenderMethod::TrilinearSphereTrace, RenderMethod::HermiteSphereTrace}) {
+    SCOPED_TRACE(hsdf::renderMethodName(method));
+    registry_.clear();
+    addTracedSdf(registry_, asset, method);
+    EXPECT_EQ(raysOutOfSteps(*renderer_, registry_, camera), 0u);
+    const Frame frame = renderWith(camera, DEBUG_VIEW_NONE);
+    const hsdf::ReferenceImage reference =
+        referenceFor(method, asset->field, camera, {int(frame.width), int(frame.height)});
+    const ImageComparison c = compareWithReference(frame, nullptr, reference, camera, asset->field.grid.spacing);
+    std::printf("[ far orthographic, %s ] hits ref %d gpu %d, disagree %d, holes %d, extras %d\n",
+                std::string(hsdf::renderMethodName(method)).c_str(), c.referenceHits, c.gpuHits, c.disagreements,
+                c.interiorHoles, c.interiorExtras);
+    EXPECT_GT(c.referenceHits, 5000);
+    EXPECT_GE(c.agreement(kPixels), 0.99);
+    EXPECT_EQ(c.interiorHoles, 0);
+    EXPECT_EQ(c.interiorExtras, 0);
+  }
+}
+
 // The field's values replaced by +-h: samples that jump across zero with no small value in
 // between (the interpolant's gradient reaches 2 near the surface, so f overestimates the distance
 // there by up to 2x).
