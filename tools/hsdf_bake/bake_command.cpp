@@ -76,12 +76,7 @@ int runBake(const BakeRequest& request) {
   if (!grid) return fail(grid.error().message);
   std::printf("grid: K=%d, spacing %.9g, origin (%.9g, %.9g, %.9g), padding %d\n", grid->resolution, grid->spacing,
               grid->origin.x, grid->origin.y, grid->origin.z, request.padding);
-  // Both faces of a shell thinner than a cell lie between the same samples: half a cell bakes rough
-  // (the bunny at K = 128), a twentieth with holes.
-  if (request.shell > 0.0 && request.shell < grid->spacing)
-    std::printf("warning: --shell %g is thinner than a grid cell (%g): the shell bakes rough, and with holes when far "
-                "thinner; a larger --resolution or a thicker --shell resolves it\n",
-                request.shell, grid->spacing);
+  if (const auto thin = thinShellWarning(settings, *grid)) std::printf("warning: --shell: %s\n", thin->c_str());
 
   const auto bakeStart = std::chrono::steady_clock::now();
   ProgressBar bar(settings.band == BakeBand::Sparse ? "baking (sparse cells)" : "baking (dense)", stderr);

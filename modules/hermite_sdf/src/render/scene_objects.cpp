@@ -7,6 +7,7 @@
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>
 
+#include "engine/core/log.h"
 #include "engine/scene/gltf/gltf_loader.h"
 
 namespace hsdf {
@@ -105,10 +106,12 @@ engine::Expected<std::shared_ptr<const SdfAsset>> bakeMesh(const engine::scene::
   ENGINE_TRY_ASSIGN(BakeSource source, meshBakeSource(scene, mesh));
   ENGINE_TRY_ASSIGN(PreparedSource prepared, prepareSource(source, settings));  // a degenerate mesh: this mesh only
   logPreparedSource(prepared);
-  if (auto grid = planBake(prepared, settings); !grid) {
+  const auto grid = planBake(prepared, settings);
+  if (!grid) {
     fatal = true;  // the budget's K, samples or bytes: the same K refuses every mesh
     return grid.error();
   }
+  if (const auto thin = thinShellWarning(settings, *grid)) engine::log::warn("bake: {}: {}", source.name, *thin);
   bool refused = false;  // a progress callback that asks to stop cancels the whole scene
   BakeControl watched = control;
   if (control.progress)

@@ -8,6 +8,7 @@
 #include <string>
 
 #include "hermite_sdf/render/lod.h"
+#include "log_capture.h"
 #include "test_viewer.h"
 
 namespace samples {
@@ -168,6 +169,34 @@ TEST(ViewerShell, ASceneOfObjectsBakesItsSheetsAsShells) {
   EXPECT_TRUE(viewer->bakeError().empty()) << viewer->bakeError();
   expectCellsAtTheShell(*theSdf(*viewer)->asset, 0.3);
   EXPECT_TRUE(viewer->close().ok());
+}
+
+// Tricky: a shell thinner than a cell bakes rough or with holes; hsdf_bake warned, the runner (its
+// command line, the panel, --objects) baked it without a word. Each bake says it once, naming the
+// mesh, and a thick shell says nothing.
+TEST(ViewerShell, AShellThinnerThanACellIsWarnedAboutByEveryBake) {
+  TuningState tuning;
+  tuning.method = Method::Mesh;
+  tuning.resolution = 16;  // a cell of about 0.08 over the unit square
+  auto viewer = viewSheet(tuning);
+  ASSERT_NE(viewer, nullptr);
+  hsdftest::LogCapture warnings;
+  tuning.method = hsdf::RenderMethod::Cells;
+  tuning.shellThickness = 0.2f;
+  viewer->setTuning(tuning);
+  ASSERT_TRUE(viewer->waitForBake().ok()) << viewer->bakeError();
+  EXPECT_EQ(warnings.count("thinner than a grid cell"), 0u);
+  tuning.shellThickness = 0.02f;
+  viewer->setTuning(tuning);
+  ASSERT_TRUE(viewer->waitForBake().ok()) << viewer->bakeError();
+  EXPECT_EQ(warnings.count("scene sdf: a shell 0.02 thick is thinner than a grid cell"), 1u);
+  EXPECT_TRUE(viewer->close().ok());
+
+  tuning.shellThickness = 0.02f;
+  auto objects = viewSheet(tuning, /*objects=*/true);
+  ASSERT_NE(objects, nullptr);
+  EXPECT_EQ(warnings.count("mesh 0: a shell 0.02 thick is thinner than a grid cell"), 1u);
+  EXPECT_TRUE(objects->close().ok());
 }
 
 }  // namespace

@@ -120,11 +120,16 @@ std::uint64_t estimateBakeBytes(const GridSpec& grid, BakeBand band, bool materi
 // The grid a bake of `source` uses, after the budget and fp16 checks. Allocates nothing.
 engine::Expected<GridSpec> planBake(const PreparedSource& source, const BakeSettings& settings);
 
+// A shell (BakeSettings::shellThickness) thinner than one cell of `grid`: both of its faces lie
+// between the same samples, so it bakes rough (half a cell: the bunny at K = 128), and with holes
+// when far thinner. The warning's words, naming both sizes; nullopt for a solid or a thick shell.
+std::optional<std::string> thinShellWarning(const BakeSettings& settings, const GridSpec& grid);
+
 // The whole pipeline. Errors name the step: grid fitting, budget (the limit), fp16 storage, bake
 // ("cancelled" included), classification, and "the baked field has no surface" when no cell is kept.
 engine::Expected<std::shared_ptr<const SdfAsset>> bakeAsset(const PreparedSource& source, const BakeSettings& settings,
                                                             const BakeControl& control = {});
-// prepareSource, logPreparedSource, bakeAsset.
+// prepareSource, logPreparedSource, thinShellWarning logged, bakeAsset.
 engine::Expected<std::shared_ptr<const SdfAsset>> bakeAsset(const BakeSource& source, const BakeSettings& settings,
                                                             const BakeControl& control = {});
 

@@ -244,10 +244,19 @@ engine::Expected<std::shared_ptr<const SdfAsset>> bakeAsset(const PreparedSource
   return asset;
 }
 
+std::optional<std::string> thinShellWarning(const BakeSettings& settings, const GridSpec& grid) {
+  if (!(settings.shellThickness > 0.0) || settings.shellThickness >= grid.spacing) return std::nullopt;
+  return fmt::format("a shell {:g} thick is thinner than a grid cell ({:g}): it bakes rough, and with holes when far "
+                     "thinner; a larger resolution or a thicker shell resolves it",
+                     settings.shellThickness, grid.spacing);
+}
+
 engine::Expected<std::shared_ptr<const SdfAsset>> bakeAsset(const BakeSource& source, const BakeSettings& settings,
                                                             const BakeControl& control) {
   ENGINE_TRY_ASSIGN(PreparedSource prepared, prepareSource(source, settings));
   logPreparedSource(prepared);
+  if (const auto grid = planBake(prepared, settings); grid)  // else bakeAsset says why
+    if (const auto thin = thinShellWarning(settings, *grid)) engine::log::warn("bake: {}: {}", source.name, *thin);
   return bakeAsset(prepared, settings, control);
 }
 
