@@ -417,6 +417,7 @@ class HermiteCellFeature final : public engine::render::RenderFeature {
   Variant prepassVariant(const engine::render::FrameContext& frame) const;
   void warmPipelines(const engine::render::FrameContext& frame);
   std::vector<engine::gpu::LazyPipeline*> likelyNextPipelines(Variant base);
+  void appendWithoutEarlyStage(std::vector<engine::gpu::LazyPipeline*>& set, Variant base);
   engine::Expected<Pipelines> describePipelines() const;
   engine::Status describeCellPipelines(Pipelines& p, const engine::gpu::SharedShaderModule& vert,
                                        const engine::gpu::SharedShaderModule& runsVert) const;
