@@ -7,9 +7,12 @@
 #include <cstddef>
 #include <cstdint>
 #include <cstring>
+#include <future>
 #include <limits>
+#include <memory>
 #include <span>
 #include <unordered_set>
+#include <utility>
 
 #include <imgui.h>
 
@@ -75,9 +78,12 @@ struct HermiteCellFeature::AssetDemand {
 // per-record streams (fp32 and fp16 records, cell cones: 224 bytes a cell) are not copied here but
 // written from their assets straight into the staging memory (recordWriters); the rest is small.
 struct HermiteCellFeature::AssetUpload {
+  // Records [first, first + count) of an asset (all of them by default), clipped to those it has.
   struct RecordSource {
     const SdfAsset* asset = nullptr;
     const CellDerived* derived = nullptr;  // its cell cones; null: cones that never cull
+    std::size_t first = 0;
+    std::size_t count = SIZE_MAX;
   };
   StreamCounts base;
   std::vector<RecordSource> recordSources;  // in record order
@@ -112,6 +118,15 @@ struct HermiteCellFeature::AssetUpload {
   }
 };
 
+std::shared_ptr<AssetRowsBuild> startRowsBuild(std::shared_ptr<const SdfAsset> asset, std::uint32_t runLength) {
+  auto build = std::make_shared<AssetRowsBuild>();
+  build->runLength = runLength;
+  build->result = std::async(std::launch::async, [asset = std::move(asset), runLength] {
+    return AssetRowsBuild::Result{buildCellRows(asset->cells), buildCellRuns(asset->cells, runLength)};
+  });
+  return build;
+}
+
 const std::uint64_t HermiteCellFeature::kRecordUploadBytes =
     sizeof(CellRecord) + sizeof(CellRecordHalf) + sizeof(shader::CellBrickCone);
 
@@ -131,15 +146,19 @@ engine::gpu::BufferAppend appendOf(Buffer& buffer, VkDeviceSize used, const std:
   return {&buffer, used, bytes.size(), engine::gpu::copyOf(bytes), usage, name};
 }
 
+// The entries of a stream of `size` entries that records [first, first + count) hold.
+std::size_t clippedCount(std::size_t size, std::size_t first, std::size_t count) {
+  return std::min(count, size - std::min(first, size));
+}
+
 // The GPU copies of the records carry their proxy box beside the class (CELL_PROXY_SHIFT); an asset
 // without codes (made by hand) keeps the whole cells (code 0). Record by record through a local:
 // `out` is staging memory, which may be write-combined (never read back).
 // `first` and `count` pick the records written (a part of an upload spread over frames).
 template <class Record>
 std::byte* writeRecords(const std::vector<Record>& records, const std::vector<std::uint16_t>& codes, std::byte* out,
-                        std::size_t first = 0, std::size_t count = SIZE_MAX) {
-  first = std::min(first, records.size());
-  count = std::min(count, records.size() - first);
+                        std::size_t first, std::size_t count) {
+  count = clippedCount(records.size(), first, count);
   if (codes.size() != records.size()) {
     std::memcpy(out, records.data() + first, count * sizeof(Record));
     return out + count * sizeof(Record);
@@ -154,10 +173,9 @@ std::byte* writeRecords(const std::vector<Record>& records, const std::vector<st
 
 // The asset's cell cones (one per record, what the cell culling pass reads), or cones that never
 // cull for an asset without them.
-std::byte* writeCellCones(const SdfAsset& asset, const CellDerived* derived, std::byte* out, std::size_t first = 0,
-                          std::size_t count = SIZE_MAX) {
-  first = std::min(first, asset.cells.records.size());
-  count = std::min(count, asset.cells.records.size() - first);
+std::byte* writeCellCones(const SdfAsset& asset, const CellDerived* derived, std::byte* out, std::size_t first,
+                          std::size_t count) {
+  count = clippedCount(asset.cells.records.size(), first, count);
   if (derived) {
     std::memcpy(out, derived->cellCones.data() + first, count * sizeof(shader::CellBrickCone));
     return out + count * sizeof(shader::CellBrickCone);
@@ -167,51 +185,74 @@ std::byte* writeCellCones(const SdfAsset& asset, const CellDerived* derived, std
   return out;
 }
 
-// The writers of the per-record streams (fp32 records, fp16 records, cell cones), from the
-// upload's sources (which outlive them) straight into the staging memory.
-template <class Upload>
-std::array<engine::gpu::BufferAppend::Writer, 3> recordWriters(const Upload& u) {
+// The writers of the per-record streams (fp32 records, fp16 records, cell cones), from `sources`
+// (which outlive them) straight into the staging memory.
+template <class Source>
+std::array<engine::gpu::BufferAppend::Writer, 3> recordWriters(std::span<const Source> sources) {
   return {
-      [&u](std::span<std::byte> out) {
+      [sources](std::span<std::byte> out) {
         std::byte* at = out.data();
-        for (const auto& s : u.recordSources) at = writeRecords(s.asset->cells.records, s.asset->proxyBoxes, at);
+        for (const Source& s : sources)
+          at = writeRecords(s.asset->cells.records, s.asset->proxyBoxes, at, s.first, s.count);
       },
-      [&u](std::span<std::byte> out) {
+      [sources](std::span<std::byte> out) {
         std::byte* at = out.data();
-        for (const auto& s : u.recordSources) at = writeRecords(s.asset->cellsHalf.records, s.asset->proxyBoxesHalf, at);
+        for (const Source& s : sources)
+          at = writeRecords(s.asset->cellsHalf.records, s.asset->proxyBoxesHalf, at, s.first, s.count);
       },
-      [&u](std::span<std::byte> out) {
+      [sources](std::span<std::byte> out) {
         std::byte* at = out.data();
-        for (const auto& s : u.recordSources) at = writeCellCones(*s.asset, s.derived, at);
+        for (const Source& s : sources) at = writeCellCones(*s.asset, s.derived, at, s.first, s.count);
       },
   };
+}
+
+// The appends of the per-record streams (fp32 and fp16 records, cell cones) of `sources`, written
+// at record `at` of the buffers (the same index in each), each buffer made or grown with room for
+// `reserve` records from there when that is more than the sources hold: the later parts of an
+// asset written over several frames then go in place.
+template <class Source>
+std::vector<engine::gpu::BufferAppend> recordAppends(CellBuffers& b, std::span<const Source> sources, std::uint32_t at,
+                                                     std::uint32_t reserve = 0) {
+  std::size_t records = 0, halfRecords = 0;
+  for (const Source& s : sources) {
+    records += clippedCount(s.asset->cells.records.size(), s.first, s.count);
+    halfRecords += clippedCount(s.asset->cellsHalf.records.size(), s.first, s.count);
+  }
+  const auto append = [&](Buffer& buffer, std::size_t size, std::size_t entries, engine::gpu::BufferAppend::Writer write,
+                          VkBufferUsageFlags usage, const char* name) {
+    engine::gpu::BufferAppend a{&buffer, VkDeviceSize(at) * size, VkDeviceSize(entries) * size, std::move(write), usage, name};
+    a.reserve = VkDeviceSize(reserve) * size;
+    return a;
+  };
+  auto [full, half, cellCones] = recordWriters(sources);
+  std::vector<engine::gpu::BufferAppend> appends;
+  appends.push_back(append(b.records[0], sizeof(CellRecord), records, std::move(full), kVertexUsage | kAddressUsage,
+                           "hermite cells fp32"));
+  appends.push_back(append(b.records[1], sizeof(CellRecordHalf), halfRecords, std::move(half),
+                           kVertexUsage | kAddressUsage, "hermite cells fp16"));
+  appends.push_back(append(b.cellCones, sizeof(shader::CellBrickCone), records, std::move(cellCones), kAddressUsage,
+                           "hermite cell cones"));
+  return appends;
 }
 
 static_assert(sizeof(CellMaterialSlots) == sizeof(shader::CellMaterialSlotsGpu), "materials.h and hermite_host_device.h");
 
 // The seven cell buffers as appends of the upload's streams after the `used` entries they hold,
-// with each buffer's usage (records resident: none of theirs).
+// with each buffer's usage (records resident: no record source, none of theirs).
 template <class Upload>
 std::vector<engine::gpu::BufferAppend> cellStreamAppends(CellBuffers& b, const Upload& u, const StreamCounts& used) {
   constexpr VkBufferUsageFlags address = kAddressUsage, vertex = kVertexUsage;
   const auto entries = [](std::uint32_t count, std::size_t size) { return VkDeviceSize(count) * size; };
-  const std::uint32_t records = u.recordsResident ? 0 : u.records, halfRecords = u.recordsResident ? 0 : u.halfRecords;
-  auto [full, half, cellCones] = recordWriters(u);
-  return {
-      {&b.records[0], entries(used.records, sizeof(CellRecord)), entries(records, sizeof(CellRecord)),
-       std::move(full), vertex | address, "hermite cells fp32"},
-      {&b.records[1], entries(used.records, sizeof(CellRecordHalf)), entries(halfRecords, sizeof(CellRecordHalf)),
-       std::move(half), vertex | address, "hermite cells fp16"},
-      appendOf(b.runs, entries(used.runs, sizeof(shader::CellRunGpu)), u.runs, vertex, "hermite cell runs"),
-      appendOf(b.bricks, entries(used.bricks, sizeof(shader::CellBrickGpu)), u.bricks, vertex | address,
-               "hermite cell bricks"),
-      appendOf(b.brickCells, entries(used.brickCells, sizeof(std::uint32_t)), u.brickCells, address,
-               "hermite cell brick cells"),
-      appendOf(b.brickCones, entries(used.bricks, sizeof(shader::CellBrickCone)), u.cones, address,
-               "hermite cell brick cones"),
-      {&b.cellCones, entries(used.records, sizeof(shader::CellBrickCone)), entries(records, sizeof(shader::CellBrickCone)),
-       std::move(cellCones), address, "hermite cell cones"},
-  };
+  std::vector<engine::gpu::BufferAppend> appends = recordAppends(b, std::span(u.recordSources), used.records);
+  appends.push_back(appendOf(b.runs, entries(used.runs, sizeof(shader::CellRunGpu)), u.runs, vertex, "hermite cell runs"));
+  appends.push_back(appendOf(b.bricks, entries(used.bricks, sizeof(shader::CellBrickGpu)), u.bricks, vertex | address,
+                             "hermite cell bricks"));
+  appends.push_back(appendOf(b.brickCells, entries(used.brickCells, sizeof(std::uint32_t)), u.brickCells, address,
+                             "hermite cell brick cells"));
+  appends.push_back(appendOf(b.brickCones, entries(used.bricks, sizeof(shader::CellBrickCone)), u.cones, address,
+                             "hermite cell brick cones"));
+  return appends;
 }
 
 // The cell buffers' appends, then the multi-material assets' corner slots and palettes (read by
@@ -227,34 +268,6 @@ std::vector<engine::gpu::BufferAppend> streamAppends(CellBuffers& b, const Uploa
   if (!u.palette.empty())
     appends.push_back(appendOf(b.palette, VkDeviceSize(used.palette) * sizeof(shader::HermiteMaterialGpu), u.palette,
                                address, "hermite cell palettes"));
-  return appends;
-}
-
-// Records [first, first + count) of `asset` (fp32, fp16 and cell cones) appended after the buffers'
-// `base` records and the `first` already written, each buffer made or grown with room for the
-// whole asset, so that the later parts are written in place.
-std::vector<engine::gpu::BufferAppend> recordPartAppends(CellBuffers& b, const SdfAsset& asset, const CellDerived* derived,
-                                                         std::uint32_t base, std::uint32_t first, std::uint32_t count) {
-  const auto total = static_cast<std::uint32_t>(asset.cells.records.size());
-  const auto part = [&](Buffer& buffer, std::size_t size, std::uint32_t entries, engine::gpu::BufferAppend::Writer write,
-                        VkBufferUsageFlags usage, const char* name) {
-    engine::gpu::BufferAppend a{&buffer, VkDeviceSize(base + first) * size, VkDeviceSize(entries) * size,
-                                std::move(write), usage, name};
-    a.reserve = VkDeviceSize(total - first) * size;
-    return a;
-  };
-  const std::size_t halves = asset.cellsHalf.records.size();
-  const auto halfCount = static_cast<std::uint32_t>(first < halves ? std::min<std::size_t>(count, halves - first) : 0);
-  std::vector<engine::gpu::BufferAppend> appends;
-  appends.push_back(part(b.records[0], sizeof(CellRecord), count, [&asset, first, count](std::span<std::byte> out) {
-    writeRecords(asset.cells.records, asset.proxyBoxes, out.data(), first, count);
-  }, kVertexUsage | kAddressUsage, "hermite cells fp32"));
-  appends.push_back(part(b.records[1], sizeof(CellRecordHalf), halfCount, [&asset, first, count](std::span<std::byte> out) {
-    writeRecords(asset.cellsHalf.records, asset.proxyBoxesHalf, out.data(), first, count);
-  }, kVertexUsage | kAddressUsage, "hermite cells fp16"));
-  appends.push_back(part(b.cellCones, sizeof(shader::CellBrickCone), count, [&asset, derived, first, count](std::span<std::byte> out) {
-    writeCellCones(asset, derived, out.data(), first, count);
-  }, kAddressUsage, "hermite cell cones"));
   return appends;
 }
 
@@ -275,6 +288,7 @@ void padEmptyBuffers(std::span<engine::gpu::BufferAppend> appends) {
 // Uploads the assets drawn now when one is new, needs bricks, or the run length changed.
 void HermiteCellFeature::syncAssets(const engine::render::FrameContext& frame) {
   forgetRefusalsThatMayFit();
+  completedRows_.clear();  // an earlier frame's, left by a refusal
   AssetDemand d = collectAssetDemand(frame);
   if (settings_.uploadBytesPerFrame != 0) {
     uploadInParts(frame, d);
@@ -334,6 +348,20 @@ void HermiteCellFeature::forgetRefusalsThatMayFit() {
 
 namespace {
 
+// The entry's rows (a new asset's: an uploaded one's are moved by commitAssetBuffers) and runs of
+// at most `runLength` cells: those `built` (null: none) holds, or built now.
+void placeRowsAndRuns(CellBuffers::Entry& entry, const std::shared_ptr<AssetRowsBuild>& built, bool isNew,
+                      std::uint32_t runLength) {
+  if (built) {
+    AssetRowsBuild::Result result = built->result.get();
+    entry.rows = std::move(result.rows);
+    entry.runs = std::move(result.runs);
+    return;
+  }
+  if (isNew) entry.rows = buildCellRows(entry.asset->cells);
+  entry.runs = buildCellRuns(entry.asset->cells, runLength);
+}
+
 // Whether an uploaded asset now drawn as bricks lacks its bricks.
 template <class Demand>
 bool bricksMissing(const Demand& d, const CellBuffers& buffers) {
@@ -372,7 +400,8 @@ void HermiteCellFeature::uploadInParts(const engine::render::FrameContext& frame
   assetsWaiting_ = queue.size();
   std::uint32_t base = buffers_->used.records;  // where the next asset's records go
   for (const auto& asset : queue) {
-    if (!partial_ || partial_->assetId != asset->id) partial_ = PartialUpload{asset->id, 0};
+    if (!partial_ || partial_->assetId != asset->id)
+      partial_ = PartialUpload{asset->id, 0, startRowsBuild(asset, settings_.maxRunLength)};
     const auto total = static_cast<std::uint32_t>(asset->cells.records.size());
     const auto count = static_cast<std::uint32_t>(std::min<std::uint64_t>(total - partial_->written, left));
     if (!writeRecordPart(frame, asset, base, count)) {  // refused, reported: not waiting any more
@@ -380,6 +409,7 @@ void HermiteCellFeature::uploadInParts(const engine::render::FrameContext& frame
       break;
     }
     if (partial_->written < total) break;
+    completedRows_.insert_or_assign(asset->id, std::move(partial_->rows));
     partial_.reset();
     d.wanted.push_back(asset);
     d.recordsResident = true;
@@ -396,8 +426,12 @@ void HermiteCellFeature::uploadInParts(const engine::render::FrameContext& frame
 bool HermiteCellFeature::writeRecordPart(const engine::render::FrameContext& frame,
                                          const std::shared_ptr<const SdfAsset>& asset, std::uint32_t base,
                                          std::uint32_t count) {
+  // After the `written` records, each buffer made or grown with room for the whole asset, so that
+  // the later parts are written in place.
+  const AssetUpload::RecordSource part{asset.get(), matchingDerived(*asset), partial_->written, count};
+  const auto total = static_cast<std::uint32_t>(asset->cells.records.size());
   std::vector<engine::gpu::BufferAppend> appends =
-      recordPartAppends(*buffers_, *asset, matchingDerived(*asset), base, partial_->written, count);
+      recordAppends(*buffers_, std::span(&part, 1), base + partial_->written, total - partial_->written);
   auto replaced = engine::gpu::allocateOrRefuse([&] { return engine::gpu::appendToBuffers(*context_, appends); });
   if (!replaced) {
     partial_.reset();
@@ -521,14 +555,24 @@ std::vector<std::pair<std::uint64_t, std::uint32_t>> appendUploadedAssetsBricks(
   return firstBricks;
 }
 
+// The rows and runs a worker built for the asset while its records were written in parts, where
+// they have the run length now; null: appendAsset builds them.
+std::shared_ptr<AssetRowsBuild> HermiteCellFeature::takeRowsBuild(std::uint64_t assetId) {
+  const auto built = completedRows_.find(assetId);
+  if (built == completedRows_.end()) return nullptr;
+  std::shared_ptr<AssetRowsBuild> taken = std::move(built->second);
+  completedRows_.erase(built);
+  return taken->runLength == settings_.maxRunLength ? taken : nullptr;
+}
+
 // Appends one asset's records, runs, bricks and cones to the upload, and its entry to `rebuilt`.
 void HermiteCellFeature::appendAsset(CellBuffers& rebuilt, AssetUpload& u, const std::shared_ptr<const SdfAsset>& asset,
-                                     const AssetDemand& d) const {
+                                     const AssetDemand& d) {
   CellBuffers::Entry entry;
   entry.asset = asset;
   entry.firstRecord = u.base.records + u.records;
-  if (!buffers_->entries.contains(asset->id)) entry.rows = buildCellRows(asset->cells);  // else moved below
-  entry.runs = buildCellRuns(asset->cells, settings_.maxRunLength);
+  const bool isNew = !buffers_->entries.contains(asset->id);
+  placeRowsAndRuns(entry, isNew ? takeRowsBuild(asset->id) : nullptr, isNew, settings_.maxRunLength);
   entry.firstRun = u.base.runs + static_cast<std::uint32_t>(u.runs.size());
   for (shader::CellRunGpu run : entry.runs) {
     run.firstRecord += entry.firstRecord;

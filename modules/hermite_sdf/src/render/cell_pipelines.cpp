@@ -361,7 +361,7 @@ engine::Status HermiteCellFeature::describeTilePipelines(Pipelines& p) const {
 // prepass pipelines (cells at either record precision, in the proxy form the frame draws them;
 // runs; bricks; front faces and near cells) and, where the early depth stage is wanted, the early
 // variants and their fix-up that cells and runs then draw with (a frame of tiles or bricks keeps
-// the stage off, the next frame of runs turns it on). Not every variant, the wireframe or the
+// the stage off, the next frame of runs turns it on), and their variants without the stage. Not every variant, the wireframe or the
 // other proxy form: those are 4 to 5 times as many compiles (on lavapipe ~0.1-0.3 s of CPU each,
 // competing with the frames on a machine of two cores) for switches that are rarer. Those made
 // already are skipped by the worker at the cost of a lock.
@@ -378,7 +378,22 @@ std::vector<engine::gpu::LazyPipeline*> HermiteCellFeature::likelyNextPipelines(
        {&p.bricksFront[base], &p.bricksNear[base], &p.runsFront[boxes], &p.runsNear[boxes]})
     set.push_back(next);
   if (early) set.push_back(&p.depthFixup);
+  if (early) appendWithoutEarlyStage(set, base);
   return set;
+}
+
+// Where the early depth stage is wanted, the cells and runs of a frame that drops it (its objects
+// overlap on screen: a second object in view; bricks, tiles) draw with the `base` variants: the
+// frame that first adds an overlapping object would otherwise compile them on the render thread
+// (the bunny at K = 256 added beside a sphere: 120-260 ms of that frame on lavapipe).
+void HermiteCellFeature::appendWithoutEarlyStage(std::vector<engine::gpu::LazyPipeline*>& set, Variant base) {
+  Pipelines& p = pipelines_;
+  for (int precision = 0; precision < 2; ++precision) {
+    set.push_back(&p.depthFront[base][precision]);
+    set.push_back(&p.depthNear[base][precision]);
+  }
+  set.push_back(&p.runsFront[base]);
+  set.push_back(&p.runsNear[base]);
 }
 
 // Started by the second frame that draws cells: the first compiles what it draws itself, and a

@@ -5,6 +5,7 @@
 #include <cstdio>
 #include <memory>
 
+#include <glm/gtc/matrix_transform.hpp>
 #include <gtest/gtest.h>
 
 #include "engine/gpu/vk_check.h"
@@ -111,6 +112,47 @@ TEST_F(HermiteCellsTest, AMethodSwitchAfterWarmingCompilesNothingInTheFrame) {
     EXPECT_TRUE(warmed[i].depth == cold[i].depth) << "switch " << i;
     EXPECT_TRUE(warmed[i].rgba == cold[i].rgba) << "switch " << i;
   }
+}
+
+// Why: one object alone draws its cells in the early depth stage, whose variants the warmer
+// compiled; a second object that overlaps it on screen turns the stage off, and the frame that adds
+// it draws every cell with the variants without the stage, which that frame compiled on the render
+// thread (a large asset added beside a small one: most of that frame's time on lavapipe). Tricky:
+// neither the method nor the precision changes, only which objects share pixels. Once the warmer
+// is done, that frame must compile nothing, and draw the pixels of a feature that never warmed.
+TEST_F(HermiteCellsTest, AnOverlappingObjectAddedAfterWarmingCompilesNothingInTheFrame) {
+  const auto asset = bakeAsset("torus", 24);
+  ASSERT_NE(asset, nullptr);
+  const render::CameraView camera = orbitCamera(*asset, 0);
+  const glm::mat4 overlapping = glm::translate(glm::mat4(1.0f), glm::vec3(0.5f, 0.3f, -0.5f));
+  const auto frameOf = [&](bool warm) {
+    createCellRenderer(kSize, kSize);
+    registry_ = ecs::Registry();
+    auto* feature = renderer_->feature<hsdf::HermiteCellFeature>();
+    feature->settings().warmPipelines = warm;
+    feature->settings().earlyDepth = hsdf::HermiteCellFeature::EarlyDepth::On;
+    feature->settings().tiles = hsdf::HermiteCellFeature::Tiles::Off;  // a tiled frame has no early stage
+    addSdf(registry_, asset, hsdf::RenderMethod::Cells);
+    (void)renderWith(camera, DEBUG_VIEW_NONE);
+    (void)renderWith(camera, DEBUG_VIEW_NONE);
+    EXPECT_TRUE(feature->stats().earlyDepth) << "one object alone: the early stage";
+    feature->waitForWarmPipelines();
+    const std::uint32_t warmed = feature->pipelineCounts().compiled;
+    addSdf(registry_, asset, hsdf::RenderMethod::Cells, overlapping);
+    Frame added = renderWith(camera, DEBUG_VIEW_NONE);
+    EXPECT_FALSE(feature->stats().earlyDepth) << "overlapping objects: no early stage";
+    if (warm) {
+      EXPECT_EQ(feature->pipelineCounts().compiled, warmed) << "the frame adding the object compiled a pipeline";
+    } else {
+      EXPECT_GT(feature->pipelineCounts().compiled, warmed) << "the frame should have compiled its own";
+    }
+    return added;
+  };
+  const Frame warmed = frameOf(true);
+  const Frame cold = frameOf(false);
+  EXPECT_GT(coveredPixels(warmed), 500u);
+  EXPECT_TRUE(warmed.depth == cold.depth);
+  EXPECT_TRUE(warmed.rgba == cold.rgba);
 }
 
 // Why: the worker compiles into the pipelines a reload replaces; the reload must stop it first (a
