@@ -7,12 +7,9 @@
 #include <cstddef>
 #include <cstdint>
 #include <cstring>
-#include <future>
 #include <limits>
-#include <memory>
 #include <span>
 #include <unordered_set>
-#include <utility>
 
 #include <imgui.h>
 
@@ -117,15 +114,6 @@ struct HermiteCellFeature::AssetUpload {
             base.materialSlots + std::uint32_t(materialSlots.size()), base.palette + std::uint32_t(palette.size())};
   }
 };
-
-std::shared_ptr<AssetRowsBuild> startRowsBuild(std::shared_ptr<const SdfAsset> asset, std::uint32_t runLength) {
-  auto build = std::make_shared<AssetRowsBuild>();
-  build->runLength = runLength;
-  build->result = std::async(std::launch::async, [asset = std::move(asset), runLength] {
-    return AssetRowsBuild::Result{buildCellRows(asset->cells), buildCellRuns(asset->cells, runLength)};
-  });
-  return build;
-}
 
 const std::uint64_t HermiteCellFeature::kRecordUploadBytes =
     sizeof(CellRecord) + sizeof(CellRecordHalf) + sizeof(shader::CellBrickCone);
@@ -288,7 +276,6 @@ void padEmptyBuffers(std::span<engine::gpu::BufferAppend> appends) {
 // Uploads the assets drawn now when one is new, needs bricks, or the run length changed.
 void HermiteCellFeature::syncAssets(const engine::render::FrameContext& frame) {
   forgetRefusalsThatMayFit();
-  completedRows_.clear();  // an earlier frame's, left by a refusal
   AssetDemand d = collectAssetDemand(frame);
   if (settings_.uploadBytesPerFrame != 0) {
     uploadInParts(frame, d);
@@ -348,20 +335,6 @@ void HermiteCellFeature::forgetRefusalsThatMayFit() {
 
 namespace {
 
-// The entry's rows (a new asset's: an uploaded one's are moved by commitAssetBuffers) and runs of
-// at most `runLength` cells: those `built` (null: none) holds, or built now.
-void placeRowsAndRuns(CellBuffers::Entry& entry, const std::shared_ptr<AssetRowsBuild>& built, bool isNew,
-                      std::uint32_t runLength) {
-  if (built) {
-    AssetRowsBuild::Result result = built->result.get();
-    entry.rows = std::move(result.rows);
-    entry.runs = std::move(result.runs);
-    return;
-  }
-  if (isNew) entry.rows = buildCellRows(entry.asset->cells);
-  entry.runs = buildCellRuns(entry.asset->cells, runLength);
-}
-
 // Whether an uploaded asset now drawn as bricks lacks its bricks.
 template <class Demand>
 bool bricksMissing(const Demand& d, const CellBuffers& buffers) {
@@ -400,8 +373,7 @@ void HermiteCellFeature::uploadInParts(const engine::render::FrameContext& frame
   assetsWaiting_ = queue.size();
   std::uint32_t base = buffers_->used.records;  // where the next asset's records go
   for (const auto& asset : queue) {
-    if (!partial_ || partial_->assetId != asset->id)
-      partial_ = PartialUpload{asset->id, 0, startRowsBuild(asset, settings_.maxRunLength)};
+    if (!partial_ || partial_->assetId != asset->id) partial_ = PartialUpload{asset->id, 0};
     const auto total = static_cast<std::uint32_t>(asset->cells.records.size());
     const auto count = static_cast<std::uint32_t>(std::min<std::uint64_t>(total - partial_->written, left));
     if (!writeRecordPart(frame, asset, base, count)) {  // refused, reported: not waiting any more
@@ -409,7 +381,6 @@ void HermiteCellFeature::uploadInParts(const engine::render::FrameContext& frame
       break;
     }
     if (partial_->written < total) break;
-    completedRows_.insert_or_assign(asset->id, std::move(partial_->rows));
     partial_.reset();
     d.wanted.push_back(asset);
     d.recordsResident = true;
@@ -555,24 +526,14 @@ std::vector<std::pair<std::uint64_t, std::uint32_t>> appendUploadedAssetsBricks(
   return firstBricks;
 }
 
-// The rows and runs a worker built for the asset while its records were written in parts, where
-// they have the run length now; null: appendAsset builds them.
-std::shared_ptr<AssetRowsBuild> HermiteCellFeature::takeRowsBuild(std::uint64_t assetId) {
-  const auto built = completedRows_.find(assetId);
-  if (built == completedRows_.end()) return nullptr;
-  std::shared_ptr<AssetRowsBuild> taken = std::move(built->second);
-  completedRows_.erase(built);
-  return taken->runLength == settings_.maxRunLength ? taken : nullptr;
-}
-
 // Appends one asset's records, runs, bricks and cones to the upload, and its entry to `rebuilt`.
 void HermiteCellFeature::appendAsset(CellBuffers& rebuilt, AssetUpload& u, const std::shared_ptr<const SdfAsset>& asset,
-                                     const AssetDemand& d) {
+                                     const AssetDemand& d) const {
   CellBuffers::Entry entry;
   entry.asset = asset;
   entry.firstRecord = u.base.records + u.records;
-  const bool isNew = !buffers_->entries.contains(asset->id);
-  placeRowsAndRuns(entry, isNew ? takeRowsBuild(asset->id) : nullptr, isNew, settings_.maxRunLength);
+  if (!buffers_->entries.contains(asset->id)) entry.rows = buildCellRows(asset->cells);  // else moved below
+  entry.runs = buildCellRuns(asset->cells, settings_.maxRunLength);
   entry.firstRun = u.base.runs + static_cast<std::uint32_t>(u.runs.size());
   for (shader::CellRunGpu run : entry.runs) {
     run.firstRecord += entry.firstRecord;

@@ -3,7 +3,6 @@
 #pragma once
 
 #include <cstdint>
-#include <future>
 #include <memory>
 #include <unordered_map>
 #include <vector>
@@ -74,22 +73,6 @@ struct CellBuffers {
   StreamCounts used;            // the entries that hold data; the buffers may have room for more
   std::uint64_t bytes = 0;      // the bytes of those entries
 };
-
-// An asset's rows and runs, built on a worker thread while its records are written in parts
-// (HermiteCellFeature::PartialUpload): the frame that completes the asset takes them instead of
-// building them (8-12 ms of that frame for the bunny at K = 256). Dropped unfinished (the upload
-// refused or started again), it waits for the worker.
-struct AssetRowsBuild {
-  struct Result {
-    CellRows rows;
-    std::vector<shader::CellRunGpu> runs;
-  };
-  std::uint32_t runLength = 0;  // the runs' maximum length
-  std::future<Result> result;
-};
-
-// Starts building `asset`'s rows and its runs of at most `runLength` cells on a worker thread.
-std::shared_ptr<AssetRowsBuild> startRowsBuild(std::shared_ptr<const SdfAsset> asset, std::uint32_t runLength);
 
 // This frame's indirect commands for one record precision: the front-face list, then the
 // near-cell list, as ranges of the shared command and draw-data arrays.

@@ -14,14 +14,7 @@ double distanceToCellSquared(const glm::dvec3& p, const glm::dvec3& c) {
 
 }  // namespace
 
-namespace {
-thread_local std::uint64_t rowsAndRunsBuiltHere = 0;  // cellRowsAndRunsBuiltOnThisThread
-}  // namespace
-
-std::uint64_t cellRowsAndRunsBuiltOnThisThread() { return rowsAndRunsBuiltHere; }
-
 CellRows buildCellRows(const CellStream& stream) {
-  ++rowsAndRunsBuiltHere;
   CellRows result;
   result.recordCount = static_cast<std::uint32_t>(stream.records.size());
   result.recordOfCell.reserve(stream.records.size());
@@ -111,7 +104,6 @@ std::vector<std::uint32_t> cellsNearPoint(const CellRows& rows, const CellStream
 }
 
 std::vector<shader::CellRunGpu> buildCellRuns(const CellStream& stream, std::uint32_t maxLength) {
-  ++rowsAndRunsBuiltHere;
   std::vector<shader::CellRunGpu> runs;
   maxLength = std::clamp(maxLength, 1u, 0xffffu);
   std::uint32_t length = 0;

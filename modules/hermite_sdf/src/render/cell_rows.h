@@ -42,10 +42,6 @@ struct CellRows {
 
 CellRows buildCellRows(const CellStream& stream);
 
-// Rows and runs (buildCellRows, buildCellRuns) built by calls made on this thread: the render
-// thread builds none for an asset written in parts (a worker builds them meanwhile).
-std::uint64_t cellRowsAndRunsBuiltOnThisThread();
-
 // Ranges of records to draw: all records at once, or rows nearest to `eyeGrid` (in grid units,
 // sample (i,j,k) at (i,j,k)) first; consecutive ranges are merged.
 std::vector<CellRows::Range> orderedRows(const CellRows& rows, const glm::dvec3& eyeGrid, bool frontToBack);

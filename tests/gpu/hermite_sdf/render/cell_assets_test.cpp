@@ -14,7 +14,6 @@
 #include "hermite_sdf/core/normal_cone.h"
 #include "hermite_sdf/core/sdf_asset.h"
 #include "hermite_sdf/render/cell_feature.h"
-#include "render/cell_rows.h"
 #include "cell_test_support.h"
 #include "shared/host_device.h"
 #include "hermite_test_support.h"
@@ -268,45 +267,6 @@ TEST_F(HermiteCellsTest, TheBudgetLeftByAWholeAssetGoesToTheNext) {
   EXPECT_FALSE(feature->uploading());
   EXPECT_TRUE(second.depth == both.depth);
   EXPECT_TRUE(second.rgba == both.rgba);
-}
-
-// Why: the frame that completes an asset written in parts built its rows and runs on the render
-// thread (8-12 ms of that frame for the bunny at K = 256); a worker builds them while the parts are
-// written, and that frame must build none. Tricky: the worker's runs are what the frame draws (the
-// entity draws runs), placed after the records of an asset uploaded before, so the frame once whole
-// must equal the frame of the same assets uploaded whole (budget 0), which builds them itself.
-TEST_F(HermiteCellsTest, TheFrameCompletingAnAssetWrittenInPartsBuildsNoRowsOrRuns) {
-  const auto sphere = bakeAsset("sphere", 24);
-  const auto torus = bakeAsset("torus", 32);
-  ASSERT_NE(sphere, nullptr);
-  ASSERT_NE(torus, nullptr);
-  const glm::mat4 beside = glm::translate(glm::mat4(1.0f), glm::vec3(-2.5f, 0.0f, 0.0f));
-  const render::CameraView camera = orbitCamera(*torus, 0, 2.6f);
-  createCellRenderer(kSize, kSize);
-  renderer_->feature<Cells>()->settings().uploadBytesPerFrame = 0;
-  addSdf(registry_, sphere, hsdf::RenderMethod::CellRuns, beside);
-  (void)renderWith(camera, DEBUG_VIEW_NONE);
-  const ecs::Entity added = addSdf(registry_, torus, hsdf::RenderMethod::CellRuns);
-  const Frame whole = renderWith(camera, DEBUG_VIEW_NONE);
-  ASSERT_GT(coveredPixels(whole), 500);
-
-  registry_.destroy(added);
-  createCellRenderer(kSize, kSize);
-  auto* feature = renderer_->feature<Cells>();
-  // The sphere whole in one frame, the torus (more cells) in parts.
-  feature->settings().uploadBytesPerFrame = sphere->cells.records.size() * Cells::kRecordUploadBytes;
-  ASSERT_LT(sphere->cells.records.size(), torus->cells.records.size());
-  (void)renderWith(camera, DEBUG_VIEW_NONE);  // the sphere, whole
-  addSdf(registry_, torus, hsdf::RenderMethod::CellRuns);
-  const std::uint64_t builtBefore = hsdf::cellRowsAndRunsBuiltOnThisThread();
-  Frame frame = renderWith(camera, DEBUG_VIEW_NONE);
-  ASSERT_TRUE(feature->uploading()) << "the torus must take more than one frame";
-  for (int frames = 1; feature->uploading() && frames < 10; ++frames) frame = renderWith(camera, DEBUG_VIEW_NONE);
-  ASSERT_FALSE(feature->uploading());
-  EXPECT_EQ(hsdf::cellRowsAndRunsBuiltOnThisThread(), builtBefore) << "rows or runs built on the render thread";
-  EXPECT_GT(feature->stats().runs, 0u);
-  EXPECT_TRUE(frame.depth == whole.depth);
-  EXPECT_TRUE(frame.rgba == whole.rgba);
 }
 
 // Not a check, a measurement (docs/perf/render-changes-session31.md): the render-thread time of the

@@ -78,7 +78,6 @@
 namespace hsdf {
 
 struct CellBuffers;  // the uploaded assets (src/render/cell_feature_internal.h)
-struct AssetRowsBuild;  // an asset's rows and runs built on a worker (src/render/cell_feature_internal.h)
 
 // A switch the device may decide: Auto (each setting below says for which devices it is on), On,
 // Off. One type for the early depth stage, thin boxes and tiles, so that a program reads, writes and
@@ -205,8 +204,7 @@ class HermiteCellFeature final : public engine::render::RenderFeature {
     // several frames, one new asset after another, at least one record a frame, and drawn from the
     // frame its last records are in, never half uploaded (until then its entity draws the asset it
     // replaced, if that is still uploaded, or nothing). That frame also writes the asset's runs,
-    // bricks and material slots (small beside the records); its rows and runs are built on a
-    // worker thread while the parts are written. A rebuild (a new run length, idle
+    // bricks and material slots (small beside the records). A rebuild (a new run length, idle
     // assets dropped) writes every drawn asset in its frame, as does 0 always: no limit.
     std::uint64_t uploadBytesPerFrame = std::uint64_t(32) << 20;
   };
@@ -308,8 +306,7 @@ class HermiteCellFeature final : public engine::render::RenderFeature {
   bool idleAssetsToDrop(const engine::render::FrameContext& frame) const;  // Settings::releaseAfterFrames
   AssetDemand collectAssetDemand(const engine::render::FrameContext& frame);
   void appendAsset(CellBuffers& rebuilt, AssetUpload& u, const std::shared_ptr<const SdfAsset>& asset,
-                   const AssetDemand& d);
-  std::shared_ptr<AssetRowsBuild> takeRowsBuild(std::uint64_t assetId);
+                   const AssetDemand& d) const;
   bool appendNewAssets(const engine::render::FrameContext& frame, const AssetDemand& d);
   void createAssetBuffers(CellBuffers& rebuilt, const AssetUpload& u) const;
   void commitAssetBuffers(const engine::render::FrameContext& frame, CellBuffers rebuilt, const AssetUpload& u);
@@ -466,11 +463,8 @@ class HermiteCellFeature final : public engine::render::RenderFeature {
   struct PartialUpload {
     std::uint64_t assetId = 0;
     std::uint32_t written = 0;  // its records in the buffers so far
-    std::shared_ptr<AssetRowsBuild> rows;  // its rows and runs, built meanwhile
   };
   std::optional<PartialUpload> partial_;
-  // The rows and runs of the assets this frame's round of parts completed, for appendAsset.
-  std::unordered_map<std::uint64_t, std::shared_ptr<AssetRowsBuild>> completedRows_;
   std::optional<std::uint64_t> partsFrame_;  // the frame that last wrote records in parts: one round a frame
   std::size_t assetsWaiting_ = 0;            // new assets not drawn yet after that round (uploading())
   engine::render::PerFrameBuffer drawData_;     // the draw table: HermiteDrawTableHeader, a record per command
