@@ -381,18 +381,14 @@ std::vector<engine::gpu::LazyPipeline*> HermiteCellFeature::likelyNextPipelines(
   return set;
 }
 
-// Started by the second frame that draws cells: the first compiles what it draws itself, and a
-// worker compiling beside it would only slow it down. Started once per set of pipelines (a reload
-// starts it again for the fresh ones).
+// Started by the second frame that draws cells (engine::gpu::PipelineWarming).
 void HermiteCellFeature::warmPipelines(const engine::render::FrameContext& frame) {
-  if (!settings_.warmPipelines || warmer_ || stats_.draws == 0) return;
-  if (!std::exchange(drewFirstFrame_, true)) return;
-  warmer_ = std::make_unique<engine::gpu::PipelineWarmer>(*context_,
-                                                          likelyNextPipelines(withoutEarlyStage(prepassVariant(frame))));
+  warming_.frame(*context_, settings_.warmPipelines && stats_.draws > 0,
+                 [&] { return likelyNextPipelines(withoutEarlyStage(prepassVariant(frame))); });
 }
 
 void HermiteCellFeature::waitForWarmPipelines() {
-  if (warmer_) warmer_->wait();
+  warming_.wait();
 }
 
 }  // namespace hsdf
