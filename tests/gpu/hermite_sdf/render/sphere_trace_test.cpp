@@ -915,8 +915,9 @@ TEST_F(SphereTraceTest, AReloadCompilesWhatFramesBindAndWarmsTheRestAgain) {
 // Not a check, a measurement (docs/perf/render-changes-session35.md): the render-thread time of the
 // frames that switch the bunny (K = 64, both features, as the scene runner has them) from cells to
 // the trilinear tracer, to the Hermite tracer and back to cells, each followed by a frame of the
-// same form, without and with the tracer's warmer (the cells' warm in both); then, warmed, a
-// shader reload and the frame after it. Run by hand:
+// same form, without and with the tracer's warmer (the cells' warm in both); then, in a renderer
+// whose warmers are done after two frames of cells, each feature's shader reload (the pipelines it
+// compiled: what frames bound) and the frame after it. Run by hand:
 //   hermite_sphere_trace_gpu_tests --gtest_also_run_disabled_tests --gtest_filter='*TracerSwitchFrameTimes'
 TEST_F(SphereTraceTest, DISABLED_TracerSwitchFrameTimes) {
   const auto asset = bakeAsset("bunny", 64);
@@ -930,11 +931,14 @@ TEST_F(SphereTraceTest, DISABLED_TracerSwitchFrameTimes) {
   const auto frame = [&] {
     return milliseconds([&] { EXPECT_TRUE(renderer_->renderFrame(registry_, camera, render::FrameSettings{})); });
   };
-  for (const bool warm : {false, true}) {
+  const auto bothFeatures = [&] {
     createRenderer(kSize, kSize);
     ASSERT_TRUE(renderer_->addFeature(std::make_unique<hsdf::HermiteCellFeature>()).ok());
     ASSERT_TRUE(renderer_->addFeature(std::make_unique<hsdf::SphereTraceFeature>()).ok());
     registry_ = ecs::Registry();
+  };
+  for (const bool warm : {false, true}) {
+    bothFeatures();
     auto* tracer = renderer_->feature<hsdf::SphereTraceFeature>();
     auto* cells = renderer_->feature<hsdf::HermiteCellFeature>();
     tracer->settings().warmPipelines = warm;
@@ -954,15 +958,22 @@ TEST_F(SphereTraceTest, DISABLED_TracerSwitchFrameTimes) {
       std::printf("[ warm %-3s ] switch to %-9s frame %7.1f ms, next frame %6.1f ms\n", warm ? "on" : "off",
                   hsdf::renderMethodName(method), switched, next);
     }
-    if (!warm) continue;
-    registry_.get<hsdf::HermiteSdfRenderable>(entity).method = RenderMethod::TrilinearSphereTrace;
-    (void)frame();
-    const double reload = milliseconds([&] { EXPECT_TRUE(tracer->reloadShaders().ok()); });
-    const double after = frame();
-    std::printf("[ warm on  ] tracer reload %7.1f ms (%u pipelines compiled), frame after it %6.1f ms\n", reload,
-                tracer->pipelineCounts().compiled, after);
   }
+  bothFeatures();
+  auto* tracer = renderer_->feature<hsdf::SphereTraceFeature>();
+  auto* cells = renderer_->feature<hsdf::HermiteCellFeature>();
+  (void)addSdf(registry_, asset, RenderMethod::Cells);
+  (void)frame();
+  (void)frame();
+  tracer->waitForWarmPipelines();
+  cells->waitForWarmPipelines();
+  const std::uint32_t cellsWarm = cells->pipelineCounts().compiled, tracerWarm = tracer->pipelineCounts().compiled;
+  const double cellReload = milliseconds([&] { EXPECT_TRUE(cells->reloadShaders().ok()); });
+  const double tracerReload = milliseconds([&] { EXPECT_TRUE(tracer->reloadShaders().ok()); });
+  const std::uint32_t cellsReloaded = cells->pipelineCounts().compiled, tracerReloaded = tracer->pipelineCounts().compiled;
+  const double after = frame();
+  std::printf("[ reload ] cells %7.1f ms (%u of %u made compiled), tracer %7.1f ms (%u of %u), frame after %6.1f ms\n",
+              cellReload, cellsReloaded, cellsWarm, tracerReload, tracerReloaded, tracerWarm, after);
 }
-
 }  // namespace
 }  // namespace gputest
