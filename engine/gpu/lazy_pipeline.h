@@ -9,8 +9,8 @@
 // a worker thread while frames go on, so a frame that later needs one of them does not compile it,
 // and a PipelineWarming decides when an owner's frames start one and starts it again after a reload.
 //
-// Threads: get() may be called from several threads at once (a frame and a warmer). Each pipeline
-// has its own mutex, held while it compiles: a second caller waits for that one compile and then
+// Threads: get() and warm() may be called from several threads at once (a frame, a warmer). Each
+// pipeline has its own mutex, held while it compiles: a second caller waits for that one compile and then
 // finds it made, so nothing is compiled twice, and a frame never waits on another pipeline's
 // compile. vkCreateGraphicsPipelines is free-threaded and the context's pipeline cache is
 // internally synchronized. Moving, describing anew and destroying are the owner's alone, with no
