@@ -10,9 +10,9 @@
 // and a PipelineWarming decides when an owner's frames start one and starts it again after a reload.
 //
 // Threads: get() and warm() may be called from several threads at once (a frame, a warmer). Each
-// pipeline has its own mutex, held while it compiles: a second caller waits for that one compile and then
-// finds it made, so nothing is compiled twice, and a frame never waits on another pipeline's
-// compile. vkCreateGraphicsPipelines is free-threaded and the context's pipeline cache is
+// pipeline has its own mutex, held while it compiles: a second caller waits for that one compile
+// and then finds it made, so nothing is compiled twice, and a frame never waits on another
+// pipeline's compile. vkCreateGraphicsPipelines is free-threaded and the context's pipeline cache is
 // internally synchronized. Moving, describing anew and destroying are the owner's alone, with no
 // warmer running over the pipeline.
 #include <atomic>
