@@ -33,11 +33,13 @@ LazyPipeline& LazyPipeline::operator=(LazyPipeline&& other) noexcept {
     failureLogged_ = std::exchange(other.failureLogged_, false);
     made_.store(other.made_.exchange(false));
     compiles_.store(other.compiles_.exchange(0));
+    needed_.store(other.needed_.exchange(false));
   }
   return *this;
 }
 
 Expected<const Pipeline*> LazyPipeline::get(const Context& context) {
+  needed_.store(true, std::memory_order_relaxed);
   if (made()) return &*pipeline_;  // set once before made_, never changed while shared
   const std::lock_guard lock(mutex_);
   return compileLocked(context);
@@ -61,7 +63,14 @@ Expected<const Pipeline*> LazyPipeline::compileLocked(const Context& context) {
   return &*pipeline_;
 }
 
+void LazyPipeline::warm(const Context& context) {
+  if (made()) return;
+  const std::lock_guard lock(mutex_);
+  (void)compileLocked(context);
+}
+
 const Pipeline* LazyPipeline::getOrLog(const Context& context) {
+  needed_.store(true, std::memory_order_relaxed);
   if (made()) return &*pipeline_;
   const std::lock_guard lock(mutex_);
   Expected<const Pipeline*> pipeline = compileLocked(context);
@@ -86,11 +95,11 @@ Status createAll(const Context& context, std::span<LazyPipeline* const> set) {
   return {};
 }
 
-Status createWhereMade(const Context& context, std::span<LazyPipeline* const> fresh,
-                       std::span<LazyPipeline* const> old) {
+Status createWhereNeeded(const Context& context, std::span<LazyPipeline* const> fresh,
+                         std::span<LazyPipeline* const> old) {
   if (fresh.size() != old.size()) return makeError("a reloaded pipeline set differs in size from the old one");
   for (std::size_t i = 0; i < fresh.size(); ++i)
-    if (old[i]->made()) ENGINE_TRY(fresh[i]->get(context));
+    if (old[i]->needed()) ENGINE_TRY(fresh[i]->get(context));
   return {};
 }
 
@@ -116,8 +125,7 @@ void PipelineWarmer::run(std::stop_token stop, const Context& context, std::vect
   try {
     for (LazyPipeline* pipeline : set) {
       if (stop.stop_requested()) break;
-      // A failure is kept by the pipeline and logged by the frame that needs it (getOrLog).
-      if (pipeline->described()) (void)pipeline->get(context);
+      if (pipeline->described()) pipeline->warm(context);
     }
   } catch (const std::exception& error) {  // a frame compiling the rest itself is no worse than without a warmer
     log::warn("pipeline warmer stopped: {}", error.what());
@@ -132,6 +140,22 @@ void PipelineWarmer::stop() {
 
 void PipelineWarmer::wait() {
   if (worker_.joinable()) worker_.join();
+}
+
+void PipelineWarming::frame(const Context& context, bool wanted, const NextSet& next) {
+  if (!wanted || warmer_) return;
+  if (++framesWanting_ < 2) return;
+  warmer_ = std::make_unique<PipelineWarmer>(context, next());
+}
+
+// A set warmed before (started: the owner's frames wanted it) is warmed again by the next frame.
+void PipelineWarming::reloading() {
+  framesWanting_ = warmer_ ? 1u : 0u;
+  warmer_.reset();
+}
+
+void PipelineWarming::wait() {
+  if (warmer_) warmer_->wait();
 }
 
 }  // namespace engine::gpu

@@ -5,17 +5,19 @@
 // and a process compiles only the pipelines it draws with: on lavapipe, compiling all of one
 // feature's variants up front took 2.6 s of a 3-second test program, most of them never bound.
 // createAll() compiles a set ahead of any frame (a load screen, a statistics run); a reload
-// compiles again only what frames had used (createWhereMade); a PipelineWarmer compiles a set on a
-// worker thread while frames go on, so a frame that later needs one of them does not compile it.
+// compiles again only what frames had bound (createWhereNeeded); a PipelineWarmer compiles a set on
+// a worker thread while frames go on, so a frame that later needs one of them does not compile it,
+// and a PipelineWarming decides when an owner's frames start one and starts it again after a reload.
 //
-// Threads: get() may be called from several threads at once (a frame and a warmer). Each pipeline
-// has its own mutex, held while it compiles: a second caller waits for that one compile and then
-// finds it made, so nothing is compiled twice, and a frame never waits on another pipeline's
-// compile. vkCreateGraphicsPipelines is free-threaded and the context's pipeline cache is
+// Threads: get() and warm() may be called from several threads at once (a frame, a warmer). Each
+// pipeline has its own mutex, held while it compiles: a second caller waits for that one compile
+// and then finds it made, so nothing is compiled twice, and a frame never waits on another
+// pipeline's compile. vkCreateGraphicsPipelines is free-threaded and the context's pipeline cache is
 // internally synchronized. Moving, describing anew and destroying are the owner's alone, with no
 // warmer running over the pipeline.
 #include <atomic>
 #include <cstdint>
+#include <functional>
 #include <memory>
 #include <mutex>
 #include <optional>
@@ -46,12 +48,19 @@ class LazyPipeline {
   LazyPipeline(const LazyPipeline&) = delete;
   LazyPipeline& operator=(const LazyPipeline&) = delete;
 
-  // The pipeline, compiled on the first call. A failure is kept and returned again, not retried
-  // every frame: the description and its SPIR-V do not change until the owner reloads them.
+  // The pipeline, compiled on the first call, for a frame to bind (or createAll), which makes it
+  // needed(). A failure is kept and returned again, not retried every frame: the description and
+  // its SPIR-V do not change until the owner reloads them.
   Expected<const Pipeline*> get(const Context& context);
   // The pipeline, or null where it cannot be compiled: the failure is logged the first time, and
-  // the caller skips the draws that need it (the frame goes on without them).
+  // the caller skips the draws that need it (the frame goes on without them). Needed, as get().
   const Pipeline* getOrLog(const Context& context);
+  // Compiles it ahead of a frame that may bind it (a PipelineWarmer's worker), without making it
+  // needed: a reload compiles up front only what frames bound, and warms the rest again. A failure
+  // is kept for the frame that needs it to log.
+  void warm(const Context& context);
+  // Whether a frame has bound it (get or getOrLog was called), compiled or not.
+  bool needed() const { return needed_.load(std::memory_order_relaxed); }
   // Whether get() has compiled it (a failed or never-needed pipeline is not made). Never waits for
   // a compile under way on another thread (it reads false until that one is done).
   bool made() const { return made_.load(std::memory_order_acquire); }
@@ -70,6 +79,7 @@ class LazyPipeline {
   bool failureLogged_ = false;
   std::atomic<bool> made_{false};  // pipeline_ is set; read without the lock (the frame's fast path)
   std::atomic<std::uint32_t> compiles_{0};
+  std::atomic<bool> needed_{false};
   mutable std::mutex mutex_;  // held while compiling: pipeline_, failure_, modules_, failureLogged_
 };
 
@@ -109,9 +119,34 @@ PipelineCounts countPipelines(std::span<LazyPipeline* const> set);
 
 // Compiles every described pipeline of `set` (the first failure names its pipeline).
 Status createAll(const Context& context, std::span<LazyPipeline* const> set);
-// Compiles each pipeline of `fresh` whose counterpart in `old` (the same position) was compiled:
-// a reload from new SPIR-V has what frames drew with ready, and fails before anything is replaced.
-Status createWhereMade(const Context& context, std::span<LazyPipeline* const> fresh,
-                       std::span<LazyPipeline* const> old);
+// Compiles each pipeline of `fresh` whose counterpart in `old` (the same position) was needed: a
+// reload from new SPIR-V has what frames drew with ready, and fails before anything is replaced.
+// Those only warmed are not compiled here, on the thread that reloads (a frame's): the owner's
+// PipelineWarming warms them again.
+Status createWhereNeeded(const Context& context, std::span<LazyPipeline* const> fresh,
+                         std::span<LazyPipeline* const> old);
+
+// When an owner of lazy pipelines (a render feature) warms them, and which: its frames call
+// frame() each; the second of them that has something to warm for starts a PipelineWarmer over the
+// set `next` returns then (the first compiles what it draws itself, and a worker compiling beside
+// it would only slow it down). Once per set of pipelines: reloading() stops the worker before the
+// owner replaces them, and the next frame warms the fresh set at once (the reload compiled what
+// frames bind, so that frame compiles nothing a worker would slow down). Owned by the render
+// thread; declared after the pipelines, so that its worker is joined before they are destroyed.
+class PipelineWarming {
+ public:
+  using NextSet = std::function<std::vector<LazyPipeline*>()>;
+  // `wanted`: the owner's setting is on and this frame has objects it may draw next.
+  void frame(const Context& context, bool wanted, const NextSet& next);
+  // Before the owner replaces the pipelines it warms: at most the compile under way finishes.
+  void reloading();
+  // Waits until the set being warmed is compiled (tests, a load screen); none: returns.
+  void wait();
+  bool started() const { return warmer_ != nullptr; }
+
+ private:
+  std::unique_ptr<PipelineWarmer> warmer_;
+  std::uint32_t framesWanting_ = 0;
+};
 
 }  // namespace engine::gpu

@@ -90,13 +90,13 @@ engine::Status HermiteCellFeature::initialize(const engine::gpu::Context& contex
 }
 
 // Built aside from the SPIR-V on disk, with every pipeline a frame has drawn with compiled, and
-// swapped in only when all of those were: a failure keeps the old ones. The rest are compiled
-// from the new SPIR-V when a frame first needs them.
+// swapped in only when all of those were: a failure keeps the old ones. Those only warmed are
+// warmed again from the next frame (Settings::warmPipelines), the rest compiled from the new SPIR-V
+// when a frame first needs them.
 engine::Status HermiteCellFeature::reloadShaders() {
-  warmer_.reset();  // it compiles the pipelines about to be replaced; the next frame warms the fresh ones
-  drewFirstFrame_ = false;
+  warming_.reloading();  // its worker compiles the pipelines about to be replaced
   ENGINE_TRY_ASSIGN(Pipelines fresh, describePipelines());
-  ENGINE_TRY(engine::gpu::createWhereMade(*context_, fresh.all(), pipelines_.all()));
+  ENGINE_TRY(engine::gpu::createWhereNeeded(*context_, fresh.all(), pipelines_.all()));
   context_->waitIdle();  // frames in flight may still use the old pipelines
   pipelines_ = std::move(fresh);
   return {};

@@ -361,10 +361,10 @@ engine::Status HermiteCellFeature::describeTilePipelines(Pipelines& p) const {
 // prepass pipelines (cells at either record precision, in the proxy form the frame draws them;
 // runs; bricks; front faces and near cells) and, where the early depth stage is wanted, the early
 // variants and their fix-up that cells and runs then draw with (a frame of tiles or bricks keeps
-// the stage off, the next frame of runs turns it on), and their variants without the stage. Not every variant, the wireframe or the
-// other proxy form: those are 4 to 5 times as many compiles (on lavapipe ~0.1-0.3 s of CPU each,
-// competing with the frames on a machine of two cores) for switches that are rarer. Those made
-// already are skipped by the worker at the cost of a lock.
+// the stage off, the next frame of runs turns it on), and their variants without the stage. Not
+// every variant, the wireframe or the other proxy form: those are 4 to 5 times as many compiles
+// (on lavapipe ~0.1-0.3 s of CPU each, competing with the frames on a machine of two cores) for
+// switches that are rarer. Those made already are skipped by the worker at the cost of a lock.
 std::vector<engine::gpu::LazyPipeline*> HermiteCellFeature::likelyNextPipelines(Variant base) {
   Pipelines& p = pipelines_;
   const bool early = earlyDepthWanted(settings_.earlyDepth, context_->capabilities().isSoftwareRasterizer) && !occlusion_;
@@ -396,18 +396,14 @@ void HermiteCellFeature::appendWithoutEarlyStage(std::vector<engine::gpu::LazyPi
   set.push_back(&p.runsNear[base]);
 }
 
-// Started by the second frame that draws cells: the first compiles what it draws itself, and a
-// worker compiling beside it would only slow it down. Started once per set of pipelines (a reload
-// starts it again for the fresh ones).
+// Started by the second frame that draws cells (engine::gpu::PipelineWarming).
 void HermiteCellFeature::warmPipelines(const engine::render::FrameContext& frame) {
-  if (!settings_.warmPipelines || warmer_ || stats_.draws == 0) return;
-  if (!std::exchange(drewFirstFrame_, true)) return;
-  warmer_ = std::make_unique<engine::gpu::PipelineWarmer>(*context_,
-                                                          likelyNextPipelines(withoutEarlyStage(prepassVariant(frame))));
+  warming_.frame(*context_, settings_.warmPipelines && stats_.draws > 0,
+                 [&] { return likelyNextPipelines(withoutEarlyStage(prepassVariant(frame))); });
 }
 
 void HermiteCellFeature::waitForWarmPipelines() {
-  if (warmer_) warmer_->wait();
+  warming_.wait();
 }
 
 }  // namespace hsdf

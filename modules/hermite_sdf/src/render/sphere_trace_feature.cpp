@@ -108,10 +108,12 @@ engine::Status SphereTraceFeature::initialize(const engine::gpu::Context& contex
 }
 
 // Built aside from the SPIR-V on disk, with every pipeline a frame has drawn with compiled, and
-// swapped in only when all of those were: a failure keeps the old ones.
+// swapped in only when all of those were: a failure keeps the old ones. Those only warmed are
+// warmed again from the next frame (Settings::warmPipelines).
 engine::Status SphereTraceFeature::reloadShaders() {
+  warming_.reloading();  // its worker compiles the pipelines about to be replaced
   ENGINE_TRY_ASSIGN(Pipelines fresh, describePipelines());
-  ENGINE_TRY(engine::gpu::createWhereMade(*context_, fresh.all(), pipelines_.all()));
+  ENGINE_TRY(engine::gpu::createWhereNeeded(*context_, fresh.all(), pipelines_.all()));
   context_->waitIdle();  // frames in flight may still use the old pipelines
   pipelines_ = std::move(fresh);
   return {};
@@ -147,6 +149,21 @@ std::vector<engine::gpu::LazyPipeline*> SphereTraceFeature::Pipelines::all() {
       for (auto& pipeline : pair) set.push_back(&pipeline);
   for (auto& pipeline : shade) set.push_back(&pipeline);
   set.push_back(&wire);
+  return set;
+}
+
+// What a switch to either tracer binds in a frame like this one (its work counters on or off):
+// each method's front faces and shading. Not the near variants (the eye close to an object) or
+// the wireframe: rarer than a switch, and each compile costs ~0.1-0.4 s of CPU on lavapipe beside
+// the frames. The record precision needs no pipeline of its own (only the texture's format
+// differs). Trilinear first: the split screen's compared method unless the user picks another.
+// Those made already are skipped by the worker at the cost of a lock.
+std::vector<engine::gpu::LazyPipeline*> SphereTraceFeature::likelyNextPipelines(bool counted) {
+  std::vector<engine::gpu::LazyPipeline*> set;
+  for (std::uint32_t method = 0; method < kTraceMethodCount; ++method) {
+    set.push_back(&pipelines_.depthFront[method][counted ? 1 : 0]);
+    set.push_back(&pipelines_.shade[method]);
+  }
   return set;
 }
 
@@ -360,7 +377,11 @@ void SphereTraceFeature::collectDraws(engine::render::FrameContext& frame) {
   frame.registry.view<HermiteSdfRenderable, engine::scene::WorldTransform>().each(
       [&](engine::ecs::Entity entity, const HermiteSdfRenderable& r, const engine::scene::WorldTransform& world) {
         std::uint32_t method = 0;
-        if (!r.asset || !traceMethod(r.method, method)) return;
+        if (!r.asset) return;
+        if (!traceMethod(r.method, method)) {
+          ++stats_.otherMethodObjects;
+          return;
+        }
         if (!engine::render::drawableTransform(world.matrix)) {  // the rays could not be taken into the grid
           ++stats_.skippedObjects;
           return;
@@ -439,6 +460,9 @@ void SphereTraceFeature::prepare(engine::render::FrameContext& frame) {
   }
   stats_.materialBuffers = std::uint32_t(materials.size());
   std::erase_if(materials_, [](const auto& m) { return m.second.expired(); });
+  const bool objects = stats_.trilinearObjects + stats_.hermiteObjects + stats_.otherMethodObjects > 0;
+  warming_.frame(*context_, settings_.warmPipelines && objects,
+                 [&] { return likelyNextPipelines(frame.workCounters != 0); });
 }
 
 // Bindless: one instanced draw for the whole range (gl_InstanceIndex = the draw's index).

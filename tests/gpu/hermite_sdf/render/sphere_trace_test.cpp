@@ -12,6 +12,7 @@
 // within eps of one part of the surface and the reference hits another part behind it are
 // silhouette effects of sphere tracing and are counted, not forbidden.
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <limits>
@@ -26,6 +27,7 @@
 #include "engine/scene/transform.h"
 #include "device_tolerances.h"
 #include "hermite_sdf/core/cells.h"
+#include "hermite_sdf/render/cell_feature.h"
 #include "hermite_sdf/render/sphere_trace_feature.h"
 #include "hermite_test_support.h"
 #include "log_capture.h"
@@ -871,5 +873,147 @@ TEST_F(SphereTraceTest, AssetSwappedEveryFrameReleasesTexturesAsTheirFramesCompl
   expectMatchesReference(RenderMethod::TrilinearSphereTrace, last->field, camera, "last swap");
 }
 
+// Why: a switch of method in the tuning panel (cells to a tracer, one tracer to the other) and the
+// split screen's compared side compiled the tracer's pipelines inside the next frame (hundreds of
+// milliseconds each on lavapipe). The tracer must warm them even while it draws nothing (the
+// entity is drawn as cells, by another feature), from the second such frame; once that is done,
+// the frames after switches to either tracer compile nothing, and draw the same pixels as a
+// feature that never warmed and compiled them in the frame.
+TEST_F(SphereTraceTest, ATracerSwitchAfterWarmingCompilesNothingInTheFrame) {
+  const auto asset = bakeAsset("torus", 16);
+  ASSERT_NE(asset, nullptr);
+  const render::CameraView camera = orbitCamera(*asset, 0);
+  const auto framesOf = [&](bool warm) {
+    createTraceRenderer(kSize, kSize);
+    registry_ = ecs::Registry();
+    auto* tracer = renderer_->feature<hsdf::SphereTraceFeature>();
+    tracer->settings().warmPipelines = warm;
+    const ecs::Entity entity = addTracedSdf(registry_, asset, RenderMethod::Cells);
+    (void)renderWith(camera, DEBUG_VIEW_NONE);
+    (void)renderWith(camera, DEBUG_VIEW_NONE);
+    tracer->waitForWarmPipelines();
+    const std::uint32_t warmed = tracer->pipelineCounts().compiled;
+    if (warm) {
+      EXPECT_GE(warmed, 4u) << "both tracers' front faces and shading";
+      EXPECT_LT(warmed, tracer->pipelineCounts().described) << "not every variant";
+    }
+    std::vector<Frame> frames;
+    for (const RenderMethod method : {RenderMethod::TrilinearSphereTrace, RenderMethod::HermiteSphereTrace}) {
+      registry_.get<hsdf::HermiteSdfRenderable>(entity).method = method;
+      frames.push_back(renderWith(camera, DEBUG_VIEW_NONE));
+      if (warm) {
+        EXPECT_EQ(tracer->pipelineCounts().compiled, warmed) << "the switch frame compiled a pipeline";
+      }
+    }
+    if (!warm) {
+      EXPECT_GT(tracer->pipelineCounts().compiled, warmed) << "the frames should have compiled their own";
+    }
+    return frames;
+  };
+  const std::vector<Frame> warmed = framesOf(true);
+  const std::vector<Frame> cold = framesOf(false);
+  ASSERT_EQ(warmed.size(), cold.size());
+  for (std::size_t i = 0; i < warmed.size(); ++i) {
+    EXPECT_GT(std::count_if(warmed[i].depth.begin(), warmed[i].depth.end(), [](float d) { return d > 0.0f; }), 500);
+    EXPECT_TRUE(warmed[i].depth == cold[i].depth) << "switch " << i;
+    EXPECT_TRUE(warmed[i].rgba == cold[i].rgba) << "switch " << i;
+  }
+}
+
+// Why: a shader reload compiles up front, on the thread that reloads (a frame's), what frames bound;
+// it used to compile every pipeline made, the warmed ones too, which put the warmer's work back
+// into the reload frame. It must compile exactly what the frames bound (the first frame compiled
+// only that), draw the same pixels with it, and warm the rest again in the background from the
+// next frame, so a switch after the reload still compiles nothing in the frame.
+TEST_F(SphereTraceTest, AReloadCompilesWhatFramesBindAndWarmsTheRestAgain) {
+  createTraceRenderer(kSize, kSize);
+  auto* tracer = renderer_->feature<hsdf::SphereTraceFeature>();
+  const auto asset = bakeAsset("torus", 16);
+  ASSERT_NE(asset, nullptr);
+  const ecs::Entity entity = addTracedSdf(registry_, asset, RenderMethod::TrilinearSphereTrace);
+  const render::CameraView camera = orbitCamera(*asset, 0);
+  const Frame before = renderWith(camera, DEBUG_VIEW_NONE);
+  const std::uint32_t bound = tracer->pipelineCounts().compiled;
+  (void)renderWith(camera, DEBUG_VIEW_NONE);  // starts the warmer
+  tracer->waitForWarmPipelines();
+  ASSERT_GT(tracer->pipelineCounts().compiled, bound) << "nothing was warmed";
+
+  ASSERT_TRUE(tracer->reloadShaders().ok());
+  EXPECT_EQ(tracer->pipelineCounts().compiled, bound) << "the reload compiled more than the frames bind";
+  const Frame reloaded = renderWith(camera, DEBUG_VIEW_NONE);
+  EXPECT_TRUE(reloaded.depth == before.depth);
+  EXPECT_TRUE(reloaded.rgba == before.rgba);
+  tracer->waitForWarmPipelines();
+  const std::uint32_t rewarmed = tracer->pipelineCounts().compiled;
+  EXPECT_GT(rewarmed, bound) << "the frame after the reload should warm the fresh set";
+  registry_.get<hsdf::HermiteSdfRenderable>(entity).method = RenderMethod::HermiteSphereTrace;
+  const Frame hermite = renderWith(camera, DEBUG_VIEW_NONE);
+  EXPECT_EQ(tracer->pipelineCounts().compiled, rewarmed) << "the switch frame compiled a pipeline";
+  EXPECT_GT(std::count_if(hermite.depth.begin(), hermite.depth.end(), [](float d) { return d > 0.0f; }), 500);
+}
+
+// Not a check, a measurement (docs/perf/render-changes-session35.md): the render-thread time of the
+// frames that switch the bunny (K = 64, both features, as the scene runner has them) from cells to
+// the trilinear tracer, to the Hermite tracer and back to cells, each followed by a frame of the
+// same form, without and with the tracer's warmer (the cells' warm in both); then, in a renderer
+// whose warmers are done after two frames of cells, each feature's shader reload (the pipelines it
+// compiled: what frames bound) and the frame after it. Run by hand:
+//   hermite_sphere_trace_gpu_tests --gtest_also_run_disabled_tests --gtest_filter='*TracerSwitchFrameTimes'
+TEST_F(SphereTraceTest, DISABLED_TracerSwitchFrameTimes) {
+  const auto asset = bakeAsset("bunny", 64);
+  ASSERT_NE(asset, nullptr);
+  const render::CameraView camera = orbitCamera(*asset, 0);
+  const auto milliseconds = [&](const auto& work) {
+    const auto start = std::chrono::steady_clock::now();
+    work();
+    return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+  };
+  const auto frame = [&] {
+    return milliseconds([&] { EXPECT_TRUE(renderer_->renderFrame(registry_, camera, render::FrameSettings{})); });
+  };
+  const auto bothFeatures = [&] {
+    createRenderer(kSize, kSize);
+    ASSERT_TRUE(renderer_->addFeature(std::make_unique<hsdf::HermiteCellFeature>()).ok());
+    ASSERT_TRUE(renderer_->addFeature(std::make_unique<hsdf::SphereTraceFeature>()).ok());
+    registry_ = ecs::Registry();
+  };
+  for (const bool warm : {false, true}) {
+    bothFeatures();
+    auto* tracer = renderer_->feature<hsdf::SphereTraceFeature>();
+    auto* cells = renderer_->feature<hsdf::HermiteCellFeature>();
+    tracer->settings().warmPipelines = warm;
+    const ecs::Entity entity = addSdf(registry_, asset, RenderMethod::Cells);
+    const double first = frame();
+    const double second = frame();
+    const double wait = milliseconds([&] {
+      tracer->waitForWarmPipelines();
+      cells->waitForWarmPipelines();
+    });
+    std::printf("[ warm %-3s ] first frame %7.1f ms, second %6.1f ms, warmers done %7.1f ms later\n", warm ? "on" : "off",
+                first, second, wait);
+    for (const RenderMethod method : {RenderMethod::TrilinearSphereTrace, RenderMethod::HermiteSphereTrace, RenderMethod::Cells}) {
+      registry_.get<hsdf::HermiteSdfRenderable>(entity).method = method;
+      const double switched = frame();
+      const double next = frame();
+      std::printf("[ warm %-3s ] switch to %-9s frame %7.1f ms, next frame %6.1f ms\n", warm ? "on" : "off",
+                  hsdf::renderMethodName(method), switched, next);
+    }
+  }
+  bothFeatures();
+  auto* tracer = renderer_->feature<hsdf::SphereTraceFeature>();
+  auto* cells = renderer_->feature<hsdf::HermiteCellFeature>();
+  (void)addSdf(registry_, asset, RenderMethod::Cells);
+  (void)frame();
+  (void)frame();
+  tracer->waitForWarmPipelines();
+  cells->waitForWarmPipelines();
+  const std::uint32_t cellsWarm = cells->pipelineCounts().compiled, tracerWarm = tracer->pipelineCounts().compiled;
+  const double cellReload = milliseconds([&] { EXPECT_TRUE(cells->reloadShaders().ok()); });
+  const double tracerReload = milliseconds([&] { EXPECT_TRUE(tracer->reloadShaders().ok()); });
+  const std::uint32_t cellsReloaded = cells->pipelineCounts().compiled, tracerReloaded = tracer->pipelineCounts().compiled;
+  const double after = frame();
+  std::printf("[ reload ] cells %7.1f ms (%u of %u made compiled), tracer %7.1f ms (%u of %u), frame after %6.1f ms\n",
+              cellReload, cellsReloaded, cellsWarm, tracerReload, tracerReloaded, tracerWarm, after);
+}
 }  // namespace
 }  // namespace gputest

@@ -107,23 +107,33 @@ TEST_F(LazyPipelineTest, AFailureIsKeptAndNotRetried) {
 }
 
 // Tricky: a reload pairs each fresh pipeline with the old one at the same position and compiles
-// only those frames had used; compiling the others would undo the point of describing them, and
-// skipping a used one would leave the next frame to find a broken shader mid-frame. createAll()
-// skips a slot nothing was described for (a variant a device does not have).
-TEST_F(LazyPipelineTest, AReloadCompilesWhatWasUsedAndCreateAllEveryDescribedOne) {
-  LazyPipeline oldUsed = describe("old used"), oldUnused = describe("old unused");
+// only those frames had bound; compiling the others would undo the point of describing them, and
+// skipping a bound one would leave the next frame to find a broken shader mid-frame. One that was
+// only warmed is made like a bound one but not needed: compiling it here would put the warmer's
+// work back on the reloading frame. createAll() skips a slot nothing was described for (a variant
+// a device does not have).
+TEST_F(LazyPipelineTest, AReloadCompilesWhatFramesBoundAndCreateAllEveryDescribedOne) {
+  LazyPipeline oldUsed = describe("old used"), oldUnused = describe("old unused"), oldWarmed = describe("old warmed");
   ASSERT_TRUE(oldUsed.get(*context_).ok());
-  LazyPipeline freshUsed = describe("fresh used"), freshUnused = describe("fresh unused");
-  std::vector<LazyPipeline*> oldSet = {&oldUsed, &oldUnused};
-  std::vector<LazyPipeline*> freshSet = {&freshUsed, &freshUnused};
-  const Status reloaded = createWhereMade(*context_, freshSet, oldSet);
+  oldWarmed.warm(*context_);
+  ASSERT_TRUE(oldWarmed.made());
+  EXPECT_TRUE(oldUsed.needed());
+  EXPECT_FALSE(oldWarmed.needed());
+  LazyPipeline freshUsed = describe("fresh used"), freshUnused = describe("fresh unused"),
+               freshWarmed = describe("fresh warmed");
+  std::vector<LazyPipeline*> oldSet = {&oldUsed, &oldUnused, &oldWarmed};
+  std::vector<LazyPipeline*> freshSet = {&freshUsed, &freshUnused, &freshWarmed};
+  const Status reloaded = createWhereNeeded(*context_, freshSet, oldSet);
   ASSERT_TRUE(reloaded.ok()) << reloaded.error().message;
   EXPECT_TRUE(freshUsed.made());
+  EXPECT_TRUE(freshUsed.needed()) << "a second reload must compile it again";
   EXPECT_FALSE(freshUnused.made());
+  EXPECT_FALSE(freshWarmed.made());
   EXPECT_EQ(compiled("fresh used"), 1u);
   EXPECT_EQ(compiled("fresh unused"), 0u);
+  EXPECT_EQ(compiled("fresh warmed"), 0u);
   const std::vector<LazyPipeline*> shorter = {&freshUsed};
-  EXPECT_FALSE(createWhereMade(*context_, shorter, oldSet).ok()) << "sets of different sizes";
+  EXPECT_FALSE(createWhereNeeded(*context_, shorter, oldSet).ok()) << "sets of different sizes";
 
   LazyPipeline undescribed;
   std::vector<LazyPipeline*> all = {&freshUsed, &freshUnused, &undescribed};
@@ -207,6 +217,51 @@ TEST_F(LazyPipelineTest, DestroyingTheOwnerWhileItsWorkerRunsIsClean) {
   PipelineWarmer never;  // a warmer without a worker stops and waits at once
   never.wait();
   never.stop();
+}
+
+// Tricky: the warming's clock is the owner's frames, not time: the first frame that wants warming
+// compiles its own pipelines and must not share the CPU with a worker, the second starts it; a
+// reload stops the worker (it would compile into pipelines about to be replaced) and the very next
+// frame warms the fresh set, since the reload compiled what that frame binds. A frame that does not
+// want warming (setting off, nothing to draw) neither starts it nor counts.
+TEST_F(LazyPipelineTest, WarmingStartsWithTheSecondFrameAndAgainRightAfterAReload) {
+  Described d;
+  for (int i = 0; i < 3; ++i) d.pipelines.push_back(describe("warming " + std::to_string(i)));
+  std::uint32_t asked = 0;
+  const PipelineWarming::NextSet next = [&] {
+    ++asked;
+    return d.set();
+  };
+  PipelineWarming warming;
+  warming.frame(*context_, false, next);
+  warming.frame(*context_, true, next);
+  EXPECT_FALSE(warming.started()) << "the first frame that wants it compiles its own";
+  warming.frame(*context_, false, next);
+  EXPECT_FALSE(warming.started());
+  warming.frame(*context_, true, next);
+  ASSERT_TRUE(warming.started());
+  warming.wait();
+  for (const LazyPipeline& pipeline : d.pipelines) {
+    EXPECT_TRUE(pipeline.made()) << pipeline.name();
+    EXPECT_FALSE(pipeline.needed()) << pipeline.name() << ": warmed, not bound";
+  }
+  warming.frame(*context_, true, next);
+  EXPECT_EQ(asked, 1u) << "warmed once per set";
+
+  warming.reloading();
+  EXPECT_FALSE(warming.started());
+  for (int i = 0; i < 3; ++i) d.pipelines[std::size_t(i)] = describe("rewarmed " + std::to_string(i));
+  warming.frame(*context_, true, next);
+  ASSERT_TRUE(warming.started()) << "the frame after a reload warms the fresh set";
+  warming.wait();
+  EXPECT_EQ(asked, 2u);
+  for (const LazyPipeline& pipeline : d.pipelines) EXPECT_EQ(compiled(pipeline.name()), 1u) << pipeline.name();
+
+  PipelineWarming neverStarted;
+  neverStarted.frame(*context_, true, next);
+  neverStarted.reloading();
+  neverStarted.frame(*context_, true, next);
+  EXPECT_FALSE(neverStarted.started()) << "a reload before any warming: the frame after it is a first frame";
 }
 
 }  // namespace

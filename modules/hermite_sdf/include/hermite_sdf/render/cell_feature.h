@@ -196,8 +196,9 @@ class HermiteCellFeature final : public engine::render::RenderFeature {
     std::uint32_t releaseAfterFrames = 120;
     // From the second frame that draws cells on, the pipelines a switch of method or record
     // precision would need next are compiled on a worker thread at low priority (warmPipelines()),
-    // so that the frame after the switch binds them instead of compiling them. Off: that frame
-    // compiles them (tens to hundreds of milliseconds on the render thread).
+    // so that the frame after the switch binds them instead of compiling them; after a shader
+    // reload, from the next frame. Off: that frame compiles them (tens to hundreds of milliseconds
+    // on the render thread).
     bool warmPipelines = true;
     // The most bytes of cell records (fp32, fp16 and the cell's cone: kRecordUploadBytes a cell)
     // one frame writes into the GPU buffers when new assets come: a larger asset is written over
@@ -440,10 +441,9 @@ class HermiteCellFeature final : public engine::render::RenderFeature {
 
   engine::render::RendererFormats formats_;
   Pipelines pipelines_;
-  // Compiles likelyNextPipelines() on its worker; declared after pipelines_ so that it is stopped
+  // Compiles likelyNextPipelines() on a worker; declared after pipelines_ so that it is stopped
   // and joined before they are destroyed. Stopped before a reload replaces them.
-  std::unique_ptr<engine::gpu::PipelineWarmer> warmer_;
-  bool drewFirstFrame_ = false;  // the warmer starts after a frame has drawn (and compiled) its own
+  engine::gpu::PipelineWarming warming_;
   // Replaced buffers are retired with the frame (FrameContext::retire): commands recorded before
   // the replacement (an earlier view region of the frame, frames still in flight) still read them.
   std::unique_ptr<struct CellBuffers> buffers_;

@@ -94,6 +94,12 @@ class SphereTraceFeature final : public engine::render::RenderFeature {
     // that rounds its weights to b fractional bits (NVIDIA: 8), in the shader, so that a device
     // which filters in full float (lavapipe) shows what such GPUs draw. For tests and experiments.
     std::uint32_t emulatedFilterBits = 0;
+    // From the second frame with objects of this module (drawn here or by the cells), the
+    // pipelines a switch to either tracer binds (the tuning panel's method, the split screen's
+    // compared side) are compiled on a worker thread at low priority, so that the frame after the
+    // switch binds them instead of compiling them; after a shader reload, from the next frame.
+    // Off: that frame compiles them (hundreds of milliseconds each on lavapipe).
+    bool warmPipelines = true;
   };
   // The trilinear tracer's switch from filtered to exact values (grid units), for a filter whose
   // weights have `bits` fractional bits: such a filter is off by at most 2^-(bits+1) of the largest
@@ -109,6 +115,7 @@ class SphereTraceFeature final : public engine::render::RenderFeature {
     std::uint32_t culledObjects = 0;  // outside the view frustum
     std::uint32_t skippedObjects = 0; // singular transform, or a field that cannot become a
                                       // texture (logged once per asset)
+    std::uint32_t otherMethodObjects = 0;  // drawn by another feature (cells): warmed for
     std::uint32_t textures = 0;
     // Multi-material assets' palettes and slots: one buffer per asset, whichever methods and
     // precisions draw it.
@@ -126,11 +133,14 @@ class SphereTraceFeature final : public engine::render::RenderFeature {
   void prepare(engine::render::FrameContext& frame) override;
   void recordPass(engine::render::PassContext& pass) override;
   void drawUi() override;
-  // Rebuilds the eleven pipelines from the SPIR-V on disk; a failure keeps the old ones.
+  // Describes the eleven pipelines again from the SPIR-V on disk and compiles those frames bound;
+  // a failure keeps the old ones.
   engine::Status reloadShaders() override;
   engine::Status createAllPipelines() override;
   // The feature's pipelines: described at creation, compiled when a frame first draws with one.
   engine::gpu::PipelineCounts pipelineCounts() { return engine::gpu::countPipelines(pipelines_.all()); }
+  // Waits until the pipelines being warmed (Settings::warmPipelines) are compiled; none: returns.
+  void waitForWarmPipelines() { warming_.wait(); }
 
   Settings& settings() { return settings_; }
   const Stats& stats() const { return stats_; }
@@ -183,6 +193,7 @@ class SphereTraceFeature final : public engine::render::RenderFeature {
     std::vector<engine::gpu::LazyPipeline*> all();
   };
   engine::Expected<Pipelines> describePipelines() const;
+  std::vector<engine::gpu::LazyPipeline*> likelyNextPipelines(bool counted);
   void createSamplers();
   const FieldTexture* acquireTexture(const SdfAsset& asset, std::uint32_t method, bool half,
                                      const engine::render::FrameContext& frame);
@@ -206,6 +217,9 @@ class SphereTraceFeature final : public engine::render::RenderFeature {
   VkSampler samplers_[2] = {VK_NULL_HANDLE, VK_NULL_HANDLE};  // by method: linear, nearest
   engine::render::RendererFormats formats_;
   Pipelines pipelines_;
+  // Compiles likelyNextPipelines() on a worker; declared after pipelines_ so that it is stopped
+  // and joined before they are destroyed. Stopped before a reload replaces them.
+  engine::gpu::PipelineWarming warming_;
   std::map<TextureKey, FieldTexture> textures_;
   // By asset id: the materials buffer its textures share (expired once they are all released).
   std::map<std::uint64_t, std::weak_ptr<const engine::gpu::Buffer>> materials_;
