@@ -45,7 +45,7 @@ endif()
 # What a .hsdf file cannot do is refused when a script asks for it, as on the command line, naming
 # the script's line (before: method=mesh drew only the ground, resolution=16 was ignored); the
 # settings the runner saves say the K the file was baked with (before: the default, 64).
-foreach(run "method=mesh;this scene has no triangles" "resolution=16;drawn at the K it was baked with \\(20\\)"
+foreach(run "method=mesh;this scene has no triangles" "resolution=16;drawn as it was baked \\(K = 20\\)" "shell=0.1;shell 0.1: a .hsdf file is drawn as it was baked"
             "lod=true;a .hsdf file has no source")
   list(GET run 0 line)
   list(GET run 1 expected)

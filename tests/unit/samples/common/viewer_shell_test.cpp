@@ -113,8 +113,10 @@ TEST(ViewerShell, ASheetBakesAsAShellOfTheTuningsThicknessAndReBakesWhenItChange
   ASSERT_TRUE(viewer->waitForBake().ok()) << viewer->bakeError();
   ASSERT_TRUE(viewer->step().ok());
   EXPECT_TRUE(viewer->tuning().lod) << viewer->bakeError();
-  const auto* lod = viewer->registry().tryGet<hsdf::HermiteSdfLod>(*viewer->registry().view<hsdf::HermiteSdfLod>().begin());
-  ASSERT_NE(lod, nullptr);
+  const hsdf::HermiteSdfLod* lod = nullptr;
+  viewer->registry().view<hsdf::HermiteSdfLod>().each(
+      [&lod](engine::ecs::Entity, const hsdf::HermiteSdfLod& levels) { lod = &levels; });
+  ASSERT_NE(lod, nullptr) << "the entity has levels of detail";
   ASSERT_EQ(lod->levels.size(), 2u) << "K = 32 and 16";
   for (const auto& level : lod->levels) expectCellsAtTheShell(*level, 0.4);
   EXPECT_TRUE(viewer->close().ok());
