@@ -142,6 +142,12 @@ void applyTuning(const TuningState& tuning, hsdf::HermiteSdfRenderable& renderab
   renderable.certified = tuning.certified;
 }
 
+void applyCapturedFrames(hsdf::HermiteCellFeature::Settings& cells, hsdf::SphereTraceFeature::Settings& tracers) {
+  cells.uploadBytesPerFrame = 0;
+  cells.warmPipelines = false;
+  tracers.warmPipelines = false;
+}
+
 void applyTuning(const TuningState& tuning, hsdf::HermiteCellFeature::Settings& cells,
                  hsdf::SphereTraceFeature::Settings& tracers) {
   cells.frontToBack = tuning.frontToBack;

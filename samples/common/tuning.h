@@ -218,6 +218,12 @@ void applyTuning(const TuningState& tuning, hsdf::HermiteSdfRenderable& renderab
 // capture's measuring renderer, which must draw a row as its frames were drawn.
 void applyTuning(const TuningState& tuning, hsdf::HermiteCellFeature::Settings& cells,
                  hsdf::SphereTraceFeature::Settings& tracers);
+// After applyTuning, for frames that are captured (a headless viewer's: screenshots, perf captures,
+// tests; the capture's measuring renderer): each draws whole assets, never the object an asset
+// uploaded in parts replaces, and no pipeline warmer compiles beside them (warming serves a user's
+// next switch; here it would take CPU from the frames measured, and on lavapipe its pipelines
+// still being compiled grew a soak's RSS between two samples of one state).
+void applyCapturedFrames(hsdf::HermiteCellFeature::Settings& cells, hsdf::SphereTraceFeature::Settings& tracers);
 
 // Settings files: JSON objects whose keys are the table's (tuning_fields.h, each with its kind of
 // value and its range), all optional. Loading starts from `base`; an unknown key, a value of the

@@ -212,10 +212,9 @@ void Viewer::applyTuningToScene() {
   registry_.view<hsdf::HermiteSdfRenderable>().each(
       [this](ecs::Entity, hsdf::HermiteSdfRenderable& renderable) { applyTuning(tuning_, renderable); });
   hsdf::HermiteCellFeature::Settings& cells = renderer_->feature<hsdf::HermiteCellFeature>()->settings();
-  applyTuning(tuning_, cells, renderer_->feature<hsdf::SphereTraceFeature>()->settings());
-  // Headless frames are captured (screenshots, perf captures, tests): each draws whole assets, never
-  // the object an asset uploaded in parts replaces.
-  if (!window_) cells.uploadBytesPerFrame = 0;
+  hsdf::SphereTraceFeature::Settings& tracers = renderer_->feature<hsdf::SphereTraceFeature>()->settings();
+  applyTuning(tuning_, cells, tracers);
+  if (!window_) applyCapturedFrames(cells, tracers);  // headless frames are captured
 }
 
 // Levels of detail (TuningState::lod): the scene objects' or the SDF entity's. `wait` (waitForBake)

@@ -49,8 +49,9 @@ Expected<std::unique_ptr<Measurement>> Measurement::create(const gpu::Context& c
 GpuReadback Measurement::measure(const ecs::Registry& registry, const render::CameraView& camera,
                                  const samples::TuningState& tuning) {
   hsdf::HermiteCellFeature::Settings& cells = renderer_->feature<hsdf::HermiteCellFeature>()->settings();
-  samples::applyTuning(tuning, cells, renderer_->feature<hsdf::SphereTraceFeature>()->settings());
-  cells.uploadBytesPerFrame = 0;  // the one frame measured draws whole assets
+  hsdf::SphereTraceFeature::Settings& tracers = renderer_->feature<hsdf::SphereTraceFeature>()->settings();
+  samples::applyTuning(tuning, cells, tracers);
+  samples::applyCapturedFrames(cells, tracers);  // the one frame measured draws whole assets
   render::FrameSettings settings;
   settings.debugView = DEBUG_VIEW_NORMALS;
   settings.countWork = true;

@@ -47,8 +47,6 @@
 #include "engine/gpu/memory.h"
 #include "engine/scene/transform.h"
 #include "hermite_sdf/core/bake_job.h"
-#include "hermite_sdf/render/cell_feature.h"
-#include "hermite_sdf/render/sphere_trace_feature.h"
 #include "options_common.h"
 #include "test_device.h"
 #include "viewer.h"
@@ -333,12 +331,6 @@ Expected<bool> runSoak(const Options& options) {
         ENGINE_TRY(viewer->step().withContext(fmt::format("frame {} (after the pending bakes)", frame)));
       }
       if (!viewer->bakeError().empty()) return makeError("re-bake failed: " + viewer->bakeError());
-      // The features' pipeline warmers compile once, at the lowest priority: on a loaded machine
-      // they were still compiling in the baseline cycle and later, and the pipelines they made grew
-      // RSS by 30-70 MiB between two samples of one state (lavapipe, 3 soaks at once), a growth
-      // that is no leak. Warm-up ends with them done.
-      viewer->renderer().feature<hsdf::HermiteCellFeature>()->waitForWarmPipelines();
-      viewer->renderer().feature<hsdf::SphereTraceFeature>()->waitForWarmPipelines();
       samples.push_back(soak.sample(frame));
       std::printf("%s\n", describe(samples.back()).c_str());
       std::fflush(stdout);

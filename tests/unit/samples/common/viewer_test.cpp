@@ -528,9 +528,9 @@ TEST(Viewer, SearchLimitsOfTheTuningReachTheFeatures) {
 // Why: a headless viewer's frames are captured (screenshots, scripts, perf captures): each must
 // draw whole assets, so an upload budget asked for (by the command line, a settings file, a
 // script) must not reach the cell feature there, while applyTuning itself must carry it (a
-// windowed viewer's). Tricky: the viewer applies the tuning every step; the override must come
-// after it, not once at start.
-TEST(Viewer, AHeadlessViewerUploadsWithoutABudget) {
+// windowed viewer's); and no pipeline warmer may compile beside the frames measured. Tricky: the
+// viewer applies the tuning every step; the override must come after it, not once at start.
+TEST(Viewer, AHeadlessViewerUploadsWithoutABudgetAndWarmsNoPipelines) {
   auto viewer = viewTorus(32);
   ASSERT_NE(viewer, nullptr);
   TuningState tuning = viewer->tuning();
@@ -538,10 +538,14 @@ TEST(Viewer, AHeadlessViewerUploadsWithoutABudget) {
   viewer->setTuning(tuning);
   ASSERT_TRUE(viewer->step().ok());
   EXPECT_EQ(viewer->renderer().feature<hsdf::HermiteCellFeature>()->settings().uploadBytesPerFrame, 0u);
+  EXPECT_FALSE(viewer->renderer().feature<hsdf::HermiteCellFeature>()->settings().warmPipelines);
+  EXPECT_FALSE(viewer->renderer().feature<hsdf::SphereTraceFeature>()->settings().warmPipelines);
   hsdf::HermiteCellFeature::Settings cells;
   hsdf::SphereTraceFeature::Settings tracers;
   applyTuning(tuning, cells, tracers);
   EXPECT_EQ(cells.uploadBytesPerFrame, std::uint64_t(5) << 20);
+  EXPECT_TRUE(cells.warmPipelines) << "a windowed viewer's cells warm";
+  EXPECT_TRUE(tracers.warmPipelines) << "a windowed viewer's tracers warm";
   EXPECT_TRUE(viewer->close().ok());
 }
 
