@@ -15,22 +15,45 @@ namespace {
 
 using Json = nlohmann::json;
 constexpr const char* kExtrasKey = "hermite_sdf";
+constexpr double kMaxNodeShellThickness = 1e6;  // as the tuning's --shell (samples/common/tuning.h)
 
 std::string nodeLabel(const engine::scene::NodeData& node) { return fmt::format("node '{}'", node.name); }
 
-// extras.hermite_sdf.draw, checked: the only key of the object, a string, a known name.
-engine::Expected<std::optional<NodeDraw>> readDrawKey(const Json& settings) {
-  if (!settings.is_object())
-    return engine::makeError(fmt::format("extras.{} is a JSON {}, not an object", kExtrasKey, settings.type_name()));
-  for (const auto& [key, value] : settings.items())
-    if (key != "draw") return engine::makeError(fmt::format("extras.{}.{}: unknown key (known: draw)", kExtrasKey, key));
-  const auto draw = settings.find("draw");
-  if (draw == settings.end()) return std::optional<NodeDraw>{};
-  if (!draw->is_string())
-    return engine::makeError(fmt::format("extras.{}.draw is a JSON {}, not a string", kExtrasKey, draw->type_name()));
-  const std::string name = draw->get<std::string>();
+// extras.hermite_sdf.draw, checked: a string, a known name.
+engine::Expected<std::optional<NodeDraw>> readDrawKey(const Json& draw) {
+  if (!draw.is_string())
+    return engine::makeError(fmt::format("extras.{}.draw is a JSON {}, not a string", kExtrasKey, draw.type_name()));
+  const std::string name = draw.get<std::string>();
   if (const auto parsed = parseNodeDraw(name)) return std::optional<NodeDraw>{*parsed};
   return engine::makeError(fmt::format("extras.{}.draw: '{}' is not one of sdf, triangles", kExtrasKey, name));
+}
+
+// extras.hermite_sdf.shell, checked: a number in the range the tuning's own thickness takes.
+engine::Expected<std::optional<double>> readShellKey(const Json& shell) {
+  if (!shell.is_number())
+    return engine::makeError(fmt::format("extras.{}.shell is a JSON {}, not a number", kExtrasKey, shell.type_name()));
+  const double thickness = shell.get<double>();
+  if (!(thickness >= 0.0 && thickness <= kMaxNodeShellThickness))
+    return engine::makeError(fmt::format("extras.{}.shell: {:g} is not between 0 and {:g}", kExtrasKey, thickness,
+                                         kMaxNodeShellThickness));
+  return std::optional<double>{thickness};
+}
+
+// extras.hermite_sdf, checked: an object of known keys only.
+engine::Expected<NodeExtras> readNodeExtras(const Json& settings) {
+  if (!settings.is_object())
+    return engine::makeError(fmt::format("extras.{} is a JSON {}, not an object", kExtrasKey, settings.type_name()));
+  NodeExtras extras;
+  for (const auto& [key, value] : settings.items()) {
+    if (key == "draw") {
+      ENGINE_TRY_ASSIGN(extras.draw, readDrawKey(value));
+    } else if (key == "shell") {
+      ENGINE_TRY_ASSIGN(extras.shellThickness, readShellKey(value));
+    } else {
+      return engine::makeError(fmt::format("extras.{}.{}: unknown key (known: draw, shell)", kExtrasKey, key));
+    }
+  }
+  return extras;
 }
 
 // Sets, not searches per name and node: an instanced scene has a million nodes.
@@ -54,26 +77,65 @@ std::optional<NodeDraw> parseNodeDraw(std::string_view name) {
   return std::nullopt;
 }
 
-engine::Expected<std::optional<NodeDraw>> nodeDrawFromExtras(const engine::scene::NodeData& node) {
-  if (node.extras.empty()) return std::optional<NodeDraw>{};
-  // The loader wrote the text from parsed JSON, so it parses; other tools' extras may be anything.
+engine::Expected<NodeExtras> nodeExtras(const engine::scene::NodeData& node) {
+  if (node.extras.empty()) return NodeExtras{};
   const Json extras = Json::parse(node.extras, nullptr, false);
-  if (!extras.is_object() || !extras.contains(kExtrasKey)) return std::optional<NodeDraw>{};
-  return readDrawKey(extras.at(kExtrasKey)).withContext(nodeLabel(node));
+  if (!extras.is_object() || !extras.contains(kExtrasKey)) return NodeExtras{};
+  return readNodeExtras(extras.at(kExtrasKey)).withContext(nodeLabel(node));
 }
+
+namespace {
+
+// Every node's draw and own extras, in one pass over the extras (an instanced scene has a million
+// nodes).
+struct NodeChoices {
+  std::vector<NodeDraw> draws;     // [node]
+  std::vector<NodeExtras> extras;  // [node]
+};
+
+engine::Expected<NodeChoices> chooseNodes(const engine::scene::SceneData& scene, const SceneObjectOptions& options) {
+  ENGINE_TRY(checkNamesExist(scene, options.triangleNodes));
+  NodeChoices choices;
+  choices.draws.reserve(scene.nodes.size());
+  choices.extras.reserve(scene.nodes.size());
+  const std::unordered_set<std::string_view> listed(options.triangleNodes.begin(), options.triangleNodes.end());
+  for (const engine::scene::NodeData& node : scene.nodes) {
+    ENGINE_TRY_ASSIGN(NodeExtras own, nodeExtras(node));
+    const bool forced = listed.contains(node.name);
+    choices.draws.push_back(forced ? NodeDraw::Triangles : own.draw.value_or(options.defaultDraw));
+    choices.extras.push_back(own);
+  }
+  return choices;
+}
+
+// The thickness each mesh bakes with: the one its SDF nodes name (they must agree: one mesh is one
+// asset), else `tuned`.
+engine::Expected<std::vector<double>> chooseMeshShells(const engine::scene::SceneData& scene,
+                                                       const NodeChoices& choices, double tuned) {
+  std::vector<double> shells(scene.meshes.size(), tuned);
+  std::vector<int> namedBy(scene.meshes.size(), -1);  // the first node that named the mesh's thickness
+  for (std::size_t n = 0; n < scene.nodes.size(); ++n) {
+    const int mesh = scene.nodes[n].mesh;
+    const std::optional<double> own = choices.extras[n].shellThickness;
+    if (mesh < 0 || choices.draws[n] != NodeDraw::Sdf || !own) continue;
+    int& first = namedBy[std::size_t(mesh)];
+    if (first >= 0 && shells[std::size_t(mesh)] != *own)
+      return engine::makeError(fmt::format(
+          "mesh {} '{}': node '{}' asks for extras.{}.shell {:g} and node '{}' for {:g}: one mesh bakes one thickness",
+          mesh, scene.meshes[std::size_t(mesh)].name, scene.nodes[std::size_t(first)].name, kExtrasKey,
+          shells[std::size_t(mesh)], scene.nodes[n].name, *own));
+    if (first < 0) first = int(n);
+    shells[std::size_t(mesh)] = *own;
+  }
+  return shells;
+}
+
+}  // namespace
 
 engine::Expected<std::vector<NodeDraw>> chooseNodeDraws(const engine::scene::SceneData& scene,
                                                         const SceneObjectOptions& options) {
-  ENGINE_TRY(checkNamesExist(scene, options.triangleNodes));
-  std::vector<NodeDraw> draws;
-  draws.reserve(scene.nodes.size());
-  const std::unordered_set<std::string_view> listed(options.triangleNodes.begin(), options.triangleNodes.end());
-  for (const engine::scene::NodeData& node : scene.nodes) {
-    ENGINE_TRY_ASSIGN(const std::optional<NodeDraw> own, nodeDrawFromExtras(node));
-    const bool forced = listed.contains(node.name);
-    draws.push_back(forced ? NodeDraw::Triangles : own.value_or(options.defaultDraw));
-  }
-  return draws;
+  ENGINE_TRY_ASSIGN(NodeChoices choices, chooseNodes(scene, options));
+  return std::move(choices.draws);
 }
 
 // A scene of the one mesh at the identity: flattening it gives the mesh in its own space.
@@ -130,14 +192,18 @@ engine::Expected<SceneObjects> bakeSceneObjects(const engine::scene::SceneData& 
                                                 const SceneObjectOptions& options, const BakeSettings& settings,
                                                 const BakeControl& control) {
   SceneObjects objects;
-  ENGINE_TRY_ASSIGN(objects.draws, chooseNodeDraws(scene, options));
+  ENGINE_TRY_ASSIGN(NodeChoices choices, chooseNodes(scene, options));
+  ENGINE_TRY_ASSIGN(objects.meshShells, chooseMeshShells(scene, choices, settings.shellThickness));
+  objects.draws = std::move(choices.draws);
   objects.meshAssets.resize(scene.meshes.size());
   for (std::size_t n = 0; n < scene.nodes.size(); ++n) {
     const int mesh = scene.nodes[n].mesh;
     if (mesh < 0 || objects.draws[n] != NodeDraw::Sdf || objects.meshAssets[std::size_t(mesh)]) continue;
     const std::string where = fmt::format("mesh {} '{}'", mesh, scene.meshes[std::size_t(mesh)].name);
     bool fatal = false;
-    auto asset = bakeMesh(scene, mesh, settings, control, fatal);
+    BakeSettings own = settings;
+    own.shellThickness = objects.meshShells[std::size_t(mesh)];
+    auto asset = bakeMesh(scene, mesh, own, control, fatal);
     ++objects.bakes;
     if (asset) {
       objects.meshAssets[std::size_t(mesh)] = std::move(*asset);
@@ -179,7 +245,9 @@ engine::Expected<SceneObjectLevels> bakeSceneObjectLevels(const engine::scene::S
     if (!objects.meshAssets[mesh]) continue;
     ENGINE_TRY_ASSIGN(BakeSource source, meshBakeSource(scene, int(mesh)));
     const std::string where = fmt::format("mesh {} '{}'", mesh, scene.meshes[mesh].name);
-    ENGINE_TRY_ASSIGN(levels[mesh], bakeLodLevels(source, finest, minResolution, objects.meshAssets[mesh]).withContext(where));
+    BakeSettings own = finest;
+    if (mesh < objects.meshShells.size()) own.shellThickness = objects.meshShells[mesh];
+    ENGINE_TRY_ASSIGN(levels[mesh], bakeLodLevels(source, own, minResolution, objects.meshAssets[mesh]).withContext(where));
   }
   return levels;
 }

@@ -8,6 +8,7 @@
 #include <set>
 #include <string>
 
+#include <fmt/format.h>
 #include <glm/gtc/matrix_transform.hpp>
 
 #include "engine/scene/gltf/gltf_loader.h"
@@ -230,12 +231,110 @@ TEST(SceneObjects, BadExtrasAreRefusedNamingNodeAndKey) {
 
   scene.nodes[3].extras = R"({"hermite_sdf": {"draw": "sdf", "colour": "red"}})";
   message = errorOf(scene);
-  EXPECT_NE(message.find("extras.hermite_sdf.colour: unknown key"), std::string::npos) << message;
+  EXPECT_NE(message.find("extras.hermite_sdf.colour: unknown key (known: draw, shell)"), std::string::npos) << message;
 
   scene.nodes[3].extras = R"({"hermite_sdf": "triangles"})";
   message = errorOf(scene);
   EXPECT_NE(message.find("extras.hermite_sdf is a JSON string, not an object"), std::string::npos) << message;
   EXPECT_FALSE(bakeSceneObjects(scene, {}, smallBake())) << "a bad value refuses the scene before any bake";
+}
+
+TEST(SceneObjects, BadShellExtrasAreRefusedNamingNodeAndValue) {
+  SceneData scene = twoMeshScene();
+  scene.nodes[2].extras = R"({"hermite_sdf": {"shell": "thick"}})";
+  std::string message = errorOf(scene);
+  EXPECT_NE(message.find("node 'cube2'"), std::string::npos) << message;
+  EXPECT_NE(message.find("extras.hermite_sdf.shell is a JSON string, not a number"), std::string::npos) << message;
+  for (const char* value : {"-0.1", "2e6"}) {
+    scene.nodes[2].extras = fmt::format(R"({{"hermite_sdf": {{"shell": {}}}}})", value);
+    message = errorOf(scene);
+    EXPECT_NE(message.find(fmt::format("extras.hermite_sdf.shell: {:g} is not between 0 and 1e+06", std::stod(value))),
+              std::string::npos)
+        << message;
+  }
+  scene.nodes[2].extras = R"({"hermite_sdf": {"thickness": 0.1}})";
+  message = errorOf(scene);
+  EXPECT_NE(message.find("extras.hermite_sdf.thickness: unknown key (known: draw, shell)"), std::string::npos) << message;
+}
+
+// A unit square in the z = 0 plane: it bounds no volume, so it bakes only as a shell.
+MeshData sheetMesh(std::string name) {
+  engine::scene::MeshPrimitiveData p;
+  p.positions = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {1, 1, 0}};
+  p.normals.assign(4, glm::vec3(0.0f, 0.0f, 1.0f));
+  p.indices = {0, 1, 2, 2, 1, 3};
+  return {std::move(name), {std::move(p)}};
+}
+
+// The cube (-1..1) placed twice and the sheet once.
+SceneData solidAndSheetScene() {
+  SceneData scene;
+  scene.meshes.push_back(boxMesh("cube", glm::vec3(-1.0f), glm::vec3(1.0f)));
+  scene.meshes.push_back(sheetMesh("leaf"));
+  scene.nodes.push_back(node("cube0", 0, glm::vec3(0.0f)));
+  scene.nodes.push_back(node("cube1", 0, glm::vec3(5.0f, 0.0f, 0.0f)));
+  scene.nodes.push_back(node("leaf", 1, glm::vec3(0.0f, 3.0f, 0.0f)));
+  return scene;
+}
+
+// Tricky: a scene of solids and sheets. One thickness for the whole scene either leaves the sheets
+// as triangles (0: they bound no volume) or hollows and inflates every solid by half of it, so the
+// node names its mesh's own thickness, which wins over the settings' both ways: the leaf is a shell
+// with the settings at 0, and the cubes stay solid with the settings' shell. The bounds tell: a
+// shell's grow by half its thickness off the triangles. The levels of detail bake each mesh as the
+// scene's bake did (a leaf level baked without its shell is refused: bounds no volume).
+TEST(SceneObjects, ANodesOwnShellThicknessWinsOverTheSettings) {
+  SceneData scene = solidAndSheetScene();
+  BakeSettings settings = smallBake();
+  settings.resolution = 16;
+  const auto solids = bakeSceneObjects(scene, {}, settings);
+  ASSERT_TRUE(solids) << solids.error().message;
+  EXPECT_FALSE(solids->meshAssets[1]) << "a sheet without a shell draws its triangles";
+  EXPECT_EQ(solids->fallbacks.size(), 1u);
+
+  scene.nodes[2].extras = R"({"hermite_sdf": {"shell": 0.2}})";
+  const auto leafShell = bakeSceneObjects(scene, {}, settings);
+  ASSERT_TRUE(leafShell) << leafShell.error().message;
+  ASSERT_TRUE(leafShell->meshAssets[0] && leafShell->meshAssets[1]) << "both meshes are SDFs";
+  EXPECT_TRUE(leafShell->fallbacks.empty());
+  EXPECT_EQ(leafShell->meshShells, (std::vector<double>{0.0, 0.2}));
+  EXPECT_NEAR(leafShell->meshAssets[0]->surfaceBounds.max.x, 1.0, 1e-5) << "the cube is solid";
+  EXPECT_NEAR(leafShell->meshAssets[1]->surfaceBounds.max.z, 0.1, 1e-5) << "the leaf is a shell 0.2 thick";
+  const auto levels = bakeSceneObjectLevels(scene, *leafShell, settings, 8);
+  ASSERT_TRUE(levels) << levels.error().message;
+  ASSERT_EQ((*levels)[1].size(), 2u) << "K = 16 and 8";
+  EXPECT_NEAR((*levels)[1][1]->surfaceBounds.max.z, 0.1, 1e-5);
+
+  settings.shellThickness = 0.3;
+  scene.nodes[0].extras = R"({"hermite_sdf": {"shell": 0}})";
+  scene.nodes[2].extras.clear();
+  const auto cubeSolid = bakeSceneObjects(scene, {}, settings);
+  ASSERT_TRUE(cubeSolid) << cubeSolid.error().message;
+  EXPECT_EQ(cubeSolid->meshShells, (std::vector<double>{0.0, 0.3}));
+  EXPECT_NEAR(cubeSolid->meshAssets[0]->surfaceBounds.max.x, 1.0, 1e-5) << "cube0's 0 holds for cube1 too";
+  EXPECT_NEAR(cubeSolid->meshAssets[1]->surfaceBounds.max.z, 0.15, 1e-5) << "the settings' shell";
+}
+
+// Tricky: one mesh is one asset, so two of its nodes naming two thicknesses cannot both be drawn;
+// the refusal names both nodes and values. Nodes that agree, or a triangle node's value (nothing of
+// it is baked), are not a conflict.
+TEST(SceneObjects, NodesOfOneMeshNamingTwoShellThicknessesAreRefusedNamingBoth) {
+  SceneData scene = solidAndSheetScene();
+  scene.nodes[0].extras = R"({"hermite_sdf": {"shell": 0.1}})";
+  scene.nodes[1].extras = R"({"hermite_sdf": {"shell": 0.2}})";
+  const auto refused = bakeSceneObjects(scene, {}, smallBake());
+  ASSERT_FALSE(refused);
+  EXPECT_NE(refused.error().message.find(
+                "mesh 0 'cube': node 'cube0' asks for extras.hermite_sdf.shell 0.1 and node 'cube1' for 0.2"),
+            std::string::npos)
+      << refused.error().message;
+
+  scene.nodes[1].extras = R"({"hermite_sdf": {"shell": 0.2, "draw": "triangles"}})";
+  const auto oneSdf = bakeSceneObjects(scene, {}, smallBake());
+  ASSERT_TRUE(oneSdf) << oneSdf.error().message;
+  EXPECT_DOUBLE_EQ(oneSdf->meshShells[0], 0.1);
+  scene.nodes[1].extras = R"({"hermite_sdf": {"shell": 0.1}})";
+  EXPECT_TRUE(bakeSceneObjects(scene, {}, smallBake()));
 }
 
 TEST(SceneObjects, UnknownTriangleNodeNameIsRefusedByName) {

@@ -10,6 +10,10 @@
 //      Other extras are left alone; under "hermite_sdf" an unknown key, a value of the wrong JSON
 //      type or an unknown draw name is refused naming the node and the key.
 //   3. SceneObjectOptions::defaultDraw.
+// A mesh bakes as a shell of the thickness its SDF nodes name, "extras": {"hermite_sdf": {"shell":
+// T}} (0 to 1e6 scene units; 0 a solid), else of BakeSettings::shellThickness: a scene of solids
+// and sheets names its sheets' thickness, or 0 on its solids. Nodes of one mesh naming two
+// thicknesses are refused, naming both (a mesh is one asset).
 #include <cstdint>
 #include <memory>
 #include <optional>
@@ -36,8 +40,14 @@ struct SceneObjectOptions {
   std::vector<std::string> triangleNodes;
 };
 
-// The node's own choice from its extras (nullopt: it has none); errors name the key and value.
-engine::Expected<std::optional<NodeDraw>> nodeDrawFromExtras(const engine::scene::NodeData& node);
+// What a node's extras.hermite_sdf asks for (nullopt: nothing).
+struct NodeExtras {
+  std::optional<NodeDraw> draw;
+  std::optional<double> shellThickness;
+};
+
+// The node's own choices from its extras; errors name the node, the key and the value.
+engine::Expected<NodeExtras> nodeExtras(const engine::scene::NodeData& node);
 
 // The choice of every node of `scene` (nodes without a mesh get theirs too; nothing draws them).
 engine::Expected<std::vector<NodeDraw>> chooseNodeDraws(const engine::scene::SceneData& scene,
@@ -49,6 +59,7 @@ engine::Expected<BakeSource> meshBakeSource(const engine::scene::SceneData& scen
 struct SceneObjects {
   std::vector<NodeDraw> draws;                             // [node]
   std::vector<std::shared_ptr<const SdfAsset>> meshAssets;  // [mesh]: null when no SDF node uses it
+  std::vector<double> meshShells;  // [mesh]: the shell thickness it bakes with (its nodes' extras, else the settings')
   int bakes = 0;                                           // bakeAsset calls: one per mesh used as SDF
   // Meshes that cannot be an SDF at this K (an open sheet or a flat mesh encloses no volume, a
   // degenerate mesh has no triangle left, a mesh over the kept-cell budget): their nodes draw
