@@ -249,7 +249,8 @@ std::vector<TuningField> makeFields() {
        .range = numbers(kPaddingRange)},
       {.key = "shell", .option = "--shell", .label = "shell thickness",
        .help = "above 0: the meshes baked as shells this thick (scene units) around their triangles, for sheets "
-               "and open surfaces that bound no volume; 0 bakes the solids they bound (changing it re-bakes)",
+               "and open surfaces that bound no volume; 0 bakes the solids they bound (changing it re-bakes; with "
+               "--objects, a node's extras hermite_sdf.shell wins for its mesh)",
        .member = &S::shellThickness, .range = numbers(kShellThicknessRange)},
       {.key = "subdivisions", .option = "--subdivisions", .label = "n (subdivisions)",
        .help = "n, equidistant evaluations per cell segment (the paper: 2 or 3)", .member = &S::subdivisions,

@@ -150,7 +150,7 @@ ParseResult parseOptions(int argc, const char* const* argv) {
   app.add_flag("--side-by-side", options.sideBySide, "keep the mesh and place the SDF beside it");
   app.add_flag("--objects", options.objects,
                "each glTF mesh baked once into its own SDF, drawn at every node that places it (per node: "
-               "extras hermite_sdf.draw, --node-draw, --triangle-nodes)");
+               "extras hermite_sdf.draw, --node-draw, --triangle-nodes; its mesh's shell: extras hermite_sdf.shell, else --shell)");
   app.add_option("--script", options.script,
                  "apply 'frame N: key=value ...' lines (settings and actions, see the README) while running")
       ->check(CLI::ExistingFile);
