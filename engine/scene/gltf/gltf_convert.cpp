@@ -13,6 +13,7 @@
 #include <vector>
 
 #include <fmt/format.h>
+#include <fmt/ranges.h>
 #include <glm/gtc/constants.hpp>
 #include <glm/gtc/matrix_transform.hpp>
 #include <glm/gtc/quaternion.hpp>
@@ -304,6 +305,31 @@ Expected<MeshData> convertMesh(ImportContext& context, int meshIndex) {
 
 // ---------------------------------------------------------------------------------------------
 // Materials and cameras
+
+// What of a material the renderer does not draw, named in one note: a glass pane (alphaMode BLEND)
+// is drawn opaque, a cut-out leaf card (MASK) whole, an emissive sign unlit by its own light, a
+// textured mesh in its baseColorFactor alone; silently, each would look like a rendering defect.
+std::optional<std::string> ignoredMaterialFields(const tinygltf::Material& material) {
+  std::vector<std::string> ignored;
+  if (material.alphaMode == "BLEND") {
+    ignored.push_back("alphaMode BLEND (drawn opaque)");
+  } else if (material.alphaMode == "MASK") {
+    ignored.push_back(
+        fmt::format("alphaMode MASK with alphaCutoff {} (drawn opaque, nothing cut out)", material.alphaCutoff));
+  } else if (material.alphaMode != "OPAQUE") {
+    ignored.push_back(fmt::format("alphaMode '{}', which glTF does not define (drawn opaque)", material.alphaMode));
+  }
+  const bool glows =
+      std::any_of(material.emissiveFactor.begin(), material.emissiveFactor.end(), [](double c) { return c != 0.0; });
+  if (glows || material.emissiveTexture.index >= 0) ignored.push_back("emission");
+  const auto& pbr = material.pbrMetallicRoughness;
+  if (pbr.baseColorTexture.index >= 0) ignored.push_back("baseColorTexture (drawn in baseColorFactor)");
+  if (pbr.metallicRoughnessTexture.index >= 0) ignored.push_back("metallicRoughnessTexture");
+  if (material.normalTexture.index >= 0) ignored.push_back("normalTexture");
+  if (material.occlusionTexture.index >= 0) ignored.push_back("occlusionTexture");
+  if (ignored.empty()) return std::nullopt;
+  return fmt::format("'{}': {} ignored", material.name, fmt::join(ignored, ", "));
+}
 
 Expected<MaterialData> convertMaterial(const tinygltf::Material& material) {
   const auto& pbr = material.pbrMetallicRoughness;
@@ -733,6 +759,8 @@ Expected<SceneData> convertModel(ImportContext& context) {
   for (std::size_t m = 0; m < model.materials.size(); ++m) {
     ENGINE_TRY_ASSIGN(auto material, convertMaterial(model.materials[m]).withContext(fmt::format("material {}", m)));
     scene.materials.push_back(std::move(material));
+    if (auto note = ignoredMaterialFields(model.materials[m]))
+      context.warnings.push_back(fmt::format("material {} {}", m, *note));
   }
   ENGINE_TRY_ASSIGN(const auto cameraRemap, convertCameras(context, scene));
   for (std::size_t m = 0; m < model.meshes.size(); ++m) {

@@ -12,10 +12,10 @@ std::vector<std::uint32_t> CellHistory::place(const engine::gpu::Context& contex
                                               std::uint32_t regions, std::uint64_t frameNumber,
                                               engine::gpu::DeferredRelease& retired) {
   std::vector<std::uint32_t> bases;
-  if (regions != regions_ || !placeAll(objects, bases)) {
+  if (regions != regions_.size() || !placeAll(regions_[region], objects, bases)) {
     grow(context, cmd, objects, regions, frameNumber, retired);
     bases.clear();
-    placeAll(objects, bases);
+    placeAll(regions_[region], objects, bases);
   }
   for (std::uint32_t& base : bases) base += region * capacity_;
   return bases;
@@ -23,24 +23,24 @@ std::vector<std::uint32_t> CellHistory::place(const engine::gpu::Context& contex
 
 // Keeps the bases of objects that draw the same asset as before, appends the others; false when
 // they do not fit.
-bool CellHistory::placeAll(const std::vector<Object>& objects, std::vector<std::uint32_t>& bases) {
+bool CellHistory::placeAll(Region& region, const std::vector<Object>& objects, std::vector<std::uint32_t>& bases) {
   for (const Object& object : objects) {
-    auto found = slots_.find(object.entity);
-    if (found != slots_.end() && found->second.asset == object.asset && found->second.cells == object.cells) {
+    auto found = region.slots.find(object.entity);
+    if (found != region.slots.end() && found->second.asset == object.asset && found->second.cells == object.cells) {
       bases.push_back(found->second.base);
       continue;
     }
-    if (std::uint64_t(used_) + object.cells > capacity_) return false;
-    slots_[object.entity] = {object.asset, used_, object.cells};
-    bases.push_back(used_);
-    used_ += object.cells;
+    if (std::uint64_t(region.used) + object.cells > capacity_) return false;
+    region.slots[object.entity] = {object.asset, region.used, object.cells};
+    bases.push_back(region.used);
+    region.used += object.cells;
   }
   return true;
 }
 
 void CellHistory::release(std::uint64_t frameNumber, engine::gpu::DeferredRelease& retired) {
-  slots_.clear();
-  used_ = capacity_ = regions_ = 0;
+  regions_.clear();
+  capacity_ = 0;
   if (buffer_) retired.retire(std::move(buffer_), frameNumber);
   buffer_ = engine::gpu::Buffer{};
 }
@@ -62,10 +62,8 @@ void CellHistory::grow(const engine::gpu::Context& context, VkCommandBuffer cmd,
                              VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_SHADER_DEVICE_ADDRESS_BIT |
                                  VK_BUFFER_USAGE_TRANSFER_DST_BIT,
                              engine::gpu::MemoryUsage::GpuOnly, "hermite cell visibility history");
-  slots_.clear();
-  used_ = 0;
+  regions_.assign(regions, Region{});
   capacity_ = std::uint32_t(capacity);
-  regions_ = regions;
   if (buffer_) retired.retire(std::move(buffer_), frameNumber);
   buffer_ = std::move(buffer);
   vkCmdFillBuffer(cmd, buffer_.handle(), 0, VK_WHOLE_SIZE, 0);

@@ -31,9 +31,12 @@ class CellHistory {
   };
 
   // The base of each object (same order) in view region `region` of `regions`. Objects keep their
-  // bases from earlier frames; new ones are appended. When they do not fit, the buffer is
-  // replaced by a larger zeroed one (fill recorded in `cmd`; the old one is retired until frame
-  // `frameNumber` completes) and every object is placed anew: the history restarts.
+  // bases from the region's earlier frames; new ones are appended. Each region places its objects
+  // on its own: the sides of a split screen may draw other assets for the same entity (the
+  // compared side at another K), which would otherwise take each other's places every frame and
+  // leave both with a fresh history. When they do not fit, the buffer is replaced by a larger
+  // zeroed one (fill recorded in `cmd`; the old one is retired until frame `frameNumber`
+  // completes) and every object of every region is placed anew: the history restarts.
   std::vector<std::uint32_t> place(const engine::gpu::Context& context, VkCommandBuffer cmd,
                                    const std::vector<Object>& objects, std::uint32_t region, std::uint32_t regions,
                                    std::uint64_t frameNumber, engine::gpu::DeferredRelease& retired);
@@ -50,14 +53,17 @@ class CellHistory {
     std::uint32_t base = 0;
     std::uint32_t cells = 0;
   };
-  bool placeAll(const std::vector<Object>& objects, std::vector<std::uint32_t>& bases);
+  // One view region's places: its objects' slots, and the cells placed in its part of the buffer.
+  struct Region {
+    std::unordered_map<engine::ecs::Entity, Slot> slots;
+    std::uint32_t used = 0;
+  };
+  bool placeAll(Region& region, const std::vector<Object>& objects, std::vector<std::uint32_t>& bases);
   void grow(const engine::gpu::Context& context, VkCommandBuffer cmd, const std::vector<Object>& objects,
             std::uint32_t regions, std::uint64_t frameNumber, engine::gpu::DeferredRelease& retired);
 
-  std::unordered_map<engine::ecs::Entity, Slot> slots_;
-  std::uint32_t used_ = 0;      // cells placed (per region)
+  std::vector<Region> regions_;
   std::uint32_t capacity_ = 0;  // cells per region
-  std::uint32_t regions_ = 0;
   engine::gpu::Buffer buffer_;  // regions_ x capacity_ uints
 };
 

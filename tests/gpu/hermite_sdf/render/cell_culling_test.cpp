@@ -651,5 +651,47 @@ TEST_F(HermiteCellsTest, OcclusionCullingDrawsNothingOfAHiddenObject) {
   EXPECT_TRUE(unculled.frame.rgba == both.frame.rgba) << "occlusion culling changed the colour";
 }
 
+// Why: each view region keeps its own history, and the sides of a split screen may draw other
+// assets for one entity (the Viewer's compared side at another K swaps the asset in for its
+// region). The history placed each entity once for all regions, so the two sides took each
+// other's places every frame: every frame each side started from a fresh history, phase 1 drew
+// nothing and occlusion culled nothing (the image stayed right: only the work grew). So: the
+// sphere in front of the small torus on both sides of a split, the right side drawing the sphere
+// from another asset; in steady state the right side draws exactly the boxes it draws without the
+// torus (cullTotals: the last region's pass).
+TEST_F(HermiteCellsTest, OcclusionHistoryOfEachSideOfASplitScreenSurvivesTheOtherSidesAssets) {
+  createCellRenderer(kSize, kSize);
+  auto* feature = renderer_->feature<hsdf::HermiteCellFeature>();
+  feature->settings().tiles = hsdf::HermiteCellFeature::Tiles::Off;  // occlusion culls boxes; tiles turn it off
+  feature->settings().cullOcclusion = true;
+  const auto sphere = bakeAsset("sphere", 16);
+  const auto otherSphere = bakeAsset("sphere", 20);
+  const auto torus = bakeAsset("torus", 16);
+  ASSERT_TRUE(sphere && otherSphere && torus);
+  const render::CameraView camera = render::CameraView::lookAt({0.0f, 0.0f, 4.0f}, {0.0f, 0.0f, 0.0f}, 0.9f, 0.05f, 1.0f);
+  const glm::mat4 behind = glm::scale(glm::translate(glm::mat4(1.0f), {0.0f, 0.0f, -3.0f}), glm::vec3(0.2f));
+  // Four frames of the split (the history settles); the right side's boxes of the last one.
+  auto rightBoxes = [&](bool withTorus) {
+    registry_ = ecs::Registry();
+    const ecs::Entity front = addSdf(registry_, sphere, hsdf::RenderMethod::Cells);
+    if (withTorus) addSdf(registry_, torus, hsdf::RenderMethod::Cells, behind);
+    const auto drawing = [&, front](std::shared_ptr<const hsdf::SdfAsset> asset) {
+      return [&, front, asset] { registry_.get<hsdf::HermiteSdfRenderable>(front).asset = asset; };
+    };
+    render::FrameSettings settings;
+    settings.regions = {{VkRect2D{{0, 0}, {kSize / 2, kSize}}, drawing(sphere)},
+                        {VkRect2D{{std::int32_t(kSize / 2), 0}, {kSize / 2, kSize}}, drawing(otherSphere)}};
+    for (int frame = 0; frame < 4; ++frame) (void)renderWith(camera, settings);
+    EXPECT_TRUE(feature->usesOcclusionCulling());
+    return feature->cullTotals().kept;
+  };
+  const std::uint64_t sphereAlone = rightBoxes(false);
+  const std::uint64_t both = rightBoxes(true);
+  std::printf("[ split occlusion ] right side's boxes in steady state: %llu with the torus behind, %llu without\n",
+              static_cast<unsigned long long>(both), static_cast<unsigned long long>(sphereAlone));
+  EXPECT_GT(sphereAlone, 0u);
+  EXPECT_EQ(both, sphereAlone) << "the hidden torus drew boxes: the side's history restarted";
+}
+
 }  // namespace
 }  // namespace gputest

@@ -405,6 +405,48 @@ TEST(GltfLoaderFeatures, DoubleSidedIsReadPerMaterialAndDefaultsToFalse) {
   for (int m = 0; m < 3; ++m) EXPECT_EQ(scene->meshes[0].primitives[std::size_t(m)].material, m);
 }
 
+// Tricky because these fields are core glTF, not extensions (whose notes the loader already
+// gives), and each changes what a mesh looks like: a glass pane (BLEND) drawn opaque, a leaf card
+// (MASK) drawn whole, an emissive sign, a textured mesh drawn in its factor alone. Each material
+// that uses one gets a note naming its fields; a plain opaque material, and an OPAQUE one whose
+// emissiveFactor is zero (what exporters write), get none.
+TEST(GltfLoaderFeatures, MaterialFieldsTheRendererDoesNotDrawAreNamedInANote) {
+  GltfBuilder b;
+  const int positions = b.addPositions(kTriangle);
+  b.doc()["textures"] = json::array({json{{"source", 0}}});
+  b.doc()["images"] = json::array({json{{"uri", "data:image/png;base64,AAAA"}}});
+  b.doc()["materials"] = json::array(
+      {json{{"name", "glass"}, {"alphaMode", "BLEND"}, {"pbrMetallicRoughness", {{"baseColorFactor", {1, 1, 1, 0.3}}}}},
+       json{{"name", "leaf"}, {"alphaMode", "MASK"}, {"alphaCutoff", 0.25}, {"doubleSided", true}},
+       json{{"name", "sign"}, {"emissiveFactor", {1.0, 0.5, 0.0}}},
+       json{{"name", "brick"},
+            {"pbrMetallicRoughness", {{"baseColorTexture", {{"index", 0}}}, {"metallicRoughnessTexture", {{"index", 0}}}}},
+            {"normalTexture", {{"index", 0}}},
+            {"occlusionTexture", {{"index", 0}}}},
+       json{{"name", "stone"}, {"alphaMode", "OPAQUE"}, {"emissiveFactor", {0, 0, 0}}}});
+  json primitives = json::array();
+  for (int m = 0; m < 5; ++m) primitives.push_back({{"attributes", {{"POSITION", positions}}}, {"material", m}});
+  b.doc()["meshes"] = json::array({json{{"primitives", primitives}}});
+  b.addNode({{"mesh", 0}});
+  const auto scene = load(b);
+  ASSERT_TRUE(scene.ok()) << scene.error().message;
+  std::string notes;
+  for (const auto& w : scene->warnings) notes += w + "\n";
+  EXPECT_TRUE(anyWarningContains(*scene, "material 0 'glass': alphaMode BLEND (drawn opaque) ignored")) << notes;
+  EXPECT_TRUE(anyWarningContains(*scene, "material 1 'leaf': alphaMode MASK with alphaCutoff 0.25 (drawn opaque, "
+                                         "nothing cut out) ignored"))
+      << notes;
+  EXPECT_TRUE(anyWarningContains(*scene, "material 2 'sign': emission ignored")) << notes;
+  EXPECT_TRUE(anyWarningContains(*scene, "material 3 'brick': baseColorTexture (drawn in baseColorFactor), "
+                                         "metallicRoughnessTexture, normalTexture, occlusionTexture ignored"))
+      << notes;
+  EXPECT_FALSE(anyWarningContains(*scene, "'stone'")) << notes;
+  // What is read stays read: the glass's factor (its alpha too, unused), the leaf's two sides.
+  ASSERT_EQ(scene->materials.size(), 5u);
+  EXPECT_FLOAT_EQ(scene->materials[0].baseColor.a, 0.3f);
+  EXPECT_TRUE(scene->materials[1].doubleSided);
+}
+
 // Tricky because a mesh placed a million units from the origin, where float holds only 0.0625,
 // loses its shape when its world positions are rounded to float; flattened about an origin near
 // it (the scene runner bakes far scenes about their centre), each position is computed in double
