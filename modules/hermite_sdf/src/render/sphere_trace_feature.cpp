@@ -378,10 +378,7 @@ void SphereTraceFeature::collectDraws(engine::render::FrameContext& frame) {
       [&](engine::ecs::Entity entity, const HermiteSdfRenderable& r, const engine::scene::WorldTransform& world) {
         std::uint32_t method = 0;
         if (!r.asset) return;
-        if (!traceMethod(r.method, method)) {
-          ++stats_.otherMethodObjects;
-          return;
-        }
+        if (!traceMethod(r.method, method)) return;  // drawn by the cells
         if (!engine::render::drawableTransform(world.matrix)) {  // the rays could not be taken into the grid
           ++stats_.skippedObjects;
           return;
@@ -460,8 +457,7 @@ void SphereTraceFeature::prepare(engine::render::FrameContext& frame) {
   }
   stats_.materialBuffers = std::uint32_t(materials.size());
   std::erase_if(materials_, [](const auto& m) { return m.second.expired(); });
-  const bool objects = stats_.trilinearObjects + stats_.hermiteObjects + stats_.otherMethodObjects > 0;
-  warming_.frame(*context_, settings_.warmPipelines && objects,
+  warming_.frame(*context_, settings_.warmPipelines && hasSdfObjects(frame.registry),
                  [&] { return likelyNextPipelines(frame.workCounters != 0); });
 }
 

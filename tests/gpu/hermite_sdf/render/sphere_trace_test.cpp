@@ -92,7 +92,7 @@ int toleranceViolations(const Frame& gpu, const hsdf::ReferenceImage& reference,
   return violations;
 }
 
-class SphereTraceTest : public GpuTest {
+class SphereTraceTest : public HermiteGpuTest {
  protected:
   void createTraceRenderer(std::uint32_t width, std::uint32_t height) {
     createRenderer(width, height);
@@ -882,42 +882,11 @@ TEST_F(SphereTraceTest, AssetSwappedEveryFrameReleasesTexturesAsTheirFramesCompl
 TEST_F(SphereTraceTest, ATracerSwitchAfterWarmingCompilesNothingInTheFrame) {
   const auto asset = bakeAsset("torus", 16);
   ASSERT_NE(asset, nullptr);
-  const render::CameraView camera = orbitCamera(*asset, 0);
-  const auto framesOf = [&](bool warm) {
-    createTraceRenderer(kSize, kSize);
-    registry_ = ecs::Registry();
-    auto* tracer = renderer_->feature<hsdf::SphereTraceFeature>();
-    tracer->settings().warmPipelines = warm;
-    const ecs::Entity entity = addTracedSdf(registry_, asset, RenderMethod::Cells);
-    (void)renderWith(camera, DEBUG_VIEW_NONE);
-    (void)renderWith(camera, DEBUG_VIEW_NONE);
-    tracer->waitForWarmPipelines();
-    const std::uint32_t warmed = tracer->pipelineCounts().compiled;
-    if (warm) {
-      EXPECT_GE(warmed, 4u) << "both tracers' front faces and shading";
-      EXPECT_LT(warmed, tracer->pipelineCounts().described) << "not every variant";
-    }
-    std::vector<Frame> frames;
-    for (const RenderMethod method : {RenderMethod::TrilinearSphereTrace, RenderMethod::HermiteSphereTrace}) {
-      registry_.get<hsdf::HermiteSdfRenderable>(entity).method = method;
-      frames.push_back(renderWith(camera, DEBUG_VIEW_NONE));
-      if (warm) {
-        EXPECT_EQ(tracer->pipelineCounts().compiled, warmed) << "the switch frame compiled a pipeline";
-      }
-    }
-    if (!warm) {
-      EXPECT_GT(tracer->pipelineCounts().compiled, warmed) << "the frames should have compiled their own";
-    }
-    return frames;
-  };
-  const std::vector<Frame> warmed = framesOf(true);
-  const std::vector<Frame> cold = framesOf(false);
-  ASSERT_EQ(warmed.size(), cold.size());
-  for (std::size_t i = 0; i < warmed.size(); ++i) {
-    EXPECT_GT(std::count_if(warmed[i].depth.begin(), warmed[i].depth.end(), [](float d) { return d > 0.0f; }), 500);
-    EXPECT_TRUE(warmed[i].depth == cold[i].depth) << "switch " << i;
-    EXPECT_TRUE(warmed[i].rgba == cold[i].rgba) << "switch " << i;
-  }
+  constexpr RenderMethod kSwitches[] = {RenderMethod::TrilinearSphereTrace, RenderMethod::HermiteSphereTrace};
+  const WarmedPipelines warmed = expectSwitchesAfterWarmingCompileNothing(
+      [&] { createTraceRenderer(kSize, kSize); }, asset, orbitCamera(*asset, 0), RenderMethod::Cells, kSwitches);
+  EXPECT_GE(warmed.tracer.compiled, 4u) << "both tracers' front faces and shading";
+  EXPECT_LT(warmed.tracer.compiled, warmed.tracer.described) << "not every variant";
 }
 
 // Why: a shader reload compiles up front, on the thread that reloads (a frame's), what frames bound;
