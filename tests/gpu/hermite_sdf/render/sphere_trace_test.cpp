@@ -926,7 +926,8 @@ TEST_F(SphereTraceTest, AReloadCompilesWhatFramesBindAndWarmsTheRestAgain) {
 // the trilinear tracer, to the Hermite tracer and back to cells, each followed by a frame of the
 // same form, without and with the tracer's warmer (the cells' warm in both); then, in a renderer
 // whose warmers are done after two frames of cells, each feature's shader reload (the pipelines it
-// compiled: what frames bound) and the frame after it. Run by hand:
+// compiled: what frames bound) and the frame after it. And the other way (session 36): from the
+// trilinear tracer to cells and to bricks, without and with both features' warmers. Run by hand:
 //   hermite_sphere_trace_gpu_tests --gtest_also_run_disabled_tests --gtest_filter='*TracerSwitchFrameTimes'
 TEST_F(SphereTraceTest, DISABLED_TracerSwitchFrameTimes) {
   const auto asset = bakeAsset("bunny", 64);
@@ -966,6 +967,30 @@ TEST_F(SphereTraceTest, DISABLED_TracerSwitchFrameTimes) {
       const double next = frame();
       std::printf("[ warm %-3s ] switch to %-9s frame %7.1f ms, next frame %6.1f ms\n", warm ? "on" : "off",
                   hsdf::renderMethodName(method), switched, next);
+    }
+  }
+  // The other way (docs/perf/render-changes-session36.md): a session that starts traced, then
+  // switches to cells and to bricks, without and with both features' warmers.
+  for (const bool warm : {false, true}) {
+    bothFeatures();
+    auto* tracer = renderer_->feature<hsdf::SphereTraceFeature>();
+    auto* cells = renderer_->feature<hsdf::HermiteCellFeature>();
+    tracer->settings().warmPipelines = cells->settings().warmPipelines = warm;
+    const ecs::Entity entity = addSdf(registry_, asset, RenderMethod::TrilinearSphereTrace);
+    (void)frame();
+    (void)frame();
+    const double wait = milliseconds([&] {
+      tracer->waitForWarmPipelines();
+      cells->waitForWarmPipelines();
+    });
+    std::printf("[ from trilinear, warm %-3s ] warmers done %7.1f ms after the second frame\n", warm ? "on" : "off",
+                wait);
+    for (const RenderMethod method : {RenderMethod::Cells, RenderMethod::CellBricks}) {
+      registry_.get<hsdf::HermiteSdfRenderable>(entity).method = method;
+      const double switched = frame();
+      const double next = frame();
+      std::printf("[ from trilinear, warm %-3s ] switch to %-11s frame %7.1f ms, next frame %6.1f ms\n",
+                  warm ? "on" : "off", hsdf::renderMethodName(method), switched, next);
     }
   }
   bothFeatures();
