@@ -61,6 +61,9 @@ SphereTraceFeature::SphereTraceFeature(Options options) : options_(options) {}
 
 SphereTraceFeature::~SphereTraceFeature() {
   if (!context_) return;
+  // The bindings' descriptor set layout is in every pipeline's description: a worker compiling one
+  // would create its layout from a destroyed handle (the members' destruction joins it after this).
+  warming_.stop();
   textures_.clear();
   bindings_.reset();
   for (VkSampler sampler : samplers_) vkDestroySampler(context_->device(), sampler, nullptr);

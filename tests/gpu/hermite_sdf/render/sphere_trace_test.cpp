@@ -12,11 +12,14 @@
 // within eps of one part of the surface and the reference hits another part behind it are
 // silhouette effects of sphere tracing and are counted, not forbidden.
 #include <algorithm>
+#include <atomic>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <limits>
 #include <string>
+#include <string_view>
+#include <thread>
 #include <vector>
 
 #include <gtest/gtest.h>
@@ -887,6 +890,44 @@ TEST_F(SphereTraceTest, ATracerSwitchAfterWarmingCompilesNothingInTheFrame) {
       [&] { createTraceRenderer(kSize, kSize); }, asset, orbitCamera(*asset, 0), RenderMethod::Cells, kSwitches);
   EXPECT_GE(warmed.tracer.compiled, 4u) << "both tracers' front faces and shading";
   EXPECT_LT(warmed.tracer.compiled, warmed.tracer.described) << "not every variant";
+}
+
+// Why: ~SphereTraceFeature destroyed its texture bindings, whose descriptor set layout every
+// tracer pipeline's description names, before its members' destruction joined the warmer: a worker
+// starting a compile then created the pipeline's layout from a destroyed handle (an invalid-handle
+// message, or a crash inside the validation layer: a suspect of ViewerShell's rare segfault under
+// load). Tricky: the window is the worker's vkCreatePipelineLayout, microseconds of a compile of
+// 100 ms; the log sink holds the worker for 300 ms just before its first compile (its debug line),
+// while the test destroys the renderer. Validation is on: any message fails the test.
+TEST_F(SphereTraceTest, AFeatureDestroyedWhileItsWarmerCompilesDestroysNothingTheCompileUses) {
+  createTraceRenderer(kSize, kSize);
+  const auto asset = bakeAsset("torus", 16);
+  ASSERT_NE(asset, nullptr);
+  addTracedSdf(registry_, asset, RenderMethod::Cells);  // the tracer draws nothing and warms for it
+  const render::CameraView camera = orbitCamera(*asset, 0);
+  (void)renderWith(camera, DEBUG_VIEW_NONE);
+  const std::thread::id renderThread = std::this_thread::get_id();
+  std::atomic<bool> held{false};
+  struct RestoreLog {
+    ~RestoreLog() {
+      log::setSink({});
+      log::setMinLevel(log::Level::Info);
+    }
+  } restoreLog;
+  log::setMinLevel(log::Level::Debug);
+  log::setSink([&](log::Level level, std::string_view message) {
+    if (std::this_thread::get_id() != renderThread && message.starts_with("compiling pipeline") &&
+        !held.exchange(true)) {
+      std::this_thread::sleep_for(std::chrono::milliseconds(300));
+    } else if (level >= log::Level::Warning) {
+      std::fprintf(stderr, "%.*s\n", int(message.size()), message.data());
+    }
+  });
+  (void)renderWith(camera, DEBUG_VIEW_NONE);  // starts the warmer, held before its first compile
+  const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(10);
+  while (!held.load() && std::chrono::steady_clock::now() < deadline) std::this_thread::yield();
+  ASSERT_TRUE(held.load()) << "the warmer started no compile";
+  renderer_.reset();
 }
 
 // Why: a shader reload compiles up front, on the thread that reloads (a frame's), what frames bound;
