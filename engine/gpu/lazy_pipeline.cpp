@@ -154,6 +154,10 @@ void PipelineWarming::reloading() {
   warmer_.reset();
 }
 
+void PipelineWarming::stop() {
+  if (warmer_) warmer_->stop();
+}
+
 void PipelineWarming::wait() {
   if (warmer_) warmer_->wait();
 }

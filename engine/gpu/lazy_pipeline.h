@@ -132,7 +132,8 @@ Status createWhereNeeded(const Context& context, std::span<LazyPipeline* const> 
 // it would only slow it down). Once per set of pipelines: reloading() stops the worker before the
 // owner replaces them, and the next frame warms the fresh set at once (the reload compiled what
 // frames bind, so that frame compiles nothing a worker would slow down). Owned by the render
-// thread; declared after the pipelines, so that its worker is joined before they are destroyed.
+// thread; declared after the pipelines, so that its worker is joined before they are destroyed, and
+// stopped first by an owner whose destructor destroys what the descriptions name (stop()).
 class PipelineWarming {
  public:
   using NextSet = std::function<std::vector<LazyPipeline*>()>;
@@ -140,6 +141,10 @@ class PipelineWarming {
   void frame(const Context& context, bool wanted, const NextSet& next);
   // Before the owner replaces the pipelines it warms: at most the compile under way finishes.
   void reloading();
+  // Stops the worker and waits for it (at most the compile under way finishes); later frames start
+  // none until reloading(). Before the owner destroys anything the pipelines' descriptions name (a descriptor set
+  // layout): a worker compiling a pipeline uses it, and the members' destruction joins it too late.
+  void stop();
   // Waits until the set being warmed is compiled (tests, a load screen); none: returns.
   void wait();
   bool started() const { return warmer_ != nullptr; }

@@ -13,6 +13,9 @@
 #include "hermite_sdf/core/cells.h"
 #include "hermite_sdf/core/field.h"
 #include "hermite_sdf/core/mesh_source.h"
+#include "hermite_sdf/render/cell_feature.h"
+#include "hermite_sdf/render/sphere_trace_feature.h"
+#include "shared/host_device.h"
 
 namespace gputest {
 
@@ -292,6 +295,85 @@ engine::render::CameraView orthographicLike(const engine::render::CameraView& ca
       engine::render::CameraView::fromWorld(glm::inverse(camera.view), ortho, 1.0f);
   EXPECT_TRUE(made.ok()) << made.error().message;
   return made ? *made : camera;
+}
+
+namespace {
+
+std::size_t coveredPixels(const Frame& frame) {
+  return std::size_t(std::count_if(frame.depth.begin(), frame.depth.end(), [](float d) { return d > 0.0f; }));
+}
+
+}  // namespace
+
+HermiteGpuTest::WarmedPipelines HermiteGpuTest::warmedCounts() const {
+  WarmedPipelines counts;
+  if (auto* cells = renderer_->feature<hsdf::HermiteCellFeature>()) counts.cells = cells->pipelineCounts();
+  if (auto* tracer = renderer_->feature<hsdf::SphereTraceFeature>()) counts.tracer = tracer->pipelineCounts();
+  return counts;
+}
+
+std::uint32_t HermiteGpuTest::compiledByModule() const {
+  const WarmedPipelines counts = warmedCounts();
+  return counts.cells.compiled + counts.tracer.compiled;
+}
+
+void HermiteGpuTest::setWarming(bool warm) {
+  if (auto* cells = renderer_->feature<hsdf::HermiteCellFeature>()) cells->settings().warmPipelines = warm;
+  if (auto* tracer = renderer_->feature<hsdf::SphereTraceFeature>()) tracer->settings().warmPipelines = warm;
+}
+
+void HermiteGpuTest::waitForWarmers() {
+  if (auto* cells = renderer_->feature<hsdf::HermiteCellFeature>()) cells->waitForWarmPipelines();
+  if (auto* tracer = renderer_->feature<hsdf::SphereTraceFeature>()) tracer->waitForWarmPipelines();
+}
+
+// One run of expectSwitchesAfterWarmingCompileNothing: the switch frames, read back.
+std::vector<Frame> HermiteGpuTest::switchFrames(bool warm, const std::function<void()>& createFeatures,
+                                                const std::shared_ptr<const hsdf::SdfAsset>& asset,
+                                                const render::CameraView& camera, hsdf::RenderMethod start,
+                                                std::span<const hsdf::RenderMethod> switches,
+                                                WarmedPipelines& warmed) {
+  registry_ = ecs::Registry();
+  createFeatures();
+  setWarming(warm);
+  const ecs::Entity entity = addTracedSdf(registry_, asset, start);
+  (void)renderWith(camera, DEBUG_VIEW_NONE);
+  (void)renderWith(camera, DEBUG_VIEW_NONE);
+  waitForWarmers();
+  warmed = warmedCounts();
+  const std::uint32_t before = compiledByModule();
+  std::vector<Frame> frames;
+  for (const hsdf::RenderMethod method : switches) {
+    const std::uint32_t compiled = compiledByModule();
+    registry_.get<hsdf::HermiteSdfRenderable>(entity).method = method;
+    frames.push_back(renderWith(camera, DEBUG_VIEW_NONE));
+    if (warm) {
+      EXPECT_EQ(compiledByModule(), compiled) << "the frame switching from " << hsdf::renderMethodName(start)
+                                              << " to " << hsdf::renderMethodName(method) << " compiled "
+                                              << compiledByModule() - compiled << " pipeline(s)";
+    }
+    start = method;
+  }
+  if (!warm) {
+    EXPECT_GT(compiledByModule(), before) << "the switch frames of a renderer that never warmed compiled nothing";
+  }
+  return frames;
+}
+
+HermiteGpuTest::WarmedPipelines HermiteGpuTest::expectSwitchesAfterWarmingCompileNothing(
+    const std::function<void()>& createFeatures, const std::shared_ptr<const hsdf::SdfAsset>& asset,
+    const render::CameraView& camera, hsdf::RenderMethod start, std::span<const hsdf::RenderMethod> switches) {
+  WarmedPipelines warmed, cold;
+  const std::vector<Frame> warmedFrames = switchFrames(true, createFeatures, asset, camera, start, switches, warmed);
+  const std::vector<Frame> coldFrames = switchFrames(false, createFeatures, asset, camera, start, switches, cold);
+  EXPECT_EQ(warmedFrames.size(), coldFrames.size());
+  for (std::size_t i = 0; i < std::min(warmedFrames.size(), coldFrames.size()); ++i) {
+    const char* method = hsdf::renderMethodName(switches[i]);
+    EXPECT_GT(coveredPixels(warmedFrames[i]), 500u) << "switch to " << method;
+    EXPECT_TRUE(warmedFrames[i].depth == coldFrames[i].depth) << "switch to " << method;
+    EXPECT_TRUE(warmedFrames[i].rgba == coldFrames[i].rgba) << "switch to " << method;
+  }
+  return warmed;
 }
 
 }  // namespace gputest

@@ -3,11 +3,13 @@
 // entities, and the comparison of a GPU frame with the CPU reference ray caster.
 #include <functional>
 #include <memory>
+#include <span>
 #include <string>
 #include <vector>
 
 #include "gpu_test_support.h"
 #include "hermite_sdf/core/reference.h"
+#include "engine/gpu/lazy_pipeline.h"
 #include "hermite_sdf/render/renderable.h"
 
 namespace gputest {
@@ -104,5 +106,38 @@ engine::render::CameraView orbitAround(const WorldSphere& sphere, int view);
 // An orthographic camera with the pose of `camera` (a perspective one, e.g. orbitAround's): its view
 // 2 ymag tall, depth between znear and zfar, for a square image. Fails the test on error.
 engine::render::CameraView orthographicLike(const engine::render::CameraView& camera, float ymag, float znear, float zfar);
+
+// The hermite_sdf GPU tests' fixture: GpuTest with the checks that several of them share.
+class HermiteGpuTest : public GpuTest {
+ protected:
+  // The pipelines of each of the module's features once the warmers were done (none: 0 of 0).
+  struct WarmedPipelines {
+    engine::gpu::PipelineCounts cells;
+    engine::gpu::PipelineCounts tracer;
+  };
+  // "A switch of method after warming compiles nothing in its frame" (the tuning panel's method,
+  // the split screen's compared side; a compile takes hundreds of milliseconds on lavapipe). Twice,
+  // warming on, then off: `createFeatures` makes a fresh renderer with the features under test
+  // (their Settings::warmPipelines are then set), an entity draws `asset` with `start` for two
+  // frames (the second starts the warmers), the warmers are waited for, and the entity switches to
+  // each of `switches`, one frame each. Warmed, no switch frame may compile a pipeline of the
+  // module's features; not warmed, they must compile some (else the check proves nothing); and every
+  // switch frame draws the object (over 500 pixels) with the pixels of the one that never warmed.
+  WarmedPipelines expectSwitchesAfterWarmingCompileNothing(const std::function<void()>& createFeatures,
+                                                           const std::shared_ptr<const hsdf::SdfAsset>& asset,
+                                                           const engine::render::CameraView& camera,
+                                                           hsdf::RenderMethod start,
+                                                           std::span<const hsdf::RenderMethod> switches);
+
+ private:
+  WarmedPipelines warmedCounts() const;
+  std::uint32_t compiledByModule() const;
+  void setWarming(bool warm);
+  void waitForWarmers();
+  std::vector<Frame> switchFrames(bool warm, const std::function<void()>& createFeatures,
+                                  const std::shared_ptr<const hsdf::SdfAsset>& asset,
+                                  const engine::render::CameraView& camera, hsdf::RenderMethod start,
+                                  std::span<const hsdf::RenderMethod> switches, WarmedPipelines& warmed);
+};
 
 }  // namespace gputest

@@ -396,10 +396,26 @@ void HermiteCellFeature::appendWithoutEarlyStage(std::vector<engine::gpu::LazyPi
   set.push_back(&p.runsNear[base]);
 }
 
-// Started by the second frame that draws cells (engine::gpu::PipelineWarming).
+// What the first frame of cells binds besides its proxies, which frames that drew cells have made
+// already (the worker skips them at the cost of a lock) but a session whose objects were all traced
+// has not: the shading resolve, and the tiles where the frame would draw them.
+void HermiteCellFeature::appendFirstFrame(std::vector<engine::gpu::LazyPipeline*>& set, Variant base) {
+  set.push_back(&pipelines_.resolve);
+  if (context_->capabilities().drawIndirectCount &&
+      tilesWanted(settings_.tiles, context_->capabilities().isSoftwareRasterizer))
+    set.push_back(&pipelines_.tiles[base]);
+}
+
+// Started by the second frame with objects of the module, drawn here or by a tracer
+// (hasSdfObjects, engine::gpu::PipelineWarming): a switch from a tracer to cells then compiles
+// nothing in its frame either.
 void HermiteCellFeature::warmPipelines(const engine::render::FrameContext& frame) {
-  warming_.frame(*context_, settings_.warmPipelines && stats_.draws > 0,
-                 [&] { return likelyNextPipelines(withoutEarlyStage(prepassVariant(frame))); });
+  warming_.frame(*context_, settings_.warmPipelines && hasSdfObjects(frame.registry), [&] {
+    const Variant base = withoutEarlyStage(prepassVariant(frame));
+    std::vector<engine::gpu::LazyPipeline*> set = likelyNextPipelines(base);
+    appendFirstFrame(set, base);
+    return set;
+  });
 }
 
 void HermiteCellFeature::waitForWarmPipelines() {

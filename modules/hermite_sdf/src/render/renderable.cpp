@@ -1,6 +1,10 @@
 #include "hermite_sdf/render/renderable.h"
 
+#include <algorithm>
 #include <iterator>
+
+#include "engine/ecs/registry.h"
+#include "engine/scene/transform.h"
 
 namespace hsdf {
 
@@ -22,6 +26,13 @@ std::optional<RenderMethod> parseRenderMethod(std::string_view name) {
   for (const RenderMethod method : kRenderMethods)
     if (name == renderMethodName(method)) return method;
   return std::nullopt;
+}
+
+bool hasSdfObjects(const engine::ecs::Registry& registry) {
+  const auto objects = registry.view<HermiteSdfRenderable, engine::scene::WorldTransform>();
+  return std::any_of(objects.begin(), objects.end(), [&](engine::ecs::Entity entity) {
+    return objects.get<HermiteSdfRenderable>(entity).asset != nullptr;
+  });
 }
 
 }  // namespace hsdf

@@ -61,6 +61,9 @@ SphereTraceFeature::SphereTraceFeature(Options options) : options_(options) {}
 
 SphereTraceFeature::~SphereTraceFeature() {
   if (!context_) return;
+  // The bindings' descriptor set layout is in every pipeline's description: a worker compiling one
+  // would create its layout from a destroyed handle (the members' destruction joins it after this).
+  warming_.stop();
   textures_.clear();
   bindings_.reset();
   for (VkSampler sampler : samplers_) vkDestroySampler(context_->device(), sampler, nullptr);
@@ -378,10 +381,7 @@ void SphereTraceFeature::collectDraws(engine::render::FrameContext& frame) {
       [&](engine::ecs::Entity entity, const HermiteSdfRenderable& r, const engine::scene::WorldTransform& world) {
         std::uint32_t method = 0;
         if (!r.asset) return;
-        if (!traceMethod(r.method, method)) {
-          ++stats_.otherMethodObjects;
-          return;
-        }
+        if (!traceMethod(r.method, method)) return;  // drawn by the cells
         if (!engine::render::drawableTransform(world.matrix)) {  // the rays could not be taken into the grid
           ++stats_.skippedObjects;
           return;
@@ -460,8 +460,7 @@ void SphereTraceFeature::prepare(engine::render::FrameContext& frame) {
   }
   stats_.materialBuffers = std::uint32_t(materials.size());
   std::erase_if(materials_, [](const auto& m) { return m.second.expired(); });
-  const bool objects = stats_.trilinearObjects + stats_.hermiteObjects + stats_.otherMethodObjects > 0;
-  warming_.frame(*context_, settings_.warmPipelines && objects,
+  warming_.frame(*context_, settings_.warmPipelines && hasSdfObjects(frame.registry),
                  [&] { return likelyNextPipelines(frame.workCounters != 0); });
 }
 

@@ -25,7 +25,7 @@ inline constexpr std::uint32_t kSize = 256;
 // (red: reference hit only, blue: GPU hit only) as PNGs, for looking at a failure.
 void dumpImages(const std::string& folder, const char* label, const Frame& normals, const hsdf::ReferenceImage& reference);
 
-class HermiteCellsTest : public GpuTest {
+class HermiteCellsTest : public HermiteGpuTest {
  protected:
   void createCellRenderer(std::uint32_t width, std::uint32_t height) {
     createRenderer(width, height);

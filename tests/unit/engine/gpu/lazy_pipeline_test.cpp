@@ -219,6 +219,38 @@ TEST_F(LazyPipelineTest, DestroyingTheOwnerWhileItsWorkerRunsIsClean) {
   never.stop();
 }
 
+// Why: an owner's destructor may destroy what its pipelines' descriptions name (a descriptor set
+// layout) before its members' destruction joins the warming's worker; it stops the warming first
+// (PipelineWarming::stop), which must return with the worker stopped before its next pipeline and
+// joined: nothing is compiled after it, and later frames start no other worker.
+TEST_F(LazyPipelineTest, AStoppedWarmingCompilesNothingMore) {
+  Described d;
+  for (int i = 0; i < 8; ++i) d.pipelines.push_back(describe("stopped " + std::to_string(i)));
+  std::uint32_t asked = 0;
+  const PipelineWarming::NextSet next = [&] {
+    ++asked;
+    return d.set();
+  };
+  const auto madeCount = [&] {
+    return std::uint32_t(std::count_if(d.pipelines.begin(), d.pipelines.end(),
+                                       [](const LazyPipeline& pipeline) { return pipeline.made(); }));
+  };
+  PipelineWarming warming;
+  warming.frame(*context_, true, next);
+  warming.frame(*context_, true, next);
+  ASSERT_TRUE(warming.started());
+  warming.stop();
+  const std::uint32_t made = madeCount();
+  EXPECT_LT(made, 8u) << "the worker went on after it was stopped";
+  warming.wait();
+  warming.frame(*context_, true, next);
+  EXPECT_EQ(madeCount(), made) << "a pipeline was compiled after stop() returned";
+  EXPECT_EQ(asked, 1u) << "a frame after stop() started another worker";
+  PipelineWarming neverStarted;
+  neverStarted.stop();
+  EXPECT_FALSE(neverStarted.started());
+}
+
 // Tricky: the warming's clock is the owner's frames, not time: the first frame that wants warming
 // compiles its own pipelines and must not share the CPU with a worker, the second starts it; a
 // reload stops the worker (it would compile into pipelines about to be replaced) and the very next

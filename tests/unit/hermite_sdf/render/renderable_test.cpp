@@ -1,11 +1,16 @@
 // The methods' one name table (hermite_sdf/render/renderable.h): every method in kRenderMethods once,
-// each name parsing back to its method, the names the command lines and settings files use.
+// each name parsing back to its method, the names the command lines and settings files use; and
+// the module's one rule of when its features warm (hasSdfObjects).
 #include "hermite_sdf/render/renderable.h"
 
 #include <gtest/gtest.h>
 
+#include <memory>
 #include <set>
 #include <string>
+
+#include "engine/ecs/registry.h"
+#include "engine/scene/transform.h"
 
 namespace hsdf {
 namespace {
@@ -33,6 +38,28 @@ TEST(RenderMethodNames, UnknownNamesAreRefused) {
   EXPECT_FALSE(parseRenderMethod("mesh").has_value()) << "the triangles are no SDF method";
   EXPECT_FALSE(parseRenderMethod("").has_value());
   EXPECT_FALSE(parseRenderMethod("?").has_value());
+}
+
+// Why: the cells and the tracers warm the pipelines a switch of method binds from the second frame
+// with any object of the module, whichever feature draws it (the cells did not while only a tracer
+// drew). An entity without an asset or without a WorldTransform is drawn by neither; one of any
+// method, in view or not, counts.
+TEST(HasSdfObjects, AnyPlacedRenderableWithAnAssetOfAnyMethod) {
+  engine::ecs::Registry registry;
+  EXPECT_FALSE(hasSdfObjects(registry)) << "an empty registry";
+  const engine::ecs::Entity entity = registry.create();
+  registry.emplace<HermiteSdfRenderable>(entity);
+  registry.emplace<engine::scene::WorldTransform>(entity);
+  EXPECT_FALSE(hasSdfObjects(registry)) << "no asset: nothing to draw";
+  const engine::ecs::Entity unplaced = registry.create();
+  registry.emplace<HermiteSdfRenderable>(unplaced).asset = std::make_shared<const SdfAsset>();
+  EXPECT_FALSE(hasSdfObjects(registry)) << "no WorldTransform: not drawn";
+  for (const RenderMethod method : kRenderMethods) {
+    HermiteSdfRenderable& renderable = registry.get<HermiteSdfRenderable>(entity);
+    renderable.asset = std::make_shared<const SdfAsset>();
+    renderable.method = method;
+    EXPECT_TRUE(hasSdfObjects(registry)) << renderMethodName(method);
+  }
 }
 
 }  // namespace

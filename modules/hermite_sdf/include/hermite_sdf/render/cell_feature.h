@@ -194,11 +194,11 @@ class HermiteCellFeature final : public engine::render::RenderFeature {
     // needs them makes them at its size.
     // Otherwise they only grow: a camera that swings back and forth does not reallocate them.
     std::uint32_t releaseAfterFrames = 120;
-    // From the second frame that draws cells on, the pipelines a switch of method or record
-    // precision would need next are compiled on a worker thread at low priority (warmPipelines()),
-    // so that the frame after the switch binds them instead of compiling them; after a shader
-    // reload, from the next frame. Off: that frame compiles them (tens to hundreds of milliseconds
-    // on the render thread).
+    // From the second frame with objects of this module (drawn here or by a tracer:
+    // hasSdfObjects) on, the pipelines a switch of method or record precision would need next are
+    // compiled on a worker thread at low priority (warmPipelines()), so that the frame after the
+    // switch binds them instead of compiling them; after a shader reload, from the next frame.
+    // Off: that frame compiles them (tens to hundreds of milliseconds on the render thread).
     bool warmPipelines = true;
     // The most bytes of cell records (fp32, fp16 and the cell's cone: kRecordUploadBytes a cell)
     // one frame writes into the GPU buffers when new assets come: a larger asset is written over
@@ -419,6 +419,7 @@ class HermiteCellFeature final : public engine::render::RenderFeature {
   void warmPipelines(const engine::render::FrameContext& frame);
   std::vector<engine::gpu::LazyPipeline*> likelyNextPipelines(Variant base);
   void appendWithoutEarlyStage(std::vector<engine::gpu::LazyPipeline*>& set, Variant base);
+  void appendFirstFrame(std::vector<engine::gpu::LazyPipeline*>& set, Variant base);
   engine::Expected<Pipelines> describePipelines() const;
   engine::Status describeCellPipelines(Pipelines& p, const engine::gpu::SharedShaderModule& vert,
                                        const engine::gpu::SharedShaderModule& runsVert) const;

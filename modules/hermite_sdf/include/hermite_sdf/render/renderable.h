@@ -13,6 +13,10 @@
 
 #include "hermite_sdf/core/sdf_asset.h"
 
+namespace engine::ecs {
+class Registry;
+}
+
 namespace hsdf {
 
 enum class RenderMethod : std::uint32_t {
@@ -69,5 +73,11 @@ struct HermiteSdfRenderable {
   glm::vec4 color{0.85f, 0.55f, 0.4f, 1.0f};  // linear base colour
   float roughness = 0.45f;
 };
+
+// Whether `registry` holds an object some feature of the module may draw, in view or not, by any
+// method: a HermiteSdfRenderable with an asset, placed by a WorldTransform. The one rule of when
+// the cells and the tracers warm the pipelines a switch of method would bind: each warms for the
+// objects the other draws, so a session that starts with either compiles nothing at the switch.
+bool hasSdfObjects(const engine::ecs::Registry& registry);
 
 }  // namespace hsdf

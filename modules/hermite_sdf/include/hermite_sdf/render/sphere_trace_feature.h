@@ -94,8 +94,8 @@ class SphereTraceFeature final : public engine::render::RenderFeature {
     // that rounds its weights to b fractional bits (NVIDIA: 8), in the shader, so that a device
     // which filters in full float (lavapipe) shows what such GPUs draw. For tests and experiments.
     std::uint32_t emulatedFilterBits = 0;
-    // From the second frame with objects of this module (drawn here or by the cells), the
-    // pipelines a switch to either tracer binds (the tuning panel's method, the split screen's
+    // From the second frame with objects of this module (drawn here or by the cells:
+    // hasSdfObjects), the pipelines a switch to either tracer binds (the tuning panel's method, the split screen's
     // compared side) are compiled on a worker thread at low priority, so that the frame after the
     // switch binds them instead of compiling them; after a shader reload, from the next frame.
     // Off: that frame compiles them (hundreds of milliseconds each on lavapipe).
@@ -115,7 +115,6 @@ class SphereTraceFeature final : public engine::render::RenderFeature {
     std::uint32_t culledObjects = 0;  // outside the view frustum
     std::uint32_t skippedObjects = 0; // singular transform, or a field that cannot become a
                                       // texture (logged once per asset)
-    std::uint32_t otherMethodObjects = 0;  // drawn by another feature (cells): warmed for
     std::uint32_t textures = 0;
     // Multi-material assets' palettes and slots: one buffer per asset, whichever methods and
     // precisions draw it.
