@@ -107,7 +107,7 @@ void main() {
       // Would the cell's own proxy have covered this pixel? And can its search (over the margin,
       // at least the dilation) begin in front of what was found already?
       vec2 box = intersectBox(origin, direction, lo - dilation, hi + dilation);
-      margin = searchMargin(origin, dilation);
+      margin = searchMargin(pixelRayEye(origin, direction, base), dilation);
       vec2 searched = intersectBox(origin, direction, lo - margin, hi + margin);
       pending = max(box.x, tNear) < box.y && max(searched.x, tNear) < best;
       record = entry.record;

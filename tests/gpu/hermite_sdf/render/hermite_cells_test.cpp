@@ -242,7 +242,7 @@ TEST_F(HermiteCellsTest, AFarCameraDrawsTheReferenceForEveryCellForm) {
       EXPECT_GE(c.agreement(int(kSize * kSize)), 0.99);
       EXPECT_EQ(c.interiorHoles, 0);
       EXPECT_EQ(c.interiorExtras, 0);
-      EXPECT_LT(c.normalErrorP99Degrees, 6.0);
+      EXPECT_LT(c.normalErrorP99Degrees, 5.5);
     }
   }
 }
