@@ -32,13 +32,12 @@ layout(depth_less) out float gl_FragDepth;  // reverse-Z: the hit is never neare
 #include "hermite/hit_depth.glsl"
 
 // The pixel's ray in brick-local coordinates (cells; `start` is the brick's first cell in grid
-// units), u(t) = origin + t * direction with t = 1 at this fragment's point on the rasterized face
-// (pixel_ray.glsl).
+// units), u(t) = origin + t * direction, based near the object (pixel_ray.glsl: camera t = base + t).
 PixelRay brickRay(FrameGlobals frame, HermiteDraw draw, vec3 start) {
   mat4 invModel = ObjectsRef(pc.draw.objects).objects[draw.object].invModel;
   float h = draw.gridOriginSpacing.w;
-  vec3 eyeObject = (invModel * vec4(rayEyePoint(frame), 1.0)).xyz;
-  return pixelRay(frame, invModel, h, (eyeObject - draw.gridOriginSpacing.xyz) / h - start);
+  vec4 anchor = objectRayAnchor(frame, ObjectsRef(pc.draw.objects).objects[draw.object], draw.gridOriginSpacing, draw.resolution);
+  return pixelRay(frame, invModel, h, anchor - vec4(start, 0.0));
 }
 
 bool keptBit(CellBrickGpu brick, uint bit) {
@@ -172,11 +171,11 @@ void main() {
   PixelRay ray = brickRay(frame, draw, vec3(brickCoordinate(brick) * CELL_BRICK_SIZE));
   vec3 origin = ray.origin;
   vec3 direction = ray.direction;
-  float margin = searchMargin(origin, inDilation);
+  float margin = searchMargin(pixelRayEye(origin, direction, ray.base), inDilation);
   // The box mirrored through the origin, the same interval: 1 / -direction shares nothing with the
   // searches' 1 / direction, which the compiler would otherwise hold from here through the walk.
   vec2 box = intersectBox(-origin, -direction, -(vec3(hi + 1u) + margin), -(vec3(lo) - margin));
-  float t0 = max(box.x, pixelRayNearT(frame));  // never before the near plane
+  float t0 = max(box.x, pixelRayNearT(frame) - ray.base);  // never before the near plane
   float t1 = box.y;
   uint evaluations = 0u;
   BrickHit hit = BrickHit(-1.0, 0u);
@@ -185,10 +184,7 @@ void main() {
   if (hit.t < 0.0) {
     writeMiss();  // no discard: see hit_depth.glsl
   } else {
-#ifdef HSDF_CONSERVATIVE_DEPTH
-    hit.t = max(hit.t, 1.0);  // a root in the margin before the brick's face is drawn at the face (cells_depth.glsl)
-#endif
-    writeHitDepth(pixelRayDepth(frame, hit.t));
+    writeHitDepth(pixelRayHitDepth(frame, ray.base, hit.t));  // at the brick's face if in front of it (front faces)
   }
   outVisibility = uvec2(draw.object + 1u, hit.record);  // kept only where the depth test passes
 }

@@ -37,14 +37,18 @@ void main() {
   float best = 3.0e38;
   uvec2 visibility = uvec2(0u);
   bool sorted = tile.count <= CELL_TILE_SORT_MAX;
-  // The ray of the entry's object, rebuilt only when the object changes (pixel_ray.glsl: t is the
-  // same view-linear parameter for every object, so hits of different objects compare). Only the
+  // The ray of the entry's object, rebuilt only when the object changes, based near that object
+  // (pixel_ray.glsl): t is an offset from the object's base, the camera's t less `base`. The near
+  // plane's t and the best hit's are kept in the current object's t (converted when the object
+  // changes: the camera's t is the same view-linear parameter for every object, so hits of
+  // different objects compare), at float's precision among the object's cells. Only the
   // ray is kept from one entry to the next, never the object's or the draw's record: they are read
   // again where needed (cached loads), since whatever lives through the walk adds to the registers
   // of the search below, which set how many fragments a GPU keeps in flight.
   uint lastObject = 0xffffffffu;
-  vec3 eyeGrid, direction;
-  float tNear = pixelRayNearT(frame);
+  vec3 originGrid, direction;  // the ray in grid units
+  float base = 0.0;
+  float tNear = 0.0;
   uint walked = 0u, tested = 0u, maskWords = 0u;  // entries and mask words read, entries ray-box tested
   // This pixel's masks (cell_tiles.comp, CELL_TILE_MASK_BITS): word c names the entries 32c..32c+31
   // whose screen rectangle holds the pixel; the others are never read.
@@ -77,7 +81,7 @@ void main() {
       mask &= mask - 1u;
       CellTileEntry entry = TileEntriesRef(pc.tileEntries).entries[tile.first + i];
       ++walked;
-      if (sorted && visibility.x != 0u && entry.nearest < pixelRayDepth(frame, best)) {
+      if (sorted && visibility.x != 0u && entry.nearest < pixelRayDepth(frame, base + best)) {
         chunk = chunks;  // this box and the rest lie behind the hit
         mask = 0u;
         break;
@@ -88,20 +92,22 @@ void main() {
         lastObject = draw.object;
         mat4 invModel = ObjectsRef(pc.draw.objects).objects[draw.object].invModel;
         float h = draw.gridOriginSpacing.w;
-        PixelRay ray = pixelRay(frame, invModel, h,
-                                ((invModel * vec4(rayEyePoint(frame), 1.0)).xyz - draw.gridOriginSpacing.xyz) / h);
-        eyeGrid = ray.origin;
+        PixelRay ray = pixelRay(frame, invModel, h, objectRayAnchor(frame, ObjectsRef(pc.draw.objects).objects[draw.object], draw.gridOriginSpacing, draw.resolution));
+        originGrid = ray.origin;
         direction = ray.direction;
+        best += base - ray.base;  // none yet: 3e38 stays
+        base = ray.base;
+        tNear = pixelRayNearT(frame) - base;
       }
       vec3 cell = recordCellBox(draw, entry.record, lo, hi);
-      origin = eyeGrid - cell;
+      origin = originGrid - cell;
       float h = draw.gridOriginSpacing.w;
       float dilation = proxyDilation(frame, ObjectsRef(pc.draw.objects).objects[draw.object],
                                      draw.gridOriginSpacing.xyz + h * (cell + 0.5), h);
       // Would the cell's own proxy have covered this pixel? And can its search (over the margin,
       // at least the dilation) begin in front of what was found already?
       vec2 box = intersectBox(origin, direction, lo - dilation, hi + dilation);
-      margin = searchMargin(origin, dilation);
+      margin = searchMargin(pixelRayEye(origin, direction, base), dilation);
       vec2 searched = intersectBox(origin, direction, lo - margin, hi + margin);
       pending = max(box.x, tNear) < box.y && max(searched.x, tNear) < best;
       record = entry.record;
@@ -120,10 +126,7 @@ void main() {
   if (visibility.x == 0u) {
     writeMiss();  // no discard: see hit_depth.glsl
   } else {
-#ifdef HSDF_CONSERVATIVE_DEPTH
-    best = max(best, 1.0);  // a root in the margin before the quad is drawn at the quad (cells_depth.glsl)
-#endif
-    writeHitDepth(pixelRayDepth(frame, best));
+    writeHitDepth(pixelRayHitDepth(frame, base, best));  // at the quad if in front of it (cells_depth.glsl)
   }
   outVisibility = visibility;  // kept only where the depth test passes
 }

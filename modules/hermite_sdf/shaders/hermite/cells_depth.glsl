@@ -15,16 +15,16 @@ layout(push_constant, scalar) uniform Push { HermitePushConstants pc; };
 layout(location = 0) flat in vec4 inCorners[8];
 layout(location = 8) flat in uvec4 inCell;
 layout(location = 9) flat in uint inDraw;
-layout(location = 11) flat in vec3 inCameraLocal;
+layout(location = 11) flat in vec4 inAnchorLocal;  // where the rays are based (eye.glsl, rayAnchorGrid)
 layout(location = 12) flat in uint inRecord;
 layout(location = 13) flat in float inDilation;  // the proxy: the cell's box grown by this, cells
 
-// The pixel's ray in cell-local coordinates, u(t) = origin + t * direction, parametrized so that
-// t = 1 at this fragment's point on the box: from the eye point of the vertex shader (flat, exact),
-// rebuilt from gl_FragCoord (pixel_ray.glsl, which also gives the depth of any t).
+// The pixel's ray in cell-local coordinates, u(t) = origin + t * direction, based near the object
+// (the vertex shader's anchor, flat), rebuilt from gl_FragCoord (pixel_ray.glsl, which also gives
+// the depth of any camera t, base + t).
 PixelRay cellRay(FrameGlobals frame, HermiteDraw draw) {
   mat4 invModel = ObjectsRef(pc.draw.objects).objects[draw.object].invModel;
-  return pixelRay(frame, invModel, draw.gridOriginSpacing.w, inCameraLocal);
+  return pixelRay(frame, invModel, draw.gridOriginSpacing.w, inAnchorLocal);
 }
 
 layout(location = 0) out uvec2 outVisibility;  // (1 + object, cell record)
@@ -45,11 +45,11 @@ void main() {
   HermiteDraw draw = hermiteDrawAt(pc.draws, inDraw);  // inDraw: the record (the vertex shader looked it up)
   FrameGlobals frame = FrameGlobalsRef(pc.draw.frameGlobals).globals;
   PixelRay ray = cellRay(frame, draw);
-  float margin = searchMargin(ray.origin, inDilation);
+  float margin = searchMargin(pixelRayEye(ray.origin, ray.direction, ray.base), inDilation);
   vec3 lo, hi;
   proxyBox(inCell.w, draw.flags, lo, hi);  // every root of the cell lies in its proxy box
   vec2 box = intersectBox(ray.origin, ray.direction, lo - margin, hi + margin);
-  float tNear = pixelRayNearT(frame);
+  float tNear = pixelRayNearT(frame) - ray.base;
   float t0 = max(box.x, tNear);
   float t1 = box.y;
   uint evaluations = 0u;
@@ -67,12 +67,7 @@ void main() {
   if (t < 0.0) {
     writeMiss();  // no discard: see hit_depth.glsl
   } else {
-#ifdef HSDF_CONSERVATIVE_DEPTH
-    // A root before this fragment's face (in the margin) is a neighbour's, found exactly by the
-    // neighbour: here it is drawn at the face, which keeps the depth conservative.
-    t = max(t, 1.0);
-#endif
-    writeHitDepth(pixelRayDepth(frame, t));
+    writeHitDepth(pixelRayHitDepth(frame, ray.base, t));  // at the face if in front of it (front faces)
   }
   outVisibility = uvec2(draw.object + 1u, inRecord);  // kept only where the depth test passes
 }

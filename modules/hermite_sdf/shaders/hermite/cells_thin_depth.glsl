@@ -28,23 +28,20 @@ void main() {
   FrameGlobals frame = FrameGlobalsRef(pc.draw.frameGlobals).globals;
   mat4 invModel = ObjectsRef(pc.draw.objects).objects[draw.object].invModel;
   float h = draw.gridOriginSpacing.w;
-  vec3 eyeObject = (invModel * vec4(rayEyePoint(frame), 1.0)).xyz;
   vec3 lo, hi;  // the cell's proxy box
-  PixelRay ray = pixelRay(frame, invModel, h, (eyeObject - draw.gridOriginSpacing.xyz) / h - recordCellBox(draw, inRecord, lo, hi));
+  vec4 anchor = objectRayAnchor(frame, ObjectsRef(pc.draw.objects).objects[draw.object], draw.gridOriginSpacing, draw.resolution);
+  PixelRay ray = pixelRay(frame, invModel, h, anchor - vec4(recordCellBox(draw, inRecord, lo, hi), 0.0));
   vec3 origin = ray.origin;
   vec3 direction = ray.direction;
-  float margin = searchMargin(origin, inDilation);
+  float margin = searchMargin(pixelRayEye(origin, direction, ray.base), inDilation);
   uint evaluations = 0u;
   // From the near plane (pixel_ray.glsl) on; searchCell clips to the dilated box.
-  float t = searchCell(draw, inRecord, lo, hi, origin, direction, margin, pixelRayNearT(frame), 3.0e38, evaluations);
+  float t = searchCell(draw, inRecord, lo, hi, origin, direction, margin, pixelRayNearT(frame) - ray.base, 3.0e38, evaluations);
   countWork(evaluations);
   if (t < 0.0) {
     writeMiss();  // no discard: see hit_depth.glsl
   } else {
-#ifdef HSDF_CONSERVATIVE_DEPTH
-    t = max(t, 1.0);  // a root in the margin before the face is drawn at the face (cells_depth.glsl)
-#endif
-    writeHitDepth(pixelRayDepth(frame, t));
+    writeHitDepth(pixelRayHitDepth(frame, ray.base, t));  // at the face if in front of it (front faces)
   }
   outVisibility = uvec2(draw.object + 1u, inRecord);  // kept only where the depth test passes
 }

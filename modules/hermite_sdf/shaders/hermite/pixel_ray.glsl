@@ -1,8 +1,9 @@
 // The pixel's ray, rebuilt from gl_FragCoord: the offset from the ray's start to the pixel centre
 // unprojected at the fragment's own depth gl_FragCoord.z, in the grid units (object space /
 // spacing) of the object whose inverse model matrix is `invModel`. The ray reaches this fragment's
-// point on the rasterized face at t = 1 (pixelRayDepth, pixelRayNearT: the depth of any t). The
-// direction is a view-space offset rotated into the grid, never a difference of two far points.
+// point on the rasterized face at the camera's t = 1 (pixelRayDepth, pixelRayNearT: the depth of
+// any camera t). The direction is a view-space offset rotated into the grid, never a difference of
+// two far points, and the ray is based near the object (pixelRay).
 //
 // Why not interpolate the face point from the vertices: an NVIDIA H200 interpolates varyings less
 // precisely than lavapipe, and the depth of every hit on a ray built from an interpolated face point
@@ -14,22 +15,29 @@
 struct PixelRay {
   vec3 origin;
   vec3 direction;
+  float base;  // the camera's t at origin: the ray's point at t lies at the camera's t base + t
 };
 
-// This fragment's ray u(t) = origin + t * direction in the units of `eyeLocal` (an object's grid or
-// cell-local coordinates: object space / spacing, offset), t = 1 at the fragment's point on the
-// rasterized face. `eyeLocal` is eye.glsl's rayEyePoint in those units (flat, exact). Perspective
-// (FrameGlobals::cameraPosition.w = 1): the ray starts at the eye, `start` below is 0 and origin is
-// eyeLocal itself. Orthographic (w = 0): the ray runs down the view axis from the camera's plane,
-// starting beside the camera's point by the face point's view-space x and y.
-PixelRay pixelRay(FrameGlobals frame, mat4 invModel, float spacing, vec3 eyeLocal) {
+// This fragment's ray u(t) = origin + t * direction in the units of `anchor` (an object's grid or
+// cell-local coordinates: object space / spacing, offset), based on the plane of view depth
+// anchor.w (eye.glsl's rayAnchorGrid, in those units: flat, the same for every cell of the object).
+// The camera's t (t = 1 at the fragment's point on the rasterized face, 0 at the eye or on the
+// orthographic camera's plane; pixelRayDepth, pixelRayNearT: the depth of any such t) is base + t.
+// Perspective (FrameGlobals::cameraPosition.w = 1): the ray from the eye reaches that plane at
+// camera t base, beside the anchor by the face point's view-space x and y scaled by base.
+// Orthographic (w = 0): the ray runs down the view axis, beside the anchor by the face point's x
+// and y. Both offsets are small where the anchor is near the object: the search runs in an offset
+// from a point among the cells, not in the camera's t (eye.glsl, rayAnchorGrid). An anchor of depth
+// 0 is the eye or the camera's point itself: base is 0, and t is the camera's t.
+PixelRay pixelRay(FrameGlobals frame, mat4 invModel, float spacing, vec4 anchor) {
   vec2 ndc = gl_FragCoord.xy * frame.viewport.zw * 2.0 - 1.0;
   vec4 face = frame.invProj * vec4(ndc, gl_FragCoord.z, 1.0);  // view space, eye at 0
   vec3 faceView = face.xyz / face.w;
   vec3 start = vec3(faceView.xy * (1.0 - frame.cameraPosition.w), 0.0);
   vec3 toFace = mat3(frame.invView) * (faceView - start);
-  vec3 across = mat3(frame.invView) * start;
-  return PixelRay(eyeLocal + mat3(invModel) * across / spacing, mat3(invModel) * toFace / spacing);
+  float base = anchor.w > 0.0 ? anchor.w / -faceView.z : 0.0;  // the view depth -faceView.z is at t = 1
+  vec3 across = mat3(frame.invView) * vec3(faceView.xy * (frame.cameraPosition.w != 0.0 ? base : 1.0), 0.0);
+  return PixelRay(anchor.xyz + mat3(invModel) * across / spacing, mat3(invModel) * toFace / spacing, base);
 }
 
 // The reverse-Z depth of the ray's point at t. Perspective (w = 1): view distance is linear in t
@@ -54,4 +62,22 @@ float pixelRayDepth(FrameGlobals frame, float t) {
 float pixelRayNearT(FrameGlobals frame) {
   float startDepth = frame.proj[3][2];
   return frame.cameraPosition.w != 0.0 ? gl_FragCoord.z : (startDepth - 1.0) / (startDepth - gl_FragCoord.z);
+}
+
+// The depth to write for a hit at t on a ray based at camera t `base` (pixelRay). Front faces
+// (HSDF_CONSERVATIVE_DEPTH, whose shaders promise depth_less): a root before the rasterized face, in
+// the search margin, is a neighbour's, found exactly by the neighbour; it is drawn at the face
+// (camera t 1), which keeps the depth conservative.
+float pixelRayHitDepth(FrameGlobals frame, float base, float t) {
+#ifdef HSDF_CONSERVATIVE_DEPTH
+  return pixelRayDepth(frame, max(base + t, 1.0));
+#else
+  return pixelRayDepth(frame, base + t);
+#endif
+}
+
+// Where the ray's camera t is 0 (the eye, or the orthographic camera's point beside this pixel), in
+// the ray's units: searchMargin's measure of how far local coordinates are from it.
+vec3 pixelRayEye(vec3 origin, vec3 direction, float base) {
+  return origin - base * direction;
 }

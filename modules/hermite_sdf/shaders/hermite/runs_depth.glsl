@@ -15,7 +15,7 @@ layout(push_constant, scalar) uniform Push { HermitePushConstants pc; };
 layout(location = 0) flat in uvec4 inRun;  // x, y, z, length
 layout(location = 1) flat in uint inFirstRecord;
 layout(location = 2) flat in uint inDraw;
-layout(location = 4) flat in vec3 inCameraLocal;
+layout(location = 4) flat in vec4 inAnchorLocal;  // where the rays are based (eye.glsl, rayAnchorGrid)
 layout(location = 5) flat in float inDilation;
 
 layout(location = 0) out uvec2 outVisibility;  // (1 + object, cell record)
@@ -26,20 +26,20 @@ layout(depth_less) out float gl_FragDepth;  // reverse-Z: the hit is never neare
 
 void main() {
   HermiteDraw draw = hermiteDrawAt(pc.draws, inDraw);  // inDraw: the record (the vertex shader looked it up)
-  // The ray in run-local coordinates (cells; cell i of the run spans x in [i, i + 1]), t = 1 at this
-  // fragment's point on the proxy (pixel_ray.glsl: the depth of any t, the near plane's t).
+  // The ray in run-local coordinates (cells; cell i of the run spans x in [i, i + 1]), based near
+  // the object (pixel_ray.glsl: camera t = base + t, the depth of any camera t, the near plane's).
   FrameGlobals frame = FrameGlobalsRef(pc.draw.frameGlobals).globals;
   mat4 invModel = ObjectsRef(pc.draw.objects).objects[draw.object].invModel;
-  PixelRay ray = pixelRay(frame, invModel, draw.gridOriginSpacing.w, inCameraLocal);
+  PixelRay ray = pixelRay(frame, invModel, draw.gridOriginSpacing.w, inAnchorLocal);
   vec3 origin = ray.origin;
   vec3 direction = ray.direction;
-  float margin = searchMargin(origin, inDilation);
+  float margin = searchMargin(pixelRayEye(origin, direction, ray.base), inDilation);
   float length = float(inRun.w);
   // The run's box mirrored through the origin, the same interval: 1 / -direction shares nothing with the
   // cells' searches' 1 / direction, which the compiler would otherwise hold from here through the walk
   // (3 registers more through every search).
   vec2 box = intersectBox(-origin, -direction, -vec3(length + margin, 1.0 + margin, 1.0 + margin), vec3(margin));
-  float tNear = pixelRayNearT(frame);
+  float tNear = pixelRayNearT(frame) - ray.base;
   float t0 = max(box.x, tNear);
   float t1 = box.y;
   uint evaluations = 0u;
@@ -68,10 +68,7 @@ void main() {
   if (t < 0.0) {
     writeMiss();  // no discard: see hit_depth.glsl
   } else {
-#ifdef HSDF_CONSERVATIVE_DEPTH
-    t = max(t, 1.0);  // a root in the margin before the run's face is drawn at the face (cells_depth.glsl)
-#endif
-    writeHitDepth(pixelRayDepth(frame, t));
+    writeHitDepth(pixelRayHitDepth(frame, ray.base, t));  // at the run's face if in front of it (front faces)
   }
   outVisibility = uvec2(draw.object + 1u, hitRecord);  // kept only where the depth test passes
 }

@@ -34,7 +34,7 @@ void main() {
   // box; pixelRayDepth gives the depth of any t and pixelRayNearT the near plane's (pixel_ray.glsl).
   FrameGlobals frame = FrameGlobalsRef(pc.draw.frameGlobals).globals;
   mat4 invModel = ObjectsRef(pc.draw.objects).objects[draw.object].invModel;
-  PixelRay ray = pixelRay(frame, invModel, draw.gridOriginSpacing.w, inEyeGrid);
+  PixelRay ray = pixelRay(frame, invModel, draw.gridOriginSpacing.w, vec4(inEyeGrid, 0.0));  // based at the eye: t is the camera's
   vec3 origin = ray.origin;
   vec3 direction = ray.direction;
   float cells = float(draw.resolution - 1u);

@@ -186,6 +186,67 @@ TEST_F(HermiteCellsTest, FarFromTheWorldOriginDrawsTheImageDrawnAtIt) {
   }
 }
 
+// Why: a far camera framed as near, a telephoto lens or an orthographic camera placed back along its
+// axis (its znear and zfar around the object), puts the eye ~5e5 cells from the cells here. They
+// searched in the camera's t, t = 1 at the rasterized face, which a float holds there to ~0.03
+// cells (a quarter of a cell at 3e6: the cube 1e5 units away at K = 32 drew 650 / 637 px unlike its
+// frame at 300 units, tiles; docs/reliability.md): the ends of each cell's segment and its roots
+// moved by that much. Each cell form bases its rays near the object instead (pixel_ray.glsl,
+// eye.glsl rayAnchorGrid) and must draw the reference's interpolant: its coverage but for a rim
+// along the outline (the anchor, one float point far from the eye, rounds like the eye itself: the
+// image may shift by a fraction of a pixel), no interior hole or extra, its normals (rebuilt from
+// the depth buffer, whose float holds ~0.03 cells there: depth itself is not compared). With the
+// camera's t (the old shaders in HSDF_SHADER_DIR): 5-16 interior extras and a normal error p99 of
+// 7.7-10.3 degrees in every form; based near the object, 0 and 3.1-4.7.
+TEST_F(HermiteCellsTest, AFarCameraDrawsTheReferenceForEveryCellForm) {
+  createCellRenderer(kSize, kSize);
+  hsdf::HermiteCellFeature& feature = *renderer_->feature<hsdf::HermiteCellFeature>();
+  const auto asset = bakeAsset("torus", 16);
+  ASSERT_NE(asset, nullptr);
+  const glm::vec3 center(asset->surfaceBounds.center());
+  const float radius = 0.5f * float(glm::length(asset->surfaceBounds.size()));
+  const float distance = 5.0e5f * float(asset->field.grid.spacing);
+  const glm::vec3 eye = center + distance * glm::normalize(glm::vec3(0.6f, 0.5f, 0.8f));
+  // Both frame the torus as orbit views do: half the image height is 0.8 radii at its centre.
+  const render::CameraView telephoto =
+      render::CameraView::lookAt(eye, center, 2.0f * std::atan(0.8f * radius / distance), distance - 2.0f * radius, 1.0f);
+  const render::CameraView orthographic = orthographicLike(telephoto, 0.8f * radius, distance - 2.0f * radius, distance + 2.0f * radius);
+  using Tiles = hsdf::HermiteCellFeature::Tiles;
+  struct Form {
+    const char* name;
+    hsdf::RenderMethod method;
+    bool thin;
+    Tiles tiles;
+  };
+  for (const auto& [cameraName, camera] : {std::pair{"telephoto", telephoto}, std::pair{"orthographic", orthographic}}) {
+    auto reference = hsdf::renderReference(asset->field, camera.view, camera.proj, {int(kSize), int(kSize)});
+    ASSERT_TRUE(reference.ok()) << reference.error().message;
+    for (const Form form : {Form{"boxes", hsdf::RenderMethod::Cells, false, Tiles::Off},
+                            Form{"thin boxes", hsdf::RenderMethod::Cells, true, Tiles::Off},
+                            Form{"tiles", hsdf::RenderMethod::Cells, false, Tiles::On},
+                            Form{"runs", hsdf::RenderMethod::CellRuns, false, Tiles::Off},
+                            Form{"bricks", hsdf::RenderMethod::CellBricks, false, Tiles::Off}}) {
+      const std::string label = std::string(cameraName) + ", " + form.name;
+      SCOPED_TRACE(label);
+      registry_ = ecs::Registry();
+      addSdf(registry_, asset, form.method);
+      feature.settings().thinBoxes = form.thin ? hsdf::HermiteCellFeature::ThinBoxes::On : hsdf::HermiteCellFeature::ThinBoxes::Off;
+      feature.settings().tiles = form.tiles;
+      const Frame shaded = renderWith(camera, DEBUG_VIEW_NONE);
+      const Frame normals = renderWith(camera, DEBUG_VIEW_NORMALS);
+      const ImageComparison c = compareWithReference(shaded, &normals.rgba, *reference, camera, asset->field.grid.spacing);
+      std::printf("[ far %s ] hits ref %d gpu %d, disagree %d, holes %d, extras %d, normal err p99 %.2f deg, flipped %d\n",
+                  label.c_str(), c.referenceHits, c.gpuHits, c.disagreements, c.interiorHoles, c.interiorExtras,
+                  c.normalErrorP99Degrees, c.normalFlips);
+      EXPECT_GT(c.referenceHits, 10000);
+      EXPECT_GE(c.agreement(int(kSize * kSize)), 0.99);
+      EXPECT_EQ(c.interiorHoles, 0);
+      EXPECT_EQ(c.interiorExtras, 0);
+      EXPECT_LT(c.normalErrorP99Degrees, 5.5);
+    }
+  }
+}
+
 // Early depth (the default) tests each box at its own face's depth and writes the hits' depths in
 // a fix-up pass; with it off every box writes its hit's depth. Both must draw the same surface.
 // Why these cases: orbit views of the bunny (front-to-back rows, silhouettes where boxes are grazed
