@@ -610,10 +610,7 @@ TEST_F(HermiteCellsTest, OcclusionCullingKeepsTheImageAndDrawsFewerFragments) {
 // the boxes and prepass fragments it draws without it, and the image is the one drawn without
 // occlusion culling. The torus alone, from the same camera, draws boxes (it is in view).
 TEST_F(HermiteCellsTest, OcclusionCullingDrawsNothingOfAHiddenObject) {
-  createCellRenderer(kSize, kSize);
-  auto* feature = renderer_->feature<hsdf::HermiteCellFeature>();
-  feature->settings().tiles = hsdf::HermiteCellFeature::Tiles::Off;  // occlusion culls boxes; tiles turn it off
-  feature->settings().cullOcclusion = true;
+  auto* feature = createOcclusionCullingRenderer(kSize, kSize);
   const auto sphere = bakeAsset("sphere", 16);
   const auto torus = bakeAsset("torus", 16);
   ASSERT_NE(sphere, nullptr);
@@ -660,10 +657,7 @@ TEST_F(HermiteCellsTest, OcclusionCullingDrawsNothingOfAHiddenObject) {
 // from another asset; in steady state the right side draws exactly the boxes it draws without the
 // torus (cullTotals: the last region's pass).
 TEST_F(HermiteCellsTest, OcclusionHistoryOfEachSideOfASplitScreenSurvivesTheOtherSidesAssets) {
-  createCellRenderer(kSize, kSize);
-  auto* feature = renderer_->feature<hsdf::HermiteCellFeature>();
-  feature->settings().tiles = hsdf::HermiteCellFeature::Tiles::Off;  // occlusion culls boxes; tiles turn it off
-  feature->settings().cullOcclusion = true;
+  auto* feature = createOcclusionCullingRenderer(kSize, kSize);
   const auto sphere = bakeAsset("sphere", 16);
   const auto otherSphere = bakeAsset("sphere", 20);
   const auto torus = bakeAsset("torus", 16);

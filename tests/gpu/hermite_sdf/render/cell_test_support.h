@@ -34,6 +34,15 @@ class HermiteCellsTest : public HermiteGpuTest {
     ASSERT_TRUE(added.ok()) << added.error().message;
   }
 
+  // A cell renderer that culls boxes by occlusion (tiles turn occlusion culling off); its feature.
+  hsdf::HermiteCellFeature* createOcclusionCullingRenderer(std::uint32_t width, std::uint32_t height) {
+    createCellRenderer(width, height);
+    auto* feature = renderer_->feature<hsdf::HermiteCellFeature>();
+    feature->settings().tiles = hsdf::HermiteCellFeature::Tiles::Off;
+    feature->settings().cullOcclusion = true;
+    return feature;
+  }
+
   // Renders `asset` placed by `model` from `camera` and compares with the reference; returns the
   // comparison. The image size is the renderer's.
   ImageComparison compareView(const hsdf::SdfAsset& asset, const engine::render::CameraView& camera, const char* label,
