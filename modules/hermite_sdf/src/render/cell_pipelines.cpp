@@ -369,10 +369,20 @@ std::vector<engine::gpu::LazyPipeline*> HermiteCellFeature::likelyNextPipelines(
   Pipelines& p = pipelines_;
   const bool early = earlyDepthWanted(settings_.earlyDepth, context_->capabilities().isSoftwareRasterizer) && !occlusion_;
   const Variant boxes = early ? kEarly : base;  // cells as boxes and runs
+  // A frame that drew no cells measured no cell on screen (ThinBoxes::Auto on a GPU then says thin
+  // for a largest cell of 0 pixels): the first frame of cells may pick either form, so both are warmed.
+  const bool thinUnmeasured = settings_.thinBoxes == ThinBoxes::Auto && stats_.largestCellPixels <= 0.0f &&
+                              !context_->capabilities().isSoftwareRasterizer;
   std::vector<engine::gpu::LazyPipeline*> set;
   for (int precision = 0; precision < 2; ++precision) {
-    set.push_back(thinBoxes_ ? &p.thinFront[base][precision] : &p.depthFront[boxes][precision]);
-    set.push_back(thinBoxes_ ? &p.thinNear[base][precision] : &p.depthNear[boxes][precision]);
+    if (thinBoxes_ || thinUnmeasured) {
+      set.push_back(&p.thinFront[base][precision]);
+      set.push_back(&p.thinNear[base][precision]);
+    }
+    if (!thinBoxes_ || thinUnmeasured) {
+      set.push_back(&p.depthFront[boxes][precision]);
+      set.push_back(&p.depthNear[boxes][precision]);
+    }
   }
   for (engine::gpu::LazyPipeline* next :
        {&p.bricksFront[base], &p.bricksNear[base], &p.runsFront[boxes], &p.runsNear[boxes]})
