@@ -140,8 +140,8 @@ void MeshFeature::recordDraws(PassContext& pass, const gpu::Pipeline& pipeline, 
 void MeshFeature::drawUi() {
   if (ImGui::CollapsingHeader("Meshes")) {
     ImGui::Text("meshes in pool: %u", pool_.meshCount());
-    ImGui::Text("drawn: %u (double-sided: %u), culled: %u", drawCount_, drawCount_ - batchFirst_[batchOf(Sides::Double, false)],
-                culledCount_);
+    ImGui::TextWrapped("drawn: %u (double-sided: %u), culled: %u", drawCount_,
+                       drawCount_ - batchFirst_[batchOf(Sides::Double, false)], culledCount_);
   }
 }
 

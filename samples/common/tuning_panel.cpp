@@ -91,12 +91,42 @@ bool sliderFloat(std::string_view key, TuningState& t, const char* format, ImGui
   return changed;
 }
 
+// The width of an auto / on / off combo (autoSwitchCombo).
+float autoSwitchComboWidth() { return ImGui::GetFontSize() * 4.0f; }
+
+// The width the next control with a label takes: `field` (a frame, a checkbox's box) and the label.
+float labelledWidth(float field, const char* text) {
+  return field + ImGui::GetStyle().ItemInnerSpacing.x + ImGui::CalcTextSize(text, nullptr, true).x;
+}
+float checkboxWidth(std::string_view key) { return labelledWidth(ImGui::GetFrameHeight(), label(key)); }
+float autoSwitchWidth(std::string_view key) { return labelledWidth(autoSwitchComboWidth(), label(key)); }
+
+// The next control, `width` pixels wide, on the line of the last one where it fits in the panel,
+// else on the next line: a row of toggles ran past the panel's right edge, where ImGui clips them
+// (in a 420-pixel panel, "certified" was cut and "cull cells", "proxy boxes" and "thin boxes" could
+// not be reached).
+void sameLineIfFits(float width) {
+  ImGui::SameLine();
+  if (ImGui::GetContentRegionAvail().x < width) ImGui::NewLine();
+}
+
+// The sliders' and combos' width: the panel's less its longest label, at least 45 % of it. ImGui's
+// default, 65 % of the panel, cut "central difference step (h)" and "upload MiB/frame (0: no limit)".
+float controlWidth() {
+  float widest = 0.0f;
+  for (const TuningField& field : tuningFields())
+    if (const TuningKind kind = tuningKind(field); kind == TuningKind::Number || kind == TuningKind::Name)
+      widest = std::max(widest, ImGui::CalcTextSize(field.label, nullptr, true).x);
+  const float panel = ImGui::GetContentRegionAvail().x;
+  return std::max(0.45f * panel, panel - widest - ImGui::GetStyle().ItemInnerSpacing.x);
+}
+
 // A narrow auto / on / off combo of an AutoSwitch setting; true when the user changed it.
 bool autoSwitchCombo(std::string_view key, TuningState& t) {
   static_assert(int(AutoSwitch::Auto) == 0 && int(AutoSwitch::On) == 1 && int(AutoSwitch::Off) == 2);
   AutoSwitch& value = member<AutoSwitch>(key, t);
   int index = int(value);
-  ImGui::SetNextItemWidth(ImGui::GetFontSize() * 4.0f);
+  ImGui::SetNextItemWidth(autoSwitchComboWidth());
   const bool changed = ImGui::Combo(label(key), &index, "auto\0on\0off\0");  // the enum's order
   if (changed) value = AutoSwitch(index);
   tooltip(key);
@@ -132,6 +162,7 @@ void PlotHistory::push(float value) {
 }
 
 void TuningPanel::draw() {
+  ImGui::PushItemWidth(controlWidth());
   if (!refusal_.empty()) ImGui::TextColored(ImVec4(1.0f, 0.45f, 0.35f, 1.0f), "refused: %s", refusal_.c_str());
   drawMethod();
   drawResolution();
@@ -143,6 +174,7 @@ void TuningPanel::draw() {
   drawTimings();
   drawFiles();
   drawWindow();
+  ImGui::PopItemWidth();
 }
 
 bool TuningPanel::apply(const TuningState& tuning) {
@@ -180,15 +212,15 @@ void TuningPanel::drawMethod() {
   changed |= sliderU32("refine", t, kPanelRefineRange);
   changed |= exactNormals("normals", t);
   changed |= checkbox("fp16", t);
-  ImGui::SameLine();
+  sameLineIfFits(checkboxWidth("front_to_back"));
   changed |= checkbox("front_to_back", t);
-  ImGui::SameLine();
+  sameLineIfFits(autoSwitchWidth("early_depth"));
   changed |= autoSwitchCombo("early_depth", t);
   for (const char* key : {"certified", "cull_bricks", "cull_cells", "cull_occlusion", "proxy_boxes"}) {
-    ImGui::SameLine();
+    sameLineIfFits(checkboxWidth(key));
     changed |= checkbox(key, t);
   }
-  ImGui::SameLine();
+  sameLineIfFits(autoSwitchWidth("thin_boxes"));
   changed |= autoSwitchCombo("thin_boxes", t);
   changed |= autoSwitchCombo("tiles", t);
   if (t.tiles != AutoSwitch::Off) {

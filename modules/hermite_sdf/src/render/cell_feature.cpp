@@ -435,24 +435,24 @@ void HermiteCellFeature::drawUi() {
   // Read-only: the application owns the setting (the scene runner's tuning panel writes it).
   const bool wanted = earlyDepthWanted(settings_.earlyDepth, context_->capabilities().isSoftwareRasterizer);
   const char* mode = settings_.earlyDepth == EarlyDepth::Auto ? " (auto)" : "";
-  ImGui::Text("front-to-back rows: %s, early depth: %s%s", settings_.frontToBack ? "on" : "off",
-              stats_.earlyDepth ? "on" : wanted ? "off (objects overlap on screen)" : "off", mode);
-  ImGui::Text("objects %u, cells %llu, draws %u, near cells %u, outside the view %u, skipped %u", stats_.objects,
-              static_cast<unsigned long long>(stats_.cells), stats_.draws, stats_.nearCells, stats_.culledObjects,
-              stats_.skippedObjects);
-  ImGui::Text("cell buffers: %.2f MiB (held: %.2f MiB)", double(stats_.gpuBytes) / (1024.0 * 1024.0),
-              double(stats_.gpuBytesHeld) / (1024.0 * 1024.0));
+  ImGui::TextWrapped("front-to-back rows: %s, early depth: %s%s", settings_.frontToBack ? "on" : "off",
+                     stats_.earlyDepth ? "on" : wanted ? "off (objects overlap on screen)" : "off", mode);
+  ImGui::TextWrapped("objects %u, cells %llu, draws %u, near cells %u, outside the view %u, skipped %u", stats_.objects,
+                     static_cast<unsigned long long>(stats_.cells), stats_.draws, stats_.nearCells, stats_.culledObjects,
+                     stats_.skippedObjects);
+  ImGui::TextWrapped("cell buffers: %.2f MiB (held: %.2f MiB)", double(stats_.gpuBytes) / (1024.0 * 1024.0),
+                     double(stats_.gpuBytesHeld) / (1024.0 * 1024.0));
   if (stats_.cullingRefused) ImGui::TextUnformatted("cell culling off: its kept-cell streams do not fit (see the log)");
   if (stats_.keptMayFallBack)
-    ImGui::Text("kept-cell streams: %llu slots, sized by recent frames (rows past them drawn unculled)",
-                static_cast<unsigned long long>(stats_.keptSlots));
+    ImGui::TextWrapped("kept-cell streams: %llu slots, sized by recent frames (rows past them drawn unculled)",
+                       static_cast<unsigned long long>(stats_.keptSlots));
   if (stats_.keptStreamBytesHeld + stats_.tileListBytesHeld + stats_.historyBytesHeld > 0)
-    ImGui::Text("held for culling: kept-cell streams %.2f MiB, tile lists %.2f MiB, occlusion history %.2f MiB",
-                double(stats_.keptStreamBytesHeld) / (1024.0 * 1024.0),
-                double(stats_.tileListBytesHeld) / (1024.0 * 1024.0),
-                double(stats_.historyBytesHeld) / (1024.0 * 1024.0));
+    ImGui::TextWrapped("held for culling: kept-cell streams %.2f MiB, tile lists %.2f MiB, occlusion history %.2f MiB",
+                       double(stats_.keptStreamBytesHeld) / (1024.0 * 1024.0),
+                       double(stats_.tileListBytesHeld) / (1024.0 * 1024.0),
+                       double(stats_.historyBytesHeld) / (1024.0 * 1024.0));
   const engine::gpu::PipelineCounts pipelines = pipelineCounts();
-  ImGui::Text("pipelines compiled: %u of %u (each when first drawn with)", pipelines.compiled, pipelines.described);
+  ImGui::TextWrapped("pipelines compiled: %u of %u (each when first drawn with)", pipelines.compiled, pipelines.described);
 }
 
 }  // namespace hsdf

@@ -535,12 +535,12 @@ void SphereTraceFeature::recordWireframe(engine::render::PassContext& pass) {
 void SphereTraceFeature::drawUi() {
   if (!ImGui::CollapsingHeader("Sphere tracing")) return;
   // Read-only: the application owns the settings (the scene runner's tuning panel writes them).
-  ImGui::Text("epsilon %.1e h, max steps %u, central difference step %.2f h", double(settings_.epsilon),
-              settings_.maxSteps, double(settings_.centralDifferenceStep));
-  ImGui::Text("objects: %u trilinear, %u hermite, %u near, %u culled, %u skipped", stats_.trilinearObjects,
-              stats_.hermiteObjects, stats_.nearObjects, stats_.culledObjects, stats_.skippedObjects);
-  ImGui::Text("textures: %u, %.2f MiB, %s", stats_.textures, double(stats_.textureBytes) / (1024.0 * 1024.0),
-              stats_.bindless ? "bindless" : "per-texture descriptor sets");
+  ImGui::TextWrapped("epsilon %.1e h, max steps %u, central difference step %.2f h", double(settings_.epsilon),
+                     settings_.maxSteps, double(settings_.centralDifferenceStep));
+  ImGui::TextWrapped("objects: %u trilinear, %u hermite, %u near, %u culled, %u skipped", stats_.trilinearObjects,
+                     stats_.hermiteObjects, stats_.nearObjects, stats_.culledObjects, stats_.skippedObjects);
+  ImGui::TextWrapped("textures: %u, %.2f MiB, %s", stats_.textures, double(stats_.textureBytes) / (1024.0 * 1024.0),
+                     stats_.bindless ? "bindless" : "per-texture descriptor sets");
 }
 
 }  // namespace hsdf
