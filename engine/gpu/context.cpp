@@ -104,6 +104,141 @@ const char* preferenceName(DevicePreference preference) {
   return "auto";
 }
 
+// Which validation the instance gets: the layers as the description asks, and the features that
+// slow every call or shader down only where asked for.
+struct ValidationChoice {
+  bool layers = false;
+  bool sync = false;
+  bool gpuAssisted = false;
+
+  std::vector<VkValidationFeatureEnableEXT> featureEnables() const {
+    std::vector<VkValidationFeatureEnableEXT> enables;
+    if (sync) enables.push_back(VK_VALIDATION_FEATURE_ENABLE_SYNCHRONIZATION_VALIDATION_EXT);
+    if (gpuAssisted) enables.push_back(VK_VALIDATION_FEATURE_ENABLE_GPU_ASSISTED_EXT);
+    return enables;
+  }
+
+  void report() const {
+    if (sync || gpuAssisted)  // in the log of every test the CI's validation stage runs
+      log::info("validation layers on{}{}", sync ? ", synchronization validation" : "",
+                gpuAssisted ? ", GPU-assisted validation" : "");
+    else if (layers)
+      log::debug("validation layers on");
+  }
+};
+
+ValidationChoice chooseValidation(const ContextDesc& desc) {
+  ValidationChoice choice;
+  choice.layers = desc.validation;
+  choice.sync = choice.layers && (desc.synchronizationValidation || envFlag("HSDF_SYNC_VALIDATION"));
+  // GPU-assisted validation (the layer instruments every shader: out-of-bounds descriptor indices
+  // and buffer-device-address accesses are reported) only from the environment: the CI's
+  // validation stage sets it (scripts/test.sh); it slows shaders down several times.
+  choice.gpuAssisted = choice.layers && envFlag("HSDF_GPU_ASSISTED_VALIDATION");
+  return choice;
+}
+
+Status checkValidationLayer() {
+  ENGINE_TRY_ASSIGN(const bool installed, hasLayer(kValidationLayer));
+  if (!installed)
+    return makeError("validation requested but VK_LAYER_KHRONOS_validation is not installed "
+                     "(Debian package vulkan-validationlayers)");
+  return {};
+}
+
+// Every message of every kind, to `callback` (which counts the warnings and errors).
+VkDebugUtilsMessengerCreateInfoEXT debugMessengerInfo(PFN_vkDebugUtilsMessengerCallbackEXT callback, void* user) {
+  VkDebugUtilsMessengerCreateInfoEXT info{VK_STRUCTURE_TYPE_DEBUG_UTILS_MESSENGER_CREATE_INFO_EXT};
+  info.messageSeverity = VK_DEBUG_UTILS_MESSAGE_SEVERITY_VERBOSE_BIT_EXT | VK_DEBUG_UTILS_MESSAGE_SEVERITY_INFO_BIT_EXT |
+                         VK_DEBUG_UTILS_MESSAGE_SEVERITY_WARNING_BIT_EXT | VK_DEBUG_UTILS_MESSAGE_SEVERITY_ERROR_BIT_EXT;
+  info.messageType = VK_DEBUG_UTILS_MESSAGE_TYPE_GENERAL_BIT_EXT | VK_DEBUG_UTILS_MESSAGE_TYPE_VALIDATION_BIT_EXT |
+                     VK_DEBUG_UTILS_MESSAGE_TYPE_PERFORMANCE_BIT_EXT;
+  info.pfnUserCallback = callback;
+  info.pUserData = user;
+  return info;
+}
+
+// The instance's pNext chain of those given (null: left out): the validation features, then the messenger.
+const void* instanceChain(VkDebugUtilsMessengerCreateInfoEXT* messenger, VkValidationFeaturesEXT* features) {
+  const void* chain = nullptr;
+  if (messenger) {
+    messenger->pNext = chain;
+    chain = messenger;
+  }
+  if (features) {
+    features->pNext = chain;
+    chain = features;
+  }
+  return chain;
+}
+
+Status createVulkanInstance(const VkInstanceCreateInfo& info, VkInstance& instance) {
+  // No driver at all is the likely reason for this one result: say so, not only the code.
+  if (const VkResult created = vkCreateInstance(&info, nullptr, &instance); created == VK_ERROR_INCOMPATIBLE_DRIVER)
+    return makeError("no Vulkan driver found (vkCreateInstance: VK_ERROR_INCOMPATIBLE_DRIVER): install "
+                     "mesa-vulkan-drivers (lavapipe) or a GPU's driver, and check VK_ICD_FILENAMES / "
+                     "VK_DRIVER_FILES if they are set");
+  else
+    VK_TRY(created);
+  return {};
+}
+
+// The messenger that outlives instance creation (the one in the instance's chain serves only that).
+Status createMessenger(VkInstance instance, VkDebugUtilsMessengerCreateInfoEXT info, VkDebugUtilsMessengerEXT& messenger) {
+  info.pNext = nullptr;
+  auto create = reinterpret_cast<PFN_vkCreateDebugUtilsMessengerEXT>(
+      vkGetInstanceProcAddr(instance, "vkCreateDebugUtilsMessengerEXT"));
+  if (create) VK_TRY(create(instance, &info, nullptr, &messenger));
+  return {};
+}
+
+// What the device offers that the renderer and its features choose by (all but timestamps, which
+// depend on the queue family).
+void readCapabilities(VkPhysicalDevice device, const VkPhysicalDeviceProperties& properties,
+                      FeatureChain& supported, DeviceCapabilities& caps) {
+  VkPhysicalDeviceVulkan13Properties properties13{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_3_PROPERTIES};
+  VkPhysicalDeviceProperties2 properties2{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_PROPERTIES_2};
+  properties2.pNext = &properties13;
+  vkGetPhysicalDeviceProperties2(device, &properties2);
+  caps.maxBufferSize = std::max(properties13.maxBufferSize, caps.maxBufferSize);
+  caps.deviceName = properties.deviceName;
+  caps.isSoftwareRasterizer = properties.deviceType == VK_PHYSICAL_DEVICE_TYPE_CPU;
+  caps.descriptorIndexing = hasDescriptorIndexing(supported);
+  caps.shaderFloat16 = supported.v12.shaderFloat16;
+  caps.storageBuffer16BitAccess = supported.v11.storageBuffer16BitAccess;
+  caps.multiDrawIndirect = supported.core.features.multiDrawIndirect;
+  caps.drawIndirectCount = supported.v12.drawIndirectCount;
+  caps.fillModeNonSolid = supported.core.features.fillModeNonSolid;
+  caps.maxPointSize = supported.core.features.largePoints ? properties.limits.pointSizeRange[1] : 1.0f;
+  caps.pipelineStatistics = supported.core.features.pipelineStatisticsQuery;
+  caps.timestampPeriodNs = properties.limits.timestampPeriod;
+}
+
+struct QueueFamily {
+  std::uint32_t index = 0;
+  std::uint32_t timestampValidBits = 0;
+};
+
+// The first family with graphics (graphics queues can also compute and transfer).
+std::optional<QueueFamily> graphicsQueueFamily(VkPhysicalDevice device) {
+  std::uint32_t familyCount = 0;
+  vkGetPhysicalDeviceQueueFamilyProperties(device, &familyCount, nullptr);
+  std::vector<VkQueueFamilyProperties> families(familyCount);
+  vkGetPhysicalDeviceQueueFamilyProperties(device, &familyCount, families.data());
+  for (std::uint32_t i = 0; i < familyCount; ++i)
+    if (families[i].queueFlags & VK_QUEUE_GRAPHICS_BIT) return QueueFamily{i, families[i].timestampValidBits};
+  return std::nullopt;
+}
+
+// Native shader statistics read the driver's own compiler statistics, through this extension.
+Status requireExecutableProperties(VkPhysicalDevice device, const std::string& deviceName) {
+  ENGINE_TRY_ASSIGN(const bool has, hasDeviceExtension(device, VK_KHR_PIPELINE_EXECUTABLE_PROPERTIES_EXTENSION_NAME));
+  if (!has)
+    return makeError("shader statistics: " + deviceName + " has no " +
+                     VK_KHR_PIPELINE_EXECUTABLE_PROPERTIES_EXTENSION_NAME + " (a statistics device can compile them instead)");
+  return {};
+}
+
 }  // namespace
 
 bool ContextDesc::defaultValidation() {
@@ -185,18 +320,14 @@ std::vector<std::string> Context::validationMessages() const {
 }
 
 Status Context::createInstance(const ContextDesc& desc) {
+  const ValidationChoice validation = chooseValidation(desc);
   std::vector<const char*> layers;
-  std::vector<const char*> extensions;
-  for (const std::string& e : desc.instanceExtensions) extensions.push_back(e.c_str());
-
-  const bool validation = desc.validation;
-  if (validation) {
-    ENGINE_TRY_ASSIGN(const bool installed, hasLayer(kValidationLayer));
-    if (!installed)
-      return makeError("validation requested but VK_LAYER_KHRONOS_validation is not installed "
-                       "(Debian package vulkan-validationlayers)");
+  if (validation.layers) {
+    ENGINE_TRY(checkValidationLayer());
     layers.push_back(kValidationLayer);
   }
+  std::vector<const char*> extensions;
+  for (const std::string& e : desc.instanceExtensions) extensions.push_back(e.c_str());
   ENGINE_TRY_ASSIGN(debugUtils_, hasInstanceExtension(VK_EXT_DEBUG_UTILS_EXTENSION_NAME));
   if (debugUtils_) extensions.push_back(VK_EXT_DEBUG_UTILS_EXTENSION_NAME);
 
@@ -204,26 +335,8 @@ Status Context::createInstance(const ContextDesc& desc) {
   app.pApplicationName = desc.applicationName.c_str();
   app.pEngineName = desc.engineName.c_str();
   app.apiVersion = VK_API_VERSION_1_3;
-
-  VkDebugUtilsMessengerCreateInfoEXT messengerInfo{VK_STRUCTURE_TYPE_DEBUG_UTILS_MESSENGER_CREATE_INFO_EXT};
-  messengerInfo.messageSeverity = VK_DEBUG_UTILS_MESSAGE_SEVERITY_VERBOSE_BIT_EXT |
-                                  VK_DEBUG_UTILS_MESSAGE_SEVERITY_INFO_BIT_EXT |
-                                  VK_DEBUG_UTILS_MESSAGE_SEVERITY_WARNING_BIT_EXT |
-                                  VK_DEBUG_UTILS_MESSAGE_SEVERITY_ERROR_BIT_EXT;
-  messengerInfo.messageType = VK_DEBUG_UTILS_MESSAGE_TYPE_GENERAL_BIT_EXT |
-                              VK_DEBUG_UTILS_MESSAGE_TYPE_VALIDATION_BIT_EXT |
-                              VK_DEBUG_UTILS_MESSAGE_TYPE_PERFORMANCE_BIT_EXT;
-  messengerInfo.pfnUserCallback = &Context::onDebugMessage;
-  messengerInfo.pUserData = this;
-
-  const bool sync = validation && (desc.synchronizationValidation || envFlag("HSDF_SYNC_VALIDATION"));
-  // GPU-assisted validation (the layer instruments every shader: out-of-bounds descriptor indices
-  // and buffer-device-address accesses are reported) only from the environment: the CI's
-  // validation stage sets it (scripts/test.sh); it slows shaders down several times.
-  const bool gpuAssisted = validation && envFlag("HSDF_GPU_ASSISTED_VALIDATION");
-  std::vector<VkValidationFeatureEnableEXT> enables;
-  if (sync) enables.push_back(VK_VALIDATION_FEATURE_ENABLE_SYNCHRONIZATION_VALIDATION_EXT);
-  if (gpuAssisted) enables.push_back(VK_VALIDATION_FEATURE_ENABLE_GPU_ASSISTED_EXT);
+  VkDebugUtilsMessengerCreateInfoEXT messengerInfo = debugMessengerInfo(&Context::onDebugMessage, this);
+  const std::vector<VkValidationFeatureEnableEXT> enables = validation.featureEnables();
   VkValidationFeaturesEXT validationFeatures{VK_STRUCTURE_TYPE_VALIDATION_FEATURES_EXT};
   validationFeatures.enabledValidationFeatureCount = static_cast<std::uint32_t>(enables.size());
   validationFeatures.pEnabledValidationFeatures = enables.data();
@@ -235,37 +348,15 @@ Status Context::createInstance(const ContextDesc& desc) {
   info.enabledExtensionCount = static_cast<std::uint32_t>(extensions.size());
   info.ppEnabledExtensionNames = extensions.data();
   // Messages from instance creation itself go to the same callback.
-  const void* chain = nullptr;
-  if (debugUtils_) {
-    messengerInfo.pNext = chain;
-    chain = &messengerInfo;
-  }
-  if (!enables.empty()) {
-    validationFeatures.pNext = chain;
-    chain = &validationFeatures;
-  }
-  info.pNext = chain;
-  // No driver at all is the likely reason for this one result: say so, not only the code.
-  if (const VkResult created = vkCreateInstance(&info, nullptr, &instance_); created == VK_ERROR_INCOMPATIBLE_DRIVER)
-    return makeError("no Vulkan driver found (vkCreateInstance: VK_ERROR_INCOMPATIBLE_DRIVER): install "
-                     "mesa-vulkan-drivers (lavapipe) or a GPU's driver, and check VK_ICD_FILENAMES / "
-                     "VK_DRIVER_FILES if they are set");
-  else
-    VK_TRY(created);
+  info.pNext = instanceChain(debugUtils_ ? &messengerInfo : nullptr, enables.empty() ? nullptr : &validationFeatures);
+  ENGINE_TRY(createVulkanInstance(info, instance_));
 
   if (debugUtils_) {
-    messengerInfo.pNext = nullptr;
-    auto create = reinterpret_cast<PFN_vkCreateDebugUtilsMessengerEXT>(
-        vkGetInstanceProcAddr(instance_, "vkCreateDebugUtilsMessengerEXT"));
-    if (create) VK_TRY(create(instance_, &messengerInfo, nullptr, &messenger_));
+    ENGINE_TRY(createMessenger(instance_, messengerInfo, messenger_));
     setObjectName_ = reinterpret_cast<PFN_vkSetDebugUtilsObjectNameEXT>(
         vkGetInstanceProcAddr(instance_, "vkSetDebugUtilsObjectNameEXT"));
   }
-  if (sync || gpuAssisted)  // in the log of every test the CI's validation stage runs
-    log::info("validation layers on{}{}", sync ? ", synchronization validation" : "",
-              gpuAssisted ? ", GPU-assisted validation" : "");
-  else if (validation)
-    log::debug("validation layers on");
+  validation.report();
   return {};
 }
 
@@ -314,64 +405,32 @@ Status Context::createDevice(const ContextDesc& desc) {
   vkGetPhysicalDeviceProperties(physicalDevice_, &properties);
   FeatureChain supported;
   vkGetPhysicalDeviceFeatures2(physicalDevice_, &supported.core);
-  VkPhysicalDeviceVulkan13Properties properties13{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_3_PROPERTIES};
-  VkPhysicalDeviceProperties2 properties2{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_PROPERTIES_2};
-  properties2.pNext = &properties13;
-  vkGetPhysicalDeviceProperties2(physicalDevice_, &properties2);
-  caps_.maxBufferSize = std::max(properties13.maxBufferSize, caps_.maxBufferSize);
-
-  caps_.deviceName = properties.deviceName;
-  caps_.isSoftwareRasterizer = properties.deviceType == VK_PHYSICAL_DEVICE_TYPE_CPU;
-  caps_.descriptorIndexing = hasDescriptorIndexing(supported);
-  caps_.shaderFloat16 = supported.v12.shaderFloat16;
-  caps_.storageBuffer16BitAccess = supported.v11.storageBuffer16BitAccess;
-  caps_.multiDrawIndirect = supported.core.features.multiDrawIndirect;
-  caps_.drawIndirectCount = supported.v12.drawIndirectCount;
-  caps_.fillModeNonSolid = supported.core.features.fillModeNonSolid;
-  caps_.maxPointSize = supported.core.features.largePoints ? properties.limits.pointSizeRange[1] : 1.0f;
-  caps_.pipelineStatistics = supported.core.features.pipelineStatisticsQuery;
-  caps_.timestampPeriodNs = properties.limits.timestampPeriod;
-
-  // Queue: the first family with graphics (graphics queues can also compute and transfer).
-  std::uint32_t familyCount = 0;
-  vkGetPhysicalDeviceQueueFamilyProperties(physicalDevice_, &familyCount, nullptr);
-  std::vector<VkQueueFamilyProperties> families(familyCount);
-  vkGetPhysicalDeviceQueueFamilyProperties(physicalDevice_, &familyCount, families.data());
-  bool found = false;
-  for (std::uint32_t i = 0; i < familyCount && !found; ++i) {
-    if (families[i].queueFlags & VK_QUEUE_GRAPHICS_BIT) {
-      queueFamily_ = i;
-      found = true;
-      caps_.timestamps = families[i].timestampValidBits > 0 && properties.limits.timestampComputeAndGraphics;
-    }
-  }
-  if (!found) return makeError(caps_.deviceName + ": no graphics queue");
+  readCapabilities(physicalDevice_, properties, supported, caps_);
+  const std::optional<QueueFamily> family = graphicsQueueFamily(physicalDevice_);
+  if (!family) return makeError(caps_.deviceName + ": no graphics queue");
+  queueFamily_ = family->index;
+  caps_.timestamps = family->timestampValidBits > 0 && properties.limits.timestampComputeAndGraphics;
 
   // The required features (device_features.h), then the optional ones the device has.
   FeatureChain enabled;
   enableRequiredFeatures(enabled);
   enableOptionalFeatures(enabled, supported);
+  std::vector<const char*> extensions;
+  if (desc.swapchain) extensions.push_back(VK_KHR_SWAPCHAIN_EXTENSION_NAME);
+  VkPhysicalDevicePipelineExecutablePropertiesFeaturesKHR executable{
+      VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_PIPELINE_EXECUTABLE_PROPERTIES_FEATURES_KHR};
+  if (desc.shaderStatistics.target == StatisticsTarget::Native) {
+    ENGINE_TRY(requireExecutableProperties(physicalDevice_, caps_.deviceName));
+    extensions.push_back(VK_KHR_PIPELINE_EXECUTABLE_PROPERTIES_EXTENSION_NAME);
+    executable.pipelineExecutableInfo = VK_TRUE;
+    enabled.v13.pNext = &executable;
+  }
 
   const float priority = 1.0f;
   VkDeviceQueueCreateInfo queueInfo{VK_STRUCTURE_TYPE_DEVICE_QUEUE_CREATE_INFO};
   queueInfo.queueFamilyIndex = queueFamily_;
   queueInfo.queueCount = 1;
   queueInfo.pQueuePriorities = &priority;
-
-  std::vector<const char*> extensions;
-  if (desc.swapchain) extensions.push_back(VK_KHR_SWAPCHAIN_EXTENSION_NAME);
-  VkPhysicalDevicePipelineExecutablePropertiesFeaturesKHR executable{
-      VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_PIPELINE_EXECUTABLE_PROPERTIES_FEATURES_KHR};
-  if (desc.shaderStatistics.target == StatisticsTarget::Native) {
-    ENGINE_TRY_ASSIGN(const bool has, hasDeviceExtension(physicalDevice_, VK_KHR_PIPELINE_EXECUTABLE_PROPERTIES_EXTENSION_NAME));
-    if (!has)
-      return makeError("shader statistics: " + caps_.deviceName + " has no " +
-                       VK_KHR_PIPELINE_EXECUTABLE_PROPERTIES_EXTENSION_NAME + " (a statistics device can compile them instead)");
-    extensions.push_back(VK_KHR_PIPELINE_EXECUTABLE_PROPERTIES_EXTENSION_NAME);
-    executable.pipelineExecutableInfo = VK_TRUE;
-    enabled.v13.pNext = &executable;
-  }
-
   VkDeviceCreateInfo info{VK_STRUCTURE_TYPE_DEVICE_CREATE_INFO};
   info.pNext = &enabled.core;
   info.queueCreateInfoCount = 1;
@@ -380,9 +439,7 @@ Status Context::createDevice(const ContextDesc& desc) {
   info.ppEnabledExtensionNames = extensions.data();
   VK_TRY(vkCreateDevice(physicalDevice_, &info, nullptr, &device_));
   vkGetDeviceQueue(device_, queueFamily_, 0, &queue_);
-
   allocator_ = std::make_unique<Allocator>(physicalDevice_, device_);
-
   VkCommandPoolCreateInfo poolInfo{VK_STRUCTURE_TYPE_COMMAND_POOL_CREATE_INFO};
   poolInfo.flags = VK_COMMAND_POOL_CREATE_TRANSIENT_BIT;
   poolInfo.queueFamilyIndex = queueFamily_;

@@ -10,6 +10,7 @@
 #endif
 
 #include "engine/core/log.h"
+#include "engine/gpu/context.h"
 
 namespace engine::gpu {
 
@@ -100,6 +101,12 @@ Status createWhereNeeded(const Context& context, std::span<LazyPipeline* const> 
   if (fresh.size() != old.size()) return makeError("a reloaded pipeline set differs in size from the old one");
   for (std::size_t i = 0; i < fresh.size(); ++i)
     if (old[i]->needed()) ENGINE_TRY(fresh[i]->get(context));
+  return {};
+}
+
+Status readyToReplace(const Context& context, std::span<LazyPipeline* const> fresh, std::span<LazyPipeline* const> old) {
+  ENGINE_TRY(createWhereNeeded(context, fresh, old));
+  context.waitIdle();
   return {};
 }
 

@@ -125,6 +125,9 @@ Status createAll(const Context& context, std::span<LazyPipeline* const> set);
 // PipelineWarming warms them again.
 Status createWhereNeeded(const Context& context, std::span<LazyPipeline* const> fresh,
                          std::span<LazyPipeline* const> old);
+// createWhereNeeded, then waits for the device to be idle: frames in flight may still use `old`,
+// which the caller replaces next.
+Status readyToReplace(const Context& context, std::span<LazyPipeline* const> fresh, std::span<LazyPipeline* const> old);
 
 // When an owner of lazy pipelines (a render feature) warms them, and which: its frames call
 // frame() each; the second of them that has something to warm for starts a PipelineWarmer over the
@@ -153,5 +156,18 @@ class PipelineWarming {
   std::unique_ptr<PipelineWarmer> warmer_;
   std::uint32_t framesWanting_ = 0;
 };
+
+// A shader reload of an owner's set of pipelines (`Set`: a struct whose all() lists its
+// LazyPipelines, always in the same order): `describe` makes a fresh set from the SPIR-V on disk,
+// swapped in only when every pipeline a frame has drawn with compiled from it; a failure keeps
+// the old set. Those only warmed are warmed again from the next frame (`warming`).
+template <class Set, class Describe>
+Status reloadPipelineSet(const Context& context, PipelineWarming& warming, Set& current, const Describe& describe) {
+  warming.reloading();  // its worker compiles the pipelines about to be replaced
+  ENGINE_TRY_ASSIGN(Set fresh, describe());
+  ENGINE_TRY(readyToReplace(context, fresh.all(), current.all()));
+  current = std::move(fresh);
+  return {};
+}
 
 }  // namespace engine::gpu

@@ -67,6 +67,116 @@ struct LayoutInfo {
   VkPipelineLayoutCreateInfo info{VK_STRUCTURE_TYPE_PIPELINE_LAYOUT_CREATE_INFO};
 };
 
+// A graphics pipeline's create info, each state from its description: like LayoutInfo, `info`
+// points into the struct (a statistics device compiles the same info again).
+class GraphicsInfo {
+ public:
+  GraphicsInfo(const GraphicsPipelineDesc& desc, VkPipelineLayout layout) {
+    describeShaders(desc);
+    describeGeometry(desc);
+    describeAttachments(desc);
+    describeDynamicStates(desc);
+    link(layout);
+  }
+  GraphicsInfo(const GraphicsInfo&) = delete;
+  GraphicsInfo& operator=(const GraphicsInfo&) = delete;
+  VkGraphicsPipelineCreateInfo info{VK_STRUCTURE_TYPE_GRAPHICS_PIPELINE_CREATE_INFO};
+
+ private:
+  // The vertex stage, and the fragment stage where there is one (a depth-only pipeline has none).
+  void describeShaders(const GraphicsPipelineDesc& desc) {
+    VkPipelineShaderStageCreateInfo stage{VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO};
+    stage.pName = "main";
+    stage.stage = VK_SHADER_STAGE_VERTEX_BIT;
+    stage.module = desc.vertex;
+    stages_.push_back(stage);
+    if (desc.fragment) {
+      stage.stage = VK_SHADER_STAGE_FRAGMENT_BIT;
+      stage.module = desc.fragment;
+      stages_.push_back(stage);
+    }
+  }
+
+  // Vertex input, assembly, one dynamic viewport, rasterization, one sample and the depth test.
+  void describeGeometry(const GraphicsPipelineDesc& desc) {
+    vertexInput_.vertexBindingDescriptionCount = static_cast<std::uint32_t>(desc.vertexLayout.bindings.size());
+    vertexInput_.pVertexBindingDescriptions = desc.vertexLayout.bindings.data();
+    vertexInput_.vertexAttributeDescriptionCount = static_cast<std::uint32_t>(desc.vertexLayout.attributes.size());
+    vertexInput_.pVertexAttributeDescriptions = desc.vertexLayout.attributes.data();
+    inputAssembly_.topology = desc.topology;
+    viewport_.viewportCount = 1;
+    viewport_.scissorCount = 1;
+    raster_.polygonMode = desc.polygonMode;
+    raster_.cullMode = desc.cullMode;
+    raster_.frontFace = desc.frontFace;
+    raster_.lineWidth = 1.0f;
+    multisample_.rasterizationSamples = VK_SAMPLE_COUNT_1_BIT;
+    depth_.depthTestEnable = desc.depthTest;
+    depth_.depthWriteEnable = desc.depthWrite;
+    depth_.depthCompareOp = desc.depthCompare;
+  }
+
+  // Every colour attachment alike (written or kept, blended by alpha or not), and the formats
+  // dynamic rendering draws into.
+  void describeAttachments(const GraphicsPipelineDesc& desc) {
+    blends_.resize(desc.colorFormats.size());
+    for (auto& blend : blends_) {
+      blend.colorWriteMask = desc.colorWrite ? VK_COLOR_COMPONENT_R_BIT | VK_COLOR_COMPONENT_G_BIT |
+                                                   VK_COLOR_COMPONENT_B_BIT | VK_COLOR_COMPONENT_A_BIT
+                                             : 0;
+      if (desc.alphaBlend) {
+        blend.blendEnable = VK_TRUE;
+        blend.srcColorBlendFactor = VK_BLEND_FACTOR_SRC_ALPHA;
+        blend.dstColorBlendFactor = VK_BLEND_FACTOR_ONE_MINUS_SRC_ALPHA;
+        blend.colorBlendOp = VK_BLEND_OP_ADD;
+        blend.srcAlphaBlendFactor = VK_BLEND_FACTOR_ONE;
+        blend.dstAlphaBlendFactor = VK_BLEND_FACTOR_ONE_MINUS_SRC_ALPHA;
+        blend.alphaBlendOp = VK_BLEND_OP_ADD;
+      }
+    }
+    blend_.attachmentCount = static_cast<std::uint32_t>(blends_.size());
+    blend_.pAttachments = blends_.data();
+    rendering_.colorAttachmentCount = static_cast<std::uint32_t>(desc.colorFormats.size());
+    rendering_.pColorAttachmentFormats = desc.colorFormats.data();
+    rendering_.depthAttachmentFormat = desc.depthFormat;
+  }
+
+  void describeDynamicStates(const GraphicsPipelineDesc& desc) {
+    dynamicStates_ = {VK_DYNAMIC_STATE_VIEWPORT, VK_DYNAMIC_STATE_SCISSOR};
+    dynamicStates_.insert(dynamicStates_.end(), desc.extraDynamicStates.begin(), desc.extraDynamicStates.end());
+    dynamic_.dynamicStateCount = static_cast<std::uint32_t>(dynamicStates_.size());
+    dynamic_.pDynamicStates = dynamicStates_.data();
+  }
+
+  void link(VkPipelineLayout layout) {
+    info.pNext = &rendering_;
+    info.stageCount = static_cast<std::uint32_t>(stages_.size());
+    info.pStages = stages_.data();
+    info.pVertexInputState = &vertexInput_;
+    info.pInputAssemblyState = &inputAssembly_;
+    info.pViewportState = &viewport_;
+    info.pRasterizationState = &raster_;
+    info.pMultisampleState = &multisample_;
+    info.pDepthStencilState = &depth_;
+    info.pColorBlendState = &blend_;
+    info.pDynamicState = &dynamic_;
+    info.layout = layout;
+  }
+
+  std::vector<VkPipelineShaderStageCreateInfo> stages_;
+  VkPipelineVertexInputStateCreateInfo vertexInput_{VK_STRUCTURE_TYPE_PIPELINE_VERTEX_INPUT_STATE_CREATE_INFO};
+  VkPipelineInputAssemblyStateCreateInfo inputAssembly_{VK_STRUCTURE_TYPE_PIPELINE_INPUT_ASSEMBLY_STATE_CREATE_INFO};
+  VkPipelineViewportStateCreateInfo viewport_{VK_STRUCTURE_TYPE_PIPELINE_VIEWPORT_STATE_CREATE_INFO};
+  VkPipelineRasterizationStateCreateInfo raster_{VK_STRUCTURE_TYPE_PIPELINE_RASTERIZATION_STATE_CREATE_INFO};
+  VkPipelineMultisampleStateCreateInfo multisample_{VK_STRUCTURE_TYPE_PIPELINE_MULTISAMPLE_STATE_CREATE_INFO};
+  VkPipelineDepthStencilStateCreateInfo depth_{VK_STRUCTURE_TYPE_PIPELINE_DEPTH_STENCIL_STATE_CREATE_INFO};
+  std::vector<VkPipelineColorBlendAttachmentState> blends_;
+  VkPipelineColorBlendStateCreateInfo blend_{VK_STRUCTURE_TYPE_PIPELINE_COLOR_BLEND_STATE_CREATE_INFO};
+  std::vector<VkDynamicState> dynamicStates_;
+  VkPipelineDynamicStateCreateInfo dynamic_{VK_STRUCTURE_TYPE_PIPELINE_DYNAMIC_STATE_CREATE_INFO};
+  VkPipelineRenderingCreateInfo rendering_{VK_STRUCTURE_TYPE_PIPELINE_RENDERING_CREATE_INFO};
+};
+
 }  // namespace
 
 void addShaderDirectory(const std::filesystem::path& folder) {
@@ -177,89 +287,8 @@ Expected<Pipeline> Pipeline::createGraphics(const Context& context, const Graphi
   const LayoutInfo layout(VK_SHADER_STAGE_VERTEX_BIT | VK_SHADER_STAGE_FRAGMENT_BIT, desc.pushConstantBytes,
                           desc.setLayouts);
   ENGINE_TRY(result.createLayout(desc.name, layout.info));
-
-  std::vector<VkPipelineShaderStageCreateInfo> stages;
-  VkPipelineShaderStageCreateInfo stage{VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO};
-  stage.pName = "main";
-  stage.stage = VK_SHADER_STAGE_VERTEX_BIT;
-  stage.module = desc.vertex;
-  stages.push_back(stage);
-  if (desc.fragment) {
-    stage.stage = VK_SHADER_STAGE_FRAGMENT_BIT;
-    stage.module = desc.fragment;
-    stages.push_back(stage);
-  }
-
-  VkPipelineVertexInputStateCreateInfo vertexInput{VK_STRUCTURE_TYPE_PIPELINE_VERTEX_INPUT_STATE_CREATE_INFO};
-  vertexInput.vertexBindingDescriptionCount = static_cast<std::uint32_t>(desc.vertexLayout.bindings.size());
-  vertexInput.pVertexBindingDescriptions = desc.vertexLayout.bindings.data();
-  vertexInput.vertexAttributeDescriptionCount = static_cast<std::uint32_t>(desc.vertexLayout.attributes.size());
-  vertexInput.pVertexAttributeDescriptions = desc.vertexLayout.attributes.data();
-
-  VkPipelineInputAssemblyStateCreateInfo inputAssembly{VK_STRUCTURE_TYPE_PIPELINE_INPUT_ASSEMBLY_STATE_CREATE_INFO};
-  inputAssembly.topology = desc.topology;
-
-  VkPipelineViewportStateCreateInfo viewport{VK_STRUCTURE_TYPE_PIPELINE_VIEWPORT_STATE_CREATE_INFO};
-  viewport.viewportCount = 1;
-  viewport.scissorCount = 1;
-
-  VkPipelineRasterizationStateCreateInfo raster{VK_STRUCTURE_TYPE_PIPELINE_RASTERIZATION_STATE_CREATE_INFO};
-  raster.polygonMode = desc.polygonMode;
-  raster.cullMode = desc.cullMode;
-  raster.frontFace = desc.frontFace;
-  raster.lineWidth = 1.0f;
-
-  VkPipelineMultisampleStateCreateInfo multisample{VK_STRUCTURE_TYPE_PIPELINE_MULTISAMPLE_STATE_CREATE_INFO};
-  multisample.rasterizationSamples = VK_SAMPLE_COUNT_1_BIT;
-
-  VkPipelineDepthStencilStateCreateInfo depth{VK_STRUCTURE_TYPE_PIPELINE_DEPTH_STENCIL_STATE_CREATE_INFO};
-  depth.depthTestEnable = desc.depthTest;
-  depth.depthWriteEnable = desc.depthWrite;
-  depth.depthCompareOp = desc.depthCompare;
-
-  std::vector<VkPipelineColorBlendAttachmentState> blends(desc.colorFormats.size());
-  for (auto& blend : blends) {
-    blend.colorWriteMask = desc.colorWrite ? VK_COLOR_COMPONENT_R_BIT | VK_COLOR_COMPONENT_G_BIT |
-                                                 VK_COLOR_COMPONENT_B_BIT | VK_COLOR_COMPONENT_A_BIT
-                                           : 0;
-    if (desc.alphaBlend) {
-      blend.blendEnable = VK_TRUE;
-      blend.srcColorBlendFactor = VK_BLEND_FACTOR_SRC_ALPHA;
-      blend.dstColorBlendFactor = VK_BLEND_FACTOR_ONE_MINUS_SRC_ALPHA;
-      blend.colorBlendOp = VK_BLEND_OP_ADD;
-      blend.srcAlphaBlendFactor = VK_BLEND_FACTOR_ONE;
-      blend.dstAlphaBlendFactor = VK_BLEND_FACTOR_ONE_MINUS_SRC_ALPHA;
-      blend.alphaBlendOp = VK_BLEND_OP_ADD;
-    }
-  }
-  VkPipelineColorBlendStateCreateInfo blend{VK_STRUCTURE_TYPE_PIPELINE_COLOR_BLEND_STATE_CREATE_INFO};
-  blend.attachmentCount = static_cast<std::uint32_t>(blends.size());
-  blend.pAttachments = blends.data();
-
-  std::vector<VkDynamicState> dynamicStates = {VK_DYNAMIC_STATE_VIEWPORT, VK_DYNAMIC_STATE_SCISSOR};
-  dynamicStates.insert(dynamicStates.end(), desc.extraDynamicStates.begin(), desc.extraDynamicStates.end());
-  VkPipelineDynamicStateCreateInfo dynamic{VK_STRUCTURE_TYPE_PIPELINE_DYNAMIC_STATE_CREATE_INFO};
-  dynamic.dynamicStateCount = static_cast<std::uint32_t>(dynamicStates.size());
-  dynamic.pDynamicStates = dynamicStates.data();
-
-  VkPipelineRenderingCreateInfo rendering{VK_STRUCTURE_TYPE_PIPELINE_RENDERING_CREATE_INFO};
-  rendering.colorAttachmentCount = static_cast<std::uint32_t>(desc.colorFormats.size());
-  rendering.pColorAttachmentFormats = desc.colorFormats.data();
-  rendering.depthAttachmentFormat = desc.depthFormat;
-
-  VkGraphicsPipelineCreateInfo info{VK_STRUCTURE_TYPE_GRAPHICS_PIPELINE_CREATE_INFO};
-  info.pNext = &rendering;
-  info.stageCount = static_cast<std::uint32_t>(stages.size());
-  info.pStages = stages.data();
-  info.pVertexInputState = &vertexInput;
-  info.pInputAssemblyState = &inputAssembly;
-  info.pViewportState = &viewport;
-  info.pRasterizationState = &raster;
-  info.pMultisampleState = &multisample;
-  info.pDepthStencilState = &depth;
-  info.pColorBlendState = &blend;
-  info.pDynamicState = &dynamic;
-  info.layout = result.layout_;
+  GraphicsInfo graphics(desc, result.layout_);
+  VkGraphicsPipelineCreateInfo& info = graphics.info;
   ShaderStatistics* statistics = context.shaderStatistics();
   if (statistics) info.flags |= statistics->pipelineFlags();
   VK_TRY(vkCreateGraphicsPipelines(context.device(), context.pipelineCache().handle(), 1, &info, nullptr, &result.pipeline_));

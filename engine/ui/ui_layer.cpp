@@ -22,17 +22,9 @@ void checkImGuiVk(VkResult result) {
   if (result != VK_SUCCESS) VK_CHECK(result);
 }
 
-}  // namespace
-
-Expected<std::unique_ptr<UiLayer>> UiLayer::create(const gpu::Context& context, VkFormat colorFormat,
-                                                   std::uint32_t framesInFlight, platform::Window* window) {
-  std::unique_ptr<UiLayer> layer(new UiLayer(context));
-  ENGINE_TRY(layer->initialize(colorFormat, framesInFlight, window));
-  return layer;
-}
-
-Status UiLayer::initialize(VkFormat colorFormat, std::uint32_t framesInFlight, platform::Window* window) {
-  VkDevice device = context_.device();
+// The UI's render pass: one colour attachment, loaded (the UI draws over the finished frame) and
+// stored, in COLOR_ATTACHMENT_OPTIMAL throughout.
+Status createOverlayPass(const gpu::Context& context, VkFormat colorFormat, VkRenderPass& renderPass) {
   VkAttachmentDescription attachment{};
   attachment.format = colorFormat;
   attachment.samples = VK_SAMPLE_COUNT_1_BIT;
@@ -52,16 +44,14 @@ Status UiLayer::initialize(VkFormat colorFormat, std::uint32_t framesInFlight, p
   VkSubpassDependency dependencies[2] = {};
   dependencies[0].srcSubpass = VK_SUBPASS_EXTERNAL;
   dependencies[0].dstSubpass = 0;
-  dependencies[0].srcStageMask = VK_PIPELINE_STAGE_COLOR_ATTACHMENT_OUTPUT_BIT;
-  dependencies[0].dstStageMask = VK_PIPELINE_STAGE_COLOR_ATTACHMENT_OUTPUT_BIT;
-  dependencies[0].srcAccessMask = VK_ACCESS_COLOR_ATTACHMENT_WRITE_BIT;
-  dependencies[0].dstAccessMask = VK_ACCESS_COLOR_ATTACHMENT_READ_BIT | VK_ACCESS_COLOR_ATTACHMENT_WRITE_BIT;
   dependencies[1].srcSubpass = 0;
   dependencies[1].dstSubpass = VK_SUBPASS_EXTERNAL;
-  dependencies[1].srcStageMask = VK_PIPELINE_STAGE_COLOR_ATTACHMENT_OUTPUT_BIT;
-  dependencies[1].dstStageMask = VK_PIPELINE_STAGE_COLOR_ATTACHMENT_OUTPUT_BIT;
-  dependencies[1].srcAccessMask = VK_ACCESS_COLOR_ATTACHMENT_WRITE_BIT;
-  dependencies[1].dstAccessMask = VK_ACCESS_COLOR_ATTACHMENT_READ_BIT | VK_ACCESS_COLOR_ATTACHMENT_WRITE_BIT;
+  for (VkSubpassDependency& dependency : dependencies) {
+    dependency.srcStageMask = VK_PIPELINE_STAGE_COLOR_ATTACHMENT_OUTPUT_BIT;
+    dependency.dstStageMask = VK_PIPELINE_STAGE_COLOR_ATTACHMENT_OUTPUT_BIT;
+    dependency.srcAccessMask = VK_ACCESS_COLOR_ATTACHMENT_WRITE_BIT;
+    dependency.dstAccessMask = VK_ACCESS_COLOR_ATTACHMENT_READ_BIT | VK_ACCESS_COLOR_ATTACHMENT_WRITE_BIT;
+  }
   VkRenderPassCreateInfo passInfo{VK_STRUCTURE_TYPE_RENDER_PASS_CREATE_INFO};
   passInfo.attachmentCount = 1;
   passInfo.pAttachments = &attachment;
@@ -69,18 +59,52 @@ Status UiLayer::initialize(VkFormat colorFormat, std::uint32_t framesInFlight, p
   passInfo.pSubpasses = &subpass;
   passInfo.dependencyCount = 2;
   passInfo.pDependencies = dependencies;
-  VK_TRY(vkCreateRenderPass(device, &passInfo, nullptr, &renderPass_));
-  context_.setName(renderPass_, VK_OBJECT_TYPE_RENDER_PASS, "ui render pass");
+  VK_TRY(vkCreateRenderPass(context.device(), &passInfo, nullptr, &renderPass));
+  context.setName(renderPass, VK_OBJECT_TYPE_RENDER_PASS, "ui render pass");
+  return {};
+}
 
+// The pool the ImGui Vulkan backend allocates its descriptor sets from (the font texture's).
+Status createDescriptorPool(const gpu::Context& context, VkDescriptorPool& descriptorPool) {
   VkDescriptorPoolSize poolSize{VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, 16};
   VkDescriptorPoolCreateInfo poolInfo{VK_STRUCTURE_TYPE_DESCRIPTOR_POOL_CREATE_INFO};
   poolInfo.flags = VK_DESCRIPTOR_POOL_CREATE_FREE_DESCRIPTOR_SET_BIT;
   poolInfo.maxSets = 16;
   poolInfo.poolSizeCount = 1;
   poolInfo.pPoolSizes = &poolSize;
-  VK_TRY(vkCreateDescriptorPool(device, &poolInfo, nullptr, &descriptorPool_));
-  context_.setName(descriptorPool_, VK_OBJECT_TYPE_DESCRIPTOR_POOL, "ui descriptor pool");
+  VK_TRY(vkCreateDescriptorPool(context.device(), &poolInfo, nullptr, &descriptorPool));
+  context.setName(descriptorPool, VK_OBJECT_TYPE_DESCRIPTOR_POOL, "ui descriptor pool");
+  return {};
+}
 
+ImGui_ImplVulkan_InitInfo vulkanBackendInfo(const gpu::Context& context, VkDescriptorPool descriptorPool,
+                                            std::uint32_t framesInFlight) {
+  ImGui_ImplVulkan_InitInfo info{};
+  info.Instance = context.instance();
+  info.PhysicalDevice = context.physicalDevice();
+  info.Device = context.device();
+  info.QueueFamily = context.queueFamily();
+  info.Queue = context.queue();
+  info.DescriptorPool = descriptorPool;
+  info.MinImageCount = 2;
+  info.ImageCount = framesInFlight + 1;  // the backend rotates its vertex buffers per frame
+  info.MSAASamples = VK_SAMPLE_COUNT_1_BIT;
+  info.CheckVkResultFn = &checkImGuiVk;
+  return info;
+}
+
+}  // namespace
+
+Expected<std::unique_ptr<UiLayer>> UiLayer::create(const gpu::Context& context, VkFormat colorFormat,
+                                                   std::uint32_t framesInFlight, platform::Window* window) {
+  std::unique_ptr<UiLayer> layer(new UiLayer(context));
+  ENGINE_TRY(layer->initialize(colorFormat, framesInFlight, window));
+  return layer;
+}
+
+Status UiLayer::initialize(VkFormat colorFormat, std::uint32_t framesInFlight, platform::Window* window) {
+  ENGINE_TRY(createOverlayPass(context_, colorFormat, renderPass_));
+  ENGINE_TRY(createDescriptorPool(context_, descriptorPool_));
   IMGUI_CHECKVERSION();
   ImGui::CreateContext();
   ImGuiIO& io = ImGui::GetIO();
@@ -91,18 +115,7 @@ Status UiLayer::initialize(VkFormat colorFormat, std::uint32_t framesInFlight, p
     glfwBackend_ = true;
     window_ = window;
   }
-
-  ImGui_ImplVulkan_InitInfo info{};
-  info.Instance = context_.instance();
-  info.PhysicalDevice = context_.physicalDevice();
-  info.Device = device;
-  info.QueueFamily = context_.queueFamily();
-  info.Queue = context_.queue();
-  info.DescriptorPool = descriptorPool_;
-  info.MinImageCount = 2;
-  info.ImageCount = framesInFlight + 1;  // the backend rotates its vertex buffers per frame
-  info.MSAASamples = VK_SAMPLE_COUNT_1_BIT;
-  info.CheckVkResultFn = &checkImGuiVk;
+  ImGui_ImplVulkan_InitInfo info = vulkanBackendInfo(context_, descriptorPool_, framesInFlight);
   if (!ImGui_ImplVulkan_Init(&info, renderPass_)) return makeError("ImGui Vulkan backend failed to start");
   vulkanBackend_ = true;
   context_.submitAndWait([](VkCommandBuffer cmd) { ImGui_ImplVulkan_CreateFontsTexture(cmd); });

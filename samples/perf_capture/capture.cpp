@@ -364,12 +364,8 @@ void addNotRun(const RowSpec& spec, const std::string& why, std::vector<RowResul
   std::fprintf(stderr, "\n%s: %s\n", spec.label.c_str(), why.c_str());
 }
 
-// The rows one Viewer draws: the mesh rows (Method::Mesh keeps the scene's triangles) or the SDF
-// rows (the scene baked at each row's K). One Viewer at a time: each owns a device.
-Status captureGroup(const Options& options, const Subject& subject, const std::vector<RowSpec>& rows,
-                    std::vector<render::CameraView>& cameras, std::vector<TruthImage>& truth,
-                    std::vector<RowResult>& results, std::size_t& index, std::size_t total,
-                    std::optional<RunInfo>& info, const Progress& progress) {
+// A group's headless Viewer, its scene loaded with the settings of the group's first row.
+Expected<std::unique_ptr<samples::Viewer>> openViewer(const Options& options, const RowSpec& first) {
   samples::ViewerDesc desc;
   desc.title = "hermite_sdf perf capture";
   desc.width = options.width;
@@ -382,18 +378,20 @@ Status captureGroup(const Options& options, const Subject& subject, const std::v
   scene.shape = options.shape;
   scene.groundPlane = false;
   scene.objects = options.objects;
-  ENGINE_TRY(viewer->loadScene(scene, rows.front().tuning()));
-  if (!info) {
-    info = runInfo(options, viewer->context(), subject);
-    info->rowsPlanned = total;
-  }
-  const glm::vec3 size = viewer->boundsMax() - viewer->boundsMin();
-  const double diagonal = glm::length(glm::dvec3(size));
-  ENGINE_TRY_ASSIGN(const std::vector<std::size_t> sceneCameras, sceneCameraViews(*viewer, options));
-  ENGINE_TRY_ASSIGN(const std::vector<render::CameraView> views, captureViews(*viewer, options, sceneCameras));
-  info->views = std::uint32_t(views.size());
-  info->viewNames.clear();
-  for (const std::size_t camera : sceneCameras) info->viewNames.push_back(viewer->sceneCameraNames()[camera]);
+  ENGINE_TRY(viewer->loadScene(scene, first.tuning()));
+  return viewer;
+}
+
+// The group's views (`sceneCameras`: the scene cameras they show, named in `info`): the first
+// group's become every group's `cameras`, with their ground truth cast; a later group's must be
+// the same, or the rows would not be comparable.
+Status frameViews(samples::Viewer& viewer, const Options& options, const Subject& subject,
+                  const std::vector<std::size_t>& sceneCameras, std::vector<render::CameraView>& cameras,
+                  std::vector<TruthImage>& truth, RunInfo& info) {
+  ENGINE_TRY_ASSIGN(const std::vector<render::CameraView> views, captureViews(viewer, options, sceneCameras));
+  info.views = std::uint32_t(views.size());
+  info.viewNames.clear();
+  for (const std::size_t camera : sceneCameras) info.viewNames.push_back(viewer.sceneCameraNames()[camera]);
   if (cameras.empty()) {
     cameras = views;
     for (std::size_t v = 0; v < cameras.size(); ++v) {
@@ -404,6 +402,55 @@ Status captureGroup(const Options& options, const Subject& subject, const std::v
   for (std::size_t v = 0; v < views.size(); ++v)
     if (!sameCamera(views[v], cameras[v]))
       return makeError("the mesh and the SDF scenes are framed differently; the views would not be comparable");
+  return {};
+}
+
+// One row into `result`: an error or exception fails that row only (said, and recorded in it).
+void runRow(const Group& group, const RowSpec& spec, std::size_t index, std::size_t total, RowResult& result) {
+  result.spec = spec;
+  Status status;
+  try {
+    status = captureRow(group, spec, index, total, result);
+  } catch (const std::exception& e) {
+    status = makeError(e.what());
+  }
+  if (!status.ok()) {
+    result.ok = false;
+    result.error = status.error().message;
+    std::fprintf(stderr, "\n%s: failed: %s\n", spec.label.c_str(), result.error.c_str());
+  }
+}
+
+// The group's rows, each saved as it finishes; those past the time limit listed as not run.
+Status captureRows(const Group& group, const std::vector<RowSpec>& rows, std::vector<RowResult>& results,
+                   std::size_t& index, std::size_t total, const RunInfo& info, const Progress& progress) {
+  for (const RowSpec& spec : rows) {
+    if (const std::optional<std::string> why = progress.refusal(results)) {
+      addNotRun(spec, *why, results);
+      ++index;
+      continue;
+    }
+    runRow(group, spec, index++, total, results.emplace_back());
+    ENGINE_TRY(progress.save(info, results));
+  }
+  return {};
+}
+
+// The rows one Viewer draws: the mesh rows (Method::Mesh keeps the scene's triangles) or the SDF
+// rows (the scene baked at each row's K). One Viewer at a time: each owns a device.
+Status captureGroup(const Options& options, const Subject& subject, const std::vector<RowSpec>& rows,
+                    std::vector<render::CameraView>& cameras, std::vector<TruthImage>& truth,
+                    std::vector<RowResult>& results, std::size_t& index, std::size_t total,
+                    std::optional<RunInfo>& info, const Progress& progress) {
+  ENGINE_TRY_ASSIGN(std::unique_ptr<samples::Viewer> viewer, openViewer(options, rows.front()));
+  if (!info) {
+    info = runInfo(options, viewer->context(), subject);
+    info->rowsPlanned = total;
+  }
+  const glm::vec3 size = viewer->boundsMax() - viewer->boundsMin();
+  const double diagonal = glm::length(glm::dvec3(size));
+  ENGINE_TRY_ASSIGN(const std::vector<std::size_t> sceneCameras, sceneCameraViews(*viewer, options));
+  ENGINE_TRY(frameViews(*viewer, options, subject, sceneCameras, cameras, truth, *info));
 
   // The meshes Measurement draws for the mesh rows live in a pool of its own on the same device.
   auto pool = std::make_unique<render::MeshPool>(viewer->context());
@@ -420,27 +467,7 @@ Status captureGroup(const Options& options, const Subject& subject, const std::v
                       Measurement::create(viewer->context(), measuredPool, extent));
     const Group group{options, extent, subject, *viewer, *measurement,
                       rows.front().isMesh() ? meshes : viewer->registry(), cameras, sceneCameras, truth, diagonal};
-    for (const RowSpec& spec : rows) {
-      if (const std::optional<std::string> why = progress.refusal(results)) {
-        addNotRun(spec, *why, results);
-        ++index;
-        continue;
-      }
-      RowResult& result = results.emplace_back();
-      result.spec = spec;
-      Status status;
-      try {
-        status = captureRow(group, spec, index++, total, result);
-      } catch (const std::exception& e) {
-        status = makeError(e.what());
-      }
-      if (!status.ok()) {
-        result.ok = false;
-        result.error = status.error().message;
-        std::fprintf(stderr, "\n%s: failed: %s\n", spec.label.c_str(), result.error.c_str());
-      }
-      ENGINE_TRY(progress.save(*info, results));
-    }
+    ENGINE_TRY(captureRows(group, rows, results, index, total, *info, progress));
     viewer->context().waitIdle();
   }
   meshes.clear();

@@ -75,15 +75,15 @@ std::string joinArguments(int argc, const char* const* argv) {
   return line;
 }
 
-}  // namespace
+// The comma-separated lists as given, parsed once the command line is read (parseLists).
+struct ListTexts {
+  std::string resolutions;
+  std::string methods;
+  std::string settings;
+};
 
-ParseResult parseOptions(int argc, const char* const* argv) {
-  Options options;
-  std::string resolutions, methods;
-  CLI::App app{"hermite_sdf perf capture: the paper's results table (methods x resolutions) with quality and "
-               "work metrics, written as CSV/JSON/Markdown/PNG",
-               "perf_capture"};
-  app.add_option("--out", options.out, "output folder (created)")->required();
+// The options of the scene or shape drawn.
+void addSourceOptions(CLI::App& app, Options& options) {
   auto* scene = app.add_option("--scene", options.scene, "glTF/GLB scene (default: the bundled bunny)")
                     ->check(CLI::ExistingFile);
   auto* shape = app.add_option("--shape", options.shape, "analytic shape instead of a scene: torus, sphere, capsule, box")
@@ -93,13 +93,21 @@ ParseResult parseOptions(int argc, const char* const* argv) {
                "each mesh of --scene its own SDF object (one bake per mesh, drawn at every node that places it; "
                "nodes marked as triangles in extras stay meshes)")
       ->excludes(shape);
+}
+
+// The options of the rows (methods x resolutions x settings) and of their image size.
+void addRowOptions(CLI::App& app, Options& options, ListTexts& lists) {
   samples::addSizeOption(app, options.width, options.height, "image size WxH (default 1920x1080; --quick 320x180)");
-  app.add_option("--resolutions", resolutions, "field resolutions K (default 16,32,64,128; --quick 16,32)");
-  app.add_option("--methods", methods, "methods to capture (default mesh,trilinear,hermite,cells,cells-runs,cell-bricks)");
-  std::string settings;
-  app.add_option("--settings", settings,
+  app.add_option("--resolutions", lists.resolutions, "field resolutions K (default 16,32,64,128; --quick 16,32)");
+  app.add_option("--methods", lists.methods, "methods to capture (default mesh,trilinear,hermite,cells,cells-runs,cell-bricks)");
+  app.add_option("--settings", lists.settings,
                  "only these settings of the cell methods, e.g. \"n=3 r=1,certified\" (default: every one; the "
                  "settings are those of the rows' labels)");
+}
+
+// The options of each row's views and frames, and of how long the capture may take. After
+// addSourceOptions: the scene's cameras exclude --shape.
+void addViewOptions(CLI::App& app, Options& options) {
   auto* views = app.add_option("--views", options.views, "orbit views 1..8 (default 8; --quick 2)")->check(CLI::Range(1u, 8u));
   app.add_option("--frames", options.frames, "timed frames per view 1..1000 (default 5; --quick 2)")
       ->check(CLI::Range(1u, 1000u));
@@ -117,48 +125,80 @@ ParseResult parseOptions(int argc, const char* const* argv) {
       ->delimiter(',')
       ->excludes(views)
       ->excludes(distance)
-      ->excludes(shape);
+      ->excludes(app.get_option("--shape"));
   app.add_option("--time-limit", options.timeLimitSeconds,
                  "no row starts after this many seconds (0: none, the default; the first row always runs): the "
                  "others are listed as not run (the exit code is non-zero) and every output is written")
       ->check(CLI::Range(0.0, 1e7));
+}
+
+// The preset first, then whatever was given explicitly overrides it.
+void applyQuickPreset(const CLI::App& app, Options& options) {
+  if (!options.quick) return;
+  if (app.count("--size") == 0) {
+    options.width = 320;
+    options.height = 180;
+  }
+  options.resolutions = {16, 32};
+  if (app.count("--views") == 0) options.views = 2;
+  if (app.count("--frames") == 0) options.frames = 2;
+  if (app.count("--warmup") == 0) options.warmup = 1;
+}
+
+// The lists into `options`, or what is wrong with one of them.
+std::optional<std::string> parseLists(const CLI::App& app, const ListTexts& lists, Options& options) {
+  // Given but empty (--resolutions ""): an error, not the default list run in its place.
+  if (app.count("--resolutions") > 0 && lists.resolutions.empty())
+    return "--resolutions: an empty list (e.g. --resolutions 16,32,64,128)";
+  if (app.count("--methods") > 0 && lists.methods.empty()) return "--methods: an empty list (e.g. --methods cells,hermite)";
+  std::optional<std::string> problem;
+  if (!lists.resolutions.empty()) problem = parseResolutions(lists.resolutions, options);
+  if (!problem && !lists.methods.empty()) problem = parseMethods(lists.methods, options);
+  if (!problem && !lists.settings.empty()) problem = parseSettings(lists.settings, options);
+  return problem;
+}
+
+// Options that contradict each other or name what cannot be captured.
+std::optional<std::string> checkCombinations(const Options& options, bool methodsGiven) {
+  if (!options.shape.empty() && std::find(options.methods.begin(), options.methods.end(), "mesh") != options.methods.end() &&
+      methodsGiven)
+    return "--methods mesh: an analytic --shape has no triangle mesh to draw";
+  if (!options.sceneCameras.empty() && options.scene.empty())
+    return "--scene-cameras: the views are a glTF scene's cameras; give the --scene that holds them";
+  if (options.scene.extension() == ".hsdf")
+    return "--scene: '" + options.scene.string() +
+           "' is a baked .hsdf file; the capture re-bakes its source at every K and casts the ground truth from "
+           "it: give the glTF (or --shape) it was baked from";
+  if (std::filesystem::exists(options.out) && !std::filesystem::is_directory(options.out))
+    return "--out: '" + options.out.string() + "' exists and is not a directory";
+  return std::nullopt;
+}
+
+std::optional<std::string> checkOptions(const CLI::App& app, const ListTexts& lists, Options& options) {
+  if (!std::isfinite(options.timeLimitSeconds))  // CLI::Range lets NaN through
+    return "--time-limit: not a number of seconds in 0..1e7";
+  if (auto problem = parseLists(app, lists, options)) return problem;
+  return checkCombinations(options, !lists.methods.empty());
+}
+
+}  // namespace
+
+ParseResult parseOptions(int argc, const char* const* argv) {
+  Options options;
+  ListTexts lists;
+  CLI::App app{"hermite_sdf perf capture: the paper's results table (methods x resolutions) with quality and "
+               "work metrics, written as CSV/JSON/Markdown/PNG",
+               "perf_capture"};
+  app.add_option("--out", options.out, "output folder (created)")->required();
+  addSourceOptions(app, options);
+  addRowOptions(app, options, lists);
+  addViewOptions(app, options);
   samples::addDeviceOption(app, options.device);
 
   if (auto stop = samples::parseCommandLine(app, "perf_capture", argc, argv)) return samples::stoppedWith<Options>(*stop);
-  // The preset first, then whatever was given explicitly overrides it.
-  if (options.quick) {
-    if (app.count("--size") == 0) {
-      options.width = 320;
-      options.height = 180;
-    }
-    options.resolutions = {16, 32};
-    if (app.count("--views") == 0) options.views = 2;
-    if (app.count("--frames") == 0) options.frames = 2;
-    if (app.count("--warmup") == 0) options.warmup = 1;
-  }
-  std::optional<std::string> problem;
-  if (!std::isfinite(options.timeLimitSeconds))  // CLI::Range lets NaN through
-    problem = "--time-limit: not a number of seconds in 0..1e7";
-  // Given but empty (--resolutions ""): an error, not the default list run in its place.
-  if (!problem && app.count("--resolutions") > 0 && resolutions.empty())
-    problem = "--resolutions: an empty list (e.g. --resolutions 16,32,64,128)";
-  if (!problem && app.count("--methods") > 0 && methods.empty())
-    problem = "--methods: an empty list (e.g. --methods cells,hermite)";
-  if (!problem && !resolutions.empty()) problem = parseResolutions(resolutions, options);
-  if (!problem && !methods.empty()) problem = parseMethods(methods, options);
-  if (!problem && !settings.empty()) problem = parseSettings(settings, options);
-  if (!problem && !options.shape.empty() &&
-      std::find(options.methods.begin(), options.methods.end(), "mesh") != options.methods.end() && !methods.empty())
-    problem = "--methods mesh: an analytic --shape has no triangle mesh to draw";
-  if (!problem && !options.sceneCameras.empty() && options.scene.empty())
-    problem = "--scene-cameras: the views are a glTF scene's cameras; give the --scene that holds them";
-  if (!problem && options.scene.extension() == ".hsdf")
-    problem = "--scene: '" + options.scene.string() +
-              "' is a baked .hsdf file; the capture re-bakes its source at every K and casts the ground truth from "
-              "it: give the glTF (or --shape) it was baked from";
-  if (!problem && std::filesystem::exists(options.out) && !std::filesystem::is_directory(options.out))
-    problem = "--out: '" + options.out.string() + "' exists and is not a directory";
-  if (problem) return samples::stoppedWith<Options>(samples::parseError("perf_capture", *problem));
+  applyQuickPreset(app, options);
+  if (auto problem = checkOptions(app, lists, options))
+    return samples::stoppedWith<Options>(samples::parseError("perf_capture", *problem));
   if (options.scene.empty() && options.shape.empty()) options.scene = samples::defaultScenePath();
   if (!options.shape.empty()) std::erase(options.methods, std::string("mesh"));  // no triangles to draw
   // Rows past a method's K range are left out (capture_rows.cpp); when that leaves none, the capture

@@ -118,11 +118,9 @@ ParseResult failure(const std::string& message) {
   return samples::stoppedWith<Options>(samples::parseError("scene_runner", message));
 }
 
-}  // namespace
-
-ParseResult parseOptions(int argc, const char* const* argv) {
-  Options options;
-  CLI::App app{"hermite_sdf scene runner: renders a glTF scene (default: the bundled bunny)", "scene_runner"};
+// --settings loads a file into the tuning (before the options that override it) and --save-settings
+// writes the result.
+void addSettingsFileOptions(CLI::App& app, Options& options) {
   app.add_option_function<std::string>(
          "--settings",
          [&options](const std::string& file) {
@@ -133,6 +131,10 @@ ParseResult parseOptions(int argc, const char* const* argv) {
          "load method, resolution, ... from a JSON settings file (options given here override it)")
       ->check(CLI::ExistingFile);
   app.add_option("--save-settings", options.saveSettings, "write the resulting settings to this JSON file");
+}
+
+// What is drawn, where to (a window or offscreen) and for how many frames.
+void addRunOptions(CLI::App& app, Options& options) {
   app.add_option("--scene", options.scene, "glTF/GLB scene to load")->check(CLI::ExistingFile);
   app.add_option("--sdf", options.sdfFile, "draw a .hsdf file baked by hsdf_bake (replaces the default scene; with --scene G, drawn among G's "
                  "triangle meshes, from G's cameras)")
@@ -146,7 +148,10 @@ ParseResult parseOptions(int argc, const char* const* argv) {
   app.add_flag("--validation", options.validation, "enable the Vulkan validation layers");
   app.add_flag("--ui", options.headlessUi, "draw the ImGui panels into headless screenshots");
   app.add_flag("!--no-ground", options.groundPlane, "do not add the ground plane");
-  addTuningOptions(app, options.tuning);
+}
+
+// How the scene's meshes become objects, and the script that changes settings while running.
+void addSceneOptions(CLI::App& app, Options& options) {
   app.add_flag("--side-by-side", options.sideBySide, "keep the mesh and place the SDF beside it");
   app.add_flag("--objects", options.objects,
                "each glTF mesh baked once into its own SDF, drawn at every node that places it (per node: "
@@ -154,6 +159,10 @@ ParseResult parseOptions(int argc, const char* const* argv) {
   app.add_option("--script", options.script,
                  "apply 'frame N: key=value ...' lines (settings and actions, see the README) while running")
       ->check(CLI::ExistingFile);
+}
+
+// Memory budgets and the files kept across runs.
+void addResourceOptions(CLI::App& app, Options& options) {
   app.add_option("--bake-budget-mib", options.bakeBudgetMiB, "refuse bakes needing more memory (MiB, default 4096)")
       ->check(CLI::Range(std::uint64_t(1), std::uint64_t(1) << 20));
   app.add_option("--gpu-budget-mib", options.gpuBudgetMiB,
@@ -164,8 +173,11 @@ ParseResult parseOptions(int argc, const char* const* argv) {
                  "keep compiled pipelines in this file across runs (read at start when made by this device and "
                  "driver, written at exit; default: not kept)");
   app.add_option("--ui-ini", options.uiIni, "ImGui window layout file (windowed default: imgui.ini; '' : none)");
+}
+
+// The first view: a fixed orbit view, an eye and target (`camera`, parseCamera) or a scene's camera.
+void addCameraOptions(CLI::App& app, Options& options, std::vector<float>& camera) {
   CLI::Option* view = app.add_option("--view", options.view, "one of 8 fixed orbit views (0..7)")->check(CLI::Range(0, 7));
-  std::vector<float> camera;
   CLI::Option* eye =
       app.add_option("--camera", camera, "eye and target: ex,ey,ez,tx,ty,tz")->delimiter(',')->expected(6);
   app.add_option("--scene-camera", options.sceneCamera,
@@ -174,30 +186,58 @@ ParseResult parseOptions(int argc, const char* const* argv) {
                  "camera is moved)")
       ->excludes(view)
       ->excludes(eye);
+}
 
-  if (auto stop = samples::parseCommandLine(app, "scene_runner", argc, argv)) return samples::stoppedWith<Options>(*stop);
-  std::optional<std::string> problem;
-  if (!problem && !options.screenshot.empty() && options.screenshot.extension() != ".png")
-    problem = "--screenshot: '" + options.screenshot.string() + "' must end in .png";
-  if (!problem) problem = parseCamera(camera, options);
-  if (!problem) problem = checkCombinations(options, app.count("--method") > 0);
-  if (!problem && app.count("--scene-camera") > 0 && options.sceneCamera.empty())
-    problem = "--scene-camera: needs a camera's node name, own name or index (it was empty)";
-  if (!problem && !options.sceneCamera.empty() && options.scene.empty())
-    problem = "--scene-camera: looks through a camera of a glTF scene; add --scene FILE";
-  if (!problem && !options.objects && app.count("--node-draw") + app.count("--triangle-nodes") > 0)
-    problem = "--node-draw and --triangle-nodes choose per node of a scene loaded with --objects; add --objects";
+// Options that need another one, or that a .hsdf file (--sdf) cannot honour.
+std::optional<std::string> checkDependencies(const CLI::App& app, const Options& options) {
+  if (app.count("--scene-camera") > 0 && options.sceneCamera.empty())
+    return "--scene-camera: needs a camera's node name, own name or index (it was empty)";
+  if (!options.sceneCamera.empty() && options.scene.empty())
+    return "--scene-camera: looks through a camera of a glTF scene; add --scene FILE";
+  if (!options.objects && app.count("--node-draw") + app.count("--triangle-nodes") > 0)
+    return "--node-draw and --triangle-nodes choose per node of a scene loaded with --objects; add --objects";
   // A .hsdf file is drawn as it was baked: there is no source to bake again (both were ignored).
-  if (!problem && !options.sdfFile.empty() && app.count("--resolution") + app.count("--padding") + app.count("--shell") > 0)
-    problem = "--resolution / --padding / --shell: a .hsdf file (--sdf) is drawn as it was baked "
-              "(hsdf_bake -r K --padding P --shell T makes another)";
-  if (!problem && !options.sdfFile.empty() && options.tuning.lod)
-    problem = "--lod: levels of detail bake the source again at K/2, K/4, ...; a .hsdf file (--sdf) has no source";
-  if (problem) return failure(*problem);
+  if (!options.sdfFile.empty() && app.count("--resolution") + app.count("--padding") + app.count("--shell") > 0)
+    return "--resolution / --padding / --shell: a .hsdf file (--sdf) is drawn as it was baked "
+           "(hsdf_bake -r K --padding P --shell T makes another)";
+  if (!options.sdfFile.empty() && options.tuning.lod)
+    return "--lod: levels of detail bake the source again at K/2, K/4, ...; a .hsdf file (--sdf) has no source";
+  return std::nullopt;
+}
+
+// The parsed options checked (and the camera read into them): the first problem, if any.
+std::optional<std::string> checkOptions(const CLI::App& app, const std::vector<float>& camera, Options& options) {
+  if (!options.screenshot.empty() && options.screenshot.extension() != ".png")
+    return "--screenshot: '" + options.screenshot.string() + "' must end in .png";
+  if (auto problem = parseCamera(camera, options)) return problem;
+  if (auto problem = checkCombinations(options, app.count("--method") > 0)) return problem;
+  return checkDependencies(app, options);
+}
+
+// The defaults that depend on other options.
+void applyDefaults(const CLI::App& app, Options& options) {
   if (options.headless && options.frames == 0) options.frames = 1;
   if (!options.headless && app.count("--ui-ini") == 0) options.uiIni = "imgui.ini";
   if (options.scene.empty() && options.sdfFile.empty()) options.scene = samples::defaultScenePath();
   if (!options.sdfFile.empty() && options.tuning.method == samples::Method::Mesh) options.tuning.method = hsdf::RenderMethod::Cells;
+}
+
+}  // namespace
+
+ParseResult parseOptions(int argc, const char* const* argv) {
+  Options options;
+  std::vector<float> camera;
+  CLI::App app{"hermite_sdf scene runner: renders a glTF scene (default: the bundled bunny)", "scene_runner"};
+  addSettingsFileOptions(app, options);
+  addRunOptions(app, options);
+  addTuningOptions(app, options.tuning);
+  addSceneOptions(app, options);
+  addResourceOptions(app, options);
+  addCameraOptions(app, options, camera);
+
+  if (auto stop = samples::parseCommandLine(app, "scene_runner", argc, argv)) return samples::stoppedWith<Options>(*stop);
+  if (auto problem = checkOptions(app, camera, options)) return failure(*problem);
+  applyDefaults(app, options);
   ParseResult result;
   result.options = options;
   return result;

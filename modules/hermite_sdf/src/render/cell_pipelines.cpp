@@ -99,6 +99,51 @@ std::vector<HermiteCellFeature::Pipelines::Lazy*> HermiteCellFeature::Pipelines:
   return set;
 }
 
+namespace {
+
+// The shaders of a box proxy's prepass: its vertex stage, and the fragment stages of its front
+// faces and of its near boxes.
+struct BoxShaders {
+  engine::gpu::SharedShaderModule vertex;
+  engine::gpu::SharedShaderModule front;
+  engine::gpu::SharedShaderModule near;
+};
+
+// A box proxy's prepass pipeline pair (cells, thin cells, runs, bricks).
+struct BoxPrepass {
+  engine::gpu::LazyPipeline front;
+  engine::gpu::LazyPipeline near;
+};
+
+// Depth tested and written with the visibility buffer as colour (a miss writes depth 0, which
+// GREATER rejects: hit_depth.glsl). The front pipeline draws the boxes' front faces (a fan a face,
+// back faces culled), "<name> near<suffix>" the boxes the eye is near or inside, by their back faces
+// (strips, front faces culled).
+BoxPrepass describeBoxPrepass(const engine::render::RendererFormats& formats, const BoxShaders& shaders,
+                              engine::gpu::VertexLayout layout, const std::string& name, const std::string& suffix) {
+  engine::gpu::GraphicsPipelineDesc desc;
+  desc.vertex = shaders.vertex->handle();
+  desc.vertexLayout = std::move(layout);
+  desc.pushConstantBytes = sizeof(shader::HermitePushConstants);
+  desc.depthFormat = formats.depth;
+  desc.colorFormats = {formats.visibility};
+  desc.depthCompare = VK_COMPARE_OP_GREATER;
+  BoxPrepass pair;
+  desc.name = name + suffix;
+  desc.fragment = shaders.front->handle();
+  desc.cullMode = VK_CULL_MODE_BACK_BIT;
+  desc.topology = VK_PRIMITIVE_TOPOLOGY_TRIANGLE_FAN;
+  pair.front = engine::gpu::LazyPipeline(desc, {shaders.vertex, shaders.front});
+  desc.name = name + " near" + suffix;
+  desc.fragment = shaders.near->handle();
+  desc.cullMode = VK_CULL_MODE_FRONT_BIT;
+  desc.topology = VK_PRIMITIVE_TOPOLOGY_TRIANGLE_STRIP;
+  pair.near = engine::gpu::LazyPipeline(desc, {shaders.vertex, shaders.near});
+  return pair;
+}
+
+}  // namespace
+
 // Every pipeline of the feature, described with its shader modules loaded (a missing or bad SPIR-V
 // file fails here), compiled when a frame first draws with it. The shared shaders are loaded
 // first, then each family is described.
@@ -137,23 +182,10 @@ engine::Status HermiteCellFeature::describeCellPipelines(Pipelines& p, const eng
     ENGINE_TRY_ASSIGN(auto nearFrag, engine::gpu::loadSharedShaderModule(context, kCellsNear[variant]));
     for (int precision = 0; precision < 2; ++precision) {
       const std::string suffix = std::string(kVariantNames[variant]) + (precision == 0 ? " fp32" : " fp16");
-      engine::gpu::GraphicsPipelineDesc desc;
-      desc.vertex = vert->handle();
-      desc.vertexLayout = cellVertexLayout(precision);
-      desc.pushConstantBytes = sizeof(shader::HermitePushConstants);
-      desc.depthFormat = formats.depth;
-      desc.colorFormats = {formats.visibility};
-      desc.depthCompare = VK_COMPARE_OP_GREATER;  // a miss writes depth 0, which this rejects (hit_depth.glsl)
-      desc.name = "hermite cells depth" + suffix;
-      desc.fragment = frontFrag->handle();
-      desc.cullMode = VK_CULL_MODE_BACK_BIT;
-      desc.topology = VK_PRIMITIVE_TOPOLOGY_TRIANGLE_FAN;
-      p.depthFront[variant][precision] = Pipelines::Lazy(desc, {vert, frontFrag});
-      desc.name = "hermite cells depth near" + suffix;
-      desc.fragment = nearFrag->handle();
-      desc.cullMode = VK_CULL_MODE_FRONT_BIT;
-      desc.topology = VK_PRIMITIVE_TOPOLOGY_TRIANGLE_STRIP;
-      p.depthNear[variant][precision] = Pipelines::Lazy(desc, {vert, nearFrag});
+      BoxPrepass pair = describeBoxPrepass(formats, {vert, frontFrag, nearFrag}, cellVertexLayout(precision),
+                                           "hermite cells depth", suffix);
+      p.depthFront[variant][precision] = std::move(pair.front);
+      p.depthNear[variant][precision] = std::move(pair.near);
     }
     ENGINE_TRY(describeRunPipelines(p, runsVert, variant, kVariantNames[variant]));
   }
@@ -172,23 +204,10 @@ engine::Status HermiteCellFeature::describeRunPipelines(Pipelines& p, const engi
   // Cell runs: records by address, one pipeline pair for both precisions (HERMITE_FLAG_HALF_RECORDS).
   ENGINE_TRY_ASSIGN(auto runsFrontFrag, engine::gpu::loadSharedShaderModule(context, kRunsFront[variant]));
   ENGINE_TRY_ASSIGN(auto runsNearFrag, engine::gpu::loadSharedShaderModule(context, kRunsNear[variant]));
-  engine::gpu::GraphicsPipelineDesc desc;
-  desc.vertex = runsVert->handle();
-  desc.vertexLayout = runVertexLayout();
-  desc.pushConstantBytes = sizeof(shader::HermitePushConstants);
-  desc.depthFormat = formats.depth;
-  desc.colorFormats = {formats.visibility};
-  desc.depthCompare = VK_COMPARE_OP_GREATER;
-  desc.name = std::string("hermite cell runs depth") + variantName;
-  desc.fragment = runsFrontFrag->handle();
-  desc.cullMode = VK_CULL_MODE_BACK_BIT;
-  desc.topology = VK_PRIMITIVE_TOPOLOGY_TRIANGLE_FAN;
-  p.runsFront[variant] = Pipelines::Lazy(desc, {runsVert, runsFrontFrag});
-  desc.name = std::string("hermite cell runs depth near") + variantName;
-  desc.fragment = runsNearFrag->handle();
-  desc.cullMode = VK_CULL_MODE_FRONT_BIT;
-  desc.topology = VK_PRIMITIVE_TOPOLOGY_TRIANGLE_STRIP;
-  p.runsNear[variant] = Pipelines::Lazy(desc, {runsVert, runsNearFrag});
+  BoxPrepass pair = describeBoxPrepass(formats, {runsVert, runsFrontFrag, runsNearFrag}, runVertexLayout(),
+                                       "hermite cell runs depth", variantName);
+  p.runsFront[variant] = std::move(pair.front);
+  p.runsNear[variant] = std::move(pair.near);
   return {};
 }
 
@@ -275,23 +294,10 @@ engine::Status HermiteCellFeature::describeBrickPipelines(Pipelines& p) const {
   for (int variant = 0; variant < kBrickVariants; ++variant) {
     ENGINE_TRY_ASSIGN(auto front, engine::gpu::loadSharedShaderModule(*context_, kFront[variant]));
     ENGINE_TRY_ASSIGN(auto near, engine::gpu::loadSharedShaderModule(*context_, kNear[variant]));
-    engine::gpu::GraphicsPipelineDesc desc;
-    desc.vertex = vert->handle();
-    desc.vertexLayout = brickVertexLayout();
-    desc.pushConstantBytes = sizeof(shader::HermitePushConstants);
-    desc.depthFormat = formats_.depth;
-    desc.colorFormats = {formats_.visibility};
-    desc.depthCompare = VK_COMPARE_OP_GREATER;
-    desc.name = std::string("hermite cell bricks depth") + kNames[variant];
-    desc.fragment = front->handle();
-    desc.cullMode = VK_CULL_MODE_BACK_BIT;
-    desc.topology = VK_PRIMITIVE_TOPOLOGY_TRIANGLE_FAN;
-    p.bricksFront[variant] = Pipelines::Lazy(desc, {vert, front});
-    desc.name = std::string("hermite cell bricks depth near") + kNames[variant];
-    desc.fragment = near->handle();
-    desc.cullMode = VK_CULL_MODE_FRONT_BIT;
-    desc.topology = VK_PRIMITIVE_TOPOLOGY_TRIANGLE_STRIP;
-    p.bricksNear[variant] = Pipelines::Lazy(desc, {vert, near});
+    BoxPrepass pair =
+        describeBoxPrepass(formats_, {vert, front, near}, brickVertexLayout(), "hermite cell bricks depth", kNames[variant]);
+    p.bricksFront[variant] = std::move(pair.front);
+    p.bricksNear[variant] = std::move(pair.near);
   }
   return {};
 }
@@ -309,24 +315,11 @@ engine::Status HermiteCellFeature::describeThinCellPipelines(Pipelines& p) const
     ENGINE_TRY_ASSIGN(auto near, engine::gpu::loadSharedShaderModule(*context_, kNear[variant]));
     for (int precision = 0; precision < 2; ++precision) {
       const std::string suffix = std::string(kNames[variant]) + (precision == 0 ? " fp32" : " fp16");
-      engine::gpu::GraphicsPipelineDesc desc;
-      desc.vertex = vert->handle();
-      desc.vertexLayout = cellVertexLayout(precision);
-      std::erase_if(desc.vertexLayout.attributes, [](const auto& a) { return a.location != 8; });  // the cell only
-      desc.pushConstantBytes = sizeof(shader::HermitePushConstants);
-      desc.depthFormat = formats_.depth;
-      desc.colorFormats = {formats_.visibility};
-      desc.depthCompare = VK_COMPARE_OP_GREATER;
-      desc.name = "hermite thin cells depth" + suffix;
-      desc.fragment = front->handle();
-      desc.cullMode = VK_CULL_MODE_BACK_BIT;
-      desc.topology = VK_PRIMITIVE_TOPOLOGY_TRIANGLE_FAN;
-      p.thinFront[variant][precision] = Pipelines::Lazy(desc, {vert, front});
-      desc.name = "hermite thin cells depth near" + suffix;
-      desc.fragment = near->handle();
-      desc.cullMode = VK_CULL_MODE_FRONT_BIT;
-      desc.topology = VK_PRIMITIVE_TOPOLOGY_TRIANGLE_STRIP;
-      p.thinNear[variant][precision] = Pipelines::Lazy(desc, {vert, near});
+      engine::gpu::VertexLayout layout = cellVertexLayout(precision);
+      std::erase_if(layout.attributes, [](const auto& a) { return a.location != 8; });  // the cell only
+      BoxPrepass pair = describeBoxPrepass(formats_, {vert, front, near}, std::move(layout), "hermite thin cells depth", suffix);
+      p.thinFront[variant][precision] = std::move(pair.front);
+      p.thinNear[variant][precision] = std::move(pair.near);
     }
   }
   return {};

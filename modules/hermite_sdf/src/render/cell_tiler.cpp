@@ -31,6 +31,28 @@ void computeToCompute(VkCommandBuffer cmd) {
                              VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT, kReadWrite);
 }
 
+// The previous frame's draw read the tiles and entries (write after read), then zero the tiles.
+void clearTiles(VkCommandBuffer cmd, VkBuffer tiles, std::uint32_t tileCount) {
+  engine::gpu::memoryBarrier(cmd, VK_PIPELINE_STAGE_2_DRAW_INDIRECT_BIT | VK_PIPELINE_STAGE_2_ALL_GRAPHICS_BIT, 0,
+                             VK_PIPELINE_STAGE_2_CLEAR_BIT | VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT, 0);
+  vkCmdFillBuffer(cmd, tiles, 0, VkDeviceSize(tileCount) * sizeof(shader::CellTile), 0);
+}
+
+// A phase that one workgroup runs over the whole grid (SCAN).
+void dispatchPhase(VkCommandBuffer cmd, VkPipelineLayout layout, shader::CellTilePushConstants push, std::uint32_t phase) {
+  push.phase = phase;
+  vkCmdPushConstants(cmd, layout, VK_SHADER_STAGE_COMPUTE_BIT, 0, sizeof(push), &push);
+  vkCmdDispatch(cmd, 1, 1, 1);
+}
+
+// A phase with as many workgroups as the scan wrote into `totals` at `offset` (SORT, MASKS).
+void dispatchPhaseIndirect(VkCommandBuffer cmd, VkPipelineLayout layout, shader::CellTilePushConstants push,
+                           std::uint32_t phase, VkBuffer totals, VkDeviceSize offset) {
+  push.phase = phase;
+  vkCmdPushConstants(cmd, layout, VK_SHADER_STAGE_COMPUTE_BIT, 0, sizeof(push), &push);
+  vkCmdDispatchIndirect(cmd, totals, offset);
+}
+
 }  // namespace
 
 bool tilesAsPoints(const engine::gpu::Context& context) {
@@ -177,10 +199,7 @@ void CellTiler::record(VkCommandBuffer cmd, const Frame& frame, engine::gpu::Gpu
   const auto phase = [&](const char* name) { return engine::gpu::GpuTimerScope(timer, cmd, name); };
   {
     const auto timing = phase("cells tiling clear");
-    // The previous frame's draw read the tiles and entries (write after read), then zero the tiles.
-    engine::gpu::memoryBarrier(cmd, VK_PIPELINE_STAGE_2_DRAW_INDIRECT_BIT | VK_PIPELINE_STAGE_2_ALL_GRAPHICS_BIT, 0,
-                               VK_PIPELINE_STAGE_2_CLEAR_BIT | VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT, 0);
-    vkCmdFillBuffer(cmd, slot.tiles.handle(), 0, VkDeviceSize(tileCount) * sizeof(shader::CellTile), 0);
+    clearTiles(cmd, slot.tiles.handle(), tileCount);
   }
 
   shader::CellTilePushConstants push{};
@@ -196,6 +215,8 @@ void CellTiler::record(VkCommandBuffer cmd, const Frame& frame, engine::gpu::Gpu
   push.tileSize = frame.tileSize;
   push.entryCapacity = slot.capacity;
   vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, pipeline_.handle());
+  const VkPipelineLayout layout = pipeline_.layout();
+  const VkBuffer totalsBuffer = totals_.buffer(frame.slot).handle();
   {
     const auto timing = phase("cells tiling count");
     engine::gpu::memoryBarrier(cmd, VK_PIPELINE_STAGE_2_CLEAR_BIT, VK_ACCESS_2_TRANSFER_WRITE_BIT,
@@ -206,9 +227,7 @@ void CellTiler::record(VkCommandBuffer cmd, const Frame& frame, engine::gpu::Gpu
   {
     const auto timing = phase("cells tiling scan");
     computeToCompute(cmd);
-    push.phase = CELL_TILES_SCAN;
-    vkCmdPushConstants(cmd, pipeline_.layout(), VK_SHADER_STAGE_COMPUTE_BIT, 0, sizeof(push), &push);
-    vkCmdDispatch(cmd, 1, 1, 1);
+    dispatchPhase(cmd, layout, push, CELL_TILES_SCAN);
   }
   {
     const auto timing = phase("cells tiling scatter");
@@ -222,16 +241,12 @@ void CellTiler::record(VkCommandBuffer cmd, const Frame& frame, engine::gpu::Gpu
                                VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_2_DRAW_INDIRECT_BIT,
                                VK_ACCESS_2_SHADER_STORAGE_READ_BIT | VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT |
                                    VK_ACCESS_2_INDIRECT_COMMAND_READ_BIT);
-    push.phase = CELL_TILES_SORT;
-    vkCmdPushConstants(cmd, pipeline_.layout(), VK_SHADER_STAGE_COMPUTE_BIT, 0, sizeof(push), &push);
-    vkCmdDispatchIndirect(cmd, totals_.buffer(frame.slot).handle(), offsetof(shader::CellTileTotals, sortGroups));
+    dispatchPhaseIndirect(cmd, layout, push, CELL_TILES_SORT, totalsBuffer, offsetof(shader::CellTileTotals, sortGroups));
   }
   {
     const auto timing = phase("cells tiling masks");
     computeToCompute(cmd);
-    push.phase = CELL_TILES_MASKS;
-    vkCmdPushConstants(cmd, pipeline_.layout(), VK_SHADER_STAGE_COMPUTE_BIT, 0, sizeof(push), &push);
-    vkCmdDispatchIndirect(cmd, totals_.buffer(frame.slot).handle(), offsetof(shader::CellTileTotals, maskGroups));
+    dispatchPhaseIndirect(cmd, layout, push, CELL_TILES_MASKS, totalsBuffer, offsetof(shader::CellTileTotals, maskGroups));
   }
   engine::gpu::memoryBarrier(
       cmd, VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT, VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT,

@@ -110,16 +110,10 @@ engine::Status SphereTraceFeature::initialize(const engine::gpu::Context& contex
   return {};
 }
 
-// Built aside from the SPIR-V on disk, with every pipeline a frame has drawn with compiled, and
-// swapped in only when all of those were: a failure keeps the old ones. Those only warmed are
-// warmed again from the next frame (Settings::warmPipelines).
+// engine::gpu::reloadPipelineSet: those only warmed are warmed again from the next frame
+// (Settings::warmPipelines).
 engine::Status SphereTraceFeature::reloadShaders() {
-  warming_.reloading();  // its worker compiles the pipelines about to be replaced
-  ENGINE_TRY_ASSIGN(Pipelines fresh, describePipelines());
-  ENGINE_TRY(engine::gpu::createWhereNeeded(*context_, fresh.all(), pipelines_.all()));
-  context_->waitIdle();  // frames in flight may still use the old pipelines
-  pipelines_ = std::move(fresh);
-  return {};
+  return engine::gpu::reloadPipelineSet(*context_, warming_, pipelines_, [this] { return describePipelines(); });
 }
 
 engine::Status SphereTraceFeature::createAllPipelines() {

@@ -132,17 +132,89 @@ OrientedBox tightBox(std::span<const glm::dvec3> points) {
 
 }  // namespace
 
-struct TriangleBvh::BuildItem {
+struct BvhBuildItem {
   Box box;
   glm::dvec3 centroid{0.0};
   std::uint32_t index = 0;
 };
 
+namespace {
+
+// A binned surface-area-heuristic split: the items whose centroid falls in bins 0..bin along
+// `axis` go left. axis -1: none found.
+struct SahSplit {
+  int axis = -1;
+  int bin = 0;
+  double cost = std::numeric_limits<double>::infinity();
+};
+
+// The cheapest split along `axis` where it is cheaper than `best`.
+void improveSplitOnAxis(std::span<const BvhBuildItem> items, const Box& centroids, int axis, SahSplit& best) {
+  const double extent = centroids.hi[axis] - centroids.lo[axis];
+  if (!(extent > 0.0)) return;
+  const double scale = kSahBins / extent;
+  std::array<Box, kSahBins> binBoxes;
+  std::array<std::uint32_t, kSahBins> binCounts{};
+  for (const BvhBuildItem& item : items) {
+    const int bin = std::min(kSahBins - 1, int((item.centroid[axis] - centroids.lo[axis]) * scale));
+    binBoxes[std::size_t(bin)].grow(item.box);
+    ++binCounts[std::size_t(bin)];
+  }
+  std::array<double, kSahBins> rightCost{};
+  Box right;
+  std::uint32_t rightCount = 0;
+  for (int b = kSahBins - 1; b > 0; --b) {
+    right.grow(binBoxes[std::size_t(b)]);
+    rightCount += binCounts[std::size_t(b)];
+    rightCost[std::size_t(b)] = rightCount ? halfSurfaceArea(right.lo, right.hi) * rightCount : 0.0;
+  }
+  Box left;
+  std::uint32_t leftCount = 0;
+  for (int b = 0; b < kSahBins - 1; ++b) {
+    left.grow(binBoxes[std::size_t(b)]);
+    leftCount += binCounts[std::size_t(b)];
+    if (leftCount == 0 || leftCount == items.size()) continue;
+    const double cost = halfSurfaceArea(left.lo, left.hi) * leftCount + rightCost[std::size_t(b) + 1];
+    if (cost < best.cost) best = {axis, b, cost};
+  }
+}
+
+// Where items [begin, end) split, reordered so that the left child's come first: the cheapest SAH
+// split over the three axes while the tree is shallow enough, else (or where that leaves a side
+// empty: coincident centroids) halved by count along the widest axis.
+std::uint32_t splitItems(std::vector<BvhBuildItem>& items, std::uint32_t begin, std::uint32_t end, const Box& centroids,
+                         int depth) {
+  const auto first = items.begin() + begin, last = items.begin() + end;
+  SahSplit split;
+  if (depth < kMaxSahDepth)
+    for (int axis = 0; axis < 3; ++axis) improveSplitOnAxis({first, last}, centroids, axis, split);
+  const glm::dvec3 extent = centroids.hi - centroids.lo;
+  std::uint32_t mid = begin;
+  if (split.axis >= 0) {
+    const double scale = kSahBins / extent[split.axis];
+    const double lo = centroids.lo[split.axis];
+    auto inLeft = [&](const BvhBuildItem& item) {
+      return std::min(kSahBins - 1, int((item.centroid[split.axis] - lo) * scale)) <= split.bin;
+    };
+    mid = std::uint32_t(std::partition(first, last, inLeft) - items.begin());
+  }
+  if (mid != begin && mid != end) return mid;
+  int axis = 0;
+  if (extent.y > extent[axis]) axis = 1;
+  if (extent.z > extent[axis]) axis = 2;
+  mid = begin + (end - begin) / 2;
+  std::nth_element(first, items.begin() + mid, last,
+                   [axis](const BvhBuildItem& a, const BvhBuildItem& b) { return a.centroid[axis] < b.centroid[axis]; });
+  return mid;
+}
+
+}  // namespace
+
 TriangleBvh::TriangleBvh(const std::vector<glm::dvec3>& corners) {
   const std::size_t count = corners.size() / 3;
-  std::vector<BuildItem> items(count);
+  std::vector<BvhBuildItem> items(count);
   for (std::size_t t = 0; t < count; ++t) {
-    BuildItem& item = items[t];
+    BvhBuildItem& item = items[t];
     for (int v = 0; v < 3; ++v) item.box.grow(corners[3 * t + std::size_t(v)]);
     item.centroid = (corners[3 * t] + corners[3 * t + 1] + corners[3 * t + 2]) / 3.0;
     item.index = std::uint32_t(t);
@@ -180,84 +252,19 @@ TriangleBvh::TriangleBvh(const std::vector<glm::dvec3>& corners) {
   computeWindingData(first, last);
 }
 
-std::uint32_t TriangleBvh::build(std::vector<BuildItem>& items, std::uint32_t begin, std::uint32_t end,
+std::uint32_t TriangleBvh::build(std::vector<BvhBuildItem>& items, std::uint32_t begin, std::uint32_t end,
                                  int depth) {
   const std::uint32_t nodeIndex = std::uint32_t(nodes_.size());
   nodes_.emplace_back();
-  Box bounds;
-  Box centroids;
-  for (std::uint32_t i = begin; i < end; ++i) {
-    bounds.grow(items[i].box);
-    centroids.grow(items[i].centroid);
-  }
-
-  const std::uint32_t n = end - begin;
-  auto makeLeaf = [&] {
+  if (end - begin <= kMaxLeafTriangles) {
     nodes_[nodeIndex].rightOrFirst = std::uint32_t(inputIndex_.size());
-    nodes_[nodeIndex].count = n;
+    nodes_[nodeIndex].count = end - begin;
     for (std::uint32_t i = begin; i < end; ++i) inputIndex_.push_back(items[i].index);
     return nodeIndex;
-  };
-  if (n <= kMaxLeafTriangles) return makeLeaf();
-
-  // Binned SAH over the three axes; the split with the lowest cost wins.
-  const glm::dvec3 extent = centroids.hi - centroids.lo;
-  int bestAxis = -1;
-  int bestSplit = 0;
-  double bestCost = std::numeric_limits<double>::infinity();
-  if (depth < kMaxSahDepth) {
-    for (int axis = 0; axis < 3; ++axis) {
-      if (!(extent[axis] > 0.0)) continue;
-      const double scale = kSahBins / extent[axis];
-      std::array<Box, kSahBins> binBoxes;
-      std::array<std::uint32_t, kSahBins> binCounts{};
-      for (std::uint32_t i = begin; i < end; ++i) {
-        const int bin = std::min(kSahBins - 1, int((items[i].centroid[axis] - centroids.lo[axis]) * scale));
-        binBoxes[std::size_t(bin)].grow(items[i].box);
-        ++binCounts[std::size_t(bin)];
-      }
-      std::array<double, kSahBins> rightCost{};
-      Box right;
-      std::uint32_t rightCount = 0;
-      for (int b = kSahBins - 1; b > 0; --b) {
-        right.grow(binBoxes[std::size_t(b)]);
-        rightCount += binCounts[std::size_t(b)];
-        rightCost[std::size_t(b)] = rightCount ? halfSurfaceArea(right.lo, right.hi) * rightCount : 0.0;
-      }
-      Box left;
-      std::uint32_t leftCount = 0;
-      for (int b = 0; b < kSahBins - 1; ++b) {
-        left.grow(binBoxes[std::size_t(b)]);
-        leftCount += binCounts[std::size_t(b)];
-        if (leftCount == 0 || leftCount == n) continue;
-        const double cost = halfSurfaceArea(left.lo, left.hi) * leftCount + rightCost[std::size_t(b) + 1];
-        if (cost < bestCost) {
-          bestCost = cost;
-          bestAxis = axis;
-          bestSplit = b;
-        }
-      }
-    }
   }
-
-  std::uint32_t mid = begin;
-  if (bestAxis >= 0) {
-    const double scale = kSahBins / extent[bestAxis];
-    const double lo = centroids.lo[bestAxis];
-    auto inLeft = [&](const BuildItem& item) {
-      return std::min(kSahBins - 1, int((item.centroid[bestAxis] - lo) * scale)) <= bestSplit;
-    };
-    mid = std::uint32_t(std::partition(items.begin() + begin, items.begin() + end, inLeft) - items.begin());
-  }
-  if (mid == begin || mid == end) {
-    // No useful SAH split (coincident centroids or too deep): halve by count along the widest axis.
-    int axis = 0;
-    if (extent.y > extent[axis]) axis = 1;
-    if (extent.z > extent[axis]) axis = 2;
-    mid = begin + n / 2;
-    std::nth_element(items.begin() + begin, items.begin() + mid, items.begin() + end,
-                     [axis](const BuildItem& a, const BuildItem& b) { return a.centroid[axis] < b.centroid[axis]; });
-  }
+  Box centroids;
+  for (std::uint32_t i = begin; i < end; ++i) centroids.grow(items[i].centroid);
+  const std::uint32_t mid = splitItems(items, begin, end, centroids, depth);
   build(items, begin, mid, depth + 1);
   const std::uint32_t right = build(items, mid, end, depth + 1);
   nodes_[nodeIndex].rightOrFirst = right;

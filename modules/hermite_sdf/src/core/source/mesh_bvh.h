@@ -35,6 +35,8 @@ struct WindingNode {
   glm::dmat3 secondOrder{0.0};  // column k, row j: sum a * (c - centre)_k * n_j
 };
 
+struct BvhBuildItem;  // a triangle while the tree is built: its box, centroid and index (mesh_bvh.cpp)
+
 class TriangleBvh {
  public:
   // triangles: vertex positions, three per triangle, every triangle with non-zero area.
@@ -62,8 +64,7 @@ class TriangleBvh {
   double windingNumberExact(const glm::dvec3& q) const;
 
  private:
-  struct BuildItem;
-  std::uint32_t build(std::vector<BuildItem>& items, std::uint32_t begin, std::uint32_t end, int depth);
+  std::uint32_t build(std::vector<BvhBuildItem>& items, std::uint32_t begin, std::uint32_t end, int depth);
   void computeNodeBoxes(const std::vector<std::uint32_t>& first, const std::vector<std::uint32_t>& last);
   void computeWindingData(const std::vector<std::uint32_t>& first, const std::vector<std::uint32_t>& last);
   double leafWinding(const glm::dvec3& q, const BvhNode& node) const;
