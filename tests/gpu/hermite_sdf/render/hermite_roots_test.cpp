@@ -1,10 +1,10 @@
 // Robust roots of the Hermite cells: surfaces on, near and half a cell off the sample
 // planes, thin features, planes through cell edges and corners, grazing rays — in the default
 // search (the paper's n samples, with the Bernstein fallback when they show no sign change) and in
-// the certified mode, at every resolution K from 8 to 64. Each frame is compared with the CPU
-// reference ray caster of the same interpolant (coverage away from silhouettes, depth outliers),
-// counted for isolated wrong pixels (specks), and, for boxes on the sample planes, compared with
-// the dense Hermite sphere tracer of the same field.
+// the certified mode, at chosen resolutions K from 8 to 64 (sweptResolutions). Each frame is
+// compared with the CPU reference ray caster of the same interpolant (coverage away from
+// silhouettes, depth outliers), counted for isolated wrong pixels (specks), and, for boxes on the
+// sample planes, compared with the dense Hermite sphere tracer of the same field.
 #include <algorithm>
 #include <cctype>
 #include <cmath>
@@ -37,10 +37,26 @@ constexpr std::uint32_t kHeight = 84;
 constexpr int kMinK = 8;
 constexpr int kMaxK = 64;
 
-// HSDF_TEST_K=k runs only resolution k (for looking at one failure; the suite runs them all).
+// HSDF_TEST_K=k runs only resolution k (for looking at one failure).
 bool selected(int k) {
   const char* only = std::getenv("HSDF_TEST_K");
   return only == nullptr || std::atoi(only) == k;
+}
+
+// The resolutions the sweeps draw. Every K from 8 to 64 took CI ~90 s; these are the ones where
+// the grid does something of its own: the smallest grids, whose rounded box edges turn within a
+// cell (8-13); the grids whose spacing 2 / (K - 1) is a power of two, so that sample planes and
+// face positions are exact in binary and f is exactly 0 on whole planes of samples (9, 17, 33: at
+// K = 33 thousands of specks before the overlap rule); and both parities (the grid's centre on a
+// sample or between two; the two views alternate with it) at the sizes in between and at the top.
+// HSDF_TEST_K=k runs only k (any K), HSDF_TEST_K=all every K from 8 to 64.
+std::vector<int> sweptResolutions() {
+  const char* only = std::getenv("HSDF_TEST_K");
+  if (only != nullptr && std::string(only) != "all") return {std::atoi(only)};
+  if (only == nullptr) return {8, 9, 10, 11, 12, 13, 16, 17, 24, 31, 32, 33, 47, 48, 63, 64};
+  std::vector<int> every;
+  for (int k = kMinK; k <= kMaxK; ++k) every.push_back(k);
+  return every;
 }
 
 // A grid over [-1, 1]^3: sample i of each axis lies at -1 + i h.
@@ -248,9 +264,8 @@ class HermiteRootsTest : public GpuTest {
 // whole planes of samples and the root sits on the face two cells share. Each cell computes the
 // face point in its own local coordinates; rounding put it just outside both segments and the ray
 // went through the face (thousands of specks at K = 33 before the overlap rule).
-TEST_F(HermiteRootsTest, BoxFacesOnSamplePlanesAtEveryResolution) {
-  for (int k = kMinK; k <= kMaxK; ++k) {
-    if (!selected(k)) continue;
+TEST_F(HermiteRootsTest, BoxFacesOnSamplePlanesAcrossResolutions) {
+  for (const int k : sweptResolutions()) {
     const hsdf::GridSpec grid = unitGrid(k);
     const hsdf::BoxSource box(gridCentre(k), wholeCells(k) * grid.spacing);
     const auto asset = bake("box on planes", box, grid);
@@ -264,14 +279,13 @@ TEST_F(HermiteRootsTest, BoxFacesOnSamplePlanesAtEveryResolution) {
 
 // Why: half a cell off, the faces cut through the middle of a layer of cells: every sample is a
 // clear distance from the surface, the baseline that must not regress.
-TEST_F(HermiteRootsTest, BoxFacesHalfACellOffAtEveryResolution) {
-  for (int k = kMinK; k <= kMaxK; ++k) {
-    if (!selected(k)) continue;
+TEST_F(HermiteRootsTest, BoxFacesHalfACellOffAcrossResolutions) {
+  for (const int k : sweptResolutions()) {
     const hsdf::GridSpec grid = unitGrid(k);
     const hsdf::BoxSource box(gridCentre(k), (wholeCells(k) + 0.5) * grid.spacing);
     const auto asset = bake("box half off", box, grid);
     ASSERT_NE(asset, nullptr);
-    const int v = k % 2;  // the two views alternate over K: every face, every resolution
+    const int v = k % 2;  // the two views alternate over K: every face, both parities
     expectRobust(asset, view(*asset, v), "box half off K=" + std::to_string(k) + " view " + std::to_string(v));
   }
 }
@@ -279,28 +293,26 @@ TEST_F(HermiteRootsTest, BoxFacesHalfACellOffAtEveryResolution) {
 // Why: 1e-7 from a plane (inside on x and z, outside on y), the samples on the plane are tiny but
 // not zero and of either sign: one of the two cells holds the root within float rounding of the
 // face, the other may be proven empty by the classifier.
-TEST_F(HermiteRootsTest, BoxFacesWithin1e7OfSamplePlanesAtEveryResolution) {
-  for (int k = kMinK; k <= kMaxK; ++k) {
-    if (!selected(k)) continue;
+TEST_F(HermiteRootsTest, BoxFacesWithin1e7OfSamplePlanesAcrossResolutions) {
+  for (const int k : sweptResolutions()) {
     const hsdf::GridSpec grid = unitGrid(k);
     const hsdf::BoxSource box(gridCentre(k), wholeCells(k) * grid.spacing + glm::dvec3(1e-7, -1e-7, 1e-7));
     const auto asset = bake("box near planes", box, grid);
     ASSERT_NE(asset, nullptr);
-    const int v = k % 2;  // the two views alternate over K: every face, every resolution
+    const int v = k % 2;  // the two views alternate over K: every face, both parities
     expectRobust(asset, view(*asset, v), "box near planes K=" + std::to_string(k) + " view " + std::to_string(v));
   }
 }
 
 // Why: a slab two cells thick with both faces on sample planes: whole layers of cells are crossed
 // by the surface only on their faces, and the rays leave the slab within two cells of entering.
-TEST_F(HermiteRootsTest, SlabsWithFacesOnSamplePlanesAtEveryResolution) {
-  for (int k = kMinK; k <= kMaxK; ++k) {
-    if (!selected(k)) continue;
+TEST_F(HermiteRootsTest, SlabsWithFacesOnSamplePlanesAcrossResolutions) {
+  for (const int k : sweptResolutions()) {
     const hsdf::GridSpec grid = unitGrid(k);
     const hsdf::BoxSource slab(gridCentre(k), glm::dvec3(grid.spacing, 0.7, 0.6));
     const auto asset = bake("slab", slab, grid);
     ASSERT_NE(asset, nullptr);
-    const int v = k % 2;  // the two views alternate over K: every face, every resolution
+    const int v = k % 2;  // the two views alternate over K: every face, both parities
     expectRobust(asset, view(*asset, v), "slab K=" + std::to_string(k) + " view " + std::to_string(v));
   }
 }
@@ -309,9 +321,8 @@ TEST_F(HermiteRootsTest, SlabsWithFacesOnSamplePlanesAtEveryResolution) {
 // a third of a cell, so along oblique rays (segments up to 1.7 cells, samples 0.58 cells apart at
 // n = 3) both roots can fall between two samples and no sample changes sign: the paper's search
 // alone steps over the slab.
-TEST_F(HermiteRootsTest, ThinSlabsBetweenSamplePlanesAtEveryResolution) {
-  for (int k = kMinK; k <= kMaxK; ++k) {
-    if (!selected(k)) continue;
+TEST_F(HermiteRootsTest, ThinSlabsBetweenSamplePlanesAcrossResolutions) {
+  for (const int k : sweptResolutions()) {
     const hsdf::GridSpec grid = unitGrid(k);
     const double center = (std::floor(0.3 * double(k - 1)) + 0.5) * grid.spacing - 1.0;
     const hsdf::BoxSource slab(glm::dvec3(center, 0.0, 0.0), glm::dvec3(0.3 * grid.spacing, 0.7, 0.6));
@@ -324,9 +335,8 @@ TEST_F(HermiteRootsTest, ThinSlabsBetweenSamplePlanesAtEveryResolution) {
 
 // Why: a spherical shell thinner than a cell is thin in every direction and at every position
 // relative to the samples, so some rays pass through both of its surfaces within one segment.
-TEST_F(HermiteRootsTest, ThinSphericalShellsAtEveryResolution) {
-  for (int k = kMinK; k <= kMaxK; ++k) {
-    if (!selected(k)) continue;
+TEST_F(HermiteRootsTest, ThinSphericalShellsAcrossResolutions) {
+  for (const int k : sweptResolutions()) {
     const hsdf::GridSpec grid = unitGrid(k);
     const ShellSource shell(0.6, 0.7 * grid.spacing);
     const auto asset = bake("shell", shell, grid);
@@ -346,7 +356,7 @@ TEST_F(HermiteRootsTest, BoxesRotatedBySmallAngles) {
     const RotatedBoxSource box(gridCentre(k), wholeCells(k) * grid.spacing, rotation);
     const auto asset = bake("rotated box", box, grid);
     ASSERT_NE(asset, nullptr);
-    const int v = k % 2;  // the two views alternate over K: every face, every resolution
+    const int v = k % 2;  // the two views alternate over K: every face, both parities
     expectRobust(asset, view(*asset, v), "rotated box K=" + std::to_string(k) + " view " + std::to_string(v));
   }
 }
