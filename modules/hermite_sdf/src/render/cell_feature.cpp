@@ -6,7 +6,9 @@
 #include <cstddef>
 #include <cstring>
 #include <limits>
+#include <string>
 #include <unordered_set>
+#include <vector>
 
 #include <imgui.h>
 
@@ -112,6 +114,7 @@ void HermiteCellFeature::ensureCounters(engine::render::FrameContext& frame) {
 }
 
 void HermiteCellFeature::prepare(engine::render::FrameContext& frame) {
+  regionStats_.startRegion(frame.frameNumber, stats_);
   if (drawnRegistry_ != &frame.registry) drawnAssets_.clear();
   drawnRegistry_ = &frame.registry;
   syncAssets(frame);
@@ -430,9 +433,14 @@ void HermiteCellFeature::drawUi() {
   const char* mode = settings_.earlyDepth == EarlyDepth::Auto ? " (auto)" : "";
   ImGui::TextWrapped("front-to-back rows: %s, early depth: %s%s", settings_.frontToBack ? "on" : "off",
                      stats_.earlyDepth ? "on" : wanted ? "off (objects overlap on screen)" : "off", mode);
-  ImGui::TextWrapped("objects %u, cells %llu, draws %u, near cells %u, outside the view %u, skipped %u", stats_.objects,
-                     static_cast<unsigned long long>(stats_.cells), stats_.draws, stats_.nearCells, stats_.culledObjects,
-                     stats_.skippedObjects);
+  const std::vector<Stats> regions = regionStats();
+  for (std::size_t i = 0; i < regions.size(); ++i) {
+    const Stats& s = regions[i];
+    const std::string view = engine::render::regionPrefix(i, regions.size());
+    ImGui::TextWrapped("%sobjects %u, cells %llu, draws %u, near cells %u, outside the view %u, skipped %u",
+                       view.c_str(), s.objects, static_cast<unsigned long long>(s.cells), s.draws, s.nearCells,
+                       s.culledObjects, s.skippedObjects);
+  }
   ImGui::TextWrapped("cell buffers: %.2f MiB (held: %.2f MiB)", double(stats_.gpuBytes) / (1024.0 * 1024.0),
                      double(stats_.gpuBytesHeld) / (1024.0 * 1024.0));
   if (stats_.cullingRefused) ImGui::TextUnformatted("cell culling off: its kept-cell streams do not fit (see the log)");

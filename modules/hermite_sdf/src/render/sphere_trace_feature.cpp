@@ -439,6 +439,7 @@ void SphereTraceFeature::collectDraws(engine::render::FrameContext& frame) {
 }
 
 void SphereTraceFeature::prepare(engine::render::FrameContext& frame) {
+  regionStats_.startRegion(frame.frameNumber, stats_);
   const bool bindless = stats_.bindless;
   stats_ = Stats{};
   stats_.bindless = bindless;
@@ -531,8 +532,13 @@ void SphereTraceFeature::drawUi() {
   // Read-only: the application owns the settings (the scene runner's tuning panel writes them).
   ImGui::TextWrapped("epsilon %.1e h, max steps %u, central difference step %.2f h", double(settings_.epsilon),
                      settings_.maxSteps, double(settings_.centralDifferenceStep));
-  ImGui::TextWrapped("objects: %u trilinear, %u hermite, %u near, %u culled, %u skipped", stats_.trilinearObjects,
-                     stats_.hermiteObjects, stats_.nearObjects, stats_.culledObjects, stats_.skippedObjects);
+  const std::vector<Stats> regions = regionStats();
+  for (std::size_t i = 0; i < regions.size(); ++i) {
+    const Stats& s = regions[i];
+    const std::string view = engine::render::regionPrefix(i, regions.size());
+    ImGui::TextWrapped("%sobjects: %u trilinear, %u hermite, %u near, %u culled, %u skipped", view.c_str(),
+                       s.trilinearObjects, s.hermiteObjects, s.nearObjects, s.culledObjects, s.skippedObjects);
+  }
   ImGui::TextWrapped("textures: %u, %.2f MiB, %s", stats_.textures, double(stats_.textureBytes) / (1024.0 * 1024.0),
                      stats_.bindless ? "bindless" : "per-texture descriptor sets");
 }

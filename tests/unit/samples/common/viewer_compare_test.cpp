@@ -213,6 +213,31 @@ std::filesystem::path shaderCopy(const std::filesystem::path& to, const std::vec
   return to;
 }
 
+// Tricky: the renderer prepares each view region in turn, and each feature starts its stats afresh
+// in prepare(), so a split frame's stats() are its right side's: the cells' panel of the default
+// split (cells | trilinear) said "objects 0, draws 0" beside the cells it drew. regionStats() keeps
+// every region's, in drawing order (left, then right), and only the last frame's.
+TEST(ViewerCompare, EachSideOfASplitKeepsItsOwnStats) {
+  TuningState split = cellsK16();
+  split.split = SplitMode::Vertical;
+  auto viewer = viewTorus(split);
+  ASSERT_NE(viewer, nullptr);
+  for (int frame = 0; frame < 2; ++frame) (void)frameWith(*viewer, split);
+  const auto cells = viewer->renderer().feature<hsdf::HermiteCellFeature>()->regionStats();
+  const auto trace = viewer->renderer().feature<hsdf::SphereTraceFeature>()->regionStats();
+  ASSERT_EQ(cells.size(), 2u) << "one entry per region of the last frame";
+  ASSERT_EQ(trace.size(), 2u);
+  EXPECT_EQ(cells[0].objects, 1u) << "the left side draws the torus as cells";
+  EXPECT_GT(cells[0].cells, 0u);
+  EXPECT_EQ(cells[1].objects, 0u);
+  EXPECT_EQ(trace[0].trilinearObjects, 0u);
+  EXPECT_EQ(trace[1].trilinearObjects, 1u) << "the right side traces it";
+  split.split = SplitMode::Off;
+  (void)frameWith(*viewer, split);
+  EXPECT_EQ(viewer->renderer().feature<hsdf::HermiteCellFeature>()->regionStats().size(), 1u)
+      << "a frame of one region forgets the split's";
+}
+
 // Tricky: a reload must take the SPIR-V on disk now, not the modules made at start-up: the
 // trilinear shading shader replaced by the Hermite one changes the colours (the prepass, not
 // replaced, keeps the coverage). A broken file must fail with the file named, keep the old

@@ -71,6 +71,7 @@
 #include "engine/gpu/pipeline.h"
 #include "engine/gpu/pixel_buffer.h"
 #include "engine/render/per_frame_buffer.h"
+#include "engine/render/region_stats.h"
 #include "engine/render/render_feature.h"
 #include "hermite_sdf/render/renderable.h"
 #include "hermite/hermite_host_device.h"
@@ -276,6 +277,8 @@ class HermiteCellFeature final : public engine::render::RenderFeature {
 
   Settings& settings() { return settings_; }
   const Stats& stats() const { return stats_; }
+  // Every view region's stats of the last frame, in drawing order (stats() is the last region's).
+  std::vector<Stats> regionStats() const { return regionStats_.all(stats_); }
   // The last culling passes' counts (bricks and culled cells tested, kept, culled by frustum and
   // by cone, the two passes summed); valid once the frame that recorded them has completed (e.g.
   // after Renderer::finish), zero when that frame culled nothing.
@@ -387,6 +390,7 @@ class HermiteCellFeature final : public engine::render::RenderFeature {
   const engine::gpu::Context* context_ = nullptr;
   Settings settings_;
   Stats stats_;
+  engine::render::RegionStats<Stats> regionStats_;
   // The prepass's fragment-shader variants (shaders/hermite/hit_depth.glsl).
   enum Variant : int {
     kProduction = 0,  // cells_depth{,_near}.frag: no discard, no buffer write

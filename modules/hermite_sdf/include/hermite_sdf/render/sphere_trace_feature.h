@@ -70,6 +70,7 @@
 #include "engine/gpu/lazy_pipeline.h"
 #include "engine/gpu/pipeline.h"
 #include "engine/render/per_frame_buffer.h"
+#include "engine/render/region_stats.h"
 #include "engine/render/render_feature.h"
 #include "hermite_sdf/render/renderable.h"
 
@@ -143,6 +144,8 @@ class SphereTraceFeature final : public engine::render::RenderFeature {
 
   Settings& settings() { return settings_; }
   const Stats& stats() const { return stats_; }
+  // Every view region's stats of the last frame, in drawing order (stats() is the last region's).
+  std::vector<Stats> regionStats() const { return regionStats_.all(stats_); }
   // Whether the field texture of `assetId` could not be uploaded (out of GPU memory or texture
   // slots): the asset is not drawn, and tried again only once memory has been given back, the
   // budget raised or a texture released. Lets the caller draw the field the asset replaced instead.
@@ -211,6 +214,7 @@ class SphereTraceFeature final : public engine::render::RenderFeature {
   Options options_;
   Settings settings_;
   Stats stats_;
+  engine::render::RegionStats<Stats> regionStats_;
   const engine::gpu::Context* context_ = nullptr;
   std::unique_ptr<FieldTextureBindings> bindings_;
   VkSampler samplers_[2] = {VK_NULL_HANDLE, VK_NULL_HANDLE};  // by method: linear, nearest
