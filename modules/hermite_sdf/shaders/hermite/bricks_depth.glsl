@@ -36,8 +36,7 @@ layout(depth_less) out float gl_FragDepth;  // reverse-Z: the hit is never neare
 PixelRay brickRay(FrameGlobals frame, HermiteDraw draw, vec3 start) {
   mat4 invModel = ObjectsRef(pc.draw.objects).objects[draw.object].invModel;
   float h = draw.gridOriginSpacing.w;
-  vec4 anchor = objectRayAnchor(frame, ObjectsRef(pc.draw.objects).objects[draw.object], draw.gridOriginSpacing, draw.resolution);
-  return pixelRay(frame, invModel, h, anchor - vec4(start, 0.0));
+  return pixelRay(frame, invModel, h, draw.rayAnchor - vec4(start, 0.0));
 }
 
 bool keptBit(CellBrickGpu brick, uint bit) {

@@ -92,7 +92,7 @@ void main() {
         lastObject = draw.object;
         mat4 invModel = ObjectsRef(pc.draw.objects).objects[draw.object].invModel;
         float h = draw.gridOriginSpacing.w;
-        PixelRay ray = pixelRay(frame, invModel, h, objectRayAnchor(frame, ObjectsRef(pc.draw.objects).objects[draw.object], draw.gridOriginSpacing, draw.resolution));
+        PixelRay ray = pixelRay(frame, invModel, h, draw.rayAnchor);
         originGrid = ray.origin;
         direction = ray.direction;
         best += base - ray.base;  // none yet: 3e38 stays

@@ -15,7 +15,7 @@ layout(push_constant, scalar) uniform Push { HermitePushConstants pc; };
 layout(location = 0) flat in vec4 inCorners[8];
 layout(location = 8) flat in uvec4 inCell;
 layout(location = 9) flat in uint inDraw;
-layout(location = 11) flat in vec4 inAnchorLocal;  // where the rays are based (eye.glsl, rayAnchorGrid)
+layout(location = 11) flat in vec4 inAnchorLocal;  // where the rays are based (HermiteDraw::rayAnchor)
 layout(location = 12) flat in uint inRecord;
 layout(location = 13) flat in float inDilation;  // the proxy: the cell's box grown by this, cells
 

@@ -15,7 +15,7 @@ layout(push_constant, scalar) uniform Push { HermitePushConstants pc; };
 layout(location = 0) flat in uvec4 inRun;  // x, y, z, length
 layout(location = 1) flat in uint inFirstRecord;
 layout(location = 2) flat in uint inDraw;
-layout(location = 4) flat in vec4 inAnchorLocal;  // where the rays are based (eye.glsl, rayAnchorGrid)
+layout(location = 4) flat in vec4 inAnchorLocal;  // where the rays are based (HermiteDraw::rayAnchor)
 layout(location = 5) flat in float inDilation;
 
 layout(location = 0) out uvec2 outVisibility;  // (1 + object, cell record)
