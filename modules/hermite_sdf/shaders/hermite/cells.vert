@@ -48,7 +48,6 @@ void main() {
                     ? boxStripCorner(gl_VertexIndex, mirrored)
                     : frontFanCorner(gl_VertexIndex, viewerLocal(frame, object.invModel, cameraLocal), 0.5 * (lo + hi), mirrored);
   vec3 local = mix(lo - dilation, hi + dilation, corner);
-  vec3 objectPosition = draw.gridOriginSpacing.xyz + h * (cell + local);
 
   outCorners = inCorners;
   outCell = inCell;
@@ -56,5 +55,5 @@ void main() {
   outRecord = instanceRecord(pc.cellRecords);
   outDilation = dilation;
   outAnchorLocal = vec4(draw.rayAnchor.xyz - cell, draw.rayAnchor.w);
-  gl_Position = frame.viewProj * (object.model * vec4(objectPosition, 1.0));
+  gl_Position = anchoredClipPosition(frame, object.model, draw, cell + local);
 }

@@ -22,4 +22,15 @@ vec4 viewerLocal(FrameGlobals frame, mat4 invModel, vec3 eyeLocal) {
   return vec4(eyeLocal * w + towardViewer * (1.0 - w), w);
 }
 
+// The clip position of `gridPoint` (grid units) of the object placed by `model` whose cells base
+// their rays on `draw.rayAnchor`: drawn as an offset of a few cells from the anchor, which lies on
+// the view axis at view depth w, at view-space (0, 0, -w) (the frame's view is relative to the eye,
+// GpuScene::setOrigin; for an orthographic camera, to its point). Why: through model's float
+// translation, ~7.5e6 cells long at 3e5 object sizes, a box corner rounds by up to ~0.5 cell, and
+// the boxes were drawn that far from where the rays, based on the host's exact anchor, search.
+vec4 anchoredClipPosition(FrameGlobals frame, mat4 model, HermiteDraw draw, vec3 gridPoint) {
+  vec3 offset = mat3(model) * (draw.gridOriginSpacing.w * (gridPoint - draw.rayAnchor.xyz));
+  return frame.proj * vec4(mat3(frame.view) * offset - vec3(0.0, 0.0, draw.rayAnchor.w), 1.0);
+}
+
 #endif

@@ -75,9 +75,3 @@ float pixelRayHitDepth(FrameGlobals frame, float base, float t) {
   return pixelRayDepth(frame, base + t);
 #endif
 }
-
-// Where the ray's camera t is 0 (the eye, or the orthographic camera's point beside this pixel), in
-// the ray's units: searchMargin's measure of how far local coordinates are from it.
-vec3 pixelRayEye(vec3 origin, vec3 direction, float base) {
-  return origin - base * direction;
-}

@@ -33,7 +33,7 @@ void main() {
   PixelRay ray = pixelRay(frame, invModel, draw.gridOriginSpacing.w, inAnchorLocal);
   vec3 origin = ray.origin;
   vec3 direction = ray.direction;
-  float margin = searchMargin(pixelRayEye(origin, direction, ray.base), inDilation);
+  float margin = inDilation;  // the search margin: the proxy's dilation (docs/root-finding.md)
   float length = float(inRun.w);
   // The run's box mirrored through the origin, the same interval: 1 / -direction shares nothing with the
   // cells' searches' 1 / direction, which the compiler would otherwise hold from here through the walk

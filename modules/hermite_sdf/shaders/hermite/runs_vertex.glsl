@@ -63,12 +63,11 @@ void main() {
                                                              : frontFanCorner(gl_VertexIndex, viewerLocal(frame, object.invModel, cameraLocal), 0.5 * (lo + hi), mirrored);
 #endif
   vec3 local = mix(lo - dilation, hi + dilation, corner);
-  vec3 objectPosition = draw.gridOriginSpacing.xyz + h * (start + local);
 
   outRun = run;
   outFirstRecord = inFirstRecord;
   outDraw = drawRecord;  // the fragments read the record without the table's per-command index
   outDilation = dilation;
   outAnchorLocal = vec4(draw.rayAnchor.xyz - start, draw.rayAnchor.w);
-  gl_Position = frame.viewProj * (object.model * vec4(objectPosition, 1.0));
+  gl_Position = anchoredClipPosition(frame, object.model, draw, start + local);
 }
