@@ -257,6 +257,50 @@ TEST_F(HermiteCellsTest, AFarCameraDrawsTheReferenceForEveryCellForm) {
   }
 }
 
+// Why: the anchor (HermiteDraw::rayAnchor) is made in double on the host, where the eye in grid units
+// is exact; made in float from the eye (the shaders did, per vertex and fragment) it held ~0.5 cell
+// 7.5e6 cells out (3e5 object sizes: docs/reliability.md), and every ray of the object moved with
+// it. An orthographic camera draws the same image from anywhere along its axis, so placed 1e7
+// cells back it must draw the coverage the CPU reference draws for it placed 3 radii back (the same
+// rotation, its point moved along the axis in double), in every form: 0 px differ; with the anchor
+// made from the eye rounded to float, 902 (118 interior holes, 119 extras). Normals are not
+// compared: the resolve rebuilds the hit from the depth in float world space, ~1e7 cells from the
+// eye (a normal error p99 of 22-23 degrees here, 1.8-1.9 at 5e5 cells).
+TEST_F(HermiteCellsTest, AnOrthographicCameraFarBackDrawsWhatItDrawsNear) {
+  createCellRenderer(kSize, kSize);
+  hsdf::HermiteCellFeature& feature = *renderer_->feature<hsdf::HermiteCellFeature>();
+  const auto asset = bakeAsset("torus", 16);
+  ASSERT_NE(asset, nullptr);
+  const double kFarCells = 1.0e7;
+  const double h = asset->field.grid.spacing;
+  const float radius = 0.5f * float(glm::length(asset->surfaceBounds.size()));
+  const render::CameraView far = farCameras(*asset, kFarCells).second;
+  // The same camera 3 radii from the centre: its point moved along the axis the view draws.
+  const glm::dmat3 rotation(glm::mat3(far.view));
+  const glm::dvec3 ahead = -glm::inverse(rotation)[2];
+  render::CameraView moved = far;
+  moved.position = glm::vec3(glm::dvec3(far.position) + (kFarCells * h - 3.0 * double(radius)) * ahead);
+  moved.view[3] = glm::vec4(glm::vec3(-(rotation * glm::dvec3(moved.position))), 1.0f);
+  const render::CameraView near = orthographicLike(moved, far.ymag, radius, 5.0f * radius);
+  auto reference = hsdf::renderReference(asset->field, near.view, near.proj, {int(kSize), int(kSize)});
+  ASSERT_TRUE(reference.ok()) << reference.error().message;
+  for (const CellForm& form : kCellForms) {
+    SCOPED_TRACE(form.name);
+    registry_ = ecs::Registry();
+    addSdf(registry_, asset, form.method);
+    useForm(feature, form);
+    const Frame shaded = renderWith(far, DEBUG_VIEW_NONE);
+    const Frame normals = renderWith(far, DEBUG_VIEW_NORMALS);
+    const ImageComparison c = compareWithReference(shaded, &normals.rgba, *reference, near, h);
+    std::printf("[ far back %s ] hits ref %d gpu %d, disagree %d, holes %d, extras %d\n", form.name, c.referenceHits,
+                c.gpuHits, c.disagreements, c.interiorHoles, c.interiorExtras);
+    EXPECT_GT(c.referenceHits, 10000);
+    EXPECT_LE(c.disagreements, 20) << "pixels whose coverage differs from the near camera's reference";
+    EXPECT_EQ(c.interiorHoles, 0);
+    EXPECT_EQ(c.interiorExtras, 0);
+  }
+}
+
 // Why: the rays' anchor (HermiteDraw::rayAnchor) is made per object and view region on the host,
 // from the region's own placement of the object: each region calls the feature's prepare, and a
 // split screen may draw an entity placed otherwise in each (here moved across the view by a third
