@@ -36,8 +36,7 @@ layout(depth_less) out float gl_FragDepth;  // reverse-Z: the hit is never neare
 PixelRay brickRay(FrameGlobals frame, HermiteDraw draw, vec3 start) {
   mat4 invModel = ObjectsRef(pc.draw.objects).objects[draw.object].invModel;
   float h = draw.gridOriginSpacing.w;
-  vec4 anchor = objectRayAnchor(frame, ObjectsRef(pc.draw.objects).objects[draw.object], draw.gridOriginSpacing, draw.resolution);
-  return pixelRay(frame, invModel, h, anchor - vec4(start, 0.0));
+  return pixelRay(frame, invModel, h, draw.rayAnchor - vec4(start, 0.0));
 }
 
 bool keptBit(CellBrickGpu brick, uint bit) {
@@ -171,7 +170,7 @@ void main() {
   PixelRay ray = brickRay(frame, draw, vec3(brickCoordinate(brick) * CELL_BRICK_SIZE));
   vec3 origin = ray.origin;
   vec3 direction = ray.direction;
-  float margin = searchMargin(pixelRayEye(origin, direction, ray.base), inDilation);
+  float margin = inDilation;  // the search margin: the proxy's dilation (docs/root-finding.md)
   // The box mirrored through the origin, the same interval: 1 / -direction shares nothing with the
   // searches' 1 / direction, which the compiler would otherwise hold from here through the walk.
   vec2 box = intersectBox(-origin, -direction, -(vec3(hi + 1u) + margin), -(vec3(lo) - margin));

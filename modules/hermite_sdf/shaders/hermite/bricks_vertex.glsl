@@ -54,10 +54,9 @@ void main() {
                                                              : frontFanCorner(gl_VertexIndex, viewerLocal(frame, object.invModel, cameraLocal), 0.5 * size, mirrored);
 #endif
   vec3 local = corner * (size + 2.0 * dilation) - dilation;
-  vec3 objectPosition = draw.gridOriginSpacing.xyz + h * (start + local);
 
   outBrick = uint(gl_InstanceIndex);  // firstInstance of the command = the object's first brick
   outDraw = drawRecord;  // the fragments read the record without the table's per-command index
   outDilation = dilation;
-  gl_Position = frame.viewProj * (object.model * vec4(objectPosition, 1.0));
+  gl_Position = anchoredClipPosition(frame, object.model, draw, start + local);
 }

@@ -87,7 +87,7 @@ bool cellPixelRect(HermiteDraw draw, uint object, uint record, out ivec2 lo, out
     pmax = frame.viewport.xy;
     nearest = 1.0;
   }
-  // A hit may lie up to the search margin (searchMargin: at most ~1e-4 of the distance) in front of
+  // A hit may lie up to the search margin (the dilation, well under 1e-4 of the distance) in front of
   // the box: the entry's depth is taken that much nearer, so sorting by it never skips a hit.
   nearest = clamp(nearest * 1.0002, 0.0, 1.0);
   // The rectangle holds the projection of the dilated box, in which lies the centre of every pixel

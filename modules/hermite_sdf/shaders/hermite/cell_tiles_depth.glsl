@@ -92,7 +92,7 @@ void main() {
         lastObject = draw.object;
         mat4 invModel = ObjectsRef(pc.draw.objects).objects[draw.object].invModel;
         float h = draw.gridOriginSpacing.w;
-        PixelRay ray = pixelRay(frame, invModel, h, objectRayAnchor(frame, ObjectsRef(pc.draw.objects).objects[draw.object], draw.gridOriginSpacing, draw.resolution));
+        PixelRay ray = pixelRay(frame, invModel, h, draw.rayAnchor);
         originGrid = ray.origin;
         direction = ray.direction;
         best += base - ray.base;  // none yet: 3e38 stays
@@ -104,12 +104,11 @@ void main() {
       float h = draw.gridOriginSpacing.w;
       float dilation = proxyDilation(frame, ObjectsRef(pc.draw.objects).objects[draw.object],
                                      draw.gridOriginSpacing.xyz + h * (cell + 0.5), h);
-      // Would the cell's own proxy have covered this pixel? And can its search (over the margin,
-      // at least the dilation) begin in front of what was found already?
+      // Would the cell's own proxy have covered this pixel? And can its search (over the proxy, the
+      // search margin is the dilation) begin in front of what was found already?
       vec2 box = intersectBox(origin, direction, lo - dilation, hi + dilation);
-      margin = searchMargin(pixelRayEye(origin, direction, base), dilation);
-      vec2 searched = intersectBox(origin, direction, lo - margin, hi + margin);
-      pending = max(box.x, tNear) < box.y && max(searched.x, tNear) < best;
+      margin = dilation;
+      pending = max(box.x, tNear) < box.y && max(box.x, tNear) < best;
       record = entry.record;
       drawCommand = entry.draw;
     }

@@ -23,7 +23,7 @@ layout(location = 8) in uvec4 inCell;  // x, y, z, class
 layout(location = 0) flat out vec4 outCorners[8];
 layout(location = 8) flat out uvec4 outCell;
 layout(location = 9) flat out uint outDraw;
-layout(location = 11) flat out vec4 outAnchorLocal;   // where the rays are based, cell-local, and its view depth (eye.glsl)
+layout(location = 11) flat out vec4 outAnchorLocal;   // where the rays are based, cell-local, and its view depth (HermiteDraw::rayAnchor)
 layout(location = 12) flat out uint outRecord;        // index of the cell record in its buffer
 layout(location = 13) flat out float outDilation;     // how far the proxy reaches beyond the cell, cells
 
@@ -40,9 +40,7 @@ void main() {
   float h = draw.gridOriginSpacing.w;
   float dilation = proxyDilation(frame, object, draw.gridOriginSpacing.xyz + h * (cell + 0.5), h);
   vec3 cameraObject = (object.invModel * vec4(rayEyePoint(frame), 1.0)).xyz;
-  vec3 cameraGrid = (cameraObject - draw.gridOriginSpacing.xyz) / h;
-  vec3 cameraLocal = cameraGrid - cell;
-  vec4 anchor = rayAnchorGrid(frame, object.model, object.invModel, h, draw.resolution, cameraGrid);
+  vec3 cameraLocal = (cameraObject - draw.gridOriginSpacing.xyz) / h - cell;
   bool mirrored = (object.flags & OBJECT_FLAG_MIRRORED) != 0u;
   vec3 lo, hi;  // the cell's proxy box (record_cell.glsl), the part of the cell that can hold its roots
   proxyBox(inCell.w, draw.flags, lo, hi);
@@ -50,13 +48,12 @@ void main() {
                     ? boxStripCorner(gl_VertexIndex, mirrored)
                     : frontFanCorner(gl_VertexIndex, viewerLocal(frame, object.invModel, cameraLocal), 0.5 * (lo + hi), mirrored);
   vec3 local = mix(lo - dilation, hi + dilation, corner);
-  vec3 objectPosition = draw.gridOriginSpacing.xyz + h * (cell + local);
 
   outCorners = inCorners;
   outCell = inCell;
   outDraw = drawRecord;  // the fragments read the record without the table's per-command index
   outRecord = instanceRecord(pc.cellRecords);
   outDilation = dilation;
-  outAnchorLocal = vec4(anchor.xyz - cell, anchor.w);
-  gl_Position = frame.viewProj * (object.model * vec4(objectPosition, 1.0));
+  outAnchorLocal = vec4(draw.rayAnchor.xyz - cell, draw.rayAnchor.w);
+  gl_Position = anchoredClipPosition(frame, object.model, draw, cell + local);
 }

@@ -15,7 +15,7 @@ layout(push_constant, scalar) uniform Push { HermitePushConstants pc; };
 layout(location = 0) flat in vec4 inCorners[8];
 layout(location = 8) flat in uvec4 inCell;
 layout(location = 9) flat in uint inDraw;
-layout(location = 11) flat in vec4 inAnchorLocal;  // where the rays are based (eye.glsl, rayAnchorGrid)
+layout(location = 11) flat in vec4 inAnchorLocal;  // where the rays are based (HermiteDraw::rayAnchor)
 layout(location = 12) flat in uint inRecord;
 layout(location = 13) flat in float inDilation;  // the proxy: the cell's box grown by this, cells
 
@@ -39,13 +39,14 @@ layout(depth_less) out float gl_FragDepth;
 // face shared by two cells, as on the flat faces of a box fitted to the grid, is then a true sign
 // change inside the searched segment of both cells, whichever way float rounding of the two cells'
 // local coordinates falls; without it each cell could see the root just outside its own segment
-// and the ray passed through the face. The margin grows with the distance of the eye in cells,
-// where the local coordinates lose precision (searchMargin, proxy_dilation.glsl).
+// and the ray passed through the face. The rays are based near the object, and the boxes drawn from
+// the same point (HermiteDraw::rayAnchor): a far eye costs the local coordinates no precision, and
+// the margin is the dilation alone.
 void main() {
   HermiteDraw draw = hermiteDrawAt(pc.draws, inDraw);  // inDraw: the record (the vertex shader looked it up)
   FrameGlobals frame = FrameGlobalsRef(pc.draw.frameGlobals).globals;
   PixelRay ray = cellRay(frame, draw);
-  float margin = searchMargin(pixelRayEye(ray.origin, ray.direction, ray.base), inDilation);
+  float margin = inDilation;
   vec3 lo, hi;
   proxyBox(inCell.w, draw.flags, lo, hi);  // every root of the cell lies in its proxy box
   vec2 box = intersectBox(ray.origin, ray.direction, lo - margin, hi + margin);

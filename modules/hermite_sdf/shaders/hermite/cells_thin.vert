@@ -44,10 +44,9 @@ void main() {
                     ? boxStripCorner(gl_VertexIndex, mirrored)
                     : frontFanCorner(gl_VertexIndex, viewerLocal(frame, object.invModel, cameraLocal), 0.5 * (lo + hi), mirrored);
   vec3 local = mix(lo - dilation, hi + dilation, corner);
-  vec3 objectPosition = draw.gridOriginSpacing.xyz + h * (cell + local);
 
   outRecord = instanceRecord(pc.cellRecords);
   outDraw = drawRecord;  // the fragments read the record without the table's per-command index
   outDilation = dilation;
-  gl_Position = frame.viewProj * (object.model * vec4(objectPosition, 1.0));
+  gl_Position = anchoredClipPosition(frame, object.model, draw, cell + local);
 }

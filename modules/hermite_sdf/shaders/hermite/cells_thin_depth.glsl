@@ -29,11 +29,10 @@ void main() {
   mat4 invModel = ObjectsRef(pc.draw.objects).objects[draw.object].invModel;
   float h = draw.gridOriginSpacing.w;
   vec3 lo, hi;  // the cell's proxy box
-  vec4 anchor = objectRayAnchor(frame, ObjectsRef(pc.draw.objects).objects[draw.object], draw.gridOriginSpacing, draw.resolution);
-  PixelRay ray = pixelRay(frame, invModel, h, anchor - vec4(recordCellBox(draw, inRecord, lo, hi), 0.0));
+  PixelRay ray = pixelRay(frame, invModel, h, draw.rayAnchor - vec4(recordCellBox(draw, inRecord, lo, hi), 0.0));
   vec3 origin = ray.origin;
   vec3 direction = ray.direction;
-  float margin = searchMargin(pixelRayEye(origin, direction, ray.base), inDilation);
+  float margin = inDilation;  // the search margin: the proxy's dilation (docs/root-finding.md)
   uint evaluations = 0u;
   // From the near plane (pixel_ray.glsl) on; searchCell clips to the dilated box.
   float t = searchCell(draw, inRecord, lo, hi, origin, direction, margin, pixelRayNearT(frame) - ray.base, 3.0e38, evaluations);

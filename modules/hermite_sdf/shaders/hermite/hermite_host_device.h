@@ -19,6 +19,12 @@ namespace shader {
 // One per indirect draw command of a Hermite feature: which object, and how to search.
 struct HermiteDraw {
   vec4 gridOriginSpacing;  // xyz: grid origin in object space; w: spacing h
+  // Cells: where this view's rays are based (pixel_ray.glsl), made per object and view region on
+  // the host in double (cell_draws.cpp, rayAnchorGrid): xyz in grid units (object space / spacing,
+  // from the grid origin), w its view depth (world units; 0: the rays start at the eye). A float
+  // made on the GPU from an eye ~7.5e6 cells out holds ~0.5 cell; this one holds float's
+  // precision near the object, and costs no shader anything.
+  vec4 rayAnchor;
   uint object;             // index into ObjectData[]
   uint subdivisions;       // n >= 1
   uint refineSteps;
@@ -27,7 +33,7 @@ struct HermiteDraw {
   uint firstCell;          // cells: index of the object's first record in the cell buffer
   uint64_t records;        // cell runs, bricks: address of the record buffer they index (0 for cells)
 };
-HSDF_CHECK_SIZE(HermiteDraw, 16 + 6 * 4 + 8);
+HSDF_CHECK_SIZE(HermiteDraw, 2 * 16 + 6 * 4 + 8);
 
 // The frame's draw table, what the shaders' `draws` address points at: this header, then one uint
 // per indirect command naming its HermiteDraw in the records. An object's rows are many commands

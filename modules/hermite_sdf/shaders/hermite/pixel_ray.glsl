@@ -20,14 +20,14 @@ struct PixelRay {
 
 // This fragment's ray u(t) = origin + t * direction in the units of `anchor` (an object's grid or
 // cell-local coordinates: object space / spacing, offset), based on the plane of view depth
-// anchor.w (eye.glsl's rayAnchorGrid, in those units: flat, the same for every cell of the object).
+// anchor.w (HermiteDraw::rayAnchor, in those units: flat, the same for every cell of the object).
 // The camera's t (t = 1 at the fragment's point on the rasterized face, 0 at the eye or on the
 // orthographic camera's plane; pixelRayDepth, pixelRayNearT: the depth of any such t) is base + t.
 // Perspective (FrameGlobals::cameraPosition.w = 1): the ray from the eye reaches that plane at
 // camera t base, beside the anchor by the face point's view-space x and y scaled by base.
 // Orthographic (w = 0): the ray runs down the view axis, beside the anchor by the face point's x
 // and y. Both offsets are small where the anchor is near the object: the search runs in an offset
-// from a point among the cells, not in the camera's t (eye.glsl, rayAnchorGrid). An anchor of depth
+// from a point among the cells, not in the camera's t (HermiteDraw::rayAnchor, made on the host). An anchor of depth
 // 0 is the eye or the camera's point itself: base is 0, and t is the camera's t.
 PixelRay pixelRay(FrameGlobals frame, mat4 invModel, float spacing, vec4 anchor) {
   vec2 ndc = gl_FragCoord.xy * frame.viewport.zw * 2.0 - 1.0;
@@ -74,10 +74,4 @@ float pixelRayHitDepth(FrameGlobals frame, float base, float t) {
 #else
   return pixelRayDepth(frame, base + t);
 #endif
-}
-
-// Where the ray's camera t is 0 (the eye, or the orthographic camera's point beside this pixel), in
-// the ray's units: searchMargin's measure of how far local coordinates are from it.
-vec3 pixelRayEye(vec3 origin, vec3 direction, float base) {
-  return origin - base * direction;
 }

@@ -27,13 +27,4 @@ float proxyDilation(FrameGlobals frame, ObjectData object, vec3 cellCentre, floa
   return proxyDilationAt(frame, clipW, h, scale);
 }
 
-// How far beyond its cell a fragment searches the ray (cell-local units): the proxy's dilation,
-// widened when the eye (`eyeLocal`: pixel_ray.glsl, pixelRayEye) is so far away, in cells, that
-// local coordinates lose precision: the eye and the rays' base point near the object
-// (eye.glsl, rayAnchorGrid) are floats rounded there, apart from the boxes' rasterized corners.
-float searchMargin(vec3 eyeLocal, float dilation) {
-  vec3 magnitude = abs(eyeLocal);
-  return max(dilation, 1.0e-7 * max(max(magnitude.x, magnitude.y), magnitude.z));
-}
-
 #endif

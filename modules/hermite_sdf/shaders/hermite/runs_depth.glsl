@@ -15,7 +15,7 @@ layout(push_constant, scalar) uniform Push { HermitePushConstants pc; };
 layout(location = 0) flat in uvec4 inRun;  // x, y, z, length
 layout(location = 1) flat in uint inFirstRecord;
 layout(location = 2) flat in uint inDraw;
-layout(location = 4) flat in vec4 inAnchorLocal;  // where the rays are based (eye.glsl, rayAnchorGrid)
+layout(location = 4) flat in vec4 inAnchorLocal;  // where the rays are based (HermiteDraw::rayAnchor)
 layout(location = 5) flat in float inDilation;
 
 layout(location = 0) out uvec2 outVisibility;  // (1 + object, cell record)
@@ -33,7 +33,7 @@ void main() {
   PixelRay ray = pixelRay(frame, invModel, draw.gridOriginSpacing.w, inAnchorLocal);
   vec3 origin = ray.origin;
   vec3 direction = ray.direction;
-  float margin = searchMargin(pixelRayEye(origin, direction, ray.base), inDilation);
+  float margin = inDilation;  // the search margin: the proxy's dilation (docs/root-finding.md)
   float length = float(inRun.w);
   // The run's box mirrored through the origin, the same interval: 1 / -direction shares nothing with the
   // cells' searches' 1 / direction, which the compiler would otherwise hold from here through the walk

@@ -23,7 +23,7 @@ layout(location = 1) in uint inFirstRecord;
 layout(location = 0) flat out uvec4 outRun;          // x, y, z, length
 layout(location = 1) flat out uint outFirstRecord;
 layout(location = 2) flat out uint outDraw;
-layout(location = 4) flat out vec4 outAnchorLocal;   // where the rays are based, run-local, and its view depth (eye.glsl)
+layout(location = 4) flat out vec4 outAnchorLocal;   // where the rays are based, run-local, and its view depth (HermiteDraw::rayAnchor)
 layout(location = 5) flat out float outDilation;     // how far the proxy reaches beyond the run, cells
 
 precise gl_Position;
@@ -44,9 +44,7 @@ void main() {
   vec3 lastCentre = firstCentre + vec3(h * (size.x - 1.0), 0.0, 0.0);
   float dilation = max(proxyDilation(frame, object, firstCentre, h), proxyDilation(frame, object, lastCentre, h));
   vec3 cameraObject = (object.invModel * vec4(rayEyePoint(frame), 1.0)).xyz;
-  vec3 cameraGrid = (cameraObject - draw.gridOriginSpacing.xyz) / h;
-  vec3 cameraLocal = cameraGrid - start;
-  vec4 anchor = rayAnchorGrid(frame, object.model, object.invModel, h, draw.resolution, cameraGrid);
+  vec3 cameraLocal = (cameraObject - draw.gridOriginSpacing.xyz) / h - start;
   bool mirrored = (object.flags & OBJECT_FLAG_MIRRORED) != 0u;
   // The proxy: the union of the run's cells' proxy boxes (record_cell.glsl), which holds every
   // root of the run (the whole run with HERMITE_FLAG_WHOLE_CELLS). The fragment shader still clips
@@ -65,12 +63,11 @@ void main() {
                                                              : frontFanCorner(gl_VertexIndex, viewerLocal(frame, object.invModel, cameraLocal), 0.5 * (lo + hi), mirrored);
 #endif
   vec3 local = mix(lo - dilation, hi + dilation, corner);
-  vec3 objectPosition = draw.gridOriginSpacing.xyz + h * (start + local);
 
   outRun = run;
   outFirstRecord = inFirstRecord;
   outDraw = drawRecord;  // the fragments read the record without the table's per-command index
   outDilation = dilation;
-  outAnchorLocal = vec4(anchor.xyz - start, anchor.w);
-  gl_Position = frame.viewProj * (object.model * vec4(objectPosition, 1.0));
+  outAnchorLocal = vec4(draw.rayAnchor.xyz - start, draw.rayAnchor.w);
+  gl_Position = anchoredClipPosition(frame, object.model, draw, start + local);
 }
