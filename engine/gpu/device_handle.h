@@ -50,12 +50,14 @@ class DeviceHandle {
 // Plain functions with the destroy signature: the vkDestroy* prototypes carry VKAPI_CALL, which
 // need not be the default calling convention (32-bit Windows).
 inline void destroyQueryPool(VkDevice d, VkQueryPool h, const VkAllocationCallbacks* a) { vkDestroyQueryPool(d, h, a); }
+inline void destroySampler(VkDevice d, VkSampler h, const VkAllocationCallbacks* a) { vkDestroySampler(d, h, a); }
 inline void destroySemaphore(VkDevice d, VkSemaphore h, const VkAllocationCallbacks* a) { vkDestroySemaphore(d, h, a); }
 inline void destroySwapchain(VkDevice d, VkSwapchainKHR h, const VkAllocationCallbacks* a) {
   vkDestroySwapchainKHR(d, h, a);
 }
 
 using QueryPoolHandle = DeviceHandle<VkQueryPool, destroyQueryPool>;
+using SamplerHandle = DeviceHandle<VkSampler, destroySampler>;
 using SemaphoreHandle = DeviceHandle<VkSemaphore, destroySemaphore>;
 using SwapchainHandle = DeviceHandle<VkSwapchainKHR, destroySwapchain>;
 

@@ -9,6 +9,21 @@
 
 namespace engine::gpu {
 
+SamplerHandle createClampedSampler(const Context& context, VkFilter filter, const std::string& name) {
+  VkSamplerCreateInfo info{VK_STRUCTURE_TYPE_SAMPLER_CREATE_INFO};
+  info.magFilter = filter;
+  info.minFilter = filter;
+  info.mipmapMode = VK_SAMPLER_MIPMAP_MODE_NEAREST;
+  info.addressModeU = VK_SAMPLER_ADDRESS_MODE_CLAMP_TO_EDGE;
+  info.addressModeV = VK_SAMPLER_ADDRESS_MODE_CLAMP_TO_EDGE;
+  info.addressModeW = VK_SAMPLER_ADDRESS_MODE_CLAMP_TO_EDGE;
+  info.maxLod = 0.0f;
+  SamplerHandle sampler;
+  VK_CHECK(vkCreateSampler(context.device(), &info, nullptr, sampler.receive(context.device())));
+  context.setName(sampler.get(), VK_OBJECT_TYPE_SAMPLER, name);
+  return sampler;
+}
+
 bool isDepthFormat(VkFormat format) {
   return format == VK_FORMAT_D32_SFLOAT || format == VK_FORMAT_D24_UNORM_S8_UINT ||
          format == VK_FORMAT_D16_UNORM || format == VK_FORMAT_D32_SFLOAT_S8_UINT;

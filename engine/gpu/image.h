@@ -6,6 +6,7 @@
 
 #include <vulkan/vulkan.h>
 
+#include "engine/gpu/device_handle.h"
 #include "engine/gpu/memory.h"
 
 namespace engine::gpu {
@@ -19,6 +20,10 @@ struct ImageDesc {
   VkImageUsageFlags usage = VK_IMAGE_USAGE_SAMPLED_BIT;
   std::string name = "image";
 };
+
+// A sampler of one level, clamped to the edge on every axis, with `filter` both ways: images read
+// at texel centres or filtered between them, never wrapped around or mipmapped. Named `name`.
+SamplerHandle createClampedSampler(const Context& context, VkFilter filter, const std::string& name);
 
 class Image {
  public:

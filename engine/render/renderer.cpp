@@ -143,18 +143,10 @@ void Renderer::destroyHandles() noexcept {
     vkDestroyCommandPool(context_.device(), frame.pool, nullptr);
   }
   vkDestroyDescriptorPool(context_.device(), descriptorPool_, nullptr);
-  vkDestroySampler(context_.device(), depthSampler_, nullptr);
 }
 
 void Renderer::createSceneDescriptors() {
-  VkSamplerCreateInfo samplerInfo{VK_STRUCTURE_TYPE_SAMPLER_CREATE_INFO};
-  samplerInfo.magFilter = VK_FILTER_NEAREST;
-  samplerInfo.minFilter = VK_FILTER_NEAREST;
-  samplerInfo.addressModeU = VK_SAMPLER_ADDRESS_MODE_CLAMP_TO_EDGE;
-  samplerInfo.addressModeV = VK_SAMPLER_ADDRESS_MODE_CLAMP_TO_EDGE;
-  samplerInfo.addressModeW = VK_SAMPLER_ADDRESS_MODE_CLAMP_TO_EDGE;
-  VK_CHECK(vkCreateSampler(context_.device(), &samplerInfo, nullptr, &depthSampler_));
-  context_.setName(depthSampler_, VK_OBJECT_TYPE_SAMPLER, "scene depth sampler");
+  depthSampler_ = gpu::createClampedSampler(context_, VK_FILTER_NEAREST, "scene depth sampler");
 
   sceneSetLayout_ = gpu::DescriptorSetLayout(
       context_, {"scene set layout",
@@ -181,8 +173,8 @@ void Renderer::createSceneDescriptors() {
 
 // Points the scene set at the current depth target (called with the GPU idle).
 void Renderer::updateSceneDescriptors() {
-  const VkDescriptorImageInfo images[2] = {{depthSampler_, depth_.view(), kFinalDepthLayout},
-                                           {depthSampler_, visibility_.view(), VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL}};
+  const VkDescriptorImageInfo images[2] = {{depthSampler_.get(), depth_.view(), kFinalDepthLayout},
+                                           {depthSampler_.get(), visibility_.view(), VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL}};
   VkWriteDescriptorSet writes[2] = {};
   for (std::uint32_t i = 0; i < 2; ++i) {
     writes[i].sType = VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET;

@@ -204,7 +204,7 @@ class Renderer {
   gpu::Image color_;
   gpu::Image depth_;
   gpu::Image visibility_;
-  VkSampler depthSampler_ = VK_NULL_HANDLE;
+  gpu::SamplerHandle depthSampler_;
   gpu::DescriptorSetLayout sceneSetLayout_;
   VkDescriptorPool descriptorPool_ = VK_NULL_HANDLE;
   VkDescriptorSet sceneSet_ = VK_NULL_HANDLE;

@@ -177,11 +177,10 @@ void CellTiler::dispatchBins(VkCommandBuffer cmd, shader::CellTilePushConstants 
   }
 }
 
-void CellTiler::record(VkCommandBuffer cmd, const Frame& frame, engine::gpu::GpuTimer* timer) {
-  Slot& slot = slots_[frame.slot];
-  const VkExtent2D grid = tileGrid(frame.extent, frame.tileSize);
-  const std::uint32_t tilesX = grid.width, tilesY = grid.height;
-  const std::uint32_t tileCount = std::max(tilesX * tilesY, 1u);
+// Sizes the slot's buffers for the frame and resets its totals (the tile draw's vertex count
+// included); returns the number of tiles.
+std::uint32_t CellTiler::startFrame(Slot& slot, const Frame& frame, VkExtent2D grid) {
+  const std::uint32_t tileCount = std::max(grid.width * grid.height, 1u);
   ensureBuffers(slot, tileCount, frame.tileSize, wantedEntries(frame.slot, frame.entryEstimate), std::max(frame.entryLimit, 1u));
   slot.recorded = true;
   slot.recordedEstimate = frame.entryEstimate;
@@ -189,6 +188,30 @@ void CellTiler::record(VkCommandBuffer cmd, const Frame& frame, engine::gpu::Gpu
   shader::CellTileTotals totals{};
   totals.vertexCount = tilesAsPoints(*context_) ? 1 : 6;
   totals_.upload(frame.slot, &totals, sizeof(totals));
+  return tileCount;
+}
+
+// What every phase reads (dispatchBins adds each precision's ranges).
+shader::CellTilePushConstants CellTiler::pushConstants(const Slot& slot, const Frame& frame, VkExtent2D grid) const {
+  shader::CellTilePushConstants push{};
+  push.draws = frame.draws;
+  push.objects = frame.objects;
+  push.frameGlobals = frame.frameGlobals;
+  push.tiles = slot.tiles.address();
+  push.entries = slot.entries.address();
+  push.sortedEntries = slot.sortedEntries.address();
+  push.totals = totals_.address(frame.slot);
+  push.tilesX = grid.width;
+  push.tilesY = grid.height;
+  push.tileSize = frame.tileSize;
+  push.entryCapacity = slot.capacity;
+  return push;
+}
+
+void CellTiler::record(VkCommandBuffer cmd, const Frame& frame, engine::gpu::GpuTimer* timer) {
+  Slot& slot = slots_[frame.slot];
+  const VkExtent2D grid = tileGrid(frame.extent, frame.tileSize);
+  const std::uint32_t tileCount = startFrame(slot, frame, grid);
 
   // The culling pass wrote the kept cells and their counts that COUNT reads (its own barrier hands
   // them to the draws only).
@@ -202,18 +225,7 @@ void CellTiler::record(VkCommandBuffer cmd, const Frame& frame, engine::gpu::Gpu
     clearTiles(cmd, slot.tiles.handle(), tileCount);
   }
 
-  shader::CellTilePushConstants push{};
-  push.draws = frame.draws;
-  push.objects = frame.objects;
-  push.frameGlobals = frame.frameGlobals;
-  push.tiles = slot.tiles.address();
-  push.entries = slot.entries.address();
-  push.sortedEntries = slot.sortedEntries.address();
-  push.totals = totals_.address(frame.slot);
-  push.tilesX = tilesX;
-  push.tilesY = tilesY;
-  push.tileSize = frame.tileSize;
-  push.entryCapacity = slot.capacity;
+  const shader::CellTilePushConstants push = pushConstants(slot, frame, grid);
   vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, pipeline_.handle());
   const VkPipelineLayout layout = pipeline_.layout();
   const VkBuffer totalsBuffer = totals_.buffer(frame.slot).handle();

@@ -111,6 +111,8 @@ class CellTiler {
                      std::uint32_t limit);
   std::uint64_t wantedEntries(std::uint32_t slot, std::uint64_t entryEstimate) const;
   void dispatchBins(VkCommandBuffer cmd, shader::CellTilePushConstants push, const Frame& frame, std::uint32_t phase);
+  std::uint32_t startFrame(Slot& slot, const Frame& frame, VkExtent2D grid);
+  shader::CellTilePushConstants pushConstants(const Slot& slot, const Frame& frame, VkExtent2D grid) const;
 
   const engine::gpu::Context* context_ = nullptr;
   engine::gpu::Pipeline pipeline_;

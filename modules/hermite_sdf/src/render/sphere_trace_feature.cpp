@@ -66,7 +66,7 @@ SphereTraceFeature::~SphereTraceFeature() {
   warming_.stop();
   textures_.clear();
   bindings_.reset();
-  for (VkSampler sampler : samplers_) vkDestroySampler(context_->device(), sampler, nullptr);
+  for (engine::gpu::SamplerHandle& sampler : samplers_) sampler.reset();
 }
 
 float SphereTraceFeature::exactBelowCells(std::uint32_t bits) {
@@ -124,18 +124,8 @@ void SphereTraceFeature::createSamplers() {
   for (std::uint32_t method = 0; method < kTraceMethodCount; ++method) {
     // Trilinear fields are filtered by the hardware; Hermite fields are only texelFetch'ed.
     const VkFilter filter = method == std::uint32_t(TraceMethod::Trilinear) ? VK_FILTER_LINEAR : VK_FILTER_NEAREST;
-    VkSamplerCreateInfo info{};
-    info.sType = VK_STRUCTURE_TYPE_SAMPLER_CREATE_INFO;
-    info.magFilter = filter;
-    info.minFilter = filter;
-    info.mipmapMode = VK_SAMPLER_MIPMAP_MODE_NEAREST;
-    info.addressModeU = VK_SAMPLER_ADDRESS_MODE_CLAMP_TO_EDGE;
-    info.addressModeV = VK_SAMPLER_ADDRESS_MODE_CLAMP_TO_EDGE;
-    info.addressModeW = VK_SAMPLER_ADDRESS_MODE_CLAMP_TO_EDGE;
-    info.maxLod = 0.0f;
-    VK_CHECK(vkCreateSampler(context_->device(), &info, nullptr, &samplers_[method]));
-    context_->setName(samplers_[method], VK_OBJECT_TYPE_SAMPLER,
-                      std::string("sphere trace ") + kMethodNames[method] + " sampler");
+    samplers_[method] = engine::gpu::createClampedSampler(*context_, filter,
+                                                           std::string("sphere trace ") + kMethodNames[method] + " sampler");
   }
 }
 
@@ -288,7 +278,7 @@ engine::Expected<SphereTraceFeature::FieldTexture> SphereTraceFeature::uploadTex
     return engine::makeError("out of GPU memory (" + uploaded.error().message + ")");
   }
   texture.bytes = texels.bytes.size();
-  auto slot = bindings_->add(texture.image.view(), samplers_[method]);
+  auto slot = bindings_->add(texture.image.view(), samplers_[method].get());
   if (!slot) {
     outOfResources = true;
     return slot.error();
@@ -365,8 +355,42 @@ void SphereTraceFeature::releaseUnusedTextures(const engine::render::FrameContex
   }
 }
 
+// The texture an entity draws with `method`, and its asset: the renderable's, or, while that one is
+// refused (its texture did not fit in GPU memory) after it replaced the entity's field, the field it
+// replaced, still uploaded, from the frame that found out on. Null texture: nothing to draw.
+SphereTraceFeature::EntityTexture SphereTraceFeature::entityTexture(engine::ecs::Entity entity,
+                                                                    const HermiteSdfRenderable& r, std::uint32_t method,
+                                                                    const engine::render::FrameContext& frame) {
+  const auto acquire = [&](const std::shared_ptr<const SdfAsset>& asset) {
+    return EntityTexture{asset, acquireTexture(*asset, method, r.halfPrecision && halfPrecisionFits(asset->field.grid), frame)};
+  };
+  EntityTexture found = acquire(r.asset);
+  if (!found.texture && refused(r.asset->id))
+    if (auto previous = drawnAssets_.find(entity); previous != drawnAssets_.end()) found = acquire(previous->second);
+  return found;
+}
+
+// One object's draw: its grid, its texture and the tracing settings (checked once each).
+shader::SphereTraceDraw SphereTraceFeature::makeDraw(const EntityTexture& found, const HermiteSdfRenderable& r,
+                                                     std::uint32_t object) {
+  const GridSpec& grid = found.asset->field.grid;
+  shader::SphereTraceDraw draw{};
+  draw.gridOriginSpacing = glm::vec4(glm::vec3(grid.bounds().min), float(grid.spacing));
+  draw.object = object;
+  draw.resolution = std::uint32_t(grid.resolution);
+  draw.flags = r.normals == NormalMode::CentralDifferences ? HERMITE_FLAG_NORMALS_CENTRAL : 0u;
+  draw.texture = found.texture->slot;
+  draw.maxSteps = std::max(settings_.maxSteps, 1u);
+  draw.epsilon = checkedLength(settings_.epsilon, Settings{}.epsilon, "epsilon", settingsSaid_);
+  draw.centralStep = checkedLength(settings_.centralDifferenceStep, Settings{}.centralDifferenceStep,
+                                   "centralDifferenceStep", settingsSaid_);
+  draw.filterBits = std::min(settings_.emulatedFilterBits, 16u);
+  draw.exactBelow = exactBelowCells(draw.filterBits != 0 ? draw.filterBits : deviceFilterBits_);
+  return draw;
+}
+
 void SphereTraceFeature::collectDraws(engine::render::FrameContext& frame) {
-  std::vector<shader::SphereTraceDraw> lists[kTraceMethodCount][2];  // [method][near]
+  DrawLists lists;
   const engine::math::Frustum frustum = engine::math::extractFrustum(frame.camera.proj * frame.camera.view);
   std::unordered_map<engine::ecs::Entity, std::shared_ptr<const SdfAsset>> drawnThisFrame;
   if (drawnRegistry_ != &frame.registry) drawnAssets_.clear();
@@ -387,45 +411,27 @@ void SphereTraceFeature::collectDraws(engine::render::FrameContext& frame) {
             drawnThisFrame[entity] = previous->second;  // what it would draw when back in view
           return;
         }
-        std::shared_ptr<const SdfAsset> asset = r.asset;
-        const FieldTexture* texture = acquireTexture(*asset, method, r.halfPrecision && halfPrecisionFits(asset->field.grid), frame);
-        // A refused asset (its texture did not fit in GPU memory) that replaced the entity's field:
-        // the field it replaced, still uploaded, is drawn instead, from the frame that found out on.
-        if (!texture && refused(asset->id))
-          if (auto previous = drawnAssets_.find(entity); previous != drawnAssets_.end()) {
-            asset = previous->second;
-            texture = acquireTexture(*asset, method, r.halfPrecision && halfPrecisionFits(asset->field.grid), frame);
-          }
-        if (!texture) {
+        const EntityTexture found = entityTexture(entity, r, method, frame);
+        if (!found.texture) {
           ++stats_.skippedObjects;
           return;
         }
-        drawnThisFrame[entity] = asset;
-        const GridSpec& grid = asset->field.grid;
-        const glm::vec3 lo(grid.bounds().min), hi(grid.bounds().max);
+        drawnThisFrame[entity] = found.asset;
+        const Aabb drawn = found.asset->field.grid.bounds();
         shader::ObjectData object =
             engine::render::GpuScene::makeObject(world.matrix, r.color, r.roughness, 0.0f, kFeatureId);
-        object.payload = texture->materials ? texture->materials->address() : 0;  // FieldMaterialsHeader
-        shader::SphereTraceDraw draw{};
-        draw.gridOriginSpacing = glm::vec4(lo, float(grid.spacing));
-        draw.object = frame.scene.addObject(object);
-        draw.resolution = std::uint32_t(grid.resolution);
-        draw.flags = r.normals == NormalMode::CentralDifferences ? HERMITE_FLAG_NORMALS_CENTRAL : 0u;
-        draw.texture = texture->slot;
-        draw.maxSteps = std::max(settings_.maxSteps, 1u);
-        draw.epsilon = checkedLength(settings_.epsilon, Settings{}.epsilon, "epsilon", settingsSaid_);
-        draw.centralStep = checkedLength(settings_.centralDifferenceStep, Settings{}.centralDifferenceStep,
-                                         "centralDifferenceStep", settingsSaid_);
-        draw.filterBits = std::min(settings_.emulatedFilterBits, 16u);
-        draw.exactBelow = exactBelowCells(draw.filterBits != 0 ? draw.filterBits : deviceFilterBits_);
-        const bool near = nearPlaneMayCut(frame.camera, object.model, lo, hi);
-        lists[method][near ? 1 : 0].push_back(draw);
+        object.payload = found.texture->materials ? found.texture->materials->address() : 0;  // FieldMaterialsHeader
+        const bool near = nearPlaneMayCut(frame.camera, object.model, glm::vec3(drawn.min), glm::vec3(drawn.max));
+        lists[method][near ? 1 : 0].push_back(makeDraw(found, r, frame.scene.addObject(object)));
         (method == std::uint32_t(TraceMethod::Trilinear) ? stats_.trilinearObjects : stats_.hermiteObjects)++;
         stats_.nearObjects += near ? 1u : 0u;
       });
-
   drawnAssets_ = std::move(drawnThisFrame);
-  // One buffer: [trilinear front][trilinear near][hermite front][hermite near].
+  uploadDraws(frame, lists);
+}
+
+// One buffer: [trilinear front][trilinear near][hermite front][hermite near].
+void SphereTraceFeature::uploadDraws(const engine::render::FrameContext& frame, const DrawLists& lists) {
   std::vector<shader::SphereTraceDraw> all;
   for (std::uint32_t method = 0; method < kTraceMethodCount; ++method) {
     front_[method] = {std::uint32_t(all.size()), std::uint32_t(lists[method][0].size())};

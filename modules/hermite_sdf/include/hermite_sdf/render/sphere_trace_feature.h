@@ -74,6 +74,10 @@
 #include "engine/render/render_feature.h"
 #include "hermite_sdf/render/renderable.h"
 
+namespace shader {
+struct SphereTraceDraw;  // hermite/hermite_host_device.h
+}  // namespace shader
+
 namespace hsdf {
 
 class FieldTextureBindings;
@@ -206,7 +210,17 @@ class SphereTraceFeature final : public engine::render::RenderFeature {
                                                bool& outOfResources, VkDeviceSize& neededBytes);
   void forgetRefusalsThatMayFit();
   void releaseUnusedTextures(const engine::render::FrameContext& frame);
+  // An entity's asset and the texture it draws with (null: nothing to draw).
+  struct EntityTexture {
+    std::shared_ptr<const SdfAsset> asset;
+    const FieldTexture* texture = nullptr;
+  };
+  using DrawLists = std::vector<shader::SphereTraceDraw>[2][2];  // [method][near], as front_ and near_
+  EntityTexture entityTexture(engine::ecs::Entity entity, const HermiteSdfRenderable& r, std::uint32_t method,
+                              const engine::render::FrameContext& frame);
+  shader::SphereTraceDraw makeDraw(const EntityTexture& found, const HermiteSdfRenderable& r, std::uint32_t object);
   void collectDraws(engine::render::FrameContext& frame);
+  void uploadDraws(const engine::render::FrameContext& frame, const DrawLists& lists);
   void recordDraws(VkCommandBuffer cmd, VkPipelineLayout layout, Range range) const;
   void recordMethod(engine::render::PassContext& pass, std::uint32_t method);
   void recordWireframe(engine::render::PassContext& pass);
@@ -217,7 +231,7 @@ class SphereTraceFeature final : public engine::render::RenderFeature {
   engine::render::RegionStats<Stats> regionStats_;
   const engine::gpu::Context* context_ = nullptr;
   std::unique_ptr<FieldTextureBindings> bindings_;
-  VkSampler samplers_[2] = {VK_NULL_HANDLE, VK_NULL_HANDLE};  // by method: linear, nearest
+  engine::gpu::SamplerHandle samplers_[2];  // by method: linear, nearest
   engine::render::RendererFormats formats_;
   Pipelines pipelines_;
   // Compiles likelyNextPipelines() on a worker; declared after pipelines_ so that it is stopped
