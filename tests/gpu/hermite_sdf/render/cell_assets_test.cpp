@@ -318,9 +318,17 @@ TEST_F(HermiteCellsTest, ARebuildCopiesTheKeptRecordsAndWritesOnlyTheNewAssets) 
   ASSERT_GE(recordBytes({dropped}), keptBytes) << "the dropped asset must hold half of the records: a rebuild";
   const render::CameraView camera =
       render::CameraView::lookAt(glm::vec3(0.0f, 0.0f, 9.0f), glm::vec3(0.0f), 0.9f, 0.1f, 1.0f);
+  // The first rebuild's frames draw the cells unculled and untiled: the prepass then reads the
+  // records as vertex attributes, which synchronization validation tracks (reads by address it
+  // does not). The second rebuild's frames cull, so its copied cell cones are read.
+  const auto unculled = [](Cells& cells, bool on) {
+    cells.settings().tiles = on ? Cells::Tiles::Off : Cells::Settings{}.tiles;
+    cells.settings().cullCells = !on;
+  };
   createCellRenderer(size, size);
   auto* feature = renderer_->feature<Cells>();
   feature->settings().releaseAfterFrames = 1000;  // no timed release: the half rule alone
+  unculled(*feature, true);
   const ecs::Entity droppedEntity = addPlaced(registry_, dropped);
   for (const Placed& p : kept) addPlaced(registry_, p);
   (void)renderWith(camera, DEBUG_VIEW_NONE);
@@ -339,6 +347,8 @@ TEST_F(HermiteCellsTest, ARebuildCopiesTheKeptRecordsAndWritesOnlyTheNewAssets) 
   // A new run length: every asset is kept, every record copied.
   std::vector<Placed> drawn = kept;
   drawn.push_back(arriving);
+  unculled(*feature, false);
+  (void)renderWith(camera, DEBUG_VIEW_NONE);
   feature->settings().maxRunLength = 3;
   uploaded = stats.uploadedBytes;
   copied = stats.copiedBytes;
@@ -350,6 +360,7 @@ TEST_F(HermiteCellsTest, ARebuildCopiesTheKeptRecordsAndWritesOnlyTheNewAssets) 
   for (const std::uint32_t runLength : {8u, 3u}) {  // a fresh feature, the same objects
     createCellRenderer(size, size);
     renderer_->feature<Cells>()->settings().maxRunLength = runLength;
+    unculled(*renderer_->feature<Cells>(), runLength == 8);
     (void)renderWith(camera, DEBUG_VIEW_NONE);
     const Frame fresh = renderWith(camera, DEBUG_VIEW_NONE);
     ASSERT_GT(coveredPixels(fresh), std::int64_t(size * size / 8));
