@@ -292,6 +292,7 @@ void padEmptyBuffers(std::span<engine::gpu::BufferAppend> appends) {
 
 // Uploads the assets drawn now when one is new, needs bricks, or the run length changed.
 void HermiteCellFeature::syncAssets(const engine::render::FrameContext& frame) {
+  settlePendingCopies(frame);
   forgetRefusalsThatMayFit();
   AssetDemand d = collectAssetDemand(frame);
   if (settings_.uploadBytesPerFrame != 0) {
@@ -305,10 +306,10 @@ void HermiteCellFeature::syncAssets(const engine::render::FrameContext& frame) {
                          settings_.maxRunLength != refusedRunLength_;  // the setting changed
   const bool drop = idleAssetsToDrop(frame);
   if (!d.missing && !runsStale && !drop) return;
-  // A rebuild in an earlier view region of this frame copies records in this frame's commands, not
-  // submitted yet: an append now (its own submission, which runs first) would copy the new buffers
-  // before they hold them. The next frame uploads.
-  if (copiedFrame_ == frame.frameNumber) return;
+  // A rebuild earlier in this frame copies records in this frame's commands, not submitted yet: an
+  // append now (its own submission, which runs first) would copy the new buffers before they hold
+  // them. The next frame uploads.
+  if (pendingCopies_) return;
 
   // View regions call prepare() once per region: an asset an earlier region of this frame drew
   // stays (its draws are recorded already and the next frame draws it again).
@@ -644,11 +645,12 @@ bool HermiteCellFeature::appendNewAssets(const engine::render::FrameContext& fra
 }
 
 // Records in this frame's commands the copies of the kept assets' per-record streams (fp32 and
-// fp16 records, cell cones) from the old buffers into the rebuilt ones, before the culling passes
-// and draws that read them: a rebuild writes from the CPU only the assets the old buffers lack.
-void HermiteCellFeature::copyResidentRecords(const engine::render::FrameContext& frame, const CellBuffers& rebuilt,
-                                             const AssetUpload& u) {
-  if (u.recordCopies.empty()) return;
+// fp16 records, cell cones) from the `old` buffers into the rebuilt ones (buffers_), before the
+// culling passes and draws that read them: a rebuild writes from the CPU only the assets the old
+// buffers lack. The old buffers are retired, or held until this frame is submitted.
+void HermiteCellFeature::copyResidentRecords(const engine::render::FrameContext& frame,
+                                             std::unique_ptr<CellBuffers> old, const AssetUpload& u) {
+  if (u.recordCopies.empty()) return frame.retire(std::move(old));
   const auto stream = [&](const Buffer& from, const Buffer& to, std::size_t size, bool half) {
     engine::gpu::BufferCopy copy{&from, &to, {}};
     for (const AssetUpload::RecordCopy& c : u.recordCopies)
@@ -656,13 +658,29 @@ void HermiteCellFeature::copyResidentRecords(const engine::render::FrameContext&
         copy.regions.push_back({VkDeviceSize(c.from) * size, VkDeviceSize(c.to) * size, VkDeviceSize(count) * size});
     return copy;
   };
-  const std::array copies{
-      stream(buffers_->records[0], rebuilt.records[0], sizeof(CellRecord), false),
-      stream(buffers_->records[1], rebuilt.records[1], sizeof(CellRecordHalf), true),
-      stream(buffers_->cellCones, rebuilt.cellCones, sizeof(shader::CellBrickCone), false),
+  std::vector<engine::gpu::BufferCopy> copies{
+      stream(old->records[0], buffers_->records[0], sizeof(CellRecord), false),
+      stream(old->records[1], buffers_->records[1], sizeof(CellRecordHalf), true),
+      stream(old->cellCones, buffers_->cellCones, sizeof(shader::CellBrickCone), false),
   };
   engine::gpu::recordBufferCopies(frame.cmd, copies);
-  copiedFrame_ = frame.frameNumber;
+  pendingCopies_ = PendingCopies{frame.frameNumber, frame.frameSlot, std::move(old), std::move(copies)};
+}
+
+// A rebuild's copies recorded in an earlier frame: that frame was submitted (a later frame number),
+// and the old buffers go with the frames in flight; or it failed while it was recorded and this is
+// its next try (the same number, from a view region no later than the one that recorded them):
+// recorded again, the rebuilt buffers holding nothing of the kept records until they run.
+void HermiteCellFeature::settlePendingCopies(const engine::render::FrameContext& frame) {
+  if (!pendingCopies_) return;
+  if (frame.frameNumber != pendingCopies_->frameNumber) {
+    frame.retire(std::move(pendingCopies_->from));
+    pendingCopies_.reset();
+    return;
+  }
+  if (frame.frameSlot > pendingCopies_->frameSlot) return;  // a later view region of the same frame
+  engine::gpu::recordBufferCopies(frame.cmd, pendingCopies_->copies);
+  pendingCopies_->frameSlot = frame.frameSlot;
 }
 
 // Replaces the feature's buffers with the rebuilt ones, retiring the old for frames in flight.
@@ -675,11 +693,9 @@ void HermiteCellFeature::commitAssetBuffers(const engine::render::FrameContext& 
   rebuilt.bytes = u.bytes();
   uploadedBytes_ += u.writtenBytes();
   copiedBytes_ += u.copiedBytes();
-  copyResidentRecords(frame, rebuilt, u);
   for (auto& [id, entry] : rebuilt.entries) entry.lastFrame = frame.frameNumber;
   partial_.reset();  // records written in parts after the old buffers' are not in the new ones
-  frame.retire(std::move(buffers_));
-  buffers_ = std::make_unique<CellBuffers>(std::move(rebuilt));
+  copyResidentRecords(frame, std::exchange(buffers_, std::make_unique<CellBuffers>(std::move(rebuilt))), u);
   engine::log::debug("hermite cells: {} assets, {} records uploaded", buffers_->entries.size(), u.records);
 }
 

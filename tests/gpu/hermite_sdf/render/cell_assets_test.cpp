@@ -4,7 +4,9 @@
 #include <chrono>
 #include <cstdio>
 #include <memory>
+#include <stdexcept>
 #include <string>
+#include <utility>
 
 #include <glm/gtc/matrix_transform.hpp>
 #include <fmt/format.h>
@@ -371,6 +373,66 @@ TEST_F(HermiteCellsTest, ARebuildCopiesTheKeptRecordsAndWritesOnlyTheNewAssets) 
     EXPECT_TRUE(next.depth == fresh.depth) << "run length " << runLength << ": the frame after";
     EXPECT_TRUE(next.rgba == fresh.rgba) << "run length " << runLength << ": the frame after";
   }
+}
+
+// A feature drawn after the cell feature whose prepare throws once when told to: the frame fails
+// while it is recorded, after the cell feature recorded its work, and nothing of it is submitted.
+class FailingFeature final : public render::RenderFeature {
+ public:
+  std::string_view name() const override { return "failing"; }
+  Status initialize(const gpu::Context&, const render::RendererFormats&, std::uint32_t) override { return {}; }
+  void prepare(render::FrameContext&) override {
+    if (std::exchange(failNext, false)) throw std::runtime_error("a frame failing while it is recorded");
+  }
+  void recordPass(render::PassContext&) override {}
+  bool failNext = false;
+};
+
+// Why: a rebuild copies the kept records in its frame's commands, and a frame that fails while it
+// is recorded (a later feature's upload out of memory, a failed driver call) is never submitted;
+// the rebuilt buffers would then hold nothing of the kept assets for good. The next try of that
+// frame must copy them again, from the old buffers, which must still be alive. So: the frame
+// after the failed one, and the one after it, equal a fresh feature's frames.
+TEST_F(HermiteCellsTest, ARebuildWhoseFrameFailsCopiesTheKeptRecordsInTheNextTry) {
+  constexpr std::uint32_t size = 96;
+  const Placed dropped{bakeAsset("sphere", 40), hsdf::RenderMethod::Cells, false, 0};
+  const Placed kept{bakeAsset("torus", 24), hsdf::RenderMethod::Cells, false, 1};
+  const Placed arriving{bakeAsset("box", 16), hsdf::RenderMethod::CellRuns, false, 2};
+  ASSERT_GE(recordBytes({dropped}), recordBytes({kept})) << "the dropped asset must hold half of the records";
+  const render::CameraView camera =
+      render::CameraView::lookAt(glm::vec3(0.0f, 0.0f, 9.0f), glm::vec3(0.0f), 0.9f, 0.1f, 1.0f);
+  const auto unculled = [this] {  // the records as vertex attributes, which sync validation tracks
+    auto* cells = renderer_->feature<Cells>();
+    cells->settings().tiles = Cells::Tiles::Off;
+    cells->settings().cullCells = false;
+    cells->settings().releaseAfterFrames = 1000;
+  };
+  createCellRenderer(size, size);
+  unculled();
+  auto failing = std::make_unique<FailingFeature>();
+  FailingFeature* failer = failing.get();
+  ASSERT_TRUE(renderer_->addFeature(std::move(failing)).ok());
+  const ecs::Entity droppedEntity = addPlaced(registry_, dropped);
+  addPlaced(registry_, kept);
+  (void)renderWith(camera, DEBUG_VIEW_NONE);
+  ASSERT_TRUE(registry_.destroy(droppedEntity));
+  addPlaced(registry_, arriving);
+  const std::uint64_t copied = renderer_->feature<Cells>()->stats().copiedBytes;
+  failer->failNext = true;
+  EXPECT_THROW((void)renderer_->renderFrame(registry_, camera, render::FrameSettings{}), std::runtime_error);
+  const Frame retried = renderWith(camera, DEBUG_VIEW_NONE);
+  EXPECT_EQ(renderer_->feature<Cells>()->stats().copiedBytes - copied, recordBytes({kept})) << "no rebuild";
+  const Frame next = renderWith(camera, DEBUG_VIEW_NONE);
+
+  createCellRenderer(size, size);  // a fresh feature, the same objects
+  unculled();
+  (void)renderWith(camera, DEBUG_VIEW_NONE);
+  const Frame fresh = renderWith(camera, DEBUG_VIEW_NONE);
+  ASSERT_GT(coveredPixels(fresh), std::int64_t(size * size / 20));
+  EXPECT_TRUE(retried.depth == fresh.depth) << "the retried frame";
+  EXPECT_TRUE(retried.rgba == fresh.rgba) << "the retried frame";
+  EXPECT_TRUE(next.depth == fresh.depth) << "the frame after it";
+  EXPECT_TRUE(next.rgba == fresh.rgba) << "the frame after it";
 }
 
 // Not a check, a measurement (docs/perf/render-changes-session31.md): the render-thread time of the

@@ -317,7 +317,9 @@ class HermiteCellFeature final : public engine::render::RenderFeature {
                    const AssetDemand& d) const;
   bool appendNewAssets(const engine::render::FrameContext& frame, const AssetDemand& d);
   void createAssetBuffers(CellBuffers& rebuilt, const AssetUpload& u) const;
-  void copyResidentRecords(const engine::render::FrameContext& frame, const CellBuffers& rebuilt, const AssetUpload& u);
+  void copyResidentRecords(const engine::render::FrameContext& frame, std::unique_ptr<CellBuffers> old,
+                           const AssetUpload& u);
+  void settlePendingCopies(const engine::render::FrameContext& frame);
   void commitAssetBuffers(const engine::render::FrameContext& frame, CellBuffers rebuilt, const AssetUpload& u);
   void refuseNewAssets(const engine::render::FrameContext& frame,
                        const std::vector<std::shared_ptr<const SdfAsset>>& wanted, const std::string& why,
@@ -468,8 +470,17 @@ class HermiteCellFeature final : public engine::render::RenderFeature {
   std::uint32_t refusedRunLength_ = 0;
   std::uint64_t uploadedBytes_ = 0;  // Stats::uploadedBytes
   std::uint64_t copiedBytes_ = 0;    // Stats::copiedBytes
-  // The frame whose commands copy records into the buffers (a rebuild): no append until it is submitted.
-  std::optional<std::uint64_t> copiedFrame_;
+  // The copies of a rebuild's kept records, recorded in the commands of a frame not submitted yet,
+  // and the old buffers they read: held (not retired) until that frame is submitted. A frame that
+  // fails while it is recorded is not; its next try (the same frame number, from a view region no
+  // later than the one that recorded them) records them again.
+  struct PendingCopies {
+    std::uint64_t frameNumber = 0;
+    std::uint32_t frameSlot = 0;  // the frame slot (frame in flight x view region) that recorded them
+    std::unique_ptr<CellBuffers> from;
+    std::vector<engine::gpu::BufferCopy> copies;
+  };
+  std::optional<PendingCopies> pendingCopies_;
   // The new asset whose records are being written over several frames (Settings::
   // uploadBytesPerFrame), after the records the buffers hold (CellBuffers::used): no entry points
   // there until all are in. A rebuild of the buffers starts it again.
