@@ -139,23 +139,26 @@ std::vector<Buffer> appendToBuffers(const Context& context, std::span<BufferAppe
     grown.push_back(grownBuffer(context, a));
     largest = std::max<VkDeviceSize>(largest, a.bytes);
   }
-  if (largest == 0) return {};
-  Buffer staging(context, largest, VK_BUFFER_USAGE_TRANSFER_SRC_BIT, MemoryUsage::Upload, "append staging");
+  // No data: only buffers made with room (reserve) for data that comes otherwise (recordBufferCopies).
+  std::optional<Buffer> staging;
+  if (largest != 0)
+    staging.emplace(context, largest, VK_BUFFER_USAGE_TRANSFER_SRC_BIT, MemoryUsage::Upload, "append staging");
   for (std::size_t i = 0; i < appends.size(); ++i) {
     const BufferAppend& a = appends[i];
-    if (a.bytes == 0) continue;
-    a.write(std::span(static_cast<std::byte*>(staging.mapped()), a.bytes));
+    const bool keeps = grown[i] && a.used > 0;  // a grown buffer gets its used bytes even with no data added
+    if (a.bytes == 0 && !keeps) continue;
+    if (a.bytes != 0) a.write(std::span(static_cast<std::byte*>(staging->mapped()), a.bytes));
     const Buffer& target = grown[i] ? *grown[i] : *a.buffer;
     context.submitAndWait([&](VkCommandBuffer cmd) {
       // The buffer is read by earlier submissions (frames in flight): their reads come first.
       memoryBarrier(cmd, VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT, VK_ACCESS_2_MEMORY_READ_BIT | VK_ACCESS_2_MEMORY_WRITE_BIT,
                     VK_PIPELINE_STAGE_2_COPY_BIT, VK_ACCESS_2_TRANSFER_READ_BIT | VK_ACCESS_2_TRANSFER_WRITE_BIT);
-      if (grown[i] && a.used > 0) {
+      if (keeps) {
         const VkBufferCopy kept{0, 0, a.used};
         vkCmdCopyBuffer(cmd, a.buffer->handle(), target.handle(), 1, &kept);
       }
       const VkBufferCopy added{0, a.used, a.bytes};
-      vkCmdCopyBuffer(cmd, staging.handle(), target.handle(), 1, &added);
+      if (a.bytes != 0) vkCmdCopyBuffer(cmd, staging->handle(), target.handle(), 1, &added);
       memoryBarrier(cmd, VK_PIPELINE_STAGE_2_COPY_BIT, VK_ACCESS_2_TRANSFER_WRITE_BIT,
                     VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT, VK_ACCESS_2_MEMORY_READ_BIT | VK_ACCESS_2_MEMORY_WRITE_BIT);
     });
@@ -180,6 +183,20 @@ void memoryBarrier(VkCommandBuffer cmd, VkPipelineStageFlags2 srcStage, VkAccess
   dependency.memoryBarrierCount = 1;
   dependency.pMemoryBarriers = &barrier;
   vkCmdPipelineBarrier2(cmd, &dependency);
+}
+
+void recordBufferCopies(VkCommandBuffer cmd, std::span<const BufferCopy> copies) {
+  bool any = false;
+  for (const BufferCopy& c : copies) {
+    if (c.regions.empty()) continue;
+    vkCmdCopyBuffer(cmd, c.from->handle(), c.to->handle(), static_cast<std::uint32_t>(c.regions.size()),
+                    c.regions.data());
+    any = true;
+  }
+  // The commands after them (vertex input, culling passes, shaders reading by address) read the data.
+  if (any)
+    memoryBarrier(cmd, VK_PIPELINE_STAGE_2_COPY_BIT, VK_ACCESS_2_TRANSFER_WRITE_BIT, VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT,
+                  VK_ACCESS_2_MEMORY_READ_BIT | VK_ACCESS_2_MEMORY_WRITE_BIT);
 }
 
 std::vector<std::uint8_t> readbackBuffer(const Context& context, const Buffer& source) {

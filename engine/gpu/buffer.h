@@ -87,12 +87,29 @@ BufferAppend::Writer copyOf(std::span<const std::byte> data);
 // Appends to device-local buffers (created with TRANSFER_SRC and TRANSFER_DST usage), one
 // submission per buffer through one staging buffer, and waits. The data already there stays where
 // it is, so addresses and offsets that commands recorded earlier hold stay valid. A buffer too
-// small for used + data is replaced by one with room for half as much again (exactly that when the
-// room does not fit in memory), into which the GPU copies its used bytes; the replaced buffers are
+// small for used + data (or `reserve`) is replaced by one with room for half as much again (exactly
+// that when the room does not fit in memory, or when the buffer was empty; an empty buffer is made
+// even for no data when it reserves room), into which the GPU copies its used bytes; the replaced buffers are
 // returned, for the caller to release once the commands that read them have completed. Every
 // earlier command on the queue completes its reads and writes before the copies, and later ones
 // see the data. Throws VulkanError when an allocation fails, leaving every buffer as it was.
 std::vector<Buffer> appendToBuffers(const Context& context, std::span<BufferAppend> appends);
+
+// Regions of one device-local buffer copied into another on the GPU (`from` created with
+// TRANSFER_SRC usage, `to` with TRANSFER_DST): data that stays on the GPU is not written from the
+// CPU again when the buffer holding it is replaced (a buffer rebuilt with part of an older one's
+// contents).
+struct BufferCopy {
+  const Buffer* from = nullptr;
+  const Buffer* to = nullptr;
+  std::vector<VkBufferCopy> regions;
+};
+
+// Records `copies` into `cmd` (a frame's commands, outside a render pass), then one barrier after
+// which every later command of `cmd` (any stage) reads what they wrote. Submissions made before
+// `cmd` is submitted (appendToBuffers) run before the copies: they must neither read what the
+// copies write nor write what they read.
+void recordBufferCopies(VkCommandBuffer cmd, std::span<const BufferCopy> copies);
 
 // Copies a device-local buffer (created with TRANSFER_SRC usage) back to the CPU (waits). Waits
 // for every earlier write to it on the queue (all stages).

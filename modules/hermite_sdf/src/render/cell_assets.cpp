@@ -73,7 +73,8 @@ struct HermiteCellFeature::AssetDemand {
 // The concatenation of the wanted assets' streams: the contents of the rebuilt buffers, or what is
 // appended to the uploaded ones (then `base` is where it goes: the entries they hold). The
 // per-record streams (fp32 and fp16 records, cell cones: 224 bytes a cell) are not copied here but
-// written from their assets straight into the staging memory (recordWriters); the rest is small.
+// written from their assets straight into the staging memory (recordWriters), or, for the assets a
+// rebuild keeps, copied on the GPU from the old buffers (recordCopies); the rest is small.
 struct HermiteCellFeature::AssetUpload {
   // Records [first, first + count) of an asset (all of them by default), clipped to those it has.
   struct RecordSource {
@@ -82,8 +83,13 @@ struct HermiteCellFeature::AssetUpload {
     std::size_t first = 0;
     std::size_t count = SIZE_MAX;
   };
+  // An asset the old buffers hold, its records at `from` there and at `to` here (a rebuild).
+  struct RecordCopy {
+    std::uint32_t from = 0, to = 0, records = 0, halfRecords = 0;
+  };
   StreamCounts base;
-  std::vector<RecordSource> recordSources;  // in record order
+  std::vector<RecordSource> recordSources;  // in record order, before the copied records
+  std::vector<RecordCopy> recordCopies;
   std::uint32_t records = 0, halfRecords = 0;
   // The records (and their cones) were written in earlier frames, after `base` (a new asset
   // uploaded in parts: Settings::uploadBytesPerFrame): the other streams alone are appended.
@@ -103,9 +109,18 @@ struct HermiteCellFeature::AssetUpload {
            cones.size() * sizeof(shader::CellBrickCone) + materialSlots.size() * sizeof(CellMaterialSlots) +
            palette.size() * sizeof(shader::HermiteMaterialGpu);
   }
-  // The bytes this upload writes from the CPU: bytes() less the records written before.
+  // The per-record bytes the GPU copies from the old buffers (recordCopies).
+  VkDeviceSize copiedBytes() const {
+    VkDeviceSize copied = 0;
+    for (const RecordCopy& c : recordCopies)
+      copied += VkDeviceSize(c.records) * (sizeof(CellRecord) + sizeof(shader::CellBrickCone)) +
+                VkDeviceSize(c.halfRecords) * sizeof(CellRecordHalf);
+    return copied;
+  }
+  // The bytes this upload writes from the CPU: bytes() less the records written before or copied.
   VkDeviceSize writtenBytes() const {
-    return bytes() - (recordsResident ? VkDeviceSize(records) * HermiteCellFeature::kRecordUploadBytes : 0);
+    return bytes() - copiedBytes() -
+           (recordsResident ? VkDeviceSize(records) * HermiteCellFeature::kRecordUploadBytes : 0);
   }
   // The entries of the buffers once these streams are in.
   StreamCounts end() const {
@@ -232,7 +247,9 @@ template <class Upload>
 std::vector<engine::gpu::BufferAppend> cellStreamAppends(CellBuffers& b, const Upload& u, const StreamCounts& used) {
   constexpr VkBufferUsageFlags address = kAddressUsage, vertex = kVertexUsage;
   const auto entries = [](std::uint32_t count, std::size_t size) { return VkDeviceSize(count) * size; };
-  std::vector<engine::gpu::BufferAppend> appends = recordAppends(b, std::span(u.recordSources), used.records);
+  // Copied records (a rebuild) go after the written ones: the buffers are made with room for them.
+  const std::uint32_t room = u.recordCopies.empty() ? 0 : u.records;
+  std::vector<engine::gpu::BufferAppend> appends = recordAppends(b, std::span(u.recordSources), used.records, room);
   appends.push_back(appendOf(b.runs, entries(used.runs, sizeof(shader::CellRunGpu)), u.runs, vertex, "hermite cell runs"));
   appends.push_back(appendOf(b.bricks, entries(used.bricks, sizeof(shader::CellBrickGpu)), u.bricks, vertex | address,
                              "hermite cell bricks"));
@@ -260,12 +277,12 @@ std::vector<engine::gpu::BufferAppend> streamAppends(CellBuffers& b, const Uploa
 }
 
 // Never an empty buffer (a zero-sized buffer is invalid): a buffer not made yet that gets no bytes
-// gets padding no draw reaches, as large as any entry, overwritten by the first asset appended
-// with bricks or cones (its `used` stays 0).
+// (nor room for copied ones) gets padding no draw reaches, as large as any entry, overwritten by
+// the first asset appended with bricks or cones (its `used` stays 0).
 void padEmptyBuffers(std::span<engine::gpu::BufferAppend> appends) {
   static constexpr std::array<std::byte, 64> kPadding{};
   for (engine::gpu::BufferAppend& a : appends)
-    if (a.bytes == 0 && !*a.buffer) {
+    if (a.bytes == 0 && a.reserve == 0 && !*a.buffer) {
       a.bytes = kPadding.size();
       a.write = engine::gpu::copyOf(kPadding);
     }
@@ -275,6 +292,7 @@ void padEmptyBuffers(std::span<engine::gpu::BufferAppend> appends) {
 
 // Uploads the assets drawn now when one is new, needs bricks, or the run length changed.
 void HermiteCellFeature::syncAssets(const engine::render::FrameContext& frame) {
+  settlePendingCopies(frame);
   forgetRefusalsThatMayFit();
   AssetDemand d = collectAssetDemand(frame);
   if (settings_.uploadBytesPerFrame != 0) {
@@ -288,6 +306,10 @@ void HermiteCellFeature::syncAssets(const engine::render::FrameContext& frame) {
                          settings_.maxRunLength != refusedRunLength_;  // the setting changed
   const bool drop = idleAssetsToDrop(frame);
   if (!d.missing && !runsStale && !drop) return;
+  // A rebuild earlier in this frame copies records in this frame's commands, not submitted yet: an
+  // append now (its own submission, which runs first) would copy the new buffers before they hold
+  // them. The next frame uploads.
+  if (pendingCopies_) return;
 
   // View regions call prepare() once per region: an asset an earlier region of this frame drew
   // stays (its draws are recorded already and the next frame draws it again).
@@ -309,7 +331,11 @@ void HermiteCellFeature::syncAssets(const engine::render::FrameContext& frame) {
   {
     CellBuffers rebuilt;
     AssetUpload u;
-    for (const auto& asset : d.wanted) appendAsset(rebuilt, u, asset, d);
+    // The assets written from the CPU first, then those the old buffers hold (copied on the GPU).
+    for (const auto& asset : d.wanted)
+      if (!buffers_->entries.contains(asset->id)) appendAsset(rebuilt, u, asset, d);
+    for (const auto& asset : d.wanted)
+      if (buffers_->entries.contains(asset->id)) appendAsset(rebuilt, u, asset, d);
     rebuilt.used = u.end();
     if (const engine::Status created = engine::gpu::allocateOrRefuse([&] { createAssetBuffers(rebuilt, u); });
         !created) {
@@ -543,7 +569,12 @@ void HermiteCellFeature::appendAsset(CellBuffers& rebuilt, AssetUpload& u, const
   const auto old = buffers_->entries.find(asset->id);
   if (d.asBricks.contains(asset->id) || (old != buffers_->entries.end() && old->second.bricksUploaded))
     appendBricks(u, entry, bricksOf(*asset, derived));
-  if (!u.recordsResident) u.recordSources.push_back({asset.get(), derived});
+  if (old != buffers_->entries.end())  // a rebuild: its records are on the GPU already
+    u.recordCopies.push_back({old->second.firstRecord, entry.firstRecord,
+                              static_cast<std::uint32_t>(asset->cells.records.size()),
+                              static_cast<std::uint32_t>(asset->cellsHalf.records.size())});
+  else if (!u.recordsResident)
+    u.recordSources.push_back({asset.get(), derived});
   u.records += static_cast<std::uint32_t>(asset->cells.records.size());
   u.halfRecords += static_cast<std::uint32_t>(asset->cellsHalf.records.size());
   appendMaterials(u, *asset, entry);
@@ -613,6 +644,45 @@ bool HermiteCellFeature::appendNewAssets(const engine::render::FrameContext& fra
   return true;
 }
 
+// Records in this frame's commands the copies of the kept assets' per-record streams (fp32 and
+// fp16 records, cell cones) from the `old` buffers into the rebuilt ones (buffers_), before the
+// culling passes and draws that read them: a rebuild writes from the CPU only the assets the old
+// buffers lack. The old buffers are retired, or held until this frame is submitted.
+void HermiteCellFeature::copyResidentRecords(const engine::render::FrameContext& frame,
+                                             std::unique_ptr<CellBuffers> old, const AssetUpload& u) {
+  if (u.recordCopies.empty()) return frame.retire(std::move(old));
+  const auto stream = [&](const Buffer& from, const Buffer& to, std::size_t size, bool half) {
+    engine::gpu::BufferCopy copy{&from, &to, {}};
+    for (const AssetUpload::RecordCopy& c : u.recordCopies)
+      if (const std::uint32_t count = half ? c.halfRecords : c.records; count != 0)
+        copy.regions.push_back({VkDeviceSize(c.from) * size, VkDeviceSize(c.to) * size, VkDeviceSize(count) * size});
+    return copy;
+  };
+  std::vector<engine::gpu::BufferCopy> copies{
+      stream(old->records[0], buffers_->records[0], sizeof(CellRecord), false),
+      stream(old->records[1], buffers_->records[1], sizeof(CellRecordHalf), true),
+      stream(old->cellCones, buffers_->cellCones, sizeof(shader::CellBrickCone), false),
+  };
+  engine::gpu::recordBufferCopies(frame.cmd, copies);
+  pendingCopies_ = PendingCopies{frame.frameNumber, frame.frameSlot, std::move(old), std::move(copies)};
+}
+
+// A rebuild's copies recorded in an earlier frame: that frame was submitted (a later frame number),
+// and the old buffers go with the frames in flight; or it failed while it was recorded and this is
+// its next try (the same number, from a view region no later than the one that recorded them):
+// recorded again, the rebuilt buffers holding nothing of the kept records until they run.
+void HermiteCellFeature::settlePendingCopies(const engine::render::FrameContext& frame) {
+  if (!pendingCopies_) return;
+  if (frame.frameNumber != pendingCopies_->frameNumber) {
+    frame.retire(std::move(pendingCopies_->from));
+    pendingCopies_.reset();
+    return;
+  }
+  if (frame.frameSlot > pendingCopies_->frameSlot) return;  // a later view region of the same frame
+  engine::gpu::recordBufferCopies(frame.cmd, pendingCopies_->copies);
+  pendingCopies_->frameSlot = frame.frameSlot;
+}
+
 // Replaces the feature's buffers with the rebuilt ones, retiring the old for frames in flight.
 void HermiteCellFeature::commitAssetBuffers(const engine::render::FrameContext& frame, CellBuffers rebuilt,
                                             const AssetUpload& u) {
@@ -621,11 +691,11 @@ void HermiteCellFeature::commitAssetBuffers(const engine::render::FrameContext& 
     if (auto old = buffers_->entries.find(id); old != buffers_->entries.end()) entry.rows = std::move(old->second.rows);
   rebuilt.runLength = settings_.maxRunLength;
   rebuilt.bytes = u.bytes();
-  uploadedBytes_ += u.bytes();
+  uploadedBytes_ += u.writtenBytes();
+  copiedBytes_ += u.copiedBytes();
   for (auto& [id, entry] : rebuilt.entries) entry.lastFrame = frame.frameNumber;
   partial_.reset();  // records written in parts after the old buffers' are not in the new ones
-  frame.retire(std::move(buffers_));
-  buffers_ = std::make_unique<CellBuffers>(std::move(rebuilt));
+  copyResidentRecords(frame, std::exchange(buffers_, std::make_unique<CellBuffers>(std::move(rebuilt))), u);
   engine::log::debug("hermite cells: {} assets, {} records uploaded", buffers_->entries.size(), u.records);
 }
 

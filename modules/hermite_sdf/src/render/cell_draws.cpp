@@ -349,6 +349,7 @@ void HermiteCellFeature::resetDraws() {
   clearKeptStreams();
   stats_.gpuBytes = buffers_->bytes;
   stats_.uploadedBytes = uploadedBytes_;
+  stats_.copiedBytes = copiedBytes_;
   stats_.gpuBytesHeld = buffers_->records[0].size() + buffers_->records[1].size() + buffers_->runs.size() +
                         buffers_->bricks.size() + buffers_->brickCells.size() + buffers_->brickCones.size() +
                         buffers_->cellCones.size();

@@ -31,7 +31,7 @@ struct StreamCounts {
 // asset is appended while the assets no longer drawn hold less than half of the records (the
 // buffers grow by half when short), as are the bricks of an uploaded asset first drawn as bricks;
 // they are rebuilt, holding only the assets drawn, when those hold half or more, or the run length
-// changes.
+// changes (the kept assets' records copied from the old buffers on the GPU, the new ones written).
 struct CellBuffers {
   struct Entry {
     std::shared_ptr<const SdfAsset> asset;

@@ -1,7 +1,8 @@
 // engine::gpu::appendToBuffers (engine/gpu/buffer.h): data appended after what a buffer holds, in
 // place while it fits, else in a larger buffer that keeps the old bytes; the replaced buffer handed
 // back to outlive the work that reads it; a failed allocation leaving every buffer as it was; each
-// append's writer filling its bytes straight into the staging memory.
+// append's writer filling its bytes straight into the staging memory; room reserved for data
+// copied on the GPU from another buffer (engine::gpu::recordBufferCopies).
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -199,6 +200,50 @@ TEST(BufferAppend, EachWriterFillsExactlyItsBytesOnceStraightIntoTheBuffer) {
     EXPECT_NE(std::string(e.what()).find("'no writer'"), std::string::npos) << e.what();
   }
   EXPECT_EQ(small.handle(), before);
+  EXPECT_EQ(context->validationMessageCount(), 0u) << ::testing::PrintToString(context->validationMessages());
+}
+
+// Tricky: a buffer rebuilt from an older one (the cell feature's rebuild) gets part of its data
+// from the CPU and the rest copied on the GPU from the old buffer, region by region, into the room
+// the append reserved. A buffer whose data all comes by copies gets no bytes at all, yet must be
+// made with its room; a buffer grown with no bytes added must keep the bytes it held. The copies,
+// recorded in a command buffer, land where their regions say, each of several, beside the bytes
+// the CPU wrote.
+TEST(BufferAppend, RoomReservedWithoutDataIsMadeAndFilledByCopiesOnTheGpu) {
+  auto context = test::makeTestContext();
+  ASSERT_NE(context, nullptr);
+  const VkDeviceSize word = sizeof(std::uint32_t);
+  Buffer old, written, copiedOnly, grown;
+  const auto held = iota(0, 90), fresh = iota(5000, 10), kept = iota(700, 12);
+  std::vector<BufferAppend> first{appendOf(old, 0, held), appendOf(grown, 0, kept)};
+  (void)appendToBuffers(*context, first);
+
+  std::vector<BufferAppend> rebuilt{appendOf(written, 0, fresh), appendOf(copiedOnly, 0, iota(0, 0))};
+  rebuilt[0].reserve = 50 * word;  // 10 words written, 40 copied after them
+  rebuilt[1].reserve = 30 * word;  // all 30 copied
+  EXPECT_TRUE(appendToBuffers(*context, rebuilt).empty()) << "new buffers replace none";
+  ASSERT_TRUE(written);
+  ASSERT_TRUE(copiedOnly) << "a buffer with room and no data was not made";
+  EXPECT_EQ(written.size(), 50u * word);
+  EXPECT_EQ(copiedOnly.size(), 30u * word);
+
+  std::vector<BufferAppend> roomOnly{appendOf(grown, kept.size(), iota(0, 0))};
+  roomOnly[0].reserve = 100 * word;
+  EXPECT_EQ(appendToBuffers(*context, roomOnly).size(), 1u) << "grown for its room";
+  EXPECT_EQ(grown.size(), 112u * word);
+  EXPECT_EQ(readWords(*context, grown, kept.size()), kept) << "a grown buffer lost its bytes";
+
+  // Words 60..84 and 5..19 of `old` after the written words; words 30..59 into the other.
+  const std::vector<BufferCopy> copies{
+      {&old, &written, {{60 * word, 10 * word, 25 * word}, {5 * word, 35 * word, 15 * word}}},
+      {&old, &copiedOnly, {{30 * word, 0, 30 * word}}},
+      {&old, &grown, {}}};  // no region: nothing recorded
+  context->submitAndWait([&](VkCommandBuffer cmd) { recordBufferCopies(cmd, copies); });
+  std::vector<std::uint32_t> expected = fresh;
+  expected.insert(expected.end(), held.begin() + 60, held.begin() + 85);
+  expected.insert(expected.end(), held.begin() + 5, held.begin() + 20);
+  EXPECT_EQ(readWords(*context, written, expected.size()), expected);
+  EXPECT_EQ(readWords(*context, copiedOnly, 30), std::vector<std::uint32_t>(held.begin() + 30, held.begin() + 60));
   EXPECT_EQ(context->validationMessageCount(), 0u) << ::testing::PrintToString(context->validationMessages());
 }
 

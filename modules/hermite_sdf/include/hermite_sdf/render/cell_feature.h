@@ -207,7 +207,8 @@ class HermiteCellFeature final : public engine::render::RenderFeature {
     // frame its last records are in, never half uploaded (until then its entity draws the asset it
     // replaced, if that is still uploaded, or nothing). That frame also writes the asset's runs,
     // bricks and material slots (small beside the records). A rebuild (a new run length, idle
-    // assets dropped) writes every drawn asset in its frame, as does 0 always: no limit.
+    // assets dropped) copies the records of the assets it keeps on the GPU (Stats::copiedBytes)
+    // and writes only the new ones, under this budget too; 0: no limit.
     std::uint64_t uploadBytesPerFrame = std::uint64_t(32) << 20;
   };
   // The bytes a cell costs in Settings::uploadBytesPerFrame: its fp32 and fp16 records and its cone.
@@ -232,8 +233,11 @@ class HermiteCellFeature final : public engine::render::RenderFeature {
     std::uint64_t gpuBytes = 0;     // cell buffers: the bytes of the uploaded assets
     std::uint64_t gpuBytesHeld = 0; // cell buffers: their size (room for assets appended later)
     // Bytes of cell buffers uploaded from the CPU since initialize(): a new asset adds its own
-    // (appended), a rebuild every drawn asset's.
+    // (appended), a rebuild the new assets' and every kept asset's runs, bricks and materials.
     std::uint64_t uploadedBytes = 0;
+    // Bytes of cell records (fp32, fp16, cell cones) a rebuild copied on the GPU from the old
+    // buffers since initialize(): the assets it kept.
+    std::uint64_t copiedBytes = 0;
     bool earlyDepth = false;        // the last frame drew the boxes in the early depth stage
     bool countedVariant = false;    // the last frame's prepass used the *_counted pipelines
     bool thinBoxes = false;         // the last frame drew its RenderMethod::Cells objects as thin boxes
@@ -313,6 +317,9 @@ class HermiteCellFeature final : public engine::render::RenderFeature {
                    const AssetDemand& d) const;
   bool appendNewAssets(const engine::render::FrameContext& frame, const AssetDemand& d);
   void createAssetBuffers(CellBuffers& rebuilt, const AssetUpload& u) const;
+  void copyResidentRecords(const engine::render::FrameContext& frame, std::unique_ptr<CellBuffers> old,
+                           const AssetUpload& u);
+  void settlePendingCopies(const engine::render::FrameContext& frame);
   void commitAssetBuffers(const engine::render::FrameContext& frame, CellBuffers rebuilt, const AssetUpload& u);
   void refuseNewAssets(const engine::render::FrameContext& frame,
                        const std::vector<std::shared_ptr<const SdfAsset>>& wanted, const std::string& why,
@@ -462,6 +469,18 @@ class HermiteCellFeature final : public engine::render::RenderFeature {
   const engine::ecs::Registry* drawnRegistry_ = nullptr;
   std::uint32_t refusedRunLength_ = 0;
   std::uint64_t uploadedBytes_ = 0;  // Stats::uploadedBytes
+  std::uint64_t copiedBytes_ = 0;    // Stats::copiedBytes
+  // The copies of a rebuild's kept records, recorded in the commands of a frame not submitted yet,
+  // and the old buffers they read: held (not retired) until that frame is submitted. A frame that
+  // fails while it is recorded is not; its next try (the same frame number, from a view region no
+  // later than the one that recorded them) records them again.
+  struct PendingCopies {
+    std::uint64_t frameNumber = 0;
+    std::uint32_t frameSlot = 0;  // the frame slot (frame in flight x view region) that recorded them
+    std::unique_ptr<CellBuffers> from;
+    std::vector<engine::gpu::BufferCopy> copies;
+  };
+  std::optional<PendingCopies> pendingCopies_;
   // The new asset whose records are being written over several frames (Settings::
   // uploadBytesPerFrame), after the records the buffers hold (CellBuffers::used): no entry points
   // there until all are in. A rebuild of the buffers starts it again.
