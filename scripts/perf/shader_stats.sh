@@ -15,5 +15,11 @@ cd "$root"  # the table names its folder as committed
 source "$root/scripts/deps.sh" && hsdf_runtime_env  # a private XDG_RUNTIME_DIR, reused
 export RADV_FORCE_FAMILY=${RADV_FORCE_FAMILY:-navi10}
 export HSDF_COMMIT=${HSDF_COMMIT:-$(git -C "$root" describe --always --dirty 2>/dev/null || echo unknown)}
-exec "$build/samples/shader_stats/shader_stats" --device lavapipe --statistics-device NAVI10 \
-  --out docs/perf/radv-navi10 "$@"
+# NAVI10 into the committed folder, unless the caller names another device or folder (shader_stats
+# takes each option once).
+statistics=(--statistics-device NAVI10) out=(--out docs/perf/radv-navi10)
+for arg in "$@"; do
+  [[ $arg == --statistics-device || $arg == --statistics-device=* ]] && statistics=()
+  [[ $arg == --out || $arg == --out=* ]] && out=()
+done
+exec "$build/samples/shader_stats/shader_stats" --device lavapipe "${statistics[@]}" "${out[@]}" "$@"
