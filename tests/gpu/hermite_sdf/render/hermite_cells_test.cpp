@@ -282,32 +282,6 @@ std::pair<render::CameraView, render::CameraView> farBackCameras(const hsdf::Sdf
   return {far, orthographicLike(moved, far.ymag, radius, 5.0f * radius)};
 }
 
-// Why: the anchor (HermiteDraw::rayAnchor) is made in double on the host, where the eye in grid units
-// is exact; made in float from the eye (the shaders did, per vertex and fragment) it held ~0.5 cell
-// 7.5e6 cells out (3e5 object sizes: docs/reliability.md), and every ray of the object moved with
-// it. An orthographic camera draws the same image from anywhere along its axis, so placed 1e7
-// cells back it must draw the coverage the CPU reference draws for it placed 3 radii back (the same
-// rotation, its point moved along the axis in double), in every form: 0 px differ; with the anchor
-// made from the eye rounded to float, 902 (118 interior holes, 119 extras). Normals are not
-// compared here: the depth buffer the resolve rebuilds each hit from holds ~0.6 cell along the ray
-// 1e7 cells out (a normal error p99 of 20-22 degrees, 22-23 with the hit rebuilt through float
-// world space): AFarHitIsRebuiltOnItsPixelsRayFromTheAnchor compares them 1e6 cells back.
-TEST_F(HermiteCellsTest, AnOrthographicCameraFarBackDrawsWhatItDrawsNear) {
-  createCellRenderer(kSize, kSize);
-  hsdf::HermiteCellFeature& feature = *renderer_->feature<hsdf::HermiteCellFeature>();
-  const auto asset = bakeAsset("torus", 16);
-  ASSERT_NE(asset, nullptr);
-  const auto [far, near] = farBackCameras(*asset, 1.0e7);
-  auto reference = hsdf::renderReference(asset->field, near.view, near.proj, {int(kSize), int(kSize)});
-  ASSERT_TRUE(reference.ok()) << reference.error().message;
-  for (const CellForm& form : kCellForms) {
-    SCOPED_TRACE(form.name);
-    useForm(feature, form);
-    const ImageComparison c = compareAlone(asset, form.method, far, *reference, near, std::string("far back ") + form.name);
-    expectFarCoverage(c, 20);
-  }
-}
-
 // Interior pixels (away from silhouettes) whose normal is more than kFarNormalDegrees off the
 // reference's, in a DEBUG_VIEW_NORMALS frame: at most kFarNormalOutlierShare of the hits.
 void expectFarNormals(const Frame& normals, const hsdf::ReferenceImage& reference, const ImageComparison& c,
@@ -319,28 +293,40 @@ void expectFarNormals(const Frame& normals, const hsdf::ReferenceImage& referenc
   EXPECT_LE(outliers, int(kFarNormalOutlierShare * c.referenceHits)) << "normals more than " << kFarNormalDegrees << " degrees off";
 }
 
-// Why: the resolve rebuilt each hit from the prepass depth through float world space: the view
-// point ~1e6 cells long, then the model's inverse with its translation as long, each rounded by a
-// float ulp of the distance, on all three axes. It rebuilds the hit on the pixel's ray as the
-// prepass based it, from the object's anchor (pixel_ray.glsl, pixelRayPoint), so that only the
-// depth's own rounding is left (along the ray). The orthographic camera 1e6 cells back, every form:
-// its normals must be those of the CPU reference of the camera placed near (farBackCameras) but
-// for the depth's own rounding (kFarNormalOutlierShare). The old world-space rebuild: 380-412 px
-// more than 3 degrees off, the limit 223.
-TEST_F(HermiteCellsTest, AFarHitIsRebuiltOnItsPixelsRayFromTheAnchor) {
+// Why: the anchor (HermiteDraw::rayAnchor) is made in double on the host, where the eye in grid units
+// is exact; made in float from the eye (the shaders did, per vertex and fragment) it held ~0.5 cell
+// 7.5e6 cells out (3e5 object sizes: docs/reliability.md), and every ray of the object moved with
+// it. An orthographic camera draws the same image from anywhere along its axis, so placed 1e7
+// cells back it must draw the coverage the CPU reference draws for it placed 3 radii back (the same
+// rotation, its point moved along the axis in double), in every form: 0 px differ; with the anchor
+// made from the eye rounded to float, 902 (118 interior holes, 119 extras).
+// And its normals, 1e6 cells back (kFarHitCells): the resolve rebuilt each hit from the prepass
+// depth through float world space, the view point and the model's inverse translation as long as
+// the distance, each rounded by a float ulp of it on all three axes. It rebuilds the hit on the
+// pixel's ray as the prepass based it, from the object's anchor (pixel_ray.glsl, pixelRayPoint):
+// only the depth's own rounding is left, along the ray (kFarNormalOutlierShare). The old
+// world-space rebuild: 380-412 px more than 3 degrees off, the limit 223. 1e7 cells back the depth
+// holds ~0.6 cell along the ray (a normal error p99 of 20-22 degrees; 22-23 rebuilt through world
+// space): normals are not compared there.
+TEST_F(HermiteCellsTest, AnOrthographicCameraFarBackDrawsWhatItDrawsNear) {
   createCellRenderer(kSize, kSize);
   hsdf::HermiteCellFeature& feature = *renderer_->feature<hsdf::HermiteCellFeature>();
   const auto asset = bakeAsset("torus", 16);
   ASSERT_NE(asset, nullptr);
-  const auto [far, near] = farBackCameras(*asset, kFarHitCells);
-  auto reference = hsdf::renderReference(asset->field, near.view, near.proj, {int(kSize), int(kSize)});
-  ASSERT_TRUE(reference.ok()) << reference.error().message;
-  for (const CellForm& form : kCellForms) {
-    SCOPED_TRACE(form.name);
-    useForm(feature, form);
-    const ImageComparison c = compareAlone(asset, form.method, far, *reference, near, std::string("far hits ") + form.name);
-    expectFarCoverage(c, 20);
-    expectFarNormals(renderWith(far, DEBUG_VIEW_NORMALS), *reference, c, std::string("far hits ") + form.name);
+  for (const double cells : {1.0e7, kFarHitCells}) {
+    const bool normals = cells == kFarHitCells;
+    const auto [far, near] = farBackCameras(*asset, cells);
+    auto reference = hsdf::renderReference(asset->field, near.view, near.proj, {int(kSize), int(kSize)});
+    ASSERT_TRUE(reference.ok()) << reference.error().message;
+    for (const CellForm& form : kCellForms) {
+      const std::string label = std::string(normals ? "far hits " : "far back ") + form.name;
+      SCOPED_TRACE(label);
+      useForm(feature, form);
+      Frame normalsFrame;
+      const ImageComparison c = compareAlone(asset, form.method, far, *reference, near, label, &normalsFrame);
+      expectFarCoverage(c, 20);
+      if (normals) expectFarNormals(normalsFrame, *reference, c, label);
+    }
   }
 }
 
