@@ -5,8 +5,8 @@
 // list of 18 vertices per box (until issue 20) ran the vertex shader and its 150 bytes of output
 // 2.25x as often.
 // The cell's Hermite data arrive as instance-rate attributes and are handed to the fragment
-// shader unchanged (flat), together with the rays' base point in cell-local coordinates (the fragment
-// shader rebuilds the ray from gl_FragCoord, pixel_ray.glsl).
+// shader unchanged (flat); the fragment shader rebuilds the ray from gl_FragCoord and the record's
+// anchor (pixel_ray.glsl, HermiteDraw::rayAnchor).
 #extension GL_GOOGLE_include_directive : require
 #include "hermite/hermite_host_device.h"
 #include "hermite/box.glsl"
@@ -23,7 +23,6 @@ layout(location = 8) in uvec4 inCell;  // x, y, z, class
 layout(location = 0) flat out vec4 outCorners[8];
 layout(location = 8) flat out uvec4 outCell;
 layout(location = 9) flat out uint outDraw;
-layout(location = 11) flat out vec4 outAnchorLocal;   // where the rays are based, cell-local, and its view depth (HermiteDraw::rayAnchor)
 layout(location = 12) flat out uint outRecord;        // index of the cell record in its buffer
 layout(location = 13) flat out float outDilation;     // how far the proxy reaches beyond the cell, cells
 
@@ -54,6 +53,5 @@ void main() {
   outDraw = drawRecord;  // the fragments read the record without the table's per-command index
   outRecord = instanceRecord(pc.cellRecords);
   outDilation = dilation;
-  outAnchorLocal = vec4(draw.rayAnchor.xyz - cell, draw.rayAnchor.w);
   gl_Position = anchoredClipPosition(frame, object.model, draw, cell + local);
 }

@@ -15,16 +15,15 @@ layout(push_constant, scalar) uniform Push { HermitePushConstants pc; };
 layout(location = 0) flat in vec4 inCorners[8];
 layout(location = 8) flat in uvec4 inCell;
 layout(location = 9) flat in uint inDraw;
-layout(location = 11) flat in vec4 inAnchorLocal;  // where the rays are based (HermiteDraw::rayAnchor)
 layout(location = 12) flat in uint inRecord;
 layout(location = 13) flat in float inDilation;  // the proxy: the cell's box grown by this, cells
 
 // The pixel's ray in cell-local coordinates, u(t) = origin + t * direction, based near the object
-// (the vertex shader's anchor, flat), rebuilt from gl_FragCoord (pixel_ray.glsl, which also gives
-// the depth of any camera t, base + t).
+// (the record's anchor, read here: a flat varying cost every box vertex 16 bytes of output),
+// rebuilt from gl_FragCoord (pixel_ray.glsl, which also gives the depth of any camera t, base + t).
 PixelRay cellRay(FrameGlobals frame, HermiteDraw draw) {
   mat4 invModel = ObjectsRef(pc.draw.objects).objects[draw.object].invModel;
-  return pixelRay(frame, invModel, draw.gridOriginSpacing.w, inAnchorLocal);
+  return pixelRay(frame, invModel, draw.gridOriginSpacing.w, draw.rayAnchor - vec4(vec3(inCell.xyz), 0.0));
 }
 
 layout(location = 0) out uvec2 outVisibility;  // (1 + object, cell record)

@@ -1,11 +1,13 @@
 #version 460
-// Shading pass of the Hermite cells, once per pixel: a rectangle over the objects (cells_resolve.vert) reads the visibility
-// buffer; where a Hermite-cell object won the prepass, it fetches the winning cell's record,
-// rebuilds the hit from the prepass depth, and shades it with the exact normal of the interpolant.
+// Shading pass of the Hermite cells, once per pixel: a rectangle over the objects
+// (cells_resolve.vert) reads the visibility buffer; where a Hermite-cell object won the prepass, it
+// fetches the winning cell's record, rebuilds the hit from the prepass depth on its pixel's ray
+// (pixel_ray.glsl), and shades it with the exact normal of the interpolant.
 #extension GL_GOOGLE_include_directive : require
 #include "hermite/hermite_host_device.h"
 #include "hermite/hermite.glsl"
 #include "hermite/materials.glsl"
+#include "hermite/pixel_ray.glsl"
 #include "shared/debug_colors.glsl"
 #include "shared/lighting.glsl"
 
@@ -43,6 +45,14 @@ vec3 centralDifferenceGradient(vec4 corners[8], float h, vec3 u) {
          (2.0 * e * h);
 }
 
+// The hit in world space (eye at the origin), for the lights: off by a float ulp of the view
+// distance, which lighting does not see; the normal and material come from the anchored hit.
+vec3 worldHit(FrameGlobals frame, ivec2 pixel, float depth) {
+  vec2 ndc = (vec2(pixel) + 0.5) * frame.viewport.zw * 2.0 - 1.0;
+  vec4 view = frame.invProj * vec4(ndc, depth, 1.0);
+  return (frame.invView * vec4(view.xyz / view.w, 1.0)).xyz;
+}
+
 void main() {
   ivec2 pixel = ivec2(gl_FragCoord.xy);
   uvec2 visible = texelFetch(sceneVisibility, pixel, 0).xy;
@@ -54,15 +64,14 @@ void main() {
   uvec3 cell;
   loadCell(hermite, visible.y, corners, cell);
 
-  // The hit, rebuilt from the prepass depth, in world, object and cell-local coordinates.
+  // The hit in cell-local coordinates, rebuilt from the prepass depth on the pixel's ray as the
+  // prepass based it: on the anchor of this view region (pixel_ray.glsl, pixelRayPoint), so that a
+  // far camera costs it no more than the depth's own precision.
   FrameGlobals frame = FrameGlobalsRef(pc.draw.frameGlobals).globals;
   float depth = texelFetch(sceneDepth, pixel, 0).r;
-  vec2 ndc = (vec2(pixel) + 0.5) * frame.viewport.zw * 2.0 - 1.0;
-  vec4 view = frame.invProj * vec4(ndc, depth, 1.0);
-  vec3 worldPosition = (frame.invView * vec4(view.xyz / view.w, 1.0)).xyz;
-  vec3 objectPosition = (object.invModel * vec4(worldPosition, 1.0)).xyz;
+  vec4 anchor = hermiteDrawAt(pc.draws, hermite.drawRecord).rayAnchor;
   float h = hermite.gridOriginSpacing.w;
-  vec3 u = clamp((objectPosition - hermite.gridOriginSpacing.xyz) / h - vec3(cell), 0.0, 1.0);
+  vec3 u = clamp(pixelRayPoint(frame, object.invModel, h, anchor - vec4(vec3(cell), 0.0), depth), 0.0, 1.0);
 
   vec3 gradient = (hermite.flags & HERMITE_FLAG_NORMALS_CENTRAL) != 0u ? centralDifferenceGradient(corners, h, u)
                                                                         : hermiteValueGradient(corners, h, u).yzw;
@@ -92,7 +101,7 @@ void main() {
     if (hermite.palette != 0ul)
       applyPaletteEntry(hermite.palette, cellCornerSlot(hermite.materialSlots, visible.y - hermite.firstRecord, nearestCorner(u)),
                         base, roughness);
-    color = shadeSurface(frame, base, roughness, worldPosition, normal);
+    color = shadeSurface(frame, base, roughness, worldHit(frame, pixel, depth), normal);
   }
   outColor = vec4(color, 1.0);
 }

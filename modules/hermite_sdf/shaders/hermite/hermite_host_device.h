@@ -346,7 +346,10 @@ struct HermiteObject {
   uint64_t materialSlots;
   uint64_t palette;
   uint firstRecord;        // the record index of the asset's first record (materialSlots' entry 0)
-  uint pad0;
+  // The object's HermiteDraw in this view region's draw table (HermitePushConstants::draws): the
+  // resolve rebuilds each hit from its rayAnchor (cells_resolve.frag). Objects are uploaded per
+  // frame slot, one per view region, as the records are.
+  uint drawRecord;
 };
 HSDF_CHECK_SIZE(HermiteObject, 16 + 8 + 2 * 4 + 2 * 8 + 2 * 4);
 

@@ -18,6 +18,20 @@ struct PixelRay {
   float base;  // the camera's t at origin: the ray's point at t lies at the camera's t base + t
 };
 
+// pixelRay with camera t = 1 at the pixel's point of reverse-Z depth `depth` (gl_FragCoord.z: the
+// rasterized face; the resolve: the hit the prepass wrote), whose view depth it returns too.
+PixelRay pixelRayThrough(FrameGlobals frame, mat4 invModel, float spacing, vec4 anchor, float depth, out float viewDepth) {
+  vec2 ndc = gl_FragCoord.xy * frame.viewport.zw * 2.0 - 1.0;
+  vec4 face = frame.invProj * vec4(ndc, depth, 1.0);  // view space, eye at 0
+  vec3 faceView = face.xyz / face.w;
+  viewDepth = -faceView.z;
+  vec3 start = vec3(faceView.xy * (1.0 - frame.cameraPosition.w), 0.0);
+  vec3 toFace = mat3(frame.invView) * (faceView - start);
+  float base = anchor.w > 0.0 ? anchor.w / viewDepth : 0.0;  // the view depth is at t = 1
+  vec3 across = mat3(frame.invView) * vec3(faceView.xy * (frame.cameraPosition.w != 0.0 ? base : 1.0), 0.0);
+  return PixelRay(anchor.xyz + mat3(invModel) * across / spacing, mat3(invModel) * toFace / spacing, base);
+}
+
 // This fragment's ray u(t) = origin + t * direction in the units of `anchor` (an object's grid or
 // cell-local coordinates: object space / spacing, offset), based on the plane of view depth
 // anchor.w (HermiteDraw::rayAnchor, in those units: flat, the same for every cell of the object).
@@ -30,14 +44,20 @@ struct PixelRay {
 // from a point among the cells, not in the camera's t (HermiteDraw::rayAnchor, made on the host). An anchor of depth
 // 0 is the eye or the camera's point itself: base is 0, and t is the camera's t.
 PixelRay pixelRay(FrameGlobals frame, mat4 invModel, float spacing, vec4 anchor) {
-  vec2 ndc = gl_FragCoord.xy * frame.viewport.zw * 2.0 - 1.0;
-  vec4 face = frame.invProj * vec4(ndc, gl_FragCoord.z, 1.0);  // view space, eye at 0
-  vec3 faceView = face.xyz / face.w;
-  vec3 start = vec3(faceView.xy * (1.0 - frame.cameraPosition.w), 0.0);
-  vec3 toFace = mat3(frame.invView) * (faceView - start);
-  float base = anchor.w > 0.0 ? anchor.w / -faceView.z : 0.0;  // the view depth -faceView.z is at t = 1
-  vec3 across = mat3(frame.invView) * vec3(faceView.xy * (frame.cameraPosition.w != 0.0 ? base : 1.0), 0.0);
-  return PixelRay(anchor.xyz + mat3(invModel) * across / spacing, mat3(invModel) * toFace / spacing, base);
+  float viewDepth;
+  return pixelRayThrough(frame, invModel, spacing, anchor, gl_FragCoord.z, viewDepth);
+}
+
+// The pixel's point at reverse-Z depth `depth` (the hit the prepass wrote: the resolve) in the units
+// of `anchor`, where pixelRay's ray reaches it: t = 1 - base, written (view depth - anchor.w) / view
+// depth, the offset from the anchor's plane (1 - base, two numbers near 1, would lose a float ulp of
+// the whole distance). Nothing of the distance's size is rounded but the view depth itself, the
+// depth buffer's own precision; through world space and the model's inverse, whose translations
+// are as long, the hit was rounded by a float ulp of the distance on each axis.
+vec3 pixelRayPoint(FrameGlobals frame, mat4 invModel, float spacing, vec4 anchor, float depth) {
+  float viewDepth;
+  PixelRay ray = pixelRayThrough(frame, invModel, spacing, anchor, depth, viewDepth);
+  return ray.origin + ((viewDepth - max(anchor.w, 0.0)) / viewDepth) * ray.direction;
 }
 
 // The reverse-Z depth of the ray's point at t. Perspective (w = 1): view distance is linear in t

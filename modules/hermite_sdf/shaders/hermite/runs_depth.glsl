@@ -15,7 +15,6 @@ layout(push_constant, scalar) uniform Push { HermitePushConstants pc; };
 layout(location = 0) flat in uvec4 inRun;  // x, y, z, length
 layout(location = 1) flat in uint inFirstRecord;
 layout(location = 2) flat in uint inDraw;
-layout(location = 4) flat in vec4 inAnchorLocal;  // where the rays are based (HermiteDraw::rayAnchor)
 layout(location = 5) flat in float inDilation;
 
 layout(location = 0) out uvec2 outVisibility;  // (1 + object, cell record)
@@ -27,10 +26,11 @@ layout(depth_less) out float gl_FragDepth;  // reverse-Z: the hit is never neare
 void main() {
   HermiteDraw draw = hermiteDrawAt(pc.draws, inDraw);  // inDraw: the record (the vertex shader looked it up)
   // The ray in run-local coordinates (cells; cell i of the run spans x in [i, i + 1]), based near
-  // the object (pixel_ray.glsl: camera t = base + t, the depth of any camera t, the near plane's).
+  // the object on the record's anchor (pixel_ray.glsl: camera t = base + t, the depth of any camera
+  // t, the near plane's).
   FrameGlobals frame = FrameGlobalsRef(pc.draw.frameGlobals).globals;
   mat4 invModel = ObjectsRef(pc.draw.objects).objects[draw.object].invModel;
-  PixelRay ray = pixelRay(frame, invModel, draw.gridOriginSpacing.w, inAnchorLocal);
+  PixelRay ray = pixelRay(frame, invModel, draw.gridOriginSpacing.w, draw.rayAnchor - vec4(vec3(inRun.xyz), 0.0));
   vec3 origin = ray.origin;
   vec3 direction = ray.direction;
   float margin = inDilation;  // the search margin: the proxy's dilation (docs/root-finding.md)

@@ -23,7 +23,6 @@ layout(location = 1) in uint inFirstRecord;
 layout(location = 0) flat out uvec4 outRun;          // x, y, z, length
 layout(location = 1) flat out uint outFirstRecord;
 layout(location = 2) flat out uint outDraw;
-layout(location = 4) flat out vec4 outAnchorLocal;   // where the rays are based, run-local, and its view depth (HermiteDraw::rayAnchor)
 layout(location = 5) flat out float outDilation;     // how far the proxy reaches beyond the run, cells
 
 precise gl_Position;
@@ -68,6 +67,5 @@ void main() {
   outFirstRecord = inFirstRecord;
   outDraw = drawRecord;  // the fragments read the record without the table's per-command index
   outDilation = dilation;
-  outAnchorLocal = vec4(draw.rayAnchor.xyz - start, draw.rayAnchor.w);
   gl_Position = anchoredClipPosition(frame, object.model, draw, start + local);
 }

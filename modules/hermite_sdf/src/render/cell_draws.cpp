@@ -465,6 +465,7 @@ void HermiteCellFeature::beginObjectDraw(engine::render::FrameContext& frame, Fr
   draw.records = buffers_->records[precision].address();
   if (precision == 1) draw.flags |= HERMITE_FLAG_HALF_RECORDS;
   o.record = addRecord(f, draw);
+  f.hermiteObjects.back().drawRecord = o.record;  // the resolve's anchor (cells_resolve.frag)
 }
 
 // `draw` as the next record of the frame's draw table, for the commands that share it.

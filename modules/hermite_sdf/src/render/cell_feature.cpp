@@ -286,6 +286,7 @@ void HermiteCellFeature::recordRectangle(engine::render::PassContext& pass, Pipe
   push.draw.frameGlobals = pass.frameGlobals;
   push.draw.objects = pass.objects;
   push.draw.debugView = pass.frame.debugView;
+  push.draws = drawData_.address(pass.frame.frameSlot);  // the region's records: each object's anchor
   push.counters = counterAddress(pass.frame, countersActive_, counters_);
   push.hitDepths = earlyDepth_ ? hitDepths_.address() : 0;
   push.screenRect = screenRect_;

@@ -10,6 +10,7 @@
 #include <memory>
 #include <optional>
 #include <string>
+#include <utility>
 
 #include <gtest/gtest.h>
 
@@ -73,17 +74,20 @@ class HermiteCellsTest : public HermiteGpuTest {
 
   // `asset` alone in a new registry, drawn by `method` from `camera` and compared with `reference`,
   // the CPU reference of `referenceCamera` (the same pixel rays, placed otherwise); prints a line.
+  // `normalsOut`, if given, receives the DEBUG_VIEW_NORMALS frame.
   ImageComparison compareAlone(const std::shared_ptr<const hsdf::SdfAsset>& asset, hsdf::RenderMethod method,
                                const engine::render::CameraView& camera, const hsdf::ReferenceImage& reference,
-                               const engine::render::CameraView& referenceCamera, const std::string& label) {
+                               const engine::render::CameraView& referenceCamera, const std::string& label,
+                               Frame* normalsOut = nullptr) {
     registry_ = engine::ecs::Registry();
     addSdf(registry_, asset, method);
     const Frame shaded = renderWith(camera, DEBUG_VIEW_NONE);
-    const Frame normals = renderWith(camera, DEBUG_VIEW_NORMALS);
+    Frame normals = renderWith(camera, DEBUG_VIEW_NORMALS);
     const ImageComparison c = compareWithReference(shaded, &normals.rgba, reference, referenceCamera, asset->field.grid.spacing);
     std::printf("[ %s ] hits ref %d gpu %d, disagree %d, holes %d, extras %d, normal err p99 %.2f deg, flipped %d\n",
                 label.c_str(), c.referenceHits, c.gpuHits, c.disagreements, c.interiorHoles, c.interiorExtras,
                 c.normalErrorP99Degrees, c.normalFlips);
+    if (normalsOut) *normalsOut = std::move(normals);
     return c;
   }
 
