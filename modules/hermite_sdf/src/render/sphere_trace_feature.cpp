@@ -369,8 +369,7 @@ void SphereTraceFeature::collectDraws(engine::render::FrameContext& frame) {
   std::vector<shader::SphereTraceDraw> lists[kTraceMethodCount][2];  // [method][near]
   const engine::math::Frustum frustum = engine::math::extractFrustum(frame.camera.proj * frame.camera.view);
   std::unordered_map<engine::ecs::Entity, std::shared_ptr<const SdfAsset>> drawnThisFrame;
-  if (drawnRegistry_ != &frame.registry) drawnAssets_.clear();
-  drawnRegistry_ = &frame.registry;
+  drawnAssets_.beginRegion(frame);
   frame.registry.view<HermiteSdfRenderable, engine::scene::WorldTransform>().each(
       [&](engine::ecs::Entity entity, const HermiteSdfRenderable& r, const engine::scene::WorldTransform& world) {
         std::uint32_t method = 0;
@@ -383,8 +382,8 @@ void SphereTraceFeature::collectDraws(engine::render::FrameContext& frame) {
         const Aabb bounds = r.asset->field.grid.bounds();
         if (!engine::math::intersects(frustum, world.matrix, glm::vec3(bounds.min), glm::vec3(bounds.max))) {
           ++stats_.culledObjects;
-          if (auto previous = drawnAssets_.find(entity); previous != drawnAssets_.end())
-            drawnThisFrame[entity] = previous->second;  // what it would draw when back in view
+          if (const auto* previous = drawnAssets_.previous(entity))
+            drawnThisFrame[entity] = *previous;  // what it would draw when back in view
           return;
         }
         std::shared_ptr<const SdfAsset> asset = r.asset;
@@ -392,8 +391,8 @@ void SphereTraceFeature::collectDraws(engine::render::FrameContext& frame) {
         // A refused asset (its texture did not fit in GPU memory) that replaced the entity's field:
         // the field it replaced, still uploaded, is drawn instead, from the frame that found out on.
         if (!texture && refused(asset->id))
-          if (auto previous = drawnAssets_.find(entity); previous != drawnAssets_.end()) {
-            asset = previous->second;
+          if (const auto* previous = drawnAssets_.previous(entity)) {
+            asset = *previous;
             texture = acquireTexture(*asset, method, r.halfPrecision && halfPrecisionFits(asset->field.grid), frame);
           }
         if (!texture) {
@@ -424,7 +423,7 @@ void SphereTraceFeature::collectDraws(engine::render::FrameContext& frame) {
         stats_.nearObjects += near ? 1u : 0u;
       });
 
-  drawnAssets_ = std::move(drawnThisFrame);
+  drawnAssets_.setDrawn(std::move(drawnThisFrame));
   // One buffer: [trilinear front][trilinear near][hermite front][hermite near].
   std::vector<shader::SphereTraceDraw> all;
   for (std::uint32_t method = 0; method < kTraceMethodCount; ++method) {

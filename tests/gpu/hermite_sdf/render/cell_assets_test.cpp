@@ -269,6 +269,84 @@ TEST_F(HermiteCellsTest, TheBudgetLeftByAWholeAssetGoesToTheNext) {
   EXPECT_TRUE(second.rgba == both.rgba);
 }
 
+// Why: the sides of a split screen may draw one entity from other assets (the Viewer's compared side
+// at another K swaps its asset in for its region). While one side's new asset is written in parts,
+// that side must keep drawing the asset it drew, and the other side its own, every frame; then each
+// draws its new one, and the other side's asset is never written again. Tricky: the asset an entity
+// drew last is one per entity and view region (one per entity drew the other side's asset on the
+// side whose new one was not whole), and a side whose upload rebuilds or appends to the buffers
+// must keep the assets only the other side draws (dropped, they are written again; written in
+// parts, that side draws nothing meanwhile). Both sides in turn, against split frames of fresh
+// renderers that upload every asset whole in its first frame.
+TEST_F(HermiteCellsTest, EachSideOfASplitScreenDrawsItsOwnAssetWhileTheOthersIsWrittenInParts) {
+  const auto coarse = bakeAsset("torus", 16);
+  const auto fine = bakeAsset("torus", 40);
+  const auto other = bakeAsset("sphere", 16);
+  ASSERT_TRUE(coarse && fine && other);
+  const render::CameraView camera = orbitCamera(*fine, 0);
+  constexpr std::uint32_t kSide = kSize / 2;
+  std::shared_ptr<const hsdf::SdfAsset> drawn[2];
+  ecs::Entity entity;
+  render::FrameSettings split;
+  for (std::uint32_t side = 0; side < 2; ++side)
+    split.regions.push_back({VkRect2D{{std::int32_t(side * kSide / 2), 0}, {kSide / 2, kSide}}, [&, side] {
+                               registry_.get<hsdf::HermiteSdfRenderable>(entity).asset = drawn[side];
+                             }});
+  const auto start = [&](std::uint64_t budget, std::shared_ptr<const hsdf::SdfAsset> left,
+                         std::shared_ptr<const hsdf::SdfAsset> right) {
+    createCellRenderer(kSide, kSide);
+    renderer_->feature<Cells>()->settings().uploadBytesPerFrame = budget;
+    registry_ = ecs::Registry();
+    entity = addSdf(registry_, left, hsdf::RenderMethod::Cells);
+    drawn[0] = std::move(left);
+    drawn[1] = std::move(right);
+  };
+  // The bytes a fresh feature uploads for `asset` alone, whole.
+  const auto wholeBytes = [&](const std::shared_ptr<const hsdf::SdfAsset>& asset) {
+    start(0, asset, asset);
+    (void)renderWith(camera, split);
+    return renderer_->feature<Cells>()->stats().uploadedBytes;
+  };
+  const std::uint64_t fineBytes = wholeBytes(fine);
+  const std::uint64_t records = fine->cells.records.size();
+  const std::uint64_t perFrame = records / 3;
+  ASSERT_LT(std::max(coarse->cells.records.size(), other->cells.records.size()), perFrame)
+      << "each side's first asset fits a frame's budget (each region uploads its own)";
+  for (int side = 0; side < 2; ++side) {
+    const auto pair = [&](std::shared_ptr<const hsdf::SdfAsset> changed) {
+      return side == 0 ? std::pair{changed, other} : std::pair{other, changed};
+    };
+    const auto reference = [&](std::shared_ptr<const hsdf::SdfAsset> changed) {
+      start(0, pair(changed).first, pair(changed).second);
+      return renderWith(camera, split);
+    };
+    const Frame before = reference(coarse), after = reference(fine);
+    ASSERT_FALSE(before.depth == after.depth) << "the two K must draw apart for the test to tell them apart";
+
+    start(perFrame * Cells::kRecordUploadBytes, pair(coarse).first, pair(coarse).second);
+    auto* feature = renderer_->feature<Cells>();
+    const Frame first = renderWith(camera, split);
+    EXPECT_TRUE(first.depth == before.depth) << "side " << side << ": each asset fits the budget, drawn at once";
+    const std::uint64_t uploaded = feature->stats().uploadedBytes;
+    drawn[side] = fine;
+    int frames = 0;
+    for (; frames < 10; ++frames) {
+      const Frame frame = renderWith(camera, split);
+      if (!feature->uploading()) {
+        EXPECT_TRUE(frame.depth == after.depth) << "side " << side << ": the new asset once whole";
+        EXPECT_TRUE(frame.rgba == after.rgba) << "side " << side;
+        break;
+      }
+      EXPECT_TRUE(frame.depth == before.depth) << "side " << side << ", frame " << frames
+                                               << ": a side did not draw the asset it drew before";
+      EXPECT_TRUE(frame.rgba == before.rgba) << "side " << side << ", frame " << frames;
+    }
+    EXPECT_EQ(std::uint64_t(frames), (records + perFrame - 1) / perFrame - 1) << "side " << side;
+    EXPECT_EQ(feature->stats().uploadedBytes - uploaded, fineBytes)
+        << "side " << side << ": more than the new asset written (the other side's asset again)";
+  }
+}
+
 // Not a check, a measurement (docs/perf/render-changes-session31.md): the render-thread time of the
 // frame that first draws the bunny (K = 128, 256; unculled cells), of the frames that then draw it
 // as culled cells, bricks and runs, each followed by a frame of the same form (what the form costs

@@ -70,6 +70,7 @@
 #include "engine/gpu/memory.h"
 #include "engine/gpu/pipeline.h"
 #include "engine/gpu/pixel_buffer.h"
+#include "engine/render/drawn_per_region.h"
 #include "engine/render/per_frame_buffer.h"
 #include "engine/render/region_stats.h"
 #include "engine/render/render_feature.h"
@@ -319,6 +320,7 @@ class HermiteCellFeature final : public engine::render::RenderFeature {
                        VkDeviceSize needed);
   void forgetRefusalsThatMayFit();
   void uploadInParts(const engine::render::FrameContext& frame, AssetDemand& d);
+  bool anotherRegionsPartial(const engine::render::FrameContext& frame) const;
   bool writeRecordPart(const engine::render::FrameContext& frame, const std::shared_ptr<const SdfAsset>& asset,
                        std::uint32_t base, std::uint32_t count);
   bool drawsPreviousAsset(std::uint64_t assetId) const;
@@ -456,10 +458,9 @@ class HermiteCellFeature final : public engine::render::RenderFeature {
   // them: forgetRefusalsThatMayFit), and a run length refused the same way (0: none).
   std::unordered_map<std::uint64_t, engine::gpu::MemoryRefusal> refused_;
   std::optional<engine::gpu::MemoryRefusal> runsRefusal_;
-  // The asset each entity of drawnRegistry_ drew last frame (drawn instead of a refused one; the
-  // entities of another registry are other objects).
-  std::unordered_map<engine::ecs::Entity, std::uint64_t> drawnAssets_;
-  const engine::ecs::Registry* drawnRegistry_ = nullptr;
+  // The asset id each entity drew in each view region's last frame (drawn instead of a refused one
+  // or one still written in parts).
+  engine::render::DrawnPerRegion<std::uint64_t> drawnAssets_;
   std::uint32_t refusedRunLength_ = 0;
   std::uint64_t uploadedBytes_ = 0;  // Stats::uploadedBytes
   // The new asset whose records are being written over several frames (Settings::
@@ -468,10 +469,15 @@ class HermiteCellFeature final : public engine::render::RenderFeature {
   struct PartialUpload {
     std::uint64_t assetId = 0;
     std::uint32_t written = 0;  // its records in the buffers so far
+    std::uint32_t region = 0;   // the view region that began it (FrameContext::viewRegionIndex)
+    std::uint64_t frame = 0;    // the frame that last wrote a part of it
   };
   std::optional<PartialUpload> partial_;
   std::optional<std::uint64_t> partsFrame_;  // the frame that last wrote records in parts: one round a frame
-  std::size_t assetsWaiting_ = 0;            // new assets not drawn yet after that round (uploading())
+  // New assets not drawn yet after that round (uploading()), counted over the view regions of the
+  // frame `waitingFrame_`.
+  std::size_t assetsWaiting_ = 0;
+  std::optional<std::uint64_t> waitingFrame_;
   engine::render::PerFrameBuffer drawData_;     // the draw table: HermiteDrawTableHeader, a record per command
   engine::render::PerFrameBuffer drawRecords_;  // its HermiteDraw records
   engine::render::PerFrameBuffer indirect_;
