@@ -3,8 +3,11 @@
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
+#include <cstdlib>
 #include <memory>
+#include <random>
 #include <string>
+#include <vector>
 
 #include <glm/gtc/matrix_transform.hpp>
 #include <fmt/format.h>
@@ -345,6 +348,115 @@ TEST_F(HermiteCellsTest, EachSideOfASplitScreenDrawsItsOwnAssetWhileTheOthersIsW
     EXPECT_EQ(feature->stats().uploadedBytes - uploaded, fineBytes)
         << "side " << side << ": more than the new asset written (the other side's asset again)";
   }
+}
+
+// A walk's scene: one entity that each side of an optional split draws in its own form, and a
+// second object that comes and goes.
+struct StreamWalkSide {
+  std::shared_ptr<const hsdf::SdfAsset> asset;
+  hsdf::RenderMethod method = hsdf::RenderMethod::Cells;
+  bool half = false;
+};
+
+// Why: a game changes settings while assets stream in (the sides of a split at other K, a level of
+// detail switching, the panel's method, fp16, run length, tiles, occlusion culling), and the cell
+// feature keeps state for all of it from frame to frame (an asset written in parts and the region
+// that began it, the asset each entity drew per view region, runs of the old length, bricks
+// uploaded or not, an object destroyed and made again on a reused index). However the walk went,
+// once no upload is pending the frame must be the one a fresh renderer draws of the same scene
+// and settings (uploading every asset in its first frame). Seeded; HSDF_STREAM_WALKS=N walks N
+// seeds (1 here), each of 24 frames with 1-2 random changes a frame, settled and compared at
+// frames 8, 16 and 24. The message lists the walk, so a failure replays.
+TEST_F(HermiteCellsTest, WalksThroughSettingsWhileAssetsStreamSettleOnAFreshRenderersFrame) {
+  const std::vector<std::shared_ptr<const hsdf::SdfAsset>> pool = {bakeAsset("torus", 16), bakeAsset("torus", 40),
+                                                                   bakeAsset("sphere", 16), bakeAsset("box", 24)};
+  for (const auto& asset : pool) ASSERT_NE(asset, nullptr);
+  const render::CameraView camera = orbitCamera(*pool[1], 0, 2.6f);
+  constexpr std::uint32_t kSide = kSize / 2;
+  const glm::mat4 beside = glm::translate(glm::mat4(1.0f), glm::vec3(-1.2f, 0.3f, -0.5f));
+  const hsdf::RenderMethod methods[] = {hsdf::RenderMethod::Cells, hsdf::RenderMethod::CellRuns,
+                                        hsdf::RenderMethod::CellBricks};
+  const char* seedsText = std::getenv("HSDF_STREAM_WALKS");
+  const int seeds = seedsText ? std::max(1, std::atoi(seedsText)) : 1;
+  std::uint64_t settles = 0, settleFrames = 0;
+  for (int seed = 1; seed <= seeds; ++seed) {
+    std::mt19937 random(std::uint32_t(20261207 + seed));
+    const auto pick = [&random](std::size_t n) { return std::size_t(std::uniform_int_distribution<std::size_t>(0, n - 1)(random)); };
+    StreamWalkSide sides[2] = {{pool[0]}, {pool[2]}};
+    bool split = false;
+    Cells::Settings cells;
+    cells.tiles = Cells::Tiles::Off;
+    cells.uploadBytesPerFrame = pool[1]->cells.records.size() / 3 * Cells::kRecordUploadBytes;
+    createCellRenderer(kSide, kSide);
+    auto* feature = renderer_->feature<Cells>();
+    registry_ = ecs::Registry();
+    const ecs::Entity entity = addSdf(registry_, pool[0], hsdf::RenderMethod::Cells);
+    ecs::Entity second = addSdf(registry_, pool[3], hsdf::RenderMethod::Cells, beside);
+    const auto show = [&](const StreamWalkSide& side) {
+      auto& r = registry_.get<hsdf::HermiteSdfRenderable>(entity);
+      r.asset = side.asset;
+      r.method = side.method;
+      r.halfPrecision = side.half;
+    };
+    const auto frameSettings = [&] {
+      render::FrameSettings settings;
+      if (!split) show(sides[0]);
+      for (std::uint32_t s = 0; split && s < 2; ++s)
+        settings.regions.push_back({VkRect2D{{std::int32_t(s * kSide / 2), 0}, {kSide / 2, kSide}},
+                                    [&, s] { show(sides[s]); }});
+      return settings;
+    };
+    std::string walk;
+    for (int frame = 1; frame <= 24; ++frame) {
+      const std::size_t changes = 1 + pick(2);
+      for (std::size_t c = 0; c < changes; ++c) {
+        const std::size_t s = pick(2);
+        switch (pick(9)) {
+          case 0: sides[s].asset = pool[pick(pool.size())]; walk += fmt::format(" {}:side{}.asset={}", frame, s, sides[s].asset->cells.grid.resolution); break;
+          case 1: sides[s].method = methods[pick(3)]; walk += fmt::format(" {}:side{}.method={}", frame, s, int(sides[s].method)); break;
+          case 2: sides[s].half = !sides[s].half; walk += fmt::format(" {}:side{}.fp16={}", frame, s, sides[s].half); break;
+          case 3: split = !split; walk += fmt::format(" {}:split={}", frame, split); break;
+          case 4: cells.maxRunLength = 4u << pick(3); walk += fmt::format(" {}:runs={}", frame, cells.maxRunLength); break;
+          case 5: cells.tiles = cells.tiles == Cells::Tiles::On ? Cells::Tiles::Off : Cells::Tiles::On; walk += fmt::format(" {}:tiles={}", frame, int(cells.tiles)); break;
+          case 6: cells.cullOcclusion = !cells.cullOcclusion; walk += fmt::format(" {}:occlusion={}", frame, cells.cullOcclusion); break;
+          case 7: registry_.get<hsdf::HermiteSdfRenderable>(second).asset = pool[pick(pool.size())]; walk += fmt::format(" {}:second.asset", frame); break;
+          default:  // destroyed and made again: the new entity takes the freed index
+            registry_.destroy(second);
+            second = addSdf(registry_, pool[pick(pool.size())], methods[pick(3)], beside);
+            walk += fmt::format(" {}:second.again", frame);
+        }
+      }
+      feature->settings() = cells;
+      (void)renderWith(camera, frameSettings());
+      if (frame % 8 != 0) continue;
+      // Settled: no upload pending, and a frame more for occlusion culling's history.
+      Frame settled;
+      int extra = 0;
+      for (; extra < 12; ++extra) {
+        settled = renderWith(camera, frameSettings());
+        if (!feature->uploading() && extra > 0) break;
+      }
+      settles++;
+      settleFrames += std::uint64_t(extra);
+      ASSERT_FALSE(feature->uploading()) << "seed " << seed << ": still uploading after 12 frames; walk:" << walk;
+      render::Renderer fresh(*context_, render::RendererDesc{}, VkExtent2D{kSide, kSide});
+      ASSERT_TRUE(fresh.addFeature(std::make_unique<Cells>()).ok());
+      fresh.feature<Cells>()->settings() = cells;
+      fresh.feature<Cells>()->settings().uploadBytesPerFrame = 0;
+      fresh.renderFrame(registry_, camera, frameSettings());
+      const std::vector<std::uint8_t> rgba = fresh.readbackColor();
+      const std::vector<float> depth = fresh.readbackDepth();
+      std::size_t differ = 0;
+      for (std::size_t i = 0; i < depth.size(); ++i)
+        differ += depth[i] != settled.depth[i] || !std::equal(rgba.begin() + 4 * i, rgba.begin() + 4 * i + 4,
+                                                              settled.rgba.begin() + 4 * i);
+      EXPECT_GT(coveredPixels(settled), 100) << "seed " << seed << ", frame " << frame;
+      EXPECT_EQ(differ, 0u) << "seed " << seed << ", frame " << frame << " (settled after " << extra
+                            << " frames) differs from a fresh renderer's; walk:" << walk;
+    }
+  }
+  std::printf("[ stream walks ] %d seeds, %llu settled frames compared, %.1f frames to settle on average\n", seeds,
+              static_cast<unsigned long long>(settles), double(settleFrames) / double(std::max<std::uint64_t>(settles, 1)));
 }
 
 // Not a check, a measurement (docs/perf/render-changes-session31.md): the render-thread time of the

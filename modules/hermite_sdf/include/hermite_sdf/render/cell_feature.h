@@ -206,7 +206,7 @@ class HermiteCellFeature final : public engine::render::RenderFeature {
     // one frame writes into the GPU buffers when new assets come: a larger asset is written over
     // several frames, one new asset after another, at least one record a frame, and drawn from the
     // frame its last records are in, never half uploaded (until then its entity draws the asset it
-    // replaced, if that is still uploaded, or nothing). That frame also writes the asset's runs,
+    // replaced in that view region, if that is still uploaded, or nothing). That frame also writes the asset's runs,
     // bricks and material slots (small beside the records). A rebuild (a new run length, idle
     // assets dropped) writes every drawn asset in its frame, as does 0 always: no limit.
     std::uint64_t uploadBytesPerFrame = std::uint64_t(32) << 20;
