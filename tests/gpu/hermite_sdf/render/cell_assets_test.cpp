@@ -272,15 +272,27 @@ TEST_F(HermiteCellsTest, TheBudgetLeftByAWholeAssetGoesToTheNext) {
   EXPECT_TRUE(second.rgba == both.rgba);
 }
 
-// Why: the sides of a split screen may draw one entity from other assets (the Viewer's compared side
-// at another K swaps its asset in for its region). While one side's new asset is written in parts,
-// that side must keep drawing the asset it drew, and the other side its own, every frame; then each
-// draws its new one, and the other side's asset is never written again. Tricky: the asset an entity
+// Pixels whose depth or colour differ.
+std::size_t differingPixels(const Frame& a, const Frame& b) {
+  std::size_t count = 0;
+  for (std::size_t i = 0; i < a.depth.size(); ++i)
+    count += a.depth[i] != b.depth[i] || !std::equal(a.rgba.begin() + std::ptrdiff_t(4 * i),
+                                                     a.rgba.begin() + std::ptrdiff_t(4 * i + 4),
+                                                     b.rgba.begin() + std::ptrdiff_t(4 * i));
+  return count;
+}
+
+// Why: the sides of a split screen may draw one entity in other forms (the Viewer's compared side at
+// another K, or by a sphere tracer, swaps its asset or method in for its region). While one side's
+// new asset is written in parts, that side must keep drawing the asset it drew, and the other side
+// its own, every frame; then the side draws its new one, written once. Tricky: the asset an entity
 // drew last is one per entity and view region (one per entity drew the other side's asset on the
-// side whose new one was not whole), and a side whose upload rebuilds or appends to the buffers
-// must keep the assets only the other side draws (dropped, they are written again; written in
-// parts, that side draws nothing meanwhile). Both sides in turn, against split frames of fresh
-// renderers that upload every asset whole in its first frame.
+// side whose new one was not whole, and nothing at all when the other side was traced); a side with
+// nothing new must leave the other side's partial upload alone (dropped, it began again every frame
+// and was never whole); and a side whose upload appends to or rebuilds the buffers must keep the
+// assets only the other side draws (dropped, they are written again). Each case against the split
+// frames of a renderer without a budget, which draws each asset in the frame that first wants it
+// (the traced side is background: the renderer has the cells alone).
 TEST_F(HermiteCellsTest, EachSideOfASplitScreenDrawsItsOwnAssetWhileTheOthersIsWrittenInParts) {
   const auto coarse = bakeAsset("torus", 16);
   const auto fine = bakeAsset("torus", 40);
@@ -289,11 +301,14 @@ TEST_F(HermiteCellsTest, EachSideOfASplitScreenDrawsItsOwnAssetWhileTheOthersIsW
   const render::CameraView camera = orbitCamera(*fine, 0);
   constexpr std::uint32_t kSide = kSize / 2;
   std::shared_ptr<const hsdf::SdfAsset> drawn[2];
+  hsdf::RenderMethod methods[2] = {hsdf::RenderMethod::Cells, hsdf::RenderMethod::Cells};
   ecs::Entity entity;
   render::FrameSettings split;
   for (std::uint32_t side = 0; side < 2; ++side)
     split.regions.push_back({VkRect2D{{std::int32_t(side * kSide / 2), 0}, {kSide / 2, kSide}}, [&, side] {
-                               registry_.get<hsdf::HermiteSdfRenderable>(entity).asset = drawn[side];
+                               auto& r = registry_.get<hsdf::HermiteSdfRenderable>(entity);
+                               r.asset = drawn[side];
+                               r.method = methods[side];
                              }});
   const auto start = [&](std::uint64_t budget, std::shared_ptr<const hsdf::SdfAsset> left,
                          std::shared_ptr<const hsdf::SdfAsset> right) {
@@ -315,38 +330,44 @@ TEST_F(HermiteCellsTest, EachSideOfASplitScreenDrawsItsOwnAssetWhileTheOthersIsW
   const std::uint64_t perFrame = records / 3;
   ASSERT_LT(std::max(coarse->cells.records.size(), other->cells.records.size()), perFrame)
       << "each side's first asset fits a frame's budget (each region uploads its own)";
-  for (int side = 0; side < 2; ++side) {
+  struct Case {
+    int side;                        // the side whose asset changes
+    hsdf::RenderMethod otherMethod;  // the other side's
+  };
+  for (const Case c : {Case{0, hsdf::RenderMethod::Cells}, Case{1, hsdf::RenderMethod::Cells},
+                       Case{0, hsdf::RenderMethod::HermiteSphereTrace}}) {
+    const std::string label = fmt::format("side {} changes, the other drawn by method {}", c.side, int(c.otherMethod));
+    methods[c.side] = hsdf::RenderMethod::Cells;
+    methods[1 - c.side] = c.otherMethod;
     const auto pair = [&](std::shared_ptr<const hsdf::SdfAsset> changed) {
-      return side == 0 ? std::pair{changed, other} : std::pair{other, changed};
+      return c.side == 0 ? std::pair{changed, other} : std::pair{other, changed};
     };
-    const auto reference = [&](std::shared_ptr<const hsdf::SdfAsset> changed) {
-      start(0, pair(changed).first, pair(changed).second);
-      return renderWith(camera, split);
-    };
-    const Frame before = reference(coarse), after = reference(fine);
+    // The references: budget 0 draws each asset in the frame that first wants it.
+    start(0, pair(coarse).first, pair(coarse).second);
+    const Frame before = renderWith(camera, split);
+    drawn[c.side] = fine;
+    const Frame after = renderWith(camera, split);
     ASSERT_FALSE(before.depth == after.depth) << "the two K must draw apart for the test to tell them apart";
 
     start(perFrame * Cells::kRecordUploadBytes, pair(coarse).first, pair(coarse).second);
     auto* feature = renderer_->feature<Cells>();
     const Frame first = renderWith(camera, split);
-    EXPECT_TRUE(first.depth == before.depth) << "side " << side << ": each asset fits the budget, drawn at once";
+    EXPECT_EQ(differingPixels(first, before), 0u) << label << ": each asset fits the budget, drawn at once";
     const std::uint64_t uploaded = feature->stats().uploadedBytes;
-    drawn[side] = fine;
+    drawn[c.side] = fine;
     int frames = 0;
     for (; frames < 10; ++frames) {
       const Frame frame = renderWith(camera, split);
       if (!feature->uploading()) {
-        EXPECT_TRUE(frame.depth == after.depth) << "side " << side << ": the new asset once whole";
-        EXPECT_TRUE(frame.rgba == after.rgba) << "side " << side;
+        EXPECT_EQ(differingPixels(frame, after), 0u) << label << ": the new asset once whole";
         break;
       }
-      EXPECT_TRUE(frame.depth == before.depth) << "side " << side << ", frame " << frames
-                                               << ": a side did not draw the asset it drew before";
-      EXPECT_TRUE(frame.rgba == before.rgba) << "side " << side << ", frame " << frames;
+      EXPECT_EQ(differingPixels(frame, before), 0u)
+          << label << ", frame " << frames << ": a side did not draw the asset it drew before";
     }
-    EXPECT_EQ(std::uint64_t(frames), (records + perFrame - 1) / perFrame - 1) << "side " << side;
+    EXPECT_EQ(std::uint64_t(frames), (records + perFrame - 1) / perFrame - 1) << label;
     EXPECT_EQ(feature->stats().uploadedBytes - uploaded, fineBytes)
-        << "side " << side << ": more than the new asset written (the other side's asset again)";
+        << label << ": more than the new asset written (the other side's asset again)";
   }
 }
 
@@ -444,12 +465,10 @@ TEST_F(HermiteCellsTest, WalksThroughSettingsWhileAssetsStreamSettleOnAFreshRend
       fresh.feature<Cells>()->settings() = cells;
       fresh.feature<Cells>()->settings().uploadBytesPerFrame = 0;
       fresh.renderFrame(registry_, camera, frameSettings());
-      const std::vector<std::uint8_t> rgba = fresh.readbackColor();
-      const std::vector<float> depth = fresh.readbackDepth();
-      std::size_t differ = 0;
-      for (std::size_t i = 0; i < depth.size(); ++i)
-        differ += depth[i] != settled.depth[i] || !std::equal(rgba.begin() + 4 * i, rgba.begin() + 4 * i + 4,
-                                                              settled.rgba.begin() + 4 * i);
+      Frame freshFrame = settled;
+      freshFrame.rgba = fresh.readbackColor();
+      freshFrame.depth = fresh.readbackDepth();
+      const std::size_t differ = differingPixels(settled, freshFrame);
       EXPECT_GT(coveredPixels(settled), 100) << "seed " << seed << ", frame " << frame;
       EXPECT_EQ(differ, 0u) << "seed " << seed << ", frame " << frame << " (settled after " << extra
                             << " frames) differs from a fresh renderer's; walk:" << walk;
