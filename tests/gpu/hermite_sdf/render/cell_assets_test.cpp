@@ -294,22 +294,20 @@ std::size_t differingPixels(const Frame& a, const Frame& b) {
 // frames of a renderer without a budget, which draws each asset in the frame that first wants it
 // (the traced side is background: the renderer has the cells alone).
 TEST_F(HermiteCellsTest, EachSideOfASplitScreenDrawsItsOwnAssetWhileTheOthersIsWrittenInParts) {
+  constexpr std::uint32_t kSide = kSize / 2;
   const auto coarse = bakeAsset("torus", 16);
   const auto fine = bakeAsset("torus", 40);
   const auto other = bakeAsset("sphere", 16);
   ASSERT_TRUE(coarse && fine && other);
   const render::CameraView camera = orbitCamera(*fine, 0);
-  constexpr std::uint32_t kSide = kSize / 2;
   std::shared_ptr<const hsdf::SdfAsset> drawn[2];
   hsdf::RenderMethod methods[2] = {hsdf::RenderMethod::Cells, hsdf::RenderMethod::Cells};
   ecs::Entity entity;
-  render::FrameSettings split;
-  for (std::uint32_t side = 0; side < 2; ++side)
-    split.regions.push_back({VkRect2D{{std::int32_t(side * kSide / 2), 0}, {kSide / 2, kSide}}, [&, side] {
-                               auto& r = registry_.get<hsdf::HermiteSdfRenderable>(entity);
-                               r.asset = drawn[side];
-                               r.method = methods[side];
-                             }});
+  const render::FrameSettings split = splitInHalves(kSide, kSide, [&](std::uint32_t side) {
+    auto& r = registry_.get<hsdf::HermiteSdfRenderable>(entity);
+    r.asset = drawn[side];
+    r.method = methods[side];
+  });
   const auto start = [&](std::uint64_t budget, std::shared_ptr<const hsdf::SdfAsset> left,
                          std::shared_ptr<const hsdf::SdfAsset> right) {
     createCellRenderer(kSide, kSide);
@@ -390,12 +388,9 @@ struct StreamWalk {
 
   // The frame's settings: the split's regions show each side's form, else the entity shows side 0's.
   render::FrameSettings frameSettings(std::uint32_t width, std::uint32_t height) {
-    render::FrameSettings settings;
-    if (!split) show(sides[0]);
-    for (std::uint32_t s = 0; split && s < 2; ++s)
-      settings.regions.push_back({VkRect2D{{std::int32_t(s * width / 2), 0}, {width / 2, height}},
-                                  [this, s] { show(sides[s]); }});
-    return settings;
+    if (split) return splitInHalves(width, height, [this](std::uint32_t side) { show(sides[side]); });
+    show(sides[0]);
+    return {};
   }
   void show(const Side& side) {
     auto& r = registry->get<hsdf::HermiteSdfRenderable>(entity);

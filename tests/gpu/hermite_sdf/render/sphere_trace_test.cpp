@@ -691,23 +691,19 @@ TEST_F(SphereTraceTest, ARefusedFieldIsDrawnOnceTheMemoryIsThere) {
 // drew the field of whichever side came last. Both sides in turn, against the split of the two
 // fields each side drew before.
 TEST_F(SphereTraceTest, ARefusedFieldOnOneSideOfASplitLeavesThatSidesOwnField) {
-  const auto torus = bakeAsset("torus", 16);
-  const auto sphere = bakeAsset("sphere", 16);
+  gpu::Allocator& allocator = context_->allocator();
   const auto big = bakeAsset("sphere", 40);
+  const auto torus = bakeAsset("torus", 16), sphere = bakeAsset("sphere", 16);
   ASSERT_TRUE(torus && sphere && big);
   const render::CameraView camera = orbitCamera(*big, 0);
-  gpu::Allocator& allocator = context_->allocator();
   for (std::uint32_t side = 0; side < 2; ++side) {
     SCOPED_TRACE("the refused field on side " + std::to_string(side));
     createTraceRenderer(kSize, kSize);
     registry_.clear();
     const ecs::Entity entity = addTracedSdf(registry_, torus, RenderMethod::HermiteSphereTrace);
     std::shared_ptr<const hsdf::SdfAsset> drawn[2] = {torus, sphere};
-    render::FrameSettings split;
-    for (std::uint32_t s = 0; s < 2; ++s)
-      split.regions.push_back({VkRect2D{{std::int32_t(s * kSize / 2), 0}, {kSize / 2, kSize}}, [&, s] {
-                                 registry_.get<hsdf::HermiteSdfRenderable>(entity).asset = drawn[s];
-                               }});
+    const render::FrameSettings split = splitInHalves(
+        kSize, kSize, [&](std::uint32_t s) { registry_.get<hsdf::HermiteSdfRenderable>(entity).asset = drawn[s]; });
     // Every frame slot of the split (frames in flight x regions) has its per-frame buffers before
     // the budget is tightened.
     for (int frame = 0; frame < 3; ++frame) (void)renderWith(camera, split);
