@@ -87,6 +87,9 @@ struct FrameContext {
   VkDeviceAddress frameGlobals = 0;
   // The view region drawn now (the whole frame without regions); passes are scissored to it.
   VkRect2D viewRegion{{0, 0}, {0, 0}};
+  // Its index in FrameSettings::regions (0 without regions): state a feature keeps per view region
+  // (e.g. DrawnPerRegion) is found by it.
+  std::uint32_t viewRegionIndex = 0;
   // Frames in flight (not frame slots): a resource last used by frame L is free once frame
   // L + framesInFlight is being prepared (that frame's slot waited for L's fence).
   std::uint32_t framesInFlight = 1;

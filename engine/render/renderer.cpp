@@ -451,6 +451,7 @@ void Renderer::recordRegion(FrameResources& frame, FrameContext& context, const 
   FrameContext regionContext = context;
   regionContext.frameSlot = context.frameSlot * desc_.maxViewRegions + index;
   regionContext.viewRegion = rect;
+  regionContext.viewRegionIndex = index;
   regionContext.timer = &frame.timer;
   scene_.beginFrame();
   frame.timer.setScopeSuffix(regionSuffix(index));  // the features' scopes too

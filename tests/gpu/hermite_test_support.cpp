@@ -102,6 +102,15 @@ ecs::Entity addSdf(ecs::Registry& registry, std::shared_ptr<const hsdf::SdfAsset
   return entity;
 }
 
+render::FrameSettings splitInHalves(std::uint32_t width, std::uint32_t height,
+                                    const std::function<void(std::uint32_t side)>& show) {
+  render::FrameSettings split;
+  for (std::uint32_t side = 0; side < 2; ++side)
+    split.regions.push_back({VkRect2D{{std::int32_t(side * width / 2), 0}, {width / 2, height}},
+                             [show, side] { show(side); }});
+  return split;
+}
+
 namespace {
 
 double percentile(std::vector<double> values, double p) {

@@ -41,6 +41,12 @@ engine::ecs::Entity addSdf(engine::ecs::Registry& registry, std::shared_ptr<cons
                            hsdf::RenderMethod method, const glm::mat4& transform = glm::mat4(1.0f),
                            std::uint32_t subdivisions = 3);
 
+// A split screen of a width x height frame: two view regions, its left and right halves. Before a
+// side is drawn, `show(side)` (0: left, 1: right) puts that side's form of the scene into the
+// registry (e.g. another asset for the same entity, as the Viewer's comparison does).
+engine::render::FrameSettings splitInHalves(std::uint32_t width, std::uint32_t height,
+                                            const std::function<void(std::uint32_t side)>& show);
+
 struct ImageComparison {
   int referenceHits = 0;
   int gpuHits = 0;

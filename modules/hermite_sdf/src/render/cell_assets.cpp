@@ -312,9 +312,16 @@ void HermiteCellFeature::syncAssets(const engine::render::FrameContext& frame) {
   if (pendingCopies_) return;
 
   // View regions call prepare() once per region: an asset an earlier region of this frame drew
-  // stays (its draws are recorded already and the next frame draws it again).
+  // stays (its draws are recorded already and the next frame draws it again), and so does one that
+  // a later region drew last frame (a split screen's other side drawing the entity from another
+  // asset: dropped here, that side would write it again, or draw nothing while it comes in parts).
+  const auto keep = [&](std::uint64_t id) {
+    if (auto entry = buffers_->entries.find(id); entry != buffers_->entries.end() && d.seen.insert(id).second)
+      d.wanted.push_back(entry->second.asset);
+  };
   for (const auto& [id, entry] : buffers_->entries)
-    if (entry.lastFrame == frame.frameNumber && d.seen.insert(id).second) d.wanted.push_back(entry.asset);
+    if (entry.lastFrame == frame.frameNumber) keep(id);
+  drawnAssets_.forOtherRegions(keep);
 
   if (!runsStale && !drop && appendNewAssets(frame, d)) return;
   if (d.wanted.empty()) {  // no asset drawn any more (idleAssetsToDrop): every buffer goes, as at the start
@@ -380,6 +387,10 @@ bool bricksMissing(const Demand& d, const CellBuffers& buffers) {
 // the order written); the others wait, their entities drawing the assets they replaced
 // (collectAssetDemand, buildDraws). One round a frame: view regions prepare the frame again.
 void HermiteCellFeature::uploadInParts(const engine::render::FrameContext& frame, AssetDemand& d) {
+  if (waitingFrame_ != frame.frameNumber) {
+    waitingFrame_ = frame.frameNumber;
+    assetsWaiting_ = 0;
+  }
   const auto isNew = [this](const std::shared_ptr<const SdfAsset>& a) { return !buffers_->entries.contains(a->id); };
   std::vector<std::shared_ptr<const SdfAsset>> queue;
   for (const auto& asset : d.wanted)
@@ -388,18 +399,18 @@ void HermiteCellFeature::uploadInParts(const engine::render::FrameContext& frame
   std::uint64_t queued = 0;
   for (const auto& asset : queue) queued += asset->cells.records.size();
   if (queue.empty() || (queued <= left && !partial_)) {  // within the budget: uploaded whole, as without one
-    partial_.reset();
-    assetsWaiting_ = 0;
+    if (!anotherRegionsPartial(frame)) partial_.reset();
     return;
   }
   std::erase_if(d.wanted, isNew);
   d.missing = bricksMissing(d, *buffers_);
+  assetsWaiting_ += queue.size();
   if (partsFrame_ == frame.frameNumber) return;
   partsFrame_ = frame.frameNumber;
-  assetsWaiting_ = queue.size();
   std::uint32_t base = buffers_->used.records;  // where the next asset's records go
   for (const auto& asset : queue) {
-    if (!partial_ || partial_->assetId != asset->id) partial_ = PartialUpload{asset->id, 0};
+    if (!partial_ || partial_->assetId != asset->id)
+      partial_ = PartialUpload{asset->id, 0, frame.viewRegionIndex, frame.frameNumber};
     const auto total = static_cast<std::uint32_t>(asset->cells.records.size());
     const auto count = static_cast<std::uint32_t>(std::min<std::uint64_t>(total - partial_->written, left));
     if (!writeRecordPart(frame, asset, base, count)) {  // refused, reported: not waiting any more
@@ -438,11 +449,19 @@ bool HermiteCellFeature::writeRecordPart(const engine::render::FrameContext& fra
   // Commands recorded earlier (frames in flight) read the replaced buffers until their frames complete.
   for (Buffer& old : *replaced) frame.retire(std::move(old));
   partial_->written += count;
+  partial_->frame = frame.frameNumber;
   uploadedBytes_ += VkDeviceSize(count) * kRecordUploadBytes;
   return true;
 }
 
 bool HermiteCellFeature::uploading() const { return assetsWaiting_ != 0; }
+
+// Whether the asset written in parts is another view region's, written this frame or the last: that
+// region goes on with it (a split screen's other side drawing the entity from its own asset), and a
+// region without new assets must not drop it. Dropped, it began again every frame and was never whole.
+bool HermiteCellFeature::anotherRegionsPartial(const engine::render::FrameContext& frame) const {
+  return partial_ && partial_->region != frame.viewRegionIndex && partial_->frame + 1 >= frame.frameNumber;
+}
 
 // An asset not uploaded whose entity draws the asset it replaced meanwhile: refused, or waiting
 // for its records to be written in parts (a budget per frame).
@@ -453,9 +472,9 @@ bool HermiteCellFeature::drawsPreviousAsset(std::uint64_t assetId) const {
 // The asset the entity drew last frame stays uploaded, and drawn (buildDraws), while its new one is not.
 void HermiteCellFeature::keepPreviousAsset(const engine::render::FrameContext& frame, engine::ecs::Entity entity,
                                            bool bricks, AssetDemand& d) {
-  const auto previous = drawnAssets_.find(entity);
-  if (previous == drawnAssets_.end()) return;
-  const auto kept = buffers_->entries.find(previous->second);
+  const std::uint64_t* previous = drawnAssets_.previous(entity);
+  if (!previous) return;
+  const auto kept = buffers_->entries.find(*previous);
   if (kept == buffers_->entries.end()) return;
   if (bricks) d.asBricks.insert(kept->first);
   if (d.seen.insert(kept->first).second) {

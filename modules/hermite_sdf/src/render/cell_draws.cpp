@@ -231,7 +231,7 @@ void HermiteCellFeature::buildDraws(engine::render::FrameContext& frame) {
   stats_.draws = all.size();
   stats_.drawRecords = static_cast<std::uint32_t>(f.records.size());
   for (shader::BrickCullObject& object : cullObjectList_) object.drawCommand += batches_[kBrickBatch]->frontFirst;
-  drawnAssets_ = std::move(f.drawnThisFrame);
+  drawnAssets_.setDrawn(std::move(f.drawnThisFrame));
   if (frame.debugView == DEBUG_VIEW_WIREFRAME) addWireCommands(all);
   chooseCullingPaths(frame, f);
   addFallbackCommands(all);                        // copies of the front lists before they are culled
@@ -370,8 +370,7 @@ void HermiteCellFeature::addObjectDraws(engine::render::FrameContext& frame, Fra
   // in parts) that replaced the entity's field: the field it replaced is still uploaded and is
   // drawn instead, from this very frame on.
   if (found == buffers_->entries.end() && drawsPreviousAsset(r.asset->id))
-    if (auto previous = drawnAssets_.find(entity); previous != drawnAssets_.end())
-      found = buffers_->entries.find(previous->second);
+    if (const std::uint64_t* previous = drawnAssets_.previous(entity)) found = buffers_->entries.find(*previous);
   if (found == buffers_->entries.end()) return;
   f.drawnThisFrame[entity] = found->first;
   // An object whose grid box lies outside the view (or wholly nearer than the near plane) has no
@@ -669,7 +668,7 @@ void HermiteCellFeature::placeHistory(engine::render::FrameContext& frame) {
   for (std::size_t i = 0; i < cellCullEntities_.size(); ++i)
     objects.push_back({cellCullEntities_[i].first, cellCullEntities_[i].second, cellCullCells_[i]});
   const std::uint32_t regions = std::max(1u, frameSlots_ / std::max(1u, frame.framesInFlight));
-  historyBase_ = history_->place(*context_, frame.cmd, objects, frame.frameSlot % regions, regions,
+  historyBase_ = history_->place(*context_, frame.cmd, objects, frame.viewRegionIndex, regions,
                                  frame.frameNumber, *frame.retired);
 }
 

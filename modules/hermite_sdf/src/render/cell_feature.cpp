@@ -115,8 +115,7 @@ void HermiteCellFeature::ensureCounters(engine::render::FrameContext& frame) {
 
 void HermiteCellFeature::prepare(engine::render::FrameContext& frame) {
   regionStats_.startRegion(frame.frameNumber, stats_);
-  if (drawnRegistry_ != &frame.registry) drawnAssets_.clear();
-  drawnRegistry_ = &frame.registry;
+  drawnAssets_.beginRegion(frame);
   syncAssets(frame);
   buildDraws(frame);
   recordCulling(frame);

@@ -366,7 +366,7 @@ SphereTraceFeature::EntityTexture SphereTraceFeature::entityTexture(engine::ecs:
   };
   EntityTexture found = acquire(r.asset);
   if (!found.texture && refused(r.asset->id))
-    if (auto previous = drawnAssets_.find(entity); previous != drawnAssets_.end()) found = acquire(previous->second);
+    if (const auto* previous = drawnAssets_.previous(entity)) found = acquire(*previous);
   return found;
 }
 
@@ -393,8 +393,7 @@ void SphereTraceFeature::collectDraws(engine::render::FrameContext& frame) {
   DrawLists lists;
   const engine::math::Frustum frustum = engine::math::extractFrustum(frame.camera.proj * frame.camera.view);
   std::unordered_map<engine::ecs::Entity, std::shared_ptr<const SdfAsset>> drawnThisFrame;
-  if (drawnRegistry_ != &frame.registry) drawnAssets_.clear();
-  drawnRegistry_ = &frame.registry;
+  drawnAssets_.beginRegion(frame);
   frame.registry.view<HermiteSdfRenderable, engine::scene::WorldTransform>().each(
       [&](engine::ecs::Entity entity, const HermiteSdfRenderable& r, const engine::scene::WorldTransform& world) {
         std::uint32_t method = 0;
@@ -407,8 +406,8 @@ void SphereTraceFeature::collectDraws(engine::render::FrameContext& frame) {
         const Aabb bounds = r.asset->field.grid.bounds();
         if (!engine::math::intersects(frustum, world.matrix, glm::vec3(bounds.min), glm::vec3(bounds.max))) {
           ++stats_.culledObjects;
-          if (auto previous = drawnAssets_.find(entity); previous != drawnAssets_.end())
-            drawnThisFrame[entity] = previous->second;  // what it would draw when back in view
+          if (const auto* previous = drawnAssets_.previous(entity))
+            drawnThisFrame[entity] = *previous;  // what it would draw when back in view
           return;
         }
         const EntityTexture found = entityTexture(entity, r, method, frame);
@@ -426,7 +425,7 @@ void SphereTraceFeature::collectDraws(engine::render::FrameContext& frame) {
         (method == std::uint32_t(TraceMethod::Trilinear) ? stats_.trilinearObjects : stats_.hermiteObjects)++;
         stats_.nearObjects += near ? 1u : 0u;
       });
-  drawnAssets_ = std::move(drawnThisFrame);
+  drawnAssets_.setDrawn(std::move(drawnThisFrame));
   uploadDraws(frame, lists);
 }
 

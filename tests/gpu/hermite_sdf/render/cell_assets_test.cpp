@@ -3,10 +3,13 @@
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
+#include <cstdlib>
 #include <memory>
+#include <random>
 #include <stdexcept>
 #include <string>
 #include <utility>
+#include <vector>
 
 #include <glm/gtc/matrix_transform.hpp>
 #include <fmt/format.h>
@@ -433,6 +436,237 @@ TEST_F(HermiteCellsTest, ARebuildWhoseFrameFailsCopiesTheKeptRecordsInTheNextTry
   EXPECT_TRUE(retried.rgba == fresh.rgba) << "the retried frame";
   EXPECT_TRUE(next.depth == fresh.depth) << "the frame after it";
   EXPECT_TRUE(next.rgba == fresh.rgba) << "the frame after it";
+}
+
+// Pixels whose depth or colour differ.
+std::size_t differingPixels(const Frame& a, const Frame& b) {
+  std::size_t count = 0;
+  for (std::size_t i = 0; i < a.depth.size(); ++i)
+    count += a.depth[i] != b.depth[i] || !std::equal(a.rgba.begin() + std::ptrdiff_t(4 * i),
+                                                     a.rgba.begin() + std::ptrdiff_t(4 * i + 4),
+                                                     b.rgba.begin() + std::ptrdiff_t(4 * i));
+  return count;
+}
+
+// Why: the sides of a split screen may draw one entity in other forms (the Viewer's compared side at
+// another K, or by a sphere tracer, swaps its asset or method in for its region). While one side's
+// new asset is written in parts, that side must keep drawing the asset it drew, and the other side
+// its own, every frame; then the side draws its new one, written once. Tricky: the asset an entity
+// drew last is one per entity and view region (one per entity drew the other side's asset on the
+// side whose new one was not whole, and nothing at all when the other side was traced); a side with
+// nothing new must leave the other side's partial upload alone (dropped, it began again every frame
+// and was never whole); and a side whose upload appends to or rebuilds the buffers must keep the
+// assets only the other side draws (dropped, they are written again). Each case against the split
+// frames of a renderer without a budget, which draws each asset in the frame that first wants it
+// (the traced side is background: the renderer has the cells alone).
+TEST_F(HermiteCellsTest, EachSideOfASplitScreenDrawsItsOwnAssetWhileTheOthersIsWrittenInParts) {
+  constexpr std::uint32_t kSide = kSize / 2;
+  const auto coarse = bakeAsset("torus", 16);
+  const auto fine = bakeAsset("torus", 40);
+  const auto other = bakeAsset("sphere", 16);
+  ASSERT_TRUE(coarse && fine && other);
+  const render::CameraView camera = orbitCamera(*fine, 0);
+  std::shared_ptr<const hsdf::SdfAsset> drawn[2];
+  hsdf::RenderMethod methods[2] = {hsdf::RenderMethod::Cells, hsdf::RenderMethod::Cells};
+  ecs::Entity entity;
+  const render::FrameSettings split = splitInHalves(kSide, kSide, [&](std::uint32_t side) {
+    auto& r = registry_.get<hsdf::HermiteSdfRenderable>(entity);
+    r.asset = drawn[side];
+    r.method = methods[side];
+  });
+  const auto start = [&](std::uint64_t budget, std::shared_ptr<const hsdf::SdfAsset> left,
+                         std::shared_ptr<const hsdf::SdfAsset> right) {
+    createCellRenderer(kSide, kSide);
+    renderer_->feature<Cells>()->settings().uploadBytesPerFrame = budget;
+    registry_ = ecs::Registry();
+    entity = addSdf(registry_, left, hsdf::RenderMethod::Cells);
+    drawn[0] = std::move(left);
+    drawn[1] = std::move(right);
+  };
+  // The bytes a fresh feature uploads for `asset` alone, whole.
+  const auto wholeBytes = [&](const std::shared_ptr<const hsdf::SdfAsset>& asset) {
+    start(0, asset, asset);
+    (void)renderWith(camera, split);
+    return renderer_->feature<Cells>()->stats().uploadedBytes;
+  };
+  const std::uint64_t fineBytes = wholeBytes(fine);
+  const std::uint64_t records = fine->cells.records.size();
+  const std::uint64_t perFrame = records / 3;
+  ASSERT_LT(std::max(coarse->cells.records.size(), other->cells.records.size()), perFrame)
+      << "each side's first asset fits a frame's budget (each region uploads its own)";
+  struct Case {
+    int side;                        // the side whose asset changes
+    hsdf::RenderMethod otherMethod;  // the other side's
+  };
+  for (const Case c : {Case{0, hsdf::RenderMethod::Cells}, Case{1, hsdf::RenderMethod::Cells},
+                       Case{0, hsdf::RenderMethod::HermiteSphereTrace}}) {
+    const std::string label = fmt::format("side {} changes, the other drawn by method {}", c.side, int(c.otherMethod));
+    methods[c.side] = hsdf::RenderMethod::Cells;
+    methods[1 - c.side] = c.otherMethod;
+    const auto pair = [&](std::shared_ptr<const hsdf::SdfAsset> changed) {
+      return c.side == 0 ? std::pair{changed, other} : std::pair{other, changed};
+    };
+    // The references: budget 0 draws each asset in the frame that first wants it.
+    start(0, pair(coarse).first, pair(coarse).second);
+    const Frame before = renderWith(camera, split);
+    drawn[c.side] = fine;
+    const Frame after = renderWith(camera, split);
+    ASSERT_FALSE(before.depth == after.depth) << "the two K must draw apart for the test to tell them apart";
+
+    start(perFrame * Cells::kRecordUploadBytes, pair(coarse).first, pair(coarse).second);
+    auto* feature = renderer_->feature<Cells>();
+    const Frame first = renderWith(camera, split);
+    EXPECT_EQ(differingPixels(first, before), 0u) << label << ": each asset fits the budget, drawn at once";
+    const std::uint64_t uploaded = feature->stats().uploadedBytes;
+    drawn[c.side] = fine;
+    int frames = 0;
+    for (; frames < 10; ++frames) {
+      const Frame frame = renderWith(camera, split);
+      if (!feature->uploading()) {
+        EXPECT_EQ(differingPixels(frame, after), 0u) << label << ": the new asset once whole";
+        break;
+      }
+      EXPECT_EQ(differingPixels(frame, before), 0u)
+          << label << ", frame " << frames << ": a side did not draw the asset it drew before";
+    }
+    EXPECT_EQ(std::uint64_t(frames), (records + perFrame - 1) / perFrame - 1) << label;
+    EXPECT_EQ(feature->stats().uploadedBytes - uploaded, fineBytes)
+        << label << ": more than the new asset written (the other side's asset again)";
+  }
+}
+
+// A walk's scene: one entity that each side of an optional split draws in its own form, a second
+// object that comes and goes, and the cell settings; `log` lists the changes, so a failure replays.
+struct StreamWalk {
+  struct Side {
+    std::shared_ptr<const hsdf::SdfAsset> asset;
+    hsdf::RenderMethod method = hsdf::RenderMethod::Cells;
+    bool half = false;
+  };
+  std::vector<std::shared_ptr<const hsdf::SdfAsset>> pool;
+  ecs::Registry* registry = nullptr;
+  ecs::Entity entity, second;
+  glm::mat4 beside{1.0f};
+  Side sides[2];
+  bool split = false;
+  Cells::Settings cells;
+  std::string log;
+
+  // The frame's settings: the split's regions show each side's form, else the entity shows side 0's.
+  render::FrameSettings frameSettings(std::uint32_t width, std::uint32_t height) {
+    if (split) return splitInHalves(width, height, [this](std::uint32_t side) { show(sides[side]); });
+    show(sides[0]);
+    return {};
+  }
+  void show(const Side& side) {
+    auto& r = registry->get<hsdf::HermiteSdfRenderable>(entity);
+    r.asset = side.asset;
+    r.method = side.method;
+    r.halfPrecision = side.half;
+  }
+  // One random change of frame `frame`, added to the log.
+  void change(std::mt19937& random, int frame) {
+    const auto pick = [&random](std::size_t n) { return std::uniform_int_distribution<std::size_t>(0, n - 1)(random); };
+    static constexpr hsdf::RenderMethod kMethods[] = {hsdf::RenderMethod::Cells, hsdf::RenderMethod::CellRuns,
+                                                      hsdf::RenderMethod::CellBricks};
+    Side& side = sides[pick(2)];
+    const std::string name = &side == &sides[0] ? "side0" : "side1";
+    switch (pick(9)) {
+      case 0:
+        side.asset = pool[pick(pool.size())];
+        return note(frame, name + ".K", side.asset->cells.grid.resolution);
+      case 1:
+        side.method = kMethods[pick(3)];
+        return note(frame, name + ".method", int(side.method));
+      case 2:
+        side.half = !side.half;
+        return note(frame, name + ".fp16", side.half);
+      case 3:
+        split = !split;
+        return note(frame, "split", split);
+      case 4:
+        cells.maxRunLength = 4u << pick(3);
+        return note(frame, "runs", cells.maxRunLength);
+      case 5:
+        cells.tiles = cells.tiles == Cells::Tiles::On ? Cells::Tiles::Off : Cells::Tiles::On;
+        return note(frame, "tiles", int(cells.tiles));
+      case 6:
+        cells.cullOcclusion = !cells.cullOcclusion;
+        return note(frame, "occlusion", cells.cullOcclusion);
+      case 7:
+        registry->get<hsdf::HermiteSdfRenderable>(second).asset = pool[pick(pool.size())];
+        return note(frame, "second.asset", registry->get<hsdf::HermiteSdfRenderable>(second).asset->cells.grid.resolution);
+      default:  // destroyed and made again: the new entity takes the freed index
+        registry->destroy(second);
+        second = addSdf(*registry, pool[pick(pool.size())], kMethods[pick(3)], beside);
+        return note(frame, "second.again", second);
+    }
+  }
+  template <class T>
+  void note(int frame, const std::string& what, const T& value) {
+    log += fmt::format(" {}:{}={}", frame, what, value);
+  }
+};
+
+// Why: a game changes settings while assets stream in (the sides of a split at other K, a level of
+// detail switching, the panel's method, fp16, run length, tiles, occlusion culling), and the cell
+// feature keeps state for all of it from frame to frame (an asset written in parts and the region
+// that began it, the asset each entity drew per view region, runs of the old length, bricks
+// uploaded or not, an object destroyed and made again on a reused index). However the walk went,
+// once no upload is pending the frame must be the one a fresh renderer draws of the same scene
+// and settings (uploading every asset in its first frame). Seeded; HSDF_STREAM_WALKS=N walks N
+// seeds (1 here), each of 24 frames with 1-2 random changes a frame, settled and compared at
+// frames 8, 16 and 24. The message lists the walk, so a failure replays.
+TEST_F(HermiteCellsTest, WalksThroughSettingsWhileAssetsStreamSettleOnAFreshRenderersFrame) {
+  const std::vector<std::shared_ptr<const hsdf::SdfAsset>> pool = {bakeAsset("torus", 16), bakeAsset("torus", 40),
+                                                                   bakeAsset("sphere", 16), bakeAsset("box", 24)};
+  for (const auto& asset : pool) ASSERT_NE(asset, nullptr);
+  const render::CameraView camera = orbitCamera(*pool[1], 0, 2.6f);
+  constexpr std::uint32_t kSide = kSize / 2;
+  const char* seedsText = std::getenv("HSDF_STREAM_WALKS");
+  const int seeds = seedsText ? std::max(1, std::atoi(seedsText)) : 1;
+  int settles = 0;
+  for (int seed = 1; seed <= seeds; ++seed) {
+    std::mt19937 random(std::uint32_t(20261207 + seed));
+    StreamWalk walk;
+    walk.pool = pool;
+    walk.registry = &registry_;
+    walk.beside = glm::translate(glm::mat4(1.0f), glm::vec3(-1.2f, 0.3f, -0.5f));
+    walk.sides[0].asset = pool[0];
+    walk.sides[1].asset = pool[2];
+    walk.cells.tiles = Cells::Tiles::Off;
+    walk.cells.uploadBytesPerFrame = pool[1]->cells.records.size() / 3 * Cells::kRecordUploadBytes;
+    createCellRenderer(kSide, kSide);
+    auto* feature = renderer_->feature<Cells>();
+    registry_ = ecs::Registry();
+    walk.entity = addSdf(registry_, pool[0], hsdf::RenderMethod::Cells);
+    walk.second = addSdf(registry_, pool[3], hsdf::RenderMethod::Cells, walk.beside);
+    for (int frame = 1; frame <= 24; ++frame) {
+      const int changes = 1 + int(random() % 2);
+      for (int c = 0; c < changes; ++c) walk.change(random, frame);
+      feature->settings() = walk.cells;
+      (void)renderWith(camera, walk.frameSettings(kSide, kSide));
+      if (frame % 8 != 0) continue;
+      // Settled: no upload pending (at most 12 frames).
+      Frame settled = renderWith(camera, walk.frameSettings(kSide, kSide));
+      for (int extra = 0; extra < 12 && feature->uploading(); ++extra)
+        settled = renderWith(camera, walk.frameSettings(kSide, kSide));
+      ASSERT_FALSE(feature->uploading()) << "seed " << seed << ": still uploading after 12 frames; walk:" << walk.log;
+      render::Renderer fresh(*context_, render::RendererDesc{}, VkExtent2D{kSide, kSide});
+      ASSERT_TRUE(fresh.addFeature(std::make_unique<Cells>()).ok());
+      fresh.feature<Cells>()->settings() = walk.cells;
+      fresh.feature<Cells>()->settings().uploadBytesPerFrame = 0;
+      fresh.renderFrame(registry_, camera, walk.frameSettings(kSide, kSide));
+      Frame freshFrame = settled;
+      freshFrame.rgba = fresh.readbackColor();
+      freshFrame.depth = fresh.readbackDepth();
+      EXPECT_GT(coveredPixels(settled), 100) << "seed " << seed << ", frame " << frame;
+      EXPECT_EQ(differingPixels(settled, freshFrame), 0u)
+          << "seed " << seed << ", frame " << frame << " differs from a fresh renderer's; walk:" << walk.log;
+      ++settles;
+    }
+  }
+  std::printf("[ stream walks ] %d seeds, %d settled frames compared\n", seeds, settles);
 }
 
 // Not a check, a measurement (docs/perf/render-changes-session31.md): the render-thread time of the

@@ -16,7 +16,9 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <functional>
 #include <limits>
+#include <numeric>
 #include <string>
 #include <string_view>
 #include <thread>
@@ -681,6 +683,42 @@ TEST_F(SphereTraceTest, ARefusedFieldIsDrawnOnceTheMemoryIsThere) {
   EXPECT_FALSE(feature().refused(big->id));
   EXPECT_EQ(depthCovered(), bigPixels);
   EXPECT_TRUE(renderer_->takeDroppedObjects().empty());
+}
+
+// Why: the sides of a split screen may draw one entity from other fields (the Viewer's compared side
+// at another K). A side whose new field is refused for GPU memory must draw the field it drew
+// itself, not the other side's: the field each entity drew last was kept per entity, so the side
+// drew the field of whichever side came last. Both sides in turn, against the split of the two
+// fields each side drew before.
+TEST_F(SphereTraceTest, ARefusedFieldOnOneSideOfASplitLeavesThatSidesOwnField) {
+  gpu::Allocator& allocator = context_->allocator();
+  const auto big = bakeAsset("sphere", 40);
+  const auto torus = bakeAsset("torus", 16), sphere = bakeAsset("sphere", 16);
+  ASSERT_TRUE(torus && sphere && big);
+  const render::CameraView camera = orbitCamera(*big, 0);
+  for (std::uint32_t side = 0; side < 2; ++side) {
+    SCOPED_TRACE("the refused field on side " + std::to_string(side));
+    createTraceRenderer(kSize, kSize);
+    registry_.clear();
+    const ecs::Entity entity = addTracedSdf(registry_, torus, RenderMethod::HermiteSphereTrace);
+    std::shared_ptr<const hsdf::SdfAsset> drawn[2] = {torus, sphere};
+    const render::FrameSettings split = splitInHalves(
+        kSize, kSize, [&](std::uint32_t s) { registry_.get<hsdf::HermiteSdfRenderable>(entity).asset = drawn[s]; });
+    // Every frame slot of the split (frames in flight x regions) has its per-frame buffers before
+    // the budget is tightened.
+    for (int frame = 0; frame < 3; ++frame) (void)renderWith(camera, split);
+    const Frame before = renderWith(camera, split);
+    drawn[side] = big;
+    allocator.setBudget(allocator.stats().usedBytes + 4096);
+    renderer_->renderFrame(registry_, camera, split);
+    allocator.setBudget(gpu::Allocator::kUnlimited);  // before the read-back's staging buffers
+    EXPECT_TRUE(feature().refused(big->id));
+    EXPECT_EQ(renderer_->takeDroppedObjects().size(), 1u);
+    const std::vector<float> depth = renderer_->readbackDepth();
+    const auto differ = std::inner_product(depth.begin(), depth.end(), before.depth.begin(), std::size_t(0),
+                                           std::plus<>(), std::not_equal_to<>());
+    EXPECT_EQ(differ, 0u) << "the refused side drew another field than its own";
+  }
 }
 
 // Why: the debug view "cell boxes" (wireframe) drew nothing for the sphere tracers (found by a

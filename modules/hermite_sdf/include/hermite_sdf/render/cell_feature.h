@@ -70,6 +70,7 @@
 #include "engine/gpu/memory.h"
 #include "engine/gpu/pipeline.h"
 #include "engine/gpu/pixel_buffer.h"
+#include "engine/render/drawn_per_region.h"
 #include "engine/render/per_frame_buffer.h"
 #include "engine/render/region_stats.h"
 #include "engine/render/render_feature.h"
@@ -205,7 +206,7 @@ class HermiteCellFeature final : public engine::render::RenderFeature {
     // one frame writes into the GPU buffers when new assets come: a larger asset is written over
     // several frames, one new asset after another, at least one record a frame, and drawn from the
     // frame its last records are in, never half uploaded (until then its entity draws the asset it
-    // replaced, if that is still uploaded, or nothing). That frame also writes the asset's runs,
+    // replaced in that view region, if that is still uploaded, or nothing). That frame also writes the asset's runs,
     // bricks and material slots (small beside the records). A rebuild (a new run length, idle
     // assets dropped) copies the records of the assets it keeps on the GPU (Stats::copiedBytes)
     // and writes only the new ones, under this budget too; 0: no limit.
@@ -326,6 +327,7 @@ class HermiteCellFeature final : public engine::render::RenderFeature {
                        VkDeviceSize needed);
   void forgetRefusalsThatMayFit();
   void uploadInParts(const engine::render::FrameContext& frame, AssetDemand& d);
+  bool anotherRegionsPartial(const engine::render::FrameContext& frame) const;
   bool writeRecordPart(const engine::render::FrameContext& frame, const std::shared_ptr<const SdfAsset>& asset,
                        std::uint32_t base, std::uint32_t count);
   bool drawsPreviousAsset(std::uint64_t assetId) const;
@@ -463,10 +465,9 @@ class HermiteCellFeature final : public engine::render::RenderFeature {
   // them: forgetRefusalsThatMayFit), and a run length refused the same way (0: none).
   std::unordered_map<std::uint64_t, engine::gpu::MemoryRefusal> refused_;
   std::optional<engine::gpu::MemoryRefusal> runsRefusal_;
-  // The asset each entity of drawnRegistry_ drew last frame (drawn instead of a refused one; the
-  // entities of another registry are other objects).
-  std::unordered_map<engine::ecs::Entity, std::uint64_t> drawnAssets_;
-  const engine::ecs::Registry* drawnRegistry_ = nullptr;
+  // The asset id each entity drew in each view region's last frame (drawn instead of a refused one
+  // or one still written in parts).
+  engine::render::DrawnPerRegion<std::uint64_t> drawnAssets_;
   std::uint32_t refusedRunLength_ = 0;
   std::uint64_t uploadedBytes_ = 0;  // Stats::uploadedBytes
   std::uint64_t copiedBytes_ = 0;    // Stats::copiedBytes
@@ -487,10 +488,15 @@ class HermiteCellFeature final : public engine::render::RenderFeature {
   struct PartialUpload {
     std::uint64_t assetId = 0;
     std::uint32_t written = 0;  // its records in the buffers so far
+    std::uint32_t region = 0;   // the view region that began it (FrameContext::viewRegionIndex)
+    std::uint64_t frame = 0;    // the frame that last wrote a part of it
   };
   std::optional<PartialUpload> partial_;
   std::optional<std::uint64_t> partsFrame_;  // the frame that last wrote records in parts: one round a frame
-  std::size_t assetsWaiting_ = 0;            // new assets not drawn yet after that round (uploading())
+  // New assets not drawn yet after that round (uploading()), counted over the view regions of the
+  // frame `waitingFrame_`.
+  std::size_t assetsWaiting_ = 0;
+  std::optional<std::uint64_t> waitingFrame_;
   engine::render::PerFrameBuffer drawData_;     // the draw table: HermiteDrawTableHeader, a record per command
   engine::render::PerFrameBuffer drawRecords_;  // its HermiteDraw records
   engine::render::PerFrameBuffer indirect_;

@@ -69,6 +69,7 @@
 #include "engine/gpu/memory.h"
 #include "engine/gpu/lazy_pipeline.h"
 #include "engine/gpu/pipeline.h"
+#include "engine/render/drawn_per_region.h"
 #include "engine/render/per_frame_buffer.h"
 #include "engine/render/region_stats.h"
 #include "engine/render/render_feature.h"
@@ -249,11 +250,10 @@ class SphereTraceFeature final : public engine::render::RenderFeature {
   };
   std::map<TextureKey, Refusal> refusals_;
   std::uint64_t releasedTextures_ = 0;
-  // The asset each entity of drawnRegistry_ drew last frame: drawn instead of a refused asset that
-  // replaced it (the entities of another registry are other objects).
-  std::unordered_map<engine::ecs::Entity, std::shared_ptr<const SdfAsset>> drawnAssets_;
+  // The asset each entity drew in each view region's last frame: drawn instead of a refused asset
+  // that replaced it.
+  engine::render::DrawnPerRegion<std::shared_ptr<const SdfAsset>> drawnAssets_;
   std::string settingsSaid_;  // the warnings about bad Settings given so far (each said once)
-  const engine::ecs::Registry* drawnRegistry_ = nullptr;
   engine::render::PerFrameBuffer drawBuffer_;
   std::vector<std::uint32_t> drawSlots_;  // texture slot per draw of this frame
   Range front_[2], near_[2];              // per method, ranges of this frame's draws
