@@ -3,7 +3,8 @@
 // job's worker thread, method switches (cells, trilinear, hermite, mesh), n and normal mode
 // changes, an extra baked object added and removed, the split view (two view regions, the compared
 // side drawn from its own bake at 2K) switched on with the extra object and off at the mesh. Host RSS (/proc/self/statm) and the GPU
-// allocator's totals are sampled every 100 frames.
+// allocator's totals are sampled every 100 frames, each in a settled state (settle(): the pending
+// bakes finished and what the assets they replaced held given back, whatever the bakes' timing).
 //
 // Why the check compares samples one cycle apart: the schedule of changes repeats every
 // `cycle` frames, so two samples a whole cycle apart see the same scene (same K, method and
@@ -293,6 +294,21 @@ Status writeCsv(const std::filesystem::path& path, const std::vector<Sample>& sa
 
 constexpr std::uint64_t kSampleEvery = 100;
 
+// Brings the viewer to the state a sample may be compared in, the same whatever the bakes' timing.
+// A bake still running (the main field's or the compared side's) would leave the frame drawing the
+// older asset: it is finished. Then framesInFlight frames are drawn, always: what the replaced
+// asset held is given back only once no frame in flight drew it (the sphere tracer's texture of the
+// main asset, which the compared side draws until its own bake is ready, goes framesInFlight frames
+// after its last draw): one frame after a late compared bake still held it (on a loaded machine, 4
+// runs in 5: one trilinear texture more at one sample than a cycle later, "GPU memory in use grew").
+// Drawing the same number of frames at every sample keeps the frame count, which the engine's
+// release timers go by, independent of when the bakes finished.
+Status settle(samples::Viewer& viewer) {
+  if (viewer.bakeJob() || viewer.compareBakeJob()) ENGINE_TRY(viewer.waitForBake());
+  for (std::uint32_t i = 0; i < viewer.renderer().desc().framesInFlight; ++i) ENGINE_TRY(viewer.step());
+  return {};
+}
+
 Expected<bool> runSoak(const Options& options) {
   const std::uint64_t cycle = options.period * kChangesPerCycle;
   if (cycle % kSampleEvery != 0)
@@ -324,12 +340,7 @@ Expected<bool> runSoak(const Options& options) {
     }
     ENGINE_TRY(viewer->step().withContext(fmt::format("frame {}", frame)));
     if (frame % kSampleEvery == 0) {
-      // A bake still running (the main field's or the compared side's) would make the sample depend
-      // on timing: the frame would still draw the older asset. Finish it and draw one frame with it.
-      if (viewer->bakeJob() || viewer->compareBakeJob()) {
-        ENGINE_TRY(viewer->waitForBake());
-        ENGINE_TRY(viewer->step().withContext(fmt::format("frame {} (after the pending bakes)", frame)));
-      }
+      ENGINE_TRY(settle(*viewer).withContext(fmt::format("frame {} (settling before the sample)", frame)));
       if (!viewer->bakeError().empty()) return makeError("re-bake failed: " + viewer->bakeError());
       samples.push_back(soak.sample(frame));
       std::printf("%s\n", describe(samples.back()).c_str());
