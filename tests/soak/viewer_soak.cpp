@@ -3,7 +3,8 @@
 // job's worker thread, method switches (cells, trilinear, hermite, mesh), n and normal mode
 // changes, an extra baked object added and removed, the split view (two view regions, the compared
 // side drawn from its own bake at 2K) switched on with the extra object and off at the mesh. Host RSS (/proc/self/statm) and the GPU
-// allocator's totals are sampled every 100 frames.
+// allocator's totals are sampled every 100 frames. A bake started by one frame is put in the scene by
+// the next (waitForRunningBakes), so every frame draws the same state whatever the machine's load.
 //
 // Why the check compares samples one cycle apart: the schedule of changes repeats every
 // `cycle` frames, so two samples a whole cycle apart see the same scene (same K, method and
@@ -31,6 +32,7 @@
 
 #include <algorithm>
 #include <charconv>
+#include <chrono>
 #include <cstdint>
 #include <cstdio>
 #include <filesystem>
@@ -39,6 +41,7 @@
 #include <optional>
 #include <string>
 #include <string_view>
+#include <thread>
 #include <vector>
 
 #include <fmt/format.h>
@@ -293,6 +296,20 @@ Status writeCsv(const std::filesystem::path& path, const std::vector<Sample>& sa
 
 constexpr std::uint64_t kSampleEvery = 100;
 
+// Blocks until the bakes running now (the main field's re-bake, the compared side's bake) are done,
+// without putting them in the scene: the next step does, through the Viewer's own path, as when a
+// bake is quick. Each bake then goes in at the frame after the one that started it, and every frame
+// draws the same state in every run whatever the machine's load. Left to the worker threads' pace,
+// the state at a sample depended on it (seen on a machine loaded 7-11 deep on 2 cores): a compared
+// side's bake still running at the sample left the main asset's trilinear texture (the compared
+// side's stand-in) alive, and a main re-bake done only after the switch away from cells 20 frames
+// later left the cells holding the older, smaller field; either made one sample differ from the
+// same phase a cycle later ("GPU memory in use grew", less or more).
+void waitForRunningBakes(samples::Viewer& viewer) {
+  for (const hsdf::BakeJob* job : {viewer.bakeJob(), viewer.compareBakeJob()})
+    while (job && !job->finishable()) std::this_thread::sleep_for(std::chrono::milliseconds(1));
+}
+
 Expected<bool> runSoak(const Options& options) {
   const std::uint64_t cycle = options.period * kChangesPerCycle;
   if (cycle % kSampleEvery != 0)
@@ -323,13 +340,8 @@ Expected<bool> runSoak(const Options& options) {
       ENGINE_TRY(soak.apply(change).withContext(fmt::format("frame {}", frame)));
     }
     ENGINE_TRY(viewer->step().withContext(fmt::format("frame {}", frame)));
+    waitForRunningBakes(*viewer);
     if (frame % kSampleEvery == 0) {
-      // A bake still running (the main field's or the compared side's) would make the sample depend
-      // on timing: the frame would still draw the older asset. Finish it and draw one frame with it.
-      if (viewer->bakeJob() || viewer->compareBakeJob()) {
-        ENGINE_TRY(viewer->waitForBake());
-        ENGINE_TRY(viewer->step().withContext(fmt::format("frame {} (after the pending bakes)", frame)));
-      }
       if (!viewer->bakeError().empty()) return makeError("re-bake failed: " + viewer->bakeError());
       samples.push_back(soak.sample(frame));
       std::printf("%s\n", describe(samples.back()).c_str());
