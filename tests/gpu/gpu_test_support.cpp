@@ -13,6 +13,15 @@
 
 namespace gputest {
 
+std::size_t differingPixels(const Frame& a, const Frame& b) {
+  std::size_t count = 0;
+  for (std::size_t i = 0; i < a.depth.size(); ++i) {
+    const auto pixel = [i](const Frame& f) { return f.rgba.begin() + std::ptrdiff_t(4 * i); };
+    count += a.depth[i] != b.depth[i] || !std::equal(pixel(a), pixel(a) + 4, pixel(b));
+  }
+  return count;
+}
+
 using namespace engine;
 
 std::unique_ptr<gpu::Context> createTestContext(bool synchronizationValidation) {

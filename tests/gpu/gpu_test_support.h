@@ -36,6 +36,9 @@ struct Frame {
   float depthAt(std::uint32_t x, std::uint32_t y) const { return depth[std::size_t(y) * width + x]; }
 };
 
+// Pixels whose depth or colour differ between two frames of one size.
+std::size_t differingPixels(const Frame& a, const Frame& b);
+
 // Object transforms an engine user (a glTF node, an editor gizmo) produces, each about `pivot`, as
 // a parent's and a child's local matrix (both translation * rotation * scale, as glTF nodes are).
 struct NamedTransform {

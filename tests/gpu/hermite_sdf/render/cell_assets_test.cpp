@@ -438,16 +438,6 @@ TEST_F(HermiteCellsTest, ARebuildWhoseFrameFailsCopiesTheKeptRecordsInTheNextTry
   EXPECT_TRUE(next.rgba == fresh.rgba) << "the frame after it";
 }
 
-// Pixels whose depth or colour differ.
-std::size_t differingPixels(const Frame& a, const Frame& b) {
-  std::size_t count = 0;
-  for (std::size_t i = 0; i < a.depth.size(); ++i)
-    count += a.depth[i] != b.depth[i] || !std::equal(a.rgba.begin() + std::ptrdiff_t(4 * i),
-                                                     a.rgba.begin() + std::ptrdiff_t(4 * i + 4),
-                                                     b.rgba.begin() + std::ptrdiff_t(4 * i));
-  return count;
-}
-
 // Why: the sides of a split screen may draw one entity in other forms (the Viewer's compared side at
 // another K, or by a sphere tracer, swaps its asset or method in for its region). While one side's
 // new asset is written in parts, that side must keep drawing the asset it drew, and the other side

@@ -45,16 +45,6 @@ struct Shot {
   std::string what;
 };
 
-// Pixels whose depth or colour differ.
-int differing(const Frame& a, const Frame& b) {
-  int count = 0;
-  for (std::size_t i = 0; i < a.depth.size(); ++i) {
-    const auto pixel = [i](const Frame& f) { return f.rgba.begin() + std::ptrdiff_t(4 * i); };
-    count += a.depth[i] != b.depth[i] || !std::equal(pixel(a), pixel(a) + 4, pixel(b));
-  }
-  return count;
-}
-
 class FrameHistoryTest : public GpuTest {
  protected:
   // The long-lived renderer (renderer_) with `settings`. The fresh renderers use them too, but
@@ -116,7 +106,7 @@ class FrameHistoryTest : public GpuTest {
       const Frame fresh = freshFrame(shot.camera, i);
       keptSeconds += std::chrono::duration<double>(drawn - start).count();
       freshSeconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - drawn).count();
-      const int diff = differing(kept, fresh);
+      const int diff = int(differingPixels(kept, fresh));
       occludedFrames_ += renderer_->feature<hsdf::HermiteCellFeature>()->usesOcclusionCulling();
       logFrame(label, i, shot, kept, fresh, diff);
       covered += int(std::count_if(fresh.depth.begin(), fresh.depth.end(), [](float d) { return d > 0.0f; }));
