@@ -32,7 +32,6 @@
 
 #include <algorithm>
 #include <charconv>
-#include <chrono>
 #include <cstdint>
 #include <cstdio>
 #include <filesystem>
@@ -41,7 +40,6 @@
 #include <optional>
 #include <string>
 #include <string_view>
-#include <thread>
 #include <vector>
 
 #include <fmt/format.h>
@@ -306,8 +304,8 @@ constexpr std::uint64_t kSampleEvery = 100;
 // later left the cells holding the older, smaller field; either made one sample differ from the
 // same phase a cycle later ("GPU memory in use grew", less or more).
 void waitForRunningBakes(samples::Viewer& viewer) {
-  for (const hsdf::BakeJob* job : {viewer.bakeJob(), viewer.compareBakeJob()})
-    while (job && !job->finishable()) std::this_thread::sleep_for(std::chrono::milliseconds(1));
+  for (hsdf::BakeJob* job : {viewer.bakeJob(), viewer.compareBakeJob()})
+    if (job) job->waitUntilDone();
 }
 
 Expected<bool> runSoak(const Options& options) {

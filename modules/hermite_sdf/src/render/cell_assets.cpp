@@ -8,7 +8,9 @@
 #include <cstdint>
 #include <cstring>
 #include <limits>
+#include <optional>
 #include <span>
+#include <unordered_map>
 #include <unordered_set>
 
 #include <imgui.h>
@@ -65,9 +67,10 @@ struct HermiteCellFeature::AssetDemand {
   std::unordered_set<std::uint64_t> seen;
   std::unordered_set<std::uint64_t> asBricks;  // assets some entity draws as cell bricks
   bool missing = false;
-  // The new assets wanted have their records in the buffers already, in the order wanted
-  // (uploadInParts); the other new assets wait.
-  bool recordsResident = false;
+  // The new assets wanted whose records the buffers hold already (uploadInParts: written over
+  // earlier frames; then they are the only new ones), each at its first record: appended in place,
+  // or copied by a rebuild like the kept assets. The other new assets wait.
+  std::unordered_map<std::uint64_t, std::uint32_t> resident;
 };
 
 // The concatenation of the wanted assets' streams: the contents of the rebuilt buffers, or what is
@@ -90,6 +93,11 @@ struct HermiteCellFeature::AssetUpload {
   StreamCounts base;
   std::vector<RecordSource> recordSources;  // in record order, before the copied records
   std::vector<RecordCopy> recordCopies;
+  // A rebuild while an asset is written in parts (partial_): its records written so far, copied
+  // after every entry's records, and the records of room made there for all of it, so that its
+  // later parts go in place (it goes on, not from its first record again).
+  RecordCopy carried;
+  std::uint32_t carriedRoom = 0;
   std::uint32_t records = 0, halfRecords = 0;
   // The records (and their cones) were written in earlier frames, after `base` (a new asset
   // uploaded in parts: Settings::uploadBytesPerFrame): the other streams alone are appended.
@@ -109,18 +117,27 @@ struct HermiteCellFeature::AssetUpload {
            cones.size() * sizeof(shader::CellBrickCone) + materialSlots.size() * sizeof(CellMaterialSlots) +
            palette.size() * sizeof(shader::HermiteMaterialGpu);
   }
-  // The per-record bytes the GPU copies from the old buffers (recordCopies).
+  static VkDeviceSize bytesOf(const RecordCopy& c) {
+    return VkDeviceSize(c.records) * (sizeof(CellRecord) + sizeof(shader::CellBrickCone)) +
+           VkDeviceSize(c.halfRecords) * sizeof(CellRecordHalf);
+  }
+  // The per-record bytes the GPU copies from the old buffers (recordCopies, carried).
   VkDeviceSize copiedBytes() const {
-    VkDeviceSize copied = 0;
-    for (const RecordCopy& c : recordCopies)
-      copied += VkDeviceSize(c.records) * (sizeof(CellRecord) + sizeof(shader::CellBrickCone)) +
-                VkDeviceSize(c.halfRecords) * sizeof(CellRecordHalf);
+    VkDeviceSize copied = bytesOf(carried);
+    for (const RecordCopy& c : recordCopies) copied += bytesOf(c);
     return copied;
   }
-  // The bytes this upload writes from the CPU: bytes() less the records written before or copied.
+  // The bytes this upload writes from the CPU: bytes() less the records written before or copied
+  // (the carried part, of no entry yet, is not in bytes()).
   VkDeviceSize writtenBytes() const {
-    return bytes() - copiedBytes() -
+    return bytes() + bytesOf(carried) - copiedBytes() -
            (recordsResident ? VkDeviceSize(records) * HermiteCellFeature::kRecordUploadBytes : 0);
+  }
+  // The copies from the old buffers: the entries' and the carried part.
+  std::vector<RecordCopy> allCopies() const {
+    std::vector<RecordCopy> all = recordCopies;
+    if (carried.records != 0) all.push_back(carried);
+    return all;
   }
   // The entries of the buffers once these streams are in.
   StreamCounts end() const {
@@ -247,8 +264,9 @@ template <class Upload>
 std::vector<engine::gpu::BufferAppend> cellStreamAppends(CellBuffers& b, const Upload& u, const StreamCounts& used) {
   constexpr VkBufferUsageFlags address = kAddressUsage, vertex = kVertexUsage;
   const auto entries = [](std::uint32_t count, std::size_t size) { return VkDeviceSize(count) * size; };
-  // Copied records (a rebuild) go after the written ones: the buffers are made with room for them.
-  const std::uint32_t room = u.recordCopies.empty() ? 0 : u.records;
+  // Copied records (a rebuild) go after the written ones: the buffers are made with room for them,
+  // and for all of an asset written in parts whose first records are carried over.
+  const std::uint32_t room = u.recordCopies.empty() && u.carriedRoom == 0 ? 0 : u.records + u.carriedRoom;
   std::vector<engine::gpu::BufferAppend> appends = recordAppends(b, std::span(u.recordSources), used.records, room);
   appends.push_back(appendOf(b.runs, entries(used.runs, sizeof(shader::CellRunGpu)), u.runs, vertex, "hermite cell runs"));
   appends.push_back(appendOf(b.bricks, entries(used.bricks, sizeof(shader::CellBrickGpu)), u.bricks, vertex | address,
@@ -338,11 +356,16 @@ void HermiteCellFeature::syncAssets(const engine::render::FrameContext& frame) {
   {
     CellBuffers rebuilt;
     AssetUpload u;
-    // The assets written from the CPU first, then those the old buffers hold (copied on the GPU).
+    // The assets written from the CPU first, then those the old buffers hold (copied on the GPU):
+    // the kept ones and the new ones written in parts.
+    const auto held = [&](const auto& asset) {
+      return buffers_->entries.contains(asset->id) || d.resident.contains(asset->id);
+    };
     for (const auto& asset : d.wanted)
-      if (!buffers_->entries.contains(asset->id)) appendAsset(rebuilt, u, asset, d);
+      if (!held(asset)) appendAsset(rebuilt, u, asset, d);
     for (const auto& asset : d.wanted)
-      if (buffers_->entries.contains(asset->id)) appendAsset(rebuilt, u, asset, d);
+      if (held(asset)) appendAsset(rebuilt, u, asset, d);
+    carryPartialUpload(u);
     rebuilt.used = u.end();
     if (const engine::Status created = engine::gpu::allocateOrRefuse([&] { createAssetBuffers(rebuilt, u); });
         !created) {
@@ -394,7 +417,7 @@ void HermiteCellFeature::uploadInParts(const engine::render::FrameContext& frame
   const auto isNew = [this](const std::shared_ptr<const SdfAsset>& a) { return !buffers_->entries.contains(a->id); };
   std::vector<std::shared_ptr<const SdfAsset>> queue;
   for (const auto& asset : d.wanted)
-    if (isNew(asset)) queue.insert(partial_ && partial_->assetId == asset->id ? queue.begin() : queue.end(), asset);
+    if (isNew(asset)) queue.insert(partial_ && partial_->asset->id == asset->id ? queue.begin() : queue.end(), asset);
   std::uint64_t left = std::max<std::uint64_t>(1, settings_.uploadBytesPerFrame / kRecordUploadBytes);  // records
   std::uint64_t queued = 0;
   for (const auto& asset : queue) queued += asset->cells.records.size();
@@ -405,41 +428,50 @@ void HermiteCellFeature::uploadInParts(const engine::render::FrameContext& frame
   std::erase_if(d.wanted, isNew);
   d.missing = bricksMissing(d, *buffers_);
   assetsWaiting_ += queue.size();
-  if (partsFrame_ == frame.frameNumber) return;
+  if (partsFrame_ == frame.frameNumber || partsWait(frame, *queue.front())) return;
   partsFrame_ = frame.frameNumber;
   std::uint32_t base = buffers_->used.records;  // where the next asset's records go
   for (const auto& asset : queue) {
-    if (!partial_ || partial_->assetId != asset->id)
-      partial_ = PartialUpload{asset->id, 0, frame.viewRegionIndex, frame.frameNumber};
+    if (!partial_ || partial_->asset->id != asset->id)
+      partial_ = PartialUpload{asset, 0, frame.viewRegionIndex, frame.frameNumber, base};
     const auto total = static_cast<std::uint32_t>(asset->cells.records.size());
     const auto count = static_cast<std::uint32_t>(std::min<std::uint64_t>(total - partial_->written, left));
-    if (!writeRecordPart(frame, asset, base, count)) {  // refused, reported: not waiting any more
+    if (!writeRecordPart(frame, count)) {  // refused, reported: not waiting any more
       --assetsWaiting_;
       break;
     }
     if (partial_->written < total) break;
+    d.resident.emplace(asset->id, partial_->first);
+    base = partial_->first + total;
     partial_.reset();
     d.wanted.push_back(asset);
-    d.recordsResident = true;
     d.missing = true;
     --assetsWaiting_;
-    base += total;
     left -= count;
     if (left == 0) break;
   }
 }
 
-// Writes `count` more of `asset`'s records (partial_) after the `base` records before it; false
-// when the allocation was refused: the asset is refused as a whole upload would be.
-bool HermiteCellFeature::writeRecordPart(const engine::render::FrameContext& frame,
-                                         const std::shared_ptr<const SdfAsset>& asset, std::uint32_t base,
-                                         std::uint32_t count) {
+// Whether this region's new assets (`first` of them to go first) wait without writing any this
+// frame: a rebuild earlier in the frame copies records in its commands, not submitted yet (a part
+// written now, in its own submission, runs before them: a buffer grown for it would lack them); or
+// another region's asset is written in parts and this region's first is not it (begun instead, it
+// began again whenever a new asset came to a region drawn before its own: a level streaming small
+// assets into one side of a split starved a large one on the other side for good).
+bool HermiteCellFeature::partsWait(const engine::render::FrameContext& frame, const SdfAsset& first) const {
+  return pendingCopies_ || (anotherRegionsPartial(frame) && partial_->asset->id != first.id);
+}
+
+// Writes `count` more of the partial upload's records after those written; false when the
+// allocation was refused: the asset is refused as a whole upload would be.
+bool HermiteCellFeature::writeRecordPart(const engine::render::FrameContext& frame, std::uint32_t count) {
   // After the `written` records, each buffer made or grown with room for the whole asset, so that
   // the later parts are written in place.
+  const std::shared_ptr<const SdfAsset> asset = partial_->asset;
   const AssetUpload::RecordSource part{asset.get(), matchingDerived(*asset), partial_->written, count};
   const auto total = static_cast<std::uint32_t>(asset->cells.records.size());
-  std::vector<engine::gpu::BufferAppend> appends =
-      recordAppends(*buffers_, std::span(&part, 1), base + partial_->written, total - partial_->written);
+  std::vector<engine::gpu::BufferAppend> appends = recordAppends(*buffers_, std::span(&part, 1),
+                                                                 partial_->first + partial_->written, total - partial_->written);
   auto replaced = engine::gpu::allocateOrRefuse([&] { return engine::gpu::appendToBuffers(*context_, appends); });
   if (!replaced) {
     partial_.reset();
@@ -588,12 +620,17 @@ void HermiteCellFeature::appendAsset(CellBuffers& rebuilt, AssetUpload& u, const
   const auto old = buffers_->entries.find(asset->id);
   if (d.asBricks.contains(asset->id) || (old != buffers_->entries.end() && old->second.bricksUploaded))
     appendBricks(u, entry, bricksOf(*asset, derived));
-  if (old != buffers_->entries.end())  // a rebuild: its records are on the GPU already
-    u.recordCopies.push_back({old->second.firstRecord, entry.firstRecord,
-                              static_cast<std::uint32_t>(asset->cells.records.size()),
-                              static_cast<std::uint32_t>(asset->cellsHalf.records.size())});
-  else if (!u.recordsResident)
+  // Where the buffers hold its records already: a kept asset's entry, or a new asset written in parts.
+  std::optional<std::uint32_t> held;
+  if (old != buffers_->entries.end())
+    held = old->second.firstRecord;
+  else if (const auto resident = d.resident.find(asset->id); resident != d.resident.end())
+    held = resident->second;
+  if (!held)
     u.recordSources.push_back({asset.get(), derived});
+  else if (!u.recordsResident)  // a rebuild: copied on the GPU (an append leaves them in place)
+    u.recordCopies.push_back({*held, entry.firstRecord, static_cast<std::uint32_t>(asset->cells.records.size()),
+                              static_cast<std::uint32_t>(asset->cellsHalf.records.size())});
   u.records += static_cast<std::uint32_t>(asset->cells.records.size());
   u.halfRecords += static_cast<std::uint32_t>(asset->cellsHalf.records.size());
   appendMaterials(u, *asset, entry);
@@ -620,7 +657,7 @@ void HermiteCellFeature::createAssetBuffers(CellBuffers& rebuilt, const AssetUpl
 bool HermiteCellFeature::appendNewAssets(const engine::render::FrameContext& frame, const AssetDemand& d) {
   // New assets whose records were written in parts (uploadInParts: then they are the only new
   // ones) are appended even to empty buffers: a rebuild would write their records again.
-  const bool resident = d.recordsResident;
+  const bool resident = !d.resident.empty();
   if (buffers_->entries.empty() && !resident) return false;
   std::uint64_t idleRecords = 0;
   for (const auto& [id, entry] : buffers_->entries)
@@ -663,16 +700,28 @@ bool HermiteCellFeature::appendNewAssets(const engine::render::FrameContext& fra
   return true;
 }
 
+// A rebuild while an asset is written in parts carries its records written so far over (after the
+// rebuilt records, copied on the GPU), with room for the rest: a new run length or idle assets
+// dropped meanwhile began the upload again from its first record.
+void HermiteCellFeature::carryPartialUpload(AssetUpload& u) const {
+  if (!partial_) return;
+  const SdfAsset& asset = *partial_->asset;
+  u.carried = {partial_->first, u.records, partial_->written,
+               static_cast<std::uint32_t>(clippedCount(asset.cellsHalf.records.size(), 0, partial_->written))};
+  u.carriedRoom = static_cast<std::uint32_t>(asset.cells.records.size());
+}
+
 // Records in this frame's commands the copies of the kept assets' per-record streams (fp32 and
 // fp16 records, cell cones) from the `old` buffers into the rebuilt ones (buffers_), before the
 // culling passes and draws that read them: a rebuild writes from the CPU only the assets the old
 // buffers lack. The old buffers are retired, or held until this frame is submitted.
 void HermiteCellFeature::copyResidentRecords(const engine::render::FrameContext& frame,
                                              std::unique_ptr<CellBuffers> old, const AssetUpload& u) {
-  if (u.recordCopies.empty()) return frame.retire(std::move(old));
+  const std::vector<AssetUpload::RecordCopy> recordCopies = u.allCopies();
+  if (recordCopies.empty()) return frame.retire(std::move(old));
   const auto stream = [&](const Buffer& from, const Buffer& to, std::size_t size, bool half) {
     engine::gpu::BufferCopy copy{&from, &to, {}};
-    for (const AssetUpload::RecordCopy& c : u.recordCopies)
+    for (const AssetUpload::RecordCopy& c : recordCopies)
       if (const std::uint32_t count = half ? c.halfRecords : c.records; count != 0)
         copy.regions.push_back({VkDeviceSize(c.from) * size, VkDeviceSize(c.to) * size, VkDeviceSize(count) * size});
     return copy;
@@ -683,7 +732,7 @@ void HermiteCellFeature::copyResidentRecords(const engine::render::FrameContext&
       stream(old->cellCones, buffers_->cellCones, sizeof(shader::CellBrickCone), false),
   };
   engine::gpu::recordBufferCopies(frame.cmd, copies);
-  pendingCopies_ = PendingCopies{frame.frameNumber, frame.frameSlot, std::move(old), std::move(copies)};
+  pendingCopies_ = PendingCopies{frame.frameNumber, frame.viewRegionIndex, std::move(old), std::move(copies)};
 }
 
 // A rebuild's copies recorded in an earlier frame: that frame was submitted (a later frame number),
@@ -697,9 +746,9 @@ void HermiteCellFeature::settlePendingCopies(const engine::render::FrameContext&
     pendingCopies_.reset();
     return;
   }
-  if (frame.frameSlot > pendingCopies_->frameSlot) return;  // a later view region of the same frame
+  if (frame.viewRegionIndex > pendingCopies_->region) return;  // a later view region of the same frame
   engine::gpu::recordBufferCopies(frame.cmd, pendingCopies_->copies);
-  pendingCopies_->frameSlot = frame.frameSlot;
+  pendingCopies_->region = frame.viewRegionIndex;
 }
 
 // Replaces the feature's buffers with the rebuilt ones, retiring the old for frames in flight.
@@ -713,7 +762,7 @@ void HermiteCellFeature::commitAssetBuffers(const engine::render::FrameContext& 
   uploadedBytes_ += u.writtenBytes();
   copiedBytes_ += u.copiedBytes();
   for (auto& [id, entry] : rebuilt.entries) entry.lastFrame = frame.frameNumber;
-  partial_.reset();  // records written in parts after the old buffers' are not in the new ones
+  if (partial_) partial_->first = u.carried.to;  // carried over (carryPartialUpload)
   copyResidentRecords(frame, std::exchange(buffers_, std::make_unique<CellBuffers>(std::move(rebuilt))), u);
   engine::log::debug("hermite cells: {} assets, {} records uploaded", buffers_->entries.size(), u.records);
 }

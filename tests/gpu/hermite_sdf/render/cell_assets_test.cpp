@@ -525,6 +525,204 @@ TEST_F(HermiteCellsTest, EachSideOfASplitScreenDrawsItsOwnAssetWhileTheOthersIsW
   }
 }
 
+// The assets of the tests of uploads in parts: the torus at K = 16 and at K = 40, with a budget
+// that writes the fine one in three or four parts (the coarse one fits a frame's), and a camera.
+struct PartsAssets {
+  std::shared_ptr<const hsdf::SdfAsset> coarse = bakeAsset("torus", 16);
+  std::shared_ptr<const hsdf::SdfAsset> fine = bakeAsset("torus", 40);
+  std::uint64_t records = fine ? fine->cells.records.size() : 0;
+  std::uint64_t perFrame = records / 3;  // records a frame
+  std::uint64_t parts = perFrame ? (records + perFrame - 1) / perFrame : 0;
+  std::uint64_t budget() const { return perFrame * Cells::kRecordUploadBytes; }
+  render::CameraView camera() const { return orbitCamera(*fine, 0); }
+};
+
+// Why: a rebuild of the cell buffers (a new run length, idle assets dropped) while a new asset is
+// written in parts began that upload again from its first record (its records so far were after
+// the old buffers' and not in the new ones), and an asset whose last part came in the rebuild's
+// frame had all its records written from the CPU again. Both are on the GPU already: the rebuild
+// must copy them, and the upload go on where it was. So, with the run length changed in a middle
+// part's frame and in the last part's: the asset is whole after as many frames as without the
+// change, each asset's bytes are written once (the coarse one's runs again at the new length, not
+// its records), the GPU copies the kept and the carried records, and every frame equals the frame a
+// renderer without a budget draws (the coarse asset until the fine one is whole).
+TEST_F(HermiteCellsTest, AnAssetWrittenInPartsGoesOnThroughARebuild) {
+  constexpr std::uint32_t kSide = kSize / 2;
+  const PartsAssets a;
+  ASSERT_TRUE(a.coarse && a.fine);
+  const auto& [coarse, fine, records, perFrame, parts] = a;
+  const render::CameraView camera = a.camera();
+  const std::uint32_t runLengths[2] = {Cells::Settings{}.maxRunLength, Cells::Settings{}.maxRunLength / 2};
+  ecs::Entity entity;
+  // A fresh feature drawing `asset` as runs of `runLength`, writing `budget` bytes a frame.
+  const auto start = [&](std::uint64_t budget, std::uint32_t runLength, std::shared_ptr<const hsdf::SdfAsset> asset) {
+    createCellRenderer(kSide, kSide);
+    renderer_->feature<Cells>()->settings().uploadBytesPerFrame = budget;
+    renderer_->feature<Cells>()->settings().maxRunLength = runLength;
+    registry_ = ecs::Registry();
+    entity = addSdf(registry_, std::move(asset), hsdf::RenderMethod::CellRuns);
+  };
+  struct Reference {
+    Frame frame;
+    std::uint64_t bytes;  // what a fresh feature writes for the asset alone
+  };
+  const auto reference = [&](const std::shared_ptr<const hsdf::SdfAsset>& asset, std::uint32_t runLength) {
+    start(0, runLength, asset);
+    Frame frame = renderWith(camera, DEBUG_VIEW_NONE);
+    return Reference{std::move(frame), renderer_->feature<Cells>()->stats().uploadedBytes};
+  };
+  const Reference coarseBefore = reference(coarse, runLengths[0]);
+  const Reference coarseAfter = reference(coarse, runLengths[1]);
+  const Reference fineAfter = reference(fine, runLengths[1]);
+  ASSERT_GT(coveredPixels(coarseAfter.frame), 500);
+  ASSERT_FALSE(coarseAfter.frame.depth == fineAfter.frame.depth) << "the two K must draw apart";
+  ASSERT_LT(coarse->cells.records.size(), perFrame) << "the coarse asset fits a frame's budget";
+  const std::uint64_t coarseRecordBytes = coarse->cells.records.size() * Cells::kRecordUploadBytes;
+  const std::uint64_t once = coarseBefore.bytes + (coarseAfter.bytes - coarseRecordBytes) + fineAfter.bytes;
+  for (const std::uint64_t changeAt : {std::uint64_t(2), parts}) {  // the part whose frame has the new run length
+    const std::string label = fmt::format("run length changed in part {} of {}", changeAt, parts);
+    start(a.budget(), runLengths[0], coarse);
+    auto* feature = renderer_->feature<Cells>();
+    EXPECT_EQ(differingPixels(renderWith(camera, DEBUG_VIEW_NONE), coarseBefore.frame), 0u) << label;
+    registry_.get<hsdf::HermiteSdfRenderable>(entity).asset = fine;
+    std::uint64_t frames = 0;
+    while (frames < 3 * parts) {
+      if (++frames == changeAt) feature->settings().maxRunLength = runLengths[1];
+      const Frame frame = renderWith(camera, DEBUG_VIEW_NONE);
+      if (!feature->uploading()) {
+        EXPECT_EQ(differingPixels(frame, fineAfter.frame), 0u) << label << ": the fine asset once whole";
+        break;
+      }
+      EXPECT_EQ(differingPixels(frame, frames < changeAt ? coarseBefore.frame : coarseAfter.frame), 0u)
+          << label << ", frame " << frames << ": not the coarse asset";
+    }
+    const Cells::Stats& stats = feature->stats();
+    std::printf("[ parts ] %s: whole after %llu frames, %llu B written (each asset once: %llu), %llu B copied\n",
+                label.c_str(), static_cast<unsigned long long>(frames), static_cast<unsigned long long>(stats.uploadedBytes),
+                static_cast<unsigned long long>(once), static_cast<unsigned long long>(stats.copiedBytes));
+    EXPECT_EQ(frames, parts) << label << ": frames until the fine asset was drawn (begun again?)";
+    EXPECT_EQ(stats.uploadedBytes, once) << label << ": bytes written twice";
+    const std::uint64_t carried = changeAt < parts ? changeAt * perFrame : records;
+    EXPECT_EQ(stats.copiedBytes, coarseRecordBytes + carried * Cells::kRecordUploadBytes)
+        << label << ": the GPU did not copy the kept and the fine asset's written records";
+  }
+}
+
+// Why: each side of a split screen may write its own new asset in parts, one asset at a time. A
+// new asset on a side drawn before the side whose large asset was being written began its own
+// upload in that frame's round, so the large one began again: a level streaming small assets into
+// one side every frame starved a large one on the other side for good. The large one must be whole
+// after as many frames as alone, whichever side it is on, the other side drawing what it drew
+// until then (its small assets look alike: each frame's is another asset of the same sphere).
+TEST_F(HermiteCellsTest, ALargeAssetInPartsOnOneSideIsWholeWhileTheOtherSideStreamsSmallOnes) {
+  constexpr std::uint32_t kSide = kSize / 2;
+  const PartsAssets a;
+  ASSERT_TRUE(a.coarse && a.fine);
+  const auto& [coarse, fine, records, perFrame, parts] = a;
+  std::vector<std::shared_ptr<const hsdf::SdfAsset>> stream;  // the small side's asset of each frame
+  for (int i = 0; i < 12; ++i) stream.push_back(bakeAsset("sphere", 16));
+  for (const auto& asset : stream) ASSERT_NE(asset, nullptr);
+  const render::CameraView camera = a.camera();
+  std::shared_ptr<const hsdf::SdfAsset> drawn[2];
+  ecs::Entity entity;
+  const render::FrameSettings split = splitInHalves(kSide, kSide, [&](std::uint32_t side) {
+    registry_.get<hsdf::HermiteSdfRenderable>(entity).asset = drawn[side];
+  });
+  const auto start = [&](std::uint64_t budget) {
+    createCellRenderer(kSide, kSide);
+    renderer_->feature<Cells>()->settings().uploadBytesPerFrame = budget;
+    registry_ = ecs::Registry();
+    entity = addSdf(registry_, coarse, hsdf::RenderMethod::Cells);
+  };
+  ASSERT_LT(std::max(coarse->cells.records.size(), stream[0]->cells.records.size()), perFrame);
+  for (const int large : {0, 1}) {  // the side whose asset is written in parts
+    const int small = 1 - large;
+    start(0);  // the references: each asset drawn in the frame that first wants it
+    drawn[small] = stream[0];
+    drawn[large] = coarse;
+    const Frame before = renderWith(camera, split);
+    drawn[large] = fine;
+    const Frame after = renderWith(camera, split);
+    ASSERT_FALSE(before.depth == after.depth);
+
+    start(a.budget());
+    auto* feature = renderer_->feature<Cells>();
+    drawn[small] = stream[0];
+    drawn[large] = coarse;
+    EXPECT_EQ(differingPixels(renderWith(camera, split), before), 0u) << "side " << large;
+    const std::uint64_t uploaded = feature->stats().uploadedBytes;
+    drawn[large] = fine;
+    std::size_t frames = 0;
+    while (frames + 1 < stream.size()) {
+      drawn[small] = stream[++frames];
+      const Frame frame = renderWith(camera, split);
+      if (differingPixels(frame, after) == 0) break;
+      EXPECT_EQ(differingPixels(frame, before), 0u) << "side " << large << ", frame " << frames;
+    }
+    std::printf("[ parts ] large asset on side %d, a new small one each frame on the other: drawn after %zu frames "
+                "(%zu: never), %llu B written\n",
+                large, frames, stream.size() - 1,
+                static_cast<unsigned long long>(feature->stats().uploadedBytes - uploaded));
+    EXPECT_EQ(frames, parts) << "side " << large << ": frames until the large asset was drawn";
+  }
+}
+
+// Why: a rebuild copies the kept records in its frame's commands, submitted once the frame is
+// recorded; a part of a new asset that a later view region of that frame wrote went in its own
+// submission before them, and the buffers grown for it took the rebuilt buffers' contents without
+// the kept records: the kept assets then drew from memory nothing wrote, for good. That region's
+// parts must wait a frame. So, a split whose left side has nothing new while the run length
+// changes (it rebuilds) in the frame the right side's asset becomes one written in parts: every
+// frame equals the frame of a renderer without a budget (the right side's old asset until the new
+// one is whole, one frame later than without the rebuild).
+TEST_F(HermiteCellsTest, APartWrittenInARebuildsFrameWaitsForItsCopies) {
+  constexpr std::uint32_t kSide = kSize / 2;
+  const PartsAssets a;
+  const auto other = bakeAsset("sphere", 16);
+  ASSERT_TRUE(a.coarse && a.fine && other);
+  const auto& [coarse, fine, records, perFrame, parts] = a;
+  const render::CameraView camera = a.camera();
+  std::shared_ptr<const hsdf::SdfAsset> drawn[2] = {other, coarse};
+  ecs::Entity entity;
+  const render::FrameSettings split = splitInHalves(kSide, kSide, [&](std::uint32_t side) {
+    registry_.get<hsdf::HermiteSdfRenderable>(entity).asset = drawn[side];
+  });
+  const std::uint32_t runLength = Cells::Settings{}.maxRunLength / 2;
+  const auto start = [&](std::uint64_t budget) {
+    createCellRenderer(kSide, kSide);
+    renderer_->feature<Cells>()->settings().uploadBytesPerFrame = budget;
+    renderer_->feature<Cells>()->settings().tiles = Cells::Tiles::Off;  // the records as vertex attributes
+    registry_ = ecs::Registry();
+    entity = addSdf(registry_, other, hsdf::RenderMethod::Cells);
+    drawn[1] = coarse;
+  };
+  start(0);  // the references, at the new run length
+  renderer_->feature<Cells>()->settings().maxRunLength = runLength;
+  const Frame before = renderWith(camera, split);
+  drawn[1] = fine;
+  const Frame after = renderWith(camera, split);
+  ASSERT_FALSE(before.depth == after.depth);
+
+  start(a.budget());
+  auto* feature = renderer_->feature<Cells>();
+  (void)renderWith(camera, split);
+  feature->settings().maxRunLength = runLength;
+  drawn[1] = fine;
+  std::uint64_t frames = 0;
+  const std::uint64_t copied = feature->stats().copiedBytes;
+  while (frames < 3 * parts) {
+    ++frames;
+    const Frame frame = renderWith(camera, split);
+    if (!feature->uploading()) {
+      EXPECT_EQ(differingPixels(frame, after), 0u) << "the new asset once whole";
+      break;
+    }
+    EXPECT_EQ(differingPixels(frame, before), 0u) << "frame " << frames << ": not what the sides drew before";
+  }
+  EXPECT_GT(feature->stats().copiedBytes, copied) << "no rebuild";
+  EXPECT_EQ(frames, parts + 1) << "frames until the new asset was drawn";
+}
+
 // A walk's scene: one entity that each side of an optional split draws in its own form, a second
 // object that comes and goes, and the cell settings; `log` lists the changes, so a failure replays.
 struct StreamWalk {

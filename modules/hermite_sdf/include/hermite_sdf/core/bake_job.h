@@ -4,6 +4,7 @@
 // "no surface" check at the end. hsdf_bake, the scene runner and the UI re-bake all go through
 // bakeAsset(); BakeJob runs the same function on a worker thread.
 #include <atomic>
+#include <condition_variable>
 #include <cstdint>
 #include <memory>
 #include <mutex>
@@ -157,6 +158,9 @@ class BakeJob {
   std::optional<Result> take();
   // Blocks until done, then take()s.
   Result wait();
+  // Blocks until done and leaves the result for take() (a caller that puts it in the scene later,
+  // as a frame does, waits without polling done()).
+  void waitUntilDone();
 
   const BakeSettings& settings() const { return settings_; }
 
@@ -168,6 +172,7 @@ class BakeJob {
   std::atomic<float> progress_{0.0f};
   std::atomic<bool> done_{false};
   std::mutex mutex_;
+  std::condition_variable doneChanged_;  // notified once done_ is set, under mutex_
   std::optional<Result> result_;
   std::thread thread_;
 };

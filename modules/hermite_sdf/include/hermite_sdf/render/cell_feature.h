@@ -328,8 +328,9 @@ class HermiteCellFeature final : public engine::render::RenderFeature {
   void forgetRefusalsThatMayFit();
   void uploadInParts(const engine::render::FrameContext& frame, AssetDemand& d);
   bool anotherRegionsPartial(const engine::render::FrameContext& frame) const;
-  bool writeRecordPart(const engine::render::FrameContext& frame, const std::shared_ptr<const SdfAsset>& asset,
-                       std::uint32_t base, std::uint32_t count);
+  bool partsWait(const engine::render::FrameContext& frame, const SdfAsset& first) const;
+  bool writeRecordPart(const engine::render::FrameContext& frame, std::uint32_t count);
+  void carryPartialUpload(AssetUpload& u) const;
   bool drawsPreviousAsset(std::uint64_t assetId) const;
   void keepPreviousAsset(const engine::render::FrameContext& frame, engine::ecs::Entity entity, bool bricks,
                          AssetDemand& d);
@@ -477,19 +478,20 @@ class HermiteCellFeature final : public engine::render::RenderFeature {
   // later than the one that recorded them) records them again.
   struct PendingCopies {
     std::uint64_t frameNumber = 0;
-    std::uint32_t frameSlot = 0;  // the frame slot (frame in flight x view region) that recorded them
+    std::uint32_t region = 0;  // the view region that recorded them (FrameContext::viewRegionIndex)
     std::unique_ptr<CellBuffers> from;
     std::vector<engine::gpu::BufferCopy> copies;
   };
   std::optional<PendingCopies> pendingCopies_;
   // The new asset whose records are being written over several frames (Settings::
   // uploadBytesPerFrame), after the records the buffers hold (CellBuffers::used): no entry points
-  // there until all are in. A rebuild of the buffers starts it again.
+  // there until all are in. A rebuild of the buffers carries its records written so far over.
   struct PartialUpload {
-    std::uint64_t assetId = 0;
+    std::shared_ptr<const SdfAsset> asset;
     std::uint32_t written = 0;  // its records in the buffers so far
     std::uint32_t region = 0;   // the view region that began it (FrameContext::viewRegionIndex)
     std::uint64_t frame = 0;    // the frame that last wrote a part of it
+    std::uint32_t first = 0;    // its first record's index in the buffers
   };
   std::optional<PartialUpload> partial_;
   std::optional<std::uint64_t> partsFrame_;  // the frame that last wrote records in parts: one round a frame

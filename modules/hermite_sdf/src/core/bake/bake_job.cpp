@@ -287,8 +287,9 @@ void BakeJob::run(BakeSource source) {
   {
     std::lock_guard<std::mutex> lock(mutex_);
     result_ = std::move(result);
+    done_.store(true, std::memory_order_release);  // under the lock: waitUntilDone cannot miss it
   }
-  done_.store(true, std::memory_order_release);
+  doneChanged_.notify_all();
 }
 
 std::optional<BakeJob::Result> BakeJob::take() {
@@ -297,6 +298,11 @@ std::optional<BakeJob::Result> BakeJob::take() {
   std::optional<Result> result = std::move(result_);
   result_.reset();
   return result;
+}
+
+void BakeJob::waitUntilDone() {
+  std::unique_lock<std::mutex> lock(mutex_);
+  doneChanged_.wait(lock, [this] { return done(); });
 }
 
 BakeJob::Result BakeJob::wait() {

@@ -4,6 +4,7 @@
 
 #include <atomic>
 #include <cstring>
+#include <optional>
 #include <string>
 #include <string_view>
 #include <utility>
@@ -20,6 +21,12 @@ BakeSource bunnySource() {
   auto source = BakeSource::fromPathOrShape(std::string(HSDF_ASSET_DIR) + "/bunny.glb");
   EXPECT_TRUE(source.ok()) << source.error().message;
   return source.ok() ? *source : BakeSource::fromShape("sphere");
+}
+
+BakeSettings atResolution(int resolution) {
+  BakeSettings settings;
+  settings.resolution = resolution;
+  return settings;
 }
 
 bool contains(const std::string& text, const std::string& part) { return text.find(part) != std::string::npos; }
@@ -61,9 +68,7 @@ TEST(BakeJob, CancelledTokenStopsBeforeAnyWork) {
 // and the next statement, so "cancelled" proves the flag reaches the running bake, and wait()
 // returning at all proves the thread stops.
 TEST(BakeJob, WorkerThreadJobCancels) {
-  BakeSettings settings;
-  settings.resolution = 128;
-  BakeJob job(bunnySource(), settings);
+  BakeJob job(bunnySource(), atResolution(128));
   EXPECT_FALSE(job.finishable()) << "a running job that nobody cancelled is not finished";
   job.cancel();
   EXPECT_TRUE(job.finishable()) << "a cancelled job may be finished before the worker notices";
@@ -71,6 +76,22 @@ TEST(BakeJob, WorkerThreadJobCancels) {
   ASSERT_FALSE(result.ok());
   EXPECT_TRUE(contains(result.error().message, "cancelled")) << result.error().message;
   EXPECT_TRUE(job.done());
+}
+
+// Why: a caller that puts the result in its scene later (the soak, waiting for a bake a frame
+// started, then letting the next frame take it) needs a wait that leaves the result in place, not
+// a poll of done(). Tricky: the bunny at K = 48 is still running right after the constructor, so
+// returning early leaves done() false; the result must then be there for take(), once.
+TEST(BakeJob, WaitUntilDoneBlocksAndLeavesTheResultToTake) {
+  BakeJob job(bunnySource(), atResolution(48));
+  ASSERT_FALSE(job.done()) << "the bake must outlast the constructor for the test to mean anything";
+  job.waitUntilDone();
+  EXPECT_TRUE(job.done());
+  job.waitUntilDone();  // done already: returns at once
+  std::optional<BakeJob::Result> result = job.take();
+  ASSERT_TRUE(result.has_value()) << "the wait took the result";
+  ASSERT_TRUE(result->ok()) << result->error().message;
+  EXPECT_GT((**result)->cells.records.size(), 0u);
 }
 
 // Tricky: each limit is checked on numbers alone. K = 4096 is 6.9e10 samples (1.1 TB): had the job
