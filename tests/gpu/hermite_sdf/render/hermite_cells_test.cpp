@@ -232,8 +232,9 @@ void expectFarCoverage(const ImageComparison& c, int disagreements) {
 // frame at 300 units, tiles; docs/reliability.md): the ends of each cell's segment and its roots
 // moved by that much. Each cell form bases its rays near the object instead (pixel_ray.glsl,
 // HermiteDraw::rayAnchor) and must draw the reference's interpolant: its coverage but for a rim
-// along the outline, no interior hole or extra, its normals (rebuilt from the depth buffer, whose
-// float holds ~0.03 cells there: depth itself is not compared). With the camera's t (the old
+// along the outline, no interior hole or extra, its normals (rebuilt from the hit offsets the
+// prepass stores, not from the depth buffer, whose float holds ~0.03 cells there: depth itself is
+// not compared). With the camera's t (the old
 // shaders in HSDF_SHADER_DIR): 5-16 interior extras and a normal error p99 of 7.7-10.3 degrees in
 // every form; based near the object, 0 and 3.1-4.7.
 TEST_F(HermiteCellsTest, AFarCameraDrawsTheReferenceForEveryCellForm) {
@@ -298,6 +299,22 @@ void expectFarNormals(const Frame& normals, const hsdf::ReferenceImage& referenc
   EXPECT_LT(c.normalErrorP99Degrees, p99Degrees);
 }
 
+// Every cell form's frame against `reference` (`compare`: the fixture's compareAlone with the
+// cameras), its coverage (at most `coverage` px differ) and normals (expectFarNormals).
+template <class Compare>
+void expectEveryFormFar(hsdf::HermiteCellFeature& feature, const hsdf::ReferenceImage& reference, const std::string& name,
+                        int coverage, double outlierShare, double p99Degrees, Compare compare) {
+  for (const CellForm& form : kCellForms) {
+    const std::string label = name + " " + form.name;
+    SCOPED_TRACE(label);
+    useForm(feature, form);
+    Frame normals;
+    const ImageComparison c = compare(form, label, &normals);
+    expectFarCoverage(c, coverage);
+    expectFarNormals(normals, reference, c, label, outlierShare, p99Degrees);
+  }
+}
+
 // Why: the anchor (HermiteDraw::rayAnchor) is made in double on the host, where the eye in grid units
 // is exact; made in float from the eye (the shaders did, per vertex and fragment) it held ~0.5 cell
 // 7.5e6 cells out (3e5 object sizes: docs/reliability.md), and every ray of the object moved with
@@ -321,15 +338,10 @@ TEST_F(HermiteCellsTest, AnOrthographicCameraFarBackDrawsWhatItDrawsNear) {
   const auto [far, near] = farBackCameras(*asset, kFarHitCells);
   auto reference = hsdf::renderReference(asset->field, near.view, near.proj, {int(kSize), int(kSize)});
   ASSERT_TRUE(reference.ok()) << reference.error().message;
-  for (const CellForm& form : kCellForms) {
-    const std::string label = std::string("far back ") + form.name;
-    SCOPED_TRACE(label);
-    useForm(feature, form);
-    Frame normalsFrame;
-    const ImageComparison c = compareAlone(asset, form.method, far, *reference, near, label, &normalsFrame);
-    expectFarCoverage(c, 20);
-    expectFarNormals(normalsFrame, *reference, c, label);
-  }
+  expectEveryFormFar(feature, *reference, "far back", 20, kFarNormalOutlierShare, kFarNormalP99Degrees,
+                     [&](const CellForm& form, const std::string& label, Frame* normals) {
+                       return compareAlone(asset, form.method, far, *reference, near, label, normals);
+                     });
 }
 
 // Why: a telephoto camera's depth (reverse-Z znear / d, an infinite far plane) holds ~6e-8 of d:
@@ -338,9 +350,10 @@ TEST_F(HermiteCellsTest, AnOrthographicCameraFarBackDrawsWhatItDrawsNear) {
 // reference of the same camera (2.7-2.9 %), p99 5.1 degrees (3e6 cells: 19-22 %, 1e7: 49 %). Every
 // form stores its hit's offset from the anchor beside the visibility (the tiles the winner's, in its
 // own object's t) and the resolve rebuilds the hit from it: 41 (0.2 %), p99 4.0 degrees; at most
-// 1 % allowed, and p99 5.5 as AFarCameraDrawsTheReferenceForEveryCellForm allows 5e5 cells out. What is left grows with the distance (3e6 cells: 85, 1e7: 833)
-// as the depth test's own resolution does (which cell wins where two surfaces lie within a float of
-// the depth of each other, near the contours), and the coverage (a rim of 257-303 px, the limit as
+// 1 % allowed, and p99 5.5 as AFarCameraDrawsTheReferenceForEveryCellForm allows 5e5 cells out.
+// What is left grows with the distance (3e6 cells: 85, 1e7: 833) as the depth test's own
+// resolution does (which cell wins where two surfaces lie within a float of the depth of each
+// other, near the contours), and the coverage (a rim of 257-303 px, the limit as
 // AFarCameraDrawsTheReferenceForEveryCellForm's) does not change: the comparison is made at 1e6.
 TEST_F(HermiteCellsTest, AFarTelephotoCameraShadesTheHitsItsPrepassStored) {
   createCellRenderer(kSize, kSize);
@@ -350,15 +363,10 @@ TEST_F(HermiteCellsTest, AFarTelephotoCameraShadesTheHitsItsPrepassStored) {
   const render::CameraView telephoto = farCameras(*asset, 1.0e6).first;
   auto reference = hsdf::renderReference(asset->field, telephoto.view, telephoto.proj, {int(kSize), int(kSize)});
   ASSERT_TRUE(reference.ok()) << reference.error().message;
-  for (const CellForm& form : kCellForms) {
-    const std::string label = std::string("far telephoto ") + form.name;
-    SCOPED_TRACE(label);
-    useForm(feature, form);
-    Frame normals;
-    const ImageComparison c = compareAlone(asset, form.method, telephoto, *reference, telephoto, label, &normals);
-    expectFarCoverage(c, int(kSize * kSize) / 100);
-    expectFarNormals(normals, *reference, c, label, 0.01, 5.5);
-  }
+  expectEveryFormFar(feature, *reference, "far telephoto", int(kSize * kSize) / 100, 0.01, 5.5,
+                     [&](const CellForm& form, const std::string& label, Frame* normals) {
+                       return compareAlone(asset, form.method, telephoto, *reference, telephoto, label, normals);
+                     });
 }
 
 // Why: the resolve rebuilds each hit from its object's anchor of the view region it shades
