@@ -55,7 +55,7 @@ Expected<MeshFeature::Pipelines> MeshFeature::createPipelines() const {
     gpu::GraphicsPipelineDesc desc;
     desc.vertex = vert.handle();
     desc.fragment = prepassFrag.handle();
-    desc.colorFormats = {formats_.visibility};
+    desc.colorFormats = formats_.prepassColorFormats();
     desc.vertexLayout = meshVertexLayout();
     desc.depthFormat = formats_.depth;
     desc.pushConstantBytes = sizeof(shader::DrawPushConstants);

@@ -7,7 +7,8 @@
 //                      its own that opens the depth prepass (same attachments, cleared), then
 //   recordEarlyDepthResolve() first in the rest of the prepass (storage writes of the early draws
 //                      are visible to it): the early stage's depth fixed up before anything else draws;
-//   recordPass(Depth)  inside the depth prepass (depth + visibility id, compare GREATER, reverse-Z);
+//   recordPass(Depth)  inside the depth prepass (depth + visibility id + hit offset, compare GREATER,
+//                      reverse-Z);
 //                      with occlusion culling (usesOcclusionCulling() after prepare()), this is
 //                      phase 1 (what was visible last frame), then the prepass ends, the depth
 //                      pyramid is built from it (depth_pyramid.h) and
@@ -56,14 +57,23 @@ struct RendererFormats {
   VkFormat depth = VK_FORMAT_D32_SFLOAT;
   // The depth prepass also writes a visibility buffer: per pixel, x = 1 + the GPU scene index of
   // the object that won the depth test (0: background) and y = which part of it (feature-specific:
-  // the triangle of a mesh, the cell of a ray-cast surface). Every prepass pipeline has this
-  // one colour attachment and writes a uvec2.
+  // the triangle of a mesh, the cell of a ray-cast surface). Attachment 0 of every prepass
+  // pipeline, written as a uvec2.
   VkFormat visibility = VK_FORMAT_R32G32_UINT;
+  // Beside it, attachment 1: a float the winning fragment stores with its id, where along the view
+  // its surface lies, measured from a plane of the feature's own near the object (0 where the
+  // feature needs none: meshes). Far from the eye the depth buffer holds a hit only to a float ulp
+  // of the whole distance (reverse-Z znear / d: ~6e-8 of it); a feature that shades once per pixel
+  // rebuilds its hit from this instead. Every prepass pipeline writes both (prepassColorFormats).
+  VkFormat hitOffset = VK_FORMAT_R32_SFLOAT;
   // Layout of the scene descriptor set (set 0 of pipelines that use it), filled in by the renderer:
-  // binding 0: the prepass depth (sampler2D), binding 1: the visibility buffer (usampler2D), both
-  // nearest-sampled in the shading pass. A feature that shades once per pixel reads them to know
-  // which of its fragments produced the visible surface.
+  // binding 0: the prepass depth (sampler2D), binding 1: the visibility buffer (usampler2D),
+  // binding 2: the hit offsets (sampler2D), all nearest-sampled in the shading pass. A feature that
+  // shades once per pixel reads them to know which of its fragments produced the visible surface.
   VkDescriptorSetLayout sceneSetLayout = VK_NULL_HANDLE;
+
+  // The colour attachments of the depth prepass, in order, for every pipeline drawn in it.
+  std::vector<VkFormat> prepassColorFormats() const { return {visibility, hitOffset}; }
 };
 
 struct FrameContext {

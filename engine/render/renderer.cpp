@@ -151,11 +151,12 @@ void Renderer::createSceneDescriptors() {
   sceneSetLayout_ = gpu::DescriptorSetLayout(
       context_, {"scene set layout",
                  {{0, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, 1, VK_SHADER_STAGE_FRAGMENT_BIT, nullptr},
-                  {1, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, 1, VK_SHADER_STAGE_FRAGMENT_BIT, nullptr}},
+                  {1, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, 1, VK_SHADER_STAGE_FRAGMENT_BIT, nullptr},
+                  {2, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, 1, VK_SHADER_STAGE_FRAGMENT_BIT, nullptr}},
                  {}});
   desc_.formats.sceneSetLayout = sceneSetLayout_.handle();
 
-  VkDescriptorPoolSize size{VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, 2};
+  VkDescriptorPoolSize size{VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, 3};
   VkDescriptorPoolCreateInfo poolInfo{VK_STRUCTURE_TYPE_DESCRIPTOR_POOL_CREATE_INFO};
   poolInfo.maxSets = 1;
   poolInfo.poolSizeCount = 1;
@@ -173,10 +174,11 @@ void Renderer::createSceneDescriptors() {
 
 // Points the scene set at the current depth target (called with the GPU idle).
 void Renderer::updateSceneDescriptors() {
-  const VkDescriptorImageInfo images[2] = {{depthSampler_.get(), depth_.view(), kFinalDepthLayout},
-                                           {depthSampler_.get(), visibility_.view(), VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL}};
-  VkWriteDescriptorSet writes[2] = {};
-  for (std::uint32_t i = 0; i < 2; ++i) {
+  const VkDescriptorImageInfo images[3] = {{depthSampler_.get(), depth_.view(), kFinalDepthLayout},
+                                           {depthSampler_.get(), visibility_.view(), VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL},
+                                           {depthSampler_.get(), hitOffset_.view(), VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL}};
+  VkWriteDescriptorSet writes[3] = {};
+  for (std::uint32_t i = 0; i < 3; ++i) {
     writes[i].sType = VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET;
     writes[i].dstSet = sceneSet_;
     writes[i].dstBinding = i;
@@ -184,7 +186,7 @@ void Renderer::updateSceneDescriptors() {
     writes[i].descriptorType = VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER;
     writes[i].pImageInfo = &images[i];
   }
-  vkUpdateDescriptorSets(context_.device(), 2, writes, 0, nullptr);
+  vkUpdateDescriptorSets(context_.device(), 3, writes, 0, nullptr);
 }
 
 void Renderer::createTargets() {
@@ -210,6 +212,10 @@ void Renderer::createTargets() {
                          VK_IMAGE_USAGE_SAMPLED_BIT;
   visibilityDesc.name = "scene visibility";
   visibility_ = gpu::Image(context_, visibilityDesc);
+  gpu::ImageDesc hitOffsetDesc = visibilityDesc;
+  hitOffsetDesc.format = desc_.formats.hitOffset;
+  hitOffsetDesc.name = "scene hit offsets";
+  hitOffset_ = gpu::Image(context_, hitOffsetDesc);
   // Give the targets defined layouts so a read-back before the first frame is valid.
   context_.submitAndWait([&](VkCommandBuffer cmd) {
     gpu::imageBarrier(cmd, color_.handle(), VK_IMAGE_ASPECT_COLOR_BIT, VK_IMAGE_LAYOUT_UNDEFINED,
@@ -218,9 +224,8 @@ void Renderer::createTargets() {
     gpu::imageBarrier(cmd, depth_.handle(), VK_IMAGE_ASPECT_DEPTH_BIT, VK_IMAGE_LAYOUT_UNDEFINED,
                       kFinalDepthLayout, VK_PIPELINE_STAGE_2_NONE, VK_ACCESS_2_NONE,
                       VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT, VK_ACCESS_2_NONE);
-    gpu::imageBarrier(cmd, visibility_.handle(), VK_IMAGE_ASPECT_COLOR_BIT, VK_IMAGE_LAYOUT_UNDEFINED,
-                      VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL, VK_PIPELINE_STAGE_2_NONE, VK_ACCESS_2_NONE,
-                      VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT, VK_ACCESS_2_NONE);
+    prepassColorBarrier(cmd, VK_IMAGE_LAYOUT_UNDEFINED, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL, VK_PIPELINE_STAGE_2_NONE,
+                        VK_ACCESS_2_NONE, VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT, VK_ACCESS_2_NONE);
   });
   updateSceneDescriptors();
 }
@@ -478,11 +483,10 @@ void Renderer::recordScenePasses(FrameResources& frame, FrameContext& context, V
                     VK_ACCESS_2_MEMORY_WRITE_BIT | VK_ACCESS_2_MEMORY_READ_BIT,
                     VK_PIPELINE_STAGE_2_EARLY_FRAGMENT_TESTS_BIT | VK_PIPELINE_STAGE_2_LATE_FRAGMENT_TESTS_BIT,
                     VK_ACCESS_2_DEPTH_STENCIL_ATTACHMENT_READ_BIT | VK_ACCESS_2_DEPTH_STENCIL_ATTACHMENT_WRITE_BIT);
-  gpu::imageBarrier(cmd, visibility_.handle(), VK_IMAGE_ASPECT_COLOR_BIT,
-                    first ? VK_IMAGE_LAYOUT_UNDEFINED : VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL,
-                    VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL, VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT,
-                    VK_ACCESS_2_MEMORY_WRITE_BIT | VK_ACCESS_2_MEMORY_READ_BIT,
-                    VK_PIPELINE_STAGE_2_COLOR_ATTACHMENT_OUTPUT_BIT, VK_ACCESS_2_COLOR_ATTACHMENT_WRITE_BIT);
+  prepassColorBarrier(cmd, first ? VK_IMAGE_LAYOUT_UNDEFINED : VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL,
+                      VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL, VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT,
+                      VK_ACCESS_2_MEMORY_WRITE_BIT | VK_ACCESS_2_MEMORY_READ_BIT,
+                      VK_PIPELINE_STAGE_2_COLOR_ATTACHMENT_OUTPUT_BIT, VK_ACCESS_2_COLOR_ATTACHMENT_WRITE_BIT);
 
   // The frame globals (camera) are the frame's; the objects are the region's.
   const std::uint32_t frameInFlight = context.frameSlot / desc_.maxViewRegions;
@@ -503,10 +507,9 @@ void Renderer::recordScenePasses(FrameResources& frame, FrameContext& context, V
                     VK_PIPELINE_STAGE_2_EARLY_FRAGMENT_TESTS_BIT | VK_PIPELINE_STAGE_2_LATE_FRAGMENT_TESTS_BIT |
                         VK_PIPELINE_STAGE_2_FRAGMENT_SHADER_BIT,
                     VK_ACCESS_2_DEPTH_STENCIL_ATTACHMENT_READ_BIT | VK_ACCESS_2_SHADER_SAMPLED_READ_BIT);
-  gpu::imageBarrier(cmd, visibility_.handle(), VK_IMAGE_ASPECT_COLOR_BIT, VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL,
-                    VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL, VK_PIPELINE_STAGE_2_COLOR_ATTACHMENT_OUTPUT_BIT,
-                    VK_ACCESS_2_COLOR_ATTACHMENT_WRITE_BIT, VK_PIPELINE_STAGE_2_FRAGMENT_SHADER_BIT,
-                    VK_ACCESS_2_SHADER_SAMPLED_READ_BIT);
+  prepassColorBarrier(cmd, VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL,
+                      VK_PIPELINE_STAGE_2_COLOR_ATTACHMENT_OUTPUT_BIT, VK_ACCESS_2_COLOR_ATTACHMENT_WRITE_BIT,
+                      VK_PIPELINE_STAGE_2_FRAGMENT_SHADER_BIT, VK_ACCESS_2_SHADER_SAMPLED_READ_BIT);
   // Storage writes of prepass shaders (e.g. per-pixel counters) are visible to shading shaders.
   gpu::memoryBarrier(cmd, VK_PIPELINE_STAGE_2_FRAGMENT_SHADER_BIT, VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT,
                      VK_PIPELINE_STAGE_2_FRAGMENT_SHADER_BIT, VK_ACCESS_2_SHADER_STORAGE_READ_BIT);
@@ -573,20 +576,30 @@ DepthPyramid* Renderer::ensurePyramid() {
 
 void Renderer::beginPrepassRendering(VkCommandBuffer cmd, VkRect2D rect, bool first, VkAttachmentLoadOp load) {
   VkRenderingAttachmentInfo depth = depthAttachment(depth_, load, VK_IMAGE_LAYOUT_DEPTH_ATTACHMENT_OPTIMAL);
-  VkRenderingAttachmentInfo visibility{VK_STRUCTURE_TYPE_RENDERING_ATTACHMENT_INFO};
-  visibility.imageView = visibility_.view();
-  visibility.imageLayout = VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL;
-  visibility.loadOp = load;
-  visibility.storeOp = VK_ATTACHMENT_STORE_OP_STORE;
-  visibility.clearValue.color.uint32[0] = 0;
+  VkRenderingAttachmentInfo colors[2] = {};  // RendererFormats::prepassColorFormats: visibility, hit offset
+  const gpu::Image* images[2] = {&visibility_, &hitOffset_};
+  for (std::uint32_t i = 0; i < 2; ++i) {
+    colors[i].sType = VK_STRUCTURE_TYPE_RENDERING_ATTACHMENT_INFO;
+    colors[i].imageView = images[i]->view();
+    colors[i].imageLayout = VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL;
+    colors[i].loadOp = load;
+    colors[i].storeOp = VK_ATTACHMENT_STORE_OP_STORE;  // cleared to zero: background, offset 0
+  }
   VkRenderingInfo info{VK_STRUCTURE_TYPE_RENDERING_INFO};
   info.renderArea = first ? VkRect2D{{0, 0}, extent_} : rect;
   info.layerCount = 1;
-  info.colorAttachmentCount = 1;
-  info.pColorAttachments = &visibility;
+  info.colorAttachmentCount = 2;
+  info.pColorAttachments = colors;
   info.pDepthAttachment = &depth;
   vkCmdBeginRendering(cmd, &info);
   setViewportAndScissor(cmd, extent_, rect);
+}
+
+// The same barrier on both colour attachments of the prepass (the visibility and the hit offsets).
+void Renderer::prepassColorBarrier(VkCommandBuffer cmd, VkImageLayout from, VkImageLayout to, VkPipelineStageFlags2 srcStage,
+                                   VkAccessFlags2 srcAccess, VkPipelineStageFlags2 dstStage, VkAccessFlags2 dstAccess) {
+  for (const gpu::Image* image : {&visibility_, &hitOffset_})
+    gpu::imageBarrier(cmd, image->handle(), VK_IMAGE_ASPECT_COLOR_BIT, from, to, srcStage, srcAccess, dstStage, dstAccess);
 }
 
 // Between the early depth stage and the rest of the prepass: the attachments are written by one

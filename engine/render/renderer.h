@@ -195,6 +195,8 @@ class Renderer {
   void recordOpaquePass(PassContext& pass, VkRect2D rect, bool first);
   void recordPresentBlit(VkCommandBuffer cmd, gpu::Swapchain& swapchain, std::uint32_t imageIndex);
   void collectTimings(FrameResources& frame);
+  void prepassColorBarrier(VkCommandBuffer cmd, VkImageLayout from, VkImageLayout to, VkPipelineStageFlags2 srcStage,
+                           VkAccessFlags2 srcAccess, VkPipelineStageFlags2 dstStage, VkAccessFlags2 dstAccess);
   void warnIfWorldTransformsMissing(const ecs::Registry& registry);
   VkDeviceAddress prepareWorkCounters(VkCommandBuffer cmd);
 
@@ -204,6 +206,7 @@ class Renderer {
   gpu::Image color_;
   gpu::Image depth_;
   gpu::Image visibility_;
+  gpu::Image hitOffset_;  // RendererFormats::hitOffset, beside the visibility
   gpu::SamplerHandle depthSampler_;
   gpu::DescriptorSetLayout sceneSetLayout_;
   VkDescriptorPool descriptorPool_ = VK_NULL_HANDLE;

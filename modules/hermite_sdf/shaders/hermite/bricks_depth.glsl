@@ -26,6 +26,7 @@ layout(location = 1) flat in uint inDraw;
 layout(location = 2) flat in float inDilation;  // the proxy: the kept cells' box grown by this, cells
 
 layout(location = 0) out uvec2 outVisibility;  // (1 + object, cell record)
+layout(location = 1) out float outHitOffset;  // where along the ray: pixelRayHitOffset (pixel_ray.glsl)
 #if defined(HSDF_CONSERVATIVE_DEPTH)
 layout(depth_less) out float gl_FragDepth;  // reverse-Z: the hit is never nearer than the front face
 #endif
@@ -186,4 +187,5 @@ void main() {
     writeHitDepth(pixelRayHitDepth(frame, ray.base, hit.t));  // at the brick's face if in front of it (front faces)
   }
   outVisibility = uvec2(draw.object + 1u, hit.record);  // kept only where the depth test passes
+  outHitOffset = pixelRayHitOffset(frame, hit.t);
 }

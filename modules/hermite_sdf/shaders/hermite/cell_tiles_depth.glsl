@@ -25,6 +25,7 @@ layout(buffer_reference, scalar) readonly buffer TileMasksRef { uint word; };
 layout(location = 0) flat in uint inTile;
 
 layout(location = 0) out uvec2 outVisibility;  // (1 + object, cell record)
+layout(location = 1) out float outHitOffset;  // where along the ray: pixelRayHitOffset (pixel_ray.glsl)
 #if defined(HSDF_CONSERVATIVE_DEPTH)
 layout(depth_less) out float gl_FragDepth;  // reverse-Z: the hit is never nearer than the tile's quad
 #endif
@@ -36,6 +37,7 @@ void main() {
   uint evaluations = 0u;
   float best = 3.0e38;
   uvec2 visibility = uvec2(0u);
+  float hitT = 0.0;  // the best hit in its own object's t, unconverted: what the resolve rebuilds it from
   bool sorted = tile.count <= CELL_TILE_SORT_MAX;
   // The ray of the entry's object, rebuilt only when the object changes, based near that object
   // (pixel_ray.glsl): t is an offset from the object's base, the camera's t less `base`. The near
@@ -117,6 +119,7 @@ void main() {
     float t = searchCell(draw, record, lo, hi, origin, direction, margin, tNear, 3.0e38, evaluations);
     if (t >= 0.0 && t < best) {
       best = t;
+      hitT = t;
       visibility = uvec2(draw.object + 1u, record);
     }
   }
@@ -128,4 +131,5 @@ void main() {
     writeHitDepth(pixelRayHitDepth(frame, base, best));  // at the quad if in front of it (cells_depth.glsl)
   }
   outVisibility = visibility;  // kept only where the depth test passes
+  outHitOffset = pixelRayHitOffset(frame, hitT);
 }

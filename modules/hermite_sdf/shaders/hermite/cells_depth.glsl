@@ -27,6 +27,7 @@ PixelRay cellRay(FrameGlobals frame, HermiteDraw draw) {
 }
 
 layout(location = 0) out uvec2 outVisibility;  // (1 + object, cell record)
+layout(location = 1) out float outHitOffset;  // where along the ray: pixelRayHitOffset (pixel_ray.glsl)
 #if defined(HSDF_CONSERVATIVE_DEPTH) && !defined(HSDF_EARLY_DEPTH)
 // Reverse-Z: the hit is never nearer than the front face, so its depth is never greater.
 layout(depth_less) out float gl_FragDepth;
@@ -70,4 +71,5 @@ void main() {
     writeHitDepth(pixelRayHitDepth(frame, ray.base, t));  // at the face if in front of it (front faces)
   }
   outVisibility = uvec2(draw.object + 1u, inRecord);  // kept only where the depth test passes
+  outHitOffset = pixelRayHitOffset(frame, t);
 }

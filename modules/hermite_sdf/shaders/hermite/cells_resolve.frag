@@ -1,8 +1,9 @@
 #version 460
 // Shading pass of the Hermite cells, once per pixel: a rectangle over the objects
 // (cells_resolve.vert) reads the visibility buffer; where a Hermite-cell object won the prepass, it
-// fetches the winning cell's record, rebuilds the hit from the prepass depth on its pixel's ray
-// (pixel_ray.glsl), and shades it with the exact normal of the interpolant.
+// fetches the winning cell's record, rebuilds the hit on its pixel's ray from the hit offset the
+// prepass stored beside the visibility (pixel_ray.glsl), and shades it with the exact normal of the
+// interpolant.
 #extension GL_GOOGLE_include_directive : require
 #include "hermite/hermite_host_device.h"
 #include "hermite/hermite.glsl"
@@ -17,6 +18,7 @@ layout(buffer_reference, scalar) readonly buffer CountersRef { uint counts[]; };
 
 layout(set = 0, binding = 0) uniform sampler2D sceneDepth;
 layout(set = 0, binding = 1) uniform usampler2D sceneVisibility;
+layout(set = 0, binding = 2) uniform sampler2D sceneHitOffset;  // pixelRayHitOffset of the winner
 
 layout(location = 0) out vec4 outColor;
 
@@ -64,14 +66,15 @@ void main() {
   uvec3 cell;
   loadCell(hermite, visible.y, corners, cell);
 
-  // The hit in cell-local coordinates, rebuilt from the prepass depth on the pixel's ray as the
-  // prepass based it: on the anchor of this view region (pixel_ray.glsl, pixelRayPoint), so that a
-  // far camera costs it no more than the depth's own precision.
+  // The hit in cell-local coordinates, rebuilt on the pixel's ray as the prepass based it, on the
+  // anchor of this view region, at the offset it stored (pixel_ray.glsl, pixelRayStoredPoint): a
+  // far camera costs it nothing, where the depth held it to ~0.5 cell 8e6 cells out.
   FrameGlobals frame = FrameGlobalsRef(pc.draw.frameGlobals).globals;
   float depth = texelFetch(sceneDepth, pixel, 0).r;
   vec4 anchor = hermiteDrawAt(pc.draws, hermite.drawRecord).rayAnchor;
   float h = hermite.gridOriginSpacing.w;
-  vec3 u = clamp(pixelRayPoint(frame, object.invModel, h, anchor - vec4(vec3(cell), 0.0), depth), 0.0, 1.0);
+  float offset = texelFetch(sceneHitOffset, pixel, 0).r;
+  vec3 u = clamp(pixelRayStoredPoint(frame, object.invModel, h, anchor - vec4(vec3(cell), 0.0), depth, offset), 0.0, 1.0);
 
   vec3 gradient = (hermite.flags & HERMITE_FLAG_NORMALS_CENTRAL) != 0u ? centralDifferenceGradient(corners, h, u)
                                                                         : hermiteValueGradient(corners, h, u).yzw;

@@ -18,12 +18,17 @@ struct PixelRay {
   float base;  // the camera's t at origin: the ray's point at t lies at the camera's t base + t
 };
 
+// The pixel's point at reverse-Z depth `depth` in view space (eye at 0, looking down -z).
+vec3 pixelViewPoint(FrameGlobals frame, float depth) {
+  vec2 ndc = gl_FragCoord.xy * frame.viewport.zw * 2.0 - 1.0;
+  vec4 face = frame.invProj * vec4(ndc, depth, 1.0);
+  return face.xyz / face.w;
+}
+
 // pixelRay with camera t = 1 at the pixel's point of reverse-Z depth `depth` (gl_FragCoord.z: the
 // rasterized face; the resolve: the hit the prepass wrote), whose view depth it returns too.
 PixelRay pixelRayThrough(FrameGlobals frame, mat4 invModel, float spacing, vec4 anchor, float depth, out float viewDepth) {
-  vec2 ndc = gl_FragCoord.xy * frame.viewport.zw * 2.0 - 1.0;
-  vec4 face = frame.invProj * vec4(ndc, depth, 1.0);  // view space, eye at 0
-  vec3 faceView = face.xyz / face.w;
+  vec3 faceView = pixelViewPoint(frame, depth);
   viewDepth = -faceView.z;
   vec3 start = vec3(faceView.xy * (1.0 - frame.cameraPosition.w), 0.0);
   vec3 toFace = mat3(frame.invView) * (faceView - start);
@@ -48,16 +53,27 @@ PixelRay pixelRay(FrameGlobals frame, mat4 invModel, float spacing, vec4 anchor)
   return pixelRayThrough(frame, invModel, spacing, anchor, gl_FragCoord.z, viewDepth);
 }
 
-// The pixel's point at reverse-Z depth `depth` (the hit the prepass wrote: the resolve) in the units
-// of `anchor`, where pixelRay's ray reaches it: t = 1 - base, written (view depth - anchor.w) / view
-// depth, the offset from the anchor's plane (1 - base, two numbers near 1, would lose a float ulp of
-// the whole distance). Nothing of the distance's size is rounded but the view depth itself, the
-// depth buffer's own precision; through world space and the model's inverse, whose translations
-// are as long, the hit was rounded by a float ulp of the distance on each axis.
-vec3 pixelRayPoint(FrameGlobals frame, mat4 invModel, float spacing, vec4 anchor, float depth) {
+// What the prepass stores beside the visibility for a hit at t on pixelRay's ray (the renderer's
+// hit offsets, RendererFormats::hitOffset): the hit's view depth past the anchor's plane (t times
+// the face's view depth, for both projections), a float as small as the object. The depth buffer
+// holds the hit to a float of the whole distance (perspective: znear / d, ~6e-8 of d; orthographic:
+// proj[3][2] + (z - proj[3][2]) t, an ulp of proj[3][2] ~ 5e4 at 3e5 object sizes): ~0.5 cell
+// along the ray ~8e6 cells out, which the resolve's normals showed. The face's view depth is
+// recomputed here, not kept from pixelRay, so that no register holds it through the search.
+float pixelRayHitOffset(FrameGlobals frame, float t) {
+  return -t * pixelViewPoint(frame, gl_FragCoord.z).z;
+}
+
+// The pixel's point `offset` (pixelRayHitOffset: the resolve reads the prepass's) past the anchor's
+// plane, in the units of `anchor`, on pixelRay's ray rebuilt through the pixel's depth `depth`
+// (any depth of the pixel gives the same ray; its direction is scaled to unit view depth here).
+// Nothing of the distance's size is rounded: rebuilt from the depth, the hit was off by the depth
+// buffer's precision (pixelRayHitOffset); through world space and the model's inverse, by a float
+// ulp of the distance on each axis.
+vec3 pixelRayStoredPoint(FrameGlobals frame, mat4 invModel, float spacing, vec4 anchor, float depth, float offset) {
   float viewDepth;
   PixelRay ray = pixelRayThrough(frame, invModel, spacing, anchor, depth, viewDepth);
-  return ray.origin + ((viewDepth - max(anchor.w, 0.0)) / viewDepth) * ray.direction;
+  return ray.origin + (offset / viewDepth) * ray.direction;
 }
 
 // The reverse-Z depth of the ray's point at t. Perspective (w = 1): view distance is linear in t

@@ -18,6 +18,7 @@ layout(location = 2) flat in uint inDraw;
 layout(location = 5) flat in float inDilation;
 
 layout(location = 0) out uvec2 outVisibility;  // (1 + object, cell record)
+layout(location = 1) out float outHitOffset;  // where along the ray: pixelRayHitOffset (pixel_ray.glsl)
 #if defined(HSDF_CONSERVATIVE_DEPTH) && !defined(HSDF_EARLY_DEPTH)
 layout(depth_less) out float gl_FragDepth;  // reverse-Z: the hit is never nearer than the front face
 #endif
@@ -71,4 +72,5 @@ void main() {
     writeHitDepth(pixelRayHitDepth(frame, ray.base, t));  // at the run's face if in front of it (front faces)
   }
   outVisibility = uvec2(draw.object + 1u, hitRecord);  // kept only where the depth test passes
+  outHitOffset = pixelRayHitOffset(frame, t);
 }

@@ -22,6 +22,7 @@ layout(location = 0) flat in uint inDraw;
 layout(location = 2) flat in vec3 inEyeGrid;
 
 layout(location = 0) out uvec2 outVisibility;  // (1 + object, field evaluations | SPHERE_TRACE_STARTED_INSIDE)
+layout(location = 1) out float outHitOffset;  // 0: the shading rebuilds the hit from the depth (sphere_trace_shade.glsl)
 #ifdef SPHERE_TRACE_CONSERVATIVE_DEPTH
 // Reverse-Z: the hit is never nearer than the front face, so its depth is never greater (a miss
 // writes 0, which is less too).
@@ -54,4 +55,5 @@ void main() {
 #endif
   gl_FragDepth = t < 0.0 ? 0.0 : pixelRayDepth(frame, t);
   outVisibility = uvec2(draw.object + 1u, trace.evaluations | (trace.startedInside ? SPHERE_TRACE_STARTED_INSIDE : 0u));
+  outHitOffset = 0.0;
 }

@@ -126,7 +126,7 @@ BoxPrepass describeBoxPrepass(const engine::render::RendererFormats& formats, co
   desc.vertexLayout = std::move(layout);
   desc.pushConstantBytes = sizeof(shader::HermitePushConstants);
   desc.depthFormat = formats.depth;
-  desc.colorFormats = {formats.visibility};
+  desc.colorFormats = formats.prepassColorFormats();
   desc.depthCompare = VK_COMPARE_OP_GREATER;
   BoxPrepass pair;
   desc.name = name + suffix;
@@ -277,7 +277,7 @@ void HermiteCellFeature::describeResolvePipelines(Pipelines& p, const engine::gp
   fixup.cullMode = VK_CULL_MODE_NONE;
   fixup.depthCompare = VK_COMPARE_OP_ALWAYS;
   fixup.depthFormat = formats.depth;
-  fixup.colorFormats = {formats.visibility};
+  fixup.colorFormats = formats.prepassColorFormats();
   fixup.colorWrite = false;
   fixup.pushConstantBytes = sizeof(shader::HermitePushConstants);
   p.depthFixup = Pipelines::Lazy(fixup, {resolveVert, fixupFrag});
@@ -339,7 +339,7 @@ engine::Status HermiteCellFeature::describeTilePipelines(Pipelines& p) const {
     desc.fragment = frag->handle();
     desc.pushConstantBytes = sizeof(shader::HermitePushConstants);
     desc.depthFormat = formats_.depth;
-    desc.colorFormats = {formats_.visibility};
+    desc.colorFormats = formats_.prepassColorFormats();
     desc.depthCompare = VK_COMPARE_OP_GREATER;  // a miss writes depth 0, which this rejects (hit_depth.glsl)
     desc.cullMode = VK_CULL_MODE_NONE;
     desc.topology = points ? VK_PRIMITIVE_TOPOLOGY_POINT_LIST : VK_PRIMITIVE_TOPOLOGY_TRIANGLE_LIST;

@@ -170,7 +170,7 @@ engine::Expected<SphereTraceFeature::Pipelines> SphereTraceFeature::describePipe
     desc.pushConstantBytes = sizeof(shader::SphereTracePushConstants);
     desc.setLayouts = {formats.sceneSetLayout, bindings_->layout()};
     desc.depthFormat = formats.depth;
-    desc.colorFormats = {formats.visibility};
+    desc.colorFormats = formats.prepassColorFormats();
     desc.depthCompare = VK_COMPARE_OP_GREATER;
 
     for (const bool counted : {false, true}) {

@@ -12,13 +12,15 @@
 // Depth prepass: the fragment shader clips the pixel's ray to its cell (and the near plane), finds
 // the first root by n equidistant evaluations + linear interpolation + safeguarded Newton steps and
 // hands on the hit's depth (early depth, below; else gl_FragDepth with conservative depth: the hit
-// is never nearer than the front face), plus the visibility id. Boxes are drawn by their front
+// is never nearer than the front face), plus the visibility id and the hit's offset from the rays'
+// anchor (RendererFormats::hitOffset, pixelRayHitOffset). Boxes are drawn by their front
 // faces (one triangle fan of 8 vertices around the corner nearest the eye); cells the near plane may cut are drawn
 // by their back faces with a non-conservative variant, so a camera inside the object or inside a
 // cell loses no surface.
 // Shading pass: each pixel is shaded once: a resolve over the objects' screen bounds reads the visibility buffer
-// (object, cell record) and the prepass depth, fetches that cell's record by buffer device
-// address and shades the hit with the exact normal of the interpolant.
+// (object, cell record) and the hit offset, fetches that cell's record by buffer device address,
+// rebuilds the hit on the pixel's ray from the anchor and shades it with the exact normal of the
+// interpolant.
 // Transforms: any invertible affine world matrix (mirroring, non-uniform scale, shear); mirrored
 // objects keep their front faces through OBJECT_FLAG_MIRRORED (shaders/hermite/box.glsl).
 // Submission order: rows of cells are sorted front to back by the camera's octant so that early
