@@ -31,7 +31,9 @@ void main() {
     // vertices' normals lean over it): bent to face the eye, not turned round, which lit single
     // pixels along the outline as the object's far side.
     n = normalTowardEye(n, towardViewer(frame, inWorldPosition));
-    color = shadeSurface(frame, object.color.rgb, object.material.x, inWorldPosition, n);
+    // Emission (glTF emissiveFactor) is light of the surface's own: added after the lighting, so
+    // a face turned from the light still shows it.
+    color = shadeSurface(frame, object.color.rgb, object.material.x, inWorldPosition, n) + object.emission.rgb;
   }
   outColor = vec4(color, 1.0);
 }

@@ -21,6 +21,7 @@ struct MeshRenderable {
   // Both sides drawn (glTF material doubleSided): no back-face culling, and a back face lit with
   // its normal reversed (MeshFeature). False: back faces are culled.
   bool doubleSided = false;
+  glm::vec3 emissive{0.0f};  // linear light given off, added to the lit colour (glTF emission)
 };
 
 enum class Projection { kPerspective, kOrthographic };

@@ -92,10 +92,11 @@ void MeshFeature::prepare(FrameContext& frame) {
           ++culledCount_;
           return;
         }
-        const std::uint32_t object = frame.scene.addObject(
-            GpuScene::makeObject(world.matrix, mesh.color, mesh.roughness, mesh.metallic, kFeatureId));
+        shader::ObjectData object = GpuScene::makeObject(world.matrix, mesh.color, mesh.roughness, mesh.metallic, kFeatureId);
+        object.emission = glm::vec4(mesh.emissive, 0.0f);
+        const std::uint32_t index = frame.scene.addObject(object);
         batches[batchOf(mesh.doubleSided ? Sides::Double : Sides::Single, mirrors(world.matrix))].push_back(
-            {range.indexCount, 1, range.firstIndex, range.vertexOffset, object});
+            {range.indexCount, 1, range.firstIndex, range.vertexOffset, index});
       });
   for (std::size_t b = 0; b < kBatchCount; ++b) {
     batchFirst_[b] = static_cast<std::uint32_t>(commands_.size());

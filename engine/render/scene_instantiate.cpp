@@ -90,6 +90,7 @@ InstantiatedScene instantiateScene(const scene::SceneData& data, ecs::Registry& 
         renderable.roughness = material.roughness;
         renderable.metallic = material.metallic;
         renderable.doubleSided = material.doubleSided;
+        renderable.emissive = material.emissive;
       }
       const ecs::Entity part = registry.create();
       registry.emplace<scene::Transform>(part);

@@ -38,6 +38,9 @@ struct MaterialData {
   // glTF `doubleSided` (default false): both sides of each triangle are drawn, a back face lit
   // with its normal reversed. False: back faces are culled (a closed mesh's inside is never seen).
   bool doubleSided = false;
+  // Light the surface gives off (linear RGB), added to its lit colour: glTF emissiveFactor times
+  // KHR_materials_emissive_strength's emissiveStrength (so it may exceed 1). Zero: none.
+  glm::vec3 emissive{0.0f};
 };
 
 struct CameraData {

@@ -36,6 +36,7 @@ constexpr std::uint64_t kDecodeBudgetPerInputByte = 16;
 // entity, a draw or an SDF instance), so a forged count of billions must stop here.
 constexpr std::size_t kMaxMeshInstances = std::size_t(1) << 20;
 constexpr std::string_view kInstancingExtension = "EXT_mesh_gpu_instancing";
+constexpr std::string_view kEmissiveStrengthExtension = "KHR_materials_emissive_strength";
 
 using Json = nlohmann::json;
 
@@ -307,8 +308,8 @@ Expected<MeshData> convertMesh(ImportContext& context, int meshIndex) {
 // Materials and cameras
 
 // What of a material the renderer does not draw, named in one note: a glass pane (alphaMode BLEND)
-// is drawn opaque, a cut-out leaf card (MASK) whole, an emissive sign unlit by its own light, a
-// textured mesh in its baseColorFactor alone; silently, each would look like a rendering defect.
+// is drawn opaque, a cut-out leaf card (MASK) whole, a textured mesh in its factors alone;
+// silently, each would look like a rendering defect.
 std::optional<std::string> ignoredMaterialFields(const tinygltf::Material& material) {
   std::vector<std::string> ignored;
   if (material.alphaMode == "BLEND") {
@@ -319,9 +320,7 @@ std::optional<std::string> ignoredMaterialFields(const tinygltf::Material& mater
   } else if (material.alphaMode != "OPAQUE") {
     ignored.push_back(fmt::format("alphaMode '{}', which glTF does not define (drawn opaque)", material.alphaMode));
   }
-  const bool glows =
-      std::any_of(material.emissiveFactor.begin(), material.emissiveFactor.end(), [](double c) { return c != 0.0; });
-  if (glows || material.emissiveTexture.index >= 0) ignored.push_back("emission");
+  if (material.emissiveTexture.index >= 0) ignored.push_back("emissiveTexture (drawn in emissiveFactor)");
   const auto& pbr = material.pbrMetallicRoughness;
   if (pbr.baseColorTexture.index >= 0) ignored.push_back("baseColorTexture (drawn in baseColorFactor)");
   if (pbr.metallicRoughnessTexture.index >= 0) ignored.push_back("metallicRoughnessTexture");
@@ -329,6 +328,22 @@ std::optional<std::string> ignoredMaterialFields(const tinygltf::Material& mater
   if (material.occlusionTexture.index >= 0) ignored.push_back("occlusionTexture");
   if (ignored.empty()) return std::nullopt;
   return fmt::format("'{}': {} ignored", material.name, fmt::join(ignored, ", "));
+}
+
+// emissiveFactor (checkGltfSchema: 3 numbers in [0, 1]) times KHR_materials_emissive_strength's
+// emissiveStrength (>= 0; 1 when absent), which lets a lamp glow brighter than 1.
+Expected<glm::vec3> emission(const tinygltf::Material& material) {
+  if (material.emissiveFactor.size() != 3)
+    return makeError(fmt::format("emissiveFactor has {} components, expected 3", material.emissiveFactor.size()));
+  double strength = 1.0;
+  const auto extension = material.extensions.find(std::string(kEmissiveStrengthExtension));
+  if (extension != material.extensions.end() && extension->second.Has("emissiveStrength"))
+    strength = extension->second.Get("emissiveStrength").GetNumberAsDouble();
+  glm::vec3 emissive;
+  for (int c = 0; c < 3; ++c) {
+    ENGINE_TRY_ASSIGN(emissive[c], toFiniteFloat(material.emissiveFactor[std::size_t(c)] * strength, "emission"));
+  }
+  return emissive;
 }
 
 Expected<MaterialData> convertMaterial(const tinygltf::Material& material) {
@@ -346,6 +361,7 @@ Expected<MaterialData> convertMaterial(const tinygltf::Material& material) {
   out.metallic = std::clamp(metallic, 0.0f, 1.0f);
   out.roughness = std::clamp(roughness, 0.0f, 1.0f);
   out.doubleSided = material.doubleSided;  // a boolean (checkGltfSchema), false when absent
+  ENGINE_TRY_ASSIGN(out.emissive, emission(material));
   return out;
 }
 

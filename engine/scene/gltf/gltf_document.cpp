@@ -40,6 +40,10 @@ constexpr std::array<std::string_view, 4> kGeometryExtensions = {
     "EXT_meshopt_compression",     // meshopt-compressed bufferViews
     "EXT_mesh_gpu_instancing",     // a node's mesh placed many times (gltf_convert.cpp)
 };
+// Material extensions the importer reads (gltf_convert.cpp): used, they need no note.
+constexpr std::array<std::string_view, 1> kReadMaterialExtensions = {
+    "KHR_materials_emissive_strength",  // MaterialData::emissive
+};
 // Extensions (by prefix) that only describe materials, textures, images, lights or metadata: the
 // importer reads none of those, so a file that uses or even requires them loads the same geometry.
 constexpr std::array<std::string_view, 7> kNonGeometryExtensionPrefixes = {
@@ -300,6 +304,8 @@ Status checkExtensions(const Json& document, std::vector<std::string>& warnings)
   ENGINE_TRY_ASSIGN(const auto used, extensionNames(document, "extensionsUsed"));
   for (const auto& name : used) {
     if (isGeometryExtension(name)) continue;
+    if (std::find(kReadMaterialExtensions.begin(), kReadMaterialExtensions.end(), name) != kReadMaterialExtensions.end())
+      continue;
     if (isNonGeometryExtension(name))
       warnings.push_back(fmt::format("extension {} ignored: it does not affect geometry", name));
     else

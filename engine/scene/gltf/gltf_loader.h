@@ -28,7 +28,8 @@
 //    materials, textures and lights (KHR_materials_*, KHR_texture_*, EXT_texture_*,
 //    KHR_lights_punctual, ...) is an error naming it; used extensions that are ignored get a
 //    warning each.
-//  - materials: pbrMetallicRoughness baseColorFactor, metallicFactor, roughnessFactor.
+//  - materials: pbrMetallicRoughness baseColorFactor, metallicFactor, roughnessFactor; doubleSided;
+//    emissiveFactor times KHR_materials_emissive_strength's emissiveStrength.
 //  - cameras: perspective (yfov, znear; zfar and aspectRatio kept but the projection is infinite and
 //    the viewport's aspect wins) and orthographic (xmag, ymag, znear, zfar: xmag and ymag positive,
 //    zfar > znear >= 0; a bad value is an error naming the camera and the field); another type is

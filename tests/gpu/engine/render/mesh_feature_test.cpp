@@ -34,6 +34,7 @@ struct Surface {
   bool doubleSided = false;
   glm::dvec3 color{0.8};
   double roughness = 0.5;
+  glm::dvec3 emissive{0.0};  // added to the lit colour (glTF emission)
 };
 
 // A mesh primitive (flat: one normal per triangle, from its counter-clockwise winding) placed by
@@ -127,7 +128,8 @@ Comparison compare(const Frame& frame, const std::vector<glm::uvec2>& visibility
       result.noObject += visibility[std::size_t(y) * frame.width + x].x == 0u;
       const glm::dvec3 normal = surface.normals[std::size_t(hit.triangle)];
       const glm::dvec3 seen = hit.backFace ? -normal : normal;  // the glTF rule: a back face's normal reversed
-      const glm::dvec3 expected = referenceShading(desc, surface.color, surface.roughness, viewer, position, seen);
+      const glm::dvec3 expected =
+          referenceShading(desc, surface.color, surface.roughness, viewer, position, seen) + surface.emissive;
       const double error = glm::length(linearColor(frame.pixel(x, y)) - expected);
       result.worstColour = std::max(result.worstColour, error);
       result.wrongColour += error > kColourTolerance;
@@ -185,7 +187,8 @@ class DoubleSidedTest : public GpuTest {
 
   // `mesh` as one glTF node with `model` as its matrix and a material of the given sidedness,
   // through the importer's path (instantiateScene); returns the Surface the frame must show.
-  Surface addNode(const scene::MeshPrimitiveData& mesh, const glm::mat4& model, bool doubleSided, glm::vec4 color) {
+  Surface addNode(const scene::MeshPrimitiveData& mesh, const glm::mat4& model, bool doubleSided, glm::vec4 color,
+                  glm::vec3 emissive = glm::vec3(0.0f)) {
     scene::SceneData data;
     data.meshes.push_back({"mesh", {mesh}});
     data.meshes[0].primitives[0].material = 0;
@@ -193,6 +196,7 @@ class DoubleSidedTest : public GpuTest {
     material.baseColor = color;
     material.roughness = 0.4f;
     material.doubleSided = doubleSided;
+    material.emissive = emissive;
     data.materials.push_back(material);
     scene::NodeData node;
     node.mesh = 0;
@@ -205,6 +209,7 @@ class DoubleSidedTest : public GpuTest {
     Surface surface = place(mesh, model, doubleSided);
     surface.color = glm::dvec3(color);
     surface.roughness = material.roughness;
+    surface.emissive = glm::dvec3(emissive);
     return surface;
   }
 
@@ -343,6 +348,24 @@ TEST_F(DoubleSidedTest, SingleAndDoubleSidedMirroredAndNotInOneFrame) {
   const Comparison c = renderAndCompare(all, {1.2f, 3.4f, 2.0f});
   EXPECT_GT(c.front, 2000);
   EXPECT_GT(c.back, 1000);
+  expectMatches(c);
+}
+
+// glTF materials beyond the factors (emission), drawn by the same mesh pipelines.
+class MeshMaterialTest : public DoubleSidedTest {};
+
+// Why: an emissive sign or lamp (glTF emissiveFactor) shows its own colour whatever the light
+// does. Tricky because the lighting gives a face turned from the light almost nothing (a black base
+// colour: no ambient, no diffuse), so the emission must be added after it, not multiplied into the
+// base colour; the frame is compared with the CPU reference plus the emission on every pixel.
+TEST_F(MeshMaterialTest, AnEmissiveFaceTurnedFromTheLightShowsItsEmission) {
+  const std::uint32_t size = 64;
+  createLitRenderer(size, {0.2f, 0.3f, -1.0f});  // the light behind the square
+  const glm::vec3 emission(0.9f, 0.45f, 0.1f);
+  const Surface surface =
+      addNode(square(), glm::scale(glm::mat4(1.0f), glm::vec3(1.6f)), false, {0.0f, 0.0f, 0.0f, 1.0f}, emission);
+  const Comparison c = renderAndCompare(surface, {0.4f, 0.3f, 2.2f});
+  EXPECT_GT(c.front, 600);
   expectMatches(c);
 }
 

@@ -407,9 +407,10 @@ TEST(GltfLoaderFeatures, DoubleSidedIsReadPerMaterialAndDefaultsToFalse) {
 
 // Tricky because these fields are core glTF, not extensions (whose notes the loader already
 // gives), and each changes what a mesh looks like: a glass pane (BLEND) drawn opaque, a leaf card
-// (MASK) drawn whole, an emissive sign, a textured mesh drawn in its factor alone. Each material
-// that uses one gets a note naming its fields; a plain opaque material, and an OPAQUE one whose
-// emissiveFactor is zero (what exporters write), get none.
+// (MASK) drawn whole, a textured mesh drawn in its factor alone. Each material that uses one gets a
+// note naming its fields; a plain opaque material, and an OPAQUE one whose emissiveFactor is zero
+// (what exporters write), get none. Emission is drawn (since session 39): only an emissiveTexture
+// is noted, not the factor.
 TEST(GltfLoaderFeatures, MaterialFieldsTheRendererDoesNotDrawAreNamedInANote) {
   GltfBuilder b;
   const int positions = b.addPositions(kTriangle);
@@ -418,7 +419,7 @@ TEST(GltfLoaderFeatures, MaterialFieldsTheRendererDoesNotDrawAreNamedInANote) {
   b.doc()["materials"] = json::array(
       {json{{"name", "glass"}, {"alphaMode", "BLEND"}, {"pbrMetallicRoughness", {{"baseColorFactor", {1, 1, 1, 0.3}}}}},
        json{{"name", "leaf"}, {"alphaMode", "MASK"}, {"alphaCutoff", 0.25}, {"doubleSided", true}},
-       json{{"name", "sign"}, {"emissiveFactor", {1.0, 0.5, 0.0}}},
+       json{{"name", "sign"}, {"emissiveFactor", {1.0, 0.5, 0.0}}, {"emissiveTexture", {{"index", 0}}}},
        json{{"name", "brick"},
             {"pbrMetallicRoughness", {{"baseColorTexture", {{"index", 0}}}, {"metallicRoughnessTexture", {{"index", 0}}}}},
             {"normalTexture", {{"index", 0}}},
@@ -436,7 +437,7 @@ TEST(GltfLoaderFeatures, MaterialFieldsTheRendererDoesNotDrawAreNamedInANote) {
   EXPECT_TRUE(anyWarningContains(*scene, "material 1 'leaf': alphaMode MASK with alphaCutoff 0.25 (drawn opaque, "
                                          "nothing cut out) ignored"))
       << notes;
-  EXPECT_TRUE(anyWarningContains(*scene, "material 2 'sign': emission ignored")) << notes;
+  EXPECT_TRUE(anyWarningContains(*scene, "material 2 'sign': emissiveTexture (drawn in emissiveFactor) ignored")) << notes;
   EXPECT_TRUE(anyWarningContains(*scene, "material 3 'brick': baseColorTexture (drawn in baseColorFactor), "
                                          "metallicRoughnessTexture, normalTexture, occlusionTexture ignored"))
       << notes;
@@ -445,6 +446,36 @@ TEST(GltfLoaderFeatures, MaterialFieldsTheRendererDoesNotDrawAreNamedInANote) {
   ASSERT_EQ(scene->materials.size(), 5u);
   EXPECT_FLOAT_EQ(scene->materials[0].baseColor.a, 0.3f);
   EXPECT_TRUE(scene->materials[1].doubleSided);
+}
+
+// Why: an emissive sign, a lamp. Tricky because the brightness comes from two places: the core
+// emissiveFactor (at most 1) and KHR_materials_emissive_strength, which multiplies it (a lamp's 40);
+// the product is what is drawn, the extension is read (no 'ignored' note for it) and a material
+// without either gives no light.
+TEST(GltfLoaderFeatures, EmissionIsTheFactorTimesTheStrength) {
+  GltfBuilder b;
+  const int positions = b.addPositions(kTriangle);
+  b.doc()["extensionsUsed"] = json::array({"KHR_materials_emissive_strength"});
+  b.doc()["materials"] = json::array(
+      {json{{"name", "sign"}, {"emissiveFactor", {1.0, 0.5, 0.0}}},
+       json{{"name", "lamp"},
+            {"emissiveFactor", {0.5, 0.25, 1.0}},
+            {"extensions", {{"KHR_materials_emissive_strength", {{"emissiveStrength", 40.0}}}}}},
+       json{{"name", "stone"}}});
+  json primitives = json::array();
+  for (int m = 0; m < 3; ++m) primitives.push_back({{"attributes", {{"POSITION", positions}}}, {"material", m}});
+  b.doc()["meshes"] = json::array({json{{"primitives", primitives}}});
+  b.addNode({{"mesh", 0}});
+  const auto scene = load(b);
+  ASSERT_TRUE(scene.ok()) << scene.error().message;
+  ASSERT_EQ(scene->materials.size(), 3u);
+  EXPECT_EQ(scene->materials[0].emissive, glm::vec3(1.0f, 0.5f, 0.0f));
+  EXPECT_EQ(scene->materials[1].emissive, glm::vec3(20.0f, 10.0f, 40.0f));
+  EXPECT_EQ(scene->materials[2].emissive, glm::vec3(0.0f));
+  for (const auto& w : scene->warnings) {
+    EXPECT_EQ(w.find("KHR_materials_emissive_strength"), std::string::npos) << w;
+    EXPECT_EQ(w.find("emission"), std::string::npos) << w;
+  }
 }
 
 // Tricky because a mesh placed a million units from the origin, where float holds only 0.0625,
@@ -1010,13 +1041,13 @@ TEST(GltfLoaderExtensions, UnsupportedRequiredExtensionsAreRefusedByName) {
 // geometry is complete without it, so it must load, with a note, rather than be refused.
 TEST(GltfLoaderExtensions, ExtensionsThatDoNotAffectGeometryAreIgnoredWithANote) {
   GltfBuilder b = triangleScene();
-  b.doc()["extensionsUsed"] = {"KHR_texture_transform", "KHR_materials_emissive_strength", "ACME_metadata"};
+  b.doc()["extensionsUsed"] = {"KHR_texture_transform", "KHR_materials_clearcoat", "ACME_metadata"};
   b.doc()["extensionsRequired"] = {"KHR_texture_transform"};
   const auto scene = load(b);
   ASSERT_TRUE(scene.ok()) << scene.error().message;
   EXPECT_EQ(scene->meshes.at(0).primitives.at(0).indices.size(), 3u);
   EXPECT_TRUE(anyWarningContains(*scene, "extension KHR_texture_transform ignored: it does not affect geometry"));
-  EXPECT_TRUE(anyWarningContains(*scene, "extension KHR_materials_emissive_strength ignored"));
+  EXPECT_TRUE(anyWarningContains(*scene, "extension KHR_materials_clearcoat ignored"));
   EXPECT_TRUE(anyWarningContains(*scene, "extension ACME_metadata is not supported and was ignored"));
 }
 
@@ -1160,7 +1191,10 @@ TEST(GltfLoaderSparse, SparseOverAViewAndOverZerosGiveThePlainPositions) {
     for (std::size_t v = 0; v < 4; ++v) expectNear(other.positions[v], plain.positions[v], 0.0f);
     EXPECT_EQ(other.indices, plain.indices);
   }
-  EXPECT_TRUE(anyWarningContains(*scene, "extension KHR_materials_emissive_strength ignored"));
+  // The material's emission is read (since session 39): the factor times emissiveStrength 4.
+  ASSERT_EQ(scene->materials.size(), 1u);
+  EXPECT_EQ(scene->materials[0].emissive, glm::vec3(4.0f, 2.0f, 0.8f));
+  EXPECT_FALSE(anyWarningContains(*scene, "KHR_materials_emissive_strength"));
 }
 
 // Tricky because glTF defines an accessor without a bufferView as zeros: reading it must neither
