@@ -47,7 +47,7 @@ Expected<SceneData> loadChecked(std::span<const std::uint8_t> bytes, const std::
   ENGINE_TRY_ASSIGN(const SanitizedDocument document, sanitizedDocument(bytes, warnings));
   ExternalFileAccess access{baseDir.empty() ? std::string() : baseDir.string(), options.maxFileBytes, {}};
   ENGINE_TRY_ASSIGN(const tinygltf::Model model, parseWithTinygltf(document.bytes, isGlb(bytes), access, warnings));
-  ImportContext context{model, document.plan, warnings, decodeBudget(bytes.size(), model), options.scene, {}};
+  ImportContext context{model, document.plan, warnings, decodeBudget(bytes.size(), model), options.scene, {}, &access};
   return convertModel(context);
 }
 
