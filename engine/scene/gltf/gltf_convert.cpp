@@ -329,8 +329,8 @@ Expected<MeshData> convertMesh(ImportContext& context, int meshIndex) {
 // Materials and cameras
 
 // What of a material the renderer does not draw, named in one note: a glass pane (alphaMode BLEND)
-// is drawn opaque, a cut-out leaf card (MASK) whole, a textured mesh in its factors alone;
-// silently, each would look like a rendering defect.
+// is drawn opaque, a cut-out leaf card (MASK) whole, a normal-mapped wall flat; silently, each would
+// look like a rendering defect. (A base colour texture that cannot be drawn gets its own warning.)
 std::optional<std::string> ignoredMaterialFields(const tinygltf::Material& material) {
   std::vector<std::string> ignored;
   if (material.alphaMode == "BLEND") {
