@@ -62,6 +62,10 @@ Expected<MeshFeature::Pipelines> MeshFeature::createPipelines() const {
     desc.vertexLayout = meshVertexLayout();
     desc.depthFormat = formats_.depth;
     desc.pushConstantBytes = sizeof(shader::DrawPushConstants);
+    // The base colour texture (mesh.frag). The prepass reads none but has the same layout: both
+    // passes run mesh.vert in one pipeline layout, which Vulkan's invariance rules ask for (the
+    // shading pass tests depth EQUAL).
+    desc.setLayouts = {pool_.textures().layout()};
     desc.cullMode = both ? VK_CULL_MODE_NONE : VK_CULL_MODE_BACK_BIT;
     desc.name = both ? "mesh depth prepass, double-sided" : "mesh depth prepass";
     desc.depthCompare = VK_COMPARE_OP_GREATER;
@@ -74,7 +78,6 @@ Expected<MeshFeature::Pipelines> MeshFeature::createPipelines() const {
     desc.colorFormats = {formats_.color};
     desc.depthWrite = false;
     desc.depthCompare = VK_COMPARE_OP_EQUAL;  // depth is final after the prepass
-    desc.setLayouts = {pool_.textures().layout()};  // the base colour texture
     ENGINE_TRY_ASSIGN(pipelines.shade[std::size_t(sides)], gpu::Pipeline::createGraphics(context, desc));
   }
   return pipelines;
