@@ -8,6 +8,11 @@ layout(push_constant, scalar) uniform Push { DrawPushConstants pc; };
 layout(location = 0) in vec3 inWorldPosition;
 layout(location = 1) in vec3 inWorldNormal;
 layout(location = 2) flat in uint inObject;
+layout(location = 3) in vec2 inTexcoord;
+
+// The object's base colour texture (engine::render::MeshTextures: a white texel for none), sRGB:
+// read as linear colour.
+layout(set = 0, binding = 0) uniform sampler2D baseColorTexture;
 
 layout(location = 0) out vec4 outColor;
 
@@ -31,7 +36,11 @@ void main() {
     // vertices' normals lean over it): bent to face the eye, not turned round, which lit single
     // pixels along the outline as the object's far side.
     n = normalTowardEye(n, towardViewer(frame, inWorldPosition));
-    color = shadeSurface(frame, object.color.rgb, object.material.x, inWorldPosition, n);
+    // Emission (glTF emissiveFactor) is light of the surface's own: added after the lighting, so
+    // a face turned from the light still shows it.
+    // glTF: the base colour is the factor times the texture.
+    vec3 baseColor = object.color.rgb * texture(baseColorTexture, inTexcoord).rgb;
+    color = shadeSurface(frame, baseColor, object.material.x, inWorldPosition, n) + object.emission.rgb;
   }
   outColor = vec4(color, 1.0);
 }

@@ -20,4 +20,9 @@ struct LoadedImage {
 };
 Expected<LoadedImage> readPng(const std::filesystem::path& path);
 
+// Decodes a PNG or JPEG (whatever stb_image reads) held in memory into RGBA8. The size in the
+// header is checked before any pixel is decoded: an image wider or taller than `maxSide` is
+// refused (a few hundred bytes of PNG can claim 65535 x 65535 pixels, 16 GiB).
+Expected<LoadedImage> decodeImage(std::span<const std::uint8_t> encoded, std::uint32_t maxSide);
+
 }  // namespace engine

@@ -1,5 +1,6 @@
 #include "engine/gpu/image.h"
 
+#include <algorithm>
 #include <stdexcept>
 #include <utility>
 
@@ -22,6 +23,12 @@ SamplerHandle createClampedSampler(const Context& context, VkFilter filter, cons
   VK_CHECK(vkCreateSampler(context.device(), &info, nullptr, sampler.receive(context.device())));
   context.setName(sampler.get(), VK_OBJECT_TYPE_SAMPLER, name);
   return sampler;
+}
+
+std::uint32_t fullMipChain(std::uint32_t width, std::uint32_t height) {
+  std::uint32_t levels = 1;
+  for (std::uint32_t side = std::max(width, height); side > 1; side /= 2) ++levels;
+  return levels;
 }
 
 bool isDepthFormat(VkFormat format) {
@@ -47,13 +54,13 @@ std::uint32_t bytesPerPixel(VkFormat format) {
 }
 
 Image::Image(const Context& context, const ImageDesc& desc)
-    : context_(&context), format_(desc.format), extent_(desc.extent) {
+    : context_(&context), format_(desc.format), extent_(desc.extent), mipLevels_(desc.mipLevels) {
   aspect_ = isDepthFormat(desc.format) ? VK_IMAGE_ASPECT_DEPTH_BIT : VK_IMAGE_ASPECT_COLOR_BIT;
   VkImageCreateInfo info{VK_STRUCTURE_TYPE_IMAGE_CREATE_INFO};
   info.imageType = desc.type;
   info.format = desc.format;
   info.extent = desc.extent;
-  info.mipLevels = 1;
+  info.mipLevels = desc.mipLevels;
   info.arrayLayers = 1;
   info.samples = VK_SAMPLE_COUNT_1_BIT;
   info.tiling = VK_IMAGE_TILING_OPTIMAL;
@@ -75,7 +82,7 @@ Image::Image(const Context& context, const ImageDesc& desc)
     viewInfo.image = image_;
     viewInfo.viewType = desc.type == VK_IMAGE_TYPE_3D ? VK_IMAGE_VIEW_TYPE_3D : VK_IMAGE_VIEW_TYPE_2D;
     viewInfo.format = desc.format;
-    viewInfo.subresourceRange = {aspect_, 0, 1, 0, 1};
+    viewInfo.subresourceRange = {aspect_, 0, desc.mipLevels, 0, 1};
     VK_CHECK(vkCreateImageView(context.device(), &viewInfo, nullptr, &view_));
     context.setName(view_, VK_OBJECT_TYPE_IMAGE_VIEW, desc.name + " view");
   } catch (...) {
@@ -98,6 +105,7 @@ Image& Image::operator=(Image&& other) noexcept {
     format_ = other.format_;
     extent_ = other.extent_;
     aspect_ = other.aspect_;
+    mipLevels_ = other.mipLevels_;
   }
   return *this;
 }
@@ -111,7 +119,10 @@ void Image::release() {
   view_ = VK_NULL_HANDLE;
 }
 
-void imageBarrier(VkCommandBuffer cmd, VkImage image, VkImageAspectFlags aspect, VkImageLayout oldLayout,
+namespace {
+
+// One synchronization2 barrier on `range` of an image.
+void rangeBarrier(VkCommandBuffer cmd, VkImage image, const VkImageSubresourceRange& range, VkImageLayout oldLayout,
                   VkImageLayout newLayout, VkPipelineStageFlags2 srcStage, VkAccessFlags2 srcAccess,
                   VkPipelineStageFlags2 dstStage, VkAccessFlags2 dstAccess) {
   VkImageMemoryBarrier2 barrier{VK_STRUCTURE_TYPE_IMAGE_MEMORY_BARRIER_2};
@@ -124,11 +135,20 @@ void imageBarrier(VkCommandBuffer cmd, VkImage image, VkImageAspectFlags aspect,
   barrier.srcQueueFamilyIndex = VK_QUEUE_FAMILY_IGNORED;
   barrier.dstQueueFamilyIndex = VK_QUEUE_FAMILY_IGNORED;
   barrier.image = image;
-  barrier.subresourceRange = {aspect, 0, VK_REMAINING_MIP_LEVELS, 0, VK_REMAINING_ARRAY_LAYERS};
+  barrier.subresourceRange = range;
   VkDependencyInfo dependency{VK_STRUCTURE_TYPE_DEPENDENCY_INFO};
   dependency.imageMemoryBarrierCount = 1;
   dependency.pImageMemoryBarriers = &barrier;
   vkCmdPipelineBarrier2(cmd, &dependency);
+}
+
+}  // namespace
+
+void imageBarrier(VkCommandBuffer cmd, VkImage image, VkImageAspectFlags aspect, VkImageLayout oldLayout,
+                  VkImageLayout newLayout, VkPipelineStageFlags2 srcStage, VkAccessFlags2 srcAccess,
+                  VkPipelineStageFlags2 dstStage, VkAccessFlags2 dstAccess) {
+  rangeBarrier(cmd, image, {aspect, 0, VK_REMAINING_MIP_LEVELS, 0, VK_REMAINING_ARRAY_LAYERS}, oldLayout, newLayout,
+               srcStage, srcAccess, dstStage, dstAccess);
 }
 
 namespace {
@@ -160,6 +180,61 @@ void uploadImage(const Context& context, const Image& image, const void* texels,
                            &region);
     imageBarrier(cmd, image.handle(), image.aspect(), VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL,
                  VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL, VK_PIPELINE_STAGE_2_COPY_BIT,
+                 VK_ACCESS_2_TRANSFER_WRITE_BIT, VK_PIPELINE_STAGE_2_ALL_GRAPHICS_BIT,
+                 VK_ACCESS_2_SHADER_SAMPLED_READ_BIT);
+  });
+}
+
+namespace {
+
+// A barrier on one mip level of a colour image.
+void levelBarrier(VkCommandBuffer cmd, VkImage image, std::uint32_t level, VkImageLayout oldLayout, VkImageLayout newLayout,
+                  VkPipelineStageFlags2 srcStage, VkAccessFlags2 srcAccess, VkPipelineStageFlags2 dstStage,
+                  VkAccessFlags2 dstAccess) {
+  rangeBarrier(cmd, image, {VK_IMAGE_ASPECT_COLOR_BIT, level, 1, 0, 1}, oldLayout, newLayout, srcStage, srcAccess,
+               dstStage, dstAccess);
+}
+
+std::int32_t levelSide(std::uint32_t side, std::uint32_t level) { return std::int32_t(std::max(1u, side >> level)); }
+
+// Level `level` blitted from level - 1 (TRANSFER_SRC) into `level` (TRANSFER_DST).
+void blitLevel(VkCommandBuffer cmd, const Image& image, std::uint32_t level) {
+  const VkExtent3D e = image.extent();
+  VkImageBlit blit{};
+  blit.srcSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, level - 1, 0, 1};
+  blit.srcOffsets[1] = {levelSide(e.width, level - 1), levelSide(e.height, level - 1), 1};
+  blit.dstSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, level, 0, 1};
+  blit.dstOffsets[1] = {levelSide(e.width, level), levelSide(e.height, level), 1};
+  vkCmdBlitImage(cmd, image.handle(), VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, image.handle(),
+                 VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, 1, &blit, VK_FILTER_LINEAR);
+}
+
+}  // namespace
+
+void uploadImageWithMipmaps(const Context& context, const Image& image, const void* texels, std::size_t bytes) {
+  if (bytes != imageBytes(image)) throw std::invalid_argument("uploadImageWithMipmaps: size does not match the image");
+  Buffer staging(context, bytes, VK_BUFFER_USAGE_TRANSFER_SRC_BIT, MemoryUsage::Upload, "image staging");
+  staging.write(texels, bytes);
+  const std::uint32_t levels = image.mipLevels();
+  context.submitAndWait([&](VkCommandBuffer cmd) {
+    imageBarrier(cmd, image.handle(), image.aspect(), VK_IMAGE_LAYOUT_UNDEFINED, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL,
+                 VK_PIPELINE_STAGE_2_NONE, VK_ACCESS_2_NONE, VK_PIPELINE_STAGE_2_ALL_TRANSFER_BIT,
+                 VK_ACCESS_2_TRANSFER_WRITE_BIT);
+    const VkBufferImageCopy region = wholeImageCopy(image);
+    vkCmdCopyBufferToImage(cmd, staging.handle(), image.handle(), VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, 1, &region);
+    // Each level is written, then read by the next level's blit, then read by shaders.
+    for (std::uint32_t level = 1; level < levels; ++level) {
+      levelBarrier(cmd, image.handle(), level - 1, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL,
+                   VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, VK_PIPELINE_STAGE_2_ALL_TRANSFER_BIT,
+                   VK_ACCESS_2_TRANSFER_WRITE_BIT, VK_PIPELINE_STAGE_2_ALL_TRANSFER_BIT, VK_ACCESS_2_TRANSFER_READ_BIT);
+      blitLevel(cmd, image, level);
+      levelBarrier(cmd, image.handle(), level - 1, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL,
+                   VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL, VK_PIPELINE_STAGE_2_ALL_TRANSFER_BIT,
+                   VK_ACCESS_2_TRANSFER_READ_BIT, VK_PIPELINE_STAGE_2_ALL_GRAPHICS_BIT,
+                   VK_ACCESS_2_SHADER_SAMPLED_READ_BIT);
+    }
+    levelBarrier(cmd, image.handle(), levels - 1, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL,
+                 VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL, VK_PIPELINE_STAGE_2_ALL_TRANSFER_BIT,
                  VK_ACCESS_2_TRANSFER_WRITE_BIT, VK_PIPELINE_STAGE_2_ALL_GRAPHICS_BIT,
                  VK_ACCESS_2_SHADER_SAMPLED_READ_BIT);
   });

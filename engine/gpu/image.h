@@ -19,7 +19,11 @@ struct ImageDesc {
   VkExtent3D extent{1, 1, 1};
   VkImageUsageFlags usage = VK_IMAGE_USAGE_SAMPLED_BIT;
   std::string name = "image";
+  std::uint32_t mipLevels = 1;  // the view sees them all
 };
+
+// The levels of a full mip chain down to 1x1 for a 2D image of this size.
+std::uint32_t fullMipChain(std::uint32_t width, std::uint32_t height);
 
 // A sampler of one level, clamped to the edge on every axis, with `filter` both ways: images read
 // at texel centres or filtered between them, never wrapped around or mipmapped. Named `name`.
@@ -40,6 +44,7 @@ class Image {
   VkFormat format() const { return format_; }
   VkExtent3D extent() const { return extent_; }
   VkImageAspectFlags aspect() const { return aspect_; }
+  std::uint32_t mipLevels() const { return mipLevels_; }
   explicit operator bool() const { return image_ != VK_NULL_HANDLE; }
 
  private:
@@ -52,6 +57,7 @@ class Image {
   VkFormat format_ = VK_FORMAT_UNDEFINED;
   VkExtent3D extent_{};
   VkImageAspectFlags aspect_ = VK_IMAGE_ASPECT_COLOR_BIT;
+  std::uint32_t mipLevels_ = 1;
 };
 
 bool isDepthFormat(VkFormat format);
@@ -64,6 +70,12 @@ void imageBarrier(VkCommandBuffer cmd, VkImage image, VkImageAspectFlags aspect,
 
 // Fills an image from tightly packed texels and leaves it in SHADER_READ_ONLY_OPTIMAL (waits).
 void uploadImage(const Context& context, const Image& image, const void* texels, std::size_t bytes);
+
+// Fills level 0 of an image of several mip levels from tightly packed texels, makes each further
+// level from the one before by a linear blit (for an sRGB format the blit averages in linear
+// colour), and leaves every level in SHADER_READ_ONLY_OPTIMAL (waits). The image needs TRANSFER_SRC
+// and TRANSFER_DST usage and a format the device blits with linear filtering.
+void uploadImageWithMipmaps(const Context& context, const Image& image, const void* texels, std::size_t bytes);
 
 // Copies an image in `currentLayout` back to the CPU as tightly packed texels (waits); the image is
 // returned to `currentLayout`.

@@ -13,6 +13,11 @@ struct MeshHandle {
   bool valid() const { return index != ~0u; }
 };
 
+// A base colour texture uploaded into MeshTextures (MeshPool::textures); 0: none (a white texel).
+struct TextureHandle {
+  std::uint32_t index = 0;
+};
+
 struct MeshRenderable {
   MeshHandle mesh;
   glm::vec4 color{0.8f, 0.8f, 0.8f, 1.0f};  // linear base colour
@@ -21,6 +26,9 @@ struct MeshRenderable {
   // Both sides drawn (glTF material doubleSided): no back-face culling, and a back face lit with
   // its normal reversed (MeshFeature). False: back faces are culled.
   bool doubleSided = false;
+  glm::vec3 emissive{0.0f};  // linear light given off, added to the lit colour (glTF emission)
+  // Multiplies `color`, read through the mesh's texture coordinates (glTF baseColorTexture).
+  TextureHandle baseColorTexture;
 };
 
 enum class Projection { kPerspective, kOrthographic };

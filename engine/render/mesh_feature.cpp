@@ -1,6 +1,8 @@
 #include "engine/render/mesh_feature.h"
 
+#include <algorithm>
 #include <array>
+#include <tuple>
 
 #include <imgui.h>
 
@@ -18,6 +20,7 @@ gpu::VertexLayout meshVertexLayout() {
   layout.bindings.push_back({0, sizeof(MeshVertex), VK_VERTEX_INPUT_RATE_VERTEX});
   layout.attributes.push_back({0, 0, VK_FORMAT_R32G32B32_SFLOAT, offsetof(MeshVertex, position)});
   layout.attributes.push_back({1, 0, VK_FORMAT_R32G32B32_SFLOAT, offsetof(MeshVertex, normal)});
+  layout.attributes.push_back({2, 0, VK_FORMAT_R32G32_SFLOAT, offsetof(MeshVertex, texcoord)});
   return layout;
 }
 
@@ -59,6 +62,10 @@ Expected<MeshFeature::Pipelines> MeshFeature::createPipelines() const {
     desc.vertexLayout = meshVertexLayout();
     desc.depthFormat = formats_.depth;
     desc.pushConstantBytes = sizeof(shader::DrawPushConstants);
+    // The base colour texture (mesh.frag). The prepass reads none but has the same layout: both
+    // passes run mesh.vert in one pipeline layout, which Vulkan's invariance rules ask for (the
+    // shading pass tests depth EQUAL).
+    desc.setLayouts = {pool_.textures().layout()};
     desc.cullMode = both ? VK_CULL_MODE_NONE : VK_CULL_MODE_BACK_BIT;
     desc.name = both ? "mesh depth prepass, double-sided" : "mesh depth prepass";
     desc.depthCompare = VK_COMPARE_OP_GREATER;
@@ -76,13 +83,17 @@ Expected<MeshFeature::Pipelines> MeshFeature::createPipelines() const {
   return pipelines;
 }
 
+struct MeshFeature::PendingDraw {
+  Sides sides;
+  std::uint32_t texture;
+  bool mirrored;
+  VkDrawIndexedIndirectCommand command;
+};
+
 void MeshFeature::prepare(FrameContext& frame) {
   pool_.sync(frame);
-  commands_.clear();
   culledCount_ = 0;
-  // One list per batch, concatenated in batch order: single-sided objects come first, as they were
-  // drawn before double-sided ones existed.
-  std::array<std::vector<VkDrawIndexedIndirectCommand>, kBatchCount> batches;
+  std::vector<PendingDraw> draws;
   const math::Frustum frustum = math::extractFrustum(frame.camera.proj * frame.camera.view);
   frame.registry.view<MeshRenderable, scene::WorldTransform>().each(
       [&](ecs::Entity, const MeshRenderable& mesh, const scene::WorldTransform& world) {
@@ -92,32 +103,53 @@ void MeshFeature::prepare(FrameContext& frame) {
           ++culledCount_;
           return;
         }
-        const std::uint32_t object = frame.scene.addObject(
-            GpuScene::makeObject(world.matrix, mesh.color, mesh.roughness, mesh.metallic, kFeatureId));
-        batches[batchOf(mesh.doubleSided ? Sides::Double : Sides::Single, mirrors(world.matrix))].push_back(
-            {range.indexCount, 1, range.firstIndex, range.vertexOffset, object});
+        shader::ObjectData object = GpuScene::makeObject(world.matrix, mesh.color, mesh.roughness, mesh.metallic, kFeatureId);
+        object.emission = glm::vec4(mesh.emissive, 0.0f);
+        const std::uint32_t index = frame.scene.addObject(object);
+        const std::uint32_t texture = mesh.baseColorTexture.index < pool_.textures().count() ? mesh.baseColorTexture.index : 0;
+        draws.push_back({mesh.doubleSided ? Sides::Double : Sides::Single, texture, mirrors(world.matrix),
+                         {range.indexCount, 1, range.firstIndex, range.vertexOffset, index}});
       });
-  for (std::size_t b = 0; b < kBatchCount; ++b) {
-    batchFirst_[b] = static_cast<std::uint32_t>(commands_.size());
-    commands_.insert(commands_.end(), batches[b].begin(), batches[b].end());
+  buildBatches(draws);
+  if (!commands_.empty()) indirect_.upload(frame.frameSlot, commands_);
+}
+
+// Single-sided objects first, as they were drawn before double-sided ones existed; then by
+// texture (one descriptor set bind each), unmirrored before mirrored (one front-face change each).
+void MeshFeature::buildBatches(std::vector<PendingDraw>& draws) {
+  std::stable_sort(draws.begin(), draws.end(), [](const PendingDraw& a, const PendingDraw& b) {
+    return std::tie(a.sides, a.texture, a.mirrored) < std::tie(b.sides, b.texture, b.mirrored);
+  });
+  commands_.clear();
+  batches_.clear();
+  doubleSidedCount_ = 0;
+  for (const PendingDraw& draw : draws) {
+    const auto at = static_cast<std::uint32_t>(commands_.size());
+    if (batches_.empty() || batches_.back().sides != draw.sides || batches_.back().texture.index != draw.texture)
+      batches_.push_back({draw.sides, TextureHandle{draw.texture}, at, at, at});
+    Batch& batch = batches_.back();
+    if (!draw.mirrored) batch.mirroredFirst = at + 1;
+    batch.end = at + 1;
+    commands_.push_back(draw.command);
+    doubleSidedCount_ += draw.sides == Sides::Double;
   }
   drawCount_ = static_cast<std::uint32_t>(commands_.size());
-  batchFirst_[kBatchCount] = drawCount_;
-  if (!commands_.empty()) indirect_.upload(frame.frameSlot, commands_);
 }
 
 void MeshFeature::recordPass(PassContext& pass) {
   if (commands_.empty() || pool_.empty()) return;
   const bool prepass = pass.pass == Pass::DepthPrepass;
-  for (const Sides sides : {Sides::Single, Sides::Double})
-    recordDraws(pass, prepass ? pipelines_.depth[std::size_t(sides)] : pipelines_.shade[std::size_t(sides)], sides);
+  const gpu::Pipeline* bound = nullptr;
+  for (const Batch& batch : batches_) {
+    const gpu::Pipeline& pipeline = prepass ? pipelines_.depth[std::size_t(batch.sides)] : pipelines_.shade[std::size_t(batch.sides)];
+    if (&pipeline != bound) bindPipeline(pass, pipeline);
+    bound = &pipeline;
+    if (!prepass) pool_.textures().bind(pass.cmd, pipeline.layout(), batch.texture);
+    recordBatch(pass, batch);
+  }
 }
 
-void MeshFeature::recordDraws(PassContext& pass, const gpu::Pipeline& pipeline, Sides sides) {
-  const std::uint32_t first = batchFirst_[batchOf(sides, false)];
-  const std::uint32_t mirroredFirst = batchFirst_[batchOf(sides, true)];
-  const std::uint32_t end = batchFirst_[batchOf(sides, true) + 1];
-  if (first == end) return;
+void MeshFeature::bindPipeline(PassContext& pass, const gpu::Pipeline& pipeline) const {
   VkCommandBuffer cmd = pass.cmd;
   vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, pipeline.handle());
   shader::DrawPushConstants push{};
@@ -130,18 +162,21 @@ void MeshFeature::recordDraws(PassContext& pass, const gpu::Pipeline& pipeline, 
   const VkDeviceSize offset = 0;
   vkCmdBindVertexBuffers(cmd, 0, 1, &vertexBuffer, &offset);
   vkCmdBindIndexBuffer(cmd, pool_.indexBuffer().handle(), 0, VK_INDEX_TYPE_UINT32);
+}
+
+void MeshFeature::recordBatch(PassContext& pass, const Batch& batch) const {
   const VkBuffer indirect = indirect_.buffer(pass.frame.frameSlot).handle();
-  vkCmdSetFrontFace(cmd, VK_FRONT_FACE_COUNTER_CLOCKWISE);
-  draws_.drawIndexed(cmd, indirect, first, mirroredFirst - first);
-  vkCmdSetFrontFace(cmd, VK_FRONT_FACE_CLOCKWISE);
-  draws_.drawIndexed(cmd, indirect, mirroredFirst, end - mirroredFirst);
+  vkCmdSetFrontFace(pass.cmd, VK_FRONT_FACE_COUNTER_CLOCKWISE);
+  draws_.drawIndexed(pass.cmd, indirect, batch.first, batch.mirroredFirst - batch.first);
+  vkCmdSetFrontFace(pass.cmd, VK_FRONT_FACE_CLOCKWISE);
+  draws_.drawIndexed(pass.cmd, indirect, batch.mirroredFirst, batch.end - batch.mirroredFirst);
 }
 
 void MeshFeature::drawUi() {
   if (ImGui::CollapsingHeader("Meshes")) {
     ImGui::Text("meshes in pool: %u", pool_.meshCount());
-    ImGui::TextWrapped("drawn: %u (double-sided: %u), culled: %u", drawCount_,
-                       drawCount_ - batchFirst_[batchOf(Sides::Double, false)], culledCount_);
+    ImGui::TextWrapped("drawn: %u (double-sided: %u, in %zu batches), culled: %u", drawCount_, doubleSidedCount_,
+                       batches_.size(), culledCount_);
   }
 }
 

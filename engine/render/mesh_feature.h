@@ -7,7 +7,10 @@
 // Double-sided meshes (MeshRenderable::doubleSided, glTF material doubleSided) are drawn after the
 // single-sided ones, by pipelines without culling, in both passes; the same front-face state says
 // which side the eye sees (gl_FrontFacing), and mesh.frag lights a back face with its normal
-// reversed. Each cull mode's pipeline draws its objects in two indirect draws (unmirrored, mirrored).
+// reversed. Meshes with a base colour texture (MeshRenderable::baseColorTexture) are drawn in one
+// batch per texture, its descriptor set bound before the batch (MeshTextures: no descriptor
+// indexing needed); the rest sample the white texel of texture 0. Each batch is two indirect
+// draws (unmirrored, mirrored).
 // Objects whose matrix cannot be inverted (scaled to zero) are skipped.
 #include <array>
 #include <cstddef>
@@ -39,26 +42,34 @@ class MeshFeature final : public RenderFeature {
 
  private:
   enum class Sides : std::uint8_t { Single = 0, Double = 1 };  // back faces culled / drawn
-  // Draw batches in the order drawn: (single, unmirrored), (single, mirrored), (double, ...), ...
-  static constexpr std::size_t kBatchCount = 4;
-  static constexpr std::size_t batchOf(Sides sides, bool mirrored) {
-    return std::size_t(sides) * 2 + (mirrored ? 1 : 0);
-  }
+  // Draws of one cull mode and one texture, in commands_: [first, mirroredFirst) unmirrored, then
+  // [mirroredFirst, end) mirrored. Batches are drawn single-sided first, then by texture.
+  struct Batch {
+    Sides sides = Sides::Single;
+    TextureHandle texture;
+    std::uint32_t first = 0;
+    std::uint32_t mirroredFirst = 0;
+    std::uint32_t end = 0;
+  };
+  struct PendingDraw;
+  void buildBatches(std::vector<PendingDraw>& draws);
   struct Pipelines {
     std::array<gpu::Pipeline, 2> depth;  // by Sides
     std::array<gpu::Pipeline, 2> shade;
   };
   Expected<Pipelines> createPipelines() const;
-  void recordDraws(PassContext& pass, const gpu::Pipeline& pipeline, Sides sides);
+  void bindPipeline(PassContext& pass, const gpu::Pipeline& pipeline) const;
+  void recordBatch(PassContext& pass, const Batch& batch) const;
 
   MeshPool& pool_;
   const gpu::Context* context_ = nullptr;
   RendererFormats formats_;
   Pipelines pipelines_;
   PerFrameBuffer indirect_;
-  std::vector<VkDrawIndexedIndirectCommand> commands_;  // the batches, in batchOf order
+  std::vector<VkDrawIndexedIndirectCommand> commands_;  // the batches' draws, in batch order
+  std::vector<Batch> batches_;
   std::uint32_t drawCount_ = 0;
-  std::array<std::uint32_t, kBatchCount + 1> batchFirst_{};  // each batch's first command; then drawCount_
+  std::uint32_t doubleSidedCount_ = 0;
   std::uint32_t culledCount_ = 0;
   gpu::IndirectDraws draws_;
 };

@@ -9,15 +9,18 @@
 namespace engine::render {
 
 MeshHandle MeshPool::add(std::span<const glm::vec3> positions, std::span<const glm::vec3> normals,
-                         std::span<const std::uint32_t> indices) {
+                         std::span<const std::uint32_t> indices, std::span<const glm::vec2> texcoords) {
   if (normals.size() != positions.size()) throw std::invalid_argument("MeshPool::add: one normal per position");
+  if (!texcoords.empty() && texcoords.size() != positions.size())
+    throw std::invalid_argument("MeshPool::add: texture coordinates for none or every position");
   MeshRange range;
   range.firstIndex = static_cast<std::uint32_t>(indices_.size());
   range.indexCount = static_cast<std::uint32_t>(indices.size());
   range.vertexOffset = static_cast<std::int32_t>(vertices_.size());
   range.boundsMin = glm::vec3(std::numeric_limits<float>::max());
   range.boundsMax = glm::vec3(std::numeric_limits<float>::lowest());
-  for (std::size_t i = 0; i < positions.size(); ++i) vertices_.push_back({positions[i], normals[i]});
+  for (std::size_t i = 0; i < positions.size(); ++i)
+    vertices_.push_back({positions[i], normals[i], texcoords.empty() ? glm::vec2(0.0f) : texcoords[i]});
   // The bounds of what is drawn: a vertex no triangle uses (a glTF accessor may hold any) must not
   // frame the scene, size its ground or set its near plane.
   for (std::uint32_t index : indices) {

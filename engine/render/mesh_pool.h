@@ -9,14 +9,16 @@
 
 #include "engine/gpu/buffer.h"
 #include "engine/render/components.h"
+#include "engine/render/mesh_textures.h"
 
 namespace engine::render {
 
 struct MeshVertex {
   glm::vec3 position;
   glm::vec3 normal;
+  glm::vec2 texcoord;  // glTF TEXCOORD_0; (0, 0) for a mesh without
 };
-static_assert(sizeof(MeshVertex) == 24);
+static_assert(sizeof(MeshVertex) == 32);
 
 struct MeshRange {
   std::uint32_t firstIndex = 0;
@@ -30,13 +32,13 @@ struct FrameContext;
 
 class MeshPool {
  public:
-  explicit MeshPool(const gpu::Context& context) : context_(context) {}
+  explicit MeshPool(const gpu::Context& context) : context_(context), textures_(context) {}
 
   // Copies the mesh; it reaches the GPU at the next sync() (render::MeshFeature calls it in its
   // prepare(): a program drawing through the mesh feature never calls it). Indices must be <
-  // positions.size().
+  // positions.size(); `texcoords` is empty or one per position.
   MeshHandle add(std::span<const glm::vec3> positions, std::span<const glm::vec3> normals,
-                 std::span<const std::uint32_t> indices);
+                 std::span<const std::uint32_t> indices, std::span<const glm::vec2> texcoords = {});
   const MeshRange& range(MeshHandle mesh) const { return ranges_[mesh.index]; }
   std::uint32_t meshCount() const { return static_cast<std::uint32_t>(ranges_.size()); }
 
@@ -46,6 +48,9 @@ class MeshPool {
   const gpu::Buffer& vertexBuffer() const { return vertexBuffer_; }
   const gpu::Buffer& indexBuffer() const { return indexBuffer_; }
   bool empty() const { return indices_.empty(); }
+  // The meshes' base colour textures (MeshRenderable::baseColorTexture).
+  MeshTextures& textures() { return textures_; }
+  const MeshTextures& textures() const { return textures_; }
 
  private:
   const gpu::Context& context_;
@@ -55,6 +60,7 @@ class MeshPool {
   bool dirty_ = false;
   gpu::Buffer vertexBuffer_;
   gpu::Buffer indexBuffer_;
+  MeshTextures textures_;
 };
 
 }  // namespace engine::render

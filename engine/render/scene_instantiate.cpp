@@ -16,6 +16,7 @@ namespace {
 // cube as a rounded blob, unlike the SDF baked from it. A triangle without area gets +Y.
 MeshHandle addFlat(const scene::MeshPrimitiveData& primitive, MeshPool& pool) {
   std::vector<glm::vec3> positions, normals;
+  std::vector<glm::vec2> texcoords;
   std::vector<std::uint32_t> indices;
   positions.reserve(primitive.indices.size());
   normals.reserve(primitive.indices.size());
@@ -26,6 +27,7 @@ MeshHandle addFlat(const scene::MeshPrimitiveData& primitive, MeshPool& pool) {
       const std::uint32_t index = primitive.indices[t + k];
       if (index >= primitive.positions.size()) throw std::out_of_range("instantiateScene: index out of range");
       corner[k] = primitive.positions[index];
+      if (!primitive.texcoords.empty()) texcoords.push_back(primitive.texcoords[index]);
     }
     const glm::dvec3 face = glm::cross(glm::dvec3(corner[1] - corner[0]), glm::dvec3(corner[2] - corner[0]));
     const double length = glm::length(face);
@@ -36,7 +38,7 @@ MeshHandle addFlat(const scene::MeshPrimitiveData& primitive, MeshPool& pool) {
       normals.push_back(normal);
     }
   }
-  return pool.add(positions, normals, indices);
+  return pool.add(positions, normals, indices, texcoords);
 }
 
 void uploadMeshes(const scene::SceneData& data, MeshPool& pool,
@@ -44,8 +46,9 @@ void uploadMeshes(const scene::SceneData& data, MeshPool& pool,
   handles.resize(data.meshes.size());
   for (std::size_t m = 0; m < data.meshes.size(); ++m)
     for (const auto& primitive : data.meshes[m].primitives)
-      handles[m].push_back(primitive.flatNormals ? addFlat(primitive, pool)
-                                                 : pool.add(primitive.positions, primitive.normals, primitive.indices));
+      handles[m].push_back(primitive.flatNormals
+                               ? addFlat(primitive, pool)
+                               : pool.add(primitive.positions, primitive.normals, primitive.indices, primitive.texcoords));
 }
 
 Camera cameraFromData(const scene::CameraData& data) {
@@ -63,6 +66,8 @@ InstantiatedScene instantiateScene(const scene::SceneData& data, ecs::Registry& 
   InstantiatedScene result;
   std::vector<std::vector<MeshHandle>> handles;
   uploadMeshes(data, pool, handles);
+  std::vector<TextureHandle> textures;
+  for (const scene::TextureData& texture : data.textures) textures.push_back(pool.textures().add(texture));
   glm::vec3 lo(std::numeric_limits<float>::max()), hi(std::numeric_limits<float>::lowest());
 
   for (std::size_t n = 0; n < data.nodes.size(); ++n) {
@@ -90,6 +95,11 @@ InstantiatedScene instantiateScene(const scene::SceneData& data, ecs::Registry& 
         renderable.roughness = material.roughness;
         renderable.metallic = material.metallic;
         renderable.doubleSided = material.doubleSided;
+        renderable.emissive = material.emissive;
+        // Without texture coordinates the texture cannot be read (the importer said so): the factor alone.
+        if (material.baseColorTexture >= 0 && std::size_t(material.baseColorTexture) < textures.size() &&
+            !primitive.texcoords.empty())
+          renderable.baseColorTexture = textures[std::size_t(material.baseColorTexture)];
       }
       const ecs::Entity part = registry.create();
       registry.emplace<scene::Transform>(part);

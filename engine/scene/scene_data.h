@@ -18,6 +18,7 @@ struct MeshPrimitiveData {
   std::vector<glm::vec3> positions;
   std::vector<glm::vec3> normals;     // same count as positions (area-weighted smooth ones when the file has none)
   std::vector<std::uint32_t> indices; // triangle list
+  std::vector<glm::vec2> texcoords;   // TEXCOORD_0, same count as positions; empty when the file has none
   int material = -1;                  // index into SceneData::materials, -1 for the default
   // The file gave no normals: glTF asks for flat ones, each triangle's own. The triangles keep their
   // shared vertices (an SDF's closedness and pseudonormals need them); the drawn mesh gives each
@@ -38,6 +39,30 @@ struct MaterialData {
   // glTF `doubleSided` (default false): both sides of each triangle are drawn, a back face lit
   // with its normal reversed. False: back faces are culled (a closed mesh's inside is never seen).
   bool doubleSided = false;
+  // Light the surface gives off (linear RGB), added to its lit colour: glTF emissiveFactor times
+  // KHR_materials_emissive_strength's emissiveStrength (so it may exceed 1). Zero: none.
+  glm::vec3 emissive{0.0f};
+  // SceneData::textures index of the base colour texture (glTF baseColorTexture, read through
+  // TEXCOORD_0), which multiplies baseColor; -1: none.
+  int baseColorTexture = -1;
+};
+
+// How a texture is sampled (a glTF sampler).
+enum class TextureFilter : std::uint8_t { Nearest, Linear };
+enum class TextureWrap : std::uint8_t { Repeat, ClampToEdge, MirroredRepeat };
+
+// A decoded texture image with its sampler.
+struct TextureData {
+  std::string name;                // the image's name, else "image N"
+  std::uint32_t width = 0;
+  std::uint32_t height = 0;
+  std::vector<std::uint8_t> rgba;  // sRGB-encoded RGBA8, first row first: texture coordinate (0, 0) is the first texel's corner
+  TextureFilter magFilter = TextureFilter::Linear;
+  TextureFilter minFilter = TextureFilter::Linear;
+  bool mipmaps = true;             // false: glTF minFilter NEAREST or LINEAR, the full-size image only
+  TextureFilter mipmapFilter = TextureFilter::Linear;
+  TextureWrap wrapS = TextureWrap::Repeat;
+  TextureWrap wrapT = TextureWrap::Repeat;
 };
 
 struct CameraData {
@@ -64,6 +89,7 @@ struct NodeData {
 struct SceneData {
   std::vector<MeshData> meshes;
   std::vector<MaterialData> materials;
+  std::vector<TextureData> textures;  // those the materials use, each decoded once
   std::vector<CameraData> cameras;
   std::vector<NodeData> nodes;       // parents come before their children
   std::vector<std::string> warnings; // what the importer skipped or ignored (also logged)

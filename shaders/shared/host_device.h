@@ -74,8 +74,9 @@ struct ObjectData {
   uint64_t payload;       // feature-specific data reached by device address (0: none)
   uint feature;           // which RenderFeature owns the object (for debugging)
   uint flags;             // OBJECT_FLAG_*
+  vec4 emission;          // rgb: linear light the surface gives off, added to its lit colour; a: unused
 };
-HSDF_CHECK_SIZE(ObjectData, 2 * 64 + 2 * 16 + 8 + 2 * 4);
+HSDF_CHECK_SIZE(ObjectData, 2 * 64 + 3 * 16 + 8 + 2 * 4);
 
 // Push constants of every scene draw: where this frame's globals and objects live.
 struct DrawPushConstants {

@@ -31,8 +31,15 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
       FUZZ_CHECK(primitive.indices.size() % 3 == 0);
       for (std::uint32_t index : primitive.indices) FUZZ_CHECK(index < primitive.positions.size());
       for (const auto& p : primitive.positions) FUZZ_CHECK(std::isfinite(p.x) && std::isfinite(p.y) && std::isfinite(p.z));
+      FUZZ_CHECK(primitive.texcoords.empty() || primitive.texcoords.size() == primitive.positions.size());
     }
   }
+  // Textures: what the renderer uploads must be whole, and a material names a texture that exists.
+  for (const auto& texture : scene->textures)
+    FUZZ_CHECK(texture.width > 0 && texture.height > 0 &&
+               texture.rgba.size() == std::size_t(texture.width) * texture.height * 4);
+  for (const auto& material : scene->materials)
+    FUZZ_CHECK(material.baseColorTexture >= -1 && material.baseColorTexture < int(scene->textures.size()));
   for (std::size_t n = 0; n < scene->nodes.size(); ++n) {
     FUZZ_CHECK(scene->nodes[n].parent < int(n));
     FUZZ_CHECK(scene->nodes[n].mesh < int(scene->meshes.size()));

@@ -278,11 +278,12 @@ Expected<AccessorSpan> accessorSpan(ImportContext& context, int accessorIndex, i
 
 namespace {
 
-// VEC3 or VEC4 elements as floats (glTF's rules for normalized integers); every component finite.
+// VEC2, VEC3 or VEC4 elements as floats (glTF's rules for normalized integers); every component finite.
 template <int N>
 Expected<std::vector<glm::vec<N, float>>> readFloatVectors(ImportContext& context, int accessorIndex) {
   ENGINE_TRY_ASSIGN(const AccessorSpan span,
-                    accessorSpan(context, accessorIndex, N == 3 ? TINYGLTF_TYPE_VEC3 : TINYGLTF_TYPE_VEC4));
+                    accessorSpan(context, accessorIndex,
+                                 N == 2 ? TINYGLTF_TYPE_VEC2 : N == 3 ? TINYGLTF_TYPE_VEC3 : TINYGLTF_TYPE_VEC4));
   ENGINE_TRY(chargeDecode(context, span.count * sizeof(glm::vec<N, float>)));
   const std::uint64_t componentSize = componentBytes(span.componentType);
   std::vector<glm::vec<N, float>> values(static_cast<std::size_t>(span.count));
@@ -300,6 +301,10 @@ Expected<std::vector<glm::vec<N, float>>> readFloatVectors(ImportContext& contex
 }
 
 }  // namespace
+
+Expected<std::vector<glm::vec2>> readVec2(ImportContext& context, int accessorIndex) {
+  return readFloatVectors<2>(context, accessorIndex);
+}
 
 Expected<std::vector<glm::vec3>> readVec3(ImportContext& context, int accessorIndex) {
   return readFloatVectors<3>(context, accessorIndex);

@@ -23,6 +23,7 @@ struct ImportContext {
   std::uint64_t decodeBudgetBytes = 0;  // what decoded geometry may still take
   int scene = -1;                       // GltfLoadOptions::scene
   std::vector<std::vector<std::uint8_t>> meshoptViews;  // [bufferView]: decoded bytes (empty: not compressed)
+  const ExternalFileAccess* files = nullptr;           // where images beside the file are read (null: nowhere)
 };
 
 // Takes `bytes` from the decode budget, or refuses when the budget has less left.
@@ -43,6 +44,8 @@ Expected<std::span<const std::uint8_t>> bufferRange(const tinygltf::Model& model
 // The bytes of a bufferView: decoded ones for a meshopt-compressed view, else its buffer range.
 Expected<std::span<const std::uint8_t>> bufferViewBytes(const ImportContext& context, int viewIndex);
 
+// VEC2 attribute (TEXCOORD_n: float or normalized integers) as floats; every component must be finite.
+Expected<std::vector<glm::vec2>> readVec2(ImportContext& context, int accessorIndex);
 // VEC3 attribute (POSITION, NORMAL) as floats; every component must be finite.
 Expected<std::vector<glm::vec3>> readVec3(ImportContext& context, int accessorIndex);
 // VEC4 elements (an instance's ROTATION quaternion: float or normalized integers) as floats; every

@@ -22,6 +22,7 @@
 
 #include "engine/core/log.h"
 #include "engine/scene/gltf/gltf_compression.h"
+#include "engine/scene/gltf/gltf_textures.h"
 #include "engine/scene/transform.h"
 
 namespace engine::scene::gltf {
@@ -36,6 +37,7 @@ constexpr std::uint64_t kDecodeBudgetPerInputByte = 16;
 // entity, a draw or an SDF instance), so a forged count of billions must stop here.
 constexpr std::size_t kMaxMeshInstances = std::size_t(1) << 20;
 constexpr std::string_view kInstancingExtension = "EXT_mesh_gpu_instancing";
+constexpr std::string_view kEmissiveStrengthExtension = "KHR_materials_emissive_strength";
 
 using Json = nlohmann::json;
 
@@ -233,6 +235,25 @@ void renormalize(std::vector<glm::vec3>& normals) {
   }
 }
 
+// TEXCOORD_0 (what a base colour texture is read through). The importer did not read it before
+// textures were drawn, so a broken one is a warning, not an error: the primitive keeps no texture
+// coordinates and is drawn in its material's factor, as it was. Not decoded from Draco.
+void readTexcoords(ImportContext& context, const PrimitiveRef& ref, const std::string& where, MeshPrimitiveData& out) {
+  const int accessor = findAttribute(ref.primitive, "TEXCOORD_0");
+  if (accessor == -2 || ref.draco) return;
+  auto texcoords = readVec2(context, accessor);
+  if (!texcoords.ok()) {
+    context.warnings.push_back(fmt::format("{}: TEXCOORD_0 not read: {}", where, texcoords.error().message));
+    return;
+  }
+  if (texcoords->size() != out.positions.size()) {
+    context.warnings.push_back(fmt::format("{}: TEXCOORD_0 not read: {} elements for {} positions", where,
+                                           texcoords->size(), out.positions.size()));
+    return;
+  }
+  out.texcoords = std::move(*texcoords);
+}
+
 Expected<MeshPrimitiveData> convertTrianglePrimitive(ImportContext& context, const PrimitiveRef& ref) {
   const auto& primitive = ref.primitive;
   if (findAttribute(primitive, "POSITION") == -2) return makeError("has no POSITION attribute");
@@ -291,6 +312,7 @@ Expected<MeshData> convertMesh(ImportContext& context, int meshIndex) {
     if (!isTriangleMode(primitive.mode)) return makeError(fmt::format("{}: unknown mode {}", where, primitive.mode));
     ENGINE_TRY_ASSIGN(const PrimitiveRef ref, primitiveRef(context, meshIndex, p).withContext(where));
     ENGINE_TRY_ASSIGN(auto converted, convertTrianglePrimitive(context, ref).withContext(where));
+    readTexcoords(context, ref, where, converted);
     if (ref.draco && !primitive.targets.empty() && !mesh.weights.empty())  // libdraco may reorder the points
       context.warnings.push_back(fmt::format("{}: morph targets of a Draco-compressed primitive are not applied", where));
     if (converted.indices.empty()) {  // a strip or fan of fewer than 3 vertices: nothing to draw
@@ -307,8 +329,8 @@ Expected<MeshData> convertMesh(ImportContext& context, int meshIndex) {
 // Materials and cameras
 
 // What of a material the renderer does not draw, named in one note: a glass pane (alphaMode BLEND)
-// is drawn opaque, a cut-out leaf card (MASK) whole, an emissive sign unlit by its own light, a
-// textured mesh in its baseColorFactor alone; silently, each would look like a rendering defect.
+// is drawn opaque, a cut-out leaf card (MASK) whole, a normal-mapped wall flat; silently, each would
+// look like a rendering defect. (A base colour texture that cannot be drawn gets its own warning.)
 std::optional<std::string> ignoredMaterialFields(const tinygltf::Material& material) {
   std::vector<std::string> ignored;
   if (material.alphaMode == "BLEND") {
@@ -319,16 +341,29 @@ std::optional<std::string> ignoredMaterialFields(const tinygltf::Material& mater
   } else if (material.alphaMode != "OPAQUE") {
     ignored.push_back(fmt::format("alphaMode '{}', which glTF does not define (drawn opaque)", material.alphaMode));
   }
-  const bool glows =
-      std::any_of(material.emissiveFactor.begin(), material.emissiveFactor.end(), [](double c) { return c != 0.0; });
-  if (glows || material.emissiveTexture.index >= 0) ignored.push_back("emission");
+  if (material.emissiveTexture.index >= 0) ignored.push_back("emissiveTexture (drawn in emissiveFactor)");
   const auto& pbr = material.pbrMetallicRoughness;
-  if (pbr.baseColorTexture.index >= 0) ignored.push_back("baseColorTexture (drawn in baseColorFactor)");
   if (pbr.metallicRoughnessTexture.index >= 0) ignored.push_back("metallicRoughnessTexture");
   if (material.normalTexture.index >= 0) ignored.push_back("normalTexture");
   if (material.occlusionTexture.index >= 0) ignored.push_back("occlusionTexture");
   if (ignored.empty()) return std::nullopt;
   return fmt::format("'{}': {} ignored", material.name, fmt::join(ignored, ", "));
+}
+
+// emissiveFactor (checkGltfSchema: 3 numbers in [0, 1]) times KHR_materials_emissive_strength's
+// emissiveStrength (>= 0; 1 when absent), which lets a lamp glow brighter than 1.
+Expected<glm::vec3> emission(const tinygltf::Material& material) {
+  if (material.emissiveFactor.size() != 3)
+    return makeError(fmt::format("emissiveFactor has {} components, expected 3", material.emissiveFactor.size()));
+  double strength = 1.0;
+  const auto extension = material.extensions.find(std::string(kEmissiveStrengthExtension));
+  if (extension != material.extensions.end() && extension->second.Has("emissiveStrength"))
+    strength = extension->second.Get("emissiveStrength").GetNumberAsDouble();
+  glm::vec3 emissive;
+  for (int c = 0; c < 3; ++c) {
+    ENGINE_TRY_ASSIGN(emissive[c], toFiniteFloat(material.emissiveFactor[std::size_t(c)] * strength, "emission"));
+  }
+  return emissive;
 }
 
 Expected<MaterialData> convertMaterial(const tinygltf::Material& material) {
@@ -346,6 +381,7 @@ Expected<MaterialData> convertMaterial(const tinygltf::Material& material) {
   out.metallic = std::clamp(metallic, 0.0f, 1.0f);
   out.roughness = std::clamp(roughness, 0.0f, 1.0f);
   out.doubleSided = material.doubleSided;  // a boolean (checkGltfSchema), false when absent
+  ENGINE_TRY_ASSIGN(out.emissive, emission(material));
   return out;
 }
 
@@ -752,12 +788,67 @@ Status decodeMeshoptViews(ImportContext& context) {
 
 }  // namespace
 
+// Each glTF texture a material uses as baseColorTexture, decoded once into SceneData::textures.
+class TextureImport {
+ public:
+  explicit TextureImport(ImportContext& context) : context_(context) {}
+
+  // `material`'s base colour texture as a SceneData::textures index, or -1 (none, or a warning
+  // naming the material and the problem: drawn in its baseColorFactor).
+  int baseColorTexture(const tinygltf::Material& material, std::size_t m, std::vector<TextureData>& textures) {
+    const auto& info = material.pbrMetallicRoughness.baseColorTexture;
+    if (info.index == -1) return -1;  // tinygltf's "absent"
+    const std::string where = fmt::format("material {} '{}': baseColorTexture", m, material.name);
+    if (info.texCoord != 0) {
+      warn(where, fmt::format("texCoord {} is not read (only TEXCOORD_0)", info.texCoord));
+      return -1;
+    }
+    const auto known = converted_.find(info.index);
+    if (known != converted_.end()) return known->second;
+    auto texture = convertTexture(context_, info.index);
+    int& slot = converted_[info.index];
+    slot = -1;
+    if (!texture.ok()) {
+      warn(where, texture.error().message);
+      return -1;
+    }
+    textures.push_back(std::move(*texture));
+    slot = int(textures.size() - 1);
+    return slot;
+  }
+
+ private:
+  void warn(const std::string& where, const std::string& problem) {
+    context_.warnings.push_back(fmt::format("{}: {}; drawn in baseColorFactor", where, problem));
+  }
+  ImportContext& context_;
+  std::map<int, int> converted_;  // glTF texture -> SceneData::textures index, -1: failed
+};
+
+// A textured material on a primitive without TEXCOORD_0 draws in its factor: said once per primitive.
+void noteUntexturedPrimitives(const SceneData& scene, std::vector<std::string>& warnings) {
+  for (std::size_t m = 0; m < scene.meshes.size(); ++m) {
+    const MeshData& mesh = scene.meshes[m];
+    for (std::size_t p = 0; p < mesh.primitives.size(); ++p) {
+      const MeshPrimitiveData& primitive = mesh.primitives[p];
+      if (primitive.material < 0 || !primitive.texcoords.empty()) continue;
+      const MaterialData& material = scene.materials[std::size_t(primitive.material)];
+      if (material.baseColorTexture < 0) continue;
+      warnings.push_back(fmt::format("mesh {} '{}' primitive {}: material {} '{}' has a baseColorTexture but the "
+                                     "primitive no TEXCOORD_0; drawn in baseColorFactor",
+                                     m, mesh.name, p, primitive.material, material.name));
+    }
+  }
+}
+
 Expected<SceneData> convertModel(ImportContext& context) {
   const auto& model = context.model;
   ENGINE_TRY(decodeMeshoptViews(context));
   SceneData scene;
+  TextureImport textures(context);
   for (std::size_t m = 0; m < model.materials.size(); ++m) {
     ENGINE_TRY_ASSIGN(auto material, convertMaterial(model.materials[m]).withContext(fmt::format("material {}", m)));
+    material.baseColorTexture = textures.baseColorTexture(model.materials[m], m, scene.textures);
     scene.materials.push_back(std::move(material));
     if (auto note = ignoredMaterialFields(model.materials[m]))
       context.warnings.push_back(fmt::format("material {} {}", m, *note));
@@ -767,6 +858,7 @@ Expected<SceneData> convertModel(ImportContext& context) {
     ENGINE_TRY_ASSIGN(auto mesh, convertMesh(context, int(m)));
     scene.meshes.push_back(std::move(mesh));
   }
+  noteUntexturedPrimitives(scene, context.warnings);
   ENGINE_TRY_ASSIGN(scene.nodes, convertNodes(context, cameraRemap));
   ENGINE_TRY(checkInstancesFinite(scene));
   return scene;

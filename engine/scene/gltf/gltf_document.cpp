@@ -40,6 +40,10 @@ constexpr std::array<std::string_view, 4> kGeometryExtensions = {
     "EXT_meshopt_compression",     // meshopt-compressed bufferViews
     "EXT_mesh_gpu_instancing",     // a node's mesh placed many times (gltf_convert.cpp)
 };
+// Material extensions the importer reads (gltf_convert.cpp): used, they need no note.
+constexpr std::array<std::string_view, 1> kReadMaterialExtensions = {
+    "KHR_materials_emissive_strength",  // MaterialData::emissive
+};
 // Extensions (by prefix) that only describe materials, textures, images, lights or metadata: the
 // importer reads none of those, so a file that uses or even requires them loads the same geometry.
 constexpr std::array<std::string_view, 7> kNonGeometryExtensionPrefixes = {
@@ -300,12 +304,34 @@ Status checkExtensions(const Json& document, std::vector<std::string>& warnings)
   ENGINE_TRY_ASSIGN(const auto used, extensionNames(document, "extensionsUsed"));
   for (const auto& name : used) {
     if (isGeometryExtension(name)) continue;
+    if (std::find(kReadMaterialExtensions.begin(), kReadMaterialExtensions.end(), name) != kReadMaterialExtensions.end())
+      continue;
     if (isNonGeometryExtension(name))
       warnings.push_back(fmt::format("extension {} ignored: it does not affect geometry", name));
     else
       warnings.push_back(fmt::format("extension {} is not supported and was ignored (the file does not require it)", name));
   }
   return {};
+}
+
+// The images' names, URIs and bufferViews; a member of the wrong JSON type reads as absent (the
+// texture that uses the image then fails to load, with a warning).
+std::vector<ImageSource> imageSources(const Json& document) {
+  std::vector<ImageSource> images;
+  const auto it = document.find("images");
+  if (it == document.end() || !it->is_array()) return images;
+  for (const Json& image : *it) {
+    ImageSource source;
+    if (image.is_object()) {
+      if (image.contains("name") && image["name"].is_string()) source.name = image["name"].get<std::string>();
+      if (image.contains("uri") && image["uri"].is_string()) source.uri = image["uri"].get<std::string>();
+      if (image.contains("bufferView") && image["bufferView"].is_number_integer() &&
+          image["bufferView"].get<std::int64_t>() >= 0 && image["bufferView"].get<std::int64_t>() <= INT32_MAX)
+        source.bufferView = int(image["bufferView"].get<std::int64_t>());
+    }
+    images.push_back(std::move(source));
+  }
+  return images;
 }
 
 // Parses the document with a nesting limit, checks its extensions, builds the extension plan and
@@ -333,6 +359,7 @@ Expected<SanitizedJson> sanitizeJson(std::span<const std::uint8_t> text, std::ve
   SanitizedJson out;
   ENGINE_TRY(planPrimitives(document, out.plan));
   ENGINE_TRY(planBuffers(document, out.plan));
+  out.plan.images = imageSources(document);
   document.erase("images");
   try {
     out.text = document.dump();
@@ -414,6 +441,17 @@ std::string joinLines(const std::vector<std::string>& lines) {
 }
 
 }  // namespace
+
+Expected<std::vector<std::uint8_t>> readFileBesideGltf(const ExternalFileAccess& access, const std::string& uri) {
+  if (access.baseDir.empty())
+    return makeError(fmt::format("external file '{}' not allowed when loading from memory without a base directory", uri));
+  const std::filesystem::path path = std::filesystem::path(access.baseDir) / uri;
+  if (!insideDirectory(path, access.baseDir))
+    return makeError(fmt::format("external file '{}' lies outside the folder of the glTF file ('{}')", uri, access.baseDir));
+  std::error_code ec;
+  if (!std::filesystem::is_regular_file(path, ec)) return makeError(fmt::format("external file '{}' not found", uri));
+  return readBinaryFile(path, access.maxBytes);
+}
 
 // `document` is sanitised JSON text or a rebuilt GLB.
 Expected<tinygltf::Model> parseWithTinygltf(std::span<const std::uint8_t> document, bool binary,

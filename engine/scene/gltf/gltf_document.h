@@ -30,8 +30,16 @@ struct MeshoptExtension {
   MeshoptViewDesc desc;
 };
 
+// A glTF image as the sanitiser read it (tinygltf never sees images: gltf_loader.cpp).
+struct ImageSource {
+  std::string name;
+  std::string uri;      // a data: URI or a file relative to the .gltf's folder; empty with a bufferView
+  int bufferView = -1;  // -1: none
+};
+
 // What the sanitiser read from the JSON for the conversion, indexed like tinygltf's arrays.
 struct ExtensionPlan {
+  std::vector<ImageSource> images;                                      // [image]
   std::vector<std::vector<int>> primitiveIndices;                       // [mesh][primitive]: accessor, -1 none
   std::vector<std::vector<std::optional<DracoExtension>>> draco;        // [mesh][primitive]
   std::vector<std::optional<MeshoptExtension>> meshopt;                 // [bufferView]
@@ -52,6 +60,10 @@ struct ExternalFileAccess {
 };
 
 bool isGlb(std::span<const std::uint8_t> bytes);
+
+// A file named by a URI relative to the glTF file's folder (an image), with the checks external
+// buffers get: none without a folder, none outside it, none over the size limit.
+Expected<std::vector<std::uint8_t>> readFileBesideGltf(const ExternalFileAccess& access, const std::string& uri);
 
 // The sanitised document of a glTF or GLB file's bytes; errors name the problem.
 Expected<SanitizedDocument> sanitizedDocument(std::span<const std::uint8_t> bytes, std::vector<std::string>& warnings);

@@ -9,8 +9,10 @@
 //  - JSON: it converts `extras`/`extensions` recursively, so a deeply nested document overflows the
 //    stack; nesting is limited while parsing here.
 //  - images: it indexes buffer.data[bufferView.byteOffset] unchecked for images stored in buffer
-//    views, and reads external image files. Images are not needed, so they are removed from the JSON
-//    before tinygltf sees it, and a no-op image loader is installed as a second line of defence.
+//    views, and reads external image files. So images are removed from the JSON before tinygltf
+//    sees it (the sanitiser keeps their sources in the ExtensionPlan, and gltf_textures.cpp reads
+//    them through the checked bufferView and file paths), and a no-op image loader is installed as
+//    a second line of defence.
 //  - extensions: tinygltf 2.7 (Debian's build, without Draco) refuses a primitive whose index
 //    accessor has no bufferView (every Draco file) and copies the GLB BIN chunk into every buffer
 //    without a uri (meshopt's fallback buffers, which hold no data). So the sanitiser lifts
@@ -47,7 +49,7 @@ Expected<SceneData> loadChecked(std::span<const std::uint8_t> bytes, const std::
   ENGINE_TRY_ASSIGN(const SanitizedDocument document, sanitizedDocument(bytes, warnings));
   ExternalFileAccess access{baseDir.empty() ? std::string() : baseDir.string(), options.maxFileBytes, {}};
   ENGINE_TRY_ASSIGN(const tinygltf::Model model, parseWithTinygltf(document.bytes, isGlb(bytes), access, warnings));
-  ImportContext context{model, document.plan, warnings, decodeBudget(bytes.size(), model), options.scene, {}};
+  ImportContext context{model, document.plan, warnings, decodeBudget(bytes.size(), model), options.scene, {}, &access};
   return convertModel(context);
 }
 

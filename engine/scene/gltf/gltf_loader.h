@@ -28,7 +28,12 @@
 //    materials, textures and lights (KHR_materials_*, KHR_texture_*, EXT_texture_*,
 //    KHR_lights_punctual, ...) is an error naming it; used extensions that are ignored get a
 //    warning each.
-//  - materials: pbrMetallicRoughness baseColorFactor, metallicFactor, roughnessFactor.
+//  - materials: pbrMetallicRoughness baseColorFactor, metallicFactor, roughnessFactor; doubleSided;
+//    emissiveFactor times KHR_materials_emissive_strength's emissiveStrength; baseColorTexture read
+//    through TEXCOORD_0 (gltf_textures.h: PNG or JPEG from a bufferView, a data: URI or a file
+//    beside the .gltf, at most kMaxTextureSide texels a side, with its sampler). A texture that
+//    cannot be read (bad index, undecodable or missing image, too large, texCoord other than 0, a
+//    primitive without TEXCOORD_0) is a warning naming the material: drawn in its factor.
 //  - cameras: perspective (yfov, znear; zfar and aspectRatio kept but the projection is infinite and
 //    the viewport's aspect wins) and orthographic (xmag, ymag, znear, zfar: xmag and ymag positive,
 //    zfar > znear >= 0; a bad value is an error naming the camera and the field); another type is
@@ -37,7 +42,7 @@
 //    has both, which glTF forbids) and world matrix. A `matrix` that shears or projects (glTF
 //    forbids both) is replaced by its translation, rotation and scale with a warning, so that the
 //    triangles (entities hold TRS transforms) and the baked SDF place the node alike.
-// Images are never read or decoded (textures are not imported). A file without meshes is valid and
+// Only the images of base colour textures are decoded. A file without meshes is valid and
 // gives a SceneData with empty meshes.
 #include <cstdint>
 #include <filesystem>

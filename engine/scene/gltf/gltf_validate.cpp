@@ -186,6 +186,16 @@ Status optionalNumberInRange(const Json& object, const char* key, const std::str
   return {};
 }
 
+// A number of at least `lo` when present (a schema with a minimum and no maximum).
+Status optionalNumberAtLeast(const Json& object, const char* key, const std::string& path, double lo) {
+  const Json* value = find(object, key);
+  if (!value) return {};
+  const std::string itemPath = member(path, key);
+  ENGINE_TRY_ASSIGN(const double v, numberValue(*value, itemPath));
+  if (v < lo) return makeError(fmt::format("{}: {} is below the minimum (schema: minimum {})", itemPath, v, lo));
+  return {};
+}
+
 // A boolean when present (tinygltf reads a value of another type as absent: the default).
 Status optionalBoolean(const Json& object, const char* key, const std::string& path) {
   const Json* value = find(object, key);
@@ -483,17 +493,32 @@ class SchemaCheck {
   }
 
   // The fields the loader reads: doubleSided (tinygltf took a string or a number for false, and the
-  // surface lost its back faces unsaid) and the three factors (it clamps them into [0, 1], which
-  // would hide the error).
+  // surface lost its back faces unsaid), emission and the three factors (it clamps them into
+  // [0, 1], which would hide the error).
   Status checkMaterial(std::size_t m) {
     const std::string path = element("materials", m);
-    ENGINE_TRY(optionalBoolean((*a_.materials)[m], "doubleSided", path));
-    ENGINE_TRY_ASSIGN(const Json* pbr, optionalObject((*a_.materials)[m], "pbrMetallicRoughness", path));
+    const Json& material = (*a_.materials)[m];
+    ENGINE_TRY(optionalBoolean(material, "doubleSided", path));
+    ENGINE_TRY(checkEmission(material, path));
+    ENGINE_TRY_ASSIGN(const Json* pbr, optionalObject(material, "pbrMetallicRoughness", path));
     if (!pbr) return {};
     const std::string pbrPath = member(path, "pbrMetallicRoughness");
     ENGINE_TRY(optionalNumberArray(*pbr, "baseColorFactor", pbrPath, 4, 0.0, 1.0));
     ENGINE_TRY(optionalNumberInRange(*pbr, "metallicFactor", pbrPath, 0.0, 1.0));
     return optionalNumberInRange(*pbr, "roughnessFactor", pbrPath, 0.0, 1.0);
+  }
+
+  // emissiveFactor (3 numbers in [0, 1]) and KHR_materials_emissive_strength's emissiveStrength
+  // (a number >= 0, which tinygltf would hand over negative or as a string read as 0).
+  static Status checkEmission(const Json& material, const std::string& path) {
+    ENGINE_TRY(optionalNumberArray(material, "emissiveFactor", path, 3, 0.0, 1.0));
+    ENGINE_TRY_ASSIGN(const Json* extensions, optionalObject(material, "extensions", path));
+    if (!extensions) return {};
+    const std::string extensionsPath = member(path, "extensions");
+    ENGINE_TRY_ASSIGN(const Json* strength, optionalObject(*extensions, "KHR_materials_emissive_strength", extensionsPath));
+    if (!strength) return {};
+    return optionalNumberAtLeast(*strength, "emissiveStrength", member(extensionsPath, "KHR_materials_emissive_strength"),
+                                 0.0);
   }
 
   const Json& document_;

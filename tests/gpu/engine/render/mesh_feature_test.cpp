@@ -3,6 +3,7 @@
 // reversed. Every frame is compared pixel by pixel with a CPU ray cast of the same triangles, both
 // sides, and with shared/lighting.glsl written again on the CPU (referenceShading).
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdio>
 #include <limits>
@@ -12,12 +13,16 @@
 #include <glm/gtc/matrix_transform.hpp>
 #include <gtest/gtest.h>
 
+#include "engine/core/files.h"
+#include "engine/core/image_io.h"
 #include "engine/core/math.h"
 #include "engine/render/components.h"
 #include "engine/render/scene_instantiate.h"
+#include "engine/scene/gltf/gltf_loader.h"
 #include "engine/scene/transform.h"
 #include "device_tolerances.h"
 #include "gpu_test_support.h"
+#include "test_files.h"
 
 namespace gputest {
 namespace {
@@ -34,6 +39,7 @@ struct Surface {
   bool doubleSided = false;
   glm::dvec3 color{0.8};
   double roughness = 0.5;
+  glm::dvec3 emissive{0.0};  // added to the lit colour (glTF emission)
 };
 
 // A mesh primitive (flat: one normal per triangle, from its counter-clockwise winding) placed by
@@ -127,7 +133,8 @@ Comparison compare(const Frame& frame, const std::vector<glm::uvec2>& visibility
       result.noObject += visibility[std::size_t(y) * frame.width + x].x == 0u;
       const glm::dvec3 normal = surface.normals[std::size_t(hit.triangle)];
       const glm::dvec3 seen = hit.backFace ? -normal : normal;  // the glTF rule: a back face's normal reversed
-      const glm::dvec3 expected = referenceShading(desc, surface.color, surface.roughness, viewer, position, seen);
+      const glm::dvec3 expected =
+          referenceShading(desc, surface.color, surface.roughness, viewer, position, seen) + surface.emissive;
       const double error = glm::length(linearColor(frame.pixel(x, y)) - expected);
       result.worstColour = std::max(result.worstColour, error);
       result.wrongColour += error > kColourTolerance;
@@ -185,7 +192,8 @@ class DoubleSidedTest : public GpuTest {
 
   // `mesh` as one glTF node with `model` as its matrix and a material of the given sidedness,
   // through the importer's path (instantiateScene); returns the Surface the frame must show.
-  Surface addNode(const scene::MeshPrimitiveData& mesh, const glm::mat4& model, bool doubleSided, glm::vec4 color) {
+  Surface addNode(const scene::MeshPrimitiveData& mesh, const glm::mat4& model, bool doubleSided, glm::vec4 color,
+                  glm::vec3 emissive = glm::vec3(0.0f)) {
     scene::SceneData data;
     data.meshes.push_back({"mesh", {mesh}});
     data.meshes[0].primitives[0].material = 0;
@@ -193,6 +201,7 @@ class DoubleSidedTest : public GpuTest {
     material.baseColor = color;
     material.roughness = 0.4f;
     material.doubleSided = doubleSided;
+    material.emissive = emissive;
     data.materials.push_back(material);
     scene::NodeData node;
     node.mesh = 0;
@@ -205,6 +214,7 @@ class DoubleSidedTest : public GpuTest {
     Surface surface = place(mesh, model, doubleSided);
     surface.color = glm::dvec3(color);
     surface.roughness = material.roughness;
+    surface.emissive = glm::dvec3(emissive);
     return surface;
   }
 
@@ -344,6 +354,131 @@ TEST_F(DoubleSidedTest, SingleAndDoubleSidedMirroredAndNotInOneFrame) {
   EXPECT_GT(c.front, 2000);
   EXPECT_GT(c.back, 1000);
   expectMatches(c);
+}
+
+// glTF materials beyond the factors (emission), drawn by the same mesh pipelines.
+class MeshMaterialTest : public DoubleSidedTest {};
+
+// Why: an emissive sign or lamp (glTF emissiveFactor) shows its own colour whatever the light
+// does. Tricky because the lighting gives a face turned from the light almost nothing (a black base
+// colour: no ambient, no diffuse), so the emission must be added after it, not multiplied into the
+// base colour; the frame is compared with the CPU reference plus the emission on every pixel.
+TEST_F(MeshMaterialTest, AnEmissiveFaceTurnedFromTheLightShowsItsEmission) {
+  const std::uint32_t size = 64;
+  createLitRenderer(size, {0.2f, 0.3f, -1.0f});  // the light behind the square
+  const glm::vec3 emission(0.9f, 0.45f, 0.1f);
+  const Surface surface =
+      addNode(square(), glm::scale(glm::mat4(1.0f), glm::vec3(1.6f)), false, {0.0f, 0.0f, 0.0f, 1.0f}, emission);
+  const Comparison c = renderAndCompare(surface, {0.4f, 0.3f, 2.2f});
+  EXPECT_GT(c.front, 600);
+  expectMatches(c);
+}
+
+// The 4 x 4 texels of the checker: a colour of its own each, so that a texel read from the wrong
+// row or column shows.
+glm::u8vec4 checkerTexel(int column, int row) {
+  return {std::uint8_t(40 + 60 * column), std::uint8_t(230 - 60 * row), std::uint8_t((column + row) % 2 ? 220 : 30), 255};
+}
+
+// A glTF file written into `folder`: the unit square in z = 0 facing +Z with TEXCOORD_0 (glTF's v
+// runs down the image: the square's top edge is the image's first row), its material's
+// baseColorFactor `factor` and a baseColorTexture, checker.png (4 x 4, NEAREST, clamped), beside it.
+std::filesystem::path writeCheckerQuad(const std::filesystem::path& folder, const glm::vec4& factor) {
+  std::filesystem::create_directories(folder);
+  std::vector<std::uint8_t> texels;
+  for (int row = 0; row < 4; ++row)
+    for (int column = 0; column < 4; ++column) {
+      const glm::u8vec4 t = checkerTexel(column, row);
+      texels.insert(texels.end(), {t.r, t.g, t.b, t.a});
+    }
+  EXPECT_TRUE(writePng(folder / "checker.png", texels, 4, 4, 4).ok());
+  const std::vector<float> positions = {-0.5f, -0.5f, 0, 0.5f, -0.5f, 0, 0.5f, 0.5f, 0, -0.5f, 0.5f, 0};
+  const std::vector<float> normals = {0, 0, 1, 0, 0, 1, 0, 0, 1, 0, 0, 1};
+  const std::vector<float> texcoords = {0, 1, 1, 1, 1, 0, 0, 0};
+  const std::vector<std::uint32_t> indices = {0, 1, 2, 0, 2, 3};
+  std::vector<std::uint8_t> bin;
+  auto append = [&bin](const auto& values) {
+    const auto* bytes = reinterpret_cast<const std::uint8_t*>(values.data());
+    bin.insert(bin.end(), bytes, bytes + values.size() * sizeof(values[0]));
+  };
+  append(positions);
+  append(normals);
+  append(texcoords);
+  append(indices);
+  EXPECT_TRUE(writeBinaryFile(folder / "quad.bin", bin).ok());
+  const std::string gltf = R"({"asset": {"version": "2.0"}, "scenes": [{"nodes": [0]}], "nodes": [{"mesh": 0}],
+    "meshes": [{"primitives": [{"attributes": {"POSITION": 0, "NORMAL": 1, "TEXCOORD_0": 2}, "indices": 3, "material": 0}]}],
+    "materials": [{"pbrMetallicRoughness": {"baseColorFactor": [)" +
+                           std::to_string(factor.r) + "," + std::to_string(factor.g) + "," + std::to_string(factor.b) +
+                           "," + std::to_string(factor.a) + R"(], "roughnessFactor": 0.6,
+      "baseColorTexture": {"index": 0}}}],
+    "textures": [{"source": 0, "sampler": 0}],
+    "samplers": [{"magFilter": 9728, "minFilter": 9728, "wrapS": 33071, "wrapT": 33071}],
+    "images": [{"uri": "checker.png"}],
+    "buffers": [{"uri": "quad.bin", "byteLength": 152}],
+    "bufferViews": [{"buffer": 0, "byteOffset": 0, "byteLength": 48}, {"buffer": 0, "byteOffset": 48, "byteLength": 48},
+                    {"buffer": 0, "byteOffset": 96, "byteLength": 32}, {"buffer": 0, "byteOffset": 128, "byteLength": 24}],
+    "accessors": [{"bufferView": 0, "componentType": 5126, "count": 4, "type": "VEC3", "min": [-0.5, -0.5, 0], "max": [0.5, 0.5, 0]},
+                  {"bufferView": 1, "componentType": 5126, "count": 4, "type": "VEC3"},
+                  {"bufferView": 2, "componentType": 5126, "count": 4, "type": "VEC2"},
+                  {"bufferView": 3, "componentType": 5125, "count": 6, "type": "SCALAR"}]})";
+  EXPECT_TRUE(writeBinaryFile(folder / "quad.gltf", std::vector<std::uint8_t>(gltf.begin(), gltf.end())).ok());
+  return folder / "quad.gltf";
+}
+
+// Why: a textured mesh (most glTF scenes) is drawn in its texture times its factor. The file is
+// loaded as a user's would be (PNG beside the .gltf, through the importer and instantiateScene),
+// and every pixel is compared with the texel its ray hits on the square -- u across, v down the
+// image, NEAREST -- times the factor, lit by the CPU reference. Tricky because the v axis runs
+// down the image in glTF (a flip shows as rows swapped), the texture is sRGB (read as linear: a
+// UNORM upload would brighten every texel) and the factor multiplies the texel, not replaces it.
+TEST_F(MeshMaterialTest, ABaseColorTextureIsDrawnTexelByTexelTimesTheFactor) {
+  const std::uint32_t size = 96;
+  createLitRenderer(size, {0.3f, 0.5f, 1.0f});
+  const hsdftest::ScopedTempPath folder("textured_quad");
+  const glm::vec4 factor(1.0f, 0.8f, 0.6f, 1.0f);
+  const auto data = scene::loadGltf(writeCheckerQuad(folder.path(), factor));
+  ASSERT_TRUE(data.ok()) << data.error().message;
+  ASSERT_EQ(data->textures.size(), 1u);
+  const render::InstantiatedScene scene = render::instantiateScene(*data, registry_, *pool_);
+  ASSERT_EQ(scene.renderables.size(), 1u);
+  const glm::vec3 eye(0.0f, 0.0f, 1.6f);
+  const render::CameraView camera = render::CameraView::lookAt(eye, {0.0f, 0.0f, 0.0f}, 0.8f, kZNear, 1.0f);
+  const Frame frame = render(camera);
+  // The texel a pixel's ray (centre or corner) meets on the square; (-1, -1) off the square.
+  auto texelAt = [&](glm::vec2 pixel) {
+    const math::Ray ray = math::pixelRay(camera.view, camera.proj, pixel, glm::ivec2(int(size)));
+    const glm::dvec3 p = ray.origin + (-ray.origin.z / ray.direction.z) * ray.direction;
+    const double u = p.x + 0.5, v = 0.5 - p.y;
+    if (u < 0.0 || u >= 1.0 || v < 0.0 || v >= 1.0) return glm::ivec2(-1);
+    return glm::ivec2(int(u * 4.0), int(v * 4.0));
+  };
+  int compared = 0, wrong = 0;
+  double worst = 0.0;
+  std::array<int, 16> seen{};
+  for (std::uint32_t y = 0; y < size; ++y) {
+    for (std::uint32_t x = 0; x < size; ++x) {
+      const glm::vec2 centre(float(x) + 0.5f, float(y) + 0.5f);
+      const glm::ivec2 texel = texelAt(centre);
+      bool edge = texel.x < 0;
+      for (const glm::vec2 offset : {glm::vec2(-0.5f, -0.5f), glm::vec2(0.5f, -0.5f), glm::vec2(-0.5f, 0.5f), glm::vec2(0.5f, 0.5f)})
+        edge = edge || texelAt(centre + offset) != texel;
+      if (edge) continue;
+      const math::Ray ray = math::pixelRay(camera.view, camera.proj, centre, glm::ivec2(int(size)));
+      const glm::dvec3 position = ray.origin + (-ray.origin.z / ray.direction.z) * ray.direction;
+      const glm::dvec3 base = linearColor(checkerTexel(texel.x, texel.y)) * glm::dvec3(factor);
+      const glm::dvec3 expected = referenceShading(desc_, base, 0.6, glm::dvec3(eye), position, {0.0, 0.0, 1.0});
+      const double error = glm::length(linearColor(frame.pixel(x, y)) - expected);
+      worst = std::max(worst, error);
+      wrong += error > kColourTolerance;
+      ++compared;
+      ++seen[std::size_t(texel.y * 4 + texel.x)];
+    }
+  }
+  std::printf("compared %d pixels, wrong %d (worst %.3f)\n", compared, wrong, worst);
+  EXPECT_GT(compared, 2000);
+  for (int t = 0; t < 16; ++t) EXPECT_GT(seen[std::size_t(t)], 50) << "texel " << t << " is compared on its pixels";
+  EXPECT_EQ(wrong, 0) << "pixels unlike their texel times the factor (worst colour error " << worst << ")";
 }
 
 }  // namespace

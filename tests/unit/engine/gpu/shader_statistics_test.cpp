@@ -34,15 +34,25 @@ Expected<std::unique_ptr<Context>> createContext(const ShaderStatisticsDesc& sta
   return Context::create(desc);
 }
 
-// mesh.vert's inputs (position, normal), a colour target of `color` and a depth target.
-GraphicsPipelineDesc meshDesc(const std::string& name, VkShaderModule vert, VkShaderModule frag, VkFormat color) {
+// mesh.frag's base colour texture (set 0, binding 0), made through DescriptorSetLayout.
+DescriptorSetLayout meshTextureLayout(const Context& context) {
+  return DescriptorSetLayout(
+      context, {"mesh texture", {{0, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, 1, VK_SHADER_STAGE_FRAGMENT_BIT, nullptr}}, {}});
+}
+
+// mesh.vert's inputs (position, normal, texture coordinate), a colour target of `color` and a
+// depth target; `textures` is set 0 (mesh.frag samples it).
+GraphicsPipelineDesc meshDesc(const std::string& name, VkShaderModule vert, VkShaderModule frag, VkFormat color,
+                              VkDescriptorSetLayout textures = VK_NULL_HANDLE) {
   GraphicsPipelineDesc desc;
   desc.name = name;
   desc.vertex = vert;
   desc.fragment = frag;
-  desc.vertexLayout.bindings.push_back({0, 24, VK_VERTEX_INPUT_RATE_VERTEX});
+  desc.vertexLayout.bindings.push_back({0, 32, VK_VERTEX_INPUT_RATE_VERTEX});
   desc.vertexLayout.attributes.push_back({0, 0, VK_FORMAT_R32G32B32_SFLOAT, 0});
   desc.vertexLayout.attributes.push_back({1, 0, VK_FORMAT_R32G32B32_SFLOAT, 12});
+  desc.vertexLayout.attributes.push_back({2, 0, VK_FORMAT_R32G32_SFLOAT, 24});
+  if (textures != VK_NULL_HANDLE) desc.setLayouts = {textures};
   desc.colorFormats = {color};
   desc.depthFormat = VK_FORMAT_D32_SFLOAT;
   desc.pushConstantBytes = kPushBytes;
@@ -91,7 +101,9 @@ TEST_F(ShaderStatisticsTest, GraphicsAndComputePipelinesAreCompiledOnTheStatisti
     auto pyramid = ShaderModule::load(*context, "depth_pyramid.comp");
     ASSERT_TRUE(vert && prepass && shade && pyramid);
     auto light = Pipeline::createGraphics(*context, meshDesc("light", vert->handle(), prepass->handle(), VK_FORMAT_R32G32_UINT));
-    auto heavy = Pipeline::createGraphics(*context, meshDesc("heavy", vert->handle(), shade->handle(), VK_FORMAT_R16G16B16A16_SFLOAT));
+    const DescriptorSetLayout textures = meshTextureLayout(*context);
+    auto heavy = Pipeline::createGraphics(
+        *context, meshDesc("heavy", vert->handle(), shade->handle(), VK_FORMAT_R16G16B16A16_SFLOAT, textures.handle()));
     auto compute = Pipeline::createCompute(*context, "pyramid", pyramid->handle(), kPushBytes);
     ASSERT_TRUE(light.ok()) << light.error().message;
     ASSERT_TRUE(heavy.ok()) << heavy.error().message;
@@ -166,7 +178,9 @@ TEST_F(ShaderStatisticsTest, PipelineCreatedAgainReplacesItsRows) {
     ASSERT_TRUE(vert && prepass && shade);
     auto first = Pipeline::createGraphics(*context, meshDesc("reloaded", vert->handle(), prepass->handle(), VK_FORMAT_R32G32_UINT));
     auto other = Pipeline::createGraphics(*context, meshDesc("other", vert->handle(), prepass->handle(), VK_FORMAT_R32G32_UINT));
-    auto again = Pipeline::createGraphics(*context, meshDesc("reloaded", vert->handle(), shade->handle(), VK_FORMAT_R16G16B16A16_SFLOAT));
+    const DescriptorSetLayout textures = meshTextureLayout(*context);
+    auto again = Pipeline::createGraphics(
+        *context, meshDesc("reloaded", vert->handle(), shade->handle(), VK_FORMAT_R16G16B16A16_SFLOAT, textures.handle()));
     ASSERT_TRUE(first && other && again);
   }
   const std::vector<StageStatistics> rows = context->shaderStatistics()->stages();

@@ -21,6 +21,7 @@
 #include <nlohmann/json.hpp>
 
 #include "engine/core/files.h"
+#include "engine/core/image_io.h"
 #include "engine/scene/transform.h"
 
 namespace engine::scene {
@@ -407,9 +408,10 @@ TEST(GltfLoaderFeatures, DoubleSidedIsReadPerMaterialAndDefaultsToFalse) {
 
 // Tricky because these fields are core glTF, not extensions (whose notes the loader already
 // gives), and each changes what a mesh looks like: a glass pane (BLEND) drawn opaque, a leaf card
-// (MASK) drawn whole, an emissive sign, a textured mesh drawn in its factor alone. Each material
-// that uses one gets a note naming its fields; a plain opaque material, and an OPAQUE one whose
-// emissiveFactor is zero (what exporters write), get none.
+// (MASK) drawn whole, a textured mesh drawn in its factor alone. Each material that uses one gets a
+// note naming its fields; a plain opaque material, and an OPAQUE one whose emissiveFactor is zero
+// (what exporters write), get none. Emission is drawn (since session 39): only an emissiveTexture
+// is noted, not the factor.
 TEST(GltfLoaderFeatures, MaterialFieldsTheRendererDoesNotDrawAreNamedInANote) {
   GltfBuilder b;
   const int positions = b.addPositions(kTriangle);
@@ -418,7 +420,7 @@ TEST(GltfLoaderFeatures, MaterialFieldsTheRendererDoesNotDrawAreNamedInANote) {
   b.doc()["materials"] = json::array(
       {json{{"name", "glass"}, {"alphaMode", "BLEND"}, {"pbrMetallicRoughness", {{"baseColorFactor", {1, 1, 1, 0.3}}}}},
        json{{"name", "leaf"}, {"alphaMode", "MASK"}, {"alphaCutoff", 0.25}, {"doubleSided", true}},
-       json{{"name", "sign"}, {"emissiveFactor", {1.0, 0.5, 0.0}}},
+       json{{"name", "sign"}, {"emissiveFactor", {1.0, 0.5, 0.0}}, {"emissiveTexture", {{"index", 0}}}},
        json{{"name", "brick"},
             {"pbrMetallicRoughness", {{"baseColorTexture", {{"index", 0}}}, {"metallicRoughnessTexture", {{"index", 0}}}}},
             {"normalTexture", {{"index", 0}}},
@@ -436,15 +438,183 @@ TEST(GltfLoaderFeatures, MaterialFieldsTheRendererDoesNotDrawAreNamedInANote) {
   EXPECT_TRUE(anyWarningContains(*scene, "material 1 'leaf': alphaMode MASK with alphaCutoff 0.25 (drawn opaque, "
                                          "nothing cut out) ignored"))
       << notes;
-  EXPECT_TRUE(anyWarningContains(*scene, "material 2 'sign': emission ignored")) << notes;
-  EXPECT_TRUE(anyWarningContains(*scene, "material 3 'brick': baseColorTexture (drawn in baseColorFactor), "
-                                         "metallicRoughnessTexture, normalTexture, occlusionTexture ignored"))
+  EXPECT_TRUE(anyWarningContains(*scene, "material 2 'sign': emissiveTexture (drawn in emissiveFactor) ignored")) << notes;
+  EXPECT_TRUE(anyWarningContains(*scene, "material 3 'brick': metallicRoughnessTexture, normalTexture, occlusionTexture "
+                                         "ignored"))
       << notes;
   EXPECT_FALSE(anyWarningContains(*scene, "'stone'")) << notes;
   // What is read stays read: the glass's factor (its alpha too, unused), the leaf's two sides.
   ASSERT_EQ(scene->materials.size(), 5u);
   EXPECT_FLOAT_EQ(scene->materials[0].baseColor.a, 0.3f);
   EXPECT_TRUE(scene->materials[1].doubleSided);
+}
+
+// Why: an emissive sign, a lamp. Tricky because the brightness comes from two places: the core
+// emissiveFactor (at most 1) and KHR_materials_emissive_strength, which multiplies it (a lamp's 40);
+// the product is what is drawn, the extension is read (no 'ignored' note for it) and a material
+// without either gives no light.
+TEST(GltfLoaderFeatures, EmissionIsTheFactorTimesTheStrength) {
+  GltfBuilder b;
+  const int positions = b.addPositions(kTriangle);
+  b.doc()["extensionsUsed"] = json::array({"KHR_materials_emissive_strength"});
+  b.doc()["materials"] = json::array(
+      {json{{"name", "sign"}, {"emissiveFactor", {1.0, 0.5, 0.0}}},
+       json{{"name", "lamp"},
+            {"emissiveFactor", {0.5, 0.25, 1.0}},
+            {"extensions", {{"KHR_materials_emissive_strength", {{"emissiveStrength", 40.0}}}}}},
+       json{{"name", "stone"}}});
+  json primitives = json::array();
+  for (int m = 0; m < 3; ++m) primitives.push_back({{"attributes", {{"POSITION", positions}}}, {"material", m}});
+  b.doc()["meshes"] = json::array({json{{"primitives", primitives}}});
+  b.addNode({{"mesh", 0}});
+  const auto scene = load(b);
+  ASSERT_TRUE(scene.ok()) << scene.error().message;
+  ASSERT_EQ(scene->materials.size(), 3u);
+  EXPECT_EQ(scene->materials[0].emissive, glm::vec3(1.0f, 0.5f, 0.0f));
+  EXPECT_EQ(scene->materials[1].emissive, glm::vec3(20.0f, 10.0f, 40.0f));
+  EXPECT_EQ(scene->materials[2].emissive, glm::vec3(0.0f));
+  for (const auto& w : scene->warnings) {
+    EXPECT_EQ(w.find("KHR_materials_emissive_strength"), std::string::npos) << w;
+    EXPECT_EQ(w.find("emission"), std::string::npos) << w;
+  }
+}
+
+// ------------------------------------------------------------------------------------------------
+// Base colour textures
+
+// A PNG of `rgba` (width x height), as a file would hold it.
+std::vector<std::uint8_t> pngOf(const std::vector<std::uint8_t>& rgba, std::uint32_t width, std::uint32_t height) {
+  const hsdftest::ScopedTempPath file("texture.png");
+  EXPECT_TRUE(writePng(file.path(), rgba, width, height, 4).ok());
+  auto bytes = readBinaryFile(file.path());
+  EXPECT_TRUE(bytes.ok());
+  return bytes.ok() ? *bytes : std::vector<std::uint8_t>{};
+}
+
+// 3 x 2 texels, each its own colour and alpha (not a power of two: glTF allows any size).
+const std::vector<std::uint8_t> kTexels = {255, 0,   0,   255, 0,  255, 0,  200, 0,   0,   255, 100,
+                                           255, 255, 255, 255, 10, 20,  30, 40,  200, 150, 100, 0};
+
+// A triangle with TEXCOORD_0 and `materials`, one primitive each, all placed by one node.
+void addTexturedPrimitives(GltfBuilder& b, int materials, const std::vector<float>& texcoords) {
+  const int positions = b.addPositions(kTriangle);
+  const int uv = b.addTightAccessor(texcoords, kFloat, "VEC2", 3);
+  json primitives = json::array();
+  for (int m = 0; m < materials; ++m)
+    primitives.push_back({{"attributes", {{"POSITION", positions}, {"TEXCOORD_0", uv}}}, {"material", m}});
+  b.doc()["meshes"] = json::array({json{{"primitives", primitives}}});
+  b.addNode({{"mesh", 0}});
+}
+
+json texturedMaterial(const std::string& name, int texture, int texCoord = 0) {
+  return {{"name", name}, {"pbrMetallicRoughness", {{"baseColorTexture", {{"index", texture}, {"texCoord", texCoord}}}}}};
+}
+
+// Why: a textured mesh (most glTF scenes) must reach the renderer with its texels, its sampler and
+// its texture coordinates. Tricky because glTF stores an image three ways -- in a bufferView (every
+// .glb), as a data: URI, as a file beside the .gltf -- which tinygltf is never shown (the sanitiser
+// removes images), and the sampler's enums map to filters, mipmaps and wraps. Each way must give
+// the same texels as the PNG written; one glTF texture used by two materials is decoded once.
+TEST(GltfLoaderTextures, BaseColorTexturesAreDecodedFromEveryImageSourceWithTheirSampler) {
+  const std::vector<std::uint8_t> png = pngOf(kTexels, 3, 2);
+  const hsdftest::ScopedTempPath folder("gltf_textures");
+  std::filesystem::create_directories(folder.path());
+  ASSERT_TRUE(writeBinaryFile(folder.path() / "checker.png", png).ok());
+  GltfBuilder b;
+  const std::vector<float> uv = {0.0f, 1.0f, 1.0f, 1.0f, 0.0f, 0.0f};
+  addTexturedPrimitives(b, 4, uv);
+  const int view = b.addView(b.addData(png), png.size());
+  b.doc()["images"] = json::array({json{{"bufferView", view}, {"mimeType", "image/png"}, {"name", "in the buffer"}},
+                                   json{{"uri", "data:image/png;base64," + base64(png)}},
+                                   json{{"uri", "checker.png"}}});
+  b.doc()["samplers"] = json::array({json{{"magFilter", 9728}, {"minFilter", 9728}, {"wrapS", 33071}, {"wrapT", 33648}},
+                                     json{{"minFilter", 9985}}});
+  b.doc()["textures"] = json::array({json{{"source", 0}, {"sampler", 0}}, json{{"source", 1}, {"sampler", 1}},
+                                     json{{"source", 2}}});
+  b.doc()["materials"] = json::array({texturedMaterial("buffer", 0), texturedMaterial("data", 1),
+                                      texturedMaterial("file", 2), texturedMaterial("file again", 2)});
+  ASSERT_TRUE(writeBinaryFile(folder.path() / "scene.gltf", b.bytes()).ok());
+  const auto scene = loadGltf(folder.path() / "scene.gltf");
+  ASSERT_TRUE(scene.ok()) << scene.error().message;
+  for (const auto& w : scene->warnings) ADD_FAILURE() << "unexpected warning: " << w;
+  ASSERT_EQ(scene->textures.size(), 3u) << "texture 2 decoded once for its two materials";
+  for (std::size_t t = 0; t < 3; ++t) {
+    SCOPED_TRACE(t);
+    EXPECT_EQ(scene->textures[t].width, 3u);
+    EXPECT_EQ(scene->textures[t].height, 2u);
+    EXPECT_EQ(scene->textures[t].rgba, kTexels);
+  }
+  EXPECT_EQ(scene->textures[0].name, "in the buffer");
+  EXPECT_EQ(scene->textures[1].name, "image 1");
+  const TextureData& nearest = scene->textures[0];
+  EXPECT_EQ(nearest.magFilter, TextureFilter::Nearest);
+  EXPECT_EQ(nearest.minFilter, TextureFilter::Nearest);
+  EXPECT_FALSE(nearest.mipmaps);
+  EXPECT_EQ(nearest.wrapS, TextureWrap::ClampToEdge);
+  EXPECT_EQ(nearest.wrapT, TextureWrap::MirroredRepeat);
+  const TextureData& mipmapped = scene->textures[1];  // LINEAR_MIPMAP_NEAREST, no magFilter
+  EXPECT_EQ(mipmapped.magFilter, TextureFilter::Linear);
+  EXPECT_EQ(mipmapped.minFilter, TextureFilter::Linear);
+  EXPECT_TRUE(mipmapped.mipmaps);
+  EXPECT_EQ(mipmapped.mipmapFilter, TextureFilter::Nearest);
+  EXPECT_EQ(mipmapped.wrapS, TextureWrap::Repeat);
+  ASSERT_EQ(scene->materials.size(), 4u);
+  EXPECT_EQ(scene->materials[0].baseColorTexture, 0);
+  EXPECT_EQ(scene->materials[1].baseColorTexture, 1);
+  EXPECT_EQ(scene->materials[2].baseColorTexture, 2);
+  EXPECT_EQ(scene->materials[3].baseColorTexture, 2);
+  const auto& texcoords = scene->meshes.at(0).primitives.at(0).texcoords;
+  ASSERT_EQ(texcoords.size(), 3u);
+  EXPECT_EQ(texcoords[1], glm::vec2(1.0f, 1.0f));
+  EXPECT_EQ(texcoords[2], glm::vec2(0.0f, 0.0f));
+}
+
+// Why: a broken texture must not cost the scene: the material is drawn in its factor, with a
+// warning that names the material and what is wrong, never a crash. Tricky because each fault sits
+// at a different step (the texture, sampler and image indices, the bytes, the decoder, the size
+// limit, the texture coordinates), and a file beside a .gltf loaded from memory must stay refused.
+TEST(GltfLoaderTextures, BrokenTexturesAreNamedAndTheMaterialDrawnInItsFactor) {
+  GltfBuilder b;
+  addTexturedPrimitives(b, 7, {0, 0, 1, 0, 0, 1});
+  const std::vector<std::uint8_t> huge = pngOf(std::vector<std::uint8_t>(std::size_t(8193) * 4, 255), 8193, 1);
+  b.doc()["images"] = json::array({json{{"uri", "data:image/png;base64," + base64({1, 2, 3, 4, 5, 6, 7, 8})}},
+                                   json{{"uri", "beside.png"}}, json{{"uri", "data:image/png;base64," + base64(huge)}},
+                                   json{{"uri", "data:image/png;base64," + base64(pngOf(kTexels, 3, 2))}}});
+  b.doc()["textures"] = json::array({json{{"source", 0}}, json{{"source", 1}}, json{{"source", 2}},
+                                     json{{"source", 3}, {"sampler", 5}}, json{{"source", 9}}, json{{"source", 3}}});
+  b.doc()["materials"] = json::array({texturedMaterial("garbage", 0), texturedMaterial("missing file", 1),
+                                      texturedMaterial("huge", 2), texturedMaterial("bad sampler", 3),
+                                      texturedMaterial("bad image", 4), texturedMaterial("bad texture", 12),
+                                      texturedMaterial("second uv set", 5, 1)});
+  const auto scene = load(b);
+  ASSERT_TRUE(scene.ok()) << scene.error().message;
+  std::string notes;
+  for (const auto& w : scene->warnings) notes += w + "\n";
+  const std::vector<std::string> expected = {
+      "material 0 'garbage': baseColorTexture: texture 0: image 0 'image 0': cannot decode image",
+      "material 1 'missing file': baseColorTexture: texture 1: image 1 'image 1': external file 'beside.png' not allowed",
+      "material 2 'huge': baseColorTexture: texture 2: image 2 'image 2': image is 8193x1, over the limit of 8192 texels a side",
+      "material 3 'bad sampler': baseColorTexture: texture 3: sampler 5 out of range (file has 0)",
+      "material 4 'bad image': baseColorTexture: texture 4: image 9 out of range (file has 4)",
+      "material 5 'bad texture': baseColorTexture: texture 12 out of range (file has 6)",
+      "material 6 'second uv set': baseColorTexture: texCoord 1 is not read (only TEXCOORD_0); drawn in baseColorFactor",
+  };
+  for (const auto& fragment : expected) EXPECT_TRUE(anyWarningContains(*scene, fragment)) << fragment << "\nin:\n" << notes;
+  for (const auto& material : scene->materials) EXPECT_EQ(material.baseColorTexture, -1) << material.name;
+  EXPECT_TRUE(scene->textures.empty());
+
+  // A textured material on a primitive without TEXCOORD_0: said, drawn in the factor.
+  GltfBuilder noUv;
+  noUv.doc()["images"] = json::array({json{{"uri", "data:image/png;base64," + base64(pngOf(kTexels, 3, 2))}}});
+  noUv.doc()["textures"] = json::array({json{{"source", 0}}});
+  noUv.doc()["materials"] = json::array({texturedMaterial("leaf", 0)});
+  const int positions = noUv.addPositions(kTriangle);
+  noUv.doc()["meshes"] = json::array({json{{"name", "card"}, {"primitives", json::array({json{{"attributes", {{"POSITION", positions}}}, {"material", 0}}})}}});
+  noUv.addNode({{"mesh", 0}});
+  const auto untextured = load(noUv);
+  ASSERT_TRUE(untextured.ok()) << untextured.error().message;
+  EXPECT_TRUE(anyWarningContains(*untextured, "mesh 0 'card' primitive 0: material 0 'leaf' has a baseColorTexture but "
+                                              "the primitive no TEXCOORD_0; drawn in baseColorFactor"));
 }
 
 // Tricky because a mesh placed a million units from the origin, where float holds only 0.0625,
@@ -1010,13 +1180,13 @@ TEST(GltfLoaderExtensions, UnsupportedRequiredExtensionsAreRefusedByName) {
 // geometry is complete without it, so it must load, with a note, rather than be refused.
 TEST(GltfLoaderExtensions, ExtensionsThatDoNotAffectGeometryAreIgnoredWithANote) {
   GltfBuilder b = triangleScene();
-  b.doc()["extensionsUsed"] = {"KHR_texture_transform", "KHR_materials_emissive_strength", "ACME_metadata"};
+  b.doc()["extensionsUsed"] = {"KHR_texture_transform", "KHR_materials_clearcoat", "ACME_metadata"};
   b.doc()["extensionsRequired"] = {"KHR_texture_transform"};
   const auto scene = load(b);
   ASSERT_TRUE(scene.ok()) << scene.error().message;
   EXPECT_EQ(scene->meshes.at(0).primitives.at(0).indices.size(), 3u);
   EXPECT_TRUE(anyWarningContains(*scene, "extension KHR_texture_transform ignored: it does not affect geometry"));
-  EXPECT_TRUE(anyWarningContains(*scene, "extension KHR_materials_emissive_strength ignored"));
+  EXPECT_TRUE(anyWarningContains(*scene, "extension KHR_materials_clearcoat ignored"));
   EXPECT_TRUE(anyWarningContains(*scene, "extension ACME_metadata is not supported and was ignored"));
 }
 
@@ -1160,7 +1330,10 @@ TEST(GltfLoaderSparse, SparseOverAViewAndOverZerosGiveThePlainPositions) {
     for (std::size_t v = 0; v < 4; ++v) expectNear(other.positions[v], plain.positions[v], 0.0f);
     EXPECT_EQ(other.indices, plain.indices);
   }
-  EXPECT_TRUE(anyWarningContains(*scene, "extension KHR_materials_emissive_strength ignored"));
+  // The material's emission is read (since session 39): the factor times emissiveStrength 4.
+  ASSERT_EQ(scene->materials.size(), 1u);
+  EXPECT_EQ(scene->materials[0].emissive, glm::vec3(4.0f, 2.0f, 0.8f));
+  EXPECT_FALSE(anyWarningContains(*scene, "KHR_materials_emissive_strength"));
 }
 
 // Tricky because glTF defines an accessor without a bufferView as zeros: reading it must neither

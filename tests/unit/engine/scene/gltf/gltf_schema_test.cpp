@@ -255,6 +255,18 @@ std::vector<SchemaCase> schemaCases() {
       {"doubleSided null on a material without pbrMetallicRoughness (its checks stopped there)",
        {{"/materials/0/pbrMetallicRoughness", removed()}, {"/materials/0/doubleSided", nullptr}},
        "materials[0].doubleSided: is a JSON null, not a boolean (schema: boolean)"},
+      // Emission (drawn since session 39: tinygltf passed a negative strength or factor through)
+      {"an emissiveFactor component above 1 (glTF puts brightness in KHR_materials_emissive_strength)",
+       {{"/materials/0/emissiveFactor", json::array({0.5, 2.0, 0.0})}},
+       "materials[0].emissiveFactor[1]: 2 is above the maximum (schema: maximum 1)"},
+      {"an emissiveFactor of two components", {{"/materials/0/emissiveFactor", json::array({0.5, 0.5})}},
+       "materials[0].emissiveFactor: has 2 elements, expected 3"},
+      {"a negative emissiveStrength (it would darken the lit colour)",
+       {{"/materials/0/extensions", json{{"KHR_materials_emissive_strength", {{"emissiveStrength", -2.0}}}}}},
+       "materials[0].extensions.KHR_materials_emissive_strength.emissiveStrength: -2 is below the minimum (schema: minimum 0)"},
+      {"emissiveStrength as a string (tinygltf reads it as 0)",
+       {{"/materials/0/extensions", json{{"KHR_materials_emissive_strength", {{"emissiveStrength", "4"}}}}}},
+       "materials[0].extensions.KHR_materials_emissive_strength.emissiveStrength: is a JSON string, not a number"},
       // Shapes
       {"a top-level array given as an object: tinygltf ignored it, and the error was about accessor 0 missing", {{"/accessors", json::object()}},
        "accessors: is a JSON object, not an array"},

@@ -1,0 +1,21 @@
+#pragma once
+// Internal to engine_scene (gltf_convert.cpp): a glTF texture -- its image decoded (PNG or JPEG, from
+// a bufferView, a data: URI or a file beside the .gltf) and its sampler's filters and wrap modes --
+// as TextureData. Every index is checked; a problem is an error naming it, which the conversion
+// turns into a warning (the material is drawn in its factor), never a crash.
+#include <cstdint>
+
+#include "engine/core/expected.h"
+#include "engine/scene/gltf/gltf_accessors.h"
+#include "engine/scene/scene_data.h"
+
+namespace engine::scene::gltf {
+
+// The largest side of an image that is decoded: 8192 texels (256 MiB of RGBA8), which holds the
+// 4K and 8K textures of real scenes; a larger one is refused before a pixel is decoded.
+inline constexpr std::uint32_t kMaxTextureSide = 8192;
+
+// glTF textures[textureIndex] as TextureData; its decoded texels are charged to the decode budget.
+Expected<TextureData> convertTexture(ImportContext& context, int textureIndex);
+
+}  // namespace engine::scene::gltf
