@@ -1,7 +1,8 @@
 #pragma once
 // One real pipeline for the tests of how pipelines are compiled (lazy_pipeline_test.cpp,
-// pipeline_cache_device_test.cpp): the mesh depth prepass, mesh.vert with mesh_prepass.frag (an id
-// target and depth). What it draws does not matter to them; that a driver compiles it does.
+// pipeline_cache_device_test.cpp): the mesh depth prepass, mesh.vert with mesh_prepass.frag (the
+// visibility and hit-offset targets and depth). What it draws does not matter to them; that a
+// driver compiles it does.
 #include <string>
 
 #include <gtest/gtest.h>
@@ -25,7 +26,7 @@ inline LazyPipeline describeMeshPrepass(const Context& context, const std::strin
   desc.vertexLayout.attributes.push_back({0, 0, VK_FORMAT_R32G32B32_SFLOAT, 0});
   desc.vertexLayout.attributes.push_back({1, 0, VK_FORMAT_R32G32B32_SFLOAT, 12});
   desc.vertexLayout.attributes.push_back({2, 0, VK_FORMAT_R32G32_SFLOAT, 24});
-  desc.colorFormats = {VK_FORMAT_R32G32_UINT};
+  desc.colorFormats = {VK_FORMAT_R32G32_UINT, VK_FORMAT_R32_SFLOAT};  // render::RendererFormats::prepassColorFormats()
   desc.depthFormat = VK_FORMAT_D32_SFLOAT;
   desc.pushConstantBytes = 128;
   return LazyPipeline(desc, {*vert, *frag});
