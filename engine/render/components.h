@@ -1,6 +1,7 @@
 #pragma once
 // Render components: plain structs on entities. Positions come from engine::scene::WorldTransform.
 #include <cstdint>
+#include <optional>
 #include <string>
 
 #include <glm/glm.hpp>
@@ -29,6 +30,9 @@ struct MeshRenderable {
   glm::vec3 emissive{0.0f};  // linear light given off, added to the lit colour (glTF emission)
   // Multiplies `color`, read through the mesh's texture coordinates (glTF baseColorTexture).
   TextureHandle baseColorTexture;
+  // Where the alpha (color.a times the texture's) is below this, the surface is cut out: nothing
+  // drawn, what lies behind seen (glTF alphaMode MASK). None: opaque.
+  std::optional<float> alphaCutoff;
 };
 
 enum class Projection { kPerspective, kOrthographic };

@@ -48,6 +48,7 @@ Expected<MeshFeature::Pipelines> MeshFeature::createPipelines() const {
   ENGINE_TRY_ASSIGN(gpu::ShaderModule vert, gpu::ShaderModule::load(context, "mesh.vert"));
   ENGINE_TRY_ASSIGN(gpu::ShaderModule frag, gpu::ShaderModule::load(context, "mesh.frag"));
   ENGINE_TRY_ASSIGN(gpu::ShaderModule prepassFrag, gpu::ShaderModule::load(context, "mesh_prepass.frag"));
+  ENGINE_TRY_ASSIGN(gpu::ShaderModule maskedFrag, gpu::ShaderModule::load(context, "mesh_prepass_masked.frag"));
 
   // One prepass and one shading pipeline per cull mode: a primitive is drawn with the same cull
   // mode in both passes, or its back faces would have depth and no colour (or colour tested
@@ -73,6 +74,10 @@ Expected<MeshFeature::Pipelines> MeshFeature::createPipelines() const {
     desc.extraDynamicStates = {VK_DYNAMIC_STATE_FRONT_FACE};
     ENGINE_TRY_ASSIGN(pipelines.depth[std::size_t(sides)], gpu::Pipeline::createGraphics(context, desc));
 
+    desc.name = both ? "mesh depth prepass, double-sided, cut out" : "mesh depth prepass, cut out";
+    desc.fragment = maskedFrag.handle();
+    ENGINE_TRY_ASSIGN(pipelines.depthMasked[std::size_t(sides)], gpu::Pipeline::createGraphics(context, desc));
+
     desc.name = both ? "mesh shading, double-sided" : "mesh shading";
     desc.fragment = frag.handle();
     desc.colorFormats = {formats_.color};
@@ -85,6 +90,7 @@ Expected<MeshFeature::Pipelines> MeshFeature::createPipelines() const {
 
 struct MeshFeature::PendingDraw {
   Sides sides;
+  bool masked;
   std::uint32_t texture;
   bool mirrored;
   VkDrawIndexedIndirectCommand command;
@@ -105,28 +111,32 @@ void MeshFeature::prepare(FrameContext& frame) {
         }
         shader::ObjectData object = GpuScene::makeObject(world.matrix, mesh.color, mesh.roughness, mesh.metallic, kFeatureId);
         object.emission = glm::vec4(mesh.emissive, 0.0f);
+        object.material.z = mesh.alphaCutoff.value_or(0.0f);  // mesh_prepass_masked.frag
         const std::uint32_t index = frame.scene.addObject(object);
         const std::uint32_t texture = mesh.baseColorTexture.index < pool_.textures().count() ? mesh.baseColorTexture.index : 0;
-        draws.push_back({mesh.doubleSided ? Sides::Double : Sides::Single, texture, mirrors(world.matrix),
+        draws.push_back({mesh.doubleSided ? Sides::Double : Sides::Single, mesh.alphaCutoff.has_value(), texture,
+                         mirrors(world.matrix),
                          {range.indexCount, 1, range.firstIndex, range.vertexOffset, index}});
       });
   buildBatches(draws);
   if (!commands_.empty()) indirect_.upload(frame.frameSlot, commands_);
 }
 
-// Single-sided objects first, as they were drawn before double-sided ones existed; then by
-// texture (one descriptor set bind each), unmirrored before mirrored (one front-face change each).
+// Single-sided objects first, as they were drawn before double-sided ones existed; opaque before
+// cut out (one pipeline change); then by texture (one descriptor set bind each), unmirrored before
+// mirrored (one front-face change each).
 void MeshFeature::buildBatches(std::vector<PendingDraw>& draws) {
   std::stable_sort(draws.begin(), draws.end(), [](const PendingDraw& a, const PendingDraw& b) {
-    return std::tie(a.sides, a.texture, a.mirrored) < std::tie(b.sides, b.texture, b.mirrored);
+    return std::tie(a.sides, a.masked, a.texture, a.mirrored) < std::tie(b.sides, b.masked, b.texture, b.mirrored);
   });
   commands_.clear();
   batches_.clear();
   doubleSidedCount_ = 0;
   for (const PendingDraw& draw : draws) {
     const auto at = static_cast<std::uint32_t>(commands_.size());
-    if (batches_.empty() || batches_.back().sides != draw.sides || batches_.back().texture.index != draw.texture)
-      batches_.push_back({draw.sides, TextureHandle{draw.texture}, at, at, at});
+    if (batches_.empty() || batches_.back().sides != draw.sides || batches_.back().masked != draw.masked ||
+        batches_.back().texture.index != draw.texture)
+      batches_.push_back({draw.sides, draw.masked, TextureHandle{draw.texture}, at, at, at});
     Batch& batch = batches_.back();
     if (!draw.mirrored) batch.mirroredFirst = at + 1;
     batch.end = at + 1;
@@ -141,12 +151,19 @@ void MeshFeature::recordPass(PassContext& pass) {
   const bool prepass = pass.pass == Pass::DepthPrepass;
   const gpu::Pipeline* bound = nullptr;
   for (const Batch& batch : batches_) {
-    const gpu::Pipeline& pipeline = prepass ? pipelines_.depth[std::size_t(batch.sides)] : pipelines_.shade[std::size_t(batch.sides)];
+    const gpu::Pipeline& pipeline = pipelineOf(batch, prepass);
     if (&pipeline != bound) bindPipeline(pass, pipeline);
     bound = &pipeline;
-    if (!prepass) pool_.textures().bind(pass.cmd, pipeline.layout(), batch.texture);
+    // The opaque prepass reads no texture; a cut-out one reads the alpha.
+    if (!prepass || batch.masked) pool_.textures().bind(pass.cmd, pipeline.layout(), batch.texture);
     recordBatch(pass, batch);
   }
+}
+
+const gpu::Pipeline& MeshFeature::pipelineOf(const Batch& batch, bool prepass) const {
+  const auto sides = std::size_t(batch.sides);
+  if (!prepass) return pipelines_.shade[sides];
+  return batch.masked ? pipelines_.depthMasked[sides] : pipelines_.depth[sides];
 }
 
 void MeshFeature::bindPipeline(PassContext& pass, const gpu::Pipeline& pipeline) const {

@@ -10,7 +10,11 @@
 // reversed. Meshes with a base colour texture (MeshRenderable::baseColorTexture) are drawn in one
 // batch per texture, its descriptor set bound before the batch (MeshTextures: no descriptor
 // indexing needed); the rest sample the white texel of texture 0. Each batch is two indirect
-// draws (unmirrored, mirrored).
+// draws (unmirrored, mirrored). Meshes with an alpha cutoff (MeshRenderable::alphaCutoff, glTF
+// alphaMode MASK) are drawn in the prepass by pipelines of their own (mesh_prepass_masked.frag):
+// where a fragment's alpha is below the cutoff it writes the far plane's depth, which the depth
+// test rejects, so nothing of it is kept and what lies behind shows; the shading pass then finds
+// another surface's depth there (EQUAL) and draws nothing. The opaque meshes' prepass is unchanged.
 // Objects whose matrix cannot be inverted (scaled to zero) are skipped.
 #include <array>
 #include <cstddef>
@@ -42,10 +46,12 @@ class MeshFeature final : public RenderFeature {
 
  private:
   enum class Sides : std::uint8_t { Single = 0, Double = 1 };  // back faces culled / drawn
-  // Draws of one cull mode and one texture, in commands_: [first, mirroredFirst) unmirrored, then
-  // [mirroredFirst, end) mirrored. Batches are drawn single-sided first, then by texture.
+  // Draws of one cull mode, one texture and either opaque or cut out, in commands_: [first,
+  // mirroredFirst) unmirrored, then [mirroredFirst, end) mirrored. Batches are drawn single-sided
+  // first, then opaque before cut out, then by texture.
   struct Batch {
     Sides sides = Sides::Single;
+    bool masked = false;
     TextureHandle texture;
     std::uint32_t first = 0;
     std::uint32_t mirroredFirst = 0;
@@ -55,9 +61,11 @@ class MeshFeature final : public RenderFeature {
   void buildBatches(std::vector<PendingDraw>& draws);
   struct Pipelines {
     std::array<gpu::Pipeline, 2> depth;  // by Sides
+    std::array<gpu::Pipeline, 2> depthMasked;
     std::array<gpu::Pipeline, 2> shade;
   };
   Expected<Pipelines> createPipelines() const;
+  const gpu::Pipeline& pipelineOf(const Batch& batch, bool prepass) const;
   void bindPipeline(PassContext& pass, const gpu::Pipeline& pipeline) const;
   void recordBatch(PassContext& pass, const Batch& batch) const;
 

@@ -45,6 +45,10 @@ struct MaterialData {
   // SceneData::textures index of the base colour texture (glTF baseColorTexture, read through
   // TEXCOORD_0), which multiplies baseColor; -1: none.
   int baseColorTexture = -1;
+  // glTF alphaMode MASK: where the alpha (baseColor's times the texture's) is below the cutoff,
+  // the surface is not there (a leaf card, a fence, a grille). None: opaque (OPAQUE; BLEND, which
+  // the importer notes, is drawn opaque too).
+  std::optional<float> alphaCutoff;
 };
 
 // How a texture is sampled (a glTF sampler).

@@ -329,16 +329,13 @@ Expected<MeshData> convertMesh(ImportContext& context, int meshIndex) {
 // Materials and cameras
 
 // What of a material the renderer does not draw, named in one note: a glass pane (alphaMode BLEND)
-// is drawn opaque, a cut-out leaf card (MASK) whole, a normal-mapped wall flat; silently, each would
-// look like a rendering defect. (A base colour texture that cannot be drawn gets its own warning.)
+// is drawn opaque, a normal-mapped wall flat; silently, each would look like a rendering defect.
+// (A base colour texture that cannot be drawn gets its own warning.)
 std::optional<std::string> ignoredMaterialFields(const tinygltf::Material& material) {
   std::vector<std::string> ignored;
   if (material.alphaMode == "BLEND") {
     ignored.push_back("alphaMode BLEND (drawn opaque)");
-  } else if (material.alphaMode == "MASK") {
-    ignored.push_back(
-        fmt::format("alphaMode MASK with alphaCutoff {} (drawn opaque, nothing cut out)", material.alphaCutoff));
-  } else if (material.alphaMode != "OPAQUE") {
+  } else if (material.alphaMode != "OPAQUE" && material.alphaMode != "MASK") {
     ignored.push_back(fmt::format("alphaMode '{}', which glTF does not define (drawn opaque)", material.alphaMode));
   }
   if (material.emissiveTexture.index >= 0) ignored.push_back("emissiveTexture (drawn in emissiveFactor)");
@@ -382,6 +379,10 @@ Expected<MaterialData> convertMaterial(const tinygltf::Material& material) {
   out.roughness = std::clamp(roughness, 0.0f, 1.0f);
   out.doubleSided = material.doubleSided;  // a boolean (checkGltfSchema), false when absent
   ENGINE_TRY_ASSIGN(out.emissive, emission(material));
+  if (material.alphaMode == "MASK") {  // alphaCutoff: >= 0 (checkGltfSchema), 0.5 when absent
+    ENGINE_TRY_ASSIGN(const float cutoff, toFiniteFloat(material.alphaCutoff, "alphaCutoff"));
+    out.alphaCutoff = cutoff;
+  }
   return out;
 }
 

@@ -493,12 +493,14 @@ class SchemaCheck {
   }
 
   // The fields the loader reads: doubleSided (tinygltf took a string or a number for false, and the
-  // surface lost its back faces unsaid), emission and the three factors (it clamps them into
+  // surface lost its back faces unsaid), alphaCutoff (>= 0, as glTF says: a negative one cuts
+  // nothing, a string read as 0 neither), emission and the three factors (it clamps them into
   // [0, 1], which would hide the error).
   Status checkMaterial(std::size_t m) {
     const std::string path = element("materials", m);
     const Json& material = (*a_.materials)[m];
     ENGINE_TRY(optionalBoolean(material, "doubleSided", path));
+    ENGINE_TRY(optionalNumberAtLeast(material, "alphaCutoff", path, 0.0));
     ENGINE_TRY(checkEmission(material, path));
     ENGINE_TRY_ASSIGN(const Json* pbr, optionalObject(material, "pbrMetallicRoughness", path));
     if (!pbr) return {};

@@ -375,20 +375,25 @@ TEST_F(MeshMaterialTest, AnEmissiveFaceTurnedFromTheLightShowsItsEmission) {
 }
 
 // The 4 x 4 texels of the checker: a colour of its own each, so that a texel read from the wrong
-// row or column shows.
-glm::u8vec4 checkerTexel(int column, int row) {
-  return {std::uint8_t(40 + 60 * column), std::uint8_t(230 - 60 * row), std::uint8_t((column + row) % 2 ? 220 : 30), 255};
+// row or column shows; opaque, or with `holes` every other texel's alpha 0.6 (153).
+glm::u8vec4 checkerTexel(int column, int row, bool holes = false) {
+  const bool odd = (column + row) % 2 != 0;
+  return {std::uint8_t(40 + 60 * column), std::uint8_t(230 - 60 * row), std::uint8_t(odd ? 220 : 30),
+          std::uint8_t(holes && odd ? 153 : 255)};
 }
 
 // A glTF file written into `folder`: the unit square in z = 0 facing +Z with TEXCOORD_0 (glTF's v
 // runs down the image: the square's top edge is the image's first row), its material's
-// baseColorFactor `factor` and a baseColorTexture, checker.png (4 x 4, NEAREST, clamped), beside it.
-std::filesystem::path writeCheckerQuad(const std::filesystem::path& folder, const glm::vec4& factor) {
+// baseColorFactor `factor` and a baseColorTexture, checker.png (4 x 4, NEAREST, clamped), beside it;
+// `material` adds fields to the material (e.g. its alphaMode), and `holes` gives the checker's odd
+// texels alpha 0.6.
+std::filesystem::path writeCheckerQuad(const std::filesystem::path& folder, const glm::vec4& factor,
+                                       const std::string& material = "", bool holes = false) {
   std::filesystem::create_directories(folder);
   std::vector<std::uint8_t> texels;
   for (int row = 0; row < 4; ++row)
     for (int column = 0; column < 4; ++column) {
-      const glm::u8vec4 t = checkerTexel(column, row);
+      const glm::u8vec4 t = checkerTexel(column, row, holes);
       texels.insert(texels.end(), {t.r, t.g, t.b, t.a});
     }
   EXPECT_TRUE(writePng(folder / "checker.png", texels, 4, 4, 4).ok());
@@ -408,7 +413,7 @@ std::filesystem::path writeCheckerQuad(const std::filesystem::path& folder, cons
   EXPECT_TRUE(writeBinaryFile(folder / "quad.bin", bin).ok());
   const std::string gltf = R"({"asset": {"version": "2.0"}, "scenes": [{"nodes": [0]}], "nodes": [{"mesh": 0}],
     "meshes": [{"primitives": [{"attributes": {"POSITION": 0, "NORMAL": 1, "TEXCOORD_0": 2}, "indices": 3, "material": 0}]}],
-    "materials": [{"pbrMetallicRoughness": {"baseColorFactor": [)" +
+    "materials": [{)" + material + R"("pbrMetallicRoughness": {"baseColorFactor": [)" +
                            std::to_string(factor.r) + "," + std::to_string(factor.g) + "," + std::to_string(factor.b) +
                            "," + std::to_string(factor.a) + R"(], "roughnessFactor": 0.6,
       "baseColorTexture": {"index": 0}}}],
@@ -479,6 +484,71 @@ TEST_F(MeshMaterialTest, ABaseColorTextureIsDrawnTexelByTexelTimesTheFactor) {
   EXPECT_GT(compared, 2000);
   for (int t = 0; t < 16; ++t) EXPECT_GT(seen[std::size_t(t)], 50) << "texel " << t << " is compared on its pixels";
   EXPECT_EQ(wrong, 0) << "pixels unlike their texel times the factor (worst colour error " << worst << ")";
+}
+
+// Why: a leaf card, a fence or a grille (glTF alphaMode MASK) is cut out where its alpha is below
+// the cutoff, and what lies behind shows there. The checker quad (MASK, cutoff 0.3, factor alpha
+// 0.4) has opaque even texels (alpha 0.4 x 1) and odd ones of alpha 0.4 x 0.6 = 0.24, cut out; a
+// red square 0.4 behind it must show through the odd texels, lit by the CPU reference, and the
+// even ones keep their texel times the factor. Tricky because the alpha is the factor's times the
+// texture's (either alone keeps every texel: 0.4 and 0.6 are above the cutoff), because a cut-out
+// fragment must leave no depth (the square behind would be culled by the prepass depth test
+// otherwise, or shaded with the quad's visibility), and because the shading pass must not draw the
+// quad where its prepass fragment was cut out.
+TEST_F(MeshMaterialTest, AMaskedQuadShowsWhatLiesBehindItsCutOutTexels) {
+  const std::uint32_t size = 96;
+  createLitRenderer(size, {0.3f, 0.5f, 1.0f});
+  const hsdftest::ScopedTempPath folder("masked_quad");
+  const glm::vec4 factor(1.0f, 0.8f, 0.6f, 0.4f);
+  const auto data = scene::loadGltf(
+      writeCheckerQuad(folder.path(), factor, R"("alphaMode": "MASK", "alphaCutoff": 0.3, )", true));
+  ASSERT_TRUE(data.ok()) << data.error().message;
+  const render::InstantiatedScene scene = render::instantiateScene(*data, registry_, *pool_);
+  ASSERT_EQ(scene.renderables.size(), 1u);
+  const glm::dvec3 backColor(0.9, 0.15, 0.1);
+  const double backZ = -0.4;
+  addNode(square(), glm::translate(glm::mat4(1.0f), glm::vec3(0.0f, 0.0f, float(backZ))) *
+                        glm::scale(glm::mat4(1.0f), glm::vec3(3.0f)),
+          false, glm::vec4(glm::vec3(backColor), 1.0f));
+  const glm::vec3 eye(0.0f, 0.0f, 1.6f);
+  const render::CameraView camera = render::CameraView::lookAt(eye, {0.0f, 0.0f, 0.0f}, 0.8f, kZNear, 1.0f);
+  const Frame frame = render(camera);
+  auto hitAt = [&](glm::vec2 pixel, double z) {
+    const math::Ray ray = math::pixelRay(camera.view, camera.proj, pixel, glm::ivec2(int(size)));
+    return ray.origin + ((z - ray.origin.z) / ray.direction.z) * ray.direction;
+  };
+  auto texelAt = [&](glm::vec2 pixel) {  // the quad's texel a ray meets; (-1, -1) off the quad
+    const glm::dvec3 p = hitAt(pixel, 0.0);
+    const double u = p.x + 0.5, v = 0.5 - p.y;
+    if (u < 0.0 || u >= 1.0 || v < 0.0 || v >= 1.0) return glm::ivec2(-1);
+    return glm::ivec2(int(u * 4.0), int(v * 4.0));
+  };
+  int kept = 0, cut = 0, wrong = 0;
+  double worst = 0.0;
+  for (std::uint32_t y = 0; y < size; ++y) {
+    for (std::uint32_t x = 0; x < size; ++x) {
+      const glm::vec2 centre(float(x) + 0.5f, float(y) + 0.5f);
+      const glm::ivec2 texel = texelAt(centre);
+      bool edge = texel.x < 0;
+      for (const glm::vec2 offset : {glm::vec2(-0.5f, -0.5f), glm::vec2(0.5f, -0.5f), glm::vec2(-0.5f, 0.5f), glm::vec2(0.5f, 0.5f)})
+        edge = edge || texelAt(centre + offset) != texel;
+      if (edge) continue;
+      const bool hole = (texel.x + texel.y) % 2 != 0;
+      const glm::dvec3 base = hole ? backColor : linearColor(checkerTexel(texel.x, texel.y, true)) * glm::dvec3(factor);
+      const double roughness = hole ? 0.4 : 0.6;
+      const glm::dvec3 expected =
+          referenceShading(desc_, base, roughness, glm::dvec3(eye), hitAt(centre, hole ? backZ : 0.0), {0.0, 0.0, 1.0});
+      const double error = glm::length(linearColor(frame.pixel(x, y)) - expected);
+      worst = std::max(worst, error);
+      wrong += error > kColourTolerance;
+      ++(hole ? cut : kept);
+    }
+  }
+  std::printf("kept %d pixels, cut out %d, wrong %d (worst %.3f)\n", kept, cut, wrong, worst);
+  EXPECT_GT(kept, 1000);
+  EXPECT_GT(cut, 1000);
+  EXPECT_EQ(wrong, 0) << "pixels unlike the texel kept or the square behind a cut-out one (worst colour error " << worst
+                      << ")";
 }
 
 }  // namespace
