@@ -431,6 +431,35 @@ std::filesystem::path writeCheckerQuad(const std::filesystem::path& folder, cons
   return folder / "quad.gltf";
 }
 
+// Where the ray through `pixel` of a `size` x `size` frame meets the plane at height `z`.
+glm::dvec3 pixelRayAtZ(const render::CameraView& camera, std::uint32_t size, glm::vec2 pixel, double z) {
+  const math::Ray ray = math::pixelRay(camera.view, camera.proj, pixel, glm::ivec2(int(size)));
+  return ray.origin + ((z - ray.origin.z) / ray.direction.z) * ray.direction;
+}
+
+// Calls `visit(x, y, texel, centre)` for each pixel whose centre and four corners all see one texel
+// of the checker quad (writeCheckerQuad: the unit square in z = 0, 4 x 4 texels, v down the image):
+// pixels off the quad or across a texel boundary are skipped, as NEAREST may go either way there.
+template <class Visit>
+void forEachCheckerPixel(const render::CameraView& camera, std::uint32_t size, Visit visit) {
+  auto texelAt = [&](glm::vec2 pixel) {  // (-1, -1) off the square
+    const glm::dvec3 p = pixelRayAtZ(camera, size, pixel, 0.0);
+    const double u = p.x + 0.5, v = 0.5 - p.y;
+    if (u < 0.0 || u >= 1.0 || v < 0.0 || v >= 1.0) return glm::ivec2(-1);
+    return glm::ivec2(int(u * 4.0), int(v * 4.0));
+  };
+  for (std::uint32_t y = 0; y < size; ++y) {
+    for (std::uint32_t x = 0; x < size; ++x) {
+      const glm::vec2 centre(float(x) + 0.5f, float(y) + 0.5f);
+      const glm::ivec2 texel = texelAt(centre);
+      bool edge = texel.x < 0;
+      for (const glm::vec2 offset : {glm::vec2(-0.5f, -0.5f), glm::vec2(0.5f, -0.5f), glm::vec2(-0.5f, 0.5f), glm::vec2(0.5f, 0.5f)})
+        edge = edge || texelAt(centre + offset) != texel;
+      if (!edge) visit(x, y, texel, centre);
+    }
+  }
+}
+
 // Why: a textured mesh (most glTF scenes) is drawn in its texture times its factor. The file is
 // loaded as a user's would be (PNG beside the .gltf, through the importer and instantiateScene),
 // and every pixel is compared with the texel its ray hits on the square -- u across, v down the
@@ -450,36 +479,19 @@ TEST_F(MeshMaterialTest, ABaseColorTextureIsDrawnTexelByTexelTimesTheFactor) {
   const glm::vec3 eye(0.0f, 0.0f, 1.6f);
   const render::CameraView camera = render::CameraView::lookAt(eye, {0.0f, 0.0f, 0.0f}, 0.8f, kZNear, 1.0f);
   const Frame frame = render(camera);
-  // The texel a pixel's ray (centre or corner) meets on the square; (-1, -1) off the square.
-  auto texelAt = [&](glm::vec2 pixel) {
-    const math::Ray ray = math::pixelRay(camera.view, camera.proj, pixel, glm::ivec2(int(size)));
-    const glm::dvec3 p = ray.origin + (-ray.origin.z / ray.direction.z) * ray.direction;
-    const double u = p.x + 0.5, v = 0.5 - p.y;
-    if (u < 0.0 || u >= 1.0 || v < 0.0 || v >= 1.0) return glm::ivec2(-1);
-    return glm::ivec2(int(u * 4.0), int(v * 4.0));
-  };
   int compared = 0, wrong = 0;
   double worst = 0.0;
   std::array<int, 16> seen{};
-  for (std::uint32_t y = 0; y < size; ++y) {
-    for (std::uint32_t x = 0; x < size; ++x) {
-      const glm::vec2 centre(float(x) + 0.5f, float(y) + 0.5f);
-      const glm::ivec2 texel = texelAt(centre);
-      bool edge = texel.x < 0;
-      for (const glm::vec2 offset : {glm::vec2(-0.5f, -0.5f), glm::vec2(0.5f, -0.5f), glm::vec2(-0.5f, 0.5f), glm::vec2(0.5f, 0.5f)})
-        edge = edge || texelAt(centre + offset) != texel;
-      if (edge) continue;
-      const math::Ray ray = math::pixelRay(camera.view, camera.proj, centre, glm::ivec2(int(size)));
-      const glm::dvec3 position = ray.origin + (-ray.origin.z / ray.direction.z) * ray.direction;
-      const glm::dvec3 base = linearColor(checkerTexel(texel.x, texel.y)) * glm::dvec3(factor);
-      const glm::dvec3 expected = referenceShading(desc_, base, 0.6, glm::dvec3(eye), position, {0.0, 0.0, 1.0});
-      const double error = glm::length(linearColor(frame.pixel(x, y)) - expected);
-      worst = std::max(worst, error);
-      wrong += error > kColourTolerance;
-      ++compared;
-      ++seen[std::size_t(texel.y * 4 + texel.x)];
-    }
-  }
+  forEachCheckerPixel(camera, size, [&](std::uint32_t x, std::uint32_t y, glm::ivec2 texel, glm::vec2 centre) {
+    const glm::dvec3 position = pixelRayAtZ(camera, size, centre, 0.0);
+    const glm::dvec3 base = linearColor(checkerTexel(texel.x, texel.y)) * glm::dvec3(factor);
+    const glm::dvec3 expected = referenceShading(desc_, base, 0.6, glm::dvec3(eye), position, {0.0, 0.0, 1.0});
+    const double error = glm::length(linearColor(frame.pixel(x, y)) - expected);
+    worst = std::max(worst, error);
+    wrong += error > kColourTolerance;
+    ++compared;
+    ++seen[std::size_t(texel.y * 4 + texel.x)];
+  });
   std::printf("compared %d pixels, wrong %d (worst %.3f)\n", compared, wrong, worst);
   EXPECT_GT(compared, 2000);
   for (int t = 0; t < 16; ++t) EXPECT_GT(seen[std::size_t(t)], 50) << "texel " << t << " is compared on its pixels";
@@ -513,37 +525,19 @@ TEST_F(MeshMaterialTest, AMaskedQuadShowsWhatLiesBehindItsCutOutTexels) {
   const glm::vec3 eye(0.0f, 0.0f, 1.6f);
   const render::CameraView camera = render::CameraView::lookAt(eye, {0.0f, 0.0f, 0.0f}, 0.8f, kZNear, 1.0f);
   const Frame frame = render(camera);
-  auto hitAt = [&](glm::vec2 pixel, double z) {
-    const math::Ray ray = math::pixelRay(camera.view, camera.proj, pixel, glm::ivec2(int(size)));
-    return ray.origin + ((z - ray.origin.z) / ray.direction.z) * ray.direction;
-  };
-  auto texelAt = [&](glm::vec2 pixel) {  // the quad's texel a ray meets; (-1, -1) off the quad
-    const glm::dvec3 p = hitAt(pixel, 0.0);
-    const double u = p.x + 0.5, v = 0.5 - p.y;
-    if (u < 0.0 || u >= 1.0 || v < 0.0 || v >= 1.0) return glm::ivec2(-1);
-    return glm::ivec2(int(u * 4.0), int(v * 4.0));
-  };
   int kept = 0, cut = 0, wrong = 0;
   double worst = 0.0;
-  for (std::uint32_t y = 0; y < size; ++y) {
-    for (std::uint32_t x = 0; x < size; ++x) {
-      const glm::vec2 centre(float(x) + 0.5f, float(y) + 0.5f);
-      const glm::ivec2 texel = texelAt(centre);
-      bool edge = texel.x < 0;
-      for (const glm::vec2 offset : {glm::vec2(-0.5f, -0.5f), glm::vec2(0.5f, -0.5f), glm::vec2(-0.5f, 0.5f), glm::vec2(0.5f, 0.5f)})
-        edge = edge || texelAt(centre + offset) != texel;
-      if (edge) continue;
-      const bool hole = (texel.x + texel.y) % 2 != 0;
-      const glm::dvec3 base = hole ? backColor : linearColor(checkerTexel(texel.x, texel.y, true)) * glm::dvec3(factor);
-      const double roughness = hole ? 0.4 : 0.6;
-      const glm::dvec3 expected =
-          referenceShading(desc_, base, roughness, glm::dvec3(eye), hitAt(centre, hole ? backZ : 0.0), {0.0, 0.0, 1.0});
-      const double error = glm::length(linearColor(frame.pixel(x, y)) - expected);
-      worst = std::max(worst, error);
-      wrong += error > kColourTolerance;
-      ++(hole ? cut : kept);
-    }
-  }
+  forEachCheckerPixel(camera, size, [&](std::uint32_t x, std::uint32_t y, glm::ivec2 texel, glm::vec2 centre) {
+    const bool hole = (texel.x + texel.y) % 2 != 0;
+    const glm::dvec3 base = hole ? backColor : linearColor(checkerTexel(texel.x, texel.y, true)) * glm::dvec3(factor);
+    const double roughness = hole ? 0.4 : 0.6;
+    const glm::dvec3 position = pixelRayAtZ(camera, size, centre, hole ? backZ : 0.0);
+    const glm::dvec3 expected = referenceShading(desc_, base, roughness, glm::dvec3(eye), position, {0.0, 0.0, 1.0});
+    const double error = glm::length(linearColor(frame.pixel(x, y)) - expected);
+    worst = std::max(worst, error);
+    wrong += error > kColourTolerance;
+    ++(hole ? cut : kept);
+  });
   std::printf("kept %d pixels, cut out %d, wrong %d (worst %.3f)\n", kept, cut, wrong, worst);
   EXPECT_GT(kept, 1000);
   EXPECT_GT(cut, 1000);
