@@ -16,9 +16,12 @@ $bin/gltf-transform meshopt "$out/bunny_small.glb" "$out/bunny_small_meshopt.glb
 $bin/gltf-transform quantize "$out/bunny_small.glb" "$out/bunny_small_quantized.glb"
 # Sparse accessors, two scenes, an ignored extension; an unsupported required extension.
 node make_structural.mjs "$out"
+# A textured mesh through Draco (TEXCOORD_0 compressed with the positions and normals).
+$bin/gltf-pipeline -i "$out/textured_grid.gltf" -o "$out/textured_grid_draco.glb" -d
 
 # Every valid file of the folder (the deliberately broken ones are listed in the README).
 valid=(hierarchy.gltf flat_square.gltf tilted_cube.gltf tilted_cube_2e-17.gltf tilted_cube_2e100.gltf
        bunny_small.glb bunny_small_draco.glb bunny_small_meshopt.glb bunny_small_quantized.glb
-       tetra_sparse_scenes.gltf gpu_instancing.gltf thin_slab.gltf camera_cube.gltf)
+       tetra_sparse_scenes.gltf gpu_instancing.gltf thin_slab.gltf camera_cube.gltf textured_grid.gltf
+       textured_grid_draco.glb)
 node validate.mjs "$out/validation.json" "${valid[@]/#/$out/}"

@@ -195,6 +195,58 @@ void expectContains(const std::string& message, std::initializer_list<std::strin
   for (const auto part : parts) EXPECT_NE(message.find(part), std::string::npos) << "missing '" << part << "' in: " << message;
 }
 
+// Why: web pipelines compress textured models with Draco (gltf-pipeline -d), TEXCOORD_0 with the
+// positions; read from the accessors only, the texture was not drawn, and the note said the
+// primitive had no TEXCOORD_0. Tricky because Draco reorders the points and quantizes the
+// coordinates (10 bits by default): each decoded vertex is matched to its plain vertex by position,
+// one to one, and its texture coordinates must be that vertex's within a quantization step; the
+// grid's coordinates are no function of its positions, so a wrong attribute or order is seen.
+TEST(GltfLoaderCompressed, ADracoTexturedMeshKeepsItsTextureCoordinates) {
+  const auto plain = loadGltf(kDataDir / "textured_grid.gltf");
+  const auto draco = loadGltf(kDataDir / "textured_grid_draco.glb");
+  ASSERT_TRUE(plain.ok()) << plain.error().message;
+  ASSERT_TRUE(draco.ok()) << draco.error().message;
+  for (const auto& w : draco->warnings) ADD_FAILURE() << "unexpected warning: " << w;
+  ASSERT_EQ(draco->textures.size(), 1u);
+  EXPECT_EQ(draco->textures[0].rgba, plain->textures.at(0).rgba);
+  EXPECT_EQ(draco->materials.at(0).baseColorTexture, 0);
+  const auto& expected = plain->meshes.at(0).primitives.at(0);
+  const auto& decoded = draco->meshes.at(0).primitives.at(0);
+  ASSERT_EQ(expected.positions.size(), 16u);
+  ASSERT_EQ(decoded.positions.size(), expected.positions.size());
+  ASSERT_EQ(decoded.texcoords.size(), decoded.positions.size());
+  // Positions: 11 bits over a unit square; texture coordinates: 10 bits over about 0.94.
+  const float positionTolerance = 1.0f / 1024.0f, texcoordTolerance = 1.0f / 512.0f;
+  std::vector<bool> used(expected.positions.size(), false);
+  float worst = 0.0f;
+  for (std::size_t v = 0; v < decoded.positions.size(); ++v) {
+    const std::size_t match = nearest(expected.positions, decoded.positions[v]);
+    EXPECT_LE(glm::distance(expected.positions[match], decoded.positions[v]), positionTolerance) << "vertex " << v;
+    EXPECT_FALSE(used[match]) << "two decoded vertices match plain vertex " << match;
+    used[match] = true;
+    const glm::vec2 error = glm::abs(decoded.texcoords[v] - expected.texcoords[match]);
+    worst = std::max({worst, error.x, error.y});
+  }
+  EXPECT_LE(worst, texcoordTolerance);
+  std::printf("textured_grid_draco.glb: worst texture coordinate error %.3g (tolerance %.3g)\n", double(worst),
+              double(texcoordTolerance));
+
+  // A TEXCOORD_0 id that names the normals (3 components) is a warning: the mesh is drawn in its factor.
+  Glb wrong = readGlb("textured_grid_draco.glb");
+  auto& ids = wrong.document["meshes"][0]["primitives"][0]["extensions"]["KHR_draco_mesh_compression"]["attributes"];
+  ids["TEXCOORD_0"] = ids["NORMAL"];
+  const auto bytes = writeGlb(wrong);
+  const auto untextured = loadGltfFromMemory(bytes, "wrong.glb", {});
+  ASSERT_TRUE(untextured.ok()) << untextured.error().message;
+  EXPECT_TRUE(untextured->meshes.at(0).primitives.at(0).texcoords.empty());
+  std::string notes;
+  for (const auto& w : untextured->warnings) notes += w + "\n";
+  EXPECT_NE(notes.find("mesh 0 'grid' primitive 0: TEXCOORD_0 not read: TEXCOORD_0: Draco attribute 1 has 3 components, "
+                       "expected 2"),
+            std::string::npos)
+      << notes;
+}
+
 // Tricky because the writer round trip itself must be lossless, or every case below would pass for
 // the wrong reason: the untouched file must load.
 TEST(GltfLoaderCompressedMalformed, UntouchedRoundTripLoads) {
