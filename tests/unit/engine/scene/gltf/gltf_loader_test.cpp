@@ -177,6 +177,13 @@ bool anyWarningContains(const SceneData& scene, std::string_view fragment) {
   return false;
 }
 
+// The warnings one a line, for a failure message.
+std::string warningLines(const SceneData& scene) {
+  std::string lines;
+  for (const auto& w : scene.warnings) lines += w + "\n";
+  return lines;
+}
+
 std::vector<std::uint8_t> bunnyBytes() {
   auto bytes = readBinaryFile(kBunnyPath);
   EXPECT_TRUE(bytes.ok()) << bytes.error().message;
@@ -437,8 +444,7 @@ TEST(GltfLoaderFeatures, MaterialFieldsTheRendererDoesNotDrawAreNamedInANote) {
   b.addNode({{"mesh", 0}});
   const auto scene = load(b);
   ASSERT_TRUE(scene.ok()) << scene.error().message;
-  std::string notes;
-  for (const auto& w : scene->warnings) notes += w + "\n";
+  const std::string notes = warningLines(*scene);
   EXPECT_TRUE(anyWarningContains(*scene, "material 0 'glass': alphaMode BLEND (drawn opaque) ignored")) << notes;
   EXPECT_FALSE(anyWarningContains(*scene, "'leaf'")) << notes;
   EXPECT_TRUE(anyWarningContains(*scene, "material 2 'sign': emissiveTexture (drawn in emissiveFactor) ignored")) << notes;
@@ -631,8 +637,7 @@ TEST(GltfLoaderTextures, KhrTextureTransformMovesTheTexcoordsWhereTheTextureIsRe
        transformed("bad rotation", {{"rotation", "half"}}), transformed("bad scale", {{"scale", {1}}})});
   const auto scene = load(b);
   ASSERT_TRUE(scene.ok()) << scene.error().message;
-  std::string notes;
-  for (const auto& w : scene->warnings) notes += w + "\n";
+  const std::string notes = warningLines(*scene);
   EXPECT_FALSE(anyWarningContains(*scene, "extension KHR_texture_transform")) << notes;
   EXPECT_FALSE(anyWarningContains(*scene, "'quadrant'")) << notes;
   EXPECT_FALSE(anyWarningContains(*scene, "'fallback layout'")) << notes;
@@ -676,8 +681,7 @@ TEST(GltfLoaderTextures, BrokenTexturesAreNamedAndTheMaterialDrawnInItsFactor) {
                                       texturedMaterial("second uv set", 5, 1)});
   const auto scene = load(b);
   ASSERT_TRUE(scene.ok()) << scene.error().message;
-  std::string notes;
-  for (const auto& w : scene->warnings) notes += w + "\n";
+  const std::string notes = warningLines(*scene);
   const std::vector<std::string> expected = {
       "material 0 'garbage': baseColorTexture: texture 0: image 0 'image 0': cannot decode image",
       "material 1 'missing file': baseColorTexture: texture 1: image 1 'image 1': external file 'beside.png' not allowed",
