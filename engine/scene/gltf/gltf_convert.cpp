@@ -827,8 +827,8 @@ class TextureImport {
   }
 
   // The primitive's TEXCOORD_0 turned into the coordinates its material's texture is read at
-  // (KHR_texture_transform: an atlas region, a tiled or rotated texture; gltf-transform quantize
-  // writes one to undo its quantization of texture coordinates outside [0, 1]).
+  // (KHR_texture_transform: an atlas region, a tiled or rotated texture; gltfpack writes one to
+  // undo its quantization of texture coordinates).
   void transformTexcoords(MeshPrimitiveData& primitive) const {
     const auto transform = transforms_.find(primitive.material);
     if (transform == transforms_.end()) return;

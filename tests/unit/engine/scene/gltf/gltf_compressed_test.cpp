@@ -195,41 +195,49 @@ void expectContains(const std::string& message, std::initializer_list<std::strin
   for (const auto part : parts) EXPECT_NE(message.find(part), std::string::npos) << "missing '" << part << "' in: " << message;
 }
 
-// Why: web pipelines compress textured models with Draco (gltf-pipeline -d), TEXCOORD_0 with the
-// positions; read from the accessors only, the texture was not drawn, and the note said the
-// primitive had no TEXCOORD_0. Tricky because Draco reorders the points and quantizes the
-// coordinates (10 bits by default): each decoded vertex is matched to its plain vertex by position,
-// one to one, and its texture coordinates must be that vertex's within a quantization step; the
-// grid's coordinates are no function of its positions, so a wrong attribute or order is seen.
-TEST(GltfLoaderCompressed, ADracoTexturedMeshKeepsItsTextureCoordinates) {
+// `packed` (a compressed or quantized copy of tests/data/gltf/textured_grid.gltf) loads with its
+// texture and, for each of its vertices, the texture coordinates of the plain vertex at the same
+// world position (matched one to one) within `texcoordTolerance`. Its worst error is printed.
+void expectTheGridsTexcoords(const std::string& packed, float texcoordTolerance) {
   const auto plain = loadGltf(kDataDir / "textured_grid.gltf");
-  const auto draco = loadGltf(kDataDir / "textured_grid_draco.glb");
+  const auto scene = loadGltf(kDataDir / packed);
   ASSERT_TRUE(plain.ok()) << plain.error().message;
-  ASSERT_TRUE(draco.ok()) << draco.error().message;
-  for (const auto& w : draco->warnings) ADD_FAILURE() << "unexpected warning: " << w;
-  ASSERT_EQ(draco->textures.size(), 1u);
-  EXPECT_EQ(draco->textures[0].rgba, plain->textures.at(0).rgba);
-  EXPECT_EQ(draco->materials.at(0).baseColorTexture, 0);
+  ASSERT_TRUE(scene.ok()) << scene.error().message;
+  for (const auto& w : scene->warnings) ADD_FAILURE() << "unexpected warning: " << w;
+  ASSERT_EQ(scene->textures.size(), 1u);
+  EXPECT_EQ(scene->textures[0].rgba, plain->textures.at(0).rgba);
+  EXPECT_EQ(scene->materials.at(0).baseColorTexture, 0);
   const auto& expected = plain->meshes.at(0).primitives.at(0);
-  const auto& decoded = draco->meshes.at(0).primitives.at(0);
+  const auto& decoded = scene->meshes.at(0).primitives.at(0);
   ASSERT_EQ(expected.positions.size(), 16u);
   ASSERT_EQ(decoded.positions.size(), expected.positions.size());
   ASSERT_EQ(decoded.texcoords.size(), decoded.positions.size());
-  // Positions: 11 bits over a unit square; texture coordinates: 10 bits over about 0.94.
-  const float positionTolerance = 1.0f / 1024.0f, texcoordTolerance = 1.0f / 512.0f;
+  const glm::mat4 world = scene->nodes.at(0).world;  // gltfpack stores integer positions and a node scale
+  const float positionTolerance = 1.0f / 1024.0f;    // 11 bits or more over a unit square
   std::vector<bool> used(expected.positions.size(), false);
   float worst = 0.0f;
   for (std::size_t v = 0; v < decoded.positions.size(); ++v) {
-    const std::size_t match = nearest(expected.positions, decoded.positions[v]);
-    EXPECT_LE(glm::distance(expected.positions[match], decoded.positions[v]), positionTolerance) << "vertex " << v;
+    const glm::vec3 position = glm::vec3(world * glm::vec4(decoded.positions[v], 1.0f));
+    const std::size_t match = nearest(expected.positions, position);
+    EXPECT_LE(glm::distance(expected.positions[match], position), positionTolerance) << "vertex " << v;
     EXPECT_FALSE(used[match]) << "two decoded vertices match plain vertex " << match;
     used[match] = true;
     const glm::vec2 error = glm::abs(decoded.texcoords[v] - expected.texcoords[match]);
     worst = std::max({worst, error.x, error.y});
   }
   EXPECT_LE(worst, texcoordTolerance);
-  std::printf("textured_grid_draco.glb: worst texture coordinate error %.3g (tolerance %.3g)\n", double(worst),
+  std::printf("%s: worst texture coordinate error %.3g (tolerance %.3g)\n", packed.c_str(), double(worst),
               double(texcoordTolerance));
+}
+
+// Why: web pipelines compress textured models with Draco (gltf-pipeline -d), TEXCOORD_0 with the
+// positions; read from the accessors only, the texture was not drawn, and the note said the
+// primitive had no TEXCOORD_0. Tricky because Draco reorders the points and quantizes the
+// coordinates (10 bits by default: over about 0.94, a step of 0.001): each decoded vertex is
+// matched to its plain vertex by position, one to one; the grid's coordinates are no function of
+// its positions, so a wrong attribute or order is seen.
+TEST(GltfLoaderCompressed, ADracoTexturedMeshKeepsItsTextureCoordinates) {
+  expectTheGridsTexcoords("textured_grid_draco.glb", 1.0f / 512.0f);
 
   // A TEXCOORD_0 id that names the normals (3 components) is a warning: the mesh is drawn in its factor.
   Glb wrong = readGlb("textured_grid_draco.glb");
@@ -245,6 +253,14 @@ TEST(GltfLoaderCompressed, ADracoTexturedMeshKeepsItsTextureCoordinates) {
                        "expected 2"),
             std::string::npos)
       << notes;
+}
+
+// Why: gltfpack quantizes texture coordinates to normalized 16-bit integers and undoes that with a
+// KHR_texture_transform (offset and scale, KHR_mesh_quantization's way); read without it, every
+// textured file out of gltfpack drew the corner of its texture. Tricky because positions are
+// quantized too (integers under a node scale), so vertices are matched in world space.
+TEST(GltfLoaderCompressed, AGltfpackTexturedMeshReadsItsTextureThroughItsTransform) {
+  expectTheGridsTexcoords("textured_grid_gltfpack.glb", 1.0f / 2048.0f);
 }
 
 // Tricky because the writer round trip itself must be lossless, or every case below would pass for

@@ -613,8 +613,8 @@ TEST(GltfLoaderTextures, BaseColorTexturesAreDecodedFromEveryImageSourceWithThei
 }
 
 // Why: KHR_texture_transform places a texture on a mesh by offset, rotation and scale (an atlas
-// region, a tiled floor; gltf-transform quantize writes one to undo its quantization of texture
-// coordinates outside [0, 1]); ignored, the texture is drawn stretched or shifted. Tricky because
+// region, a tiled floor; gltfpack writes one to undo its quantization of texture coordinates);
+// ignored, the texture is drawn stretched or shifted. Tricky because
 // the README's GLSL rotates the wrong way for glTF's downward v (KhronosGroup/glTF#1563): the
 // README's own example, "only the lower left quadrant of the source image, rotated clockwise 90
 // degrees" (offset (0, 1), rotation pi/2, scale 0.5), is the reference here, computed by hand; and
