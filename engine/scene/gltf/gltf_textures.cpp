@@ -96,6 +96,15 @@ glm::mat3 transformMatrix(glm::dvec2 offset, double rotation, glm::dvec2 scale) 
   return glm::mat3(m);
 }
 
+// A texture without `source` keeps its image in an extension (KHR_texture_basisu's KTX2,
+// EXT_texture_webp's WebP, ...), which stb_image does not decode: named, rather than "image -1".
+std::string missingSource(const tinygltf::Texture& texture) {
+  for (const auto& [name, extension] : texture.extensions)
+    if (extension.IsObject() && extension.Has("source"))
+      return fmt::format("its image is only in {}, which is not decoded (PNG and JPEG are)", name);
+  return "has no source image";
+}
+
 }  // namespace
 
 Expected<TextureCoordinates> textureCoordinates(const tinygltf::TextureInfo& info) {
@@ -134,6 +143,7 @@ Expected<TextureData> convertTexture(ImportContext& context, int textureIndex) {
     applySampler(model.samplers[std::size_t(texture.sampler)], out);
   }
   const auto& images = context.plan.images;
+  if (texture.source == -1) return makeError(fmt::format("{}: {}", where, missingSource(texture)));
   if (!inRange(texture.source, images))
     return makeError(fmt::format("{}: {}", where, describeIndexRange("image", texture.source, images.size())));
   const ImageSource& image = images[std::size_t(texture.source)];

@@ -663,21 +663,23 @@ TEST(GltfLoaderTextures, KhrTextureTransformMovesTheTexcoordsWhereTheTextureIsRe
 
 // Why: a broken texture must not cost the scene: the material is drawn in its factor, with a
 // warning that names the material and what is wrong, never a crash. Tricky because each fault sits
-// at a different step (the texture, sampler and image indices, the bytes, the decoder, the size
-// limit, the texture coordinates), and a file beside a .gltf loaded from memory must stay refused.
+// at a different step (the texture, sampler and image indices, an image only in an extension such
+// as KTX2, the bytes, the decoder, the size limit, the texture coordinates), and a file beside a
+// .gltf loaded from memory must stay refused.
 TEST(GltfLoaderTextures, BrokenTexturesAreNamedAndTheMaterialDrawnInItsFactor) {
   GltfBuilder b;
-  addTexturedPrimitives(b, 7, {0, 0, 1, 0, 0, 1});
+  addTexturedPrimitives(b, 8, {0, 0, 1, 0, 0, 1});
   const std::vector<std::uint8_t> huge = pngOf(std::vector<std::uint8_t>(std::size_t(8193) * 4, 255), 8193, 1);
   b.doc()["images"] = json::array({json{{"uri", "data:image/png;base64," + base64({1, 2, 3, 4, 5, 6, 7, 8})}},
                                    json{{"uri", "beside.png"}}, json{{"uri", "data:image/png;base64," + base64(huge)}},
                                    json{{"uri", "data:image/png;base64," + base64(pngOf(kTexels, 3, 2))}}});
   b.doc()["textures"] = json::array({json{{"source", 0}}, json{{"source", 1}}, json{{"source", 2}},
-                                     json{{"source", 3}, {"sampler", 5}}, json{{"source", 9}}, json{{"source", 3}}});
+                                     json{{"source", 3}, {"sampler", 5}}, json{{"source", 9}}, json{{"source", 3}},
+                                     json{{"extensions", {{"KHR_texture_basisu", {{"source", 1}}}}}}});
   b.doc()["materials"] = json::array({texturedMaterial("garbage", 0), texturedMaterial("missing file", 1),
                                       texturedMaterial("huge", 2), texturedMaterial("bad sampler", 3),
                                       texturedMaterial("bad image", 4), texturedMaterial("bad texture", 12),
-                                      texturedMaterial("second uv set", 5, 1)});
+                                      texturedMaterial("second uv set", 5, 1), texturedMaterial("ktx2", 6)});
   const auto scene = load(b);
   ASSERT_TRUE(scene.ok()) << scene.error().message;
   const std::string notes = warningLines(*scene);
@@ -687,8 +689,9 @@ TEST(GltfLoaderTextures, BrokenTexturesAreNamedAndTheMaterialDrawnInItsFactor) {
       "material 2 'huge': baseColorTexture: texture 2: image 2 'image 2': image is 8193x1, over the limit of 8192 texels a side",
       "material 3 'bad sampler': baseColorTexture: texture 3: sampler 5 out of range (file has 0)",
       "material 4 'bad image': baseColorTexture: texture 4: image 9 out of range (file has 4)",
-      "material 5 'bad texture': baseColorTexture: texture 12 out of range (file has 6)",
+      "material 5 'bad texture': baseColorTexture: texture 12 out of range (file has 7)",
       "material 6 'second uv set': baseColorTexture: texCoord 1 is not read (only TEXCOORD_0); drawn in baseColorFactor",
+      "material 7 'ktx2': baseColorTexture: texture 6: its image is only in KHR_texture_basisu, which is not decoded",
   };
   for (const auto& fragment : expected) EXPECT_TRUE(anyWarningContains(*scene, fragment)) << fragment << "\nin:\n" << notes;
   for (const auto& material : scene->materials) EXPECT_EQ(material.baseColorTexture, -1) << material.name;
