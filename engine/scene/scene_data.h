@@ -18,7 +18,7 @@ struct MeshPrimitiveData {
   std::vector<glm::vec3> positions;
   std::vector<glm::vec3> normals;     // same count as positions (area-weighted smooth ones when the file has none)
   std::vector<std::uint32_t> indices; // triangle list
-  std::vector<glm::vec2> texcoords;   // TEXCOORD_0, same count as positions; empty when the file has none
+  std::vector<glm::vec2> texcoords;   // TEXCOORD_0 through the KHR_texture_transform of the material; as many as positions, or none
   int material = -1;                  // index into SceneData::materials, -1 for the default
   // The file gave no normals: glTF asks for flat ones, each triangle's own. The triangles keep their
   // shared vertices (an SDF's closedness and pseudonormals need them); the drawn mesh gives each

@@ -4,6 +4,8 @@
 //                                an extension that does not affect geometry
 //   gpu_instancing.gltf          EXT_mesh_gpu_instancing (required): a tetrahedron placed three times
 //                                by float translations and scales and normalized int16 rotations
+//   textured_grid.gltf           a textured square of 4 x 4 vertices with TEXCOORD_0 unlike its
+//                                positions (the plain original of textured_grid_draco.glb)
 // Usage: node make_structural.mjs <output folder>
 import { writeFileSync } from 'node:fs';
 import { join } from 'node:path';
@@ -170,5 +172,65 @@ function writeGpuInstancing() {
   writeFileSync(join(out, 'gpu_instancing.gltf'), JSON.stringify(doc, null, 1) + '\n');
 }
 
+// A 2 x 2 RGBA PNG (red, green / blue, white), as quad_textured.gltf's fuzz seed holds it.
+const checkerPng =
+  'iVBORw0KGgoAAAANSUhEUgAAAAIAAAACCAYAAABytg0kAAAAE0lEQVR4nGP4z8DwHwyBNAg0AABJSQl4KKDbdwAAAABJRU5ErkJggg==';
+
+function writeTexturedGrid() {
+  const side = 4;
+  const points = [];
+  const uvs = [];
+  for (let j = 0; j < side; ++j) {
+    for (let i = 0; i < side; ++i) {
+      points.push([i / (side - 1), j / (side - 1), 0]);
+      // Not a function of the position alone: a decoder that drops or swaps them is seen.
+      const k = j * side + i;
+      uvs.push([((k * 5) % 16) / 16 + 0.03, ((k * 11) % 16) / 16 + 0.01]);
+    }
+  }
+  const triangles = [];
+  for (let j = 0; j + 1 < side; ++j) {
+    for (let i = 0; i + 1 < side; ++i) {
+      const a = j * side + i;
+      triangles.push(a, a + 1, a + side + 1, a, a + side + 1, a + side);  // counter-clockwise seen from +z
+    }
+  }
+  const bin = new BufferWriter();
+  const positions = bin.add(new Float32Array(points.flat()));
+  const normals = bin.add(new Float32Array(points.flatMap(() => [0, 0, 1])));
+  const texcoords = bin.add(new Float32Array(uvs.flat()));
+  const triangleBytes = bin.add(new Uint16Array(triangles));
+  const image = bin.add(new Uint8Array(Buffer.from(checkerPng, 'base64')));
+  const { min, max } = bounds(points);
+  const count = points.length;
+  const doc = {
+    asset: { version: '2.0', generator: 'hermite_sdf tools/gltf_testdata/make_structural.mjs' },
+    scene: 0,
+    scenes: [{ nodes: [0] }],
+    nodes: [{ name: 'grid', mesh: 0 }],
+    meshes: [{ name: 'grid', primitives: [{ attributes: { POSITION: 0, NORMAL: 1, TEXCOORD_0: 2 }, indices: 3, material: 0 }] }],
+    materials: [{ name: 'checker', pbrMetallicRoughness: { baseColorTexture: { index: 0 } } }],
+    textures: [{ source: 0, sampler: 0 }],
+    samplers: [{ magFilter: 9728, minFilter: 9728 }],
+    images: [{ name: 'checker', bufferView: 4, mimeType: 'image/png' }],
+    accessors: [
+      { bufferView: 0, componentType: 5126, count, type: 'VEC3', min, max },
+      { bufferView: 1, componentType: 5126, count, type: 'VEC3' },
+      { bufferView: 2, componentType: 5126, count, type: 'VEC2' },
+      { bufferView: 3, componentType: 5123, count: triangles.length, type: 'SCALAR' },
+    ],
+    bufferViews: [
+      { buffer: 0, byteOffset: positions, byteLength: 12 * count, target: 34962 },
+      { buffer: 0, byteOffset: normals, byteLength: 12 * count, target: 34962 },
+      { buffer: 0, byteOffset: texcoords, byteLength: 8 * count, target: 34962 },
+      { buffer: 0, byteOffset: triangleBytes, byteLength: 2 * triangles.length, target: 34963 },
+      { buffer: 0, byteOffset: image, byteLength: Buffer.from(checkerPng, 'base64').length },
+    ],
+    buffers: [{ byteLength: bin.length, uri: bin.dataUri() }],
+  };
+  writeFileSync(join(out, 'textured_grid.gltf'), JSON.stringify(doc, null, 1) + '\n');
+}
+
 writeTetraSparseScenes();
 writeGpuInstancing();
+writeTexturedGrid();

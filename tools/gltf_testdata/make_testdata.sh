@@ -16,9 +16,15 @@ $bin/gltf-transform meshopt "$out/bunny_small.glb" "$out/bunny_small_meshopt.glb
 $bin/gltf-transform quantize "$out/bunny_small.glb" "$out/bunny_small_quantized.glb"
 # Sparse accessors, two scenes, an ignored extension; an unsupported required extension.
 node make_structural.mjs "$out"
+# A textured mesh through Draco (TEXCOORD_0 compressed with the positions and normals).
+$bin/gltf-pipeline -i "$out/textured_grid.gltf" -o "$out/textured_grid_draco.glb" -d
+# The same through gltfpack (Debian's gltfpack 0.18, `apt-get install gltfpack`: not an npm tool):
+# quantized texture coordinates undone by KHR_texture_transform.
+gltfpack -i "$out/textured_grid.gltf" -o "$out/textured_grid_gltfpack.glb"
 
 # Every valid file of the folder (the deliberately broken ones are listed in the README).
 valid=(hierarchy.gltf flat_square.gltf tilted_cube.gltf tilted_cube_2e-17.gltf tilted_cube_2e100.gltf
        bunny_small.glb bunny_small_draco.glb bunny_small_meshopt.glb bunny_small_quantized.glb
-       tetra_sparse_scenes.gltf gpu_instancing.gltf thin_slab.gltf camera_cube.gltf)
+       tetra_sparse_scenes.gltf gpu_instancing.gltf thin_slab.gltf camera_cube.gltf textured_grid.gltf
+       textured_grid_draco.glb textured_grid_gltfpack.glb)
 node validate.mjs "$out/validation.json" "${valid[@]/#/$out/}"

@@ -135,18 +135,21 @@ bool skipDracoMetadata(DracoHeaderReader& in) {
   return skipDracoMetadataTree(in);  // the file's own
 }
 
-Expected<std::vector<glm::vec3>> readDracoVec3(const draco::Mesh& mesh, std::uint32_t uniqueId, const char* semantic) {
+// Draco attribute `uniqueId` as N-component floats, one per point, every component finite.
+template <int N>
+Expected<std::vector<glm::vec<N, float>>> readDracoVectors(const draco::Mesh& mesh, std::uint32_t uniqueId,
+                                                            const char* semantic) {
   const draco::PointAttribute* attribute = mesh.GetAttributeByUniqueId(uniqueId);
   if (attribute == nullptr) return makeError(fmt::format("{}: the Draco stream has no attribute with id {}", semantic, uniqueId));
-  if (attribute->num_components() != 3)
-    return makeError(fmt::format("{}: Draco attribute {} has {} components, expected 3", semantic, uniqueId,
-                                 int(attribute->num_components())));
-  std::vector<glm::vec3> values(mesh.num_points());
+  if (attribute->num_components() != N)
+    return makeError(fmt::format("{}: Draco attribute {} has {} components, expected {}", semantic, uniqueId,
+                                 int(attribute->num_components()), N));
+  std::vector<glm::vec<N, float>> values(mesh.num_points());
   for (draco::PointIndex p(0); p < mesh.num_points(); ++p) {
-    float value[3];
-    if (!attribute->ConvertValue<float>(attribute->mapped_index(p), 3, value))
+    float value[N];
+    if (!attribute->ConvertValue<float>(attribute->mapped_index(p), N, value))
       return makeError(fmt::format("{}: Draco attribute {} cannot be read as floats", semantic, uniqueId));
-    for (int c = 0; c < 3; ++c) {
+    for (int c = 0; c < N; ++c) {
       if (!std::isfinite(value[c]))
         return makeError(fmt::format("{}: point {} component {} is {} (must be finite)", semantic, p.value(), c, value[c]));
       values[p.value()][c] = value[c];
@@ -189,8 +192,7 @@ Expected<DracoCounts> readDracoCounts(std::span<const std::uint8_t> compressed) 
   return DracoCounts{faces, vertices};
 }
 
-Expected<DracoPrimitive> decodeDracoPrimitive(std::span<const std::uint8_t> compressed, std::uint32_t positionId,
-                                              std::optional<std::uint32_t> normalId) {
+Expected<DracoPrimitive> decodeDracoPrimitive(std::span<const std::uint8_t> compressed, const DracoAttributeIds& ids) {
   draco::DecoderBuffer buffer;
   buffer.Init(reinterpret_cast<const char*>(compressed.data()), compressed.size());
   const auto type = draco::Decoder::GetEncodedGeometryType(&buffer);
@@ -204,9 +206,16 @@ Expected<DracoPrimitive> decodeDracoPrimitive(std::span<const std::uint8_t> comp
   if (mesh->num_points() == 0) return makeError("the Draco mesh has no points");
 
   DracoPrimitive out;
-  ENGINE_TRY_ASSIGN(out.positions, readDracoVec3(*mesh, positionId, "POSITION"));
-  if (normalId) {
-    ENGINE_TRY_ASSIGN(out.normals, readDracoVec3(*mesh, *normalId, "NORMAL"));
+  ENGINE_TRY_ASSIGN(out.positions, readDracoVectors<3>(*mesh, ids.position, "POSITION"));
+  if (ids.normal) {
+    ENGINE_TRY_ASSIGN(out.normals, readDracoVectors<3>(*mesh, *ids.normal, "NORMAL"));
+  }
+  if (ids.texcoord) {
+    auto texcoords = readDracoVectors<2>(*mesh, *ids.texcoord, "TEXCOORD_0");
+    if (texcoords.ok())
+      out.texcoords = std::move(*texcoords);
+    else
+      out.texcoordProblem = texcoords.error().message;
   }
   out.indices.reserve(std::size_t(mesh->num_faces()) * 3);
   for (draco::FaceIndex f(0); f < mesh->num_faces(); ++f) {

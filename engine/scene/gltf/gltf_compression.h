@@ -35,7 +35,16 @@ Expected<std::vector<std::uint8_t>> decodeMeshoptView(std::span<const std::uint8
 struct DracoPrimitive {
   std::vector<glm::vec3> positions;
   std::vector<glm::vec3> normals;  // empty without a NORMAL attribute id
+  std::vector<glm::vec2> texcoords;  // empty without a TEXCOORD_0 attribute id, or when it cannot be read:
+  std::string texcoordProblem;       // then why (a warning: the mesh is drawn without its texture)
   std::vector<std::uint32_t> indices;  // triangle list
+};
+
+// The Draco attribute ids (the extension's `attributes` object) of what is decoded.
+struct DracoAttributeIds {
+  std::uint32_t position = 0;
+  std::optional<std::uint32_t> normal;
+  std::optional<std::uint32_t> texcoord;
 };
 
 // What a Draco triangle-mesh stream declares in its header, read before the decoder runs: the
@@ -44,8 +53,11 @@ struct DracoPrimitive {
 struct DracoCounts {
   std::uint64_t faces = 0;
   std::uint64_t vertices = 0;  // edgebreaker: encoded position vertices; sequential: points
-  // The least the decoded geometry can take: 3 indices per face, a position (and a normal) per vertex.
-  std::uint64_t decodedBytes(bool withNormals) const { return faces * 12 + vertices * (withNormals ? 24 : 12); }
+  // The least the decoded geometry can take: 3 indices per face, a position (a normal, a texture
+  // coordinate) per vertex.
+  std::uint64_t decodedBytes(const DracoAttributeIds& ids) const {
+    return faces * 12 + vertices * (12 + (ids.normal ? 12 : 0) + (ids.texcoord ? 8 : 0));
+  }
 };
 
 // Reads the header (skipping its metadata) and the connectivity counts of a Draco triangle mesh,
@@ -55,7 +67,6 @@ Expected<DracoCounts> readDracoCounts(std::span<const std::uint8_t> compressed);
 // Decodes a Draco triangle mesh and reads the attributes with the given unique ids (the values of
 // the extension's `attributes` object). Every value must be finite and the point count must fit
 // 32-bit indices.
-Expected<DracoPrimitive> decodeDracoPrimitive(std::span<const std::uint8_t> compressed, std::uint32_t positionId,
-                                              std::optional<std::uint32_t> normalId);
+Expected<DracoPrimitive> decodeDracoPrimitive(std::span<const std::uint8_t> compressed, const DracoAttributeIds& ids);
 
 }  // namespace engine::scene

@@ -136,9 +136,9 @@ Expected<std::uint64_t> accessorCount(const ImportContext& context, int accessor
 // libdraco sizes its tables from the stream's declared counts before reading the data that would
 // contradict them (a 1 KB stream declaring 10^9 faces allocates gigabytes): the least those counts
 // decode to must fit what the file may still decode (the charge itself follows the decoding).
-Status checkDracoCounts(const ImportContext& context, std::span<const std::uint8_t> compressed, bool withNormals) {
+Status checkDracoCounts(const ImportContext& context, std::span<const std::uint8_t> compressed, const DracoAttributeIds& ids) {
   ENGINE_TRY_ASSIGN(const DracoCounts declared, readDracoCounts(compressed));
-  const std::uint64_t bytes = declared.decodedBytes(withNormals);
+  const std::uint64_t bytes = declared.decodedBytes(ids);
   if (bytes > context.decodeBudgetBytes)
     return makeError(fmt::format("the Draco stream declares {} faces and {} vertices ({} bytes decoded), over the limit for "
                                  "this file ({} bytes left)",
@@ -146,23 +146,33 @@ Status checkDracoCounts(const ImportContext& context, std::span<const std::uint8
   return {};
 }
 
-// Positions, indices and (when compressed too) normals from the primitive's Draco stream, checked
-// against the counts its accessors declare.
-Expected<MeshPrimitiveData> decodeDracoGeometry(ImportContext& context, const PrimitiveRef& ref) {
+// The ids of the Draco attributes the primitive is drawn with (its extension's `attributes`).
+Expected<DracoAttributeIds> dracoAttributeIds(const DracoExtension& draco) {
+  const auto id = [&](const char* semantic) -> std::optional<std::uint32_t> {
+    const auto found = draco.attributes.find(semantic);
+    return found == draco.attributes.end() ? std::nullopt : std::optional(found->second);
+  };
+  const auto position = id("POSITION");
+  if (!position) return makeError("KHR_draco_mesh_compression has no POSITION attribute");
+  return DracoAttributeIds{*position, id("NORMAL"), id("TEXCOORD_0")};
+}
+
+// Positions, indices and (when compressed too) normals and texture coordinates from the primitive's
+// Draco stream, checked against the counts its accessors declare. A TEXCOORD_0 that cannot be read
+// is a warning, as an uncompressed one (readTexcoords).
+Expected<MeshPrimitiveData> decodeDracoGeometry(ImportContext& context, const PrimitiveRef& ref, const std::string& where) {
   const DracoExtension& draco = *ref.draco;
   if (ref.primitive.mode != TINYGLTF_MODE_TRIANGLES)
     return makeError(fmt::format("KHR_draco_mesh_compression on mode {} (only TRIANGLES is supported)", ref.primitive.mode));
-  const auto position = draco.attributes.find("POSITION");
-  if (position == draco.attributes.end()) return makeError("KHR_draco_mesh_compression has no POSITION attribute");
-  const auto normal = draco.attributes.find("NORMAL");
+  ENGINE_TRY_ASSIGN(const DracoAttributeIds ids, dracoAttributeIds(draco));
   ENGINE_TRY_ASSIGN(const auto compressed, bufferViewBytes(context, draco.bufferView).withContext("KHR_draco_mesh_compression"));
-  ENGINE_TRY(checkDracoCounts(context, compressed, normal != draco.attributes.end()).withContext("KHR_draco_mesh_compression"));
-  ENGINE_TRY_ASSIGN(const DracoPrimitive decoded,
-                    decodeDracoPrimitive(compressed, position->second,
-                                         normal == draco.attributes.end() ? std::nullopt : std::optional(normal->second))
-                        .withContext("KHR_draco_mesh_compression"));
+  ENGINE_TRY(checkDracoCounts(context, compressed, ids).withContext("KHR_draco_mesh_compression"));
+  ENGINE_TRY_ASSIGN(const DracoPrimitive decoded, decodeDracoPrimitive(compressed, ids).withContext("KHR_draco_mesh_compression"));
   ENGINE_TRY(chargeDecode(context, (decoded.positions.size() + decoded.normals.size()) * sizeof(glm::vec3) +
+                                       decoded.texcoords.size() * sizeof(glm::vec2) +
                                        decoded.indices.size() * sizeof(std::uint32_t)));
+  if (!decoded.texcoordProblem.empty())
+    context.warnings.push_back(fmt::format("{}: TEXCOORD_0 not read: {}", where, decoded.texcoordProblem));
   ENGINE_TRY_ASSIGN(const std::uint64_t vertexCount, accessorCount(context, findAttribute(ref.primitive, "POSITION"), "POSITION"));
   if (decoded.positions.size() != vertexCount)
     return makeError(fmt::format("the Draco stream has {} points but the POSITION accessor says {}", decoded.positions.size(),
@@ -176,6 +186,7 @@ Expected<MeshPrimitiveData> decodeDracoGeometry(ImportContext& context, const Pr
   MeshPrimitiveData out;
   out.positions = decoded.positions;
   out.normals = decoded.normals;
+  out.texcoords = decoded.texcoords;
   out.indices = decoded.indices;
   return out;
 }
@@ -237,7 +248,8 @@ void renormalize(std::vector<glm::vec3>& normals) {
 
 // TEXCOORD_0 (what a base colour texture is read through). The importer did not read it before
 // textures were drawn, so a broken one is a warning, not an error: the primitive keeps no texture
-// coordinates and is drawn in its material's factor, as it was. Not decoded from Draco.
+// coordinates and is drawn in its material's factor, as it was. (A Draco primitive's come from its
+// stream: decodeDracoGeometry.)
 void readTexcoords(ImportContext& context, const PrimitiveRef& ref, const std::string& where, MeshPrimitiveData& out) {
   const int accessor = findAttribute(ref.primitive, "TEXCOORD_0");
   if (accessor == -2 || ref.draco) return;
@@ -254,12 +266,12 @@ void readTexcoords(ImportContext& context, const PrimitiveRef& ref, const std::s
   out.texcoords = std::move(*texcoords);
 }
 
-Expected<MeshPrimitiveData> convertTrianglePrimitive(ImportContext& context, const PrimitiveRef& ref) {
+Expected<MeshPrimitiveData> convertTrianglePrimitive(ImportContext& context, const PrimitiveRef& ref, const std::string& where) {
   const auto& primitive = ref.primitive;
   if (findAttribute(primitive, "POSITION") == -2) return makeError("has no POSITION attribute");
   MeshPrimitiveData out;
   if (ref.draco) {
-    ENGINE_TRY_ASSIGN(out, decodeDracoGeometry(context, ref));
+    ENGINE_TRY_ASSIGN(out, decodeDracoGeometry(context, ref, where));
   } else {
     ENGINE_TRY_ASSIGN(out, readUncompressedGeometry(context, ref));
   }
@@ -311,7 +323,7 @@ Expected<MeshData> convertMesh(ImportContext& context, int meshIndex) {
     }
     if (!isTriangleMode(primitive.mode)) return makeError(fmt::format("{}: unknown mode {}", where, primitive.mode));
     ENGINE_TRY_ASSIGN(const PrimitiveRef ref, primitiveRef(context, meshIndex, p).withContext(where));
-    ENGINE_TRY_ASSIGN(auto converted, convertTrianglePrimitive(context, ref).withContext(where));
+    ENGINE_TRY_ASSIGN(auto converted, convertTrianglePrimitive(context, ref, where).withContext(where));
     readTexcoords(context, ref, where, converted);
     if (ref.draco && !primitive.targets.empty() && !mesh.weights.empty())  // libdraco may reorder the points
       context.warnings.push_back(fmt::format("{}: morph targets of a Draco-compressed primitive are not applied", where));
@@ -800,14 +812,36 @@ class TextureImport {
     const auto& info = material.pbrMetallicRoughness.baseColorTexture;
     if (info.index == -1) return -1;  // tinygltf's "absent"
     const std::string where = fmt::format("material {} '{}': baseColorTexture", m, material.name);
-    if (info.texCoord != 0) {
-      warn(where, fmt::format("texCoord {} is not read (only TEXCOORD_0)", info.texCoord));
+    const auto coordinates = textureCoordinates(info);
+    if (!coordinates.ok()) {
+      warn(where, coordinates.error().message);
       return -1;
     }
-    const auto known = converted_.find(info.index);
+    if (coordinates->set != 0) {
+      warn(where, fmt::format("texCoord {} is not read (only TEXCOORD_0)", coordinates->set));
+      return -1;
+    }
+    const int slot = convertedTexture(info.index, where, textures);
+    if (slot >= 0 && coordinates->transform != glm::mat3(1.0f)) transforms_[int(m)] = coordinates->transform;
+    return slot;
+  }
+
+  // The primitive's TEXCOORD_0 turned into the coordinates its material's texture is read at
+  // (KHR_texture_transform: an atlas region, a tiled or rotated texture; gltfpack writes one to
+  // undo its quantization of texture coordinates).
+  void transformTexcoords(MeshPrimitiveData& primitive) const {
+    const auto transform = transforms_.find(primitive.material);
+    if (transform == transforms_.end()) return;
+    for (glm::vec2& uv : primitive.texcoords) uv = glm::vec2(transform->second * glm::vec3(uv, 1.0f));
+  }
+
+ private:
+  // glTF texture `index` decoded once: its SceneData::textures index, or -1 (with a warning).
+  int convertedTexture(int index, const std::string& where, std::vector<TextureData>& textures) {
+    const auto known = converted_.find(index);
     if (known != converted_.end()) return known->second;
-    auto texture = convertTexture(context_, info.index);
-    int& slot = converted_[info.index];
+    auto texture = convertTexture(context_, index);
+    int& slot = converted_[index];
     slot = -1;
     if (!texture.ok()) {
       warn(where, texture.error().message);
@@ -817,13 +851,12 @@ class TextureImport {
     slot = int(textures.size() - 1);
     return slot;
   }
-
- private:
   void warn(const std::string& where, const std::string& problem) {
     context_.warnings.push_back(fmt::format("{}: {}; drawn in baseColorFactor", where, problem));
   }
   ImportContext& context_;
   std::map<int, int> converted_;  // glTF texture -> SceneData::textures index, -1: failed
+  std::map<int, glm::mat3> transforms_;  // material -> its KHR_texture_transform, when not the identity
 };
 
 // A textured material on a primitive without TEXCOORD_0 draws in its factor: said once per primitive.
@@ -857,6 +890,7 @@ Expected<SceneData> convertModel(ImportContext& context) {
   ENGINE_TRY_ASSIGN(const auto cameraRemap, convertCameras(context, scene));
   for (std::size_t m = 0; m < model.meshes.size(); ++m) {
     ENGINE_TRY_ASSIGN(auto mesh, convertMesh(context, int(m)));
+    for (MeshPrimitiveData& primitive : mesh.primitives) textures.transformTexcoords(primitive);
     scene.meshes.push_back(std::move(mesh));
   }
   noteUntexturedPrimitives(scene, context.warnings);

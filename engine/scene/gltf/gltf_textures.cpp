@@ -1,6 +1,7 @@
 // glTF textures (gltf_textures.h): sampler, image source, decoding.
 #include "engine/scene/gltf/gltf_textures.h"
 
+#include <cmath>
 #include <string>
 #include <vector>
 
@@ -20,6 +21,7 @@ constexpr int kNearestMipmapLinear = 9986;
 constexpr int kLinearMipmapLinear = 9987;
 constexpr int kClampToEdge = 33071;
 constexpr int kMirroredRepeat = 33648;
+constexpr const char* kTextureTransformExtension = "KHR_texture_transform";
 
 TextureWrap wrapOf(int wrap) {
   if (wrap == kClampToEdge) return TextureWrap::ClampToEdge;
@@ -62,7 +64,71 @@ Expected<std::vector<std::uint8_t>> encodedImage(ImportContext& context, const I
   return readFileBesideGltf(*context.files, image.uri);
 }
 
+// KHR_texture_transform's `key`: a finite number, `fallback` when absent.
+Expected<double> transformNumber(const tinygltf::Value& extension, const char* key, double fallback) {
+  if (!extension.Has(key)) return fallback;
+  const tinygltf::Value& value = extension.Get(key);
+  if (!value.IsNumber() || !std::isfinite(value.GetNumberAsDouble()))
+    return makeError(fmt::format("{} {} is not a finite number", kTextureTransformExtension, key));
+  return value.GetNumberAsDouble();
+}
+
+// KHR_texture_transform's `key`: two finite numbers, `fallback` when absent.
+Expected<glm::dvec2> transformPair(const tinygltf::Value& extension, const char* key, glm::dvec2 fallback) {
+  if (!extension.Has(key)) return fallback;
+  const tinygltf::Value& value = extension.Get(key);
+  const auto component = [&](int i) { return value.Get(i).IsNumber() ? value.Get(i).GetNumberAsDouble() : std::nan(""); };
+  if (!value.IsArray() || value.ArrayLen() != 2 || !std::isfinite(component(0)) || !std::isfinite(component(1)))
+    return makeError(fmt::format("{} {} is not two finite numbers", kTextureTransformExtension, key));
+  return glm::dvec2(component(0), component(1));
+}
+
+// offset * rotation * scale. The rotation turns u toward -v: glTF's v axis points down, and the
+// GLSL listing of the extension's README, which turns u toward +v, is known to be wrong
+// (KhronosGroup/glTF#1563); the README's example ("the lower left quadrant"), the TextureTransformTest
+// sample model and the implementations follow this sign.
+glm::mat3 transformMatrix(glm::dvec2 offset, double rotation, glm::dvec2 scale) {
+  const double c = std::cos(rotation), s = std::sin(rotation);
+  glm::dmat3 m(1.0);
+  m[0] = glm::dvec3(c * scale.x, -s * scale.x, 0.0);
+  m[1] = glm::dvec3(s * scale.y, c * scale.y, 0.0);
+  m[2] = glm::dvec3(offset, 1.0);
+  return glm::mat3(m);
+}
+
+// A texture without `source` keeps its image in an extension (KHR_texture_basisu's KTX2,
+// EXT_texture_webp's WebP, ...), which stb_image does not decode: named, rather than "image -1".
+std::string missingSource(const tinygltf::Texture& texture) {
+  for (const auto& [name, extension] : texture.extensions)
+    if (extension.IsObject() && extension.Has("source"))
+      return fmt::format("its image is only in {}, which is not decoded (PNG and JPEG are)", name);
+  return "has no source image";
+}
+
 }  // namespace
+
+Expected<TextureCoordinates> textureCoordinates(const tinygltf::TextureInfo& info) {
+  TextureCoordinates out;
+  out.set = info.texCoord;
+  const auto found = info.extensions.find(kTextureTransformExtension);
+  if (found == info.extensions.end()) return out;
+  const tinygltf::Value& extension = found->second;
+  if (!extension.IsObject()) return makeError(fmt::format("{} is not an object", kTextureTransformExtension));
+  if (extension.Has("texCoord")) {
+    const tinygltf::Value& set = extension.Get("texCoord");
+    if (!set.IsInt() || set.Get<int>() < 0)
+      return makeError(fmt::format("{} texCoord is not a non-negative integer", kTextureTransformExtension));
+    out.set = set.Get<int>();
+  }
+  ENGINE_TRY_ASSIGN(const glm::dvec2 offset, transformPair(extension, "offset", glm::dvec2(0.0)));
+  ENGINE_TRY_ASSIGN(const double rotation, transformNumber(extension, "rotation", 0.0));
+  ENGINE_TRY_ASSIGN(const glm::dvec2 scale, transformPair(extension, "scale", glm::dvec2(1.0)));
+  out.transform = transformMatrix(offset, rotation, scale);
+  for (int c = 0; c < 3; ++c)
+    if (!std::isfinite(out.transform[c].x) || !std::isfinite(out.transform[c].y))
+      return makeError(fmt::format("{} does not fit 32-bit floats", kTextureTransformExtension));
+  return out;
+}
 
 Expected<TextureData> convertTexture(ImportContext& context, int textureIndex) {
   const auto& model = context.model;
@@ -77,6 +143,7 @@ Expected<TextureData> convertTexture(ImportContext& context, int textureIndex) {
     applySampler(model.samplers[std::size_t(texture.sampler)], out);
   }
   const auto& images = context.plan.images;
+  if (texture.source == -1) return makeError(fmt::format("{}: {}", where, missingSource(texture)));
   if (!inRange(texture.source, images))
     return makeError(fmt::format("{}: {}", where, describeIndexRange("image", texture.source, images.size())));
   const ImageSource& image = images[std::size_t(texture.source)];

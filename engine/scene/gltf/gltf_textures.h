@@ -5,6 +5,8 @@
 // turns into a warning (the material is drawn in its factor), never a crash.
 #include <cstdint>
 
+#include <glm/glm.hpp>
+
 #include "engine/core/expected.h"
 #include "engine/scene/gltf/gltf_accessors.h"
 #include "engine/scene/scene_data.h"
@@ -17,5 +19,17 @@ inline constexpr std::uint32_t kMaxTextureSide = 8192;
 
 // glTF textures[textureIndex] as TextureData; its decoded texels are charged to the decode budget.
 Expected<TextureData> convertTexture(ImportContext& context, int textureIndex);
+
+// Where a textureInfo reads its texture: the TEXCOORD set, and KHR_texture_transform's affine map
+// (offset, rotation, scale) from the coordinates the primitive stores to those the texture is
+// read at -- the identity without the extension.
+struct TextureCoordinates {
+  int set = 0;
+  glm::mat3 transform{1.0f};
+};
+
+// The textureInfo's coordinates; the extension's texCoord overrides the textureInfo's. A malformed
+// extension is an error naming the field.
+Expected<TextureCoordinates> textureCoordinates(const tinygltf::TextureInfo& info);
 
 }  // namespace engine::scene::gltf

@@ -195,6 +195,74 @@ void expectContains(const std::string& message, std::initializer_list<std::strin
   for (const auto part : parts) EXPECT_NE(message.find(part), std::string::npos) << "missing '" << part << "' in: " << message;
 }
 
+// `packed` (a compressed or quantized copy of tests/data/gltf/textured_grid.gltf) loads with its
+// texture and, for each of its vertices, the texture coordinates of the plain vertex at the same
+// world position (matched one to one) within `texcoordTolerance`. Its worst error is printed.
+void expectTheGridsTexcoords(const std::string& packed, float texcoordTolerance) {
+  const auto plain = loadGltf(kDataDir / "textured_grid.gltf");
+  const auto scene = loadGltf(kDataDir / packed);
+  ASSERT_TRUE(plain.ok()) << plain.error().message;
+  ASSERT_TRUE(scene.ok()) << scene.error().message;
+  for (const auto& w : scene->warnings) ADD_FAILURE() << "unexpected warning: " << w;
+  ASSERT_EQ(scene->textures.size(), 1u);
+  EXPECT_EQ(scene->textures[0].rgba, plain->textures.at(0).rgba);
+  EXPECT_EQ(scene->materials.at(0).baseColorTexture, 0);
+  const auto& expected = plain->meshes.at(0).primitives.at(0);
+  const auto& decoded = scene->meshes.at(0).primitives.at(0);
+  ASSERT_EQ(expected.positions.size(), 16u);
+  ASSERT_EQ(decoded.positions.size(), expected.positions.size());
+  ASSERT_EQ(decoded.texcoords.size(), decoded.positions.size());
+  const glm::mat4 world = scene->nodes.at(0).world;  // gltfpack stores integer positions and a node scale
+  const float positionTolerance = 1.0f / 1024.0f;    // 11 bits or more over a unit square
+  std::vector<bool> used(expected.positions.size(), false);
+  float worst = 0.0f;
+  for (std::size_t v = 0; v < decoded.positions.size(); ++v) {
+    const glm::vec3 position = glm::vec3(world * glm::vec4(decoded.positions[v], 1.0f));
+    const std::size_t match = nearest(expected.positions, position);
+    EXPECT_LE(glm::distance(expected.positions[match], position), positionTolerance) << "vertex " << v;
+    EXPECT_FALSE(used[match]) << "two decoded vertices match plain vertex " << match;
+    used[match] = true;
+    const glm::vec2 error = glm::abs(decoded.texcoords[v] - expected.texcoords[match]);
+    worst = std::max({worst, error.x, error.y});
+  }
+  EXPECT_LE(worst, texcoordTolerance);
+  std::printf("%s: worst texture coordinate error %.3g (tolerance %.3g)\n", packed.c_str(), double(worst),
+              double(texcoordTolerance));
+}
+
+// Why: web pipelines compress textured models with Draco (gltf-pipeline -d), TEXCOORD_0 with the
+// positions; read from the accessors only, the texture was not drawn, and the note said the
+// primitive had no TEXCOORD_0. Tricky because Draco reorders the points and quantizes the
+// coordinates (10 bits by default: over about 0.94, a step of 0.001): each decoded vertex is
+// matched to its plain vertex by position, one to one; the grid's coordinates are no function of
+// its positions, so a wrong attribute or order is seen.
+TEST(GltfLoaderCompressed, ADracoTexturedMeshKeepsItsTextureCoordinates) {
+  expectTheGridsTexcoords("textured_grid_draco.glb", 1.0f / 512.0f);
+
+  // A TEXCOORD_0 id that names the normals (3 components) is a warning: the mesh is drawn in its factor.
+  Glb wrong = readGlb("textured_grid_draco.glb");
+  auto& ids = wrong.document["meshes"][0]["primitives"][0]["extensions"]["KHR_draco_mesh_compression"]["attributes"];
+  ids["TEXCOORD_0"] = ids["NORMAL"];
+  const auto bytes = writeGlb(wrong);
+  const auto untextured = loadGltfFromMemory(bytes, "wrong.glb", {});
+  ASSERT_TRUE(untextured.ok()) << untextured.error().message;
+  EXPECT_TRUE(untextured->meshes.at(0).primitives.at(0).texcoords.empty());
+  std::string notes;
+  for (const auto& w : untextured->warnings) notes += w + "\n";
+  EXPECT_NE(notes.find("mesh 0 'grid' primitive 0: TEXCOORD_0 not read: TEXCOORD_0: Draco attribute 1 has 3 components, "
+                       "expected 2"),
+            std::string::npos)
+      << notes;
+}
+
+// Why: gltfpack quantizes texture coordinates to normalized 16-bit integers and undoes that with a
+// KHR_texture_transform (offset and scale, KHR_mesh_quantization's way); read without it, every
+// textured file out of gltfpack drew the corner of its texture. Tricky because positions are
+// quantized too (integers under a node scale), so vertices are matched in world space.
+TEST(GltfLoaderCompressed, AGltfpackTexturedMeshReadsItsTextureThroughItsTransform) {
+  expectTheGridsTexcoords("textured_grid_gltfpack.glb", 1.0f / 2048.0f);
+}
+
 // Tricky because the writer round trip itself must be lossless, or every case below would pass for
 // the wrong reason: the untouched file must load.
 TEST(GltfLoaderCompressedMalformed, UntouchedRoundTripLoads) {
