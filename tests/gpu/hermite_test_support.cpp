@@ -355,10 +355,10 @@ TwoObjects twoOverlappingObjects(const hsdf::SdfAsset& asset) {
   const float radius = 0.5f * float(glm::length(asset.surfaceBounds.size()));
   const glm::vec3 towardEye = farViewFrom();
   const glm::vec3 across = glm::normalize(glm::cross(glm::vec3(0.0f, 1.0f, 0.0f), towardEye));
-  const glm::vec3 moved = -0.5f * radius * towardEye + 0.8f * radius * across;
+  const glm::vec3 moved = -0.1f * radius * towardEye + 0.55f * radius * across;
   TwoObjects two;
   two.models[0] = glm::mat4(1.0f);
-  two.models[1] = glm::translate(glm::mat4(1.0f), center + moved) * glm::rotate(glm::mat4(1.0f), 1.5708f, towardEye) *
+  two.models[1] = glm::translate(glm::mat4(1.0f), center + moved) * glm::rotate(glm::mat4(1.0f), 1.5708f, across) *
                   glm::translate(glm::mat4(1.0f), -center);
   two.frame = {center + 0.5f * moved, radius + 0.5f * glm::length(moved)};
   return two;

@@ -143,9 +143,10 @@ inline constexpr double kFarNormalOutlierShare = 0.002;
 inline constexpr double kFarNormalP99Degrees = 1.5;
 
 // Two objects of one asset for the far tests with two objects: the first where the asset is, the
-// second turned a quarter about the far cameras' view axis and moved half its size behind the first
-// and across the view, so that on screen it lies partly behind the first and partly beside it; each
-// has its own anchor (HermiteDraw::rayAnchor, SphereTraceDraw::rayAnchor). `frame` holds both.
+// second turned a quarter about the view's horizontal axis and moved across the view by a quarter of
+// its size and back by a twentieth, so that the two cross: on screen the second lies partly behind
+// the first, partly in front of it and partly beside it. Each has its own anchor
+// (HermiteDraw::rayAnchor, SphereTraceDraw::rayAnchor). `frame` holds both.
 struct TwoObjects {
   glm::mat4 models[2];
   WorldSphere frame;
