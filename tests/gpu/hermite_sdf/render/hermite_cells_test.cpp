@@ -313,13 +313,14 @@ TEST_F(HermiteCellsTest, AFarTelephotoCameraShadesTheHitsItsPrepassStored) {
 // object's anchor through its draw record. One object per test told neither apart. Two objects
 // with different anchors, overlapping on screen (twoOverlappingObjects: the second partly behind
 // the first, partly beside it), 1e7 cells back (kFarHitCells): every form's normals must be those
-// of the CPU reference of both placed near (nearerHits): 11-21 of 26,186 hits more than 3 degrees
+// of the CPU reference of both placed near (nearerHits): 4-21 of 26,186 hits more than 3 degrees
 // off, p99 0.62-0.63. The resolve with the first object's anchor for both (the mutant): 12,870-12,884
 // off in every form, p99 47 degrees. The tiles storing the converted `best` instead of `hitT`
 // differ only where another object's cell is walked after the winner's, which in a sorted list
 // (nearest box first, the walk stopping at the first box behind the hit) needs that cell's box to
-// begin within the winner's depth span: where the surfaces cross, 11 px here, not told from the
-// rest (unsorted lists, past CELL_TILE_SORT_MAX entries a tile, walk every entry).
+// begin within the winner's depth span: where the surfaces cross, 11 px off here against 4 without
+// it, not told from the rest (unsorted lists, past CELL_TILE_SORT_MAX entries a tile, walk every
+// entry).
 TEST_F(HermiteCellsTest, TwoFarObjectsShadeEachHitFromItsOwnAnchor) {
   createCellRenderer(kSize, kSize);
   hsdf::HermiteCellFeature& feature = *renderer_->feature<hsdf::HermiteCellFeature>();
