@@ -5,6 +5,8 @@
 #include <cmath>
 #include <cstdio>
 
+#include <glm/gtc/matrix_transform.hpp>
+
 #include "engine/core/math.h"
 #include "engine/render/components.h"
 #include "engine/scene/gltf/gltf_loader.h"
@@ -304,6 +306,100 @@ engine::render::CameraView orthographicLike(const engine::render::CameraView& ca
       engine::render::CameraView::fromWorld(glm::inverse(camera.view), ortho, 1.0f);
   EXPECT_TRUE(made.ok()) << made.error().message;
   return made ? *made : camera;
+}
+
+namespace {
+
+// Where the far cameras look from, seen from the centre of what they frame.
+glm::vec3 farViewFrom() { return glm::normalize(glm::vec3(0.6f, 0.5f, 0.8f)); }
+
+}  // namespace
+
+std::pair<render::CameraView, render::CameraView> farCameras(const WorldSphere& sphere, double distance) {
+  const float far = float(distance), radius = sphere.radius;
+  const glm::vec3 eye = sphere.center + far * farViewFrom();
+  const render::CameraView telephoto =
+      render::CameraView::lookAt(eye, sphere.center, 2.0f * std::atan(0.8f * radius / far), far - 2.0f * radius, 1.0f);
+  return {telephoto, orthographicLike(telephoto, 0.8f * radius, far - 2.0f * radius, far + 2.0f * radius)};
+}
+
+namespace {
+
+// The surface bounds' sphere, made as the far tests made it before WorldSphere (their numbers kept).
+WorldSphere surfaceSphere(const hsdf::SdfAsset& asset) {
+  return {glm::vec3(asset.surfaceBounds.center()), 0.5f * float(glm::length(asset.surfaceBounds.size()))};
+}
+
+}  // namespace
+
+std::pair<render::CameraView, render::CameraView> farCameras(const hsdf::SdfAsset& asset, double cells) {
+  return farCameras(surfaceSphere(asset), double(float(cells * asset.field.grid.spacing)));
+}
+
+std::pair<render::CameraView, render::CameraView> farBackCameras(const WorldSphere& sphere, double distance) {
+  const render::CameraView far = farCameras(sphere, distance).second;
+  const glm::dmat3 rotation(glm::mat3(far.view));
+  const glm::dvec3 ahead = -glm::inverse(rotation)[2];
+  render::CameraView moved = far;
+  moved.position = glm::vec3(glm::dvec3(far.position) + (distance - 3.0 * double(sphere.radius)) * ahead);
+  moved.view[3] = glm::vec4(glm::vec3(-(rotation * glm::dvec3(moved.position))), 1.0f);
+  return {far, orthographicLike(moved, far.ymag, sphere.radius, 5.0f * sphere.radius)};
+}
+
+std::pair<render::CameraView, render::CameraView> farBackCameras(const hsdf::SdfAsset& asset, double cells) {
+  return farBackCameras(surfaceSphere(asset), cells * asset.field.grid.spacing);
+}
+
+TwoObjects twoOverlappingObjects(const hsdf::SdfAsset& asset) {
+  const glm::vec3 center(asset.surfaceBounds.center());
+  const float radius = 0.5f * float(glm::length(asset.surfaceBounds.size()));
+  const glm::vec3 towardEye = farViewFrom();
+  const glm::vec3 across = glm::normalize(glm::cross(glm::vec3(0.0f, 1.0f, 0.0f), towardEye));
+  const glm::vec3 moved = -0.1f * radius * towardEye + 0.55f * radius * across;
+  TwoObjects two;
+  two.models[0] = glm::mat4(1.0f);
+  two.models[1] = glm::translate(glm::mat4(1.0f), center + moved) * glm::rotate(glm::mat4(1.0f), 1.5708f, across) *
+                  glm::translate(glm::mat4(1.0f), -center);
+  two.frame = {center + 0.5f * moved, radius + 0.5f * glm::length(moved)};
+  return two;
+}
+
+hsdf::ReferenceImage nearerHits(hsdf::ReferenceImage first, const hsdf::ReferenceImage& second) {
+  int firstWins = 0, secondWins = 0, both = 0;
+  for (std::size_t i = 0; i < first.hit.size(); ++i) {
+    both += first.hit[i] && second.hit[i];
+    if (!second.hit[i] || (first.hit[i] && second.depth[i] <= first.depth[i])) {
+      firstWins += first.hit[i];
+      continue;
+    }
+    ++secondWins;
+    first.depth[i] = second.depth[i];
+    first.normal[i] = second.normal[i];
+    first.hit[i] = second.hit[i];
+    first.cellId[i] = second.cellId[i];
+  }
+  std::printf("two objects: the first wins %d px, the second %d, both hit %d\n", firstWins, secondWins, both);
+  EXPECT_GT(firstWins, 2000);
+  EXPECT_GT(secondWins, 2000);
+  EXPECT_GT(both, 1000) << "the objects must overlap on screen";
+  return first;
+}
+
+void expectFarCoverage(const ImageComparison& c, int disagreements, int minHits) {
+  EXPECT_GT(c.referenceHits, minHits);
+  EXPECT_LE(c.disagreements, disagreements) << "pixels whose coverage differs from the reference";
+  EXPECT_EQ(c.interiorHoles, 0);
+  EXPECT_EQ(c.interiorExtras, 0);
+}
+
+void expectFarNormals(const Frame& normals, const hsdf::ReferenceImage& reference, const ImageComparison& c,
+                      const std::string& label, double outlierShare, double p99Degrees) {
+  const std::vector<bool> wrong = wrongPixels(normals, reference, kFarNormalDegrees);
+  const int outliers = int(std::count(wrong.begin(), wrong.end(), true));
+  std::printf("[ %s ] normals more than %.0f deg off: %d of %d hits\n", label.c_str(), kFarNormalDegrees, outliers,
+              c.referenceHits);
+  EXPECT_LE(outliers, int(outlierShare * c.referenceHits)) << "normals more than " << kFarNormalDegrees << " degrees off";
+  EXPECT_LT(c.normalErrorP99Degrees, p99Degrees);
 }
 
 namespace {

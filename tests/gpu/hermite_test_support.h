@@ -5,6 +5,7 @@
 #include <memory>
 #include <span>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "gpu_test_support.h"
@@ -112,6 +113,61 @@ engine::render::CameraView orbitAround(const WorldSphere& sphere, int view);
 // An orthographic camera with the pose of `camera` (a perspective one, e.g. orbitAround's): its view
 // 2 ymag tall, depth between znear and zfar, for a square image. Fails the test on error.
 engine::render::CameraView orthographicLike(const engine::render::CameraView& camera, float ymag, float znear, float zfar);
+
+// Far cameras (the far-hit tests of the cells and the tracers, docs/reliability.md "Scales,
+// distances and cameras"): a telephoto camera `distance` world units from `sphere`'s centre,
+// framing it as orbit views do (half the image height is 0.8 radii at its centre), and the
+// orthographic camera placed there (znear and zfar 2 radii around the centre).
+std::pair<engine::render::CameraView, engine::render::CameraView> farCameras(const WorldSphere& sphere, double distance);
+// The same for `asset`'s surface bounds, `cells` grid cells out.
+std::pair<engine::render::CameraView, engine::render::CameraView> farCameras(const hsdf::SdfAsset& asset, double cells);
+
+// An orthographic camera framing `sphere` from `distance` back (farCameras), and the same camera 3
+// radii from the centre: its point moved along the axis the view draws, in double. Both draw the
+// same pixel rays, so the near one's CPU reference is the far one's.
+std::pair<engine::render::CameraView, engine::render::CameraView> farBackCameras(const WorldSphere& sphere, double distance);
+std::pair<engine::render::CameraView, engine::render::CameraView> farBackCameras(const hsdf::SdfAsset& asset, double cells);
+
+// The far-hit tests' orthographic camera, in cells back from the torus, and what they allow of its
+// normals: at most kFarNormalOutlierShare of the reference's hits, interior pixels more than
+// kFarNormalDegrees off the reference, and a normal error p99 below kFarNormalP99Degrees.
+// Why these: 1e7 cells out (3e5 sizes of a 32-cell object) the prepass depth holds ~0.6 cell along
+// the ray (orthographic: a float ulp of proj[3][2] + (z - proj[3][2]) t). The resolve rebuilds each
+// hit from the offset the prepass stored beside the visibility instead (pixelRayStoredPoint): 0-9
+// of the 22,354 hits more than 3 degrees off, p99 0.61-0.65 degrees in every cell form, as 1e6 and
+// 3e6 cells back (0-1, 0.60), the reference's own distance from the GPU's interpolant near. Rebuilt
+// from the depth: 12,297-13,011 (55-58 %), p99 20.5-22.2 (1e6: 78-109, p99 2.8-2.9).
+inline constexpr double kFarHitCells = 1.0e7;
+inline constexpr double kFarNormalDegrees = 3.0;
+inline constexpr double kFarNormalOutlierShare = 0.002;
+inline constexpr double kFarNormalP99Degrees = 1.5;
+
+// Two objects of one asset for the far tests with two objects: the first where the asset is, the
+// second turned a quarter about the view's horizontal axis and moved across the view by a quarter of
+// its size and back by a twentieth, so that the two cross: on screen the second lies partly behind
+// the first, partly in front of it and partly beside it. Each has its own anchor
+// (HermiteDraw::rayAnchor, SphereTraceDraw::rayAnchor). `frame` holds both.
+struct TwoObjects {
+  glm::mat4 models[2];
+  WorldSphere frame;
+};
+TwoObjects twoOverlappingObjects(const hsdf::SdfAsset& asset);
+
+// The reference of both objects from one camera: pixel by pixel the nearer hit (reverse-Z: the
+// greater depth) of their references. Fails the test unless each object wins over 2,000 pixels
+// and both hit over 1,000 (the second partly hidden), so that the scene is what it must be.
+hsdf::ReferenceImage nearerHits(hsdf::ReferenceImage first, const hsdf::ReferenceImage& second);
+
+// A far frame's coverage: enough of it, at most `disagreements` pixels unlike the reference (a rim
+// along the outline), no interior hole or extra.
+void expectFarCoverage(const ImageComparison& c, int disagreements, int minHits = 10000);
+
+// Interior pixels (away from silhouettes) whose normal is more than kFarNormalDegrees off the
+// reference's, in a DEBUG_VIEW_NORMALS frame: at most `outlierShare` of the hits; the normal error
+// p99 below `p99Degrees`. Prints the count.
+void expectFarNormals(const Frame& normals, const hsdf::ReferenceImage& reference, const ImageComparison& c,
+                      const std::string& label, double outlierShare = kFarNormalOutlierShare,
+                      double p99Degrees = kFarNormalP99Degrees);
 
 // The hermite_sdf GPU tests' fixture: GpuTest with the checks that several of them share.
 class HermiteGpuTest : public GpuTest {

@@ -28,9 +28,15 @@ vec4 viewerLocal(FrameGlobals frame, mat4 invModel, vec3 eyeLocal) {
 // GpuScene::setOrigin; for an orthographic camera, to its point). Why: through model's float
 // translation, ~7.5e6 cells long at 3e5 object sizes, a box corner rounds by up to ~0.5 cell, and
 // the boxes were drawn that far from where the rays, based on the host's exact anchor, search.
+// The same for an object of grid spacing `spacing` whose rays are based on `anchor` (the sphere
+// tracers' SphereTraceDraw::rayAnchor).
+vec4 anchoredClipPosition(FrameGlobals frame, mat4 model, float spacing, vec4 anchor, vec3 gridPoint) {
+  vec3 offset = mat3(model) * (spacing * (gridPoint - anchor.xyz));
+  return frame.proj * vec4(mat3(frame.view) * offset - vec3(0.0, 0.0, anchor.w), 1.0);
+}
+
 vec4 anchoredClipPosition(FrameGlobals frame, mat4 model, HermiteDraw draw, vec3 gridPoint) {
-  vec3 offset = mat3(model) * (draw.gridOriginSpacing.w * (gridPoint - draw.rayAnchor.xyz));
-  return frame.proj * vec4(mat3(frame.view) * offset - vec3(0.0, 0.0, draw.rayAnchor.w), 1.0);
+  return anchoredClipPosition(frame, model, draw.gridOriginSpacing.w, draw.rayAnchor, gridPoint);
 }
 
 #endif

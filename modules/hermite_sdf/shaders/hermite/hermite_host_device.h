@@ -20,7 +20,7 @@ namespace shader {
 struct HermiteDraw {
   vec4 gridOriginSpacing;  // xyz: grid origin in object space; w: spacing h
   // Cells: where this view's rays are based (pixel_ray.glsl), made per object and view region on
-  // the host in double (cell_draws.cpp, rayAnchorGrid): xyz in grid units (object space / spacing,
+  // the host in double (render/ray_anchor.h, rayAnchorGrid): xyz in grid units (object space / spacing,
   // from the grid origin), w its view depth (world units; 0: the rays start at the eye). A float
   // made on the GPU from an eye ~7.5e6 cells out holds ~0.5 cell; this one holds float's
   // precision near the object, and costs no shader anything.
@@ -427,6 +427,11 @@ HSDF_CHECK_PUSH_CONSTANTS(HermitePushConstants);
 // (g + 0.5) / K.
 struct SphereTraceDraw {
   vec4 gridOriginSpacing;  // xyz: grid origin in object space; w: spacing h
+  // Where this view's rays are based (pixel_ray.glsl), as HermiteDraw::rayAnchor: made per object
+  // and view region on the host in double (render/ray_anchor.h), xyz in grid units, w its view
+  // depth (0: the rays start at the eye). From the eye a far camera's rays start a float ~1e7
+  // cells out, ~0.5 cell off in every axis, and march and shade from there.
+  vec4 rayAnchor;
   uint object;             // index into ObjectData[]
   uint resolution;         // K samples per axis
   uint flags;              // HERMITE_FLAG_NORMALS_CENTRAL
@@ -443,7 +448,7 @@ struct SphereTraceDraw {
   uint pad1;
   uint pad2;
 };
-HSDF_CHECK_SIZE(SphereTraceDraw, 16 + 12 * 4);
+HSDF_CHECK_SIZE(SphereTraceDraw, 2 * 16 + 12 * 4);
 
 // Push constants of the sphere-tracing pipelines.
 struct SphereTracePushConstants {

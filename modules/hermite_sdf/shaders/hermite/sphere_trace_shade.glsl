@@ -1,15 +1,18 @@
 // Shading pass of the sphere-tracing baselines, once per pixel: the object's box is rasterized
 // again; a fragment goes on only where this object won the prepass (visibility id), rebuilds the
-// hit from the prepass depth and shades it with the normal the object asks for.
+// hit on its pixel's ray from the offset the prepass stored (pixel_ray.glsl) and shades it with the
+// normal the object asks for.
 #version 460
 #extension GL_GOOGLE_include_directive : require
 #include "hermite/sphere_trace_common.glsl"
 #include "hermite/materials.glsl"
+#include "hermite/pixel_ray.glsl"
 #include "shared/debug_colors.glsl"
 #include "shared/lighting.glsl"
 
 layout(set = 0, binding = 0) uniform sampler2D sceneDepth;
 layout(set = 0, binding = 1) uniform usampler2D sceneVisibility;
+layout(set = 0, binding = 2) uniform sampler2D sceneHitOffset;  // pixelRayHitOffset of the winner
 
 layout(location = 0) flat in uint inDraw;
 layout(location = 0) out vec4 outColor;
@@ -22,11 +25,14 @@ void main() {
   FrameGlobals frame = FrameGlobalsRef(pc.draw.frameGlobals).globals;
   ObjectData object = ObjectsRef(pc.draw.objects).objects[draw.object];
 
+  // The hit in grid units, on the pixel's ray as the prepass based it, at the offset it stored from
+  // the draw's anchor (pixelRayStoredPoint): rebuilt from the depth, through float world space and
+  // the model's inverse, it was off by the depth's precision (~0.5 cell 8e6 cells out) and a float
+  // ulp of the distance on each axis. In world space (eye at the origin) for the lights only.
   float depth = texelFetch(sceneDepth, pixel, 0).r;
-  vec2 ndc = gl_FragCoord.xy * frame.viewport.zw * 2.0 - 1.0;
-  vec4 view = frame.invProj * vec4(ndc, depth, 1.0);
-  vec3 worldPosition = (frame.invView * vec4(view.xyz / view.w, 1.0)).xyz;
-  vec3 g = ((object.invModel * vec4(worldPosition, 1.0)).xyz - draw.gridOriginSpacing.xyz) / draw.gridOriginSpacing.w;
+  float offset = texelFetch(sceneHitOffset, pixel, 0).r;
+  vec3 g = pixelRayStoredPoint(frame, object.invModel, draw.gridOriginSpacing.w, draw.rayAnchor, depth, offset);
+  vec3 worldPosition = (frame.invView * vec4(pixelViewPoint(frame, depth), 1.0)).xyz;
   vec3 gradient = (draw.flags & HERMITE_FLAG_NORMALS_CENTRAL) != 0u ? centralFieldGradient(draw, g)
                                                                      : exactFieldGradient(draw, g);
   vec3 normal = normalize(transpose(mat3(object.invModel)) * gradient);

@@ -28,6 +28,7 @@
 #include "render/cell_rows.h"
 #include "render/cell_tiler.h"
 #include "render/near_plane.h"
+#include "render/ray_anchor.h"
 #include "hermite_sdf/render/lod.h"
 #include "hermite_sdf/core/normal_cone.h"
 
@@ -100,43 +101,6 @@ glm::dvec3 sortEye(const engine::render::CameraView& camera, const glm::mat4& in
   const glm::dvec3 centre(0.5 * cells);
   const double beyond = 2.0 * (glm::length(eyeGrid - centre) + 2.0 * cells);
   return eyeGrid + glm::normalize(towardViewer) * beyond;
-}
-
-// The view axis as the frame's view rotation R (a float matrix, CameraView::view) draws it, world
-// space: `ahead`, the point at view depth 1 straight ahead of the eye, less the eye (R^-1 (0, 0, -1),
-// not R's third row: a float rotation is orthonormal to ~1e-7, and a point on that row ~7.5e6 cells
-// ahead would be drawn most of a cell off the axis); `depth`, the view depth of a unit offset.
-struct ViewAxis {
-  glm::dvec3 ahead{0.0, 0.0, -1.0};
-  glm::dvec3 depth{0.0, 0.0, -1.0};
-};
-
-ViewAxis viewAxis(const engine::render::CameraView& camera) {
-  const glm::dmat3 rotation(glm::mat3(camera.view));
-  return {-glm::inverse(rotation)[2], -glm::dvec3(rotation[0][2], rotation[1][2], rotation[2][2])};
-}
-
-// Where an object's cells base their rays this view (HermiteDraw::rayAnchor, pixel_ray.glsl), in
-// its grid units, and the view depth there (w, world units): the point of the view axis through
-// `eyeGrid` (the eye, or the orthographic camera's point) at the view depth of the grid's nearest
-// corner, less a cell; the eye itself (depth 0) when it is beside or in the grid. Why: the cells
-// searched in the camera's t, t = 1 at the rasterized face, and ~3e6 cells from a far camera (a
-// telephoto lens, an orthographic camera placed back along its axis) a float t near 1 holds a
-// quarter of a cell (docs/reliability.md, "Scales, distances and cameras"). Based here the search
-// runs in an offset from a point beside the cells, in front of every cell and of the margins
-// around them, so that every root has t >= 0, as the searches' "no root" (-1) needs; the boxes are
-// drawn as offsets from it too (eye.glsl, anchoredClipPosition). Made in double once per object
-// and view region: the shaders made it per vertex or fragment, in float from the eye ~7.5e6 cells
-// out at 3e5 object sizes, where a float holds ~0.5 cell.
-glm::dvec4 rayAnchorGrid(const ViewAxis& axis, const glm::mat4& world, const GridSpec& grid, const glm::dvec3& eyeGrid) {
-  const glm::dmat3 model(world);
-  const glm::dvec3 depthPerCell = grid.spacing * (glm::transpose(model) * axis.depth);  // view depth of a grid unit per axis
-  const double halfExtent = 0.5 * double(grid.cellsPerAxis());  // the grid spans [0, K - 1]
-  const glm::dvec3 absolute = glm::abs(depthPerCell);
-  const double nearest = glm::dot(glm::dvec3(halfExtent) - eyeGrid, depthPerCell) -
-                         (halfExtent + 1.0) * (absolute.x + absolute.y + absolute.z);
-  const double depth = nearest > 0.0 && std::isfinite(nearest) ? nearest : 0.0;
-  return glm::dvec4(eyeGrid + depth * (glm::inverse(model) * axis.ahead) / grid.spacing, depth);
 }
 
 glm::vec4 unite(const glm::vec4& a, const glm::vec4& b) {
@@ -433,7 +397,7 @@ void HermiteCellFeature::beginObjectDraw(engine::render::FrameContext& frame, Fr
   f.objectIndices.push_back(objectIndex);
 
   // The eye in grid units, and how far (in grid units) the near plane reaches around it.
-  o.eyeGrid = (engine::render::eyeInObject(o.world, frame.camera.position) - grid.origin) / grid.spacing;
+  o.eyeGrid = eyeInGrid(frame.camera, o.world, grid);
   o.sortEyeGrid = sortEye(frame.camera, object.invModel, o.eyeGrid, grid);
   draw.rayAnchor = glm::vec4(rayAnchorGrid(f.axis, o.world, grid, o.eyeGrid));
   const double dilationCells = nearDilationCells(frame.camera, o.world, grid.spacing, frame.extent.height);

@@ -21,6 +21,7 @@
 #include "hermite/hermite_host_device.h"
 #include "render/wireframe.h"
 #include "render/near_plane.h"
+#include "render/ray_anchor.h"
 #include "render/sphere_trace_textures.h"
 
 namespace hsdf {
@@ -392,6 +393,7 @@ shader::SphereTraceDraw SphereTraceFeature::makeDraw(const EntityTexture& found,
 void SphereTraceFeature::collectDraws(engine::render::FrameContext& frame) {
   DrawLists lists;
   const engine::math::Frustum frustum = engine::math::extractFrustum(frame.camera.proj * frame.camera.view);
+  const ViewAxis axis = viewAxis(frame.camera);
   std::unordered_map<engine::ecs::Entity, std::shared_ptr<const SdfAsset>> drawnThisFrame;
   drawnAssets_.beginRegion(frame);
   frame.registry.view<HermiteSdfRenderable, engine::scene::WorldTransform>().each(
@@ -421,7 +423,10 @@ void SphereTraceFeature::collectDraws(engine::render::FrameContext& frame) {
             engine::render::GpuScene::makeObject(world.matrix, r.color, r.roughness, 0.0f, kFeatureId);
         object.payload = found.texture->materials ? found.texture->materials->address() : 0;  // FieldMaterialsHeader
         const bool near = nearPlaneMayCut(frame.camera, object.model, glm::vec3(drawn.min), glm::vec3(drawn.max));
-        lists[method][near ? 1 : 0].push_back(makeDraw(found, r, frame.scene.addObject(object)));
+        shader::SphereTraceDraw draw = makeDraw(found, r, frame.scene.addObject(object));
+        const GridSpec& grid = found.asset->field.grid;
+        draw.rayAnchor = glm::vec4(rayAnchorGrid(axis, world.matrix, grid, eyeInGrid(frame.camera, world.matrix, grid)));
+        lists[method][near ? 1 : 0].push_back(draw);
         (method == std::uint32_t(TraceMethod::Trilinear) ? stats_.trilinearObjects : stats_.hermiteObjects)++;
         stats_.nearObjects += near ? 1u : 0u;
       });

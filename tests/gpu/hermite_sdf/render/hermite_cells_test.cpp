@@ -204,27 +204,6 @@ void useForm(hsdf::HermiteCellFeature& feature, const CellForm& form) {
   feature.settings().tiles = form.tiles;
 }
 
-// A telephoto camera `cells` grid cells from the asset's centre, framing it as orbit views do
-// (half the image height is 0.8 radii at its centre), and the orthographic camera placed there.
-std::pair<render::CameraView, render::CameraView> farCameras(const hsdf::SdfAsset& asset, double cells) {
-  const glm::vec3 center(asset.surfaceBounds.center());
-  const float radius = 0.5f * float(glm::length(asset.surfaceBounds.size()));
-  const float distance = float(cells * asset.field.grid.spacing);
-  const glm::vec3 eye = center + distance * glm::normalize(glm::vec3(0.6f, 0.5f, 0.8f));
-  const render::CameraView telephoto =
-      render::CameraView::lookAt(eye, center, 2.0f * std::atan(0.8f * radius / distance), distance - 2.0f * radius, 1.0f);
-  return {telephoto, orthographicLike(telephoto, 0.8f * radius, distance - 2.0f * radius, distance + 2.0f * radius)};
-}
-
-// The torus's coverage seen from far: enough of it, at most `disagreements` pixels unlike the
-// reference (a rim along the outline), no interior hole or extra.
-void expectFarCoverage(const ImageComparison& c, int disagreements) {
-  EXPECT_GT(c.referenceHits, 10000);
-  EXPECT_LE(c.disagreements, disagreements) << "pixels whose coverage differs from the reference";
-  EXPECT_EQ(c.interiorHoles, 0);
-  EXPECT_EQ(c.interiorExtras, 0);
-}
-
 // Why: a far camera framed as near, a telephoto lens or an orthographic camera placed back along its
 // axis (its znear and zfar around the object), puts the eye ~5e5 cells from the cells here. They
 // searched in the camera's t, t = 1 at the rasterized face, which a float holds there to ~0.03
@@ -255,48 +234,6 @@ TEST_F(HermiteCellsTest, AFarCameraDrawsTheReferenceForEveryCellForm) {
       EXPECT_LT(c.normalErrorP99Degrees, 5.5);
     }
   }
-}
-
-// The far-hit tests' orthographic camera, in cells back from the torus, and what they allow of its
-// normals: at most kFarNormalOutlierShare of the reference's hits, interior pixels more than
-// kFarNormalDegrees off the reference, and a normal error p99 below kFarNormalP99Degrees.
-// Why these: 1e7 cells out (3e5 sizes of a 32-cell object) the prepass depth holds ~0.6 cell along
-// the ray (orthographic: a float ulp of proj[3][2] + (z - proj[3][2]) t). The resolve rebuilds each
-// hit from the offset the prepass stored beside the visibility instead (pixelRayStoredPoint): 0-9
-// of the 22,354 hits more than 3 degrees off, p99 0.61-0.65 degrees in every form, as 1e6 and 3e6
-// cells back (0-1, 0.60), the reference's own distance from the GPU's interpolant near. Rebuilt
-// from the depth: 12,297-13,011 (55-58 %), p99 20.5-22.2 (1e6: 78-109, p99 2.8-2.9).
-constexpr double kFarHitCells = 1.0e7;
-constexpr double kFarNormalDegrees = 3.0;
-constexpr double kFarNormalOutlierShare = 0.002;
-constexpr double kFarNormalP99Degrees = 1.5;
-
-// An orthographic camera framing `asset` from `cells` cells back (farCameras), and the same camera
-// 3 radii from the centre: its point moved along the axis the view draws, in double.
-std::pair<render::CameraView, render::CameraView> farBackCameras(const hsdf::SdfAsset& asset, double cells) {
-  const double h = asset.field.grid.spacing;
-  const float radius = 0.5f * float(glm::length(asset.surfaceBounds.size()));
-  const render::CameraView far = farCameras(asset, cells).second;
-  const glm::dmat3 rotation(glm::mat3(far.view));
-  const glm::dvec3 ahead = -glm::inverse(rotation)[2];
-  render::CameraView moved = far;
-  moved.position = glm::vec3(glm::dvec3(far.position) + (cells * h - 3.0 * double(radius)) * ahead);
-  moved.view[3] = glm::vec4(glm::vec3(-(rotation * glm::dvec3(moved.position))), 1.0f);
-  return {far, orthographicLike(moved, far.ymag, radius, 5.0f * radius)};
-}
-
-// Interior pixels (away from silhouettes) whose normal is more than kFarNormalDegrees off the
-// reference's, in a DEBUG_VIEW_NORMALS frame: at most `outlierShare` of the hits; the normal error
-// p99 below `p99Degrees`.
-void expectFarNormals(const Frame& normals, const hsdf::ReferenceImage& reference, const ImageComparison& c,
-                      const std::string& label, double outlierShare = kFarNormalOutlierShare,
-                      double p99Degrees = kFarNormalP99Degrees) {
-  const std::vector<bool> wrong = wrongPixels(normals, reference, kFarNormalDegrees);
-  const int outliers = int(std::count(wrong.begin(), wrong.end(), true));
-  std::printf("[ %s ] normals more than %.0f deg off: %d of %d hits\n", label.c_str(), kFarNormalDegrees, outliers,
-              c.referenceHits);
-  EXPECT_LE(outliers, int(outlierShare * c.referenceHits)) << "normals more than " << kFarNormalDegrees << " degrees off";
-  EXPECT_LT(c.normalErrorP99Degrees, p99Degrees);
 }
 
 // Every cell form's frame against `reference` (`compare`: the fixture's compareAlone with the
@@ -366,6 +303,52 @@ TEST_F(HermiteCellsTest, AFarTelephotoCameraShadesTheHitsItsPrepassStored) {
   expectEveryFormFar(feature, *reference, "far telephoto", int(kSize * kSize) / 100, 0.01, 5.5,
                      [&](const CellForm& form, const std::string& label, Frame* normals) {
                        return compareAlone(asset, form.method, telephoto, *reference, telephoto, label, normals);
+                     });
+}
+
+// Why: the tiles walk the entries of every object whose cells cover the tile, keep the best hit
+// converted into each object's t as they go (cell_tiles_depth.glsl: `best`, compared across
+// objects) and store the winner's own t (`hitT`), from which the resolve rebuilds the hit on the
+// winner's anchor; every other form draws an object at a time, and the resolve reads each
+// object's anchor through its draw record. One object per test told neither apart. Two objects
+// with different anchors, overlapping on screen (twoOverlappingObjects: the second partly behind
+// the first, partly beside it), 1e7 cells back (kFarHitCells): every form's normals must be those
+// of the CPU reference of both placed near (nearerHits): 4-21 of 26,186 hits more than 3 degrees
+// off, p99 0.62-0.63. The resolve with the first object's anchor for both (the mutant): 12,870-12,884
+// off in every form, p99 47 degrees. The tiles storing the converted `best` instead of `hitT`
+// differ only where another object's cell is walked after the winner's, which in a sorted list
+// (nearest box first, the walk stopping at the first box behind the hit) needs that cell's box to
+// begin within the winner's depth span: where the surfaces cross, 11 px off here against 4 without
+// it, not told from the rest (unsorted lists, past CELL_TILE_SORT_MAX entries a tile, walk every
+// entry).
+TEST_F(HermiteCellsTest, TwoFarObjectsShadeEachHitFromItsOwnAnchor) {
+  createCellRenderer(kSize, kSize);
+  hsdf::HermiteCellFeature& feature = *renderer_->feature<hsdf::HermiteCellFeature>();
+  const auto asset = bakeAsset("torus", 16);
+  ASSERT_NE(asset, nullptr);
+  const TwoObjects two = twoOverlappingObjects(*asset);
+  const auto [far, near] = farBackCameras(two.frame, kFarHitCells * asset->field.grid.spacing);
+  hsdf::ReferenceImage references[2];
+  for (int i = 0; i < 2; ++i) {
+    hsdf::RenderOptions options;
+    options.model = two.models[i];
+    auto image = hsdf::renderReference(asset->field, near.view, near.proj, {int(kSize), int(kSize)}, nullptr, options);
+    ASSERT_TRUE(image.ok()) << image.error().message;
+    references[i] = std::move(*image);
+  }
+  const hsdf::ReferenceImage reference = nearerHits(references[0], references[1]);
+  expectEveryFormFar(feature, reference, "two far", 40, kFarNormalOutlierShare, kFarNormalP99Degrees,
+                     [&](const CellForm& form, const std::string& label, Frame* normals) {
+                       registry_ = ecs::Registry();
+                       for (const glm::mat4& model : two.models) addSdf(registry_, asset, form.method, model);
+                       const Frame shaded = renderWith(far, DEBUG_VIEW_NONE);
+                       *normals = renderWith(far, DEBUG_VIEW_NORMALS);
+                       const ImageComparison c =
+                           compareWithReference(shaded, &normals->rgba, reference, near, asset->field.grid.spacing);
+                       std::printf("[ %s ] hits ref %d gpu %d, disagree %d, holes %d, extras %d, normal err p99 %.2f deg\n",
+                                   label.c_str(), c.referenceHits, c.gpuHits, c.disagreements, c.interiorHoles,
+                                   c.interiorExtras, c.normalErrorP99Degrees);
+                       return c;
                      });
 }
 
