@@ -758,7 +758,7 @@ std::vector<LimitCase> limitCases(const hsdf::SdfAsset& torus) {
 // (the proxies' dilation and the near plane's reach measured along the most shrunk axis), a shear
 // whose columns keep their length, divisions by a zero ray component in the slab tests and the
 // bricks' walk, a wide field of view's pixel footprint. Every cell method and both tracers against
-// their references. CI draws the 8 cases marked `ci`; HSDF_LIMIT_VIEWS=all draws all 105, HSDF_LIMIT_VIEWS=TEXT those whose label holds TEXT.
+// their references. CI draws the 8 cases marked `ci`; HSDF_LIMIT_VIEWS=all draws all 129, HSDF_LIMIT_VIEWS=TEXT those whose label holds TEXT.
 TEST_F(RandomViewsTest, TransformsAndViewsAtTheirLimitsMatchTheReference) {
   const auto torus = bakeAsset("torus", 16);
   ASSERT_NE(torus, nullptr);
