@@ -30,7 +30,7 @@
 // The rectangle only has to hold every pixel whose ray meets the dilated box: the fragment shader
 // tests each listed box against its own ray, as the rasterizer would have. The objects' matrices
 // come from the culling pass's BrickCullObjects (written before this pass; the scene's ObjectData
-// are uploaded only after the features' prepare), with the smallest axis scale that the proxy's
+// are uploaded only after the features' prepare), with the smallest scale (objectMinScale's) that the proxy's
 // dilation (0.02 pixel at the cell's centre, at least kMinDilation cells) is computed from.
 #extension GL_GOOGLE_include_directive : require
 #include "hermite/hermite_host_device.h"
@@ -66,7 +66,7 @@ bool cellPixelRect(HermiteDraw draw, uint object, uint record, out ivec2 lo, out
   // The proxy's dilation (as proxyDilation; clip w is the view depth -z), a percent more for the
   // rounding of the two computations.
   float centreDepth = (toClip * vec4(draw.gridOriginSpacing.xyz + h * (cell + 0.5), 1.0)).w;
-  float dilation = 1.01 * proxyDilationAt(frame, centreDepth, h, cullObject.minAxisScale);
+  float dilation = 1.01 * proxyDilationAt(frame, centreDepth, h, cullObject.minScale);
   vec2 pmin = vec2(3.0e38), pmax = vec2(-3.0e38);
   nearest = 0.0;
   bool behind = false;

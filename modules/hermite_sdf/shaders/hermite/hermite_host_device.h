@@ -58,6 +58,10 @@ HSDF_CHECK_SIZE(HermiteDrawTableHeader, 16);
 // reach by it (cell_draws.cpp): an eye inside a box's dilation sees only the box's back faces.
 #define CELL_DILATION_PIXELS 0.02
 #define CELL_MIN_DILATION (1.0 / 4096.0)
+// The dilation's cells are measured along the object's most shrunk direction: a Hermite cell
+// object's ObjectData::material.z (a feature's slot) holds its model matrix's smallest singular
+// value, made on the host in double (hsdf::modelScales, cell_draws.cpp), read by objectMinScale
+// (proxy_dilation.glsl). A shear's shortest column is no bound on it.
 #define CELL_PROXY_STEPS 6u
 struct CellRecordGpu {
   vec4 corners[8];
@@ -115,9 +119,10 @@ struct BrickCullObject {
   uint brickCount;
   uint outputFirst;        // first entry of its range in the output bricks (= its command's firstInstance)
   uint drawCommand;        // index of its VkDrawIndirectCommand; instanceCount counts the kept bricks
-  // The model matrix's smallest axis scale, as proxyDilation takes it from ObjectData::model: the
-  // tiles (cell_tiles.comp) grow a cell's screen rectangle by exactly the proxy's dilation.
-  float minAxisScale;
+  // The model matrix's smallest singular value, the same float as the object's ObjectData::material.z
+  // (hsdf::modelScales): the tiles (cell_tiles.comp) grow a cell's screen rectangle by exactly the
+  // proxy's dilation.
+  float minScale;
   uint pad0;
   uint pad1;
   uint pad2;

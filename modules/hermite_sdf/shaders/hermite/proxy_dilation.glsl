@@ -14,17 +14,24 @@ const float kMinDilation = CELL_MIN_DILATION;
 
 // The dilation in cells of a cell whose centre has clip w `clipW` (its view depth in front of a
 // perspective eye; 1 for an orthographic camera, whose pixels span the same at every depth), in an
-// object whose smallest axis scale (the most cells per world unit) is `minAxisScale`.
-float proxyDilationAt(FrameGlobals frame, float clipW, float h, float minAxisScale) {
+// object whose smallest scale (the most cells per world unit, along its most shrunk direction) is
+// `minScale`.
+float proxyDilationAt(FrameGlobals frame, float clipW, float h, float minScale) {
   float worldPerPixel = 2.0 * max(clipW, 0.0) / (frame.proj[1][1] * frame.viewport.y);
-  return max(kMinDilation, kDilationPixels * worldPerPixel / (h * minAxisScale));
+  return max(kMinDilation, kDilationPixels * worldPerPixel / (h * minScale));
+}
+
+// The object's smallest scale: its model matrix's smallest singular value, made on the host
+// (hermite_host_device.h, after CELL_MIN_DILATION). Its shortest column overstates it under a
+// shear: 45x for two unit columns at cos 0.9995, and the dilation shrank below the snapping.
+float objectMinScale(ObjectData object) {
+  return object.material.z;
 }
 
 float proxyDilation(FrameGlobals frame, ObjectData object, vec3 cellCentre, float h) {
   vec4 view = frame.view * (object.model * vec4(cellCentre, 1.0));
-  float scale = min(min(length(object.model[0].xyz), length(object.model[1].xyz)), length(object.model[2].xyz));
   float clipW = frame.proj[2][3] * view.z + frame.proj[3][3];  // -z (perspective) or 1 (orthographic)
-  return proxyDilationAt(frame, clipW, h, scale);
+  return proxyDilationAt(frame, clipW, h, objectMinScale(object));
 }
 
 #endif

@@ -9,6 +9,7 @@
 #include "engine/render/gpu_scene.h"
 #include "engine/gpu/buffer.h"
 #include "hermite_sdf/core/normal_cone.h"
+#include "render/model_scales.h"
 
 namespace hsdf {
 namespace {
@@ -72,8 +73,7 @@ shader::BrickCullObject BrickCuller::cullObject(const engine::render::CameraView
   object.brickCount = bricks.brickCount;
   object.outputFirst = bricks.outputFirst;
   object.drawCommand = bricks.drawCommand;
-  object.minAxisScale = std::min({glm::length(glm::vec3(model[0])), glm::length(glm::vec3(model[1])),
-                                  glm::length(glm::vec3(model[2]))});
+  object.minScale = float(modelScales(model).smallest);
   return object;
 }
 

@@ -27,6 +27,7 @@
 #include "render/cell_history.h"
 #include "render/cell_rows.h"
 #include "render/cell_tiler.h"
+#include "render/model_scales.h"
 #include "render/near_plane.h"
 #include "render/ray_anchor.h"
 #include "hermite_sdf/render/lod.h"
@@ -65,7 +66,8 @@ glm::vec4 screenBounds(const glm::mat4& viewProj, const glm::mat4& model, const 
 constexpr std::uint32_t kNotCulled = ~0u;
 
 // Twice the most that the proxy box of a cell within two cells of the eye is dilated beyond its
-// cell (proxy_dilation.glsl; the object's anisotropy widens it in the smallest axis' cells). An eye
+// cell (proxy_dilation.glsl; the object's anisotropy, its largest over its smallest singular value
+// (modelScales), widens it in the most shrunk direction's cells). An eye
 // inside that dilation but outside the cell sees only the box's back faces, which the front-face
 // draw culls: the cell must count as near the eye (drawn by its back faces) though the near plane
 // does not reach it. Before, a torus seen from 1e-5 outside a kept cell lost its nearest surface.
@@ -74,8 +76,7 @@ constexpr std::uint32_t kNotCulled = ~0u;
 // cell's dilation cuts its proxy.
 double nearDilationCells(const engine::render::CameraView& camera, const glm::mat4& world, double spacing,
                          std::uint32_t viewportHeight) {
-  const glm::dvec3 axes(glm::length(glm::dvec3(world[0])), glm::length(glm::dvec3(world[1])), glm::length(glm::dvec3(world[2])));
-  const double smallest = std::min({axes.x, axes.y, axes.z}), largest = std::max({axes.x, axes.y, axes.z});
+  const auto [smallest, largest] = modelScales(world);
   const double anisotropy = smallest > 0.0 ? largest / smallest : 1.0;
   if (camera.orthographic()) {
     const double worldPerPixel = double(camera.worldPerPixel(1.0f, viewportHeight));
@@ -382,6 +383,7 @@ void HermiteCellFeature::beginObjectDraw(engine::render::FrameContext& frame, Fr
   const int precision = o.precision;
 
   shader::ObjectData object = engine::render::GpuScene::makeObject(o.world, r.color, r.roughness, 0.0f, kFeatureId);
+  object.material.z = float(modelScales(o.world).smallest);  // proxy_dilation.glsl, objectMinScale
   const std::uint32_t objectIndex = frame.scene.addObject(object);
   shader::HermiteDraw& draw = o.draw;
   draw.gridOriginSpacing = glm::vec4(glm::vec3(grid.origin), float(grid.spacing));

@@ -116,7 +116,7 @@ TEST_F(TiledCellsTest, TilesDrawTheBoxesImageWithAFragmentPerPixel) {
 // Why: tiles hold cells of several objects, whose rays differ (each in its own grid); the nearest
 // hit over all of them must win as the depth test made it win among boxes. Two bunnies overlapping
 // on screen, one mirrored and non-uniformly scaled (OBJECT_FLAG_MIRRORED, the dilation's smallest
-// axis scale).
+// scale).
 TEST_F(TiledCellsTest, TilesResolveOverlappingObjects) {
   createCellRenderer(kSize, kSize);
   const auto asset = bakeAsset("bunny", 32);
@@ -227,7 +227,7 @@ TEST_F(TiledCellsTest, FrameTimingsNameTheCellsComputeInsidePrepare) {
 
 // Why: each cell is listed in a tile, and tested by a pixel, only where its screen rectangle holds
 // the pixel's centre, and that rectangle is grown by no more than the proxy's dilation (0.02 pixel
-// at the cell's centre, in cells of the object's smallest axis scale) and 1/16 pixel of rounding.
+// at the cell's centre, in cells of the object's smallest scale) and 1/16 pixel of rounding.
 // A rectangle a little too small loses pixels where a ray only grazes a cell: cells a pixel wide
 // (K = 192 in 256x256, where every cell edge is near some pixel centre), objects whose axes are
 // scaled differently (the dilation follows the smallest scale), and the extreme cameras (a 1x1 or

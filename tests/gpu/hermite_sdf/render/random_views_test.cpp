@@ -675,20 +675,28 @@ std::vector<LimitCase> limitCases(const hsdf::SdfAsset& torus) {
             back == 0.02 && axis == 0 && (sx == 1e-3f || sx == 1e3f));
       }
     }
-  for (const float c : {0.9f, 0.995f, 0.9995f}) {
-    glm::mat4 shear(1.0f);
-    shear[1] = glm::vec4(c, std::sqrt(1.0f - c * c), 0.0f, 0.0f);
-    for (int rotated = 0; rotated < 2; ++rotated) {
-      const glm::mat4 model = placeAbout(torus, (rotated ? turn : id) * shear, glm::vec3(0.0f));
-      const WorldSphere s = worldSphere(torus, model);
-      for (int v = 0; v < 4; ++v) {
-        const glm::vec3 eye = s.center + (v == 3 ? 0.3f * s.radius * glm::normalize(glm::vec3(0.0f, 0.1f, 1.0f)) : 2.0f * s.radius * sides[v]);
-        add(fmt::format("shear {}{}, view {}", c, rotated ? " turned" : "", v), model,
-            lookingAt({97, 83}, eye, s.center + glm::vec3(0.01f, 0.02f, 0.0f), 1.0f, 1e-4f * radius, tilted),
-            c == 0.9995f && rotated && v == 3);
+  // Column b leans towards column a until their cosine is c: x towards y, then (the strongest
+  // shear, in larger images: more cell edges near pixel centres) y towards z and z towards x.
+  const char* pairs[3] = {"", " yz", " zx"};
+  for (const float c : {0.9f, 0.995f, 0.9995f, 0.99999f})
+    for (int a = 0; a < (c > 0.9999f ? 3 : 1); ++a) {
+      const int b = (a + 1) % 3;
+      glm::mat4 shear(1.0f);
+      shear[b] = glm::vec4(0.0f);
+      shear[b][a] = c;
+      shear[b][b] = std::sqrt(1.0f - c * c);
+      const glm::uvec2 size = c > 0.9999f ? glm::uvec2{301, 257} : glm::uvec2{97, 83};
+      for (int rotated = 0; rotated < 2; ++rotated) {
+        const glm::mat4 model = placeAbout(torus, (rotated ? turn : id) * shear, glm::vec3(0.0f));
+        const WorldSphere s = worldSphere(torus, model);
+        for (int v = 0; v < 4; ++v) {
+          const glm::vec3 eye = s.center + (v == 3 ? 0.3f * s.radius * glm::normalize(glm::vec3(0.0f, 0.1f, 1.0f)) : 2.0f * s.radius * sides[v]);
+          add(fmt::format("shear {}{}{}, view {}", c, pairs[a], rotated ? " turned" : "", v), model,
+              lookingAt(size, eye, s.center + glm::vec3(0.01f, 0.02f, 0.0f), 1.0f, 1e-4f * radius, tilted),
+              c == 0.9995f && rotated && v == 3);
+        }
       }
     }
-  }
   const glm::vec3 corner = glm::vec3(torus.field.grid.origin) + 7.0f * h;  // a cell corner inside the grid
   for (int a = 0; a < 3; ++a) {
     glm::vec3 axis(0.0f);
@@ -750,7 +758,7 @@ std::vector<LimitCase> limitCases(const hsdf::SdfAsset& torus) {
 // (the proxies' dilation and the near plane's reach measured along the most shrunk axis), a shear
 // whose columns keep their length, divisions by a zero ray component in the slab tests and the
 // bricks' walk, a wide field of view's pixel footprint. Every cell method and both tracers against
-// their references. CI draws the 8 cases marked `ci`; HSDF_LIMIT_VIEWS=all draws all 105, HSDF_LIMIT_VIEWS=TEXT those whose label holds TEXT.
+// their references. CI draws the 8 cases marked `ci`; HSDF_LIMIT_VIEWS=all draws all 129, HSDF_LIMIT_VIEWS=TEXT those whose label holds TEXT.
 TEST_F(RandomViewsTest, TransformsAndViewsAtTheirLimitsMatchTheReference) {
   const auto torus = bakeAsset("torus", 16);
   ASSERT_NE(torus, nullptr);
