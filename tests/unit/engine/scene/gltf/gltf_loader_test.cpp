@@ -407,11 +407,11 @@ TEST(GltfLoaderFeatures, DoubleSidedIsReadPerMaterialAndDefaultsToFalse) {
 }
 
 // Tricky because these fields are core glTF, not extensions (whose notes the loader already
-// gives), and each changes what a mesh looks like: a glass pane (BLEND) drawn opaque, a
-// normal-mapped wall drawn flat. Each material that uses one gets a note naming its fields; a
-// plain opaque material, and an OPAQUE one whose emissiveFactor is zero (what exporters write), get
-// none. Emission, the base colour texture and MASK are drawn (since session 39): only an
-// emissiveTexture is noted, not the factor, and a MASK material gets no note.
+// gives), and each changes what a mesh looks like: a normal-mapped wall drawn flat. Each material
+// that uses one gets a note naming its fields; a plain opaque material, and an OPAQUE one whose
+// emissiveFactor is zero (what exporters write), get none. Emission, the base colour texture and
+// MASK are drawn (since session 39), BLEND since session 40: only an emissiveTexture is noted, not
+// the factor, and a MASK or BLEND material gets no note.
 TEST(GltfLoaderFeatures, MaterialFieldsTheRendererDoesNotDrawAreNamedInANote) {
   GltfBuilder b;
   const int positions = b.addPositions(kTriangle);
@@ -434,17 +434,54 @@ TEST(GltfLoaderFeatures, MaterialFieldsTheRendererDoesNotDrawAreNamedInANote) {
   ASSERT_TRUE(scene.ok()) << scene.error().message;
   std::string notes;
   for (const auto& w : scene->warnings) notes += w + "\n";
-  EXPECT_TRUE(anyWarningContains(*scene, "material 0 'glass': alphaMode BLEND (drawn opaque) ignored")) << notes;
+  EXPECT_FALSE(anyWarningContains(*scene, "'glass'")) << notes;
   EXPECT_FALSE(anyWarningContains(*scene, "'leaf'")) << notes;
   EXPECT_TRUE(anyWarningContains(*scene, "material 2 'sign': emissiveTexture (drawn in emissiveFactor) ignored")) << notes;
   EXPECT_TRUE(anyWarningContains(*scene, "material 3 'brick': metallicRoughnessTexture, normalTexture, occlusionTexture "
                                          "ignored"))
       << notes;
   EXPECT_FALSE(anyWarningContains(*scene, "'stone'")) << notes;
-  // What is read stays read: the glass's factor (its alpha too, unused), the leaf's two sides.
+  // What is read stays read: the glass's factor (its alpha too), the leaf's two sides.
   ASSERT_EQ(scene->materials.size(), 5u);
   EXPECT_FLOAT_EQ(scene->materials[0].baseColor.a, 0.3f);
   EXPECT_TRUE(scene->materials[1].doubleSided);
+}
+
+// Why: a glass pane, a tinted visor (alphaMode BLEND) is blended over what lies behind it by its
+// alpha, the factor's times the base colour texture's (the renderer multiplies the texture's in:
+// MeshMaterialTest.ABlendedCheckerQuadIsBlendedOverWhatLiesBehindIt). Tricky because only BLEND
+// blends: OPAQUE (the default) ignores an alpha below 1, MASK cuts out instead, and an alphaMode
+// glTF does not define is drawn opaque with a note; a BLEND material keeps its factor's alpha, no
+// cutoff and gets no note.
+TEST(GltfLoaderFeatures, ABlendMaterialIsBlendedWithItsAlpha) {
+  GltfBuilder b;
+  const int positions = b.addPositions(kTriangle);
+  const json halfAlpha = {{"baseColorFactor", {0.2, 0.4, 0.6, 0.5}}};
+  b.doc()["materials"] = json::array({json{{"name", "glass"}, {"alphaMode", "BLEND"}, {"pbrMetallicRoughness", halfAlpha}},
+                                      json{{"name", "stone"}, {"pbrMetallicRoughness", halfAlpha}},
+                                      json{{"name", "leaf"}, {"alphaMode", "MASK"}, {"pbrMetallicRoughness", halfAlpha}},
+                                      json{{"name", "odd"}, {"alphaMode", "GLASS"}, {"pbrMetallicRoughness", halfAlpha}}});
+  json primitives = json::array();
+  for (int m = 0; m < 4; ++m) primitives.push_back({{"attributes", {{"POSITION", positions}}}, {"material", m}});
+  b.doc()["meshes"] = json::array({json{{"primitives", primitives}}});
+  b.addNode({{"mesh", 0}});
+  const auto scene = load(b);
+  ASSERT_TRUE(scene.ok()) << scene.error().message;
+  ASSERT_EQ(scene->materials.size(), 4u);
+  const MaterialData& glass = scene->materials[0];
+  EXPECT_TRUE(glass.alphaBlend);
+  EXPECT_FLOAT_EQ(glass.baseColor.a, 0.5f);
+  EXPECT_FALSE(glass.alphaCutoff.has_value()) << "BLEND is not cut out";
+  EXPECT_FALSE(scene->materials[1].alphaBlend) << "OPAQUE (absent) ignores the alpha";
+  EXPECT_FALSE(scene->materials[2].alphaBlend) << "MASK cuts out, it does not blend";
+  EXPECT_FALSE(scene->materials[3].alphaBlend) << "an alphaMode glTF does not define is drawn opaque";
+  EXPECT_FALSE(MaterialData{}.alphaBlend) << "a primitive without a material is opaque";
+  std::string notes;
+  for (const auto& w : scene->warnings) notes += w + "\n";
+  EXPECT_FALSE(anyWarningContains(*scene, "'glass'")) << notes;
+  EXPECT_TRUE(anyWarningContains(*scene, "material 3 'odd': alphaMode 'GLASS', which glTF does not define (drawn opaque) "
+                                         "ignored"))
+      << notes;
 }
 
 // Why: a leaf card or a fence (alphaMode MASK) is cut out where its alpha is below alphaCutoff.
