@@ -195,18 +195,13 @@ class DoubleSidedTest : public GpuTest {
     ASSERT_TRUE(renderer_->addFeature(std::make_unique<render::MeshFeature>(*pool_)).ok());
   }
 
-  // `mesh` as one glTF node with `model` as its matrix and a material of the given sidedness,
-  // through the importer's path (instantiateScene); returns the Surface the frame must show.
-  Surface addNode(const scene::MeshPrimitiveData& mesh, const glm::mat4& model, bool doubleSided, glm::vec4 color,
-                  glm::vec3 emissive = glm::vec3(0.0f)) {
+  // `mesh` as one glTF node with `model` as its matrix and `material`, through the importer's path
+  // (instantiateScene): its one renderable.
+  const render::MeshRenderable& instantiateNode(const scene::MeshPrimitiveData& mesh, const glm::mat4& model,
+                                                const scene::MaterialData& material) {
     scene::SceneData data;
     data.meshes.push_back({"mesh", {mesh}});
     data.meshes[0].primitives[0].material = 0;
-    scene::MaterialData material;
-    material.baseColor = color;
-    material.roughness = 0.4f;
-    material.doubleSided = doubleSided;
-    material.emissive = emissive;
     data.materials.push_back(material);
     scene::NodeData node;
     node.mesh = 0;
@@ -214,8 +209,19 @@ class DoubleSidedTest : public GpuTest {
     data.nodes.push_back(node);
     const render::InstantiatedScene scene = render::instantiateScene(data, registry_, *pool_);
     EXPECT_EQ(scene.renderables.size(), 1u);
-    for (const ecs::Entity e : scene.renderables)
-      EXPECT_EQ(registry_.get<render::MeshRenderable>(e).doubleSided, doubleSided) << "the material's flag reaches the draw";
+    return registry_.get<render::MeshRenderable>(scene.renderables.at(0));
+  }
+
+  // `mesh` as one glTF node (instantiateNode) with a material of the given sidedness; returns the
+  // Surface the frame must show.
+  Surface addNode(const scene::MeshPrimitiveData& mesh, const glm::mat4& model, bool doubleSided, glm::vec4 color,
+                  glm::vec3 emissive = glm::vec3(0.0f)) {
+    scene::MaterialData material;
+    material.baseColor = color;
+    material.roughness = 0.4f;
+    material.doubleSided = doubleSided;
+    material.emissive = emissive;
+    EXPECT_EQ(instantiateNode(mesh, model, material).doubleSided, doubleSided) << "the material's flag reaches the draw";
     Surface surface = place(mesh, model, doubleSided);
     surface.color = glm::dvec3(color);
     surface.roughness = material.roughness;
@@ -556,21 +562,19 @@ class BlendedMeshTest : public MeshMaterialTest {
   // A square of side `side` in the plane z = `z` facing +Z, of `material` (its alphaBlend, colour
   // and alpha), placed through the importer's path.
   void addSquare(double z, float side, const glm::vec4& color, bool blend) {
-    scene::SceneData data;
-    data.meshes.push_back({"square", {square()}});
-    data.meshes[0].primitives[0].material = 0;
     scene::MaterialData material;
     material.baseColor = color;
     material.roughness = 0.4f;
     material.alphaBlend = blend;
-    data.materials.push_back(material);
-    scene::NodeData node;
-    node.mesh = 0;
-    node.local = node.world = glm::scale(glm::translate(glm::mat4(1.0f), glm::vec3(0.0f, 0.0f, float(z))), glm::vec3(side));
-    data.nodes.push_back(node);
-    const render::InstantiatedScene scene = render::instantiateScene(data, registry_, *pool_);
-    ASSERT_EQ(scene.renderables.size(), 1u);
-    EXPECT_EQ(registry_.get<render::MeshRenderable>(scene.renderables[0]).alphaBlend, blend) << "the material's mode reaches the draw";
+    const glm::mat4 model = glm::scale(glm::translate(glm::mat4(1.0f), glm::vec3(0.0f, 0.0f, float(z))), glm::vec3(side));
+    EXPECT_EQ(instantiateNode(square(), model, material).alphaBlend, blend) << "the material's mode reaches the draw";
+  }
+
+  // An opaque square of `color` (side `side`) at height z behind what the test placed, and the
+  // frame `camera` sees.
+  Frame renderOverBackdrop(const glm::dvec3& color, double z, float side, const render::CameraView& camera) {
+    addSquare(z, side, glm::vec4(glm::vec3(color), 1.0f), false);
+    return render(camera);
   }
 
   // shadeSurface of a square facing +Z (roughness 0.4, addSquare's) at the ray's point at height z.
@@ -624,10 +628,9 @@ TEST_F(BlendedMeshTest, ABlendedCheckerQuadIsBlendedOverWhatLiesBehindIt) {
   ASSERT_EQ(scene.renderables.size(), 1u);
   const glm::dvec3 backColor(0.55, 0.1, 0.08);
   const double backZ = -0.4;
-  addSquare(backZ, 3.0f, glm::vec4(glm::vec3(backColor), 1.0f), false);
   const glm::vec3 eye(0.0f, 0.0f, 1.6f);
   const render::CameraView camera = render::CameraView::lookAt(eye, {0.0f, 0.0f, 0.0f}, 0.8f, kZNear, 1.0f);
-  const Frame frame = render(camera);
+  const Frame frame = renderOverBackdrop(backColor, backZ, 3.0f, camera);
   const std::vector<glm::uvec2> visibility = renderer_->readbackVisibility();
   // The square fills the frame: the corner sees it alone.
   const std::uint32_t squareId = visibility.at(0).x;
@@ -772,27 +775,18 @@ TEST_F(BlendedMeshTest, ADoubleSidedBlendedCubeShowsItsBackFacesBehindItsFrontFa
   cube.indices.insert(cube.indices.end(), {2, 6, 3, 3, 6, 7});  // the lid: +Y
   const glm::vec4 color(0.9f, 0.7f, 0.3f, 0.5f);
   const glm::mat4 model = glm::rotate(glm::mat4(1.0f), 0.4f, glm::vec3(0.0f, 1.0f, 0.0f));
-  scene::SceneData data;
-  data.meshes.push_back({"cube", {cube}});
-  data.meshes[0].primitives[0].material = 0;
   scene::MaterialData material;
   material.baseColor = color;
   material.roughness = 0.4f;
   material.doubleSided = true;
   material.alphaBlend = true;
-  data.materials.push_back(material);
-  scene::NodeData node;
-  node.mesh = 0;
-  node.local = node.world = model;
-  data.nodes.push_back(node);
-  ASSERT_EQ(render::instantiateScene(data, registry_, *pool_).renderables.size(), 1u);
+  instantiateNode(cube, model, material);
   const Surface surface = place(cube, model, true);
   const glm::dvec3 red(0.6, 0.1, 0.1);
   const double backZ = -1.5;
-  addSquare(backZ, 8.0f, glm::vec4(glm::vec3(red), 1.0f), false);
   const glm::vec3 eye(0.8f, 1.6f, 2.4f);
   const render::CameraView camera = render::CameraView::lookAt(eye, {0.0f, 0.0f, 0.0f}, 0.8f, kZNear, 1.0f);
-  const Frame frame = render(camera);
+  const Frame frame = renderOverBackdrop(red, backZ, 8.0f, camera);
   // Each side as the frame lights it: the side seen, its normal reversed on a back face.
   auto lit = [&](const math::Ray& ray, const Hit& hit) {
     const glm::dvec3 n = surface.normals[std::size_t(hit.triangle)];

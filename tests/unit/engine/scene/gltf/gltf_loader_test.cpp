@@ -379,6 +379,16 @@ TEST(GltfLoaderHierarchy, MeshMaterialAndFlattenedInstances) {
              soup.positions[5]);
 }
 
+// One primitive of the triangle at `positions` per material of the document, in order, in one
+// mesh placed by one node.
+void addPrimitivePerMaterial(GltfBuilder& b, int positions) {
+  json primitives = json::array();
+  for (std::size_t m = 0; m < b.doc()["materials"].size(); ++m)
+    primitives.push_back({{"attributes", {{"POSITION", positions}}}, {"material", m}});
+  b.doc()["meshes"] = json::array({json{{"primitives", primitives}}});
+  b.addNode({{"mesh", 0}});
+}
+
 // Tricky because glTF's doubleSided defaults to false when absent (glTF 2.0, material.doubleSided)
 // and is read per material: three materials, true, false and absent, on three primitives of one
 // mesh, must come out in their own order; a reader that took the first material's flag for every
@@ -426,10 +436,7 @@ TEST(GltfLoaderFeatures, MaterialFieldsTheRendererDoesNotDrawAreNamedInANote) {
             {"normalTexture", {{"index", 0}}},
             {"occlusionTexture", {{"index", 0}}}},
        json{{"name", "stone"}, {"alphaMode", "OPAQUE"}, {"emissiveFactor", {0, 0, 0}}}});
-  json primitives = json::array();
-  for (int m = 0; m < 5; ++m) primitives.push_back({{"attributes", {{"POSITION", positions}}}, {"material", m}});
-  b.doc()["meshes"] = json::array({json{{"primitives", primitives}}});
-  b.addNode({{"mesh", 0}});
+  addPrimitivePerMaterial(b, positions);
   const auto scene = load(b);
   ASSERT_TRUE(scene.ok()) << scene.error().message;
   std::string notes;
@@ -461,10 +468,7 @@ TEST(GltfLoaderFeatures, ABlendMaterialIsBlendedWithItsAlpha) {
                                       json{{"name", "stone"}, {"pbrMetallicRoughness", halfAlpha}},
                                       json{{"name", "leaf"}, {"alphaMode", "MASK"}, {"pbrMetallicRoughness", halfAlpha}},
                                       json{{"name", "odd"}, {"alphaMode", "GLASS"}, {"pbrMetallicRoughness", halfAlpha}}});
-  json primitives = json::array();
-  for (int m = 0; m < 4; ++m) primitives.push_back({{"attributes", {{"POSITION", positions}}}, {"material", m}});
-  b.doc()["meshes"] = json::array({json{{"primitives", primitives}}});
-  b.addNode({{"mesh", 0}});
+  addPrimitivePerMaterial(b, positions);
   const auto scene = load(b);
   ASSERT_TRUE(scene.ok()) << scene.error().message;
   ASSERT_EQ(scene->materials.size(), 4u);
@@ -496,10 +500,7 @@ TEST(GltfLoaderFeatures, AMaskMaterialKeepsItsCutoffAndOnlyIt) {
                                       json{{"name", "fence"}, {"alphaMode", "MASK"}},
                                       json{{"name", "glass"}, {"alphaMode", "BLEND"}, {"alphaCutoff", 0.7}},
                                       json{{"name", "stone"}, {"alphaCutoff", 0.7}}});
-  json primitives = json::array();
-  for (int m = 0; m < 4; ++m) primitives.push_back({{"attributes", {{"POSITION", positions}}}, {"material", m}});
-  b.doc()["meshes"] = json::array({json{{"primitives", primitives}}});
-  b.addNode({{"mesh", 0}});
+  addPrimitivePerMaterial(b, positions);
   const auto scene = load(b);
   ASSERT_TRUE(scene.ok()) << scene.error().message;
   ASSERT_EQ(scene->materials.size(), 4u);
@@ -532,10 +533,7 @@ TEST(GltfLoaderFeatures, EmissionIsTheFactorTimesTheStrength) {
             {"emissiveFactor", {0.5, 0.25, 1.0}},
             {"extensions", {{"KHR_materials_emissive_strength", {{"emissiveStrength", 40.0}}}}}},
        json{{"name", "stone"}}});
-  json primitives = json::array();
-  for (int m = 0; m < 3; ++m) primitives.push_back({{"attributes", {{"POSITION", positions}}}, {"material", m}});
-  b.doc()["meshes"] = json::array({json{{"primitives", primitives}}});
-  b.addNode({{"mesh", 0}});
+  addPrimitivePerMaterial(b, positions);
   const auto scene = load(b);
   ASSERT_TRUE(scene.ok()) << scene.error().message;
   ASSERT_EQ(scene->materials.size(), 3u);
