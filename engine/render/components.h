@@ -35,7 +35,7 @@ struct MeshRenderable {
   std::optional<float> alphaCutoff;
   // Blended over what lies behind it by its alpha (color.a times the texture's; glTF alphaMode
   // BLEND): a glass pane, a tinted visor. Drawn after every opaque surface, in no depth prepass
-  // (MeshFeature). False: opaque (or cut out by alphaCutoff).
+  // (MeshFeature), alphaCutoff unused. False: opaque (or cut out by alphaCutoff).
   bool alphaBlend = false;
 };
 
