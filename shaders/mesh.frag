@@ -1,4 +1,7 @@
 #version 460
+// Mesh shading, depth EQUAL after the prepass. Compiled a second time as mesh_blended.frag
+// (HSDF_MESH_BLENDED, shaders/CMakeLists.txt): the transparent pass's meshes (glTF alphaMode
+// BLEND), lit by this same code, write their alpha for the pipeline's blending.
 #extension GL_GOOGLE_include_directive : require
 #include "shared/host_device.h"
 #include "shared/lighting.glsl"
@@ -27,6 +30,7 @@ void main() {
   vec3 n = normalize(inWorldNormal);
   if (!gl_FrontFacing) n = -n;
   vec3 color;
+  float alpha = 1.0;
   if (pc.debugView == DEBUG_VIEW_NORMALS) {
     color = debugNormalColor(n);
   } else if (pc.debugView == DEBUG_VIEW_DEPTH) {
@@ -38,9 +42,17 @@ void main() {
     n = normalTowardEye(n, towardViewer(frame, inWorldPosition));
     // Emission (glTF emissiveFactor) is light of the surface's own: added after the lighting, so
     // a face turned from the light still shows it.
-    // glTF: the base colour is the factor times the texture.
-    vec3 baseColor = object.color.rgb * texture(baseColorTexture, inTexcoord).rgb;
-    color = shadeSurface(frame, baseColor, object.material.x, inWorldPosition, n) + object.emission.rgb;
+    // glTF: the base colour is the factor times the texture, its alpha too.
+    vec4 baseColor = object.color * texture(baseColorTexture, inTexcoord);
+    color = shadeSurface(frame, baseColor.rgb, object.material.x, inWorldPosition, n) + object.emission.rgb;
+    alpha = baseColor.a;
   }
-  outColor = vec4(color, 1.0);
+#ifdef HSDF_MESH_BLENDED
+  // Straight alpha, as glTF's base colour is: the pipeline's blending multiplies the colour by it
+  // (the "over" operator glTF asks for, emission included); the normals and depth views draw no
+  // blended mesh (MeshFeature).
+  outColor = vec4(color, alpha);
+#else
+  outColor = vec4(color, 1.0);  // opaque whatever the alpha (glTF OPAQUE ignores it)
+#endif
 }

@@ -33,6 +33,10 @@ struct MeshRenderable {
   // Where the alpha (color.a times the texture's) is below this, the surface is cut out: nothing
   // drawn, what lies behind seen (glTF alphaMode MASK). None: opaque.
   std::optional<float> alphaCutoff;
+  // Blended over what lies behind it by its alpha (color.a times the texture's; glTF alphaMode
+  // BLEND): a glass pane, a tinted visor. Drawn after every opaque surface, in no depth prepass
+  // (MeshFeature), alphaCutoff unused. False: opaque (or cut out by alphaCutoff).
+  bool alphaBlend = false;
 };
 
 enum class Projection { kPerspective, kOrthographic };

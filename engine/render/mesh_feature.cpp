@@ -49,6 +49,20 @@ Expected<MeshFeature::Pipelines> MeshFeature::createPipelines() const {
   ENGINE_TRY_ASSIGN(gpu::ShaderModule frag, gpu::ShaderModule::load(context, "mesh.frag"));
   ENGINE_TRY_ASSIGN(gpu::ShaderModule prepassFrag, gpu::ShaderModule::load(context, "mesh_prepass.frag"));
   ENGINE_TRY_ASSIGN(gpu::ShaderModule maskedFrag, gpu::ShaderModule::load(context, "mesh_prepass_masked.frag"));
+  ENGINE_TRY_ASSIGN(gpu::ShaderModule blendedFrag, gpu::ShaderModule::load(context, "mesh_blended.frag"));
+
+  // What every mesh pipeline shares: mesh.vert with its vertex layout and push constants, the
+  // base colour texture (mesh.frag). The prepass reads none but has the same layout: all passes
+  // run mesh.vert in one pipeline layout, which Vulkan's invariance rules ask for (the shading pass
+  // tests depth EQUAL). Clockwise front faces for mirrored objects: what culling keeps, and
+  // gl_FrontFacing (which side is lit).
+  gpu::GraphicsPipelineDesc base;
+  base.vertex = vert.handle();
+  base.vertexLayout = meshVertexLayout();
+  base.depthFormat = formats_.depth;
+  base.pushConstantBytes = sizeof(shader::DrawPushConstants);
+  base.setLayouts = {pool_.textures().layout()};
+  base.extraDynamicStates = {VK_DYNAMIC_STATE_FRONT_FACE};
 
   // One prepass and one shading pipeline per cull mode: a primitive is drawn with the same cull
   // mode in both passes, or its back faces would have depth and no colour (or colour tested
@@ -56,22 +70,12 @@ Expected<MeshFeature::Pipelines> MeshFeature::createPipelines() const {
   Pipelines pipelines;
   for (const Sides sides : {Sides::Single, Sides::Double}) {
     const bool both = sides == Sides::Double;
-    gpu::GraphicsPipelineDesc desc;
-    desc.vertex = vert.handle();
+    gpu::GraphicsPipelineDesc desc = base;
     desc.fragment = prepassFrag.handle();
     desc.colorFormats = formats_.prepassColorFormats();
-    desc.vertexLayout = meshVertexLayout();
-    desc.depthFormat = formats_.depth;
-    desc.pushConstantBytes = sizeof(shader::DrawPushConstants);
-    // The base colour texture (mesh.frag). The prepass reads none but has the same layout: both
-    // passes run mesh.vert in one pipeline layout, which Vulkan's invariance rules ask for (the
-    // shading pass tests depth EQUAL).
-    desc.setLayouts = {pool_.textures().layout()};
     desc.cullMode = both ? VK_CULL_MODE_NONE : VK_CULL_MODE_BACK_BIT;
     desc.name = both ? "mesh depth prepass, double-sided" : "mesh depth prepass";
     desc.depthCompare = VK_COMPARE_OP_GREATER;
-    // Clockwise for mirrored objects: what culling keeps, and gl_FrontFacing (which side is lit).
-    desc.extraDynamicStates = {VK_DYNAMIC_STATE_FRONT_FACE};
     ENGINE_TRY_ASSIGN(pipelines.depth[std::size_t(sides)], gpu::Pipeline::createGraphics(context, desc));
 
     desc.name = both ? "mesh depth prepass, double-sided, cut out" : "mesh depth prepass, cut out";
@@ -85,6 +89,20 @@ Expected<MeshFeature::Pipelines> MeshFeature::createPipelines() const {
     desc.depthCompare = VK_COMPARE_OP_EQUAL;  // depth is final after the prepass
     ENGINE_TRY_ASSIGN(pipelines.shade[std::size_t(sides)], gpu::Pipeline::createGraphics(context, desc));
   }
+
+  // The transparent pass: blended over the frame by straight alpha (glTF's), in front of or on
+  // the prepass depth (GREATER_OR_EQUAL: a pane on a surface of the same triangles is kept),
+  // writing none. One pipeline for both sides: a double-sided mesh is drawn twice with the cull
+  // mode set between (back faces, then front faces).
+  gpu::GraphicsPipelineDesc desc = base;
+  desc.name = "mesh blended";
+  desc.fragment = blendedFrag.handle();
+  desc.colorFormats = {formats_.color};
+  desc.depthWrite = false;
+  desc.depthCompare = VK_COMPARE_OP_GREATER_OR_EQUAL;
+  desc.alphaBlend = true;
+  desc.extraDynamicStates.push_back(VK_DYNAMIC_STATE_CULL_MODE);
+  ENGINE_TRY_ASSIGN(pipelines.blended, gpu::Pipeline::createGraphics(context, desc));
   return pipelines;
 }
 
@@ -94,16 +112,26 @@ struct MeshFeature::PendingDraw {
   std::uint32_t texture;
   bool mirrored;
   VkDrawIndexedIndirectCommand command;
+  float viewDistance;  // of the bounds' centre (blended draws are sorted by it)
 };
+
+namespace {
+
+// The normals and depth views show the surfaces of the depth buffer, which no blended mesh is in
+// (a normal or depth blended over another is neither); the other views draw them as the frame does.
+bool drawsBlended(std::uint32_t debugView) { return debugView != DEBUG_VIEW_NORMALS && debugView != DEBUG_VIEW_DEPTH; }
+
+}  // namespace
 
 void MeshFeature::prepare(FrameContext& frame) {
   pool_.sync(frame);
   culledCount_ = 0;
-  std::vector<PendingDraw> draws;
+  std::vector<PendingDraw> draws, blended;
   const math::Frustum frustum = math::extractFrustum(frame.camera.proj * frame.camera.view);
   frame.registry.view<MeshRenderable, scene::WorldTransform>().each(
       [&](ecs::Entity, const MeshRenderable& mesh, const scene::WorldTransform& world) {
         if (!mesh.mesh.valid() || mesh.mesh.index >= pool_.meshCount() || !drawableTransform(world.matrix)) return;
+        if (mesh.alphaBlend && !drawsBlended(frame.debugView)) return;
         const MeshRange& range = pool_.range(mesh.mesh);
         if (!math::intersects(frustum, world.matrix, range.boundsMin, range.boundsMax)) {
           ++culledCount_;
@@ -114,11 +142,15 @@ void MeshFeature::prepare(FrameContext& frame) {
         object.material.z = mesh.alphaCutoff.value_or(0.0f);  // mesh_prepass_masked.frag
         const std::uint32_t index = frame.scene.addObject(object);
         const std::uint32_t texture = mesh.baseColorTexture.index < pool_.textures().count() ? mesh.baseColorTexture.index : 0;
-        draws.push_back({mesh.doubleSided ? Sides::Double : Sides::Single, mesh.alphaCutoff.has_value(), texture,
-                         mirrors(world.matrix),
-                         {range.indexCount, 1, range.firstIndex, range.vertexOffset, index}});
+        const glm::vec3 centre = world.matrix * glm::vec4(0.5f * (range.boundsMin + range.boundsMax), 1.0f);
+        (mesh.alphaBlend ? blended : draws)
+            .push_back({mesh.doubleSided ? Sides::Double : Sides::Single, mesh.alphaCutoff.has_value(), texture,
+                        mirrors(world.matrix), {range.indexCount, 1, range.firstIndex, range.vertexOffset, index},
+                        frame.camera.viewDistance(centre)});
       });
   buildBatches(draws);
+  buildBlendedBatches(blended);
+  drawCount_ = static_cast<std::uint32_t>(commands_.size());
   if (!commands_.empty()) indirect_.upload(frame.frameSlot, commands_);
 }
 
@@ -133,17 +165,37 @@ void MeshFeature::buildBatches(std::vector<PendingDraw>& draws) {
   batches_.clear();
   doubleSidedCount_ = 0;
   for (const PendingDraw& draw : draws) {
-    const auto at = static_cast<std::uint32_t>(commands_.size());
-    if (batches_.empty() || batches_.back().sides != draw.sides || batches_.back().masked != draw.masked ||
-        batches_.back().texture.index != draw.texture)
-      batches_.push_back({draw.sides, draw.masked, TextureHandle{draw.texture}, at, at, at});
-    Batch& batch = batches_.back();
-    if (!draw.mirrored) batch.mirroredFirst = at + 1;
-    batch.end = at + 1;
-    commands_.push_back(draw.command);
-    doubleSidedCount_ += draw.sides == Sides::Double;
+    const bool joins = !batches_.empty() && batches_.back().sides == draw.sides && batches_.back().masked == draw.masked &&
+                       batches_.back().texture.index == draw.texture;
+    append(batches_, draw, joins);
   }
-  drawCount_ = static_cast<std::uint32_t>(commands_.size());
+}
+
+// Back to front, after the opaque draws in commands_. Neighbours in that order share a batch (one
+// multi-draw, which draws its commands in order) when single-sided with the same texture and
+// winding; a double-sided draw is a batch of its own, its back faces drawn before its front faces.
+void MeshFeature::buildBlendedBatches(std::vector<PendingDraw>& draws) {
+  std::stable_sort(draws.begin(), draws.end(),
+                   [](const PendingDraw& a, const PendingDraw& b) { return a.viewDistance > b.viewDistance; });
+  blendedBatches_.clear();
+  for (const PendingDraw& draw : draws) {
+    const Batch* last = blendedBatches_.empty() ? nullptr : &blendedBatches_.back();
+    const bool joins = last && last->sides == Sides::Single && draw.sides == Sides::Single &&
+                       last->texture.index == draw.texture && (last->mirroredFirst != last->end) == draw.mirrored;
+    append(blendedBatches_, draw, joins);
+  }
+  blendedCount_ = static_cast<std::uint32_t>(draws.size());
+}
+
+// The draw's command at the end of commands_, in the last of `batches` or in a new one.
+void MeshFeature::append(std::vector<Batch>& batches, const PendingDraw& draw, bool joinsLast) {
+  const auto at = static_cast<std::uint32_t>(commands_.size());
+  if (!joinsLast) batches.push_back({draw.sides, draw.masked, TextureHandle{draw.texture}, at, at, at});
+  Batch& batch = batches.back();
+  if (!draw.mirrored) batch.mirroredFirst = at + 1;
+  batch.end = at + 1;
+  commands_.push_back(draw.command);
+  doubleSidedCount_ += draw.sides == Sides::Double;
 }
 
 void MeshFeature::recordPass(PassContext& pass) {
@@ -156,6 +208,21 @@ void MeshFeature::recordPass(PassContext& pass) {
     bound = &pipeline;
     // The opaque prepass reads no texture; a cut-out one reads the alpha.
     if (!prepass || batch.masked) pool_.textures().bind(pass.cmd, pipeline.layout(), batch.texture);
+    recordBatch(pass, batch);
+  }
+}
+
+void MeshFeature::recordTransparent(PassContext& pass) {
+  if (blendedBatches_.empty() || pool_.empty()) return;
+  const gpu::Pipeline& pipeline = pipelines_.blended;
+  bindPipeline(pass, pipeline);
+  for (const Batch& batch : blendedBatches_) {
+    pool_.textures().bind(pass.cmd, pipeline.layout(), batch.texture);
+    if (batch.sides == Sides::Double) {  // the far side first, under the near one
+      vkCmdSetCullMode(pass.cmd, VK_CULL_MODE_FRONT_BIT);
+      recordBatch(pass, batch);
+    }
+    vkCmdSetCullMode(pass.cmd, VK_CULL_MODE_BACK_BIT);
     recordBatch(pass, batch);
   }
 }
@@ -192,8 +259,8 @@ void MeshFeature::recordBatch(PassContext& pass, const Batch& batch) const {
 void MeshFeature::drawUi() {
   if (ImGui::CollapsingHeader("Meshes")) {
     ImGui::Text("meshes in pool: %u", pool_.meshCount());
-    ImGui::TextWrapped("drawn: %u (double-sided: %u, in %zu batches), culled: %u", drawCount_, doubleSidedCount_,
-                       batches_.size(), culledCount_);
+    ImGui::TextWrapped("drawn: %u (double-sided: %u, blended: %u, in %zu batches), culled: %u", drawCount_,
+                       doubleSidedCount_, blendedCount_, batches_.size() + blendedBatches_.size(), culledCount_);
   }
 }
 

@@ -15,6 +15,18 @@
 // where a fragment's alpha is below the cutoff it writes the far plane's depth, which the depth
 // test rejects, so nothing of it is kept and what lies behind shows; the shading pass then finds
 // another surface's depth there (EQUAL) and draws nothing. The opaque meshes' prepass is unchanged.
+// Blended meshes (MeshRenderable::alphaBlend, glTF alphaMode BLEND) are in neither the prepass nor
+// the shading pass: they are drawn in the renderer's transparent pass, over the finished opaque
+// frame (SDF objects included), by mesh.frag's lighting (mesh_blended.frag) with straight-alpha
+// blending (glTF's base colour is straight alpha: colour x alpha + frame x (1 - alpha)), tested
+// GREATER_OR_EQUAL against the prepass depth (a pane laid on a surface with the same triangles is
+// drawn, not lost) and writing none; so they hide nothing behind them, and the visibility buffer
+// and hit offsets never name them. They are sorted back to front each frame on the CPU by the view
+// distance of their bounds' centre, and drawn in that order (runs of neighbours that share a
+// texture and winding in one multi-draw). A double-sided one draws its back faces, then its front
+// faces (glTF leaves the order within a mesh undefined; the near side then lies over the far side
+// of a convex mesh). The normals and depth views, which show the surfaces of the depth buffer, draw
+// no blended mesh; the other views draw them as the frame does.
 // Objects whose matrix cannot be inverted (scaled to zero) are skipped.
 #include <array>
 #include <cstddef>
@@ -39,6 +51,8 @@ class MeshFeature final : public RenderFeature {
   Status initialize(const gpu::Context& context, const RendererFormats& formats, std::uint32_t framesInFlight) override;
   void prepare(FrameContext& frame) override;
   void recordPass(PassContext& pass) override;
+  bool hasTransparentDraws() const override { return !blendedBatches_.empty(); }
+  void recordTransparent(PassContext& pass) override;
   void drawUi() override;
   Status reloadShaders() override;
 
@@ -48,7 +62,8 @@ class MeshFeature final : public RenderFeature {
   enum class Sides : std::uint8_t { Single = 0, Double = 1 };  // back faces culled / drawn
   // Draws of one cull mode, one texture and either opaque or cut out, in commands_: [first,
   // mirroredFirst) unmirrored, then [mirroredFirst, end) mirrored. Batches are drawn single-sided
-  // first, then opaque before cut out, then by texture.
+  // first, then opaque before cut out, then by texture. A blended batch is a run of draws in
+  // back-to-front order, all mirrored or none.
   struct Batch {
     Sides sides = Sides::Single;
     bool masked = false;
@@ -59,10 +74,13 @@ class MeshFeature final : public RenderFeature {
   };
   struct PendingDraw;
   void buildBatches(std::vector<PendingDraw>& draws);
+  void buildBlendedBatches(std::vector<PendingDraw>& draws);
+  void append(std::vector<Batch>& batches, const PendingDraw& draw, bool joinsLast);
   struct Pipelines {
     std::array<gpu::Pipeline, 2> depth;  // by Sides
     std::array<gpu::Pipeline, 2> depthMasked;
     std::array<gpu::Pipeline, 2> shade;
+    gpu::Pipeline blended;  // both sides: the cull mode is dynamic
   };
   Expected<Pipelines> createPipelines() const;
   const gpu::Pipeline& pipelineOf(const Batch& batch, bool prepass) const;
@@ -76,7 +94,9 @@ class MeshFeature final : public RenderFeature {
   PerFrameBuffer indirect_;
   std::vector<VkDrawIndexedIndirectCommand> commands_;  // the batches' draws, in batch order
   std::vector<Batch> batches_;
+  std::vector<Batch> blendedBatches_;  // back to front, after batches_'s draws in commands_
   std::uint32_t drawCount_ = 0;
+  std::uint32_t blendedCount_ = 0;
   std::uint32_t doubleSidedCount_ = 0;
   std::uint32_t culledCount_ = 0;
   gpu::IndirectDraws draws_;

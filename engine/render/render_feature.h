@@ -17,12 +17,16 @@
 //                      rendering instance that loads what phase 1 drew;
 //   recordPass(Opaque) inside the shading pass (colour + read-only depth: depth is final, test
 //                      EQUAL or read it from the scene descriptor set);
+//   recordTransparent() only when hasTransparentDraws() said so after prepare(): a pass of its own
+//                      after every feature's shading (the SDF objects' resolve included), colour
+//                      loaded + the prepass depth read-only: surfaces blended over the finished
+//                      opaque frame (glTF alphaMode BLEND), which are in no prepass attachment;
 //   drawUi()           inside the ImGui frame: the feature's tuning panel.
 // A feature reads components, never globals. Features create (or describe, to compile on first
 // use) their pipelines in initialize() with the formats the renderer gives them, and again in
 // reloadShaders() from fresh SPIR-V.
-// View regions (FrameSettings::regions): a frame with several regions calls prepare() and both
-// passes once per region, in that order (prepare, depth, opaque; next region), each region with
+// View regions (FrameSettings::regions): a frame with several regions calls prepare() and the
+// passes once per region, in that order (prepare, depth, opaque, transparent; next region), each region with
 // its own frame slot, so per-frame data written in prepare() stays valid until its passes ran.
 // The framesInFlight given to initialize() counts these slots (frames in flight x regions).
 #include <cstdint>
@@ -50,7 +54,7 @@ namespace engine::render {
 
 class GpuScene;
 
-enum class Pass { DepthPrepass, Opaque };
+enum class Pass { DepthPrepass, Opaque, Transparent };
 
 struct RendererFormats {
   VkFormat color = VK_FORMAT_R8G8B8A8_SRGB;
@@ -139,8 +143,8 @@ struct PassContext {
   Pass pass;
   VkDeviceAddress frameGlobals;  // FrameGlobals of this frame
   VkDeviceAddress objects;       // ObjectData[] of this frame
-  // Opaque pass only: the scene descriptor set (prepass depth, see RendererFormats). The depth
-  // attachment is read-only in the shading pass, so it can be sampled while it is tested against.
+  // Opaque and transparent passes: the scene descriptor set (prepass depth, see RendererFormats).
+  // The depth attachment is read-only there, so it can be sampled while it is tested against.
   VkDescriptorSet sceneSet;
   gpu::GpuTimer& timer;          // for sub-pass timings: timer.begin(cmd, "name") / end(cmd)
   // Depth prepass with occlusion culling: false in phase 1 (every feature), true in phase 2
@@ -174,6 +178,16 @@ class RenderFeature {
   // be visible has to be drawn in phase 2.
   virtual bool usesOcclusionCulling() const { return false; }
   virtual void recordLateCulling(PassContext& /*pass*/, const DepthPyramidView& /*pyramid*/) {}
+  // Blended surfaces (glTF alphaMode BLEND: a glass pane): when any feature says so after prepare(),
+  // the renderer opens the transparent pass after the shading pass, and calls recordTransparent()
+  // (pass.pass is Transparent) of each feature that said so, in the order they were added. The
+  // colour target holds the finished opaque frame; the depth attachment is the prepass's,
+  // read-only: a blended surface tests against it and writes none, and it must not be in the
+  // prepass (it would hide what lies behind it, and the visibility buffer, which the resolves,
+  // the debug views and picking read, would name it). Blending is the feature's pipeline state;
+  // a feature draws its blended surfaces back to front itself (there is no order across features).
+  virtual bool hasTransparentDraws() const { return false; }
+  virtual void recordTransparent(PassContext& /*pass*/) {}
   virtual void drawUi() {}
   // Recreates the pipelines from the SPIR-V on disk now (e.g. after the shaders were rebuilt).
   // On failure the old pipelines stay and the error says why (the file, the loader's or Vulkan's

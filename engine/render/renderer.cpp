@@ -519,6 +519,12 @@ void Renderer::recordScenePasses(FrameResources& frame, FrameContext& context, V
   recordOpaquePass(pass, rect, first);
   if (first) frame.statistics.end(cmd);
   frame.timer.end(cmd);
+
+  if (std::none_of(features_.begin(), features_.end(), [](const auto& f) { return f->hasTransparentDraws(); })) return;
+  pass.pass = Pass::Transparent;
+  frame.timer.begin(cmd, "transparent");
+  recordTransparentPass(pass, rect);
+  frame.timer.end(cmd);
 }
 
 // `first`: the first region's pass clears the whole frame; a later one clears only its rectangle.
@@ -618,23 +624,43 @@ void Renderer::barrierBetweenPrepassStages(VkCommandBuffer cmd) {
 }
 
 void Renderer::recordOpaquePass(PassContext& pass, VkRect2D rect, bool first) {
+  beginShadingRendering(pass.cmd, rect, first ? VkRect2D{{0, 0}, extent_} : rect, VK_ATTACHMENT_LOAD_OP_CLEAR);
+  for (auto& feature : features_) feature->recordPass(pass);
+  vkCmdEndRendering(pass.cmd);
+}
+
+// Blended surfaces over the finished opaque frame: after every feature's shading (an SDF object's
+// resolve would otherwise paint over a blended surface drawn before it), against the prepass
+// depth, which none of them is in.
+void Renderer::recordTransparentPass(PassContext& pass, VkRect2D rect) {
+  // Blending reads what the shading pass wrote.
+  gpu::memoryBarrier(pass.cmd, VK_PIPELINE_STAGE_2_COLOR_ATTACHMENT_OUTPUT_BIT, VK_ACCESS_2_COLOR_ATTACHMENT_WRITE_BIT,
+                     VK_PIPELINE_STAGE_2_COLOR_ATTACHMENT_OUTPUT_BIT,
+                     VK_ACCESS_2_COLOR_ATTACHMENT_READ_BIT | VK_ACCESS_2_COLOR_ATTACHMENT_WRITE_BIT);
+  beginShadingRendering(pass.cmd, rect, rect, VK_ATTACHMENT_LOAD_OP_LOAD);
+  for (auto& feature : features_)
+    if (feature->hasTransparentDraws()) feature->recordTransparent(pass);
+  vkCmdEndRendering(pass.cmd);
+}
+
+// The colour target (cleared to the clear colour, or loaded) with the prepass depth, read-only.
+void Renderer::beginShadingRendering(VkCommandBuffer cmd, VkRect2D rect, VkRect2D renderArea,
+                                     VkAttachmentLoadOp colorLoad) {
   VkRenderingAttachmentInfo color{VK_STRUCTURE_TYPE_RENDERING_ATTACHMENT_INFO};
   color.imageView = color_.view();
   color.imageLayout = VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL;
-  color.loadOp = VK_ATTACHMENT_LOAD_OP_CLEAR;
+  color.loadOp = colorLoad;
   color.storeOp = VK_ATTACHMENT_STORE_OP_STORE;
   std::memcpy(color.clearValue.color.float32, &desc_.clearColor, sizeof(float) * 4);
   VkRenderingAttachmentInfo depth = depthAttachment(depth_, VK_ATTACHMENT_LOAD_OP_LOAD, kFinalDepthLayout);
   VkRenderingInfo info{VK_STRUCTURE_TYPE_RENDERING_INFO};
-  info.renderArea = first ? VkRect2D{{0, 0}, extent_} : rect;
+  info.renderArea = renderArea;
   info.layerCount = 1;
   info.colorAttachmentCount = 1;
   info.pColorAttachments = &color;
   info.pDepthAttachment = &depth;
-  vkCmdBeginRendering(pass.cmd, &info);
-  setViewportAndScissor(pass.cmd, extent_, rect);
-  for (auto& feature : features_) feature->recordPass(pass);
-  vkCmdEndRendering(pass.cmd);
+  vkCmdBeginRendering(cmd, &info);
+  setViewportAndScissor(cmd, extent_, rect);
 }
 
 void Renderer::recordPresentBlit(VkCommandBuffer cmd, gpu::Swapchain& swapchain, std::uint32_t imageIndex) {

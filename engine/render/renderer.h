@@ -1,6 +1,7 @@
 #pragma once
 // The frame loop: frames in flight, the offscreen colour and depth targets, and the passes
-//   depth prepass -> opaque -> overlay (UI) -> present (blit to the swapchain) or read back.
+//   depth prepass -> opaque -> transparent (blended surfaces, when a feature has any) -> overlay
+//   (UI) -> present (blit to the swapchain) or read back.
 // Headless and windowed rendering run the same code; a window only adds the final blit.
 #include <cstdint>
 #include <functional>
@@ -193,6 +194,8 @@ class Renderer {
   void recordOcclusionPhase2(PassContext& pass, VkRect2D rect, bool first);
   DepthPyramid* ensurePyramid();
   void recordOpaquePass(PassContext& pass, VkRect2D rect, bool first);
+  void recordTransparentPass(PassContext& pass, VkRect2D rect);
+  void beginShadingRendering(VkCommandBuffer cmd, VkRect2D rect, VkRect2D renderArea, VkAttachmentLoadOp colorLoad);
   void recordPresentBlit(VkCommandBuffer cmd, gpu::Swapchain& swapchain, std::uint32_t imageIndex);
   void collectTimings(FrameResources& frame);
   void prepassColorBarrier(VkCommandBuffer cmd, VkImageLayout from, VkImageLayout to, VkPipelineStageFlags2 srcStage,

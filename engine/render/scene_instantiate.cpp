@@ -97,6 +97,7 @@ InstantiatedScene instantiateScene(const scene::SceneData& data, ecs::Registry& 
         renderable.doubleSided = material.doubleSided;
         renderable.emissive = material.emissive;
         renderable.alphaCutoff = material.alphaCutoff;
+        renderable.alphaBlend = material.alphaBlend;
         // Without texture coordinates the texture cannot be read (the importer said so): the factor alone.
         if (material.baseColorTexture >= 0 && std::size_t(material.baseColorTexture) < textures.size() &&
             !primitive.texcoords.empty())

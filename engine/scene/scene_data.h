@@ -46,9 +46,12 @@ struct MaterialData {
   // TEXCOORD_0), which multiplies baseColor; -1: none.
   int baseColorTexture = -1;
   // glTF alphaMode MASK: where the alpha (baseColor's times the texture's) is below the cutoff,
-  // the surface is not there (a leaf card, a fence, a grille). None: opaque (OPAQUE; BLEND, which
-  // the importer notes, is drawn opaque too).
+  // the surface is not there (a leaf card, a fence, a grille). None: opaque (OPAQUE) or blended
+  // (BLEND).
   std::optional<float> alphaCutoff;
+  // glTF alphaMode BLEND: the surface is blended over what lies behind it by its alpha, baseColor's
+  // times the texture's (a glass pane). False: OPAQUE (the alpha is not used) or MASK.
+  bool alphaBlend = false;
 };
 
 // How a texture is sampled (a glTF sampler).

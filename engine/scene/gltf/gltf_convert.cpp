@@ -340,16 +340,13 @@ Expected<MeshData> convertMesh(ImportContext& context, int meshIndex) {
 // ---------------------------------------------------------------------------------------------
 // Materials and cameras
 
-// What of a material the renderer does not draw, named in one note: a glass pane (alphaMode BLEND)
-// is drawn opaque, a normal-mapped wall flat; silently, each would look like a rendering defect.
+// What of a material the renderer does not draw, named in one note: a normal-mapped wall is drawn
+// flat, an emissive texture in its factor; silently, each would look like a rendering defect.
 // (A base colour texture that cannot be drawn gets its own warning.)
 std::optional<std::string> ignoredMaterialFields(const tinygltf::Material& material) {
   std::vector<std::string> ignored;
-  if (material.alphaMode == "BLEND") {
-    ignored.push_back("alphaMode BLEND (drawn opaque)");
-  } else if (material.alphaMode != "OPAQUE" && material.alphaMode != "MASK") {
+  if (material.alphaMode != "OPAQUE" && material.alphaMode != "MASK" && material.alphaMode != "BLEND")
     ignored.push_back(fmt::format("alphaMode '{}', which glTF does not define (drawn opaque)", material.alphaMode));
-  }
   if (material.emissiveTexture.index >= 0) ignored.push_back("emissiveTexture (drawn in emissiveFactor)");
   const auto& pbr = material.pbrMetallicRoughness;
   if (pbr.metallicRoughnessTexture.index >= 0) ignored.push_back("metallicRoughnessTexture");
@@ -395,6 +392,7 @@ Expected<MaterialData> convertMaterial(const tinygltf::Material& material) {
     ENGINE_TRY_ASSIGN(const float cutoff, toFiniteFloat(material.alphaCutoff, "alphaCutoff"));
     out.alphaCutoff = cutoff;
   }
+  out.alphaBlend = material.alphaMode == "BLEND";  // the alpha: baseColor's (kept above) times the texture's
   return out;
 }
 

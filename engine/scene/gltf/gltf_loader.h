@@ -29,8 +29,9 @@
 //    KHR_lights_punctual, ...) is an error naming it; used extensions that are ignored get a
 //    warning each.
 //  - materials: pbrMetallicRoughness baseColorFactor, metallicFactor, roughnessFactor; doubleSided;
-//    emissiveFactor times KHR_materials_emissive_strength's emissiveStrength; baseColorTexture read
-//    through TEXCOORD_0 (gltf_textures.h: PNG or JPEG from a bufferView, a data: URI or a file
+//    emissiveFactor times KHR_materials_emissive_strength's emissiveStrength; alphaMode (MASK: its
+//    alphaCutoff; BLEND: MaterialData::alphaBlend, the alpha being the factor's times the
+//    texture's); baseColorTexture read through TEXCOORD_0 (gltf_textures.h: PNG or JPEG from a bufferView, a data: URI or a file
 //    beside the .gltf, at most kMaxTextureSide texels a side, with its sampler). A texture that
 //    cannot be read (bad index, undecodable or missing image, too large, texCoord other than 0, a
 //    primitive without TEXCOORD_0) is a warning naming the material: drawn in its factor.

@@ -22,6 +22,7 @@
 #include "engine/scene/transform.h"
 #include "device_tolerances.h"
 #include "gpu_test_support.h"
+#include "shared/host_device.h"
 #include "test_files.h"
 
 namespace gputest {
@@ -74,11 +75,9 @@ struct Hit {
   bool backFace = false;
 };
 
-// The nearest triangle the renderer should draw along `ray`: both sides of a double-sided surface,
-// only the side the normal points to of a single-sided one.
-Hit cast(const Surface& surface, const math::Ray& ray) {
-  Hit best;
-  best.t = std::numeric_limits<double>::infinity();
+// Every triangle `ray` meets, nearest first, each with the side it shows (either side).
+std::vector<Hit> castAll(const Surface& surface, const math::Ray& ray) {
+  std::vector<Hit> hits;
   for (std::size_t i = 0; i < surface.normals.size(); ++i) {
     const glm::dvec3 a = surface.corners[3 * i], e1 = surface.corners[3 * i + 1] - a, e2 = surface.corners[3 * i + 2] - a;
     const glm::dvec3 p = glm::cross(ray.direction, e2);
@@ -86,13 +85,19 @@ Hit cast(const Surface& surface, const math::Ray& ray) {
     if (std::abs(det) < 1e-14) continue;
     const glm::dvec3 s = ray.origin - a, q = glm::cross(s, e1);
     const double u = glm::dot(s, p) / det, v = glm::dot(ray.direction, q) / det, t = glm::dot(e2, q) / det;
-    if (u < 0.0 || v < 0.0 || u + v > 1.0 || t <= 0.0 || t >= best.t) continue;
-    const bool back = glm::dot(surface.normals[i], ray.direction) > 0.0;
-    if (back && !surface.doubleSided) continue;
-    best = {int(i), t, back};
+    if (u < 0.0 || v < 0.0 || u + v > 1.0 || t <= 0.0) continue;
+    hits.push_back({int(i), t, glm::dot(surface.normals[i], ray.direction) > 0.0});
   }
-  if (best.triangle < 0) best.t = 0.0;
-  return best;
+  std::sort(hits.begin(), hits.end(), [](const Hit& a, const Hit& b) { return a.t < b.t; });
+  return hits;
+}
+
+// The nearest triangle the renderer should draw along `ray`: both sides of a double-sided surface,
+// only the side the normal points to of a single-sided one.
+Hit cast(const Surface& surface, const math::Ray& ray) {
+  for (const Hit& hit : castAll(surface, ray))
+    if (!hit.backFace || surface.doubleSided) return hit;
+  return {};
 }
 
 struct Comparison {
@@ -190,18 +195,13 @@ class DoubleSidedTest : public GpuTest {
     ASSERT_TRUE(renderer_->addFeature(std::make_unique<render::MeshFeature>(*pool_)).ok());
   }
 
-  // `mesh` as one glTF node with `model` as its matrix and a material of the given sidedness,
-  // through the importer's path (instantiateScene); returns the Surface the frame must show.
-  Surface addNode(const scene::MeshPrimitiveData& mesh, const glm::mat4& model, bool doubleSided, glm::vec4 color,
-                  glm::vec3 emissive = glm::vec3(0.0f)) {
+  // `mesh` as one glTF node with `model` as its matrix and `material`, through the importer's path
+  // (instantiateScene): its one renderable.
+  const render::MeshRenderable& instantiateNode(const scene::MeshPrimitiveData& mesh, const glm::mat4& model,
+                                                const scene::MaterialData& material) {
     scene::SceneData data;
     data.meshes.push_back({"mesh", {mesh}});
     data.meshes[0].primitives[0].material = 0;
-    scene::MaterialData material;
-    material.baseColor = color;
-    material.roughness = 0.4f;
-    material.doubleSided = doubleSided;
-    material.emissive = emissive;
     data.materials.push_back(material);
     scene::NodeData node;
     node.mesh = 0;
@@ -209,8 +209,19 @@ class DoubleSidedTest : public GpuTest {
     data.nodes.push_back(node);
     const render::InstantiatedScene scene = render::instantiateScene(data, registry_, *pool_);
     EXPECT_EQ(scene.renderables.size(), 1u);
-    for (const ecs::Entity e : scene.renderables)
-      EXPECT_EQ(registry_.get<render::MeshRenderable>(e).doubleSided, doubleSided) << "the material's flag reaches the draw";
+    return registry_.get<render::MeshRenderable>(scene.renderables.at(0));
+  }
+
+  // `mesh` as one glTF node (instantiateNode) with a material of the given sidedness; returns the
+  // Surface the frame must show.
+  Surface addNode(const scene::MeshPrimitiveData& mesh, const glm::mat4& model, bool doubleSided, glm::vec4 color,
+                  glm::vec3 emissive = glm::vec3(0.0f)) {
+    scene::MaterialData material;
+    material.baseColor = color;
+    material.roughness = 0.4f;
+    material.doubleSided = doubleSided;
+    material.emissive = emissive;
+    EXPECT_EQ(instantiateNode(mesh, model, material).doubleSided, doubleSided) << "the material's flag reaches the draw";
     Surface surface = place(mesh, model, doubleSided);
     surface.color = glm::dvec3(color);
     surface.roughness = material.roughness;
@@ -543,6 +554,282 @@ TEST_F(MeshMaterialTest, AMaskedQuadShowsWhatLiesBehindItsCutOutTexels) {
   EXPECT_GT(cut, 1000);
   EXPECT_EQ(wrong, 0) << "pixels unlike the texel kept or the square behind a cut-out one (worst colour error " << worst
                       << ")";
+}
+
+// glTF alphaMode BLEND: blended meshes drawn over the finished opaque frame, back to front.
+class BlendedMeshTest : public MeshMaterialTest {
+ protected:
+  // A square of side `side` in the plane z = `z` facing +Z, of `material` (its alphaBlend, colour
+  // and alpha), placed through the importer's path.
+  void addSquare(double z, float side, const glm::vec4& color, bool blend) {
+    scene::MaterialData material;
+    material.baseColor = color;
+    material.roughness = 0.4f;
+    material.alphaBlend = blend;
+    const glm::mat4 model = glm::scale(glm::translate(glm::mat4(1.0f), glm::vec3(0.0f, 0.0f, float(z))), glm::vec3(side));
+    EXPECT_EQ(instantiateNode(square(), model, material).alphaBlend, blend) << "the material's mode reaches the draw";
+  }
+
+  // An opaque square of `color` (side `side`) at height z behind what the test placed, and the
+  // frame `camera` sees.
+  Frame renderOverBackdrop(const glm::dvec3& color, double z, float side, const render::CameraView& camera) {
+    addSquare(z, side, glm::vec4(glm::vec3(color), 1.0f), false);
+    return render(camera);
+  }
+
+  // shadeSurface of a square facing +Z (roughness 0.4, addSquare's) at the ray's point at height z.
+  glm::dvec3 squareLit(const glm::dvec3& color, const render::CameraView& camera, std::uint32_t size, glm::vec2 centre,
+                       double z) const {
+    return referenceShading(desc_, color, 0.4, glm::dvec3(camera.position), pixelRayAtZ(camera, size, centre, z),
+                            {0.0, 0.0, 1.0});
+  }
+};
+
+// glTF's "over" with a straight alpha: what a blended surface of colour `over` and alpha `alpha`
+// leaves over `under` (linear colours).
+glm::dvec3 blendOver(const glm::dvec3& over, double alpha, const glm::dvec3& under) { return alpha * over + (1.0 - alpha) * under; }
+
+// Whether the ray through `centre` meets the square of side `side` centred on the Z axis at height z.
+bool insideSquare(const render::CameraView& camera, std::uint32_t size, glm::vec2 centre, double z, double side) {
+  const glm::dvec3 p = pixelRayAtZ(camera, size, centre, z);
+  return std::abs(p.x) < 0.5 * side && std::abs(p.y) < 0.5 * side;
+}
+
+// Whether the pixel and its four corners all lie on the same side of each square's edge: the
+// pixels a comparison calls (rasterization may go either way across an edge).
+bool clearOfEdges(const render::CameraView& camera, std::uint32_t size, glm::vec2 centre,
+                  const std::vector<std::pair<double, double>>& squares) {
+  for (const auto& [z, side] : squares) {
+    const bool in = insideSquare(camera, size, centre, z, side);
+    for (const glm::vec2 offset : {glm::vec2(-0.5f, -0.5f), glm::vec2(0.5f, -0.5f), glm::vec2(-0.5f, 0.5f), glm::vec2(0.5f, 0.5f)})
+      if (insideSquare(camera, size, centre + offset, z, side) != in) return false;
+  }
+  return true;
+}
+
+// Why: a glass pane (glTF alphaMode BLEND) shows what lies behind it through its alpha, the
+// factor's times the texture's. The checker quad (BLEND, factor alpha 0.8) has even texels of
+// alpha 0.8 and odd ones of 0.8 x 0.6 = 0.48, 0.4 in front of a red square; every pixel must be
+// the quad's lit texel times the factor (the CPU reference) blended over the square's lit colour
+// by that alpha. Tricky because the quad must not be in the depth prepass (the square behind it
+// would fail the depth test: the background, or the quad drawn opaque), must be drawn after the
+// square's shading, must blend in linear colour (the target is sRGB), and the alpha is the
+// product (the factor's alone gives 0.8 on odd texels, the texture's alone 0.6). The depth and the
+// visibility buffer under the quad stay the square's. Tolerance: kColourTolerance, as the opaque
+// references; a blend of two colours each within it is within it.
+TEST_F(BlendedMeshTest, ABlendedCheckerQuadIsBlendedOverWhatLiesBehindIt) {
+  const std::uint32_t size = 96;
+  createLitRenderer(size, {0.3f, 0.5f, 1.0f});
+  const hsdftest::ScopedTempPath folder("blended_quad");
+  const glm::vec4 factor(1.0f, 0.8f, 0.6f, 0.8f);
+  const auto data = scene::loadGltf(writeCheckerQuad(folder.path(), factor, R"("alphaMode": "BLEND", )", true));
+  ASSERT_TRUE(data.ok()) << data.error().message;
+  const render::InstantiatedScene scene = render::instantiateScene(*data, registry_, *pool_);
+  ASSERT_EQ(scene.renderables.size(), 1u);
+  const glm::dvec3 backColor(0.55, 0.1, 0.08);
+  const double backZ = -0.4;
+  const glm::vec3 eye(0.0f, 0.0f, 1.6f);
+  const render::CameraView camera = render::CameraView::lookAt(eye, {0.0f, 0.0f, 0.0f}, 0.8f, kZNear, 1.0f);
+  const Frame frame = renderOverBackdrop(backColor, backZ, 3.0f, camera);
+  const std::vector<glm::uvec2> visibility = renderer_->readbackVisibility();
+  // The square fills the frame: the corner sees it alone.
+  const std::uint32_t squareId = visibility.at(0).x;
+  ASSERT_NE(squareId, 0u);
+  const glm::dmat4 viewProj = glm::dmat4(camera.proj) * glm::dmat4(camera.view);
+  int even = 0, odd = 0, wrong = 0, wrongDepth = 0, notTheSquare = 0;
+  double worst = 0.0;
+  forEachCheckerPixel(camera, size, [&](std::uint32_t x, std::uint32_t y, glm::ivec2 texel, glm::vec2 centre) {
+    const glm::u8vec4 t = checkerTexel(texel.x, texel.y, true);
+    const double alpha = double(factor.a) * (t.a / 255.0);
+    const glm::dvec3 quad = referenceShading(desc_, linearColor(t) * glm::dvec3(factor), 0.6, glm::dvec3(eye),
+                                             pixelRayAtZ(camera, size, centre, 0.0), {0.0, 0.0, 1.0});
+    const glm::dvec3 expected = blendOver(quad, alpha, squareLit(backColor, camera, size, centre, backZ));
+    const double error = glm::length(linearColor(frame.pixel(x, y)) - expected);
+    worst = std::max(worst, error);
+    wrong += error > kColourTolerance;
+    const glm::dvec4 clip = viewProj * glm::dvec4(pixelRayAtZ(camera, size, centre, backZ), 1.0);
+    wrongDepth += std::abs(double(frame.depthAt(x, y)) - clip.z / clip.w) > DeviceTolerances{}.meshDepthAbsolute;
+    notTheSquare += visibility[std::size_t(y) * size + x].x != squareId;
+    ++(t.a == 255 ? even : odd);
+  });
+  std::printf("even texels %d pixels, odd %d, wrong %d (worst %.3f), depth not the square's %d, visibility not the "
+              "square %d\n",
+              even, odd, wrong, worst, wrongDepth, notTheSquare);
+  EXPECT_GT(even, 1000);
+  EXPECT_GT(odd, 1000);
+  EXPECT_EQ(wrong, 0) << "pixels unlike the quad blended over the square (worst colour error " << worst << ")";
+  EXPECT_EQ(wrongDepth, 0) << "the blended quad wrote depth: it hides what lies behind it";
+  EXPECT_EQ(notTheSquare, 0) << "the visibility buffer names the blended quad";
+}
+
+// Why: blended surfaces are drawn back to front, or the far one is blended over the near one
+// (with alpha 0.5 each, green over blue over red differs from blue over green over red by a
+// quarter of green minus blue). Two overlapping panes at z = 0 and -0.3 before an opaque red square
+// at -0.6, added to the scene in both orders: each frame must be the near pane over the far one
+// over the square where they overlap, one pane over the square where only it is. Tricky because
+// the order in which the file (or the registry) lists them must not matter: the mesh feature sorts
+// them on the CPU each frame by their view distance.
+TEST_F(BlendedMeshTest, OverlappingBlendedQuadsAreDrawnBackToFrontWhateverTheirOrder) {
+  const std::uint32_t size = 96;
+  const glm::dvec3 red(0.6, 0.1, 0.1), green(0.1, 0.7, 0.1), blue(0.1, 0.2, 0.8);
+  const double nearZ = 0.0, farZ = -0.3, backZ = -0.6, paneSide = 1.0;
+  const glm::vec3 eye(0.25f, 0.2f, 1.8f);
+  const render::CameraView camera = render::CameraView::lookAt(eye, {0.0f, 0.0f, 0.0f}, 0.8f, kZNear, 1.0f);
+  for (const bool nearFirst : {true, false}) {
+    SCOPED_TRACE(nearFirst ? "the near pane added first" : "the far pane added first");
+    registry_.clear();
+    createLitRenderer(size, {0.3f, 0.5f, 1.0f});
+    addSquare(backZ, 3.0f, glm::vec4(glm::vec3(red), 1.0f), false);
+    if (nearFirst) addSquare(nearZ, float(paneSide), glm::vec4(glm::vec3(green), 0.5f), true);
+    addSquare(farZ, float(paneSide), glm::vec4(glm::vec3(blue), 0.5f), true);
+    if (!nearFirst) addSquare(nearZ, float(paneSide), glm::vec4(glm::vec3(green), 0.5f), true);
+    const Frame frame = render(camera);
+    int both = 0, wrong = 0;
+    double worst = 0.0;
+    for (std::uint32_t y = 0; y < size; ++y) {
+      for (std::uint32_t x = 0; x < size; ++x) {
+        const glm::vec2 centre(float(x) + 0.5f, float(y) + 0.5f);
+        if (!clearOfEdges(camera, size, centre, {{nearZ, paneSide}, {farZ, paneSide}, {backZ, 3.0}}) ||
+            !insideSquare(camera, size, centre, backZ, 3.0))
+          continue;
+        glm::dvec3 expected = squareLit(red, camera, size, centre, backZ);
+        const bool inFar = insideSquare(camera, size, centre, farZ, paneSide);
+        const bool inNear = insideSquare(camera, size, centre, nearZ, paneSide);
+        if (inFar) expected = blendOver(squareLit(blue, camera, size, centre, farZ), 0.5, expected);
+        if (inNear) expected = blendOver(squareLit(green, camera, size, centre, nearZ), 0.5, expected);
+        const double error = glm::length(linearColor(frame.pixel(x, y)) - expected);
+        worst = std::max(worst, error);
+        wrong += error > kColourTolerance;
+        both += inFar && inNear;
+      }
+    }
+    std::printf("%s: %d pixels through both panes, wrong %d (worst %.3f)\n", nearFirst ? "near first" : "far first", both,
+                wrong, worst);
+    EXPECT_GT(both, 1000);
+    EXPECT_EQ(wrong, 0) << "pixels unlike the panes blended back to front (worst colour error " << worst << ")";
+  }
+}
+
+// Why: a blended pane behind an opaque object is hidden by it: it tests against the prepass depth
+// (it writes none), and where the opaque square in front covers it, the frame is the square's lit
+// colour alone; around the square the pane is blended over the background. The normals and depth
+// views show the surfaces of the depth buffer, which the pane is not in: there the pane is not
+// drawn at all, those frames equal the ones without it.
+TEST_F(BlendedMeshTest, ABlendedQuadBehindAnOpaqueSquareIsHidden) {
+  const std::uint32_t size = 96;
+  createLitRenderer(size, {0.3f, 0.5f, 1.0f});
+  const glm::dvec3 white(0.5, 0.45, 0.4), blue(0.1, 0.2, 0.8);  // lit below 1: the UNORM target clamps nothing
+  const double frontZ = 0.0, paneZ = -0.4;
+  addSquare(frontZ, 1.0f, glm::vec4(glm::vec3(white), 1.0f), false);
+  const glm::vec3 eye(0.0f, 0.0f, 1.6f);
+  const render::CameraView camera = render::CameraView::lookAt(eye, {0.0f, 0.0f, 0.0f}, 0.8f, kZNear, 1.0f);
+  scene::updateWorldTransforms(registry_);
+  const Frame normalsAlone = renderWith(camera, DEBUG_VIEW_NORMALS);
+  const Frame depthAlone = renderWith(camera, DEBUG_VIEW_DEPTH);
+  addSquare(paneZ, 2.0f, glm::vec4(glm::vec3(blue), 0.5f), true);
+  const Frame frame = render(camera);
+  const glm::dvec3 background(desc_.clearColor);
+  int hidden = 0, around = 0, wrong = 0;
+  double worst = 0.0;
+  for (std::uint32_t y = 0; y < size; ++y) {
+    for (std::uint32_t x = 0; x < size; ++x) {
+      const glm::vec2 centre(float(x) + 0.5f, float(y) + 0.5f);
+      if (!clearOfEdges(camera, size, centre, {{frontZ, 1.0}, {paneZ, 2.0}})) continue;
+      glm::dvec3 expected;
+      if (insideSquare(camera, size, centre, frontZ, 1.0)) {
+        expected = squareLit(white, camera, size, centre, frontZ);
+        ++hidden;
+      } else if (insideSquare(camera, size, centre, paneZ, 2.0)) {
+        expected = blendOver(squareLit(blue, camera, size, centre, paneZ), 0.5, background);
+        ++around;
+      } else {
+        continue;
+      }
+      const double error = glm::length(linearColor(frame.pixel(x, y)) - expected);
+      worst = std::max(worst, error);
+      wrong += error > kColourTolerance;
+    }
+  }
+  std::printf("hidden %d pixels, around the square %d, wrong %d (worst %.3f)\n", hidden, around, wrong, worst);
+  EXPECT_GT(hidden, 1000);
+  EXPECT_GT(around, 1000);
+  EXPECT_EQ(wrong, 0) << "pixels unlike the square in front, or the pane over the background (worst " << worst << ")";
+  scene::updateWorldTransforms(registry_);
+  EXPECT_EQ(differingPixels(renderWith(camera, DEBUG_VIEW_NORMALS), normalsAlone), 0u) << "the normals view drew the pane";
+  EXPECT_EQ(differingPixels(renderWith(camera, DEBUG_VIEW_DEPTH), depthAlone), 0u) << "the depth view drew the pane";
+}
+
+// Why: a double-sided blended mesh (a glass box, a bottle) shows its far side through its near
+// side. glTF leaves the order of a mesh's triangles undefined; the mesh feature draws a double-sided
+// blended mesh's back faces, then its front faces, so that through a convex one the near side lies
+// over the far side, each lit as the side seen (a back face with its normal reversed). A closed
+// cube (alpha 0.5) before an opaque red square, seen from above at a slant: every pixel through it
+// must be its front face over its back face over the square. Tricky because the cube is one draw
+// (one object: sorting objects does not order its faces), and because through the cube's top or
+// front the eye sees the inside of another face, lit unlike the face in front (the light grazes),
+// so the wrong order shows (discriminating pixels).
+TEST_F(BlendedMeshTest, ADoubleSidedBlendedCubeShowsItsBackFacesBehindItsFrontFaces) {
+  const std::uint32_t size = 96;
+  createLitRenderer(size, {0.9f, 0.3f, 0.2f});
+  scene::MeshPrimitiveData cube = openBox();
+  cube.indices.insert(cube.indices.end(), {2, 6, 3, 3, 6, 7});  // the lid: +Y
+  const glm::vec4 color(0.9f, 0.7f, 0.3f, 0.5f);
+  const glm::mat4 model = glm::rotate(glm::mat4(1.0f), 0.4f, glm::vec3(0.0f, 1.0f, 0.0f));
+  scene::MaterialData material;
+  material.baseColor = color;
+  material.roughness = 0.4f;
+  material.doubleSided = true;
+  material.alphaBlend = true;
+  instantiateNode(cube, model, material);
+  const Surface surface = place(cube, model, true);
+  const glm::dvec3 red(0.6, 0.1, 0.1);
+  const double backZ = -1.5;
+  const glm::vec3 eye(0.8f, 1.6f, 2.4f);
+  const render::CameraView camera = render::CameraView::lookAt(eye, {0.0f, 0.0f, 0.0f}, 0.8f, kZNear, 1.0f);
+  const Frame frame = renderOverBackdrop(red, backZ, 8.0f, camera);
+  // Each side as the frame lights it: the side seen, its normal reversed on a back face.
+  auto lit = [&](const math::Ray& ray, const Hit& hit) {
+    const glm::dvec3 n = surface.normals[std::size_t(hit.triangle)];
+    return referenceShading(desc_, glm::dvec3(color), 0.4, glm::dvec3(eye), ray.origin + hit.t * ray.direction,
+                            hit.backFace ? -n : n);
+  };
+  int through = 0, discriminating = 0, wrong = 0;
+  double worst = 0.0;
+  for (std::uint32_t y = 0; y < size; ++y) {
+    for (std::uint32_t x = 0; x < size; ++x) {
+      const glm::vec2 centre(float(x) + 0.5f, float(y) + 0.5f);
+      auto triangles = [&](glm::vec2 pixel) {
+        std::vector<int> seen;
+        for (const Hit& h : castAll(surface, math::pixelRay(camera.view, camera.proj, pixel, glm::ivec2(int(size)))))
+          seen.push_back(h.triangle);
+        return seen;
+      };
+      const std::vector<int> seen = triangles(centre);
+      bool edge = false;
+      for (const glm::vec2 offset : {glm::vec2(-0.5f, -0.5f), glm::vec2(0.5f, -0.5f), glm::vec2(-0.5f, 0.5f), glm::vec2(0.5f, 0.5f)})
+        edge = edge || triangles(centre + offset) != seen;
+      if (edge || seen.empty()) continue;
+      const math::Ray ray = math::pixelRay(camera.view, camera.proj, centre, glm::ivec2(int(size)));
+      const std::vector<Hit> hits = castAll(surface, ray);
+      ASSERT_EQ(hits.size(), 2u) << "a ray through a convex cube meets two faces";
+      ASSERT_FALSE(hits[0].backFace);
+      ASSERT_TRUE(hits[1].backFace);
+      const glm::dvec3 behind = squareLit(red, camera, size, centre, backZ);
+      const glm::dvec3 front = lit(ray, hits[0]), back = lit(ray, hits[1]);
+      const glm::dvec3 expected = blendOver(front, color.a, blendOver(back, color.a, behind));
+      const glm::dvec3 reversed = blendOver(back, color.a, blendOver(front, color.a, behind));
+      const double error = glm::length(linearColor(frame.pixel(x, y)) - expected);
+      worst = std::max(worst, error);
+      wrong += error > kColourTolerance;
+      discriminating += glm::length(reversed - expected) > 2.0 * kColourTolerance;
+      ++through;
+    }
+  }
+  std::printf("through the cube %d pixels (discriminating %d), wrong %d (worst %.3f)\n", through, discriminating, wrong,
+              worst);
+  EXPECT_GT(through, 1500);
+  EXPECT_GT(discriminating, 150) << "the view must tell the back faces drawn first from last";
+  EXPECT_EQ(wrong, 0) << "pixels unlike the front faces over the back faces over the square (worst " << worst << ")";
 }
 
 }  // namespace

@@ -391,6 +391,16 @@ TEST(GltfLoaderHierarchy, MeshMaterialAndFlattenedInstances) {
              soup.positions[5]);
 }
 
+// One primitive of the triangle at `positions` per material of the document, in order, in one
+// mesh placed by one node.
+void addPrimitivePerMaterial(GltfBuilder& b, int positions) {
+  json primitives = json::array();
+  for (std::size_t m = 0; m < b.doc()["materials"].size(); ++m)
+    primitives.push_back({{"attributes", {{"POSITION", positions}}}, {"material", m}});
+  b.doc()["meshes"] = json::array({json{{"primitives", primitives}}});
+  b.addNode({{"mesh", 0}});
+}
+
 // Tricky because glTF's doubleSided defaults to false when absent (glTF 2.0, material.doubleSided)
 // and is read per material: three materials, true, false and absent, on three primitives of one
 // mesh, must come out in their own order; a reader that took the first material's flag for every
@@ -419,11 +429,11 @@ TEST(GltfLoaderFeatures, DoubleSidedIsReadPerMaterialAndDefaultsToFalse) {
 }
 
 // Tricky because these fields are core glTF, not extensions (whose notes the loader already
-// gives), and each changes what a mesh looks like: a glass pane (BLEND) drawn opaque, a
-// normal-mapped wall drawn flat. Each material that uses one gets a note naming its fields; a
-// plain opaque material, and an OPAQUE one whose emissiveFactor is zero (what exporters write), get
-// none. Emission, the base colour texture and MASK are drawn (since session 39): only an
-// emissiveTexture is noted, not the factor, and a MASK material gets no note.
+// gives), and each changes what a mesh looks like: a normal-mapped wall drawn flat. Each material
+// that uses one gets a note naming its fields; a plain opaque material, and an OPAQUE one whose
+// emissiveFactor is zero (what exporters write), get none. Emission, the base colour texture and
+// MASK are drawn (since session 39), BLEND since session 40: only an emissiveTexture is noted, not
+// the factor, and a MASK or BLEND material gets no note.
 TEST(GltfLoaderFeatures, MaterialFieldsTheRendererDoesNotDrawAreNamedInANote) {
   GltfBuilder b;
   const int positions = b.addPositions(kTriangle);
@@ -438,24 +448,55 @@ TEST(GltfLoaderFeatures, MaterialFieldsTheRendererDoesNotDrawAreNamedInANote) {
             {"normalTexture", {{"index", 0}}},
             {"occlusionTexture", {{"index", 0}}}},
        json{{"name", "stone"}, {"alphaMode", "OPAQUE"}, {"emissiveFactor", {0, 0, 0}}}});
-  json primitives = json::array();
-  for (int m = 0; m < 5; ++m) primitives.push_back({{"attributes", {{"POSITION", positions}}}, {"material", m}});
-  b.doc()["meshes"] = json::array({json{{"primitives", primitives}}});
-  b.addNode({{"mesh", 0}});
+  addPrimitivePerMaterial(b, positions);
   const auto scene = load(b);
   ASSERT_TRUE(scene.ok()) << scene.error().message;
   const std::string notes = warningLines(*scene);
-  EXPECT_TRUE(anyWarningContains(*scene, "material 0 'glass': alphaMode BLEND (drawn opaque) ignored")) << notes;
+  EXPECT_FALSE(anyWarningContains(*scene, "'glass'")) << notes;
   EXPECT_FALSE(anyWarningContains(*scene, "'leaf'")) << notes;
   EXPECT_TRUE(anyWarningContains(*scene, "material 2 'sign': emissiveTexture (drawn in emissiveFactor) ignored")) << notes;
   EXPECT_TRUE(anyWarningContains(*scene, "material 3 'brick': metallicRoughnessTexture, normalTexture, occlusionTexture "
                                          "ignored"))
       << notes;
   EXPECT_FALSE(anyWarningContains(*scene, "'stone'")) << notes;
-  // What is read stays read: the glass's factor (its alpha too, unused), the leaf's two sides.
+  // What is read stays read: the glass's factor (its alpha too), the leaf's two sides.
   ASSERT_EQ(scene->materials.size(), 5u);
   EXPECT_FLOAT_EQ(scene->materials[0].baseColor.a, 0.3f);
   EXPECT_TRUE(scene->materials[1].doubleSided);
+}
+
+// Why: a glass pane, a tinted visor (alphaMode BLEND) is blended over what lies behind it by its
+// alpha, the factor's times the base colour texture's (the renderer multiplies the texture's in:
+// MeshMaterialTest.ABlendedCheckerQuadIsBlendedOverWhatLiesBehindIt). Tricky because only BLEND
+// blends: OPAQUE (the default) ignores an alpha below 1, MASK cuts out instead, and an alphaMode
+// glTF does not define is drawn opaque with a note; a BLEND material keeps its factor's alpha, no
+// cutoff and gets no note.
+TEST(GltfLoaderFeatures, ABlendMaterialIsBlendedWithItsAlpha) {
+  GltfBuilder b;
+  const int positions = b.addPositions(kTriangle);
+  const json halfAlpha = {{"baseColorFactor", {0.2, 0.4, 0.6, 0.5}}};
+  b.doc()["materials"] = json::array({json{{"name", "glass"}, {"alphaMode", "BLEND"}, {"pbrMetallicRoughness", halfAlpha}},
+                                      json{{"name", "stone"}, {"pbrMetallicRoughness", halfAlpha}},
+                                      json{{"name", "leaf"}, {"alphaMode", "MASK"}, {"pbrMetallicRoughness", halfAlpha}},
+                                      json{{"name", "odd"}, {"alphaMode", "GLASS"}, {"pbrMetallicRoughness", halfAlpha}}});
+  addPrimitivePerMaterial(b, positions);
+  const auto scene = load(b);
+  ASSERT_TRUE(scene.ok()) << scene.error().message;
+  ASSERT_EQ(scene->materials.size(), 4u);
+  const MaterialData& glass = scene->materials[0];
+  EXPECT_TRUE(glass.alphaBlend);
+  EXPECT_FLOAT_EQ(glass.baseColor.a, 0.5f);
+  EXPECT_FALSE(glass.alphaCutoff.has_value()) << "BLEND is not cut out";
+  EXPECT_FALSE(scene->materials[1].alphaBlend) << "OPAQUE (absent) ignores the alpha";
+  EXPECT_FALSE(scene->materials[2].alphaBlend) << "MASK cuts out, it does not blend";
+  EXPECT_FALSE(scene->materials[3].alphaBlend) << "an alphaMode glTF does not define is drawn opaque";
+  EXPECT_FALSE(MaterialData{}.alphaBlend) << "a primitive without a material is opaque";
+  std::string notes;
+  for (const auto& w : scene->warnings) notes += w + "\n";
+  EXPECT_FALSE(anyWarningContains(*scene, "'glass'")) << notes;
+  EXPECT_TRUE(anyWarningContains(*scene, "material 3 'odd': alphaMode 'GLASS', which glTF does not define (drawn opaque) "
+                                         "ignored"))
+      << notes;
 }
 
 // Why: a leaf card or a fence (alphaMode MASK) is cut out where its alpha is below alphaCutoff.
@@ -470,10 +511,7 @@ TEST(GltfLoaderFeatures, AMaskMaterialKeepsItsCutoffAndOnlyIt) {
                                       json{{"name", "fence"}, {"alphaMode", "MASK"}},
                                       json{{"name", "glass"}, {"alphaMode", "BLEND"}, {"alphaCutoff", 0.7}},
                                       json{{"name", "stone"}, {"alphaCutoff", 0.7}}});
-  json primitives = json::array();
-  for (int m = 0; m < 4; ++m) primitives.push_back({{"attributes", {{"POSITION", positions}}}, {"material", m}});
-  b.doc()["meshes"] = json::array({json{{"primitives", primitives}}});
-  b.addNode({{"mesh", 0}});
+  addPrimitivePerMaterial(b, positions);
   const auto scene = load(b);
   ASSERT_TRUE(scene.ok()) << scene.error().message;
   ASSERT_EQ(scene->materials.size(), 4u);
@@ -506,10 +544,7 @@ TEST(GltfLoaderFeatures, EmissionIsTheFactorTimesTheStrength) {
             {"emissiveFactor", {0.5, 0.25, 1.0}},
             {"extensions", {{"KHR_materials_emissive_strength", {{"emissiveStrength", 40.0}}}}}},
        json{{"name", "stone"}}});
-  json primitives = json::array();
-  for (int m = 0; m < 3; ++m) primitives.push_back({{"attributes", {{"POSITION", positions}}}, {"material", m}});
-  b.doc()["meshes"] = json::array({json{{"primitives", primitives}}});
-  b.addNode({{"mesh", 0}});
+  addPrimitivePerMaterial(b, positions);
   const auto scene = load(b);
   ASSERT_TRUE(scene.ok()) << scene.error().message;
   ASSERT_EQ(scene->materials.size(), 3u);
