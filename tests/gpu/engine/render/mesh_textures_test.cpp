@@ -54,7 +54,7 @@ TEST_F(MeshTexturesTest, MoreTexturesThanAPoolHoldsEachDrawOnItsOwnMesh) {
   const render::CameraView camera =
       render::CameraView::lookAt(eye, {0.0f, 0.0f, 0.0f}, 2.0f * std::atan(1.05f / 40.0f), 1.0f, 1.0f);
   const Frame frame = render(camera);
-  const glm::mat4 viewProj = camera.projection * camera.view;
+  const glm::mat4 viewProj = camera.proj * camera.view;
   int wrong = 0;
   double worst = 0.0;
   for (std::uint32_t i = 0; i < columns * rows; ++i) {
