@@ -167,31 +167,13 @@ VkBufferImageCopy wholeImageCopy(const Image& image) {
 
 }  // namespace
 
-void uploadImage(const Context& context, const Image& image, const void* texels, std::size_t bytes) {
-  if (bytes != imageBytes(image)) throw std::invalid_argument("uploadImage: size does not match the image");
-  Buffer staging(context, bytes, VK_BUFFER_USAGE_TRANSFER_SRC_BIT, MemoryUsage::Upload, "image staging");
-  staging.write(texels, bytes);
-  context.submitAndWait([&](VkCommandBuffer cmd) {
-    imageBarrier(cmd, image.handle(), image.aspect(), VK_IMAGE_LAYOUT_UNDEFINED,
-                 VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, VK_PIPELINE_STAGE_2_NONE, VK_ACCESS_2_NONE,
-                 VK_PIPELINE_STAGE_2_COPY_BIT, VK_ACCESS_2_TRANSFER_WRITE_BIT);
-    const VkBufferImageCopy region = wholeImageCopy(image);
-    vkCmdCopyBufferToImage(cmd, staging.handle(), image.handle(), VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, 1,
-                           &region);
-    imageBarrier(cmd, image.handle(), image.aspect(), VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL,
-                 VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL, VK_PIPELINE_STAGE_2_COPY_BIT,
-                 VK_ACCESS_2_TRANSFER_WRITE_BIT, VK_PIPELINE_STAGE_2_ALL_GRAPHICS_BIT,
-                 VK_ACCESS_2_SHADER_SAMPLED_READ_BIT);
-  });
-}
-
 namespace {
 
 // A barrier on one mip level of a colour image.
-void levelBarrier(VkCommandBuffer cmd, VkImage image, std::uint32_t level, VkImageLayout oldLayout, VkImageLayout newLayout,
-                  VkPipelineStageFlags2 srcStage, VkAccessFlags2 srcAccess, VkPipelineStageFlags2 dstStage,
-                  VkAccessFlags2 dstAccess) {
-  rangeBarrier(cmd, image, {VK_IMAGE_ASPECT_COLOR_BIT, level, 1, 0, 1}, oldLayout, newLayout, srcStage, srcAccess,
+void levelBarrier(VkCommandBuffer cmd, const Image& image, std::uint32_t level, VkImageLayout oldLayout,
+                  VkImageLayout newLayout, VkPipelineStageFlags2 srcStage, VkAccessFlags2 srcAccess,
+                  VkPipelineStageFlags2 dstStage, VkAccessFlags2 dstAccess) {
+  rangeBarrier(cmd, image.handle(), {image.aspect(), level, 1, 0, 1}, oldLayout, newLayout, srcStage, srcAccess,
                dstStage, dstAccess);
 }
 
@@ -202,17 +184,17 @@ void blitLevel(VkCommandBuffer cmd, const Image& image, std::uint32_t level) {
   const VkExtent3D e = image.extent();
   VkImageBlit blit{};
   blit.srcSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, level - 1, 0, 1};
-  blit.srcOffsets[1] = {levelSide(e.width, level - 1), levelSide(e.height, level - 1), 1};
+  blit.srcOffsets[1] = {levelSide(e.width, level - 1), levelSide(e.height, level - 1), levelSide(e.depth, level - 1)};
   blit.dstSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, level, 0, 1};
-  blit.dstOffsets[1] = {levelSide(e.width, level), levelSide(e.height, level), 1};
+  blit.dstOffsets[1] = {levelSide(e.width, level), levelSide(e.height, level), levelSide(e.depth, level)};
   vkCmdBlitImage(cmd, image.handle(), VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, image.handle(),
                  VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, 1, &blit, VK_FILTER_LINEAR);
 }
 
 }  // namespace
 
-void uploadImageWithMipmaps(const Context& context, const Image& image, const void* texels, std::size_t bytes) {
-  if (bytes != imageBytes(image)) throw std::invalid_argument("uploadImageWithMipmaps: size does not match the image");
+void uploadImage(const Context& context, const Image& image, const void* texels, std::size_t bytes) {
+  if (bytes != imageBytes(image)) throw std::invalid_argument("uploadImage: size does not match the image");
   Buffer staging(context, bytes, VK_BUFFER_USAGE_TRANSFER_SRC_BIT, MemoryUsage::Upload, "image staging");
   staging.write(texels, bytes);
   const std::uint32_t levels = image.mipLevels();
@@ -224,16 +206,16 @@ void uploadImageWithMipmaps(const Context& context, const Image& image, const vo
     vkCmdCopyBufferToImage(cmd, staging.handle(), image.handle(), VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, 1, &region);
     // Each level is written, then read by the next level's blit, then read by shaders.
     for (std::uint32_t level = 1; level < levels; ++level) {
-      levelBarrier(cmd, image.handle(), level - 1, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL,
+      levelBarrier(cmd, image, level - 1, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL,
                    VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, VK_PIPELINE_STAGE_2_ALL_TRANSFER_BIT,
                    VK_ACCESS_2_TRANSFER_WRITE_BIT, VK_PIPELINE_STAGE_2_ALL_TRANSFER_BIT, VK_ACCESS_2_TRANSFER_READ_BIT);
       blitLevel(cmd, image, level);
-      levelBarrier(cmd, image.handle(), level - 1, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL,
+      levelBarrier(cmd, image, level - 1, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL,
                    VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL, VK_PIPELINE_STAGE_2_ALL_TRANSFER_BIT,
                    VK_ACCESS_2_TRANSFER_READ_BIT, VK_PIPELINE_STAGE_2_ALL_GRAPHICS_BIT,
                    VK_ACCESS_2_SHADER_SAMPLED_READ_BIT);
     }
-    levelBarrier(cmd, image.handle(), levels - 1, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL,
+    levelBarrier(cmd, image, levels - 1, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL,
                  VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL, VK_PIPELINE_STAGE_2_ALL_TRANSFER_BIT,
                  VK_ACCESS_2_TRANSFER_WRITE_BIT, VK_PIPELINE_STAGE_2_ALL_GRAPHICS_BIT,
                  VK_ACCESS_2_SHADER_SAMPLED_READ_BIT);

@@ -68,14 +68,12 @@ void imageBarrier(VkCommandBuffer cmd, VkImage image, VkImageAspectFlags aspect,
                   VkImageLayout newLayout, VkPipelineStageFlags2 srcStage, VkAccessFlags2 srcAccess,
                   VkPipelineStageFlags2 dstStage, VkAccessFlags2 dstAccess);
 
-// Fills an image from tightly packed texels and leaves it in SHADER_READ_ONLY_OPTIMAL (waits).
+// Fills level 0 of an image (2D or 3D) from tightly packed texels and leaves every level in
+// SHADER_READ_ONLY_OPTIMAL (waits). An image of several mip levels gets each further level from the
+// one before by a linear blit (for an sRGB format the blit averages in linear colour); it needs
+// TRANSFER_SRC usage and a format the device blits with linear filtering. Every image needs
+// TRANSFER_DST usage.
 void uploadImage(const Context& context, const Image& image, const void* texels, std::size_t bytes);
-
-// Fills level 0 of an image of several mip levels from tightly packed texels, makes each further
-// level from the one before by a linear blit (for an sRGB format the blit averages in linear
-// colour), and leaves every level in SHADER_READ_ONLY_OPTIMAL (waits). The image needs TRANSFER_SRC
-// and TRANSFER_DST usage and a format the device blits with linear filtering.
-void uploadImageWithMipmaps(const Context& context, const Image& image, const void* texels, std::size_t bytes);
 
 // Copies an image in `currentLayout` back to the CPU as tightly packed texels (waits); the image is
 // returned to `currentLayout`.

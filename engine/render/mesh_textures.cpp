@@ -49,17 +49,8 @@ scene::TextureData whiteTexel() {
 }  // namespace
 
 MeshTextures::MeshTextures(const gpu::Context& context)
-    : context_(context),
-      layout_(context, {"mesh base colour texture layout",
-                        {{0, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, 1, VK_SHADER_STAGE_FRAGMENT_BIT, nullptr}},
-                        {}}) {
+    : context_(context), sets_(context, VK_SHADER_STAGE_FRAGMENT_BIT, "mesh base colour texture") {
   add(whiteTexel());
-}
-
-MeshTextures::~MeshTextures() { destroyPools(); }
-
-void MeshTextures::destroyPools() noexcept {
-  for (Entry& entry : entries_) vkDestroyDescriptorPool(context_.device(), entry.pool, nullptr);
 }
 
 TextureHandle MeshTextures::add(const scene::TextureData& texture) {
@@ -72,32 +63,13 @@ TextureHandle MeshTextures::add(const scene::TextureData& texture) {
   desc.mipLevels = texture.mipmaps ? gpu::fullMipChain(texture.width, texture.height) : 1;
   desc.name = name;
   entry.image = gpu::Image(context_, desc);
-  gpu::uploadImageWithMipmaps(context_, entry.image, texture.rgba.data(), texture.rgba.size());
+  gpu::uploadImage(context_, entry.image, texture.rgba.data(), texture.rgba.size());
   entry.sampler = createSampler(context_, texture, name);
-
-  const VkDescriptorPoolSize size{VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, 1};
-  VkDescriptorPoolCreateInfo poolInfo{VK_STRUCTURE_TYPE_DESCRIPTOR_POOL_CREATE_INFO};
-  poolInfo.maxSets = 1;
-  poolInfo.poolSizeCount = 1;
-  poolInfo.pPoolSizes = &size;
-  VK_CHECK(vkCreateDescriptorPool(context_.device(), &poolInfo, nullptr, &entry.pool));
-  entries_.push_back(std::move(entry));  // owned from here: the destructor frees its pool
-  Entry& owned = entries_.back();
-  VkDescriptorSetAllocateInfo allocInfo{VK_STRUCTURE_TYPE_DESCRIPTOR_SET_ALLOCATE_INFO};
-  allocInfo.descriptorPool = owned.pool;
-  allocInfo.descriptorSetCount = 1;
-  const VkDescriptorSetLayout setLayout = layout_.handle();
-  allocInfo.pSetLayouts = &setLayout;
-  VK_CHECK(vkAllocateDescriptorSets(context_.device(), &allocInfo, &owned.set));
-  context_.setName(owned.set, VK_OBJECT_TYPE_DESCRIPTOR_SET, name);
-  const VkDescriptorImageInfo image{owned.sampler.get(), owned.image.view(), VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL};
-  VkWriteDescriptorSet write{VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET};
-  write.dstSet = owned.set;
-  write.dstBinding = 0;
-  write.descriptorCount = 1;
-  write.descriptorType = VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER;
-  write.pImageInfo = &image;
-  vkUpdateDescriptorSets(context_.device(), 1, &write, 0, nullptr);
+  const auto set = sets_.add(entry.image.view(), entry.sampler.get());
+  // The message names the refused call and its result; the code is Vulkan's own for a set not given.
+  if (!set) throw gpu::VulkanError(VK_ERROR_OUT_OF_POOL_MEMORY, set.error().message);
+  entry.set = set->set;
+  entries_.push_back(std::move(entry));
   return TextureHandle{static_cast<std::uint32_t>(entries_.size() - 1)};
 }
 

@@ -10,9 +10,9 @@
 
 #include <vulkan/vulkan.h>
 
-#include "engine/gpu/descriptor_set_layout.h"
 #include "engine/gpu/device_handle.h"
 #include "engine/gpu/image.h"
+#include "engine/gpu/image_sampler_sets.h"
 #include "engine/render/components.h"
 #include "engine/scene/scene_data.h"
 
@@ -25,7 +25,7 @@ namespace engine::render {
 class MeshTextures {
  public:
   explicit MeshTextures(const gpu::Context& context);
-  ~MeshTextures();
+  ~MeshTextures() = default;
   MeshTextures(const MeshTextures&) = delete;
   MeshTextures& operator=(const MeshTextures&) = delete;
 
@@ -34,7 +34,7 @@ class MeshTextures {
   TextureHandle add(const scene::TextureData& texture);
   std::uint32_t count() const { return static_cast<std::uint32_t>(entries_.size()); }
 
-  VkDescriptorSetLayout layout() const { return layout_.handle(); }
+  VkDescriptorSetLayout layout() const { return sets_.layout(); }
   // Binds `texture`'s set as set 0 of `layout` (the white texel for an unknown handle).
   void bind(VkCommandBuffer cmd, VkPipelineLayout layout, TextureHandle texture) const;
 
@@ -42,13 +42,11 @@ class MeshTextures {
   struct Entry {
     gpu::Image image;
     gpu::SamplerHandle sampler;
-    VkDescriptorPool pool = VK_NULL_HANDLE;  // one set's worth: a texture's set lives as long as it
-    VkDescriptorSet set = VK_NULL_HANDLE;
+    VkDescriptorSet set = VK_NULL_HANDLE;  // lives as long as the texture: freed with the sets' pools
   };
-  void destroyPools() noexcept;
 
   const gpu::Context& context_;
-  gpu::DescriptorSetLayout layout_;
+  gpu::ImageSamplerSets sets_;
   std::vector<Entry> entries_;
 };
 

@@ -6,6 +6,7 @@
 
 #include "engine/gpu/context.h"
 #include "engine/gpu/descriptor_set_layout.h"
+#include "engine/gpu/image_sampler_sets.h"
 #include "engine/gpu/vk_check.h"
 #include "hermite_sdf/core/cells.h"
 
@@ -75,18 +76,6 @@ Status checkFieldFormats(const engine::gpu::Context& context) {
 
 namespace {
 
-VkWriteDescriptorSet imageWrite(VkDescriptorSet set, std::uint32_t element, const VkDescriptorImageInfo& image) {
-  VkWriteDescriptorSet write{};
-  write.sType = VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET;
-  write.dstSet = set;
-  write.dstBinding = 0;
-  write.dstArrayElement = element;
-  write.descriptorCount = 1;
-  write.descriptorType = VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER;
-  write.pImageInfo = &image;
-  return write;
-}
-
 // Slot numbers handed out and taken back; freed numbers are reused first.
 class SlotAllocator {
  public:
@@ -151,7 +140,7 @@ class BindlessTable final : public FieldTextureBindings {
     // Without update-after-bind, a set that pending frames have bound must not be written.
     context_.waitIdle();
     const VkDescriptorImageInfo image{sampler, view, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL};
-    const VkWriteDescriptorSet write = imageWrite(set_, slot, image);
+    const VkWriteDescriptorSet write = engine::gpu::combinedImageSamplerWrite(set_, slot, image);
     vkUpdateDescriptorSets(context_.device(), 1, &write, 0, nullptr);
     return slot;
   }
@@ -187,40 +176,26 @@ class BindlessTable final : public FieldTextureBindings {
 };
 
 // No descriptor indexing: one set (one combined image sampler) per texture, bound before each
-// draw that uses it. Sets come from pools of kSetsPerPool and are freed individually.
+// draw that uses it (engine::gpu::ImageSamplerSets), kept by slot.
 class PerTextureSets final : public FieldTextureBindings {
  public:
-  explicit PerTextureSets(const engine::gpu::Context& context) : context_(context) {}
-  ~PerTextureSets() override {
-    for (VkDescriptorPool pool : pools_) vkDestroyDescriptorPool(context_.device(), pool, nullptr);
-  }
-
-  Status create() {
-    layout_ = engine::gpu::DescriptorSetLayout(
-        context_, {"sphere trace texture layout",
-                   {{0, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, 1, VK_SHADER_STAGE_FRAGMENT_BIT, nullptr}},
-                   {}});
-    return {};
-  }
+  explicit PerTextureSets(const engine::gpu::Context& context)
+      : sets_(context, VK_SHADER_STAGE_FRAGMENT_BIT, "sphere trace field texture") {}
 
   bool bindless() const override { return false; }
-  VkDescriptorSetLayout layout() const override { return layout_.handle(); }
+  VkDescriptorSetLayout layout() const override { return sets_.layout(); }
 
   Expected<std::uint32_t> add(VkImageView view, VkSampler sampler) override {
-    ENGINE_TRY_ASSIGN(const Entry entry, allocateSet());
-    const VkDescriptorImageInfo image{sampler, view, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL};
-    const VkWriteDescriptorSet write = imageWrite(entry.set, 0, image);
-    vkUpdateDescriptorSets(context_.device(), 1, &write, 0, nullptr);
+    ENGINE_TRY_ASSIGN(const engine::gpu::ImageSamplerSets::Set set, sets_.add(view, sampler));
     const std::uint32_t slot = slots_.acquire();
     if (slot >= entries_.size()) entries_.resize(slot + 1);
-    entries_[slot] = entry;
+    entries_[slot] = set;
     return slot;
   }
 
   void remove(std::uint32_t slot) override {
-    Entry& entry = entries_.at(slot);
-    VK_CHECK(vkFreeDescriptorSets(context_.device(), entry.pool, 1, &entry.set));
-    entry = Entry{};
+    sets_.remove(entries_.at(slot));
+    entries_.at(slot) = {};
     slots_.release(slot);
   }
 
@@ -229,54 +204,8 @@ class PerTextureSets final : public FieldTextureBindings {
   }
 
  private:
-  static constexpr std::uint32_t kSetsPerPool = 64;
-  struct Entry {
-    VkDescriptorPool pool = VK_NULL_HANDLE;
-    VkDescriptorSet set = VK_NULL_HANDLE;
-  };
-
-  Expected<Entry> allocateSet() {
-    for (VkDescriptorPool pool : pools_)
-      if (VkDescriptorSet set = tryAllocate(pool)) return Entry{pool, set};
-    ENGINE_TRY_ASSIGN(VkDescriptorPool pool, createPool());
-    if (VkDescriptorSet set = tryAllocate(pool)) return Entry{pool, set};
-    return engine::makeError("cannot allocate a field texture descriptor set from a new pool");
-  }
-
-  // A full (or fragmented) pool answers with an error code: then the next pool is tried.
-  VkDescriptorSet tryAllocate(VkDescriptorPool pool) const {
-    VkDescriptorSetAllocateInfo allocInfo{};
-    allocInfo.sType = VK_STRUCTURE_TYPE_DESCRIPTOR_SET_ALLOCATE_INFO;
-    allocInfo.descriptorPool = pool;
-    allocInfo.descriptorSetCount = 1;
-    const VkDescriptorSetLayout setLayout = layout_.handle();
-    allocInfo.pSetLayouts = &setLayout;
-    VkDescriptorSet set = VK_NULL_HANDLE;
-    if (vkAllocateDescriptorSets(context_.device(), &allocInfo, &set) != VK_SUCCESS) return VK_NULL_HANDLE;
-    context_.setName(set, VK_OBJECT_TYPE_DESCRIPTOR_SET, "sphere trace field texture");
-    return set;
-  }
-
-  Expected<VkDescriptorPool> createPool() {
-    const VkDescriptorPoolSize size{VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, kSetsPerPool};
-    VkDescriptorPoolCreateInfo poolInfo{};
-    poolInfo.sType = VK_STRUCTURE_TYPE_DESCRIPTOR_POOL_CREATE_INFO;
-    poolInfo.flags = VK_DESCRIPTOR_POOL_CREATE_FREE_DESCRIPTOR_SET_BIT;
-    poolInfo.maxSets = kSetsPerPool;
-    poolInfo.poolSizeCount = 1;
-    poolInfo.pPoolSizes = &size;
-    VkDescriptorPool pool = VK_NULL_HANDLE;
-    VK_TRY(vkCreateDescriptorPool(context_.device(), &poolInfo, nullptr, &pool));
-    context_.setName(pool, VK_OBJECT_TYPE_DESCRIPTOR_POOL,
-                     "sphere trace texture pool " + std::to_string(pools_.size()));
-    pools_.push_back(pool);
-    return pool;
-  }
-
-  const engine::gpu::Context& context_;
-  engine::gpu::DescriptorSetLayout layout_;
-  std::vector<VkDescriptorPool> pools_;
-  std::vector<Entry> entries_;  // by slot
+  engine::gpu::ImageSamplerSets sets_;
+  std::vector<engine::gpu::ImageSamplerSets::Set> entries_;  // by slot
   SlotAllocator slots_;
 };
 
@@ -292,9 +221,7 @@ Expected<std::unique_ptr<FieldTextureBindings>> FieldTextureBindings::create(con
     ENGINE_TRY(table->create());
     return std::unique_ptr<FieldTextureBindings>(std::move(table));
   }
-  auto sets = std::make_unique<PerTextureSets>(context);
-  ENGINE_TRY(sets->create());
-  return std::unique_ptr<FieldTextureBindings>(std::move(sets));
+  return std::unique_ptr<FieldTextureBindings>(std::make_unique<PerTextureSets>(context));
 }
 
 }  // namespace hsdf
