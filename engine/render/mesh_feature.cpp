@@ -142,11 +142,14 @@ void MeshFeature::prepare(FrameContext& frame) {
         object.material.z = mesh.alphaCutoff.value_or(0.0f);  // mesh_prepass_masked.frag
         const std::uint32_t index = frame.scene.addObject(object);
         const std::uint32_t texture = mesh.baseColorTexture.index < pool_.textures().count() ? mesh.baseColorTexture.index : 0;
-        const glm::vec3 centre = world.matrix * glm::vec4(0.5f * (range.boundsMin + range.boundsMax), 1.0f);
+        // Only blended draws are sorted, by the view distance of their bounds' centre.
+        const float viewDistance =
+            mesh.alphaBlend ? frame.camera.viewDistance(world.matrix * glm::vec4(0.5f * (range.boundsMin + range.boundsMax), 1.0f))
+                            : 0.0f;
         (mesh.alphaBlend ? blended : draws)
             .push_back({mesh.doubleSided ? Sides::Double : Sides::Single, mesh.alphaCutoff.has_value(), texture,
                         mirrors(world.matrix), {range.indexCount, 1, range.firstIndex, range.vertexOffset, index},
-                        frame.camera.viewDistance(centre)});
+                        viewDistance});
       });
   buildBatches(draws);
   buildBlendedBatches(blended);

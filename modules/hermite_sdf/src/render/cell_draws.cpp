@@ -74,9 +74,9 @@ constexpr std::uint32_t kNotCulled = ~0u;
 // An orthographic camera's proxies are dilated by the same world length at every depth
 // (proxy_dilation.glsl), which is `spacing`-dependent in cells: the near plane reaching into a
 // cell's dilation cuts its proxy.
-double nearDilationCells(const engine::render::CameraView& camera, const glm::mat4& world, double spacing,
+double nearDilationCells(const engine::render::CameraView& camera, const ModelScales& scales, double spacing,
                          std::uint32_t viewportHeight) {
-  const auto [smallest, largest] = modelScales(world);
+  const auto [smallest, largest] = scales;
   const double anisotropy = smallest > 0.0 ? largest / smallest : 1.0;
   if (camera.orthographic()) {
     const double worldPerPixel = double(camera.worldPerPixel(1.0f, viewportHeight));
@@ -383,7 +383,8 @@ void HermiteCellFeature::beginObjectDraw(engine::render::FrameContext& frame, Fr
   const int precision = o.precision;
 
   shader::ObjectData object = engine::render::GpuScene::makeObject(o.world, r.color, r.roughness, 0.0f, kFeatureId);
-  object.material.z = float(modelScales(o.world).smallest);  // proxy_dilation.glsl, objectMinScale
+  const ModelScales scales = modelScales(o.world);  // once: the dilation on the GPU and the near test here
+  object.material.z = float(scales.smallest);       // proxy_dilation.glsl, objectMinScale
   const std::uint32_t objectIndex = frame.scene.addObject(object);
   shader::HermiteDraw& draw = o.draw;
   draw.gridOriginSpacing = glm::vec4(glm::vec3(grid.origin), float(grid.spacing));
@@ -402,7 +403,7 @@ void HermiteCellFeature::beginObjectDraw(engine::render::FrameContext& frame, Fr
   o.eyeGrid = eyeInGrid(frame.camera, o.world, grid);
   o.sortEyeGrid = sortEye(frame.camera, object.invModel, o.eyeGrid, grid);
   draw.rayAnchor = glm::vec4(rayAnchorGrid(f.axis, o.world, grid, o.eyeGrid));
-  const double dilationCells = nearDilationCells(frame.camera, o.world, grid.spacing, frame.extent.height);
+  const double dilationCells = nearDilationCells(frame.camera, scales, grid.spacing, frame.extent.height);
   o.reachGrid = double(frame.camera.nearPlaneReachInObject(object.invModel)) / grid.spacing + dilationCells;
   // An orthographic near plane that cannot cut the grid box (grown by the proxies' dilation) cuts
   // no cell: none is near. Its reach around the camera's point spans the whole view, which would
