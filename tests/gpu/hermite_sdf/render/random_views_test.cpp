@@ -434,6 +434,89 @@ TEST_F(RandomViewsTest, ObjectsThroughEachOtherShowTheNearestSurface) {
   EXPECT_GE(shown, int(views * cellMethods().size()) / 2);
 }
 
+// Why: a scene mixes render methods (props as cells, runs or bricks, an object traced), and the
+// methods share one depth and visibility buffer: each feature's shading pass must shade only the
+// pixels its own objects won (the cells' resolve by the winner's feature, a tracer's by its object),
+// and the cell feature's frame-wide stages (early depth, thin boxes, tiles, occlusion culling) must
+// hold with the other methods' objects in the frame. Five objects in and through each other, each
+// drawn by another of the five methods (shuffled) with its own search settings, the cell feature's
+// settings random; the nearest of the objects' references (each of the interpolant its method
+// draws) per pixel, over two frames (occlusion culling's second one has a history).
+TEST_F(RandomViewsTest, MixedMethodsInOneFrameShowTheNearestSurface) {
+  const auto torus = bakeAsset("torus", 16);
+  const auto bunny = bakeAsset("bunny", 32);
+  ASSERT_NE(torus, nullptr);
+  ASSERT_NE(bunny, nullptr);
+  const unsigned views = envCount("HSDF_RANDOM_VIEWS", 4);
+  std::mt19937 rng(envCount("HSDF_RANDOM_SEED", 20261127) + 5);
+  std::uniform_real_distribution<float> unit(0.0f, 1.0f);
+  std::vector<hsdf::RenderMethod> kinds = {hsdf::RenderMethod::Cells, hsdf::RenderMethod::CellRuns,
+                                           hsdf::RenderMethod::CellBricks, hsdf::RenderMethod::TrilinearSphereTrace,
+                                           hsdf::RenderMethod::HermiteSphereTrace};
+  int shown = 0;
+  for (unsigned v = 0; v < views; ++v) {
+    glm::vec3 scale;
+    const glm::mat4 linear = randomLinear(rng, scale);  // shared: one depth error scale for all
+    const WorldSphere sphere = worldSphere(*torus, placeAbout(*torus, linear, glm::vec3(0.0f)));
+    std::vector<Placed> objects;
+    for (std::size_t i = 0; i < kinds.size(); ++i) {
+      const auto& asset = i == 2 ? bunny : torus;
+      const glm::vec3 offset = i == 0 ? glm::vec3(0.0f) : 0.6f * sphere.radius * unit(rng) * unitVector(rng);
+      objects.push_back({asset, placeAbout(*asset, linear, offset)});
+    }
+    std::shuffle(kinds.begin(), kinds.end(), rng);
+    const Method frame = randomCellMethod(rng);  // the cell feature's settings
+    std::vector<Method> methods;
+    std::string label = frame.label;
+    bool traced = false, refined = true;
+    for (const hsdf::RenderMethod kind : kinds) {
+      Method m = randomCellMethod(rng);
+      m.method = kind;
+      traced = traced || isTracer(kind);
+      refined = refined && (isTracer(kind) || m.refineSteps > 0 || m.certified);
+      label += fmt::format(" | {} n={} r={}{}{}", hsdf::renderMethodName(kind), m.subdivisions, m.refineSteps,
+                           m.certified ? " certified" : "", m.half ? " fp16" : "");
+      methods.push_back(m);
+    }
+    const WorldSphere all{sphere.center, 1.6f * sphere.radius};
+    const float cellWorld = float(torus->field.grid.spacing) * std::min({std::abs(scale.x), scale.y, scale.z});
+    RandomCamera c = randomCamera(rng, all, cellWorld);
+    c.label = "five objects, five methods, view " + std::to_string(v) + ", " + c.label;
+    SCOPED_TRACE(c.label + ", " + label);
+    // Each object's own reference, the nearest hit per pixel.
+    hsdf::ReferenceImage reference;
+    for (std::size_t i = 0; i < objects.size(); ++i) {
+      const hsdf::ReferenceImage image = referenceOf(methods[i], {objects[i]}, c);
+      if (reference.hit.empty()) reference = image;
+      for (std::size_t p = 0; p < image.hit.size(); ++p)
+        if (image.hit[p] && (!reference.hit[p] || image.depth[p] > reference.depth[p])) takePixel(reference, image, p);
+    }
+    renderer_->resize({c.size.x, c.size.y});
+    auto& cells = renderer_->feature<hsdf::HermiteCellFeature>()->settings();
+    cells = frame.settings;
+    cells.tiles = frame.tiles;
+    cells.thinBoxes = frame.thin;
+    registry_ = ecs::Registry();
+    for (std::size_t i = 0; i < objects.size(); ++i)
+      drawWith(methods[i], addSdf(registry_, objects[i].asset, methods[i].method, objects[i].model));
+    for (int f = 0; f < 2; ++f) {
+      SCOPED_TRACE("frame " + std::to_string(f));
+      const Frame shaded = renderWith(c.camera, DEBUG_VIEW_NONE);
+      const Frame normals = renderWith(c.camera, DEBUG_VIEW_NORMALS);
+      // Checked as strictly as the laxest object allows.
+      Method strictest = frame;
+      strictest.label = label;
+      strictest.method = traced ? hsdf::RenderMethod::HermiteSphereTrace : hsdf::RenderMethod::Cells;
+      strictest.refineSteps = refined ? 1 : 0;
+      strictest.certified = false;
+      int drawn = 0;
+      expectMatches(strictest, shaded, normals, reference, c, torus->field.grid.spacing, objects[0].model, drawn);
+      shown += drawn;
+    }
+  }
+  EXPECT_GE(shown, int(views));
+}
+
 // A square of triangles (the fixture's quad) through `center`, facing `normal` (back faces are
 // culled: seen from behind it is not drawn), `size` a side, spun about its normal by `spin`.
 struct WorldQuad {
