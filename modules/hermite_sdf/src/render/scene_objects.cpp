@@ -98,14 +98,27 @@ struct NodeChoices {
   std::vector<std::string> seeThrough;
 };
 
+// The smallest alpha `material` draws anywhere: its base colour factor's times the smallest texel
+// alpha of its base colour texture (filtering blends texels, so none is smaller).
+float smallestAlpha(const engine::scene::SceneData& scene, const engine::scene::MaterialData& material) {
+  std::uint8_t texel = 255;
+  if (material.baseColorTexture >= 0 && std::size_t(material.baseColorTexture) < scene.textures.size()) {
+    const std::vector<std::uint8_t>& rgba = scene.textures[std::size_t(material.baseColorTexture)].rgba;
+    for (std::size_t i = 3; i < rgba.size(); i += 4) texel = std::min(texel, rgba[i]);
+  }
+  return material.baseColor.a * float(texel) / 255.0f;
+}
+
 // Why `mesh` cannot be drawn as an SDF whatever K: the first of its materials that lets what lies
-// behind it show (glTF alphaMode BLEND, a glass pane; MASK, a card cut out by its alpha), which
-// every SDF method would draw opaque, hiding what the triangles show through it. Empty: none.
+// behind it show (glTF alphaMode BLEND with an alpha below 1 somewhere, a glass pane; MASK with an
+// alpha below its cutoff somewhere, a card cut out by its texture), which every SDF method would
+// draw opaque, hiding what the triangles show through it. Empty: none.
 std::string seeThroughMaterial(const engine::scene::SceneData& scene, int mesh) {
   for (const engine::scene::MeshPrimitiveData& primitive : scene.meshes[std::size_t(mesh)].primitives) {
     if (primitive.material < 0 || std::size_t(primitive.material) >= scene.materials.size()) continue;
     const engine::scene::MaterialData& material = scene.materials[std::size_t(primitive.material)];
-    if (material.alphaBlend || material.alphaCutoff)
+    const float alpha = material.alphaBlend || material.alphaCutoff ? smallestAlpha(scene, material) : 1.0f;
+    if (material.alphaBlend ? alpha < 1.0f : material.alphaCutoff && alpha < *material.alphaCutoff)
       return fmt::format("material {} '{}' is alphaMode {}, which an SDF draws opaque (a node's extras {}.draw "
                          "\"sdf\" draws it as one anyway)",
                          primitive.material, material.name, material.alphaBlend ? "BLEND" : "MASK", kExtrasKey);

@@ -150,14 +150,26 @@ TEST(SceneObjects, PerNodeChoiceFromExtrasOptionsAndDefault) {
 // (alphaMode BLEND: a glass pane; MASK: a card cut out by its alpha) drawn as an SDF hid what its
 // triangles show through it (the explorer of session 41: a pane of alpha 0.3 before a cube, cells
 // under --objects, hid the whole cube). Such a mesh's nodes draw triangles unless a node's own
-// extras ask for an SDF, and the mesh is named once with its material; opaque meshes are untouched.
+// extras ask for an SDF, and the mesh is named once with its material. Opaque meshes are untouched,
+// and so are BLEND and MASK materials whose every texel is drawn opaque (exporters write them):
+// the slab's two primitives, a BLEND of alpha 1 and a MASK of alpha 0.6 over its cutoff 0.5. The
+// card's MASK has that alpha too, but one texel of its texture has alpha 0.
 TEST(SceneObjects, SeeThroughMeshesDrawTrianglesUnlessTheirNodeAsksForAnSdf) {
   SceneData scene = twoMeshScene();
   scene.materials.push_back({"stone"});
   scene.materials.push_back({"glass", glm::vec4(0.1f, 0.3f, 0.9f, 0.3f)});
   scene.materials.back().alphaBlend = true;
-  scene.materials.push_back({"leaves"});
+  scene.materials.push_back({"leaves", glm::vec4(1.0f, 1.0f, 1.0f, 0.6f)});
   scene.materials.back().alphaCutoff = 0.5f;
+  scene.materials.back().baseColorTexture = 0;
+  scene.textures.push_back({"leaf", 2, 1, {255, 255, 255, 255, 0, 255, 0, 0}});
+  scene.materials.push_back({"opaque glass"});
+  scene.materials.back().alphaBlend = true;
+  scene.materials.push_back({"opaque card", glm::vec4(1.0f, 1.0f, 1.0f, 0.6f)});
+  scene.materials.back().alphaCutoff = 0.5f;
+  scene.meshes[1].primitives.push_back(scene.meshes[1].primitives.front());
+  scene.meshes[1].primitives[0].material = 3;  // the slabs
+  scene.meshes[1].primitives[1].material = 4;
   // A second primitive: one see-through primitive is enough to see through the mesh.
   for (const int material : {1, 2}) {
     MeshData mesh = boxMesh(material == 1 ? "pane" : "card", glm::vec3(-1.0f, -1.0f, -0.1f), glm::vec3(1.0f, 1.0f, 0.1f));
