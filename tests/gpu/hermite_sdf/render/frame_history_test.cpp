@@ -15,6 +15,7 @@
 #include <memory>
 #include <string>
 
+#include <fmt/format.h>
 #include <glm/gtc/matrix_transform.hpp>
 #include <gtest/gtest.h>
 
@@ -22,6 +23,7 @@
 #include "engine/render/components.h"
 #include "engine/scene/transform.h"
 #include "hermite_sdf/render/cell_feature.h"
+#include "hermite_sdf/render/sphere_trace_feature.h"
 #include "hermite_test_support.h"
 #include "shared/host_device.h"
 
@@ -59,6 +61,9 @@ class FrameHistoryTest : public GpuTest {
     createRenderer(kWidth, kHeight);
     ASSERT_TRUE(renderer_->addFeature(std::make_unique<hsdf::HermiteCellFeature>()).ok());
     renderer_->feature<hsdf::HermiteCellFeature>()->settings() = settings;
+    if (tracers_) {
+      ASSERT_TRUE(renderer_->addFeature(std::make_unique<hsdf::SphereTraceFeature>()).ok());
+    }
   }
 
   // The frame a renderer with no history draws of the registry as it stands.
@@ -67,6 +72,9 @@ class FrameHistoryTest : public GpuTest {
     EXPECT_TRUE(fresh.addFeature(std::make_unique<render::MeshFeature>(*pool_)).ok());
     EXPECT_TRUE(fresh.addFeature(std::make_unique<hsdf::HermiteCellFeature>()).ok());
     fresh.feature<hsdf::HermiteCellFeature>()->settings() = freshSettings_;
+    if (tracers_) {
+      EXPECT_TRUE(fresh.addFeature(std::make_unique<hsdf::SphereTraceFeature>()).ok());
+    }
     fresh.renderFrame(registry_, camera, frameSettings(i));
     Frame frame;
     frame.width = kWidth;
@@ -89,6 +97,7 @@ class FrameHistoryTest : public GpuTest {
   }
 
   int runScene(const char* label, int frames, hsdf::RenderMethod method);
+  int runMethodSwitches(const char* label, int frames);
 
   // Runs `frames` steps of `script` (which moves the scene for frame i and returns its shot),
   // comparing every frame of the long-lived renderer with a fresh renderer's. Returns the
@@ -156,6 +165,7 @@ class FrameHistoryTest : public GpuTest {
 
   CellSettings freshSettings_;
   bool split_ = false;
+  bool tracers_ = false;  // the sphere tracers' feature too (start)
   int occludedFrames_ = 0;  // of the last walk: frames the long-lived renderer culled by occlusion
 };
 
@@ -239,6 +249,77 @@ int FrameHistoryTest::runScene(const char* label, int frames, hsdf::RenderMethod
     }
     return shot;
   });
+}
+
+// Four objects through each other that change how they are drawn while the others keep drawing:
+// the sphere and the torus take the next of the five methods every frame (cells, runs, bricks,
+// trilinear, Hermite: an entity leaves the cell feature for a tracer and comes back), the box
+// turns into the torus's asset and back every other frame, the bunny is hidden (its renderable
+// removed), shown again as a tracer, destroyed, and made again as cells (on the freed index); the
+// camera orbits. Returns the differing pixels of all frames.
+int FrameHistoryTest::runMethodSwitches(const char* label, int frames) {
+  const auto sphere = bakeAsset("sphere", 16);
+  const auto torus = bakeAsset("torus", 16);
+  const auto box = bakeAsset("box", 12);
+  const auto bunny = bakeAsset("bunny", 16);
+  EXPECT_TRUE(sphere && torus && box && bunny);
+  if (!sphere || !torus || !box || !bunny) return -1;
+  const hsdf::RenderMethod kinds[] = {hsdf::RenderMethod::Cells, hsdf::RenderMethod::CellRuns,
+                                      hsdf::RenderMethod::CellBricks, hsdf::RenderMethod::TrilinearSphereTrace,
+                                      hsdf::RenderMethod::HermiteSphereTrace};
+  const ecs::Entity first = addObject(sphere, kinds[0], placed({0.0f, 0.0f, 0.0f}, 1.0f));
+  const ecs::Entity second = addObject(torus, kinds[3], placed({0.6f, 0.2f, -0.8f}, 0.8f, 0.5f));
+  const ecs::Entity third = addObject(box, hsdf::RenderMethod::Cells, placed({-0.7f, -0.2f, 0.3f}, 0.5f));
+  const glm::mat4 bunnyPlace = glm::translate(placed({0.3f, 0.5f, 0.6f}, 1.5f / float(glm::length(bunny->surfaceBounds.size()))),
+                                              -glm::vec3(bunny->surfaceBounds.center()));
+  ecs::Entity visitor = addObject(bunny, hsdf::RenderMethod::Cells, bunnyPlace);
+  const glm::vec3 target(0.0f, 0.0f, -0.2f);
+  return walk(label, frames, [&](int i) -> Shot {
+    registry_.get<hsdf::HermiteSdfRenderable>(first).method = kinds[i % 5];
+    registry_.get<hsdf::HermiteSdfRenderable>(second).method = kinds[(i + 3) % 5];
+    registry_.get<hsdf::HermiteSdfRenderable>(third).asset = i % 4 < 2 ? box : torus;
+    Shot shot{{}, fmt::format("sphere {}, torus {}", hsdf::renderMethodName(kinds[i % 5]),
+                              hsdf::renderMethodName(kinds[(i + 3) % 5]))};
+    switch (i) {
+      case 3:
+        registry_.remove<hsdf::HermiteSdfRenderable>(visitor);
+        shot.what += ", bunny hidden";
+        break;
+      case 5:
+        registry_.emplace<hsdf::HermiteSdfRenderable>(visitor,
+                                                      hsdf::HermiteSdfRenderable{bunny, hsdf::RenderMethod::HermiteSphereTrace});
+        shot.what += ", bunny traced";
+        break;
+      case 7:
+        registry_.destroy(visitor);
+        shot.what += ", bunny destroyed";
+        break;
+      case 8:
+        visitor = addObject(bunny, hsdf::RenderMethod::CellRuns, bunnyPlace);
+        shot.what += ", bunny made again as runs";
+        break;
+      default:
+        break;
+    }
+    const float yaw = 0.25f * float(i);
+    const glm::vec3 eye = target + 3.5f * glm::vec3(std::sin(yaw), 0.3f, std::cos(yaw));
+    shot.camera = render::CameraView::lookAt(eye, target, 0.9f, 0.02f, kAspect);
+    return shot;
+  });
+}
+
+// Why: the renderers keep per-entity state across features: the cell feature's uploaded assets,
+// the entity's last drawn asset (drawn while a replacement uploads), its occlusion history place,
+// the tracers' textures; an entity that leaves the cells for a tracer, changes asset, is hidden
+// or destroyed and made again on its index must be drawn in that very frame as a fresh renderer
+// draws it, and so must the objects around it. Occlusion culling (a history per entity).
+TEST_F(FrameHistoryTest, ObjectsThatChangeMethodAssetOrVisibilityDrawEachFrameAsAFreshRenderer) {
+  CellSettings settings;
+  settings.cullOcclusion = true;
+  settings.tiles = hsdf::HermiteCellFeature::Tiles::Off;
+  tracers_ = true;
+  start(settings);
+  EXPECT_EQ(runMethodSwitches("method switches, occlusion", 10), 0);
 }
 
 // Boxes with two-phase occlusion culling: the torus comes out from behind the sphere and must be
