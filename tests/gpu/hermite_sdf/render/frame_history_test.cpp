@@ -7,6 +7,7 @@
 // must draw it in that very frame), objects cross each other or a mesh wall (the shared depth
 // prepass), objects appear, disappear or change method, and the eye enters an object.
 #include <algorithm>
+#include <array>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -96,6 +97,20 @@ class FrameHistoryTest : public GpuTest {
     return entity;
   }
 
+  // The walks' assets: a sphere, a torus, a box and the bunny (null where a bake failed: the test
+  // has failed).
+  static std::array<std::shared_ptr<const hsdf::SdfAsset>, 4> walkAssets() {
+    return {bakeAsset("sphere", 16), bakeAsset("torus", 16), bakeAsset("box", 12), bakeAsset("bunny", 16)};
+  }
+
+  // Two-phase occlusion culling of boxes (tiles turn it off).
+  static CellSettings occlusionCulling() {
+    CellSettings settings;
+    settings.cullOcclusion = true;
+    settings.tiles = hsdf::HermiteCellFeature::Tiles::Off;
+    return settings;
+  }
+
   int runScene(const char* label, int frames, hsdf::RenderMethod method);
   int runMethodSwitches(const char* label, int frames);
 
@@ -175,11 +190,7 @@ class FrameHistoryTest : public GpuTest {
 // back; the camera orbits slowly, jumps to the other side, turns fast, enters the sphere and comes
 // back. Returns the differing pixels of all frames.
 int FrameHistoryTest::runScene(const char* label, int frames, hsdf::RenderMethod method) {
-  const auto sphere = bakeAsset("sphere", 16);
-  const auto torus = bakeAsset("torus", 16);
-  const auto box = bakeAsset("box", 12);
-  const auto bunny = bakeAsset("bunny", 16);
-  EXPECT_TRUE(sphere && torus && box && bunny);
+  const auto [sphere, torus, box, bunny] = walkAssets();
   if (!sphere || !torus || !box || !bunny) return -1;
   const ecs::Entity front = addObject(sphere, method, placed({0.0f, 0.0f, 0.0f}, 1.0f));
   const ecs::Entity behind = addObject(torus, method, placed({0.0f, 0.0f, -3.0f}, 0.6f));
@@ -258,11 +269,7 @@ int FrameHistoryTest::runScene(const char* label, int frames, hsdf::RenderMethod
 // removed), shown again as a tracer, destroyed, and made again as cells (on the freed index); the
 // camera orbits. Returns the differing pixels of all frames.
 int FrameHistoryTest::runMethodSwitches(const char* label, int frames) {
-  const auto sphere = bakeAsset("sphere", 16);
-  const auto torus = bakeAsset("torus", 16);
-  const auto box = bakeAsset("box", 12);
-  const auto bunny = bakeAsset("bunny", 16);
-  EXPECT_TRUE(sphere && torus && box && bunny);
+  const auto [sphere, torus, box, bunny] = walkAssets();
   if (!sphere || !torus || !box || !bunny) return -1;
   const hsdf::RenderMethod kinds[] = {hsdf::RenderMethod::Cells, hsdf::RenderMethod::CellRuns,
                                       hsdf::RenderMethod::CellBricks, hsdf::RenderMethod::TrilinearSphereTrace,
@@ -314,11 +321,8 @@ int FrameHistoryTest::runMethodSwitches(const char* label, int frames) {
 // or destroyed and made again on its index must be drawn in that very frame as a fresh renderer
 // draws it, and so must the objects around it. Occlusion culling (a history per entity).
 TEST_F(FrameHistoryTest, ObjectsThatChangeMethodAssetOrVisibilityDrawEachFrameAsAFreshRenderer) {
-  CellSettings settings;
-  settings.cullOcclusion = true;
-  settings.tiles = hsdf::HermiteCellFeature::Tiles::Off;
   tracers_ = true;
-  start(settings);
+  start(occlusionCulling());
   EXPECT_EQ(runMethodSwitches("method switches, occlusion", 10), 0);
 }
 
@@ -327,9 +331,7 @@ TEST_F(FrameHistoryTest, ObjectsThatChangeMethodAssetOrVisibilityDrawEachFrameAs
 // the slot's previous frame kept (keptStreamBytes below the scene's cells), so a frame that keeps
 // more than the one before draws the rows that do not fit whole, in either phase.
 TEST_F(FrameHistoryTest, EveryFrameOfAMovingSceneIsTheFreshRenderersWithOcclusionCulling) {
-  CellSettings settings;
-  settings.cullOcclusion = true;
-  settings.tiles = hsdf::HermiteCellFeature::Tiles::Off;  // occlusion culls boxes; tiles turn it off
+  CellSettings settings = occlusionCulling();
   settings.keptStreamBytes = 1;
   start(settings);
   EXPECT_EQ(runScene("boxes, occlusion", 20, hsdf::RenderMethod::Cells), 0);
@@ -339,11 +341,8 @@ TEST_F(FrameHistoryTest, EveryFrameOfAMovingSceneIsTheFreshRenderersWithOcclusio
 // A split screen with occlusion culling: each view region keeps its own history, and the split
 // moves, so a region's cells visible last frame may lie in the other region now.
 TEST_F(FrameHistoryTest, EveryFrameOfAMovingSplitScreenIsTheFreshRenderersWithOcclusionCulling) {
-  CellSettings settings;
-  settings.cullOcclusion = true;
-  settings.tiles = hsdf::HermiteCellFeature::Tiles::Off;
   split_ = true;
-  start(settings);
+  start(occlusionCulling());
   EXPECT_EQ(runScene("split, occlusion", 20, hsdf::RenderMethod::Cells), 0);
   EXPECT_EQ(occludedFrames_, 20) << "a frame drew without occlusion culling";
 }
