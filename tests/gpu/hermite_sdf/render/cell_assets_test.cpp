@@ -87,6 +87,21 @@ TEST_F(HermiteCellsTest, FramesDrawingANewAssetBuildNoConesRowsOrRunsOnTheRender
   EXPECT_GT(feature->stats().runs, runs) << "shorter runs, not the asset's";
 }
 
+// Why: the asset's own runs are of the default length; a run length set otherwise at run time gets
+// runs built in its frame, and the runs written to the GPU must be those the draws index (a fresh
+// renderer at that length would share a mismatch, so the check is the CPU reference). So: a torus
+// drawn as runs of the default length, then of half of it, matches the reference.
+TEST_F(HermiteCellsTest, RunsOfAnotherLengthThanTheAssetsMatchTheReference) {
+  createCellRenderer(kSize, kSize);
+  const auto torus = bakeAsset("torus", 16);
+  ASSERT_NE(torus, nullptr);
+  const render::CameraView camera = orbitCamera(*torus, 0);
+  addSdf(registry_, torus, hsdf::RenderMethod::CellRuns, glm::mat4(1.0f), 3);
+  (void)renderWith(camera, DEBUG_VIEW_NONE);
+  renderer_->feature<hsdf::HermiteCellFeature>()->settings().maxRunLength = hsdf::kDefaultMaxRunLength / 2;
+  expectMatchesReference(compareView(*torus, camera, "torus, runs of half the default length"));
+}
+
 // Why: an asset made by hand carries no cones or bricks; its culled cells must still be drawn
 // whole (cones that never cull), with the image of the same cells drawn unculled, not with holes.
 TEST_F(HermiteCellsTest, AnAssetWithoutDerivedDataIsDrawnUnculled) {
