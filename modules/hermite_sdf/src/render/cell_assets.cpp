@@ -94,7 +94,7 @@ struct HermiteCellFeature::AssetDemand {
 // appended to the uploaded ones (then `base` is where it goes: the entries they hold). The
 // per-record streams (fp32 and fp16 records, cell cones: 224 bytes a cell) and the runs are not
 // copied here but written from their assets (and entries) straight into the staging memory
-// (recordWriters, runWriter), or, for the records of the assets a rebuild keeps, copied on the GPU
+// (recordWriters, runAppend), or, for the records of the assets a rebuild keeps, copied on the GPU
 // from the old buffers (recordCopies); the rest is small.
 struct HermiteCellFeature::AssetUpload {
   // Records [first, first + count) of an asset (all of them by default), clipped to those it has.
