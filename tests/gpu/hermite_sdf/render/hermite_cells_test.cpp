@@ -1580,8 +1580,8 @@ std::vector<bool> dilatedProxyFootprint(const hsdf::SdfAsset& asset, const glm::
 // (hsdf::modelScales, ObjectData::material.z; the tiles' BrickCullObject::minScale). Under a shear
 // the shortest column overstates it (two unit columns at cos 0.99995: 141x), and a proxy grown by
 // that lost the pixels its margin is for; the unit tests check the value, no image its wiring.
-// An orthographic camera (no normal-cone culling: every kept cell is drawn) on the torus (K = 16)
-// sheared so: the dilation is then ~1 cell, ~2-3 pixels along the unsheared axes, and every pixel
+// An orthographic camera (no normal-cone culling: every kept cell is drawn; no near cell, which
+// every form draws as a box) on the torus (K = 16) sheared so: the dilation is then ~1 cell, ~2-3 pixels along the unsheared axes, and every pixel
 // whose ray meets a proxy box grown by 0.9 of it must have searched (the per-pixel work counters),
 // none whose ray misses the boxes grown by 1.1 of it, in every cell form. This found the pixel
 // term never applied (proj[1][1] < 0: every proxy had CELL_MIN_DILATION; boxes, tiles, runs and
@@ -1607,7 +1607,14 @@ TEST_F(HermiteCellsTest, ShearedProxiesAreDilatedByTheSmallestSingularValue) {
   const double largest = std::sqrt(0.5 * (trace + std::sqrt(trace * trace - 4.0 * b.y * b.y)));
   const double smallest = std::min(1.0, b.y / largest);
   const WorldSphere sphere = worldSphere(*asset, model);
-  const render::CameraView camera = orthographicLike(orbitAround(sphere, 1), 1.1f * sphere.radius, 0.5f * sphere.radius, 3.5f * sphere.radius);
+  // Placed 150 radii back, its near plane 1 radius out: the grid box grown by the near cells'
+  // reach (nearDilationCells: twice the dilation times the largest over the smallest singular
+  // value, ~400 cells, ~45 radii here) must not reach the near plane, or every cell is near, drawn
+  // as a box by its back faces, in every form.
+  const glm::vec3 back = glm::normalize(orbitAround(sphere, 1).position - sphere.center);
+  const render::CameraView camera =
+      orthographicLike(render::CameraView::lookAt(sphere.center + 150.0f * sphere.radius * back, sphere.center, 0.9f, 1.0f, 1.0f),
+                       1.1f * sphere.radius, sphere.radius, 152.0f * sphere.radius);
   const double cellsPerPixel = double(camera.worldPerPixel(1.0f, kSide)) / asset->field.grid.spacing;
   const double dilation = std::max(double(CELL_MIN_DILATION), CELL_DILATION_PIXELS * cellsPerPixel / smallest);
   const glm::ivec2 size(kSide);
@@ -1627,6 +1634,10 @@ TEST_F(HermiteCellsTest, ShearedProxiesAreDilatedByTheSmallestSingularValue) {
     registry_ = ecs::Registry();
     addSdf(registry_, asset, form.method, model);
     (void)renderWith(camera, settings);
+    ASSERT_EQ(feature.stats().nearCells, 0u) << form.name << ": near cells are drawn as boxes whatever the form";
+    if (form.tiles == hsdf::HermiteCellFeature::Tiles::On) {
+      ASSERT_TRUE(feature.stats().tiles && feature.tileTotals().boxDrawCount == 0u) << "the tiles drew boxes";
+    }
     const std::vector<std::uint32_t> counts = renderer_->readbackWorkCounters();
     ASSERT_EQ(counts.size(), inner.size());
     int missing = 0, beyond = 0, searched = 0;
