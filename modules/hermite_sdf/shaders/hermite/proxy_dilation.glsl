@@ -15,10 +15,9 @@ const float kMinDilation = CELL_MIN_DILATION;
 // The dilation in cells of a cell whose centre has clip w `clipW` (its view depth in front of a
 // perspective eye; 1 for an orthographic camera, whose pixels span the same at every depth), in an
 // object whose smallest scale (the most cells per world unit, along its most shrunk direction) is
-// `minScale`. proj[1][1] is negative (Vulkan's y points down: -1 / tan(fovY / 2), -1 / ymag);
-// taken as it is, the pixel term was negative and every proxy had kMinDilation (until session 41).
+// `minScale`.
 float proxyDilationAt(FrameGlobals frame, float clipW, float h, float minScale) {
-  float worldPerPixel = 2.0 * max(clipW, 0.0) / (abs(frame.proj[1][1]) * frame.viewport.y);
+  float worldPerPixel = 2.0 * max(clipW, 0.0) / (frame.proj[1][1] * frame.viewport.y);
   return max(kMinDilation, kDilationPixels * worldPerPixel / (h * minScale));
 }
 

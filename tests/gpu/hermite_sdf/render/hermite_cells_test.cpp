@@ -12,7 +12,6 @@
 #include <optional>
 #include <set>
 #include <string>
-#include <vector>
 
 #include <glm/gtc/matrix_transform.hpp>
 #include <gtest/gtest.h>
@@ -22,8 +21,6 @@
 #include "engine/gpu/pipeline_statistics.h"
 #include "engine/render/components.h"
 #include "engine/scene/transform.h"
-#include "hermite/hermite_host_device.h"
-#include "hermite_sdf/core/cells.h"
 #include "hermite_sdf/render/cell_feature.h"
 #include "cell_test_support.h"
 #include "device_tolerances.h"
@@ -1541,120 +1538,6 @@ TEST_F(HermiteCellsTest, MirroredScaledAndShearedObjectsMatchReference) {
       expectMatchesReference(c, int(size * size), 1000);
       EXPECT_LT(c.normalFlips, c.referenceHits / 100) << "normals of a mirrored object must still point out of it";
     }
-  }
-}
-
-// The pixels of an image of `size` seen by the orthographic `camera` whose ray meets the proxy box
-// (hsdf::proxyBoxCodes) of some kept cell of `asset` placed by `model`, grown by `dilation` cells
-// on every side: where the proxies of that dilation (every cell form's: boxes, the tiles'
-// rectangles and ray tests, runs, bricks) must run their search.
-std::vector<bool> dilatedProxyFootprint(const hsdf::SdfAsset& asset, const glm::mat4& model,
-                                        const render::CameraView& camera, glm::ivec2 size, double dilation) {
-  const hsdf::CellStream& cells = asset.cells;
-  const std::vector<std::uint16_t> codes = hsdf::proxyBoxCodes(cells);
-  const glm::dmat4 toObject = glm::inverse(glm::dmat4(model));
-  const double h = cells.grid.spacing;
-  std::vector<bool> covered(std::size_t(size.x) * std::size_t(size.y), false);
-  for (int y = 0; y < size.y; ++y)
-    for (int x = 0; x < size.x; ++x) {
-      const math::Ray ray = math::pixelRay(camera.view, camera.proj, {float(x) + 0.5f, float(y) + 0.5f}, size);
-      const glm::dvec3 origin = (glm::dvec3(toObject * glm::dvec4(ray.origin, 1.0)) - cells.grid.origin) / h;
-      const glm::dvec3 direction = glm::dmat3(toObject) * ray.direction / h;
-      for (std::size_t i = 0; i < cells.records.size() && !covered[std::size_t(y) * std::size_t(size.x) + std::size_t(x)]; ++i) {
-        const hsdf::CellRecord& r = cells.records[i];
-        const hsdf::CellProxyBox box = hsdf::unpackProxyBox(codes[i]);
-        double enter = -std::numeric_limits<double>::infinity(), leave = std::numeric_limits<double>::infinity();
-        for (int a = 0; a < 3; ++a) {
-          const double cell = a == 0 ? r.x : a == 1 ? r.y : r.z;
-          const double lo = cell + box.lo[a] / double(hsdf::kProxySteps) - dilation;
-          const double hi = cell + box.hi[a] / double(hsdf::kProxySteps) + dilation;
-          const double t0 = (lo - origin[a]) / direction[a], t1 = (hi - origin[a]) / direction[a];
-          enter = std::max(enter, std::min(t0, t1));
-          leave = std::min(leave, std::max(t0, t1));
-        }
-        covered[std::size_t(y) * std::size_t(size.x) + std::size_t(x)] = enter < leave;
-      }
-    }
-  return covered;
-}
-
-// Why: a proxy is its cell's box grown by 0.02 pixel in cells along the object's most shrunk
-// direction (proxy_dilation.glsl): the model's smallest singular value, made on the host
-// (hsdf::modelScales, ObjectData::material.z; the tiles' BrickCullObject::minScale). Under a shear
-// the shortest column overstates it (two unit columns at cos 0.99995: 141x), and a proxy grown by
-// that lost the pixels its margin is for; the unit tests check the value, no image its wiring.
-// An orthographic camera (no normal-cone culling: every kept cell is drawn; no near cell, which
-// every form draws as a box) on the torus (K = 16) sheared so: the dilation is then ~1 cell, ~2-3 pixels along the unsheared axes, and every pixel
-// whose ray meets a proxy box grown by 0.9 of it must have searched (the per-pixel work counters),
-// none whose ray misses the boxes grown by 1.1 of it, in every cell form. This found the pixel
-// term never applied (proj[1][1] < 0: every proxy had CELL_MIN_DILATION; boxes, tiles, runs and
-// bricks searched the 558 px of the shortest column's dilation, 324 px of the 882 short). Runs
-// and bricks walk the cells their ray crosses and search each over its margin: a ray that meets
-// only the margin of a cell it does not cross (a margin of a cell here, not 0.02 px) is not
-// searched there, 10 and 4 px of the 324; they may miss an eighth of them.
-TEST_F(HermiteCellsTest, ShearedProxiesAreDilatedByTheSmallestSingularValue) {
-  constexpr std::uint32_t kSide = 64;
-  createCellRenderer(kSide, kSide);
-  hsdf::HermiteCellFeature& feature = *renderer_->feature<hsdf::HermiteCellFeature>();
-  const auto asset = bakeAsset("torus", 16);
-  ASSERT_NE(asset, nullptr);
-  const float cosine = 0.99995f;
-  glm::mat4 shear(1.0f);
-  shear[1] = glm::vec4(cosine, std::sqrt(1.0f - cosine * cosine), 0.0f, 0.0f);
-  const glm::vec3 centre(asset->surfaceBounds.center());
-  const glm::mat4 model = glm::translate(glm::mat4(1.0f), centre) * shear * glm::translate(glm::mat4(1.0f), -centre);
-  // The singular values of the float columns (1, 0, 0), (b.x, b.y, 0), (0, 0, 1), in closed form:
-  // 1 and those of [[1, b.x], [0, b.y]], whose product is b.y.
-  const glm::dvec2 b(shear[1]);
-  const double trace = 1.0 + glm::dot(b, b);
-  const double largest = std::sqrt(0.5 * (trace + std::sqrt(trace * trace - 4.0 * b.y * b.y)));
-  const double smallest = std::min(1.0, b.y / largest);
-  const WorldSphere sphere = worldSphere(*asset, model);
-  // Placed 150 radii back, its near plane 1 radius out: the grid box grown by the near cells'
-  // reach (nearDilationCells: twice the dilation times the largest over the smallest singular
-  // value, ~400 cells, ~45 radii here) must not reach the near plane, or every cell is near, drawn
-  // as a box by its back faces, in every form.
-  const glm::vec3 back = glm::normalize(orbitAround(sphere, 1).position - sphere.center);
-  const render::CameraView camera =
-      orthographicLike(render::CameraView::lookAt(sphere.center + 150.0f * sphere.radius * back, sphere.center, 0.9f, 1.0f, 1.0f),
-                       1.1f * sphere.radius, sphere.radius, 152.0f * sphere.radius);
-  const double cellsPerPixel = double(camera.worldPerPixel(1.0f, kSide)) / asset->field.grid.spacing;
-  const double dilation = std::max(double(CELL_MIN_DILATION), CELL_DILATION_PIXELS * cellsPerPixel / smallest);
-  const glm::ivec2 size(kSide);
-  const std::vector<bool> inner = dilatedProxyFootprint(*asset, model, camera, size, 0.9 * dilation);
-  const std::vector<bool> outer = dilatedProxyFootprint(*asset, model, camera, size, 1.1 * dilation);
-  // What the shortest column (1 here) gave: the test must tell it apart.
-  const std::vector<bool> shortest = dilatedProxyFootprint(*asset, model, camera, size, CELL_DILATION_PIXELS * cellsPerPixel);
-  const auto count = [](const std::vector<bool>& v) { return int(std::count(v.begin(), v.end(), true)); };
-  std::printf("[ sheared proxies ] smallest singular value %.6f, dilation %.3f cells; pixels within 0.9x %d, 1.1x %d, "
-              "the shortest column's %d\n",
-              smallest, dilation, count(inner), count(outer), count(shortest));
-  ASSERT_GT(count(inner) - count(shortest), 100) << "the shortest column's dilation would cover nearly as much";
-  render::FrameSettings settings;
-  settings.countWork = true;
-  for (const CellForm& form : kCellForms) {
-    useForm(feature, form);
-    registry_ = ecs::Registry();
-    addSdf(registry_, asset, form.method, model);
-    (void)renderWith(camera, settings);
-    ASSERT_EQ(feature.stats().nearCells, 0u) << form.name << ": near cells are drawn as boxes whatever the form";
-    if (form.tiles == hsdf::HermiteCellFeature::Tiles::On) {
-      ASSERT_TRUE(feature.stats().tiles && feature.tileTotals().boxDrawCount == 0u) << "the tiles drew boxes";
-    }
-    const std::vector<std::uint32_t> counts = renderer_->readbackWorkCounters();
-    ASSERT_EQ(counts.size(), inner.size());
-    int missing = 0, beyond = 0, searched = 0;
-    for (std::size_t i = 0; i < counts.size(); ++i) {
-      searched += counts[i] > 0;
-      missing += inner[i] && counts[i] == 0;
-      beyond += !outer[i] && counts[i] > 0;
-    }
-    std::printf("[ sheared proxies, %s ] searched %d px, %d within 0.9x not searched, %d beyond 1.1x searched\n", form.name,
-                searched, missing, beyond);
-    const bool walks = form.method != hsdf::RenderMethod::Cells;  // runs, bricks
-    EXPECT_LE(missing, walks ? (count(inner) - count(shortest)) / 8 : 0)
-        << form.name << ": proxies smaller than the smallest singular value makes them";
-    EXPECT_EQ(beyond, 0) << form.name << ": proxies larger than the smallest singular value makes them";
   }
 }
 
