@@ -35,15 +35,24 @@ vec4 fieldSample(SphereTraceDraw draw, ivec3 sampleIndex) {
 // The corners of the last cell evaluated: sphere-tracing steps near the surface mostly stay in
 // one cell, so its 8 fetches are reused.
 struct FieldCursor {
-  ivec3 cell;
+  int cell;  // fieldCellKey of the cell whose corners these are
   vec4 corners[8];
 };
 
 FieldCursor newFieldCursor() {
   FieldCursor cursor;
-  cursor.cell = ivec3(-1);  // fieldCell() never returns it: the first evaluation fetches
+  cursor.cell = -1;  // no cell's key: the first evaluation fetches
   for (int c = 0; c < 8; ++c) cursor.corners[c] = vec4(0.0);
   return cursor;
+}
+
+// One int per cell of the grid (fieldCell's, all >= 0): the cursor that the march carries holds
+// one register for its cell, not an ivec3. Every register held through the march counts at its
+// peak, the interpolant's evaluation: two more took the depth prepass from 72 to 76 VGPRs on NAVI10
+// (docs/perf/render-changes-session41.md).
+int fieldCellKey(SphereTraceDraw draw, ivec3 cell) {
+  int k = int(draw.resolution);
+  return cell.x + k * (cell.y + k * cell.z);
 }
 
 void loadCell(SphereTraceDraw draw, ivec3 cell, out vec4 corners[8]) {
@@ -52,8 +61,9 @@ void loadCell(SphereTraceDraw draw, ivec3 cell, out vec4 corners[8]) {
 
 float evaluateField(SphereTraceDraw draw, inout FieldCursor cursor, vec3 g) {
   ivec3 cell = fieldCell(draw, g);
-  if (cell != cursor.cell) {
-    cursor.cell = cell;
+  int key = fieldCellKey(draw, cell);
+  if (key != cursor.cell) {
+    cursor.cell = key;
     loadCell(draw, cell, cursor.corners);
   }
   return hermiteValue(cursor.corners, draw.gridOriginSpacing.w, g - vec3(cell));
