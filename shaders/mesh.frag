@@ -13,9 +13,13 @@ layout(location = 1) in vec3 inWorldNormal;
 layout(location = 2) flat in uint inObject;
 layout(location = 3) in vec2 inTexcoord;
 
-// The object's base colour texture (engine::render::MeshTextures: a white texel for none), sRGB:
-// read as linear colour.
-layout(set = 0, binding = 0) uniform sampler2D baseColorTexture;
+// The object's material textures (engine::render::MeshTextures: a white texel for each it lacks,
+// which leaves its factor as it is). The colours are sRGB images, read as linear colour; the
+// metallic-roughness and occlusion ones are linear data.
+layout(set = 0, binding = MESH_TEXTURE_BASE_COLOR) uniform sampler2D baseColorTexture;
+layout(set = 0, binding = MESH_TEXTURE_METALLIC_ROUGHNESS) uniform sampler2D metallicRoughnessTexture;
+layout(set = 0, binding = MESH_TEXTURE_OCCLUSION) uniform sampler2D occlusionTexture;
+layout(set = 0, binding = MESH_TEXTURE_EMISSIVE) uniform sampler2D emissiveTexture;
 
 layout(location = 0) out vec4 outColor;
 
@@ -40,11 +44,17 @@ void main() {
     // vertices' normals lean over it): bent to face the eye, not turned round, which lit single
     // pixels along the outline as the object's far side.
     n = normalTowardEye(n, towardViewer(frame, inWorldPosition));
-    // Emission (glTF emissiveFactor) is light of the surface's own: added after the lighting, so
-    // a face turned from the light still shows it.
-    // glTF: the base colour is the factor times the texture, its alpha too.
+    // glTF: the base colour is the factor times the texture, its alpha too; the roughness is the
+    // factor times the metallic-roughness texture's green. Its blue (the metallic) is not read:
+    // the lighting shared with the SDF objects has no metallic term, for the factor neither.
     vec4 baseColor = object.color * texture(baseColorTexture, inTexcoord);
-    color = shadeSurface(frame, baseColor.rgb, object.material.x, inWorldPosition, n) + object.emission.rgb;
+    float roughness = object.material.x * texture(metallicRoughnessTexture, inTexcoord).g;
+    // glTF occlusionTexture: 1 + strength * (red - 1) of the ambient light reaches the surface.
+    float occlusion = 1.0 + object.material.w * (texture(occlusionTexture, inTexcoord).r - 1.0);
+    // Emission (glTF emissiveFactor times emissiveTexture) is light of the surface's own: added
+    // after the lighting, so a face turned from the light still shows it.
+    vec3 emission = object.emission.rgb * texture(emissiveTexture, inTexcoord).rgb;
+    color = shadeOccludedSurface(frame, baseColor.rgb, roughness, occlusion, inWorldPosition, n) + emission;
     alpha = baseColor.a;
   }
 #ifdef HSDF_MESH_BLENDED

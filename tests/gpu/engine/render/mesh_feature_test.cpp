@@ -396,10 +396,10 @@ glm::u8vec4 checkerTexel(int column, int row, bool holes = false) {
 // A glTF file written into `folder`: the unit square in z = 0 facing +Z with TEXCOORD_0 (glTF's v
 // runs down the image: the square's top edge is the image's first row), its material's
 // baseColorFactor `factor` and a baseColorTexture, checker.png (4 x 4, NEAREST, clamped), beside it;
-// `material` adds fields to the material (e.g. its alphaMode), and `holes` gives the checker's odd
-// texels alpha 0.6.
+// `material` adds fields to the material (e.g. its alphaMode), `pbr` to its pbrMetallicRoughness
+// (each ending in a comma), and `holes` gives the checker's odd texels alpha 0.6.
 std::filesystem::path writeCheckerQuad(const std::filesystem::path& folder, const glm::vec4& factor,
-                                       const std::string& material = "", bool holes = false) {
+                                       const std::string& material = "", bool holes = false, const std::string& pbr = "") {
   std::filesystem::create_directories(folder);
   std::vector<std::uint8_t> texels;
   for (int row = 0; row < 4; ++row)
@@ -426,7 +426,7 @@ std::filesystem::path writeCheckerQuad(const std::filesystem::path& folder, cons
     "meshes": [{"primitives": [{"attributes": {"POSITION": 0, "NORMAL": 1, "TEXCOORD_0": 2}, "indices": 3, "material": 0}]}],
     "materials": [{)" + material + R"("pbrMetallicRoughness": {"baseColorFactor": [)" +
                            std::to_string(factor.r) + "," + std::to_string(factor.g) + "," + std::to_string(factor.b) +
-                           "," + std::to_string(factor.a) + R"(], "roughnessFactor": 0.6,
+                           "," + std::to_string(factor.a) + R"(], "roughnessFactor": 0.6, )" + pbr + R"(
       "baseColorTexture": {"index": 0}}}],
     "textures": [{"source": 0, "sampler": 0}],
     "samplers": [{"magFilter": 9728, "minFilter": 9728, "wrapS": 33071, "wrapT": 33071}],
@@ -554,6 +554,98 @@ TEST_F(MeshMaterialTest, AMaskedQuadShowsWhatLiesBehindItsCutOutTexels) {
   EXPECT_GT(cut, 1000);
   EXPECT_EQ(wrong, 0) << "pixels unlike the texel kept or the square behind a cut-out one (worst colour error " << worst
                       << ")";
+}
+
+// glTF's material textures beside the base colour: the checker quad's one texture serves as each,
+// so a texel's channels are known at every pixel compared.
+class MaterialTexturesTest : public MeshMaterialTest {
+ protected:
+  // The shading inputs of one pixel of the checker quad: its texel, its point, the base colour.
+  struct CheckerPixel {
+    glm::u8vec4 texel;
+    glm::dvec3 position;
+    glm::dvec3 base;  // the texel (sRGB) times the factor
+  };
+  static constexpr glm::vec4 kFactor{1.0f, 0.8f, 0.6f, 1.0f};
+  static constexpr glm::vec3 kEye{0.0f, 0.0f, 1.6f};
+
+  // The checker quad with `material` and `pbr` fields (writeCheckerQuad), lit from `light` (desc_'s
+  // intensity and ambient, which keep the colours below 1: the frame clamps): every pixel within
+  // kColourTolerance of expected(pixel).first, and at least 500 pixels where that is over twice
+  // the tolerance from expected(pixel).second, the colour without the texture under test (so that
+  // the comparison tells the two apart).
+  template <class Expected>
+  void expectCheckerQuad(const std::string& material, const std::string& pbr, const glm::vec3& light, Expected expected) {
+    const std::uint32_t size = 96;
+    createLitRenderer(size, light);
+    const hsdftest::ScopedTempPath folder("material_textures_quad");
+    const auto data = scene::loadGltf(writeCheckerQuad(folder.path(), kFactor, material, false, pbr));
+    ASSERT_TRUE(data.ok()) << data.error().message;
+    for (const auto& w : data->warnings) ADD_FAILURE() << "unexpected warning: " << w;
+    ASSERT_EQ(data->textures.size(), 1u);
+    const render::InstantiatedScene scene = render::instantiateScene(*data, registry_, *pool_);
+    ASSERT_EQ(scene.renderables.size(), 1u);
+    const render::CameraView camera = render::CameraView::lookAt(kEye, {0.0f, 0.0f, 0.0f}, 0.8f, kZNear, 1.0f);
+    const Frame frame = render(camera);
+    int compared = 0, wrong = 0, discriminating = 0;
+    double worst = 0.0;
+    forEachCheckerPixel(camera, size, [&](std::uint32_t x, std::uint32_t y, glm::ivec2 texel, glm::vec2 centre) {
+      const glm::u8vec4 t = checkerTexel(texel.x, texel.y);
+      const CheckerPixel pixel{t, pixelRayAtZ(camera, size, centre, 0.0), linearColor(t) * glm::dvec3(kFactor)};
+      const auto [with, without] = expected(pixel);
+      const double error = glm::length(linearColor(frame.pixel(x, y)) - with);
+      worst = std::max(worst, error);
+      wrong += error > kColourTolerance;
+      discriminating += glm::length(with - without) > 2.0 * kColourTolerance;
+      ++compared;
+    });
+    std::printf("compared %d pixels, %d discriminating, wrong %d (worst %.3f)\n", compared, discriminating, wrong, worst);
+    EXPECT_GT(compared, 2000);
+    EXPECT_GT(discriminating, 500) << "pixels where the texture changes the colour";
+    EXPECT_EQ(wrong, 0) << "pixels unlike the CPU reference (worst colour error " << worst << ")";
+  }
+
+  // shadeSurface's colour of the quad (normal +Z) at `pixel` with `roughness` and `occlusion`.
+  glm::dvec3 lit(const CheckerPixel& pixel, double roughness, double occlusion = 1.0) const {
+    return referenceShading(desc_, pixel.base, roughness, glm::dvec3(kEye), pixel.position, {0.0, 0.0, 1.0}, occlusion);
+  }
+};
+
+// Why: glTF's roughness is the roughnessFactor times the metallicRoughnessTexture's green, read as
+// linear data: a rough and a polished part of one mesh differ in their highlight. Lit from just
+// above the eye, the highlight lies on the quad; each pixel must be the CPU reference with
+// roughness 0.6 x green / 255. Tricky because the same image is also the base colour, which reads
+// it as sRGB: read so for the roughness too, the greens of rows 1-3 shrink (110 -> 0.16, not 0.43).
+TEST_F(MaterialTexturesTest, TheMetallicRoughnessTexturesGreenScalesTheRoughness) {
+  desc_.lightIntensity = 0.6f;
+  expectCheckerQuad("", R"("metallicRoughnessTexture": {"index": 0},)", {0.05f, 0.05f, 1.0f}, [&](const CheckerPixel& p) {
+    return std::pair(lit(p, 0.6 * p.texel.g / 255.0), lit(p, 0.6));
+  });
+}
+
+// Why: glTF's occlusionTexture darkens the ambient light only (1 + strength x (red - 1) of it
+// reaches the surface), never the light's direct part. Lit from the front with a strong ambient
+// (1.0; the light 0.3), each pixel must be the CPU reference with that part of its ambient term.
+// Tricky because occluding the whole colour, or ignoring the strength (0.7), each look plausible.
+TEST_F(MaterialTexturesTest, TheOcclusionTexturesRedDarkensTheAmbientLightByItsStrength) {
+  desc_.ambient = 1.0f;
+  desc_.lightIntensity = 0.3f;
+  expectCheckerQuad(R"("occlusionTexture": {"index": 0, "strength": 0.7},)", "", {0.3f, 0.5f, 1.0f}, [&](const CheckerPixel& p) {
+    return std::pair(lit(p, 0.6, 1.0 + 0.7 * (p.texel.r / 255.0 - 1.0)), lit(p, 0.6));
+  });
+}
+
+// Why: glTF's emission is the emissiveFactor times the emissiveTexture (sRGB): a lamp's panel, a
+// screen, glowing on a face the light does not reach. Lit from behind the quad, each pixel must be
+// its ambient-lit texel plus the texel's linear colour times the factor. Tricky because the
+// texture multiplies the factor (not replaces it) and is sRGB (read as UNORM every texel glows
+// brighter).
+TEST_F(MaterialTexturesTest, TheEmissiveTextureMultipliesTheEmissiveFactorOnAFaceTurnedFromTheLight) {
+  const glm::dvec3 factor(0.5, 0.7, 0.9);
+  expectCheckerQuad(R"("emissiveTexture": {"index": 0}, "emissiveFactor": [0.5, 0.7, 0.9],)", "", {0.3f, 0.5f, -1.0f},
+                    [&](const CheckerPixel& p) {
+                      return std::pair(lit(p, 0.6) + factor * linearColor(p.texel), lit(p, 0.6) + factor);
+                    });
 }
 
 // glTF alphaMode BLEND: blended meshes drawn over the finished opaque frame, back to front.
