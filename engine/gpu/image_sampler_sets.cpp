@@ -27,7 +27,8 @@ namespace {
 // Bindings 0 .. count - 1, one combined image sampler each.
 std::vector<VkDescriptorSetLayoutBinding> imageSamplerBindings(std::uint32_t count, VkShaderStageFlags stages) {
   std::vector<VkDescriptorSetLayoutBinding> bindings;
-  for (std::uint32_t b = 0; b < count; ++b) bindings.push_back({b, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, 1, stages, nullptr});
+  for (std::uint32_t b = 0; b < count; ++b)
+    bindings.push_back({b, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, 1, stages, nullptr});
   return bindings;
 }
 

@@ -816,7 +816,8 @@ class TextureImport {
 
   // `material`'s textures into `out` as SceneData::textures indices: -1 for one absent, or with a
   // warning naming the material, the texture and the problem (drawn without it).
-  void materialTextures(const tinygltf::Material& material, std::size_t m, MaterialData& out, std::vector<TextureData>& textures) {
+  void materialTextures(const tinygltf::Material& material, std::size_t m, MaterialData& out,
+                        std::vector<TextureData>& textures) {
     MaterialRef ref{material, m, std::nullopt};
     const auto& pbr = material.pbrMetallicRoughness;
     out.baseColorTexture = texture(ref, kBaseColorKind, pbr.baseColorTexture.index, pbr.baseColorTexture.texCoord,
