@@ -20,8 +20,29 @@ layout(set = 0, binding = MESH_TEXTURE_BASE_COLOR) uniform sampler2D baseColorTe
 layout(set = 0, binding = MESH_TEXTURE_METALLIC_ROUGHNESS) uniform sampler2D metallicRoughnessTexture;
 layout(set = 0, binding = MESH_TEXTURE_OCCLUSION) uniform sampler2D occlusionTexture;
 layout(set = 0, binding = MESH_TEXTURE_EMISSIVE) uniform sampler2D emissiveTexture;
+layout(set = 0, binding = MESH_TEXTURE_NORMAL) uniform sampler2D normalTexture;
 
 layout(location = 0) out vec4 outColor;
+
+// glTF normalTexture: `n` (the unit vertex normal of the front face) tilted by the texel's normal,
+// its x and y times `scale`, in the surface's tangent frame at this pixel: the tangent toward +u,
+// the bitangent toward -v (glTF's v runs down the image, its normal maps' green up). The frame comes
+// from the screen-space derivatives of the position and the texture coordinates (the cotangent
+// frame), not from the TANGENT attribute or MikkTSpace: it follows the texture's real directions on
+// the triangle, so mirrored texture coordinates and mirrored instances need no handedness. Its sign
+// is the screen's: Vulkan's y runs down, which turns the cross products round. Computed on every
+// fragment, outside any branch: derivatives need the whole quad.
+vec3 normalMapped(vec3 n, float scale) {
+  vec3 dpx = dFdx(inWorldPosition), dpy = dFdy(inWorldPosition);
+  vec2 duvx = dFdx(inTexcoord), duvy = dFdy(inTexcoord);
+  vec3 dpyPerp = cross(dpy, n), dpxPerp = cross(n, dpx);
+  vec3 t = dpyPerp * duvx.x + dpxPerp * duvy.x;  // along +u
+  vec3 b = dpyPerp * duvx.y + dpxPerp * duvy.y;  // along +v
+  float side = dot(cross(dpx, dpy), n) < 0.0 ? -1.0 : 1.0;
+  float frameScale = side * inversesqrt(max(max(dot(t, t), dot(b, b)), 1e-30));
+  vec3 m = texture(normalTexture, inTexcoord).xyz * 2.0 - 1.0;
+  return normalize((t * (m.x * scale) - b * (m.y * scale)) * frameScale + n * m.z);
+}
 
 void main() {
   FrameGlobals frame = FrameGlobalsRef(pc.frameGlobals).globals;
@@ -31,7 +52,10 @@ void main() {
   // back face is only drawn for a double-sided mesh (glTF doubleSided: "the back-face MUST have its
   // normals reversed before the lighting equation is evaluated"): its normal is reversed, here and
   // in the normals view.
+  // The normal texture tilts the front face's normal; a back face's is that one reversed.
   vec3 n = normalize(inWorldNormal);
+  vec3 mapped = normalMapped(n, object.emission.a);
+  if (object.emission.a != 0.0) n = mapped;  // 0: no normal texture, the vertex normal as it was
   if (!gl_FrontFacing) n = -n;
   vec3 color;
   float alpha = 1.0;

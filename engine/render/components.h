@@ -31,9 +31,13 @@ struct MeshRenderable {
   glm::vec3 emissive{0.0f};  // linear light given off, added to the lit colour (glTF emission)
   // Read through the mesh's texture coordinates (glTF's material textures): the base colour texture
   // multiplies `color`, the metallic-roughness one `roughness` and `metallic`, the emissive one
-  // `emissive`; the occlusion one darkens the ambient light, by `occlusionStrength`.
+  // `emissive`; the occlusion one darkens the ambient light, by `occlusionStrength`; the normal one
+  // tilts the shading normal, by `normalScale`.
   TextureHandle textures;
   float occlusionStrength = 1.0f;  // glTF occlusionTexture.strength: 0 none, 1 the texel's full occlusion
+  // glTF normalTexture.scale when `textures` holds a normal texture (its x and y times this); 0: the
+  // vertex normals, no normal texture read.
+  float normalScale = 0.0f;
   // Where the alpha (color.a times the texture's) is below this, the surface is cut out: nothing
   // drawn, what lies behind seen (glTF alphaMode MASK). None: opaque.
   std::optional<float> alphaCutoff;

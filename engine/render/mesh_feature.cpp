@@ -138,7 +138,7 @@ void MeshFeature::prepare(FrameContext& frame) {
           return;
         }
         shader::ObjectData object = GpuScene::makeObject(world.matrix, mesh.color, mesh.roughness, mesh.metallic, kFeatureId);
-        object.emission = glm::vec4(mesh.emissive, 0.0f);
+        object.emission = glm::vec4(mesh.emissive, mesh.normalScale);  // mesh.frag
         object.material.z = mesh.alphaCutoff.value_or(0.0f);  // mesh_prepass_masked.frag
         object.material.w = mesh.occlusionStrength;
         const std::uint32_t index = frame.scene.addObject(object);

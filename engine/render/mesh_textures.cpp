@@ -55,6 +55,7 @@ std::array<MeshImageHandle, MESH_TEXTURE_COUNT> bindingOrder(const MaterialImage
   order[MESH_TEXTURE_METALLIC_ROUGHNESS] = images.metallicRoughness;
   order[MESH_TEXTURE_OCCLUSION] = images.occlusion;
   order[MESH_TEXTURE_EMISSIVE] = images.emissive;
+  order[MESH_TEXTURE_NORMAL] = images.normal;
   return order;
 }
 

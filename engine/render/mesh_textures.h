@@ -1,11 +1,12 @@
 #pragma once
 // The textures of mesh materials (glTF baseColorTexture, metallicRoughnessTexture, occlusionTexture,
-// emissiveTexture): RGBA8 images with their mip chains and samplers, and one descriptor set per
+// emissiveTexture, normalTexture): RGBA8 images with their mip chains and samplers, and one descriptor set per
 // material holding one image per texture kind (mesh.frag's set 0, bindings MESH_TEXTURE_*). A set per
 // material, not a bindless table: devices without descriptor indexing (lavapipe) draw them too, and
 // the mesh feature binds a material's set once per batch of the meshes that use it. Image 0 is one
 // white texel, which every kind a material lacks samples: its factor times 1.0 is the factor the
-// material had before textures were drawn (glTF's defaults: no occlusion, the emissiveFactor alone).
+// material had before textures were drawn (glTF's defaults: no occlusion, the emissiveFactor alone;
+// a normal texture is only read with a scale other than 0, MeshRenderable::normalScale).
 // Set 0 holds it in every binding (a mesh without textures).
 #include <cstdint>
 #include <vector>
@@ -39,6 +40,7 @@ struct MaterialImages {
   MeshImageHandle metallicRoughness;  // linear; g times the roughness, b times the metallic
   MeshImageHandle occlusion;          // linear; r: how much of the ambient light reaches the surface
   MeshImageHandle emissive;           // sRGB; rgb times the emission
+  MeshImageHandle normal;             // linear; the normal in the tangent frame (read when the scale is not 0)
 };
 
 class MeshTextures {

@@ -69,8 +69,9 @@ class MaterialSets {
     images.metallicRoughness = image(material.metallicRoughnessTexture, TexelEncoding::Linear);
     images.occlusion = image(material.occlusionTexture, TexelEncoding::Linear);
     images.emissive = image(material.emissiveTexture, TexelEncoding::Srgb);
+    images.normal = image(material.normalTexture, TexelEncoding::Linear);
     const bool textured = images.baseColor.index != 0 || images.metallicRoughness.index != 0 ||
-                          images.occlusion.index != 0 || images.emissive.index != 0;
+                          images.occlusion.index != 0 || images.emissive.index != 0 || images.normal.index != 0;
     return sets_[index] = textured ? textures_.addMaterial(images) : TextureHandle{};
   }
 
@@ -137,7 +138,11 @@ InstantiatedScene instantiateScene(const scene::SceneData& data, ecs::Registry& 
         renderable.alphaBlend = material.alphaBlend;
         renderable.occlusionStrength = material.occlusionStrength;
         // Without texture coordinates the textures cannot be read (the importer said so): the factors alone.
-        if (!primitive.texcoords.empty()) renderable.textures = materialSets.of(material, primitive.material);
+        if (!primitive.texcoords.empty()) {
+          renderable.textures = materialSets.of(material, primitive.material);
+          const bool normalMapped = material.normalTexture >= 0 && std::size_t(material.normalTexture) < data.textures.size();
+          renderable.normalScale = normalMapped ? material.normalScale : 0.0f;
+        }
       }
       const ecs::Entity part = registry.create();
       registry.emplace<scene::Transform>(part);

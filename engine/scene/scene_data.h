@@ -53,6 +53,10 @@ struct MaterialData {
   float occlusionStrength = 1.0f;
   // glTF emissiveTexture (sRGB): multiplies emissive.
   int emissiveTexture = -1;
+  // glTF normalTexture (linear): the shading normal in the surface's tangent frame, its x and y
+  // times normalScale.
+  int normalTexture = -1;
+  float normalScale = 1.0f;
   // glTF alphaMode MASK: where the alpha (baseColor's times the texture's) is below the cutoff,
   // the surface is not there (a leaf card, a fence, a grille). None: opaque (OPAQUE) or blended
   // (BLEND).

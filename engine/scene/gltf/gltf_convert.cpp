@@ -340,14 +340,12 @@ Expected<MeshData> convertMesh(ImportContext& context, int meshIndex) {
 // ---------------------------------------------------------------------------------------------
 // Materials and cameras
 
-// What of a material the renderer does not draw, named in one note: a normal-mapped wall is drawn
-// flat; silently, it would look like a rendering defect. (A texture that cannot be drawn gets its
-// own warning.)
+// What of a material the renderer does not draw, named in one note: silently, it would look like a
+// rendering defect. (A texture that cannot be drawn gets its own warning.)
 std::optional<std::string> ignoredMaterialFields(const tinygltf::Material& material) {
   std::vector<std::string> ignored;
   if (material.alphaMode != "OPAQUE" && material.alphaMode != "MASK" && material.alphaMode != "BLEND")
     ignored.push_back(fmt::format("alphaMode '{}', which glTF does not define (drawn opaque)", material.alphaMode));
-  if (material.normalTexture.index >= 0) ignored.push_back("normalTexture");
   if (ignored.empty()) return std::nullopt;
   return fmt::format("'{}': {} ignored", material.name, fmt::join(ignored, ", "));
 }
@@ -387,6 +385,8 @@ Expected<MaterialData> convertMaterial(const tinygltf::Material& material) {
   // occlusionTexture.strength: in [0, 1] (glTF's schema; clamped as the factors are), 1 when absent.
   ENGINE_TRY_ASSIGN(const float strength, toFiniteFloat(material.occlusionTexture.strength, "occlusionTexture strength"));
   out.occlusionStrength = std::clamp(strength, 0.0f, 1.0f);
+  // normalTexture.scale: any finite number (glTF gives no range), 1 when absent.
+  ENGINE_TRY_ASSIGN(out.normalScale, toFiniteFloat(material.normalTexture.scale, "normalTexture scale"));
   if (material.alphaMode == "MASK") {  // alphaCutoff: >= 0 (checkGltfSchema), 0.5 when absent
     ENGINE_TRY_ASSIGN(const float cutoff, toFiniteFloat(material.alphaCutoff, "alphaCutoff"));
     out.alphaCutoff = cutoff;
@@ -808,6 +808,7 @@ constexpr TextureKind kBaseColorKind{"baseColorTexture", "drawn in baseColorFact
 constexpr TextureKind kMetallicRoughnessKind{"metallicRoughnessTexture", "drawn in metallicFactor and roughnessFactor"};
 constexpr TextureKind kOcclusionKind{"occlusionTexture", "drawn without occlusion"};
 constexpr TextureKind kEmissiveKind{"emissiveTexture", "drawn in emissiveFactor"};
+constexpr TextureKind kNormalKind{"normalTexture", "drawn with its vertex normals"};
 
 // Each glTF texture a material uses, decoded once into SceneData::textures.
 class TextureImport {
@@ -828,6 +829,8 @@ class TextureImport {
     out.occlusionTexture = texture(ref, kOcclusionKind, occlusion.index, occlusion.texCoord, occlusion.extensions, textures);
     const auto& emissive = material.emissiveTexture;
     out.emissiveTexture = texture(ref, kEmissiveKind, emissive.index, emissive.texCoord, emissive.extensions, textures);
+    const auto& normal = material.normalTexture;
+    out.normalTexture = texture(ref, kNormalKind, normal.index, normal.texCoord, normal.extensions, textures);
     if (ref.transform && *ref.transform != glm::mat3(1.0f)) transforms_[int(m)] = *ref.transform;
   }
 
@@ -898,6 +901,7 @@ std::vector<std::string> textureKinds(const MaterialData& material) {
   if (material.metallicRoughnessTexture >= 0) kinds.push_back(kMetallicRoughnessKind.name);
   if (material.occlusionTexture >= 0) kinds.push_back(kOcclusionKind.name);
   if (material.emissiveTexture >= 0) kinds.push_back(kEmissiveKind.name);
+  if (material.normalTexture >= 0) kinds.push_back(kNormalKind.name);
   return kinds;
 }
 

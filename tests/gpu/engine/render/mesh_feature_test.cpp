@@ -397,10 +397,18 @@ glm::u8vec4 checkerTexel(int column, int row, bool holes = false) {
 // runs down the image: the square's top edge is the image's first row), its material's
 // baseColorFactor `factor` and a baseColorTexture, checker.png (4 x 4, NEAREST, clamped), beside it;
 // `material` adds fields to the material (e.g. its alphaMode), `pbr` to its pbrMetallicRoughness
-// (each ending in a comma), and `holes` gives the checker's odd texels alpha 0.6.
+// (each ending in a comma), and `holes` gives the checker's odd texels alpha 0.6. `second`, when
+// given, is a second 4 x 4 RGBA image, second.png, glTF texture 1 (the same sampler).
 std::filesystem::path writeCheckerQuad(const std::filesystem::path& folder, const glm::vec4& factor,
-                                       const std::string& material = "", bool holes = false, const std::string& pbr = "") {
+                                       const std::string& material = "", bool holes = false, const std::string& pbr = "",
+                                       const std::vector<std::uint8_t>& second = {}) {
   std::filesystem::create_directories(folder);
+  if (!second.empty()) {
+    EXPECT_TRUE(writePng(folder / "second.png", second, 4, 4, 4).ok());
+  }
+  const std::string textures = second.empty() ? R"([{"source": 0, "sampler": 0}])"
+                                              : R"([{"source": 0, "sampler": 0}, {"source": 1, "sampler": 0}])";
+  const std::string images = second.empty() ? R"([{"uri": "checker.png"}])" : R"([{"uri": "checker.png"}, {"uri": "second.png"}])";
   std::vector<std::uint8_t> texels;
   for (int row = 0; row < 4; ++row)
     for (int column = 0; column < 4; ++column) {
@@ -428,9 +436,9 @@ std::filesystem::path writeCheckerQuad(const std::filesystem::path& folder, cons
                            std::to_string(factor.r) + "," + std::to_string(factor.g) + "," + std::to_string(factor.b) +
                            "," + std::to_string(factor.a) + R"(], "roughnessFactor": 0.6, )" + pbr + R"(
       "baseColorTexture": {"index": 0}}}],
-    "textures": [{"source": 0, "sampler": 0}],
+    "textures": )" + textures + R"(,
     "samplers": [{"magFilter": 9728, "minFilter": 9728, "wrapS": 33071, "wrapT": 33071}],
-    "images": [{"uri": "checker.png"}],
+    "images": )" + images + R"(,
     "buffers": [{"uri": "quad.bin", "byteLength": 152}],
     "bufferViews": [{"buffer": 0, "byteOffset": 0, "byteLength": 48}, {"buffer": 0, "byteOffset": 48, "byteLength": 48},
                     {"buffer": 0, "byteOffset": 96, "byteLength": 32}, {"buffer": 0, "byteOffset": 128, "byteLength": 24}],
@@ -565,6 +573,7 @@ class MaterialTexturesTest : public MeshMaterialTest {
     glm::u8vec4 texel;
     glm::dvec3 position;
     glm::dvec3 base;  // the texel (sRGB) times the factor
+    glm::ivec2 at;    // which texel: column, row
   };
   static constexpr glm::vec4 kFactor{1.0f, 0.8f, 0.6f, 1.0f};
   static constexpr glm::vec3 kEye{0.0f, 0.0f, 1.6f};
@@ -575,14 +584,15 @@ class MaterialTexturesTest : public MeshMaterialTest {
   // the tolerance from expected(pixel).second, the colour without the texture under test (so that
   // the comparison tells the two apart).
   template <class Expected>
-  void expectCheckerQuad(const std::string& material, const std::string& pbr, const glm::vec3& light, Expected expected) {
+  void expectCheckerQuad(const std::string& material, const std::string& pbr, const glm::vec3& light, Expected expected,
+                         const std::vector<std::uint8_t>& second = {}) {
     const std::uint32_t size = 96;
     createLitRenderer(size, light);
     const hsdftest::ScopedTempPath folder("material_textures_quad");
-    const auto data = scene::loadGltf(writeCheckerQuad(folder.path(), kFactor, material, false, pbr));
+    const auto data = scene::loadGltf(writeCheckerQuad(folder.path(), kFactor, material, false, pbr, second));
     ASSERT_TRUE(data.ok()) << data.error().message;
     for (const auto& w : data->warnings) ADD_FAILURE() << "unexpected warning: " << w;
-    ASSERT_EQ(data->textures.size(), 1u);
+    ASSERT_EQ(data->textures.size(), second.empty() ? 1u : 2u);
     const render::InstantiatedScene scene = render::instantiateScene(*data, registry_, *pool_);
     ASSERT_EQ(scene.renderables.size(), 1u);
     const render::CameraView camera = render::CameraView::lookAt(kEye, {0.0f, 0.0f, 0.0f}, 0.8f, kZNear, 1.0f);
@@ -591,7 +601,7 @@ class MaterialTexturesTest : public MeshMaterialTest {
     double worst = 0.0;
     forEachCheckerPixel(camera, size, [&](std::uint32_t x, std::uint32_t y, glm::ivec2 texel, glm::vec2 centre) {
       const glm::u8vec4 t = checkerTexel(texel.x, texel.y);
-      const CheckerPixel pixel{t, pixelRayAtZ(camera, size, centre, 0.0), linearColor(t) * glm::dvec3(kFactor)};
+      const CheckerPixel pixel{t, pixelRayAtZ(camera, size, centre, 0.0), linearColor(t) * glm::dvec3(kFactor), texel};
       const auto [with, without] = expected(pixel);
       const double error = glm::length(linearColor(frame.pixel(x, y)) - with);
       worst = std::max(worst, error);
@@ -605,9 +615,10 @@ class MaterialTexturesTest : public MeshMaterialTest {
     EXPECT_EQ(wrong, 0) << "pixels unlike the CPU reference (worst colour error " << worst << ")";
   }
 
-  // shadeSurface's colour of the quad (normal +Z) at `pixel` with `roughness` and `occlusion`.
-  glm::dvec3 lit(const CheckerPixel& pixel, double roughness, double occlusion = 1.0) const {
-    return referenceShading(desc_, pixel.base, roughness, glm::dvec3(kEye), pixel.position, {0.0, 0.0, 1.0}, occlusion);
+  // shadeSurface's colour of the quad at `pixel` with `roughness`, `occlusion` and `normal` (unit).
+  glm::dvec3 lit(const CheckerPixel& pixel, double roughness, double occlusion = 1.0,
+                 const glm::dvec3& normal = {0.0, 0.0, 1.0}) const {
+    return referenceShading(desc_, pixel.base, roughness, glm::dvec3(kEye), pixel.position, normal, occlusion);
   }
 };
 
@@ -646,6 +657,39 @@ TEST_F(MaterialTexturesTest, TheEmissiveTextureMultipliesTheEmissiveFactorOnAFac
                     [&](const CheckerPixel& p) {
                       return std::pair(lit(p, 0.6) + factor * linearColor(p.texel), lit(p, 0.6) + factor);
                     });
+}
+
+// The normal map of the normal texture test: texel (column, row) tilts the normal by 0.3 x (column
+// - 1.5) toward +u and 0.3 x (row - 1.5) toward the image's top (glTF: +x right, +y up).
+glm::u8vec4 normalTexel(int column, int row) {
+  const double x = 0.3 * (column - 1.5), y = 0.3 * (row - 1.5), z = std::sqrt(1.0 - x * x - y * y);
+  const auto encode = [](double c) { return std::uint8_t(std::lround((c * 0.5 + 0.5) * 255.0)); };
+  return {encode(x), encode(y), encode(z), 255};
+}
+
+// Why: a normal-mapped wall (glTF normalTexture: most real assets) shows its relief in the light; drawn
+// with the vertex normals it is flat. The checker quad with a second texture, a 4 x 4 normal map of
+// a tilt of its own per texel, scale 0.8: each pixel must be the CPU reference lit with the normal
+// the 8-bit texel gives in the quad's frame (u along +x, v down the image: the texel's +y is +y in
+// the world), (2 t - 1) with x and y times the scale. Tricky because the bitangent is -dP/dv (glTF's
+// v runs down, its green up: a sign slip mirrors every tilt in y), the texel is linear data, and
+// the scale applies to x and y only.
+TEST_F(MaterialTexturesTest, TheNormalTextureTiltsTheShadingNormalInTheTangentFrame) {
+  std::vector<std::uint8_t> normals;
+  for (int row = 0; row < 4; ++row)
+    for (int column = 0; column < 4; ++column) {
+      const glm::u8vec4 t = normalTexel(column, row);
+      normals.insert(normals.end(), {t.r, t.g, t.b, t.a});
+    }
+  const auto decode = [](std::uint8_t c) { return 2.0 * c / 255.0 - 1.0; };
+  expectCheckerQuad(
+      R"("normalTexture": {"index": 1, "scale": 0.8},)", "", {0.3f, 0.5f, 1.0f},
+      [&](const CheckerPixel& p) {
+        const glm::u8vec4 t = normalTexel(p.at.x, p.at.y);
+        const glm::dvec3 normal = glm::normalize(glm::dvec3(0.8 * decode(t.r), 0.8 * decode(t.g), decode(t.b)));
+        return std::pair(lit(p, 0.6, 1.0, normal), lit(p, 0.6));
+      },
+      normals);
 }
 
 // glTF alphaMode BLEND: blended meshes drawn over the finished opaque frame, back to front.
