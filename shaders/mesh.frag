@@ -30,17 +30,17 @@ layout(location = 0) out vec4 outColor;
 // from the screen-space derivatives of the position and the texture coordinates (the cotangent
 // frame), not from the TANGENT attribute or MikkTSpace: it follows the texture's real directions on
 // the triangle, so mirrored texture coordinates and mirrored instances need no handedness. Its sign
-// is the screen's: Vulkan's y runs down, which turns the cross products round. Computed on every
-// fragment, outside any branch: derivatives need the whole quad.
-vec3 normalMapped(vec3 n, float scale) {
-  vec3 dpx = dFdx(inWorldPosition), dpy = dFdy(inWorldPosition);
-  vec2 duvx = dFdx(inTexcoord), duvy = dFdy(inTexcoord);
+// is the screen's: Vulkan's y runs down, which turns the cross products round. The derivatives
+// (dpx, dpy of the position, duvx, duvy of the texture coordinates) are taken by the caller
+// outside any branch (they need the whole quad); the texture is read with them (textureGrad), so
+// that this may run in a branch that meshes without a normal texture skip.
+vec3 normalMapped(vec3 n, float scale, vec3 dpx, vec3 dpy, vec2 duvx, vec2 duvy) {
   vec3 dpyPerp = cross(dpy, n), dpxPerp = cross(n, dpx);
   vec3 t = dpyPerp * duvx.x + dpxPerp * duvy.x;  // along +u
   vec3 b = dpyPerp * duvx.y + dpxPerp * duvy.y;  // along +v
   float side = dot(cross(dpx, dpy), n) < 0.0 ? -1.0 : 1.0;
   float frameScale = side * inversesqrt(max(max(dot(t, t), dot(b, b)), 1e-30));
-  vec3 m = texture(normalTexture, inTexcoord).xyz * 2.0 - 1.0;
+  vec3 m = textureGrad(normalTexture, inTexcoord, duvx, duvy).xyz * 2.0 - 1.0;
   return normalize((t * (m.x * scale) - b * (m.y * scale)) * frameScale + n * m.z);
 }
 
@@ -54,8 +54,10 @@ void main() {
   // in the normals view.
   // The normal texture tilts the front face's normal; a back face's is that one reversed.
   vec3 n = normalize(inWorldNormal);
-  vec3 mapped = normalMapped(n, object.emission.a);
-  if (object.emission.a != 0.0) n = mapped;  // 0: no normal texture, the vertex normal as it was
+  vec3 dpx = dFdx(inWorldPosition), dpy = dFdy(inWorldPosition);
+  vec2 duvx = dFdx(inTexcoord), duvy = dFdy(inTexcoord);
+  // 0: no normal texture, the vertex normal as it was.
+  if (object.emission.a != 0.0) n = normalMapped(n, object.emission.a, dpx, dpy, duvx, duvy);
   if (!gl_FrontFacing) n = -n;
   vec3 color;
   float alpha = 1.0;

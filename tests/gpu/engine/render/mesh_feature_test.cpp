@@ -459,11 +459,12 @@ glm::dvec3 pixelRayAtZ(const render::CameraView& camera, std::uint32_t size, glm
 // Calls `visit(x, y, texel, centre)` for each pixel whose centre and four corners all see one texel
 // of the checker quad (writeCheckerQuad: the unit square in z = 0, 4 x 4 texels, v down the image):
 // pixels off the quad or across a texel boundary are skipped, as NEAREST may go either way there.
+// `mirrored`: the quad placed with x scaled by -1 (u runs along -x).
 template <class Visit>
-void forEachCheckerPixel(const render::CameraView& camera, std::uint32_t size, Visit visit) {
+void forEachCheckerPixel(const render::CameraView& camera, std::uint32_t size, Visit visit, bool mirrored = false) {
   auto texelAt = [&](glm::vec2 pixel) {  // (-1, -1) off the square
     const glm::dvec3 p = pixelRayAtZ(camera, size, pixel, 0.0);
-    const double u = p.x + 0.5, v = 0.5 - p.y;
+    const double u = (mirrored ? -p.x : p.x) + 0.5, v = 0.5 - p.y;
     if (u < 0.0 || u >= 1.0 || v < 0.0 || v >= 1.0) return glm::ivec2(-1);
     return glm::ivec2(int(u * 4.0), int(v * 4.0));
   };
@@ -595,7 +596,8 @@ class MaterialTexturesTest : public MeshMaterialTest {
     ASSERT_EQ(data->textures.size(), second.empty() ? 1u : 2u);
     const render::InstantiatedScene scene = render::instantiateScene(*data, registry_, *pool_);
     ASSERT_EQ(scene.renderables.size(), 1u);
-    const render::CameraView camera = render::CameraView::lookAt(kEye, {0.0f, 0.0f, 0.0f}, 0.8f, kZNear, 1.0f);
+    if (mirrored_) registry_.get<scene::Transform>(scene.nodes.at(0)).scale = {-1.0f, 1.0f, 1.0f};
+    const render::CameraView camera = render::CameraView::lookAt(eye_, {0.0f, 0.0f, 0.0f}, 0.8f, kZNear, 1.0f);
     const Frame frame = render(camera);
     int compared = 0, wrong = 0, discriminating = 0;
     double worst = 0.0;
@@ -608,7 +610,7 @@ class MaterialTexturesTest : public MeshMaterialTest {
       wrong += error > kColourTolerance;
       discriminating += glm::length(with - without) > 2.0 * kColourTolerance;
       ++compared;
-    });
+    }, mirrored_);
     std::printf("compared %d pixels, %d discriminating, wrong %d (worst %.3f)\n", compared, discriminating, wrong, worst);
     EXPECT_GT(compared, 2000);
     EXPECT_GT(discriminating, 500) << "pixels where the texture changes the colour";
@@ -618,8 +620,11 @@ class MaterialTexturesTest : public MeshMaterialTest {
   // shadeSurface's colour of the quad at `pixel` with `roughness`, `occlusion` and `normal` (unit).
   glm::dvec3 lit(const CheckerPixel& pixel, double roughness, double occlusion = 1.0,
                  const glm::dvec3& normal = {0.0, 0.0, 1.0}) const {
-    return referenceShading(desc_, pixel.base, roughness, glm::dvec3(kEye), pixel.position, normal, occlusion);
+    return referenceShading(desc_, pixel.base, roughness, glm::dvec3(eye_), pixel.position, normal, occlusion);
   }
+
+  glm::vec3 eye_ = kEye;
+  bool mirrored_ = false;  // the quad's node scaled by (-1, 1, 1)
 };
 
 // Why: glTF's roughness is the roughnessFactor times the metallicRoughnessTexture's green, read as
@@ -667,6 +672,24 @@ glm::u8vec4 normalTexel(int column, int row) {
   return {encode(x), encode(y), encode(z), 255};
 }
 
+// The normal map of normalTexel, as RGBA rows.
+std::vector<std::uint8_t> normalMap() {
+  std::vector<std::uint8_t> normals;
+  for (int row = 0; row < 4; ++row)
+    for (int column = 0; column < 4; ++column) {
+      const glm::u8vec4 t = normalTexel(column, row);
+      normals.insert(normals.end(), {t.r, t.g, t.b, t.a});
+    }
+  return normals;
+}
+
+// The normal texel's tilted normal with scale 0.8 in the frame (tangent, bitangent, normal).
+glm::dvec3 tiltedNormal(glm::ivec2 at, const glm::dvec3& tangent, const glm::dvec3& bitangent, const glm::dvec3& normal) {
+  const glm::u8vec4 t = normalTexel(at.x, at.y);
+  const auto decode = [](std::uint8_t c) { return 2.0 * c / 255.0 - 1.0; };
+  return glm::normalize(0.8 * decode(t.r) * tangent + 0.8 * decode(t.g) * bitangent + decode(t.b) * normal);
+}
+
 // Why: a normal-mapped wall (glTF normalTexture: most real assets) shows its relief in the light; drawn
 // with the vertex normals it is flat. The checker quad with a second texture, a 4 x 4 normal map of
 // a tilt of its own per texel, scale 0.8: each pixel must be the CPU reference lit with the normal
@@ -675,21 +698,41 @@ glm::u8vec4 normalTexel(int column, int row) {
 // v runs down, its green up: a sign slip mirrors every tilt in y), the texel is linear data, and
 // the scale applies to x and y only.
 TEST_F(MaterialTexturesTest, TheNormalTextureTiltsTheShadingNormalInTheTangentFrame) {
-  std::vector<std::uint8_t> normals;
-  for (int row = 0; row < 4; ++row)
-    for (int column = 0; column < 4; ++column) {
-      const glm::u8vec4 t = normalTexel(column, row);
-      normals.insert(normals.end(), {t.r, t.g, t.b, t.a});
-    }
-  const auto decode = [](std::uint8_t c) { return 2.0 * c / 255.0 - 1.0; };
   expectCheckerQuad(
       R"("normalTexture": {"index": 1, "scale": 0.8},)", "", {0.3f, 0.5f, 1.0f},
       [&](const CheckerPixel& p) {
-        const glm::u8vec4 t = normalTexel(p.at.x, p.at.y);
-        const glm::dvec3 normal = glm::normalize(glm::dvec3(0.8 * decode(t.r), 0.8 * decode(t.g), decode(t.b)));
-        return std::pair(lit(p, 0.6, 1.0, normal), lit(p, 0.6));
+        return std::pair(lit(p, 0.6, 1.0, tiltedNormal(p.at, {1, 0, 0}, {0, 1, 0}, {0, 0, 1})), lit(p, 0.6));
       },
-      normals);
+      normalMap());
+}
+
+// Why: glTF mirrors an instance by a negative scale, and exporters mirror half a model's texture
+// coordinates; the tangent must follow the texture's u, now along -x, or every tilt in x turns
+// the wrong way. The normal texture test's quad placed with x scaled by -1 (its winding reversed,
+// drawn as a front face by the mirrored pipeline state): each pixel against the CPU reference
+// with the tangent -x.
+TEST_F(MaterialTexturesTest, TheNormalTextureFollowsAMirroredInstancesTextureDirections) {
+  mirrored_ = true;
+  expectCheckerQuad(
+      R"("normalTexture": {"index": 1, "scale": 0.8},)", "", {0.3f, 0.5f, 1.0f},
+      [&](const CheckerPixel& p) {
+        return std::pair(lit(p, 0.6, 1.0, tiltedNormal(p.at, {-1, 0, 0}, {0, 1, 0}, {0, 0, 1})), lit(p, 0.6));
+      },
+      normalMap());
+}
+
+// Why: glTF reverses a double-sided mesh's back-face normal "before the lighting equation is
+// evaluated": the tilted normal too, whole. The quad, double-sided, seen and lit from below: each
+// pixel against the CPU reference with the front face's tilted normal reversed. Tricky because
+// tilting the reversed vertex normal in a frame built from it keeps the tangent's part unreversed.
+TEST_F(MaterialTexturesTest, TheNormalTextureOnADoubleSidedBackFaceIsReversedWhole) {
+  eye_ = {0.0f, 0.0f, -1.6f};
+  expectCheckerQuad(
+      R"("doubleSided": true, "normalTexture": {"index": 1, "scale": 0.8},)", "", {0.3f, 0.5f, -1.0f},
+      [&](const CheckerPixel& p) {
+        return std::pair(lit(p, 0.6, 1.0, -tiltedNormal(p.at, {1, 0, 0}, {0, 1, 0}, {0, 0, 1})), lit(p, 0.6, 1.0, {0, 0, -1}));
+      },
+      normalMap());
 }
 
 // glTF alphaMode BLEND: blended meshes drawn over the finished opaque frame, back to front.
