@@ -46,7 +46,8 @@ Status SdfObjects::add(std::shared_ptr<const scene::SceneData> scene, std::span<
   const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   log::info("{} meshes baked at K = {} in {:.2f} s into {} SDF assets, drawn by {} nodes; {} mesh nodes drawn as "
             "triangles",
-            objects.bakes, settings.resolution, seconds, objects.bakes - int(objects.fallbacks.size()),
+            objects.bakes, settings.resolution, seconds,
+            std::count_if(objects.meshAssets.begin(), objects.meshAssets.end(), [](const auto& a) { return a != nullptr; }),
             entities_.size(), triangleNodes);
   return {};
 }

@@ -78,7 +78,8 @@ HSDF_CHECK_SIZE(FrameGlobals, 5 * 64 + 4 * 16);
 struct ObjectData {
   mat4 model;
   mat4 invModel;          // normals use transpose(mat3(invModel))
-  vec4 color;             // base colour (linear), a: unused
+  vec4 color;             // base colour (linear); a: its alpha (glTF baseColorFactor), read by
+                          // meshes with alphaMode MASK or BLEND
   vec4 material;          // x: roughness, y: metallic, zw: feature-specific (meshes: z alpha cutoff,
                           // w occlusion strength)
   uint64_t payload;       // feature-specific data reached by device address (0: none)

@@ -79,6 +79,16 @@ hsdf::ReferenceImage referenceFor(hsdf::RenderMethod method, const hsdf::Hermite
   return reference ? std::move(reference.value()) : hsdf::ReferenceImage{};
 }
 
+hsdf::ReferenceImage referenceFromTheEye(const hsdf::HermiteField& field, const render::CameraView& camera,
+                                         glm::ivec2 size) {
+  hsdf::RenderOptions options;
+  options.model = glm::translate(glm::mat4(1.0f), -camera.position);
+  const glm::mat4 rotation(camera.viewFrom(glm::dvec3(camera.position)));
+  auto reference = hsdf::renderReference(field, rotation, camera.proj, size, nullptr, options);
+  EXPECT_TRUE(reference.ok()) << reference.error().message;
+  return reference ? std::move(reference.value()) : hsdf::ReferenceImage{};
+}
+
 ecs::Entity addTracedSdf(ecs::Registry& registry, std::shared_ptr<const hsdf::SdfAsset> asset,
                          hsdf::RenderMethod method, const glm::mat4& transform, bool half) {
   const ecs::Entity entity = registry.create();

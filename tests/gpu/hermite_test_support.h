@@ -32,6 +32,14 @@ hsdf::ReferenceImage referenceFor(hsdf::RenderMethod method, const hsdf::Hermite
                                   const engine::render::CameraView& camera, glm::ivec2 size,
                                   const glm::mat4& model = glm::mat4(1.0f));
 
+// The CPU reference image of `field` (at the origin) seen by `camera`, cast from its eye as the
+// renderer draws from it: camera-relative, the view its rotation alone and the object moved by
+// -CameraView::position (exact: a float negated), as the anchors take the eye in double
+// (render/ray_anchor.h). From camera.view the reference took the eye from the float translation
+// -R eye, 0.04-0.29 cells off 1e6-1e7 cells out. Fails the test on error.
+hsdf::ReferenceImage referenceFromTheEye(const hsdf::HermiteField& field, const engine::render::CameraView& camera,
+                                         glm::ivec2 size);
+
 // An entity drawing `asset` with a sphere-tracing `method` (no Transform: `transform` is its
 // WorldTransform), from fp16 textures when `half`.
 engine::ecs::Entity addTracedSdf(engine::ecs::Registry& registry, std::shared_ptr<const hsdf::SdfAsset> asset,

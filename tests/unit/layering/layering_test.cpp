@@ -46,7 +46,7 @@ std::optional<std::string> floorOfFile(const std::string& path) {
 }
 
 // The floor an #include "..." names. The module's private headers are named relative to its src/
-// folders ("cells/cell_bricks.h" is core's, "render/cell_rows.h" render's).
+// folders ("cells/cell_bricks.h" is core's, "render/cell_history.h" render's).
 std::optional<std::string> floorOfInclude(const std::string& include) {
   static const std::vector<std::pair<std::string, std::string>> prefixes = {
       {"engine/core/", "engine/core"},
@@ -165,8 +165,8 @@ TEST(Layering, TheCheckNamesEachStepUp) {
             "module/render)");
   EXPECT_EQ(one("engine/core/x.h", "\"engine/gpu/context.h\""),
             "engine/core/x.h: includes \"engine/gpu/context.h\" (engine/core may not include engine/gpu)");
-  EXPECT_EQ(one("modules/hermite_sdf/src/core/cells/x.cpp", "\"render/cell_rows.h\""),
-            "modules/hermite_sdf/src/core/cells/x.cpp: includes \"render/cell_rows.h\" (module/core may not include "
+  EXPECT_EQ(one("modules/hermite_sdf/src/core/cells/x.cpp", "\"render/cell_history.h\""),
+            "modules/hermite_sdf/src/core/cells/x.cpp: includes \"render/cell_history.h\" (module/core may not include "
             "module/render)");
   EXPECT_EQ(one("modules/hermite_sdf/include/hermite_sdf/core/x.h", "\"engine/render/renderer.h\""),
             "modules/hermite_sdf/include/hermite_sdf/core/x.h: includes \"engine/render/renderer.h\" (module/core "

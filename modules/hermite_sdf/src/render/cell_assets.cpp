@@ -27,7 +27,7 @@
 #include "render/brick_culler.h"
 #include "render/cell_feature_internal.h"
 #include "render/cell_history.h"
-#include "render/cell_rows.h"
+#include "cells/cell_rows.h"
 #include "hermite_sdf/render/lod.h"
 #include "hermite_sdf/core/normal_cone.h"
 
@@ -49,6 +49,23 @@ const CellDerived* derivedOrWarn(const SdfAsset& asset) {
                     "records changed after): its cells are drawn unculled and it is not drawn as cell bricks",
                     asset.name);
   return nullptr;
+}
+
+// The asset's rows: its derived data's (made with it, off the render thread; an alias that lives as
+// long as they do), or built now for an asset without.
+std::shared_ptr<const CellRows> rowsOf(const std::shared_ptr<const SdfAsset>& asset, const CellDerived* derived) {
+  if (derived) return {asset->derived, &derived->rows};
+  return std::make_shared<const CellRows>(buildCellRows(asset->cells));
+}
+
+// The asset's runs of at most `maxLength` cells: its derived data's when they have that length,
+// else built now (an asset without derived data, or a run length set other than the default: a
+// tuning setting, whose change rebuilds every buffer anyway; not kept per length, which would hold
+// the memory of every length tried for as long as the asset lives).
+std::shared_ptr<const std::vector<shader::CellRunGpu>> runsOf(const std::shared_ptr<const SdfAsset>& asset,
+                                                               const CellDerived* derived, std::uint32_t maxLength) {
+  if (derived && derived->runLength == std::clamp(maxLength, 1u, 0xffffu)) return {asset->derived, &derived->runs};
+  return std::make_shared<const std::vector<shader::CellRunGpu>>(buildCellRuns(asset->cells, maxLength));
 }
 
 // The asset's bricks and their cones, or none when it has none (a grid too large for brick
@@ -75,9 +92,10 @@ struct HermiteCellFeature::AssetDemand {
 
 // The concatenation of the wanted assets' streams: the contents of the rebuilt buffers, or what is
 // appended to the uploaded ones (then `base` is where it goes: the entries they hold). The
-// per-record streams (fp32 and fp16 records, cell cones: 224 bytes a cell) are not copied here but
-// written from their assets straight into the staging memory (recordWriters), or, for the assets a
-// rebuild keeps, copied on the GPU from the old buffers (recordCopies); the rest is small.
+// per-record streams (fp32 and fp16 records, cell cones: 224 bytes a cell) and the runs are not
+// copied here but written from their assets (and entries) straight into the staging memory
+// (recordWriters, runAppend), or, for the records of the assets a rebuild keeps, copied on the GPU
+// from the old buffers (recordCopies); the rest is small.
 struct HermiteCellFeature::AssetUpload {
   // Records [first, first + count) of an asset (all of them by default), clipped to those it has.
   struct RecordSource {
@@ -85,6 +103,11 @@ struct HermiteCellFeature::AssetUpload {
     const CellDerived* derived = nullptr;  // its cell cones; null: cones that never cull
     std::size_t first = 0;
     std::size_t count = SIZE_MAX;
+  };
+  // An asset's runs (its entry's, which outlive the upload), written with their records at `firstRecord`.
+  struct RunSource {
+    const std::vector<shader::CellRunGpu>* runs = nullptr;
+    std::uint32_t firstRecord = 0;
   };
   // An asset the old buffers hold, its records at `from` there and at `to` here (a rebuild).
   struct RecordCopy {
@@ -102,7 +125,8 @@ struct HermiteCellFeature::AssetUpload {
   // The records (and their cones) were written in earlier frames, after `base` (a new asset
   // uploaded in parts: Settings::uploadBytesPerFrame): the other streams alone are appended.
   bool recordsResident = false;
-  std::vector<shader::CellRunGpu> runs;
+  std::vector<RunSource> runSources;
+  std::uint32_t runs = 0;  // of every run source
   std::vector<shader::CellBrickGpu> bricks;
   std::vector<std::uint32_t> brickCells;
   std::vector<shader::CellBrickCone> cones;
@@ -112,7 +136,7 @@ struct HermiteCellFeature::AssetUpload {
   // The bytes of the buffers made from these streams.
   VkDeviceSize bytes() const {
     return VkDeviceSize(records) * (sizeof(CellRecord) + sizeof(shader::CellBrickCone)) +
-           VkDeviceSize(halfRecords) * sizeof(CellRecordHalf) + runs.size() * sizeof(shader::CellRunGpu) +
+           VkDeviceSize(halfRecords) * sizeof(CellRecordHalf) + VkDeviceSize(runs) * sizeof(shader::CellRunGpu) +
            bricks.size() * sizeof(shader::CellBrickGpu) + brickCells.size() * sizeof(std::uint32_t) +
            cones.size() * sizeof(shader::CellBrickCone) + materialSlots.size() * sizeof(CellMaterialSlots) +
            palette.size() * sizeof(shader::HermiteMaterialGpu);
@@ -141,7 +165,7 @@ struct HermiteCellFeature::AssetUpload {
   }
   // The entries of the buffers once these streams are in.
   StreamCounts end() const {
-    return {base.records + records, base.runs + std::uint32_t(runs.size()),
+    return {base.records + records, base.runs + runs,
             base.bricks + std::uint32_t(bricks.size()), base.brickCells + std::uint32_t(brickCells.size()),
             base.materialSlots + std::uint32_t(materialSlots.size()), base.palette + std::uint32_t(palette.size())};
   }
@@ -258,6 +282,24 @@ std::vector<engine::gpu::BufferAppend> recordAppends(CellBuffers& b, std::span<c
 
 static_assert(sizeof(CellMaterialSlots) == sizeof(shader::CellMaterialSlotsGpu), "materials.h and hermite_host_device.h");
 
+// The append of the upload's runs after the `used` runs of the buffer: each source's runs written
+// straight into the staging memory (run by run through a local: it may be write-combined), their
+// first record made global.
+template <class Upload>
+engine::gpu::BufferAppend runAppend(CellBuffers& b, const Upload& u, std::uint32_t used) {
+  const auto write = [sources = std::span(u.runSources)](std::span<std::byte> out) {
+    std::byte* at = out.data();
+    for (const auto& source : sources)
+      for (shader::CellRunGpu run : *source.runs) {
+        run.firstRecord += source.firstRecord;
+        std::memcpy(at, &run, sizeof(run));
+        at += sizeof(run);
+      }
+  };
+  return {&b.runs, VkDeviceSize(used) * sizeof(shader::CellRunGpu), VkDeviceSize(u.runs) * sizeof(shader::CellRunGpu),
+          write, kVertexUsage, "hermite cell runs"};
+}
+
 // The seven cell buffers as appends of the upload's streams after the `used` entries they hold,
 // with each buffer's usage (records resident: no record source, none of theirs).
 template <class Upload>
@@ -268,7 +310,7 @@ std::vector<engine::gpu::BufferAppend> cellStreamAppends(CellBuffers& b, const U
   // and for all of an asset written in parts whose first records are carried over.
   const std::uint32_t room = u.recordCopies.empty() && u.carriedRoom == 0 ? 0 : u.records + u.carriedRoom;
   std::vector<engine::gpu::BufferAppend> appends = recordAppends(b, std::span(u.recordSources), used.records, room);
-  appends.push_back(appendOf(b.runs, entries(used.runs, sizeof(shader::CellRunGpu)), u.runs, vertex, "hermite cell runs"));
+  appends.push_back(runAppend(b, u, used.runs));
   appends.push_back(appendOf(b.bricks, entries(used.bricks, sizeof(shader::CellBrickGpu)), u.bricks, vertex | address,
                              "hermite cell bricks"));
   appends.push_back(appendOf(b.brickCells, entries(used.brickCells, sizeof(std::uint32_t)), u.brickCells, address,
@@ -609,15 +651,13 @@ void HermiteCellFeature::appendAsset(CellBuffers& rebuilt, AssetUpload& u, const
   CellBuffers::Entry entry;
   entry.asset = asset;
   entry.firstRecord = u.base.records + u.records;
-  if (!buffers_->entries.contains(asset->id)) entry.rows = buildCellRows(asset->cells);  // else moved below
-  entry.runs = buildCellRuns(asset->cells, settings_.maxRunLength);
-  entry.firstRun = u.base.runs + static_cast<std::uint32_t>(u.runs.size());
-  for (shader::CellRunGpu run : entry.runs) {
-    run.firstRecord += entry.firstRecord;
-    u.runs.push_back(run);
-  }
   const CellDerived* derived = derivedOrWarn(*asset);
   const auto old = buffers_->entries.find(asset->id);
+  entry.rows = old != buffers_->entries.end() ? old->second.rows : rowsOf(asset, derived);
+  entry.runs = runsOf(asset, derived, settings_.maxRunLength);
+  entry.firstRun = u.base.runs + u.runs;
+  u.runSources.push_back({entry.runs.get(), entry.firstRecord});
+  u.runs += static_cast<std::uint32_t>(entry.runs->size());
   if (d.asBricks.contains(asset->id) || (old != buffers_->entries.end() && old->second.bricksUploaded))
     appendBricks(u, entry, bricksOf(*asset, derived));
   // Where the buffers hold its records already: a kept asset's entry, or a new asset written in parts.
@@ -754,9 +794,6 @@ void HermiteCellFeature::settlePendingCopies(const engine::render::FrameContext&
 // Replaces the feature's buffers with the rebuilt ones, retiring the old for frames in flight.
 void HermiteCellFeature::commitAssetBuffers(const engine::render::FrameContext& frame, CellBuffers rebuilt,
                                             const AssetUpload& u) {
-  // Only now: a failed allocation (createAssetBuffers) must leave the old entries whole.
-  for (auto& [id, entry] : rebuilt.entries)
-    if (auto old = buffers_->entries.find(id); old != buffers_->entries.end()) entry.rows = std::move(old->second.rows);
   rebuilt.runLength = settings_.maxRunLength;
   rebuilt.bytes = u.bytes();
   uploadedBytes_ += u.writtenBytes();

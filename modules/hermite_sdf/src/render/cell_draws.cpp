@@ -25,7 +25,7 @@
 #include "render/brick_culler.h"
 #include "render/cell_feature_internal.h"
 #include "render/cell_history.h"
-#include "render/cell_rows.h"
+#include "cells/cell_rows.h"
 #include "render/cell_tiler.h"
 #include "render/model_scales.h"
 #include "render/near_plane.h"
@@ -472,12 +472,12 @@ void HermiteCellFeature::addBrickObjectDraws(engine::render::FrameContext& frame
 // RenderMethod::CellRuns: the run batch's front commands in row order, and the runs near the eye.
 void HermiteCellFeature::addRunObjectDraws(FrameDraws& f, const DrawnObject& o) {
   const CellBuffers::Entry& entry = *o.entry;
-  const std::vector<CellRows::Range> rowOrder = orderedRows(entry.rows, o.sortEyeGrid, settings_.frontToBack);
-  for (const CellRows::Range& range : runRanges(entry.runs, rowOrder)) {
+  const std::vector<CellRows::Range> rowOrder = orderedRows(*entry.rows, o.sortEyeGrid, settings_.frontToBack);
+  for (const CellRows::Range& range : runRanges(*entry.runs, rowOrder)) {
     f.commands[2][0].push_back({kFanVertices, range.count, 0, entry.firstRun + range.first});
     f.draws[2][0].push_back(o.record);
   }
-  const std::vector<std::uint32_t> near = runsNearPoint(entry.runs, o.eyeGrid, o.reachGrid);
+  const std::vector<std::uint32_t> near = runsNearPoint(*entry.runs, o.eyeGrid, o.reachGrid);
   const std::uint32_t nearRecord = near.empty() ? 0 : addNearRecord(f, o);
   for (std::uint32_t run : near) {
     f.commands[2][1].push_back({kStripVertices, 1, 0, entry.firstRun + run});
@@ -485,7 +485,7 @@ void HermiteCellFeature::addRunObjectDraws(FrameDraws& f, const DrawnObject& o) 
     stats_.nearCells++;
   }
   stats_.cells += entry.asset->cells.records.size();
-  stats_.runs += entry.runs.size();
+  stats_.runs += entry.runs->size();
 }
 
 // RenderMethod::Cells: the precision's batch of rows in order (culled cells: ranges of the cell
@@ -512,7 +512,7 @@ void HermiteCellFeature::addCellObjectDraws(engine::render::FrameContext& frame,
   // A culled range is at most CELL_CULL_MAX_RANGE_CELLS cells (one workgroup claims its slots in the
   // kept streams); the pieces of a longer one keep its order.
   const std::uint32_t longest = cullObject == kNotCulled ? ~0u : CELL_CULL_MAX_RANGE_CELLS;
-  for (const CellRows::Range& range : orderedRows(entry.rows, o.sortEyeGrid, settings_.frontToBack)) {
+  for (const CellRows::Range& range : orderedRows(*entry.rows, o.sortEyeGrid, settings_.frontToBack)) {
     for (std::uint32_t first = 0; first < range.count; first += longest) {
       const std::uint32_t count = std::min(longest, range.count - first);
       f.commands[precision][0].push_back({kFanVertices, count, 0, entry.firstRecord + range.first + first});
@@ -521,7 +521,7 @@ void HermiteCellFeature::addCellObjectDraws(engine::render::FrameContext& frame,
     }
     stats_.cells += range.count;
   }
-  const std::vector<std::uint32_t> near = cellsNearPoint(entry.rows, asset.cells, o.eyeGrid, o.reachGrid);
+  const std::vector<std::uint32_t> near = cellsNearPoint(*entry.rows, asset.cells, o.eyeGrid, o.reachGrid);
   const std::uint32_t nearRecord = near.empty() ? 0 : addNearRecord(f, o);
   for (std::uint32_t record : near) {
     f.commands[precision][1].push_back({kStripVertices, 1, 0, entry.firstRecord + record});

@@ -24,7 +24,7 @@
 #include "render/brick_culler.h"
 #include "render/cell_feature_internal.h"
 #include "render/cell_history.h"
-#include "render/cell_rows.h"
+#include "cells/cell_rows.h"
 #include "render/cell_tiler.h"
 #include "hermite_sdf/render/lod.h"
 #include "hermite_sdf/core/normal_cone.h"

@@ -11,7 +11,7 @@
 #include "hermite/hermite_host_device.h"
 #include "cells/cell_bricks.h"
 #include "cells/cell_derived.h"
-#include "render/cell_rows.h"
+#include "cells/cell_rows.h"
 #include "hermite_sdf/render/cell_feature.h"
 
 namespace hsdf {
@@ -36,9 +36,12 @@ struct CellBuffers {
   struct Entry {
     std::shared_ptr<const SdfAsset> asset;
     std::uint32_t firstRecord = 0;  // same index in both buffers
-    CellRows rows;
-    std::vector<shader::CellRunGpu> runs;  // firstRecord relative to the asset's stream
-    std::uint32_t firstRun = 0;            // index of runs[0] in the run buffer
+    // The asset's rows and runs (firstRecord relative to the asset's stream): its derived data's
+    // (made with the asset, shared by every entry drawing it), or built in the frame for an asset
+    // without, and the runs of a run length other than the derived ones'.
+    std::shared_ptr<const CellRows> rows;
+    std::shared_ptr<const std::vector<shader::CellRunGpu>> runs;
+    std::uint32_t firstRun = 0;  // index of (*runs)[0] in the run buffer
     // Whether the asset's bricks and their cones (RenderMethod::CellBricks, brick culling) are in
     // the brick buffers: only for assets some entity draws as bricks, since cells and runs would
     // hold that GPU memory for nothing. Its cells' cones are always in the cell cone buffer (a

@@ -1,6 +1,8 @@
 #include "hermite_sdf/render/scene_objects.h"
 
 #include <algorithm>
+#include <optional>
+#include <string>
 #include <string_view>
 #include <unordered_set>
 
@@ -91,7 +93,54 @@ namespace {
 struct NodeChoices {
   std::vector<NodeDraw> draws;     // [node]
   std::vector<NodeExtras> extras;  // [node]
+  // The see-through meshes that nodes without a choice of their own draw as triangles, one line
+  // each (SceneObjects::fallbacks).
+  std::vector<std::string> seeThrough;
 };
+
+// The smallest alpha `material` draws anywhere: its base colour factor's times the smallest texel
+// alpha of its base colour texture (filtering blends texels, so none is smaller).
+float smallestAlpha(const engine::scene::SceneData& scene, const engine::scene::MaterialData& material) {
+  std::uint8_t texel = 255;
+  if (material.baseColorTexture >= 0 && std::size_t(material.baseColorTexture) < scene.textures.size()) {
+    const std::vector<std::uint8_t>& rgba = scene.textures[std::size_t(material.baseColorTexture)].rgba;
+    for (std::size_t i = 3; i < rgba.size(); i += 4) texel = std::min(texel, rgba[i]);
+  }
+  return material.baseColor.a * float(texel) / 255.0f;
+}
+
+// Why `mesh` cannot be drawn as an SDF whatever K: the first of its materials that lets what lies
+// behind it show (glTF alphaMode BLEND with an alpha below 1 somewhere, a glass pane; MASK with an
+// alpha below its cutoff somewhere, a card cut out by its texture), which every SDF method would
+// draw opaque, hiding what the triangles show through it. Empty: none.
+std::string seeThroughMaterial(const engine::scene::SceneData& scene, int mesh) {
+  for (const engine::scene::MeshPrimitiveData& primitive : scene.meshes[std::size_t(mesh)].primitives) {
+    if (primitive.material < 0 || std::size_t(primitive.material) >= scene.materials.size()) continue;
+    const engine::scene::MaterialData& material = scene.materials[std::size_t(primitive.material)];
+    const float alpha = material.alphaBlend || material.alphaCutoff ? smallestAlpha(scene, material) : 1.0f;
+    if (material.alphaBlend ? alpha < 1.0f : material.alphaCutoff && alpha < *material.alphaCutoff)
+      return fmt::format("material {} '{}' is alphaMode {}, which an SDF draws opaque (a node's extras {}.draw "
+                         "\"sdf\" draws it as one anyway)",
+                         primitive.material, material.name, material.alphaBlend ? "BLEND" : "MASK", kExtrasKey);
+  }
+  return {};
+}
+
+// A node without a choice of its own draws a see-through mesh as triangles (seeThroughMaterial);
+// the mesh is named once in `choices`. `reasons` caches each mesh's reason ("" none, nullopt not
+// yet asked): a million instances share a few meshes.
+NodeDraw defaultDrawOf(const engine::scene::SceneData& scene, int mesh, NodeDraw draw,
+                       std::vector<std::optional<std::string>>& reasons, NodeChoices& choices) {
+  if (draw != NodeDraw::Sdf || mesh < 0 || std::size_t(mesh) >= scene.meshes.size()) return draw;
+  std::optional<std::string>& reason = reasons[std::size_t(mesh)];
+  if (!reason) {
+    reason = seeThroughMaterial(scene, mesh);
+    if (!reason->empty())
+      choices.seeThrough.push_back(
+          fmt::format("mesh {} '{}': drawn as triangles: {}", mesh, scene.meshes[std::size_t(mesh)].name, *reason));
+  }
+  return reason->empty() ? NodeDraw::Sdf : NodeDraw::Triangles;
+}
 
 engine::Expected<NodeChoices> chooseNodes(const engine::scene::SceneData& scene, const SceneObjectOptions& options) {
   ENGINE_TRY(checkNamesExist(scene, options.triangleNodes));
@@ -99,10 +148,13 @@ engine::Expected<NodeChoices> chooseNodes(const engine::scene::SceneData& scene,
   choices.draws.reserve(scene.nodes.size());
   choices.extras.reserve(scene.nodes.size());
   const std::unordered_set<std::string_view> listed(options.triangleNodes.begin(), options.triangleNodes.end());
+  std::vector<std::optional<std::string>> seeThrough(scene.meshes.size());
   for (const engine::scene::NodeData& node : scene.nodes) {
     ENGINE_TRY_ASSIGN(NodeExtras own, nodeExtras(node));
     const bool forced = listed.contains(node.name);
-    choices.draws.push_back(forced ? NodeDraw::Triangles : own.draw.value_or(options.defaultDraw));
+    choices.draws.push_back(forced     ? NodeDraw::Triangles
+                            : own.draw ? *own.draw
+                                       : defaultDrawOf(scene, node.mesh, options.defaultDraw, seeThrough, choices));
     choices.extras.push_back(own);
   }
   return choices;
@@ -195,6 +247,7 @@ engine::Expected<SceneObjects> bakeSceneObjects(const engine::scene::SceneData& 
   ENGINE_TRY_ASSIGN(NodeChoices choices, chooseNodes(scene, options));
   ENGINE_TRY_ASSIGN(objects.meshShells, chooseMeshShells(scene, choices, settings.shellThickness));
   objects.draws = std::move(choices.draws);
+  objects.fallbacks = std::move(choices.seeThrough);
   objects.meshAssets.resize(scene.meshes.size());
   for (std::size_t n = 0; n < scene.nodes.size(); ++n) {
     const int mesh = scene.nodes[n].mesh;

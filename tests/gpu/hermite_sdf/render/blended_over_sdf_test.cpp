@@ -26,9 +26,13 @@ struct MethodCase {
   hsdf::RenderMethod method;
 };
 
-// The cells (their colour comes from the resolve in the shading pass) and a sphere tracer.
+// Every SDF method: the cell methods' colour comes from the resolve in the shading pass, the
+// tracers' from their own shading pass.
 const MethodCase kMethods[] = {{"cells", hsdf::RenderMethod::Cells},
-                               {"trilinear tracer", hsdf::RenderMethod::TrilinearSphereTrace}};
+                               {"cell runs", hsdf::RenderMethod::CellRuns},
+                               {"cell bricks", hsdf::RenderMethod::CellBricks},
+                               {"trilinear tracer", hsdf::RenderMethod::TrilinearSphereTrace},
+                               {"hermite tracer", hsdf::RenderMethod::HermiteSphereTrace}};
 
 class BlendedOverSdfTest : public GpuTest {
  protected:

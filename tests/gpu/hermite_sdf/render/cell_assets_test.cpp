@@ -15,6 +15,8 @@
 #include <fmt/format.h>
 #include <gtest/gtest.h>
 
+#include "cells/cell_derived.h"
+#include "cells/cell_rows.h"
 #include "hermite_sdf/core/bake_job.h"
 #include "hermite_sdf/core/normal_cone.h"
 #include "hermite_sdf/core/sdf_asset.h"
@@ -52,12 +54,13 @@ double frameMilliseconds(render::Renderer& renderer, const ecs::Registry& regist
   return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
 }
 
-// Why: the cones and bricks are seconds of work at K >= 1024; the frame that first draws an asset,
-// or draws it in a new form (culled cells, bricks, runs), must take them from the asset (the bake
-// job made them on its worker thread) and build none on the render thread, while still culling
-// with them: real cones reach the GPU, so the cone test removes cells and bricks (never-cull cones
-// would draw the same image and remove none).
-TEST_F(HermiteCellsTest, FramesDrawingANewAssetBuildNoConesOnTheRenderThread) {
+// Why: the cones and bricks are seconds of work at K >= 1024, the rows and runs tens of
+// milliseconds; the frame that first draws an asset, or draws it in a new form (culled cells,
+// bricks, runs), must take them from the asset (the bake job made them on its worker thread) and
+// build none on the render thread, while still culling with them: real cones reach the GPU, so the
+// cone test removes cells and bricks (never-cull cones would draw the same image and remove none).
+// A run length other than the asset's runs' is built then (more runs when shorter).
+TEST_F(HermiteCellsTest, FramesDrawingANewAssetBuildNoConesRowsOrRunsOnTheRenderThread) {
   createCellRenderer(kSize, kSize);
   auto* feature = renderer_->feature<hsdf::HermiteCellFeature>();
   feature->settings().tiles = hsdf::HermiteCellFeature::Tiles::Off;  // the cull totals of boxes
@@ -65,6 +68,7 @@ TEST_F(HermiteCellsTest, FramesDrawingANewAssetBuildNoConesOnTheRenderThread) {
   ASSERT_NE(asset, nullptr);
   const render::CameraView camera = orbitCamera(*asset, 0);
   const std::uint64_t before = hsdf::gradientConesBuiltOnThisThread();
+  const std::uint64_t rowsBefore = hsdf::cellRowsAndRunsBuiltOnThisThread();
   const ecs::Entity entity = addSdf(registry_, asset, hsdf::RenderMethod::Cells);
   (void)renderWith(camera, DEBUG_VIEW_NONE);
   EXPECT_GT(feature->cullTotals().coneCulled, 0u) << "culled cells: no cell removed by its cone";
@@ -74,8 +78,28 @@ TEST_F(HermiteCellsTest, FramesDrawingANewAssetBuildNoConesOnTheRenderThread) {
   EXPECT_GT(feature->cullTotals().coneCulled, 0u) << "bricks: no brick removed by its cone";
   registry_.get<hsdf::HermiteSdfRenderable>(entity).method = hsdf::RenderMethod::CellRuns;
   (void)renderWith(camera, DEBUG_VIEW_NONE);
-  EXPECT_GT(feature->stats().runs, 0u);
+  const std::uint64_t runs = feature->stats().runs;
+  EXPECT_GT(runs, 0u);
   EXPECT_EQ(hsdf::gradientConesBuiltOnThisThread(), before) << "the render thread built normal cones";
+  EXPECT_EQ(hsdf::cellRowsAndRunsBuiltOnThisThread(), rowsBefore) << "the render thread built rows or runs";
+  feature->settings().maxRunLength = hsdf::kDefaultMaxRunLength / 2;
+  (void)renderWith(camera, DEBUG_VIEW_NONE);
+  EXPECT_GT(feature->stats().runs, runs) << "shorter runs, not the asset's";
+}
+
+// Why: the asset's own runs are of the default length; a run length set otherwise at run time gets
+// runs built in its frame, and the runs written to the GPU must be those the draws index (a fresh
+// renderer at that length would share a mismatch, so the check is the CPU reference). So: a torus
+// drawn as runs of the default length, then of half of it, matches the reference.
+TEST_F(HermiteCellsTest, RunsOfAnotherLengthThanTheAssetsMatchTheReference) {
+  createCellRenderer(kSize, kSize);
+  const auto torus = bakeAsset("torus", 16);
+  ASSERT_NE(torus, nullptr);
+  const render::CameraView camera = orbitCamera(*torus, 0);
+  addSdf(registry_, torus, hsdf::RenderMethod::CellRuns, glm::mat4(1.0f), 3);
+  (void)renderWith(camera, DEBUG_VIEW_NONE);
+  renderer_->feature<hsdf::HermiteCellFeature>()->settings().maxRunLength = hsdf::kDefaultMaxRunLength / 2;
+  expectMatchesReference(compareView(*torus, camera, "torus, runs of half the default length"));
 }
 
 // Why: an asset made by hand carries no cones or bricks; its culled cells must still be drawn
@@ -138,6 +162,41 @@ using Cells = hsdf::HermiteCellFeature;
 
 std::int64_t coveredPixels(const Frame& frame) {
   return std::count_if(frame.depth.begin(), frame.depth.end(), [](float d) { return d > 0.0f; });
+}
+
+// Why: an asset copied and given other records after make*Asset carries the rows and runs of the
+// records it was made with; the feature must build its own (as for an asset without derived data),
+// or its cells and runs draw ranges of records that are not where those rows and runs say. So: the
+// copy with a slab of cells taken out of the middle of its stream, drawn as cells and as runs,
+// equals the same records with their own derived data.
+TEST_F(HermiteCellsTest, AnAssetWhoseRecordsChangedAfterItWasMadeDrawsItsOwnRowsAndRuns) {
+  const auto baked = bakeAsset("torus", 24);
+  ASSERT_NE(baked, nullptr);
+  auto changed = std::make_shared<hsdf::SdfAsset>(*baked);  // a copy keeps the id: `baked` is not drawn here
+  const std::uint16_t slab = baked->cells.records[baked->cells.records.size() / 2].z;
+  std::erase_if(changed->cells.records, [slab](const hsdf::CellRecord& r) { return r.z == slab; });
+  changed->cellsHalf = hsdf::toHalf(changed->cells);
+  changed->proxyBoxes = hsdf::proxyBoxCodes(changed->cells);
+  changed->proxyBoxesHalf = hsdf::proxyBoxCodes(changed->cellsHalf);
+  ASSERT_EQ(hsdf::matchingDerived(*changed), nullptr) << "the copy's derived data must be of other records";
+  auto own = std::make_shared<hsdf::SdfAsset>(*changed);
+  own->derived = hsdf::deriveCellData(own->cells).value();
+  ASSERT_NE(hsdf::matchingDerived(*own), nullptr);
+  const render::CameraView camera = orbitCamera(*baked, 1);
+  for (const hsdf::RenderMethod method : {hsdf::RenderMethod::Cells, hsdf::RenderMethod::CellRuns}) {
+    Frame frames[2];
+    for (int drawn = 0; drawn < 2; ++drawn) {  // a fresh renderer each: both assets have the same id
+      registry_.clear();
+      createCellRenderer(kSize, kSize);
+      auto* feature = renderer_->feature<hsdf::HermiteCellFeature>();
+      feature->settings().tiles = hsdf::HermiteCellFeature::Tiles::Off;
+      feature->settings().cullCells = false;  // the copy has no cones of its own records
+      addSdf(registry_, drawn == 0 ? changed : own, method);
+      frames[drawn] = renderWith(camera, DEBUG_VIEW_NONE);
+    }
+    ASSERT_GT(coveredPixels(frames[1]), 500);
+    EXPECT_EQ(differingPixels(frames[0], frames[1]), 0u) << hsdf::renderMethodName(method);
+  }
 }
 
 // Why: with a budget per frame, a new asset larger than it must be written over several frames, no

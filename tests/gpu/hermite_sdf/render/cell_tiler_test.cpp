@@ -285,6 +285,52 @@ TEST_F(TiledCellsTest, EveryTileSizeDrawsTheBoxesImage) {
   }
 }
 
+// Why: a tile's fragment keeps its best hit converted into the t of the object it walks
+// (cell_tiles_depth.glsl: `best`) and must store the winner's own t (`hitT`), from which the
+// resolve rebuilds the hit on the winner's anchor. The two differ only where another object's
+// entry is tested after the winner's; a sorted list stops at the first box behind the hit, so
+// that needs two surfaces within a cell (HermiteCellsTest.TwoFarObjectsShadeEachHitFromItsOwnAnchor
+// could not tell them apart). A list of more than CELL_TILE_SORT_MAX entries is walked unsorted,
+// every entry of the pixel's masks: copies of the torus (K = 32) behind each other along an
+// orthographic view, each one torus size further back (its own anchor that much deeper), in four
+// 16x16 tiles: the front copy hides the rest, so the reference is the front copy's.
+TEST_F(TiledCellsTest, UnsortedListsStoreTheWinnersOwnHit) {
+  constexpr std::uint32_t kSide = 64;
+  constexpr int kCopies = 8;
+  createCellRenderer(kSide, kSide);
+  const auto asset = bakeAsset("torus", 32);
+  ASSERT_NE(asset, nullptr);
+  auto* feature = renderer_->feature<hsdf::HermiteCellFeature>();
+  feature->settings().tiles = hsdf::HermiteCellFeature::Tiles::On;
+  feature->settings().tileSize = 16;
+  const WorldSphere sphere = worldSphere(*asset, glm::mat4(1.0f));
+  const float step = 2.0f * sphere.radius;
+  const render::CameraView near = orbitAround(sphere, 1);
+  const render::CameraView camera =
+      orthographicLike(near, 1.05f * sphere.radius, 0.5f * sphere.radius, 3.0f * sphere.radius + float(kCopies) * step);
+  const glm::vec3 back = -step * camera.towardViewer();
+  for (int i = 0; i < kCopies; ++i)
+    addSdf(registry_, asset, hsdf::RenderMethod::Cells, glm::translate(glm::mat4(1.0f), float(i) * back));
+  auto reference = hsdf::renderReference(asset->field, camera.view, camera.proj, {int(kSide), int(kSide)});
+  ASSERT_TRUE(reference.ok()) << reference.error().message;
+  const Frame shaded = renderWith(camera, DEBUG_VIEW_NONE);
+  const Frame normals = renderWith(camera, DEBUG_VIEW_NORMALS);
+  ASSERT_TRUE(feature->stats().tiles);
+  const shader::CellTileTotals totals = feature->tileTotals();
+  const ImageComparison c = compareWithReference(shaded, &normals.rgba, *reference, camera, asset->field.grid.spacing);
+  const std::vector<bool> wrong = wrongPixels(normals, *reference, kFarNormalDegrees);
+  const int off = int(std::count(wrong.begin(), wrong.end(), true));
+  std::printf("[ unsorted lists ] tiles %u, entries %u, hits ref %d gpu %d, disagree %d, normals off %d, p99 %.2f deg\n",
+              totals.instanceCount, totals.entriesNeeded, c.referenceHits, c.gpuHits, c.disagreements, off,
+              c.normalErrorP99Degrees);
+  EXPECT_GT(totals.entriesNeeded, totals.instanceCount * CELL_TILE_SORT_MAX) << "no list long enough to be walked unsorted";
+  EXPECT_GT(c.referenceHits, 300);
+  EXPECT_EQ(c.interiorHoles, 0);
+  EXPECT_EQ(c.interiorExtras, 0);
+  EXPECT_LE(off, 2);
+  EXPECT_LT(c.normalErrorP99Degrees, 2.0);
+}
+
 // Why: lavapipe (Mesa's gallivm) ends every loop of a shader invocation once the invocation has
 // run 65,535 loop iterations in all, silently. A cell whose box holds the eye spans the whole
 // frame, and the binning lane that lists it loops over every tile: 67,600 4x4 tiles in a 1040x1040

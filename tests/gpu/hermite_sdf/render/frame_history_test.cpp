@@ -7,6 +7,7 @@
 // must draw it in that very frame), objects cross each other or a mesh wall (the shared depth
 // prepass), objects appear, disappear or change method, and the eye enters an object.
 #include <algorithm>
+#include <array>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -15,6 +16,7 @@
 #include <memory>
 #include <string>
 
+#include <fmt/format.h>
 #include <glm/gtc/matrix_transform.hpp>
 #include <gtest/gtest.h>
 
@@ -22,6 +24,7 @@
 #include "engine/render/components.h"
 #include "engine/scene/transform.h"
 #include "hermite_sdf/render/cell_feature.h"
+#include "hermite_sdf/render/sphere_trace_feature.h"
 #include "hermite_test_support.h"
 #include "shared/host_device.h"
 
@@ -59,6 +62,9 @@ class FrameHistoryTest : public GpuTest {
     createRenderer(kWidth, kHeight);
     ASSERT_TRUE(renderer_->addFeature(std::make_unique<hsdf::HermiteCellFeature>()).ok());
     renderer_->feature<hsdf::HermiteCellFeature>()->settings() = settings;
+    if (tracers_) {
+      ASSERT_TRUE(renderer_->addFeature(std::make_unique<hsdf::SphereTraceFeature>()).ok());
+    }
   }
 
   // The frame a renderer with no history draws of the registry as it stands.
@@ -67,6 +73,9 @@ class FrameHistoryTest : public GpuTest {
     EXPECT_TRUE(fresh.addFeature(std::make_unique<render::MeshFeature>(*pool_)).ok());
     EXPECT_TRUE(fresh.addFeature(std::make_unique<hsdf::HermiteCellFeature>()).ok());
     fresh.feature<hsdf::HermiteCellFeature>()->settings() = freshSettings_;
+    if (tracers_) {
+      EXPECT_TRUE(fresh.addFeature(std::make_unique<hsdf::SphereTraceFeature>()).ok());
+    }
     fresh.renderFrame(registry_, camera, frameSettings(i));
     Frame frame;
     frame.width = kWidth;
@@ -88,7 +97,22 @@ class FrameHistoryTest : public GpuTest {
     return entity;
   }
 
+  // The walks' assets: a sphere, a torus, a box and the bunny (null where a bake failed: the test
+  // has failed).
+  static std::array<std::shared_ptr<const hsdf::SdfAsset>, 4> walkAssets() {
+    return {bakeAsset("sphere", 16), bakeAsset("torus", 16), bakeAsset("box", 12), bakeAsset("bunny", 16)};
+  }
+
+  // Two-phase occlusion culling of boxes (tiles turn it off).
+  static CellSettings occlusionCulling() {
+    CellSettings settings;
+    settings.cullOcclusion = true;
+    settings.tiles = hsdf::HermiteCellFeature::Tiles::Off;
+    return settings;
+  }
+
   int runScene(const char* label, int frames, hsdf::RenderMethod method);
+  int runMethodSwitches(const char* label, int frames);
 
   // Runs `frames` steps of `script` (which moves the scene for frame i and returns its shot),
   // comparing every frame of the long-lived renderer with a fresh renderer's. Returns the
@@ -156,6 +180,7 @@ class FrameHistoryTest : public GpuTest {
 
   CellSettings freshSettings_;
   bool split_ = false;
+  bool tracers_ = false;  // the sphere tracers' feature too (start)
   int occludedFrames_ = 0;  // of the last walk: frames the long-lived renderer culled by occlusion
 };
 
@@ -165,11 +190,7 @@ class FrameHistoryTest : public GpuTest {
 // back; the camera orbits slowly, jumps to the other side, turns fast, enters the sphere and comes
 // back. Returns the differing pixels of all frames.
 int FrameHistoryTest::runScene(const char* label, int frames, hsdf::RenderMethod method) {
-  const auto sphere = bakeAsset("sphere", 16);
-  const auto torus = bakeAsset("torus", 16);
-  const auto box = bakeAsset("box", 12);
-  const auto bunny = bakeAsset("bunny", 16);
-  EXPECT_TRUE(sphere && torus && box && bunny);
+  const auto [sphere, torus, box, bunny] = walkAssets();
   if (!sphere || !torus || !box || !bunny) return -1;
   const ecs::Entity front = addObject(sphere, method, placed({0.0f, 0.0f, 0.0f}, 1.0f));
   const ecs::Entity behind = addObject(torus, method, placed({0.0f, 0.0f, -3.0f}, 0.6f));
@@ -241,14 +262,76 @@ int FrameHistoryTest::runScene(const char* label, int frames, hsdf::RenderMethod
   });
 }
 
+// Four objects through each other that change how they are drawn while the others keep drawing:
+// the sphere and the torus take the next of the five methods every frame (cells, runs, bricks,
+// trilinear, Hermite: an entity leaves the cell feature for a tracer and comes back), the box
+// turns into the torus's asset and back every other frame, the bunny is hidden (its renderable
+// removed), shown again as a tracer, destroyed, and made again as cells (on the freed index); the
+// camera orbits. Returns the differing pixels of all frames.
+int FrameHistoryTest::runMethodSwitches(const char* label, int frames) {
+  const auto [sphere, torus, box, bunny] = walkAssets();
+  if (!sphere || !torus || !box || !bunny) return -1;
+  const hsdf::RenderMethod kinds[] = {hsdf::RenderMethod::Cells, hsdf::RenderMethod::CellRuns,
+                                      hsdf::RenderMethod::CellBricks, hsdf::RenderMethod::TrilinearSphereTrace,
+                                      hsdf::RenderMethod::HermiteSphereTrace};
+  const ecs::Entity first = addObject(sphere, kinds[0], placed({0.0f, 0.0f, 0.0f}, 1.0f));
+  const ecs::Entity second = addObject(torus, kinds[3], placed({0.6f, 0.2f, -0.8f}, 0.8f, 0.5f));
+  const ecs::Entity third = addObject(box, hsdf::RenderMethod::Cells, placed({-0.7f, -0.2f, 0.3f}, 0.5f));
+  const glm::mat4 bunnyPlace = glm::translate(placed({0.3f, 0.5f, 0.6f}, 1.5f / float(glm::length(bunny->surfaceBounds.size()))),
+                                              -glm::vec3(bunny->surfaceBounds.center()));
+  ecs::Entity visitor = addObject(bunny, hsdf::RenderMethod::Cells, bunnyPlace);
+  const glm::vec3 target(0.0f, 0.0f, -0.2f);
+  return walk(label, frames, [&](int i) -> Shot {
+    registry_.get<hsdf::HermiteSdfRenderable>(first).method = kinds[i % 5];
+    registry_.get<hsdf::HermiteSdfRenderable>(second).method = kinds[(i + 3) % 5];
+    registry_.get<hsdf::HermiteSdfRenderable>(third).asset = i % 4 < 2 ? box : torus;
+    Shot shot{{}, fmt::format("sphere {}, torus {}", hsdf::renderMethodName(kinds[i % 5]),
+                              hsdf::renderMethodName(kinds[(i + 3) % 5]))};
+    switch (i) {
+      case 3:
+        registry_.remove<hsdf::HermiteSdfRenderable>(visitor);
+        shot.what += ", bunny hidden";
+        break;
+      case 5:
+        registry_.emplace<hsdf::HermiteSdfRenderable>(visitor,
+                                                      hsdf::HermiteSdfRenderable{bunny, hsdf::RenderMethod::HermiteSphereTrace});
+        shot.what += ", bunny traced";
+        break;
+      case 7:
+        registry_.destroy(visitor);
+        shot.what += ", bunny destroyed";
+        break;
+      case 8:
+        visitor = addObject(bunny, hsdf::RenderMethod::CellRuns, bunnyPlace);
+        shot.what += ", bunny made again as runs";
+        break;
+      default:
+        break;
+    }
+    const float yaw = 0.25f * float(i);
+    const glm::vec3 eye = target + 3.5f * glm::vec3(std::sin(yaw), 0.3f, std::cos(yaw));
+    shot.camera = render::CameraView::lookAt(eye, target, 0.9f, 0.02f, kAspect);
+    return shot;
+  });
+}
+
+// Why: the renderers keep per-entity state across features: the cell feature's uploaded assets,
+// the entity's last drawn asset (drawn while a replacement uploads), its occlusion history place,
+// the tracers' textures; an entity that leaves the cells for a tracer, changes asset, is hidden
+// or destroyed and made again on its index must be drawn in that very frame as a fresh renderer
+// draws it, and so must the objects around it. Occlusion culling (a history per entity).
+TEST_F(FrameHistoryTest, ObjectsThatChangeMethodAssetOrVisibilityDrawEachFrameAsAFreshRenderer) {
+  tracers_ = true;
+  start(occlusionCulling());
+  EXPECT_EQ(runMethodSwitches("method switches, occlusion", 10), 0);
+}
+
 // Boxes with two-phase occlusion culling: the torus comes out from behind the sphere and must be
 // drawn in that very frame (phase 2), not the next; kept-cell streams sized by the share of cells
 // the slot's previous frame kept (keptStreamBytes below the scene's cells), so a frame that keeps
 // more than the one before draws the rows that do not fit whole, in either phase.
 TEST_F(FrameHistoryTest, EveryFrameOfAMovingSceneIsTheFreshRenderersWithOcclusionCulling) {
-  CellSettings settings;
-  settings.cullOcclusion = true;
-  settings.tiles = hsdf::HermiteCellFeature::Tiles::Off;  // occlusion culls boxes; tiles turn it off
+  CellSettings settings = occlusionCulling();
   settings.keptStreamBytes = 1;
   start(settings);
   EXPECT_EQ(runScene("boxes, occlusion", 20, hsdf::RenderMethod::Cells), 0);
@@ -258,11 +341,8 @@ TEST_F(FrameHistoryTest, EveryFrameOfAMovingSceneIsTheFreshRenderersWithOcclusio
 // A split screen with occlusion culling: each view region keeps its own history, and the split
 // moves, so a region's cells visible last frame may lie in the other region now.
 TEST_F(FrameHistoryTest, EveryFrameOfAMovingSplitScreenIsTheFreshRenderersWithOcclusionCulling) {
-  CellSettings settings;
-  settings.cullOcclusion = true;
-  settings.tiles = hsdf::HermiteCellFeature::Tiles::Off;
   split_ = true;
-  start(settings);
+  start(occlusionCulling());
   EXPECT_EQ(runScene("split, occlusion", 20, hsdf::RenderMethod::Cells), 0);
   EXPECT_EQ(occludedFrames_, 20) << "a frame drew without occlusion culling";
 }

@@ -196,6 +196,20 @@ class RandomViewsTest : public GpuTest {
     ASSERT_TRUE(renderer_->addFeature(std::make_unique<hsdf::SphereTraceFeature>()).ok());
   }
 
+  // The torus (K = 16) and the bunny (K = 32) of the views with several objects; null where a bake
+  // failed (the test has failed).
+  static std::pair<std::shared_ptr<const hsdf::SdfAsset>, std::shared_ptr<const hsdf::SdfAsset>> torusAndBunny() {
+    return {bakeAsset("torus", 16), bakeAsset("bunny", 32)};
+  }
+
+  // The cell feature's settings of `m` (its tiles and thin boxes win over its other settings').
+  void useCellSettings(const Method& m) {
+    auto& cells = renderer_->feature<hsdf::HermiteCellFeature>()->settings();
+    cells = m.settings;
+    cells.tiles = m.tiles;
+    cells.thinBoxes = m.thin;
+  }
+
   // Makes `entity`'s renderable draw as `m` says.
   void drawWith(const Method& m, ecs::Entity entity) {
     auto& renderable = registry_.get<hsdf::HermiteSdfRenderable>(entity);
@@ -255,7 +269,6 @@ class RandomViewsTest : public GpuTest {
   // and no flipped normal; on them, few differences. Returns how many images showed some surface.
   int expectViewMatches(const std::vector<Method>& methods, const std::vector<Placed>& objects, const RandomCamera& c) {
     renderer_->resize({c.size.x, c.size.y});
-    auto& cells = renderer_->feature<hsdf::HermiteCellFeature>()->settings();
     // Depth errors in cells of the finest grid; the objects share their linear part (placeAbout).
     double spacing = objects[0].asset->field.grid.spacing;
     for (const Placed& object : objects) spacing = std::min(spacing, object.asset->field.grid.spacing);
@@ -266,9 +279,7 @@ class RandomViewsTest : public GpuTest {
       const std::pair<bool, bool> key(m.method == hsdf::RenderMethod::TrilinearSphereTrace, m.half);
       if (!references.count(key)) references[key] = referenceOf(m, objects, c);
       const hsdf::ReferenceImage& reference = references[key];
-      cells = m.settings;
-      cells.tiles = m.tiles;
-      cells.thinBoxes = m.thin;
+      useCellSettings(m);
       registry_ = ecs::Registry();
       for (const Placed& object : objects) drawWith(m, addSdf(registry_, object.asset, m.method, object.model));
       const Frame shaded = renderWith(c.camera, DEBUG_VIEW_NONE);
@@ -343,10 +354,8 @@ TEST_F(RandomViewsTest, SplitScreensAtAnyColumnOrRowMatchEachSidesReference) {
   const unsigned views = envCount("HSDF_RANDOM_VIEWS", 4);
   std::mt19937 rng(envCount("HSDF_RANDOM_SEED", 20261127) + 2);
   std::uniform_real_distribution<float> unit(0.0f, 1.0f);
-  const auto torus = bakeAsset("torus", 16);
-  const auto bunny = bakeAsset("bunny", 32);
-  ASSERT_NE(torus, nullptr);
-  ASSERT_NE(bunny, nullptr);
+  const auto [torus, bunny] = torusAndBunny();
+  ASSERT_TRUE(torus && bunny);
   const std::vector<Method> others = {{"trilinear", hsdf::RenderMethod::TrilinearSphereTrace},
                                       {"hermite", hsdf::RenderMethod::HermiteSphereTrace},
                                       {"cell runs", hsdf::RenderMethod::CellRuns}};
@@ -367,10 +376,7 @@ TEST_F(RandomViewsTest, SplitScreensAtAnyColumnOrRowMatchEachSidesReference) {
     SCOPED_TRACE(c.label + ", " + first.label + " | " + second.label);
     renderer_->resize({c.size.x, c.size.y});
     // One feature setting for the frame (the regions change the object, not the feature).
-    auto& cells = renderer_->feature<hsdf::HermiteCellFeature>()->settings();
-    cells = first.settings;
-    cells.tiles = first.tiles;
-    cells.thinBoxes = first.thin;
+    useCellSettings(first);
     registry_ = ecs::Registry();
     const ecs::Entity entity = addSdf(registry_, asset, first.method, object.model);
     render::FrameSettings settings;
@@ -407,10 +413,8 @@ TEST_F(RandomViewsTest, SplitScreensAtAnyColumnOrRowMatchEachSidesReference) {
 // object), the near-plane path for one and not another. Each pixel must show the nearest of the
 // references.
 TEST_F(RandomViewsTest, ObjectsThroughEachOtherShowTheNearestSurface) {
-  const auto torus = bakeAsset("torus", 16);
-  const auto bunny = bakeAsset("bunny", 32);
-  ASSERT_NE(torus, nullptr);
-  ASSERT_NE(bunny, nullptr);
+  const auto [torus, bunny] = torusAndBunny();
+  ASSERT_TRUE(torus && bunny);
   const unsigned views = envCount("HSDF_RANDOM_VIEWS", 4);
   std::mt19937 rng(envCount("HSDF_RANDOM_SEED", 20261127) + 1);
   std::uniform_real_distribution<float> unit(0.0f, 1.0f);
@@ -432,6 +436,84 @@ TEST_F(RandomViewsTest, ObjectsThroughEachOtherShowTheNearestSurface) {
     shown += expectViewMatches(cellMethods(), {first, second, third}, c);
   }
   EXPECT_GE(shown, int(views * cellMethods().size()) / 2);
+}
+
+// Why: a scene mixes render methods (props as cells, runs or bricks, an object traced), and the
+// methods share one depth and visibility buffer: each feature's shading pass must shade only the
+// pixels its own objects won (the cells' resolve by the winner's feature, a tracer's by its object),
+// and the cell feature's frame-wide stages (early depth, thin boxes, tiles, occlusion culling) must
+// hold with the other methods' objects in the frame. Five objects in and through each other, each
+// drawn by another of the five methods (shuffled) with its own search settings, the cell feature's
+// settings random; the nearest of the objects' references (each of the interpolant its method
+// draws) per pixel, over two frames (occlusion culling's second one has a history).
+TEST_F(RandomViewsTest, MixedMethodsInOneFrameShowTheNearestSurface) {
+  int shown = 0;
+  std::vector<hsdf::RenderMethod> kinds = {hsdf::RenderMethod::Cells, hsdf::RenderMethod::CellRuns,
+                                           hsdf::RenderMethod::CellBricks, hsdf::RenderMethod::TrilinearSphereTrace,
+                                           hsdf::RenderMethod::HermiteSphereTrace};
+  const auto [torus, bunny] = torusAndBunny();
+  ASSERT_TRUE(torus && bunny);
+  const unsigned views = envCount("HSDF_RANDOM_VIEWS", 4);
+  std::mt19937 rng(envCount("HSDF_RANDOM_SEED", 20261127) + 5);
+  std::uniform_real_distribution<float> unit(0.0f, 1.0f);
+  for (unsigned v = 0; v < views; ++v) {
+    glm::vec3 scale;
+    const glm::mat4 linear = randomLinear(rng, scale);  // shared: one depth error scale for all
+    const WorldSphere sphere = worldSphere(*torus, placeAbout(*torus, linear, glm::vec3(0.0f)));
+    std::vector<Placed> objects;
+    for (std::size_t i = 0; i < kinds.size(); ++i) {
+      const auto& asset = i == 2 ? bunny : torus;
+      const glm::vec3 offset = i == 0 ? glm::vec3(0.0f) : 0.6f * sphere.radius * unit(rng) * unitVector(rng);
+      objects.push_back({asset, placeAbout(*asset, linear, offset)});
+    }
+    std::shuffle(kinds.begin(), kinds.end(), rng);
+    const Method frame = randomCellMethod(rng);  // the cell feature's settings
+    std::vector<Method> methods;
+    std::string label = frame.label;
+    bool traced = false, refined = true;
+    for (const hsdf::RenderMethod kind : kinds) {
+      Method m = randomCellMethod(rng);
+      m.method = kind;
+      traced = traced || isTracer(kind);
+      refined = refined && (isTracer(kind) || m.refineSteps > 0 || m.certified);
+      label += fmt::format(" | {} n={} r={}{}{}", hsdf::renderMethodName(kind), m.subdivisions, m.refineSteps,
+                           m.certified ? " certified" : "", m.half ? " fp16" : "");
+      methods.push_back(m);
+    }
+    const WorldSphere all{sphere.center, 1.6f * sphere.radius};
+    const float cellWorld = float(torus->field.grid.spacing) * std::min({std::abs(scale.x), scale.y, scale.z});
+    RandomCamera c = randomCamera(rng, all, cellWorld);
+    c.label = "five objects, five methods, view " + std::to_string(v) + ", " + c.label;
+    SCOPED_TRACE(c.label + ", " + label);
+    // Each object's own reference, the nearest hit per pixel.
+    hsdf::ReferenceImage reference;
+    for (std::size_t i = 0; i < objects.size(); ++i) {
+      const hsdf::ReferenceImage image = referenceOf(methods[i], {objects[i]}, c);
+      if (reference.hit.empty()) reference = image;
+      for (std::size_t p = 0; p < image.hit.size(); ++p)
+        if (image.hit[p] && (!reference.hit[p] || image.depth[p] > reference.depth[p])) takePixel(reference, image, p);
+    }
+    renderer_->resize({c.size.x, c.size.y});
+    useCellSettings(frame);
+    registry_ = ecs::Registry();
+    for (std::size_t i = 0; i < objects.size(); ++i)
+      drawWith(methods[i], addSdf(registry_, objects[i].asset, methods[i].method, objects[i].model));
+    for (int f = 0; f < 2; ++f) {
+      SCOPED_TRACE("frame " + std::to_string(f));
+      const Frame shaded = renderWith(c.camera, DEBUG_VIEW_NONE);
+      const Frame normals = renderWith(c.camera, DEBUG_VIEW_NORMALS);
+      // Checked as strictly as the laxest object allows.
+      Method strictest = frame;
+      strictest.label = label;
+      strictest.method = traced ? hsdf::RenderMethod::HermiteSphereTrace : hsdf::RenderMethod::Cells;
+      strictest.refineSteps = refined ? 1 : 0;
+      strictest.certified = false;
+      int drawn = 0;
+      expectMatches(strictest, shaded, normals, reference, c, torus->field.grid.spacing, objects[0].model, drawn);
+      shown += drawn;
+    }
+  }
+  EXPECT_GE(shown, int(views));
 }
 
 // A square of triangles (the fixture's quad) through `center`, facing `normal` (back faces are
@@ -541,10 +623,8 @@ SurfaceCheck checkSurfaces(const Frame& gpu, const hsdf::ReferenceImage& referen
 // cameras; each pixel must show the nearer surface. The random cell method is drawn twice, so
 // that occlusion culling also runs with the previous frame's depth, meshes included.
 TEST_F(RandomViewsTest, MeshesThroughTheObjectShowTheNearerSurface) {
-  const auto torus = bakeAsset("torus", 16);
-  const auto bunny = bakeAsset("bunny", 32);
-  ASSERT_NE(torus, nullptr);
-  ASSERT_NE(bunny, nullptr);
+  const auto [torus, bunny] = torusAndBunny();
+  ASSERT_TRUE(torus && bunny);
   const unsigned views = envCount("HSDF_RANDOM_VIEWS", 4);
   std::mt19937 rng(envCount("HSDF_RANDOM_SEED", 20261127) + 3);
   std::vector<Method> fixed = cellMethods();
@@ -572,10 +652,7 @@ TEST_F(RandomViewsTest, MeshesThroughTheObjectShowTheNearerSurface) {
       SCOPED_TRACE(c.label + ", " + m.label);
       const bool trilinear = m.method == hsdf::RenderMethod::TrilinearSphereTrace;
       if (!references.count(trilinear)) references[trilinear] = referenceOf(m, {object}, c);
-      auto& cells = renderer_->feature<hsdf::HermiteCellFeature>()->settings();
-      cells = m.settings;
-      cells.tiles = m.tiles;
-      cells.thinBoxes = m.thin;
+      useCellSettings(m);
       registry_ = ecs::Registry();
       drawWith(m, addSdf(registry_, object.asset, m.method, object.model));
       // World transforms set as they are (addSdf's are; resolving the hierarchy would reset them).

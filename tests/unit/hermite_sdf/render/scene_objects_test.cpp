@@ -146,6 +146,65 @@ TEST(SceneObjects, PerNodeChoiceFromExtrasOptionsAndDefault) {
   EXPECT_EQ((*forced)[3], NodeDraw::Triangles);
 }
 
+// Tricky: every SDF method draws an opaque surface, so a mesh that lets what lies behind it show
+// (alphaMode BLEND: a glass pane; MASK: a card cut out by its alpha) drawn as an SDF hid what its
+// triangles show through it (the explorer of session 41: a pane of alpha 0.3 before a cube, cells
+// under --objects, hid the whole cube). Such a mesh's nodes draw triangles unless a node's own
+// extras ask for an SDF, and the mesh is named once with its material. Opaque meshes are untouched,
+// and so are BLEND and MASK materials whose every texel is drawn opaque (exporters write them):
+// the slab's two primitives, a BLEND of alpha 1 and a MASK of alpha 0.6 over its cutoff 0.5. The
+// card's MASK has that alpha too, but one texel of its texture has alpha 0.
+TEST(SceneObjects, SeeThroughMeshesDrawTrianglesUnlessTheirNodeAsksForAnSdf) {
+  SceneData scene = twoMeshScene();
+  scene.materials.push_back({"stone"});
+  scene.materials.push_back({"glass", glm::vec4(0.1f, 0.3f, 0.9f, 0.3f)});
+  scene.materials.back().alphaBlend = true;
+  scene.materials.push_back({"leaves", glm::vec4(1.0f, 1.0f, 1.0f, 0.6f)});
+  scene.materials.back().alphaCutoff = 0.5f;
+  scene.materials.back().baseColorTexture = 0;
+  scene.textures.push_back({"leaf", 2, 1, {255, 255, 255, 255, 0, 255, 0, 0}});
+  scene.materials.push_back({"opaque glass"});
+  scene.materials.back().alphaBlend = true;
+  scene.materials.push_back({"opaque card", glm::vec4(1.0f, 1.0f, 1.0f, 0.6f)});
+  scene.materials.back().alphaCutoff = 0.5f;
+  scene.meshes[1].primitives.push_back(scene.meshes[1].primitives.front());
+  scene.meshes[1].primitives[0].material = 3;  // the slabs
+  scene.meshes[1].primitives[1].material = 4;
+  // A second primitive: one see-through primitive is enough to see through the mesh.
+  for (const int material : {1, 2}) {
+    MeshData mesh = boxMesh(material == 1 ? "pane" : "card", glm::vec3(-1.0f, -1.0f, -0.1f), glm::vec3(1.0f, 1.0f, 0.1f));
+    mesh.primitives.push_back(mesh.primitives.front());
+    mesh.primitives[0].material = 0;
+    mesh.primitives[1].material = material;
+    scene.meshes.push_back(std::move(mesh));
+  }
+  scene.meshes[0].primitives.front().material = 0;  // the cubes: opaque
+  scene.nodes.push_back(node("pane0", 2, glm::vec3(0, 5, 0)));
+  scene.nodes.push_back(node("pane1", 2, glm::vec3(0, 10, 0)));
+  scene.nodes.push_back(node("card", 3, glm::vec3(0, 15, 0)));
+  scene.nodes.push_back(node("card as sdf", 3, glm::vec3(0, 20, 0), R"({"hermite_sdf": {"draw": "sdf"}})"));
+
+  const auto objects = bakeSceneObjects(scene, {}, smallBake());
+  ASSERT_TRUE(objects) << objects.error().message;
+  for (std::size_t n = 0; n < scene.nodes.size(); ++n)
+    EXPECT_EQ(objects->draws[n], scene.nodes[n].name.starts_with("pane") || scene.nodes[n].name == "card"
+                                     ? NodeDraw::Triangles
+                                     : NodeDraw::Sdf)
+        << scene.nodes[n].name;
+  EXPECT_FALSE(objects->meshAssets[2]) << "no node draws the pane as an SDF: not baked";
+  EXPECT_TRUE(objects->meshAssets[3]) << "the card's own extras ask for an SDF";
+  ASSERT_EQ(objects->fallbacks.size(), 2u);
+  EXPECT_NE(objects->fallbacks[0].find("mesh 2 'pane': drawn as triangles: material 1 'glass' is alphaMode BLEND"),
+            std::string::npos)
+      << objects->fallbacks[0];
+  EXPECT_NE(objects->fallbacks[1].find("mesh 3 'card': drawn as triangles: material 2 'leaves' is alphaMode MASK"),
+            std::string::npos)
+      << objects->fallbacks[1];
+  const auto draws = chooseNodeDraws(scene, {});
+  ASSERT_TRUE(draws) << draws.error().message;
+  EXPECT_EQ(*draws, objects->draws) << "the choice alone is the bake's";
+}
+
 // An open square (one quad, no volume: its field is positive everywhere) and a mesh whose every
 // triangle has zero area (nothing left after cleaning).
 MeshData openSheet(std::string name) {

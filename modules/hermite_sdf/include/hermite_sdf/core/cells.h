@@ -132,6 +132,11 @@ struct CellStreamOf {
 using CellStream = CellStreamOf<CellRecord>;
 using CellStreamHalf = CellStreamOf<CellRecordHalf>;
 
+// RenderMethod::CellRuns: the most cells one run's box covers unless the renderer is set otherwise
+// (HermiteCellFeature::Settings::maxRunLength). Every asset carries its runs of this length, made
+// with it (SdfAsset::derived), so the frame that first draws it builds none.
+inline constexpr std::uint32_t kDefaultMaxRunLength = 8;
+
 // Records of all kept cells. Errors: classification grid differs from the field's.
 engine::Expected<CellStream> extractCells(const HermiteField& field, const CellClassification& classification);
 CellStreamHalf toHalf(const CellStream& stream);

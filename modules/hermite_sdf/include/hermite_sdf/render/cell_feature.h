@@ -76,6 +76,7 @@
 #include "engine/render/per_frame_buffer.h"
 #include "engine/render/region_stats.h"
 #include "engine/render/render_feature.h"
+#include "hermite_sdf/core/cells.h"
 #include "hermite_sdf/render/renderable.h"
 #include "hermite/hermite_host_device.h"
 
@@ -132,7 +133,7 @@ class HermiteCellFeature final : public engine::render::RenderFeature {
     bool heatMapCounters = true;  // count evaluations per pixel when the debug view asks for it
     // RenderMethod::CellRuns: the most cells one run's box covers. Longer runs mean fewer, larger
     // boxes and longer walks per fragment.
-    std::uint32_t maxRunLength = 8;
+    std::uint32_t maxRunLength = kDefaultMaxRunLength;
     // RenderMethod::CellBricks: a compute pass before the prepass keeps only the bricks inside the
     // frustum that may hold a first hit (normal cones, hermite_sdf/core/normal_cone.h); off draws every
     // brick (to measure what it removes).

@@ -9,7 +9,9 @@
 //   2. the node's glTF extras:  "extras": {"hermite_sdf": {"draw": "sdf" | "triangles"}}
 //      Other extras are left alone; under "hermite_sdf" an unknown key, a value of the wrong JSON
 //      type or an unknown draw name is refused naming the node and the key.
-//   3. SceneObjectOptions::defaultDraw.
+//   3. SceneObjectOptions::defaultDraw, except that a mesh with a see-through material (glTF
+//      alphaMode BLEND with an alpha below 1, MASK with one below its cutoff: every SDF method
+//      draws an opaque surface) draws triangles (SceneObjects::fallbacks names it).
 // A mesh bakes as a shell of the thickness its SDF nodes name, "extras": {"hermite_sdf": {"shell":
 // T}} (0 to 1e6 scene units; 0 a solid), else of BakeSettings::shellThickness: a scene of solids
 // and sheets names its sheets' thickness, or 0 on its solids. Nodes of one mesh naming two
@@ -62,8 +64,11 @@ struct SceneObjects {
   std::vector<double> meshShells;  // [mesh]: the shell thickness it bakes with (its nodes' extras, else the settings')
   int bakes = 0;                                           // bakeAsset calls: one per mesh used as SDF
   // Meshes that cannot be an SDF at this K (an open sheet or a flat mesh encloses no volume, a
-  // degenerate mesh has no triangle left, a mesh over the kept-cell budget): their nodes draw
-  // triangles instead, each line naming the mesh and why ("mesh 0 'leaf': ...").
+  // degenerate mesh has no triangle left, a mesh over the kept-cell budget) or at any K (a material
+  // that lets what lies behind show somewhere, alphaMode BLEND with an alpha below 1 or MASK below
+  // its cutoff, factor times texture, which every SDF method draws opaque: the nodes without an
+  // extras choice of their own, unbaked): their nodes draw triangles instead, each line naming the
+  // mesh and why ("mesh 0 'leaf': ...").
   std::vector<std::string> fallbacks;
 };
 

@@ -7,13 +7,17 @@ namespace hsdf {
 
 std::uint64_t CellDerived::bytes() const {
   return (cellCones.size() + brickCones.size()) * sizeof(shader::CellBrickCone) +
-         bricks.bricks.size() * sizeof(shader::CellBrickGpu) + bricks.cellRecords.size() * sizeof(std::uint32_t);
+         bricks.bricks.size() * sizeof(shader::CellBrickGpu) + bricks.cellRecords.size() * sizeof(std::uint32_t) +
+         rows.rows.size() * sizeof(CellRows::Row) + rows.zGroups.size() * sizeof(std::uint32_t) +
+         rows.recordOfCell.size() * sizeof(rows.recordOfCell[0]) + runs.size() * sizeof(shader::CellRunGpu);
 }
 
 engine::Expected<std::shared_ptr<const CellDerived>> deriveCellData(const CellStream& cells, unsigned threads,
                                                                     const engine::CancelToken* cancel) {
   auto derived = std::make_shared<CellDerived>();
   ENGINE_TRY_ASSIGN(derived->cellCones, cellGradientCones(cells, threads, cancel).withContext("cell cones"));
+  derived->rows = buildCellRows(cells);
+  derived->runs = buildCellRuns(cells, derived->runLength);
   engine::Expected<CellBricks> bricks = buildCellBricks(cells);
   if (!bricks) {
     derived->bricksProblem = bricks.error().message;

@@ -1,8 +1,10 @@
-// What every asset carries for the cell renderers (cell_derived.h): the cones and bricks the cell
-// feature built in the frame before, now made with the asset, compared with the core functions
-// that build them; cancellation; grids too large for bricks; assets whose data do not match.
+// What every asset carries for the cell renderers (cell_derived.h): the cones, bricks, rows and
+// runs the cell feature built in the frame before, now made with the asset, compared with the core
+// functions that build them; cancellation; grids too large for bricks; assets whose data do not
+// match.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cstdio>
 #include <memory>
 #include <string>
@@ -10,6 +12,7 @@
 
 #include "cells/cell_bricks.h"
 #include "cells/cell_derived.h"
+#include "cells/cell_rows.h"
 #include "hermite_sdf/core/bake_job.h"
 #include "hermite_sdf/core/normal_cone.h"
 #include "hermite_sdf/core/sdf_asset.h"
@@ -72,6 +75,56 @@ TEST(CellDerived, EveryMadeAssetCarriesTheConesAndBricksTheFeatureBuiltBefore) {
   const auto fromCells = makeSdfAssetFromCells("torus cells", sparse->cells);
   ASSERT_TRUE(fromCells.ok()) << fromCells.error().message;
   expectDerivedAsBuiltNow(**fromCells);
+}
+
+// The asset's rows and runs against what the cell feature built in the frame before: buildCellRows,
+// and buildCellRuns at the feature's default run length.
+void expectRowsAndRunsAsBuiltNow(const SdfAsset& asset) {
+  const CellDerived* derived = matchingDerived(asset);
+  ASSERT_NE(derived, nullptr) << asset.name;
+  const CellRows rows = buildCellRows(asset.cells);
+  const CellRows& carried = derived->rows;
+  EXPECT_EQ(carried.recordCount, rows.recordCount) << asset.name;
+  ASSERT_EQ(carried.rows.size(), rows.rows.size()) << asset.name;
+  for (std::size_t r = 0; r < rows.rows.size(); ++r)
+    ASSERT_TRUE(carried.rows[r].first == rows.rows[r].first && carried.rows[r].count == rows.rows[r].count &&
+                carried.rows[r].y == rows.rows[r].y && carried.rows[r].z == rows.rows[r].z)
+        << asset.name << " row " << r;
+  EXPECT_EQ(carried.zGroups, rows.zGroups) << asset.name;
+  EXPECT_EQ(carried.recordOfCell, rows.recordOfCell) << asset.name;
+  EXPECT_EQ(derived->runLength, kDefaultMaxRunLength);
+  const std::vector<shader::CellRunGpu> runs = buildCellRuns(asset.cells, kDefaultMaxRunLength);
+  ASSERT_EQ(derived->runs.size(), runs.size()) << asset.name;
+  for (std::size_t r = 0; r < runs.size(); ++r)
+    ASSERT_TRUE(derived->runs[r].xy == runs[r].xy && derived->runs[r].zLength == runs[r].zLength &&
+                derived->runs[r].firstRecord == runs[r].firstRecord)
+        << asset.name << " run " << r;
+  const double rowBytes = double(rows.rows.size() * sizeof(CellRows::Row) + rows.zGroups.size() * sizeof(std::uint32_t) +
+                                 rows.recordOfCell.size() * sizeof(rows.recordOfCell[0]));
+  std::printf("[ %s ] %zu cells, %zu rows, %zu runs: rows %.1f, runs %.1f bytes a cell\n", asset.name.c_str(),
+              asset.cells.records.size(), rows.rows.size(), runs.size(), rowBytes / double(asset.cells.records.size()),
+              double(runs.size() * sizeof(shader::CellRunGpu)) / double(asset.cells.records.size()));
+}
+
+// Why: the frame that first drew an asset built its rows (draw order, cell lookup) and runs on the
+// render thread, tens of milliseconds for a large asset; every way an asset is made must now carry
+// exactly those (or the feature draws other rows and runs than a fresh build), including a stream
+// made by hand in another order than a bake's (the lookup table sorted).
+TEST(CellDerived, EveryMadeAssetCarriesTheRowsAndRunsTheFeatureBuiltBefore) {
+  const auto dense = baked("torus", 48, BakeBand::Dense);
+  const auto sparse = baked("torus", 112, BakeBand::Sparse);
+  ASSERT_NE(dense, nullptr);
+  ASSERT_NE(sparse, nullptr);
+  expectRowsAndRunsAsBuiltNow(*dense);
+  expectRowsAndRunsAsBuiltNow(*sparse);
+  const auto fromCells = makeSdfAssetFromCells("torus cells", sparse->cells);
+  ASSERT_TRUE(fromCells.ok()) << fromCells.error().message;
+  expectRowsAndRunsAsBuiltNow(**fromCells);
+  CellStream reversed = sparse->cells;
+  std::reverse(reversed.records.begin(), reversed.records.end());
+  const auto byHand = makeSdfAssetFromCells("torus cells reversed", std::move(reversed));
+  ASSERT_TRUE(byHand.ok()) << byHand.error().message;
+  expectRowsAndRunsAsBuiltNow(**byHand);
 }
 
 // Why: the bake job's cancel token must stop the cones too (seconds at K >= 1024), with the

@@ -1,10 +1,13 @@
-#include "render/cell_rows.h"
+#include "cells/cell_rows.h"
 
 #include <algorithm>
 #include <cmath>
 
 namespace hsdf {
 namespace {
+
+// Records gone through by calls made on this thread (cellRowsAndRunsBuiltOnThisThread).
+thread_local std::uint64_t recordsBuiltHere = 0;
 
 // Squared distance from a point to the unit box of cell c.
 double distanceToCellSquared(const glm::dvec3& p, const glm::dvec3& c) {
@@ -16,6 +19,7 @@ double distanceToCellSquared(const glm::dvec3& p, const glm::dvec3& c) {
 
 CellRows buildCellRows(const CellStream& stream) {
   CellRows result;
+  recordsBuiltHere += stream.records.size();
   result.recordCount = static_cast<std::uint32_t>(stream.records.size());
   result.recordOfCell.reserve(stream.records.size());
   for (std::uint32_t i = 0; i < stream.records.size(); ++i) {
@@ -105,6 +109,7 @@ std::vector<std::uint32_t> cellsNearPoint(const CellRows& rows, const CellStream
 
 std::vector<shader::CellRunGpu> buildCellRuns(const CellStream& stream, std::uint32_t maxLength) {
   std::vector<shader::CellRunGpu> runs;
+  recordsBuiltHere += stream.records.size();
   maxLength = std::clamp(maxLength, 1u, 0xffffu);
   std::uint32_t length = 0;
   for (std::uint32_t i = 0; i < stream.records.size(); ++i) {
@@ -122,6 +127,8 @@ std::vector<shader::CellRunGpu> buildCellRuns(const CellStream& stream, std::uin
   if (length > 0) runs.back().zLength = (runs.back().zLength & 0xffffu) | (length << 16);
   return runs;
 }
+
+std::uint64_t cellRowsAndRunsBuiltOnThisThread() { return recordsBuiltHere; }
 
 std::vector<CellRows::Range> runRanges(const std::vector<shader::CellRunGpu>& runs,
                                        const std::vector<CellRows::Range>& recordRanges) {

@@ -1,4 +1,4 @@
-// The cell feature's draw order and cell lookup (modules/hermite_sdf/src/render/cell_rows.h), on
+// The cell feature's draw order and cell lookup (modules/hermite_sdf/src/core/cells/cell_rows.h), on
 // the CPU. The reference is a scan of every record: what the lookup must find, whatever the order
 // of the stream.
 #include <gtest/gtest.h>
@@ -8,7 +8,7 @@
 #include <vector>
 
 #include "hermite_sdf/core/bake_job.h"
-#include "render/cell_rows.h"
+#include "cells/cell_rows.h"
 
 namespace hsdf {
 namespace {

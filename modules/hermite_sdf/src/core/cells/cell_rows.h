@@ -55,6 +55,11 @@ std::vector<std::uint32_t> cellsNearPoint(const CellRows& rows, const CellStream
 // are the records of consecutive runs). firstRecord is the stream index of the run's first cell.
 std::vector<shader::CellRunGpu> buildCellRuns(const CellStream& stream, std::uint32_t maxLength);
 
+// The records that buildCellRows and buildCellRuns have gone through for calls made on the calling
+// thread: what shows that a thread, such as the render thread, left that work to the asset's
+// derived data (cell_derived.h).
+std::uint64_t cellRowsAndRunsBuiltOnThisThread();
+
 // The runs that hold the records of `recordRanges` (each made of whole rows, as orderedRows
 // gives them), in the same order; consecutive ranges are merged.
 std::vector<CellRows::Range> runRanges(const std::vector<shader::CellRunGpu>& runs,
