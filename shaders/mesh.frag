@@ -13,11 +13,36 @@ layout(location = 1) in vec3 inWorldNormal;
 layout(location = 2) flat in uint inObject;
 layout(location = 3) in vec2 inTexcoord;
 
-// The object's base colour texture (engine::render::MeshTextures: a white texel for none), sRGB:
-// read as linear colour.
-layout(set = 0, binding = 0) uniform sampler2D baseColorTexture;
+// The object's material textures (engine::render::MeshTextures: a white texel for each it lacks,
+// which leaves its factor as it is). The colours are sRGB images, read as linear colour; the
+// metallic-roughness and occlusion ones are linear data.
+layout(set = 0, binding = MESH_TEXTURE_BASE_COLOR) uniform sampler2D baseColorTexture;
+layout(set = 0, binding = MESH_TEXTURE_METALLIC_ROUGHNESS) uniform sampler2D metallicRoughnessTexture;
+layout(set = 0, binding = MESH_TEXTURE_OCCLUSION) uniform sampler2D occlusionTexture;
+layout(set = 0, binding = MESH_TEXTURE_EMISSIVE) uniform sampler2D emissiveTexture;
+layout(set = 0, binding = MESH_TEXTURE_NORMAL) uniform sampler2D normalTexture;
 
 layout(location = 0) out vec4 outColor;
+
+// glTF normalTexture: `n` (the unit vertex normal of the front face) tilted by the texel's normal,
+// its x and y times `scale`, in the surface's tangent frame at this pixel: the tangent toward +u,
+// the bitangent toward -v (glTF's v runs down the image, its normal maps' green up). The frame comes
+// from the screen-space derivatives of the position and the texture coordinates (the cotangent
+// frame), not from the TANGENT attribute or MikkTSpace: it follows the texture's real directions on
+// the triangle, so mirrored texture coordinates and mirrored instances need no handedness. Its sign
+// is the screen's: Vulkan's y runs down, which turns the cross products round. The derivatives
+// (dpx, dpy of the position, duvx, duvy of the texture coordinates) are taken by the caller
+// outside any branch (they need the whole quad); the texture is read with them (textureGrad), so
+// that this may run in a branch that meshes without a normal texture skip.
+vec3 normalMapped(vec3 n, float scale, vec3 dpx, vec3 dpy, vec2 duvx, vec2 duvy) {
+  vec3 dpyPerp = cross(dpy, n), dpxPerp = cross(n, dpx);
+  vec3 t = dpyPerp * duvx.x + dpxPerp * duvy.x;  // along +u
+  vec3 b = dpyPerp * duvx.y + dpxPerp * duvy.y;  // along +v
+  float side = dot(cross(dpx, dpy), n) < 0.0 ? -1.0 : 1.0;
+  float frameScale = side * inversesqrt(max(max(dot(t, t), dot(b, b)), 1e-30));
+  vec3 m = textureGrad(normalTexture, inTexcoord, duvx, duvy).xyz * 2.0 - 1.0;
+  return normalize((t * (m.x * scale) - b * (m.y * scale)) * frameScale + n * m.z);
+}
 
 void main() {
   FrameGlobals frame = FrameGlobalsRef(pc.frameGlobals).globals;
@@ -27,7 +52,12 @@ void main() {
   // back face is only drawn for a double-sided mesh (glTF doubleSided: "the back-face MUST have its
   // normals reversed before the lighting equation is evaluated"): its normal is reversed, here and
   // in the normals view.
+  // The normal texture tilts the front face's normal; a back face's is that one reversed.
   vec3 n = normalize(inWorldNormal);
+  vec3 dpx = dFdx(inWorldPosition), dpy = dFdy(inWorldPosition);
+  vec2 duvx = dFdx(inTexcoord), duvy = dFdy(inTexcoord);
+  // 0: no normal texture, the vertex normal as it was.
+  if (object.emission.a != 0.0) n = normalMapped(n, object.emission.a, dpx, dpy, duvx, duvy);
   if (!gl_FrontFacing) n = -n;
   vec3 color;
   float alpha = 1.0;
@@ -40,11 +70,17 @@ void main() {
     // vertices' normals lean over it): bent to face the eye, not turned round, which lit single
     // pixels along the outline as the object's far side.
     n = normalTowardEye(n, towardViewer(frame, inWorldPosition));
-    // Emission (glTF emissiveFactor) is light of the surface's own: added after the lighting, so
-    // a face turned from the light still shows it.
-    // glTF: the base colour is the factor times the texture, its alpha too.
+    // glTF: the base colour is the factor times the texture, its alpha too; the roughness is the
+    // factor times the metallic-roughness texture's green. Its blue (the metallic) is not read:
+    // the lighting shared with the SDF objects has no metallic term, for the factor neither.
     vec4 baseColor = object.color * texture(baseColorTexture, inTexcoord);
-    color = shadeSurface(frame, baseColor.rgb, object.material.x, inWorldPosition, n) + object.emission.rgb;
+    float roughness = object.material.x * texture(metallicRoughnessTexture, inTexcoord).g;
+    // glTF occlusionTexture: 1 + strength * (red - 1) of the ambient light reaches the surface.
+    float occlusion = 1.0 + object.material.w * (texture(occlusionTexture, inTexcoord).r - 1.0);
+    // Emission (glTF emissiveFactor times emissiveTexture) is light of the surface's own: added
+    // after the lighting, so a face turned from the light still shows it.
+    vec3 emission = object.emission.rgb * texture(emissiveTexture, inTexcoord).rgb;
+    color = shadeOccludedSurface(frame, baseColor.rgb, roughness, occlusion, inWorldPosition, n) + emission;
     alpha = baseColor.a;
   }
 #ifdef HSDF_MESH_BLENDED

@@ -1,17 +1,20 @@
 #include "engine/gpu/image_sampler_sets.h"
 
 #include <utility>
+#include <vector>
+
+#include <fmt/format.h>
 
 #include "engine/gpu/context.h"
 #include "engine/gpu/vk_check.h"
 
 namespace engine::gpu {
 
-VkWriteDescriptorSet combinedImageSamplerWrite(VkDescriptorSet set, std::uint32_t element,
+VkWriteDescriptorSet combinedImageSamplerWrite(VkDescriptorSet set, std::uint32_t binding, std::uint32_t element,
                                                const VkDescriptorImageInfo& image) {
   VkWriteDescriptorSet write{VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET};
   write.dstSet = set;
-  write.dstBinding = 0;
+  write.dstBinding = binding;
   write.dstArrayElement = element;
   write.descriptorCount = 1;
   write.descriptorType = VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER;
@@ -19,16 +22,32 @@ VkWriteDescriptorSet combinedImageSamplerWrite(VkDescriptorSet set, std::uint32_
   return write;
 }
 
-ImageSamplerSets::ImageSamplerSets(const Context& context, VkShaderStageFlags stages, std::string name)
+namespace {
+
+// Bindings 0 .. count - 1, one combined image sampler each.
+std::vector<VkDescriptorSetLayoutBinding> imageSamplerBindings(std::uint32_t count, VkShaderStageFlags stages) {
+  std::vector<VkDescriptorSetLayoutBinding> bindings;
+  for (std::uint32_t b = 0; b < count; ++b)
+    bindings.push_back({b, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, 1, stages, nullptr});
+  return bindings;
+}
+
+}  // namespace
+
+ImageSamplerSets::ImageSamplerSets(const Context& context, VkShaderStageFlags stages, std::uint32_t bindings,
+                                   std::string name)
     : context_(context),
       name_(std::move(name)),
-      layout_(context, {name_ + " layout", {{0, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, 1, stages, nullptr}}, {}}) {}
+      bindings_(bindings),
+      layout_(context, {name_ + " layout", imageSamplerBindings(bindings, stages), {}}) {}
 
 ImageSamplerSets::~ImageSamplerSets() {
   for (VkDescriptorPool pool : pools_) vkDestroyDescriptorPool(context_.device(), pool, nullptr);
 }
 
-Expected<ImageSamplerSets::Set> ImageSamplerSets::add(VkImageView view, VkSampler sampler) {
+Expected<ImageSamplerSets::Set> ImageSamplerSets::add(std::span<const VkDescriptorImageInfo> images) {
+  if (images.size() != bindings_)
+    return makeError(fmt::format("{} images given for the {} bindings of a {} set", images.size(), bindings_, name_));
   Set out;
   for (VkDescriptorPool pool : pools_) {
     if ((out.set = tryAllocate(pool)) != VK_NULL_HANDLE) {
@@ -41,9 +60,9 @@ Expected<ImageSamplerSets::Set> ImageSamplerSets::add(VkImageView view, VkSample
     out.set = tryAllocate(out.pool);
     if (out.set == VK_NULL_HANDLE) return makeError("cannot allocate a " + name_ + " descriptor set from a new pool");
   }
-  const VkDescriptorImageInfo image{sampler, view, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL};
-  const VkWriteDescriptorSet write = combinedImageSamplerWrite(out.set, 0, image);
-  vkUpdateDescriptorSets(context_.device(), 1, &write, 0, nullptr);
+  std::vector<VkWriteDescriptorSet> writes;
+  for (std::uint32_t b = 0; b < bindings_; ++b) writes.push_back(combinedImageSamplerWrite(out.set, b, 0, images[b]));
+  vkUpdateDescriptorSets(context_.device(), bindings_, writes.data(), 0, nullptr);
   return out;
 }
 
@@ -65,7 +84,7 @@ VkDescriptorSet ImageSamplerSets::tryAllocate(VkDescriptorPool pool) const {
 }
 
 Expected<VkDescriptorPool> ImageSamplerSets::createPool() {
-  const VkDescriptorPoolSize size{VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, kSetsPerPool};
+  const VkDescriptorPoolSize size{VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, kSetsPerPool * bindings_};
   VkDescriptorPoolCreateInfo poolInfo{VK_STRUCTURE_TYPE_DESCRIPTOR_POOL_CREATE_INFO};
   poolInfo.flags = VK_DESCRIPTOR_POOL_CREATE_FREE_DESCRIPTOR_SET_BIT;
   poolInfo.maxSets = kSetsPerPool;

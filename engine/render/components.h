@@ -14,7 +14,8 @@ struct MeshHandle {
   bool valid() const { return index != ~0u; }
 };
 
-// A base colour texture uploaded into MeshTextures (MeshPool::textures); 0: none (a white texel).
+// A material's textures in MeshTextures (MeshPool::textures): one descriptor set; 0: none (white
+// texels, the factors alone).
 struct TextureHandle {
   std::uint32_t index = 0;
 };
@@ -28,8 +29,15 @@ struct MeshRenderable {
   // its normal reversed (MeshFeature). False: back faces are culled.
   bool doubleSided = false;
   glm::vec3 emissive{0.0f};  // linear light given off, added to the lit colour (glTF emission)
-  // Multiplies `color`, read through the mesh's texture coordinates (glTF baseColorTexture).
-  TextureHandle baseColorTexture;
+  // Read through the mesh's texture coordinates (glTF's material textures): the base colour texture
+  // multiplies `color`, the metallic-roughness one `roughness` and `metallic`, the emissive one
+  // `emissive`; the occlusion one darkens the ambient light, by `occlusionStrength`; the normal one
+  // tilts the shading normal, by `normalScale`.
+  TextureHandle textures;
+  float occlusionStrength = 1.0f;  // glTF occlusionTexture.strength: 0 none, 1 the texel's full occlusion
+  // glTF normalTexture.scale when `textures` holds a normal texture (its x and y times this); 0: the
+  // vertex normals, no normal texture read.
+  float normalScale = 0.0f;
   // Where the alpha (color.a times the texture's) is below this, the surface is cut out: nothing
   // drawn, what lies behind seen (glTF alphaMode MASK). None: opaque.
   std::optional<float> alphaCutoff;

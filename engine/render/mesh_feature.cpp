@@ -138,10 +138,11 @@ void MeshFeature::prepare(FrameContext& frame) {
           return;
         }
         shader::ObjectData object = GpuScene::makeObject(world.matrix, mesh.color, mesh.roughness, mesh.metallic, kFeatureId);
-        object.emission = glm::vec4(mesh.emissive, 0.0f);
+        object.emission = glm::vec4(mesh.emissive, mesh.normalScale);  // mesh.frag
         object.material.z = mesh.alphaCutoff.value_or(0.0f);  // mesh_prepass_masked.frag
+        object.material.w = mesh.occlusionStrength;
         const std::uint32_t index = frame.scene.addObject(object);
-        const std::uint32_t texture = mesh.baseColorTexture.index < pool_.textures().count() ? mesh.baseColorTexture.index : 0;
+        const std::uint32_t texture = mesh.textures.index < pool_.textures().count() ? mesh.textures.index : 0;
         // Only blended draws are sorted, by the view distance of their bounds' centre.
         const float viewDistance =
             mesh.alphaBlend ? frame.camera.viewDistance(world.matrix * glm::vec4(0.5f * (range.boundsMin + range.boundsMax), 1.0f))

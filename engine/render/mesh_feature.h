@@ -7,10 +7,10 @@
 // Double-sided meshes (MeshRenderable::doubleSided, glTF material doubleSided) are drawn after the
 // single-sided ones, by pipelines without culling, in both passes; the same front-face state says
 // which side the eye sees (gl_FrontFacing), and mesh.frag lights a back face with its normal
-// reversed. Meshes with a base colour texture (MeshRenderable::baseColorTexture) are drawn in one
-// batch per texture, its descriptor set bound before the batch (MeshTextures: no descriptor
-// indexing needed); the rest sample the white texel of texture 0. Each batch is two indirect
-// draws (unmirrored, mirrored). Meshes with an alpha cutoff (MeshRenderable::alphaCutoff, glTF
+// reversed. Meshes with textures (MeshRenderable::textures) are drawn in one batch per material's
+// set of textures, the set bound before the batch (MeshTextures: no descriptor indexing needed);
+// the rest sample the white texels of set 0. Each batch is two indirect draws (unmirrored,
+// mirrored). Meshes with an alpha cutoff (MeshRenderable::alphaCutoff, glTF
 // alphaMode MASK) are drawn in the prepass by pipelines of their own (mesh_prepass_masked.frag):
 // where a fragment's alpha is below the cutoff it writes the far plane's depth, which the depth
 // test rejects, so nothing of it is kept and what lies behind shows; the shading pass then finds

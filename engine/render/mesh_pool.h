@@ -48,7 +48,7 @@ class MeshPool {
   const gpu::Buffer& vertexBuffer() const { return vertexBuffer_; }
   const gpu::Buffer& indexBuffer() const { return indexBuffer_; }
   bool empty() const { return indices_.empty(); }
-  // The meshes' base colour textures (MeshRenderable::baseColorTexture).
+  // The meshes' material textures (MeshRenderable::textures).
   MeshTextures& textures() { return textures_; }
   const MeshTextures& textures() const { return textures_; }
 

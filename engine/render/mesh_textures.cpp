@@ -1,9 +1,11 @@
 #include "engine/render/mesh_textures.h"
 
+#include <array>
 #include <string>
 
 #include "engine/gpu/context.h"
 #include "engine/gpu/vk_check.h"
+#include "shared/host_device.h"
 
 namespace engine::render {
 namespace {
@@ -46,18 +48,30 @@ scene::TextureData whiteTexel() {
   return white;
 }
 
+// The image info of each binding of a material's set, in the order of the MESH_TEXTURE_* bindings.
+std::array<MeshImageHandle, MESH_TEXTURE_COUNT> bindingOrder(const MaterialImages& images) {
+  std::array<MeshImageHandle, MESH_TEXTURE_COUNT> order{};
+  order[MESH_TEXTURE_BASE_COLOR] = images.baseColor;
+  order[MESH_TEXTURE_METALLIC_ROUGHNESS] = images.metallicRoughness;
+  order[MESH_TEXTURE_OCCLUSION] = images.occlusion;
+  order[MESH_TEXTURE_EMISSIVE] = images.emissive;
+  order[MESH_TEXTURE_NORMAL] = images.normal;
+  return order;
+}
+
 }  // namespace
 
 MeshTextures::MeshTextures(const gpu::Context& context)
-    : context_(context), sets_(context, VK_SHADER_STAGE_FRAGMENT_BIT, "mesh base colour texture") {
-  add(whiteTexel());
+    : context_(context), setAllocator_(context, VK_SHADER_STAGE_FRAGMENT_BIT, MESH_TEXTURE_COUNT, "mesh material textures") {
+  addImage(whiteTexel(), TexelEncoding::Srgb);  // 1.0 in either encoding
+  addMaterial({});
 }
 
-TextureHandle MeshTextures::add(const scene::TextureData& texture) {
+MeshImageHandle MeshTextures::addImage(const scene::TextureData& texture, TexelEncoding encoding) {
   const std::string name = "mesh texture '" + texture.name + "'";
   Entry entry;
   gpu::ImageDesc desc;
-  desc.format = VK_FORMAT_R8G8B8A8_SRGB;
+  desc.format = encoding == TexelEncoding::Srgb ? VK_FORMAT_R8G8B8A8_SRGB : VK_FORMAT_R8G8B8A8_UNORM;
   desc.extent = {texture.width, texture.height, 1};
   desc.usage = VK_IMAGE_USAGE_SAMPLED_BIT | VK_IMAGE_USAGE_TRANSFER_DST_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT;
   desc.mipLevels = texture.mipmaps ? gpu::fullMipChain(texture.width, texture.height) : 1;
@@ -65,17 +79,27 @@ TextureHandle MeshTextures::add(const scene::TextureData& texture) {
   entry.image = gpu::Image(context_, desc);
   gpu::uploadImage(context_, entry.image, texture.rgba.data(), texture.rgba.size());
   entry.sampler = createSampler(context_, texture, name);
-  const auto set = sets_.add(entry.image.view(), entry.sampler.get());
-  // The message names the refused call and its result; the code is Vulkan's own for a set not given.
-  if (!set) throw gpu::VulkanError(VK_ERROR_OUT_OF_POOL_MEMORY, set.error().message);
-  entry.set = set->set;
-  entries_.push_back(std::move(entry));
-  return TextureHandle{static_cast<std::uint32_t>(entries_.size() - 1)};
+  images_.push_back(std::move(entry));
+  return MeshImageHandle{static_cast<std::uint32_t>(images_.size() - 1)};
 }
 
-void MeshTextures::bind(VkCommandBuffer cmd, VkPipelineLayout layout, TextureHandle texture) const {
-  const Entry& entry = entries_[texture.index < entries_.size() ? texture.index : 0];
-  vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, layout, 0, 1, &entry.set, 0, nullptr);
+TextureHandle MeshTextures::addMaterial(const MaterialImages& images) {
+  std::array<VkDescriptorImageInfo, MESH_TEXTURE_COUNT> infos{};
+  const auto order = bindingOrder(images);
+  for (std::size_t b = 0; b < infos.size(); ++b) {
+    const Entry& entry = images_[order[b].index < images_.size() ? order[b].index : 0];
+    infos[b] = {entry.sampler.get(), entry.image.view(), VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL};
+  }
+  const auto set = setAllocator_.add(infos);
+  // The message names the refused call and its result; the code is Vulkan's own for a set not given.
+  if (!set) throw gpu::VulkanError(VK_ERROR_OUT_OF_POOL_MEMORY, set.error().message);
+  sets_.push_back(set->set);
+  return TextureHandle{static_cast<std::uint32_t>(sets_.size() - 1)};
+}
+
+void MeshTextures::bind(VkCommandBuffer cmd, VkPipelineLayout layout, TextureHandle textures) const {
+  const VkDescriptorSet set = sets_[textures.index < sets_.size() ? textures.index : 0];
+  vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, layout, 0, 1, &set, 0, nullptr);
 }
 
 }  // namespace engine::render

@@ -2,6 +2,8 @@
 
 #include <cmath>
 #include <limits>
+#include <map>
+#include <utility>
 #include <stdexcept>
 #include <vector>
 
@@ -51,6 +53,43 @@ void uploadMeshes(const scene::SceneData& data, MeshPool& pool,
                                : pool.add(primitive.positions, primitive.normals, primitive.indices, primitive.texcoords));
 }
 
+// Each material's textures as one MeshTextures set, made when a primitive first uses it; each
+// texture uploaded once per encoding it is read in (a texture may be both a colour and data).
+class MaterialSets {
+ public:
+  MaterialSets(const scene::SceneData& data, MeshTextures& textures) : data_(data), textures_(textures) {}
+
+  // The set of `material` (SceneData::materials index): set 0, the white texels, for a material
+  // without textures.
+  TextureHandle of(const scene::MaterialData& material, int index) {
+    const auto known = sets_.find(index);
+    if (known != sets_.end()) return known->second;
+    MaterialImages images;
+    images.baseColor = image(material.baseColorTexture, TexelEncoding::Srgb);
+    images.metallicRoughness = image(material.metallicRoughnessTexture, TexelEncoding::Linear);
+    images.occlusion = image(material.occlusionTexture, TexelEncoding::Linear);
+    images.emissive = image(material.emissiveTexture, TexelEncoding::Srgb);
+    images.normal = image(material.normalTexture, TexelEncoding::Linear);
+    const bool textured = images.baseColor.index != 0 || images.metallicRoughness.index != 0 ||
+                          images.occlusion.index != 0 || images.emissive.index != 0 || images.normal.index != 0;
+    return sets_[index] = textured ? textures_.addMaterial(images) : TextureHandle{};
+  }
+
+ private:
+  MeshImageHandle image(int texture, TexelEncoding encoding) {
+    if (texture < 0 || std::size_t(texture) >= data_.textures.size()) return {};
+    const auto key = std::pair(texture, encoding);
+    const auto known = images_.find(key);
+    if (known != images_.end()) return known->second;
+    return images_[key] = textures_.addImage(data_.textures[std::size_t(texture)], encoding);
+  }
+
+  const scene::SceneData& data_;
+  MeshTextures& textures_;
+  std::map<std::pair<int, TexelEncoding>, MeshImageHandle> images_;
+  std::map<int, TextureHandle> sets_;
+};
+
 Camera cameraFromData(const scene::CameraData& data) {
   Camera camera{data.yfov, data.znear, data.name};
   if (!data.orthographic) return camera;
@@ -66,8 +105,7 @@ InstantiatedScene instantiateScene(const scene::SceneData& data, ecs::Registry& 
   InstantiatedScene result;
   std::vector<std::vector<MeshHandle>> handles;
   uploadMeshes(data, pool, handles);
-  std::vector<TextureHandle> textures;
-  for (const scene::TextureData& texture : data.textures) textures.push_back(pool.textures().add(texture));
+  MaterialSets materialSets(data, pool.textures());
   glm::vec3 lo(std::numeric_limits<float>::max()), hi(std::numeric_limits<float>::lowest());
 
   for (std::size_t n = 0; n < data.nodes.size(); ++n) {
@@ -98,10 +136,13 @@ InstantiatedScene instantiateScene(const scene::SceneData& data, ecs::Registry& 
         renderable.emissive = material.emissive;
         renderable.alphaCutoff = material.alphaCutoff;
         renderable.alphaBlend = material.alphaBlend;
-        // Without texture coordinates the texture cannot be read (the importer said so): the factor alone.
-        if (material.baseColorTexture >= 0 && std::size_t(material.baseColorTexture) < textures.size() &&
-            !primitive.texcoords.empty())
-          renderable.baseColorTexture = textures[std::size_t(material.baseColorTexture)];
+        renderable.occlusionStrength = material.occlusionStrength;
+        // Without texture coordinates the textures cannot be read (the importer said so): the factors alone.
+        if (!primitive.texcoords.empty()) {
+          renderable.textures = materialSets.of(material, primitive.material);
+          const bool normalMapped = material.normalTexture >= 0 && std::size_t(material.normalTexture) < data.textures.size();
+          renderable.normalScale = normalMapped ? material.normalScale : 0.0f;
+        }
       }
       const ecs::Entity part = registry.create();
       registry.emplace<scene::Transform>(part);

@@ -42,9 +42,21 @@ struct MaterialData {
   // Light the surface gives off (linear RGB), added to its lit colour: glTF emissiveFactor times
   // KHR_materials_emissive_strength's emissiveStrength (so it may exceed 1). Zero: none.
   glm::vec3 emissive{0.0f};
-  // SceneData::textures index of the base colour texture (glTF baseColorTexture, read through
-  // TEXCOORD_0), which multiplies baseColor; -1: none.
+  // SceneData::textures indices of the material's textures, all read through TEXCOORD_0; -1: none.
+  // glTF baseColorTexture (sRGB): multiplies baseColor.
   int baseColorTexture = -1;
+  // glTF metallicRoughnessTexture (linear): its green multiplies roughness, its blue metallic.
+  int metallicRoughnessTexture = -1;
+  // glTF occlusionTexture (linear): its red is how much of the ambient light reaches the surface,
+  // applied by occlusionStrength (1 + strength * (red - 1)).
+  int occlusionTexture = -1;
+  float occlusionStrength = 1.0f;
+  // glTF emissiveTexture (sRGB): multiplies emissive.
+  int emissiveTexture = -1;
+  // glTF normalTexture (linear): the shading normal in the surface's tangent frame, its x and y
+  // times normalScale.
+  int normalTexture = -1;
+  float normalScale = 1.0f;
   // glTF alphaMode MASK: where the alpha (baseColor's times the texture's) is below the cutoff,
   // the surface is not there (a leaf card, a fence, a grille). None: opaque (OPAQUE) or blended
   // (BLEND).

@@ -62,6 +62,15 @@ struct FrameGlobals {
 };
 HSDF_CHECK_SIZE(FrameGlobals, 5 * 64 + 4 * 16);
 
+// The bindings of a mesh material's descriptor set (set 0 of the mesh pipelines; engine::render::
+// MeshTextures), one texture kind each (glTF's material textures, read through TEXCOORD_0).
+#define MESH_TEXTURE_BASE_COLOR 0          // sRGB: rgba times ObjectData::color
+#define MESH_TEXTURE_METALLIC_ROUGHNESS 1  // linear: g times the roughness, b times the metallic
+#define MESH_TEXTURE_OCCLUSION 2           // linear: r, the ambient light reaching the surface
+#define MESH_TEXTURE_EMISSIVE 3            // sRGB: rgb times ObjectData::emission
+#define MESH_TEXTURE_NORMAL 4              // linear: the normal in the tangent frame, xy times emission.a
+#define MESH_TEXTURE_COUNT 5
+
 // ObjectData::flags.
 #define OBJECT_FLAG_MIRRORED 1u  // the model matrix has a negative determinant: it reverses winding
 
@@ -71,11 +80,13 @@ struct ObjectData {
   mat4 invModel;          // normals use transpose(mat3(invModel))
   vec4 color;             // base colour (linear); a: its alpha (glTF baseColorFactor), read by
                           // meshes with alphaMode MASK or BLEND
-  vec4 material;          // x: roughness, y: metallic, zw: feature-specific
+  vec4 material;          // x: roughness, y: metallic, zw: feature-specific (meshes: z alpha cutoff,
+                          // w occlusion strength)
   uint64_t payload;       // feature-specific data reached by device address (0: none)
   uint feature;           // which RenderFeature owns the object (for debugging)
   uint flags;             // OBJECT_FLAG_*
-  vec4 emission;          // rgb: linear light the surface gives off, added to its lit colour; a: unused
+  vec4 emission;          // rgb: linear light the surface gives off, added to its lit colour; a: meshes'
+                          // normal texture scale (0: none read)
 };
 HSDF_CHECK_SIZE(ObjectData, 2 * 64 + 3 * 16 + 8 + 2 * 4);
 

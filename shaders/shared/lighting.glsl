@@ -29,7 +29,10 @@ vec3 normalTowardEye(vec3 n, vec3 v) {
 // faces away from the eye is a back face (the inside of an SDF object seen from within it, or
 // through the near plane): it is lit as its other side. Callers that know their surface faces the
 // eye bend a normal that does not with normalTowardEye first (mesh.frag, the sphere tracers).
-vec3 shadeSurface(FrameGlobals frame, vec3 baseColor, float roughness, vec3 worldPosition, vec3 normal) {
+// `occlusion` is the part of the ambient light that reaches the surface (glTF occlusionTexture:
+// the direct light is not occluded); 1 for shadeSurface.
+vec3 shadeOccludedSurface(FrameGlobals frame, vec3 baseColor, float roughness, float occlusion, vec3 worldPosition,
+                          vec3 normal) {
   vec3 n = normalize(normal);
   vec3 v = towardViewer(frame, worldPosition);
   if (dot(n, v) < 0.0) n = -n;
@@ -38,9 +41,13 @@ vec3 shadeSurface(FrameGlobals frame, vec3 baseColor, float roughness, vec3 worl
   float diffuse = max(dot(n, l), 0.0);
   float shininess = mix(128.0, 8.0, clamp(roughness, 0.0, 1.0));
   float specular = pow(max(dot(n, h), 0.0), shininess) * (1.0 - roughness) * 0.5;
-  float ambient = frame.lightColor.a * (0.6 + 0.4 * n.y);
+  float ambient = frame.lightColor.a * (0.6 + 0.4 * n.y) * occlusion;
   vec3 light = frame.lightColor.rgb * frame.lightDirection.w;
   return baseColor * (ambient + diffuse * light) + specular * light;
+}
+
+vec3 shadeSurface(FrameGlobals frame, vec3 baseColor, float roughness, vec3 worldPosition, vec3 normal) {
+  return shadeOccludedSurface(frame, baseColor, roughness, 1.0, worldPosition, normal);
 }
 
 vec3 debugNormalColor(vec3 normal) { return normalize(normal) * 0.5 + 0.5; }

@@ -39,7 +39,9 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     FUZZ_CHECK(texture.width > 0 && texture.height > 0 &&
                texture.rgba.size() == std::size_t(texture.width) * texture.height * 4);
   for (const auto& material : scene->materials)
-    FUZZ_CHECK(material.baseColorTexture >= -1 && material.baseColorTexture < int(scene->textures.size()));
+    for (const int texture : {material.baseColorTexture, material.metallicRoughnessTexture, material.occlusionTexture,
+                              material.emissiveTexture})
+      FUZZ_CHECK(texture >= -1 && texture < int(scene->textures.size()));
   for (std::size_t n = 0; n < scene->nodes.size(); ++n) {
     FUZZ_CHECK(scene->nodes[n].parent < int(n));
     FUZZ_CHECK(scene->nodes[n].mesh < int(scene->meshes.size()));

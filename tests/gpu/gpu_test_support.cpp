@@ -95,14 +95,15 @@ glm::dvec3 linearColor(glm::u8vec4 srgb) {
 }
 
 glm::dvec3 referenceShading(const render::RendererDesc& desc, const glm::dvec3& baseColor, double roughness,
-                            const glm::dvec3& eye, const glm::dvec3& position, const glm::dvec3& normal) {
+                            const glm::dvec3& eye, const glm::dvec3& position, const glm::dvec3& normal,
+                            double occlusion) {
   const glm::dvec3 v = glm::normalize(eye - position);
   const glm::dvec3 l = glm::normalize(glm::dvec3(desc.lightDirection));
   const glm::dvec3 h = glm::normalize(l + v);
   const double diffuse = std::max(glm::dot(normal, l), 0.0);
   const double shininess = 128.0 + (8.0 - 128.0) * std::clamp(roughness, 0.0, 1.0);
   const double specular = std::pow(std::max(glm::dot(normal, h), 0.0), shininess) * (1.0 - roughness) * 0.5;
-  const double ambient = double(desc.ambient) * (0.6 + 0.4 * normal.y);
+  const double ambient = double(desc.ambient) * (0.6 + 0.4 * normal.y) * occlusion;
   const glm::dvec3 light = glm::dvec3(1.0, 0.97, 0.92) * double(desc.lightIntensity);  // Renderer's light colour
   return baseColor * (ambient + diffuse * light) + specular * light;
 }

@@ -69,9 +69,11 @@ glm::dvec3 linearColor(glm::u8vec4 srgb);
 
 // The linear colour shared/lighting.glsl's shadeSurface gives a point at `position` with the unit
 // normal `normal`, facing the eye (the lighting of `desc`; written again here, in double, as the
-// independent reference of the shaded frames).
+// independent reference of the shaded frames); `occlusion` of its ambient light reaching it
+// (shadeOccludedSurface).
 glm::dvec3 referenceShading(const engine::render::RendererDesc& desc, const glm::dvec3& baseColor, double roughness,
-                            const glm::dvec3& eye, const glm::dvec3& position, const glm::dvec3& normal);
+                            const glm::dvec3& eye, const glm::dvec3& position, const glm::dvec3& normal,
+                            double occlusion = 1.0);
 
 class GpuTest : public ::testing::Test {
  protected:

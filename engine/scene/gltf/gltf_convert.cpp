@@ -340,18 +340,12 @@ Expected<MeshData> convertMesh(ImportContext& context, int meshIndex) {
 // ---------------------------------------------------------------------------------------------
 // Materials and cameras
 
-// What of a material the renderer does not draw, named in one note: a normal-mapped wall is drawn
-// flat, an emissive texture in its factor; silently, each would look like a rendering defect.
-// (A base colour texture that cannot be drawn gets its own warning.)
+// What of a material the renderer does not draw, named in one note: silently, it would look like a
+// rendering defect. (A texture that cannot be drawn gets its own warning.)
 std::optional<std::string> ignoredMaterialFields(const tinygltf::Material& material) {
   std::vector<std::string> ignored;
   if (material.alphaMode != "OPAQUE" && material.alphaMode != "MASK" && material.alphaMode != "BLEND")
     ignored.push_back(fmt::format("alphaMode '{}', which glTF does not define (drawn opaque)", material.alphaMode));
-  if (material.emissiveTexture.index >= 0) ignored.push_back("emissiveTexture (drawn in emissiveFactor)");
-  const auto& pbr = material.pbrMetallicRoughness;
-  if (pbr.metallicRoughnessTexture.index >= 0) ignored.push_back("metallicRoughnessTexture");
-  if (material.normalTexture.index >= 0) ignored.push_back("normalTexture");
-  if (material.occlusionTexture.index >= 0) ignored.push_back("occlusionTexture");
   if (ignored.empty()) return std::nullopt;
   return fmt::format("'{}': {} ignored", material.name, fmt::join(ignored, ", "));
 }
@@ -388,6 +382,11 @@ Expected<MaterialData> convertMaterial(const tinygltf::Material& material) {
   out.roughness = std::clamp(roughness, 0.0f, 1.0f);
   out.doubleSided = material.doubleSided;  // a boolean (checkGltfSchema), false when absent
   ENGINE_TRY_ASSIGN(out.emissive, emission(material));
+  // occlusionTexture.strength: in [0, 1] (glTF's schema; clamped as the factors are), 1 when absent.
+  ENGINE_TRY_ASSIGN(const float strength, toFiniteFloat(material.occlusionTexture.strength, "occlusionTexture strength"));
+  out.occlusionStrength = std::clamp(strength, 0.0f, 1.0f);
+  // normalTexture.scale: any finite number (glTF gives no range), 1 when absent.
+  ENGINE_TRY_ASSIGN(out.normalScale, toFiniteFloat(material.normalTexture.scale, "normalTexture scale"));
   if (material.alphaMode == "MASK") {  // alphaCutoff: >= 0 (checkGltfSchema), 0.5 when absent
     ENGINE_TRY_ASSIGN(const float cutoff, toFiniteFloat(material.alphaCutoff, "alphaCutoff"));
     out.alphaCutoff = cutoff;
@@ -799,32 +798,43 @@ Status decodeMeshoptViews(ImportContext& context) {
 
 }  // namespace
 
-// Each glTF texture a material uses as baseColorTexture, decoded once into SceneData::textures.
+// A material texture's glTF name, where the file keeps it, and what the material is drawn in
+// without it.
+struct TextureKind {
+  const char* name;
+  const char* fallback;
+};
+constexpr TextureKind kBaseColorKind{"baseColorTexture", "drawn in baseColorFactor"};
+constexpr TextureKind kMetallicRoughnessKind{"metallicRoughnessTexture", "drawn in metallicFactor and roughnessFactor"};
+constexpr TextureKind kOcclusionKind{"occlusionTexture", "drawn without occlusion"};
+constexpr TextureKind kEmissiveKind{"emissiveTexture", "drawn in emissiveFactor"};
+constexpr TextureKind kNormalKind{"normalTexture", "drawn with its vertex normals"};
+
+// Each glTF texture a material uses, decoded once into SceneData::textures.
 class TextureImport {
  public:
   explicit TextureImport(ImportContext& context) : context_(context) {}
 
-  // `material`'s base colour texture as a SceneData::textures index, or -1 (none, or a warning
-  // naming the material and the problem: drawn in its baseColorFactor).
-  int baseColorTexture(const tinygltf::Material& material, std::size_t m, std::vector<TextureData>& textures) {
-    const auto& info = material.pbrMetallicRoughness.baseColorTexture;
-    if (info.index == -1) return -1;  // tinygltf's "absent"
-    const std::string where = fmt::format("material {} '{}': baseColorTexture", m, material.name);
-    const auto coordinates = textureCoordinates(info);
-    if (!coordinates.ok()) {
-      warn(where, coordinates.error().message);
-      return -1;
-    }
-    if (coordinates->set != 0) {
-      warn(where, fmt::format("texCoord {} is not read (only TEXCOORD_0)", coordinates->set));
-      return -1;
-    }
-    const int slot = convertedTexture(info.index, where, textures);
-    if (slot >= 0 && coordinates->transform != glm::mat3(1.0f)) transforms_[int(m)] = coordinates->transform;
-    return slot;
+  // `material`'s textures into `out` as SceneData::textures indices: -1 for one absent, or with a
+  // warning naming the material, the texture and the problem (drawn without it).
+  void materialTextures(const tinygltf::Material& material, std::size_t m, MaterialData& out,
+                        std::vector<TextureData>& textures) {
+    MaterialRef ref{material, m, std::nullopt};
+    const auto& pbr = material.pbrMetallicRoughness;
+    out.baseColorTexture = texture(ref, kBaseColorKind, pbr.baseColorTexture.index, pbr.baseColorTexture.texCoord,
+                                   pbr.baseColorTexture.extensions, textures);
+    const auto& mr = pbr.metallicRoughnessTexture;
+    out.metallicRoughnessTexture = texture(ref, kMetallicRoughnessKind, mr.index, mr.texCoord, mr.extensions, textures);
+    const auto& occlusion = material.occlusionTexture;
+    out.occlusionTexture = texture(ref, kOcclusionKind, occlusion.index, occlusion.texCoord, occlusion.extensions, textures);
+    const auto& emissive = material.emissiveTexture;
+    out.emissiveTexture = texture(ref, kEmissiveKind, emissive.index, emissive.texCoord, emissive.extensions, textures);
+    const auto& normal = material.normalTexture;
+    out.normalTexture = texture(ref, kNormalKind, normal.index, normal.texCoord, normal.extensions, textures);
+    if (ref.transform && *ref.transform != glm::mat3(1.0f)) transforms_[int(m)] = *ref.transform;
   }
 
-  // The primitive's TEXCOORD_0 turned into the coordinates its material's texture is read at
+  // The primitive's TEXCOORD_0 turned into the coordinates its material's textures are read at
   // (KHR_texture_transform: an atlas region, a tiled or rotated texture; gltfpack writes one to
   // undo its quantization of texture coordinates).
   void transformTexcoords(MeshPrimitiveData& primitive) const {
@@ -834,30 +844,68 @@ class TextureImport {
   }
 
  private:
+  // The material being read, and the KHR_texture_transform of its first texture read: the one
+  // transform its TEXCOORD_0 goes through, for every texture of it.
+  struct MaterialRef {
+    const tinygltf::Material& material;
+    std::size_t index;
+    std::optional<glm::mat3> transform;
+  };
+
+  // The material's texture of `kind` (glTF textureInfo `index`, `texCoord`, `extensions`) as a
+  // SceneData::textures index, or -1 (absent, or a warning).
+  int texture(MaterialRef& ref, const TextureKind& kind, int index, int texCoord, const tinygltf::ExtensionMap& extensions,
+              std::vector<TextureData>& textures) {
+    if (index == -1) return -1;  // tinygltf's "absent"
+    const std::string where = fmt::format("material {} '{}': {}", ref.index, ref.material.name, kind.name);
+    const auto coordinates = textureCoordinates(texCoord, extensions);
+    if (!coordinates.ok()) return warn(where, coordinates.error().message, kind);
+    if (coordinates->set != 0)
+      return warn(where, fmt::format("texCoord {} is not read (only TEXCOORD_0)", coordinates->set), kind);
+    if (ref.transform && *ref.transform != coordinates->transform)
+      return warn(where, "its KHR_texture_transform differs from the material's first texture's (one is applied to TEXCOORD_0)",
+                  kind);
+    const int slot = convertedTexture(index, where, kind, textures);
+    if (slot >= 0 && !ref.transform) ref.transform = coordinates->transform;
+    return slot;
+  }
+
   // glTF texture `index` decoded once: its SceneData::textures index, or -1 (with a warning).
-  int convertedTexture(int index, const std::string& where, std::vector<TextureData>& textures) {
+  int convertedTexture(int index, const std::string& where, const TextureKind& kind, std::vector<TextureData>& textures) {
     const auto known = converted_.find(index);
-    if (known != converted_.end()) return known->second;
+    if (known != converted_.end()) {
+      if (known->second < 0) warn(where, fmt::format("texture {} cannot be read (said above)", index), kind);
+      return known->second;
+    }
     auto texture = convertTexture(context_, index);
     int& slot = converted_[index];
     slot = -1;
-    if (!texture.ok()) {
-      warn(where, texture.error().message);
-      return -1;
-    }
+    if (!texture.ok()) return warn(where, texture.error().message, kind);
     textures.push_back(std::move(*texture));
     slot = int(textures.size() - 1);
     return slot;
   }
-  void warn(const std::string& where, const std::string& problem) {
-    context_.warnings.push_back(fmt::format("{}: {}; drawn in baseColorFactor", where, problem));
+  int warn(const std::string& where, const std::string& problem, const TextureKind& kind) {
+    context_.warnings.push_back(fmt::format("{}: {}; {}", where, problem, kind.fallback));
+    return -1;
   }
   ImportContext& context_;
   std::map<int, int> converted_;  // glTF texture -> SceneData::textures index, -1: failed
   std::map<int, glm::mat3> transforms_;  // material -> its KHR_texture_transform, when not the identity
 };
 
-// A textured material on a primitive without TEXCOORD_0 draws in its factor: said once per primitive.
+// The glTF names of the textures `material` has.
+std::vector<std::string> textureKinds(const MaterialData& material) {
+  std::vector<std::string> kinds;
+  if (material.baseColorTexture >= 0) kinds.push_back(kBaseColorKind.name);
+  if (material.metallicRoughnessTexture >= 0) kinds.push_back(kMetallicRoughnessKind.name);
+  if (material.occlusionTexture >= 0) kinds.push_back(kOcclusionKind.name);
+  if (material.emissiveTexture >= 0) kinds.push_back(kEmissiveKind.name);
+  if (material.normalTexture >= 0) kinds.push_back(kNormalKind.name);
+  return kinds;
+}
+
+// A textured material on a primitive without TEXCOORD_0 draws in its factors: said once per primitive.
 void noteUntexturedPrimitives(const SceneData& scene, std::vector<std::string>& warnings) {
   for (std::size_t m = 0; m < scene.meshes.size(); ++m) {
     const MeshData& mesh = scene.meshes[m];
@@ -865,10 +913,11 @@ void noteUntexturedPrimitives(const SceneData& scene, std::vector<std::string>& 
       const MeshPrimitiveData& primitive = mesh.primitives[p];
       if (primitive.material < 0 || !primitive.texcoords.empty()) continue;
       const MaterialData& material = scene.materials[std::size_t(primitive.material)];
-      if (material.baseColorTexture < 0) continue;
-      warnings.push_back(fmt::format("mesh {} '{}' primitive {}: material {} '{}' has a baseColorTexture but the "
-                                     "primitive no TEXCOORD_0; drawn in baseColorFactor",
-                                     m, mesh.name, p, primitive.material, material.name));
+      const std::vector<std::string> kinds = textureKinds(material);
+      if (kinds.empty()) continue;
+      warnings.push_back(fmt::format("mesh {} '{}' primitive {}: material {} '{}' has a {} but the primitive no "
+                                     "TEXCOORD_0; drawn in its factors",
+                                     m, mesh.name, p, primitive.material, material.name, fmt::join(kinds, ", ")));
     }
   }
 }
@@ -880,7 +929,7 @@ Expected<SceneData> convertModel(ImportContext& context) {
   TextureImport textures(context);
   for (std::size_t m = 0; m < model.materials.size(); ++m) {
     ENGINE_TRY_ASSIGN(auto material, convertMaterial(model.materials[m]).withContext(fmt::format("material {}", m)));
-    material.baseColorTexture = textures.baseColorTexture(model.materials[m], m, scene.textures);
+    textures.materialTextures(model.materials[m], m, material, scene.textures);
     scene.materials.push_back(std::move(material));
     if (auto note = ignoredMaterialFields(model.materials[m]))
       context.warnings.push_back(fmt::format("material {} {}", m, *note));

@@ -43,7 +43,7 @@ constexpr std::array<std::string_view, 4> kGeometryExtensions = {
 // Material extensions the importer reads (gltf_convert.cpp): used, they need no note.
 constexpr std::array<std::string_view, 2> kReadMaterialExtensions = {
     "KHR_materials_emissive_strength",  // MaterialData::emissive
-    "KHR_texture_transform",            // on baseColorTexture: applied to MeshPrimitiveData::texcoords
+    "KHR_texture_transform",            // on a material's textures: applied to MeshPrimitiveData::texcoords
 };
 // Extensions (by prefix) that only describe materials, textures, images, lights or metadata: the
 // importer reads none of those, so a file that uses or even requires them loads the same geometry.

@@ -31,10 +31,13 @@
 //  - materials: pbrMetallicRoughness baseColorFactor, metallicFactor, roughnessFactor; doubleSided;
 //    emissiveFactor times KHR_materials_emissive_strength's emissiveStrength; alphaMode (MASK: its
 //    alphaCutoff; BLEND: MaterialData::alphaBlend, the alpha being the factor's times the
-//    texture's); baseColorTexture read through TEXCOORD_0 (gltf_textures.h: PNG or JPEG from a bufferView, a data: URI or a file
-//    beside the .gltf, at most kMaxTextureSide texels a side, with its sampler). A texture that
-//    cannot be read (bad index, undecodable or missing image, too large, texCoord other than 0, a
-//    primitive without TEXCOORD_0) is a warning naming the material: drawn in its factor.
+//    texture's); baseColorTexture, metallicRoughnessTexture, occlusionTexture (and its strength)
+//    and emissiveTexture read through TEXCOORD_0 (gltf_textures.h: PNG or JPEG from a bufferView,
+//    a data: URI or a file beside the .gltf, at most kMaxTextureSide texels a side, with its
+//    sampler); one KHR_texture_transform per material, its first texture's. A texture that cannot
+//    be read (bad index, undecodable or missing image, too large, texCoord other than 0, a
+//    transform unlike the material's first, a primitive without TEXCOORD_0) is a warning naming
+//    the material: drawn without it (in its factor). normalTexture is not drawn (a warning).
 //  - cameras: perspective (yfov, znear; zfar and aspectRatio kept but the projection is infinite and
 //    the viewport's aspect wins) and orthographic (xmag, ymag, znear, zfar: xmag and ymag positive,
 //    zfar > znear >= 0; a bad value is an error naming the camera and the field); another type is

@@ -107,11 +107,11 @@ std::string missingSource(const tinygltf::Texture& texture) {
 
 }  // namespace
 
-Expected<TextureCoordinates> textureCoordinates(const tinygltf::TextureInfo& info) {
+Expected<TextureCoordinates> textureCoordinates(int texCoord, const tinygltf::ExtensionMap& extensions) {
   TextureCoordinates out;
-  out.set = info.texCoord;
-  const auto found = info.extensions.find(kTextureTransformExtension);
-  if (found == info.extensions.end()) return out;
+  out.set = texCoord;
+  const auto found = extensions.find(kTextureTransformExtension);
+  if (found == extensions.end()) return out;
   const tinygltf::Value& extension = found->second;
   if (!extension.IsObject()) return makeError(fmt::format("{} is not an object", kTextureTransformExtension));
   if (extension.Has("texCoord")) {

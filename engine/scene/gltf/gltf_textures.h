@@ -28,8 +28,9 @@ struct TextureCoordinates {
   glm::mat3 transform{1.0f};
 };
 
-// The textureInfo's coordinates; the extension's texCoord overrides the textureInfo's. A malformed
+// The coordinates of a textureInfo (any kind: tinygltf has one type per material texture) of
+// `texCoord` and `extensions`; the extension's texCoord overrides the textureInfo's. A malformed
 // extension is an error naming the field.
-Expected<TextureCoordinates> textureCoordinates(const tinygltf::TextureInfo& info);
+Expected<TextureCoordinates> textureCoordinates(int texCoord, const tinygltf::ExtensionMap& extensions);
 
 }  // namespace engine::scene::gltf

@@ -140,7 +140,7 @@ class BindlessTable final : public FieldTextureBindings {
     // Without update-after-bind, a set that pending frames have bound must not be written.
     context_.waitIdle();
     const VkDescriptorImageInfo image{sampler, view, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL};
-    const VkWriteDescriptorSet write = engine::gpu::combinedImageSamplerWrite(set_, slot, image);
+    const VkWriteDescriptorSet write = engine::gpu::combinedImageSamplerWrite(set_, 0, slot, image);
     vkUpdateDescriptorSets(context_.device(), 1, &write, 0, nullptr);
     return slot;
   }
@@ -180,13 +180,14 @@ class BindlessTable final : public FieldTextureBindings {
 class PerTextureSets final : public FieldTextureBindings {
  public:
   explicit PerTextureSets(const engine::gpu::Context& context)
-      : sets_(context, VK_SHADER_STAGE_FRAGMENT_BIT, "sphere trace field texture") {}
+      : sets_(context, VK_SHADER_STAGE_FRAGMENT_BIT, 1, "sphere trace field texture") {}
 
   bool bindless() const override { return false; }
   VkDescriptorSetLayout layout() const override { return sets_.layout(); }
 
   Expected<std::uint32_t> add(VkImageView view, VkSampler sampler) override {
-    ENGINE_TRY_ASSIGN(const engine::gpu::ImageSamplerSets::Set set, sets_.add(view, sampler));
+    const VkDescriptorImageInfo image{sampler, view, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL};
+    ENGINE_TRY_ASSIGN(const engine::gpu::ImageSamplerSets::Set set, sets_.add({&image, 1}));
     const std::uint32_t slot = slots_.acquire();
     if (slot >= entries_.size()) entries_.resize(slot + 1);
     entries_[slot] = set;

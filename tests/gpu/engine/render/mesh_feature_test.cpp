@@ -396,11 +396,19 @@ glm::u8vec4 checkerTexel(int column, int row, bool holes = false) {
 // A glTF file written into `folder`: the unit square in z = 0 facing +Z with TEXCOORD_0 (glTF's v
 // runs down the image: the square's top edge is the image's first row), its material's
 // baseColorFactor `factor` and a baseColorTexture, checker.png (4 x 4, NEAREST, clamped), beside it;
-// `material` adds fields to the material (e.g. its alphaMode), and `holes` gives the checker's odd
-// texels alpha 0.6.
+// `material` adds fields to the material (e.g. its alphaMode), `pbr` to its pbrMetallicRoughness
+// (each ending in a comma), and `holes` gives the checker's odd texels alpha 0.6. `second`, when
+// given, is a second 4 x 4 RGBA image, second.png, glTF texture 1 (the same sampler).
 std::filesystem::path writeCheckerQuad(const std::filesystem::path& folder, const glm::vec4& factor,
-                                       const std::string& material = "", bool holes = false) {
+                                       const std::string& material = "", bool holes = false, const std::string& pbr = "",
+                                       const std::vector<std::uint8_t>& second = {}) {
   std::filesystem::create_directories(folder);
+  if (!second.empty()) {
+    EXPECT_TRUE(writePng(folder / "second.png", second, 4, 4, 4).ok());
+  }
+  const std::string textures = second.empty() ? R"([{"source": 0, "sampler": 0}])"
+                                              : R"([{"source": 0, "sampler": 0}, {"source": 1, "sampler": 0}])";
+  const std::string images = second.empty() ? R"([{"uri": "checker.png"}])" : R"([{"uri": "checker.png"}, {"uri": "second.png"}])";
   std::vector<std::uint8_t> texels;
   for (int row = 0; row < 4; ++row)
     for (int column = 0; column < 4; ++column) {
@@ -426,11 +434,11 @@ std::filesystem::path writeCheckerQuad(const std::filesystem::path& folder, cons
     "meshes": [{"primitives": [{"attributes": {"POSITION": 0, "NORMAL": 1, "TEXCOORD_0": 2}, "indices": 3, "material": 0}]}],
     "materials": [{)" + material + R"("pbrMetallicRoughness": {"baseColorFactor": [)" +
                            std::to_string(factor.r) + "," + std::to_string(factor.g) + "," + std::to_string(factor.b) +
-                           "," + std::to_string(factor.a) + R"(], "roughnessFactor": 0.6,
+                           "," + std::to_string(factor.a) + R"(], "roughnessFactor": 0.6, )" + pbr + R"(
       "baseColorTexture": {"index": 0}}}],
-    "textures": [{"source": 0, "sampler": 0}],
+    "textures": )" + textures + R"(,
     "samplers": [{"magFilter": 9728, "minFilter": 9728, "wrapS": 33071, "wrapT": 33071}],
-    "images": [{"uri": "checker.png"}],
+    "images": )" + images + R"(,
     "buffers": [{"uri": "quad.bin", "byteLength": 152}],
     "bufferViews": [{"buffer": 0, "byteOffset": 0, "byteLength": 48}, {"buffer": 0, "byteOffset": 48, "byteLength": 48},
                     {"buffer": 0, "byteOffset": 96, "byteLength": 32}, {"buffer": 0, "byteOffset": 128, "byteLength": 24}],
@@ -451,11 +459,12 @@ glm::dvec3 pixelRayAtZ(const render::CameraView& camera, std::uint32_t size, glm
 // Calls `visit(x, y, texel, centre)` for each pixel whose centre and four corners all see one texel
 // of the checker quad (writeCheckerQuad: the unit square in z = 0, 4 x 4 texels, v down the image):
 // pixels off the quad or across a texel boundary are skipped, as NEAREST may go either way there.
+// `mirrored`: the quad placed with x scaled by -1 (u runs along -x).
 template <class Visit>
-void forEachCheckerPixel(const render::CameraView& camera, std::uint32_t size, Visit visit) {
+void forEachCheckerPixel(const render::CameraView& camera, std::uint32_t size, Visit visit, bool mirrored = false) {
   auto texelAt = [&](glm::vec2 pixel) {  // (-1, -1) off the square
     const glm::dvec3 p = pixelRayAtZ(camera, size, pixel, 0.0);
-    const double u = p.x + 0.5, v = 0.5 - p.y;
+    const double u = (mirrored ? -p.x : p.x) + 0.5, v = 0.5 - p.y;
     if (u < 0.0 || u >= 1.0 || v < 0.0 || v >= 1.0) return glm::ivec2(-1);
     return glm::ivec2(int(u * 4.0), int(v * 4.0));
   };
@@ -554,6 +563,176 @@ TEST_F(MeshMaterialTest, AMaskedQuadShowsWhatLiesBehindItsCutOutTexels) {
   EXPECT_GT(cut, 1000);
   EXPECT_EQ(wrong, 0) << "pixels unlike the texel kept or the square behind a cut-out one (worst colour error " << worst
                       << ")";
+}
+
+// glTF's material textures beside the base colour: the checker quad's one texture serves as each,
+// so a texel's channels are known at every pixel compared.
+class MaterialTexturesTest : public MeshMaterialTest {
+ protected:
+  // The shading inputs of one pixel of the checker quad: its texel, its point, the base colour.
+  struct CheckerPixel {
+    glm::u8vec4 texel;
+    glm::dvec3 position;
+    glm::dvec3 base;  // the texel (sRGB) times the factor
+    glm::ivec2 at;    // which texel: column, row
+  };
+  static constexpr glm::vec4 kFactor{1.0f, 0.8f, 0.6f, 1.0f};
+  static constexpr glm::vec3 kEye{0.0f, 0.0f, 1.6f};
+
+  // The checker quad with `material` and `pbr` fields (writeCheckerQuad), lit from `light` (desc_'s
+  // intensity and ambient, which keep the colours below 1: the frame clamps): every pixel within
+  // kColourTolerance of expected(pixel).first, and at least 500 pixels where that is over twice
+  // the tolerance from expected(pixel).second, the colour without the texture under test (so that
+  // the comparison tells the two apart).
+  template <class Expected>
+  void expectCheckerQuad(const std::string& material, const std::string& pbr, const glm::vec3& light, Expected expected,
+                         const std::vector<std::uint8_t>& second = {}) {
+    const std::uint32_t size = 96;
+    createLitRenderer(size, light);
+    const hsdftest::ScopedTempPath folder("material_textures_quad");
+    const auto data = scene::loadGltf(writeCheckerQuad(folder.path(), kFactor, material, false, pbr, second));
+    ASSERT_TRUE(data.ok()) << data.error().message;
+    for (const auto& w : data->warnings) ADD_FAILURE() << "unexpected warning: " << w;
+    ASSERT_EQ(data->textures.size(), second.empty() ? 1u : 2u);
+    const render::InstantiatedScene scene = render::instantiateScene(*data, registry_, *pool_);
+    ASSERT_EQ(scene.renderables.size(), 1u);
+    if (mirrored_) registry_.get<scene::Transform>(scene.nodes.at(0)).scale = {-1.0f, 1.0f, 1.0f};
+    const render::CameraView camera = render::CameraView::lookAt(eye_, {0.0f, 0.0f, 0.0f}, 0.8f, kZNear, 1.0f);
+    const Frame frame = render(camera);
+    int compared = 0, wrong = 0, discriminating = 0;
+    double worst = 0.0;
+    forEachCheckerPixel(camera, size, [&](std::uint32_t x, std::uint32_t y, glm::ivec2 texel, glm::vec2 centre) {
+      const glm::u8vec4 t = checkerTexel(texel.x, texel.y);
+      const CheckerPixel pixel{t, pixelRayAtZ(camera, size, centre, 0.0), linearColor(t) * glm::dvec3(kFactor), texel};
+      const auto [with, without] = expected(pixel);
+      const double error = glm::length(linearColor(frame.pixel(x, y)) - with);
+      worst = std::max(worst, error);
+      wrong += error > kColourTolerance;
+      discriminating += glm::length(with - without) > 2.0 * kColourTolerance;
+      ++compared;
+    }, mirrored_);
+    std::printf("compared %d pixels, %d discriminating, wrong %d (worst %.3f)\n", compared, discriminating, wrong, worst);
+    EXPECT_GT(compared, 2000);
+    EXPECT_GT(discriminating, 500) << "pixels where the texture changes the colour";
+    EXPECT_EQ(wrong, 0) << "pixels unlike the CPU reference (worst colour error " << worst << ")";
+  }
+
+  // shadeSurface's colour of the quad at `pixel` with `roughness`, `occlusion` and `normal` (unit).
+  glm::dvec3 lit(const CheckerPixel& pixel, double roughness, double occlusion = 1.0,
+                 const glm::dvec3& normal = {0.0, 0.0, 1.0}) const {
+    return referenceShading(desc_, pixel.base, roughness, glm::dvec3(eye_), pixel.position, normal, occlusion);
+  }
+
+  glm::vec3 eye_ = kEye;
+  bool mirrored_ = false;  // the quad's node scaled by (-1, 1, 1)
+};
+
+// Why: glTF's roughness is the roughnessFactor times the metallicRoughnessTexture's green, read as
+// linear data: a rough and a polished part of one mesh differ in their highlight. Lit from just
+// above the eye, the highlight lies on the quad; each pixel must be the CPU reference with
+// roughness 0.6 x green / 255. Tricky because the same image is also the base colour, which reads
+// it as sRGB: read so for the roughness too, the greens of rows 1-3 shrink (110 -> 0.16, not 0.43).
+TEST_F(MaterialTexturesTest, TheMetallicRoughnessTexturesGreenScalesTheRoughness) {
+  desc_.lightIntensity = 0.6f;
+  expectCheckerQuad("", R"("metallicRoughnessTexture": {"index": 0},)", {0.05f, 0.05f, 1.0f}, [&](const CheckerPixel& p) {
+    return std::pair(lit(p, 0.6 * p.texel.g / 255.0), lit(p, 0.6));
+  });
+}
+
+// Why: glTF's occlusionTexture darkens the ambient light only (1 + strength x (red - 1) of it
+// reaches the surface), never the light's direct part. Lit from the front with a strong ambient
+// (1.0; the light 0.3), each pixel must be the CPU reference with that part of its ambient term.
+// Tricky because occluding the whole colour, or ignoring the strength (0.7), each look plausible.
+TEST_F(MaterialTexturesTest, TheOcclusionTexturesRedDarkensTheAmbientLightByItsStrength) {
+  desc_.ambient = 1.0f;
+  desc_.lightIntensity = 0.3f;
+  expectCheckerQuad(R"("occlusionTexture": {"index": 0, "strength": 0.7},)", "", {0.3f, 0.5f, 1.0f}, [&](const CheckerPixel& p) {
+    return std::pair(lit(p, 0.6, 1.0 + 0.7 * (p.texel.r / 255.0 - 1.0)), lit(p, 0.6));
+  });
+}
+
+// Why: glTF's emission is the emissiveFactor times the emissiveTexture (sRGB): a lamp's panel, a
+// screen, glowing on a face the light does not reach. Lit from behind the quad, each pixel must be
+// its ambient-lit texel plus the texel's linear colour times the factor. Tricky because the
+// texture multiplies the factor (not replaces it) and is sRGB (read as UNORM every texel glows
+// brighter).
+TEST_F(MaterialTexturesTest, TheEmissiveTextureMultipliesTheEmissiveFactorOnAFaceTurnedFromTheLight) {
+  const glm::dvec3 factor(0.5, 0.7, 0.9);
+  expectCheckerQuad(R"("emissiveTexture": {"index": 0}, "emissiveFactor": [0.5, 0.7, 0.9],)", "", {0.3f, 0.5f, -1.0f},
+                    [&](const CheckerPixel& p) {
+                      return std::pair(lit(p, 0.6) + factor * linearColor(p.texel), lit(p, 0.6) + factor);
+                    });
+}
+
+// The normal map of the normal texture test: texel (column, row) tilts the normal by 0.3 x (column
+// - 1.5) toward +u and 0.3 x (row - 1.5) toward the image's top (glTF: +x right, +y up).
+glm::u8vec4 normalTexel(int column, int row) {
+  const double x = 0.3 * (column - 1.5), y = 0.3 * (row - 1.5), z = std::sqrt(1.0 - x * x - y * y);
+  const auto encode = [](double c) { return std::uint8_t(std::lround((c * 0.5 + 0.5) * 255.0)); };
+  return {encode(x), encode(y), encode(z), 255};
+}
+
+// The normal map of normalTexel, as RGBA rows.
+std::vector<std::uint8_t> normalMap() {
+  std::vector<std::uint8_t> normals;
+  for (int row = 0; row < 4; ++row)
+    for (int column = 0; column < 4; ++column) {
+      const glm::u8vec4 t = normalTexel(column, row);
+      normals.insert(normals.end(), {t.r, t.g, t.b, t.a});
+    }
+  return normals;
+}
+
+// The normal texel's tilted normal with scale 0.8 in the frame (tangent, bitangent, normal).
+glm::dvec3 tiltedNormal(glm::ivec2 at, const glm::dvec3& tangent, const glm::dvec3& bitangent, const glm::dvec3& normal) {
+  const glm::u8vec4 t = normalTexel(at.x, at.y);
+  const auto decode = [](std::uint8_t c) { return 2.0 * c / 255.0 - 1.0; };
+  return glm::normalize(0.8 * decode(t.r) * tangent + 0.8 * decode(t.g) * bitangent + decode(t.b) * normal);
+}
+
+// Why: a normal-mapped wall (glTF normalTexture: most real assets) shows its relief in the light; drawn
+// with the vertex normals it is flat. The checker quad with a second texture, a 4 x 4 normal map of
+// a tilt of its own per texel, scale 0.8: each pixel must be the CPU reference lit with the normal
+// the 8-bit texel gives in the quad's frame (u along +x, v down the image: the texel's +y is +y in
+// the world), (2 t - 1) with x and y times the scale. Tricky because the bitangent is -dP/dv (glTF's
+// v runs down, its green up: a sign slip mirrors every tilt in y), the texel is linear data, and
+// the scale applies to x and y only.
+TEST_F(MaterialTexturesTest, TheNormalTextureTiltsTheShadingNormalInTheTangentFrame) {
+  expectCheckerQuad(
+      R"("normalTexture": {"index": 1, "scale": 0.8},)", "", {0.3f, 0.5f, 1.0f},
+      [&](const CheckerPixel& p) {
+        return std::pair(lit(p, 0.6, 1.0, tiltedNormal(p.at, {1, 0, 0}, {0, 1, 0}, {0, 0, 1})), lit(p, 0.6));
+      },
+      normalMap());
+}
+
+// Why: glTF mirrors an instance by a negative scale, and exporters mirror half a model's texture
+// coordinates; the tangent must follow the texture's u, now along -x, or every tilt in x turns
+// the wrong way. The normal texture test's quad placed with x scaled by -1 (its winding reversed,
+// drawn as a front face by the mirrored pipeline state): each pixel against the CPU reference
+// with the tangent -x.
+TEST_F(MaterialTexturesTest, TheNormalTextureFollowsAMirroredInstancesTextureDirections) {
+  mirrored_ = true;
+  expectCheckerQuad(
+      R"("normalTexture": {"index": 1, "scale": 0.8},)", "", {0.3f, 0.5f, 1.0f},
+      [&](const CheckerPixel& p) {
+        return std::pair(lit(p, 0.6, 1.0, tiltedNormal(p.at, {-1, 0, 0}, {0, 1, 0}, {0, 0, 1})), lit(p, 0.6));
+      },
+      normalMap());
+}
+
+// Why: glTF reverses a double-sided mesh's back-face normal "before the lighting equation is
+// evaluated": the tilted normal too, whole. The quad, double-sided, seen and lit from below: each
+// pixel against the CPU reference with the front face's tilted normal reversed. Tricky because
+// tilting the reversed vertex normal in a frame built from it keeps the tangent's part unreversed.
+TEST_F(MaterialTexturesTest, TheNormalTextureOnADoubleSidedBackFaceIsReversedWhole) {
+  eye_ = {0.0f, 0.0f, -1.6f};
+  expectCheckerQuad(
+      R"("doubleSided": true, "normalTexture": {"index": 1, "scale": 0.8},)", "", {0.3f, 0.5f, -1.0f},
+      [&](const CheckerPixel& p) {
+        return std::pair(lit(p, 0.6, 1.0, -tiltedNormal(p.at, {1, 0, 0}, {0, 1, 0}, {0, 0, 1})), lit(p, 0.6, 1.0, {0, 0, -1}));
+      },
+      normalMap());
 }
 
 // glTF alphaMode BLEND: blended meshes drawn over the finished opaque frame, back to front.

@@ -1,5 +1,5 @@
-// The mesh textures (engine/render/mesh_textures.h): every texture in a descriptor set of its own
-// (engine/gpu/image_sampler_sets.h), the sets drawn from pools of 64.
+// The mesh textures (engine/render/mesh_textures.h): every material's textures in a descriptor set
+// of its own (engine/gpu/image_sampler_sets.h), the sets drawn from pools of 64.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -41,14 +41,16 @@ TEST_F(MeshTexturesTest, MoreTexturesThanAPoolHoldsEachDrawOnItsOwnMesh) {
     const glm::u8vec4 c = textureColor(i);
     texture.rgba = {c.r, c.g, c.b, c.a};
     texture.mipmaps = false;
-    handles.push_back(pool_->textures().add(texture));
+    render::MaterialImages images;
+    images.baseColor = pool_->textures().addImage(texture, render::TexelEncoding::Srgb);
+    handles.push_back(pool_->textures().addMaterial(images));
   }
-  ASSERT_EQ(pool_->textures().count(), columns * rows + 1) << "the white texel, then one per texture";
+  ASSERT_EQ(pool_->textures().count(), columns * rows + 1) << "the white texels' set, then one per material";
   const float cell = 2.0f / float(columns);
   for (std::uint32_t i = 0; i < columns * rows; ++i) {
     const glm::vec3 centre(-1.0f + cell * (float(i % columns) + 0.5f), -0.8f + cell * (float(i / columns) + 0.5f), 0.0f);
     const ecs::Entity e = addQuad(centre, cell * 0.8f, glm::vec4(1.0f));
-    registry_.get<render::MeshRenderable>(e).baseColorTexture = handles[i];
+    registry_.get<render::MeshRenderable>(e).textures = handles[i];
   }
   const glm::vec3 eye(0.0f, 0.0f, 40.0f);
   const render::CameraView camera =
