@@ -425,6 +425,10 @@ HSDF_CHECK_PUSH_CONSTANTS(HermitePushConstants);
 // inside the surface): the shading pass lights the hit as the side the ray came from without
 // evaluating the field again.
 #define SPHERE_TRACE_STARTED_INSIDE 0x80000000u
+// The largest dense grid the tracers draw: the march keys its cell as one int, x + K (y + K z)
+// (fieldCellKey), below 2^31 while K^3 is. Far past any field a dense texture holds in practice
+// (K = 1290 is 2.1e9 samples, 34 GB of Hermite texels), but refused by name rather than wrapped.
+#define SPHERE_TRACE_MAX_RESOLUTION 1290u
 
 // One per drawn object of the sphere-tracing feature, indexed by gl_InstanceIndex. The field is a
 // dense 3D texture of K^3 samples; "grid units" are object-space lengths divided by h, so sample

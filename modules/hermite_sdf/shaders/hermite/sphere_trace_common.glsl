@@ -46,8 +46,8 @@ FieldCursor newFieldCursor() {
   return cursor;
 }
 
-// One int per cell of the grid (fieldCell's, all >= 0; below 2^31 while K < 1290, past any dense
-// texture): the cursor that the march carries holds one register for its cell, not an ivec3. Every
+// One int per cell of the grid (fieldCell's, all >= 0; below 2^31 for every K up to
+// SPHERE_TRACE_MAX_RESOLUTION, which the host enforces): the cursor that the march carries holds one register for its cell, not an ivec3. Every
 // register held through the march counts at the peak, the interpolant's evaluation: the anchor's
 // base and view depth, held for the depth and the hit offset, took the depth prepass from 72 to 76
 // VGPRs on NAVI10 (12 subgroups per SIMD, not 14); the key brings it back

@@ -250,6 +250,9 @@ engine::Expected<SphereTraceFeature::FieldTexture> SphereTraceFeature::uploadTex
   if (grid.resolution < 2 || std::uint32_t(grid.resolution) > properties.limits.maxImageDimension3D)
     return engine::makeError("resolution " + std::to_string(grid.resolution) + " exceeds the device's 3D texture size " +
                              std::to_string(properties.limits.maxImageDimension3D));
+  if (std::uint32_t(grid.resolution) > SPHERE_TRACE_MAX_RESOLUTION)
+    return engine::makeError("resolution " + std::to_string(grid.resolution) + " exceeds the sphere tracers' " +
+                             std::to_string(SPHERE_TRACE_MAX_RESOLUTION) + " (their march keys a cell as one int)");
   ENGINE_TRY_ASSIGN(FieldTexels texels, packFieldTexels(asset.field, TraceMethod(method), half));
   neededBytes = texels.bytes.size();  // at least (its staging copy comes on top)
 
