@@ -15,6 +15,7 @@
 #include "engine/gpu/descriptor_set_layout.h"
 #include "engine/gpu/pipeline.h"
 #include "engine/gpu/shader_statistics.h"
+#include "shared/host_device.h"
 #include "test_files.h"
 #include "test_device.h"
 
@@ -34,10 +35,12 @@ Expected<std::unique_ptr<Context>> createContext(const ShaderStatisticsDesc& sta
   return Context::create(desc);
 }
 
-// mesh.frag's base colour texture (set 0, binding 0), made through DescriptorSetLayout.
+// mesh.frag's material textures (set 0, bindings MESH_TEXTURE_*), made through DescriptorSetLayout.
 DescriptorSetLayout meshTextureLayout(const Context& context) {
-  return DescriptorSetLayout(
-      context, {"mesh texture", {{0, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, 1, VK_SHADER_STAGE_FRAGMENT_BIT, nullptr}}, {}});
+  DescriptorSetLayoutDesc desc{"mesh textures", {}, {}};
+  for (std::uint32_t binding = 0; binding < MESH_TEXTURE_COUNT; ++binding)
+    desc.bindings.push_back({binding, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, 1, VK_SHADER_STAGE_FRAGMENT_BIT, nullptr});
+  return DescriptorSetLayout(context, desc);
 }
 
 // mesh.vert's inputs (position, normal, texture coordinate), a colour target of `color` and a
