@@ -34,6 +34,7 @@
 #include "engine/platform/camera_controller.h"
 #include "engine/render/components.h"
 #include "engine/render/renderer.h"
+#include "engine/render/scene_instantiate.h"
 #include "compared_side.h"
 #include "difference_view.h"
 #include "hermite_sdf/core/bake_job.h"
@@ -202,7 +203,7 @@ class Viewer {
   // .hsdf file).
   bool canRebake() const { return bakes_.source() != nullptr || sceneObjects_.loaded(); }
   // Whether Method::Mesh has triangles to show (a glTF scene).
-  bool hasMeshes() const { return !meshEntities_.empty(); }
+  bool hasMeshes() const { return sceneTriangles_; }
   // SceneDesc::objects: the entities drawing a mesh's shared asset (one per SDF node), and the
   // bakes that made those assets (one per mesh they use).
   const std::vector<engine::ecs::Entity>& sdfObjects() const { return sceneObjects_.entities(); }
@@ -311,6 +312,9 @@ class Viewer {
   static glm::vec3 bakeOrigin(const glm::vec3& lo, const glm::vec3& hi);
   engine::Status addSdfFile(const std::filesystem::path& file, bool frameIt);
   engine::Status loadGltf(const SceneDesc& scene);
+  engine::Expected<engine::scene::SceneData> oneSdfPart(const engine::scene::SceneData& data,
+                                                        const engine::render::InstantiatedScene& instantiated,
+                                                        const std::filesystem::path& file);
   void addGroundPlane();
 
   std::unique_ptr<engine::gpu::Context> context_;
@@ -339,7 +343,10 @@ class Viewer {
   SdfBakes bakes_{registry_, tuning_};
   bool sideBySide_ = false;
   bool warnedCellsOnly_ = false;  // warnIfCellsOnly said it for the current request
+  // The mesh parts the SDF stands for (hidden while it draws); the parts of triangle nodes (a
+  // see-through mesh: hsdf::oneSdfScene, SdfObjects) are not among them and always draw.
   std::vector<engine::ecs::Entity> meshEntities_;
+  bool sceneTriangles_ = false;  // the glTF scene has triangle meshes (Method::Mesh draws them)
   std::vector<std::pair<engine::ecs::Entity, engine::render::MeshRenderable>> hiddenMeshes_;
   SdfObjects sceneObjects_{registry_, tuning_, bakes_};  // SceneDesc::objects
 

@@ -1,6 +1,7 @@
 // Viewer::loadScene: glTF meshes, SDFs baked through the module bake job, .hsdf files, the ground.
 #include <chrono>
 #include <cstdio>
+#include <unordered_set>
 
 #include <fmt/format.h>
 
@@ -10,6 +11,7 @@
 #include "engine/scene/gltf/gltf_loader.h"
 #include "engine/scene/transform.h"
 #include "hermite_sdf/core/hsdf_file.h"
+#include "hermite_sdf/render/scene_objects.h"
 #include "viewer.h"
 
 namespace samples {
@@ -98,6 +100,7 @@ Status Viewer::loadGltf(const SceneDesc& scene) {
   ENGINE_TRY_ASSIGN(scene::SceneData data, scene::loadGltf(scene.gltf));
   const render::InstantiatedScene instantiated = render::instantiateScene(data, registry_, *pool_);
   collectSceneCameras(instantiated.cameras);
+  sceneTriangles_ = !instantiated.renderables.empty();
   if (instantiated.renderables.empty()) {
     log::warn("{}: the scene has no triangle meshes", scene.gltf.string());
   } else {
@@ -115,17 +118,18 @@ Status Viewer::loadGltf(const SceneDesc& scene) {
         .add(std::make_shared<const scene::SceneData>(std::move(data)), instantiated.nodes, instantiated.renderables,
              meshEntities_)
         .withContext(scene.gltf.string());
-  meshEntities_ = instantiated.renderables;
+  ENGINE_TRY_ASSIGN(const scene::SceneData sdfPart, oneSdfPart(data, instantiated, scene.gltf));
+  if (meshEntities_.empty()) return {};  // every mesh draws triangles (oneSdfPart said so)
   sideBySide_ = scene.sideBySide;
   // The SDF looks like the mesh it stands for: the colour of the first primitive drawn (a mesh
   // without a material is drawn in the default material's grey, not in the SDF's own colour).
-  for (const scene::NodeData& node : data.nodes)
+  for (const scene::NodeData& node : sdfPart.nodes)
     if (node.mesh >= 0 && std::size_t(node.mesh) < data.meshes.size() && !data.meshes[std::size_t(node.mesh)].primitives.empty()) {
       bakes_.setColor(scene::baseColorOf(data, data.meshes[std::size_t(node.mesh)].primitives.front().material));
       break;
     }
   const glm::vec3 origin = bakeOrigin(boundsMin_, boundsMax_);
-  auto source = hsdf::BakeSource::fromScene("scene sdf", data, glm::dvec3(origin));
+  auto source = hsdf::BakeSource::fromScene("scene sdf", sdfPart, glm::dvec3(origin));
   // Primitives of several materials bake into a palette (hermite_sdf/core/materials.h), which the
   // entity's colour multiplies: white shows the materials as authored.
   if (source && source->materials) bakes_.setColor(glm::vec4(1.0f));
@@ -137,6 +141,32 @@ Status Viewer::loadGltf(const SceneDesc& scene) {
   }
   if (!source) return source.error().withContext(scene.gltf.string());
   return addBakedSdf(std::move(*source), scene, origin).withContext(scene.gltf.string());
+}
+
+// The part of a glTF scene its one SDF bakes (hsdf::oneSdfScene: a see-through mesh drawn opaque
+// would hide what lies behind it), naming each see-through mesh as SdfObjects does; the parts of
+// the other nodes stay triangles, drawn beside the SDF by every method. meshEntities_: the parts the
+// SDF stands for, none when every mesh node draws triangles (said here: nothing is baked).
+Expected<scene::SceneData> Viewer::oneSdfPart(const scene::SceneData& data,
+                                              const render::InstantiatedScene& instantiated,
+                                              const std::filesystem::path& file) {
+  ENGINE_TRY_ASSIGN(hsdf::OneSdfScene split, hsdf::oneSdfScene(data).withContext(file.string()));
+  for (const std::string& line : split.seeThrough) log::warn("{}", line);
+  std::unordered_set<ecs::Entity> triangleNodes;
+  for (std::size_t n = 0; n < split.draws.size() && n < instantiated.nodes.size(); ++n)
+    if (split.draws[n] == hsdf::NodeDraw::Triangles) triangleNodes.insert(instantiated.nodes[n]);
+  meshEntities_.clear();
+  for (const ecs::Entity part : instantiated.renderables)
+    if (!triangleNodes.contains(registry_.get<scene::Parent>(part).entity)) meshEntities_.push_back(part);
+  if (meshEntities_.empty()) {
+    const std::string nothing = fmt::format("{}: every mesh is drawn as triangles (see-through materials, or the "
+                                            "nodes' extras): nothing to bake into an SDF; every method draws the "
+                                            "triangles",
+                                            file.string());
+    log::warn("{}", nothing);
+    bakes_.setError(nothing);
+  }
+  return std::move(split.sdfPart);
 }
 
 // Where a flattened scene is baked about: its centre when the scene lies farther from the world

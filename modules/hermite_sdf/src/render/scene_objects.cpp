@@ -190,6 +190,22 @@ engine::Expected<std::vector<NodeDraw>> chooseNodeDraws(const engine::scene::Sce
   return std::move(choices.draws);
 }
 
+bool OneSdfScene::empty() const {
+  return std::none_of(sdfPart.nodes.begin(), sdfPart.nodes.end(),
+                      [](const engine::scene::NodeData& node) { return node.mesh >= 0; });
+}
+
+engine::Expected<OneSdfScene> oneSdfScene(const engine::scene::SceneData& scene) {
+  ENGINE_TRY_ASSIGN(NodeChoices choices, chooseNodes(scene, {}));
+  OneSdfScene split;
+  split.sdfPart = scene;
+  for (std::size_t n = 0; n < scene.nodes.size(); ++n)
+    if (choices.draws[n] == NodeDraw::Triangles) split.sdfPart.nodes[n].mesh = -1;
+  split.draws = std::move(choices.draws);
+  split.seeThrough = std::move(choices.seeThrough);
+  return split;
+}
+
 // A scene of the one mesh at the identity: flattening it gives the mesh in its own space.
 engine::Expected<BakeSource> meshBakeSource(const engine::scene::SceneData& scene, int mesh) {
   if (mesh < 0 || std::size_t(mesh) >= scene.meshes.size())

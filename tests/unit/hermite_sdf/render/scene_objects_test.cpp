@@ -205,6 +205,43 @@ TEST(SceneObjects, SeeThroughMeshesDrawTrianglesUnlessTheirNodeAsksForAnSdf) {
   EXPECT_EQ(*draws, objects->draws) << "the choice alone is the bake's";
 }
 
+// Tricky: a scene drawn as one SDF took every mesh into its one bake, see-through ones too (the
+// pane hid the cube behind it). oneSdfScene makes the choice of the scene objects (the same
+// function: a see-through mesh and a node whose extras ask for triangles stay triangles, a node
+// asking for an SDF is baked) and takes the triangle nodes' meshes off the part to bake, the nodes
+// keeping their places; a scene of see-through meshes leaves nothing to bake (empty()).
+TEST(SceneObjects, AOneSdfSceneLeavesItsTriangleNodesOutOfTheBake) {
+  SceneData scene = twoMeshScene();
+  scene.materials.push_back({"glass", glm::vec4(0.1f, 0.3f, 0.9f, 0.3f)});
+  scene.materials.back().alphaBlend = true;
+  scene.meshes[1].primitives.front().material = 0;  // the slabs: glass
+  scene.nodes[1].extras = R"({"hermite_sdf": {"draw": "triangles"}})";
+  scene.nodes[5].extras = R"({"hermite_sdf": {"draw": "sdf"}})";
+  const auto split = oneSdfScene(scene);
+  ASSERT_TRUE(split) << split.error().message;
+  const std::vector<int> baked = {0, -1, 0, 0, -1, 1};  // cube1 asks for triangles, slab1 for an SDF
+  ASSERT_EQ(split->sdfPart.nodes.size(), scene.nodes.size());
+  for (std::size_t n = 0; n < scene.nodes.size(); ++n) {
+    EXPECT_EQ(split->sdfPart.nodes[n].mesh, baked[n]) << scene.nodes[n].name;
+    EXPECT_EQ(split->sdfPart.nodes[n].world, scene.nodes[n].world) << scene.nodes[n].name;
+  }
+  const auto draws = chooseNodeDraws(scene, {});
+  ASSERT_TRUE(draws) << draws.error().message;
+  EXPECT_EQ(split->draws, *draws) << "the scene objects' choice";
+  ASSERT_EQ(split->seeThrough.size(), 1u);
+  EXPECT_NE(split->seeThrough[0].find("mesh 1 'slab': drawn as triangles: material 0 'glass' is alphaMode BLEND"),
+            std::string::npos)
+      << split->seeThrough[0];
+  EXPECT_FALSE(split->empty());
+
+  scene.nodes[5].extras.clear();
+  for (NodeData& n : scene.nodes)
+    if (n.mesh == 0) n.extras = R"({"hermite_sdf": {"draw": "triangles"}})";
+  const auto none = oneSdfScene(scene);
+  ASSERT_TRUE(none) << none.error().message;
+  EXPECT_TRUE(none->empty()) << "every node draws triangles: nothing to bake";
+}
+
 // An open square (one quad, no volume: its field is positive everywhere) and a mesh whose every
 // triangle has zero area (nothing left after cleaning).
 MeshData openSheet(std::string name) {

@@ -55,6 +55,17 @@ engine::Expected<NodeExtras> nodeExtras(const engine::scene::NodeData& node);
 engine::Expected<std::vector<NodeDraw>> chooseNodeDraws(const engine::scene::SceneData& scene,
                                                         const SceneObjectOptions& options);
 
+// A scene drawn as one SDF (no per-node objects) bakes the meshes of its SDF nodes only, chosen as
+// chooseNodeDraws does with the default options: a see-through mesh, or a node whose extras ask for
+// triangles, draws triangles beside the SDF instead of being baked into its opaque surface.
+struct OneSdfScene {
+  std::vector<NodeDraw> draws;           // [node]
+  engine::scene::SceneData sdfPart;      // the scene less the meshes of triangle nodes (nodes keep their places)
+  std::vector<std::string> seeThrough;   // the see-through meshes, one line each (as SceneObjects::fallbacks)
+  bool empty() const;                    // no mesh node left to bake
+};
+engine::Expected<OneSdfScene> oneSdfScene(const engine::scene::SceneData& scene);
+
 // One mesh of the scene in its own space, as a bake source named after the mesh.
 engine::Expected<BakeSource> meshBakeSource(const engine::scene::SceneData& scene, int mesh);
 
