@@ -100,12 +100,15 @@ Status SdfObjects::rebake() {
 // load and re-bake (a mesh's levels together cost less than its level 0); every SDF node carries
 // its mesh's levels and the module's system picks a level per node from this frame's camera, so
 // near and far instances of one mesh draw different levels in the cells' one draw. A failed bake
-// turns levels off and keeps level 0.
+// turns levels off and keeps level 0. A mesh method draws no SDF: the levels wait until an SDF
+// method is picked (baked under --method mesh they cost the load 0.7-1.4 s for the grid scene, and
+// went to no node: the renderables were hidden).
 bool SdfObjects::updateLevels() {
   if (!tuning_.lod) {
     dropLevels();
     return false;
   }
+  if (levels_.empty() && !isSdfMethod(tuning_.method)) return false;
   if (levels_.empty()) {
     hsdf::BakeSettings settings;
     setBakeKey(bakes_.baked(), settings);

@@ -12,6 +12,7 @@
 #include "engine/render/components.h"
 #include "engine/scene/transform.h"
 #include "hermite_sdf/render/cell_feature.h"
+#include "hermite_sdf/render/lod.h"
 #include "log_capture.h"
 #include "test_viewer.h"
 
@@ -309,6 +310,47 @@ TEST(ViewerObjects, LevelsOfDetailAreChosenPerNode) {
   const std::multiset<std::uint32_t> rebaked = drawnResolutions(*viewer);
   EXPECT_EQ(*rebaked.rbegin(), 32u) << "the new K's levels, not the old ones";
   EXPECT_EQ(*rebaked.begin(), 16u);
+  EXPECT_TRUE(viewer->close().ok());
+}
+
+std::size_t nodesWithLevels(Viewer& viewer) {
+  std::size_t count = 0;
+  viewer.registry().view<hsdf::HermiteSdfLod>().each([&count](engine::ecs::Entity, const hsdf::HermiteSdfLod& lod) {
+    count += !lod.levels.empty();
+  });
+  return count;
+}
+
+// Why: --method mesh --lod with --objects baked every mesh's levels at load (the explorer of session
+// 41: 0.7 s for the grid scene) and gave them to no node, the SDF renderables being hidden; when an
+// SDF method was picked later, no node had levels. The levels wait for an SDF method: none baked
+// (no levels log, no node with levels) under the mesh method, all 108 SDF nodes with levels after
+// the switch to cells.
+TEST(ViewerObjects, LevelsOfDetailAreNotBakedWhileTheMeshMethodDrawsNoSdf) {
+  hsdftest::LogCapture infos(engine::log::Level::Info);
+  auto viewer = makeViewer();
+  ASSERT_NE(viewer, nullptr);
+  SceneDesc scene;
+  scene.gltf = kGridScene;
+  scene.objects = true;
+  scene.groundPlane = false;
+  TuningState tuning;
+  tuning.resolution = 32;
+  tuning.lod = true;
+  tuning.method = Method::Mesh;
+  ASSERT_TRUE(viewer->loadScene(scene, tuning).ok());
+  ASSERT_TRUE(viewer->waitForBake().ok());
+  ASSERT_TRUE(viewer->step().ok());
+  EXPECT_EQ(infos.count("levels of detail:"), 0u) << "no level baked for the mesh method";
+  EXPECT_EQ(nodesWithLevels(*viewer), 0u);
+
+  tuning = viewer->tuning();
+  tuning.method = hsdf::RenderMethod::Cells;
+  viewer->setTuning(tuning);
+  ASSERT_TRUE(viewer->step().ok());
+  EXPECT_EQ(infos.count("levels of detail:"), 1u);
+  EXPECT_EQ(nodesWithLevels(*viewer), viewer->sdfObjects().size()) << "every SDF node has its mesh's levels";
+  EXPECT_EQ(viewer->sdfObjects().size(), 108u);
   EXPECT_TRUE(viewer->close().ok());
 }
 
