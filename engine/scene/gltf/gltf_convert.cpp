@@ -249,10 +249,11 @@ void renormalize(std::vector<glm::vec3>& normals) {
 // TEXCOORD_0 (what a base colour texture is read through). The importer did not read it before
 // textures were drawn, so a broken one is a warning, not an error: the primitive keeps no texture
 // coordinates and is drawn in its material's factor, as it was. (A Draco primitive's come from its
-// stream: decodeDracoGeometry.)
+// stream when the extension's `attributes` name them, decodeDracoGeometry; else from the accessor,
+// as KHR_draco_mesh_compression has the attributes it does not compress read as usual.)
 void readTexcoords(ImportContext& context, const PrimitiveRef& ref, const std::string& where, MeshPrimitiveData& out) {
   const int accessor = findAttribute(ref.primitive, "TEXCOORD_0");
-  if (accessor == -2 || ref.draco) return;
+  if (accessor == -2 || (ref.draco && ref.draco->attributes.contains("TEXCOORD_0"))) return;
   auto texcoords = readVec2(context, accessor);
   if (!texcoords.ok()) {
     context.warnings.push_back(fmt::format("{}: TEXCOORD_0 not read: {}", where, texcoords.error().message));

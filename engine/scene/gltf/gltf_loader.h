@@ -23,7 +23,9 @@
 //    applied (a warning each: a skinned mesh is drawn in its file pose, placed by its node).
 //  - compression: KHR_draco_mesh_compression primitives (libdraco) and EXT_meshopt_compression
 //    bufferViews (libmeshoptimizer, every mode and filter) are decoded; decoded counts must match
-//    the accessors, and decoded bytes count against the same budget as other decoded geometry.
+//    the accessors, and decoded bytes count against the same budget as other decoded geometry. A
+//    Draco primitive's NORMAL or TEXCOORD_0 that its extension's `attributes` do not name is read
+//    from its accessor, as the extension has it.
 //  - extensions: a required extension other than those three and the ones that only concern
 //    materials, textures and lights (KHR_materials_*, KHR_texture_*, EXT_texture_*,
 //    KHR_lights_punctual, ...) is an error naming it; used extensions that are ignored get a

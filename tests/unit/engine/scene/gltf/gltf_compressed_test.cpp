@@ -255,6 +255,45 @@ TEST(GltfLoaderCompressed, ADracoTexturedMeshKeepsItsTextureCoordinates) {
       << notes;
 }
 
+// Why: KHR_draco_mesh_compression has a primitive's attributes that its extension's `attributes` do
+// not name read from their accessors as usual (an encoder may compress the positions only); an
+// uncompressed TEXCOORD_0 beside a Draco stream was skipped, and the texture not drawn. The file:
+// the Draco grid with TEXCOORD_0 taken out of the extension's map (the stream still holds it) and
+// given as a float accessor of coordinates made here from each decoded vertex's position, unlike
+// the stream's (the grid's coordinates are no function of its positions): reading the stream's,
+// or none, is seen.
+TEST(GltfLoaderCompressed, AnUncompressedTexcoordBesideADracoStreamIsRead) {
+  const auto draco = loadGltf(kDataDir / "textured_grid_draco.glb");
+  ASSERT_TRUE(draco.ok()) << draco.error().message;
+  std::vector<float> own;
+  for (const glm::vec3& p : draco->meshes.at(0).primitives.at(0).positions) {
+    own.push_back(0.25f + 0.5f * p.x);
+    own.push_back(0.75f - 0.25f * p.y + 0.125f * p.z);
+  }
+  Glb glb = readGlb("textured_grid_draco.glb");
+  json& primitive = glb.document["meshes"][0]["primitives"][0];
+  ASSERT_EQ(primitive["extensions"]["KHR_draco_mesh_compression"]["attributes"].erase("TEXCOORD_0"), 1u);
+  while (glb.bin.size() % 4 != 0) glb.bin.push_back(0);
+  const std::size_t offset = glb.bin.size(), length = own.size() * sizeof(float);
+  glb.bin.resize(offset + length);
+  std::memcpy(glb.bin.data() + offset, own.data(), length);
+  glb.document["buffers"][0]["byteLength"] = glb.bin.size();
+  glb.document["bufferViews"].push_back({{"buffer", 0}, {"byteOffset", offset}, {"byteLength", length}});
+  glb.document["accessors"].push_back({{"bufferView", glb.document["bufferViews"].size() - 1},
+                                       {"componentType", 5126},
+                                       {"count", own.size() / 2},
+                                       {"type", "VEC2"}});
+  primitive["attributes"]["TEXCOORD_0"] = glb.document["accessors"].size() - 1;
+  const auto bytes = writeGlb(glb);
+  const auto scene = loadGltfFromMemory(bytes, "texcoord_beside_draco.glb", {});
+  ASSERT_TRUE(scene.ok()) << scene.error().message;
+  for (const auto& w : scene->warnings) ADD_FAILURE() << "unexpected warning: " << w;
+  const auto& read = scene->meshes.at(0).primitives.at(0).texcoords;
+  ASSERT_EQ(read.size() * 2, own.size()) << "TEXCOORD_0 read from its accessor";
+  for (std::size_t v = 0; v < read.size(); ++v)
+    EXPECT_EQ(read[v], glm::vec2(own[2 * v], own[2 * v + 1])) << "vertex " << v;
+}
+
 // Why: gltfpack quantizes texture coordinates to normalized 16-bit integers and undoes that with a
 // KHR_texture_transform (offset and scale, KHR_mesh_quantization's way); read without it, every
 // textured file out of gltfpack drew the corner of its texture. Tricky because positions are
