@@ -65,28 +65,36 @@ hsdf::HermiteField roundedToHalf(const hsdf::HermiteField& field) {
   return out;
 }
 
-hsdf::ReferenceImage referenceFor(hsdf::RenderMethod method, const hsdf::HermiteField& field,
-                                  const render::CameraView& camera, glm::ivec2 size, const glm::mat4& model) {
-  hsdf::RenderOptions options;
-  options.model = model;
+namespace {
+
+// The CPU reference of `method`'s interpolant (trilinear for the trilinear tracer, else Hermite).
+hsdf::ReferenceImage referenceOf(hsdf::RenderMethod method, const hsdf::HermiteField& field, const glm::mat4& view,
+                                 const glm::mat4& proj, glm::ivec2 size, const hsdf::RenderOptions& options) {
   auto reference = [&]() -> Expected<hsdf::ReferenceImage> {
     if (method == hsdf::RenderMethod::TrilinearSphereTrace)
-      return hsdf::renderReference(trilinearOf(field), camera.view, camera.proj, size, options);
+      return hsdf::renderReference(trilinearOf(field), view, proj, size, options);
     ENGINE_TRY_ASSIGN(const hsdf::CellClassification cells, hsdf::classifyCells(field));
-    return hsdf::renderReference(field, camera.view, camera.proj, size, &cells, options);
+    return hsdf::renderReference(field, view, proj, size, &cells, options);
   }();
   EXPECT_TRUE(reference.ok()) << reference.error().message;
   return reference ? std::move(reference.value()) : hsdf::ReferenceImage{};
 }
 
+}  // namespace
+
+hsdf::ReferenceImage referenceFor(hsdf::RenderMethod method, const hsdf::HermiteField& field,
+                                  const render::CameraView& camera, glm::ivec2 size, const glm::mat4& model) {
+  hsdf::RenderOptions options;
+  options.model = model;
+  return referenceOf(method, field, camera.view, camera.proj, size, options);
+}
+
 hsdf::ReferenceImage referenceFromTheEye(const hsdf::HermiteField& field, const render::CameraView& camera,
-                                         glm::ivec2 size) {
+                                         glm::ivec2 size, hsdf::RenderMethod method) {
   hsdf::RenderOptions options;
   options.model = glm::translate(glm::mat4(1.0f), -camera.position);
   const glm::mat4 rotation(camera.viewFrom(glm::dvec3(camera.position)));
-  auto reference = hsdf::renderReference(field, rotation, camera.proj, size, nullptr, options);
-  EXPECT_TRUE(reference.ok()) << reference.error().message;
-  return reference ? std::move(reference.value()) : hsdf::ReferenceImage{};
+  return referenceOf(method, field, rotation, camera.proj, size, options);
 }
 
 ecs::Entity addTracedSdf(ecs::Registry& registry, std::shared_ptr<const hsdf::SdfAsset> asset,

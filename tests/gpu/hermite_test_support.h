@@ -36,9 +36,11 @@ hsdf::ReferenceImage referenceFor(hsdf::RenderMethod method, const hsdf::Hermite
 // renderer draws from it: camera-relative, the view its rotation alone and the object moved by
 // -CameraView::position (exact: a float negated), as the anchors take the eye in double
 // (render/ray_anchor.h). From camera.view the reference took the eye from the float translation
-// -R eye, 0.04-0.29 cells off 1e6-1e7 cells out. Fails the test on error.
+// -R eye, 0.04-0.29 cells off 1e6-1e7 cells out. `method` picks the interpolant as referenceFor
+// does (the cells' is the Hermite one). Fails the test on error.
 hsdf::ReferenceImage referenceFromTheEye(const hsdf::HermiteField& field, const engine::render::CameraView& camera,
-                                         glm::ivec2 size);
+                                         glm::ivec2 size,
+                                         hsdf::RenderMethod method = hsdf::RenderMethod::HermiteSphereTrace);
 
 // An entity drawing `asset` with a sphere-tracing `method` (no Transform: `transform` is its
 // WorldTransform), from fp16 textures when `half`.
