@@ -34,4 +34,18 @@ inline std::unique_ptr<Viewer> makeTestViewer(std::uint32_t width, std::uint32_t
   return viewer.ok() ? std::move(*viewer) : nullptr;
 }
 
+// `viewer` showing the glTF scene `gltf` without a ground plane (its meshes as separate SDF objects
+// when `objects`), or nullptr after a failed expectation naming why.
+inline std::unique_ptr<Viewer> withGltfScene(std::unique_ptr<Viewer> viewer, const std::filesystem::path& gltf,
+                                             const TuningState& tuning, bool objects) {
+  if (!viewer) return nullptr;
+  SceneDesc scene;
+  scene.gltf = gltf;
+  scene.groundPlane = false;
+  scene.objects = objects;
+  const engine::Status loaded = viewer->loadScene(scene, tuning);
+  EXPECT_TRUE(loaded.ok()) << loaded.error().message;
+  return loaded.ok() ? std::move(viewer) : nullptr;
+}
+
 }  // namespace samples

@@ -23,6 +23,11 @@ const std::filesystem::path kGridScene = hsdftest::sampleAsset("grid_scene.glb")
 
 std::unique_ptr<Viewer> makeViewer() { return makeTestViewer(96, 64); }
 
+// A viewer showing the sample grid scene as scene objects with `tuning` (null if it fails).
+std::unique_ptr<Viewer> viewGridScene(const TuningState& tuning) {
+  return withGltfScene(makeViewer(), kGridScene, tuning, true);
+}
+
 std::set<std::string> namesWith(Viewer& viewer, bool sdf) {
   std::set<std::string> names;
   auto& registry = viewer.registry();
@@ -53,17 +58,11 @@ std::size_t distinctAssets(Viewer& viewer) {
 // triangles in extras (and one more from the list) must keep their triangles and no SDF, the other
 // SDF nodes must hide theirs, and all SDF instances go through the cells' batches in one frame.
 TEST(ViewerObjects, GridSceneSharesOneAssetPerMeshAndKeepsTriangleNodes) {
-  auto viewer = makeViewer();
-  ASSERT_NE(viewer, nullptr);
-  SceneDesc scene;
-  scene.gltf = kGridScene;
-  scene.objects = true;
-  scene.groundPlane = false;
   TuningState tuning;
   tuning.resolution = 24;
   tuning.triangleNodes = {"bunny_4_0"};
-  const engine::Status loaded = viewer->loadScene(scene, tuning);
-  ASSERT_TRUE(loaded.ok()) << loaded.error().message;
+  auto viewer = viewGridScene(tuning);
+  ASSERT_NE(viewer, nullptr);
   EXPECT_EQ(viewer->objectBakes(), 4);
   EXPECT_EQ(viewer->sdfObjects().size(), 107u);  // 120 - 12 marked in extras - 1 listed
   EXPECT_EQ(distinctAssets(*viewer), 4u);
@@ -146,18 +145,10 @@ TEST(ViewerObjects, ANewResolutionRebakesEveryMeshOnce) {
 // triangles (null if it fails).
 std::unique_ptr<Viewer> viewTestScene(const std::string& file, int resolution,
                                       const std::vector<std::string>& triangleNodes = {}) {
-  auto viewer = makeViewer();
-  if (!viewer) return nullptr;
-  SceneDesc scene;
-  scene.gltf = hsdftest::testData("gltf") / file;
-  scene.objects = true;
-  scene.groundPlane = false;
   TuningState tuning;
   tuning.resolution = resolution;
   tuning.triangleNodes = triangleNodes;
-  const engine::Status loaded = viewer->loadScene(scene, tuning);
-  EXPECT_TRUE(loaded.ok()) << loaded.error().message;
-  return loaded.ok() ? std::move(viewer) : nullptr;
+  return withGltfScene(makeViewer(), hsdftest::testData("gltf") / file, tuning, true);
 }
 
 // Tricky: EXT_mesh_gpu_instancing places the tetrahedron three times from one node: one bake, three
@@ -328,17 +319,12 @@ std::size_t nodesWithLevels(Viewer& viewer) {
 // the switch to cells.
 TEST(ViewerObjects, LevelsOfDetailAreNotBakedWhileTheMeshMethodDrawsNoSdf) {
   hsdftest::LogCapture infos(engine::log::Level::Info);
-  auto viewer = makeViewer();
-  ASSERT_NE(viewer, nullptr);
-  SceneDesc scene;
-  scene.gltf = kGridScene;
-  scene.objects = true;
-  scene.groundPlane = false;
   TuningState tuning;
   tuning.resolution = 32;
   tuning.lod = true;
   tuning.method = Method::Mesh;
-  ASSERT_TRUE(viewer->loadScene(scene, tuning).ok());
+  auto viewer = viewGridScene(tuning);
+  ASSERT_NE(viewer, nullptr);
   ASSERT_TRUE(viewer->waitForBake().ok());
   ASSERT_TRUE(viewer->step().ok());
   EXPECT_EQ(infos.count("levels of detail:"), 0u) << "no level baked for the mesh method";
@@ -372,17 +358,11 @@ TEST(ViewerObjects, UnknownTriangleNodeIsRefusedNamingTheFileAndNode) {
 // The frame of `file` (tests/data/gltf) drawn as one SDF at K = 32 by `method`, seen through the
 // pane from (0, 0.5, 8) at 160 x 120 (RGBA8), or empty after a failed expectation.
 std::vector<std::uint8_t> oneSdfFrame(const std::string& file, Method method) {
-  auto viewer = makeTestViewer(160, 120);
-  if (!viewer) return {};
-  SceneDesc scene;
-  scene.gltf = hsdftest::testData("gltf") / file;
-  scene.groundPlane = false;
   TuningState tuning;
   tuning.resolution = 32;
   tuning.method = method;
-  const engine::Status loaded = viewer->loadScene(scene, tuning);
-  EXPECT_TRUE(loaded.ok()) << loaded.error().message;
-  if (!loaded.ok()) return {};
+  auto viewer = withGltfScene(makeTestViewer(160, 120), hsdftest::testData("gltf") / file, tuning, false);
+  if (!viewer) return {};
   viewer->setCamera(glm::dvec3(0.0, 0.5, 8.0), glm::dvec3(0.0));
   EXPECT_TRUE(viewer->step().ok());
   viewer->renderer().finish();

@@ -39,15 +39,8 @@ std::size_t coveredPixels(Viewer& viewer) {
 
 // The sheet loaded as triangles (Method::Mesh), seen from above its centre.
 std::unique_ptr<Viewer> viewSheet(TuningState tuning, bool objects = false) {
-  auto viewer = makeTestViewer(96, 96);
+  auto viewer = withGltfScene(makeTestViewer(96, 96), kSheet, tuning, objects);
   if (!viewer) return nullptr;
-  SceneDesc scene;
-  scene.gltf = kSheet;
-  scene.groundPlane = false;
-  scene.objects = objects;
-  const engine::Status loaded = viewer->loadScene(scene, tuning);
-  EXPECT_TRUE(loaded.ok()) << loaded.error().message;
-  if (!loaded.ok()) return nullptr;
   viewer->setCamera({0.5, 0.5, 3.0}, {0.5, 0.5, 0.0});
   return viewer;
 }
