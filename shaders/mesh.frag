@@ -33,28 +33,45 @@ layout(set = 0, binding = MESH_TEXTURE_EMISSIVE) uniform sampler2D emissiveTextu
 #endif
 #ifndef HSDF_MESH_NO_NORMAL_MAP
 layout(set = 0, binding = MESH_TEXTURE_NORMAL) uniform sampler2D normalTexture;
+layout(location = 4) in vec4 inWorldTangent;  // mesh.vert: 0 for a mesh without TANGENT
 #endif
 
 layout(location = 0) out vec4 outColor;
 
 #ifndef HSDF_MESH_NO_NORMAL_MAP
+// The frame of the mesh's TANGENT attribute at this pixel (glTF: the bitangent is cross(normal,
+// tangent) * w, toward -v), the tangent made perpendicular to `n`; false when the mesh has none (0)
+// or it is parallel to n, so that the caller falls back to the derivative frame.
+bool tangentFrame(vec3 n, out vec3 t, out vec3 b) {
+  vec3 across = inWorldTangent.xyz - n * dot(n, inWorldTangent.xyz);
+  float length2 = dot(across, across);
+  if (!(length2 > 1e-24)) return false;
+  t = across * inversesqrt(length2);
+  b = cross(n, t) * (inWorldTangent.w < 0.0 ? -1.0 : 1.0);
+  return true;
+}
+
 // glTF normalTexture: `n` (the unit vertex normal of the front face) tilted by the texel's normal,
 // its x and y times `scale`, in the surface's tangent frame at this pixel: the tangent toward +u,
-// the bitangent toward -v (glTF's v runs down the image, its normal maps' green up). The frame comes
-// from the screen-space derivatives of the position and the texture coordinates (the cotangent
-// frame), not from the TANGENT attribute or MikkTSpace: it follows the texture's real directions on
+// the bitangent toward -v (glTF's v runs down the image, its normal maps' green up). The frame is
+// the mesh's TANGENT attribute when it has one (tangentFrame: a baker's MikkTSpace tangents, which
+// its normal maps were made in). Without, it comes from the screen-space derivatives of the position
+// and the texture coordinates (the cotangent frame): it follows the texture's real directions on
 // the triangle, so mirrored texture coordinates and mirrored instances need no handedness. Its sign
 // is the screen's: Vulkan's y runs down, which turns the cross products round. The derivatives
 // (dpx, dpy of the position, duvx, duvy of the texture coordinates) are taken by the caller
 // outside any branch (they need the whole quad); the texture is read with them (textureGrad), so
 // that this may run in a branch that meshes without a normal texture skip.
 vec3 normalMapped(vec3 n, float scale, vec3 dpx, vec3 dpy, vec2 duvx, vec2 duvy) {
+  vec3 m = textureGrad(normalTexture, inTexcoord, duvx, duvy).xyz * 2.0 - 1.0;
+  vec3 tangent, bitangent;
+  if (tangentFrame(n, tangent, bitangent))
+    return normalize(tangent * (m.x * scale) + bitangent * (m.y * scale) + n * m.z);
   vec3 dpyPerp = cross(dpy, n), dpxPerp = cross(n, dpx);
   vec3 t = dpyPerp * duvx.x + dpxPerp * duvy.x;  // along +u
   vec3 b = dpyPerp * duvx.y + dpxPerp * duvy.y;  // along +v
   float side = dot(cross(dpx, dpy), n) < 0.0 ? -1.0 : 1.0;
   float frameScale = side * inversesqrt(max(max(dot(t, t), dot(b, b)), 1e-30));
-  vec3 m = textureGrad(normalTexture, inTexcoord, duvx, duvy).xyz * 2.0 - 1.0;
   return normalize((t * (m.x * scale) - b * (m.y * scale)) * frameScale + n * m.z);
 }
 #endif

@@ -22,6 +22,7 @@ gpu::VertexLayout meshVertexLayout() {
   layout.attributes.push_back({0, 0, VK_FORMAT_R32G32B32_SFLOAT, offsetof(MeshVertex, position)});
   layout.attributes.push_back({1, 0, VK_FORMAT_R32G32B32_SFLOAT, offsetof(MeshVertex, normal)});
   layout.attributes.push_back({2, 0, VK_FORMAT_R32G32_SFLOAT, offsetof(MeshVertex, texcoord)});
+  layout.attributes.push_back({3, 0, VK_FORMAT_R32G32B32A32_SFLOAT, offsetof(MeshVertex, tangent)});
   return layout;
 }
 

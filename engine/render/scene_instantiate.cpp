@@ -50,7 +50,8 @@ void uploadMeshes(const scene::SceneData& data, MeshPool& pool,
     for (const auto& primitive : data.meshes[m].primitives)
       handles[m].push_back(primitive.flatNormals
                                ? addFlat(primitive, pool)
-                               : pool.add(primitive.positions, primitive.normals, primitive.indices, primitive.texcoords));
+                               : pool.add(primitive.positions, primitive.normals, primitive.indices, primitive.texcoords,
+                                          primitive.tangents));
 }
 
 // Each material's textures as one MeshTextures set, made when a primitive first uses it; each

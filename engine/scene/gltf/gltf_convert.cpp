@@ -266,6 +266,32 @@ void readTexcoords(ImportContext& context, const PrimitiveRef& ref, const std::s
   out.texcoords = std::move(*texcoords);
 }
 
+// TANGENT (the normal texture's frame; glTF: "when tangents are specified, client implementations
+// SHOULD use them"). As TEXCOORD_0, a broken one is a warning: the primitive keeps no tangents and
+// its normal texture is read in the frame of the screen derivatives, as before tangents were read.
+// glTF says tangents given with no normals MUST be ignored (flat normals); a Draco primitive's are
+// in its stream, not decoded.
+void readTangents(ImportContext& context, const PrimitiveRef& ref, const std::string& where, MeshPrimitiveData& out) {
+  const int accessor = findAttribute(ref.primitive, "TANGENT");
+  if (accessor == -2 || out.flatNormals) return;
+  if (ref.draco) {
+    context.warnings.push_back(fmt::format("{}: TANGENT of a Draco-compressed primitive not read (the derivative frame)", where));
+    return;
+  }
+  auto tangents = readVec4(context, accessor);
+  if (!tangents.ok()) {
+    context.warnings.push_back(fmt::format("{}: TANGENT not read: {}", where, tangents.error().message));
+    return;
+  }
+  if (tangents->size() != out.positions.size()) {
+    context.warnings.push_back(fmt::format("{}: TANGENT not read: {} elements for {} positions", where, tangents->size(),
+                                           out.positions.size()));
+    return;
+  }
+  for (glm::vec4& t : *tangents) t.w = t.w < 0.0f ? -1.0f : 1.0f;  // glTF's w is +-1: its sign, whatever quantization left
+  out.tangents = std::move(*tangents);
+}
+
 Expected<MeshPrimitiveData> convertTrianglePrimitive(ImportContext& context, const PrimitiveRef& ref, const std::string& where) {
   const auto& primitive = ref.primitive;
   if (findAttribute(primitive, "POSITION") == -2) return makeError("has no POSITION attribute");
@@ -325,6 +351,7 @@ Expected<MeshData> convertMesh(ImportContext& context, int meshIndex) {
     ENGINE_TRY_ASSIGN(const PrimitiveRef ref, primitiveRef(context, meshIndex, p).withContext(where));
     ENGINE_TRY_ASSIGN(auto converted, convertTrianglePrimitive(context, ref, where).withContext(where));
     readTexcoords(context, ref, where, converted);
+    readTangents(context, ref, where, converted);
     if (ref.draco && !primitive.targets.empty() && !mesh.weights.empty())  // libdraco may reorder the points
       context.warnings.push_back(fmt::format("{}: morph targets of a Draco-compressed primitive are not applied", where));
     if (converted.indices.empty()) {  // a strip or fan of fewer than 3 vertices: nothing to draw
