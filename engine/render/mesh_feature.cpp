@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <array>
+#include <string>
 #include <tuple>
 
 #include <imgui.h>
@@ -21,8 +22,22 @@ gpu::VertexLayout meshVertexLayout() {
   layout.attributes.push_back({0, 0, VK_FORMAT_R32G32B32_SFLOAT, offsetof(MeshVertex, position)});
   layout.attributes.push_back({1, 0, VK_FORMAT_R32G32B32_SFLOAT, offsetof(MeshVertex, normal)});
   layout.attributes.push_back({2, 0, VK_FORMAT_R32G32_SFLOAT, offsetof(MeshVertex, texcoord)});
+  layout.attributes.push_back({3, 0, VK_FORMAT_R32G32B32A32_SFLOAT, offsetof(MeshVertex, tangent)});
   return layout;
 }
+
+// mesh.frag's SPIR-V of each material variant (MeshFeature::Variant), shaded and blended
+// (shaders/CMakeLists.txt), and the words its pipelines' names end in.
+struct VariantShaders {
+  const char* shade;
+  const char* blended;
+  const char* name;
+};
+constexpr std::array<VariantShaders, 3> kVariantShaders = {{
+    {"mesh_untextured.frag", "mesh_blended_untextured.frag", "untextured"},
+    {"mesh_textured.frag", "mesh_blended_textured.frag", "textured"},
+    {"mesh.frag", "mesh_blended.frag", "normal-mapped"},
+}};
 
 }  // namespace
 
@@ -46,10 +61,14 @@ Status MeshFeature::reloadShaders() {
 Expected<MeshFeature::Pipelines> MeshFeature::createPipelines() const {
   const gpu::Context& context = *context_;
   ENGINE_TRY_ASSIGN(gpu::ShaderModule vert, gpu::ShaderModule::load(context, "mesh.vert"));
-  ENGINE_TRY_ASSIGN(gpu::ShaderModule frag, gpu::ShaderModule::load(context, "mesh.frag"));
   ENGINE_TRY_ASSIGN(gpu::ShaderModule prepassFrag, gpu::ShaderModule::load(context, "mesh_prepass.frag"));
   ENGINE_TRY_ASSIGN(gpu::ShaderModule maskedFrag, gpu::ShaderModule::load(context, "mesh_prepass_masked.frag"));
-  ENGINE_TRY_ASSIGN(gpu::ShaderModule blendedFrag, gpu::ShaderModule::load(context, "mesh_blended.frag"));
+  static_assert(kVariantShaders.size() == kVariants);
+  std::array<gpu::ShaderModule, kVariants> frags, blendedFrags;
+  for (std::size_t v = 0; v < kVariants; ++v) {
+    ENGINE_TRY_ASSIGN(frags[v], gpu::ShaderModule::load(context, kVariantShaders[v].shade));
+    ENGINE_TRY_ASSIGN(blendedFrags[v], gpu::ShaderModule::load(context, kVariantShaders[v].blended));
+  }
 
   // What every mesh pipeline shares: mesh.vert with its vertex layout and push constants, the
   // base colour texture (mesh.frag). The prepass reads none but has the same layout: all passes
@@ -82,12 +101,14 @@ Expected<MeshFeature::Pipelines> MeshFeature::createPipelines() const {
     desc.fragment = maskedFrag.handle();
     ENGINE_TRY_ASSIGN(pipelines.depthMasked[std::size_t(sides)], gpu::Pipeline::createGraphics(context, desc));
 
-    desc.name = both ? "mesh shading, double-sided" : "mesh shading";
-    desc.fragment = frag.handle();
     desc.colorFormats = {formats_.color};
     desc.depthWrite = false;
     desc.depthCompare = VK_COMPARE_OP_EQUAL;  // depth is final after the prepass
-    ENGINE_TRY_ASSIGN(pipelines.shade[std::size_t(sides)], gpu::Pipeline::createGraphics(context, desc));
+    for (std::size_t v = 0; v < kVariants; ++v) {
+      desc.name = std::string(both ? "mesh shading, double-sided, " : "mesh shading, ") + kVariantShaders[v].name;
+      desc.fragment = frags[v].handle();
+      ENGINE_TRY_ASSIGN(pipelines.shade[std::size_t(sides)][v], gpu::Pipeline::createGraphics(context, desc));
+    }
   }
 
   // The transparent pass: blended over the frame by straight alpha (glTF's), in front of or on
@@ -95,20 +116,23 @@ Expected<MeshFeature::Pipelines> MeshFeature::createPipelines() const {
   // writing none. One pipeline for both sides: a double-sided mesh is drawn twice with the cull
   // mode set between (back faces, then front faces).
   gpu::GraphicsPipelineDesc desc = base;
-  desc.name = "mesh blended";
-  desc.fragment = blendedFrag.handle();
   desc.colorFormats = {formats_.color};
   desc.depthWrite = false;
   desc.depthCompare = VK_COMPARE_OP_GREATER_OR_EQUAL;
   desc.alphaBlend = true;
   desc.extraDynamicStates.push_back(VK_DYNAMIC_STATE_CULL_MODE);
-  ENGINE_TRY_ASSIGN(pipelines.blended, gpu::Pipeline::createGraphics(context, desc));
+  for (std::size_t v = 0; v < kVariants; ++v) {
+    desc.name = std::string("mesh blended, ") + kVariantShaders[v].name;
+    desc.fragment = blendedFrags[v].handle();
+    ENGINE_TRY_ASSIGN(pipelines.blended[v], gpu::Pipeline::createGraphics(context, desc));
+  }
   return pipelines;
 }
 
 struct MeshFeature::PendingDraw {
   Sides sides;
   bool masked;
+  Variant variant;
   std::uint32_t texture;
   bool mirrored;
   VkDrawIndexedIndirectCommand command;
@@ -120,6 +144,17 @@ namespace {
 // The normals and depth views show the surfaces of the depth buffer, which no blended mesh is in
 // (a normal or depth blended over another is neither); the other views draw them as the frame does.
 bool drawsBlended(std::uint32_t debugView) { return debugView != DEBUG_VIEW_NORMALS && debugView != DEBUG_VIEW_DEPTH; }
+
+}  // namespace
+
+// The cheapest variant that draws `mesh` as the whole shader does: a normal texture is read when its
+// scale is not 0 (mesh.frag), the other textures when the set is not set 0 (the white texels).
+MeshFeature::Variant MeshFeature::variantOf(const MeshRenderable& mesh, std::uint32_t texture) {
+  if (mesh.normalScale != 0.0f) return Variant::NormalMapped;
+  return texture != 0 ? Variant::Textured : Variant::Untextured;
+}
+
+namespace {
 
 }  // namespace
 
@@ -148,7 +183,8 @@ void MeshFeature::prepare(FrameContext& frame) {
             mesh.alphaBlend ? frame.camera.viewDistance(world.matrix * glm::vec4(0.5f * (range.boundsMin + range.boundsMax), 1.0f))
                             : 0.0f;
         (mesh.alphaBlend ? blended : draws)
-            .push_back({mesh.doubleSided ? Sides::Double : Sides::Single, mesh.alphaCutoff.has_value(), texture,
+            .push_back({mesh.doubleSided ? Sides::Double : Sides::Single, mesh.alphaCutoff.has_value(),
+                        variantOf(mesh, texture), texture,
                         mirrors(world.matrix), {range.indexCount, 1, range.firstIndex, range.vertexOffset, index},
                         viewDistance});
       });
@@ -159,32 +195,34 @@ void MeshFeature::prepare(FrameContext& frame) {
 }
 
 // Single-sided objects first, as they were drawn before double-sided ones existed; opaque before
-// cut out (one pipeline change); then by texture (one descriptor set bind each), unmirrored before
-// mirrored (one front-face change each).
+// cut out (one prepass pipeline change); then by variant (one shading pipeline change), by texture
+// (one descriptor set bind each), unmirrored before mirrored (one front-face change each).
 void MeshFeature::buildBatches(std::vector<PendingDraw>& draws) {
   std::stable_sort(draws.begin(), draws.end(), [](const PendingDraw& a, const PendingDraw& b) {
-    return std::tie(a.sides, a.masked, a.texture, a.mirrored) < std::tie(b.sides, b.masked, b.texture, b.mirrored);
+    return std::tie(a.sides, a.masked, a.variant, a.texture, a.mirrored) <
+           std::tie(b.sides, b.masked, b.variant, b.texture, b.mirrored);
   });
   commands_.clear();
   batches_.clear();
   doubleSidedCount_ = 0;
   for (const PendingDraw& draw : draws) {
     const bool joins = !batches_.empty() && batches_.back().sides == draw.sides && batches_.back().masked == draw.masked &&
-                       batches_.back().texture.index == draw.texture;
+                       batches_.back().variant == draw.variant && batches_.back().texture.index == draw.texture;
     append(batches_, draw, joins);
   }
 }
 
 // Back to front, after the opaque draws in commands_. Neighbours in that order share a batch (one
 // multi-draw, which draws its commands in order) when single-sided with the same texture and
-// winding; a double-sided draw is a batch of its own, its back faces drawn before its front faces.
+// winding and variant; a double-sided draw is a batch of its own, its back faces drawn before its
+// front faces.
 void MeshFeature::buildBlendedBatches(std::vector<PendingDraw>& draws) {
   std::stable_sort(draws.begin(), draws.end(),
                    [](const PendingDraw& a, const PendingDraw& b) { return a.viewDistance > b.viewDistance; });
   blendedBatches_.clear();
   for (const PendingDraw& draw : draws) {
     const Batch* last = blendedBatches_.empty() ? nullptr : &blendedBatches_.back();
-    const bool joins = last && last->sides == Sides::Single && draw.sides == Sides::Single &&
+    const bool joins = last && last->sides == Sides::Single && draw.sides == Sides::Single && last->variant == draw.variant &&
                        last->texture.index == draw.texture && (last->mirroredFirst != last->end) == draw.mirrored;
     append(blendedBatches_, draw, joins);
   }
@@ -194,7 +232,7 @@ void MeshFeature::buildBlendedBatches(std::vector<PendingDraw>& draws) {
 // The draw's command at the end of commands_, in the last of `batches` or in a new one.
 void MeshFeature::append(std::vector<Batch>& batches, const PendingDraw& draw, bool joinsLast) {
   const auto at = static_cast<std::uint32_t>(commands_.size());
-  if (!joinsLast) batches.push_back({draw.sides, draw.masked, TextureHandle{draw.texture}, at, at, at});
+  if (!joinsLast) batches.push_back({draw.sides, draw.masked, draw.variant, TextureHandle{draw.texture}, at, at, at});
   Batch& batch = batches.back();
   if (!draw.mirrored) batch.mirroredFirst = at + 1;
   batch.end = at + 1;
@@ -218,9 +256,11 @@ void MeshFeature::recordPass(PassContext& pass) {
 
 void MeshFeature::recordTransparent(PassContext& pass) {
   if (blendedBatches_.empty() || pool_.empty()) return;
-  const gpu::Pipeline& pipeline = pipelines_.blended;
-  bindPipeline(pass, pipeline);
+  const gpu::Pipeline* bound = nullptr;
   for (const Batch& batch : blendedBatches_) {
+    const gpu::Pipeline& pipeline = pipelines_.blended[std::size_t(batch.variant)];
+    if (&pipeline != bound) bindPipeline(pass, pipeline);
+    bound = &pipeline;
     pool_.textures().bind(pass.cmd, pipeline.layout(), batch.texture);
     if (batch.sides == Sides::Double) {  // the far side first, under the near one
       vkCmdSetCullMode(pass.cmd, VK_CULL_MODE_FRONT_BIT);
@@ -233,7 +273,7 @@ void MeshFeature::recordTransparent(PassContext& pass) {
 
 const gpu::Pipeline& MeshFeature::pipelineOf(const Batch& batch, bool prepass) const {
   const auto sides = std::size_t(batch.sides);
-  if (!prepass) return pipelines_.shade[sides];
+  if (!prepass) return pipelines_.shade[sides][std::size_t(batch.variant)];
   return batch.masked ? pipelines_.depthMasked[sides] : pipelines_.depth[sides];
 }
 

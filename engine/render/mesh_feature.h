@@ -27,6 +27,10 @@
 // faces (glTF leaves the order within a mesh undefined; the near side then lies over the far side
 // of a convex mesh). The normals and depth views, which show the surfaces of the depth buffer, draw
 // no blended mesh; the other views draw them as the frame does.
+// The shading and transparent passes draw each mesh by a pipeline of its material's variant
+// (Variant): without textures, with textures but no normal texture, with a normal texture (mesh.frag
+// compiled with its defines; the cheaper ones hold fewer live values and draw the same pixels);
+// batches are grouped by variant within a cull mode and cut-out state, so each is one pipeline change.
 // Objects whose matrix cannot be inverted (scaled to zero) are skipped.
 #include <array>
 #include <cstddef>
@@ -60,27 +64,33 @@ class MeshFeature final : public RenderFeature {
 
  private:
   enum class Sides : std::uint8_t { Single = 0, Double = 1 };  // back faces culled / drawn
-  // Draws of one cull mode, one texture and either opaque or cut out, in commands_: [first,
-  // mirroredFirst) unmirrored, then [mirroredFirst, end) mirrored. Batches are drawn single-sided
-  // first, then opaque before cut out, then by texture. A blended batch is a run of draws in
-  // back-to-front order, all mirrored or none.
+  // What a material reads (mesh.frag's variants): no texture, textures but no normal texture, a
+  // normal texture (MeshRenderable::normalScale not 0).
+  enum class Variant : std::uint8_t { Untextured = 0, Textured = 1, NormalMapped = 2 };
+  static constexpr std::size_t kVariants = 3;
+  // Draws of one cull mode, one variant, one texture and either opaque or cut out, in commands_:
+  // [first, mirroredFirst) unmirrored, then [mirroredFirst, end) mirrored. Batches are drawn
+  // single-sided first, then opaque before cut out, then by variant, then by texture. A blended
+  // batch is a run of draws in back-to-front order, all mirrored or none.
   struct Batch {
     Sides sides = Sides::Single;
     bool masked = false;
+    Variant variant = Variant::Untextured;
     TextureHandle texture;
     std::uint32_t first = 0;
     std::uint32_t mirroredFirst = 0;
     std::uint32_t end = 0;
   };
   struct PendingDraw;
+  static Variant variantOf(const MeshRenderable& mesh, std::uint32_t texture);
   void buildBatches(std::vector<PendingDraw>& draws);
   void buildBlendedBatches(std::vector<PendingDraw>& draws);
   void append(std::vector<Batch>& batches, const PendingDraw& draw, bool joinsLast);
   struct Pipelines {
     std::array<gpu::Pipeline, 2> depth;  // by Sides
     std::array<gpu::Pipeline, 2> depthMasked;
-    std::array<gpu::Pipeline, 2> shade;
-    gpu::Pipeline blended;  // both sides: the cull mode is dynamic
+    std::array<std::array<gpu::Pipeline, kVariants>, 2> shade;  // by Sides, then Variant
+    std::array<gpu::Pipeline, kVariants> blended;  // both sides: the cull mode is dynamic
   };
   Expected<Pipelines> createPipelines() const;
   const gpu::Pipeline& pipelineOf(const Batch& batch, bool prepass) const;

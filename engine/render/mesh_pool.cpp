@@ -9,10 +9,13 @@
 namespace engine::render {
 
 MeshHandle MeshPool::add(std::span<const glm::vec3> positions, std::span<const glm::vec3> normals,
-                         std::span<const std::uint32_t> indices, std::span<const glm::vec2> texcoords) {
+                         std::span<const std::uint32_t> indices, std::span<const glm::vec2> texcoords,
+                         std::span<const glm::vec4> tangents) {
   if (normals.size() != positions.size()) throw std::invalid_argument("MeshPool::add: one normal per position");
   if (!texcoords.empty() && texcoords.size() != positions.size())
     throw std::invalid_argument("MeshPool::add: texture coordinates for none or every position");
+  if (!tangents.empty() && tangents.size() != positions.size())
+    throw std::invalid_argument("MeshPool::add: tangents for none or every position");
   MeshRange range;
   range.firstIndex = static_cast<std::uint32_t>(indices_.size());
   range.indexCount = static_cast<std::uint32_t>(indices.size());
@@ -20,7 +23,8 @@ MeshHandle MeshPool::add(std::span<const glm::vec3> positions, std::span<const g
   range.boundsMin = glm::vec3(std::numeric_limits<float>::max());
   range.boundsMax = glm::vec3(std::numeric_limits<float>::lowest());
   for (std::size_t i = 0; i < positions.size(); ++i)
-    vertices_.push_back({positions[i], normals[i], texcoords.empty() ? glm::vec2(0.0f) : texcoords[i]});
+    vertices_.push_back({positions[i], normals[i], texcoords.empty() ? glm::vec2(0.0f) : texcoords[i],
+                         tangents.empty() ? glm::vec4(0.0f) : tangents[i]});
   // The bounds of what is drawn: a vertex no triangle uses (a glTF accessor may hold any) must not
   // frame the scene, size its ground or set its near plane.
   for (std::uint32_t index : indices) {

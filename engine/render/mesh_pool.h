@@ -17,8 +17,9 @@ struct MeshVertex {
   glm::vec3 position;
   glm::vec3 normal;
   glm::vec2 texcoord;  // glTF TEXCOORD_0; (0, 0) for a mesh without
+  glm::vec4 tangent;   // glTF TANGENT (w: handedness); 0 for a mesh without (mesh.frag's derivative frame)
 };
-static_assert(sizeof(MeshVertex) == 32);
+static_assert(sizeof(MeshVertex) == 48);
 
 struct MeshRange {
   std::uint32_t firstIndex = 0;
@@ -36,9 +37,10 @@ class MeshPool {
 
   // Copies the mesh; it reaches the GPU at the next sync() (render::MeshFeature calls it in its
   // prepare(): a program drawing through the mesh feature never calls it). Indices must be <
-  // positions.size(); `texcoords` is empty or one per position.
+  // positions.size(); `texcoords` and `tangents` are each empty or one per position.
   MeshHandle add(std::span<const glm::vec3> positions, std::span<const glm::vec3> normals,
-                 std::span<const std::uint32_t> indices, std::span<const glm::vec2> texcoords = {});
+                 std::span<const std::uint32_t> indices, std::span<const glm::vec2> texcoords = {},
+                 std::span<const glm::vec4> tangents = {});
   const MeshRange& range(MeshHandle mesh) const { return ranges_[mesh.index]; }
   std::uint32_t meshCount() const { return static_cast<std::uint32_t>(ranges_.size()); }
 

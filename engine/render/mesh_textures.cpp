@@ -48,14 +48,10 @@ scene::TextureData whiteTexel() {
   return white;
 }
 
-// The image info of each binding of a material's set, in the order of the MESH_TEXTURE_* bindings.
+// The image of each binding of a material's set, in the order of the MESH_TEXTURE_* bindings.
 std::array<MeshImageHandle, MESH_TEXTURE_COUNT> bindingOrder(const MaterialImages& images) {
   std::array<MeshImageHandle, MESH_TEXTURE_COUNT> order{};
-  order[MESH_TEXTURE_BASE_COLOR] = images.baseColor;
-  order[MESH_TEXTURE_METALLIC_ROUGHNESS] = images.metallicRoughness;
-  order[MESH_TEXTURE_OCCLUSION] = images.occlusion;
-  order[MESH_TEXTURE_EMISSIVE] = images.emissive;
-  order[MESH_TEXTURE_NORMAL] = images.normal;
+  for (const MaterialTextureKind& kind : kMaterialTextureKinds) order[kind.binding] = images.*kind.image;
   return order;
 }
 

@@ -8,6 +8,7 @@
 // material had before textures were drawn (glTF's defaults: no occlusion, the emissiveFactor alone;
 // a normal texture is only read with a scale other than 0, MeshRenderable::normalScale).
 // Set 0 holds it in every binding (a mesh without textures).
+#include <array>
 #include <cstdint>
 #include <vector>
 
@@ -18,6 +19,7 @@
 #include "engine/gpu/image_sampler_sets.h"
 #include "engine/render/components.h"
 #include "engine/scene/scene_data.h"
+#include "shared/host_device.h"
 
 namespace engine::gpu {
 class Context;
@@ -42,6 +44,25 @@ struct MaterialImages {
   MeshImageHandle emissive;           // sRGB; rgb times the emission
   MeshImageHandle normal;             // linear; the normal in the tangent frame (read when the scale is not 0)
 };
+
+// One texture kind of a material: where a glTF material names its texture and MaterialImages its
+// image, how its texels are read, and its binding in the material's set (MESH_TEXTURE_*).
+struct MaterialTextureKind {
+  int scene::MaterialData::*texture;
+  MeshImageHandle MaterialImages::*image;
+  TexelEncoding encoding;
+  std::uint32_t binding;
+};
+
+// Every kind, the one list of them (the set's bindings, the uploads of scene_instantiate).
+inline constexpr std::array<MaterialTextureKind, MESH_TEXTURE_COUNT> kMaterialTextureKinds = {{
+    {&scene::MaterialData::baseColorTexture, &MaterialImages::baseColor, TexelEncoding::Srgb, MESH_TEXTURE_BASE_COLOR},
+    {&scene::MaterialData::metallicRoughnessTexture, &MaterialImages::metallicRoughness, TexelEncoding::Linear,
+     MESH_TEXTURE_METALLIC_ROUGHNESS},
+    {&scene::MaterialData::occlusionTexture, &MaterialImages::occlusion, TexelEncoding::Linear, MESH_TEXTURE_OCCLUSION},
+    {&scene::MaterialData::emissiveTexture, &MaterialImages::emissive, TexelEncoding::Srgb, MESH_TEXTURE_EMISSIVE},
+    {&scene::MaterialData::normalTexture, &MaterialImages::normal, TexelEncoding::Linear, MESH_TEXTURE_NORMAL},
+}};
 
 class MeshTextures {
  public:

@@ -50,7 +50,8 @@ void uploadMeshes(const scene::SceneData& data, MeshPool& pool,
     for (const auto& primitive : data.meshes[m].primitives)
       handles[m].push_back(primitive.flatNormals
                                ? addFlat(primitive, pool)
-                               : pool.add(primitive.positions, primitive.normals, primitive.indices, primitive.texcoords));
+                               : pool.add(primitive.positions, primitive.normals, primitive.indices, primitive.texcoords,
+                                          primitive.tangents));
 }
 
 // Each material's textures as one MeshTextures set, made when a primitive first uses it; each
@@ -65,13 +66,11 @@ class MaterialSets {
     const auto known = sets_.find(index);
     if (known != sets_.end()) return known->second;
     MaterialImages images;
-    images.baseColor = image(material.baseColorTexture, TexelEncoding::Srgb);
-    images.metallicRoughness = image(material.metallicRoughnessTexture, TexelEncoding::Linear);
-    images.occlusion = image(material.occlusionTexture, TexelEncoding::Linear);
-    images.emissive = image(material.emissiveTexture, TexelEncoding::Srgb);
-    images.normal = image(material.normalTexture, TexelEncoding::Linear);
-    const bool textured = images.baseColor.index != 0 || images.metallicRoughness.index != 0 ||
-                          images.occlusion.index != 0 || images.emissive.index != 0 || images.normal.index != 0;
+    bool textured = false;
+    for (const MaterialTextureKind& kind : kMaterialTextureKinds) {
+      images.*kind.image = image(material.*kind.texture, kind.encoding);
+      textured = textured || (images.*kind.image).index != 0;
+    }
     return sets_[index] = textured ? textures_.addMaterial(images) : TextureHandle{};
   }
 

@@ -267,6 +267,32 @@ void readTexcoords(ImportContext& context, const PrimitiveRef& ref, const std::s
   out.texcoords = std::move(*texcoords);
 }
 
+// TANGENT (the normal texture's frame; glTF: "when tangents are specified, client implementations
+// SHOULD use them"). As TEXCOORD_0, a broken one is a warning: the primitive keeps no tangents and
+// its normal texture is read in the frame of the screen derivatives, as before tangents were read.
+// glTF says tangents given with no normals MUST be ignored (flat normals); a Draco primitive's are
+// in its stream, not decoded.
+void readTangents(ImportContext& context, const PrimitiveRef& ref, const std::string& where, MeshPrimitiveData& out) {
+  const int accessor = findAttribute(ref.primitive, "TANGENT");
+  if (accessor == -2 || out.flatNormals) return;
+  if (ref.draco) {
+    context.warnings.push_back(fmt::format("{}: TANGENT of a Draco-compressed primitive not read (the derivative frame)", where));
+    return;
+  }
+  auto tangents = readVec4(context, accessor);
+  if (!tangents.ok()) {
+    context.warnings.push_back(fmt::format("{}: TANGENT not read: {}", where, tangents.error().message));
+    return;
+  }
+  if (tangents->size() != out.positions.size()) {
+    context.warnings.push_back(fmt::format("{}: TANGENT not read: {} elements for {} positions", where, tangents->size(),
+                                           out.positions.size()));
+    return;
+  }
+  for (glm::vec4& t : *tangents) t.w = t.w < 0.0f ? -1.0f : 1.0f;  // glTF's w is +-1: its sign, whatever quantization left
+  out.tangents = std::move(*tangents);
+}
+
 Expected<MeshPrimitiveData> convertTrianglePrimitive(ImportContext& context, const PrimitiveRef& ref, const std::string& where) {
   const auto& primitive = ref.primitive;
   if (findAttribute(primitive, "POSITION") == -2) return makeError("has no POSITION attribute");
@@ -326,6 +352,7 @@ Expected<MeshData> convertMesh(ImportContext& context, int meshIndex) {
     ENGINE_TRY_ASSIGN(const PrimitiveRef ref, primitiveRef(context, meshIndex, p).withContext(where));
     ENGINE_TRY_ASSIGN(auto converted, convertTrianglePrimitive(context, ref, where).withContext(where));
     readTexcoords(context, ref, where, converted);
+    readTangents(context, ref, where, converted);
     if (ref.draco && !primitive.targets.empty() && !mesh.weights.empty())  // libdraco may reorder the points
       context.warnings.push_back(fmt::format("{}: morph targets of a Draco-compressed primitive are not applied", where));
     if (converted.indices.empty()) {  // a strip or fan of fewer than 3 vertices: nothing to draw
@@ -799,17 +826,41 @@ Status decodeMeshoptViews(ImportContext& context) {
 
 }  // namespace
 
-// A material texture's glTF name, where the file keeps it, and what the material is drawn in
-// without it.
+// A glTF material's textureInfo of one kind: its texture, its texCoord and its extensions.
+struct TextureInfoRef {
+  int index;
+  int texCoord;
+  const tinygltf::ExtensionMap& extensions;
+};
+
+template <class Info>
+TextureInfoRef infoRef(const Info& info) {
+  return {info.index, info.texCoord, info.extensions};
+}
+
+// A material texture's glTF name, where the file and MaterialData keep it, and what the material
+// is drawn in without it.
 struct TextureKind {
   const char* name;
   const char* fallback;
+  TextureInfoRef (*info)(const tinygltf::Material&);
+  int MaterialData::*texture;
 };
-constexpr TextureKind kBaseColorKind{"baseColorTexture", "drawn in baseColorFactor"};
-constexpr TextureKind kMetallicRoughnessKind{"metallicRoughnessTexture", "drawn in metallicFactor and roughnessFactor"};
-constexpr TextureKind kOcclusionKind{"occlusionTexture", "drawn without occlusion"};
-constexpr TextureKind kEmissiveKind{"emissiveTexture", "drawn in emissiveFactor"};
-constexpr TextureKind kNormalKind{"normalTexture", "drawn with its vertex normals"};
+// Every kind, the one list of them.
+constexpr TextureKind kTextureKinds[] = {
+    {"baseColorTexture", "drawn in baseColorFactor",
+     [](const tinygltf::Material& m) { return infoRef(m.pbrMetallicRoughness.baseColorTexture); },
+     &MaterialData::baseColorTexture},
+    {"metallicRoughnessTexture", "drawn in metallicFactor and roughnessFactor",
+     [](const tinygltf::Material& m) { return infoRef(m.pbrMetallicRoughness.metallicRoughnessTexture); },
+     &MaterialData::metallicRoughnessTexture},
+    {"occlusionTexture", "drawn without occlusion", [](const tinygltf::Material& m) { return infoRef(m.occlusionTexture); },
+     &MaterialData::occlusionTexture},
+    {"emissiveTexture", "drawn in emissiveFactor", [](const tinygltf::Material& m) { return infoRef(m.emissiveTexture); },
+     &MaterialData::emissiveTexture},
+    {"normalTexture", "drawn with its vertex normals", [](const tinygltf::Material& m) { return infoRef(m.normalTexture); },
+     &MaterialData::normalTexture},
+};
 
 // Each glTF texture a material uses, decoded once into SceneData::textures.
 class TextureImport {
@@ -821,17 +872,7 @@ class TextureImport {
   void materialTextures(const tinygltf::Material& material, std::size_t m, MaterialData& out,
                         std::vector<TextureData>& textures) {
     MaterialRef ref{material, m, std::nullopt};
-    const auto& pbr = material.pbrMetallicRoughness;
-    out.baseColorTexture = texture(ref, kBaseColorKind, pbr.baseColorTexture.index, pbr.baseColorTexture.texCoord,
-                                   pbr.baseColorTexture.extensions, textures);
-    const auto& mr = pbr.metallicRoughnessTexture;
-    out.metallicRoughnessTexture = texture(ref, kMetallicRoughnessKind, mr.index, mr.texCoord, mr.extensions, textures);
-    const auto& occlusion = material.occlusionTexture;
-    out.occlusionTexture = texture(ref, kOcclusionKind, occlusion.index, occlusion.texCoord, occlusion.extensions, textures);
-    const auto& emissive = material.emissiveTexture;
-    out.emissiveTexture = texture(ref, kEmissiveKind, emissive.index, emissive.texCoord, emissive.extensions, textures);
-    const auto& normal = material.normalTexture;
-    out.normalTexture = texture(ref, kNormalKind, normal.index, normal.texCoord, normal.extensions, textures);
+    for (const TextureKind& kind : kTextureKinds) out.*kind.texture = texture(ref, kind, kind.info(material), textures);
     if (ref.transform && *ref.transform != glm::mat3(1.0f)) transforms_[int(m)] = *ref.transform;
   }
 
@@ -853,20 +894,19 @@ class TextureImport {
     std::optional<glm::mat3> transform;
   };
 
-  // The material's texture of `kind` (glTF textureInfo `index`, `texCoord`, `extensions`) as a
-  // SceneData::textures index, or -1 (absent, or a warning).
-  int texture(MaterialRef& ref, const TextureKind& kind, int index, int texCoord, const tinygltf::ExtensionMap& extensions,
-              std::vector<TextureData>& textures) {
-    if (index == -1) return -1;  // tinygltf's "absent"
+  // The material's texture of `kind` (its glTF textureInfo `info`) as a SceneData::textures index,
+  // or -1 (absent, or a warning).
+  int texture(MaterialRef& ref, const TextureKind& kind, const TextureInfoRef& info, std::vector<TextureData>& textures) {
+    if (info.index == -1) return -1;  // tinygltf's "absent"
     const std::string where = fmt::format("material {} '{}': {}", ref.index, ref.material.name, kind.name);
-    const auto coordinates = textureCoordinates(texCoord, extensions);
+    const auto coordinates = textureCoordinates(info.texCoord, info.extensions);
     if (!coordinates.ok()) return warn(where, coordinates.error().message, kind);
     if (coordinates->set != 0)
       return warn(where, fmt::format("texCoord {} is not read (only TEXCOORD_0)", coordinates->set), kind);
     if (ref.transform && *ref.transform != coordinates->transform)
       return warn(where, "its KHR_texture_transform differs from the material's first texture's (one is applied to TEXCOORD_0)",
                   kind);
-    const int slot = convertedTexture(index, where, kind, textures);
+    const int slot = convertedTexture(info.index, where, kind, textures);
     if (slot >= 0 && !ref.transform) ref.transform = coordinates->transform;
     return slot;
   }
@@ -898,11 +938,8 @@ class TextureImport {
 // The glTF names of the textures `material` has.
 std::vector<std::string> textureKinds(const MaterialData& material) {
   std::vector<std::string> kinds;
-  if (material.baseColorTexture >= 0) kinds.push_back(kBaseColorKind.name);
-  if (material.metallicRoughnessTexture >= 0) kinds.push_back(kMetallicRoughnessKind.name);
-  if (material.occlusionTexture >= 0) kinds.push_back(kOcclusionKind.name);
-  if (material.emissiveTexture >= 0) kinds.push_back(kEmissiveKind.name);
-  if (material.normalTexture >= 0) kinds.push_back(kNormalKind.name);
+  for (const TextureKind& kind : kTextureKinds)
+    if (material.*kind.texture >= 0) kinds.push_back(kind.name);
   return kinds;
 }
 

@@ -7,6 +7,7 @@
 #include <cmath>
 #include <cstdio>
 #include <limits>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -398,10 +399,12 @@ glm::u8vec4 checkerTexel(int column, int row, bool holes = false) {
 // baseColorFactor `factor` and a baseColorTexture, checker.png (4 x 4, NEAREST, clamped), beside it;
 // `material` adds fields to the material (e.g. its alphaMode), `pbr` to its pbrMetallicRoughness
 // (each ending in a comma), and `holes` gives the checker's odd texels alpha 0.6. `second`, when
-// given, is a second 4 x 4 RGBA image, second.png, glTF texture 1 (the same sampler).
+// given, is a second 4 x 4 RGBA image, second.png, glTF texture 1 (the same sampler). `tangent`,
+// when given, is every vertex's TANGENT.
 std::filesystem::path writeCheckerQuad(const std::filesystem::path& folder, const glm::vec4& factor,
                                        const std::string& material = "", bool holes = false, const std::string& pbr = "",
-                                       const std::vector<std::uint8_t>& second = {}) {
+                                       const std::vector<std::uint8_t>& second = {},
+                                       const std::optional<glm::vec4>& tangent = std::nullopt) {
   std::filesystem::create_directories(folder);
   if (!second.empty()) {
     EXPECT_TRUE(writePng(folder / "second.png", second, 4, 4, 4).ok());
@@ -429,9 +432,15 @@ std::filesystem::path writeCheckerQuad(const std::filesystem::path& folder, cons
   append(normals);
   append(texcoords);
   append(indices);
+  if (tangent)
+    for (int v = 0; v < 4; ++v) append(std::vector<float>{tangent->x, tangent->y, tangent->z, tangent->w});
   EXPECT_TRUE(writeBinaryFile(folder / "quad.bin", bin).ok());
+  const std::string tangentAttribute = tangent ? R"(, "TANGENT": 4)" : "";
+  const std::string tangentView = tangent ? R"(, {"buffer": 0, "byteOffset": 152, "byteLength": 64})" : "";
+  const std::string tangentAccessor = tangent ? R"(, {"bufferView": 4, "componentType": 5126, "count": 4, "type": "VEC4"})" : "";
   const std::string gltf = R"({"asset": {"version": "2.0"}, "scenes": [{"nodes": [0]}], "nodes": [{"mesh": 0}],
-    "meshes": [{"primitives": [{"attributes": {"POSITION": 0, "NORMAL": 1, "TEXCOORD_0": 2}, "indices": 3, "material": 0}]}],
+    "meshes": [{"primitives": [{"attributes": {"POSITION": 0, "NORMAL": 1, "TEXCOORD_0": 2)" + tangentAttribute +
+                           R"(}, "indices": 3, "material": 0}]}],
     "materials": [{)" + material + R"("pbrMetallicRoughness": {"baseColorFactor": [)" +
                            std::to_string(factor.r) + "," + std::to_string(factor.g) + "," + std::to_string(factor.b) +
                            "," + std::to_string(factor.a) + R"(], "roughnessFactor": 0.6, )" + pbr + R"(
@@ -439,13 +448,14 @@ std::filesystem::path writeCheckerQuad(const std::filesystem::path& folder, cons
     "textures": )" + textures + R"(,
     "samplers": [{"magFilter": 9728, "minFilter": 9728, "wrapS": 33071, "wrapT": 33071}],
     "images": )" + images + R"(,
-    "buffers": [{"uri": "quad.bin", "byteLength": 152}],
+    "buffers": [{"uri": "quad.bin", "byteLength": )" + std::to_string(bin.size()) + R"(}],
     "bufferViews": [{"buffer": 0, "byteOffset": 0, "byteLength": 48}, {"buffer": 0, "byteOffset": 48, "byteLength": 48},
-                    {"buffer": 0, "byteOffset": 96, "byteLength": 32}, {"buffer": 0, "byteOffset": 128, "byteLength": 24}],
+                    {"buffer": 0, "byteOffset": 96, "byteLength": 32}, {"buffer": 0, "byteOffset": 128, "byteLength": 24})" +
+                           tangentView + R"(],
     "accessors": [{"bufferView": 0, "componentType": 5126, "count": 4, "type": "VEC3", "min": [-0.5, -0.5, 0], "max": [0.5, 0.5, 0]},
                   {"bufferView": 1, "componentType": 5126, "count": 4, "type": "VEC3"},
                   {"bufferView": 2, "componentType": 5126, "count": 4, "type": "VEC2"},
-                  {"bufferView": 3, "componentType": 5125, "count": 6, "type": "SCALAR"}]})";
+                  {"bufferView": 3, "componentType": 5125, "count": 6, "type": "SCALAR"})" + tangentAccessor + R"(]})";
   EXPECT_TRUE(writeBinaryFile(folder / "quad.gltf", std::vector<std::uint8_t>(gltf.begin(), gltf.end())).ok());
   return folder / "quad.gltf";
 }
@@ -590,7 +600,7 @@ class MaterialTexturesTest : public MeshMaterialTest {
     const std::uint32_t size = 96;
     createLitRenderer(size, light);
     const hsdftest::ScopedTempPath folder("material_textures_quad");
-    const auto data = scene::loadGltf(writeCheckerQuad(folder.path(), kFactor, material, false, pbr, second));
+    const auto data = scene::loadGltf(writeCheckerQuad(folder.path(), kFactor, material, false, pbr, second, tangent_));
     ASSERT_TRUE(data.ok()) << data.error().message;
     for (const auto& w : data->warnings) ADD_FAILURE() << "unexpected warning: " << w;
     ASSERT_EQ(data->textures.size(), second.empty() ? 1u : 2u);
@@ -625,6 +635,7 @@ class MaterialTexturesTest : public MeshMaterialTest {
 
   glm::vec3 eye_ = kEye;
   bool mirrored_ = false;  // the quad's node scaled by (-1, 1, 1)
+  std::optional<glm::vec4> tangent_;  // every vertex's TANGENT, when given
 };
 
 // Why: glTF's roughness is the roughnessFactor times the metallicRoughnessTexture's green, read as
@@ -731,6 +742,43 @@ TEST_F(MaterialTexturesTest, TheNormalTextureOnADoubleSidedBackFaceIsReversedWho
       R"("doubleSided": true, "normalTexture": {"index": 1, "scale": 0.8},)", "", {0.3f, 0.5f, -1.0f},
       [&](const CheckerPixel& p) {
         return std::pair(lit(p, 0.6, 1.0, -tiltedNormal(p.at, {1, 0, 0}, {0, 1, 0}, {0, 0, 1})), lit(p, 0.6, 1.0, {0, 0, -1}));
+      },
+      normalMap());
+}
+
+// Why: a baked normal map (most real assets) was made in the mesh's TANGENT frame, which glTF asks
+// clients to use when the file has one; where it differs from the texture's directions on the
+// triangle, the derivative frame tilts each normal the wrong way. The normal texture test's quad
+// with every TANGENT (0, 1, 0, -1): +y, a quarter turn about the normal from the derivative frame's
+// +x, and w = -1 (a mirrored UV island's handedness). The bitangent is then cross(normal, tangent)
+// x w = +x: each pixel against the CPU reference lit with the texel's normal in that frame, at
+// least 500 of them far from the derivative frame's. Tricky because ignoring w turns every tilt
+// along the bitangent round.
+TEST_F(MaterialTexturesTest, TheTangentAttributeIsTheNormalTexturesFrame) {
+  tangent_ = glm::vec4(0.0f, 1.0f, 0.0f, -1.0f);
+  expectCheckerQuad(
+      R"("normalTexture": {"index": 1, "scale": 0.8},)", "", {0.3f, 0.5f, 1.0f},
+      [&](const CheckerPixel& p) {
+        return std::pair(lit(p, 0.6, 1.0, tiltedNormal(p.at, {0, 1, 0}, {1, 0, 0}, {0, 0, 1})),
+                         lit(p, 0.6, 1.0, tiltedNormal(p.at, {1, 0, 0}, {0, 1, 0}, {0, 0, 1})));
+      },
+      normalMap());
+}
+
+// Why: a mirrored instance (glTF: a negative scale) of a mesh with tangents keeps the texture's
+// directions on its surface: the tangent moves with the model matrix, but the bitangent
+// cross(normal, tangent) * w turns round with the mirror unless w does too. The TANGENT quad with
+// every TANGENT (0, 1, 0, 1), its node scaled by (-1, 1, 1): the tangent stays +y, the bitangent
+// -x of the unmirrored quad is +x mirrored; each pixel against the CPU reference with that frame,
+// at least 500 of them far from the frame whose bitangent did not turn (-x).
+TEST_F(MaterialTexturesTest, TheTangentFrameOfAMirroredInstanceKeepsItsHandedness) {
+  tangent_ = glm::vec4(0.0f, 1.0f, 0.0f, 1.0f);
+  mirrored_ = true;
+  expectCheckerQuad(
+      R"("normalTexture": {"index": 1, "scale": 0.8},)", "", {0.3f, 0.5f, 1.0f},
+      [&](const CheckerPixel& p) {
+        return std::pair(lit(p, 0.6, 1.0, tiltedNormal(p.at, {0, 1, 0}, {1, 0, 0}, {0, 0, 1})),
+                         lit(p, 0.6, 1.0, tiltedNormal(p.at, {0, 1, 0}, {-1, 0, 0}, {0, 0, 1})));
       },
       normalMap());
 }

@@ -22,10 +22,11 @@ inline LazyPipeline describeMeshPrepass(const Context& context, const std::strin
   desc.name = name;
   desc.vertex = (*vert)->handle();
   desc.fragment = (*frag)->handle();
-  desc.vertexLayout.bindings.push_back({0, 32, VK_VERTEX_INPUT_RATE_VERTEX});  // render::MeshVertex
+  desc.vertexLayout.bindings.push_back({0, 48, VK_VERTEX_INPUT_RATE_VERTEX});  // render::MeshVertex
   desc.vertexLayout.attributes.push_back({0, 0, VK_FORMAT_R32G32B32_SFLOAT, 0});
   desc.vertexLayout.attributes.push_back({1, 0, VK_FORMAT_R32G32B32_SFLOAT, 12});
   desc.vertexLayout.attributes.push_back({2, 0, VK_FORMAT_R32G32_SFLOAT, 24});
+  desc.vertexLayout.attributes.push_back({3, 0, VK_FORMAT_R32G32B32A32_SFLOAT, 32});
   desc.colorFormats = {VK_FORMAT_R32G32_UINT, VK_FORMAT_R32_SFLOAT};  // render::RendererFormats::prepassColorFormats()
   desc.depthFormat = VK_FORMAT_D32_SFLOAT;
   desc.pushConstantBytes = 128;

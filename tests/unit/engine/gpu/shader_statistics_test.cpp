@@ -43,7 +43,7 @@ DescriptorSetLayout meshTextureLayout(const Context& context) {
   return DescriptorSetLayout(context, desc);
 }
 
-// mesh.vert's inputs (position, normal, texture coordinate), a colour target of `color` and a
+// mesh.vert's inputs (position, normal, texture coordinate, tangent), a colour target of `color` and a
 // depth target; `textures` is set 0 (mesh.frag samples it).
 GraphicsPipelineDesc meshDesc(const std::string& name, VkShaderModule vert, VkShaderModule frag, VkFormat color,
                               VkDescriptorSetLayout textures = VK_NULL_HANDLE) {
@@ -51,10 +51,11 @@ GraphicsPipelineDesc meshDesc(const std::string& name, VkShaderModule vert, VkSh
   desc.name = name;
   desc.vertex = vert;
   desc.fragment = frag;
-  desc.vertexLayout.bindings.push_back({0, 32, VK_VERTEX_INPUT_RATE_VERTEX});
+  desc.vertexLayout.bindings.push_back({0, 48, VK_VERTEX_INPUT_RATE_VERTEX});
   desc.vertexLayout.attributes.push_back({0, 0, VK_FORMAT_R32G32B32_SFLOAT, 0});
   desc.vertexLayout.attributes.push_back({1, 0, VK_FORMAT_R32G32B32_SFLOAT, 12});
   desc.vertexLayout.attributes.push_back({2, 0, VK_FORMAT_R32G32_SFLOAT, 24});
+  desc.vertexLayout.attributes.push_back({3, 0, VK_FORMAT_R32G32B32A32_SFLOAT, 32});
   if (textures != VK_NULL_HANDLE) desc.setLayouts = {textures};
   desc.colorFormats = {color};
   desc.depthFormat = VK_FORMAT_D32_SFLOAT;

@@ -1028,6 +1028,45 @@ TEST(GltfLoaderFeatures, NormalizedAndStridedAttributesDecode) {
   EXPECT_FALSE(primitive.flatNormals) << "the file's normals are drawn as given";
 }
 
+// Why: a normal map baked with the mesh's tangents is read in them (glTF: clients SHOULD use
+// TANGENT when given), so the importer keeps them, w as the handedness's sign. Tricky because a
+// TANGENT of the wrong type (VEC3: no handedness) or count would be read misaligned or past the
+// vertices: each is dropped with a warning naming TANGENT (the normal texture then read in the
+// derivative frame), not an error; and glTF says a primitive without normals MUST ignore them.
+TEST(GltfLoaderFeatures, TangentsAreReadAndMalformedOnesDroppedWithAWarning) {
+  const auto loadWithTangents = [](const char* type, std::uint64_t count, bool normals) {
+    GltfBuilder b = triangleScene();
+    const std::vector<float> tangents = {1, 0, 0, 1, 0, 1, 0, -1, 0, 0, 1, -0.5f, 0, 0, 1, 1};  // room for 4 VEC4
+    const int tangentAccessor = b.addTightAccessor(tangents, kFloat, type, count);
+    auto& attributes = b.doc()["meshes"][0]["primitives"][0]["attributes"];
+    attributes["TANGENT"] = tangentAccessor;
+    if (normals) attributes["NORMAL"] = b.addTightAccessor(std::vector<float>{0, 0, 1, 0, 0, 1, 0, 0, 1}, kFloat, "VEC3", 3);
+    return load(b);
+  };
+  const auto read = loadWithTangents("VEC4", 3, true);
+  ASSERT_TRUE(read.ok()) << read.error().message;
+  const auto& tangents = read->meshes[0].primitives[0].tangents;
+  ASSERT_EQ(tangents.size(), 3u) << warningLines(*read);
+  EXPECT_EQ(tangents[0], glm::vec4(1, 0, 0, 1));
+  EXPECT_EQ(tangents[1], glm::vec4(0, 1, 0, -1));
+  EXPECT_EQ(tangents[2], glm::vec4(0, 0, 1, -1)) << "w is the handedness's sign";
+  EXPECT_FALSE(anyWarningContains(*read, "TANGENT")) << warningLines(*read);
+
+  const auto vec3 = loadWithTangents("VEC3", 3, true);
+  ASSERT_TRUE(vec3.ok()) << vec3.error().message;
+  EXPECT_TRUE(vec3->meshes[0].primitives[0].tangents.empty());
+  EXPECT_TRUE(anyWarningContains(*vec3, "TANGENT not read")) << warningLines(*vec3);
+
+  const auto miscounted = loadWithTangents("VEC4", 4, true);
+  ASSERT_TRUE(miscounted.ok()) << miscounted.error().message;
+  EXPECT_TRUE(miscounted->meshes[0].primitives[0].tangents.empty());
+  EXPECT_TRUE(anyWarningContains(*miscounted, "TANGENT not read: 4 elements for 3 positions")) << warningLines(*miscounted);
+
+  const auto flat = loadWithTangents("VEC4", 3, false);
+  ASSERT_TRUE(flat.ok()) << flat.error().message;
+  EXPECT_TRUE(flat->meshes[0].primitives[0].tangents.empty()) << "glTF: tangents without normals are ignored";
+}
+
 // Tricky because strips alternate their vertex order to keep one winding, and fans pivot on the
 // first vertex; both must come out as CCW triangle lists per the glTF specification.
 TEST(GltfLoaderFeatures, TriangleStripsAndFansBecomeLists) {
