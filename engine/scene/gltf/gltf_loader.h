@@ -36,10 +36,13 @@
 //    texture's); baseColorTexture, metallicRoughnessTexture, occlusionTexture (and its strength)
 //    and emissiveTexture read through TEXCOORD_0 (gltf_textures.h: PNG or JPEG from a bufferView,
 //    a data: URI or a file beside the .gltf, at most kMaxTextureSide texels a side, with its
-//    sampler); one KHR_texture_transform per material, its first texture's. A texture that cannot
-//    be read (bad index, undecodable or missing image, too large, texCoord other than 0, a
-//    transform unlike the material's first, a primitive without TEXCOORD_0) is a warning naming
-//    the material: drawn without it (in its factor). normalTexture is not drawn (a warning).
+//    sampler), and normalTexture (and its scale) in the primitive's TANGENT frame, else in a frame
+//    from screen-space derivatives; one KHR_texture_transform per material, its first texture's. A
+//    texture that cannot be read (bad index, undecodable or missing image, too large, texCoord
+//    other than 0, a transform unlike the material's first, a primitive without TEXCOORD_0) is a
+//    warning naming the material: drawn without it (in its factor).
+//  - TANGENT: VEC4 (w the handedness), one per position, on a primitive with NORMAL; another
+//    type or count is dropped with a warning, as is a Draco primitive's (not decoded).
 //  - cameras: perspective (yfov, znear; zfar and aspectRatio kept but the projection is infinite and
 //    the viewport's aspect wins) and orthographic (xmag, ymag, znear, zfar: xmag and ymag positive,
 //    zfar > znear >= 0; a bad value is an error naming the camera and the field); another type is
@@ -48,7 +51,7 @@
 //    has both, which glTF forbids) and world matrix. A `matrix` that shears or projects (glTF
 //    forbids both) is replaced by its translation, rotation and scale with a warning, so that the
 //    triangles (entities hold TRS transforms) and the baked SDF place the node alike.
-// Only the images of base colour textures are decoded. A file without meshes is valid and
+// Only the images of textures that a material reads are decoded. A file without meshes is valid and
 // gives a SceneData with empty meshes.
 #include <cstdint>
 #include <filesystem>
