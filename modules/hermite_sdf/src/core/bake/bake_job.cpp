@@ -5,7 +5,7 @@
 #include <exception>
 #include <fstream>
 #include <filesystem>
-#include <map>
+#include <limits>
 
 #include <fmt/format.h>
 #include <fmt/ranges.h>
@@ -95,21 +95,22 @@ engine::Status checkHasSurface(const CellStats& stats, const GridSpec& grid) {
 
 namespace {
 
-// Each node's triangles' bounds in `soup` (flattenTriangles of `scene`) as a BakeSource::Part.
+// Each node's triangles' bounds in `soup` (flattenTriangles of `scene`) as a BakeSource::Part, in
+// node order (a vector by node, not a map: a level may place a mesh a million times).
 std::vector<BakeSource::Part> sceneParts(const engine::scene::SceneData& scene, const engine::scene::TriangleSoup& soup) {
-  std::map<std::uint32_t, std::pair<glm::dvec3, glm::dvec3>> bounds;  // node -> (min, max)
-  for (std::size_t t = 0; t < soup.triangleNodes.size(); ++t) {
-    auto [it, fresh] = bounds.try_emplace(soup.triangleNodes[t], glm::dvec3(soup.positions[soup.indices[3 * t]]),
-                                          glm::dvec3(soup.positions[soup.indices[3 * t]]));
+  constexpr double kInf = std::numeric_limits<double>::infinity();
+  std::vector<std::pair<glm::dvec3, glm::dvec3>> bounds(scene.nodes.size(), {glm::dvec3(kInf), glm::dvec3(-kInf)});
+  for (std::size_t t = 0; t < soup.triangleNodes.size(); ++t)
     for (std::size_t k = 0; k < 3; ++k) {
       const glm::dvec3 p(soup.positions[soup.indices[3 * t + k]]);
-      it->second.first = glm::min(it->second.first, p);
-      it->second.second = glm::max(it->second.second, p);
+      auto& [lo, hi] = bounds[soup.triangleNodes[t]];
+      lo = glm::min(lo, p);
+      hi = glm::max(hi, p);
     }
-  }
   std::vector<BakeSource::Part> parts;
-  for (const auto& [node, box] : bounds) {
-    const glm::dvec3 side = box.second - box.first;
+  for (std::size_t node = 0; node < bounds.size(); ++node) {
+    const glm::dvec3 side = bounds[node].second - bounds[node].first;
+    if (!(side.x >= 0.0)) continue;  // no triangle of this node
     const std::string& name = scene.nodes[node].name;
     parts.push_back({name.empty() ? fmt::format("node {}", node) : fmt::format("'{}'", name),
                      std::max({side.x, side.y, side.z})});
