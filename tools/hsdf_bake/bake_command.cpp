@@ -77,6 +77,7 @@ int runBake(const BakeRequest& request) {
   std::printf("grid: K=%d, spacing %.9g, origin (%.9g, %.9g, %.9g), padding %d\n", grid->resolution, grid->spacing,
               grid->origin.x, grid->origin.y, grid->origin.z, request.padding);
   if (const auto thin = thinShellWarning(settings, *grid)) std::printf("warning: --shell: %s\n", thin->c_str());
+  if (const auto small = smallPartsWarning(*source, settings, *grid)) std::printf("warning: %s\n", small->c_str());
 
   const auto bakeStart = std::chrono::steady_clock::now();
   ProgressBar bar(settings.band == BakeBand::Sparse ? "baking (sparse cells)" : "baking (dense)", stderr);

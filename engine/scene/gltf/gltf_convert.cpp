@@ -960,6 +960,24 @@ void noteUntexturedPrimitives(const SceneData& scene, std::vector<std::string>& 
   }
 }
 
+// Animations are not played (the scene is drawn still): every node is drawn in the pose its own
+// transform gives, which exporters write as the rest pose or the frame they stood on, not what a
+// glTF viewer plays. Said once, naming the animations (by index and name; a game character has dozens).
+void noteAnimations(const tinygltf::Model& model, std::vector<std::string>& warnings) {
+  if (model.animations.empty()) return;
+  constexpr std::size_t kNamed = 4;
+  std::vector<std::string> names;
+  for (std::size_t a = 0; a < std::min(model.animations.size(), kNamed); ++a) {
+    const std::string& name = model.animations[a].name;
+    names.push_back(name.empty() ? fmt::format("{}", a) : fmt::format("{} '{}'", a, name));
+  }
+  if (model.animations.size() > kNamed) names.push_back(fmt::format("{} more", model.animations.size() - kNamed));
+  warnings.push_back(fmt::format("{} animation{} ({}) {} not played: each node is drawn in the pose of its own "
+                                 "transform, each morphed mesh at its default weights",
+                                 model.animations.size(), model.animations.size() == 1 ? "" : "s",
+                                 fmt::join(names, ", "), model.animations.size() == 1 ? "is" : "are"));
+}
+
 Expected<SceneData> convertModel(ImportContext& context) {
   const auto& model = context.model;
   ENGINE_TRY(decodeMeshoptViews(context));
@@ -981,6 +999,7 @@ Expected<SceneData> convertModel(ImportContext& context) {
   noteUntexturedPrimitives(scene, context.warnings);
   ENGINE_TRY_ASSIGN(scene.nodes, convertNodes(context, cameraRemap));
   ENGINE_TRY(checkInstancesFinite(scene));
+  noteAnimations(model, context.warnings);
   return scene;
 }
 

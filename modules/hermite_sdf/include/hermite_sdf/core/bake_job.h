@@ -32,6 +32,13 @@ struct BakeSource {
   // The triangles' materials (materials.h): a palette and a slot per triangle when they use two or
   // more, else null or empty (then the asset has no palette and the entity's colour shades it).
   std::shared_ptr<const MeshMaterials> materials;
+  // fromScene: each placed mesh's node name and the longest side of its world bounds, so that a bake
+  // can name the ones its grid is too coarse to hold (smallPartsWarning); empty for other sources.
+  struct Part {
+    std::string name;
+    double size = 0.0;
+  };
+  std::vector<Part> parts;
 
   static BakeSource fromTriangles(std::string name, engine::scene::TriangleSoup triangles);
   static BakeSource fromShape(std::string shapeName);
@@ -126,11 +133,17 @@ engine::Expected<GridSpec> planBake(const PreparedSource& source, const BakeSett
 // when far thinner. The warning's words, naming both sizes; nullopt for a solid or a thick shell.
 std::optional<std::string> thinShellWarning(const BakeSettings& settings, const GridSpec& grid);
 
+// Placed meshes of a flattened scene (BakeSource::parts) whose bounds, grown by the shell on each
+// side, fit inside one cell of `grid`: no sample plane may cross them, so the bake loses them (or
+// keeps a blob of a cell) without an error while the rest of the scene has a surface: a crate on a
+// floor 1000 units wide at K = 64. The warning's words, naming them and both sizes; nullopt if none.
+std::optional<std::string> smallPartsWarning(const BakeSource& source, const BakeSettings& settings, const GridSpec& grid);
+
 // The whole pipeline. Errors name the step: grid fitting, budget (the limit), fp16 storage, bake
 // ("cancelled" included), classification, and "the baked field has no surface" when no cell is kept.
 engine::Expected<std::shared_ptr<const SdfAsset>> bakeAsset(const PreparedSource& source, const BakeSettings& settings,
                                                             const BakeControl& control = {});
-// prepareSource, logPreparedSource, thinShellWarning logged, bakeAsset.
+// prepareSource, logPreparedSource, thinShellWarning and smallPartsWarning logged, bakeAsset.
 engine::Expected<std::shared_ptr<const SdfAsset>> bakeAsset(const BakeSource& source, const BakeSettings& settings,
                                                             const BakeControl& control = {});
 

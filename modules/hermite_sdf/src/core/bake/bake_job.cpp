@@ -1,11 +1,14 @@
 #include "hermite_sdf/core/bake_job.h"
 
+#include <algorithm>
 #include <array>
 #include <exception>
 #include <fstream>
 #include <filesystem>
+#include <limits>
 
 #include <fmt/format.h>
+#include <fmt/ranges.h>
 
 #include "engine/core/log.h"
 #include "engine/scene/gltf/gltf_loader.h"
@@ -90,6 +93,33 @@ engine::Status checkHasSurface(const CellStats& stats, const GridSpec& grid) {
 
 }  // namespace
 
+namespace {
+
+// Each node's triangles' bounds in `soup` (flattenTriangles of `scene`) as a BakeSource::Part, in
+// node order (a vector by node, not a map: a level may place a mesh a million times).
+std::vector<BakeSource::Part> sceneParts(const engine::scene::SceneData& scene, const engine::scene::TriangleSoup& soup) {
+  constexpr double kInf = std::numeric_limits<double>::infinity();
+  std::vector<std::pair<glm::dvec3, glm::dvec3>> bounds(scene.nodes.size(), {glm::dvec3(kInf), glm::dvec3(-kInf)});
+  for (std::size_t t = 0; t < soup.triangleNodes.size(); ++t)
+    for (std::size_t k = 0; k < 3; ++k) {
+      const glm::dvec3 p(soup.positions[soup.indices[3 * t + k]]);
+      auto& [lo, hi] = bounds[soup.triangleNodes[t]];
+      lo = glm::min(lo, p);
+      hi = glm::max(hi, p);
+    }
+  std::vector<BakeSource::Part> parts;
+  for (std::size_t node = 0; node < bounds.size(); ++node) {
+    const glm::dvec3 side = bounds[node].second - bounds[node].first;
+    if (!(side.x >= 0.0)) continue;  // no triangle of this node
+    const std::string& name = scene.nodes[node].name;
+    parts.push_back({name.empty() ? fmt::format("node {}", node) : fmt::format("'{}'", name),
+                     std::max({side.x, side.y, side.z})});
+  }
+  return parts;
+}
+
+}  // namespace
+
 BakeSource BakeSource::fromTriangles(std::string name, engine::scene::TriangleSoup triangles) {
   BakeSource source;
   source.name = std::move(name);
@@ -109,7 +139,9 @@ engine::Expected<BakeSource> BakeSource::fromScene(std::string name, const engin
   ENGINE_TRY(engine::scene::checkFlattenable(scene));
   engine::scene::TriangleSoup soup = engine::scene::flattenTriangles(scene, origin);
   ENGINE_TRY_ASSIGN(MeshMaterials materials, meshMaterials(soup, scene));
+  std::vector<Part> parts = sceneParts(scene, soup);
   BakeSource source = fromTriangles(std::move(name), std::move(soup));
+  source.parts = std::move(parts);
   if (!materials.empty()) source.materials = std::make_shared<const MeshMaterials>(std::move(materials));
   return source;
 }
@@ -251,12 +283,30 @@ std::optional<std::string> thinShellWarning(const BakeSettings& settings, const 
                      settings.shellThickness, grid.spacing);
 }
 
+std::optional<std::string> smallPartsWarning(const BakeSource& source, const BakeSettings& settings, const GridSpec& grid) {
+  constexpr std::size_t kNamed = 4;
+  std::vector<std::string> named;
+  std::size_t count = 0;
+  for (const BakeSource::Part& part : source.parts) {
+    if (!(part.size + 2.0 * settings.shellThickness < grid.spacing)) continue;
+    if (++count <= kNamed) named.push_back(fmt::format("{} ({:g})", part.name, part.size));
+  }
+  if (count == 0) return std::nullopt;
+  if (count > kNamed) named.push_back(fmt::format("{} more", count - kNamed));
+  return fmt::format("{} of the {} placed meshes fit{} inside one grid cell ({:g}) and may be lost or drawn as a "
+                     "blob: {}; a higher resolution, or one SDF per object (scene_runner --objects), resolves {}",
+                     count, source.parts.size(), count == 1 ? "s" : "", grid.spacing, fmt::join(named, ", "),
+                     count == 1 ? "it" : "them");
+}
+
 engine::Expected<std::shared_ptr<const SdfAsset>> bakeAsset(const BakeSource& source, const BakeSettings& settings,
                                                             const BakeControl& control) {
   ENGINE_TRY_ASSIGN(PreparedSource prepared, prepareSource(source, settings));
   logPreparedSource(prepared);
-  if (const auto grid = planBake(prepared, settings); grid)  // else bakeAsset says why
+  if (const auto grid = planBake(prepared, settings); grid) {  // else bakeAsset says why
     if (const auto thin = thinShellWarning(settings, *grid)) engine::log::warn("bake: {}: {}", source.name, *thin);
+    if (const auto small = smallPartsWarning(source, settings, *grid)) engine::log::warn("bake: {}: {}", source.name, *small);
+  }
   return bakeAsset(prepared, settings, control);
 }
 

@@ -939,6 +939,31 @@ TEST(GltfLoaderFeatures, NodeMorphWeightsAndSkinsAreNamedWhenIgnored) {
   EXPECT_TRUE(anyWarningContains(*scene, "'skinned': skin 0 ignored"));
 }
 
+// Tricky because an animation changes no field the loader reads: a file whose only animation spins
+// a node loads exactly as without it, so nothing but a note tells the user that the pose drawn is
+// the nodes' own transforms (an exporter's rest pose), not the animated one a glTF viewer plays.
+TEST(GltfLoaderFeatures, AnimationsAreNamedAsNotPlayed) {
+  GltfBuilder b;
+  const int spinner = b.addNode({{"name", "spinner"}, {"mesh", b.addIndexedMesh({{0, 0, 0}, {1, 0, 0}, {0, 1, 0}}, {0, 1, 2})}});
+  const int times = b.addTightAccessor(std::vector<float>{0.0f, 1.0f}, kFloat, "SCALAR", 2);
+  b.doc()["accessors"][std::size_t(times)]["min"] = {0.0};
+  b.doc()["accessors"][std::size_t(times)]["max"] = {1.0};
+  const int turns = b.addTightAccessor(std::vector<float>{0, 0, 0, 1, 0, 0.7071068f, 0, 0.7071068f}, kFloat, "VEC4", 2);
+  const json sampler = {{"input", times}, {"output", turns}};
+  const json channel = {{"sampler", 0}, {"target", {{"node", spinner}, {"path", "rotation"}}}};
+  b.doc()["animations"] = json::array({{{"name", "spin"}, {"samplers", {sampler}}, {"channels", {channel}}},
+                                       {{"samplers", {sampler}}, {"channels", {channel}}}});
+  const auto scene = load(b);
+  ASSERT_TRUE(scene.ok()) << scene.error().message;
+  EXPECT_TRUE(anyWarningContains(*scene, "2 animations (0 'spin', 1) are not played"));
+  EXPECT_EQ(scene->nodes[0].world, glm::mat4(1.0f)) << "drawn in the node's own pose";
+
+  b.doc().erase("animations");
+  const auto still = load(b);
+  ASSERT_TRUE(still.ok()) << still.error().message;
+  EXPECT_FALSE(anyWarningContains(*still, "animation"));
+}
+
 // Tricky because a file without meshes (or nodes) is valid glTF and must not be mistaken for an
 // error: the result is simply empty.
 TEST(GltfLoaderFeatures, SceneWithoutMeshesIsEmptyNotAnError) {

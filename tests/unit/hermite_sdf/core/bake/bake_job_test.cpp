@@ -10,6 +10,8 @@
 #include <utility>
 #include <vector>
 
+#include <glm/gtc/matrix_transform.hpp>
+
 #include "engine/core/log.h"
 #include "hermite_sdf/core/bake_job.h"
 #include "hermite_sdf/core/cells.h"
@@ -385,6 +387,69 @@ TEST(BakeJob, TheBakeLogsWhatItDroppedOnce) {
   ASSERT_EQ(log.messages.size(), 1u);
   EXPECT_EQ(log.messages[0].first, engine::log::Level::Info);
   EXPECT_EQ(log.messages[0].second, "bake: tetra: mesh, 4 triangles, closed, sign from pseudonormals");
+}
+
+// A closed unit cube (12 triangles) placed by a node of `scale` at `at`.
+engine::scene::NodeData cubeNode(std::string name, const glm::vec3& at, const glm::vec3& scale) {
+  engine::scene::NodeData node;
+  node.name = std::move(name);
+  node.local = node.world = glm::scale(glm::translate(glm::mat4(1.0f), at), scale);
+  node.mesh = 0;
+  return node;
+}
+
+engine::scene::SceneData floorAndCrateScene() {
+  engine::scene::MeshPrimitiveData cube;
+  for (int c = 0; c < 8; ++c)
+    cube.positions.push_back({float(c & 1) - 0.5f, float((c >> 1) & 1) - 0.5f, float((c >> 2) & 1) - 0.5f});
+  cube.indices = {0, 2, 3, 0, 3, 1, 4, 5, 7, 4, 7, 6, 0, 1, 5, 0, 5, 4, 2, 6, 7, 2, 7, 3, 0, 4, 6, 0, 6, 2, 1, 3, 7, 1, 7, 5};
+  cube.normals.assign(8, glm::vec3(0.0f));
+  engine::scene::SceneData scene;
+  scene.meshes.push_back({"cube", {cube}});
+  scene.nodes.push_back(cubeNode("floor", {0, -50, 0}, {1000, 100, 1000}));
+  scene.nodes.push_back(cubeNode("crate", {10, 0.5f, 10}, {1, 1, 1}));
+  return scene;
+}
+
+// Tricky: a crate 1 unit wide on a floor 1000 units wide (an exported level) baked as one SDF: at
+// K = 64 a cell is 16 units, no sample plane crosses the crate and the bake drops it, with no error
+// (the floor has a surface) and nothing in the log. The warning names the node and both sizes, for
+// the bake jobs (the scene runner, the Viewer) and hsdf_bake alike, and goes once the grid is
+// fine enough to hold it.
+TEST(BakeJob, APlacedMeshInsideOneCellIsNamed) {
+  const auto source = BakeSource::fromScene("level", floorAndCrateScene());
+  ASSERT_TRUE(source.ok()) << source.error().message;
+  ASSERT_EQ(source->parts.size(), 2u);
+  EXPECT_EQ(source->parts[1].name, "'crate'");
+  EXPECT_NEAR(source->parts[1].size, 1.0, 1e-6);
+  BakeSettings settings = atResolution(64);
+  const auto prepared = prepareSource(*source, settings);
+  ASSERT_TRUE(prepared.ok()) << prepared.error().message;
+  const auto coarse = planBake(*prepared, settings);
+  ASSERT_TRUE(coarse.ok()) << coarse.error().message;
+  const auto warning = smallPartsWarning(*source, settings, *coarse);
+  ASSERT_TRUE(warning.has_value()) << "grid spacing " << coarse->spacing;
+  EXPECT_TRUE(contains(*warning, "1 of the 2 placed meshes fits inside one grid cell")) << *warning;
+  EXPECT_TRUE(contains(*warning, "'crate' (1)")) << *warning;
+  EXPECT_FALSE(contains(*warning, "floor")) << *warning;
+  {
+    LogCapture log;
+    ASSERT_TRUE(bakeAsset(*source, settings).ok());
+    bool logged = false;
+    for (const auto& [level, text] : log.messages) logged |= level == engine::log::Level::Warning && contains(text, "'crate' (1)");
+    EXPECT_TRUE(logged) << "the bake did not log the lost crate";
+  }
+  // A shell half a unit thick makes the crate 2 wide; still inside a 16-unit cell. At K = 2048 a
+  // cell is about half a unit (a sparse bake's plan): the crate is held, and named no more.
+  settings.shellThickness = 0.5;
+  EXPECT_TRUE(smallPartsWarning(*source, settings, *coarse).has_value());
+  settings.shellThickness = 0.0;
+  settings.resolution = 2048;
+  settings.band = BakeBand::Sparse;  // planned only: a dense field at K = 2048 is over the budget
+  const auto fine = planBake(*prepared, settings);
+  ASSERT_TRUE(fine.ok()) << fine.error().message;
+  ASSERT_LT(fine->spacing, 1.0);
+  EXPECT_FALSE(smallPartsWarning(*source, settings, *fine).has_value()) << *smallPartsWarning(*source, settings, *fine);
 }
 
 }  // namespace
