@@ -154,10 +154,6 @@ MeshFeature::Variant MeshFeature::variantOf(const MeshRenderable& mesh, std::uin
   return texture != 0 ? Variant::Textured : Variant::Untextured;
 }
 
-namespace {
-
-}  // namespace
-
 void MeshFeature::prepare(FrameContext& frame) {
   pool_.sync(frame);
   culledCount_ = 0;
