@@ -21,6 +21,7 @@
 #include <nlohmann/json.hpp>
 
 #include "engine/core/log.h"
+#include "engine/core/named_list.h"
 #include "engine/scene/gltf/gltf_compression.h"
 #include "engine/scene/gltf/gltf_textures.h"
 #include "engine/scene/transform.h"
@@ -965,17 +966,15 @@ void noteUntexturedPrimitives(const SceneData& scene, std::vector<std::string>& 
 // glTF viewer plays. Said once, naming the animations (by index and name; a game character has dozens).
 void noteAnimations(const tinygltf::Model& model, std::vector<std::string>& warnings) {
   if (model.animations.empty()) return;
-  constexpr std::size_t kNamed = 4;
   std::vector<std::string> names;
-  for (std::size_t a = 0; a < std::min(model.animations.size(), kNamed); ++a) {
+  for (std::size_t a = 0; a < std::min(model.animations.size(), kNamedInMessages); ++a) {
     const std::string& name = model.animations[a].name;
     names.push_back(name.empty() ? fmt::format("{}", a) : fmt::format("{} '{}'", a, name));
   }
-  if (model.animations.size() > kNamed) names.push_back(fmt::format("{} more", model.animations.size() - kNamed));
   warnings.push_back(fmt::format("{} animation{} ({}) {} not played: each node is drawn in the pose of its own "
                                  "transform, each morphed mesh at its default weights",
                                  model.animations.size(), model.animations.size() == 1 ? "" : "s",
-                                 fmt::join(names, ", "), model.animations.size() == 1 ? "is" : "are"));
+                                 namedList(names, model.animations.size()), model.animations.size() == 1 ? "is" : "are"));
 }
 
 Expected<SceneData> convertModel(ImportContext& context) {

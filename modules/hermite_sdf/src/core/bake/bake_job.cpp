@@ -8,9 +8,9 @@
 #include <limits>
 
 #include <fmt/format.h>
-#include <fmt/ranges.h>
 
 #include "engine/core/log.h"
+#include "engine/core/named_list.h"
 #include "engine/scene/gltf/gltf_loader.h"
 #include "hermite_sdf/core/analytic.h"
 #include "hermite_sdf/core/cells.h"
@@ -90,10 +90,6 @@ engine::Status checkHasSurface(const CellStats& stats, const GridSpec& grid) {
                                        "the grid spacing {:.6g}: a higher resolution may resolve it)",
                                        stats.cells, grid.spacing));
 }
-
-}  // namespace
-
-namespace {
 
 // Each node's triangles' bounds in `soup` (flattenTriangles of `scene`) as a BakeSource::Part, in
 // node order (a vector by node, not a map: a level may place a mesh a million times).
@@ -284,18 +280,16 @@ std::optional<std::string> thinShellWarning(const BakeSettings& settings, const 
 }
 
 std::optional<std::string> smallPartsWarning(const BakeSource& source, const BakeSettings& settings, const GridSpec& grid) {
-  constexpr std::size_t kNamed = 4;
   std::vector<std::string> named;
   std::size_t count = 0;
   for (const BakeSource::Part& part : source.parts) {
     if (!(part.size + 2.0 * settings.shellThickness < grid.spacing)) continue;
-    if (++count <= kNamed) named.push_back(fmt::format("{} ({:g})", part.name, part.size));
+    if (++count <= engine::kNamedInMessages) named.push_back(fmt::format("{} ({:g})", part.name, part.size));
   }
   if (count == 0) return std::nullopt;
-  if (count > kNamed) named.push_back(fmt::format("{} more", count - kNamed));
   return fmt::format("{} of the {} placed meshes fit{} inside one grid cell ({:g}) and may be lost or drawn as a "
                      "blob: {}; a higher resolution, or one SDF per object (scene_runner --objects), resolves {}",
-                     count, source.parts.size(), count == 1 ? "s" : "", grid.spacing, fmt::join(named, ", "),
+                     count, source.parts.size(), count == 1 ? "s" : "", grid.spacing, engine::namedList(named, count),
                      count == 1 ? "it" : "them");
 }
 
