@@ -18,27 +18,41 @@ using namespace engine;
 
 Status SdfObjects::add(std::shared_ptr<const scene::SceneData> scene, std::span<const ecs::Entity> nodes,
                        std::span<const ecs::Entity> parts, std::vector<ecs::Entity>& meshes) {
-  const scene::SceneData& data = *scene;
-  hsdf::SceneObjectOptions options;
-  options.defaultDraw = tuning_.nodeDraw;
-  options.triangleNodes = tuning_.triangleNodes;
+  options_.defaultDraw = tuning_.nodeDraw;
+  options_.triangleNodes = tuning_.triangleNodes;
+  // Bad extras and unknown node names are refused at load, whichever method draws first.
+  ENGINE_TRY(hsdf::chooseNodeDraws(*scene, options_));
+  scene_ = std::move(scene);
+  nodes_.assign(nodes.begin(), nodes.end());
+  parts_.assign(parts.begin(), parts.end());
+  if (isSdfMethod(tuning_.method)) return bake(meshes);
+  log::info("the scene's {} meshes are baked into SDF objects when an SDF method is chosen", scene_->meshes.size());
+  return {};
+}
+
+Status SdfObjects::bakeIfWanted(std::vector<ecs::Entity>& meshes) {
+  if (!loaded() || baked_ || !isSdfMethod(tuning_.method)) return {};
+  return bake(meshes).withContext("baking the scene's meshes into SDF objects");
+}
+
+Status SdfObjects::bake(std::vector<ecs::Entity>& meshes) {
+  const scene::SceneData& data = *scene_;
   hsdf::BakeSettings settings;
   setBakeKey(bakeKey(tuning_), settings);
   settings.budget = bakes_.budget();
   const auto start = std::chrono::steady_clock::now();
-  ENGINE_TRY_ASSIGN(const hsdf::SceneObjects objects, hsdf::bakeSceneObjects(data, options, settings));
-  entities_ = hsdf::addSdfInstances(data, objects, nodes, registry_);
-  scene_ = std::move(scene);
-  nodes_.assign(nodes.begin(), nodes.end());
-  options_ = options;
+  ENGINE_TRY_ASSIGN(const hsdf::SceneObjects objects, hsdf::bakeSceneObjects(data, options_, settings));
+  entities_ = hsdf::addSdfInstances(data, objects, nodes_, registry_);
+  baked_ = true;
   bakeCount_ = objects.bakes;
   objects_ = objects;
   bakes_.setBaked(bakeKey(settings));
   // The triangles of SDF nodes give way to the SDF; those of triangle nodes always draw. (A set:
   // a scene of instanced meshes has as many parts as SDF nodes, a million or so.)
   const std::unordered_set<ecs::Entity> sdfNodes(entities_.begin(), entities_.end());
-  for (const ecs::Entity part : parts)
+  for (const ecs::Entity part : parts_)
     if (sdfNodes.contains(registry_.get<scene::Parent>(part).entity)) meshes.push_back(part);
+  parts_ = {};
   std::size_t triangleNodes = 0;
   for (std::size_t n = 0; n < data.nodes.size(); ++n)
     triangleNodes += data.nodes[n].mesh >= 0 && objects.draws[n] == hsdf::NodeDraw::Triangles;

@@ -106,7 +106,17 @@ Status Viewer::initialize(const ViewerDesc& desc) {
 
 void Viewer::setTuning(const TuningState& tuning) {
   tuning_ = tuning;
-  if (sceneObjects_.loaded() && bakeKey(tuning_) != bakes_.baked()) {
+  if (sceneObjects_.loaded() && !sceneObjects_.baked()) {
+    // The first SDF method after a mesh method's load. A failed bake keeps the meshes drawn and
+    // the method with them (as a failed re-bake keeps its K); the panel shows why.
+    if (Status baked = sceneObjects_.bakeIfWanted(meshEntities_); !baked) {
+      log::error("{}", baked.error().message);
+      bakes_.setError(baked.error().message);
+      tuning_.method = Method::Mesh;
+    } else if (sceneObjects_.baked()) {
+      bakes_.setError({});
+    }
+  } else if (sceneObjects_.loaded() && bakeKey(tuning_) != bakes_.baked()) {
     // The reason stays in bakeError() (the panel shows it) as for one baked object.
     if (Status rebaked = sceneObjects_.rebake(); !rebaked) {
       log::error("{}", rebaked.error().message);

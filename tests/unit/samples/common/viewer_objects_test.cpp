@@ -340,19 +340,62 @@ TEST(ViewerObjects, LevelsOfDetailAreNotBakedWhileTheMeshMethodDrawsNoSdf) {
   EXPECT_TRUE(viewer->close().ok());
 }
 
-TEST(ViewerObjects, UnknownTriangleNodeIsRefusedNamingTheFileAndNode) {
-  auto viewer = makeViewer();
+// Tricky: a scene loaded under the mesh method draws only triangles, so its meshes must not be
+// baked at load (the grid scene's load took 5.1-5.4 s for SDFs nothing drew), yet the first SDF
+// method must bake them, show the SDF nodes and hide their triangles, as a load under that method
+// does; going back to the mesh method and to an SDF method again must not bake again.
+TEST(ViewerObjects, AMeshMethodLoadBakesTheObjectsWhenAnSdfMethodIsFirstChosen) {
+  hsdftest::LogCapture infos(engine::log::Level::Info);
+  TuningState tuning;
+  tuning.resolution = 24;
+  tuning.method = Method::Mesh;
+  auto viewer = viewGridScene(tuning);
   ASSERT_NE(viewer, nullptr);
+  ASSERT_TRUE(viewer->step().ok());
+  EXPECT_EQ(viewer->objectBakes(), 0) << "nothing baked for the mesh method";
+  EXPECT_EQ(infos.count("baked at K"), 0u);
+  EXPECT_TRUE(viewer->sdfObjects().empty());
+  EXPECT_EQ(namesWith(*viewer, false).size(), 120u) << "every node draws its triangles";
+
+  tuning = viewer->tuning();
+  tuning.method = hsdf::RenderMethod::Cells;
+  viewer->setTuning(tuning);
+  ASSERT_TRUE(viewer->step().ok());
+  EXPECT_EQ(viewer->tuning().method, hsdf::RenderMethod::Cells);
+  EXPECT_EQ(viewer->objectBakes(), 4);
+  EXPECT_EQ(viewer->sdfObjects().size(), 108u);  // 120 - 12 marked triangles in extras
+  EXPECT_EQ(namesWith(*viewer, true).size(), 108u);
+  EXPECT_EQ(namesWith(*viewer, false).size(), 12u) << "the SDF nodes' triangles give way";
+  EXPECT_EQ(distinctAssets(*viewer), 4u);
+
+  for (const Method method : {Method::Mesh, Method(hsdf::RenderMethod::Cells)}) {
+    tuning.method = method;
+    viewer->setTuning(tuning);
+    ASSERT_TRUE(viewer->step().ok());
+  }
+  EXPECT_EQ(viewer->objectBakes(), 4) << "baked once";
+  EXPECT_EQ(infos.count("baked at K"), 1u);
+  EXPECT_EQ(namesWith(*viewer, false).size(), 12u);
+  EXPECT_TRUE(viewer->close().ok());
+}
+
+TEST(ViewerObjects, UnknownTriangleNodeIsRefusedNamingTheFileAndNode) {
   SceneDesc scene;
   scene.gltf = kGridScene;
   scene.objects = true;
-  TuningState tuning;
-  tuning.resolution = 16;
-  tuning.triangleNodes = {"no_such_node"};
-  const engine::Status loaded = viewer->loadScene(scene, tuning);
-  ASSERT_FALSE(loaded.ok());
-  EXPECT_NE(loaded.error().message.find("grid_scene.glb"), std::string::npos) << loaded.error().message;
-  EXPECT_NE(loaded.error().message.find("no node named 'no_such_node'"), std::string::npos) << loaded.error().message;
+  // Under the mesh method too, which bakes nothing at load: the choices are checked there.
+  for (const Method method : {Method(hsdf::RenderMethod::Cells), Method::Mesh}) {
+    auto viewer = makeViewer();
+    ASSERT_NE(viewer, nullptr);
+    TuningState tuning;
+    tuning.resolution = 16;
+    tuning.method = method;
+    tuning.triangleNodes = {"no_such_node"};
+    const engine::Status loaded = viewer->loadScene(scene, tuning);
+    ASSERT_FALSE(loaded.ok());
+    EXPECT_NE(loaded.error().message.find("grid_scene.glb"), std::string::npos) << loaded.error().message;
+    EXPECT_NE(loaded.error().message.find("no node named 'no_such_node'"), std::string::npos) << loaded.error().message;
+  }
 }
 
 // The frame of `file` (tests/data/gltf) drawn as one SDF at K = 32 by `method`, seen through the
