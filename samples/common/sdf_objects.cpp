@@ -55,7 +55,8 @@ Status SdfObjects::bake(std::vector<ecs::Entity>& meshes) {
   parts_ = {};
   std::size_t triangleNodes = 0;
   for (std::size_t n = 0; n < data.nodes.size(); ++n)
-    triangleNodes += data.nodes[n].mesh >= 0 && objects.draws[n] == hsdf::NodeDraw::Triangles;
+    triangleNodes += data.nodes[n].mesh >= 0 && objects.draws[n] == hsdf::NodeDraw::Triangles &&
+                     !data.meshes[std::size_t(data.nodes[n].mesh)].primitives.empty();
   for (const std::string& fallback : objects.fallbacks) log::warn("{}", fallback);
   const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   log::info("{} meshes baked at K = {} in {:.2f} s into {} SDF assets, drawn by {} nodes; {} mesh nodes drawn as "

@@ -338,6 +338,30 @@ bool isTriangleMode(int mode) {
 
 bool isPointOrLineMode(int mode) { return mode >= TINYGLTF_MODE_POINTS && mode <= TINYGLTF_MODE_LINE_STRIP; }
 
+const char* pointOrLineModeName(int mode) {
+  constexpr std::array<const char*, 4> kNames{"POINTS", "LINES", "LINE_LOOP", "LINE_STRIP"};
+  return kNames[std::size_t(mode)];
+}
+
+// Points and lines (a DCC file's guides, curves, helper wires) are skipped: every method draws
+// triangles. Said once for the file, naming a few (a CAD export has thousands of curves), since a
+// mesh of them alone draws nothing, with any method, one SDF or --objects.
+void notePointAndLinePrimitives(const tinygltf::Model& model, std::vector<std::string>& warnings) {
+  std::vector<std::string> named;
+  std::size_t total = 0;
+  for (std::size_t m = 0; m < model.meshes.size(); ++m)
+    for (std::size_t p = 0; p < model.meshes[m].primitives.size(); ++p) {
+      const int mode = model.meshes[m].primitives[p].mode;
+      if (!isPointOrLineMode(mode)) continue;
+      if (named.size() < kNamedInMessages)
+        named.push_back(fmt::format("mesh {} '{}' primitive {} ({})", m, model.meshes[m].name, p, pointOrLineModeName(mode)));
+      ++total;
+    }
+  if (total == 0) return;
+  warnings.push_back(fmt::format("{} primitive{} of points or lines {} not drawn (only triangles are drawn): {}", total,
+                                 total == 1 ? "" : "s", total == 1 ? "is" : "are", namedList(named, total)));
+}
+
 Expected<MeshData> convertMesh(ImportContext& context, int meshIndex) {
   const auto& mesh = context.model.meshes[std::size_t(meshIndex)];
   MeshData out;
@@ -345,10 +369,7 @@ Expected<MeshData> convertMesh(ImportContext& context, int meshIndex) {
   for (std::size_t p = 0; p < mesh.primitives.size(); ++p) {
     const auto& primitive = mesh.primitives[p];
     const std::string where = fmt::format("mesh {} '{}' primitive {}", meshIndex, mesh.name, p);
-    if (isPointOrLineMode(primitive.mode)) {
-      context.warnings.push_back(fmt::format("{}: mode {} is points or lines, skipped", where, primitive.mode));
-      continue;
-    }
+    if (isPointOrLineMode(primitive.mode)) continue;  // said once for the file: notePointAndLinePrimitives
     if (!isTriangleMode(primitive.mode)) return makeError(fmt::format("{}: unknown mode {}", where, primitive.mode));
     ENGINE_TRY_ASSIGN(const PrimitiveRef ref, primitiveRef(context, meshIndex, p).withContext(where));
     ENGINE_TRY_ASSIGN(auto converted, convertTrianglePrimitive(context, ref, where).withContext(where));
@@ -996,6 +1017,7 @@ Expected<SceneData> convertModel(ImportContext& context) {
     scene.meshes.push_back(std::move(mesh));
   }
   noteUntexturedPrimitives(scene, context.warnings);
+  notePointAndLinePrimitives(model, context.warnings);
   ENGINE_TRY_ASSIGN(scene.nodes, convertNodes(context, cameraRemap));
   ENGINE_TRY(checkInstancesFinite(scene));
   noteAnimations(model, context.warnings);

@@ -269,6 +269,10 @@ engine::Expected<SceneObjects> bakeSceneObjects(const engine::scene::SceneData& 
     const int mesh = scene.nodes[n].mesh;
     if (mesh < 0 || objects.draws[n] != NodeDraw::Sdf || objects.meshAssets[std::size_t(mesh)]) continue;
     const std::string where = fmt::format("mesh {} '{}'", mesh, scene.meshes[std::size_t(mesh)].name);
+    if (scene.meshes[std::size_t(mesh)].primitives.empty()) {  // its points or lines were skipped at load
+      fallBackToTriangles(scene, mesh, where + ": no triangles to bake or draw: its nodes draw nothing", objects);
+      continue;
+    }
     bool fatal = false;
     BakeSettings own = settings;
     own.shellThickness = objects.meshShells[std::size_t(mesh)];

@@ -205,6 +205,22 @@ TEST(SceneObjects, SeeThroughMeshesDrawTrianglesUnlessTheirNodeAsksForAnSdf) {
   EXPECT_EQ(*draws, objects->draws) << "the choice alone is the bake's";
 }
 
+// Tricky: a mesh of points or lines only reaches the scene with no primitives (the loader skips
+// them). It was "drawn as triangles: mesh has no triangles", after a bake attempt, and drew nothing:
+// it must not be baked or counted, and the reason must say that its nodes draw nothing.
+TEST(SceneObjects, AMeshWithoutPrimitivesIsNotBakedAndDrawsNothing) {
+  SceneData scene = twoMeshScene();
+  scene.meshes.push_back({"guides", {}});
+  scene.nodes.push_back(node("guide", 2, glm::vec3(0, 30, 0)));
+  const auto objects = bakeSceneObjects(scene, {}, smallBake());
+  ASSERT_TRUE(objects) << objects.error().message;
+  EXPECT_EQ(objects->bakes, 2) << "the cube and the slab only";
+  EXPECT_FALSE(objects->meshAssets[2]);
+  EXPECT_EQ(objects->draws.back(), NodeDraw::Triangles);
+  ASSERT_EQ(objects->fallbacks.size(), 1u);
+  EXPECT_EQ(objects->fallbacks[0], "mesh 2 'guides': no triangles to bake or draw: its nodes draw nothing");
+}
+
 // Tricky: a scene drawn as one SDF took every mesh into its one bake, see-through ones too (the
 // pane hid the cube behind it). oneSdfScene makes the choice of the scene objects (the same
 // function: a see-through mesh and a node whose extras ask for triangles stay triangles, a node

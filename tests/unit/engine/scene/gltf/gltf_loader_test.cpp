@@ -1106,14 +1106,29 @@ TEST(GltfLoaderFeatures, TriangleStripsAndFansBecomeLists) {
 }
 
 // Tricky because points/lines are valid glTF that this importer does not draw: they must be
-// skipped with a warning, not rejected, and not turned into triangles.
+// skipped with a warning, not rejected, and not turned into triangles; and a CAD export's
+// thousands of curves must give one warning naming a few, not one per primitive.
 TEST(GltfLoaderFeatures, LinePrimitivesAreSkippedWithWarning) {
   GltfBuilder b;
   b.addNode({{"mesh", b.addMesh(b.addPositions(kTriangle), -1, 1)}});  // LINES
   const auto scene = load(b);
   ASSERT_TRUE(scene.ok()) << scene.error().message;
   EXPECT_TRUE(scene->meshes[0].primitives.empty());
-  EXPECT_TRUE(anyWarningContains(*scene, "mode 1")) << "no warning for the skipped LINES primitive";
+  EXPECT_TRUE(anyWarningContains(*scene, "1 primitive of points or lines is not drawn")) << warningLines(*scene);
+  EXPECT_TRUE(anyWarningContains(*scene, "mesh 0 '' primitive 0 (LINES)")) << warningLines(*scene);
+
+  GltfBuilder many;
+  const int positions = many.addPositions(kTriangle);
+  for (int mode : {0, 1, 2, 3, 0, 3}) many.addNode({{"mesh", many.addMesh(positions, -1, mode)}});
+  many.addNode({{"mesh", many.addMesh(positions)}});  // one triangle, drawn
+  const auto curves = load(many);
+  ASSERT_TRUE(curves.ok()) << curves.error().message;
+  std::size_t said = 0;
+  for (const std::string& w : curves->warnings) said += w.find("points or lines") != std::string::npos;
+  EXPECT_EQ(said, 1u) << warningLines(*curves);
+  EXPECT_TRUE(anyWarningContains(*curves, "6 primitives of points or lines are not drawn")) << warningLines(*curves);
+  EXPECT_TRUE(anyWarningContains(*curves, "mesh 3 '' primitive 0 (LINE_STRIP), 2 more")) << warningLines(*curves);
+  EXPECT_EQ(curves->meshes[6].primitives.size(), 1u);
 }
 
 // Tricky because three rules pick the nodes: `scene` wins over scene 0, and with no scenes every
