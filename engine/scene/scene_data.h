@@ -20,7 +20,8 @@ struct MeshPrimitiveData {
   std::vector<std::uint32_t> indices; // triangle list
   std::vector<glm::vec2> texcoords;   // TEXCOORD_0 through the KHR_texture_transform of the material; as many as positions, or none
   // TANGENT: xyz toward +u, w = +-1 the handedness (glTF: bitangent = cross(normal, xyz) * w); as many
-  // as positions, or none (the normal texture's frame then comes from the screen derivatives).
+  // as positions, or none (the normal texture's frame then comes from the screen derivatives). Made
+  // at load for a normal-mapped primitive whose file has none (engine/scene/tangents.h).
   std::vector<glm::vec4> tangents;
   int material = -1;                  // index into SceneData::materials, -1 for the default
   // The file gave no normals: glTF asks for flat ones, each triangle's own. The triangles keep their

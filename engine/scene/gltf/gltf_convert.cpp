@@ -22,6 +22,7 @@
 
 #include "engine/core/log.h"
 #include "engine/core/named_list.h"
+#include "engine/scene/tangents.h"
 #include "engine/scene/gltf/gltf_compression.h"
 #include "engine/scene/gltf/gltf_textures.h"
 #include "engine/scene/transform.h"
@@ -277,7 +278,7 @@ void readTangents(ImportContext& context, const PrimitiveRef& ref, const std::st
   const int accessor = findAttribute(ref.primitive, "TANGENT");
   if (accessor == -2 || out.flatNormals) return;
   if (ref.draco) {
-    context.warnings.push_back(fmt::format("{}: TANGENT of a Draco-compressed primitive not read (the derivative frame)", where));
+    context.warnings.push_back(fmt::format("{}: TANGENT of a Draco-compressed primitive not read (generated from the texcoords instead)", where));
     return;
   }
   auto tangents = readVec4(context, accessor);
@@ -385,6 +386,25 @@ Expected<MeshData> convertMesh(ImportContext& context, int meshIndex) {
     out.primitives.push_back(std::move(converted));
   }
   return out;
+}
+
+// A normal-mapped primitive without TANGENT gets generated ones (glTF: clients SHOULD), made from
+// the texcoords as its material's textures read them (after KHR_texture_transform). Without them the
+// normal texture is read in the screen-derivative frame, which turns with each triangle of a curved
+// surface. Flat normals (no NORMAL in the file) keep that frame: it is each face's exact frame.
+void addMissingTangents(const std::vector<MaterialData>& materials, const std::string& where,
+                        MeshPrimitiveData& primitive, std::vector<std::string>& warnings) {
+  const bool normalMapped = primitive.material >= 0 && std::size_t(primitive.material) < materials.size() &&
+                            materials[std::size_t(primitive.material)].normalTexture >= 0;
+  if (!normalMapped || !primitive.tangents.empty() || primitive.flatNormals || primitive.texcoords.empty()) return;
+  auto tangents = generateTangents(primitive);
+  if (!tangents) {
+    warnings.push_back(fmt::format("{}: tangents not generated ({}): the normal texture is read in the screen-derivative "
+                                   "frame",
+                                   where, tangents.error().message));
+    return;
+  }
+  primitive.tangents = std::move(*tangents);
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -1013,7 +1033,11 @@ Expected<SceneData> convertModel(ImportContext& context) {
   ENGINE_TRY_ASSIGN(const auto cameraRemap, convertCameras(context, scene));
   for (std::size_t m = 0; m < model.meshes.size(); ++m) {
     ENGINE_TRY_ASSIGN(auto mesh, convertMesh(context, int(m)));
-    for (MeshPrimitiveData& primitive : mesh.primitives) textures.transformTexcoords(primitive);
+    for (std::size_t p = 0; p < mesh.primitives.size(); ++p) {
+      textures.transformTexcoords(mesh.primitives[p]);
+      addMissingTangents(scene.materials, fmt::format("mesh {} '{}' primitive {}", m, mesh.name, p), mesh.primitives[p],
+                         context.warnings);
+    }
     scene.meshes.push_back(std::move(mesh));
   }
   noteUntexturedPrimitives(scene, context.warnings);

@@ -36,13 +36,15 @@
 //    texture's); baseColorTexture, metallicRoughnessTexture, occlusionTexture (and its strength)
 //    and emissiveTexture read through TEXCOORD_0 (gltf_textures.h: PNG or JPEG from a bufferView,
 //    a data: URI or a file beside the .gltf, at most kMaxTextureSide texels a side, with its
-//    sampler), and normalTexture (and its scale) in the primitive's TANGENT frame, else in a frame
-//    from screen-space derivatives; one KHR_texture_transform per material, its first texture's. A
+//    sampler), and normalTexture (and its scale) in the primitive's TANGENT frame (made at load
+//    when the file has none: engine/scene/tangents.h), else in a frame from screen-space
+//    derivatives; one KHR_texture_transform per material, its first texture's. A
 //    texture that cannot be read (bad index, undecodable or missing image, too large, texCoord
 //    other than 0, a transform unlike the material's first, a primitive without TEXCOORD_0) is a
 //    warning naming the material: drawn without it (in its factor).
 //  - TANGENT: VEC4 (w the handedness), one per position, on a primitive with NORMAL; another
-//    type or count is dropped with a warning, as is a Draco primitive's (not decoded).
+//    type or count is dropped with a warning, as is a Draco primitive's (not decoded); then made
+//    from the texcoords if a normal texture reads them.
 //  - cameras: perspective (yfov, znear; zfar and aspectRatio kept but the projection is infinite and
 //    the viewport's aspect wins) and orthographic (xmag, ymag, znear, zfar: xmag and ymag positive,
 //    zfar > znear >= 0; a bad value is an error naming the camera and the field); another type is

@@ -600,8 +600,11 @@ class MaterialTexturesTest : public MeshMaterialTest {
     const std::uint32_t size = 96;
     createLitRenderer(size, light);
     const hsdftest::ScopedTempPath folder("material_textures_quad");
-    const auto data = scene::loadGltf(writeCheckerQuad(folder.path(), kFactor, material, false, pbr, second, tangent_));
+    auto data = scene::loadGltf(writeCheckerQuad(folder.path(), kFactor, material, false, pbr, second, tangent_));
     ASSERT_TRUE(data.ok()) << data.error().message;
+    if (derivativeFrame_)
+      for (auto& mesh : data->meshes)
+        for (auto& primitive : mesh.primitives) primitive.tangents.clear();
     for (const auto& w : data->warnings) ADD_FAILURE() << "unexpected warning: " << w;
     ASSERT_EQ(data->textures.size(), second.empty() ? 1u : 2u);
     const render::InstantiatedScene scene = render::instantiateScene(*data, registry_, *pool_);
@@ -636,6 +639,8 @@ class MaterialTexturesTest : public MeshMaterialTest {
   glm::vec3 eye_ = kEye;
   bool mirrored_ = false;  // the quad's node scaled by (-1, 1, 1)
   std::optional<glm::vec4> tangent_;  // every vertex's TANGENT, when given
+  // No tangents drawn (those generated at load dropped): the frame from the screen derivatives.
+  bool derivativeFrame_ = false;
 };
 
 // Why: glTF's roughness is the roughnessFactor times the metallicRoughnessTexture's green, read as
@@ -723,6 +728,31 @@ TEST_F(MaterialTexturesTest, TheNormalTextureTiltsTheShadingNormalInTheTangentFr
 // drawn as a front face by the mirrored pipeline state): each pixel against the CPU reference
 // with the tangent -x.
 TEST_F(MaterialTexturesTest, TheNormalTextureFollowsAMirroredInstancesTextureDirections) {
+  mirrored_ = true;
+  expectCheckerQuad(
+      R"("normalTexture": {"index": 1, "scale": 0.8},)", "", {0.3f, 0.5f, 1.0f},
+      [&](const CheckerPixel& p) {
+        return std::pair(lit(p, 0.6, 1.0, tiltedNormal(p.at, {-1, 0, 0}, {0, 1, 0}, {0, 0, 1})), lit(p, 0.6));
+      },
+      normalMap());
+}
+
+// Why: a primitive without TANGENT gets tangents made at load (engine/scene/tangents.h); where they
+// cannot be made (texcoords of zero area, flat normals) the shader builds the frame from the
+// screen derivatives of the position and texcoords. That fallback alone, the quad plain and
+// mirrored, against the same CPU references as the tests above.
+TEST_F(MaterialTexturesTest, WithoutTangentsTheNormalTextureIsReadInTheDerivativeFrame) {
+  derivativeFrame_ = true;
+  expectCheckerQuad(
+      R"("normalTexture": {"index": 1, "scale": 0.8},)", "", {0.3f, 0.5f, 1.0f},
+      [&](const CheckerPixel& p) {
+        return std::pair(lit(p, 0.6, 1.0, tiltedNormal(p.at, {1, 0, 0}, {0, 1, 0}, {0, 0, 1})), lit(p, 0.6));
+      },
+      normalMap());
+}
+
+TEST_F(MaterialTexturesTest, WithoutTangentsAMirroredInstanceIsReadInTheDerivativeFrame) {
+  derivativeFrame_ = true;
   mirrored_ = true;
   expectCheckerQuad(
       R"("normalTexture": {"index": 1, "scale": 0.8},)", "", {0.3f, 0.5f, 1.0f},

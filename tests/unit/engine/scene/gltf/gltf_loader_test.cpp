@@ -589,6 +589,41 @@ json texturedMaterial(const std::string& name, int texture, int texCoord = 0) {
   return {{"name", name}, {"pbrMetallicRoughness", {{"baseColorTexture", {{"index", texture}, {"texCoord", texCoord}}}}}};
 }
 
+// Why: most normal-mapped files carry no TANGENT (DamagedHelmet among them); glTF asks clients to
+// make them. Only where a normal texture reads them, only with the file's normals (flat normals
+// keep each face's exact frame), and in the texture's frame after KHR_texture_transform: a
+// texture scaled by -1 in u mirrors the tangent.
+TEST(GltfLoaderTextures, ANormalTextureWithoutTangentsGetsGeneratedOnes) {
+  const auto loadWith = [](bool normals, const json& normalTexture) {
+    GltfBuilder b;
+    addTexturedPrimitives(b, 2, {0, 0, 1, 0, 0, 1});
+    if (normals)
+      for (auto& primitive : b.doc()["meshes"][0]["primitives"])
+        primitive["attributes"]["NORMAL"] = b.addTightAccessor(std::vector<float>{0, 0, 1, 0, 0, 1, 0, 0, 1}, kFloat, "VEC3", 3);
+    b.doc()["extensionsUsed"] = json::array({"KHR_texture_transform"});
+    b.doc()["images"] = json::array({json{{"uri", "data:image/png;base64," + base64(pngOf(kTexels, 3, 2))}}});
+    b.doc()["textures"] = json::array({json{{"source", 0}}});
+    b.doc()["materials"] = json::array({json{{"name", "bumpy"}, {"normalTexture", normalTexture}}, texturedMaterial("plain", 0)});
+    return load(b);
+  };
+  const auto scene = loadWith(true, {{"index", 0}});
+  ASSERT_TRUE(scene.ok()) << scene.error().message;
+  const auto& bumpy = scene->meshes[0].primitives[0];
+  ASSERT_EQ(bumpy.tangents.size(), 3u) << warningLines(*scene);
+  for (const glm::vec4& t : bumpy.tangents) EXPECT_EQ(t, glm::vec4(1, 0, 0, -1)) << "+u along +x, -v along -y";
+  EXPECT_TRUE(scene->meshes[0].primitives[1].tangents.empty()) << "no normal texture reads them";
+
+  const json mirrored = {{"index", 0}, {"extensions", {{"KHR_texture_transform", {{"scale", {-1.0, 1.0}}}}}}};
+  const auto flipped = loadWith(true, mirrored);
+  ASSERT_TRUE(flipped.ok()) << flipped.error().message;
+  ASSERT_EQ(flipped->meshes[0].primitives[0].tangents.size(), 3u) << warningLines(*flipped);
+  EXPECT_EQ(flipped->meshes[0].primitives[0].tangents[0], glm::vec4(-1, 0, 0, 1));
+
+  const auto flat = loadWith(false, {{"index", 0}});
+  ASSERT_TRUE(flat.ok()) << flat.error().message;
+  EXPECT_TRUE(flat->meshes[0].primitives[0].tangents.empty()) << "flat normals keep the derivative frame";
+}
+
 // Why: a textured mesh (most glTF scenes) must reach the renderer with its texels, its sampler and
 // its texture coordinates. Tricky because glTF stores an image three ways -- in a bufferView (every
 // .glb), as a data: URI, as a file beside the .gltf -- which tinygltf is never shown (the sanitiser
