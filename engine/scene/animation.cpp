@@ -13,6 +13,7 @@ glm::vec4 toVec4(const glm::quat& q) { return glm::vec4(q.x, q.y, q.z, q.w); }
 
 // Spherical interpolation the short way round: q and -q are the same rotation, so the end whose
 // dot with the start is negative is flipped first (else the node spins the long way, ~360 - angle).
+// glm::slerp flips too, today; the flip here keeps the rule whatever the library does.
 glm::vec4 slerpShortest(const glm::vec4& a, glm::vec4 b, float u) {
   if (glm::dot(a, b) < 0.0f) b = -b;
   const glm::quat q = glm::slerp(toQuat(a), toQuat(b), u);

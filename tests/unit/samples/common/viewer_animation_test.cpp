@@ -85,7 +85,7 @@ void expectPlayedFrameMatchesHandPose(Method method, const char* name) {
   const int restVsStill = differingPixels(rest, still);
   std::printf("[ %s ] of %d px: played vs hand pose %d differ; rest pose vs hand pose %d differ\n", name, pixels,
               playedVsStill, restVsStill);
-  EXPECT_LE(playedVsStill, pixels / 200) << name;
+  EXPECT_LE(playedVsStill, pixels / 400) << name;  // 0 on lavapipe; a lerp for the slerp: 88 and 107
   EXPECT_GE(restVsStill, pixels / 50) << name << ": the test cannot see the door move";
 }
 
