@@ -11,6 +11,7 @@
 #include <glm/glm.hpp>
 
 #include "engine/core/expected.h"
+#include "engine/scene/animation.h"
 
 namespace engine::scene {
 
@@ -115,6 +116,7 @@ struct SceneData {
   std::vector<TextureData> textures;  // those the materials use, each decoded once
   std::vector<CameraData> cameras;
   std::vector<NodeData> nodes;       // parents come before their children
+  std::vector<AnimationData> animations;  // node animations (channels name `nodes` indices); posed by scene_pose.h
   std::vector<std::string> warnings; // what the importer skipped or ignored (also logged)
 };
 

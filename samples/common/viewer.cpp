@@ -340,6 +340,7 @@ Status Viewer::step() {
   }
   if (compare_.bakeJob() && compare_.bakeJob()->finishable()) compare_.finishBake();
   applyTuningToScene();
+  if (animation_) animation_->step(registry_, dt);
   scene::updateWorldTransforms(registry_);
   updateLevelsOfDetail(false);
   const bool ui = ui_ && uiVisible_;

@@ -35,6 +35,7 @@
 #include "engine/render/components.h"
 #include "engine/render/renderer.h"
 #include "engine/render/scene_instantiate.h"
+#include "animation_player.h"
 #include "compared_side.h"
 #include "difference_view.h"
 #include "hermite_sdf/core/bake_job.h"
@@ -102,6 +103,12 @@ struct SceneDesc {
   // (TuningState::nodeDraw, triangleNodes, the nodes' extras: hermite_sdf/render/scene_objects.h). A
   // new K, padding or shell bakes every mesh again (on the frame's thread); there is no comparison.
   bool objects = false;
+  // The glTF animation played (animation_player.h: index or name, "none", empty: the first) from
+  // `animationTime` seconds; each step moves it on by the frame's time (headless: 1/60 s). Played
+  // with `objects` (rigid instances); the one SDF bakes the whole scene, so without `objects` the
+  // scene is drawn (and baked) still, posed at `animationTime`.
+  std::string animation;
+  float animationTime = 0.0f;
 };
 
 class TuningPanel;
@@ -312,6 +319,7 @@ class Viewer {
   static glm::vec3 bakeOrigin(const glm::vec3& lo, const glm::vec3& hi);
   engine::Status addSdfFile(const std::filesystem::path& file, bool frameIt);
   engine::Status loadGltf(const SceneDesc& scene);
+  engine::Expected<std::optional<AnimationPlayer>> startAnimation(const SceneDesc& scene, engine::scene::SceneData& data);
   engine::Expected<engine::scene::SceneData> oneSdfPart(const engine::scene::SceneData& data,
                                                         const engine::render::InstantiatedScene& instantiated,
                                                         const std::filesystem::path& file);
@@ -331,6 +339,7 @@ class Viewer {
   engine::platform::FlyController fly_;
   CameraMode cameraMode_ = CameraMode::Orbit;
   std::vector<std::string> sceneCameraNames_;      // lookThroughSceneCamera
+  std::optional<AnimationPlayer> animation_;      // SceneDesc::animation, played with SceneDesc::objects
   std::vector<engine::ecs::Entity> sceneCameras_;  // their nodes, same order
   std::size_t sceneCamera_ = 0;
   float fovY_ = 0.8f;

@@ -9,6 +9,7 @@
 #include "engine/render/components.h"
 #include "engine/render/scene_instantiate.h"
 #include "engine/scene/gltf/gltf_loader.h"
+#include "engine/scene/scene_pose.h"
 #include "engine/scene/transform.h"
 #include "hermite_sdf/core/hsdf_file.h"
 #include "hermite_sdf/render/scene_objects.h"
@@ -98,7 +99,13 @@ Status Viewer::loadScene(const SceneDesc& scene, const TuningState& tuning) {
 
 Status Viewer::loadGltf(const SceneDesc& scene) {
   ENGINE_TRY_ASSIGN(scene::SceneData data, scene::loadGltf(scene.gltf));
+  // Posed before the nodes become entities and bakes: the first frame shows the start time.
+  ENGINE_TRY_ASSIGN(std::optional<AnimationPlayer> player, startAnimation(scene, data));
   const render::InstantiatedScene instantiated = render::instantiateScene(data, registry_, *pool_);
+  if (player && scene.objects) {
+    player->attach(instantiated.nodes);
+    animation_ = std::move(player);
+  }
   collectSceneCameras(instantiated.cameras);
   sceneTriangles_ = !instantiated.renderables.empty();
   if (instantiated.renderables.empty()) {
@@ -141,6 +148,24 @@ Status Viewer::loadGltf(const SceneDesc& scene) {
   }
   if (!source) return source.error().withContext(scene.gltf.string());
   return addBakedSdf(std::move(*source), scene, origin).withContext(scene.gltf.string());
+}
+
+// The chosen animation (SceneDesc::animation): the scene posed at its start time (what the first
+// frame, and a one-SDF bake, show) and its player, from the file's own pose. Without --objects it is
+// not played, and said so: the one SDF bakes every node in one field, so a moving part would need
+// the whole scene baked again each frame.
+Expected<std::optional<AnimationPlayer>> Viewer::startAnimation(const SceneDesc& scene, scene::SceneData& data) {
+  ENGINE_TRY_ASSIGN(const std::optional<std::size_t> chosen,
+                    chooseAnimation(data, scene.animation).withContext(scene.gltf.string()));
+  if (!chosen) return std::optional<AnimationPlayer>{};
+  const scene::AnimationData& animation = data.animations[*chosen];
+  AnimationPlayer player(animation, scene::restPose(data), scene.animationTime);
+  scene::poseScene(data, player.rest(), animation, scene::loopTime(animation, scene.animationTime));
+  if (!scene.objects)
+    log::warn("{}: animation {} '{}' is drawn still at {} s: the one SDF bakes the whole scene, so its parts cannot "
+              "move without a re-bake; --objects plays it (each mesh an SDF object moved per frame)",
+              scene.gltf.string(), *chosen, animation.name, scene.animationTime);
+  return std::optional<AnimationPlayer>{std::move(player)};
 }
 
 // The part of a glTF scene its one SDF bakes (hsdf::oneSdfScene: a see-through mesh drawn opaque

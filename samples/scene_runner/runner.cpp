@@ -34,6 +34,8 @@ samples::SceneDesc sceneDesc(const Options& options) {
   scene.sdfFile = options.sdfFile;
   scene.sideBySide = options.sideBySide;
   scene.objects = options.objects;
+  scene.animation = options.animation;
+  scene.animationTime = options.animationTime;
   scene.groundPlane = options.groundPlane;
   return scene;
 }

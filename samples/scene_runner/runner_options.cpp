@@ -156,6 +156,13 @@ void addSceneOptions(CLI::App& app, Options& options) {
   app.add_flag("--objects", options.objects,
                "each glTF mesh baked once into its own SDF, drawn at every node that places it (per node: "
                "extras hermite_sdf.draw, --node-draw, --triangle-nodes; its mesh's shell: extras hermite_sdf.shell, else --shell)");
+  app.add_option("--animation", options.animation,
+                 "the glTF animation played, by index or name, or 'none' (default: the first; played with --objects, "
+                 "else drawn still at --animation-time)");
+  app.add_option("--animation-time", options.animationTime,
+                 "seconds into the animation at the first frame (looped; default 0); each frame moves it on by the "
+                 "frame's time, 1/60 s headless")
+      ->check(CLI::Range(0.0f, 1.0e6f));
   app.add_option("--script", options.script,
                  "apply 'frame N: key=value ...' lines (settings and actions, see the README) while running")
       ->check(CLI::ExistingFile);
@@ -194,6 +201,8 @@ std::optional<std::string> checkDependencies(const CLI::App& app, const Options&
     return "--scene-camera: needs a camera's node name, own name or index (it was empty)";
   if (!options.sceneCamera.empty() && options.scene.empty())
     return "--scene-camera: looks through a camera of a glTF scene; add --scene FILE";
+  if (app.count("--animation") + app.count("--animation-time") > 0 && options.scene.empty())
+    return "--animation / --animation-time: play a glTF scene's animation; add --scene FILE";
   if (!options.objects && app.count("--node-draw") + app.count("--triangle-nodes") > 0)
     return "--node-draw and --triangle-nodes choose per node of a scene loaded with --objects; add --objects";
   // A .hsdf file is drawn as it was baked: there is no source to bake again (both were ignored).

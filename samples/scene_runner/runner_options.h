@@ -30,6 +30,8 @@ struct Options {
   bool objects = false;              // each glTF mesh its own SDF object, drawn per node (--objects)
   std::optional<int> view;           // one of 8 fixed orbit views
   std::optional<std::array<float, 6>> camera;  // eye xyz, target xyz
+  std::string animation;             // a glTF animation to play: index, name or none (--animation; default: the first)
+  float animationTime = 0.0f;        // seconds into it at the first frame (--animation-time)
   std::string sceneCamera;           // a glTF camera node to look through: its name or index (--scene-camera)
   std::filesystem::path saveSettings;  // write the final tuning to this file (--save-settings)
   std::filesystem::path script;        // "frame N: key=value ..." lines (samples/common/script.h)

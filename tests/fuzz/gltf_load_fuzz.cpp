@@ -11,6 +11,7 @@
 #include "engine/core/log.h"
 #include "fuzz_check.h"
 #include "engine/scene/gltf/gltf_loader.h"
+#include "engine/scene/scene_pose.h"
 
 namespace {
 constexpr std::uint64_t kMaxFlattenedVertices = std::uint64_t(1) << 20;  // 12 MB of positions
@@ -45,6 +46,22 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   for (std::size_t n = 0; n < scene->nodes.size(); ++n) {
     FUZZ_CHECK(scene->nodes[n].parent < int(n));
     FUZZ_CHECK(scene->nodes[n].mesh < int(scene->meshes.size()));
+  }
+  // Animations: what posing indexes is in range, and posing any of them at any time stays inside it.
+  for (const auto& animation : scene->animations) {
+    for (const auto& channel : animation.channels) {
+      FUZZ_CHECK(channel.node >= 0 && channel.node < int(scene->nodes.size()));
+      FUZZ_CHECK(channel.sampler >= 0 && channel.sampler < int(animation.samplers.size()));
+    }
+    for (const auto& sampler : animation.samplers) {
+      const std::size_t perKey = sampler.interpolation == engine::scene::Interpolation::CubicSpline ? 3 : 1;
+      FUZZ_CHECK(!sampler.times.empty() && sampler.values.size() == perKey * sampler.times.size());
+      for (std::size_t k = 1; k < sampler.times.size(); ++k) FUZZ_CHECK(sampler.times[k] > sampler.times[k - 1]);
+    }
+    engine::scene::SceneData posed = *scene;
+    const engine::scene::RestPose rest = engine::scene::restPose(posed);
+    for (const float t : {-1.0f, 0.0f, 0.5f * engine::scene::duration(animation), 1e9f})
+      engine::scene::poseScene(posed, rest, animation, t);
   }
   // Flattening copies a mesh per node that places it: without this limit a few kilobytes of nodes
   // make it allocate gigabytes (which is what checkFlattenable is for).

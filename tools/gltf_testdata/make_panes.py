@@ -56,8 +56,9 @@ def write(path, parts):
         json.dump(gltf, f, indent=1)
         f.write('\n')
 
-out = sys.argv[1]
-cube = ('cube', [-1, -1, -1], [1, 1, 1], [0.9, 0.05, 0.05, 1.0], False)
-pane = ('pane', [-1.5, -1.5, 2.9], [1.5, 1.5, 3.1], [0.6, 0.8, 1.0, 0.3], True)
-write(out + '/pane_before_cube.gltf', [cube, pane])
-write(out + '/pane_only.gltf', [pane])
+if __name__ == '__main__':  # make_animated.py imports box()
+    out = sys.argv[1]
+    cube = ('cube', [-1, -1, -1], [1, 1, 1], [0.9, 0.05, 0.05, 1.0], False)
+    pane = ('pane', [-1.5, -1.5, 2.9], [1.5, 1.5, 3.1], [0.6, 0.8, 1.0, 0.3], True)
+    write(out + '/pane_before_cube.gltf', [cube, pane])
+    write(out + '/pane_only.gltf', [pane])

@@ -24,10 +24,12 @@ gltfpack -i "$out/textured_grid.gltf" -o "$out/textured_grid_gltfpack.glb"
 # A red cube behind a glass pane (alphaMode BLEND), and the pane alone: see-through meshes in a
 # scene drawn as one SDF.
 python3 make_panes.py "$out"
+# A door node swung by a translation and a rotation channel (animation 'swing').
+python3 make_animated.py "$out"
 
 # Every valid file of the folder (the deliberately broken ones are listed in the README).
 valid=(hierarchy.gltf flat_square.gltf tilted_cube.gltf tilted_cube_2e-17.gltf tilted_cube_2e100.gltf
        bunny_small.glb bunny_small_draco.glb bunny_small_meshopt.glb bunny_small_quantized.glb
        tetra_sparse_scenes.gltf gpu_instancing.gltf thin_slab.gltf camera_cube.gltf textured_grid.gltf
-       textured_grid_draco.glb textured_grid_gltfpack.glb pane_before_cube.gltf pane_only.gltf)
+       textured_grid_draco.glb textured_grid_gltfpack.glb pane_before_cube.gltf pane_only.gltf swinging_door.gltf)
 node validate.mjs "$out/validation.json" "${valid[@]/#/$out/}"

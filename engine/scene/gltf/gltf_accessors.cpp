@@ -314,6 +314,20 @@ Expected<std::vector<glm::vec4>> readVec4(ImportContext& context, int accessorIn
   return readFloatVectors<4>(context, accessorIndex);
 }
 
+Expected<std::vector<float>> readFloats(ImportContext& context, int accessorIndex) {
+  ENGINE_TRY_ASSIGN(const AccessorSpan span, accessorSpan(context, accessorIndex, TINYGLTF_TYPE_SCALAR));
+  if (span.componentType != TINYGLTF_COMPONENT_TYPE_FLOAT || span.normalized)
+    return makeError(fmt::format("accessor {}: componentType {} is not FLOAT (5126)", accessorIndex, span.componentType));
+  ENGINE_TRY(chargeDecode(context, span.count * sizeof(float)));
+  std::vector<float> values(static_cast<std::size_t>(span.count));
+  for (std::size_t i = 0; i < values.size(); ++i) {
+    values[i] = readComponent(span.element(i), span.componentType, false);
+    if (!std::isfinite(values[i]))
+      return makeError(fmt::format("accessor {}: element {} is {} (must be finite)", accessorIndex, i, values[i]));
+  }
+  return values;
+}
+
 Expected<std::vector<std::uint32_t>> readIndices(ImportContext& context, int accessorIndex) {
   ENGINE_TRY_ASSIGN(const AccessorSpan span, accessorSpan(context, accessorIndex, TINYGLTF_TYPE_SCALAR));
   const bool indexType = span.componentType == TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE ||

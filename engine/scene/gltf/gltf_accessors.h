@@ -24,6 +24,7 @@ struct ImportContext {
   int scene = -1;                       // GltfLoadOptions::scene
   std::vector<std::vector<std::uint8_t>> meshoptViews;  // [bufferView]: decoded bytes (empty: not compressed)
   const ExternalFileAccess* files = nullptr;           // where images beside the file are read (null: nowhere)
+  std::vector<int> nodeIndexOf;  // [file node]: its index in SceneData::nodes (-1: outside the loaded scene)
 };
 
 // Takes `bytes` from the decode budget, or refuses when the budget has less left.
@@ -51,6 +52,8 @@ Expected<std::vector<glm::vec3>> readVec3(ImportContext& context, int accessorIn
 // VEC4 elements (an instance's ROTATION quaternion: float or normalized integers) as floats; every
 // component must be finite.
 Expected<std::vector<glm::vec4>> readVec4(ImportContext& context, int accessorIndex);
+// SCALAR FLOAT elements (animation keyframe times); every value must be finite.
+Expected<std::vector<float>> readFloats(ImportContext& context, int accessorIndex);
 // Primitive indices, widened to 32 bits.
 Expected<std::vector<std::uint32_t>> readIndices(ImportContext& context, int accessorIndex);
 

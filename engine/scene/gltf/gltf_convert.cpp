@@ -22,6 +22,7 @@
 
 #include "engine/core/log.h"
 #include "engine/core/named_list.h"
+#include "engine/scene/gltf/gltf_animation.h"
 #include "engine/scene/tangents.h"
 #include "engine/scene/gltf/gltf_compression.h"
 #include "engine/scene/gltf/gltf_textures.h"
@@ -775,6 +776,7 @@ Expected<std::vector<NodeData>> convertNodes(ImportContext& context, const std::
   ENGINE_TRY_ASSIGN(const auto roots, sceneRoots(context, parent));
 
   std::vector<NodeData> out;
+  context.nodeIndexOf.assign(model.nodes.size(), -1);
   std::size_t instanceCount = 0;
   std::vector<std::pair<int, int>> pending;  // (file node, index of its parent in `out`)
   for (auto root = roots.rbegin(); root != roots.rend(); ++root) pending.emplace_back(*root, -1);
@@ -813,6 +815,7 @@ Expected<std::vector<NodeData>> convertNodes(ImportContext& context, const std::
     }
     out.push_back(std::move(data));
     const int self = int(out.size() - 1);
+    context.nodeIndexOf[std::size_t(fileIndex)] = self;
     if (node.mesh != -1) ENGINE_TRY(addInstanceNodes(out, self, node.mesh, instances));
     for (auto child = node.children.rbegin(); child != node.children.rend(); ++child) pending.emplace_back(*child, self);
   }
@@ -1002,22 +1005,6 @@ void noteUntexturedPrimitives(const SceneData& scene, std::vector<std::string>& 
   }
 }
 
-// Animations are not played (the scene is drawn still): every node is drawn in the pose its own
-// transform gives, which exporters write as the rest pose or the frame they stood on, not what a
-// glTF viewer plays. Said once, naming the animations (by index and name; a game character has dozens).
-void noteAnimations(const tinygltf::Model& model, std::vector<std::string>& warnings) {
-  if (model.animations.empty()) return;
-  std::vector<std::string> names;
-  for (std::size_t a = 0; a < std::min(model.animations.size(), kNamedInMessages); ++a) {
-    const std::string& name = model.animations[a].name;
-    names.push_back(name.empty() ? fmt::format("{}", a) : fmt::format("{} '{}'", a, name));
-  }
-  warnings.push_back(fmt::format("{} animation{} ({}) {} not played: each node is drawn in the pose of its own "
-                                 "transform, each morphed mesh at its default weights",
-                                 model.animations.size(), model.animations.size() == 1 ? "" : "s",
-                                 namedList(names, model.animations.size()), model.animations.size() == 1 ? "is" : "are"));
-}
-
 Expected<SceneData> convertModel(ImportContext& context) {
   const auto& model = context.model;
   ENGINE_TRY(decodeMeshoptViews(context));
@@ -1044,7 +1031,7 @@ Expected<SceneData> convertModel(ImportContext& context) {
   notePointAndLinePrimitives(model, context.warnings);
   ENGINE_TRY_ASSIGN(scene.nodes, convertNodes(context, cameraRemap));
   ENGINE_TRY(checkInstancesFinite(scene));
-  noteAnimations(model, context.warnings);
+  scene.animations = convertAnimations(context);
   return scene;
 }
 

@@ -134,6 +134,8 @@ TEST(RunnerOptions, EveryOptionsGoodValue) {
   EXPECT_EQ(parseOk({"--size", "16384x1"}).width, 16384u);
   // The name or index is looked up once the scene is loaded (samples::Viewer::lookThroughSceneCamera).
   EXPECT_EQ(parseOk({"--scene", kBunny, "--scene-camera", "front"}).sceneCamera, "front");
+  EXPECT_EQ(parseOk({"--scene", kBunny, "--animation", "swing"}).animation, "swing");
+  EXPECT_EQ(parseOk({"--scene", kBunny, "--animation-time", "0.5"}).animationTime, 0.5f);
   EXPECT_EQ(parseOk({}).sceneCamera, "");
 }
 
@@ -183,6 +185,8 @@ TEST(RunnerOptions, BadValuesNameTheOption) {
       {{"--scene", "no_such_scene.glb"}, "--scene"},
       // A camera to look through needs a glTF scene holding it, and one camera placement, not two.
       {{"--scene-camera", "front"}, "--scene-camera: looks through a camera of a glTF scene; add --scene FILE"},
+      {{"--animation", "0"}, "--animation / --animation-time: play a glTF scene's animation; add --scene FILE"},
+      {{"--scene", kBunny, "--animation-time", "-1"}, "--animation-time"},
       {{"--scene", kBunny, "--scene-camera", ""}, "--scene-camera: needs a camera's node name, own name or index"},
       {{"--scene", kBunny, "--scene-camera", "front", "--view", "2"}, "excludes"},
       {{"--scene", kBunny, "--scene-camera", "front", "--camera", "1,2,3,4,5,6"}, "excludes"},

@@ -974,29 +974,107 @@ TEST(GltfLoaderFeatures, NodeMorphWeightsAndSkinsAreNamedWhenIgnored) {
   EXPECT_TRUE(anyWarningContains(*scene, "'skinned': skin 0 ignored"));
 }
 
-// Tricky because an animation changes no field the loader reads: a file whose only animation spins
-// a node loads exactly as without it, so nothing but a note tells the user that the pose drawn is
-// the nodes' own transforms (an exporter's rest pose), not the animated one a glTF viewer plays.
-TEST(GltfLoaderFeatures, AnimationsAreNamedAsNotPlayed) {
-  GltfBuilder b;
-  const int spinner = b.addNode({{"name", "spinner"}, {"mesh", b.addIndexedMesh({{0, 0, 0}, {1, 0, 0}, {0, 1, 0}}, {0, 1, 2})}});
-  const int times = b.addTightAccessor(std::vector<float>{0.0f, 1.0f}, kFloat, "SCALAR", 2);
-  b.doc()["accessors"][std::size_t(times)]["min"] = {0.0};
-  b.doc()["accessors"][std::size_t(times)]["max"] = {1.0};
-  const int turns = b.addTightAccessor(std::vector<float>{0, 0, 0, 1, 0, 0.7071068f, 0, 0.7071068f}, kFloat, "VEC4", 2);
-  const json sampler = {{"input", times}, {"output", turns}};
-  const json channel = {{"sampler", 0}, {"target", {{"node", spinner}, {"path", "rotation"}}}};
-  b.doc()["animations"] = json::array({{{"name", "spin"}, {"samplers", {sampler}}, {"channels", {channel}}},
-                                       {{"samplers", {sampler}}, {"channels", {channel}}}});
-  const auto scene = load(b);
-  ASSERT_TRUE(scene.ok()) << scene.error().message;
-  EXPECT_TRUE(anyWarningContains(*scene, "2 animations (0 'spin', 1) are not played"));
-  EXPECT_EQ(scene->nodes[0].world, glm::mat4(1.0f)) << "drawn in the node's own pose";
+std::string allWarnings(const SceneData& scene) {
+  std::string all;
+  for (const std::string& warning : scene.warnings) all += warning + " | ";
+  return all;
+}
 
-  b.doc().erase("animations");
-  const auto still = load(b);
-  ASSERT_TRUE(still.ok()) << still.error().message;
-  EXPECT_FALSE(anyWarningContains(*still, "animation"));
+// A file with a root, and a child "spinner" whose one animation (two channels, rotation and
+// translation) the tests below read or break one field at a time.
+struct AnimatedFile {
+  GltfBuilder b;
+  int spinner = -1;
+  int times = -1;
+  int turns = -1;
+  json& sampler(std::size_t s) { return b.doc()["animations"][0]["samplers"][s]; }
+  json& channel(std::size_t c) { return b.doc()["animations"][0]["channels"][c]; }
+  AnimatedFile() {
+    const int mesh = b.addIndexedMesh({{0, 0, 0}, {1, 0, 0}, {0, 1, 0}}, {0, 1, 2});
+    spinner = b.addNode({{"name", "spinner"}, {"mesh", mesh}});
+    b.addNode({{"name", "root"}, {"children", {spinner}}});
+    b.doc()["scenes"] = json::array({{{"nodes", {1}}}});
+    times = b.addTightAccessor(std::vector<float>{0.0f, 1.0f}, kFloat, "SCALAR", 2);
+    b.doc()["accessors"][std::size_t(times)]["min"] = {0.0};
+    b.doc()["accessors"][std::size_t(times)]["max"] = {1.0};
+    turns = b.addTightAccessor(std::vector<float>{0, 0, 0, 1, 0, 0.7071068f, 0, 0.7071068f}, kFloat, "VEC4", 2);
+    const int moveTimes = b.addTightAccessor(std::vector<float>{0.0f, 1.0f}, kFloat, "SCALAR", 2);
+    const int moves = b.addTightAccessor(std::vector<float>{0, 0, 0, 2, 4, 6}, kFloat, "VEC3", 2);
+    const json turn = {{"input", times}, {"output", turns}};
+    const json move = {{"input", moveTimes}, {"output", moves}, {"interpolation", "STEP"}};
+    b.doc()["animations"] = json::array({{{"name", "spin"},
+                                          {"samplers", {turn, move}},
+                                          {"channels", {{{"sampler", 0}, {"target", {{"node", spinner}, {"path", "rotation"}}}},
+                                                        {{"sampler", 1}, {"target", {{"node", spinner}, {"path", "translation"}}}}}}}});
+  }
+};
+
+// Tricky because channels name file nodes, but SceneData orders nodes parents first: the file's
+// node 0 (the child) is SceneData node 1. The nodes stay in their own pose at load.
+TEST(GltfLoaderAnimations, ChannelsAreReadOntoTheLoadedNodes) {
+  AnimatedFile f;
+  const auto scene = load(f.b);
+  ASSERT_TRUE(scene.ok()) << scene.error().message;
+  EXPECT_TRUE(scene->warnings.empty()) << scene->warnings.front();
+  ASSERT_EQ(scene->animations.size(), 1u);
+  const AnimationData& spin = scene->animations[0];
+  EXPECT_EQ(spin.name, "spin");
+  ASSERT_EQ(spin.channels.size(), 2u);
+  ASSERT_EQ(scene->nodes[1].name, "spinner");
+  EXPECT_EQ(spin.channels[0].node, 1);
+  EXPECT_EQ(spin.channels[0].path, AnimatedPath::Rotation);
+  EXPECT_EQ(spin.channels[1].path, AnimatedPath::Translation);
+  const AnimationSampler& move = spin.samplers[std::size_t(spin.channels[1].sampler)];
+  EXPECT_EQ(move.interpolation, Interpolation::Step);
+  EXPECT_EQ(move.times, (std::vector<float>{0.0f, 1.0f}));
+  EXPECT_EQ(move.values[1], glm::vec4(2, 4, 6, 0));
+  EXPECT_EQ(scene->nodes[1].world, glm::mat4(1.0f)) << "loaded in the node's own pose";
+}
+
+// Each broken field drops its channel with a warning naming the animation, the channel and the
+// problem; the other channel and the file still load (a broken animation is no reason to draw nothing).
+TEST(GltfLoaderAnimations, BadChannelsAreDroppedWithAWarningNamingThem) {
+  const std::vector<std::pair<std::function<void(AnimatedFile&)>, std::string>> cases = {
+      {[](AnimatedFile& f) { f.b.doc()["accessors"][std::size_t(f.times)]["componentType"] = kUnsignedShort; },
+       "sampler 0 input: accessor 2: componentType 5123 is not FLOAT"},
+      {[](AnimatedFile& f) { f.b.doc()["accessors"][std::size_t(f.turns)]["count"] = 1; },
+       "sampler 0: output count 1 is not 2 (the input count)"},
+      {[](AnimatedFile& f) { f.sampler(0)["interpolation"] = "CUBICSPLINE"; },
+       "output count 2 is not 6 (3 times the input count; CUBICSPLINE"},
+      {[](AnimatedFile& f) { f.sampler(0)["output"] = f.times; }, "sampler 0 output: accessor 2: type is SCALAR, expected VEC4"},
+      {[](AnimatedFile& f) { f.channel(0)["target"]["node"] = 7; }, "target node 7 out of range (file has 2)"},
+      {[](AnimatedFile& f) { f.channel(0)["target"]["path"] = "weights"; }, "path 'weights' is not played"},
+      {[](AnimatedFile& f) { f.channel(0)["sampler"] = 5; }, "sampler 5 out of range (file has 2)"},
+  };
+  for (const auto& [breakIt, expected] : cases) {
+    AnimatedFile f;
+    breakIt(f);
+    const auto scene = load(f.b);
+    ASSERT_TRUE(scene.ok()) << expected << ": " << scene.error().message;
+    EXPECT_TRUE(anyWarningContains(*scene, "animation 0 'spin' channel 0: ")) << expected;
+    EXPECT_TRUE(anyWarningContains(*scene, expected)) << expected << " not in: " << allWarnings(*scene);
+    ASSERT_EQ(scene->animations[0].channels.size(), 1u) << expected;
+    EXPECT_EQ(scene->animations[0].channels[0].path, AnimatedPath::Translation) << expected;
+  }
+}
+
+// Keyframe times that repeat or run backwards, or a NaN keyframe value, cannot be played.
+TEST(GltfLoaderAnimations, NonIncreasingTimesAndNaNValuesAreNamed) {
+  AnimatedFile f;
+  const int backwards = f.b.addTightAccessor(std::vector<float>{1.0f, 1.0f}, kFloat, "SCALAR", 2);
+  f.sampler(0)["input"] = backwards;
+  auto scene = load(f.b);
+  ASSERT_TRUE(scene.ok()) << scene.error().message;
+  EXPECT_TRUE(anyWarningContains(*scene, "input times must increase strictly, but key 1 is 1 after 1"));
+
+  AnimatedFile g;
+  const float nan = std::numeric_limits<float>::quiet_NaN();
+  const int bad = g.b.addTightAccessor(std::vector<float>{0, 0, 0, 1, nan, 0, 0, 1}, kFloat, "VEC4", 2);
+  g.sampler(0)["output"] = bad;
+  scene = load(g.b);
+  ASSERT_TRUE(scene.ok()) << scene.error().message;
+  EXPECT_TRUE(anyWarningContains(*scene, "channel 0: sampler 0 output: accessor")) << allWarnings(*scene);
+  EXPECT_TRUE(anyWarningContains(*scene, "must be finite"));
 }
 
 // Tricky because a file without meshes (or nodes) is valid glTF and must not be mistaken for an
