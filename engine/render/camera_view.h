@@ -52,7 +52,10 @@ struct CameraView {
   static CameraView lookAt(const glm::vec3& eye, const glm::vec3& target, float fovY, float znear, float aspect);
   // A camera placed by a world matrix, as a glTF camera node is: its local -Z is the viewing
   // direction and +Y is up. Scale and shear are dropped (the axes are orthonormalized, -Z kept,
-  // then +Y), so that a camera under a scaled parent sees the scene undistorted. An error names
+  // then +Y), so that a camera under a scaled parent sees the scene undistorted; znear (and an
+  // orthographic camera's ymag, zfar) stay in world units, unscaled, as glTF 2.0 asks: "The view
+  // matrix is derived from the global transform of the node containing the camera with the scaling
+  // ignored" ("Cameras", "View Matrix"), the projection mapping that view space to clip space. An error names
   // what cannot make a camera: a non-finite matrix, a zero or parallel -Z / +Y axis (zero scale),
   // fovY outside (0, pi), znear not positive and finite, an aspect that is not positive.
   static Expected<CameraView> fromWorld(const glm::mat4& world, float fovY, float znear, float aspect);

@@ -47,6 +47,23 @@ TEST(CameraFromWorld, DropsScaleAndShear) {
   EXPECT_NEAR(project(*plain, ahead).y, 0.0f, 1e-5f);
 }
 
+// Tricky: glTF 2.0 ("Cameras", "View Matrix"): "The view matrix is derived from the global transform of
+// the node containing the camera with the scaling ignored", and the projection (znear, zfar, ymag)
+// maps that view space, in the scene's global units, to clip space. So a camera node under a root
+// scaled by 0.01 (a centimetre export) keeps its znear in global units: scaling it by the node's
+// scale would move the near plane 100 times closer. Reverse-Z depth at distance d ahead is znear / d.
+TEST(CameraFromWorld, ZnearIsInGlobalUnitsWhateverTheNodesScale) {
+  const float znear = 0.1f;
+  const Expected<CameraView> camera =
+      CameraView::fromWorld(placed(kTurn * glm::scale(glm::mat4(1.0f), glm::vec3(0.01f))), 0.9f, znear, 1.0f);
+  ASSERT_TRUE(camera.ok()) << camera.error().message;
+  EXPECT_FLOAT_EQ(camera->znear, znear);
+  for (const float distance : {0.08f, 0.2f, 5.0f}) {  // global units along the view direction
+    const glm::vec3 ahead = kEye + glm::vec3(kTurn * glm::vec4(0.0f, 0.0f, -distance, 0.0f));
+    EXPECT_NEAR(project(*camera, ahead).z, znear / distance, 1e-5f) << "at " << distance << " ahead";
+  }
+}
+
 // Tricky: a camera under a parent scaled to micrometres is a valid camera (the axes are compared
 // with their own lengths, not with an absolute epsilon).
 TEST(CameraFromWorld, TinyScaleIsStillACamera) {
