@@ -630,6 +630,10 @@ class MaterialTexturesTest : public MeshMaterialTest {
     EXPECT_EQ(wrong, 0) << "pixels unlike the CPU reference (worst colour error " << worst << ")";
   }
 
+  // The quad with the 4 x 4 normal map at scale 0.8, its tangent along `tangentX` x (+1, or -1 for
+  // a mirrored instance), the bitangent +y: each pixel against the CPU reference's tilted normal.
+  void expectNormalMappedQuad(double tangentX);  // after normalMap and tiltedNormal, below
+
   // shadeSurface's colour of the quad at `pixel` with `roughness`, `occlusion` and `normal` (unit).
   glm::dvec3 lit(const CheckerPixel& pixel, double roughness, double occlusion = 1.0,
                  const glm::dvec3& normal = {0.0, 0.0, 1.0}) const {
@@ -706,6 +710,15 @@ glm::dvec3 tiltedNormal(glm::ivec2 at, const glm::dvec3& tangent, const glm::dve
   return glm::normalize(0.8 * decode(t.r) * tangent + 0.8 * decode(t.g) * bitangent + decode(t.b) * normal);
 }
 
+void MaterialTexturesTest::expectNormalMappedQuad(double tangentX) {
+  expectCheckerQuad(
+      R"("normalTexture": {"index": 1, "scale": 0.8},)", "", {0.3f, 0.5f, 1.0f},
+      [&](const CheckerPixel& p) {
+        return std::pair(lit(p, 0.6, 1.0, tiltedNormal(p.at, {tangentX, 0, 0}, {0, 1, 0}, {0, 0, 1})), lit(p, 0.6));
+      },
+      normalMap());
+}
+
 // Why: a normal-mapped wall (glTF normalTexture: most real assets) shows its relief in the light; drawn
 // with the vertex normals it is flat. The checker quad with a second texture, a 4 x 4 normal map of
 // a tilt of its own per texel, scale 0.8: each pixel must be the CPU reference lit with the normal
@@ -714,12 +727,7 @@ glm::dvec3 tiltedNormal(glm::ivec2 at, const glm::dvec3& tangent, const glm::dve
 // v runs down, its green up: a sign slip mirrors every tilt in y), the texel is linear data, and
 // the scale applies to x and y only.
 TEST_F(MaterialTexturesTest, TheNormalTextureTiltsTheShadingNormalInTheTangentFrame) {
-  expectCheckerQuad(
-      R"("normalTexture": {"index": 1, "scale": 0.8},)", "", {0.3f, 0.5f, 1.0f},
-      [&](const CheckerPixel& p) {
-        return std::pair(lit(p, 0.6, 1.0, tiltedNormal(p.at, {1, 0, 0}, {0, 1, 0}, {0, 0, 1})), lit(p, 0.6));
-      },
-      normalMap());
+  expectNormalMappedQuad(1.0);
 }
 
 // Why: glTF mirrors an instance by a negative scale, and exporters mirror half a model's texture
@@ -729,12 +737,7 @@ TEST_F(MaterialTexturesTest, TheNormalTextureTiltsTheShadingNormalInTheTangentFr
 // with the tangent -x.
 TEST_F(MaterialTexturesTest, TheNormalTextureFollowsAMirroredInstancesTextureDirections) {
   mirrored_ = true;
-  expectCheckerQuad(
-      R"("normalTexture": {"index": 1, "scale": 0.8},)", "", {0.3f, 0.5f, 1.0f},
-      [&](const CheckerPixel& p) {
-        return std::pair(lit(p, 0.6, 1.0, tiltedNormal(p.at, {-1, 0, 0}, {0, 1, 0}, {0, 0, 1})), lit(p, 0.6));
-      },
-      normalMap());
+  expectNormalMappedQuad(-1.0);
 }
 
 // Why: a primitive without TANGENT gets tangents made at load (engine/scene/tangents.h); where they
@@ -743,23 +746,13 @@ TEST_F(MaterialTexturesTest, TheNormalTextureFollowsAMirroredInstancesTextureDir
 // mirrored, against the same CPU references as the tests above.
 TEST_F(MaterialTexturesTest, WithoutTangentsTheNormalTextureIsReadInTheDerivativeFrame) {
   derivativeFrame_ = true;
-  expectCheckerQuad(
-      R"("normalTexture": {"index": 1, "scale": 0.8},)", "", {0.3f, 0.5f, 1.0f},
-      [&](const CheckerPixel& p) {
-        return std::pair(lit(p, 0.6, 1.0, tiltedNormal(p.at, {1, 0, 0}, {0, 1, 0}, {0, 0, 1})), lit(p, 0.6));
-      },
-      normalMap());
+  expectNormalMappedQuad(1.0);
 }
 
 TEST_F(MaterialTexturesTest, WithoutTangentsAMirroredInstanceIsReadInTheDerivativeFrame) {
   derivativeFrame_ = true;
   mirrored_ = true;
-  expectCheckerQuad(
-      R"("normalTexture": {"index": 1, "scale": 0.8},)", "", {0.3f, 0.5f, 1.0f},
-      [&](const CheckerPixel& p) {
-        return std::pair(lit(p, 0.6, 1.0, tiltedNormal(p.at, {-1, 0, 0}, {0, 1, 0}, {0, 0, 1})), lit(p, 0.6));
-      },
-      normalMap());
+  expectNormalMappedQuad(-1.0);
 }
 
 // Why: glTF reverses a double-sided mesh's back-face normal "before the lighting equation is
